@@ -1,0 +1,5 @@
+"""``python -m rlff`` runs the command line."""
+
+from rlff.cli import run
+
+run()

@@ -1,0 +1,88 @@
+"""What every command shares: the consoles, verbosity, JSON output and progress bars.
+
+Commands only parse arguments, call the library and print; no logic lives in the CLI layer.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+
+@dataclass
+class Verbosity:
+    """Global flags set by the root command (-q / -v)."""
+
+    quiet: bool = False
+    verbose: bool = False
+
+
+verbosity = Verbosity()
+
+
+def stdout() -> Console:
+    """Console for results (follows ``sys.stdout`` so test runners can capture it)."""
+    return Console(file=sys.stdout, soft_wrap=True)
+
+
+def stderr() -> Console:
+    """Console for progress, notes and warnings."""
+    return Console(file=sys.stderr, soft_wrap=True)
+
+
+def say(message: str) -> None:
+    """A note for the user on stderr, unless -q."""
+    if not verbosity.quiet:
+        stderr().print(message, highlight=False)
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    if hasattr(value, "__fspath__"):
+        return str(value)
+    raise TypeError(f"not JSON serialisable: {type(value).__name__}")
+
+
+def emit_json(payload: Any) -> None:
+    """Print a machine-readable result on stdout."""
+    sys.stdout.write(json.dumps(payload, default=_jsonable, indent=2) + "\n")
+    sys.stdout.flush()
+
+
+@contextmanager
+def progress(description: str, total: int | None) -> Iterator[Callable[..., None]]:
+    """A progress bar on stderr; yields ``advance(n=1, description=None)``.
+
+    Silent with -q or when stderr is not a terminal and ``total`` is unknown.
+    """
+    if verbosity.quiet:
+        yield lambda *args, **kwargs: None
+        return
+    bar = Progress(
+        TextColumn("[progress.description]{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        console=stderr(),
+        transient=False,
+    )
+    with bar:
+        task = bar.add_task(description, total=total)
+
+        def advance(n: int = 1, description: str | None = None) -> None:
+            if description is not None:
+                bar.update(task, description=description)
+            bar.advance(task, n)
+
+        yield advance

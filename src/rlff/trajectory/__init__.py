@@ -1,0 +1,1 @@
+"""Timed joint trajectories: time from (angle, velocity), resampling, limits."""

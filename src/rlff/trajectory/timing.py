@@ -1,0 +1,62 @@
+"""Time along a path from its velocity profile: t(angle) = integral of d angle / velocity.
+
+Near-zero velocity: the integral diverges where the velocity is zero (a throw starts and ends at
+rest). Each segment between two samples is taken at constant acceleration in time, which gives
+dt = 2 d angle / (v_i + v_{i+1}): exact for constant velocity and for uniform acceleration, and
+finite when one end of the segment is at rest. Where both ends are (nearly) at rest the speed is
+floored at ``min_speed`` so that the time stays finite.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rlff.errors import InputError
+
+
+def time_along_path(
+    angle: np.ndarray, velocity: np.ndarray, min_speed: float | None = None
+) -> np.ndarray:
+    """Time (s) at each sample of a path given its angle (rad) and velocity (rad/s).
+
+    Parameters
+    ----------
+    angle : array of shape (T,)
+        Strictly monotonic joint angle (rad).
+    velocity : array of shape (T,)
+        Joint velocity (rad/s) at each angle, same sign as the direction of motion (or zero).
+    min_speed : float, optional
+        Floor on the mean speed of a segment (rad/s); default 1 % of the peak speed.
+
+    Returns
+    -------
+    ndarray of shape (T,)
+        Time since the first sample, starting at 0, strictly increasing.
+
+    Raises
+    ------
+    InputError
+        Non-finite values, fewer than 2 samples, a non-monotonic angle, or a velocity that moves
+        against the direction of the path.
+    """
+    angle = np.asarray(angle, dtype=float)
+    velocity = np.asarray(velocity, dtype=float)
+    if angle.shape != velocity.shape or angle.ndim != 1:
+        raise InputError(f"angle and velocity must be 1-D of one length, got {angle.shape} and {velocity.shape}")
+    if angle.size < 2:
+        raise InputError("a timed path needs at least 2 samples")
+    if not (np.all(np.isfinite(angle)) and np.all(np.isfinite(velocity))):
+        raise InputError("angle or velocity holds NaN or inf")
+    steps = np.diff(angle)
+    direction = np.sign(steps[0])
+    if direction == 0 or np.any(np.sign(steps) != direction):
+        bad = int(np.flatnonzero(np.sign(steps) != direction)[0]) + 1 if direction else 1
+        raise InputError(f"angle is not strictly monotonic at sample {bad}")
+    speed = velocity * direction
+    if np.any(speed < -1e-12):
+        bad = int(np.flatnonzero(speed < -1e-12)[0])
+        raise InputError(f"velocity at sample {bad} ({velocity[bad]:g} rad/s) moves against the path")
+    if min_speed is None:
+        min_speed = max(0.01 * float(np.max(speed)), 1e-9)
+    mean_speed = np.maximum(0.5 * (speed[:-1] + speed[1:]), min_speed)
+    return np.concatenate([[0.0], np.cumsum(np.abs(steps) / mean_speed)])

@@ -1,0 +1,52 @@
+"""Shared fixtures: running the real ``rlff`` entry point and locating the shared data."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+SHARED_DATA = REPO.parent / "shared" / "data"
+MSR_THROWS = SHARED_DATA / "msr-action3d-throws"
+
+
+@dataclass
+class CliResult:
+    code: int
+    stdout: str
+    stderr: str
+
+
+def run_cli(*args: str, cwd: Path | None = None, timeout: float = 300, env: dict | None = None) -> CliResult:
+    """Run ``rlff ARGS`` as a separate process through the installed entry point."""
+    full_env = dict(os.environ)
+    full_env.update(env or {})
+    full_env.setdefault("MPLBACKEND", "Agg")
+    proc = subprocess.run(
+        [sys.executable, "-m", "rlff", *args],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        timeout=timeout,
+        env=full_env,
+    )
+    return CliResult(proc.returncode, proc.stdout, proc.stderr)
+
+
+@pytest.fixture
+def cli():
+    """``cli(*args)`` runs the real command line in a subprocess and returns a CliResult."""
+    return run_cli
+
+
+@pytest.fixture
+def msr_dir() -> Path:
+    """The real MSR Action3D throwing recordings; skips when the shared folder is absent."""
+    if not MSR_THROWS.is_dir():
+        pytest.skip(f"{MSR_THROWS} is absent")
+    return MSR_THROWS
