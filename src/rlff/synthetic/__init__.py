@@ -1,0 +1,1 @@
+"""Built-in data: the thesis' synthetic set (:mod:`.thesis`) and simulated human throws (:mod:`.throws`)."""

@@ -1,0 +1,81 @@
+"""A timed multi-joint trajectory: what robots, exports and the simulation take."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from rlff.errors import InputError
+
+
+@dataclass(frozen=True)
+class JointTrajectory:
+    """Joint positions, velocities and accelerations at increasing times.
+
+    Parameters
+    ----------
+    joint_names : sequence of str, length J
+    time : array of shape (T,)
+        Time from start (s), strictly increasing, starting at 0 or later.
+    positions : array of shape (T, J)
+        Joint positions (rad).
+    velocities : array of shape (T, J)
+        Joint velocities (rad/s).
+    accelerations : array of shape (T, J), optional
+        Joint accelerations (rad/s^2); zeros when not given.
+    """
+
+    joint_names: tuple[str, ...]
+    time: np.ndarray
+    positions: np.ndarray
+    velocities: np.ndarray
+    accelerations: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        names = tuple(str(n) for n in self.joint_names)
+        time = np.asarray(self.time, dtype=float)
+        positions = np.asarray(self.positions, dtype=float)
+        velocities = np.asarray(self.velocities, dtype=float)
+        accelerations = (
+            np.zeros_like(positions) if self.accelerations is None else np.asarray(self.accelerations, dtype=float)
+        )
+        if len(set(names)) != len(names) or not names:
+            raise InputError(f"joint names must be unique and non-empty, got {list(names)}")
+        if time.ndim != 1 or time.size < 1:
+            raise InputError(f"time must be 1-D and non-empty, got shape {time.shape}")
+        shape = (time.size, len(names))
+        for label, array in (("positions", positions), ("velocities", velocities), ("accelerations", accelerations)):
+            if array.shape != shape:
+                raise InputError(f"{label} must have shape {shape}, got {array.shape}")
+            if not np.all(np.isfinite(array)):
+                raise InputError(f"{label} hold NaN or inf")
+        if not np.all(np.isfinite(time)) or np.any(np.diff(time) <= 0):
+            raise InputError("time must be finite and strictly increasing")
+        for name, value in (("joint_names", names), ("time", time), ("positions", positions),
+                            ("velocities", velocities), ("accelerations", accelerations)):
+            if isinstance(value, np.ndarray):
+                value.setflags(write=False)
+            object.__setattr__(self, name, value)
+
+    def __len__(self) -> int:
+        return self.time.size
+
+    @property
+    def duration(self) -> float:
+        """Time of the last point (s)."""
+        return float(self.time[-1])
+
+    def joint_index(self, name: str) -> int:
+        """Column of joint ``name``; :class:`InputError` listing the joints if unknown."""
+        try:
+            return self.joint_names.index(name)
+        except ValueError:
+            raise InputError(f"unknown joint {name!r} (joints: {', '.join(self.joint_names)})") from None
+
+    def select(self, names: Sequence[str]) -> JointTrajectory:
+        """The same trajectory restricted to the joints ``names``, in that order."""
+        index = [self.joint_index(n) for n in names]
+        return JointTrajectory(tuple(names), self.time, self.positions[:, index],
+                               self.velocities[:, index], self.accelerations[:, index])
