@@ -1,0 +1,164 @@
+"""Figures of a dataset: the demonstrations in 3-D and as 2-D slices per basket distance.
+
+Thesis figures 4.1 and 4.16-4.17 (the dataset in (angle, distance, velocity)) and 4.44 (the data
+split by distance).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+from matplotlib.cm import ScalarMappable
+from matplotlib.lines import Line2D
+from matplotlib.ticker import MaxNLocator
+
+from rlff.dataset import Dataset, Trajectory
+from rlff.errors import InputError
+from rlff.plots._figure import (
+    HIT_COLOUR,
+    MISS_COLOUR,
+    SavedFigure,
+    axis_label,
+    distance_colours,
+    figure_style,
+    format_distance,
+    grid_shape,
+    new_figure,
+    save,
+)
+
+#: Two viewpoints of the 3-D figure (elevation, azimuth in degrees), as in thesis figure 4.17.
+_VIEWS = ((22.0, -60.0), (14.0, -30.0))
+
+
+def _check_columns(dataset: Dataset, columns: Sequence[str]) -> None:
+    if len(dataset) == 0:
+        raise InputError("the dataset is empty: nothing to plot")
+    dataset.require(columns)
+
+
+def _outcome_counts(trajectories: Sequence[Trajectory]) -> str:
+    hits = sum(1 for t in trajectories if t.meta.get("hit") is True)
+    misses = sum(1 for t in trajectories if t.meta.get("hit") is False)
+    if hits + misses == 0:
+        return f"{len(trajectories)} throws"
+    return f"{hits} hit, {misses} missed"
+
+
+def dataset_3d(
+    dataset: Dataset,
+    out: str | Path,
+    *,
+    columns: tuple[str, str, str] = ("angle", "distance", "velocity"),
+    title: str | None = None,
+) -> SavedFigure:
+    """The demonstrations as lines in 3-D, seen from two viewpoints, coloured by distance.
+
+    Parameters
+    ----------
+    dataset : Dataset
+        Trajectories with the three ``columns``; the second is the context (one value per
+        trajectory) that sets the colour.
+    out : path
+        File stem of the PNG and SVG.
+    columns : (x, y, z) column names
+        Default (angle rad, distance m, velocity rad/s), the axes of thesis figure 4.1.
+    title : str, optional
+        Figure title; default names the number of trajectories.
+    """
+    _check_columns(dataset, columns)
+    x_name, c_name, y_name = columns
+    contexts = [float(t[c_name][0]) for t in dataset]
+    colours, norm, cmap = distance_colours(contexts)
+    with figure_style():
+        figure = new_figure(12.0, 5.2)
+        for index, (elevation, azimuth) in enumerate(_VIEWS):
+            axes = figure.add_subplot(1, 2, index + 1, projection="3d")
+            for trajectory, context in zip(dataset, contexts, strict=True):
+                axes.plot(
+                    trajectory[x_name], trajectory[c_name], trajectory[y_name],
+                    color=colours[context], linewidth=1.1, alpha=0.85,
+                )
+            axes.set_xlabel(axis_label(x_name), labelpad=6)
+            axes.set_ylabel(axis_label(c_name), labelpad=6)
+            axes.set_zlabel(axis_label(y_name), labelpad=6)
+            for axis in (axes.xaxis, axes.yaxis, axes.zaxis):
+                axis.set_major_locator(MaxNLocator(5))
+            axes.view_init(elev=elevation, azim=azimuth)
+            axes.set_title(f"view {index + 1}: elevation {elevation:g}°, azimuth {azimuth:g}°")
+        colour_bar = figure.colorbar(
+            ScalarMappable(norm=norm, cmap=cmap), ax=figure.axes, shrink=0.7, pad=0.04
+        )
+        colour_bar.set_label(axis_label(c_name))
+        figure.suptitle(title or f"Demonstrations: {len(dataset)} trajectories, {dataset.n_samples} samples")
+    return save(figure, out)
+
+
+def dataset_slices(
+    dataset: Dataset,
+    out: str | Path,
+    *,
+    x: str = "angle",
+    y: str = "velocity",
+    context: str = "distance",
+    title: str | None = None,
+) -> SavedFigure:
+    """One panel per basket distance with the demonstrations on the (x, y) plane.
+
+    Successful throws are green, failed ones red when the trajectories carry a ``hit`` outcome;
+    otherwise every line takes its distance's colour. Panels share their axes so that the
+    distances compare at a glance (thesis figure 4.44).
+
+    Parameters
+    ----------
+    dataset : Dataset
+    out : path
+        File stem of the PNG and SVG.
+    x, y : str
+        Columns on the horizontal and vertical axes (default angle rad, velocity rad/s).
+    context : str
+        The column that splits the panels (default the basket distance, m).
+    title : str, optional
+    """
+    _check_columns(dataset, (x, y, context))
+    groups: dict[float, list[Trajectory]] = {}
+    for trajectory in dataset:
+        groups.setdefault(float(trajectory[context][0]), []).append(trajectory)
+    groups = dict(sorted(groups.items()))
+    colours, _, _ = distance_colours(list(groups))
+    has_outcome = any("hit" in t.meta for t in dataset)
+    rows, columns = grid_shape(len(groups))
+    with figure_style():
+        figure = new_figure(3.4 * columns, 2.8 * rows + 0.6)
+        panels = figure.subplots(rows, columns, sharex=True, sharey=True, squeeze=False)
+        for axes, (value, trajectories) in zip(panels.flat, groups.items(), strict=False):
+            for trajectory in trajectories:
+                if has_outcome:
+                    colour = HIT_COLOUR if trajectory.meta.get("hit") is True else MISS_COLOUR
+                else:
+                    colour = colours[value]
+                axes.plot(trajectory[x], trajectory[y], color=colour, linewidth=1.0, alpha=0.8)
+            label = format_distance(value) if context == "distance" else f"{context} = {value:g}"
+            axes.set_title(f"{label} · {_outcome_counts(trajectories)}", fontsize=10)
+        for axes in panels.flat[len(groups):]:
+            axes.set_visible(False)
+        for column in range(columns):
+            # the lowest visible panel of each column carries the x labels
+            lowest = panels[(len(groups) - 1 - column) // columns, column] if column < len(groups) else None
+            if lowest is not None:
+                lowest.xaxis.set_tick_params(labelbottom=True)
+                lowest.set_xlabel(axis_label(x))
+        for axes in panels[:, 0]:
+            axes.set_ylabel(axis_label(y))
+        if has_outcome:
+            figure.legend(
+                handles=[
+                    Line2D([], [], color=HIT_COLOUR, label="hit the basket"),
+                    Line2D([], [], color=MISS_COLOUR, label="missed"),
+                ],
+                loc="outside upper right",
+                ncols=2,
+            )
+        figure.suptitle(title or f"Demonstrations per basket distance ({len(dataset)} trajectories)")
+    return save(figure, out)

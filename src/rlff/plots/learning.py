@@ -1,0 +1,81 @@
+"""Learning from failure: the miss of every attempt, per method, until the first hit."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+from matplotlib.lines import Line2D
+from matplotlib.ticker import MaxNLocator
+
+from rlff.errors import InputError
+from rlff.plots._figure import HIT_COLOUR, SavedFigure, figure_style, new_figure, save
+
+_MARKERS = "osD^vP<>Xh"
+
+
+def learning_curves(
+    misses: Mapping[str, Sequence[float]],
+    out: str | Path,
+    *,
+    tolerance: float | None = None,
+    hits: Mapping[str, Sequence[bool]] | None = None,
+    basket: float | None = None,
+) -> SavedFigure:
+    """Signed miss (m) against attempt number, one line per method.
+
+    Parameters
+    ----------
+    misses : mapping of method name to sequence of float
+        Signed miss of each attempt in m (negative: short of the basket, positive: long);
+        NaN for an attempt without a landing point.
+    out : path
+        File stem of the PNG and SVG.
+    tolerance : float, optional
+        Half the basket's opening (m): the band |miss| <= tolerance is shaded as "in the basket".
+    hits : mapping of method name to sequence of bool, optional
+        Which attempts hit (default: |miss| <= tolerance when a tolerance is given). The first hit
+        of each method is marked with a star.
+    basket : float, optional
+        The basket distance (m), for the title.
+    """
+    if not misses:
+        raise InputError("no learning curves to plot")
+    with figure_style():
+        figure = new_figure(8.0, 4.6)
+        axes = figure.add_subplot()
+        axes.axhline(0.0, color="black", linewidth=0.8)
+        if tolerance is not None:
+            axes.axhspan(-tolerance, tolerance, color=HIT_COLOUR, alpha=0.12, label="in the basket")
+        colours = [f"C{i}" for i in range(10)]
+        for index, (method, values) in enumerate(misses.items()):
+            miss = np.asarray(values, dtype=float)
+            attempts = np.arange(1, miss.size + 1)
+            colour = colours[index % len(colours)]
+            axes.plot(
+                attempts, miss, marker=_MARKERS[index % len(_MARKERS)], markersize=5,
+                color=colour, linewidth=1.4, label=f"{method} ({miss.size} attempts)",
+            )
+            if hits is not None and method in hits:
+                hit = np.asarray(hits[method], dtype=bool)
+            elif tolerance is not None:
+                hit = np.abs(miss) <= tolerance
+            else:
+                hit = np.zeros(miss.size, dtype=bool)
+            if hit.any():
+                first = int(np.flatnonzero(hit)[0])
+                axes.plot(
+                    attempts[first], miss[first], marker="*", markersize=17, color=colour,
+                    markeredgecolor="black", linestyle="none", zorder=5,
+                )
+        axes.xaxis.set_major_locator(MaxNLocator(integer=True))
+        axes.set_xlabel("attempt")
+        axes.set_ylabel("miss (m): < 0 short, > 0 long")
+        handles, labels = axes.get_legend_handles_labels()
+        handles.append(Line2D([], [], marker="*", markersize=12, color="grey", markeredgecolor="black", linestyle="none"))
+        labels.append("first hit")
+        axes.legend(handles, labels, loc="best")
+        where = f" for a basket at {basket:g} m" if basket is not None else ""
+        axes.set_title(f"Learning from failure{where}")
+    return save(figure, out)
