@@ -4,7 +4,8 @@ Near-zero velocity: the integral diverges where the velocity is zero (a throw st
 rest). Each segment between two samples is taken at constant acceleration in time, which gives
 dt = 2 d angle / (v_i + v_{i+1}): exact for constant velocity and for uniform acceleration, and
 finite when one end of the segment is at rest. Where both ends are (nearly) at rest the speed is
-floored at ``min_speed`` so that the time stays finite.
+floored at ``min_speed`` (default 1 % of the peak speed) so that the time stays finite: a segment
+that starts and ends at rest takes its length over that floor, as if crept through slowly.
 """
 
 from __future__ import annotations
@@ -12,6 +13,9 @@ from __future__ import annotations
 import numpy as np
 
 from rlff.errors import InputError
+
+#: A path whose peak speed (rad/s) is not above this never gets anywhere: refused.
+_SLOWEST_PEAK = 1e-9
 
 
 def time_along_path(
@@ -45,8 +49,10 @@ def time_along_path(
         raise InputError(f"angle and velocity must be 1-D of one length, got {angle.shape} and {velocity.shape}")
     if angle.size < 2:
         raise InputError("a timed path needs at least 2 samples")
-    if not (np.all(np.isfinite(angle)) and np.all(np.isfinite(velocity))):
-        raise InputError("angle or velocity holds NaN or inf")
+    for label, values in (("angle", angle), ("velocity", velocity)):
+        if not np.all(np.isfinite(values)):
+            bad = int(np.flatnonzero(~np.isfinite(values))[0])
+            raise InputError(f"{label} at sample {bad} is {values[bad]} (NaN or inf)")
     steps = np.diff(angle)
     direction = np.sign(steps[0])
     if direction == 0 or np.any(np.sign(steps) != direction):
@@ -56,7 +62,12 @@ def time_along_path(
     if np.any(speed < -1e-12):
         bad = int(np.flatnonzero(speed < -1e-12)[0])
         raise InputError(f"velocity at sample {bad} ({velocity[bad]:g} rad/s) moves against the path")
+    if not np.max(speed) > _SLOWEST_PEAK:
+        raise InputError(f"velocity is (nearly) zero everywhere (peak {np.max(speed):.3g} rad/s): "
+                         "the path would take forever")
     if min_speed is None:
-        min_speed = max(0.01 * float(np.max(speed)), 1e-9)
+        min_speed = 0.01 * float(np.max(speed))
+    elif not min_speed > 0:
+        raise InputError(f"min_speed must be positive, got {min_speed!r} rad/s")
     mean_speed = np.maximum(0.5 * (speed[:-1] + speed[1:]), min_speed)
     return np.concatenate([[0.0], np.cumsum(np.abs(steps) / mean_speed)])

@@ -1,0 +1,176 @@
+"""Robot description as data: joints with limits, arm geometry, and the robot's extra tables.
+
+A robot is a TOML file (see ``rlff/robots/comau_smart5_six.toml`` for the fields and the
+kinematic convention); the Comau Smart5 SiX ships with rlff, another robot is another file.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+
+from rlff.errors import InputError
+
+DEFAULT_ROBOT = "comau_smart5_six"
+
+_GEOMETRY_FIELDS = ("shoulder_height", "shoulder_forward", "upper_arm", "elbow_offset",
+                    "forearm", "flange")
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One revolute joint: position limits ``lower`` < ``upper`` (rad), speed limit (rad/s)."""
+
+    name: str
+    lower: float
+    upper: float
+    max_velocity: float
+
+    def __post_init__(self) -> None:
+        if not self.lower < self.upper:
+            raise InputError(f"joint {self.name}: lower limit {self.lower} is not below upper {self.upper}")
+        if not self.max_velocity > 0:
+            raise InputError(f"joint {self.name}: max_velocity must be positive, got {self.max_velocity}")
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Link lengths (m) of a 6-axis arm with an elbow offset; see the robot file for the frames.
+
+    ``shoulder_height``/``shoulder_forward``: joint 2 axis above the base and forward of joint 1;
+    ``upper_arm``: joint 2 to joint 3; ``elbow_offset``: joint 3 axis to the forearm axis;
+    ``forearm``: along the forearm to the wrist centre; ``flange``: wrist centre to flange face.
+    """
+
+    shoulder_height: float
+    shoulder_forward: float
+    upper_arm: float
+    elbow_offset: float
+    forearm: float
+    flange: float
+
+
+@dataclass(frozen=True)
+class Robot:
+    """A robot arm: its joints in controller order, geometry and extra tables of its file.
+
+    ``throwing`` holds the default human-to-robot mapping (read by
+    :meth:`rlff.robot.mapping.RobotMapping.for_robot`), ``comau_program`` the layout of the
+    Comau text program; both may be empty. ``source`` names the file it came from.
+    """
+
+    name: str
+    joints: tuple[Joint, ...]
+    geometry: Geometry | None = None
+    throwing: Mapping[str, Any] = field(default_factory=dict)
+    comau_program: Mapping[str, Any] = field(default_factory=dict)
+    source: str = "<memory>"
+
+    def __post_init__(self) -> None:
+        names = [joint.name for joint in self.joints]
+        if not names or len(set(names)) != len(names):
+            raise InputError(f"{self.source}: joint names must be unique and non-empty, got {names}")
+        object.__setattr__(self, "throwing", MappingProxyType(dict(self.throwing)))
+        object.__setattr__(self, "comau_program", MappingProxyType(dict(self.comau_program)))
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        return tuple(joint.name for joint in self.joints)
+
+    def joint(self, name: str) -> Joint:
+        """The joint called ``name``; :class:`InputError` listing the joints if unknown."""
+        for joint in self.joints:
+            if joint.name == name:
+                return joint
+        raise InputError(f"unknown joint {name!r} on robot {self.name} (joints: {', '.join(self.joint_names)})")
+
+    def index(self, name: str) -> int:
+        """Position of joint ``name`` in :attr:`joints`."""
+        return self.joint_names.index(self.joint(name).name)
+
+    def limits(self, names: Sequence[str] | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Arrays (J,) of lower and upper position limits (rad) and speed limits (rad/s)."""
+        joints = self.joints if names is None else [self.joint(name) for name in names]
+        return (np.array([j.lower for j in joints]), np.array([j.upper for j in joints]),
+                np.array([j.max_velocity for j in joints]))
+
+
+def number_field(table: Mapping[str, Any], key: str, where: str) -> float:
+    """``table[key]`` as a finite float; :class:`InputError` naming ``where`` and ``key`` if not."""
+    if key not in table:
+        raise InputError(f"{where}: missing field {key!r}")
+    value = table[key]
+    if isinstance(value, bool) or not isinstance(value, int | float) or not np.isfinite(value):
+        raise InputError(f"{where}: field {key!r} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
+    """Build a :class:`Robot` from a parsed robot file; errors name ``source`` and the field."""
+    name = document.get("name")
+    if not isinstance(name, str) or not name:
+        raise InputError(f"{source}: missing field 'name'")
+    tables = document.get("joints")
+    if not isinstance(tables, list) or not tables:
+        raise InputError(f"{source}: missing [[joints]] tables")
+    joints = []
+    for number, table in enumerate(tables, start=1):
+        joint_name = table.get("name")
+        where = f"{source}: joint {number}" + (f" ({joint_name})" if joint_name else "")
+        if not isinstance(joint_name, str) or not joint_name:
+            raise InputError(f"{where}: missing field 'name'")
+        joints.append(Joint(joint_name, number_field(table, "lower", where), number_field(table, "upper", where),
+                            number_field(table, "max_velocity", where)))
+    geometry = None
+    if "geometry" in document:
+        values = {key: number_field(document["geometry"], key, f"{source}: [geometry]") for key in _GEOMETRY_FIELDS}
+        geometry = Geometry(**values)
+    return Robot(name, tuple(joints), geometry, document.get("throwing", {}),
+                 document.get("comau_program", {}), source)
+
+
+def available_robots() -> list[str]:
+    """Names of the robot files that ship with rlff."""
+    folder = resources.files("rlff") / "robots"
+    return sorted(entry.name[:-5] for entry in folder.iterdir() if entry.name.endswith(".toml"))
+
+
+def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
+    """Read a robot file, or a built-in robot by name.
+
+    Parameters
+    ----------
+    path_or_name : str or Path
+        A TOML file, or the name of a built-in robot (see :func:`available_robots`).
+
+    Raises
+    ------
+    InputError
+        Unknown robot, unreadable file, or a missing or invalid field (named in the message).
+    """
+    text_name = str(path_or_name)
+    is_file = isinstance(path_or_name, Path) or text_name.endswith(".toml") or "/" in text_name
+    if is_file:
+        path = Path(path_or_name)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except OSError as exc:
+            raise InputError(f"cannot read robot file {path}: {exc.strerror}") from None
+        source = str(path)
+    else:
+        if text_name not in available_robots():
+            raise InputError(f"unknown robot {text_name!r} (built in: {', '.join(available_robots())}; or give a .toml file)")
+        text = (resources.files("rlff") / "robots" / f"{text_name}.toml").read_text(encoding="utf-8")
+        source = f"built-in robot {text_name}"
+    try:
+        document = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"{source}: not valid TOML: {exc}") from None
+    return parse_robot(document, source)

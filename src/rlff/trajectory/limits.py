@@ -1,0 +1,152 @@
+"""Joint limits of a timed trajectory: find every violation, or clip and report each change.
+
+A point beyond a position or velocity limit is an error unless the caller asks to clip; clipping
+never happens silently: each changed value is listed with its point, joint, quantity and values.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from rlff.errors import InputError
+from rlff.trajectory.joint import JointTrajectory
+
+
+class JointLimits(Protocol):
+    """What the limit checks read from a joint (``rlff.robot.Joint`` has these fields)."""
+
+    name: str
+    lower: float
+    upper: float
+    max_velocity: float
+
+
+@dataclass(frozen=True)
+class LimitChange:
+    """One value beyond a limit: where it is, what it was and what it is (or would be) clipped to.
+
+    ``quantity`` is ``"position"`` (rad) or ``"velocity"`` (rad/s); ``point`` is the index of the
+    trajectory point.
+    """
+
+    point: int
+    joint: str
+    quantity: str
+    before: float
+    after: float
+
+    @property
+    def unit(self) -> str:
+        return "rad" if self.quantity == "position" else "rad/s"
+
+    def describe(self) -> str:
+        """One line: ``point 3: joint_2 velocity 3.1 rad/s -> 2.792 rad/s``."""
+        return (f"point {self.point}: {self.joint} {self.quantity} {self.before:.6g} {self.unit}"
+                f" -> {self.after:.6g} {self.unit}")
+
+
+@dataclass(frozen=True)
+class ClipReport:
+    """Every value that was beyond a limit, in point order; empty when nothing was clipped."""
+
+    changes: tuple[LimitChange, ...] = ()
+
+    def __bool__(self) -> bool:
+        return bool(self.changes)
+
+    def __len__(self) -> int:
+        return len(self.changes)
+
+    def count(self, quantity: str) -> int:
+        """Number of changed ``"position"`` or ``"velocity"`` values."""
+        return sum(change.quantity == quantity for change in self.changes)
+
+    def summary(self) -> str:
+        """One line: how many values were clipped, or that none were."""
+        if not self.changes:
+            return "no point beyond the limits"
+        points = len({change.point for change in self.changes})
+        return (f"clipped {self.count('position')} positions and {self.count('velocity')} "
+                f"velocities at {points} points")
+
+
+def _limit_arrays(traj: JointTrajectory, joints: Sequence[JointLimits]) -> tuple[np.ndarray, ...]:
+    by_name = {joint.name: joint for joint in joints}
+    unknown = [name for name in traj.joint_names if name not in by_name]
+    if unknown:
+        raise InputError(f"unknown joint names {unknown} (the robot has {', '.join(by_name)})")
+    ordered = [by_name[name] for name in traj.joint_names]
+    lower = np.array([joint.lower for joint in ordered])
+    upper = np.array([joint.upper for joint in ordered])
+    vmax = np.array([joint.max_velocity for joint in ordered])
+    return lower, upper, vmax
+
+
+def limit_changes(traj: JointTrajectory, joints: Sequence[JointLimits]) -> ClipReport:
+    """Every position and velocity of ``traj`` beyond the limits of ``joints``.
+
+    Parameters
+    ----------
+    traj : JointTrajectory
+        T points of J joints; each of its joint names must be among ``joints``.
+    joints : sequence of JointLimits
+        Position limits ``lower``/``upper`` (rad) and speed limit ``max_velocity`` (rad/s).
+
+    Returns
+    -------
+    ClipReport
+        One :class:`LimitChange` per value beyond a limit, ``after`` being the clipped value.
+    """
+    lower, upper, vmax = _limit_arrays(traj, joints)
+    clipped_q = np.clip(traj.positions, lower, upper)
+    clipped_v = np.clip(traj.velocities, -vmax, vmax)
+    changes = []
+    for quantity, before, after in (("position", traj.positions, clipped_q),
+                                    ("velocity", traj.velocities, clipped_v)):
+        for point, column in zip(*np.nonzero(before != after), strict=True):
+            changes.append(LimitChange(int(point), traj.joint_names[column], quantity,
+                                       float(before[point, column]), float(after[point, column])))
+    changes.sort(key=lambda change: (change.point, change.joint, change.quantity))
+    return ClipReport(tuple(changes))
+
+
+def require_within_limits(traj: JointTrajectory, joints: Sequence[JointLimits]) -> None:
+    """Raise :class:`InputError` naming the first violations if any point is beyond a limit."""
+    report = limit_changes(traj, joints)
+    if report:
+        shown = "; ".join(
+            f"point {c.point}: {c.joint} {c.quantity} {c.before:.6g} {c.unit} beyond the limit "
+            f"{c.after:.6g} {c.unit}" for c in report.changes[:3])
+        more = f" (and {len(report) - 3} more)" if len(report) > 3 else ""
+        raise InputError(f"{len(report)} values beyond the robot's limits: {shown}{more}")
+
+
+def clip_to_limits(
+    traj: JointTrajectory, joints: Sequence[JointLimits]
+) -> tuple[JointTrajectory, ClipReport]:
+    """``traj`` with positions and velocities clipped into the limits, and what changed.
+
+    A joint held at a position limit cannot move on: where a position is clipped, its velocity
+    is set to 0 and that change is reported too. Accelerations are kept as they are.
+    """
+    report = limit_changes(traj, joints)
+    if not report:
+        return traj, report
+    lower, upper, vmax = _limit_arrays(traj, joints)
+    positions = np.clip(traj.positions, lower, upper)
+    velocities = np.clip(traj.velocities, -vmax, vmax)
+    held = positions != traj.positions
+    velocities[held] = 0.0
+    changes = [change for change in report.changes if change.quantity == "position"]
+    for point, column in zip(*np.nonzero(velocities != traj.velocities), strict=True):
+        changes.append(LimitChange(int(point), traj.joint_names[column], "velocity",
+                                   float(traj.velocities[point, column]),
+                                   float(velocities[point, column])))
+    changes.sort(key=lambda change: (change.point, change.joint, change.quantity))
+    clipped = JointTrajectory(traj.joint_names, traj.time, positions, velocities,
+                              traj.accelerations)
+    return clipped, ClipReport(tuple(changes))

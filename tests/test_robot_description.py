@@ -1,0 +1,89 @@
+"""Robot files: the built-in Comau Smart5 SiX, other files, and clear errors on bad ones."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rlff.errors import InputError
+from rlff.robot import available_robots, load_robot
+from rlff.robot.description import Joint
+
+COMAU_LIMITS = {  # rad, rad, rad/s (the issue's numbers)
+    "joint_1": (-2.967, 2.967, 2.443),
+    "joint_2": (-1.48, 2.71, 2.792),
+    "joint_3": (-2.967, 0.0, 2.967),
+    "joint_4": (-3.67, 3.67, 7.854),
+    "joint_5": (-2.27, 2.27, 6.545),
+    "joint_6": (-47.12, 47.12, 9.6),
+}
+
+MINIMAL = """
+name = "two_link"
+[[joints]]
+name = "a"
+lower = -1.0
+upper = 1.0
+max_velocity = 2.0
+[[joints]]
+name = "b"
+lower = -0.5
+upper = 0.5
+max_velocity = 1.0
+"""
+
+
+def test_builtin_comau_has_the_limits_and_geometry():
+    robot = load_robot()
+    assert robot.name == "comau_smart5_six" and "comau_smart5_six" in available_robots()
+    assert robot.joint_names == tuple(COMAU_LIMITS)
+    for joint in robot.joints:
+        assert (joint.lower, joint.upper, joint.max_velocity) == COMAU_LIMITS[joint.name]
+    g = robot.geometry
+    assert (g.shoulder_height, g.shoulder_forward, g.upper_arm, g.elbow_offset, g.forearm, g.flange) == (
+        0.45, 0.15, 0.59, 0.13, 0.647, 0.095)
+    lower, upper, vmax = robot.limits(["joint_2", "joint_3"])
+    np.testing.assert_array_equal(lower, [-1.48, -2.967])
+    np.testing.assert_array_equal(vmax, [2.792, 2.967])
+
+
+def test_another_robot_is_another_file(tmp_path):
+    path = tmp_path / "two_link.toml"
+    path.write_text(MINIMAL)
+    robot = load_robot(path)
+    assert robot.joint_names == ("a", "b") and robot.geometry is None and robot.source == str(path)
+    assert robot.joint("b") == Joint("b", -0.5, 0.5, 1.0)
+    assert load_robot(str(path)).joints == robot.joints
+
+
+@pytest.mark.parametrize("field", ["lower", "upper", "max_velocity"])
+def test_missing_limit_names_the_file_joint_and_field(tmp_path, field):
+    path = tmp_path / "broken.toml"
+    path.write_text(MINIMAL.replace(f"{field} = ", f"# {field} = ", 2).replace(f"# {field} = ", f"{field} = ", 1))
+    with pytest.raises(InputError, match=rf"broken.toml: joint 2 \(b\): missing field '{field}'"):
+        load_robot(path)
+
+
+def test_bad_values_are_refused(tmp_path):
+    path = tmp_path / "r.toml"
+    path.write_text(MINIMAL.replace("upper = 1.0", "upper = -2.0"))
+    with pytest.raises(InputError, match="joint a: lower limit -1.0 is not below upper -2.0"):
+        load_robot(path)
+    path.write_text(MINIMAL.replace("max_velocity = 2.0", 'max_velocity = "fast"'))
+    with pytest.raises(InputError, match="'max_velocity' must be a finite number"):
+        load_robot(path)
+    path.write_text(MINIMAL.replace('name = "b"', 'name = "a"'))
+    with pytest.raises(InputError, match="unique"):
+        load_robot(path)
+    path.write_text("name = 'x'\n[[joints]\n")
+    with pytest.raises(InputError, match="not valid TOML"):
+        load_robot(path)
+
+
+def test_unknown_robot_and_joint_are_named():
+    with pytest.raises(InputError, match="unknown robot 'kuka'.*comau_smart5_six"):
+        load_robot("kuka")
+    with pytest.raises(InputError, match="cannot read robot file"):
+        load_robot("/nonexistent/robot.toml")
+    with pytest.raises(InputError, match="unknown joint 'joint_7'.*joint_1, joint_2"):
+        load_robot().joint("joint_7")
