@@ -1,0 +1,7 @@
+"""Learning from failure: the closed loop, its update strategies, the attempts log, baselines."""
+
+from rlff.learn.attempt import Attempt
+from rlff.learn.loop import METHODS, LearningResult, learn
+from rlff.learn.strategies import STRATEGIES
+
+__all__ = ["METHODS", "STRATEGIES", "Attempt", "LearningResult", "learn"]

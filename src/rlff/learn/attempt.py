@@ -1,0 +1,105 @@
+"""One executed attempt of the learning loop: what the robot did and what came of it."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from rlff.errors import InputError
+
+
+@dataclass(frozen=True)
+class Attempt:
+    """An executed throw, in the units of the demonstrations it joins.
+
+    Parameters
+    ----------
+    index : int
+        1 for the first attempt of a run.
+    target : float
+        Basket distance aimed at (m).
+    query : float
+        Distance the model was asked for (m): the target for the plain strategies, the
+        calibrated label for ``calibrate``, ``nan`` for the baselines that do not query a model.
+    angle, velocity : array of shape (T,)
+        What the robot did, mapped back to the demonstrations' units (rad, rad/s).
+    time : array of shape (T,)
+        Time of each sample (s).
+    hit : bool
+        The ball ended in the basket.
+    landing : float
+        First landing point along the throwing direction (m).
+    miss : float
+        Signed miss (m): negative short of the basket, positive beyond it, 0 for a hit.
+    exploration : float
+        Mean DMM exploration factor along the generated path (0 for baselines without one).
+    clipped : int
+        Number of samples the robot mapping clipped to a joint limit (0 when within limits).
+    seconds : float
+        Wall time of the attempt (s): model, mapping and execution.
+    info : dict
+        Whatever else the method reports (JSON-serialisable), e.g. a baseline's parameters.
+    """
+
+    index: int
+    target: float
+    query: float
+    angle: np.ndarray
+    velocity: np.ndarray
+    time: np.ndarray
+    hit: bool
+    landing: float
+    miss: float
+    exploration: float = 0.0
+    clipped: int = 0
+    seconds: float = 0.0
+    info: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        for name in ("angle", "velocity", "time"):
+            array = np.asarray(getattr(self, name), dtype=float)
+            if array.ndim != 1 or array.size < 2:
+                raise InputError(f"attempt {self.index}: {name} must be 1-D with >= 2 samples")
+            object.__setattr__(self, name, array)
+        if not (self.angle.size == self.velocity.size == self.time.size):
+            raise InputError(f"attempt {self.index}: angle, velocity and time differ in length")
+
+    def to_json(self) -> dict[str, Any]:
+        """A plain dict for one line of the attempts log."""
+        return {
+            "attempt": self.index,
+            "target": self.target,
+            "query": None if np.isnan(self.query) else self.query,
+            "hit": bool(self.hit),
+            "landing": self.landing,
+            "miss": self.miss,
+            "exploration": self.exploration,
+            "clipped": self.clipped,
+            "seconds": self.seconds,
+            "angle": self.angle.tolist(),
+            "velocity": self.velocity.tolist(),
+            "time": self.time.tolist(),
+            "info": self.info,
+        }
+
+    @classmethod
+    def from_json(cls, record: dict[str, Any]) -> Attempt:
+        """The attempt of one log line; :class:`KeyError`/``TypeError``/``ValueError`` if malformed."""
+        query = record["query"]
+        return cls(
+            index=int(record["attempt"]),
+            target=float(record["target"]),
+            query=float("nan") if query is None else float(query),
+            angle=np.asarray(record["angle"], dtype=float),
+            velocity=np.asarray(record["velocity"], dtype=float),
+            time=np.asarray(record["time"], dtype=float),
+            hit=bool(record["hit"]),
+            landing=float(record["landing"]),
+            miss=float(record["miss"]),
+            exploration=float(record["exploration"]),
+            clipped=int(record["clipped"]),
+            seconds=float(record["seconds"]),
+            info=dict(record["info"]),
+        )

@@ -1,0 +1,345 @@
+"""The closed learning-from-failure loop (thesis 1.1.2 and chapter 5's open last step).
+
+fit -> generate the DMM's throw for the basket distance -> map it to the robot -> execute ->
+record the attempt -> update -> repeat, until a hit or the budget is spent.
+
+The loop works on what the robot does. The demonstrations are checked against the robot
+through the human-to-robot mapping before anything runs; every proposed throw is mapped to the
+robot and saturated at the joint limits if it goes beyond them (the robot never exceeds a
+limit, and the attempt says how many values were clipped); what the robot executed is mapped
+back to the demonstrations' units and that is what joins the data. Every attempt goes to the
+attempts log the moment it ends, and a run started again with the same log continues after
+the last recorded attempt, exactly as the uninterrupted run would have.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import time as clock
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Protocol
+
+import numpy as np
+
+from rlff.dataset import Dataset
+from rlff.errors import InputError
+from rlff.learn.attempt import Attempt
+from rlff.learn.baselines import BASELINES
+from rlff.learn.log import AttemptLog
+from rlff.learn.method import COLUMNS, FEEDBACKS, Method, Problem
+from rlff.learn.strategies import STRATEGIES
+from rlff.trajectory.joint import JointTrajectory
+from rlff.trajectory.timing import time_along_path
+
+#: Every method the loop can run, by name: update strategies first, then baselines.
+METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
+
+
+class Outcome(Protocol):
+    """What an executor reports about one throw (``rlff.sim``'s ThrowOutcome is one)."""
+
+    hit: bool
+    landing_x: float
+    miss: float
+
+
+#: Runs one robot trajectory and reports its outcome.
+Executor = Callable[[JointTrajectory], Outcome]
+
+
+@dataclass(frozen=True)
+class LearningResult:
+    """The end of a run.
+
+    Parameters
+    ----------
+    hit : bool
+        The last attempt hit the basket.
+    attempts : int
+        Attempts made, including those resumed from the log.
+    misses : list of float
+        Signed miss (m) of every attempt, negative short, 0 for the hit.
+    history : list of Attempt
+    target : float
+        Basket distance (m).
+    feedback, update : str
+    resumed : int
+        Attempts taken from the log rather than executed by this call.
+    dropped_partial_line : bool
+        The log ended in a line cut short by a crash; it was dropped.
+    """
+
+    hit: bool
+    attempts: int
+    misses: list[float]
+    history: list[Attempt]
+    target: float
+    feedback: str
+    update: str
+    resumed: int = 0
+    dropped_partial_line: bool = False
+    notes: list[str] = field(default_factory=list)
+
+    def to_json(self) -> dict[str, Any]:
+        """The result as plain values (no trajectories)."""
+        return {
+            "hit": self.hit,
+            "attempts": self.attempts,
+            "misses": self.misses,
+            "landings": [a.landing for a in self.history],
+            "exploration": [a.exploration for a in self.history],
+            "target": self.target,
+            "feedback": self.feedback,
+            "update": self.update,
+            "resumed": self.resumed,
+            "dropped_partial_line": self.dropped_partial_line,
+            "notes": self.notes,
+        }
+
+
+def learn(
+    demos: Dataset,
+    basket: float,
+    *,
+    budget: int = 20,
+    feedback: str = "binary",
+    update: str = "calibrate",
+    seed: int = 0,
+    log_path: str | Path | None = None,
+    executor: Executor | None = None,
+    progress: Callable[[Attempt], None] | None = None,
+    robot: str = "comau_smart5_six",
+    pedestal: float = 0.0,
+    rim_height: float = 0.3,
+    opening: float = 0.35,
+) -> LearningResult:
+    """Learn to hit a basket at distance ``basket`` from (possibly failed) demonstrations.
+
+    Parameters
+    ----------
+    demos : Dataset
+        Demonstrations with columns ``angle`` (rad), ``distance`` (m: the basket aimed at) and
+        ``velocity`` (rad/s), one throw per trajectory up to its release, in the human units the
+        robot mapping takes. Metadata ``landing`` (m), where known, is used by ``calibrate``.
+    basket : float
+        Distance of the basket's centre from the robot's base axis (m).
+    budget : int
+        Largest number of attempts, counting those resumed from the log.
+    feedback : {"binary", "distance"}
+        What an attempt reports to the method: hit or miss only, or the signed miss as well.
+    update : str
+        An update strategy (``failure``, ``hindsight``, ``calibrate``) or a baseline
+        (``imitation``, ``random``, ``cma``, ``secant``); see :data:`METHODS`.
+    seed : int
+        Seed of every random choice; a run is reproducible from it.
+    log_path : str or Path, optional
+        Attempts log (JSONL); resumed when it exists.
+    executor : callable, optional
+        ``executor(joint_trajectory) -> outcome`` with ``hit``, ``landing_x`` and ``miss``;
+        default: the MuJoCo simulation of :mod:`rlff.sim` for this basket.
+    progress : callable, optional
+        Called with every attempt as it ends (also those resumed from the log).
+    robot : str
+        Robot name or robot file; its ``[throwing]`` table is the mapping.
+    pedestal, rim_height, opening : float
+        Height of the robot's base, of the basket's rim, and the basket's inner width (m).
+
+    Returns
+    -------
+    LearningResult
+
+    Raises
+    ------
+    InputError
+        Unknown method or feedback, a method that needs other feedback, a basket out of the
+        robot's reach, demonstrations beyond the joint limits, or a corrupt or foreign log.
+    """
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.sim import Basket
+
+    if update not in METHODS:
+        raise InputError(f"unknown update {update!r} (known: {', '.join(METHODS)})")
+    if feedback not in FEEDBACKS:
+        raise InputError(f"unknown feedback {feedback!r} (known: {', '.join(FEEDBACKS)})")
+    method_class = METHODS[update]
+    if feedback not in method_class.feedbacks:
+        raise InputError(f"update {update!r} needs {' or '.join(method_class.feedbacks)} feedback, "
+                         f"not {feedback!r}")
+    if not (isinstance(budget, int) and budget >= 1):
+        raise InputError(f"budget must be a positive whole number of attempts, got {budget!r}")
+    robot_model = load_robot(robot)
+    mapping = RobotMapping.for_robot(robot_model)
+    target = Basket(float(basket), rim_height=rim_height, opening=opening)
+    _require_reach(robot_model, target, pedestal)
+    demos = _learning_demos(demos)
+    _require_demos_within_limits(demos, mapping)
+    if executor is None:
+        executor = _simulator(robot_model, target, pedestal)
+
+    run = {
+        "basket": target.to_dict(),
+        "feedback": feedback,
+        "update": update,
+        "seed": seed,
+        "robot": robot_model.name,
+        "pedestal": pedestal,
+        "demos": fingerprint(demos),
+    }
+    log = AttemptLog(log_path, run) if log_path is not None else None
+    history = list(log.contents.attempts) if log else []
+    resumed = len(history)
+    for attempt in history:
+        if progress:
+            progress(attempt)
+
+    problem = Problem(
+        demos=demos,
+        target=target.distance,
+        feedback=feedback,
+        tolerance=_hit_tolerance(target),
+        angles=_angle_grid(demos),
+        components=_components(demos, seed),
+        seed=seed,
+    )
+    method = method_class(problem) if not (history and history[-1].hit) else None
+    while method is not None and len(history) < budget and not (history and history[-1].hit):
+        start = clock.perf_counter()
+        proposal = method.propose([_as_reported(a, feedback) for a in history])
+        velocity = _forward_velocity(proposal.angle, proposal.velocity)
+        trajectory, clip_report = mapping.to_robot(
+            proposal.angle, velocity, time_along_path(proposal.angle, velocity), clip=True
+        )
+        outcome = executor(trajectory)
+        angle, executed = mapping.from_robot(trajectory)
+        attempt = Attempt(
+            index=len(history) + 1,
+            target=target.distance,
+            query=proposal.query,
+            angle=angle,
+            velocity=executed,
+            time=trajectory.time / mapping.time_scale,
+            hit=bool(outcome.hit),
+            landing=float(outcome.landing_x),
+            miss=0.0 if outcome.hit else float(outcome.miss),
+            exploration=proposal.exploration,
+            clipped=len(clip_report),
+            seconds=clock.perf_counter() - start,
+            info=proposal.info,
+        )
+        if log:
+            log.append(attempt)
+        history.append(attempt)
+        if progress:
+            progress(attempt)
+
+    notes = []
+    if log and log.contents.dropped_partial_line:
+        notes.append(f"{log.path}: dropped a partial last line (a run interrupted mid-write)")
+    return LearningResult(
+        hit=bool(history and history[-1].hit),
+        attempts=len(history),
+        misses=[a.miss for a in history],
+        history=history,
+        target=target.distance,
+        feedback=feedback,
+        update=update,
+        resumed=resumed,
+        dropped_partial_line=bool(log and log.contents.dropped_partial_line),
+        notes=notes,
+    )
+
+
+def fingerprint(demos: Dataset) -> str:
+    """Short hash of the demonstrations' samples and labels: a log resumes only for the same data."""
+    digest = hashlib.sha256()
+    for trajectory in demos:
+        digest.update(trajectory.id.encode())
+        digest.update(np.ascontiguousarray(trajectory.to_array(COLUMNS)).tobytes())
+        digest.update(repr(trajectory.meta.get("landing")).encode())
+    return digest.hexdigest()[:16]
+
+
+def _learning_demos(demos: Dataset) -> Dataset:
+    """The demonstrations reduced to the columns the loop learns from."""
+    demos.require(COLUMNS)
+    if len(demos) < 2:
+        raise InputError(f"learning needs at least 2 demonstrations, got {len(demos)}")
+    return Dataset([t.replace(data={c: t[c] for c in COLUMNS}) for t in demos], context=("distance",))
+
+
+def _require_reach(robot, basket, pedestal: float) -> None:
+    from rlff.sim import max_reach
+
+    reach = max_reach(robot, basket.rim_height, pedestal)
+    if basket.distance > reach:
+        raise InputError(
+            f"basket at {basket.distance:g} m is out of reach: the robot throws at most "
+            f"{reach:.2f} m over a {basket.rim_height:g} m rim from a {pedestal:g} m pedestal"
+        )
+
+
+def _require_demos_within_limits(demos: Dataset, mapping) -> None:
+    for demo in demos:
+        try:
+            mapping.to_robot(demo["angle"], _forward_velocity(demo["angle"], demo["velocity"]))
+        except InputError as exc:
+            raise InputError(f"demonstration {demo.id!r} on the robot: {exc}") from None
+
+
+def _simulator(robot, basket, pedestal: float) -> Executor:
+    from rlff.sim import simulate_throw
+
+    def execute(trajectory: JointTrajectory) -> Outcome:
+        return simulate_throw(trajectory, basket, robot=robot, pedestal=pedestal)
+
+    return execute
+
+
+def _hit_tolerance(basket) -> float:
+    """Half-width (m) of the landing window of a hit: half the opening less the ball's radius."""
+    from rlff.sim.arm import BALL_RADIUS
+
+    return max(0.5 * basket.opening - BALL_RADIUS, 0.25 * basket.opening)
+
+
+def _angle_grid(demos: Dataset) -> np.ndarray:
+    """The angle grid (rad) of generated throws, shape (T,): the demonstrations' typical span.
+
+    From the median first to the median last angle (the release), with the median number of
+    samples of a demonstration.
+    """
+    first = np.median([t["angle"][0] for t in demos])
+    last = np.median([t["angle"][-1] for t in demos])
+    count = int(np.median([len(t) for t in demos]))
+    if first == last:
+        raise InputError("the demonstrations do not move: first and last angles coincide")
+    return np.linspace(first, last, max(count, 10))
+
+
+def _components(demos: Dataset, seed: int) -> int:
+    """Number of mixture components, chosen once by BIC on the demonstrations."""
+    from rlff.model import Model
+
+    model = Model.fit(demos, inputs=("angle", "distance"), outputs=("velocity",),
+                      components="auto", seed=seed)
+    return int(model.n_components)
+
+
+def _forward_velocity(angle: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+    """Velocity (rad/s), shape (T,), with any sample against the direction of motion set to 0.
+
+    A mixture's output may dip just below zero where a throw starts from rest; a joint cannot
+    move backwards along a path that goes forwards.
+    """
+    direction = math.copysign(1.0, float(angle[-1] - angle[0]))
+    return direction * np.maximum(direction * np.asarray(velocity, dtype=float), 0.0)
+
+
+def _as_reported(attempt: Attempt, feedback: str) -> Attempt:
+    """The attempt as the feedback reports it: without landing and miss for binary feedback."""
+    if feedback == "distance":
+        return attempt
+    return replace(attempt, landing=math.nan, miss=math.nan)
