@@ -1,0 +1,128 @@
+"""What every recording reader returns: timed 3-D positions of the arm joints of each tracked user.
+
+A reader (ROS bag, Kinect SDK text, MSR Action3D text, CSV) turns a file into a
+:class:`Recording`: one :class:`ArmTrack` per (user, side) that the file holds, each made of
+three :class:`JointTrack` (shoulder, elbow, hand; optionally the wrist) with their own time
+stamps, because a tf stream publishes every joint on its own and may drop some of them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from rlff.errors import InputError
+
+#: Arm sides a reader may report.
+SIDES = ("right", "left")
+
+
+@dataclass(frozen=True)
+class JointTrack:
+    """Positions of one joint over time.
+
+    Parameters
+    ----------
+    name : str
+        The joint's name in the file (a tf frame, a column, a joint index).
+    time : array of shape (T,)
+        Time stamps (s), strictly increasing.
+    position : array of shape (T, 3)
+        Position (m) in the recording's frame.
+    """
+
+    name: str
+    time: np.ndarray
+    position: np.ndarray
+
+    def __post_init__(self) -> None:
+        time = np.asarray(self.time, dtype=float)
+        position = np.asarray(self.position, dtype=float).reshape(-1, 3)
+        if time.shape != (position.shape[0],):
+            raise InputError(
+                f"joint {self.name!r}: {time.size} time stamps for {position.shape[0]} positions"
+            )
+        if time.size > 1 and np.any(np.diff(time) <= 0):
+            raise InputError(f"joint {self.name!r}: time stamps do not increase")
+        object.__setattr__(self, "time", time)
+        object.__setattr__(self, "position", position)
+
+    def __len__(self) -> int:
+        return self.time.size
+
+
+@dataclass(frozen=True)
+class ArmTrack:
+    """One arm of one tracked user.
+
+    Parameters
+    ----------
+    user : str
+        The tracker's user id ("1" for formats with a single skeleton).
+    side : str
+        "right" or "left".
+    shoulder, elbow, hand : JointTrack
+        The joints that define the elbow angle (upper arm shoulder→elbow, forearm elbow→hand).
+    wrist : JointTrack, optional
+        When the format has one: used as the forearm's end for the angle, since the hand joint
+        also moves with the wrist's flexion; the hand is still used for the release speed.
+    """
+
+    user: str
+    side: str
+    shoulder: JointTrack
+    elbow: JointTrack
+    hand: JointTrack
+    wrist: JointTrack | None = None
+
+    @property
+    def label(self) -> str:
+        """A short name for reports: "user 1, right arm"."""
+        return f"user {self.user}, {self.side} arm"
+
+    @property
+    def forearm_end(self) -> JointTrack:
+        """The joint at the far end of the forearm for the angle: the wrist when known, else the hand."""
+        return self.wrist if self.wrist is not None else self.hand
+
+    @property
+    def n_samples(self) -> int:
+        """Samples of the sparsest of the three joints."""
+        return min(len(self.shoulder), len(self.elbow), len(self.hand))
+
+
+@dataclass
+class Recording:
+    """All arm tracks read from one file, with what the reader noticed.
+
+    Parameters
+    ----------
+    source : str
+        The file (or ROS 2 bag folder) it came from.
+    arms : list of ArmTrack
+        Every (user, side) the file holds.
+    up : array of shape (3,)
+        Unit vector pointing up in the recording's frame (against gravity).
+    notes : list of str
+        Things the reader dropped or repaired (all-zero frames, duplicate frames), for the report.
+    warnings : list of str
+        Problems the user should look at (a bag damaged at the end, read up to the damage).
+    """
+
+    source: str
+    arms: list[ArmTrack]
+    up: np.ndarray
+    notes: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+
+    def users(self) -> list[str]:
+        """User ids in order of first appearance."""
+        return list(dict.fromkeys(arm.user for arm in self.arms))
+
+    def arm(self, user: str, side: str) -> ArmTrack | None:
+        """The arm track of ``user`` on ``side``, or None."""
+        for arm in self.arms:
+            if arm.user == user and arm.side == side:
+                return arm
+        return None

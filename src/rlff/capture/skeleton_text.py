@@ -1,0 +1,279 @@
+"""Skeleton recordings as text: Kinect SDK v1 joint text, MSR Action3D text, CSV of joint positions.
+
+Kinect SDK v1 text
+    One line per frame: the frame number, then 20 joints x (x y z) in the Kinect's joint order
+    (0-based: 4-7 shoulder, elbow, wrist, hand left; 8-11 shoulder, elbow, wrist, hand right).
+    Time is frame number / frame rate (default 30 Hz), so dropped frames keep their place.
+MSR Action3D
+    20 lines ``x y z confidence`` per frame, no time stamps: time is frame index / 15 Hz. Arm B
+    (lines 2, 9, 11, 13) is reported as the right arm, arm A (lines 1, 8, 10, 12) as the left.
+CSV
+    One row per frame with columns ``{side}_{joint}_{axis}`` (e.g. ``right_elbow_x``) and an
+    optional ``time`` column (s), or any other names through a column map.
+
+Frames whose arm joints are all zero (the tracker lost the user) are dropped, and so are repeats
+of a frame number or of a whole frame; each reader says how many in the recording's notes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+
+from rlff.capture.skeleton import SIDES, ArmTrack, JointTrack, Recording
+from rlff.errors import InputError
+
+#: Up direction of the Kinect's camera frame (x left, y up, z away from the camera).
+KINECT_UP = np.array([0.0, 1.0, 0.0])
+#: Kinect SDK v1 joint indices (0-based) of each side: shoulder, elbow, wrist, hand.
+KINECT_ARMS = {"right": (8, 9, 10, 11), "left": (4, 5, 6, 7)}
+#: MSR Action3D joint indices (0-based lines within a frame): arm B is the throwing arm of a06.
+MSR_ARMS = {"right": (1, 8, 10, 12), "left": (0, 7, 9, 11)}
+KINECT_RATE_HZ = 30.0
+MSR_RATE_HZ = 15.0
+_JOINTS = ("shoulder", "elbow", "wrist", "hand")
+_AXES = ("x", "y", "z")
+
+
+def _numeric_rows(path: Path, expected: int, what: str) -> np.ndarray:
+    """Whitespace- or comma-separated numbers, ``expected`` per line; blank and # lines skipped.
+
+    Returns an array of shape (N, expected); raises InputError naming the first bad line.
+    """
+    if not path.is_file():
+        raise InputError(f"{path}: no such file")
+    rows = []
+    with path.open(encoding="utf-8", errors="replace") as handle:
+        for number, line in enumerate(handle, start=1):
+            text = line.split("#", 1)[0].replace(",", " ").strip()
+            if not text:
+                continue
+            fields = text.split()
+            if len(fields) != expected:
+                raise InputError(
+                    f"{path}, line {number}: {len(fields)} columns, expected {expected} ({what})"
+                )
+            try:
+                rows.append([float(value) for value in fields])
+            except ValueError:
+                raise InputError(f"{path}, line {number}: non-numeric value in {text[:60]!r}") from None
+    if not rows:
+        raise InputError(f"{path}: no frames ({what})")
+    values = np.asarray(rows)
+    if not np.all(np.isfinite(values)):
+        line = int(np.flatnonzero(~np.all(np.isfinite(values), axis=1))[0]) + 1
+        raise InputError(f"{path}: non-finite value in frame {line}")
+    return values
+
+
+def _clean_frames(
+    frames: np.ndarray, time: np.ndarray, arm_joints: list[int], notes: list[str], path: Path
+) -> tuple[np.ndarray, np.ndarray]:
+    """Drop frames with all arm joints at zero and exact repeats of the previous frame.
+
+    Parameters
+    ----------
+    frames : array of shape (N, J, 3)
+    time : array of shape (N,)
+    arm_joints : joint indices whose loss means the frame is useless
+    """
+    lost = np.all(frames[:, arm_joints, :] == 0.0, axis=(1, 2))
+    repeat = np.zeros(len(frames), dtype=bool)
+    repeat[1:] = np.all(frames[1:] == frames[:-1], axis=(1, 2)) & ~lost[1:]
+    if lost.any():
+        notes.append(f"{path.name}: dropped {int(lost.sum())} frames with all arm joints at zero (tracking lost)")
+    if repeat.any():
+        notes.append(f"{path.name}: dropped {int(repeat.sum())} frames identical to the one before")
+    keep = ~(lost | repeat)
+    if keep.sum() < 2:
+        raise InputError(f"{path}: fewer than 2 frames with a tracked arm")
+    return frames[keep], time[keep]
+
+
+def _arms(frames: np.ndarray, time: np.ndarray, layout: Mapping[str, tuple[int, ...]], prefix: str) -> list[ArmTrack]:
+    """Arm tracks from frames of shape (N, J, 3) sharing one time base of shape (N,)."""
+    arms = []
+    for side, indices in layout.items():
+        joints = {
+            joint: JointTrack(f"{prefix}{index + 1}", time, frames[:, index, :])
+            for joint, index in zip(_JOINTS, indices, strict=True)
+        }
+        arms.append(ArmTrack("1", side, joints["shoulder"], joints["elbow"], joints["hand"], joints["wrist"]))
+    return arms
+
+
+def read_kinect_text(path: str | Path, rate_hz: float | None = None) -> Recording:
+    """Read a Kinect SDK v1 joint text file.
+
+    Parameters
+    ----------
+    path : path of the file
+    rate_hz : float, optional
+        Frame rate (default 30 Hz); time = frame number / rate.
+
+    Raises
+    ------
+    InputError
+        A line without 61 columns, a non-numeric value, or no tracked frame.
+    """
+    path = Path(path)
+    rate = KINECT_RATE_HZ if rate_hz is None else _positive_rate(rate_hz)
+    values = _numeric_rows(path, 61, "frame number then 20 joints x (x y z)")
+    frame_numbers = values[:, 0]
+    notes: list[str] = []
+    _, first = np.unique(frame_numbers, return_index=True)
+    if first.size < frame_numbers.size:
+        notes.append(f"{path.name}: dropped {frame_numbers.size - first.size} repeated frame numbers (kept the first)")
+    values = values[np.sort(first)]
+    order = np.argsort(values[:, 0], kind="stable")
+    values = values[order]
+    frames = values[:, 1:].reshape(-1, 20, 3)
+    arm_joints = [i for indices in KINECT_ARMS.values() for i in indices]
+    frames, time = _clean_frames(frames, values[:, 0] / rate, arm_joints, notes, path)
+    return Recording(str(path), _arms(frames, time, KINECT_ARMS, "joint "), KINECT_UP, notes)
+
+
+def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
+    """Read an MSR Action3D skeleton file (20 lines ``x y z confidence`` per frame).
+
+    Parameters
+    ----------
+    path : path of the file
+    rate_hz : float, optional
+        Frame rate (default 15 Hz); time = frame index / rate.
+
+    Raises
+    ------
+    InputError
+        A line without 4 columns, a line count that is not a multiple of 20, or no tracked frame.
+    """
+    path = Path(path)
+    rate = MSR_RATE_HZ if rate_hz is None else _positive_rate(rate_hz)
+    values = _numeric_rows(path, 4, "x y z confidence")
+    if len(values) % 20:
+        raise InputError(
+            f"{path}: {len(values)} joint lines, not a multiple of 20 (20 joints per frame); "
+            f"the last frame is missing {20 - len(values) % 20} joints"
+        )
+    frames = values[:, :3].reshape(-1, 20, 3)
+    notes: list[str] = []
+    arm_joints = [i for indices in MSR_ARMS.values() for i in indices]
+    frames, time = _clean_frames(frames, np.arange(len(frames)) / rate, arm_joints, notes, path)
+    return Recording(str(path), _arms(frames, time, MSR_ARMS, "line "), KINECT_UP, notes)
+
+
+def read_joint_csv(
+    path: str | Path,
+    columns: Mapping[str, str] | None = None,
+    rate_hz: float | None = None,
+    up: str = "z",
+) -> Recording:
+    """Read a CSV of joint positions, one row per frame.
+
+    Parameters
+    ----------
+    path : path of the file
+    columns : mapping of str to str, optional
+        Our name -> the file's column name, for any of ``time`` and
+        ``{side}_{joint}_{axis}`` (side right/left, joint shoulder/elbow/wrist/hand, axis x/y/z).
+        Names not mapped are looked up as they are.
+    rate_hz : float, optional
+        Frame rate when the file has no ``time`` column (default 30 Hz).
+    up : {"x", "y", "z", "-x", "-y", "-z"}
+        Axis pointing up in the file's frame.
+
+    Raises
+    ------
+    InputError
+        No arm with all of shoulder, elbow and hand x/y/z columns (the message lists what is
+        missing and the columns that are there), a non-numeric value, or time that goes back.
+    """
+    import pandas as pd
+
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: no such file")
+    mapping = dict(columns or {})
+    try:
+        frame = pd.read_csv(path)
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: not a readable CSV ({str(exc).strip().splitlines()[-1]})") from None
+
+    def column(name: str) -> str | None:
+        real = mapping.get(name, name)
+        return real if real in frame.columns else None
+
+    def numeric(name: str) -> np.ndarray:
+        values = pd.to_numeric(frame[name], errors="coerce").to_numpy(dtype=float)
+        if not np.all(np.isfinite(values)):
+            row = int(np.flatnonzero(~np.isfinite(values))[0])
+            raise InputError(f"{path}, line {row + 2}: column {name!r} has a non-numeric value {frame[name].iloc[row]!r}")
+        return values
+
+    found: dict[str, dict[str, str]] = {}
+    missing: dict[str, list[str]] = {}
+    for side in SIDES:
+        names = {f"{joint}_{axis}": column(f"{side}_{joint}_{axis}") for joint in _JOINTS for axis in _AXES}
+        need = [f"{side}_{joint}_{axis}" for joint in ("shoulder", "elbow", "hand") for axis in _AXES]
+        absent = [name for name in need if names[name.split("_", 1)[1]] is None]
+        if absent:
+            missing[side] = absent
+        else:
+            found[side] = {key: value for key, value in names.items() if value is not None}
+    if not found:
+        wanted = "; ".join(f"{side}: {', '.join(names)}" for side, names in missing.items())
+        raise InputError(
+            f"{path}: no arm with shoulder, elbow and hand x/y/z columns (missing {wanted}); "
+            f"columns present: {', '.join(map(str, frame.columns))}"
+        )
+    time_column = column("time")
+    if time_column is not None:
+        time = numeric(time_column)
+    else:
+        time = np.arange(len(frame)) / (KINECT_RATE_HZ if rate_hz is None else _positive_rate(rate_hz))
+    order = np.argsort(time, kind="stable")
+    notes: list[str] = []
+    sides = list(found)
+    joints_by_side = {
+        side: [joint for joint in _JOINTS if f"{joint}_x" in found[side] and f"{joint}_y" in found[side] and f"{joint}_z" in found[side]]
+        for side in sides
+    }
+    slots = [(side, joint) for side in sides for joint in joints_by_side[side]]
+    frames = np.stack(
+        [np.column_stack([numeric(found[side][f"{joint}_{axis}"]) for axis in _AXES]) for side, joint in slots],
+        axis=1,
+    )[order]
+    time = time[order]
+    _, first = np.unique(time, return_index=True)
+    if first.size < time.size:
+        notes.append(f"{path.name}: dropped {time.size - first.size} rows repeating a time stamp (kept the first)")
+    frames, time = frames[first], time[first]
+    frames, time = _clean_frames(frames, time, list(range(len(slots))), notes, path)
+    arms = []
+    for side in sides:
+        tracks = {
+            joint: JointTrack(f"{side}_{joint}", time, frames[:, slots.index((side, joint)), :])
+            for joint in joints_by_side[side]
+        }
+        arms.append(ArmTrack("1", side, tracks["shoulder"], tracks["elbow"], tracks["hand"], tracks.get("wrist")))
+    return Recording(str(path), arms, axis_vector(up), notes)
+
+
+def axis_vector(axis: str) -> np.ndarray:
+    """Unit vector of shape (3,) for an axis name such as ``"z"`` or ``"-y"``."""
+    text = axis.strip().lower()
+    sign = -1.0 if text.startswith("-") else 1.0
+    name = text.lstrip("+-")
+    if name not in _AXES:
+        raise InputError(f"up axis {axis!r}: expected one of x, y, z, -x, -y, -z")
+    vector = np.zeros(3)
+    vector[_AXES.index(name)] = sign
+    return vector
+
+
+def _positive_rate(rate_hz: float) -> float:
+    if not np.isfinite(rate_hz) or rate_hz <= 0:
+        raise InputError(f"frame rate {rate_hz!r} Hz: must be a positive number")
+    return float(rate_hz)
