@@ -1,0 +1,143 @@
+"""The generated throws: the DMM output for several basket distances, demonstrated and new
+(thesis figures 4.5-4.7, 4.40-4.41 and 4.49-4.50).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Protocol
+
+import numpy as np
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+
+from rlff.dataset import Dataset
+from rlff.errors import InputError
+from rlff.plots._figure import (
+    SavedFigure,
+    axis_label,
+    distance_colours,
+    figure_style,
+    format_distance,
+    grid_shape,
+    new_figure,
+    save,
+)
+
+#: Title of the panel that overlays every output (tests and readers look it up by this title).
+SUMMARY_TITLE = "Generated throws, one per basket distance"
+
+
+class GeneratedPathLike(Protocol):
+    """What the figure needs of a generated throw (``rlff.model.GeneratedPath`` is one).
+
+    Every attribute is an array of shape (T,): joint angle (rad), the DMM's velocity (rad/s), the
+    GMR mean and standard deviation of the velocity (rad/s), and the exploration factor (0-1).
+    """
+
+    angle: np.ndarray
+    velocity: np.ndarray
+    gmr_mean: np.ndarray
+    gmr_std: np.ndarray
+    exploration: np.ndarray
+
+
+def _label(distance: float, demonstrated: bool) -> str:
+    return f"{format_distance(distance)} ({'demonstrated' if demonstrated else 'new'})"
+
+
+def output_trajectories(
+    paths: Mapping[float, GeneratedPathLike],
+    out: str | Path,
+    *,
+    dataset: Dataset | None = None,
+    x: str = "angle",
+    y: str = "velocity",
+    context: str = "distance",
+) -> SavedFigure:
+    """The DMM's throw for every distance: all together, then one panel each with its data.
+
+    The top panel overlays the outputs, coloured by distance; distances without demonstrations
+    are dashed. Below, one panel per distance shows the demonstrations at that distance (grey),
+    the GMR mean with its ±2σ band and the DMM output, which leaves the mean where the
+    demonstrations disagree (thesis figure 4.7).
+
+    Parameters
+    ----------
+    paths : mapping of float to generated path
+        Basket distance (m) → generated throw (see :class:`GeneratedPathLike`).
+    out : path
+        File stem of the PNG and SVG.
+    dataset : Dataset, optional
+        The demonstrations, drawn behind each panel's output; they also decide which distances
+        count as demonstrated.
+    x, y, context : str
+        Column names of the dataset (angle rad, velocity rad/s, distance m).
+    """
+    if not paths:
+        raise InputError("no generated trajectories to plot")
+    by_distance = {float(d): path for d, path in paths.items()}
+    distances = sorted(by_distance)
+    demonstrated_values: set[float] = set()
+    if dataset is not None and len(dataset):
+        dataset.require((x, y, context))
+        demonstrated_values = {float(t[context][0]) for t in dataset}
+
+    def is_demonstrated(distance: float) -> bool:
+        return any(abs(distance - value) < 1e-9 for value in demonstrated_values)
+
+    colours, _, _ = distance_colours(distances)
+    rows, columns = grid_shape(len(distances), 4)
+    with figure_style():
+        figure = new_figure(max(3.6 * columns, 8.0), 4.2 + 3.0 * rows)
+        top, bottom = figure.subfigures(2, 1, height_ratios=[4.2, 3.0 * rows])
+        summary = top.subplots()
+        for distance in distances:
+            path = by_distance[distance]
+            summary.plot(
+                path.angle, path.velocity, color=colours[distance], linewidth=2.0,
+                linestyle="-" if is_demonstrated(distance) else "--",
+                label=_label(distance, is_demonstrated(distance)),
+            )
+        summary.set_xlabel(axis_label(x))
+        summary.set_ylabel(axis_label(y))
+        summary.set_title(SUMMARY_TITLE)
+        summary.legend(loc="best", ncols=1 if len(distances) < 6 else 2)
+        panels = bottom.subplots(rows, columns, sharex=True, sharey=True, squeeze=False)
+        for axes, distance in zip(panels.flat, distances, strict=False):
+            path = by_distance[distance]
+            if dataset is not None:
+                for trajectory in dataset:
+                    if abs(float(trajectory[context][0]) - distance) < 1e-9:
+                        axes.plot(trajectory[x], trajectory[y], color="#a0a0a0", linewidth=0.7, alpha=0.7)
+            mean = np.asarray(path.gmr_mean, dtype=float)
+            spread = 2.0 * np.asarray(path.gmr_std, dtype=float)
+            axes.fill_between(path.angle, mean - spread, mean + spread, color="black", alpha=0.08, linewidth=0)
+            axes.plot(path.angle, mean, color="black", linestyle="--", linewidth=1.1)
+            axes.plot(path.angle, path.velocity, color=colours[distance], linewidth=2.0)
+            axes.set_title(
+                f"{_label(distance, is_demonstrated(distance))}\nmean exploration ε = "
+                f"{float(np.mean(path.exploration)):.2f}",
+                fontsize=10,
+            )
+        for axes in panels.flat[len(distances):]:
+            axes.set_visible(False)
+        for column in range(columns):
+            if column < len(distances):
+                lowest = panels[(len(distances) - 1 - column) // columns, column]
+                lowest.xaxis.set_tick_params(labelbottom=True)
+                lowest.set_xlabel(axis_label(x))
+        for axes in panels[:, 0]:
+            axes.set_ylabel(axis_label(y))
+        bottom.legend(
+            handles=[
+                Line2D([], [], color="#a0a0a0", linewidth=0.7, label="demonstrations at this distance"),
+                Line2D([], [], color="black", linestyle="--", label="GMR mean"),
+                Patch(color="black", alpha=0.08, label="GMR ±2σ"),
+                Line2D([], [], color=colours[distances[0]], linewidth=2.0, label="DMM output: the throw sent (colour: distance)"),
+            ],
+            loc="outside lower center",
+            ncols=4,
+        )
+    return save(figure, out)
