@@ -1,0 +1,183 @@
+"""How far the arm can throw: the farthest basket it reaches at its joints' speed limits.
+
+The ball is released at the full speed limit of the throwing joints, joint 2 swinging forward
+(overhand); every other joint of the throwing plane (joints 2, 3 and 5) is placed where the throw
+goes farthest. The reach is where the
+released ball comes down through the rim's height (no drag), searched on a grid of release poses
+and refined locally, with the elbow, the wrist and the ball clear of the ground. It ignores the room a joint needs to speed up and to stop, so it is an upper
+bound of what a trajectory within the limits achieves.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from scipy.optimize import minimize
+
+from rlff.ballistics import crossing_distance
+from rlff.errors import InputError
+from rlff.robot.description import Robot, load_robot
+from rlff.sim.arm import BALL_RADIUS, Arm
+from rlff.sim.basket import Basket
+
+#: Joints that move the ball in the vertical throwing plane, in the order of Arm.ball_in_plane.
+PLANE_JOINTS = ("joint_2", "joint_3", "joint_5")
+#: Lowest height (m) of the elbow, the wrist and the ball's centre at release.
+GROUND_CLEARANCE = 0.1
+#: Grid points per joint of the coarse search.
+_GRID = 41
+
+
+@dataclass(frozen=True)
+class Reach:
+    """The farthest throw and how it is made.
+
+    Attributes
+    ----------
+    distance : float
+        Horizontal distance from the joint 1 axis where the ball comes down through the rim's
+        height (m).
+    joints : tuple of str
+        The throwing joints, each at its speed limit.
+    pose : dict of str to float
+        Release positions of joints 2, 3 and 5 (rad).
+    velocities : dict of str to float
+        Release velocities of the throwing joints (rad/s), signed.
+    position, velocity : ndarray of shape (2,)
+        Ball centre (x, z) in m and its velocity (m/s) at release.
+    """
+
+    distance: float
+    joints: tuple[str, ...]
+    pose: dict[str, float]
+    velocities: dict[str, float]
+    position: np.ndarray
+    velocity: np.ndarray
+
+
+def max_reach(
+    robot: Robot | None = None,
+    rim_height: float = 0.3,
+    pedestal: float = 0.0,
+    joints: Sequence[str] = ("joint_2",),
+) -> float:
+    """Farthest basket distance (m) the robot reaches with ``joints`` at their speed limits.
+
+    Parameters
+    ----------
+    robot : Robot, optional
+        Default: the built-in Comau Smart5 SiX.
+    rim_height : float
+        Height of the basket's rim above the ground (m).
+    pedestal : float
+        Height of the robot's base above the ground (m).
+    joints : sequence of str
+        Throwing joints among joint_2, joint_3 and joint_5.
+    """
+    return throw_reach(robot, rim_height, pedestal, joints).distance
+
+
+def throw_reach(
+    robot: Robot | None = None,
+    rim_height: float = 0.3,
+    pedestal: float = 0.0,
+    joints: Sequence[str] = ("joint_2",),
+) -> Reach:
+    """The farthest throw with ``joints`` at their speed limits; see :func:`max_reach`."""
+    arm = Arm.from_robot(load_robot() if robot is None else robot)
+    unknown = [name for name in joints if name not in PLANE_JOINTS]
+    if unknown or not joints:
+        raise InputError(f"throwing joints must be among {', '.join(PLANE_JOINTS)}, got {list(joints)}")
+    if pedestal < 0 or not np.isfinite(pedestal):
+        raise InputError(f"pedestal height must be >= 0 m, got {pedestal}")
+    return _reach(arm, float(rim_height), float(pedestal), tuple(sorted(set(joints), key=PLANE_JOINTS.index)))
+
+
+def farthest_basket(reach: float, basket: Basket) -> float:
+    """Farthest centre distance (m) of a basket like ``basket`` that a throw reaching ``reach`` m
+    (at the rim's height) still drops into: the ball may come down anywhere in the near half of
+    the opening, clear of the rim by its radius."""
+    return reach + 0.5 * basket.opening - BALL_RADIUS
+
+
+def require_reachable(
+    basket: Basket,
+    robot: Robot | None = None,
+    pedestal: float = 0.0,
+    joints: Sequence[str] = ("joint_2",),
+) -> Reach:
+    """The reach, or :class:`InputError` if no throw can drop into ``basket`` (with what would help).
+
+    A basket is reachable while the ball, thrown as far as it goes, can still come down into the
+    near half of its opening: ``basket.distance <= farthest_basket(reach, basket)``.
+    """
+    reach = throw_reach(robot, basket.rim_height, pedestal, joints)
+    if basket.distance <= farthest_basket(reach.distance, basket):
+        return reach
+    hints = []
+    if "joint_3" not in joints:
+        more = throw_reach(robot, basket.rim_height, pedestal, (*joints, "joint_3")).distance
+        hints.append(f"with joint_3 too: {farthest_basket(more, basket):.2f} m")
+    higher = throw_reach(robot, basket.rim_height, pedestal + 0.5, joints).distance
+    hints.append(f"on a pedestal 0.5 m higher: {farthest_basket(higher, basket):.2f} m")
+    raise InputError(
+        f"basket at {basket.distance:.2f} m is out of reach: throwing with {', '.join(joints)} at the "
+        f"speed limit, the ball comes down to the {basket.rim_height:.2f} m rim at most "
+        f"{reach.distance:.2f} m away, so the farthest basket with a {basket.opening:.2f} m opening is at "
+        f"{farthest_basket(reach.distance, basket):.2f} m (pedestal {pedestal:.2f} m; farthest basket "
+        f"{'; '.join(hints)})"
+    )
+
+
+@lru_cache(maxsize=64)
+def _reach(arm: Arm, rim_height: float, pedestal: float, joints: tuple[str, ...]) -> Reach:
+    lower = np.array([arm.joint(n).lower for n in PLANE_JOINTS])
+    upper = np.array([arm.joint(n).upper for n in PLANE_JOINTS])
+    rates = np.zeros((0, 3))
+    # joint 2 swings forward (overhand); the other throwing joints may turn either way
+    choices = [(1.0,) if name == "joint_2" else (-1.0, 1.0) for name in joints]
+    for signs in itertools.product(*choices):
+        rate = np.zeros(3)
+        for sign, name in zip(signs, joints, strict=True):
+            rate[PLANE_JOINTS.index(name)] = sign * arm.joint(name).max_velocity
+        rates = np.vstack([rates, rate])
+
+    def distances(pose: np.ndarray) -> np.ndarray:
+        """Crossing distance (m) of shape (..., R) for poses (..., 3) and every rate (R, 3)."""
+        plane = arm.in_plane(pose[..., 0], pose[..., 1], pose[..., 2], pedestal)
+        velocity = np.einsum("...ij,rj->...ri", plane.jacobian, rates)
+        ball = plane.ball
+        x = crossing_distance(ball[..., None, 0], ball[..., None, 1], velocity[..., 0], velocity[..., 1], rim_height)
+        lowest = np.minimum(np.minimum(plane.elbow[..., 1], plane.wrist[..., 1]), ball[..., 1])
+        clear = (lowest > GROUND_CLEARANCE)[..., None]
+        return np.where(np.isfinite(x) & clear, x, -np.inf)
+
+    # fixed joints that do not throw still choose the pose; the moving ones choose it too (release)
+    axes = [np.linspace(lo, hi, _GRID) for lo, hi in zip(lower, upper, strict=True)]
+    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1)
+    found = distances(grid)
+    best = np.unravel_index(int(np.argmax(found)), found.shape)
+    start, rate = grid[best[:3]], best[3]
+
+    def objective(pose: np.ndarray) -> float:
+        pose = np.clip(pose, lower, upper)
+        return -float(distances(pose[None])[0, rate])
+
+    refined = minimize(objective, start, method="Nelder-Mead", options={"xatol": 1e-6, "fatol": 1e-7})
+    pose = np.clip(refined.x, lower, upper)
+    if not objective(pose) <= objective(start):
+        pose = start
+    plane = arm.in_plane(*pose, pedestal=pedestal)
+    velocity = plane.jacobian @ rates[rate]
+    return Reach(
+        distance=-objective(pose),
+        joints=joints,
+        pose=dict(zip(PLANE_JOINTS, map(float, pose), strict=True)),
+        velocities={name: float(rates[rate][PLANE_JOINTS.index(name)]) for name in joints},
+        position=plane.ball,
+        velocity=velocity,
+    )

@@ -1,0 +1,387 @@
+"""Executing a timed joint trajectory in MuJoCo: track it, release the ball, watch where it lands.
+
+The arm follows the trajectory with its velocity servos: the command is the trajectory's velocity
+plus a position correction, interpolated between the points with cubic Hermite splines (like the
+thesis' controller plug-in, which re-published and interpolated the points at a fixed rate). The
+ball is let go when the throwing joint passes the release angle (default: at the end of the
+trajectory), after which the arm brakes to a stop. The simulation stops as soon as the outcome is
+decided: the ball touches the ground (a miss: it has to enter the basket through its opening), or
+it settles in the basket or on the rim, or the time cap is reached.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import mujoco
+import numpy as np
+from scipy.interpolate import CubicHermiteSpline
+
+from rlff.ballistics import GRAVITY, crossing_distance
+from rlff.errors import InputError
+from rlff.robot.description import Robot, load_robot
+from rlff.sim.arm import BALL_RADIUS, Arm
+from rlff.sim.basket import Basket
+from rlff.sim.reach import PLANE_JOINTS, farthest_basket, require_reachable, throw_reach
+from rlff.sim.scene import POSITION_GAIN, Scene, build_scene
+from rlff.trajectory.joint import JointTrajectory
+from rlff.trajectory.limits import require_within_limits
+
+__all__ = ["Basket", "ReleaseState", "ThrowOutcome", "simulate_throw"]
+
+#: Simulated time allowed after the release (s).
+FLIGHT_CAP = 3.0
+#: The ball counts as settled below this speed (m/s).
+SETTLED_SPEED = 0.05
+
+
+@dataclass(frozen=True)
+class ReleaseState:
+    """The moment the gripper lets go.
+
+    Attributes
+    ----------
+    time : float
+        Time on the trajectory's clock (s).
+    joint_positions : dict of str to float
+        Joint positions (rad).
+    position : ndarray of shape (3,)
+        Ball centre (m): x forward, y left, z up from the ground.
+    velocity : ndarray of shape (3,)
+        Ball velocity (m/s).
+    """
+
+    time: float
+    joint_positions: dict[str, float]
+    position: np.ndarray
+    velocity: np.ndarray
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain values for JSON."""
+        return {
+            "time": self.time,
+            "joint_positions": dict(self.joint_positions),
+            "position": [float(v) for v in self.position],
+            "velocity": [float(v) for v in self.velocity],
+            "speed": float(np.linalg.norm(self.velocity)),
+            "angle": float(np.degrees(np.arctan2(self.velocity[2], np.hypot(*self.velocity[:2])))),
+        }
+
+
+@dataclass(frozen=True)
+class ThrowOutcome:
+    """What a simulated throw did.
+
+    Attributes
+    ----------
+    hit : bool
+        The ball ended inside the basket.
+    landing_x : float
+        Where the ball first came down to the rim's height (m from the joint 1 axis): the landing
+        point on the plane of the basket's opening. If it touched something before (a release
+        below the rim), where it first touched.
+    miss : float
+        ``landing_x - basket.distance`` (m): negative = short, positive = long.
+    release : ReleaseState
+    predicted_landing_x : float
+        The closed-form projectile's crossing of the rim's height from the release state (m).
+    reachable : bool
+        Whether the basket lies within the robot's reach with the joints this trajectory moves.
+    basket : Basket
+    first_contact : str
+        What the ball touched first: ``"basket"``, ``"ground"`` or ``"nothing"``.
+    rest_position : ndarray of shape (3,)
+        Ball centre when the simulation stopped (m).
+    flight_time : float
+        Release to the rim-height crossing (s); NaN if it never came down through it.
+    tracking_error : float
+        Largest deviation of a joint from the trajectory up to the release (rad).
+    simulated_time : float
+        Simulated time from the start of the trajectory to the decision (s).
+    frames : tuple of Path
+        Rendered images (PNG and GIF), if asked for and possible.
+    notes : tuple of str
+        Remarks for the user, e.g. why frames were skipped.
+    """
+
+    hit: bool
+    landing_x: float
+    miss: float
+    release: ReleaseState
+    predicted_landing_x: float
+    reachable: bool
+    basket: Basket
+    first_contact: str
+    rest_position: np.ndarray
+    flight_time: float
+    tracking_error: float
+    simulated_time: float
+    frames: tuple[Path, ...] = ()
+    notes: tuple[str, ...] = field(default_factory=tuple)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain values for JSON: hit, landing_x, miss, release, and the rest."""
+        return {
+            "hit": self.hit,
+            "landing_x": self.landing_x,
+            "miss": self.miss,
+            "release": self.release.to_dict(),
+            "predicted_landing_x": self.predicted_landing_x,
+            "reachable": self.reachable,
+            "basket": self.basket.to_dict(),
+            "first_contact": self.first_contact,
+            "rest_position": [float(v) for v in self.rest_position],
+            "flight_time": self.flight_time,
+            "tracking_error": self.tracking_error,
+            "simulated_time": self.simulated_time,
+            "frames": [str(p) for p in self.frames],
+            "notes": list(self.notes),
+        }
+
+
+def simulate_throw(
+    trajectory: JointTrajectory,
+    basket: Basket,
+    *,
+    robot: Robot | None = None,
+    release_angle: float | None = None,
+    release_joint: str | None = None,
+    pedestal: float = 0.0,
+    frames_dir: str | Path | None = None,
+    timestep: float = 0.002,
+    check_reach: bool = True,
+) -> ThrowOutcome:
+    """Execute ``trajectory`` on the simulated robot and report where the ball lands.
+
+    Parameters
+    ----------
+    trajectory : JointTrajectory
+        Timed positions (rad) and velocities (rad/s) of every joint of the robot.
+    basket : Basket
+    robot : Robot, optional
+        Default: the built-in Comau Smart5 SiX.
+    release_angle : float, optional
+        Position (rad) of the throwing joint at which the ball is let go, passed in the direction
+        of motion; default: at the end of the trajectory.
+    release_joint : str, optional
+        The throwing joint; default: the joint that moves the most.
+    pedestal : float
+        Height of the robot's base above the ground (m).
+    frames_dir : str or Path, optional
+        Write PNG frames and an animated GIF of the throw here (skipped, with a note, when no
+        OpenGL backend is available).
+    timestep : float
+        Simulation step (s).
+    check_reach : bool
+        Raise :class:`InputError` for a basket out of the robot's reach (with the joints the
+        trajectory moves in the throwing plane) instead of simulating a sure miss.
+
+    Returns
+    -------
+    ThrowOutcome
+
+    Raises
+    ------
+    InputError
+        A trajectory beyond the joint limits, unknown or missing joints, a release angle the
+        throwing joint never passes, or (with ``check_reach``) an unreachable basket.
+    """
+    robot = load_robot() if robot is None else robot
+    arm = Arm.from_robot(robot)
+    if not pedestal >= 0 or not np.isfinite(pedestal):
+        raise InputError(f"pedestal height must be >= 0 m, got {pedestal}")
+    if not 0 < timestep <= 0.01:
+        raise InputError(f"timestep must be in (0, 0.01] s, got {timestep}")
+    missing = [name for name in arm.joint_names if name not in trajectory.joint_names]
+    if missing:
+        raise InputError(f"trajectory has no positions for joints {missing} (it has {list(trajectory.joint_names)})")
+    trajectory = trajectory.select(arm.joint_names)
+    require_within_limits(trajectory, arm.joints)
+    throwing = _throwing_joint(trajectory, release_joint)
+    movers = [n for n in PLANE_JOINTS if np.ptp(trajectory.positions[:, arm.joint_names.index(n)]) > 1e-6]
+    if check_reach:
+        require_reachable(basket, robot, pedestal, movers or [throwing])
+        reachable = True
+    else:
+        reach = throw_reach(robot, basket.rim_height, pedestal, movers or [throwing]).distance
+        reachable = basket.distance <= farthest_basket(reach, basket)
+    scene = build_scene(arm, basket, float(pedestal), float(timestep))
+    recorder = None
+    notes: list[str] = []
+    if frames_dir is not None:
+        from rlff.sim.render import open_recorder
+
+        recorder, note = open_recorder(scene.model, Path(frames_dir))
+        if note:
+            notes.append(note)
+    outcome = _Run(scene, trajectory, throwing, release_angle, recorder).execute()
+    frames = recorder.finish() if recorder is not None else ()
+    return ThrowOutcome(**outcome, reachable=reachable, basket=basket, frames=frames, notes=tuple(notes))
+
+
+def _throwing_joint(trajectory: JointTrajectory, name: str | None) -> str:
+    if name is not None:
+        trajectory.joint_index(name)
+        return name
+    travel = np.ptp(trajectory.positions, axis=0)
+    if not np.any(travel > 0):
+        raise InputError("the trajectory moves no joint, so it throws nothing")
+    return trajectory.joint_names[int(np.argmax(travel))]
+
+
+class _Run:
+    """One simulated throw: the servo commands, the release rule and the stepping loop."""
+
+    def __init__(self, scene: Scene, trajectory: JointTrajectory, throwing: str,
+                 release_angle: float | None, recorder: Any) -> None:
+        self.scene = scene
+        self.trajectory = trajectory
+        self.column = trajectory.joint_index(throwing)
+        self.recorder = recorder
+        dt = scene.model.opt.timestep
+        self.frame_every = max(1, round(1.0 / (recorder.fps * dt))) if recorder is not None else 1
+        time = trajectory.time
+        steps = int(np.ceil((time[-1] - time[0]) / dt - 1e-9)) + 1
+        clock = np.minimum(time[0] + dt * np.arange(steps), time[-1])
+        if len(trajectory) >= 2:
+            spline = CubicHermiteSpline(time, trajectory.positions, trajectory.velocities, axis=0)
+            self.reference = spline(clock)
+            self.commands = spline(clock, 1) + POSITION_GAIN * self.reference
+        else:
+            self.reference = np.repeat(trajectory.positions, steps, axis=0)
+            self.commands = POSITION_GAIN * self.reference
+        self.hold = POSITION_GAIN * trajectory.positions[-1]
+        self.release_angle = release_angle
+        self.direction = 0.0
+        if release_angle is not None:
+            q = trajectory.positions[:, self.column]
+            self.direction = float(np.sign(q[-1] - q[0]))
+            if self.direction == 0 or not min(q[0], q[-1]) <= release_angle <= max(q[0], q[-1]):
+                raise InputError(
+                    f"release angle {release_angle:g} rad is not passed by {throwing}, which goes from "
+                    f"{q[0]:g} to {q[-1]:g} rad"
+                )
+
+    def execute(self) -> dict[str, Any]:
+        """Run the throw; the fields of :class:`ThrowOutcome` that the simulation decides."""
+        scene, model = self.scene, self.scene.model
+        data = mujoco.MjData(model)
+        self._place(data)
+        first = int(scene.joint_qpos[0])
+        qpos, ctrl = data.qpos, data.ctrl
+        joints = slice(first, first + len(scene.joint_qpos))
+        throwing = first + self.column
+        history = np.empty_like(self.reference)
+        history[0] = qpos[joints]
+        last = len(self.commands) - 1
+        step = 0
+        # before the release: follow the trajectory, watch the throwing joint
+        while step < last and not (
+            self.direction and self.direction * (qpos[throwing] - self.release_angle) >= 0
+        ):
+            ctrl[:] = self.commands[step]
+            mujoco.mj_step(model, data)
+            step += 1
+            history[step] = qpos[joints]
+            self._film(data, step)
+        release = self._release(data)
+        tracking_error = float(np.max(np.abs(history[: step + 1] - self.reference[: step + 1])))
+        flight = self._fly(data, step)
+        predicted = float(crossing_distance(release.position[0], release.position[2], release.velocity[0],
+                                            release.velocity[2], scene.basket.rim_height))
+        return {"release": release, "predicted_landing_x": predicted, "tracking_error": tracking_error, **flight}
+
+    def _fly(self, data: mujoco.MjData, step: int) -> dict[str, Any]:
+        """After the release: the arm brakes to a stop; follow the ball until the outcome is decided."""
+        scene, model = self.scene, self.scene.model
+        basket = scene.basket
+        rim, dt = basket.rim_height, model.opt.timestep
+        x_index, z_index = scene.ball_qpos, scene.ball_qpos + 2
+        speed = slice(scene.ball_dof, scene.ball_dof + 3)
+        landing_x = flight_time = np.nan
+        first_contact = "nothing"
+        release_time = data.time
+        x, z = data.qpos[x_index], data.qpos[z_index]
+        while data.time - release_time < FLIGHT_CAP:
+            # the arm finishes the trajectory, then holds its last point
+            data.ctrl[:] = self.commands[step] if step < len(self.commands) else self.hold
+            mujoco.mj_step(model, data)
+            step += 1
+            self._film(data, step)
+            x_before, z_before = x, z
+            x, z = data.qpos[x_index], data.qpos[z_index]
+            if z_before >= rim > z and np.isnan(landing_x):
+                share = (z_before - rim) / (z_before - z)
+                landing_x = x_before + share * (x - x_before)
+                flight_time = data.time - release_time - dt * (1.0 - share)
+            if not data.ncon:
+                continue
+            touches = self._touches(data)
+            if first_contact == "nothing" and touches:
+                first_contact = "ground" if "ground" in touches else "basket"
+                if np.isnan(landing_x):
+                    landing_x = x
+            if "ground" in touches:
+                break
+            velocity = data.qvel[speed]
+            if basket.holds(data.qpos[x_index:z_index + 1], BALL_RADIUS):
+                # too slow to climb back over the rim: it stays in
+                if 0.5 * float(velocity @ velocity) < GRAVITY * (rim + BALL_RADIUS - z):
+                    break
+            elif float(np.linalg.norm(velocity)) < SETTLED_SPEED:
+                break  # lying on the rim
+        rest = data.qpos[x_index:z_index + 1].copy()
+        self._film(data, 0)
+        hit = first_contact == "basket" and basket.holds(rest, BALL_RADIUS)
+        landing_x = float(landing_x) if np.isfinite(landing_x) else float(rest[0])
+        return {
+            "hit": bool(hit),
+            "landing_x": landing_x,
+            "miss": landing_x - basket.distance,
+            "first_contact": first_contact,
+            "rest_position": rest,
+            "flight_time": float(flight_time),
+            "simulated_time": float(data.time),
+        }
+
+    def _film(self, data: mujoco.MjData, step: int) -> None:
+        """Capture a frame every 1/fps s of simulated time (and at step 0: the last picture)."""
+        if self.recorder is not None and step % self.frame_every == 0:
+            self.recorder.capture(data)
+
+    def _place(self, data: mujoco.MjData) -> None:
+        """Arm at the trajectory's first point, the ball in the gripper."""
+        scene, model = self.scene, self.scene.model
+        data.time = float(self.trajectory.time[0])
+        data.qpos[scene.joint_qpos] = self.trajectory.positions[0]
+        data.qvel[scene.joint_dof] = self.trajectory.velocities[0]
+        mujoco.mj_kinematics(model, data)
+        flange = model.site_bodyid[scene.flange_site]
+        rotation = data.xmat[flange].reshape(3, 3)
+        data.qpos[scene.ball_qpos:scene.ball_qpos + 3] = data.xpos[flange] + rotation[:, 0] * BALL_RADIUS
+        data.qpos[scene.ball_qpos + 3:scene.ball_qpos + 7] = data.xquat[flange]
+        mujoco.mj_forward(model, data)
+        jacobian = np.zeros((3, model.nv))
+        mujoco.mj_jac(model, data, jacobian, None, data.qpos[scene.ball_qpos:scene.ball_qpos + 3], flange)
+        data.qvel[scene.ball_dof:scene.ball_dof + 3] = jacobian[:, scene.joint_dof] @ self.trajectory.velocities[0]
+
+    def _release(self, data: mujoco.MjData) -> ReleaseState:
+        scene = self.scene
+        data.eq_active[scene.grip] = 0
+        return ReleaseState(
+            time=float(data.time),
+            joint_positions=dict(zip(self.trajectory.joint_names, map(float, data.qpos[scene.joint_qpos]), strict=True)),
+            position=data.qpos[scene.ball_qpos:scene.ball_qpos + 3].copy(),
+            velocity=data.qvel[scene.ball_dof:scene.ball_dof + 3].copy(),
+        )
+
+    def _touches(self, data: mujoco.MjData) -> set[str]:
+        scene = self.scene
+        touches = set()
+        for first, second in data.contact.geom[: data.ncon]:
+            if scene.ball_geom in (first, second):
+                other = second if first == scene.ball_geom else first
+                touches.add("ground" if other == scene.ground_geom else "basket")
+        return touches

@@ -1,0 +1,110 @@
+"""Simulated throws in real MuJoCo: free flight against the closed form, hits, misses, bad input."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from rlff.errors import InputError
+from rlff.robot import load_robot
+from rlff.sim import Basket, simulate_throw
+from rlff.sim.arm import BALL_RADIUS
+from rlff.trajectory.joint import JointTrajectory
+
+JOINTS = tuple(f"joint_{i}" for i in range(1, 7))
+
+
+def swing(start: float = -1.2, release: float = -0.06, peak: float = 2.7, joint_3: float = -1.373,
+          joint_5: float = -0.198, points: int = 120) -> JointTrajectory:
+    """Joint 2 speeds up from rest to ``peak`` rad/s (half a cosine) between two angles (rad)."""
+    duration = 2.0 * (release - start) / peak
+    t = np.linspace(0.0, duration, points)
+    phase = np.pi * t / duration
+    positions = np.zeros((points, 6))
+    velocities = np.zeros((points, 6))
+    positions[:, 1] = start + peak * (t / 2.0 - duration / (2.0 * np.pi) * np.sin(phase))
+    velocities[:, 1] = peak * (1.0 - np.cos(phase)) / 2.0
+    positions[:, 2] = joint_3
+    positions[:, 4] = joint_5
+    return JointTrajectory(JOINTS, t, positions, velocities)
+
+
+@pytest.fixture(scope="module")
+def robot():
+    return load_robot()
+
+
+@pytest.mark.parametrize("peak", [2.0, 2.7])
+def test_free_flight_lands_where_the_closed_form_projectile_says(robot, peak):
+    outcome = simulate_throw(swing(peak=peak), Basket(1.5), robot=robot)
+    release = outcome.release
+    # the closed form from the release state, written out here: z0 + vz t - g t^2 / 2 = rim
+    vx, vz, z0 = release.velocity[0], release.velocity[2], release.position[2]
+    t = (vz + np.sqrt(vz**2 + 2 * 9.81 * (z0 - 0.3))) / 9.81
+    assert outcome.predicted_landing_x == pytest.approx(release.position[0] + vx * t, abs=1e-9)
+    assert abs(outcome.landing_x - outcome.predicted_landing_x) < 0.02
+    assert outcome.flight_time == pytest.approx(t, abs=0.004)
+    # a faster swing throws farther, and the release follows the commanded speed
+    assert np.hypot(vx, vz) == pytest.approx(peak * 1.37, rel=0.03)
+
+
+def test_a_throw_aimed_into_the_basket_stays_in(robot):
+    probe = simulate_throw(swing(), Basket(1.5), robot=robot)
+    basket = Basket(probe.landing_x + 0.05)
+    outcome = simulate_throw(swing(), basket, robot=robot)
+    assert outcome.hit
+    assert outcome.first_contact == "basket"
+    assert abs(outcome.miss + 0.05) < 0.01
+    assert basket.holds(outcome.rest_position, BALL_RADIUS)
+
+
+@pytest.mark.parametrize("offset, sign", [(0.4, -1.0), (-0.4, 1.0)])
+def test_short_and_long_throws_miss_with_the_sign_of_the_miss(robot, offset, sign):
+    slow = swing(peak=2.0)
+    landing = simulate_throw(slow, Basket(1.5), robot=robot).landing_x
+    outcome = simulate_throw(slow, Basket(landing + offset), robot=robot)
+    assert not outcome.hit
+    assert np.sign(outcome.miss) == sign
+    assert outcome.miss == pytest.approx(-offset, abs=0.01)
+
+
+def test_release_at_a_given_angle_lets_go_there(robot):
+    outcome = simulate_throw(swing(), Basket(1.5), robot=robot, release_angle=-0.3)
+    q2 = outcome.release.joint_positions["joint_2"]
+    assert -0.3 <= q2 < -0.3 + 2.7 * 0.002
+    # the arm tracks the trajectory closely up to the release
+    assert outcome.tracking_error < 0.01
+
+
+def test_outcome_to_dict_is_json_with_the_contract_keys(robot):
+    outcome = simulate_throw(swing(), Basket(2.0), robot=robot)
+    payload = json.loads(json.dumps(outcome.to_dict()))
+    assert {"hit", "landing_x", "miss", "release"} <= set(payload)
+    assert len(payload["release"]["position"]) == 3
+    assert payload["miss"] == pytest.approx(payload["landing_x"] - 2.0)
+
+
+def test_a_trajectory_beyond_the_joint_limits_is_refused(robot):
+    fast = swing(peak=3.0)
+    with pytest.raises(InputError, match="joint_2"):
+        simulate_throw(fast, Basket(2.0), robot=robot)
+
+
+def test_an_unreachable_basket_is_refused_with_the_reach(robot):
+    with pytest.raises(InputError, match=r"out of reach.*2\.30 m"):
+        simulate_throw(swing(), Basket(3.5), robot=robot)
+    unchecked = simulate_throw(swing(), Basket(3.5), robot=robot, check_reach=False)
+    assert not unchecked.reachable and not unchecked.hit
+
+
+def test_a_release_angle_never_passed_is_refused(robot):
+    with pytest.raises(InputError, match="release angle"):
+        simulate_throw(swing(), Basket(2.0), robot=robot, release_angle=0.5)
+
+
+def test_missing_joints_are_named(robot):
+    partial = swing().select(["joint_2", "joint_3"])
+    with pytest.raises(InputError, match="joint_1"):
+        simulate_throw(partial, Basket(2.0), robot=robot)
