@@ -58,6 +58,7 @@ def keep_consistent_user(recording: Recording) -> tuple[list[ArmTrack], list[str
         return recording.arms, []
     scores = {user: consistency(arms) for user, arms in by_user.items()}
     kept = max(users, key=lambda user: scores[user])
+    origin = min(arm.elbow.time[0] for arm in recording.arms)
     notes = []
     for user in users:
         if user == kept:
@@ -66,7 +67,7 @@ def keep_consistent_user(recording: Recording) -> tuple[list[ArmTrack], list[str
         notes.append(
             f"{recording.source}: dropped tracked user {user} (second skeleton, e.g. a reflection): "
             f"{arm.n_samples} samples in {_appearances(arm)} appearances between "
-            f"t={arm.elbow.time[0]:.2f} and {arm.elbow.time[-1]:.2f} s; kept user {kept} "
+            f"t={arm.elbow.time[0] - origin:.2f} and {arm.elbow.time[-1] - origin:.2f} s; kept user {kept} "
             f"({max(a.n_samples for a in by_user[kept])} samples)"
         )
     return by_user[kept], notes

@@ -1,0 +1,68 @@
+"""``rlff data import``: skeleton recordings to a CSV of labelled single throws."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from rlff.cli._common import emit_json, progress, say, stdout
+from rlff.cli.data import app
+from rlff.errors import InputError
+
+
+def _column_map(text: str | None) -> dict[str, str] | None:
+    if not text:
+        return None
+    mapping = {}
+    for item in text.split(","):
+        ours, sep, theirs = item.partition("=")
+        if not sep or not ours.strip() or not theirs.strip():
+            raise InputError(f"--columns: {item!r} is not NAME=COLUMN (e.g. right_elbow_x=ElbowRight.X)")
+        mapping[ours.strip()] = theirs.strip()
+    return mapping
+
+
+@app.command("import")
+def import_command(
+    files: list[Path] = typer.Argument(..., help="Recordings: ROS 1 .bag files, ROS 2 bag folders, skeleton text or CSV."),
+    output: Path = typer.Option(..., "--output", "-o", help="Demonstrations CSV to write."),
+    format: str = typer.Option("auto", "--format", "-f", help="bag, kinect-text, msr, csv, thesis, or auto (from each file)."),
+    manifest: Path | None = typer.Option(None, "--manifest", "-m", help="CSV of basket distances: file, distance[, throw | start, end][, subject]."),
+    contact_sheet: Path | None = typer.Option(None, "--contact-sheet", help="Folder for PNG contact sheets of the cuts (bags with a camera stream)."),
+    topic: str = typer.Option("/tf", "--topic", help="tf topic of bags."),
+    frames: str = typer.Option("right_shoulder_1,right_elbow_1,right_hand_1", "--frames", help="Shoulder, elbow, hand tf frames (the trailing number is the user; any user matches)."),
+    arm: str = typer.Option("auto", "--arm", help="auto, right or left."),
+    rate: float | None = typer.Option(None, "--rate", help="Frame rate (Hz) of text recordings without time stamps."),
+    columns: str | None = typer.Option(None, "--columns", help="CSV column map: NAME=COLUMN,... (e.g. right_elbow_x=ElbowRight.X)."),
+    up: str | None = typer.Option(None, "--up", help="Up axis of the recordings' frame (x, y, z, -x...); default per format."),
+    as_json: bool = typer.Option(False, "--json", help="Print the import report as JSON."),
+) -> None:
+    """Cut and label the throws in skeleton recordings: one trajectory (time, angle, velocity, distance) per throw."""
+    from rlff.capture import import_recordings
+    from rlff.dataset import write_csv
+
+    frame_names = [name.strip() for name in frames.split(",") if name.strip()]
+    with progress("importing", total=len(files)) as advance:
+        dataset, report = import_recordings(
+            files, format, manifest=manifest, topic=topic, frames=frame_names, arm=arm, rate_hz=rate,
+            columns=_column_map(columns), up=up,
+            progress=lambda path: advance(1, description=Path(path).name),
+        )
+    write_csv(dataset, output)
+    sheets: list[Path] = []
+    sheet_notes: list[str] = []
+    if contact_sheet is not None:
+        from rlff.capture.contact_sheet import contact_sheets
+
+        sheets, sheet_notes = contact_sheets(report.files, contact_sheet)
+    for warning in report.warnings:
+        say(f"warning: {warning}")
+    for note in [*report.notes, *sheet_notes]:
+        say(note)
+    if as_json:
+        emit_json({**report.to_dict(), "output": str(output), "contact_sheets": [str(p) for p in sheets], "contact_sheet_notes": sheet_notes})
+        return
+    stdout().print(f"{report.n_throws} throws from {len(report.files)} files -> {output}", highlight=False)
+    for path in sheets:
+        stdout().print(f"contact sheet: {path}", highlight=False)
