@@ -3,6 +3,7 @@ legends, titles; and both files are written (a real PNG and an SVG)."""
 
 from __future__ import annotations
 
+import json
 from types import SimpleNamespace
 
 import numpy as np
@@ -165,3 +166,41 @@ def test_helpers():
     colours, norm, _ = distance_colours([3.0, 1.0, 2.0, 1.0])
     assert list(colours) == [1.0, 2.0, 3.0]
     assert norm(1.0) == 0.0 and norm(3.0) == 1.0
+
+
+def test_throw_snapshot_draws_arm_flight_and_basket_from_a_simulated_throw(tmp_path):
+    from rlff.plots.throw import throw_snapshot_from_outcome
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.sim import Basket, simulate_throw
+
+    robot = load_robot()
+    angle = np.linspace(1.0, 2.6, 60)
+    velocity = 12.0 * np.sin(np.pi * (angle - 1.0) / 1.6 * 0.9) + 0.5
+    trajectory, _ = RobotMapping.for_robot(robot).to_robot(angle, velocity, clip=True)
+    outcome = simulate_throw(trajectory, Basket(2.0), check_reach=False)
+    saved = throw_snapshot_from_outcome(outcome, tmp_path / "throw")
+    check_files(saved)
+    (axes,) = saved.figure.get_axes()
+    lines = {line.get_label(): line for line in axes.get_lines()}
+    arm = lines["arm at release"]
+    assert len(arm.get_xdata()) == 5  # base, shoulder, elbow, wrist, ball
+    np.testing.assert_allclose(
+        [arm.get_xdata()[-1], arm.get_ydata()[-1]], outcome.release.position[[0, 2]], atol=0.02
+    )
+    basket = lines["basket at 2 m"]
+    np.testing.assert_allclose(basket.get_xdata(), [1.825, 1.825, 2.175, 2.175])
+    flight = lines["ball flight"]
+    assert flight.get_ydata()[-1] == pytest.approx(0.0, abs=1e-9)  # down to the ground
+    landing = next(label for label in lines if label.startswith("landing"))
+    assert landing == f"landing at rim height: {outcome.landing_x:.2f} m"
+    expected = "hit: the ball is in the basket" if outcome.hit else f"miss: {abs(outcome.miss):.2f} m"
+    assert axes.get_title().startswith(expected)
+    assert axes.get_xlabel() == "forward x (m)" and axes.get_ylabel() == "height z (m)"
+
+    # the JSON form of the outcome (what `rlff sim throw --json` prints) draws the same picture
+    record = json.loads(json.dumps(outcome.to_dict(), default=float))
+    again = throw_snapshot_from_outcome(record, tmp_path / "again")
+    assert [line.get_label() for line in again.figure.get_axes()[0].get_lines()] == list(lines)
+    del record["release"]
+    with pytest.raises(InputError, match="missing or malformed field 'release'"):
+        throw_snapshot_from_outcome(record, tmp_path / "bad")

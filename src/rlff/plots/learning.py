@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -79,3 +81,89 @@ def learning_curves(
         where = f" for a basket at {basket:g} m" if basket is not None else ""
         axes.set_title(f"Learning from failure{where}")
     return save(figure, out)
+
+
+@dataclass(frozen=True)
+class LoggedRun:
+    """What a learning curve needs of one attempts log.
+
+    Attributes
+    ----------
+    method : str
+        The run's update strategy or baseline.
+    feedback : str
+    basket : float
+        Basket distance (m).
+    misses : list of float
+        Signed miss of every attempt (m).
+    hits : list of bool
+    """
+
+    method: str
+    feedback: str
+    basket: float
+    misses: list[float]
+    hits: list[bool]
+
+
+def read_learning_log(path: str | Path) -> LoggedRun:
+    """Read an attempts log of ``rlff learn`` (JSONL) for plotting, without changing the file.
+
+    A last line cut short by a crash is ignored (the loop itself drops it on resume).
+
+    Raises
+    ------
+    InputError
+        No such file, not an rlff attempts log, or a damaged line before the last one.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: no such attempts log")
+    lines = [line for line in path.read_text(encoding="utf-8", errors="replace").splitlines() if line.strip()]
+    records = []
+    for number, line in enumerate(lines, start=1):
+        try:
+            record = json.loads(line)
+        except json.JSONDecodeError:
+            if number == len(lines):
+                break  # a partial last line
+            raise InputError(f"{path}, line {number}: not JSON") from None
+        if not isinstance(record, dict):
+            raise InputError(f"{path}, line {number}: not a JSON object")
+        records.append(record)
+    if not records or records[0].get("format") != "rlff-attempts":
+        raise InputError(f"{path}: not an rlff attempts log (no 'rlff-attempts' header line)")
+    run = records[0].get("run", {})
+    try:
+        misses = [float(r["miss"]) for r in records[1:]]
+        hits = [bool(r["hit"]) for r in records[1:]]
+        basket = float(run["basket"]["distance"])
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"{path}: attempt or run record without {exc}") from None
+    return LoggedRun(str(run.get("update", path.stem)), str(run.get("feedback", "")), basket, misses, hits)
+
+
+def learning_curves_from_logs(logs: Sequence[str | Path], out: str | Path, *, tolerance: float | None = None) -> SavedFigure:
+    """:func:`learning_curves` of one or more attempts logs (one line per log).
+
+    The logs must be for one basket distance; a method name seen twice gets its feedback added
+    (``hindsight, distance feedback``) and then a number.
+    """
+    if not logs:
+        raise InputError("no attempts logs given")
+    runs = [read_learning_log(path) for path in logs]
+    baskets = sorted({run.basket for run in runs})
+    if len(baskets) > 1:
+        raise InputError(f"the logs are for different baskets ({', '.join(f'{b:g} m' for b in baskets)}); plot them separately")
+    misses: dict[str, list[float]] = {}
+    hits: dict[str, list[bool]] = {}
+    for run in runs:
+        name = run.method
+        if name in misses:
+            name = f"{run.method}, {run.feedback} feedback"
+        suffix = 2
+        while name in misses:
+            name, suffix = f"{run.method} ({suffix})", suffix + 1
+        misses[name] = run.misses
+        hits[name] = run.hits
+    return learning_curves(misses, out, tolerance=tolerance, hits=hits, basket=baskets[0])

@@ -1,0 +1,190 @@
+"""A snapshot of a simulated throw: the arm at the release, the ball's flight and the basket, seen
+from the side; beside it a frame rendered by MuJoCo when one exists.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.patches import Rectangle
+
+from rlff.ballistics import flight_time, position_at
+from rlff.errors import InputError
+from rlff.plots._figure import HIT_COLOUR, MISS_COLOUR, SavedFigure, figure_style, new_figure, save
+
+_ARM_COLOUR = "#4d6a8a"
+_BASKET_COLOUR = "#8c5a2b"
+#: Length of the arrow that shows the release direction (m on the drawing).
+_ARROW_LENGTH = 0.35
+
+
+def _verdict(hit: bool, miss: float) -> str:
+    if hit:
+        return "hit: the ball is in the basket"
+    if not np.isfinite(miss):
+        return "miss: no landing point"
+    return f"miss: {abs(miss):.2f} m {'short' if miss < 0 else 'long'}"
+
+
+def throw_snapshot(
+    out: str | Path,
+    *,
+    release_position: np.ndarray,
+    release_velocity: np.ndarray,
+    basket_distance: float,
+    rim_height: float,
+    opening: float,
+    landing_x: float,
+    hit: bool,
+    miss: float,
+    arm_points: np.ndarray | None = None,
+    frame: str | Path | None = None,
+    title: str | None = None,
+) -> SavedFigure:
+    """Side view of one throw, drawn from its outcome.
+
+    Parameters
+    ----------
+    out : path
+        File stem of the PNG and SVG.
+    release_position, release_velocity : array of shape (2,)
+        Ball centre (x forward, z up; m) and velocity (m/s) when the gripper lets go.
+    basket_distance, rim_height, opening : float
+        The basket's centre (m from the robot's base axis), rim height and inner width (m).
+    landing_x : float
+        Where the ball came down through the rim's height (m); NaN if it never did.
+    hit : bool
+    miss : float
+        Signed miss (m): negative short, positive long.
+    arm_points : array of shape (P, 2), optional
+        The arm at the release as a chain of points in the throwing plane (base, shoulder, elbow,
+        wrist, ball; m).
+    frame : path, optional
+        A rendered image of the throw (PNG), shown beside the drawing.
+    title : str, optional
+    """
+    release = np.asarray(release_position, dtype=float)
+    velocity = np.asarray(release_velocity, dtype=float)
+    if release.shape != (2,) or velocity.shape != (2,):
+        raise InputError(f"release position and velocity must be (x, z) pairs, got {release.shape} and {velocity.shape}")
+    if frame is not None and not Path(frame).is_file():
+        raise InputError(f"{frame}: no such frame image")
+    with figure_style():
+        figure = new_figure(13.0 if frame is not None else 9.0, 4.8)
+        if frame is not None:
+            drawing, picture = figure.subplots(1, 2, width_ratios=[1.25, 1.0])
+        else:
+            drawing, picture = figure.add_subplot(), None
+        # the flight, from the release to the ground (closed-form projectile, no drag)
+        t_ground = float(flight_time(release[1], velocity[1], 0.0))
+        t = np.linspace(0.0, t_ground if np.isfinite(t_ground) else 1.0, 200)
+        path = position_at(np.array([release[0], 0.0, release[1]]), np.array([velocity[0], 0.0, velocity[1]]), t)
+        colour = HIT_COLOUR if hit else MISS_COLOUR
+        drawing.plot(path[:, 0], path[:, 2], color=colour, linestyle="--", linewidth=1.6, label="ball flight")
+        drawing.plot(*release, marker="o", markersize=9, color="#e3b505", markeredgecolor="black",
+                     linestyle="none", label="ball at release", zorder=5)
+        drawing.annotate(
+            "", xy=release + _ARROW_LENGTH * velocity / max(np.linalg.norm(velocity), 1e-9),
+            xytext=release, arrowprops={"arrowstyle": "->", "color": "black"},
+        )
+        if arm_points is not None:
+            arm = np.asarray(arm_points, dtype=float)
+            drawing.plot(arm[:, 0], arm[:, 1], color=_ARM_COLOUR, linewidth=6, solid_capstyle="round",
+                         marker="o", markersize=7, markerfacecolor="white", label="arm at release")
+            drawing.add_patch(Rectangle((arm[0, 0] - 0.15, 0.0), 0.3, max(arm[0, 1], 0.05), color=_ARM_COLOUR, alpha=0.5))
+        half = 0.5 * opening
+        left, right = basket_distance - half, basket_distance + half
+        drawing.plot([left, left, right, right], [rim_height, 0.0, 0.0, rim_height], color=_BASKET_COLOUR,
+                     linewidth=3, label=f"basket at {basket_distance:g} m")
+        if np.isfinite(landing_x):
+            drawing.plot(landing_x, rim_height, marker="v", markersize=10, color=colour, linestyle="none",
+                         label=f"landing at rim height: {landing_x:.2f} m")
+        drawing.axhline(0.0, color="black", linewidth=1.0)
+        drawing.set_aspect("equal", adjustable="datalim")
+        drawing.set_xlabel("forward x (m)")
+        drawing.set_ylabel("height z (m)")
+        drawing.legend(loc="upper right", fontsize=8)
+        drawing.set_title(_verdict(hit, miss), color=colour)
+        if picture is not None:
+            from PIL import Image
+
+            with Image.open(frame) as image:
+                picture.imshow(np.asarray(image.convert("RGB")))
+            picture.set_axis_off()
+            picture.set_title("rendered by MuJoCo")
+        figure.suptitle(title or f"Simulated throw at a basket {basket_distance:g} m away")
+    return save(figure, out)
+
+
+def _arm_at_release(joint_positions: Mapping[str, float], robot: Any, pedestal: float) -> np.ndarray:
+    """Base, shoulder, elbow, wrist and ball in the throwing plane, shape (5, 2) in m."""
+    from rlff.sim.arm import Arm
+
+    arm = Arm.from_robot(robot)
+    q = joint_positions
+    pose = arm.in_plane(q.get("joint_2", 0.0), q.get("joint_3", 0.0), q.get("joint_5", 0.0), pedestal)
+    g = arm.geometry
+    base = np.array([0.0, pedestal])
+    shoulder = np.array([g.shoulder_forward, pedestal + g.shoulder_height])
+    return np.vstack([base, shoulder, pose.elbow, pose.wrist, pose.ball])
+
+
+def throw_snapshot_from_outcome(
+    outcome: Any,
+    out: str | Path,
+    *,
+    robot: Any = None,
+    pedestal: float = 0.0,
+    title: str | None = None,
+) -> SavedFigure:
+    """:func:`throw_snapshot` of a simulated throw.
+
+    Parameters
+    ----------
+    outcome : rlff.sim.ThrowOutcome or mapping
+        The outcome, or its JSON form (``ThrowOutcome.to_dict()``, what ``rlff sim throw
+        --json`` prints): ``hit``, ``landing_x``, ``miss``, ``basket`` {distance, rim_height,
+        opening}, ``release`` {position, velocity, joint_positions}, optional ``frames``.
+    out : path
+        File stem of the PNG and SVG.
+    robot : rlff.robot.Robot, optional
+        Draws the arm at its release pose from the robot's geometry (default: the built-in
+        Comau Smart5 SiX).
+    pedestal : float
+        Height of the robot's base (m).
+    """
+    from rlff.robot import load_robot
+
+    record = outcome.to_dict() if hasattr(outcome, "to_dict") else outcome
+    try:
+        release = record["release"]
+        basket = record["basket"]
+        position = np.asarray(release["position"], dtype=float)
+        velocity = np.asarray(release["velocity"], dtype=float)
+        joint_positions = dict(release["joint_positions"])
+        landing_x = float("nan") if record["landing_x"] is None else float(record["landing_x"])
+        miss = float("nan") if record["miss"] is None else float(record["miss"])
+        fields = (float(basket["distance"]), float(basket["rim_height"]), float(basket["opening"]), bool(record["hit"]))
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"throw outcome: missing or malformed field {exc}") from None
+    if position.shape != (3,) or velocity.shape != (3,):
+        raise InputError("throw outcome: release position and velocity must be (x, y, z)")
+    robot = load_robot() if robot is None else robot
+    pngs = [Path(p) for p in record.get("frames", []) if Path(p).suffix.lower() == ".png" and Path(p).is_file()]
+    return throw_snapshot(
+        out,
+        release_position=position[[0, 2]],
+        release_velocity=velocity[[0, 2]],
+        basket_distance=fields[0],
+        rim_height=fields[1],
+        opening=fields[2],
+        landing_x=landing_x,
+        hit=fields[3],
+        miss=miss,
+        arm_points=_arm_at_release(joint_positions, robot, pedestal),
+        frame=pngs[len(pngs) // 2] if pngs else None,
+        title=title,
+    )
