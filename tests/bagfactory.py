@@ -84,6 +84,19 @@ class Simulation:
     def ends(self) -> list[float]:
         return [start + spec.duration for start, spec in zip(self.starts, self.throws, strict=True)]
 
+    def moving_spans(self, rest_velocity: float = 0.5) -> list[tuple[float, float]]:
+        """Per throw, first and last instant (s) the elbow moves faster than ``rest_velocity``.
+
+        These are the boundaries a throw finder with that rest threshold should report: the
+        minimum-jerk phases creep in and out of rest, so their nominal ends are not observable.
+        """
+        spans = []
+        for start, end in zip(self.starts, self.ends, strict=True):
+            t = np.linspace(start, end, 20001)
+            moving = t[np.abs(self.velocity(t)) >= rest_velocity]
+            spans.append((float(moving[0]), float(moving[-1])))
+        return spans
+
     def angle(self, t: np.ndarray) -> np.ndarray:
         """True included elbow angle (rad) at times ``t`` (s from the session start)."""
         return self._curve(np.asarray(t, dtype=float), derivative=False)

@@ -125,7 +125,7 @@ def _covered(track: JointTrack, grid: np.ndarray, max_gap: float) -> np.ndarray:
     """True where the grid stamp lies between two samples of the track at most ``max_gap`` apart."""
     after = np.clip(np.searchsorted(track.time, grid, side="left"), 1, len(track.time) - 1)
     span = track.time[after] - track.time[after - 1]
-    exact = np.isclose(track.time[after], grid) | np.isclose(track.time[after - 1], grid)
+    exact = (np.abs(track.time[after] - grid) <= 1e-6) | (np.abs(track.time[after - 1] - grid) <= 1e-6)
     return exact | (span <= max_gap + 1e-9)
 
 

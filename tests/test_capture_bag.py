@@ -1,0 +1,229 @@
+"""ROS bags written from a known simulated motion give back that motion, its throws and its defects."""
+
+from __future__ import annotations
+
+import io
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+sys.path.insert(0, str(Path(__file__).parent))
+import bagfactory as bf  # noqa: E402
+from rlff.capture import import_recordings  # noqa: E402
+from rlff.capture.angles import align_arm  # noqa: E402
+from rlff.capture.bag import read_bag  # noqa: E402
+from rlff.capture.contact_sheet import contact_sheet  # noqa: E402
+from rlff.capture.users import keep_consistent_user  # noqa: E402
+from rlff.errors import InputError  # noqa: E402
+
+#: Stated tolerances of the round trip (tracker noise 2 mm, 3 % dropped frames and joints).
+ANGLE_TOL = 0.08  # rad, any sample (2 mm noise on 0.3 m limbs: about 0.015 rad rms)
+ANGLE_RMS_TOL = 0.02  # rad
+VELOCITY_TOL = 0.1  # of the throw's peak velocity, any sample
+VELOCITY_RMS_TOL = 0.4  # rad/s
+BOUNDARY_TOL = 0.07  # s: two frames at 30 Hz
+
+
+@pytest.fixture(scope="module")
+def simulation() -> bf.Simulation:
+    return bf.standard_simulation(seed=3, n_throws=3)
+
+
+@pytest.fixture(scope="module")
+def jpegs() -> list[bytes]:
+    return bf.jpeg_frames(6)
+
+
+@pytest.fixture(scope="module")
+def lz4_bag(tmp_path_factory, simulation, jpegs) -> Path:
+    return bf.write_ros1_bag(tmp_path_factory.mktemp("bags") / "session_2.5m.bag", simulation, compression="lz4", images=jpegs)
+
+
+def _check_against_truth(dataset, report, simulation: bf.Simulation) -> None:
+    assert len(dataset) == len(simulation.throws)
+    origin = report.files[0].clock_origin
+    peaks = max(spec.peak_velocity for spec in simulation.throws)
+    for trajectory, (start, end) in zip(dataset, simulation.moving_spans(), strict=True):
+        begin = trajectory.meta["start_time"] + origin - simulation.t0
+        assert begin == pytest.approx(start, abs=BOUNDARY_TOL)
+        assert trajectory.meta["end_time"] + origin - simulation.t0 == pytest.approx(end, abs=BOUNDARY_TOL)
+        t = begin + trajectory["time"]
+        angle_error = trajectory["angle"] - simulation.angle(t)
+        velocity_error = trajectory["velocity"] - simulation.velocity(t)
+        assert np.max(np.abs(angle_error)) < ANGLE_TOL
+        assert np.sqrt(np.mean(angle_error**2)) < ANGLE_RMS_TOL
+        assert np.max(np.abs(velocity_error)) < VELOCITY_TOL * peaks
+        assert np.sqrt(np.mean(velocity_error**2)) < VELOCITY_RMS_TOL
+
+
+def test_a_bag_of_a_known_motion_gives_back_its_angle_velocity_and_throws(lz4_bag, simulation):
+    dataset, report = import_recordings([lz4_bag], "bag")
+    _check_against_truth(dataset, report, simulation)
+    assert report.files[0].arm == "right" and report.files[0].user == "1"
+    # the basket distance comes from the file name; the angle rises during the extension
+    for trajectory in dataset:
+        assert trajectory.meta["target"] == 2.5 and trajectory.meta["distance_source"] == "file name"
+        assert np.all(trajectory["distance"] == 2.5)
+        assert trajectory["velocity"].max() > 8.0
+        assert isinstance(trajectory.meta["hit"], bool)
+
+
+def test_bz2_chunks_and_the_ros1_tf_message_type_read_the_same(tmp_path, simulation):
+    bag = bf.write_ros1_bag(tmp_path / "b.bag", simulation, compression="bz2", tf_type="tf/msg/tfMessage")
+    dataset, report = import_recordings([bag], "bag")
+    _check_against_truth(dataset, report, simulation)
+
+
+def test_a_ros2_bag_reads_the_same(tmp_path, simulation):
+    bag = bf.write_ros2_bag(tmp_path / "ros2bag", simulation)
+    dataset, report = import_recordings([bag])
+    assert report.files[0].format == "bag"
+    _check_against_truth(dataset, report, simulation)
+
+
+def test_the_flickering_second_skeleton_is_dropped_and_reported(lz4_bag):
+    recording = read_bag(lz4_bag)
+    assert recording.users() == ["1", "2"]
+    assert {arm.side for arm in recording.arms} == {"right", "left"}
+    arms, notes = keep_consistent_user(recording)
+    assert {arm.user for arm in arms} == {"1"}
+    assert len(notes) == 1 and "dropped tracked user 2" in notes[0] and "appearances" in notes[0]
+
+
+def test_dropped_frames_are_interpolated_and_long_losses_marked(tmp_path):
+    simulation = bf.standard_simulation(seed=5, n_throws=1, drop_frames=0.0, drop_joints=0.0, second_user=False, noise=0.0)
+    bag = bf.write_ros1_bag(tmp_path / "gap.bag", simulation, compression=None)
+    recording = read_bag(bag)
+    arm = recording.arm("1", "right")
+    # cut out 0.5 s of the elbow (tracking lost) and single hand samples (dropped)
+    elbow_keep = ~((arm.elbow.time - simulation.t0 > 0.2) & (arm.elbow.time - simulation.t0 < 0.7))
+    hand_keep = np.ones(len(arm.hand), dtype=bool)
+    hand_keep[[40, 41, 60]] = False
+    from rlff.capture.skeleton import ArmTrack, JointTrack
+
+    holed = ArmTrack("1", "right", arm.shoulder, JointTrack("e", arm.elbow.time[elbow_keep], arm.elbow.position[elbow_keep]),
+                     JointTrack("h", arm.hand.time[hand_keep], arm.hand.position[hand_keep]))
+    motion = align_arm(holed)
+    t = motion.time - simulation.t0
+    assert not motion.valid[(t > 0.25) & (t < 0.65)].any()
+    assert motion.valid[t > 0.75].all()
+    error = np.abs(motion.angle - simulation.angle(t))
+    nearest = np.abs(motion.time[:, None] - holed.hand.time[None, :]).min(axis=1)
+    measured = (nearest < 1e-4) & motion.valid
+    assert measured.sum() > 100
+    assert np.max(error[measured]) < 1e-3  # noise-free: exact where every joint was sampled
+    assert np.max(error[motion.valid]) < 0.05  # linear interpolation over two dropped hand samples
+
+
+def test_only_tf_connections_are_deserialised(lz4_bag, monkeypatch):
+    from rosbags.typesys.store import Typestore
+
+    decoded: set[str] = set()
+    original = Typestore.deserialize_ros1
+
+    def spy(self, rawdata, typename):
+        decoded.add(typename)
+        return original(self, rawdata, typename)
+
+    monkeypatch.setattr(Typestore, "deserialize_ros1", spy)
+    read_bag(lz4_bag)
+    assert decoded == {"tf2_msgs/msg/TFMessage"}
+
+
+def test_a_bag_damaged_at_the_end_is_read_up_to_the_damage_with_a_warning(tmp_path, lz4_bag, simulation):
+    damaged = tmp_path / "damaged_2.5m.bag"
+    data = lz4_bag.read_bytes()
+    damaged.write_bytes(data[: int(len(data) * 0.8)])
+    dataset, report = import_recordings([damaged], "bag")
+    warnings = report.files[0].warnings
+    assert any("no usable index" in w for w in warnings)
+    assert any("damaged" in w and "read the messages up to the damage" in w for w in warnings)
+    # the throws wholly before the damage are still there, exactly where they were
+    assert 1 <= len(dataset) <= len(simulation.throws)
+    first = dataset[0]
+    origin = report.files[0].clock_origin
+    truth = simulation.moving_spans()[0][0]
+    assert first.meta["start_time"] + origin - simulation.t0 == pytest.approx(truth, abs=BOUNDARY_TOL)
+
+
+def test_an_unindexed_bag_from_a_dead_recorder_is_scanned(tmp_path, lz4_bag, simulation):
+    """A recorder killed before closing leaves index_pos = 0 in the header."""
+    data = bytearray(lz4_bag.read_bytes())
+    index = data.index(b"index_pos=") + len(b"index_pos=")
+    data[index : index + 8] = bytes(8)
+    bag = tmp_path / "active.bag"
+    bag.write_bytes(bytes(data))
+    dataset, report = import_recordings([bag], "bag")
+    assert len(dataset) == len(simulation.throws)
+    assert any("not indexed" in w for w in report.files[0].warnings)
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        (b"", "not a ROS 1 bag"),
+        (b"#ROSBAG V2.0\n" + bytes(range(256)) * 4, "corrupt ROS 1 bag"),
+        (b"hello, I am not a bag\n", "not a ROS 1 bag"),
+    ],
+)
+def test_corrupt_bags_are_input_errors_naming_the_file(tmp_path, content, message):
+    bag = tmp_path / "broken.bag"
+    bag.write_bytes(content)
+    with pytest.raises(InputError, match=message) as error:
+        read_bag(bag)
+    assert str(bag) in str(error.value)
+
+
+def test_a_bag_truncated_right_after_its_header_has_no_tf(tmp_path, lz4_bag):
+    bag = tmp_path / "stub.bag"
+    bag.write_bytes(lz4_bag.read_bytes()[:4200])
+    with pytest.raises(InputError, match=r"no message could be read on /tf"):
+        read_bag(bag)
+
+
+def test_a_bag_without_tf_lists_its_topics(tmp_path, simulation):
+    bag = bf.write_ros1_bag(tmp_path / "notf.bag", simulation, tf_topic="/skeleton")
+    with pytest.raises(InputError, match=r"notf.bag: no topic /tf in the bag; topics there: /skeleton \(tf2_msgs/msg/TFMessage\)"):
+        read_bag(bag)
+    assert len(read_bag(bag, topic="/skeleton").arms) == 4
+
+
+def test_missing_frames_list_the_frames_there(lz4_bag):
+    with pytest.raises(InputError) as error:
+        read_bag(lz4_bag, frames=("r_shoulder_1", "r_elbow_1", "r_wrist_1"))
+    text = str(error.value)
+    assert "r_wrist_1" in text and "frames there:" in text
+    for frame in ("head_1", "right_elbow_1", "left_hand_2", "torso_1"):
+        assert frame in text
+
+
+def test_frames_of_another_name_and_user_are_configurable(lz4_bag):
+    recording = read_bag(lz4_bag, frames=("left_shoulder_2", "left_elbow_2", "left_hand_2"))
+    assert recording.users() == ["1", "2"]
+    assert recording.arm("1", "left") is not None and recording.arm("2", "right") is not None
+
+
+def test_contact_sheet_has_a_row_per_throw_and_notes_undecodable_frames(tmp_path, simulation):
+    frames = bf.jpeg_frames(3)
+    frames.append(b"\xff\xd8 this is not a jpeg")
+    bag = bf.write_ros1_bag(tmp_path / "cam.bag", simulation, images=frames, image_every=1)
+    _, report = import_recordings([bag], "bag")
+    path, notes = contact_sheet(report.files[0], tmp_path / "sheets")
+    with Image.open(path) as sheet:
+        assert sheet.size == (3 * 240, len(simulation.throws) * (180 + 16))
+    # every 4th image is broken; the frames picked at 9 instants include some of them or none
+    decoded = 0
+    from rlff.capture.bag import images_near
+
+    times = [report.files[0].clock_origin + t.start for t in report.files[0].throws]
+    found, _ = images_near(bag, bf.IMAGE_TOPIC, times)
+    for _stamp, data in found:
+        try:
+            Image.open(io.BytesIO(data)).load()
+            decoded += 1
+        except OSError:
+            assert any("undecodable frame" in note for note in notes)
+    assert all("skipped" in note for note in notes)
