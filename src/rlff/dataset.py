@@ -24,8 +24,14 @@ import numpy as np
 
 from rlff.errors import InputError
 
-#: Metadata keys with a meaning to rlff; others are kept as given.
-META_KEYS = ("subject", "source", "target", "landing", "hit")
+#: Metadata keys with a meaning to rlff (read as metadata even when numeric); others are kept
+#: as given. ``release_angle`` (rad) and ``release_time`` (s) locate the ball's release when known
+#: (simulated throws), ``glitches`` counts the tracking glitches a simulated throw holds,
+#: ``cut_angle`` (rad) is where preprocessing cut a throw at its release.
+META_KEYS = (
+    "subject", "source", "target", "landing", "hit", "release_angle", "release_time", "glitches",
+    "cut_angle",
+)
 #: Column of the CSV long format that holds the trajectory id.
 ID_COLUMN = "trajectory"
 #: Default column roles of the throwing task.
@@ -34,6 +40,8 @@ THROW_OUTPUTS = ("velocity",)
 THROW_CONTEXT = ("distance",)
 #: Columns that are always numeric sample columns when present.
 _NUMERIC_NAMES = ("angle", "distance", "velocity", "time")
+#: Units of the throwing task's columns; every stage keeps them (no step converts units).
+UNITS = {"angle": "rad", "distance": "m", "velocity": "rad/s", "time": "s"}
 
 
 @dataclass(frozen=True)
@@ -83,6 +91,19 @@ class Trajectory:
         object.__setattr__(self, "data", columns)
         object.__setattr__(self, "meta", dict(self.meta))
         object.__setattr__(self, "id", str(self.id))
+
+    @classmethod
+    def _trusted(cls, id: str, data: dict[str, np.ndarray], meta: dict[str, Any]) -> Trajectory:
+        """Build without validation from columns already checked in bulk (read-only float arrays).
+
+        Loading a million samples one trajectory at a time spends its time validating small
+        arrays; :meth:`Dataset.from_columns` validates them all at once and comes here.
+        """
+        trajectory = object.__new__(cls)
+        object.__setattr__(trajectory, "id", id)
+        object.__setattr__(trajectory, "data", data)
+        object.__setattr__(trajectory, "meta", meta)
+        return trajectory
 
     def __len__(self) -> int:
         return next(iter(self.data.values())).size
@@ -151,6 +172,103 @@ class Dataset(Sequence[Trajectory]):
         self.columns = columns
         self._validate()
 
+    @classmethod
+    def from_columns(
+        cls,
+        columns: Mapping[str, np.ndarray],
+        ids: Sequence[str],
+        lengths: Sequence[int] | np.ndarray,
+        meta: Sequence[Mapping[str, Any]] | None = None,
+        context: Sequence[str] | None = None,
+    ) -> Dataset:
+        """Build a dataset from whole columns, validated in bulk (fast for large sets).
+
+        Parameters
+        ----------
+        columns : mapping of str to array of shape (N,)
+            Sample columns of all trajectories, one after the other.
+        ids : sequence of str, length S
+            Trajectory ids, in the order their samples appear.
+        lengths : sequence of int, length S
+            Number of samples of each trajectory (each >= 1, summing to N).
+        meta : sequence of mappings, length S, optional
+            Per-trajectory metadata.
+        context : sequence of str, optional
+            Context columns, as in :class:`Dataset`.
+
+        Raises
+        ------
+        InputError
+            As :class:`Trajectory` and :class:`Dataset` would for the same data.
+        """
+        ids = [str(i) for i in ids]
+        lengths = np.asarray(lengths, dtype=np.int64).reshape(-1)
+        metas = [dict(m) for m in meta] if meta is not None else [{} for _ in ids]
+        if not (len(ids) == lengths.size == len(metas)):
+            raise InputError(f"{len(ids)} ids, {lengths.size} lengths and {len(metas)} metadata records")
+        if lengths.size and lengths.min() < 1:
+            raise InputError(f"trajectory {ids[int(np.argmin(lengths))]!r} has no samples")
+        if len(set(ids)) != len(ids):
+            unique, counts = np.unique(ids, return_counts=True)
+            raise InputError(f"duplicate trajectory id {str(unique[np.argmax(counts > 1)])!r}")
+        starts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.int64)
+        total = int(lengths.sum())
+        owner = np.repeat(np.arange(lengths.size), lengths)
+        arrays: dict[str, np.ndarray] = {}
+        for name, values in columns.items():
+            array = np.ascontiguousarray(values, dtype=float)
+            if array.shape != (total,):
+                raise InputError(f"column {name!r} has shape {array.shape}, expected ({total},)")
+            finite = np.isfinite(array)
+            if not finite.all():
+                row = int(np.flatnonzero(~finite)[0])
+                raise InputError(
+                    f"trajectory {ids[owner[row]]!r}: column {name!r} has a non-finite value at "
+                    f"sample {row - starts[owner[row]]}"
+                )
+            array.setflags(write=False)
+            arrays[name] = array
+        if not arrays and ids:
+            raise InputError(f"trajectory {ids[0]!r} has no columns")
+        if context is None:
+            context = tuple(name for name in THROW_CONTEXT if name in arrays)
+        if lengths.size:
+            for name in context:
+                if name not in arrays:
+                    raise InputError(f"no context column {name!r} in the data")
+                values = arrays[name]
+                spread = np.maximum.reduceat(values, starts) - np.minimum.reduceat(values, starts)
+                scale = np.maximum(1.0, np.maximum.reduceat(np.abs(values), starts))
+                bad = np.flatnonzero(spread > 1e-9 * scale)
+                if bad.size:
+                    raise InputError(f"trajectory {ids[bad[0]]!r}: context column {name!r} is not constant")
+            if "time" in arrays and total > 1:
+                steps = np.diff(arrays["time"])
+                inside = np.ones(total - 1, dtype=bool)
+                inside[starts[1:] - 1] = False  # a step across two trajectories is not a step
+                bad = np.flatnonzero(inside & (steps <= 0))
+                if bad.size:
+                    row = int(bad[0]) + 1
+                    raise InputError(
+                        f"trajectory {ids[owner[row]]!r}: time does not increase at sample "
+                        f"{row - starts[owner[row]]}"
+                    )
+        trajectories = [
+            Trajectory._trusted(
+                trajectory_id,
+                {name: array[start : start + length] for name, array in arrays.items()},
+                trajectory_meta,
+            )
+            for trajectory_id, start, length, trajectory_meta in zip(
+                ids, starts.tolist(), lengths.tolist(), metas, strict=True
+            )
+        ]
+        dataset = cls.__new__(cls)
+        dataset._trajectories = tuple(trajectories)
+        dataset.context = tuple(context)
+        dataset.columns = tuple(arrays)
+        return dataset
+
     def _validate(self) -> None:
         seen: set[str] = set()
         for trajectory in self._trajectories:
@@ -204,9 +322,32 @@ class Dataset(Sequence[Trajectory]):
         return self._trajectories
 
     @property
+    def ids(self) -> tuple[str, ...]:
+        """Trajectory ids, in order."""
+        return tuple(t.id for t in self._trajectories)
+
+    @property
+    def contexts(self) -> tuple[tuple[float, ...], ...]:
+        """The distinct context values, sorted ascending."""
+        return tuple(self.by_context())
+
+    @property
     def n_samples(self) -> int:
         """Total number of samples over all trajectories."""
         return sum(len(t) for t in self._trajectories)
+
+    def equals(self, other: Dataset) -> bool:
+        """True when ``other`` holds the same trajectories (ids, columns, values, metadata) in
+        the same order with the same context columns; values compared exactly."""
+        if self.context != other.context or set(self.columns) != set(other.columns):
+            return False
+        if self.ids != other.ids:
+            return False
+        return all(
+            mine.meta == theirs.meta
+            and all(np.array_equal(mine[name], theirs[name]) for name in self.columns)
+            for mine, theirs in zip(self._trajectories, other._trajectories, strict=True)
+        )
 
     def replace(self, trajectories: Iterable[Trajectory]) -> Dataset:
         """A dataset with the same context columns holding other trajectories."""

@@ -1,0 +1,422 @@
+"""Dataset files: the thesis' matrix text format, NPZ and Parquet, and a reader/writer by extension.
+
+The CSV long format lives beside the types in :mod:`rlff.dataset`. Here:
+
+- the thesis matrix (thesis figure 2.1): three rows per trajectory (angles; basket distance;
+  velocities), values separated by tabs, spaces or semicolons, a comma accepted as the decimal
+  separator. An optional comment line ``# {"trajectory": ID, ...metadata}`` before a block names
+  the trajectory and carries its metadata, so that a written file reads back the same dataset;
+  other lines starting with ``#`` are comments.
+- NPZ (numpy): whole columns, trajectory lengths, ids and metadata as JSON; no pickles.
+- Parquet (pyarrow): the CSV long format as a typed table, with the context columns and the
+  metadata keys in the schema's metadata; fast for large sets.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rlff.dataset import ID_COLUMN, META_KEYS, Dataset, read_csv, write_csv
+from rlff.errors import InputError
+
+#: Format names and the file extensions that select them.
+FORMATS = {"csv": (".csv",), "thesis": (".txt", ".tsv"), "npz": (".npz",), "parquet": (".parquet", ".pq")}
+#: Rows of a thesis matrix block, in order.
+THESIS_ROWS = ("angle", "distance", "velocity")
+#: Key of rlff's own entry in a Parquet schema's metadata and in an NPZ file.
+_RLFF_KEY = "rlff"
+_FILE_TAG = {"format": "rlff-dataset", "version": 1}
+_SEPARATORS = re.compile(r"[\t ;]+")
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(f"metadata value of type {type(value).__name__} cannot be stored")
+
+
+def _require_file(path: Path) -> None:
+    if not path.is_file():
+        raise InputError(f"{path}: no such file")
+
+
+# -- thesis matrix -----------------------------------------------------------------------------
+
+
+def read_thesis_matrix(
+    path: str | Path, rows: Sequence[str] = THESIS_ROWS, context: Sequence[str] = ("distance",)
+) -> Dataset:
+    """Read the thesis' matrix format: one row per column, ``len(rows)`` rows per trajectory.
+
+    Parameters
+    ----------
+    path : str or Path
+        Text file. Values are separated by tabs, spaces or semicolons; a comma is read as the
+        decimal separator (``0,495`` is 0.495). Blank lines are skipped.
+    rows : sequence of str
+        Names of the rows of a block (default angle in rad, distance in m, velocity in rad/s).
+    context : sequence of str
+        Rows that hold a context (constant within a block).
+
+    Returns
+    -------
+    Dataset
+        One trajectory per block, ids ``<file stem>-<k>`` (k from 1) unless a comment line
+        ``# {"trajectory": ...}`` names it; ``source`` metadata is the file name.
+
+    Raises
+    ------
+    InputError
+        Naming the file and line: a value that is not a number, rows of a block with different
+        lengths, an incomplete last block, a non-finite value, a context row that is not constant.
+    """
+    path = Path(path)
+    _require_file(path)
+    try:
+        lines = path.read_text().splitlines()
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a text file") from None
+    blocks: list[tuple[list[int], list[np.ndarray], dict[str, Any] | None]] = []
+    pending_header: dict[str, Any] | None = None
+    current_lines: list[int] = []
+    current_rows: list[np.ndarray] = []
+    for number, line in enumerate(lines, start=1):
+        text = line.strip()
+        if not text:
+            continue
+        if text.startswith("#"):
+            pending_header = _header(text, path, number) or pending_header
+            continue
+        tokens = [t for t in _SEPARATORS.split(text.replace(",", ".")) if t]
+        try:
+            values = np.array([float(t) for t in tokens])
+        except ValueError:
+            bad = next(t for t in tokens if not _is_number(t))
+            raise InputError(
+                f"{path}, line {number}: {bad!r} is not a number (values are separated by tabs, "
+                "spaces or semicolons; a comma is a decimal separator)"
+            ) from None
+        if not np.all(np.isfinite(values)):
+            raise InputError(f"{path}, line {number}: non-finite value in row {rows[len(current_rows)]!r}")
+        if current_rows and values.size != current_rows[0].size:
+            raise InputError(
+                f"{path}, line {number}: row {rows[len(current_rows)]!r} has {values.size} values, "
+                f"the block's first row (line {current_lines[0]}) has {current_rows[0].size}"
+            )
+        current_lines.append(number)
+        current_rows.append(values)
+        if len(current_rows) == len(rows):
+            blocks.append((current_lines, current_rows, pending_header))
+            current_lines, current_rows, pending_header = [], [], None
+    if current_rows:
+        raise InputError(
+            f"{path}, line {current_lines[-1]}: incomplete block: {len(current_rows)} of "
+            f"{len(rows)} rows ({', '.join(rows)})"
+        )
+    if not blocks:
+        raise InputError(f"{path}: no data rows")
+    trajectories_data, ids, metas = [], [], []
+    for k, (numbers, values, header) in enumerate(blocks, start=1):
+        # a header written by write_thesis_matrix restores id and metadata as they were
+        meta = dict(header) if header is not None else {"source": path.name}
+        ids.append(str(meta.pop(ID_COLUMN, f"{path.stem}-{k}")))
+        metas.append(meta)
+        trajectories_data.append(dict(zip(rows, values, strict=True)))
+        for name, row, number in zip(rows, values, numbers, strict=True):
+            if name in context and np.ptp(row) > 1e-9 * max(1.0, float(np.max(np.abs(row)))):
+                raise InputError(f"{path}, line {number}: context row {name!r} is not constant")
+    columns = {name: np.concatenate([d[name] for d in trajectories_data]) for name in rows}
+    lengths = [len(d[rows[0]]) for d in trajectories_data]
+    try:
+        return Dataset.from_columns(columns, ids, lengths, metas, tuple(context))
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
+
+
+def _is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+def _header(text: str, path: Path, number: int) -> dict[str, Any] | None:
+    """The trajectory header a comment line carries, or None for a plain comment."""
+    body = text[1:].strip()
+    if not body.startswith("{"):
+        return None
+    try:
+        header = json.loads(body)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{path}, line {number}: malformed trajectory header ({exc.msg})") from None
+    if not isinstance(header, dict) or ID_COLUMN not in header:
+        return None
+    return header
+
+
+def write_thesis_matrix(
+    dataset: Dataset,
+    path: str | Path,
+    *,
+    rows: Sequence[str] = THESIS_ROWS,
+    separator: str = "\t",
+    decimal_comma: bool = False,
+    header: bool = True,
+) -> None:
+    """Write the thesis' matrix format; :func:`read_thesis_matrix` gives the dataset back.
+
+    Parameters
+    ----------
+    dataset : Dataset
+        Must hold exactly the columns in ``rows``.
+    path : str or Path
+    rows : sequence of str
+        Columns written, one text row each, in this order.
+    separator : str
+        Tab, space or semicolon.
+    decimal_comma : bool
+        Write ``0,495`` instead of ``0.495`` (as the thesis' tables do).
+    header : bool
+        Write a ``# {"trajectory": ...}`` comment line with the id and metadata before each
+        block (needed for an exact round trip of ids and metadata).
+
+    Raises
+    ------
+    InputError
+        A column of ``rows`` is missing, the dataset has other columns (they would be lost), or
+        the separator is not one the reader accepts.
+    """
+    if separator not in ("\t", " ", ";"):
+        raise InputError(f"separator {separator!r}: use a tab, a space or a semicolon")
+    dataset.require(rows)
+    extra = [name for name in dataset.columns if name not in rows]
+    if extra:
+        raise InputError(
+            f"the thesis matrix format holds only {', '.join(rows)}; the data also has "
+            f"{', '.join(extra)} (write CSV, NPZ or Parquet to keep them)"
+        )
+    out = []
+    for trajectory in dataset:
+        if header:
+            record = {ID_COLUMN: trajectory.id, **trajectory.meta}
+            out.append("# " + json.dumps(record, default=_jsonable))
+        for name in rows:
+            text = separator.join(repr(float(v)) for v in trajectory[name])
+            out.append(text.replace(".", ",") if decimal_comma else text)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("\n".join(out) + "\n")
+
+
+# -- NPZ ---------------------------------------------------------------------------------------
+
+
+def write_npz(dataset: Dataset, path: str | Path) -> None:
+    """Write a dataset as an uncompressed NPZ: whole columns plus lengths, ids and metadata."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    arrays = {f"column:{name}": _column(dataset, name) for name in dataset.columns}
+    info = {
+        **_FILE_TAG,
+        "columns": list(dataset.columns),
+        "context": list(dataset.context),
+        "meta": [t.meta for t in dataset],
+    }
+    with path.open("wb") as handle:
+        np.savez(
+            handle,
+            ids=np.array(dataset.ids, dtype=str),
+            lengths=np.array([len(t) for t in dataset], dtype=np.int64),
+            **{_RLFF_KEY: np.array(json.dumps(info, default=_jsonable))},
+            **arrays,
+        )
+
+
+def read_npz(path: str | Path) -> Dataset:
+    """Read a dataset written by :func:`write_npz`."""
+    path = Path(path)
+    _require_file(path)
+    try:
+        with np.load(path, allow_pickle=False) as npz:
+            info = json.loads(str(npz[_RLFF_KEY]))
+            columns = {name: npz[f"column:{name}"] for name in info["columns"]}
+            ids = npz["ids"].tolist()
+            lengths = npz["lengths"]
+    except (OSError, ValueError, KeyError, json.JSONDecodeError) as exc:
+        raise InputError(f"{path}: not an rlff NPZ dataset ({exc})") from None
+    try:
+        return Dataset.from_columns(columns, ids, lengths, info["meta"], info["context"])
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
+
+
+def _column(dataset: Dataset, name: str) -> np.ndarray:
+    if not len(dataset):
+        return np.empty(0)
+    return np.concatenate([t[name] for t in dataset])
+
+
+# -- Parquet -----------------------------------------------------------------------------------
+
+
+def write_parquet(dataset: Dataset, path: str | Path) -> None:
+    """Write a dataset as Parquet: the CSV long format as a typed table.
+
+    Metadata values become columns constant within a trajectory (bools, numbers or strings);
+    the context columns and metadata keys go into the schema's metadata so that
+    :func:`read_parquet` restores them exactly.
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    lengths = np.array([len(t) for t in dataset], dtype=np.int64)
+    owner = np.repeat(np.arange(len(dataset)), lengths)
+    fields: dict[str, pa.Array] = {
+        ID_COLUMN: pa.DictionaryArray.from_arrays(
+            pa.array(owner, type=pa.int32()), pa.array(dataset.ids, type=pa.string())
+        )
+    }
+    for name in dataset.columns:
+        fields[name] = pa.array(_column(dataset, name), type=pa.float64())
+    meta_keys = list(dict.fromkeys(key for t in dataset for key in t.meta))
+    for key in meta_keys:
+        values = [t.meta.get(key) for t in dataset]
+        try:
+            per_trajectory = pa.array(values)
+        except (pa.ArrowInvalid, pa.ArrowTypeError):
+            per_trajectory = pa.array([None if v is None else str(v) for v in values])
+        fields[key] = per_trajectory.take(pa.array(owner))
+    info = {**_FILE_TAG, "context": list(dataset.context), "meta_keys": meta_keys}
+    table = pa.table(fields).replace_schema_metadata({_RLFF_KEY: json.dumps(info)})
+    pq.write_table(table, path)
+
+
+def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
+    """Read a dataset from Parquet (written by :func:`write_parquet` or any long-format table).
+
+    Rows of one trajectory must be contiguous or are gathered in their file order (a trajectory's
+    samples are never reordered). Without rlff's schema metadata, string and bool columns and the
+    known metadata keys (subject, source, target, landing, hit) are metadata, the rest samples.
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path = Path(path)
+    _require_file(path)
+    try:
+        table = pq.read_table(path)
+    except (pa.ArrowInvalid, OSError) as exc:
+        raise InputError(f"{path}: not a Parquet file ({exc})") from None
+    info = json.loads((table.schema.metadata or {}).get(_RLFF_KEY.encode(), b"{}"))
+    if ID_COLUMN not in table.column_names:
+        raise InputError(f"{path}: no {ID_COLUMN!r} column (columns: {', '.join(table.column_names)})")
+    if "meta_keys" in info:
+        meta_keys = list(info["meta_keys"])
+    else:
+        meta_keys = [
+            f.name for f in table.schema
+            if f.name != ID_COLUMN and (f.name in META_KEYS or not pa.types.is_floating(f.type)
+                                        and not pa.types.is_integer(f.type))
+        ]
+    if context is None and "context" in info:
+        context = info["context"]
+    ids_column = table.column(ID_COLUMN).combine_chunks()
+    if not pa.types.is_dictionary(ids_column.type):
+        ids_column = ids_column.cast(pa.string()).dictionary_encode()
+    codes = ids_column.indices.to_numpy(zero_copy_only=False)
+    names = ids_column.dictionary.to_pylist()
+    order = None
+    if codes.size > 1 and np.count_nonzero(np.diff(codes)) + 1 != np.unique(codes).size:
+        # rows of a trajectory are scattered: gather them, keeping each trajectory's own order
+        first_seen = np.unique(codes, return_index=True)[1]
+        rank = np.empty(len(names), dtype=np.int64)
+        rank[codes[np.sort(first_seen)]] = np.arange(first_seen.size)
+        order = np.argsort(rank[codes], kind="stable")
+        codes = codes[order]
+    starts = np.flatnonzero(np.concatenate([[True], codes[1:] != codes[:-1]])) if codes.size else np.empty(0, int)
+    lengths = np.diff(np.append(starts, codes.size))
+    ids = [names[c] for c in codes[starts]]
+    columns = {}
+    for name in table.column_names:
+        if name == ID_COLUMN or name in meta_keys:
+            continue
+        column = table.column(name)
+        try:
+            values = column.to_numpy().astype(float, copy=False)
+        except (pa.ArrowInvalid, ValueError, TypeError):
+            raise InputError(f"{path}: column {name!r} is not numeric ({column.type})") from None
+        if column.null_count:
+            row = int(np.flatnonzero(column.is_null().to_numpy(zero_copy_only=False))[0])
+            raise InputError(f"{path}: column {name!r} has an empty value at row {row + 1}")
+        columns[name] = values if order is None else values[order]
+    metas: list[dict[str, Any]] = [{} for _ in ids]
+    for key in meta_keys:
+        column = table.column(key).combine_chunks()
+        if order is not None:
+            column = column.take(pa.array(order))
+        encoded = column.dictionary_encode() if not pa.types.is_dictionary(column.type) else column
+        meta_codes = encoded.indices.fill_null(-1).to_numpy(zero_copy_only=False)
+        varying = np.flatnonzero(meta_codes != np.repeat(meta_codes[starts], lengths))
+        if varying.size:
+            owner = np.searchsorted(starts, varying[0], side="right") - 1
+            raise InputError(f"{path}: metadata column {key!r} varies within trajectory {ids[owner]!r}")
+        for meta, value in zip(metas, column.take(pa.array(starts)).to_pylist(), strict=True):
+            if value is not None:
+                meta[key] = value
+    try:
+        return Dataset.from_columns(columns, ids, lengths, metas, context)
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
+
+
+# -- dispatch ----------------------------------------------------------------------------------
+
+
+def format_of(path: str | Path, format: str | None = None) -> str:
+    """The format name for ``path``: ``format`` when given, else from the extension."""
+    if format is not None:
+        if format not in FORMATS:
+            raise InputError(f"unknown dataset format {format!r} (known: {', '.join(FORMATS)})")
+        return format
+    suffix = Path(path).suffix.lower()
+    for name, suffixes in FORMATS.items():
+        if suffix in suffixes:
+            return name
+    known = ", ".join(s for suffixes in FORMATS.values() for s in suffixes)
+    raise InputError(f"{path}: unknown dataset extension {suffix!r} (known: {known})")
+
+
+def read_dataset(path: str | Path, format: str | None = None) -> Dataset:
+    """Read a dataset in any format; by extension (.csv, .txt/.tsv, .npz, .parquet) by default."""
+    readers = {"csv": read_csv, "thesis": read_thesis_matrix, "npz": read_npz, "parquet": read_parquet}
+    return readers[format_of(path, format)](path)
+
+
+def write_dataset(dataset: Dataset, path: str | Path, format: str | None = None) -> None:
+    """Write a dataset in any format; by extension (.csv, .txt/.tsv, .npz, .parquet) by default."""
+    writers = {"csv": write_csv, "thesis": write_thesis_matrix, "npz": write_npz, "parquet": write_parquet}
+    writers[format_of(path, format)](dataset, path)
+
+
+__all__ = [
+    "FORMATS",
+    "THESIS_ROWS",
+    "format_of",
+    "read_dataset",
+    "read_npz",
+    "read_parquet",
+    "read_thesis_matrix",
+    "write_dataset",
+    "write_npz",
+    "write_parquet",
+    "write_thesis_matrix",
+]

@@ -1,0 +1,261 @@
+"""Steps 10-11 (thesis 4.3.3, 4.3.6.2): reject what the thesis removed by hand, automatically.
+
+10. contexts (basket distances) whose throws break the monotone trend of velocity against
+    distance (2.75 m in the thesis: too slow for its place between 2.5 and 3 m), or whose throws
+    scatter far more than those of the other contexts (1.0, 1.5 and 4.0 m in the thesis: hard to
+    make a full movement so close to the basket);
+11. trajectories whose shape differs from the common shape of their context (two kinds of
+    throws recorded for one basket, thesis figure 4.54).
+
+Both compare velocity curves sampled on a common grid: the level of a throw is its mean velocity
+over the angle band most throws cover; its shape is its velocity against its own progress from
+first to last angle, divided by its mean speed.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+
+from rlff.dataset import Dataset, Trajectory
+from rlff.errors import InputError
+from rlff.preprocess.report import StepReport
+
+#: Consistency constant of the median absolute deviation for a normal distribution.
+_MAD_TO_SIGMA = 1.4826
+
+
+def _progress(values: np.ndarray) -> np.ndarray:
+    """Fraction of the path covered at each sample, from 0 to 1 (path length of ``values``)."""
+    travelled = np.concatenate([[0.0], np.cumsum(np.abs(np.diff(values)))])
+    return travelled / travelled[-1] if travelled[-1] > 0 else np.linspace(0.0, 1.0, values.size)
+
+
+def _shape(trajectory: Trajectory, column: str, velocity_column: str, points: int) -> np.ndarray:
+    """Velocity against progress on ``points`` evenly spaced fractions, over its mean speed."""
+    curve = np.interp(np.linspace(0.0, 1.0, points), _progress(trajectory[column]), trajectory[velocity_column])
+    mean_speed = float(np.mean(np.abs(curve)))
+    return curve / mean_speed if mean_speed > 0 else curve
+
+
+def reject_shapes(
+    dataset: Dataset,
+    *,
+    column: str = "angle",
+    velocity_column: str = "velocity",
+    k: float = 4.0,
+    min_trajectories: int = 3,
+    points: int = 50,
+) -> tuple[Dataset, StepReport]:
+    """Remove trajectories whose velocity shape is far from the common shape of their context.
+
+    Parameters
+    ----------
+    dataset : Dataset
+    column, velocity_column : str
+    k : float
+        A trajectory is rejected when its distance to its context's common shape exceeds the
+        median distance over the dataset by ``k`` robust standard deviations (MAD).
+    min_trajectories : int
+        Contexts with fewer trajectories have no common shape to compare with; they are kept.
+    points : int
+        Samples of a shape.
+
+    The common shape is the pointwise median of the context's shapes (velocity against progress,
+    over the mean speed); the distance is the root mean square difference.
+    """
+    dataset.require([column, velocity_column])
+    params = {"column": column, "velocity_column": velocity_column, "k": k,
+              "min_trajectories": min_trajectories, "points": points}
+    report = StepReport("reject_shapes", params, dataset)
+    distances: dict[str, float] = {}
+    small = []
+    for context, group in dataset.by_context().items():
+        if len(group) < min_trajectories:
+            small.append(context)
+            continue
+        shapes = np.stack([_shape(t, column, velocity_column, points) for t in group])
+        common = np.median(shapes, axis=0)
+        rms = np.sqrt(np.mean((shapes - common) ** 2, axis=1))
+        distances.update(zip((t.id for t in group), rms.tolist(), strict=True))
+    if small:
+        report.notes.append(
+            f"{len(small)} context(s) with fewer than {min_trajectories} trajectories not compared"
+        )
+    if distances:
+        values = np.array(list(distances.values()))
+        centre = float(np.median(values))
+        limit = centre + k * _MAD_TO_SIGMA * float(np.median(np.abs(values - centre)))
+        report.params["limit"] = limit
+        for trajectory_id, distance in distances.items():
+            if distance > limit:
+                report.remove(
+                    trajectory_id,
+                    f"shape differs from its context's common shape (distance {distance:.3g} > {limit:.3g})",
+                )
+    removed = {r.trajectory for r in report.removed}
+    report.after = dataset.replace(t for t in dataset if t.id not in removed)
+    return report.after, report
+
+
+def reject_contexts(
+    dataset: Dataset,
+    *,
+    column: str = "distance",
+    angle_column: str = "angle",
+    velocity_column: str = "velocity",
+    trend: Literal["increasing", "decreasing", "none"] = "increasing",
+    tolerance: float = 0.05,
+    max_spread_ratio: float = 3.0,
+    min_contexts: int = 3,
+) -> tuple[Dataset, StepReport]:
+    """Reject contexts that break the trend of velocity against ``column`` or stand apart.
+
+    Parameters
+    ----------
+    dataset : Dataset
+    column : str
+        The context column the velocity should follow (the basket distance, m).
+    angle_column, velocity_column : str
+    trend : {"increasing", "decreasing", "none"}
+        How the level (the median over a context's trajectories of their mean velocity over the
+        common angle band) should change with ``column``. A context breaks the trend when it is
+        out of order with a neighbouring context and deviates from the value interpolated
+        between its two neighbours by more than ``tolerance`` (a fraction of that value). The
+        worst offender is rejected first, then the trend is checked again, so the neighbours of
+        a bad context are not blamed for it. "none" skips the check.
+    tolerance : float
+        Relative deviation allowed (0.05: 5 %).
+    max_spread_ratio : float
+        A context stands apart when its trajectories scatter more than this many times the
+        median scatter of the contexts (scatter: the median RMS distance of a context's
+        velocity curves from their pointwise median, over the context's level). 0 skips it.
+    min_contexts : int
+        With fewer contexts (per value of the other context columns) nothing is rejected.
+
+    With several context columns, the trend is checked along ``column`` within each group of
+    contexts sharing the other columns' values.
+    """
+    dataset.require([angle_column, velocity_column])
+    if column not in dataset.context:
+        raise InputError(f"reject_contexts: {column!r} is not a context column (context: {', '.join(dataset.context) or 'none'})")
+    params = {"column": column, "angle_column": angle_column, "velocity_column": velocity_column,
+              "trend": trend, "tolerance": tolerance, "max_spread_ratio": max_spread_ratio,
+              "min_contexts": min_contexts}
+    report = StepReport("reject_contexts", params, dataset)
+    groups = dataset.by_context()
+    if len(groups) < min_contexts:
+        report.notes.append(f"{len(groups)} context(s), fewer than {min_contexts}: nothing checked")
+        report.after = dataset
+        return dataset, report
+    grid = _band(dataset, angle_column)
+    curves = {c: np.stack([_on_band(t, angle_column, velocity_column, grid) for t in g]) for c, g in groups.items()}
+    levels = {c: float(np.median(np.mean(v, axis=1))) for c, v in curves.items()}
+    names = dataset.context
+    axis = names.index(column)
+    rejected: dict[tuple[float, ...], str] = {}
+    if max_spread_ratio > 0:
+        rejected.update(_apart(curves, levels, max_spread_ratio, velocity_column))
+    if trend != "none":
+        sign = 1.0 if trend == "increasing" else -1.0
+        by_rest: dict[tuple[float, ...], list[tuple[float, ...]]] = {}
+        for context in groups:
+            if context not in rejected:
+                by_rest.setdefault(context[:axis] + context[axis + 1 :], []).append(context)
+        for members in by_rest.values():
+            if len(members) >= min_contexts:
+                rejected.update(_off_trend(members, levels, axis, sign, tolerance, column, velocity_column))
+    for context, reason in rejected.items():
+        report.reject_context(dict(zip(names, context, strict=True)), [t.id for t in groups[context]], reason)
+    report.params["levels"] = {
+        ", ".join(f"{v:g}" for v in context): round(level, 6) for context, level in levels.items()
+    }
+    report.after = dataset.replace(t for t in dataset if t.context_value(names) not in rejected)
+    return report.after, report
+
+
+def _band(dataset: Dataset, angle_column: str, points: int = 50) -> np.ndarray:
+    """The angle band most trajectories cover: from the median start to the median end."""
+    starts = np.array([min(t[angle_column][0], t[angle_column][-1]) for t in dataset])
+    ends = np.array([max(t[angle_column][0], t[angle_column][-1]) for t in dataset])
+    low, high = float(np.median(starts)), float(np.median(ends))
+    return np.linspace(low, high, points) if high > low else np.array([low])
+
+
+def _on_band(trajectory: Trajectory, angle_column: str, velocity_column: str, grid: np.ndarray) -> np.ndarray:
+    """Velocity on the band's grid (held at the end values outside the trajectory's range)."""
+    angle, velocity = trajectory[angle_column], trajectory[velocity_column]
+    if angle[-1] < angle[0]:
+        angle, velocity = angle[::-1], velocity[::-1]
+    if np.any(np.diff(angle) <= 0):
+        # not monotonic: the mean of the samples inside the band stands for the whole band
+        inside = (angle >= grid[0]) & (angle <= grid[-1])
+        return np.full(grid.size, float(np.mean(velocity[inside] if inside.any() else velocity)))
+    return np.interp(grid, angle, velocity)
+
+
+def _apart(curves: dict, levels: dict, ratio: float, velocity_column: str) -> dict:
+    scatter = {}
+    for context, stack in curves.items():
+        common = np.median(stack, axis=0)
+        rms = np.sqrt(np.mean((stack - common) ** 2, axis=1))
+        scatter[context] = float(np.median(rms)) / max(abs(levels[context]), 1e-12)
+    typical = float(np.median(list(scatter.values())))
+    return {
+        context: (
+            f"its trajectories scatter {value / typical:.1f} times more than a typical context's "
+            f"({velocity_column} spread {100 * value:.0f} % of its level, typical {100 * typical:.0f} %)"
+        )
+        for context, value in scatter.items()
+        if typical > 0 and value > ratio * typical
+    }
+
+
+def _off_trend(
+    members: list[tuple[float, ...]], levels: dict, axis: int, sign: float, tolerance: float,
+    column: str, velocity_column: str,
+) -> dict:
+    active = sorted(members, key=lambda c: c[axis])
+    rejected = {}
+    while len(active) >= 3:
+        worst, worst_deviation, worst_reason = None, 0.0, ""
+        for i, context in enumerate(active):
+            level = levels[context]
+            before = active[i - 1] if i > 0 else None
+            after = active[i + 1] if i + 1 < len(active) else None
+            too_low = before is not None and sign * (level - levels[before]) < 0
+            too_high = after is not None and sign * (levels[after] - level) < 0
+            if not (too_low or too_high):
+                continue
+            expected = _expected(context, before, after, levels, axis)
+            deviation = (level - expected) / max(abs(expected), 1e-12)
+            if sign * deviation < -tolerance and too_low or sign * deviation > tolerance and too_high:
+                if abs(deviation) > abs(worst_deviation):
+                    worst, worst_deviation = context, deviation
+                    worst_reason = (
+                        f"breaks the {'increasing' if sign > 0 else 'decreasing'} trend of "
+                        f"{velocity_column} with {column}: level {level:.3g}, "
+                        f"{100 * abs(deviation):.0f} % {'below' if deviation < 0 else 'above'} the "
+                        f"{expected:.3g} its neighbours {_label(before, after, axis)} suggest"
+                    )
+        if worst is None:
+            break
+        rejected[worst] = worst_reason
+        active.remove(worst)
+    return rejected
+
+
+def _expected(context, before, after, levels: dict, axis: int) -> float:
+    """The level interpolated between the neighbouring contexts (or the single neighbour's)."""
+    if before is None:
+        return levels[after]
+    if after is None:
+        return levels[before]
+    x0, x1 = before[axis], after[axis]
+    weight = (context[axis] - x0) / (x1 - x0)
+    return (1 - weight) * levels[before] + weight * levels[after]
+
+
+def _label(before, after, axis: int) -> str:
+    return " and ".join(f"{c[axis]:g}" for c in (before, after) if c is not None)

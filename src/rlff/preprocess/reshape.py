@@ -1,0 +1,267 @@
+"""Steps 6-9 (thesis 4.3.2-4.3.3): make the throws regular enough for a mixture model.
+
+6. append a stop point, 10 % beyond the last angle with zero velocity (the thesis found that it
+   anchors the mixture badly, so the preset leaves it off);
+7. rescale each trajectory so that all end at the mean final angle;
+8. densify: anchor points at 1/4, 1/2, 3/4 between samples, a spline through them, resampled at
+   a fixed angle step;
+9. cut at the release, at a fixed angle or at a point estimated from the velocity profile.
+
+The angle must be monotonic for steps 8 and 9 (steps 2-3 make it so).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Literal
+
+import numpy as np
+from scipy.interpolate import Akima1DInterpolator, PchipInterpolator, make_interp_spline
+
+from rlff.dataset import Dataset, Trajectory
+from rlff.errors import InputError
+from rlff.preprocess.report import StepReport
+
+
+def _direction(values: np.ndarray) -> float:
+    """+1 when the trajectory's angle goes up overall, -1 when it goes down (0 if flat)."""
+    return float(np.sign(values[-1] - values[0]))
+
+
+def stop_point(
+    dataset: Dataset,
+    *,
+    column: str = "angle",
+    velocity_column: str = "velocity",
+    extension: float = 0.10,
+) -> tuple[Dataset, StepReport]:
+    """Append a sample at rest, ``extension`` (10 %) beyond each trajectory's last angle.
+
+    The new angle is ``last * (1 + extension)`` (the thesis' choice; beyond the last angle in the
+    direction of motion for negative angles), its velocity 0. A ``time`` column gets the time of
+    a uniform deceleration from the last velocity (one median time step when that velocity is not
+    towards the new point); other columns repeat their last value.
+    """
+    dataset.require([column, velocity_column])
+    params = {"column": column, "velocity_column": velocity_column, "extension": extension}
+    report = StepReport("stop_point", params, dataset)
+    out = []
+    for trajectory in dataset:
+        values = trajectory[column]
+        last = float(values[-1])
+        direction = _direction(values) or 1.0
+        stop = last + direction * extension * abs(last)
+        added = {name: np.append(trajectory[name], trajectory[name][-1]) for name in trajectory.columns}
+        added[column] = np.append(values, stop)
+        added[velocity_column] = np.append(trajectory[velocity_column], 0.0)
+        if "time" in trajectory.columns:
+            time = trajectory["time"]
+            speed = float(trajectory[velocity_column][-1]) * np.sign(stop - last)
+            step = float(np.median(np.diff(time))) if time.size > 1 else 0.1
+            duration = 2.0 * abs(stop - last) / speed if speed > 0 and stop != last else step
+            added["time"] = np.append(time, time[-1] + max(duration, 1e-9))
+        out.append(trajectory.replace(data=added))
+        report.change_samples(trajectory.id, 0, 1, f"stop point at {column} {stop:.4g} with zero {velocity_column}")
+    report.after = dataset.replace(out)
+    return report.after, report
+
+
+def rescale(
+    dataset: Dataset,
+    *,
+    column: str = "angle",
+    mode: Literal["scale", "stretch"] = "scale",
+    reference: Literal["mean", "min", "max"] = "mean",
+    scale_velocity: bool = False,
+    velocity_column: str = "velocity",
+) -> tuple[Dataset, StepReport]:
+    """Rescale each trajectory's ``column`` so that all end at the same value.
+
+    Parameters
+    ----------
+    dataset : Dataset
+    column : str
+    mode : {"scale", "stretch"}
+        "scale" multiplies the whole trajectory by ``end / last`` (the thesis, whose angles start
+        near zero); "stretch" keeps each trajectory's first value and stretches the rest, which
+        suits angles that start far from zero (rlff's elbow angle starts near 0.7 rad).
+    reference : {"mean", "min", "max"}
+        The common end: the mean (thesis), smallest or largest of the last values.
+    scale_velocity : bool
+        Multiply the velocity by the same factor (the thesis did not: only positions move).
+    velocity_column : str
+    """
+    dataset.require([column] + ([velocity_column] if scale_velocity else []))
+    params = {"column": column, "mode": mode, "reference": reference,
+              "scale_velocity": scale_velocity, "velocity_column": velocity_column}
+    report = StepReport("rescale", params, dataset)
+    if not len(dataset):
+        report.after = dataset
+        return dataset, report
+    ends = np.array([t[column][-1] for t in dataset])
+    end = float({"mean": np.mean, "min": np.min, "max": np.max}[reference](ends))
+    out, factors = [], []
+    for trajectory in dataset:
+        values = trajectory[column]
+        pivot = 0.0 if mode == "scale" else float(values[0])
+        span = float(values[-1]) - pivot
+        if span == 0.0:
+            raise InputError(
+                f"trajectory {trajectory.id!r}: cannot {mode} {column} to end at {end:.4g}: its last "
+                f"value equals its {'first value' if mode == 'stretch' else 'pivot 0'}"
+            )
+        factor = (end - pivot) / span
+        factors.append(factor)
+        changes = {column: pivot + (values - pivot) * factor}
+        if scale_velocity:
+            changes[velocity_column] = trajectory[velocity_column] * factor
+        out.append(trajectory.with_columns(**changes))
+    report.params["end"] = end
+    report.notes.append(
+        f"{column} {'scaled' if mode == 'scale' else 'stretched'} to end at {end:.4g} "
+        f"(factors {min(factors):.3g} to {max(factors):.3g})"
+    )
+    report.after = dataset.replace(out)
+    return report.after, report
+
+
+def densify(
+    dataset: Dataset,
+    *,
+    column: str = "angle",
+    step: float = 0.01,
+    anchors: Sequence[float] = (0.25, 0.5, 0.75),
+    spline: Literal["cubic", "pchip", "akima"] = "cubic",
+) -> tuple[Dataset, StepReport]:
+    """Resample each trajectory at a fixed step of ``column`` through a spline with anchor points.
+
+    Between each two consecutive samples, anchor points are inserted at the fractions
+    ``anchors`` (linear in every column: the thesis' "average points" at 1/4, 1/2, 3/4 of the
+    position and the velocity), which keeps the spline from arching between sparse samples. Every
+    other column is then interpolated as a function of ``column`` (``spline``; ``time`` with a
+    monotone PCHIP so that it keeps increasing) and sampled where ``column`` is a multiple of
+    ``step``, plus both ends; in the direction the trajectory moves.
+
+    Trajectories whose ``column`` is not strictly monotonic, or that have a single sample, are
+    removed with that reason (run ``crop`` and ``longest_monotonic`` first).
+    """
+    dataset.require([column])
+    if step <= 0:
+        raise InputError(f"step {step}: must be positive")
+    fractions = np.asarray(anchors, dtype=float)
+    if np.any((fractions <= 0) | (fractions >= 1)) or np.any(np.diff(fractions) <= 0):
+        raise InputError(f"anchors {list(anchors)}: must increase strictly within (0, 1)")
+    params = {"column": column, "step": step, "anchors": [float(f) for f in fractions], "spline": spline}
+    report = StepReport("densify", params, dataset)
+    out = []
+    for trajectory in dataset:
+        values = trajectory[column]
+        steps = np.diff(values)
+        if values.size < 2 or not (np.all(steps > 0) or np.all(steps < 0)):
+            report.remove(trajectory.id, f"{column} is not strictly monotonic: cannot resample it")
+            continue
+        resampled = _densify_one(trajectory, column, step, fractions, spline, dataset.context)
+        out.append(resampled)
+        report.change_samples(
+            trajectory.id, len(trajectory), len(resampled),
+            f"resampled every {step:g} of {column} through a {spline} spline with anchors",
+        )
+    report.after = dataset.replace(out)
+    return report.after, report
+
+
+def _densify_one(
+    trajectory: Trajectory, column: str, step: float, fractions: np.ndarray, spline: str,
+    context: Sequence[str],
+) -> Trajectory:
+    values = trajectory[column]
+    descending = values[-1] < values[0]
+    # anchors: linear between consecutive samples, every column at once, shape (T-1, A) -> flat
+    between = np.arange(values.size - 1)[:, None] + fractions[None, :]
+    position = np.sort(np.concatenate([np.arange(values.size), between.ravel()]))
+    sample_index = np.arange(values.size)
+    dense = {name: np.interp(position, sample_index, trajectory[name]) for name in trajectory.columns}
+    x = dense[column][::-1] if descending else dense[column]
+    low, high = float(x[0]), float(x[-1])
+    grid = np.arange(np.ceil(low / step - 1e-9), np.floor(high / step + 1e-9) + 1) * step
+    grid = np.unique(np.clip(np.concatenate([[low], grid, [high]]), low, high))
+    result = {}
+    for name in trajectory.columns:
+        if name == column:
+            result[name] = grid
+        elif name in context:
+            result[name] = np.full(grid.size, trajectory[name][0])
+        else:
+            y = dense[name][::-1] if descending else dense[name]
+            result[name] = _interpolator(x, y, "pchip" if name == "time" else spline)(grid)
+    if descending:
+        result = {name: array[::-1] for name, array in result.items()}
+    return trajectory.replace(data=result)
+
+
+def _interpolator(x: np.ndarray, y: np.ndarray, kind: str):
+    if x.size < 4 or kind == "pchip":
+        return PchipInterpolator(x, y) if x.size > 1 else (lambda grid: np.full(np.size(grid), y[0]))
+    if kind == "akima":
+        return Akima1DInterpolator(x, y)
+    return make_interp_spline(x, y, k=3)
+
+
+def cut_release(
+    dataset: Dataset,
+    *,
+    mode: Literal["estimated", "angle"] = "estimated",
+    angle: float = 0.9,
+    column: str = "angle",
+    velocity_column: str = "velocity",
+    after_peak: float = 0.0,
+) -> tuple[Dataset, StepReport]:
+    """Keep each trajectory up to the ball's release, dropping the follow-through.
+
+    Parameters
+    ----------
+    dataset : Dataset
+    mode : {"estimated", "angle"}
+        "angle": cut at a fixed ``angle`` (the thesis used 0.9 rad in its own angle convention;
+        rlff's elbow angle grows from about 0.7 to 3 rad, so a fixed cut must be chosen on that
+        scale). "estimated": cut where the velocity peaks, where the acceleration turns from
+        positive to negative (the thesis' suggested improvement: the ball leaves the hand near the
+        peak of the extension's speed), or later, see ``after_peak``.
+    angle : float
+        Cut angle for mode "angle"; samples beyond it (in the direction of motion) are dropped.
+    column, velocity_column : str
+    after_peak : float
+        Mode "estimated": cut at the first sample after the peak whose speed has dropped by this
+        fraction of the peak (0: at the peak).
+
+    The cut angle goes into each trajectory's metadata as ``cut_angle``. Trajectories left
+    without samples (they start beyond the fixed angle) are removed with that reason.
+    """
+    dataset.require([column, velocity_column])
+    if not 0.0 <= after_peak < 1.0:
+        raise InputError(f"after_peak {after_peak}: must be in [0, 1)")
+    params = {"mode": mode, "angle": angle, "column": column,
+              "velocity_column": velocity_column, "after_peak": after_peak}
+    report = StepReport("cut_release", params, dataset)
+    out = []
+    for trajectory in dataset:
+        values = trajectory[column]
+        direction = _direction(values) or 1.0
+        if mode == "angle":
+            keep = int(np.count_nonzero(np.cumprod(direction * (values - angle) <= 0)))
+            why = f"cut at {column} {angle:g}"
+        else:
+            speed = direction * trajectory[velocity_column]
+            peak = int(np.argmax(speed))
+            below = np.flatnonzero(speed[peak:] <= (1.0 - after_peak) * speed[peak]) if after_peak else [0]
+            keep = peak + int(below[0] if len(below) else speed.size - 1 - peak) + 1
+            why = f"cut at the estimated release ({velocity_column} peak{' + drop' if after_peak else ''})"
+        if keep == 0:
+            report.remove(trajectory.id, f"starts beyond the cut {column} {angle:g}")
+            continue
+        kept = trajectory.take(slice(0, keep))
+        out.append(kept.replace(meta={**kept.meta, "cut_angle": float(values[keep - 1])}))
+        report.change_samples(trajectory.id, len(trajectory) - keep, 0, f"{why}: {column} {values[keep - 1]:.4g}")
+    report.after = dataset.replace(out)
+    return report.after, report
+

@@ -1,0 +1,163 @@
+"""Steps 2-5 (thesis 4.2.1.1): isolate the throw in each recording and keep the usable ones.
+
+2. crop between the global minimum and maximum of the angle (spurious motion before and after);
+3. keep the longest monotonic interval between local extrema (fluctuations inside the crop);
+4. drop trajectories with too few points (too sparse to model);
+5. balance: at most a number of trajectories per context (the thesis kept ten per basket).
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+
+from rlff.dataset import Dataset
+from rlff.errors import InputError
+from rlff.preprocess.report import StepReport
+
+
+def crop(dataset: Dataset, *, column: str = "angle") -> tuple[Dataset, StepReport]:
+    """Keep each trajectory's samples from its global minimum to its global maximum of ``column``.
+
+    Both extremes are kept, in the recorded order (from the maximum to the minimum when the
+    maximum comes first). The first occurrence of each extreme is used.
+    """
+    dataset.require([column])
+    report = StepReport("crop", {"column": column}, dataset)
+    out = []
+    for trajectory in dataset:
+        values = trajectory[column]
+        low, high = int(np.argmin(values)), int(np.argmax(values))
+        first, last = min(low, high), max(low, high)
+        out.append(trajectory.take(slice(first, last + 1)))
+        report.change_samples(
+            trajectory.id, len(trajectory) - (last - first + 1), 0,
+            f"kept samples {first}-{last}, between the global minimum and maximum of {column}",
+        )
+    report.after = dataset.replace(out)
+    return report.after, report
+
+
+def longest_monotonic(
+    dataset: Dataset,
+    *,
+    column: str = "angle",
+    direction: Literal["any", "increasing", "decreasing"] = "any",
+) -> tuple[Dataset, StepReport]:
+    """Keep each trajectory's longest strictly monotonic run of ``column``.
+
+    The local extrema split a trajectory into strictly monotonic runs (two equal consecutive
+    values end a run); the run with the most samples is kept, the earliest on a tie.
+
+    Parameters
+    ----------
+    dataset : Dataset
+    column : str
+    direction : {"any", "increasing", "decreasing"}
+        Only runs in this direction qualify ("increasing" for the throw's extension in rlff's
+        angle convention). A trajectory without such a run keeps its first sample only, so that
+        the minimum-points step removes it with its reason.
+    """
+    dataset.require([column])
+    report = StepReport("longest_monotonic", {"column": column, "direction": direction}, dataset)
+    out = []
+    for trajectory in dataset:
+        first, last = monotonic_run(trajectory[column], direction)
+        out.append(trajectory.take(slice(first, last + 1)))
+        report.change_samples(
+            trajectory.id, len(trajectory) - (last - first + 1), 0,
+            f"kept the longest {'' if direction == 'any' else direction + ' '}monotonic run of "
+            f"{column}, samples {first}-{last}",
+        )
+    report.after = dataset.replace(out)
+    return report.after, report
+
+
+def monotonic_run(values: np.ndarray, direction: str = "any") -> tuple[int, int]:
+    """First and last index (inclusive) of the longest strictly monotonic run of ``values``.
+
+    Parameters
+    ----------
+    values : array of shape (T,)
+    direction : {"any", "increasing", "decreasing"}
+
+    Returns
+    -------
+    (int, int)
+        ``(0, 0)`` when no step qualifies (a single sample, or no step in ``direction``).
+    """
+    signs = np.sign(np.diff(values))
+    wanted = {"any": (1.0, -1.0), "increasing": (1.0,), "decreasing": (-1.0,)}[direction]
+    if not signs.size:
+        return 0, 0
+    # runs of equal step signs: boundaries where the sign changes
+    change = np.flatnonzero(np.diff(signs) != 0) + 1
+    starts = np.concatenate([[0], change])
+    ends = np.concatenate([change, [signs.size]])  # exclusive, in steps
+    good = np.isin(signs[starts], wanted)
+    if not good.any():
+        return 0, 0
+    lengths = np.where(good, ends - starts, -1)
+    best = int(np.argmax(lengths))
+    return int(starts[best]), int(ends[best])
+
+
+def min_points(dataset: Dataset, *, min_points: int = 5) -> tuple[Dataset, StepReport]:
+    """Drop the trajectories with fewer than ``min_points`` samples."""
+    if min_points < 1:
+        raise InputError(f"min_points {min_points}: must be at least 1")
+    report = StepReport("min_points", {"min_points": min_points}, dataset)
+    out = []
+    for trajectory in dataset:
+        if len(trajectory) < min_points:
+            report.remove(trajectory.id, f"{len(trajectory)} samples, fewer than {min_points}")
+        else:
+            out.append(trajectory)
+    report.after = dataset.replace(out)
+    return report.after, report
+
+
+def balance(
+    dataset: Dataset,
+    *,
+    max_per_context: int = 10,
+    order: Literal["first", "random"] = "first",
+    seed: int = 0,
+) -> tuple[Dataset, StepReport]:
+    """Keep at most ``max_per_context`` trajectories per context value.
+
+    Parameters
+    ----------
+    dataset : Dataset
+    max_per_context : int
+        The thesis kept ten per basket distance.
+    order : {"first", "random"}
+        Which to keep: the first ones in the dataset's order, or a random choice drawn with
+        ``seed`` (deterministic). The kept trajectories stay in the dataset's order.
+    seed : int
+    """
+    if max_per_context < 1:
+        raise InputError(f"max_per_context {max_per_context}: must be at least 1")
+    report = StepReport(
+        "balance", {"max_per_context": max_per_context, "order": order, "seed": seed}, dataset
+    )
+    rng = np.random.default_rng(seed)
+    dropped: set[str] = set()
+    for context, group in dataset.by_context().items():
+        if len(group) <= max_per_context:
+            continue
+        if order == "first":
+            chosen = set(range(max_per_context))
+        else:
+            chosen = set(rng.choice(len(group), max_per_context, replace=False).tolist())
+        label = ", ".join(f"{n}={v:g}" for n, v in zip(dataset.context, context, strict=True))
+        for position, trajectory in enumerate(group):
+            if position not in chosen:
+                dropped.add(trajectory.id)
+                report.remove(
+                    trajectory.id,
+                    f"context {label} has {len(group)} trajectories, keeping {max_per_context} ({order})",
+                )
+    report.after = dataset.replace(t for t in dataset if t.id not in dropped)
+    return report.after, report
