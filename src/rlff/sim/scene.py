@@ -2,9 +2,10 @@
 
 The arm is built from its lengths as capsules with reasonable masses (about 80 kg moving); only
 the ball collides (with the ground and the basket), which keeps a step cheap. Every joint has a
-velocity servo with a position correction (one affine MuJoCo actuator, see ``POSITION_GAIN``),
-large armature for a stable implicit integration, and the links carry full gravity compensation
-so that the arm does not sag. The joints' position limits are also MuJoCo joint limits.
+velocity servo whose command is clamped to the joint's speed limit (the throw adds a position
+correction, ``POSITION_GAIN``, to the trajectory's velocity), large armature for a stable
+implicit integration, and the links carry full gravity compensation so that the arm does not sag.
+The joints' position limits are also MuJoCo joint limits.
 The ball (a tennis ball) is held at the flange by a weld constraint that the throw switches off
 at release.
 """
@@ -27,8 +28,10 @@ ARMATURE = (2.0, 2.0, 1.0, 0.1, 0.1, 0.05)
 #: Velocity servo gains (N m s/rad) and torque limits (N m), generous on purpose.
 SERVO_GAIN = (4000.0, 4000.0, 2000.0, 200.0, 200.0, 100.0)
 TORQUE_LIMIT = (8000.0, 8000.0, 4000.0, 500.0, 500.0, 200.0)
-#: Position correction of the velocity servos (1/s): the servo drives the joint velocity to
-#: ``v_ref + POSITION_GAIN * (q_ref - q)``.
+#: Share of a joint's speed limit the servo may command: the servo's small overshoot stays below
+#: the limit.
+SPEED_MARGIN = 0.998
+#: Position correction of the velocity command (1/s): ``v_ref + POSITION_GAIN * (q_ref - q)``.
 POSITION_GAIN = 40.0
 
 
@@ -119,12 +122,11 @@ def scene_xml(arm: Arm, basket: Basket, pedestal: float = 0.0, timestep: float =
     ball_z = pedestal + up + g.upper_arm + a
     d, h, half = basket.distance, basket.rim_height, 0.5 * basket.opening
     view = max(d + 1.5, 3.0)
-    # torque = kv (v_ref + K (q_ref - q) - qdot) with the control u = v_ref + K q_ref: the
-    # position correction sits in the affine bias so that MuJoCo applies it (implicitly) itself
     actuators = "\n    ".join(
-        f'<general name="{n}" joint="{n}" gainprm="{kv}" biastype="affine" '
-        f'biasprm="0 {-kv * POSITION_GAIN} {-kv}" forcerange="{-f} {f}"/>'
-        for n, kv, f in zip(arm.joint_names, SERVO_GAIN, TORQUE_LIMIT, strict=True)
+        f'<velocity name="{n}" joint="{n}" kv="{kv}" ctrlrange="{-v * SPEED_MARGIN} {v * SPEED_MARGIN}" '
+        f'forcerange="{-f} {f}"/>'
+        for n, v, kv, f in zip(arm.joint_names, (j.max_velocity for j in arm.joints), SERVO_GAIN,
+                                TORQUE_LIMIT, strict=True)
     )
     return f"""
 <mujoco model="throw">

@@ -17,7 +17,6 @@ from typing import Any
 
 import mujoco
 import numpy as np
-from scipy.interpolate import CubicHermiteSpline
 
 from rlff.ballistics import GRAVITY, crossing_distance
 from rlff.errors import InputError
@@ -26,6 +25,7 @@ from rlff.sim.arm import BALL_RADIUS, Arm
 from rlff.sim.basket import Basket
 from rlff.sim.reach import PLANE_JOINTS, farthest_basket, require_reachable, throw_reach
 from rlff.sim.scene import POSITION_GAIN, Scene, build_scene
+from rlff.sim.servo import servo_reference
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import require_within_limits
 
@@ -97,7 +97,12 @@ class ThrowOutcome:
     flight_time : float
         Release to the rim-height crossing (s); NaN if it never came down through it.
     tracking_error : float
-        Largest deviation of a joint from the trajectory up to the release (rad).
+        Largest deviation of a joint from the reference it follows, up to the release (rad).
+    peak_speed : float
+        Largest joint speed up to the release as a share of that joint's speed limit.
+    saturated : bool
+        The trajectory left a position limit or outran a speed limit between its points, and the
+        controller saturated (see :mod:`rlff.sim.servo`).
     simulated_time : float
         Simulated time from the start of the trajectory to the decision (s).
     frames : tuple of Path
@@ -117,6 +122,8 @@ class ThrowOutcome:
     rest_position: np.ndarray
     flight_time: float
     tracking_error: float
+    peak_speed: float
+    saturated: bool
     simulated_time: float
     frames: tuple[Path, ...] = ()
     notes: tuple[str, ...] = field(default_factory=tuple)
@@ -135,6 +142,8 @@ class ThrowOutcome:
             "rest_position": [float(v) for v in self.rest_position],
             "flight_time": self.flight_time,
             "tracking_error": self.tracking_error,
+            "peak_speed": self.peak_speed,
+            "saturated": self.saturated,
             "simulated_time": self.simulated_time,
             "frames": [str(p) for p in self.frames],
             "notes": list(self.notes),
@@ -217,6 +226,9 @@ def simulate_throw(
         if note:
             notes.append(note)
     outcome = _Run(scene, trajectory, throwing, release_angle, recorder).execute()
+    if outcome["saturated"]:
+        notes.append("the trajectory outruns a joint's speed or position limit between its points: "
+                     "the controller saturated and followed it late")
     frames = recorder.finish() if recorder is not None else ()
     return ThrowOutcome(**outcome, reachable=reachable, basket=basket, frames=frames, notes=tuple(notes))
 
@@ -242,17 +254,8 @@ class _Run:
         self.recorder = recorder
         dt = scene.model.opt.timestep
         self.frame_every = max(1, round(1.0 / (recorder.fps * dt))) if recorder is not None else 1
-        time = trajectory.time
-        steps = int(np.ceil((time[-1] - time[0]) / dt - 1e-9)) + 1
-        clock = np.minimum(time[0] + dt * np.arange(steps), time[-1])
-        if len(trajectory) >= 2:
-            spline = CubicHermiteSpline(time, trajectory.positions, trajectory.velocities, axis=0)
-            self.reference = spline(clock)
-            self.commands = spline(clock, 1) + POSITION_GAIN * self.reference
-        else:
-            self.reference = np.repeat(trajectory.positions, steps, axis=0)
-            self.commands = POSITION_GAIN * self.reference
-        self.hold = POSITION_GAIN * trajectory.positions[-1]
+        self.reference = servo_reference(trajectory, scene.arm, dt)
+        self.offsets = self.reference.velocities + POSITION_GAIN * self.reference.positions
         self.release_angle = release_angle
         self.direction = 0.0
         if release_angle is not None:
@@ -269,49 +272,56 @@ class _Run:
         scene, model = self.scene, self.scene.model
         data = mujoco.MjData(model)
         self._place(data)
-        first = int(scene.joint_qpos[0])
-        qpos, ctrl = data.qpos, data.ctrl
-        joints = slice(first, first + len(scene.joint_qpos))
-        throwing = first + self.column
-        history = np.empty_like(self.reference)
-        history[0] = qpos[joints]
-        last = len(self.commands) - 1
+        first_q, first_v = int(scene.joint_qpos[0]), int(scene.joint_dof[0])
+        q = data.qpos[first_q:first_q + len(scene.joint_qpos)]  # views into the simulation state
+        v = data.qvel[first_v:first_v + len(scene.joint_dof)]
+        history = np.empty_like(self.reference.positions)
+        history_speed = np.empty_like(history)
+        history[0], history_speed[0] = q, v
+        last = len(history) - 1
+        column, angle, direction = self.column, self.release_angle, self.direction
         step = 0
         # before the release: follow the trajectory, watch the throwing joint
-        while step < last and not (
-            self.direction and self.direction * (qpos[throwing] - self.release_angle) >= 0
-        ):
-            ctrl[:] = self.commands[step]
+        while step < last and not (direction and direction * (q[column] - angle) >= 0):
+            self._command(data, q, step)
             mujoco.mj_step(model, data)
             step += 1
-            history[step] = qpos[joints]
-            self._film(data, step)
+            history[step], history_speed[step] = q, v
+            if self.recorder is not None and step % self.frame_every == 0:
+                self.recorder.capture(data)
         release = self._release(data)
-        tracking_error = float(np.max(np.abs(history[: step + 1] - self.reference[: step + 1])))
-        flight = self._fly(data, step)
+        tracking_error = float(np.max(np.abs(history[: step + 1] - self.reference.positions[: step + 1])))
+        speed_limits = np.array([joint.max_velocity for joint in scene.arm.joints])
+        peak_speed = float(np.max(np.abs(history_speed[: step + 1]) / speed_limits))
+        flight = self._fly(data, q, step)
         predicted = float(crossing_distance(release.position[0], release.position[2], release.velocity[0],
                                             release.velocity[2], scene.basket.rim_height))
-        return {"release": release, "predicted_landing_x": predicted, "tracking_error": tracking_error, **flight}
+        return {"release": release, "predicted_landing_x": predicted, "tracking_error": tracking_error,
+                "peak_speed": peak_speed, "saturated": self.reference.saturated, **flight}
 
-    def _fly(self, data: mujoco.MjData, step: int) -> dict[str, Any]:
-        """After the release: the arm brakes to a stop; follow the ball until the outcome is decided."""
+    def _fly(self, data: mujoco.MjData, q: np.ndarray, step: int) -> dict[str, Any]:
+        """After the release: the arm ends its trajectory and stops; follow the ball until the
+        outcome is decided."""
         scene, model = self.scene, self.scene.model
         basket = scene.basket
         rim, dt = basket.rim_height, model.opt.timestep
-        x_index, z_index = scene.ball_qpos, scene.ball_qpos + 2
-        speed = slice(scene.ball_dof, scene.ball_dof + 3)
+        ball = data.qpos[scene.ball_qpos:scene.ball_qpos + 3]  # views into the simulation state
+        ball_velocity = data.qvel[scene.ball_dof:scene.ball_dof + 3]
         landing_x = flight_time = np.nan
         first_contact = "nothing"
         release_time = data.time
-        x, z = data.qpos[x_index], data.qpos[z_index]
+        x, z = ball[0], ball[2]
         while data.time - release_time < FLIGHT_CAP:
-            # the arm finishes the trajectory, then holds its last point
-            data.ctrl[:] = self.commands[step] if step < len(self.commands) else self.hold
+            if step < len(self.reference.positions) - 1:
+                self._command(data, q, step)
+            else:
+                data.ctrl[:] = 0.0
             mujoco.mj_step(model, data)
             step += 1
-            self._film(data, step)
+            if self.recorder is not None and step % self.frame_every == 0:
+                self.recorder.capture(data)
             x_before, z_before = x, z
-            x, z = data.qpos[x_index], data.qpos[z_index]
+            x, z = ball[0], ball[2]
             if z_before >= rim > z and np.isnan(landing_x):
                 share = (z_before - rim) / (z_before - z)
                 landing_x = x_before + share * (x - x_before)
@@ -325,15 +335,15 @@ class _Run:
                     landing_x = x
             if "ground" in touches:
                 break
-            velocity = data.qvel[speed]
-            if basket.holds(data.qpos[x_index:z_index + 1], BALL_RADIUS):
+            if basket.holds(ball, BALL_RADIUS):
                 # too slow to climb back over the rim: it stays in
-                if 0.5 * float(velocity @ velocity) < GRAVITY * (rim + BALL_RADIUS - z):
+                if 0.5 * float(ball_velocity @ ball_velocity) < GRAVITY * (rim + BALL_RADIUS - z):
                     break
-            elif float(np.linalg.norm(velocity)) < SETTLED_SPEED:
+            elif float(np.linalg.norm(ball_velocity)) < SETTLED_SPEED:
                 break  # lying on the rim
-        rest = data.qpos[x_index:z_index + 1].copy()
-        self._film(data, 0)
+        rest = ball.copy()
+        if self.recorder is not None:
+            self.recorder.capture(data)
         hit = first_contact == "basket" and basket.holds(rest, BALL_RADIUS)
         landing_x = float(landing_x) if np.isfinite(landing_x) else float(rest[0])
         return {
@@ -346,10 +356,10 @@ class _Run:
             "simulated_time": float(data.time),
         }
 
-    def _film(self, data: mujoco.MjData, step: int) -> None:
-        """Capture a frame every 1/fps s of simulated time (and at step 0: the last picture)."""
-        if self.recorder is not None and step % self.frame_every == 0:
-            self.recorder.capture(data)
+    def _command(self, data: mujoco.MjData, q: np.ndarray, step: int) -> None:
+        """Velocity command of ``step``: the reference's velocity plus a position correction,
+        ``offset - K q`` in one call (MuJoCo clamps it to the joints' speed limits)."""
+        mujoco.mju_addScl(data.ctrl, self.offsets[step], q, -POSITION_GAIN)
 
     def _place(self, data: mujoco.MjData) -> None:
         """Arm at the trajectory's first point, the ball in the gripper."""
