@@ -8,6 +8,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from matplotlib.colors import to_hex
 
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
@@ -54,14 +55,15 @@ def test_dataset_3d_draws_every_trajectory_in_both_views(tmp_path):
     views = [a for a in saved.figure.get_axes() if a.name == "3d"]
     assert len(views) == 2
     for axes in views:
-        assert len(axes.get_lines()) == len(DISTANCES) * PER_DISTANCE
+        (lines,) = axes.collections
+        assert len(lines.get_segments()) == len(DISTANCES) * PER_DISTANCE
         assert axes.get_xlabel() == "joint angle ξ (rad)"
         assert axes.get_ylabel() == "basket distance z (m)"
         assert axes.get_zlabel() == "joint velocity ξ̇ (rad/s)"
     colour_bars = [a for a in saved.figure.get_axes() if a.get_label() == "<colorbar>"]
     assert len(colour_bars) == 1 and colour_bars[0].get_ylabel() == "basket distance z (m)"
     # lines of one distance share a colour, different distances differ
-    colours = {tuple(line.get_color()) for line in views[0].get_lines()}
+    colours = {tuple(colour) for colour in views[0].collections[0].get_colors()}
     assert len(colours) == len(DISTANCES)
 
 
@@ -72,7 +74,9 @@ def test_dataset_slices_one_panel_per_distance_with_outcomes(tmp_path):
     assert len(panels) == len(DISTANCES)
     for panel, distance in zip(panels, DISTANCES, strict=True):
         assert panel.get_title() == f"z = {distance:g} m · 1 hit, 2 missed"
-        colours = [line.get_color() for line in panel.get_lines()]
+        (lines,) = panel.collections
+        colours = [to_hex(c) for c in lines.get_colors()]
+        assert len(lines.get_segments()) == PER_DISTANCE
         assert colours.count(HIT_COLOUR) == 1 and colours.count(MISS_COLOUR) == 2
     assert panels[0].get_ylabel() == "joint velocity ξ̇ (rad/s)"
     assert all(p.get_xlabel() == "joint angle ξ (rad)" for p in panels)  # one row: all carry it
@@ -102,9 +106,10 @@ def test_preprocessing_steps_before_and_after(tmp_path):
         "1. crop\n9 → 6 traj., 135 → 60 samples",
         "2. nothing\n6 traj., 60 samples",
     ]
-    assert len(panels[0].get_lines()) == 9 + 6
-    grey = [line for line in panels[0].get_lines() if line.get_color() == "#b0b0b0"]
-    assert len(grey) == 9
+    before_lines, after_lines = panels[0].collections
+    assert len(before_lines.get_segments()) == 9 and len(after_lines.get_segments()) == 6
+    assert {to_hex(c) for c in before_lines.get_colors()} == {"#b0b0b0"}
+    assert len(after_lines.get_segments()[0]) == 10  # samples 2 to 11 of the cropped throw
 
 
 def test_learning_curves_one_line_per_method_and_first_hits(tmp_path):
@@ -142,9 +147,12 @@ def test_output_trajectories_one_line_per_distance(tmp_path):
     panels = [a for a in axes if a is not summary]
     assert len(panels) == 3
     # the 1.5 m panel: its 3 demonstrations, the GMR mean and the output
-    assert len(panels[0].get_lines()) == PER_DISTANCE + 2
+    demos = [c for c in panels[0].collections if hasattr(c, "get_segments")]
+    assert len(demos[0].get_segments()) == PER_DISTANCE
+    assert len(panels[0].get_lines()) == 2
+    np.testing.assert_allclose(panels[0].get_lines()[1].get_ydata(), paths[1.5].velocity)
     assert panels[0].get_title() == "z = 1.5 m (demonstrated)\nmean exploration ε = 0.20"
-    assert len(panels[1].get_lines()) == 2
+    assert len([c for c in panels[1].collections if hasattr(c, "get_segments")][0].get_segments()) == 0
 
 
 def test_bad_input_is_named(tmp_path):

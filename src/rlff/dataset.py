@@ -27,10 +27,11 @@ from rlff.errors import InputError
 #: Metadata keys with a meaning to rlff (read as metadata even when numeric); others are kept
 #: as given. ``release_angle`` (rad) and ``release_time`` (s) locate the ball's release when known
 #: (simulated throws), ``glitches`` counts the tracking glitches a simulated throw holds,
-#: ``cut_angle`` (rad) is where preprocessing cut a throw at its release.
+#: ``cut_angle`` (rad) is where preprocessing cut a throw at its release; ``start_time`` and
+#: ``end_time`` (s) place an imported throw in its recording.
 META_KEYS = (
     "subject", "source", "target", "landing", "hit", "release_angle", "release_time", "glitches",
-    "cut_angle",
+    "cut_angle", "start_time", "end_time",
 )
 #: Column of the CSV long format that holds the trajectory id.
 ID_COLUMN = "trajectory"

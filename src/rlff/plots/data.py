@@ -12,6 +12,7 @@ from pathlib import Path
 from matplotlib.cm import ScalarMappable
 from matplotlib.lines import Line2D
 from matplotlib.ticker import MaxNLocator
+from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
@@ -19,6 +20,7 @@ from rlff.plots._figure import (
     HIT_COLOUR,
     MISS_COLOUR,
     SavedFigure,
+    add_curves,
     axis_label,
     distance_colours,
     figure_style,
@@ -75,11 +77,13 @@ def dataset_3d(
         figure = new_figure(12.0, 5.2)
         for index, (elevation, azimuth) in enumerate(_VIEWS):
             axes = figure.add_subplot(1, 2, index + 1, projection="3d")
-            for trajectory, context in zip(dataset, contexts, strict=True):
-                axes.plot(
-                    trajectory[x_name], trajectory[c_name], trajectory[y_name],
-                    color=colours[context], linewidth=1.1, alpha=0.85,
-                )
+            lines = Line3DCollection(
+                [t.to_array((x_name, c_name, y_name)) for t in dataset],
+                colors=[colours[c] for c in contexts], linewidths=1.1, alpha=0.85,
+            )
+            axes.add_collection3d(lines)
+            points = dataset.to_array((x_name, c_name, y_name))
+            axes.auto_scale_xyz(points[:, 0], points[:, 1], points[:, 2])
             axes.set_xlabel(axis_label(x_name), labelpad=6)
             axes.set_ylabel(axis_label(c_name), labelpad=6)
             axes.set_zlabel(axis_label(y_name), labelpad=6)
@@ -133,12 +137,11 @@ def dataset_slices(
         figure = new_figure(3.4 * columns, 2.8 * rows + 0.6)
         panels = figure.subplots(rows, columns, sharex=True, sharey=True, squeeze=False)
         for axes, (value, trajectories) in zip(panels.flat, groups.items(), strict=False):
-            for trajectory in trajectories:
-                if has_outcome:
-                    colour = HIT_COLOUR if trajectory.meta.get("hit") is True else MISS_COLOUR
-                else:
-                    colour = colours[value]
-                axes.plot(trajectory[x], trajectory[y], color=colour, linewidth=1.0, alpha=0.8)
+            if has_outcome:
+                line_colours = [HIT_COLOUR if t.meta.get("hit") is True else MISS_COLOUR for t in trajectories]
+            else:
+                line_colours = [colours[value]] * len(trajectories)
+            add_curves(axes, [(t[x], t[y]) for t in trajectories], line_colours, linewidth=1.0, alpha=0.8)
             label = format_distance(value) if context == "distance" else f"{context} = {value:g}"
             axes.set_title(f"{label} · {_outcome_counts(trajectories)}", fontsize=10)
         for axes in panels.flat[len(groups):]:

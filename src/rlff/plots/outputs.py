@@ -16,6 +16,7 @@ from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.plots._figure import (
     SavedFigure,
+    add_curves,
     axis_label,
     distance_colours,
     figure_style,
@@ -24,6 +25,8 @@ from rlff.plots._figure import (
     new_figure,
     save,
 )
+
+_DEMO_COLOUR = "#a0a0a0"
 
 #: Title of the panel that overlays every output (tests and readers look it up by this title).
 SUMMARY_TITLE = "Generated throws, one per basket distance"
@@ -108,9 +111,8 @@ def output_trajectories(
         for axes, distance in zip(panels.flat, distances, strict=False):
             path = by_distance[distance]
             if dataset is not None:
-                for trajectory in dataset:
-                    if abs(float(trajectory[context][0]) - distance) < 1e-9:
-                        axes.plot(trajectory[x], trajectory[y], color="#a0a0a0", linewidth=0.7, alpha=0.7)
+                demos = [t for t in dataset if abs(float(t[context][0]) - distance) < 1e-9]
+                add_curves(axes, [(t[x], t[y]) for t in demos], _DEMO_COLOUR, linewidth=0.7, alpha=0.7, zorder=1)
             mean = np.asarray(path.gmr_mean, dtype=float)
             spread = 2.0 * np.asarray(path.gmr_std, dtype=float)
             axes.fill_between(path.angle, mean - spread, mean + spread, color="black", alpha=0.08, linewidth=0)
@@ -132,7 +134,7 @@ def output_trajectories(
             axes.set_ylabel(axis_label(y))
         bottom.legend(
             handles=[
-                Line2D([], [], color="#a0a0a0", linewidth=0.7, label="demonstrations at this distance"),
+                Line2D([], [], color=_DEMO_COLOUR, linewidth=0.7, label="demonstrations at this distance"),
                 Line2D([], [], color="black", linestyle="--", label="GMR mean"),
                 Patch(color="black", alpha=0.08, label="GMR ±2σ"),
                 Line2D([], [], color=colours[distances[0]], linewidth=2.0, label="DMM output: the throw sent (colour: distance)"),
