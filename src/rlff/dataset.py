@@ -41,6 +41,8 @@ THROW_OUTPUTS = ("velocity",)
 THROW_CONTEXT = ("distance",)
 #: Columns that are always numeric sample columns when present.
 _NUMERIC_NAMES = ("angle", "distance", "velocity", "time")
+#: Fewest samples of a trajectory read from a file: a single sample is no motion (a cut gone wrong).
+MIN_FILE_SAMPLES = 2
 #: Units of the throwing task's columns; every stage keeps them (no step converts units).
 UNITS = {"angle": "rad", "distance": "m", "velocity": "rad/s", "time": "s"}
 
@@ -406,7 +408,8 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
     ------
     InputError
         The file is missing or malformed, has no ``trajectory`` column, a non-numeric value in a
-        sample column, a non-finite value, or metadata that varies within a trajectory.
+        sample column, a non-finite value, metadata that varies within a trajectory, a
+        trajectory of a single sample, or a ``time`` column that does not increase.
     """
     import pandas as pd
 
@@ -461,7 +464,17 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
             value = _meta_value(values.iloc[0])
             if value is not None:
                 meta[name] = value
+        if len(group) < MIN_FILE_SAMPLES:
+            raise InputError(
+                f"{path}, line {int(group.index[0]) + 2}: trajectory {trajectory_id!r} has a single "
+                "sample (a demonstration needs at least 2)"
+            )
         data = {name: group[name].to_numpy(dtype=float) for name in sample_columns}
+        if "time" in data and np.any(np.diff(data["time"]) <= 0):
+            row = int(group.index[int(np.flatnonzero(np.diff(data["time"]) <= 0)[0]) + 1])
+            raise InputError(
+                f"{path}, line {row + 2}: time does not increase within trajectory {trajectory_id!r}"
+            )
         try:
             trajectories.append(Trajectory(trajectory_id, data, meta))
         except InputError as exc:

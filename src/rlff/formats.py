@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from rlff.dataset import ID_COLUMN, META_KEYS, Dataset, read_csv, write_csv
+from rlff.dataset import ID_COLUMN, META_KEYS, MIN_FILE_SAMPLES, Dataset, read_csv, write_csv
 from rlff.errors import InputError
 
 #: Format names and the file extensions that select them.
@@ -108,6 +108,10 @@ def read_thesis_matrix(
             raise InputError(
                 f"{path}, line {number}: row {rows[len(current_rows)]!r} has {values.size} values, "
                 f"the block's first row (line {current_lines[0]}) has {current_rows[0].size}"
+            )
+        if values.size < MIN_FILE_SAMPLES:
+            raise InputError(
+                f"{path}, line {number}: a single value: a trajectory needs at least {MIN_FILE_SAMPLES} samples"
             )
         current_lines.append(number)
         current_rows.append(values)
@@ -251,10 +255,20 @@ def read_npz(path: str | Path) -> Dataset:
             lengths = npz["lengths"]
     except (OSError, ValueError, KeyError, json.JSONDecodeError) as exc:
         raise InputError(f"{path}: not an rlff NPZ dataset ({exc})") from None
+    _check_lengths(path, ids, lengths)
     try:
         return Dataset.from_columns(columns, ids, lengths, info["meta"], info["context"])
     except InputError as exc:
         raise InputError(f"{path}: {exc}") from None
+
+
+def _check_lengths(path: Path, ids: list[str], lengths: np.ndarray) -> None:
+    short = np.flatnonzero(np.asarray(lengths) < MIN_FILE_SAMPLES)
+    if short.size:
+        raise InputError(
+            f"{path}: trajectory {ids[short[0]]!r} has a single sample (a demonstration needs at "
+            f"least {MIN_FILE_SAMPLES})"
+        )
 
 
 def _column(dataset: Dataset, name: str) -> np.ndarray:
@@ -345,6 +359,7 @@ def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Data
     starts = np.flatnonzero(np.concatenate([[True], codes[1:] != codes[:-1]])) if codes.size else np.empty(0, int)
     lengths = np.diff(np.append(starts, codes.size))
     ids = [names[c] for c in codes[starts]]
+    _check_lengths(path, ids, lengths)
     columns = {}
     for name in table.column_names:
         if name == ID_COLUMN or name in meta_keys:

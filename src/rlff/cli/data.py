@@ -2,8 +2,106 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import typer
+
+from rlff.cli._common import emit_json, progress, say, stdout
+from rlff.errors import InputError
 
 app = typer.Typer(help="Make, import and clean demonstration data.", no_args_is_help=True)
 synth_app = typer.Typer(help="Built-in data: the thesis' synthetic set and simulated human throws.", no_args_is_help=True)
 app.add_typer(synth_app, name="synth")
+
+
+def _floats(option: str, text: str) -> list[float]:
+    try:
+        return [float(item) for item in text.split(",") if item.strip()]
+    except ValueError:
+        raise InputError(f"{option}: {text!r} is not a comma-separated list of numbers") from None
+
+
+@synth_app.command("throws")
+def synth_throws_command(
+    output: Path = typer.Option(..., "--output", "-o", help="Dataset to write (.csv, .parquet, .npz or .txt)."),
+    seed: int = typer.Option(0, "--seed", help="Random seed (same seed, same throws)."),
+    subjects: int = typer.Option(10, "--subjects", help="Number of subjects."),
+    distances: str = typer.Option("1,1.5,2,2.25,2.5,2.75,3,3.25,3.5,4", "--distances", help="Basket distances (m), comma-separated."),
+    throws: int = typer.Option(4, "--throws", help="Throws of each subject at each basket."),
+    rate: float = typer.Option(30.0, "--rate", help="Camera frame rate (15-30 Hz)."),
+    noise: float = typer.Option(0.03, "--noise", help="Angle measurement noise (rad, standard deviation)."),
+    dropped_frames: float = typer.Option(0.03, "--dropped-frames", help="Probability that a frame is missing."),
+    glitches: float = typer.Option(0.01, "--glitches", help="Probability per frame of a tracking glitch."),
+    inconsistent_distance: float | None = typer.Option(None, "--inconsistent-distance", help="A distance whose throws are all too slow (e.g. 2.75)."),
+    all_short: bool = typer.Option(False, "--all-short", help="Every throw falls short of its basket (failures only)."),
+    clean: bool = typer.Option(False, "--clean", help="The true motion: no noise, dropped frames or glitches."),
+    as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
+) -> None:
+    """Simulated human overhand throws at the thesis' basket distances, with their outcomes."""
+    from rlff.formats import write_dataset
+    from rlff.synthetic.throws import simulate_throws
+
+    dataset = simulate_throws(
+        seed, subjects=subjects, distances=_floats("--distances", distances), throws_per_distance=throws,
+        rate_hz=rate, noise=noise, dropped_frames=dropped_frames, glitches=glitches,
+        inconsistent_distance=inconsistent_distance, all_short=all_short, raw=not clean,
+    )
+    write_dataset(dataset, output)
+    hits = sum(bool(t.meta["hit"]) for t in dataset)
+    summary = {
+        "output": str(output), "trajectories": len(dataset), "samples": dataset.n_samples,
+        "hits": hits, "glitches": sum(int(t.meta["glitches"]) for t in dataset), "seed": seed,
+    }
+    if as_json:
+        emit_json(summary)
+        return
+    stdout().print(
+        f"{len(dataset)} throws ({dataset.n_samples} samples, {hits} hits) -> {output}", highlight=False
+    )
+
+
+@app.command("preprocess")
+def preprocess_command(
+    data: Path = typer.Argument(..., help="Demonstrations (.csv, .parquet, .npz or thesis .txt)."),
+    output: Path = typer.Option(..., "--output", "-o", help="Cleaned dataset to write (format from the extension)."),
+    preset: str | None = typer.Option(None, "--preset", help="A built-in pipeline: thesis (the default)."),
+    config: Path | None = typer.Option(None, "--config", help="A pipeline TOML file instead of a preset."),
+    report_path: Path | None = typer.Option(None, "--report", help="Write the step report as JSON here."),
+    as_json: bool = typer.Option(False, "--json", help="Print the step report as JSON instead of a table."),
+) -> None:
+    """Clean demonstrations step by step and report what every step removed and why."""
+    import json
+
+    from rich.table import Table
+
+    from rlff.formats import read_dataset, write_dataset
+    from rlff.preprocess import Pipeline
+
+    if preset is not None and config is not None:
+        raise InputError("give either --preset or --config, not both")
+    pipeline = Pipeline.from_toml(config) if config is not None else Pipeline.preset(preset or "thesis")
+    dataset = read_dataset(data)
+    enabled = sum(step.enabled for step in pipeline.steps)
+    with progress("preprocessing", total=enabled) as advance:
+        cleaned, report = pipeline.run(dataset, progress=advance)
+    write_dataset(cleaned, output)
+    payload = {**report.to_dict(), "input": str(data), "output": str(output)}
+    if report_path is not None:
+        report_path.parent.mkdir(parents=True, exist_ok=True)
+        report_path.write_text(json.dumps(payload, indent=2) + "\n")
+    if as_json:
+        emit_json(payload)
+        return
+    table = Table(title=f"{pipeline.source}: {data} -> {output}")
+    for heading, justify in (("step", "left"), ("trajectories", "right"), ("samples", "right"), ("what changed", "left")):
+        table.add_column(heading, justify=justify)
+    for step in report.steps:
+        table.add_row(
+            step.step, f"{len(step.before)} -> {len(step.after)}",
+            f"{step.before.n_samples} -> {step.after.n_samples}", step.summary(),
+        )
+    stdout().print(table)
+    for step in report.steps:
+        for rejection in step.contexts:
+            label = ", ".join(f"{k}={v:g}" for k, v in rejection.context.items())
+            say(f"{step.step}: context {label} rejected: {rejection.reason}")

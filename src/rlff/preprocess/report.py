@@ -105,7 +105,8 @@ class StepReport:
             parts.append(f"removed {removed} samples in {len(self.samples)} trajectories")
         elif added:
             parts.append(f"added {added} samples in {len(self.samples)} trajectories")
-        parts.extend(self.notes[:1])
+        if not parts:
+            parts.extend(self.notes[:1])
         return "; ".join(parts) if parts else "no change"
 
     def to_dict(self) -> dict[str, Any]:

@@ -1,0 +1,164 @@
+"""Dataset files: thesis matrix, NPZ, Parquet and the reader/writer by extension."""
+
+from __future__ import annotations
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from rlff.dataset import Dataset, Trajectory
+from rlff.errors import InputError
+from rlff.formats import (
+    read_dataset,
+    read_parquet,
+    read_thesis_matrix,
+    write_dataset,
+    write_thesis_matrix,
+)
+
+finite = st.floats(min_value=-1e6, max_value=1e6, allow_nan=False, allow_infinity=False)
+
+
+@st.composite
+def datasets(draw, with_time: bool = True) -> Dataset:
+    """Small datasets with arbitrary finite values, ids and metadata."""
+    count = draw(st.integers(1, 4))
+    trajectories = []
+    for k in range(count):
+        n = draw(st.integers(2, 6))
+        data = {
+            "angle": np.array(draw(st.lists(finite, min_size=n, max_size=n))),
+            "distance": np.full(n, draw(st.sampled_from([1.0, 2.25, 2.75, 1 / 3]))),
+            "velocity": np.array(draw(st.lists(finite, min_size=n, max_size=n))),
+        }
+        if with_time:
+            data["time"] = np.cumsum(draw(st.lists(st.floats(1e-3, 1.0), min_size=n, max_size=n)))
+        meta = {"subject": draw(st.sampled_from(["s01", "anna b"])), "target": data["distance"][0],
+                "hit": draw(st.booleans()), "landing": draw(finite)}
+        trajectories.append(Trajectory(f"t{k}-{draw(st.sampled_from(['x', 'y z']))}", data, meta))
+    return Dataset(trajectories)
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".npz", ".parquet"])
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(dataset=datasets())
+def test_round_trip_gives_back_the_same_dataset(tmp_path, suffix, dataset):
+    path = tmp_path / f"d{suffix}"
+    write_dataset(dataset, path)
+    assert read_dataset(path).equals(dataset)
+
+
+@pytest.mark.parametrize(("separator", "decimal_comma"), [("\t", False), (" ", True), (";", True), (";", False)])
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(dataset=datasets(with_time=False))
+def test_thesis_matrix_round_trip(tmp_path, separator, decimal_comma, dataset):
+    path = tmp_path / "d.txt"
+    write_thesis_matrix(dataset, path, separator=separator, decimal_comma=decimal_comma)
+    assert read_thesis_matrix(path).equals(dataset)
+
+
+def test_thesis_figure_2_1_reads_with_comma_decimals(tmp_path):
+    # thesis figure 2.1: angles, basket distance, velocities; a comma is the decimal separator
+    path = tmp_path / "figure.txt"
+    path.write_text(
+        "0\t0,1\t0,2\t0,3\n"
+        "1\t1\t1\t1\n"
+        "0\t0,495\t0,98\t1,455\n"
+        "\n"
+        "0;0,5;1\n"
+        "2;2;2\n"
+        "0; 1,5 ;2,75\n"
+    )
+    dataset = read_thesis_matrix(path)
+    assert dataset.ids == ("figure-1", "figure-2")
+    assert dataset.columns == ("angle", "distance", "velocity")
+    np.testing.assert_array_equal(dataset[0]["angle"], [0.0, 0.1, 0.2, 0.3])
+    np.testing.assert_array_equal(dataset[0]["velocity"], [0.0, 0.495, 0.98, 1.455])
+    np.testing.assert_array_equal(dataset[1]["velocity"], [0.0, 1.5, 2.75])
+    assert dataset.contexts == ((1.0,), (2.0,))
+    assert dataset[0].meta == {"source": "figure.txt"}
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("0 0,1 0,2\n1 1 1\n0 0,5\n", r"line 3: row 'velocity' has 2 values, the block's first row \(line 1\) has 3"),
+        ("0 0.1\n1 1\n0 0.5\n0 0.1\n1 1\n", r"line 5: incomplete block: 2 of 3 rows"),
+        ("0 0.1\n1 2\n0 0.5\n", r"line 2: context row 'distance' is not constant"),
+        ("0 abc\n1 1\n0 0.5\n", r"line 1: 'abc' is not a number"),
+        ("0.1,0.2,0.3\n1,1,1\n0,1,2\n", r"line 1: '0.1.0.2.0.3' is not a number"),
+        ("0 nan\n1 1\n0 0.5\n", r"line 1: non-finite value in row 'angle'"),
+        ("0\n1\n0\n", r"line 1: a single value"),
+        ("# nothing here\n", r"no data rows"),
+    ],
+)
+def test_bad_thesis_matrix_names_file_and_line(tmp_path, text, message):
+    path = tmp_path / "bad.txt"
+    path.write_text(text)
+    with pytest.raises(InputError, match=message) as error:
+        read_thesis_matrix(path)
+    assert str(path) in str(error.value)
+
+
+def test_thesis_matrix_refuses_to_lose_columns(tmp_path):
+    dataset = Dataset([Trajectory("a", {"angle": [0.0, 1.0], "distance": [1.0, 1.0], "velocity": [0.0, 1.0],
+                                        "time": [0.0, 0.1]})])
+    with pytest.raises(InputError, match="also has time"):
+        write_thesis_matrix(dataset, tmp_path / "d.txt")
+
+
+def test_parquet_from_another_tool_with_scattered_rows(tmp_path):
+    # rows of trajectory "a" are interleaved with "b": each keeps its own sample order
+    table = pa.table({
+        "trajectory": ["a", "b", "a", "b", "a"],
+        "angle": [0.1, 1.0, 0.2, 1.1, 0.3],
+        "distance": [2.0, 3.0, 2.0, 3.0, 2.0],
+        "subject": ["s1", "s2", "s1", "s2", "s1"],
+    })
+    pq.write_table(table, tmp_path / "d.parquet")
+    dataset = read_parquet(tmp_path / "d.parquet")
+    assert dataset.ids == ("a", "b")
+    np.testing.assert_array_equal(dataset["a"]["angle"], [0.1, 0.2, 0.3])
+    assert dataset["b"].meta == {"subject": "s2"}
+    assert dataset.context == ("distance",)
+
+
+def test_parquet_errors_name_the_file(tmp_path):
+    pq.write_table(pa.table({"trajectory": ["a", "a"], "angle": [0.1, None]}), tmp_path / "null.parquet")
+    with pytest.raises(InputError, match=r"null.parquet: column 'angle' has an empty value at row 2"):
+        read_parquet(tmp_path / "null.parquet")
+    pq.write_table(pa.table({"trajectory": ["a", "a", "b"], "angle": [0.1, 0.2, 0.3]}), tmp_path / "one.parquet")
+    with pytest.raises(InputError, match=r"one.parquet: trajectory 'b' has a single sample"):
+        read_parquet(tmp_path / "one.parquet")
+    pq.write_table(pa.table({"trajectory": ["a", "a"], "angle": [0.1, 0.2], "subject": ["x", "y"]}),
+                   tmp_path / "meta.parquet")
+    with pytest.raises(InputError, match="metadata column 'subject' varies within trajectory 'a'"):
+        read_parquet(tmp_path / "meta.parquet")
+    (tmp_path / "junk.parquet").write_text("not parquet")
+    with pytest.raises(InputError, match="junk.parquet: not a Parquet file"):
+        read_parquet(tmp_path / "junk.parquet")
+
+
+def test_unknown_extension_and_format(tmp_path):
+    with pytest.raises(InputError, match=r"unknown dataset extension '.xlsx'"):
+        read_dataset(tmp_path / "d.xlsx")
+    with pytest.raises(InputError, match="unknown dataset format 'hdf5'"):
+        read_dataset(tmp_path / "d.csv", format="hdf5")
+    with pytest.raises(InputError, match="no such file"):
+        read_dataset(tmp_path / "missing.npz")
+
+
+def test_large_parquet_loads_all_samples(tmp_path):
+    count, length = 2000, 50
+    angle = np.tile(np.linspace(0.7, 3.0, length), count)
+    columns = {"angle": angle, "distance": np.repeat(np.arange(count) % 10 * 0.25 + 1.0, length),
+               "velocity": angle * 3.0, "time": np.tile(np.arange(length) / 30.0, count)}
+    dataset = Dataset.from_columns(columns, [f"t{i}" for i in range(count)], [length] * count,
+                                   [{"hit": i % 3 == 0} for i in range(count)])
+    write_dataset(dataset, tmp_path / "big.parquet")
+    back = read_dataset(tmp_path / "big.parquet")
+    assert back.n_samples == count * length
+    assert back.equals(dataset)
