@@ -41,6 +41,8 @@ UPPER_ARM = 0.30
 FOREARM = 0.35
 #: Height of the basket's rim (m).
 RIM_HEIGHT = 0.3
+#: Fastest elbow extension a simulated person makes (rad/s; about 10 m/s at the ball).
+MAX_ELBOW_SPEED = 30.0
 #: The thesis' basket distances (m), section 4.2 (the three 2 m baskets of other heights left out).
 THESIS_DISTANCES = (1.0, 1.5, 2.0, 2.25, 2.5, 2.75, 3.0, 3.25, 3.5, 4.0)
 
@@ -115,6 +117,11 @@ def _needed_angular_velocity(style: _Style, release_angle: float, landing: float
     if offset <= 0 or drop <= 0:
         raise InputError(f"basket distance {landing} m cannot be reached by the simulated arm")
     speed = np.sqrt(GRAVITY * offset**2 / (2.0 * np.cos(launch) ** 2 * drop))
+    if speed / FOREARM > MAX_ELBOW_SPEED:
+        raise InputError(
+            f"basket distance {landing} m needs {speed / FOREARM:.0f} rad/s at the elbow, beyond a "
+            f"human throw ({MAX_ELBOW_SPEED:g} rad/s)"
+        )
     return float(speed / FOREARM)
 
 
@@ -324,7 +331,7 @@ def _throw(
         "landing": landing,
         "hit": bool(abs(landing - target) <= hit_radius),
         "release_angle": release_angle,
-        "release_time": release_time - start,
+        "release_time": float(release_time - start),
         "glitches": count,
     }
     data = {"time": time, "angle": angle, "distance": np.full(time.size, target), "velocity": velocity}
