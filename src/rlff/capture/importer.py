@@ -181,7 +181,7 @@ def import_recordings(
         One trajectory per throw: ``time``, ``angle``, ``velocity``, ``distance``; metadata
         ``subject``, ``source``, ``target``/``hit`` (when the basket is known), ``landing``,
         ``distance_source``, ``release_time`` (s from the throw's start), ``start_time`` and
-        ``end_time`` (s from the recording's first sample), ``arm``, ``user``.
+        ``end_time`` (s from the recording's first sample), ``arm``.
     report : ImportReport
         Per file: the throws, the arm and user kept, and notes and warnings.
 
@@ -357,7 +357,6 @@ def _throw(
         "start_time": float(time[0] - origin),
         "end_time": float(time[-1] - origin),
         "arm": motion.arm.side,
-        "user": motion.arm.user,
     }
     if np.isfinite(landed):
         meta["landing"] = landed

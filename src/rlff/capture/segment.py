@@ -7,10 +7,12 @@ The thesis cut its bags by hand (rqt_bag). Here a throw is found from the elbow 
 2. every peak of the angular velocity above ``min_peak_velocity`` marks an extension; it runs
    from the angle's minimum before the peak (wound up) to its maximum after it (arm straight),
    and it counts only if the angle rises by at least ``min_extension`` on the way;
-3. the throw starts where the wind-up starts: going back from the minimum, past a hold of at
-   most ``max_hold``, through the stretch where the arm flexes faster than ``rest_velocity``;
-4. it ends where the follow-through settles: going forward from the maximum until the angular
-   speed drops below ``rest_velocity`` (at most ``max_follow_through`` later).
+3. the throw starts where the wind-up starts: going back from the minimum through holds of at
+   most ``max_hold`` and the stretch where the arm flexes faster than ``rest_velocity``, up to
+   ``max_wind_up`` before the minimum;
+4. it ends where the follow-through settles: going forward from the maximum, the last sample
+   moving faster than ``rest_velocity`` before a pause longer than ``settle`` (at most
+   ``max_follow_through`` later).
 
 Consecutive throws never overlap: a follow-through ends at the latest where the next wind-up
 begins. Stretches of lost tracking split the recording; a throw never spans one.
@@ -38,6 +40,7 @@ class SegmentSettings:
     max_hold: float = 0.5
     max_wind_up: float = 1.5
     max_follow_through: float = 0.6
+    settle: float = 0.15
     glitch_filter: float = 0.15
 
 
@@ -129,30 +132,41 @@ def _throws_in_run(angle: np.ndarray, dt: float, settings: SegmentSettings) -> t
 
 
 def _wind_up_start(velocity: np.ndarray, low: int, dt: float, settings: SegmentSettings) -> int:
-    """Index where the flexion before the extension starting at ``low`` begins."""
-    rest = settings.rest_velocity
-    index = low
-    hold_limit = low - int(round(settings.max_hold / dt))
-    while index > max(0, hold_limit) and abs(velocity[index - 1]) < rest:
-        index -= 1
-    flex_limit = low - int(round(settings.max_wind_up / dt))
-    start = index
-    while start > max(0, flex_limit) and velocity[start - 1] <= -rest:
-        start -= 1
-    return start
+    """Index where the flexion before the extension starting at ``low`` begins.
+
+    Walks back through flexion (velocity <= -rest) and holds (|velocity| < rest), stopping at a
+    rise (the previous movement), at a hold longer than ``max_hold`` (the rest before the throw)
+    or ``max_wind_up`` before ``low``. A glitch left by the median filter only pauses the walk.
+    """
+    return _last_motion(velocity[: low + 1][::-1], settings.max_wind_up / dt, settings.max_hold / dt, settings.rest_velocity, low, -1)
 
 
 def _follow_through_end(velocity: np.ndarray, high: int, dt: float, settings: SegmentSettings) -> int:
-    """Index where the motion after the extension ending at ``high`` comes to rest."""
-    rest = settings.rest_velocity
-    last = min(velocity.size - 1, high + int(round(settings.max_follow_through / dt)))
-    index = high
-    turn_limit = min(last, high + max(1, int(round(0.1 / dt))))
-    while index < turn_limit and abs(velocity[index + 1]) < rest:
-        index += 1
-    while index < last and abs(velocity[index + 1]) >= rest:
-        index += 1
-    return index
+    """Index where the motion after the extension ending at ``high`` comes to rest.
+
+    Walks forward while the arm moves (|velocity| >= rest), through pauses of at most ``settle``,
+    for at most ``max_follow_through``.
+    """
+    return _last_motion(velocity[high:], settings.max_follow_through / dt, settings.settle / dt, settings.rest_velocity, high, 1)
+
+
+def _last_motion(velocity: np.ndarray, longest: float, pause: float, rest: float, anchor: int, sign: int) -> int:
+    """Walk along ``velocity`` (already oriented away from the extension) and return the index
+    (in the original series: ``anchor + sign * steps``) of the last sample moving faster than
+    ``rest``, stopping at a pause longer than ``pause`` samples, after ``longest`` samples, or,
+    going back (sign -1), at a rise of the angle."""
+    last = quiet = 0
+    for step in range(1, min(velocity.size, int(round(longest)) + 1)):
+        value = velocity[step]
+        if sign < 0 and value >= rest:
+            break
+        if abs(value) >= rest:
+            last, quiet = step, 0
+        else:
+            quiet += 1
+            if quiet > pause:
+                break
+    return anchor + sign * last
 
 
 def _without_overlap(cuts: list[ThrowCut]) -> list[ThrowCut]:

@@ -12,7 +12,7 @@ CSV
     optional ``time`` column (s), or any other names through a column map.
 
 Frames whose arm joints are all zero (the tracker lost the user) are dropped, and so are repeats
-of a frame number or of a whole frame; each reader says how many in the recording's notes.
+of a frame number (Kinect) or of a time stamp (CSV); each reader says how many in its notes.
 """
 
 from __future__ import annotations
@@ -71,7 +71,7 @@ def _numeric_rows(path: Path, expected: int, what: str) -> np.ndarray:
 def _clean_frames(
     frames: np.ndarray, time: np.ndarray, arm_joints: list[int], notes: list[str], path: Path
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Drop frames with all arm joints at zero and exact repeats of the previous frame.
+    """Drop frames whose arm joints are all at zero (the tracker lost the user).
 
     Parameters
     ----------
@@ -80,16 +80,11 @@ def _clean_frames(
     arm_joints : joint indices whose loss means the frame is useless
     """
     lost = np.all(frames[:, arm_joints, :] == 0.0, axis=(1, 2))
-    repeat = np.zeros(len(frames), dtype=bool)
-    repeat[1:] = np.all(frames[1:] == frames[:-1], axis=(1, 2)) & ~lost[1:]
     if lost.any():
         notes.append(f"{path.name}: dropped {int(lost.sum())} frames with all arm joints at zero (tracking lost)")
-    if repeat.any():
-        notes.append(f"{path.name}: dropped {int(repeat.sum())} frames identical to the one before")
-    keep = ~(lost | repeat)
-    if keep.sum() < 2:
+    if (~lost).sum() < 2:
         raise InputError(f"{path}: fewer than 2 frames with a tracked arm")
-    return frames[keep], time[keep]
+    return frames[~lost], time[~lost]
 
 
 def _arms(frames: np.ndarray, time: np.ndarray, layout: Mapping[str, tuple[int, ...]], prefix: str) -> list[ArmTrack]:

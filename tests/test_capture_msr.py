@@ -1,0 +1,63 @@
+"""The real MSR Action3D throws: one throw per high-throw file, in a plausible human range."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rlff.capture import import_recordings
+from rlff.capture.skeleton_text import read_msr_text
+
+pytestmark = pytest.mark.realdata
+
+
+@pytest.fixture(scope="module")
+def imported():
+    """All recordings imported once (conftest's ``msr_dir`` is per test; this skips the same way)."""
+    from conftest import MSR_THROWS
+
+    if not MSR_THROWS.is_dir():
+        pytest.skip(f"{MSR_THROWS} is absent")
+    return import_recordings(sorted(MSR_THROWS.glob("*_skeleton3D.txt")), "msr")
+
+
+def test_one_throw_per_high_throw_file_in_a_human_range(imported):
+    dataset, report = imported
+    high_throws = [f for f in report.files if "a06_" in f.source]
+    assert len(high_throws) == 26
+    for file_report in high_throws:
+        assert len(file_report.throws) == 1, file_report.source
+        assert file_report.arm == "right"  # arm B, the throwing arm of every a06 file
+        (throw,) = file_report.throws
+        low, high = throw.angle_range
+        assert 0.3 < low < 2.2 and 2.6 < high <= np.pi  # wound up, then nearly straight
+        assert 3.0 < throw.peak_velocity < 30.0  # rad/s: an elbow extension in 0.1-0.6 s
+        assert 0.3 < throw.end - throw.start < 3.0
+        assert throw.start <= throw.release <= throw.end
+        assert throw.distance_source == "landing estimate" and 0.5 < throw.landing < 5.0
+    by_id = {t.id: t for t in dataset}
+    for file_report in high_throws:
+        trajectory = by_id[file_report.throws[0].id]
+        assert trajectory.meta["subject"].startswith("s") and "target" not in trajectory.meta
+        assert trajectory["time"][0] == 0.0 and np.allclose(np.diff(trajectory["time"]), 1 / 15)
+        assert trajectory["velocity"].max() > 3.0
+
+
+def test_all_zero_frames_of_subject_02_are_dropped_and_reported(msr_dir):
+    recording = read_msr_text(msr_dir / "a20_s02_e01_skeleton3D.txt")
+    assert any("all arm joints at zero" in note for note in recording.notes)
+    arm = recording.arm("1", "right")
+    assert np.all(np.any(arm.elbow.position != 0, axis=1))
+
+
+def test_the_import_runs_through_the_thesis_preprocessing(imported):
+    preprocess = pytest.importorskip("rlff.preprocess")
+    if not hasattr(preprocess, "Pipeline"):
+        pytest.skip("rlff.preprocess.Pipeline is not built yet")
+    dataset, _ = imported
+    high_throws = dataset.replace(t for t in dataset if "a06_" in t.meta["source"])
+    cleaned, report = preprocess.Pipeline.preset("thesis").run(high_throws)
+    assert len(cleaned) > 0 and set(cleaned.columns) >= {"angle", "distance", "velocity"}
+    # most throws survive the per-trajectory cleaning (the later steps compare baskets)
+    (sparse,) = [step for step in report.steps if step.step == "min_points"]
+    assert len(sparse.after) >= 15

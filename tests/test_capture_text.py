@@ -1,0 +1,209 @@
+"""Skeleton text formats (Kinect SDK v1, MSR Action3D, CSV), the angle and the throw labels."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+sys.path.insert(0, str(Path(__file__).parent))
+import bagfactory as bf  # noqa: E402
+from rlff.ballistics import crossing_distance  # noqa: E402
+from rlff.capture import import_recordings  # noqa: E402
+from rlff.capture.angles import align_arm, included_angle, savgol_derivative  # noqa: E402
+from rlff.capture.label import LandingSettings, distance_from_name, manifest_entry, read_manifest  # noqa: E402
+from rlff.capture.segment import find_throws  # noqa: E402
+from rlff.capture.skeleton_text import read_joint_csv, read_kinect_text, read_msr_text  # noqa: E402
+from rlff.errors import InputError  # noqa: E402
+
+
+def _kinect_frames(simulation: bf.Simulation) -> np.ndarray:
+    """Frames of shape (T, 20, 3): the right arm of the simulation at Kinect indices 8-11 (y up)."""
+    angle = simulation.angle(simulation.frame_times)
+    shoulder, elbow, hand = simulation.arm_positions(angle)
+    to_kinect = np.array([[0, -1, 0], [0, 0, 1], [1, 0, 0]], dtype=float)  # ROS (x fwd, z up) -> Kinect (y up)
+    frames = np.tile(np.array([0.1, 0.2, 2.5]), (len(angle), 20, 1))
+    frames[:, 4:8] += np.array([0.4, 0.0, 0.0])  # the left arm hangs still
+    frames[:, 8], frames[:, 9], frames[:, 11] = shoulder @ to_kinect.T, elbow @ to_kinect.T, hand @ to_kinect.T
+    frames[:, 10] = frames[:, 9] + 0.9 * (frames[:, 11] - frames[:, 9])  # wrist on the forearm
+    return frames
+
+
+def _write_kinect(path: Path, frames: np.ndarray, numbers: np.ndarray) -> Path:
+    lines = [" ".join([str(int(n)), *(f"{v:.6f}" for v in frame.ravel())]) for n, frame in zip(numbers, frames, strict=True)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_included_angle_exact_cases():
+    elbow = np.zeros((4, 3))
+    shoulder = np.tile([1.0, 0.0, 0.0], (4, 1))
+    hand = np.array([[0.0, 2.0, 0.0], [-3.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.5, np.sqrt(3) / 2, 0.0]])
+    np.testing.assert_allclose(included_angle(shoulder, elbow, hand), [np.pi / 2, np.pi, 0.0, np.pi / 3], atol=1e-12)
+
+
+def test_savgol_derivative_is_exact_on_cubics():
+    t = np.arange(40) / 30.0
+    values = 2 * t**3 - t**2 + 3 * t
+    np.testing.assert_allclose(savgol_derivative(values, 1 / 30.0), 6 * t**2 - 2 * t + 3, atol=1e-9)
+
+
+def test_kinect_text_gives_the_true_angle_drops_repeats_and_lost_frames(tmp_path):
+    simulation = bf.standard_simulation(seed=2, n_throws=2, noise=0.0, second_user=False, drop_frames=0.0, drop_joints=0.0)
+    frames = _kinect_frames(simulation)
+    numbers = np.arange(len(frames))
+    frames[30] = 0.0  # tracking lost
+    order = np.r_[np.arange(50), 49, np.arange(50, len(frames))]  # frame 49 written twice
+    path = _write_kinect(tmp_path / "kinect.txt", frames[order], numbers[order])
+    recording = read_kinect_text(path)
+    assert any("1 frames with all arm joints at zero" in note for note in recording.notes)
+    assert any("1 repeated frame numbers" in note for note in recording.notes)
+    right = recording.arm("1", "right")
+    assert len(right.elbow) == len(frames) - 1
+    motion = align_arm(right)
+    # the wrist lies on the forearm, so the angle is exact where frames exist
+    truth = simulation.angle(motion.time)
+    on_frame = np.isin(np.round(motion.time * 30), numbers[numbers != 30])
+    np.testing.assert_allclose(motion.angle[on_frame], truth[on_frame], atol=1e-5)
+    dataset, report = import_recordings([path], "kinect-text")
+    assert len(dataset) == 2 and report.files[0].arm == "right"
+
+
+def test_kinect_text_with_a_wrong_number_of_columns_names_the_file_and_line(tmp_path):
+    path = tmp_path / "short.txt"
+    path.write_text("0 " + " ".join(["0.5"] * 60) + "\n1 " + " ".join(["0.5"] * 57) + "\n")
+    with pytest.raises(InputError, match=r"short.txt, line 2: 58 columns, expected 61 \(frame number then 20 joints"):
+        read_kinect_text(path)
+
+
+def test_msr_text_with_a_missing_joint_line_says_so(tmp_path):
+    path = tmp_path / "a06_s01_e01_skeleton3D.txt"
+    path.write_text("0.1 0.2 2.5 1\n" * 39)
+    with pytest.raises(InputError, match=r"a06_s01_e01_skeleton3D.txt: 39 joint lines, not a multiple of 20.*missing 1 joints"):
+        read_msr_text(path)
+    path.write_text("0.1 0.2 2.5\n" * 20)
+    with pytest.raises(InputError, match=r"line 1: 3 columns, expected 4 \(x y z confidence\)"):
+        read_msr_text(path)
+
+
+def test_csv_with_a_column_map_and_missing_columns(tmp_path):
+    simulation = bf.standard_simulation(seed=4, n_throws=1, noise=0.0)
+    shoulder, elbow, hand = simulation.arm_positions(simulation.angle(simulation.frame_times))
+    import pandas as pd
+
+    frame = pd.DataFrame({"stamp": simulation.frame_times})
+    for name, values in (("ShoulderRight", shoulder), ("ElbowRight", elbow), ("HandRight", hand)):
+        for axis, column in zip("xyz", values.T, strict=True):
+            frame[f"{name}.{axis.upper()}"] = column
+    path = tmp_path / "joints.csv"
+    frame.to_csv(path, index=False)
+    mapping = {"time": "stamp"}
+    for ours, theirs in (("shoulder", "ShoulderRight"), ("elbow", "ElbowRight"), ("hand", "HandRight")):
+        mapping.update({f"right_{ours}_{axis}": f"{theirs}.{axis.upper()}" for axis in "xyz"})
+    recording = read_joint_csv(path, mapping)
+    motion = align_arm(recording.arms[0])
+    np.testing.assert_allclose(motion.angle, simulation.angle(motion.time), atol=1e-9)
+    with pytest.raises(InputError) as error:
+        read_joint_csv(path, {"time": "stamp"})
+    assert "right_shoulder_x" in str(error.value) and "ElbowRight.X" in str(error.value)
+
+
+def test_unknown_format_and_arm_are_input_errors(tmp_path):
+    path = tmp_path / "x.txt"
+    path.write_text("1 2\n")
+    with pytest.raises(InputError, match="unknown format 'avi'"):
+        import_recordings([path], "avi")
+    with pytest.raises(InputError, match=r"x.txt: cannot tell the format"):
+        import_recordings([path])
+    with pytest.raises(InputError, match="unknown arm 'both'"):
+        import_recordings([path], "msr", arm="both")
+
+
+def test_glitches_do_not_make_throws():
+    """Single-frame spikes of the hand (a reflection mixed in) neither add nor remove throws."""
+    simulation = bf.standard_simulation(seed=8, n_throws=4, second_user=False, glitches=12)
+    angle = simulation.angle(simulation.frame_times)
+    shoulder, elbow, hand = simulation.arm_positions(angle)
+    rng = np.random.default_rng(1)
+    spikes = rng.choice(len(hand), 12, replace=False)
+    hand[spikes] += rng.normal(0, 0.25, (12, 3))
+    from rlff.capture.skeleton import ArmTrack, JointTrack
+
+    t = simulation.frame_times
+    arm = ArmTrack("1", "right", JointTrack("s", t, shoulder), JointTrack("e", t, elbow), JointTrack("h", t, hand))
+    cuts, _ = find_throws(align_arm(arm))
+    assert len(cuts) == 4
+    for cut, (start, end) in zip(cuts, simulation.moving_spans(), strict=True):
+        assert t[cut.start] == pytest.approx(start, abs=0.1) and t[cut.stop - 1] == pytest.approx(end, abs=0.1)
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 10_000), n_throws=st.integers(1, 5))
+def test_the_number_of_throws_is_recovered(seed, n_throws):
+    simulation = bf.standard_simulation(seed=seed, n_throws=n_throws, second_user=False)
+    t = simulation.frame_times
+    shoulder, elbow, hand = simulation.arm_positions(simulation.angle(t))
+    noise = np.random.default_rng(seed).normal(0, 0.002, (3, *hand.shape))
+    from rlff.capture.skeleton import ArmTrack, JointTrack
+
+    arm = ArmTrack("1", "right", JointTrack("s", t, shoulder + noise[0]), JointTrack("e", t, elbow + noise[1]), JointTrack("h", t, hand + noise[2]))
+    cuts, _ = find_throws(align_arm(arm))
+    assert len(cuts) == n_throws
+    assert all(a.stop <= b.start for a, b in zip(cuts, cuts[1:], strict=False))
+
+
+def test_release_and_landing_match_the_ballistics_of_the_true_hand_velocity():
+    simulation = bf.standard_simulation(seed=6, n_throws=1, noise=0.0, second_user=False)
+    t = simulation.frame_times
+    shoulder, elbow, hand = simulation.arm_positions(simulation.angle(t))
+    from rlff.capture.label import estimate_release, landing_distance
+    from rlff.capture.skeleton import ArmTrack, JointTrack
+
+    arm = ArmTrack("1", "right", JointTrack("s", t, shoulder), JointTrack("e", t, elbow), JointTrack("h", t, hand))
+    motion = align_arm(arm)
+    (cut,), _ = find_throws(motion)
+    settings_ = LandingSettings(shoulder_height=1.5, target_height=0.3)
+    release = estimate_release(motion, cut, bf.UP, settings_)
+    # with the upper arm still, the hand is fastest at the peak angular velocity
+    spec, start = simulation.throws[0], simulation.starts[0]
+    peak_time = start + spec.wind_up + spec.hold + spec.extension / 2
+    assert release.time == pytest.approx(peak_time, abs=1 / 30 + 1e-9)
+    velocity = simulation.hand_velocity(release.time)
+    vertical = velocity @ bf.UP
+    horizontal = np.linalg.norm(velocity - vertical * bf.UP)
+    # the Savitzky-Golay derivative flattens the peak of a 0.3 s extension by a few per cent
+    assert release.speed_vertical == pytest.approx(vertical, rel=0.1, abs=0.1)
+    assert release.speed_horizontal == pytest.approx(horizontal, rel=0.1, abs=0.1)
+    offset = hand[np.argmin(np.abs(t - release.time))] - shoulder[0]
+    assert release.height == pytest.approx(1.5 + offset @ bf.UP, abs=1e-3)
+    direction = (velocity - vertical * bf.UP) / horizontal
+    expected = crossing_distance(offset @ direction, 1.5 + offset @ bf.UP, horizontal, vertical, 0.3)
+    assert landing_distance(release, settings_) == pytest.approx(float(expected), rel=0.1)
+
+
+@pytest.mark.parametrize(
+    ("name", "distance"),
+    [("user3_2.5m.bag", 2.5), ("throws-2_75m.bag", 2.75), ("x_250cm.txt", 2.5), ("4m.bag", 4.0), ("mm3.bag", None), ("s01_e01.txt", None)],
+)
+def test_distance_from_the_file_name(name, distance):
+    assert distance_from_name(name) == distance
+
+
+def test_manifest_by_throw_index_and_by_time(tmp_path):
+    path = tmp_path / "manifest.csv"
+    path.write_text("file,throw,start,end,distance,subject\nline1.bag,2,,,3.0,anna\nline1.bag,,10,20,2.0,\nother.bag,,,,1.5,bo\n")
+    rows = read_manifest(path)
+    assert manifest_entry(rows, "/data/line1.bag", 2, 5.0).distance == 3.0
+    assert manifest_entry(rows, "/data/line1.bag", 1, 12.0).distance == 2.0
+    assert manifest_entry(rows, "/data/line1.bag", 1, 25.0) is None
+    assert manifest_entry(rows, "other.bag", 7, 0.0).subject == "bo"
+    path.write_text("file,distance\nx.bag,far\n")
+    with pytest.raises(InputError, match=r"manifest .*line 2: column 'distance' has a bad value 'far'"):
+        read_manifest(path)
+    path.write_text("name,distance\nx.bag,2\n")
+    with pytest.raises(InputError, match=r"no column 'file'"):
+        read_manifest(path)

@@ -1,0 +1,67 @@
+"""``rlff data import`` end to end, as a user runs it."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+import bagfactory as bf  # noqa: E402
+from rlff.dataset import read_csv  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def bag(tmp_path_factory) -> Path:
+    simulation = bf.standard_simulation(seed=11, n_throws=2)
+    return bf.write_ros1_bag(tmp_path_factory.mktemp("cli") / "line1.bag", simulation, images=bf.jpeg_frames(4))
+
+
+def test_import_a_bag_with_a_manifest_and_contact_sheets(cli, bag, tmp_path):
+    manifest = tmp_path / "manifest.csv"
+    manifest.write_text("file,throw,distance,subject\nline1.bag,1,2.0,anna\nline1.bag,2,3.25,anna\n")
+    out = tmp_path / "demos.csv"
+    result = cli("data", "import", str(bag), "--format", "bag", "--manifest", str(manifest),
+                 "--contact-sheet", str(tmp_path / "sheets"), "--json", "-o", str(out))
+    assert result.code == 0, result.stderr
+    payload = json.loads(result.stdout)
+    assert payload["throws"] == 2 and len(payload["contact_sheets"]) == 1
+    assert Path(payload["contact_sheets"][0]).is_file()
+    assert "dropped tracked user 2" in result.stderr
+    dataset = read_csv(out)
+    assert [t.meta["target"] for t in dataset] == [2.0, 3.25]
+    assert all(t.meta["subject"] == "anna" and t.meta["distance_source"] == "manifest" for t in dataset)
+    assert set(dataset.columns) == {"time", "angle", "distance", "velocity"}
+
+
+def test_import_msr_files_with_the_format_guessed(cli, msr_dir, tmp_path):
+    files = sorted(str(p) for p in msr_dir.glob("a06_s01_*.txt"))
+    out = tmp_path / "msr.csv"
+    result = cli("data", "import", *files, "-o", str(out))
+    assert result.code == 0, result.stderr
+    assert "3 throws from 3 files" in result.stdout
+    assert len(read_csv(out)) == 3
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--format", "avi"], "unknown format 'avi'"),
+        (["--frames", "a_1,b_1,c_1"], "frames there:"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_code_2(cli, bag, tmp_path, args, message):
+    result = cli("data", "import", str(bag), *args, "-o", str(tmp_path / "x.csv"))
+    assert result.code == 2
+    assert message in result.stderr
+    assert "Traceback" not in result.stderr
+
+
+def test_a_text_file_with_wrong_columns_is_named(cli, tmp_path):
+    path = tmp_path / "bad.txt"
+    path.write_text("1 2 3 4\n1 2 3\n")
+    result = cli("data", "import", str(path), "--format", "msr", "-o", str(tmp_path / "x.csv"))
+    assert result.code == 2
+    assert f"{path}, line 2: 3 columns, expected 4" in result.stderr
