@@ -203,6 +203,7 @@ def learn(
         angles=_angle_grid(demos),
         components=_components(demos, seed),
         seed=seed,
+        max_speed=robot_model.joint(mapping.joint).max_velocity / abs(mapping.velocity_scale),
     )
     method = method_class(problem) if not (history and history[-1].hit) else None
     while method is not None and len(history) < budget and not (history and history[-1].hit):
@@ -271,22 +272,27 @@ def _learning_demos(demos: Dataset) -> Dataset:
 
 
 def _require_reach(robot, basket, pedestal: float) -> None:
-    from rlff.sim import max_reach
+    from rlff.sim import require_reachable
 
-    reach = max_reach(robot, basket.rim_height, pedestal)
-    if basket.distance > reach:
-        raise InputError(
-            f"basket at {basket.distance:g} m is out of reach: the robot throws at most "
-            f"{reach:.2f} m over a {basket.rim_height:g} m rim from a {pedestal:g} m pedestal"
-        )
+    require_reachable(basket, robot, pedestal)
 
 
 def _require_demos_within_limits(demos: Dataset, mapping) -> None:
+    """Every demonstration's path must map inside the driven joint's position range.
+
+    Speeds beyond the robot's limits are allowed (the robot saturates when it executes a throw
+    that fast), but a path outside the joint's range means the mapping does not fit the data.
+    """
     for demo in demos:
-        try:
-            mapping.to_robot(demo["angle"], _forward_velocity(demo["angle"], demo["velocity"]))
-        except InputError as exc:
-            raise InputError(f"demonstration {demo.id!r} on the robot: {exc}") from None
+        angle = demo["angle"]
+        _, report = mapping.to_robot(angle, _forward_velocity(angle, demo["velocity"]), clip=True)
+        if report.count("position"):
+            positions = mapping.angle_offset + mapping.angle_scale * angle[[0, -1]]
+            raise InputError(
+                f"demonstration {demo.id!r} is beyond the robot's joint limits: its path maps to "
+                f"{mapping.joint} positions {positions[0]:.3f} .. {positions[1]:.3f} rad "
+                f"({report.summary()}); check the robot file's [throwing] mapping"
+            )
 
 
 def _simulator(robot, basket, pedestal: float) -> Executor:

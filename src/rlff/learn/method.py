@@ -49,6 +49,8 @@ class Problem:
         Number of mixture components, chosen once by BIC on the demonstrations.
     seed : int
         Seed of every random choice of the run.
+    max_speed : float
+        Fastest speed of the driven joint in the demonstrations' units (rad/s).
     """
 
     demos: Dataset
@@ -58,6 +60,7 @@ class Problem:
     angles: np.ndarray
     components: int
     seed: int
+    max_speed: float = float("inf")
 
 
 @dataclass(frozen=True)

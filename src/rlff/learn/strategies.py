@@ -46,6 +46,7 @@ from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
 from rlff.learn.method import (
     Method,
+    Problem,
     Proposal,
     attempt_trajectory,
     demo_labels,
@@ -110,8 +111,15 @@ class HindsightUpdate(DmmStrategy):
         return self.generate(data, sample_weight, problem.target, {})
 
 
-class CalibrationPosterior:
-    """Posterior over the recalibration log(L / Z) = a + b log(c / Z) on a grid.
+class SpeedCalibration:
+    """Posterior over how the landing follows the release speed: log(L / Z) = a + b log(u / u0).
+
+    ``u`` is the robot's speed over the release part of the path (in the demonstrations' units),
+    ``u0`` a reference speed (the DMM's first proposal). The posterior lives on an (a, b) grid:
+    a ~ N(0, ``prior_scale``) says how far from the basket the first proposal may land, b is
+    log-normal about 1 (a projectile's range from the release point grows with the square of
+    its speed; measured from the robot's base that is an elasticity of about 1 at these
+    distances) and wide enough to be learned from the attempts.
 
     Parameters
     ----------
@@ -119,107 +127,127 @@ class CalibrationPosterior:
         Basket distance Z (m).
     tolerance : float
         Half-width of the hit window around Z (m).
+    reference : float
+        Reference speed u0 (rad/s).
+    max_speed : float
+        Fastest release speed the robot can make (rad/s); no proposal goes beyond it.
     prior_scale : float
-        Prior standard deviation of a (log units): how far the robot's landing may be from the
-        demonstrations' labels before any attempt.
+        Prior standard deviation of a (log units).
     noise : float
-        Standard deviation (log units) of a landing about the power law: execution noise and
-        the law's own error.
+        Standard deviation (log units) of a landing about the law.
     """
 
     def __init__(
         self,
         target: float,
         tolerance: float,
+        reference: float,
+        max_speed: float = np.inf,
         *,
-        prior_scale: float = 0.4,
-        slope_scale: float = 0.3,
-        noise: float = 0.05,
+        prior_scale: float = 0.3,
+        slope_scale: float = 0.4,
+        noise: float = 0.03,
     ):
         self.target = float(target)
         self.tolerance = float(tolerance)
+        self.reference = float(reference)
         self.noise = float(noise)
-        self.offset = np.linspace(-4.0 * prior_scale, 4.0 * prior_scale, 241)  # a, shape (A,)
-        self.slope = np.linspace(0.3, 2.5, 45)  # b, shape (B,)
-        # log prior on the (A, B) grid
+        self.offset = np.linspace(-4.0 * prior_scale, 4.0 * prior_scale, 161)  # a, shape (A,)
+        self.slope = np.geomspace(0.2, 5.0, 41)  # b, shape (B,)
         self.log_p = (
             -0.5 * (self.offset[:, None] / prior_scale) ** 2
-            - 0.5 * ((self.slope[None, :] - 1.0) / slope_scale) ** 2
+            - 0.5 * (np.log(self.slope[None, :]) / slope_scale) ** 2
         )
-        # candidate labels c / Z, log-spaced, shape (C,)
-        self.ratios = np.exp(np.linspace(-1.6, 1.6, 321))
+        # candidate speeds u / u0, log-spaced, shape (C,), within the robot's limit
+        ratios = np.exp(np.linspace(-1.2, 1.2, 241))
+        self.ratios = ratios[ratios * self.reference <= max_speed]
+        if self.ratios.size == 0:
+            self.ratios = np.array([max_speed / self.reference])
 
-    def predicted_log_ratio(self, log_c_ratio: np.ndarray | float) -> np.ndarray:
-        """log(L / Z) of every grid point for labels with log(c / Z) given; shape (A, B, ...)."""
-        x = np.asarray(log_c_ratio, dtype=float)
-        extra = (1,) * x.ndim
-        return self.offset.reshape((-1, 1, *extra)) + self.slope.reshape((1, -1, *extra)) * x
+    def _log_x(self, speed: float) -> float:
+        return float(np.log(max(speed, 1e-9) / self.reference))
 
-    def hit_probability(self, log_c_ratio: np.ndarray | float, spread: float) -> np.ndarray:
-        """P(|L - Z| <= tolerance) at every grid point, landing noise ``spread`` (log units)."""
-        log_l = self.predicted_log_ratio(log_c_ratio)
-        half = self.tolerance / self.target  # window in log units, to first order
-        return ndtr((half - log_l) / spread) - ndtr((-half - log_l) / spread)
-
-    def observe_landing(self, label: float, landing: float) -> None:
-        """Distance feedback: the throw asked for label c (m) landed at ``landing`` (m)."""
+    def observe_landing(self, speed: float, landing: float) -> None:
+        """Distance feedback: a throw with release speed ``speed`` landed at ``landing`` (m)."""
         if not landing > 0:
-            return  # a throw that never reached forward carries no scale information
-        residual = np.log(landing / self.target) - self.predicted_log_ratio(np.log(label / self.target))
+            return  # a throw that never reached forward says nothing about the scale
+        predicted = self.offset[:, None] + self.slope[None, :] * self._log_x(speed)
+        residual = np.log(landing / self.target) - predicted
         self.log_p = self.log_p - 0.5 * (residual / self.noise) ** 2
 
-    def observe_miss(self, label: float, *, trust: float = 0.9) -> None:
-        """Binary feedback: the throw asked for label c (m) missed.
+    def observe_miss(self, speed: float, *, trust: float = 0.9) -> None:
+        """Binary feedback: a throw with release speed ``speed`` missed.
 
-        ``trust`` < 1 keeps a little mass where the model says it should have hit, so one
-        misleading miss (a bounce off the rim, a model error) cannot rule a region out for good.
+        The laws under which it would have hit lose their mass; ``trust`` < 1 keeps a little,
+        so that one misleading miss (a bounce off the rim) cannot rule a region out for good.
         """
-        p_hit = self.hit_probability(np.log(label / self.target), self.noise)
+        predicted = self.offset[:, None] + self.slope[None, :] * self._log_x(speed)
+        half = self.tolerance / self.target  # the window in log units, to first order
+        p_hit = ndtr((half - predicted) / self.noise) - ndtr((-half - predicted) / self.noise)
         self.log_p = self.log_p + np.log1p(-trust * p_hit)
 
     def posterior(self) -> np.ndarray:
         """Normalised posterior on the grid, shape (A, B)."""
         return np.exp(self.log_p - logsumexp(self.log_p))
 
-    def best_label(self) -> tuple[float, float]:
-        """The label (m) with the highest posterior probability of a hit, and that probability."""
+    def best_speed(self) -> tuple[float, float]:
+        """The release speed (rad/s) most likely to hit, and its probability of a hit."""
         weights = self.posterior()
-        p_hit = self.hit_probability(np.log(self.ratios), self.noise)  # (A, B, C)
-        expected = np.tensordot(weights, p_hit, axes=([0, 1], [0, 1]))  # (C,)
+        keep = weights > 1e-4 * weights.max()  # the grid points that matter
+        a, b = np.nonzero(keep)
+        log_l = self.offset[a, None] + self.slope[b, None] * np.log(self.ratios)[None, :]  # (M, C)
+        # the window test without the noise blur: the noise is small beside the window, and
+        # a comparison is much cheaper than the normal CDF on every (grid point, speed)
+        inside = np.abs(log_l) <= self.tolerance / self.target
+        expected = weights[keep] @ inside  # (C,)
         best = int(np.argmax(expected))
-        return float(self.ratios[best] * self.target), float(expected[best])
-
-    def inverse(self, landing: float) -> float:
-        """Posterior-mean label c (m) whose throw lands at ``landing`` (m)."""
-        weights = self.posterior()
-        log_c = (np.log(landing / self.target) - self.offset[:, None]) / self.slope[None, :]
-        return float(self.target * np.exp(np.sum(weights * log_c)))
+        return float(self.ratios[best] * self.reference), float(expected[best])
 
 
 class CalibrateUpdate(DmmStrategy):
-    """This project's strategy: recalibrate the demonstrations' labels from the attempts."""
+    """This project's strategy: the DMM gives the throw, the attempts calibrate its speed."""
 
     name = "calibrate"
     robot_weight = 3.0
 
+    def __init__(self, problem: Problem):
+        super().__init__(problem)
+        self.demos = with_labels(problem.demos, _hindsight_labels(problem.demos))
+        data, sample_weight = training_set(self.demos, [1.0] * len(self.demos))
+        first = self.generate(data, sample_weight, problem.target, {})
+        #: Release speed of the DMM's throw from the demonstrations alone (rad/s): where the
+        #: calibration's prior says the basket is.
+        self.reference = release_speed(problem.angles, first.velocity)
+
     def propose(self, history: Sequence[Attempt]) -> Proposal:
         problem = self.problem
-        posterior = CalibrationPosterior(problem.target, problem.tolerance)
-        for attempt in history:
-            if problem.feedback == "distance":
-                posterior.observe_landing(attempt.query, attempt.landing)
-            elif not attempt.hit:
-                posterior.observe_miss(attempt.query)
-        query, p_hit = posterior.best_label()
-        labels = _hindsight_labels(problem.demos)
-        trajectories = with_labels(problem.demos, labels)
+        trajectories = list(self.demos)
         weights = [1.0] * len(trajectories)
-        if problem.feedback == "distance":
-            for attempt in history:
-                trajectories.append(attempt_trajectory(attempt, posterior.inverse(attempt.landing)))
-                weights.append(self.robot_weight)
+        if problem.feedback == "distance":  # hindsight: each throw shows where its kind lands
+            trajectories += [attempt_trajectory(a, a.landing) for a in history if a.landing > 0]
+            weights += [self.robot_weight] * (len(trajectories) - len(weights))
         data, sample_weight = training_set(trajectories, weights)
-        return self.generate(data, sample_weight, query, {"p_hit": round(p_hit, 4)})
+        shape = self.generate(data, sample_weight, problem.target, {})
+        speed = release_speed(problem.angles, shape.velocity)
+        calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference,
+                                       problem.max_speed)
+        for attempt in history:
+            executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
+                                                               attempt.velocity))
+            if problem.feedback == "distance":
+                calibration.observe_landing(executed, attempt.landing)
+            elif not attempt.hit:
+                calibration.observe_miss(executed)
+        wanted, p_hit = calibration.best_speed()
+        return Proposal(shape.angle, shape.velocity * (wanted / speed), query=problem.target,
+                        exploration=shape.exploration,
+                        info={"speed": round(wanted, 4), "p_hit": round(p_hit, 4)})
+
+
+def release_speed(angles: np.ndarray, velocity: np.ndarray) -> float:
+    """Mean speed (rad/s) over the last tenth of the path: what decides where the ball goes."""
+    tail = max(2, angles.size // 10)
+    return float(np.mean(np.abs(velocity[-tail:])))
 
 
 def _hindsight_labels(demos: Dataset) -> np.ndarray:
