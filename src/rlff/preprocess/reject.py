@@ -123,8 +123,9 @@ def reject_contexts(
         common angle band) should change with ``column``. A context breaks the trend when it is
         out of order with a neighbouring context and deviates from the value interpolated
         between its two neighbours by more than ``tolerance`` (a fraction of that value). The
-        worst offender is rejected first, then the trend is checked again, so the neighbours of
-        a bad context are not blamed for it. "none" skips the check.
+        worst offender (the largest gap to that value) is rejected first, then the trend is
+        checked again, so the neighbours of a bad context are not blamed for it. "none" skips
+        the check.
     tolerance : float
         Relative deviation allowed (0.05: 5 %).
     max_spread_ratio : float
@@ -219,7 +220,9 @@ def _off_trend(
     active = sorted(members, key=lambda c: c[axis])
     rejected = {}
     while len(active) >= 3:
-        worst, worst_deviation, worst_reason = None, 0.0, ""
+        # the worst offender is the one farthest from its neighbours in absolute terms: beside a
+        # dip, a good neighbour looks off too, but by about half as much
+        worst, worst_gap, worst_reason = None, 0.0, ""
         for i, context in enumerate(active):
             level = levels[context]
             before = active[i - 1] if i > 0 else None
@@ -231,8 +234,8 @@ def _off_trend(
             expected = _expected(context, before, after, levels, axis)
             deviation = (level - expected) / max(abs(expected), 1e-12)
             if sign * deviation < -tolerance and too_low or sign * deviation > tolerance and too_high:
-                if abs(deviation) > abs(worst_deviation):
-                    worst, worst_deviation = context, deviation
+                if abs(level - expected) > worst_gap:
+                    worst, worst_gap = context, abs(level - expected)
                     worst_reason = (
                         f"breaks the {'increasing' if sign > 0 else 'decreasing'} trend of "
                         f"{velocity_column} with {column}: level {level:.3g}, "

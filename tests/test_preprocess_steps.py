@@ -1,0 +1,260 @@
+"""Each cleaning step on small hand-made trajectories, with exact expected outputs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rlff.dataset import Dataset, Trajectory
+from rlff.errors import InputError
+from rlff.preprocess import (
+    balance,
+    crop,
+    cut_release,
+    densify,
+    find_spikes,
+    longest_monotonic,
+    min_points,
+    monotonic_run,
+    reject_contexts,
+    reject_shapes,
+    rescale,
+    spike_filter,
+    stop_point,
+)
+
+
+def _throw(name, angle, velocity=None, distance=2.0, time=None, **extra) -> Trajectory:
+    angle = np.asarray(angle, dtype=float)
+    data = {"angle": angle, "distance": np.full(angle.size, distance),
+            "velocity": np.asarray(velocity if velocity is not None else np.ones(angle.size), dtype=float)}
+    if time is not None:
+        data["time"] = np.asarray(time, dtype=float)
+    data.update({k: np.asarray(v, dtype=float) for k, v in extra.items()})
+    return Trajectory(name, data)
+
+
+def _one(trajectory: Trajectory) -> Dataset:
+    return Dataset([trajectory])
+
+
+# -- 1. spike filter ---------------------------------------------------------------------------
+
+
+def test_spike_filter_drops_a_one_sample_glitch_and_recomputes_velocity():
+    time = [0.0, 0.1, 0.2, 0.3, 0.4]
+    data = _one(_throw("a", [1.0, 1.1, 0.05, 1.3, 1.4], velocity=[9, 9, 9, 9, 9], time=time))
+    out, report = spike_filter(data, threshold=2.0)
+    np.testing.assert_array_equal(out["a"]["angle"], [1.0, 1.1, 1.3, 1.4])
+    np.testing.assert_array_equal(out["a"]["time"], [0.0, 0.1, 0.3, 0.4])
+    # numpy.gradient on the kept samples: one-sided at the ends, second order inside
+    np.testing.assert_allclose(out["a"]["velocity"], [1.0, 1.0, 1.0, 1.0], atol=1e-12)
+    (change,) = report.samples
+    assert (change.trajectory, change.removed, change.added) == ("a", 1, 0)
+    assert "glitch sample 2" in change.reason
+
+
+def test_spike_filter_drops_a_two_sample_glitch_and_an_end_glitch():
+    assert find_spikes(np.array([1.0, 1.1, 0.05, 0.1, 1.4, 1.5]), None, 0.5).tolist() == [2, 3]
+    assert find_spikes(np.array([1.0, 1.1, 1.2, 1.3, 0.0]), None, 0.5).tolist() == [4]
+    assert find_spikes(np.array([0.0, 1.1, 1.2, 1.3, 1.4]), None, 0.5).tolist() == [0]
+
+
+def test_spike_filter_keeps_fast_motion_and_an_abrupt_stop():
+    # full-speed extension, then a stop with a small recoil: no out-and-back, nothing removed
+    angle = np.array([0.7, 0.72, 1.5, 2.5, 3.0, 2.95, 2.95])
+    assert find_spikes(angle, np.arange(7) / 30.0, 2.0).size == 0
+    # a deep glitch in the middle of a fast extension still goes, its good neighbour stays
+    assert find_spikes(np.array([0.6, 0.84, 1.97, 0.05, 2.98, 3.1]), np.arange(6) / 20, 8.0).tolist() == [3]
+
+
+def test_spike_filter_auto_threshold_is_k_robust_deviations():
+    # steps 1, 2, 3 (per sample, no time column): changes of speed 1, 1 -> median 1
+    data = _one(_throw("a", [0.0, 1.0, 3.0, 6.0]))
+    out, report = spike_filter(data, k=3.0)
+    assert report.params["threshold"] == pytest.approx(3.0 * 1.4826)
+    assert out.equals(data)
+    assert report.summary() == "no change"
+
+
+# -- 2-5. segmentation -------------------------------------------------------------------------
+
+
+def test_crop_between_global_minimum_and_maximum():
+    data = Dataset([_throw("up", [1.5, 1.0, 0.7, 1.2, 2.8, 3.0, 2.9]), _throw("down", [3.0, 2.0, 1.0, 2.0])])
+    out, report = crop(data)
+    np.testing.assert_array_equal(out["up"]["angle"], [0.7, 1.2, 2.8, 3.0])
+    np.testing.assert_array_equal(out["down"]["angle"], [3.0, 2.0, 1.0])
+    assert [(c.trajectory, c.removed) for c in report.samples] == [("up", 3), ("down", 1)]
+
+
+def test_longest_monotonic_run():
+    angle = np.array([0.7, 0.8, 0.75, 1.0, 1.5, 2.0, 1.9])
+    assert monotonic_run(angle) == (2, 5)
+    assert monotonic_run(angle, "decreasing") == (1, 2)
+    assert monotonic_run(np.array([1.0, 2.0, 2.0, 3.0, 4.0])) == (2, 4)  # equal values end a run
+    assert monotonic_run(np.array([5.0])) == (0, 0)
+    assert monotonic_run(np.array([3.0, 2.0, 1.0]), "increasing") == (0, 0)
+    out, report = longest_monotonic(_one(_throw("a", angle)), direction="increasing")
+    np.testing.assert_array_equal(out["a"]["angle"], [0.75, 1.0, 1.5, 2.0])
+    assert report.samples[0].removed == 3
+
+
+def test_min_points_removes_short_trajectories_with_the_reason():
+    data = Dataset([_throw("short", [1.0, 2.0, 3.0]), _throw("long", [1.0, 2.0, 3.0, 4.0, 5.0])])
+    out, report = min_points(data, min_points=4)
+    assert out.ids == ("long",)
+    assert [(r.trajectory, r.reason) for r in report.removed] == [("short", "3 samples, fewer than 4")]
+    with pytest.raises(InputError, match="min_points 0"):
+        min_points(data, min_points=0)
+
+
+def test_balance_keeps_at_most_m_per_context_deterministically():
+    data = Dataset([_throw(f"t{i}", [1.0, 2.0], distance=d) for i, d in enumerate([1, 1, 2, 1, 1, 2, 3])])
+    out, report = balance(data, max_per_context=2)
+    assert out.ids == ("t0", "t1", "t2", "t5", "t6")
+    assert {r.trajectory for r in report.removed} == {"t3", "t4"}
+    assert "context distance=1 has 4 trajectories, keeping 2" in report.removed[0].reason
+    first, _ = balance(data, max_per_context=2, order="random", seed=3)
+    again, _ = balance(data, max_per_context=2, order="random", seed=3)
+    assert first.ids == again.ids
+    assert list(first.ids) == sorted(first.ids, key=data.ids.index)  # dataset order kept
+
+
+# -- 6-9. reshaping ----------------------------------------------------------------------------
+
+
+def test_stop_point_is_ten_percent_beyond_at_rest():
+    data = _one(_throw("a", [1.0, 2.0], velocity=[1.0, 4.0], time=[0.0, 0.5]))
+    out, report = stop_point(data)
+    np.testing.assert_allclose(out["a"]["angle"], [1.0, 2.0, 2.2])
+    np.testing.assert_array_equal(out["a"]["velocity"], [1.0, 4.0, 0.0])
+    np.testing.assert_array_equal(out["a"]["distance"], [2.0, 2.0, 2.0])
+    # uniform deceleration from 4 rad/s over 0.2 rad: 0.1 s
+    np.testing.assert_allclose(out["a"]["time"], [0.0, 0.5, 0.6])
+    assert report.samples[0].added == 1
+
+
+@pytest.mark.parametrize(
+    ("mode", "expected_first", "expected_second"),
+    [("scale", [1.25, 2.5], [1.25, 2.5]), ("stretch", [1.0, 2.5], [1.5, 2.5])],
+)
+def test_rescale_to_the_mean_final_angle(mode, expected_first, expected_second):
+    data = Dataset([_throw("a", [1.0, 2.0], velocity=[2.0, 2.0]), _throw("b", [1.5, 3.0], velocity=[3.0, 3.0])])
+    out, report = rescale(data, mode=mode)
+    np.testing.assert_allclose(out["a"]["angle"], expected_first)
+    np.testing.assert_allclose(out["b"]["angle"], expected_second)
+    np.testing.assert_array_equal(out["a"]["velocity"], [2.0, 2.0])  # positions only, as the thesis
+    assert report.params["end"] == 2.5
+    scaled, _ = rescale(data, mode="scale", scale_velocity=True)
+    np.testing.assert_allclose(scaled["b"]["velocity"], [2.5, 2.5])
+
+
+def test_densify_resamples_a_line_exactly_in_the_direction_of_motion():
+    up = _throw("up", [0.0, 0.1, 0.2, 0.3], velocity=[1.0, 1.2, 1.4, 1.6], time=[0.0, 0.1, 0.2, 0.3])
+    down = _throw("down", [0.3, 0.2, 0.1, 0.02], velocity=[-1.0, -1.2, -1.4, -1.56], time=[0, 1, 2, 2.8])
+    out, report = densify(Dataset([up, down]), step=0.05)
+    np.testing.assert_allclose(out["up"]["angle"], [0.0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3], atol=1e-12)
+    np.testing.assert_allclose(out["up"]["velocity"], 1.0 + 2.0 * out["up"]["angle"], atol=1e-12)
+    np.testing.assert_allclose(out["up"]["time"], out["up"]["angle"], atol=1e-12)
+    np.testing.assert_allclose(out["down"]["angle"], [0.3, 0.25, 0.2, 0.15, 0.1, 0.05, 0.02], atol=1e-12)
+    np.testing.assert_allclose(out["down"]["velocity"], -1.6 + 2.0 * out["down"]["angle"], atol=1e-12)
+    assert [(c.removed, c.added) for c in report.samples] == [(4, 7), (4, 7)]
+
+
+def test_densify_anchors_limit_the_spline_overshoot():
+    step = _one(_throw("a", [0.0, 1.0, 2.0, 3.0, 4.0], velocity=[0.0, 0.0, 1.0, 1.0, 1.0]))
+    anchored, _ = densify(step, step=0.01)
+    free, _ = densify(step, step=0.01, anchors=[])
+    overshoot = lambda d: max(d["a"]["velocity"].max() - 1.0, -d["a"]["velocity"].min())  # noqa: E731
+    assert overshoot(anchored) < 0.5 * overshoot(free)
+
+
+def test_densify_removes_a_trajectory_that_turns_back():
+    data = Dataset([_throw("ok", [0.0, 0.1, 0.2]), _throw("back", [0.0, 0.2, 0.1])])
+    out, report = densify(data, step=0.1)
+    assert out.ids == ("ok",)
+    assert report.removed[0].trajectory == "back"
+    assert "not strictly monotonic" in report.removed[0].reason
+
+
+def test_cut_release_at_a_fixed_angle_or_at_the_velocity_peak():
+    data = Dataset([_throw("a", [0.5, 0.8, 0.9, 1.0, 1.2], velocity=[1, 3, 5, 4, 2]),
+                    _throw("late", [1.0, 1.1], velocity=[1, 2])])
+    out, report = cut_release(data, mode="angle", angle=0.9)
+    np.testing.assert_array_equal(out["a"]["angle"], [0.5, 0.8, 0.9])
+    assert out["a"].meta["cut_angle"] == 0.9
+    assert [r.trajectory for r in report.removed] == ["late"]
+    out, _ = cut_release(data, mode="estimated")
+    np.testing.assert_array_equal(out["a"]["velocity"], [1, 3, 5])
+    np.testing.assert_array_equal(out["late"]["angle"], [1.0, 1.1])
+    out, _ = cut_release(data, mode="estimated", after_peak=0.2)
+    np.testing.assert_array_equal(out["a"]["velocity"], [1, 3, 5, 4])
+
+
+# -- 10-11. rejection --------------------------------------------------------------------------
+
+
+def _curves(levels: dict[float, list[float]]) -> Dataset:
+    angle = np.linspace(0.7, 2.0, 8)
+    return Dataset([
+        _throw(f"d{d:g}-{i}", angle, velocity=np.full(8, level), distance=d)
+        for d, group in levels.items() for i, level in enumerate(group)
+    ])
+
+
+def test_reject_contexts_finds_the_one_that_breaks_the_trend():
+    data = _curves({1.0: [1.0], 2.0: [2.0], 3.0: [1.5], 4.0: [4.0], 5.0: [5.0]})
+    out, report = reject_contexts(data, max_spread_ratio=0)
+    assert out.contexts == ((1.0,), (2.0,), (4.0,), (5.0,))
+    (rejection,) = report.contexts
+    assert rejection.context == {"distance": 3.0}
+    assert rejection.trajectories == ("d3-0",)
+    assert rejection.reason == (
+        "breaks the increasing trend of velocity with distance: level 1.5, 50 % below the 3 its "
+        "neighbours 2 and 4 suggest"
+    )
+    assert [r.trajectory for r in report.removed] == ["d3-0"]
+
+
+def test_reject_contexts_finds_the_one_that_stands_apart():
+    data = _curves({1.0: [0.9, 1.0, 1.1], 2.0: [1.9, 2.0, 2.1], 3.0: [2.9, 3.0, 3.1],
+                    4.0: [3.9, 4.0, 4.1], 5.0: [3.0, 5.0, 7.0]})
+    out, report = reject_contexts(data)
+    assert out.contexts == ((1.0,), (2.0,), (3.0,), (4.0,))
+    assert "scatter 8.0 times more" in report.contexts[0].reason
+
+
+def test_reject_contexts_along_one_of_two_context_columns():
+    angle = np.linspace(0.7, 2.0, 5)
+    trajectories = [
+        _throw(f"h{h:g}-d{d:g}", angle, velocity=np.full(5, level), distance=d, height=np.full(5, h))
+        for h, levels in ((0.3, [1.0, 2.0, 1.5, 4.0]), (0.5, [1.0, 2.0, 3.0, 4.0]))
+        for d, level in zip([1.0, 2.0, 3.0, 4.0], levels, strict=True)
+    ]
+    data = Dataset(trajectories, context=("distance", "height"))
+    out, report = reject_contexts(data, max_spread_ratio=0)
+    assert [r.context for r in report.contexts] == [{"distance": 3.0, "height": 0.3}]
+    assert len(out) == 7
+    with pytest.raises(InputError, match="'speed' is not a context column"):
+        reject_contexts(data, column="speed")
+
+
+def test_reject_contexts_needs_enough_contexts():
+    data = _curves({1.0: [2.0], 2.0: [1.0]})
+    out, report = reject_contexts(data)
+    assert out.equals(data)
+    assert "fewer than 3" in report.notes[0]
+
+
+def test_reject_shapes_removes_the_odd_one_of_a_context():
+    angle = np.linspace(0.7, 2.0, 20)
+    bell = np.sin(np.linspace(0, np.pi, 20))
+    trajectories = [_throw(f"b{i}", angle, velocity=(1 + 0.02 * i) * bell + 0.01 * i, distance=2.0) for i in range(4)]
+    trajectories.append(_throw("ramp", angle, velocity=np.linspace(0.0, 1.3, 20), distance=2.0))
+    trajectories += [_throw(f"pair{i}", angle, velocity=bell, distance=3.0) for i in range(2)]
+    out, report = reject_shapes(Dataset(trajectories))
+    assert [r.trajectory for r in report.removed] == ["ramp"]
+    assert "shape differs from its context's common shape" in report.removed[0].reason
+    assert "1 context(s) with fewer than 3 trajectories not compared" in report.notes
+    assert len(out) == 6
