@@ -1,0 +1,421 @@
+"""The Donut Mixture Model (thesis eq. 2.7-2.11, after Grollman & Billard 2011) and its global mode.
+
+A donut is the difference of two Gaussians with one mean,
+
+    D(y | m, S, r_a, r_b, gamma) = gamma N(y | m, S / r_a^2) - (gamma - 1) N(y | m, S / r_b^2),
+
+and the DMM swaps every component of the GMR conditional p(y | x) for a donut,
+P_DMM(y | x) = sum_k h_k(x) D(y | m_k(x), S_k, eps(x)). The exploration factor eps in [0, 1] sets
+how deep the hole at the mean is: eps = 0 gives back the Gaussian, eps = 1 puts zero density at
+the mean. By default eps(x) = 1 - 1 / (1 + ||V(x)|| / sigma^2) with V the GMR total covariance
+and sigma the *exploration scale* in output units (sigma = 1 reproduces the thesis).
+
+The radii come from eps through :func:`donut_radii` (one small function, to swap for another
+parametrisation): with d output dimensions, rho = r_b / r_a = 1 + eps ((gamma / (gamma - 1))^(1/d) - 1)
+and the donut keeps the covariance S of its Gaussian, gamma / r_a^2 - (gamma - 1) / r_b^2 = 1.
+Then every donut is non-negative and integrates to 1, and at eps = 1 its density at the mean is 0.
+
+The output for an input is the *global* maximiser of P_DMM (thesis section 2.4). Instead of one
+BFGS run per input from the GMR mean (which stops at the hole of a donut), :func:`dmm_mode` starts
+from every component's mean and from its ring of highest density along each principal axis, plus
+the GMR mean, and runs safeguarded Newton steps on all starts of all inputs at once.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from rlff.errors import InputError
+from rlff.regression import Conditional
+
+#: Donut weight gamma of the thesis.
+GAMMA = 2.0
+#: Relative pdf tolerance within which two modes count as equally high (continuity option).
+CONTINUITY_TOLERANCE = 0.05
+_MAX_NEWTON = 60
+
+
+# -- exploration and radii -------------------------------------------------------------------
+
+
+def exploration_factor(covariance: np.ndarray, scale: float = 1.0) -> np.ndarray:
+    """Exploration factor eps = 1 - 1 / (1 + ||V|| / scale^2) for every input (thesis eq. 2.10).
+
+    Parameters
+    ----------
+    covariance : array of shape (N, O, O)
+        GMR total covariance V of the output (output units squared).
+    scale : float
+        Exploration scale sigma in output units: the spread of the demonstrations that counts as
+        large (eps = 1/2 where ||V|| = sigma^2). The thesis uses 1.
+
+    Returns
+    -------
+    ndarray of shape (N,)
+        eps in [0, 1); ||V|| is the spectral norm (the variance itself for one output).
+    """
+    covariance = np.asarray(covariance, dtype=float)
+    if covariance.ndim != 3 or covariance.shape[1] != covariance.shape[2]:
+        raise InputError(f"covariance must have shape (N, O, O), got {covariance.shape}")
+    if not (np.isfinite(scale) and scale > 0):
+        raise InputError(f"exploration scale must be > 0, got {scale!r}")
+    if covariance.shape[1] == 1:
+        norm = covariance[:, 0, 0]
+    else:
+        norm = np.linalg.eigvalsh(covariance)[:, -1]
+    norm = np.maximum(norm, 0.0)
+    return norm / (norm + scale**2)
+
+
+def donut_radii(exploration: np.ndarray, n_dims: int, gamma: float = GAMMA) -> tuple[np.ndarray, np.ndarray]:
+    """Squared precision radii (r_a^2, r_b^2) of the donut for exploration factors in [0, 1].
+
+    rho = r_b / r_a = 1 + eps ((gamma / (gamma - 1))^(1/d) - 1) and gamma / r_a^2 - (gamma - 1) /
+    r_b^2 = 1 (the donut keeps the covariance of its Gaussian), so r_a^2 = gamma - (gamma - 1) /
+    rho^2. eps = 0 gives r_a = r_b = 1 (the Gaussian); eps = 1 gives rho^d = gamma / (gamma - 1),
+    where the two terms cancel at the mean. Returns two arrays shaped like ``exploration``.
+    """
+    eps = np.asarray(exploration, dtype=float)
+    rho = 1.0 + eps * ((gamma / (gamma - 1.0)) ** (1.0 / n_dims) - 1.0)
+    r_a2 = gamma - (gamma - 1.0) / rho**2
+    return r_a2, r_a2 * rho**2
+
+
+def _check_exploration(exploration: Any, n: int) -> np.ndarray:
+    eps = np.broadcast_to(np.asarray(exploration, dtype=float), (n,)).copy() if np.ndim(exploration) == 0 else np.asarray(exploration, dtype=float)
+    if eps.shape != (n,):
+        raise InputError(f"exploration must be a number or have shape ({n},), got {eps.shape}")
+    if not np.all(np.isfinite(eps)) or np.any(eps < 0) or np.any(eps > 1):
+        bad = eps[~(np.isfinite(eps) & (eps >= 0) & (eps <= 1))][0]
+        raise InputError(f"exploration factor must be in [0, 1], got {bad}")
+    return eps
+
+
+def _check_gamma(gamma: float) -> None:
+    if not (np.isfinite(gamma) and gamma > 1):
+        raise InputError(f"gamma must be > 1, got {gamma!r}")
+
+
+# -- densities -------------------------------------------------------------------------------
+
+
+def donut_pdf(
+    y: np.ndarray, mean: np.ndarray, covariance: np.ndarray, exploration: float | np.ndarray, gamma: float = GAMMA
+) -> np.ndarray:
+    """Density of one donut (thesis eq. 2.8), broadcast over leading axes.
+
+    Parameters
+    ----------
+    y : array of shape (..., O)
+        Points, output units.
+    mean : array of shape (..., O)
+        Donut centre m.
+    covariance : array of shape (..., O, O)
+        Covariance S of the underlying Gaussian (the donut's own covariance).
+    exploration : float or array of shape (...)
+        eps in [0, 1].
+    gamma : float
+        Donut weight (> 1).
+
+    Returns
+    -------
+    ndarray of shape (...)
+    """
+    _check_gamma(gamma)
+    y = np.asarray(y, dtype=float)
+    mean = np.asarray(mean, dtype=float)
+    covariance = np.asarray(covariance, dtype=float)
+    d = y.shape[-1]
+    chol = np.linalg.cholesky(covariance)
+    diff = np.broadcast_to(y - mean, np.broadcast_shapes(y.shape, mean.shape, covariance.shape[:-1]))
+    whitened = np.linalg.solve(np.broadcast_to(chol, diff.shape + (d,)), diff[..., None])[..., 0]
+    q = (whitened**2).sum(axis=-1)
+    log_norm = -0.5 * d * math.log(2 * math.pi) - np.log(np.diagonal(chol, axis1=-2, axis2=-1)).sum(axis=-1)
+    r_a2, r_b2 = donut_radii(np.asarray(exploration, dtype=float), d, gamma)
+    return np.exp(log_norm) * (
+        gamma * r_a2 ** (d / 2) * np.exp(-0.5 * r_a2 * q) - (gamma - 1.0) * r_b2 ** (d / 2) * np.exp(-0.5 * r_b2 * q)
+    )
+
+
+class _Donuts:
+    """The DMM of a batch of conditionals, ready to evaluate with derivatives."""
+
+    def __init__(self, conditional: Conditional, exploration: np.ndarray, gamma: float):
+        _check_gamma(gamma)
+        self.h = np.asarray(conditional.weights, dtype=float)  # (N, K)
+        self.m = np.asarray(conditional.means, dtype=float)  # (N, K, O)
+        cov = np.asarray(conditional.covariances, dtype=float)  # (K, O, O)
+        self.n, self.k, self.o = self.m.shape
+        self.gamma = gamma
+        try:
+            chol = np.linalg.cholesky(cov)
+        except np.linalg.LinAlgError:
+            raise InputError("a conditional covariance is not positive definite") from None
+        identity = np.broadcast_to(np.eye(self.o), chol.shape)
+        chol_inv = np.linalg.solve(chol, identity)
+        self.precision = np.swapaxes(chol_inv, 1, 2) @ chol_inv  # (K, O, O)
+        log_det = 2.0 * np.log(np.diagonal(chol, axis1=1, axis2=2)).sum(axis=1)
+        self.eigenvalues, self.eigenvectors = np.linalg.eigh(cov)  # (K, O), (K, O, O)
+        self.eps = exploration
+        self.r_a2, self.r_b2 = donut_radii(exploration, self.o, gamma)  # (N,)
+        # Per (n, k) factors of the two Gaussian terms: h_k (2 pi)^-d/2 |S_k|^-1/2 r^d (gamma or gamma-1).
+        base = self.h * np.exp(-0.5 * (self.o * math.log(2 * math.pi) + log_det))
+        self.w_a = base * (gamma * self.r_a2 ** (self.o / 2))[:, None]  # (N, K)
+        self.w_b = base * ((gamma - 1.0) * self.r_b2 ** (self.o / 2))[:, None]
+
+    def ring_radius2(self) -> np.ndarray:
+        """Squared Mahalanobis radius (N,) where one donut is highest (0: peak at the mean).
+
+        Setting the derivative of gamma r_a^d e^(-r_a^2 q/2) - (gamma-1) r_b^d e^(-r_b^2 q/2) in q
+        to zero gives q* = 2 ln((gamma-1) r_b^(d+2) / (gamma r_a^(d+2))) / (r_b^2 - r_a^2).
+        """
+        gap = self.r_b2 - self.r_a2
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.log((self.gamma - 1.0) / self.gamma) + 0.5 * (self.o + 2) * np.log(self.r_b2 / self.r_a2)
+            q = np.where(gap > 1e-12, 2.0 * ratio / np.where(gap > 1e-12, gap, 1.0), 0.0)
+        return np.maximum(q, 0.0)
+
+    def evaluate(self, y: np.ndarray, derivatives: bool = True) -> tuple[np.ndarray, ...]:
+        """P_DMM (N, S) at points y (N, S, O); with derivatives also the gradient (N, S, O) and
+        Hessian (N, S, O, O) in y."""
+        diff = y[:, :, None, :] - self.m[:, None, :, :]  # (N, S, K, O)
+        if self.o == 1:
+            u = diff * self.precision[:, 0, 0][:, None]
+            q = (diff * u)[..., 0]
+        else:
+            u = np.einsum("nsko,kop->nskp", diff, self.precision)
+            q = (diff * u).sum(axis=-1)
+        a = np.exp(q * (-0.5 * self.r_a2)[:, None, None])
+        a *= self.w_a[:, None, :]
+        b = np.exp(q * (-0.5 * self.r_b2)[:, None, None])
+        b *= self.w_b[:, None, :]
+        pdf = (a - b).sum(axis=2)
+        if not derivatives:
+            return (pdf,)
+        r_a2 = self.r_a2[:, None, None]
+        r_b2 = self.r_b2[:, None, None]
+        c1 = a * r_a2 - b * r_b2  # (N, S, K)
+        c2 = a * r_a2**2 - b * r_b2**2
+        if self.o == 1:
+            grad = -(c1 * u[..., 0]).sum(axis=2)[..., None]
+            hess = ((c2 * u[..., 0] ** 2).sum(axis=2) - c1 @ self.precision[:, 0, 0])[..., None, None]
+        else:
+            grad = -np.einsum("nsk,nsko->nso", c1, u)
+            hess = np.einsum("nsk,nsko,nskp->nsop", c2, u, u) - np.einsum("nsk,kop->nsop", c1, self.precision)
+        return pdf, grad, hess
+
+    def starts(self, gmr_mean: np.ndarray) -> np.ndarray:
+        """Starting points (N, S, O): each component's mean, the two points of its ring on each
+        principal axis, and the GMR mean."""
+        radius = np.sqrt(self.ring_radius2())  # (N,)
+        # Offsets along the principal axes of each S_k: (K, O axes, O coords), scaled by sqrt(lambda).
+        axes = np.swapaxes(self.eigenvectors, 1, 2) * np.sqrt(self.eigenvalues)[:, :, None]
+        offsets = radius[:, None, None, None] * axes[None]  # (N, K, O, O)
+        ring = np.concatenate([self.m[:, :, None, :] + offsets, self.m[:, :, None, :] - offsets], axis=2)
+        points = np.concatenate([self.m[:, :, None, :], ring], axis=2)  # (N, K, 1 + 2 O, O)
+        return np.concatenate([points.reshape(self.n, -1, self.o), gmr_mean[:, None, :]], axis=1)
+
+
+def dmm_pdf(
+    conditional: Conditional, y: np.ndarray, exploration: float | np.ndarray, gamma: float = GAMMA
+) -> np.ndarray:
+    """P_DMM(y | x) for every input of a conditional (thesis eq. 2.9).
+
+    Parameters
+    ----------
+    conditional : Conditional
+        GMR of N inputs (see :func:`rlff.regression.condition`).
+    y : array of shape (N, O) or (N, M, O)
+        One or M output points per input.
+    exploration : float or array of shape (N,)
+        eps in [0, 1] per input.
+    gamma : float
+        Donut weight (> 1).
+
+    Returns
+    -------
+    ndarray of shape (N,) or (N, M)
+    """
+    n, _, o = np.shape(conditional.means)
+    y = np.asarray(y, dtype=float)
+    single = y.ndim == 2
+    points = y[:, None, :] if single else y
+    if points.ndim != 3 or points.shape[0] != n or points.shape[2] != o:
+        raise InputError(f"y must have shape ({n}, {o}) or ({n}, M, {o}), got {y.shape}")
+    donuts = _Donuts(conditional, _check_exploration(exploration, n), gamma)
+    (pdf,) = donuts.evaluate(points, derivatives=False)
+    return pdf[:, 0] if single else pdf
+
+
+# -- the global mode --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class DonutMode:
+    """The DMM output for a batch of N inputs.
+
+    Attributes
+    ----------
+    output : ndarray of shape (N, O)
+        The chosen output (the global maximiser of P_DMM, unless continuity traded it).
+    pdf : ndarray of shape (N,)
+        P_DMM at ``output``.
+    exploration : ndarray of shape (N,)
+        The exploration factor used.
+    max_pdf : ndarray of shape (N,)
+        The global maximum of P_DMM (equal to ``pdf`` without continuity).
+    density_traded : ndarray of shape (N,)
+        1 - pdf / max_pdf: the share of density given up for continuity (0 without it).
+    """
+
+    output: np.ndarray
+    pdf: np.ndarray
+    exploration: np.ndarray
+    max_pdf: np.ndarray
+    density_traded: np.ndarray
+
+
+def dmm_mode(
+    conditional: Conditional,
+    exploration: str | float | np.ndarray = "auto",
+    scale: float = 1.0,
+    continuity: bool | float = False,
+    *,
+    gamma: float = GAMMA,
+    tol: float = 1e-10,
+) -> DonutMode:
+    """The output of highest P_DMM density for every input, found for all inputs at once.
+
+    Parameters
+    ----------
+    conditional : Conditional
+        GMR of N inputs.
+    exploration : "auto", float or array of shape (N,)
+        ``"auto"``: eps from the GMR total covariance (:func:`exploration_factor` with ``scale``);
+        a number or array: a fixed eps in [0, 1] (0 gives the GMR density).
+    scale : float
+        Exploration scale sigma in output units (only with ``"auto"``).
+    continuity : bool or float
+        When the inputs are consecutive points of a path, choose among the modes whose density is
+        within a relative tolerance of the highest (``True``: 5 %, or the float given) the chain
+        that keeps the output continuous (least sum of squared jumps, by dynamic programming).
+        What it costs is reported in ``density_traded``.
+    gamma : float
+        Donut weight (> 1).
+    tol : float
+        Newton stops when a step is below ``tol`` times the largest component standard deviation.
+
+    Returns
+    -------
+    DonutMode
+
+    Notes
+    -----
+    Starts: every component's mean, its ring of highest donut density on each principal axis (both
+    sides), and the GMR mean. Each start climbs by Newton steps on P_DMM inside a trust radius
+    (a gradient step where the Hessian is not negative definite); a step that does not raise the
+    density is refused and the radius shrinks, so every start only climbs. The highest end point
+    wins; ties within a relative 1e-9 go to the larger first output coordinate.
+    """
+    n = len(conditional)
+    if isinstance(exploration, str):
+        if exploration != "auto":
+            raise InputError(f"exploration must be 'auto' or a number in [0, 1], got {exploration!r}")
+        eps = exploration_factor(conditional.covariance, scale)
+    else:
+        eps = _check_exploration(exploration, n)
+    donuts = _Donuts(conditional, eps, gamma)
+    y = donuts.starts(np.asarray(conditional.mean, dtype=float))
+    y, pdf = _climb(donuts, y, tol)
+    best = _best(y, pdf)
+    rows = np.arange(n)
+    output, best_pdf = y[rows, best], pdf[rows, best]
+    chosen_pdf = best_pdf
+    if continuity:
+        tolerance = CONTINUITY_TOLERANCE if continuity is True else float(continuity)
+        if not 0 < tolerance < 1:
+            raise InputError(f"continuity tolerance must be in (0, 1), got {tolerance}")
+        spread = np.mean(np.diagonal(conditional.covariance, axis1=1, axis2=2))
+        chain = _continuous_chain(y, pdf, best_pdf, tolerance, max(spread, 1e-300))
+        output, chosen_pdf = y[rows, chain], pdf[rows, chain]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        traded = np.where(best_pdf > 0, 1.0 - chosen_pdf / best_pdf, 0.0)
+    return DonutMode(
+        output=output, pdf=chosen_pdf, exploration=eps, max_pdf=best_pdf, density_traded=np.maximum(traded, 0.0)
+    )
+
+
+def _climb(donuts: _Donuts, y: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Safeguarded Newton ascent of every start (N, S, O); returns end points and their pdf."""
+    sigma = float(np.sqrt(donuts.eigenvalues.max()))
+    radius = np.full(y.shape[:2], sigma)
+    pdf, grad, hess = donuts.evaluate(y)
+    active = np.ones(y.shape[:2], dtype=bool)
+    for _ in range(_MAX_NEWTON):
+        step = _ascent_step(grad, hess, radius)
+        length = np.sqrt((step**2).sum(axis=-1))
+        trial = y + step
+        trial_pdf, trial_grad, trial_hess = donuts.evaluate(trial)
+        better = (trial_pdf > pdf) & active
+        y = np.where(better[..., None], trial, y)
+        pdf = np.where(better, trial_pdf, pdf)
+        grad = np.where(better[..., None], trial_grad, grad)
+        hess = np.where(better[..., None, None], trial_hess, hess)
+        radius = np.where(better, np.maximum(radius, 2.0 * length), 0.25 * length)
+        active &= (length > tol * sigma) & (radius > tol * sigma)
+        if not active.any():
+            break
+    return y, pdf
+
+
+def _ascent_step(grad: np.ndarray, hess: np.ndarray, radius: np.ndarray) -> np.ndarray:
+    """Newton step where the Hessian is negative definite, else a gradient step; length <= radius."""
+    if grad.shape[-1] == 1:
+        g, h = grad[..., 0], hess[..., 0, 0]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = np.where(h < 0, -g / np.where(h < 0, h, -1.0), np.sign(g) * radius)
+        return np.clip(step, -radius, radius)[..., None]
+    eigenvalues = np.linalg.eigvalsh(hess)
+    concave = eigenvalues[..., -1] < 0
+    safe = np.where(concave[..., None, None], hess, -np.eye(grad.shape[-1]))
+    newton = np.linalg.solve(-safe, grad[..., None])[..., 0]
+    norm_g = np.sqrt((grad**2).sum(axis=-1, keepdims=True))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        gradient = np.where(norm_g > 0, grad / norm_g, 0.0) * radius[..., None]
+    step = np.where(concave[..., None], newton, gradient)
+    length = np.sqrt((step**2).sum(axis=-1, keepdims=True))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        shrink = np.where(length > radius[..., None], radius[..., None] / length, 1.0)
+    return step * shrink
+
+
+def _best(y: np.ndarray, pdf: np.ndarray) -> np.ndarray:
+    """Index (N,) of the highest start; ties within 1e-9 go to the larger first coordinate."""
+    top = pdf.max(axis=1, keepdims=True)
+    tied = pdf >= top * (1.0 - 1e-9)
+    return np.where(tied, y[..., 0], -np.inf).argmax(axis=1)
+
+
+def _continuous_chain(
+    y: np.ndarray, pdf: np.ndarray, best_pdf: np.ndarray, tolerance: float, spread: float
+) -> np.ndarray:
+    """Index (N,) of the mode chosen for each consecutive input: among the modes within
+    ``tolerance`` of the highest density, the chain with the least sum of squared jumps
+    (in units of the mean GMR variance ``spread``), by dynamic programming."""
+    allowed = pdf >= best_pdf[:, None] * (1.0 - tolerance)
+    cost = np.where(allowed[0], 0.0, np.inf)
+    back = np.zeros(pdf.shape, dtype=int)
+    for t in range(1, y.shape[0]):  # along the path: each step depends on the one before
+        jump = ((y[t][:, None, :] - y[t - 1][None, :, :]) ** 2).sum(axis=-1) / spread  # (S_t, S_t-1)
+        total = cost[None, :] + jump
+        back[t] = total.argmin(axis=1)
+        cost = np.where(allowed[t], total[np.arange(total.shape[0]), back[t]], np.inf)
+    chain = np.empty(y.shape[0], dtype=int)
+    chain[-1] = int(np.argmin(cost))
+    for t in range(y.shape[0] - 1, 0, -1):
+        chain[t - 1] = back[t, chain[t]]
+    return chain
