@@ -353,8 +353,15 @@ class Dataset(Sequence[Trajectory]):
         )
 
     def replace(self, trajectories: Iterable[Trajectory]) -> Dataset:
-        """A dataset with the same context columns holding other trajectories."""
-        return Dataset(trajectories, context=self.context)
+        """A dataset with the same context columns holding other trajectories.
+
+        When none are left, the result keeps this dataset's column names, so that the steps after
+        a step that rejected everything still find their columns.
+        """
+        dataset = Dataset(trajectories, context=self.context)
+        if not len(dataset):
+            dataset.columns = self.columns
+        return dataset
 
     def require(self, columns: Iterable[str]) -> None:
         """Raise :class:`InputError` naming the first of ``columns`` the dataset lacks."""

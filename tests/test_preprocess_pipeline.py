@@ -1,0 +1,182 @@
+"""The pipeline: configuration from lists, TOML files and presets, reports, and its invariants."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from rlff.dataset import Dataset, Trajectory
+from rlff.errors import InputError
+from rlff.preprocess import STEPS, Pipeline, preset_names
+
+
+def _dataset() -> Dataset:
+    angle = np.array([1.5, 1.0, 0.7, 1.2, 0.05, 2.0, 2.6, 3.0, 2.9])
+    time = np.arange(angle.size) / 30.0
+    return Dataset([
+        Trajectory(f"t{d:g}-{k}", {"time": time, "angle": angle, "distance": np.full(angle.size, d),
+                                  "velocity": np.gradient(angle, time) * (1 + d)})
+        for d in (1.0, 2.0, 3.0) for k in range(2)
+    ])
+
+
+def test_pipeline_from_a_list_runs_steps_in_order_and_keeps_before_after():
+    pipeline = Pipeline([("spike_filter", {"threshold": 20.0}), ("crop", {}), ("min_points", {"min_points": 4})])
+    data = _dataset()
+    out, report = pipeline.run(data)
+    assert [s.step for s in report.steps] == ["spike_filter", "crop", "min_points"]
+    assert report.steps[0].before is data
+    assert report.steps[1].before is report.steps[0].after
+    assert report.after is out
+    np.testing.assert_array_equal(out["t1-0"]["angle"], [0.7, 1.2, 2.0, 2.6, 3.0])
+    payload = report.to_dict()
+    json.dumps(payload)
+    assert payload["steps"][0]["sample_changes"][0] == {
+        "trajectory": "t1-0", "removed": 1, "added": 0,
+        "reason": "glitch sample 4: angle jumps out and back faster than 20/s",
+    }
+    assert payload["trajectories"] == {"before": 6, "after": 6}
+
+
+def test_progress_is_called_once_per_enabled_step():
+    calls = []
+    pipeline = Pipeline.preset("thesis")
+    pipeline.run(_dataset(), progress=lambda n, description=None: calls.append(description))
+    assert calls == [s.name for s in pipeline.steps if s.enabled]
+
+
+def test_toml_config_with_a_disabled_step(tmp_path):
+    path = tmp_path / "steps.toml"
+    path.write_text(
+        '[[step]]\nname = "crop"\n\n'
+        '[[step]]\nname = "stop_point"\nenabled = false\n\n'
+        '[[step]]\nname = "densify"\nstep = 0.1\nanchors = [0.5]\n'
+    )
+    pipeline = Pipeline.from_toml(path)
+    assert [(s.name, s.enabled) for s in pipeline.steps] == [("crop", True), ("stop_point", False), ("densify", True)]
+    out, report = pipeline.run(_dataset())
+    assert [s.step for s in report.steps] == ["crop", "densify"]
+    assert report.steps[1].params["anchors"] == [0.5]
+    assert report.source == str(path)
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ('[[step]]\nname = "smooth"\n', r"steps.toml, step 1: unknown step 'smooth' \(known: spike_filter, crop"),
+        ('[[step]]\nname = "crop"\n[[step]]\nname = "densify"\nstepsize = 0.1\n',
+         r"steps.toml, step 2: step 'densify': unknown parameter 'stepsize' \(known: column, step, anchors, spline\)"),
+        ('[[step]]\nname = "densify"\nstep = "fine"\n', r"step 'densify': parameter 'step' = 'fine' should be float"),
+        ('[[step]]\nname = "cut_release"\nmode = "guess"\n', r"parameter 'mode' = 'guess' should be 'estimated' or 'angle'"),
+        ('[[step]]\nname = "min_points"\nmin_points = true\n', r"parameter 'min_points' = True should be int"),
+        ('[[step]]\nname = "crop"\nenabled = "no"\n', r"step 1 'crop': 'enabled' must be true or false"),
+        ('[[step]]\ncolumn = "angle"\n', r"step 1: no 'name'"),
+        ('steps = 3\n', r"unknown key 'steps'"),
+        ('[[step]\nname = "crop"\n', r"malformed TOML"),
+    ],
+)
+def test_bad_toml_names_the_file_and_the_step(tmp_path, text, message):
+    path = tmp_path / "steps.toml"
+    path.write_text(text)
+    with pytest.raises(InputError, match=message) as error:
+        Pipeline.from_toml(path)
+    assert str(path) in str(error.value)
+
+
+def test_bad_list_and_preset_names():
+    with pytest.raises(InputError, match="step 1: unknown step 'nope'"):
+        Pipeline([("nope", {})])
+    with pytest.raises(InputError, match=r"unknown preset 'paper' \(available: thesis\)"):
+        Pipeline.preset("paper")
+    assert "thesis" in preset_names()
+
+
+def test_thesis_preset_has_every_step_in_the_thesis_order():
+    pipeline = Pipeline.preset("thesis")
+    names = [s.name for s in pipeline.steps]
+    assert set(names) == set(STEPS)
+    assert names[:5] == ["spike_filter", "crop", "longest_monotonic", "min_points", "balance"]
+    assert not next(s for s in pipeline.steps if s.name == "stop_point").enabled
+    assert dict(next(s for s in pipeline.steps if s.name == "cut_release").params)["mode"] == "estimated"
+
+
+# -- invariants (hypothesis) -------------------------------------------------------------------
+
+
+@st.composite
+def recordings(draw) -> Dataset:
+    """Throw-like recordings: a wind-up and an extension with noise and occasional glitches."""
+    seed = draw(st.integers(0, 2**32 - 1))
+    rng = np.random.default_rng(seed)
+    distances = draw(st.lists(st.sampled_from([1.0, 1.5, 2.0, 2.5, 3.0, 3.5]), min_size=1, max_size=5, unique=True))
+    trajectories = []
+    for d in distances:
+        for k in range(draw(st.integers(1, 4))):
+            n = int(rng.integers(3, 40))
+            time = np.cumsum(rng.uniform(0.02, 0.07, n))
+            phase = np.linspace(-1.0, 1.0, n)
+            angle = 0.7 + 2.2 * np.clip(phase, 0, 1) ** 2 * (1 + 0.1 * d) + 0.5 * np.clip(-phase, 0, 1)
+            angle = angle + rng.normal(0, draw(st.sampled_from([0.0, 0.01, 0.05])), n)
+            if n > 6 and rng.random() < 0.3:
+                angle[int(rng.integers(2, n - 2))] = 0.05
+            trajectories.append(Trajectory(f"d{d:g}-{k}", {
+                "time": time, "angle": angle, "distance": np.full(n, d),
+                "velocity": np.gradient(angle, time)}))
+    return Dataset(trajectories)
+
+
+def _is_subsequence(part: np.ndarray, whole: np.ndarray) -> bool:
+    position = 0
+    for value in part:
+        hits = np.flatnonzero(whole[position:] == value)
+        if not hits.size:
+            return False
+        position += int(hits[0]) + 1
+    return True
+
+
+_SETTINGS = settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+@_SETTINGS
+@given(data=recordings())
+def test_thesis_preset_never_invents_contexts_or_trajectories_and_accounts_for_all(data):
+    out, report = Pipeline.preset("thesis").run(data)
+    assert set(out.contexts) <= set(data.contexts)
+    assert set(out.ids) <= set(data.ids)
+    removed = {r.trajectory for step in report.steps for r in step.removed}
+    assert set(data.ids) == set(out.ids) | removed
+    assert out.columns == data.columns and out.context == data.context
+    for trajectory in out:
+        source = data[trajectory.id]
+        # units kept: the same distance, angles within the recorded range (stretched at most to
+        # the mean final angle), time within the recording, and time still increasing
+        assert trajectory["distance"][0] == source["distance"][0]
+        assert source["angle"].min() - 1e-9 <= trajectory["angle"].min()
+        assert trajectory["angle"].max() <= max(t["angle"].max() for t in data) + 1e-9
+        assert source["time"][0] - 1e-9 <= trajectory["time"][0]
+        assert trajectory["time"][-1] <= source["time"][-1] + 1e-9
+        assert np.all(np.diff(trajectory["time"]) > 0)
+        assert np.all(np.diff(trajectory["angle"]) > 0)  # resampled in the direction of motion
+
+
+_SELECTING = ["spike_filter", "crop", "longest_monotonic", "min_points", "balance", "cut_release",
+              "reject_shapes", "reject_contexts"]
+
+
+@_SETTINGS
+@given(data=recordings(), steps=st.lists(st.sampled_from(_SELECTING), min_size=1, max_size=6))
+def test_selecting_steps_keep_samples_in_their_order_and_values(data, steps):
+    params = {"reject_contexts": {"trend": "increasing"}, "spike_filter": {"recompute_velocity": False}}
+    out, _ = Pipeline([(name, params.get(name, {})) for name in steps]).run(data)
+    assert set(out.contexts) <= set(data.contexts)
+    for trajectory in out:
+        source = data[trajectory.id]
+        assert _is_subsequence(trajectory["time"], source["time"])
+        for name in data.columns:
+            kept = np.searchsorted(source["time"], trajectory["time"])
+            np.testing.assert_array_equal(trajectory[name], source[name][kept])
