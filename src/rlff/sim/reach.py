@@ -97,11 +97,11 @@ def throw_reach(
     return _reach(arm, float(rim_height), float(pedestal), tuple(sorted(set(joints), key=PLANE_JOINTS.index)))
 
 
-def farthest_basket(reach: float, basket: Basket) -> float:
-    """Farthest centre distance (m) of a basket like ``basket`` that a throw reaching ``reach`` m
-    (at the rim's height) still drops into: the ball may come down anywhere in the near half of
-    the opening, clear of the rim by its radius."""
-    return reach + 0.5 * basket.opening - BALL_RADIUS
+def farthest_basket(reach: float, opening: float) -> float:
+    """Farthest centre distance (m) of a basket with an ``opening`` (m) wide that a throw reaching
+    ``reach`` m (at the rim's height) still drops into: the ball may come down anywhere in the
+    near half of the opening, clear of the rim by its radius."""
+    return reach + 0.5 * opening - BALL_RADIUS
 
 
 def require_reachable(
@@ -116,19 +116,19 @@ def require_reachable(
     near half of its opening: ``basket.distance <= farthest_basket(reach, basket)``.
     """
     reach = throw_reach(robot, basket.rim_height, pedestal, joints)
-    if basket.distance <= farthest_basket(reach.distance, basket):
+    if basket.distance <= farthest_basket(reach.distance, basket.opening):
         return reach
     hints = []
     if "joint_3" not in joints:
         more = throw_reach(robot, basket.rim_height, pedestal, (*joints, "joint_3")).distance
-        hints.append(f"with joint_3 too: {farthest_basket(more, basket):.2f} m")
+        hints.append(f"with joint_3 too: {farthest_basket(more, basket.opening):.2f} m")
     higher = throw_reach(robot, basket.rim_height, pedestal + 0.5, joints).distance
-    hints.append(f"on a pedestal 0.5 m higher: {farthest_basket(higher, basket):.2f} m")
+    hints.append(f"on a pedestal 0.5 m higher: {farthest_basket(higher, basket.opening):.2f} m")
     raise InputError(
         f"basket at {basket.distance:.2f} m is out of reach: throwing with {', '.join(joints)} at the "
         f"speed limit, the ball comes down to the {basket.rim_height:.2f} m rim at most "
         f"{reach.distance:.2f} m away, so the farthest basket with a {basket.opening:.2f} m opening is at "
-        f"{farthest_basket(reach.distance, basket):.2f} m (pedestal {pedestal:.2f} m; farthest basket "
+        f"{farthest_basket(reach.distance, basket.opening):.2f} m (pedestal {pedestal:.2f} m; farthest basket "
         f"{'; '.join(hints)})"
     )
 

@@ -16,7 +16,7 @@ from PIL import Image
 
 #: Frames per second of the recording, and the picture size (pixels).
 FPS = 30
-WIDTH, HEIGHT = 640, 480
+WIDTH, HEIGHT = 480, 360
 
 
 class FrameRecorder:
@@ -40,6 +40,9 @@ class FrameRecorder:
     def capture(self, data: mujoco.MjData) -> None:
         """Render the current state from the side camera."""
         self.renderer.update_scene(data, camera="side")
+        # shadows and reflections cost most of a software-rendered frame and show little here
+        for flag in (mujoco.mjtRndFlag.mjRND_SHADOW, mujoco.mjtRndFlag.mjRND_REFLECTION):
+            self.renderer.scene.flags[flag] = False
         self.images.append(self.renderer.render().copy())
 
     def finish(self) -> tuple[Path, ...]:
@@ -64,5 +67,6 @@ def open_recorder(model: mujoco.MjModel, folder: Path) -> tuple[FrameRecorder | 
     try:
         renderer = mujoco.Renderer(model, HEIGHT, WIDTH)
     except Exception as exc:  # the backends fail with many kinds of errors (ImportError, FatalError, ...)
-        return None, f"frames skipped: no OpenGL backend for offscreen rendering ({type(exc).__name__}: {exc})"
+        return None, (f"frames skipped: no OpenGL backend for offscreen rendering ({type(exc).__name__}: {exc}); "
+                      "install libegl1 or libosmesa6 and set MUJOCO_GL=egl or osmesa")
     return FrameRecorder(renderer, folder), ""

@@ -215,7 +215,7 @@ def simulate_throw(
         reachable = True
     else:
         reach = throw_reach(robot, basket.rim_height, pedestal, movers or [throwing]).distance
-        reachable = basket.distance <= farthest_basket(reach, basket)
+        reachable = basket.distance <= farthest_basket(reach, basket.opening)
     scene = build_scene(arm, basket, float(pedestal), float(timestep))
     recorder = None
     notes: list[str] = []

@@ -1,0 +1,98 @@
+"""Reach: the farthest throw at the joints' speed limits, checked against a hand-made case."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from rlff.errors import InputError
+from rlff.robot import load_robot
+from rlff.robot.description import Geometry, Joint, Robot
+from rlff.sim import Basket, max_reach, require_reachable, simulate_throw, throw_reach
+from rlff.sim.arm import BALL_RADIUS
+from rlff.sim.reach import farthest_basket
+from rlff.trajectory.joint import JointTrajectory
+
+
+@pytest.fixture(scope="module")
+def robot():
+    return load_robot()
+
+
+def _stick_robot() -> Robot:
+    """A straight arm: joint 3 pinned with the forearm along the upper arm, no offsets."""
+    comau = load_robot()
+    joints = list(comau.joints)
+    joints[2] = Joint("joint_3", -np.pi / 2 - 1e-9, -np.pi / 2 + 1e-9, 2.967)
+    joints[4] = Joint("joint_5", -1e-9, 1e-9, 6.545)
+    geometry = Geometry(shoulder_height=0.5, shoulder_forward=0.0, upper_arm=0.6, elbow_offset=0.0,
+                        forearm=0.7, flange=0.1)
+    return Robot("stick", tuple(joints), geometry, source="stick")
+
+
+def test_reach_of_a_straight_arm_matches_a_brute_force_search():
+    # the ball sits R from the shoulder along the arm; at joint 2 = q it is at
+    # (R sin q, 0.5 + R cos q) and moves at w R (cos q, -sin q); search q on a fine grid
+    radius, rate = 0.6 + 0.7 + 0.1 + BALL_RADIUS, 2.792
+    q = np.linspace(-1.48, 2.71, 400_001)
+    x0, z0 = radius * np.sin(q), 0.5 + radius * np.cos(q)
+    vx, vz = rate * radius * np.cos(q), -rate * radius * np.sin(q)
+    t = (vz + np.sqrt(np.maximum(vz**2 + 2 * 9.81 * (z0 - 0.3), 0.0))) / 9.81
+    clear = z0 > 0.1
+    expected = np.max(np.where(clear, x0 + vx * t, -np.inf))
+    assert max_reach(_stick_robot(), rim_height=0.3) == pytest.approx(expected, abs=1e-4)
+
+
+def test_joint_2_alone_reaches_a_basket_of_about_2_4_m(robot):
+    reach = throw_reach(robot)
+    assert reach.velocities == {"joint_2": 2.792}
+    # the ball comes down at 2.30 m; a 0.35 m basket centred up to 2.44 m still catches it
+    assert reach.distance == pytest.approx(2.30, abs=0.01)
+    assert farthest_basket(reach.distance, 0.35) == pytest.approx(2.44, abs=0.01)
+
+
+def test_pedestal_and_joint_3_extend_the_reach_and_a_higher_rim_shortens_it(robot):
+    base = max_reach(robot)
+    assert max_reach(robot, pedestal=0.5) > base + 0.2
+    assert max_reach(robot, joints=("joint_2", "joint_3")) > base + 1.0
+    assert max_reach(robot, rim_height=0.6) < base
+
+
+def test_an_unreachable_basket_says_how_far_the_robot_throws(robot):
+    require_reachable(Basket(2.4), robot)
+    with pytest.raises(InputError, match=r"basket at 3\.00 m is out of reach.*2\.30 m.*joint_3 too"):
+        require_reachable(Basket(3.0), robot)
+    require_reachable(Basket(3.0), robot, joints=("joint_2", "joint_3"))
+
+
+def test_only_joints_of_the_throwing_plane_throw(robot):
+    with pytest.raises(InputError, match="joint_1"):
+        max_reach(robot, joints=("joint_1",))
+
+
+def test_the_simulated_throw_at_the_best_release_lands_at_the_reach(robot):
+    reach = throw_reach(robot)
+    pose = reach.pose
+    # speed joint 2 up to its limit and hold it there until the best release angle
+    peak = 2.792
+    ramp = 0.5
+    start = pose["joint_2"] - peak * (ramp / 2 + 0.1)
+    t = np.linspace(0.0, ramp + 0.1, 301)
+    v2 = np.where(t < ramp, peak * (1 - np.cos(np.pi * t / ramp)) / 2, peak)
+    q2 = start + np.concatenate([[0.0], np.cumsum((v2[1:] + v2[:-1]) / 2 * np.diff(t))])
+    positions = np.tile([0.0, 0.0, pose["joint_3"], 0.0, pose["joint_5"], 0.0], (t.size, 1))
+    velocities = np.zeros_like(positions)
+    positions[:, 1], velocities[:, 1] = q2, v2
+    trajectory = JointTrajectory(robot.joint_names, t, positions, velocities)
+    outcome = simulate_throw(trajectory, Basket(2.2), robot=robot, release_angle=pose["joint_2"])
+    # the servos stop 0.2 % short of the speed limit: a few mm short of the reach
+    assert outcome.landing_x == pytest.approx(reach.distance, abs=0.02)
+    assert outcome.peak_speed <= 1.0
+
+
+def test_reach_is_cached_per_setting(robot):
+    assert throw_reach(robot) is throw_reach(robot)
+    other = dataclasses.replace(robot, name="copy")
+    assert throw_reach(other).distance == throw_reach(robot).distance
