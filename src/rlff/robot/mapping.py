@@ -82,6 +82,11 @@ class RobotMapping:
                    {name: number_field(pose, name, f"{where}.start_pose") for name in pose},
                    *(number_field(table, key, where) for key in ("angle_offset", "angle_scale", "velocity_scale")))
 
+    def pose(self, driven: float = 0.0) -> np.ndarray:
+        """Positions (J,) (rad) of every joint: the start pose, the driven joint at ``driven``."""
+        return np.array([driven if name == self.joint else self.start_pose[name]
+                         for name in self.robot.joint_names])
+
     @property
     def time_scale(self) -> float:
         """Robot time per human time: ``angle_scale / velocity_scale``."""
@@ -137,7 +142,7 @@ class RobotMapping:
         robot_time = (human_time - human_time[0]) * self.time_scale
         driven = self.robot.index(self.joint)
         count, joints = angle.size, len(self.robot.joints)
-        positions = np.tile([self.start_pose.get(n, 0.0) for n in self.robot.joint_names], (count, 1))
+        positions = np.tile(self.pose(), (count, 1))
         velocities = np.zeros((count, joints))
         positions[:, driven] = self.angle_offset + self.angle_scale * angle
         velocities[:, driven] = self.velocity_scale * velocity

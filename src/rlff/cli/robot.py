@@ -1,0 +1,174 @@
+"""``rlff robot ...``: robot description, exports, and live ROS 1 (serve / send)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from rlff.cli._common import emit_json, progress, say, stderr, stdout
+from rlff.robot.description import DEFAULT_ROBOT, load_robot
+from rlff.robot.formats import FORMATS, export_trajectory
+from rlff.robot.mapping import RobotMapping
+from rlff.robot.plan import RobotPlan, plan_file
+
+app = typer.Typer(help="The robot: its limits, exports, and live ROS 1 (serve / send).", no_args_is_help=True)
+
+ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help="Robot file (.toml) or built-in robot name.")
+CLIP = typer.Option(False, "--clip", help="Clip values beyond the limits (and report each) instead of refusing.")
+JSON = typer.Option(False, "--json", help="Print a machine-readable result on stdout.")
+
+
+def _report(result: RobotPlan) -> None:
+    for report in (result.clipped_points, result.clipped_samples):
+        for change in report.changes:
+            say(f"clipped: {change.describe()}")
+    say(result.summary())
+
+
+@app.command()
+def show(robot: str = ROBOT, json: bool = JSON) -> None:
+    """Print the robot's joints, limits and default throwing mapping."""
+    model = load_robot(robot)
+    mapping = RobotMapping.for_robot(model) if model.throwing else None
+    if json:
+        emit_json({"name": model.name, "source": model.source,
+                   "joints": [vars(joint) for joint in model.joints],
+                   "geometry": vars(model.geometry) if model.geometry else None,
+                   "throwing": None if mapping is None else {
+                       "joint": mapping.joint, "start_pose": dict(mapping.start_pose),
+                       "angle_offset": mapping.angle_offset, "angle_scale": mapping.angle_scale,
+                       "velocity_scale": mapping.velocity_scale}})
+        return
+    out = stdout()
+    out.print(f"{model.name} ({model.source})", highlight=False)
+    out.print(f"{'joint':<10}{'lower (rad)':>12}{'upper (rad)':>12}{'max speed (rad/s)':>19}", highlight=False)
+    for joint in model.joints:
+        out.print(f"{joint.name:<10}{joint.lower:>12.4g}{joint.upper:>12.4g}{joint.max_velocity:>19.4g}",
+                  highlight=False)
+    if mapping is not None:
+        pose = ", ".join(f"{name}={value:g}" for name, value in mapping.start_pose.items())
+        out.print(f"throwing: human angle drives {mapping.joint} = {mapping.angle_offset:g} + "
+                  f"{mapping.angle_scale:g} * angle, velocity * {mapping.velocity_scale:g}; start pose {pose}",
+                  highlight=False)
+
+
+@app.command()
+def export(
+    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...)."),
+    fmt: str = typer.Option(..., "--format", "-f", help=f"One of: {', '.join(FORMATS)}."),
+    out: Path = typer.Option(..., "--out", "-o", help="Output file (a folder for ros2-bag)."),
+    robot: str = ROBOT,
+    clip: bool = CLIP,
+    period: float = typer.Option(0.002, "--period", help="Controller period (s) to resample at; 0 keeps the points."),
+    json: bool = JSON,
+) -> None:
+    """Map a generated trajectory to the robot and write it as JSON, CSV, a ROS bag or a Comau program."""
+    result, mapping = plan_file(trajectory, robot, period, clip)
+    export_trajectory(result.trajectory, mapping, fmt, out)
+    _report(result)
+    if json:
+        emit_json({"out": out, "format": fmt, "points": len(result.trajectory),
+                   "duration": result.trajectory.duration,
+                   "clipped": [vars(c) for c in result.clipped_points.changes + result.clipped_samples.changes]})
+    else:
+        say(f"wrote {out} ({fmt}, {len(result.trajectory)} points, {result.trajectory.duration:.3f} s)")
+
+
+@app.command()
+def serve(
+    robot: str = ROBOT,
+    rate: float = typer.Option(100.0, "--rate", help="Ticks per second of the simulated arm (Hz)."),
+    sim: str = typer.Option("kinematic", "--sim", help="kinematic, or mujoco: also simulate each finished throw."),
+    basket: float = typer.Option(2.0, "--basket", help="Basket distance (m) for --sim mujoco."),
+) -> None:
+    """Run the FollowJointTrajectory action server of a simulated arm until Ctrl-C."""
+    from rlff.errors import InputError
+    from rlff.robot.ros1.master import RosUnavailable
+    from rlff.robot.ros1.server import ACTION_NAMESPACE, TOPIC
+    from rlff.robot.ros1.server import serve as run_server
+
+    model = load_robot(robot)
+    mapping = RobotMapping.for_robot(model)
+    if sim not in ("kinematic", "mujoco"):
+        raise InputError(f"unknown --sim {sim!r} (kinematic or mujoco)")
+    hook = _mujoco_throw(model, basket) if sim == "mujoco" else None
+
+    def ready() -> None:
+        say(f"serving {ACTION_NAMESPACE} and {TOPIC} for {model.name} ({sim} arm, {rate:g} Hz); Ctrl-C stops")
+
+    try:
+        run_server(model, mapping.pose(0.0), rate, hook, on_ready=ready)
+    except RosUnavailable as exc:
+        stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
+        raise typer.Exit(1) from None
+
+
+def _mujoco_throw(model, basket: float):
+    """The server's completion hook: simulate the executed throw in MuJoCo."""
+    from rlff.sim import Basket, simulate_throw
+
+    target = Basket(basket)
+
+    def throw(trajectory) -> str:
+        outcome = simulate_throw(trajectory, target, robot=model, check_reach=False)
+        return (f"MuJoCo throw: {'hit' if outcome.hit else 'miss'}, landed at {outcome.landing_x:.3f} m "
+                f"(basket at {basket:g} m)")
+
+    return throw
+
+
+@app.command()
+def send(
+    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...)."),
+    robot: str = ROBOT,
+    timeout: float = typer.Option(None, "--timeout", help="Seconds for everything; then the goal is cancelled."),
+    topic_mode: bool = typer.Option(False, "--topic-mode", help="Publish on /comau/joint_trajectory instead of the action."),
+    clip: bool = CLIP,
+    period: float = typer.Option(0.0, "--period", help="Resample at this period (s) first; 0 sends the points."),
+    json: bool = JSON,
+) -> None:
+    """Send a generated trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels)."""
+    from rlff.robot.ros1.client import publish_trajectory, send_goal
+    from rlff.robot.ros1.master import RosUnavailable
+
+    result, mapping = plan_file(trajectory, robot, period, clip)
+    _report(result)
+    traj = result.trajectory
+    try:
+        if topic_mode:
+            subscribers = publish_trajectory(mapping.robot, traj, timeout)
+            say(f"published {len(traj)} points on /comau/joint_trajectory to {subscribers} subscriber(s)")
+            if json:
+                emit_json({"status": "published", "points": len(traj), "subscribers": subscribers})
+            return
+        steps = max(1, round(traj.duration * 100))
+        with progress("executing", steps) as advance:
+            done = 0
+
+            def on_feedback(elapsed: float) -> None:
+                nonlocal done
+                now = min(steps, round(elapsed * 100))
+                if now > done:
+                    advance(now - done)
+                    done = now
+
+            outcome = send_goal(mapping.robot, traj, timeout, on_feedback)
+    except RosUnavailable as exc:
+        stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
+        raise typer.Exit(1) from None
+    except KeyboardInterrupt:
+        stderr().print("rlff: interrupted: goal cancelled", highlight=False, markup=False)
+        raise typer.Exit(130) from None
+    if json:
+        emit_json(outcome.to_dict())
+    message = f"goal {outcome.status}"
+    if outcome.error_name:
+        message += f" ({outcome.error_name})"
+    if outcome.error_string:
+        message += f": {outcome.error_string}"
+    if outcome.succeeded:
+        say(message)
+        return
+    stderr().print(f"rlff: {message}", highlight=False, markup=False)
+    raise typer.Exit(1)

@@ -1,0 +1,133 @@
+"""Writing a timed joint trajectory to files: JSON, CSV, and ROS 1 / ROS 2 bags.
+
+Bags hold one ``trajectory_msgs/JointTrajectory`` message (the type the thesis' plug-in and the
+FollowJointTrajectory action take) on :data:`TRAJECTORY_TOPIC`, written with rosbags' type stores
+(ROS 1 Noetic, ROS 2 Humble), so a ROS 1 bag carries the standard MD5 sum of the type and plays
+with ``rosbag play``. JSON and CSV read back with :func:`read_json` and :func:`read_csv`.
+"""
+
+from __future__ import annotations
+
+import json
+import time as clock
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.rosbag2 import Writer as Ros2Writer
+from rosbags.typesys import Stores, get_typestore
+
+from rlff.errors import InputError
+from rlff.trajectory.joint import JointTrajectory
+
+#: Topic of the original Comau driver's topic mode; bags carry the trajectory on it.
+TRAJECTORY_TOPIC = "/comau/joint_trajectory"
+#: The ROS 1 type of the trajectory messages and its standard MD5 sum.
+TRAJECTORY_TYPE = "trajectory_msgs/msg/JointTrajectory"
+JOINT_TRAJECTORY_MD5 = "65b4f94a94d1ed67169da35a02f33d3f"
+
+JSON_FORMAT = "rlff-joint-trajectory"
+_QUANTITIES = ("position", "velocity", "acceleration")
+
+
+def write_json(traj: JointTrajectory, path: Path) -> None:
+    """``{"format", "version", "joint_names", "time" (T,), "positions"/"velocities"/"accelerations" (T, J)}``."""
+    document = {
+        "format": JSON_FORMAT, "version": 1, "units": {"time": "s", "positions": "rad",
+                                                       "velocities": "rad/s", "accelerations": "rad/s^2"},
+        "joint_names": list(traj.joint_names), "time": traj.time.tolist(),
+        "positions": traj.positions.tolist(), "velocities": traj.velocities.tolist(),
+        "accelerations": traj.accelerations.tolist(),
+    }
+    Path(path).write_text(json.dumps(document) + "\n", encoding="utf-8")
+
+
+def read_json(path: Path) -> JointTrajectory:
+    """The trajectory of a file written by :func:`write_json`."""
+    document = json.loads(Path(path).read_text(encoding="utf-8"))
+    if document.get("format") != JSON_FORMAT:
+        raise InputError(f"{path}: not an {JSON_FORMAT} file")
+    return JointTrajectory(tuple(document["joint_names"]), document["time"], document["positions"],
+                           document["velocities"], document["accelerations"])
+
+
+def write_csv(traj: JointTrajectory, path: Path) -> None:
+    """One row per point: ``time`` (s), then ``{joint}_position`` (rad), ``_velocity``, ``_acceleration``."""
+    columns = {"time": traj.time}
+    for index, name in enumerate(traj.joint_names):
+        for quantity, values in zip(_QUANTITIES, (traj.positions, traj.velocities, traj.accelerations), strict=True):
+            columns[f"{name}_{quantity}"] = values[:, index]
+    pd.DataFrame(columns).to_csv(path, index=False, float_format="%.17g")
+
+
+def read_csv(path: Path) -> JointTrajectory:
+    """The trajectory of a file written by :func:`write_csv`."""
+    table = pd.read_csv(path)
+    names = [column.removesuffix("_position") for column in table.columns if column.endswith("_position")]
+    if "time" not in table or not names:
+        raise InputError(f"{path}: expected a 'time' column and '<joint>_position' columns")
+    arrays = [table[[f"{n}_{q}" for n in names]].to_numpy(float) for q in _QUANTITIES]
+    return JointTrajectory(tuple(names), table["time"].to_numpy(float), *arrays)
+
+
+def _message(traj: JointTrajectory, typestore, stamp_ns: int, ros1: bool):
+    types = typestore.types
+    seconds, nanoseconds = divmod(int(stamp_ns), 1_000_000_000)
+    stamp = types["builtin_interfaces/msg/Time"](sec=seconds, nanosec=nanoseconds)
+    header = (types["std_msgs/msg/Header"](seq=0, stamp=stamp, frame_id="") if ros1
+              else types["std_msgs/msg/Header"](stamp=stamp, frame_id=""))
+    duration = types["builtin_interfaces/msg/Duration"]
+    point = types["trajectory_msgs/msg/JointTrajectoryPoint"]
+    whole = np.floor(traj.time).astype(int)
+    nanos = np.rint((traj.time - whole) * 1e9).astype(int)
+    carry = nanos >= 1_000_000_000
+    whole, nanos = whole + carry, np.where(carry, nanos - 1_000_000_000, nanos)
+    points = [point(positions=traj.positions[i].copy(), velocities=traj.velocities[i].copy(),
+                    accelerations=traj.accelerations[i].copy(), effort=np.zeros(0),
+                    time_from_start=duration(sec=int(whole[i]), nanosec=int(nanos[i])))
+              for i in range(len(traj))]
+    return types[TRAJECTORY_TYPE](header=header, joint_names=list(traj.joint_names), points=points)
+
+
+def write_ros1_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TOPIC,
+                   stamp_ns: int | None = None) -> None:
+    """A ROS 1 bag with one JointTrajectory on ``topic``, stamped ``stamp_ns`` (default: now)."""
+    stamp_ns = clock.time_ns() if stamp_ns is None else stamp_ns
+    typestore = get_typestore(Stores.ROS1_NOETIC)
+    path = Path(path)
+    path.unlink(missing_ok=True)
+    with Ros1Writer(path) as writer:
+        connection = writer.add_connection(topic, TRAJECTORY_TYPE, typestore=typestore)
+        message = _message(traj, typestore, stamp_ns, ros1=True)
+        writer.write(connection, stamp_ns, typestore.serialize_ros1(message, TRAJECTORY_TYPE))
+
+
+def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TOPIC,
+                   stamp_ns: int | None = None) -> None:
+    """A ROS 2 bag (a folder, sqlite3 storage) with one JointTrajectory on ``topic``."""
+    stamp_ns = clock.time_ns() if stamp_ns is None else stamp_ns
+    typestore = get_typestore(Stores.ROS2_HUMBLE)
+    path = Path(path)
+    if path.exists():
+        raise InputError(f"{path} exists: a ROS 2 bag is a new folder, remove it first")
+    with Ros2Writer(path, version=8) as writer:
+        connection = writer.add_connection(topic, TRAJECTORY_TYPE, typestore=typestore)
+        message = _message(traj, typestore, stamp_ns, ros1=False)
+        writer.write(connection, stamp_ns, typestore.serialize_cdr(message, TRAJECTORY_TYPE))
+
+
+def read_bag(path: Path, topic: str = TRAJECTORY_TOPIC) -> list[JointTrajectory]:
+    """Every JointTrajectory on ``topic`` of a ROS 1 (file) or ROS 2 (folder) bag."""
+    from rosbags.highlevel import AnyReader
+
+    trajectories = []
+    with AnyReader([Path(path)], default_typestore=get_typestore(Stores.ROS1_NOETIC)) as reader:
+        connections = [c for c in reader.connections if c.topic == topic]
+        for connection, _, raw in reader.messages(connections=connections):
+            msg = reader.deserialize(raw, connection.msgtype)
+            time = [p.time_from_start.sec + p.time_from_start.nanosec * 1e-9 for p in msg.points]
+            trajectories.append(JointTrajectory(
+                tuple(msg.joint_names), time, [p.positions for p in msg.points],
+                [p.velocities for p in msg.points], [p.accelerations for p in msg.points]))
+    return trajectories
