@@ -205,7 +205,7 @@ def _curves(levels: dict[float, list[float]]) -> Dataset:
 
 def test_reject_contexts_finds_the_one_that_breaks_the_trend():
     data = _curves({1.0: [1.0], 2.0: [2.0], 3.0: [1.5], 4.0: [4.0], 5.0: [5.0]})
-    out, report = reject_contexts(data, max_spread_ratio=0)
+    out, report = reject_contexts(data, max_spread_ratio=0, min_trajectories=1)
     assert out.contexts == ((1.0,), (2.0,), (4.0,), (5.0,))
     (rejection,) = report.contexts
     assert rejection.context == {"distance": 3.0}
@@ -233,18 +233,31 @@ def test_reject_contexts_along_one_of_two_context_columns():
         for d, level in zip([1.0, 2.0, 3.0, 4.0], levels, strict=True)
     ]
     data = Dataset(trajectories, context=("distance", "height"))
-    out, report = reject_contexts(data, max_spread_ratio=0)
+    out, report = reject_contexts(data, max_spread_ratio=0, min_trajectories=1)
     assert [r.context for r in report.contexts] == [{"distance": 3.0, "height": 0.3}]
     assert len(out) == 7
     with pytest.raises(InputError, match="'speed' is not a context column"):
         reject_contexts(data, column="speed")
 
 
+def test_reject_contexts_judges_single_throws_only_in_bins():
+    # one throw per (estimated, continuous) distance: nothing judged unless grouped into bins
+    data = _curves({1.0: [1.0], 1.1: [1.1], 2.0: [2.0], 2.1: [2.1], 2.9: [1.4], 3.05: [1.6],
+                    4.0: [4.0], 4.1: [4.1]})
+    out, report = reject_contexts(data, max_spread_ratio=0)
+    assert out.equals(data)
+    assert report.notes[0].startswith("8 context(s) with fewer than 2 trajectories not judged")
+    out, report = reject_contexts(data, max_spread_ratio=0, bin_width=1.0)
+    assert [r.context for r in report.contexts] == [{"distance": 3.0}]
+    assert report.contexts[0].trajectories == ("d2.9-0", "d3.05-0")
+    assert out.contexts == ((1.0,), (1.1,), (2.0,), (2.1,), (4.0,), (4.1,))
+
+
 def test_reject_contexts_needs_enough_contexts():
-    data = _curves({1.0: [2.0], 2.0: [1.0]})
+    data = _curves({1.0: [2.0, 2.0], 2.0: [1.0, 1.0]})
     out, report = reject_contexts(data)
     assert out.equals(data)
-    assert "fewer than 3" in report.notes[0]
+    assert report.notes == ["2 context(s), fewer than 3: nothing checked"]
 
 
 def test_reject_shapes_removes_the_odd_one_of_a_context():

@@ -109,6 +109,8 @@ def reject_contexts(
     tolerance: float = 0.05,
     max_spread_ratio: float = 3.0,
     min_contexts: int = 3,
+    min_trajectories: int = 2,
+    bin_width: float = 0.0,
 ) -> tuple[Dataset, StepReport]:
     """Reject contexts that break the trend of velocity against ``column`` or stand apart.
 
@@ -134,6 +136,13 @@ def reject_contexts(
         velocity curves from their pointwise median, over the context's level). 0 skips it.
     min_contexts : int
         With fewer contexts (per value of the other context columns) nothing is rejected.
+    min_trajectories : int
+        Contexts with fewer trajectories are neither judged nor used to judge others: one throw
+        does not tell a basket's level (recordings labelled with an estimated, continuous
+        distance have one throw per value; give ``bin_width`` for them).
+    bin_width : float
+        When positive, ``column`` is grouped into bins of this width (m) centred on multiples of
+        it, and a whole bin is judged and rejected as one context.
 
     With several context columns, the trend is checked along ``column`` within each group of
     contexts sharing the other columns' values.
@@ -143,9 +152,18 @@ def reject_contexts(
         raise InputError(f"reject_contexts: {column!r} is not a context column (context: {', '.join(dataset.context) or 'none'})")
     params = {"column": column, "angle_column": angle_column, "velocity_column": velocity_column,
               "trend": trend, "tolerance": tolerance, "max_spread_ratio": max_spread_ratio,
-              "min_contexts": min_contexts}
+              "min_contexts": min_contexts, "min_trajectories": min_trajectories, "bin_width": bin_width}
     report = StepReport("reject_contexts", params, dataset)
-    groups = dataset.by_context()
+    names = dataset.context
+    axis = names.index(column)
+    groups = _grouped(dataset, axis, bin_width)
+    few = [c for c, g in groups.items() if len(g) < min_trajectories]
+    if few:
+        report.notes.append(
+            f"{len(few)} context(s) with fewer than {min_trajectories} trajectories not judged"
+            + ("" if bin_width else " (bin_width groups nearby values)")
+        )
+        groups = {c: g for c, g in groups.items() if len(g) >= min_trajectories}
     if len(groups) < min_contexts:
         report.notes.append(f"{len(groups)} context(s), fewer than {min_contexts}: nothing checked")
         report.after = dataset
@@ -153,8 +171,6 @@ def reject_contexts(
     grid = _band(dataset, angle_column)
     curves = {c: np.stack([_on_band(t, angle_column, velocity_column, grid) for t in g]) for c, g in groups.items()}
     levels = {c: float(np.median(np.mean(v, axis=1))) for c, v in curves.items()}
-    names = dataset.context
-    axis = names.index(column)
     rejected: dict[tuple[float, ...], str] = {}
     if max_spread_ratio > 0:
         rejected.update(_apart(curves, levels, max_spread_ratio, velocity_column))
@@ -172,8 +188,20 @@ def reject_contexts(
     report.params["levels"] = {
         ", ".join(f"{v:g}" for v in context): round(level, 6) for context, level in levels.items()
     }
-    report.after = dataset.replace(t for t in dataset if t.context_value(names) not in rejected)
+    dropped = {t.id for context in rejected for t in groups[context]}
+    report.after = dataset.replace(t for t in dataset if t.id not in dropped)
     return report.after, report
+
+
+def _grouped(dataset: Dataset, axis: int, bin_width: float) -> dict[tuple[float, ...], list[Trajectory]]:
+    """Trajectories by context, ``column`` (at ``axis``) rounded to bins when ``bin_width`` > 0."""
+    if bin_width <= 0:
+        return dataset.by_context()
+    groups: dict[tuple[float, ...], list[Trajectory]] = {}
+    for context, members in dataset.by_context().items():
+        centre = round(context[axis] / bin_width) * bin_width
+        groups.setdefault(context[:axis] + (centre,) + context[axis + 1 :], []).extend(members)
+    return dict(sorted(groups.items()))
 
 
 def _band(dataset: Dataset, angle_column: str, points: int = 50) -> np.ndarray:
