@@ -108,3 +108,29 @@ def test_missing_joints_are_named(robot):
     partial = swing().select(["joint_2", "joint_3"])
     with pytest.raises(InputError, match="joint_1"):
         simulate_throw(partial, Basket(2.0), robot=robot)
+
+
+def test_a_pedestal_lifts_the_release_and_lengthens_the_throw(robot):
+    ground = simulate_throw(swing(), Basket(2.0), robot=robot)
+    lifted = simulate_throw(swing(), Basket(2.0), robot=robot, pedestal=0.5)
+    assert lifted.release.position[2] - ground.release.position[2] == pytest.approx(0.5, abs=1e-3)
+    np.testing.assert_allclose(lifted.release.velocity, ground.release.velocity, atol=1e-3)
+    assert lifted.landing_x > ground.landing_x + 0.2
+    assert abs(lifted.landing_x - lifted.predicted_landing_x) < 0.02
+
+
+def test_joint_3_as_a_second_throwing_joint_reaches_beyond_joint_2_alone(robot):
+    both = swing(start=-1.0, release=-0.36, peak=2.7, joint_3=-1.56)
+    # joint 3 whips forward (positive) at the same time, from -2.2 to -1.56 rad
+    positions = both.positions.copy()
+    velocities = both.velocities.copy()
+    share = (positions[:, 1] - positions[0, 1]) / (positions[-1, 1] - positions[0, 1])
+    positions[:, 2] = -2.2 + 0.64 * share
+    velocities[:, 2] = 0.64 * velocities[:, 1] / (positions[-1, 1] - positions[0, 1])
+    trajectory = JointTrajectory(JOINTS, both.time, positions, velocities)
+    with pytest.raises(InputError, match="out of reach"):
+        simulate_throw(swing(), Basket(3.2), robot=robot)
+    outcome = simulate_throw(trajectory, Basket(3.2), robot=robot)
+    assert outcome.landing_x > 2.6
+    assert abs(outcome.landing_x - outcome.predicted_landing_x) < 0.02
+    assert outcome.peak_speed <= 1.0
