@@ -1,0 +1,178 @@
+"""``rlff fit`` and ``rlff generate``: fit the mixture to demonstrations, generate a DMM path."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+import typer
+from rich.table import Table
+
+from rlff.cli._common import emit_json, progress, say, stdout
+from rlff.errors import InputError
+
+
+def _names(option: str, text: str) -> tuple[str, ...]:
+    names = tuple(part.strip() for part in text.split(",") if part.strip())
+    if not names:
+        raise InputError(f"{option}: give at least one column name")
+    return names
+
+
+def _read(path: Path):
+    try:
+        from rlff.formats import read_dataset
+    except ImportError:
+        from rlff.dataset import read_csv as read_dataset
+    return read_dataset(path)
+
+
+def _context(items: list[str]) -> dict[str, float]:
+    context = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip():
+            raise InputError(f"--context: {item!r} is not NAME=VALUE (e.g. distance=2.5)")
+        try:
+            context[name.strip()] = float(value)
+        except ValueError:
+            raise InputError(f"--context: {value!r} in {item!r} is not a number") from None
+    return context
+
+
+def _grid(text: str | None, first_input: str) -> np.ndarray | None:
+    if text is None:
+        return None
+    name, sep, spec = text.partition("=")
+    parts = spec.split(":")
+    if not sep or len(parts) != 3:
+        raise InputError(f"--grid: {text!r} is not NAME=START:STOP:N (e.g. {first_input}=0:10:100)")
+    if name.strip() != first_input:
+        raise InputError(f"--grid: the path variable of this model is {first_input!r}, not {name.strip()!r}")
+    try:
+        start, stop, count = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise InputError(f"--grid: {spec!r} is not START:STOP:N with numbers") from None
+    if not (math.isfinite(start) and math.isfinite(stop)) or count < 2 or start == stop:
+        raise InputError(f"--grid: need finite START != STOP and N >= 2, got {spec!r}")
+    return np.linspace(start, stop, count)
+
+
+def _exploration(text: str) -> str | float:
+    if text == "auto":
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(f"--exploration: {text!r} is not 'auto' or a number in [0, 1]") from None
+    if not 0.0 <= value <= 1.0:
+        raise InputError(f"--exploration: {value} is not in [0, 1]")
+    return value
+
+
+def fit_command(
+    data: Path = typer.Argument(..., help="Demonstrations (CSV long format; other formats by extension)."),
+    output: Path = typer.Option(..., "--output", "-o", help="model.json to write."),
+    inputs: str = typer.Option("angle,distance", "--inputs", help="Input columns; the first is the path variable."),
+    outputs: str = typer.Option("velocity", "--outputs", help="Output columns."),
+    components: str = typer.Option("auto", "--components", "-k", help="Number of components K, or auto (lowest BIC)."),
+    max_components: int = typer.Option(8, "--max-components", help="Largest K tried with auto."),
+    criterion: str = typer.Option("bic", "--criterion", help="bic or aic (with auto)."),
+    n_init: int = typer.Option(3, "--n-init", help="EM restarts per K (k-means++ seeds)."),
+    seed: int = typer.Option(0, "--seed", help="Seed of the initialisations."),
+    as_json: bool = typer.Option(False, "--json", help="Print the fit summary as JSON."),
+) -> None:
+    """Fit a Gaussian mixture to the demonstrations (K by BIC) and save it as model.json."""
+    from rlff.model import Model
+
+    dataset = _read(data)
+    total = max_components if components == "auto" else 1
+    with progress("fitting", total=total) as advance, warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model = Model.fit(
+            dataset, inputs=_names("--inputs", inputs), outputs=_names("--outputs", outputs),
+            components=components, max_components=max_components, criterion=criterion, seed=seed,
+            n_init=n_init, progress=lambda done, _total: advance(1, description=f"fitted K={done}"),
+        )
+    for warning in caught:
+        say(f"warning: {warning.message}")
+    model.save(output)
+    summary = {
+        "output": str(output),
+        "n_components": model.n_components,
+        "inputs": list(model.inputs),
+        "outputs": list(model.outputs),
+        "n_samples": model.fit_info["n_samples"],
+        "log_likelihood": model.fit_info["log_likelihood"],
+        "bic": model.fit_info["bic"],
+        "aic": model.fit_info["aic"],
+        "converged": model.fit_info["converged"],
+        "selection": None if model.selection is None else model.selection.table,
+    }
+    if as_json:
+        emit_json(summary)
+        return
+    if model.selection is not None:
+        table = Table(title=f"Choosing K by {model.selection.criterion.upper()} (lowest wins)")
+        for column in ("K", "BIC", "AIC", "ln L", "converged"):
+            table.add_column(column, justify="right")
+        for row in model.selection.table:
+            mark = " *" if row["n_components"] == model.n_components else ""
+            table.add_row(
+                f"{row['n_components']}{mark}", f"{row['bic']:.2f}", f"{row['aic']:.2f}",
+                f"{row['log_likelihood']:.2f}", "yes" if row["converged"] else "no",
+            )
+        stdout().print(table)
+    stdout().print(
+        f"K = {model.n_components}, {summary['n_samples']} samples, BIC {summary['bic']:.2f} -> {output}",
+        highlight=False,
+    )
+
+
+def generate_command(
+    model_path: Path = typer.Argument(..., metavar="MODEL", help="model.json from rlff fit."),
+    output: Path = typer.Option(..., "--output", "-o", help="Trajectory CSV to write."),
+    context: list[str] = typer.Option([], "--context", "-c", help="Context value NAME=VALUE (repeat for several), e.g. distance=2.5."),
+    grid: str | None = typer.Option(None, "--grid", help="Path grid NAME=START:STOP:N; default 100 points over the data's range."),
+    exploration: str = typer.Option("auto", "--exploration", help="auto (from the GMR variance), or a fixed factor in [0, 1]; 0 gives the GMR."),
+    exploration_scale: float = typer.Option(1.0, "--exploration-scale", help="Spread of the demonstrations (output units) that counts as large."),
+    continuity: bool = typer.Option(False, "--continuity", help="Keep the output continuous where modes are nearly equally high (within 5 %)."),
+    as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
+) -> None:
+    """Generate a path: for every angle, the velocity of highest Donut Mixture density."""
+    from rlff.model import Model
+
+    model = Model.load(model_path)
+    path = model.generate(
+        _context(context), _grid(grid, model.inputs[0]), exploration=_exploration(exploration),
+        exploration_scale=exploration_scale, continuity=continuity,
+    )
+    path.write_csv(output)
+    for note in path.notes:
+        say(f"note: {note}")
+    summary = {
+        "output": str(output),
+        "points": len(path),
+        "context": path.context,
+        "duration": float(path.time[-1]),
+        "peak_velocity": float(np.max(path.velocity)),
+        "mean_exploration": float(np.mean(path.exploration)),
+        "max_density_traded": float(np.max(path.density_traded)),
+        "notes": list(path.notes),
+    }
+    if as_json:
+        emit_json(summary)
+        return
+    stdout().print(
+        f"{summary['points']} points, peak {model.outputs[0]} {summary['peak_velocity']:.4g}, "
+        f"duration {summary['duration']:.4g}, mean exploration {summary['mean_exploration']:.3f} -> {output}",
+        highlight=False,
+    )
+
+
+def register(root: typer.Typer) -> None:
+    """Add ``fit`` and ``generate`` to the root command."""
+    root.command("fit")(fit_command)
+    root.command("generate")(generate_command)

@@ -1,0 +1,46 @@
+"""``rlff data synth thesis``: the thesis' synthetic demonstrations (section 4.1.1)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from rlff.cli._common import emit_json, stdout
+from rlff.cli.data import synth_app
+
+
+@synth_app.command("thesis")
+def thesis_command(
+    output: Path = typer.Option(..., "--output", "-o", help="Dataset to write (.csv; other formats by extension)."),
+    factor_slope: float = typer.Option(0.1, "--factor-slope", help="Slope of the velocity factor f(z) = 1 + slope (z - 1)."),
+    trajectories: int = typer.Option(11, "--trajectories", help="Number of trajectories, at distances 1, 2, ..."),
+    points: int = typer.Option(50, "--points", help="Points per trajectory, angle evenly spaced over [0, 10]."),
+    as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
+) -> None:
+    """The thesis' synthetic set: velocity = f(z) (-angle^2 + 10 angle) / 2 for z = 1..11."""
+    from rlff.synthetic.thesis import thesis_dataset
+
+    dataset = thesis_dataset(factor_slope, trajectories, points)
+    _write(dataset, output)
+    summary = {
+        "output": str(output),
+        "trajectories": len(dataset),
+        "samples": dataset.n_samples,
+        "columns": list(dataset.columns),
+        "factor_slope": factor_slope,
+    }
+    if as_json:
+        emit_json(summary)
+        return
+    stdout().print(
+        f"{summary['trajectories']} trajectories, {summary['samples']} samples -> {output}", highlight=False
+    )
+
+
+def _write(dataset, path: Path) -> None:
+    try:
+        from rlff.formats import write_dataset
+    except ImportError:
+        from rlff.dataset import write_csv as write_dataset
+    write_dataset(dataset, path)
