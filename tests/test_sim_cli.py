@@ -1,0 +1,99 @@
+"""``rlff sim throw`` and ``rlff sim reach`` through the real entry point, and rendered frames."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from rlff.robot import RobotMapping, load_robot
+from rlff.robot.export import write_json
+from rlff.sim import Basket, simulate_throw
+from rlff.trajectory.timing import time_along_path
+
+
+def _generated_path(path: Path, peak: float = 9.0) -> Path:
+    """A generated throw as the model writes it: elbow angle 0.7 -> 1.95 rad, speeding up."""
+    angle = np.linspace(0.7, 1.95, 30)
+    velocity = peak * np.sin(0.5 * np.pi * (angle - 0.7) / 1.25) ** 0.5
+    velocity[0] = 0.5
+    time = time_along_path(angle, velocity)
+    rows = ["angle,velocity,time,pdf,exploration,gmr_mean"]
+    rows += [f"{a:.17g},{v:.17g},{t:.17g},0.5,0.0,{v:.17g}" for a, v, t in zip(angle, velocity, time, strict=True)]
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+def test_sim_throw_prints_the_outcome_as_json(cli, tmp_path):
+    path = _generated_path(tmp_path / "traj.csv")
+    result = cli("sim", "throw", str(path), "--basket", "1.9", "--json")
+    assert result.code == 0, result.stderr
+    payload = json.loads(result.stdout)
+    assert {"hit", "landing_x", "miss", "release"} <= set(payload)
+    assert payload["miss"] == pytest.approx(payload["landing_x"] - 1.9)
+    assert abs(payload["landing_x"] - payload["predicted_landing_x"]) < 0.02
+    # the same throw in the library gives the same numbers: the CLI adds nothing of its own
+    robot = load_robot()
+    table = np.genfromtxt(path, delimiter=",", names=True)
+    trajectory, _ = RobotMapping.for_robot(robot).to_robot(table["angle"], table["velocity"], table["time"])
+    outcome = simulate_throw(trajectory, Basket(1.9), robot=robot)
+    assert payload["landing_x"] == pytest.approx(outcome.landing_x, abs=1e-9)
+    assert payload["hit"] == outcome.hit
+    # the mapped throw swings joint 2 forward and lets go forward and upward
+    release = payload["release"]
+    assert release["velocity"][0] > 0 and release["velocity"][2] > 0
+
+
+def test_sim_throw_takes_a_robot_trajectory_json(cli, tmp_path):
+    robot = load_robot()
+    table = np.genfromtxt(_generated_path(tmp_path / "traj.csv"), delimiter=",", names=True)
+    trajectory, _ = RobotMapping.for_robot(robot).to_robot(table["angle"], table["velocity"], table["time"])
+    write_json(trajectory, tmp_path / "robot.json")
+    result = cli("sim", "throw", str(tmp_path / "robot.json"), "--basket", "1.9", "--json")
+    assert result.code == 0, result.stderr
+    assert json.loads(result.stdout)["landing_x"] == pytest.approx(
+        simulate_throw(trajectory, Basket(1.9), robot=robot).landing_x, abs=1e-9)
+
+
+def test_sim_throw_refuses_bad_input_in_one_line(cli, tmp_path):
+    fast = _generated_path(tmp_path / "fast.csv", peak=20.0)
+    result = cli("sim", "throw", str(fast), "--basket", "2.0")
+    assert result.code == 2
+    assert "joint_2 velocity" in result.stderr and "limit" in result.stderr
+    far = cli("sim", "throw", str(_generated_path(tmp_path / "traj.csv")), "--basket", "3.5")
+    assert far.code == 2
+    assert "out of reach" in far.stderr
+    assert len(far.stderr.strip().splitlines()) == 2  # the input note and the error line
+
+
+def test_sim_reach_reports_the_reach(cli):
+    result = cli("sim", "reach", "--json")
+    assert result.code == 0, result.stderr
+    payload = json.loads(result.stdout)
+    assert payload["reach"] == pytest.approx(2.30, abs=0.01)
+    assert payload["farthest_basket"] == pytest.approx(payload["reach"] + 0.175 - 0.033)
+
+
+@pytest.mark.slow
+def test_frames_are_written_as_png_and_gif(tmp_path):
+    robot = load_robot()
+    table = np.genfromtxt(_generated_path(tmp_path / "traj.csv"), delimiter=",", names=True)
+    trajectory, _ = RobotMapping.for_robot(robot).to_robot(table["angle"], table["velocity"], table["time"])
+    outcome = simulate_throw(trajectory, Basket(1.9), robot=robot, frames_dir=tmp_path / "frames")
+    if not outcome.frames:
+        assert any("frames skipped" in note for note in outcome.notes)
+        pytest.skip(outcome.notes[0])
+    pngs = [p for p in outcome.frames if p.suffix == ".png"]
+    gif = outcome.frames[-1]
+    assert gif.suffix == ".gif" and gif.is_file()
+    # about 30 frames per simulated second
+    assert abs(len(pngs) - 30 * outcome.simulated_time) <= 3
+    with Image.open(gif) as animation:  # Pillow merges identical frames (the arm at rest)
+        assert len(pngs) / 2 < animation.n_frames <= len(pngs)
+    with Image.open(pngs[len(pngs) // 2]) as picture:
+        pixels = np.asarray(picture.convert("RGB"), dtype=float)
+    assert pixels.shape == (360, 480, 3)
+    assert pixels.std() > 10  # a picture, not a blank
