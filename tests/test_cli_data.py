@@ -1,0 +1,81 @@
+"""``rlff data synth throws`` and ``rlff data preprocess`` through the real command line."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from rlff.cli import main
+from rlff.formats import read_dataset
+
+
+@pytest.mark.integration
+def test_synth_throws_then_preprocess_with_the_thesis_preset(cli, tmp_path):
+    demos = tmp_path / "demos.csv"
+    made = cli("data", "synth", "throws", "-o", str(demos), "--seed", "3", "--subjects", "3",
+               "--inconsistent-distance", "2.75", "--json")
+    assert made.code == 0, made.stderr
+    summary = json.loads(made.stdout)
+    dataset = read_dataset(demos)
+    assert summary["trajectories"] == len(dataset) == 3 * 10 * 4
+    assert summary["hits"] == sum(t.meta["hit"] for t in dataset)
+
+    clean, report = tmp_path / "clean.parquet", tmp_path / "report.json"
+    result = cli("data", "preprocess", str(demos), "--preset", "thesis", "-o", str(clean), "--report", str(report))
+    assert result.code == 0, result.stderr
+    assert "reject_contexts" in result.stdout and "spike_filter" in result.stdout
+    assert "context distance=2.75 rejected" in result.stderr
+    written = json.loads(report.read_text())
+    assert written["trajectories"]["after"] == len(read_dataset(clean))
+    assert [s["step"] for s in written["steps"]][0] == "spike_filter"
+    (rejected,) = [c for s in written["steps"] for c in s["contexts"]]
+    assert rejected["context"] == {"distance": 2.75}
+
+
+# the cases below run the same entry point in-process (``rlff.cli.main``), to spare start-ups
+
+
+def test_preprocess_json_and_config(capsys, tmp_path):
+    demos = tmp_path / "demos.npz"
+    assert main(["data", "synth", "throws", "-o", str(demos), "--subjects", "1", "--throws", "2"]) == 0
+    config = tmp_path / "steps.toml"
+    config.write_text('[[step]]\nname = "crop"\n\n[[step]]\nname = "min_points"\nmin_points = 4\n')
+    capsys.readouterr()
+    code = main(["data", "preprocess", str(demos), "--config", str(config), "-o", str(tmp_path / "c.csv"), "--json"])
+    assert code == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert [s["step"] for s in payload["steps"]] == ["crop", "min_points"]
+    assert payload["pipeline"] == str(config)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--config", "{config}"], "step 1: unknown step 'smooth'"),
+        (["--preset", "paper"], "unknown preset 'paper'"),
+        (["--preset", "thesis", "--config", "{config}"], "either --preset or --config"),
+    ],
+)
+def test_preprocess_bad_input_is_one_line_and_exit_2(capsys, tmp_path, args, message):
+    demos = tmp_path / "demos.csv"
+    demos.write_text("trajectory,angle,distance,velocity\na,0.1,2,0\na,0.2,2,1\n")
+    config = tmp_path / "steps.toml"
+    config.write_text('[[step]]\nname = "smooth"\n')
+    args = [a.format(config=config) for a in args]
+    assert main(["data", "preprocess", str(demos), *args, "-o", str(tmp_path / "c.csv")]) == 2
+    stderr = capsys.readouterr().err
+    assert message in stderr
+    assert len(stderr.strip().splitlines()) == 1
+
+
+def test_preprocess_names_the_bad_line_of_the_input(capsys, tmp_path):
+    demos = tmp_path / "demos.csv"
+    demos.write_text("trajectory,angle,distance,velocity\na,0.1,2,0\na,oops,2,1\n")
+    assert main(["data", "preprocess", str(demos), "-o", str(tmp_path / "c.csv")]) == 2
+    assert f"{demos}, line 3: column 'angle'" in capsys.readouterr().err
+
+
+def test_synth_throws_rejects_a_bad_rate(capsys, tmp_path):
+    assert main(["data", "synth", "throws", "-o", str(tmp_path / "d.csv"), "--rate", "60"]) == 2
+    assert "15 to 30 Hz" in capsys.readouterr().err
