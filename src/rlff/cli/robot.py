@@ -84,14 +84,16 @@ def serve(
 ) -> None:
     """Run the FollowJointTrajectory action server of a simulated arm until Ctrl-C."""
     from rlff.errors import InputError
-    from rlff.robot.ros1.master import RosUnavailable
-    from rlff.robot.ros1.server import ACTION_NAMESPACE, TOPIC
-    from rlff.robot.ros1.server import serve as run_server
 
     model = load_robot(robot)
     mapping = RobotMapping.for_robot(model)
     if sim not in ("kinematic", "mujoco"):
         raise InputError(f"unknown --sim {sim!r} (kinematic or mujoco)")
+    _require_ros()
+    from rlff.robot.ros1.master import RosUnavailable
+    from rlff.robot.ros1.server import ACTION_NAMESPACE, TOPIC
+    from rlff.robot.ros1.server import serve as run_server
+
     hook = _mujoco_throw(model, basket) if sim == "mujoco" else None
 
     def ready() -> None:
@@ -102,6 +104,15 @@ def serve(
     except RosUnavailable as exc:
         stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
         raise typer.Exit(1) from None
+
+
+def _require_ros() -> None:
+    from rlff.robot import ros1
+
+    problem = ros1.missing()
+    if problem:
+        stderr().print(f"rlff: error: {problem}", highlight=False, markup=False)
+        raise typer.Exit(1)
 
 
 def _mujoco_throw(model, basket: float):
@@ -129,11 +140,12 @@ def send(
     json: bool = JSON,
 ) -> None:
     """Send a generated trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels)."""
+    result, mapping = plan_file(trajectory, robot, period, clip)
+    _report(result)
+    _require_ros()
     from rlff.robot.ros1.client import publish_trajectory, send_goal
     from rlff.robot.ros1.master import RosUnavailable
 
-    result, mapping = plan_file(trajectory, robot, period, clip)
-    _report(result)
     traj = result.trajectory
     try:
         if topic_mode:

@@ -14,7 +14,9 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
+from rosbags.rosbag1 import Reader as Ros1Reader
 from rosbags.rosbag1 import Writer as Ros1Writer
+from rosbags.rosbag2 import Reader as Ros2Reader
 from rosbags.rosbag2 import Writer as Ros2Writer
 from rosbags.typesys import Stores, get_typestore
 
@@ -118,14 +120,17 @@ def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TO
 
 
 def read_bag(path: Path, topic: str = TRAJECTORY_TOPIC) -> list[JointTrajectory]:
-    """Every JointTrajectory on ``topic`` of a ROS 1 (file) or ROS 2 (folder) bag."""
-    from rosbags.highlevel import AnyReader
-
+    """Every JointTrajectory on ``topic`` of a ROS 1 bag (a file) or a ROS 2 bag (a folder)."""
+    path = Path(path)
+    if path.is_dir():
+        reader, typestore, deserialize = Ros2Reader(path), get_typestore(Stores.ROS2_HUMBLE), "deserialize_cdr"
+    else:
+        reader, typestore, deserialize = Ros1Reader(path), get_typestore(Stores.ROS1_NOETIC), "deserialize_ros1"
     trajectories = []
-    with AnyReader([Path(path)], default_typestore=get_typestore(Stores.ROS1_NOETIC)) as reader:
+    with reader:
         connections = [c for c in reader.connections if c.topic == topic]
         for connection, _, raw in reader.messages(connections=connections):
-            msg = reader.deserialize(raw, connection.msgtype)
+            msg = getattr(typestore, deserialize)(raw, connection.msgtype)
             time = [p.time_from_start.sec + p.time_from_start.nanosec * 1e-9 for p in msg.points]
             trajectories.append(JointTrajectory(
                 tuple(msg.joint_names), time, [p.positions for p in msg.points],

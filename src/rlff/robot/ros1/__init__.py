@@ -3,3 +3,17 @@
 These modules need Debian's ROS 1 Python packages and the control_msgs messages that
 ``scripts/setup.d/10-ros.sh`` builds (see :mod:`rlff.robot.ros1.msgs`).
 """
+
+from __future__ import annotations
+
+
+def missing() -> str | None:
+    """Why live ROS 1 cannot run here (a message naming the fix), or None when it can."""
+    try:
+        import actionlib  # noqa: F401
+        import control_msgs.msg  # noqa: F401
+        import rospy  # noqa: F401
+    except ImportError as exc:
+        return (f"ROS 1 is not reachable ({exc}): install it with scripts/setup.sh --test "
+                "(Debian's ROS 1 packages and the control_msgs messages)")
+    return None

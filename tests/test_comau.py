@@ -1,0 +1,66 @@
+"""The Comau text program of thesis 4.4 against a hand-computed file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rlff.errors import InputError
+from rlff.robot import Robot, RobotMapping, load_robot
+from rlff.robot.comau import comau_rows, write_comau_program
+from rlff.trajectory import JointTrajectory
+
+EXPECTED = Path(__file__).parent / "data" / "comau_program_expected.txt"
+START = {"joint_1": 0.0, "joint_3": -0.5, "joint_4": 0.0, "joint_5": np.pi / 2, "joint_6": 0.0}
+
+
+def known_trajectory() -> tuple[JointTrajectory, RobotMapping]:
+    """joint_2 at -1, 0, 0.5 rad moving at 0, 1.396 (half of its 2.792 rad/s) and 2.792 rad/s."""
+    mapping = RobotMapping(load_robot(), "joint_2", START, 0.0, 1.0, 1.0)
+    positions = np.tile(mapping.pose(), (3, 1))
+    positions[:, 1] = [-1.0, 0.0, 0.5]
+    velocities = np.zeros((3, 6))
+    velocities[:, 1] = [0.0, 1.396, 2.792]
+    return JointTrajectory(load_robot().joint_names, [0.0, 0.9, 1.2], positions, velocities), mapping
+
+
+def test_program_matches_the_hand_computed_file(tmp_path):
+    # By hand: -1 rad = -57.2958 deg (slot 2 holds joint_2's start, slot 3 its position),
+    # 0.5 rad = 28.6479 deg, pi/2 = 90 deg for joint_5, and the speed slot 6 holds
+    # 100 * |v| / 2.792: 0, 50 and 100 %.
+    traj, mapping = known_trajectory()
+    out = tmp_path / "throw.txt"
+    write_comau_program(traj, mapping, out)
+    assert out.read_text() == EXPECTED.read_text()
+
+
+def test_rows_are_in_degrees_and_percent():
+    traj, mapping = known_trajectory()
+    rows = comau_rows(traj, mapping)
+    np.testing.assert_allclose(rows[:, 2], np.degrees([-1.0, 0.0, 0.5]))
+    np.testing.assert_allclose(rows[:, 5], [0.0, 50.0, 100.0])
+    np.testing.assert_allclose(rows[:, [0, 3, 4]], [[0.0, 0.0, 90.0]] * 3)
+
+
+def test_moving_backwards_gives_a_positive_percentage():
+    traj, mapping = known_trajectory()
+    backwards = JointTrajectory(traj.joint_names, traj.time, traj.positions[::-1], -traj.velocities[::-1])
+    np.testing.assert_allclose(comau_rows(backwards, mapping)[:, 5], [100.0, 50.0, 0.0])
+
+
+def test_bad_layouts_are_refused():
+    traj, mapping = known_trajectory()
+    robot = mapping.robot
+    same = Robot(robot.name, robot.joints, robot.geometry, robot.throwing,
+                 {"position_slot": 6, "velocity_slot": 6}, "same.toml")
+    with pytest.raises(InputError, match="position_slot and velocity_slot are both 6"):
+        comau_rows(traj, RobotMapping(same, "joint_2", START, 0.0, 1.0, 1.0))
+    wrong = Robot(robot.name, robot.joints, robot.geometry, robot.throwing, {"position_slot": 7}, "wrong.toml")
+    with pytest.raises(InputError, match="position_slot must be a slot number 1..6, got 7"):
+        comau_rows(traj, RobotMapping(wrong, "joint_2", START, 0.0, 1.0, 1.0))
+    five = Robot("five", robot.joints[:5], None, {}, {}, "five.toml")
+    pose = {k: v for k, v in START.items() if k != "joint_6"}
+    with pytest.raises(InputError, match="six slots; robot five has 5 joints"):
+        comau_rows(traj.select(five.joint_names), RobotMapping(five, "joint_2", pose, 0.0, 1.0, 1.0))

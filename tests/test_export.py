@@ -1,0 +1,96 @@
+"""Exports: JSON and CSV read back exactly; ROS 1 and ROS 2 bags read back with rosbags."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+from rosbags.rosbag1 import Reader as Ros1Reader
+from rosbags.rosbag2 import Reader as Ros2Reader
+
+from rlff.errors import InputError
+from rlff.robot.export import (
+    JOINT_TRAJECTORY_MD5,
+    TRAJECTORY_TOPIC,
+    read_bag,
+    read_csv,
+    read_json,
+    write_csv,
+    write_json,
+    write_ros1_bag,
+    write_ros2_bag,
+)
+from rlff.trajectory import JointTrajectory
+
+
+@pytest.fixture
+def traj() -> JointTrajectory:
+    rng = np.random.default_rng(7)
+    time = np.array([0.0, 0.002, 0.5, 1.0 - 1e-10, 1.25, 3.000000001])
+    return JointTrajectory(("joint_1", "joint_2", "joint_3"), time, rng.normal(size=(6, 3)),
+                           rng.normal(size=(6, 3)), rng.normal(size=(6, 3)))
+
+
+def assert_same(back: JointTrajectory, traj: JointTrajectory, time_atol: float = 0.0) -> None:
+    assert back.joint_names == traj.joint_names
+    np.testing.assert_allclose(back.time, traj.time, rtol=0, atol=time_atol)
+    for name in ("positions", "velocities", "accelerations"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(traj, name))
+
+
+def test_json_and_csv_read_back_exactly(traj, tmp_path):
+    write_json(traj, tmp_path / "t.json")
+    assert_same(read_json(tmp_path / "t.json"), traj)
+    write_csv(traj, tmp_path / "t.csv")
+    assert (tmp_path / "t.csv").read_text().splitlines()[0].startswith(
+        "time,joint_1_position,joint_1_velocity,joint_1_acceleration,joint_2_position")
+    assert_same(read_csv(tmp_path / "t.csv"), traj)
+
+
+def test_ros1_bag_reads_back_with_the_standard_checksum(traj, tmp_path):
+    path = tmp_path / "t.bag"
+    write_ros1_bag(traj, path, stamp_ns=1_700_000_000_123_456_789)
+    with Ros1Reader(path) as reader:
+        (connection,) = reader.connections
+        assert connection.topic == TRAJECTORY_TOPIC
+        assert connection.msgtype == "trajectory_msgs/msg/JointTrajectory"
+        assert connection.digest == JOINT_TRAJECTORY_MD5 == "65b4f94a94d1ed67169da35a02f33d3f"
+        assert [stamp for _, stamp, _ in reader.messages()] == [1_700_000_000_123_456_789]
+    (back,) = read_bag(path)
+    assert_same(back, traj, time_atol=1e-9)  # time_from_start is whole nanoseconds
+
+
+def test_ros2_bag_reads_back(traj, tmp_path):
+    path = tmp_path / "bag2"
+    write_ros2_bag(traj, path, stamp_ns=5)
+    with Ros2Reader(path) as reader:
+        (connection,) = reader.connections
+        assert (connection.topic, connection.msgtype) == (TRAJECTORY_TOPIC, "trajectory_msgs/msg/JointTrajectory")
+    (back,) = read_bag(path)
+    assert_same(back, traj, time_atol=1e-9)
+    with pytest.raises(InputError, match="exists"):
+        write_ros2_bag(traj, path)
+
+
+def test_nanosecond_rounding_carries_into_seconds(tmp_path):
+    traj = JointTrajectory(("j",), [0.0, 1.9999999999], [[0.0], [1.0]], [[0.0], [0.0]])
+    write_ros1_bag(traj, tmp_path / "t.bag", stamp_ns=1)
+    (back,) = read_bag(tmp_path / "t.bag")
+    assert back.time[-1] == 2.0
+
+
+@pytest.mark.ros
+def test_ros1_checksum_is_the_one_of_ros_itself():
+    """Debian's generated trajectory_msgs class carries the same MD5 (needs the ROS packages)."""
+    if os.environ.get("CI") == "true":  # in CI the ROS packages must be there
+        import trajectory_msgs.msg as trajectory_msgs
+    else:
+        trajectory_msgs = pytest.importorskip("trajectory_msgs.msg")
+    assert trajectory_msgs.JointTrajectory._md5sum == JOINT_TRAJECTORY_MD5
+
+
+def test_foreign_json_is_refused(tmp_path):
+    (tmp_path / "x.json").write_text('{"format": "other"}')
+    with pytest.raises(InputError, match="not an rlff-joint-trajectory file"):
+        read_json(tmp_path / "x.json")
