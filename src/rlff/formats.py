@@ -349,7 +349,7 @@ def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Data
     codes = ids_column.indices.to_numpy(zero_copy_only=False)
     names = ids_column.dictionary.to_pylist()
     order = None
-    if codes.size > 1 and np.count_nonzero(np.diff(codes)) + 1 != np.unique(codes).size:
+    if codes.size > 1 and np.count_nonzero(np.diff(codes)) + 1 != np.count_nonzero(np.bincount(codes)):
         # rows of a trajectory are scattered: gather them, keeping each trajectory's own order
         first_seen = np.unique(codes, return_index=True)[1]
         rank = np.empty(len(names), dtype=np.int64)
@@ -358,7 +358,7 @@ def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Data
         codes = codes[order]
     starts = np.flatnonzero(np.concatenate([[True], codes[1:] != codes[:-1]])) if codes.size else np.empty(0, int)
     lengths = np.diff(np.append(starts, codes.size))
-    ids = [names[c] for c in codes[starts]]
+    ids = [names[c] for c in codes[starts].tolist()]
     _check_lengths(path, ids, lengths)
     columns = {}
     for name in table.column_names:
