@@ -8,9 +8,8 @@ import typer
 
 from rlff.cli._common import emit_json, say, stdout
 from rlff.robot.description import DEFAULT_ROBOT, load_robot
-from rlff.sim import Basket, simulate_throw, throw_reach
-from rlff.sim.inputs import load_throw
-from rlff.sim.reach import farthest_basket
+
+# rlff.sim (MuJoCo) is imported inside the commands: other commands do not pay for it
 
 app = typer.Typer(help="Simulate throws in MuJoCo: outcome, frames, reach.", no_args_is_help=True)
 
@@ -31,7 +30,7 @@ def throw(
     robot: str = ROBOT,
     pedestal: float = PEDESTAL,
     release_angle: float = typer.Option(None, "--release-angle",
-                                        help="Let go when the throwing joint passes this angle (rad); "
+                                        help="Let go when the throwing robot joint passes this position (rad); "
                                              "default: at the end of the trajectory."),
     frames: Path = typer.Option(None, "--frames", help="Write PNG frames and an animated GIF here."),
     clip: bool = typer.Option(False, "--clip", help="Clip a mapped path into the joint limits (reported) "
@@ -39,6 +38,9 @@ def throw(
     json: bool = JSON,
 ) -> None:
     """Execute a trajectory on the simulated robot and report where the ball lands."""
+    from rlff.sim import Basket, simulate_throw
+    from rlff.sim.inputs import load_throw
+
     model = load_robot(robot)
     target = Basket(basket, rim_height, opening)
     loaded = load_throw(trajectory, model, clip=clip)
@@ -77,6 +79,9 @@ def reach(
     json: bool = JSON,
 ) -> None:
     """How far the robot throws: where the ball comes down to the rim's height, at best."""
+    from rlff.sim import throw_reach
+    from rlff.sim.reach import farthest_basket
+
     model = load_robot(robot)
     names = [name.strip() for name in joints.split(",") if name.strip()]
     result = throw_reach(model, rim_height, pedestal, names)
