@@ -118,19 +118,50 @@ def test_dropped_frames_are_interpolated_and_long_losses_marked(tmp_path):
     assert np.max(error[motion.valid]) < 0.05  # linear interpolation over two dropped hand samples
 
 
-def test_only_tf_connections_are_deserialised(lz4_bag, monkeypatch):
+def test_image_messages_are_never_deserialised(lz4_bag, monkeypatch):
     from rosbags.typesys.store import Typestore
 
     decoded: set[str] = set()
-    original = Typestore.deserialize_ros1
+    for method in ("deserialize_ros1", "deserialize_cdr"):
+        original = getattr(Typestore, method)
 
-    def spy(self, rawdata, typename):
-        decoded.add(typename)
-        return original(self, rawdata, typename)
+        def spy(self, rawdata, typename, original=original):
+            decoded.add(typename)
+            return original(self, rawdata, typename)
 
-    monkeypatch.setattr(Typestore, "deserialize_ros1", spy)
-    read_bag(lz4_bag)
-    assert decoded == {"tf2_msgs/msg/TFMessage"}
+        monkeypatch.setattr(Typestore, method, spy)
+    assert len(read_bag(lz4_bag).arms) == 4
+    assert "sensor_msgs/msg/CompressedImage" not in decoded
+
+
+@pytest.mark.parametrize("batch", [1, 7, 512])
+def test_the_batched_tf_decoder_agrees_with_the_bag_typestore(lz4_bag, monkeypatch, batch):
+    """Dropped joints give messages of new and of equal lengths with other names: all decoded alike."""
+    from rosbags.highlevel import AnyReader
+
+    from rlff.capture import tf_decode
+
+    monkeypatch.setattr(tf_decode, "BATCH", batch)
+
+    def keep(child: str) -> bool:
+        return "elbow" in child or "hand" in child
+
+    with AnyReader([lz4_bag]) as reader:
+        connections = [c for c in reader.connections if c.topic == "/tf"]
+        fast = tf_decode.TfCollector(keep, reader.typestore.deserialize_ros1)
+        generic = tf_decode.TfCollector(keep, reader.typestore.deserialize_ros1)
+        for connection, time_ns, raw in reader.messages(connections=connections):
+            assert connection.digest == tf_decode.TF_MD5
+            fast.add(raw, connection.msgtype, connection.digest, time_ns)
+            generic.add(raw, connection.msgtype, "", time_ns)  # no digest: the typestore decodes
+    ours, theirs = fast.finish(), generic.finish()
+    assert sorted(ours) == sorted(theirs) == sorted(f"{side}_{joint}_{user}" for side in ("left", "right")
+                                                      for joint in ("elbow", "hand") for user in "12")
+    for child, (parent, times, positions) in theirs.items():
+        order, their_order = np.argsort(ours[child][1], kind="stable"), np.argsort(times, kind="stable")
+        assert ours[child][0] == parent == bf.PARENT
+        np.testing.assert_array_equal(ours[child][1][order], times[their_order])
+        np.testing.assert_array_equal(ours[child][2][order], positions[their_order])
 
 
 def test_a_bag_damaged_at_the_end_is_read_up_to_the_damage_with_a_warning(tmp_path, lz4_bag, simulation):

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from rlff.capture.skeleton import ArmTrack, JointTrack, Recording
+from rlff.capture.tf_decode import TfCollector
 from rlff.errors import InputError
 
 #: Default frames of the throwing arm (NiTE / openni_tracker names, user 1).
@@ -49,6 +50,7 @@ class Message:
     msgtype: str
     time_ns: int
     raw: bytes | memoryview
+    digest: str = ""
 
 
 @dataclass
@@ -98,38 +100,28 @@ def read_bag(
     pattern = re.compile(
         "^(?:" + "|".join(re.escape(stem) for side in sides.values() for stem in side) + r")(\d*)$"
     )
-    collected: dict[str, tuple[str, list[float], list[tuple[float, float, float]]]] = {}
-    seen_frames: set[str] = set()
     wanted: dict[str, bool] = {}
+
+    def keep(child: str) -> bool:
+        decision = wanted.get(child)
+        if decision is None:
+            decision = wanted[child] = pattern.match(child.lstrip("/")) is not None
+        return decision
+
     count = 0
     with _open_stream(path, [topic], TF_TYPES) as stream:
-        deserialize = stream.deserialize
+        collector = TfCollector(keep, stream.deserialize)
         for message in stream.messages:
             count += 1
-            decoded = deserialize(message.raw, message.msgtype)
-            for transform in decoded.transforms:
-                child = transform.child_frame_id
-                keep = wanted.get(child)
-                if keep is None:
-                    keep = wanted[child] = pattern.match(child.lstrip("/")) is not None
-                    seen_frames.add(child.lstrip("/"))
-                if not keep:
-                    continue
-                stamp = transform.header.stamp
-                seconds = stamp.sec + stamp.nanosec * 1e-9 or message.time_ns * 1e-9
-                translation = transform.transform.translation
-                entry = collected.get(child)
-                if entry is None:
-                    entry = collected[child] = (transform.header.frame_id.lstrip("/"), [], [])
-                entry[1].append(seconds)
-                entry[2].append((translation.x, translation.y, translation.z))
+            collector.add(message.raw, message.msgtype, message.digest, message.time_ns)
+        collected = collector.finish()
         warnings = stream.warnings
     if count == 0:
         raise InputError(f"{path}: no message could be read on {topic}" + (f" ({warnings[0]})" if warnings else ""))
     notes: list[str] = []
     arms = _arm_tracks(path, collected, sides, notes)
     if not arms:
-        present = sorted(seen_frames)
+        present = sorted({name.lstrip("/") for name in wanted})
         raise InputError(
             f"{path}: no tracked user has all of the frames {', '.join(stem + 'N' for stem in stems)} on {topic} "
             f"(looked for {', '.join(names)}); frames there: {', '.join(present) if present else 'none'}"
@@ -150,7 +142,7 @@ def _sides(stems: list[str]) -> dict[str, list[str]]:
 
 def _arm_tracks(
     path: Path,
-    collected: dict[str, tuple[str, list[float], list[tuple[float, float, float]]]],
+    collected: dict[str, tuple[str, np.ndarray, np.ndarray]],
     sides: dict[str, list[str]],
     notes: list[str],
 ) -> list[ArmTrack]:
@@ -177,10 +169,8 @@ def _arm_tracks(
     return arms
 
 
-def _joint_track(name: str, stamps: list[float], positions: list, notes: list[str], path: Path) -> JointTrack:
+def _joint_track(name: str, time: np.ndarray, position: np.ndarray, notes: list[str], path: Path) -> JointTrack:
     """A joint track with its samples in time order and repeated stamps dropped (keeping the last)."""
-    time = np.asarray(stamps)
-    position = np.asarray(positions, dtype=float).reshape(-1, 3)
     order = np.argsort(time, kind="stable")
     time, position = time[order], position[order]
     keep = np.ones(time.size, dtype=bool)
@@ -235,7 +225,7 @@ def _open_stream(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | No
             try:
                 for connection, time_ns, raw in reader.messages(connections=connections):
                     last = time_ns
-                    yield Message(connection.topic, connection.msgtype, time_ns, raw)
+                    yield Message(connection.topic, connection.msgtype, time_ns, raw, connection.digest if not reader.is2 else "")
             except Exception as exc:  # noqa: BLE001 - any decoding failure inside the bag is damage
                 warnings.append(_damage_warning(path, f"{type(exc).__name__}: {exc}", last, reader.start_time))
 
@@ -285,7 +275,7 @@ def _scan_ros1(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | None
         handle.close()
         raise InputError(f"{path}: not a ROS 1 bag of format 2.0 (file starts with {magic[:20]!r}; {reason})")
     typestore = get_typestore(Stores.EMPTY)
-    connections: dict[int, tuple[str, str]] = {}
+    connections: dict[int, tuple[str, str, str]] = {}
     warnings: list[str] = [f"{path}: the bag has no usable index ({reason}); scanning its chunks instead"]
     found_topics: dict[str, str] = {}
 
@@ -294,7 +284,7 @@ def _scan_ros1(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | None
         msgtype = normalize_msgtype(fields.get_string("type"))
         if topic in topics and msgtype not in typestore.fielddefs:
             typestore.register(get_types_from_msg(fields.get_string("message_definition"), msgtype))
-        connections[conn_id] = (topic, msgtype)
+        connections[conn_id] = (topic, msgtype, fields.get_string("md5sum"))
         found_topics[topic] = msgtype
 
     def records(source) -> Iterator[tuple[Header, bytes]]:
@@ -322,9 +312,9 @@ def _scan_ros1(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | None
                         if kind == RecordType.CONNECTION:
                             add_connection(inner.get_uint32("conn"), inner.get_string("topic"), payload)
                         elif kind == RecordType.MSGDATA:
-                            topic, msgtype = connections[inner.get_uint32("conn")]
+                            topic, msgtype, digest = connections[inner.get_uint32("conn")]
                             if topic in topics:
-                                batch.append(Message(topic, msgtype, inner.get_time("time"), payload))
+                                batch.append(Message(topic, msgtype, inner.get_time("time"), payload, digest))
                     for message in batch:
                         first = message.time_ns if first is None else first
                         last = message.time_ns
