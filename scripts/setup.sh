@@ -24,7 +24,7 @@ fi
 
 if (( with_tests )); then
   # Debian packages, one per line in scripts/debian-packages.txt (comments with #).
-  mapfile -t packages < <(sed -e 's/#.*//' -e '/^\s*$/d' scripts/debian-packages.txt)
+  mapfile -t packages < <(sed -e 's/#.*//' -e 's/[[:space:]]*$//' -e '/^\s*$/d' scripts/debian-packages.txt)
   missing=()
   for p in "${packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
