@@ -33,8 +33,9 @@ __all__ = ["Basket", "ReleaseState", "ThrowOutcome", "simulate_throw"]
 
 #: Simulated time allowed after the release (s).
 FLIGHT_CAP = 3.0
-#: The ball counts as settled below this speed (m/s).
+#: The ball counts as settled after this long (s) below this speed (m/s).
 SETTLED_SPEED = 0.05
+SETTLED_TIME = 0.1
 
 
 @dataclass(frozen=True)
@@ -310,6 +311,7 @@ class _Run:
         landing_x = flight_time = np.nan
         first_contact = "nothing"
         release_time = data.time
+        still = 0
         x, z = ball[0], ball[2]
         while data.time - release_time < FLIGHT_CAP:
             if step < len(self.reference.positions) - 1:
@@ -340,7 +342,11 @@ class _Run:
                 if 0.5 * float(ball_velocity @ ball_velocity) < GRAVITY * (rim + BALL_RADIUS - z):
                     break
             elif float(np.linalg.norm(ball_velocity)) < SETTLED_SPEED:
-                break  # lying on the rim
+                still += 1
+                if still * dt >= SETTLED_TIME:
+                    break  # lying on the rim
+            else:
+                still = 0
         rest = ball.copy()
         if self.recorder is not None:
             self.recorder.capture(data)
