@@ -134,3 +134,18 @@ def test_joint_3_as_a_second_throwing_joint_reaches_beyond_joint_2_alone(robot):
     assert outcome.landing_x > 2.6
     assert abs(outcome.landing_x - outcome.predicted_landing_x) < 0.02
     assert outcome.peak_speed <= 1.0
+
+
+def test_a_trajectory_outrunning_its_speed_limit_saturates_and_never_exceeds_it(robot):
+    # positions on a clock 25 % faster than the swing, velocities clipped at the limit (as --clip
+    # leaves them): in between the points the path asks for about 3.6 rad/s
+    base = swing(peak=2.7)
+    velocities = np.minimum(base.velocities / 0.75, 2.792)
+    clipped = JointTrajectory(JOINTS, base.time * 0.75, base.positions, velocities)
+    outcome = simulate_throw(clipped, Basket(2.0), robot=robot)
+    assert outcome.saturated
+    assert any("saturated" in note for note in outcome.notes)
+    assert 0.99 < outcome.peak_speed <= 1.0
+    # the controller arrives late but arrives: it lets go at the end of the path
+    assert outcome.release.joint_positions["joint_2"] == pytest.approx(base.positions[-1, 1], abs=0.01)
+    assert outcome.release.time > clipped.duration

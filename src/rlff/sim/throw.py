@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
@@ -28,6 +28,9 @@ from rlff.sim.scene import POSITION_GAIN, Scene, build_scene
 from rlff.sim.servo import servo_reference
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import require_within_limits
+
+if TYPE_CHECKING:  # rendering (and its OpenGL set-up) is loaded only when frames are asked for
+    from rlff.sim.render import FrameRecorder
 
 __all__ = ["Basket", "ReleaseState", "ThrowOutcome", "simulate_throw"]
 
@@ -248,7 +251,7 @@ class _Run:
     """One simulated throw: the servo commands, the release rule and the stepping loop."""
 
     def __init__(self, scene: Scene, trajectory: JointTrajectory, throwing: str,
-                 release_angle: float | None, recorder: Any) -> None:
+                 release_angle: float | None, recorder: FrameRecorder | None) -> None:
         self.scene = scene
         self.trajectory = trajectory
         self.column = trajectory.joint_index(throwing)
