@@ -65,7 +65,10 @@ def max_reach(
     pedestal: float = 0.0,
     joints: Sequence[str] = ("joint_2",),
 ) -> float:
-    """Farthest basket distance (m) the robot reaches with ``joints`` at their speed limits.
+    """Farthest distance (m) at which the ball comes down through the rim's height.
+
+    The ball is thrown with ``joints`` at their speed limits; a basket centred up to
+    :func:`farthest_basket` of this distance still catches it.
 
     Parameters
     ----------
@@ -94,6 +97,8 @@ def throw_reach(
         raise InputError(f"throwing joints must be among {', '.join(PLANE_JOINTS)}, got {list(joints)}")
     if pedestal < 0 or not np.isfinite(pedestal):
         raise InputError(f"pedestal height must be >= 0 m, got {pedestal}")
+    if not rim_height > 0 or not np.isfinite(rim_height):
+        raise InputError(f"rim height must be > 0 m, got {rim_height}")
     return _reach(arm, float(rim_height), float(pedestal), tuple(sorted(set(joints), key=PLANE_JOINTS.index)))
 
 
@@ -137,14 +142,15 @@ def require_reachable(
 def _reach(arm: Arm, rim_height: float, pedestal: float, joints: tuple[str, ...]) -> Reach:
     lower = np.array([arm.joint(n).lower for n in PLANE_JOINTS])
     upper = np.array([arm.joint(n).upper for n in PLANE_JOINTS])
-    rates = np.zeros((0, 3))
-    # joint 2 swings forward (overhand); the other throwing joints may turn either way
+    # joint rates (R, 3) to try: joint 2 swings forward (overhand), the others either way
     choices = [(1.0,) if name == "joint_2" else (-1.0, 1.0) for name in joints]
+    rates = []
     for signs in itertools.product(*choices):
         rate = np.zeros(3)
         for sign, name in zip(signs, joints, strict=True):
             rate[PLANE_JOINTS.index(name)] = sign * arm.joint(name).max_velocity
-        rates = np.vstack([rates, rate])
+        rates.append(rate)
+    rates = np.array(rates)
 
     def distances(pose: np.ndarray) -> np.ndarray:
         """Crossing distance (m) of shape (..., R) for poses (..., 3) and every rate (R, 3)."""
