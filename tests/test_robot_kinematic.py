@@ -38,6 +38,13 @@ def test_a_late_first_point_is_reached_from_where_the_arm_is():
     np.testing.assert_allclose(arm.state(0.5).positions, [0.5, 0.5])  # halfway, by symmetry
 
 
+def test_a_single_point_at_zero_is_reached_at_once():
+    arm = KinematicArm(NAMES, np.zeros(2))
+    arm.follow(JointTrajectory(NAMES, [0.0], [[0.3, 0.4]], [[0.0, 0.0]]), start=1.0, now=1.0)
+    np.testing.assert_allclose(arm.state(1.0).positions, [0.3, 0.4])
+    assert arm.finished(1.0) and not arm.finished(1.1)
+
+
 def test_stop_holds_where_the_arm_is():
     arm = KinematicArm(NAMES, np.zeros(2))
     arm.follow(JointTrajectory(NAMES, [0.0, 2.0], [[0.0, 0.0], [2.0, 2.0]], [[1.0, 1.0], [1.0, 1.0]]), 0.0, 0.0)

@@ -244,6 +244,30 @@ def test_ctrl_c_cancels_the_goal_and_the_arm_stops(ros, tmp_path):
     assert "cancelled: arm stopped" in ros.server_log.read_text()
 
 
+def test_a_newer_goal_preempts_the_running_one(ros, tmp_path):
+    slow = _throw(tmp_path, "slow.csv", -1.2, 2.4, 0.3)
+    quick = _throw(tmp_path, "quick.csv", 0.3, -0.3, 1.0)
+    end = plan_file(quick, period=0)[0].trajectory.positions[-1]
+    recorder = ros.record(tmp_path / "states.csv")
+    first = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow), "--json"], env=ros.env,
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+    def moving() -> bool:
+        _, positions = _states(tmp_path / "states.csv")
+        return np.ptp(positions[:, DRIVEN]) > 0.3
+
+    _wait(moving, 120, "the first goal to move the arm")
+    second = ros.rlff("robot", "send", str(quick), "--json", "--timeout", "60")
+    out, _ = first.communicate(timeout=60)
+    _stop(recorder)
+    assert second.returncode == 0, second.stderr
+    assert json.loads(second.stdout)["status"] == "succeeded"
+    assert first.returncode == 1 and json.loads(out)["status"] == "cancelled"
+    _, positions = _states(tmp_path / "states.csv")
+    np.testing.assert_allclose(positions[-1], end, atol=1e-9)
+    assert "preempted by a newer goal" in json.loads(out)["error_string"]
+
+
 def test_topic_mode_and_rosbag_play_drive_the_arm(ros, tmp_path):
     path = _throw(tmp_path, "throw.csv", 0.5, -0.5, 1.0)
     sent = plan_file(path, period=0)[0].trajectory

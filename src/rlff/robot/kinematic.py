@@ -46,6 +46,7 @@ class KinematicArm:
         if self._hold.shape != (len(self.joint_names),):
             raise InputError(f"initial positions must have shape ({len(self.joint_names)},)")
         self._spline: CubicHermiteSpline | None = None
+        self._arrived = False  # a one-point trajectory at 0 s: reached at once, not yet reported
         self._start = 0.0
         self._duration = 0.0
         self.trajectory: JointTrajectory | None = None
@@ -74,10 +75,9 @@ class KinematicArm:
             positions = np.vstack([here, positions])
             velocities = np.vstack([np.zeros_like(here), velocities])
         full = JointTrajectory(self.joint_names, time, positions, velocities)
-        self._hold = positions[0].copy()
+        self._hold = positions[-1].copy()
         self._spline = CubicHermiteSpline(time, positions, velocities, axis=0) if len(time) > 1 else None
-        if self._spline is None:
-            self._hold = positions[-1].copy()
+        self._arrived = self._spline is None
         self._start, self._duration = start, float(time[-1])
         self.trajectory = full
         return full
@@ -86,6 +86,7 @@ class KinematicArm:
         """Halt where the arm is at ``now`` and hold that position."""
         self._hold = self.state(now).positions
         self._spline = None
+        self._arrived = False
         self.trajectory = None
 
     def state(self, now: float) -> ArmState:
@@ -98,7 +99,10 @@ class KinematicArm:
 
     def finished(self, now: float) -> bool:
         """Whether the trajectory being followed has ended by ``now`` (then the arm holds its end)."""
-        if self._spline is None or now - self._start < self._duration:
+        if self._spline is None:
+            arrived, self._arrived = self._arrived, False
+            return arrived
+        if now - self._start < self._duration:
             return False
         self._hold = self._spline(self._duration)
         self._spline = None
