@@ -207,3 +207,20 @@ def test_manifest_by_throw_index_and_by_time(tmp_path):
     path.write_text("name,distance\nx.bag,2\n")
     with pytest.raises(InputError, match=r"no column 'file'"):
         read_manifest(path)
+
+
+def test_thesis_matrix_files_pass_through(tmp_path):
+    from rlff.dataset import Dataset, Trajectory
+    from rlff.formats import write_thesis_matrix
+
+    throws = Dataset(
+        Trajectory(f"d{k}", {"angle": np.linspace(0.7, 3.0, 5), "distance": np.full(5, 2.0 + k), "velocity": np.arange(5.0)})
+        for k in range(2)
+    )
+    first, second = tmp_path / "a.txt", tmp_path / "b.txt"
+    write_thesis_matrix(throws, first)
+    write_thesis_matrix(throws, second)
+    dataset, report = import_recordings([first, second], "thesis")
+    assert len(dataset) == 4 and len({t.id for t in dataset}) == 4
+    assert [f.format for f in report.files] == ["thesis", "thesis"]
+    np.testing.assert_allclose(dataset[3]["distance"], 3.0)

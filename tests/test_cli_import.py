@@ -12,6 +12,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 import bagfactory as bf  # noqa: E402
 from rlff.dataset import read_csv  # noqa: E402
 
+pytestmark = pytest.mark.slow  # every test starts the real command in a subprocess
+
 
 @pytest.fixture(scope="module")
 def bag(tmp_path_factory) -> Path:

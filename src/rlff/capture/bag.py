@@ -390,5 +390,5 @@ def images_near(path: str | Path, topic: str, times: Sequence[float]) -> tuple[l
             error = np.abs(wanted - stamp)
             for index in np.flatnonzero([b is None or e < b[0] for b, e in zip(best, error, strict=True)]):
                 best[index] = (float(error[index]), stamp, bytes(image.data))
-        warnings = list(stream.warnings[1:] if stream.warnings and "no usable index" in stream.warnings[0] else stream.warnings)
+        warnings = list(stream.warnings)
     return [None if b is None else (b[1], b[2]) for b in best], warnings

@@ -20,7 +20,7 @@ begins. Stretches of lost tracking split the recording; a throw never spans one.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.ndimage import median_filter
@@ -170,17 +170,12 @@ def _last_motion(velocity: np.ndarray, longest: float, pause: float, rest: float
 
 
 def _without_overlap(cuts: list[ThrowCut]) -> list[ThrowCut]:
-    """Clip each throw's end to the next throw's start; drop a throw swallowed by its neighbour."""
+    """Where a follow-through runs into the next wind-up, end the one where the other begins."""
     result: list[ThrowCut] = []
     for cut in cuts:
-        if result and cut.start < result[-1].extension_end:
-            if cut.peak - cut.start > result[-1].peak - result[-1].start:
-                result[-1] = cut
-            continue
         if result and result[-1].stop > cut.start:
-            previous = result[-1]
-            start = max(cut.start, previous.extension_end + 1)
-            result[-1] = ThrowCut(previous.start, start, previous.extension_start, previous.extension_end, previous.peak)
-            cut = ThrowCut(start, cut.stop, cut.extension_start, cut.extension_end, cut.peak)
+            boundary = max(cut.start, result[-1].extension_end + 1)
+            result[-1] = replace(result[-1], stop=boundary)
+            cut = replace(cut, start=boundary)
         result.append(cut)
     return result
