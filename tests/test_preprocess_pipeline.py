@@ -87,6 +87,12 @@ def test_bad_toml_names_the_file_and_the_step(tmp_path, text, message):
     assert str(path) in str(error.value)
 
 
+def test_an_error_inside_a_step_names_the_step():
+    data = Dataset([Trajectory("a", {"angle": [2.0, 2.0], "distance": [1.0, 1.0], "velocity": [0.0, 0.0]})])
+    with pytest.raises(InputError, match=r"^steps.toml, step 'rescale': trajectory 'a': cannot stretch"):
+        Pipeline([("rescale", {"mode": "stretch"})], source="steps.toml").run(data)
+
+
 def test_bad_list_and_preset_names():
     with pytest.raises(InputError, match="step 1: unknown step 'nope'"):
         Pipeline([("nope", {})])

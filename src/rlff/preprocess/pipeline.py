@@ -215,7 +215,11 @@ class Pipeline:
         for step in self.steps:
             if not step.enabled:
                 continue
-            result, report = STEPS[step.name](dataset, **step.params)
+            try:
+                result, report = STEPS[step.name](dataset, **step.params)
+            except InputError as exc:
+                where = f"{self.source}, " if self.source else ""
+                raise InputError(f"{where}step {step.name!r}: {exc}") from None
             _check_accounted(report, dataset, result)
             reports.append(report)
             dataset = result

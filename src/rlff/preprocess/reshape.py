@@ -183,8 +183,10 @@ def _densify_one(
     dense = {name: np.interp(position, sample_index, trajectory[name]) for name in trajectory.columns}
     x = dense[column][::-1] if descending else dense[column]
     low, high = float(x[0]), float(x[-1])
-    grid = np.arange(np.ceil(low / step - 1e-9), np.floor(high / step + 1e-9) + 1) * step
-    grid = np.unique(np.clip(np.concatenate([[low], grid, [high]]), low, high))
+    grid = np.arange(np.ceil(low / step), np.floor(high / step) + 1) * step
+    # multiples of the step strictly inside, by a margin, so that no two samples nearly coincide
+    margin = 1e-3 * step
+    grid = np.concatenate([[low], grid[(grid > low + margin) & (grid < high - margin)], [high]])
     result = {}
     for name in trajectory.columns:
         if name == column:
