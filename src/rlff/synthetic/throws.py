@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rlff.ballistics import GRAVITY, crossing_distance
-from rlff.dataset import Dataset, Trajectory
+from rlff.dataset import Dataset
 from rlff.errors import InputError
 
 #: Upper arm length, shoulder to elbow (m).
@@ -73,14 +73,14 @@ def _minimum_jerk_speed(s: np.ndarray | float) -> np.ndarray:
 
 
 def release_state(
-    style_elevation: float, shoulder_height: float, release_angle: np.ndarray | float,
+    upper_arm_elevation: float, shoulder_height: float, release_angle: np.ndarray | float,
     angular_velocity: np.ndarray | float,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Ball position and velocity at release from the arm geometry of the module docstring.
 
     Parameters
     ----------
-    style_elevation : float
+    upper_arm_elevation : float
         Upper arm elevation above the horizontal (rad).
     shoulder_height : float
         Shoulder height above the floor (m).
@@ -94,9 +94,9 @@ def release_state(
     x, z, vx, vz : arrays of shape (N,)
         Release position (m) and velocity (m/s); x forward from the shoulder, z up.
     """
-    forearm_direction = style_elevation + np.pi - np.asarray(release_angle, dtype=float)
-    elbow_x = UPPER_ARM * np.cos(style_elevation)
-    elbow_z = shoulder_height + UPPER_ARM * np.sin(style_elevation)
+    forearm_direction = upper_arm_elevation + np.pi - np.asarray(release_angle, dtype=float)
+    elbow_x = UPPER_ARM * np.cos(upper_arm_elevation)
+    elbow_z = shoulder_height + UPPER_ARM * np.sin(upper_arm_elevation)
     x = elbow_x + FOREARM * np.cos(forearm_direction)
     z = elbow_z + FOREARM * np.sin(forearm_direction)
     speed = FOREARM * np.asarray(angular_velocity, dtype=float)
@@ -286,16 +286,17 @@ def simulate_throws(
         noise = dropped_frames = glitches = 0.0
     rng = np.random.default_rng(seed)
     styles = [_draw_style(rng, name, bias) for name in names]
-    trajectories = []
-    for style in styles:
-        for distance in distances:
-            for k in range(throws_per_distance):
-                trajectories.append(
-                    _throw(rng, style, float(distance), k, rate_hz, noise, dropped_frames, glitches,
-                           inconsistent_factor if _same(distance, inconsistent_distance) else 1.0,
-                           throw_error, all_short, hit_radius)
-                )
-    return Dataset(trajectories, context=("distance",))
+    throws = [
+        _throw(rng, style, float(distance), k, rate_hz, noise, dropped_frames, glitches,
+               inconsistent_factor if _same(distance, inconsistent_distance) else 1.0,
+               throw_error, all_short, hit_radius)
+        for style in styles for distance in distances for k in range(throws_per_distance)
+    ]
+    columns = {name: np.concatenate([data[name] for _, data, _ in throws]) for name in throws[0][1]}
+    return Dataset.from_columns(
+        columns, [name for name, _, _ in throws], [data["time"].size for _, data, _ in throws],
+        [meta for _, _, meta in throws], context=("distance",),
+    )
 
 
 def _same(distance: float, other: float | None) -> bool:
@@ -306,7 +307,8 @@ def _throw(
     rng: np.random.Generator, style: _Style, target: float, k: int, rate_hz: float, noise: float,
     dropped_frames: float, glitches: float, slowdown: float, throw_error: float, all_short: bool,
     hit_radius: float,
-) -> Trajectory:
+) -> tuple[str, dict[str, np.ndarray], dict[str, object]]:
+    """One recorded throw: its id, columns and metadata."""
     span = style.extended_angle - style.wound_angle
     release_angle = style.wound_angle + span * float(_minimum_jerk(np.asarray(style.release_phase)))
     needed = _needed_angular_velocity(style, release_angle, target)
@@ -335,4 +337,4 @@ def _throw(
         "glitches": count,
     }
     data = {"time": time, "angle": angle, "distance": np.full(time.size, target), "velocity": velocity}
-    return Trajectory(f"{style.name}-d{target:g}-{k + 1}", data, meta)
+    return f"{style.name}-d{target:g}-{k + 1}", data, meta
