@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import io
 import sys
 from pathlib import Path
 
@@ -237,24 +236,42 @@ def test_frames_of_another_name_and_user_are_configurable(lz4_bag):
     assert recording.arm("1", "left") is not None and recording.arm("2", "right") is not None
 
 
-def test_contact_sheet_has_a_row_per_throw_and_notes_undecodable_frames(tmp_path, simulation):
-    frames = bf.jpeg_frames(3)
-    frames.append(b"\xff\xd8 this is not a jpeg")
-    bag = bf.write_ros1_bag(tmp_path / "cam.bag", simulation, images=frames, image_every=1)
-    _, report = import_recordings([bag], "bag")
+def test_contact_sheet_has_a_row_per_throw_of_camera_frames(tmp_path, lz4_bag, simulation, jpegs):
+    _, report = import_recordings([lz4_bag], "bag")
     path, notes = contact_sheet(report.files[0], tmp_path / "sheets")
+    assert notes == []
     with Image.open(path) as sheet:
         assert sheet.size == (3 * 240, len(simulation.throws) * (180 + 16))
-    # every 4th image is broken; the frames picked at 9 instants include some of them or none
-    decoded = 0
-    from rlff.capture.bag import images_near
+        # each tile shows a camera frame (noise), not the grey placeholder of a missing one
+        tile = np.asarray(sheet.convert("RGB"))[16 + 60 : 16 + 120, 60:180]
+        assert tile.std() > 20
 
-    times = [report.files[0].clock_origin + t.start for t in report.files[0].throws]
-    found, _ = images_near(bag, bf.IMAGE_TOPIC, times)
-    for _stamp, data in found:
-        try:
-            Image.open(io.BytesIO(data)).load()
-            decoded += 1
-        except OSError:
-            assert any("undecodable frame" in note for note in notes)
-    assert all("skipped" in note for note in notes)
+
+def test_undecodable_camera_frames_are_skipped_with_a_note(tmp_path, simulation):
+    bag = bf.write_ros1_bag(tmp_path / "cam.bag", simulation, images=[b"\xff\xd8 not a jpeg"])
+    _, report = import_recordings([bag], "bag")
+    path, notes = contact_sheet(report.files[0], tmp_path / "sheets")
+    assert path.is_file()
+    assert len(notes) == 3 * len(simulation.throws)
+    assert all("undecodable frame" in note and "skipped" in note for note in notes)
+
+
+def test_a_bag_without_a_camera_gets_no_contact_sheet(tmp_path, simulation):
+    bag = bf.write_ros1_bag(tmp_path / "nocam.bag", simulation)
+    _, report = import_recordings([bag], "bag")
+    path, notes = contact_sheet(report.files[0], tmp_path / "sheets")
+    assert path is None and "no compressed camera stream" in notes[0]
+
+
+def test_hit_or_miss_against_the_manifest_basket(tmp_path, lz4_bag):
+    first, _ = import_recordings([lz4_bag], "bag")
+    landing = [t.meta["landing"] for t in first]
+    manifest = tmp_path / "m.csv"
+    manifest.write_text(
+        "file,throw,distance\n"
+        f"{lz4_bag.name},1,{landing[0] + 0.1:.6f}\n{lz4_bag.name},2,{landing[1] + 0.5:.6f}\n"
+    )
+    dataset, _ = import_recordings([lz4_bag], "bag", manifest=manifest)
+    assert [t.meta["hit"] for t in dataset[:2]] == [True, False]
+    assert [t.meta["distance_source"] for t in dataset] == ["manifest", "manifest", "file name"]
+    assert dataset[2].meta["target"] == 2.5
