@@ -9,6 +9,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from matplotlib.colors import to_hex
+from matplotlib.patches import Ellipse
 
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
@@ -74,10 +75,10 @@ def test_dataset_slices_one_panel_per_distance_with_outcomes(tmp_path):
     assert len(panels) == len(DISTANCES)
     for panel, distance in zip(panels, DISTANCES, strict=True):
         assert panel.get_title() == f"z = {distance:g} m · 1 hit, 2 missed"
-        (lines,) = panel.collections
-        colours = [to_hex(c) for c in lines.get_colors()]
-        assert len(lines.get_segments()) == PER_DISTANCE
-        assert colours.count(HIT_COLOUR) == 1 and colours.count(MISS_COLOUR) == 2
+        misses, hits = panel.collections
+        assert (misses.get_label(), hits.get_label()) == ("missed", "hit")
+        assert len(misses.get_segments()) == 2 and len(hits.get_segments()) == 1
+        assert to_hex(misses.get_colors()[0]) == MISS_COLOUR and to_hex(hits.get_colors()[0]) == HIT_COLOUR
     assert panels[0].get_ylabel() == "joint velocity ξ̇ (rad/s)"
     assert all(p.get_xlabel() == "joint angle ξ (rad)" for p in panels)  # one row: all carry it
     legend = saved.figure.legends[0]
@@ -212,3 +213,151 @@ def test_throw_snapshot_draws_arm_flight_and_basket_from_a_simulated_throw(tmp_p
     del record["release"]
     with pytest.raises(InputError, match="missing or malformed field 'release'"):
         throw_snapshot_from_outcome(record, tmp_path / "bad")
+
+
+# -- mixture and donut figures ------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def thesis_model():
+    from rlff.model import Model
+    from rlff.synthetic.thesis import thesis_dataset
+
+    data = thesis_dataset()
+    return data, Model.fit(data, components=3, seed=0)
+
+
+def test_kmeans_em_steps_one_column_per_k(tmp_path):
+    from rlff.plots.mixture import kmeans_em_steps
+
+    rng = np.random.default_rng(0)
+    points = np.concatenate([rng.normal(centre, 0.1, size=(60, 2)) for centre in ((0, 0), (2, 0), (0, 2))])
+    saved = kmeans_em_steps(points, tmp_path / "kem", ks=(2, 3))
+    check_files(saved)
+    panels = saved.figure.get_axes()
+    assert [p.get_title().split(" (")[0] for p in panels] == ["k-means, K = 2", "k-means, K = 3", "EM, K = 2", "EM, K = 3"]
+    assert len(panels[1].collections) == 3  # one scatter per cluster
+    assert sum(len(c.get_offsets()) for c in panels[1].collections) == 180
+    assert len([p for p in panels[3].patches if isinstance(p, Ellipse)]) == 2 * 3  # 1σ and 2σ per component
+    centres = sorted((round(p.center[0]), round(p.center[1])) for p in panels[3].patches)[::2]
+    assert centres == [(0, 0), (0, 2), (2, 0)]  # EM finds the three blobs
+    assert panels[2].get_xlabel() == "joint angle ξ (rad)" and panels[0].get_ylabel() == "joint velocity ξ̇ (rad/s)"
+
+
+@pytest.mark.parametrize(("criterion", "chosen"), [("bic", 2), ("aic", 3)])
+def test_selection_curve_marks_the_minimum(tmp_path, criterion, chosen):
+    from rlff.plots.mixture import selection_curve
+
+    table = [{"n_components": 1, "bic": 10.0, "aic": 9.0}, {"n_components": 2, "bic": 5.0, "aic": 4.0},
+             {"n_components": 3, "bic": 7.0, "aic": 3.0}]
+    saved = selection_curve(table, tmp_path / "bic", criterion=criterion)
+    (axes,) = saved.figure.get_axes()
+    bic, aic, mark = axes.get_lines()
+    np.testing.assert_array_equal(bic.get_ydata(), [10, 5, 7])
+    np.testing.assert_array_equal(aic.get_ydata(), [9, 4, 3])
+    assert mark.get_xdata()[0] == chosen
+    assert mark.get_label() == f"chosen: K = {chosen} (lowest {criterion.upper()})"
+    assert axes.get_xlabel() == "number of Gaussian components K"
+
+
+def test_components_at_distance_draws_weighted_ellipses(tmp_path):
+    from rlff.plots.mixture import components_at_distance
+
+    saved = components_at_distance(
+        np.array([0.6, 0.395, 0.005]), np.array([[0.5, 1.0], [1.2, 2.0], [2.0, 0.0]]),
+        np.array([np.diag([0.01, 0.04]), np.diag([0.09, 0.01]), np.eye(2)]), throws(), 2.0, tmp_path / "comp",
+    )
+    check_files(saved)
+    (axes,) = saved.figure.get_axes()
+    ellipses = [p for p in axes.patches if isinstance(p, Ellipse)]
+    assert len(ellipses) == 4  # the third component (weight 0.5 %) is left out
+    # component 1: std 0.1 along the angle, 0.2 along the velocity -> major axis vertical
+    assert [(e.width, e.height) for e in ellipses[:2]] == [(pytest.approx(0.4), pytest.approx(0.2)),
+                                                          (pytest.approx(0.8), pytest.approx(0.4))]
+    assert abs(ellipses[0].angle) == pytest.approx(90.0)
+    labels = [t.get_text() for t in saved.figure.legends[0].get_texts()]
+    assert labels == ["component 1: weight 0.60", "component 2: weight 0.40", "demonstrations at z = 2 m",
+                      "demonstrations at other distances", "1 more with weight < 1% here (not drawn)"]
+    here, elsewhere = axes.collections[1], axes.collections[0]
+    assert len(here.get_segments()) == PER_DISTANCE and len(elsewhere.get_segments()) == 2 * PER_DISTANCE
+
+
+def test_model_components_condition_on_the_distance(tmp_path, thesis_model):
+    from rlff.plots.mixture import model_components
+
+    data, model = thesis_model
+    distance = 6.0
+    saved = model_components(model, data, distance, tmp_path / "comp")
+    (axes,) = saved.figure.get_axes()
+    centres = sorted((round(p.center[0], 6), round(p.center[1], 6)) for p in axes.patches)[::2]
+    # by hand: the mean of (angle, velocity) given the distance, per component (Schur complement)
+    mixture = model.mixture
+    columns = list(model.columns)
+    d, plane = columns.index("distance"), [columns.index("angle"), columns.index("velocity")]
+    expected = []
+    for mean, covariance, weight in zip(mixture.means_, mixture.covariances_, mixture.weights_, strict=True):
+        gain = covariance[plane, d] / covariance[d, d]
+        density = weight * np.exp(-0.5 * (distance - mean[d]) ** 2 / covariance[d, d]) / np.sqrt(covariance[d, d])
+        expected.append((density, tuple(np.round(mean[plane] + gain * (distance - mean[d]), 6))))
+    total = sum(density for density, _ in expected)
+    shown = sorted(centre for density, centre in expected if density / total >= 0.01)
+    np.testing.assert_allclose(np.array(centres), np.array(shown), atol=1e-5)
+    assert axes.get_title().startswith("3 Gaussian components at z = 6 m")
+
+
+def test_donut_family_against_the_gaussian(tmp_path):
+    from rlff.plots.donut import donut_family
+
+    saved = donut_family(tmp_path / "donuts", eps=(0.0, 0.5, 1.0))
+    check_files(saved)
+    (axes,) = saved.figure.get_axes()
+    lines = axes.get_lines()
+    assert [line.get_label() for line in lines] == ["donut, ε = 0", "donut, ε = 0.5", "donut, ε = 1", "Gaussian N(0, 1)"]
+    y = lines[0].get_xdata()
+    gaussian = np.exp(-0.5 * y**2) / np.sqrt(2 * np.pi)
+    np.testing.assert_allclose(lines[0].get_ydata(), gaussian, atol=1e-12)  # ε = 0 is the Gaussian
+    centre = np.argmin(np.abs(y))
+    assert lines[2].get_ydata()[centre] == pytest.approx(0.0, abs=1e-12)  # ε = 1: no density at the mean
+    assert lines[1].get_ydata()[centre] < gaussian[centre]
+    for line in lines[:3]:  # every donut is a density
+        assert np.trapezoid(line.get_ydata(), y) == pytest.approx(1.0, abs=1e-3)
+    with pytest.raises(InputError, match="exploration factor 1.5 is outside"):
+        donut_family(tmp_path / "bad", eps=(0.5, 1.5))
+
+
+def test_dmm_heatmap_shows_the_density_the_throw_and_the_mean(tmp_path, thesis_model):
+    from rlff.donut import dmm_pdf
+    from rlff.plots.donut import dmm_heatmap
+
+    data, model = thesis_model
+    saved = dmm_heatmap(model, 8.5, tmp_path / "dmm", dataset=data)
+    check_files(saved)
+    top, bottom = [a for a in saved.figure.get_axes() if a.get_label() != "<colorbar>" and a.get_ylabel()]
+    path = model.generate({"distance": 8.5}, np.linspace(*model.input_range["angle"], 220))
+    lines = {line.get_label(): line for line in top.get_lines()}
+    np.testing.assert_allclose(lines["chosen throw (highest density)"].get_ydata(), path.velocity)
+    np.testing.assert_allclose(lines["GMR mean"].get_ydata(), path.gmr_mean)
+    (mesh,) = [c for c in top.collections if c.__class__.__name__ == "QuadMesh"]
+    density = mesh.get_array().reshape(-1, path.angle.size)  # (velocities, angles)
+    # the throw sits on the highest density of its column
+    velocities = np.linspace(*top.get_ylim(), density.shape[0])
+    column = 100
+    expected = dmm_pdf(model.condition(np.array([[path.angle[column], 8.5]])), path.velocity[[column]][:, None],
+                       path.exploration[[column]])[0]
+    assert density[:, column].max() <= expected * (1 + 1e-6)
+    assert velocities[np.argmax(density[:, column])] == pytest.approx(path.velocity[column], abs=2 * np.ptp(velocities) / 220)
+    assert top.get_ylabel() == "joint velocity ξ̇ (rad/s)" and bottom.get_ylabel() == "exploration ε"
+    assert bottom.get_xlabel() == "joint angle ξ (rad)"
+    np.testing.assert_allclose(bottom.get_lines()[0].get_ydata(), path.exploration)
+def test_ellipse_helper_matches_the_covariance():
+    from matplotlib.figure import Figure
+
+    from rlff.plots.mixture import draw_ellipses
+
+    axes = Figure().add_subplot()
+    covariance = np.array([[4.0, 0.0], [0.0, 1.0]])
+    draw_ellipses(axes, np.array([1.0, 2.0]), covariance, "C0")
+    ellipses = [p for p in axes.patches if isinstance(p, Ellipse)]
+    assert [(e.width, e.height) for e in ellipses] == [(4.0, 2.0), (8.0, 4.0)]  # 1σ and 2σ
+    assert all(e.center == (1.0, 2.0) for e in ellipses)
+    assert ellipses[0].angle == pytest.approx(0.0) or ellipses[0].angle == pytest.approx(180.0)

@@ -22,6 +22,9 @@ from matplotlib.figure import Figure
 
 #: Resolution of the PNG files (dots per inch).
 PNG_DPI = 110
+#: Curves with more points than this in all are drawn as an image inside the SVG (the file stays
+#: small; axes, labels and text stay vector).
+RASTERIZE_ABOVE = 20_000
 
 #: Readable sizes for a figure shown at page width in a report or a paper.
 _STYLE = {
@@ -169,8 +172,34 @@ def add_curves(
     """
     segments = [np.column_stack([x, y]) for x, y in curves]
     collection = LineCollection(
-        segments, colors=colours, linewidths=linewidth, alpha=alpha, label=label, zorder=zorder
+        segments, colors=colours, linewidths=linewidth, alpha=alpha, label=label, zorder=zorder,
+        rasterized=sum(len(s) for s in segments) > RASTERIZE_ABOVE,
     )
     axes.add_collection(collection)
     axes.autoscale_view()
     return collection
+
+
+def robust_limits(groups: Sequence[tuple[float, Sequence[np.ndarray]]], margin: float = 0.08) -> tuple[float, float] | None:
+    """Axis limits that hold the bulk of the data, so rare tracking glitches far outside do not
+    squash everything else into a line (they run off the axes instead).
+
+    Parameters
+    ----------
+    groups : sequence of (tail, arrays)
+        Each group of arrays is covered from its ``tail``-th to its (100 - ``tail``)-th
+        percentile (e.g. 0.2 for nearly all of it, 2 for its bulk).
+    margin : float
+        Share of the range added on both sides.
+
+    Returns
+    -------
+    (low, high), or None when there is no data.
+    """
+    ranges = [np.percentile(np.concatenate(arrays), [tail, 100.0 - tail]) for tail, arrays in groups if len(arrays)]
+    if not ranges:
+        return None
+    low = min(float(r[0]) for r in ranges)
+    high = max(float(r[1]) for r in ranges)
+    pad = margin * max(high - low, 1e-9)
+    return low - pad, high + pad

@@ -19,6 +19,7 @@ from rlff.errors import InputError
 from rlff.plots._figure import (
     HIT_COLOUR,
     MISS_COLOUR,
+    RASTERIZE_ABOVE,
     SavedFigure,
     add_curves,
     axis_label,
@@ -27,6 +28,7 @@ from rlff.plots._figure import (
     format_distance,
     grid_shape,
     new_figure,
+    robust_limits,
     save,
 )
 
@@ -73,6 +75,8 @@ def dataset_3d(
     x_name, c_name, y_name = columns
     contexts = [float(t[c_name][0]) for t in dataset]
     colours, norm, cmap = distance_colours(contexts)
+    # tracking glitches (rare samples far off) are clipped instead of setting the scale
+    z_limits = robust_limits([(0.5, [t[y_name] for t in dataset])])
     with figure_style():
         figure = new_figure(12.0, 5.2)
         for index, (elevation, azimuth) in enumerate(_VIEWS):
@@ -80,10 +84,12 @@ def dataset_3d(
             lines = Line3DCollection(
                 [t.to_array((x_name, c_name, y_name)) for t in dataset],
                 colors=[colours[c] for c in contexts], linewidths=1.1, alpha=0.85,
+                rasterized=dataset.n_samples > RASTERIZE_ABOVE, axlim_clip=True,
             )
             axes.add_collection3d(lines)
             points = dataset.to_array((x_name, c_name, y_name))
             axes.auto_scale_xyz(points[:, 0], points[:, 1], points[:, 2])
+            axes.set_zlim(*z_limits)
             axes.set_xlabel(axis_label(x_name), labelpad=6)
             axes.set_ylabel(axis_label(c_name), labelpad=6)
             axes.set_zlabel(axis_label(y_name), labelpad=6)
@@ -137,13 +143,17 @@ def dataset_slices(
         figure = new_figure(3.4 * columns, 2.8 * rows + 0.6)
         panels = figure.subplots(rows, columns, sharex=True, sharey=True, squeeze=False)
         for axes, (value, trajectories) in zip(panels.flat, groups.items(), strict=False):
-            if has_outcome:
-                line_colours = [HIT_COLOUR if t.meta.get("hit") is True else MISS_COLOUR for t in trajectories]
+            if has_outcome:  # the few hits drawn over the many misses
+                misses = [t for t in trajectories if t.meta.get("hit") is not True]
+                hits = [t for t in trajectories if t.meta.get("hit") is True]
+                add_curves(axes, [(t[x], t[y]) for t in misses], MISS_COLOUR, linewidth=1.0, alpha=0.7, label="missed")
+                add_curves(axes, [(t[x], t[y]) for t in hits], HIT_COLOUR, linewidth=1.0, alpha=0.8, label="hit", zorder=3)
             else:
-                line_colours = [colours[value]] * len(trajectories)
-            add_curves(axes, [(t[x], t[y]) for t in trajectories], line_colours, linewidth=1.0, alpha=0.8)
+                add_curves(axes, [(t[x], t[y]) for t in trajectories], colours[value], linewidth=1.0, alpha=0.8)
             label = format_distance(value) if context == "distance" else f"{context} = {value:g}"
             axes.set_title(f"{label} · {_outcome_counts(trajectories)}", fontsize=10)
+        y_limits = robust_limits([(0.5, [t[y] for t in dataset])])
+        panels[0, 0].set_ylim(*y_limits)  # shared: tracking glitches run off the panels
         for axes in panels.flat[len(groups):]:
             axes.set_visible(False)
         for column in range(columns):

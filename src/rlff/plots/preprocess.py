@@ -10,7 +10,6 @@ import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 
-import numpy as np
 from matplotlib.cm import ScalarMappable
 from matplotlib.lines import Line2D
 
@@ -24,6 +23,7 @@ from rlff.plots._figure import (
     figure_style,
     grid_shape,
     new_figure,
+    robust_limits,
     save,
 )
 
@@ -37,19 +37,6 @@ def _change(before: Dataset, after: Dataset) -> str:
         f"{len(before)} → {len(after)} traj., "
         f"{before.n_samples} → {after.n_samples} samples"
     )
-
-
-def _robust_limits(after: list[np.ndarray], before: list[np.ndarray]) -> tuple[float, float] | None:
-    """Axis limits holding nearly all the data after the step and the bulk of the data before it
-    (2nd to 98th percentile), with a margin: rare tracking glitches far outside do not squash the
-    throws into a line, they run off the panel."""
-    ranges = [np.percentile(np.concatenate(v), q) for v, q in ((after, [0.2, 99.8]), (before, [2.0, 98.0])) if v]
-    if not ranges:
-        return None
-    low = min(r[0] for r in ranges)
-    high = max(r[1] for r in ranges)
-    margin = 0.08 * max(high - low, 1e-9)
-    return float(low - margin), float(high + margin)
 
 
 def preprocessing_steps(
@@ -100,10 +87,9 @@ def preprocessing_steps(
             add_curves(axes, [(t[x], t[y]) for t in after],
                        [colours[float(t[context][0])] for t in after], linewidth=1.0, alpha=0.85,
                        label="after", zorder=2)
-            for limits, setter in (
-                (_robust_limits([t[x] for t in after], [t[x] for t in before]), axes.set_xlim),
-                (_robust_limits([t[y] for t in after], [t[y] for t in before]), axes.set_ylim),
-            ):
+            # nearly all the data after the step, the bulk of the data before it
+            for column, setter in ((x, axes.set_xlim), (y, axes.set_ylim)):
+                limits = robust_limits([(0.2, [t[column] for t in after]), (2.0, [t[column] for t in before])])
                 if limits is not None:
                     setter(*limits)
             title = f"{index + 1}. {name}\n{_change(before, after)}"
