@@ -10,24 +10,19 @@ Arm frames are matched by name without the user number, so every tracked user is
 (``right_elbow_1``, ``right_elbow_2``...) and both arms when the bag has the other side's
 frames (``right`` swapped for ``left`` in the names).
 
-A ROS 1 bag whose end is damaged (the recorder died, the copy was cut short) has no usable
-index; rosbags refuses it, so its chunks are then scanned from the start and read up to the
-damage, with a warning.
+Bags are opened by :mod:`rlff.capture.bag_stream`, which also reads a ROS 1 bag damaged at the
+end up to the damage, with a warning.
 """
 
 from __future__ import annotations
 
-import os
 import re
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
-from dataclasses import dataclass, field
-from io import BytesIO
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
+from rlff.capture.bag_stream import bag_path, open_stream
 from rlff.capture.skeleton import ArmTrack, JointTrack, Recording
 from rlff.capture.tf_decode import TfCollector
 from rlff.errors import InputError
@@ -40,27 +35,6 @@ TF_TYPES = ("tf2_msgs/msg/TFMessage", "tf/msg/tfMessage")
 IMAGE_TYPES = ("sensor_msgs/msg/CompressedImage",)
 #: Up in a ROS camera-link frame (x forward, y left, z up: REP 103).
 ROS_UP = np.array([0.0, 0.0, 1.0])
-
-
-@dataclass(frozen=True)
-class Message:
-    """One message of a bag, still serialised."""
-
-    topic: str
-    msgtype: str
-    time_ns: int
-    raw: bytes | memoryview
-    digest: str = ""
-
-
-@dataclass
-class _BagStream:
-    """Messages of some topics, a way to decode them, the topics there are, and what went wrong."""
-
-    topics: dict[str, str]
-    messages: Iterator[Message]
-    deserialize: Callable[[bytes | memoryview, str], Any]
-    warnings: list[str] = field(default_factory=list)
 
 
 def read_bag(
@@ -109,7 +83,7 @@ def read_bag(
         return decision
 
     count = 0
-    with _open_stream(path, [topic], TF_TYPES) as stream:
+    with open_stream(path, [topic], TF_TYPES) as stream:
         collector = TfCollector(keep, stream.deserialize)
         for message in stream.messages:
             count += 1
@@ -180,179 +154,6 @@ def _joint_track(name: str, time: np.ndarray, position: np.ndarray, notes: list[
     return JointTrack(name, time[keep], position[keep])
 
 
-# -- opening bags ---------------------------------------------------------------------------------
-
-
-def _bag_path(path: Path) -> Path:
-    """The path rosbags wants: a ROS 1 file, or the folder of a ROS 2 bag."""
-    if not path.exists():
-        raise InputError(f"{path}: no such file or folder")
-    if path.is_file() and path.suffix in (".db3", ".mcap") and (path.parent / "metadata.yaml").is_file():
-        return path.parent
-    return path
-
-
-@contextmanager
-def _open_stream(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | None) -> Iterator[_BagStream]:
-    """Messages of ``topics`` (checked to be of one of ``msgtypes``) in time order.
-
-    Reads through rosbags; a ROS 1 bag that rosbags cannot open (damaged index) is scanned instead.
-    Errors while iterating end the iteration with a warning.
-    """
-    from rosbags.highlevel import AnyReader, AnyReaderError
-
-    bag = _bag_path(path)
-    if bag.is_file() and bag.suffix != ".bag":
-        raise InputError(f"{path}: not a ROS bag (a ROS 1 bag ends in .bag, a ROS 2 bag is a folder)")
-    try:
-        reader = AnyReader([bag])
-        reader.open()
-    except (AnyReaderError, OSError, ValueError, KeyError, AssertionError) as exc:
-        if bag.is_file():
-            yield _scan_ros1(path, topics, msgtypes, reason=str(exc) or type(exc).__name__)
-            return
-        raise InputError(f"{path}: not a readable ROS 2 bag ({exc})") from None
-    try:
-        all_topics = {conn.topic: conn.msgtype for conn in reader.connections}
-        _check_topics(path, all_topics, topics, msgtypes)
-        connections = [conn for conn in reader.connections if conn.topic in topics]
-        typestore = reader.typestore
-        deserialize = typestore.deserialize_cdr if reader.is2 else typestore.deserialize_ros1
-        warnings: list[str] = []
-
-        def messages() -> Iterator[Message]:
-            last = None
-            try:
-                for connection, time_ns, raw in reader.messages(connections=connections):
-                    last = time_ns
-                    yield Message(connection.topic, connection.msgtype, time_ns, raw, connection.digest if not reader.is2 else "")
-            except Exception as exc:  # noqa: BLE001 - any decoding failure inside the bag is damage
-                warnings.append(_damage_warning(path, f"{type(exc).__name__}: {exc}", last, reader.start_time))
-
-        yield _BagStream(all_topics, messages(), deserialize, warnings)
-    finally:
-        reader.close()
-
-
-def _check_topics(path: Path, all_topics: dict[str, str], topics: Sequence[str], msgtypes: Sequence[str] | None) -> None:
-    for topic in topics:
-        if topic not in all_topics:
-            there = ", ".join(f"{name} ({kind})" for name, kind in sorted(all_topics.items())) or "none"
-            raise InputError(f"{path}: no topic {topic} in the bag; topics there: {there}")
-        if msgtypes is not None and all_topics[topic] not in msgtypes:
-            raise InputError(
-                f"{path}: topic {topic} carries {all_topics[topic]}, expected one of {', '.join(msgtypes)}"
-            )
-
-
-def _damage_warning(path: Path, reason: str, last_ns: int | None, first_ns: int | None) -> str:
-    where = "before any message" if last_ns is None else f"after t={(last_ns - (first_ns or last_ns)) * 1e-9:.2f} s of recording"
-    return f"{path}: the bag is damaged ({reason}); read the messages up to the damage, {where}"
-
-
-def _scan_ros1(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | None, reason: str) -> _BagStream:
-    """Read a ROS 1 bag without its index: chunk by chunk from the start, up to the first damage.
-
-    Written here because rosbags has no ROS 1 reindexer; the record layout is ROS 1's bag format
-    2.0 (a header of ``name=value`` fields, then a data block; chunks hold connection and message
-    records). Uses rosbags' record-header parser and decompressors.
-    """
-    from rosbags.rosbag1.reader import (
-        Header,
-        ReaderError,
-        RecordType,
-        decompressors,
-        read_bytes,
-        read_uint32,
-    )
-    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
-    from rosbags.typesys.msg import normalize_msgtype
-
-    size = os.path.getsize(path)
-    handle = path.open("rb")
-    magic = handle.readline()
-    if magic != b"#ROSBAG V2.0\n":
-        handle.close()
-        raise InputError(f"{path}: not a ROS 1 bag of format 2.0 (file starts with {magic[:20]!r}; {reason})")
-    typestore = get_typestore(Stores.EMPTY)
-    connections: dict[int, tuple[str, str, str]] = {}
-    warnings: list[str] = [f"{path}: the bag has no usable index ({reason}); scanning its chunks instead"]
-    found_topics: dict[str, str] = {}
-
-    def add_connection(conn_id: int, topic: str, data: bytes) -> None:
-        fields = Header.read(BytesIO(len(data).to_bytes(4, "little") + data))
-        msgtype = normalize_msgtype(fields.get_string("type"))
-        if topic in topics and msgtype not in typestore.fielddefs:
-            typestore.register(get_types_from_msg(fields.get_string("message_definition"), msgtype))
-        connections[conn_id] = (topic, msgtype, fields.get_string("md5sum"))
-        found_topics[topic] = msgtype
-
-    def records(source) -> Iterator[tuple[Header, bytes]]:
-        while True:
-            if source.read(1) == b"":
-                return
-            source.seek(-1, os.SEEK_CUR)
-            header = Header.read(source)
-            yield header, read_bytes(source, read_uint32(source))
-
-    def messages() -> Iterator[Message]:
-        last = first = None
-        position = handle.tell()
-        try:
-            for header, data in records(handle):
-                op = header.get_uint8("op")
-                if op == RecordType.CHUNK:
-                    compression = header.get_string("compression")
-                    if compression not in decompressors:
-                        raise ReaderError(f"unknown chunk compression {compression!r}")
-                    chunk = BytesIO(decompressors[compression](data))
-                    batch = []
-                    for inner, payload in records(chunk):
-                        kind = inner.get_uint8("op")
-                        if kind == RecordType.CONNECTION:
-                            add_connection(inner.get_uint32("conn"), inner.get_string("topic"), payload)
-                        elif kind == RecordType.MSGDATA:
-                            topic, msgtype, digest = connections[inner.get_uint32("conn")]
-                            if topic in topics:
-                                batch.append(Message(topic, msgtype, inner.get_time("time"), payload, digest))
-                    for message in batch:
-                        first = message.time_ns if first is None else first
-                        last = message.time_ns
-                        yield message
-                elif op == RecordType.CONNECTION:
-                    add_connection(header.get_uint32("conn"), header.get_string("topic"), data)
-                position = handle.tell()
-        except Exception as exc:  # noqa: BLE001 - whatever breaks the scan is the damage
-            warnings.append(
-                _damage_warning(path, f"unreadable from byte {position} of {size}: {type(exc).__name__} {exc}", last, first)
-            )
-        finally:
-            handle.close()
-            missing = [topic for topic in topics if topic not in found_topics]
-            if missing and not warnings[1:]:
-                there = ", ".join(sorted(found_topics)) or "none"
-                warnings.append(f"{path}: no topic {', '.join(missing)} in the readable part; topics there: {there}")
-
-    try:
-        header = Header.read(handle, RecordType.BAGHEADER)
-        read_bytes(handle, read_uint32(handle))
-    except (ReaderError, ValueError) as exc:
-        handle.close()
-        raise InputError(f"{path}: corrupt ROS 1 bag: its header is unreadable ({exc})") from None
-    del header
-
-    def typed_messages() -> Iterator[Message]:
-        for message in messages():
-            if msgtypes is not None and message.msgtype not in msgtypes:
-                handle.close()
-                raise InputError(
-                    f"{path}: topic {message.topic} carries {message.msgtype}, expected one of {', '.join(msgtypes)}"
-                )
-            yield message
-
-    return _BagStream(found_topics, typed_messages(), typestore.deserialize_ros1, warnings)
-
-
 # -- camera frames ---------------------------------------------------------------------------------
 
 
@@ -361,7 +162,7 @@ def image_topics(path: str | Path) -> list[str]:
     from rosbags.highlevel import AnyReader, AnyReaderError
 
     try:
-        with AnyReader([_bag_path(Path(path))]) as reader:
+        with AnyReader([bag_path(Path(path))]) as reader:
             return sorted({c.topic for c in reader.connections if c.msgtype in IMAGE_TYPES})
     except (AnyReaderError, OSError, ValueError, KeyError, AssertionError, InputError):
         return []
@@ -383,7 +184,7 @@ def images_near(path: str | Path, topic: str, times: Sequence[float]) -> tuple[l
     """
     wanted = np.asarray(times, dtype=float)
     best: list[tuple[float, float, bytes] | None] = [None] * wanted.size
-    with _open_stream(Path(path), [topic], IMAGE_TYPES) as stream:
+    with open_stream(Path(path), [topic], IMAGE_TYPES) as stream:
         for message in stream.messages:
             image = stream.deserialize(message.raw, message.msgtype)
             stamp = image.header.stamp.sec + image.header.stamp.nanosec * 1e-9 or message.time_ns * 1e-9
