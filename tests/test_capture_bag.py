@@ -76,11 +76,13 @@ def test_bz2_chunks_and_the_ros1_tf_message_type_read_the_same(tmp_path, simulat
     _check_against_truth(dataset, report, simulation)
 
 
-def test_a_ros2_bag_reads_the_same(tmp_path, simulation):
-    bag = bf.write_ros2_bag(tmp_path / "ros2bag", simulation)
+def test_a_ros2_bag_reads_the_same(tmp_path, simulation, jpegs):
+    bag = bf.write_ros2_bag(tmp_path / "ros2bag", simulation, images=jpegs)
     dataset, report = import_recordings([bag])
     assert report.files[0].format == "bag"
     _check_against_truth(dataset, report, simulation)
+    path, notes = contact_sheet(report.files[0], tmp_path / "sheets")
+    assert path.is_file() and notes == []
 
 
 def test_the_flickering_second_skeleton_is_dropped_and_reported(lz4_bag):
