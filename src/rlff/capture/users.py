@@ -5,24 +5,37 @@ it flickers in and out, for a few frames at a time, with bones that change lengt
 who throws is tracked for most of the recording with a steady skeleton. Each user is scored by
 the number of arm samples divided by (1 + 10 x the relative spread of the upper arm's length);
 the best one is kept.
+
+A tracker that loses the person and finds them again gives them a new user id. A user who is
+never tracked at the same time as the kept one (at most 5 % of their samples overlap it) and
+whose upper arm has the same length (within 15 %) is taken as the kept person re-acquired: their
+samples are joined to the kept user's, and the join is reported.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from rlff.capture.skeleton import ArmTrack, Recording
+from rlff.capture.skeleton import ArmTrack, JointTrack, Recording
 
 #: A user's track is broken into appearances where it has no sample for longer than this (s).
 _APPEARANCE_GAP_S = 0.5
+#: Re-acquired person: largest share of samples overlapping the kept user, largest bone difference.
+_MAX_OVERLAP = 0.05
+_MAX_BONE_DIFFERENCE = 0.15
+
+
+def _upper_arm_lengths(arm: ArmTrack) -> np.ndarray:
+    """Upper-arm length (m) at each elbow sample, shape (T,)."""
+    shoulder = np.column_stack(
+        [np.interp(arm.elbow.time, arm.shoulder.time, arm.shoulder.position[:, axis]) for axis in range(3)]
+    )
+    return np.linalg.norm(shoulder - arm.elbow.position, axis=1)
 
 
 def bone_spread(arm: ArmTrack) -> float:
     """Relative spread of the upper arm's length: median absolute deviation / median."""
-    shoulder = np.column_stack(
-        [np.interp(arm.elbow.time, arm.shoulder.time, arm.shoulder.position[:, axis]) for axis in range(3)]
-    )
-    length = np.linalg.norm(shoulder - arm.elbow.position, axis=1)
+    length = _upper_arm_lengths(arm)
     median = float(np.median(length))
     if median <= 0:
         return np.inf
@@ -38,6 +51,39 @@ def consistency(arms: list[ArmTrack]) -> float:
     return max(arm.n_samples / (1.0 + 10.0 * bone_spread(arm)) for arm in arms)
 
 
+def _overlap(arm: ArmTrack, other: ArmTrack) -> float:
+    """Share of ``other``'s elbow samples within an appearance of ``arm``."""
+    index = np.clip(np.searchsorted(arm.elbow.time, other.elbow.time), 1, len(arm.elbow) - 1)
+    before, after = arm.elbow.time[index - 1], arm.elbow.time[index]
+    inside = (before <= other.elbow.time) & (other.elbow.time <= after) & (after - before <= _APPEARANCE_GAP_S)
+    return float(np.mean(inside))
+
+
+def _same_person(kept: ArmTrack, other: ArmTrack) -> bool:
+    """``other`` is ``kept`` re-acquired under a new id: never tracked together, same upper arm."""
+    bone, other_bone = float(np.median(_upper_arm_lengths(kept))), float(np.median(_upper_arm_lengths(other)))
+    return _overlap(kept, other) <= _MAX_OVERLAP and abs(other_bone - bone) <= _MAX_BONE_DIFFERENCE * bone
+
+
+def _joined(first: JointTrack, second: JointTrack) -> JointTrack:
+    time = np.concatenate([first.time, second.time])
+    order = np.argsort(time, kind="stable")
+    keep = np.ones(time.size, dtype=bool)
+    keep[1:] = np.diff(time[order]) > 0
+    position = np.concatenate([first.position, second.position])
+    return JointTrack(first.name, time[order][keep], position[order][keep])
+
+
+def _join(kept: ArmTrack, other: ArmTrack) -> ArmTrack:
+    wrist = None
+    if kept.wrist is not None and other.wrist is not None:
+        wrist = _joined(kept.wrist, other.wrist)
+    return ArmTrack(
+        kept.user, kept.side, _joined(kept.shoulder, other.shoulder), _joined(kept.elbow, other.elbow),
+        _joined(kept.hand, other.hand), wrist,
+    )
+
+
 def keep_consistent_user(recording: Recording) -> tuple[list[ArmTrack], list[str]]:
     """The arms of the most consistent user, and a note for every user dropped.
 
@@ -50,7 +96,7 @@ def keep_consistent_user(recording: Recording) -> tuple[list[ArmTrack], list[str
     arms : list of ArmTrack
         Both sides of the kept user, as far as the recording has them.
     notes : list of str
-        One per dropped user: samples, appearances, time span.
+        One per other user: joined (re-acquired) or dropped (samples, appearances, time span).
     """
     users = recording.users()
     by_user = {user: [arm for arm in recording.arms if arm.user == user] for user in users}
@@ -59,9 +105,19 @@ def keep_consistent_user(recording: Recording) -> tuple[list[ArmTrack], list[str
     scores = {user: consistency(arms) for user, arms in by_user.items()}
     kept = max(users, key=lambda user: scores[user])
     origin = min(arm.elbow.time[0] for arm in recording.arms)
+    arms = {arm.side: arm for arm in by_user[kept]}
     notes = []
-    for user in users:
+    for user in sorted(users, key=lambda user: -scores[user]):
         if user == kept:
+            continue
+        others = {arm.side: arm for arm in by_user[user]}
+        shared = [side for side in others if side in arms]
+        if shared and all(_same_person(arms[side], others[side]) for side in shared):
+            arms.update({side: _join(arms[side], others[side]) for side in shared})
+            notes.append(
+                f"{recording.source}: tracked user {user} is user {kept} found again (never tracked together, "
+                f"same upper arm): {others[shared[0]].n_samples} samples joined"
+            )
             continue
         arm = max(by_user[user], key=lambda a: a.n_samples)
         notes.append(
@@ -70,4 +126,4 @@ def keep_consistent_user(recording: Recording) -> tuple[list[ArmTrack], list[str
             f"t={arm.elbow.time[0] - origin:.2f} and {arm.elbow.time[-1] - origin:.2f} s; kept user {kept} "
             f"({max(a.n_samples for a in by_user[kept])} samples)"
         )
-    return by_user[kept], notes
+    return list(arms.values()), notes
