@@ -32,7 +32,7 @@ START_LEAD = 0.2
 #: Default seconds to wait for the master and the server when no timeout is given.
 CONNECT_TIMEOUT = 10.0
 #: Seconds to wait for the server to acknowledge a cancel.
-CANCEL_WAIT = 3.0
+CANCEL_WAIT = 10.0
 
 _ERROR_NAMES = {getattr(FollowJointTrajectoryResult, name): name for name in (
     "SUCCESSFUL", "INVALID_GOAL", "INVALID_JOINTS", "OLD_HEADER_TIMESTAMP", "PATH_TOLERANCE_VIOLATED",

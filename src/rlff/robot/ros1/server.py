@@ -12,7 +12,6 @@ A goal starts at its header stamp (or on receipt when the stamp is 0).
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -73,13 +72,16 @@ class TrajectoryServer:
         self.rate = rate
         self.on_complete = on_complete
         self.arm = KinematicArm(robot.joint_names, initial)
-        self._lock = threading.Lock()
         self._active: _Active | None = None
         self._states = rospy.Publisher(JOINT_STATES, JointState, queue_size=10)
-        self._topic = rospy.Subscriber(TOPIC, TrajectoryMsg, self._on_topic, queue_size=1)
         self._server = actionlib.ActionServer(ACTION_NAMESPACE, FollowJointTrajectoryAction,
                                               goal_cb=self._on_goal, cancel_cb=self._on_cancel,
                                               auto_start=False)
+        # One lock guards the arm and the active goal: the action server's own (re-entrant) lock,
+        # which actionlib already holds when it calls the goal and cancel callbacks. A second lock
+        # of ours would be taken in the opposite order by the tick (feedback) and deadlock.
+        self._lock = self._server.lock
+        self._topic = rospy.Subscriber(TOPIC, TrajectoryMsg, self._on_topic, queue_size=1)
         self._server.start()
 
     # -- callbacks (subscriber threads) ------------------------------------------------------
@@ -159,11 +161,15 @@ class TrajectoryServer:
             if not self.arm.finished(now):
                 return
             self._active = None
+        # the completion hook (a MuJoCo throw) may take a while: not under the lock
         text = self.on_complete(active.trajectory) if self.on_complete else "trajectory completed"
         rospy.loginfo(text)
-        if active.handle is not None:
-            active.handle.set_succeeded(FollowJointTrajectoryResult(
-                error_code=FollowJointTrajectoryResult.SUCCESSFUL, error_string=text), text)
+        if active.handle is None:
+            return
+        with self._lock:
+            if active.handle.get_goal_status().status == GoalStatus.ACTIVE:  # not cancelled meanwhile
+                active.handle.set_succeeded(FollowJointTrajectoryResult(
+                    error_code=FollowJointTrajectoryResult.SUCCESSFUL, error_string=text), text)
 
     def _publish_state(self, stamp: rospy.Time, state: ArmState) -> None:
         msg = JointState(name=list(self.robot.joint_names), position=state.positions.tolist(),
