@@ -179,6 +179,9 @@ def test_a_bag_damaged_at_the_end_is_read_up_to_the_damage_with_a_warning(tmp_pa
     origin = report.files[0].clock_origin
     truth = simulation.moving_spans()[0][0]
     assert first.meta["start_time"] + origin - simulation.t0 == pytest.approx(truth, abs=BOUNDARY_TOL)
+    # the camera frames before the damage are there for the contact sheet too
+    path, notes = contact_sheet(report.files[0], tmp_path / "sheets")
+    assert path.is_file() and not any("no frame" in note or "undecodable" in note for note in notes)
 
 
 def test_an_unindexed_bag_from_a_dead_recorder_is_scanned(tmp_path, lz4_bag, simulation):

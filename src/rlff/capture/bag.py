@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rlff.capture.bag_stream import bag_path, open_stream
+from rlff.capture.bag_stream import open_stream
 from rlff.capture.skeleton import ArmTrack, JointTrack, Recording
 from rlff.capture.tf_decode import TfCollector
 from rlff.errors import InputError
@@ -158,14 +158,11 @@ def _joint_track(name: str, time: np.ndarray, position: np.ndarray, notes: list[
 
 
 def image_topics(path: str | Path) -> list[str]:
-    """Topics of compressed camera images in a bag (empty when it has none or cannot be opened)."""
-    from rosbags.highlevel import AnyReader, AnyReaderError
-
-    try:
-        with AnyReader([bag_path(Path(path))]) as reader:
-            return sorted({c.topic for c in reader.connections if c.msgtype in IMAGE_TYPES})
-    except (AnyReaderError, OSError, ValueError, KeyError, AssertionError, InputError):
-        return []
+    """Topics of compressed camera images in a bag (a damaged ROS 1 bag is scanned for them)."""
+    with open_stream(Path(path), [], None) as stream:
+        for _ in stream.messages:  # a scan learns the topics as it reads; an indexed bag knows them
+            pass
+        return sorted(topic for topic, kind in stream.topics.items() if kind in IMAGE_TYPES)
 
 
 def images_near(path: str | Path, topic: str, times: Sequence[float]) -> tuple[list[tuple[float, bytes] | None], list[str]]:

@@ -79,6 +79,8 @@ def open_stream(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | Non
         warnings: list[str] = []
 
         def messages() -> Iterator[Message]:
+            if not connections:
+                return  # rosbags reads every connection when given none
             last = None
             try:
                 for connection, time_ns, raw in reader.messages(connections=connections):
