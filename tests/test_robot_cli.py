@@ -44,7 +44,7 @@ def test_show_lists_the_limits(cli):
     assert shown["throwing"]["joint"] == "joint_2"
 
 
-def test_export_writes_every_format(cli, throw, tmp_path):
+def test_export_writes_the_comau_program(cli, throw, tmp_path):
     result = cli("robot", "export", str(throw), "--format", "comau", "-o", str(tmp_path / "p.txt"), "--period", "0")
     assert result.code == 0, result.stderr
     lines = (tmp_path / "p.txt").read_text().splitlines()

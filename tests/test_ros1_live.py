@@ -172,14 +172,15 @@ def test_executed_path_matches_the_sent_trajectory(ros, tmp_path):
     path = _throw(tmp_path, "throw.csv", -0.8, 1.6, 1.5)
     recorder = ros.record(tmp_path / "states.csv")
     result = ros.rlff("robot", "send", str(path), "--json", "--timeout", "60")
-    time.sleep(0.5)
-    _stop(recorder)
     assert result.returncode == 0, result.stderr
     outcome = json.loads(result.stdout)
     assert outcome["status"] == "succeeded" and outcome["error_name"] == "SUCCESSFUL"
     assert outcome["feedback"] > 0
-
     sent = plan_file(path, period=0)[0].trajectory
+    end = outcome["start"] + sent.duration
+    _wait(lambda: _states(tmp_path / "states.csv")[0][-1] > end + 0.5, 120, "states after the end")
+    _stop(recorder)
+
     spline = CubicHermiteSpline(sent.time, sent.positions, sent.velocities, axis=0)
     stamps, positions = _states(tmp_path / "states.csv")
     elapsed = stamps - outcome["start"]
@@ -188,6 +189,7 @@ def test_executed_path_matches_the_sent_trajectory(ros, tmp_path):
     error = np.abs(positions[moving] - spline(elapsed[moving]))
     assert error.max() < EXECUTION_TOLERANCE
     after = elapsed > sent.duration + 0.05
+    assert after.sum() > 0
     np.testing.assert_allclose(positions[after], np.tile(sent.positions[-1], (after.sum(), 1)), atol=1e-9)
 
 
@@ -197,7 +199,8 @@ def test_goal_beyond_the_limits_is_rejected_and_nothing_moves(ros, tmp_path):
     path = _throw(tmp_path, "far.csv", 1.0, 3.2, 1.0)
     recorder = ros.record(tmp_path / "states.csv")
     result = ros.rlff("robot", "send", str(path), "--robot", str(wide), "--json", "--timeout", "60")
-    time.sleep(0.5)
+    answered = time.time()
+    _wait(lambda: _states(tmp_path / "states.csv")[0][-1] > answered + 1.0, 120, "states after the answer")
     _stop(recorder)
     assert result.returncode == 1
     outcome = json.loads(result.stdout)
