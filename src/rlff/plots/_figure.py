@@ -111,7 +111,11 @@ def save(figure: Figure, out: str | Path) -> SavedFigure:
     svg = out.with_name(out.name + ".svg")
     with figure_style():
         figure.savefig(png, dpi=PNG_DPI)
+        # the layout is settled by the PNG's drawing; keep it instead of solving it again
+        engine = figure.get_layout_engine()
+        figure.set_layout_engine("none")
         figure.savefig(svg)
+        figure.set_layout_engine(engine)
     return SavedFigure(figure, png, svg)
 
 

@@ -1,0 +1,66 @@
+"""``rlff demo``: the whole chain on built-in data, with figures and an HTML report."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from rlff.cli._common import emit_json, progress, say, stdout
+
+
+def register(root: typer.Typer) -> None:
+    """Add the top-level ``demo`` command."""
+    root.command("demo")(demo_command)
+
+
+def demo_command(
+    out: Path = typer.Option(Path("rlff-demo"), "--out", "-o", help="Folder for the report, figures, data and model."),
+    small: bool = typer.Option(False, "--small", help="A quick version: fewer people, baskets and learning runs."),
+    seed: int = typer.Option(0, "--seed", help="Seed of the simulated people, the fits and the learning runs."),
+    frames: bool = typer.Option(False, "--frames", help="Also render the learned throw with MuJoCo (needs OpenGL; slow on a CPU)."),
+    as_json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
+) -> None:
+    """Simulated failed demonstrations → cleaning → model → throws → simulated robot → learning → report."""
+    from rich.table import Table
+
+    from rlff.demo import STAGES, check_demo_options, run_demo
+
+    size = "small" if small else "full"
+    check_demo_options(out, size)  # before the progress display starts
+    with progress("rlff demo", total=len(STAGES)) as advance:
+        last = {"done": 0}
+
+        def show(stage: str, done: int, total: int) -> None:
+            advance(done - last["done"], description=stage)
+            last["done"] = done
+
+        summary = run_demo(out, size=size, seed=seed, progress=show, frames=frames)
+    if as_json:
+        emit_json(summary.to_json())
+        return
+    console = stdout()
+    hits = f"{summary.demonstration_hits} of {summary.demonstrations} hit"
+    console.print(
+        f"[bold]Demonstrations[/bold]: {summary.demonstrations} simulated throws ({hits}); "
+        f"{summary.clean_trajectories} kept after cleaning; K = {summary.components} by BIC",
+        highlight=False,
+    )
+    throws = Table(title="The model's throws, executed in MuJoCo", title_justify="left")
+    for column in ("distance (m)", "demonstrated", "reachable", "outcome"):
+        throws.add_column(column, justify="right" if column == "distance (m)" else "left")
+    for row in summary.throws:
+        outcome = "hit" if row.hit else f"miss {row.miss:+.2f} m"
+        throws.add_row(f"{row.distance:g}", "yes" if row.demonstrated else "new",
+                       "yes" if row.reachable else "no", outcome)
+    console.print(throws)
+    learning = Table(title=f"Learning from failure at {summary.learning_distance:g} m (not demonstrated)",
+                     title_justify="left")
+    for column in ("method", "feedback", "result", "misses (m)"):
+        learning.add_column(column)
+    for row in summary.learning:
+        result = f"hit at attempt {row.attempts}" if row.hit else f"no hit in {row.attempts}"
+        learning.add_row(row.method, row.feedback, result, " ".join(f"{m:+.2f}" for m in row.misses))
+    console.print(learning)
+    console.print(f"report: {summary.report}  ({len(summary.figures)} figures, {summary.seconds:.0f} s)", highlight=False)
+    say(f"open it with: xdg-open {summary.report}")

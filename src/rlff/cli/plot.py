@@ -1,0 +1,216 @@
+"""``rlff plot KIND ...``: the thesis' figures from data, model and log files (PNG and SVG)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from rlff.cli._common import emit_json, stdout
+from rlff.errors import InputError
+
+app = typer.Typer(
+    help="Figures from data, model and log files; each writes OUT.png and OUT.svg.",
+    no_args_is_help=True,
+)
+
+_COLUMNS_HELP = "Columns: angle (rad), distance (m), velocity (rad/s)."
+
+
+def _numbers(option: str, text: str, *, integers: bool = False) -> list:
+    """A comma-separated list of numbers from an option, or a one-line error naming it."""
+    values = []
+    for item in text.split(","):
+        item = item.strip()
+        try:
+            values.append(int(item) if integers else float(item))
+        except ValueError:
+            kind = "whole numbers" if integers else "numbers"
+            raise InputError(f"{option}: {item!r} is not a number (expected comma-separated {kind}, e.g. {'2,3,4' if integers else '1.5,2.5'})") from None
+    if not values:
+        raise InputError(f"{option}: empty list")
+    return values
+
+
+def _done(saved: list, as_json: bool) -> None:
+    files = [path for figure in saved for path in figure.paths]
+    if as_json:
+        emit_json({"files": files})
+        return
+    for path in files:
+        stdout().print(str(path), highlight=False)
+
+
+_OUT = typer.Option(..., "--out", "-o", help="Output file stem: writes OUT.png and OUT.svg.")
+_JSON = typer.Option(False, "--json", help="Print the written files as JSON.")
+
+
+@app.command("dataset")
+def dataset_command(
+    data: Path = typer.Argument(..., help=f"Dataset CSV. {_COLUMNS_HELP}"),
+    out: Path = _OUT,
+    as_json: bool = _JSON,
+) -> None:
+    """The demonstrations in 3-D (OUT-3d) and as one panel per distance (OUT-slices)."""
+    from rlff.dataset import read_csv
+    from rlff.plots.data import dataset_3d, dataset_slices
+
+    dataset = read_csv(data)
+    stem = out.with_suffix("") if out.suffix in (".png", ".svg") else out
+    _done(
+        [dataset_3d(dataset, stem.with_name(stem.name + "-3d")), dataset_slices(dataset, stem.with_name(stem.name + "-slices"))],
+        as_json,
+    )
+
+
+@app.command("components")
+def components_command(
+    model: Path = typer.Argument(..., help="Model file (model.json from `rlff fit`)."),
+    data: Path = typer.Argument(..., help="The dataset the model was fitted to (CSV)."),
+    distance: float = typer.Option(..., "--distance", help="Basket distance (m) to show the components at."),
+    out: Path = _OUT,
+    as_json: bool = _JSON,
+) -> None:
+    """The Gaussian components as ellipses on the (angle, velocity) plane at one distance (thesis fig. 4.2-4.3)."""
+    from rlff.dataset import read_csv
+    from rlff.model import Model
+    from rlff.plots.mixture import model_components
+
+    _done([model_components(Model.load(model), read_csv(data), distance, out)], as_json)
+
+
+@app.command("kmeans-em")
+def kmeans_em_command(
+    data: Path = typer.Argument(..., help=f"Dataset CSV. {_COLUMNS_HELP}"),
+    k: str = typer.Option("2,3,4", "--k", help="Numbers of components, comma-separated."),
+    distance: float | None = typer.Option(None, "--distance", help="Use only the samples at this basket distance (m)."),
+    seed: int = typer.Option(0, "--seed", help="Seed of k-means and EM."),
+    out: Path = _OUT,
+    as_json: bool = _JSON,
+) -> None:
+    """k-means clusters and the mixture EM makes of them, for several K (thesis fig. 2.3-2.4)."""
+    from rlff.dataset import read_csv
+    from rlff.plots.mixture import kmeans_em_for_dataset
+
+    ks = _numbers("--k", k, integers=True)
+    _done([kmeans_em_for_dataset(read_csv(data), out, ks=ks, distance=distance, seed=seed)], as_json)
+
+
+@app.command("bic")
+def bic_command(
+    data: Path = typer.Argument(..., help=f"Dataset CSV. {_COLUMNS_HELP}"),
+    max_components: int = typer.Option(8, "--max-components", min=1, help="Largest K tried."),
+    criterion: str = typer.Option("bic", "--criterion", help="bic or aic: which one chooses K."),
+    seed: int = typer.Option(0, "--seed", help="Seed of the fits."),
+    out: Path = _OUT,
+    as_json: bool = _JSON,
+) -> None:
+    """BIC and AIC against the number of components K, the chosen K marked (thesis eq. 2.2)."""
+    from rlff.dataset import read_csv
+    from rlff.plots.mixture import selection_for_dataset
+
+    _done(
+        [selection_for_dataset(read_csv(data), out, max_components=max_components, criterion=criterion, seed=seed)],
+        as_json,
+    )
+
+
+@app.command("donuts")
+def donuts_command(
+    eps: str = typer.Option("0,0.25,0.5,0.75,1", "--eps", help="Exploration factors, comma-separated, each in [0, 1]."),
+    out: Path = _OUT,
+    as_json: bool = _JSON,
+) -> None:
+    """A Gaussian and the donuts made of it for several exploration factors ε (thesis fig. 2.5)."""
+    from rlff.plots.donut import donut_family
+
+    _done([donut_family(out, eps=_numbers("--eps", eps))], as_json)
+
+
+@app.command("dmm")
+def dmm_command(
+    model: Path = typer.Argument(..., help="Model file (model.json from `rlff fit`)."),
+    distance: float = typer.Option(..., "--distance", help="Basket distance (m)."),
+    data: Path | None = typer.Option(None, "--data", help="Dataset CSV to draw over the density."),
+    out: Path = _OUT,
+    as_json: bool = _JSON,
+) -> None:
+    """The DMM density over (angle, velocity) with the chosen throw and the GMR mean (thesis fig. 2.7)."""
+    from rlff.dataset import read_csv
+    from rlff.model import Model
+    from rlff.plots.donut import dmm_heatmap
+
+    dataset = read_csv(data) if data is not None else None
+    _done([dmm_heatmap(Model.load(model), distance, out, dataset=dataset)], as_json)
+
+
+@app.command("outputs")
+def outputs_command(
+    model: Path = typer.Argument(..., help="Model file (model.json from `rlff fit`)."),
+    distances: str = typer.Option(..., "--distances", help="Basket distances (m), comma-separated; new ones welcome."),
+    data: Path | None = typer.Option(None, "--data", help="Dataset CSV: drawn behind the outputs, marks demonstrated distances."),
+    out: Path = _OUT,
+    as_json: bool = _JSON,
+) -> None:
+    """The generated throws for several distances, demonstrated and new (thesis fig. 4.7, 4.50)."""
+    from rlff.dataset import read_csv
+    from rlff.model import Model
+    from rlff.plots.outputs import model_outputs
+
+    dataset = read_csv(data) if data is not None else None
+    _done([model_outputs(Model.load(model), _numbers("--distances", distances), out, dataset=dataset)], as_json)
+
+
+@app.command("preprocess")
+def preprocess_command(
+    data: Path = typer.Argument(..., help="Raw demonstrations CSV."),
+    preset: str | None = typer.Option(None, "--preset", help="A built-in pipeline, e.g. thesis (the default)."),
+    config: Path | None = typer.Option(None, "--config", help="A pipeline TOML file instead of a preset."),
+    out: Path = _OUT,
+    as_json: bool = _JSON,
+) -> None:
+    """Each preprocessing step: the data before (grey) and after (coloured)."""
+    from rlff.dataset import read_csv
+    from rlff.plots.preprocess import pipeline_steps
+
+    if preset is not None and config is not None:
+        raise InputError("give either --preset or --config, not both")
+    _done([pipeline_steps(read_csv(data), out, preset=preset, config=config)], as_json)
+
+
+@app.command("learning")
+def learning_command(
+    logs: list[Path] = typer.Argument(..., help="Attempts logs (JSONL) of `rlff learn --log`, one per method."),
+    tolerance: float | None = typer.Option(None, "--tolerance", help="Half the basket opening (m), shaded as a hit."),
+    out: Path = _OUT,
+    as_json: bool = _JSON,
+) -> None:
+    """Learning curves: the signed miss of every attempt, one line per log."""
+    from rlff.plots.learning import learning_curves_from_logs
+
+    _done([learning_curves_from_logs(logs, out, tolerance=tolerance)], as_json)
+
+
+@app.command("throw")
+def throw_command(
+    outcome: Path = typer.Argument(..., help="A throw's outcome: the JSON of `rlff sim throw --json`."),
+    pedestal: float = typer.Option(0.0, "--pedestal", help="Height of the robot's base (m)."),
+    robot: str = typer.Option("comau_smart5_six", "--robot", help="Robot name or robot file, for the arm drawing."),
+    out: Path = _OUT,
+    as_json: bool = _JSON,
+) -> None:
+    """A side view of a simulated throw: arm at release, ball flight, basket (and a rendered frame if any)."""
+    import json
+
+    from rlff.plots.throw import throw_snapshot_from_outcome
+    from rlff.robot import load_robot
+
+    if not outcome.is_file():
+        raise InputError(f"{outcome}: no such file")
+    try:
+        record = json.loads(outcome.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise InputError(f"{outcome}: not valid JSON ({exc})") from None
+    if not isinstance(record, dict):
+        raise InputError(f"{outcome}: expected a JSON object")
+    _done([throw_snapshot_from_outcome(record, out, robot=load_robot(robot), pedestal=pedestal)], as_json)

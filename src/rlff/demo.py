@@ -1,0 +1,560 @@
+"""The whole idea on built-in data, in one call: ``run_demo(out_dir)`` (``rlff demo``).
+
+Simulated people throw at baskets from 1 to 4 m and mostly miss → the thesis' cleaning steps →
+the number of Gaussian components by BIC → the model → a throw for every basket distance, also
+distances nobody demonstrated → the robot (Comau Smart5 SiX) throws each of them in MuJoCo → for a
+distance nobody demonstrated, the robot learns from its failures until it hits → figures, a
+``run.json`` and a self-contained HTML report in ``out_dir``.
+
+Layout of ``out_dir``: ``report.html``, ``run.json`` (see :mod:`rlff.report.run`),
+``figures/*.png|svg``, ``demos.csv`` (the simulated recordings), ``clean.csv`` (after the
+preprocessing), ``model.json``, ``attempts/<method>.jsonl`` (the learning runs' logs).
+"""
+
+from __future__ import annotations
+
+import math
+import platform
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from rlff.dataset import Dataset, write_csv
+from rlff.errors import InputError
+from rlff.report import FigureEntry, Run, Section, Table, build_report, write_run
+
+#: What happens, in order; ``progress`` is called with each as it starts.
+STAGES = (
+    "simulating human demonstrations",
+    "preprocessing (thesis preset)",
+    "choosing K by BIC and fitting the model",
+    "generating throws for every distance",
+    "throwing them with the simulated robot",
+    "learning from failure",
+    "drawing the figures",
+    "writing the report",
+)
+
+
+@dataclass(frozen=True)
+class DemoSize:
+    """How much the demo does.
+
+    Attributes
+    ----------
+    subjects : int
+        Simulated people.
+    distances : tuple of float
+        Basket distances they throw at (m).
+    throws_per_distance : int
+        Throws of each person at each basket.
+    budget : int
+        Most attempts of each learning run.
+    methods : tuple of (update, feedback)
+        The learning runs, compared in the learning curve.
+    """
+
+    subjects: int
+    distances: tuple[float, ...]
+    throws_per_distance: int
+    budget: int
+    methods: tuple[tuple[str, str], ...]
+
+
+SIZES = {
+    # the thesis' recording plan (section 4.2): 10 people, 4 throws at each of 10 baskets
+    "full": DemoSize(
+        subjects=10,
+        distances=(1.0, 1.5, 2.0, 2.25, 2.5, 2.75, 3.0, 3.25, 3.5, 4.0),
+        throws_per_distance=4,
+        budget=15,
+        methods=(
+            ("calibrate", "binary"),
+            ("hindsight", "distance"),
+            ("failure", "binary"),
+            ("secant", "distance"),
+            ("imitation", "binary"),
+        ),
+    ),
+    # for tests and a first look: fewer people and baskets, two learning runs
+    "small": DemoSize(
+        subjects=4,
+        distances=(1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0),
+        throws_per_distance=3,
+        budget=8,
+        methods=(("calibrate", "binary"), ("imitation", "binary")),
+    ),
+}
+
+
+@dataclass(frozen=True)
+class ThrowRow:
+    """One generated throw executed by the simulated robot."""
+
+    distance: float
+    demonstrated: bool
+    reachable: bool
+    hit: bool
+    landing: float
+    miss: float
+
+
+@dataclass(frozen=True)
+class LearningRow:
+    """One learning run: a method, its feedback and how it went."""
+
+    method: str
+    feedback: str
+    hit: bool
+    attempts: int
+    misses: list[float]
+
+
+@dataclass
+class DemoSummary:
+    """What a demo run did and where it put things.
+
+    Attributes
+    ----------
+    out_dir, report, run_json : Path
+    figures : list of Path
+        The PNG files (an SVG beside each).
+    size : str
+    seed : int
+    demonstrations, demonstration_hits : int
+        Simulated throws, and how many of them hit.
+    clean_trajectories : int
+        Trajectories left after the preprocessing.
+    demonstrated_distances : list of float
+        Distances left after the preprocessing (m).
+    components : int
+        K chosen by BIC.
+    throws : list of ThrowRow
+        The model's throw for every distance, executed in the simulation.
+    learning_distance : float
+        The distance (m) of the learning runs; nobody demonstrated it.
+    learning : list of LearningRow
+    stage_seconds : dict of str to float
+        Wall time of each stage (s).
+    seconds : float
+        Wall time of the whole run (s).
+    """
+
+    out_dir: Path
+    report: Path
+    run_json: Path
+    figures: list[Path]
+    size: str
+    seed: int
+    demonstrations: int
+    demonstration_hits: int
+    clean_trajectories: int
+    demonstrated_distances: list[float]
+    components: int
+    throws: list[ThrowRow]
+    learning_distance: float
+    learning: list[LearningRow]
+    stage_seconds: dict[str, float] = field(default_factory=dict)
+    seconds: float = 0.0
+
+    def to_json(self) -> dict[str, Any]:
+        """Plain values for ``rlff demo --json``."""
+        data = asdict(self)
+        for key in ("out_dir", "report", "run_json"):
+            data[key] = str(data[key])
+        data["figures"] = [str(p) for p in self.figures]
+        return _finite(data)
+
+
+def _finite(value: Any) -> Any:
+    """Replace NaN and inf by None, recursively, so the result is strict JSON."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    return value
+
+
+class _Clock:
+    """Times the stages and reports each to ``progress`` as it starts."""
+
+    def __init__(self, progress: Callable[[str, int, int], None] | None) -> None:
+        self.progress = progress
+        self.seconds: dict[str, float] = {}
+        self.start = time.perf_counter()
+        self._current: tuple[str, float] | None = None
+
+    def stage(self, name: str) -> None:
+        self._close()
+        if self.progress is not None:
+            self.progress(name, STAGES.index(name), len(STAGES))
+        self._current = (name, time.perf_counter())
+
+    def _close(self) -> None:
+        if self._current is not None:
+            name, began = self._current
+            self.seconds[name] = round(time.perf_counter() - began, 3)
+            self._current = None
+
+    def finish(self) -> float:
+        self._close()
+        if self.progress is not None:
+            self.progress("done", len(STAGES), len(STAGES))
+        return time.perf_counter() - self.start
+
+
+def _forward(velocity: np.ndarray) -> np.ndarray:
+    """The velocity (rad/s) with dips below zero set to zero: the demo's throws move forward
+    (increasing angle), and a mixture's output can dip just below zero where a throw starts
+    from rest."""
+    return np.maximum(velocity, 0.0)
+
+
+def _output_distances(demonstrated: list[float], farthest: float) -> tuple[list[float], list[float]]:
+    """Distances to generate throws for: three demonstrated ones (nearest, middle, farthest) and
+    some nobody demonstrated: the middles of the two widest gaps between demonstrated distances
+    within the robot's reach (``farthest``, m), of the widest gap beyond it, and one distance
+    beyond the farthest demonstration."""
+    shown = sorted({demonstrated[0], demonstrated[len(demonstrated) // 2], demonstrated[-1]})
+    gaps = sorted(((b - a, round(0.5 * (a + b), 3)) for a, b in zip(demonstrated, demonstrated[1:], strict=False)),
+                  reverse=True)
+    within = [middle for _, middle in gaps if middle <= farthest - 0.05][:2]
+    beyond = [middle for _, middle in gaps if middle > farthest - 0.05][:1]
+    if not within:  # nothing demonstrated on both sides of a reachable distance: halfway to the nearest one
+        nearest = min(demonstrated)
+        candidate = round(min(farthest - 0.1, nearest + 0.5) if nearest < farthest else farthest - 0.2, 3)
+        within = [candidate] if all(abs(candidate - d) > 0.05 for d in demonstrated) else []
+    new = {*within, *beyond, round(demonstrated[-1] + 0.5, 3)}
+    return shown, sorted(new)
+
+
+def _learning_distance(throws: list[ThrowRow]) -> float:
+    """The basket the robot learns at: among the reachable distances nobody demonstrated, the one
+    where the model's first throw misses most (learning has something to do there). Falls back to
+    any reachable distance when no new one is reachable."""
+    for candidates in ([r for r in throws if r.reachable and not r.demonstrated], [r for r in throws if r.reachable]):
+        if candidates:
+            worst = max(candidates, key=lambda r: abs(r.miss) if math.isfinite(r.miss) else -1.0)
+            return worst.distance
+    raise InputError("no generated throw is within the robot's reach: no basket to learn at")
+
+
+def check_demo_options(out_dir: str | Path, size: str) -> None:
+    """Raise :class:`InputError` for an unknown size or an output path that is not a folder."""
+    if size not in SIZES:
+        raise InputError(f"unknown demo size {size!r} (known: {', '.join(SIZES)})")
+    out_dir = Path(out_dir)
+    if out_dir.exists() and not out_dir.is_dir():
+        raise InputError(f"{out_dir}: exists and is not a folder")
+
+
+def run_demo(
+    out_dir: str | Path,
+    *,
+    size: str = "full",
+    seed: int = 0,
+    progress: Callable[[str, int, int], None] | None = None,
+    frames: bool = False,
+) -> DemoSummary:
+    """Run the whole chain on built-in data and write figures, ``run.json`` and ``report.html``.
+
+    Parameters
+    ----------
+    out_dir : path
+        Output folder (created; files of an earlier run are replaced).
+    size : {"full", "small"}
+        ``full`` follows the thesis' recording plan (400 throws, 5 learning runs);
+        ``small`` is a quick version (84 throws, 2 learning runs).
+    seed : int
+        Seed of the simulated people, the fits and the learning runs.
+    progress : callable, optional
+        ``progress(stage, done, total)`` as each stage of :data:`STAGES` starts (and
+        ``("done", total, total)`` at the end).
+    frames : bool
+        Also render the learned throw with MuJoCo's offscreen renderer (needs an OpenGL
+        backend; slow on a CPU renderer); a drawing is always made.
+
+    Returns
+    -------
+    DemoSummary
+    """
+    from rlff.learn import learn
+    from rlff.model import Model
+    from rlff.preprocess import Pipeline
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.sim import Basket, max_reach, simulate_throw
+    from rlff.sim.reach import farthest_basket
+    from rlff.synthetic.throws import simulate_throws
+    from rlff.trajectory.timing import time_along_path
+
+    check_demo_options(out_dir, size)
+    plan = SIZES[size]
+    out_dir = Path(out_dir)
+    figures_dir = out_dir / "figures"
+    figures_dir.mkdir(parents=True, exist_ok=True)
+    clock = _Clock(progress)
+
+    clock.stage(STAGES[0])
+    raw = simulate_throws(
+        seed, subjects=plan.subjects, distances=plan.distances, throws_per_distance=plan.throws_per_distance
+    )
+    write_csv(raw, out_dir / "demos.csv")
+    raw_hits = sum(1 for t in raw if t.meta.get("hit") is True)
+
+    clock.stage(STAGES[1])
+    clean, preprocessing = Pipeline.preset("thesis").run(raw)
+    if len(clean) < 2:
+        raise InputError(f"the preprocessing left {len(clean)} trajectories: too few to learn from (seed {seed})")
+    write_csv(clean, out_dir / "clean.csv")
+    demonstrated = sorted({float(t["distance"][0]) for t in clean})
+
+    clock.stage(STAGES[2])
+    model = Model.fit(clean, inputs=("angle", "distance"), outputs=("velocity",), components="auto", seed=seed)
+    model.save(out_dir / "model.json")
+
+    clock.stage(STAGES[3])
+    robot = load_robot()
+    basket_shape = Basket(1.0)
+    farthest = farthest_basket(max_reach(robot, basket_shape.rim_height), basket_shape.opening)
+    shown, new = _output_distances(demonstrated, farthest)
+    angles = _angle_grid(clean)
+    # continuity: where two modes are nearly as high, keep to the one that continues the throw
+    # (a robot cannot jump between the sides of a donut); the report gives the density traded
+    paths = {d: model.generate({"distance": d}, angles, continuity=True) for d in sorted({*shown, *new})}
+
+    clock.stage(STAGES[4])
+    mapping = RobotMapping.for_robot(robot)
+    throws: list[ThrowRow] = []
+    outcomes = {}
+    for distance, path in paths.items():
+        velocity = _forward(np.asarray(path.velocity, dtype=float))
+        trajectory, _ = mapping.to_robot(path.angle, velocity, time_along_path(path.angle, velocity), clip=True)
+        outcome = simulate_throw(trajectory, Basket(distance), robot=robot, check_reach=False)
+        outcomes[distance] = outcome
+        throws.append(
+            ThrowRow(distance, distance in demonstrated, distance <= farthest, bool(outcome.hit),
+                     float(outcome.landing_x), float(outcome.miss))
+        )
+    learning_distance = _learning_distance(throws)
+
+    clock.stage(STAGES[5])
+    learning: list[LearningRow] = []
+    results = {}
+    for method, feedback in plan.methods:
+        log = out_dir / "attempts" / f"{method}.jsonl"
+        log.unlink(missing_ok=True)
+        result = learn(clean, learning_distance, budget=plan.budget, feedback=feedback, update=method,
+                       seed=seed, log_path=log, robot=robot.name)
+        results[method] = result
+        learning.append(LearningRow(method, feedback, result.hit, result.attempts, list(result.misses)))
+
+    clock.stage(STAGES[6])
+    figure_entries = _figures(
+        figures_dir, raw=raw, clean=clean, preprocessing=preprocessing, model=model, paths=paths,
+        demonstrated=demonstrated, learning_distance=learning_distance, first_throw=outcomes.get(learning_distance),
+        results=results, mapping=mapping, robot=robot, frames=frames, seed=seed,
+    )
+
+    clock.stage(STAGES[7])
+    run = _run_record(
+        size=size, seed=seed, raw=raw, raw_hits=raw_hits, clean=clean, preprocessing=preprocessing,
+        model=model, paths=paths, demonstrated=demonstrated, throws=throws, farthest=farthest,
+        learning_distance=learning_distance, learning=learning, budget=plan.budget,
+        figures=[FigureEntry(p.relative_to(out_dir).as_posix(), s, t, c) for p, s, t, c in figure_entries],
+    )
+    run_json = write_run(run, out_dir)
+    report = build_report(out_dir, out_dir / "report.html")
+    seconds = clock.finish()
+    return DemoSummary(
+        out_dir=out_dir, report=report, run_json=run_json, figures=[p for p, *_ in figure_entries], size=size,
+        seed=seed, demonstrations=len(raw), demonstration_hits=raw_hits, clean_trajectories=len(clean),
+        demonstrated_distances=demonstrated, components=int(model.n_components), throws=throws,
+        learning_distance=learning_distance, learning=learning, stage_seconds=clock.seconds,
+        seconds=round(seconds, 3),
+    )
+
+
+def _angle_grid(clean: Dataset, points: int = 120) -> np.ndarray:
+    """Angles (rad) of the generated throws: from the median first to the median last angle."""
+    first = float(np.median([t["angle"][0] for t in clean]))
+    last = float(np.median([t["angle"][-1] for t in clean]))
+    return np.linspace(first, last, points)
+
+
+def _figures(
+    figures_dir: Path, *, raw, clean, preprocessing, model, paths, demonstrated, learning_distance, first_throw,
+    results, mapping, robot, frames: bool, seed: int,
+) -> list[tuple[Path, str, str, str]]:
+    """Draw every figure; returns (png path, section, title, caption) in report order."""
+    from rlff.plots.data import dataset_3d, dataset_slices
+    from rlff.plots.donut import dmm_heatmap, donut_family
+    from rlff.plots.learning import learning_curves
+    from rlff.plots.mixture import kmeans_em_steps, model_components, selection_curve
+    from rlff.plots.outputs import output_trajectories
+    from rlff.plots.preprocess import preprocessing_steps
+    from rlff.plots.throw import throw_snapshot_from_outcome
+
+    entries: list[tuple[Path, str, str, str]] = []
+
+    def add(saved, section: str, title: str, caption: str) -> None:
+        entries.append((saved.png, section, title, caption))
+
+    middle = demonstrated[len(demonstrated) // 2]
+    add(dataset_slices(raw, figures_dir / "demonstrations-per-distance"), "data", "The recorded throws per basket distance",
+        "Elbow angle and angular velocity of every simulated throw as a depth camera and a skeleton tracker "
+        "record them: wind-up, extension, stop, and tracking glitches (the straight jumps). Green throws hit "
+        "the basket, red ones missed: most demonstrations are failures.")
+    add(preprocessing_steps(
+        [(s.step, s.before, s.after if s.after is not None else s.before, s.summary()) for s in preprocessing.steps],
+        figures_dir / "preprocessing"), "preprocessing", "Each cleaning step, before and after",
+        "Grey: the data entering a step; coloured by distance: what leaves it (thesis section 4.3).")
+    add(dataset_3d(clean, figures_dir / "clean-3d"), "preprocessing", "The cleaned demonstrations in 3-D",
+        "What the model learns from: (angle, distance, velocity) of every kept throw up to the release "
+        "(thesis fig. 4.43, 4.47).")
+    add(selection_curve(model.selection.table, figures_dir / "bic"), "model", "Choosing K",
+        "BIC = -2 ln L + p ln n against the number of components; the lowest wins (thesis eq. 2.2).")
+    add(kmeans_em_steps(clean.to_array(("angle", "velocity")), figures_dir / "kmeans-em", seed=seed), "model",
+        "k-means, then EM",
+        "k-means places the components (top), EM fits their weights, means and covariances (bottom); "
+        "shown on the (angle, velocity) plane (thesis fig. 2.3-2.4).")
+    add(model_components(model, clean, middle, figures_dir / "components"), "model",
+        f"The components at {middle:g} m",
+        "The model's Gaussian components conditioned on the basket distance, as 1σ and 2σ ellipses over "
+        "the demonstrations of that distance (thesis fig. 4.2-4.3, 4.47-4.48).")
+    add(donut_family(figures_dir / "donuts"), "model", "A Gaussian and its donuts",
+        "The Donut Mixture Model replaces each Gaussian by a donut whose hole grows with the exploration "
+        "factor ε (thesis fig. 2.5, eq. 2.8).")
+    add(dmm_heatmap(model, learning_distance, figures_dir / "dmm-density", dataset=clean), "outputs",
+        f"The DMM density at {learning_distance:g} m",
+        "The density of the joint velocity for every joint angle (hotter is higher), the GMR mean and the "
+        "throw chosen at the highest density of each angle (thesis fig. 2.7, 4.4).")
+    add(output_trajectories(paths, figures_dir / "outputs", dataset=clean), "outputs",
+        "Generated throws, demonstrated and new distances",
+        "Farther baskets get faster throws, also at distances nobody demonstrated (dashed; thesis fig. 4.7, 4.50).")
+    if first_throw is not None:
+        add(throw_snapshot_from_outcome(first_throw, figures_dir / "first-throw", robot=robot,
+                                        title=f"The model's first throw at {learning_distance:g} m, before learning"),
+            "simulation", "The robot's first throw",
+            "The generated throw mapped to the Comau's joint 2 and executed in MuJoCo: the arm at the "
+            "release, the ball's flight and the basket.")
+    add(learning_curves({f"{name} ({r.feedback} feedback)": r.misses for name, r in results.items()},
+                        figures_dir / "learning", tolerance=_tolerance(), basket=learning_distance),
+        "learning", "Learning from failure",
+        "Signed miss of every attempt until the first hit (star), per method.")
+    best = next((r for r in results.values() if r.hit), None)
+    if best is not None:
+        attempt = best.history[-1]
+        from rlff.sim import Basket, simulate_throw
+
+        trajectory, _ = mapping.to_robot(attempt.angle, _forward(attempt.velocity), None, clip=True)
+        outcome = simulate_throw(trajectory, Basket(learning_distance), robot=robot, check_reach=False,
+                                 frames_dir=figures_dir / "frames" if frames else None)
+        add(throw_snapshot_from_outcome(outcome, figures_dir / "learned-throw", robot=robot,
+                                        title=f"The learned throw at {learning_distance:g} m ({best.update})"),
+            "learning", "The learned throw", "The hit found by the learning loop, executed again in MuJoCo.")
+    return entries
+
+
+def _tolerance() -> float:
+    """Half-width (m) of the landing window that counts as a hit for the demo's basket."""
+    from rlff.sim import Basket
+    from rlff.sim.arm import BALL_RADIUS
+
+    basket = Basket(1.0)
+    return max(0.5 * basket.opening - BALL_RADIUS, 0.25 * basket.opening)
+
+
+def _run_record(
+    *, size, seed, raw, raw_hits, clean, preprocessing, model, paths, demonstrated, throws, farthest,
+    learning_distance, learning, budget, figures,
+) -> Run:
+    """The run.json record: facts and tables per section."""
+    raw_distances = sorted({float(t["distance"][0]) for t in raw})
+    per_distance = []
+    for distance in raw_distances:
+        group = [t for t in raw if float(t["distance"][0]) == distance]
+        hits = sum(1 for t in group if t.meta.get("hit") is True)
+        kept = sum(1 for t in clean if float(t["distance"][0]) == distance)
+        per_distance.append([distance, len(group), hits, len(group) - hits, kept])
+    steps = [
+        [s.step, len(s.before), len(s.after if s.after is not None else s.before), s.before.n_samples,
+         (s.after if s.after is not None else s.before).n_samples, s.summary()]
+        for s in preprocessing.steps
+    ]
+    selection = [[row["n_components"], row["bic"], row["aic"], row["log_likelihood"]] for row in model.selection.table]
+    outputs = []
+    for distance, path in paths.items():
+        velocity = np.asarray(path.velocity, dtype=float)
+        outputs.append([
+            distance, distance in demonstrated, float(np.max(velocity)), float(velocity[-1]),
+            float(np.mean(path.exploration)), float(np.mean(np.abs(velocity - np.asarray(path.gmr_mean)))),
+            float(np.max(path.density_traded)),
+        ])
+    subjects = sorted({str(t.meta.get("subject")) for t in raw if "subject" in t.meta})
+    sections = [
+        Section(
+            "data", "Demonstrations",
+            "Simulated people throw a ball overhand at baskets 1 to 4 m away, recorded like a depth camera "
+            "and a skeleton tracker would (15-30 Hz, noise, dropped frames, tracking glitches). Most throws "
+            "miss: these are the failed demonstrations the robot learns from.",
+            facts={"throws": len(raw), "hits": raw_hits, "hit rate": raw_hits / max(len(raw), 1),
+                   "people": len(subjects), "samples": raw.n_samples, "basket distances (m)": ", ".join(f"{d:g}" for d in raw_distances)},
+            tables=[Table("Throws per basket", ["distance (m)", "throws", "hits", "misses", "kept after cleaning"], per_distance)],
+        ),
+        Section(
+            "preprocessing", "Preprocessing",
+            "The thesis' cleaning steps (section 4.3), run automatically; each says what it changed.",
+            facts={"trajectories kept": len(clean), "samples kept": clean.n_samples,
+                   "distances kept (m)": ", ".join(f"{d:g}" for d in demonstrated)},
+            tables=[Table("Steps", ["step", "trajectories in", "out", "samples in", "out", "what it did"], steps)],
+        ),
+        Section(
+            "model", "Model",
+            "A Gaussian mixture over (angle, distance, velocity), K chosen by the lowest BIC; conditioned on "
+            "the angle and the distance it gives the GMR mean and variance, and its donuts the DMM.",
+            facts={"components K": int(model.n_components), "criterion": "BIC"},
+            tables=[Table("Model selection", ["K", "BIC", "AIC", "ln L"], selection)],
+        ),
+        Section(
+            "outputs", "Generated throws",
+            "For each basket distance the throw is the velocity of highest DMM density at every angle. Where two "
+            "modes are nearly as high the output keeps to the one that continues the throw (a robot cannot jump "
+            "between the two sides of a donut); the last column says how much density that gave up at most.",
+            facts={"distances (m)": ", ".join(f"{d:g}" for d in paths),
+                   "not demonstrated (m)": ", ".join(f"{d:g}" for d in paths if d not in demonstrated)},
+            tables=[Table("Throws per distance", ["distance (m)", "demonstrated", "peak velocity (rad/s)",
+                                                  "release velocity (rad/s)", "mean exploration ε",
+                                                  "mean |DMM − GMR| (rad/s)", "most density traded"], outputs)],
+        ),
+        Section(
+            "simulation", "Simulated robot throws",
+            "Each generated throw drives the Comau Smart5 SiX's joint 2 in MuJoCo; the ball is let go at the end "
+            "of the path. Baskets beyond the arm's reach with joint 2 alone are marked unreachable.",
+            facts={"robot reach (m)": farthest},
+            tables=[Table("Outcomes", ["distance (m)", "demonstrated", "reachable", "hit", "landing (m)", "miss (m)"],
+                          [[r.distance, r.demonstrated, r.reachable, r.hit, r.landing, r.miss] for r in throws])],
+        ),
+        Section(
+            "learning", "Learning from failure",
+            f"The basket is put at {learning_distance:g} m: nobody demonstrated it, the robot can reach it, and of "
+            f"such distances it is where the model's first throw missed most. The robot throws, sees the "
+            f"outcome, updates and throws again, at most {budget} times per method.",
+            facts={"basket (m)": learning_distance, "budget": budget},
+            tables=[Table("Runs", ["method", "feedback", "hit", "attempts", "last miss (m)"],
+                          [[r.method, r.feedback, r.hit, r.attempts, r.misses[-1] if r.misses else None] for r in learning])],
+        ),
+    ]
+    return Run(
+        title="rlff demo: learning to throw from failed demonstrations",
+        created=datetime.now(UTC).isoformat(timespec="seconds"),
+        settings={"size": size, "seed": seed, "python": platform.python_version()},
+        sections=sections,
+        figures=figures,
+    )

@@ -1,0 +1,159 @@
+"""``rlff plot``, ``rlff report`` and ``rlff demo`` through the real entry point (a subprocess):
+what they write on success, and a one-line reason with exit code 2 on bad input."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rlff.dataset import Dataset, Trajectory, write_csv
+from rlff.report import FigureEntry, Run, Section, write_run
+
+pytestmark = pytest.mark.slow
+
+
+def one_line_error(result, *fragments: str) -> str:
+    """The single error line of a failed command; checks exit code 2 and no traceback."""
+    assert result.code == 2, (result.code, result.stdout, result.stderr)
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("rlff: error: ")
+    assert "Traceback" not in result.stderr
+    for fragment in fragments:
+        assert fragment in lines[0]
+    return lines[0]
+
+
+def written(result) -> list[Path]:
+    assert result.code == 0, result.stderr
+    return [Path(p) for p in json.loads(result.stdout)["files"]]
+
+
+@pytest.fixture
+def throws_csv(tmp_path) -> Path:
+    trajectories = []
+    for distance in (1.5, 2.5, 3.5):
+        for index in range(4):
+            angle = np.linspace(0.3, 1.6, 20)
+            velocity = (2.0 + distance + 0.1 * index) * np.sin(np.pi * (angle - 0.3) / 1.3)
+            trajectories.append(
+                Trajectory(f"z{distance}-{index}",
+                           {"angle": angle, "distance": np.full(20, distance), "velocity": velocity},
+                           {"hit": index == 1})
+            )
+    path = tmp_path / "throws.csv"
+    write_csv(Dataset(trajectories), path)
+    return path
+
+
+# -- rlff report --------------------------------------------------------------------------------
+
+
+def test_report_builds_html_from_a_run(cli, tmp_path):
+    run_dir = tmp_path / "run"
+    (run_dir / "figures").mkdir(parents=True)
+    # a 1x1 PNG is enough for the builder; the figures themselves are tested elsewhere
+    (run_dir / "figures" / "dot.png").write_bytes(
+        bytes.fromhex("89504e470d0a1a0a0000000d49484452000000010000000108060000001f15c4890000000d"
+                      "4944415478da63f8cfc0f01f0005000201a5f5d2c80000000049454e44ae426082")
+    )
+    write_run(Run("cli run", "2026-01-01T00:00:00+00:00", sections=[Section("a", "Alpha", facts={"n": 1})],
+                  figures=[FigureEntry("figures/dot.png", "a", "Dot")]), run_dir)
+    result = cli("report", str(run_dir), "--json")
+    assert result.code == 0, result.stderr
+    out = Path(json.loads(result.stdout)["report"])
+    assert out == run_dir / "report.html"
+    text = out.read_text()
+    assert "<h2>Alpha</h2>" in text and "data:image/png;base64," in text
+
+    result = cli("report", str(run_dir), "-o", str(tmp_path / "elsewhere" / "r.html"))
+    assert result.code == 0 and (tmp_path / "elsewhere" / "r.html").is_file()
+    assert "r.html" in result.stdout
+
+
+def test_report_bad_input(cli, tmp_path):
+    one_line_error(cli("report", str(tmp_path / "absent")), "absent: no such run directory")
+    one_line_error(cli("report", str(tmp_path)), "no run.json")
+    (tmp_path / "run.json").write_text('{"format": "rlff-run", "version": 9}')
+    one_line_error(cli("report", str(tmp_path)), "unsupported version 9")
+
+
+# -- rlff plot ----------------------------------------------------------------------------------
+
+
+def test_plot_dataset_writes_both_figures(cli, throws_csv, tmp_path):
+    files = written(cli("plot", "dataset", str(throws_csv), "-o", str(tmp_path / "fig" / "demos"), "--json"))
+    assert sorted(p.name for p in files) == ["demos-3d.png", "demos-3d.svg", "demos-slices.png", "demos-slices.svg"]
+    assert all(p.stat().st_size > 1000 for p in files)
+
+
+def test_plot_learning_from_logs(cli, tmp_path):
+    logs = []
+    for method, misses in (("calibrate", [-0.4, -0.1, 0.0]), ("imitation", [-0.5, -0.5])):
+        path = tmp_path / f"{method}.jsonl"
+        lines = [{"format": "rlff-attempts", "version": 1,
+                  "run": {"basket": {"distance": 2.1}, "feedback": "binary", "update": method}}]
+        lines += [{"attempt": i + 1, "miss": m, "hit": m == 0.0} for i, m in enumerate(misses)]
+        path.write_text("".join(json.dumps(line) + "\n" for line in lines) + '{"attempt": 4, "mi')  # crash mid-write
+        logs.append(str(path))
+    files = written(cli("plot", "learning", *logs, "--tolerance", "0.14", "-o", str(tmp_path / "curves"), "--json"))
+    assert [p.suffix for p in files] == [".png", ".svg"]
+    assert "calibrate" in files[1].read_text() and "imitation" in files[1].read_text()
+
+    other = tmp_path / "other.jsonl"
+    other.write_text('{"format": "rlff-attempts", "run": {"basket": {"distance": 3.0}, "update": "x"}}\n')
+    one_line_error(cli("plot", "learning", logs[0], str(other), "-o", str(tmp_path / "x")), "different baskets")
+    one_line_error(cli("plot", "learning", str(tmp_path / "none.jsonl"), "-o", str(tmp_path / "x")),
+                   "none.jsonl: no such attempts log")
+    (tmp_path / "bad.jsonl").write_text('{"format": "something else"}\n')
+    one_line_error(cli("plot", "learning", str(tmp_path / "bad.jsonl"), "-o", str(tmp_path / "x")),
+                   "not an rlff attempts log")
+
+
+def test_plot_throw_from_the_sim_json(cli, tmp_path):
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.sim import Basket, simulate_throw
+
+    angle = np.linspace(1.0, 2.6, 40)
+    velocity = 10.0 * np.sin(np.pi * (angle - 1.0) / 1.8) + 0.5
+    trajectory, _ = RobotMapping.for_robot(load_robot()).to_robot(angle, velocity, clip=True)
+    outcome = simulate_throw(trajectory, Basket(1.8), check_reach=False)
+    record = tmp_path / "outcome.json"
+    record.write_text(json.dumps(outcome.to_dict(), default=float))
+    files = written(cli("plot", "throw", str(record), "-o", str(tmp_path / "throw"), "--json"))
+    assert files[0].name == "throw.png"
+    record.write_text("{broken")
+    one_line_error(cli("plot", "throw", str(record), "-o", str(tmp_path / "t")), "outcome.json: not valid JSON")
+    record.write_text('{"hit": true}')
+    one_line_error(cli("plot", "throw", str(record), "-o", str(tmp_path / "t")), "missing or malformed field")
+
+
+def test_plot_bad_input(cli, throws_csv, tmp_path):
+    one_line_error(cli("plot", "dataset", str(tmp_path / "none.csv"), "-o", str(tmp_path / "x")), "none.csv: no such file")
+    one_line_error(cli("plot", "kmeans-em", str(throws_csv), "--k", "2,x", "-o", str(tmp_path / "x")),
+                   "--k: 'x' is not a number")
+    one_line_error(cli("plot", "preprocess", str(throws_csv), "--preset", "thesis", "--config", "a.toml",
+                       "-o", str(tmp_path / "x")), "either --preset or --config")
+
+
+def test_every_plot_kind_has_help(cli):
+    result = cli("plot", "--help")
+    assert result.code == 0
+    kinds = ["dataset", "components", "kmeans-em", "bic", "donuts", "dmm", "outputs", "preprocess", "learning", "throw"]
+    for kind in kinds:
+        assert kind in result.stdout
+    for kind in kinds[:3]:
+        assert cli("plot", kind, "--help").code == 0
+
+
+# -- rlff demo ----------------------------------------------------------------------------------
+
+
+def test_demo_bad_input(cli, tmp_path):
+    occupied = tmp_path / "file"
+    occupied.write_text("not a folder")
+    one_line_error(cli("demo", "--small", "--out", str(occupied)), "exists and is not a folder")
+    assert cli("demo", "--help").code == 0

@@ -1,0 +1,102 @@
+"""``rlff demo --small`` end to end through the real entry point: the whole chain runs, and what it
+writes (run.json, figures, report, data, model, attempts logs) is complete and consistent."""
+
+from __future__ import annotations
+
+import json
+from html.parser import HTMLParser
+from pathlib import Path
+
+import pytest
+
+from rlff.dataset import read_csv
+from rlff.model import Model
+from rlff.report import read_run
+
+pytestmark = [pytest.mark.slow, pytest.mark.integration]
+
+SECTIONS = ["data", "preprocessing", "model", "outputs", "simulation", "learning"]
+
+
+class _Images(HTMLParser):
+    def __init__(self) -> None:
+        super().__init__()
+        self.sources: list[str] = []
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "img":
+            self.sources.append(dict(attrs)["src"])
+
+
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory) -> tuple[Path, dict, str]:
+    from conftest import run_cli
+
+    out = tmp_path_factory.mktemp("demo") / "rlff-demo"
+    result = run_cli("demo", "--small", "--out", str(out), "--seed", "3", "--json", timeout=600)
+    assert result.code == 0, result.stderr
+    return out, json.loads(result.stdout), result.stderr
+
+
+def test_demo_writes_a_complete_run(demo):
+    out, summary, _ = demo
+    for name in ("report.html", "run.json", "demos.csv", "clean.csv", "model.json"):
+        assert (out / name).is_file(), name
+    run = read_run(out)
+    assert [s.id for s in run.sections] == SECTIONS
+    assert run.settings["size"] == "small" and run.settings["seed"] == 3
+    # every section but the simulation shows at least one figure, and every figure has its SVG
+    with_figures = {f.section for f in run.figures}
+    assert set(SECTIONS) - {"simulation"} <= with_figures
+    for entry in run.figures:
+        png = out / entry.file
+        assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert png.with_suffix(".svg").is_file()
+    assert sorted(summary["figures"]) == sorted(str(out / f.file) for f in run.figures)
+
+
+def test_demo_numbers_agree_with_its_files(demo):
+    out, summary, _ = demo
+    raw = read_csv(out / "demos.csv")
+    clean = read_csv(out / "clean.csv")
+    assert summary["demonstrations"] == len(raw)
+    assert summary["demonstration_hits"] == sum(1 for t in raw if t.meta.get("hit") is True)
+    assert 0 < summary["demonstration_hits"] < len(raw)  # failed demonstrations among them
+    assert summary["clean_trajectories"] == len(clean) >= 2
+    assert summary["demonstrated_distances"] == sorted({float(t["distance"][0]) for t in clean})
+    model = Model.load(out / "model.json")
+    assert summary["components"] == model.n_components
+    run = read_run(out)
+    assert run.section("model").facts["components K"] == model.n_components
+    # throws for demonstrated and new distances; the learning distance is new and reachable
+    throws = summary["throws"]
+    assert any(t["demonstrated"] for t in throws) and any(not t["demonstrated"] for t in throws)
+    learning_row = next(t for t in throws if t["distance"] == summary["learning_distance"])
+    assert learning_row["reachable"] and not learning_row["demonstrated"]
+    for row in throws:
+        assert row["hit"] or row["miss"] == pytest.approx(row["landing"] - row["distance"], abs=1e-9)
+    # one attempts log per learning run, with as many attempts as the summary says
+    for run_row in summary["learning"]:
+        lines = (out / "attempts" / f"{run_row['method']}.jsonl").read_text().splitlines()
+        assert len(lines) == 1 + run_row["attempts"]
+        assert [json.loads(line)["miss"] for line in lines[1:]] == pytest.approx(run_row["misses"])
+        assert run_row["hit"] == json.loads(lines[-1])["hit"]
+
+
+def test_demo_report_embeds_every_figure(demo):
+    out, _, _ = demo
+    parser = _Images()
+    parser.feed((out / "report.html").read_text())
+    run = read_run(out)
+    assert len(parser.sources) == len(run.figures)
+    assert all(source.startswith("data:image/png;base64,") for source in parser.sources)
+
+
+def test_demo_shows_progress_and_a_summary_table(demo, cli, tmp_path):
+    _, _, stderr = demo
+    assert "rlff demo" in stderr or "done" in stderr  # the progress display
+    # the human-readable end: a summary table on stdout (a second, quick run into another folder)
+    result = cli("-q", "demo", "--small", "--out", str(tmp_path / "again"))
+    assert result.code == 0, result.stderr
+    for fragment in ("simulated throws", "executed in MuJoCo", "Learning from failure at", "report:"):
+        assert fragment in result.stdout
