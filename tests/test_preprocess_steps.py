@@ -240,6 +240,34 @@ def test_reject_contexts_along_one_of_two_context_columns():
         reject_contexts(data, column="speed")
 
 
+def test_reject_contexts_compares_subjects_with_themselves():
+    # subject "fast" throws three times as fast as "slow"; at 3 m only "slow" threw: not a dip
+    angle = np.linspace(0.7, 2.0, 5)
+    trajectories = []
+    for d in (1.0, 2.0, 3.0, 4.0, 5.0):
+        for subject, factor in (("fast", 3.0), ("slow", 1.0)):
+            if d == 3.0 and subject == "fast":
+                continue
+            for k in range(2):
+                trajectory = _throw(f"{subject}-{d:g}-{k}", angle, velocity=np.full(5, factor * d), distance=d)
+                trajectories.append(trajectory.replace(meta={"subject": subject}))
+    data = Dataset(trajectories)
+    naive, report = reject_contexts(data, by_subject=False, max_spread_ratio=0, z=0.0)
+    assert [r.context for r in report.contexts] == [{"distance": 3.0}]
+    fair, report = reject_contexts(data, max_spread_ratio=0)
+    assert report.contexts == [] and fair.equals(data)
+
+
+def test_reject_contexts_needs_a_significant_dip():
+    # 3 m is 40 % low, but its throws scatter so much that it may be chance (z = 2)
+    data = _curves({1.0: [1.0, 1.0, 1.0], 2.0: [2.0, 2.0, 2.0], 3.0: [0.5, 1.8, 4.0],
+                    4.0: [4.0, 4.0, 4.0], 5.0: [5.0, 5.0, 5.0]})
+    kept, report = reject_contexts(data, max_spread_ratio=0)
+    assert report.contexts == []
+    _, report = reject_contexts(data, max_spread_ratio=0, z=0.0)
+    assert [r.context for r in report.contexts] == [{"distance": 3.0}]
+
+
 def test_reject_contexts_judges_single_throws_only_in_bins():
     # one throw per (estimated, continuous) distance: nothing judged unless grouped into bins
     data = _curves({1.0: [1.0], 1.1: [1.1], 2.0: [2.0], 2.1: [2.1], 2.9: [1.4], 3.05: [1.6],

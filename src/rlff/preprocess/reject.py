@@ -106,7 +106,9 @@ def reject_contexts(
     angle_column: str = "angle",
     velocity_column: str = "velocity",
     trend: Literal["increasing", "decreasing", "none"] = "increasing",
-    tolerance: float = 0.05,
+    tolerance: float = 0.10,
+    z: float = 2.0,
+    by_subject: bool = True,
     max_spread_ratio: float = 3.0,
     min_contexts: int = 3,
     min_trajectories: int = 2,
@@ -129,7 +131,16 @@ def reject_contexts(
         checked again, so the neighbours of a bad context are not blamed for it. "none" skips
         the check.
     tolerance : float
-        Relative deviation allowed (0.05: 5 %).
+        Relative deviation allowed (0.10: 10 %).
+    z : float
+        The deviation must also exceed ``z`` standard errors of the levels compared (a level's
+        standard error: 1.4826 MAD of its trajectories' mean velocities over the square root of
+        their number), so that sparse, noisy recordings do not lose good contexts to chance.
+    by_subject : bool
+        When every trajectory has a ``subject``, divide each trajectory's mean velocity by its
+        subject's median (times the overall median, to stay in rad/s) before comparing contexts:
+        a fast thrower then does not lift a basket's level, and the levels' standard errors
+        measure throw-to-throw variation only (the thesis' plan: every subject at every basket).
     max_spread_ratio : float
         A context stands apart when its trajectories scatter more than this many times the
         median scatter of the contexts (scatter: the median RMS distance of a context's
@@ -151,7 +162,8 @@ def reject_contexts(
     if column not in dataset.context:
         raise InputError(f"reject_contexts: {column!r} is not a context column (context: {', '.join(dataset.context) or 'none'})")
     params = {"column": column, "angle_column": angle_column, "velocity_column": velocity_column,
-              "trend": trend, "tolerance": tolerance, "max_spread_ratio": max_spread_ratio,
+              "trend": trend, "tolerance": tolerance, "z": z, "by_subject": by_subject,
+              "max_spread_ratio": max_spread_ratio,
               "min_contexts": min_contexts, "min_trajectories": min_trajectories, "bin_width": bin_width}
     report = StepReport("reject_contexts", params, dataset)
     names = dataset.context
@@ -170,7 +182,13 @@ def reject_contexts(
         return dataset, report
     grid = _band(dataset, angle_column)
     curves = {c: np.stack([_on_band(t, angle_column, velocity_column, grid) for t in g]) for c, g in groups.items()}
-    levels = {c: float(np.median(np.mean(v, axis=1))) for c, v in curves.items()}
+    means = {c: np.mean(v, axis=1) for c, v in curves.items()}
+    if by_subject:
+        means = _per_subject(means, {c: [t.meta.get("subject") for t in g] for c, g in groups.items()})
+    levels = {c: float(np.median(m)) for c, m in means.items()}
+    errors = {
+        c: _MAD_TO_SIGMA * float(np.median(np.abs(m - levels[c]))) / np.sqrt(m.size) for c, m in means.items()
+    }
     rejected: dict[tuple[float, ...], str] = {}
     if max_spread_ratio > 0:
         rejected.update(_apart(curves, levels, max_spread_ratio, velocity_column))
@@ -182,7 +200,9 @@ def reject_contexts(
                 by_rest.setdefault(context[:axis] + context[axis + 1 :], []).append(context)
         for members in by_rest.values():
             if len(members) >= min_contexts:
-                rejected.update(_off_trend(members, levels, axis, sign, tolerance, column, velocity_column))
+                rejected.update(
+                    _off_trend(members, levels, errors, axis, sign, (tolerance, z), column, velocity_column)
+                )
     for context, reason in rejected.items():
         report.reject_context(dict(zip(names, context, strict=True)), [t.id for t in groups[context]], reason)
     report.params["levels"] = {
@@ -202,6 +222,23 @@ def _grouped(dataset: Dataset, axis: int, bin_width: float) -> dict[tuple[float,
         centre = round(context[axis] / bin_width) * bin_width
         groups.setdefault(context[:axis] + (centre,) + context[axis + 1 :], []).extend(members)
     return dict(sorted(groups.items()))
+
+
+def _per_subject(means: dict, subjects: dict) -> dict:
+    """Trajectory means over their subject's median, times the overall median (unchanged when a
+    trajectory has no subject)."""
+    every = [s for names in subjects.values() for s in names]
+    if any(s is None for s in every):
+        return means
+    values = np.concatenate(list(means.values()))
+    labels = np.array([str(s) for s in every])
+    overall = float(np.median(values))
+    medians = {name: float(np.median(values[labels == name])) for name in set(labels.tolist())}
+    if any(m <= 0 for m in medians.values()) or overall <= 0:
+        return means
+    return {
+        c: m / np.array([medians[str(s)] for s in subjects[c]]) * overall for c, m in means.items()
+    }
 
 
 def _band(dataset: Dataset, angle_column: str, points: int = 50) -> np.ndarray:
@@ -242,9 +279,10 @@ def _apart(curves: dict, levels: dict, ratio: float, velocity_column: str) -> di
 
 
 def _off_trend(
-    members: list[tuple[float, ...]], levels: dict, axis: int, sign: float, tolerance: float,
-    column: str, velocity_column: str,
+    members: list[tuple[float, ...]], levels: dict, errors: dict, axis: int, sign: float,
+    limits: tuple[float, float], column: str, velocity_column: str,
 ) -> dict:
+    tolerance, z = limits
     active = sorted(members, key=lambda c: c[axis])
     rejected = {}
     while len(active) >= 3:
@@ -259,9 +297,10 @@ def _off_trend(
             too_high = after is not None and sign * (levels[after] - level) < 0
             if not (too_low or too_high):
                 continue
-            expected = _expected(context, before, after, levels, axis)
+            expected, error = _expected(context, before, after, levels, errors, axis)
             deviation = (level - expected) / max(abs(expected), 1e-12)
-            if sign * deviation < -tolerance and too_low or sign * deviation > tolerance and too_high:
+            significant = abs(level - expected) > z * error
+            if significant and (sign * deviation < -tolerance and too_low or sign * deviation > tolerance and too_high):
                 if abs(level - expected) > worst_gap:
                     worst, worst_gap = context, abs(level - expected)
                     worst_reason = (
@@ -277,15 +316,17 @@ def _off_trend(
     return rejected
 
 
-def _expected(context, before, after, levels: dict, axis: int) -> float:
-    """The level interpolated between the neighbouring contexts (or the single neighbour's)."""
-    if before is None:
-        return levels[after]
-    if after is None:
-        return levels[before]
+def _expected(context, before, after, levels: dict, errors: dict, axis: int) -> tuple[float, float]:
+    """The level interpolated between the neighbouring contexts (or the single neighbour's), and
+    the standard error of the difference between it and the context's own level."""
+    if before is None or after is None:
+        neighbour = after if before is None else before
+        return levels[neighbour], float(np.hypot(errors[context], errors[neighbour]))
     x0, x1 = before[axis], after[axis]
     weight = (context[axis] - x0) / (x1 - x0)
-    return (1 - weight) * levels[before] + weight * levels[after]
+    expected = (1 - weight) * levels[before] + weight * levels[after]
+    error = np.sqrt(errors[context] ** 2 + ((1 - weight) * errors[before]) ** 2 + (weight * errors[after]) ** 2)
+    return expected, float(error)
 
 
 def _label(before, after, axis: int) -> str:
