@@ -154,6 +154,8 @@ def test_the_number_of_throws_is_recovered(seed, n_throws):
     cuts, _ = find_throws(align_arm(arm))
     assert len(cuts) == n_throws
     assert all(a.stop <= b.start for a, b in zip(cuts, cuts[1:], strict=False))
+    for cut, (start, end) in zip(cuts, simulation.moving_spans(), strict=True):
+        assert abs(t[cut.start] - start) <= 0.12 and abs(t[cut.stop - 1] - end) <= 0.12
 
 
 def test_release_and_landing_match_the_ballistics_of_the_true_hand_velocity():

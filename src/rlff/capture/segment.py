@@ -14,6 +14,9 @@ The thesis cut its bags by hand (rqt_bag). Here a throw is found from the elbow 
    moving faster than ``rest_velocity`` before a pause longer than ``settle`` (at most
    ``max_follow_through`` later).
 
+In both walks, motion after a pause counts only when it lasts ``min_motion``: tracker noise in
+a rest makes one- or two-sample blips above ``rest_velocity``.
+
 Consecutive throws never overlap: a follow-through ends at the latest where the next wind-up
 begins. Stretches of lost tracking split the recording; a throw never spans one.
 """
@@ -40,7 +43,8 @@ class SegmentSettings:
     max_hold: float = 0.5
     max_wind_up: float = 1.5
     max_follow_through: float = 0.6
-    settle: float = 0.15
+    settle: float = 0.25
+    min_motion: float = 0.1
     glitch_filter: float = 0.15
 
 
@@ -136,9 +140,10 @@ def _wind_up_start(velocity: np.ndarray, low: int, dt: float, settings: SegmentS
 
     Walks back through flexion (velocity <= -rest) and holds (|velocity| < rest), stopping at a
     rise (the previous movement), at a hold longer than ``max_hold`` (the rest before the throw)
-    or ``max_wind_up`` before ``low``. A glitch left by the median filter only pauses the walk.
+    or ``max_wind_up`` before ``low``.
     """
-    return _last_motion(velocity[: low + 1][::-1], settings.max_wind_up / dt, settings.max_hold / dt, settings.rest_velocity, low, -1)
+    walk = _Walk(settings.max_wind_up / dt, settings.max_hold / dt, settings.rest_velocity, _min_run(settings, dt))
+    return low - walk.last_motion(velocity[: low + 1][::-1], stop_at_rise=True)
 
 
 def _follow_through_end(velocity: np.ndarray, high: int, dt: float, settings: SegmentSettings) -> int:
@@ -147,26 +152,47 @@ def _follow_through_end(velocity: np.ndarray, high: int, dt: float, settings: Se
     Walks forward while the arm moves (|velocity| >= rest), through pauses of at most ``settle``,
     for at most ``max_follow_through``.
     """
-    return _last_motion(velocity[high:], settings.max_follow_through / dt, settings.settle / dt, settings.rest_velocity, high, 1)
+    walk = _Walk(settings.max_follow_through / dt, settings.settle / dt, settings.rest_velocity, _min_run(settings, dt))
+    return high + walk.last_motion(velocity[high:], stop_at_rise=False)
 
 
-def _last_motion(velocity: np.ndarray, longest: float, pause: float, rest: float, anchor: int, sign: int) -> int:
-    """Walk along ``velocity`` (already oriented away from the extension) and return the index
-    (in the original series: ``anchor + sign * steps``) of the last sample moving faster than
-    ``rest``, stopping at a pause longer than ``pause`` samples, after ``longest`` samples, or,
-    going back (sign -1), at a rise of the angle."""
-    last = quiet = 0
-    for step in range(1, min(velocity.size, int(round(longest)) + 1)):
-        value = velocity[step]
-        if sign < 0 and value >= rest:
-            break
-        if abs(value) >= rest:
-            last, quiet = step, 0
-        else:
-            quiet += 1
-            if quiet > pause:
+def _min_run(settings: SegmentSettings, dt: float) -> int:
+    return max(2, int(round(settings.min_motion / dt)))
+
+
+@dataclass(frozen=True)
+class _Walk:
+    """A walk away from an extension along the velocity, in samples."""
+
+    longest: float
+    pause: float
+    rest: float
+    min_run: int
+
+    def last_motion(self, velocity: np.ndarray, stop_at_rise: bool) -> int:
+        """Steps from ``velocity[0]`` to the last sample moving faster than ``rest``.
+
+        Stops at a pause longer than ``pause``, after ``longest`` steps or, with
+        ``stop_at_rise``, where the angle rises (the movement before). Motion separated from what
+        was already taken by a pause counts only when it lasts ``min_run`` samples: tracker noise
+        in a rest makes blips of a sample or two.
+        """
+        last = quiet = run = 0
+        for step in range(1, min(velocity.size, int(round(self.longest)) + 1)):
+            value = velocity[step]
+            if stop_at_rise and value >= self.rest:
                 break
-    return anchor + sign * last
+            if abs(value) >= self.rest:
+                run += 1
+                quiet = 0
+                if run >= self.min_run or step - run == last:
+                    last = step
+            else:
+                run = 0
+                quiet += 1
+                if quiet > self.pause:
+                    break
+        return last
 
 
 def _without_overlap(cuts: list[ThrowCut]) -> list[ThrowCut]:
