@@ -149,3 +149,15 @@ def test_a_trajectory_outrunning_its_speed_limit_saturates_and_never_exceeds_it(
     # the controller arrives late but arrives: it lets go at the end of the path
     assert outcome.release.joint_positions["joint_2"] == pytest.approx(base.positions[-1, 1], abs=0.01)
     assert outcome.release.time > clipped.duration
+
+
+def test_a_release_below_the_rim_going_down_lands_where_it_first_touches(robot):
+    # joint 2 swings forward past the horizontal: the ball leaves low and downward and never comes
+    # down through the rim's height from above
+    low = swing(start=1.2, release=2.4, peak=2.5, joint_3=-0.3, joint_5=0.0)
+    outcome = simulate_throw(low, Basket(2.0, rim_height=0.6), robot=robot, check_reach=False)
+    assert outcome.release.position[2] < 0.6 and outcome.release.velocity[2] < 0
+    payload = json.loads(json.dumps(outcome.to_dict(), allow_nan=False))
+    assert payload["flight_time"] is None and payload["predicted_landing_x"] is None
+    assert outcome.first_contact == "ground" and not outcome.hit
+    assert outcome.landing_x == pytest.approx(outcome.rest_position[0], abs=0.02)

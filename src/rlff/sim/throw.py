@@ -90,7 +90,8 @@ class ThrowOutcome:
         ``landing_x - basket.distance`` (m): negative = short, positive = long.
     release : ReleaseState
     predicted_landing_x : float
-        The closed-form projectile's crossing of the rim's height from the release state (m).
+        The closed-form projectile's crossing of the rim's height from the release state (m);
+        NaN if it never comes down through it (``None`` in :meth:`to_dict`).
     reachable : bool
         Whether the basket lies within the robot's reach with the joints this trajectory moves.
     basket : Basket
@@ -99,7 +100,8 @@ class ThrowOutcome:
     rest_position : ndarray of shape (3,)
         Ball centre when the simulation stopped (m).
     flight_time : float
-        Release to the rim-height crossing (s); NaN if it never came down through it.
+        Release to the rim-height crossing (s); NaN if it never came down through it (``None`` in
+        :meth:`to_dict`).
     tracking_error : float
         Largest deviation of a joint from the reference it follows, up to the release (rad).
     peak_speed : float
@@ -139,12 +141,12 @@ class ThrowOutcome:
             "landing_x": self.landing_x,
             "miss": self.miss,
             "release": self.release.to_dict(),
-            "predicted_landing_x": self.predicted_landing_x,
+            "predicted_landing_x": _number_or_none(self.predicted_landing_x),
             "reachable": self.reachable,
             "basket": self.basket.to_dict(),
             "first_contact": self.first_contact,
             "rest_position": [float(v) for v in self.rest_position],
-            "flight_time": self.flight_time,
+            "flight_time": _number_or_none(self.flight_time),
             "tracking_error": self.tracking_error,
             "peak_speed": self.peak_speed,
             "saturated": self.saturated,
@@ -152,6 +154,11 @@ class ThrowOutcome:
             "frames": [str(p) for p in self.frames],
             "notes": list(self.notes),
         }
+
+
+def _number_or_none(value: float) -> float | None:
+    """JSON has no NaN: a quantity that does not exist (the ball never came down to the rim) is null."""
+    return float(value) if np.isfinite(value) else None
 
 
 def simulate_throw(
