@@ -46,7 +46,11 @@ class FrameRecorder:
         self.images.append(self.renderer.render().copy())
 
     def finish(self) -> tuple[Path, ...]:
-        """Write the PNG frames and the GIF; returns their paths (the GIF last)."""
+        """Write the PNG frames and the GIF; returns their paths (the GIF last).
+
+        Frames of an earlier, longer throw in the same folder are removed so that the folder
+        shows one throw.
+        """
         self.folder.mkdir(parents=True, exist_ok=True)
         pictures = [Image.fromarray(image) for image in self.images]
         paths = []
@@ -54,6 +58,9 @@ class FrameRecorder:
             path = self.folder / f"frame_{number:04d}.png"
             picture.save(path)
             paths.append(path)
+        for stale in self.folder.glob("frame_*.png"):  # left by a longer earlier throw
+            if stale.stem[len("frame_"):].isdigit() and int(stale.stem[len("frame_"):]) >= len(pictures):
+                stale.unlink()
         if pictures:
             gif = self.folder / "throw.gif"
             pictures[0].save(gif, save_all=True, append_images=pictures[1:], duration=round(1000 / self.fps), loop=0)

@@ -145,7 +145,7 @@ def scene_xml(arm: Arm, basket: Basket, pedestal: float = 0.0, timestep: float =
   </asset>
   <worldbody>
     <light pos="{0.5 * d} -2 4" dir="0 0.4 -1" directional="true"/>
-    <camera name="side" pos="{0.5 * (d - 1.0)} {-1.1 * view} {1.0 + 0.5 * pedestal}" xyaxes="1 0 0 0 0.1 1"/>
+    <camera name="side" pos="{0.5 * (d - 1.0)} {-1.1 * view} {1.4 + 0.5 * pedestal}" xyaxes="1 0 0 0 0.05 1"/>
     <geom name="ground" class="hit" type="plane" size="0 0 0.05" material="floor" rgba="1 1 1 1"/>
     <geom name="pedestal" type="box" pos="0 0 {0.5 * pedestal}" size="0.3 0.3 {max(0.5 * pedestal, 1e-3)}"
       rgba="0.3 0.3 0.35 1"/>
