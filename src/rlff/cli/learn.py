@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from contextlib import ExitStack
 from pathlib import Path
 
 import typer
@@ -39,12 +40,15 @@ def learn_command(
         from rlff.preprocess import Pipeline
 
         data, _ = Pipeline.preset(preset).run(data)
-    with progress(f"learning to hit {basket:g} m", total=budget) as advance:
+    with ExitStack() as stack:
+        bar = []  # opened at the first attempt, so that bad input fails before any display
 
         def show(attempt) -> None:
+            if not bar:
+                bar.append(stack.enter_context(progress(f"learning to hit {basket:g} m", total=budget)))
             outcome = "hit" if attempt.hit else f"miss {attempt.miss:+.2f} m"
-            advance(1, description=f"attempt {attempt.index}: {outcome}, "
-                                   f"exploration {attempt.exploration:.2f}")
+            bar[0](1, description=f"attempt {attempt.index}: {outcome}, "
+                                  f"exploration {attempt.exploration:.2f}")
 
         result = learn(data, basket, budget=budget, feedback=feedback, update=update, seed=seed,
                        log_path=log, progress=show, robot=robot, pedestal=pedestal)

@@ -34,6 +34,12 @@ from rlff.learn.strategies import STRATEGIES
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.timing import time_along_path
 
+#: Quantile of the demonstrations' last angles where generated throws release.
+RELEASE_QUANTILE = 0.25
+#: Most mixture components the loop uses.
+MAX_COMPONENTS = 4
+#: Most demonstration samples the mixture is refitted to at every attempt.
+MAX_SAMPLES = 1500
 #: Every method the loop can run, by name: update strategies first, then baselines.
 METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
 
@@ -263,12 +269,22 @@ def fingerprint(demos: Dataset) -> str:
     return digest.hexdigest()[:16]
 
 
-def _learning_demos(demos: Dataset) -> Dataset:
-    """The demonstrations reduced to the columns the loop learns from."""
+def _learning_demos(demos: Dataset, max_samples: int = MAX_SAMPLES) -> Dataset:
+    """The demonstrations reduced to the columns the loop learns from, thinned if dense.
+
+    Densified demonstrations (a sample every 0.01 rad) repeat themselves; the mixture is
+    refitted at every attempt, so every k-th sample of each throw is kept (its release sample
+    always) until the set has at most ``max_samples`` samples.
+    """
     demos.require(COLUMNS)
     if len(demos) < 2:
         raise InputError(f"learning needs at least 2 demonstrations, got {len(demos)}")
-    return Dataset([t.replace(data={c: t[c] for c in COLUMNS}) for t in demos], context=("distance",))
+    step = max(1, math.ceil(demos.n_samples / max_samples))
+    thinned = []
+    for t in demos:
+        keep = np.unique(np.r_[np.arange(0, len(t), step), len(t) - 1])
+        thinned.append(t.replace(data={c: t[c][keep] for c in COLUMNS}))
+    return Dataset(thinned, context=("distance",))
 
 
 def _require_reach(robot, basket, pedestal: float) -> None:
@@ -312,13 +328,15 @@ def _hit_tolerance(basket) -> float:
 
 
 def _angle_grid(demos: Dataset) -> np.ndarray:
-    """The angle grid (rad) of generated throws, shape (T,): the demonstrations' typical span.
+    """The angle grid (rad) of generated throws, shape (T,).
 
-    From the median first to the median last angle (the release), with the median number of
-    samples of a demonstration.
+    From the median first angle to the release angle, with the median number of samples of a
+    demonstration. The release is the ``RELEASE_QUANTILE`` quantile of the demonstrations' last
+    angles: early enough that most demonstrations cover the whole path, so the mixture's
+    velocity at the release rests on most of them rather than on the few that went farthest.
     """
-    first = np.median([t["angle"][0] for t in demos])
-    last = np.median([t["angle"][-1] for t in demos])
+    first = float(np.median([t["angle"][0] for t in demos]))
+    last = float(np.quantile([t["angle"][-1] for t in demos], RELEASE_QUANTILE))
     count = int(np.median([len(t) for t in demos]))
     if first == last:
         raise InputError("the demonstrations do not move: first and last angles coincide")
@@ -326,22 +344,31 @@ def _angle_grid(demos: Dataset) -> np.ndarray:
 
 
 def _components(demos: Dataset, seed: int) -> int:
-    """Number of mixture components, chosen once by BIC on the demonstrations."""
+    """Number of mixture components, chosen once by BIC on the demonstrations.
+
+    At most ``MAX_COMPONENTS``: the loop asks the mixture for distances beyond the
+    demonstrations, where many small components make the regression wiggle.
+    """
     from rlff.model import Model
 
     model = Model.fit(demos, inputs=("angle", "distance"), outputs=("velocity",),
-                      components="auto", seed=seed)
+                      components="auto", max_components=MAX_COMPONENTS, seed=seed)
     return int(model.n_components)
 
 
-def _forward_velocity(angle: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+def _forward_velocity(angle: np.ndarray, velocity: np.ndarray, crawl: float = 0.1) -> np.ndarray:
     """Velocity (rad/s), shape (T,), with any sample against the direction of motion set to 0.
 
     A mixture's output may dip just below zero where a throw starts from rest; a joint cannot
-    move backwards along a path that goes forwards.
+    move backwards along a path that goes forwards. A proposal with no forward motion at all
+    (a DMM mode on the wrong side of zero everywhere) is executed as a crawl at ``crawl``
+    rad/s: the robot moves along the path and the ball drops, a miss like any other.
     """
     direction = math.copysign(1.0, float(angle[-1] - angle[0]))
-    return direction * np.maximum(direction * np.asarray(velocity, dtype=float), 0.0)
+    speed = np.maximum(direction * np.asarray(velocity, dtype=float), 0.0)
+    if not np.any(speed > 0):
+        speed = np.full(speed.shape, crawl)
+    return direction * speed
 
 
 def _as_reported(attempt: Attempt, feedback: str) -> Attempt:

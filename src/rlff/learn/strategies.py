@@ -61,20 +61,27 @@ class DmmStrategy(Method):
     #: Weight of a robot attempt relative to a demonstration.
     robot_weight: float = 1.0
 
-    def generate(self, data: Dataset, sample_weight: np.ndarray, query: float, info: dict) -> Proposal:
-        """Fit the mixture to ``data`` and return the DMM's throw for distance ``query`` (m)."""
+    def fit(self, data: Dataset, sample_weight: np.ndarray):
+        """The mixture model of ``data`` (weighted), with the run's number of components."""
         from rlff.model import Model
 
+        return Model.fit(data, inputs=("angle", "distance"), outputs=("velocity",),
+                         components=self.problem.components, seed=self.problem.seed,
+                         sample_weight=sample_weight)
+
+    def generate(self, data: Dataset, sample_weight: np.ndarray, query: float, info: dict) -> Proposal:
+        """Fit the mixture to ``data`` and return the DMM's throw for distance ``query`` (m)."""
         problem = self.problem
-        model = Model.fit(
-            data,
-            inputs=("angle", "distance"),
-            outputs=("velocity",),
-            components=problem.components,
-            seed=problem.seed,
-            sample_weight=sample_weight,
-        )
-        path = model.generate({"distance": query}, problem.angles, exploration="auto")
+        model = self.fit(data, sample_weight)
+        try:
+            path = model.generate({"distance": query}, problem.angles, exploration="auto")
+        except InputError:
+            # The model refuses a path with no forward motion anywhere (a donut mode, or even
+            # the GMR mean, on the wrong side of zero all along): that is no throw, and the
+            # loop executes it as a crawl, a miss like any other.
+            inputs = np.column_stack([problem.angles, np.full(problem.angles.size, float(query))])
+            mean = model.condition(inputs).mean[:, 0]
+            return Proposal(problem.angles, mean, float(query), 0.0, {**info, "no_motion": True})
         return Proposal(
             angle=np.asarray(path.angle, dtype=float),
             velocity=np.asarray(path.velocity, dtype=float).reshape(-1),
@@ -145,7 +152,8 @@ class SpeedCalibration:
         max_speed: float = np.inf,
         *,
         prior_scale: float = 0.3,
-        slope_scale: float = 0.4,
+        slope: float = 1.6,
+        slope_scale: float = 0.25,
         noise: float = 0.03,
     ):
         self.target = float(target)
@@ -156,7 +164,7 @@ class SpeedCalibration:
         self.slope = np.geomspace(0.2, 5.0, 41)  # b, shape (B,)
         self.log_p = (
             -0.5 * (self.offset[:, None] / prior_scale) ** 2
-            - 0.5 * (np.log(self.slope[None, :]) / slope_scale) ** 2
+            - 0.5 * (np.log(self.slope[None, :] / slope) / slope_scale) ** 2
         )
         # candidate speeds u / u0, log-spaced, shape (C,), within the robot's limit
         ratios = np.exp(np.linspace(-1.2, 1.2, 241))
@@ -191,15 +199,22 @@ class SpeedCalibration:
         return np.exp(self.log_p - logsumexp(self.log_p))
 
     def best_speed(self) -> tuple[float, float]:
-        """The release speed (rad/s) most likely to hit, and its probability of a hit."""
-        weights = self.posterior()
-        keep = weights > 1e-4 * weights.max()  # the grid points that matter
-        a, b = np.nonzero(keep)
-        log_l = self.offset[a, None] + self.slope[b, None] * np.log(self.ratios)[None, :]  # (M, C)
-        # the window test without the noise blur: the noise is small beside the window, and
-        # a comparison is much cheaper than the normal CDF on every (grid point, speed)
-        inside = np.abs(log_l) <= self.tolerance / self.target
-        expected = weights[keep] @ inside  # (C,)
+        """The release speed (rad/s) most likely to hit, and its probability of a hit.
+
+        P(hit | u) = sum over b of P(-h - b x < a < h - b x | b), x = log(u / u0), h the window
+        in log units: for every b the posterior's cumulative sum over a, interpolated, gives
+        that interval's mass for all candidate speeds at once.
+        """
+        weights = self.posterior()  # (A, B)
+        cdf = np.vstack([np.zeros(self.slope.size), np.cumsum(weights, axis=0)])  # (A + 1, B)
+        step = self.offset[1] - self.offset[0]
+        edges = np.r_[self.offset - 0.5 * step, self.offset[-1] + 0.5 * step]  # cell edges of a
+        half = self.tolerance / self.target
+        x = np.log(self.ratios)  # (C,)
+        expected = np.zeros(x.size)
+        for j, b in enumerate(self.slope):
+            expected += (np.interp(half - b * x, edges, cdf[:, j])
+                         - np.interp(-half - b * x, edges, cdf[:, j]))
         best = int(np.argmax(expected))
         return float(self.ratios[best] * self.reference), float(expected[best])
 
@@ -214,10 +229,15 @@ class CalibrateUpdate(DmmStrategy):
         super().__init__(problem)
         self.demos = with_labels(problem.demos, _hindsight_labels(problem.demos))
         data, sample_weight = training_set(self.demos, [1.0] * len(self.demos))
-        first = self.generate(data, sample_weight, problem.target, {})
-        #: Release speed of the DMM's throw from the demonstrations alone (rad/s): where the
-        #: calibration's prior says the basket is.
-        self.reference = release_speed(problem.angles, first.velocity)
+        inputs = np.column_stack([problem.angles, np.full(problem.angles.size, problem.target)])
+        mean = self.fit(data, sample_weight).condition(inputs).mean[:, 0]
+        #: The GMR mean's throw from the demonstrations alone, and its release speed (rad/s):
+        #: where the calibration's prior says the basket is.
+        self.first = Proposal(problem.angles, mean, problem.target)
+        self.reference = release_speed(problem.angles, mean)
+        if not self.reference > 0:
+            raise InputError(f"the GMR throw for {problem.target:g} m does not move at its "
+                             "release: the demonstrations give no throw to calibrate")
 
     def propose(self, history: Sequence[Attempt]) -> Proposal:
         problem = self.problem
@@ -229,6 +249,8 @@ class CalibrateUpdate(DmmStrategy):
         data, sample_weight = training_set(trajectories, weights)
         shape = self.generate(data, sample_weight, problem.target, {})
         speed = release_speed(problem.angles, shape.velocity)
+        if not speed > 0:  # no motion at the release: keep the demonstrations' shape
+            shape, speed = self.first, self.reference
         calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference,
                                        problem.max_speed)
         for attempt in history:

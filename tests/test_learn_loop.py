@@ -1,0 +1,119 @@
+"""The learning loop against the real model and the real MuJoCo simulation (no stand-ins)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rlff.dataset import Dataset, Trajectory
+from rlff.errors import InputError
+from rlff.learn import learn
+from rlff.learn.loop import _as_reported
+from rlff.learn.strategies import SpeedCalibration
+
+#: Distances the simulated humans aimed at; every throw falls short of its basket.
+DEMO_DISTANCES = (1.0, 1.25, 1.5)
+
+
+@pytest.fixture(scope="module")
+def failed_demos() -> Dataset:
+    from rlff.preprocess import Pipeline
+    from rlff.synthetic.throws import simulate_throws
+
+    raw = simulate_throws(3, subjects=3, distances=DEMO_DISTANCES, throws_per_distance=2, all_short=True)
+    assert not any(t.meta["hit"] for t in raw)
+    clean, _ = Pipeline.preset("thesis").run(raw)
+    return clean
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("basket", [1.4, 1.9], ids=["inside", "outside"])
+def test_calibrate_hits_from_all_short_demonstrations(failed_demos, basket):
+    result = learn(failed_demos, basket, budget=8, feedback="distance", update="calibrate", seed=0)
+    assert result.hit, result.misses
+    assert result.misses[-1] == 0.0
+    assert all(m != 0.0 for m in result.misses[:-1])
+    # the demonstrations' labels stop at 1.5 m: beyond them the query must leave their range
+    if basket > max(DEMO_DISTANCES):
+        assert result.history[-1].query > max(DEMO_DISTANCES) or result.attempts == 1
+
+
+@pytest.mark.slow
+def test_calibrate_hits_with_binary_feedback(failed_demos):
+    result = learn(failed_demos, 1.9, budget=12, feedback="binary", update="calibrate", seed=0)
+    assert result.hit, result.misses
+
+
+@pytest.mark.slow
+def test_a_resumed_run_continues_exactly_like_an_uninterrupted_one(failed_demos, tmp_path):
+    log = tmp_path / "attempts.jsonl"
+    kwargs = dict(feedback="binary", update="failure", seed=1)
+    first = learn(failed_demos, 1.9, budget=2, log_path=log, **kwargs)
+    assert first.attempts == 2 and not first.hit
+    resumed = learn(failed_demos, 1.9, budget=3, log_path=log, **kwargs)
+    straight = learn(failed_demos, 1.9, budget=3, **kwargs)
+    assert resumed.resumed == 2 and resumed.attempts == 3
+    assert [a.landing for a in resumed.history] == [a.landing for a in straight.history]
+    np.testing.assert_array_equal(resumed.history[2].velocity, straight.history[2].velocity)
+
+
+def test_binary_feedback_hides_landing_and_miss():
+    from rlff.learn.attempt import Attempt
+
+    attempt = Attempt(1, 2.0, 2.0, np.arange(3.0), np.ones(3), np.arange(3.0), False, 1.7, -0.3)
+    assert np.isnan(_as_reported(attempt, "binary").miss)
+    assert np.isnan(_as_reported(attempt, "binary").landing)
+    assert _as_reported(attempt, "distance").miss == -0.3
+
+
+def test_bad_method_feedback_and_basket_are_input_errors(failed_demos):
+    with pytest.raises(InputError, match="hindsight.*needs distance feedback"):
+        learn(failed_demos, 1.9, update="hindsight", feedback="binary")
+    with pytest.raises(InputError, match="unknown update"):
+        learn(failed_demos, 1.9, update="telepathy")
+    with pytest.raises(InputError, match="out of reach"):
+        learn(failed_demos, 6.0)
+
+
+def test_demonstrations_beyond_the_joint_range_are_refused():
+    # joint_2 = -0.6 + 0.6 angle must stay below 2.71 rad: angle 6.5 rad is beyond it
+    angle = np.linspace(4.0, 6.5, 20)
+    demos = Dataset([
+        Trajectory(f"d{i}", {"angle": angle, "distance": np.full(20, 1.0 + i),
+                             "velocity": np.full(20, 5.0)}) for i in range(2)
+    ])
+    with pytest.raises(InputError, match="'d0' is beyond the robot's joint limits"):
+        learn(demos, 1.5)
+
+
+class TestSpeedCalibration:
+    def test_a_short_landing_speeds_the_next_throw_up_and_two_landings_fix_the_law(self):
+        calibration = SpeedCalibration(2.0, 0.14, reference=10.0)
+        first, _ = calibration.best_speed()
+        assert first == pytest.approx(10.0, rel=0.02)
+        calibration.observe_landing(10.0, 1.6)
+        second, _ = calibration.best_speed()
+        # the prior's elasticity (1.6) gives the first step: (2.0 / 1.6) ** (1 / 1.6) = 1.15
+        assert second == pytest.approx(10.0 * (2.0 / 1.6) ** (1 / 1.6), rel=0.05)
+        # the true law: L = 1.6 (u / 10) ** 1.4; its second landing pins the elasticity down
+        calibration.observe_landing(second, 1.6 * (second / 10.0) ** 1.4)
+        third, p_hit = calibration.best_speed()
+        assert third == pytest.approx(10.0 * (2.0 / 1.6) ** (1 / 1.4), rel=0.02)
+        assert p_hit > 0.9
+
+    def test_misses_bracket_the_basket_without_being_told_short_or_long(self):
+        calibration = SpeedCalibration(2.0, 0.14, reference=10.0)
+        first, p_first = calibration.best_speed()
+        calibration.observe_miss(first)
+        second, p_second = calibration.best_speed()
+        assert abs(np.log(second / first)) > 0.03
+        assert p_second < p_first
+        calibration.observe_miss(second)
+        third, _ = calibration.best_speed()
+        assert np.sign(np.log(third / first)) == -np.sign(np.log(second / first))
+
+    def test_no_speed_beyond_the_robot_limit(self):
+        calibration = SpeedCalibration(2.0, 0.14, reference=10.0, max_speed=10.5)
+        calibration.observe_landing(10.0, 1.2)  # far short: the law wants much faster
+        best, _ = calibration.best_speed()
+        assert best <= 10.5
