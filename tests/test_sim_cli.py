@@ -10,7 +10,6 @@ import pytest
 from PIL import Image
 
 from rlff.robot import RobotMapping, load_robot
-from rlff.robot.export import write_json
 from rlff.sim import Basket, simulate_throw
 from rlff.trajectory.timing import time_along_path
 
@@ -45,17 +44,6 @@ def test_sim_throw_prints_the_outcome_as_json(cli, tmp_path):
     # the mapped throw swings joint 2 forward and lets go forward and upward
     release = payload["release"]
     assert release["velocity"][0] > 0 and release["velocity"][2] > 0
-
-
-def test_sim_throw_takes_a_robot_trajectory_json(cli, tmp_path):
-    robot = load_robot()
-    table = np.genfromtxt(_generated_path(tmp_path / "traj.csv"), delimiter=",", names=True)
-    trajectory, _ = RobotMapping.for_robot(robot).to_robot(table["angle"], table["velocity"], table["time"])
-    write_json(trajectory, tmp_path / "robot.json")
-    result = cli("sim", "throw", str(tmp_path / "robot.json"), "--basket", "1.9", "--json")
-    assert result.code == 0, result.stderr
-    assert json.loads(result.stdout)["landing_x"] == pytest.approx(
-        simulate_throw(trajectory, Basket(1.9), robot=robot).landing_x, abs=1e-9)
 
 
 def test_sim_throw_refuses_bad_input_in_one_line(cli, tmp_path):
