@@ -14,6 +14,7 @@ from typing import Literal
 import numpy as np
 
 from rlff.dataset import Dataset
+from rlff.errors import InputError
 from rlff.preprocess.report import StepReport
 
 #: After a glitch the angle comes back to within this many times the smaller jump of where it
@@ -64,6 +65,8 @@ def spike_filter(
         trajectory (and above the threshold).
     """
     dataset.require([column])
+    if max_width < 1:
+        raise InputError(f"max_width {max_width}: must be at least 1")
     report = StepReport("spike_filter", {}, dataset)
     timed = "time" in dataset.columns
     if threshold == "auto":

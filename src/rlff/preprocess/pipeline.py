@@ -140,7 +140,8 @@ class Pipeline:
         for position, step in enumerate(steps, start=1):
             where = f"{source}, step {position}" if source else f"step {position}"
             if isinstance(step, Step):
-                checked.append(Step(check_step(step.name, step.params, where).name, step.params, step.enabled))
+                check_step(step.name, step.params, where)
+                checked.append(Step(step.name, dict(step.params), step.enabled))
             else:
                 name, params = step
                 checked.append(check_step(name, params, where))

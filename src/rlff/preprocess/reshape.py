@@ -12,7 +12,7 @@ The angle must be monotonic for steps 8 and 9 (steps 2-3 make it so).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Literal
 
 import numpy as np
@@ -201,9 +201,10 @@ def _densify_one(
     return trajectory.replace(data=result)
 
 
-def _interpolator(x: np.ndarray, y: np.ndarray, kind: str):
+def _interpolator(x: np.ndarray, y: np.ndarray, kind: str) -> Callable[[np.ndarray], np.ndarray]:
+    """``y(x)`` through every point (x strictly increasing, at least 2 points)."""
     if x.size < 4 or kind == "pchip":
-        return PchipInterpolator(x, y) if x.size > 1 else (lambda grid: np.full(np.size(grid), y[0]))
+        return PchipInterpolator(x, y)
     if kind == "akima":
         return Akima1DInterpolator(x, y)
     return make_interp_spline(x, y, k=3)
