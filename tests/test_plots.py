@@ -126,6 +126,14 @@ def test_learning_curves_one_line_per_method_and_first_hits(tmp_path):
     assert stars[0].get_xdata()[0] == 2
     assert axes.get_xlabel() == "attempt" and "miss (m)" in axes.get_ylabel()
     assert axes.get_title() == "Learning from failure for a basket at 2.8 m"
+    legend = [t.get_text() for t in saved.figure.legends[0].get_texts()]
+    assert legend == ["lands within the opening", "calibrate (3 attempts)", "imitation (4 attempts)", "first hit"]
+
+    # the outcomes decide the stars when given: a landing within the opening may bounce off the rim
+    again = learning_curves(misses, tmp_path / "hits", tolerance=0.1,
+                            hits={"calibrate": [False, False, True], "imitation": [False] * 4})
+    stars = [line for line in again.figure.get_axes()[0].get_lines() if line.get_marker() == "*"]
+    assert [star.get_xdata()[0] for star in stars] == [3]
 
 
 def test_output_trajectories_one_line_per_distance(tmp_path):

@@ -445,7 +445,8 @@ def _figures(
             "The generated throw mapped to the Comau's joint 2 and executed in MuJoCo: the arm at the "
             "release, the ball's flight and the basket.")
     add(learning_curves({f"{name} ({r.feedback} feedback)": r.misses for name, r in results.items()},
-                        figures_dir / "learning", tolerance=_tolerance(), basket=learning_distance),
+                        figures_dir / "learning", tolerance=_tolerance(), basket=learning_distance,
+                        hits={f"{name} ({r.feedback} feedback)": [a.hit for a in r.history] for name, r in results.items()}),
         "learning", "Learning from failure",
         "Signed miss of every attempt until the first hit (star), per method.")
     best = next((r for r in results.values() if r.hit), None)

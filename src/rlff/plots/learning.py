@@ -35,7 +35,8 @@ def learning_curves(
     out : path
         File stem of the PNG and SVG.
     tolerance : float, optional
-        Half the basket's opening (m): the band |miss| <= tolerance is shaded as "in the basket".
+        Half the width (m) of the landing window of a hit: the band |miss| <= tolerance is shaded
+        (a ball landing there may still bounce off the rim, so ``hits`` decides the stars).
     hits : mapping of method name to sequence of bool, optional
         Which attempts hit (default: |miss| <= tolerance when a tolerance is given). The first hit
         of each method is marked with a star.
@@ -45,11 +46,11 @@ def learning_curves(
     if not misses:
         raise InputError("no learning curves to plot")
     with figure_style():
-        figure = new_figure(8.0, 4.6)
+        figure = new_figure(10.5, 4.6)
         axes = figure.add_subplot()
         axes.axhline(0.0, color="black", linewidth=0.8)
         if tolerance is not None:
-            axes.axhspan(-tolerance, tolerance, color=HIT_COLOUR, alpha=0.12, label="in the basket")
+            axes.axhspan(-tolerance, tolerance, color=HIT_COLOUR, alpha=0.12, label="lands within the opening")
         colours = [f"C{i}" for i in range(10)]
         for index, (method, values) in enumerate(misses.items()):
             miss = np.asarray(values, dtype=float)
@@ -77,7 +78,7 @@ def learning_curves(
         handles, labels = axes.get_legend_handles_labels()
         handles.append(Line2D([], [], marker="*", markersize=12, color="grey", markeredgecolor="black", linestyle="none"))
         labels.append("first hit")
-        axes.legend(handles, labels, loc="best")
+        figure.legend(handles, labels, loc="outside right upper")
         where = f" for a basket at {basket:g} m" if basket is not None else ""
         axes.set_title(f"Learning from failure{where}")
     return save(figure, out)
