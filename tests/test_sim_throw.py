@@ -161,3 +161,15 @@ def test_a_release_below_the_rim_going_down_lands_where_it_first_touches(robot):
     assert payload["flight_time"] is None and payload["predicted_landing_x"] is None
     assert outcome.first_contact == "ground" and not outcome.hit
     assert outcome.landing_x == pytest.approx(outcome.rest_position[0], abs=0.02)
+
+
+@pytest.mark.parametrize("offset", [-0.03, 0.0, 0.03])
+def test_a_ball_striking_the_rim_ends_in_or_out_consistently(robot, offset):
+    landing = simulate_throw(swing(peak=2.2), Basket(1.5), robot=robot).landing_x
+    # the near wall's top centre 'offset' m beyond where the ball comes down to the rim's height
+    basket = Basket(landing + offset + 0.175 + 0.005)
+    outcome = simulate_throw(swing(peak=2.2), basket, robot=robot)
+    assert outcome.first_contact == "basket"
+    assert outcome.hit == basket.holds(outcome.rest_position, BALL_RADIUS)
+    on_ground = outcome.rest_position[2] < BALL_RADIUS + 0.005
+    assert outcome.hit != on_ground
