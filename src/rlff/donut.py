@@ -352,7 +352,10 @@ def dmm_mode(
 def _climb(donuts: _Donuts, y: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
     """Safeguarded Newton ascent of every start (N, S, O); returns end points and their pdf."""
     sigma = float(np.sqrt(donuts.eigenvalues.max()))
-    radius = np.full(y.shape[:2], sigma)
+    # A first step no longer than a tenth of the narrowest donut's scale: a start must climb its
+    # own hill, not leap over the valley to a hill it happens to land higher on.
+    narrowest = np.sqrt(donuts.eigenvalues.min() / donuts.r_b2)  # (N,)
+    radius = np.broadcast_to(0.1 * narrowest[:, None], y.shape[:2]).copy()
     pdf, grad, hess = donuts.evaluate(y)
     active = np.ones(y.shape[:2], dtype=bool)
     for _ in range(_MAX_NEWTON):
@@ -376,17 +379,20 @@ def _ascent_step(grad: np.ndarray, hess: np.ndarray, radius: np.ndarray) -> np.n
     """Newton step where the Hessian is negative definite, else a gradient step; length <= radius."""
     if grad.shape[-1] == 1:
         g, h = grad[..., 0], hess[..., 0, 0]
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             step = np.where(h < 0, -g / np.where(h < 0, h, -1.0), np.sign(g) * radius)
+        step = np.where(np.isfinite(step), step, np.sign(g) * radius)
         return np.clip(step, -radius, radius)[..., None]
-    eigenvalues = np.linalg.eigvalsh(hess)
+    eigenvalues, eigenvectors = np.linalg.eigh(hess)
     concave = eigenvalues[..., -1] < 0
-    safe = np.where(concave[..., None, None], hess, -np.eye(grad.shape[-1]))
-    newton = np.linalg.solve(-safe, grad[..., None])[..., 0]
-    norm_g = np.sqrt((grad**2).sum(axis=-1, keepdims=True))
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        # -H^-1 g through the eigen decomposition of H (negative definite where used)
+        along = np.einsum("...ji,...j->...i", eigenvectors, grad) / -eigenvalues
+        newton = np.einsum("...ij,...j->...i", eigenvectors, along)
+        norm_g = np.sqrt((grad**2).sum(axis=-1, keepdims=True))
         gradient = np.where(norm_g > 0, grad / norm_g, 0.0) * radius[..., None]
-    step = np.where(concave[..., None], newton, gradient)
+    use_newton = concave & np.all(np.isfinite(newton), axis=-1)
+    step = np.where(use_newton[..., None], newton, gradient)
     length = np.sqrt((step**2).sum(axis=-1, keepdims=True))
     with np.errstate(divide="ignore", invalid="ignore"):
         shrink = np.where(length > radius[..., None], radius[..., None] / length, 1.0)

@@ -10,7 +10,8 @@ Where the generated velocity is <= 0 (the thesis' demonstrations start and end a
 DMM may dip just below 0 there) the ``velocity`` column keeps the model's value, and the ``time``
 column is computed from the velocity clipped at 0 in the direction of the path: a stop is crossed
 at the floor speed of :func:`rlff.trajectory.timing.time_along_path` (1 % of the peak speed), so
-the time is always finite and increasing.
+the time is always finite and increasing. Should the model give no forward velocity anywhere on
+the path, the time uses |velocity| (or a unit speed if that is zero too), and a note says so.
 """
 
 from __future__ import annotations
@@ -39,6 +40,8 @@ VERSION = 1
 DEFAULT_POINTS = 100
 #: Restarts of EM per candidate K (k-means++ seeds).
 DEFAULT_N_INIT = 3
+#: Peak speed below which a path does not move (output units).
+_STILL = 1e-9
 
 
 @dataclass(frozen=True)
@@ -329,12 +332,8 @@ class Model:
             if not lo <= value <= hi
         ]
         velocity = mode.output[:, 0]
-        time, clipped = _path_time(angles, velocity)
-        if clipped:
-            notes.append(
-                f"{clipped} of {angles.size} points have {self.outputs[0]} <= 0 along the path: "
-                "timed as rest (time uses the velocity clipped at 0)"
-            )
+        time, time_notes = _path_time(angles, velocity, self.outputs[0])
+        notes.extend(time_notes)
         std = np.sqrt(np.maximum(conditional.variance, 0.0))
         return GeneratedPath(
             angle=angles,
@@ -483,16 +482,27 @@ def _context_values(context: Mapping[str, float], names: tuple[str, ...]) -> lis
     return values
 
 
-def _path_time(angles: np.ndarray, velocity: np.ndarray) -> tuple[np.ndarray, int]:
-    """Time along the path (T,) from the velocity clipped at 0, and how many points were clipped."""
+def _path_time(angles: np.ndarray, velocity: np.ndarray, output: str) -> tuple[np.ndarray, list[str]]:
+    """Time along the path (T,) from the velocity clipped at 0, and notes on what was done."""
     if angles.size == 1:
-        return np.zeros(1), 0
+        return np.zeros(1), []
     direction = math.copysign(1.0, float(angles[-1] - angles[0]))
     forward = direction * velocity
+    notes = []
     clipped = int(np.count_nonzero(forward <= 0))
+    if clipped:
+        notes.append(
+            f"{clipped} of {angles.size} points have {output} <= 0 along the path: "
+            "timed as rest (time uses the velocity clipped at 0)"
+        )
     speed = np.maximum(forward, 0.0)
-    floor = max(0.01 * float(speed.max()), 1e-6)
-    return time_along_path(angles, direction * speed, min_speed=floor), clipped
+    if speed.max() <= _STILL:
+        speed = np.abs(velocity)
+        notes.append(f"the model gives no forward {output} along this path: time uses |{output}|")
+        if speed.max() <= _STILL:
+            speed = np.ones_like(velocity)
+            notes.append(f"{output} is zero all along: time assumes a unit speed")
+    return time_along_path(angles, direction * speed, min_speed=0.01 * float(speed.max())), notes
 
 
 # -- model.json validation ---------------------------------------------------------------------

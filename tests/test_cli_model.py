@@ -1,0 +1,125 @@
+"""The real ``rlff data synth thesis``, ``rlff fit`` and ``rlff generate`` commands.
+
+The chain runs through the installed entry point in subprocesses; the many option checks call the
+same command line in-process (``rlff.cli.main``), which saves a Python start-up per case.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+from tests.conftest import CliResult
+
+from rlff.cli import main
+
+pytestmark = pytest.mark.integration
+
+
+@pytest.fixture
+def rlff(capsys):
+    """``rlff(*args)`` runs the command line in this process and returns a CliResult."""
+
+    def run(*args: str) -> CliResult:
+        capsys.readouterr()
+        code = main(list(args))
+        captured = capsys.readouterr()
+        return CliResult(code, captured.out, captured.err)
+
+    return run
+
+
+@pytest.fixture(scope="module")
+def thesis_files(tmp_path_factory):
+    from tests.conftest import run_cli
+
+    folder = tmp_path_factory.mktemp("thesis")
+    data, model = folder / "data.csv", folder / "model.json"
+    made = run_cli("data", "synth", "thesis", "-o", str(data))
+    assert made.code == 0, made.stderr
+    fitted = run_cli("fit", str(data), "-o", str(model), "--max-components", "4", "--json")
+    assert fitted.code == 0, fitted.stderr
+    return data, model, json.loads(fitted.stdout)
+
+
+def test_synth_fit_generate_chain(thesis_files, cli, rlff, tmp_path):
+    data, model, summary = thesis_files
+    frame = pd.read_csv(data)
+    assert list(frame.columns[:4]) == ["trajectory", "angle", "distance", "velocity"] and len(frame) == 550
+    assert summary["n_samples"] == 550 and summary["inputs"] == ["angle", "distance"]
+    assert [row["n_components"] for row in summary["selection"]] == [1, 2, 3, 4]
+    best = min(summary["selection"], key=lambda row: row["bic"])
+    assert summary["n_components"] == best["n_components"]
+    curves = {}
+    for distance in ("4.5", "8.5", "12.5"):
+        out = tmp_path / f"traj-{distance}.csv"
+        run = cli if distance == "12.5" else rlff  # one through the entry point is enough
+        result = run("generate", str(model), "--context", f"distance={distance}", "-o", str(out), "--json")
+        assert result.code == 0, result.stderr
+        report = json.loads(result.stdout)
+        assert report["points"] == 100 and report["context"] == {"distance": float(distance)}
+        curves[distance] = pd.read_csv(out)
+    for name in ("angle", "velocity", "time", "pdf", "exploration", "gmr_mean"):
+        assert name in curves["4.5"].columns
+    velocities = np.array([curves[d]["velocity"].to_numpy() for d in ("4.5", "8.5", "12.5")])
+    assert np.all(np.diff(velocities, axis=0) > 0)
+
+
+def test_fit_prints_the_bic_table(thesis_files, rlff, tmp_path):
+    data, _, _ = thesis_files
+    result = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--max-components", "3", "--seed", "1")
+    assert result.code == 0, result.stderr
+    assert "BIC" in result.stdout and "K =" in result.stdout
+    fixed = rlff("fit", str(data), "-o", str(tmp_path / "k2.json"), "--components", "2", "--json")
+    assert json.loads(fixed.stdout)["n_components"] == 2 and json.loads(fixed.stdout)["selection"] is None
+
+
+def test_generate_options(thesis_files, rlff, tmp_path):
+    _, model, _ = thesis_files
+    out = tmp_path / "traj.csv"
+    result = rlff(
+        "generate", str(model), "--context", "distance=2.5", "--grid", "angle=1:9:17", "--exploration", "0",
+        "--exploration-scale", "2", "--continuity", "-o", str(out),
+    )
+    assert result.code == 0, result.stderr
+    frame = pd.read_csv(out)
+    np.testing.assert_allclose(frame["angle"], np.linspace(1, 9, 17))
+    assert np.all(frame["exploration"] == 0)
+    assert np.all(np.diff(frame["time"]) > 0)
+
+
+@pytest.mark.parametrize(
+    "args,message",
+    [
+        (["--context", "height=2"], "unknown context 'height'"),
+        ([], "missing context 'distance'"),
+        (["--context", "distance=near"], "not a number"),
+        (["--context", "distance=2", "--grid", "speed=0:1:5"], "path variable"),
+        (["--context", "distance=2", "--grid", "angle=0:1"], "START:STOP:N"),
+        (["--context", "distance=2", "--exploration", "2"], "not in [0, 1]"),
+    ],
+)
+def test_generate_bad_options_exit_2_with_one_line(thesis_files, rlff, tmp_path, args, message):
+    _, model, _ = thesis_files
+    result = rlff("generate", str(model), *args, "-o", str(tmp_path / "t.csv"))
+    assert result.code == 2
+    assert message in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1
+
+
+def test_fit_and_generate_refuse_bad_files(thesis_files, cli, rlff, tmp_path):
+    data, model, _ = thesis_files
+    bad = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--outputs", "speed")
+    assert bad.code == 2 and "no column 'speed'" in bad.stderr
+    document = json.loads(model.read_text())
+    document["weights"][0] += 0.5
+    broken = tmp_path / "broken.json"
+    broken.write_text(json.dumps(document))
+    result = cli("generate", str(broken), "--context", "distance=2", "-o", str(tmp_path / "t.csv"))
+    assert result.code == 2 and "field 'weights'" in result.stderr
+    nan_data = tmp_path / "nan.csv"
+    nan_data.write_text("trajectory,angle,distance,velocity\na,0,1,0\na,1,1,nan\n")
+    result = rlff("fit", str(nan_data), "-o", str(tmp_path / "m.json"))
+    assert result.code == 2 and "velocity" in result.stderr

@@ -1,0 +1,216 @@
+"""Donut densities, the exploration factor and the global DMM mode."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.optimize import minimize
+from scipy.stats import multivariate_normal, norm
+
+from rlff.donut import dmm_mode, dmm_pdf, donut_pdf, donut_radii, exploration_factor
+from rlff.errors import InputError
+from rlff.mixture import GaussianMixture
+from rlff.regression import Conditional, condition
+
+
+def conditional_of(weights, means, covariances) -> Conditional:
+    """A Conditional (N inputs) from explicit component weights (N, K), means (N, K, O), covs (K, O, O)."""
+    weights = np.asarray(weights, float)
+    means = np.asarray(means, float)
+    covariances = np.asarray(covariances, float)
+    mean = np.einsum("nk,nko->no", weights, means)
+    spread = means - mean[:, None, :]
+    covariance = np.einsum("nk,kop->nop", weights, covariances) + np.einsum("nk,nko,nkp->nop", weights, spread, spread)
+    return Conditional(weights, means, covariances, mean, covariance)
+
+
+def random_conditional(seed: int, n: int, k: int, o: int = 1) -> Conditional:
+    rng = np.random.default_rng(seed)
+    weights = rng.dirichlet(np.ones(k), size=n)
+    means = rng.normal(0, 2, (n, k, o))
+    factors = rng.normal(size=(k, o, o)) * rng.uniform(0.2, 1.5, (k, 1, 1))
+    covariances = factors @ np.swapaxes(factors, 1, 2) + 0.05 * np.eye(o)
+    return conditional_of(weights, means, covariances)
+
+
+# -- exploration and radii ---------------------------------------------------------------------------
+
+
+def test_exploration_factor_formula_scale_and_spectral_norm():
+    variance = np.array([0.0, 1.0, 3.0])[:, None, None]
+    np.testing.assert_allclose(exploration_factor(variance), [0.0, 0.5, 0.75])
+    # the scale is in output units: variance 4 at scale 2 counts as variance 1 at scale 1
+    np.testing.assert_allclose(exploration_factor(4 * variance, scale=2.0), [0.0, 0.5, 0.75])
+    matrix = np.array([[[2.0, 1.0], [1.0, 2.0]]])  # eigenvalues 1 and 3
+    assert exploration_factor(matrix)[0] == pytest.approx(0.75)
+    with pytest.raises(InputError, match="scale"):
+        exploration_factor(variance, scale=0.0)
+
+
+@pytest.mark.parametrize("d", [1, 2, 3])
+def test_radii_keep_the_covariance_and_bound_the_hole(d):
+    eps = np.linspace(0, 1, 11)
+    r_a2, r_b2 = donut_radii(eps, d)
+    np.testing.assert_allclose(2 / r_a2 - 1 / r_b2, 1.0)
+    assert r_a2[0] == pytest.approx(1.0) and r_b2[0] == pytest.approx(1.0)
+    # eps = 1: gamma r_a^d = (gamma - 1) r_b^d, the two terms cancel at the mean
+    assert 2 * r_a2[-1] ** (d / 2) == pytest.approx(r_b2[-1] ** (d / 2))
+    assert np.all(np.diff(r_b2 / r_a2) > 0)
+
+
+# -- densities ---------------------------------------------------------------------------------------
+
+
+def test_donut_at_zero_exploration_is_the_gaussian_and_at_one_has_no_density_at_the_mean():
+    y = np.linspace(-4, 6, 41)[:, None]
+    np.testing.assert_allclose(donut_pdf(y, [1.0], [[2.0]], 0.0), norm(1.0, np.sqrt(2.0)).pdf(y[:, 0]), rtol=1e-12)
+    assert donut_pdf(np.array([1.0]), np.array([1.0]), np.array([[2.0]]), 1.0) == pytest.approx(0.0, abs=1e-15)
+    y2 = np.random.default_rng(0).normal(size=(30, 2))
+    cov = np.array([[1.0, 0.3], [0.3, 0.5]])
+    np.testing.assert_allclose(donut_pdf(y2, np.zeros(2), cov, 0.0), multivariate_normal(np.zeros(2), cov).pdf(y2), rtol=1e-12)
+
+
+@settings(max_examples=30, deadline=None)
+@given(eps=st.floats(0, 1), variance=st.floats(0.05, 20), gamma=st.floats(1.2, 5))
+def test_donut_is_non_negative_and_integrates_to_one_in_1d(eps, variance, gamma):
+    sd = np.sqrt(variance)
+    y = np.linspace(-12 * sd, 12 * sd, 20001)[:, None]
+    density = donut_pdf(y, np.zeros(1), np.array([[variance]]), eps, gamma=gamma)
+    assert density.min() >= -1e-15
+    assert np.trapezoid(density, y[:, 0]) == pytest.approx(1.0, abs=1e-6)
+    # and it keeps the variance of its Gaussian
+    assert np.trapezoid(density * y[:, 0] ** 2, y[:, 0]) == pytest.approx(variance, rel=1e-5)
+
+
+@settings(max_examples=15, deadline=None)
+@given(eps=st.floats(0, 1), a=st.floats(0.2, 3), b=st.floats(0.2, 3), rho=st.floats(-0.8, 0.8))
+def test_donut_is_non_negative_and_integrates_to_one_in_2d(eps, a, b, rho):
+    cov = np.array([[a * a, rho * a * b], [rho * a * b, b * b]])
+    axis_x = np.linspace(-9 * a, 9 * a, 301)
+    axis_y = np.linspace(-9 * b, 9 * b, 301)
+    grid = np.stack(np.meshgrid(axis_x, axis_y, indexing="ij"), axis=-1)
+    density = donut_pdf(grid, np.zeros(2), cov, eps)
+    assert density.min() >= -1e-15
+    total = np.trapezoid(np.trapezoid(density, axis_y, axis=1), axis_x)
+    assert total == pytest.approx(1.0, abs=1e-4)
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 10_000), k=st.integers(1, 4), eps=st.floats(0, 1))
+def test_dmm_is_non_negative_and_integrates_to_one(seed, k, eps):
+    conditional = random_conditional(seed, 3, k)
+    y = np.linspace(-25, 25, 40001)
+    density = dmm_pdf(conditional, np.broadcast_to(y[None, :, None], (3, y.size, 1)), eps)
+    assert density.min() >= -1e-15
+    np.testing.assert_allclose(np.trapezoid(density, y, axis=1), 1.0, atol=1e-6)
+
+
+def test_dmm_in_two_outputs_integrates_to_one():
+    conditional = random_conditional(4, 1, 3, o=2)
+    axis = np.linspace(-14, 14, 401)
+    grid = np.stack(np.meshgrid(axis, axis, indexing="ij"), axis=-1).reshape(1, -1, 2)
+    for eps in (0.0, 0.6, 1.0):
+        density = dmm_pdf(conditional, grid, eps).reshape(axis.size, axis.size)
+        assert density.min() >= -1e-15
+        assert np.trapezoid(np.trapezoid(density, axis, axis=1), axis) == pytest.approx(1.0, abs=1e-4)
+
+
+def test_dmm_at_zero_exploration_is_the_gmr_density():
+    mixture = GaussianMixture.from_parameters(
+        np.array([0.4, 0.6]), np.array([[0.0, 1.0], [2.0, -1.0]]), np.array([[[1, 0.5], [0.5, 1]], [[2, -0.3], [-0.3, 0.5]]])
+    )
+    x = np.array([[0.5], [1.5]])
+    conditional = condition(mixture, [0], [1], x)
+    y = np.array([[0.3], [-0.7]])
+    joint = np.exp(mixture.score_samples(np.column_stack([x, y])))
+    marginal = sum(w * norm(m[0], np.sqrt(c[0, 0])).pdf(x[:, 0]) for w, m, c in
+                   zip(mixture.weights_, mixture.means_, mixture.covariances_, strict=True))
+    np.testing.assert_allclose(dmm_pdf(conditional, y, 0.0), joint / marginal, rtol=1e-10)
+
+
+# -- the mode ----------------------------------------------------------------------------------------
+
+
+def dense_maximum(conditional: Conditional, eps: np.ndarray, lo: float = -30, hi: float = 30, n: int = 20001):
+    y = np.linspace(lo, hi, n)
+    density = dmm_pdf(conditional, np.broadcast_to(y[None, :, None], (len(conditional), n, 1)), eps)
+    return density.max(axis=1), y[density.argmax(axis=1)]
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 100_000), k=st.integers(1, 5), auto=st.booleans(), eps=st.floats(0, 1))
+def test_mode_is_the_global_maximum_on_a_dense_grid(seed, k, auto, eps):
+    conditional = random_conditional(seed, 25, k)
+    mode = dmm_mode(conditional, "auto" if auto else eps)
+    grid_max, _ = dense_maximum(conditional, mode.exploration)
+    np.testing.assert_allclose(dmm_pdf(conditional, mode.output, mode.exploration), mode.pdf, rtol=1e-12)
+    assert np.all(mode.pdf >= grid_max * (1 - 1e-6))
+    np.testing.assert_array_equal(mode.pdf, mode.max_pdf)
+    assert np.all(mode.density_traded == 0)
+
+
+def test_mode_is_the_global_maximum_in_two_outputs():
+    conditional = random_conditional(11, 6, 3, o=2)
+    mode = dmm_mode(conditional, 0.8)
+    axis = np.linspace(-12, 12, 401)
+    grid = np.stack(np.meshgrid(axis, axis, indexing="ij"), axis=-1).reshape(1, -1, 2)
+    density = dmm_pdf(conditional, np.broadcast_to(grid, (6, grid.shape[1], 2)), mode.exploration)
+    assert np.all(mode.pdf >= density.max(axis=1) * (1 - 1e-6))
+
+
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 10_000), o=st.integers(1, 2))
+def test_zero_exploration_gives_the_gmr_mean_when_unimodal(seed, o):
+    conditional = random_conditional(seed, 10, 1, o=o)
+    mode = dmm_mode(conditional, 0.0)
+    np.testing.assert_allclose(mode.output, conditional.mean, atol=1e-7)
+
+
+def test_mode_never_below_bfgs_from_the_gmr_mean():
+    conditional = random_conditional(5, 30, 3)
+    mode = dmm_mode(conditional)
+    for i in range(len(conditional)):
+        single = Conditional(
+            conditional.weights[i : i + 1], conditional.means[i : i + 1], conditional.covariances,
+            conditional.mean[i : i + 1], conditional.covariance[i : i + 1],
+        )
+        eps = mode.exploration[i : i + 1]
+        result = minimize(lambda y, s=single, e=eps: -dmm_pdf(s, y[None, :], e)[0], conditional.mean[i], method="BFGS")
+        assert mode.pdf[i] >= -result.fun * (1 - 1e-9)
+
+
+def test_symmetric_donut_breaks_the_tie_towards_the_larger_output():
+    conditional = conditional_of([[1.0]], [[[2.0]]], [[[1.0]]])
+    mode = dmm_mode(conditional, 1.0)
+    assert mode.output[0, 0] > 2.0
+    mirrored = dmm_pdf(conditional, 4.0 - mode.output, 1.0)
+    assert mirrored[0] == pytest.approx(mode.pdf[0], rel=1e-9)
+
+
+def test_continuity_keeps_one_side_of_the_donut_and_reports_the_cost():
+    # Two components swap weight along the path; their donuts' outer rings are nearly equally high,
+    # so the global mode jumps from one side to the other half way.
+    n = 41
+    share = np.linspace(0.45, 0.55, n)
+    weights = np.column_stack([share, 1 - share])
+    means = np.broadcast_to(np.array([[0.0], [0.5]]), (n, 2, 1)).copy()
+    conditional = conditional_of(weights, means, [[[1.0]], [[1.0]]])
+    plain = dmm_mode(conditional, 1.0)
+    smooth = dmm_mode(conditional, 1.0, continuity=0.2)
+    assert np.abs(np.diff(plain.output[:, 0])).max() > 1.0
+    assert np.abs(np.diff(smooth.output[:, 0])).max() < 0.2
+    assert np.all(smooth.density_traded <= 0.2) and smooth.density_traded.max() > 0
+    np.testing.assert_allclose(smooth.pdf, smooth.max_pdf * (1 - smooth.density_traded), rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "kwargs,message",
+    [({"exploration": "high"}, "'auto' or a number"), ({"exploration": 1.5}, r"\[0, 1\]"),
+     ({"exploration": np.ones(3)}, "shape"), ({"scale": -1.0}, "scale"), ({"continuity": 2.0}, "continuity")],
+)
+def test_bad_mode_options_are_named(kwargs, message):
+    conditional = random_conditional(0, 2, 2)
+    with pytest.raises(InputError, match=message):
+        dmm_mode(conditional, **kwargs)

@@ -1,0 +1,213 @@
+"""Model: fitting named columns, the thesis synthetic set, model.json, generated paths."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+from rlff.dataset import Dataset, Trajectory
+from rlff.donut import dmm_pdf
+from rlff.errors import InputError
+from rlff.model import Model
+from rlff.synthetic.thesis import thesis_dataset
+
+
+@pytest.fixture(scope="module")
+def thesis_model() -> Model:
+    return Model.fit(thesis_dataset(), seed=0)
+
+
+def test_thesis_set_follows_the_formula():
+    data = thesis_dataset()
+    assert len(data) == 11 and data.n_samples == 550
+    angle = np.linspace(0, 10, 50)
+    for z, trajectory in enumerate(data, start=1):
+        np.testing.assert_array_equal(trajectory["angle"], angle)
+        np.testing.assert_array_equal(trajectory["distance"], np.full(50, z))
+        np.testing.assert_allclose(trajectory["velocity"], (1 + 0.1 * (z - 1)) * (-(angle**2) + 10 * angle) / 2)
+        assert trajectory.meta["target"] == z
+    steeper = thesis_dataset(factor_slope=0.3, n_trajectories=3, n_points=11)
+    assert len(steeper) == 3 and len(steeper[0]) == 11
+    np.testing.assert_allclose(steeper[2]["velocity"], 1.6 * (-(steeper[2]["angle"] ** 2) + 10 * steeper[2]["angle"]) / 2)
+
+
+def test_thesis_paths_grow_with_distance_and_sit_on_the_global_maximum(thesis_model):
+    paths = {d: thesis_model.generate({"distance": d}) for d in (4.5, 8.5, 12.5)}
+    velocities = np.array([paths[d].velocity for d in (4.5, 8.5, 12.5)])
+    assert np.all(np.diff(velocities, axis=0) > 0)  # at every angle, also the unseen 12.5
+    grid = np.linspace(-10, 40, 5001)
+    for distance, path in paths.items():
+        assert path.angle.size == 100 and path.angle[0] == 0 and path.angle[-1] == 10
+        conditional = thesis_model.condition(np.column_stack([path.angle, np.full(100, distance)]))
+        density = dmm_pdf(conditional, np.broadcast_to(grid[None, :, None], (100, grid.size, 1)), path.exploration)
+        assert np.all(path.pdf >= density.max(axis=1) * (1 - 1e-6))
+        np.testing.assert_allclose(dmm_pdf(conditional, path.velocity[:, None], path.exploration), path.pdf, rtol=1e-12)
+    assert any("12.5 is outside the fitted range" in note for note in paths[12.5].notes)
+
+
+def test_generated_path_columns_and_time(thesis_model, tmp_path):
+    path = thesis_model.generate({"distance": 2.5}, np.linspace(0, 10, 60))
+    for name in ("angle", "velocity", "pdf", "exploration", "gmr_mean", "gmr_std", "time"):
+        values = getattr(path, name)
+        assert values.shape == (60,) and np.all(np.isfinite(values)), name
+    assert path.time[0] == 0 and np.all(np.diff(path.time) > 0)
+    assert np.all((path.exploration >= 0) & (path.exploration < 1))
+    target = tmp_path / "traj.csv"
+    path.write_csv(target)
+    import pandas as pd
+
+    frame = pd.read_csv(target)
+    assert list(frame.columns[:7]) == ["angle", "velocity", "time", "pdf", "exploration", "gmr_mean", "gmr_std"]
+    np.testing.assert_array_equal(frame["velocity"].to_numpy(), path.velocity)
+    np.testing.assert_array_equal(frame["distance"].to_numpy(), np.full(60, 2.5))
+
+
+def test_zero_exploration_gives_the_gmr_mean_where_unimodal():
+    model = Model.fit(thesis_dataset(), components=1)
+    path = model.generate({"distance": 5.0}, exploration=0.0)
+    np.testing.assert_allclose(path.velocity, path.gmr_mean, atol=1e-7)
+    assert np.all(path.exploration == 0)
+
+
+def test_time_is_finite_where_the_velocity_is_not_positive():
+    # a model whose velocity is negative over most of the path, going forward in angle
+    rng = np.random.default_rng(0)
+    angle = rng.uniform(0, 1, 300)
+    data = np.column_stack([angle, -1.0 + 0.5 * angle + rng.normal(0, 0.01, 300)])
+    model = Model.fit(data, inputs=("angle",), outputs=("velocity",), components=1)
+    path = model.generate({}, np.linspace(0, 1, 20), exploration=0.0)
+    assert np.all(path.velocity < 0)
+    assert np.all(np.isfinite(path.time)) and np.all(np.diff(path.time) > 0)
+    assert any("<= 0" in note for note in path.notes)
+    assert any("no forward velocity" in note for note in path.notes)
+    backwards = model.generate({}, np.linspace(1, 0, 20), exploration=0.0)
+    assert np.all(np.isfinite(backwards.time)) and not any("<= 0" in note for note in backwards.notes)
+
+
+def test_save_and_load_give_the_same_model(thesis_model, tmp_path):
+    target = tmp_path / "model.json"
+    thesis_model.save(target)
+    document = json.loads(target.read_text())
+    assert document["format"] == "rlff-model" and document["version"] == 1
+    assert document["columns"] == ["angle", "distance", "velocity"]
+    assert np.shape(document["covariances"]) == (thesis_model.n_components, 3, 3)
+    loaded = Model.load(target)
+    np.testing.assert_array_equal(loaded.mixture.means_, thesis_model.mixture.means_)
+    np.testing.assert_array_equal(loaded.mixture.covariances_, thesis_model.mixture.covariances_)
+    assert loaded.input_range == thesis_model.input_range
+    assert loaded.selection.table == thesis_model.selection.table
+    a = thesis_model.generate({"distance": 3.0})
+    b = loaded.generate({"distance": 3.0})
+    np.testing.assert_array_equal(a.velocity, b.velocity)
+
+
+def corrupt(document: dict, change) -> dict:
+    copy = json.loads(json.dumps(document))
+    change(copy)
+    return copy
+
+
+@pytest.mark.parametrize(
+    "change,field",
+    [
+        (lambda d: d.update(format="other"), "format"),
+        (lambda d: d.update(version=2), "version"),
+        (lambda d: d.pop("weights"), "weights"),
+        (lambda d: d.update(weights=[0.9] + d["weights"][1:]), "weights"),
+        (lambda d: d["means"][0].pop(), "means"),
+        (lambda d: d["covariances"][1][0].__setitem__(1, d["covariances"][1][0][1] + 1.0), "covariances[1]"),
+        (lambda d: d["covariances"][0].__setitem__(0, [-1.0, 0.0, 0.0]), "covariances[0]"),
+        (lambda d: d["means"][0].__setitem__(0, "x"), "means"),
+        (lambda d: d.update(inputs=["angle"]), "columns"),
+        (lambda d: d.update(outputs=["angle"]), "inputs"),
+        (lambda d: d["scale"].update(std=[1.0, 0.0, 1.0]), "scale.std"),
+        (lambda d: d.pop("input_range"), "input_range"),
+        (lambda d: d["input_range"].update(angle=[5.0, 1.0]), "input_range.angle"),
+        (lambda d: d.update(selection={"criterion": "xic", "table": []}), "selection"),
+    ],
+)
+def test_corrupted_model_json_names_the_field(thesis_model, tmp_path, change, field):
+    target = tmp_path / "model.json"
+    target.write_text(json.dumps(corrupt(thesis_model.to_dict(), change)))
+    with pytest.raises(InputError, match=f"field '{field}'".replace("[", r"\[").replace("]", r"\]")):
+        Model.load(target)
+
+
+def test_unreadable_model_files(tmp_path):
+    with pytest.raises(InputError, match="no such file"):
+        Model.load(tmp_path / "missing.json")
+    broken = tmp_path / "broken.json"
+    broken.write_text('{"format": "rlff-model", ')
+    with pytest.raises(InputError, match="not valid JSON"):
+        Model.load(broken)
+    broken.write_text("[1, 2]")
+    with pytest.raises(InputError, match="JSON object"):
+        Model.load(broken)
+
+
+def test_any_columns_several_contexts_and_outputs():
+    rng = np.random.default_rng(1)
+    n = 2000
+    t, a, b = rng.uniform(0, 1, n), rng.uniform(1, 2, n), rng.uniform(-1, 1, n)
+    y1 = 2 * t + a + rng.normal(0, 0.05, n)
+    y2 = -t + 0.5 * b + rng.normal(0, 0.05, n)
+    data = np.column_stack([y2, b, t, y1, a])
+    model = Model.fit(
+        data, columns=["y2", "b", "t", "y1", "a"], inputs=("t", "a", "b"), outputs=("y1", "y2"), components=2
+    )
+    assert model.columns == ("t", "a", "b", "y1", "y2")
+    path = model.generate({"a": 1.5, "b": 0.2}, np.linspace(0.1, 0.9, 9), exploration=0.0)
+    assert path.outputs.shape == (9, 2)
+    grid = np.linspace(0.1, 0.9, 9)
+    np.testing.assert_allclose(path.outputs[:, 0], 2 * grid + 1.5, atol=0.05)
+    np.testing.assert_allclose(path.outputs[:, 1], -grid + 0.1, atol=0.05)
+    frame = path.to_frame()
+    for name in ("t", "y1", "y2", "velocity", "time", "gmr_mean_y2", "a", "b"):
+        assert name in frame.columns
+    with pytest.raises(InputError, match="missing context 'b'"):
+        model.generate({"a": 1.5})
+    with pytest.raises(InputError, match="unknown context 'c'"):
+        model.generate({"a": 1.5, "b": 0.0, "c": 1.0})
+
+
+def test_sample_weights_move_the_model():
+    data = thesis_dataset()
+    X = data.to_array(("angle", "distance", "velocity"))
+    heavy = np.where(X[:, 1] >= 6, 20.0, 1.0)
+    plain = Model.fit(data, components=2)
+    weighted = Model.fit(data, components=2, sample_weight=heavy)
+    assert weighted.fit_info["weighted"] and not plain.fit_info["weighted"]
+    assert weighted.mixture.weights_ @ weighted.mixture.means_[:, 1] > plain.mixture.weights_ @ plain.mixture.means_[:, 1]
+
+
+@pytest.mark.filterwarnings("ignore:column .* is constant")
+def test_bad_fit_input_is_named():
+    data = thesis_dataset()
+    with pytest.raises(InputError, match="no column 'speed'"):
+        Model.fit(data, outputs=("speed",))
+    with pytest.raises(InputError, match="more than once"):
+        Model.fit(data, inputs=("angle", "velocity"))
+    with pytest.raises(InputError, match="components"):
+        Model.fit(data, components="many")
+    with pytest.raises(InputError, match="empty"):
+        Model.fit(Dataset([]))
+    with pytest.raises(InputError, match="name them"):
+        Model.fit(np.zeros((10, 5)))
+    one = Dataset([Trajectory("a", {"angle": [0.0], "distance": [1.0], "velocity": [0.0]})])
+    with pytest.raises(InputError, match="at least 2 samples"):
+        Model.fit(one)
+    with pytest.raises(InputError, match="n_components = 20 is more than"):
+        Model.fit(data[:1].replace([data[0].take(slice(0, 10))]), components=20)
+
+
+def test_constant_column_warns_and_fits():
+    data = Dataset([t.with_columns(distance=np.full(len(t), 2.5)) for t in thesis_dataset()[:1]])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model = Model.fit(data, components=2)
+    assert any("column 'distance' is constant" in str(w.message) for w in caught)
+    path = model.generate({"distance": 2.5})
+    assert np.all(np.isfinite(path.velocity))
