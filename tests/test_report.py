@@ -44,7 +44,8 @@ def make_run(run_dir: Path) -> Run:
             Section(
                 "data", "Demonstrations", "Six throws.\n\nTwo distances.",
                 facts={"trajectories": 6, "hit rate": 1 / 3},
-                tables=[Table("per distance", ["distance (m)", "throws", "hit"], [[1.5, 3, True], [2.5, 3, False]])],
+                tables=[Table("per distance", ["distance (m)", "throws", "new", "hit"],
+                              [[1.5, 3, False, True], [2.5, 3, True, False]])],
             ),
             Section("learning", "Learning", facts={"attempts": np.int64(3), "miss (m)": np.float64("nan")}),
         ],
@@ -96,7 +97,9 @@ def test_report_embeds_every_figure_and_escapes_text(tmp_path):
     assert all(link.startswith("#") for link in parser.links)
     assert not re.search(r"(src|href)=\"https?:", text)
     assert "test run &lt;&amp;&gt;" in text
-    assert '<td class="yes">yes</td>' in text and '<td class="no">no</td>' in text
+    # outcome columns are coloured, other yes/no columns plain
+    assert '<td class="flag">no</td><td class="yes">yes</td>' in text
+    assert '<td class="flag">yes</td><td class="no">no</td>' in text
     assert "<p>Six throws.</p>" in text and "<p>Two distances.</p>" in text
 
 
@@ -134,7 +137,7 @@ def test_run_rejects_bad_input(tmp_path):
         lambda d: d["figures"][0].update(file="figures/gone.png")
     )
     assert "unknown section 'nowhere'" in broken(lambda d: d["figures"][0].update(section="nowhere"))
-    assert "row 0 has 2 cells, expected 3" in broken(
+    assert "row 0 has 3 cells, expected 4" in broken(
         lambda d: d["sections"][0]["tables"][0]["rows"][0].pop()
     )
     path.write_text("{not json")

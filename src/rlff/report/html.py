@@ -49,10 +49,11 @@ def format_value(value: Scalar) -> str:
     return str(value)
 
 
-def _cell(value: Scalar) -> str:
+def _cell(value: Scalar, outcome: bool) -> str:
     text = html.escape(format_value(value))
     if isinstance(value, bool):
-        return f'<td class="{"yes" if value else "no"}">{text}</td>'
+        kind = ("yes" if value else "no") if outcome else "flag"
+        return f'<td class="{kind}">{text}</td>'
     if value is None:
         return f'<td class="none">{text}</td>'
     if isinstance(value, str):
@@ -72,7 +73,10 @@ def _facts(facts: Mapping[str, Scalar]) -> str:
 
 def _table(table: Table) -> str:
     head = "".join(f"<th>{html.escape(c)}</th>" for c in table.columns)
-    body = "".join("<tr>" + "".join(_cell(v) for v in row) + "</tr>" for row in table.rows)
+    outcome = [c in table.outcome_columns for c in table.columns]
+    body = "".join(
+        "<tr>" + "".join(_cell(v, o) for v, o in zip(row, outcome, strict=True)) + "</tr>" for row in table.rows
+    )
     return f"<h3>{html.escape(table.title)}</h3><table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
 
 

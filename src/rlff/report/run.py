@@ -9,7 +9,8 @@ Layout::
 
 ``run.json`` holds ``{"format": "rlff-run", "version": 1, "title", "created" (ISO 8601),
 "settings": {...}, "sections": [...], "figures": [...]}``. A section is ``{"id", "title",
-"text", "facts": {name: value}, "tables": [{"title", "columns", "rows"}]}``: facts are single
+"text", "facts": {name: value}, "tables": [{"title", "columns", "rows", "outcome_columns"}]}``:
+facts are single
 values for scripts and for the summary list of the report, tables are small row sets (one row per
 distance, per step, per method). A figure is ``{"file" (relative to RUN), "section" (a section
 id), "title", "caption"}``. The report shows sections in their order and each figure in its
@@ -37,11 +38,16 @@ Scalar = str | int | float | bool | None
 
 @dataclass(frozen=True)
 class Table:
-    """A small table: named columns and rows of scalars (one per column)."""
+    """A small table: named columns and rows of scalars (one per column).
+
+    ``outcome_columns`` name the columns whose yes/no values are outcomes (shown green and red,
+    e.g. ``hit``); other booleans are shown plainly.
+    """
 
     title: str
     columns: Sequence[str]
     rows: Sequence[Sequence[Scalar]]
+    outcome_columns: Sequence[str] = ("hit",)
 
     def __post_init__(self) -> None:
         for index, row in enumerate(self.rows):
@@ -134,6 +140,7 @@ class Run:
                             "title": t.title,
                             "columns": list(t.columns),
                             "rows": [[_json_scalar(v, f"table {t.title!r}") for v in row] for row in t.rows],
+                            "outcome_columns": list(t.outcome_columns),
                         }
                         for t in s.tables
                     ],
@@ -221,6 +228,7 @@ def read_run(run_dir: str | Path) -> Run:
                         _require(table, "title", str, t_where),
                         _require(table, "columns", list, t_where),
                         _require(table, "rows", list, t_where),
+                        table.get("outcome_columns", ["hit"]),
                     )
                 )
             except InputError as exc:
