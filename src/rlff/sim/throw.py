@@ -286,6 +286,7 @@ class _Run:
         first_q, first_v = int(scene.joint_qpos[0]), int(scene.joint_dof[0])
         q = data.qpos[first_q:first_q + len(scene.joint_qpos)]  # views into the simulation state
         v = data.qvel[first_v:first_v + len(scene.joint_dof)]
+        ctrl = data.ctrl
         history = np.empty_like(self.reference.positions)
         history_speed = np.empty_like(history)
         history[0], history_speed[0] = q, v
@@ -294,7 +295,7 @@ class _Run:
         step = 0
         # before the release: follow the trajectory, watch the throwing joint
         while step < last and not (direction and direction * (q[column] - angle) >= 0):
-            self._command(data, q, step)
+            self._command(ctrl, q, step)
             mujoco.mj_step(model, data)
             step += 1
             history[step], history_speed[step] = q, v
@@ -333,7 +334,7 @@ class _Run:
         clear = rim + BALL_RADIUS + 0.05
         while step < cap:
             if not idle:
-                self._command(data, q, step)
+                self._command(data.ctrl, q, step)
             elif self.recorder is None and z > clear:
                 vz = ball_velocity[2]
                 free = int((vz + np.sqrt(vz * vz + 2.0 * GRAVITY * (z - clear))) / GRAVITY / dt) - 1
@@ -390,10 +391,10 @@ class _Run:
             "simulated_time": float(data.time),
         }
 
-    def _command(self, data: mujoco.MjData, q: np.ndarray, step: int) -> None:
-        """Velocity command of ``step``: the reference's velocity plus a position correction,
-        ``offset - K q`` in one call (MuJoCo clamps it to the joints' speed limits)."""
-        mujoco.mju_addScl(data.ctrl, self.offsets[step], q, -POSITION_GAIN)
+    def _command(self, ctrl: np.ndarray, q: np.ndarray, step: int) -> None:
+        """Velocity command of ``step`` into ``ctrl``: the reference's velocity plus a position
+        correction, ``offset - K q`` in one call (MuJoCo clamps it to the joints' speed limits)."""
+        mujoco.mju_addScl(ctrl, self.offsets[step], q, -POSITION_GAIN)
 
     def _place(self, data: mujoco.MjData) -> None:
         """Arm at the trajectory's first point, the ball in the gripper."""
