@@ -4,9 +4,10 @@ The arm follows the trajectory with its velocity servos: the command is the traj
 plus a position correction, interpolated between the points with cubic Hermite splines (like the
 thesis' controller plug-in, which re-published and interpolated the points at a fixed rate). The
 ball is let go when the throwing joint passes the release angle (default: at the end of the
-trajectory), after which the arm brakes to a stop. The simulation stops as soon as the outcome is
-decided: the ball touches the ground (a miss: it has to enter the basket through its opening), or
-it settles in the basket or on the rim, or the time cap is reached.
+trajectory), after which the arm finishes the trajectory and stops. The simulation stops as soon
+as the outcome is decided: the ball touches the ground (a miss: it has to enter the basket through
+its opening), or lies in the basket too slow to climb out, or rests on the rim, or the time cap
+is reached.
 """
 
 from __future__ import annotations
