@@ -8,7 +8,10 @@ import pytest
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
 from rlff.learn import learn
+from rlff.learn.attempt import Attempt
+from rlff.learn.baselines import CmaSearch, SecantSearch
 from rlff.learn.loop import _as_reported
+from rlff.learn.method import Problem
 from rlff.learn.strategies import SpeedCalibration
 
 #: Distances the simulated humans aimed at; every throw falls short of its basket.
@@ -58,8 +61,6 @@ def test_a_resumed_run_continues_exactly_like_an_uninterrupted_one(failed_demos,
 
 
 def test_binary_feedback_hides_landing_and_miss():
-    from rlff.learn.attempt import Attempt
-
     attempt = Attempt(1, 2.0, 2.0, np.arange(3.0), np.ones(3), np.arange(3.0), False, 1.7, -0.3)
     assert np.isnan(_as_reported(attempt, "binary").miss)
     assert np.isnan(_as_reported(attempt, "binary").landing)
@@ -117,3 +118,41 @@ class TestSpeedCalibration:
         calibration.observe_landing(10.0, 1.2)  # far short: the law wants much faster
         best, _ = calibration.best_speed()
         assert best <= 10.5
+
+
+def make_problem(demos: Dataset, feedback: str) -> Problem:
+    from rlff.learn.loop import _angle_grid, _learning_demos
+
+    demos = _learning_demos(demos)
+    return Problem(demos=demos, target=1.9, feedback=feedback, tolerance=0.14,
+                   angles=_angle_grid(demos), components=2, seed=4)
+
+
+def fake_attempt(index: int, proposal, landing: float) -> Attempt:
+    return Attempt(index, 1.9, proposal.query, proposal.angle, proposal.velocity,
+                   np.arange(proposal.angle.size, dtype=float), False, landing, landing - 1.9)
+
+
+def test_secant_takes_the_ballistic_first_step_then_the_secant(failed_demos):
+    secant = SecantSearch(make_problem(failed_demos, "distance"))
+    first = secant.propose([])
+    assert first.info["factor"] == 1.0
+    history = [fake_attempt(1, first, 1.6)]
+    second = secant.propose(history)
+    assert second.info["factor"] == pytest.approx(np.sqrt(1.9 / 1.6))
+    history.append(fake_attempt(2, second, 1.8))
+    third = secant.propose(history)
+    s1, s2 = 1.0, second.info["factor"]
+    assert third.info["factor"] == pytest.approx(s2 - (-0.1) * (s2 - s1) / (-0.1 - (-0.3)))
+    np.testing.assert_allclose(third.velocity, first.velocity * third.info["factor"])
+
+
+def test_cma_rebuilt_from_the_history_proposes_what_the_original_would(failed_demos):
+    problem = make_problem(failed_demos, "distance")
+    original = CmaSearch(problem)
+    history: list[Attempt] = []
+    for index in range(1, 9):  # more than one generation (6 candidates each)
+        proposal = original.propose(history)
+        history.append(fake_attempt(index, proposal, 1.5 + 0.05 * index))
+    rebuilt = CmaSearch(problem)
+    assert rebuilt.propose(history).info["x"] == original.propose(history).info["x"]

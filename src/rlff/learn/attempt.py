@@ -71,10 +71,10 @@ class Attempt:
         return {
             "attempt": self.index,
             "target": self.target,
-            "query": None if np.isnan(self.query) else self.query,
+            "query": _finite_or_none(self.query),
             "hit": bool(self.hit),
-            "landing": self.landing,
-            "miss": self.miss,
+            "landing": _finite_or_none(self.landing),
+            "miss": _finite_or_none(self.miss),
             "exploration": self.exploration,
             "clipped": self.clipped,
             "seconds": self.seconds,
@@ -87,19 +87,27 @@ class Attempt:
     @classmethod
     def from_json(cls, record: dict[str, Any]) -> Attempt:
         """The attempt of one log line; :class:`KeyError`/``TypeError``/``ValueError`` if malformed."""
-        query = record["query"]
         return cls(
             index=int(record["attempt"]),
             target=float(record["target"]),
-            query=float("nan") if query is None else float(query),
+            query=_float_or_nan(record["query"]),
             angle=np.asarray(record["angle"], dtype=float),
             velocity=np.asarray(record["velocity"], dtype=float),
             time=np.asarray(record["time"], dtype=float),
             hit=bool(record["hit"]),
-            landing=float(record["landing"]),
-            miss=float(record["miss"]),
+            landing=_float_or_nan(record["landing"]),
+            miss=_float_or_nan(record["miss"]),
             exploration=float(record["exploration"]),
             clipped=int(record["clipped"]),
             seconds=float(record["seconds"]),
             info=dict(record["info"]),
         )
+
+
+def _finite_or_none(value: float) -> float | None:
+    """A float for JSON: None stands for NaN (no landing, no query), which JSON cannot hold."""
+    return float(value) if np.isfinite(value) else None
+
+
+def _float_or_nan(value: float | None) -> float:
+    return float("nan") if value is None else float(value)

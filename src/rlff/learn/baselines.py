@@ -26,7 +26,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from rlff.learn.attempt import Attempt
-from rlff.learn.method import Method, Problem, Proposal
+from rlff.learn.method import Method, Problem, Proposal, finite_miss
 
 #: Largest change of the speed factor in one secant step (a factor, > 1).
 _MAX_STEP = 1.5
@@ -122,7 +122,7 @@ class CmaSearch(GmrBaseline):
 
     def _fitness(self, attempt: Attempt) -> float:
         if self.problem.feedback == "distance":
-            return abs(attempt.miss)
+            return abs(finite_miss(attempt))
         return 0.0 if attempt.hit else 1.0
 
 
@@ -136,16 +136,17 @@ class SecantSearch(GmrBaseline):
         factors = [1.0]
         misses: list[float] = []
         for attempt in history:
-            misses.append(attempt.miss)
-            factors.append(self._next(factors, misses, attempt))
+            misses.append(finite_miss(attempt))
+            factors.append(self._next(factors, misses))
         factor = factors[len(history)]
         return self.scaled(factor, {"factor": factor})
 
-    def _next(self, factors: list[float], misses: list[float], last: Attempt) -> float:
+    def _next(self, factors: list[float], misses: list[float]) -> float:
         s = np.asarray(factors[: len(misses)])
         m = np.asarray(misses)
+        target = self.problem.target
         if s.size == 1:
-            ratio = self.problem.target / max(last.landing, 0.05 * self.problem.target)
+            ratio = target / max(target + m[0], 0.05 * target)
             step = float(np.sqrt(ratio))
         else:
             short, long = m < 0, m > 0

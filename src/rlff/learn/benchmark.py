@@ -55,12 +55,11 @@ def demonstrations(seed: int) -> Dataset:
     return clean
 
 
-def run_one(method: str, feedback: str, basket: float, seed: int, budget: int) -> Run:
-    """Run one method once; the demonstrations depend on the seed only."""
+def run_one(demos: Dataset, method: str, feedback: str, basket: float, seed: int, budget: int) -> Run:
+    """Run one method once from the demonstrations of ``seed``."""
     from rlff.learn.loop import learn
 
-    result = learn(demonstrations(seed), basket, budget=budget, feedback=feedback, update=method,
-                   seed=seed)
+    result = learn(demos, basket, budget=budget, feedback=feedback, update=method, seed=seed)
     return Run(method, feedback, basket, seed, result.hit, result.attempts)
 
 
@@ -108,8 +107,11 @@ def learning_benchmark(
         parallel = joblib.Parallel(n_jobs=jobs, backend=backend, return_as="generator")
     except ValueError:
         parallel = joblib.Parallel(n_jobs=jobs, backend=backend)
+    # the demonstrations of every seed, made once and shipped to the workers with each run
+    demos = dict(zip(range(seeds), parallel(joblib.delayed(demonstrations)(s) for s in range(seeds)),
+                     strict=True))
     runs = []
-    for run in parallel(joblib.delayed(run_one)(*case, budget) for case in cases):
+    for run in parallel(joblib.delayed(run_one)(demos[case[3]], *case, budget) for case in cases):
         runs.append(run)
         if progress:
             progress(run)

@@ -38,8 +38,10 @@ from rlff.trajectory.timing import time_along_path
 RELEASE_QUANTILE = 0.25
 #: Most mixture components the loop uses.
 MAX_COMPONENTS = 4
+#: Fewest points of a generated throw.
+MIN_POINTS = 30
 #: Most demonstration samples the mixture is refitted to at every attempt.
-MAX_SAMPLES = 1500
+MAX_SAMPLES = 600
 #: Every method the loop can run, by name: update strategies first, then baselines.
 METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
 
@@ -215,27 +217,7 @@ def learn(
     while method is not None and len(history) < budget and not (history and history[-1].hit):
         start = clock.perf_counter()
         proposal = method.propose([_as_reported(a, feedback) for a in history])
-        velocity = _forward_velocity(proposal.angle, proposal.velocity)
-        trajectory, clip_report = mapping.to_robot(
-            proposal.angle, velocity, time_along_path(proposal.angle, velocity), clip=True
-        )
-        outcome = executor(trajectory)
-        angle, executed = mapping.from_robot(trajectory)
-        attempt = Attempt(
-            index=len(history) + 1,
-            target=target.distance,
-            query=proposal.query,
-            angle=angle,
-            velocity=executed,
-            time=trajectory.time / mapping.time_scale,
-            hit=bool(outcome.hit),
-            landing=float(outcome.landing_x),
-            miss=0.0 if outcome.hit else float(outcome.miss),
-            exploration=proposal.exploration,
-            clipped=len(clip_report),
-            seconds=clock.perf_counter() - start,
-            info=proposal.info,
-        )
+        attempt = _execute(proposal, len(history) + 1, target.distance, mapping, executor, start)
         if log:
             log.append(attempt)
         history.append(attempt)
@@ -256,6 +238,31 @@ def learn(
         resumed=resumed,
         dropped_partial_line=bool(log and log.contents.dropped_partial_line),
         notes=notes,
+    )
+
+
+def _execute(proposal, index: int, target: float, mapping, executor: Executor, start: float) -> Attempt:
+    """Map a proposal to the robot (saturating at its limits), execute it, record what it did."""
+    velocity = _forward_velocity(proposal.angle, proposal.velocity)
+    trajectory, clip_report = mapping.to_robot(
+        proposal.angle, velocity, time_along_path(proposal.angle, velocity), clip=True
+    )
+    outcome = executor(trajectory)
+    angle, executed = mapping.from_robot(trajectory)
+    return Attempt(
+        index=index,
+        target=target,
+        query=proposal.query,
+        angle=angle,
+        velocity=executed,
+        time=trajectory.time / mapping.time_scale,
+        hit=bool(outcome.hit),
+        landing=float(outcome.landing_x),
+        miss=0.0 if outcome.hit else float(outcome.miss),
+        exploration=proposal.exploration,
+        clipped=len(clip_report),
+        seconds=clock.perf_counter() - start,
+        info=proposal.info,
     )
 
 
@@ -331,7 +338,7 @@ def _angle_grid(demos: Dataset) -> np.ndarray:
     """The angle grid (rad) of generated throws, shape (T,).
 
     From the median first angle to the release angle, with the median number of samples of a
-    demonstration. The release is the ``RELEASE_QUANTILE`` quantile of the demonstrations' last
+    demonstration (at least ``MIN_POINTS``). The release is the ``RELEASE_QUANTILE`` quantile of the demonstrations' last
     angles: early enough that most demonstrations cover the whole path, so the mixture's
     velocity at the release rests on most of them rather than on the few that went farthest.
     """
@@ -340,7 +347,7 @@ def _angle_grid(demos: Dataset) -> np.ndarray:
     count = int(np.median([len(t) for t in demos]))
     if first == last:
         raise InputError("the demonstrations do not move: first and last angles coincide")
-    return np.linspace(first, last, max(count, 10))
+    return np.linspace(first, last, max(count, MIN_POINTS))
 
 
 def _components(demos: Dataset, seed: int) -> int:

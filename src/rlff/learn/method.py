@@ -148,3 +148,9 @@ def training_set(
 def demo_labels(demos: Dataset) -> np.ndarray:
     """Distance each demonstration is labelled with (m), shape (S,)."""
     return np.array([float(t["distance"][0]) for t in demos])
+
+
+def finite_miss(attempt: Attempt) -> float:
+    """The attempt's signed miss (m); a throw that never came down through the rim's height
+    (no landing point) counts as falling at the robot's base, ``-target``."""
+    return attempt.miss if np.isfinite(attempt.miss) else -attempt.target
