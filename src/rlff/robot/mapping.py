@@ -18,7 +18,7 @@ import numpy as np
 from rlff.errors import InputError
 from rlff.robot.description import Robot, number_field
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.limits import ClipReport, clip_to_limits, limit_changes, require_within_limits
+from rlff.trajectory.limits import ClipReport, clip_to_limits, require_within_limits
 from rlff.trajectory.timing import time_along_path
 
 
@@ -151,9 +151,9 @@ class RobotMapping:
         if not clip:
             require_within_limits(traj, self.robot.joints)
             return traj, ClipReport()
-        if not limit_changes(traj, self.robot.joints):
-            return traj, ClipReport()
         clipped, report = clip_to_limits(traj, self.robot.joints)
+        if not report:
+            return traj, report
         return (JointTrajectory(clipped.joint_names, clipped.time, clipped.positions,
                                 clipped.velocities, _accelerations(clipped.time, clipped.velocities)),
                 report)
