@@ -10,7 +10,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from rlff.dataset import Dataset, Trajectory
-from rlff.errors import InputError
+from rlff.errors import InputError, RlffError
 from rlff.preprocess import STEPS, Pipeline, preset_names
 
 
@@ -91,6 +91,23 @@ def test_an_error_inside_a_step_names_the_step():
     data = Dataset([Trajectory("a", {"angle": [2.0, 2.0], "distance": [1.0, 1.0], "velocity": [0.0, 0.0]})])
     with pytest.raises(InputError, match=r"^steps.toml, step 'rescale': trajectory 'a': cannot stretch"):
         Pipeline([("rescale", {"mode": "stretch"})], source="steps.toml").run(data)
+
+
+def test_a_missing_column_is_named_with_the_step():
+    data = Dataset([Trajectory("a", {"angle": [0.7, 1.5, 2.5, 3.0, 2.9], "distance": [2.0] * 5})])
+    with pytest.raises(InputError, match=r"step 'cut_release': no column 'velocity' in the data"):
+        Pipeline.preset("thesis").run(data)
+
+
+def test_a_step_that_drops_data_silently_is_caught(monkeypatch):
+    from rlff.preprocess import StepReport, pipeline
+
+    def careless(dataset, *, column: str = "angle"):
+        return dataset.replace(list(dataset)[1:]), StepReport("crop", {}, dataset)
+
+    monkeypatch.setitem(pipeline.STEPS, "crop", careless)
+    with pytest.raises(RlffError, match=r"step 'crop' changed data without reporting it \(trajectories \['t1-0'\]"):
+        Pipeline([("crop", {})]).run(_dataset())
 
 
 def test_bad_list_and_preset_names():
