@@ -37,7 +37,9 @@ def datasets(draw, with_time: bool = True) -> Dataset:
         if with_time:
             data["time"] = np.cumsum(draw(st.lists(st.floats(1e-3, 1.0), min_size=n, max_size=n)))
         meta = {"subject": draw(st.sampled_from(["s01", "anna b"])), "target": data["distance"][0],
-                "hit": draw(st.booleans()), "landing": draw(finite)}
+                "hit": draw(st.booleans())}
+        if draw(st.booleans()):  # known for some throws only
+            meta["landing"] = draw(finite)
         trajectories.append(Trajectory(f"t{k}-{draw(st.sampled_from(['x', 'y z']))}", data, meta))
     return Dataset(trajectories)
 
