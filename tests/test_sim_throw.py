@@ -173,3 +173,10 @@ def test_a_ball_striking_the_rim_ends_in_or_out_consistently(robot, offset):
     assert outcome.hit == basket.holds(outcome.rest_position, BALL_RADIUS)
     on_ground = outcome.rest_position[2] < BALL_RADIUS + 0.005
     assert outcome.hit != on_ground
+
+
+def test_a_trajectory_ending_too_fast_near_a_limit_is_refused(robot):
+    # ends at joint 2 = 2.70 rad, 0.01 rad short of its upper limit, still at 2.7 rad/s
+    with pytest.raises(InputError, match=r"joint_2 at 2\.7 rad moving at 2\.7 rad/s: stopping needs 0\.0365 rad"):
+        simulate_throw(swing(start=1.5, release=2.70, joint_3=-0.3, joint_5=0.0), Basket(2.0), robot=robot,
+                       check_reach=False)

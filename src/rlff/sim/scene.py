@@ -134,6 +134,7 @@ def scene_xml(arm: Arm, basket: Basket, pedestal: float = 0.0, timestep: float =
   <option timestep="{timestep}" integrator="implicitfast" gravity="0 0 -9.81"/>
   <visual><global offwidth="960" offheight="720"/></visual>
   <default>
+    <joint solreflimit="{2 * timestep} 1"/>
     <geom contype="0" conaffinity="0" rgba="0.95 0.55 0.1 1"/>
     <default class="hit"><geom contype="1" conaffinity="1" condim="3" priority="1"
       solref="0.005 1" friction="0.8 0.005 0.0001" rgba="0.45 0.3 0.15 1"/></default>

@@ -15,8 +15,13 @@ from typing import NamedTuple
 import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 
+from rlff.errors import InputError
 from rlff.sim.arm import Arm
 from rlff.trajectory.joint import JointTrajectory
+
+#: Deceleration (rad/s^2) the simulated arm is sure to reach when it stops after a trajectory
+#: (its servos brake harder: about 300 rad/s^2 for joint 2 at the torque limit).
+BRAKING = 100.0
 
 
 class Reference(NamedTuple):
@@ -51,3 +56,18 @@ def servo_reference(trajectory: JointTrajectory, arm: Arm, timestep: float) -> R
     positions = np.array(limited)
     velocities = np.vstack([np.diff(positions, axis=0) / timestep, np.zeros((1, positions.shape[1]))])
     return Reference(positions, velocities, True)
+
+
+def require_room_to_stop(trajectory: JointTrajectory, arm: Arm) -> None:
+    """Raise :class:`InputError` if a joint still moving at the end of ``trajectory`` (joints in
+    ``arm`` order) cannot stop, braking at :data:`BRAKING`, before its position limit."""
+    end_positions, end_velocities = trajectory.positions[-1], trajectory.velocities[-1]
+    for joint, position, velocity in zip(arm.joints, end_positions, end_velocities, strict=True):
+        stop = position + np.sign(velocity) * velocity**2 / (2.0 * BRAKING)
+        if not joint.lower <= stop <= joint.upper:
+            limit = joint.upper if velocity > 0 else joint.lower
+            raise InputError(
+                f"trajectory ends with {joint.name} at {position:.4g} rad moving at {velocity:.4g} rad/s: "
+                f"stopping needs {abs(stop - position):.3g} rad but its limit {limit:.4g} rad is "
+                f"{abs(limit - position):.3g} rad away"
+            )

@@ -26,7 +26,7 @@ from rlff.sim.arm import BALL_RADIUS, Arm
 from rlff.sim.basket import Basket
 from rlff.sim.reach import PLANE_JOINTS, farthest_basket, require_reachable, throw_reach
 from rlff.sim.scene import POSITION_GAIN, Scene, build_scene
-from rlff.sim.servo import servo_reference
+from rlff.sim.servo import require_room_to_stop, servo_reference
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import require_within_limits
 
@@ -220,6 +220,7 @@ def simulate_throw(
         raise InputError(f"trajectory has no positions for joints {missing} (it has {list(trajectory.joint_names)})")
     trajectory = trajectory.select(arm.joint_names)
     require_within_limits(trajectory, arm.joints)
+    require_room_to_stop(trajectory, arm)
     throwing = _throwing_joint(trajectory, release_joint)
     movers = [n for n in PLANE_JOINTS if np.ptp(trajectory.positions[:, arm.joint_names.index(n)]) > 1e-6]
     if check_reach:
