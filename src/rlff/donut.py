@@ -208,6 +208,15 @@ class _Donuts:
             hess = np.einsum("nsk,nsko,nskp->nsop", c2, u, u) - np.einsum("nsk,kop->nsop", c1, self.precision)
         return pdf, grad, hess
 
+    def flat_terms(self, query: np.ndarray) -> tuple[np.ndarray, ...]:
+        """For one output: each start's donut parameters, gathered by its input index (F,).
+
+        Returns the means, the two term weights (K, F) and the squared radii (F,) of the starts'
+        inputs, laid out so that every operation of :func:`_evaluate_flat` runs over the starts.
+        """
+        m = self.m[query, :, 0].T
+        return m, self.w_a[query].T, self.w_b[query].T, self.r_a2[query], self.r_b2[query]
+
     def starts(self, gmr_mean: np.ndarray) -> np.ndarray:
         """Starting points (N, S, O): each component's mean, the two points of its ring on each
         principal axis, and the GMR mean."""
@@ -218,6 +227,25 @@ class _Donuts:
         ring = np.concatenate([self.m[:, :, None, :] + offsets, self.m[:, :, None, :] - offsets], axis=2)
         points = np.concatenate([self.m[:, :, None, :], ring], axis=2)  # (N, K, 1 + 2 O, O)
         return np.concatenate([points.reshape(self.n, -1, self.o), gmr_mean[:, None, :]], axis=1)
+
+    def relevant_starts(self) -> np.ndarray:
+        """Which starts (N, S) are worth climbing, in the order of :meth:`starts`.
+
+        - P_DMM is at least h_j max D_j for every j (all terms are >= 0), so a component whose
+          h_k max D_k is below 1e-7 of the largest adds less than 1e-7 of the maximum anywhere:
+          its starts can only find modes of the other components, which their own starts find.
+        - A donut with a hole (ring radius > 0) is lowest at its mean: the climb from there only
+          reaches its ring, whose points are starts already; without a hole the ring points are
+          the mean. So each component keeps either its mean or its ring points.
+        """
+        q = self.ring_radius2()[:, None]
+        peak = self.w_a * np.exp(-0.5 * self.r_a2[:, None] * q) - self.w_b * np.exp(-0.5 * self.r_b2[:, None] * q)
+        keep = peak >= 1e-7 * peak.max(axis=1, keepdims=True)  # (N, K)
+        hole = np.broadcast_to(q > 1e-12, keep.shape)
+        per_component = np.concatenate(
+            [(keep & ~hole)[:, :, None], np.repeat((keep & hole)[:, :, None], 2 * self.o, axis=2)], axis=2
+        ).reshape(self.n, -1)
+        return np.concatenate([per_component, np.ones((self.n, 1), dtype=bool)], axis=1)
 
 
 def dmm_pdf(
@@ -286,7 +314,7 @@ def dmm_mode(
     continuity: bool | float = False,
     *,
     gamma: float = GAMMA,
-    tol: float = 1e-10,
+    tol: float = 1e-7,
 ) -> DonutMode:
     """The output of highest P_DMM density for every input, found for all inputs at once.
 
@@ -307,7 +335,8 @@ def dmm_mode(
     gamma : float
         Donut weight (> 1).
     tol : float
-        Newton stops when a step is below ``tol`` times the largest component standard deviation.
+        A start stops when its step is below ``tol`` times the largest component standard
+        deviation (the density is then flat to about tol^2: far below the 1e-6 asked for).
 
     Returns
     -------
@@ -330,7 +359,12 @@ def dmm_mode(
         eps = _check_exploration(exploration, n)
     donuts = _Donuts(conditional, eps, gamma)
     y = donuts.starts(np.asarray(conditional.mean, dtype=float))
-    y, pdf = _climb(donuts, y, tol)
+    if donuts.o == 1:
+        keep = donuts.relevant_starts()
+        y_sn, pdf_sn = _climb_1d(donuts, np.ascontiguousarray(y[:, :, 0].T), np.ascontiguousarray(keep.T), tol)
+        y, pdf = y_sn.T[:, :, None], pdf_sn.T
+    else:
+        y, pdf = _climb(donuts, y, tol)
     best = _best(y, pdf)
     rows = np.arange(n)
     output, best_pdf = y[rows, best], pdf[rows, best]
@@ -347,6 +381,84 @@ def dmm_mode(
     return DonutMode(
         output=output, pdf=chosen_pdf, exploration=eps, max_pdf=best_pdf, density_traded=np.maximum(traded, 0.0)
     )
+
+
+def _evaluate_flat(
+    y: np.ndarray, terms: tuple[np.ndarray, ...], precision: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One output: P_DMM and its first and second derivatives at F points y (F,), each (F,).
+
+    ``terms`` from :meth:`_Donuts.flat_terms` (restricted to the same points); ``precision`` (K, 1).
+    The sums of :meth:`_Donuts.evaluate`, laid out (K, F) with the points contiguous.
+    """
+    m, w_a, w_b, r_a2, r_b2 = terms
+    diff = y - m  # (K, F)
+    u = diff * precision
+    q = diff * u
+    a = np.exp(q * (-0.5 * r_a2))
+    a *= w_a
+    b = np.exp(q * (-0.5 * r_b2))
+    b *= w_b
+    pdf = (a - b).sum(axis=0)
+    a *= r_a2
+    b *= r_b2
+    c1 = a - b  # a r_a^2 - b r_b^2
+    grad = -(c1 * u).sum(axis=0)
+    a *= r_a2
+    b *= r_b2
+    a -= b  # a r_a^4 - b r_b^4
+    a *= u
+    a *= u
+    c1 *= precision
+    a -= c1
+    return pdf, grad, a.sum(axis=0)
+
+
+def _climb_1d(
+    donuts: _Donuts, y: np.ndarray, keep: np.ndarray, tol: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_climb` for one output, on the starts (S, N) marked in ``keep`` (S, N), flattened;
+    a start leaves the working set as soon as it has converged, so the work shrinks with every
+    iteration. Starts left out get pdf -inf."""
+    sigma = float(np.sqrt(donuts.eigenvalues.max()))
+    precision = donuts.precision[:, 0, 0][:, None]  # (K, 1)
+    n_starts, n = y.shape
+    index = np.flatnonzero(keep.reshape(-1))
+    query = index % n
+    y_all = y.reshape(-1).copy()
+    pdf_all = np.full(y_all.size, -np.inf)
+    terms = donuts.flat_terms(query)
+    y_c = y_all[index]
+    pdf_c, grad_c, hess_c = _evaluate_flat(y_c, terms, precision)
+    radius = 0.1 * np.sqrt(donuts.eigenvalues.min() / terms[4])
+    for _ in range(_MAX_NEWTON):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            step = np.where(hess_c < 0, -grad_c / np.where(hess_c < 0, hess_c, -1.0), np.sign(grad_c) * radius)
+        step = np.where(np.isfinite(step), step, np.sign(grad_c) * radius)
+        np.clip(step, -radius, radius, out=step)
+        trial = y_c + step
+        trial_pdf, trial_grad, trial_hess = _evaluate_flat(trial, terms, precision)
+        better = trial_pdf > pdf_c
+        np.copyto(y_c, trial, where=better)
+        np.copyto(pdf_c, trial_pdf, where=better)
+        np.copyto(grad_c, trial_grad, where=better)
+        np.copyto(hess_c, trial_hess, where=better)
+        length = np.abs(step)
+        radius = np.where(better, np.maximum(radius, 4.0 * length), 0.25 * length)
+        active = (length > tol * sigma) & (radius > tol * sigma)
+        if not active.all():
+            y_all[index] = y_c
+            pdf_all[index] = pdf_c
+            if not active.any():
+                break
+            index, y_c, pdf_c, grad_c, hess_c, radius = (
+                array[active] for array in (index, y_c, pdf_c, grad_c, hess_c, radius)
+            )
+            terms = tuple(term[..., active] for term in terms)
+    else:
+        y_all[index] = y_c
+        pdf_all[index] = pdf_c
+    return y_all.reshape(n_starts, n), pdf_all.reshape(n_starts, n)
 
 
 def _climb(donuts: _Donuts, y: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
@@ -368,7 +480,7 @@ def _climb(donuts: _Donuts, y: np.ndarray, tol: float) -> tuple[np.ndarray, np.n
         pdf = np.where(better, trial_pdf, pdf)
         grad = np.where(better[..., None], trial_grad, grad)
         hess = np.where(better[..., None, None], trial_hess, hess)
-        radius = np.where(better, np.maximum(radius, 2.0 * length), 0.25 * length)
+        radius = np.where(better, np.maximum(radius, 4.0 * length), 0.25 * length)
         active &= (length > tol * sigma) & (radius > tol * sigma)
         if not active.any():
             break
