@@ -73,6 +73,17 @@ def test_from_columns_validates_in_bulk():
         Dataset.from_columns({"time": np.arange(4.0)}, ["a", "a"], [2, 2])
 
 
+def test_take_keeps_order_metadata_and_read_only_columns():
+    trajectory = _trajectory("a", 1.0, 5, subject="s1")
+    taken = trajectory.take(np.array([0, 2, 3]))
+    np.testing.assert_array_equal(taken["angle"], trajectory["angle"][[0, 2, 3]])
+    assert taken.meta == {"subject": "s1"} and taken.columns == trajectory.columns
+    assert not taken["time"].flags.writeable
+    assert len(trajectory.take(2)) == 1
+    with pytest.raises(InputError, match="'a': no samples selected"):
+        trajectory.take(slice(3, 3))
+
+
 def test_equals_sees_a_changed_value_or_meta():
     dataset = Dataset([_trajectory("a", 1.0, subject="s1")])
     other_value = dataset.replace([dataset[0].with_columns(angle=dataset[0]["angle"] + 1e-12)])

@@ -144,8 +144,19 @@ class Trajectory:
         return replace(self, data=data)
 
     def take(self, index: np.ndarray | slice) -> Trajectory:
-        """A copy holding only the samples selected by ``index`` (a slice, mask or indices)."""
-        return replace(self, data={name: values[index] for name, values in self.data.items()})
+        """A copy holding only the samples selected by ``index`` (a slice, mask or indices).
+
+        Samples of a valid trajectory stay valid, so only the length is checked (the cleaning
+        steps call this for every trajectory).
+        """
+        data = {}
+        for name, values in self.data.items():
+            selected = np.atleast_1d(values[index])
+            selected.setflags(write=False)
+            data[name] = selected
+        if not next(iter(data.values())).size:
+            raise InputError(f"trajectory {self.id!r}: no samples selected")
+        return Trajectory._trusted(self.id, data, dict(self.meta))
 
 
 class Dataset(Sequence[Trajectory]):
