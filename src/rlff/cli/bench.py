@@ -26,12 +26,14 @@ def learning(
         METHODS_BY_FEEDBACK,
         format_table,
         learning_benchmark,
+        prepare_backend,
         runs_as_dicts,
         summary,
     )
 
     if quick:
         seeds, budget = min(seeds, 2), min(budget, 12)
+    prepare_backend(backend)  # a missing cluster package fails before the progress display
     total = seeds * len(BASKETS) * sum(len(m) for m in METHODS_BY_FEEDBACK.values())
     with progress("learning benchmark", total=total) as advance:
         runs = learning_benchmark(seeds, budget=budget, jobs=jobs, backend=backend,

@@ -102,7 +102,7 @@ def learning_benchmark(
     methods = METHODS_BY_FEEDBACK if methods is None else methods
     cases = [(m, f, float(b), s) for s in range(seeds) for b in baskets
              for f, names in methods.items() for m in names]
-    _prepare_backend(backend)
+    prepare_backend(backend)
     try:  # results as they come, for the progress display, where the backend can stream them
         parallel = joblib.Parallel(n_jobs=jobs, backend=backend, return_as="generator")
     except ValueError:
@@ -118,7 +118,7 @@ def learning_benchmark(
     return runs
 
 
-def _prepare_backend(backend: str | None) -> None:
+def prepare_backend(backend: str | None) -> None:
     """Register the cluster backends joblib does not know by itself."""
     if backend == "ray":
         try:
