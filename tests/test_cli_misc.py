@@ -15,6 +15,22 @@ from rlff.report import FigureEntry, Run, Section, write_run
 pytestmark = pytest.mark.slow
 
 
+@pytest.fixture
+def rlff(capsys):
+    """``rlff(*args)``: the real entry point (``rlff.cli.main``) in this process, which saves the
+    interpreter start and the imports of a subprocess per call; ``cli`` runs a subprocess."""
+    from conftest import CliResult
+    from rlff.cli import main
+
+    def run(*args: str) -> CliResult:
+        capsys.readouterr()
+        code = main(list(args))
+        captured = capsys.readouterr()
+        return CliResult(code, captured.out, captured.err)
+
+    return run
+
+
 def one_line_error(result, *fragments: str) -> str:
     """The single error line of a failed command; checks exit code 2 and no traceback."""
     assert result.code == 2, (result.code, result.stdout, result.stderr)
@@ -74,23 +90,23 @@ def test_report_builds_html_from_a_run(cli, tmp_path):
     assert "r.html" in result.stdout
 
 
-def test_report_bad_input(cli, tmp_path):
-    one_line_error(cli("report", str(tmp_path / "absent")), "absent: no such run directory")
-    one_line_error(cli("report", str(tmp_path)), "no run.json")
+def test_report_bad_input(rlff, tmp_path):
+    one_line_error(rlff("report", str(tmp_path / "absent")), "absent: no such run directory")
+    one_line_error(rlff("report", str(tmp_path)), "no run.json")
     (tmp_path / "run.json").write_text('{"format": "rlff-run", "version": 9}')
-    one_line_error(cli("report", str(tmp_path)), "unsupported version 9")
+    one_line_error(rlff("report", str(tmp_path)), "unsupported version 9")
 
 
 # -- rlff plot ----------------------------------------------------------------------------------
 
 
-def test_plot_dataset_writes_both_figures(cli, throws_csv, tmp_path):
-    files = written(cli("plot", "dataset", str(throws_csv), "-o", str(tmp_path / "fig" / "demos"), "--json"))
+def test_plot_dataset_writes_both_figures(rlff, throws_csv, tmp_path):
+    files = written(rlff("plot", "dataset", str(throws_csv), "-o", str(tmp_path / "fig" / "demos"), "--json"))
     assert sorted(p.name for p in files) == ["demos-3d.png", "demos-3d.svg", "demos-slices.png", "demos-slices.svg"]
     assert all(p.stat().st_size > 1000 for p in files)
 
 
-def test_plot_learning_from_logs(cli, tmp_path):
+def test_plot_learning_from_logs(rlff, tmp_path):
     logs = []
     for method, misses in (("calibrate", [-0.4, -0.1, 0.0]), ("imitation", [-0.5, -0.5])):
         path = tmp_path / f"{method}.jsonl"
@@ -99,21 +115,21 @@ def test_plot_learning_from_logs(cli, tmp_path):
         lines += [{"attempt": i + 1, "miss": m, "hit": m == 0.0} for i, m in enumerate(misses)]
         path.write_text("".join(json.dumps(line) + "\n" for line in lines) + '{"attempt": 4, "mi')  # crash mid-write
         logs.append(str(path))
-    files = written(cli("plot", "learning", *logs, "--tolerance", "0.14", "-o", str(tmp_path / "curves"), "--json"))
+    files = written(rlff("plot", "learning", *logs, "--tolerance", "0.14", "-o", str(tmp_path / "curves"), "--json"))
     assert [p.suffix for p in files] == [".png", ".svg"]
     assert "calibrate" in files[1].read_text() and "imitation" in files[1].read_text()
 
     other = tmp_path / "other.jsonl"
     other.write_text('{"format": "rlff-attempts", "run": {"basket": {"distance": 3.0}, "update": "x"}}\n')
-    one_line_error(cli("plot", "learning", logs[0], str(other), "-o", str(tmp_path / "x")), "different baskets")
-    one_line_error(cli("plot", "learning", str(tmp_path / "none.jsonl"), "-o", str(tmp_path / "x")),
+    one_line_error(rlff("plot", "learning", logs[0], str(other), "-o", str(tmp_path / "x")), "different baskets")
+    one_line_error(rlff("plot", "learning", str(tmp_path / "none.jsonl"), "-o", str(tmp_path / "x")),
                    "none.jsonl: no such attempts log")
     (tmp_path / "bad.jsonl").write_text('{"format": "something else"}\n')
-    one_line_error(cli("plot", "learning", str(tmp_path / "bad.jsonl"), "-o", str(tmp_path / "x")),
+    one_line_error(rlff("plot", "learning", str(tmp_path / "bad.jsonl"), "-o", str(tmp_path / "x")),
                    "not an rlff attempts log")
 
 
-def test_plot_throw_from_the_sim_json(cli, tmp_path):
+def test_plot_throw_from_the_sim_json(rlff, tmp_path):
     from rlff.robot import RobotMapping, load_robot
     from rlff.sim import Basket, simulate_throw
 
@@ -123,30 +139,70 @@ def test_plot_throw_from_the_sim_json(cli, tmp_path):
     outcome = simulate_throw(trajectory, Basket(1.8), check_reach=False)
     record = tmp_path / "outcome.json"
     record.write_text(json.dumps(outcome.to_dict(), default=float))
-    files = written(cli("plot", "throw", str(record), "-o", str(tmp_path / "throw"), "--json"))
+    files = written(rlff("plot", "throw", str(record), "-o", str(tmp_path / "throw"), "--json"))
     assert files[0].name == "throw.png"
     record.write_text("{broken")
-    one_line_error(cli("plot", "throw", str(record), "-o", str(tmp_path / "t")), "outcome.json: not valid JSON")
+    one_line_error(rlff("plot", "throw", str(record), "-o", str(tmp_path / "t")), "outcome.json: not valid JSON")
     record.write_text('{"hit": true}')
-    one_line_error(cli("plot", "throw", str(record), "-o", str(tmp_path / "t")), "missing or malformed field")
+    one_line_error(rlff("plot", "throw", str(record), "-o", str(tmp_path / "t")), "missing or malformed field")
 
 
-def test_plot_bad_input(cli, throws_csv, tmp_path):
-    one_line_error(cli("plot", "dataset", str(tmp_path / "none.csv"), "-o", str(tmp_path / "x")), "none.csv: no such file")
-    one_line_error(cli("plot", "kmeans-em", str(throws_csv), "--k", "2,x", "-o", str(tmp_path / "x")),
+@pytest.fixture
+def model_json(throws_csv, tmp_path) -> Path:
+    from rlff.dataset import read_csv
+    from rlff.model import Model
+
+    path = tmp_path / "model.json"
+    Model.fit(read_csv(throws_csv), components=2, seed=0).save(path)
+    return path
+
+
+def test_plot_model_figures(rlff, throws_csv, model_json, tmp_path):
+    for kind, *args in (
+        ("components", str(model_json), str(throws_csv), "--distance", "2.5"),
+        ("dmm", str(model_json), "--distance", "3.0", "--data", str(throws_csv)),
+        ("outputs", str(model_json), "--distances", "1.5,3.0,4.5", "--data", str(throws_csv)),
+        ("kmeans-em", str(throws_csv), "--k", "2,3", "--distance", "2.5"),
+        ("bic", str(throws_csv), "--max-components", "3"),
+        ("donuts", "--eps", "0,0.5,1"),
+    ):
+        files = written(rlff("plot", kind, *args, "-o", str(tmp_path / kind), "--json"))
+        assert [p.name for p in files] == [f"{kind}.png", f"{kind}.svg"], kind
+        assert files[0].stat().st_size > 5000
+
+
+def test_plot_preprocess_runs_the_pipeline(rlff, tmp_path):
+    from rlff.synthetic.throws import simulate_throws
+
+    raw = tmp_path / "raw.csv"
+    write_csv(simulate_throws(0, subjects=2, distances=(1.0, 2.0, 3.0), throws_per_distance=2), raw)
+    files = written(rlff("plot", "preprocess", str(raw), "--preset", "thesis", "-o", str(tmp_path / "steps"), "--json"))
+    svg = files[1].read_text()
+    for step in ("spike_filter", "crop", "cut_release"):
+        assert step in svg
+
+
+def test_plot_bad_input(rlff, throws_csv, tmp_path):
+    one_line_error(rlff("plot", "dataset", str(tmp_path / "none.csv"), "-o", str(tmp_path / "x")), "none.csv: no such file")
+    one_line_error(rlff("plot", "kmeans-em", str(throws_csv), "--k", "2,x", "-o", str(tmp_path / "x")),
                    "--k: 'x' is not a number")
-    one_line_error(cli("plot", "preprocess", str(throws_csv), "--preset", "thesis", "--config", "a.toml",
+    one_line_error(rlff("plot", "preprocess", str(throws_csv), "--preset", "thesis", "--config", "a.toml",
                        "-o", str(tmp_path / "x")), "either --preset or --config")
+    one_line_error(rlff("plot", "donuts", "--eps", "0,2", "-o", str(tmp_path / "x")), "exploration factor 2 is outside [0, 1]")
+    one_line_error(rlff("plot", "outputs", str(tmp_path / "none.json"), "--distances", "2", "-o", str(tmp_path / "x")),
+                   "none.json")
+    one_line_error(rlff("plot", "kmeans-em", str(throws_csv), "--distance", "9", "-o", str(tmp_path / "x")),
+                   "no trajectories at distance = 9 (values: 1.5, 2.5, 3.5)")
 
 
-def test_every_plot_kind_has_help(cli):
-    result = cli("plot", "--help")
+def test_every_plot_kind_has_help(rlff):
+    result = rlff("plot", "--help")
     assert result.code == 0
     kinds = ["dataset", "components", "kmeans-em", "bic", "donuts", "dmm", "outputs", "preprocess", "learning", "throw"]
     for kind in kinds:
         assert kind in result.stdout
     for kind in kinds[:3]:
-        assert cli("plot", kind, "--help").code == 0
+        assert rlff("plot", kind, "--help").code == 0
 
 
 # -- rlff demo ----------------------------------------------------------------------------------

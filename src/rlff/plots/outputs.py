@@ -4,9 +4,9 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 from matplotlib.lines import Line2D
@@ -143,3 +143,41 @@ def output_trajectories(
             ncols=4,
         )
     return save(figure, out)
+
+
+def model_outputs(
+    model: Any,
+    distances: Sequence[float],
+    out: str | Path,
+    *,
+    dataset: Dataset | None = None,
+    angles: np.ndarray | None = None,
+    continuity: bool = False,
+) -> SavedFigure:
+    """:func:`output_trajectories` of a model's throws for several basket distances.
+
+    Parameters
+    ----------
+    model : rlff.model.Model
+        A model with one context input (the distance) and one output (the velocity).
+    distances : sequence of float
+        Basket distances (m); distances outside the data are welcome (extrapolation).
+    out : path
+        File stem of the PNG and SVG.
+    dataset : Dataset, optional
+        The demonstrations, drawn behind the outputs.
+    angles : array of shape (T,), optional
+        Angle grid (rad); default the model's fitted range.
+    continuity : bool
+        Keep each throw continuous where two modes are nearly as high (see ``Model.generate``).
+    """
+    if len(model.context_names) != 1 or len(model.outputs) != 1:
+        raise InputError(
+            f"the outputs figure needs a model with one context input and one output, this one has "
+            f"context {list(model.context_names)} and outputs {list(model.outputs)}"
+        )
+    if not distances:
+        raise InputError("no distances to generate throws for")
+    (context,) = model.context_names
+    paths = {float(d): model.generate({context: float(d)}, angles, continuity=continuity) for d in distances}
+    return output_trajectories(paths, out, dataset=dataset, x=model.inputs[0], y=model.outputs[0], context=context)
