@@ -314,7 +314,7 @@ def dmm_mode(
     continuity: bool | float = False,
     *,
     gamma: float = GAMMA,
-    tol: float = 1e-7,
+    tol: float = 1e-5,
 ) -> DonutMode:
     """The output of highest P_DMM density for every input, found for all inputs at once.
 
@@ -336,7 +336,7 @@ def dmm_mode(
         Donut weight (> 1).
     tol : float
         A start stops when its step is below ``tol`` times the largest component standard
-        deviation (the density is then flat to about tol^2: far below the 1e-6 asked for).
+        deviation (the density is then within about tol^2 of the top: far below the 1e-6 asked for).
 
     Returns
     -------
@@ -430,22 +430,30 @@ def _climb_1d(
     terms = donuts.flat_terms(query)
     y_c = y_all[index]
     pdf_c, grad_c, hess_c = _evaluate_flat(y_c, terms, precision)
-    radius = 0.1 * np.sqrt(donuts.eigenvalues.min() / terms[4])
+    # First trust radius: the narrowest donut's standard deviation for a Newton step, a tenth of it
+    # for a gradient step, so that a start climbs its own hill rather than leaping over a valley.
+    radius = np.where(hess_c < 0, 1.0, 0.1) * np.sqrt(donuts.eigenvalues.min() / terms[4])
     for _ in range(_MAX_NEWTON):
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            step = np.where(hess_c < 0, -grad_c / np.where(hess_c < 0, hess_c, -1.0), np.sign(grad_c) * radius)
+            # Newton on ln P: a peak of a sum of Gaussians is nearly quadratic in the log
+            curvature = hess_c * pdf_c - grad_c**2  # P^2 (ln P)''
+            step = np.where(curvature < 0, -grad_c * pdf_c / np.where(curvature < 0, curvature, -1.0),
+                            np.sign(grad_c) * radius)
         step = np.where(np.isfinite(step), step, np.sign(grad_c) * radius)
         np.clip(step, -radius, radius, out=step)
         trial = y_c + step
         trial_pdf, trial_grad, trial_hess = _evaluate_flat(trial, terms, precision)
         better = trial_pdf > pdf_c
+        # a short step that changes the density by less than 1e-10 of itself ends the climb:
+        # the top is reached far within the 1e-6 asked for
+        flat = (np.abs(trial_pdf - pdf_c) <= 1e-10 * pdf_c) & (np.abs(step) <= 1e-3 * sigma)
         np.copyto(y_c, trial, where=better)
         np.copyto(pdf_c, trial_pdf, where=better)
         np.copyto(grad_c, trial_grad, where=better)
         np.copyto(hess_c, trial_hess, where=better)
         length = np.abs(step)
         radius = np.where(better, np.maximum(radius, 4.0 * length), 0.25 * length)
-        active = (length > tol * sigma) & (radius > tol * sigma)
+        active = (length > tol * sigma) & (radius > tol * sigma) & ~flat
         if not active.all():
             y_all[index] = y_c
             pdf_all[index] = pdf_c
