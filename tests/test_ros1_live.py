@@ -248,6 +248,23 @@ def test_ctrl_c_cancels_the_goal_and_the_arm_stops(ros, tmp_path):
     assert "cancelled: arm stopped" in ros.server_log.read_text()
 
 
+def test_timeout_cancels_the_goal(ros, tmp_path):
+    path = _throw(tmp_path, "slower.csv", -1.2, 2.4, 0.05)  # about 20 s
+    sent = plan_file(path, period=0)[0].trajectory
+    assert sent.duration > 15
+
+    def cancels() -> int:
+        return ros.server_log.read_text().count("cancelled: arm stopped")
+
+    before = cancels()
+    result = ros.rlff("robot", "send", str(path), "--timeout", "8", "--json")
+    assert result.returncode == 1, result.stderr
+    outcome = json.loads(result.stdout)
+    assert outcome["status"] == "timed out" and outcome["duration"] == pytest.approx(sent.duration)
+    assert "goal timed out: timed out; goal cancelled" in result.stderr
+    assert cancels() == before + 1  # the server stopped the arm
+
+
 def test_a_newer_goal_preempts_the_running_one(ros, tmp_path):
     slow = _throw(tmp_path, "slow.csv", -1.2, 2.4, 0.3)
     quick = _throw(tmp_path, "quick.csv", 0.3, -0.3, 1.0)
