@@ -4,8 +4,8 @@
 
 (a) EM fit: rlff.GaussianMixture against scikit-learn's GaussianMixture, same K, tol 1e-3,
     k-means++ seeding refined by k-means on both sides (sklearn's init_params="kmeans"), D = 3,
-    N = 5,000 and 1,000,000, K = 3 and 10. Target: time ratio <= 1.0, mean log-likelihood no
-    worse than sklearn's by more than 1e-3.
+    N = 5,000 and 1,000,000, K = 3 and 10, over several seeds (the same on both sides). Target:
+    time ratio <= 1.0, mean log-likelihood no worse than sklearn's by more than 1e-3.
 (b) GMR at 100,000 queries (2 inputs, 1 output): rlff.condition (weights, means, covariances, the
     mean and the total variance) against gmr's GMM.predict (means only). Target: >= 10x faster.
 (c) DMM mode at 1,000 queries of the thesis' synthetic model: rlff.dmm_mode against one scipy
@@ -50,6 +50,9 @@ def mixture_samples(n: int, d: int, k: int, seed: int) -> np.ndarray:
 
 
 def bench_em(sizes: list[int], repeats: int) -> list[dict]:
+    """EM from k-means++ + k-means on both sides. The initialisation is random, so every case
+    runs several seeds (the same seeds on both sides) and reports the mean time and the mean and
+    worst difference of the mean log-likelihood per sample (rlff - sklearn)."""
     from sklearn.mixture import GaussianMixture as SkMixture
 
     from rlff.mixture import GaussianMixture
@@ -58,21 +61,22 @@ def bench_em(sizes: list[int], repeats: int) -> list[dict]:
     for n in sizes:
         for k in (3, 10):
             X = mixture_samples(n, 3, k, seed=n + k)
-            runs = 1 if n > 100_000 else repeats
-            ours_t = theirs_t = np.inf
-            for _ in range(runs):
-                t, ours = best_time(lambda X=X, k=k: GaussianMixture(k, tol=1e-3, random_state=0).fit(X), 1)
-                ours_t = min(ours_t, t)
+            seeds = range(2) if n > 100_000 else range(max(repeats, 5))
+            ours_t, theirs_t, deltas = [], [], []
+            for seed in seeds:
+                t, ours = best_time(lambda X=X, k=k, s=seed: GaussianMixture(k, tol=1e-3, random_state=s).fit(X), 1)
+                ours_t.append(t)
                 t, theirs = best_time(
-                    lambda X=X, k=k: SkMixture(k, tol=1e-3, init_params="kmeans", random_state=0).fit(X), 1
+                    lambda X=X, k=k, s=seed: SkMixture(k, tol=1e-3, init_params="kmeans", random_state=s).fit(X), 1
                 )
-                theirs_t = min(theirs_t, t)
-            delta = ours.score(X) - theirs.score(X)
+                theirs_t.append(t)
+                deltas.append(ours.score(X) - theirs.score(X))
+            ratio = float(np.mean(ours_t) / np.mean(theirs_t))
             rows.append({
-                "case": f"(a) EM N={n:,} K={k}", "rlff_s": ours_t, "peer_s": theirs_t,
-                "ratio": ours_t / theirs_t, "target": "ratio <= 1.0",
-                "quality": f"dLL/sample {delta:+.2e} (iters {ours.n_iter_} vs {theirs.n_iter_})",
-                "ok": ours_t <= theirs_t and delta >= -1e-3,
+                "case": f"(a) EM N={n:,} K={k} ({len(seeds)} seeds)", "rlff_s": float(np.mean(ours_t)),
+                "peer_s": float(np.mean(theirs_t)), "ratio": ratio, "target": "ratio <= 1.0",
+                "quality": f"dLL/sample mean {np.mean(deltas):+.1e}, worst {np.min(deltas):+.1e}",
+                "ok": ratio <= 1.0 and np.mean(deltas) >= -1e-3,
             })
             print_row(rows[-1])
     return rows

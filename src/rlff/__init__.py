@@ -26,7 +26,9 @@ _EXPORTS = {
     "dmm_pdf": "rlff.donut",
     "dmm_mode": "rlff.donut",
     "exploration_factor": "rlff.donut",
+    "DonutMode": "rlff.donut",
     "Model": "rlff.model",
+    "GeneratedPath": "rlff.model",
     "Dataset": "rlff.dataset",
     "Trajectory": "rlff.dataset",
 }
