@@ -156,3 +156,13 @@ def test_cma_rebuilt_from_the_history_proposes_what_the_original_would(failed_de
         history.append(fake_attempt(index, proposal, 1.5 + 0.05 * index))
     rebuilt = CmaSearch(problem)
     assert rebuilt.propose(history).info["x"] == original.propose(history).info["x"]
+
+
+def test_uncleaned_demonstrations_are_refused_naming_the_throw():
+    angle = np.array([0.8, 0.7, 0.9, 1.2, 1.6, 1.8])  # a wind-up: the angle goes back first
+    demos = Dataset([
+        Trajectory(f"raw{i}", {"angle": angle, "distance": np.full(6, 1.0 + i),
+                               "velocity": np.full(6, 5.0)}) for i in range(2)
+    ])
+    with pytest.raises(InputError, match="'raw0' is not one throw up to its release.*preset thesis"):
+        learn(demos, 1.5)

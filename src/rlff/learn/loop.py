@@ -308,7 +308,13 @@ def _require_demos_within_limits(demos: Dataset, mapping) -> None:
     """
     for demo in demos:
         angle = demo["angle"]
-        _, report = mapping.to_robot(angle, _forward_velocity(angle, demo["velocity"]), clip=True)
+        try:
+            _, report = mapping.to_robot(angle, _forward_velocity(angle, demo["velocity"]), clip=True)
+        except InputError as exc:
+            raise InputError(
+                f"demonstration {demo.id!r} is not one throw up to its release ({exc}); clean "
+                "the demonstrations first (rlff data preprocess --preset thesis, or --preset)"
+            ) from None
         if report.count("position"):
             positions = mapping.angle_offset + mapping.angle_scale * angle[[0, -1]]
             raise InputError(
