@@ -120,3 +120,17 @@ def test_missing_throwing_field_names_it(tmp_path):
     path.write_text(template.replace("velocity_scale =", "# velocity_scale ="))
     with pytest.raises(InputError, match=r"robot.toml: \[throwing\]: missing field 'velocity_scale'"):
         RobotMapping.for_robot(load_robot(path))
+
+
+def test_velocity_dipping_against_the_path_needs_clip_and_is_reported(robot):
+    m = mapping(robot)  # velocity_scale 0.25
+    angle = np.linspace(0.0, 2.0, 5)
+    velocity = np.array([-0.04, 1.0, 2.0, 1.0, -0.02])  # a model's dip below 0 at both stops
+    with pytest.raises(InputError, match=r"velocity at sample 0 \(-0.04 rad/s\) moves against the path "
+                                         r"\(2 samples do\); clipping sets them to 0"):
+        m.to_robot(angle, velocity)
+    traj, report = m.to_robot(angle, velocity, clip=True)
+    assert [(c.point, c.quantity, c.before, c.after) for c in report.changes] == [
+        (0, "velocity", -0.01, 0.0), (4, "velocity", -0.005, 0.0)]
+    np.testing.assert_allclose(traj.velocities[:, 1], [0.0, 0.25, 0.5, 0.25, 0.0])
+    np.testing.assert_allclose(traj.time, time_along_path(angle, np.clip(velocity, 0, None)) * 2.0)

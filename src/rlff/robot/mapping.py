@@ -18,7 +18,7 @@ import numpy as np
 from rlff.errors import InputError
 from rlff.robot.description import Robot, number_field
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.limits import ClipReport, clip_to_limits, require_within_limits
+from rlff.trajectory.limits import ClipReport, LimitChange, clip_to_limits, require_within_limits
 from rlff.trajectory.timing import time_along_path
 
 
@@ -112,7 +112,8 @@ class RobotMapping:
         clip : bool
             Clip positions and velocities into the limits instead of raising; the timing is
             kept (a clipped joint saturates, as a controller would) and a joint held at a
-            position limit gets velocity 0.
+            position limit gets velocity 0. A velocity against the direction of the path (a
+            model's dip below 0 at a stop) is set to 0 first (an error without ``clip``).
 
         Returns
         -------
@@ -125,10 +126,14 @@ class RobotMapping:
         Raises
         ------
         InputError
-            NaN, a non-monotonic angle, a bad time, or (without ``clip``) a point beyond a limit.
+            NaN, a non-monotonic angle, a bad time, or (without ``clip``) a point beyond a limit
+            or a velocity against the path.
         """
         angle = np.asarray(angle, dtype=float)
-        velocity = np.asarray(velocity, dtype=float)
+        velocity = np.array(velocity, dtype=float)
+        backward = self._backward(angle, velocity, clip)
+        original_velocity = velocity.copy()
+        velocity[backward] = 0.0
         if time is None:
             human_time = time_along_path(angle, velocity)
         else:
@@ -152,11 +157,29 @@ class RobotMapping:
             require_within_limits(traj, self.robot.joints)
             return traj, ClipReport()
         clipped, report = clip_to_limits(traj, self.robot.joints)
+        stopped = [LimitChange(int(i), self.joint, "velocity", float(self.velocity_scale * before), 0.0)
+                   for i, before in zip(backward, original_velocity[backward], strict=True)]
+        report = ClipReport(tuple(sorted(report.changes + tuple(stopped),
+                                         key=lambda c: (c.point, c.joint, c.quantity))))
         if not report:
             return traj, report
         return (JointTrajectory(clipped.joint_names, clipped.time, clipped.positions,
                                 clipped.velocities, _accelerations(clipped.time, clipped.velocities)),
                 report)
+
+    def _backward(self, angle: np.ndarray, velocity: np.ndarray, clip: bool) -> np.ndarray:
+        """Samples whose velocity points against the path (a model's dip below 0 at a stop).
+
+        Without ``clip`` they are an error; with it they are set to 0 (the joint at rest there)
+        and reported.
+        """
+        direction = np.sign(angle[-1] - angle[0]) if angle.ndim == 1 and angle.size > 1 else 0.0
+        backward = np.flatnonzero(velocity * direction < 0) if velocity.shape == angle.shape else np.array([], int)
+        if backward.size and not clip:
+            i = int(backward[0])
+            raise InputError(f"velocity at sample {i} ({velocity[i]:g} rad/s) moves against the path "
+                             f"({backward.size} samples do); clipping sets them to 0 (--clip)")
+        return backward
 
     def from_robot(self, traj: JointTrajectory) -> tuple[np.ndarray, np.ndarray]:
         """The human (angle (rad), velocity (rad/s)) of a robot trajectory, each of shape (T,).
