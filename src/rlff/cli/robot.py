@@ -97,7 +97,8 @@ def serve(
     hook = _mujoco_throw(model, basket) if sim == "mujoco" else None
 
     def ready() -> None:
-        say(f"serving {ACTION_NAMESPACE} and {TOPIC} for {model.name} ({sim} arm, {rate:g} Hz); Ctrl-C stops")
+        arm = "kinematic arm" + (", each finished throw simulated in MuJoCo" if hook else "")
+        say(f"serving {ACTION_NAMESPACE} and {TOPIC} for {model.name} ({arm}, {rate:g} Hz); Ctrl-C stops")
 
     try:
         run_server(model, mapping.pose(0.0), rate, hook, on_ready=ready)

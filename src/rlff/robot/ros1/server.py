@@ -162,7 +162,13 @@ class TrajectoryServer:
                 return
             self._active = None
         # the completion hook (a MuJoCo throw) may take a while: not under the lock
-        text = self.on_complete(active.trajectory) if self.on_complete else "trajectory completed"
+        text = "trajectory completed"
+        if self.on_complete:
+            try:
+                text = self.on_complete(active.trajectory)
+            except Exception as exc:  # noqa: BLE001 - the arm did finish; the server must go on
+                text = f"trajectory completed; the completion hook failed: {exc}"
+                rospy.logerr(text)
         rospy.loginfo(text)
         if active.handle is None:
             return
