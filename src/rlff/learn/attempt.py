@@ -30,9 +30,11 @@ class Attempt:
     hit : bool
         The ball ended in the basket.
     landing : float
-        First landing point along the throwing direction (m).
+        First landing point along the throwing direction (m); NaN when the ball never came down
+        through the rim's height, and as a method sees it under binary feedback.
     miss : float
-        Signed miss (m): negative short of the basket, positive beyond it, 0 for a hit.
+        Signed miss (m): negative short of the basket, positive beyond it, 0 for a hit; NaN
+        like ``landing``.
     exploration : float
         Mean DMM exploration factor along the generated path (0 for baselines without one).
     clipped : int
