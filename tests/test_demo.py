@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from rlff.dataset import read_csv
+from rlff.demo import STAGES
 from rlff.model import Model
 from rlff.report import read_run
 
@@ -28,17 +29,27 @@ class _Images(HTMLParser):
             self.sources.append(dict(attrs)["src"])
 
 
-@pytest.fixture(scope="module")
-def demo(tmp_path_factory) -> tuple[Path, dict, str]:
+def run_small_demo(out: Path) -> tuple[Path, dict, str]:
     from conftest import run_cli
 
-    out = tmp_path_factory.mktemp("demo") / "rlff-demo"
     result = run_cli("demo", "--small", "--out", str(out), "--seed", "3", "--json", timeout=600)
     assert result.code == 0, result.stderr
     return out, json.loads(result.stdout), result.stderr
 
 
-def test_demo_writes_a_complete_run(demo):
+def test_demo_small_end_to_end(tmp_path):
+    """One demo run (it takes a while), every check on it; one test so that xdist never runs the
+    demo twice for one set of checks."""
+    demo = run_small_demo(tmp_path / "rlff-demo")
+    check_complete_run(demo)
+    check_numbers_agree_with_files(demo)
+    check_report_embeds_every_figure(demo)
+    check_report_in_chromium(demo, tmp_path)
+    _, _, stderr = demo
+    assert f"{len(STAGES)}/{len(STAGES)}" in stderr  # the progress display reached every stage
+
+
+def check_complete_run(demo) -> None:
     out, summary, _ = demo
     for name in ("report.html", "run.json", "demos.csv", "clean.csv", "model.json"):
         assert (out / name).is_file(), name
@@ -55,7 +66,7 @@ def test_demo_writes_a_complete_run(demo):
     assert sorted(summary["figures"]) == sorted(str(out / f.file) for f in run.figures)
 
 
-def test_demo_numbers_agree_with_its_files(demo):
+def check_numbers_agree_with_files(demo) -> None:
     out, summary, _ = demo
     raw = read_csv(out / "demos.csv")
     clean = read_csv(out / "clean.csv")
@@ -83,7 +94,7 @@ def test_demo_numbers_agree_with_its_files(demo):
         assert run_row["hit"] == json.loads(lines[-1])["hit"]
 
 
-def test_demo_report_embeds_every_figure(demo):
+def check_report_embeds_every_figure(demo) -> None:
     out, _, _ = demo
     parser = _Images()
     parser.feed((out / "report.html").read_text())
@@ -92,11 +103,19 @@ def test_demo_report_embeds_every_figure(demo):
     assert all(source.startswith("data:image/png;base64,") for source in parser.sources)
 
 
-def test_demo_shows_progress_and_a_summary_table(demo, cli, tmp_path):
-    _, _, stderr = demo
-    assert "rlff demo" in stderr or "done" in stderr  # the progress display
-    # the human-readable end: a summary table on stdout (a second, quick run into another folder)
-    result = cli("-q", "demo", "--small", "--out", str(tmp_path / "again"))
+def test_demo_prints_a_summary_table(cli, tmp_path):
+    result = cli("-q", "demo", "--small", "--out", str(tmp_path / "human"))
     assert result.code == 0, result.stderr
     for fragment in ("simulated throws", "executed in MuJoCo", "Learning from failure at", "report:"):
         assert fragment in result.stdout
+    assert result.stderr.strip() == ""  # -q: no progress display
+
+
+def check_report_in_chromium(demo, tmp_path: Path) -> None:
+    from test_report_browser import assert_clean_page, open_in_chromium
+
+    out, _, _ = demo
+    check = open_in_chromium(out / "report.html", tmp_path / "demo-report.png")
+    assert_clean_page(check, len(read_run(out).figures))
+    assert check.headings == ["Demonstrations", "Preprocessing", "Model", "Generated throws",
+                              "Simulated robot throws", "Learning from failure"]

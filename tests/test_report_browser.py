@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import shutil
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -96,44 +97,66 @@ def report(tmp_path) -> tuple[Path, int]:
     return build_report(run_dir, tmp_path / "report.html"), len(saved)
 
 
-def test_report_renders_in_chromium(report, tmp_path):
+@dataclass
+class PageCheck:
+    """What Chromium saw of a page."""
+
+    url: str
+    console_errors: list[str]
+    page_errors: list[str]
+    requests: list[str]
+    failed_requests: list[str]
+    images: list[dict]
+    headings: list[str]
+    screenshot: Path
+
+
+def open_in_chromium(html_path: Path, screenshot: Path) -> PageCheck:
+    """Load ``html_path`` in headless Debian Chromium, collect errors, requests and images, and
+    take a full-page screenshot. Skips (or fails in CI) when Chromium is absent."""
     _require_chromium()
     from playwright.sync_api import sync_playwright
 
-    html_path, n_figures = report
     url = html_path.resolve().as_uri()
-    console_errors: list[str] = []
-    page_errors: list[str] = []
-    requests: list[str] = []
-    failed: list[str] = []
+    check = PageCheck(url, [], [], [], [], [], [], screenshot)
     with sync_playwright() as playwright:
         browser = playwright.chromium.launch(executable_path=str(CHROMIUM), args=CHROMIUM_ARGS)
         try:
             page = browser.new_page(viewport={"width": 1280, "height": 900})
-            page.on("console", lambda message: console_errors.append(message.text) if message.type == "error" else None)
-            page.on("pageerror", lambda error: page_errors.append(str(error)))
-            page.on("request", lambda request: requests.append(request.url))
-            page.on("requestfailed", lambda request: failed.append(request.url))
+            page.on("console", lambda m: check.console_errors.append(m.text) if m.type == "error" else None)
+            page.on("pageerror", lambda error: check.page_errors.append(str(error)))
+            page.on("request", lambda request: check.requests.append(request.url))
+            page.on("requestfailed", lambda request: check.failed_requests.append(request.url))
             page.goto(url, wait_until="load")
-            images = page.evaluate(
+            check.images = page.evaluate(
                 "Array.from(document.images).map(i => ({complete: i.complete, width: i.naturalWidth,"
                 " height: i.naturalHeight, alt: i.alt}))"
             )
-            headings = page.evaluate("Array.from(document.querySelectorAll('h2')).map(h => h.textContent)")
-            screenshot = tmp_path / "report.png"
+            check.headings = page.evaluate("Array.from(document.querySelectorAll('h2')).map(h => h.textContent)")
             page.screenshot(path=str(screenshot), full_page=True)
         finally:
             browser.close()
-    assert console_errors == [] and page_errors == []
-    assert failed == []
-    # the page itself and its embedded data: URIs; nothing from the network
-    assert all(u == url or u.startswith("data:") for u in requests), requests
-    assert len(images) == n_figures
-    for image in images:
-        assert image["complete"] and image["width"] > 0 and image["height"] > 0, image
-    assert headings == ["Demonstrations", "Preprocessing", "Learning"]
-    assert screenshot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert screenshot.stat().st_size > 10_000
     artefacts = os.environ.get("RLFF_TEST_ARTEFACTS")
     if artefacts:  # keep the screenshot for a person to look at
-        shutil.copy(screenshot, Path(artefacts) / "report-screenshot.png")
+        shutil.copy(screenshot, Path(artefacts) / f"{html_path.parent.name}-{screenshot.name}")
+    return check
+
+
+def assert_clean_page(check: PageCheck, n_images: int) -> None:
+    """No console or page error, no request beyond the page and its data: URIs, every image
+    decoded, a real screenshot."""
+    assert check.console_errors == [] and check.page_errors == []
+    assert check.failed_requests == []
+    assert all(u == check.url or u.startswith("data:") for u in check.requests), check.requests
+    assert len(check.images) == n_images
+    for image in check.images:
+        assert image["complete"] and image["width"] > 0 and image["height"] > 0, image
+    assert check.screenshot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert check.screenshot.stat().st_size > 10_000
+
+
+def test_report_renders_in_chromium(report, tmp_path):
+    html_path, n_figures = report
+    check = open_in_chromium(html_path, tmp_path / "report.png")
+    assert_clean_page(check, n_figures)
+    assert check.headings == ["Demonstrations", "Preprocessing", "Learning"]
