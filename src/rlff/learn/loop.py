@@ -96,8 +96,8 @@ class LearningResult:
         return {
             "hit": self.hit,
             "attempts": self.attempts,
-            "misses": self.misses,
-            "landings": [a.landing for a in self.history],
+            "misses": [_json_number(m) for m in self.misses],
+            "landings": [_json_number(a.landing) for a in self.history],
             "exploration": [a.exploration for a in self.history],
             "target": self.target,
             "feedback": self.feedback,
@@ -389,3 +389,8 @@ def _as_reported(attempt: Attempt, feedback: str) -> Attempt:
     if feedback == "distance":
         return attempt
     return replace(attempt, landing=math.nan, miss=math.nan)
+
+
+def _json_number(value: float) -> float | None:
+    """None for NaN (a throw with no landing point), which JSON cannot hold."""
+    return float(value) if math.isfinite(value) else None
