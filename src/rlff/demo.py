@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import platform
+import shutil
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
@@ -261,7 +262,7 @@ def run_demo(
     size: str = "full",
     seed: int = 0,
     progress: Callable[[str, int, int], None] | None = None,
-    frames: bool = False,
+    frames: bool = True,
 ) -> DemoSummary:
     """Run the whole chain on built-in data and write figures, ``run.json`` and ``report.html``.
 
@@ -278,8 +279,9 @@ def run_demo(
         ``progress(stage, done, total)`` as each stage of :data:`STAGES` starts (and
         ``("done", total, total)`` at the end).
     frames : bool
-        Also render the learned throw with MuJoCo's offscreen renderer (needs an OpenGL
-        backend; slow on a CPU renderer); a drawing is always made.
+        Also render the learned throw with MuJoCo's offscreen renderer (frames and a GIF in
+        ``figures/frames``, one frame beside the drawing); skipped when no OpenGL backend works.
+        The drawing is always made.
 
     Returns
     -------
@@ -454,9 +456,11 @@ def _figures(
         attempt = best.history[-1]
         from rlff.sim import Basket, simulate_throw
 
-        trajectory, _ = mapping.to_robot(attempt.angle, _forward(attempt.velocity), None, clip=True)
+        trajectory, _ = mapping.to_robot(attempt.angle, _forward(attempt.velocity), attempt.time, clip=True)
+        frames_dir = figures_dir / "frames"
+        shutil.rmtree(frames_dir, ignore_errors=True)  # no stale frames of an earlier run
         outcome = simulate_throw(trajectory, Basket(learning_distance), robot=robot, check_reach=False,
-                                 frames_dir=figures_dir / "frames" if frames else None)
+                                 frames_dir=frames_dir if frames else None)
         add(throw_snapshot_from_outcome(outcome, figures_dir / "learned-throw", robot=robot,
                                         title=f"The learned throw at {learning_distance:g} m ({best.update})"),
             "learning", "The learned throw", "The hit found by the learning loop, executed again in MuJoCo.")
@@ -464,7 +468,8 @@ def _figures(
 
 
 def _tolerance() -> float:
-    """Half-width (m) of the landing window that counts as a hit for the demo's basket."""
+    """Half-width (m) of the landing window of a hit for the demo's basket, as the learning loop
+    counts it: half the opening less the ball's radius (shaded in the learning curve)."""
     from rlff.sim import Basket
     from rlff.sim.arm import BALL_RADIUS
 

@@ -18,7 +18,7 @@ def demo_command(
     out: Path = typer.Option(Path("rlff-demo"), "--out", "-o", help="Folder for the report, figures, data and model."),
     small: bool = typer.Option(False, "--small", help="A quick version: fewer people, baskets and learning runs."),
     seed: int = typer.Option(0, "--seed", help="Seed of the simulated people, the fits and the learning runs."),
-    frames: bool = typer.Option(False, "--frames", help="Also render the learned throw with MuJoCo (needs OpenGL; slow on a CPU)."),
+    frames: bool = typer.Option(True, "--frames/--no-frames", help="Render the learned throw with MuJoCo beside its drawing (needs OpenGL)."),
     as_json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
 ) -> None:
     """Simulated failed demonstrations → cleaning → model → throws → simulated robot → learning → report."""
@@ -60,7 +60,10 @@ def demo_command(
         learning.add_column(column)
     for row in summary.learning:
         result = f"hit at attempt {row.attempts}" if row.hit else f"no hit in {row.attempts}"
-        learning.add_row(row.method, row.feedback, result, " ".join(f"{m:+.2f}" for m in row.misses))
+        misses = [f"{m:+.2f}" for m in row.misses]
+        if len(misses) > 6:  # keep the table short: the report has them all
+            misses = [*misses[:3], "…", *misses[-2:]]
+        learning.add_row(row.method, row.feedback, result, " ".join(misses))
     console.print(learning)
     console.print(f"report: {summary.report}  ({len(summary.figures)} figures, {summary.seconds:.0f} s)", highlight=False)
     say(f"open it with: xdg-open {summary.report}")
