@@ -417,7 +417,9 @@ def _figures(
         [(s.step, s.before, s.after if s.after is not None else s.before, s.summary()) for s in preprocessing.steps],
         figures_dir / "preprocessing"), "preprocessing", "Each cleaning step, before and after",
         "Grey: the data entering a step; coloured by distance: what leaves it (thesis section 4.3).")
-    add(dataset_3d(clean, figures_dir / "clean-3d"), "preprocessing", "The cleaned demonstrations in 3-D",
+    add(dataset_3d(clean, figures_dir / "clean-3d",
+                   title=f"After cleaning: {len(clean)} throws, {clean.n_samples} samples"),
+        "preprocessing", "The cleaned demonstrations in 3-D",
         "What the model learns from: (angle, distance, velocity) of every kept throw up to the release "
         "(thesis fig. 4.43, 4.47).")
     add(selection_curve(model.selection.table, figures_dir / "bic"), "model", "Choosing K",
