@@ -198,6 +198,11 @@ class _Clock:
             self.progress(name, STAGES.index(name), len(STAGES))
         self._current = (name, time.perf_counter())
 
+    def note(self, text: str) -> None:
+        """Tell ``progress`` what the current stage is doing, without ending it."""
+        if self.progress is not None and self._current is not None:
+            self.progress(text, STAGES.index(self._current[0]), len(STAGES))
+
     def _close(self) -> None:
         if self._current is not None:
             name, began = self._current
@@ -276,8 +281,9 @@ def run_demo(
     seed : int
         Seed of the simulated people, the fits and the learning runs.
     progress : callable, optional
-        ``progress(stage, done, total)`` as each stage of :data:`STAGES` starts (and
-        ``("done", total, total)`` at the end).
+        ``progress(stage, done, total)`` as each stage of :data:`STAGES` starts, with a longer
+        description during long stages (each learning attempt), and ``("done", total, total)``
+        at the end.
     frames : bool
         Also render the learned throw with MuJoCo's offscreen renderer (frames and a GIF in
         ``figures/frames``, one frame beside the drawing); skipped when no OpenGL backend works.
@@ -352,8 +358,14 @@ def run_demo(
     for method, feedback in plan.methods:
         log = out_dir / "attempts" / f"{method}.jsonl"
         log.unlink(missing_ok=True)
-        result = learn(clean, learning_distance, budget=plan.budget, feedback=feedback, update=method,
-                       seed=seed, log_path=log, robot=robot.name)
+        result = learn(
+            clean, learning_distance, budget=plan.budget, feedback=feedback, update=method, seed=seed,
+            log_path=log, robot=robot.name,
+            progress=lambda attempt, method=method: clock.note(
+                f"learning at {learning_distance:g} m: {method}, attempt {attempt.index}"
+                f" ({'hit' if attempt.hit else f'miss {attempt.miss:+.2f} m'})"
+            ),
+        )
         results[method] = result
         learning.append(LearningRow(method, feedback, result.hit, result.attempts, list(result.misses)))
 
