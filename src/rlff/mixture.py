@@ -271,7 +271,7 @@ def _lloyd(Z: np.ndarray, weights: np.ndarray, centres: np.ndarray) -> np.ndarra
         shift = ((new - centres) ** 2).sum()
         centres = new
         labels = _assign(Z, sq_norms, centres)
-        if shift <= _KMEANS_TOL * d:
+        if shift <= _KMEANS_TOL:  # the columns are standardised: mean variance 1
             break
     return labels
 
