@@ -251,6 +251,10 @@ def test_kmeans_em_steps_one_column_per_k(tmp_path):
     assert centres == [(0, 0), (0, 2), (2, 0)]  # EM finds the three blobs
     assert panels[2].get_xlabel() == "joint angle ξ (rad)" and panels[0].get_ylabel() == "joint velocity ξ̇ (rad/s)"
 
+    subset = kmeans_em_steps(points, tmp_path / "subset", ks=(2,), max_points=100)
+    assert sum(len(c.get_offsets()) for c in subset.figure.get_axes()[0].collections) == 100
+    assert "(100 of 180 samples, drawn at random)" in subset.figure.get_suptitle()
+
 
 @pytest.mark.parametrize(("criterion", "chosen"), [("bic", 2), ("aic", 3)])
 def test_selection_curve_marks_the_minimum(tmp_path, criterion, chosen):

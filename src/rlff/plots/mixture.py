@@ -73,6 +73,7 @@ def kmeans_em_steps(
     ks: Sequence[int] = (2, 3, 4),
     columns: tuple[str, str] = ("angle", "velocity"),
     seed: int = 0,
+    max_points: int = 3000,
 ) -> SavedFigure:
     """k-means clusters (top row) and the Gaussian mixture EM makes of them (bottom row), per K.
 
@@ -90,7 +91,9 @@ def kmeans_em_steps(
         Numbers of components, one column each.
     columns : (x, y) column names, for the axis labels.
     seed : int
-        Seed of k-means and EM.
+        Seed of k-means, EM and the subset.
+    max_points : int
+        Larger sets are shown (and clustered) through a random subset of this size, said in the title.
     """
     points = np.asarray(points, dtype=float)
     if points.ndim != 2 or points.shape[1] != 2:
@@ -99,6 +102,9 @@ def kmeans_em_steps(
         raise InputError("points hold NaN or inf")
     if not ks or min(ks) < 1 or max(ks) > points.shape[0]:
         raise InputError(f"numbers of components {list(ks)} must be between 1 and the {points.shape[0]} points")
+    n_points = points.shape[0]
+    if n_points > max_points:  # an illustration of the algorithms: a random subset reads as well
+        points = points[np.sort(np.random.default_rng(seed).choice(n_points, max_points, replace=False))]
     scale = points.std(axis=0)
     scale[scale == 0] = 1.0
     centre = points.mean(axis=0)
@@ -131,10 +137,11 @@ def kmeans_em_steps(
                 Line2D([], [], marker="X", color="grey", markeredgecolor="black", linestyle="none", label="k-means centre"),
                 Line2D([], [], marker="x", color="grey", linestyle="none", label="Gaussian mean, 1σ and 2σ ellipses"),
             ],
-            loc="outside upper right",
+            loc="outside lower center",
             ncols=2,
         )
-        figure.suptitle("Placing the components: k-means, then EM", x=0.02, horizontalalignment="left")
+        shown = f" ({points.shape[0]} of {n_points} samples, drawn at random)" if n_points > points.shape[0] else ""
+        figure.suptitle(f"Placing the components: k-means, then EM{shown}", x=0.02, horizontalalignment="left")
     return save(figure, out)
 
 
