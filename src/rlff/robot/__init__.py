@@ -1,6 +1,29 @@
-"""The robot side: robot description, human-to-robot mapping, exports, ROS 1 client and server."""
+"""The robot side: robot description, human-to-robot mapping, exports, ROS 1 client and server.
 
-from rlff.robot.description import Geometry, Joint, Robot, available_robots, load_robot
-from rlff.robot.mapping import RobotMapping
+The public names are imported on first use (PEP 562) so that importing a submodule such as
+``rlff.robot.description`` does not load the mapping's SciPy dependencies.
+"""
 
-__all__ = ["Geometry", "Joint", "Robot", "RobotMapping", "available_robots", "load_robot"]
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+# public name -> module that defines it
+_EXPORTS = {
+    "Geometry": "rlff.robot.description",
+    "Joint": "rlff.robot.description",
+    "Robot": "rlff.robot.description",
+    "available_robots": "rlff.robot.description",
+    "load_robot": "rlff.robot.description",
+    "RobotMapping": "rlff.robot.mapping",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'rlff.robot' has no attribute {name!r}")
+    return getattr(importlib.import_module(module), name)
