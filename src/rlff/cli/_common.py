@@ -12,9 +12,9 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
 from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+# numpy and rich.progress are imported where they are used so that `rlff --help` starts fast
 
 
 @dataclass
@@ -45,6 +45,8 @@ def say(message: str) -> None:
 
 
 def _jsonable(value: Any) -> Any:
+    import numpy as np
+
     if isinstance(value, np.ndarray):
         return value.tolist()
     if isinstance(value, np.generic):
@@ -69,6 +71,8 @@ def progress(description: str, total: int | None) -> Iterator[Callable[..., None
     if verbosity.quiet:
         yield lambda *args, **kwargs: None
         return
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
     bar = Progress(
         TextColumn("[progress.description]{task.description}"),
         BarColumn(),

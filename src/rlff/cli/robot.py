@@ -3,14 +3,19 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
 
 from rlff.cli._common import emit_json, progress, say, stderr, stdout
-from rlff.robot.description import DEFAULT_ROBOT, load_robot
-from rlff.robot.formats import FORMATS, export_trajectory
-from rlff.robot.mapping import RobotMapping
-from rlff.robot.plan import RobotPlan, plan_file
+
+if TYPE_CHECKING:
+    from rlff.robot.plan import RobotPlan
+
+# The library (SciPy, pandas, rosbags) is imported inside the commands so that `rlff` starts fast;
+# these copies of its constants are checked against it by tests/test_cli_startup.py.
+DEFAULT_ROBOT = "comau_smart5_six"  # rlff.robot.description.DEFAULT_ROBOT
+FORMATS = ("json", "csv", "ros1-bag", "ros2-bag", "comau")  # rlff.robot.formats.FORMATS
 
 app = typer.Typer(help="The robot: its limits, exports, and live ROS 1 (serve / send).", no_args_is_help=True)
 
@@ -29,6 +34,9 @@ def _report(result: RobotPlan) -> None:
 @app.command()
 def show(robot: str = ROBOT, json: bool = JSON) -> None:
     """Print the robot's joints, limits and default throwing mapping."""
+    from rlff.robot.description import load_robot
+    from rlff.robot.mapping import RobotMapping
+
     model = load_robot(robot)
     mapping = RobotMapping.for_robot(model) if model.throwing else None
     if json:
@@ -64,6 +72,9 @@ def export(
     json: bool = JSON,
 ) -> None:
     """Map a generated trajectory to the robot and write it as JSON, CSV, a ROS bag or a Comau program."""
+    from rlff.robot.formats import export_trajectory
+    from rlff.robot.plan import plan_file
+
     result, mapping = plan_file(trajectory, robot, period, clip)
     export_trajectory(result.trajectory, mapping, fmt, out)
     _report(result)
@@ -84,6 +95,8 @@ def serve(
 ) -> None:
     """Run the FollowJointTrajectory action server of a simulated arm until Ctrl-C."""
     from rlff.errors import InputError
+    from rlff.robot.description import load_robot
+    from rlff.robot.mapping import RobotMapping
 
     model = load_robot(robot)
     mapping = RobotMapping.for_robot(model)
@@ -141,6 +154,8 @@ def send(
     json: bool = JSON,
 ) -> None:
     """Send a generated trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels)."""
+    from rlff.robot.plan import plan_file
+
     result, mapping = plan_file(trajectory, robot, period, clip)
     _report(result)
     _require_ros()

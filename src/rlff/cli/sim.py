@@ -7,9 +7,9 @@ from pathlib import Path
 import typer
 
 from rlff.cli._common import emit_json, say, stdout
-from rlff.robot.description import DEFAULT_ROBOT, load_robot
+from rlff.cli.robot import DEFAULT_ROBOT
 
-# rlff.sim (MuJoCo) is imported inside the commands: other commands do not pay for it
+# The library (MuJoCo, SciPy) is imported inside the commands: other commands do not pay for it
 
 app = typer.Typer(help="Simulate throws in MuJoCo: outcome, frames, reach.", no_args_is_help=True)
 
@@ -38,6 +38,7 @@ def throw(
     json: bool = JSON,
 ) -> None:
     """Execute a trajectory on the simulated robot and report where the ball lands."""
+    from rlff.robot.description import load_robot
     from rlff.sim import Basket, simulate_throw
     from rlff.sim.inputs import load_throw
 
@@ -79,6 +80,7 @@ def reach(
     json: bool = JSON,
 ) -> None:
     """How far the robot throws: where the ball comes down to the rim's height, at best."""
+    from rlff.robot.description import load_robot
     from rlff.sim import throw_reach
     from rlff.sim.reach import farthest_basket
 
