@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
@@ -13,6 +15,7 @@ from rlff.preprocess import (
     cut_release,
     densify,
     find_spikes,
+    largest_change,
     longest_monotonic,
     min_points,
     monotonic_run,
@@ -86,6 +89,52 @@ def test_crop_between_global_minimum_and_maximum():
     np.testing.assert_array_equal(out["up"]["angle"], [0.7, 1.2, 2.8, 3.0])
     np.testing.assert_array_equal(out["down"]["angle"], [3.0, 2.0, 1.0])
     assert [(c.trajectory, c.removed) for c in report.samples] == [("up", 3), ("down", 1)]
+
+
+def test_crop_increasing_takes_the_extension_after_a_straight_arm_at_rest():
+    # the arm hangs nearly straight (3.0) before the wind-up: the global maximum comes first, and
+    # the global extremes would keep the wind-up (falling); the largest rise is the extension
+    angle = [3.0, 2.9, 2.0, 1.0, 0.8, 1.5, 2.6, 2.9, 2.7]
+    data = _one(_throw("rest-first", angle, velocity=np.arange(9.0)))
+    old, _ = crop(data)
+    np.testing.assert_array_equal(old["rest-first"]["angle"], [3.0, 2.9, 2.0, 1.0, 0.8])
+    out, report = crop(data, direction="increasing")
+    np.testing.assert_array_equal(out["rest-first"]["angle"], [0.8, 1.5, 2.6, 2.9])
+    np.testing.assert_array_equal(out["rest-first"]["velocity"], [4.0, 5.0, 6.0, 7.0])
+    (change,) = report.samples
+    assert (change.removed, change.reason) == (5, "kept samples 4-7, the largest rise of angle")
+    assert report.params == {"column": "angle", "direction": "increasing"}
+
+
+def test_crop_increasing_is_the_largest_rise_not_the_global_minimum():
+    # the global minimum (0.2) is followed by a rise of 0.2 only; the rise 0.5 -> 1.0 is larger
+    assert largest_change(np.array([2.0, 0.5, 1.0, 0.2, 0.4]), "increasing") == (1, 2)
+    assert largest_change(np.array([2.0, 0.5, 1.0, 0.2, 0.4]), "any") == (0, 3)
+    # the largest fall, from the highest sample to the lowest after it
+    assert largest_change(np.array([1.0, 3.0, 2.0, 0.5, 0.7]), "decreasing") == (1, 3)
+    # first occurrences of tied extremes
+    assert largest_change(np.array([1.0, 0.5, 0.5, 2.0, 2.0]), "increasing") == (1, 3)
+
+
+def test_crop_without_a_rise_keeps_one_sample_for_min_points_to_remove():
+    data = Dataset([_throw("falls", [3.0, 2.0, 1.0]), _throw("flat", [2.0, 2.0]), _throw("one", [1.0])])
+    out, report = crop(data, direction="increasing")
+    assert [len(t) for t in out] == [1, 1, 1]
+    assert [(c.trajectory, c.removed) for c in report.samples] == [("falls", 2), ("flat", 1)]
+    kept, removal = min_points(out, min_points=2)
+    assert len(kept) == 0 and [r.trajectory for r in removal.removed] == ["falls", "flat", "one"]
+
+
+@given(st.lists(st.floats(-10, 10, allow_nan=False), min_size=1, max_size=30))
+def test_largest_change_matches_every_pair(values):
+    values = np.array(values)
+    first, last = largest_change(values, "increasing")
+    assert first <= last
+    rises = values[None, :] - values[:, None]  # rises[i, j] = values[j] - values[i]
+    best = max(0.0, float(np.max(np.triu(rises))))
+    assert values[last] - values[first] == best
+    first, last = largest_change(values, "decreasing")
+    assert values[first] - values[last] == max(0.0, float(np.max(np.triu(-rises))))
 
 
 def test_longest_monotonic_run():
@@ -238,6 +287,25 @@ def test_reject_contexts_along_one_of_two_context_columns():
     assert len(out) == 7
     with pytest.raises(InputError, match="'speed' is not a context column"):
         reject_contexts(data, column="speed")
+
+
+def test_reject_contexts_scatter_is_judged_subject_by_subject():
+    # subject "b" throws twice as fast as "a"; only 3 m has both: scattered, unless each throw
+    # is compared with its own subject's speed
+    trajectories = []
+    for d, subjects in ((1.0, "a"), (2.0, "a"), (3.0, "ab"), (4.0, "b"), (5.0, "b")):
+        for subject in subjects:
+            for k, noise in enumerate((0.99, 1.01)):
+                level = noise * (2.0 if subject == "b" else 1.0)
+                trajectory = _throw(f"{subject}-{d:g}-{k}", np.linspace(0.7, 2.0, 5), np.full(5, level), d)
+                trajectories.append(trajectory.replace(meta={"subject": subject}))
+    data = Dataset(trajectories)
+    _, naive = reject_contexts(data, trend="none", by_subject=False)
+    assert [r.context for r in naive.contexts] == [{"distance": 3.0}]
+    # spread at 3 m: median distance 0.495 from the median 1.495; elsewhere 1 %
+    assert "scatter 33.1 times more" in naive.contexts[0].reason
+    fair, report = reject_contexts(data, trend="none")
+    assert report.contexts == [] and fair.equals(data)
 
 
 def test_reject_contexts_compares_subjects_with_themselves():

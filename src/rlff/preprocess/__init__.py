@@ -15,7 +15,14 @@ from rlff.preprocess.report import (
     StepReport,
 )
 from rlff.preprocess.reshape import cut_release, densify, rescale, stop_point
-from rlff.preprocess.segment import balance, crop, longest_monotonic, min_points, monotonic_run
+from rlff.preprocess.segment import (
+    balance,
+    crop,
+    largest_change,
+    longest_monotonic,
+    min_points,
+    monotonic_run,
+)
 
 __all__ = [
     "STEPS",
@@ -32,6 +39,7 @@ __all__ = [
     "cut_release",
     "densify",
     "find_spikes",
+    "largest_change",
     "longest_monotonic",
     "min_points",
     "monotonic_run",

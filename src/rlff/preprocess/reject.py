@@ -138,9 +138,11 @@ def reject_contexts(
         their number), so that sparse, noisy recordings do not lose good contexts to chance.
     by_subject : bool
         When every trajectory has a ``subject``, divide each trajectory's mean velocity by its
-        subject's median (times the overall median, to stay in rad/s) before comparing contexts:
-        a fast thrower then does not lift a basket's level, and the levels' standard errors
-        measure throw-to-throw variation only (the thesis' plan: every subject at every basket).
+        subject's median (times the overall median, to stay in rad/s) before comparing contexts,
+        and its velocity curve by the same factor: a fast thrower then does not lift a basket's
+        level, a basket thrown by a fast and a slow subject does not look scattered, and the
+        levels' standard errors measure throw-to-throw variation only (the thesis' plan: every
+        subject at every basket).
     max_spread_ratio : float
         A context stands apart when its trajectories scatter more than this many times the
         median scatter of the contexts (scatter: the median RMS distance of a context's
@@ -184,7 +186,9 @@ def reject_contexts(
     curves = {c: np.stack([_on_band(t, angle_column, velocity_column, grid) for t in g]) for c, g in groups.items()}
     means = {c: np.mean(v, axis=1) for c, v in curves.items()}
     if by_subject:
-        means = _per_subject(means, {c: [t.meta.get("subject") for t in g] for c, g in groups.items()})
+        factors = _subject_factors(means, {c: [t.meta.get("subject") for t in g] for c, g in groups.items()})
+        means = {c: m * factors[c] for c, m in means.items()}
+        curves = {c: v * factors[c][:, None] for c, v in curves.items()}
     levels = {c: float(np.median(m)) for c, m in means.items()}
     errors = {
         c: _MAD_TO_SIGMA * float(np.median(np.abs(m - levels[c]))) / np.sqrt(m.size) for c, m in means.items()
@@ -224,21 +228,20 @@ def _grouped(dataset: Dataset, axis: int, bin_width: float) -> dict[tuple[float,
     return dict(sorted(groups.items()))
 
 
-def _per_subject(means: dict, subjects: dict) -> dict:
-    """Trajectory means over their subject's median, times the overall median (unchanged when a
-    trajectory has no subject)."""
+def _subject_factors(means: dict, subjects: dict) -> dict:
+    """Per context, each trajectory's factor that brings its subject's median mean velocity to the
+    overall median (all ones when a trajectory has no subject or a median is not positive)."""
+    ones = {c: np.ones(m.size) for c, m in means.items()}
     every = [s for names in subjects.values() for s in names]
     if any(s is None for s in every):
-        return means
+        return ones
     values = np.concatenate(list(means.values()))
     labels = np.array([str(s) for s in every])
     overall = float(np.median(values))
     medians = {name: float(np.median(values[labels == name])) for name in set(labels.tolist())}
     if any(m <= 0 for m in medians.values()) or overall <= 0:
-        return means
-    return {
-        c: m / np.array([medians[str(s)] for s in subjects[c]]) * overall for c, m in means.items()
-    }
+        return ones
+    return {c: overall / np.array([medians[str(s)] for s in subjects[c]]) for c in means}
 
 
 def _band(dataset: Dataset, angle_column: str, points: int = 50) -> np.ndarray:

@@ -1,6 +1,7 @@
 """Steps 2-5 (thesis 4.2.1.1): isolate the throw in each recording and keep the usable ones.
 
-2. crop between the global minimum and maximum of the angle (spurious motion before and after);
+2. crop to the largest rise of the angle, from the wind-up's minimum to the extension's maximum
+   (spurious motion before and after);
 3. keep the longest monotonic interval between local extrema (fluctuations inside the crop);
 4. drop trajectories with too few points (too sparse to model);
 5. balance: at most a number of trajectories per context (the thesis kept ten per basket).
@@ -17,26 +18,74 @@ from rlff.errors import InputError
 from rlff.preprocess.report import StepReport
 
 
-def crop(dataset: Dataset, *, column: str = "angle") -> tuple[Dataset, StepReport]:
-    """Keep each trajectory's samples from its global minimum to its global maximum of ``column``.
+def crop(
+    dataset: Dataset,
+    *,
+    column: str = "angle",
+    direction: Literal["any", "increasing", "decreasing"] = "any",
+) -> tuple[Dataset, StepReport]:
+    """Keep each trajectory's largest change of ``column``: from where it starts to where it ends.
 
-    Both extremes are kept, in the recorded order (from the maximum to the minimum when the
-    maximum comes first). The first occurrence of each extreme is used.
+    Parameters
+    ----------
+    dataset : Dataset
+    column : str
+    direction : {"any", "increasing", "decreasing"}
+        "increasing": the largest rise, from the lowest sample to the highest one after it (the
+        thesis' "from the minimal to the maximal extension of the arm", rlff's elbow angle growing
+        as the arm extends). A recording that starts with the arm already stretched at rest has
+        its global maximum before the wind-up's minimum; the rise that follows the wind-up is
+        still the largest one, so the rest before it is cut away. "decreasing": the largest fall.
+        "any": from the global minimum to the global maximum, in the recorded order (from the
+        maximum to the minimum when the maximum comes first), the largest change either way.
+
+    The first occurrence of each extreme is used. A trajectory that never moves in
+    ``direction`` keeps its first sample only, so that the minimum-points step removes it with
+    its reason.
     """
     dataset.require([column])
-    report = StepReport("crop", {"column": column}, dataset)
+    report = StepReport("crop", {"column": column, "direction": direction}, dataset)
     out = []
     for trajectory in dataset:
-        values = trajectory[column]
-        low, high = int(np.argmin(values)), int(np.argmax(values))
-        first, last = min(low, high), max(low, high)
+        first, last = largest_change(trajectory[column], direction)
         out.append(trajectory.take(slice(first, last + 1)))
         report.change_samples(
             trajectory.id, len(trajectory) - (last - first + 1), 0,
-            f"kept samples {first}-{last}, between the global minimum and maximum of {column}",
+            f"kept samples {first}-{last}, the largest {_CHANGE[direction]} of {column}",
         )
     report.after = dataset.replace(out)
     return report.after, report
+
+
+_CHANGE = {"any": "change (global minimum to maximum)", "increasing": "rise", "decreasing": "fall"}
+
+
+def largest_change(values: np.ndarray, direction: str = "any") -> tuple[int, int]:
+    """First and last index (inclusive) of the largest change of ``values`` in ``direction``.
+
+    Parameters
+    ----------
+    values : array of shape (T,)
+    direction : {"any", "increasing", "decreasing"}
+        "increasing": the pair ``i <= j`` with the largest ``values[j] - values[i]``;
+        "decreasing": with the largest ``values[i] - values[j]``; "any": the global minimum and
+        maximum, in their recorded order.
+
+    Returns
+    -------
+    (int, int)
+        ``(0, 0)`` when ``values`` never moves in ``direction``.
+    """
+    if direction == "any":
+        low, high = int(np.argmin(values)), int(np.argmax(values))
+        return min(low, high), max(low, high)
+    signed = values if direction == "increasing" else -values
+    # the rise to each sample from the lowest sample before it; its largest value ends the change
+    rise = signed - np.minimum.accumulate(signed)
+    last = int(np.argmax(rise))
+    if rise[last] <= 0:
+        return 0, 0
+    return int(np.argmin(signed[: last + 1])), last
 
 
 def longest_monotonic(
