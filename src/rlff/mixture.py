@@ -165,6 +165,8 @@ def log_density_coefficients(weights: np.ndarray, means: np.ndarray, covariances
     return coef
 
 
+#: Lowest log-responsibility relative to the largest (see :func:`normalise_log_weights`).
+_LOG_FLOOR = -700.0
 #: Rows per block of the E/M pass: keeps the (K, rows) work arrays in the CPU cache.
 _BLOCK = 8192
 
@@ -174,10 +176,14 @@ def normalise_log_weights(log_prob: np.ndarray, log_density: bool = True) -> tup
 
     Components run along the first axis so that the reductions over K are elementwise
     operations on contiguous rows. With ``log_density=False`` ln p is not computed (None).
+    Log-weights more than 700 below the largest are raised to that floor (a responsibility of
+    1e-304 instead of less): ``exp`` is ten times slower where its result underflows to
+    subnormal numbers or zero, and far from a component most values would.
     """
     peak = log_prob.max(axis=0)
     peak[~np.isfinite(peak)] = 0.0
     log_prob -= peak
+    np.maximum(log_prob, _LOG_FLOOR, out=log_prob)
     np.exp(log_prob, out=log_prob)
     total = log_prob.sum(axis=0)
     log_prob /= total

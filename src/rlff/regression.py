@@ -165,15 +165,19 @@ def condition(mixture: Any, inputs: Sequence[int], outputs: Sequence[int], X: np
             m_b = product[n_components:]
             h[:, block] = h_b
             component_means[:, block] = m_b
-            m_b = m_b.reshape(n_components, n_out, -1)
-            mean_b = (h_b[:, None, :] * m_b).sum(axis=0)  # (O, B)
-            mean[:, block] = mean_b
-            spread = m_b - mean_b
-            if n_out == 1:  # one output: plain products, no small matrices
-                spread *= spread
-                spread[:, 0] *= h_b
-                covariance[block, 0, 0] = spread.sum(axis=0)[0] + cond_cov[:, 0, 0] @ h_b
+            if n_out == 1:  # one output: plain (K, B) products, no small matrices
+                weighted = h_b * m_b
+                mean_b = weighted.sum(axis=0)
+                mean[0, block] = mean_b
+                m_b -= mean_b  # V = sum_k h_k (S_k + (m_k - m)^2)
+                np.multiply(h_b, m_b, out=weighted)
+                weighted *= m_b
+                covariance[block, 0, 0] = weighted.sum(axis=0) + cond_cov[:, 0, 0] @ h_b
             else:
+                m_b = m_b.reshape(n_components, n_out, -1)
+                mean_b = (h_b[:, None, :] * m_b).sum(axis=0)  # (O, B)
+                mean[:, block] = mean_b
+                spread = m_b - mean_b
                 covariance[block] = np.einsum("kn,kop->nop", h_b, cond_cov) + np.einsum(
                     "kn,kon,kpn->nop", h_b, spread, spread
                 )
