@@ -1,4 +1,5 @@
-"""The real MSR Action3D throws: one throw per high-throw file, in a plausible human range."""
+"""The real MSR Action3D throws: one throw per high-throw file, in a plausible human range; and the
+rounding of their estimated landing distances to baskets."""
 
 from __future__ import annotations
 
@@ -6,9 +7,8 @@ import numpy as np
 import pytest
 
 from rlff.capture import import_recordings
+from rlff.capture.label import LandingSettings, basket_from_landing
 from rlff.capture.skeleton_text import read_msr_text
-
-pytestmark = pytest.mark.realdata
 
 
 @pytest.fixture(scope="module")
@@ -21,6 +21,18 @@ def imported():
     return import_recordings(sorted(MSR_THROWS.glob("*_skeleton3D.txt")), "msr")
 
 
+def test_a_landing_estimate_is_rounded_to_the_nearest_basket():
+    settings = LandingSettings()
+    assert basket_from_landing(1.62, settings) == (1.5, "landing estimate, rounded to 0.25 m")
+    assert basket_from_landing(1.63, settings)[0] == 1.75
+    assert basket_from_landing(2.374, settings)[0] == 2.25
+    assert basket_from_landing(1.63, LandingSettings(distance_step=0.1)) == (1.6, "landing estimate, rounded to 0.1 m")
+    assert basket_from_landing(0.7, LandingSettings(distance_step=0.1))[0] == 0.7  # not 0.7000000000000001
+    assert basket_from_landing(1.63, LandingSettings(distance_step=0.0)) == (1.63, "landing estimate")
+    assert np.isnan(basket_from_landing(np.nan, settings)[0])
+
+
+@pytest.mark.realdata
 def test_one_throw_per_high_throw_file_in_a_human_range(imported):
     dataset, report = imported
     high_throws = [f for f in report.files if "a06_" in f.source]
@@ -34,15 +46,19 @@ def test_one_throw_per_high_throw_file_in_a_human_range(imported):
         assert 3.0 < throw.peak_velocity < 30.0  # rad/s: an elbow extension in 0.1-0.6 s
         assert 0.3 < throw.end - throw.start < 3.0
         assert throw.start <= throw.release <= throw.end
-        assert throw.distance_source == "landing estimate" and 0.5 < throw.landing < 5.0
+        assert throw.distance_source == "landing estimate, rounded to 0.25 m" and 0.5 < throw.landing < 5.0
+        assert abs(throw.distance - throw.landing) <= 0.125 and (throw.distance / 0.25).is_integer()
     by_id = {t.id: t for t in dataset}
     for file_report in high_throws:
         trajectory = by_id[file_report.throws[0].id]
         assert trajectory.meta["subject"].startswith("s") and "target" not in trajectory.meta
+        assert np.all(trajectory["distance"] == file_report.throws[0].distance)
+        assert trajectory.meta["landing"] == file_report.throws[0].landing
         assert trajectory["time"][0] == 0.0 and np.allclose(np.diff(trajectory["time"]), 1 / 15)
         assert trajectory["velocity"].max() > 3.0
 
 
+@pytest.mark.realdata
 def test_all_zero_frames_of_subject_02_are_dropped_and_reported(msr_dir):
     recording = read_msr_text(msr_dir / "a20_s02_e01_skeleton3D.txt")
     assert any("all arm joints at zero" in note for note in recording.notes)
@@ -50,6 +66,7 @@ def test_all_zero_frames_of_subject_02_are_dropped_and_reported(msr_dir):
     assert np.all(np.any(arm.elbow.position != 0, axis=1))
 
 
+@pytest.mark.realdata
 def test_the_import_runs_through_the_thesis_preprocessing(imported):
     preprocess = pytest.importorskip("rlff.preprocess")
     if not hasattr(preprocess, "Pipeline"):
@@ -58,6 +75,6 @@ def test_the_import_runs_through_the_thesis_preprocessing(imported):
     high_throws = dataset.replace(t for t in dataset if "a06_" in t.meta["source"])
     cleaned, report = preprocess.Pipeline.preset("thesis").run(high_throws)
     assert len(cleaned) > 0 and set(cleaned.columns) >= {"angle", "distance", "velocity"}
-    # most throws survive the per-trajectory cleaning (the later steps compare baskets)
+    # every throw survives the per-trajectory cleaning (the later steps compare baskets)
     (sparse,) = [step for step in report.steps if step.step == "min_points"]
-    assert len(sparse.after) >= 15
+    assert len(sparse.after) == 26

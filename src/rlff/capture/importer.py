@@ -24,6 +24,7 @@ from rlff.capture.bag import DEFAULT_FRAMES, DEFAULT_TOPIC, read_bag
 from rlff.capture.label import (
     LandingSettings,
     ManifestRow,
+    basket_from_landing,
     distance_from_name,
     estimate_release,
     is_downward,
@@ -178,7 +179,8 @@ def import_recordings(
     Returns
     -------
     dataset : Dataset
-        One trajectory per throw: ``time``, ``angle``, ``velocity``, ``distance``; metadata
+        One trajectory per throw: ``time``, ``angle``, ``velocity``, ``distance`` (the basket's,
+        or without one the landing estimate rounded to ``landing.distance_step``); metadata
         ``subject``, ``source``, ``target``/``hit`` (when the basket is known), ``landing``,
         ``distance_source``, ``release_time`` (s from the throw's start), ``start_time`` and
         ``end_time`` (s from the recording's first sample), ``arm``.
@@ -335,13 +337,15 @@ def _throw(
     release = estimate_release(motion, cut, recording.up, landing)
     landed = landing_distance(release, landing)
     row = manifest_entry(rows, recording.source, number, float(motion.time[cut.peak] - origin)) if rows else None
+    target: float | None = None
     if row is not None:
         target, source_of_distance = row.distance, "manifest"
     elif (named := distance_from_name(path)) is not None:
         target, source_of_distance = named, "file name"
+    if target is None:
+        distance, source_of_distance = basket_from_landing(landed, landing)
     else:
-        target, source_of_distance = None, "landing estimate"
-    distance = target if target is not None else landed
+        distance = target
     if not np.isfinite(distance):
         report.warnings.append(
             f"{path}: throw {number} at t={time[0] - origin:.2f} s left out: no basket distance and the ball "

@@ -8,7 +8,12 @@ Basket distance, in order of precedence:
    ``subject``;
 2. the file name: ``2.5m``, ``2_5m``, ``250cm`` as a separate part of the name
    (``user3_2.5m.bag``);
-3. none: the throw keeps its estimated landing distance instead.
+3. none: the throw's estimated landing distance, rounded to the nearest multiple of
+   ``distance_step`` (0.25 m, the spacing of the thesis' baskets), stands for its basket. A
+   continuous estimate would give every throw a basket of its own, and the cleaning steps and
+   the model that compare or condition on baskets need several throws per basket; the estimate
+   itself (from a 15-30 Hz hand velocity) is not finer than that anyway. The exact estimate
+   stays in the ``landing`` metadata.
 
 Release and landing: the ball leaves the hand when the hand is fastest during the extension
 (an overhand throw releases close to full speed). From the hand's position and velocity there,
@@ -34,11 +39,16 @@ from rlff.errors import InputError
 
 @dataclass(frozen=True)
 class LandingSettings:
-    """Assumptions of the landing estimate (m)."""
+    """Assumptions of the landing estimate (m).
+
+    ``distance_step``: a throw without a known basket gets its landing estimate rounded to the
+    nearest multiple of this as its distance (0 keeps the estimate as it is).
+    """
 
     shoulder_height: float = 1.4
     target_height: float = 0.0
     hit_radius: float = 0.15
+    distance_step: float = 0.25
 
 
 @dataclass(frozen=True)
@@ -127,6 +137,25 @@ def landing_distance(release: Release, settings: LandingSettings) -> float:
     return float(
         crossing_distance(release.forward, release.height, release.speed_horizontal, release.speed_vertical, settings.target_height)
     )
+
+
+def basket_from_landing(landing: float, settings: LandingSettings) -> tuple[float, str]:
+    """The distance (m) standing for the basket of a throw known only by its landing estimate.
+
+    Returns
+    -------
+    distance : float
+        ``landing`` rounded to the nearest multiple of ``settings.distance_step`` (as it is
+        when the step is 0; NaN stays NaN).
+    source : str
+        The ``distance_source`` metadata: ``landing estimate, rounded to 0.25 m`` (or
+        ``landing estimate`` when not rounded).
+    """
+    step = settings.distance_step
+    if step <= 0:
+        return landing, "landing estimate"
+    # rounded again: multiples of a step such as 0.1 are not exact in binary
+    return float(np.round(np.round(landing / step) * step, 10)), f"landing estimate, rounded to {step:g} m"
 
 
 _DISTANCE_IN_NAME = re.compile(r"(?:^|[_\-\s.])(\d+(?:[._,]\d+)?)(cm|m)(?=$|[_\-\s.])", re.IGNORECASE)
