@@ -1,4 +1,8 @@
-"""Which command groups make up ``rlff``; one module per group under ``rlff.cli``."""
+"""Which command groups make up ``rlff``; one module per group under ``rlff.cli``.
+
+Command modules import the library inside their commands, so that ``rlff --help`` and every
+command start without loading numpy, pandas, SciPy, MuJoCo or matplotlib up front.
+"""
 
 from __future__ import annotations
 
@@ -6,7 +10,7 @@ import importlib
 
 import typer
 
-# Modules that add commands to another module's group (``data import`` lives beside capture).
+# Modules that add commands to another module's group (``data import``, ``data synth thesis``).
 _EXTENSIONS = ["data_import", "synth_thesis"]
 
 # (module under rlff.cli, group name or None for top-level commands)
@@ -27,21 +31,12 @@ def register(app: typer.Typer) -> None:
     """Attach every group's commands to the root app.
 
     A group module exposes ``app`` (a sub-Typer, for groups) or ``register(root)`` (top-level
-    commands).
+    commands); an extension module adds commands to a group when imported.
     """
     for module_name in _EXTENSIONS:
-        try:
-            importlib.import_module(f"rlff.cli.{module_name}")
-        except ModuleNotFoundError as exc:
-            if exc.name != f"rlff.cli.{module_name}":
-                raise
+        importlib.import_module(f"rlff.cli.{module_name}")
     for module_name, group in _GROUPS:
-        try:
-            module = importlib.import_module(f"rlff.cli.{module_name}")
-        except ModuleNotFoundError as exc:
-            if exc.name == f"rlff.cli.{module_name}":
-                continue  # group not built yet
-            raise
+        module = importlib.import_module(f"rlff.cli.{module_name}")
         if group is None:
             module.register(app)
         else:

@@ -6,9 +6,7 @@ import math
 import warnings
 from pathlib import Path
 
-import numpy as np
 import typer
-from rich.table import Table
 
 from rlff.cli._common import emit_json, progress, say, stdout
 from rlff.errors import InputError
@@ -22,10 +20,8 @@ def _names(option: str, text: str) -> tuple[str, ...]:
 
 
 def _read(path: Path):
-    try:
-        from rlff.formats import read_dataset
-    except ImportError:
-        from rlff.dataset import read_csv as read_dataset
+    from rlff.formats import read_dataset
+
     return read_dataset(path)
 
 
@@ -42,7 +38,7 @@ def _context(items: list[str]) -> dict[str, float]:
     return context
 
 
-def _grid(text: str | None, first_input: str) -> np.ndarray | None:
+def _grid(text: str | None, first_input: str):
     if text is None:
         return None
     name, sep, spec = text.partition("=")
@@ -57,6 +53,8 @@ def _grid(text: str | None, first_input: str) -> np.ndarray | None:
         raise InputError(f"--grid: {spec!r} is not START:STOP:N with numbers") from None
     if not (math.isfinite(start) and math.isfinite(stop)) or count < 2 or start == stop:
         raise InputError(f"--grid: need finite START != STOP and N >= 2, got {spec!r}")
+    import numpy as np
+
     return np.linspace(start, stop, count)
 
 
@@ -115,6 +113,8 @@ def fit_command(
         emit_json(summary)
         return
     if model.selection is not None:
+        from rich.table import Table
+
         table = Table(title=f"Choosing K by {model.selection.criterion.upper()} (lowest wins)")
         for column in ("K", "BIC", "AIC", "ln L", "converged"):
             table.add_column(column, justify="right")
@@ -157,9 +157,9 @@ def generate_command(
         "points": len(path),
         "context": path.context,
         "duration": float(path.time[-1]),
-        "peak_velocity": float(np.max(path.velocity)),
-        "mean_exploration": float(np.mean(path.exploration)),
-        "max_density_traded": float(np.max(path.density_traded)),
+        "peak_velocity": float(path.velocity.max()),
+        "mean_exploration": float(path.exploration.mean()),
+        "max_density_traded": float(path.density_traded.max()),
         "notes": list(path.notes),
     }
     if as_json:
