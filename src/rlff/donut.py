@@ -37,6 +37,9 @@ GAMMA = 2.0
 #: Relative pdf tolerance within which two modes count as equally high (continuity option).
 CONTINUITY_TOLERANCE = 0.05
 _MAX_NEWTON = 60
+#: Lowest exponent of a donut term in the climb: exp is ten times slower where its result
+#: underflows, and a term below e^-700 (1e-304) changes no density that can win.
+_LOG_FLOOR = -700.0
 
 
 # -- exploration and radii -------------------------------------------------------------------
@@ -166,6 +169,7 @@ class _Donuts:
         base = self.h * np.exp(-0.5 * (self.o * math.log(2 * math.pi) + log_det))
         self.w_a = base * (gamma * self.r_a2 ** (self.o / 2))[:, None]  # (N, K)
         self.w_b = base * ((gamma - 1.0) * self.r_b2 ** (self.o / 2))[:, None]
+        self._flat: np.ndarray | None = None
 
     def ring_radius2(self) -> np.ndarray:
         """Squared Mahalanobis radius (N,) where one donut is highest (0: peak at the mean).
@@ -208,14 +212,24 @@ class _Donuts:
             hess = np.einsum("nsk,nsko,nskp->nsop", c2, u, u) - np.einsum("nsk,kop->nsop", c1, self.precision)
         return pdf, grad, hess
 
-    def flat_terms(self, query: np.ndarray) -> tuple[np.ndarray, ...]:
-        """For one output: each start's donut parameters, gathered by its input index (F,).
+    def flat_terms(self, query: np.ndarray) -> np.ndarray:
+        """For one output: each start's donut terms, gathered by its input index (F,).
 
-        Returns the means, the two term weights (K, F) and the squared radii (F,) of the starts'
-        inputs, laid out so that every operation of :func:`_evaluate_flat` runs over the starts.
+        Returns, stacked in one array (5, K, F), the means m_k, the log-weights ln w_a and ln w_b of the two
+        Gaussian terms and their quadratic coefficients -r^2 / (2 S_k), so that term k at y is
+        exp(ln w + coefficient (y - m_k)^2) and every operation of :func:`_evaluate_flat` runs
+        over the starts.
         """
-        m = self.m[query, :, 0].T
-        return m, self.w_a[query].T, self.w_b[query].T, self.r_a2[query], self.r_b2[query]
+        if self._flat is None:  # once per batch: (5, K, N) with the inputs last
+            half_precision = -0.5 * self.precision[:, 0, 0][:, None]  # (K, 1)
+            self._flat = np.empty((5, self.k, self.n))
+            self._flat[0] = self.m[:, :, 0].T
+            with np.errstate(divide="ignore"):  # a weight of 0 is a log-weight of -inf: a term of 0
+                np.log(self.w_a.T, out=self._flat[1])
+                np.log(self.w_b.T, out=self._flat[2])
+            np.multiply(half_precision, self.r_a2, out=self._flat[3])
+            np.multiply(half_precision, self.r_b2, out=self._flat[4])
+        return self._flat.take(query, axis=2)
 
     def starts(self, gmr_mean: np.ndarray) -> np.ndarray:
         """Starting points (N, S, O): each component's mean, the two points of its ring on each
@@ -383,89 +397,103 @@ def dmm_mode(
     )
 
 
-def _evaluate_flat(
-    y: np.ndarray, terms: tuple[np.ndarray, ...], precision: np.ndarray
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _evaluate_flat(y: np.ndarray, terms: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One output: P_DMM and its first and second derivatives at F points y (F,), each (F,).
 
-    ``terms`` from :meth:`_Donuts.flat_terms` (restricted to the same points); ``precision`` (K, 1).
-    The sums of :meth:`_Donuts.evaluate`, laid out (K, F) with the points contiguous.
+    ``terms`` from :meth:`_Donuts.flat_terms` (restricted to the same points). With d = y - m_k,
+    a_k = w_a exp(c_a d^2) and b_k = w_b exp(c_b d^2): P = sum (a - b),
+    P' = 2 sum d (c_a a - c_b b) and P'' = sum 2 (c_a a - c_b b) + 4 d^2 (c_a^2 a - c_b^2 b).
     """
-    m, w_a, w_b, r_a2, r_b2 = terms
+    m, log_a, log_b, c_a, c_b = terms
     diff = y - m  # (K, F)
-    u = diff * precision
-    q = diff * u
-    a = np.exp(q * (-0.5 * r_a2))
-    a *= w_a
-    b = np.exp(q * (-0.5 * r_b2))
-    b *= w_b
+    d2 = diff * diff
+    a = d2 * c_a
+    a += log_a
+    np.maximum(a, _LOG_FLOOR, out=a)  # see _LOG_FLOOR
+    np.exp(a, out=a)
+    b = d2 * c_b
+    b += log_b
+    np.maximum(b, _LOG_FLOOR, out=b)
+    np.exp(b, out=b)
     pdf = (a - b).sum(axis=0)
-    a *= r_a2
-    b *= r_b2
-    c1 = a - b  # a r_a^2 - b r_b^2
-    grad = -(c1 * u).sum(axis=0)
-    a *= r_a2
-    b *= r_b2
-    a -= b  # a r_a^4 - b r_b^4
-    a *= u
-    a *= u
-    c1 *= precision
-    a -= c1
-    return pdf, grad, a.sum(axis=0)
+    a *= c_a
+    b *= c_b
+    slope = a - b
+    diff *= slope
+    a *= c_a
+    b *= c_b
+    a -= b
+    a *= d2
+    grad = diff.sum(axis=0)
+    grad *= 2.0
+    hess = a.sum(axis=0)
+    hess *= 2.0
+    hess += slope.sum(axis=0)
+    hess *= 2.0
+    return pdf, grad, hess
 
 
 def _climb_1d(
     donuts: _Donuts, y: np.ndarray, keep: np.ndarray, tol: float
 ) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`_climb` for one output, on the starts (S, N) marked in ``keep`` (S, N), flattened;
-    a start leaves the working set as soon as it has converged, so the work shrinks with every
-    iteration. Starts left out get pdf -inf."""
+    """:func:`_climb` for one output, on the starts (S, N) marked in ``keep`` (S, N), flattened.
+
+    A start stops as soon as it has converged and keeps its point; the working set drops the
+    stopped starts whenever they are more than a quarter of it, so the work shrinks with the
+    iterations while each iteration stays a few dozen array operations. Starts left out get pdf -inf.
+    """
     sigma = float(np.sqrt(donuts.eigenvalues.max()))
-    precision = donuts.precision[:, 0, 0][:, None]  # (K, 1)
     n_starts, n = y.shape
     index = np.flatnonzero(keep.reshape(-1))
     query = index % n
     y_all = y.reshape(-1).copy()
     pdf_all = np.full(y_all.size, -np.inf)
-    terms = donuts.flat_terms(query)
-    y_c = y_all[index]
-    pdf_c, grad_c, hess_c = _evaluate_flat(y_c, terms, precision)
+    terms = donuts.flat_terms(query)  # (5, K, F)
+    state = np.empty((5, index.size))  # rows: y, P, P', P'', trust radius
+    y_c, pdf_c, grad_c, hess_c, radius = state
+    y_c[:] = y_all[index]
+    pdf_c[:], grad_c[:], hess_c[:] = _evaluate_flat(y_c, terms)
     # First trust radius: the narrowest donut's standard deviation for a Newton step, a tenth of it
     # for a gradient step, so that a start climbs its own hill rather than leaping over a valley.
-    radius = np.where(hess_c < 0, 1.0, 0.1) * np.sqrt(donuts.eigenvalues.min() / terms[4])
+    radius[:] = np.where(hess_c < 0, 1.0, 0.1) * np.sqrt(donuts.eigenvalues.min() / donuts.r_b2[query])
+    # The GMR mean (the last start) where ln P is not concave sits in a hole or a valley: its climb
+    # ends on the side of a neighbouring ring or peak, which the components' own starts climb.
+    live = (index < (n_starts - 1) * n) | (hess_c * pdf_c - grad_c**2 < 0)
     for _ in range(_MAX_NEWTON):
+        n_live = np.count_nonzero(live)
+        if n_live < 0.75 * live.size:  # drop the stopped starts from the working set
+            y_all[index], pdf_all[index] = y_c, pdf_c
+            if n_live == 0:
+                break
+            kept = np.flatnonzero(live)
+            index, state, terms, live = index[kept], state[:, kept], terms[:, :, kept], live[kept]
+            y_c, pdf_c, grad_c, hess_c, radius = state
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             # Newton on ln P: a peak of a sum of Gaussians is nearly quadratic in the log
-            curvature = hess_c * pdf_c - grad_c**2  # P^2 (ln P)''
-            step = np.where(curvature < 0, -grad_c * pdf_c / np.where(curvature < 0, curvature, -1.0),
-                            np.sign(grad_c) * radius)
+            curvature = hess_c * pdf_c
+            curvature -= grad_c**2  # P^2 (ln P)''
+            newton = curvature < 0
+            step = np.where(newton, grad_c * pdf_c / -curvature, np.sign(grad_c) * radius)
+            # the rise of ln P that the Newton step promises: 0.5 (ln P)'^2 / |(ln P)''|
+            promised = 0.5 * grad_c**2 / -curvature
         step = np.where(np.isfinite(step), step, np.sign(grad_c) * radius)
-        np.clip(step, -radius, radius, out=step)
+        length = np.abs(step)
+        whole = newton & (length <= radius)
+        np.minimum(length, radius, out=length)
+        np.copysign(length, step, out=step)
         trial = y_c + step
-        trial_pdf, trial_grad, trial_hess = _evaluate_flat(trial, terms, precision)
+        trial_pdf, trial_grad, trial_hess = _evaluate_flat(trial, terms)
         better = trial_pdf > pdf_c
+        better &= live
         # a short step that changes the density by less than 1e-10 of itself ends the climb:
         # the top is reached far within the 1e-6 asked for
-        flat = (np.abs(trial_pdf - pdf_c) <= 1e-10 * pdf_c) & (np.abs(step) <= 1e-3 * sigma)
-        np.copyto(y_c, trial, where=better)
-        np.copyto(pdf_c, trial_pdf, where=better)
-        np.copyto(grad_c, trial_grad, where=better)
-        np.copyto(hess_c, trial_hess, where=better)
-        length = np.abs(step)
-        radius = np.where(better, np.maximum(radius, 4.0 * length), 0.25 * length)
-        active = (length > tol * sigma) & (radius > tol * sigma) & ~flat
-        if not active.all():
-            y_all[index] = y_c
-            pdf_all[index] = pdf_c
-            if not active.any():
-                break
-            index, y_c, pdf_c, grad_c, hess_c, radius = (
-                array[active] for array in (index, y_c, pdf_c, grad_c, hess_c, radius)
-            )
-            terms = tuple(term[..., active] for term in terms)
-    else:
-        y_all[index] = y_c
-        pdf_all[index] = pdf_c
+        flat = (np.abs(trial_pdf - pdf_c) <= 1e-10 * pdf_c) & (length <= 1e-3 * sigma)
+        np.copyto(state[:4], (trial, trial_pdf, trial_grad, trial_hess), where=better)
+        np.copyto(radius, np.where(better, np.maximum(radius, 4.0 * length), 0.25 * length), where=live)
+        # A whole Newton step that promised a rise of ln P below 1e-8 ends the climb too: Newton
+        # converges quadratically, so the point reached is far closer still to the top.
+        live &= (length > tol * sigma) & (radius > tol * sigma) & ~flat & ~(whole & (promised <= 1e-8))
+    y_all[index], pdf_all[index] = y_c, pdf_c
     return y_all.reshape(n_starts, n), pdf_all.reshape(n_starts, n)
 
 
