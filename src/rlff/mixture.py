@@ -30,6 +30,9 @@ _INITS = ("kmeans++", "random")
 #: Relative tolerance of k-means on the standardised scale (as scikit-learn's KMeans).
 _KMEANS_TOL = 1e-4
 _KMEANS_MAX_ITER = 300
+#: k-means++ seedings tried per initialisation, and the most samples they are refined on.
+_KMEANS_TRIALS = 3
+_KMEANS_SUBSET = 20_000
 
 
 # -- validation --------------------------------------------------------------------------------
@@ -253,19 +256,21 @@ def _kmeans_plus_plus(Z: np.ndarray, weights: np.ndarray, k: int, rng: np.random
     return centres
 
 
-def _assign(Z: np.ndarray, sq_norms: np.ndarray, centres: np.ndarray) -> np.ndarray:
-    """Index of the nearest centre for every sample (N,)."""
+def _assign(Z: np.ndarray, sq_norms: np.ndarray, centres: np.ndarray) -> tuple[np.ndarray, float]:
+    """Index of the nearest centre for every sample (N,), and the squared distances' sum."""
     distances = Z @ (-2.0 * centres.T)
     distances += (centres**2).sum(axis=1)
-    distances += sq_norms[:, None]
-    return distances.argmin(axis=1)
+    labels = distances.argmin(axis=1)
+    nearest = distances[np.arange(Z.shape[0]), labels]
+    return labels, float((nearest + sq_norms).sum())
 
 
-def _lloyd(Z: np.ndarray, weights: np.ndarray, centres: np.ndarray) -> np.ndarray:
-    """Refine centres by weighted k-means (Lloyd); returns the final labels (N,)."""
+def _lloyd(Z: np.ndarray, weights: np.ndarray, centres: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    """Refine centres by weighted k-means (Lloyd); returns the centres (K, D), the final labels
+    (N,) and the (unweighted) sum of squared distances to the nearest centre."""
     k, d = centres.shape
     sq_norms = (Z**2).sum(axis=1)
-    labels = _assign(Z, sq_norms, centres)
+    labels, inertia = _assign(Z, sq_norms, centres)
     for _ in range(_KMEANS_MAX_ITER):
         mass = np.bincount(labels, weights=weights, minlength=k)
         new = np.empty_like(centres)
@@ -276,10 +281,32 @@ def _lloyd(Z: np.ndarray, weights: np.ndarray, centres: np.ndarray) -> np.ndarra
         new[~filled] = centres[~filled]
         shift = ((new - centres) ** 2).sum()
         centres = new
-        labels = _assign(Z, sq_norms, centres)
+        labels, inertia = _assign(Z, sq_norms, centres)
         if shift <= _KMEANS_TOL:  # the columns are standardised: mean variance 1
             break
-    return labels
+    return centres, labels, inertia
+
+
+def _kmeans(Z: np.ndarray, weights: np.ndarray, k: int, rng: np.random.Generator) -> np.ndarray:
+    """Labels (N,) of k-means from the best of several k-means++ seedings.
+
+    Each of ``_KMEANS_TRIALS`` greedy k-means++ seedings is refined by k-means on at most
+    ``_KMEANS_SUBSET`` samples (drawn with probability proportional to the weights); the centres
+    with the least sum of squared distances start the final k-means on all samples. One seeding
+    alone lands two centres in one cluster now and then, and EM rarely recovers from that.
+    """
+    n = Z.shape[0]
+    if n > _KMEANS_SUBSET:
+        subset = rng.choice(n, size=_KMEANS_SUBSET, p=weights / weights.sum())
+        Z_s, w_s = Z[subset], np.ones(_KMEANS_SUBSET)
+    else:
+        Z_s, w_s = Z, weights
+    best_centres, best_inertia = None, np.inf
+    for _ in range(_KMEANS_TRIALS):
+        centres, _, inertia = _lloyd(Z_s, w_s, _kmeans_plus_plus(Z_s, w_s, k, rng))
+        if inertia < best_inertia:
+            best_centres, best_inertia = centres, inertia
+    return _lloyd(Z, weights, best_centres)[1]
 
 
 def _initial_responsibilities(
@@ -287,11 +314,11 @@ def _initial_responsibilities(
 ) -> np.ndarray:
     """Hard responsibilities (N, K) from k-means++ + k-means, or from random centres."""
     if init == "kmeans++":
-        labels = _lloyd(Z, weights, _kmeans_plus_plus(Z, weights, k, rng))
+        labels = _kmeans(Z, weights, k, rng)
     else:
         positive = np.flatnonzero(weights > 0)
         chosen = rng.choice(positive, size=k, replace=False)
-        labels = _assign(Z, (Z**2).sum(axis=1), Z[chosen])
+        labels, _ = _assign(Z, (Z**2).sum(axis=1), Z[chosen])
     resp = np.zeros((Z.shape[0], k))
     resp[np.arange(Z.shape[0]), labels] = 1.0
     return resp
