@@ -79,12 +79,18 @@ class DmmStrategy(Method):
                          components=self.problem.components, seed=self.problem.seed,
                          sample_weight=sample_weight, n_init=1)
 
-    def generate(self, data: Dataset, sample_weight: np.ndarray, query: float, info: dict) -> Proposal:
-        """Fit the mixture to ``data`` and return the DMM's throw for distance ``query`` (m)."""
+    def generate(self, data: Dataset, sample_weight: np.ndarray, query: float, info: dict, *,
+                 continuity: bool = False) -> Proposal:
+        """Fit the mixture to ``data`` and return the DMM's throw for distance ``query`` (m).
+
+        ``continuity`` keeps the path on the donut side that continues it where two modes are
+        nearly as high (see :func:`rlff.donut.dmm_mode`).
+        """
         problem = self.problem
         model = self.fit(data, sample_weight)
         try:
-            path = model.generate({"distance": query}, problem.angles, exploration="auto")
+            path = model.generate({"distance": query}, problem.angles, exploration="auto",
+                                  continuity=continuity)
         except InputError:
             # The model refuses a path with no forward motion anywhere (a donut mode, or even
             # the GMR mean, on the wrong side of zero all along): that is no throw, and the
@@ -254,9 +260,10 @@ class CalibrateUpdate(DmmStrategy):
     def propose(self, history: Sequence[Attempt]) -> Proposal:
         problem = self.problem
         shape = self.shape(history)
-        speed = release_speed(problem.angles, shape.velocity)
+        velocity = fastest_at_release(problem.angles, shape.velocity)
+        speed = release_speed(problem.angles, velocity)
         if not speed > 0:  # no motion at the release: keep the demonstrations' shape
-            shape, speed = self.first, self.reference
+            velocity, speed = self.first.velocity, self.reference
         calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference,
                                        problem.max_speed)
         for attempt in history:
@@ -267,7 +274,7 @@ class CalibrateUpdate(DmmStrategy):
             elif not attempt.hit:
                 calibration.observe_miss(executed)
         wanted, p_hit = calibration.best_speed()
-        return Proposal(shape.angle, shape.velocity * (wanted / speed), query=problem.target,
+        return Proposal(shape.angle, velocity * (wanted / speed), query=problem.target,
                         exploration=shape.exploration,
                         info={"speed": round(wanted, 4), "p_hit": round(p_hit, 4)})
 
@@ -284,7 +291,7 @@ class CalibrateUpdate(DmmStrategy):
         trajectories = list(self.demos) + [attempt_trajectory(a, a.landing) for a in landed]
         weights = [1.0] * len(self.demos) + [self.robot_weight] * len(landed)
         data, sample_weight = training_set(trajectories, weights)
-        shape = self.generate(data, sample_weight, self.problem.target, {})
+        shape = self.generate(data, sample_weight, self.problem.target, {}, continuity=True)
         if not landed:
             self._demos_shape = shape
         return shape
@@ -294,6 +301,20 @@ def release_speed(angles: np.ndarray, velocity: np.ndarray) -> float:
     """Mean speed (rad/s) over the last tenth of the path: what decides where the ball goes."""
     tail = max(2, angles.size // 10)
     return float(np.mean(np.abs(velocity[-tail:])))
+
+
+def fastest_at_release(angles: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+    """The path's velocity (rad/s), shape (T,), capped at its release speed.
+
+    Where the demonstrations disagree, the DMM's mode can switch between the donut's sides along
+    the path and run faster before the release than at it. Scaled to a release speed, such a
+    path hits the joint's limit before the release, and the velocity servo cannot brake to the
+    commanded release speed in time: the landing then follows the saturated middle of the path,
+    not the release speed the calibration sets. Capped, the throw is fastest at its release, as
+    a throw should be, and the release speed alone decides where it lands.
+    """
+    cap = release_speed(angles, velocity)
+    return np.sign(velocity) * np.minimum(np.abs(velocity), cap)
 
 
 def _hindsight_labels(demos: Dataset) -> np.ndarray:
