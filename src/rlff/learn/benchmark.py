@@ -1,11 +1,13 @@
 """The learning benchmark: attempts to the first hit, per method, feedback kind and basket.
 
-Every run starts from simulated human demonstrations that all fall short of their baskets,
-cleaned by the thesis preset, and runs one method in the loop of :func:`rlff.learn.learn`
-against the MuJoCo simulation until a hit or the budget. The grid is seeds x baskets x feedback
-kinds x methods; baskets lie inside and outside the demonstrated distances, all within the
-robot's reach. Runs go to joblib processes, or to a Ray or Dask cluster through joblib's
-backends.
+Every run starts from simulated human demonstrations, cleaned by the thesis preset, and runs
+one method in the loop of :func:`rlff.learn.learn` against the MuJoCo simulation until a hit or
+the budget. The grid is seeds x baskets x feedback kinds x methods, in one of two scenarios
+(:data:`SCENARIOS`): ``short``, demonstrations that all fall short of near baskets, with baskets
+inside and beyond the demonstrated distances; ``wide``, the demo's setting, demonstrations at
+1 to 4 m, most of them beyond the robot's reach, with baskets between demonstrated distances.
+All baskets are within the robot's reach. Runs go to joblib processes, or to a Ray or Dask
+cluster through joblib's backends.
 """
 
 from __future__ import annotations
@@ -20,10 +22,37 @@ import numpy as np
 from rlff.dataset import Dataset
 from rlff.errors import InputError
 
-#: Distances (m) the simulated humans aimed at.
-DEMO_DISTANCES = (1.0, 1.25, 1.5)
-#: Basket distances (m): one inside the demonstrated range, one beyond it (both reachable).
-BASKETS = (1.4, 1.9)
+
+@dataclass(frozen=True)
+class Scenario:
+    """Which demonstrations a run learns from, and the baskets it is asked to hit.
+
+    Parameters
+    ----------
+    demo_distances : tuple of float
+        Distances (m) the simulated humans aimed at (4 subjects, 3 throws at each).
+    all_short : bool
+        Every demonstration falls short of its basket.
+    baskets : tuple of float
+        Basket distances (m), all within the robot's reach.
+    """
+
+    demo_distances: tuple[float, ...]
+    all_short: bool
+    baskets: tuple[float, ...]
+
+
+#: ``short``: failed throws at near baskets; one basket inside their distances, one beyond.
+#: ``wide``: the demo's setting, throws at 1 to 4 m (the robot reaches about 2.2 m, so the human
+#: landings beyond that teach it nothing it can do), baskets between demonstrated distances.
+SCENARIOS = {
+    "short": Scenario((1.0, 1.25, 1.5), all_short=True, baskets=(1.4, 1.9)),
+    "wide": Scenario((1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0), all_short=False, baskets=(1.25, 1.75)),
+}
+#: Distances (m) the simulated humans aimed at in the default scenario.
+DEMO_DISTANCES = SCENARIOS["short"].demo_distances
+#: Basket distances (m) of the default scenario: one inside the demonstrated range, one beyond.
+BASKETS = SCENARIOS["short"].baskets
 #: Methods run with each feedback kind.
 METHODS_BY_FEEDBACK = {
     "binary": ("calibrate", "failure", "imitation", "random", "cma"),
@@ -44,13 +73,14 @@ class Run:
 
 
 @lru_cache(maxsize=8)
-def demonstrations(seed: int) -> Dataset:
-    """Failed demonstrations of one seed: simulated, all short, cleaned by the thesis preset."""
+def demonstrations(seed: int, scenario: str = "short") -> Dataset:
+    """The demonstrations of one seed in ``scenario``, simulated and cleaned by the thesis preset."""
     from rlff.preprocess import Pipeline
     from rlff.synthetic.throws import simulate_throws
 
-    raw = simulate_throws(seed, subjects=4, distances=DEMO_DISTANCES, throws_per_distance=3,
-                          all_short=True)
+    plan = SCENARIOS[scenario]
+    raw = simulate_throws(seed, subjects=4, distances=plan.demo_distances, throws_per_distance=3,
+                          all_short=plan.all_short)
     clean, _ = Pipeline.preset("thesis").run(raw)
     return clean
 
@@ -66,7 +96,8 @@ def run_one(demos: Dataset, method: str, feedback: str, basket: float, seed: int
 def learning_benchmark(
     seeds: int = 5,
     *,
-    baskets: Sequence[float] = BASKETS,
+    scenario: str = "short",
+    baskets: Sequence[float] | None = None,
     methods: dict[str, Sequence[str]] | None = None,
     budget: int = 20,
     jobs: int = 2,
@@ -79,8 +110,10 @@ def learning_benchmark(
     ----------
     seeds : int
         Seeds 0 .. seeds - 1; each seed draws its own demonstrations.
-    baskets : sequence of float
-        Basket distances (m).
+    scenario : {"short", "wide"}
+        Which demonstrations and baskets (:data:`SCENARIOS`).
+    baskets : sequence of float, optional
+        Basket distances (m); default the scenario's.
     methods : dict, optional
         Methods per feedback kind; default :data:`METHODS_BY_FEEDBACK`.
     budget : int
@@ -99,6 +132,9 @@ def learning_benchmark(
     """
     import joblib
 
+    if scenario not in SCENARIOS:
+        raise InputError(f"unknown scenario {scenario!r} (known: {', '.join(SCENARIOS)})")
+    baskets = SCENARIOS[scenario].baskets if baskets is None else baskets
     methods = METHODS_BY_FEEDBACK if methods is None else methods
     cases = [(m, f, float(b), s) for s in range(seeds) for b in baskets
              for f, names in methods.items() for m in names]
@@ -108,7 +144,7 @@ def learning_benchmark(
     except ValueError:
         parallel = joblib.Parallel(n_jobs=jobs, backend=backend)
     # the demonstrations of every seed, made once and shipped to the workers with each run
-    demos = dict(zip(range(seeds), parallel(joblib.delayed(demonstrations)(s) for s in range(seeds)),
+    demos = dict(zip(range(seeds), parallel(joblib.delayed(demonstrations)(s, scenario) for s in range(seeds)),
                      strict=True))
     runs = []
     for run in parallel(joblib.delayed(run_one)(demos[case[3]], *case, budget) for case in cases):
