@@ -187,7 +187,7 @@ def print_row(row: dict) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="small sizes, for a smoke run")
-    parser.add_argument("--repeats", type=int, default=3, help="runs per timing (best kept)")
+    parser.add_argument("--repeats", type=int, default=7, help="runs per timing (best kept)")
     args = parser.parse_args()
     from threadpoolctl import threadpool_info
 
