@@ -38,8 +38,9 @@ GAMMA = 2.0
 CONTINUITY_TOLERANCE = 0.05
 _MAX_NEWTON = 60
 #: Lowest exponent of a donut term in the climb: exp is ten times slower where its result
-#: underflows, and a term below e^-700 (1e-304) changes no density that can win.
-_LOG_FLOOR = -700.0
+#: underflows and a third slower near e^-700, and a term below e^-300 (5e-131 per output unit)
+#: changes no density that can win (half the terms at the starts of the thesis' model are below).
+_LOG_FLOOR = -300.0
 
 
 # -- exploration and radii -------------------------------------------------------------------
