@@ -192,6 +192,18 @@ def test_n_init_keeps_the_best_start():
     assert several >= min(single) - 1e-12
 
 
+@pytest.mark.parametrize("n_per_blob", [300, 3000])  # the second goes through the k-means subset
+def test_kmeans_initialisation_puts_one_centre_in_every_blob(n_per_blob):
+    rng = np.random.default_rng(7)
+    centres = np.array([(x, y) for x in (0.0, 6.0, 12.0) for y in (0.0, 6.0, 12.0)])
+    X = np.concatenate([rng.normal(centre, 0.5, (n_per_blob, 2)) for centre in centres])
+    for seed in range(5):
+        means = GaussianMixture(9, random_state=seed).fit(X).means_
+        distance = np.linalg.norm(means[:, None, :] - centres[None, :, :], axis=-1)
+        assert sorted(distance.argmin(axis=1).tolist()) == list(range(9)), f"seed {seed}: {means.round(1)}"
+        assert distance.min(axis=1).max() < 0.2
+
+
 # -- bad and degenerate input ------------------------------------------------------------------------
 
 

@@ -440,7 +440,7 @@ def _climb_1d(
     """:func:`_climb` for one output, on the starts (S, N) marked in ``keep`` (S, N), flattened.
 
     A start stops as soon as it has converged and keeps its point; the working set drops the
-    stopped starts whenever they are more than a quarter of it, so the work shrinks with the
+    stopped starts whenever they are more than a tenth of it, so the work shrinks with the
     iterations while each iteration stays a few dozen array operations. Starts left out get pdf -inf.
     """
     sigma = float(np.sqrt(donuts.eigenvalues.max()))
@@ -465,7 +465,7 @@ def _climb_1d(
         # (well within the 1e-6 asked for: its distance to the top is about 1e-7 standard deviations)
         live &= ~(_newton_promise(pdf_c, grad_c, hess_c) <= 1e-14)
         n_live = np.count_nonzero(live)
-        if n_live < 0.75 * live.size:  # drop the stopped starts from the working set
+        if n_live < 0.9 * live.size:  # drop the stopped starts from the working set
             y_all[index], pdf_all[index] = y_c, pdf_c
             if n_live == 0:
                 break
