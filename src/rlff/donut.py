@@ -37,6 +37,8 @@ GAMMA = 2.0
 #: Relative pdf tolerance within which two modes count as equally high (continuity option).
 CONTINUITY_TOLERANCE = 0.05
 _MAX_NEWTON = 60
+#: The climb drops its stopped starts once fewer than this share of its working set still climbs.
+_COMPACT = 0.9
 #: Lowest exponent of a donut term in the climb: exp is ten times slower where its result
 #: underflows and a third slower near e^-700, and a term below e^-300 (5e-131 per output unit)
 #: changes no density that can win (half the terms at the starts of the thesis' model are below).
@@ -465,7 +467,7 @@ def _climb_1d(
         # (well within the 1e-6 asked for: its distance to the top is about 1e-7 standard deviations)
         live &= ~(_newton_promise(pdf_c, grad_c, hess_c) <= 1e-14)
         n_live = np.count_nonzero(live)
-        if n_live < 0.9 * live.size:  # drop the stopped starts from the working set
+        if n_live < _COMPACT * live.size:  # drop the stopped starts from the working set
             y_all[index], pdf_all[index] = y_c, pdf_c
             if n_live == 0:
                 break
