@@ -61,6 +61,18 @@ def loop_work_per_attempt(repeats: int = 10) -> tuple[float, float]:
     return float(np.median(propose_ms)), float(np.median(throw_ms))
 
 
+def mean_table(runs, budget: int) -> str:
+    """Mean attempts to the first hit over every run of a method (no hit = budget + 1), and hits."""
+    lines = ["| feedback | method | mean attempts | runs that hit |", "|---|---|---|---|"]
+    keys = dict.fromkeys((r.feedback, r.method) for r in runs)
+    for feedback, method in keys:
+        group = [r for r in runs if (r.feedback, r.method) == (feedback, method)]
+        counts = [r.attempts if r.hit else budget + 1 for r in group]
+        lines.append(f"| {feedback} | {method} | {np.mean(counts):.1f} | "
+                     f"{sum(r.hit for r in group)}/{len(group)} |")
+    return "\n".join(lines)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, default=5)
@@ -79,6 +91,7 @@ def main() -> None:
         print(f"## Attempts to the first hit, scenario {scenario} ({seeds} seeds, budget {budget}, "
               f"{time.perf_counter() - start:.0f} s)\n")
         print(format_table(runs, budget) + "\n")
+        print(mean_table(runs, budget) + "\n")
 
     print("\n## The loop's own work per attempt (median)\n")
     work, throw = loop_work_per_attempt()
