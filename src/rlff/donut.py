@@ -452,20 +452,22 @@ def _climb_1d(
     y_all = y.reshape(-1).copy()
     pdf_all = np.full(y_all.size, -np.inf)
     terms = donuts.flat_terms(query)  # (5, K, F)
-    state = np.empty((5, index.size))  # rows: y, P, P', P'', trust radius
-    y_c, pdf_c, grad_c, hess_c, radius = state
+    state = np.empty((6, index.size))  # rows: y, P, P', P'', trust radius, -P^2 (ln P)''
+    y_c, pdf_c, grad_c, hess_c, radius, bend = state
     y_c[:] = y_all[index]
     pdf_c[:], grad_c[:], hess_c[:] = _evaluate_flat(y_c, terms)
+    bend[:] = grad_c**2 - hess_c * pdf_c  # > 0 where ln P is concave
     # First trust radius: the narrowest donut's standard deviation for a Newton step, a tenth of it
     # for a gradient step, so that a start climbs its own hill rather than leaping over a valley.
     radius[:] = np.where(hess_c < 0, 1.0, 0.1) * np.sqrt(donuts.eigenvalues.min() / donuts.r_b2[query])
     # The GMR mean (the last start) where ln P is not concave sits in a hole or a valley: its climb
     # ends on the side of a neighbouring ring or peak, which the components' own starts climb.
-    live = (index < (n_starts - 1) * n) | (hess_c * pdf_c - grad_c**2 < 0)
+    live = (index < (n_starts - 1) * n) | (bend > 0)
     for _ in range(_MAX_NEWTON):
-        # a start where a Newton step promises a rise of ln P below 1e-14 is at its top already
-        # (well within the 1e-6 asked for: its distance to the top is about 1e-7 standard deviations)
-        live &= ~(_newton_promise(pdf_c, grad_c, hess_c) <= 1e-14)
+        # The rise of ln P that a Newton step on ln P promises is 0.5 (ln P)'^2 / |(ln P)''|
+        # = 0.5 P'^2 / bend. Below 1e-14 the start is at its top already (well within the 1e-6
+        # asked for: its distance to the top is about 1e-7 standard deviations).
+        live &= ~((bend > 0) & (grad_c**2 <= 2e-14 * bend))
         n_live = np.count_nonzero(live)
         if n_live < _COMPACT * live.size:  # drop the stopped starts from the working set
             y_all[index], pdf_all[index] = y_c, pdf_c
@@ -473,17 +475,16 @@ def _climb_1d(
                 break
             kept = np.flatnonzero(live)
             index, state, terms, live = index[kept], state[:, kept], terms[:, :, kept], live[kept]
-            y_c, pdf_c, grad_c, hess_c, radius = state
+            y_c, pdf_c, grad_c, hess_c, radius, bend = state
+        newton = bend > 0
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             # Newton on ln P: a peak of a sum of Gaussians is nearly quadratic in the log
-            curvature = hess_c * pdf_c
-            curvature -= grad_c**2  # P^2 (ln P)''
-            newton = curvature < 0
-            step = np.where(newton, grad_c * pdf_c / -curvature, np.sign(grad_c) * radius)
-        promised = _newton_promise(pdf_c, grad_c, hess_c)
+            step = np.where(newton, grad_c * pdf_c / bend, np.sign(grad_c) * radius)
         step = np.where(np.isfinite(step), step, np.sign(grad_c) * radius)
         length = np.abs(step)
-        whole = newton & (length <= radius)
+        # a whole Newton step that promises a rise of ln P below 1e-8 ends the climb: Newton
+        # converges quadratically, so the point reached is far closer still to the top
+        last = newton & (length <= radius) & (grad_c**2 <= 2e-8 * bend)
         np.minimum(length, radius, out=length)
         np.copysign(length, step, out=step)
         trial = y_c + step
@@ -493,21 +494,13 @@ def _climb_1d(
         # a short step that changes the density by less than 1e-10 of itself ends the climb:
         # the top is reached far within the 1e-6 asked for
         flat = (np.abs(trial_pdf - pdf_c) <= 1e-10 * pdf_c) & (length <= 1e-3 * sigma)
+        trial_bend = trial_grad**2 - trial_hess * trial_pdf
         np.copyto(state[:4], (trial, trial_pdf, trial_grad, trial_hess), where=better)
+        np.copyto(bend, trial_bend, where=better)
         np.copyto(radius, np.where(better, np.maximum(radius, 4.0 * length), 0.25 * length), where=live)
-        # A whole Newton step that promised a rise of ln P below 1e-8 ends the climb too: Newton
-        # converges quadratically, so the point reached is far closer still to the top.
-        live &= (length > tol * sigma) & (radius > tol * sigma) & ~flat & ~(whole & (promised <= 1e-8))
+        live &= (length > tol * sigma) & (radius > tol * sigma) & ~flat & ~last
     y_all[index], pdf_all[index] = y_c, pdf_c
     return y_all.reshape(n_starts, n), pdf_all.reshape(n_starts, n)
-
-
-def _newton_promise(pdf: np.ndarray, grad: np.ndarray, hess: np.ndarray) -> np.ndarray:
-    """The rise of ln P that a Newton step on ln P promises, 0.5 (ln P)'^2 / |(ln P)''| (F,);
-    inf where ln P is not concave. From P, P' and P'' (F,) of one output."""
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        curvature = grad**2 - hess * pdf  # -P^2 (ln P)''
-        return np.where(curvature > 0, 0.5 * grad**2 / curvature, np.inf)
 
 
 def _climb(donuts: _Donuts, y: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
