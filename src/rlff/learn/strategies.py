@@ -39,7 +39,10 @@ differ in how the attempts join the data, with what weight, and which distance i
       told short or long;
     - the next throw is the DMM's shape scaled to the speed with the highest posterior
       probability of a hit, never beyond the robot's speed limit. The law is stated in the
-      *executed* speed, so a throw the robot had to saturate counts for what it did.
+      *executed* speed, so a throw the robot had to saturate counts for what it did;
+    - the shape keeps to one side of the donut (``continuity``) and is capped at its release
+      speed (:func:`fastest_at_release`), so that the release speed alone decides the landing
+      even where the demonstrations disagree and the DMM's mode would jump between sides.
 """
 
 from __future__ import annotations
