@@ -58,7 +58,7 @@ def learning_curves(
             colour = colours[index % len(colours)]
             axes.plot(
                 attempts, miss, marker=_MARKERS[index % len(_MARKERS)], markersize=5,
-                color=colour, linewidth=1.4, label=f"{method} ({miss.size} attempts)",
+                color=colour, linewidth=1.4, label=f"{method} ({miss.size} attempt{'s' if miss.size != 1 else ''})",
             )
             if hits is not None and method in hits:
                 hit = np.asarray(hits[method], dtype=bool)
