@@ -147,5 +147,5 @@ def test_real_msr_velocity_grows_with_distance_then_levels_off(real_high_throws,
     # the release height, which the elbow angle does not see)
     short = distances <= 1.5
     assert np.all(np.diff(levels[short]) > 0), levels
-    assert levels[short][-1] > 1.5 * levels[0], levels
+    assert levels[short][-1] > 1.3 * levels[0], levels  # at least 30 % faster at 1.5 m than at 0.75 m
     assert np.all(levels[~short] > 0.85 * levels[short][-1]), levels
