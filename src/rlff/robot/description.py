@@ -40,6 +40,25 @@ class Joint:
             raise InputError(f"joint {self.name}: max_velocity must be positive, got {self.max_velocity}")
 
 
+def joint_names(joints: Sequence[Joint]) -> tuple[str, ...]:
+    """The names of ``joints``, in order."""
+    return tuple(joint.name for joint in joints)
+
+
+def find_joint(joints: Sequence[Joint], name: str, owner: str = "") -> Joint:
+    """The joint called ``name`` among ``joints``.
+
+    Raises
+    ------
+    InputError
+        If there is none; the message lists the joints, after ``owner`` (e.g. ``" on robot X"``).
+    """
+    for joint in joints:
+        if joint.name == name:
+            return joint
+    raise InputError(f"unknown joint {name!r}{owner} (joints: {', '.join(joint_names(joints))})")
+
+
 @dataclass(frozen=True)
 class Geometry:
     """Link lengths (m) of a 6-axis arm with an elbow offset; see the robot file for the frames.
@@ -82,14 +101,11 @@ class Robot:
 
     @property
     def joint_names(self) -> tuple[str, ...]:
-        return tuple(joint.name for joint in self.joints)
+        return joint_names(self.joints)
 
     def joint(self, name: str) -> Joint:
         """The joint called ``name``; :class:`InputError` listing the joints if unknown."""
-        for joint in self.joints:
-            if joint.name == name:
-                return joint
-        raise InputError(f"unknown joint {name!r} on robot {self.name} (joints: {', '.join(self.joint_names)})")
+        return find_joint(self.joints, name, f" on robot {self.name}")
 
     def index(self, name: str) -> int:
         """Position of joint ``name`` in :attr:`joints`."""

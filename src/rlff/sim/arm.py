@@ -20,7 +20,7 @@ from typing import NamedTuple
 import numpy as np
 
 from rlff.errors import InputError
-from rlff.robot.description import Geometry, Joint, Robot
+from rlff.robot.description import Geometry, Joint, Robot, find_joint, joint_names
 from rlff.trajectory.joint import JointTrajectory
 
 #: Tennis ball radius (m) and mass (kg).
@@ -56,14 +56,11 @@ class Arm:
 
     @property
     def joint_names(self) -> tuple[str, ...]:
-        return tuple(joint.name for joint in self.joints)
+        return joint_names(self.joints)
 
     def joint(self, name: str) -> Joint:
         """The joint called ``name``; :class:`InputError` listing the joints if unknown."""
-        for joint in self.joints:
-            if joint.name == name:
-                return joint
-        raise InputError(f"unknown joint {name!r} (joints: {', '.join(self.joint_names)})")
+        return find_joint(self.joints, name)
 
     def in_plane(
         self,
