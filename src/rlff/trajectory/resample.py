@@ -11,7 +11,6 @@ polynomial path of degree <= 3, in particular the constant-acceleration segments
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import CubicHermiteSpline
 
 from rlff.errors import InputError
 from rlff.trajectory.joint import JointTrajectory
@@ -52,6 +51,10 @@ def resample(traj: JointTrajectory, period: float = 0.002) -> JointTrajectory:
     """
     if len(traj) < 2:
         raise InputError("resampling needs a trajectory of at least 2 points")
+    # imported here: scipy.interpolate costs ~0.5 s, which every CLI command importing this
+    # module would pay even when it never resamples
+    from scipy.interpolate import CubicHermiteSpline
+
     start = traj.time[0]
     spline = CubicHermiteSpline(traj.time, traj.positions, traj.velocities, axis=0)
     time = start + sample_times(traj.duration - start, period)
