@@ -30,6 +30,7 @@ from rlff import __version__
 from rlff.dataset import THROW_INPUTS, THROW_OUTPUTS, Dataset
 from rlff.donut import dmm_mode
 from rlff.errors import InputError
+from rlff.jsonfile import read_json_object
 from rlff.mixture import GaussianMixture, check_samples, check_weights, select_components
 from rlff.regression import Conditional, condition
 from rlff.trajectory.timing import time_along_path
@@ -389,16 +390,7 @@ class Model:
     @classmethod
     def load(cls, path: str | Path) -> Model:
         """Read and validate ``model.json``."""
-        path = Path(path)
-        if not path.is_file():
-            raise InputError(f"{path}: no such file")
-        try:
-            document = json.loads(path.read_text(encoding="utf-8"))
-        except UnicodeDecodeError:
-            raise InputError(f"{path}: not a text file") from None
-        except json.JSONDecodeError as exc:
-            raise InputError(f"{path}: not valid JSON (line {exc.lineno}, column {exc.colno}: {exc.msg})") from None
-        return _parse(document, str(path))
+        return _parse(read_json_object(path), str(path))
 
 
 # -- helpers -------------------------------------------------------------------------------------

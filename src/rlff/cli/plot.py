@@ -200,17 +200,9 @@ def throw_command(
     as_json: bool = _JSON,
 ) -> None:
     """A side view of a simulated throw: arm at release, ball flight, basket (and a rendered frame if any)."""
-    import json
-
+    from rlff.jsonfile import read_json_object
     from rlff.plots.throw import throw_snapshot_from_outcome
     from rlff.robot import load_robot
 
-    if not outcome.is_file():
-        raise InputError(f"{outcome}: no such file")
-    try:
-        record = json.loads(outcome.read_text(encoding="utf-8"))
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"{outcome}: not valid JSON ({exc})") from None
-    if not isinstance(record, dict):
-        raise InputError(f"{outcome}: expected a JSON object")
+    record = read_json_object(outcome)
     _done([throw_snapshot_from_outcome(record, out, robot=load_robot(robot), pedestal=pedestal)], as_json)

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from rlff.errors import InputError
+from rlff.jsonfile import read_json_object
 
 RUN_FORMAT = "rlff-run"
 RUN_VERSION = 1
@@ -202,12 +203,7 @@ def read_run(run_dir: str | Path) -> Run:
         raise InputError(f"{run_dir}: no such run directory")
     if not path.is_file():
         raise InputError(f"{run_dir}: no {RUN_FILE} (is this a run directory written by `rlff demo`?)")
-    try:
-        document = json.loads(path.read_text(encoding="utf-8"))
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: not valid JSON ({exc})") from None
-    if not isinstance(document, dict):
-        raise InputError(f"{path}: expected a JSON object")
+    document = read_json_object(path)
     if document.get("format") != RUN_FORMAT:
         raise InputError(f"{path}: field 'format' must be {RUN_FORMAT!r}, got {document.get('format')!r}")
     if document.get("version") != RUN_VERSION:

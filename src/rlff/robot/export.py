@@ -21,6 +21,7 @@ from rosbags.rosbag2 import Writer as Ros2Writer
 from rosbags.typesys import Stores, get_typestore
 
 from rlff.errors import InputError
+from rlff.jsonfile import read_json_object
 from rlff.trajectory.joint import JointTrajectory
 
 #: Topic of the original Comau driver's topic mode; bags carry the trajectory on it.
@@ -46,12 +47,18 @@ def write_json(traj: JointTrajectory, path: Path) -> None:
 
 
 def read_json(path: Path) -> JointTrajectory:
-    """The trajectory of a file written by :func:`write_json`."""
-    document = json.loads(Path(path).read_text(encoding="utf-8"))
+    """The trajectory of a file written by :func:`write_json`; :class:`InputError` naming the fault."""
+    document = read_json_object(path)
     if document.get("format") != JSON_FORMAT:
         raise InputError(f"{path}: not an {JSON_FORMAT} file")
-    return JointTrajectory(tuple(document["joint_names"]), document["time"], document["positions"],
-                           document["velocities"], document["accelerations"])
+    fields = ("joint_names", "time", "positions", "velocities", "accelerations")
+    missing = [name for name in fields if name not in document]
+    if missing:
+        raise InputError(f"{path}: missing field {missing[0]!r}")
+    try:
+        return JointTrajectory(tuple(document["joint_names"]), *(document[name] for name in fields[1:]))
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{path}: not a robot trajectory ({exc})") from None
 
 
 def write_csv(traj: JointTrajectory, path: Path) -> None:

@@ -53,10 +53,7 @@ def load_throw(path: str | Path, robot: Robot, clip: bool = False) -> LoadedThro
     if not path.is_file():
         raise InputError(f"{path}: no such file")
     if path.suffix.lower() == ".json":
-        try:
-            trajectory = read_robot_json(path)
-        except (ValueError, KeyError, TypeError) as exc:
-            raise InputError(f"{path}: not a robot trajectory JSON ({exc})") from None
+        trajectory = read_robot_json(path)
         return LoadedThrow(trajectory, "robot trajectory", f"{len(trajectory)} points of {len(trajectory.joint_names)} joints")
     try:
         header = pd.read_csv(path, nrows=0).columns
