@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Literal
 
 import numpy as np
@@ -43,18 +44,10 @@ def crop(
     ``direction`` keeps its first sample only, so that the minimum-points step removes it with
     its reason.
     """
-    dataset.require([column])
-    report = StepReport("crop", {"column": column, "direction": direction}, dataset)
-    out = []
-    for trajectory in dataset:
-        first, last = largest_change(trajectory[column], direction)
-        out.append(trajectory.take(slice(first, last + 1)))
-        report.change_samples(
-            trajectory.id, len(trajectory) - (last - first + 1), 0,
-            f"kept samples {first}-{last}, the largest {_CHANGE[direction]} of {column}",
-        )
-    report.after = dataset.replace(out)
-    return report.after, report
+    return _keep_interval(
+        "crop", dataset, column, direction, largest_change,
+        f"the largest {_CHANGE[direction]} of {column}",
+    )
 
 
 _CHANGE = {"any": "change (global minimum to maximum)", "increasing": "rise", "decreasing": "fall"}
@@ -108,16 +101,29 @@ def longest_monotonic(
         angle convention). A trajectory without such a run keeps its first sample only, so that
         the minimum-points step removes it with its reason.
     """
+    return _keep_interval(
+        "longest_monotonic", dataset, column, direction, monotonic_run,
+        f"the longest {'' if direction == 'any' else direction + ' '}monotonic run of {column}",
+    )
+
+
+def _keep_interval(
+    step: str,
+    dataset: Dataset,
+    column: str,
+    direction: str,
+    find: Callable[[np.ndarray, str], tuple[int, int]],
+    what: str,
+) -> tuple[Dataset, StepReport]:
+    """Keep in every trajectory the samples ``find(values, direction)`` bounds (inclusive)."""
     dataset.require([column])
-    report = StepReport("longest_monotonic", {"column": column, "direction": direction}, dataset)
+    report = StepReport(step, {"column": column, "direction": direction}, dataset)
     out = []
     for trajectory in dataset:
-        first, last = monotonic_run(trajectory[column], direction)
+        first, last = find(trajectory[column], direction)
         out.append(trajectory.take(slice(first, last + 1)))
         report.change_samples(
-            trajectory.id, len(trajectory) - (last - first + 1), 0,
-            f"kept the longest {'' if direction == 'any' else direction + ' '}monotonic run of "
-            f"{column}, samples {first}-{last}",
+            trajectory.id, len(trajectory) - (last - first + 1), 0, f"kept samples {first}-{last}, {what}"
         )
     report.after = dataset.replace(out)
     return report.after, report
