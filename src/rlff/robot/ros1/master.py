@@ -31,7 +31,7 @@ def wait_for_master(timeout: float) -> str:
                 return uri
             except (OSError, rosgraph.MasterException):
                 if time.monotonic() >= deadline:
-                    raise RosUnavailable(f"no ROS master at {uri} after {timeout:g} s: start roscore, "
+                    raise RosUnavailable(f"no ROS master at {uri} after {timeout:.3g} s: start roscore, "
                                          "or set ROS_MASTER_URI") from None
                 time.sleep(0.1)
     finally:
