@@ -13,7 +13,7 @@ import sys
 
 import pytest
 
-HEAVY = ("numpy", "scipy.interpolate", "pandas", "mujoco", "matplotlib", "rosbags", "sklearn")
+HEAVY = ("numpy", "numba", "scipy.interpolate", "pandas", "mujoco", "matplotlib", "rosbags", "sklearn")
 
 # Runs in a fresh interpreter: which heavy modules are loaded after the import, then after --help.
 _PROBE = f"""

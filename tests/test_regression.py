@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from rlff.errors import InputError
 from rlff.mixture import GaussianMixture
-from rlff.regression import condition
+from rlff.regression import condition, predict
 
 
 def mixture_of(weights, means, covariances) -> GaussianMixture:
@@ -115,6 +115,45 @@ def test_batch_equals_one_by_one_and_weights_are_a_distribution(seed, k, o):
         np.testing.assert_allclose(single.covariance[0], batch.covariance[i], rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(batch.weights.sum(axis=1), 1.0)
     assert np.all(np.linalg.eigvalsh(batch.covariance) > 0)
+
+
+def reference_gmr(mixture, inputs, outputs, X):
+    """Thesis eq. 2.3-2.6 written out component by component with SciPy's Gaussian."""
+    from scipy.stats import multivariate_normal
+
+    log_h, component_means, component_covs = [], [], []
+    for w, mu, cov in zip(mixture.weights_, mixture.means_, mixture.covariances_, strict=True):
+        s_ii, s_oi = cov[np.ix_(inputs, inputs)], cov[np.ix_(outputs, inputs)]
+        gain = s_oi @ np.linalg.inv(s_ii)
+        log_h.append(np.log(w) + multivariate_normal(mu[inputs], s_ii).logpdf(X))
+        component_means.append(mu[outputs] + (X - mu[inputs]) @ gain.T)
+        component_covs.append(cov[np.ix_(outputs, outputs)] - gain @ s_oi.T)
+    log_h = np.array(log_h)
+    h = np.exp(log_h - log_h.max(axis=0))
+    h /= h.sum(axis=0)
+    m = np.array(component_means)  # (K, N, O)
+    mean = np.einsum("kn,kno->no", h, m)
+    spread = m - mean
+    covariance = np.einsum("kn,kop->nop", h, np.array(component_covs)) + np.einsum("kn,kno,knp->nop", h, spread, spread)
+    return h.T, m.transpose(1, 0, 2), mean, covariance
+
+
+@pytest.mark.parametrize("n_in,n_out,k", [(1, 1, 2), (2, 1, 5), (3, 2, 4), (4, 3, 3)])
+def test_matches_the_formulas_written_out_over_several_blocks(n_in, n_out, k):
+    mixture = random_mixture(n_in * 10 + k, k, n_in + n_out)
+    inputs, outputs = list(range(n_in)), list(range(n_in, n_in + n_out))
+    X = np.random.default_rng(k).normal(0, 3, (1300, n_in))  # 1300: more than two blocks of samples
+    weights, means, mean, covariance = reference_gmr(mixture, inputs, outputs, X)
+    result = condition(mixture, inputs, outputs, X)
+    np.testing.assert_allclose(result.weights, weights, rtol=1e-9, atol=1e-14)
+    np.testing.assert_allclose(result.means, means, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(result.mean, mean, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(result.covariance, covariance, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(result.covariance, np.swapaxes(result.covariance, 1, 2), rtol=0, atol=0)
+    # predict gives the same mean and total covariance without the per-component arrays
+    predicted_mean, predicted_covariance = predict(mixture, inputs, outputs, X)
+    np.testing.assert_array_equal(predicted_mean, result.mean)
+    np.testing.assert_array_equal(predicted_covariance, result.covariance)
 
 
 @pytest.mark.parametrize(

@@ -149,12 +149,18 @@ def log_density_coefficients(weights: np.ndarray, means: np.ndarray, covariances
     Uses (z - mu)^T P (z - mu) = z^T P z - 2 mu^T P z + mu^T P mu with the precision P from the
     Cholesky factor; the data are standardised, so the terms stay of moderate size.
     """
-    n_components, d = means.shape
     chol = _cholesky(covariances)
-    identity = np.broadcast_to(np.eye(d), chol.shape)
-    chol_inv = np.linalg.solve(chol, identity)  # triangular, (K, D, D)
+    chol_inv = np.linalg.inv(chol)  # triangular, (K, D, D)
     precision = np.swapaxes(chol_inv, 1, 2) @ chol_inv
     log_det = 2.0 * np.log(np.diagonal(chol, axis1=1, axis2=2)).sum(axis=1)
+    return gaussian_log_coefficients(weights, means, precision, log_det)
+
+
+def gaussian_log_coefficients(
+    weights: np.ndarray, means: np.ndarray, precision: np.ndarray, log_det: np.ndarray
+) -> np.ndarray:
+    """:func:`log_density_coefficients` from the precisions (K, D, D) and ln |S_k| (K,)."""
+    n_components, d = means.shape
     p_mu = np.einsum("kij,kj->ki", precision, means)
     with np.errstate(divide="ignore"):
         log_weights = np.log(weights)

@@ -20,18 +20,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numba
 import numpy as np
 
 from rlff.errors import InputError
-from rlff.mixture import (
-    log_density_coefficients,
-    normalise_log_weights,
-    quadratic_features,
-    single_threaded_blas,
-)
+from rlff.fastexp import exp_relative
+from rlff.mixture import gaussian_log_coefficients
 
-#: Samples per block: keeps the (K, block) work arrays in the CPU cache.
-_BLOCK = 8192
+#: Samples per block of the compiled pass: keeps the (K, block) work arrays in the CPU cache.
+_BLOCK = 1024
 
 
 @dataclass(frozen=True)
@@ -70,14 +67,14 @@ class Conditional:
 
 
 def _column_indices(indices: Sequence[int], n_features: int, name: str) -> np.ndarray:
-    array = np.asarray(list(indices), dtype=int).reshape(-1)
-    if array.size == 0:
+    columns = [int(i) for i in np.asarray(list(indices)).reshape(-1)]
+    if not columns:
         raise InputError(f"{name} must name at least one column")
-    if np.any(array < 0) or np.any(array >= n_features):
-        raise InputError(f"{name} {array.tolist()} out of range for a mixture of {n_features} columns")
-    if np.unique(array).size != array.size:
-        raise InputError(f"{name} {array.tolist()} repeats a column")
-    return array
+    if any(c < 0 or c >= n_features for c in columns):
+        raise InputError(f"{name} {columns} out of range for a mixture of {n_features} columns")
+    if len(set(columns)) != len(columns):
+        raise InputError(f"{name} {columns} repeats a column")
+    return np.array(columns)
 
 
 def condition(mixture: Any, inputs: Sequence[int], outputs: Sequence[int], X: np.ndarray) -> Conditional:
@@ -100,91 +97,223 @@ def condition(mixture: Any, inputs: Sequence[int], outputs: Sequence[int], X: np
     Conditional
         Weights (N, K), means (N, K, O), covariances (K, O, O), and the mixture mean (N, O) and
         total covariance (N, O, O).
+
+    See :func:`predict` for the mean and total covariance alone (a third of the memory traffic).
     """
-    weights = np.asarray(mixture.weights_, dtype=float)
-    means = np.asarray(mixture.means_, dtype=float)
-    covariances = np.asarray(mixture.covariances_, dtype=float)
-    n_features = means.shape[1]
-    i_in = _column_indices(inputs, n_features, "inputs")
-    i_out = _column_indices(outputs, n_features, "outputs")
-    if np.intersect1d(i_in, i_out).size:
-        raise InputError(f"inputs {i_in.tolist()} and outputs {i_out.tolist()} share a column")
-    X = np.asarray(X, dtype=float)
-    if X.ndim == 1:
-        X = X.reshape(1, -1) if X.size == i_in.size else X[:, None]
-    if X.ndim != 2 or X.shape[1] != i_in.size:
-        raise InputError(f"X must have shape (n, {i_in.size}), got {X.shape}")
-    if not np.all(np.isfinite(X)):
-        row = int(np.flatnonzero(~np.all(np.isfinite(X), axis=1))[0])
-        raise InputError(f"input row {row} holds NaN or inf: {X[row].tolist()}")
-
-    s_ii = covariances[:, i_in[:, None], i_in]  # (K, I, I)
-    s_oi = covariances[:, i_out[:, None], i_in]  # (K, O, I)
-    s_oo = covariances[:, i_out[:, None], i_out]  # (K, O, O)
-    try:
-        chol = np.linalg.cholesky(s_ii)
-    except np.linalg.LinAlgError:
-        raise InputError("the input block of a component covariance is not positive definite") from None
-    identity = np.broadcast_to(np.eye(i_in.size), chol.shape)
-    chol_inv = np.linalg.solve(chol, identity)  # L^-1 from the triangular factor, (K, I, I)
-    # Regression matrices A_k = S_oi S_ii^-1 = (S_oi L^-T) L^-1, (K, O, I).
-    whitened_oi = s_oi @ np.swapaxes(chol_inv, 1, 2)
-    regression = whitened_oi @ chol_inv
-    cond_cov = s_oo - whitened_oi @ np.swapaxes(whitened_oi, 1, 2)
-    cond_cov = 0.5 * (cond_cov + np.swapaxes(cond_cov, 1, 2))
-
-    # Inputs centred on the components' mean input, so the quadratic expansion of the
-    # Mahalanobis distance works on moderate numbers.
-    center = weights @ means[:, i_in]
-    mu_in = means[:, i_in] - center
-    # log w_k N(x | mu_in, S_ii) for every (k, n) is one matrix product with quadratic features
-    # of x (see rlff.mixture.log_density_coefficients), then normalised in log space.
-    n_components, n_out = regression.shape[:2]
-    n_in = i_in.size
-    # One matrix product per block gives both, from the features [1, x, x_i x_j]:
-    # rows 0..K-1: log w_k N(x | mu_in, S_ii) (see rlff.mixture.log_density_coefficients);
-    # rows K..: the component means m_k(x) = (mu_out - A_k mu_in) + A_k x, component-major.
-    coef_log = log_density_coefficients(weights, mu_in, s_ii).T  # (K, F)
-    coef_mean = np.zeros((n_components * n_out, coef_log.shape[1]))
-    coef_mean[:, 0] = (means[:, i_out] - np.einsum("koi,ki->ko", regression, mu_in)).reshape(-1)
-    coef_mean[:, 1 : n_in + 1] = regression.reshape(-1, n_in)
-    coef = np.concatenate([coef_log, coef_mean])
-    # Batch arrays are laid out with the samples last, (K, N) and (K, O, N), and filled block by
-    # block so that the work arrays stay in the CPU cache.
+    regression = _Regression(mixture, inputs, outputs)
+    X = regression.checked_inputs(X)
     n = X.shape[0]
-    X_t = (X - center).T.copy()  # (I, N)
-    h = np.empty((n_components, n))
-    component_means = np.empty((n_components * n_out, n))
-    mean = np.empty((n_out, n))
-    covariance = np.empty((n, n_out, n_out))
-    with single_threaded_blas():
-        for start in range(0, n, _BLOCK):  # blocks of samples, not single samples
-            block = slice(start, start + _BLOCK)
-            product = coef @ quadratic_features(X_t[:, block], transposed=True)
-            h_b, _ = normalise_log_weights(product[:n_components], log_density=False)
-            m_b = product[n_components:]
-            h[:, block] = h_b
-            component_means[:, block] = m_b
-            if n_out == 1:  # one output: plain (K, B) products, no small matrices
-                weighted = h_b * m_b
-                mean_b = weighted.sum(axis=0)
-                mean[0, block] = mean_b
-                m_b -= mean_b  # V = sum_k h_k (S_k + (m_k - m)^2)
-                np.multiply(h_b, m_b, out=weighted)
-                weighted *= m_b
-                covariance[block, 0, 0] = weighted.sum(axis=0) + cond_cov[:, 0, 0] @ h_b
-            else:
-                m_b = m_b.reshape(n_components, n_out, -1)
-                mean_b = (h_b[:, None, :] * m_b).sum(axis=0)  # (O, B)
-                mean[:, block] = mean_b
-                spread = m_b - mean_b
-                covariance[block] = np.einsum("kn,kop->nop", h_b, cond_cov) + np.einsum(
-                    "kn,kon,kpn->nop", h_b, spread, spread
-                )
+    h = np.empty((regression.n_components, n))
+    component_means = np.empty((regression.n_components, regression.n_out, n))
+    mean, covariance = regression.run(X, h, component_means)
     return Conditional(
         weights=h.T,
-        means=component_means.reshape(n_components, n_out, n).transpose(2, 0, 1),
-        covariances=cond_cov,
-        mean=mean.T,
+        means=component_means.transpose(2, 0, 1),
+        covariances=regression.cond_cov,
+        mean=mean,
         covariance=covariance,
     )
+
+
+def predict(
+    mixture: Any, inputs: Sequence[int], outputs: Sequence[int], X: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The GMR prediction alone: conditional mean (N, O) and total covariance (N, O, O).
+
+    Same parameters and numbers as :func:`condition`, without storing the per-component weights
+    and means (N x K values each) that only the DMM needs.
+    """
+    regression = _Regression(mixture, inputs, outputs)
+    X = regression.checked_inputs(X)
+    no_store = np.empty((regression.n_components, 0))
+    return regression.run(X, no_store, no_store.reshape(regression.n_components, 1, 0))
+
+
+class _Regression:
+    """The per-component constants of one conditioning (inputs, outputs) of a mixture."""
+
+    def __init__(self, mixture: Any, inputs: Sequence[int], outputs: Sequence[int]):
+        weights = np.asarray(mixture.weights_, dtype=float)
+        means = np.asarray(mixture.means_, dtype=float)
+        covariances = np.asarray(mixture.covariances_, dtype=float)
+        n_features = means.shape[1]
+        i_in = _column_indices(inputs, n_features, "inputs")
+        i_out = _column_indices(outputs, n_features, "outputs")
+        if set(i_in.tolist()) & set(i_out.tolist()):
+            raise InputError(f"inputs {i_in.tolist()} and outputs {i_out.tolist()} share a column")
+        s_ii = covariances[:, i_in[:, None], i_in]  # (K, I, I)
+        s_oi = covariances[:, i_out[:, None], i_in]  # (K, O, I)
+        s_oo = covariances[:, i_out[:, None], i_out]  # (K, O, O)
+        try:
+            chol = np.linalg.cholesky(s_ii)
+        except np.linalg.LinAlgError:
+            raise InputError("the input block of a component covariance is not positive definite") from None
+        chol_inv = np.linalg.inv(chol)  # L^-1, (K, I, I)
+        precision = np.swapaxes(chol_inv, 1, 2) @ chol_inv  # S_ii^-1
+        regression = s_oi @ precision  # A_k = S_oi S_ii^-1, (K, O, I)
+        cond_cov = s_oo - regression @ np.swapaxes(s_oi, 1, 2)
+        self.cond_cov = np.ascontiguousarray(0.5 * (cond_cov + np.swapaxes(cond_cov, 1, 2)))
+        self.n_components, self.n_out, self.n_in = regression.shape
+        # Inputs centred on the components' mean input, so the quadratic expansion of the
+        # Mahalanobis distance works on moderate numbers. log w_k N(x | mu_in, S_ii) is linear in
+        # the features [1, x, x_i x_j] of x (see rlff.mixture.gaussian_log_coefficients), and so
+        # is the component mean m_k(x) = (mu_out - A_k mu_in) + A_k x.
+        self.center = weights @ means[:, i_in]
+        mu_in = means[:, i_in] - self.center
+        log_det = 2.0 * np.log(np.diagonal(chol, axis1=1, axis2=2)).sum(axis=1)
+        self.coef_log = np.ascontiguousarray(gaussian_log_coefficients(weights, mu_in, precision, log_det).T)  # (K, F)
+        self.coef_mean = np.empty((self.n_components, self.n_out, 1 + self.n_in))
+        self.coef_mean[:, :, 0] = means[:, i_out] - (regression @ mu_in[:, :, None])[:, :, 0]
+        self.coef_mean[:, :, 1:] = regression
+
+    def checked_inputs(self, X: np.ndarray) -> np.ndarray:
+        """Checked inputs X (N, I) (or (I,) for one input) as a C-ordered (N, I) array."""
+        X = np.asarray(X, dtype=float)
+        if X.ndim == 1:
+            X = X.reshape(1, -1) if X.size == self.n_in else X[:, None]
+        if X.ndim != 2 or X.shape[1] != self.n_in:
+            raise InputError(f"X must have shape (n, {self.n_in}), got {X.shape}")
+        X = np.ascontiguousarray(X)
+        # a finite sum proves every value finite (one pass, no temporary); else look closer
+        if not (np.isfinite(X.sum()) or np.isfinite(X).all()):
+            row = int(np.flatnonzero(~np.all(np.isfinite(X), axis=1))[0])
+            raise InputError(f"input row {row} holds NaN or inf: {X[row].tolist()}")
+        return X
+
+    def run(self, X: np.ndarray, h: np.ndarray, component_means: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Mean (N, O) and total covariance (N, O, O) at inputs X (N, I); fills ``h`` (K, N) and
+        ``component_means`` (K, O, N) unless their last axis is empty."""
+        n = X.shape[0]
+        mean = np.empty((self.n_out, n))
+        covariance = np.empty((self.n_out, self.n_out, n))
+        _conditional_kernel(X, self.center, self.coef_log, self.coef_mean, self.cond_cov, h, component_means, mean, covariance)
+        return mean.T, covariance.transpose(2, 0, 1)
+
+
+@numba.njit(cache=True, nogil=True, fastmath={"contract"})
+def _affine(coef: np.ndarray, features: np.ndarray, out: np.ndarray, size: int) -> None:
+    """out[:size] = coef[0] + sum_f coef[f + 1] features[f, :size], with coef (1 + F,) and
+    features (F, B): up to three features per pass over the block."""
+    n_features = features.shape[0]
+    c0 = coef[0]
+    if n_features == 0:
+        out[:size] = c0
+        return
+    f = min(n_features, 3)
+    if f == 1:
+        c1, x1 = coef[1], features[0]
+        for b in range(size):
+            out[b] = c0 + c1 * x1[b]
+    elif f == 2:
+        c1, c2, x1, x2 = coef[1], coef[2], features[0], features[1]
+        for b in range(size):
+            out[b] = c0 + c1 * x1[b] + c2 * x2[b]
+    else:
+        c1, c2, c3, x1, x2, x3 = coef[1], coef[2], coef[3], features[0], features[1], features[2]
+        for b in range(size):
+            out[b] = c0 + c1 * x1[b] + c2 * x2[b] + c3 * x3[b]
+    while f < n_features:
+        if f + 1 < n_features:
+            c1, c2, x1, x2 = coef[f + 1], coef[f + 2], features[f], features[f + 1]
+            for b in range(size):
+                out[b] += c1 * x1[b] + c2 * x2[b]
+            f += 2
+        else:
+            c1, x1 = coef[f + 1], features[f]
+            for b in range(size):
+                out[b] += c1 * x1[b]
+            f += 1
+
+
+@numba.njit(cache=True, nogil=True, fastmath={"contract"})
+def _conditional_kernel(
+    X: np.ndarray,
+    center: np.ndarray,
+    coef_log: np.ndarray,
+    coef_mean: np.ndarray,
+    cond_cov: np.ndarray,
+    h_out: np.ndarray,
+    means_out: np.ndarray,
+    mean: np.ndarray,
+    covariance: np.ndarray,
+) -> None:
+    """The GMR of N inputs, block by block of samples.
+
+    Inputs: X (N, I) inputs and the centre (I,) subtracted from them; coef_log (K, F) with
+    log w_k N(x | mu_k, S_k) = coef_log[k] . [1, x, x_i x_j (i <= j)] on centred x; coef_mean
+    (K, O, 1 + I) with m_k(x) = coef_mean[k] . [1, x]; cond_cov (K, O, O). Outputs: mean (O, N),
+    covariance (O, O, N), and when their last axis is N (not 0), the weights h_out (K, N) and the
+    component means means_out (K, O, N).
+
+    Why compiled (numba): every quantity is a short sum over K components per input. As NumPy
+    array expressions that is some forty passes over (K, N) temporaries; here the work arrays are
+    one block of samples that stays in the CPU cache, and every loop runs along the block (SIMD).
+    """
+    n, n_in = X.shape
+    n_components, n_features = coef_log.shape
+    n_out = coef_mean.shape[1]
+    store = h_out.shape[1] == n
+    phi = np.empty((n_features - 1, _BLOCK))  # features [x, x_i x_j] of a block
+    h = np.empty((n_components, _BLOCK))
+    m = np.empty((n_components, n_out, _BLOCK))
+    peak = np.empty(_BLOCK)
+    total = np.empty(_BLOCK)
+    for start in range(0, n, _BLOCK):
+        stop = min(start + _BLOCK, n)
+        size = stop - start
+        for i in range(n_in):
+            row, c = phi[i], center[i]
+            for b in range(size):
+                row[b] = X[start + b, i] - c
+        f = n_in
+        for i in range(n_in):
+            for j in range(i, n_in):
+                row_i, row_j, row_f = phi[i], phi[j], phi[f]
+                for b in range(size):
+                    row_f[b] = row_i[b] * row_j[b]
+                f += 1
+        # log-weights l_k and their largest per sample
+        for k in range(n_components):
+            row = h[k]
+            _affine(coef_log[k], phi, row, size)
+            if k == 0:
+                peak[:size] = row[:size]
+            else:
+                for b in range(size):
+                    peak[b] = row[b] if row[b] > peak[b] else peak[b]
+        # weights h_k = e_k / sum_j e_j with e_k = exp(l_k - peak) (normalised at the end)
+        total[:size] = 0.0
+        for k in range(n_components):
+            exp_relative(h[k, :size], peak[:size], total[:size])
+        for b in range(size):
+            total[b] = 1.0 / total[b]
+        # component means m_k(x) and the mixture mean
+        for o in range(n_out):
+            mean_o = mean[o, start:stop]
+            mean_o[:] = 0.0
+            for k in range(n_components):
+                m_ko, weight = m[k, o], h[k]
+                _affine(coef_mean[k, o], phi[:n_in], m_ko, size)
+                for b in range(size):
+                    mean_o[b] += weight[b] * m_ko[b]
+            for b in range(size):
+                mean_o[b] *= total[b]
+        # total covariance sum_k h_k (S_k + (m_k - m)(m_k - m)^T)
+        for o in range(n_out):
+            for p in range(o + 1):
+                cov = covariance[o, p, start:stop]
+                cov[:] = 0.0
+                mean_o, mean_p = mean[o, start:stop], mean[p, start:stop]
+                for k in range(n_components):
+                    weight, m_ko, m_kp, s = h[k], m[k, o], m[k, p], cond_cov[k, o, p]
+                    for b in range(size):
+                        cov[b] += weight[b] * (s + (m_ko[b] - mean_o[b]) * (m_kp[b] - mean_p[b]))
+                for b in range(size):
+                    cov[b] *= total[b]
+                if p != o:
+                    covariance[p, o, start:stop] = cov
+        if store:
+            for k in range(n_components):
+                for b in range(size):
+                    h_out[k, start + b] = h[k, b] * total[b]
+            means_out[:, :, start:stop] = m[:, :, :size]
