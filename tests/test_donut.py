@@ -151,6 +151,33 @@ def test_mode_is_the_global_maximum_on_a_dense_grid(seed, k, auto, eps):
     assert np.all(mode.density_traded == 0)
 
 
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_mode_is_global_with_far_apart_components_of_very_unequal_weight(seed):
+    """Components 400 units apart, weights from 1e-12 to 1: most donut terms are negligible at
+    most points (the climb skips them) and many starts are left out; the mode must stay global."""
+    rng = np.random.default_rng(seed)
+    n, k = 5, 9
+    weights = rng.dirichlet(np.ones(k), size=n) * 10.0 ** rng.uniform(-12, 0, (n, k))
+    weights /= weights.sum(axis=1, keepdims=True)
+    means = rng.uniform(-200, 200, (n, k, 1))
+    covariances = rng.uniform(0.05, 3.0, (k, 1, 1))
+    conditional = conditional_of(weights, means, covariances)
+    for eps in ("auto", 0.0, 0.6, 1.0):
+        mode = dmm_mode(conditional, eps)
+        grid_max, _ = dense_maximum(conditional, mode.exploration, -215, 215, 100_001)
+        assert np.all(mode.pdf >= grid_max * (1 - 1e-6))
+        np.testing.assert_allclose(dmm_pdf(conditional, mode.output, mode.exploration), mode.pdf, rtol=1e-12)
+
+
+def test_many_low_components_on_one_spot_outweigh_a_single_high_one():
+    """Five components at 0, each lower than the one at 10, together higher: none may be left out."""
+    weights = [[0.12] * 5 + [0.4]]
+    means = [[[0.0]] * 5 + [[10.0]]]
+    mode = dmm_mode(conditional_of(weights, means, [[[1.0]]] * 6), 0.0)
+    assert mode.output[0, 0] == pytest.approx(0.0, abs=1e-6)
+    assert mode.pdf[0] == pytest.approx(0.6 * norm.pdf(0.0) + 0.4 * norm.pdf(10.0), rel=1e-9)
+
+
 def test_mode_is_the_global_maximum_in_two_outputs():
     conditional = random_conditional(11, 6, 3, o=2)
     mode = dmm_mode(conditional, 0.8)

@@ -18,7 +18,8 @@ Then every donut is non-negative and integrates to 1, and at eps = 1 its density
 The output for an input is the *global* maximiser of P_DMM (thesis section 2.4). Instead of one
 BFGS run per input from the GMR mean (which stops at the hole of a donut), :func:`dmm_mode` starts
 from every component's mean and from its ring of highest density along each principal axis, plus
-the GMR mean, and runs safeguarded Newton steps on all starts of all inputs at once.
+the GMR mean, and runs safeguarded Newton steps on all starts of all inputs: one compiled loop
+(numba) for one output, NumPy operations over all starts at once for several.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+import numba
 import numpy as np
 
 from rlff.errors import InputError
@@ -37,12 +39,10 @@ GAMMA = 2.0
 #: Relative pdf tolerance within which two modes count as equally high (continuity option).
 CONTINUITY_TOLERANCE = 0.05
 _MAX_NEWTON = 60
-#: The climb drops its stopped starts once fewer than this share of its working set still climbs.
-_COMPACT = 0.9
-#: Lowest exponent of a donut term in the climb: exp is ten times slower where its result
-#: underflows and a third slower near e^-700, and a term below e^-300 (5e-131 per output unit)
-#: changes no density that can win (half the terms at the starts of the thesis' model are below).
-_LOG_FLOOR = -300.0
+#: The one-output climb skips a donut term below e^-46 (1e-20) times the highest peak of a single
+#: donut: P_DMM is at least that peak somewhere (all terms are >= 0), so the K terms skipped move
+#: the density by less than K 1e-20 of its maximum, while most terms far from a start cost no exp.
+_NEGLIGIBLE = -46.0
 
 
 # -- exploration and radii -------------------------------------------------------------------
@@ -172,7 +172,6 @@ class _Donuts:
         base = self.h * np.exp(-0.5 * (self.o * math.log(2 * math.pi) + log_det))
         self.w_a = base * (gamma * self.r_a2 ** (self.o / 2))[:, None]  # (N, K)
         self.w_b = base * ((gamma - 1.0) * self.r_b2 ** (self.o / 2))[:, None]
-        self._flat: np.ndarray | None = None
 
     def ring_radius2(self) -> np.ndarray:
         """Squared Mahalanobis radius (N,) where one donut is highest (0: peak at the mean).
@@ -215,25 +214,6 @@ class _Donuts:
             hess = np.einsum("nsk,nsko,nskp->nsop", c2, u, u) - np.einsum("nsk,kop->nsop", c1, self.precision)
         return pdf, grad, hess
 
-    def flat_terms(self, query: np.ndarray) -> np.ndarray:
-        """For one output: each start's donut terms, gathered by its input index (F,).
-
-        Returns, stacked in one array (5, K, F), the means m_k, the log-weights ln w_a and ln w_b of the two
-        Gaussian terms and their quadratic coefficients -r^2 / (2 S_k), so that term k at y is
-        exp(ln w + coefficient (y - m_k)^2) and every operation of :func:`_evaluate_flat` runs
-        over the starts.
-        """
-        if self._flat is None:  # once per batch: (5, K, N) with the inputs last
-            half_precision = -0.5 * self.precision[:, 0, 0][:, None]  # (K, 1)
-            self._flat = np.empty((5, self.k, self.n))
-            self._flat[0] = self.m[:, :, 0].T
-            with np.errstate(divide="ignore"):  # a weight of 0 is a log-weight of -inf: a term of 0
-                np.log(self.w_a.T, out=self._flat[1])
-                np.log(self.w_b.T, out=self._flat[2])
-            np.multiply(half_precision, self.r_a2, out=self._flat[3])
-            np.multiply(half_precision, self.r_b2, out=self._flat[4])
-        return self._flat.take(query, axis=2)
-
     def starts(self, gmr_mean: np.ndarray) -> np.ndarray:
         """Starting points (N, S, O): each component's mean, the two points of its ring on each
         principal axis, and the GMR mean."""
@@ -244,25 +224,6 @@ class _Donuts:
         ring = np.concatenate([self.m[:, :, None, :] + offsets, self.m[:, :, None, :] - offsets], axis=2)
         points = np.concatenate([self.m[:, :, None, :], ring], axis=2)  # (N, K, 1 + 2 O, O)
         return np.concatenate([points.reshape(self.n, -1, self.o), gmr_mean[:, None, :]], axis=1)
-
-    def relevant_starts(self) -> np.ndarray:
-        """Which starts (N, S) are worth climbing, in the order of :meth:`starts`.
-
-        - P_DMM is at least h_j max D_j for every j (all terms are >= 0), so a component whose
-          h_k max D_k is below 1e-7 of the largest adds less than 1e-7 of the maximum anywhere:
-          its starts can only find modes of the other components, which their own starts find.
-        - A donut with a hole (ring radius > 0) is lowest at its mean: the climb from there only
-          reaches its ring, whose points are starts already; without a hole the ring points are
-          the mean. So each component keeps either its mean or its ring points.
-        """
-        q = self.ring_radius2()[:, None]
-        peak = self.w_a * np.exp(-0.5 * self.r_a2[:, None] * q) - self.w_b * np.exp(-0.5 * self.r_b2[:, None] * q)
-        keep = peak >= 1e-7 * peak.max(axis=1, keepdims=True)  # (N, K)
-        hole = np.broadcast_to(q > 1e-12, keep.shape)
-        per_component = np.concatenate(
-            [(keep & ~hole)[:, :, None], np.repeat((keep & hole)[:, :, None], 2 * self.o, axis=2)], axis=2
-        ).reshape(self.n, -1)
-        return np.concatenate([per_component, np.ones((self.n, 1), dtype=bool)], axis=1)
 
 
 def dmm_pdf(
@@ -375,14 +336,12 @@ def dmm_mode(
     else:
         eps = _check_exploration(exploration, n)
     donuts = _Donuts(conditional, eps, gamma)
-    y = donuts.starts(np.asarray(conditional.mean, dtype=float))
     if donuts.o == 1:
-        keep = donuts.relevant_starts()
-        y_sn, pdf_sn = _climb_1d(donuts, np.ascontiguousarray(y[:, :, 0].T), np.ascontiguousarray(keep.T), tol)
-        y, pdf = y_sn.T[:, :, None], pdf_sn.T
+        y, pdf, best = _modes_1d(donuts, np.asarray(conditional.mean, dtype=float)[:, 0], tol)
+        y = y[:, :, None]
     else:
-        y, pdf = _climb(donuts, y, tol)
-    best = _best(y, pdf)
+        y, pdf = _climb(donuts, donuts.starts(np.asarray(conditional.mean, dtype=float)), tol)
+        best = _best(y, pdf)
     rows = np.arange(n)
     output, best_pdf = y[rows, best], pdf[rows, best]
     chosen_pdf = best_pdf
@@ -400,107 +359,162 @@ def dmm_mode(
     )
 
 
-def _evaluate_flat(y: np.ndarray, terms: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """One output: P_DMM and its first and second derivatives at F points y (F,), each (F,).
+def _modes_1d(donuts: _Donuts, gmr_mean: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The climb for one output, compiled: end points (N, S) and their pdf (N, S) for the starts of
+    :meth:`_Donuts.starts` (pdf -inf for those left out), and the index (N,) of the highest."""
+    with np.errstate(divide="ignore"):  # a weight of 0 is a log-weight of -inf: a term of 0
+        log_a, log_b = np.log(donuts.w_a), np.log(donuts.w_b)
+    n_starts = donuts.k * 3 + 1
+    ends = np.empty((donuts.n, n_starts))
+    pdf = np.empty((donuts.n, n_starts))
+    best = np.empty(donuts.n, dtype=np.int64)
+    _modes_1d_kernel(
+        gmr_mean, np.ascontiguousarray(donuts.m[:, :, 0]), log_a, log_b, np.ascontiguousarray(donuts.precision[:, 0, 0]),
+        donuts.r_a2, donuts.r_b2, donuts.ring_radius2(), tol, ends, pdf, best,
+    )
+    return ends, pdf, best
 
-    ``terms`` from :meth:`_Donuts.flat_terms` (restricted to the same points). With d = y - m_k,
-    a_k = w_a exp(c_a d^2) and b_k = w_b exp(c_b d^2): P = sum (a - b),
-    P' = 2 sum d (c_a a - c_b b) and P'' = sum 2 (c_a a - c_b b) + 4 d^2 (c_a^2 a - c_b^2 b).
+
+@numba.njit(cache=True, nogil=True)
+def _density_1d(y, means, log_a, log_b, half_precision, r_a2, r_b2, floor):  # noqa: ANN001, ANN202
+    """P_DMM and its first two derivatives at y for one input: (P, P', P'').
+
+    means, log_a, log_b (K,): component means and the log-weights of the two Gaussian terms;
+    half_precision (K,): 1 / (2 S_k); terms with exponent below ``floor`` are skipped. With
+    d = y - m_k, a = w_a exp(-r_a^2 d^2 / (2 S_k)), b likewise: P = sum (a - b),
+    P' = -sum (d / S_k)(r_a^2 a - r_b^2 b), P'' = sum (d / S_k)^2 (r_a^4 a - r_b^4 b) - (r_a^2 a - r_b^2 b) / S_k.
     """
-    m, log_a, log_b, c_a, c_b = terms
-    diff = y - m  # (K, F)
-    d2 = diff * diff
-    a = d2 * c_a
-    a += log_a
-    np.maximum(a, _LOG_FLOOR, out=a)  # see _LOG_FLOOR
-    np.exp(a, out=a)
-    b = d2 * c_b
-    b += log_b
-    np.maximum(b, _LOG_FLOOR, out=b)
-    np.exp(b, out=b)
-    pdf = (a - b).sum(axis=0)
-    a *= c_a
-    b *= c_b
-    slope = a - b
-    diff *= slope
-    a *= c_a
-    b *= c_b
-    a -= b
-    a *= d2
-    grad = diff.sum(axis=0)
-    grad *= 2.0
-    hess = a.sum(axis=0)
-    hess *= 2.0
-    hess += slope.sum(axis=0)
-    hess *= 2.0
+    pdf = grad = hess = 0.0
+    for k in range(means.size):
+        d = y - means[k]
+        quad = half_precision[k] * d * d
+        exponent_a = log_a[k] - r_a2 * quad
+        if exponent_a < floor:  # b <= a: both negligible
+            continue
+        a = math.exp(exponent_a)
+        b = math.exp(log_b[k] - r_b2 * quad)
+        u = 2.0 * half_precision[k] * d  # d / S_k
+        slope = r_a2 * a - r_b2 * b
+        pdf += a - b
+        grad -= u * slope
+        hess += u * u * (r_a2 * r_a2 * a - r_b2 * r_b2 * b) - 2.0 * half_precision[k] * slope
     return pdf, grad, hess
 
 
-def _climb_1d(
-    donuts: _Donuts, y: np.ndarray, keep: np.ndarray, tol: float
-) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`_climb` for one output, on the starts (S, N) marked in ``keep`` (S, N), flattened.
+@numba.njit(cache=True, nogil=True)
+def _modes_1d_kernel(
+    gmr_mean: np.ndarray,
+    means: np.ndarray,
+    log_a: np.ndarray,
+    log_b: np.ndarray,
+    precision: np.ndarray,
+    r_a2: np.ndarray,
+    r_b2: np.ndarray,
+    ring: np.ndarray,
+    tol: float,
+    ends: np.ndarray,
+    pdf: np.ndarray,
+    best: np.ndarray,
+) -> None:
+    """Every start of every input climbed to its top; the highest per input.
 
-    A start stops as soon as it has converged and keeps its point; the working set drops the
-    stopped starts whenever they are more than a tenth of it, so the work shrinks with the
-    iterations while each iteration stays a few dozen array operations. Starts left out get pdf -inf.
+    Inputs: gmr_mean (N,); means, log_a, log_b (N, K): component means and log-weights of the
+    two Gaussian terms; precision (K,) = 1 / S_k; r_a2, r_b2, ring (N,): squared radii and the
+    squared Mahalanobis radius of the donuts' highest ring. Outputs: ends and pdf (N, 3 K + 1),
+    in the order of :meth:`_Donuts.starts` (each component's mean and its ring point above and
+    below, then the GMR mean), pdf -inf for starts left out; best (N,): the highest, ties within
+    a relative 1e-9 to the larger output.
+
+    Starts left out: P_DMM is at least h_j max D_j for every j (all terms are >= 0), so a
+    component whose h_k max D_k is below 1e-7 of the largest adds less than 1e-7 of the maximum
+    anywhere: its starts could only find the modes of other components, which their own starts
+    find. A donut with a hole is lowest at its mean, whose climb only reaches its ring, whose
+    points are starts: each component climbs either its mean (no hole) or its ring points.
+
+    Why compiled (numba): each input has a handful of starts, each a few Newton steps of a sum
+    over K terms; as NumPy array operations the climb was bound by their number per step.
     """
-    sigma = float(np.sqrt(donuts.eigenvalues.max()))
-    n_starts, n = y.shape
-    index = np.flatnonzero(keep.reshape(-1))
-    query = index % n
-    y_all = y.reshape(-1).copy()
-    pdf_all = np.full(y_all.size, -np.inf)
-    terms = donuts.flat_terms(query)  # (5, K, F)
-    state = np.empty((6, index.size))  # rows: y, P, P', P'', trust radius, -P^2 (ln P)''
-    y_c, pdf_c, grad_c, hess_c, radius, bend = state
-    y_c[:] = y_all[index]
-    pdf_c[:], grad_c[:], hess_c[:] = _evaluate_flat(y_c, terms)
-    bend[:] = grad_c**2 - hess_c * pdf_c  # > 0 where ln P is concave
-    # First trust radius: the narrowest donut's standard deviation for a Newton step, a tenth of it
-    # for a gradient step, so that a start climbs its own hill rather than leaping over a valley.
-    radius[:] = np.where(hess_c < 0, 1.0, 0.1) * np.sqrt(donuts.eigenvalues.min() / donuts.r_b2[query])
-    # The GMR mean (the last start) where ln P is not concave sits in a hole or a valley: its climb
-    # ends on the side of a neighbouring ring or peak, which the components' own starts climb.
-    live = (index < (n_starts - 1) * n) | (bend > 0)
+    n, n_components = means.shape
+    half_precision = 0.5 * precision
+    sigma = math.sqrt(1.0 / precision.min())  # the widest component's standard deviation
+    narrowest_variance = 1.0 / precision.max()
+    peaks = np.empty(n_components)
+    for i in range(n):
+        m_i, a_i, b_i, ra2, rb2, q = means[i], log_a[i], log_b[i], r_a2[i], r_b2[i], ring[i]
+        hole = q > 1e-12
+        for k in range(n_components):  # each donut's highest density h_k max D_k
+            peaks[k] = math.exp(a_i[k] - 0.5 * ra2 * q) - math.exp(b_i[k] - 0.5 * rb2 * q)
+        top = peaks.max()
+        # terms below e^-46 of the highest peak are skipped (see _NEGLIGIBLE)
+        floor = math.log(top) + _NEGLIGIBLE if top > 0 else -np.inf
+        first_radius = math.sqrt(narrowest_variance / rb2)
+        for s in range(3 * n_components + 1):
+            k, slot = divmod(s, 3)
+            if k == n_components:
+                start, climb = gmr_mean[i], True
+            else:
+                offset = math.sqrt(q / precision[k])
+                start = m_i[k] + (0.0 if slot == 0 else offset if slot == 1 else -offset)
+                climb = peaks[k] >= 1e-7 * top and (slot == 0) != hole
+            ends[i, s] = start
+            pdf[i, s] = -np.inf
+            if climb:
+                ends[i, s], pdf[i, s] = _climb_start(
+                    start, s == 3 * n_components, m_i, a_i, b_i, half_precision, ra2, rb2, floor, first_radius, sigma, tol
+                )
+        highest = pdf[i].max()
+        choice = 0
+        for s in range(3 * n_components + 1):
+            if pdf[i, s] >= highest * (1.0 - 1e-9) and (pdf[i, choice] < highest * (1.0 - 1e-9) or ends[i, s] > ends[i, choice]):
+                choice = s
+        best[i] = choice
+
+
+@numba.njit(cache=True, nogil=True)
+def _climb_start(start, gmr_start, means, log_a, log_b, half_precision, r_a2, r_b2, floor, first_radius, sigma, tol):  # noqa: ANN001, ANN202
+    """One start's climb (see _modes_1d_kernel): returns the end point and its density.
+
+    Newton steps on ln P (a peak of a sum of Gaussians is nearly quadratic in the log) inside a
+    trust radius, a step of the radius uphill where ln P is not concave; a step that does not
+    raise P is refused and the radius shrinks to a quarter of it, so a start only climbs. The
+    first radius is the narrowest donut's standard deviation for a Newton step and a tenth of it
+    for a gradient step, so that a start climbs its own hill rather than leaping a valley.
+    """
+    point = start
+    p, g, h = _density_1d(point, means, log_a, log_b, half_precision, r_a2, r_b2, floor)
+    bend = g * g - h * p  # -P^2 (ln P)'': > 0 where ln P is concave
+    # The GMR mean where ln P is not concave sits in a hole or a valley: its climb would end on
+    # the side of a neighbouring ring or peak, which the components' own starts climb.
+    if gmr_start and bend <= 0:
+        return point, p
+    radius = (1.0 if h < 0 else 0.1) * first_radius
     for _ in range(_MAX_NEWTON):
-        # The rise of ln P that a Newton step on ln P promises is 0.5 (ln P)'^2 / |(ln P)''|
-        # = 0.5 P'^2 / bend. Below 1e-14 the start is at its top already (well within the 1e-6
-        # asked for: its distance to the top is about 1e-7 standard deviations).
-        live &= ~((bend > 0) & (grad_c**2 <= 2e-14 * bend))
-        n_live = np.count_nonzero(live)
-        if n_live < _COMPACT * live.size:  # drop the stopped starts from the working set
-            y_all[index], pdf_all[index] = y_c, pdf_c
-            if n_live == 0:
-                break
-            kept = np.flatnonzero(live)
-            index, state, terms, live = index[kept], state[:, kept], terms[:, :, kept], live[kept]
-            y_c, pdf_c, grad_c, hess_c, radius, bend = state
+        # The rise of ln P a Newton step promises is 0.5 P'^2 / bend: below 1e-14 the start is
+        # at its top (about 1e-7 standard deviations away)
+        if bend > 0 and g * g <= 2e-14 * bend:
+            break
         newton = bend > 0
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            # Newton on ln P: a peak of a sum of Gaussians is nearly quadratic in the log
-            step = np.where(newton, grad_c * pdf_c / bend, np.sign(grad_c) * radius)
-        step = np.where(np.isfinite(step), step, np.sign(grad_c) * radius)
-        length = np.abs(step)
-        # a whole Newton step that promises a rise of ln P below 1e-8 ends the climb: Newton
+        step = g * p / bend if newton else math.copysign(radius, g)
+        if not math.isfinite(step):
+            step = math.copysign(radius, g)
+        length = abs(step)
+        # a whole Newton step promising a rise of ln P below 1e-8 ends the climb: Newton
         # converges quadratically, so the point reached is far closer still to the top
-        last = newton & (length <= radius) & (grad_c**2 <= 2e-8 * bend)
-        np.minimum(length, radius, out=length)
-        np.copysign(length, step, out=step)
-        trial = y_c + step
-        trial_pdf, trial_grad, trial_hess = _evaluate_flat(trial, terms)
-        better = trial_pdf > pdf_c
-        better &= live
-        # a short step that changes the density by less than 1e-10 of itself ends the climb:
-        # the top is reached far within the 1e-6 asked for
-        flat = (np.abs(trial_pdf - pdf_c) <= 1e-10 * pdf_c) & (length <= 1e-3 * sigma)
-        trial_bend = trial_grad**2 - trial_hess * trial_pdf
-        np.copyto(state[:4], (trial, trial_pdf, trial_grad, trial_hess), where=better)
-        np.copyto(bend, trial_bend, where=better)
-        np.copyto(radius, np.where(better, np.maximum(radius, 4.0 * length), 0.25 * length), where=live)
-        live &= (length > tol * sigma) & (radius > tol * sigma) & ~flat & ~last
-    y_all[index], pdf_all[index] = y_c, pdf_c
-    return y_all.reshape(n_starts, n), pdf_all.reshape(n_starts, n)
+        last = newton and length <= radius and g * g <= 2e-8 * bend
+        length = min(length, radius)
+        trial = point + math.copysign(length, step)
+        p_t, g_t, h_t = _density_1d(trial, means, log_a, log_b, half_precision, r_a2, r_b2, floor)
+        # a short step changing the density by less than 1e-10 of itself: at the top
+        flat = abs(p_t - p) <= 1e-10 * p and length <= 1e-3 * sigma
+        if p_t > p:
+            point, p, g, h = trial, p_t, g_t, h_t
+            bend = g * g - h * p
+            radius = max(radius, 4.0 * length)
+        else:
+            radius = 0.25 * length
+        if length <= tol * sigma or radius <= tol * sigma or flat or last:
+            break
+    return point, p
 
 
 def _climb(donuts: _Donuts, y: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:

@@ -161,12 +161,11 @@ def gaussian_log_coefficients(
 ) -> np.ndarray:
     """:func:`log_density_coefficients` from the precisions (K, D, D) and ln |S_k| (K,)."""
     n_components, d = means.shape
-    p_mu = np.einsum("kij,kj->ki", precision, means)
-    with np.errstate(divide="ignore"):
-        log_weights = np.log(weights)
+    p_mu = (precision @ means[:, :, None])[:, :, 0]
+    log_weights = np.log(weights, out=np.full(n_components, -np.inf), where=weights > 0)
     rows, cols = upper_triangle(d)
     coef = np.empty((1 + d + rows.size, n_components))
-    coef[0] = log_weights - 0.5 * (d * _LOG_2PI + log_det + np.einsum("ki,ki->k", means, p_mu))
+    coef[0] = log_weights - 0.5 * (d * _LOG_2PI + log_det + (means * p_mu).sum(axis=1))
     coef[1 : d + 1] = p_mu.T
     quad = -precision[:, rows, cols]
     quad[:, rows == cols] *= 0.5
