@@ -22,6 +22,10 @@ else
   .venv/bin/python -m pip install --quiet -e .
 fi
 
+# The GMR and DMM loops are compiled by numba once, into its cache beside the sources.
+echo "setup: compiling the model kernels (the first time only: about 15 s)" >&2
+.venv/bin/python -c "from rlff.model import compile_kernels; compile_kernels()"
+
 if (( with_tests )); then
   # Debian packages, one per line in scripts/debian-packages.txt (comments with #).
   mapfile -t packages < <(sed -e 's/#.*//' -e 's/[[:space:]]*$//' -e '/^\s*$/d' scripts/debian-packages.txt)

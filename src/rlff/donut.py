@@ -368,10 +368,10 @@ def _modes_1d(donuts: _Donuts, gmr_mean: np.ndarray, tol: float) -> tuple[np.nda
     ends = np.empty((donuts.n, n_starts))
     pdf = np.empty((donuts.n, n_starts))
     best = np.empty(donuts.n, dtype=np.int64)
-    _modes_1d_kernel(
-        gmr_mean, np.ascontiguousarray(donuts.m[:, :, 0]), log_a, log_b, np.ascontiguousarray(donuts.precision[:, 0, 0]),
-        donuts.r_a2, donuts.r_b2, donuts.ring_radius2(), tol, ends, pdf, best,
-    )
+    # C-ordered float64 arrays only: another memory layout would compile (and cache) another
+    # version of the kernel, seconds each
+    inputs = [gmr_mean, donuts.m[:, :, 0], log_a, log_b, donuts.precision[:, 0, 0], donuts.r_a2, donuts.r_b2, donuts.ring_radius2()]
+    _modes_1d_kernel(*(np.ascontiguousarray(a, dtype=float) for a in inputs), float(tol), ends, pdf, best)
     return ends, pdf, best
 
 

@@ -396,6 +396,17 @@ class Model:
 # -- helpers -------------------------------------------------------------------------------------
 
 
+def compile_kernels() -> None:
+    """Compile the compiled loops of GMR and the DMM mode, or load them from numba's cache.
+
+    The first call after installing compiles them (10-20 s) and stores the machine code beside
+    the sources; later processes load it in well under a second. ``scripts/setup.sh`` calls this
+    so that the first ``rlff`` command does not wait for the compiler.
+    """
+    mixture = GaussianMixture.from_parameters(np.array([0.5, 0.5]), np.array([[0.0, 0.0], [1.0, 2.0]]), np.array([np.eye(2)] * 2))
+    dmm_mode(condition(mixture, [0], [1], np.array([[0.5]])))
+
+
 def _check_roles(inputs: tuple[str, ...], outputs: tuple[str, ...]) -> None:
     if not inputs:
         raise InputError("a model needs at least one input column")
