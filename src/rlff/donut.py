@@ -376,7 +376,16 @@ def _modes_1d(donuts: _Donuts, gmr_mean: np.ndarray, tol: float) -> tuple[np.nda
 
 
 @numba.njit(cache=True, nogil=True)
-def _density_1d(y, means, log_a, log_b, half_precision, r_a2, r_b2, floor):  # noqa: ANN001, ANN202
+def _density_1d(
+    y: float,
+    means: np.ndarray,
+    log_a: np.ndarray,
+    log_b: np.ndarray,
+    half_precision: np.ndarray,
+    r_a2: float,
+    r_b2: float,
+    floor: float,
+) -> tuple[float, float, float]:
     """P_DMM and its first two derivatives at y for one input: (P, P', P'').
 
     means, log_a, log_b (K,): component means and the log-weights of the two Gaussian terms;
@@ -471,7 +480,20 @@ def _modes_1d_kernel(
 
 
 @numba.njit(cache=True, nogil=True)
-def _climb_start(start, gmr_start, means, log_a, log_b, half_precision, r_a2, r_b2, floor, first_radius, sigma, tol):  # noqa: ANN001, ANN202
+def _climb_start(
+    start: float,
+    gmr_start: bool,
+    means: np.ndarray,
+    log_a: np.ndarray,
+    log_b: np.ndarray,
+    half_precision: np.ndarray,
+    r_a2: float,
+    r_b2: float,
+    floor: float,
+    first_radius: float,
+    sigma: float,
+    tol: float,
+) -> tuple[float, float]:
     """One start's climb (see _modes_1d_kernel): returns the end point and its density.
 
     Newton steps on ln P (a peak of a sum of Gaussians is nearly quadratic in the log) inside a

@@ -34,24 +34,24 @@ LOWEST = -708.0
 
 
 @intrinsic
-def _bits(typingctx, value):  # noqa: ARG001 (numba's intrinsic signature)
+def _bits(typingctx, value):  # numba's intrinsic signature: the typing context comes first
     """The binary form of a float64 as an int64 (a reinterpretation, not a conversion)."""
     if value != types.float64:
         return None
 
-    def codegen(context, builder, signature, args):  # noqa: ARG001
+    def codegen(context, builder, signature, args):
         return builder.bitcast(args[0], ir.IntType(64))
 
     return types.int64(types.float64), codegen
 
 
 @intrinsic
-def _from_bits(typingctx, value):  # noqa: ARG001
+def _from_bits(typingctx, value):
     """The float64 whose binary form is an int64."""
     if value != types.int64:
         return None
 
-    def codegen(context, builder, signature, args):  # noqa: ARG001
+    def codegen(context, builder, signature, args):
         return builder.bitcast(args[0], ir.DoubleType())
 
     return types.float64(types.int64), codegen
