@@ -203,6 +203,49 @@ def test_bad_fit_input_is_named():
         Model.fit(data[:1].replace([data[0].take(slice(0, 10))]), components=20)
 
 
+def baskets_dataset(seed: int = 0, baskets: np.ndarray = np.arange(1.0, 3.01, 0.25)) -> Dataset:
+    """Noisy throws at baskets 0.25 m apart, a dozen each: the context takes few values."""
+    rng = np.random.default_rng(seed)
+    trajectories = []
+    for b, distance in enumerate(baskets):
+        for t in range(12):
+            angle = np.linspace(0.7, 2.8, 40)
+            velocity = (1.0 + 0.4 * distance) * np.sin(angle) * 6 + rng.normal(0, 0.4, angle.size)
+            columns = {"angle": angle, "distance": np.full(angle.size, distance), "velocity": velocity}
+            trajectories.append(Trajectory(f"b{b}t{t}", columns))
+    return Dataset(trajectories)
+
+
+def test_context_resolution_keeps_every_component_off_a_single_basket():
+    data = baskets_dataset(baskets=np.array([1.0, 1.25, 1.5]))  # 3 baskets, 6 components
+    auto = Model.fit(data, components=6)
+    assert auto.fit_info["context_resolution"] == {"distance": pytest.approx(0.25)}
+    # every component is at least as wide in the distance as a basket's +-0.125 m
+    assert np.all(auto.mixture.covariances_[:, 1, 1] >= 0.25**2 / 12)
+    given = Model.fit(data, components=6, context_resolution=0.5)
+    assert np.all(given.mixture.covariances_[:, 1, 1] >= 0.5**2 / 12)
+    # without it, EM puts components on one basket each: no variance there, ln L without bound
+    plain = Model.fit(data, components=6, context_resolution=None)
+    assert plain.fit_info["context_resolution"] == {"distance": 0.0}
+    assert np.min(plain.mixture.covariances_[:, 1, 1]) < 1e-3 * 0.25**2 / 12
+    assert plain.fit_info["log_likelihood"] > auto.fit_info["log_likelihood"] + 100
+
+
+def test_context_resolution_auto_follows_the_spacing_of_the_recorded_values():
+    data = baskets_dataset()
+    # one trajectory off the 0.25 m grid does not make the resolution fine (median gap)
+    off_grid = data.replace([*data, data[0].replace(id="extra").with_columns(distance=np.full(len(data[0]), 1.8))])
+    assert Model.fit(off_grid, components=2).fit_info["context_resolution"] == {"distance": pytest.approx(0.25)}
+    # an array whose context changes from sample to sample is continuous: nothing added
+    X = data.to_array(["angle", "distance", "velocity"])
+    X[:, 1] += np.random.default_rng(1).uniform(-0.1, 0.1, len(X))
+    assert Model.fit(X, components=2).fit_info["context_resolution"] == {"distance": 0.0}
+    with pytest.raises(InputError, match="context_resolution"):
+        Model.fit(data, components=2, context_resolution="fine")
+    with pytest.raises(InputError, match="context_resolution"):
+        Model.fit(data, components=2, context_resolution=-1.0)
+
+
 def test_constant_column_warns_and_fits():
     data = Dataset([t.with_columns(distance=np.full(len(t), 2.5)) for t in thesis_dataset()[:1]])
     with warnings.catch_warnings(record=True) as caught:

@@ -357,7 +357,10 @@ def test_dmm_heatmap_shows_the_density_the_throw_and_the_mean(tmp_path, thesis_m
     expected = dmm_pdf(model.condition(np.array([[path.angle[column], 8.5]])), path.velocity[[column]][:, None],
                        path.exploration[[column]])[0]
     assert density[:, column].max() <= expected * (1 + 1e-6)
-    assert velocities[np.argmax(density[:, column])] == pytest.approx(path.velocity[column], abs=2 * np.ptp(velocities) / 220)
+    # and the drawn density next to the throw is its column's highest, up to the grid's step (two
+    # sides of a donut can be within that of each other, so no comparison of where the maxima are)
+    nearest = np.argmin(np.abs(velocities - path.velocity[column]))
+    assert density[nearest, column] >= 0.98 * density[:, column].max()
     assert top.get_ylabel() == "joint velocity ξ̇ (rad/s)" and bottom.get_ylabel() == "exploration ε"
     assert bottom.get_xlabel() == "joint angle ξ (rad)"
     np.testing.assert_allclose(bottom.get_lines()[0].get_ydata(), path.exploration)

@@ -220,8 +220,11 @@ def _e_m_pass(phi: np.ndarray, coef: np.ndarray, weights: np.ndarray) -> tuple[f
     return log_likelihood, stats
 
 
-def _parameters_from_statistics(stats: np.ndarray, reg_covar: float, d: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Weights (K,), means (K, D) and covariances (K, D, D) from the statistics (K, F)."""
+def _parameters_from_statistics(
+    stats: np.ndarray, diagonal: np.ndarray, d: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Weights (K,), means (K, D) and covariances (K, D, D) from the statistics (K, F); the
+    covariances get ``diagonal`` (D,) added (the regularisation)."""
     counts = stats[:, 0] + 10.0 * np.finfo(float).eps
     means = stats[:, 1 : d + 1] / counts[:, None]
     rows, cols = upper_triangle(d)
@@ -229,7 +232,7 @@ def _parameters_from_statistics(stats: np.ndarray, reg_covar: float, d: int) -> 
     second[:, rows, cols] = stats[:, d + 1 :] / counts[:, None]
     second[:, cols, rows] = second[:, rows, cols]
     covariances = second - means[:, :, None] * means[:, None, :]
-    covariances[:, np.arange(d), np.arange(d)] += reg_covar
+    covariances[:, np.arange(d), np.arange(d)] += diagonal
     return counts / counts.sum(), means, covariances
 
 
@@ -341,6 +344,12 @@ class GaussianMixture:
         Number of Gaussian components K.
     reg_covar : float
         Added to the diagonal of every covariance on the standardised scale (>= 0).
+    column_variance : array of shape (D,), optional
+        Variance in the data's units added to the diagonal of every covariance, on top of
+        ``reg_covar``: the resolution of a column recorded on a grid. A basket distance known to
+        0.25 m is uniform within +-0.125 m of its value, variance 0.25^2 / 12; without it a
+        component can sit on a single basket with a variance of almost 0 in the distance and a
+        likelihood that grows without bound.
     tol : float
         EM stops when the mean log-likelihood per sample changes by less than ``tol``.
     max_iter : int
@@ -378,6 +387,7 @@ class GaussianMixture:
         n_components: int = 1,
         *,
         reg_covar: float = 1e-6,
+        column_variance: np.ndarray | None = None,
         tol: float = 1e-3,
         max_iter: int = 100,
         n_init: int = 1,
@@ -389,6 +399,7 @@ class GaussianMixture:
     ) -> None:
         self.n_components = n_components
         self.reg_covar = reg_covar
+        self.column_variance = column_variance
         self.tol = tol
         self.max_iter = max_iter
         self.n_init = n_init
@@ -496,11 +507,11 @@ class GaussianMixture:
         phi = quadratic_features(Z)
         w = weights / weights.mean()
         rng = np.random.default_rng(self.random_state)
-        d = X.shape[1]
+        diagonal = self._diagonal(X.shape[1])
         best = None
         with single_threaded_blas():
-            for start in self._initial_parameters(Z, phi, w, rng):
-                result = self._em(phi, w, start, d)
+            for start in self._initial_parameters(Z, phi, w, rng, diagonal):
+                result = self._em(phi, w, start, diagonal)
                 if best is None or result[0] > best[0]:
                     best = result
         lower_bound, params, converged, n_iter, history = best
@@ -515,8 +526,17 @@ class GaussianMixture:
         self._refresh()
         return self
 
+    def _diagonal(self, d: int) -> np.ndarray:
+        """What every covariance gets on its diagonal, (D,) on the standardised scale."""
+        if self.column_variance is None:
+            return np.full(d, float(self.reg_covar))
+        extra = np.asarray(self.column_variance, dtype=float)
+        if extra.shape != (d,) or not np.all(np.isfinite(extra)) or np.any(extra < 0):
+            raise InputError(f"column_variance must hold {d} finite values >= 0, got {extra.tolist()}")
+        return self.reg_covar + extra / self.scale_**2
+
     def _initial_parameters(
-        self, Z: np.ndarray, phi: np.ndarray, w: np.ndarray, rng: np.random.Generator
+        self, Z: np.ndarray, phi: np.ndarray, w: np.ndarray, rng: np.random.Generator, diagonal: np.ndarray
     ) -> Iterable[tuple[np.ndarray, np.ndarray, np.ndarray]]:
         d = Z.shape[1]
         if self.means_init is not None:
@@ -535,7 +555,7 @@ class GaussianMixture:
         return (
             _parameters_from_statistics(
                 _initial_responsibilities(Z, w, self.n_components, self.init, rng).T @ (phi * w[:, None]),
-                self.reg_covar,
+                diagonal,
                 d,
             )
             for _ in range(self.n_init)
@@ -546,7 +566,7 @@ class GaussianMixture:
         phi: np.ndarray,
         w: np.ndarray,
         params: tuple[np.ndarray, np.ndarray, np.ndarray],
-        d: int,
+        diagonal: np.ndarray,
     ) -> tuple[float, tuple[np.ndarray, np.ndarray, np.ndarray], bool, int, list[float]]:
         """EM from initial standardised parameters; returns (mean LL, params, converged, iterations, history)."""
         lower_bound = -np.inf
@@ -558,7 +578,7 @@ class GaussianMixture:
             log_likelihood, stats = _e_m_pass(phi, log_density_coefficients(*params), w)
             lower_bound = log_likelihood / total_weight
             history.append(lower_bound)
-            params = _parameters_from_statistics(stats, self.reg_covar, d)
+            params = _parameters_from_statistics(stats, diagonal, diagonal.size)
             if abs(lower_bound - previous) < self.tol:
                 converged = True
                 break

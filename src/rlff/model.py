@@ -204,6 +204,7 @@ class Model:
         sample_weight: np.ndarray | None = None,
         n_init: int = DEFAULT_N_INIT,
         reg_covar: float = 1e-6,
+        context_resolution: str | float | None = "auto",
         progress: Callable[[int, int], None] | None = None,
     ) -> Model:
         """Fit a mixture to the input and output columns of a dataset or an array.
@@ -230,6 +231,15 @@ class Model:
             EM restarts per K; the best log-likelihood is kept.
         reg_covar : float
             Covariance regularisation on the standardised scale.
+        context_resolution : "auto", float or None
+            How finely the context inputs (every input but the first, e.g. the basket distance)
+            are known, in their units: each is taken as uniform within +-resolution / 2 of its
+            recorded value, so every component gets resolution^2 / 12 added to its variance in
+            that input. Without it a component can sit on a single basket with almost no
+            variance in the distance, a likelihood without bound (which BIC rewards) and nothing
+            to say between the baskets. "auto": the median gap between the distinct recorded
+            values of an input that takes few values (at most a tenth as many as there are
+            samples), else 0; a number: that resolution for every context input; None or 0: none.
         progress : callable(done, total), optional
             Called after each candidate K.
 
@@ -243,7 +253,9 @@ class Model:
         X = _columns_of(data, columns, names)
         weights = check_weights(sample_weight, X.shape[0])
         _warn_constant(X, names)
-        settings = {"random_state": seed, "n_init": n_init, "reg_covar": reg_covar}
+        resolution = {name: _resolution(X[:, j], context_resolution, name) for j, name in enumerate(inputs) if j > 0}
+        column_variance = np.array([resolution.get(name, 0.0) ** 2 / 12.0 for name in names])
+        settings = {"random_state": seed, "n_init": n_init, "reg_covar": reg_covar, "column_variance": column_variance}
         if components == "auto":
             if not isinstance(max_components, (int, np.integer)) or max_components < 1:
                 raise InputError(f"max_components must be an integer >= 1, got {max_components!r}")
@@ -272,6 +284,7 @@ class Model:
             "seed": seed,
             "n_init": n_init,
             "reg_covar": reg_covar,
+            "context_resolution": resolution,
         }
         input_range = {name: (float(X[:, j].min()), float(X[:, j].max())) for j, name in enumerate(inputs)}
         return cls(mixture, inputs, outputs, input_range, selection, fit_info)
@@ -405,6 +418,23 @@ def compile_kernels() -> None:
     """
     mixture = GaussianMixture.from_parameters(np.array([0.5, 0.5]), np.array([[0.0, 0.0], [1.0, 2.0]]), np.array([np.eye(2)] * 2))
     dmm_mode(condition(mixture, [0], [1], np.array([[0.5]])))
+
+
+def _resolution(values: np.ndarray, setting: str | float | None, name: str) -> float:
+    """The resolution (input units) of one context input, see ``Model.fit(context_resolution=)``."""
+    if setting is None:
+        return 0.0
+    if isinstance(setting, str):
+        if setting != "auto":
+            raise InputError(f"context_resolution must be 'auto', a number >= 0 or None, got {setting!r}")
+        distinct = np.unique(values)
+        if distinct.size < 2 or distinct.size > values.size / 10:
+            return 0.0
+        return float(np.median(np.diff(distinct)))  # the grid's step, even with a few values off it
+    resolution = float(setting)
+    if not (math.isfinite(resolution) and resolution >= 0):
+        raise InputError(f"context_resolution for {name} must be a number >= 0, got {setting!r}")
+    return resolution
 
 
 def _check_roles(inputs: tuple[str, ...], outputs: tuple[str, ...]) -> None:

@@ -19,6 +19,15 @@ def _names(option: str, text: str) -> tuple[str, ...]:
     return names
 
 
+def _resolution_option(text: str) -> str | float:
+    if text == "auto":
+        return text
+    try:
+        return float(text)
+    except ValueError:
+        raise InputError(f"--context-resolution: give auto or a number (0 for none), got {text!r}") from None
+
+
 def _read(path: Path):
     from rlff.formats import read_dataset
 
@@ -80,6 +89,10 @@ def fit_command(
     criterion: str = typer.Option("bic", "--criterion", help="bic or aic (with auto)."),
     n_init: int = typer.Option(3, "--n-init", help="EM restarts per K (k-means++ seeds)."),
     seed: int = typer.Option(0, "--seed", help="Seed of the initialisations."),
+    context_resolution: str = typer.Option(
+        "auto", "--context-resolution",
+        help="How finely the context (e.g. the basket distance) is known, in its units: auto (the median gap between recorded values), a number, or 0.",
+    ),
     as_json: bool = typer.Option(False, "--json", help="Print the fit summary as JSON."),
 ) -> None:
     """Fit a Gaussian mixture to the demonstrations (K by BIC) and save it as model.json."""
@@ -92,7 +105,8 @@ def fit_command(
         model = Model.fit(
             dataset, inputs=_names("--inputs", inputs), outputs=_names("--outputs", outputs),
             components=components, max_components=max_components, criterion=criterion, seed=seed,
-            n_init=n_init, progress=lambda done, _total: advance(1, description=f"fitted K={done}"),
+            n_init=n_init, context_resolution=_resolution_option(context_resolution),
+            progress=lambda done, _total: advance(1, description=f"fitted K={done}"),
         )
     for warning in caught:
         say(f"warning: {warning.message}")
@@ -107,6 +121,7 @@ def fit_command(
         "bic": model.fit_info["bic"],
         "aic": model.fit_info["aic"],
         "converged": model.fit_info["converged"],
+        "context_resolution": model.fit_info["context_resolution"],
         "selection": None if model.selection is None else model.selection.table,
     }
     if as_json:
@@ -126,7 +141,9 @@ def fit_command(
             )
         stdout().print(table)
     stdout().print(
-        f"K = {model.n_components}, {summary['n_samples']} samples, BIC {summary['bic']:.2f} -> {output}",
+        f"K = {model.n_components}, {summary['n_samples']} samples, BIC {summary['bic']:.2f}"
+        + "".join(f", {name} resolution {value:g}" for name, value in summary["context_resolution"].items() if value > 0)
+        + f" -> {output}",
         highlight=False,
     )
 
