@@ -109,6 +109,21 @@ def test_generate_bad_options_exit_2_with_one_line(thesis_files, rlff, tmp_path,
     assert len(result.stderr.strip().splitlines()) == 1
 
 
+def test_fit_context_resolution(thesis_files, rlff, tmp_path):
+    data, _, summary = thesis_files
+    assert summary["context_resolution"] == {"distance": 1.0}  # auto: the thesis' baskets 1 unit apart
+    given = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "3", "--context-resolution", "0.5", "--json")
+    assert given.code == 0, given.stderr
+    assert json.loads(given.stdout)["context_resolution"] == {"distance": 0.5}
+    saved = json.loads((tmp_path / "m.json").read_text())
+    assert saved["fit"]["context_resolution"] == {"distance": 0.5}
+    assert min(c[1][1] for c in saved["covariances"]) >= 0.5**2 / 12
+    for bad in ("fine", "-1", "inf"):
+        result = rlff("fit", str(data), "-o", str(tmp_path / "x.json"), "--context-resolution", bad)
+        assert result.code == 2 and "--context-resolution" in result.stderr and "fitting" not in result.stderr
+        assert not (tmp_path / "x.json").exists()
+
+
 def test_fit_and_generate_refuse_bad_files(thesis_files, cli, rlff, tmp_path):
     data, model, _ = thesis_files
     bad = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--outputs", "speed")

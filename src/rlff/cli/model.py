@@ -23,9 +23,12 @@ def _resolution_option(text: str) -> str | float:
     if text == "auto":
         return text
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
-        raise InputError(f"--context-resolution: give auto or a number (0 for none), got {text!r}") from None
+        value = -1.0
+    if not (value >= 0 and value != float("inf")):
+        raise InputError(f"--context-resolution: give auto or a number >= 0 (0 for none), got {text!r}")
+    return value
 
 
 def _read(path: Path):
@@ -98,6 +101,7 @@ def fit_command(
     """Fit a Gaussian mixture to the demonstrations (K by BIC) and save it as model.json."""
     from rlff.model import Model
 
+    resolution = _resolution_option(context_resolution)
     dataset = _read(data)
     total = max_components if components == "auto" else 1
     with progress("fitting", total=total) as advance, warnings.catch_warnings(record=True) as caught:
@@ -105,7 +109,7 @@ def fit_command(
         model = Model.fit(
             dataset, inputs=_names("--inputs", inputs), outputs=_names("--outputs", outputs),
             components=components, max_components=max_components, criterion=criterion, seed=seed,
-            n_init=n_init, context_resolution=_resolution_option(context_resolution),
+            n_init=n_init, context_resolution=resolution,
             progress=lambda done, _total: advance(1, description=f"fitted K={done}"),
         )
     for warning in caught:
