@@ -124,6 +124,32 @@ def test_fit_context_resolution(thesis_files, rlff, tmp_path):
         assert not (tmp_path / "x.json").exists()
 
 
+def test_fit_effective_samples(rlff, tmp_path):
+    from rlff.dataset import Dataset, Trajectory, write_csv
+    from rlff.preprocess import densify
+
+    rng = np.random.default_rng(0)
+    throws = []
+    for i in range(12):
+        angle = np.linspace(0.7, 2.8, 6)
+        distance = 1.0 + 0.5 * (i % 3)
+        velocity = (1.0 + 0.4 * distance) * 6 * np.sin(angle) + rng.normal(0, 0.3, 6)
+        throws.append(Trajectory(f"t{i}", {"angle": angle, "distance": np.full(6, distance), "velocity": velocity}))
+    dense, _ = densify(Dataset(throws), step=0.01)
+    data = tmp_path / "dense.csv"
+    write_csv(dense, data)
+    measured = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--max-components", "3",
+                    "--effective-samples", "measured", "--json")
+    assert measured.code == 0, measured.stderr
+    assert json.loads(measured.stdout)["effective_samples"] == pytest.approx(72)  # 12 throws x 6 samples
+    text = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "2", "--effective-samples", "50")
+    assert "BIC over 50 effective samples" in text.stdout
+    plain = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "2", "--json")
+    assert json.loads(plain.stdout)["effective_samples"] is None
+    bad = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--effective-samples", "some")
+    assert bad.code == 2 and "--effective-samples" in bad.stderr
+
+
 def test_fit_and_generate_refuse_bad_files(thesis_files, cli, rlff, tmp_path):
     data, model, _ = thesis_files
     bad = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--outputs", "speed")

@@ -65,6 +65,29 @@ def test_selection_table_formulas_and_progress():
     assert selection.model.n_components == min(selection.table, key=lambda r: r["aic"])["n_components"]
 
 
+def test_effective_samples_count_interpolated_samples_as_a_share_of_one():
+    # 40 measured points of 3 blobs, each "densified" to 20 samples by linear interpolation
+    # towards its blob's next point: n = 800 samples that stand for 40 measurements
+    rng = np.random.default_rng(3)
+    measured = np.concatenate([rng.normal(c, 0.5, (40 // 3 + 1, 2)) for c in ([0, 0], [5, 0], [0, 5])])[:40]
+    order = np.argsort(np.round(measured[:, 0] + 10 * measured[:, 1]))
+    measured = measured[order]
+    t = np.linspace(0, 1, 20, endpoint=False)[:, None, None]
+    dense = (measured[None, :-1] * (1 - t) + measured[None, 1:] * t).reshape(-1, 2)
+    plain = select_components(dense, range(1, 9), random_state=0)
+    effective = select_components(dense, range(1, 9), random_state=0, effective_samples=40)
+    # every row: ln L counted at 40/n of its weight, n = 40
+    for row in effective.table:
+        scaled = row["log_likelihood"] * 40 / len(dense)
+        assert row["bic"] == pytest.approx(-2 * scaled + row["n_parameters"] * np.log(40), rel=1e-12)
+        assert row["aic"] == pytest.approx(-2 * scaled + 2 * row["n_parameters"], rel=1e-12)
+    # the interpolated points make the plain BIC reward many components; counted as 40 it does not
+    assert plain.model.n_components >= 6
+    assert effective.model.n_components <= 4
+    with pytest.raises(InputError, match="effective_samples"):
+        select_components(dense, [1], effective_samples=len(dense) + 1)
+
+
 def test_candidates_above_the_sample_count_are_left_out():
     X = np.random.default_rng(0).normal(size=(4, 1))
     selection = select_components(X, range(1, 9), random_state=0)

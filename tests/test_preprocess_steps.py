@@ -209,6 +209,10 @@ def test_densify_resamples_a_line_exactly_in_the_direction_of_motion():
     np.testing.assert_allclose(out["down"]["angle"], [0.3, 0.25, 0.2, 0.15, 0.1, 0.05, 0.02], atol=1e-12)
     np.testing.assert_allclose(out["down"]["velocity"], -1.6 + 2.0 * out["down"]["angle"], atol=1e-12)
     assert [(c.removed, c.added) for c in report.samples] == [(4, 7), (4, 7)]
+    # 4 measured samples stand behind 7: the share BIC counts; a second densify multiplies it
+    assert out["up"].meta["measured_share"] == pytest.approx(4 / 7)
+    again, _ = densify(out, step=0.025)
+    assert again["up"].meta["measured_share"] == pytest.approx(4 / 7 * 7 / 13)
 
 
 def test_densify_anchors_limit_the_spline_overshoot():

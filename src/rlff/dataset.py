@@ -28,10 +28,11 @@ from rlff.errors import InputError
 #: as given. ``release_angle`` (rad) and ``release_time`` (s) locate the ball's release when known
 #: (simulated throws), ``glitches`` counts the tracking glitches a simulated throw holds,
 #: ``cut_angle`` (rad) is where preprocessing cut a throw at its release; ``start_time`` and
-#: ``end_time`` (s) place an imported throw in its recording.
+#: ``end_time`` (s) place an imported throw in its recording; ``measured_share`` is the share of
+#: a trajectory's samples that stand for a measurement (densifying interpolates the rest).
 META_KEYS = (
     "subject", "source", "target", "landing", "hit", "release_angle", "release_time", "glitches",
-    "cut_angle", "start_time", "end_time",
+    "cut_angle", "start_time", "end_time", "measured_share",
 )
 #: Column of the CSV long format that holds the trajectory id.
 ID_COLUMN = "trajectory"

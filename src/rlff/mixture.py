@@ -691,12 +691,32 @@ class Selection:
         return self.model.n_components
 
 
+def information_criteria(
+    log_likelihood: float, n_parameters: int, n_samples: float, effective_samples: float | None = None
+) -> tuple[float, float]:
+    """BIC = -2 ln L + p ln n and AIC = -2 ln L + 2 p (lower is better).
+
+    Both assume n independent samples. Samples interpolated between measurements (a densified
+    trajectory holds 10-40 samples per camera frame) are not: ln L grows with every one of them
+    while the penalty grows with ln n only, so BIC keeps falling with K. With
+    ``effective_samples`` = n_e < n, each sample counts for n_e / n of one: ln L is scaled by
+    n_e / n and n is n_e.
+    """
+    if effective_samples is None:
+        return -2.0 * log_likelihood + n_parameters * math.log(n_samples), -2.0 * log_likelihood + 2.0 * n_parameters
+    if not (math.isfinite(effective_samples) and 0 < effective_samples <= n_samples * (1 + 1e-12)):
+        raise InputError(f"effective_samples must be in (0, {n_samples:g}], got {effective_samples!r}")
+    scaled = log_likelihood * effective_samples / n_samples
+    return -2.0 * scaled + n_parameters * math.log(effective_samples), -2.0 * scaled + 2.0 * n_parameters
+
+
 def select_components(
     X: np.ndarray,
     components: Iterable[int] = range(1, 9),
     *,
     criterion: str = "bic",
     sample_weight: np.ndarray | None = None,
+    effective_samples: float | None = None,
     progress: Callable[[int, int], None] | None = None,
     **gm_kwargs: Any,
 ) -> Selection:
@@ -712,6 +732,9 @@ def select_components(
         BIC = -2 ln L + p ln n (the thesis' choice), AIC = -2 ln L + 2 p. Ties go to the smaller K.
     sample_weight : array of shape (N,), optional
         Weights of the samples (weighted EM; ln L weighted, n = sum of weights).
+    effective_samples : float, optional
+        How many independent samples the data stand for, when fewer than n (see
+        :func:`information_criteria`).
     progress : callable(done, total), optional
         Called after each candidate.
     **gm_kwargs
@@ -738,10 +761,11 @@ def select_components(
         model = GaussianMixture(k, **gm_kwargs).fit(X, sample_weight=sample_weight)
         log_likelihood, n = model._total_log_likelihood(X, sample_weight)
         p = model.n_parameters()
+        bic, aic = information_criteria(log_likelihood, p, n, effective_samples)
         row = {
             "n_components": k,
-            "bic": -2.0 * log_likelihood + p * math.log(n),
-            "aic": -2.0 * log_likelihood + 2.0 * p,
+            "bic": bic,
+            "aic": aic,
             "log_likelihood": log_likelihood,
             "n_parameters": p,
             "converged": bool(model.converged_),

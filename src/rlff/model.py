@@ -31,7 +31,13 @@ from rlff.dataset import THROW_INPUTS, THROW_OUTPUTS, Dataset
 from rlff.donut import dmm_mode
 from rlff.errors import InputError
 from rlff.jsonfile import read_json_object
-from rlff.mixture import GaussianMixture, check_samples, check_weights, select_components
+from rlff.mixture import (
+    GaussianMixture,
+    check_samples,
+    check_weights,
+    information_criteria,
+    select_components,
+)
 from rlff.regression import Conditional, condition
 from rlff.trajectory.timing import time_along_path
 
@@ -205,6 +211,7 @@ class Model:
         n_init: int = DEFAULT_N_INIT,
         reg_covar: float = 1e-6,
         context_resolution: str | float | None = "auto",
+        effective_samples: str | float | None = None,
         progress: Callable[[int, int], None] | None = None,
     ) -> Model:
         """Fit a mixture to the input and output columns of a dataset or an array.
@@ -240,6 +247,12 @@ class Model:
             to say between the baskets. "auto": the median gap between the distinct recorded
             values of an input that takes few values (at most a tenth as many as there are
             samples), else 0; a number: that resolution for every context input; None or 0: none.
+        effective_samples : "auto", float or None
+            How many independent samples the data stand for, for BIC and AIC (see
+            :func:`rlff.mixture.information_criteria`). None (default): every sample; "auto":
+            each trajectory's samples times its ``measured_share`` metadata (the share of
+            measured samples, which ``densify`` records; 1 when absent), summed (weighted by
+            ``sample_weight``); or a number.
         progress : callable(done, total), optional
             Called after each candidate K.
 
@@ -256,12 +269,13 @@ class Model:
         resolution = {name: _resolution(X[:, j], context_resolution, name) for j, name in enumerate(inputs) if j > 0}
         column_variance = np.array([resolution.get(name, 0.0) ** 2 / 12.0 for name in names])
         settings = {"random_state": seed, "n_init": n_init, "reg_covar": reg_covar, "column_variance": column_variance}
+        effective = _effective_samples(data, weights, effective_samples)
         if components == "auto":
             if not isinstance(max_components, (int, np.integer)) or max_components < 1:
                 raise InputError(f"max_components must be an integer >= 1, got {max_components!r}")
             found = select_components(
                 X, range(1, max_components + 1), criterion=criterion, sample_weight=sample_weight,
-                progress=progress, **settings,
+                effective_samples=effective, progress=progress, **settings,
             )
             mixture = found.model
             selection = ComponentSelection(found.criterion, found.table)
@@ -272,13 +286,14 @@ class Model:
             if progress is not None:
                 progress(1, 1)
         log_likelihood, n = mixture._total_log_likelihood(X, weights)
-        p = mixture.n_parameters()
+        bic, aic = information_criteria(log_likelihood, mixture.n_parameters(), n, effective)
         fit_info = {
             "n_samples": int(X.shape[0]),
+            "effective_samples": effective,
             "weighted": sample_weight is not None,
             "log_likelihood": log_likelihood,
-            "bic": -2.0 * log_likelihood + p * math.log(n),
-            "aic": -2.0 * log_likelihood + 2.0 * p,
+            "bic": bic,
+            "aic": aic,
             "converged": bool(mixture.converged_),
             "n_iter": int(mixture.n_iter_),
             "seed": seed,
@@ -418,6 +433,20 @@ def compile_kernels() -> None:
     """
     mixture = GaussianMixture.from_parameters(np.array([0.5, 0.5]), np.array([[0.0, 0.0], [1.0, 2.0]]), np.array([np.eye(2)] * 2))
     dmm_mode(condition(mixture, [0], [1], np.array([[0.5]])))
+
+
+def _effective_samples(data: Dataset | np.ndarray, weights: np.ndarray, setting: str | float | None) -> float | None:
+    """The number of independent samples for BIC, see ``Model.fit(effective_samples=)``."""
+    if setting is None:
+        return None
+    if isinstance(setting, str):
+        if setting != "auto":
+            raise InputError(f"effective_samples must be 'auto', a number or None, got {setting!r}")
+        if not isinstance(data, Dataset) or not any("measured_share" in t.meta for t in data):
+            return None
+        share = np.concatenate([np.full(len(t), float(t.meta.get("measured_share", 1.0))) for t in data])
+        return float(weights @ share)
+    return float(setting)
 
 
 def _resolution(values: np.ndarray, setting: str | float | None, name: str) -> float:

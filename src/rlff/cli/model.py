@@ -31,6 +31,18 @@ def _resolution_option(text: str) -> str | float:
     return value
 
 
+def _effective_option(text: str) -> str | float | None:
+    if text in ("all", "measured"):
+        return None if text == "all" else "auto"
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not (value > 0 and value != float("inf")):
+        raise InputError(f"--effective-samples: give all, measured or a number > 0, got {text!r}")
+    return value
+
+
 def _read(path: Path):
     from rlff.formats import read_dataset
 
@@ -96,12 +108,17 @@ def fit_command(
         "auto", "--context-resolution",
         help="How finely the context (e.g. the basket distance) is known, in its units: auto (the median gap between recorded values), a number, or 0.",
     ),
+    effective_samples: str = typer.Option(
+        "all", "--effective-samples",
+        help="Samples BIC counts: all, measured (densified samples as the share of a measurement they are), or a number.",
+    ),
     as_json: bool = typer.Option(False, "--json", help="Print the fit summary as JSON."),
 ) -> None:
     """Fit a Gaussian mixture to the demonstrations (K by BIC) and save it as model.json."""
     from rlff.model import Model
 
     resolution = _resolution_option(context_resolution)
+    effective = _effective_option(effective_samples)
     dataset = _read(data)
     total = max_components if components == "auto" else 1
     with progress("fitting", total=total) as advance, warnings.catch_warnings(record=True) as caught:
@@ -109,7 +126,7 @@ def fit_command(
         model = Model.fit(
             dataset, inputs=_names("--inputs", inputs), outputs=_names("--outputs", outputs),
             components=components, max_components=max_components, criterion=criterion, seed=seed,
-            n_init=n_init, context_resolution=resolution,
+            n_init=n_init, context_resolution=resolution, effective_samples=effective,
             progress=lambda done, _total: advance(1, description=f"fitted K={done}"),
         )
     for warning in caught:
@@ -126,6 +143,7 @@ def fit_command(
         "aic": model.fit_info["aic"],
         "converged": model.fit_info["converged"],
         "context_resolution": model.fit_info["context_resolution"],
+        "effective_samples": model.fit_info["effective_samples"],
         "selection": None if model.selection is None else model.selection.table,
     }
     if as_json:
@@ -147,6 +165,7 @@ def fit_command(
     stdout().print(
         f"K = {model.n_components}, {summary['n_samples']} samples, BIC {summary['bic']:.2f}"
         + "".join(f", {name} resolution {value:g}" for name, value in summary["context_resolution"].items() if value > 0)
+        + (f", BIC over {summary['effective_samples']:.0f} effective samples" if summary["effective_samples"] else "")
         + f" -> {output}",
         highlight=False,
     )

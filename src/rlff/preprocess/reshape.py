@@ -143,7 +143,9 @@ def densify(
     ``step``, plus both ends; in the direction the trajectory moves.
 
     Trajectories whose ``column`` is not strictly monotonic, or that have a single sample, are
-    removed with that reason (run ``crop`` and ``longest_monotonic`` first).
+    removed with that reason (run ``crop`` and ``longest_monotonic`` first). Each trajectory's
+    ``measured_share`` metadata becomes the share of its samples that stand for a measurement
+    (samples before / after, times any share it had), which ``Model.fit`` uses for BIC.
     """
     dataset.require([column])
     if step <= 0:
@@ -198,7 +200,10 @@ def _densify_one(
             result[name] = _interpolator(x, y, "pchip" if name == "time" else spline)(grid)
     if descending:
         result = {name: array[::-1] for name, array in result.items()}
-    return trajectory.replace(data=result)
+    # the share of samples that stand for a measurement (for BIC, see Model.fit): the rest are
+    # interpolated; the share survives later cuts of the trajectory
+    share = float(trajectory.meta.get("measured_share", 1.0)) * min(1.0, values.size / grid.size)
+    return trajectory.replace(data=result, meta={**trajectory.meta, "measured_share": share})
 
 
 def _interpolator(x: np.ndarray, y: np.ndarray, kind: str) -> Callable[[np.ndarray], np.ndarray]:
