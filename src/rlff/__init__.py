@@ -21,6 +21,7 @@ _EXPORTS = {
     "GaussianMixture": "rlff.mixture",
     "select_components": "rlff.mixture",
     "condition": "rlff.regression",
+    "predict": "rlff.regression",
     "Conditional": "rlff.regression",
     "donut_pdf": "rlff.donut",
     "dmm_pdf": "rlff.donut",
