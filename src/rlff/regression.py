@@ -98,7 +98,8 @@ def condition(mixture: Any, inputs: Sequence[int], outputs: Sequence[int], X: np
         Weights (N, K), means (N, K, O), covariances (K, O, O), and the mixture mean (N, O) and
         total covariance (N, O, O).
 
-    See :func:`predict` for the mean and total covariance alone (a third of the memory traffic).
+    See :func:`predict` for the mean and total covariance alone (without writing N x K weights
+    and N x K x O means).
     """
     regression = _Regression(mixture, inputs, outputs)
     X = regression.checked_inputs(X)
