@@ -87,6 +87,16 @@ def test_time_is_finite_where_the_velocity_is_not_positive():
     assert np.all(np.isfinite(backwards.time)) and not any("<= 0" in note for note in backwards.notes)
 
 
+def test_predict_is_the_conditional_mean_and_covariance(thesis_model):
+    model = thesis_model
+    X = np.column_stack([np.linspace(0, 10, 7), np.full(7, 4.5)])
+    mean, covariance = model.predict(X)
+    conditional = model.condition(X)
+    np.testing.assert_array_equal(mean, conditional.mean)
+    np.testing.assert_array_equal(covariance, conditional.covariance)
+    assert mean.shape == (7, 1) and covariance.shape == (7, 1, 1)
+
+
 def test_save_and_load_give_the_same_model(thesis_model, tmp_path):
     target = tmp_path / "model.json"
     thesis_model.save(target)

@@ -38,7 +38,7 @@ from rlff.mixture import (
     information_criteria,
     select_components,
 )
-from rlff.regression import Conditional, condition
+from rlff.regression import Conditional, condition, predict
 from rlff.trajectory.timing import time_along_path
 
 FORMAT = "rlff-model"
@@ -312,6 +312,15 @@ class Model:
         if X_in.ndim == 1 and n_in == 1:
             X_in = X_in[:, None]
         return condition(self.mixture, range(n_in), range(n_in, n_in + len(self.outputs)), X_in)
+
+    def predict(self, X_in: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """GMR mean (N, O) and total covariance (N, O, O) of the outputs at inputs ``X_in`` (N, I),
+        without the per-component arrays of :meth:`condition`."""
+        n_in = len(self.inputs)
+        X_in = np.asarray(X_in, dtype=float)
+        if X_in.ndim == 1 and n_in == 1:
+            X_in = X_in[:, None]
+        return predict(self.mixture, range(n_in), range(n_in, n_in + len(self.outputs)), X_in)
 
     def generate(
         self,
