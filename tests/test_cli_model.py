@@ -98,7 +98,7 @@ def test_generate_options(thesis_files, rlff, tmp_path):
         (["--context", "distance=near"], "not a number"),
         (["--context", "distance=2", "--grid", "speed=0:1:5"], "path variable"),
         (["--context", "distance=2", "--grid", "angle=0:1"], "START:STOP:N"),
-        (["--context", "distance=2", "--exploration", "2"], "not in [0, 1]"),
+        (["--context", "distance=2", "--exploration", "2"], "a number in [0, 1]"),
     ],
 )
 def test_generate_bad_options_exit_2_with_one_line(thesis_files, rlff, tmp_path, args, message):

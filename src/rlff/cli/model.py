@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import typer
 
@@ -19,27 +21,16 @@ def _names(option: str, text: str) -> tuple[str, ...]:
     return names
 
 
-def _resolution_option(text: str) -> str | float:
-    if text == "auto":
-        return text
+def _word_or_number(option: str, text: str, words: dict[str, Any], accept: Callable[[float], bool], expected: str) -> Any:
+    """The value of an option that takes one of ``words`` (mapped to their values) or a number."""
+    if text in words:
+        return words[text]
     try:
         value = float(text)
     except ValueError:
-        value = -1.0
-    if not (value >= 0 and value != float("inf")):
-        raise InputError(f"--context-resolution: give auto or a number >= 0 (0 for none), got {text!r}")
-    return value
-
-
-def _effective_option(text: str) -> str | float | None:
-    if text in ("all", "measured"):
-        return None if text == "all" else "auto"
-    try:
-        value = float(text)
-    except ValueError:
-        value = -1.0
-    if not (value > 0 and value != float("inf")):
-        raise InputError(f"--effective-samples: give all, measured or a number > 0, got {text!r}")
+        value = math.nan
+    if not accept(value):
+        raise InputError(f"{option}: give {expected}, got {text!r}")
     return value
 
 
@@ -82,18 +73,6 @@ def _grid(text: str | None, first_input: str):
     return np.linspace(start, stop, count)
 
 
-def _exploration(text: str) -> str | float:
-    if text == "auto":
-        return text
-    try:
-        value = float(text)
-    except ValueError:
-        raise InputError(f"--exploration: {text!r} is not 'auto' or a number in [0, 1]") from None
-    if not 0.0 <= value <= 1.0:
-        raise InputError(f"--exploration: {value} is not in [0, 1]")
-    return value
-
-
 def fit_command(
     data: Path = typer.Argument(..., help="Demonstrations (CSV long format; other formats by extension)."),
     output: Path = typer.Option(..., "--output", "-o", help="model.json to write."),
@@ -117,8 +96,14 @@ def fit_command(
     """Fit a Gaussian mixture to the demonstrations (K by BIC) and save it as model.json."""
     from rlff.model import Model
 
-    resolution = _resolution_option(context_resolution)
-    effective = _effective_option(effective_samples)
+    resolution = _word_or_number(
+        "--context-resolution", context_resolution, {"auto": "auto"}, lambda v: 0 <= v < math.inf,
+        "auto or a number >= 0 (0 for none)",
+    )
+    effective = _word_or_number(
+        "--effective-samples", effective_samples, {"all": None, "measured": "auto"}, lambda v: 0 < v < math.inf,
+        "all, measured or a number > 0",
+    )
     dataset = _read(data)
     total = max_components if components == "auto" else 1
     with progress("fitting", total=total) as advance, warnings.catch_warnings(record=True) as caught:
@@ -186,7 +171,9 @@ def generate_command(
 
     model = Model.load(model_path)
     path = model.generate(
-        _context(context), _grid(grid, model.inputs[0]), exploration=_exploration(exploration),
+        _context(context), _grid(grid, model.inputs[0]), exploration=_word_or_number(
+            "--exploration", exploration, {"auto": "auto"}, lambda v: 0 <= v <= 1, "auto or a number in [0, 1]"
+        ),
         exploration_scale=exploration_scale, continuity=continuity,
     )
     path.write_csv(output)
