@@ -266,17 +266,23 @@ def _conditional_kernel(
             row, c = phi[i], center[i]
             for b in range(size):
                 row[b] = X[start + b, i] - c
-        f = n_in
-        for i in range(n_in):
-            for j in range(i, n_in):
-                row_i, row_j, row_f = phi[i], phi[j], phi[f]
-                for b in range(size):
-                    row_f[b] = row_i[b] * row_j[b]
-                f += 1
+        if n_in != 2:
+            f = n_in
+            for i in range(n_in):
+                for j in range(i, n_in):
+                    row_i, row_j, row_f = phi[i], phi[j], phi[f]
+                    for b in range(size):
+                        row_f[b] = row_i[b] * row_j[b]
+                    f += 1
         # log-weights l_k and their largest per sample
         for k in range(n_components):
             row = h[k]
-            _affine(coef_log[k], phi, row, size)
+            if n_in == 2:  # the throwing model's case: coefficients of [1, x, y, x^2, xy, y^2], one pass
+                c, x, y = coef_log[k], phi[0], phi[1]
+                for b in range(size):
+                    row[b] = c[0] + x[b] * (c[1] + c[3] * x[b] + c[4] * y[b]) + y[b] * (c[2] + c[5] * y[b])
+            else:
+                _affine(coef_log[k], phi, row, size)
             if k == 0:
                 peak[:size] = row[:size]
             else:
