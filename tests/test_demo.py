@@ -79,6 +79,8 @@ def check_numbers_agree_with_files(demo) -> None:
     assert summary["components"] == model.n_components
     run = read_run(out)
     assert run.section("model").facts["components K"] == model.n_components
+    resolution = model.fit_info["context_resolution"]["distance"]
+    assert resolution > 0 and run.section("model").facts["distance resolution"].startswith(f"{resolution:g} ")
     # throws for demonstrated and new distances; the learning distance is new and reachable
     throws = summary["throws"]
     assert any(t["demonstrated"] for t in throws) and any(not t["demonstrated"] for t in throws)

@@ -539,7 +539,9 @@ def _run_record(
             "model", "Model",
             "A Gaussian mixture over (angle, distance, velocity), K chosen by the lowest BIC; conditioned on "
             "the angle and the distance it gives the GMR mean and variance, and its donuts the DMM.",
-            facts={"components K": int(model.n_components), "criterion": "BIC"},
+            facts={"components K": int(model.n_components), "criterion": "BIC",
+                   **{f"{name} resolution": f"{value:g} (step^2/12 added to every component's variance)"
+                      for name, value in model.fit_info.get("context_resolution", {}).items() if value > 0}},
             tables=[Table("Model selection", ["K", "BIC", "AIC", "ln L"], selection)],
         ),
         Section(
