@@ -241,3 +241,27 @@ def test_bad_mode_options_are_named(kwargs, message):
     conditional = random_conditional(0, 2, 2)
     with pytest.raises(InputError, match=message):
         dmm_mode(conditional, **kwargs)
+
+
+def test_each_compiled_kernel_has_one_version_whatever_the_memory_layout():
+    """Another argument type or layout would compile (and cache) another version of a kernel,
+    seconds each on first use: every entry point hands the kernels C-ordered float64 arrays."""
+    from rlff import donut as donut_module
+    from rlff import regression
+
+    mixture = GaussianMixture.from_parameters(
+        np.array([0.3, 0.7]), np.array([[0.0, 0.0, 1.0], [2.0, 1.0, 3.0]]), np.array([np.eye(3), 2 * np.eye(3)])
+    )
+    X = np.asfortranarray(np.random.default_rng(0).normal(size=(40, 2)))
+    for queries in (X, X[::2], X[:1], X.astype(np.float32), X.tolist()):
+        conditional = condition(mixture, [0, 1], [2], queries)
+        regression.predict(mixture, [0, 1], [2], queries)
+        dmm_mode(conditional)
+        dmm_mode(conditional, 0.5, tol=1e-6)
+    transposed = Conditional(  # per-sample arrays in Fortran order, as a caller might build them
+        np.asfortranarray(conditional.weights), np.asfortranarray(conditional.means), conditional.covariances,
+        np.asfortranarray(conditional.mean), np.asfortranarray(conditional.covariance),
+    )
+    dmm_mode(transposed)
+    assert len(regression._conditional_kernel.signatures) == 1
+    assert len(donut_module._modes_1d_kernel.signatures) == 1
