@@ -45,6 +45,21 @@ def cli():
 
 
 @pytest.fixture
+def rlff(capsys):
+    """``rlff(*args)``: the real entry point (``rlff.cli.main``) in this process, which saves the
+    interpreter start and the imports of a subprocess per call; returns a CliResult."""
+    from rlff.cli import main
+
+    def run(*args: str) -> CliResult:
+        capsys.readouterr()
+        code = main(list(args))
+        captured = capsys.readouterr()
+        return CliResult(code, captured.out, captured.err)
+
+    return run
+
+
+@pytest.fixture
 def msr_dir() -> Path:
     """The real MSR Action3D throwing recordings; skips when the shared folder is absent."""
     if not MSR_THROWS.is_dir():

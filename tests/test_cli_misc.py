@@ -15,22 +15,6 @@ from rlff.report import FigureEntry, Run, Section, write_run
 pytestmark = pytest.mark.slow
 
 
-@pytest.fixture
-def rlff(capsys):
-    """``rlff(*args)``: the real entry point (``rlff.cli.main``) in this process, which saves the
-    interpreter start and the imports of a subprocess per call; ``cli`` runs a subprocess."""
-    from conftest import CliResult
-    from rlff.cli import main
-
-    def run(*args: str) -> CliResult:
-        capsys.readouterr()
-        code = main(list(args))
-        captured = capsys.readouterr()
-        return CliResult(code, captured.out, captured.err)
-
-    return run
-
-
 def one_line_error(result, *fragments: str) -> str:
     """The single error line of a failed command; checks exit code 2 and no traceback."""
     assert result.code == 2, (result.code, result.stdout, result.stderr)

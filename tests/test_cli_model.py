@@ -11,24 +11,8 @@ import json
 import numpy as np
 import pandas as pd
 import pytest
-from tests.conftest import CliResult
-
-from rlff.cli import main
 
 pytestmark = pytest.mark.integration
-
-
-@pytest.fixture
-def rlff(capsys):
-    """``rlff(*args)`` runs the command line in this process and returns a CliResult."""
-
-    def run(*args: str) -> CliResult:
-        capsys.readouterr()
-        code = main(list(args))
-        captured = capsys.readouterr()
-        return CliResult(code, captured.out, captured.err)
-
-    return run
 
 
 @pytest.fixture(scope="module")
