@@ -625,12 +625,12 @@ class GaussianMixture:
         With ``sample_weight``, ln L is the weighted sum and n the sum of the weights.
         """
         log_likelihood, n = self._total_log_likelihood(X, sample_weight)
-        return -2.0 * log_likelihood + self.n_parameters() * math.log(n)
+        return information_criteria(log_likelihood, self.n_parameters(), n)[0]
 
     def aic(self, X: np.ndarray, sample_weight: np.ndarray | None = None) -> float:
         """Akaike information criterion -2 ln L + 2 p (lower is better)."""
-        log_likelihood, _ = self._total_log_likelihood(X, sample_weight)
-        return -2.0 * log_likelihood + 2.0 * self.n_parameters()
+        log_likelihood, n = self._total_log_likelihood(X, sample_weight)
+        return information_criteria(log_likelihood, self.n_parameters(), n)[1]
 
     def _total_log_likelihood(self, X: np.ndarray, sample_weight: np.ndarray | None) -> tuple[float, float]:
         log_density = self.score_samples(X)
