@@ -307,20 +307,22 @@ class Model:
     # -- use ---------------------------------------------------------------------------------
     def condition(self, X_in: np.ndarray) -> Conditional:
         """GMR of the outputs at inputs ``X_in`` of shape (N, I) (columns in the order of ``inputs``)."""
-        n_in = len(self.inputs)
-        X_in = np.asarray(X_in, dtype=float)
-        if X_in.ndim == 1 and n_in == 1:
-            X_in = X_in[:, None]
-        return condition(self.mixture, range(n_in), range(n_in, n_in + len(self.outputs)), X_in)
+        return condition(self.mixture, *self._roles(), self._inputs_array(X_in))
 
     def predict(self, X_in: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """GMR mean (N, O) and total covariance (N, O, O) of the outputs at inputs ``X_in`` (N, I),
         without the per-component arrays of :meth:`condition`."""
+        return predict(self.mixture, *self._roles(), self._inputs_array(X_in))
+
+    def _roles(self) -> tuple[range, range]:
+        """Mixture columns of the inputs and of the outputs."""
         n_in = len(self.inputs)
+        return range(n_in), range(n_in, n_in + len(self.outputs))
+
+    def _inputs_array(self, X_in: np.ndarray) -> np.ndarray:
+        """``X_in`` as floats; with one input a plain (N,) array is taken as (N, 1)."""
         X_in = np.asarray(X_in, dtype=float)
-        if X_in.ndim == 1 and n_in == 1:
-            X_in = X_in[:, None]
-        return predict(self.mixture, range(n_in), range(n_in, n_in + len(self.outputs)), X_in)
+        return X_in[:, None] if X_in.ndim == 1 and len(self.inputs) == 1 else X_in
 
     def generate(
         self,
