@@ -263,5 +263,7 @@ def test_each_compiled_kernel_has_one_version_whatever_the_memory_layout():
         np.asfortranarray(conditional.mean), np.asfortranarray(conditional.covariance),
     )
     dmm_mode(transposed)
+    dmm_mode(condition(mixture, [0], [1, 2], X[:, :1]))  # two outputs: the NumPy climb, the same choice
     assert len(regression._conditional_kernel.signatures) == 1
     assert len(donut_module._modes_1d_kernel.signatures) == 1
+    assert len(donut_module._highest.signatures) == 1

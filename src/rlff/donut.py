@@ -361,7 +361,8 @@ def dmm_mode(
 
 def _modes_1d(donuts: _Donuts, gmr_mean: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The climb for one output, compiled: end points (N, S) and their pdf (N, S) for the starts of
-    :meth:`_Donuts.starts` (pdf -inf for those left out), and the index (N,) of the highest."""
+    :meth:`_Donuts.starts` (pdf -inf for those left out), and the index (N,) of the highest (as
+    :func:`_best`)."""
     with np.errstate(divide="ignore"):  # a weight of 0 is a log-weight of -inf: a term of 0
         log_a, log_b = np.log(donuts.w_a), np.log(donuts.w_b)
     n_starts = donuts.k * 3 + 1
@@ -425,14 +426,14 @@ def _modes_1d_kernel(
     pdf: np.ndarray,
     best: np.ndarray,
 ) -> None:
-    """Every start of every input climbed to its top; the highest per input.
+    """Every start of every input climbed to its top, and the highest per input.
 
     Inputs: gmr_mean (N,); means, log_a, log_b (N, K): component means and log-weights of the
     two Gaussian terms; precision (K,) = 1 / S_k; r_a2, r_b2, ring (N,): squared radii and the
     squared Mahalanobis radius of the donuts' highest ring. Outputs: ends and pdf (N, 3 K + 1),
     in the order of :meth:`_Donuts.starts` (each component's mean and its ring point above and
-    below, then the GMR mean), pdf -inf for starts left out; best (N,): the highest, ties within
-    a relative 1e-9 to the larger output.
+    below, then the GMR mean), pdf -inf for starts left out; best (N,): the highest (see
+    :func:`_highest`).
 
     Starts left out: P_DMM is at least h_j max D_j for every j (all terms are >= 0), so a
     component whose h_k max D_k is below 1e-7 of the largest adds less than 1e-7 of the maximum
@@ -471,12 +472,7 @@ def _modes_1d_kernel(
                 ends[i, s], pdf[i, s] = _climb_start(
                     start, s == 3 * n_components, m_i, a_i, b_i, half_precision, ra2, rb2, floor, first_radius, sigma, tol
                 )
-        highest = pdf[i].max()
-        choice = 0
-        for s in range(3 * n_components + 1):
-            if pdf[i, s] >= highest * (1.0 - 1e-9) and (pdf[i, choice] < highest * (1.0 - 1e-9) or ends[i, s] > ends[i, choice]):
-                choice = s
-        best[i] = choice
+        best[i] = _highest(ends[i], pdf[i])
 
 
 @numba.njit(cache=True, nogil=True)
@@ -590,10 +586,22 @@ def _ascent_step(grad: np.ndarray, hess: np.ndarray, radius: np.ndarray) -> np.n
 
 
 def _best(y: np.ndarray, pdf: np.ndarray) -> np.ndarray:
-    """Index (N,) of the highest start; ties within 1e-9 go to the larger first coordinate."""
-    top = pdf.max(axis=1, keepdims=True)
-    tied = pdf >= top * (1.0 - 1e-9)
-    return np.where(tied, y[..., 0], -np.inf).argmax(axis=1)
+    """Index (N,) of the highest of the end points y (N, S, O) (see :func:`_highest`)."""
+    first = np.ascontiguousarray(y[..., 0], dtype=float)  # one compiled version: C-ordered rows
+    pdf = np.ascontiguousarray(pdf, dtype=float)
+    return np.array([_highest(first[i], pdf[i]) for i in range(pdf.shape[0])], dtype=np.int64)
+
+
+@numba.njit(cache=True, nogil=True)
+def _highest(first: np.ndarray, pdf: np.ndarray) -> int:
+    """Index of the highest of S end points, from their densities (S,) and first coordinates (S,):
+    ties within a relative 1e-9 go to the larger first coordinate (the first such on an exact tie)."""
+    tied = pdf.max() * (1.0 - 1e-9)
+    choice = -1
+    for s in range(pdf.size):
+        if pdf[s] >= tied and (choice < 0 or first[s] > first[choice]):
+            choice = s
+    return choice
 
 
 def _continuous_chain(
