@@ -166,11 +166,15 @@ def test_bags_stamp_now_only_when_asked(capsys, throw, tmp_path):
 def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):
     other = tmp_path / "other.bag"
     other.write_bytes(b"#ROSBAG V2.0\n\x00\x01")
+    folder = tmp_path / "bag2"
+    folder.mkdir()
     for command in (("robot", "export", str(other), "-f", "json", "-o", str(tmp_path / "o.json")),
                     ("robot", "send", str(other))):
         code, _, err = run(capsys, *command)
         assert code == 2 and "other.bag: neither a generated path" in err
         assert len(err.strip().splitlines()) == 1
+        code, _, err = run(capsys, *(str(folder) if arg == str(other) else arg for arg in command))
+        assert code == 2 and "bag2 is a folder (a ROS 2 bag?)" in err and len(err.strip().splitlines()) == 1
 
 
 @pytest.mark.parametrize(
@@ -205,3 +209,9 @@ def test_send_refuses_bad_input_before_connecting(cli, tmp_path):
                  env={"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"})
     assert result.code == 2
     assert "beyond the limit 2.71 rad" in result.stderr and "master" not in result.stderr
+    # the path ending 0.01 rad from the limit at 2.7 rad/s: no room to brake, nothing sent
+    edge = human_csv(tmp_path / "edge.csv", np.linspace(1.5, 2.70, 13), np.full(13, 2.7))
+    result = cli("robot", "send", str(edge), "--timeout", "1",
+                 env={"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"})
+    assert result.code == 2 and "no room to brake after the release" in result.stderr
+    assert "master" not in result.stderr
