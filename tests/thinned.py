@@ -64,7 +64,7 @@ def thinned_indices(
     rate : the wanted mean rate (Hz)
     spacing : ``"regular"`` (every ``1 / rate`` from ``phase / rate``) or ``"irregular"`` (from
         ``phase / rate``, intervals drawn from U(0.5, 1.5) / rate; with probability ``drop`` an
-        interval is dropped, so the gap is two intervals long)
+        interval is dropped, so the gap is two intervals long, never more)
     phase : fraction of an interval, in [0, 1)
     rng : random generator of the irregular intervals
 
@@ -80,6 +80,7 @@ def thinned_indices(
         times = phase / rate + np.concatenate([[0.0], np.cumsum(intervals)])
         kept = rng.random(times.size) >= drop
         kept[0] = True
+        kept[1:] |= ~kept[:-1]  # a dropped interval is never followed by another: gaps of at most two
         wanted = times[kept & (times <= duration + 1e-9)]
     else:
         raise ValueError(f"spacing {spacing!r}: regular or irregular")
@@ -121,8 +122,9 @@ class Movement:
     """One movement of a simulated session (angles in rad, times in s).
 
     ``kind`` is ``"overhand"``, ``"forward-down"`` (released forward and steeply down),
-    ``"lob"`` (a slow extension), ``"two-handed"`` (both arms) or ``"to-rest"`` (the arm drops
-    from a raised, bent pose to hanging straight: the elbow extends, but it is not a throw).
+    ``"lob"`` (a slow extension), ``"two-handed"`` (both arms) or ``"to-rest"`` (the upper arm
+    hangs and the forearm, raised forward, is lowered: the elbow extends fast, the hand moves down
+    and back; not a throw).
     """
 
     kind: str
@@ -143,7 +145,7 @@ class Movement:
 
 _WIND_UP, _HOLD, _FOLLOW, _REST_ANGLE = 0.5, 0.1, 0.4, 2.7
 #: Elevation (rad, from the forward horizontal, positive up) of the upper arm during each kind.
-_ELEVATION = {"overhand": np.radians(55), "forward-down": np.radians(-30), "lob": np.radians(35), "two-handed": np.radians(50)}
+_ELEVATION = {"overhand": np.radians(55), "forward-down": np.radians(-22), "lob": np.radians(35), "two-handed": np.radians(50)}
 
 
 def _smooth(s: np.ndarray) -> np.ndarray:
@@ -155,8 +157,9 @@ def session(seed: int, rate: float = 30.0, noise: float = 0.003) -> tuple[np.nda
     """A simulated session of six movements facing a camera: frames (N, 20, 3) in Kinect order, times (N,), truth.
 
     The movements, in a shuffled order with 1.2-1.8 s of rest between them: an overhand throw, a
-    throw released forward and down (more than 30 deg below horizontal), a slow lob (0.7 s
-    extension), a two-handed throw, another overhand throw, and the arm dropping to rest.
+    throw released forward and down (about 40 deg below horizontal where the elbow extends
+    fastest), a slow lob (0.65-0.8 s extension), a two-handed throw, another overhand throw, and
+    the forearm lowered to rest.
     """
     rng = np.random.default_rng(seed)
     kinds = ["overhand", "forward-down", "lob", "two-handed", "overhand", "to-rest"]
@@ -192,13 +195,13 @@ def _arm(time: np.ndarray, movements: list[Movement], side: str) -> tuple[np.nda
         extended, settled = hold + movement.extension, hold + movement.extension + _FOLLOW
         inside = (time >= begin) & (time < settled + 0.3)
         if movement.kind == "to-rest":
-            # raised and bent, held, then the upper arm swings down behind the body as the elbow straightens
-            raised = np.radians(40)
+            # the upper arm hangs; the forearm, raised forward, is lowered to rest: the elbow extends,
+            # the hand moves down and back toward the body
             lift = _smooth((time - begin) / _WIND_UP)
             drop = _smooth((time - hold) / movement.extension)
-            elevation[inside] = (-np.pi / 2 + (raised + np.pi / 2) * lift - (raised + np.radians(105)) * drop)[inside]
-            angle[inside] = (_REST_ANGLE + (movement.wound - _REST_ANGLE) * lift + (movement.straight - movement.wound) * drop)[inside]
-            angle[inside & (time >= hold)] = np.minimum(angle, movement.straight)[inside & (time >= hold)]
+            elevation[inside] = (-np.pi / 2 - np.radians(8) * drop)[inside]
+            value = _REST_ANGLE + (movement.wound - _REST_ANGLE) * lift + (movement.straight - movement.wound) * drop
+            angle[inside] = value[inside]
             continue
         target = _ELEVATION[movement.kind]
         raise_ = _smooth((time - begin) / _WIND_UP)

@@ -164,7 +164,7 @@ def estimate_release(
     )
 
 
-def not_at_a_target(release: Release, max_dip_deg: float = 30.0, max_forward_dip_deg: float = 60.0) -> str | None:
+def not_at_a_target(release: Release, max_dip_deg: float = 30.0, max_forward_dip_deg: float = 75.0) -> str | None:
     """Why a release is not a throw at a basket, or None when it is.
 
     With a known forward direction: the hand moving down and back (the arm coming down to rest
