@@ -314,8 +314,11 @@ def _import_recording(
     kept, more = _throws_at_a_target(motion, cuts, releases, one_per_file=kind == "msr")
     for rejection in sorted([*rejections, *more], key=lambda item: item.time):
         report.reject(rejection, motion.arm.label)
+    hint = _up_hint(motion, recording.up) if kind == "csv" and not up_given else None
     if not kept:
-        report.warnings.append(_no_throw(path, motion, report, segment, recording, kind == "csv" and not up_given))
+        report.warnings.append(_no_throw(path, motion, report, segment, hint))
+    elif hint:
+        report.warnings.append(f"{path}: {hint} (up is taken as {_axis_name(recording.up)}; release and landing depend on it)")
     if rows:
         check_throw_numbers(rows, recording.source, len(kept))
     trajectories = []
@@ -369,7 +372,7 @@ def _horizontal_unit(vector: np.ndarray, up: np.ndarray) -> np.ndarray | None:
     return horizontal / norm if norm > 1e-9 else None
 
 
-def _no_throw(path: Path, motion: ArmMotion, report: FileReport, segment: SegmentSettings, recording: Recording, suggest_up: bool) -> str:
+def _no_throw(path: Path, motion: ArmMotion, report: FileReport, segment: SegmentSettings, hint: str | None) -> str:
     """The warning for a file without a throw: which rule stopped its best candidate, and a hint on ``--up``."""
     message = f"{path}: no throw found ({motion.arm.label})"
     if report.rejected:
@@ -381,11 +384,12 @@ def _no_throw(path: Path, motion: ArmMotion, report: FileReport, segment: Segmen
             f"; the elbow angle never rises by {segment.min_candidate:.2f} rad or more "
             f"(it stays within {low:.2f}-{high:.2f} rad)"
         )
-    if suggest_up:
-        hint = _up_hint(motion, recording.up)
-        if hint:
-            message += f"; {hint}"
-    return message
+    return f"{message}; {hint}" if hint else message
+
+
+def _axis_name(vector: np.ndarray) -> str:
+    axis = int(np.argmax(np.abs(vector)))
+    return ("-" if vector[axis] < 0 else "") + "xyz"[axis]
 
 
 def _up_hint(motion: ArmMotion, up: np.ndarray) -> str | None:
@@ -396,8 +400,8 @@ def _up_hint(motion: ArmMotion, up: np.ndarray) -> str | None:
     guess[axis] = -np.sign(hanging[axis])
     if np.allclose(guess, up):
         return None
-    name = ("-" if guess[axis] < 0 else "") + "xyz"[axis]
-    return f"the upper arm hangs along {'-' if guess[axis] > 0 else ''}{'xyz'[axis]}: if {name} is up in this file (a camera frame), try --up {name}"
+    name = _axis_name(guess)
+    return f"the upper arm hangs along {_axis_name(-guess)}: if {name} is up in this file (a camera frame), try --up {name}"
 
 
 def _throws_at_a_target(
