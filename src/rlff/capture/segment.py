@@ -17,7 +17,8 @@ time, never a number of samples:
 
 In both walks, motion after a pause counts only when it lasts ``min_motion`` (tracker noise in a
 rest makes blips); a sample stands for the time half-way to each neighbour, so a single sample of
-a sparse recording can be enough. Every candidate not taken comes back as a :class:`Rejection` with
+a sparse recording can be enough. The follow-through's velocity is a local fit over
+``settle_window`` (the wind-up's, over the output's 0.25 s, stops where the extension begins). Every candidate not taken comes back as a :class:`Rejection` with
 its time, the rule that stopped it and why. Consecutive throws never overlap; a throw never spans
 lost tracking (:meth:`ArmMotion.runs`), and a rise across lost tracking is reported too.
 """
@@ -28,7 +29,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from rlff.capture.angles import ArmMotion
+from rlff.capture.angles import ArmMotion, local_derivative
 
 
 @dataclass(frozen=True)
@@ -46,6 +47,7 @@ class SegmentSettings:
     settle: float = 0.25
     min_motion: float = 0.1
     steepest_window: float = 0.3
+    settle_window: float = 0.4
 
 
 @dataclass(frozen=True)
@@ -143,7 +145,10 @@ def find_throws(motion: ArmMotion, settings: SegmentSettings | None = None) -> t
     runs = motion.runs()
     for run in runs:
         time, angle, velocity = motion.time[run], motion.angle[run], motion.velocity[run]
-        found, rejected = _throws_in_run(time, angle, velocity, settings)
+        # the follow-through compares a slow speed with rest_velocity: a wider fit than the output's
+        # keeps tracker jitter from crossing it (the chord when sparse anyway)
+        settling = local_derivative(time, angle, settings.settle_window)
+        found, rejected = _throws_in_run(time, angle, velocity, settling, settings)
         throws.extend(_shift(cut, run.start) for cut in found)
         rejections.extend(rejected)
     for before, after in zip(runs, runs[1:], strict=False):
@@ -193,7 +198,7 @@ def _swings(angle: np.ndarray, reversal: float) -> list[tuple[int, int]]:
 
 
 def _throws_in_run(
-    time: np.ndarray, angle: np.ndarray, velocity: np.ndarray, settings: SegmentSettings
+    time: np.ndarray, angle: np.ndarray, velocity: np.ndarray, settling: np.ndarray, settings: SegmentSettings
 ) -> tuple[list[ThrowCut], list[Rejection]]:
     """Throws within one run of tracked samples; indices relative to the run."""
     if time.size < 2:
@@ -226,7 +231,7 @@ def _throws_in_run(
             time[: low + 1][::-1], velocity[: low + 1][::-1]
         )
         stop = high + 1 + _Walk(settings.max_follow_through, settings.settle, settings, stop_at_rise=False).last_motion(
-            time[high:], velocity[high:]
+            time[high:], settling[high:]
         )
         cuts.append(ThrowCut(start, stop, low, high, peak))
     return _without_overlap(cuts), rejected
