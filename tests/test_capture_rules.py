@@ -121,3 +121,20 @@ def test_a_manifest_throw_number_beyond_the_throws_found_is_an_error(tmp_path):
     dataset, report = import_recordings([recording], "kinect-text", manifest=manifest)
     assert [t.meta.get("target") for t in dataset] == [2.0, None, None, None, 3.0]
     assert report.estimated_distances == 3
+
+
+def test_a_bag_arm_with_a_frame_missing_is_left_out_with_a_note(tmp_path):
+    import bagfactory as bf
+    from rlff.capture.bag import read_bag
+
+    class WithoutLeftHand(bf.Simulation):
+        def frames(self):
+            for t, users in super().frames():
+                users["1"].pop("left_hand", None)
+                yield t, users
+
+    base = bf.standard_simulation(seed=4, n_throws=1, second_user=False)
+    simulation = WithoutLeftHand(base.throws, base.starts, base.duration, seed=4, second_user=False)
+    recording = read_bag(bf.write_ros1_bag(tmp_path / "one_arm.bag", simulation, compression=None))
+    assert [arm.side for arm in recording.arms] == ["right"]
+    assert any("user 1, left arm left out: no frame left_hand_1" in note for note in recording.notes)
