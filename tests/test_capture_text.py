@@ -16,7 +16,7 @@ from rlff.ballistics import crossing_distance  # noqa: E402
 from rlff.capture import import_recordings  # noqa: E402
 from rlff.capture.angles import align_arm, included_angle, local_derivative  # noqa: E402
 from rlff.capture.label import LandingSettings, distance_from_name, manifest_entry, read_manifest  # noqa: E402
-from rlff.capture.segment import find_throws  # noqa: E402
+from rlff.capture.segment import SegmentSettings, find_throws  # noqa: E402
 from rlff.capture.skeleton_text import read_joint_csv, read_kinect_text, read_msr_text  # noqa: E402
 from rlff.errors import InputError  # noqa: E402
 
@@ -186,7 +186,7 @@ def test_release_and_landing_match_the_ballistics_of_the_true_hand_velocity():
     spec, start = simulation.throws[0], simulation.starts[0]
     peak_time = start + spec.wind_up + spec.hold + spec.extension / 2
     assert release.time == pytest.approx(peak_time, abs=1 / 30 + 1e-9)
-    width = settings_.release_window
+    width = SegmentSettings().steepest_window
     fine = np.array([release.time - width / 2, release.time + width / 2])
     _, _, ends = simulation.arm_positions(simulation.angle(fine))
     velocity = (ends[1] - ends[0]) / width

@@ -17,8 +17,9 @@ Basket distance, in order of precedence:
 
 Release and landing: the ball leaves the hand around where the elbow extends fastest (an overhand
 throw releases close to full speed). The release velocity is the hand's mean velocity over the
-``release_window`` (0.3 s) over which the elbow angle rises most, from the hand's positions at
-both ends of that stretch (interpolated between samples). Measured over a fixed time, it is the
+stretch of ``SegmentSettings.steepest_window`` (0.28 s) over which the elbow angle rises most
+(:attr:`ThrowCut.fastest`), from the hand's positions at both ends of that stretch
+(interpolated between samples). Measured over a fixed time, it is the
 same quantity at 30 Hz and at 4 Hz; the fastest single sample, or a derivative whose width follows
 the sampling, would change with the rate. When the samples around the stretch are further apart
 than half of it, the release is only roughly placed and is marked ``low`` confidence. From the
@@ -30,10 +31,12 @@ distance is from the thrower. A skeleton holds no floor, so the shoulder is take
 
 Direction: a throw sends the hand forward, toward the sensor (the frame of a Kinect or of a tf
 skeleton tracker is the camera's) or, when the frame is not the camera's, along the torso's
-facing direction (from the two shoulders). A release whose hand moves backward is no throw at a
-basket: moving down and back, it is the arm coming down to rest. A release moving forward and
-steeply down is a throw. Without a known forward direction, a release dipping more than 30 deg
-below horizontal is taken as the arm coming down to rest.
+facing direction (from the two shoulders). A release whose hand moves down and back is no throw
+at a basket: it is the arm coming down to rest; so is one moving down steeper than 75 deg below
+the forward horizontal (the arm dropping nearly straight down). A release moving forward and
+down is a throw (the former rule, any dip over 30 deg, rejected them; over a sparse stretch the
+hand's chord also points lower than the release itself). Without a known forward direction, a
+release dipping more than 30 deg below horizontal is still taken as the arm coming down to rest.
 """
 
 from __future__ import annotations
@@ -46,7 +49,7 @@ import numpy as np
 
 from rlff.ballistics import crossing_distance
 from rlff.capture.angles import ArmMotion
-from rlff.capture.segment import ThrowCut, steepest_rise
+from rlff.capture.segment import ThrowCut
 from rlff.errors import InputError
 
 
@@ -56,15 +59,12 @@ class LandingSettings:
 
     ``distance_step``: a throw without a known basket gets its landing estimate rounded to the
     nearest multiple of this as its distance (0 keeps the estimate as it is).
-    ``release_window`` (s): the stretch of fastest extension over which the hand's velocity is
-    measured.
     """
 
     shoulder_height: float = 1.4
     target_height: float = 0.0
     hit_radius: float = 0.15
     distance_step: float = 0.25
-    release_window: float = 0.28
 
 
 @dataclass(frozen=True)
@@ -130,15 +130,12 @@ def estimate_release(
     up : array of shape (3,)
         Unit vector up in the recording's frame.
     settings : LandingSettings
-        ``release_window`` is the stretch's length (s).
     facing : array of shape (3,), optional
         The thrower's forward direction (horizontal), for ``speed_forward``.
     """
     up = np.asarray(up, dtype=float) / np.linalg.norm(up)
-    width = settings.release_window
-    stretch = slice(cut.extension_start, cut.extension_end + 1)
-    begin, _ = steepest_rise(motion.time[stretch], motion.angle[stretch], width)
-    end, middle = begin + width, begin + width / 2
+    begin, end = cut.fastest
+    width, middle = end - begin, (begin + end) / 2
 
     def at(series: np.ndarray, when: float) -> np.ndarray:
         return np.array([np.interp(when, motion.time, series[:, axis]) for axis in range(3)])

@@ -46,7 +46,7 @@ class SegmentSettings:
     max_follow_through: float = 0.6
     settle: float = 0.25
     min_motion: float = 0.1
-    steepest_window: float = 0.3
+    steepest_window: float = 0.28
     settle_window: float = 0.4
 
 
@@ -62,6 +62,9 @@ class ThrowCut:
         Indices of the angle's minimum (wound up) and maximum (straight) around the extension.
     peak : int
         Index of the sample nearest to the middle of the stretch where the elbow extends fastest.
+    fastest : tuple of float
+        That stretch (s, on the motion's clock): the ``steepest_window`` over which the angle
+        rises most. The release is measured over it (:func:`rlff.capture.label.estimate_release`).
     """
 
     start: int
@@ -69,6 +72,7 @@ class ThrowCut:
     extension_start: int
     extension_end: int
     peak: int
+    fastest: tuple[float, float]
 
 
 @dataclass(frozen=True)
@@ -164,7 +168,10 @@ def find_throws(motion: ArmMotion, settings: SegmentSettings | None = None) -> t
 
 
 def _shift(cut: ThrowCut, offset: int) -> ThrowCut:
-    return ThrowCut(*(value + offset for value in (cut.start, cut.stop, cut.extension_start, cut.extension_end, cut.peak)))
+    return replace(
+        cut, start=cut.start + offset, stop=cut.stop + offset, extension_start=cut.extension_start + offset,
+        extension_end=cut.extension_end + offset, peak=cut.peak + offset,
+    )
 
 
 def _swings(angle: np.ndarray, reversal: float) -> list[tuple[int, int]]:
@@ -226,6 +233,7 @@ def _throws_in_run(
             ))
             continue
         begin, _ = steepest_rise(time[stretch], angle[stretch], settings.steepest_window)
+        fastest = (begin, begin + settings.steepest_window)
         peak = low + int(np.argmin(np.abs(time[stretch] - (begin + settings.steepest_window / 2))))
         start = low - _Walk(settings.max_wind_up, settings.max_hold, settings, stop_at_rise=True).last_motion(
             time[: low + 1][::-1], velocity[: low + 1][::-1]
@@ -233,7 +241,7 @@ def _throws_in_run(
         stop = high + 1 + _Walk(settings.max_follow_through, settings.settle, settings, stop_at_rise=False).last_motion(
             time[high:], settling[high:]
         )
-        cuts.append(ThrowCut(start, stop, low, high, peak))
+        cuts.append(ThrowCut(start, stop, low, high, peak, fastest))
     return _without_overlap(cuts), rejected
 
 
