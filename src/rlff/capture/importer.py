@@ -59,7 +59,11 @@ OUTPUT_RATE_HZ = 15.0
 
 @dataclass
 class ThrowInfo:
-    """Where one imported throw came from (times in s on the recording's own clock)."""
+    """Where one imported throw came from (times in s from the recording's first sample).
+
+    ``native_rate_hz`` is 1 / the median spacing of its samples, ``largest_gap`` (s) the longest
+    spacing, ``release_confidence`` ``low`` when the release stretch was sparsely sampled.
+    """
 
     id: str
     start: float
@@ -77,7 +81,11 @@ class ThrowInfo:
 
 @dataclass
 class FileReport:
-    """What the import did with one file."""
+    """What the import did with one file.
+
+    ``rejected`` holds every candidate movement not taken as a throw (its ``time`` in s from the
+    recording's first sample, the ``rule`` that stopped it and the ``reason``); each also has a note.
+    """
 
     source: str
     format: str
@@ -216,14 +224,19 @@ def import_recordings(
         or without one the landing estimate rounded to ``landing.distance_step``); metadata
         ``subject``, ``source``, ``target``/``hit`` (when the basket is known), ``landing``,
         ``distance_source``, ``release_time`` (s from the throw's start), ``start_time`` and
-        ``end_time`` (s from the recording's first sample), ``arm``.
+        ``end_time`` (s from the recording's first sample), ``arm``, ``native_rate_hz``,
+        ``largest_gap`` (s), ``release_confidence``. Each throw is resampled onto an even grid
+        at its median spacing, no coarser than ``OUTPUT_RATE_HZ``.
     report : ImportReport
-        Per file: the throws, the arm and user kept, and notes and warnings.
+        Per file: the throws, every candidate not taken and why, the arm and user kept, and
+        notes and warnings (a file without a throw: which rule stopped its best candidate).
 
     Raises
     ------
     InputError
-        A file that cannot be read (named, with what is wrong), an unknown format or arm.
+        A file that cannot be read (named, with what is wrong), an unknown format or arm, a
+        manifest row at fault (a throw listed twice with different distances, a throw number
+        that does not exist, start after end).
     """
     if format not in (None, "auto", *FORMATS):
         raise InputError(f"unknown format {format!r} (formats: {', '.join(FORMATS)})")
