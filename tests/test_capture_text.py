@@ -14,7 +14,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 import bagfactory as bf  # noqa: E402
 from rlff.ballistics import crossing_distance  # noqa: E402
 from rlff.capture import import_recordings  # noqa: E402
-from rlff.capture.angles import align_arm, included_angle, local_derivative  # noqa: E402
+from rlff.capture.angles import align_arm, derivative_window, included_angle, local_derivative  # noqa: E402
 from rlff.capture.label import LandingSettings, distance_from_name, manifest_entry, read_manifest  # noqa: E402
 from rlff.capture.segment import SegmentSettings, find_throws  # noqa: E402
 from rlff.capture.skeleton_text import read_joint_csv, read_kinect_text, read_msr_text  # noqa: E402
@@ -49,14 +49,15 @@ def test_included_angle_exact_cases():
 def test_local_derivative_is_exact_on_cubics_even_or_not_and_the_chord_when_sparse():
     t = np.arange(40) / 30.0
     values = 2 * t**3 - t**2 + 3 * t
-    np.testing.assert_allclose(local_derivative(t, values), 6 * t**2 - 2 * t + 3, atol=1e-9)
+    np.testing.assert_allclose(local_derivative(t, values, 0.2), 6 * t**2 - 2 * t + 3, atol=1e-9)
     uneven = np.cumsum(np.random.default_rng(0).uniform(0.5, 1.5, 60)) / 30.0
     cubic = 2 * uneven**3 - uneven**2 + 3 * uneven
-    np.testing.assert_allclose(local_derivative(uneven, cubic), 6 * uneven**2 - 2 * uneven + 3, atol=1e-8)
-    # at 4 Hz no window of 0.3 s holds 3 samples: the 3-point derivative on the uneven spacing
+    np.testing.assert_allclose(local_derivative(uneven, cubic, 0.3), 6 * uneven**2 - 2 * uneven + 3, atol=1e-8)
+    # at 4 Hz no window of 0.35 s holds 3 samples: the 3-point derivative on the uneven spacing
     sparse = np.array([0.0, 0.2, 0.5, 0.8, 1.1])
+    assert derivative_window(sparse) == 0.35 and derivative_window(t) == 0.25 and derivative_window(t[::2]) == pytest.approx(4 / 15)
     quadratic = sparse**2
-    np.testing.assert_allclose(local_derivative(sparse, quadratic)[1:-1], 2 * sparse[1:-1], atol=1e-12)
+    np.testing.assert_allclose(local_derivative(sparse, quadratic, 0.35)[1:-1], 2 * sparse[1:-1], atol=1e-12)
 
 
 def test_kinect_text_gives_the_true_angle_drops_repeats_and_lost_frames(tmp_path):

@@ -19,10 +19,13 @@ threshold downstream is a time or an angle, never a number of samples.
   but its width in time grows as the sampling thins, and at 5 Hz it flattens the throw itself.
 * The angle is the elbow's included angle (thesis figure 4.14): about 0.7 rad wound up, near pi
   straight, so it increases during the extension.
-* Velocities: a local polynomial fit in time over ``DERIVATIVE_WINDOW_S`` (cubic when the window
-  holds 7 samples or more, quadratic from 3), which smooths the tracker's jitter; where the window
-  holds fewer than 3 samples the chord to the neighbours (a 3-point derivative on the uneven
-  spacing) stands in. Hand-written because scipy's Savitzky-Golay filter needs even spacing.
+* Velocities: a local polynomial fit in time (cubic when the window holds 6 samples or more,
+  quadratic from 3), which smooths the tracker's jitter; where the window holds fewer than 3
+  samples the chord to the neighbours (a 3-point derivative on the uneven spacing) stands in. The
+  window spans 4 usual spacings, but never less than 0.25 s nor more than 0.35 s: at 30 Hz and
+  15 Hz it is the Savitzky-Golay filter rlff used before (7 samples cubic, 5 quadratic), and at
+  4-8 Hz it stays 0.35 s instead of growing to 0.7-1.3 s. Hand-written because scipy's
+  Savitzky-Golay filter needs even spacing.
 """
 
 from __future__ import annotations
@@ -34,8 +37,8 @@ import numpy as np
 from rlff.capture.skeleton import ArmTrack, JointTrack
 from rlff.errors import InputError
 
-#: Width (s) of the local fit used for velocities.
-DERIVATIVE_WINDOW_S = 0.25
+#: Width (s) of the local fit used for velocities: 4 usual spacings, within these bounds.
+DERIVATIVE_WINDOW_S = (0.25, 0.35)
 #: A gap is lost tracking when longer than this (s) ...
 MAX_GAP_S = 0.5
 #: ... and longer than this many times the recording's median spacing.
@@ -122,7 +125,14 @@ def included_angle(shoulder: np.ndarray, elbow: np.ndarray, hand: np.ndarray) ->
     return np.arctan2(np.linalg.norm(np.cross(upper, fore), axis=-1), np.einsum("...i,...i->...", upper, fore))
 
 
-def local_derivative(time: np.ndarray, values: np.ndarray, window_s: float = DERIVATIVE_WINDOW_S) -> np.ndarray:
+def derivative_window(time: np.ndarray) -> float:
+    """Width (s) of the velocity fit for samples at ``time``: 4 median spacings, within ``DERIVATIVE_WINDOW_S``."""
+    spacing = float(np.median(np.diff(time))) if len(time) > 1 else 0.0
+    low, high = DERIVATIVE_WINDOW_S
+    return float(np.clip(4 * spacing, low, high))
+
+
+def local_derivative(time: np.ndarray, values: np.ndarray, window_s: float) -> np.ndarray:
     """First derivative of unevenly sampled values by a local polynomial fit in time.
 
     Parameters
@@ -269,8 +279,9 @@ def align_arm(arm: ArmTrack, max_gap: float = MAX_GAP_S, gap_factor: float = GAP
     stamps, angle, shoulder, hand, valid = stamps[keep], angle[keep], shoulder[keep], hand[keep], valid[keep]
     motion = ArmMotion(arm, stamps, angle, np.zeros_like(angle), shoulder, hand, valid, lost_gap, elbow_time[:0])
     velocity = np.zeros_like(angle)
+    window = derivative_window(stamps)
     for run in motion.runs():
-        velocity[run] = local_derivative(stamps[run], angle[run])
+        velocity[run] = local_derivative(stamps[run], angle[run], window)
     return ArmMotion(arm, stamps, angle, velocity, shoulder, hand, valid, lost_gap, glitch_times)
 
 
