@@ -41,9 +41,9 @@ def import_command(
 ) -> None:
     """Cut and label the throws in skeleton recordings: one trajectory (time, angle, velocity, distance) per throw.
 
-    Every movement that is not taken as a throw is listed with its time and the rule that stopped
-    it. No throw at all is an error (exit 2) unless --allow-empty; an existing output is never
-    replaced with an empty one.
+    Every movement not taken as a throw is listed with its time and the rule that stopped it.
+
+    No throw at all is an error (exit 2) unless --allow-empty; an existing output is never replaced with an empty one.
     """
     from rlff.capture import import_recordings
 
