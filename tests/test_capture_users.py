@@ -23,9 +23,9 @@ def test_a_person_lost_and_found_again_under_a_new_id_is_joined_and_a_reflection
     simulation = bf.standard_simulation(seed=9, n_throws=4, second_user=False)
     t = simulation.frame_times
     shoulder, elbow, hand = simulation.arm_positions(simulation.angle(t))
-    # tracking lost for 0.4 s between the 2nd and 3rd throw; the tracker calls the person user 3 after
+    # tracking lost for 0.6 s between the 2nd and 3rd throw; the tracker calls the person user 3 after
     gap_start = simulation.ends[1] + 0.3
-    first, second = t < gap_start, t > gap_start + 0.4
+    first, second = t < gap_start, t > gap_start + 0.6
     reflection = (t > 2.0) & (t < 2.6)
     mirror = np.array([1.0, -1.0, 1.0])
     recording = Recording(
@@ -44,7 +44,9 @@ def test_a_person_lost_and_found_again_under_a_new_id_is_joined_and_a_reflection
     assert any(f"user {joined} is user {kept} found again" in note for note in notes)
     assert any("dropped tracked user 2" in note and "1 appearances" in note for note in notes)
     motion = align_arm(arms[0])
-    assert not motion.valid.all()  # the 0.4 s without tracking is not bridged
+    assert len(motion.runs()) == 2  # the 0.6 s without tracking (over 0.5 s, and 18 x the spacing) is not bridged
+    ((lost_from, lost_to),) = motion.lost_spans()
+    assert lost_from < gap_start < gap_start + 0.6 < lost_to
     cuts, _ = find_throws(motion)
     assert len(cuts) == 4
 

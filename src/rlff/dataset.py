@@ -32,7 +32,7 @@ from rlff.errors import InputError
 #: a trajectory's samples that stand for a measurement (densifying interpolates the rest).
 META_KEYS = (
     "subject", "source", "target", "landing", "hit", "release_angle", "release_time", "glitches",
-    "cut_angle", "start_time", "end_time", "measured_share",
+    "cut_angle", "start_time", "end_time", "measured_share", "native_rate_hz", "largest_gap",
 )
 #: Column of the CSV long format that holds the trajectory id.
 ID_COLUMN = "trajectory"

@@ -1,12 +1,31 @@
-"""From joint positions to the elbow angle and its velocity on one uniform time grid.
+"""From joint positions to the elbow angle and its velocity, on the recording's own samples.
 
-The three joints of an arm are stamped separately (a tf stream publishes each on its own and may
-drop some), so they are first interpolated to common, evenly spaced stamps over the time they
-overlap. Stretches where any joint has no sample for longer than ``max_gap`` (tracking lost) are
-marked invalid rather than bridged. The angle is the elbow's included angle (thesis figure 4.14:
-the rotation of the upper arm onto the forearm), about 0.7 rad wound up and near pi with the arm
-straight, so it increases during the extension. Velocities come from a Savitzky-Golay derivative
-(a local polynomial fit), which smooths the tracker's jitter that raw finite differences amplify.
+The stamps are the elbow's own samples (over the time all joints overlap); the other joints are
+interpolated to them, which is exact when the format stamps all joints together (text, CSV) and
+fills single dropped samples of a tf stream. Nothing is resampled onto a grid here: a sparse,
+irregular recording (a Kinect that delivers 4-8 Hz during fast motion) keeps its samples, and every
+threshold downstream is a time or an angle, never a number of samples.
+
+* Lost tracking: a joint without a sample for longer than ``max_gap`` (0.5 s) *and* longer than
+  ``gap_factor`` (3) times the recording's usual spacing. At 4 Hz a 0.4 s gap is the normal
+  spacing, at 30 Hz a 0.6 s one is lost tracking. The recording is split there.
+* Glitches: a sample that leaves two neighbours which agree with each other (a reflection, a
+  swapped joint) is removed, one sample at a time: the angle or the hand departs by more than
+  ``GLITCH_ANGLE`` / ``GLITCH_DISTANCE`` from the line between its neighbours, the neighbours differ
+  by less than half of that, and they are at most ``GLITCH_SPAN`` apart (a real movement does
+  not go out and back that far so quickly). Where the neighbours are at most ``QUICK_SPAN``
+  apart (20 Hz or denser), a sample that jumps that far off their line, outside their range,
+  is a glitch even in the middle of an extension. A median filter would do the same at 30 Hz,
+  but its width in time grows as the sampling thins, and at 5 Hz it flattens the throw itself.
+* The angle is the elbow's included angle (thesis figure 4.14): about 0.7 rad wound up, near pi
+  straight, so it increases during the extension.
+* Velocities: a local polynomial fit in time (cubic when the window holds 6 samples or more,
+  quadratic from 3), which smooths the tracker's jitter; where the window holds fewer than 3
+  samples the chord to the neighbours (a 3-point derivative on the uneven spacing) stands in. The
+  window spans 4 usual spacings, but never less than 0.25 s nor more than 0.35 s: at 30 Hz and
+  15 Hz it is the Savitzky-Golay filter rlff used before (7 samples cubic, 5 quadratic), and at
+  4-8 Hz it stays 0.35 s instead of growing to 0.7-1.3 s. Hand-written because scipy's
+  Savitzky-Golay filter needs even spacing.
 """
 
 from __future__ import annotations
@@ -14,38 +33,48 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from rlff.capture.skeleton import ArmTrack, JointTrack
 from rlff.errors import InputError
 
-#: Width (s) of the Savitzky-Golay window used for velocities.
-DERIVATIVE_WINDOW_S = 0.2
-#: A joint missing for longer than this (s) means tracking was lost there.
-MAX_GAP_S = 0.25
+#: Width (s) of the local fit used for velocities: 4 usual spacings, within these bounds.
+DERIVATIVE_WINDOW_S = (0.25, 0.35)
+#: A gap is lost tracking when longer than this (s) ...
+MAX_GAP_S = 0.5
+#: ... and longer than this many times the recording's median spacing.
+GAP_FACTOR = 3.0
+#: A glitch departs by more than this from its neighbours (angle, rad; hand, m) ...
+GLITCH_ANGLE = 0.25
+GLITCH_DISTANCE = 0.15
+#: ... whose own distance in time is at most this (s) ...
+GLITCH_SPAN = 0.25
+#: ... or, when the neighbours are at most this far apart (s), whatever they do.
+QUICK_SPAN = 0.1
 
 
 @dataclass(frozen=True)
 class ArmMotion:
-    """One arm on a uniform time grid.
+    """One arm on the recording's own (possibly uneven) samples.
 
     Attributes
     ----------
     arm : ArmTrack
         Where it came from.
     time : array of shape (T,)
-        Evenly spaced stamps (s), in the recording's clock.
+        Stamps (s), increasing, in the recording's clock.
     angle : array of shape (T,)
         Elbow included angle (rad).
     velocity : array of shape (T,)
-        Its time derivative (rad/s), Savitzky-Golay.
+        Its time derivative (rad/s): local fit in time, computed within each run.
     shoulder, hand : arrays of shape (T, 3)
         Positions (m).
-    hand_velocity : array of shape (T, 3)
-        Hand velocity (m/s), Savitzky-Golay.
     valid : bool array of shape (T,)
-        False where a joint was missing for longer than ``max_gap`` (values there are
-        interpolated across the gap and must not be trusted).
+        False where a joint other than the elbow has no sample within a lost-tracking gap
+        (values there are interpolated across it and must not be trusted).
+    lost_gap : float
+        The spacing (s) beyond which a gap between samples is lost tracking.
+    glitches : array of shape (G,)
+        Times (s) of the samples removed as glitches.
     """
 
     arm: ArmTrack
@@ -54,20 +83,27 @@ class ArmMotion:
     velocity: np.ndarray
     shoulder: np.ndarray
     hand: np.ndarray
-    hand_velocity: np.ndarray
     valid: np.ndarray
+    lost_gap: float
+    glitches: np.ndarray
 
     @property
     def rate_hz(self) -> float:
-        """Sampling rate of the grid (Hz)."""
-        return 1.0 / float(self.time[1] - self.time[0])
+        """Usual sampling rate (Hz): 1 / the median spacing."""
+        return 1.0 / float(np.median(np.diff(self.time)))
 
     def runs(self) -> list[slice]:
-        """Slices of consecutive valid samples, in time order."""
-        edges = np.diff(np.concatenate([[0], self.valid.astype(np.int8), [0]]))
-        starts = np.flatnonzero(edges == 1)
-        stops = np.flatnonzero(edges == -1)
+        """Slices of consecutive valid samples without a lost-tracking gap between them, in time order."""
+        gap = np.r_[True, np.diff(self.time) > self.lost_gap, True]  # before sample i, i = 0..T
+        valid = np.r_[False, self.valid, False]
+        starts = np.flatnonzero(valid[1:-1] & (~valid[:-2] | gap[:-1]))
+        stops = np.flatnonzero(valid[1:-1] & (~valid[2:] | gap[1:])) + 1
         return [slice(int(a), int(b)) for a, b in zip(starts, stops, strict=True)]
+
+    def lost_spans(self) -> list[tuple[float, float]]:
+        """(from, to) times (s) of every stretch without tracking between two runs."""
+        runs = self.runs()
+        return [(float(self.time[a.stop - 1]), float(self.time[b.start])) for a, b in zip(runs, runs[1:], strict=False)]
 
 
 def included_angle(shoulder: np.ndarray, elbow: np.ndarray, hand: np.ndarray) -> np.ndarray:
@@ -89,56 +125,132 @@ def included_angle(shoulder: np.ndarray, elbow: np.ndarray, hand: np.ndarray) ->
     return np.arctan2(np.linalg.norm(np.cross(upper, fore), axis=-1), np.einsum("...i,...i->...", upper, fore))
 
 
-def savgol_derivative(values: np.ndarray, dt: float, window_s: float = DERIVATIVE_WINDOW_S) -> np.ndarray:
-    """First derivative of evenly sampled values by a Savitzky-Golay filter.
+def derivative_window(time: np.ndarray) -> float:
+    """Width (s) of the velocity fit for samples at ``time``: 4 median spacings, within ``DERIVATIVE_WINDOW_S``."""
+    spacing = float(np.median(np.diff(time))) if len(time) > 1 else 0.0
+    low, high = DERIVATIVE_WINDOW_S
+    return float(np.clip(4 * spacing, low, high))
+
+
+def local_derivative(time: np.ndarray, values: np.ndarray, window_s: float) -> np.ndarray:
+    """First derivative of unevenly sampled values by a local polynomial fit in time.
 
     Parameters
     ----------
+    time : array of shape (T,)
+        Increasing stamps (s).
     values : array of shape (T,) or (T, D)
         Samples along axis 0.
-    dt : float
-        Sample spacing (s).
     window_s : float
-        Window width (s); rounded to an odd number of samples, at least 5.
+        Width (s) of the fit around each sample.
 
     Returns
     -------
-    ndarray of the shape of ``values``: the derivative per second. Series shorter than the
-    window fall back to central differences.
+    ndarray of the shape of ``values``: the derivative per second. Each sample gets the slope
+    at its own time of a least-squares polynomial through the samples within ``window_s / 2``
+    (near the ends, of the first or last ``window_s``):
+    cubic with 7 or more samples, quadratic with 3 to 6; with fewer (sparse sampling) the
+    3-point derivative on the uneven spacing (the chords to both neighbours, weighted), and at
+    the ends the chord to the one neighbour.
     """
+    time = np.asarray(time, dtype=float)
     values = np.asarray(values, dtype=float)
-    window = max(5, int(round(window_s / dt)) | 1)
-    if values.shape[0] < window:
-        if values.shape[0] < 2:
-            return np.zeros_like(values)
-        return np.gradient(values, dt, axis=0)
-    order = 2 if window == 5 else 3
-    return savgol_filter(values, window, order, deriv=1, delta=dt, axis=0, mode="interp")
+    flat = values.reshape(len(time), -1)
+    if len(time) < 2:
+        return np.zeros_like(values)
+    result = np.gradient(flat, time, axis=0, edge_order=1)
+    # near the ends the window keeps its width and slides inwards (one-sided, like Savitzky-Golay's "interp")
+    centre = np.clip(time, time[0] + window_s / 2, time[-1] - window_s / 2) if time[-1] - time[0] > window_s else time
+    low = np.searchsorted(time, centre - window_s / 2 - 1e-9, side="left")
+    high = np.searchsorted(time, centre + window_s / 2 + 1e-9, side="right")
+    counts = high - low
+    width = int(counts.max())
+    if width >= 3:
+        offsets = np.arange(width)
+        index = np.minimum(low[:, None] + offsets, len(time) - 1)
+        inside = offsets[None, :] < counts[:, None]
+        dt = np.where(inside, time[index] - time[:, None], 0.0)
+        scale = window_s / 2
+        for degree, fits in ((3, counts >= 6), (2, (counts >= 3) & (counts < 6))):
+            if not fits.any():
+                continue
+            powers = (dt[fits] / scale)[..., None] ** np.arange(degree + 1)  # (F, W, degree + 1)
+            powers = powers * inside[fits][..., None]
+            gram = np.einsum("fwi,fwj->fij", powers, powers)
+            moments = np.einsum("fwi,fwd->fid", powers, flat[index[fits]] * inside[fits][..., None])
+            coefficients = np.linalg.solve(gram, moments)  # (F, degree + 1, D)
+            result[fits] = coefficients[:, 1, :] / scale
+    return result.reshape(values.shape)
 
 
-def _interpolate(track: JointTrack, grid: np.ndarray) -> np.ndarray:
-    """Positions of shape (T, 3) at the grid stamps, linear between samples."""
-    return np.column_stack([np.interp(grid, track.time, track.position[:, axis]) for axis in range(3)])
+def _interpolate(track: JointTrack, stamps: np.ndarray) -> np.ndarray:
+    """Positions of shape (T, 3) at the stamps, linear between samples."""
+    return np.column_stack([np.interp(stamps, track.time, track.position[:, axis]) for axis in range(3)])
 
 
-def _covered(track: JointTrack, grid: np.ndarray, max_gap: float) -> np.ndarray:
-    """True where the grid stamp lies between two samples of the track at most ``max_gap`` apart."""
-    after = np.clip(np.searchsorted(track.time, grid, side="left"), 1, len(track.time) - 1)
+def _covered(track: JointTrack, stamps: np.ndarray, lost_gap: float) -> np.ndarray:
+    """True where the stamp lies on a sample of the track or between two at most ``lost_gap`` apart."""
+    after = np.clip(np.searchsorted(track.time, stamps, side="left"), 1, len(track.time) - 1)
     span = track.time[after] - track.time[after - 1]
-    exact = (np.abs(track.time[after] - grid) <= 1e-6) | (np.abs(track.time[after - 1] - grid) <= 1e-6)
-    return exact | (span <= max_gap + 1e-9)
+    exact = (np.abs(track.time[after] - stamps) <= 1e-6) | (np.abs(track.time[after - 1] - stamps) <= 1e-6)
+    return exact | (span <= lost_gap + 1e-9)
 
 
-def align_arm(arm: ArmTrack, rate_hz: float | None = None, max_gap: float = MAX_GAP_S) -> ArmMotion:
-    """Interpolate an arm's joints to common stamps and compute the angle and velocities.
+def lost_tracking_gap(time: np.ndarray, max_gap: float = MAX_GAP_S, gap_factor: float = GAP_FACTOR) -> float:
+    """Spacing (s) beyond which a gap between samples at ``time`` is lost tracking.
+
+    The larger of ``max_gap`` and ``gap_factor`` x the median spacing: a gap must be long in
+    absolute terms and against the recording's usual spacing.
+    """
+    spacing = float(np.median(np.diff(time))) if len(time) > 1 else 0.0
+    return max(max_gap, gap_factor * spacing)
+
+
+def _glitches(time: np.ndarray, angle: np.ndarray, hand: np.ndarray) -> np.ndarray:
+    """Boolean mask of shape (T,): samples that leave their neighbours and come back (one at a time).
+
+    Two cases, both within a short time: the neighbours (at most ``GLITCH_SPAN`` apart) agree
+    with each other and the sample leaves them; or the neighbours are at most ``QUICK_SPAN``
+    apart (dense sampling, where even the fastest throw moves smoothly from one sample to the
+    next) and the sample jumps away from the line between them, as a spike in the middle of
+    an extension does.
+    """
+    if len(time) < 3:
+        return np.zeros(len(time), dtype=bool)
+    before, after = time[1:-1] - time[:-2], time[2:] - time[1:-1]
+    share = (before / (before + after))[:, None]
+    span = time[2:] - time[:-2]
+
+    def leaves(series: np.ndarray, limit: float, outside_range: bool) -> np.ndarray:
+        """How far (in units of ``limit``) each inner sample leaves its neighbours; 0 when it does not."""
+        series = series.reshape(len(time), -1)
+        line = series[:-2] + share * (series[2:] - series[:-2])
+        departure = np.linalg.norm(series[1:-1] - line, axis=1)
+        neighbours = np.linalg.norm(series[2:] - series[:-2], axis=1)
+        agreeing = (span <= GLITCH_SPAN) & (departure > limit) & (neighbours < departure / 2)
+        jump = departure
+        if outside_range:  # an angle: how far outside the range of its two neighbours
+            low, high = np.minimum(series[:-2], series[2:]), np.maximum(series[:-2], series[2:])
+            jump = np.maximum(low - series[1:-1], series[1:-1] - high).max(axis=1)
+        quick = (span <= QUICK_SPAN) & (jump > limit)
+        return np.where(agreeing | quick, departure / limit, 0.0)
+
+    score = np.maximum(leaves(angle, GLITCH_ANGLE, True), leaves(hand, GLITCH_DISTANCE, False))
+    # a glitch also puts its neighbours off their lines: only the sample that leaves most is one
+    padded = np.r_[0.0, score, 0.0]
+    inner = (score > 0) & (score >= padded[:-2]) & (score > padded[2:])
+    return np.r_[False, inner, False]
+
+
+def align_arm(arm: ArmTrack, max_gap: float = MAX_GAP_S, gap_factor: float = GAP_FACTOR) -> ArmMotion:
+    """The arm's joints at the elbow's own stamps, without glitches, with the angle and its velocity.
 
     Parameters
     ----------
     arm : ArmTrack
-    rate_hz : float, optional
-        Grid rate (Hz); default the median sampling rate of the elbow track.
-    max_gap : float
-        Longest stretch (s) without a joint sample that is interpolated across.
+    max_gap, gap_factor : float
+        A gap (s) is lost tracking when longer than both ``max_gap`` and ``gap_factor`` x the
+        median spacing of the elbow's samples.
 
     Raises
     ------
@@ -153,36 +265,24 @@ def align_arm(arm: ArmTrack, rate_hz: float | None = None, max_gap: float = MAX_
     end = min(track.time[-1] for track in tracks)
     if end <= begin:
         raise InputError(f"{arm.label}: the joints {', '.join(t.name for t in tracks)} never overlap in time")
-    if rate_hz is None:
-        step = float(np.median(np.diff(arm.elbow.time)))
-    else:
-        if rate_hz <= 0:
-            raise InputError(f"rate {rate_hz!r} Hz: must be positive")
-        step = 1.0 / rate_hz
-    count = int(np.floor((end - begin) / step + 1e-6)) + 1
-    grid = begin + step * np.arange(count)
-    shoulder, elbow, fore_end, hand = (_interpolate(track, grid) for track in tracks)
-    valid = np.logical_and.reduce([_covered(track, grid, max_gap) for track in tracks])
+    elbow_time = arm.elbow.time
+    stamps = elbow_time[(elbow_time >= begin - 1e-9) & (elbow_time <= end + 1e-9)]
+    if stamps.size < 2:
+        raise InputError(f"{arm.label}: fewer than 2 elbow samples while all joints are tracked")
+    lost_gap = lost_tracking_gap(stamps, max_gap, gap_factor)
+    shoulder, elbow, fore_end, hand = (_interpolate(track, stamps) for track in tracks)
+    valid = np.logical_and.reduce([_covered(track, stamps, lost_gap) for track in tracks])
     angle = included_angle(shoulder, elbow, fore_end)
-    return ArmMotion(
-        arm=arm,
-        time=grid,
-        angle=angle,
-        velocity=_piecewise_derivative(angle, valid, step),
-        shoulder=shoulder,
-        hand=hand,
-        hand_velocity=_piecewise_derivative(hand, valid, step),
-        valid=valid,
-    )
-
-
-def _piecewise_derivative(values: np.ndarray, valid: np.ndarray, dt: float) -> np.ndarray:
-    """Savitzky-Golay derivative computed separately on each run of valid samples (0 elsewhere)."""
-    result = np.zeros_like(values)
-    edges = np.diff(np.concatenate([[0], valid.astype(np.int8), [0]]))
-    for start, stop in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1), strict=True):
-        result[start:stop] = savgol_derivative(values[start:stop], dt)
-    return result
+    glitch = _glitches(stamps, angle, hand)
+    keep = ~glitch
+    glitch_times = stamps[glitch]
+    stamps, angle, shoulder, hand, valid = stamps[keep], angle[keep], shoulder[keep], hand[keep], valid[keep]
+    motion = ArmMotion(arm, stamps, angle, np.zeros_like(angle), shoulder, hand, valid, lost_gap, elbow_time[:0])
+    velocity = np.zeros_like(angle)
+    window = derivative_window(stamps)
+    for run in motion.runs():
+        velocity[run] = local_derivative(stamps[run], angle[run], window)
+    return ArmMotion(arm, stamps, angle, velocity, shoulder, hand, valid, lost_gap, glitch_times)
 
 
 def hand_excursion(motion: ArmMotion) -> float:

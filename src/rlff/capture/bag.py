@@ -130,7 +130,10 @@ def _arm_tracks(
     for user in users:
         for side, stems in sides.items():
             frame_names = [stem + user for stem in stems]
-            if not all(name in by_name for name in frame_names):
+            missing = [name for name in frame_names if name not in by_name]
+            if missing:
+                if len(missing) < len(frame_names):  # part of an arm: say why it is not used
+                    notes.append(f"{path.name}: user {user or '1'}, {side} arm left out: no frame {', '.join(missing)}")
                 continue
             parents = {by_name[name][0] for name in frame_names}
             if len(parents) > 1:

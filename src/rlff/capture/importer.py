@@ -2,11 +2,18 @@
 
 For every file: read the arm joints (:mod:`~rlff.capture.bag`,
 :mod:`~rlff.capture.skeleton_text`), keep the consistent tracked user
-(:mod:`~rlff.capture.users`), put each arm on a uniform grid and take the throwing one
-(:mod:`~rlff.capture.angles`), cut the throws (:mod:`~rlff.capture.segment`) and label them
-(:mod:`~rlff.capture.label`). Each throw becomes one trajectory with columns ``time`` (s from
+(:mod:`~rlff.capture.users`), compute each arm's angle on its own samples and take the throwing
+one (:mod:`~rlff.capture.angles`), cut the throws (:mod:`~rlff.capture.segment`), leave out the
+releases that are not at a target and label the others (:mod:`~rlff.capture.label`). Only the
+finished throw is resampled, onto an even grid at its own median spacing (no coarser than
+``OUTPUT_RATE_HZ``; a shape-preserving PCHIP curve between the samples), and its native rate and
+largest gap go into its metadata. Each throw becomes one trajectory with columns ``time`` (s from
 the throw's start), ``angle`` (rad), ``velocity`` (rad/s) and ``distance`` (m). Cleaning
 (glitches, cropping, cutting at the release) is left to :mod:`rlff.preprocess`.
+
+Every candidate movement that is not taken is reported (:class:`FileReport.rejected`) with its time
+from the file's start and the rule that stopped it; a file without a throw says which rule stopped
+its best candidate.
 """
 
 from __future__ import annotations
@@ -18,21 +25,24 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from scipy.interpolate import PchipInterpolator
 
 from rlff.capture.angles import ArmMotion, align_arm, throwing_arm
 from rlff.capture.bag import DEFAULT_FRAMES, DEFAULT_TOPIC, read_bag
 from rlff.capture.label import (
     LandingSettings,
     ManifestRow,
+    Release,
     basket_from_landing,
+    check_throw_numbers,
     distance_from_name,
     estimate_release,
-    is_downward,
     landing_distance,
     manifest_entry,
+    not_at_a_target,
     read_manifest,
 )
-from rlff.capture.segment import SegmentSettings, ThrowCut, find_throws
+from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_throws
 from rlff.capture.skeleton import Recording
 from rlff.capture.skeleton_text import axis_vector, read_joint_csv, read_kinect_text, read_msr_text
 from rlff.capture.users import keep_consistent_user
@@ -41,11 +51,19 @@ from rlff.errors import InputError
 
 FORMATS = ("bag", "kinect-text", "msr", "csv", "thesis")
 ARMS = ("auto", "right", "left")
+#: Formats whose positions are in the sensor's frame (the camera at the origin).
+SENSOR_FRAMES = ("bag", "kinect-text", "msr")
+#: A finished throw is resampled at its own median spacing, but no coarser than this (Hz).
+OUTPUT_RATE_HZ = 15.0
 
 
 @dataclass
 class ThrowInfo:
-    """Where one imported throw came from (times in s on the recording's own clock)."""
+    """Where one imported throw came from (times in s from the recording's first sample).
+
+    ``native_rate_hz`` is 1 / the median spacing of its samples, ``largest_gap`` (s) the longest
+    spacing, ``release_confidence`` ``low`` when the release stretch was sparsely sampled.
+    """
 
     id: str
     start: float
@@ -56,11 +74,18 @@ class ThrowInfo:
     distance: float
     distance_source: str
     landing: float | None
+    native_rate_hz: float
+    largest_gap: float
+    release_confidence: str
 
 
 @dataclass
 class FileReport:
-    """What the import did with one file."""
+    """What the import did with one file.
+
+    ``rejected`` holds every candidate movement not taken as a throw (its ``time`` in s from the
+    recording's first sample, the ``rule`` that stopped it and the ``reason``); each also has a note.
+    """
 
     source: str
     format: str
@@ -68,8 +93,15 @@ class FileReport:
     user: str | None = None
     clock_origin: float = 0.0
     throws: list[ThrowInfo] = field(default_factory=list)
+    rejected: list[Rejection] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
+
+    def reject(self, rejection: Rejection, label: str) -> None:
+        """Record a candidate not taken (``rejection.time`` on the recording's clock) with a note."""
+        rejection = Rejection(rejection.time - self.clock_origin, rejection.rule, rejection.reason, rejection.rise)
+        self.rejected.append(rejection)
+        self.notes.append(f"{Path(self.source).name}: {label}: movement at t={rejection.time:.2f} s is not a throw ({rejection.reason})")
 
 
 @dataclass
@@ -87,12 +119,21 @@ class ImportReport:
         return [warning for report in self.files for warning in report.warnings]
 
     @property
+    def estimated_distances(self) -> int:
+        """Throws whose distance is a landing estimate (no manifest row, no distance in the file name)."""
+        return sum(throw.distance_source.startswith("landing estimate") for report in self.files for throw in report.throws)
+
+    @property
     def notes(self) -> list[str]:
         return [note for report in self.files for note in report.notes]
 
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-able summary."""
-        return {"throws": self.n_throws, "files": [asdict(report) for report in self.files]}
+        return {
+            "throws": self.n_throws,
+            "estimated_distances": self.estimated_distances,
+            "files": [asdict(report) for report in self.files],
+        }
 
 
 def detect_format(path: str | Path) -> str:
@@ -183,14 +224,19 @@ def import_recordings(
         or without one the landing estimate rounded to ``landing.distance_step``); metadata
         ``subject``, ``source``, ``target``/``hit`` (when the basket is known), ``landing``,
         ``distance_source``, ``release_time`` (s from the throw's start), ``start_time`` and
-        ``end_time`` (s from the recording's first sample), ``arm``.
+        ``end_time`` (s from the recording's first sample), ``arm``, ``native_rate_hz``,
+        ``largest_gap`` (s), ``release_confidence``. Each throw is resampled onto an even grid
+        at its median spacing, no coarser than ``OUTPUT_RATE_HZ``.
     report : ImportReport
-        Per file: the throws, the arm and user kept, and notes and warnings.
+        Per file: the throws, every candidate not taken and why, the arm and user kept, and
+        notes and warnings (a file without a throw: which rule stopped its best candidate).
 
     Raises
     ------
     InputError
-        A file that cannot be read (named, with what is wrong), an unknown format or arm.
+        A file that cannot be read (named, with what is wrong), an unknown format or arm, a
+        manifest row at fault (a throw listed twice with different distances, a throw number
+        that does not exist, start after end).
     """
     if format not in (None, "auto", *FORMATS):
         raise InputError(f"unknown format {format!r} (formats: {', '.join(FORMATS)})")
@@ -210,7 +256,9 @@ def import_recordings(
             file_report, found = _import_thesis(path, used_ids)
         else:
             recording = read_recording(path, kind, topic=topic, frames=frames, rate_hz=rate_hz, columns=columns, up=up)
-            file_report, found = _import_recording(recording, kind, arm, rows, segment, landing, used_ids)
+            file_report, found = _import_recording(
+                recording, kind, arm, rows, segment or SegmentSettings(), landing, used_ids, up_given=up is not None
+            )
         trajectories.extend(found)
         report.files.append(file_report)
         if progress is not None:
@@ -249,9 +297,10 @@ def _import_recording(
     kind: str,
     arm: str,
     rows: list[ManifestRow],
-    segment: SegmentSettings | None,
+    segment: SegmentSettings,
     landing: LandingSettings,
     used_ids: set[str],
+    up_given: bool,
 ) -> tuple[FileReport, list[Trajectory]]:
     path = Path(recording.source)
     report = FileReport(str(path), kind, notes=list(recording.notes), warnings=list(recording.warnings))
@@ -265,65 +314,154 @@ def _import_recording(
     motions = [align_arm(track) for track in arms]
     motion = motions[0] if len(motions) == 1 else throwing_arm(motions)
     report.arm, report.user = motion.arm.side, motion.arm.user
-    report.clock_origin = float(motion.time[0])
+    report.clock_origin = origin = float(motion.time[0])
     if len(motions) > 1:
         report.notes.append(f"{path.name}: throwing arm: {motion.arm.side} (the hand that sweeps furthest)")
-    lost = int(np.sum(~motion.valid))
-    if lost:
-        report.notes.append(f"{path.name}: {lost} samples ({lost / motion.rate_hz:.2f} s) without tracking are left out")
-    cuts, segment_notes = find_throws(motion, segment)
-    report.notes.extend(segment_notes)
-    cuts = _throws_at_a_target(recording, motion, cuts, landing, report, one_per_file=kind == "msr")
-    if not cuts:
-        report.warnings.append(f"{path}: no throw found ({motion.arm.label})")
+    report.notes.extend(_tracking_notes(path, motion, origin))
+    cuts, rejections = find_throws(motion, segment)
+    facing = _torso_facing(arms, recording.up) if kind not in SENSOR_FRAMES else None
+    releases = []
+    for cut in cuts:
+        toward = _toward_sensor(motion, cut, recording.up) if kind in SENSOR_FRAMES else facing
+        releases.append(estimate_release(motion, cut, recording.up, landing, toward))
+    kept, more = _throws_at_a_target(motion, cuts, releases, one_per_file=kind == "msr")
+    for rejection in sorted([*rejections, *more], key=lambda item: item.time):
+        report.reject(rejection, motion.arm.label)
+    hint = _up_hint(motion, recording.up) if kind == "csv" and not up_given else None
+    if not kept:
+        report.warnings.append(_no_throw(path, motion, report, segment, hint))
+    elif hint:
+        report.warnings.append(f"{path}: {hint} (up is taken as {_axis_name(recording.up)}; release and landing depend on it)")
+    if rows:
+        check_throw_numbers(rows, recording.source, len(kept))
     trajectories = []
-    for number, cut in enumerate(cuts, start=1):
-        trajectory = _throw(recording, motion, cut, number, rows, landing, report, used_ids)
+    for number, (cut, release) in enumerate(kept, start=1):
+        trajectory = _throw(recording, motion, cut, release, number, rows, landing, report, used_ids)
         if trajectory is not None:
             trajectories.append(trajectory)
     return report, trajectories
 
 
+def _tracking_notes(path: Path, motion: ArmMotion, origin: float) -> list[str]:
+    """What the angle step left out: glitch samples, stretches without tracking, untracked joints."""
+    notes = []
+    if motion.glitches.size:
+        times = ", ".join(f"{t - origin:.2f}" for t in motion.glitches[:5]) + (", ..." if motion.glitches.size > 5 else "")
+        notes.append(
+            f"{path.name}: {motion.glitches.size} glitch samples removed (one sample leaving two neighbours that agree) at t={times} s"
+        )
+    spans = motion.lost_spans()
+    if spans:
+        longest = max(end - begin for begin, end in spans)
+        notes.append(
+            f"{path.name}: {len(spans)} stretches without tracking (gaps over {motion.lost_gap:.2f} s or joints missing; "
+            f"longest {longest:.2f} s) split the recording; no throw is looked for across them"
+        )
+    lone = [run for run in motion.runs() if run.stop - run.start < 2]
+    if lone:
+        notes.append(f"{path.name}: {len(lone)} single samples between stretches without tracking are too short to hold a movement")
+    return notes
+
+
+def _toward_sensor(motion: ArmMotion, cut: ThrowCut, up: np.ndarray) -> np.ndarray | None:
+    """Horizontal unit vector from the hand (at the extension's peak) to the sensor at the origin."""
+    toward = -motion.hand[cut.peak]
+    return _horizontal_unit(toward, up)
+
+
+def _torso_facing(arms: list, up: np.ndarray) -> np.ndarray | None:
+    """The thrower's facing direction from both shoulders (up x (right - left)), or None with one arm."""
+    sides = {track.side: track for track in arms}
+    if "right" not in sides or "left" not in sides:
+        return None
+    across = np.median(sides["right"].shoulder.position, axis=0) - np.median(sides["left"].shoulder.position, axis=0)
+    return _horizontal_unit(np.cross(up, across), up)
+
+
+def _horizontal_unit(vector: np.ndarray, up: np.ndarray) -> np.ndarray | None:
+    up = np.asarray(up, dtype=float) / np.linalg.norm(up)
+    horizontal = vector - (vector @ up) * up
+    norm = float(np.linalg.norm(horizontal))
+    return horizontal / norm if norm > 1e-9 else None
+
+
+def _no_throw(path: Path, motion: ArmMotion, report: FileReport, segment: SegmentSettings, hint: str | None) -> str:
+    """The warning for a file without a throw: which rule stopped its best candidate, and a hint on ``--up``."""
+    message = f"{path}: no throw found ({motion.arm.label})"
+    if report.rejected:
+        best = max(report.rejected, key=lambda item: item.rise)
+        message += f"; the best candidate, at t={best.time:.2f} s, was stopped by rule {best.rule!r}: {best.reason}"
+    else:
+        low, high = np.percentile(motion.angle, [1, 99])
+        message += (
+            f"; the elbow angle never rises by {segment.min_candidate:.2f} rad or more "
+            f"(it stays within {low:.2f}-{high:.2f} rad)"
+        )
+    return f"{message}; {hint}" if hint else message
+
+
+def _axis_name(vector: np.ndarray) -> str:
+    axis = int(np.argmax(np.abs(vector)))
+    return ("-" if vector[axis] < 0 else "") + "xyz"[axis]
+
+
+def _up_hint(motion: ArmMotion, up: np.ndarray) -> str | None:
+    """``--up AXIS`` when the upper arm mostly hangs along another axis than the assumed up one."""
+    hanging = np.median(motion.arm.elbow.position - np.median(motion.shoulder, axis=0), axis=0)
+    axis = int(np.argmax(np.abs(hanging)))
+    guess = np.zeros(3)
+    guess[axis] = -np.sign(hanging[axis])
+    if np.allclose(guess, up):
+        return None
+    name = _axis_name(guess)
+    return f"the upper arm hangs along {_axis_name(-guess)}: if {name} is up in this file (a camera frame), try --up {name}"
+
+
 def _throws_at_a_target(
-    recording: Recording,
     motion: ArmMotion,
     cuts: list[ThrowCut],
-    landing: LandingSettings,
-    report: FileReport,
+    releases: list[Release],
     one_per_file: bool,
-) -> list[ThrowCut]:
-    """Leave out extensions that release steeply downward (the arm coming down to rest).
+) -> tuple[list[tuple[ThrowCut, Release]], list[Rejection]]:
+    """Leave out extensions whose release is not at a target (the arm coming down to rest).
 
     With ``one_per_file`` (MSR Action3D: a file holds one performance of the action), keep only
-    the throw with the fastest hand at release. Every throw left out gets a note.
+    the throw with the fastest hand at release. Every throw left out comes back as a rejection.
     """
-    path = Path(recording.source)
-    releases = [estimate_release(motion, cut, recording.up, landing) for cut in cuts]
-    kept = []
+    kept, rejected = [], []
     for cut, release in zip(cuts, releases, strict=True):
-        if is_downward(release):
-            report.notes.append(
-                f"{path.name}: extension at t={motion.time[cut.peak] - report.clock_origin:.2f} s left out: the hand moves "
-                f"down at release ({release.speed_vertical:.1f} m/s), the arm coming down to rest"
-            )
-        else:
+        rise = float(motion.angle[cut.extension_end] - motion.angle[cut.extension_start])
+        why = not_at_a_target(release)
+        if why is None:
             kept.append((cut, release))
+        else:
+            rejected.append(Rejection(release.time, "direction", why, rise))
     if one_per_file and len(kept) > 1:
         best = max(kept, key=lambda item: np.hypot(item[1].speed_horizontal, item[1].speed_vertical))
-        for cut, _ in kept:
+        for cut, release in kept:
             if cut is not best[0]:
-                report.notes.append(
-                    f"{path.name}: extension at t={motion.time[cut.peak] - report.clock_origin:.2f} s left out: "
-                    "an MSR file holds one throw, the one with the fastest release is kept"
-                )
+                rise = float(motion.angle[cut.extension_end] - motion.angle[cut.extension_start])
+                rejected.append(Rejection(
+                    release.time, "one throw per MSR file",
+                    "an MSR file holds one throw, the one with the fastest release is kept", rise,
+                ))
         kept = [best]
-    return [cut for cut, _ in kept]
+    return kept, rejected
+
+
+def _resampled(time: np.ndarray, *series: np.ndarray) -> tuple[np.ndarray, ...]:
+    """An even grid over ``time`` at its median spacing (at most 1 / OUTPUT_RATE_HZ) and the series on it (PCHIP)."""
+    step = min(float(np.median(np.diff(time))), 1.0 / OUTPUT_RATE_HZ)
+    count = int(np.floor((time[-1] - time[0]) / step + 1e-6)) + 1
+    grid = time[0] + step * np.arange(count)
+    return (grid, *(PchipInterpolator(time, values)(grid) for values in series))
 
 
 def _throw(
     recording: Recording,
     motion: ArmMotion,
     cut: ThrowCut,
+    release: Release,
     number: int,
     rows: list[ManifestRow],
     landing: LandingSettings,
@@ -333,8 +471,7 @@ def _throw(
     path = Path(recording.source)
     origin = report.clock_origin
     window = slice(cut.start, cut.stop)
-    time = motion.time[window]
-    release = estimate_release(motion, cut, recording.up, landing)
+    native = motion.time[window]
     landed = landing_distance(release, landing)
     row = manifest_entry(rows, recording.source, number, float(motion.time[cut.peak] - origin)) if rows else None
     target: float | None = None
@@ -347,20 +484,32 @@ def _throw(
     else:
         distance = target
     if not np.isfinite(distance):
+        rise = float(motion.angle[cut.extension_end] - motion.angle[cut.extension_start])
+        report.reject(
+            Rejection(release.time, "landing", "no basket distance and the ball never comes down to "
+                      f"{landing.target_height} m from the estimated release", rise),
+            motion.arm.label,
+        )
         report.warnings.append(
-            f"{path}: throw {number} at t={time[0] - origin:.2f} s left out: no basket distance and the ball "
+            f"{path}: throw {number} at t={native[0] - origin:.2f} s left out: no basket distance and the ball "
             f"never comes down to {landing.target_height} m from the estimated release"
         )
         return None
+    spacing = np.diff(native)
+    native_rate = 1.0 / float(np.median(spacing)) if spacing.size else float("nan")
+    largest_gap = float(spacing.max()) if spacing.size else 0.0
     identifier = _unique_id(f"{path.stem}_t{number}", used_ids)
     meta: dict[str, Any] = {
         "subject": _subject(path, row),
         "source": str(path),
         "distance_source": source_of_distance,
-        "release_time": float(release.time - time[0]),
-        "start_time": float(time[0] - origin),
-        "end_time": float(time[-1] - origin),
+        "release_time": float(release.time - native[0]),
+        "start_time": float(native[0] - origin),
+        "end_time": float(native[-1] - origin),
         "arm": motion.arm.side,
+        "native_rate_hz": native_rate,
+        "largest_gap": largest_gap,
+        "release_confidence": release.confidence,
     }
     if np.isfinite(landed):
         meta["landing"] = landed
@@ -368,19 +517,20 @@ def _throw(
         meta["target"] = float(target)
         if np.isfinite(landed):
             meta["hit"] = bool(abs(landed - target) <= landing.hit_radius)
-    angle = motion.angle[window]
-    velocity = motion.velocity[window]
+    angle, velocity = motion.angle[window], motion.velocity[window]
     report.throws.append(
         ThrowInfo(
-            identifier, float(time[0] - origin), float(time[-1] - origin), float(release.time - origin),
+            identifier, float(native[0] - origin), float(native[-1] - origin), float(release.time - origin),
             float(velocity.max()), (float(angle.min()), float(angle.max())), float(distance),
             source_of_distance, float(landed) if np.isfinite(landed) else None,
+            native_rate, largest_gap, release.confidence,
         )
     )
+    grid, angle, velocity = _resampled(native, angle, velocity) if native.size > 1 else (native, angle, velocity)
     data = {
-        "time": time - time[0],
+        "time": grid - grid[0],
         "angle": angle,
         "velocity": velocity,
-        "distance": np.full(time.size, float(distance)),
+        "distance": np.full(grid.size, float(distance)),
     }
     return Trajectory(identifier, data, meta)

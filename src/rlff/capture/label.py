@@ -15,12 +15,28 @@ Basket distance, in order of precedence:
    itself (from a 15-30 Hz hand velocity) is not finer than that anyway. The exact estimate
    stays in the ``landing`` metadata.
 
-Release and landing: the ball leaves the hand when the hand is fastest during the extension
-(an overhand throw releases close to full speed). From the hand's position and velocity there,
-the ball flies ballistically (:func:`rlff.ballistics.crossing_distance`) in the vertical plane of
-the hand's horizontal velocity; the landing distance is measured on the ground from below the
-shoulder, as a basket's distance is from the thrower. A skeleton holds no floor, so the shoulder is
-taken to be ``shoulder_height`` above it.
+Release and landing: the ball leaves the hand around where the elbow extends fastest (an overhand
+throw releases close to full speed). The release velocity is the hand's mean velocity over the
+stretch of ``SegmentSettings.steepest_window`` (0.28 s) over which the elbow angle rises most
+(:attr:`ThrowCut.fastest`), from the hand's positions at both ends of that stretch
+(interpolated between samples). Measured over a fixed time, it is the
+same quantity at 30 Hz and at 4 Hz; the fastest single sample, or a derivative whose width follows
+the sampling, would change with the rate. When the samples around the stretch are further apart
+than half of it, the release is only roughly placed and is marked ``low`` confidence. From the
+hand's position and velocity there, the ball flies ballistically
+(:func:`rlff.ballistics.crossing_distance`) in the vertical plane of the hand's horizontal
+velocity; the landing distance is measured on the ground from below the shoulder, as a basket's
+distance is from the thrower. A skeleton holds no floor, so the shoulder is taken to be
+``shoulder_height`` above it.
+
+Direction: a throw sends the hand forward, toward the sensor (the frame of a Kinect or of a tf
+skeleton tracker is the camera's) or, when the frame is not the camera's, along the torso's
+facing direction (from the two shoulders). A release whose hand moves down and back is no throw
+at a basket: it is the arm coming down to rest; so is one moving down steeper than 75 deg below
+the forward horizontal (the arm dropping nearly straight down). A release moving forward and
+down is a throw (the former rule, any dip over 30 deg, rejected them; over a sparse stretch the
+hand's chord also points lower than the release itself). Without a known forward direction, a
+release dipping more than 30 deg below horizontal is still taken as the arm coming down to rest.
 """
 
 from __future__ import annotations
@@ -58,15 +74,21 @@ class Release:
     Attributes
     ----------
     index : int
-        Sample of the arm's grid.
+        The sample of the arm's motion nearest to the release.
     time : float
-        Time (s) on the recording's clock.
+        Time (s) on the recording's clock: the middle of the stretch of fastest extension.
     height : float
         Height of the hand above the floor (m).
     forward : float
         Horizontal distance of the hand in front of the shoulder along the throw (m).
     speed_horizontal, speed_vertical : float
         Hand velocity components (m/s), vertical positive up.
+    speed_forward : float or None
+        Horizontal velocity along the thrower's forward direction (m/s); None when that
+        direction is unknown.
+    confidence : str
+        ``high``, or ``low`` when samples around the release are further apart than half the
+        release window (sparse tracking).
     """
 
     index: int
@@ -75,6 +97,8 @@ class Release:
     forward: float
     speed_horizontal: float
     speed_vertical: float
+    speed_forward: float | None = None
+    confidence: str = "high"
 
 
 @dataclass(frozen=True)
@@ -85,10 +109,19 @@ class ManifestRow:
     start: float | None = None
     end: float | None = None
     subject: str | None = None
+    line: int = 0
+    manifest: str = ""
+
+    @property
+    def where(self) -> str:
+        """``manifest PATH, line N`` for messages."""
+        return f"manifest {self.manifest}, line {self.line}"
 
 
-def estimate_release(motion: ArmMotion, cut: ThrowCut, up: np.ndarray, settings: LandingSettings) -> Release:
-    """The release: fastest hand sample from the extension's start to just after its end.
+def estimate_release(
+    motion: ArmMotion, cut: ThrowCut, up: np.ndarray, settings: LandingSettings, facing: np.ndarray | None = None
+) -> Release:
+    """The release: the hand's mean velocity over the stretch where the elbow extends fastest.
 
     Parameters
     ----------
@@ -97,36 +130,65 @@ def estimate_release(motion: ArmMotion, cut: ThrowCut, up: np.ndarray, settings:
     up : array of shape (3,)
         Unit vector up in the recording's frame.
     settings : LandingSettings
+    facing : array of shape (3,), optional
+        The thrower's forward direction (horizontal), for ``speed_forward``.
     """
     up = np.asarray(up, dtype=float) / np.linalg.norm(up)
-    last = min(cut.stop, cut.extension_end + 2)
-    window = slice(cut.extension_start, max(last, cut.extension_start + 1))
-    speeds = np.linalg.norm(motion.hand_velocity[window], axis=1)
-    index = window.start + int(np.argmax(speeds))
-    velocity = motion.hand_velocity[index]
+    begin, end = cut.fastest
+    width, middle = end - begin, (begin + end) / 2
+
+    def at(series: np.ndarray, when: float) -> np.ndarray:
+        return np.array([np.interp(when, motion.time, series[:, axis]) for axis in range(3)])
+
+    velocity = (at(motion.hand, end) - at(motion.hand, begin)) / width
     vertical = float(velocity @ up)
     horizontal_vector = velocity - vertical * up
     speed_horizontal = float(np.linalg.norm(horizontal_vector))
-    offset = motion.hand[index] - motion.shoulder[index]
+    offset = at(motion.hand, middle) - at(motion.shoulder, middle)
     direction = horizontal_vector / speed_horizontal if speed_horizontal > 1e-9 else np.zeros(3)
+    spacing = np.diff(motion.time)
+    around = (motion.time[1:] > begin) & (motion.time[:-1] < end)
+    sparse = bool(around.any() and spacing[around].max() > width / 2)
     return Release(
-        index=index,
-        time=float(motion.time[index]),
+        index=int(np.argmin(np.abs(motion.time - middle))),
+        time=float(middle),
         height=settings.shoulder_height + float(offset @ up),
         forward=float(offset @ direction),
         speed_horizontal=speed_horizontal,
         speed_vertical=vertical,
+        speed_forward=None if facing is None else float(horizontal_vector @ facing),
+        confidence="low" if sparse else "high",
     )
 
 
-def is_downward(release: Release, max_dip_deg: float = 30.0) -> bool:
-    """True when the hand moves down steeper than ``max_dip_deg`` below horizontal at release.
+def not_at_a_target(release: Release, max_dip_deg: float = 30.0, max_forward_dip_deg: float = 75.0) -> str | None:
+    """Why a release is not a throw at a basket, or None when it is.
 
-    Such an extension is the arm straightening as it comes down to rest after a throw (seen in
-    the MSR recordings), not a throw at a basket.
+    With a known forward direction: the hand moving down and back (the arm coming down to rest
+    after a throw), or moving down steeper than ``max_forward_dip_deg`` below the forward
+    horizontal (the arm dropping nearly straight down). Without one: the hand moving down steeper
+    than ``max_dip_deg`` below horizontal.
     """
-    dip = np.degrees(np.arctan2(-release.speed_vertical, release.speed_horizontal))
-    return bool(dip > max_dip_deg)
+    vertical, horizontal = release.speed_vertical, release.speed_horizontal
+    if release.speed_forward is not None:
+        forward = release.speed_forward
+        dip = np.degrees(np.arctan2(-vertical, forward))
+        if forward < 0 and vertical < 0:
+            return f"the hand moves down ({vertical:.1f} m/s) and back ({forward:.1f} m/s) at release: the arm coming down to rest"
+        if dip > max_forward_dip_deg:
+            return (
+                f"the hand moves down at {dip:.0f} deg below the forward horizontal at release ({vertical:.1f} m/s down, "
+                f"{forward:.1f} m/s forward; a throw released forward goes at most {max_forward_dip_deg:g} deg down): "
+                "the arm coming down to rest"
+            )
+        return None
+    dip = np.degrees(np.arctan2(-vertical, horizontal))
+    if dip > max_dip_deg:
+        return (
+            f"the hand moves down at {dip:.0f} deg below horizontal at release ({vertical:.1f} m/s; forward "
+            "direction unknown): the arm coming down to rest"
+        )
+    return None
 
 
 def landing_distance(release: Release, settings: LandingSettings) -> float:
@@ -176,7 +238,9 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
     Raises
     ------
     InputError
-        The file is missing or unreadable, lacks ``file`` or ``distance``, or has a bad value.
+        The file is missing or unreadable, lacks ``file`` or ``distance``, has a bad value, a
+        throw number below 1, a ``start`` after its ``end``, or lists the same throw twice with
+        different distances (the rows at fault are named).
     """
     import pandas as pd
 
@@ -207,13 +271,52 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
         if distance is None or not np.isfinite(distance) or distance <= 0:
             raise InputError(f"manifest {path}, line {number}: column 'distance' needs a positive number (m)")
         subject = str(record.get("subject", "")).strip() or None
-        rows.append(
-            ManifestRow(
-                str(record["file"]).strip(), distance, number_or_none("throw", int),
-                number_or_none("start", float), number_or_none("end", float), subject,
-            )
+        row = ManifestRow(
+            str(record["file"]).strip(), distance, number_or_none("throw", int),
+            number_or_none("start", float), number_or_none("end", float), subject, number, str(path),
         )
+        if not row.file:
+            raise InputError(f"{row.where}: column 'file' is empty")
+        if row.throw is not None and row.throw < 1:
+            raise InputError(f"{row.where}: throw {row.throw} does not exist (throws are numbered from 1)")
+        if row.start is not None and row.end is not None and row.start > row.end:
+            raise InputError(f"{row.where}: start {row.start:g} s is after end {row.end:g} s")
+        rows.append(row)
+    _check_no_conflicts(rows)
     return rows
+
+
+def _check_no_conflicts(rows: list[ManifestRow]) -> None:
+    """The same throw (same file name, same throw number or time span) listed with different distances."""
+    seen: dict[tuple, ManifestRow] = {}
+    for row in rows:
+        key = (Path(row.file).name, row.throw, row.start, row.end)
+        first = seen.setdefault(key, row)
+        if first is not row and first.distance != row.distance:
+            which = f"throw {row.throw}" if row.throw is not None else (
+                "the same time span" if row.start is not None or row.end is not None else "the whole file"
+            )
+            raise InputError(
+                f"{row.where}: {row.file} ({which}) is listed again with distance {row.distance:g} m; "
+                f"line {first.line} gives {first.distance:g} m"
+            )
+
+
+def check_throw_numbers(rows: list[ManifestRow], source: str, count: int) -> None:
+    """Raise when a manifest row names a throw of ``source`` beyond the ``count`` throws found there.
+
+    Raises
+    ------
+    InputError
+        Naming the row, the file and how many throws it has.
+    """
+    path = Path(source)
+    names = {str(path), path.name, path.stem}
+    for row in rows:
+        if row.throw is not None and row.throw > count and (row.file in names or Path(row.file).name in names):
+            raise InputError(
+                f"{row.where}: throw {row.throw} of {path.name} does not exist ({count} throws found there)"
+            )
 
 
 def manifest_entry(rows: list[ManifestRow], source: str, throw_number: int, peak_time: float) -> ManifestRow | None:

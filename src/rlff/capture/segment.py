@@ -1,24 +1,26 @@
-"""Cutting a long recording into single throws: wind-up, extension, follow-through.
+"""Cutting a recording into single throws (wind-up, extension, follow-through) on its own samples.
 
-The thesis cut its bags by hand (rqt_bag). Here a throw is found from the elbow angle alone:
+The thesis cut its bags by hand (rqt_bag). Here a throw is found from the elbow angle alone, on the
+samples as the tracker gave them (even or not, 4 to 30 Hz), with every threshold an angle or a
+time, never a number of samples:
 
-1. a median filter (0.15 s) removes tracking glitches of one or two frames, which would
-   otherwise look like very fast extensions;
-2. every peak of the angular velocity above ``min_peak_velocity`` marks an extension; it runs
-   from the angle's minimum before the peak (wound up) to its maximum after it (arm straight),
-   and it counts only if the angle rises by at least ``min_extension`` on the way;
-3. the throw starts where the wind-up starts: going back from the minimum through holds of at
-   most ``max_hold`` and the stretch where the arm flexes faster than ``rest_velocity``, up to
-   ``max_wind_up`` before the minimum;
-4. it ends where the follow-through settles: going forward from the maximum, the last sample
-   moving faster than ``rest_velocity`` before a pause longer than ``settle`` (at most
+1. the angle's rises and falls are followed with a hysteresis of ``reversal`` (dips smaller than
+   that within a rise are jitter); every rise of at least ``min_candidate`` is a candidate;
+2. a candidate is an extension when the angle rises by at least ``min_extension`` in all, and by
+   at least that much within ``extension_window`` at its steepest (measured on the straight lines
+   between samples, so a gap through the extension still counts with the rate it implies);
+3. the throw starts where the wind-up starts: going back from the extension's start through
+   holds of at most ``max_hold`` and flexion faster than ``rest_velocity``, up to ``max_wind_up``;
+4. it ends where the follow-through settles: going forward from the extension's end, the last
+   sample moving faster than ``rest_velocity`` before a pause longer than ``settle`` (at most
    ``max_follow_through`` later).
 
-In both walks, motion after a pause counts only when it lasts ``min_motion``: tracker noise in
-a rest makes one- or two-sample blips above ``rest_velocity``.
-
-Consecutive throws never overlap: a follow-through ends at the latest where the next wind-up
-begins. Stretches of lost tracking split the recording; a throw never spans one.
+In both walks, motion after a pause counts only when it lasts ``min_motion`` (tracker noise in a
+rest makes blips); a sample stands for the time half-way to each neighbour, so a single sample of
+a sparse recording can be enough. The follow-through's velocity is a local fit over
+``settle_window`` (the wind-up's, over the output's 0.25 s, stops where the extension begins). Every candidate not taken comes back as a :class:`Rejection` with
+its time, the rule that stopped it and why. Consecutive throws never overlap; a throw never spans
+lost tracking (:meth:`ArmMotion.runs`), and a rise across lost tracking is reported too.
 """
 
 from __future__ import annotations
@@ -26,31 +28,31 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.ndimage import median_filter
-from scipy.signal import find_peaks
 
-from rlff.capture.angles import ArmMotion, savgol_derivative
+from rlff.capture.angles import ArmMotion, local_derivative
 
 
 @dataclass(frozen=True)
 class SegmentSettings:
     """Thresholds of the throw finder (angles in rad, velocities in rad/s, durations in s)."""
 
-    min_peak_velocity: float = 3.0
     min_extension: float = 0.6
+    extension_window: float = 0.5
+    min_candidate: float = 0.3
+    reversal: float = 0.1
     rest_velocity: float = 0.5
-    min_separation: float = 0.5
     max_hold: float = 0.5
     max_wind_up: float = 1.5
     max_follow_through: float = 0.6
     settle: float = 0.25
     min_motion: float = 0.1
-    glitch_filter: float = 0.15
+    steepest_window: float = 0.28
+    settle_window: float = 0.4
 
 
 @dataclass(frozen=True)
 class ThrowCut:
-    """One throw as sample indices into an :class:`ArmMotion` grid.
+    """One throw as sample indices into an :class:`ArmMotion`.
 
     Attributes
     ----------
@@ -59,7 +61,10 @@ class ThrowCut:
     extension_start, extension_end : int
         Indices of the angle's minimum (wound up) and maximum (straight) around the extension.
     peak : int
-        Index of the peak angular velocity of the extension.
+        Index of the sample nearest to the middle of the stretch where the elbow extends fastest.
+    fastest : tuple of float
+        That stretch (s, on the motion's clock): the ``steepest_window`` over which the angle
+        rises most. The release is measured over it (:func:`rlff.capture.label.estimate_release`).
     """
 
     start: int
@@ -67,130 +72,216 @@ class ThrowCut:
     extension_start: int
     extension_end: int
     peak: int
+    fastest: tuple[float, float]
 
 
-def find_throws(motion: ArmMotion, settings: SegmentSettings | None = None) -> tuple[list[ThrowCut], list[str]]:
+@dataclass(frozen=True)
+class Rejection:
+    """A candidate movement that was not taken as a throw.
+
+    Attributes
+    ----------
+    time : float
+        Where it happened (s, on the recording's clock): the middle of its steepest stretch.
+    rule : str
+        The rule that stopped it (a setting's name, such as ``min_extension``).
+    reason : str
+        Why, with the numbers.
+    rise : float
+        How far the elbow angle rose (rad); ranks the candidates when none is taken.
+    """
+
+    time: float
+    rule: str
+    reason: str
+    rise: float
+
+
+def steepest_rise(time: np.ndarray, values: np.ndarray, width: float) -> tuple[float, float]:
+    """The stretch of ``width`` seconds over which ``values`` rise most, on the lines between samples.
+
+    Parameters
+    ----------
+    time : array of shape (T,), increasing (s)
+    values : array of shape (T,)
+    width : float (s)
+
+    Returns
+    -------
+    begin : float
+        Start (s) of the stretch; when the samples span less than ``width``, the stretch is
+        centred on them, and when several stretches rise as much (one long chord between two
+        samples), it is the middle one.
+    rise : float
+        ``values`` at ``begin + width`` minus at ``begin`` (linear interpolation; values held
+        outside the samples).
+    """
+    if time[-1] - time[0] <= width:
+        return float((time[0] + time[-1] - width) / 2), float(values[-1] - values[0])
+    # on a piecewise-linear curve the best window has one of its ends on a sample
+    begins = np.concatenate([time[time + width <= time[-1]], time[time - width >= time[0]] - width])
+    rises = np.interp(begins + width, time, values) - np.interp(begins, time, values)
+    best = float(rises.max())
+    # along one straight chord (a gap in sparse sampling) every window rises as much: take the middle
+    tied = begins[rises >= best - 1e-9 * max(1.0, abs(best))]
+    return float((tied.min() + tied.max()) / 2), best
+
+
+def find_throws(motion: ArmMotion, settings: SegmentSettings | None = None) -> tuple[list[ThrowCut], list[Rejection]]:
     """Find the throws in an arm's motion.
 
     Parameters
     ----------
     motion : ArmMotion
-        The arm on a uniform grid.
+        The arm on its own samples.
     settings : SegmentSettings, optional
 
     Returns
     -------
     throws : list of ThrowCut
         In time order, not overlapping.
-    notes : list of str
-        Candidate extensions that were rejected, and why.
+    rejections : list of Rejection
+        Every candidate movement not taken, and why, in time order.
     """
     settings = settings or SegmentSettings()
     throws: list[ThrowCut] = []
-    notes: list[str] = []
-    for run in motion.runs():
-        found, rejected = _throws_in_run(motion.angle[run], 1.0 / motion.rate_hz, settings)
+    rejections: list[Rejection] = []
+    runs = motion.runs()
+    for run in runs:
+        time, angle, velocity = motion.time[run], motion.angle[run], motion.velocity[run]
+        # the follow-through compares a slow speed with rest_velocity: a wider fit than the output's
+        # keeps tracker jitter from crossing it (the chord when sparse anyway)
+        settling = local_derivative(time, angle, settings.settle_window)
+        found, rejected = _throws_in_run(time, angle, velocity, settling, settings)
         throws.extend(_shift(cut, run.start) for cut in found)
-        notes.extend(
-            f"{motion.arm.label}: movement at t={motion.time[run.start + index]:.2f} s is not a throw ({why})"
-            for index, why in rejected
-        )
-    return throws, notes
+        rejections.extend(rejected)
+    for before, after in zip(runs, runs[1:], strict=False):
+        rise = float(motion.angle[after.start] - motion.angle[before.stop - 1])
+        if rise >= settings.min_extension:
+            begin, end = float(motion.time[before.stop - 1]), float(motion.time[after.start])
+            rejections.append(Rejection(
+                (begin + end) / 2, "lost tracking",
+                f"the angle rises by {rise:.2f} rad across {end - begin:.2f} s without tracking; the extension is not measured",
+                rise,
+            ))
+    return throws, sorted(rejections, key=lambda rejection: rejection.time)
 
 
 def _shift(cut: ThrowCut, offset: int) -> ThrowCut:
-    return ThrowCut(*(value + offset for value in (cut.start, cut.stop, cut.extension_start, cut.extension_end, cut.peak)))
+    return replace(
+        cut, start=cut.start + offset, stop=cut.stop + offset, extension_start=cut.extension_start + offset,
+        extension_end=cut.extension_end + offset, peak=cut.peak + offset,
+    )
 
 
-def _throws_in_run(angle: np.ndarray, dt: float, settings: SegmentSettings) -> tuple[list[ThrowCut], list[tuple[int, str]]]:
-    """Throws within one run of valid samples; indices relative to the run."""
-    n = angle.size
-    kernel = max(3, int(round(settings.glitch_filter / dt)) | 1)
-    if n < kernel + 2:
+def _swings(angle: np.ndarray, reversal: float) -> list[tuple[int, int]]:
+    """(low, high) sample indices of every rise of the angle, with dips under ``reversal`` ignored."""
+    pivots: list[int] = []
+    trend, low, high = 0, 0, 0
+    for index in range(1, angle.size):
+        value = angle[index]
+        if trend == 0:
+            low = index if value < angle[low] else low
+            high = index if value > angle[high] else high
+            if value - angle[low] >= reversal:
+                pivots, trend, high = [low], 1, index
+            elif angle[high] - value >= reversal:
+                pivots, trend, low = [high], -1, index
+        elif trend == 1:
+            if value > angle[high]:
+                high = index
+            elif angle[high] - value >= reversal:
+                pivots.append(high)
+                trend, low = -1, index
+        else:
+            if value < angle[low]:
+                low = index
+            elif value - angle[low] >= reversal:
+                pivots.append(low)
+                trend, high = 1, index
+    if trend:
+        pivots.append(high if trend == 1 else low)
+    return [(a, b) for a, b in zip(pivots, pivots[1:], strict=False) if angle[b] > angle[a]]
+
+
+def _throws_in_run(
+    time: np.ndarray, angle: np.ndarray, velocity: np.ndarray, settling: np.ndarray, settings: SegmentSettings
+) -> tuple[list[ThrowCut], list[Rejection]]:
+    """Throws within one run of tracked samples; indices relative to the run."""
+    if time.size < 2:
         return [], []
-    smooth = median_filter(angle, size=kernel, mode="nearest")
-    velocity = savgol_derivative(smooth, dt)
-    peaks, _ = find_peaks(velocity, height=settings.min_peak_velocity, distance=max(1, int(round(settings.min_separation / dt))))
-    extensions: dict[tuple[int, int], int] = {}
-    rejected: list[tuple[int, str]] = []
-    for peak in peaks:
-        low = int(peak)
-        while low > 0 and velocity[low - 1] > 0:
-            low -= 1
-        high = int(peak)
-        while high < n - 1 and velocity[high + 1] > 0:
-            high += 1
-        rise = smooth[high] - smooth[low]
-        if rise < settings.min_extension:
-            rejected.append((int(peak), f"the angle rises by {rise:.2f} rad, less than {settings.min_extension:.2f}"))
+    cuts: list[ThrowCut] = []
+    rejected: list[Rejection] = []
+    for low, high in _swings(angle, settings.reversal):
+        rise = float(angle[high] - angle[low])
+        if rise < settings.min_candidate:
             continue
-        key = (low, high)
-        if key not in extensions or velocity[peak] > velocity[extensions[key]]:
-            extensions[key] = int(peak)
-    cuts = []
-    for (low, high), peak in sorted(extensions.items()):
-        start = _wind_up_start(velocity, low, dt, settings)
-        stop = _follow_through_end(velocity, high, dt, settings) + 1
-        cuts.append(ThrowCut(start, stop, low, high, peak))
+        stretch = slice(low, high + 1)
+        begin, fastest = steepest_rise(time[stretch], angle[stretch], settings.extension_window)
+        middle = begin + settings.extension_window / 2
+        if rise < settings.min_extension:
+            rejected.append(Rejection(
+                middle, "min_extension", f"the angle rises by {rise:.2f} rad, less than {settings.min_extension:.2f}", rise
+            ))
+            continue
+        if fastest < settings.min_extension - 1e-9:
+            rejected.append(Rejection(
+                middle, "extension_window",
+                f"the angle rises by {rise:.2f} rad, but by at most {fastest:.2f} rad within "
+                f"{settings.extension_window:g} s (slower than a throw, which needs {settings.min_extension:.2f})",
+                rise,
+            ))
+            continue
+        begin, _ = steepest_rise(time[stretch], angle[stretch], settings.steepest_window)
+        fastest = (begin, begin + settings.steepest_window)
+        peak = low + int(np.argmin(np.abs(time[stretch] - (begin + settings.steepest_window / 2))))
+        start = low - _Walk(settings.max_wind_up, settings.max_hold, settings, stop_at_rise=True).last_motion(
+            time[: low + 1][::-1], velocity[: low + 1][::-1]
+        )
+        stop = high + 1 + _Walk(settings.max_follow_through, settings.settle, settings, stop_at_rise=False).last_motion(
+            time[high:], settling[high:]
+        )
+        cuts.append(ThrowCut(start, stop, low, high, peak, fastest))
     return _without_overlap(cuts), rejected
-
-
-def _wind_up_start(velocity: np.ndarray, low: int, dt: float, settings: SegmentSettings) -> int:
-    """Index where the flexion before the extension starting at ``low`` begins.
-
-    Walks back through flexion (velocity <= -rest) and holds (|velocity| < rest), stopping at a
-    rise (the previous movement), at a hold longer than ``max_hold`` (the rest before the throw)
-    or ``max_wind_up`` before ``low``.
-    """
-    walk = _Walk(settings.max_wind_up / dt, settings.max_hold / dt, settings.rest_velocity, _min_run(settings, dt))
-    return low - walk.last_motion(velocity[: low + 1][::-1], stop_at_rise=True)
-
-
-def _follow_through_end(velocity: np.ndarray, high: int, dt: float, settings: SegmentSettings) -> int:
-    """Index where the motion after the extension ending at ``high`` comes to rest.
-
-    Walks forward while the arm moves (|velocity| >= rest), through pauses of at most ``settle``,
-    for at most ``max_follow_through``.
-    """
-    walk = _Walk(settings.max_follow_through / dt, settings.settle / dt, settings.rest_velocity, _min_run(settings, dt))
-    return high + walk.last_motion(velocity[high:], stop_at_rise=False)
-
-
-def _min_run(settings: SegmentSettings, dt: float) -> int:
-    return max(2, int(round(settings.min_motion / dt)))
 
 
 @dataclass(frozen=True)
 class _Walk:
-    """A walk away from an extension along the velocity, in samples."""
+    """A walk away from an extension along the velocity, in time."""
 
     longest: float
     pause: float
-    rest: float
-    min_run: int
+    settings: SegmentSettings
+    stop_at_rise: bool
 
-    def last_motion(self, velocity: np.ndarray, stop_at_rise: bool) -> int:
-        """Steps from ``velocity[0]`` to the last sample moving faster than ``rest``.
+    def last_motion(self, time: np.ndarray, velocity: np.ndarray) -> int:
+        """Steps from sample 0 to the last sample moving faster than ``rest_velocity``.
 
-        Stops at a pause longer than ``pause``, after ``longest`` steps or, with
-        ``stop_at_rise``, where the angle rises (the movement before). Motion separated from what
-        was already taken by a pause counts only when it lasts ``min_run`` samples: tracker noise
-        in a rest makes blips of a sample or two.
+        ``time`` and ``velocity`` are in walking order (``time`` backwards for the wind-up).
+        Stops at a pause longer than ``pause``, beyond ``longest`` or, with ``stop_at_rise``,
+        where the angle rises (the movement before). Motion separated from what was already taken
+        by a pause counts only when it lasts ``min_motion``: each sample stands for the time
+        half-way to its neighbours.
         """
-        last = quiet = run = 0
-        for step in range(1, min(velocity.size, int(round(self.longest)) + 1)):
-            value = velocity[step]
-            if stop_at_rise and value >= self.rest:
+        distance = np.abs(time - time[0])
+        edges = np.concatenate([[0.0], (distance[1:] + distance[:-1]) / 2, [distance[-1]]])
+        rest, min_motion = self.settings.rest_velocity, self.settings.min_motion
+        last = last_moving = 0
+        run_start: int | None = None
+        for step in range(1, distance.size):
+            if distance[step] > self.longest + 1e-9:
                 break
-            if abs(value) >= self.rest:
-                run += 1
-                quiet = 0
-                if run >= self.min_run or step - run == last:
+            value = velocity[step]
+            if self.stop_at_rise and value >= rest:
+                break
+            if abs(value) >= rest:
+                run_start = step if run_start is None else run_start
+                last_moving = step
+                if edges[step + 1] - edges[run_start] >= min_motion - 1e-9 or run_start == last + 1:
                     last = step
             else:
-                run = 0
-                quiet += 1
-                if quiet > self.pause:
+                run_start = None
+                if distance[step] - distance[last_moving] > self.pause + 1e-9:
                     break
         return last
 

@@ -36,11 +36,16 @@ def import_command(
     rate: float | None = typer.Option(None, "--rate", help="Frame rate (Hz) of text recordings without time stamps."),
     columns: str | None = typer.Option(None, "--columns", help="CSV column map: NAME=COLUMN,... (e.g. right_elbow_x=ElbowRight.X)."),
     up: str | None = typer.Option(None, "--up", help="Up axis of the recordings' frame (x, y, z, -x...); default per format."),
-    as_json: bool = typer.Option(False, "--json", help="Print the import report as JSON."),
+    allow_empty: bool = typer.Option(False, "--allow-empty", help="Finding no throw is not an error (exit 0; an existing output is still kept)."),
+    as_json: bool = typer.Option(False, "--json", help="Print the import report as JSON (with every candidate not taken, and why)."),
 ) -> None:
-    """Cut and label the throws in skeleton recordings: one trajectory (time, angle, velocity, distance) per throw."""
+    """Cut and label the throws in skeleton recordings: one trajectory (time, angle, velocity, distance) per throw.
+
+    Every movement not taken as a throw is listed with its time and the rule that stopped it.
+
+    No throw at all is an error (exit 2) unless --allow-empty; an existing output is never replaced with an empty one.
+    """
     from rlff.capture import import_recordings
-    from rlff.dataset import write_csv
 
     frame_names = [name.strip() for name in frames.split(",") if name.strip()]
     with progress("importing", total=len(files)) as advance:
@@ -49,20 +54,51 @@ def import_command(
             columns=_column_map(columns), up=up,
             progress=lambda path: advance(1, description=Path(path).name),
         )
-    write_csv(dataset, output)
+    for note in report.notes:
+        say(note)
+    for warning in report.warnings:
+        say(f"warning: {warning}")
+    written = _write(dataset, output, allow_empty)
+    if report.estimated_distances:
+        say(
+            f"warning: {report.estimated_distances} of {report.n_throws} throws have an estimated basket distance "
+            "(no manifest row, no distance in the file name): the landing estimate from the hand's release, "
+            "rounded; give --manifest for the real baskets"
+        )
     sheets: list[Path] = []
     sheet_notes: list[str] = []
     if contact_sheet is not None:
         from rlff.capture.contact_sheet import contact_sheets
 
         sheets, sheet_notes = contact_sheets(report.files, contact_sheet)
-    for warning in report.warnings:
-        say(f"warning: {warning}")
-    for note in [*report.notes, *sheet_notes]:
+    for note in sheet_notes:
         say(note)
     if as_json:
-        emit_json({**report.to_dict(), "output": str(output), "contact_sheets": [str(p) for p in sheets], "contact_sheet_notes": sheet_notes})
+        emit_json({
+            **report.to_dict(), "output": str(output), "written": written,
+            "contact_sheets": [str(p) for p in sheets], "contact_sheet_notes": sheet_notes,
+        })
         return
-    stdout().print(f"{report.n_throws} throws from {len(report.files)} files -> {output}", highlight=False)
+    target = str(output) if written else f"{output} (not written)"
+    stdout().print(f"{report.n_throws} throws from {len(report.files)} files -> {target}", highlight=False)
     for path in sheets:
         stdout().print(f"contact sheet: {path}", highlight=False)
+
+
+def _write(dataset, output: Path, allow_empty: bool) -> bool:
+    """Write the throws; without any: exit 2, or with ``allow_empty`` an empty file where none is yet."""
+    from rlff.dataset import write_csv
+
+    if len(dataset):
+        write_csv(dataset, output)
+        return True
+    if not allow_empty:
+        raise InputError(
+            f"no throw found, {output} not written (the warnings above say which rule stopped each file's best "
+            "candidate; --allow-empty accepts an empty result)"
+        )
+    if output.exists():
+        say(f"warning: no throw found: {output} is left as it was, not replaced with an empty file")
+        return False
+    write_csv(dataset, output)
+    return True

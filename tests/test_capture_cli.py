@@ -1,0 +1,87 @@
+"""``rlff data import`` on what goes wrong: no throw, an existing output, estimated baskets, a y-up CSV, a bad manifest."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+import thinned as th  # noqa: E402
+from rlff.dataset import read_csv  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def session(tmp_path_factory) -> Path:
+    """A simulated session (5 throws, a lowered forearm) as Kinect text at 6 Hz, irregular."""
+    frames, time, _ = th.session(9)
+    kept = th.thinned_indices(len(frames), 30.0, 6.0, "irregular", 0.0, np.random.default_rng(9))
+    folder = tmp_path_factory.mktemp("import")
+    return th.write_kinect_text(folder / "session.txt", frames[kept], np.rint(time[kept] * 30).astype(int))
+
+
+@pytest.fixture(scope="module")
+def still(tmp_path_factory) -> Path:
+    """A person standing still: no throw."""
+    frames, _, _ = th.session(9)
+    folder = tmp_path_factory.mktemp("still")
+    return th.write_kinect_text(folder / "still.txt", np.repeat(frames[:1], 60, axis=0), np.arange(60))
+
+
+def test_no_throw_exits_2_naming_the_rule_and_keeps_an_existing_output(rlff, still, session, tmp_path):
+    out = tmp_path / "demos.csv"
+    assert rlff("data", "import", str(session), "-o", str(out)).code == 0
+    before = out.read_bytes()
+    result = rlff("data", "import", str(still), "-o", str(out))
+    assert result.code == 2
+    assert "no throw found" in result.stderr and "never rises by 0.30 rad" in result.stderr
+    assert out.read_bytes() == before
+    result = rlff("data", "import", str(still), "--allow-empty", "-o", str(out))
+    assert result.code == 0 and "left as it was" in result.stderr and out.read_bytes() == before
+    fresh = tmp_path / "empty.csv"
+    assert rlff("data", "import", str(still), "--allow-empty", "-o", str(fresh)).code == 0
+    assert fresh.read_text().splitlines()[0].startswith("trajectory")
+
+
+def test_json_lists_every_candidate_not_taken_and_the_estimated_baskets(rlff, session, tmp_path):
+    out = tmp_path / "demos.csv"
+    result = rlff("data", "import", str(session), "--json", "-o", str(out))
+    assert result.code == 0, result.stderr
+    payload = json.loads(result.stdout)
+    (file,) = payload["files"]
+    assert payload["throws"] == 5 == payload["estimated_distances"]
+    (lowered,) = [r for r in file["rejected"] if r["rule"] == "direction"]
+    assert lowered["time"] > 0 and "down" in lowered["reason"] and "back" in lowered["reason"]
+    assert f"movement at t={lowered['time']:.2f} s is not a throw" in result.stderr
+    assert "warning: 5 of 5 throws have an estimated basket distance" in result.stderr
+    dataset = read_csv(out)
+    assert {t.meta["release_confidence"] for t in dataset} == {"low"}
+    assert all(4.0 <= t.meta["native_rate_hz"] <= 12.0 and 0.0 < t.meta["largest_gap"] < 0.75 for t in dataset)
+    # resampled onto an even grid no coarser than 15 Hz
+    assert all(np.allclose(np.diff(t["time"]), np.diff(t["time"])[0]) and np.diff(t["time"])[0] <= 1 / 15 + 1e-9 for t in dataset)
+    for trajectory in dataset:
+        assert trajectory.meta["start_time"] <= trajectory.meta["start_time"] + trajectory.meta["release_time"] <= trajectory.meta["end_time"]
+
+
+def test_a_camera_frame_csv_without_up_suggests_up_y(rlff, msr_dir, tmp_path):
+    frames = th.msr_frames(msr_dir / "a06_s01_e01_skeleton3D.txt")
+    csv = th.write_joint_csv(tmp_path / "camera.csv", frames, np.arange(len(frames)) / 15.0)
+    result = rlff("data", "import", str(csv), "-o", str(tmp_path / "x.csv"))
+    assert "warning:" in result.stderr and "the upper arm hangs along -y" in result.stderr and "try --up y" in result.stderr
+    result = rlff("data", "import", str(csv), "--up", "y", "-o", str(tmp_path / "x.csv"))
+    assert result.code == 0 and "1 throws from 1 files" in result.stdout and "--up" not in result.stderr
+    # standing still in a y-up frame: no throw, exit 2, and the hint in the no-throw warning
+    still = th.write_joint_csv(tmp_path / "still.csv", np.repeat(frames[:1], 40, axis=0), np.arange(40) / 15.0)
+    result = rlff("data", "import", str(still), "-o", str(tmp_path / "y.csv"))
+    assert result.code == 2 and "no throw found" in result.stderr and "try --up y" in result.stderr
+
+
+def test_a_manifest_listing_a_throw_twice_is_exit_2_with_the_row(rlff, session, tmp_path):
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,throw,distance\nsession.txt,1,2.0\nsession.txt,1,2.5\n")
+    result = rlff("data", "import", str(session), "--manifest", str(manifest), "-o", str(tmp_path / "x.csv"))
+    assert result.code == 2 and "line 3: session.txt (throw 1) is listed again" in result.stderr
+    assert not (tmp_path / "x.csv").exists()
