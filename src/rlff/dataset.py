@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from rlff.errors import InputError
+from rlff.fileio import require_file
 
 #: Metadata keys with a meaning to rlff (read as metadata even when numeric); others are kept
 #: as given. ``release_angle`` (rad) and ``release_time`` (s) locate the ball's release when known
@@ -432,9 +433,7 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
     """
     import pandas as pd
 
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
+    path = require_file(path)
     try:
         frame = pd.read_csv(path, dtype={ID_COLUMN: str}, keep_default_na=True)
     except (pd.errors.ParserError, UnicodeDecodeError) as exc:
@@ -507,24 +506,21 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
 def write_csv(dataset: Dataset, path: str | Path) -> None:
     """Write a dataset in the CSV long format; :func:`read_csv` gives it back exactly.
 
-    Floats are written with ``repr`` precision (17 significant digits) so the round trip is exact.
+    Floats are written as the shortest decimal that reads back to the same double, through
+    pyarrow's CSV writer (:mod:`rlff.csvtable`), and atomically: an existing file is only ever
+    replaced by a complete one.
     """
-    import pandas as pd
+    from rlff.csvtable import per_group_text, write_csv_columns
 
-    path = Path(path)
     meta_keys: list[str] = []
     for trajectory in dataset:
         for key in trajectory.meta:
             if key not in meta_keys:
                 meta_keys.append(key)
-    parts = []
-    for trajectory in dataset:
-        part = {ID_COLUMN: np.full(len(trajectory), trajectory.id, dtype=object)}
-        part.update({name: trajectory[name] for name in dataset.columns})
-        for key in meta_keys:
-            part[key] = [trajectory.meta.get(key)] * len(trajectory)
-        parts.append(pd.DataFrame(part))
-    columns = [ID_COLUMN, *dataset.columns, *meta_keys]
-    frame = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=columns)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    frame.to_csv(path, index=False, float_format="%.17g", columns=columns)
+    lengths = [len(trajectory) for trajectory in dataset]
+    columns: dict[str, Any] = {ID_COLUMN: per_group_text(dataset.ids, lengths)}
+    for name in dataset.columns:
+        columns[name] = np.concatenate([t[name] for t in dataset]) if lengths else np.empty(0)
+    for key in meta_keys:
+        columns[key] = per_group_text([t.meta.get(key) for t in dataset], lengths)
+    write_csv_columns(path, columns)

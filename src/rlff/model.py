@@ -30,6 +30,7 @@ from rlff import __version__
 from rlff.dataset import THROW_INPUTS, THROW_OUTPUTS, Dataset
 from rlff.donut import dmm_mode
 from rlff.errors import InputError
+from rlff.fileio import write_text
 from rlff.jsonfile import read_json_object
 from rlff.mixture import (
     GaussianMixture,
@@ -137,10 +138,11 @@ class GeneratedPath:
         return pd.DataFrame(columns)
 
     def write_csv(self, path: str | Path) -> None:
-        """Write :meth:`to_frame` as CSV (full float precision)."""
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        self.to_frame().to_csv(path, index=False, float_format="%.17g")
+        """Write :meth:`to_frame`'s columns as CSV (round-trip float precision, atomically)."""
+        from rlff.csvtable import write_csv_columns
+
+        frame = self.to_frame()
+        write_csv_columns(path, {name: frame[name].to_numpy() for name in frame.columns})
 
 
 class Model:
@@ -417,9 +419,7 @@ class Model:
 
     def save(self, path: str | Path) -> None:
         """Write ``model.json`` (floats at full precision: loading gives the same model)."""
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(self.to_dict(), indent=1, allow_nan=False) + "\n", encoding="utf-8")
+        write_text(path, json.dumps(self.to_dict(), indent=1, allow_nan=False) + "\n")
 
     @classmethod
     def from_dict(cls, document: Any, source: str = "model") -> Model:

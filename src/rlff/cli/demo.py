@@ -42,7 +42,7 @@ def demo_command(
     console = stdout()
     hits = f"{summary.demonstration_hits} of {summary.demonstrations} hit"
     console.print(
-        f"[bold]Demonstrations[/bold]: {summary.demonstrations} simulated throws ({hits}); "
+        f"Demonstrations: {summary.demonstrations} simulated throws ({hits}); "
         f"{summary.clean_trajectories} kept after cleaning; K = {summary.components} by BIC",
         highlight=False,
     )
