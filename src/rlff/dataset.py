@@ -24,6 +24,7 @@ import numpy as np
 
 from rlff.errors import InputError
 from rlff.fileio import require_file
+from rlff.limits import MAX_MAGNITUDE
 
 #: Metadata keys with a meaning to rlff (read as metadata even when numeric); others are kept
 #: as given. ``release_angle`` (rad) and ``release_time`` (s) locate the ball's release when known
@@ -76,10 +77,11 @@ class Trajectory:
             array = np.asarray(values, dtype=float)
             if array.ndim != 1:
                 raise InputError(f"trajectory {self.id!r}: column {name!r} must be 1-D, got shape {array.shape}")
-            if not np.all(np.isfinite(array)):
-                bad = int(np.flatnonzero(~np.isfinite(array))[0])
+            usable = np.abs(array) <= MAX_MAGNITUDE  # finite and small enough to square and sum
+            if not usable.all():
+                bad = int(np.flatnonzero(~usable)[0])
                 raise InputError(
-                    f"trajectory {self.id!r}: column {name!r} has a non-finite value at sample {bad}"
+                    f"trajectory {self.id!r}: column {name!r} has {_unusable(array[bad])} at sample {bad}"
                 )
             if length is None:
                 length = array.size
@@ -235,11 +237,11 @@ class Dataset(Sequence[Trajectory]):
             array = np.ascontiguousarray(values, dtype=float)
             if array.shape != (total,):
                 raise InputError(f"column {name!r} has shape {array.shape}, expected ({total},)")
-            finite = np.isfinite(array)
-            if not finite.all():
-                row = int(np.flatnonzero(~finite)[0])
+            usable = np.abs(array) <= MAX_MAGNITUDE
+            if not usable.all():
+                row = int(np.flatnonzero(~usable)[0])
                 raise InputError(
-                    f"trajectory {ids[owner[row]]!r}: column {name!r} has a non-finite value at "
+                    f"trajectory {ids[owner[row]]!r}: column {name!r} has {_unusable(array[row])} at "
                     f"sample {row - starts[owner[row]]}"
                 )
             array.setflags(write=False)
@@ -396,6 +398,13 @@ class Dataset(Sequence[Trajectory]):
         for trajectory in self._trajectories:
             groups.setdefault(trajectory.context_value(self.context), []).append(trajectory)
         return dict(sorted(groups.items()))
+
+
+def _unusable(value: float) -> str:
+    """How a value that fails the ``|x| <= MAX_MAGNITUDE`` check is described."""
+    if not np.isfinite(value):
+        return "a non-finite value"
+    return f"the value {value:g}, beyond the ±{MAX_MAGNITUDE:g} data values may reach"
 
 
 # -- CSV long format -------------------------------------------------------------------------

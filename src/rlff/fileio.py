@@ -234,6 +234,23 @@ def _same(a: Path, b: Path) -> bool:
     return a.resolve() == b.resolve()
 
 
+def require_distinct(paths: Iterable[str | Path], what: str = "input") -> None:
+    """Refuse the same file given twice (under any name: ``a.bag`` and ``./a.bag``, a link).
+
+    Raises
+    ------
+    InputError
+        Naming both spellings.
+    """
+    seen: list[Path] = []
+    for path in map(Path, paths):
+        twin = next((earlier for earlier in seen if _same(earlier, path)), None)
+        if twin is not None:
+            same = f"{path}" if str(twin) == str(path) else f"{twin} and {path} are the same file"
+            raise InputError(f"{same}: the same {what} given twice (it would count twice)")
+        seen.append(path)
+
+
 def _inside(path: Path, folder: Path) -> bool:
     try:
         path.resolve().relative_to(folder.resolve())
@@ -293,6 +310,7 @@ def _file_input_inside(out: Path, folder: Path) -> bool:
 
 
 __all__ = [
-    "atomic_path", "atomic_write", "check_output_path", "check_outputs", "prepare_output", "require_file",
+    "atomic_path", "atomic_write", "check_output_path", "check_outputs", "prepare_output", "require_distinct",
+    "require_file",
     "write_bytes", "write_text",
 ]

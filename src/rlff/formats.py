@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import re
+import zipfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -249,8 +250,8 @@ def read_npz(path: str | Path) -> Dataset:
             columns = {name: npz[f"column:{name}"] for name in info["columns"]}
             ids = npz["ids"].tolist()
             lengths = npz["lengths"]
-    except (OSError, ValueError, KeyError, json.JSONDecodeError) as exc:
-        raise InputError(f"{path}: not an rlff NPZ dataset ({exc})") from None
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, json.JSONDecodeError) as exc:
+        raise InputError(f"{path}: not an rlff NPZ dataset, or cut short ({exc})") from None
     _check_lengths(path, ids, lengths)
     try:
         return Dataset.from_columns(columns, ids, lengths, info["meta"], info["context"])
@@ -408,6 +409,8 @@ def format_of(path: str | Path, format: str | None = None) -> str:
 def read_dataset(path: str | Path, format: str | None = None) -> Dataset:
     """Read a dataset in any format; by extension (.csv, .txt/.tsv, .npz, .parquet) by default."""
     readers = {"csv": read_csv, "thesis": read_thesis_matrix, "npz": read_npz, "parquet": read_parquet}
+    if Path(path).is_dir():
+        require_file(path)  # a folder is said to be one, not an unknown extension
     return readers[format_of(path, format)](path)
 
 

@@ -32,6 +32,7 @@ from rlff.donut import dmm_mode
 from rlff.errors import InputError
 from rlff.fileio import write_text
 from rlff.jsonfile import read_json_object
+from rlff.limits import MAX_MAGNITUDE
 from rlff.mixture import (
     GaussianMixture,
     check_samples,
@@ -606,7 +607,7 @@ def _parse(document: Any, source: str) -> Model:
         raise fail("columns", "must be the inputs followed by the outputs")
     d = len(names["columns"])
 
-    def array(key: str, shape: tuple[int, ...], value: Any = None) -> np.ndarray:
+    def array(key: str, shape: tuple[int, ...], value: Any = None, bound: float = MAX_MAGNITUDE) -> np.ndarray:
         raw = document.get(key) if value is None else value
         try:
             result = np.asarray(raw, dtype=float)
@@ -616,6 +617,8 @@ def _parse(document: Any, source: str) -> Model:
             raise fail(key, f"must have shape {list(shape)}, got {list(result.shape) if raw is not None else 'nothing'}")
         if not np.all(np.isfinite(result)):
             raise fail(key, "holds a non-finite number")
+        if np.any(np.abs(result) > bound):  # data values are within ±MAX_MAGNITUDE, so are these
+            raise fail(key, f"holds {result.flat[int(np.argmax(np.abs(result)))]:g}, beyond ±{bound:g}")
         return result
 
     weights_raw = document.get("weights")
@@ -626,7 +629,7 @@ def _parse(document: Any, source: str) -> Model:
     if np.any(weights < 0) or abs(weights.sum() - 1.0) > 1e-6:
         raise fail("weights", f"must be >= 0 and sum to 1 (sum {weights.sum():.9g})")
     means = array("means", (k, d))
-    covariances = array("covariances", (k, d, d))
+    covariances = array("covariances", (k, d, d), bound=MAX_MAGNITUDE**2)
     for j, covariance in enumerate(covariances):
         if not np.allclose(covariance, covariance.T, rtol=1e-9, atol=1e-12 * np.abs(covariance).max()):
             raise fail(f"covariances[{j}]", "is not symmetric")

@@ -22,13 +22,17 @@ import typer
 
 try:  # typer >= 0.20 carries its own copy of click; before, it used the click package
     from typer._click import exceptions as click_errors
+    from typer._click.core import Context
     from typer._click.utils import echo
 except ImportError:  # pragma: no cover - older typer
+    from click import Context
     from click import exceptions as click_errors
     from click.utils import echo
 
 from rlff.cli._common import stderr, verbosity
 from rlff.errors import InputError
+
+HELP_OPTIONS = ["-h", "--help"]
 
 app = typer.Typer(
     name="rlff",
@@ -36,7 +40,7 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
-    context_settings={"help_option_names": ["-h", "--help"]},
+    context_settings={"help_option_names": HELP_OPTIONS},
 )
 
 
@@ -70,6 +74,25 @@ def _register() -> None:
 _register()
 
 
+def _command():
+    """The click command of :data:`app`, with flags shown as flags in help.
+
+    typer labels every option with its type, ``--json <bool>`` too, which reads as if the flag
+    took a value (``--json true`` is refused); a flag's label is blanked here, once for the tree.
+    """
+    command = typer.main.get_command(app)
+    stack = [command]
+    while stack:
+        node = stack.pop()
+        # -h/--help is made on first use and then kept: make it now to label it too
+        help_option = node.get_help_option(Context(node, help_option_names=HELP_OPTIONS))
+        for param in [*node.params, help_option]:
+            if getattr(param, "is_flag", False):
+                param.metavar = ""
+        stack.extend(getattr(node, "commands", {}).values())
+    return command
+
+
 def _fail(message: str, code: int, debug: bool) -> int:
     if debug:
         traceback.print_exc()
@@ -99,7 +122,7 @@ def main(argv: list[str] | None = None) -> int:
             # they matter and reported as one InputError line; the raw warnings are noise
             warnings.simplefilter("ignore", RuntimeWarning)
         try:
-            code = app(args=args, prog_name="rlff", standalone_mode=False)
+            code = _command().main(args=args, prog_name="rlff", standalone_mode=False)
         except click_errors.NoArgsIsHelpError as exc:
             # `rlff data` alone: the group's help, as --help prints it, and the usage-error code
             echo(exc.format_message())

@@ -6,8 +6,9 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, stdout
+from rlff.cli._common import emit_json, plural, progress, say, stdout
 from rlff.cli.data import app
+from rlff.cli.output import guard
 from rlff.errors import InputError
 
 
@@ -42,6 +43,8 @@ def import_command(
     from rlff.capture import import_recordings
     from rlff.dataset import write_csv
 
+    guard(inputs={"FILES": files, "--manifest": manifest},
+          outputs={"-o/--output": output, "--contact-sheet": contact_sheet}, folders=["--contact-sheet"])
     frame_names = [name.strip() for name in frames.split(",") if name.strip()]
     with progress("importing", total=len(files)) as advance:
         dataset, report = import_recordings(
@@ -63,6 +66,6 @@ def import_command(
     if as_json:
         emit_json({**report.to_dict(), "output": str(output), "contact_sheets": [str(p) for p in sheets], "contact_sheet_notes": sheet_notes})
         return
-    stdout().print(f"{report.n_throws} throws from {len(report.files)} files -> {output}", highlight=False)
+    stdout().print(f"{plural(report.n_throws, 'throw')} from {plural(len(report.files), 'file')} -> {output}")
     for path in sheets:
-        stdout().print(f"contact sheet: {path}", highlight=False)
+        stdout().print(f"contact sheet: {path}")

@@ -18,7 +18,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from rlff.fileio import check_output_path, check_outputs, write_text
+from rlff.fileio import check_output_path, check_outputs, require_distinct, write_text
 
 PathLike = str | Path
 
@@ -44,9 +44,13 @@ def guard(
     Raises
     ------
     InputError
-        Naming the option(s) and the path.
+        Naming the option(s) and the path; also the same file given twice to an input that takes
+        several.
     """
     folder_names = set(folders)
+    for name, value in inputs.items():
+        if value is not None and not isinstance(value, (str, Path)):
+            require_distinct(value, f"{name} file")
     for name, path in outputs.items():
         if path is not None:
             check_output_path(path, folder=name in folder_names)

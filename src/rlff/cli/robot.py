@@ -65,16 +65,19 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
 def export(
     trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...)."),
     fmt: str = typer.Option(..., "--format", "-f", help=f"One of: {', '.join(FORMATS)}."),
-    out: Path = typer.Option(..., "--out", "-o", help="Output file (a folder for ros2-bag)."),
+    out: Path = typer.Option(..., "--output", "-o", "--out", help="Output file (a folder for ros2-bag)."),
     robot: str = ROBOT,
     clip: bool = CLIP,
     period: float = typer.Option(0.002, "--period", help="Controller period (s) to resample at; 0 keeps the points."),
     json: bool = JSON,
 ) -> None:
     """Map a generated trajectory to the robot and write it as JSON, CSV, a ROS bag or a Comau program."""
+    from rlff.cli.output import guard
     from rlff.robot.formats import export_trajectory
     from rlff.robot.plan import plan_file
 
+    guard(inputs={"TRAJECTORY": trajectory, "--robot": _robot_file(robot)}, outputs={"-o/--output": out},
+          folders=["-o/--output"] if fmt == "ros2-bag" else [])
     result, mapping = plan_file(trajectory, robot, period, clip)
     export_trajectory(result.trajectory, mapping, fmt, out)
     _report(result)
@@ -118,6 +121,11 @@ def serve(
     except RosUnavailable as exc:
         stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
         raise typer.Exit(1) from None
+
+
+def _robot_file(robot: str) -> Path | None:
+    """The robot file ``--robot`` names, if it names a file rather than a built-in robot."""
+    return Path(robot) if robot.endswith(".toml") else None
 
 
 def _require_ros() -> None:
@@ -191,7 +199,8 @@ def send(
     if json:
         emit_json(outcome.to_dict())
     message = f"goal {outcome.status}"
-    if outcome.error_name:
+    if outcome.error_name and (outcome.succeeded or outcome.error_name != "SUCCESSFUL"):
+        # a preempted goal's result code is 0 (SUCCESSFUL): not worth saying beside "cancelled"
         message += f" ({outcome.error_name})"
     if outcome.error_string:
         message += f": {outcome.error_string}"

@@ -38,10 +38,12 @@ def throw(
     json: bool = JSON,
 ) -> None:
     """Execute a trajectory on the simulated robot and report where the ball lands."""
+    from rlff.cli.output import guard
     from rlff.robot.description import load_robot
     from rlff.sim import Basket, simulate_throw
     from rlff.sim.inputs import load_throw
 
+    guard(inputs={"TRAJECTORY": trajectory}, outputs={"--frames": frames}, folders=["--frames"])
     model = load_robot(robot)
     target = Basket(basket, rim_height, opening)
     loaded = load_throw(trajectory, model, clip=clip)

@@ -14,6 +14,7 @@ from pathlib import Path
 import pandas as pd
 
 from rlff.errors import InputError
+from rlff.fileio import require_file
 from rlff.robot.description import Robot
 from rlff.robot.export import read_csv as read_robot_csv
 from rlff.robot.export import read_json as read_robot_json
@@ -50,8 +51,7 @@ def load_throw(path: str | Path, robot: Robot, clip: bool = False) -> LoadedThro
         Unreadable file, missing columns, or (without ``clip``) a point beyond a joint limit.
     """
     path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
+    require_file(path)
     if path.suffix.lower() == ".json":
         trajectory = read_robot_json(path)
         return LoadedThrow(trajectory, "robot trajectory", f"{len(trajectory)} points of {len(trajectory.joint_names)} joints")
