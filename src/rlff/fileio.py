@@ -247,7 +247,7 @@ def require_distinct(paths: Iterable[str | Path], what: str = "input") -> None:
         twin = next((earlier for earlier in seen if _same(earlier, path)), None)
         if twin is not None:
             same = f"{path}" if str(twin) == str(path) else f"{twin} and {path} are the same file"
-            raise InputError(f"{same}: the same {what} given twice (it would count twice)")
+            raise InputError(f"{same}: the same {what} given twice (it would be read twice)")
         seen.append(path)
 
 

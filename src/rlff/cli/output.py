@@ -50,7 +50,7 @@ def guard(
     folder_names = set(folders)
     for name, value in inputs.items():
         if value is not None and not isinstance(value, (str, Path)):
-            require_distinct(value, f"{name} file")
+            require_distinct(value, f"input ({name})")
     for name, path in outputs.items():
         if path is not None:
             check_output_path(path, folder=name in folder_names)
