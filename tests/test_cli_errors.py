@@ -272,3 +272,44 @@ def test_fit_names_the_k_chosen_and_warns_at_the_top_of_the_range(rlff, files, t
     k = len(json.loads((tmp_path / "m10.json").read_text())["weights"])
     assert k < 10 and f"K = {k} chosen" in wide.stdout
     assert "the largest tried" not in wide.stderr
+
+
+@pytest.mark.parametrize(
+    ("status", "code", "name", "text", "line"),
+    [
+        ("cancelled", 0, "SUCCESSFUL", "preempted by a newer goal", "goal cancelled: preempted by a newer goal"),
+        ("succeeded", 0, "SUCCESSFUL", "", "goal succeeded (SUCCESSFUL)"),
+        ("aborted", -4, "PATH_TOLERANCE_VIOLATED", "joint_2 off", "goal aborted (PATH_TOLERANCE_VIOLATED): joint_2 off"),
+    ],
+)
+def test_a_preempted_goal_is_not_reported_successful(status, code, name, text, line):
+    from rlff.cli.robot import goal_message
+    from rlff.robot.ros1.client import SendResult
+
+    assert goal_message(SendResult(status, code, name, text, 0.0, 1.0, 3)) == line
+
+
+def test_help_lists_the_allowed_values(rlff):
+    from rlff.capture.importer import ARMS
+    from rlff.capture.importer import FORMATS as RECORDING_FORMATS
+    from rlff.learn.benchmark import BACKENDS, SCENARIOS
+    from rlff.learn.loop import METHODS
+    from rlff.learn.method import FEEDBACKS
+    from rlff.robot.formats import FORMATS as EXPORT_FORMATS
+
+    def help_text(*command: str) -> str:
+        result = rlff(*command, "--help")
+        assert result.code == 0
+        return " ".join(result.stdout.replace("│", " ").split())
+
+    expected = {
+        ("bench", "learning"): [b for b in BACKENDS if b] + list(SCENARIOS),
+        ("robot", "export"): list(EXPORT_FORMATS),
+        ("learn",): list(METHODS) + list(FEEDBACKS),
+        ("data", "import"): list(RECORDING_FORMATS) + list(ARMS),
+        ("fit",): ["bic", "aic", "auto"],
+    }
+    for command, values in expected.items():
+        text = help_text(*command)
+        missing = [value for value in values if value not in text]
+        assert not missing, (command, missing)

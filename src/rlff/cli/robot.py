@@ -19,7 +19,7 @@ FORMATS = ("json", "csv", "ros1-bag", "ros2-bag", "comau")  # rlff.robot.formats
 
 app = typer.Typer(help="The robot: its limits, exports, and live ROS 1 (serve / send).", no_args_is_help=True)
 
-ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help="Robot file (.toml) or built-in robot name.")
+ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help=f"Robot file (.toml) or built-in robot name ({DEFAULT_ROBOT}).")
 CLIP = typer.Option(False, "--clip", help="Clip values beyond the limits (and report each) instead of refusing.")
 JSON = typer.Option(False, "--json", help="Print a machine-readable result on stdout.")
 
@@ -123,6 +123,20 @@ def serve(
         raise typer.Exit(1) from None
 
 
+def goal_message(outcome) -> str:
+    """One line on what became of a goal: ``goal aborted (PATH_TOLERANCE_VIOLATED): ...``.
+
+    A cancelled (preempted) goal's result carries code 0, SUCCESSFUL: that name is left out
+    beside any status but "succeeded", where it would contradict it.
+    """
+    message = f"goal {outcome.status}"
+    if outcome.error_name and (outcome.status == "succeeded" or outcome.error_name != "SUCCESSFUL"):
+        message += f" ({outcome.error_name})"
+    if outcome.error_string:
+        message += f": {outcome.error_string}"
+    return message
+
+
 def _robot_file(robot: str) -> Path | None:
     """The robot file ``--robot`` names, if it names a file rather than a built-in robot."""
     return Path(robot) if robot.endswith(".toml") else None
@@ -198,12 +212,7 @@ def send(
         raise typer.Exit(130) from None
     if json:
         emit_json(outcome.to_dict())
-    message = f"goal {outcome.status}"
-    if outcome.error_name and (outcome.succeeded or outcome.error_name != "SUCCESSFUL"):
-        # a preempted goal's result code is 0 (SUCCESSFUL): not worth saying beside "cancelled"
-        message += f" ({outcome.error_name})"
-    if outcome.error_string:
-        message += f": {outcome.error_string}"
+    message = goal_message(outcome)
     if outcome.succeeded:
         say(message)
         return

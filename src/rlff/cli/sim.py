@@ -13,7 +13,7 @@ from rlff.cli.robot import DEFAULT_ROBOT
 
 app = typer.Typer(help="Simulate throws in MuJoCo: outcome, frames, reach.", no_args_is_help=True)
 
-ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help="Robot file (.toml) or built-in robot name.")
+ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help=f"Robot file (.toml) or built-in robot name ({DEFAULT_ROBOT}).")
 PEDESTAL = typer.Option(0.0, "--pedestal", help="Height of the robot's base above the ground (m).")
 RIM = typer.Option(0.3, "--rim-height", help="Height of the basket's rim (m).")
 OPENING = typer.Option(0.35, "--opening", help="Inner width of the basket's square opening (m).")
