@@ -199,5 +199,6 @@ def test_every_plot_kind_has_help(rlff):
 def test_demo_bad_input(cli, tmp_path):
     occupied = tmp_path / "file"
     occupied.write_text("not a folder")
-    one_line_error(cli("demo", "--small", "--out", str(occupied)), "exists and is not a folder")
+    one_line_error(cli("demo", "--small", "--out", str(occupied)), "is a file; give a folder")
+    one_line_error(cli("demo", "--small", "--output", str(occupied)), "is a file; give a folder")
     assert cli("demo", "--help").code == 0
