@@ -191,3 +191,17 @@ def test_data_values_beyond_the_magnitude_limit_are_refused():
     with pytest.raises(InputError, match="non-finite"):
         Dataset.from_columns({"angle": np.array([0.0, np.inf])}, ["t"], [2])
     Trajectory("t", {"angle": [0.0, MAX_MAGNITUDE]})
+
+
+def test_model_generate_refuses_a_grid_beyond_the_limit_before_working():
+    from rlff.limits import MAX_GRID_POINTS
+    from rlff.mixture import GaussianMixture
+    from rlff.model import Model
+
+    mixture = GaussianMixture.from_parameters(
+        np.array([1.0]), np.array([[0.5, 2.0, 1.0]]), np.eye(3)[None] * 0.1
+    )
+    model = Model(mixture, ("angle", "distance"), ("velocity",), {"angle": (0.0, 1.0), "distance": (1.0, 3.0)})
+    grid = np.broadcast_to(np.float64(0.5), (MAX_GRID_POINTS + 1,))  # no memory for the grid itself
+    with pytest.raises(InputError, match=r"2,000,001 is more than the 2,000,000 allowed"):
+        model.generate({"distance": 2.0}, grid)

@@ -272,8 +272,8 @@ def check_outputs(
     ----------
     inputs : mapping of str to path, paths or None
         What each input is called for the user (``"DATA"``, ``"--manifest"``) to its path(s);
-        None for an input not given. An input folder (a ROS 2 bag, a run directory) also protects
-        everything inside it, unless it is named among ``outputs`` itself.
+        None for an input not given. An input folder (a ROS 2 bag) also protects the files
+        already inside it.
     outputs : mapping of str to path or None
         The same for outputs (``"-o/--output"``, ``"--report"``).
 

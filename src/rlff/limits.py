@@ -7,8 +7,9 @@ models (the Comau Smart5 SiX: about 1.4 m of reach) with a wide margin.
 
 The numbers:
 
-- :data:`MAX_GRID_POINTS`: points of a generated path. A point costs about 240 bytes while the
-  DMM mode is searched, so the maximum needs about 1.2 GB; 1,000,000 points take about 3 s.
+- :data:`MAX_GRID_POINTS`: points of a generated path. ``rlff generate`` peaks at about 0.9 kB a
+  point (1.1 GB for 1,000,000 points, measured), so the maximum needs about 2 GB; a 100,000,000
+  point grid asked for about 90 GB and was killed.
 - :data:`MAX_DENSIFY_SAMPLES`: samples a resampling step (``densify``) may make, all trajectories
   together (8 bytes a value, a few columns and spline copies: about 1 GB at the maximum).
 - :data:`MAX_MAGNITUDE`: the largest magnitude of a data value or a model parameter. Mixtures
@@ -28,7 +29,7 @@ import numpy as np
 
 from rlff.errors import InputError
 
-MAX_GRID_POINTS = 5_000_000
+MAX_GRID_POINTS = 2_000_000
 MAX_DENSIFY_SAMPLES = 20_000_000
 MAX_MAGNITUDE = 1e100
 DISTANCE_RANGE = (0.3, 20.0)

@@ -32,7 +32,7 @@ from rlff.donut import dmm_mode
 from rlff.errors import InputError
 from rlff.fileio import write_text
 from rlff.jsonfile import read_json_object
-from rlff.limits import MAX_MAGNITUDE
+from rlff.limits import MAX_GRID_POINTS, MAX_MAGNITUDE, check_count
 from rlff.mixture import (
     GaussianMixture,
     check_samples,
@@ -363,6 +363,7 @@ class Model:
         angles = np.asarray(angles, dtype=float).reshape(-1)
         if angles.size == 0:
             raise InputError(f"no {first} values to generate at")
+        check_count(f"{first} values to generate at", angles.size, MAX_GRID_POINTS, "use fewer points")
         if not np.all(np.isfinite(angles)):
             raise InputError(f"{first} values hold NaN or inf")
         X_in = np.column_stack([angles, *(np.full(angles.size, v) for v in values)])
