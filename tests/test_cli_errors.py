@@ -313,3 +313,27 @@ def test_help_lists_the_allowed_values(rlff):
         text = help_text(*command)
         missing = [value for value in values if value not in text]
         assert not missing, (command, missing)
+
+
+def test_preprocess_names_every_throw_it_removed_and_why(rlff, tmp_path):
+    demos, report = tmp_path / "demos.csv", tmp_path / "report.json"
+    assert rlff("-q", "data", "synth", "throws", "--subjects", "3", "--inconsistent-distance", "2.75",
+                "-o", str(demos)).code == 0
+    result = rlff("data", "preprocess", str(demos), "--preset", "thesis", "-o", str(tmp_path / "c.csv"),
+                  "--report", str(report))
+    assert result.code == 0
+    steps = json.loads(report.read_text())["steps"]
+    removed = [(step["step"], r["trajectory"], r["reason"]) for step in steps for r in step["removed"]]
+    rejected = [(step["step"], c) for step in steps for c in step["contexts"]]
+    assert removed and rejected  # the inconsistent basket and some single throws go
+    lines = result.stderr.splitlines()
+    for step, context in rejected:
+        label = ", ".join(f"{k}={v:g}" for k, v in context["context"].items())
+        line = next(line for line in lines if line.startswith(f"{step}: context {label} rejected"))
+        assert context["reason"] in line and all(t in line for t in context["trajectories"])
+    in_contexts = {t for _, c in rejected for t in c["trajectories"]}
+    for step, trajectory, reason in removed:
+        if trajectory not in in_contexts:
+            assert f"{step}: removed throw {trajectory}: {reason}" in lines
+    quiet = rlff("-q", "data", "preprocess", str(demos), "--preset", "thesis", "-o", str(tmp_path / "c2.csv"))
+    assert "removed throw" not in quiet.stderr
