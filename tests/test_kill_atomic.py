@@ -1,5 +1,5 @@
-"""kill -9 at random moments of ``data import``, ``data preprocess`` and ``fit`` never leaves a
-partial output: the file is the previous one, byte for byte, or the complete new one.
+"""kill -9 at random moments of ``data import``, ``data preprocess``, ``fit`` and ``data synth
+throws`` never leaves a partial output: the file is the previous one, byte for byte, or the complete new one.
 
 Each command runs in a process of its own over an existing output, forked from this one once
 the libraries are loaded (so that a trial costs the command's work, not the interpreter's start),
@@ -129,6 +129,7 @@ def inputs(tmp_path_factory) -> dict[str, Path]:
         ("data import", lambda i, out: ["data", "import", str(i["bag"]), "-o", str(out)]),
         ("data preprocess", lambda i, out: ["data", "preprocess", str(i["demos"]), "--preset", "thesis", "-o", str(out)]),
         ("fit", lambda i, out: ["fit", str(i["demos"]), "--max-components", "3", "-o", str(out)]),
+        ("data synth throws", lambda i, out: ["data", "synth", "throws", "--subjects", "4", "-o", str(out)]),
     ],
 )
 def test_kill_9_never_leaves_a_partial_output(inputs, tmp_path, name, command):
