@@ -184,7 +184,7 @@ def test_a_tiny_densify_step_is_refused_with_its_numbers(rlff, files, tmp_path):
         (["fit", "--no-such-option"], ["rlff fit", "--no-such-option", "rlff fit --help"]),
         (["fit"], ["rlff fit", "Missing argument"]),
         (["fit", "{data}", "-o", "{tmp}/m.json", "--json", "true"], ["rlff fit", "(true)"]),
-        (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploration-scale", "lots"], ["--exploration-scale", "valid number"]),
+        (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploration-scale", "lots"], ["--exploration-scale", "valid number", "(got 'lots')"]),
         (["no-such-command"], ["no-such-command"]),
     ],
 )

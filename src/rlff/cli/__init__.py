@@ -100,10 +100,25 @@ def _fail(message: str, code: int, debug: bool) -> int:
     return code
 
 
-def _usage(exc) -> str:
-    """A click usage error as one line: the command, the fault, where to look."""
+def _usage(exc, args: list[str]) -> str:
+    """A click usage error as one line: the command, the fault and the value given, where to look."""
     command = exc.ctx.command_path if exc.ctx is not None else "rlff"
-    return f"error: {command}: {exc.format_message()} (see {command} --help)"
+    message = exc.format_message()
+    given = _given(getattr(exc, "param", None), args)
+    if given is not None and repr(given) not in message:
+        message += f" (got {given!r})"
+    return f"error: {command}: {message} (see {command} --help)"
+
+
+def _given(param, args: list[str]) -> str | None:
+    """The value the user gave an option, as typed (``--seed x`` or ``--seed=x``), if any."""
+    for name in getattr(param, "opts", None) or ():
+        for index, arg in enumerate(args):
+            if arg == name and index + 1 < len(args):
+                return args[index + 1]
+            if arg.startswith(name + "="):
+                return arg[len(name) + 1:]
+    return None
 
 
 def _os_error(exc: OSError) -> str:
@@ -128,7 +143,7 @@ def main(argv: list[str] | None = None) -> int:
             echo(exc.format_message())
             return 2
         except click_errors.UsageError as exc:
-            return _fail(_usage(exc), 2, debug)
+            return _fail(_usage(exc, args), 2, debug)
         except click_errors.ClickException as exc:
             return _fail(f"error: {exc.format_message()}", 2, debug)
         except (typer.Abort, KeyboardInterrupt):
