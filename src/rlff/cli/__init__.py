@@ -122,9 +122,9 @@ def _given(param, args: list[str]) -> str | None:
 
 
 def _os_error(exc: OSError) -> str:
+    """An operating-system error as one line, with the file it concerns when it names one."""
     reason = exc.strerror or str(exc)
-    where = exc.filename if exc.filename is not None else None
-    return f"error: {where}: {reason}" if where is not None else f"error: {reason}"
+    return f"error: {exc.filename}: {reason}" if exc.filename is not None else f"error: {reason}"
 
 
 def main(argv: list[str] | None = None) -> int:
