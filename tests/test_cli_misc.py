@@ -76,8 +76,10 @@ def test_report_builds_html_from_a_run(cli, tmp_path):
 
 def test_report_bad_input(rlff, tmp_path):
     one_line_error(rlff("report", str(tmp_path / "absent")), "absent: no such run directory")
-    verbose = rlff("-v", "report", str(tmp_path / "absent"))  # -v adds the traceback
-    assert verbose.code == 2 and "Traceback" in verbose.stderr and "no such run directory" in verbose.stderr
+    debug = rlff("--debug", "report", str(tmp_path / "absent"))  # --debug adds the traceback
+    assert debug.code == 2 and "Traceback" in debug.stderr and "no such run directory" in debug.stderr
+    verbose = rlff("-v", "report", str(tmp_path / "absent"))  # -v does not
+    assert verbose.code == 2 and "Traceback" not in verbose.stderr
     one_line_error(rlff("report", str(tmp_path)), "no run.json")
     (tmp_path / "run.json").write_text('{"format": "rlff-run", "version": 9}')
     one_line_error(rlff("report", str(tmp_path)), "unsupported version 9")
@@ -197,5 +199,6 @@ def test_every_plot_kind_has_help(rlff):
 def test_demo_bad_input(cli, tmp_path):
     occupied = tmp_path / "file"
     occupied.write_text("not a folder")
-    one_line_error(cli("demo", "--small", "--out", str(occupied)), "exists and is not a folder")
+    one_line_error(cli("demo", "--small", "--out", str(occupied)), "is a file; give a folder")
+    one_line_error(cli("demo", "--small", "--output", str(occupied)), "is a file; give a folder")
     assert cli("demo", "--help").code == 0

@@ -121,7 +121,8 @@ def test_dropped_frames_leave_gaps_at_the_camera_rate():
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [({"rate_hz": 60}, "15 to 30 Hz"), ({"noise": -1.0}, "noise"), ({"subjects": 0}, "no throws"),
-     ({"distances": (30.0,)}, "beyond a human throw")],
+     ({"distances": (15.0,)}, "beyond a human throw"), ({"distances": (30.0,)}, "outside the range 0.3 to 20 m"),
+     ({"distances": (-1.0,)}, "outside the range"), ({"distances": (1e308,)}, "outside the range")],
 )
 def test_bad_settings_are_input_errors(kwargs, message):
     with pytest.raises(InputError, match=message):

@@ -23,6 +23,8 @@ from typing import Any
 import numpy as np
 
 from rlff.errors import InputError
+from rlff.fileio import require_file
+from rlff.limits import MAX_MAGNITUDE
 
 #: Metadata keys with a meaning to rlff (read as metadata even when numeric); others are kept
 #: as given. ``release_angle`` (rad) and ``release_time`` (s) locate the ball's release when known
@@ -75,10 +77,11 @@ class Trajectory:
             array = np.asarray(values, dtype=float)
             if array.ndim != 1:
                 raise InputError(f"trajectory {self.id!r}: column {name!r} must be 1-D, got shape {array.shape}")
-            if not np.all(np.isfinite(array)):
-                bad = int(np.flatnonzero(~np.isfinite(array))[0])
+            usable = np.abs(array) <= MAX_MAGNITUDE  # finite and small enough to square and sum
+            if not usable.all():
+                bad = int(np.flatnonzero(~usable)[0])
                 raise InputError(
-                    f"trajectory {self.id!r}: column {name!r} has a non-finite value at sample {bad}"
+                    f"trajectory {self.id!r}: column {name!r} has {_unusable(array[bad])} at sample {bad}"
                 )
             if length is None:
                 length = array.size
@@ -234,11 +237,11 @@ class Dataset(Sequence[Trajectory]):
             array = np.ascontiguousarray(values, dtype=float)
             if array.shape != (total,):
                 raise InputError(f"column {name!r} has shape {array.shape}, expected ({total},)")
-            finite = np.isfinite(array)
-            if not finite.all():
-                row = int(np.flatnonzero(~finite)[0])
+            usable = np.abs(array) <= MAX_MAGNITUDE
+            if not usable.all():
+                row = int(np.flatnonzero(~usable)[0])
                 raise InputError(
-                    f"trajectory {ids[owner[row]]!r}: column {name!r} has a non-finite value at "
+                    f"trajectory {ids[owner[row]]!r}: column {name!r} has {_unusable(array[row])} at "
                     f"sample {row - starts[owner[row]]}"
                 )
             array.setflags(write=False)
@@ -397,6 +400,13 @@ class Dataset(Sequence[Trajectory]):
         return dict(sorted(groups.items()))
 
 
+def _unusable(value: float) -> str:
+    """How a value that fails the ``|x| <= MAX_MAGNITUDE`` check is described."""
+    if not np.isfinite(value):
+        return "a non-finite value"
+    return f"the value {value:g}, beyond the ±{MAX_MAGNITUDE:g} data values may reach"
+
+
 # -- CSV long format -------------------------------------------------------------------------
 
 
@@ -432,9 +442,7 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
     """
     import pandas as pd
 
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
+    path = require_file(path)
     try:
         frame = pd.read_csv(path, dtype={ID_COLUMN: str}, keep_default_na=True)
     except (pd.errors.ParserError, UnicodeDecodeError) as exc:
@@ -507,24 +515,21 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
 def write_csv(dataset: Dataset, path: str | Path) -> None:
     """Write a dataset in the CSV long format; :func:`read_csv` gives it back exactly.
 
-    Floats are written with ``repr`` precision (17 significant digits) so the round trip is exact.
+    Floats are written as the shortest decimal that reads back to the same double, through
+    pyarrow's CSV writer (:mod:`rlff.csvtable`), and atomically: an existing file is only ever
+    replaced by a complete one.
     """
-    import pandas as pd
+    from rlff.csvtable import per_group_text, write_csv_columns
 
-    path = Path(path)
     meta_keys: list[str] = []
     for trajectory in dataset:
         for key in trajectory.meta:
             if key not in meta_keys:
                 meta_keys.append(key)
-    parts = []
-    for trajectory in dataset:
-        part = {ID_COLUMN: np.full(len(trajectory), trajectory.id, dtype=object)}
-        part.update({name: trajectory[name] for name in dataset.columns})
-        for key in meta_keys:
-            part[key] = [trajectory.meta.get(key)] * len(trajectory)
-        parts.append(pd.DataFrame(part))
-    columns = [ID_COLUMN, *dataset.columns, *meta_keys]
-    frame = pd.concat(parts, ignore_index=True) if parts else pd.DataFrame(columns=columns)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    frame.to_csv(path, index=False, float_format="%.17g", columns=columns)
+    lengths = [len(trajectory) for trajectory in dataset]
+    columns: dict[str, Any] = {ID_COLUMN: per_group_text(dataset.ids, lengths)}
+    for name in dataset.columns:
+        columns[name] = np.concatenate([t[name] for t in dataset]) if lengths else np.empty(0)
+    for key in meta_keys:
+        columns[key] = per_group_text([t.meta.get(key) for t in dataset], lengths)
+    write_csv_columns(path, columns)

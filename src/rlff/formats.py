@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import re
+import zipfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -24,6 +25,7 @@ import numpy as np
 
 from rlff.dataset import ID_COLUMN, META_KEYS, MIN_FILE_SAMPLES, Dataset, read_csv, write_csv
 from rlff.errors import InputError
+from rlff.fileio import atomic_path, atomic_write, require_file, write_text
 
 #: Format names and the file extensions that select them.
 FORMATS = {"csv": (".csv",), "thesis": (".txt", ".tsv"), "npz": (".npz",), "parquet": (".parquet", ".pq")}
@@ -42,8 +44,7 @@ def _jsonable(value: Any) -> Any:
 
 
 def _require_file(path: Path) -> None:
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
+    require_file(path)
 
 
 # -- thesis matrix -----------------------------------------------------------------------------
@@ -214,9 +215,7 @@ def write_thesis_matrix(
         for name in rows:
             text = separator.join(repr(float(v)) for v in trajectory[name])
             out.append(text.replace(".", ",") if decimal_comma else text)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text("\n".join(out) + "\n")
+    write_text(path, "\n".join(out) + "\n")
 
 
 # -- NPZ ---------------------------------------------------------------------------------------
@@ -224,8 +223,6 @@ def write_thesis_matrix(
 
 def write_npz(dataset: Dataset, path: str | Path) -> None:
     """Write a dataset as an uncompressed NPZ: whole columns plus lengths, ids and metadata."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     arrays = {f"column:{name}": _column(dataset, name) for name in dataset.columns}
     info = {
         **_FILE_TAG,
@@ -233,7 +230,7 @@ def write_npz(dataset: Dataset, path: str | Path) -> None:
         "context": list(dataset.context),
         "meta": [t.meta for t in dataset],
     }
-    with path.open("wb") as handle:
+    with atomic_write(path, "wb") as handle:
         np.savez(
             handle,
             ids=np.array(dataset.ids, dtype=str),
@@ -253,8 +250,8 @@ def read_npz(path: str | Path) -> Dataset:
             columns = {name: npz[f"column:{name}"] for name in info["columns"]}
             ids = npz["ids"].tolist()
             lengths = npz["lengths"]
-    except (OSError, ValueError, KeyError, json.JSONDecodeError) as exc:
-        raise InputError(f"{path}: not an rlff NPZ dataset ({exc})") from None
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, json.JSONDecodeError) as exc:
+        raise InputError(f"{path}: not an rlff NPZ dataset, or cut short ({exc})") from None
     _check_lengths(path, ids, lengths)
     try:
         return Dataset.from_columns(columns, ids, lengths, info["meta"], info["context"])
@@ -290,8 +287,6 @@ def write_parquet(dataset: Dataset, path: str | Path) -> None:
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     lengths = np.array([len(t) for t in dataset], dtype=np.int64)
     owner = np.repeat(np.arange(len(dataset)), lengths)
     fields: dict[str, pa.Array] = {
@@ -311,7 +306,8 @@ def write_parquet(dataset: Dataset, path: str | Path) -> None:
         fields[key] = per_trajectory.take(pa.array(owner))
     info = {**_FILE_TAG, "context": list(dataset.context), "meta_keys": meta_keys}
     table = pa.table(fields).replace_schema_metadata({_RLFF_KEY: json.dumps(info)})
-    pq.write_table(table, path)
+    with atomic_path(path) as temp:
+        pq.write_table(table, temp)
 
 
 def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
@@ -413,6 +409,8 @@ def format_of(path: str | Path, format: str | None = None) -> str:
 def read_dataset(path: str | Path, format: str | None = None) -> Dataset:
     """Read a dataset in any format; by extension (.csv, .txt/.tsv, .npz, .parquet) by default."""
     readers = {"csv": read_csv, "thesis": read_thesis_matrix, "npz": read_npz, "parquet": read_parquet}
+    if Path(path).is_dir():
+        require_file(path)  # a folder is said to be one, not an unknown extension
     return readers[format_of(path, format)](path)
 
 

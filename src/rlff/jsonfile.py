@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from rlff.errors import InputError
+from rlff.fileio import require_file
 
 
 def read_json_object(path: str | Path) -> dict[str, Any]:
@@ -23,9 +24,7 @@ def read_json_object(path: str | Path) -> dict[str, Any]:
         No such file, not a UTF-8 text file, not valid JSON (with line and column), or a JSON
         value other than an object.
     """
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
+    path = require_file(path)
     try:
         document = json.loads(path.read_text(encoding="utf-8"))
     except UnicodeDecodeError:

@@ -24,6 +24,7 @@ import numpy as np
 from threadpoolctl import ThreadpoolController
 
 from rlff.errors import InputError
+from rlff.limits import MAX_MAGNITUDE
 
 _LOG_2PI = math.log(2.0 * math.pi)
 _INITS = ("kmeans++", "random")
@@ -55,6 +56,12 @@ def check_samples(X: Any, name: str = "X") -> np.ndarray:
     if not np.all(np.isfinite(array)):
         row, column = np.argwhere(~np.isfinite(array))[0]
         raise InputError(f"{name} has a non-finite value ({array[row, column]}) at row {row}, column {column}")
+    if np.abs(array).max() > MAX_MAGNITUDE:  # squares and sums of squares would overflow
+        row, column = np.argwhere(np.abs(array) > MAX_MAGNITUDE)[0]
+        raise InputError(
+            f"{name} has the value {array[row, column]:g} at row {row}, column {column}: values must be "
+            f"within ±{MAX_MAGNITUDE:g}"
+        )
     return array
 
 

@@ -30,7 +30,9 @@ from rlff import __version__
 from rlff.dataset import THROW_INPUTS, THROW_OUTPUTS, Dataset
 from rlff.donut import dmm_mode
 from rlff.errors import InputError
+from rlff.fileio import write_text
 from rlff.jsonfile import read_json_object
+from rlff.limits import MAX_GRID_POINTS, MAX_MAGNITUDE, check_count
 from rlff.mixture import (
     GaussianMixture,
     check_samples,
@@ -137,10 +139,11 @@ class GeneratedPath:
         return pd.DataFrame(columns)
 
     def write_csv(self, path: str | Path) -> None:
-        """Write :meth:`to_frame` as CSV (full float precision)."""
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        self.to_frame().to_csv(path, index=False, float_format="%.17g")
+        """Write :meth:`to_frame`'s columns as CSV (round-trip float precision, atomically)."""
+        from rlff.csvtable import write_csv_columns
+
+        frame = self.to_frame()
+        write_csv_columns(path, {name: frame[name].to_numpy() for name in frame.columns})
 
 
 class Model:
@@ -363,6 +366,7 @@ class Model:
         angles = np.asarray(angles, dtype=float).reshape(-1)
         if angles.size == 0:
             raise InputError(f"no {first} values to generate at")
+        check_count(f"{first} values to generate at", angles.size, MAX_GRID_POINTS, "use fewer points")
         if not np.all(np.isfinite(angles)):
             raise InputError(f"{first} values hold NaN or inf")
         X_in = np.column_stack([angles, *(np.full(angles.size, v) for v in values)])
@@ -435,9 +439,7 @@ class Model:
 
     def save(self, path: str | Path) -> None:
         """Write ``model.json`` (floats at full precision: loading gives the same model)."""
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(json.dumps(self.to_dict(), indent=1, allow_nan=False) + "\n", encoding="utf-8")
+        write_text(path, json.dumps(self.to_dict(), indent=1, allow_nan=False) + "\n")
 
     @classmethod
     def from_dict(cls, document: Any, source: str = "model") -> Model:
@@ -662,7 +664,7 @@ def _parse(document: Any, source: str) -> Model:
         raise fail("columns", "must be the inputs followed by the outputs")
     d = len(names["columns"])
 
-    def array(key: str, shape: tuple[int, ...], value: Any = None) -> np.ndarray:
+    def array(key: str, shape: tuple[int, ...], value: Any = None, bound: float = MAX_MAGNITUDE) -> np.ndarray:
         raw = document.get(key) if value is None else value
         try:
             result = np.asarray(raw, dtype=float)
@@ -672,6 +674,8 @@ def _parse(document: Any, source: str) -> Model:
             raise fail(key, f"must have shape {list(shape)}, got {list(result.shape) if raw is not None else 'nothing'}")
         if not np.all(np.isfinite(result)):
             raise fail(key, "holds a non-finite number")
+        if np.any(np.abs(result) > bound):  # data values are within ±MAX_MAGNITUDE, so are these
+            raise fail(key, f"holds {result.flat[int(np.argmax(np.abs(result)))]:g}, beyond ±{bound:g}")
         return result
 
     weights_raw = document.get("weights")
@@ -682,7 +686,7 @@ def _parse(document: Any, source: str) -> Model:
     if np.any(weights < 0) or abs(weights.sum() - 1.0) > 1e-6:
         raise fail("weights", f"must be >= 0 and sum to 1 (sum {weights.sum():.9g})")
     means = array("means", (k, d))
-    covariances = array("covariances", (k, d, d))
+    covariances = array("covariances", (k, d, d), bound=MAX_MAGNITUDE**2)
     for j, covariance in enumerate(covariances):
         if not np.allclose(covariance, covariance.T, rtol=1e-9, atol=1e-12 * np.abs(covariance).max()):
             raise fail(f"covariances[{j}]", "is not symmetric")

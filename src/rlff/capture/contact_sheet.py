@@ -15,6 +15,7 @@ from PIL import Image, ImageDraw, ImageOps, UnidentifiedImageError
 
 from rlff.capture.bag import image_topics, images_near
 from rlff.capture.importer import FileReport
+from rlff.fileio import atomic_path, prepare_output
 
 #: Width and height (px) of one tile on the sheet.
 TILE = (240, 180)
@@ -62,10 +63,11 @@ def contact_sheet(report: FileReport, out_dir: str | Path, topic: str | None = N
             tile = Image.new("RGB", TILE, (160, 160, 160))
             ImageDraw.Draw(tile).text((8, height // 2), what, fill="black")
         sheet.paste(tile, (x, y + _LABEL_HEIGHT))
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    out = prepare_output(out_dir, folder=True)
+    out.mkdir(exist_ok=True)
     path = out / f"{source.stem}_contact.png"
-    sheet.save(path)
+    with atomic_path(path) as temp:
+        sheet.save(temp)
     return path, notes
 
 

@@ -48,6 +48,7 @@ from rlff.capture.skeleton_text import axis_vector, read_joint_csv, read_kinect_
 from rlff.capture.users import keep_consistent_user
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
+from rlff.fileio import require_distinct
 
 FORMATS = ("bag", "kinect-text", "msr", "csv", "thesis")
 ARMS = ("auto", "right", "left")
@@ -244,6 +245,7 @@ def import_recordings(
         raise InputError(f"unknown arm {arm!r} (arms: {', '.join(ARMS)})")
     if not paths:
         raise InputError("no recordings given")
+    require_distinct(paths, "recording")
     rows = read_manifest(manifest) if manifest is not None else []
     landing = landing or LandingSettings()
     trajectories: list[Trajectory] = []

@@ -246,7 +246,7 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
 
     path = Path(path)
     if not path.is_file():
-        raise InputError(f"manifest {path}: no such file")
+        raise InputError(f"manifest {path}: {'is a folder, not a file' if path.is_dir() else 'no such file'}")
     try:
         frame = pd.read_csv(path, dtype=str, keep_default_na=False)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:

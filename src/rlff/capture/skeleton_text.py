@@ -24,6 +24,7 @@ import numpy as np
 
 from rlff.capture.skeleton import SIDES, ArmTrack, JointTrack, Recording
 from rlff.errors import InputError
+from rlff.fileio import require_file
 
 #: Up direction of the Kinect's camera frame (x left, y up, z away from the camera).
 KINECT_UP = np.array([0.0, 1.0, 0.0])
@@ -42,8 +43,7 @@ def _numeric_rows(path: Path, expected: int, what: str) -> np.ndarray:
 
     Returns an array of shape (N, expected); raises InputError naming the first bad line.
     """
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
+    require_file(path)
     rows = []
     with path.open(encoding="utf-8", errors="replace") as handle:
         for number, line in enumerate(handle, start=1):
@@ -188,8 +188,7 @@ def read_joint_csv(
     import pandas as pd
 
     path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
+    require_file(path)
     mapping = dict(columns or {})
     try:
         frame = pd.read_csv(path)

@@ -1,18 +1,38 @@
 """The ``rlff`` command: parses arguments, calls the library, prints.
 
-Bad input (an :class:`rlff.errors.InputError` or a usage error) ends with a one-line reason on
-stderr and exit code 2; ``-v`` adds the traceback.
+The one error boundary is :func:`main`:
+
+- bad input (an :class:`rlff.errors.InputError`, an operating-system error on a file the user
+  named, or a usage error such as an unknown option) ends with one line on stderr,
+  ``rlff: error: ...``, and exit code 2;
+- anything else is a bug: one line ``rlff: internal error: ...`` with a hint to rerun with
+  ``--debug``, and exit code 1;
+- ``--debug`` prints the traceback of either, and lets numpy's RuntimeWarnings through (they are
+  silenced otherwise: the library checks its results for non-finite values and says so);
+- ``-v`` only adds detail to what commands print; it no longer shows tracebacks.
 """
 
 from __future__ import annotations
 
 import sys
 import traceback
+import warnings
 
 import typer
 
+try:  # typer >= 0.20 carries its own copy of click; before, it used the click package
+    from typer._click import exceptions as click_errors
+    from typer._click.core import Context
+    from typer._click.utils import echo
+except ImportError:  # pragma: no cover - older typer
+    from click import Context
+    from click import exceptions as click_errors
+    from click.utils import echo
+
 from rlff.cli._common import stderr, verbosity
 from rlff.errors import InputError
+
+HELP_OPTIONS = ["-h", "--help"]
 
 app = typer.Typer(
     name="rlff",
@@ -20,17 +40,28 @@ app = typer.Typer(
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
-    context_settings={"help_option_names": ["-h", "--help"]},
+    context_settings={"help_option_names": HELP_OPTIONS},
 )
+
+
+def _version(value: bool) -> None:
+    if value:
+        from rlff import __version__
+
+        sys.stdout.write(f"rlff {__version__}\n")
+        raise typer.Exit(0)
 
 
 @app.callback()
 def _root(
     quiet: bool = typer.Option(False, "--quiet", "-q", help="Print only results and errors."),
-    verbose: bool = typer.Option(False, "--verbose", "-v", help="More detail; tracebacks on errors."),
+    verbose: bool = typer.Option(False, "--verbose", "-v", help="More detail in what commands print."),
+    debug: bool = typer.Option(False, "--debug", help="Show the traceback of an error, and numpy's warnings."),
+    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True, help="Print the version and exit."),
 ) -> None:
     verbosity.quiet = quiet
     verbosity.verbose = verbose
+    verbosity.debug = debug
 
 
 def _register() -> None:
@@ -43,23 +74,91 @@ def _register() -> None:
 _register()
 
 
+def _command():
+    """The click command of :data:`app`, with flags shown as flags in help.
+
+    typer labels every option with its type, ``--json <bool>`` too, which reads as if the flag
+    took a value (``--json true`` is refused); a flag's label is blanked here, once for the tree.
+    """
+    command = typer.main.get_command(app)
+    stack = [command]
+    while stack:
+        node = stack.pop()
+        # -h/--help is made on first use and then kept: make it now to label it too
+        help_option = node.get_help_option(Context(node, help_option_names=HELP_OPTIONS))
+        for param in [*node.params, help_option]:
+            if getattr(param, "is_flag", False):
+                param.metavar = ""
+        stack.extend(getattr(node, "commands", {}).values())
+    return command
+
+
+def _fail(message: str, code: int, debug: bool) -> int:
+    if debug:
+        traceback.print_exc()
+    stderr().print("rlff: " + " ".join(message.split()))  # one line, whatever the message holds
+    return code
+
+
+def _usage(exc, args: list[str]) -> str:
+    """A click usage error as one line: the command, the fault and the value given, where to look."""
+    command = exc.ctx.command_path if exc.ctx is not None else "rlff"
+    message = exc.format_message()
+    given = _given(getattr(exc, "param", None), args)
+    if given is not None and repr(given) not in message:
+        message += f" (got {given!r})"
+    return f"error: {command}: {message} (see {command} --help)"
+
+
+def _given(param, args: list[str]) -> str | None:
+    """The value the user gave an option, as typed (``--seed x`` or ``--seed=x``), if any."""
+    for name in getattr(param, "opts", None) or ():
+        for index, arg in enumerate(args):
+            if arg == name and index + 1 < len(args):
+                return args[index + 1]
+            if arg.startswith(name + "="):
+                return arg[len(name) + 1:]
+    return None
+
+
+def _os_error(exc: OSError) -> str:
+    """An operating-system error as one line, with the file it concerns when it names one."""
+    reason = exc.strerror or str(exc)
+    return f"error: {exc.filename}: {reason}" if exc.filename is not None else f"error: {reason}"
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``rlff`` console script; returns the exit code."""
     args = sys.argv[1:] if argv is None else list(argv)
-    verbose = "-v" in args or "--verbose" in args
-    try:
-        app(args=args, prog_name="rlff")  # standalone: usage errors print and exit 2 themselves
-    except SystemExit as exc:
-        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
-    except InputError as exc:
-        if verbose:
-            traceback.print_exc()
-        stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
-        return 2
-    except KeyboardInterrupt:
-        stderr().print("rlff: interrupted", highlight=False)
-        return 130
-    return 0
+    debug = "--debug" in args
+    with warnings.catch_warnings():
+        if not debug:
+            # numpy's overflow/invalid-value warnings: results are checked for finiteness where
+            # they matter and reported as one InputError line; the raw warnings are noise
+            warnings.simplefilter("ignore", RuntimeWarning)
+        try:
+            code = _command().main(args=args, prog_name="rlff", standalone_mode=False)
+        except click_errors.NoArgsIsHelpError as exc:
+            # `rlff data` alone: the group's help, as --help prints it, and the usage-error code
+            echo(exc.format_message())
+            return 2
+        except click_errors.UsageError as exc:
+            return _fail(_usage(exc, args), 2, debug)
+        except click_errors.ClickException as exc:
+            return _fail(f"error: {exc.format_message()}", 2, debug)
+        except (typer.Abort, KeyboardInterrupt):
+            stderr().print("rlff: interrupted")
+            return 130
+        except InputError as exc:
+            return _fail(f"error: {exc}", 2, debug)
+        except OSError as exc:  # a file the user named: missing, a folder, no permission, disk full
+            return _fail(_os_error(exc), 2, debug)
+        except SystemExit as exc:
+            return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        except Exception as exc:
+            return _fail(f"internal error: {type(exc).__name__}: {exc} (a bug in rlff: rerun with --debug "
+                         "for the traceback and report it)", 1, debug)
+    return code if isinstance(code, int) else 0
 
 
 def run() -> None:

@@ -19,32 +19,40 @@ from rich.console import Console
 
 @dataclass
 class Verbosity:
-    """Global flags set by the root command (-q / -v)."""
+    """Global flags set by the root command (-q / -v / --debug)."""
 
     quiet: bool = False
     verbose: bool = False
+    debug: bool = False
 
 
 verbosity = Verbosity()
 
 
+# Markup and emoji codes are off: file names and values print as they are ("a:b:c.csv", "[x].csv").
 def stdout() -> Console:
     """Console for results (follows ``sys.stdout`` so test runners can capture it)."""
-    return Console(file=sys.stdout, soft_wrap=True)
+    return Console(file=sys.stdout, soft_wrap=True, markup=False, emoji=False, highlight=False)
 
 
 def stderr() -> Console:
     """Console for progress, notes and warnings."""
-    return Console(file=sys.stderr, soft_wrap=True)
+    return Console(file=sys.stderr, soft_wrap=True, markup=False, emoji=False, highlight=False)
 
 
 def say(message: str) -> None:
     """A note for the user on stderr, unless -q."""
     if not verbosity.quiet:
-        stderr().print(message, highlight=False)
+        stderr().print(message)
 
 
-def _jsonable(value: Any) -> Any:
+def plural(count: int, noun: str, many: str | None = None) -> str:
+    """``"1 attempt"``, ``"3 attempts"``: the count and the noun in the right number."""
+    return f"{count} {noun if count == 1 else (many or noun + 's')}"
+
+
+def jsonable(value: Any) -> Any:
+    """``json.dumps``' ``default``: numpy arrays and scalars, and paths."""
     import numpy as np
 
     if isinstance(value, np.ndarray):
@@ -58,7 +66,7 @@ def _jsonable(value: Any) -> Any:
 
 def emit_json(payload: Any) -> None:
     """Print a machine-readable result on stdout."""
-    sys.stdout.write(json.dumps(payload, default=_jsonable, indent=2) + "\n")
+    sys.stdout.write(json.dumps(payload, default=jsonable, indent=2) + "\n")
     sys.stdout.flush()
 
 
@@ -74,7 +82,7 @@ def progress(description: str, total: int | None) -> Iterator[Callable[..., None
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
     bar = Progress(
-        TextColumn("[progress.description]{task.description}"),
+        TextColumn("{task.description}", style="progress.description", markup=False),
         BarColumn(),
         MofNCompleteColumn(),
         TimeElapsedColumn(),

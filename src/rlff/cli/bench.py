@@ -20,7 +20,7 @@ def learning(
                                  help="short (all-short demonstrations at 1-1.5 m), wide (1-4 m) or both."),
     jobs: int = typer.Option(2, "--jobs", min=1, help="Parallel workers."),
     backend: str | None = typer.Option(None, "--backend",
-                                       help="joblib backend: loky (default), ray or dask."),
+                                       help="joblib backend: loky (default), threading, multiprocessing, ray or dask."),
     as_json: bool = typer.Option(False, "--json", help="Print every run and the summary as JSON."),
 ) -> None:
     """Attempts to the first hit over seeds x baskets x feedback kinds x methods, per scenario."""

@@ -6,7 +6,8 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, stdout
+from rlff.cli._common import emit_json, plural, progress, say, stdout
+from rlff.cli.output import guard, write_json
 from rlff.errors import InputError
 
 app = typer.Typer(help="Make, import and clean demonstration data.", no_args_is_help=True)
@@ -38,8 +39,11 @@ def synth_throws_command(
     as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
 ) -> None:
     """Simulated human overhand throws at the thesis' basket distances, with their outcomes."""
-    from rlff.formats import write_dataset
+    from rlff.formats import format_of, write_dataset
     from rlff.synthetic.throws import simulate_throws
+
+    guard(inputs={}, outputs={"-o/--output": output})
+    format_of(output)  # an unknown extension fails before the simulation
 
     dataset = simulate_throws(
         seed, subjects=subjects, distances=_floats("--distances", distances), throws_per_distance=throws,
@@ -56,7 +60,7 @@ def synth_throws_command(
         emit_json(summary)
         return
     stdout().print(
-        f"{len(dataset)} throws ({dataset.n_samples} samples, {hits} hits) -> {output}", highlight=False
+        f"{plural(len(dataset), 'throw')} ({plural(dataset.n_samples, 'sample')}, {plural(hits, 'hit')}) -> {output}"
     )
 
 
@@ -70,13 +74,13 @@ def preprocess_command(
     as_json: bool = typer.Option(False, "--json", help="Print the step report as JSON instead of a table."),
 ) -> None:
     """Clean demonstrations step by step and report what every step removed and why."""
-    import json
-
     from rich.table import Table
 
-    from rlff.formats import read_dataset, write_dataset
+    from rlff.formats import format_of, read_dataset, write_dataset
     from rlff.preprocess import Pipeline
 
+    guard(inputs={"DATA": data, "--config": config}, outputs={"-o/--output": output, "--report": report_path})
+    format_of(output)
     if preset is not None and config is not None:
         raise InputError("give either --preset or --config, not both")
     pipeline = Pipeline.from_toml(config) if config is not None else Pipeline.preset(preset or "thesis")
@@ -87,8 +91,7 @@ def preprocess_command(
     write_dataset(cleaned, output)
     payload = {**report.to_dict(), "input": str(data), "output": str(output)}
     if report_path is not None:
-        report_path.parent.mkdir(parents=True, exist_ok=True)
-        report_path.write_text(json.dumps(payload, indent=2) + "\n")
+        write_json(report_path, payload)
     if as_json:
         emit_json(payload)
         return
@@ -104,4 +107,9 @@ def preprocess_command(
     for step in report.steps:
         for rejection in step.contexts:
             label = ", ".join(f"{k}={v:g}" for k, v in rejection.context.items())
-            say(f"{step.step}: context {label} rejected: {rejection.reason}")
+            say(f"{step.step}: context {label} rejected ({plural(len(rejection.trajectories), 'throw')}: "
+                f"{', '.join(rejection.trajectories)}): {rejection.reason}")
+        in_contexts = {name for rejection in step.contexts for name in rejection.trajectories}
+        for removal in step.removed:
+            if removal.trajectory not in in_contexts:
+                say(f"{step.step}: removed throw {removal.trajectory}: {removal.reason}")

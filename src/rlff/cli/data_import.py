@@ -6,8 +6,9 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, stdout
+from rlff.cli._common import emit_json, plural, progress, say, stdout
 from rlff.cli.data import app
+from rlff.cli.output import guard
 from rlff.errors import InputError
 
 
@@ -47,6 +48,8 @@ def import_command(
     """
     from rlff.capture import import_recordings
 
+    guard(inputs={"FILES": files, "--manifest": manifest},
+          outputs={"-o/--output": output, "--contact-sheet": contact_sheet}, folders=["--contact-sheet"])
     frame_names = [name.strip() for name in frames.split(",") if name.strip()]
     with progress("importing", total=len(files)) as advance:
         dataset, report = import_recordings(
@@ -80,9 +83,9 @@ def import_command(
         })
         return
     target = str(output) if written else f"{output} (not written)"
-    stdout().print(f"{report.n_throws} throws from {len(report.files)} files -> {target}", highlight=False)
+    stdout().print(f"{plural(report.n_throws, 'throw')} from {plural(len(report.files), 'file')} -> {target}")
     for path in sheets:
-        stdout().print(f"contact sheet: {path}", highlight=False)
+        stdout().print(f"contact sheet: {path}")
 
 
 def _write(dataset, output: Path, allow_empty: bool) -> bool:

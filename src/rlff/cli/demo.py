@@ -15,7 +15,7 @@ def register(root: typer.Typer) -> None:
 
 
 def demo_command(
-    out: Path = typer.Option(Path("rlff-demo"), "--out", "-o", help="Folder for the report, figures, data and model."),
+    out: Path = typer.Option(Path("rlff-demo"), "--output", "-o", "--out", help="Folder for the report, figures, data and model."),
     small: bool = typer.Option(False, "--small", help="A quick version: fewer people, baskets and learning runs."),
     seed: int = typer.Option(0, "--seed", help="Seed of the simulated people, the fits and the learning runs."),
     frames: bool = typer.Option(True, "--frames/--no-frames", help="Render the learned throw with MuJoCo beside its drawing (needs OpenGL)."),
@@ -24,8 +24,10 @@ def demo_command(
     """Simulated failed demonstrations → cleaning → model → throws → simulated robot → learning → report."""
     from rich.table import Table
 
+    from rlff.cli.output import guard
     from rlff.demo import STAGES, check_demo_options, run_demo
 
+    guard(inputs={}, outputs={"-o/--output": out}, folders=["-o/--output"])
     size = "small" if small else "full"
     check_demo_options(out, size)  # before the progress display starts
     with progress("rlff demo", total=len(STAGES)) as advance:
@@ -42,7 +44,7 @@ def demo_command(
     console = stdout()
     hits = f"{summary.demonstration_hits} of {summary.demonstrations} hit"
     console.print(
-        f"[bold]Demonstrations[/bold]: {summary.demonstrations} simulated throws ({hits}); "
+        f"Demonstrations: {summary.demonstrations} simulated throws ({hits}); "
         f"{summary.clean_trajectories} kept after cleaning; K = {summary.components} by BIC",
         highlight=False,
     )

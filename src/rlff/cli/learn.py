@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, stdout
+from rlff.cli._common import emit_json, plural, progress, say, stdout
 
 
 def register(root: typer.Typer) -> None:
@@ -32,9 +32,12 @@ def learn_command(
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
+    from rlff.cli.output import guard
     from rlff.dataset import read_csv
     from rlff.learn import learn
 
+    # the log is read (resumed) and written: it may exist, but must not be the demonstrations
+    guard(inputs={"DEMOS": demos}, outputs={"--log": log})
     data = read_csv(demos)
     if preset:
         from rlff.preprocess import Pipeline
@@ -58,9 +61,9 @@ def learn_command(
         emit_json(result.to_json())
         return
     if result.resumed:
-        say(f"resumed {result.resumed} attempts from {log}")
-    verdict = (f"hit after {result.attempts} attempts" if result.hit
-               else f"no hit in {result.attempts} attempts")
+        say(f"resumed {plural(result.resumed, 'attempt')} from {log}")
+    verdict = (f"hit after {plural(result.attempts, 'attempt')}" if result.hit
+               else f"no hit in {plural(result.attempts, 'attempt')}")
     misses = ", ".join(f"{m:+.2f}" for m in result.misses)
     stdout().print(f"{verdict} (basket {basket:g} m, {feedback} feedback, update {update}); "
                    f"misses (m): {misses}", highlight=False)

@@ -10,7 +10,8 @@ from typing import Any
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, stdout
+from rlff.cli._common import emit_json, plural, progress, say, stdout, verbosity
+from rlff.cli.output import guard
 from rlff.errors import InputError
 
 
@@ -46,10 +47,16 @@ def _context(items: list[str]) -> dict[str, float]:
         name, sep, value = item.partition("=")
         if not sep or not name.strip():
             raise InputError(f"--context: {item!r} is not NAME=VALUE (e.g. distance=2.5)")
+        name = name.strip()
         try:
-            context[name.strip()] = float(value)
+            number = float(value)
         except ValueError:
             raise InputError(f"--context: {value!r} in {item!r} is not a number") from None
+        if not math.isfinite(number):
+            raise InputError(f"--context: {item!r}: the value must be a finite number")
+        if name in context:
+            raise InputError(f"--context: {name} given twice ({name}={context[name]:g} and {item}): give each context once")
+        context[name] = number
     return context
 
 
@@ -68,6 +75,11 @@ def _grid(text: str | None, first_input: str):
         raise InputError(f"--grid: {spec!r} is not START:STOP:N with numbers") from None
     if not (math.isfinite(start) and math.isfinite(stop)) or count < 2 or start == stop:
         raise InputError(f"--grid: need finite START != STOP and N >= 2, got {spec!r}")
+    if start > stop:
+        raise InputError(f"--grid: START {start:g} is above STOP {stop:g}: the path runs from START up to STOP (swap them)")
+    from rlff.limits import MAX_GRID_POINTS, check_count
+
+    check_count(f"--grid {text}: points", count, MAX_GRID_POINTS, "use fewer points")
     import numpy as np
 
     return np.linspace(start, stop, count)
@@ -96,6 +108,7 @@ def fit_command(
     """Fit a Gaussian mixture to the demonstrations (K by BIC) and save it as model.json."""
     from rlff.model import Model
 
+    guard(inputs={"DATA": data}, outputs={"-o/--output": output})
     resolution = _word_or_number(
         "--context-resolution", context_resolution, {"auto": "auto"}, lambda v: 0 <= v < math.inf,
         "auto or a number >= 0 (0 for none)",
@@ -112,10 +125,18 @@ def fit_command(
             dataset, inputs=_names("--inputs", inputs), outputs=_names("--outputs", outputs),
             components=components, max_components=max_components, criterion=criterion, seed=seed,
             n_init=n_init, context_resolution=resolution, effective_samples=effective,
-            progress=lambda done, _total: advance(1, description=f"fitted K={done}"),
+            progress=lambda done, total: advance(1, description=f"fitting: {done} of {total} values of K tried"),
         )
+    shown = set()
     for warning in caught:
-        say(f"warning: {warning.message}")
+        # numpy's RuntimeWarnings are noise unless --debug (the fit checks its results itself)
+        text = str(warning.message)
+        if text not in shown and (verbosity.debug or not issubclass(warning.category, RuntimeWarning)):
+            say(f"warning: {text}")
+            shown.add(text)
+    if model.selection is not None and model.n_components == max_components and max_components > 1:
+        say(f"warning: {model.selection.criterion.upper()} chose K = {model.n_components}, the largest tried: "
+            "a larger K may fit better (raise --max-components)")
     model.save(output)
     summary = {
         "output": str(output),
@@ -148,7 +169,7 @@ def fit_command(
             )
         stdout().print(table)
     stdout().print(
-        f"K = {model.n_components}, {summary['n_samples']} samples, BIC {summary['bic']:.2f}"
+        f"K = {model.n_components} chosen, {plural(summary['n_samples'], 'sample')}, BIC {summary['bic']:.2f}"
         + "".join(f", {name} resolution {value:g}" for name, value in summary["context_resolution"].items() if value > 0)
         + (f", BIC over {summary['effective_samples']:.0f} effective samples" if summary["effective_samples"] else "")
         + f" -> {output}",
@@ -173,9 +194,11 @@ def generate_command(
     """Generate a path: for every angle, the velocity of highest Donut Mixture density."""
     from rlff.model import Model
 
+    guard(inputs={"MODEL": model_path}, outputs={"-o/--output": output})
+    context_values = _context(context)
     model = Model.load(model_path)
     path = model.generate(
-        _context(context), _grid(grid, model.inputs[0]), exploration=_word_or_number(
+        context_values, _grid(grid, model.inputs[0]), exploration=_word_or_number(
             "--exploration", exploration, {"auto": "auto"}, lambda v: 0 <= v <= 1, "auto or a number in [0, 1]"
         ),
         exploration_scale=exploration_scale, continuity=continuity,
@@ -197,9 +220,8 @@ def generate_command(
         emit_json(summary)
         return
     stdout().print(
-        f"{summary['points']} points, peak {model.outputs[0]} {summary['peak_velocity']:.4g}, "
-        f"duration {summary['duration']:.4g}, mean exploration {summary['mean_exploration']:.3f} -> {output}",
-        highlight=False,
+        f"{plural(summary['points'], 'point')}, peak {model.outputs[0]} {summary['peak_velocity']:.4g}, "
+        f"duration {summary['duration']:.4g}, mean exploration {summary['mean_exploration']:.3f} -> {output}"
     )
 
 

@@ -41,7 +41,17 @@ def _done(saved: list, as_json: bool) -> None:
         stdout().print(str(path), highlight=False)
 
 
-_OUT = typer.Option(..., "--out", "-o", help="Output file stem: writes OUT.png and OUT.svg.")
+_OUT = typer.Option(..., "--output", "-o", "--out", help="Output file stem: writes OUT.png and OUT.svg.")
+
+
+def _guard(out: Path, inputs: dict, parts: tuple[str, ...] = ("",)) -> None:
+    """Refuse, before drawing, figure files that would overwrite an input (OUT.png, OUT.svg)."""
+    from rlff.cli.output import guard
+
+    stem = out.with_suffix("") if out.suffix.lower() in (".png", ".svg") else out
+    files = {f"-o/--output {stem.name}{part}{suffix}": stem.with_name(stem.name + part + suffix)
+             for part in parts for suffix in (".png", ".svg")}
+    guard(inputs=inputs, outputs=files)
 _JSON = typer.Option(False, "--json", help="Print the written files as JSON.")
 
 
@@ -55,6 +65,7 @@ def dataset_command(
     from rlff.dataset import read_csv
     from rlff.plots.data import dataset_3d, dataset_slices
 
+    _guard(out, {"DATA": data}, ("-3d", "-slices"))
     dataset = read_csv(data)
     stem = out.with_suffix("") if out.suffix in (".png", ".svg") else out
     _done(
@@ -76,6 +87,7 @@ def components_command(
     from rlff.model import Model
     from rlff.plots.mixture import model_components
 
+    _guard(out, {"MODEL": model, "DATA": data})
     _done([model_components(Model.load(model), read_csv(data), distance, out)], as_json)
 
 
@@ -92,6 +104,7 @@ def kmeans_em_command(
     from rlff.dataset import read_csv
     from rlff.plots.mixture import kmeans_em_for_dataset
 
+    _guard(out, {"DATA": data})
     ks = _numbers("--k", k, integers=True)
     _done([kmeans_em_for_dataset(read_csv(data), out, ks=ks, distance=distance, seed=seed)], as_json)
 
@@ -109,6 +122,7 @@ def bic_command(
     from rlff.dataset import read_csv
     from rlff.plots.mixture import selection_for_dataset
 
+    _guard(out, {"DATA": data})
     _done(
         [selection_for_dataset(read_csv(data), out, max_components=max_components, criterion=criterion, seed=seed)],
         as_json,
@@ -124,6 +138,7 @@ def donuts_command(
     """A Gaussian and the donuts made of it for several exploration factors ε (thesis fig. 2.5)."""
     from rlff.plots.donut import donut_family
 
+    _guard(out, {})
     _done([donut_family(out, eps=_numbers("--eps", eps))], as_json)
 
 
@@ -140,6 +155,7 @@ def dmm_command(
     from rlff.model import Model
     from rlff.plots.donut import dmm_heatmap
 
+    _guard(out, {"MODEL": model, "--data": data})
     dataset = read_csv(data) if data is not None else None
     _done([dmm_heatmap(Model.load(model), distance, out, dataset=dataset)], as_json)
 
@@ -157,6 +173,7 @@ def outputs_command(
     from rlff.model import Model
     from rlff.plots.outputs import model_outputs
 
+    _guard(out, {"MODEL": model, "--data": data})
     dataset = read_csv(data) if data is not None else None
     _done([model_outputs(Model.load(model), _numbers("--distances", distances), out, dataset=dataset)], as_json)
 
@@ -173,6 +190,7 @@ def preprocess_command(
     from rlff.dataset import read_csv
     from rlff.plots.preprocess import pipeline_steps
 
+    _guard(out, {"DATA": data, "--config": config})
     if preset is not None and config is not None:
         raise InputError("give either --preset or --config, not both")
     _done([pipeline_steps(read_csv(data), out, preset=preset, config=config)], as_json)
@@ -188,6 +206,7 @@ def learning_command(
     """Learning curves: the signed miss of every attempt, one line per log."""
     from rlff.plots.learning import learning_curves_from_logs
 
+    _guard(out, {"LOGS": logs})
     _done([learning_curves_from_logs(logs, out, tolerance=tolerance)], as_json)
 
 
@@ -204,5 +223,6 @@ def throw_command(
     from rlff.plots.throw import throw_snapshot_from_outcome
     from rlff.robot import load_robot
 
+    _guard(out, {"OUTCOME": outcome, "--robot": Path(robot) if robot.endswith(".toml") else None})
     record = read_json_object(outcome)
     _done([throw_snapshot_from_outcome(record, out, robot=load_robot(robot), pedestal=pedestal)], as_json)

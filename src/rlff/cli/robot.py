@@ -19,7 +19,7 @@ FORMATS = ("json", "csv", "ros1-bag", "ros2-bag", "comau")  # rlff.robot.formats
 
 app = typer.Typer(help="The robot: its limits, exports, and live ROS 1 (serve / send).", no_args_is_help=True)
 
-ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help="Robot file (.toml) or built-in robot name.")
+ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help=f"Robot file (.toml) or built-in robot name ({DEFAULT_ROBOT}).")
 CLIP = typer.Option(False, "--clip", help="Clip values beyond the limits (and report each) instead of refusing.")
 JSON = typer.Option(False, "--json", help="Print a machine-readable result on stdout.")
 
@@ -66,7 +66,7 @@ def export(
     trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...), "
                                                 "or a robot trajectory (JSON/CSV) this command wrote."),
     fmt: str = typer.Option(..., "--format", "-f", help=f"One of: {', '.join(FORMATS)}."),
-    out: Path = typer.Option(..., "--out", "-o", help="Output file (a folder for ros2-bag)."),
+    out: Path = typer.Option(..., "--output", "-o", "--out", help="Output file (a folder for ros2-bag)."),
     robot: str = ROBOT,
     clip: bool = CLIP,
     period: float = typer.Option(0.002, "--period", help="Controller period (s) the planned trajectory is "
@@ -79,9 +79,12 @@ def export(
     as JSON, CSV, a ROS bag or a Comau program."""
     import time as clock
 
+    from rlff.cli.output import guard
     from rlff.robot.formats import export_trajectory
     from rlff.robot.plan import plan_file
 
+    guard(inputs={"TRAJECTORY": trajectory, "--robot": _robot_file(robot)}, outputs={"-o/--output": out},
+          folders=["-o/--output"] if fmt == "ros2-bag" else [])
     result, mapping = plan_file(trajectory, robot, period, clip)
     export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)
     _report(result)
@@ -126,6 +129,25 @@ def serve(
     except RosUnavailable as exc:
         stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
         raise typer.Exit(1) from None
+
+
+def goal_message(outcome) -> str:
+    """One line on what became of a goal: ``goal aborted (PATH_TOLERANCE_VIOLATED): ...``.
+
+    A cancelled (preempted) goal's result carries code 0, SUCCESSFUL: that name is left out
+    beside any status but "succeeded", where it would contradict it.
+    """
+    message = f"goal {outcome.status}"
+    if outcome.error_name and (outcome.status == "succeeded" or outcome.error_name != "SUCCESSFUL"):
+        message += f" ({outcome.error_name})"
+    if outcome.error_string:
+        message += f": {outcome.error_string}"
+    return message
+
+
+def _robot_file(robot: str) -> Path | None:
+    """The robot file ``--robot`` names, if it names a file rather than a built-in robot."""
+    return Path(robot) if robot.endswith(".toml") else None
 
 
 def _require_ros() -> None:
@@ -199,11 +221,7 @@ def send(
         raise typer.Exit(130) from None
     if json:
         emit_json(outcome.to_dict())
-    message = f"goal {outcome.status}"
-    if outcome.error_name:
-        message += f" ({outcome.error_name})"
-    if outcome.error_string:
-        message += f": {outcome.error_string}"
+    message = goal_message(outcome)
     if outcome.succeeded:
         say(message)
         return

@@ -13,7 +13,7 @@ from rlff.cli.robot import DEFAULT_ROBOT
 
 app = typer.Typer(help="Simulate throws in MuJoCo: outcome, frames, reach.", no_args_is_help=True)
 
-ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help="Robot file (.toml) or built-in robot name.")
+ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help=f"Robot file (.toml) or built-in robot name ({DEFAULT_ROBOT}).")
 PEDESTAL = typer.Option(0.0, "--pedestal", help="Height of the robot's base above the ground (m).")
 RIM = typer.Option(0.3, "--rim-height", help="Height of the basket's rim (m).")
 OPENING = typer.Option(0.35, "--opening", help="Inner width of the basket's square opening (m).")
@@ -38,10 +38,12 @@ def throw(
     json: bool = JSON,
 ) -> None:
     """Execute a trajectory on the simulated robot and report where the ball lands."""
+    from rlff.cli.output import guard
     from rlff.robot.description import load_robot
     from rlff.sim import Basket, simulate_throw
     from rlff.sim.inputs import load_throw
 
+    guard(inputs={"TRAJECTORY": trajectory}, outputs={"--frames": frames}, folders=["--frames"])
     model = load_robot(robot)
     target = Basket(basket, rim_height, opening)
     loaded = load_throw(trajectory, model, clip=clip)

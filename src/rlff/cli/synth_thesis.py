@@ -6,8 +6,9 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, stdout
+from rlff.cli._common import emit_json, plural, stdout
 from rlff.cli.data import synth_app
+from rlff.cli.output import guard
 
 
 @synth_app.command("thesis")
@@ -19,10 +20,13 @@ def thesis_command(
     as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
 ) -> None:
     """The thesis' synthetic set: velocity = f(z) (-angle^2 + 10 angle) / 2 for z = 1..11."""
+    from rlff.formats import format_of, write_dataset
     from rlff.synthetic.thesis import thesis_dataset
 
+    guard(inputs={}, outputs={"-o/--output": output})
+    format_of(output)
     dataset = thesis_dataset(factor_slope, trajectories, points)
-    _write(dataset, output)
+    write_dataset(dataset, output)
     summary = {
         "output": str(output),
         "trajectories": len(dataset),
@@ -34,13 +38,5 @@ def thesis_command(
         emit_json(summary)
         return
     stdout().print(
-        f"{summary['trajectories']} trajectories, {summary['samples']} samples -> {output}", highlight=False
+        f"{plural(summary['trajectories'], 'trajectory', 'trajectories')}, {plural(summary['samples'], 'sample')} -> {output}"
     )
-
-
-def _write(dataset, path: Path) -> None:
-    try:
-        from rlff.formats import write_dataset
-    except ImportError:
-        from rlff.dataset import write_csv as write_dataset
-    write_dataset(dataset, path)

@@ -154,8 +154,14 @@ def learning_benchmark(
     return runs
 
 
+#: joblib backends the benchmark runs on; None is joblib's default (loky).
+BACKENDS = (None, "loky", "threading", "multiprocessing", "ray", "dask")
+
+
 def prepare_backend(backend: str | None) -> None:
-    """Register the cluster backends joblib does not know by itself."""
+    """Register the cluster backends joblib does not know by itself; refuse one it cannot use."""
+    if backend not in BACKENDS:
+        raise InputError(f"--backend: unknown backend {backend!r} (known: {', '.join(b for b in BACKENDS if b)})")
     if backend == "ray":
         try:
             from ray.util.joblib import register_ray

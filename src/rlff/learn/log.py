@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from rlff.errors import InputError
+from rlff.fileio import prepare_output, write_text
 from rlff.learn.attempt import Attempt
 
 FORMAT = "rlff-attempts"
@@ -68,11 +69,12 @@ class AttemptLog:
     def __init__(self, path: str | Path, run: dict[str, Any]):
         self.path = Path(path)
         self.run = json.loads(json.dumps(run))  # normalised as it will read back
+        prepare_output(self.path)  # a folder, or a file where its folder should be, is refused
         if self.path.exists() and self.path.stat().st_size > 0:
             self.contents = self._resume()
         else:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._append({"format": FORMAT, "version": VERSION, "run": self.run})
+            # the header is written whole or not at all: a log is never left without one
+            write_text(self.path, _line({"format": FORMAT, "version": VERSION, "run": self.run}))
             self.contents = LogContents([], False)
 
     def append(self, attempt: Attempt) -> None:
@@ -80,9 +82,8 @@ class AttemptLog:
         self._append(attempt.to_json())
 
     def _append(self, record: dict[str, Any]) -> None:
-        line = json.dumps(record, allow_nan=False, separators=(",", ":")) + "\n"
         with open(self.path, "a", encoding="utf-8") as handle:
-            handle.write(line)
+            handle.write(_line(record))
             handle.flush()
             os.fsync(handle.fileno())
 
@@ -149,6 +150,11 @@ class AttemptLog:
                     f"{self.path}: the log belongs to another run ({key} = {logged.get(key)!r} in the "
                     f"log, {self.run.get(key)!r} now); use another --log file"
                 )
+
+
+def _line(record: dict[str, Any]) -> str:
+    """One JSONL line: compact JSON and a newline."""
+    return json.dumps(record, allow_nan=False, separators=(",", ":")) + "\n"
 
 
 def _parse(line: bytes) -> dict[str, Any] | None:

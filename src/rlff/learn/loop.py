@@ -31,6 +31,7 @@ from rlff.learn.baselines import BASELINES
 from rlff.learn.log import AttemptLog
 from rlff.learn.method import COLUMNS, FEEDBACKS, Method, Problem
 from rlff.learn.strategies import STRATEGIES
+from rlff.limits import check_pedestal
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.timing import time_along_path
 
@@ -180,7 +181,8 @@ def learn(
         raise InputError(f"budget must be a positive whole number of attempts, got {budget!r}")
     robot_model = load_robot(robot)
     mapping = RobotMapping.for_robot(robot_model)
-    target = Basket(float(basket), rim_height=rim_height, opening=opening)
+    target = Basket(float(basket), rim_height=rim_height, opening=opening)  # checks the stated range
+    pedestal = check_pedestal(pedestal)
     _require_reach(robot_model, target, pedestal)
     demos = _learning_demos(demos)
     _require_demos_within_limits(demos, mapping)

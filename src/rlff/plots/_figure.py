@@ -20,6 +20,8 @@ from matplotlib.collections import LineCollection
 from matplotlib.colors import Colormap, ListedColormap, Normalize
 from matplotlib.figure import Figure
 
+from rlff.fileio import atomic_path
+
 #: Resolution of the PNG files (dots per inch).
 PNG_DPI = 110
 #: Curves with more points than this in all are drawn as an image inside the SVG (the file stays
@@ -106,15 +108,16 @@ def save(figure: Figure, out: str | Path) -> SavedFigure:
     out = Path(out)
     if out.suffix.lower() in (".png", ".svg"):
         out = out.with_suffix("")
-    out.parent.mkdir(parents=True, exist_ok=True)
     png = out.with_name(out.name + ".png")
     svg = out.with_name(out.name + ".svg")
     with figure_style():
-        figure.savefig(png, dpi=PNG_DPI)
+        with atomic_path(png) as temp:
+            figure.savefig(temp, dpi=PNG_DPI, format="png")
         # the layout is settled by the PNG's drawing; keep it instead of solving it again
         engine = figure.get_layout_engine()
         figure.set_layout_engine("none")
-        figure.savefig(svg)
+        with atomic_path(svg) as temp:
+            figure.savefig(temp, format="svg")
         figure.set_layout_engine(engine)
     return SavedFigure(figure, png, svg)
 

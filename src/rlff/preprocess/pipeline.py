@@ -29,6 +29,7 @@ from typing import Any
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError, RlffError
+from rlff.fileio import require_file
 from rlff.preprocess.glitches import spike_filter
 from rlff.preprocess.reject import reject_contexts, reject_shapes
 from rlff.preprocess.report import PipelineReport, StepReport
@@ -155,8 +156,7 @@ class Pipeline:
     def from_toml(cls, path: str | Path) -> Pipeline:
         """Read a pipeline from a TOML file (format in the module docstring)."""
         path = Path(path)
-        if not path.is_file():
-            raise InputError(f"{path}: no such file")
+        require_file(path)
         try:
             config = tomllib.loads(path.read_text())
         except tomllib.TOMLDecodeError as exc:

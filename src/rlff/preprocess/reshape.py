@@ -12,6 +12,7 @@ The angle must be monotonic for steps 8 and 9 (steps 2-3 make it so).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from typing import Literal
 
@@ -20,6 +21,7 @@ from scipy.interpolate import Akima1DInterpolator, PchipInterpolator, make_inter
 
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
+from rlff.limits import MAX_DENSIFY_SAMPLES, check_count
 from rlff.preprocess.report import StepReport
 
 
@@ -148,11 +150,15 @@ def densify(
     (samples before / after, times any share it had), which ``Model.fit`` uses for BIC.
     """
     dataset.require([column])
-    if step <= 0:
-        raise InputError(f"step {step}: must be positive")
+    if not (isinstance(step, (int, float)) and 0 < step < math.inf):  # nan and inf too
+        raise InputError(f"densify step {step!r}: must be a positive finite number")
     fractions = np.asarray(anchors, dtype=float)
     if np.any((fractions <= 0) | (fractions >= 1)) or np.any(np.diff(fractions) <= 0):
         raise InputError(f"anchors {list(anchors)}: must increase strictly within (0, 1)")
+    # the samples it would make, all trajectories together, before anything is allocated
+    spans = [float(np.ptp(t[column])) for t in dataset if len(t) > 1]
+    check_count(f"densify step {step:g} of {column}: samples", sum(spans) / step + 2 * len(spans),
+                MAX_DENSIFY_SAMPLES, "use a larger step")
     params = {"column": column, "step": step, "anchors": [float(f) for f in fractions], "spline": spline}
     report = StepReport("densify", params, dataset)
     out = []

@@ -16,6 +16,7 @@ from pathlib import Path
 from string import Template
 
 from rlff.errors import InputError
+from rlff.fileio import write_text
 from rlff.report.run import FigureEntry, Run, Scalar, Section, Table, read_run
 
 _MIME = {".png": "image/png", ".svg": "image/svg+xml", ".jpg": "image/jpeg", ".jpeg": "image/jpeg", ".gif": "image/gif"}
@@ -151,7 +152,4 @@ def build_report(run_dir: str | Path, out_html: str | Path) -> Path:
         The run directory or its ``run.json`` is missing or invalid, or a figure is missing.
     """
     run = read_run(run_dir)
-    out_html = Path(out_html)
-    out_html.parent.mkdir(parents=True, exist_ok=True)
-    out_html.write_text(render_report(run, run_dir), encoding="utf-8")
-    return out_html
+    return write_text(out_html, render_report(run, run_dir))

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from rlff.errors import InputError
+from rlff.fileio import write_text
 from rlff.jsonfile import read_json_object
 
 RUN_FORMAT = "rlff-run"
@@ -172,10 +173,7 @@ def write_run(run: Run, run_dir: str | Path) -> Path:
     missing = [f.file for f in run.figures if not (run_dir / f.file).is_file()]
     if missing:
         raise InputError(f"{run_dir}: figure file {missing[0]!r} does not exist")
-    run_dir.mkdir(parents=True, exist_ok=True)
-    path = run_dir / RUN_FILE
-    path.write_text(json.dumps(run.to_dict(), indent=2) + "\n", encoding="utf-8")
-    return path
+    return write_text(run_dir / RUN_FILE, json.dumps(run.to_dict(), indent=2) + "\n")
 
 
 def _require(document: Mapping[str, Any], key: str, kind: type | tuple[type, ...], where: str) -> Any:

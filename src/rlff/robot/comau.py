@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from rlff.errors import InputError
+from rlff.fileio import write_text
 from rlff.robot.mapping import RobotMapping
 from rlff.trajectory.joint import JointTrajectory
 
@@ -83,4 +84,4 @@ def write_comau_program(traj: JointTrajectory, mapping: RobotMapping, path: Path
     lines = [HEADER]
     for row in comau_rows(traj, mapping):
         lines.append("(coord_type," + ",".join(f"'{_number(v)}'" for v in row) + ")")
-    Path(path).write_text("\n".join(lines) + "\n", encoding="utf-8")
+    write_text(path, "\n".join(lines) + "\n")

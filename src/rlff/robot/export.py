@@ -24,7 +24,9 @@ from rosbags.rosbag2 import Reader as Ros2Reader
 from rosbags.rosbag2 import Writer as Ros2Writer
 from rosbags.typesys import Stores, get_typestore
 
+from rlff.csvtable import write_csv_columns
 from rlff.errors import InputError
+from rlff.fileio import atomic_path, write_text
 from rlff.jsonfile import read_json_object
 from rlff.trajectory.joint import JointTrajectory
 
@@ -48,7 +50,7 @@ def write_json(traj: JointTrajectory, path: Path) -> None:
         "positions": traj.positions.tolist(), "velocities": traj.velocities.tolist(),
         "accelerations": traj.accelerations.tolist(), "release_time": traj.release_time,
     }
-    Path(path).write_text(json.dumps(document) + "\n", encoding="utf-8")
+    write_text(path, json.dumps(document) + "\n")
 
 
 def read_json(path: Path) -> JointTrajectory:
@@ -82,7 +84,7 @@ def write_csv(traj: JointTrajectory, path: Path) -> None:
             columns[f"{name}_{quantity}"] = values[:, index]
     if traj.release_time is not None:
         columns["release_time"] = np.full(len(traj), traj.release_time)
-    pd.DataFrame(columns).to_csv(path, index=False, float_format="%.17g")
+    write_csv_columns(path, columns)
 
 
 def read_csv(path: Path) -> JointTrajectory:
@@ -138,12 +140,13 @@ def write_ros1_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TO
     """
     stamp_ns = clock.time_ns() if stamp_ns is None else stamp_ns
     typestore = get_typestore(Stores.ROS1_NOETIC)
-    path = Path(path)
-    path.unlink(missing_ok=True)
-    with Ros1Writer(path) as writer:
-        connection = writer.add_connection(topic, TRAJECTORY_TYPE, typestore=typestore)
-        message = _message(traj, typestore, header_stamp_ns, ros1=True)
-        writer.write(connection, stamp_ns, typestore.serialize_ros1(message, TRAJECTORY_TYPE))
+    # rosbags refuses an existing file: it writes a fresh temporary one, renamed over ``path``
+    with atomic_path(path) as temp:
+        temp.unlink()
+        with Ros1Writer(temp) as writer:
+            connection = writer.add_connection(topic, TRAJECTORY_TYPE, typestore=typestore)
+            message = _message(traj, typestore, header_stamp_ns, ros1=True)
+            writer.write(connection, stamp_ns, typestore.serialize_ros1(message, TRAJECTORY_TYPE))
 
 
 def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TOPIC,
@@ -157,7 +160,7 @@ def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TO
     path = Path(path)
     if path.exists():
         raise InputError(f"{path} exists: a ROS 2 bag is a new folder, remove it first")
-    with Ros2Writer(path, version=8) as writer:
+    with atomic_path(path, folder=True) as temp, Ros2Writer(temp, version=8) as writer:
         connection = writer.add_connection(topic, TRAJECTORY_TYPE, typestore=typestore)
         message = _message(traj, typestore, header_stamp_ns, ros1=False)
         writer.write(connection, stamp_ns, typestore.serialize_cdr(message, TRAJECTORY_TYPE))

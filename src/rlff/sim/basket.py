@@ -7,6 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rlff.errors import InputError
+from rlff.limits import check_distance
 
 #: Thickness of the basket's walls and floor (m).
 WALL = 0.01
@@ -35,6 +36,7 @@ class Basket:
             value = getattr(self, name)
             if not np.isfinite(value) or value <= 0:
                 raise InputError(f"basket {name} must be a positive number of metres, got {value}")
+        check_distance("basket distance", self.distance)
         object.__setattr__(self, "distance", float(self.distance))
         object.__setattr__(self, "rim_height", float(self.rim_height))
         object.__setattr__(self, "opening", float(self.opening))

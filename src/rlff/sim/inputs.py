@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+from rlff.fileio import require_file
 from rlff.robot.description import Robot
 from rlff.robot.plan import GENERATED, load_for_robot
 from rlff.trajectory.joint import JointTrajectory
@@ -48,6 +49,7 @@ def load_throw(path: str | Path, robot: Robot, clip: bool = False) -> LoadedThro
         Unreadable file, missing columns, a value beyond a joint limit (without ``clip``), or a
         trajectory that fails the motion check.
     """
+    require_file(Path(path))
     kind, plan = load_for_robot(path, robot, SIM_PERIOD, clip)
     trajectory = plan.trajectory
     if kind == GENERATED:

@@ -20,6 +20,7 @@ from scipy.optimize import minimize
 
 from rlff.ballistics import crossing_distance
 from rlff.errors import InputError
+from rlff.limits import check_pedestal
 from rlff.robot.description import Robot, load_robot
 from rlff.sim.arm import BALL_RADIUS, Arm
 from rlff.sim.basket import Basket
@@ -95,8 +96,7 @@ def throw_reach(
     unknown = [name for name in joints if name not in PLANE_JOINTS]
     if unknown or not joints:
         raise InputError(f"throwing joints must be among {', '.join(PLANE_JOINTS)}, got {list(joints)}")
-    if pedestal < 0 or not np.isfinite(pedestal):
-        raise InputError(f"pedestal height must be >= 0 m, got {pedestal}")
+    check_pedestal(pedestal, "pedestal height")
     if not rim_height > 0 or not np.isfinite(rim_height):
         raise InputError(f"rim height must be > 0 m, got {rim_height}")
     return _reach(arm, float(rim_height), float(pedestal), tuple(sorted(set(joints), key=PLANE_JOINTS.index)))

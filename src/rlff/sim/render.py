@@ -14,6 +14,8 @@ import mujoco
 import numpy as np
 from PIL import Image
 
+from rlff.fileio import atomic_path, prepare_output
+
 #: Frames per second of the recording, and the picture size (pixels).
 FPS = 30
 WIDTH, HEIGHT = 480, 360
@@ -51,19 +53,22 @@ class FrameRecorder:
         Frames of an earlier, longer throw in the same folder are removed so that the folder
         shows one throw.
         """
-        self.folder.mkdir(parents=True, exist_ok=True)
+        prepare_output(self.folder, folder=True)
+        self.folder.mkdir(exist_ok=True)
         pictures = [Image.fromarray(image) for image in self.images]
         paths = []
         for number, picture in enumerate(pictures):
             path = self.folder / f"frame_{number:04d}.png"
-            picture.save(path)
+            with atomic_path(path) as temp:
+                picture.save(temp)
             paths.append(path)
         for stale in self.folder.glob("frame_*.png"):  # left by a longer earlier throw
             if stale.stem[len("frame_"):].isdigit() and int(stale.stem[len("frame_"):]) >= len(pictures):
                 stale.unlink()
         if pictures:
             gif = self.folder / "throw.gif"
-            pictures[0].save(gif, save_all=True, append_images=pictures[1:], duration=round(1000 / self.fps), loop=0)
+            with atomic_path(gif) as temp:
+                pictures[0].save(temp, save_all=True, append_images=pictures[1:], duration=round(1000 / self.fps), loop=0)
             paths.append(gif)
         self.renderer.close()
         return tuple(paths)

@@ -21,6 +21,7 @@ import numpy as np
 
 from rlff.ballistics import GRAVITY, crossing_distance
 from rlff.errors import InputError
+from rlff.limits import check_pedestal
 from rlff.robot.description import Robot, load_robot
 from rlff.sim.arm import BALL_RADIUS, Arm
 from rlff.sim.basket import Basket
@@ -212,8 +213,7 @@ def simulate_throw(
     """
     robot = load_robot() if robot is None else robot
     arm = Arm.from_robot(robot)
-    if not pedestal >= 0 or not np.isfinite(pedestal):
-        raise InputError(f"pedestal height must be >= 0 m, got {pedestal}")
+    check_pedestal(pedestal, "pedestal height")
     if not 0 < timestep <= 0.01:
         raise InputError(f"timestep must be in (0, 0.01] s, got {timestep}")
     missing = [name for name in arm.joint_names if name not in trajectory.joint_names]

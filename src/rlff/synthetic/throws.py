@@ -34,6 +34,7 @@ import numpy as np
 from rlff.ballistics import GRAVITY, crossing_distance
 from rlff.dataset import Dataset
 from rlff.errors import InputError
+from rlff.limits import check_distance
 
 #: Upper arm length, shoulder to elbow (m).
 UPPER_ARM = 0.30
@@ -282,6 +283,10 @@ def simulate_throws(
     names = [f"s{i + 1:02d}" for i in range(subjects)] if isinstance(subjects, int) else list(subjects)
     if not names or not len(distances) or throws_per_distance < 1:
         raise InputError("no throws to simulate: give at least one subject, distance and throw")
+    for distance in distances:
+        check_distance("basket distance", distance)
+    if inconsistent_distance is not None:
+        check_distance("inconsistent distance", inconsistent_distance)
     if not raw:
         noise = dropped_frames = glitches = 0.0
     rng = np.random.default_rng(seed)

@@ -13,6 +13,7 @@ from typing import Protocol
 import numpy as np
 
 from rlff.errors import InputError
+from rlff.limits import apart
 from rlff.trajectory.joint import JointTrajectory
 
 
@@ -52,8 +53,8 @@ class LimitChange:
 
     def describe(self) -> str:
         """One line: ``point 3: joint_2 velocity 3.1 rad/s -> 2.792 rad/s``."""
-        return (f"point {self.point}: {self.joint} {self.quantity} {self.before:.6g} {self.unit}"
-                f" -> {self.after:.6g} {self.unit}")
+        before, after = apart(self.before, self.after)
+        return f"point {self.point}: {self.joint} {self.quantity} {before} {self.unit} -> {after} {self.unit}"
 
 
 @dataclass(frozen=True)
@@ -126,8 +127,9 @@ def require_within_limits(traj: JointTrajectory, joints: Sequence[JointLimits]) 
     report = limit_changes(traj, joints)
     if report:
         shown = "; ".join(
-            f"point {c.point}: {c.joint} {c.quantity} {c.before:.6g} {c.unit} beyond the limit "
-            f"{c.after:.6g} {c.unit}" for c in report.changes[:3])
+            "point {}: {} {} {} {unit} beyond the limit {} {unit}".format(
+                c.point, c.joint, c.quantity, *apart(c.before, c.after), unit=c.unit)
+            for c in report.changes[:3])
         more = f" (and {len(report) - 3} more)" if len(report) > 3 else ""
         raise InputError(f"{len(report)} values beyond the robot's limits: {shown}{more}")
 

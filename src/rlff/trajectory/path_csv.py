@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 
 from rlff.errors import InputError
+from rlff.fileio import require_file
 
 
 @dataclass(frozen=True)
@@ -27,11 +28,9 @@ class GeneratedPath:
 
 def read_generated_path(path: str | Path) -> GeneratedPath:
     """Read a generated trajectory CSV; :class:`InputError` naming the file and column at fault."""
-    path = Path(path)
+    path = require_file(path)
     try:
         table = pd.read_csv(path)
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise InputError(f"{path}: not a readable CSV ({exc})") from None
     missing = [column for column in ("angle", "velocity") if column not in table]

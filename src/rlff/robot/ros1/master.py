@@ -7,10 +7,11 @@ from __future__ import annotations
 
 import socket
 import time
+from urllib.parse import urlsplit
 
 import rosgraph
 
-from rlff.errors import RlffError
+from rlff.errors import InputError, RlffError
 
 
 class RosUnavailable(RlffError):
@@ -20,6 +21,13 @@ class RosUnavailable(RlffError):
 def wait_for_master(timeout: float) -> str:
     """The master's URI once it answers; :class:`RosUnavailable` after ``timeout`` s without."""
     uri = rosgraph.get_master_uri()
+    parsed = urlsplit(uri)
+    if parsed.scheme not in ("http", "https") or not parsed.hostname:
+        raise InputError(f"ROS_MASTER_URI {uri!r} is not a URL like http://localhost:11311")
+    try:
+        parsed.port  # noqa: B018 - a port that is not a number raises here
+    except ValueError:
+        raise InputError(f"ROS_MASTER_URI {uri!r}: the port is not a number") from None
     master = rosgraph.Master("/rlff_probe", master_uri=uri)
     deadline = time.monotonic() + timeout
     previous = socket.getdefaulttimeout()

@@ -1,0 +1,316 @@
+"""Writing files so that an existing one is only ever replaced by a complete one.
+
+Every writer of rlff (datasets, model.json, trajectories, robot exports and bags, Comau programs,
+reports, figures, JSON summaries) goes through :func:`atomic_write` or :func:`atomic_path`: the
+content goes to a hidden temporary file in the target's own folder, is flushed and fsync'ed, and
+only then renamed over the target with :func:`os.replace`, which POSIX makes atomic within one
+file system. A process killed at any moment leaves either the old file or the new one, never a
+file cut short (at worst a stray hidden ``.STEM.*.tmp.SUFFIX`` beside it).
+
+Missing output folders are created (as they always were); an output that is an existing folder,
+or whose folder is a file, is an :class:`~rlff.errors.InputError` naming the path.
+
+:func:`check_outputs` refuses, before any work, an output that is one of the inputs or two
+outputs that are the same file.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import tempfile
+from collections.abc import Iterable, Iterator, Mapping
+from pathlib import Path
+from typing import IO
+
+from rlff.errors import InputError
+
+_TEMP_SUFFIX = ".tmp"
+
+
+def _umask_mode() -> int:
+    """The mode a plain ``open(path, "w")`` would give a new file (0o666 minus the umask)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def require_file(path: str | Path) -> Path:
+    """``path`` as a Path, or an :class:`InputError` saying it is missing or a folder."""
+    path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{path}: is a folder, not a file")
+    if not path.is_file():
+        raise InputError(f"{path}: no such file")
+    return path
+
+
+def check_output_path(path: str | Path, *, folder: bool = False) -> Path:
+    """Check, without touching anything, that ``path`` can be made an output.
+
+    Parameters
+    ----------
+    path : str or Path
+        The output file (or folder, with ``folder=True``).
+    folder : bool
+        The output is a folder (a ROS 2 bag, a frames folder): an existing folder is accepted.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    InputError
+        The path is an existing folder (for a file output), an existing file (for a folder
+        output), or a parent of it is a file.
+    """
+    path = Path(path)
+    if not folder and path.is_dir():
+        raise InputError(f"{path}: is a folder; give a file name for the output")
+    if folder and path.exists() and not path.is_dir():
+        raise InputError(f"{path}: is a file; give a folder for the output")
+    for parent in path.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise InputError(f"{path}: {parent} is a file, not a folder")
+            break
+    return path
+
+
+def prepare_output(path: str | Path, *, folder: bool = False) -> Path:
+    """Check that ``path`` can be written (:func:`check_output_path`) and create its missing parent folders.
+
+    Raises
+    ------
+    InputError
+        As :func:`check_output_path`, or the folder cannot be created.
+    """
+    path = check_output_path(path, folder=folder)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot create its folder ({exc.strerror})") from None
+    return path
+
+
+def _sync_folder(folder: Path) -> None:
+    """Make a rename in ``folder`` durable (POSIX); a no-op where folders cannot be opened."""
+    try:
+        handle = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(handle)
+    except OSError:
+        pass
+    finally:
+        os.close(handle)
+
+
+def _fsync_tree(path: Path) -> None:
+    files = [path] if path.is_file() else [p for p in path.rglob("*") if p.is_file()]
+    for file in files:
+        with open(file, "rb") as handle:
+            os.fsync(handle.fileno())
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | Path, *, folder: bool = False) -> Iterator[Path]:
+    """A temporary path beside ``path`` to write to; renamed over ``path`` when the block succeeds.
+
+    For libraries that write a file (or a folder) by name: pyarrow, matplotlib, rosbags, Pillow.
+
+    Parameters
+    ----------
+    path : str or Path
+        The final output.
+    folder : bool
+        The writer makes a folder (a ROS 2 bag). The temporary path does not exist yet when
+        yielded; an existing folder at ``path`` is replaced only after the new one is complete.
+
+    Yields
+    ------
+    Path
+        Where to write; keeps ``path``'s suffix so that writers choosing a format by extension
+        still do.
+
+    Raises
+    ------
+    InputError
+        As :func:`prepare_output`.
+    """
+    path = prepare_output(path, folder=folder)
+    handle, name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=_TEMP_SUFFIX + path.suffix, dir=path.parent)
+    os.close(handle)
+    temp = Path(name)
+    if folder:
+        temp.unlink()
+    try:
+        yield temp
+        if not temp.exists():
+            raise FileNotFoundError(f"{temp}: the writer produced nothing")
+        _fsync_tree(temp)
+        if folder:
+            _replace_folder(temp, path)
+        else:
+            os.chmod(temp, _umask_mode() if not path.exists() else path.stat().st_mode & 0o7777)
+            os.replace(temp, path)
+        _sync_folder(path.parent)
+    except BaseException:
+        if temp.is_dir():
+            shutil.rmtree(temp, ignore_errors=True)
+        else:
+            temp.unlink(missing_ok=True)
+        raise
+
+
+def _replace_folder(temp: Path, path: Path) -> None:
+    """Put the complete folder ``temp`` at ``path``; an old folder there goes only afterwards."""
+    if not path.exists():
+        os.replace(temp, path)
+        return
+    # os.replace cannot put a folder over a non-empty one: move the old aside first. Between the
+    # two renames a crash leaves the old folder under its ``.old`` name, never a partial new one.
+    old = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".old", dir=path.parent))
+    old.rmdir()
+    os.replace(path, old)
+    os.replace(temp, path)
+    shutil.rmtree(old, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def atomic_write(path: str | Path, mode: str = "w", *, encoding: str | None = "utf-8", newline: str | None = None) -> Iterator[IO]:
+    """Open a temporary file beside ``path`` for writing; it replaces ``path`` when the block succeeds.
+
+    Parameters
+    ----------
+    path : str or Path
+        The final output.
+    mode : {"w", "wb"}
+        Text or binary.
+    encoding : str or None
+        Text encoding (ignored in binary mode).
+    newline : str or None
+        As :func:`open`.
+
+    Yields
+    ------
+    file object
+        Flushed and fsync'ed before the rename; on an exception the temporary file is removed
+        and ``path`` is left as it was.
+    """
+    if mode not in ("w", "wb"):
+        raise ValueError(f"atomic_write: mode {mode!r}, expected 'w' or 'wb'")
+    with atomic_path(path) as temp:
+        binary = mode == "wb"
+        with open(temp, mode, encoding=None if binary else encoding, newline=None if binary else newline) as handle:
+            yield handle
+            handle.flush()
+            os.fsync(handle.fileno())
+
+
+def write_text(path: str | Path, text: str) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` atomically; returns the path."""
+    with atomic_write(path) as handle:
+        handle.write(text)
+    return Path(path)
+
+
+def write_bytes(path: str | Path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically; returns the path."""
+    with atomic_write(path, "wb") as handle:
+        handle.write(data)
+    return Path(path)
+
+
+def _same(a: Path, b: Path) -> bool:
+    try:
+        if a.exists() and b.exists():
+            return os.path.samefile(a, b)
+    except OSError:
+        pass
+    return a.resolve() == b.resolve()
+
+
+def require_distinct(paths: Iterable[str | Path], what: str = "input") -> None:
+    """Refuse the same file given twice (under any name: ``a.bag`` and ``./a.bag``, a link).
+
+    Raises
+    ------
+    InputError
+        Naming both spellings.
+    """
+    seen: list[Path] = []
+    for path in map(Path, paths):
+        twin = next((earlier for earlier in seen if _same(earlier, path)), None)
+        if twin is not None:
+            same = f"{path}" if str(twin) == str(path) else f"{twin} and {path} are the same file"
+            raise InputError(f"{same}: the same {what} given twice (it would be read twice)")
+        seen.append(path)
+
+
+def _inside(path: Path, folder: Path) -> bool:
+    try:
+        path.resolve().relative_to(folder.resolve())
+    except ValueError:
+        return False
+    return True
+
+
+def check_outputs(
+    inputs: Mapping[str, str | Path | Iterable[str | Path] | None],
+    outputs: Mapping[str, str | Path | None],
+) -> None:
+    """Refuse an output that is one of the inputs, or two outputs that are the same file.
+
+    Called before any work, so that nothing is read, computed or written when the command would
+    destroy its own input.
+
+    Parameters
+    ----------
+    inputs : mapping of str to path, paths or None
+        What each input is called for the user (``"DATA"``, ``"--manifest"``) to its path(s);
+        None for an input not given. An input folder (a ROS 2 bag) also protects the files
+        already inside it.
+    outputs : mapping of str to path or None
+        The same for outputs (``"-o/--output"``, ``"--report"``).
+
+    Raises
+    ------
+    InputError
+        Naming both options and the path.
+    """
+    named_inputs: list[tuple[str, Path]] = []
+    for name, value in inputs.items():
+        if value is None:
+            continue
+        values = [value] if isinstance(value, (str, os.PathLike)) else list(value)
+        named_inputs.extend((name, Path(v)) for v in values if v is not None)
+    named_outputs = [(name, Path(value)) for name, value in outputs.items() if value is not None]
+    for out_name, out in named_outputs:
+        for in_name, source in named_inputs:
+            if _same(out, source):
+                raise InputError(
+                    f"{out_name} {out} is the input {in_name} {source}: refusing to overwrite an input "
+                    "(write somewhere else)"
+                )
+            if source.is_dir() and _inside(out, source) and _file_input_inside(out, source):
+                raise InputError(f"{out_name} {out} is a file of the input {in_name} {source}: refusing to overwrite it")
+    for i, (first_name, first) in enumerate(named_outputs):
+        for second_name, second in named_outputs[i + 1:]:
+            if _same(first, second):
+                raise InputError(f"{first_name} and {second_name} are the same file {first}: give two different paths")
+
+
+def _file_input_inside(out: Path, folder: Path) -> bool:
+    """An existing file inside an input folder is part of that input (a bag's database, run.json)."""
+    return out.exists() and not _same(out, folder)
+
+
+__all__ = [
+    "atomic_path", "atomic_write", "check_output_path", "check_outputs", "prepare_output", "require_distinct",
+    "require_file",
+    "write_bytes", "write_text",
+]

@@ -1,0 +1,126 @@
+"""The stated ranges of rlff's inputs, checked up front with messages that carry the numbers.
+
+Sizes are checked before anything is allocated, so that a typo (``angle=0:2:100000000``,
+``densify step = 1e-9``) is one line and exit 2 instead of tens of gigabytes and a killed process.
+Physical quantities are checked against ranges that hold for a throwing arm of the size rlff
+models (the Comau Smart5 SiX: about 1.4 m of reach) with a wide margin.
+
+The numbers:
+
+- :data:`MAX_GRID_POINTS`: points of a generated path. ``rlff generate`` peaks at about 0.9 kB a
+  point (1.1 GB for 1,000,000 points, measured), so the maximum needs about 2 GB; a 100,000,000
+  point grid asked for about 90 GB and was killed.
+- :data:`MAX_DENSIFY_SAMPLES`: samples a resampling step (``densify``) may make, all trajectories
+  together (8 bytes a value, a few columns and spline copies: about 1 GB at the maximum).
+- :data:`MAX_MAGNITUDE`: the largest magnitude of a data value or a model parameter. Mixtures
+  square and sum values; with ``|x| <= 1e100`` every square and sum of squares of up to 1e100
+  samples stays finite, where 1e308 overflows to inf and ends in a division by zero.
+- :data:`DISTANCE_RANGE`: basket distances (m) from the robot's base or the thrower: from just
+  outside the base (0.3 m) to 20 m, far beyond what a person or this arm throws.
+- :data:`PEDESTAL_RANGE`: height (m) of the robot's base above the ground.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+
+from rlff.errors import InputError
+
+MAX_GRID_POINTS = 2_000_000
+MAX_DENSIFY_SAMPLES = 20_000_000
+MAX_MAGNITUDE = 1e100
+DISTANCE_RANGE = (0.3, 20.0)
+PEDESTAL_RANGE = (0.0, 5.0)
+
+
+def check_count(what: str, count: float, maximum: int, hint: str = "") -> int:
+    """``count`` as an int, or an :class:`InputError` when it is above ``maximum``.
+
+    Parameters
+    ----------
+    what : str
+        What is counted and where it comes from, e.g. ``"--grid angle=0:2:100000000: points"``.
+    count : float
+        The requested count (a float when computed from a range and a step; inf allowed).
+    maximum : int
+    hint : str
+        How to stay below it, appended to the message.
+    """
+    if not math.isfinite(count) or count > maximum:
+        shown = f"{count:,.0f}" if math.isfinite(count) else str(count)
+        raise InputError(f"{what}: {shown} is more than the {maximum:,} allowed" + (f" ({hint})" if hint else ""))
+    return int(count)
+
+
+def check_range(name: str, value: float, bounds: tuple[float, float], unit: str = "m") -> float:
+    """``value`` as a float within ``bounds`` (inclusive), or an :class:`InputError` naming it."""
+    low, high = bounds
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: {value!r} is not a number") from None
+    if not low <= number <= high:  # also refuses nan
+        raise InputError(f"{name}: {value:g} {unit} is outside the range {low:g} to {high:g} {unit}")
+    return number
+
+
+def check_distance(name: str, value: float) -> float:
+    """A basket distance (m) within :data:`DISTANCE_RANGE`."""
+    return check_range(name, value, DISTANCE_RANGE)
+
+
+def check_pedestal(value: float, name: str = "pedestal") -> float:
+    """A pedestal height (m) within :data:`PEDESTAL_RANGE`."""
+    return check_range(name, value, PEDESTAL_RANGE)
+
+
+def check_magnitudes(where: str, columns: Mapping[str, np.ndarray]) -> None:
+    """Refuse a non-finite value or one beyond :data:`MAX_MAGNITUDE` in any column.
+
+    Parameters
+    ----------
+    where : str
+        The file or object the columns come from, for the message.
+    columns : mapping of str to ndarray
+        Named arrays of any shape.
+    """
+    for name, values in columns.items():
+        array = np.asarray(values, dtype=float)
+        bad = ~(np.abs(array) <= MAX_MAGNITUDE)  # nan compares False: caught too
+        if bad.any():
+            index = np.unravel_index(int(np.flatnonzero(bad)[0]), array.shape) if array.ndim else ()
+            at = f" at {list(map(int, index))}" if array.ndim > 1 else (f" at row {int(index[0]) + 1}" if array.ndim else "")
+            raise InputError(
+                f"{where}: {name} holds {float(array[index]):g}{at}; values must be finite and within "
+                f"±{MAX_MAGNITUDE:g}"
+            )
+
+
+def apart(value: float, limit: float, digits: int = 6) -> tuple[str, str]:
+    """``value`` and ``limit`` formatted with the fewest digits (at least ``digits``) that tell them apart.
+
+    So that a message never reads "2.792 rad/s beyond the limit 2.792 rad/s".
+    """
+    for precision in range(digits, 18):
+        first, second = f"{value:.{precision}g}", f"{limit:.{precision}g}"
+        if first != second:
+            return first, second
+    return repr(float(value)), repr(float(limit))
+
+
+__all__ = [
+    "DISTANCE_RANGE",
+    "MAX_DENSIFY_SAMPLES",
+    "MAX_GRID_POINTS",
+    "MAX_MAGNITUDE",
+    "PEDESTAL_RANGE",
+    "apart",
+    "check_count",
+    "check_distance",
+    "check_magnitudes",
+    "check_pedestal",
+    "check_range",
+]

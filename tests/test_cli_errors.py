@@ -1,0 +1,339 @@
+"""The error boundary: every failure a user can cause is one line and exit 2, a bug is exit 1.
+
+The cases are the tracebacks a hostile but realistic user met (issue 11): values of 1e308 in the
+data and the model, folders where files go and files where folders go, TOML ``step = nan``, a
+truncated ``.npz``, ``--distances 1e308``, ``--backend nope``, ``ROS_MASTER_URI=notaurl``; then
+option parsing, numpy's warnings, markup in names, plurals and the fit's K.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from rlff.robot import RobotMapping, load_robot
+
+
+def one_line_error(result, *fragments: str, code: int = 2) -> str:
+    """The single line a failed command printed; checks the exit code and that no traceback shows."""
+    assert result.code == code, (result.code, result.stdout, result.stderr)
+    assert "Traceback" not in result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("rlff: error: " if code == 2 else "rlff: internal error: "), lines[0]
+    for fragment in fragments:
+        assert fragment in lines[0], (fragment, lines[0])
+    return lines[0]
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory) -> dict[str, Path]:
+    """Small real inputs: the thesis set, a model fitted to it, a generated path, and broken copies."""
+    from rlff.cli import main
+
+    folder = tmp_path_factory.mktemp("errors")
+    data, model, path = folder / "data.csv", folder / "model.json", folder / "path.csv"
+    assert main(["-q", "data", "synth", "thesis", "--trajectories", "5", "--points", "20", "-o", str(data)]) == 0
+    assert main(["-q", "fit", str(data), "-k", "2", "-o", str(model)]) == 0
+    assert main(["-q", "generate", str(model), "-c", "distance=3", "-o", str(path)]) == 0
+    rows = list(csv.reader(data.open()))
+    rows[5][rows[0].index("velocity")] = "1e308"
+    huge = folder / "huge.csv"
+    with huge.open("w", newline="") as handle:
+        csv.writer(handle).writerows(rows)
+    document = json.loads(model.read_text())
+    document["means"][0][0] = 1e308
+    huge_model = folder / "huge-model.json"
+    huge_model.write_text(json.dumps(document))
+    npz = folder / "data.npz"
+    assert main(["-q", "data", "synth", "thesis", "--trajectories", "3", "--points", "20", "-o", str(npz)]) == 0
+    cut = folder / "cut.npz"
+    cut.write_bytes(npz.read_bytes()[: npz.stat().st_size // 2])
+    nan_toml = folder / "nan.toml"
+    nan_toml.write_text('[[step]]\nname = "densify"\nstep = nan\n')
+    mapping = RobotMapping.for_robot(load_robot())
+    throw = folder / "throw.csv"
+    positions = np.linspace(-0.5, 1.5, 21)
+    pd.DataFrame({"angle": (positions - mapping.angle_offset) / mapping.angle_scale,
+                  "velocity": np.full(21, 2.0 / mapping.velocity_scale), "pdf": 1.0, "exploration": 0.0,
+                  "gmr_mean": 0.0}).to_csv(throw, index=False)
+    return {"folder": folder, "data": data, "model": model, "path": path, "huge": huge, "huge_model": huge_model,
+            "cut": cut, "nan_toml": nan_toml, "throw": throw}
+
+
+# (arguments with {name} placeholders for the files above, fragments the one line must hold)
+TRACEBACK_CASES = {
+    "fit 1e308 in the data": (["fit", "{huge}", "-o", "{tmp}/m.json"], ["huge.csv", "'velocity'", "1e+308"]),
+    "learn 1e308 in the data": (["learn", "{huge}", "--basket", "2"], ["huge.csv", "1e+308"]),
+    "plot bic 1e308 in the data": (["plot", "bic", "{huge}", "-o", "{tmp}/bic"], ["huge.csv", "1e+308"]),
+    "plot dataset 1e308 in the data": (["plot", "dataset", "{huge}", "-o", "{tmp}/d"], ["huge.csv", "1e+308"]),
+    "preprocess 1e308 in the data": (["data", "preprocess", "{huge}", "-o", "{tmp}/c.csv"], ["huge.csv", "1e+308"]),
+    "generate, model mean 1e308": (["generate", "{huge_model}", "-c", "distance=2", "-o", "{tmp}/g.csv"],
+                                   ["huge-model.json", "'means'", "1e+308"]),
+    "plot dmm, model mean 1e308": (["plot", "dmm", "{huge_model}", "--distance", "2", "-o", "{tmp}/dmm"],
+                                   ["huge-model.json", "'means'"]),
+    "robot export, folder as input": (["robot", "export", "{folder}", "-f", "json", "-o", "{tmp}/t.json"],
+                                      ["is a folder, not a file"]),
+    "robot export, folder as output": (["robot", "export", "{throw}", "-f", "json", "-o", "{folder}"],
+                                       ["is a folder", "file name"]),
+    "robot send, folder as input": (["robot", "send", "{folder}"], ["is a folder, not a file"]),
+    "fit, folder as input": (["fit", "{folder}", "-o", "{tmp}/m.json"], ["is a folder, not a file"]),
+    "fit, folder as output": (["fit", "{data}", "-o", "{folder}"], ["is a folder"]),
+    "fit, output under a file": (["fit", "{data}", "-o", "{data}/m.json"], ["is a file, not a folder"]),
+    "report, folder as output": (["report", "{folder}", "-o", "{folder}"], ["is a folder"]),
+    "report, file as run": (["report", "{data}"], ["data.csv"]),
+    "learn --log a folder": (["learn", "{data}", "--basket", "2", "--log", "{folder}"], ["is a folder"]),
+    "sim throw --frames a file": (["sim", "throw", "{throw}", "--basket", "2", "--frames", "{data}"],
+                                  ["is a file; give a folder"]),
+    "sim throw, folder as input": (["sim", "throw", "{folder}", "--basket", "2"], ["is a folder, not a file"]),
+    "TOML densify step = nan": (["data", "preprocess", "{data}", "--config", "{nan_toml}", "-o", "{tmp}/c.csv"],
+                                ["nan.toml", "densify step nan"]),
+    "truncated .npz": (["fit", "{cut}", "-o", "{tmp}/m.json"], ["cut.npz", "cut short"]),
+    "synth --distances 1e308": (["data", "synth", "throws", "--distances", "1e308", "-o", "{tmp}/s.csv"],
+                                ["1e+308", "0.3 to 20 m"]),
+    "bench --backend nope": (["bench", "learning", "--backend", "nope"], ["--backend", "'nope'", "loky"]),
+}
+
+
+def _args(template: list[str], files: dict[str, Path], tmp: Path) -> list[str]:
+    return [part.format(tmp=tmp, **files) for part in template]
+
+
+@pytest.mark.parametrize("case", list(TRACEBACK_CASES))
+def test_a_reported_traceback_is_one_line(rlff, files, tmp_path, case):
+    template, fragments = TRACEBACK_CASES[case]
+    one_line_error(rlff("-q", *_args(template, files, tmp_path)), *fragments)
+
+
+def test_ros_master_uri_that_is_not_a_url(cli, files):
+    result = cli("-q", "robot", "send", str(files["throw"]), "--timeout", "1", env={"ROS_MASTER_URI": "notaurl"})
+    one_line_error(result, "ROS_MASTER_URI", "'notaurl'", "http://")
+
+
+def test_a_missing_output_folder_is_created(rlff, files, tmp_path):
+    out = tmp_path / "new" / "deeper" / "model.json"
+    assert rlff("-q", "fit", str(files["data"]), "-k", "1", "-o", str(out)).code == 0
+    assert json.loads(out.read_text())["format"] == "rlff-model"
+    exported = tmp_path / "fresh" / "t.json"
+    assert rlff("-q", "robot", "export", str(files["throw"]), "-f", "json", "-o", str(exported)).code == 0
+    assert exported.is_file()
+
+
+# -- validation up front ------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (["learn", "{data}", "--basket", "0.01"], ["basket distance", "0.01 m", "0.3 to 20 m"]),
+        (["learn", "{data}", "--basket", "2", "--pedestal", "100"], ["pedestal", "100 m", "0 to 5 m"]),
+        (["sim", "throw", "{throw}", "--basket", "2", "--pedestal", "-1"], ["pedestal", "-1 m"]),
+        (["data", "synth", "throws", "--distances", "-1,2", "-o", "{tmp}/s.csv"], ["-1 m", "0.3 to 20 m"]),
+        (["generate", "{model}", "-c", "distance=1", "-c", "distance=2", "-o", "{tmp}/g.csv"],
+         ["--context", "distance given twice"]),
+        (["generate", "{model}", "-c", "distance=inf", "-o", "{tmp}/g.csv"], ["--context", "finite"]),
+        (["generate", "{model}", "-c", "distance=2", "--grid", "angle=8:2:50", "-o", "{tmp}/g.csv"],
+         ["--grid", "START 8 is above STOP 2"]),
+        (["data", "import", "{data}", "{data}", "-o", "{tmp}/i.csv"], ["data.csv", "given twice"]),
+    ],
+)
+def test_bad_values_are_refused_up_front(rlff, files, tmp_path, args, fragments):
+    one_line_error(rlff("-q", *_args(args, files, tmp_path)), *fragments)
+
+
+def test_the_same_recording_twice_under_two_names_is_refused(rlff, files, tmp_path, monkeypatch):
+    monkeypatch.chdir(files["folder"])
+    absolute = str(files["folder"] / "data.csv")
+    one_line_error(rlff("-q", "data", "import", "data.csv", absolute, "-o", str(tmp_path / "i.csv")),
+                   f"data.csv and {absolute} are the same file", "given twice")
+    (files["folder"] / "link.csv").symlink_to(files["data"])
+    one_line_error(rlff("-q", "data", "import", "data.csv", "link.csv", "-o", str(tmp_path / "i.csv")),
+                   "data.csv and link.csv are the same file")
+
+
+# -- the size limits, before anything is allocated -----------------------------------------------
+
+
+def test_a_huge_grid_is_refused_with_its_numbers(rlff, files, tmp_path):
+    line = one_line_error(rlff("-q", "generate", str(files["model"]), "-c", "distance=2", "--grid",
+                               "angle=0:10:100000000", "-o", str(tmp_path / "g.csv")))
+    assert "100,000,000" in line and "2,000,000" in line
+    assert not (tmp_path / "g.csv").exists()
+
+
+def test_a_tiny_densify_step_is_refused_with_its_numbers(rlff, files, tmp_path):
+    config = tmp_path / "tiny.toml"
+    config.write_text('[[step]]\nname = "densify"\nstep = 1e-9\n')
+    line = one_line_error(rlff("-q", "data", "preprocess", str(files["data"]), "--config", str(config),
+                               "-o", str(tmp_path / "c.csv")))
+    assert "densify step 1e-09" in line and "20,000,000" in line and "larger step" in line
+
+
+# -- option parsing and the internal-error line --------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("args", "fragments"),
+    [
+        (["fit", "--no-such-option"], ["rlff fit", "--no-such-option", "rlff fit --help"]),
+        (["fit"], ["rlff fit", "Missing argument"]),
+        (["fit", "{data}", "-o", "{tmp}/m.json", "--json", "true"], ["rlff fit", "(true)"]),
+        (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploration-scale", "lots"], ["--exploration-scale", "valid number", "(got 'lots')"]),
+        (["no-such-command"], ["no-such-command"]),
+    ],
+)
+def test_option_parsing_errors_are_one_line(rlff, files, tmp_path, args, fragments):
+    result = rlff(*_args(args, files, tmp_path))
+    line = one_line_error(result, *fragments)
+    assert "╭" not in result.stderr and "Usage:" not in result.stderr, line
+
+
+def test_a_bug_is_an_internal_error_with_exit_1(rlff, files, tmp_path, monkeypatch):
+    from rlff.model import Model
+
+    def broken(*args, **kwargs):
+        raise ZeroDivisionError("float division by zero")
+
+    monkeypatch.setattr(Model, "load", classmethod(broken))
+    args = ("generate", str(files["model"]), "-c", "distance=2", "-o", str(tmp_path / "g.csv"))
+    line = one_line_error(rlff(*args), "ZeroDivisionError", "--debug", code=1)
+    assert "bug" in line
+    debug = rlff("--debug", *args)
+    assert debug.code == 1 and "Traceback" in debug.stderr and "ZeroDivisionError" in debug.stderr
+
+
+def test_numpy_warnings_are_silenced_unless_debug(rlff, files, tmp_path, monkeypatch):
+    from rlff.model import Model
+
+    load = Model.load
+
+    def noisy(cls, path):
+        np.log(np.zeros(3))  # RuntimeWarning: divide by zero
+        return load(path)
+
+    monkeypatch.setattr(Model, "load", classmethod(noisy))
+    args = ("generate", str(files["model"]), "-c", "distance=2", "-o", str(tmp_path / "g.csv"))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        quiet = rlff("-q", *args)
+    assert quiet.code == 0 and quiet.stderr == "", quiet.stderr
+    assert not [w for w in caught if issubclass(w.category, RuntimeWarning)]
+    with pytest.warns(RuntimeWarning, match="divide by zero"):
+        assert rlff("-q", "--debug", *args).code == 0
+
+
+# -- what the commands print ---------------------------------------------------------------------
+
+
+def test_markup_and_emoji_codes_in_names_print_literally(rlff, tmp_path):
+    out = tmp_path / "[bold]a:smile:b.csv"
+    result = rlff("data", "synth", "thesis", "--trajectories", "2", "--points", "5", "-o", str(out))
+    assert result.code == 0 and str(out) in result.stdout, result.stdout
+    missing = one_line_error(rlff("fit", str(tmp_path / "[red]x:b:y.csv"), "-o", str(tmp_path / "m.json")))
+    assert "[red]x:b:y.csv" in missing
+
+
+def test_counts_take_the_right_plural(rlff, tmp_path):
+    one = rlff("data", "synth", "throws", "--subjects", "1", "--distances", "1", "--throws", "1",
+               "-o", str(tmp_path / "one.csv"))
+    assert one.code == 0 and one.stdout.startswith("1 throw (") and "1 throws" not in one.stdout, one.stdout
+    assert "1 hit" in one.stdout or "0 hits" in one.stdout
+
+
+def test_version(rlff):
+    from rlff import __version__
+
+    result = rlff("--version")
+    assert result.code == 0 and result.stdout.strip() == f"rlff {__version__}"
+
+
+def test_flags_are_shown_as_flags_in_help(rlff):
+    result = rlff("fit", "--help")
+    assert result.code == 0
+    flag_line = next(line for line in result.stdout.splitlines() if "--json" in line)
+    assert "<bool>" not in flag_line and "<bool>" not in result.stdout
+    assert "<int>" in result.stdout  # options that take values still say what they take
+
+
+def test_fit_names_the_k_chosen_and_warns_at_the_top_of_the_range(rlff, files, tmp_path):
+    # five trajectories of the thesis set: BIC wants more than 2 components and fewer than 10
+    capped = rlff("fit", str(files["data"]), "--max-components", "2", "-o", str(tmp_path / "m2.json"))
+    assert capped.code == 0
+    assert len(json.loads((tmp_path / "m2.json").read_text())["weights"]) == 2
+    assert "K = 2 chosen" in capped.stdout and "fitted K=" not in capped.stderr
+    assert "BIC chose K = 2, the largest tried" in capped.stderr and "--max-components" in capped.stderr
+    wide = rlff("fit", str(files["data"]), "--max-components", "10", "-o", str(tmp_path / "m10.json"))
+    k = len(json.loads((tmp_path / "m10.json").read_text())["weights"])
+    assert k < 10 and f"K = {k} chosen" in wide.stdout
+    assert "the largest tried" not in wide.stderr
+
+
+@pytest.mark.parametrize(
+    ("status", "code", "name", "text", "line"),
+    [
+        ("cancelled", 0, "SUCCESSFUL", "preempted by a newer goal", "goal cancelled: preempted by a newer goal"),
+        ("succeeded", 0, "SUCCESSFUL", "", "goal succeeded (SUCCESSFUL)"),
+        ("aborted", -4, "PATH_TOLERANCE_VIOLATED", "joint_2 off", "goal aborted (PATH_TOLERANCE_VIOLATED): joint_2 off"),
+    ],
+)
+def test_a_preempted_goal_is_not_reported_successful(status, code, name, text, line):
+    from rlff.cli.robot import goal_message
+    from rlff.robot.ros1.client import SendResult
+
+    assert goal_message(SendResult(status, code, name, text, 0.0, 1.0, 3)) == line
+
+
+def test_help_lists_the_allowed_values(rlff):
+    from rlff.capture.importer import ARMS
+    from rlff.capture.importer import FORMATS as RECORDING_FORMATS
+    from rlff.learn.benchmark import BACKENDS, SCENARIOS
+    from rlff.learn.loop import METHODS
+    from rlff.learn.method import FEEDBACKS
+    from rlff.robot.formats import FORMATS as EXPORT_FORMATS
+
+    def help_text(*command: str) -> str:
+        result = rlff(*command, "--help")
+        assert result.code == 0
+        return " ".join(result.stdout.replace("│", " ").split())
+
+    expected = {
+        ("bench", "learning"): [b for b in BACKENDS if b] + list(SCENARIOS),
+        ("robot", "export"): list(EXPORT_FORMATS),
+        ("learn",): list(METHODS) + list(FEEDBACKS),
+        ("data", "import"): list(RECORDING_FORMATS) + list(ARMS),
+        ("fit",): ["bic", "aic", "auto"],
+    }
+    for command, values in expected.items():
+        text = help_text(*command)
+        missing = [value for value in values if value not in text]
+        assert not missing, (command, missing)
+
+
+def test_preprocess_names_every_throw_it_removed_and_why(rlff, tmp_path):
+    demos, report = tmp_path / "demos.csv", tmp_path / "report.json"
+    assert rlff("-q", "data", "synth", "throws", "--subjects", "3", "--inconsistent-distance", "2.75",
+                "-o", str(demos)).code == 0
+    result = rlff("data", "preprocess", str(demos), "--preset", "thesis", "-o", str(tmp_path / "c.csv"),
+                  "--report", str(report))
+    assert result.code == 0
+    steps = json.loads(report.read_text())["steps"]
+    removed = [(step["step"], r["trajectory"], r["reason"]) for step in steps for r in step["removed"]]
+    rejected = [(step["step"], c) for step in steps for c in step["contexts"]]
+    assert removed and rejected  # the inconsistent basket and some single throws go
+    lines = result.stderr.splitlines()
+    for step, context in rejected:
+        label = ", ".join(f"{k}={v:g}" for k, v in context["context"].items())
+        line = next(line for line in lines if line.startswith(f"{step}: context {label} rejected"))
+        assert context["reason"] in line and all(t in line for t in context["trajectories"])
+    in_contexts = {t for _, c in rejected for t in c["trajectories"]}
+    for step, trajectory, reason in removed:
+        if trajectory not in in_contexts:
+            assert f"{step}: removed throw {trajectory}: {reason}" in lines
+    quiet = rlff("-q", "data", "preprocess", str(demos), "--preset", "thesis", "-o", str(tmp_path / "c2.csv"))
+    assert "removed throw" not in quiet.stderr

@@ -1,0 +1,183 @@
+"""The output layer through the real commands: an output that is an input is refused before any
+work, and an existing output is only ever replaced by a complete one.
+
+The overwrite cases are those of issue 11, each of which destroyed its input before.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from rlff.robot import RobotMapping, load_robot
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import bagfactory as bf  # noqa: E402
+
+
+def digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+@pytest.fixture(scope="module")
+def made(tmp_path_factory) -> dict[str, Path]:
+    """Real inputs: simulated throws, a model, a generated path, a robot-ready path, a bag, a run."""
+    from rlff.cli import main
+
+    folder = tmp_path_factory.mktemp("outputs")
+    raw, model, path = folder / "raw.csv", folder / "m1.json", folder / "t.csv"
+    assert main(["-q", "data", "synth", "throws", "--subjects", "2", "--distances", "1,2,3", "-o", str(raw)]) == 0
+    assert main(["-q", "fit", str(raw), "-k", "2", "-o", str(model)]) == 0
+    assert main(["-q", "generate", str(model), "-c", "distance=2", "-o", str(path)]) == 0
+    mapping = RobotMapping.for_robot(load_robot())
+    throw = folder / "throw.csv"
+    positions = np.linspace(-0.5, 1.5, 21)
+    pd.DataFrame({"angle": (positions - mapping.angle_offset) / mapping.angle_scale,
+                  "velocity": np.full(21, 2.0 / mapping.velocity_scale), "pdf": 1.0, "exploration": 0.0,
+                  "gmr_mean": 0.0}).to_csv(throw, index=False)
+    bag = bf.write_ros1_bag(folder / "rec.bag", bf.standard_simulation(seed=3, n_throws=1))
+    manifest = folder / "manifest.csv"
+    manifest.write_text("file,throw,distance\nrec.bag,1,2.0\n")
+    run = folder / "run"
+    from rlff.report import FigureEntry, Run, Section, write_run
+
+    (run / "figures").mkdir(parents=True)
+    (run / "figures" / "dot.png").write_bytes(
+        bytes.fromhex("89504e470d0a1a0a0000000d49484452000000010000000108060000001f15c4890000000d"
+                      "4944415478da63f8cfc0f01f0005000201a5f5d2c80000000049454e44ae426082"))
+    write_run(Run("r", "2026-01-01T00:00:00+00:00", sections=[Section("a", "A", facts={"n": 1})],
+                  figures=[FigureEntry("figures/dot.png", "a", "Dot")]), run)
+    return {"folder": folder, "raw": raw, "model": model, "path": path, "throw": throw, "bag": bag,
+            "manifest": manifest, "run_json": run / "run.json", "figure": run / "figures" / "dot.png", "run": run}
+
+
+# (arguments, the input that must survive, fragments of the one line)
+OVERWRITES = {
+    "fit c1.csv -o c1.csv": (["fit", "{raw}", "-o", "{raw}"], "raw", ["-o/--output", "is the input DATA"]),
+    "preprocess -o the input": (["data", "preprocess", "{raw}", "--preset", "thesis", "-o", "{raw}"], "raw",
+                                ["is the input DATA"]),
+    "preprocess --report the input": (["data", "preprocess", "{raw}", "-o", "{tmp}/c.csv", "--report", "{raw}"],
+                                      "raw", ["--report", "is the input DATA"]),
+    "preprocess --report equal to -o": (["data", "preprocess", "{raw}", "-o", "{tmp}/c.csv", "--report",
+                                         "{tmp}/c.csv"], "raw", ["-o/--output and --report are the same file"]),
+    "generate m1.json -o m1.json": (["generate", "{model}", "-c", "distance=2", "-o", "{model}"], "model",
+                                    ["is the input MODEL"]),
+    "robot export t.csv -o t.csv": (["robot", "export", "{throw}", "--format", "csv", "-o", "{throw}"], "throw",
+                                    ["is the input TRAJECTORY"]),
+    "robot export --out alias": (["robot", "export", "{throw}", "--format", "json", "--out", "{throw}"], "throw",
+                                 ["is the input TRAJECTORY"]),
+    "data import rec.bag -o rec.bag": (["data", "import", "{bag}", "-o", "{bag}"], "bag", ["is the input FILES"]),
+    "data import -o manifest.csv": (["data", "import", "{bag}", "--manifest", "{manifest}", "-o", "{manifest}"],
+                                    "manifest", ["is the input --manifest"]),
+    "report run -o run/run.json": (["report", "{run}", "-o", "{run_json}"], "run_json", ["is the input RUN"]),
+    "report -o a figure": (["report", "{run}", "-o", "{figure}"], "figure", ["is the input RUN"]),
+    "plot over its input": (["plot", "dataset", "{raw}", "-o", "{folder}/raw.csv"], "raw", []),
+    "learn --log the demonstrations": (["learn", "{raw}", "--basket", "2", "--log", "{raw}"], "raw",
+                                                 ["--log", "is the input DEMOS"]),
+    "the same file by another name": (["fit", "{raw}", "-o", "{folder}/../{folder_name}/raw.csv"], "raw",
+                                      ["is the input DATA"]),
+}
+
+
+@pytest.mark.parametrize("case", list(OVERWRITES))
+def test_an_output_that_is_an_input_is_refused_before_any_work(rlff, made, tmp_path, case):
+    template, survivor, fragments = OVERWRITES[case]
+    values = {**made, "tmp": tmp_path, "folder_name": made["folder"].name}
+    before = digest(made[survivor])
+    result = rlff("-q", *[part.format(**values) for part in template])
+    if case == "plot over its input":  # plot writes OUT.png and OUT.svg beside, never OUT itself
+        assert result.code == 0, result.stderr
+        assert (made["folder"] / "raw.csv-3d.png").is_file()
+    else:
+        assert result.code == 2, (result.stdout, result.stderr)
+        line = result.stderr.strip()
+        assert line.count("\n") == 0 and line.startswith("rlff: error: ") and "Traceback" not in line, line
+        for fragment in fragments:
+            assert fragment in line, line
+        assert not (tmp_path / "c.csv").exists()  # refused before anything was written
+    assert digest(made[survivor]) == before
+
+
+def test_a_symlink_to_the_input_is_the_input(rlff, made, tmp_path):
+    link = tmp_path / "link.csv"
+    link.symlink_to(made["raw"])
+    before = digest(made["raw"])
+    result = rlff("-q", "data", "preprocess", str(made["raw"]), "-o", str(link))
+    assert result.code == 2 and "is the input DATA" in result.stderr
+    assert digest(made["raw"]) == before
+
+
+def test_an_input_folder_protects_its_files(rlff, made, tmp_path):
+    bag = tmp_path / "ros2bag"
+    bf.write_ros2_bag(bag, bf.standard_simulation(seed=4, n_throws=1))
+    inside = next(path for path in bag.iterdir() if path.is_file())
+    before = digest(inside)
+    result = rlff("-q", "data", "import", str(bag), "-o", str(inside))
+    assert result.code == 2 and "is a file of the input FILES" in result.stderr, result.stderr
+    assert digest(inside) == before
+
+
+def test_an_existing_output_is_replaced_only_by_a_complete_one(rlff, made, tmp_path):
+    out = tmp_path / "model.json"
+    out.write_text('{"old": true}\n')
+    out.chmod(0o640)
+    assert rlff("-q", "fit", str(made["raw"]), "-k", "2", "-o", str(out)).code == 0
+    assert json.loads(out.read_text())["format"] == "rlff-model"
+    assert out.stat().st_mode & 0o777 == 0o640  # the file keeps its permissions
+    assert [p.name for p in tmp_path.iterdir()] == ["model.json"]  # no temporary file left behind
+    before = digest(out)
+    # a run that fails after reading (a model column the data lacks) leaves the output as it was
+    assert rlff("-q", "fit", str(made["raw"]), "--outputs", "nope", "-o", str(out)).code == 2
+    assert digest(out) == before
+
+
+def test_every_writer_goes_through_the_atomic_layer(rlff, made, tmp_path, monkeypatch):
+    """Each command's files appear only through os.replace of a temporary file beside them."""
+    import os
+
+    import rlff.fileio as fileio
+
+    replaced: list[str] = []
+    real_replace = os.replace
+
+    def spy(src, dst):
+        assert Path(src).parent == Path(dst).parent and Path(src).name.startswith(".")
+        replaced.append(Path(dst).name)
+        return real_replace(src, dst)
+
+    monkeypatch.setattr(fileio.os, "replace", spy)
+    commands = {
+        "clean.csv": ["data", "preprocess", str(made["raw"]), "-o", str(tmp_path / "clean.csv"),
+                      "--report", str(tmp_path / "report.json")],
+        "d.parquet": ["data", "synth", "thesis", "--trajectories", "2", "--points", "5", "-o", str(tmp_path / "d.parquet")],
+        "d.npz": ["data", "synth", "thesis", "--trajectories", "2", "--points", "5", "-o", str(tmp_path / "d.npz")],
+        "d.txt": ["data", "synth", "thesis", "--trajectories", "2", "--points", "5", "-o", str(tmp_path / "d.txt")],
+        "m.json": ["fit", str(made["raw"]), "-k", "1", "-o", str(tmp_path / "m.json")],
+        "g.csv": ["generate", str(made["model"]), "-c", "distance=2", "-o", str(tmp_path / "g.csv")],
+        "r.bag": ["robot", "export", str(made["throw"]), "-f", "ros1-bag", "-o", str(tmp_path / "r.bag")],
+        "r.prg": ["robot", "export", str(made["throw"]), "-f", "comau", "-o", str(tmp_path / "r.prg")],
+        "r.csv": ["robot", "export", str(made["throw"]), "-f", "csv", "-o", str(tmp_path / "r.csv")],
+        "fig.png": ["plot", "donuts", "-o", str(tmp_path / "fig")],
+        "report.html": ["report", str(made["run"]), "-o", str(tmp_path / "report.html")],
+    }
+    for name, args in commands.items():
+        assert rlff("-q", *args).code == 0, name
+        assert name in replaced, (name, replaced)
+    assert {"report.json", "fig.svg"} <= set(replaced)
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]  # no temporary file left
+
+
+def test_a_ros2_bag_folder_is_replaced_whole(rlff, made, tmp_path):
+    out = tmp_path / "bag2"
+    assert rlff("-q", "robot", "export", str(made["throw"]), "-f", "ros2-bag", "-o", str(out)).code == 0
+    from rlff.robot.export import read_bag
+
+    assert len(read_bag(out)) == 1
+    assert [p.name for p in tmp_path.iterdir()] == ["bag2"]

@@ -1,0 +1,207 @@
+"""rlff.fileio (atomic writes, outputs that are inputs), rlff.csvtable (exact fast CSV) and the
+stated limits of rlff.limits."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pandas as pd
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from rlff.csvtable import per_group_text, write_csv_columns
+from rlff.dataset import Dataset, Trajectory, read_csv, write_csv
+from rlff.errors import InputError
+from rlff.fileio import atomic_path, atomic_write, check_outputs, require_distinct, write_text
+from rlff.limits import MAX_MAGNITUDE, apart, check_count, check_range
+
+# -- atomic writes -------------------------------------------------------------------------------
+
+
+def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path):
+    target = tmp_path / "out.txt"
+    target.write_text("old\n")
+    with pytest.raises(RuntimeError), atomic_write(target) as handle:
+        handle.write("half of the new")
+        raise RuntimeError("killed half-way")
+    assert target.read_text() == "old\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["out.txt"]
+
+
+def test_the_new_file_appears_whole_and_keeps_the_old_mode(tmp_path):
+    target = tmp_path / "out.txt"
+    target.write_text("old\n")
+    target.chmod(0o600)
+    with atomic_write(target) as handle:
+        handle.write("new\n")
+        assert target.read_text() == "old\n"  # nothing visible until the block ends
+    assert target.read_text() == "new\n" and target.stat().st_mode & 0o777 == 0o600
+
+
+def test_a_new_file_gets_the_umask_mode(tmp_path):
+    mask = os.umask(0o022)
+    try:
+        write_text(tmp_path / "new.txt", "x")
+    finally:
+        os.umask(mask)
+    assert (tmp_path / "new.txt").stat().st_mode & 0o777 == 0o644
+
+
+def test_atomic_path_keeps_the_suffix_for_writers_that_read_it(tmp_path):
+    with atomic_path(tmp_path / "figure.png") as temp:
+        assert temp.parent == tmp_path and temp.suffix == ".png" and temp.name.startswith(".")
+        temp.write_bytes(b"png")
+    assert (tmp_path / "figure.png").read_bytes() == b"png"
+
+
+def test_a_folder_output_replaces_the_old_folder_whole(tmp_path):
+    target = tmp_path / "bag"
+    target.mkdir()
+    (target / "old.db3").write_text("old")
+    with atomic_path(target, folder=True) as temp:
+        assert not temp.exists()
+        temp.mkdir()
+        (temp / "new.db3").write_text("new")
+        assert (target / "old.db3").exists()
+    assert sorted(p.name for p in target.iterdir()) == ["new.db3"]
+    assert [p.name for p in tmp_path.iterdir()] == ["bag"]
+
+
+@pytest.mark.parametrize(
+    ("make", "output", "message"),
+    [
+        (lambda d: (d / "x").mkdir(), "x", "is a folder; give a file name"),
+        (lambda d: (d / "f").write_text(""), "f/out.csv", "is a file, not a folder"),
+    ],
+)
+def test_outputs_that_cannot_be_files_are_refused(tmp_path, make, output, message):
+    make(tmp_path)
+    with pytest.raises(InputError, match=message):
+        write_text(tmp_path / output, "x")
+
+
+def test_missing_folders_of_an_output_are_created(tmp_path):
+    write_text(tmp_path / "a" / "b" / "c.txt", "x")
+    assert (tmp_path / "a" / "b" / "c.txt").read_text() == "x"
+
+
+# -- outputs that are inputs ---------------------------------------------------------------------
+
+
+def test_an_output_equal_to_an_input_under_any_name_is_refused(tmp_path, monkeypatch):
+    data = tmp_path / "data.csv"
+    data.write_text("x")
+    (tmp_path / "hard.csv").hardlink_to(data)
+    (tmp_path / "soft.csv").symlink_to(data)
+    monkeypatch.chdir(tmp_path)
+    for spelling in ("data.csv", "./data.csv", str(data), "hard.csv", "soft.csv", "sub/../data.csv"):
+        (tmp_path / "sub").mkdir(exist_ok=True)
+        with pytest.raises(InputError, match="is the input DATA"):
+            check_outputs({"DATA": data}, {"-o": spelling})
+    check_outputs({"DATA": data}, {"-o": "other.csv", "--report": None})
+
+
+def test_two_outputs_that_are_one_file_are_refused(tmp_path):
+    with pytest.raises(InputError, match="-o and --report are the same file"):
+        check_outputs({}, {"-o": tmp_path / "a.csv", "--report": tmp_path / "x" / ".." / "a.csv"})
+
+
+def test_the_same_input_twice_is_refused(tmp_path):
+    (tmp_path / "a.bag").write_text("")
+    with pytest.raises(InputError, match="given twice"):
+        require_distinct([tmp_path / "a.bag", tmp_path / "." / "a.bag"], "recording")
+    require_distinct([tmp_path / "a.bag", tmp_path / "b.bag"], "recording")
+
+
+# -- CSV -----------------------------------------------------------------------------------------
+
+
+finite = st.floats(allow_nan=False, allow_infinity=False, width=64)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(finite, min_size=1, max_size=50))
+def test_csv_floats_read_back_bit_for_bit(tmp_path_factory, values):
+    path = tmp_path_factory.mktemp("csv") / "x.csv"
+    column = np.array(values)
+    write_csv_columns(path, {"x": column})
+    back = pd.read_csv(path)["x"].to_numpy(float)
+    assert np.array_equal(back.view(np.int64), column.view(np.int64)) or np.array_equal(back, column)
+
+
+def test_csv_extremes_and_text_cells(tmp_path):
+    column = np.array([0.1, 1.0, -0.0, 5e-324, 1.7976931348623157e308, 2.0**53 + 2, 1 / 3])
+    ids = per_group_text(["plain", 'with "quotes", a comma', "line\nbreak", None], [2, 2, 2, 1])
+    path = write_csv_columns(tmp_path / "t.csv", {"id": ids, "x": column, "count": np.arange(7)})
+    back = pd.read_csv(path, keep_default_na=False)
+    assert np.array_equal(back["x"].to_numpy(float), column)
+    assert back["id"].tolist() == ["plain", "plain", 'with "quotes", a comma', 'with "quotes", a comma',
+                                   "line\nbreak", "line\nbreak", ""]
+    assert back["count"].tolist() == list(range(7))
+    plain = write_csv_columns(tmp_path / "p.csv", {"trajectory": per_group_text(["a", "b"], [1, 1]), "x": [0.5, 2.0]})
+    assert plain.read_text() == "trajectory,x\na,0.5\nb,2\n"  # unquoted, as pandas wrote it
+
+
+def test_a_dataset_round_trips_exactly_through_csv(tmp_path):
+    rng = np.random.default_rng(3)
+    trajectories = [
+        Trajectory(f"t,{k}", {"angle": rng.normal(size=30), "distance": np.full(30, 1.0 + k / 3),
+                               "velocity": rng.normal(size=30) * 1e-7},
+                   {"subject": f"s{k}", "hit": k % 2 == 0, "landing": 1 / (k + 3)})
+        for k in range(4)
+    ]
+    dataset = Dataset(trajectories)
+    write_csv(dataset, tmp_path / "d.csv")
+    back = read_csv(tmp_path / "d.csv")
+    assert back.ids == dataset.ids
+    for ours, theirs in zip(dataset, back, strict=True):
+        for name in dataset.columns:
+            assert np.array_equal(ours[name], theirs[name])
+        assert theirs.meta == ours.meta
+
+
+# -- limits --------------------------------------------------------------------------------------
+
+
+def test_counts_above_the_maximum_name_both_numbers():
+    with pytest.raises(InputError, match=r"grid: 100,000,000 is more than the 5,000,000 allowed \(fewer\)"):
+        check_count("grid", 1e8, 5_000_000, "fewer")
+    with pytest.raises(InputError, match="inf is more than"):
+        check_count("grid", float("inf"), 10)
+    assert check_count("grid", 10, 10) == 10
+
+
+@pytest.mark.parametrize("value", [-1.0, 0.1, 21.0, float("nan"), 1e308])
+def test_ranges_refuse_values_outside(value):
+    with pytest.raises(InputError, match="outside the range 0.3 to 20 m"):
+        check_range("basket distance", value, (0.3, 20.0))
+
+
+def test_values_and_limits_print_with_enough_digits_to_differ():
+    assert apart(2.7925268031909276, 2.792526803190927) == ("2.792526803190928", "2.792526803190927")
+    assert apart(3.1, 2.792) == ("3.1", "2.792")
+    assert apart(2.7925, 2.79249) == ("2.7925", "2.79249")
+
+
+def test_data_values_beyond_the_magnitude_limit_are_refused():
+    with pytest.raises(InputError, match=r"'angle' has the value 1e\+308, beyond the ±1e\+100"):
+        Trajectory("t", {"angle": [0.0, 1e308]})
+    with pytest.raises(InputError, match="non-finite"):
+        Dataset.from_columns({"angle": np.array([0.0, np.inf])}, ["t"], [2])
+    Trajectory("t", {"angle": [0.0, MAX_MAGNITUDE]})
+
+
+def test_model_generate_refuses_a_grid_beyond_the_limit_before_working():
+    from rlff.limits import MAX_GRID_POINTS
+    from rlff.mixture import GaussianMixture
+    from rlff.model import Model
+
+    mixture = GaussianMixture.from_parameters(
+        np.array([1.0]), np.array([[0.5, 2.0, 1.0]]), np.eye(3)[None] * 0.1
+    )
+    model = Model(mixture, ("angle", "distance"), ("velocity",), {"angle": (0.0, 1.0), "distance": (1.0, 3.0)})
+    grid = np.broadcast_to(np.float64(0.5), (MAX_GRID_POINTS + 1,))  # no memory for the grid itself
+    with pytest.raises(InputError, match=r"2,000,001 is more than the 2,000,000 allowed"):
+        model.generate({"distance": 2.0}, grid)
