@@ -12,6 +12,7 @@ import pytest
 from rlff.cli import main
 from rlff.robot import RobotMapping, load_robot
 from rlff.robot.export import read_json
+from rlff.trajectory.timing import time_along_path
 
 
 def human_csv(path, robot_positions, robot_speed, **extra):
@@ -161,6 +162,21 @@ def test_bags_stamp_now_only_when_asked(capsys, throw, tmp_path):
             (connection, _, raw), = reader.messages()
             stamp = typestore.deserialize_ros1(raw, connection.msgtype).header.stamp
         assert (stamp.sec == 0 and stamp.nanosec == 0) == zero
+
+
+@pytest.mark.parametrize(("edit", "ratio"), [(lambda t: t.assign(time=t.time * 20), "20 times as long"),
+                                             (lambda t: t.assign(velocity=t.velocity * 0.8), "0.8 times as long")])
+def test_a_generated_path_whose_time_disagrees_is_refused(capsys, tmp_path, edit, ratio):
+    angle = np.linspace(0.7, 1.9, 30)
+    velocity = np.linspace(2.0, 9.0, 30)
+    path = tmp_path / "timed.csv"
+    pd.DataFrame({"angle": angle, "velocity": velocity, "time": time_along_path(angle, velocity)}).to_csv(path, index=False)
+    code, _, err = run(capsys, "robot", "export", str(path), "-f", "json", "-o", str(tmp_path / "ok.json"))
+    assert code == 0, err
+    edit(pd.read_csv(path)).to_csv(path, index=False)
+    code, _, err = run(capsys, "robot", "export", str(path), "-f", "json", "-o", str(tmp_path / "bad.json"))
+    assert code == 2 and len(err.strip().splitlines()) == 1 and not (tmp_path / "bad.json").exists()
+    assert "timed.csv: rows 1 to 2: the time column takes" in err and ratio in err
 
 
 def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):

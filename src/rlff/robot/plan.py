@@ -71,6 +71,36 @@ def _require_unclipped(report: ClipReport, last: int) -> None:
     raise InputError(f"{len(faults)} values beyond the robot's limits: {shown}{more}; --clip clips them")
 
 
+#: Largest relative difference between a generated path's time steps and those its angle and
+#: velocity give (the model writes them from the same formula: they agree to rounding).
+TIME_AGREEMENT = 0.01
+
+
+def _require_time_agrees(angle: np.ndarray, velocity: np.ndarray, time: np.ndarray) -> None:
+    """Refuse a path whose ``time`` column disagrees with its angle and velocity.
+
+    Where both ends of a step move at 10 % of the peak speed or more, the step takes
+    ``2 |d angle| / (v_i + v_{i+1})`` (:func:`rlff.trajectory.timing.time_along_path`); a time
+    column stretched, or velocities scaled with the time kept, differ from it.
+    """
+    angle, velocity, time = (np.asarray(a, dtype=float) for a in (angle, velocity, time))
+    if time.shape != angle.shape or angle.size < 2:
+        return  # the mapping refuses these, naming them
+    speed = np.maximum(np.sign(angle[-1] - angle[0]) * velocity, 0.0)
+    fast = np.minimum(speed[:-1], speed[1:]) >= 0.1 * speed.max()
+    expected = 2 * np.abs(np.diff(angle)) / np.maximum(speed[:-1] + speed[1:], 1e-300)
+    ratio = np.diff(time) / expected
+    bad = np.flatnonzero(fast & (np.abs(ratio - 1) > TIME_AGREEMENT))
+    if bad.size:
+        i = int(bad[0])
+        raise InputError(
+            f"rows {i + 1} to {i + 2}: the time column takes {time[i + 1] - time[i]:.6g} s where angle and "
+            f"velocity take {expected[i]:.6g} s (angle {angle[i]:.6g} -> {angle[i + 1]:.6g} rad at "
+            f"{velocity[i]:.6g} and {velocity[i + 1]:.6g} rad/s; {ratio[i]:.3g} times as long, "
+            f"{bad.size} steps disagree by more than {TIME_AGREEMENT:.0%}): time, angle and velocity "
+            "do not belong together")
+
+
 def plan(
     mapping: RobotMapping,
     angle: np.ndarray,
@@ -98,12 +128,15 @@ def plan(
     Raises
     ------
     InputError
-        A bad path, a value beyond a limit (without ``clip``), or a plan that fails the check
+        A bad path, a ``time`` that disagrees with its angle and velocity, a value beyond a limit
+        (without ``clip``), or a plan that fails the check
         (:class:`rlff.trajectory.check.MotionLimitError`, e.g. no room to brake).
     """
     if period is None or not (np.isfinite(period) and period > 0):
         raise InputError(f"--period must be a positive controller period (s), got {period!r}: "
                          "the points of a path are not a trajectory a controller can follow")
+    if time is not None:
+        _require_time_agrees(angle, velocity, time)
     points, report = mapping.to_robot(angle, velocity, time, clip=True)
     if not clip:
         _require_unclipped(report, len(points) - 1)
@@ -154,7 +187,10 @@ def load_for_robot(
     if kind == GENERATED:
         generated = read_generated_path(path)
         mapping = RobotMapping.for_robot(robot)
-        return kind, plan(mapping, generated.angle, generated.velocity, generated.time, period, clip)
+        try:
+            return kind, plan(mapping, generated.angle, generated.velocity, generated.time, period, clip)
+        except InputError as exc:
+            raise type(exc)(f"{path}: {exc}") from None
     trajectory = read_json(path) if path.suffix.lower() == ".json" else read_csv(path)
     try:
         check_trajectory(trajectory, robot.joints)
