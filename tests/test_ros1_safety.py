@@ -3,9 +3,9 @@
 A real roscore (own free port), ``rlff robot serve``, raw FollowJointTrajectory goals from a
 separate rospy process (tests/ros1_goal.py, bypassing rlff's client and its checks) and
 ``rlff robot send``; /joint_states recorded by ``rostopic echo``. Every goal is refused with the
-numbers, or executed without a jump: the recorded motion's divided differences (see
-:func:`rosrig.peaks`) stay within the speed and acceleration limits, with no allowance but the
-motion check's relative slack for rounding (LIMIT_SLACK).
+numbers, or executed without a jump: the recorded positions stay within the position limits and
+their divided differences (see :func:`rosrig.peaks`) within the speed and acceleration limits,
+with no allowance but the motion check's relative slack for rounding (LIMIT_SLACK).
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ import time
 import numpy as np
 import pytest
 
+from rlff.robot.sendfile import load_for_sending
 from rlff.trajectory.check import LIMIT_SLACK
 from rosrig import (
     AMAX,
@@ -42,6 +43,8 @@ NAMES = list(ROBOT.joint_names)
 
 def _within_limits(path) -> tuple[np.ndarray, np.ndarray]:
     stamps, positions = states(path)
+    lower, upper = (np.array([getattr(joint, side) for joint in ROBOT.joints]) for side in ("lower", "upper"))
+    assert np.all((positions >= lower) & (positions <= upper))
     velocity, acceleration = peaks(stamps, positions)
     assert np.all(velocity <= VMAX * (1 + LIMIT_SLACK)), (velocity, VMAX)
     assert np.all(acceleration <= AMAX * (1 + LIMIT_SLACK)), (acceleration, AMAX)
@@ -166,3 +169,90 @@ def test_ctrl_c_of_send_brakes_and_the_client_waits_for_rest(ros, tmp_path):
     stamps, positions = states(tmp_path / "states.csv")
     assert np.ptp(positions[stamps > exited], axis=0).max() == 0.0  # at rest once the client is gone
     assert "braked to rest from" in ros.log()
+
+
+def test_goals_of_other_joints_or_beyond_the_limits_are_rejected_with_their_codes(ros, tmp_path):
+    here = ros.pose(tmp_path)
+    beyond = here.copy()
+    beyond[DRIVEN] = 3.0
+    unknown = {"joint_names": ["axis_1"], "time": [1.0], "positions": [[0.0]]}
+    rejected = ros.goal(tmp_path, unknown)
+    assert (rejected["status"], rejected["error_code"]) == ("rejected", -2)  # INVALID_JOINTS
+    assert "unknown joints ['axis_1']" in rejected["error_string"]
+    rejected = ros.goal(tmp_path, _spec([1.0], [beyond]))
+    assert (rejected["status"], rejected["error_code"]) == ("rejected", -1)  # INVALID_GOAL
+    assert "joint_2 position 3 rad beyond the limit 2.71 rad" in rejected["error_string"]
+    np.testing.assert_array_equal(ros.pose(tmp_path), here)
+
+
+def test_a_throw_sent_by_rlff_stays_within_the_limits_and_ends_at_rest(ros, tmp_path):
+    path = throw_csv(tmp_path, "throw.csv", -0.8, 1.6, 2.5)  # the model asks up to 2.7 rad/s
+    recorder = ros.record(tmp_path / "states.csv")
+    result = ros.rlff("robot", "send", str(path), "--json", "--timeout", "60")
+    time.sleep(0.3)
+    stop(recorder)
+    assert result.returncode == 0, result.stderr
+    velocity, acceleration = _within_limits(tmp_path / "states.csv")
+    assert velocity[DRIVEN] > 2.0 and acceleration[DRIVEN] > 0.9 * AMAX[DRIVEN]  # a real throw, at the limits
+    stamps, positions = states(tmp_path / "states.csv")
+    assert np.ptp(positions[stamps > stamps[-1] - 0.2], axis=0).max() == 0.0
+
+
+def test_an_exported_trajectory_is_sent_only_from_its_start(ros, tmp_path):
+    path = throw_csv(tmp_path, "throw.csv", 0.2, -0.6, 1.0)
+    assert ros.rlff("robot", "export", str(path), "-f", "json", "-o", str(tmp_path / "throw.json")).returncode == 0
+    exported = json.loads((tmp_path / "throw.json").read_text())
+    first = np.array(exported["positions"][0])
+    here = ros.pose(tmp_path)
+    if abs(here[DRIVEN] - first[DRIVEN]) < 0.1:  # make sure the arm is elsewhere
+        elsewhere = here.copy()
+        elsewhere[DRIVEN] += 0.5
+        assert ros.goal(tmp_path, _spec([0.5], [elsewhere]))["status"] == "succeeded"
+        here = elsewhere
+    refused = ros.rlff("robot", "send", str(tmp_path / "throw.json"), "--timeout", "30")
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1
+    assert (f"throw.json: point 0 (t = 0.000000 s): joint_2 position {first[DRIVEN]:.6g} rad is not where the arm "
+            f"is ({here[DRIVEN]:.6g} rad") in refused.stderr
+    assert "send the generated trajectory CSV" in refused.stderr
+    assert ros.goal(tmp_path, _spec([0.5], [first]))["status"] == "succeeded"  # to its start
+    sent = ros.rlff("robot", "send", str(tmp_path / "throw.json"), "--json", "--timeout", "30")
+    assert sent.returncode == 0, sent.stderr
+    np.testing.assert_allclose(ros.pose(tmp_path), exported["positions"][-1], atol=1e-9)
+
+
+def test_rosbag_play_of_an_export_obeys_the_goal_rules(ros, tmp_path):
+    path = throw_csv(tmp_path, "throw.csv", 0.4, -0.4, 1.0)
+    bag = tmp_path / "throw.bag"
+    assert ros.rlff("robot", "export", str(path), "-f", "ros1-bag", "-o", str(bag)).returncode == 0
+    exported = load_for_sending(bag, ROBOT, None)[1].trajectory
+    here = ros.pose(tmp_path)
+    away = here.copy()
+    away[DRIVEN] = exported.positions[0, DRIVEN] + 0.7  # the arm 0.7 rad from the bag's start
+    assert ros.goal(tmp_path, _spec([0.5], [away]))["status"] == "succeeded"
+
+    def play() -> None:
+        subprocess.run(["rosbag", "play", "--quiet", "--wait-for-subscribers", str(bag)], env=ros.env,
+                       check=True, timeout=120, capture_output=True)
+
+    recorder = ros.record(tmp_path / "refused.csv")
+    logged = len(ros.log())
+    play()
+    wait(lambda: "refused" in ros.log()[logged:], 30, "the server to refuse the bag")
+    time.sleep(0.3)
+    stop(recorder)
+    refusal = ros.log()[logged:]
+    assert "trajectory on /comau/joint_trajectory refused (PATH_TOLERANCE_VIOLATED)" in refusal
+    assert "(0.7 rad apart, tolerance 0.001 rad)" in refusal
+    _, positions = states(tmp_path / "refused.csv")
+    assert np.ptp(positions, axis=0).max() == 0.0  # no jump, no motion
+
+    assert ros.goal(tmp_path, _spec([0.5], [exported.positions[0]]))["status"] == "succeeded"
+    recorder = ros.record(tmp_path / "played.csv")
+    play()
+
+    def arrived() -> bool:
+        return np.abs(states(tmp_path / "played.csv")[1][-1] - exported.positions[-1]).max() < 1e-9
+
+    wait(arrived, 60, "the bag's trajectory to be executed")
+    stop(recorder)
+    _within_limits(tmp_path / "played.csv")
