@@ -103,6 +103,41 @@ def _quintic(traj: JointTrajectory, fractions: np.ndarray) -> tuple[np.ndarray, 
     return position, velocity, acceleration
 
 
+def violation_counts(traj: JointTrajectory, joints: Sequence[JointLimits]) -> dict[str, int]:
+    """How many values of ``traj`` break each rule of :func:`check_trajectory` (0 everywhere: it passes
+    the limits), for reports and benchmarks that count rather than refuse.
+
+    Returns
+    -------
+    dict of str to int
+        ``"position"``, ``"velocity"``, ``"acceleration"``: values beyond the limit at the points
+        and at the inner instants of the quintic interpolation; ``"disagreement"``: steps whose
+        time, positions and velocities disagree; ``"end moving"``: joints not at rest at the end
+        (velocity above :data:`VELOCITY_TOLERANCE` or acceleration above
+        :data:`ACCELERATION_TOLERANCE`).
+    """
+    limits = motion_limits(joints, traj.joint_names)
+    values = {"position": [traj.positions], "velocity": [traj.velocities], "acceleration": [traj.accelerations]}
+    counts = {"disagreement": 0}
+    if len(traj) > 1:
+        dt = np.diff(traj.time)[:, None]
+        said = dt * 0.5 * (traj.velocities[:-1] + traj.velocities[1:])
+        allowed = limits.acceleration * dt**2 / 4 * (1 + LIMIT_SLACK) + 1e-9
+        counts["disagreement"] = int(np.count_nonzero(np.abs(np.diff(traj.positions, axis=0) - said) > allowed))
+        inner = _quintic(traj, np.arange(1, SUBDIVISIONS) / SUBDIVISIONS)
+        for quantity, array in zip(values, inner, strict=True):
+            values[quantity].append(array.reshape(-1, len(traj.joint_names)))
+    bounds = {"position": (limits.lower, limits.upper), "velocity": (-limits.velocity, limits.velocity),
+              "acceleration": (-limits.acceleration, limits.acceleration)}
+    for quantity, arrays in values.items():
+        low, high = bounds[quantity]
+        slack = LIMIT_SLACK * np.maximum(np.maximum(np.abs(low), np.abs(high)), 1.0)
+        counts[quantity] = int(sum(np.count_nonzero((a < low - slack) | (a > high + slack)) for a in arrays))
+    counts["end moving"] = int(np.count_nonzero((np.abs(traj.velocities[-1]) > VELOCITY_TOLERANCE)
+                                                | (np.abs(traj.accelerations[-1]) > ACCELERATION_TOLERANCE)))
+    return counts
+
+
 def check_trajectory(
     traj: JointTrajectory,
     joints: Sequence[JointLimits],
