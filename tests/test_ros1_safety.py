@@ -134,9 +134,14 @@ def test_a_preempted_throw_hands_over_without_a_step(ros, tmp_path):
 
 
 def test_serve_checks_its_options_and_never_replaces_a_running_server(ros, tmp_path):
-    for args, message in ((("--rate", "0"), "--rate must be a positive number of ticks per second, got 0 Hz"),
-                          ((), "a node /rlff_comau_controller is already running")):
-        result = ros.rlff("robot", "serve", *args, timeout=60)
+    elsewhere = dict(ros.env, ROS_NAMESPACE="/other")  # another node name, the same action
+    for args, env, message in (
+            (("--rate", "0"), ros.env, "--rate must be a positive number of ticks per second, got 0 Hz"),
+            (("--rate", "nan"), ros.env, "--rate must be a positive number of ticks per second, got nan Hz"),
+            ((), ros.env, "a node /rlff_comau_controller is already running"),
+            ((), elsewhere, "/rlff_comau_controller already serves the action of "
+                            "/comau_controller/follow_joint_trajectory/status")):
+        result = ros.rlff("robot", "serve", *args, timeout=60, env=env)
         assert result.returncode == 2, result.stderr
         assert result.stderr.count("\n") == 1 and message in result.stderr
     # the first server still serves: its node answers and a goal still moves the arm
