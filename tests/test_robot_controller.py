@@ -10,11 +10,19 @@ the one allowance, DISCRETISATION, is the motion check's relative slack for roun
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from rlff.errors import InputError
 from rlff.robot import RobotMapping, load_robot
-from rlff.robot.controller import GoalRejected, ResultCode, TrajectoryController, check_rate
+from rlff.robot.controller import (
+    GoalRejected,
+    ResultCode,
+    TrajectoryController,
+    check_rate,
+    release_time,
+)
+from rlff.robot.plan import load_for_robot
 from rlff.trajectory.check import LIMIT_SLACK
 from rlff.trajectory.joint import JointTrajectory
 
@@ -182,6 +190,24 @@ def test_a_cancel_during_a_brake_is_ignored_and_a_goal_takes_the_brake_over(cont
     _, ended = controller.submit("h", _goal([0.1], target), now=0.65)
     assert [(o.goal, o.status) for o in ended] == [("g", "cancelled")]
     assert ended[0].text.endswith("the brake was taken over by a newer goal")
+
+
+def test_the_release_of_a_planned_throw_survives_the_goal_and_its_approach(controller, tmp_path):
+    here = controller.state(0.0).positions
+    path = tmp_path / "throw.csv"
+    mapping = RobotMapping.for_robot(ROBOT)
+    q = np.linspace(-0.8, 1.6, 30)
+    speed = 0.2 + 2.0 * np.sin(np.linspace(0, np.pi, 30))
+    pd.DataFrame({"angle": (q - mapping.angle_offset) / mapping.angle_scale,
+                  "velocity": speed / mapping.velocity_scale}).to_csv(path, index=False)
+    planned = load_for_robot(path, ROBOT, 0.01, start=here)[1].trajectory
+    assert planned.release_time is not None
+    # what a FollowJointTrajectory goal carries: the points, no release; here starting 0.5 s later
+    sent = JointTrajectory(NAMES, planned.time + 0.5, planned.positions, planned.velocities,
+                           planned.accelerations)
+    executed, _ = controller.submit("g", sent, now=0.0)
+    assert executed.release_time == pytest.approx(planned.release_time, abs=1e-9)  # no approach needed
+    assert release_time(_goal([0.0, 1.0], [here, here])) is None  # a goal that never moves has none
 
 
 @pytest.mark.parametrize(("goal", "code", "message"), [
