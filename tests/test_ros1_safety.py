@@ -108,17 +108,17 @@ def test_cancel_brakes_within_the_limits(ros, tmp_path):
 
 
 def test_a_preempted_throw_hands_over_without_a_step(ros, tmp_path):
-    slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.6)
+    slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.2)  # several seconds: still running when preempted
     quick = throw_csv(tmp_path, "quick.csv", 0.3, -0.3, 1.0)
     recorder = ros.record(tmp_path / "states.csv")
     first = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow), "--json"], env=ros.env,
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
-    def fast() -> bool:
+    def moving() -> bool:
         stamps, positions = states(tmp_path / "states.csv")
-        return len(stamps) > 3 and np.abs(np.diff(positions[-3:, DRIVEN])).max() / 0.01 > 1.0
+        return len(stamps) > 3 and np.abs(np.diff(positions[-3:, DRIVEN])).max() / 0.01 > 0.2
 
-    wait(fast, 120, "the first throw to move the arm fast")
+    wait(moving, 120, "the first throw to move the arm")
     second = ros.rlff("robot", "send", str(quick), "--json", "--timeout", "60")
     out, _ = first.communicate(timeout=60)
     time.sleep(0.3)
@@ -154,16 +154,16 @@ def test_serve_checks_its_options_and_never_replaces_a_running_server(ros, tmp_p
 
 
 def test_ctrl_c_of_send_brakes_and_the_client_waits_for_rest(ros, tmp_path):
-    slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.6)
+    slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.2)  # several seconds: still running at the Ctrl-C
     recorder = ros.record(tmp_path / "states.csv")
     sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow)], env=ros.env,
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
-    def fast() -> bool:
+    def moving() -> bool:
         stamps, positions = states(tmp_path / "states.csv")
-        return len(stamps) > 3 and np.abs(np.diff(positions[-3:, DRIVEN])).max() / 0.01 > 1.0
+        return len(stamps) > 3 and np.abs(np.diff(positions[-3:, DRIVEN])).max() / 0.01 > 0.2
 
-    wait(fast, 120, "the throw to move the arm fast")
+    wait(moving, 120, "the throw to move the arm")
     sender.send_signal(signal.SIGINT)
     _, err = sender.communicate(timeout=60)
     exited = time.time()
@@ -173,7 +173,7 @@ def test_ctrl_c_of_send_brakes_and_the_client_waits_for_rest(ros, tmp_path):
     _within_limits(tmp_path / "states.csv")
     stamps, positions = states(tmp_path / "states.csv")
     assert np.ptp(positions[stamps > exited], axis=0).max() == 0.0  # at rest once the client is gone
-    assert "braked to rest from" in ros.log()
+    assert "braked to rest from" in ros.log().split("cancelled: braking to rest")[-1]
 
 
 def test_goals_of_other_joints_or_beyond_the_limits_are_rejected_with_their_codes(ros, tmp_path):
