@@ -142,7 +142,7 @@ def test_cancel_brakes_within_the_limits_and_reports_once_at_rest(controller):
     assert moving[58] > 1.5  # it was moving fast when cancelled
     [outcome] = outcomes
     assert (outcome.goal, outcome.status) == ("g", "cancelled")
-    assert "cancelled at 0.600 s; braked to rest from" in outcome.text
+    assert "cancelled after 0.600 s of 1.600 s; braked to rest from" in outcome.text
     braked = float(outcome.text.split(" in ")[-1].removesuffix(" s"))
     assert 0.1 < braked < 1.0
     after = times > 0.6 + braked + TICK

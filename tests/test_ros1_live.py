@@ -116,7 +116,7 @@ def test_timeout_cancels_the_goal_and_the_arm_brakes(ros, tmp_path):
     assert result.returncode == 1, result.stderr
     outcome = json.loads(result.stdout)
     assert outcome["status"] == "timed out" and outcome["duration"] == pytest.approx(sent.duration)
-    assert "goal timed out: timed out; goal cancelled; cancelled at" in result.stderr
+    assert "goal timed out: timed out; goal cancelled; cancelled after" in result.stderr
     assert brakes() == before + 1  # the server braked the arm to rest
 
 

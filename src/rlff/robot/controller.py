@@ -293,20 +293,21 @@ class TrajectoryController:
             return []
         state = self.arm.state(now)
         if np.all(np.abs(state.velocities) <= AT_REST) and np.all(np.abs(state.accelerations) <= AT_REST):
-            return self._end("cancelled", f"cancelled at {now:.3f} s; the arm was at rest")
+            return self._end("cancelled", f"cancelled after {state.elapsed:.3f} s of "
+                                          f"{motion.trajectory.duration:.3f} s; the arm was at rest")
         peak = float(np.max(np.abs(state.velocities)))
+        when = f"cancelled after {state.elapsed:.3f} s of {motion.trajectory.duration:.3f} s"
         try:
             brake = plan_stop(state.positions, state.velocities, state.accelerations, self.joints,
                               period=self.period)
             check_trajectory(brake, self.joints, start=state.positions, start_velocity=state.velocities)
         except InputError as exc:  # no room to brake: the goal's own checked motion stops in time
             self._motion = _Motion(goal, motion.trajectory, braking=(
-                f"cancelled at {now:.3f} s at {peak:.4g} rad/s, too fast to brake before a limit ({exc}); "
-                "the goal ran to its end"))
+                f"{when} at {peak:.4g} rad/s, too fast to brake before a limit ({exc}); the goal ran to its end"))
             return []
         self.arm.follow(brake, now)
         self._motion = _Motion(goal, motion.trajectory, braking=(
-            f"cancelled at {now:.3f} s; braked to rest from {peak:.4g} rad/s in {brake.duration:.3f} s"))
+            f"{when}; braked to rest from {peak:.4g} rad/s in {brake.duration:.3f} s"))
         return []
 
     def update(self, now: float) -> tuple[ArmState, list[Outcome]]:
