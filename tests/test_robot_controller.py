@@ -32,6 +32,7 @@ ROBOT = load_robot()
 NAMES = ROBOT.joint_names
 VMAX = np.array([ROBOT.joint(n).max_velocity for n in NAMES])
 AMAX = np.array([ROBOT.joint(n).max_acceleration for n in NAMES])
+JMAX = np.array([ROBOT.joint(n).max_jerk for n in NAMES])
 DRIVEN = 1  # joint_2
 
 
@@ -149,6 +150,23 @@ def test_cancel_brakes_within_the_limits_and_reports_once_at_rest(controller):
     assert np.ptp(positions[after], axis=0).max() == 0.0  # standing still, short of the end
     assert positions[-1, DRIVEN] < executed.positions[-1, DRIVEN] - 0.2
     assert controller.active_goal is None
+
+
+def test_the_brake_is_jerk_limited(controller):
+    here = controller.state(0.0).positions
+    controller.submit("g", _swing(here, 2.0, 1.6), now=0.0)
+    _run(controller, 0.0, 0.6)
+    controller.cancel("g", 0.6)
+    # the arm's own jerk, from its accelerations every ms while it brakes
+    accelerations, outcomes = [], []
+    for now in 0.6 + 0.001 * np.arange(1, 1001):
+        state, ended = controller.update(now)
+        accelerations.append(state.accelerations)
+        outcomes += ended
+    assert [outcome.status for outcome in outcomes] == ["cancelled"]
+    jerk = np.abs(np.diff(accelerations, axis=0)) / 0.001
+    assert jerk[:, DRIVEN].max() > 0.9 * JMAX[DRIVEN]  # braking hard
+    assert np.all(jerk.max(axis=0) <= JMAX * DISCRETISATION)
 
 
 def test_a_newer_goal_preempts_from_the_moving_arm(controller):
