@@ -1,6 +1,6 @@
 """Motion planning of generated throws: limits, rest, release, landing and planning time.
 
-Run: ``.venv/bin/python benchmarks/motion.py [--seed S] [--distances N]``. Two sources of
+Run: ``.venv/bin/python benchmarks/motion.py [--seed S] [--distances N] [--repeats R]``. Two sources of
 demonstrations, each through the documented chain with default options (thesis preprocessing
 preset, ``fit`` with K by BIC, ``generate`` with its defaults: continuity on, the grid ending at
 the typical release):
@@ -16,7 +16,7 @@ measured side by side on the same throws:
 - ``previous path``: the code path before the planner, the mapped points resampled at 2 ms
   (cubic Hermite), which exports wrote until issue 12;
 - ``toppra``: toppra's time-optimal parametrisation of the same mapped path under the same
-  velocity and acceleration limits, release velocity kept (``sd_end`` = 1 with the path
+  velocity and acceleration limits (the planner's 99 %), release velocity kept (``sd_end`` = 1 with the path
   parametrised by the model's own time), constant-acceleration parametrizer; it keeps the
   model's path but neither limits jerk nor brakes after the release.
 
@@ -32,6 +32,8 @@ median planning time <= 5 ms.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import statistics
 import tempfile
 import time
@@ -52,7 +54,7 @@ from rlff.sim.arm import Arm
 from rlff.sim.reach import PLANE_JOINTS
 from rlff.trajectory.check import violation_counts
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.planner import plan_throw
+from rlff.trajectory.planner import MARGIN, plan_throw
 from rlff.trajectory.resample import resample
 
 MSR = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "msr-action3d-throws"
@@ -61,9 +63,12 @@ TARGET_MS = 5.0
 
 
 def _run(*args: str) -> None:
-    code = rlff_main(list(args))
+    """``rlff ARGS`` in this process, its tables and notes kept off the benchmark's output."""
+    captured = io.StringIO()
+    with contextlib.redirect_stdout(captured), contextlib.redirect_stderr(captured):
+        code = rlff_main(list(args))
     if code != 0:
-        raise SystemExit(f"rlff {' '.join(args)} failed with exit code {code}")
+        raise SystemExit(f"rlff {' '.join(args)} failed with exit code {code}:\n{captured.getvalue()}")
 
 
 def fitted_model(folder: Path, source: str, seed: int) -> Model:
@@ -107,7 +112,7 @@ def toppra_peer(points: JointTrajectory, joints) -> tuple[JointTrajectory | None
     import toppra.constraint
 
     toppra.setup_logging("ERROR")
-    limits = np.array([[j.max_velocity, j.max_acceleration] for j in joints])
+    limits = MARGIN * np.array([[j.max_velocity, j.max_acceleration] for j in joints])  # as the planner
     start = time.perf_counter()
     path = toppra.SplineInterpolator(points.time, points.positions,
                                      bc_type=((1, points.velocities[0]), (1, points.velocities[-1])))
@@ -149,7 +154,17 @@ def read_back(fmt: str, path: Path, mapping: RobotMapping) -> tuple[JointTraject
     return traj, float(np.max(np.abs(traj.velocities[-1])))
 
 
-def measure(model: Model, distances: np.ndarray, folder: Path) -> dict[str, list]:
+def best_of(repeats: int, call):
+    """``call()``'s result and its best wall time (ms) over ``repeats`` runs: the machine is shared."""
+    best, result = np.inf, None
+    for _ in range(repeats):
+        start = time.perf_counter()
+        result = call()
+        best = min(best, (time.perf_counter() - start) * 1000)
+    return result, best
+
+
+def measure(model: Model, distances: np.ndarray, folder: Path, repeats: int) -> dict[str, list]:
     robot = load_robot()
     mapping = RobotMapping.for_robot(robot)
     driven = robot.index(mapping.joint)
@@ -162,17 +177,15 @@ def measure(model: Model, distances: np.ndarray, folder: Path) -> dict[str, list
     for number, distance in enumerate(distances):
         path = model.generate({"distance": float(distance)}, exploration="auto", exploration_scale=1.0,
                               continuity=True)
-        start = time.perf_counter()
         try:
-            result = plan(mapping, path.angle, path.velocity, path.time, period=PERIOD)
+            result, elapsed = best_of(repeats, lambda p=path: plan(mapping, p.angle, p.velocity, p.time,
+                                                                   period=PERIOD))
         except InputError as exc:  # refused, as `rlff robot export` would: counted, not exported
             rows["refused"].append(f"{distance:.2f} m: {exc}")
             continue
-        rows["pipeline_ms"].append((time.perf_counter() - start) * 1000)
+        rows["pipeline_ms"].append(elapsed)
         points = result.points
-        start = time.perf_counter()
-        plan_throw(points, robot.joints, period=PERIOD)
-        rows["plan_ms"].append((time.perf_counter() - start) * 1000)
+        rows["plan_ms"].append(best_of(repeats, lambda p=points: plan_throw(p, robot.joints, period=PERIOD))[1])
         planned = result.trajectory
         counts = violation_counts(planned, robot.joints)
         rows["violations"].append(sum(counts.values()))
@@ -197,7 +210,7 @@ def measure(model: Model, distances: np.ndarray, folder: Path) -> dict[str, list
         rows["previous_violations"].append(sum(violation_counts(previous, robot.joints).values()))
         rows["previous_last"].append(float(np.max(np.abs(previous.velocities[-1]))))
         rows["previous_jerk"].append(peak_jerk(previous, driven))
-        peer, elapsed = toppra_peer(points, robot.joints)
+        peer, elapsed = min((toppra_peer(points, robot.joints) for _ in range(repeats)), key=lambda run: run[1])
         rows["toppra_ms"].append(elapsed)
         rows["toppra_failed"].append(peer is None)
         if peer is not None:
@@ -237,7 +250,7 @@ def report(name: str, distances: np.ndarray, rows: dict[str, list]) -> None:
     print(f"{'MuJoCo landing, planned vs unplanned, max (cm)':<44}{max(rows['landing_change']):>14.2f}")
     print(f"{'MuJoCo landing vs the model release, max (cm)':<44}{max(rows['planned_vs_ideal']):>14.2f}"
           f"{max(rows['unplanned_vs_ideal']):>15.2f}")
-    print(f"{'planning time, median (ms)':<44}{median(rows['plan_ms']):>14.2f}{'':>15}"
+    print(f"{'planning time, best of R, median (ms)':<44}{median(rows['plan_ms']):>14.2f}{'':>15}"
           f"{median(toppra_ok) if toppra_ok else float('nan'):>10.2f}")
     print(f"{'  with mapping and check, median (ms)':<44}{median(rows['pipeline_ms']):>14.2f}")
     if toppra_ok:
@@ -245,18 +258,21 @@ def report(name: str, distances: np.ndarray, rows: dict[str, list]) -> None:
     if any(rows["toppra_failed"]):
         print(f"toppra found no parametrisation for {sum(rows['toppra_failed'])} throws (release unreachable)")
     print(f"planned duration (approach + throw + braking): median {median(rows['duration']):.3f} s")
-    ok = (sum(rows["violations"]) + sum(rows["export_violations"]) == 0
-          and max(rows["last_speed"] + rows["export_last"]) == 0
-          and max(rows["position_error"]) <= 1 and max(rows["speed_error"]) <= 1
-          and max(rows["landing_change"]) <= 2 and median(rows["plan_ms"]) <= TARGET_MS)
-    print(f"targets (0 violations, at rest, release within 1 %, landing within 2 cm, median <= {TARGET_MS:g} ms): "
-          f"{'met' if ok else 'MISSED'}")
+    verdicts = {
+        "0 violations": sum(rows["violations"]) + sum(rows["export_violations"]) == 0,
+        "ends at rest": max(rows["last_speed"] + rows["export_last"]) == 0,
+        "release within 1 %": max(rows["position_error"] + rows["speed_error"]) <= 1,
+        "landing within 2 cm of the unplanned throw's": max(rows["landing_change"]) <= 2,
+        f"median planning <= {TARGET_MS:g} ms": median(rows["plan_ms"]) <= TARGET_MS,
+    }
+    print("targets: " + "; ".join(f"{name} {'met' if ok else 'MISSED'}" for name, ok in verdicts.items()))
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seed", type=int, default=7, help="Seed of the simulated people.")
     parser.add_argument("--distances", type=int, default=10, help="Basket distances per source.")
+    parser.add_argument("--repeats", type=int, default=3, help="Timings per throw (the best counts).")
     args = parser.parse_args()
     sources = [("synth", f"simulated people (data synth throws --seed {args.seed})")]
     if MSR.is_dir():
@@ -269,7 +285,7 @@ def main() -> None:
             model = fitted_model(folder, source, args.seed)
             distances, note = executable_distances(model, args.distances)
             (folder / source).mkdir()
-            report(f"{name}; {note}", distances, measure(model, distances, folder / source))
+            report(f"{name}; {note}", distances, measure(model, distances, folder / source, args.repeats))
 
 
 if __name__ == "__main__":

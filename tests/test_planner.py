@@ -11,7 +11,7 @@ from rlff.robot.description import Joint, load_robot
 from rlff.robot.mapping import RobotMapping
 from rlff.trajectory.check import MotionLimitError, check_trajectory
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.planner import plan_stop, plan_throw, plan_transition
+from rlff.trajectory.planner import MARGIN, plan_stop, plan_throw, plan_transition
 
 ROBOT = load_robot()
 MAPPING = RobotMapping.for_robot(ROBOT)
@@ -138,3 +138,25 @@ def test_planned_throws_pass_the_check(first, travel, speed, start, period):
     np.testing.assert_allclose(planned.velocities[release], throw.velocities[-1], atol=1e-9)
     np.testing.assert_allclose(planned.positions[release], throw.positions[-1], atol=1e-9)
     assert finite_jerk(planned)[1] <= J2.max_jerk * (1 + 1e-6)
+
+
+@pytest.mark.parametrize(("first", "release", "speed"), [(-1.3, -0.3, 2.25), (-1.0, 0.4, 1.0), (0.2, -0.6, 2.7)])
+def test_the_throw_is_no_faster_than_toppras_time_optimum_and_jerk_costs_little(first, release, speed):
+    """Cross-check with toppra: the time-optimal motion along the same path from rest to the same
+    release, under the same velocity and acceleration limits but no jerk limit, is a lower bound
+    of the planned throw's duration; the jerk limit adds at most max_acceleration / max_jerk."""
+    import toppra
+    import toppra.algorithm
+    import toppra.constraint
+
+    toppra.setup_logging("ERROR")
+    planned = plan_throw(mapped_throw(first, release, speed), ROBOT.joints)
+    throw_duration = planned.release_time  # no approach: the arm starts at the throw's first pose
+    acceleration = MARGIN * J2.max_acceleration
+    path = toppra.SplineInterpolator([0.0, 1.0], [[first], [release]])
+    constraints = [toppra.constraint.JointVelocityConstraint(np.array([[-speed, speed]])),
+                   toppra.constraint.JointAccelerationConstraint(np.array([[-acceleration, acceleration]]))]
+    optimum = toppra.algorithm.TOPPRA(constraints, path, gridpoints=np.linspace(0.0, 1.0, 801),
+                                      parametrizer="ParametrizeConstAccel")
+    bound = optimum.compute_trajectory(0.0, speed / abs(release - first)).duration
+    assert bound - 0.002 <= throw_duration <= bound + J2.max_acceleration / J2.max_jerk + 0.002
