@@ -25,7 +25,7 @@ from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectory as TrajectoryMsg
 
 from rlff.errors import InputError
-from rlff.robot.controller import START_VELOCITY_TOLERANCE
+from rlff.robot.controller import START_VELOCITY_TOLERANCE, ResultCode
 from rlff.robot.description import Robot
 from rlff.robot.goal import InvalidJoints, check_goal
 from rlff.robot.ros1.convert import to_msg
@@ -42,9 +42,7 @@ APPROACH_LEAD = 0.1
 #: Seconds to wait for the server to acknowledge a cancel (it answers once the arm has braked).
 CANCEL_WAIT = 10.0
 
-_ERROR_NAMES = {getattr(FollowJointTrajectoryResult, name): name for name in (
-    "SUCCESSFUL", "INVALID_GOAL", "INVALID_JOINTS", "OLD_HEADER_TIMESTAMP", "PATH_TOLERANCE_VIOLATED",
-    "GOAL_TOLERANCE_VIOLATED")}
+_ERROR_NAMES = {code.value: code.name for code in ResultCode}
 # PREEMPTED is a goal cancelled while it ran: by us ("cancelled") or by a newer goal ("preempted")
 _STATES = {GoalStatus.SUCCEEDED: "succeeded", GoalStatus.REJECTED: "rejected", GoalStatus.ABORTED: "aborted",
            GoalStatus.PREEMPTED: "preempted", GoalStatus.RECALLED: "cancelled", GoalStatus.LOST: "lost"}
