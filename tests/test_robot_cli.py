@@ -182,15 +182,21 @@ def test_a_generated_path_whose_time_disagrees_is_refused(capsys, tmp_path, edit
 def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):
     other = tmp_path / "other.bag"
     other.write_bytes(b"#ROSBAG V2.0\n\x00\x01")
+    program = tmp_path / "throw.txt"
+    program.write_text('coord_type = "-j"\n')
     folder = tmp_path / "bag2"
     folder.mkdir()
-    for command in (("robot", "export", str(other), "-f", "json", "-o", str(tmp_path / "o.json")),
-                    ("robot", "send", str(other))):
+    for command, message in (
+            (("robot", "export", str(other), "-f", "json", "-o", str(tmp_path / "o.json")),
+             "other.bag: neither a generated path"),
+            (("robot", "export", str(folder), "-f", "json", "-o", str(tmp_path / "o.json")),
+             "bag2 is a folder (a ROS 2 bag?)"),
+            (("robot", "send", str(other)), "other.bag: not a readable bag"),  # send reads bags
+            (("robot", "send", str(folder)), "bag2: a folder, but not a ROS 2 bag (no metadata.yaml)"),
+            (("robot", "send", str(program)), "throw.txt: a Comau program, which runs on the Comau controller")):
         code, _, err = run(capsys, *command)
-        assert code == 2 and "other.bag: neither a generated path" in err
+        assert code == 2 and message in err
         assert len(err.strip().splitlines()) == 1
-        code, _, err = run(capsys, *(str(folder) if arg == str(other) else arg for arg in command))
-        assert code == 2 and "bag2 is a folder (a ROS 2 bag?)" in err and len(err.strip().splitlines()) == 1
 
 
 @pytest.mark.parametrize(
