@@ -11,16 +11,27 @@ crash the file holds every finished attempt and at most one partial last line. R
 that partial line (no newline at the end, or not valid JSON), drops it and reports it; a bad
 line anywhere else means the file was damaged or edited and is an error naming the line.
 A run resumes from the log only if the log's header describes the same run (basket, feedback,
-update, seed, demonstrations); otherwise the mismatch is an error, never silently mixed.
+update, seed, demonstrations, the robot's digest); otherwise the mismatch is an error naming the
+first field that differs, never silently mixed.
+
+One run at a time: opening a log takes an exclusive lock on ``<log>.lock`` (``flock`` through
+filelock's :func:`filelock.lock_descriptor`, released by the kernel if the run dies) and writes
+the holder's pid, host and start time into it; a second run on the same log is refused with
+that holder named. The lock file is left in place (deleting it would let two runs lock two
+different files of one name) and emptied on release.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import socket
+import time as clock
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+from filelock import lock_descriptor, unlock_descriptor
 
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
@@ -45,11 +56,16 @@ class LogContents:
     dropped_partial_line: bool
 
 
+class LogInUse(InputError):
+    """Another run holds the attempts log."""
+
+
 class AttemptLog:
-    """An append-only, crash-safe attempts log bound to one run.
+    """An append-only, crash-safe attempts log bound to one run, held by one run at a time.
 
     Opening an existing file resumes it: the header must describe ``run`` exactly, complete
-    attempts are loaded into :attr:`contents`, a partial last line is cut off the file.
+    attempts are loaded into :attr:`contents`, a partial last line is cut off the file. The log
+    stays locked until :meth:`close` (or the end of a ``with`` block).
 
     Parameters
     ----------
@@ -60,6 +76,8 @@ class AttemptLog:
 
     Raises
     ------
+    LogInUse
+        Another run holds the log (the message names its pid and host).
     InputError
         The file is not an attempts log, belongs to another run, or is damaged before its last
         line.
@@ -68,12 +86,50 @@ class AttemptLog:
     def __init__(self, path: str | Path, run: dict[str, Any]):
         self.path = Path(path)
         self.run = json.loads(json.dumps(run))  # normalised as it will read back
-        if self.path.exists() and self.path.stat().st_size > 0:
-            self.contents = self._resume()
-        else:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._append({"format": FORMAT, "version": VERSION, "run": self.run})
-            self.contents = LogContents([], False)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._lock = self._acquire()
+        try:
+            if self.path.exists() and self.path.stat().st_size > 0:
+                self.contents = self._resume()
+            else:
+                self._append({"format": FORMAT, "version": VERSION, "run": self.run})
+                self.contents = LogContents([], False)
+        except BaseException:
+            self.close()
+            raise
+
+    @property
+    def lock_path(self) -> Path:
+        """The lock file beside the log: ``<log>.lock``."""
+        return self.path.with_name(self.path.name + ".lock")
+
+    def close(self) -> None:
+        """Release the log for other runs (idempotent)."""
+        if self._lock is None:
+            return
+        os.ftruncate(self._lock, 0)
+        unlock_descriptor(self._lock)
+        os.close(self._lock)
+        self._lock = None
+
+    def __enter__(self) -> AttemptLog:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _acquire(self) -> int:
+        """Lock ``<log>.lock`` without waiting and write the holder into it; the descriptor."""
+        fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o644)
+        if not lock_descriptor(fd, blocking=False):
+            holder = os.pread(fd, 4096, 0).decode("utf-8", errors="replace").strip() or "another run"
+            os.close(fd)
+            raise LogInUse(f"{self.path} is in use by {holder} (lock file {self.lock_path}); wait for "
+                           "that run to end, or use another --log file")
+        os.ftruncate(fd, 0)
+        started = clock.strftime("%Y-%m-%d %H:%M:%S", clock.localtime())
+        os.pwrite(fd, f"rlff learn, pid {os.getpid()} on host {socket.gethostname()}, since {started}\n".encode(), 0)
+        return fd
 
     def append(self, attempt: Attempt) -> None:
         """Write one attempt as a line and make it durable (flush + fsync) before returning."""
@@ -143,12 +199,28 @@ class AttemptLog:
         logged = header.get("run")
         if not isinstance(logged, dict):
             raise InputError(f"{self.path}, line 1: corrupt attempts log (no run description)")
-        for key in sorted(set(logged) | set(self.run)):
-            if logged.get(key) != self.run.get(key):
-                raise InputError(
-                    f"{self.path}: the log belongs to another run ({key} = {logged.get(key)!r} in the "
-                    f"log, {self.run.get(key)!r} now); use another --log file"
-                )
+        difference = first_difference(logged, self.run)
+        if difference is not None:
+            key, before, now = difference
+            raise InputError(
+                f"{self.path}: the log belongs to another run ({key} = {before!r} in the log, {now!r} "
+                "now); use another --log file"
+            )
+
+
+def first_difference(logged: Any, now: Any, where: str = "") -> tuple[str, Any, Any] | None:
+    """The first leaf that differs between two JSON values, as (dotted key, logged, now), or None.
+
+    Nested objects are compared key by key (in sorted order), so a changed robot description is
+    reported as e.g. ``robot.throwing.angle_scale`` rather than as two whole descriptions.
+    """
+    if isinstance(logged, dict) and isinstance(now, dict):
+        for key in sorted(set(logged) | set(now)):
+            found = first_difference(logged.get(key), now.get(key), f"{where}.{key}" if where else key)
+            if found is not None:
+                return found
+        return None
+    return None if logged == now else (where, logged, now)
 
 
 def _parse(line: bytes) -> dict[str, Any] | None:

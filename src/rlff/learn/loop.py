@@ -1,7 +1,8 @@
 """The closed learning-from-failure loop (thesis 1.1.2 and chapter 5's open last step).
 
 fit -> generate the DMM's throw for the basket distance -> map it to the robot -> execute ->
-record the attempt -> update -> repeat, until a hit or the budget is spent.
+record the attempt -> update -> repeat, until a hit (or, with ``until="centred"``, a hit near the
+basket's centre) or the budget is spent.
 
 The loop works on what the robot does. The demonstrations are checked against the robot
 through the human-to-robot mapping before anything runs; every proposed throw is mapped to the
@@ -15,6 +16,7 @@ the last recorded attempt, exactly as the uninterrupted run would have.
 from __future__ import annotations
 
 import hashlib
+import json
 import math
 import time as clock
 from collections.abc import Callable
@@ -44,6 +46,10 @@ MIN_POINTS = 30
 MAX_SAMPLES = 600
 #: Every method the loop can run, by name: update strategies first, then baselines.
 METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
+#: When a run stops: at the first hit, or at the first hit within the centre share of the opening.
+UNTILS = ("hit", "centred")
+#: Default share of the opening (centre to rim) a centred hit lands within.
+CENTRE_SHARE = 0.5
 
 
 class Outcome(Protocol):
@@ -69,7 +75,8 @@ class LearningResult:
     attempts : int
         Attempts made, including those resumed from the log.
     misses : list of float
-        Signed miss (m) of every attempt, negative short, 0 for the hit.
+        Signed miss (m) of every attempt: the landing's distance from the basket's centre,
+        negative short, positive long, hits included; NaN where the ball never came down.
     history : list of Attempt
     target : float
         Basket distance (m).
@@ -78,6 +85,12 @@ class LearningResult:
         Attempts taken from the log rather than executed by this call.
     dropped_partial_line : bool
         The log ended in a line cut short by a crash; it was dropped.
+    until : {"hit", "centred"}
+        The stopping rule of the run.
+    centred : bool
+        The last attempt hit within the centre share of the opening (``centre_window``).
+    centre_window : float
+        Largest ``abs(miss)`` (m) of a centred hit; ``inf`` when the run stops at any hit.
     """
 
     hit: bool
@@ -90,6 +103,19 @@ class LearningResult:
     resumed: int = 0
     dropped_partial_line: bool = False
     notes: list[str] = field(default_factory=list)
+    until: str = "hit"
+    centred: bool = False
+    centre_window: float = math.inf
+
+    @property
+    def best(self) -> Attempt | None:
+        """The throw to keep: the last hit, else the attempt that came down nearest the centre,
+        else None (no attempt, or none came down)."""
+        hits = [a for a in self.history if a.hit]
+        if hits:
+            return hits[-1]
+        landed = [a for a in self.history if math.isfinite(a.miss)]
+        return min(landed, key=lambda a: abs(a.miss)) if landed else None
 
     def to_json(self) -> dict[str, Any]:
         """The result as plain values (no trajectories)."""
@@ -97,6 +123,7 @@ class LearningResult:
             "hit": self.hit,
             "attempts": self.attempts,
             "misses": [_json_number(m) for m in self.misses],
+            "hits": [a.hit for a in self.history],
             "landings": [_json_number(a.landing) for a in self.history],
             "exploration": [a.exploration for a in self.history],
             "target": self.target,
@@ -104,6 +131,9 @@ class LearningResult:
             "update": self.update,
             "resumed": self.resumed,
             "dropped_partial_line": self.dropped_partial_line,
+            "until": self.until,
+            "centred": self.centred,
+            "centre_window": _json_number(self.centre_window),
             "notes": self.notes,
         }
 
@@ -123,6 +153,8 @@ def learn(
     pedestal: float = 0.0,
     rim_height: float = 0.3,
     opening: float = 0.35,
+    until: str = "hit",
+    centre_share: float = CENTRE_SHARE,
 ) -> LearningResult:
     """Learn to hit a basket at distance ``basket`` from (possibly failed) demonstrations.
 
@@ -154,6 +186,13 @@ def learn(
         Robot name or robot file; its ``[throwing]`` table is the mapping.
     pedestal, rim_height, opening : float
         Height of the robot's base, of the basket's rim, and the basket's inner width (m).
+    until : {"hit", "centred"}
+        Stop at the first hit, or keep refining after hits near the rim until a throw lands
+        within ``centre_share`` of the opening: ``abs(miss) <= centre_share * opening / 2``.
+        Methods are then told "hit" only for such throws (and size their steps by that
+        narrower window), so every method and both feedbacks work unchanged.
+    centre_share : float
+        In (0, 1]: the share of the half-opening a centred hit lands within.
 
     Returns
     -------
@@ -178,6 +217,10 @@ def learn(
                          f"not {feedback!r}")
     if not (isinstance(budget, int) and budget >= 1):
         raise InputError(f"budget must be a positive whole number of attempts, got {budget!r}")
+    if until not in UNTILS:
+        raise InputError(f"unknown until {until!r} (known: {', '.join(UNTILS)})")
+    if not 0 < centre_share <= 1:
+        raise InputError(f"centre share must be in (0, 1] of the half-opening, got {centre_share!r}")
     robot_model = load_robot(robot)
     mapping = RobotMapping.for_robot(robot_model)
     target = Basket(float(basket), rim_height=rim_height, opening=opening)
@@ -192,11 +235,27 @@ def learn(
         "feedback": feedback,
         "update": update,
         "seed": seed,
-        "robot": robot_model.name,
+        "robot": robot_record(mapping),
         "pedestal": pedestal,
         "demos": fingerprint(demos),
+        "until": until,
     }
+    centre_window = math.inf
+    if until == "centred":
+        centre_window = 0.5 * centre_share * target.opening
+        run["centre_share"] = centre_share
     log = AttemptLog(log_path, run) if log_path is not None else None
+    try:
+        return _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
+                    progress, until, centre_window)
+    finally:
+        if log:
+            log.close()
+
+
+def _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor, progress,
+         until, centre_window) -> LearningResult:
+    """The attempts of :func:`learn` after its checks, with the log (or None) held."""
     history = list(log.contents.attempts) if log else []
     resumed = len(history)
     for attempt in history:
@@ -207,16 +266,20 @@ def learn(
         demos=demos,
         target=target.distance,
         feedback=feedback,
-        tolerance=_hit_tolerance(target),
+        tolerance=min(_hit_tolerance(target), centre_window),
         angles=_angle_grid(demos),
         components=_components(demos, seed),
         seed=seed,
-        max_speed=robot_model.joint(mapping.joint).max_velocity / abs(mapping.velocity_scale),
+        max_speed=mapping.robot.joint(mapping.joint).max_velocity / abs(mapping.velocity_scale),
     )
-    method = method_class(problem) if not (history and history[-1].hit) else None
-    while method is not None and len(history) < budget and not (history and history[-1].hit):
+
+    def done(attempt: Attempt) -> bool:
+        return attempt.hit and abs(attempt.miss) <= centre_window
+
+    method = method_class(problem) if not (history and done(history[-1])) else None
+    while method is not None and len(history) < budget and not (history and done(history[-1])):
         start = clock.perf_counter()
-        proposal = method.propose([_as_reported(a, feedback) for a in history])
+        proposal = method.propose([_as_reported(a, feedback, centre_window) for a in history])
         attempt = _execute(proposal, len(history) + 1, target.distance, mapping, executor, start)
         if log:
             log.append(attempt)
@@ -238,6 +301,9 @@ def learn(
         resumed=resumed,
         dropped_partial_line=bool(log and log.contents.dropped_partial_line),
         notes=notes,
+        until=until,
+        centred=bool(history and done(history[-1])),
+        centre_window=centre_window,
     )
 
 
@@ -258,12 +324,33 @@ def _execute(proposal, index: int, target: float, mapping, executor: Executor, s
         time=trajectory.time / mapping.time_scale,
         hit=bool(outcome.hit),
         landing=float(outcome.landing_x),
-        miss=0.0 if outcome.hit else float(outcome.miss),
+        miss=float(outcome.miss),
         exploration=proposal.exploration,
         clipped=len(clip_report),
         seconds=clock.perf_counter() - start,
         info=proposal.info,
     )
+
+
+def robot_record(mapping) -> dict[str, Any]:
+    """What the log's header keeps of the robot: its name, a digest and the description digested.
+
+    The description is what a throw depends on: every joint's limits (all the numbers of its
+    robot-file table), the geometry and the human-to-robot mapping actually used; not where the
+    file lies. A log resumes only with the same description, and a changed one is named field by
+    field (``robot.description.mapping.angle_scale``).
+    """
+    robot = mapping.robot
+    description = {
+        "joints": {joint.name: {k: v for k, v in vars(joint).items() if k != "name"} for joint in robot.joints},
+        "geometry": vars(robot.geometry) if robot.geometry else None,
+        "mapping": {"joint": mapping.joint, "start_pose": dict(mapping.start_pose),
+                    "angle_offset": mapping.angle_offset, "angle_scale": mapping.angle_scale,
+                    "velocity_scale": mapping.velocity_scale},
+    }
+    canonical = json.dumps(description, sort_keys=True, separators=(",", ":"))
+    return {"name": robot.name, "digest": hashlib.sha256(canonical.encode()).hexdigest()[:16],
+            "description": description}
 
 
 def fingerprint(demos: Dataset) -> str:
@@ -384,11 +471,13 @@ def _forward_velocity(angle: np.ndarray, velocity: np.ndarray, crawl: float = 0.
     return direction * speed
 
 
-def _as_reported(attempt: Attempt, feedback: str) -> Attempt:
-    """The attempt as the feedback reports it: without landing and miss for binary feedback."""
+def _as_reported(attempt: Attempt, feedback: str, centre_window: float = math.inf) -> Attempt:
+    """The attempt as the feedback reports it: without landing and miss for binary feedback, and
+    a hit only within ``centre_window`` (m) of the centre (``until="centred"``)."""
+    hit = attempt.hit and abs(attempt.miss) <= centre_window
     if feedback == "distance":
-        return attempt
-    return replace(attempt, landing=math.nan, miss=math.nan)
+        return attempt if hit == attempt.hit else replace(attempt, hit=hit)
+    return replace(attempt, hit=hit, landing=math.nan, miss=math.nan)
 
 
 def _json_number(value: float) -> float | None:
