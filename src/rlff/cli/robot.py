@@ -21,6 +21,10 @@ app = typer.Typer(help="The robot: its limits, exports, and live ROS 1 (serve / 
 
 ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help="Robot file (.toml) or built-in robot name.")
 CLIP = typer.Option(False, "--clip", help="Clip values beyond the limits (and report each) instead of refusing.")
+ATTEMPT = typer.Option(None, "--attempt", min=1,
+                       help="With an attempts log (rlff learn --log): the attempt to use; default its last hit.")
+INPUT_HELP = ("Generated trajectory CSV (angle, velocity[, time], ...), a robot trajectory (JSON/CSV of "
+              "`robot export`, e.g. `rlff learn --out`), or an attempts log (with --attempt).")
 JSON = typer.Option(False, "--json", help="Print a machine-readable result on stdout.")
 
 
@@ -63,19 +67,25 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
 
 @app.command()
 def export(
-    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...)."),
+    trajectory: Path = typer.Argument(..., help=INPUT_HELP),
     fmt: str = typer.Option(..., "--format", "-f", help=f"One of: {', '.join(FORMATS)}."),
     out: Path = typer.Option(..., "--out", "-o", help="Output file (a folder for ros2-bag)."),
     robot: str = ROBOT,
     clip: bool = CLIP,
+    attempt: int = ATTEMPT,
     period: float = typer.Option(0.002, "--period", help="Controller period (s) to resample at; 0 keeps the points."),
     json: bool = JSON,
 ) -> None:
     """Map a generated trajectory to the robot and write it as JSON, CSV, a ROS bag or a Comau program."""
+    from rlff.learn.replay import load_input
+    from rlff.robot.description import load_robot
     from rlff.robot.formats import export_trajectory
-    from rlff.robot.plan import plan_file
+    from rlff.robot.mapping import RobotMapping
 
-    result, mapping = plan_file(trajectory, robot, period, clip)
+    mapping = RobotMapping.for_robot(load_robot(robot))
+    source = load_input(trajectory, mapping.robot, attempt=attempt, period=period, clip=clip)
+    say(f"{trajectory}: {source.kind}")
+    result = source.plan
     export_trajectory(result.trajectory, mapping, fmt, out)
     _report(result)
     if json:
@@ -145,8 +155,9 @@ def _mujoco_throw(model, basket: float):
 
 @app.command()
 def send(
-    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...)."),
+    trajectory: Path = typer.Argument(..., help=INPUT_HELP),
     robot: str = ROBOT,
+    attempt: int = ATTEMPT,
     timeout: float = typer.Option(None, "--timeout", help="Seconds for everything; then the goal is cancelled."),
     topic_mode: bool = typer.Option(False, "--topic-mode", help="Publish on /comau/joint_trajectory instead of the action."),
     clip: bool = CLIP,
@@ -154,9 +165,14 @@ def send(
     json: bool = JSON,
 ) -> None:
     """Send a generated trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels)."""
-    from rlff.robot.plan import plan_file
+    from rlff.learn.replay import load_input
+    from rlff.robot.description import load_robot
+    from rlff.robot.mapping import RobotMapping
 
-    result, mapping = plan_file(trajectory, robot, period, clip)
+    mapping = RobotMapping.for_robot(load_robot(robot))
+    source = load_input(trajectory, mapping.robot, attempt=attempt, period=period, clip=clip)
+    say(f"{trajectory}: {source.kind}")
+    result = source.plan
     _report(result)
     _require_ros()
     from rlff.robot.ros1.client import publish_trajectory, send_goal

@@ -23,18 +23,22 @@ different files of one name) and emptied on release.
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import socket
 import time as clock
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from filelock import lock_descriptor, unlock_descriptor
 
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
+
+if TYPE_CHECKING:
+    from rlff.robot.mapping import RobotMapping
 
 FORMAT = "rlff-attempts"
 VERSION = 1
@@ -144,40 +148,9 @@ class AttemptLog:
 
     def _resume(self) -> LogContents:
         raw = self.path.read_bytes()
-        lines = raw.split(b"\n")
-        # A complete file ends with a newline, so the final element is empty. Anything else is a
-        # last write cut short: kept if it still parses (only its newline is missing), else dropped.
-        tail = lines.pop()
-        dropped = False
-        if tail:
-            if _parse(tail) is None:
-                dropped = True
-            else:
-                lines.append(tail)
-        records: list[dict[str, Any]] = []
-        for number, line in enumerate(lines, start=1):
-            record = _parse(line)
-            if record is None:
-                if number == len(lines) and not dropped:
-                    dropped = True  # garbled last line: the crash hit the final write
-                    break
-                raise InputError(f"{self.path}, line {number}: corrupt attempts log (not a JSON object)")
-            records.append(record)
-        if not records:
-            raise InputError(f"{self.path}: corrupt attempts log (no complete header line)")
+        lines, records, dropped = _records(self.path, raw)
         self._check_header(records[0])
-        attempts = []
-        for number, record in enumerate(records[1:], start=2):
-            try:
-                attempt = Attempt.from_json(record)
-            except (KeyError, TypeError, ValueError) as exc:
-                raise InputError(f"{self.path}, line {number}: corrupt attempt record ({exc})") from None
-            if attempt.index != len(attempts) + 1:
-                raise InputError(
-                    f"{self.path}, line {number}: attempt {attempt.index} out of order "
-                    f"(expected {len(attempts) + 1})"
-                )
-            attempts.append(attempt)
+        attempts = _attempts(self.path, records)
         good = b"".join(line + b"\n" for line in lines[: len(records)])
         if good != raw:
             # Either cut the partial line (good is a prefix of raw) or add the missing newline.
@@ -192,13 +165,7 @@ class AttemptLog:
         return LogContents(attempts, dropped)
 
     def _check_header(self, header: dict[str, Any]) -> None:
-        if header.get("format") != FORMAT:
-            raise InputError(f"{self.path}, line 1: not an rlff attempts log (format {header.get('format')!r})")
-        if header.get("version") != VERSION:
-            raise InputError(f"{self.path}, line 1: unsupported attempts log version {header.get('version')!r}")
-        logged = header.get("run")
-        if not isinstance(logged, dict):
-            raise InputError(f"{self.path}, line 1: corrupt attempts log (no run description)")
+        logged = _run_of(self.path, header)
         difference = first_difference(logged, self.run)
         if difference is not None:
             key, before, now = difference
@@ -206,6 +173,109 @@ class AttemptLog:
                 f"{self.path}: the log belongs to another run ({key} = {before!r} in the log, {now!r} "
                 "now); use another --log file"
             )
+
+
+def robot_record(mapping: RobotMapping) -> dict[str, Any]:
+    """What the log's header keeps of the robot: its name, a digest and the description digested.
+
+    The description is what a throw depends on: every joint's limits (all the numbers of its
+    robot-file table), the geometry and the human-to-robot mapping actually used; not where the
+    file lies. A log resumes only with the same description, and a changed one is named field by
+    field (``robot.description.mapping.angle_scale``).
+    """
+    robot = mapping.robot
+    description = {
+        "joints": {joint.name: {k: v for k, v in vars(joint).items() if k != "name"} for joint in robot.joints},
+        "geometry": vars(robot.geometry) if robot.geometry else None,
+        "mapping": {"joint": mapping.joint, "start_pose": dict(mapping.start_pose),
+                    "angle_offset": mapping.angle_offset, "angle_scale": mapping.angle_scale,
+                    "velocity_scale": mapping.velocity_scale},
+    }
+    canonical = json.dumps(description, sort_keys=True, separators=(",", ":"))
+    return {"name": robot.name, "digest": hashlib.sha256(canonical.encode()).hexdigest()[:16],
+            "description": description}
+
+
+def read_log(path: str | Path) -> tuple[dict[str, Any], LogContents]:
+    """The run description and the attempts of a log, read without changing or locking the file.
+
+    A partial last line (a run interrupted mid-write, or one still writing) is left out.
+
+    Raises
+    ------
+    InputError
+        No such file, not an attempts log, or a damaged line before the last.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: no such attempts log")
+    _, records, dropped = _records(path, path.read_bytes())
+    return _run_of(path, records[0]), LogContents(_attempts(path, records), dropped)
+
+
+def is_attempts_log(path: str | Path) -> bool:
+    """Whether the first line of ``path`` is the header of an attempts log."""
+    try:
+        with open(path, "rb") as handle:
+            first = _parse(handle.readline().rstrip(b"\n"))
+    except OSError:
+        return False
+    return first is not None and first.get("format") == FORMAT
+
+
+def _records(path: Path, raw: bytes) -> tuple[list[bytes], list[dict[str, Any]], bool]:
+    """The lines of a log, its complete records (header first) and whether a partial last line
+    was left out."""
+    lines = raw.split(b"\n")
+    # A complete file ends with a newline, so the final element is empty. Anything else is a
+    # last write cut short: kept if it still parses (only its newline is missing), else dropped.
+    tail = lines.pop()
+    dropped = False
+    if tail:
+        if _parse(tail) is None:
+            dropped = True
+        else:
+            lines.append(tail)
+    records: list[dict[str, Any]] = []
+    for number, line in enumerate(lines, start=1):
+        record = _parse(line)
+        if record is None:
+            if number == len(lines) and not dropped:
+                dropped = True  # garbled last line: the crash hit the final write
+                break
+            raise InputError(f"{path}, line {number}: corrupt attempts log (not a JSON object)")
+        records.append(record)
+    if not records:
+        raise InputError(f"{path}: corrupt attempts log (no complete header line)")
+    return lines, records, dropped
+
+
+def _run_of(path: Path, header: dict[str, Any]) -> dict[str, Any]:
+    """The run description of a header line, checked."""
+    if header.get("format") != FORMAT:
+        raise InputError(f"{path}, line 1: not an rlff attempts log (format {header.get('format')!r})")
+    if header.get("version") != VERSION:
+        raise InputError(f"{path}, line 1: unsupported attempts log version {header.get('version')!r}")
+    run = header.get("run")
+    if not isinstance(run, dict):
+        raise InputError(f"{path}, line 1: corrupt attempts log (no run description)")
+    return run
+
+
+def _attempts(path: Path, records: list[dict[str, Any]]) -> list[Attempt]:
+    """The attempts of a log's records after the header, numbered 1, 2, ... in order."""
+    attempts = []
+    for number, record in enumerate(records[1:], start=2):
+        try:
+            attempt = Attempt.from_json(record)
+        except (KeyError, TypeError, ValueError) as exc:
+            raise InputError(f"{path}, line {number}: corrupt attempt record ({exc})") from None
+        if attempt.index != len(attempts) + 1:
+            raise InputError(
+                f"{path}, line {number}: attempt {attempt.index} out of order (expected {len(attempts) + 1})"
+            )
+        attempts.append(attempt)
+    return attempts
 
 
 def first_difference(logged: Any, now: Any, where: str = "") -> tuple[str, Any, Any] | None:

@@ -16,7 +16,6 @@ the last recorded attempt, exactly as the uninterrupted run would have.
 from __future__ import annotations
 
 import hashlib
-import json
 import math
 import time as clock
 from collections.abc import Callable
@@ -30,7 +29,7 @@ from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
 from rlff.learn.baselines import BASELINES
-from rlff.learn.log import AttemptLog
+from rlff.learn.log import AttemptLog, robot_record
 from rlff.learn.method import COLUMNS, FEEDBACKS, Method, Problem
 from rlff.learn.strategies import STRATEGIES
 from rlff.trajectory.joint import JointTrajectory
@@ -330,27 +329,6 @@ def _execute(proposal, index: int, target: float, mapping, executor: Executor, s
         seconds=clock.perf_counter() - start,
         info=proposal.info,
     )
-
-
-def robot_record(mapping) -> dict[str, Any]:
-    """What the log's header keeps of the robot: its name, a digest and the description digested.
-
-    The description is what a throw depends on: every joint's limits (all the numbers of its
-    robot-file table), the geometry and the human-to-robot mapping actually used; not where the
-    file lies. A log resumes only with the same description, and a changed one is named field by
-    field (``robot.description.mapping.angle_scale``).
-    """
-    robot = mapping.robot
-    description = {
-        "joints": {joint.name: {k: v for k, v in vars(joint).items() if k != "name"} for joint in robot.joints},
-        "geometry": vars(robot.geometry) if robot.geometry else None,
-        "mapping": {"joint": mapping.joint, "start_pose": dict(mapping.start_pose),
-                    "angle_offset": mapping.angle_offset, "angle_scale": mapping.angle_scale,
-                    "velocity_scale": mapping.velocity_scale},
-    }
-    canonical = json.dumps(description, sort_keys=True, separators=(",", ":"))
-    return {"name": robot.name, "digest": hashlib.sha256(canonical.encode()).hexdigest()[:16],
-            "description": description}
 
 
 def fingerprint(demos: Dataset) -> str:
