@@ -97,18 +97,23 @@ def reach(
 ) -> None:
     """How far the robot throws: where the ball comes down to the rim's height, at best."""
     from rlff.robot.description import load_robot
+    from rlff.robot.mapping import RobotMapping
     from rlff.sim import throw_reach
-    from rlff.sim.reach import farthest_basket
+    from rlff.sim.reach import executable_reach, farthest_basket
 
     model = load_robot(robot)
     names = [name.strip() for name in joints.split(",") if name.strip()]
     result = throw_reach(model, rim_height, pedestal, names)
     farthest = farthest_basket(result.distance, opening)
+    mapped = executable_reach(RobotMapping.for_robot(model), rim_height, pedestal) if model.throwing else None
     if json:
         emit_json({"robot": model.name, "rim_height": rim_height, "pedestal": pedestal, "joints": list(result.joints),
                    "reach": result.distance, "farthest_basket": farthest, "opening": opening,
                    "release_pose": result.pose, "joint_velocities": result.velocities,
-                   "release_position": result.position, "release_velocity": result.velocity})
+                   "release_position": result.position, "release_velocity": result.velocity,
+                   "mapped": None if mapped is None else {
+                       "joint": mapped.joint, "reach": mapped.distance, "release": mapped.release,
+                       "speed": mapped.speed, "farthest_basket": farthest_basket(mapped.distance, opening)}})
         return
     out = stdout()
     out.print(f"{model.name}, throwing with {', '.join(result.joints)} at the speed limit from a "
@@ -118,3 +123,7 @@ def reach(
     speed = float((result.velocity**2).sum() ** 0.5)
     out.print(f"best release: {pose}; ball at x = {result.position[0]:.3f} m, z = {result.position[1]:.3f} m, "
               f"{speed:.3f} m/s", highlight=False)
+    if mapped is not None:
+        out.print(f"throws of the \\[throwing] mapping ({mapped.joint} alone at {mapped.speed:.3f} rad/s, the rest at "
+                  f"the start pose): at most {mapped.distance:.3f} m, released at {mapped.release:.3f} rad; farthest "
+                  f"basket {farthest_basket(mapped.distance, opening):.3f} m", highlight=False)

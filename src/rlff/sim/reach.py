@@ -187,3 +187,84 @@ def _reach(arm: Arm, rim_height: float, pedestal: float, joints: tuple[str, ...]
         position=plane.ball,
         velocity=velocity,
     )
+
+
+@dataclass(frozen=True)
+class ExecutableReach:
+    """How far the throws a mapping executes go: the driven joint at its speed limit, released at
+    one position (or the best one), every other joint at the mapping's start pose.
+
+    Attributes
+    ----------
+    distance : float
+        Where the ball comes down through the rim's height (m from the joint 1 axis).
+    joint : str
+        The driven joint.
+    release : float
+        Its release position (rad).
+    speed : float
+        Its release speed (rad/s): the speed limit.
+    """
+
+    distance: float
+    joint: str
+    release: float
+    speed: float
+
+
+def executable_reach(mapping, rim_height: float = 0.3, pedestal: float = 0.0,
+                     release: float | None = None) -> ExecutableReach:
+    """The reach of the throws ``mapping`` (a :class:`rlff.robot.mapping.RobotMapping`) executes.
+
+    Unlike :func:`throw_reach`, which places joints 2, 3 and 5 wherever the throw goes farthest,
+    this keeps what the robot is given: only the mapping's driven joint moves, at most at its
+    speed limit (the learning loop never asks for more), the others stay at the start pose, and
+    the ball leaves at ``release`` (rad of the driven joint; the learning loop's release is fixed
+    by the demonstrations), or at the best position of the joint's range when None.
+
+    Raises
+    ------
+    InputError
+        A driven joint outside the throwing plane, or a release outside its range.
+    """
+    arm = Arm.from_robot(mapping.robot)
+    if mapping.joint not in PLANE_JOINTS:
+        raise InputError(f"the mapping drives {mapping.joint}, which does not throw in the vertical plane "
+                         f"({', '.join(PLANE_JOINTS)} do)")
+    joint = mapping.robot.joint(mapping.joint)
+    if release is not None and not joint.lower <= release <= joint.upper:
+        raise InputError(f"release position {release:g} rad is outside {joint.name}'s range "
+                         f"[{joint.lower:g}, {joint.upper:g}] rad")
+    positions = np.linspace(joint.lower, joint.upper, 2001) if release is None else np.array([float(release)])
+    pose = {name: np.full(positions.shape, mapping.start_pose.get(name, 0.0)) for name in PLANE_JOINTS}
+    pose[mapping.joint] = positions
+    plane = arm.in_plane(pose["joint_2"], pose["joint_3"], pose["joint_5"], pedestal)
+    rate = np.sign(mapping.angle_scale) * joint.max_velocity  # the direction of the mapped swing
+    velocity = plane.jacobian[..., PLANE_JOINTS.index(mapping.joint)] * rate
+    crossing = crossing_distance(plane.ball[..., 0], plane.ball[..., 1], velocity[..., 0], velocity[..., 1],
+                                 rim_height)
+    lowest = np.minimum(np.minimum(plane.elbow[..., 1], plane.wrist[..., 1]), plane.ball[..., 1])
+    crossing = np.where(np.isfinite(crossing) & (lowest > GROUND_CLEARANCE), crossing, -np.inf)
+    best = int(np.argmax(crossing))
+    return ExecutableReach(float(crossing[best]), joint.name, float(positions[best]), float(abs(rate)))
+
+
+def require_executable(basket: Basket, mapping, pedestal: float = 0.0, release: float | None = None, *,
+                       release_source: str | None = None) -> ExecutableReach:
+    """The executable reach, or :class:`InputError` if no throw the mapping executes can drop into
+    ``basket``: one line with the reach in metres and what limits it (``release_source`` says
+    where a given ``release`` comes from)."""
+    reach = executable_reach(mapping, basket.rim_height, pedestal, release)
+    farthest = farthest_basket(reach.distance, basket.opening)
+    if basket.distance <= farthest:
+        return reach
+    where = (f"released at {reach.release:.2f} rad" + (f" ({release_source})" if release_source else "")
+             if release is not None else f"released at its best position ({reach.release:.2f} rad)")
+    came_down = (f"brings the ball down to the {basket.rim_height:.2f} m rim at most {reach.distance:.2f} m away"
+                 if np.isfinite(reach.distance) else f"never brings the ball down through the {basket.rim_height:.2f} m rim")
+    raise InputError(
+        f"basket at {basket.distance:.2f} m is out of reach of the throws this robot executes: {reach.joint} "
+        f"at its {reach.speed:.2f} rad/s speed limit, {where}, the other joints at the start pose, "
+        f"{came_down}, so the farthest basket with a {basket.opening:.2f} m opening is at {farthest:.2f} m "
+        f"(pedestal {pedestal:.2f} m)"
+    )
