@@ -29,9 +29,8 @@ JSON = typer.Option(False, "--json", help="Print a machine-readable result on st
 
 
 def _report(result: RobotPlan) -> None:
-    for report in (result.clipped_points, result.clipped_samples):
-        for change in report.changes:
-            say(f"clipped: {change.describe()}")
+    for change in result.clipped_points.changes:
+        say(f"clipped: {change.describe()}")
     say(result.summary())
 
 
@@ -73,10 +72,16 @@ def export(
     robot: str = ROBOT,
     clip: bool = CLIP,
     attempt: int = ATTEMPT,
-    period: float = typer.Option(0.002, "--period", help="Controller period (s) to resample at; 0 keeps the points."),
+    period: float = typer.Option(0.002, "--period", help="Controller period (s) the planned trajectory is "
+                                                         "sampled at (> 0)."),
+    stamp_now: bool = typer.Option(False, "--stamp-now", help="Bags: header.stamp = the time of writing "
+                                                              "instead of 0 (0: the controller starts on receipt)."),
     json: bool = JSON,
 ) -> None:
-    """Map a generated trajectory to the robot and write it as JSON, CSV, a ROS bag or a Comau program."""
+    """Plan a generated throw for the robot (approach, throw, braking to rest), check it, and write it
+    as JSON, CSV, a ROS bag or a Comau program."""
+    import time as clock
+
     from rlff.learn.replay import load_input
     from rlff.robot.description import load_robot
     from rlff.robot.formats import export_trajectory
@@ -86,14 +91,15 @@ def export(
     source = load_input(trajectory, mapping.robot, attempt=attempt, period=period, clip=clip)
     say(f"{trajectory}: {source.kind}")
     result = source.plan
-    export_trajectory(result.trajectory, mapping, fmt, out)
+    export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)
     _report(result)
+    planned = result.trajectory
     if json:
-        emit_json({"out": out, "format": fmt, "points": len(result.trajectory),
-                   "duration": result.trajectory.duration,
-                   "clipped": [vars(c) for c in result.clipped_points.changes + result.clipped_samples.changes]})
+        emit_json({"out": out, "format": fmt, "points": len(planned), "duration": planned.duration,
+                   "release_time": planned.release_time,
+                   "clipped": [vars(c) for c in result.clipped_points.changes]})
     else:
-        say(f"wrote {out} ({fmt}, {len(result.trajectory)} points, {result.trajectory.duration:.3f} s)")
+        say(f"wrote {out} ({fmt}, {len(planned)} points, {planned.duration:.3f} s)")
 
 
 @app.command()
@@ -161,7 +167,7 @@ def send(
     timeout: float = typer.Option(None, "--timeout", help="Seconds for everything; then the goal is cancelled."),
     topic_mode: bool = typer.Option(False, "--topic-mode", help="Publish on /comau/joint_trajectory instead of the action."),
     clip: bool = CLIP,
-    period: float = typer.Option(0.0, "--period", help="Resample at this period (s) first; 0 sends the points."),
+    period: float = typer.Option(0.01, "--period", help="Controller period (s) a generated throw is planned at (> 0)."),
     json: bool = JSON,
 ) -> None:
     """Send a generated trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels)."""

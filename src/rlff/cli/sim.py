@@ -38,7 +38,7 @@ def throw(
                                                              "default 0, or the attempts log's."),
     release_angle: float = typer.Option(None, "--release-angle",
                                         help="Let go when the throwing robot joint passes this position (rad); "
-                                             "default: at the end of the trajectory."),
+                                             "default: the planned release (or the end of a trajectory without one)."),
     frames: Path = typer.Option(None, "--frames", help="Write PNG frames and an animated GIF here."),
     clip: bool = typer.Option(False, "--clip", help="Clip a mapped path into the joint limits (reported) "
                                                     "instead of refusing it."),
@@ -49,9 +49,10 @@ def throw(
     from rlff.learn.replay import load_input
     from rlff.robot.description import load_robot
     from rlff.sim import Basket, simulate_throw
+    from rlff.sim.inputs import SIM_PERIOD
 
     model = load_robot(robot)
-    loaded = load_input(trajectory, model, attempt=attempt, period=None, clip=clip)
+    loaded = load_input(trajectory, model, attempt=attempt, period=SIM_PERIOD, clip=clip)
     run = loaded.run or {}
     logged = run.get("basket", {})
     basket = logged.get("distance") if basket is None else basket

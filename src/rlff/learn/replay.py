@@ -5,8 +5,8 @@ this: an input file is a generated path (CSV), a robot joint trajectory (JSON or
 robot export`` writes them) or an attempts log with an attempt number (default: its last hit).
 An attempt is stored in the demonstrations' units (what the robot executed, mapped back), so it
 goes through the same :func:`rlff.robot.plan.plan` as a generated path: the same mapping, the
-same resampling and the same limit checks, and nothing a learned throw writes can differ from
-what ``robot export`` writes of it. An attempt is replayed only with the robot it was thrown
+same motion planner (approach, the throw to its release, braking to rest) and the same motion
+check, and nothing a learned throw writes can differ from what ``robot export`` writes of it. An attempt is replayed only with the robot it was thrown
 with: the log's header keeps the robot's description, and a different one is refused naming
 the first field that differs.
 """
@@ -21,8 +21,8 @@ from rlff.learn.attempt import Attempt
 from rlff.learn.log import first_difference, is_attempts_log, read_log, robot_record
 from rlff.robot.description import Robot
 from rlff.robot.mapping import RobotMapping
-from rlff.robot.plan import RobotPlan, plan
-from rlff.sim.inputs import load_throw
+from rlff.robot.plan import RobotPlan, load_for_robot, plan
+from rlff.trajectory.planner import DEFAULT_PERIOD
 
 #: Export format of an output file by its suffix (a path without one is a ROS 2 bag folder).
 SUFFIX_FORMATS = {".json": "json", ".csv": "csv", ".bag": "ros1-bag", ".txt": "comau", "": "ros2-bag"}
@@ -77,13 +77,14 @@ def require_same_robot(path: str | Path, run: dict, mapping: RobotMapping) -> No
                          f"{now!r} with {mapping.robot.source}); give its robot file with --robot")
 
 
-def plan_attempt(attempt: Attempt, mapping: RobotMapping, period: float | None = 0.002,
+def plan_attempt(attempt: Attempt, mapping: RobotMapping, period: float = DEFAULT_PERIOD,
                  clip: bool = False) -> RobotPlan:
-    """The robot trajectory of an attempt, planned as :func:`rlff.robot.plan.plan` plans a path."""
+    """The robot trajectory of an attempt, planned as :func:`rlff.robot.plan.plan` plans a path:
+    approach, the throw to its release, braking to rest, and the one motion check."""
     return plan(mapping, attempt.angle, attempt.velocity, attempt.time, period, clip)
 
 
-def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float | None = 0.002,
+def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float = DEFAULT_PERIOD,
                clip: bool = False) -> ThrowInput:
     """Read a generated path, a robot trajectory or an attempt of a log and plan it for ``robot``.
 
@@ -95,8 +96,9 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
     robot : Robot
     attempt : int, optional
         The attempt of an attempts log (1 for the first); default its last hit. Only for logs.
-    period : float or None
-        Controller period (s) to resample at; None or 0 keeps the points.
+    period : float
+        Controller period (s) a path or an attempt is planned at (a robot trajectory is taken as
+        it is, and checked).
     clip : bool
         Clip values beyond the limits (reported) instead of refusing them.
 
@@ -114,12 +116,12 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
         chosen, run = pick_attempt(path, attempt)
         require_same_robot(path, run, mapping)
         outcome = f"hit, {chosen.miss:+.3f} m from the centre" if chosen.hit else f"miss {chosen.miss:+.3f} m"
-        return ThrowInput(plan_attempt(chosen, mapping, period, clip), f"attempt {chosen.index} of {path} ({outcome})",
-                          run)
+        planned = plan_attempt(chosen, mapping, period, clip)
+        return ThrowInput(planned, f"attempt {chosen.index} of {path} ({outcome}), {planned.summary()}", run)
     if attempt is not None:
         raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
-    loaded = load_throw(path, robot, clip=clip, period=period)
-    return ThrowInput(loaded.plan, f"{loaded.kind}, {loaded.summary}")
+    kind, planned = load_for_robot(path, robot, period, clip)
+    return ThrowInput(planned, f"{kind}, {planned.summary()}")
 
 
 def export_format(out: str | Path, fmt: str | None = None) -> str:
