@@ -153,5 +153,28 @@ def test_an_unreachable_basket_for_the_executed_throws_is_refused_before_the_fir
         learn(demos, 1.7, robot=str(robot_file), executor=executor)
     message = str(error.value)
     assert "\n" not in message
-    assert "basket at 1.70 m is out of reach of the throws this robot executes: joint_2 at its 2.30 rad/s" in message
+    assert "basket at 1.70 m is out of reach of the throws this robot executes: joint_2 at 2.30 rad/s (its speed limit)" in message
     assert "at most 1.5" in message and "farthest basket with a 0.35 m opening is at 1.6" in message
+
+
+@pytest.mark.parametrize("speed", [0.5, 2.0])  # below and above a**2 / j = 1 rad/s
+def test_attainable_speed_inverts_a_jerk_limited_start_from_rest(speed):
+    from rlff.sim.reach import attainable_speed
+
+    a, j = 10.0, 100.0
+    joint = Joint("joint_2", -3.0, 3.0, 5.0, max_acceleration=a, max_jerk=j)
+    # the fastest start to `speed`: jerk +j, (hold a), jerk -j; integrated numerically here
+    peak = min(a, np.sqrt(speed * j))
+    ramp = peak / j
+    hold = max(0.0, (speed - peak * ramp) / peak)
+    dt = 1e-6
+    t = np.arange(0.0, 2 * ramp + hold, dt)
+    jerk = np.where(t < ramp, j, np.where(t < ramp + hold, 0.0, -j))
+    acceleration = np.cumsum(jerk) * dt
+    velocity = np.cumsum(acceleration) * dt
+    travel = np.sum(velocity) * dt
+    assert velocity[-1] == pytest.approx(speed, rel=1e-3)
+    assert attainable_speed(joint, travel) == pytest.approx(speed, rel=1e-3)
+    # never beyond the speed limit, and without motion limits the speed limit at once
+    assert attainable_speed(joint, 100.0) == 5.0
+    assert attainable_speed(Joint("joint_2", -3.0, 3.0, 5.0), 0.01) == 5.0

@@ -226,7 +226,7 @@ def learn(
     _require_reach(robot_model, target, pedestal)
     demos = _learning_demos(demos)
     _require_demos_within_limits(demos, mapping)
-    _require_executable(mapping, target, pedestal, _angle_grid(demos)[-1])
+    _require_executable(mapping, target, pedestal, _angle_grid(demos))
     if executor is None:
         executor = _simulator(robot_model, target, pedestal)
 
@@ -366,15 +366,18 @@ def _require_reach(robot, basket, pedestal: float) -> None:
     require_reachable(basket, robot, pedestal)
 
 
-def _require_executable(mapping, basket, pedestal: float, release_angle: float) -> None:
+def _require_executable(mapping, basket, pedestal: float, angles: np.ndarray) -> None:
     """Refuse a basket that no throw of this loop can reach, before the first throw.
 
-    Every method throws along the same angle grid, so the driven joint lets go at the mapped
-    last angle of the grid, at most at its speed limit, the other joints at the start pose.
+    Every method throws along the same angle grid (rad, shape (T,)), so the driven joint swings
+    from its mapped first angle and lets go at the mapped last one, at most at its speed limit
+    (and what its acceleration and jerk limits allow over that swing), the other joints at the
+    start pose.
     """
     from rlff.sim.reach import require_executable
 
-    require_executable(basket, mapping, pedestal, mapping.angle_offset + mapping.angle_scale * release_angle,
+    start, release = mapping.angle_offset + mapping.angle_scale * angles[[0, -1]]
+    require_executable(basket, mapping, pedestal, release, swing_from=start,
                        release_source="where the demonstrations let go")
 
 
