@@ -323,3 +323,37 @@ def test_client_without_master_exits_with_a_clear_error(tmp_path):
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 1
     assert f"no ROS master at {env['ROS_MASTER_URI']} after 2 s" in proc.stderr
+
+
+def test_a_learned_throw_is_sent_as_rlff_learn_out_wrote_it(ros, tmp_path):
+    """`rlff learn ... --out learned.json` then `rlff robot send learned.json`: the arm executes
+    the learned throw (the file's points joined as the server interpolates them)."""
+    from rlff.dataset import write_csv
+    from rlff.preprocess import Pipeline
+    from rlff.robot.export import read_json
+    from rlff.synthetic.throws import simulate_throws
+
+    demos = tmp_path / "demos.csv"
+    clean, _ = Pipeline.preset("thesis").run(simulate_throws(2, subjects=3, distances=(1.0, 1.25, 1.5),
+                                                             throws_per_distance=2))
+    write_csv(clean, demos)
+    learned = tmp_path / "learned.json"
+    result = ros.rlff("learn", str(demos), "--basket", "1.4", "--feedback", "distance", "--out", str(learned),
+                      "--json", timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert json.loads(result.stdout)["hit"]
+    recorder = ros.record(tmp_path / "states.csv")
+    sent = ros.rlff("robot", "send", str(learned), "--json", "--timeout", "60")
+    assert sent.returncode == 0, sent.stderr
+    outcome = json.loads(sent.stdout)
+    assert outcome["status"] == "succeeded" and outcome["error_name"] == "SUCCESSFUL"
+    trajectory = read_json(learned)
+    end = outcome["start"] + trajectory.duration
+    _wait(lambda: _states(tmp_path / "states.csv")[0][-1] > end + 0.5, 120, "states after the end")
+    _stop(recorder)
+    spline = CubicHermiteSpline(trajectory.time, trajectory.positions, trajectory.velocities, axis=0)
+    stamps, positions = _states(tmp_path / "states.csv")
+    elapsed = stamps - outcome["start"]
+    moving = (elapsed >= 0) & (elapsed <= trajectory.duration)
+    assert moving.sum() >= 20
+    assert np.abs(positions[moving] - spline(elapsed[moving])).max() < EXECUTION_TOLERANCE
