@@ -113,3 +113,14 @@ def test_violation_counts_count_what_the_check_refuses(planned):
     moving = JointTrajectory(planned.joint_names, planned.time[cut], planned.positions[cut],
                              planned.velocities[cut], planned.accelerations[cut])
     assert violation_counts(moving, ROBOT.joints)["end moving"] == 1
+
+
+def test_a_joint_moving_alone_is_checked_between_points_like_any():
+    """The quintic is computed for moving joints only: a held joint copies, a moving one is checked."""
+    for column in (0, 3):
+        positions = np.tile(MAPPING.pose(), (2, 1))
+        positions[1, column] += 0.1
+        traj = JointTrajectory(ROBOT.joint_names, [0.0, 0.2], positions, np.zeros_like(positions))
+        counts = violation_counts(traj, ROBOT.joints)
+        expected = 5.77 * 0.1 / 0.2**2 > ROBOT.joints[column].max_acceleration  # quintic peak 14.4 rad/s^2
+        assert (counts["acceleration"] > 0) == expected

@@ -84,12 +84,20 @@ def _check_points(traj: JointTrajectory, values: dict[str, np.ndarray], lower: n
 def _quintic(traj: JointTrajectory, fractions: np.ndarray) -> tuple[np.ndarray, ...]:
     """Position, velocity, acceleration of the quintic through every step at ``fractions``.
 
-    Returns three arrays of shape (T - 1, F, J): step, instant, joint.
+    Returns three arrays of shape (T - 1, F, J): step, instant, joint. A joint that holds still
+    (one position, no velocity or acceleration) is its own quintic: it is copied, not computed.
     """
+    steps, joints = len(traj) - 1, len(traj.joint_names)
+    position = np.broadcast_to(traj.positions[0], (steps, fractions.size, joints)).copy()
+    velocity = np.zeros_like(position)
+    acceleration = np.zeros_like(position)
+    moving = np.flatnonzero((np.ptp(traj.positions, axis=0) > 0) | np.any(traj.velocities != 0, axis=0)
+                            | np.any(traj.accelerations != 0, axis=0))
+    if moving.size == 0:
+        return position, velocity, acceleration
     h = np.diff(traj.time)[:, None]
-    p0, p1 = traj.positions[:-1], traj.positions[1:]
-    v0, v1 = traj.velocities[:-1], traj.velocities[1:]
-    a0, a1 = traj.accelerations[:-1], traj.accelerations[1:]
+    q, v, a = (array[:, moving] for array in (traj.positions, traj.velocities, traj.accelerations))
+    p0, p1, v0, v1, a0, a1 = q[:-1], q[1:], v[:-1], v[1:], a[:-1], a[1:]
     dp = p1 - p0
     c3 = (20 * dp - (8 * v1 + 12 * v0) * h - (3 * a0 - a1) * h**2) / (2 * h**3)
     c4 = (-30 * dp + (14 * v1 + 16 * v0) * h + (3 * a0 - 2 * a1) * h**2) / (2 * h**4)
@@ -97,9 +105,9 @@ def _quintic(traj: JointTrajectory, fractions: np.ndarray) -> tuple[np.ndarray, 
     t = fractions[None, :, None] * h[:, :, None]
     c2 = a0[:, None] / 2
     c3, c4, c5 = c3[:, None], c4[:, None], c5[:, None]
-    position = p0[:, None] + t * (v0[:, None] + t * (c2 + t * (c3 + t * (c4 + t * c5))))
-    velocity = v0[:, None] + t * (2 * c2 + t * (3 * c3 + t * (4 * c4 + t * 5 * c5)))
-    acceleration = 2 * c2 + t * (6 * c3 + t * (12 * c4 + t * 20 * c5))
+    position[:, :, moving] = p0[:, None] + t * (v0[:, None] + t * (c2 + t * (c3 + t * (c4 + t * c5))))
+    velocity[:, :, moving] = v0[:, None] + t * (2 * c2 + t * (3 * c3 + t * (4 * c4 + t * 5 * c5)))
+    acceleration[:, :, moving] = 2 * c2 + t * (6 * c3 + t * (12 * c4 + t * 20 * c5))
     return position, velocity, acceleration
 
 
