@@ -83,13 +83,13 @@ class ThrowOutcome:
     Attributes
     ----------
     hit : bool
-        The ball ended inside the basket.
+        The ball ended inside the basket, having entered it through the opening.
     landing_x : float
         Where the ball first came down to the rim's height (m from the joint 1 axis): the landing
-        point on the plane of the basket's opening. If it touched something before (a release
-        below the rim), where it first touched.
+        point on the plane of the basket's opening. A ball that grazed the rim first lands where
+        its free flight crosses that plane; one released below the rim, where it first touched.
     miss : float
-        ``landing_x - basket.distance`` (m): negative = short, positive = long.
+        ``landing_x - basket.distance`` (m), hits included: negative = short, positive = long.
     release : ReleaseState
     predicted_landing_x : float
         The closed-form projectile's crossing of the rim's height from the release state (m);
