@@ -309,11 +309,12 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
 
 def _execute(proposal, index: int, target: float, mapping, executor: Executor, start: float) -> Attempt:
     """Map a proposal to the robot (saturating at its limits), execute it, record what it did."""
+    from rlff.robot.plan import plan
+
     velocity = _forward_velocity(proposal.angle, proposal.velocity)
-    trajectory, clip_report = mapping.to_robot(
-        proposal.angle, velocity, time_along_path(proposal.angle, velocity), clip=True
-    )
-    outcome = executor(trajectory)
+    planned = plan(mapping, proposal.angle, velocity, time_along_path(proposal.angle, velocity), clip=True)
+    trajectory, clip_report = planned.points, planned.clipped_points
+    outcome = executor(planned.trajectory)
     angle, executed = mapping.from_robot(trajectory)
     return Attempt(
         index=index,
@@ -364,6 +365,16 @@ def _require_reach(robot, basket, pedestal: float) -> None:
     from rlff.sim import require_reachable
 
     require_reachable(basket, robot, pedestal)
+
+
+def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0) -> float:
+    """Farthest basket centre (m) of ``basket``'s shape that :func:`learn` accepts from ``demos``:
+    what the throws of its angle grid reach (see :func:`_require_executable`)."""
+    from rlff.sim.reach import executable_reach, farthest_basket
+
+    start, release = mapping.angle_offset + mapping.angle_scale * _angle_grid(_learning_demos(demos))[[0, -1]]
+    reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from=start)
+    return farthest_basket(reach.distance, basket.opening)
 
 
 def _require_executable(mapping, basket, pedestal: float, angles: np.ndarray) -> None:
