@@ -170,7 +170,7 @@ class AttemptLog:
         if difference is not None:
             key, before, now = difference
             raise InputError(
-                f"{self.path}: the log belongs to another run ({key} = {before!r} in the log, {now!r} "
+                f"{self.path}: the log belongs to another run ({key} = {brief(before)} in the log, {brief(now)} "
                 "now); use another --log file"
             )
 
@@ -291,6 +291,12 @@ def first_difference(logged: Any, now: Any, where: str = "") -> tuple[str, Any, 
                 return found
         return None
     return None if logged == now else (where, logged, now)
+
+
+def brief(value: Any, width: int = 60) -> str:
+    """``repr(value)`` for a message, cut to ``width`` characters (a whole description is long)."""
+    text = repr(value)
+    return text if len(text) <= width else text[: width - 1] + "…"
 
 
 def _parse(line: bytes) -> dict[str, Any] | None:

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
-from rlff.learn.log import first_difference, is_attempts_log, read_log, robot_record
+from rlff.learn.log import brief, first_difference, is_attempts_log, read_log, robot_record
 from rlff.robot.description import Robot
 from rlff.robot.mapping import RobotMapping
 from rlff.robot.plan import RobotPlan, load_for_robot, plan
@@ -64,7 +64,8 @@ def pick_attempt(path: str | Path, number: int | None = None) -> tuple[Attempt, 
             raise InputError(f"{path}: none of its {len(attempts)} attempts hit; choose one with --attempt N")
         return hits[-1], run
     if not 1 <= number <= len(attempts):
-        raise InputError(f"{path}: no attempt {number} (it holds attempts 1 to {len(attempts)})")
+        held = f"attempts 1 to {len(attempts)}" if attempts else "no attempts"
+        raise InputError(f"{path}: no attempt {number} (it holds {held})")
     return attempts[number - 1], run
 
 
@@ -73,8 +74,8 @@ def require_same_robot(path: str | Path, run: dict, mapping: RobotMapping) -> No
     difference = first_difference(run.get("robot"), robot_record(mapping), "robot")
     if difference is not None:
         key, logged, now = difference
-        raise InputError(f"{path} was thrown by another robot or mapping ({key} = {logged!r} in the log, "
-                         f"{now!r} with {mapping.robot.source}); give its robot file with --robot")
+        raise InputError(f"{path} was thrown by another robot or mapping ({key} = {brief(logged)} in the log, "
+                         f"{brief(now)} with {mapping.robot.source}); give its robot file with --robot")
 
 
 def plan_attempt(attempt: Attempt, mapping: RobotMapping, period: float = DEFAULT_PERIOD,
