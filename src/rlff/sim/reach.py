@@ -6,6 +6,11 @@ goes farthest. The reach is where the
 released ball comes down through the rim's height (no drag), searched on a grid of release poses
 and refined locally, with the elbow, the wrist and the ball clear of the ground. It ignores the room a joint needs to speed up and to stop, so it is an upper
 bound of what a trajectory within the limits achieves.
+
+:func:`executable_reach` is the reach of what a human-to-robot mapping executes: only its driven
+joint moves, from a given release (the learning loop's is fixed by the demonstrations), at its
+speed limit or what its acceleration and jerk limits allow over the swing, the other joints at
+the start pose. ``rlff learn`` refuses a basket beyond it before the first throw.
 """
 
 from __future__ import annotations
