@@ -187,3 +187,25 @@ def test_learn_out_with_an_unknown_suffix_fails_before_any_throw(cli, demos_csv,
     assert result.code == 2
     assert "x.xyz: no export format for the suffix '.xyz'" in result.stderr
     assert not log.exists()
+
+
+@pytest.mark.slow
+def test_until_centred_on_the_command_line_prints_every_signed_miss(rlff, demos_csv, tmp_path):
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--feedback", "distance", "--until", "centred",
+                  "--centre-share", "0.3", "--budget", "6", "--log", str(tmp_path / "a.jsonl"))
+    assert result.code == 0, result.stderr
+    line = result.stdout.strip()
+    assert line.startswith(("a centred hit after", "no centred hit in"))
+    listed = line.split("signed misses from the centre (m): ")[1].split(", ")
+    logged = [json.loads(text) for text in (tmp_path / "a.jsonl").read_text().splitlines()[1:]]
+    assert len(listed) == len(logged)
+    for shown, record in zip(listed, logged, strict=True):
+        assert shown == f"{record['miss']:+.2f}" + (" hit" if record["hit"] else "")
+    if line.startswith("a centred hit"):
+        assert abs(logged[-1]["miss"]) <= 0.3 * 0.35 / 2 and logged[-1]["hit"]
+
+
+def test_an_unknown_until_is_one_line_and_exit_2(rlff, demos_csv):
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--until", "perfect")
+    assert result.code == 2
+    assert "unknown until 'perfect' (known: hit, centred)" in result.stderr
