@@ -72,7 +72,7 @@ def test_a_camera_frame_csv_without_up_suggests_up_y(rlff, msr_dir, tmp_path):
     result = rlff("data", "import", str(csv), "-o", str(tmp_path / "x.csv"))
     assert "warning:" in result.stderr and "the upper arm hangs along -y" in result.stderr and "try --up y" in result.stderr
     result = rlff("data", "import", str(csv), "--up", "y", "-o", str(tmp_path / "x.csv"))
-    assert result.code == 0 and "1 throws from 1 files" in result.stdout and "--up" not in result.stderr
+    assert result.code == 0 and "1 throw from 1 file" in result.stdout and "--up" not in result.stderr
     # standing still in a y-up frame: no throw, exit 2, and the hint in the no-throw warning
     still = th.write_joint_csv(tmp_path / "still.csv", np.repeat(frames[:1], 40, axis=0), np.arange(40) / 15.0)
     result = rlff("data", "import", str(still), "-o", str(tmp_path / "y.csv"))

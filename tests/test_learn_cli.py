@@ -5,10 +5,13 @@ from __future__ import annotations
 import json
 import os
 import signal
+import socket
 import subprocess
 import sys
 import time
+from importlib import resources
 
+import numpy as np
 import pytest
 
 from rlff.dataset import write_csv
@@ -96,3 +99,113 @@ def test_hindsight_with_binary_feedback_is_refused(cli, demos_csv):
     result = cli("learn", str(demos_csv), "--basket", "1.9", "--update", "hindsight", "--feedback", "binary")
     assert result.code == 2
     assert "needs distance feedback" in result.stderr
+
+
+@pytest.mark.slow
+@pytest.mark.integration
+def test_a_second_run_on_the_same_log_exits_2_naming_the_first(cli, demos_csv, tmp_path):
+    """Two real `rlff learn` processes on one log: the second is refused while the first holds
+    it (paused after its first attempt), and the first then ends with every attempt once."""
+    log = tmp_path / "attempts.jsonl"
+    args = ["learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--budget", "4",
+            "--log", str(log), "--json"]
+    first = subprocess.Popen([sys.executable, "-m", "rlff", *args], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, env=dict(os.environ, MPLBACKEND="Agg"))
+    try:
+        deadline = time.monotonic() + 120
+        while not attempt_lines(log) and first.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.01)
+        first.send_signal(signal.SIGSTOP)  # holds the log, mid-run
+        assert first.poll() is None, "the first run must still be running"
+        held = len(attempt_lines(log))
+        second = cli(*args)
+        assert second.code == 2
+        assert second.stderr.strip().count("\n") == 0
+        assert f"in use by rlff learn, pid {first.pid} on host {socket.gethostname()}" in second.stderr
+        assert len(attempt_lines(log)) == held  # the refused run wrote nothing
+    finally:
+        first.send_signal(signal.SIGCONT)
+    out, err = first.communicate(timeout=300)
+    assert first.returncode == 0, err
+    payload = json.loads(out)
+    assert [json.loads(line)["attempt"] for line in attempt_lines(log)] == list(range(1, payload["attempts"] + 1))
+    # released at the end: a later run resumes (and stops at once: the budget is spent or it hit)
+    assert cli(*args).code == 0
+
+
+def test_resuming_with_a_robot_that_changed_its_mapping_is_refused(cli, demos_csv, tmp_path):
+    log = tmp_path / "attempts.jsonl"
+    args = ["learn", str(demos_csv), "--basket", "1.4", "--budget", "1", "--log", str(log)]
+    assert cli(*args).code == 0
+    # same robot name, another mapping
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    assert "angle_scale = 0.71" in text
+    changed = tmp_path / "comau_smart5_six.toml"
+    changed.write_text(text.replace("angle_scale = 0.71", "angle_scale = 0.8"))
+    result = cli(*args, "--budget", "2", "--robot", str(changed))
+    assert result.code == 2
+    assert result.stderr.strip().count("\n") == 0
+    assert "robot.description.mapping.angle_scale = 0.71 in the log, 0.8 now" in result.stderr
+    assert len(attempt_lines(log)) == 1
+    # and the logged throw is not replayed on the other robot either
+    replay = cli("sim", "throw", str(log), "--attempt", "1", "--robot", str(changed))
+    assert replay.code == 2 and "mapping.angle_scale" in replay.stderr
+
+
+@pytest.mark.slow
+def test_learn_out_is_what_robot_export_writes_of_the_attempt_and_it_plays_back(cli, demos_csv, tmp_path):
+    from rlff.robot.export import read_bag, read_json
+
+    log, learned = tmp_path / "attempts.jsonl", tmp_path / "learned.json"
+    result = cli("learn", str(demos_csv), "--basket", "1.4", "--feedback", "distance", "--log", str(log),
+                 "--out", str(learned), "--json")
+    assert result.code == 0, result.stderr
+    payload = json.loads(result.stdout)
+    assert payload["hit"] and payload["out"]["attempt"] == payload["attempts"]
+    assert payload["out"]["miss"] == pytest.approx(payload["misses"][-1])
+    # the same file as `robot export` of that attempt of the log (its default: the last hit)
+    exported = tmp_path / "exported.json"
+    assert cli("robot", "export", str(log), "-f", "json", "-o", str(exported)).code == 0
+    assert read_json(exported).positions.tolist() == read_json(learned).positions.tolist()
+    # learned.json goes on to any export format, and the simulation hits with it again
+    bag = tmp_path / "learned.bag"
+    converted = cli("robot", "export", str(learned), "-f", "ros1-bag", "-o", str(bag))
+    assert converted.code == 0, converted.stderr
+    (played,) = read_bag(bag)
+    np.testing.assert_allclose(played.positions, read_json(learned).positions, atol=1e-12)
+    again = cli("sim", "throw", str(learned), "--basket", "1.4", "--json")
+    assert again.code == 0, again.stderr
+    thrown = json.loads(again.stdout)
+    assert thrown["hit"] and thrown["miss"] == pytest.approx(payload["misses"][-1], abs=0.01)
+    replayed = json.loads(cli("sim", "throw", str(log), "--json").stdout)  # basket from the log
+    assert replayed["hit"] and replayed["basket"]["distance"] == 1.4
+
+
+def test_learn_out_with_an_unknown_suffix_fails_before_any_throw(cli, demos_csv, tmp_path):
+    log = tmp_path / "attempts.jsonl"
+    result = cli("learn", str(demos_csv), "--basket", "1.4", "--log", str(log), "--out", str(tmp_path / "x.xyz"))
+    assert result.code == 2
+    assert "x.xyz: no export format for the suffix '.xyz'" in result.stderr
+    assert not log.exists()
+
+
+@pytest.mark.slow
+def test_until_centred_on_the_command_line_prints_every_signed_miss(rlff, demos_csv, tmp_path):
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--feedback", "distance", "--until", "centred",
+                  "--centre-share", "0.3", "--budget", "6", "--log", str(tmp_path / "a.jsonl"))
+    assert result.code == 0, result.stderr
+    line = result.stdout.strip()
+    assert line.startswith(("a centred hit after", "no centred hit in"))
+    listed = line.split("signed misses from the centre (m): ")[1].split(", ")
+    logged = [json.loads(text) for text in (tmp_path / "a.jsonl").read_text().splitlines()[1:]]
+    assert len(listed) == len(logged)
+    for shown, record in zip(listed, logged, strict=True):
+        assert shown == f"{record['miss']:+.2f}" + (" hit" if record["hit"] else "")
+    if line.startswith("a centred hit"):
+        assert abs(logged[-1]["miss"]) <= 0.3 * 0.35 / 2 and logged[-1]["hit"]
+
+
+def test_an_unknown_until_is_one_line_and_exit_2(rlff, demos_csv):
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--until", "perfect")
+    assert result.code == 2
+    assert "unknown until 'perfect' (known: hit, centred)" in result.stderr

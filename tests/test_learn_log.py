@@ -18,18 +18,29 @@ def make_attempt(index: int, hit: bool = False) -> Attempt:
     angle = np.linspace(0.0, 1.0, 5)
     return Attempt(index=index, target=2.0, query=2.0 + 0.1 * index, angle=angle,
                    velocity=angle * index, time=np.arange(5) * 0.1, hit=hit,
-                   landing=1.5 + 0.1 * index, miss=0.0 if hit else -0.5 + 0.1 * index,
+                   landing=1.5 + 0.1 * index, miss=-0.5 + 0.1 * index,
                    exploration=0.25, clipped=index % 2, seconds=0.01, info={"p_hit": 0.5})
+
+
+def write(path, *attempts: Attempt, run=RUN) -> None:
+    """Open (or resume) the log, append ``attempts`` and release it, as one run would."""
+    with AttemptLog(path, run) as log:
+        for attempt in attempts:
+            log.append(attempt)
+
+
+def reopen(path, run=RUN) -> AttemptLog:
+    """The log opened by a new run and released again (its contents stay readable)."""
+    with AttemptLog(path, run) as log:
+        return log
 
 
 def test_attempts_round_trip_exactly(tmp_path):
     path = tmp_path / "attempts.jsonl"
-    log = AttemptLog(path, RUN)
     written = [make_attempt(1), make_attempt(2), make_attempt(3, hit=True)]
-    for attempt in written:
-        log.append(attempt)
+    write(path, *written)
     assert len(path.read_text().splitlines()) == 4  # header + 3 attempts
-    read = AttemptLog(path, RUN).contents
+    read = reopen(path).contents
     assert not read.dropped_partial_line
     assert [a.index for a in read.attempts] == [1, 2, 3]
     for a, b in zip(written, read.attempts, strict=True):
@@ -41,32 +52,29 @@ def test_attempts_round_trip_exactly(tmp_path):
 def test_nan_query_survives_the_log(tmp_path):
     path = tmp_path / "a.jsonl"
     attempt = Attempt(1, 2.0, float("nan"), np.arange(3.0), np.ones(3), np.arange(3.0), False, 1.0, -1.0)
-    AttemptLog(path, RUN).append(attempt)
-    assert np.isnan(AttemptLog(path, RUN).contents.attempts[0].query)
+    write(path, attempt)
+    assert np.isnan(reopen(path).contents.attempts[0].query)
 
 
 def test_a_partial_last_line_is_dropped_and_the_rest_kept(tmp_path):
     path = tmp_path / "attempts.jsonl"
-    log = AttemptLog(path, RUN)
-    log.append(make_attempt(1))
-    log.append(make_attempt(2))
+    write(path, make_attempt(1), make_attempt(2))
     intact = path.read_bytes()
     line = json.dumps(make_attempt(3).to_json())
     path.write_bytes(intact + line[: len(line) // 2].encode())  # crash mid-write
-    resumed = AttemptLog(path, RUN)
-    assert resumed.contents.dropped_partial_line
-    assert [a.index for a in resumed.contents.attempts] == [1, 2]
-    assert path.read_bytes() == intact  # the partial line is cut off the file
-    resumed.append(make_attempt(3))
-    assert [a.index for a in AttemptLog(path, RUN).contents.attempts] == [1, 2, 3]
+    with AttemptLog(path, RUN) as resumed:
+        assert resumed.contents.dropped_partial_line
+        assert [a.index for a in resumed.contents.attempts] == [1, 2]
+        assert path.read_bytes() == intact  # the partial line is cut off the file
+        resumed.append(make_attempt(3))
+    assert [a.index for a in reopen(path).contents.attempts] == [1, 2, 3]
 
 
 def test_a_complete_last_line_missing_only_its_newline_is_kept(tmp_path):
     path = tmp_path / "attempts.jsonl"
-    log = AttemptLog(path, RUN)
-    log.append(make_attempt(1))
+    write(path, make_attempt(1))
     path.write_bytes(path.read_bytes().rstrip(b"\n"))
-    resumed = AttemptLog(path, RUN)
+    resumed = reopen(path)
     assert not resumed.contents.dropped_partial_line
     assert len(resumed.contents.attempts) == 1
     assert path.read_bytes().endswith(b"\n")
@@ -74,9 +82,7 @@ def test_a_complete_last_line_missing_only_its_newline_is_kept(tmp_path):
 
 def test_a_corrupt_line_before_the_last_is_an_error_naming_the_line(tmp_path):
     path = tmp_path / "attempts.jsonl"
-    log = AttemptLog(path, RUN)
-    for i in (1, 2, 3):
-        log.append(make_attempt(i))
+    write(path, *(make_attempt(i) for i in (1, 2, 3)))
     lines = path.read_text().splitlines()
     lines[2] = lines[2][:40]
     path.write_text("\n".join(lines) + "\n")
@@ -86,7 +92,7 @@ def test_a_corrupt_line_before_the_last_is_an_error_naming_the_line(tmp_path):
 
 def test_a_record_missing_a_field_is_an_error(tmp_path):
     path = tmp_path / "attempts.jsonl"
-    AttemptLog(path, RUN)
+    write(path)
     record = make_attempt(1).to_json()
     del record["hit"]
     with open(path, "a") as handle:
@@ -98,16 +104,14 @@ def test_a_record_missing_a_field_is_an_error(tmp_path):
 
 def test_attempts_out_of_order_are_an_error(tmp_path):
     path = tmp_path / "attempts.jsonl"
-    log = AttemptLog(path, RUN)
-    log.append(make_attempt(1))
-    log.append(make_attempt(3))
+    write(path, make_attempt(1), make_attempt(3))
     with pytest.raises(InputError, match="attempt 3 out of order"):
         AttemptLog(path, RUN)
 
 
 def test_a_log_of_another_run_is_refused(tmp_path):
     path = tmp_path / "attempts.jsonl"
-    AttemptLog(path, RUN).append(make_attempt(1))
+    write(path, make_attempt(1))
     with pytest.raises(InputError, match="another run.*feedback"):
         AttemptLog(path, {**RUN, "feedback": "distance"})
 
@@ -120,3 +124,47 @@ def test_a_file_that_is_not_a_log_is_refused(tmp_path):
     path.write_text('{"format": "something-else"}\n')
     with pytest.raises(InputError, match="not an rlff attempts log"):
         AttemptLog(path, RUN)
+
+
+def test_a_second_run_on_a_held_log_is_refused_naming_the_holder(tmp_path):
+    import os
+    import socket
+    import subprocess
+    import sys
+
+    from rlff.learn.log import LogInUse
+
+    path = tmp_path / "attempts.jsonl"
+    with AttemptLog(path, RUN) as held:
+        held.append(make_attempt(1))
+        with pytest.raises(LogInUse, match=rf"in use by rlff learn, pid {os.getpid()} on host {socket.gethostname()}"):
+            AttemptLog(path, RUN)  # another open of the file in this process
+        # and from another process, as a second `rlff learn` would
+        probe = ("import sys; from rlff.learn.log import AttemptLog; from rlff.errors import InputError\n"
+                 "try:\n    AttemptLog(sys.argv[1], {})\nexcept InputError as exc:\n    print(exc); sys.exit(2)")
+        other = subprocess.run([sys.executable, "-c", probe, str(path)], capture_output=True, text=True, timeout=60)
+        assert other.returncode == 2 and f"pid {os.getpid()}" in other.stdout
+        assert len(path.read_text().splitlines()) == 2  # the refused runs wrote nothing
+    # released: the next run resumes
+    assert [a.index for a in reopen(path).contents.attempts] == [1]
+
+
+def test_a_run_that_dies_holding_the_log_releases_it(tmp_path):
+    import subprocess
+    import sys
+
+    path = tmp_path / "attempts.jsonl"
+    crash = ("import os, sys; from rlff.learn.log import AttemptLog\n"
+             "AttemptLog(sys.argv[1], {'seed': 0})\nos._exit(9)  # no close, no clean-up")
+    assert subprocess.run([sys.executable, "-c", crash, str(path)], timeout=60).returncode == 9
+    assert "pid" in (tmp_path / "attempts.jsonl.lock").read_text()  # the dead holder's name is left
+    assert reopen(path, {"seed": 0}).contents.attempts == []  # but the kernel freed its lock
+
+
+def test_a_changed_nested_field_is_named_by_its_path(tmp_path):
+    path = tmp_path / "attempts.jsonl"
+    run = {**RUN, "robot": {"name": "arm", "description": {"mapping": {"angle_scale": 0.71, "joint": "joint_2"}}}}
+    write(path, make_attempt(1), run=run)
+    changed = {**run, "robot": {"name": "arm", "description": {"mapping": {"angle_scale": 0.8, "joint": "joint_2"}}}}
+    with pytest.raises(InputError, match=r"robot\.description\.mapping\.angle_scale = 0\.71 in the log, 0\.8 now"):
+        AttemptLog(path, changed)

@@ -34,8 +34,9 @@ def failed_demos() -> Dataset:
 def test_calibrate_hits_from_all_short_demonstrations(failed_demos, basket):
     result = learn(failed_demos, basket, budget=8, feedback="distance", update="calibrate", seed=0)
     assert result.hit, result.misses
-    assert result.misses[-1] == 0.0
-    assert all(m != 0.0 for m in result.misses[:-1])
+    # every miss is the landing's real distance from the centre, the hit's too (inside the window)
+    assert [a.miss for a in result.history] == pytest.approx([a.landing - basket for a in result.history])
+    assert 0 < abs(result.misses[-1]) < 0.5 * 0.35 - 0.033
     # the demonstrations' labels stop at 1.5 m: beyond them the query must leave their range
     if basket > max(DEMO_DISTANCES):
         assert result.history[-1].query > max(DEMO_DISTANCES) or result.attempts == 1
@@ -196,3 +197,25 @@ def test_calibrate_hits_from_demonstrations_mostly_beyond_the_reach(wide_demos, 
     first_gmr = learn(wide_demos, 1.75, budget=1, feedback="distance", update="imitation", seed=0)
     if feedback == "distance":
         assert abs(result.history[0].miss) <= abs(first_gmr.history[0].miss)
+
+
+@pytest.mark.slow
+def test_until_centred_refines_past_rim_hits_until_one_lands_near_the_centre(failed_demos):
+    """With a quarter of the half-opening as the centre window, the binary run keeps throwing
+    after hits near the rim (the method is told they missed) until one lands within it."""
+    window = 0.25 * 0.35 / 2
+    plain = learn(failed_demos, 1.4, budget=20, feedback="binary", update="calibrate", seed=0)
+    centred = learn(failed_demos, 1.4, budget=20, feedback="binary", update="calibrate", seed=0,
+                    until="centred", centre_share=0.25)
+    assert plain.hit and plain.until == "hit"
+    assert centred.until == "centred" and centred.centre_window == pytest.approx(window)
+    assert centred.hit and centred.centred, centred.misses
+    assert abs(centred.misses[-1]) <= window
+    # every earlier attempt was a miss or a hit outside the window: the run went on after them
+    assert all(not a.hit or abs(a.miss) > window for a in centred.history[:-1])
+    # the first attempt is the same (nothing reported yet); the narrower window then steers
+    assert centred.misses[0] == pytest.approx(plain.misses[0])
+    with pytest.raises(InputError, match="until"):
+        learn(failed_demos, 1.4, until="perfect")
+    with pytest.raises(InputError, match="centre share"):
+        learn(failed_demos, 1.4, until="centred", centre_share=0.0)

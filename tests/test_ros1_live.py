@@ -162,3 +162,46 @@ def test_client_without_master_exits_with_a_clear_error(tmp_path):
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 1
     assert f"no ROS master at {env['ROS_MASTER_URI']} after 2 s" in proc.stderr
+
+
+def test_a_learned_throw_is_sent_as_rlff_learn_out_wrote_it(tmp_path):
+    """`rlff learn ... --out learned.json` then `rlff robot send learned.json`: an arm at the robot's
+    start pose (a fresh server) executes the learned throw as the file's points joined by the
+    server's quintic interpolation."""
+    from rlff.dataset import write_csv
+    from rlff.preprocess import Pipeline
+    from rlff.robot.export import read_json
+    from rlff.synthetic.throws import simulate_throws
+
+    demos = tmp_path / "demos.csv"
+    clean, _ = Pipeline.preset("thesis").run(simulate_throws(2, subjects=3, distances=(1.0, 1.25, 1.5),
+                                                             throws_per_distance=2))
+    write_csv(clean, demos)
+    learned = tmp_path / "learned.json"
+    rig = Ros(tmp_path)
+    try:
+        result = rig.rlff("learn", str(demos), "--basket", "1.4", "--feedback", "distance", "--out", str(learned),
+                          "--json", timeout=300)
+        assert result.returncode == 0, result.stderr
+        assert json.loads(result.stdout)["hit"]
+        recorder = rig.record(tmp_path / "states.csv")
+        sent = rig.rlff("robot", "send", str(learned), "--json", "--timeout", "60")
+        assert sent.returncode == 0, sent.stderr
+        outcome = json.loads(sent.stdout)
+        assert outcome["status"] == "succeeded" and outcome["error_name"] == "SUCCESSFUL"
+        trajectory = read_json(learned)
+        end = outcome["start"] + trajectory.duration
+        wait(lambda: states(tmp_path / "states.csv")[0][-1] > end + 0.5, 120, "states after the end")
+        stop(recorder)
+    finally:
+        rig.close()
+    quintic = BPoly.from_derivatives(trajectory.time, np.stack([trajectory.positions, trajectory.velocities,
+                                                                trajectory.accelerations], axis=1))
+    stamps, positions = states(tmp_path / "states.csv")
+
+    def error(delay: float) -> float:  # the goal starts on receipt when it arrives late (a loaded machine)
+        elapsed = stamps - outcome["start"] - delay
+        moving = (elapsed >= 0) & (elapsed <= trajectory.duration)
+        return float(np.abs(positions[moving] - quintic(elapsed[moving])).max()) if moving.sum() >= 20 else np.inf
+
+    assert min(error(delay) for delay in np.arange(0.0, 0.5, 0.001)) < EXECUTION_TOLERANCE

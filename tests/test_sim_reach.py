@@ -96,3 +96,85 @@ def test_reach_is_cached_per_setting(robot):
     assert throw_reach(robot) is throw_reach(robot)
     other = dataclasses.replace(robot, name="copy")
     assert throw_reach(other).distance == throw_reach(robot).distance
+
+
+def _slow_joint_2(tmp_path, speed: float = 2.3):
+    """The Comau with joint 2 limited to ``speed`` rad/s (the issue's case), as a robot file."""
+    from importlib import resources
+
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    assert "max_velocity = 2.792" in text
+    path = tmp_path / "slow.toml"
+    path.write_text(text.replace("max_velocity = 2.792", f"max_velocity = {speed}"))
+    return load_robot(path)
+
+
+def test_executable_reach_is_what_a_throw_at_the_speed_limit_from_that_release_reaches(tmp_path):
+    from rlff.robot import RobotMapping
+    from rlff.sim.reach import executable_reach
+
+    robot = _slow_joint_2(tmp_path)
+    mapping = RobotMapping.for_robot(robot)
+    reach = executable_reach(mapping, release=-0.44)
+    assert (reach.joint, reach.speed) == ("joint_2", 2.3)
+    # the mapped throw: joint 2 swings up to its limit and lets go at -0.44 rad, joints 3 and 5 stay
+    start = mapping.start_pose
+    points, duration = 120, 2.0 * (-0.44 + 1.2) / 2.3
+    t = np.linspace(0.0, duration, points)
+    phase = np.pi * t / duration
+    positions = np.tile([start.get(n, 0.0) for n in robot.joint_names], (points, 1))
+    velocities = np.zeros_like(positions)
+    positions[:, 1] = -1.2 + 2.3 * (t / 2.0 - duration / (2.0 * np.pi) * np.sin(phase))
+    velocities[:, 1] = 2.3 * (1.0 - np.cos(phase)) / 2.0
+    thrown = simulate_throw(JointTrajectory(robot.joint_names, t, positions, velocities), Basket(1.5),
+                            robot=robot, check_reach=False)
+    assert thrown.landing_x == pytest.approx(reach.distance, abs=0.02)
+    # the free-pose reach is an upper bound; the best release of the mapping is no farther
+    best = executable_reach(mapping)
+    assert reach.distance < best.distance <= throw_reach(robot).distance + 1e-9
+
+
+def test_an_unreachable_basket_for_the_executed_throws_is_refused_before_the_first_throw(tmp_path):
+    """Joint 2 limited to 2.3 rad/s and a basket at 1.7 m: the free-pose reach accepts it, every
+    throw the loop executes falls short; one line with the reach, and no attempt at all."""
+    from rlff.learn import learn
+    from rlff.preprocess import Pipeline
+    from rlff.synthetic.throws import simulate_throws
+
+    robot_file = tmp_path / "slow.toml"
+    robot = _slow_joint_2(tmp_path)
+    require_reachable(Basket(1.7), robot)  # what the reach check said before
+    demos, _ = Pipeline.preset("thesis").run(simulate_throws(1))
+
+    def executor(trajectory):
+        raise AssertionError("no throw may run for an unreachable basket")
+
+    with pytest.raises(InputError) as error:
+        learn(demos, 1.7, robot=str(robot_file), executor=executor)
+    message = str(error.value)
+    assert "\n" not in message
+    assert "basket at 1.70 m is out of reach of the throws this robot executes: joint_2 at 2.30 rad/s (its speed limit)" in message
+    assert "at most 1.5" in message and "farthest basket with a 0.35 m opening is at 1.6" in message
+
+
+@pytest.mark.parametrize("speed", [0.5, 2.0])  # below and above a**2 / j = 1 rad/s
+def test_attainable_speed_inverts_a_jerk_limited_start_from_rest(speed):
+    from rlff.sim.reach import attainable_speed
+
+    a, j = 10.0, 100.0
+    joint = Joint("joint_2", -3.0, 3.0, 5.0, max_acceleration=a, max_jerk=j)
+    # the fastest start to `speed`: jerk +j, (hold a), jerk -j; integrated numerically here
+    peak = min(a, np.sqrt(speed * j))
+    ramp = peak / j
+    hold = max(0.0, (speed - peak * ramp) / peak)
+    dt = 1e-6
+    t = np.arange(0.0, 2 * ramp + hold, dt)
+    jerk = np.where(t < ramp, j, np.where(t < ramp + hold, 0.0, -j))
+    acceleration = np.cumsum(jerk) * dt
+    velocity = np.cumsum(acceleration) * dt
+    travel = np.sum(velocity) * dt
+    assert velocity[-1] == pytest.approx(speed, rel=1e-3)
+    assert attainable_speed(joint, travel) == pytest.approx(speed, rel=1e-3)
+    # never beyond the speed limit, and without motion limits the speed limit at once
+    assert attainable_speed(joint, 100.0) == 5.0
+    assert attainable_speed(Joint("joint_2", -3.0, 3.0, 5.0), 0.01) == 5.0

@@ -241,11 +241,13 @@ def _output_distances(demonstrated: list[float], farthest: float) -> tuple[list[
     return shown, sorted(new)
 
 
-def _learning_distance(throws: list[ThrowRow]) -> float:
-    """The basket the robot learns at: among the reachable distances nobody demonstrated, the one
-    where the model's first throw misses most (learning has something to do there). Falls back to
-    any reachable distance when no new one is reachable."""
-    for candidates in ([r for r in throws if r.reachable and not r.demonstrated], [r for r in throws if r.reachable]):
+def _learning_distance(throws: list[ThrowRow], learnable: float = math.inf) -> float:
+    """The basket the robot learns at: among the reachable distances nobody demonstrated (and no
+    farther than ``learnable``, m: what the learning loop's own throws reach), the one where the
+    model's first throw misses most (learning has something to do there). Falls back to any
+    reachable distance when no new one is reachable."""
+    reachable = [r for r in throws if r.reachable and r.distance <= learnable]
+    for candidates in ([r for r in reachable if not r.demonstrated], reachable):
         if candidates:
             worst = max(candidates, key=lambda r: abs(r.miss) if math.isfinite(r.miss) else -1.0)
             return worst.distance
@@ -294,6 +296,7 @@ def run_demo(
     DemoSummary
     """
     from rlff.learn import learn
+    from rlff.learn.loop import learnable_basket
     from rlff.model import Model
     from rlff.preprocess import Pipeline
     from rlff.robot import RobotMapping, load_robot
@@ -350,7 +353,7 @@ def run_demo(
             ThrowRow(distance, distance in demonstrated, distance <= farthest, bool(outcome.hit),
                      float(outcome.landing_x), float(outcome.miss))
         )
-    learning_distance = _learning_distance(throws)
+    learning_distance = _learning_distance(throws, learnable_basket(clean, mapping, basket_shape))
 
     clock.stage(STAGES[5])
     learning: list[LearningRow] = []

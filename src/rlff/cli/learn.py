@@ -29,6 +29,18 @@ def learn_command(
                                       help="Clean the demonstrations first with this preprocessing preset (e.g. thesis)."),
     pedestal: float = typer.Option(0.0, "--pedestal", help="Height of the robot's base (m)."),
     robot: str = typer.Option("comau_smart5_six", "--robot", help="Robot name or robot file."),
+    until: str = typer.Option("hit", "--until",
+                              help="Stop at the first hit, or 'centred': keep refining past hits near the rim "
+                                   "until one lands within --centre-share of the opening."),
+    centre_share: float = typer.Option(0.5, "--centre-share",
+                                       help="With --until centred: a centred hit lands within this share of the "
+                                            "half-opening from the centre (0.5: the middle half)."),
+    out: Path | None = typer.Option(None, "--out", "-o",
+                                    help="Write the best throw (the last hit) robot-ready, as `rlff robot export` "
+                                         "does; the format from the suffix (.json, .csv, .bag, .txt: comau; none: "
+                                         "ros2-bag folder) or --format."),
+    fmt: str | None = typer.Option(None, "--format", "-f", help="Format of --out: json, csv, ros1-bag, ros2-bag, comau."),
+    period: float = typer.Option(0.002, "--period", help="Controller period (s) of --out, as `robot export --period`."),
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
@@ -37,7 +49,16 @@ def learn_command(
     from rlff.learn import learn
 
     # the log is read (resumed) and written: it may exist, but must not be the demonstrations
-    guard(inputs={"DEMOS": demos}, outputs={"--log": log})
+    guard(inputs={"DEMOS": demos}, outputs={"--log": log, "--out": out})
+    if out is not None:  # a bad --out or --format fails before the first throw
+        from rlff.learn.replay import export_format
+        from rlff.robot.formats import FORMATS
+
+        fmt = export_format(out, fmt)
+        if fmt not in FORMATS:
+            from rlff.errors import InputError
+
+            raise InputError(f"unknown --format {fmt!r} (known: {', '.join(FORMATS)})")
     data = read_csv(demos)
     if preset:
         from rlff.preprocess import Pipeline
@@ -49,21 +70,45 @@ def learn_command(
         def show(attempt) -> None:
             if not bar:
                 bar.append(stack.enter_context(progress(f"learning to hit {basket:g} m", total=budget)))
-            outcome = "hit" if attempt.hit else f"miss {attempt.miss:+.2f} m"
+            outcome = f"{'hit' if attempt.hit else 'miss'} {attempt.miss:+.2f} m"
             bar[0](1, description=f"attempt {attempt.index}: {outcome}, "
                                   f"exploration {attempt.exploration:.2f}")
 
         result = learn(data, basket, budget=budget, feedback=feedback, update=update, seed=seed,
-                       log_path=log, progress=show, robot=robot, pedestal=pedestal)
+                       log_path=log, progress=show, robot=robot, pedestal=pedestal, until=until,
+                       centre_share=centre_share)
     for note in result.notes:
         say(note)
+    written = _write_best(result, robot, out, fmt, period) if out is not None else None
     if as_json:
-        emit_json(result.to_json())
+        emit_json({**result.to_json(), "out": written})
         return
     if result.resumed:
         say(f"resumed {plural(result.resumed, 'attempt')} from {log}")
-    verdict = (f"hit after {plural(result.attempts, 'attempt')}" if result.hit
-               else f"no hit in {plural(result.attempts, 'attempt')}")
-    misses = ", ".join(f"{m:+.2f}" for m in result.misses)
+    goal = "a centred hit" if until == "centred" else "a hit"
+    verdict = (f"{goal} after {plural(result.attempts, 'attempt')}" if result.hit and result.centred
+               else f"no {goal[2:]} in {plural(result.attempts, 'attempt')}")
+    misses = ", ".join(("no landing" if m != m else f"{m:+.2f}") + (" hit" if a.hit else "")
+                       for m, a in zip(result.misses, result.history, strict=True))
     stdout().print(f"{verdict} (basket {basket:g} m, {feedback} feedback, update {update}); "
-                   f"misses (m): {misses}", highlight=False)
+                   f"signed misses from the centre (m): {misses}", highlight=False)
+
+
+def _write_best(result, robot: str, out: Path, fmt: str, period: float) -> dict | None:
+    """The best throw to ``out`` through the planning and writing of ``rlff robot export``."""
+    from rlff.learn.replay import plan_attempt
+    from rlff.robot.description import load_robot
+    from rlff.robot.formats import export_trajectory
+    from rlff.robot.mapping import RobotMapping
+
+    best = result.best
+    if best is None:
+        say(f"no throw came down: nothing written to {out}")
+        return None
+    mapping = RobotMapping.for_robot(load_robot(robot))
+    planned = plan_attempt(best, mapping, period)
+    export_trajectory(planned.trajectory, mapping, fmt, out)
+    what = "the last hit" if best.hit else "no hit: the throw nearest the centre"
+    say(f"wrote {out} ({fmt}): attempt {best.index}, {what} ({best.miss:+.3f} m), "
+        f"{len(planned.trajectory)} points, {planned.trajectory.duration:.3f} s")
+    return {"path": out, "format": fmt, "attempt": best.index, "hit": best.hit, "miss": best.miss}

@@ -21,6 +21,10 @@ app = typer.Typer(help="The robot: its limits, exports, and live ROS 1 (serve / 
 
 ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help=f"Robot file (.toml) or built-in robot name ({DEFAULT_ROBOT}).")
 CLIP = typer.Option(False, "--clip", help="Clip values beyond the limits (and report each) instead of refusing.")
+ATTEMPT = typer.Option(None, "--attempt", min=1,
+                       help="With an attempts log (rlff learn --log): the attempt to use; default its last hit.")
+INPUT_HELP = ("Generated trajectory CSV (angle, velocity[, time], ...), a robot trajectory (JSON/CSV of "
+              "`robot export`, e.g. `rlff learn --out`), or an attempts log (with --attempt).")
 JSON = typer.Option(False, "--json", help="Print a machine-readable result on stdout.")
 
 
@@ -63,12 +67,12 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
 
 @app.command()
 def export(
-    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...), "
-                                                "or a robot trajectory (JSON/CSV) this command wrote."),
+    trajectory: Path = typer.Argument(..., help=INPUT_HELP),
     fmt: str = typer.Option(..., "--format", "-f", help=f"One of: {', '.join(FORMATS)}."),
     out: Path = typer.Option(..., "--output", "-o", "--out", help="Output file (a folder for ros2-bag)."),
     robot: str = ROBOT,
     clip: bool = CLIP,
+    attempt: int = ATTEMPT,
     period: float = typer.Option(0.002, "--period", help="Controller period (s) the planned trajectory is "
                                                          "sampled at (> 0)."),
     stamp_now: bool = typer.Option(False, "--stamp-now", help="Bags: header.stamp = the time of writing "
@@ -80,12 +84,17 @@ def export(
     import time as clock
 
     from rlff.cli.output import guard
+    from rlff.learn.replay import load_input
+    from rlff.robot.description import load_robot
     from rlff.robot.formats import export_trajectory
-    from rlff.robot.plan import plan_file
+    from rlff.robot.mapping import RobotMapping
 
     guard(inputs={"TRAJECTORY": trajectory, "--robot": _robot_file(robot)}, outputs={"-o/--output": out},
           folders=["-o/--output"] if fmt == "ros2-bag" else [])
-    result, mapping = plan_file(trajectory, robot, period, clip)
+    mapping = RobotMapping.for_robot(load_robot(robot))
+    source = load_input(trajectory, mapping.robot, attempt=attempt, period=period, clip=clip)
+    say(f"{trajectory}: {source.kind}")
+    result = source.plan
     export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)
     _report(result)
     planned = result.trajectory
@@ -178,9 +187,9 @@ def _mujoco_throw(model, basket: float):
 
 @app.command()
 def send(
-    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...), or what "
-                                                "`rlff robot export` writes as json, csv, ros1-bag or ros2-bag."),
+    trajectory: Path = typer.Argument(..., help=INPUT_HELP),
     robot: str = ROBOT,
+    attempt: int = ATTEMPT,
     timeout: float = typer.Option(None, "--timeout", help="Seconds for everything; then the goal is cancelled."),
     topic_mode: bool = typer.Option(False, "--topic-mode", help="Publish on /comau/joint_trajectory instead of the action."),
     clip: bool = CLIP,
@@ -189,21 +198,33 @@ def send(
 ) -> None:
     """Send a trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels).
 
-    A generated throw is planned from the arm's pose (read from /joint_states); an exported
-    trajectory is sent as it is. Either must pass the motion check, starting at the arm's pose.
+    A generated throw or an attempt of an attempts log is planned from the arm's pose (read from
+    /joint_states); an exported trajectory is sent as it is. Each must pass the motion check,
+    starting at the arm's pose.
     """
+    from rlff.errors import InputError
+    from rlff.learn.log import is_attempts_log
+    from rlff.learn.replay import load_input
     from rlff.robot.description import load_robot
     from rlff.robot.sendfile import load_for_sending
 
     model = load_robot(robot)
-    load_for_sending(trajectory, model, period, clip)  # a wrong file is refused before any connection
+
+    def load(start=None):
+        if is_attempts_log(trajectory):
+            return load_input(trajectory, model, attempt=attempt, period=period, clip=clip, start=start).plan
+        if attempt is not None:
+            raise InputError(f"--attempt {attempt}: {trajectory} is not an attempts log")
+        return load_for_sending(trajectory, model, period, clip, start=start)[1]
+
+    load()  # a wrong file is refused before any connection
     _require_ros()
     from rlff.robot.ros1.client import arm_state, goal_for_arm, publish_trajectory, send_goal
     from rlff.robot.ros1.master import RosUnavailable
 
     try:
         pose, speed = arm_state(model, timeout)
-        _, result = load_for_sending(trajectory, model, period, clip, start=pose)
+        result = load(start=pose)
         _report(result)
         traj = goal_for_arm(model, result.trajectory, pose, speed)
         if traj is not result.trajectory:

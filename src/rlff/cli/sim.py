@@ -22,13 +22,20 @@ JSON = typer.Option(False, "--json", help="Print a machine-readable result on st
 
 @app.command()
 def throw(
-    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity, time), or a robot "
-                                                 "trajectory CSV/JSON from `rlff robot export`."),
-    basket: float = typer.Option(..., "--basket", help="Distance of the basket's centre from the robot (m)."),
-    rim_height: float = RIM,
-    opening: float = OPENING,
+    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity, time), a robot "
+                                                 "trajectory CSV/JSON from `rlff robot export` or `rlff learn "
+                                                 "--out`, or an attempts log (with --attempt)."),
+    basket: float = typer.Option(None, "--basket", help="Distance of the basket's centre from the robot (m); "
+                                                        "default for an attempts log: its basket."),
+    rim_height: float = typer.Option(None, "--rim-height", help="Height of the basket's rim (m); default 0.3, "
+                                                                "or the attempts log's."),
+    opening: float = typer.Option(None, "--opening", help="Inner width of the basket's square opening (m); "
+                                                          "default 0.35, or the attempts log's."),
+    attempt: int = typer.Option(None, "--attempt", min=1,
+                                help="With an attempts log: the attempt to throw; default its last hit."),
     robot: str = ROBOT,
-    pedestal: float = PEDESTAL,
+    pedestal: float = typer.Option(None, "--pedestal", help="Height of the robot's base above the ground (m); "
+                                                             "default 0, or the attempts log's."),
     release_angle: float = typer.Option(None, "--release-angle",
                                         help="Let go when the throwing robot joint passes this position (rad); "
                                              "default: the planned release (or the end of a trajectory without one)."),
@@ -39,16 +46,25 @@ def throw(
 ) -> None:
     """Execute a trajectory on the simulated robot and report where the ball lands."""
     from rlff.cli.output import guard
+    from rlff.errors import InputError
+    from rlff.learn.replay import load_input
     from rlff.robot.description import load_robot
     from rlff.sim import Basket, simulate_throw
-    from rlff.sim.inputs import load_throw
+    from rlff.sim.inputs import SIM_PERIOD
 
     guard(inputs={"TRAJECTORY": trajectory}, outputs={"--frames": frames}, folders=["--frames"])
     model = load_robot(robot)
-    target = Basket(basket, rim_height, opening)
-    loaded = load_throw(trajectory, model, clip=clip)
-    say(f"{trajectory}: {loaded.kind}, {loaded.summary}")
-    outcome = simulate_throw(loaded.trajectory, target, robot=model, release_angle=release_angle,
+    loaded = load_input(trajectory, model, attempt=attempt, period=SIM_PERIOD, clip=clip)
+    run = loaded.run or {}
+    logged = run.get("basket", {})
+    basket = logged.get("distance") if basket is None else basket
+    pedestal = run.get("pedestal", 0.0) if pedestal is None else pedestal
+    if basket is None:
+        raise InputError("--basket is needed (only an attempts log carries its basket)")
+    target = Basket(basket, logged.get("rim_height", 0.3) if rim_height is None else rim_height,
+                    logged.get("opening", 0.35) if opening is None else opening)
+    say(f"{trajectory}: {loaded.kind}")
+    outcome = simulate_throw(loaded.plan.trajectory, target, robot=model, release_angle=release_angle,
                              pedestal=pedestal, frames_dir=frames)
     for note in outcome.notes:
         say(note)
@@ -56,11 +72,12 @@ def throw(
         emit_json({"trajectory": trajectory, "robot": model.name, "pedestal": pedestal, **outcome.to_dict()})
         return
     release = outcome.release.to_dict()
-    side = "short" if outcome.miss < 0 else "long"
+    side = "short of" if outcome.miss < 0 else "beyond"
     out = stdout()
     out.print(f"{'HIT' if outcome.hit else 'miss'}: the ball came down to the rim's height at "
-              f"{outcome.landing_x:.3f} m, {abs(outcome.miss):.3f} m {side} of the basket at "
-              f"{basket:g} m (first touched: {outcome.first_contact})", highlight=False)
+              f"{outcome.landing_x:.3f} m, {abs(outcome.miss):.3f} m {side} the centre of the basket at "
+              f"{basket:g} m (signed miss {outcome.miss:+.3f} m; first touched: {outcome.first_contact})",
+              highlight=False)
     position = release["position"]
     out.print(f"release at t = {release['time']:.3f} s: ball at x = {position[0]:.3f} m, z = {position[2]:.3f} m, "
               f"{release['speed']:.3f} m/s at {release['angle']:.1f} deg", highlight=False)
@@ -83,18 +100,23 @@ def reach(
 ) -> None:
     """How far the robot throws: where the ball comes down to the rim's height, at best."""
     from rlff.robot.description import load_robot
+    from rlff.robot.mapping import RobotMapping
     from rlff.sim import throw_reach
-    from rlff.sim.reach import farthest_basket
+    from rlff.sim.reach import executable_reach, farthest_basket
 
     model = load_robot(robot)
     names = [name.strip() for name in joints.split(",") if name.strip()]
     result = throw_reach(model, rim_height, pedestal, names)
     farthest = farthest_basket(result.distance, opening)
+    mapped = executable_reach(RobotMapping.for_robot(model), rim_height, pedestal) if model.throwing else None
     if json:
         emit_json({"robot": model.name, "rim_height": rim_height, "pedestal": pedestal, "joints": list(result.joints),
                    "reach": result.distance, "farthest_basket": farthest, "opening": opening,
                    "release_pose": result.pose, "joint_velocities": result.velocities,
-                   "release_position": result.position, "release_velocity": result.velocity})
+                   "release_position": result.position, "release_velocity": result.velocity,
+                   "mapped": None if mapped is None else {
+                       "joint": mapped.joint, "reach": mapped.distance, "release": mapped.release,
+                       "speed": mapped.speed, "farthest_basket": farthest_basket(mapped.distance, opening)}})
         return
     out = stdout()
     out.print(f"{model.name}, throwing with {', '.join(result.joints)} at the speed limit from a "
@@ -104,3 +126,7 @@ def reach(
     speed = float((result.velocity**2).sum() ** 0.5)
     out.print(f"best release: {pose}; ball at x = {result.position[0]:.3f} m, z = {result.position[1]:.3f} m, "
               f"{speed:.3f} m/s", highlight=False)
+    if mapped is not None:
+        out.print(f"throws of the \\[throwing] mapping ({mapped.joint} alone at {mapped.speed:.3f} rad/s, the rest at "
+                  f"the start pose): at most {mapped.distance:.3f} m, released at {mapped.release:.3f} rad; farthest "
+                  f"basket {farthest_basket(mapped.distance, opening):.3f} m", highlight=False)

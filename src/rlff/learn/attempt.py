@@ -33,8 +33,8 @@ class Attempt:
         First landing point along the throwing direction (m); NaN when the ball never came down
         through the rim's height, and as a method sees it under binary feedback.
     miss : float
-        Signed miss (m): negative short of the basket, positive beyond it, 0 for a hit; NaN
-        like ``landing``.
+        Signed miss (m): the landing's distance from the basket's centre, negative short of it,
+        positive beyond it, hits included; NaN like ``landing``.
     exploration : float
         Mean DMM exploration factor along the generated path (0 for baselines without one).
     clipped : int

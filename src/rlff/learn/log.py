@@ -11,20 +11,35 @@ crash the file holds every finished attempt and at most one partial last line. R
 that partial line (no newline at the end, or not valid JSON), drops it and reports it; a bad
 line anywhere else means the file was damaged or edited and is an error naming the line.
 A run resumes from the log only if the log's header describes the same run (basket, feedback,
-update, seed, demonstrations); otherwise the mismatch is an error, never silently mixed.
+update, seed, demonstrations, the robot's digest); otherwise the mismatch is an error naming the
+first field that differs, never silently mixed.
+
+One run at a time: opening a log takes an exclusive lock on ``<log>.lock`` (``flock`` through
+filelock's :func:`filelock.lock_descriptor`, released by the kernel if the run dies) and writes
+the holder's pid, host and start time into it; a second run on the same log is refused with
+that holder named. The lock file is left in place (deleting it would let two runs lock two
+different files of one name) and emptied on release.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
+import socket
+import time as clock
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+from filelock import lock_descriptor, unlock_descriptor
 
 from rlff.errors import InputError
 from rlff.fileio import prepare_output, write_text
 from rlff.learn.attempt import Attempt
+
+if TYPE_CHECKING:
+    from rlff.robot.mapping import RobotMapping
 
 FORMAT = "rlff-attempts"
 VERSION = 1
@@ -46,11 +61,16 @@ class LogContents:
     dropped_partial_line: bool
 
 
+class LogInUse(InputError):
+    """Another run holds the attempts log."""
+
+
 class AttemptLog:
-    """An append-only, crash-safe attempts log bound to one run.
+    """An append-only, crash-safe attempts log bound to one run, held by one run at a time.
 
     Opening an existing file resumes it: the header must describe ``run`` exactly, complete
-    attempts are loaded into :attr:`contents`, a partial last line is cut off the file.
+    attempts are loaded into :attr:`contents`, a partial last line is cut off the file. The log
+    stays locked until :meth:`close` (or the end of a ``with`` block).
 
     Parameters
     ----------
@@ -61,6 +81,8 @@ class AttemptLog:
 
     Raises
     ------
+    LogInUse
+        Another run holds the log (the message names its pid and host).
     InputError
         The file is not an attempts log, belongs to another run, or is damaged before its last
         line.
@@ -70,12 +92,50 @@ class AttemptLog:
         self.path = Path(path)
         self.run = json.loads(json.dumps(run))  # normalised as it will read back
         prepare_output(self.path)  # a folder, or a file where its folder should be, is refused
-        if self.path.exists() and self.path.stat().st_size > 0:
-            self.contents = self._resume()
-        else:
-            # the header is written whole or not at all: a log is never left without one
-            write_text(self.path, _line({"format": FORMAT, "version": VERSION, "run": self.run}))
-            self.contents = LogContents([], False)
+        self._lock = self._acquire()
+        try:
+            if self.path.exists() and self.path.stat().st_size > 0:
+                self.contents = self._resume()
+            else:
+                # the header is written whole or not at all: a log is never left without one
+                write_text(self.path, _line({"format": FORMAT, "version": VERSION, "run": self.run}))
+                self.contents = LogContents([], False)
+        except BaseException:
+            self.close()
+            raise
+
+    @property
+    def lock_path(self) -> Path:
+        """The lock file beside the log: ``<log>.lock``."""
+        return self.path.with_name(self.path.name + ".lock")
+
+    def close(self) -> None:
+        """Release the log for other runs (idempotent)."""
+        if self._lock is None:
+            return
+        os.ftruncate(self._lock, 0)
+        unlock_descriptor(self._lock)
+        os.close(self._lock)
+        self._lock = None
+
+    def __enter__(self) -> AttemptLog:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def _acquire(self) -> int:
+        """Lock ``<log>.lock`` without waiting and write the holder into it; the descriptor."""
+        fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o644)
+        if not lock_descriptor(fd, blocking=False):
+            holder = os.pread(fd, 4096, 0).decode("utf-8", errors="replace").strip() or "another run"
+            os.close(fd)
+            raise LogInUse(f"{self.path} is in use by {holder} (lock file {self.lock_path}); wait for "
+                           "that run to end, or use another --log file")
+        os.ftruncate(fd, 0)
+        started = clock.strftime("%Y-%m-%d %H:%M:%S", clock.localtime())
+        os.pwrite(fd, f"rlff learn, pid {os.getpid()} on host {socket.gethostname()}, since {started}\n".encode(), 0)
+        return fd
 
     def append(self, attempt: Attempt) -> None:
         """Write one attempt as a line and make it durable (flush + fsync) before returning."""
@@ -89,40 +149,9 @@ class AttemptLog:
 
     def _resume(self) -> LogContents:
         raw = self.path.read_bytes()
-        lines = raw.split(b"\n")
-        # A complete file ends with a newline, so the final element is empty. Anything else is a
-        # last write cut short: kept if it still parses (only its newline is missing), else dropped.
-        tail = lines.pop()
-        dropped = False
-        if tail:
-            if _parse(tail) is None:
-                dropped = True
-            else:
-                lines.append(tail)
-        records: list[dict[str, Any]] = []
-        for number, line in enumerate(lines, start=1):
-            record = _parse(line)
-            if record is None:
-                if number == len(lines) and not dropped:
-                    dropped = True  # garbled last line: the crash hit the final write
-                    break
-                raise InputError(f"{self.path}, line {number}: corrupt attempts log (not a JSON object)")
-            records.append(record)
-        if not records:
-            raise InputError(f"{self.path}: corrupt attempts log (no complete header line)")
+        lines, records, dropped = _records(self.path, raw)
         self._check_header(records[0])
-        attempts = []
-        for number, record in enumerate(records[1:], start=2):
-            try:
-                attempt = Attempt.from_json(record)
-            except (KeyError, TypeError, ValueError) as exc:
-                raise InputError(f"{self.path}, line {number}: corrupt attempt record ({exc})") from None
-            if attempt.index != len(attempts) + 1:
-                raise InputError(
-                    f"{self.path}, line {number}: attempt {attempt.index} out of order "
-                    f"(expected {len(attempts) + 1})"
-                )
-            attempts.append(attempt)
+        attempts = _attempts(self.path, records)
         good = b"".join(line + b"\n" for line in lines[: len(records)])
         if good != raw:
             # Either cut the partial line (good is a prefix of raw) or add the missing newline.
@@ -137,19 +166,138 @@ class AttemptLog:
         return LogContents(attempts, dropped)
 
     def _check_header(self, header: dict[str, Any]) -> None:
-        if header.get("format") != FORMAT:
-            raise InputError(f"{self.path}, line 1: not an rlff attempts log (format {header.get('format')!r})")
-        if header.get("version") != VERSION:
-            raise InputError(f"{self.path}, line 1: unsupported attempts log version {header.get('version')!r}")
-        logged = header.get("run")
-        if not isinstance(logged, dict):
-            raise InputError(f"{self.path}, line 1: corrupt attempts log (no run description)")
-        for key in sorted(set(logged) | set(self.run)):
-            if logged.get(key) != self.run.get(key):
-                raise InputError(
-                    f"{self.path}: the log belongs to another run ({key} = {logged.get(key)!r} in the "
-                    f"log, {self.run.get(key)!r} now); use another --log file"
-                )
+        logged = _run_of(self.path, header)
+        difference = first_difference(logged, self.run)
+        if difference is not None:
+            key, before, now = difference
+            raise InputError(
+                f"{self.path}: the log belongs to another run ({key} = {brief(before)} in the log, {brief(now)} "
+                "now); use another --log file"
+            )
+
+
+def robot_record(mapping: RobotMapping) -> dict[str, Any]:
+    """What the log's header keeps of the robot: its name, a digest and the description digested.
+
+    The description is what a throw depends on: every joint's limits (all the numbers of its
+    robot-file table), the geometry and the human-to-robot mapping actually used; not where the
+    file lies. A log resumes only with the same description, and a changed one is named field by
+    field (``robot.description.mapping.angle_scale``).
+    """
+    robot = mapping.robot
+    description = {
+        "joints": {joint.name: {k: v for k, v in vars(joint).items() if k != "name"} for joint in robot.joints},
+        "geometry": vars(robot.geometry) if robot.geometry else None,
+        "mapping": {"joint": mapping.joint, "start_pose": dict(mapping.start_pose),
+                    "angle_offset": mapping.angle_offset, "angle_scale": mapping.angle_scale,
+                    "velocity_scale": mapping.velocity_scale},
+    }
+    canonical = json.dumps(description, sort_keys=True, separators=(",", ":"))
+    return {"name": robot.name, "digest": hashlib.sha256(canonical.encode()).hexdigest()[:16],
+            "description": description}
+
+
+def read_log(path: str | Path) -> tuple[dict[str, Any], LogContents]:
+    """The run description and the attempts of a log, read without changing or locking the file.
+
+    A partial last line (a run interrupted mid-write, or one still writing) is left out.
+
+    Raises
+    ------
+    InputError
+        No such file, not an attempts log, or a damaged line before the last.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: no such attempts log")
+    _, records, dropped = _records(path, path.read_bytes())
+    return _run_of(path, records[0]), LogContents(_attempts(path, records), dropped)
+
+
+def is_attempts_log(path: str | Path) -> bool:
+    """Whether the first line of ``path`` is the header of an attempts log."""
+    try:
+        with open(path, "rb") as handle:
+            first = _parse(handle.readline().rstrip(b"\n"))
+    except OSError:
+        return False
+    return first is not None and first.get("format") == FORMAT
+
+
+def _records(path: Path, raw: bytes) -> tuple[list[bytes], list[dict[str, Any]], bool]:
+    """The lines of a log, its complete records (header first) and whether a partial last line
+    was left out."""
+    lines = raw.split(b"\n")
+    # A complete file ends with a newline, so the final element is empty. Anything else is a
+    # last write cut short: kept if it still parses (only its newline is missing), else dropped.
+    tail = lines.pop()
+    dropped = False
+    if tail:
+        if _parse(tail) is None:
+            dropped = True
+        else:
+            lines.append(tail)
+    records: list[dict[str, Any]] = []
+    for number, line in enumerate(lines, start=1):
+        record = _parse(line)
+        if record is None:
+            if number == len(lines) and not dropped:
+                dropped = True  # garbled last line: the crash hit the final write
+                break
+            raise InputError(f"{path}, line {number}: corrupt attempts log (not a JSON object)")
+        records.append(record)
+    if not records:
+        raise InputError(f"{path}: corrupt attempts log (no complete header line)")
+    return lines, records, dropped
+
+
+def _run_of(path: Path, header: dict[str, Any]) -> dict[str, Any]:
+    """The run description of a header line, checked."""
+    if header.get("format") != FORMAT:
+        raise InputError(f"{path}, line 1: not an rlff attempts log (format {header.get('format')!r})")
+    if header.get("version") != VERSION:
+        raise InputError(f"{path}, line 1: unsupported attempts log version {header.get('version')!r}")
+    run = header.get("run")
+    if not isinstance(run, dict):
+        raise InputError(f"{path}, line 1: corrupt attempts log (no run description)")
+    return run
+
+
+def _attempts(path: Path, records: list[dict[str, Any]]) -> list[Attempt]:
+    """The attempts of a log's records after the header, numbered 1, 2, ... in order."""
+    attempts = []
+    for number, record in enumerate(records[1:], start=2):
+        try:
+            attempt = Attempt.from_json(record)
+        except (KeyError, TypeError, ValueError) as exc:
+            raise InputError(f"{path}, line {number}: corrupt attempt record ({exc})") from None
+        if attempt.index != len(attempts) + 1:
+            raise InputError(
+                f"{path}, line {number}: attempt {attempt.index} out of order (expected {len(attempts) + 1})"
+            )
+        attempts.append(attempt)
+    return attempts
+
+
+def first_difference(logged: Any, now: Any, where: str = "") -> tuple[str, Any, Any] | None:
+    """The first leaf that differs between two JSON values, as (dotted key, logged, now), or None.
+
+    Nested objects are compared key by key (in sorted order), so a changed robot description is
+    reported as e.g. ``robot.throwing.angle_scale`` rather than as two whole descriptions.
+    """
+    if isinstance(logged, dict) and isinstance(now, dict):
+        for key in sorted(set(logged) | set(now)):
+            found = first_difference(logged.get(key), now.get(key), f"{where}.{key}" if where else key)
+            if found is not None:
+                return found
+        return None
+    return None if logged == now else (where, logged, now)
+
+
+def brief(value: Any, width: int = 60) -> str:
+    """``repr(value)`` for a message, cut to ``width`` characters (a whole description is long)."""
+    text = repr(value)
+    return text if len(text) <= width else text[: width - 1] + "…"
 
 
 def _line(record: dict[str, Any]) -> str:

@@ -1,7 +1,8 @@
 """The closed learning-from-failure loop (thesis 1.1.2 and chapter 5's open last step).
 
 fit -> generate the DMM's throw for the basket distance -> map it to the robot -> execute ->
-record the attempt -> update -> repeat, until a hit or the budget is spent.
+record the attempt -> update -> repeat, until a hit (or, with ``until="centred"``, a hit near the
+basket's centre) or the budget is spent.
 
 The loop works on what the robot does. The demonstrations are checked against the robot
 through the human-to-robot mapping before anything runs; every proposed throw is mapped to the
@@ -28,7 +29,7 @@ from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
 from rlff.learn.baselines import BASELINES
-from rlff.learn.log import AttemptLog
+from rlff.learn.log import AttemptLog, robot_record
 from rlff.learn.method import COLUMNS, FEEDBACKS, Method, Problem
 from rlff.learn.strategies import STRATEGIES
 from rlff.limits import check_pedestal
@@ -45,6 +46,10 @@ MIN_POINTS = 30
 MAX_SAMPLES = 600
 #: Every method the loop can run, by name: update strategies first, then baselines.
 METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
+#: When a run stops: at the first hit, or at the first hit within the centre share of the opening.
+UNTILS = ("hit", "centred")
+#: Default share of the opening (centre to rim) a centred hit lands within.
+CENTRE_SHARE = 0.5
 
 
 class Outcome(Protocol):
@@ -70,7 +75,8 @@ class LearningResult:
     attempts : int
         Attempts made, including those resumed from the log.
     misses : list of float
-        Signed miss (m) of every attempt, negative short, 0 for the hit.
+        Signed miss (m) of every attempt: the landing's distance from the basket's centre,
+        negative short, positive long, hits included; NaN where the ball never came down.
     history : list of Attempt
     target : float
         Basket distance (m).
@@ -79,6 +85,12 @@ class LearningResult:
         Attempts taken from the log rather than executed by this call.
     dropped_partial_line : bool
         The log ended in a line cut short by a crash; it was dropped.
+    until : {"hit", "centred"}
+        The stopping rule of the run.
+    centred : bool
+        The last attempt hit within the centre share of the opening (``centre_window``).
+    centre_window : float
+        Largest ``abs(miss)`` (m) of a centred hit; ``inf`` when the run stops at any hit.
     """
 
     hit: bool
@@ -91,6 +103,19 @@ class LearningResult:
     resumed: int = 0
     dropped_partial_line: bool = False
     notes: list[str] = field(default_factory=list)
+    until: str = "hit"
+    centred: bool = False
+    centre_window: float = math.inf
+
+    @property
+    def best(self) -> Attempt | None:
+        """The throw to keep: the last hit, else the attempt that came down nearest the centre,
+        else None (no attempt, or none came down)."""
+        hits = [a for a in self.history if a.hit]
+        if hits:
+            return hits[-1]
+        landed = [a for a in self.history if math.isfinite(a.miss)]
+        return min(landed, key=lambda a: abs(a.miss)) if landed else None
 
     def to_json(self) -> dict[str, Any]:
         """The result as plain values (no trajectories)."""
@@ -98,6 +123,7 @@ class LearningResult:
             "hit": self.hit,
             "attempts": self.attempts,
             "misses": [_json_number(m) for m in self.misses],
+            "hits": [a.hit for a in self.history],
             "landings": [_json_number(a.landing) for a in self.history],
             "exploration": [a.exploration for a in self.history],
             "target": self.target,
@@ -105,6 +131,9 @@ class LearningResult:
             "update": self.update,
             "resumed": self.resumed,
             "dropped_partial_line": self.dropped_partial_line,
+            "until": self.until,
+            "centred": self.centred,
+            "centre_window": _json_number(self.centre_window),
             "notes": self.notes,
         }
 
@@ -124,6 +153,8 @@ def learn(
     pedestal: float = 0.0,
     rim_height: float = 0.3,
     opening: float = 0.35,
+    until: str = "hit",
+    centre_share: float = CENTRE_SHARE,
 ) -> LearningResult:
     """Learn to hit a basket at distance ``basket`` from (possibly failed) demonstrations.
 
@@ -155,6 +186,13 @@ def learn(
         Robot name or robot file; its ``[throwing]`` table is the mapping.
     pedestal, rim_height, opening : float
         Height of the robot's base, of the basket's rim, and the basket's inner width (m).
+    until : {"hit", "centred"}
+        Stop at the first hit, or keep refining after hits near the rim until a throw lands
+        within ``centre_share`` of the opening: ``abs(miss) <= centre_share * opening / 2``.
+        Methods are then told "hit" only for such throws (and size their steps by that
+        narrower window), so every method and both feedbacks work unchanged.
+    centre_share : float
+        In (0, 1]: the share of the half-opening a centred hit lands within.
 
     Returns
     -------
@@ -179,6 +217,10 @@ def learn(
                          f"not {feedback!r}")
     if not (isinstance(budget, int) and budget >= 1):
         raise InputError(f"budget must be a positive whole number of attempts, got {budget!r}")
+    if until not in UNTILS:
+        raise InputError(f"unknown until {until!r} (known: {', '.join(UNTILS)})")
+    if not 0 < centre_share <= 1:
+        raise InputError(f"centre share must be in (0, 1] of the half-opening, got {centre_share!r}")
     robot_model = load_robot(robot)
     mapping = RobotMapping.for_robot(robot_model)
     target = Basket(float(basket), rim_height=rim_height, opening=opening)  # checks the stated range
@@ -186,6 +228,7 @@ def learn(
     _require_reach(robot_model, target, pedestal)
     demos = _learning_demos(demos)
     _require_demos_within_limits(demos, mapping)
+    _require_executable(mapping, target, pedestal, _angle_grid(demos))
     if executor is None:
         executor = _simulator(robot_model, target, pedestal)
 
@@ -194,11 +237,27 @@ def learn(
         "feedback": feedback,
         "update": update,
         "seed": seed,
-        "robot": robot_model.name,
+        "robot": robot_record(mapping),
         "pedestal": pedestal,
         "demos": fingerprint(demos),
+        "until": until,
     }
+    centre_window = math.inf
+    if until == "centred":
+        centre_window = 0.5 * centre_share * target.opening
+        run["centre_share"] = centre_share
     log = AttemptLog(log_path, run) if log_path is not None else None
+    try:
+        return _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
+                    progress, until, centre_window)
+    finally:
+        if log:
+            log.close()
+
+
+def _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor, progress,
+         until, centre_window) -> LearningResult:
+    """The attempts of :func:`learn` after its checks, with the log (or None) held."""
     history = list(log.contents.attempts) if log else []
     resumed = len(history)
     for attempt in history:
@@ -209,16 +268,20 @@ def learn(
         demos=demos,
         target=target.distance,
         feedback=feedback,
-        tolerance=_hit_tolerance(target),
+        tolerance=min(_hit_tolerance(target), centre_window),
         angles=_angle_grid(demos),
         components=_components(demos, seed),
         seed=seed,
-        max_speed=robot_model.joint(mapping.joint).max_velocity / abs(mapping.velocity_scale),
+        max_speed=mapping.robot.joint(mapping.joint).max_velocity / abs(mapping.velocity_scale),
     )
-    method = method_class(problem) if not (history and history[-1].hit) else None
-    while method is not None and len(history) < budget and not (history and history[-1].hit):
+
+    def done(attempt: Attempt) -> bool:
+        return attempt.hit and abs(attempt.miss) <= centre_window
+
+    method = method_class(problem) if not (history and done(history[-1])) else None
+    while method is not None and len(history) < budget and not (history and done(history[-1])):
         start = clock.perf_counter()
-        proposal = method.propose([_as_reported(a, feedback) for a in history])
+        proposal = method.propose([_as_reported(a, feedback, centre_window) for a in history])
         attempt = _execute(proposal, len(history) + 1, target.distance, mapping, executor, start)
         if log:
             log.append(attempt)
@@ -240,16 +303,20 @@ def learn(
         resumed=resumed,
         dropped_partial_line=bool(log and log.contents.dropped_partial_line),
         notes=notes,
+        until=until,
+        centred=bool(history and done(history[-1])),
+        centre_window=centre_window,
     )
 
 
 def _execute(proposal, index: int, target: float, mapping, executor: Executor, start: float) -> Attempt:
     """Map a proposal to the robot (saturating at its limits), execute it, record what it did."""
+    from rlff.robot.plan import plan
+
     velocity = _forward_velocity(proposal.angle, proposal.velocity)
-    trajectory, clip_report = mapping.to_robot(
-        proposal.angle, velocity, time_along_path(proposal.angle, velocity), clip=True
-    )
-    outcome = executor(trajectory)
+    planned = plan(mapping, proposal.angle, velocity, time_along_path(proposal.angle, velocity), clip=True)
+    trajectory, clip_report = planned.points, planned.clipped_points
+    outcome = executor(planned.trajectory)
     angle, executed = mapping.from_robot(trajectory)
     return Attempt(
         index=index,
@@ -260,7 +327,7 @@ def _execute(proposal, index: int, target: float, mapping, executor: Executor, s
         time=trajectory.time / mapping.time_scale,
         hit=bool(outcome.hit),
         landing=float(outcome.landing_x),
-        miss=0.0 if outcome.hit else float(outcome.miss),
+        miss=float(outcome.miss),
         exploration=proposal.exploration,
         clipped=len(clip_report),
         seconds=clock.perf_counter() - start,
@@ -300,6 +367,31 @@ def _require_reach(robot, basket, pedestal: float) -> None:
     from rlff.sim import require_reachable
 
     require_reachable(basket, robot, pedestal)
+
+
+def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0) -> float:
+    """Farthest basket centre (m) of ``basket``'s shape that :func:`learn` accepts from ``demos``:
+    what the throws of its angle grid reach (see :func:`_require_executable`)."""
+    from rlff.sim.reach import executable_reach, farthest_basket
+
+    start, release = mapping.angle_offset + mapping.angle_scale * _angle_grid(_learning_demos(demos))[[0, -1]]
+    reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from=start)
+    return farthest_basket(reach.distance, basket.opening)
+
+
+def _require_executable(mapping, basket, pedestal: float, angles: np.ndarray) -> None:
+    """Refuse a basket that no throw of this loop can reach, before the first throw.
+
+    Every method throws along the same angle grid (rad, shape (T,)), so the driven joint swings
+    from its mapped first angle and lets go at the mapped last one, at most at its speed limit
+    (and what its acceleration and jerk limits allow over that swing), the other joints at the
+    start pose.
+    """
+    from rlff.sim.reach import require_executable
+
+    start, release = mapping.angle_offset + mapping.angle_scale * angles[[0, -1]]
+    require_executable(basket, mapping, pedestal, release, swing_from=start,
+                       release_source="where the demonstrations let go")
 
 
 def _require_demos_within_limits(demos: Dataset, mapping) -> None:
@@ -386,11 +478,13 @@ def _forward_velocity(angle: np.ndarray, velocity: np.ndarray, crawl: float = 0.
     return direction * speed
 
 
-def _as_reported(attempt: Attempt, feedback: str) -> Attempt:
-    """The attempt as the feedback reports it: without landing and miss for binary feedback."""
+def _as_reported(attempt: Attempt, feedback: str, centre_window: float = math.inf) -> Attempt:
+    """The attempt as the feedback reports it: without landing and miss for binary feedback, and
+    a hit only within ``centre_window`` (m) of the centre (``until="centred"``)."""
+    hit = attempt.hit and abs(attempt.miss) <= centre_window
     if feedback == "distance":
-        return attempt
-    return replace(attempt, landing=math.nan, miss=math.nan)
+        return attempt if hit == attempt.hit else replace(attempt, hit=hit)
+    return replace(attempt, hit=hit, landing=math.nan, miss=math.nan)
 
 
 def _json_number(value: float) -> float | None:

@@ -6,6 +6,11 @@ goes farthest. The reach is where the
 released ball comes down through the rim's height (no drag), searched on a grid of release poses
 and refined locally, with the elbow, the wrist and the ball clear of the ground. It ignores the room a joint needs to speed up and to stop, so it is an upper
 bound of what a trajectory within the limits achieves.
+
+:func:`executable_reach` is the reach of what a human-to-robot mapping executes: only its driven
+joint moves, from a given release (the learning loop's is fixed by the demonstrations), at its
+speed limit or what its acceleration and jerk limits allow over the swing, the other joints at
+the start pose. ``rlff learn`` refuses a basket beyond it before the first throw.
 """
 
 from __future__ import annotations
@@ -186,4 +191,119 @@ def _reach(arm: Arm, rim_height: float, pedestal: float, joints: tuple[str, ...]
         velocities={name: float(rates[rate][PLANE_JOINTS.index(name)]) for name in joints},
         position=plane.ball,
         velocity=velocity,
+    )
+
+
+@dataclass(frozen=True)
+class ExecutableReach:
+    """How far the throws a mapping executes go: the driven joint at its speed limit, released at
+    one position (or the best one), every other joint at the mapping's start pose.
+
+    Attributes
+    ----------
+    distance : float
+        Where the ball comes down through the rim's height (m from the joint 1 axis).
+    joint : str
+        The driven joint.
+    release : float
+        Its release position (rad).
+    speed : float
+        Its release speed (rad/s): the speed limit, or less where the swing is too short to get
+        there within the joint's acceleration and jerk limits.
+    """
+
+    distance: float
+    joint: str
+    release: float
+    speed: float
+
+
+def attainable_speed(joint, travel: np.ndarray | float) -> np.ndarray:
+    """Fastest speed (rad/s) ``joint`` reaches from rest over ``travel`` (rad), shape of ``travel``.
+
+    Within its speed limit and, where the robot file states them, its acceleration limit a and
+    jerk limit j: a jerk-limited start from rest covers ``v**2 / (2 a) + v a / (2 j)`` rad on
+    the way to a speed v >= a**2 / j (the acceleration ramps up and down at j, holding a in
+    between), and ``v * sqrt(v / j)`` below that (the ramps alone); solved here for v.
+    """
+    travel = np.maximum(np.asarray(travel, dtype=float), 0.0)
+    a = joint.max_acceleration if joint.max_acceleration else np.inf
+    j = joint.max_jerk if joint.max_jerk else np.inf
+    if not np.isfinite(a) and not np.isfinite(j):
+        return np.full(travel.shape, joint.max_velocity)
+    if not np.isfinite(j):
+        speed = np.sqrt(2.0 * a * travel)
+    elif not np.isfinite(a):
+        speed = np.cbrt(travel**2 * j)
+    else:
+        half = a / (2.0 * j)
+        held = a * (-half + np.sqrt(half**2 + 2.0 * travel / a))  # with a phase at a
+        speed = np.where(held >= a * a / j, held, np.cbrt(travel**2 * j))
+    return np.minimum(speed, joint.max_velocity)
+
+
+def executable_reach(mapping, rim_height: float = 0.3, pedestal: float = 0.0,
+                     release: float | None = None, swing_from: float | None = None) -> ExecutableReach:
+    """The reach of the throws ``mapping`` (a :class:`rlff.robot.mapping.RobotMapping`) executes.
+
+    Unlike :func:`throw_reach`, which places joints 2, 3 and 5 wherever the throw goes farthest,
+    this keeps what the robot is given: only the mapping's driven joint moves, at most at its
+    speed limit (the learning loop never asks for more), the others stay at the start pose, and
+    the ball leaves at ``release`` (rad of the driven joint; the learning loop's release is fixed
+    by the demonstrations), or at the best position of the joint's range when None. With
+    ``swing_from`` (rad: where the swing starts from rest) the release speed is also bounded by
+    what the joint reaches over the swing within its acceleration and jerk limits
+    (:func:`attainable_speed`).
+
+    Raises
+    ------
+    InputError
+        A driven joint outside the throwing plane, or a release outside its range.
+    """
+    arm = Arm.from_robot(mapping.robot)
+    if mapping.joint not in PLANE_JOINTS:
+        raise InputError(f"the mapping drives {mapping.joint}, which does not throw in the vertical plane "
+                         f"({', '.join(PLANE_JOINTS)} do)")
+    joint = mapping.robot.joint(mapping.joint)
+    if release is not None and not joint.lower <= release <= joint.upper:
+        raise InputError(f"release position {release:g} rad is outside {joint.name}'s range "
+                         f"[{joint.lower:g}, {joint.upper:g}] rad")
+    positions = np.linspace(joint.lower, joint.upper, 2001) if release is None else np.array([float(release)])
+    pose = {name: np.full(positions.shape, mapping.start_pose.get(name, 0.0)) for name in PLANE_JOINTS}
+    pose[mapping.joint] = positions
+    plane = arm.in_plane(pose["joint_2"], pose["joint_3"], pose["joint_5"], pedestal)
+    speed = np.full(positions.shape, joint.max_velocity)
+    if swing_from is not None:
+        speed = attainable_speed(joint, np.abs(positions - swing_from))
+    rate = np.sign(mapping.angle_scale) * speed  # in the direction of the mapped swing
+    velocity = plane.jacobian[..., PLANE_JOINTS.index(mapping.joint)] * rate[..., None]
+    crossing = crossing_distance(plane.ball[..., 0], plane.ball[..., 1], velocity[..., 0], velocity[..., 1],
+                                 rim_height)
+    lowest = np.minimum(np.minimum(plane.elbow[..., 1], plane.wrist[..., 1]), plane.ball[..., 1])
+    crossing = np.where(np.isfinite(crossing) & (lowest > GROUND_CLEARANCE), crossing, -np.inf)
+    best = int(np.argmax(crossing))
+    return ExecutableReach(float(crossing[best]), joint.name, float(positions[best]), float(speed[best]))
+
+
+def require_executable(basket: Basket, mapping, pedestal: float = 0.0, release: float | None = None, *,
+                       swing_from: float | None = None, release_source: str | None = None) -> ExecutableReach:
+    """The executable reach, or :class:`InputError` if no throw the mapping executes can drop into
+    ``basket``: one line with the reach in metres and what limits it (``release_source`` says
+    where a given ``release`` comes from)."""
+    reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from)
+    farthest = farthest_basket(reach.distance, basket.opening)
+    if basket.distance <= farthest:
+        return reach
+    joint = mapping.robot.joint(reach.joint)
+    limit = ("its speed limit" if reach.speed >= joint.max_velocity - 1e-12
+             else "the fastest its acceleration and jerk limits allow over the swing")
+    where = (f"released at {reach.release:.2f} rad" + (f" ({release_source})" if release_source else "")
+             if release is not None else f"released at its best position ({reach.release:.2f} rad)")
+    came_down = (f"brings the ball down to the {basket.rim_height:.2f} m rim at most {reach.distance:.2f} m away"
+                 if np.isfinite(reach.distance) else f"never brings the ball down through the {basket.rim_height:.2f} m rim")
+    raise InputError(
+        f"basket at {basket.distance:.2f} m is out of reach of the throws this robot executes: {reach.joint} "
+        f"at {reach.speed:.2f} rad/s ({limit}), {where}, the other joints at the start pose, "
+        f"{came_down}, so the farthest basket with a {basket.opening:.2f} m opening is at {farthest:.2f} m "
+        f"(pedestal {pedestal:.2f} m)"
     )

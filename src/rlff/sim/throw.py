@@ -20,6 +20,7 @@ import mujoco
 import numpy as np
 
 from rlff.ballistics import GRAVITY, crossing_distance
+from rlff.ballistics import flight_time as time_to_height
 from rlff.errors import InputError
 from rlff.limits import check_pedestal
 from rlff.robot.description import Robot, load_robot
@@ -83,13 +84,13 @@ class ThrowOutcome:
     Attributes
     ----------
     hit : bool
-        The ball ended inside the basket.
+        The ball ended inside the basket, having entered it through the opening.
     landing_x : float
         Where the ball first came down to the rim's height (m from the joint 1 axis): the landing
-        point on the plane of the basket's opening. If it touched something before (a release
-        below the rim), where it first touched.
+        point on the plane of the basket's opening. A ball that grazed the rim first lands where
+        its free flight crosses that plane; one released below the rim, where it first touched.
     miss : float
-        ``landing_x - basket.distance`` (m): negative = short, positive = long.
+        ``landing_x - basket.distance`` (m), hits included: negative = short, positive = long.
     release : ReleaseState
     predicted_landing_x : float
         The closed-form projectile's crossing of the rim's height from the release state (m);
@@ -247,6 +248,20 @@ def simulate_throw(
     return ThrowOutcome(**outcome, reachable=reachable, basket=basket, frames=frames, notes=tuple(notes))
 
 
+def _free_landing(state: tuple[float, ...], rim: float, release_time: float) -> tuple[float, float]:
+    """Landing point (m) and flight time (s) of a ball that touched something before its centre
+    came down through the rim's height: its free flight from ``state`` (x, z in m, vx, vz in m/s,
+    time in s: the last step without a contact) carried on to the rim's plane in closed form, so
+    that a ball grazing the rim lands where its flight crosses the opening, whatever the step.
+    NaN for a ball already below the rim (a release below it): it lands where it touched.
+    """
+    x, z, vx, vz, time = state
+    if z < rim:
+        return float("nan"), float("nan")
+    t = float(time_to_height(z, vz, rim))
+    return float(crossing_distance(x, z, vx, vz, rim)), time + t - release_time
+
+
 def _throwing_joint(trajectory: JointTrajectory, name: str | None) -> str:
     if name is not None:
         trajectory.joint_index(name)
@@ -331,6 +346,8 @@ class _Run:
         release_time = data.time
         still = 0
         x, z = ball[0], ball[2]
+        # the ball's last state before anything touched it: x, z (m), vx, vz (m/s), time (s)
+        free_state = (x, z, ball_velocity[0], ball_velocity[2], data.time)
         cap = step + round(FLIGHT_CAP / dt)
         last = len(self.reference.positions) - 1
         idle = step >= last
@@ -365,12 +382,15 @@ class _Run:
                 landing_x = x_before + share * (x - x_before)
                 flight_time = data.time - release_time - dt * (1.0 - share)
             if not data.ncon:
+                free_state = (x, z, ball_velocity[0], ball_velocity[2], data.time)
                 continue
             touches = self._touches(data)
             if first_contact == "nothing" and touches:
                 first_contact = "ground" if "ground" in touches else "basket"
                 if np.isnan(landing_x):
-                    landing_x = x
+                    landing_x, flight_time = _free_landing(free_state, rim, release_time)
+                    if np.isnan(landing_x):
+                        landing_x = x
             if "ground" in touches:
                 break
             if basket.holds(ball, BALL_RADIUS):

@@ -1,0 +1,143 @@
+"""A learned throw as robot input: one attempt of an attempts log, planned like any other path.
+
+``rlff robot export``, ``rlff robot send``, ``rlff sim throw`` and ``rlff learn --out`` share
+this: an input file is a generated path (CSV), a robot joint trajectory (JSON or CSV as ``rlff
+robot export`` writes them) or an attempts log with an attempt number (default: its last hit).
+An attempt is stored in the demonstrations' units (what the robot executed, mapped back), so it
+goes through the same :func:`rlff.robot.plan.plan` as a generated path: the same mapping, the
+same motion planner (approach, the throw to its release, braking to rest) and the same motion
+check, and nothing a learned throw writes can differ from what ``robot export`` writes of it. An attempt is replayed only with the robot it was thrown
+with: the log's header keeps the robot's description, and a different one is refused naming
+the first field that differs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from rlff.errors import InputError
+from rlff.fileio import require_file
+from rlff.learn.attempt import Attempt
+from rlff.learn.log import brief, first_difference, is_attempts_log, read_log, robot_record
+from rlff.robot.description import Robot
+from rlff.robot.mapping import RobotMapping
+from rlff.robot.plan import RobotPlan, load_for_robot, plan
+from rlff.trajectory.planner import DEFAULT_PERIOD
+
+#: Export format of an output file by its suffix (a path without one is a ROS 2 bag folder).
+SUFFIX_FORMATS = {".json": "json", ".csv": "csv", ".bag": "ros1-bag", ".txt": "comau", "": "ros2-bag"}
+
+
+@dataclass(frozen=True)
+class ThrowInput:
+    """A planned input: the robot trajectory, what the file was, and the log's run if any.
+
+    Attributes
+    ----------
+    plan : RobotPlan
+    kind : str
+        What the file was and what became of it: ``"generated path, mapped to ..."``,
+        ``"robot trajectory, N points ..."`` or ``"attempt N of LOG (hit, ...)"``.
+    run : dict or None
+        The attempts log's run description (``basket`` with ``distance``, ``rim_height`` and
+        ``opening`` in m, ``pedestal`` in m, ...); None for other files.
+    """
+
+    plan: RobotPlan
+    kind: str
+    run: dict | None = None
+
+
+def pick_attempt(path: str | Path, number: int | None = None) -> tuple[Attempt, dict]:
+    """Attempt ``number`` (1 for the first) of an attempts log, default its last hit; and the run.
+
+    Raises
+    ------
+    InputError
+        Not an attempts log, no such attempt, or no hit when no number is given.
+    """
+    run, contents = read_log(path)
+    attempts = contents.attempts
+    if number is None:
+        hits = [a for a in attempts if a.hit]
+        if not hits:
+            raise InputError(f"{path}: none of its {len(attempts)} attempts hit; choose one with --attempt N")
+        return hits[-1], run
+    if not 1 <= number <= len(attempts):
+        held = f"attempts 1 to {len(attempts)}" if attempts else "no attempts"
+        raise InputError(f"{path}: no attempt {number} (it holds {held})")
+    return attempts[number - 1], run
+
+
+def require_same_robot(path: str | Path, run: dict, mapping: RobotMapping) -> None:
+    """Raise :class:`InputError` unless ``mapping`` is the robot and mapping the log was thrown with."""
+    difference = first_difference(run.get("robot"), robot_record(mapping), "robot")
+    if difference is not None:
+        key, logged, now = difference
+        raise InputError(f"{path} was thrown by another robot or mapping ({key} = {brief(logged)} in the log, "
+                         f"{brief(now)} with {mapping.robot.source}); give its robot file with --robot")
+
+
+def plan_attempt(attempt: Attempt, mapping: RobotMapping, period: float = DEFAULT_PERIOD,
+                 clip: bool = False, start: np.ndarray | None = None) -> RobotPlan:
+    """The robot trajectory of an attempt, planned as :func:`rlff.robot.plan.plan` plans a path:
+    approach (from ``start``, the arm's pose in rad, default the throw's first pose), the throw to
+    its release, braking to rest, and the one motion check."""
+    return plan(mapping, attempt.angle, attempt.velocity, attempt.time, period, clip, start)
+
+
+def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float = DEFAULT_PERIOD,
+               clip: bool = False, start: np.ndarray | None = None) -> ThrowInput:
+    """Read a generated path, a robot trajectory or an attempt of a log and plan it for ``robot``.
+
+    Parameters
+    ----------
+    path : str or Path
+        Generated path CSV (``angle``, ``velocity`` [, ``time``]), robot trajectory JSON or CSV
+        (``time``, ``<joint>_position``, ...), or an attempts log (JSON Lines).
+    robot : Robot
+    attempt : int, optional
+        The attempt of an attempts log (1 for the first); default its last hit. Only for logs.
+    period : float
+        Controller period (s) a path or an attempt is planned at (a robot trajectory is taken as
+        it is, and checked).
+    clip : bool
+        Clip values beyond the limits (reported) instead of refusing them.
+    start : array of shape (J,), optional
+        The arm's pose (rad, ``robot``'s joints in order) a path or an attempt is planned from;
+        default its first pose.
+
+    Raises
+    ------
+    InputError
+        Unreadable or unknown file, ``attempt`` for a file that is not a log, another robot
+        than the log's, or (without ``clip``) a value beyond a limit.
+    """
+    path = Path(path)
+    if not path.is_dir():  # a folder gets load_for_robot's word on what to give instead
+        require_file(path)
+    mapping = RobotMapping.for_robot(robot)
+    if is_attempts_log(path):
+        chosen, run = pick_attempt(path, attempt)
+        require_same_robot(path, run, mapping)
+        outcome = f"hit, {chosen.miss:+.3f} m from the centre" if chosen.hit else f"miss {chosen.miss:+.3f} m"
+        planned = plan_attempt(chosen, mapping, period, clip, start)
+        return ThrowInput(planned, f"attempt {chosen.index} of {path} ({outcome}), {planned.summary()}", run)
+    if attempt is not None:
+        raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
+    kind, planned = load_for_robot(path, robot, period, clip, start)
+    return ThrowInput(planned, f"{kind}, {planned.summary()}")
+
+
+def export_format(out: str | Path, fmt: str | None = None) -> str:
+    """``fmt``, or the export format of ``out``'s suffix (:data:`SUFFIX_FORMATS`)."""
+    if fmt is not None:
+        return fmt
+    suffix = Path(out).suffix.lower()
+    if suffix not in SUFFIX_FORMATS:
+        known = ", ".join(f"{s or 'no suffix'} ({f})" for s, f in SUFFIX_FORMATS.items())
+        raise InputError(f"{out}: no export format for the suffix {suffix!r} ({known}); give --format")
+    return SUFFIX_FORMATS[suffix]
