@@ -44,8 +44,10 @@ METHODS_BY_FEEDBACK = {
 }
 #: Seed of the first run of the record: the methods were tuned on seeds below it.
 HELD_OUT_SEEDS = 100
-#: The demonstrators of the default scenario (kept for callers that name them).
+#: The demonstrators, by name (kept for callers that name them).
 SCENARIOS = DEMONSTRATORS
+#: Seconds to wait for a Dask scheduler to answer.
+SCHEDULER_TIMEOUT = 10.0
 
 
 @dataclass(frozen=True)
@@ -155,7 +157,7 @@ def parallel_backend(scheduler: str | None) -> Iterator[None]:
     except ImportError:
         raise InputError("--scheduler needs dask.distributed (pip install distributed)") from None
     try:
-        client = Client(scheduler, timeout=10)
+        client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
     except (OSError, TimeoutError, ValueError) as exc:
         raise InputError(f"--scheduler {scheduler!r}: no Dask scheduler answers there ({exc})") from None
     try:
