@@ -10,7 +10,14 @@ from scipy.stats import wilcoxon
 
 from rlff.errors import InputError
 from rlff.learn.benchmark import Run, format_table, learning_benchmark, report, run_one
-from rlff.learn.scenarios import Feedback, Scenario, demonstrations, parse_feedback, parse_landings, with_landings
+from rlff.learn.scenarios import (
+    Feedback,
+    Scenario,
+    demonstrations,
+    parse_feedback,
+    parse_landings,
+    with_landings,
+)
 from rlff.learn.statistics import comparisons, paired_p_value, rows
 
 
