@@ -241,16 +241,18 @@ def _output_distances(demonstrated: list[float], farthest: float) -> tuple[list[
     return shown, sorted(new)
 
 
-def _learning_distance(throws: list[ThrowRow], first_miss: Callable[[float], float]) -> float:
-    """The basket the robot learns at: among the reachable distances nobody demonstrated, the one
-    where the learning loop's own first throw (``first_miss(distance)``, its signed miss in m)
-    misses most, so that learning has something to do there. Falls back to any reachable
-    distance when no new one is reachable."""
-    for candidates in ([r for r in throws if r.reachable and not r.demonstrated], [r for r in throws if r.reachable]):
+def _learning_distance(demonstrated: list[float], farthest: float, first_miss: Callable[[float], float]) -> float:
+    """The basket the robot learns at: on a 0.1 m grid of reachable distances at least 0.1 m from
+    every demonstrated one, where the learning loop's own first throw (``first_miss(distance)``,
+    its signed miss in m) misses most, so that learning has something to do there. Falls back
+    to the reachable demonstrated distances when no new one is reachable."""
+    grid = np.round(np.arange(min(demonstrated) + 0.1, farthest - 0.05 + 1e-9, 0.1), 3)
+    new = [float(d) for d in grid if all(abs(d - x) >= 0.1 - 1e-9 for x in demonstrated)]
+    for candidates in (new, [d for d in demonstrated if d <= farthest]):
         if candidates:
-            misses = {r.distance: first_miss(r.distance) for r in candidates}
+            misses = {d: first_miss(d) for d in candidates}
             return max(misses, key=lambda d: abs(misses[d]) if math.isfinite(misses[d]) else -1.0)
-    raise InputError("no generated throw is within the robot's reach: no basket to learn at")
+    raise InputError("no demonstrated or new distance is within the robot's reach: no basket to learn at")
 
 
 def check_demo_options(out_dir: str | Path, size: str) -> None:
@@ -335,6 +337,20 @@ def run_demo(
     basket_shape = Basket(1.0)
     farthest = farthest_basket(max_reach(robot, basket_shape.rim_height), basket_shape.opening)
     shown, new = _output_distances(demonstrated, farthest)
+    showcase_method, showcase_feedback = plan.methods[0]  # the loop's default method
+    # the robot learns from what a recording knows: the basket each person aimed at, not where
+    # the ball came down (given the landings, calibrate hits at once nearly everywhere)
+    aimed = with_landings(clean, "none", seed)
+
+    def first_miss(distance: float) -> float:
+        clock.note(f"the learning basket: the loop's first throw at {distance:g} m")
+        first = learn(aimed, distance, budget=1, feedback=showcase_feedback, update=showcase_method, seed=seed,
+                      robot=robot.name)
+        return first.history[0].miss
+
+    learning_distance = _learning_distance(demonstrated, farthest, first_miss)
+    loop_components = _components(_learning_demos(aimed), seed)
+    new = sorted({*new, learning_distance})  # its throw is in the table too
     angles = _angle_grid(clean)
     # continuity: where two modes are nearly as high, keep to the one that continues the throw
     # (a robot cannot jump between the sides of a donut); the report gives the density traded
@@ -351,18 +367,6 @@ def run_demo(
             ThrowRow(distance, distance in demonstrated, distance <= farthest, bool(outcome.hit),
                      float(outcome.landing_x), float(outcome.miss))
         )
-    showcase_method, showcase_feedback = plan.methods[0]  # the loop's default method
-    # the robot learns from what a recording knows: the basket each person aimed at, not where
-    # the ball came down (given the landings, calibrate hits at once nearly everywhere)
-    aimed = with_landings(clean, "none", seed)
-
-    def first_miss(distance: float) -> float:
-        first = learn(aimed, distance, budget=1, feedback=showcase_feedback, update=showcase_method, seed=seed,
-                      robot=robot.name)
-        return first.history[0].miss
-
-    learning_distance = _learning_distance(throws, first_miss)
-    loop_components = _components(_learning_demos(aimed), seed)
 
     clock.stage(STAGES[5])
     learning: list[LearningRow] = []
