@@ -1,15 +1,15 @@
 """Learning benchmark: attempts to the first hit per method, and the loop's own work per attempt.
 
-    .venv/bin/python benchmarks/learning.py [--seeds N] [--quick] [--jobs N] [--backend NAME]
-                                            [--scenario short|wide|both]
+    .venv/bin/python benchmarks/learning.py [--seeds N] [--first-seed S] [--quick] [--jobs N]
+        [--scheduler ADDRESS] [--scenario short,wide,...|all] [--landings none,exact,noisy:0.3]
 
 Part 1 runs the grid of ``rlff bench learning`` (seeds x baskets x feedback kinds x methods,
-real MuJoCo throws) and prints a table per scenario: ``short`` (all-short demonstrations at
-1-1.5 m, the grid of ``rlff bench learning``) and ``wide`` (the demo's setting: demonstrations
-at 1-4 m, most beyond the robot's reach). Part 2 times what the loop itself does per
-attempt (refit the mixture to the demonstrations plus the attempts so far, generate the DMM
-throw, update the calibration) on data of the thesis' size, beside one simulated throw, and
-prints the ratio to the 50 ms target.
+real MuJoCo throws) for every scenario and knowledge of the landings asked for, on held-out
+seeds (100 and up by default), and prints one table each with the paired Wilcoxon p-values of
+the project's methods against every baseline and ablation. Part 2 times what the loop itself
+does per attempt (refit the mixture to the demonstrations plus the attempts so far, generate
+the DMM throw, update the calibration) on data of the thesis' size, beside one simulated throw,
+and prints the ratio to the 50 ms target.
 """
 
 from __future__ import annotations
@@ -19,7 +19,8 @@ import time
 
 import numpy as np
 
-from rlff.learn.benchmark import SCENARIOS, format_table, learning_benchmark
+from rlff.learn.benchmark import HELD_OUT_SEEDS, format_table, learning_benchmark
+from rlff.learn.scenarios import DEMONSTRATORS, Scenario
 
 TARGET_MS = 50.0
 
@@ -61,37 +62,28 @@ def loop_work_per_attempt(repeats: int = 10) -> tuple[float, float]:
     return float(np.median(propose_ms)), float(np.median(throw_ms))
 
 
-def mean_table(runs, budget: int) -> str:
-    """Mean attempts to the first hit over every run of a method (no hit = budget + 1), and hits."""
-    lines = ["| feedback | method | mean attempts | runs that hit |", "|---|---|---|---|"]
-    keys = dict.fromkeys((r.feedback, r.method) for r in runs)
-    for feedback, method in keys:
-        group = [r for r in runs if (r.feedback, r.method) == (feedback, method)]
-        counts = [r.attempts if r.hit else budget + 1 for r in group]
-        lines.append(f"| {feedback} | {method} | {np.mean(counts):.1f} | "
-                     f"{sum(r.hit for r in group)}/{len(group)} |")
-    return "\n".join(lines)
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, default=5)
+    parser.add_argument("--seeds", type=int, default=8)
+    parser.add_argument("--first-seed", type=int, default=HELD_OUT_SEEDS)
     parser.add_argument("--budget", type=int, default=20)
     parser.add_argument("--quick", action="store_true", help="2 seeds, budget 12")
     parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--backend", default=None, help="joblib backend (loky, ray, dask)")
-    parser.add_argument("--scenario", choices=[*SCENARIOS, "both"], default="both")
+    parser.add_argument("--scheduler", default=None, help="Dask scheduler address")
+    parser.add_argument("--scenario", default="short,wide", help="comma-separated demonstrators, or all")
+    parser.add_argument("--landings", default="none,exact,noisy:0.3", help="comma-separated")
     args = parser.parse_args()
     seeds, budget = (min(args.seeds, 2), min(args.budget, 12)) if args.quick else (args.seeds, args.budget)
+    people = list(DEMONSTRATORS) if args.scenario == "all" else args.scenario.split(",")
 
-    for scenario in SCENARIOS if args.scenario == "both" else [args.scenario]:
-        start = time.perf_counter()
-        runs = learning_benchmark(seeds, scenario=scenario, budget=budget, jobs=args.jobs,
-                                  backend=args.backend)
-        print(f"## Attempts to the first hit, scenario {scenario} ({seeds} seeds, budget {budget}, "
-              f"{time.perf_counter() - start:.0f} s)\n")
-        print(format_table(runs, budget) + "\n")
-        print(mean_table(runs, budget) + "\n")
+    for name in people:
+        for landings in args.landings.split(","):
+            start = time.perf_counter()
+            runs = learning_benchmark(Scenario(name, landings=landings), seeds, first_seed=args.first_seed,
+                                      budget=budget, jobs=args.jobs, scheduler=args.scheduler)
+            print(f"## {name}, landings {landings} (seeds {args.first_seed}-{args.first_seed + seeds - 1}, "
+                  f"budget {budget}, {time.perf_counter() - start:.0f} s)\n")
+            print(format_table(runs, budget) + "\n")
 
     print("\n## The loop's own work per attempt (median)\n")
     work, throw = loop_work_per_attempt()

@@ -1,4 +1,4 @@
-"""``rlff bench learning --scenario``, through the real command line with the smallest grid."""
+"""``rlff bench learning``, through the real command line with the smallest grids."""
 
 from __future__ import annotations
 
@@ -6,28 +6,41 @@ import json
 
 import pytest
 
-from rlff.learn.benchmark import METHODS_BY_FEEDBACK, SCENARIOS
-
 
 @pytest.mark.slow
-def test_the_wide_scenario_runs_its_own_baskets(cli):
-    result = cli("bench", "learning", "--scenario", "wide", "--seeds", "1", "--budget", "1", "--jobs", "1",
+def test_json_is_rows_and_comparisons_of_the_scenario_asked_for(cli):
+    result = cli("bench", "learning", "--scenario", "wide", "--landings", "noisy:0.3", "--seeds", "1",
+                 "--first-seed", "300", "--budget", "1", "--jobs", "1", "--methods", "calibrate,sweep,secant",
                  "--json")
     assert result.code == 0, result.stderr
     report = json.loads(result.stdout)
-    assert report["scenario"] == "wide"
-    runs = report["runs"]
-    methods = sum(len(names) for names in METHODS_BY_FEEDBACK.values())
-    assert len(runs) == len(SCENARIOS["wide"].baskets) * methods
-    assert {run["scenario"] for run in runs} == {"wide"}
-    assert {run["basket"] for run in runs} == set(SCENARIOS["wide"].baskets)
-    assert {run["attempts"] for run in runs} == {1}
-    assert {(row["scenario"], row["basket"]) for row in report["summary"]} == {
-        ("wide", basket) for basket in SCENARIOS["wide"].baskets}
+    assert set(report) == {"rows", "comparisons"}
+    rows = {(r["feedback"], r["method"]): r for r in report["rows"]}
+    assert set(rows) == {("binary", "calibrate"), ("binary", "sweep"), ("distance", "calibrate"),
+                         ("distance", "secant")}
+    for row in rows.values():
+        assert {"method", "feedback", "scenario", "landings", "baseline", "median", "mean", "hits",
+                "runs"} <= set(row)
+        assert (row["scenario"], row["landings"], row["runs"]) == ("wide", "noisy:0.3", 2)  # 2 baskets
+        assert row["baseline"] is (row["method"] != "calibrate")
+        assert 1 <= row["median"] <= 2 and 0 <= row["hits"] <= 2
+    pairs = {(c["feedback"], c["method"], c["baseline"]) for c in report["comparisons"]}
+    assert pairs == {("binary", "calibrate", "sweep"), ("distance", "calibrate", "secant")}
+    for comparison in report["comparisons"]:
+        assert {"method", "baseline", "feedback", "p_value", "mean_method", "mean_baseline"} <= set(comparison)
+        assert 0 <= comparison["p_value"] <= 1
 
 
-def test_an_unknown_scenario_is_a_one_line_input_error(cli):
-    result = cli("bench", "learning", "--scenario", "far")
+@pytest.mark.parametrize("option, value, message", [
+    ("--scenario", "far", "--scenario: unknown 'far'"),
+    ("--landings", "guess", "--landings: landings 'guess'"),
+    ("--feedback", "false-miss:2", "--feedback: feedback 'false-miss:2'"),
+    ("--methods", "telepathy", "--methods: unknown 'telepathy'"),
+    ("--opening", "0", "--opening: basket opening must be a width > 0"),
+    ("--robot", "no-such-robot", "--robot:"),
+])
+def test_bad_options_are_one_line_input_errors(cli, option, value, message):
+    result = cli("bench", "learning", option, value)
     assert result.code == 2
-    assert "unknown scenario 'far'" in result.stderr
-    assert "short, wide, both" in result.stderr
+    assert message in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1

@@ -128,7 +128,9 @@ def test_fit_effective_samples(rlff, tmp_path):
     assert json.loads(measured.stdout)["effective_samples"] == pytest.approx(72)  # 12 throws x 6 samples
     text = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "2", "--effective-samples", "50")
     assert "BIC over 50 effective samples" in text.stdout
-    plain = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "2", "--json")
+    default = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "2", "--json")
+    assert json.loads(default.stdout)["effective_samples"] == pytest.approx(72)  # measured by default
+    plain = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "2", "--effective-samples", "all", "--json")
     assert json.loads(plain.stdout)["effective_samples"] is None
     bad = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--effective-samples", "some")
     assert bad.code == 2 and "--effective-samples" in bad.stderr

@@ -88,6 +88,14 @@ def check_numbers_agree_with_files(demo) -> None:
     assert learning_row["reachable"] and not learning_row["demonstrated"]
     for row in throws:
         assert row["hit"] or row["miss"] == pytest.approx(row["landing"] - row["distance"], abs=1e-9)
+    # the showcase: where the default method's own first throw missed, shown in the report's table
+    default = summary["learning"][0]
+    assert default["misses"][0] != 0.0 and default["attempts"] > 1
+    learning = run.section("learning")
+    assert learning.facts["loop components K"] >= 1
+    [runs] = learning.tables
+    assert runs.columns[4] == "first throw miss (m)"
+    assert runs.rows[0][4] == pytest.approx(default["misses"][0])
     # one attempts log per learning run, with as many attempts as the summary says
     for run_row in summary["learning"]:
         lines = (out / "attempts" / f"{run_row['method']}.jsonl").read_text().splitlines()

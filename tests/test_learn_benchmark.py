@@ -1,41 +1,210 @@
-"""The learning benchmark's bookkeeping: medians, hit shares, the table, backend errors."""
+"""The learning benchmark: statistics, scenarios, baselines, and its sweeps on local and Dask workers."""
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
 import pytest
+from scipy.stats import wilcoxon
 
 from rlff.errors import InputError
-from rlff.learn.benchmark import Run, format_table, prepare_backend, summary
+from rlff.learn.benchmark import Run, format_table, learning_benchmark, report, run_one
+from rlff.learn.scenarios import (
+    Feedback,
+    Scenario,
+    demonstrations,
+    parse_feedback,
+    parse_landings,
+    with_landings,
+)
+from rlff.learn.statistics import comparisons, paired_p_value, rows
+
+
+def _run(method, seed, basket, hit, attempts, feedback="binary"):
+    return Run("short", "none", feedback, method, basket, seed, hit, attempts)
+
 
 RUNS = [
-    Run("calibrate", "binary", 1.4, 0, True, 2),
-    Run("calibrate", "binary", 1.4, 1, True, 5),
-    Run("calibrate", "binary", 1.4, 2, False, 10),
-    Run("random", "binary", 1.4, 0, False, 10),
-    Run("random", "binary", 1.4, 1, False, 10),
-    Run("random", "binary", 1.4, 2, True, 7),
+    _run("calibrate", 0, 1.4, True, 2), _run("calibrate", 1, 1.4, True, 5), _run("calibrate", 2, 1.4, False, 10),
+    _run("calibrate", 3, 1.4, True, 1),
+    _run("random", 0, 1.4, False, 10), _run("random", 1, 1.4, False, 10), _run("random", 2, 1.4, True, 7),
+    _run("random", 3, 1.4, True, 4),
 ]
 
 
-def test_a_run_without_a_hit_counts_as_budget_plus_one():
-    rows = {r["method"]: r for r in summary(RUNS, budget=10)}
-    assert rows["calibrate"]["median"] == 5.0
-    assert rows["calibrate"]["mean"] == pytest.approx((2 + 5 + 11) / 3)
-    assert rows["calibrate"]["hit_share"] == pytest.approx(2 / 3)
-    assert rows["random"]["median"] == 11.0  # more than half never hit
+def test_a_row_counts_a_run_without_a_hit_as_budget_plus_one():
+    by_method = {r["method"]: r for r in rows(RUNS, budget=10, project=("calibrate",))}
+    assert by_method["calibrate"] == {
+        "method": "calibrate", "feedback": "binary", "scenario": "short", "landings": "none", "baseline": False,
+        "median": 3.5, "mean": (2 + 5 + 11 + 1) / 4, "hits": 3, "runs": 4}
+    assert by_method["random"]["baseline"] is True
+    assert by_method["random"]["median"] == 9.0 and by_method["random"]["hits"] == 2
 
 
-def test_the_table_says_when_the_median_run_never_hit():
+def test_comparisons_pair_runs_by_seed_and_basket_with_wilcoxon():
+    [comparison] = comparisons(RUNS, budget=10, project=("calibrate",))
+    mine, theirs = np.array([2, 5, 11, 1]), np.array([11, 11, 7, 4])
+    assert comparison["method"] == "calibrate" and comparison["baseline"] == "random"
+    assert comparison["p_value"] == pytest.approx(wilcoxon(mine, theirs, zero_method="pratt").pvalue)
+    assert comparison["mean_method"] == pytest.approx(4.75) and comparison["mean_baseline"] == pytest.approx(8.25)
+    assert comparison["pairs"] == 4
+    # a run of another seed has no partner and is left out of the pairs
+    extra = [*RUNS, _run("random", 9, 1.4, True, 1)]
+    assert comparisons(extra, budget=10, project=("calibrate",))[0]["pairs"] == 4
+
+
+def test_equal_pairs_are_no_evidence():
+    same = np.array([1.0, 2.0, 3.0])
+    assert paired_p_value(same, same) == 1.0
+    assert paired_p_value(np.array([]), np.array([])) == 1.0
+    assert paired_p_value(np.arange(1.0, 11.0), np.arange(1.0, 11.0) + 5) < 0.01
+
+
+def test_the_table_marks_the_projects_methods_and_says_when_the_median_run_never_hit():
     table = format_table(RUNS, budget=10).splitlines()
-    assert table[0].startswith("| feedback | method | median attempts, 1.4 m | hit share, 1.4 m")
-    assert table[2] == "| binary | calibrate | 5 | 67% | 5 |"
-    assert table[3] == "| binary | random | > 10 | 33% | > 10 |"
+    assert table[0].startswith("| scenario | landings | feedback | method | median | mean | hits | p vs calibrate")
+    assert table[2].startswith("| short | none | binary | **calibrate** | 3.5 | 4.8 | 3/4 |")
+    p = wilcoxon([2, 5, 11, 1], [11, 11, 7, 4], zero_method="pratt").pvalue
+    assert table[3].startswith(f"| short | none | binary | random | 9 | 8.2 | 2/4 | {p:.3f} |")
+    never = format_table([_run("random", 0, 1.4, False, 10)], budget=10).splitlines()[2]
+    assert "| > 10 | 11.0 | 0/1 |" in never
 
 
-def test_a_cluster_backend_without_its_package_is_an_input_error():
-    for name in ("ray", "dask"):
-        try:
-            __import__(name)
-        except ImportError:
-            with pytest.raises(InputError, match=f"backend '{name}' needs"):
-                prepare_backend(name)
+def test_report_is_rows_and_comparisons():
+    assert set(report(RUNS, 10)) == {"rows", "comparisons"}
+
+
+@pytest.mark.parametrize("text, kind, noise, rate", [
+    ("binary", "binary", 0.0, 0.0), ("distance", "distance", 0.0, 0.0),
+    ("noisy-distance:0.05", "distance", 0.05, 0.0), ("false-miss:0.2", "binary", 0.0, 0.2),
+])
+def test_feedback_names(text, kind, noise, rate):
+    feedback = parse_feedback(text)
+    assert (feedback.name, feedback.kind, feedback.noise, feedback.false_miss) == (text, kind, noise, rate)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("telepathy", "unknown feedback 'telepathy'"), ("false-miss:1.5", "a rate between 0 and 1"),
+    ("noisy-distance:x", "'x' is not a number"), ("binary:0.1", "unknown feedback"),
+])
+def test_bad_feedback_names_the_value(text, message):
+    with pytest.raises(InputError, match=message):
+        parse_feedback(text)
+
+
+def test_landings_knowledge():
+    assert parse_landings("noisy:0.30") == "noisy:0.3"
+    for bad in ("noisy:0", "noisy", "guess", "exact:1"):
+        with pytest.raises(InputError, match="landings"):
+            parse_landings(bad)
+    with pytest.raises(InputError, match="unknown scenario 'far'"):
+        Scenario("far")
+    with pytest.raises(InputError, match="opening"):
+        Scenario(opening=0.0)
+
+
+@pytest.fixture(scope="module")
+def short_demos():
+    return demonstrations(0, Scenario("short", landings="exact"))
+
+
+def test_landings_are_known_exactly_noisily_or_not_at_all(short_demos):
+    truth = np.array([t.meta["landing"] for t in short_demos])
+    assert all(t.meta["landing"] < t.meta["target"] - 0.15 for t in short_demos)  # all short
+    assert not any("landing" in t.meta for t in with_landings(short_demos, "none", 0))
+    noisy = np.array([t.meta["landing"] for t in with_landings(short_demos, "noisy:0.3", 0)])
+    error = noisy - truth
+    assert 0.15 < np.std(error) < 0.45 and abs(np.mean(error)) < 0.2
+    again = np.array([t.meta["landing"] for t in with_landings(short_demos, "noisy:0.3", 0)])
+    np.testing.assert_array_equal(noisy, again)  # drawn from the seed
+
+
+@pytest.mark.parametrize("name", ["overshooting", "near", "mixed"])
+def test_the_other_demonstrators_throw_as_named(name):
+    demos = demonstrations(0, Scenario(name, landings="exact"))
+    over = np.array([t.meta["landing"] > t.meta["target"] for t in demos])
+    targets = {t.meta["target"] for t in demos}
+    if name == "overshooting":
+        assert over.mean() > 0.8
+    elif name == "near":
+        assert max(targets) <= 1.1
+    else:
+        assert 0.3 < over.mean() < 0.7
+
+
+def test_the_learning_loop_thins_without_losing_the_measured_count(short_demos):
+    from rlff.learn.loop import _learning_demos
+
+    thinned = _learning_demos(short_demos)
+    assert thinned.n_samples < short_demos.n_samples / 3
+    measured = sum(len(t) * t.meta["measured_share"] for t in short_demos)
+    kept = sum(len(t) * t.meta["measured_share"] for t in thinned)
+    assert kept == pytest.approx(measured, rel=0.05)  # every kept sample still a measurement or less
+    assert all(t.meta["measured_share"] <= 1.0 for t in thinned)
+
+
+@pytest.mark.slow
+def test_a_hit_reported_as_a_miss_costs_attempts(short_demos):
+    scenario = Scenario("short", landings="exact")
+    faithful = run_one(short_demos, scenario, Feedback("binary", "binary"), "calibrate", 1.4, 0, budget=6)
+    assert faithful.hit
+    always = Feedback("false-miss:1", "binary", false_miss=1.0)
+    lied_to = run_one(short_demos, scenario, always, "calibrate", 1.4, 0, budget=faithful.attempts)
+    assert not lied_to.hit and lied_to.attempts == faithful.attempts
+
+
+def test_expected_improvement_of_the_absolute_miss_matches_sampling():
+    from rlff.learn.baselines import expected_improvement_of_abs
+
+    rng = np.random.default_rng(0)
+    for mean, std, best in ((0.1, 0.2, 0.15), (-0.3, 0.1, 0.2), (0.0, 1.0, 0.5)):
+        draws = rng.normal(mean, std, 400_000)
+        sampled = np.mean(np.maximum(best - np.abs(draws), 0.0))
+        exact = expected_improvement_of_abs(np.array([mean]), np.array([std]), best)[0]
+        assert exact == pytest.approx(sampled, abs=3e-3)
+
+
+def test_the_sweep_alternates_in_window_steps_within_the_speed_limit(short_demos):
+    from rlff.learn.baselines import RANGE_ELASTICITY, BracketingSweep
+    from rlff.learn.loop import _angle_grid, _learning_demos
+    from rlff.learn.method import Problem
+
+    demos = _learning_demos(short_demos)
+    problem = Problem(demos, 1.4, "binary", 0.14, _angle_grid(demos), 3, 0)
+    sweep = BracketingSweep(problem)
+    step = 2 * 0.14 / (RANGE_ELASTICITY * 1.4)
+    offsets = [sweep.propose([None] * k).info["log_factor"] for k in range(5)]
+    np.testing.assert_allclose(offsets, [0, step, -step, 2 * step, -2 * step], atol=1e-4)
+    # a limit just above the demonstrations' speed: the sweep goes down only, past the limit
+    limited = BracketingSweep(Problem(demos, 1.4, "binary", 0.14, _angle_grid(demos), 3, 0,
+                                      max_speed=float(np.max(np.abs(sweep.mean))) * math.exp(1.5 * step)))
+    offsets = [limited.propose([None] * k).info["log_factor"] for k in range(4)]
+    np.testing.assert_allclose(offsets, [0, step, -step, -2 * step], atol=1e-4)
+    assert np.max(np.abs(limited.propose([None]).velocity)) <= limited.problem.max_speed + 1e-9
+
+
+GRID = {"binary": ["imitation", "sweep"], "distance": []}
+
+
+@pytest.mark.slow
+def test_a_sweep_on_a_dask_cluster_gives_the_local_runs():
+    from dask.distributed import LocalCluster
+
+    scenario = Scenario("short", feedbacks=(Feedback("binary", "binary"),), baskets=(1.4,))
+    local = learning_benchmark(scenario, 1, first_seed=0, methods=GRID, budget=2, jobs=1)
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None) as cluster:
+        remote = learning_benchmark(scenario, 1, first_seed=0, methods=GRID, budget=2, jobs=2,
+                                    scheduler=cluster.scheduler_address)
+    assert sorted(remote, key=lambda r: r.method) == sorted(local, key=lambda r: r.method)
+    assert {r.method for r in local} == {"imitation", "sweep"}
+
+
+def test_a_scheduler_nobody_runs_is_an_input_error(monkeypatch):
+    from rlff.learn import benchmark
+    from rlff.learn.benchmark import parallel_backend
+
+    monkeypatch.setattr(benchmark, "SCHEDULER_TIMEOUT", 1.0)
+
+    with pytest.raises(InputError, match="no Dask scheduler answers"), parallel_backend("tcp://127.0.0.1:9"):
+        pass

@@ -262,7 +262,7 @@ def test_bic_counts_the_measured_samples_of_densified_throws():
     raw = baskets_dataset(baskets=np.array([1.0, 1.5, 2.0]))
     sparse = raw.replace(t.take(slice(None, None, 8)) for t in raw)  # 5 measured samples a throw
     dense, _ = densify(sparse, step=0.01)
-    model = Model.fit(dense, max_components=4, effective_samples="auto")
+    model = Model.fit(dense, max_components=4)  # the default counts what was measured
     shares = np.array([t.meta["measured_share"] for t in dense])
     expected = sum(len(t) * share for t, share in zip(dense, shares, strict=True))
     assert model.fit_info["effective_samples"] == pytest.approx(expected)
@@ -270,12 +270,12 @@ def test_bic_counts_the_measured_samples_of_densified_throws():
     n, p = model.fit_info["n_samples"], model.mixture.n_parameters()
     scaled = model.fit_info["log_likelihood"] * expected / n
     assert model.fit_info["bic"] == pytest.approx(-2 * scaled + p * np.log(expected), rel=1e-12)
-    plain = Model.fit(dense, max_components=4)  # the default counts every sample
+    plain = Model.fit(dense, max_components=4, effective_samples=None)  # the old count: every sample
     assert plain.fit_info["effective_samples"] is None
     p_plain = plain.mixture.n_parameters()
     assert plain.fit_info["bic"] == pytest.approx(-2 * plain.fit_info["log_likelihood"] + p_plain * np.log(n), rel=1e-12)
     # without densified trajectories nothing changes
-    assert Model.fit(raw, components=2, effective_samples="auto").fit_info["effective_samples"] is None
+    assert Model.fit(raw, components=2).fit_info["effective_samples"] is None
     with pytest.raises(InputError, match="effective_samples"):
         Model.fit(dense, components=2, effective_samples="some")
 

@@ -241,17 +241,18 @@ def _output_distances(demonstrated: list[float], farthest: float) -> tuple[list[
     return shown, sorted(new)
 
 
-def _learning_distance(throws: list[ThrowRow], learnable: float = math.inf) -> float:
-    """The basket the robot learns at: among the reachable distances nobody demonstrated (and no
-    farther than ``learnable``, m: what the learning loop's own throws reach), the one where the
-    model's first throw misses most (learning has something to do there). Falls back to any
-    reachable distance when no new one is reachable."""
-    reachable = [r for r in throws if r.reachable and r.distance <= learnable]
-    for candidates in ([r for r in reachable if not r.demonstrated], reachable):
+def _learning_distance(demonstrated: list[float], farthest: float, first_miss: Callable[[float], float]) -> float:
+    """The basket the robot learns at: on a 0.1 m grid of reachable distances at least 0.1 m from
+    every demonstrated one, where the learning loop's own first throw (``first_miss(distance)``,
+    its signed miss in m) misses most, so that learning has something to do there. Falls back
+    to the reachable demonstrated distances when no new one is reachable."""
+    grid = np.round(np.arange(min(demonstrated) + 0.1, farthest - 0.05 + 1e-9, 0.1), 3)
+    new = [float(d) for d in grid if all(abs(d - x) >= 0.1 - 1e-9 for x in demonstrated)]
+    for candidates in (new, [d for d in demonstrated if d <= farthest]):
         if candidates:
-            worst = max(candidates, key=lambda r: abs(r.miss) if math.isfinite(r.miss) else -1.0)
-            return worst.distance
-    raise InputError("no generated throw is within the robot's reach: no basket to learn at")
+            misses = {d: first_miss(d) for d in candidates}
+            return max(misses, key=lambda d: abs(misses[d]) if math.isfinite(misses[d]) else -1.0)
+    raise InputError("no demonstrated or new distance is within the robot's reach: no basket to learn at")
 
 
 def check_demo_options(out_dir: str | Path, size: str) -> None:
@@ -296,7 +297,8 @@ def run_demo(
     DemoSummary
     """
     from rlff.learn import learn
-    from rlff.learn.loop import learnable_basket
+    from rlff.learn.loop import _components, _learning_demos, learnable_basket
+    from rlff.learn.scenarios import with_landings
     from rlff.model import Model
     from rlff.preprocess import Pipeline
     from rlff.robot import RobotMapping, load_robot
@@ -335,6 +337,22 @@ def run_demo(
     basket_shape = Basket(1.0)
     farthest = farthest_basket(max_reach(robot, basket_shape.rim_height), basket_shape.opening)
     shown, new = _output_distances(demonstrated, farthest)
+    showcase_method, showcase_feedback = plan.methods[0]  # the loop's default method
+    # the robot learns from what a recording knows: the basket each person aimed at, not where
+    # the ball came down (given the landings, calibrate hits at once nearly everywhere)
+    aimed = with_landings(clean, "none", seed)
+
+    def first_miss(distance: float) -> float:
+        clock.note(f"the learning basket: the loop's first throw at {distance:g} m")
+        first = learn(aimed, distance, budget=1, feedback=showcase_feedback, update=showcase_method, seed=seed,
+                      robot=robot.name)
+        return first.history[0].miss
+
+    # no farther than what the learning loop's own throws reach (its angle grid, the motion limits)
+    learnable = min(farthest, learnable_basket(aimed, RobotMapping.for_robot(robot), basket_shape))
+    learning_distance = _learning_distance(demonstrated, learnable, first_miss)
+    loop_components = _components(_learning_demos(aimed), seed)
+    new = sorted({*new, learning_distance})  # its throw is in the table too
     angles = _angle_grid(clean)
     # continuity: where two modes are nearly as high, keep to the one that continues the throw
     # (a robot cannot jump between the sides of a donut); the report gives the density traded
@@ -343,17 +361,14 @@ def run_demo(
     clock.stage(STAGES[4])
     mapping = RobotMapping.for_robot(robot)
     throws: list[ThrowRow] = []
-    outcomes = {}
     for distance, path in paths.items():
         velocity = _forward(np.asarray(path.velocity, dtype=float))
         trajectory, _ = mapping.to_robot(path.angle, velocity, time_along_path(path.angle, velocity), clip=True)
         outcome = simulate_throw(trajectory, Basket(distance), robot=robot, check_reach=False)
-        outcomes[distance] = outcome
         throws.append(
             ThrowRow(distance, distance in demonstrated, distance <= farthest, bool(outcome.hit),
                      float(outcome.landing_x), float(outcome.miss))
         )
-    learning_distance = _learning_distance(throws, learnable_basket(clean, mapping, basket_shape))
 
     clock.stage(STAGES[5])
     learning: list[LearningRow] = []
@@ -362,7 +377,7 @@ def run_demo(
         log = out_dir / "attempts" / f"{method}.jsonl"
         log.unlink(missing_ok=True)
         result = learn(
-            clean, learning_distance, budget=plan.budget, feedback=feedback, update=method, seed=seed,
+            aimed, learning_distance, budget=plan.budget, feedback=feedback, update=method, seed=seed,
             log_path=log, robot=robot.name,
             progress=lambda attempt, method=method: clock.note(
                 f"learning at {learning_distance:g} m: {method}, attempt {attempt.index}"
@@ -375,7 +390,7 @@ def run_demo(
     clock.stage(STAGES[6])
     figure_entries = _figures(
         figures_dir, raw=raw, clean=clean, preprocessing=preprocessing, model=model, paths=paths,
-        demonstrated=demonstrated, learning_distance=learning_distance, first_throw=outcomes.get(learning_distance),
+        demonstrated=demonstrated, learning_distance=learning_distance,
         results=results, mapping=mapping, robot=robot, frames=frames, seed=seed,
     )
 
@@ -384,7 +399,7 @@ def run_demo(
         size=size, seed=seed, raw=raw, raw_hits=raw_hits, clean=clean, preprocessing=preprocessing,
         model=model, paths=paths, demonstrated=demonstrated, throws=throws, farthest=farthest,
         learning_distance=learning_distance, learning=learning, budget=plan.budget,
-        figures=[FigureEntry(p.relative_to(out_dir).as_posix(), s, t, c) for p, s, t, c in figure_entries],
+        loop_components=loop_components, figures=[FigureEntry(p.relative_to(out_dir).as_posix(), s, t, c) for p, s, t, c in figure_entries],
     )
     run_json = write_run(run, out_dir)
     report = build_report(out_dir, out_dir / "report.html")
@@ -406,7 +421,7 @@ def _angle_grid(clean: Dataset, points: int = 120) -> np.ndarray:
 
 
 def _figures(
-    figures_dir: Path, *, raw, clean, preprocessing, model, paths, demonstrated, learning_distance, first_throw,
+    figures_dir: Path, *, raw, clean, preprocessing, model, paths, demonstrated, learning_distance,
     results, mapping, robot, frames: bool, seed: int,
 ) -> list[tuple[Path, str, str, str]]:
     """Draw every figure; returns (png path, section, title, caption) in report order."""
@@ -457,12 +472,14 @@ def _figures(
     add(output_trajectories(paths, figures_dir / "outputs", dataset=clean), "outputs",
         "Generated throws, demonstrated and new distances",
         "Farther baskets get faster throws, also at distances nobody demonstrated (dashed; thesis fig. 4.7, 4.50).")
-    if first_throw is not None:
-        add(throw_snapshot_from_outcome(first_throw, figures_dir / "first-throw", robot=robot,
-                                        title=f"The model's first throw at {learning_distance:g} m, before learning"),
-            "simulation", "The robot's first throw",
-            "The generated throw mapped to the Comau's joint 2 and executed in MuJoCo: the arm at the "
-            "release, the ball's flight and the basket.")
+    first_method, first_run = next(iter(results.items()))
+    first_throw = _replay(first_run.history[0], mapping, robot, learning_distance)
+    add(throw_snapshot_from_outcome(first_throw, figures_dir / "first-throw", robot=robot,
+                                    title=f"The loop's first throw at {learning_distance:g} m ({first_method}), "
+                                          "before learning"),
+        "simulation", "The robot's first throw",
+        f"The first attempt of the learning loop ({first_method}) on the Comau's joint 2, executed again in "
+        "MuJoCo: the arm at the release, the ball's flight and the basket.")
     add(learning_curves({f"{name} ({r.feedback} feedback)": r.misses for name, r in results.items()},
                         figures_dir / "learning", tolerance=_tolerance(), basket=learning_distance,
                         hits={f"{name} ({r.feedback} feedback)": [a.hit for a in r.history] for name, r in results.items()}),
@@ -470,18 +487,21 @@ def _figures(
         "Signed miss of every attempt until the first hit (star), per method.")
     best = next((r for r in results.values() if r.hit), None)
     if best is not None:
-        attempt = best.history[-1]
-        from rlff.sim import Basket, simulate_throw
-
-        trajectory, _ = mapping.to_robot(attempt.angle, _forward(attempt.velocity), attempt.time, clip=True)
         frames_dir = figures_dir / "frames"
         shutil.rmtree(frames_dir, ignore_errors=True)  # no stale frames of an earlier run
-        outcome = simulate_throw(trajectory, Basket(learning_distance), robot=robot, check_reach=False,
-                                 frames_dir=frames_dir if frames else None)
+        outcome = _replay(best.history[-1], mapping, robot, learning_distance, frames_dir if frames else None)
         add(throw_snapshot_from_outcome(outcome, figures_dir / "learned-throw", robot=robot,
                                         title=f"The learned throw at {learning_distance:g} m ({best.update})"),
             "learning", "The learned throw", "The hit found by the learning loop, executed again in MuJoCo.")
     return entries
+
+
+def _replay(attempt, mapping, robot, distance: float, frames_dir: Path | None = None):
+    """An attempt of the learning loop executed again in MuJoCo (for its figure)."""
+    from rlff.sim import Basket, simulate_throw
+
+    trajectory, _ = mapping.to_robot(attempt.angle, _forward(attempt.velocity), attempt.time, clip=True)
+    return simulate_throw(trajectory, Basket(distance), robot=robot, check_reach=False, frames_dir=frames_dir)
 
 
 def _tolerance() -> float:
@@ -496,7 +516,7 @@ def _tolerance() -> float:
 
 def _run_record(
     *, size, seed, raw, raw_hits, clean, preprocessing, model, paths, demonstrated, throws, farthest,
-    learning_distance, learning, budget, figures,
+    learning_distance, learning, budget, loop_components, figures,
 ) -> Run:
     """The run.json record: facts and tables per section."""
     raw_distances = sorted({float(t["distance"][0]) for t in raw})
@@ -569,11 +589,19 @@ def _run_record(
         Section(
             "learning", "Learning from failure",
             f"The basket is put at {learning_distance:g} m: nobody demonstrated it, the robot can reach it, and of "
-            f"such distances it is where the model's first throw missed most. The robot throws, sees the "
-            f"outcome, updates and throws again, at most {budget} times per method.",
-            facts={"basket (m)": learning_distance, "budget": budget},
-            tables=[Table("Runs", ["method", "feedback", "hit", "attempts", "last miss (m)"],
-                          [[r.method, r.feedback, r.hit, r.attempts, r.misses[-1] if r.misses else None] for r in learning])],
+            f"such distances it is where the learning loop's own first throw ({learning[0].method}) missed most. "
+            "It learns from the demonstrations labelled with the basket each person aimed at, not with where "
+            "their ball came down (which a recording does not see). "
+            f"The robot throws, sees the outcome, updates and throws again, at most {budget} times per method. "
+            f"The loop fits its own model, not the K = {model.n_components} one above: {loop_components} "
+            "components (BIC over the measured samples, at most 4) on the demonstrations thinned to at most "
+            "600 samples, refitted at every attempt; calibrate throws the DMM's mode for the basket (keeping "
+            "to one side of the donut, capped at its release speed) scaled to the release speed its "
+            "calibration picks, the baselines the GMR mean.",
+            facts={"basket (m)": learning_distance, "budget": budget, "loop components K": loop_components},
+            tables=[Table("Runs", ["method", "feedback", "hit", "attempts", "first throw miss (m)", "last miss (m)"],
+                          [[r.method, r.feedback, r.hit, r.attempts, r.misses[0] if r.misses else None,
+                            r.misses[-1] if r.misses else None] for r in learning])],
         ),
     ]
     return Run(

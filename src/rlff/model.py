@@ -214,7 +214,7 @@ class Model:
         n_init: int = DEFAULT_N_INIT,
         reg_covar: float = 1e-6,
         context_resolution: str | float | None = "auto",
-        effective_samples: str | float | None = None,
+        effective_samples: str | float | None = "auto",
         progress: Callable[[int, int], None] | None = None,
     ) -> Model:
         """Fit a mixture to the input and output columns of a dataset or an array.
@@ -252,10 +252,12 @@ class Model:
             samples), else 0; a number: that resolution for every context input; None or 0: none.
         effective_samples : "auto", float or None
             How many independent samples the data stand for, for BIC and AIC (see
-            :func:`rlff.mixture.information_criteria`). None (default): every sample; "auto":
-            each trajectory's samples times its ``measured_share`` metadata (the share of
-            measured samples, which ``densify`` records; 1 when absent), summed (weighted by
-            ``sample_weight``); or a number.
+            :func:`rlff.mixture.information_criteria`). "auto" (default): each trajectory's
+            samples times its ``measured_share`` metadata (the share of measured samples, which
+            ``densify`` records; 1 when absent), summed (weighted by ``sample_weight``), so that
+            samples interpolated between measurements do not count as independent evidence for
+            more components; data without that metadata count every sample. None: every sample
+            (the count before densified data were told apart); or a number.
         progress : callable(done, total), optional
             Called after each candidate K.
 

@@ -11,53 +11,83 @@ app = typer.Typer(help="Benchmarks: how many attempts learning takes, and agains
                   no_args_is_help=True)
 
 
+def _names(option: str, text: str, known: list[str] | None = None) -> list[str]:
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    if not names:
+        raise InputError(f"{option}: give at least one name")
+    unknown = [n for n in names if known is not None and n not in known]
+    if unknown:
+        raise InputError(f"{option}: unknown {', '.join(map(repr, unknown))} (known: {', '.join(known)})")
+    return names
+
+
 @app.command("learning")
 def learning(
-    seeds: int = typer.Option(5, "--seeds", min=1, help="Seeds (each draws its own demonstrations)."),
+    seeds: int = typer.Option(8, "--seeds", min=1, help="Seeds (each draws its own demonstrations)."),
+    first_seed: int = typer.Option(100, "--first-seed", min=0,
+                                   help="First seed; the methods were tuned on seeds below 100."),
+    scenario: str = typer.Option("short", "--scenario",
+                                 help="Demonstrators, comma-separated: short, wide, overshooting, near, mixed "
+                                      "(or all)."),
+    landings: str = typer.Option("none", "--landings",
+                                 help="What is known of the demonstrations' landings, comma-separated: "
+                                      "exact, noisy:STD (m) or none."),
+    feedback: str = typer.Option("binary,distance", "--feedback",
+                                 help="Comma-separated: binary, distance, noisy-distance:STD (m), "
+                                      "false-miss:RATE."),
+    opening: float = typer.Option(0.35, "--opening", help="Inner width of the basket (m)."),
+    robot: str = typer.Option("comau_smart5_six", "--robot", help="Robot name or robot file."),
+    methods: str | None = typer.Option(None, "--methods",
+                                       help="Comma-separated methods (default: every method that can use "
+                                            "the feedback)."),
     quick: bool = typer.Option(False, "--quick", help="A small grid: 2 seeds, budget 12."),
     budget: int = typer.Option(20, "--budget", min=1, help="Attempts per run."),
-    scenario: str = typer.Option("short", "--scenario",
-                                 help="short (all-short demonstrations at 1-1.5 m), wide (1-4 m) or both."),
     jobs: int = typer.Option(2, "--jobs", min=1, help="Parallel workers."),
-    backend: str | None = typer.Option(None, "--backend",
-                                       help="joblib backend: loky (default), threading, multiprocessing, ray or dask."),
-    as_json: bool = typer.Option(False, "--json", help="Print every run and the summary as JSON."),
+    scheduler: str | None = typer.Option(None, "--scheduler",
+                                         help="Address of a Dask scheduler to run on (tcp://HOST:PORT)."),
+    as_json: bool = typer.Option(False, "--json", help='Print {"rows": [...], "comparisons": [...]}.'),
 ) -> None:
     """Attempts to the first hit over seeds x baskets x feedback kinds x methods, per scenario."""
-    from rlff.learn.benchmark import (
-        METHODS_BY_FEEDBACK,
-        SCENARIOS,
-        format_table,
-        learning_benchmark,
-        prepare_backend,
-        runs_as_dicts,
-        summary,
-    )
+    from rlff.learn.benchmark import METHODS_BY_FEEDBACK, format_table, learning_benchmark, report
+    from rlff.learn.loop import METHODS
+    from rlff.learn.scenarios import DEMONSTRATORS, Scenario, parse_feedback, parse_landings
+    from rlff.robot import load_robot
 
-    if scenario != "both" and scenario not in SCENARIOS:
-        raise InputError(f"--scenario: unknown scenario {scenario!r} (known: {', '.join(SCENARIOS)}, both)")
-    names = list(SCENARIOS) if scenario == "both" else [scenario]
+    people = list(DEMONSTRATORS) if scenario == "all" else _names("--scenario", scenario, list(DEMONSTRATORS))
+    try:
+        knowledge = [parse_landings(n) for n in _names("--landings", landings)]
+    except InputError as exc:
+        raise InputError(f"--landings: {exc}") from None
+    try:
+        feedbacks = tuple(parse_feedback(n) for n in _names("--feedback", feedback))
+    except InputError as exc:
+        raise InputError(f"--feedback: {exc}") from None
+    chosen = None
+    if methods is not None:
+        wanted = _names("--methods", methods, list(METHODS))
+        chosen = {kind: [m for m in wanted if kind in METHODS[m].feedbacks] for kind in METHODS_BY_FEEDBACK}
+    try:
+        cases = [Scenario(name, landings=known, feedbacks=feedbacks, opening=opening, robot=robot)
+                 for name in people for known in knowledge]
+    except InputError as exc:
+        raise InputError(f"--opening: {exc}") from None
+    try:
+        load_robot(robot)
+    except InputError as exc:
+        raise InputError(f"--robot: {exc}") from None
     if quick:
         seeds, budget = min(seeds, 2), min(budget, 12)
-    prepare_backend(backend)  # a missing cluster package fails before the progress display
-    methods = sum(len(m) for m in METHODS_BY_FEEDBACK.values())
-    total = sum(seeds * len(SCENARIOS[name].baskets) * methods for name in names)
-    runs_by_scenario = {}
+    grid = chosen or METHODS_BY_FEEDBACK
+    total = sum(seeds * len(case.baskets) * len(grid[f.kind]) for case in cases for f in case.feedbacks)
+    runs = []
     with progress("learning benchmark", total=total) as advance:
-        for name in names:
-            runs_by_scenario[name] = learning_benchmark(seeds, scenario=name, budget=budget, jobs=jobs,
-                                                        backend=backend, progress=lambda run: advance(1))
+        for case in cases:
+            runs += learning_benchmark(case, seeds, first_seed=first_seed, methods=chosen, budget=budget,
+                                       jobs=jobs, scheduler=scheduler, progress=lambda run: advance(1))
     if as_json:
-        emit_json({
-            "budget": budget,
-            "scenario": scenario,
-            "runs": [{"scenario": name, **run} for name, runs in runs_by_scenario.items()
-                     for run in runs_as_dicts(runs)],
-            "summary": [{"scenario": name, **row} for name, runs in runs_by_scenario.items()
-                        for row in summary(runs, budget)],
-        })
+        emit_json(report(runs, budget))
         return
-    for name, runs in runs_by_scenario.items():
-        if len(names) > 1:
-            stdout().print(f"## Scenario {name}\n", highlight=False, markup=False)
-        stdout().print(format_table(runs, budget) + ("\n" if len(names) > 1 else ""), highlight=False, markup=False)
+    stdout().print(f"Seeds {first_seed}-{first_seed + seeds - 1}, budget {budget} (a run without a hit "
+                   f"counts as {budget + 1}); p: paired Wilcoxon signed-rank, two-sided.\n",
+                   highlight=False, markup=False)
+    stdout().print(format_table(runs, budget), highlight=False, markup=False)

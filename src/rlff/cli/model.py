@@ -100,8 +100,8 @@ def fit_command(
         help="How finely the context (e.g. the basket distance) is known, in its units: auto (the median gap between recorded values), a number, or 0.",
     ),
     effective_samples: str = typer.Option(
-        "all", "--effective-samples",
-        help="Samples BIC counts: all, measured (densified samples as the share of a measurement they are), or a number.",
+        "measured", "--effective-samples",
+        help="Samples BIC counts: measured (default: densified samples as the share of a measurement they are), all (every sample), or a number.",
     ),
     as_json: bool = typer.Option(False, "--json", help="Print the fit summary as JSON."),
 ) -> None:

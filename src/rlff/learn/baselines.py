@@ -1,46 +1,69 @@
 """Baselines in the same harness as the update strategies.
 
 All of them start from the Gaussian Mixture Regression mean for the target distance (the GMR
-fitted once to the demonstrations, no exploration) and change only what decides the throw:
+fitted once to the demonstrations labelled as every method sees them, :func:`known_labels`: with
+the landings where they are known, else with the targets; no exploration), change only the speed
+that decides the throw, and never ask for more than the joint's speed limit (``limit``, the
+largest factor that keeps the GMR mean within it):
 
 ``imitation``
     The GMR mean, every time: pure imitation of the demonstrations.
 ``random``
     The GMR mean with its velocity scaled by a random factor exp(N(0, 0.15^2)) from the second
     attempt on: random perturbation around the demonstrations.
-``cma``
+``sweep`` (binary feedback)
+    A deterministic bracketing sweep of one speed factor: log factors 0, +w, -w, +2w, -2w, ...
+    where w is the hit window's width in log speed (the window 2 x tolerance / Z in log
+    distance over the range's elasticity 1.6, the prior that ``calibrate`` also has), one side
+    only once the other reaches the speed limit. What an engineer does who is told only hit
+    or miss.
+``cma`` (distance feedback)
     CMA-ES (pycma) over two log speed factors, at the first and at the release angle, linearly
-    blended along the path. Fitness: the absolute miss (distance feedback) or 0 for a hit and
-    1 for a miss (binary feedback, where CMA-ES has nothing but the hit to go on).
+    blended along the path, fitness the absolute miss. Not run with binary feedback, where its
+    0/1 fitness carries no direction and CMA-ES is a random search.
 ``secant`` (distance feedback)
     The plain engineering answer: a root search on one speed factor s of the GMR mean for
     miss(s) = 0. The first step uses that a projectile's range grows with the square of its
     speed, s1 = s0 sqrt(Z / L0); then secant steps, regula falsi (Illinois) once the hit is
-    bracketed.
+    bracketed; never beyond the speed limit.
+``gp-bo`` (distance feedback)
+    Bayesian optimisation of the log speed factor x: a Gaussian process (scikit-learn's
+    GaussianProcessRegressor, RBF plus white noise, hyper-parameters by maximum likelihood) of
+    the signed miss about the range law through the first attempt, (Z + m0) exp(1.6 x) - Z, and
+    the next x where the expected improvement of the absolute miss over the best so far is
+    largest (in closed form, :func:`expected_improvement_of_abs`).
 """
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
+from scipy.stats import norm
 
 from rlff.learn.attempt import Attempt
-from rlff.learn.method import Method, Problem, Proposal, finite_miss
+from rlff.learn.method import Method, Problem, Proposal, finite_miss, labelled_demos, training_set
 
 #: Largest change of the speed factor in one secant step (a factor, > 1).
 _MAX_STEP = 1.5
+#: Elasticity of the landing distance in the release speed that the baselines assume (the prior
+#: of ``calibrate``'s speed calibration: range ~ speed^2, brought down by the release height).
+RANGE_ELASTICITY = 1.6
+#: Smallest log speed factor any search tries (a throw at 30 % of the demonstrations' speed).
+_LOWEST = -1.2
 
 
 class GmrBaseline(Method):
-    """A baseline that perturbs the GMR mean for the target distance."""
+    """A baseline that scales the GMR mean for the target distance."""
 
     def __init__(self, problem: Problem):
         super().__init__(problem)
         from rlff.model import Model
 
+        data, _ = training_set(labelled_demos(problem.demos), [1.0] * len(problem.demos))
         model = Model.fit(
-            problem.demos,
+            data,
             inputs=("angle", "distance"),
             outputs=("velocity",),
             components=problem.components,
@@ -49,9 +72,13 @@ class GmrBaseline(Method):
         path = model.generate({"distance": problem.target}, problem.angles, exploration=0.0)
         self.angle = np.asarray(path.angle, dtype=float)
         self.mean = np.asarray(path.gmr_mean, dtype=float).reshape(-1)
+        fastest = float(np.max(np.abs(self.mean)))
+        #: Largest speed factor that keeps the GMR mean within the joint's speed limit.
+        self.limit = problem.max_speed / fastest if fastest > 0 else np.inf
 
     def scaled(self, factor: np.ndarray | float, info: dict) -> Proposal:
-        """The GMR mean with its velocity times ``factor`` (scalar or shape (T,))."""
+        """The GMR mean with its velocity times ``factor`` (scalar or shape (T,)), within the limit."""
+        factor = np.minimum(factor, self.limit)
         return Proposal(self.angle, self.mean * factor, query=self.problem.target, info=info)
 
 
@@ -78,10 +105,28 @@ class RandomPerturbation(GmrBaseline):
         return self.scaled(factor, {"factor": factor})
 
 
+class BracketingSweep(GmrBaseline):
+    """Log speed factors 0, +w, -w, +2w, ... in steps of the hit window (binary feedback)."""
+
+    name = "sweep"
+    feedbacks = ("binary",)
+
+    def propose(self, history: Sequence[Attempt]) -> Proposal:
+        problem = self.problem
+        step = 2.0 * problem.tolerance / (RANGE_ELASTICITY * problem.target)
+        highest = min(float(np.log(self.limit)), -_LOWEST)
+        rings = int(np.ceil(-_LOWEST / step)) + 1
+        offsets = [x for k in range(rings) for x in ((0.0,) if k == 0 else (k * step, -k * step))
+                   if _LOWEST <= x <= highest + 1e-12]
+        x = offsets[min(len(history), len(offsets) - 1)]  # swept the whole range: stay at its end
+        return self.scaled(float(np.exp(x)), {"log_factor": round(x, 4)})
+
+
 class CmaSearch(GmrBaseline):
     """CMA-ES over the log speed factors at the first and the release angle."""
 
     name = "cma"
+    feedbacks = ("distance",)
     sigma0 = 0.15
 
     def __init__(self, problem: Problem):
@@ -121,13 +166,11 @@ class CmaSearch(GmrBaseline):
             self.fitness = []
 
     def _fitness(self, attempt: Attempt) -> float:
-        if self.problem.feedback == "distance":
-            return abs(finite_miss(attempt))
-        return 0.0 if attempt.hit else 1.0
+        return abs(finite_miss(attempt))
 
 
 class SecantSearch(GmrBaseline):
-    """Root search on one speed factor of the GMR mean (distance feedback only)."""
+    """Root search on one speed factor of the GMR mean within the speed limit (distance feedback)."""
 
     name = "secant"
     feedbacks = ("distance",)
@@ -137,7 +180,7 @@ class SecantSearch(GmrBaseline):
         misses: list[float] = []
         for attempt in history:
             misses.append(finite_miss(attempt))
-            factors.append(self._next(factors, misses))
+            factors.append(min(self._next(factors, misses), self.limit))
         factor = factors[len(history)]
         return self.scaled(factor, {"factor": factor})
 
@@ -170,6 +213,56 @@ class SecantSearch(GmrBaseline):
         return float(s[-1] * step)
 
 
+class GpSearch(GmrBaseline):
+    """Bayesian optimisation of one log speed factor: a GP of the miss, expected improvement."""
+
+    name = "gp-bo"
+    feedbacks = ("distance",)
+
+    def propose(self, history: Sequence[Attempt]) -> Proposal:
+        from sklearn.gaussian_process import GaussianProcessRegressor
+        from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
+
+        if not history:
+            return self.scaled(1.0, {"log_factor": 0.0})
+        target = self.problem.target
+        x = np.array([a.info["log_factor"] for a in history])
+        miss = np.array([finite_miss(a) for a in history])
+        reach = max(target + miss[0], 0.05 * target)  # the range law through the first attempt
+
+        def prior(v: np.ndarray) -> np.ndarray:
+            return reach * np.exp(RANGE_ELASTICITY * (v - x[0])) - target
+
+        kernel = ConstantKernel(0.1, (1e-3, 10.0)) * RBF(0.3, (0.05, 3.0)) + WhiteKernel(1e-4, (1e-6, 1e-2))
+        gp = GaussianProcessRegressor(kernel, random_state=self.problem.seed, n_restarts_optimizer=0)
+        with warnings.catch_warnings():  # a bound reached on a handful of points is no news
+            warnings.simplefilter("ignore")
+            gp.fit(x[:, None], miss - prior(x))
+        highest = min(float(np.log(self.limit)), -_LOWEST)
+        grid = np.linspace(_LOWEST, highest, 481)
+        mean, std = gp.predict(grid[:, None], return_std=True)
+        gain = expected_improvement_of_abs(mean + prior(grid), std, float(np.min(np.abs(miss))))
+        best = float(grid[int(np.argmax(gain))])
+        return self.scaled(float(np.exp(best)), {"log_factor": best})
+
+
+def expected_improvement_of_abs(mean: np.ndarray, std: np.ndarray, best: float) -> np.ndarray:
+    """E[max(best - |m|, 0)] for m ~ N(mean, std^2), shape of ``mean``.
+
+    The improvement is best - |m| on -best < m < best: split at 0, each half is
+    E[(c - X) 1{l < X < u}] = (c - mu) (Phi(beta) - Phi(alpha)) + s (phi(beta) - phi(alpha)), with
+    alpha, beta the standardised ends; the negative half is the positive one of -m.
+    """
+    std = np.maximum(std, 1e-12)
+
+    def half(mu: np.ndarray) -> np.ndarray:
+        alpha, beta = (0.0 - mu) / std, (best - mu) / std
+        return (best - mu) * (norm.cdf(beta) - norm.cdf(alpha)) + std * (norm.pdf(beta) - norm.pdf(alpha))
+
+    return half(mean) + half(-mean)
+
+
 BASELINES: dict[str, type[GmrBaseline]] = {
-    cls.name: cls for cls in (Imitation, RandomPerturbation, CmaSearch, SecantSearch)
+    cls.name: cls
+    for cls in (Imitation, RandomPerturbation, BracketingSweep, SecantSearch, GpSearch, CmaSearch)
 }

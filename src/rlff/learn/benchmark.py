@@ -1,128 +1,119 @@
-"""The learning benchmark: attempts to the first hit, per method, feedback kind and basket.
+"""The learning benchmark: attempts to the first hit, per method, in a scenario, over seeds.
 
-Every run starts from simulated human demonstrations, cleaned by the thesis preset, and runs
-one method in the loop of :func:`rlff.learn.learn` against the MuJoCo simulation until a hit or
-the budget. The grid is seeds x baskets x feedback kinds x methods, in one of two scenarios
-(:data:`SCENARIOS`): ``short``, demonstrations that all fall short of near baskets, with baskets
-inside and beyond the demonstrated distances; ``wide``, the demo's setting, demonstrations at
-1 to 4 m, most of them beyond the robot's reach, with baskets between demonstrated distances.
-All baskets are within the robot's reach. Runs go to joblib processes, or to a Ray or Dask
-cluster through joblib's backends.
+Every run starts from simulated human demonstrations (:mod:`rlff.learn.scenarios`: who
+demonstrated, what is known of their landings), cleaned by the thesis preset, and runs one
+method in the loop of :func:`rlff.learn.learn` against the MuJoCo simulation until the feedback
+reports a hit or the budget is spent. The grid is seeds x baskets x feedback kinds x methods;
+every method of a (seed, basket) pair sees the same demonstrations and the same information.
+Seeds start at ``first_seed``: the methods were tuned on seeds below 100, so tables for the
+record come from seeds 100 and above.
+
+The runs are independent and go to joblib workers: local processes (``loky``), or a Dask
+cluster given its scheduler's address (joblib's ``dask`` backend, which needs
+``dask.distributed``).
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import asdict, dataclass
-from functools import lru_cache
-
-import numpy as np
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError
+from rlff.learn import statistics
+from rlff.learn.scenarios import DEMONSTRATORS, Feedback, Scenario, reporting_executor
+from rlff.learn.scenarios import demonstrations as scenario_demonstrations
+from rlff.learn.strategies import PROJECT_METHODS
 
-
-@dataclass(frozen=True)
-class Scenario:
-    """Which demonstrations a run learns from, and the baskets it is asked to hit.
-
-    Parameters
-    ----------
-    demo_distances : tuple of float
-        Distances (m) the simulated humans aimed at (4 subjects, 3 throws at each).
-    all_short : bool
-        Every demonstration falls short of its basket.
-    baskets : tuple of float
-        Basket distances (m), all within the robot's reach.
-    """
-
-    demo_distances: tuple[float, ...]
-    all_short: bool
-    baskets: tuple[float, ...]
-
-
-#: ``short``: failed throws at near baskets; one basket inside their distances, one beyond.
-#: ``wide``: the demo's setting, throws at 1 to 4 m (the robot reaches about 2.2 m, so the human
-#: landings beyond that teach it nothing it can do), baskets between demonstrated distances.
-SCENARIOS = {
-    "short": Scenario((1.0, 1.25, 1.5), all_short=True, baskets=(1.4, 1.9)),
-    "wide": Scenario((1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0), all_short=False, baskets=(1.25, 1.75)),
-}
-#: Distances (m) the simulated humans aimed at in the default scenario.
-DEMO_DISTANCES = SCENARIOS["short"].demo_distances
-#: Basket distances (m) of the default scenario: one inside the demonstrated range, one beyond.
-BASKETS = SCENARIOS["short"].baskets
-#: Methods run with each feedback kind.
+#: Methods run with each feedback kind: the project's methods with their ablations, then the
+#: baselines that can use that feedback (CMA-ES, the secant and GP-BO need a distance).
 METHODS_BY_FEEDBACK = {
-    "binary": ("calibrate", "failure", "imitation", "random", "cma"),
-    "distance": ("calibrate", "hindsight", "failure", "secant", "cma", "random", "imitation"),
+    "binary": (
+        "calibrate", "calibrate:no-exploration", "calibrate:gmr-mean",
+        "donut", "donut:no-exploration", "donut:gmr-mean",
+        "sweep", "random", "failure", "failure:no-exploration", "failure:gmr-mean", "imitation",
+    ),
+    "distance": (
+        "calibrate", "calibrate:no-exploration", "calibrate:gmr-mean",
+        "donut", "donut:no-exploration", "donut:gmr-mean",
+        "secant", "gp-bo", "cma", "random", "hindsight", "hindsight:no-exploration",
+        "hindsight:gmr-mean", "failure", "imitation",
+    ),
 }
+#: Seed of the first run of the record: the methods were tuned on seeds below it.
+HELD_OUT_SEEDS = 100
+#: The demonstrators, by name (kept for callers that name them).
+SCENARIOS = DEMONSTRATORS
+#: Seconds to wait for a Dask scheduler to answer.
+SCHEDULER_TIMEOUT = 10.0
 
 
 @dataclass(frozen=True)
 class Run:
-    """One cell of the grid and its outcome (``attempts`` counts to the first hit or the budget)."""
+    """One cell of the grid and its outcome (``attempts`` counts to the first reported hit)."""
 
-    method: str
+    scenario: str
+    landings: str
     feedback: str
+    method: str
     basket: float
     seed: int
     hit: bool
     attempts: int
 
 
-@lru_cache(maxsize=8)
-def demonstrations(seed: int, scenario: str = "short") -> Dataset:
-    """The demonstrations of one seed in ``scenario``, simulated and cleaned by the thesis preset."""
-    from rlff.preprocess import Pipeline
-    from rlff.synthetic.throws import simulate_throws
-
-    plan = SCENARIOS[scenario]
-    raw = simulate_throws(seed, subjects=4, distances=plan.demo_distances, throws_per_distance=3,
-                          all_short=plan.all_short)
-    clean, _ = Pipeline.preset("thesis").run(raw)
-    return clean
+def demonstrations(seed: int, scenario: Scenario | str = "short") -> Dataset:
+    """The demonstrations of one seed; a scenario given by name knows the landings exactly."""
+    if isinstance(scenario, str):
+        scenario = Scenario(scenario, landings="exact")
+    return scenario_demonstrations(seed, scenario)
 
 
-def run_one(demos: Dataset, method: str, feedback: str, basket: float, seed: int, budget: int) -> Run:
+def run_one(demos: Dataset, scenario: Scenario, feedback: Feedback, method: str, basket: float, seed: int,
+            budget: int) -> Run:
     """Run one method once from the demonstrations of ``seed``."""
     from rlff.learn.loop import learn
 
-    result = learn(demos, basket, budget=budget, feedback=feedback, update=method, seed=seed)
-    return Run(method, feedback, basket, seed, result.hit, result.attempts)
+    result = learn(demos, basket, budget=budget, feedback=feedback.kind, update=method, seed=seed,
+                   robot=scenario.robot, opening=scenario.opening,
+                   executor=reporting_executor(scenario, feedback, basket, seed))
+    return Run(scenario.name, scenario.landings, feedback.name, method, float(basket), seed, result.hit,
+               result.attempts)
 
 
 def learning_benchmark(
-    seeds: int = 5,
+    scenario: Scenario | None = None,
+    seeds: int = 8,
     *,
-    scenario: str = "short",
-    baskets: Sequence[float] | None = None,
+    first_seed: int = HELD_OUT_SEEDS,
     methods: dict[str, Sequence[str]] | None = None,
     budget: int = 20,
     jobs: int = 2,
-    backend: str | None = None,
+    scheduler: str | None = None,
     progress: Callable[[Run], None] | None = None,
 ) -> list[Run]:
-    """Run the grid seeds x baskets x feedback kinds x methods.
+    """Run the grid seeds x baskets x feedback kinds x methods of one scenario.
 
     Parameters
     ----------
+    scenario : Scenario, optional
+        Demonstrators, landings, feedback kinds, basket opening and robot; default ``short``
+        with no landings, binary and distance feedback.
     seeds : int
-        Seeds 0 .. seeds - 1; each seed draws its own demonstrations.
-    scenario : {"short", "wide"}
-        Which demonstrations and baskets (:data:`SCENARIOS`).
-    baskets : sequence of float, optional
-        Basket distances (m); default the scenario's.
+        Number of seeds, ``first_seed`` .. ``first_seed + seeds - 1``; each seed draws its own
+        demonstrations.
+    first_seed : int
+        The first seed (default 100: above the seeds the methods were tuned on).
     methods : dict, optional
-        Methods per feedback kind; default :data:`METHODS_BY_FEEDBACK`.
+        Methods per feedback kind (``binary``, ``distance``); default :data:`METHODS_BY_FEEDBACK`.
     budget : int
         Attempts per run.
     jobs : int
-        Parallel workers (joblib processes by default).
-    backend : str, optional
-        A joblib backend name: ``loky`` (default), ``ray`` or ``dask`` (connects to the cluster
-        its package is configured for: ``RAY_ADDRESS``, ``DASK_SCHEDULER_ADDRESS``, or a local one).
+        Parallel workers: local processes, or at most this many tasks at once on the cluster.
+    scheduler : str, optional
+        Address of a Dask scheduler (``tcp://host:8786``): the runs go to its workers.
     progress : callable, optional
         Called with every finished run.
 
@@ -132,93 +123,75 @@ def learning_benchmark(
     """
     import joblib
 
-    if scenario not in SCENARIOS:
-        raise InputError(f"unknown scenario {scenario!r} (known: {', '.join(SCENARIOS)})")
-    baskets = SCENARIOS[scenario].baskets if baskets is None else baskets
+    scenario = Scenario() if scenario is None else scenario
     methods = METHODS_BY_FEEDBACK if methods is None else methods
-    cases = [(m, f, float(b), s) for s in range(seeds) for b in baskets
-             for f, names in methods.items() for m in names]
-    prepare_backend(backend)
-    try:  # results as they come, for the progress display, where the backend can stream them
-        parallel = joblib.Parallel(n_jobs=jobs, backend=backend, return_as="generator")
-    except ValueError:
-        parallel = joblib.Parallel(n_jobs=jobs, backend=backend)
-    # the demonstrations of every seed, made once and shipped to the workers with each run
-    demos = dict(zip(range(seeds), parallel(joblib.delayed(demonstrations)(s, scenario) for s in range(seeds)),
-                     strict=True))
-    runs = []
-    for run in parallel(joblib.delayed(run_one)(demos[case[3]], *case, budget) for case in cases):
-        runs.append(run)
-        if progress:
-            progress(run)
+    if not (isinstance(seeds, int) and seeds >= 1) or not (isinstance(first_seed, int) and first_seed >= 0):
+        raise InputError(f"seeds must be >= 1 and first seed >= 0, got {seeds!r} and {first_seed!r}")
+    seed_list = range(first_seed, first_seed + seeds)
+    cases = [(f, m, float(b), s) for s in seed_list for b in scenario.baskets
+             for f in scenario.feedbacks for m in methods[f.kind]]
+    with parallel_backend(scheduler):
+        parallel = joblib.Parallel(n_jobs=jobs, return_as="generator")
+        # the demonstrations of every seed, made once and shipped to the workers with each run
+        demos = dict(zip(seed_list, parallel(joblib.delayed(scenario_demonstrations)(s, scenario)
+                                             for s in seed_list), strict=True))
+        runs = []
+        for run in parallel(joblib.delayed(run_one)(demos[s], scenario, f, m, b, s, budget)
+                            for f, m, b, s in cases):
+            runs.append(run)
+            if progress:
+                progress(run)
     return runs
 
 
-#: joblib backends the benchmark runs on; None is joblib's default (loky).
-BACKENDS = (None, "loky", "threading", "multiprocessing", "ray", "dask")
+@contextlib.contextmanager
+def parallel_backend(scheduler: str | None) -> Iterator[None]:
+    """joblib's local processes, or its Dask backend on the scheduler at ``scheduler``."""
+    import joblib
+
+    if scheduler is None:
+        yield
+        return
+    try:
+        from dask.distributed import Client
+    except ImportError:
+        raise InputError("--scheduler needs dask.distributed (pip install distributed)") from None
+    try:
+        client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise InputError(f"--scheduler {scheduler!r}: no Dask scheduler answers there ({exc})") from None
+    try:
+        with joblib.parallel_config(backend="dask"):
+            yield
+    finally:
+        client.close()
 
 
-def prepare_backend(backend: str | None) -> None:
-    """Register the cluster backends joblib does not know by itself; refuse one it cannot use."""
-    if backend not in BACKENDS:
-        raise InputError(f"--backend: unknown backend {backend!r} (known: {', '.join(b for b in BACKENDS if b)})")
-    if backend == "ray":
-        try:
-            from ray.util.joblib import register_ray
-        except ImportError:
-            raise InputError("backend 'ray' needs the ray package (pip install 'ray[default]')") from None
-        register_ray()
-    elif backend == "dask":
-        try:
-            from dask.distributed import Client, get_client
-        except ImportError:
-            raise InputError("backend 'dask' needs dask.distributed (pip install distributed)") from None
-        try:
-            get_client()
-        except ValueError:
-            Client()  # DASK_SCHEDULER_ADDRESS when set (dask config), else a local cluster
-
-
-def summary(runs: Sequence[Run], budget: int) -> list[dict]:
-    """One row per (feedback, method, basket): median attempts to the first hit and hit share.
-
-    A run without a hit counts as ``budget + 1`` attempts, so a median above the budget means
-    that more than half of the runs never hit.
-    """
-    groups: dict[tuple[str, str, float], list[Run]] = {}
-    for run in runs:
-        groups.setdefault((run.feedback, run.method, run.basket), []).append(run)
-    rows = []
-    for (feedback, method, basket), group in groups.items():
-        counts = np.array([r.attempts if r.hit else budget + 1 for r in group])
-        rows.append({
-            "feedback": feedback, "method": method, "basket": basket, "runs": len(group),
-            "median": float(np.median(counts)), "mean": float(np.mean(counts)),
-            "hit_share": float(np.mean([r.hit for r in group])),
-        })
-    return rows
+def report(runs: Sequence[Run], budget: int) -> dict:
+    """``{"rows": [...], "comparisons": [...]}`` of :mod:`rlff.learn.statistics`."""
+    return {
+        "rows": statistics.rows(runs, budget, PROJECT_METHODS),
+        "comparisons": statistics.comparisons(runs, budget, PROJECT_METHODS),
+    }
 
 
 def format_table(runs: Sequence[Run], budget: int) -> str:
-    """A Markdown table: per feedback and method, median attempts and hit share per basket."""
-    rows = summary(runs, budget)
-    baskets = sorted({r["basket"] for r in rows})
-    by_key = {(r["feedback"], r["method"], r["basket"]): r for r in rows}
-    keys = list(dict.fromkeys((r["feedback"], r["method"]) for r in rows))
-    header = ["feedback", "method"]
-    for basket in baskets:
-        header += [f"median attempts, {basket:g} m", f"hit share, {basket:g} m"]
-    header += ["median attempts, all"]
+    """A Markdown table: per feedback and method, the median, the mean, the hits, and the paired
+    p-values of the project's methods against it."""
+    result = report(runs, budget)
+    p_values = {(c["scenario"], c["landings"], c["feedback"], c["method"], c["baseline"]): c["p_value"]
+                for c in result["comparisons"]}
+    header = ["scenario", "landings", "feedback", "method", "median", "mean", "hits",
+              *[f"p vs {name}" for name in PROJECT_METHODS]]
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    for feedback, method in keys:
-        cells = [feedback, method]
-        for basket in baskets:
-            row = by_key.get((feedback, method, basket))
-            cells += ["" if row is None else _median_text(row["median"], budget),
-                      "" if row is None else f"{row['hit_share']:.0%}"]
-        every = [r.attempts if r.hit else budget + 1 for r in runs
-                 if r.feedback == feedback and r.method == method]
-        cells.append(_median_text(float(np.median(every)), budget))
+    for row in result["rows"]:
+        key = (row["scenario"], row["landings"], row["feedback"])
+        name = row["method"] if row["baseline"] else f"**{row['method']}**"
+        cells = [*key, name, _median_text(row["median"], budget), f"{row['mean']:.1f}",
+                 f"{row['hits']}/{row['runs']}"]
+        for mine in PROJECT_METHODS:
+            p = p_values.get((*key, mine, row["method"]))
+            cells.append("" if p is None else f"{p:.3f}")
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
@@ -232,3 +205,4 @@ def _median_text(value: float, budget: int) -> str:
 def runs_as_dicts(runs: Sequence[Run]) -> list[dict]:
     """The runs as plain dicts (for JSON)."""
     return [asdict(r) for r in runs]
+

@@ -350,7 +350,9 @@ def _learning_demos(demos: Dataset, max_samples: int = MAX_SAMPLES) -> Dataset:
 
     Densified demonstrations (a sample every 0.01 rad) repeat themselves; the mixture is
     refitted at every attempt, so every k-th sample of each throw is kept (its release sample
-    always) until the set has at most ``max_samples`` samples.
+    always) until the set has at most ``max_samples`` samples. A throw's ``measured_share`` (the
+    share of its samples that stand for a measurement, which BIC counts) grows by what thinning
+    dropped: the kept samples still rest on the same measurements, up to one each.
     """
     demos.require(COLUMNS)
     if len(demos) < 2:
@@ -359,7 +361,10 @@ def _learning_demos(demos: Dataset, max_samples: int = MAX_SAMPLES) -> Dataset:
     thinned = []
     for t in demos:
         keep = np.unique(np.r_[np.arange(0, len(t), step), len(t) - 1])
-        thinned.append(t.replace(data={c: t[c][keep] for c in COLUMNS}))
+        meta = dict(t.meta)
+        if "measured_share" in meta:
+            meta["measured_share"] = min(1.0, float(meta["measured_share"]) * len(t) / keep.size)
+        thinned.append(t.replace(data={c: t[c][keep] for c in COLUMNS}, meta=meta))
     return Dataset(thinned, context=("distance",))
 
 

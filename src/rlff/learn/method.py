@@ -150,6 +150,22 @@ def demo_labels(demos: Dataset) -> np.ndarray:
     return np.array([float(t["distance"][0]) for t in demos])
 
 
+def known_labels(demos: Dataset) -> np.ndarray:
+    """Each demonstration's best distance label (m), shape (S,): where its throw landed when
+    that is recorded (``landing`` metadata; a failed throw still shows which distance it is
+    good for), else the basket it aimed at. Every method starts from these labels, so that all
+    see the same information."""
+    labels = demo_labels(demos)
+    landed = np.array([float(t.meta.get("landing", np.nan)) for t in demos])
+    usable = np.isfinite(landed) & (landed > 0)
+    return np.where(usable, landed, labels)
+
+
+def labelled_demos(demos: Dataset) -> list[Trajectory]:
+    """The demonstrations with their distance column set to :func:`known_labels`."""
+    return with_labels(demos, known_labels(demos))
+
+
 def finite_miss(attempt: Attempt) -> float:
     """The attempt's signed miss (m); a throw that never came down through the rim's height
     (no landing point) counts as falling at the robot's base, ``-target``."""

@@ -60,9 +60,8 @@ from rlff.learn.method import (
     Problem,
     Proposal,
     attempt_trajectory,
-    demo_labels,
+    labelled_demos,
     training_set,
-    with_labels,
 )
 
 
@@ -71,6 +70,12 @@ class DmmStrategy(Method):
 
     #: Weight of a robot attempt relative to a demonstration.
     robot_weight: float = 1.0
+    #: The DMM's exploration (``"auto"``: the thesis' factor; 0: the DMM without its donut).
+    exploration: str | float = "auto"
+    #: Where the throw's shape comes from: ``"dmm"`` (the donut's mode) or ``"gmr"`` (the GMR mean).
+    shape_source: str = "dmm"
+    #: The method this one ablates (None for the methods themselves).
+    ablates: str | None = None
 
     def fit(self, data: Dataset, sample_weight: np.ndarray):
         """The mixture model of ``data`` (weighted), with the run's number of components."""
@@ -91,8 +96,12 @@ class DmmStrategy(Method):
         """
         problem = self.problem
         model = self.fit(data, sample_weight)
+        if self.shape_source == "gmr":
+            inputs = np.column_stack([problem.angles, np.full(problem.angles.size, float(query))])
+            mean = model.condition(inputs).mean[:, 0]
+            return Proposal(problem.angles, mean, float(query), 0.0, info)
         try:
-            path = model.generate({"distance": query}, problem.angles, exploration="auto",
+            path = model.generate({"distance": query}, problem.angles, exploration=self.exploration,
                                   continuity=continuity)
         except InputError:
             # The model refuses a path with no forward motion anywhere (a donut mode, or even
@@ -117,7 +126,7 @@ class FailureUpdate(DmmStrategy):
 
     def propose(self, history: Sequence[Attempt]) -> Proposal:
         problem = self.problem
-        trajectories = list(problem.demos) + [attempt_trajectory(a, problem.target) for a in history]
+        trajectories = labelled_demos(problem.demos) + [attempt_trajectory(a, problem.target) for a in history]
         weights = [1.0] * len(problem.demos) + [self.robot_weight] * len(history)
         data, sample_weight = training_set(trajectories, weights)
         return self.generate(data, sample_weight, problem.target, {})
@@ -132,7 +141,7 @@ class HindsightUpdate(DmmStrategy):
     def propose(self, history: Sequence[Attempt]) -> Proposal:
         problem = self.problem
         landed = [a for a in history if a.landing > 0]  # a throw with no landing labels nothing
-        trajectories = list(problem.demos) + [attempt_trajectory(a, a.landing) for a in landed]
+        trajectories = labelled_demos(problem.demos) + [attempt_trajectory(a, a.landing) for a in landed]
         weights = [1.0] * len(problem.demos) + [self.robot_weight] * len(landed)
         data, sample_weight = training_set(trajectories, weights)
         return self.generate(data, sample_weight, problem.target, {})
@@ -247,7 +256,7 @@ class CalibrateUpdate(DmmStrategy):
 
     def __init__(self, problem: Problem):
         super().__init__(problem)
-        self.demos = with_labels(problem.demos, _hindsight_labels(problem.demos))
+        self.demos = labelled_demos(problem.demos)
         data, sample_weight = training_set(self.demos, [1.0] * len(self.demos))
         inputs = np.column_stack([problem.angles, np.full(problem.angles.size, problem.target)])
         mean = self.fit(data, sample_weight).condition(inputs).mean[:, 0]
@@ -300,6 +309,36 @@ class CalibrateUpdate(DmmStrategy):
         return shape
 
 
+class DonutSearch(CalibrateUpdate):
+    """The donut's exploration of the throw's shape, combined with the speed calibration.
+
+    ``calibrate`` with binary feedback keeps one shape (a miss has no landing to label it with)
+    and searches the speed only. Here every miss also joins the data labelled with the target,
+    as in Grollman & Billard's update: where the robot's misses disagree with the
+    demonstrations the conditional variance grows, the exploration factor with it, and the
+    donut moves the throw's shape (the velocity profile along the path) away from what failed,
+    while the calibration still sets its release speed. With distance feedback the attempts join
+    with their landings, as in ``calibrate``.
+    """
+
+    name = "donut"
+    robot_weight = 1.0
+
+    def shape(self, history: Sequence[Attempt]) -> Proposal:
+        if self.problem.feedback == "distance":
+            return super().shape(history)
+        failed = [a for a in history if not a.hit]
+        if not failed and self._demos_shape is not None:
+            return self._demos_shape
+        trajectories = list(self.demos) + [attempt_trajectory(a, self.problem.target) for a in failed]
+        weights = [1.0] * len(self.demos) + [self.robot_weight] * len(failed)
+        data, sample_weight = training_set(trajectories, weights)
+        shape = self.generate(data, sample_weight, self.problem.target, {}, continuity=True)
+        if not failed:
+            self._demos_shape = shape
+        return shape
+
+
 def release_speed(angles: np.ndarray, velocity: np.ndarray) -> float:
     """Mean speed (rad/s) over the last tenth of the path: what decides where the ball goes."""
     tail = max(2, angles.size // 10)
@@ -320,15 +359,23 @@ def fastest_at_release(angles: np.ndarray, velocity: np.ndarray) -> np.ndarray:
     return np.sign(velocity) * np.minimum(np.abs(velocity), cap)
 
 
-def _hindsight_labels(demos: Dataset) -> np.ndarray:
-    """Each demonstration's label: where its throw landed when recorded, else its target (m)."""
-    labels = demo_labels(demos)
-    landed = np.array([float(t.meta.get("landing", np.nan)) for t in demos])
-    usable = np.isfinite(landed) & (landed > 0)
-    return np.where(usable, landed, labels)
+def ablations(method: type[DmmStrategy]) -> list[type[DmmStrategy]]:
+    """The method without its donut (exploration 0) and with the GMR mean's shape instead of the DMM's."""
+    return [
+        type(f"{method.__name__}NoExploration", (method,), {
+            "name": f"{method.name}:no-exploration", "exploration": 0.0, "ablates": method.name,
+            "__doc__": f"``{method.name}`` with the DMM's exploration off (ablation)."}),
+        type(f"{method.__name__}GmrMean", (method,), {
+            "name": f"{method.name}:gmr-mean", "shape_source": "gmr", "ablates": method.name,
+            "__doc__": f"``{method.name}`` with the GMR mean as the throw's shape (ablation)."}),
+    ]
 
 
+#: This project's methods (the rest are baselines and ablations).
+PROJECT_METHODS = ("calibrate", "donut")
 STRATEGIES: dict[str, type[DmmStrategy]] = {
-    cls.name: cls for cls in (FailureUpdate, HindsightUpdate, CalibrateUpdate)
+    cls.name: cls
+    for method in (FailureUpdate, HindsightUpdate, CalibrateUpdate, DonutSearch)
+    for cls in (method, *ablations(method))
 }
 
