@@ -15,6 +15,7 @@ step are one matrix product with the responsibilities. No (N, K, D) temporary is
 from __future__ import annotations
 
 import functools
+import inspect
 import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
@@ -39,10 +40,20 @@ _KMEANS_SUBSET = 20_000
 
 
 def check_samples(X: Any, name: str = "X") -> np.ndarray:
-    """``X`` as a finite float array of shape (N, D) with N >= 1, else :class:`InputError`."""
+    """``X`` as a finite float array of shape (N, D) with N >= 1, else :class:`InputError`.
+
+    A 1-D array is one column (N,) -> (N, 1). Sparse matrices and complex numbers are refused.
+    """
+    if hasattr(X, "tocsr"):  # a scipy.sparse matrix or array, without importing scipy
+        raise InputError(f"{name} is a sparse matrix: give a dense array (e.g. X.toarray())")
     try:
-        array = np.asarray(X, dtype=float)
-    except (TypeError, ValueError):
+        array = np.asarray(X)
+        if array.dtype.kind == "c":
+            raise InputError(f"Complex data not supported: {name} holds complex numbers")
+        array = array.astype(float, copy=False)
+    except (TypeError, ValueError) as exc:
+        if isinstance(exc, InputError):
+            raise
         raise InputError(f"{name} must be a numeric array") from None
     if array.ndim == 1:
         array = array[:, None]
@@ -51,10 +62,13 @@ def check_samples(X: Any, name: str = "X") -> np.ndarray:
     if array.shape[0] == 0:
         raise InputError(f"{name} is empty: no samples")
     if array.shape[1] == 0:
-        raise InputError(f"{name} has no columns")
+        raise InputError(
+            f"{name} has no columns (0 feature(s) (shape={array.shape}) while a minimum of 1 is required)"
+        )
     if not np.all(np.isfinite(array)):
         row, column = np.argwhere(~np.isfinite(array))[0]
-        raise InputError(f"{name} has a non-finite value ({array[row, column]}) at row {row}, column {column}")
+        value = "NaN" if np.isnan(array[row, column]) else f"{array[row, column]:+}"
+        raise InputError(f"{name} has a non-finite value ({value}) at row {row}, column {column}")
     return array
 
 
@@ -338,6 +352,11 @@ def _initial_responsibilities(
 class GaussianMixture:
     """Gaussian Mixture Model with full covariances, fitted by EM in log space.
 
+    A scikit-learn estimator: ``__init__`` stores its arguments unchanged, :meth:`fit` validates
+    them and sets the fitted state (names ending in ``_``), :meth:`get_params` /
+    :meth:`set_params` read and change the settings, so ``sklearn.base.clone``, pipelines and
+    ``GridSearchCV`` (which ranks by :meth:`score`, the mean log-likelihood) work.
+
     Parameters
     ----------
     n_components : int
@@ -373,6 +392,8 @@ class GaussianMixture:
         In the data's units (squared).
     center_, scale_ : ndarray of shape (D,)
         Standardisation used for fitting: z = (x - center_) / scale_.
+    n_features_in_ : int
+        D, the number of columns seen by :meth:`fit`.
     converged_ : bool
     n_iter_ : int
         EM iterations of the kept initialisation.
@@ -409,8 +430,60 @@ class GaussianMixture:
         self.means_init = means_init
         self.covariances_init = covariances_init
 
+    # -- the scikit-learn estimator protocol ------------------------------------------------
+    # Implemented here rather than inherited from sklearn.base.BaseEstimator: importing
+    # sklearn.base loads pandas, pyarrow and most of scipy (about 1,100 modules, +1 s on every
+    # rlff command that touches a model), and scikit-learn is only needed by those who use it.
+    # The protocol is small: the settings are exactly the keyword arguments of __init__.
+
+    @classmethod
+    def _get_param_names(cls) -> list[str]:
+        """Names of the settings: the parameters of ``__init__``, in order."""
+        return [name for name in inspect.signature(cls.__init__).parameters if name != "self"]
+
+    def get_params(self, deep: bool = True) -> dict[str, Any]:
+        """The settings as given to ``__init__`` (``deep`` is accepted for scikit-learn; no
+        setting is itself an estimator)."""
+        return {name: getattr(self, name) for name in self._get_param_names()}
+
+    def set_params(self, **params: Any) -> GaussianMixture:
+        """Change settings (validated at the next :meth:`fit`); returns ``self``.
+
+        Raises
+        ------
+        InputError
+            A name that is not a setting (the settings are listed).
+        """
+        valid = self._get_param_names()
+        for name, value in params.items():
+            if name not in valid:
+                raise InputError(
+                    f"GaussianMixture has no parameter {name!r} (parameters: {', '.join(valid)})"
+                )
+            setattr(self, name, value)
+        return self
+
+    def __sklearn_tags__(self) -> Any:
+        """scikit-learn's default estimator tags with the type of a density estimator (as its
+        DensityMixin sets it). Only scikit-learn calls this, so scikit-learn is importable here.
+        """
+        from sklearn.base import BaseEstimator
+
+        tags = BaseEstimator.__sklearn_tags__(self)
+        tags.estimator_type = "density_estimator"
+        return tags
+
     def __repr__(self) -> str:
-        return f"GaussianMixture(n_components={self.n_components})"
+        defaults = {
+            name: parameter.default
+            for name, parameter in inspect.signature(type(self).__init__).parameters.items()
+        }
+        changed = [
+            f"{name}={value!r}"
+            for name, value in self.get_params().items()
+            if not (value is defaults[name] or (_is_plain(value) and value == defaults[name]))
+        ]
+        return f"GaussianMixture({', '.join(changed)})"
 
     # -- construction ----------------------------------------------------------------------
     def _check_parameters(self) -> None:
@@ -457,6 +530,7 @@ class GaussianMixture:
         mixture.weights_ = weights
         mixture.means_ = means
         mixture.covariances_ = covariances
+        mixture.n_features_in_ = d
         mixture.converged_ = True
         mixture.n_iter_ = 0
         mixture.lower_bound_ = -np.inf
@@ -497,7 +571,10 @@ class GaussianMixture:
         weights = check_weights(sample_weight, X.shape[0])
         n_used = int(np.count_nonzero(weights))
         if n_used < 2:
-            raise InputError(f"need at least 2 samples (with weight > 0) to fit a mixture, got {n_used}")
+            raise InputError(
+                f"need at least 2 samples (with weight > 0) to fit a mixture, got {n_used} sample"
+                + ("s" if n_used != 1 else "")
+            )
         if self.n_components > n_used:
             raise InputError(
                 f"n_components = {self.n_components} is more than the {n_used} samples"
@@ -519,6 +596,7 @@ class GaussianMixture:
         self.weights_ = z_weights
         self.means_ = z_means * self.scale_ + self.center_
         self.covariances_ = z_cov * np.outer(self.scale_, self.scale_)
+        self.n_features_in_ = X.shape[1]
         self.converged_ = converged
         self.n_iter_ = n_iter
         self.lower_bound_ = lower_bound
@@ -590,7 +668,10 @@ class GaussianMixture:
         self._check_fitted()
         X = check_samples(X)
         if X.shape[1] != self.means_.shape[1]:
-            raise InputError(f"X has {X.shape[1]} columns, the mixture has {self.means_.shape[1]}")
+            raise InputError(
+                f"X has {X.shape[1]} features, but GaussianMixture is expecting "
+                f"{self.means_.shape[1]} features as input (one per column it was fitted on)"
+            )
         return quadratic_features((X - self.center_) / self.scale_) @ self._coef
 
     def score_samples(self, X: np.ndarray) -> np.ndarray:
@@ -647,6 +728,11 @@ class GaussianMixture:
         noise = rng.standard_normal((n_samples, self.means_.shape[1]))
         samples = self.means_[labels] + np.einsum("nij,nj->ni", self._cholesky_data[labels], noise)
         return samples, labels
+
+
+def _is_plain(value: Any) -> bool:
+    """A setting compared by value in the repr (numbers, strings, None), not an array."""
+    return value is None or isinstance(value, (int, float, str, np.integer, np.floating))
 
 
 def _softmax(log_prob: np.ndarray) -> np.ndarray:
