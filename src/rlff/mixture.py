@@ -17,7 +17,8 @@ from __future__ import annotations
 import functools
 import inspect
 import math
-from collections.abc import Callable, Iterable
+import sys
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -70,6 +71,73 @@ def check_samples(X: Any, name: str = "X") -> np.ndarray:
         value = "NaN" if np.isnan(array[row, column]) else f"{array[row, column]:+}"
         raise InputError(f"{name} has a non-finite value ({value}) at row {row}, column {column}")
     return array
+
+
+#: Why a DataFrame cannot be read by name.
+NO_NAMES = (
+    "X is a DataFrame, but the mixture has no column names (it was fitted on an array): pass an "
+    "array with the columns in the mixture's order, or fit the mixture on a DataFrame"
+)
+
+
+def is_frame(data: Any) -> bool:
+    """Whether ``data`` is a pandas DataFrame (without importing pandas: if pandas is not loaded,
+    nothing is a DataFrame)."""
+    pandas = sys.modules.get("pandas")
+    return pandas is not None and isinstance(data, pandas.DataFrame)
+
+
+def by_name(X: Any, names: Sequence[str] | None, what: str = "X") -> Any:
+    """``X`` unchanged, or for a pandas DataFrame with string column names its columns
+    ``names`` by name (:func:`frame_columns`). A DataFrame whose columns are not named (integer
+    labels) is taken by position, as an array.
+
+    Raises
+    ------
+    InputError
+        ``names`` is None (the model has no column names) for a DataFrame with named columns, or
+        the DataFrame lacks some of ``names``.
+    """
+    if not is_frame(X) or not all(isinstance(column, str) for column in X.columns):
+        return X
+    if names is None:
+        raise InputError(NO_NAMES)
+    return frame_columns(X, names, what)
+
+
+def frame_columns(frame: Any, names: Sequence[str], what: str = "data") -> np.ndarray:
+    """The named columns of a pandas DataFrame as a float array (N, len(names)), by name.
+
+    Raises
+    ------
+    InputError
+        A named column is missing (the message lists the missing and the present columns),
+        appears more than once, is not numeric or holds NaN or inf (naming the column and row).
+    """
+    present = [str(column) for column in frame.columns]
+    missing = [name for name in names if name not in present]
+    if missing:
+        raise InputError(
+            f"{what}: the DataFrame has no column{'s' if len(missing) > 1 else ''} "
+            f"{', '.join(map(repr, missing))} (columns present: {', '.join(present) if present else 'none'})"
+        )
+    if len(frame) == 0:
+        raise InputError(f"{what}: the DataFrame has no rows")
+    values = np.empty((len(frame), len(names)))
+    for j, name in enumerate(names):
+        if present.count(name) > 1:
+            raise InputError(f"{what}: the DataFrame has column {name!r} {present.count(name)} times")
+        column = frame.iloc[:, present.index(name)]
+        try:
+            values[:, j] = column.to_numpy(dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"{what}: column {name!r} is not numeric (dtype {column.dtype})") from None
+        bad = np.flatnonzero(~np.isfinite(values[:, j]))
+        if bad.size:
+            raise InputError(
+                f"{what}: column {name!r} has a non-finite value ({values[bad[0], j]}) at row {bad[0]}"
+            )
+    return values
 
 
 def check_weights(sample_weight: Any, n_samples: int) -> np.ndarray:
@@ -394,6 +462,9 @@ class GaussianMixture:
         Standardisation used for fitting: z = (x - center_) / scale_.
     n_features_in_ : int
         D, the number of columns seen by :meth:`fit`.
+    feature_names_in_ : ndarray of shape (D,), dtype object
+        The column names, when fitted on a pandas DataFrame with string column names (or
+        given by :class:`rlff.Model`); the methods then take a DataFrame's columns by name.
     converged_ : bool
     n_iter_ : int
         EM iterations of the kept initialisation.
@@ -567,6 +638,11 @@ class GaussianMixture:
         self
         """
         self._check_parameters()
+        self.__dict__.pop("feature_names_in_", None)
+        if is_frame(X) and all(isinstance(name, str) for name in X.columns):
+            names = np.array(X.columns, dtype=object)
+            X = frame_columns(X, names.tolist(), "X")
+            self.feature_names_in_ = names
         X = check_samples(X)
         weights = check_weights(sample_weight, X.shape[0])
         n_used = int(np.count_nonzero(weights))
@@ -666,13 +742,18 @@ class GaussianMixture:
     def _log_prob_z(self, X: np.ndarray) -> np.ndarray:
         """Weighted log-densities log w_k N(z | mu_k, S_k) (N, K) on the standardised scale."""
         self._check_fitted()
-        X = check_samples(X)
+        X = check_samples(self._named_columns(X, range(self.means_.shape[1])))
         if X.shape[1] != self.means_.shape[1]:
             raise InputError(
                 f"X has {X.shape[1]} features, but GaussianMixture is expecting "
                 f"{self.means_.shape[1]} features as input (one per column it was fitted on)"
             )
         return quadratic_features((X - self.center_) / self.scale_) @ self._coef
+
+    def _named_columns(self, X: Any, columns: Iterable[int]) -> Any:
+        """``X`` through :func:`by_name` with the names of the mixture's ``columns`` (indices)."""
+        names = getattr(self, "feature_names_in_", None)
+        return by_name(X, None if names is None else [str(names[j]) for j in columns])
 
     def score_samples(self, X: np.ndarray) -> np.ndarray:
         """Log-density ln p(x) of every sample (N,), in the data's units."""
