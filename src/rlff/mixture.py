@@ -610,11 +610,23 @@ class GaussianMixture:
         return mixture
 
     def _refresh(self) -> None:
-        """Derived quantities on the standardised scale, from the public attributes."""
+        """Derived quantities on the standardised scale, from the public attributes.
+
+        Raises InputError when they overflow (parameters near 1e308, or a scale that makes a
+        covariance vanish): such a mixture cannot be evaluated.
+        """
         self._cholesky_data = _cholesky(self.covariances_)
-        z_means = (self.means_ - self.center_) / self.scale_
-        z_cov = self.covariances_ / np.outer(self.scale_, self.scale_)
-        self._coef = log_density_coefficients(self.weights_, z_means, z_cov)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            z_means = (self.means_ - self.center_) / self.scale_
+            z_cov = self.covariances_ / np.outer(self.scale_, self.scale_)
+            coef = log_density_coefficients(self.weights_, z_means, z_cov) if np.all(np.isfinite(z_cov)) else None
+        # ln w_k is -inf for a weight of 0; everything else must be finite
+        if coef is None or not (np.all(np.isfinite(coef[1:])) and not np.any(np.isnan(coef[0]) | (coef[0] == np.inf))):
+            raise InputError(
+                "the mixture's parameters overflow on its standardised scale (means, covariances "
+                "or scale too large or too small to evaluate)"
+            )
+        self._coef = coef
 
     def _check_fitted(self) -> None:
         if not hasattr(self, "weights_"):

@@ -687,5 +687,8 @@ def _parse(document: Any, source: str) -> Model:
     fit_info = document.get("fit", {})
     if not isinstance(fit_info, dict):
         raise fail("fit", "must be an object")
-    mixture = GaussianMixture.from_parameters(weights, means, covariances, center=center, scale=std)
+    try:
+        mixture = GaussianMixture.from_parameters(weights, means, covariances, center=center, scale=std)
+    except InputError as exc:
+        raise InputError(f"{source}: {exc}") from None
     return Model(mixture, names["inputs"], names["outputs"], input_range, selection, fit_info)
