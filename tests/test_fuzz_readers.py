@@ -527,3 +527,59 @@ def test_robot_trajectory_csv_faults_name_the_file():
     _refused(read_csv, b"time,j_position,j_acceleration\n0,0,0\n", "t.csv", "no column 'j_velocity'")
     _refused(read_csv, (header + "0,0,0,0\n0,nan,0,0\n").encode(), "t.csv", "positions hold NaN or inf")
     _refused(read_csv, (header + "0,x,0,0\n").encode(), "t.csv", "not a robot trajectory")
+
+
+# -- the generated path CSV (rlff generate -> sim throw, robot export) -----------------------------
+
+PATH_SEED = (
+    "angle,velocity,time,pdf,exploration,gmr_mean,distance\n"
+    + "".join(f"{0.7 + 0.2 * k!r},{3.0 + k!r},{0.05 * k!r},0.5,0.1,{3.0 + k!r},2.5\n" for k in range(8))
+).encode()
+
+
+@FUZZ
+@given(st.data())
+def test_generated_path_csv(data):
+    from rlff.trajectory.path_csv import read_generated_path
+
+    with file_with(data.draw(damaged(PATH_SEED)), "traj.csv") as path:
+        generated = check_reader(read_generated_path, path)
+        if generated is not None:
+            assert np.all(np.isfinite(generated.angle)) and np.all(np.isfinite(generated.velocity))
+            assert generated.time is None or np.all(np.isfinite(generated.time))
+
+
+def _readers():
+    """Every reader with the extension its files have."""
+    from rlff.capture.bag import read_bag as read_skeleton_bag
+    from rlff.capture.skeleton_text import read_joint_csv, read_kinect_text, read_msr_text
+    from rlff.learn.log import AttemptLog
+    from rlff.model import Model
+    from rlff.preprocess.pipeline import Pipeline
+    from rlff.robot.description import load_robot
+    from rlff.robot.export import read_bag, read_csv, read_json
+    from rlff.trajectory.path_csv import read_generated_path
+
+    return [
+        (read_dataset, ".csv"), (read_dataset, ".npz"), (read_dataset, ".parquet"), (read_dataset, ".txt"),
+        (Model.load, ".json"), (lambda path: AttemptLog(path, _RUN), ".jsonl"), (Pipeline.from_toml, ".toml"),
+        (load_robot, ".toml"), (read_json, ".json"), (read_csv, ".csv"), (read_bag, ".bag"),
+        (read_kinect_text, ".txt"), (read_msr_text, ".txt"), (read_joint_csv, ".csv"),
+        (read_skeleton_bag, ".bag"), (read_generated_path, ".csv"),
+    ]
+
+
+@pytest.mark.parametrize(("read", "suffix"), _readers())
+def test_every_reader_refuses_a_folder_and_a_missing_file(tmp_path, read, suffix):
+    folder = tmp_path / f"folder{suffix}"
+    folder.mkdir()
+    with pytest.raises(InputError) as caught:
+        read(folder)
+    assert str(folder) in str(caught.value)
+    missing = tmp_path / "nowhere" / f"missing{suffix}"
+    if suffix == ".jsonl":  # a new attempts log is created with its folder
+        assert read(missing).contents.attempts == []
+        return
+    with pytest.raises(InputError) as caught:
+        read(missing)
+    assert str(missing) in str(caught.value)

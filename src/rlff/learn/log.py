@@ -68,6 +68,8 @@ class AttemptLog:
     def __init__(self, path: str | Path, run: dict[str, Any]):
         self.path = Path(path)
         self.run = json.loads(json.dumps(run))  # normalised as it will read back
+        if self.path.is_dir():
+            raise InputError(f"{self.path}: is a folder, not an attempts log file")
         if self.path.exists() and self.path.stat().st_size > 0:
             self.contents = self._resume()
         else:

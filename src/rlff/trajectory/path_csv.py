@@ -28,6 +28,8 @@ class GeneratedPath:
 def read_generated_path(path: str | Path) -> GeneratedPath:
     """Read a generated trajectory CSV; :class:`InputError` naming the file and column at fault."""
     path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{path}: is a folder, not a trajectory CSV file")
     try:
         table = pd.read_csv(path)
     except FileNotFoundError:
