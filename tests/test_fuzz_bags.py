@@ -159,3 +159,20 @@ def test_a_tf_message_with_a_damaged_length_is_skipped_not_allocated(tmp_path, o
     recording = _read_skeleton(path)
     assert recording.arms
     assert any("skipped 1 damaged /tf messages" in warning for warning in recording.warnings), recording.warnings
+
+
+def test_a_ros2_bag_whose_metadata_has_a_wrong_type_is_an_input_error(skeleton_bag2, tmp_path):
+    """rosbags raised a bare TypeError for a duration that is text (found by the fuzz)."""
+    import re
+
+    from rlff.errors import InputError
+
+    copy = tmp_path / skeleton_bag2.name
+    shutil.copytree(skeleton_bag2, copy)
+    metadata = copy / "metadata.yaml"
+    text, replaced = re.subn(r"nanoseconds: \d+", 'nanoseconds: "soon"', metadata.read_text(), count=1)
+    assert replaced == 1
+    metadata.write_text(text)
+    with pytest.raises(InputError, match="not a readable ROS 2 bag") as caught:
+        _read_skeleton(copy)
+    assert str(copy) in str(caught.value)

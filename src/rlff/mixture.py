@@ -49,13 +49,13 @@ def check_samples(X: Any, name: str = "X") -> np.ndarray:
         raise InputError(f"{name} is a sparse matrix: give a dense array (e.g. X.toarray())")
     try:
         array = np.asarray(X)
-        if array.dtype.kind == "c":
-            raise InputError(f"Complex data not supported: {name} holds complex numbers")
-        array = array.astype(float, copy=False)
-    except (TypeError, ValueError) as exc:
-        if isinstance(exc, InputError):
-            raise
+        complex_values = array.dtype.kind == "c"
+        if not complex_values:
+            array = array.astype(float, copy=False)
+    except (TypeError, ValueError):
         raise InputError(f"{name} must be a numeric array") from None
+    if complex_values:
+        raise InputError(f"Complex data not supported: {name} holds complex numbers")
     if array.ndim == 1:
         array = array[:, None]
     if array.ndim != 2:
@@ -620,8 +620,13 @@ class GaussianMixture:
             z_means = (self.means_ - self.center_) / self.scale_
             z_cov = self.covariances_ / np.outer(self.scale_, self.scale_)
             coef = log_density_coefficients(self.weights_, z_means, z_cov) if np.all(np.isfinite(z_cov)) else None
-        # ln w_k is -inf for a weight of 0; everything else must be finite
-        if coef is None or not (np.all(np.isfinite(coef[1:])) and not np.any(np.isnan(coef[0]) | (coef[0] == np.inf))):
+        # row 0 holds ln w_k + constants: -inf for a weight of 0; everything else must be finite
+        usable = (
+            coef is not None
+            and np.all(np.isfinite(coef[1:]))
+            and not np.any(np.isnan(coef[0]) | (coef[0] == np.inf))
+        )
+        if not usable:
             raise InputError(
                 "the mixture's parameters overflow on its standardised scale (means, covariances "
                 "or scale too large or too small to evaluate)"
