@@ -2,7 +2,7 @@
 
 The cases are the tracebacks a hostile but realistic user met (issue 11): values of 1e308 in the
 data and the model, folders where files go and files where folders go, TOML ``step = nan``, a
-truncated ``.npz``, ``--distances 1e308``, ``--backend nope``, ``ROS_MASTER_URI=notaurl``; then
+truncated ``.npz``, ``--distances 1e308``, ``--landings nope``, ``ROS_MASTER_URI=notaurl``; then
 option parsing, numpy's warnings, markup in names, plurals and the fit's K.
 """
 
@@ -97,7 +97,7 @@ TRACEBACK_CASES = {
     "truncated .npz": (["fit", "{cut}", "-o", "{tmp}/m.json"], ["cut.npz", "cut short"]),
     "synth --distances 1e308": (["data", "synth", "throws", "--distances", "1e308", "-o", "{tmp}/s.csv"],
                                 ["1e+308", "0.3 to 20 m"]),
-    "bench --backend nope": (["bench", "learning", "--backend", "nope"], ["--backend", "'nope'", "loky"]),
+    "bench --landings nope": (["bench", "learning", "--landings", "nope"], ["--landings", "'nope'", "noisy:STD"]),
 }
 
 

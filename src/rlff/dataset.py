@@ -449,6 +449,8 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
         raise InputError(f"{path}: malformed CSV ({str(exc).strip().splitlines()[-1]})") from None
     except pd.errors.EmptyDataError:
         raise InputError(f"{path}: empty file") from None
+    if not isinstance(frame.index, pd.RangeIndex):  # pandas made the first fields the row labels
+        raise InputError(f"{path}: the rows have more fields than the header's {len(frame.columns)} columns")
     if ID_COLUMN not in frame.columns:
         raise InputError(f"{path}: no {ID_COLUMN!r} column (columns: {', '.join(map(str, frame.columns))})")
     if frame.empty:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 import re
 import zipfile
+import zlib
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -241,22 +242,76 @@ def write_npz(dataset: Dataset, path: str | Path) -> None:
 
 
 def read_npz(path: str | Path) -> Dataset:
-    """Read a dataset written by :func:`write_npz`."""
+    """Read a dataset written by :func:`write_npz`.
+
+    Raises
+    ------
+    InputError
+        Not a readable NPZ (damaged or cut short), or members that are missing or of the wrong
+        type or shape (named in the message), or data that do not make a dataset.
+    """
     path = Path(path)
     _require_file(path)
     try:
         with np.load(path, allow_pickle=False) as npz:
-            info = json.loads(str(npz[_RLFF_KEY]))
-            columns = {name: npz[f"column:{name}"] for name in info["columns"]}
-            ids = npz["ids"].tolist()
-            lengths = npz["lengths"]
-    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, json.JSONDecodeError) as exc:
-        raise InputError(f"{path}: not an rlff NPZ dataset, or cut short ({exc})") from None
+            members = {key: npz[key] for key in npz.files}
+    except _NPZ_DAMAGE as exc:
+        raise InputError(f"{path}: not an rlff NPZ dataset ({type(exc).__name__}: {exc})") from None
+    columns, ids, lengths, info = _npz_contents(path, members)
     _check_lengths(path, ids, lengths)
     try:
         return Dataset.from_columns(columns, ids, lengths, info["meta"], info["context"])
     except InputError as exc:
         raise InputError(f"{path}: {exc}") from None
+
+
+#: What numpy raises on a damaged or truncated .npz (a zip of .npy members): the zip layer
+#: (BadZipFile, zlib.error, EOFError), the .npy header (ValueError, SyntaxError from its
+#: literal_eval) or the file itself (OSError).
+_NPZ_DAMAGE = (OSError, ValueError, EOFError, SyntaxError, zipfile.BadZipFile, zlib.error)
+
+
+def _npz_contents(
+    path: Path, members: dict[str, np.ndarray]
+) -> tuple[dict[str, np.ndarray], list[str], np.ndarray, dict[str, Any]]:
+    """The checked members of an rlff NPZ: columns, ids, lengths and the rlff entry."""
+
+    def fail(member: str, problem: str) -> InputError:
+        return InputError(f"{path}: not an rlff NPZ dataset (member {member!r} {problem})")
+
+    for member in (_RLFF_KEY, "ids", "lengths"):
+        if member not in members:
+            raise fail(member, "is missing")
+    entry = members[_RLFF_KEY]
+    if entry.shape != () or entry.dtype.kind != "U":
+        raise fail(_RLFF_KEY, "must be one string")
+    try:
+        info = json.loads(str(entry))
+    except json.JSONDecodeError:
+        raise fail(_RLFF_KEY, "is not JSON") from None
+    if not isinstance(info, dict):
+        raise fail(_RLFF_KEY, "must hold a JSON object")
+    for key in ("columns", "context"):
+        if not isinstance(info.get(key), list) or not all(isinstance(name, str) for name in info[key]):
+            raise fail(_RLFF_KEY, f"must list the {key} names")
+    if not isinstance(info.get("meta"), list) or not all(isinstance(meta, dict) for meta in info["meta"]):
+        raise fail(_RLFF_KEY, "must hold one metadata object per trajectory")
+    ids, lengths = members["ids"], members["lengths"]
+    if ids.ndim != 1 or ids.dtype.kind != "U":
+        raise fail("ids", "must be a 1-D array of strings")
+    if lengths.ndim != 1 or lengths.dtype.kind not in "iu":
+        raise fail("lengths", "must be a 1-D array of integers")
+    if lengths.size != ids.size:
+        raise fail("lengths", f"has {lengths.size} entries for {ids.size} ids")
+    columns = {}
+    for name in info["columns"]:
+        values = members.get(f"column:{name}")
+        if values is None:
+            raise fail(f"column:{name}", "is missing")
+        if values.ndim != 1 or values.dtype.kind not in "fiu":
+            raise fail(f"column:{name}", "must be a 1-D array of numbers")
+        columns[name] = values
+    return columns, ids.tolist(), lengths, info
 
 
 def _check_lengths(path: Path, ids: list[str], lengths: np.ndarray) -> None:
@@ -324,9 +379,9 @@ def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Data
     _require_file(path)
     try:
         table = pq.read_table(path)
-    except (pa.ArrowInvalid, OSError) as exc:
+    except (pa.ArrowException, OSError) as exc:
         raise InputError(f"{path}: not a Parquet file ({exc})") from None
-    info = json.loads((table.schema.metadata or {}).get(_RLFF_KEY.encode(), b"{}"))
+    info = _parquet_info(path, table)
     if ID_COLUMN not in table.column_names:
         raise InputError(f"{path}: no {ID_COLUMN!r} column (columns: {', '.join(table.column_names)})")
     if "meta_keys" in info:
@@ -340,6 +395,9 @@ def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Data
     if context is None and "context" in info:
         context = info["context"]
     ids_column = table.column(ID_COLUMN).combine_chunks()
+    if ids_column.null_count:
+        row = int(np.flatnonzero(ids_column.is_null().to_numpy(zero_copy_only=False))[0])
+        raise InputError(f"{path}: empty trajectory id at row {row + 1}")
     if not pa.types.is_dictionary(ids_column.type):
         ids_column = ids_column.cast(pa.string()).dictionary_encode()
     codes = ids_column.indices.to_numpy(zero_copy_only=False)
@@ -387,6 +445,27 @@ def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Data
         return Dataset.from_columns(columns, ids, lengths, metas, context)
     except InputError as exc:
         raise InputError(f"{path}: {exc}") from None
+
+
+def _parquet_info(path: Path, table: Any) -> dict[str, Any]:
+    """rlff's entry in the schema metadata (context and metadata keys), checked; {} if absent."""
+    raw = (table.schema.metadata or {}).get(_RLFF_KEY.encode())
+    if raw is None:
+        return {}
+    try:
+        info = json.loads(raw)
+    except (json.JSONDecodeError, UnicodeDecodeError):
+        info = None
+    if not isinstance(info, dict):
+        raise InputError(f"{path}: damaged rlff entry in the Parquet metadata (not a JSON object)")
+    for key in ("context", "meta_keys"):
+        names = info.get(key, [])
+        if not isinstance(names, list) or not all(isinstance(name, str) for name in names):
+            raise InputError(f"{path}: damaged rlff entry in the Parquet metadata ({key!r} is not a list of names)")
+    absent = [name for name in info.get("meta_keys", []) if name not in table.column_names]
+    if absent:
+        raise InputError(f"{path}: metadata column {absent[0]!r} listed in the Parquet metadata is missing")
+    return info
 
 
 # -- dispatch ----------------------------------------------------------------------------------

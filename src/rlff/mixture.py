@@ -15,8 +15,10 @@ step are one matrix product with the responsibilities. No (N, K, D) temporary is
 from __future__ import annotations
 
 import functools
+import inspect
 import math
-from collections.abc import Callable, Iterable
+import sys
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -40,11 +42,21 @@ _KMEANS_SUBSET = 20_000
 
 
 def check_samples(X: Any, name: str = "X") -> np.ndarray:
-    """``X`` as a finite float array of shape (N, D) with N >= 1, else :class:`InputError`."""
+    """``X`` as a finite float array of shape (N, D) with N >= 1, else :class:`InputError`.
+
+    A 1-D array is one column (N,) -> (N, 1). Sparse matrices and complex numbers are refused.
+    """
+    if hasattr(X, "tocsr"):  # a scipy.sparse matrix or array, without importing scipy
+        raise InputError(f"{name} is a sparse matrix: give a dense array (e.g. X.toarray())")
     try:
-        array = np.asarray(X, dtype=float)
+        array = np.asarray(X)
+        complex_values = array.dtype.kind == "c"
+        if not complex_values:
+            array = array.astype(float, copy=False)
     except (TypeError, ValueError):
         raise InputError(f"{name} must be a numeric array") from None
+    if complex_values:
+        raise InputError(f"Complex data not supported: {name} holds complex numbers")
     if array.ndim == 1:
         array = array[:, None]
     if array.ndim != 2:
@@ -52,10 +64,13 @@ def check_samples(X: Any, name: str = "X") -> np.ndarray:
     if array.shape[0] == 0:
         raise InputError(f"{name} is empty: no samples")
     if array.shape[1] == 0:
-        raise InputError(f"{name} has no columns")
+        raise InputError(
+            f"{name} has no columns (0 feature(s) (shape={array.shape}) while a minimum of 1 is required)"
+        )
     if not np.all(np.isfinite(array)):
         row, column = np.argwhere(~np.isfinite(array))[0]
-        raise InputError(f"{name} has a non-finite value ({array[row, column]}) at row {row}, column {column}")
+        value = "NaN" if np.isnan(array[row, column]) else f"{array[row, column]:+}"
+        raise InputError(f"{name} has a non-finite value ({value}) at row {row}, column {column}")
     if np.abs(array).max() > MAX_MAGNITUDE:  # squares and sums of squares would overflow
         row, column = np.argwhere(np.abs(array) > MAX_MAGNITUDE)[0]
         raise InputError(
@@ -63,6 +78,73 @@ def check_samples(X: Any, name: str = "X") -> np.ndarray:
             f"within ±{MAX_MAGNITUDE:g}"
         )
     return array
+
+
+#: Why a DataFrame cannot be read by name.
+NO_NAMES = (
+    "X is a DataFrame, but the mixture has no column names (it was fitted on an array): pass an "
+    "array with the columns in the mixture's order, or fit the mixture on a DataFrame"
+)
+
+
+def is_frame(data: Any) -> bool:
+    """Whether ``data`` is a pandas DataFrame (without importing pandas: if pandas is not loaded,
+    nothing is a DataFrame)."""
+    pandas = sys.modules.get("pandas")
+    return pandas is not None and isinstance(data, pandas.DataFrame)
+
+
+def by_name(X: Any, names: Sequence[str] | None, what: str = "X") -> Any:
+    """``X`` unchanged, or for a pandas DataFrame with string column names its columns
+    ``names`` by name (:func:`frame_columns`). A DataFrame whose columns are not named (integer
+    labels) is taken by position, as an array.
+
+    Raises
+    ------
+    InputError
+        ``names`` is None (the model has no column names) for a DataFrame with named columns, or
+        the DataFrame lacks some of ``names``.
+    """
+    if not is_frame(X) or not all(isinstance(column, str) for column in X.columns):
+        return X
+    if names is None:
+        raise InputError(NO_NAMES)
+    return frame_columns(X, names, what)
+
+
+def frame_columns(frame: Any, names: Sequence[str], what: str = "data") -> np.ndarray:
+    """The named columns of a pandas DataFrame as a float array (N, len(names)), by name.
+
+    Raises
+    ------
+    InputError
+        A named column is missing (the message lists the missing and the present columns),
+        appears more than once, is not numeric or holds NaN or inf (naming the column and row).
+    """
+    present = [str(column) for column in frame.columns]
+    missing = [name for name in names if name not in present]
+    if missing:
+        raise InputError(
+            f"{what}: the DataFrame has no column{'s' if len(missing) > 1 else ''} "
+            f"{', '.join(map(repr, missing))} (columns present: {', '.join(present) if present else 'none'})"
+        )
+    if len(frame) == 0:
+        raise InputError(f"{what}: the DataFrame has no rows")
+    values = np.empty((len(frame), len(names)))
+    for j, name in enumerate(names):
+        if present.count(name) > 1:
+            raise InputError(f"{what}: the DataFrame has column {name!r} {present.count(name)} times")
+        column = frame.iloc[:, present.index(name)]
+        try:
+            values[:, j] = column.to_numpy(dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"{what}: column {name!r} is not numeric (dtype {column.dtype})") from None
+        bad = np.flatnonzero(~np.isfinite(values[:, j]))
+        if bad.size:
+            raise InputError(
+                f"{what}: column {name!r} has a non-finite value ({values[bad[0], j]}) at row {bad[0]}"
+            )
+    return values
 
 
 def check_weights(sample_weight: Any, n_samples: int) -> np.ndarray:
@@ -345,6 +427,11 @@ def _initial_responsibilities(
 class GaussianMixture:
     """Gaussian Mixture Model with full covariances, fitted by EM in log space.
 
+    A scikit-learn estimator: ``__init__`` stores its arguments unchanged, :meth:`fit` validates
+    them and sets the fitted state (names ending in ``_``), :meth:`get_params` /
+    :meth:`set_params` read and change the settings, so ``sklearn.base.clone``, pipelines and
+    ``GridSearchCV`` (which ranks by :meth:`score`, the mean log-likelihood) work.
+
     Parameters
     ----------
     n_components : int
@@ -380,6 +467,11 @@ class GaussianMixture:
         In the data's units (squared).
     center_, scale_ : ndarray of shape (D,)
         Standardisation used for fitting: z = (x - center_) / scale_.
+    n_features_in_ : int
+        D, the number of columns seen by :meth:`fit`.
+    feature_names_in_ : ndarray of shape (D,), dtype object
+        The column names, when fitted on a pandas DataFrame with string column names (or
+        given by :class:`rlff.Model`); the methods then take a DataFrame's columns by name.
     converged_ : bool
     n_iter_ : int
         EM iterations of the kept initialisation.
@@ -416,8 +508,60 @@ class GaussianMixture:
         self.means_init = means_init
         self.covariances_init = covariances_init
 
+    # -- the scikit-learn estimator protocol ------------------------------------------------
+    # Implemented here rather than inherited from sklearn.base.BaseEstimator: importing
+    # sklearn.base loads pandas, pyarrow and most of scipy (about 1,100 modules, +1 s on every
+    # rlff command that touches a model), and scikit-learn is only needed by those who use it.
+    # The protocol is small: the settings are exactly the keyword arguments of __init__.
+
+    @classmethod
+    def _get_param_names(cls) -> list[str]:
+        """Names of the settings: the parameters of ``__init__``, in order."""
+        return [name for name in inspect.signature(cls.__init__).parameters if name != "self"]
+
+    def get_params(self, deep: bool = True) -> dict[str, Any]:
+        """The settings as given to ``__init__`` (``deep`` is accepted for scikit-learn; no
+        setting is itself an estimator)."""
+        return {name: getattr(self, name) for name in self._get_param_names()}
+
+    def set_params(self, **params: Any) -> GaussianMixture:
+        """Change settings (validated at the next :meth:`fit`); returns ``self``.
+
+        Raises
+        ------
+        InputError
+            A name that is not a setting (the settings are listed).
+        """
+        valid = self._get_param_names()
+        for name, value in params.items():
+            if name not in valid:
+                raise InputError(
+                    f"GaussianMixture has no parameter {name!r} (parameters: {', '.join(valid)})"
+                )
+            setattr(self, name, value)
+        return self
+
+    def __sklearn_tags__(self) -> Any:
+        """scikit-learn's default estimator tags with the type of a density estimator (as its
+        DensityMixin sets it). Only scikit-learn calls this, so scikit-learn is importable here.
+        """
+        from sklearn.base import BaseEstimator
+
+        tags = BaseEstimator.__sklearn_tags__(self)
+        tags.estimator_type = "density_estimator"
+        return tags
+
     def __repr__(self) -> str:
-        return f"GaussianMixture(n_components={self.n_components})"
+        defaults = {
+            name: parameter.default
+            for name, parameter in inspect.signature(type(self).__init__).parameters.items()
+        }
+        changed = [
+            f"{name}={value!r}"
+            for name, value in self.get_params().items()
+            if not (value is defaults[name] or (_is_plain(value) and value == defaults[name]))
+        ]
+        return f"GaussianMixture({', '.join(changed)})"
 
     # -- construction ----------------------------------------------------------------------
     def _check_parameters(self) -> None:
@@ -464,6 +608,7 @@ class GaussianMixture:
         mixture.weights_ = weights
         mixture.means_ = means
         mixture.covariances_ = covariances
+        mixture.n_features_in_ = d
         mixture.converged_ = True
         mixture.n_iter_ = 0
         mixture.lower_bound_ = -np.inf
@@ -472,11 +617,28 @@ class GaussianMixture:
         return mixture
 
     def _refresh(self) -> None:
-        """Derived quantities on the standardised scale, from the public attributes."""
+        """Derived quantities on the standardised scale, from the public attributes.
+
+        Raises InputError when they overflow (parameters near 1e308, or a scale that makes a
+        covariance vanish): such a mixture cannot be evaluated.
+        """
         self._cholesky_data = _cholesky(self.covariances_)
-        z_means = (self.means_ - self.center_) / self.scale_
-        z_cov = self.covariances_ / np.outer(self.scale_, self.scale_)
-        self._coef = log_density_coefficients(self.weights_, z_means, z_cov)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            z_means = (self.means_ - self.center_) / self.scale_
+            z_cov = self.covariances_ / np.outer(self.scale_, self.scale_)
+            coef = log_density_coefficients(self.weights_, z_means, z_cov) if np.all(np.isfinite(z_cov)) else None
+        # row 0 holds ln w_k + constants: -inf for a weight of 0; everything else must be finite
+        usable = (
+            coef is not None
+            and np.all(np.isfinite(coef[1:]))
+            and not np.any(np.isnan(coef[0]) | (coef[0] == np.inf))
+        )
+        if not usable:
+            raise InputError(
+                "the mixture's parameters overflow on its standardised scale (means, covariances "
+                "or scale too large or too small to evaluate)"
+            )
+        self._coef = coef
 
     def _check_fitted(self) -> None:
         if not hasattr(self, "weights_"):
@@ -500,11 +662,19 @@ class GaussianMixture:
         self
         """
         self._check_parameters()
+        self.__dict__.pop("feature_names_in_", None)
+        if is_frame(X) and all(isinstance(name, str) for name in X.columns):
+            names = np.array(X.columns, dtype=object)
+            X = frame_columns(X, names.tolist(), "X")
+            self.feature_names_in_ = names
         X = check_samples(X)
         weights = check_weights(sample_weight, X.shape[0])
         n_used = int(np.count_nonzero(weights))
         if n_used < 2:
-            raise InputError(f"need at least 2 samples (with weight > 0) to fit a mixture, got {n_used}")
+            raise InputError(
+                f"need at least 2 samples (with weight > 0) to fit a mixture, got {n_used} sample"
+                + ("s" if n_used != 1 else "")
+            )
         if self.n_components > n_used:
             raise InputError(
                 f"n_components = {self.n_components} is more than the {n_used} samples"
@@ -526,6 +696,7 @@ class GaussianMixture:
         self.weights_ = z_weights
         self.means_ = z_means * self.scale_ + self.center_
         self.covariances_ = z_cov * np.outer(self.scale_, self.scale_)
+        self.n_features_in_ = X.shape[1]
         self.converged_ = converged
         self.n_iter_ = n_iter
         self.lower_bound_ = lower_bound
@@ -595,10 +766,18 @@ class GaussianMixture:
     def _log_prob_z(self, X: np.ndarray) -> np.ndarray:
         """Weighted log-densities log w_k N(z | mu_k, S_k) (N, K) on the standardised scale."""
         self._check_fitted()
-        X = check_samples(X)
+        X = check_samples(self._named_columns(X, range(self.means_.shape[1])))
         if X.shape[1] != self.means_.shape[1]:
-            raise InputError(f"X has {X.shape[1]} columns, the mixture has {self.means_.shape[1]}")
+            raise InputError(
+                f"X has {X.shape[1]} features, but GaussianMixture is expecting "
+                f"{self.means_.shape[1]} features as input (one per column it was fitted on)"
+            )
         return quadratic_features((X - self.center_) / self.scale_) @ self._coef
+
+    def _named_columns(self, X: Any, columns: Iterable[int]) -> Any:
+        """``X`` through :func:`by_name` with the names of the mixture's ``columns`` (indices)."""
+        names = getattr(self, "feature_names_in_", None)
+        return by_name(X, None if names is None else [str(names[j]) for j in columns])
 
     def score_samples(self, X: np.ndarray) -> np.ndarray:
         """Log-density ln p(x) of every sample (N,), in the data's units."""
@@ -654,6 +833,11 @@ class GaussianMixture:
         noise = rng.standard_normal((n_samples, self.means_.shape[1]))
         samples = self.means_[labels] + np.einsum("nij,nj->ni", self._cholesky_data[labels], noise)
         return samples, labels
+
+
+def _is_plain(value: Any) -> bool:
+    """A setting compared by value in the repr (numbers, strings, None), not an array."""
+    return value is None or isinstance(value, (int, float, str, np.integer, np.floating))
 
 
 def _softmax(log_prob: np.ndarray) -> np.ndarray:

@@ -37,7 +37,9 @@ from rlff.mixture import (
     GaussianMixture,
     check_samples,
     check_weights,
+    frame_columns,
     information_criteria,
+    is_frame,
     select_components,
 )
 from rlff.regression import Conditional, condition, predict
@@ -175,6 +177,15 @@ class Model:
         self.inputs = tuple(inputs)
         self.outputs = tuple(outputs)
         _check_roles(self.inputs, self.outputs)
+        names = getattr(mixture, "feature_names_in_", None)
+        if names is not None and tuple(names) != self.columns:
+            raise InputError(
+                f"the mixture was fitted on columns {list(names)}, not the inputs and outputs "
+                f"{list(self.columns)}"
+            )
+        # The mixture's columns are the inputs then the outputs: named so that the mixture and
+        # rlff.condition / rlff.predict take a DataFrame's columns by name too.
+        mixture.feature_names_in_ = np.array(self.columns, dtype=object)
         self.mixture = mixture
         self.input_range = {name: (float(lo), float(hi)) for name, (lo, hi) in input_range.items()}
         self.selection = selection
@@ -201,7 +212,7 @@ class Model:
     @classmethod
     def fit(
         cls,
-        data: Dataset | np.ndarray,
+        data: Dataset | np.ndarray | Any,
         *,
         columns: Sequence[str] | None = None,
         inputs: Sequence[str] = THROW_INPUTS,
@@ -221,11 +232,12 @@ class Model:
 
         Parameters
         ----------
-        data : Dataset or array of shape (N, C)
-            Samples. An array needs ``columns`` (C names) unless it holds exactly the inputs and
-            outputs in that order.
+        data : Dataset, pandas DataFrame or array of shape (N, C)
+            Samples. A DataFrame gives its columns by name (the inputs and outputs must be among
+            them; others are left out). An array needs ``columns`` (C names) unless it holds
+            exactly the inputs and outputs in that order.
         columns : sequence of str, optional
-            Names of the array's columns.
+            Names of the array's columns (not with a DataFrame, which names its own).
         inputs, outputs : sequence of str
             Column roles (default: angle, distance -> velocity).
         components : "auto" or int
@@ -311,13 +323,17 @@ class Model:
         return cls(mixture, inputs, outputs, input_range, selection, fit_info)
 
     # -- use ---------------------------------------------------------------------------------
-    def condition(self, X_in: np.ndarray) -> Conditional:
-        """GMR of the outputs at inputs ``X_in`` of shape (N, I) (columns in the order of ``inputs``)."""
+    def condition(self, X_in: np.ndarray | Any) -> Conditional:
+        """GMR of the outputs at inputs ``X_in``.
+
+        ``X_in`` is an array of shape (N, I), columns in the order of ``inputs``, or a pandas
+        DataFrame holding (at least) the input columns by name, in any order.
+        """
         return condition(self.mixture, *self._roles(), self._inputs_array(X_in))
 
-    def predict(self, X_in: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """GMR mean (N, O) and total covariance (N, O, O) of the outputs at inputs ``X_in`` (N, I),
-        without the per-component arrays of :meth:`condition`."""
+    def predict(self, X_in: np.ndarray | Any) -> tuple[np.ndarray, np.ndarray]:
+        """GMR mean (N, O) and total covariance (N, O, O) of the outputs at inputs ``X_in``
+        (as in :meth:`condition`), without the per-component arrays of :meth:`condition`."""
         return predict(self.mixture, *self._roles(), self._inputs_array(X_in))
 
     def _roles(self) -> tuple[range, range]:
@@ -325,8 +341,11 @@ class Model:
         n_in = len(self.inputs)
         return range(n_in), range(n_in, n_in + len(self.outputs))
 
-    def _inputs_array(self, X_in: np.ndarray) -> np.ndarray:
-        """``X_in`` as floats; with one input a plain (N,) array is taken as (N, 1)."""
+    def _inputs_array(self, X_in: np.ndarray | Any) -> np.ndarray:
+        """``X_in`` as floats: a DataFrame's input columns by name, an array as it is (with one
+        input a plain (N,) array is taken as (N, 1))."""
+        if is_frame(X_in):
+            return frame_columns(X_in, self.inputs, "inputs")
         X_in = np.asarray(X_in, dtype=float)
         return X_in[:, None] if X_in.ndim == 1 and len(self.inputs) == 1 else X_in
 
@@ -551,12 +570,16 @@ def _check_roles(inputs: tuple[str, ...], outputs: tuple[str, ...]) -> None:
         raise InputError(f"column {repeated[0]!r} is given more than once among the inputs and outputs")
 
 
-def _columns_of(data: Dataset | np.ndarray, columns: Sequence[str] | None, names: tuple[str, ...]) -> np.ndarray:
+def _columns_of(data: Dataset | np.ndarray | Any, columns: Sequence[str] | None, names: tuple[str, ...]) -> np.ndarray:
     """The samples (N, len(names)) of the named columns."""
     if isinstance(data, Dataset):
         if len(data) == 0:
             raise InputError("the dataset is empty: no trajectories")
         return check_samples(data.to_array(names), "data")
+    if is_frame(data):
+        if columns is not None:
+            raise InputError("columns= names the columns of an array; a DataFrame names its own")
+        return frame_columns(data, names, "data")
     array = check_samples(data, "data")
     if columns is None:
         if array.shape[1] != len(names):
@@ -726,5 +749,8 @@ def _parse(document: Any, source: str) -> Model:
     fit_info = document.get("fit", {})
     if not isinstance(fit_info, dict):
         raise fail("fit", "must be an object")
-    mixture = GaussianMixture.from_parameters(weights, means, covariances, center=center, scale=std)
+    try:
+        mixture = GaussianMixture.from_parameters(weights, means, covariances, center=center, scale=std)
+    except InputError as exc:
+        raise InputError(f"{source}: {exc}") from None
     return Model(mixture, names["inputs"], names["outputs"], input_range, selection, fit_info)

@@ -25,7 +25,7 @@ import numpy as np
 
 from rlff.errors import InputError
 from rlff.fastexp import exp_relative
-from rlff.mixture import gaussian_log_coefficients
+from rlff.mixture import by_name, gaussian_log_coefficients
 
 #: Samples per block of the compiled pass: keeps the (K, block) work arrays in the CPU cache.
 _BLOCK = 1024
@@ -154,6 +154,8 @@ class _Regression:
         regression = s_oi @ precision  # A_k = S_oi S_ii^-1, (K, O, I)
         cond_cov = s_oo - regression @ np.swapaxes(s_oi, 1, 2)
         self.cond_cov = np.ascontiguousarray(0.5 * (cond_cov + np.swapaxes(cond_cov, 1, 2)))
+        names = getattr(mixture, "feature_names_in_", None)
+        self.input_names = None if names is None else [str(names[j]) for j in i_in]
         self.n_components, self.n_out, self.n_in = regression.shape
         # Inputs centred on the components' mean input, so the quadratic expansion of the
         # Mahalanobis distance works on moderate numbers. log w_k N(x | mu_in, S_ii) is linear in
@@ -168,13 +170,16 @@ class _Regression:
         self.coef_mean[:, :, 1:] = regression
 
     def checked_inputs(self, X: np.ndarray) -> np.ndarray:
-        """Checked inputs X (N, I) (or (I,) for one input) as a C-ordered (N, I) array."""
-        X = np.asarray(X, dtype=float)
+        """Checked inputs X (N, I) (or (I,) for one input) as a C-ordered (N, I) array; a
+        DataFrame's input columns by name (the mixture's ``feature_names_in_``)."""
+        X = np.asarray(by_name(X, self.input_names), dtype=float)
         if X.ndim == 1:
             X = X.reshape(1, -1) if X.size == self.n_in else X[:, None]
         if X.ndim != 2 or X.shape[1] != self.n_in:
             raise InputError(f"X must have shape (n, {self.n_in}), got {X.shape}")
         X = np.ascontiguousarray(X)
+        if not X.flags.writeable:  # e.g. DataFrame.to_numpy(): numba would compile a second version
+            X = X.copy()
         # a finite sum proves every value finite (one pass, no temporary); else look closer
         if not (np.isfinite(X.sum()) or np.isfinite(X).all()):
             row = int(np.flatnonzero(~np.all(np.isfinite(X), axis=1))[0])

@@ -90,6 +90,8 @@ def read_bag(
             collector.add(message.raw, message.msgtype, message.digest, message.time_ns)
         collected = collector.finish()
         warnings = stream.warnings
+    if collector.skipped:
+        warnings.append(f"{path}: skipped {collector.skipped} damaged {topic} messages that could not be decoded")
     if count == 0:
         raise InputError(f"{path}: no message could be read on {topic}" + (f" ({warnings[0]})" if warnings else ""))
     notes: list[str] = []

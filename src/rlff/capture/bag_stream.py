@@ -65,7 +65,9 @@ def open_stream(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | Non
     try:
         reader = AnyReader([bag])
         reader.open()
-    except (AnyReaderError, OSError, ValueError, KeyError, AssertionError) as exc:
+    # rosbags lets some damage through unwrapped: a ROS 2 metadata.yaml whose values have the
+    # wrong types raises TypeError or AttributeError while it is parsed
+    except (AnyReaderError, OSError, ValueError, KeyError, AssertionError, TypeError, AttributeError) as exc:
         if bag.is_file():
             yield _scan_ros1(path, topics, msgtypes, reason=str(exc) or type(exc).__name__)
             return

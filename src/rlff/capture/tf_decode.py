@@ -22,6 +22,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+from rosbags.serde import SerdeError
 
 #: MD5 of the ROS 1 tf definition; rosbags checks each connection's digest against the
 #: definition stored in the bag, so a match means exactly the layout decoded here.
@@ -31,6 +32,8 @@ _HEADER = struct.Struct("<IIII")  # seq, stamp sec, stamp nanosec, length of fra
 _VECTOR = struct.Struct("<3d")
 #: Messages decoded together (a few hundred kB at most: memory stays flat).
 BATCH = 512
+#: What decoding a damaged message raises: struct and the bounds checks here, rosbags' decoder.
+_DAMAGE = (ValueError, IndexError, struct.error, SerdeError)
 
 
 @dataclass
@@ -65,9 +68,18 @@ class TfCollector:
         self._parents: dict[str, str] = {}
         self._times: dict[str, list[np.ndarray]] = {}
         self._positions: dict[str, list[np.ndarray]] = {}
+        #: Messages skipped because they could not be decoded (damaged bytes).
+        self.skipped = 0
 
     def add(self, raw: bytes | memoryview, msgtype: str, digest: str, time_ns: int) -> None:
-        """Take one serialised tf message received at ``time_ns`` (bag time, ns)."""
+        """Take one serialised tf message received at ``time_ns`` (bag time, ns); a message that
+        cannot be decoded is skipped and counted in :attr:`skipped`."""
+        try:
+            self._add(raw, msgtype, digest, time_ns)
+        except _DAMAGE:
+            self.skipped += 1
+
+    def _add(self, raw: bytes | memoryview, msgtype: str, digest: str, time_ns: int) -> None:
         if digest != TF_MD5:
             decoded = self.deserialize(raw, msgtype)
             for t in decoded.transforms:
@@ -110,10 +122,14 @@ class TfCollector:
         for _ in range(count):
             _, sec, nanosec, length = _HEADER.unpack_from(data, offset)
             parent_at = offset + 16
+            if parent_at + length + 4 > len(data):  # a damaged length: never index past the message
+                raise ValueError(f"tf message of {len(data)} bytes: a frame name of {length} bytes at byte {parent_at}")
             fixed.append(np.arange(offset + 12, parent_at + length))
             stamp_at = offset + 4
             offset = parent_at + length
             (child_length,) = _UINT32.unpack_from(data, offset)
+            if offset + 4 + child_length > len(data):
+                raise ValueError(f"tf message of {len(data)} bytes: a frame name of {child_length} bytes at byte {offset + 4}")
             fixed.append(np.arange(offset, offset + 4 + child_length))
             child = data[offset + 4 : offset + 4 + child_length].decode()
             offset += 4 + child_length
@@ -138,7 +154,10 @@ class TfCollector:
         fixed = layout.fixed.size
         matches = np.all(rows[:, :fixed] == layout.fixed, axis=1)
         for index in np.flatnonzero(~matches):
-            self._parse(datas[index], times[index])
+            try:
+                self._parse(datas[index], times[index])
+            except _DAMAGE:
+                self.skipped += 1
         wanted = len(layout.names)
         if not wanted or not matches.any():
             return

@@ -18,6 +18,7 @@ and the file.
 from __future__ import annotations
 
 import inspect
+import math
 import tomllib
 import types
 import typing
@@ -87,8 +88,8 @@ def _accepts(annotation: Any, value: Any) -> bool:
         return isinstance(value, bool)
     if annotation is int:
         return isinstance(value, int) and not isinstance(value, bool)
-    if annotation is float:
-        return isinstance(value, (int, float)) and not isinstance(value, bool)
+    if annotation is float:  # finite: TOML reads nan and inf as floats, and no step means them
+        return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
     if annotation is str:
         return isinstance(value, str)
     if origin is not None and issubclass(origin, Iterable):
@@ -98,6 +99,8 @@ def _accepts(annotation: Any, value: Any) -> bool:
 
 
 def _describe(annotation: Any) -> str:
+    if annotation is float:
+        return "a finite float"
     if typing.get_origin(annotation) is typing.Literal:
         return " or ".join(repr(a) for a in typing.get_args(annotation))
     if typing.get_origin(annotation) in (typing.Union, types.UnionType):

@@ -163,11 +163,16 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
         raise InputError(f"{source}: missing [[joints]] tables")
     joints = []
     for number, table in enumerate(tables, start=1):
+        if not isinstance(table, Mapping):
+            raise InputError(f"{source}: joint {number} must be a [[joints]] table, got {table!r}")
         joint_name = table.get("name")
         where = f"{source}: joint {number}" + (f" ({joint_name})" if joint_name else "")
         if not isinstance(joint_name, str) or not joint_name:
             raise InputError(f"{where}: missing field 'name'")
         joints.append(Joint(joint_name, *(number_field(table, key, where) for key in LIMIT_FIELDS)))
+    for key in ("geometry", "throwing", "comau_program"):
+        if key in document and not isinstance(document[key], Mapping):
+            raise InputError(f"{source}: [{key}] must be a table, got {document[key]!r}")
     geometry = None
     if "geometry" in document:
         values = {key: number_field(document["geometry"], key, f"{source}: [geometry]") for key in _GEOMETRY_FIELDS}
@@ -203,6 +208,8 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
             text = path.read_text(encoding="utf-8")
         except OSError as exc:
             raise InputError(f"cannot read robot file {path}: {exc.strerror}") from None
+        except UnicodeDecodeError:
+            raise InputError(f"cannot read robot file {path}: not a UTF-8 text file") from None
         source = str(path)
     else:
         if text_name not in available_robots():

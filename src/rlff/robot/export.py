@@ -89,16 +89,21 @@ def write_csv(traj: JointTrajectory, path: Path) -> None:
 
 def read_csv(path: Path) -> JointTrajectory:
     """The trajectory of a file written by :func:`write_csv`; :class:`InputError` naming the fault."""
+    path = Path(path)
+    if not path.is_file():
+        raise InputError(f"{path}: no such file")
     try:
         table = pd.read_csv(path)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: not a readable CSV ({exc})") from None
+        raise InputError(f"{path}: not a readable CSV ({str(exc).strip().splitlines()[-1]})") from None
+    if not isinstance(table.index, pd.RangeIndex):  # pandas made the first fields the row labels
+        raise InputError(f"{path}: the rows have more fields than the header's {len(table.columns)} columns")
     names = [column.removesuffix("_position") for column in table.columns if column.endswith("_position")]
     if "time" not in table or not names:
         raise InputError(f"{path}: expected a 'time' column and '<joint>_position' columns")
-    missing = [f"{n}_{q}" for q in _QUANTITIES for n in names if f"{n}_{q}" not in table]
+    missing = [f"{n}_{q}" for q in _QUANTITIES for n in names if f"{n}_{q}" not in table.columns]
     if missing:
-        raise InputError(f"{path}: missing columns {missing}")
+        raise InputError(f"{path}: no column {missing[0]!r} (columns: {', '.join(table.columns)})")
     release = None
     if "release_time" in table:
         values = pd.to_numeric(table["release_time"], errors="coerce").to_numpy(float)
@@ -108,7 +113,7 @@ def read_csv(path: Path) -> JointTrajectory:
     try:
         arrays = [table[[f"{n}_{q}" for n in names]].to_numpy(float) for q in _QUANTITIES]
         return JointTrajectory(tuple(names), table["time"].to_numpy(float), *arrays, release_time=release)
-    except ValueError as exc:
+    except (TypeError, ValueError) as exc:
         raise InputError(f"{path}: not a robot trajectory ({exc})") from None
 
 
@@ -167,8 +172,26 @@ def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TO
 
 
 def read_bag(path: Path, topic: str = TRAJECTORY_TOPIC) -> list[JointTrajectory]:
-    """Every JointTrajectory on ``topic`` of a ROS 1 bag (a file) or a ROS 2 bag (a folder)."""
+    """Every JointTrajectory on ``topic`` of a ROS 1 bag (a file) or a ROS 2 bag (a folder).
+
+    Raises
+    ------
+    InputError
+        No such bag, a damaged bag (whatever rosbags or the message decoder met), or a message
+        that is not a valid trajectory.
+    """
     path = Path(path)
+    if not path.exists():
+        raise InputError(f"{path}: no such file or folder")
+    try:
+        return _read_bag(path, topic)
+    except InputError as exc:
+        raise InputError(f"{path}: not a robot trajectory ({exc})") from None
+    except Exception as exc:  # noqa: BLE001 - rosbags, sqlite and the decoders raise many types on damage
+        raise InputError(f"{path}: not a readable trajectory bag ({type(exc).__name__}: {exc})") from None
+
+
+def _read_bag(path: Path, topic: str) -> list[JointTrajectory]:
     if path.is_dir():
         reader, typestore, deserialize = Ros2Reader(path), get_typestore(Stores.ROS2_HUMBLE), "deserialize_cdr"
     else:
