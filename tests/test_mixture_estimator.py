@@ -151,3 +151,11 @@ def test_passes_scikit_learns_estimator_checks():
     assert {"check_get_params_invariance", "check_set_params", "check_fit_idempotent",
             "check_n_features_in_after_fitting", "check_estimators_nan_inf"} <= ran
     assert len(ran) >= 35
+
+
+def test_parameters_that_overflow_when_standardised_are_refused_but_a_zero_weight_is_not():
+    eye = np.array([np.eye(2)] * 2)
+    zero_weight = GaussianMixture.from_parameters(np.array([1.0, 0.0]), np.zeros((2, 2)), eye)
+    assert zero_weight.score(np.zeros((3, 2))) == pytest.approx(-np.log(2 * np.pi))
+    with pytest.raises(InputError, match="overflow on its standardised scale"):
+        GaussianMixture.from_parameters(np.array([0.5, 0.5]), np.array([[0.0, 0.0], [1e200, 0.0]]), eye)

@@ -631,7 +631,7 @@ class GaussianMixture:
         usable = (
             coef is not None
             and np.all(np.isfinite(coef[1:]))
-            and not np.any(np.isnan(coef[0]) | (coef[0] == np.inf))
+            and np.all(np.isfinite(coef[0]) | ((self.weights_ == 0) & (coef[0] == -np.inf)))
         )
         if not usable:
             raise InputError(
