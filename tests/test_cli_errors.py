@@ -93,8 +93,8 @@ TRACEBACK_CASES = {
                                   ["is a file; give a folder"]),
     "sim throw, folder as input": (["sim", "throw", "{folder}", "--basket", "2"], ["is a folder"]),
     "TOML densify step = nan": (["data", "preprocess", "{data}", "--config", "{nan_toml}", "-o", "{tmp}/c.csv"],
-                                ["nan.toml", "densify step nan"]),
-    "truncated .npz": (["fit", "{cut}", "-o", "{tmp}/m.json"], ["cut.npz", "cut short"]),
+                                ["nan.toml", "densify", "step", "finite"]),
+    "truncated .npz": (["fit", "{cut}", "-o", "{tmp}/m.json"], ["cut.npz", "not an rlff NPZ dataset"]),
     "synth --distances 1e308": (["data", "synth", "throws", "--distances", "1e308", "-o", "{tmp}/s.csv"],
                                 ["1e+308", "0.3 to 20 m"]),
     "bench --landings nope": (["bench", "learning", "--landings", "nope"], ["--landings", "'nope'", "noisy:STD"]),
@@ -292,9 +292,9 @@ def test_a_preempted_goal_is_not_reported_successful(status, code, name, text, l
 def test_help_lists_the_allowed_values(rlff):
     from rlff.capture.importer import ARMS
     from rlff.capture.importer import FORMATS as RECORDING_FORMATS
-    from rlff.learn.benchmark import BACKENDS, SCENARIOS
     from rlff.learn.loop import METHODS
     from rlff.learn.method import FEEDBACKS
+    from rlff.learn.scenarios import DEMONSTRATORS
     from rlff.robot.formats import FORMATS as EXPORT_FORMATS
 
     def help_text(*command: str) -> str:
@@ -303,7 +303,7 @@ def test_help_lists_the_allowed_values(rlff):
         return " ".join(result.stdout.replace("│", " ").split())
 
     expected = {
-        ("bench", "learning"): [b for b in BACKENDS if b] + list(SCENARIOS),
+        ("bench", "learning"): list(DEMONSTRATORS) + ["exact", "noisy:STD", "none", "false-miss:RATE"],
         ("robot", "export"): list(EXPORT_FORMATS),
         ("learn",): list(METHODS) + list(FEEDBACKS),
         ("data", "import"): list(RECORDING_FORMATS) + list(ARMS),

@@ -216,10 +216,10 @@ def _log_seed() -> bytes:
     from rlff.learn.log import AttemptLog
 
     def write(path: Path) -> None:
-        log = AttemptLog(path, _RUN)
-        for index in (1, 2):
-            log.append(Attempt(index, 2.0, 2.0, np.array([0.5, 1.0, 1.5]), np.array([3.0, 4.0, 3.5]),
-                               np.array([0.0, 0.1, 0.2]), index == 2, 1.8 + 0.1 * index, -0.2 + 0.1 * index))
+        with AttemptLog(path, _RUN) as log:
+            for index in (1, 2):
+                log.append(Attempt(index, 2.0, 2.0, np.array([0.5, 1.0, 1.5]), np.array([3.0, 4.0, 3.5]),
+                                   np.array([0.0, 0.1, 0.2]), index == 2, 1.8 + 0.1 * index, -0.2 + 0.1 * index))
 
     return seed_file(write, "attempts.jsonl")
 
@@ -248,10 +248,11 @@ def test_attempts_log(content):
     with file_with(content, "attempts.jsonl") as path:
         log = check_reader(lambda p: AttemptLog(p, _RUN), path)
         if log is not None:
+            log.close()  # one run holds a log at a time
             assert all(attempt.index == number for number, attempt in enumerate(log.contents.attempts, start=1))
             # the file it left behind reads back the same attempts
-            again = AttemptLog(path, _RUN)
-            assert len(again.contents.attempts) == len(log.contents.attempts)
+            with AttemptLog(path, _RUN) as again:
+                assert len(again.contents.attempts) == len(log.contents.attempts)
 
 
 # -- preprocessing configs (TOML) -------------------------------------------------------------------
@@ -439,7 +440,8 @@ def test_fuzz_seeds_are_good_files():
         with file_with(seed, name) as path:
             assert read(path) is not None, name
     with file_with(LOG_SEED, "a.jsonl") as path:
-        assert len(AttemptLog(path, _RUN).contents.attempts) == 2
+        with AttemptLog(path, _RUN) as log:
+            assert len(log.contents.attempts) == 2
     rng = np.random.default_rng(1)
     X = np.column_stack([rng.uniform(0, 3, 60), np.repeat([1.0, 2.0, 3.0], 20), rng.normal(5, 1, 60)])
     with file_with(b"", "m.json") as path:
@@ -513,7 +515,7 @@ def test_preprocess_toml_refuses_non_finite_numbers(value):
 def test_robot_toml_of_wrong_shapes_or_bytes_is_refused():
     from rlff.robot.description import load_robot
 
-    joint = '[[joints]]\nname = "j"\nlower = 0\nupper = 1\nmax_velocity = 1\n'
+    joint = '[[joints]]\nname = "j"\nlower = 0\nupper = 1\nmax_velocity = 1\nmax_acceleration = 4\nmax_jerk = 40\n'
     _refused(load_robot, b"\x80name = 1\n", "robot.toml", "not a UTF-8 text file")
     _refused(load_robot, b'name = "a"\njoints = [1]\n', "robot.toml", "joint 1 must be a [[joints]] table")
     _refused(load_robot, f'name = "a"\ngeometry = 1\n{joint}'.encode(), "robot.toml", "[geometry] must be a table")

@@ -196,7 +196,9 @@ def test_calibrate_hits_from_demonstrations_mostly_beyond_the_reach(wide_demos, 
     assert all(a.clipped == 0 for a in result.history)
     first_gmr = learn(wide_demos, 1.75, budget=1, feedback="distance", update="imitation", seed=0)
     if feedback == "distance":
-        assert abs(result.history[0].miss) <= abs(first_gmr.history[0].miss)
+        # not the donut's fast side: the first throw lands as near as the GMR mean's, or well
+        # inside the opening (both may be a centimetre from the centre)
+        assert abs(result.history[0].miss) <= max(abs(first_gmr.history[0].miss), 0.35 / 4)
 
 
 @pytest.mark.slow

@@ -107,17 +107,22 @@ def test_real_msr_recordings_go_through_the_thesis_preset(real_high_throws):
     survivors = {s.step: len(s.after) for s in report.steps}
     assert all(survivors[name] == 26 for name in ("crop", "longest_monotonic", "min_points", "cut_release"))
     assert all(len(t) >= 4 for t in _step(report, "longest_monotonic").after)
-    # one throw with a long slow creep out of the wind-up before its extension stands out from
-    # its basket's shape; no basket is rejected
-    assert [r.trajectory for r in _step(report, "reject_shapes").removed] == ["a06_s08_e01_skeleton3D_t1"]
-    assert _step(report, "reject_contexts").contexts == []
-    assert len(cleaned) == 25
+    # two throws of subject 8 (one with a long slow creep out of the wind-up before its
+    # extension) stand out from their basket's shape
+    assert [r.trajectory for r in _step(report, "reject_shapes").removed] == [
+        "a06_s08_e01_skeleton3D_t1", "a06_s08_e02_skeleton3D_t1"]
+    # the landing estimate of capture (the hand over the elbow's fastest 0.28 s, the same at any
+    # frame rate, docs/capture.md) puts three throws of very different speeds at 0.75 m: that
+    # basket scatters and is rejected, with its reason
+    rejected = _step(report, "reject_contexts").contexts
+    assert [r.context for r in rejected] == [{"distance": 0.75}] and "scatter" in rejected[0].reason
+    assert len(cleaned) == 21
     assert set(cleaned.ids) <= set(dataset.ids)
     assert all(np.all(np.diff(t["angle"]) > 0) for t in cleaned)
     # baskets of several throws are judged, single throws are not
     levels = _step(report, "reject_contexts").params["levels"]
     assert len(levels) >= 4
-    assert _step(report, "reject_contexts").notes[0].startswith("4 context(s) with fewer than 2 trajectories")
+    assert _step(report, "reject_contexts").notes[0].startswith("3 context(s) with fewer than 2 trajectories")
 
 
 @pytest.mark.realdata
@@ -146,10 +151,11 @@ def test_real_msr_velocity_grows_with_distance_then_levels_off(real_high_throws,
     model = Model.fit(cleaned, inputs=("angle", "distance"), outputs=("velocity",), seed=seed,
                       effective_samples=None)
     levels = _gmr_levels(model, distances, angles)
-    # what the data supports: the short throws (0.75-1.25 m) are slower, and from 1.5 m on the
-    # elbow's speed levels off (the estimated landing also depends on the shoulder, the trunk and
-    # the release height, which the elbow angle does not see)
+    # what the data supports: the short throws (1-1.25 m; the 0.75 m basket is rejected for its
+    # scatter) are slower, and from 1.5 m on the elbow's speed levels off (the estimated landing
+    # also depends on the shoulder, the trunk and the release height, which the elbow angle does
+    # not see)
     short = distances <= 1.5
     assert np.all(np.diff(levels[short]) > 0), levels
-    assert levels[short][-1] > 1.3 * levels[0], levels  # at least 30 % faster at 1.5 m than at 0.75 m
+    assert levels[short][-1] > 1.2 * levels[0], levels  # at least 20 % faster at 1.5 m than at 1 m
     assert np.all(levels[~short] > 0.85 * levels[short][-1]), levels

@@ -191,7 +191,7 @@ def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):
              "other.bag: neither a generated path"),
             (("robot", "export", str(folder), "-f", "json", "-o", str(tmp_path / "o.json")),
              "bag2 is a folder (a ROS 2 bag?)"),
-            (("robot", "send", str(other)), "other.bag: not a readable bag"),  # send reads bags
+            (("robot", "send", str(other)), "other.bag: not a readable"),  # send reads bags
             (("robot", "send", str(folder)), "bag2: a folder, but not a ROS 2 bag (no metadata.yaml)"),
             (("robot", "send", str(program)), "throw.txt: a Comau program, which runs on the Comau controller")):
         code, _, err = run(capsys, *command)

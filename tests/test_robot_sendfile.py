@@ -81,3 +81,28 @@ def test_files_that_are_no_trajectory_to_send_are_one_line(planned, tmp_path):
         with pytest.raises(InputError, match=re.escape(message)) as refused:
             load_for_sending(path, ROBOT, 0.01)
         assert "\n" not in str(refused.value)
+
+
+def test_an_export_away_from_the_arm_is_refused_or_approached_within_the_limits(planned, tmp_path):
+    """Without --approach an export that starts away from the arm is refused; with it, a planned
+    approach from the arm at rest comes first, and the whole passes the motion check from there."""
+    from rlff.trajectory.check import check_trajectory
+
+    _, trajectory = planned
+    out = tmp_path / "throw.json"
+    export_trajectory(trajectory, RobotMapping.for_robot(ROBOT), "json", out)
+    arm = trajectory.positions[0].copy()
+    arm[DRIVEN] += 0.6  # the arm rests 0.6 rad away from the first point
+    with pytest.raises(InputError, match="--approach"):
+        load_for_sending(out, ROBOT, 0.01, start=arm)
+    _, plan = load_for_sending(out, ROBOT, 0.01, start=arm, approach=True)
+    sent = plan.trajectory
+    check_trajectory(sent, ROBOT.joints, start=arm)
+    np.testing.assert_allclose(sent.positions[0], arm)
+    approach = sent.duration - trajectory.duration
+    assert approach > 0.1  # 0.6 rad cannot be crossed faster within the velocity limit
+    np.testing.assert_allclose(sent.positions[-1], trajectory.positions[-1])
+    assert sent.release_time == pytest.approx(trajectory.release_time + approach)
+    # already there: nothing is prepended
+    _, same = load_for_sending(out, ROBOT, 0.01, start=trajectory.positions[0], approach=True)
+    assert same.trajectory.duration == pytest.approx(trajectory.duration)

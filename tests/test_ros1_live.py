@@ -165,12 +165,14 @@ def test_client_without_master_exits_with_a_clear_error(tmp_path):
 
 
 def test_a_learned_throw_is_sent_as_rlff_learn_out_wrote_it(tmp_path):
-    """`rlff learn ... --out learned.json` then `rlff robot send learned.json`: an arm at the robot's
-    start pose (a fresh server) executes the learned throw as the file's points joined by the
-    server's quintic interpolation."""
+    """`rlff learn ... --out learned.json` then `rlff robot send learned.json`: refused while the
+    arm (a fresh server, joint_2 at 0) is away from the throw's first pose, then with --approach
+    the arm moves there within the limits and executes the learned throw, the file's points joined
+    by the server's quintic interpolation."""
     from rlff.dataset import write_csv
     from rlff.preprocess import Pipeline
     from rlff.robot.export import read_json
+    from rlff.robot.sendfile import with_approach
     from rlff.synthetic.throws import simulate_throws
 
     demos = tmp_path / "demos.csv"
@@ -184,12 +186,17 @@ def test_a_learned_throw_is_sent_as_rlff_learn_out_wrote_it(tmp_path):
                           "--json", timeout=300)
         assert result.returncode == 0, result.stderr
         assert json.loads(result.stdout)["hit"]
+        pose = rig.pose(tmp_path)
+        refused = rig.rlff("robot", "send", str(learned), "--timeout", "60")
+        assert refused.returncode == 2 and "is not where the arm is" in refused.stderr, refused.stderr
+        assert "--approach" in refused.stderr
         recorder = rig.record(tmp_path / "states.csv")
-        sent = rig.rlff("robot", "send", str(learned), "--json", "--timeout", "60")
+        sent = rig.rlff("robot", "send", str(learned), "--approach", "--json", "--timeout", "60")
         assert sent.returncode == 0, sent.stderr
         outcome = json.loads(sent.stdout)
         assert outcome["status"] == "succeeded" and outcome["error_name"] == "SUCCESSFUL"
-        trajectory = read_json(learned)
+        trajectory = with_approach(ROBOT, read_json(learned), pose, PERIOD)
+        assert trajectory.duration > read_json(learned).duration  # the approach came first
         end = outcome["start"] + trajectory.duration
         wait(lambda: states(tmp_path / "states.csv")[0][-1] > end + 0.5, 120, "states after the end")
         stop(recorder)

@@ -22,7 +22,9 @@ def learn_command(
     feedback: str = typer.Option("binary", "--feedback",
                                  help="What an attempt reports: binary (hit/miss) or distance (signed miss)."),
     update: str = typer.Option("calibrate", "--update",
-                               help="failure, hindsight, calibrate, or a baseline: imitation, random, cma, secant."),
+                               help="calibrate (default), donut, failure, hindsight, or a baseline: imitation, random, sweep, "
+                                    "secant, gp-bo, cma; a DMM method with :no-exploration or :gmr-mean is its "
+                                    "ablation (e.g. calibrate:no-exploration)."),
     log: Path | None = typer.Option(None, "--log", help="Attempts log (JSONL); resumed when it exists."),
     seed: int = typer.Option(0, "--seed", help="Random seed."),
     preset: str | None = typer.Option(None, "--preset",

@@ -194,6 +194,9 @@ def send(
     topic_mode: bool = typer.Option(False, "--topic-mode", help="Publish on /comau/joint_trajectory instead of the action."),
     clip: bool = CLIP,
     period: float = typer.Option(0.01, "--period", help="Controller period (s) a generated throw is planned at (> 0)."),
+    approach: bool = typer.Option(False, "--approach", help="An exported trajectory that starts at rest away from "
+                                                            "the arm: first move there (a planned, limit-respecting "
+                                                            "approach) instead of refusing it."),
     json: bool = JSON,
 ) -> None:
     """Send a trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels).
@@ -215,7 +218,7 @@ def send(
             return load_input(trajectory, model, attempt=attempt, period=period, clip=clip, start=start).plan
         if attempt is not None:
             raise InputError(f"--attempt {attempt}: {trajectory} is not an attempts log")
-        return load_for_sending(trajectory, model, period, clip, start=start)[1]
+        return load_for_sending(trajectory, model, period, clip, start=start, approach=approach)[1]
 
     load()  # a wrong file is refused before any connection
     _require_ros()

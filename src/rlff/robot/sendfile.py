@@ -22,6 +22,7 @@ from rlff.robot.plan import GENERATED, RobotPlan, load_for_robot
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
+from rlff.trajectory.planner import plan_transition
 
 #: The export formats ``robot send`` reads.
 SENDABLE = ("json", "csv", "ros1-bag", "ros2-bag")
@@ -34,6 +35,7 @@ def load_for_sending(
     period: float | None,
     clip: bool = False,
     start: np.ndarray | None = None,
+    approach: bool = False,
 ) -> tuple[str, RobotPlan]:
     """The checked trajectory to send from ``path``, and the file's kind.
 
@@ -47,6 +49,10 @@ def load_for_sending(
     start : array of shape (J,), optional
         The arm's pose (rad, ``robot``'s joints in order): a generated throw is planned from
         there, any other trajectory must start there.
+    approach : bool
+        With ``start``: a trajectory that starts at rest elsewhere is sent after a planned
+        approach from the arm's pose to its first point (:func:`with_approach`), instead of
+        being refused.
 
     Returns
     -------
@@ -72,8 +78,57 @@ def load_for_sending(
         trajectory = plan.trajectory
     else:
         trajectory = _one_trajectory(path)
+    if approach and start is not None:
+        trajectory = with_approach(robot, trajectory, start, period)
     _require_start(path, robot, trajectory, start)
     return kind, RobotPlan(trajectory, trajectory, ClipReport())
+
+
+def with_approach(robot: Robot, trajectory: JointTrajectory, start: np.ndarray,
+                  period: float | None) -> JointTrajectory:
+    """``trajectory`` after the planned motion from the arm at rest at ``start`` to its first point.
+
+    Parameters
+    ----------
+    robot : Robot
+    trajectory : JointTrajectory
+        Starting at rest (velocities and accelerations 0 at its first point).
+    start : array of shape (J,)
+        The arm's pose (rad, ``robot``'s joints in order), at rest.
+    period : float or None
+        Sampling period (s) of the approach (the planner's default when None).
+
+    Returns
+    -------
+    JointTrajectory
+        The approach (jerk-limited, :func:`rlff.trajectory.planner.plan_transition`), then the
+        trajectory shifted by the approach's duration (its release time too); ``trajectory``
+        itself when the arm is already at its first point.
+
+    Raises
+    ------
+    InputError
+        The trajectory does not start at rest, or the approach would leave a limit.
+    """
+    names = trajectory.joint_names
+    here = np.asarray(start, dtype=float)[[robot.index(name) for name in names]]
+    if np.allclose(here, trajectory.positions[0], rtol=0.0, atol=1e-9):
+        return trajectory
+    if np.abs(trajectory.velocities[0]).max() > 1e-9 or np.abs(trajectory.accelerations[0]).max() > 1e-9:
+        raise InputError("the trajectory does not start at rest: no approach to its first point is planned")
+    rest = np.zeros(len(names))
+    move = plan_transition(here, rest, rest, trajectory.positions[0], rest, [robot.joint(n) for n in names],
+                           period=period)
+    shift = move.duration
+    after = trajectory.time[1:] - trajectory.time[0] + shift
+    release = None if trajectory.release_time is None else trajectory.release_time - trajectory.time[0] + shift
+    return JointTrajectory(
+        names, np.concatenate([move.time, after]),
+        np.concatenate([move.positions, trajectory.positions[1:]]),
+        np.concatenate([move.velocities, trajectory.velocities[1:]]),
+        np.concatenate([move.accelerations, trajectory.accelerations[1:]]),
+        release_time=release,
+    )
 
 
 def _require_start(path: Path, robot: Robot, trajectory: JointTrajectory, start: np.ndarray | None) -> None:
@@ -84,7 +139,8 @@ def _require_start(path: Path, robot: Robot, trajectory: JointTrajectory, start:
         check_trajectory(trajectory, robot.joints, start=start)
     except InputError as exc:
         hint = ("" if start is None else
-                "; send the generated trajectory CSV to have the motion planned from the arm's pose")
+                "; send with --approach to move there first, or send the generated trajectory CSV to have "
+                "the motion planned from the arm's pose")
         raise type(exc)(f"{path}: {exc}{hint}") from None
 
 
