@@ -62,6 +62,34 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
 
 
 @app.command()
+def urdf(
+    out: Path = typer.Option(..., "--out", "-o", help="URDF file to write."),
+    robot: str = ROBOT,
+    json: bool = JSON,
+) -> None:
+    """Write the robot as URDF (joints, limits, links as cylinders) for RViz, MoveIt and ros2_control."""
+    from rlff.errors import InputError
+    from rlff.robot.description import load_robot
+    from rlff.robot.urdf import robot_urdf
+
+    model = load_robot(robot)
+    if Path(model.source).resolve() == out.resolve():
+        raise InputError(f"--out {out} is the robot file itself: write the URDF elsewhere")
+    text = robot_urdf(model)
+    scratch = out.with_name(f".{out.name}.partial")
+    try:
+        scratch.write_text(text, encoding="utf-8")
+        scratch.replace(out)
+    except OSError as exc:
+        scratch.unlink(missing_ok=True)
+        raise InputError(f"cannot write --out {out}: {exc.strerror}") from None
+    if json:
+        emit_json({"out": out, "robot": model.name, "joints": list(model.joint_names)})
+    else:
+        say(f"wrote {out} ({model.name}, {len(model.joints)} joints)")
+
+
+@app.command()
 def export(
     trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...)."),
     fmt: str = typer.Option(..., "--format", "-f", help=f"One of: {', '.join(FORMATS)}."),

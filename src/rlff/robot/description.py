@@ -164,7 +164,10 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
     Parameters
     ----------
     path_or_name : str or Path
-        A TOML file, or the name of a built-in robot (see :func:`available_robots`).
+        A TOML file, a URDF file (joints and limits only), or the name of a built-in robot (see
+        :func:`available_robots`). A TOML file may take its joints from a URDF: its field
+        ``urdf`` names the file (relative to the TOML's folder), its ``[[joints]]`` tables, if
+        any, add to the URDF joints of the same name (:func:`rlff.robot.urdf.merge_urdf`).
 
     Raises
     ------
@@ -172,7 +175,12 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
         Unknown robot, unreadable file, or a missing or invalid field (named in the message).
     """
     text_name = str(path_or_name)
-    is_file = isinstance(path_or_name, Path) or text_name.endswith(".toml") or "/" in text_name
+    is_file = isinstance(path_or_name, Path) or text_name.endswith((".toml", ".urdf")) or "/" in text_name
+    if is_file and text_name.endswith(".urdf"):
+        from rlff.robot.urdf import urdf_joints
+
+        name, joints = urdf_joints(path_or_name)
+        return parse_robot({"name": name, "joints": joints}, str(path_or_name))
     if is_file:
         path = Path(path_or_name)
         try:
@@ -189,4 +197,8 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
         document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{source}: not valid TOML: {exc}") from None
+    if is_file and "urdf" in document:
+        from rlff.robot.urdf import merge_urdf
+
+        document = merge_urdf(document, Path(path_or_name).parent, source)
     return parse_robot(document, source)
