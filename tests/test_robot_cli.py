@@ -40,7 +40,8 @@ def test_show_lists_the_limits(cli):
     result = cli("robot", "show", "--json")
     assert result.code == 0, result.stderr
     shown = json.loads(result.stdout)
-    assert shown["joints"][1] == {"name": "joint_2", "lower": -1.48, "upper": 2.71, "max_velocity": 2.792}
+    assert shown["joints"][1] == {"name": "joint_2", "lower": -1.48, "upper": 2.71, "max_velocity": 2.792,
+                                  "max_acceleration": 11.0, "max_jerk": 110.0}
     assert shown["throwing"]["joint"] == "joint_2"
 
 

@@ -9,13 +9,13 @@ from rlff.errors import InputError
 from rlff.robot import available_robots, load_robot
 from rlff.robot.description import Joint
 
-COMAU_LIMITS = {  # rad, rad, rad/s (the issue's numbers)
-    "joint_1": (-2.967, 2.967, 2.443),
-    "joint_2": (-1.48, 2.71, 2.792),
-    "joint_3": (-2.967, 0.0, 2.967),
-    "joint_4": (-3.67, 3.67, 7.854),
-    "joint_5": (-2.27, 2.27, 6.545),
-    "joint_6": (-47.12, 47.12, 9.6),
+COMAU_LIMITS = {  # rad, rad, rad/s (the issue's numbers), rad/s^2, rad/s^3 (conservative choices)
+    "joint_1": (-2.967, 2.967, 2.443, 10.0, 100.0),
+    "joint_2": (-1.48, 2.71, 2.792, 11.0, 110.0),
+    "joint_3": (-2.967, 0.0, 2.967, 12.0, 120.0),
+    "joint_4": (-3.67, 3.67, 7.854, 30.0, 300.0),
+    "joint_5": (-2.27, 2.27, 6.545, 26.0, 260.0),
+    "joint_6": (-47.12, 47.12, 9.6, 38.0, 380.0),
 }
 
 MINIMAL = """
@@ -25,11 +25,15 @@ name = "a"
 lower = -1.0
 upper = 1.0
 max_velocity = 2.0
+max_acceleration = 8.0
+max_jerk = 80.0
 [[joints]]
 name = "b"
 lower = -0.5
 upper = 0.5
 max_velocity = 1.0
+max_acceleration = 4.0
+max_jerk = 40.0
 """
 
 
@@ -38,7 +42,8 @@ def test_builtin_comau_has_the_limits_and_geometry():
     assert robot.name == "comau_smart5_six" and "comau_smart5_six" in available_robots()
     assert robot.joint_names == tuple(COMAU_LIMITS)
     for joint in robot.joints:
-        assert (joint.lower, joint.upper, joint.max_velocity) == COMAU_LIMITS[joint.name]
+        assert (joint.lower, joint.upper, joint.max_velocity, joint.max_acceleration,
+                joint.max_jerk) == COMAU_LIMITS[joint.name]
     g = robot.geometry
     assert (g.shoulder_height, g.shoulder_forward, g.upper_arm, g.elbow_offset, g.forearm, g.flange) == (
         0.45, 0.15, 0.59, 0.13, 0.647, 0.095)
@@ -52,11 +57,11 @@ def test_another_robot_is_another_file(tmp_path):
     path.write_text(MINIMAL)
     robot = load_robot(path)
     assert robot.joint_names == ("a", "b") and robot.geometry is None and robot.source == str(path)
-    assert robot.joint("b") == Joint("b", -0.5, 0.5, 1.0)
+    assert robot.joint("b") == Joint("b", -0.5, 0.5, 1.0, 4.0, 40.0)
     assert load_robot(str(path)).joints == robot.joints
 
 
-@pytest.mark.parametrize("field", ["lower", "upper", "max_velocity"])
+@pytest.mark.parametrize("field", ["lower", "upper", "max_velocity", "max_acceleration", "max_jerk"])
 def test_missing_limit_names_the_file_joint_and_field(tmp_path, field):
     path = tmp_path / "broken.toml"
     path.write_text(MINIMAL.replace(f"{field} = ", f"# {field} = ", 2).replace(f"# {field} = ", f"{field} = ", 1))
@@ -71,6 +76,9 @@ def test_bad_values_are_refused(tmp_path):
         load_robot(path)
     path.write_text(MINIMAL.replace("max_velocity = 2.0", 'max_velocity = "fast"'))
     with pytest.raises(InputError, match="'max_velocity' must be a finite number"):
+        load_robot(path)
+    path.write_text(MINIMAL.replace("max_jerk = 80.0", "max_jerk = -1.0"))
+    with pytest.raises(InputError, match="joint a: max_jerk must be positive and finite, got -1.0"):
         load_robot(path)
     path.write_text(MINIMAL.replace('name = "b"', 'name = "a"'))
     with pytest.raises(InputError, match="unique"):

@@ -24,20 +24,45 @@ _GEOMETRY_FIELDS = ("shoulder_height", "shoulder_forward", "upper_arm", "elbow_o
                     "forearm", "flange")
 
 
+#: The limits every joint of a robot file states (see :class:`Joint`).
+LIMIT_FIELDS = ("lower", "upper", "max_velocity", "max_acceleration", "max_jerk")
+
+
 @dataclass(frozen=True)
 class Joint:
-    """One revolute joint: position limits ``lower`` < ``upper`` (rad), speed limit (rad/s)."""
+    """One revolute joint and its limits.
+
+    Parameters
+    ----------
+    name : str
+    lower, upper : float
+        Position limits (rad), ``lower < upper``.
+    max_velocity : float
+        Speed limit (rad/s), either direction.
+    max_acceleration : float, optional
+        Acceleration limit (rad/s^2), either direction. A robot file must state it; a joint built
+        in code without it can be checked for positions and speeds but not planned
+        (:mod:`rlff.trajectory.planner` and :mod:`rlff.trajectory.check` refuse it by name).
+    max_jerk : float, optional
+        Jerk limit (rad/s^3), either direction; as ``max_acceleration``.
+    """
 
     name: str
     lower: float
     upper: float
     max_velocity: float
+    max_acceleration: float | None = None
+    max_jerk: float | None = None
 
     def __post_init__(self) -> None:
         if not self.lower < self.upper:
             raise InputError(f"joint {self.name}: lower limit {self.lower} is not below upper {self.upper}")
-        if not self.max_velocity > 0:
-            raise InputError(f"joint {self.name}: max_velocity must be positive, got {self.max_velocity}")
+        for field_name in ("max_velocity", "max_acceleration", "max_jerk"):
+            value = getattr(self, field_name)
+            if value is None and field_name != "max_velocity":
+                continue
+            if not (np.isfinite(value) and value > 0):
+                raise InputError(f"joint {self.name}: {field_name} must be positive and finite, got {value}")
 
 
 def joint_names(joints: Sequence[Joint]) -> tuple[str, ...]:
@@ -142,8 +167,7 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
         where = f"{source}: joint {number}" + (f" ({joint_name})" if joint_name else "")
         if not isinstance(joint_name, str) or not joint_name:
             raise InputError(f"{where}: missing field 'name'")
-        joints.append(Joint(joint_name, number_field(table, "lower", where), number_field(table, "upper", where),
-                            number_field(table, "max_velocity", where)))
+        joints.append(Joint(joint_name, *(number_field(table, key, where) for key in LIMIT_FIELDS)))
     geometry = None
     if "geometry" in document:
         values = {key: number_field(document["geometry"], key, f"{source}: [geometry]") for key in _GEOMETRY_FIELDS}

@@ -1,5 +1,7 @@
-"""Timed joint trajectories: time from (angle, velocity), resampling, limits."""
+"""Timed joint trajectories: time from (angle, velocity), resampling, limits, the motion planner
+(:mod:`rlff.trajectory.planner`) and the one check (:mod:`rlff.trajectory.check`)."""
 
+from rlff.trajectory.check import MotionLimitError, check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import (
            ClipReport,
@@ -8,8 +10,10 @@ from rlff.trajectory.limits import (
            limit_changes,
            require_within_limits,
 )
+from rlff.trajectory.planner import plan_stop, plan_throw, plan_transition
 from rlff.trajectory.resample import CONTROLLER_PERIODS, resample
 from rlff.trajectory.timing import time_along_path
 
-__all__ = ["CONTROLLER_PERIODS", "ClipReport", "JointTrajectory", "LimitChange", "clip_to_limits",
-           "limit_changes", "require_within_limits", "resample", "time_along_path"]
+__all__ = ["CONTROLLER_PERIODS", "ClipReport", "JointTrajectory", "LimitChange", "MotionLimitError",
+           "check_trajectory", "clip_to_limits", "limit_changes", "plan_stop", "plan_throw",
+           "plan_transition", "require_within_limits", "resample", "time_along_path"]

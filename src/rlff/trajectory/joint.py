@@ -25,6 +25,9 @@ class JointTrajectory:
         Joint velocities (rad/s).
     accelerations : array of shape (T, J), optional
         Joint accelerations (rad/s^2); zeros when not given.
+    release_time : float, optional
+        Time (s) of the throw's release, one of ``time``, when the trajectory is a planned throw
+        (:func:`rlff.trajectory.planner.plan_throw`); None otherwise.
     """
 
     joint_names: tuple[str, ...]
@@ -32,6 +35,7 @@ class JointTrajectory:
     positions: np.ndarray
     velocities: np.ndarray
     accelerations: np.ndarray | None = None
+    release_time: float | None = None
 
     def __post_init__(self) -> None:
         names = tuple(str(n) for n in self.joint_names)
@@ -53,6 +57,12 @@ class JointTrajectory:
                 raise InputError(f"{label} hold NaN or inf")
         if not np.all(np.isfinite(time)) or np.any(np.diff(time) <= 0):
             raise InputError("time must be finite and strictly increasing")
+        if self.release_time is not None:
+            release = float(self.release_time)
+            if not time[0] <= release <= time[-1]:
+                raise InputError(f"release time {release} s is outside the trajectory's "
+                                 f"{time[0]}..{time[-1]} s")
+            object.__setattr__(self, "release_time", release)
         for name, value in (("joint_names", names), ("time", time), ("positions", positions),
                             ("velocities", velocities), ("accelerations", accelerations)):
             if isinstance(value, np.ndarray):
@@ -78,4 +88,5 @@ class JointTrajectory:
         """The same trajectory restricted to the joints ``names``, in that order."""
         index = [self.joint_index(n) for n in names]
         return JointTrajectory(tuple(names), self.time, self.positions[:, index],
-                               self.velocities[:, index], self.accelerations[:, index])
+                               self.velocities[:, index], self.accelerations[:, index],
+                               self.release_time)

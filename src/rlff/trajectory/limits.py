@@ -17,12 +17,19 @@ from rlff.trajectory.joint import JointTrajectory
 
 
 class JointLimits(Protocol):
-    """What the limit checks read from a joint (``rlff.robot.Joint`` has these fields)."""
+    """What the limit checks and the planner read from a joint (``rlff.robot.Joint`` has these).
+
+    Positions in rad, ``max_velocity`` in rad/s, ``max_acceleration`` in rad/s^2, ``max_jerk`` in
+    rad/s^3, each a magnitude allowed in either direction. The last two may be None on a joint
+    built in code; the planner and the motion check refuse such a joint by name.
+    """
 
     name: str
     lower: float
     upper: float
     max_velocity: float
+    max_acceleration: float | None
+    max_jerk: float | None
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,206 @@
+"""The one motion check every trajectory passes before it leaves rlff.
+
+Files, bags, the Comau program, live goals and the simulation all execute what passes
+:func:`check_trajectory`, and nothing else. It asks what a real arm's controller needs:
+
+- times start at 0 or later and strictly increase (:class:`JointTrajectory` ensures it);
+- at every point, positions, velocities and accelerations are within the joint's limits;
+- positions and velocities agree: over a step of ``dt`` s, a motion whose acceleration stays
+  within ``A`` moves ``dt (v0 + v1) / 2`` up to ``A dt^2 / 4`` (the trapezoid rule's error bound,
+  ``|integral of (t - dt/2) a(t) dt| <= A dt^2 / 4``); a file whose time column was stretched,
+  whose velocities were scaled, or whose positions outrun clipped velocities fails here;
+- between the points, under the interpolation the controller uses, the path stays within the
+  position, velocity and acceleration limits. rlff assumes ros_control's
+  joint_trajectory_controller: a quintic polynomial through both points' positions,
+  velocities and accelerations (what it uses when a point has accelerations, which every rlff
+  export writes); each step is checked at :data:`SUBDIVISIONS` - 1 inner instants;
+- it starts where the arm is (within ``position_tolerance``, at the arm's velocity) and ends
+  at rest.
+
+A refusal is a :class:`MotionLimitError` naming the point (index and time), the joint, the
+quantity, the value and the limit. The jerk limit is not checked here: it is a property of the
+planner's profiles (see :mod:`rlff.trajectory.planner`), which no controller reads from a
+trajectory file.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from rlff.errors import InputError
+from rlff.trajectory.joint import JointTrajectory
+from rlff.trajectory.limits import JointLimits
+from rlff.trajectory.motion_limits import motion_limits
+
+#: Inner instants checked per step are ``k / SUBDIVISIONS`` of it, k = 1 .. SUBDIVISIONS - 1.
+SUBDIVISIONS = 8
+#: Relative slack on every limit: rounding in a file (17 digits) or a polynomial fit, no more.
+LIMIT_SLACK = 1e-6
+#: Defaults of :func:`check_trajectory`'s tolerances: start pose (rad), velocity at the start and
+#: at the end (rad/s), acceleration at the end (rad/s^2).
+POSITION_TOLERANCE = 1e-3
+VELOCITY_TOLERANCE = 1e-3
+ACCELERATION_TOLERANCE = 1e-2
+
+_UNITS = {"position": "rad", "velocity": "rad/s", "acceleration": "rad/s^2"}
+
+
+class MotionLimitError(InputError):
+    """A trajectory a real arm cannot (or should not) execute; the message says where and why."""
+
+
+def _first(excess: np.ndarray) -> tuple[int, int, int] | None:
+    """(row, column, count) of the first True of a (N, J) array in row order, or None."""
+    rows, columns = np.nonzero(excess)
+    if rows.size == 0:
+        return None
+    return int(rows[0]), int(columns[0]), int(rows.size)
+
+
+def _more(count: int) -> str:
+    return f" ({count - 1} more values beyond it)" if count > 1 else ""
+
+
+def _check_points(traj: JointTrajectory, values: dict[str, np.ndarray], lower: np.ndarray,
+                  upper: np.ndarray, where) -> None:
+    """Raise for the first value of ``values[quantity]`` (N, J) outside ``lower``..``upper``."""
+    for quantity, array in values.items():
+        low, high = lower[quantity], upper[quantity]
+        span = np.maximum(np.abs(low), np.abs(high))
+        slack = LIMIT_SLACK * np.maximum(span, 1.0)
+        found = _first((array < low - slack) | (array > high + slack))
+        if found is None:
+            continue
+        row, column, count = found
+        value = array[row, column]
+        limit = high[column] if value > high[column] else low[column]
+        unit = _UNITS[quantity]
+        raise MotionLimitError(f"{where(row)}: {traj.joint_names[column]} {quantity} {value:.6g} {unit} "
+                               f"beyond the limit {limit:.6g} {unit}{_more(count)}")
+
+
+def _quintic(traj: JointTrajectory, fractions: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Position, velocity, acceleration of the quintic through every step at ``fractions``.
+
+    Returns three arrays of shape (T - 1, F, J): step, instant, joint.
+    """
+    h = np.diff(traj.time)[:, None]
+    p0, p1 = traj.positions[:-1], traj.positions[1:]
+    v0, v1 = traj.velocities[:-1], traj.velocities[1:]
+    a0, a1 = traj.accelerations[:-1], traj.accelerations[1:]
+    dp = p1 - p0
+    c3 = (20 * dp - (8 * v1 + 12 * v0) * h - (3 * a0 - a1) * h**2) / (2 * h**3)
+    c4 = (-30 * dp + (14 * v1 + 16 * v0) * h + (3 * a0 - 2 * a1) * h**2) / (2 * h**4)
+    c5 = (12 * dp - 6 * (v1 + v0) * h - (a0 - a1) * h**2) / (2 * h**5)
+    t = fractions[None, :, None] * h[:, :, None]
+    c2 = a0[:, None] / 2
+    c3, c4, c5 = c3[:, None], c4[:, None], c5[:, None]
+    position = p0[:, None] + t * (v0[:, None] + t * (c2 + t * (c3 + t * (c4 + t * c5))))
+    velocity = v0[:, None] + t * (2 * c2 + t * (3 * c3 + t * (4 * c4 + t * 5 * c5)))
+    acceleration = 2 * c2 + t * (6 * c3 + t * (12 * c4 + t * 20 * c5))
+    return position, velocity, acceleration
+
+
+def check_trajectory(
+    traj: JointTrajectory,
+    joints: Sequence[JointLimits],
+    *,
+    start: np.ndarray | None = None,
+    start_velocity: np.ndarray | None = None,
+    position_tolerance: float = POSITION_TOLERANCE,
+    velocity_tolerance: float = VELOCITY_TOLERANCE,
+    acceleration_tolerance: float = ACCELERATION_TOLERANCE,
+) -> None:
+    """Raise :class:`MotionLimitError` unless ``traj`` is safe for a real arm to execute.
+
+    Parameters
+    ----------
+    traj : JointTrajectory
+        T points of J joints; every joint name must be among ``joints``.
+    joints : sequence of JointLimits
+        The robot's joints: position (rad), velocity (rad/s) and acceleration (rad/s^2) limits.
+    start : array of shape (J,), optional
+        Where the arm is (rad, joints in ``traj`` order); the first point must be within
+        ``position_tolerance`` of it. None: the first point is taken as where the arm is.
+    start_velocity : array of shape (J,), optional
+        The arm's velocity (rad/s) there; default at rest. Checked only with ``start``.
+    position_tolerance : float
+        Largest distance (rad) of the first point from ``start``.
+    velocity_tolerance : float
+        Largest speed (rad/s) left at the end, and off ``start_velocity`` at the start.
+    acceleration_tolerance : float
+        Largest acceleration (rad/s^2) left at the end.
+
+    Raises
+    ------
+    MotionLimitError
+        The first fault found, naming the point (index and time), the joint, the quantity, the
+        value and the limit.
+    InputError
+        A joint unknown to ``joints`` or one without acceleration and jerk limits.
+    """
+    limits = motion_limits(joints, traj.joint_names)
+    names, time = traj.joint_names, traj.time
+
+    def at_point(index: int) -> str:
+        return f"point {index} (t = {time[index]:.6f} s)"
+
+    if time[0] < 0:
+        raise MotionLimitError(f"{at_point(0)}: time starts before 0")
+    if start is not None:
+        start = np.asarray(start, dtype=float).reshape(-1)
+        expected = np.zeros(len(names)) if start_velocity is None else np.asarray(start_velocity, float)
+        if start.shape != (len(names),) or expected.shape != (len(names),):
+            raise InputError(f"start must hold one value per joint {list(names)}, got shape {start.shape}")
+        for label, value, arm, tolerance, unit in (
+                ("position", traj.positions[0], start, position_tolerance, "rad"),
+                ("velocity", traj.velocities[0], expected, velocity_tolerance, "rad/s")):
+            off = np.abs(value - arm)
+            if np.any(off > tolerance):
+                j = int(np.argmax(off > tolerance))
+                raise MotionLimitError(
+                    f"{at_point(0)}: {names[j]} {label} {value[j]:.6g} {unit} is not where the arm is "
+                    f"({arm[j]:.6g} {unit}; {off[j]:.3g} {unit} off, tolerance {tolerance:g} {unit})")
+    lower = {"position": limits.lower, "velocity": -limits.velocity, "acceleration": -limits.acceleration}
+    upper = {"position": limits.upper, "velocity": limits.velocity, "acceleration": limits.acceleration}
+    _check_points(traj, {"position": traj.positions, "velocity": traj.velocities,
+                         "acceleration": traj.accelerations}, lower, upper, at_point)
+    if len(traj) > 1:
+        dt = np.diff(time)[:, None]
+        moved = np.diff(traj.positions, axis=0)
+        said = dt * 0.5 * (traj.velocities[:-1] + traj.velocities[1:])
+        allowed = limits.acceleration * dt**2 / 4 * (1 + LIMIT_SLACK) + 1e-9
+        found = _first(np.abs(moved - said) > allowed)
+        if found is not None:
+            row, j, count = found
+            mean = moved[row, j] / dt[row, 0]
+            raise MotionLimitError(
+                f"{at_point(row)} to point {row + 1}: {names[j]} moves {moved[row, j]:.6g} rad in "
+                f"{dt[row, 0]:.6g} s (mean velocity {mean:.6g} rad/s) but its velocities say "
+                f"{traj.velocities[row, j]:.6g} and {traj.velocities[row + 1, j]:.6g} rad/s: time, "
+                f"positions and velocities disagree by more than the acceleration limit "
+                f"{limits.acceleration[j]:.6g} rad/s^2 allows ({abs(moved[row, j] - said[row, j]):.3g} "
+                f"rad against {allowed[row, j]:.3g} rad){_more(count)}")
+        fractions = np.arange(1, SUBDIVISIONS) / SUBDIVISIONS
+        inner = [values.reshape(-1, len(names)) for values in _quintic(traj, fractions)]
+
+        def between(flat: int) -> str:
+            step, share = divmod(flat, fractions.size)
+            instant = time[step] + fractions[share] * (time[step + 1] - time[step])
+            return (f"between points {step} and {step + 1} (t = {instant:.6f} s, quintic "
+                    "interpolation)")
+
+        _check_points(traj, dict(zip(("position", "velocity", "acceleration"), inner, strict=True)),
+                      lower, upper, between)
+    end_speed, end_acceleration = np.abs(traj.velocities[-1]), np.abs(traj.accelerations[-1])
+    for label, values, tolerance, unit in (("velocity", end_speed, velocity_tolerance, "rad/s"),
+                                           ("acceleration", end_acceleration, acceleration_tolerance,
+                                            "rad/s^2")):
+        if np.any(values > tolerance):
+            j = int(np.argmax(values > tolerance))
+            raise MotionLimitError(
+                f"{at_point(len(traj) - 1)}: the trajectory ends with {names[j]} {label} "
+                f"{traj.velocities[-1, j] if label == 'velocity' else traj.accelerations[-1, j]:.6g} "
+                f"{unit}, not at rest (tolerance {tolerance:g} {unit})")

@@ -1,0 +1,277 @@
+"""The one motion planner between the model and every consumer (exports, send, serve, sim).
+
+A throw leaves rlff as three jerk-limited phases, each planned by ruckig (Berscheid & Kröger
+2021: time-optimal state-to-state motion under per-joint velocity, acceleration and jerk limits,
+in closed form, in microseconds):
+
+1. approach: from ``start`` (the arm's pose, at rest) to the throw's first pose, at rest;
+2. the throw: from the first pose at rest to the release, reaching exactly the release
+   position and velocity the model asked (its last point), with zero acceleration there, never
+   faster than the model's own peak speed of each joint;
+3. braking: from the release to rest, within the position limits; a throw with no room to brake
+   is refused, naming the joint and the numbers.
+
+Why not keep the model's own timing between the first pose and the release: the model gives a
+velocity at each sampled angle, and timing that (t = integral of dq / v) gives accelerations
+and jerks that no arm follows (35 rad/s^2 and 16,000 rad/s^3 for a nominal throw, issue 12). What
+the ball's flight depends on is the release state alone, which is kept exactly. toppra
+(time-optimal path parametrisation) keeps the model's sampled path but bounds only velocity and
+acceleration: its profiles switch acceleration instantly (unbounded jerk), so it is the peer of
+``benchmarks/motion.py``, not the planner.
+
+Every phase is sampled at the controller ``period`` (plus its end), with positions, velocities
+and accelerations of ruckig's profile, so the samples and the controller's quintic interpolation
+between them are the profile itself.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from rlff.errors import InputError
+from rlff.trajectory.check import MotionLimitError
+from rlff.trajectory.joint import JointTrajectory
+from rlff.trajectory.limits import JointLimits
+from rlff.trajectory.motion_limits import MotionLimits, motion_limits
+from rlff.trajectory.resample import sample_times
+
+#: Controller period (s) a plan is sampled at unless told otherwise.
+DEFAULT_PERIOD = 0.002
+#: Share of the velocity and acceleration limits the profiles use: the controller's quintic
+#: between two samples of a profile that just reached a limit overshoots it by ~0.02 %
+#: (2 ms samples, the Comau's limits); 1 % keeps the interpolated path inside.
+MARGIN = 0.99
+
+
+def _vector(values, size: int, label: str) -> np.ndarray:
+    array = np.asarray(values, dtype=float).reshape(-1)
+    if array.shape != (size,):
+        raise InputError(f"{label} must hold one value per joint ({size}), got shape {np.shape(values)}")
+    if not np.all(np.isfinite(array)):
+        raise InputError(f"{label} holds NaN or inf: {array.tolist()}")
+    return array
+
+
+def _period(period: float | None) -> float:
+    period = DEFAULT_PERIOD if period is None else period
+    if not (np.isfinite(period) and period > 0):
+        raise InputError(f"the controller period must be positive, got {period!r} s")
+    return float(period)
+
+
+def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_position,
+            target_velocity, max_velocity: np.ndarray | None, period: float) -> JointTrajectory:
+    """Sample ruckig's time-optimal profile between two states at ``period`` s."""
+    from ruckig import ControlInterface, InputParameter, Result, Ruckig, Trajectory
+
+    size = len(limits.names)
+    request = InputParameter(size)
+    request.current_position = position.tolist()
+    request.current_velocity = velocity.tolist()
+    request.current_acceleration = acceleration.tolist()
+    request.target_velocity = target_velocity.tolist()
+    request.target_acceleration = [0.0] * size
+    if target_position is None:
+        request.control_interface = ControlInterface.Velocity
+        request.target_position = position.tolist()
+    else:
+        request.target_position = target_position.tolist()
+    speed = MARGIN * limits.velocity if max_velocity is None else max_velocity
+    request.max_velocity = np.maximum(speed, np.abs(target_velocity)).tolist()
+    request.max_acceleration = (MARGIN * limits.acceleration).tolist()
+    request.max_jerk = limits.jerk.tolist()
+    profile = Trajectory(size)
+    result = Ruckig(size).calculate(request, profile)
+    if result not in (Result.Working, Result.Finished):
+        raise InputError(f"ruckig cannot plan the motion from {position.tolist()} rad at "
+                         f"{velocity.tolist()} rad/s to {request.target_position} rad at "
+                         f"{target_velocity.tolist()} rad/s ({result.name})")
+    time = sample_times(profile.duration, period) if profile.duration > 0 else np.zeros(1)
+    states = np.array([profile.at_time(float(t)) for t in time])  # (N, 3, J)
+    # the arrival is the target state by definition: drop ruckig's last-bit rounding (1e-16)
+    states[-1, 1], states[-1, 2] = target_velocity, 0.0
+    if target_position is not None:
+        states[-1, 0] = target_position
+    return JointTrajectory(limits.names, time, states[:, 0], states[:, 1], states[:, 2])
+
+
+def _require_inside(traj: JointTrajectory, limits: MotionLimits, what: str, room_from=None) -> None:
+    """Raise :class:`MotionLimitError` if ``traj`` leaves a position limit during ``what``."""
+    for j, name in enumerate(limits.names):
+        q = traj.positions[:, j]
+        for beyond, limit, side in ((q > limits.upper[j], limits.upper[j], "upper"),
+                                    (q < limits.lower[j], limits.lower[j], "lower")):
+            if not np.any(beyond):
+                continue
+            extreme = float(q.max() if side == "upper" else q.min())
+            where = q[0] if room_from is None else room_from[j]
+            raise MotionLimitError(
+                f"{what}: {name} would reach {extreme:.6g} rad, beyond its {side} limit {limit:.6g} rad "
+                f"(it needs {abs(extreme - where):.4g} rad from {where:.6g} rad, moving at "
+                f"{traj.velocities[0, j]:.6g} rad/s, with max_acceleration "
+                f"{limits.acceleration[j]:g} rad/s^2 and max_jerk {limits.jerk[j]:g} rad/s^3; "
+                f"the limit is {abs(limit - where):.4g} rad away)")
+
+
+def plan_transition(
+    position: np.ndarray,
+    velocity: np.ndarray,
+    acceleration: np.ndarray,
+    target_position: np.ndarray | None,
+    target_velocity: np.ndarray,
+    joints: Sequence[JointLimits],
+    *,
+    period: float | None = DEFAULT_PERIOD,
+    max_velocity: np.ndarray | None = None,
+) -> JointTrajectory:
+    """The time-optimal jerk-limited motion from one state to another (ruckig).
+
+    Parameters
+    ----------
+    position, velocity, acceleration : array of shape (J,)
+        The current state: rad, rad/s, rad/s^2, joints in the order of ``joints``.
+    target_position : array of shape (J,) or None
+        Where to arrive (rad); None: only the velocity is targeted (e.g. braking to rest).
+    target_velocity : array of shape (J,)
+        Velocity (rad/s) on arrival; the acceleration on arrival is 0.
+    joints : sequence of JointLimits
+        The J joints moved, with their position, velocity, acceleration and jerk limits.
+    period : float, optional
+        Sampling period (s) of the result; default :data:`DEFAULT_PERIOD`.
+    max_velocity : array of shape (J,), optional
+        A lower speed cap (rad/s) than the joints' limits for this motion.
+
+    Returns
+    -------
+    JointTrajectory
+        From time 0 (the current state) to the arrival, sampled every ``period`` s and at the
+        end; a single point when already there.
+
+    Raises
+    ------
+    MotionLimitError
+        The motion would leave a position limit (e.g. no room to brake); the message names the
+        joint, the position reached, the limit and the distances.
+    InputError
+        Bad shapes or values, a joint without acceleration or jerk limits.
+    """
+    limits = motion_limits(joints)
+    size = len(limits.names)
+    state = [_vector(values, size, label) for values, label in (
+        (position, "position"), (velocity, "velocity"), (acceleration, "acceleration"))]
+    target = None if target_position is None else _vector(target_position, size, "target position")
+    target_velocity = _vector(target_velocity, size, "target velocity")
+    if max_velocity is not None:
+        max_velocity = np.minimum(_vector(max_velocity, size, "max_velocity"), MARGIN * limits.velocity)
+    traj = _ruckig(limits, *state, target, target_velocity, max_velocity, _period(period))
+    what = "the transition" if target is not None else "braking to rest"
+    _require_inside(traj, limits, what)
+    return traj
+
+
+def plan_stop(
+    position: np.ndarray,
+    velocity: np.ndarray,
+    acceleration: np.ndarray,
+    joints: Sequence[JointLimits],
+    *,
+    period: float | None = DEFAULT_PERIOD,
+) -> JointTrajectory:
+    """Brake to rest from a moving state within the acceleration and jerk limits (ruckig).
+
+    The shortest such stop; its arguments and result are those of :func:`plan_transition`
+    (a :class:`MotionLimitError` when a joint has no room to stop before its position limit).
+    """
+    zero = np.zeros(np.size(position))
+    return plan_transition(position, velocity, acceleration, None, zero, joints, period=period)
+
+
+def _join(phases: Sequence[JointTrajectory]) -> tuple[JointTrajectory, list[float]]:
+    """One trajectory of consecutive phases (each from time 0, the next starting where the last
+    ended) and the time each phase ends."""
+    times, positions, velocities, accelerations, ends = [], [], [], [], []
+    offset = 0.0
+    for number, phase in enumerate(phases):
+        skip = 0 if number == 0 else 1  # a phase's first point is the last one's end
+        times.append(phase.time[skip:] + offset)
+        positions.append(phase.positions[skip:])
+        velocities.append(phase.velocities[skip:])
+        accelerations.append(phase.accelerations[skip:])
+        offset += phase.duration
+        ends.append(offset)
+    joined = JointTrajectory(phases[0].joint_names, np.concatenate(times), np.concatenate(positions),
+                             np.concatenate(velocities), np.concatenate(accelerations))
+    return joined, ends
+
+
+def plan_throw(
+    throw: JointTrajectory,
+    joints: Sequence[JointLimits],
+    *,
+    start: np.ndarray | None = None,
+    period: float | None = None,
+) -> JointTrajectory:
+    """Plan a throw for a real arm: approach, the throw up to its release, braking to rest.
+
+    Parameters
+    ----------
+    throw : JointTrajectory
+        The model's throw mapped to the robot: T >= 2 points of J joints; its first point is the
+        throw's start pose, its last the release (position (rad) and velocity (rad/s) kept
+        exactly). Its times and accelerations are not used; its velocities cap each joint's speed
+        in the throw (never faster than the model's peak).
+    joints : sequence of JointLimits
+        The robot's joints (a superset of ``throw``'s, any order) with all four limits.
+    start : array of shape (J,), optional
+        Where the arm is, at rest (rad, joints in ``throw`` order); default the throw's first pose.
+    period : float, optional
+        Controller period (s) of the samples; default :data:`DEFAULT_PERIOD`.
+
+    Returns
+    -------
+    JointTrajectory
+        Joints in ``throw``'s order, from ``start`` at rest to rest after the release, sampled
+        every ``period`` s and at each phase's end; ``release_time`` is the release's time.
+
+    Raises
+    ------
+    MotionLimitError
+        The throw leaves a position limit, its release is faster than a speed limit, or there
+        is no room to brake after the release (joint and numbers in the message).
+    """
+    if len(throw) < 2:
+        raise InputError(f"a throw needs at least 2 points (its start and its release), got {len(throw)}")
+    limits = motion_limits(joints, throw.joint_names)
+    moved = [joint for name in throw.joint_names for joint in joints if joint.name == name]
+    period = _period(period)
+    first, release, release_velocity = throw.positions[0], throw.positions[-1], throw.velocities[-1]
+    for index, where in ((0, "the throw's start"), (len(throw) - 1, "the release")):
+        q = throw.positions[index]
+        outside = (q < limits.lower) | (q > limits.upper)
+        if np.any(outside):
+            j = int(np.argmax(outside))
+            raise MotionLimitError(f"{where} (point {index}): {limits.names[j]} position {q[j]:.6g} rad "
+                                   f"outside its limits {limits.lower[j]:.6g}..{limits.upper[j]:.6g} rad")
+    too_fast = np.abs(release_velocity) > limits.velocity
+    if np.any(too_fast):
+        j = int(np.argmax(too_fast))
+        raise MotionLimitError(f"the release (point {len(throw) - 1}): {limits.names[j]} velocity "
+                               f"{release_velocity[j]:.6g} rad/s beyond the limit {limits.velocity[j]:.6g} rad/s")
+    start = first if start is None else _vector(start, len(limits.names), "start")
+    rest = np.zeros(len(limits.names))
+    phases = []
+    if np.any(np.abs(start - first) > 0):
+        phases.append(plan_transition(start, rest, rest, first, rest, moved, period=period))
+    peak = np.max(np.abs(throw.velocities), axis=0)
+    cap = np.where(peak > 1e-6, np.minimum(peak, MARGIN * limits.velocity), MARGIN * limits.velocity)
+    throwing = _ruckig(limits, first, rest, rest, release, release_velocity, cap, period)
+    _require_inside(throwing, limits, "the throw (start to release)")
+    phases.append(throwing)
+    braking = _ruckig(limits, release, release_velocity, rest, None, rest, None, period)
+    _require_inside(braking, limits, "no room to brake after the release", room_from=release)
+    phases.append(braking)
+    joined, ends = _join(phases)
+    return JointTrajectory(joined.joint_names, joined.time, joined.positions, joined.velocities,
+                           joined.accelerations, release_time=ends[-2])

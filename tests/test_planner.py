@@ -1,0 +1,127 @@
+"""The motion planner (ruckig): transitions, stops and planned throws stay within every limit."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from rlff.robot.description import Joint, load_robot
+from rlff.robot.mapping import RobotMapping
+from rlff.trajectory.check import MotionLimitError, check_trajectory
+from rlff.trajectory.joint import JointTrajectory
+from rlff.trajectory.planner import plan_stop, plan_throw, plan_transition
+
+ROBOT = load_robot()
+MAPPING = RobotMapping.for_robot(ROBOT)
+J2 = ROBOT.joint("joint_2")
+
+
+def finite_jerk(traj: JointTrajectory) -> np.ndarray:
+    """Largest |jerk| (rad/s^3) per joint from the sampled accelerations."""
+    return np.max(np.abs(np.diff(traj.accelerations, axis=0) / np.diff(traj.time)[:, None]), axis=0)
+
+
+def mapped_throw(first: float, release: float, release_speed: float, points: int = 40) -> JointTrajectory:
+    """A robot throw of joint_2 from ``first`` to ``release`` (rad) ending at ``release_speed``."""
+    q = np.linspace(first, release, points)
+    speed = release_speed * np.sin(np.linspace(0.0, np.pi / 2, points))
+    positions = np.tile(MAPPING.pose(), (points, 1))
+    positions[:, 1] = q
+    velocities = np.zeros_like(positions)
+    velocities[:, 1] = speed * np.sign(release - first)
+    return JointTrajectory(ROBOT.joint_names, np.arange(points) * 0.01, positions, velocities)
+
+
+def test_a_throw_keeps_its_release_and_ends_at_rest_within_every_limit():
+    throw = mapped_throw(-1.3, -0.3, 2.25)
+    planned = plan_throw(throw, ROBOT.joints)
+    release = int(np.flatnonzero(planned.time == planned.release_time)[0])
+    np.testing.assert_allclose(planned.positions[release], throw.positions[-1], atol=1e-9)
+    np.testing.assert_allclose(planned.velocities[release], throw.velocities[-1], atol=1e-9)
+    np.testing.assert_array_equal(planned.velocities[-1], 0.0)
+    check_trajectory(planned, ROBOT.joints, start=throw.positions[0])
+    assert np.max(np.abs(planned.accelerations[:, 1])) <= J2.max_acceleration
+    assert finite_jerk(planned)[1] <= J2.max_jerk * (1 + 1e-9)
+    assert np.all(np.diff(planned.time) <= 0.002 + 1e-12)
+    # never faster than the model's own peak speed of the joint
+    assert np.max(np.abs(planned.velocities[:, 1])) <= 2.25 + 1e-9
+
+
+def test_a_throw_from_elsewhere_approaches_its_start_first():
+    throw = mapped_throw(-1.3, -0.3, 2.0)
+    start = MAPPING.pose(0.5)
+    planned = plan_throw(throw, ROBOT.joints, start=start, period=0.01)
+    np.testing.assert_array_equal(planned.positions[0], start)
+    check_trajectory(planned, ROBOT.joints, start=start)
+    # the approach passes the throw's start at rest, then throws
+    at_first = np.flatnonzero(np.all(np.abs(planned.positions - throw.positions[0]) < 1e-12, axis=1))
+    assert at_first.size and np.all(planned.velocities[at_first[0]] == 0)
+    with pytest.raises(MotionLimitError, match="point 0 .*joint_2 position 0.5 rad is not where the arm is"):
+        check_trajectory(planned, ROBOT.joints, start=MAPPING.pose(-1.3))
+
+
+def test_no_room_to_brake_is_refused_with_the_joint_and_numbers():
+    throw = mapped_throw(1.5, J2.upper - 0.01, 2.7)
+    with pytest.raises(MotionLimitError, match=r"no room to brake after the release: joint_2 would reach "
+                                               r"3\.1\d* rad, beyond its upper limit 2\.71 rad .*moving at 2\.7 rad/s.*the limit is 0\.01 rad away"):
+        plan_throw(throw, ROBOT.joints)
+
+
+def test_a_release_beyond_a_limit_is_refused():
+    with pytest.raises(MotionLimitError, match="the release .*joint_2 velocity 3 rad/s beyond the limit 2.792"):
+        plan_throw(mapped_throw(-1.3, -0.3, 3.0), ROBOT.joints)
+    with pytest.raises(MotionLimitError, match="the release .*joint_2 position 2.8 rad outside its limits"):
+        plan_throw(mapped_throw(1.0, 2.8, 1.0), ROBOT.joints)
+
+
+def test_stop_brakes_within_the_acceleration_and_jerk_limits():
+    position, velocity = MAPPING.pose(0.0), np.zeros(6)
+    velocity[1] = 2.5
+    stop = plan_stop(position, velocity, np.zeros(6), ROBOT.joints, period=0.01)
+    assert np.all(stop.velocities[-1] == 0) and np.all(np.diff(stop.positions[:, 1]) >= 0)
+    assert np.max(np.abs(stop.accelerations[:, 1])) <= J2.max_acceleration
+    # braking from 2.5 rad/s at <= 11 rad/s^2 takes at least 2.5 / 11 s and 2.5^2 / 22 rad
+    assert stop.duration >= 2.5 / 11 and stop.positions[-1, 1] >= 2.5**2 / 22
+    check_trajectory(stop, ROBOT.joints, start=position, start_velocity=velocity)
+    near = MAPPING.pose(J2.upper - 0.05)
+    with pytest.raises(MotionLimitError, match="braking to rest: joint_2 would reach .* beyond its upper limit 2.71"):
+        plan_stop(near, velocity, np.zeros(6), ROBOT.joints)
+
+
+def test_transition_reaches_the_target_state():
+    joints = ROBOT.joints
+    target = MAPPING.pose(-1.0)
+    motion = plan_transition(MAPPING.pose(0.0), np.zeros(6), np.zeros(6), target, np.zeros(6), joints,
+                             period=0.002)
+    np.testing.assert_allclose(motion.positions[-1], target, atol=1e-12)
+    check_trajectory(motion, joints, start=MAPPING.pose(0.0))
+    same = plan_transition(target, np.zeros(6), np.zeros(6), target, np.zeros(6), joints)
+    assert len(same) == 1
+
+
+def test_a_joint_without_acceleration_limits_is_refused_by_name():
+    joints = [Joint("a", -1.0, 1.0, 1.0)]
+    with pytest.raises(Exception, match="joint a has no max_acceleration"):
+        plan_stop([0.0], [0.5], [0.0], joints)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(first=st.floats(-1.4, 1.0), travel=st.floats(0.05, 1.5), speed=st.floats(0.05, 2.79),
+       start=st.floats(-1.4, 2.6), period=st.sampled_from([0.002, 0.004, 0.01]))
+def test_planned_throws_pass_the_check(first, travel, speed, start, period):
+    throw = mapped_throw(first, min(first + travel, J2.upper - 0.001), speed, points=12)
+    arm = MAPPING.pose(start)
+    try:
+        planned = plan_throw(throw, ROBOT.joints, start=arm, period=period)
+    except MotionLimitError as exc:  # only for want of room to brake
+        assert "no room to brake" in str(exc)
+        release, limit = throw.positions[-1, 1], J2.upper
+        assert limit - release < speed**2 / (2 * J2.max_acceleration) + 0.2
+        return
+    check_trajectory(planned, ROBOT.joints, start=arm)
+    release = int(np.flatnonzero(planned.time == planned.release_time)[0])
+    np.testing.assert_allclose(planned.velocities[release], throw.velocities[-1], atol=1e-9)
+    np.testing.assert_allclose(planned.positions[release], throw.positions[-1], atol=1e-9)
+    assert finite_jerk(planned)[1] <= J2.max_jerk * (1 + 1e-6)
