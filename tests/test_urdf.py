@@ -62,14 +62,17 @@ def test_the_urdf_chain_is_the_arm_of_the_simulation(urdf_file):
 
 
 def test_a_robot_file_may_take_its_joints_from_a_urdf(urdf_file, tmp_path, rlff):
+    builtin = load_robot()
+    # what a URDF cannot say (acceleration and jerk limits) comes from the robot file's tables
+    tables = "".join(f'[[joints]]\nname = "{j.name}"\nmax_acceleration = {j.max_acceleration!r}\n'
+                     f'max_jerk = {j.max_jerk!r}\n' + ("max_velocity = 2.0\n" if j.name == "joint_2" else "") + "\n"
+                     for j in builtin.joints)
     robot_file = tmp_path / "robot.toml"
-    robot_file.write_text(f'urdf = "{urdf_file.name}"\n\n'
-                          '[[joints]]\nname = "joint_2"\nmax_velocity = 2.0\n\n'
+    robot_file.write_text(f'urdf = "{urdf_file.name}"\n\n' + tables +
                           '[throwing]\njoint = "joint_2"\nangle_offset = -1.65\nangle_scale = 0.71\n'
                           'velocity_scale = 0.25\n\n[throwing.start_pose]\njoint_1 = 0.0\njoint_3 = -1.373\n'
                           'joint_4 = 0.0\njoint_5 = -0.198\njoint_6 = 0.0\n')
     robot = load_robot(robot_file)
-    builtin = load_robot()
     assert robot.name == "comau_smart5_six" and robot.joint_names == builtin.joint_names
     assert robot.joint("joint_2").max_velocity == 2.0  # the robot file's table adds to the URDF's
     assert robot.joint("joint_3") == builtin.joint("joint_3")
@@ -78,8 +81,11 @@ def test_a_robot_file_may_take_its_joints_from_a_urdf(urdf_file, tmp_path, rlff)
     shown = rlff("robot", "show", "--robot", str(robot_file), "--json")
     assert shown.code == 0, shown.stderr
     assert '"joint": "joint_2"' in shown.stdout
-    # and the bare URDF is a robot too (joints and limits, no throwing mapping)
-    assert load_robot(urdf_file).joints == builtin.joints
+    # and the bare URDF is a robot too: joints with position and speed limits, no mapping
+    bare = load_robot(urdf_file)
+    assert [(j.name, j.lower, j.upper, j.max_velocity) for j in bare.joints] == [
+        (j.name, j.lower, j.upper, j.max_velocity) for j in builtin.joints]
+    assert bare.joint("joint_1").max_acceleration is None and not bare.throwing
 
 
 def test_bad_urdf_files_are_errors_that_name_the_joint(tmp_path):
@@ -110,7 +116,8 @@ def test_unknown_joint_beside_a_urdf_is_an_error(urdf_file, tmp_path):
 
 def test_urdf_of_a_robot_without_geometry_is_refused(tmp_path, rlff):
     robot_file = tmp_path / "bare.toml"
-    robot_file.write_text('name = "bare"\n[[joints]]\nname = "a"\nlower = -1.0\nupper = 1.0\nmax_velocity = 1.0\n')
+    robot_file.write_text('name = "bare"\n[[joints]]\nname = "a"\nlower = -1.0\nupper = 1.0\nmax_velocity = 1.0\n'
+                          'max_acceleration = 1.0\nmax_jerk = 1.0\n')
     result = rlff("robot", "urdf", "-o", str(tmp_path / "bare.urdf"), "--robot", str(robot_file))
     assert result.code == 2
     assert "has no [geometry] table" in result.stderr

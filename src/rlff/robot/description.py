@@ -188,10 +188,11 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
     Parameters
     ----------
     path_or_name : str or Path
-        A TOML file, a URDF file (joints and limits only), or the name of a built-in robot (see
-        :func:`available_robots`). A TOML file may take its joints from a URDF: its field
-        ``urdf`` names the file (relative to the TOML's folder), its ``[[joints]]`` tables, if
-        any, add to the URDF joints of the same name (:func:`rlff.robot.urdf.merge_urdf`).
+        A TOML file, a URDF file (joints with position and speed limits only), or the name of a
+        built-in robot (see :func:`available_robots`). A TOML file may take its joints from a
+        URDF: its field ``urdf`` names the file (relative to the TOML's folder), its
+        ``[[joints]]`` tables add to the URDF joints of the same name what a URDF cannot state
+        (``max_acceleration``, ``max_jerk``; :func:`rlff.robot.urdf.merge_urdf`).
 
     Raises
     ------
@@ -203,8 +204,9 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
     if is_file and text_name.endswith(".urdf"):
         from rlff.robot.urdf import urdf_joints
 
+        # a URDF states no acceleration or jerk limits: such a robot is checked, not planned for
         name, joints = urdf_joints(path_or_name)
-        return parse_robot({"name": name, "joints": joints}, str(path_or_name))
+        return Robot(name, tuple(Joint(**joint) for joint in joints), source=str(path_or_name))
     if is_file:
         path = Path(path_or_name)
         try:
