@@ -45,34 +45,95 @@ def test_show_lists_the_limits(cli):
     assert shown["throwing"]["joint"] == "joint_2"
 
 
-def test_export_writes_the_comau_program(cli, throw, tmp_path):
-    result = cli("robot", "export", str(throw), "--format", "comau", "-o", str(tmp_path / "p.txt"), "--period", "0")
+def test_export_writes_the_comau_program_ending_at_rest(cli, throw, tmp_path):
+    result = cli("robot", "export", str(throw), "--format", "comau", "-o", str(tmp_path / "p.txt"), "--period", "0.01")
     assert result.code == 0, result.stderr
     lines = (tmp_path / "p.txt").read_text().splitlines()
-    assert lines[0] == 'coord_type = "-j"' and len(lines) == 22
-    assert lines[-1].split(",")[3] == "'85.9437'"  # 1.5 rad in slot 3
-    assert lines[1].split(",")[6] == "'71.6332')"  # 2 rad/s of joint_2's 2.792 rad/s
+    rows = np.array([[float(v.strip("')")) for v in line.split(",")[1:]] for line in lines[1:]])
+    assert lines[0] == 'coord_type = "-j"' and len(rows) > 50
+    assert rows[0, 2] == pytest.approx(np.degrees(-0.5), abs=1e-4)  # joint_2's start in slot 3
+    speed = rows[:, 5]  # slot 6: % of joint_2's 2.792 rad/s
+    release = int(np.flatnonzero(speed > speed.max() - 1e-3)[-1])  # the last point at full speed
+    assert speed[release] == pytest.approx(100 * 2.0 / 2.792, abs=1e-3)  # the release, as the model asked
+    assert rows[release, 2] == pytest.approx(np.degrees(1.5), abs=1e-3)
+    assert lines[-1].split(",")[6] == "'0')"  # ends at rest, not at 90 % speed
+    assert np.all(speed <= 100.0)
 
 
-def test_export_resamples_at_the_period(capsys, throw, tmp_path):
+def test_export_samples_the_plan_at_the_period(capsys, throw, tmp_path):
     code, _, err = run(capsys, "robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json"),
-                       "--period", "0.01")
+                       "--period", "0.01", "--json")
     assert code == 0, err
     traj = read_json(tmp_path / "t.json")
-    assert traj.duration == pytest.approx(1.0) and len(traj) == 101  # 2 rad at 2 rad/s
-    np.testing.assert_allclose(np.diff(traj.time), 0.01)
+    steps = np.diff(traj.time)
+    assert np.all(steps <= 0.01 + 1e-12) and np.median(steps) == pytest.approx(0.01)
+    release = int(np.flatnonzero(traj.time == traj.release_time)[0])
+    assert traj.positions[release, 1] == pytest.approx(1.5, abs=1e-12)
+    assert traj.velocities[release, 1] == pytest.approx(2.0, abs=1e-12)
+    assert np.all(traj.velocities[-1] == 0) and np.all(traj.accelerations[-1] == 0)
+    assert np.abs(traj.accelerations[:, 1]).max() <= 11.0
+
+
+def test_period_zero_is_refused(capsys, throw, tmp_path):
+    for fmt in ("json", "ros1-bag"):
+        code, _, err = run(capsys, "robot", "export", str(throw), "-f", fmt, "-o", str(tmp_path / f"t.{fmt}"),
+                           "--period", "0")
+        assert code == 2 and "--period must be a positive controller period (s), got 0.0" in err
+        assert len(err.strip().splitlines()) == 1 and not (tmp_path / f"t.{fmt}").exists()
 
 
 def test_clip_reports_every_change(capsys, tmp_path):
     path = human_csv(tmp_path / "far.csv", np.linspace(2.0, 2.8, 9), np.full(9, 1.0))
-    code, _, err = run(capsys, "robot", "export", str(path), "-f", "csv", "-o", str(tmp_path / "o.csv"),
-                       "--period", "0")
-    assert code == 2 and "joint_2 position 2.8 rad beyond the limit 2.71 rad" in err
-    code, _, err = run(capsys, "robot", "export", str(path), "-f", "csv", "-o", str(tmp_path / "o.csv"),
-                       "--period", "0", "--clip")
+    code, _, err = run(capsys, "robot", "export", str(path), "-f", "csv", "-o", str(tmp_path / "o.csv"))
+    assert code == 2 and "joint_2 position 2.8 rad beyond the limit 2.71 rad (the release)" in err
+    fast = human_csv(tmp_path / "fast.csv", np.linspace(-1.0, 0.5, 9), np.linspace(0.5, 3.0, 9))
+    code, _, err = run(capsys, "robot", "export", str(fast), "-f", "csv", "-o", str(tmp_path / "o.csv"))
+    assert code == 2 and "point 8: joint_2 velocity 3 rad/s beyond the limit 2.792 rad/s (the release)" in err
+    code, _, err = run(capsys, "robot", "export", str(fast), "-f", "csv", "-o", str(tmp_path / "o.csv"), "--clip")
     assert code == 0, err
-    assert "clipped: point 8: joint_2 position 2.8 rad -> 2.71 rad" in err
-    assert "clipped 1 positions and 1 velocities at 1 points" in err
+    assert "clipped: point 8: joint_2 velocity 3 rad/s -> 2.792 rad/s" in err
+    traj = pd.read_csv(tmp_path / "o.csv")
+    assert traj["joint_2_velocity"].abs().max() == pytest.approx(2.792)  # the clipped release, kept
+
+
+def test_no_room_to_brake_is_refused_by_every_format(capsys, tmp_path):
+    """The issue's path ending 0.01 rad from a limit at 2.7 rad/s: no format writes it."""
+    path = human_csv(tmp_path / "edge.csv", np.linspace(1.5, 2.70, 13), np.full(13, 2.7))
+    for fmt in ("json", "csv", "ros1-bag", "ros2-bag", "comau"):
+        out = tmp_path / f"o-{fmt}"
+        code, _, err = run(capsys, "robot", "export", str(path), "-f", fmt, "-o", str(out))
+        assert code == 2 and not out.exists(), fmt
+        assert "no room to brake after the release: joint_2 would reach" in err
+        assert "beyond its upper limit 2.71 rad" in err and "the limit is 0.01 rad away" in err
+
+
+def test_a_robot_trajectory_that_disagrees_with_its_time_is_refused(capsys, throw, tmp_path):
+    code, _, err = run(capsys, "robot", "export", str(throw), "-f", "csv", "-o", str(tmp_path / "t.csv"))
+    assert code == 0, err
+    table = pd.read_csv(tmp_path / "t.csv")
+    for name, edit, message in (
+            ("stretched", lambda t: t.assign(time=t.time * 20), "disagree by more than the acceleration limit"),
+            ("slowed", lambda t: t.assign(joint_2_velocity=t.joint_2_velocity * 0.8), "but its velocities say"),
+    ):
+        edit(table).to_csv(tmp_path / f"{name}.csv", index=False)
+        code, _, err = run(capsys, "robot", "export", str(tmp_path / f"{name}.csv"), "-f", "json",
+                           "-o", str(tmp_path / f"{name}.json"))
+        assert code == 2 and message in err and f"{name}.csv: point " in err and "joint_2" in err
+        assert len(err.strip().splitlines()) == 1 and not (tmp_path / f"{name}.json").exists()
+    # the checked file itself exports again, unchanged
+    code, _, err = run(capsys, "robot", "export", str(tmp_path / "t.csv"), "-f", "json", "-o", str(tmp_path / "t.json"))
+    assert code == 0, err
+    np.testing.assert_array_equal(read_json(tmp_path / "t.json").positions[:, 1], table["joint_2_position"])
+
+
+def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):
+    other = tmp_path / "other.bag"
+    other.write_bytes(b"#ROSBAG V2.0\n\x00\x01")
+    for command in (("robot", "export", str(other), "-f", "json", "-o", str(tmp_path / "o.json")),
+                    ("robot", "send", str(other))):
+        code, _, err = run(capsys, *command)
+        assert code == 2 and "other.bag: neither a generated path" in err
+        assert len(err.strip().splitlines()) == 1
 
 
 @pytest.mark.parametrize(

@@ -10,6 +10,7 @@ import pytest
 from PIL import Image
 
 from rlff.robot import RobotMapping, load_robot
+from rlff.robot.plan import plan
 from rlff.sim import Basket, simulate_throw
 from rlff.trajectory.timing import time_along_path
 
@@ -34,13 +35,18 @@ def test_sim_throw_prints_the_outcome_as_json(cli, tmp_path):
     assert {"hit", "landing_x", "miss", "release"} <= set(payload)
     assert payload["miss"] == pytest.approx(payload["landing_x"] - 1.9)
     assert abs(payload["landing_x"] - payload["predicted_landing_x"]) < 0.02
-    # the same throw in the library gives the same numbers: the CLI adds nothing of its own
+    # the same throw planned in the library gives the same numbers: the CLI adds nothing of its own
     robot = load_robot()
     table = np.genfromtxt(path, delimiter=",", names=True)
-    trajectory, _ = RobotMapping.for_robot(robot).to_robot(table["angle"], table["velocity"], table["time"])
-    outcome = simulate_throw(trajectory, Basket(1.9), robot=robot)
+    mapping = RobotMapping.for_robot(robot)
+    planned = plan(mapping, table["angle"], table["velocity"], table["time"]).trajectory
+    outcome = simulate_throw(planned, Basket(1.9), robot=robot)
     assert payload["landing_x"] == pytest.approx(outcome.landing_x, abs=1e-9)
     assert payload["hit"] == outcome.hit
+    assert payload["release"]["time"] == pytest.approx(planned.release_time, abs=0.002)
+    # and lands where the unplanned throw (released at its end) lands, within 2 cm
+    unplanned, _ = mapping.to_robot(table["angle"], table["velocity"], table["time"])
+    assert abs(simulate_throw(unplanned, Basket(1.9), robot=robot).landing_x - outcome.landing_x) < 0.02
     # the mapped throw swings joint 2 forward and lets go forward and upward
     release = payload["release"]
     assert release["velocity"][0] > 0 and release["velocity"][2] > 0

@@ -25,9 +25,8 @@ JSON = typer.Option(False, "--json", help="Print a machine-readable result on st
 
 
 def _report(result: RobotPlan) -> None:
-    for report in (result.clipped_points, result.clipped_samples):
-        for change in report.changes:
-            say(f"clipped: {change.describe()}")
+    for change in result.clipped_points.changes:
+        say(f"clipped: {change.describe()}")
     say(result.summary())
 
 
@@ -91,27 +90,35 @@ def urdf(
 
 @app.command()
 def export(
-    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...)."),
+    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...), "
+                                                "or a robot trajectory (JSON/CSV) this command wrote."),
     fmt: str = typer.Option(..., "--format", "-f", help=f"One of: {', '.join(FORMATS)}."),
     out: Path = typer.Option(..., "--out", "-o", help="Output file (a folder for ros2-bag)."),
     robot: str = ROBOT,
     clip: bool = CLIP,
-    period: float = typer.Option(0.002, "--period", help="Controller period (s) to resample at; 0 keeps the points."),
+    period: float = typer.Option(0.002, "--period", help="Controller period (s) the planned trajectory is "
+                                                         "sampled at (> 0)."),
+    stamp_now: bool = typer.Option(False, "--stamp-now", help="Bags: header.stamp = the time of writing "
+                                                              "instead of 0 (0: the controller starts on receipt)."),
     json: bool = JSON,
 ) -> None:
-    """Map a generated trajectory to the robot and write it as JSON, CSV, a ROS bag or a Comau program."""
+    """Plan a generated throw for the robot (approach, throw, braking to rest), check it, and write it
+    as JSON, CSV, a ROS bag or a Comau program."""
+    import time as clock
+
     from rlff.robot.formats import export_trajectory
     from rlff.robot.plan import plan_file
 
     result, mapping = plan_file(trajectory, robot, period, clip)
-    export_trajectory(result.trajectory, mapping, fmt, out)
+    export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)
     _report(result)
+    planned = result.trajectory
     if json:
-        emit_json({"out": out, "format": fmt, "points": len(result.trajectory),
-                   "duration": result.trajectory.duration,
-                   "clipped": [vars(c) for c in result.clipped_points.changes + result.clipped_samples.changes]})
+        emit_json({"out": out, "format": fmt, "points": len(planned), "duration": planned.duration,
+                   "release_time": planned.release_time,
+                   "clipped": [vars(c) for c in result.clipped_points.changes]})
     else:
-        say(f"wrote {out} ({fmt}, {len(result.trajectory)} points, {result.trajectory.duration:.3f} s)")
+        say(f"wrote {out} ({fmt}, {len(planned)} points, {planned.duration:.3f} s)")
 
 
 @app.command()
@@ -173,12 +180,13 @@ def _mujoco_throw(model, basket: float):
 
 @app.command()
 def send(
-    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...)."),
+    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...), "
+                                                "or a robot trajectory from `rlff robot export -f json|csv`."),
     robot: str = ROBOT,
     timeout: float = typer.Option(None, "--timeout", help="Seconds for everything; then the goal is cancelled."),
     topic_mode: bool = typer.Option(False, "--topic-mode", help="Publish on /comau/joint_trajectory instead of the action."),
     clip: bool = CLIP,
-    period: float = typer.Option(0.0, "--period", help="Resample at this period (s) first; 0 sends the points."),
+    period: float = typer.Option(0.01, "--period", help="Controller period (s) a generated throw is planned at (> 0)."),
     json: bool = JSON,
 ) -> None:
     """Send a generated trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels)."""

@@ -31,7 +31,7 @@ def throw(
     pedestal: float = PEDESTAL,
     release_angle: float = typer.Option(None, "--release-angle",
                                         help="Let go when the throwing robot joint passes this position (rad); "
-                                             "default: at the end of the trajectory."),
+                                             "default: the planned release (or the end of a trajectory without one)."),
     frames: Path = typer.Option(None, "--frames", help="Write PNG frames and an animated GIF here."),
     clip: bool = typer.Option(False, "--clip", help="Clip a mapped path into the joint limits (reported) "
                                                     "instead of refusing it."),

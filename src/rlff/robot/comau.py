@@ -12,7 +12,9 @@ Each slot k (1..6) holds joint k of the robot at the start pose (the driven join
 its first point), except two: the position slot (3 in the thesis) carries the driven joint's
 position at the point, and the velocity slot (6, a joint the main program holds at a constant
 position) carries its speed as a percentage of the driven joint's maximum speed. The slots are
-the ``[comau_program]`` table of the robot file. Note that the thesis numbers the driven joint
+the ``[comau_program]`` table of the robot file. The program carries one joint's motion: a
+trajectory that moves another joint is refused. The last row is the arm at rest (speed 0), as
+every exported trajectory ends at rest. Note that the thesis numbers the driven joint
 "joint 2" while it sits in slot 3: the joint whose own slot is taken (joint_3 here) stays where
 the main program placed the robot before the throw.
 """
@@ -63,7 +65,13 @@ def comau_rows(traj: JointTrajectory, mapping: RobotMapping) -> np.ndarray:
         raise InputError(f"{robot.source}: [comau_program] position_slot and velocity_slot are both {position_slot}")
     driven = traj.joint_index(mapping.joint)
     position = traj.positions[:, driven]
-    pose = [mapping.start_pose.get(name, position[0]) for name in robot.joint_names]
+    held = [name for index, name in enumerate(traj.joint_names)
+            if name != mapping.joint and np.ptp(traj.positions[:, index]) > 1e-9]
+    if held:
+        raise InputError(f"the Comau program carries the motion of {mapping.joint} only, but "
+                         f"{', '.join(held)} move too")
+    pose = [traj.positions[0, traj.joint_index(name)] if name in traj.joint_names
+            else mapping.start_pose.get(name, position[0]) for name in robot.joint_names]
     rows = np.tile(np.degrees(pose), (len(traj), 1))
     rows[:, position_slot - 1] = np.degrees(position)
     rows[:, velocity_slot - 1] = 100.0 * np.abs(traj.velocities[:, driven]) / robot.joint(mapping.joint).max_velocity

@@ -4,6 +4,10 @@ Bags hold one ``trajectory_msgs/JointTrajectory`` message (the type the thesis' 
 FollowJointTrajectory action take) on :data:`TRAJECTORY_TOPIC`, written with rosbags' type stores
 (ROS 1 Noetic, ROS 2 Humble), so a ROS 1 bag carries the standard MD5 sum of the type and plays
 with ``rosbag play``. JSON and CSV read back with :func:`read_json` and :func:`read_csv`.
+
+ROS conventions: a message's ``header.stamp`` is zero unless asked otherwise, which tells a
+FollowJointTrajectory controller to start the trajectory on receipt (a stamp in the past would
+make it skip the points already due); the bag's record time is the time of writing.
 """
 
 from __future__ import annotations
@@ -35,13 +39,14 @@ _QUANTITIES = ("position", "velocity", "acceleration")
 
 
 def write_json(traj: JointTrajectory, path: Path) -> None:
-    """``{"format", "version", "joint_names", "time" (T,), "positions"/"velocities"/"accelerations" (T, J)}``."""
+    """``{"format", "version", "joint_names", "time" (T,), "positions"/"velocities"/"accelerations"
+    (T, J), "release_time"}`` (``release_time`` in s, null for a trajectory that is no throw)."""
     document = {
         "format": JSON_FORMAT, "version": 1, "units": {"time": "s", "positions": "rad",
                                                        "velocities": "rad/s", "accelerations": "rad/s^2"},
         "joint_names": list(traj.joint_names), "time": traj.time.tolist(),
         "positions": traj.positions.tolist(), "velocities": traj.velocities.tolist(),
-        "accelerations": traj.accelerations.tolist(),
+        "accelerations": traj.accelerations.tolist(), "release_time": traj.release_time,
     }
     Path(path).write_text(json.dumps(document) + "\n", encoding="utf-8")
 
@@ -55,8 +60,12 @@ def read_json(path: Path) -> JointTrajectory:
     missing = [name for name in fields if name not in document]
     if missing:
         raise InputError(f"{path}: missing field {missing[0]!r}")
+    release = document.get("release_time")
+    if release is not None and (isinstance(release, bool) or not isinstance(release, int | float)):
+        raise InputError(f"{path}: field 'release_time' must be a number of seconds or null, got {release!r}")
     try:
-        return JointTrajectory(tuple(document["joint_names"]), *(document[name] for name in fields[1:]))
+        return JointTrajectory(tuple(document["joint_names"]), *(document[name] for name in fields[1:]),
+                               release_time=release)
     except (TypeError, ValueError) as exc:
         raise InputError(f"{path}: not a robot trajectory ({exc})") from None
 
@@ -71,16 +80,26 @@ def write_csv(traj: JointTrajectory, path: Path) -> None:
 
 
 def read_csv(path: Path) -> JointTrajectory:
-    """The trajectory of a file written by :func:`write_csv`."""
-    table = pd.read_csv(path)
+    """The trajectory of a file written by :func:`write_csv`; :class:`InputError` naming the fault."""
+    try:
+        table = pd.read_csv(path)
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: not a readable CSV ({exc})") from None
     names = [column.removesuffix("_position") for column in table.columns if column.endswith("_position")]
     if "time" not in table or not names:
         raise InputError(f"{path}: expected a 'time' column and '<joint>_position' columns")
-    arrays = [table[[f"{n}_{q}" for n in names]].to_numpy(float) for q in _QUANTITIES]
-    return JointTrajectory(tuple(names), table["time"].to_numpy(float), *arrays)
+    missing = [f"{n}_{q}" for q in _QUANTITIES for n in names if f"{n}_{q}" not in table]
+    if missing:
+        raise InputError(f"{path}: missing columns {missing}")
+    try:
+        arrays = [table[[f"{n}_{q}" for n in names]].to_numpy(float) for q in _QUANTITIES]
+        return JointTrajectory(tuple(names), table["time"].to_numpy(float), *arrays)
+    except ValueError as exc:
+        raise InputError(f"{path}: not a robot trajectory ({exc})") from None
 
 
 def _message(traj: JointTrajectory, typestore, stamp_ns: int, ros1: bool):
+    """The JointTrajectory message; ``stamp_ns`` is its ``header.stamp`` (0: start on receipt)."""
     types = typestore.types
     seconds, nanoseconds = divmod(int(stamp_ns), 1_000_000_000)
     stamp = types["builtin_interfaces/msg/Time"](sec=seconds, nanosec=nanoseconds)
@@ -100,21 +119,27 @@ def _message(traj: JointTrajectory, typestore, stamp_ns: int, ros1: bool):
 
 
 def write_ros1_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TOPIC,
-                   stamp_ns: int | None = None) -> None:
-    """A ROS 1 bag with one JointTrajectory on ``topic``, stamped ``stamp_ns`` (default: now)."""
+                   stamp_ns: int | None = None, header_stamp_ns: int = 0) -> None:
+    """A ROS 1 bag with one JointTrajectory on ``topic``, recorded at ``stamp_ns`` (default: now).
+
+    ``header_stamp_ns`` is the message's ``header.stamp`` (default 0: start on receipt).
+    """
     stamp_ns = clock.time_ns() if stamp_ns is None else stamp_ns
     typestore = get_typestore(Stores.ROS1_NOETIC)
     path = Path(path)
     path.unlink(missing_ok=True)
     with Ros1Writer(path) as writer:
         connection = writer.add_connection(topic, TRAJECTORY_TYPE, typestore=typestore)
-        message = _message(traj, typestore, stamp_ns, ros1=True)
+        message = _message(traj, typestore, header_stamp_ns, ros1=True)
         writer.write(connection, stamp_ns, typestore.serialize_ros1(message, TRAJECTORY_TYPE))
 
 
 def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TOPIC,
-                   stamp_ns: int | None = None) -> None:
-    """A ROS 2 bag (a folder, sqlite3 storage) with one JointTrajectory on ``topic``."""
+                   stamp_ns: int | None = None, header_stamp_ns: int = 0) -> None:
+    """A ROS 2 bag (a folder, sqlite3 storage) with one JointTrajectory on ``topic``.
+
+    Recorded at ``stamp_ns`` (default: now); ``header.stamp`` is ``header_stamp_ns`` (default 0).
+    """
     stamp_ns = clock.time_ns() if stamp_ns is None else stamp_ns
     typestore = get_typestore(Stores.ROS2_HUMBLE)
     path = Path(path)
@@ -122,7 +147,7 @@ def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TO
         raise InputError(f"{path} exists: a ROS 2 bag is a new folder, remove it first")
     with Ros2Writer(path, version=8) as writer:
         connection = writer.add_connection(topic, TRAJECTORY_TYPE, typestore=typestore)
-        message = _message(traj, typestore, stamp_ns, ros1=False)
+        message = _message(traj, typestore, header_stamp_ns, ros1=False)
         writer.write(connection, stamp_ns, typestore.serialize_cdr(message, TRAJECTORY_TYPE))
 
 

@@ -1,30 +1,44 @@
-"""Every export format of ``rlff robot export`` by name, and the one call that writes them."""
+"""Every export format of ``rlff robot export`` by name, and the one call that writes them.
+
+Nothing is written that fails :func:`rlff.trajectory.check.check_trajectory`: a file, a bag or a
+Comau program is something a robot will execute.
+"""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 from rlff.errors import InputError
 from rlff.robot.comau import write_comau_program
 from rlff.robot.export import write_csv, write_json, write_ros1_bag, write_ros2_bag
 from rlff.robot.mapping import RobotMapping
+from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 
-_WRITERS: dict[str, Callable[[JointTrajectory, Path], None]] = {
-    "json": write_json,
-    "csv": write_csv,
-    "ros1-bag": write_ros1_bag,
-    "ros2-bag": write_ros2_bag,
-}
-FORMATS = (*_WRITERS, "comau")
+FORMATS = ("json", "csv", "ros1-bag", "ros2-bag", "comau")
 
 
-def export_trajectory(traj: JointTrajectory, mapping: RobotMapping, fmt: str, path: Path) -> None:
-    """Write ``traj`` (a trajectory of ``mapping.robot``) to ``path`` in format ``fmt``."""
-    if fmt == "comau":
-        write_comau_program(traj, mapping, path)
-    elif fmt in _WRITERS:
-        _WRITERS[fmt](traj, path)
-    else:
+def export_trajectory(traj: JointTrajectory, mapping: RobotMapping, fmt: str, path: Path,
+                      header_stamp_ns: int = 0) -> None:
+    """Check ``traj`` (a trajectory of ``mapping.robot``) and write it to ``path`` in format ``fmt``.
+
+    ``header_stamp_ns`` is the bags' ``header.stamp`` (ns; default 0: start on receipt).
+
+    Raises
+    ------
+    InputError
+        An unknown format, or a trajectory that fails the motion check (named point, joint,
+        quantity, value and limit); nothing is written then.
+    """
+    writers = {
+        "json": write_json,
+        "csv": write_csv,
+        "ros1-bag": partial(write_ros1_bag, header_stamp_ns=header_stamp_ns),
+        "ros2-bag": partial(write_ros2_bag, header_stamp_ns=header_stamp_ns),
+        "comau": partial(write_comau_program, mapping=mapping),
+    }
+    if fmt not in writers:
         raise InputError(f"unknown format {fmt!r} (known: {', '.join(FORMATS)})")
+    check_trajectory(traj, mapping.robot.joints)
+    writers[fmt](traj, path=Path(path))

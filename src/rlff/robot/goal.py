@@ -1,4 +1,4 @@
-"""Checking a trajectory goal against a robot before it moves anything.
+"""Checking a trajectory goal against a robot before it moves anything (the one motion check).
 
 The FollowJointTrajectory server and client both run these checks; they split the failures the
 way the action's standard error codes do: joints the robot does not have (INVALID_JOINTS) and
@@ -7,14 +7,12 @@ every other problem, limits included (INVALID_GOAL).
 
 from __future__ import annotations
 
+import numpy as np
+
 from rlff.errors import InputError
 from rlff.robot.description import Robot
+from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.limits import require_within_limits
-from rlff.trajectory.resample import resample
-
-#: Period (s) at which the interpolated path between points is checked against the limits.
-CHECK_PERIOD = 0.002
 
 
 class InvalidJoints(InputError):
@@ -32,17 +30,14 @@ def check_joint_names(robot: Robot, names: list[str] | tuple[str, ...]) -> None:
         raise InvalidJoints(f"unknown joints {unknown} (robot {robot.name} has {', '.join(robot.joint_names)})")
 
 
-def check_goal(robot: Robot, traj: JointTrajectory) -> None:
+def check_goal(robot: Robot, traj: JointTrajectory, start: np.ndarray | None = None) -> None:
     """Raise :class:`InvalidJoints` or :class:`InputError` unless ``traj`` is safe to execute.
 
-    Every point and the interpolated path between points (cubic Hermite, checked every
-    :data:`CHECK_PERIOD` s) must lie within the position and speed limits.
+    The goal passes :func:`rlff.trajectory.check.check_trajectory` against ``robot``'s limits:
+    every point and the controller's quintic interpolation between points within the position,
+    velocity and acceleration limits, time agreeing with positions and velocities, and the end
+    at rest; with ``start`` (the arm's pose, joints in ``traj`` order), the first point within
+    tolerance of it.
     """
     check_joint_names(robot, traj.joint_names)
-    joints = [robot.joint(name) for name in traj.joint_names]
-    require_within_limits(traj, joints)
-    if len(traj) > 1:
-        try:
-            require_within_limits(resample(traj, CHECK_PERIOD), joints)
-        except InputError as exc:
-            raise InputError(f"between the points, the interpolated path leaves the limits: {exc}") from None
+    check_trajectory(traj, robot.joints, start=start)

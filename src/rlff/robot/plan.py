@@ -1,7 +1,14 @@
-"""From a generated human path to the robot's timed trajectory: map, resample, check limits.
+"""From a generated human path, or a robot trajectory file, to the trajectory a robot executes.
 
-This is what every robot output (exports, the ROS client) runs first, so a trajectory beyond
-the robot's limits is refused before anything is written or sent.
+Every robot output (exports, ``robot send``, ``sim throw``) gets its trajectory here, so nothing
+reaches a file, a bag, a Comau program, a live goal or the simulation without the motion planner
+(:func:`rlff.trajectory.planner.plan_throw`) and the one check
+(:func:`rlff.trajectory.check.check_trajectory`):
+
+- a generated path (CSV of ``angle``, ``velocity`` [, ``time``]) is mapped to the robot, planned
+  (approach, the throw to its release, braking to rest) and checked;
+- a robot trajectory (what ``rlff robot export --format json|csv`` writes) is read and checked
+  as it is: it must already be executable.
 """
 
 from __future__ import annotations
@@ -10,37 +17,56 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from rlff.errors import InputError
-from rlff.robot.description import DEFAULT_ROBOT, load_robot
+from rlff.robot.description import DEFAULT_ROBOT, Robot, load_robot
 from rlff.robot.mapping import RobotMapping
+from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.limits import ClipReport, clip_to_limits, require_within_limits
+from rlff.trajectory.limits import ClipReport
 from rlff.trajectory.path_csv import read_generated_path
-from rlff.trajectory.resample import resample
+from rlff.trajectory.planner import DEFAULT_PERIOD, plan_throw
+
+#: What :func:`load_for_robot` calls the two kinds of files.
+GENERATED, ROBOT_TRAJECTORY = "generated path", "robot trajectory"
 
 
 @dataclass(frozen=True)
 class RobotPlan:
-    """The robot trajectory and what was clipped on the way.
+    """The robot trajectory to execute and how it was made.
 
-    ``points`` is the mapped trajectory at the path's own samples; ``trajectory`` the one to
-    execute (``points`` resampled at the controller period, or ``points`` itself);
-    ``clipped_points`` and ``clipped_samples`` list the values clipped at each stage (the spline
-    between two points inside the limits may still overshoot them).
+    ``points`` is the mapped throw at the path's own samples (the model's release is its last
+    point); ``trajectory`` the planned, checked trajectory to execute; ``clipped_points`` the
+    values of ``points`` clipped into the limits (only with ``clip``).
     """
 
     points: JointTrajectory
     trajectory: JointTrajectory
     clipped_points: ClipReport
-    clipped_samples: ClipReport
 
     def summary(self) -> str:
-        """One line on what was clipped, or that nothing was."""
-        if not (self.clipped_points or self.clipped_samples):
-            return "within the limits, nothing clipped"
-        return (f"path points: {self.clipped_points.summary()}; "
-                f"resampled: {self.clipped_samples.summary()}")
+        """One line: what was clipped, and the plan's duration and release."""
+        clipped = self.clipped_points.summary() if self.clipped_points else "nothing clipped"
+        traj = self.trajectory
+        release = f", release at {traj.release_time:.3f} s" if traj.release_time is not None else ""
+        return f"planned {traj.duration:.3f} s to rest{release}; {clipped}"
+
+
+def _require_unclipped(report: ClipReport, last: int) -> None:
+    """Without ``clip``: refuse a path beyond a position limit or a release beyond a limit.
+
+    Velocities elsewhere along the path are not executed (the planner times the throw within
+    the limits, never faster than the model's peak), so only the release's count.
+    """
+    faults = [change for change in report.changes if change.quantity == "position" or change.point == last]
+    if not faults:
+        return
+    shown = "; ".join(f"point {c.point}: {c.joint} {c.quantity} {c.before:.6g} {c.unit} beyond the limit "
+                      f"{c.after:.6g} {c.unit}" + (" (the release)" if c.point == last else "")
+                      for c in faults[:3])
+    more = f" (and {len(faults) - 3} more)" if len(faults) > 3 else ""
+    raise InputError(f"{len(faults)} values beyond the robot's limits: {shown}{more}; --clip clips them")
 
 
 def plan(
@@ -48,35 +74,96 @@ def plan(
     angle: np.ndarray,
     velocity: np.ndarray,
     time: np.ndarray | None = None,
-    period: float | None = 0.002,
+    period: float | None = DEFAULT_PERIOD,
     clip: bool = False,
+    start: np.ndarray | None = None,
 ) -> RobotPlan:
-    """Map a human path (angle (T,) rad, velocity (T,) rad/s, time (T,) s or None) to the robot.
+    """Map a human path (angle (T,) rad, velocity (T,) rad/s, time (T,) s or None) and plan it.
 
-    ``period`` (s) resamples at the controller period; None or 0 keeps the path's points.
-    Without ``clip`` any value beyond a limit raises :class:`rlff.errors.InputError`.
+    Parameters
+    ----------
+    mapping : RobotMapping
+    angle, velocity, time : arrays of shape (T,)
+        The generated throw; its last sample is the release.
+    period : float
+        Controller period (s) of the planned trajectory; must be positive.
+    clip : bool
+        Clip path positions and the release velocity into the limits (each change reported)
+        instead of refusing them.
+    start : array of shape (J,), optional
+        Where the arm is (rad, the robot's joints in order); default the throw's first pose.
+
+    Raises
+    ------
+    InputError
+        A bad path, a value beyond a limit (without ``clip``), or a plan that fails the check
+        (:class:`rlff.trajectory.check.MotionLimitError`, e.g. no room to brake).
     """
-    points, clipped_points = mapping.to_robot(angle, velocity, time, clip=clip)
-    if not period:
-        return RobotPlan(points, points, clipped_points, ClipReport())
-    samples = resample(points, period)
+    if period is None or not (np.isfinite(period) and period > 0):
+        raise InputError(f"--period must be a positive controller period (s), got {period!r}: "
+                         "the points of a path are not a trajectory a controller can follow")
+    points, report = mapping.to_robot(angle, velocity, time, clip=True)
     if not clip:
-        try:
-            require_within_limits(samples, mapping.robot.joints)
-        except InputError as exc:
-            raise InputError(f"after resampling at {period * 1000:g} ms (points are the samples): {exc}") from None
-        return RobotPlan(points, samples, clipped_points, ClipReport())
-    samples, clipped_samples = clip_to_limits(samples, mapping.robot.joints)
-    return RobotPlan(points, samples, clipped_points, clipped_samples)
+        _require_unclipped(report, len(points) - 1)
+    joints = mapping.robot.joints
+    trajectory = plan_throw(points, joints, start=start, period=period)
+    check_trajectory(trajectory, joints, start=points.positions[0] if start is None else start)
+    return RobotPlan(points, trajectory, report if clip else ClipReport())
+
+
+def _robot_file_kind(path: Path) -> str:
+    """Which kind ``path`` is; :class:`InputError` in one line for any other file."""
+    if not path.is_file():
+        raise InputError(f"{path}: no such file")
+    if path.suffix.lower() == ".json":
+        return ROBOT_TRAJECTORY
+    try:
+        header = pd.read_csv(path, nrows=0).columns
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: neither a generated path nor a robot trajectory: not a readable "
+                         f"CSV or JSON ({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})") from None
+    if "angle" in header:
+        return GENERATED
+    if "time" in header and any(str(column).endswith("_position") for column in header):
+        return ROBOT_TRAJECTORY
+    raise InputError(f"{path}: neither a generated path (angle, velocity[, time]) nor a robot trajectory "
+                     f"(time, <joint>_position, ...); columns: {', '.join(map(str, header))}")
+
+
+def load_for_robot(
+    path: str | Path,
+    robot: Robot,
+    period: float | None = DEFAULT_PERIOD,
+    clip: bool = False,
+) -> tuple[str, RobotPlan]:
+    """The checked trajectory of a generated path or robot trajectory file for ``robot``.
+
+    Returns the kind (:data:`GENERATED` or :data:`ROBOT_TRAJECTORY`) and the plan; for a robot
+    trajectory, ``points`` and ``trajectory`` are the file's trajectory and ``period`` and
+    ``clip`` do not apply (a file beyond a limit is refused, not changed).
+    """
+    from rlff.robot.export import read_csv, read_json
+
+    path = Path(path)
+    kind = _robot_file_kind(path)
+    if kind == GENERATED:
+        generated = read_generated_path(path)
+        mapping = RobotMapping.for_robot(robot)
+        return kind, plan(mapping, generated.angle, generated.velocity, generated.time, period, clip)
+    trajectory = read_json(path) if path.suffix.lower() == ".json" else read_csv(path)
+    try:
+        check_trajectory(trajectory, robot.joints)
+    except InputError as exc:
+        raise type(exc)(f"{path}: {exc}") from None
+    return kind, RobotPlan(trajectory, trajectory, ClipReport())
 
 
 def plan_file(
     path: str | Path,
     robot: str | Path = DEFAULT_ROBOT,
-    period: float | None = 0.002,
+    period: float | None = DEFAULT_PERIOD,
     clip: bool = False,
 ) -> tuple[RobotPlan, RobotMapping]:
-    """:func:`plan` for a generated trajectory CSV and a robot file (default mapping)."""
-    mapping = RobotMapping.for_robot(load_robot(robot))
-    generated = read_generated_path(path)
-    return plan(mapping, generated.angle, generated.velocity, generated.time, period, clip), mapping
+    """:func:`load_for_robot` for a robot file or name, with the robot's default mapping."""
+    model = load_robot(robot)
+    return load_for_robot(path, model, period, clip)[1], RobotMapping.for_robot(model)

@@ -3,8 +3,8 @@
 The arm follows the trajectory with its velocity servos: the command is the trajectory's velocity
 plus a position correction, interpolated between the points with cubic Hermite splines (like the
 thesis' controller plug-in, which re-published and interpolated the points at a fixed rate). The
-ball is let go when the throwing joint passes the release angle (default: at the end of the
-trajectory), after which the arm finishes the trajectory and stops. The simulation stops as soon
+ball is let go when the throwing joint passes the release angle (default: at the trajectory's
+``release_time``, which a planned throw carries, or else at its end), after which the arm finishes the trajectory and stops. The simulation stops as soon
 as the outcome is decided: the ball touches the ground (a miss: it has to enter the basket through
 its opening), or lies in the basket too slow to climb out, or rests on the rim, or the time cap
 is reached.
@@ -185,7 +185,8 @@ def simulate_throw(
         Default: the built-in Comau Smart5 SiX.
     release_angle : float, optional
         Position (rad) of the throwing joint at which the ball is let go, passed in the direction
-        of motion; default: at the end of the trajectory.
+        of motion; default: at ``trajectory.release_time`` (a planned throw's release), or at the
+        end of a trajectory without one.
     release_joint : str, optional
         The throwing joint; default: the joint that moves the most.
     pedestal : float
@@ -270,6 +271,9 @@ class _Run:
         self.reference = servo_reference(trajectory, scene.arm, dt)
         self.offsets = self.reference.velocities + POSITION_GAIN * self.reference.positions
         self.release_angle = release_angle
+        self.release_step = None
+        if release_angle is None and trajectory.release_time is not None:
+            self.release_step = round((trajectory.release_time - trajectory.time[0]) / dt)
         self.direction = 0.0
         if release_angle is not None:
             q = trajectory.positions[:, self.column]
@@ -294,9 +298,10 @@ class _Run:
         history[0], history_speed[0] = q, v
         last = len(history) - 1
         column, angle, direction = self.column, self.release_angle, self.direction
+        release_step = last if self.release_step is None else min(last, self.release_step)
         step = 0
         # before the release: follow the trajectory, watch the throwing joint
-        while step < last and not (direction and direction * (q[column] - angle) >= 0):
+        while step < release_step and not (direction and direction * (q[column] - angle) >= 0):
             self._command(ctrl, q, step)
             mujoco.mj_step(model, data)
             step += 1
