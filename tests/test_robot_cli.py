@@ -129,10 +129,15 @@ def test_a_robot_trajectory_that_disagrees_with_its_time_is_refused(capsys, thro
 def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):
     other = tmp_path / "other.bag"
     other.write_bytes(b"#ROSBAG V2.0\n\x00\x01")
-    for command in (("robot", "export", str(other), "-f", "json", "-o", str(tmp_path / "o.json")),
-                    ("robot", "send", str(other))):
+    program = tmp_path / "throw.txt"
+    program.write_text('coord_type = "-j"\n')
+    for command, message in (
+            (("robot", "export", str(other), "-f", "json", "-o", str(tmp_path / "o.json")),
+             "other.bag: neither a generated path"),
+            (("robot", "send", str(other)), "other.bag: not a readable bag"),  # send reads bags
+            (("robot", "send", str(program)), "throw.txt: a Comau program, which runs on the Comau controller")):
         code, _, err = run(capsys, *command)
-        assert code == 2 and "other.bag: neither a generated path" in err
+        assert code == 2 and message in err
         assert len(err.strip().splitlines()) == 1
 
 

@@ -130,9 +130,12 @@ def serve(
 ) -> None:
     """Run the FollowJointTrajectory action server of a simulated arm until Ctrl-C."""
     from rlff.errors import InputError
+    from rlff.robot.controller import check_rate
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import RobotMapping
 
+    # every option is checked before a node registers: a bad one must not disturb a running server
+    check_rate(rate)
     model = load_robot(robot)
     mapping = RobotMapping.for_robot(model)
     if sim not in ("kinematic", "mujoco"):
@@ -180,8 +183,8 @@ def _mujoco_throw(model, basket: float):
 
 @app.command()
 def send(
-    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...), "
-                                                "or a robot trajectory from `rlff robot export -f json|csv`."),
+    trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity[, time], ...), or what "
+                                                "`rlff robot export` writes as json, csv, ros1-bag or ros2-bag."),
     robot: str = ROBOT,
     timeout: float = typer.Option(None, "--timeout", help="Seconds for everything; then the goal is cancelled."),
     topic_mode: bool = typer.Option(False, "--topic-mode", help="Publish on /comau/joint_trajectory instead of the action."),
@@ -189,19 +192,29 @@ def send(
     period: float = typer.Option(0.01, "--period", help="Controller period (s) a generated throw is planned at (> 0)."),
     json: bool = JSON,
 ) -> None:
-    """Send a generated trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels)."""
-    from rlff.robot.plan import plan_file
+    """Send a trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels).
 
-    result, mapping = plan_file(trajectory, robot, period, clip)
-    _report(result)
+    A generated throw is planned from the arm's pose (read from /joint_states); an exported
+    trajectory is sent as it is. Either must pass the motion check, starting at the arm's pose.
+    """
+    from rlff.robot.description import load_robot
+    from rlff.robot.sendfile import load_for_sending
+
+    model = load_robot(robot)
+    load_for_sending(trajectory, model, period, clip)  # a wrong file is refused before any connection
     _require_ros()
-    from rlff.robot.ros1.client import publish_trajectory, send_goal
+    from rlff.robot.ros1.client import arm_state, goal_for_arm, publish_trajectory, send_goal
     from rlff.robot.ros1.master import RosUnavailable
 
-    traj = result.trajectory
     try:
+        pose, speed = arm_state(model, timeout)
+        _, result = load_for_sending(trajectory, model, period, clip, start=pose)
+        _report(result)
+        traj = goal_for_arm(model, result.trajectory, pose, speed)
+        if traj is not result.trajectory:
+            say(f"the arm is moving ({abs(speed).max():.3g} rad/s): the server approaches the first point")
         if topic_mode:
-            subscribers = publish_trajectory(mapping.robot, traj, timeout)
+            subscribers = publish_trajectory(model, traj, pose, timeout)
             say(f"published {len(traj)} points on /comau/joint_trajectory to {subscribers} subscriber(s)")
             if json:
                 emit_json({"status": "published", "points": len(traj), "subscribers": subscribers})
@@ -217,7 +230,7 @@ def send(
                     advance(now - done)
                     done = now
 
-            outcome = send_goal(mapping.robot, traj, timeout, on_feedback)
+            outcome = send_goal(model, traj, pose, timeout, on_feedback)
     except RosUnavailable as exc:
         stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
         raise typer.Exit(1) from None

@@ -135,12 +135,15 @@ def load_for_robot(
     robot: Robot,
     period: float | None = DEFAULT_PERIOD,
     clip: bool = False,
+    start: np.ndarray | None = None,
 ) -> tuple[str, RobotPlan]:
     """The checked trajectory of a generated path or robot trajectory file for ``robot``.
 
     Returns the kind (:data:`GENERATED` or :data:`ROBOT_TRAJECTORY`) and the plan; for a robot
     trajectory, ``points`` and ``trajectory`` are the file's trajectory and ``period`` and
-    ``clip`` do not apply (a file beyond a limit is refused, not changed).
+    ``clip`` do not apply (a file beyond a limit is refused, not changed). ``start`` (J,) is
+    where the arm is (rad, ``robot``'s joints in order) to plan a generated throw from; default
+    the throw's first pose (a robot trajectory is checked on its own).
     """
     from rlff.robot.export import read_csv, read_json
 
@@ -149,7 +152,7 @@ def load_for_robot(
     if kind == GENERATED:
         generated = read_generated_path(path)
         mapping = RobotMapping.for_robot(robot)
-        return kind, plan(mapping, generated.angle, generated.velocity, generated.time, period, clip)
+        return kind, plan(mapping, generated.angle, generated.velocity, generated.time, period, clip, start)
     trajectory = read_json(path) if path.suffix.lower() == ".json" else read_csv(path)
     try:
         check_trajectory(trajectory, robot.joints)

@@ -7,10 +7,11 @@ from __future__ import annotations
 
 import socket
 import time
+import xmlrpc.client
 
 import rosgraph
 
-from rlff.errors import RlffError
+from rlff.errors import InputError, RlffError
 
 
 class RosUnavailable(RlffError):
@@ -34,5 +35,52 @@ def wait_for_master(timeout: float) -> str:
                     raise RosUnavailable(f"no ROS master at {uri} after {timeout:.3g} s: start roscore, "
                                          "or set ROS_MASTER_URI") from None
                 time.sleep(0.1)
+    finally:
+        socket.setdefaulttimeout(previous)
+
+
+class ServerRunning(InputError):
+    """Another server already runs under the node name or serves the action."""
+
+
+def _answers(uri: str) -> bool:
+    """Whether the node at XML-RPC ``uri`` answers (a node killed hard stays registered)."""
+    try:
+        code, _, _ = xmlrpc.client.ServerProxy(uri).getPid("/rlff_probe")
+    except (OSError, xmlrpc.client.Error):
+        return False
+    return code == 1
+
+
+def require_no_server(node_name: str, status_topic: str) -> None:
+    """:class:`ServerRunning` if a live node is called ``node_name`` or publishes ``status_topic``.
+
+    ``status_topic`` is the action server's status topic (every actionlib server publishes it);
+    registrations of nodes that no longer answer are ignored.
+    """
+    master = rosgraph.Master("/rlff_probe")
+    name = rosgraph.names.ns_join("/", node_name)
+    previous = socket.getdefaulttimeout()
+    socket.setdefaulttimeout(2.0)
+    try:
+        try:
+            uri = master.lookupNode(name)
+        except rosgraph.MasterError:
+            uri = None
+        if uri and _answers(uri):
+            raise ServerRunning(f"a node {name} is already running ({uri}): stop that `rlff robot serve` "
+                                "first; a second one would replace it")
+        publishers, _, _ = master.getSystemState()
+        for topic, nodes in publishers:
+            if topic != status_topic:
+                continue
+            for node in nodes:
+                try:
+                    node_uri = master.lookupNode(node)
+                except rosgraph.MasterError:
+                    continue
+                if _answers(node_uri):
+                    raise ServerRunning(f"{node} already serves the action of {status_topic} "
+                                        f"({node_uri}): stop it first; a second server would compete for the goals")
     finally:
         socket.setdefaulttimeout(previous)

@@ -2,18 +2,18 @@
 
 It stands in for the thesis' controller plug-in: goals on
 ``/comau_controller/follow_joint_trajectory`` (and trajectories on the topic
-``/comau/joint_trajectory``, the original driver's topic mode) are executed on a
-:class:`rlff.robot.kinematic.KinematicArm` ticked at a fixed rate; every tick publishes
-``/joint_states`` and the goal's feedback. A goal is checked before anything moves: unknown
-joints are rejected with INVALID_JOINTS, anything else wrong (limits, times, sizes) with
-INVALID_GOAL. A newer goal preempts the running one; a cancel stops the arm where it is.
-A goal starts at its header stamp (or on receipt when the stamp is 0).
+``/comau/joint_trajectory``, the original driver's topic mode) go to the transport-independent
+:class:`rlff.robot.controller.TrajectoryController`, which decides what the arm does (goal checks
+and result codes, approaches, braking on cancel, preemption); this module only turns messages
+into its calls and its outcomes into action results, and ticks it at a fixed rate, every tick
+publishing ``/joint_states`` and the active goal's feedback. A trajectory on the topic obeys the
+same rules as a goal; a refused one is logged and nothing moves. A goal starts at its header
+stamp (or on receipt when the stamp is 0 or the arm is moving).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
 
 import actionlib
 import numpy as np
@@ -29,29 +29,30 @@ from trajectory_msgs.msg import JointTrajectory as TrajectoryMsg
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 from rlff.errors import InputError
+from rlff.robot.controller import (
+    GoalRejected,
+    Outcome,
+    ResultCode,
+    TrajectoryController,
+    check_rate,
+)
 from rlff.robot.description import Robot
-from rlff.robot.goal import InvalidJoints, check_goal, check_joint_names
-from rlff.robot.kinematic import ArmState, KinematicArm
+from rlff.robot.kinematic import ArmState
 from rlff.robot.ros1.convert import from_msg
-from rlff.robot.ros1.master import wait_for_master
+from rlff.robot.ros1.master import require_no_server, wait_for_master
 from rlff.trajectory.joint import JointTrajectory
 
 ACTION_NAMESPACE = "/comau_controller/follow_joint_trajectory"
 TOPIC = "/comau/joint_trajectory"
 JOINT_STATES = "/joint_states"
+NODE_NAME = "rlff_comau_controller"
 
 #: Called with each completed trajectory; its text goes to the log and the result's error_string.
 CompletionHook = Callable[[JointTrajectory], str]
 
 
-@dataclass
-class _Active:
-    handle: actionlib.ServerGoalHandle | None  # None for a trajectory from the topic
-    trajectory: JointTrajectory
-
-
 class TrajectoryServer:
-    """Executes trajectory goals on a kinematic arm of ``robot``.
+    """The ROS 1 transport of a :class:`TrajectoryController` of ``robot``.
 
     Parameters
     ----------
@@ -66,20 +67,19 @@ class TrajectoryServer:
 
     def __init__(self, robot: Robot, initial: np.ndarray, rate: float = 100.0,
                  on_complete: CompletionHook | None = None) -> None:
-        if not rate > 0:
-            raise InputError(f"rate must be positive, got {rate} Hz")
+        check_rate(rate)
         self.robot = robot
         self.rate = rate
         self.on_complete = on_complete
-        self.arm = KinematicArm(robot.joint_names, initial)
-        self._active: _Active | None = None
+        self.controller = TrajectoryController(robot, initial)
+        self._handles: dict[str, actionlib.ServerGoalHandle] = {}
         self._states = rospy.Publisher(JOINT_STATES, JointState, queue_size=10)
         self._server = actionlib.ActionServer(ACTION_NAMESPACE, FollowJointTrajectoryAction,
                                               goal_cb=self._on_goal, cancel_cb=self._on_cancel,
                                               auto_start=False)
-        # One lock guards the arm and the active goal: the action server's own (re-entrant) lock,
-        # which actionlib already holds when it calls the goal and cancel callbacks. A second lock
-        # of ours would be taken in the opposite order by the tick (feedback) and deadlock.
+        # One lock guards the controller and the handles: the action server's own (re-entrant)
+        # lock, which actionlib already holds when it calls the goal and cancel callbacks. A second
+        # lock of ours would be taken in the opposite order by the tick (feedback) and deadlock.
         self._lock = self._server.lock
         self._topic = rospy.Subscriber(TOPIC, TrajectoryMsg, self._on_topic, queue_size=1)
         self._server.start()
@@ -87,95 +87,94 @@ class TrajectoryServer:
     # -- callbacks (subscriber threads) ------------------------------------------------------
     def _on_goal(self, handle: actionlib.ServerGoalHandle) -> None:
         msg = handle.get_goal().trajectory
-        try:
-            check_joint_names(self.robot, list(msg.joint_names))
-            traj = from_msg(msg)
-            check_goal(self.robot, traj)
-        except InvalidJoints as exc:
-            self._reject(handle, FollowJointTrajectoryResult.INVALID_JOINTS, str(exc))
-            return
-        except InputError as exc:
-            self._reject(handle, FollowJointTrajectoryResult.INVALID_GOAL, str(exc))
-            return
+        goal = handle.get_goal_id().id
         with self._lock:
-            self._preempt("preempted by a newer goal")
+            try:
+                traj = from_msg(msg)
+                executed, ended = self.controller.submit(goal, traj, rospy.get_time(), _start(msg))
+            except GoalRejected as exc:
+                self._reject(handle, exc.code, str(exc))
+                return
+            except InputError as exc:
+                self._reject(handle, ResultCode.INVALID_GOAL, str(exc))
+                return
             handle.set_accepted("executing")
-            self._start(handle, traj, msg.header.stamp)
-        rospy.loginfo("goal %s accepted: %d points, %.3f s", handle.get_goal_id().id, len(traj), traj.duration)
+            self._handles[goal] = handle
+            self._report(ended)
+        rospy.loginfo("goal %s accepted: %d points, %.3f s (executed: %.3f s)", goal, len(traj),
+                      traj.duration, executed.duration)
 
     def _on_topic(self, msg: TrajectoryMsg) -> None:
-        try:
-            check_joint_names(self.robot, list(msg.joint_names))
-            traj = from_msg(msg)
-            check_goal(self.robot, traj)
-        except InputError as exc:
-            rospy.logerr("trajectory on %s ignored: %s", TOPIC, exc)
-            return
         with self._lock:
-            self._preempt("preempted by a trajectory on the topic")
-            self._start(None, traj, msg.header.stamp)
-        rospy.loginfo("trajectory on %s: %d points, %.3f s", TOPIC, len(traj), traj.duration)
+            try:
+                traj = from_msg(msg)
+                executed, ended = self.controller.submit(None, traj, rospy.get_time(), _start(msg))
+            except InputError as exc:
+                code = exc.code.name if isinstance(exc, GoalRejected) else ResultCode.INVALID_GOAL.name
+                rospy.logerr("trajectory on %s refused (%s): %s", TOPIC, code, exc)
+                return
+            self._report(ended)
+        rospy.loginfo("trajectory on %s: %d points, %.3f s (executed: %.3f s)", TOPIC, len(traj),
+                      traj.duration, executed.duration)
 
     def _on_cancel(self, handle: actionlib.ServerGoalHandle) -> None:
+        goal = handle.get_goal_id().id
         with self._lock:
-            if self._active is not None and self._active.handle is not None and \
-                    self._active.handle.get_goal_id().id == handle.get_goal_id().id:
-                self.arm.stop(rospy.get_time())
-                self._active = None
-                rospy.loginfo("goal %s cancelled: arm stopped", handle.get_goal_id().id)
+            if goal == self.controller.active_goal:
+                self._report(self.controller.cancel(goal, rospy.get_time()))  # or once braked
+                rospy.loginfo("goal %s cancelled: braking to rest", goal)
+                return
             status = handle.get_goal_status().status
             if status in (GoalStatus.PENDING, GoalStatus.ACTIVE, GoalStatus.RECALLING, GoalStatus.PREEMPTING):
                 handle.set_canceled(FollowJointTrajectoryResult(error_string="cancelled"), "cancelled")
 
     # -- helpers (called with the lock held) -------------------------------------------------
     def _reject(self, handle: actionlib.ServerGoalHandle, code: int, text: str) -> None:
-        rospy.logwarn("goal %s rejected (%d): %s", handle.get_goal_id().id, code, text)
+        rospy.logwarn("goal %s rejected (%s): %s", handle.get_goal_id().id, ResultCode(code).name, text)
         handle.set_rejected(FollowJointTrajectoryResult(error_code=code, error_string=text), text)
 
-    def _preempt(self, reason: str) -> None:
-        if self._active is None:
-            return
-        if self._active.handle is not None:
-            self._active.handle.set_canceled(FollowJointTrajectoryResult(error_string=reason), reason)
-        self._active = None
-
-    def _start(self, handle: actionlib.ServerGoalHandle | None, traj: JointTrajectory, stamp: rospy.Time) -> None:
-        now = rospy.get_time()
-        start = now if stamp.is_zero() else max(stamp.to_sec(), now)
-        full = self.arm.follow(traj, start, now)
-        self._active = _Active(handle, full)
+    def _report(self, outcomes: list[Outcome]) -> None:
+        """Answer the goals that ended as cancelled or preempted (successes go through :meth:`tick`)."""
+        for outcome in outcomes:
+            rospy.loginfo("%s: %s", "topic trajectory" if outcome.goal is None else f"goal {outcome.goal}",
+                          outcome.text)
+            handle = self._handles.pop(outcome.goal, None) if outcome.goal is not None else None
+            if handle is not None and handle.get_goal_status().status in (GoalStatus.ACTIVE, GoalStatus.PREEMPTING):
+                handle.set_canceled(FollowJointTrajectoryResult(error_code=outcome.code,
+                                                                error_string=outcome.text), outcome.text)
 
     # -- the fixed-rate loop -----------------------------------------------------------------
     def tick(self) -> None:
-        """Advance the arm to now, publish /joint_states and feedback, finish a completed goal."""
+        """Advance the arm to now, publish /joint_states and feedback, answer goals that ended."""
         now_time = rospy.Time.now()
-        now = now_time.to_sec()
         with self._lock:
-            state = self.arm.state(now)
+            state, ended = self.controller.update(now_time.to_sec())
             self._publish_state(now_time, state)
-            active = self._active
-            if active is None:
-                return
-            if active.handle is not None:
-                self._publish_feedback(active.handle, now_time, state)
-            if not self.arm.finished(now):
-                return
-            self._active = None
+            active = self._handles.get(self.controller.active_goal)
+            if active is not None:
+                self._publish_feedback(active, now_time, state)
+            finished = [outcome for outcome in ended if outcome.status == "succeeded"]
+            self._report([outcome for outcome in ended if outcome.status != "succeeded"])
+        for outcome in finished:
+            self._succeed(outcome)
+
+    def _succeed(self, outcome: Outcome) -> None:
         # the completion hook (a MuJoCo throw) may take a while: not under the lock
-        text = "trajectory completed"
+        text = outcome.text
         if self.on_complete:
             try:
-                text = self.on_complete(active.trajectory)
+                text = self.on_complete(outcome.trajectory)
             except Exception as exc:  # noqa: BLE001 - the arm did finish; the server must go on
-                text = f"trajectory completed; the completion hook failed: {exc}"
+                text = f"{outcome.text}; the completion hook failed: {exc}"
                 rospy.logerr(text)
         rospy.loginfo(text)
-        if active.handle is None:
+        if outcome.goal is None:
             return
         with self._lock:
-            if active.handle.get_goal_status().status == GoalStatus.ACTIVE:  # not cancelled meanwhile
-                active.handle.set_succeeded(FollowJointTrajectoryResult(
-                    error_code=FollowJointTrajectoryResult.SUCCESSFUL, error_string=text), text)
+            handle = self._handles.pop(outcome.goal, None)
+            if handle is not None and handle.get_goal_status().status == GoalStatus.ACTIVE:
+                handle.set_succeeded(FollowJointTrajectoryResult(error_code=ResultCode.SUCCESSFUL,
+                                                                 error_string=text), text)
 
     def _publish_state(self, stamp: rospy.Time, state: ArmState) -> None:
         msg = JointState(name=list(self.robot.joint_names), position=state.positions.tolist(),
@@ -205,13 +204,32 @@ class TrajectoryServer:
                 break
 
 
+def _start(msg: TrajectoryMsg) -> float | None:
+    """Clock time (s) the trajectory's time 0 refers to: its header stamp, None when 0."""
+    return None if msg.header.stamp.is_zero() else msg.header.stamp.to_sec()
+
+
 def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: CompletionHook | None = None,
-          node_name: str = "rlff_comau_controller", on_ready: Callable[[], None] | None = None) -> None:
+          node_name: str = NODE_NAME, on_ready: Callable[[], None] | None = None) -> None:
     """Start a ROS node with a :class:`TrajectoryServer` and run it until shut down (Ctrl-C).
 
-    Raises :class:`rlff.robot.ros1.master.RosUnavailable` if no master answers within 10 s.
+    The options are checked and the master asked for a running server (the node, or any
+    publisher of the action's status topic) before the node registers, so a bad option or a
+    second ``serve`` never disturbs the server already running.
+
+    Raises
+    ------
+    InputError
+        ``rate`` is not a positive number.
+    ServerRunning
+        A server of the same node name or action is already running.
+    RosUnavailable
+        No master answers within 10 s.
     """
+    check_rate(rate)
+    TrajectoryController(robot, initial)  # the initial pose within the limits, before any node
     wait_for_master(10.0)
+    require_no_server(node_name, ACTION_NAMESPACE + "/status")
     rospy.init_node(node_name)
     server = TrajectoryServer(robot, initial, rate, on_complete)
     if on_ready:

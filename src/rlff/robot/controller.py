@@ -1,0 +1,307 @@
+"""The FollowJointTrajectory controller of the simulated arm, free of any ROS transport.
+
+What a goal does follows ros2_control's joint_trajectory_controller (and ROS 1's before it), the
+contract every FollowJointTrajectory client expects; the ROS 1 server
+(:mod:`rlff.robot.ros1.server`) and the ROS 2 one are thin transports over this core:
+
+- A goal naming joints the robot does not have is rejected with INVALID_JOINTS; one beyond the
+  robot's limits (:func:`rlff.trajectory.check.check_trajectory`), or not ending at rest, with
+  INVALID_GOAL (joint_trajectory_controller refuses a non-zero end velocity by default too).
+- A goal whose first point is at ``time_from_start`` 0 is the motion from where the arm is. If
+  that point is not the arm's state (position within :data:`START_POSITION_TOLERANCE`, velocity
+  within :data:`START_VELOCITY_TOLERANCE`, the motion check's own tolerances) the goal is refused with PATH_TOLERANCE_VIOLATED and
+  the numbers; joint_trajectory_controller answers such a goal with the same code when its first
+  sample fails the state tolerance ("Aborted due to path tolerance violation"), here the arm does
+  not move at all. Within the tolerance the first point is replaced by the arm's state, so the
+  executed motion is continuous.
+- A goal whose first point is later than 0 s is approached: the controller plans a jerk-limited
+  transition (:func:`rlff.trajectory.planner.plan_transition`, ruckig) from the arm's position,
+  velocity and acceleration to the first point's position and velocity. Where the ROS
+  controllers interpolate one spline over ``time_from_start`` whatever the distance (a 1 rad
+  jump in 10 ms for a one-point goal), the approach here takes the time the limits need; an arm
+  at rest waits so that the first point is reached at its ``time_from_start`` when the limits
+  allow it sooner.
+- A newer goal preempts the running one ("preempted by a newer goal": the old goal ends
+  PREEMPTED, not succeeded); the newer one starts from the arm's state at its receipt, moving or
+  not. A rejected goal leaves the running one alone.
+- A cancel brakes to rest within the acceleration and jerk limits
+  (:func:`rlff.trajectory.planner.plan_stop`) instead of stopping dead; the goal is reported
+  cancelled once the arm stands still. Should the shortest brake overrun a position limit
+  (moving fast towards it), the goal's own motion, which is checked to stop in time, runs on
+  to its end instead.
+- Every motion the arm executes (approach and goal, or a brake) passes
+  :func:`rlff.trajectory.check.check_trajectory` with the arm's pose as its start, under the
+  arm's own interpolation (quintic, :mod:`rlff.robot.kinematic`), from the arm's position and
+  velocity.
+
+The controller is not thread-safe: a transport calls it under one lock of its own. Clock times
+``now`` are in seconds of whatever clock the transport ticks with (ROS time).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Hashable
+from dataclasses import dataclass
+from enum import IntEnum
+
+import numpy as np
+
+from rlff.errors import InputError
+from rlff.robot.description import Robot
+from rlff.robot.goal import InvalidJoints, check_joint_names
+from rlff.robot.kinematic import ArmState, KinematicArm
+from rlff.trajectory.check import POSITION_TOLERANCE, VELOCITY_TOLERANCE, check_trajectory
+from rlff.trajectory.joint import JointTrajectory
+from rlff.trajectory.planner import plan_stop, plan_transition
+
+#: How far (rad) a first point at time_from_start 0 may lie from the arm's position.
+START_POSITION_TOLERANCE = POSITION_TOLERANCE
+#: How far (rad/s) its velocity may differ from the arm's (the arm may be moving when preempted).
+START_VELOCITY_TOLERANCE = VELOCITY_TOLERANCE
+#: Below this speed (rad/s) on every joint the arm counts as at rest.
+AT_REST = 1e-9
+
+
+def check_rate(rate: float) -> None:
+    """:class:`InputError` unless ``rate`` (ticks per second of a transport) is positive and finite."""
+    if not (math.isfinite(rate) and rate > 0):
+        raise InputError(f"--rate must be a positive number of ticks per second, got {rate:g} Hz")
+
+
+class ResultCode(IntEnum):
+    """FollowJointTrajectory's result codes (control_msgs, ROS 1 and ROS 2 alike)."""
+
+    SUCCESSFUL = 0
+    INVALID_GOAL = -1
+    INVALID_JOINTS = -2
+    OLD_HEADER_TIMESTAMP = -3
+    PATH_TOLERANCE_VIOLATED = -4
+    GOAL_TOLERANCE_VIOLATED = -5
+
+
+class GoalRejected(InputError):
+    """A goal the controller refuses; ``code`` is the :class:`ResultCode` to answer with."""
+
+    def __init__(self, code: ResultCode, text: str) -> None:
+        super().__init__(text)
+        self.code = code
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """How a goal ended, for the transport to report.
+
+    ``goal`` is the transport's token of the goal (None for a trajectory from the topic);
+    ``status`` is ``"succeeded"``, ``"preempted"`` or ``"cancelled"``; ``code`` the result code
+    (SUCCESSFUL but for a success is no error code: FollowJointTrajectory has none for a
+    preemption or a cancel); ``text`` says what happened with the numbers; ``trajectory`` is what
+    the arm executed for this goal (approach included).
+    """
+
+    goal: Hashable | None
+    status: str
+    code: ResultCode
+    text: str
+    trajectory: JointTrajectory
+
+
+@dataclass
+class _Motion:
+    goal: Hashable | None  # None: a trajectory from the topic
+    trajectory: JointTrajectory  # what the arm follows, every joint, from time 0
+    braking: str = ""  # after a cancel: what the brake does (the goal's outcome text)
+
+
+class TrajectoryController:
+    """Goals, cancels and preemptions of FollowJointTrajectory on a kinematic arm of ``robot``.
+
+    Parameters
+    ----------
+    robot : Robot
+    initial : array of shape (J,)
+        Starting joint positions (rad), one per joint of ``robot``.
+    period : float
+        Sampling period (s) of the planned approaches and brakes.
+    """
+
+    def __init__(self, robot: Robot, initial: np.ndarray, period: float = 0.002) -> None:
+        if not period > 0:
+            raise InputError(f"period must be positive, got {period} s")
+        self.robot = robot
+        self.period = period
+        self.joints = [robot.joint(name) for name in robot.joint_names]
+        self.arm = KinematicArm(robot.joint_names, initial)
+        check_trajectory(JointTrajectory(robot.joint_names, [0.0], [self.arm.state(0.0).positions],
+                                         [np.zeros(len(self.joints))]), self.joints)
+        self._motion: _Motion | None = None
+
+    @property
+    def active_goal(self) -> Hashable | None:
+        """The token of the goal being executed (or braked after its cancel), if any."""
+        return None if self._motion is None else self._motion.goal
+
+    def state(self, now: float) -> ArmState:
+        """The arm's state at clock time ``now``."""
+        return self.arm.state(now)
+
+    # -- goals -------------------------------------------------------------------------------
+    def submit(self, goal: Hashable | None, traj: JointTrajectory, now: float,
+               start: float | None = None) -> tuple[JointTrajectory, list[Outcome]]:
+        """Accept ``traj`` as the arm's next motion, or raise :class:`GoalRejected`.
+
+        Parameters
+        ----------
+        goal : hashable or None
+            The transport's token for the goal (None: a trajectory from the topic).
+        traj : JointTrajectory
+            The goal's points, ``time`` being each point's time_from_start (s); joints it leaves
+            out hold their positions (they must be at rest).
+        now : float
+            Clock time of the receipt (s).
+        start : float, optional
+            Clock time the goal's time 0 refers to (its header stamp); None or a time not later
+            than ``now``: on receipt. Honoured only when the arm is at rest.
+
+        Returns
+        -------
+        executed : JointTrajectory
+            What the arm will follow from its state at ``now`` (every joint, time from 0).
+        outcomes : list of Outcome
+            The goal this one preempts, if any.
+        """
+        try:
+            check_joint_names(self.robot, traj.joint_names)
+        except InvalidJoints as exc:
+            raise GoalRejected(ResultCode.INVALID_JOINTS, str(exc)) from None
+        state = self.arm.state(now)
+        at_rest = bool(np.all(np.abs(state.velocities) <= AT_REST))
+        begin = now if start is None or start <= now or not at_rest else start
+        if start is not None and start + traj.duration < now:
+            raise GoalRejected(ResultCode.OLD_HEADER_TIMESTAMP,
+                               f"the goal ended at {start + traj.duration:.3f} s, before its receipt at "
+                               f"{now:.3f} s (header stamp {start:.3f} s + {traj.duration:.3f} s)")
+        full = self._all_joints(traj, state)
+        try:
+            check_trajectory(full, self.joints)
+        except InputError as exc:
+            raise GoalRejected(ResultCode.INVALID_GOAL, str(exc)) from None
+        try:
+            if full.time[0] == 0.0:
+                executed = self._from_here(full, state)
+            else:
+                executed, wait = self._approach(full, state)
+                if at_rest:
+                    begin += wait
+            check_trajectory(executed, self.joints, start=state.positions, start_velocity=state.velocities)
+        except GoalRejected:
+            raise
+        except InputError as exc:
+            raise GoalRejected(ResultCode.INVALID_GOAL, f"from the arm's state: {exc}") from None
+        outcomes = self._preempt(state)
+        self.arm.follow(executed, begin)
+        self._motion = _Motion(goal, executed)
+        return executed, outcomes
+
+    def _preempt(self, state: ArmState) -> list[Outcome]:
+        """End the running goal because a newer one takes the arm over from ``state``."""
+        if self._motion is None:
+            return []
+        if self._motion.braking:
+            return self._end("cancelled", f"{self._motion.braking}; the brake was taken over by a newer goal")
+        return self._end("preempted", f"preempted by a newer goal after {state.elapsed:.3f} s of "
+                                      f"{self._motion.trajectory.duration:.3f} s")
+
+    def _all_joints(self, traj: JointTrajectory, state: ArmState) -> JointTrajectory:
+        index = [self.robot.joint_names.index(name) for name in traj.joint_names]
+        left_out = np.setdiff1d(np.arange(len(self.joints)), index)
+        moving = [int(j) for j in left_out if abs(state.velocities[j]) > START_VELOCITY_TOLERANCE]
+        if moving:
+            j = moving[0]
+            raise GoalRejected(ResultCode.INVALID_GOAL,
+                               f"the goal leaves out {self.robot.joint_names[j]}, which is moving at "
+                               f"{state.velocities[j]:.4g} rad/s: name every moving joint")
+        positions = np.tile(state.positions, (len(traj), 1))
+        velocities = np.zeros_like(positions)
+        accelerations = np.zeros_like(positions)
+        positions[:, index] = traj.positions
+        velocities[:, index] = traj.velocities
+        accelerations[:, index] = traj.accelerations
+        return JointTrajectory(self.robot.joint_names, traj.time, positions, velocities, accelerations)
+
+    def _from_here(self, traj: JointTrajectory, state: ArmState) -> JointTrajectory:
+        """A goal starting at 0 s: its first point must be the arm's state, and becomes it exactly."""
+        for quantity, unit, goal, arm, tolerance in (
+                ("position", "rad", traj.positions[0], state.positions, START_POSITION_TOLERANCE),
+                ("velocity", "rad/s", traj.velocities[0], state.velocities, START_VELOCITY_TOLERANCE)):
+            gap = np.abs(goal - arm)
+            j = int(np.argmax(gap))
+            if gap[j] > tolerance:
+                raise GoalRejected(
+                    ResultCode.PATH_TOLERANCE_VIOLATED,
+                    f"the goal's first point (time_from_start 0) is not the arm's state: "
+                    f"{self.robot.joint_names[j]} {quantity} {goal[j]:.6g} {unit}, the arm's {arm[j]:.6g} "
+                    f"{unit} ({gap[j]:.4g} {unit} apart, tolerance {tolerance:g} {unit}); start the goal "
+                    f"later than 0 s to have the controller approach its first point")
+        positions = traj.positions.copy()
+        velocities = traj.velocities.copy()
+        accelerations = traj.accelerations.copy()
+        positions[0], velocities[0], accelerations[0] = state.positions, state.velocities, state.accelerations
+        return JointTrajectory(traj.joint_names, traj.time, positions, velocities, accelerations)
+
+    def _approach(self, traj: JointTrajectory, state: ArmState) -> tuple[JointTrajectory, float]:
+        """The planned approach to the first point, then the goal; and how long an arm at rest
+        waits first (s) so that the first point comes at its time_from_start."""
+        approach = plan_transition(state.positions, state.velocities, state.accelerations,
+                                   traj.positions[0], traj.velocities[0], self.joints, period=self.period)
+        taken = approach.duration
+        time = np.concatenate([approach.time, taken + traj.time[1:] - traj.time[0]])
+        # the approach's last sample is the goal's first point (ruckig reaches it up to rounding)
+        stack = [np.vstack([a[:-1], b]) for a, b in ((approach.positions, traj.positions),
+                                                    (approach.velocities, traj.velocities),
+                                                    (approach.accelerations, traj.accelerations))]
+        executed = JointTrajectory(traj.joint_names, time, *stack)
+        return executed, max(0.0, float(traj.time[0]) - taken)
+
+    # -- cancel and ticks --------------------------------------------------------------------
+    def cancel(self, goal: Hashable | None, now: float) -> list[Outcome]:
+        """Brake the arm to rest if ``goal`` is the one it executes.
+
+        Returns the outcome at once when the arm already stands still (else :meth:`update`
+        reports it when the brake ends); an empty list when ``goal`` is not being executed.
+        """
+        motion = self._motion
+        if motion is None or motion.goal != goal or motion.braking:
+            return []
+        state = self.arm.state(now)
+        if np.all(np.abs(state.velocities) <= AT_REST) and np.all(np.abs(state.accelerations) <= AT_REST):
+            return self._end("cancelled", f"cancelled at {now:.3f} s; the arm was at rest")
+        peak = float(np.max(np.abs(state.velocities)))
+        try:
+            brake = plan_stop(state.positions, state.velocities, state.accelerations, self.joints,
+                              period=self.period)
+            check_trajectory(brake, self.joints, start=state.positions, start_velocity=state.velocities)
+        except InputError as exc:  # no room to brake: the goal's own checked motion stops in time
+            self._motion = _Motion(goal, motion.trajectory, braking=(
+                f"cancelled at {now:.3f} s at {peak:.4g} rad/s, too fast to brake before a limit ({exc}); "
+                "the goal ran to its end"))
+            return []
+        self.arm.follow(brake, now)
+        self._motion = _Motion(goal, motion.trajectory, braking=(
+            f"cancelled at {now:.3f} s; braked to rest from {peak:.4g} rad/s in {brake.duration:.3f} s"))
+        return []
+
+    def update(self, now: float) -> tuple[ArmState, list[Outcome]]:
+        """The arm's state at ``now`` and the goal that ended by then, if any."""
+        state = self.arm.state(now)
+        if self._motion is None or not self.arm.finished(now):
+            return state, []
+        if self._motion.braking:
+            return state, self._end("cancelled", self._motion.braking)
+        return state, self._end("succeeded", "trajectory completed")
+
+    def _end(self, status: str, text: str) -> list[Outcome]:
+        motion, self._motion = self._motion, None
+        if motion is None:
+            return []
+        return [Outcome(motion.goal, status, ResultCode.SUCCESSFUL, text, motion.trajectory)]

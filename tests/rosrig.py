@@ -1,0 +1,204 @@
+"""The ROS 1 rig of the live tests: a real roscore on a free port, ``rlff robot serve``, recorders.
+
+Each test module that uses :func:`ros_fixture` gets its own roscore on a free loopback port (and
+its own ROS_HOME), so concurrent test runs on one machine never share a master. The executed
+path is what the server publishes on /joint_states, recorded by Debian's own ``rostopic echo``
+(another process); :func:`peaks` turns it into the largest speeds and accelerations.
+
+Without Debian's ROS 1 packages the tests skip locally and FAIL in CI (CI=true).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+import xmlrpc.client
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from rlff.robot import RobotMapping, load_robot
+
+ROBOT = load_robot()
+#: Speed (rad/s) and acceleration (rad/s^2) limits of the robot's joints, (J,).
+VMAX = np.array([joint.max_velocity for joint in ROBOT.joints])
+AMAX = np.array([joint.max_acceleration for joint in ROBOT.joints])
+DRIVEN = 1  # column of joint_2
+GOAL_SCRIPT = Path(__file__).with_name("ros1_goal.py")
+
+
+def missing() -> str | None:
+    """Why the live ROS 1 tests cannot run here, or None."""
+    if shutil.which("roscore") is None or shutil.which("rostopic") is None:
+        return "roscore/rostopic are not installed (scripts/setup.sh --test installs ros-core)"
+    try:
+        import control_msgs.msg  # noqa: F401
+        import rospy  # noqa: F401
+    except ImportError as exc:
+        return f"ROS 1 is not reachable from the venv ({exc}); run scripts/setup.sh --test"
+    return None
+
+
+@pytest.fixture(scope="module", autouse=True)
+def ros_installed():
+    """Skip the module without ROS 1 (fail in CI); bind it in a module to use it there."""
+    reason = missing()
+    if reason is None:
+        return
+    if os.environ.get("CI") == "true":
+        pytest.fail(reason)
+    pytest.skip(reason)
+
+
+def free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return sock.getsockname()[1]
+
+
+def ros_env(port: int, home: Path) -> dict[str, str]:
+    env = dict(os.environ, ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1",
+               ROS_HOME=str(home), ROS_LOG_DIR=str(home / "log"), PYTHONUNBUFFERED="1")
+    env.pop("ROS_HOSTNAME", None)
+    return env
+
+
+def wait(predicate, seconds: float, what: str) -> None:
+    deadline = time.monotonic() + seconds
+    while not predicate():
+        if time.monotonic() > deadline:
+            raise AssertionError(f"timed out waiting for {what}")
+        time.sleep(0.1)
+
+
+def stop(proc: subprocess.Popen) -> None:
+    """Ctrl-C ``proc`` (kill it after 10 s)."""
+    if proc.poll() is None:
+        proc.send_signal(signal.SIGINT)
+        try:
+            proc.wait(10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+
+
+class Ros:
+    """A roscore and an ``rlff robot serve`` on a free loopback port."""
+
+    def __init__(self, folder: Path) -> None:
+        self.port = free_port()
+        self.folder = folder
+        self.env = ros_env(self.port, folder)
+        self.core = subprocess.Popen(["roscore", "-p", str(self.port)], env=self.env,
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        self.master = xmlrpc.client.ServerProxy(self.env["ROS_MASTER_URI"])
+
+        def master_up() -> bool:
+            try:
+                return self.master.getPid("/test")[0] == 1
+            except OSError:
+                return False
+
+        wait(master_up, 60, "roscore")
+        self.server_log = folder / "serve.log"
+        with open(self.server_log, "w") as log:
+            self.server = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "serve"], env=self.env,
+                                           stdout=log, stderr=subprocess.STDOUT)
+        wait(lambda: "serving /comau_controller" in self.server_log.read_text(), 120, "rlff robot serve")
+
+    def rlff(self, *args: str, timeout: float = 120, env: dict | None = None) -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, "-m", "rlff", *args], env=env or self.env, capture_output=True,
+                              text=True, timeout=timeout)
+
+    def goal(self, folder: Path, spec: dict, *args: str) -> dict:
+        """Send a raw goal (see tests/ros1_goal.py) and return its result."""
+        path = folder / "goal.json"
+        path.write_text(json.dumps(spec))
+        done = subprocess.run([sys.executable, str(GOAL_SCRIPT), str(path), *args], env=self.env,
+                              capture_output=True, text=True, timeout=180)
+        assert done.returncode == 0, done.stdout + done.stderr
+        return json.loads(done.stdout.strip().splitlines()[-1])
+
+    def record(self, path: Path) -> subprocess.Popen:
+        """``rostopic echo -p /joint_states`` into ``path``; returns once the first state arrived."""
+        out = open(path, "w")  # noqa: SIM115 (closed by the process' end)
+        proc = subprocess.Popen(["rostopic", "echo", "-p", "/joint_states"], env=self.env, stdout=out,
+                                stderr=subprocess.DEVNULL)
+        out.close()
+        wait(lambda: path.read_text().count("\n") >= 3, 180, "/joint_states")
+        return proc
+
+    def log(self) -> str:
+        return self.server_log.read_text()
+
+    def pose(self, folder: Path) -> np.ndarray:
+        """The arm's pose (J,) now, from one recorded /joint_states message."""
+        recorder = self.record(folder / "pose.csv")
+        stop(recorder)
+        return states(folder / "pose.csv")[1][-1]
+
+    def close(self) -> None:
+        stop(self.server)
+        stop(self.core)
+
+
+def ros_fixture(tmp_path_factory):
+    """The body of a module's ``ros`` fixture: one rig for the module."""
+    rig = Ros(tmp_path_factory.mktemp("ros"))
+    yield rig
+    rig.close()
+
+
+def states(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Recorded (stamp (N,) s, positions (N, 6) rad) of /joint_states."""
+    table = pd.read_csv(path)
+    stamps = table["field.header.stamp"].to_numpy(np.int64)
+    positions = table[[f"field.position{i}" for i in range(6)]].to_numpy(float)
+    return stamps / 1e9, positions
+
+
+def peaks(stamps: np.ndarray, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Largest |velocity| and |acceleration| (J,) of a recorded motion, from divided differences.
+
+    Each state is the arm's at exactly its stamp, so for its C2 motion a first divided
+    difference is the velocity and twice a second one the acceleration at some instant between
+    the stamps (mean value theorem), whatever the spacing: neither can exceed what the motion
+    reached, and a jump of the motion shows as a huge value.
+    """
+    velocity = np.diff(positions, axis=0) / np.diff(stamps)[:, None]
+    acceleration = 2 * np.diff(velocity, axis=0) / (stamps[2:] - stamps[:-2])[:, None]
+    return np.abs(velocity).max(axis=0), np.abs(acceleration).max(axis=0)
+
+
+def human_csv(path: Path, robot_positions: np.ndarray, robot_speed: np.ndarray) -> Path:
+    """A generated-trajectory CSV whose mapped joint_2 path is ``robot_positions`` (rad) at ``robot_speed``."""
+    mapping = RobotMapping.for_robot(ROBOT)
+    angle = (robot_positions - mapping.angle_offset) / mapping.angle_scale
+    velocity = robot_speed / mapping.velocity_scale
+    pd.DataFrame({"angle": angle, "velocity": velocity, "pdf": 1.0, "exploration": 0.0,
+                  "gmr_mean": velocity}).to_csv(path, index=False)
+    return path
+
+
+def throw_csv(folder: Path, name: str, lower: float, upper: float, peak: float) -> Path:
+    """A generated throw of joint_2 from ``lower`` to ``upper`` (rad), up to ``peak`` + 0.2 rad/s."""
+    q = np.linspace(lower, upper, 30)
+    speed = np.sign(upper - lower) * (0.2 + peak * np.sin(np.linspace(0, np.pi, 30)))
+    return human_csv(folder / name, q, speed)
+
+
+def robot_file(folder: Path, name: str, edit) -> Path:
+    """A copy of the robot file, changed by ``edit`` (text to text)."""
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    path = folder / name
+    path.write_text(edit(text))
+    return path

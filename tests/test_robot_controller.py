@@ -1,0 +1,218 @@
+"""The transport-independent FollowJointTrajectory controller: goals, approaches, cancels, preemptions.
+
+The arm is ticked at 100 Hz like ``rlff robot serve``; velocities and accelerations are the
+first and second divided differences of the ticked positions. For the arm's C2 motion (quintic
+pieces) a first divided difference is the velocity and a second one (times 2) the acceleration
+at some instant between its ticks, so neither can exceed a limit unless the motion itself does;
+the one allowance, DISCRETISATION, is the motion check's relative slack for rounding.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rlff.errors import InputError
+from rlff.robot import RobotMapping, load_robot
+from rlff.robot.controller import GoalRejected, ResultCode, TrajectoryController, check_rate
+from rlff.trajectory.check import LIMIT_SLACK
+from rlff.trajectory.joint import JointTrajectory
+
+TICK = 0.01  # s, the server's default rate
+DISCRETISATION = 1 + LIMIT_SLACK
+ROBOT = load_robot()
+NAMES = ROBOT.joint_names
+VMAX = np.array([ROBOT.joint(n).max_velocity for n in NAMES])
+AMAX = np.array([ROBOT.joint(n).max_acceleration for n in NAMES])
+DRIVEN = 1  # joint_2
+
+
+@pytest.fixture
+def controller() -> TrajectoryController:
+    return TrajectoryController(ROBOT, RobotMapping.for_robot(ROBOT).pose(0.0))
+
+
+def _run(controller: TrajectoryController, start: float, stop: float, events=None):
+    """Tick from ``start`` to ``stop``: (times (N,), positions (N, J), outcomes). ``events`` maps a
+    tick index to a call made before that tick."""
+    times = start + TICK * np.arange(round((stop - start) / TICK) + 1)
+    positions, outcomes = [], []
+    for index, now in enumerate(times):
+        if events and index in events:
+            outcomes += events[index](now)
+        state, ended = controller.update(now)
+        positions.append(state.positions)
+        outcomes += ended
+    return times, np.array(positions), outcomes
+
+
+def _peaks(times: np.ndarray, positions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Largest |velocity| and |acceleration| (J,) of the ticked motion, from divided differences."""
+    velocity = np.diff(positions, axis=0) / np.diff(times)[:, None]
+    acceleration = 2 * np.diff(velocity, axis=0) / (times[2:] - times[:-2])[:, None]
+    return np.abs(velocity).max(axis=0), np.abs(acceleration).max(axis=0)
+
+
+def _within_limits(times: np.ndarray, positions: np.ndarray) -> None:
+    velocity, acceleration = _peaks(times, positions)
+    assert np.all(velocity <= VMAX * DISCRETISATION), (velocity, VMAX)
+    assert np.all(acceleration <= AMAX * DISCRETISATION), (acceleration, AMAX)
+
+
+def _goal(time, positions, velocities=None) -> JointTrajectory:
+    positions = np.atleast_2d(positions)
+    velocities = np.zeros_like(positions) if velocities is None else np.atleast_2d(velocities)
+    return JointTrajectory(NAMES, time, positions, velocities)
+
+
+def _swing(here: np.ndarray, to: float, duration: float, points: int = 40) -> JointTrajectory:
+    """joint_2 from its pose to ``to`` (rad) in ``duration`` s along a cosine, at rest at both ends."""
+    s = np.linspace(0.0, 1.0, points)
+    positions = np.tile(here, (points, 1))
+    velocities = np.zeros_like(positions)
+    positions[:, DRIVEN] = here[DRIVEN] + (to - here[DRIVEN]) * (1 - np.cos(np.pi * s)) / 2
+    velocities[:, DRIVEN] = (to - here[DRIVEN]) * np.pi * np.sin(np.pi * s) / (2 * duration)
+    return JointTrajectory(NAMES, s * duration, positions, velocities)
+
+
+def test_a_first_point_at_zero_away_from_the_arm_is_refused_and_nothing_moves(controller):
+    here = controller.state(0.0).positions
+    away = here.copy()
+    away[DRIVEN] -= 0.613
+    with pytest.raises(GoalRejected) as refused:
+        controller.submit("g", _goal([0.0, 1.0], [away, away]), now=0.0)
+    assert refused.value.code == ResultCode.PATH_TOLERANCE_VIOLATED
+    message = str(refused.value)
+    assert "joint_2 position -0.613 rad, the arm's 0 rad (0.613 rad apart, tolerance 0.001 rad)" in message
+    times, positions, outcomes = _run(controller, 0.0, 1.0)
+    assert np.ptp(positions, axis=0).max() == 0.0 and outcomes == []
+
+
+def test_a_one_point_goal_1_rad_away_is_approached_within_the_limits(controller):
+    here = controller.state(0.0).positions
+    target = here.copy()
+    target[DRIVEN] += 1.0
+    executed, preempted = controller.submit("g", _goal([0.01], target), now=0.0)
+    assert preempted == []
+    # the fastest motion within the limits: no less than 1 rad at full speed, plus speeding up
+    assert executed.duration > 1.0 / VMAX[DRIVEN] + VMAX[DRIVEN] / AMAX[DRIVEN] * 0.9
+    times, positions, outcomes = _run(controller, 0.0, executed.duration + 0.5)
+    _within_limits(times, positions)
+    np.testing.assert_allclose(positions[-1], target, atol=1e-9)
+    assert [(o.goal, o.status, o.code) for o in outcomes] == [("g", "succeeded", ResultCode.SUCCESSFUL)]
+
+
+def test_an_arm_at_rest_waits_to_reach_the_first_point_at_its_time(controller):
+    here = controller.state(0.0).positions
+    target = here.copy()
+    target[DRIVEN] += 0.1
+    executed, _ = controller.submit("g", _goal([3.0], target), now=0.0)
+    assert executed.duration < 3.0  # the limits allow it sooner
+    np.testing.assert_allclose(controller.state(2.99 - executed.duration).positions, here)
+    np.testing.assert_allclose(controller.state(3.0).positions, target, atol=1e-12)
+
+
+def test_a_first_point_within_the_tolerance_becomes_the_arm_state(controller):
+    here = controller.state(0.0).positions
+    near = here.copy()
+    near[DRIVEN] += 0.0008
+    goal = _swing(near, near[DRIVEN] + 0.5, 1.5)
+    executed, _ = controller.submit("g", goal, now=0.0)
+    np.testing.assert_array_equal(executed.positions[0], here)  # no step of 0.8 mrad in one tick
+    times, positions, _ = _run(controller, 0.0, 2.0)
+    _within_limits(times, positions)
+    np.testing.assert_allclose(positions[-1], goal.positions[-1])
+
+
+def test_cancel_brakes_within_the_limits_and_reports_once_at_rest(controller):
+    here = controller.state(0.0).positions
+    executed, _ = controller.submit("g", _swing(here, 2.0, 1.6), now=0.0)
+    cancel = {60: lambda now: controller.cancel("g", now)}  # 0.6 s in, near full speed
+    times, positions, outcomes = _run(controller, 0.0, 2.0, cancel)
+    _within_limits(times, positions)
+    moving = np.abs(np.diff(positions[:, DRIVEN])) / TICK
+    assert moving[58] > 1.5  # it was moving fast when cancelled
+    [outcome] = outcomes
+    assert (outcome.goal, outcome.status) == ("g", "cancelled")
+    assert "cancelled at 0.600 s; braked to rest from" in outcome.text
+    braked = float(outcome.text.split(" in ")[-1].removesuffix(" s"))
+    assert 0.1 < braked < 1.0
+    after = times > 0.6 + braked + TICK
+    assert np.ptp(positions[after], axis=0).max() == 0.0  # standing still, short of the end
+    assert positions[-1, DRIVEN] < executed.positions[-1, DRIVEN] - 0.2
+    assert controller.active_goal is None
+
+
+def test_a_newer_goal_preempts_from_the_moving_arm(controller):
+    here = controller.state(0.0).positions
+    controller.submit("old", _swing(here, 2.0, 1.6), now=0.0)
+    back = here.copy()
+    back[DRIVEN] = -0.3
+    newer = {60: lambda now: controller.submit("new", _goal([0.5], back), now)[1]}
+    times, positions, outcomes = _run(controller, 0.0, 4.0, newer)
+    _within_limits(times, positions)
+    assert [(o.goal, o.status) for o in outcomes] == [("old", "preempted"), ("new", "succeeded")]
+    assert outcomes[0].text.startswith("preempted by a newer goal after 0.600 s of 1.600 s")
+    assert outcomes[0].code == ResultCode.SUCCESSFUL  # FollowJointTrajectory has no preemption code
+    np.testing.assert_allclose(positions[-1], back, atol=1e-9)
+
+
+def test_a_goal_from_zero_while_the_arm_moves_is_refused_and_the_old_one_goes_on(controller):
+    here = controller.state(0.0).positions
+    old = _swing(here, 1.0, 1.6)
+    controller.submit("old", old, now=0.0)
+    state = controller.state(0.8)
+    with pytest.raises(GoalRejected, match="joint_2 velocity 0 rad/s, the arm's 0.98") as refused:
+        controller.submit("new", _goal([0.0, 1.0], [state.positions, state.positions]), now=0.8)
+    assert refused.value.code == ResultCode.PATH_TOLERANCE_VIOLATED
+    assert controller.active_goal == "old"
+    _, positions, outcomes = _run(controller, 0.8, 2.0)
+    np.testing.assert_allclose(positions[-1], old.positions[-1])
+    assert [(o.goal, o.status) for o in outcomes] == [("old", "succeeded")]
+
+
+def test_a_cancel_during_a_brake_is_ignored_and_a_goal_takes_the_brake_over(controller):
+    here = controller.state(0.0).positions
+    controller.submit("g", _swing(here, 2.0, 1.6), now=0.0)
+    _run(controller, 0.0, 0.6)
+    assert controller.cancel("g", 0.6) == []
+    assert controller.cancel("g", 0.61) == []  # already braking
+    target = here.copy()
+    target[DRIVEN] = 0.2
+    _, ended = controller.submit("h", _goal([0.1], target), now=0.65)
+    assert [(o.goal, o.status) for o in ended] == [("g", "cancelled")]
+    assert ended[0].text.endswith("the brake was taken over by a newer goal")
+
+
+@pytest.mark.parametrize(("goal", "code", "message"), [
+    (JointTrajectory(("elbow",), [0.0], [[0.0]], [[0.0]]), ResultCode.INVALID_JOINTS, "unknown joints"),
+    (JointTrajectory(("joint_2",), [0.5, 1.0], [[0.0], [3.5]], [[0.0], [0.0]]), ResultCode.INVALID_GOAL,
+     "point 1 .*: joint_2 position 3.5 rad beyond the limit 2.71 rad"),
+    (JointTrajectory(("joint_2",), [0.5, 2.0], [[0.0], [0.5]], [[0.0], [0.5]]), ResultCode.INVALID_GOAL,
+     "ends with joint_2 velocity 0.5 rad/s, not at rest"),
+])
+def test_goals_beyond_the_robot_are_refused_with_their_codes(controller, goal, code, message):
+    with pytest.raises(GoalRejected, match=message) as refused:
+        controller.submit("g", goal, now=0.0)
+    assert refused.value.code == code
+
+
+def test_a_goal_leaving_out_a_moving_joint_is_refused(controller):
+    here = controller.state(0.0).positions
+    controller.submit("old", _swing(here, 1.0, 1.6), now=0.0)
+    partial = JointTrajectory(("joint_1",), [0.5], [[0.2]], [[0.0]])
+    with pytest.raises(GoalRejected, match="leaves out joint_2, which is moving at 0.98"):
+        controller.submit("new", partial, now=0.8)
+
+
+def test_a_goal_that_ended_before_its_receipt_is_old(controller):
+    here = controller.state(0.0).positions
+    with pytest.raises(GoalRejected, match="ended at 11.000 s, before its receipt at 20.000 s") as refused:
+        controller.submit("g", _goal([0.0, 1.0], [here, here]), now=20.0, start=10.0)
+    assert refused.value.code == ResultCode.OLD_HEADER_TIMESTAMP
+
+
+@pytest.mark.parametrize("rate", [0.0, -5.0, float("nan"), float("inf")])
+def test_a_rate_must_be_a_positive_number(rate):
+    with pytest.raises(InputError, match="--rate must be a positive number of ticks per second"):
+        check_rate(rate)
