@@ -64,3 +64,12 @@ def test_bad_layouts_are_refused():
     pose = {k: v for k, v in START.items() if k != "joint_6"}
     with pytest.raises(InputError, match="six slots; robot five has 5 joints"):
         comau_rows(traj.select(five.joint_names), RobotMapping(five, "joint_2", pose, 0.0, 1.0, 1.0))
+
+
+def test_a_trajectory_moving_a_joint_the_program_cannot_carry_is_refused():
+    traj, mapping = known_trajectory()
+    positions = traj.positions.copy()
+    positions[:, 0] = [0.0, 0.1, 0.2]
+    moving = JointTrajectory(traj.joint_names, traj.time, positions, traj.velocities)
+    with pytest.raises(InputError, match="carries the motion of joint_2 only; this trajectory also moves joint_1"):
+        comau_rows(moving, mapping)

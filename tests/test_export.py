@@ -94,3 +94,34 @@ def test_foreign_json_is_refused(tmp_path):
     (tmp_path / "x.json").write_text('{"format": "other"}')
     with pytest.raises(InputError, match="not an rlff-joint-trajectory file"):
         read_json(tmp_path / "x.json")
+
+
+def _header_stamps(path) -> list[tuple[int, int]]:
+    from rosbags.typesys import Stores, get_typestore
+
+    ros1 = not path.is_dir()
+    typestore = get_typestore(Stores.ROS1_NOETIC if ros1 else Stores.ROS2_HUMBLE)
+    stamps = []
+    with (Ros1Reader(path) if ros1 else Ros2Reader(path)) as reader:
+        for connection, _, raw in reader.messages():
+            message = (typestore.deserialize_ros1 if ros1 else typestore.deserialize_cdr)(raw, connection.msgtype)
+            stamps.append((message.header.stamp.sec, message.header.stamp.nanosec))
+    return stamps
+
+
+@pytest.mark.parametrize("writer, name", [(write_ros1_bag, "t.bag"), (write_ros2_bag, "bag2")])
+def test_bags_stamp_the_header_zero_unless_asked(traj, tmp_path, writer, name):
+    """ROS convention: header.stamp 0 = start on receipt; the bag's record time stays the given one."""
+    writer(traj, tmp_path / name, stamp_ns=1_700_000_000_000_000_000)
+    assert _header_stamps(tmp_path / name) == [(0, 0)]
+    writer(traj, tmp_path / f"asked-{name}", stamp_ns=7, header_stamp_ns=2_000_000_003)
+    assert _header_stamps(tmp_path / f"asked-{name}") == [(2, 3)]
+
+
+def test_json_carries_the_release_time(traj, tmp_path):
+    thrown = JointTrajectory(traj.joint_names, traj.time, traj.positions, traj.velocities, traj.accelerations,
+                             release_time=0.5)
+    write_json(thrown, tmp_path / "t.json")
+    assert read_json(tmp_path / "t.json").release_time == 0.5
+    write_json(traj, tmp_path / "none.json")
+    assert read_json(tmp_path / "none.json").release_time is None

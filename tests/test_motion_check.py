@@ -8,7 +8,7 @@ import pytest
 from rlff.errors import InputError
 from rlff.robot.description import load_robot
 from rlff.robot.mapping import RobotMapping
-from rlff.trajectory.check import MotionLimitError, check_trajectory
+from rlff.trajectory.check import MotionLimitError, check_trajectory, violation_counts
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.planner import plan_throw
 
@@ -102,3 +102,25 @@ def test_it_must_start_where_the_arm_is_and_end_at_rest(planned):
                              planned.velocities[cut], planned.accelerations[cut])
     with pytest.raises(MotionLimitError, match=r"the trajectory ends with joint_2 velocity 2.4 rad/s, not at rest"):
         check_trajectory(moving, ROBOT.joints)
+
+
+def test_violation_counts_count_what_the_check_refuses(planned):
+    assert violation_counts(planned, ROBOT.joints) == {
+        "disagreement": 0, "position": 0, "velocity": 0, "acceleration": 0, "end moving": 0}
+    slowed = violation_counts(altered(planned, velocities=planned.velocities * 0.8), ROBOT.joints)
+    assert slowed["disagreement"] > 0 and slowed["end moving"] == 0
+    cut = planned.time <= planned.release_time
+    moving = JointTrajectory(planned.joint_names, planned.time[cut], planned.positions[cut],
+                             planned.velocities[cut], planned.accelerations[cut])
+    assert violation_counts(moving, ROBOT.joints)["end moving"] == 1
+
+
+def test_a_joint_moving_alone_is_checked_between_points_like_any():
+    """The quintic is computed for moving joints only: a held joint copies, a moving one is checked."""
+    for column in (0, 3):
+        positions = np.tile(MAPPING.pose(), (2, 1))
+        positions[1, column] += 0.1
+        traj = JointTrajectory(ROBOT.joint_names, [0.0, 0.2], positions, np.zeros_like(positions))
+        counts = violation_counts(traj, ROBOT.joints)
+        expected = 5.77 * 0.1 / 0.2**2 > ROBOT.joints[column].max_acceleration  # quintic peak 14.4 rad/s^2
+        assert (counts["acceleration"] > 0) == expected

@@ -300,6 +300,7 @@ class Model:
             "n_init": n_init,
             "reg_covar": reg_covar,
             "context_resolution": resolution,
+            "release": _typical_release(data, inputs[0]),
         }
         input_range = {name: (float(X[:, j].min()), float(X[:, j].max())) for j, name in enumerate(inputs)}
         return cls(mixture, inputs, outputs, input_range, selection, fit_info)
@@ -340,7 +341,10 @@ class Model:
         context : mapping of str to float
             A value for every input but the first (e.g. ``{"distance": 2.5}``).
         angles : array of shape (T,), optional
-            Values of the first input, monotonic; default 100 points over the data's range.
+            Values of the first input, monotonic; default 100 points from the data's range end
+            farthest from the demonstrations' typical release to that release (``fit_info
+            ["release"]``, see :func:`_typical_release`), or over the data's whole range when
+            the model does not know it (fitted to an array, or an older model.json).
         exploration : "auto", float or array of shape (T,)
             See :func:`rlff.donut.dmm_mode`.
         exploration_scale : float
@@ -355,8 +359,7 @@ class Model:
         values = _context_values(context, self.context_names)
         first = self.inputs[0]
         if angles is None:
-            lo, hi = self.input_range[first]
-            angles = np.linspace(lo, hi, DEFAULT_POINTS)
+            angles = self.default_path()
         angles = np.asarray(angles, dtype=float).reshape(-1)
         if angles.size == 0:
             raise InputError(f"no {first} values to generate at")
@@ -392,6 +395,21 @@ class Model:
             context=dict(zip(self.context_names, values, strict=True)),
             notes=tuple(notes),
         )
+
+    def default_path(self) -> np.ndarray:
+        """The default values (T,) of the path variable :meth:`generate` uses: up to the release.
+
+        From the end of the fitted range farthest from the demonstrations' typical release to
+        that release, :data:`DEFAULT_POINTS` points (the whole range without a known release):
+        a generated throw then ends where the demonstrations let go of the ball, not beyond.
+        """
+        lo, hi = self.input_range[self.inputs[0]]
+        release = self.fit_info.get("release") or {}
+        end = release.get("value")
+        if not isinstance(end, int | float) or not lo < end <= hi or isinstance(end, bool):
+            return np.linspace(lo, hi, DEFAULT_POINTS)
+        start = lo if end - lo >= hi - end else hi
+        return np.linspace(start, float(end), DEFAULT_POINTS)
 
     # -- persistence -------------------------------------------------------------------------
     def to_dict(self) -> dict[str, Any]:
@@ -444,6 +462,44 @@ def compile_kernels() -> None:
     """
     mixture = GaussianMixture.from_parameters(np.array([0.5, 0.5]), np.array([[0.0, 0.0], [1.0, 2.0]]), np.array([np.eye(2)] * 2))
     dmm_mode(condition(mixture, [0], [1], np.array([[0.5]])))
+
+
+def _release_of(trajectory, column: str) -> tuple[float, str]:
+    """One demonstration's release value of ``column`` and where it comes from.
+
+    In order: ``cut_angle`` metadata (the preprocessing cut the throw at its release), the value
+    at the ``release_time`` metadata along the ``time`` column, ``release_angle`` metadata
+    within the samples, else the last sample (a segmented throw ends at its release).
+    """
+    values = trajectory[column]
+    meta = trajectory.meta
+    if column == "angle" and isinstance(meta.get("cut_angle"), int | float):
+        return float(meta["cut_angle"]), "cut_angle"
+    release_time = meta.get("release_time")
+    if isinstance(release_time, int | float) and "time" in trajectory.columns:
+        time = trajectory["time"]
+        if values.size > 1 and np.all(np.diff(time) > 0) and time[0] <= release_time <= time[-1]:
+            return float(np.interp(release_time, time, values)), "release_time"
+    release_angle = meta.get("release_angle")
+    if column == "angle" and isinstance(release_angle, int | float) and values.min() <= release_angle <= values.max():
+        return float(release_angle), "release_angle"
+    return float(values[-1]), "last sample"
+
+
+def _typical_release(data: Dataset | np.ndarray, column: str) -> dict[str, Any] | None:
+    """The demonstrations' typical release of the path variable: the median over the throws.
+
+    ``{"value": median, "sources": {source: count}}`` (see :func:`_release_of`), or None for an
+    array (no throws to tell apart). The median, not the mean: a few throws segmented late (a
+    follow-through kept) must not carry the generated throw past where most let go.
+    """
+    if not isinstance(data, Dataset) or len(data) == 0:
+        return None
+    found = [_release_of(trajectory, column) for trajectory in data]
+    sources: dict[str, int] = {}
+    for _, source in found:
+        sources[source] = sources.get(source, 0) + 1
+    return {"value": float(np.median([value for value, _ in found])), "sources": sources}
 
 
 def _effective_samples(data: Dataset | np.ndarray, weights: np.ndarray, setting: str | float | None) -> float | None:

@@ -160,10 +160,14 @@ def generate_command(
     model_path: Path = typer.Argument(..., metavar="MODEL", help="model.json from rlff fit."),
     output: Path = typer.Option(..., "--output", "-o", help="Trajectory CSV to write."),
     context: list[str] = typer.Option([], "--context", "-c", help="Context value NAME=VALUE (repeat for several), e.g. distance=2.5."),
-    grid: str | None = typer.Option(None, "--grid", help="Path grid NAME=START:STOP:N; default 100 points over the data's range."),
+    grid: str | None = typer.Option(None, "--grid", help="Path grid NAME=START:STOP:N; default 100 points up to the "
+                                                       "demonstrations' typical release (the model records it), "
+                                                       "or over the data's range if it does not know it."),
     exploration: str = typer.Option("auto", "--exploration", help="auto (from the GMR variance), or a fixed factor in [0, 1]; 0 gives the GMR."),
     exploration_scale: float = typer.Option(1.0, "--exploration-scale", help="Spread of the demonstrations (output units) that counts as large."),
-    continuity: bool = typer.Option(False, "--continuity", help="Keep the output continuous where modes are nearly equally high (within 5 %)."),
+    continuity: bool = typer.Option(True, "--continuity/--no-continuity",
+                                    help="Keep the output continuous where modes are nearly equally high (within 5 %): "
+                                         "no jumps between donut sides (default on: a robot can follow it)."),
     as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
 ) -> None:
     """Generate a path: for every angle, the velocity of highest Donut Mixture density."""

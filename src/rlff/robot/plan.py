@@ -57,7 +57,7 @@ def _require_unclipped(report: ClipReport, last: int) -> None:
     """Without ``clip``: refuse a path beyond a position limit or a release beyond a limit.
 
     Velocities elsewhere along the path are not executed (the planner times the throw within
-    the limits, never faster than the model's peak), so only the release's count.
+    the limits, never faster than the release), so only the release's count.
     """
     faults = [change for change in report.changes if change.quantity == "position" or change.point == last]
     if not faults:

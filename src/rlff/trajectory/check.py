@@ -84,12 +84,20 @@ def _check_points(traj: JointTrajectory, values: dict[str, np.ndarray], lower: n
 def _quintic(traj: JointTrajectory, fractions: np.ndarray) -> tuple[np.ndarray, ...]:
     """Position, velocity, acceleration of the quintic through every step at ``fractions``.
 
-    Returns three arrays of shape (T - 1, F, J): step, instant, joint.
+    Returns three arrays of shape (T - 1, F, J): step, instant, joint. A joint that holds still
+    (one position, no velocity or acceleration) is its own quintic: it is copied, not computed.
     """
+    steps, joints = len(traj) - 1, len(traj.joint_names)
+    position = np.broadcast_to(traj.positions[0], (steps, fractions.size, joints)).copy()
+    velocity = np.zeros_like(position)
+    acceleration = np.zeros_like(position)
+    moving = np.flatnonzero((np.ptp(traj.positions, axis=0) > 0) | np.any(traj.velocities != 0, axis=0)
+                            | np.any(traj.accelerations != 0, axis=0))
+    if moving.size == 0:
+        return position, velocity, acceleration
     h = np.diff(traj.time)[:, None]
-    p0, p1 = traj.positions[:-1], traj.positions[1:]
-    v0, v1 = traj.velocities[:-1], traj.velocities[1:]
-    a0, a1 = traj.accelerations[:-1], traj.accelerations[1:]
+    q, v, a = (array[:, moving] for array in (traj.positions, traj.velocities, traj.accelerations))
+    p0, p1, v0, v1, a0, a1 = q[:-1], q[1:], v[:-1], v[1:], a[:-1], a[1:]
     dp = p1 - p0
     c3 = (20 * dp - (8 * v1 + 12 * v0) * h - (3 * a0 - a1) * h**2) / (2 * h**3)
     c4 = (-30 * dp + (14 * v1 + 16 * v0) * h + (3 * a0 - 2 * a1) * h**2) / (2 * h**4)
@@ -97,10 +105,45 @@ def _quintic(traj: JointTrajectory, fractions: np.ndarray) -> tuple[np.ndarray, 
     t = fractions[None, :, None] * h[:, :, None]
     c2 = a0[:, None] / 2
     c3, c4, c5 = c3[:, None], c4[:, None], c5[:, None]
-    position = p0[:, None] + t * (v0[:, None] + t * (c2 + t * (c3 + t * (c4 + t * c5))))
-    velocity = v0[:, None] + t * (2 * c2 + t * (3 * c3 + t * (4 * c4 + t * 5 * c5)))
-    acceleration = 2 * c2 + t * (6 * c3 + t * (12 * c4 + t * 20 * c5))
+    position[:, :, moving] = p0[:, None] + t * (v0[:, None] + t * (c2 + t * (c3 + t * (c4 + t * c5))))
+    velocity[:, :, moving] = v0[:, None] + t * (2 * c2 + t * (3 * c3 + t * (4 * c4 + t * 5 * c5)))
+    acceleration[:, :, moving] = 2 * c2 + t * (6 * c3 + t * (12 * c4 + t * 20 * c5))
     return position, velocity, acceleration
+
+
+def violation_counts(traj: JointTrajectory, joints: Sequence[JointLimits]) -> dict[str, int]:
+    """How many values of ``traj`` break each rule of :func:`check_trajectory` (0 everywhere: it passes
+    the limits), for reports and benchmarks that count rather than refuse.
+
+    Returns
+    -------
+    dict of str to int
+        ``"position"``, ``"velocity"``, ``"acceleration"``: values beyond the limit at the points
+        and at the inner instants of the quintic interpolation; ``"disagreement"``: steps whose
+        time, positions and velocities disagree; ``"end moving"``: joints not at rest at the end
+        (velocity above :data:`VELOCITY_TOLERANCE` or acceleration above
+        :data:`ACCELERATION_TOLERANCE`).
+    """
+    limits = motion_limits(joints, traj.joint_names)
+    values = {"position": [traj.positions], "velocity": [traj.velocities], "acceleration": [traj.accelerations]}
+    counts = {"disagreement": 0}
+    if len(traj) > 1:
+        dt = np.diff(traj.time)[:, None]
+        said = dt * 0.5 * (traj.velocities[:-1] + traj.velocities[1:])
+        allowed = limits.acceleration * dt**2 / 4 * (1 + LIMIT_SLACK) + 1e-9
+        counts["disagreement"] = int(np.count_nonzero(np.abs(np.diff(traj.positions, axis=0) - said) > allowed))
+        inner = _quintic(traj, np.arange(1, SUBDIVISIONS) / SUBDIVISIONS)
+        for quantity, array in zip(values, inner, strict=True):
+            values[quantity].append(array.reshape(-1, len(traj.joint_names)))
+    bounds = {"position": (limits.lower, limits.upper), "velocity": (-limits.velocity, limits.velocity),
+              "acceleration": (-limits.acceleration, limits.acceleration)}
+    for quantity, arrays in values.items():
+        low, high = bounds[quantity]
+        slack = LIMIT_SLACK * np.maximum(np.maximum(np.abs(low), np.abs(high)), 1.0)
+        counts[quantity] = int(sum(np.count_nonzero((a < low - slack) | (a > high + slack)) for a in arrays))
+    counts["end moving"] = int(np.count_nonzero((np.abs(traj.velocities[-1]) > VELOCITY_TOLERANCE)
+                                                | (np.abs(traj.accelerations[-1]) > ACCELERATION_TOLERANCE)))
+    return counts
 
 
 def check_trajectory(

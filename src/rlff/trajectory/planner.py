@@ -7,7 +7,10 @@ in closed form, in microseconds):
 1. approach: from ``start`` (the arm's pose, at rest) to the throw's first pose, at rest;
 2. the throw: from the first pose at rest to the release, reaching exactly the release
    position and velocity the model asked (its last point), with zero acceleration there, never
-   faster than the model's own peak speed of each joint;
+   faster than the release speed of each joint (it accelerates into the release, or reaches the
+   release speed early and holds it: the servos are settled when the ball goes); a path too short to reach the release
+   speed from rest within the limits is preceded by a wind-up (the arm backs up first), refused
+   like any motion that would leave a position limit;
 3. braking: from the release to rest, within the position limits; a throw with no room to brake
    is refused, naming the joint and the numbers.
 
@@ -19,14 +22,17 @@ the ball's flight depends on is the release state alone, which is kept exactly. 
 acceleration: its profiles switch acceleration instantly (unbounded jerk), so it is the peer of
 ``benchmarks/motion.py``, not the planner.
 
-Every phase is sampled at the controller ``period`` (plus its end), with positions, velocities
-and accelerations of ruckig's profile, so the samples and the controller's quintic interpolation
-between them are the profile itself.
+Every phase lasts a whole number of controller periods (ruckig's discrete durations) and is
+sampled at every period with the positions, velocities and accelerations of ruckig's profile:
+the samples are evenly spaced, the release falls on the controller's clock, and the
+controller's quintic interpolation between two samples is the profile itself up to ~0.02 % of
+the acceleration (hence :data:`MARGIN`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from itertools import chain
 
 import numpy as np
 
@@ -35,7 +41,6 @@ from rlff.trajectory.check import MotionLimitError
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import JointLimits
 from rlff.trajectory.motion_limits import MotionLimits, motion_limits
-from rlff.trajectory.resample import sample_times
 
 #: Controller period (s) a plan is sampled at unless told otherwise.
 DEFAULT_PERIOD = 0.002
@@ -63,33 +68,61 @@ def _period(period: float | None) -> float:
 
 def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_position,
             target_velocity, max_velocity: np.ndarray | None, period: float) -> JointTrajectory:
-    """Sample ruckig's time-optimal profile between two states at ``period`` s."""
-    from ruckig import ControlInterface, InputParameter, Result, Ruckig, Trajectory
+    """Sample ruckig's time-optimal profile between two states at ``period`` s.
 
-    size = len(limits.names)
+    Joints already at their target and at rest stay out of ruckig (they hold still whatever the
+    others do): fewer degrees of freedom to solve and to sample.
+    """
+    from ruckig import (
+        ControlInterface,
+        DurationDiscretization,
+        InputParameter,
+        Result,
+        Ruckig,
+        Trajectory,
+    )
+
+    held = (velocity == 0) & (acceleration == 0) & (target_velocity == 0)
+    if target_position is not None:
+        held &= target_position == position
+    moving = np.flatnonzero(~held)
+    if moving.size == 0:
+        zero = np.zeros((1, position.size))
+        return JointTrajectory(limits.names, np.zeros(1), position[None], zero, zero)
+    size = moving.size
     request = InputParameter(size)
-    request.current_position = position.tolist()
-    request.current_velocity = velocity.tolist()
-    request.current_acceleration = acceleration.tolist()
-    request.target_velocity = target_velocity.tolist()
+    request.current_position = position[moving].tolist()
+    request.current_velocity = velocity[moving].tolist()
+    request.current_acceleration = acceleration[moving].tolist()
+    request.target_velocity = target_velocity[moving].tolist()
     request.target_acceleration = [0.0] * size
     if target_position is None:
         request.control_interface = ControlInterface.Velocity
-        request.target_position = position.tolist()
+        request.target_position = position[moving].tolist()
     else:
-        request.target_position = target_position.tolist()
+        request.target_position = target_position[moving].tolist()
     speed = MARGIN * limits.velocity if max_velocity is None else max_velocity
-    request.max_velocity = np.maximum(speed, np.abs(target_velocity)).tolist()
-    request.max_acceleration = (MARGIN * limits.acceleration).tolist()
-    request.max_jerk = limits.jerk.tolist()
+    request.max_velocity = np.maximum(speed, np.abs(target_velocity))[moving].tolist()
+    request.max_acceleration = (MARGIN * limits.acceleration[moving]).tolist()
+    request.max_jerk = limits.jerk[moving].tolist()
+    # a whole number of periods: every sample (a phase's end, the release) falls on the
+    # controller's clock, and the last step is no shorter than the others
+    request.duration_discretization = DurationDiscretization.Discrete
     profile = Trajectory(size)
-    result = Ruckig(size).calculate(request, profile)
+    result = Ruckig(size, period).calculate(request, profile)
     if result not in (Result.Working, Result.Finished):
         raise InputError(f"ruckig cannot plan the motion from {position.tolist()} rad at "
                          f"{velocity.tolist()} rad/s to {request.target_position} rad at "
                          f"{target_velocity.tolist()} rad/s ({result.name})")
-    time = sample_times(profile.duration, period) if profile.duration > 0 else np.zeros(1)
-    states = np.array([profile.at_time(float(t)) for t in time])  # (N, 3, J)
+    steps = round(profile.duration / period)
+    time = np.arange(steps + 1) * period
+    # (N, 3, size): position, velocity, acceleration; flattened by chain, far faster than
+    # numpy's conversion of nested lists
+    flat = chain.from_iterable(chain.from_iterable(profile.at_time(t) for t in time.tolist()))
+    sampled = np.fromiter(flat, float, count=time.size * 3 * size).reshape(time.size, 3, size)
+    states = np.zeros((time.size, 3, position.size))
+    states[:, 0] = position
+    states[:, :, moving] = sampled
     # the arrival is the target state by definition: drop ruckig's last-bit rounding (1e-16)
     states[-1, 1], states[-1, 2] = target_velocity, 0.0
     if target_position is not None:
@@ -220,8 +253,8 @@ def plan_throw(
     throw : JointTrajectory
         The model's throw mapped to the robot: T >= 2 points of J joints; its first point is the
         throw's start pose, its last the release (position (rad) and velocity (rad/s) kept
-        exactly). Its times and accelerations are not used; its velocities cap each joint's speed
-        in the throw (never faster than the model's peak).
+        exactly). Its times, accelerations and inner velocities are not used: each joint moves
+        no faster than its release speed (a joint released at rest: than its peak in ``throw``).
     joints : sequence of JointLimits
         The robot's joints (a superset of ``throw``'s, any order) with all four limits.
     start : array of shape (J,), optional
@@ -264,8 +297,11 @@ def plan_throw(
     phases = []
     if np.any(np.abs(start - first) > 0):
         phases.append(plan_transition(start, rest, rest, first, rest, moved, period=period))
-    peak = np.max(np.abs(throw.velocities), axis=0)
-    cap = np.where(peak > 1e-6, np.minimum(peak, MARGIN * limits.velocity), MARGIN * limits.velocity)
+    # never faster than the release (a joint released at rest: than its peak in the model): the
+    # throw accelerates into the release, or cruises at the release speed when it got there early
+    release_speed, peak = np.abs(release_velocity), np.max(np.abs(throw.velocities), axis=0)
+    cap = np.where(release_speed > 1e-6, release_speed, np.where(peak > 1e-6, peak, limits.velocity))
+    cap = np.minimum(cap, MARGIN * limits.velocity)
     throwing = _ruckig(limits, first, rest, rest, release, release_velocity, cap, period)
     _require_inside(throwing, limits, "the throw (start to release)")
     phases.append(throwing)
