@@ -123,6 +123,7 @@ def learn(
     pedestal: float = 0.0,
     rim_height: float = 0.3,
     opening: float = 0.35,
+    executed_on: str = "sim",
 ) -> LearningResult:
     """Learn to hit a basket at distance ``basket`` from (possibly failed) demonstrations.
 
@@ -154,6 +155,9 @@ def learn(
         Robot name or robot file; its ``[throwing]`` table is the mapping.
     pedestal, rim_height, opening : float
         Height of the robot's base, of the basket's rim, and the basket's inner width (m).
+    executed_on : str
+        What ``executor`` runs the throws on (``sim``, ``ros1``, ``ros2``): a log resumes only
+        on the same (a run in simulation writes no such field, so older logs resume).
 
     Returns
     -------
@@ -196,6 +200,8 @@ def learn(
         "pedestal": pedestal,
         "demos": fingerprint(demos),
     }
+    if executed_on != "sim":
+        run["executor"] = executed_on
     log = AttemptLog(log_path, run) if log_path is not None else None
     history = list(log.contents.attempts) if log else []
     resumed = len(history)

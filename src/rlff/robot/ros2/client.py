@@ -46,15 +46,21 @@ class ServerUnavailable(RlffError):
     """No FollowJointTrajectory server answered in time."""
 
 
-class _Session:
-    """A context, a node and an executor spinning in a thread, for one call."""
+class Connection:
+    """A node of its own (context, node, executor spinning in a thread) that talks to the arm.
 
-    def __init__(self, name: str) -> None:
+    One call of :func:`arm_state` or :func:`send_goal` opens one; the learning loop keeps one for
+    a whole run (it also listens for the landings a vision system publishes).
+    """
+
+    def __init__(self, name: str = "rlff_send", action: str = ACTION_NAME) -> None:
+        self.action = action
         self.context = rclpy.Context()
         rclpy.init(context=self.context)
         self.node = make_node(name, self.context)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
+        self._client: ActionClient | None = None
         self._thread = threading.Thread(target=self._spin, daemon=True)
         self._thread.start()
 
@@ -65,7 +71,12 @@ class _Session:
             pass
 
     def now(self) -> float:
+        """ROS time (s)."""
         return self.node.get_clock().now().nanoseconds * 1e-9
+
+    def subscribe(self, msg_type, topic: str, callback: Callable) -> None:
+        """Call ``callback(message)`` for every message on ``topic`` (from the executor's thread)."""
+        self.node.create_subscription(msg_type, topic, callback, 10)
 
     def close(self) -> None:
         self.executor.shutdown(timeout_sec=1.0)
@@ -73,6 +84,92 @@ class _Session:
         if self.context.ok():
             rclpy.shutdown(context=self.context)
         self._thread.join(timeout=2.0)
+
+    def __enter__(self) -> Connection:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def arm_state(self, robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order,
+        from the next /joint_states message.
+
+        Raises
+        ------
+        ServerUnavailable
+            Nothing on /joint_states within ``timeout`` s (default 10).
+        InputError
+            The message leaves out a joint of ``robot``.
+        """
+        deadline = time.monotonic() + (timeout if timeout is not None else CONNECT_TIMEOUT)
+        received: list[JointState] = []
+        subscription = self.node.create_subscription(JointState, JOINT_STATES, received.append, 1)
+        try:
+            while not received:
+                if time.monotonic() >= deadline:
+                    raise ServerUnavailable(f"nothing on {JOINT_STATES}: the arm's pose is unknown (is `rlff robot "
+                                            "serve --ros 2` running, with the same ROS_DOMAIN_ID?)")
+                time.sleep(0.01)
+        finally:
+            self.node.destroy_subscription(subscription)
+        msg = received[0]
+        names = list(msg.name)
+        missing = [name for name in robot.joint_names if name not in names]
+        if missing:
+            raise InputError(f"{JOINT_STATES} has no position of {', '.join(missing)} (it names {', '.join(names)})")
+        index = [names.index(name) for name in robot.joint_names]
+        velocities = np.asarray(msg.velocity, dtype=float)
+        return (np.asarray(msg.position, dtype=float)[index],
+                velocities[index] if velocities.size == len(names) else np.zeros(len(index)))
+
+    def send_goal(self, robot: Robot, traj: JointTrajectory, pose: np.ndarray, timeout: float | None = None,
+                  on_feedback: Callable[[float], None] | None = None) -> SendResult:
+        """:func:`send_goal` on this connection."""
+        check_goal(robot, traj, goal_start(robot, traj, pose))
+        deadline = time.monotonic() + (timeout if timeout is not None else CONNECT_TIMEOUT)
+        if self._client is None:
+            self._client = ActionClient(self.node, FollowJointTrajectory, self.action)
+        client = self._client
+        if not client.wait_for_server(timeout_sec=max(0.01, deadline - time.monotonic())):
+            raise ServerUnavailable(f"no action server at {self.action} (is `rlff robot serve --ros 2` running, "
+                                    "with the same ROS_DOMAIN_ID and discovery range?)")
+        if timeout is None:
+            deadline = time.monotonic() + START_LEAD + traj.duration + CONNECT_TIMEOUT
+        received = 0
+
+        def feedback(message) -> None:
+            nonlocal received
+            received += 1
+            if on_feedback:
+                on_feedback(seconds(message.feedback.desired.time_from_start))
+
+        start = self.now() + START_LEAD
+        goal = FollowJointTrajectory.Goal(trajectory=to_msg(traj, start))
+        handle = None
+        try:
+            sent = client.send_goal_async(goal, feedback_callback=feedback)
+            if not _wait(sent, deadline):
+                return SendResult("timed out", None, None, "timed out before the server accepted the goal", start,
+                                  traj.duration, received)
+            handle = sent.result()
+            if not handle.accepted:
+                return SendResult("rejected", None, None, "the server rejected the goal", start, traj.duration,
+                                  received)
+            answer = handle.get_result_async()
+            if not _wait(answer, deadline):
+                _cancel(handle)
+                return SendResult("timed out", None, None, "timed out; goal cancelled", start, traj.duration,
+                                  received)
+        except KeyboardInterrupt:
+            if handle is not None and handle.accepted:
+                _cancel(handle)
+            raise
+        outcome = answer.result()
+        code = int(outcome.result.error_code)
+        status = _STATES.get(outcome.status, "lost")
+        name = None if code == 0 and status != "succeeded" else ERROR_NAMES.get(code)
+        return SendResult(status, code, name, outcome.result.error_string, start, traj.duration, received)
 
 
 def _wait(future, deadline: float) -> bool:
@@ -84,37 +181,10 @@ def _wait(future, deadline: float) -> bool:
 
 
 def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order,
-    from one /joint_states message.
-
-    Raises
-    ------
-    ServerUnavailable
-        Nothing on /joint_states within ``timeout`` s (default 10).
-    InputError
-        The message leaves out a joint of ``robot``.
-    """
-    deadline = time.monotonic() + (timeout if timeout is not None else CONNECT_TIMEOUT)
-    session = _Session("rlff_arm_state")
-    received: list[JointState] = []
-    try:
-        session.node.create_subscription(JointState, JOINT_STATES, received.append, 1)
-        while not received:
-            if time.monotonic() >= deadline:
-                raise ServerUnavailable(f"nothing on {JOINT_STATES}: the arm's pose is unknown (is `rlff robot "
-                                        "serve --ros 2` running, with the same ROS_DOMAIN_ID?)")
-            time.sleep(0.01)
-    finally:
-        session.close()
-    msg = received[0]
-    names = list(msg.name)
-    missing = [name for name in robot.joint_names if name not in names]
-    if missing:
-        raise InputError(f"{JOINT_STATES} has no position of {', '.join(missing)} (it names {', '.join(names)})")
-    index = [names.index(name) for name in robot.joint_names]
-    velocities = np.asarray(msg.velocity, dtype=float)
-    return (np.asarray(msg.position, dtype=float)[index],
-            velocities[index] if velocities.size == len(names) else np.zeros(len(index)))
+    """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order, from
+    one /joint_states message (:meth:`Connection.arm_state` on a connection of its own)."""
+    with Connection("rlff_arm_state") as connection:
+        return connection.arm_state(robot, timeout)
 
 
 def send_goal(
@@ -153,51 +223,8 @@ def send_goal(
         After cancelling the goal.
     """
     check_goal(robot, traj, goal_start(robot, traj, pose))
-    deadline = time.monotonic() + (timeout if timeout is not None else CONNECT_TIMEOUT)
-    session = _Session("rlff_send")
-    try:
-        client = ActionClient(session.node, FollowJointTrajectory, action)
-        if not client.wait_for_server(timeout_sec=max(0.01, deadline - time.monotonic())):
-            raise ServerUnavailable(f"no action server at {action} (is `rlff robot serve --ros 2` running, "
-                                    "with the same ROS_DOMAIN_ID and discovery range?)")
-        if timeout is None:
-            deadline = time.monotonic() + START_LEAD + traj.duration + CONNECT_TIMEOUT
-        received = 0
-
-        def feedback(message) -> None:
-            nonlocal received
-            received += 1
-            if on_feedback:
-                on_feedback(seconds(message.feedback.desired.time_from_start))
-
-        start = session.now() + START_LEAD
-        goal = FollowJointTrajectory.Goal(trajectory=to_msg(traj, start))
-        handle = None
-        try:
-            sent = client.send_goal_async(goal, feedback_callback=feedback)
-            if not _wait(sent, deadline):
-                return SendResult("timed out", None, None, "timed out before the server accepted the goal", start,
-                                  traj.duration, received)
-            handle = sent.result()
-            if not handle.accepted:
-                return SendResult("rejected", None, None, "the server rejected the goal", start, traj.duration,
-                                  received)
-            answer = handle.get_result_async()
-            if not _wait(answer, deadline):
-                _cancel(handle)
-                return SendResult("timed out", None, None, "timed out; goal cancelled", start, traj.duration,
-                                  received)
-        except KeyboardInterrupt:
-            if handle is not None and handle.accepted:
-                _cancel(handle)
-            raise
-        outcome = answer.result()
-        code = int(outcome.result.error_code)
-        status = _STATES.get(outcome.status, "lost")
-        name = None if code == 0 and status != "succeeded" else ERROR_NAMES.get(code)
-        return SendResult(status, code, name, outcome.result.error_string, start, traj.duration, received)
-    finally:
-        session.close()
+    with Connection("rlff_send", action) as connection:
+        return connection.send_goal(robot, traj, pose, timeout, on_feedback)
 
 
 def _cancel(handle) -> None:
