@@ -94,7 +94,7 @@ def stop(proc: subprocess.Popen) -> None:
 class Ros:
     """A roscore and an ``rlff robot serve`` on a free loopback port."""
 
-    def __init__(self, folder: Path) -> None:
+    def __init__(self, folder: Path, *serve_args: str) -> None:
         self.port = free_port()
         self.folder = folder
         self.env = ros_env(self.port, folder)
@@ -111,8 +111,8 @@ class Ros:
         wait(master_up, 60, "roscore")
         self.server_log = folder / "serve.log"
         with open(self.server_log, "w") as log:
-            self.server = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "serve"], env=self.env,
-                                           stdout=log, stderr=subprocess.STDOUT)
+            self.server = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "serve", *serve_args],
+                                           env=self.env, stdout=log, stderr=subprocess.STDOUT)
         wait(lambda: "serving /comau_controller" in self.server_log.read_text(), 120, "rlff robot serve")
 
     def rlff(self, *args: str, timeout: float = 120, env: dict | None = None) -> subprocess.CompletedProcess:

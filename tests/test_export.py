@@ -125,3 +125,17 @@ def test_json_carries_the_release_time(traj, tmp_path):
     assert read_json(tmp_path / "t.json").release_time == 0.5
     write_json(traj, tmp_path / "none.json")
     assert read_json(tmp_path / "none.json").release_time is None
+
+
+def test_csv_carries_the_release_time(traj, tmp_path):
+    thrown = JointTrajectory(traj.joint_names, traj.time, traj.positions, traj.velocities, traj.accelerations,
+                             release_time=1.25)
+    write_csv(thrown, tmp_path / "t.csv")
+    back = read_csv(tmp_path / "t.csv")
+    assert back.release_time == 1.25
+    assert_same(back, thrown)
+    table = (tmp_path / "t.csv").read_text().splitlines()
+    table[2] = table[2].rsplit(",", 1)[0] + ",2.0"
+    (tmp_path / "bad.csv").write_text("\n".join(table) + "\n")
+    with pytest.raises(InputError, match="bad.csv: column 'release_time' must hold one number"):
+        read_csv(tmp_path / "bad.csv")

@@ -126,6 +126,43 @@ def test_a_robot_trajectory_that_disagrees_with_its_time_is_refused(capsys, thro
     np.testing.assert_array_equal(read_json(tmp_path / "t.json").positions[:, 1], table["joint_2_position"])
 
 
+def test_show_prints_every_limit(capsys):
+    code, out, _ = run(capsys, "robot", "show")
+    assert code == 0 and "max accel. (rad/s^2)" in out and "max jerk (rad/s^3)" in out
+    row = next(line for line in out.splitlines() if line.startswith("joint_2"))
+    assert row.split() == ["joint_2", "-1.48", "2.71", "2.792", "11", "110"]
+
+
+def test_send_takes_what_export_json_writes(cli, throw, tmp_path):
+    """Planned and checked before connecting: the exported file gets as far as the (absent) master,
+    the same file with its time stretched is refused first, with exit 2."""
+    assert cli("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
+    env = {"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"}
+    result = cli("robot", "send", str(tmp_path / "t.json"), "--timeout", "1", env=env)
+    assert result.code == 1 and "no ROS master" in result.stderr, result.stderr
+    document = json.loads((tmp_path / "t.json").read_text())
+    document["time"] = [20 * t for t in document["time"]]
+    (tmp_path / "slow.json").write_text(json.dumps(document))
+    result = cli("robot", "send", str(tmp_path / "slow.json"), "--timeout", "1", env=env)
+    assert result.code == 2 and "slow.json: point " in result.stderr and "disagree" in result.stderr
+    assert "master" not in result.stderr
+
+
+def test_bags_stamp_now_only_when_asked(capsys, throw, tmp_path):
+    from rosbags.rosbag1 import Reader
+    from rosbags.typesys import Stores, get_typestore
+
+    typestore = get_typestore(Stores.ROS1_NOETIC)
+    for flags, zero in (((), True), (("--stamp-now",), False)):
+        out = tmp_path / f"t{len(flags)}.bag"
+        code, _, err = run(capsys, "robot", "export", str(throw), "-f", "ros1-bag", "-o", str(out), *flags)
+        assert code == 0, err
+        with Reader(out) as reader:
+            (connection, _, raw), = reader.messages()
+            stamp = typestore.deserialize_ros1(raw, connection.msgtype).header.stamp
+        assert (stamp.sec == 0 and stamp.nanosec == 0) == zero
+
+
 def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):
     other = tmp_path / "other.bag"
     other.write_bytes(b"#ROSBAG V2.0\n\x00\x01")

@@ -10,11 +10,19 @@ the one allowance, DISCRETISATION, is the motion check's relative slack for roun
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from rlff.errors import InputError
 from rlff.robot import RobotMapping, load_robot
-from rlff.robot.controller import GoalRejected, ResultCode, TrajectoryController, check_rate
+from rlff.robot.controller import (
+    GoalRejected,
+    ResultCode,
+    TrajectoryController,
+    check_rate,
+    release_time,
+)
+from rlff.robot.plan import load_for_robot
 from rlff.trajectory.check import LIMIT_SLACK
 from rlff.trajectory.joint import JointTrajectory
 
@@ -24,6 +32,7 @@ ROBOT = load_robot()
 NAMES = ROBOT.joint_names
 VMAX = np.array([ROBOT.joint(n).max_velocity for n in NAMES])
 AMAX = np.array([ROBOT.joint(n).max_acceleration for n in NAMES])
+JMAX = np.array([ROBOT.joint(n).max_jerk for n in NAMES])
 DRIVEN = 1  # joint_2
 
 
@@ -134,13 +143,30 @@ def test_cancel_brakes_within_the_limits_and_reports_once_at_rest(controller):
     assert moving[58] > 1.5  # it was moving fast when cancelled
     [outcome] = outcomes
     assert (outcome.goal, outcome.status) == ("g", "cancelled")
-    assert "cancelled at 0.600 s; braked to rest from" in outcome.text
+    assert "cancelled after 0.600 s of 1.600 s; braked to rest from" in outcome.text
     braked = float(outcome.text.split(" in ")[-1].removesuffix(" s"))
     assert 0.1 < braked < 1.0
     after = times > 0.6 + braked + TICK
     assert np.ptp(positions[after], axis=0).max() == 0.0  # standing still, short of the end
     assert positions[-1, DRIVEN] < executed.positions[-1, DRIVEN] - 0.2
     assert controller.active_goal is None
+
+
+def test_the_brake_is_jerk_limited(controller):
+    here = controller.state(0.0).positions
+    controller.submit("g", _swing(here, 2.0, 1.6), now=0.0)
+    _run(controller, 0.0, 0.6)
+    controller.cancel("g", 0.6)
+    # the arm's own jerk, from its accelerations every ms while it brakes
+    accelerations, outcomes = [], []
+    for now in 0.6 + 0.001 * np.arange(1, 1001):
+        state, ended = controller.update(now)
+        accelerations.append(state.accelerations)
+        outcomes += ended
+    assert [outcome.status for outcome in outcomes] == ["cancelled"]
+    jerk = np.abs(np.diff(accelerations, axis=0)) / 0.001
+    assert jerk[:, DRIVEN].max() > 0.9 * JMAX[DRIVEN]  # braking hard
+    assert np.all(jerk.max(axis=0) <= JMAX * DISCRETISATION)
 
 
 def test_a_newer_goal_preempts_from_the_moving_arm(controller):
@@ -182,6 +208,24 @@ def test_a_cancel_during_a_brake_is_ignored_and_a_goal_takes_the_brake_over(cont
     _, ended = controller.submit("h", _goal([0.1], target), now=0.65)
     assert [(o.goal, o.status) for o in ended] == [("g", "cancelled")]
     assert ended[0].text.endswith("the brake was taken over by a newer goal")
+
+
+def test_the_release_of_a_planned_throw_survives_the_goal_and_its_approach(controller, tmp_path):
+    here = controller.state(0.0).positions
+    path = tmp_path / "throw.csv"
+    mapping = RobotMapping.for_robot(ROBOT)
+    q = np.linspace(-0.8, 1.6, 30)
+    speed = 0.2 + 2.0 * np.sin(np.linspace(0, np.pi, 30))
+    pd.DataFrame({"angle": (q - mapping.angle_offset) / mapping.angle_scale,
+                  "velocity": speed / mapping.velocity_scale}).to_csv(path, index=False)
+    planned = load_for_robot(path, ROBOT, 0.01, start=here)[1].trajectory
+    assert planned.release_time is not None
+    # what a FollowJointTrajectory goal carries: the points, no release; here starting 0.5 s later
+    sent = JointTrajectory(NAMES, planned.time + 0.5, planned.positions, planned.velocities,
+                           planned.accelerations)
+    executed, _ = controller.submit("g", sent, now=0.0)
+    assert executed.release_time == pytest.approx(planned.release_time, abs=1e-9)  # no approach needed
+    assert release_time(_goal([0.0, 1.0], [here, here])) is None  # a goal that never moves has none
 
 
 @pytest.mark.parametrize(("goal", "code", "message"), [

@@ -68,3 +68,9 @@ def test_goal_checks_split_joints_from_other_problems():
     away = np.array([0.3])
     with pytest.raises(MotionLimitError, match="joint_2 position 0 rad is not where the arm is \\(0.3 rad"):
         check_goal(robot, ok, away)
+    # every point inside the limits, but the spline still rises after 2.7 rad (at 1 rad/s)
+    # and overshoots the upper limit 2.71 rad before coming back
+    overshoot = JointTrajectory(("joint_2",), [0.0, 1.0, 2.0], [[2.5], [2.7], [2.5]], [[0.0], [1.0], [0.0]])
+    with pytest.raises(InputError, match=r"between points 1 and 2 \(t = [\d.]+ s, quintic interpolation\): "
+                                         r"joint_2 position 2.8\d* rad beyond the limit 2.71 rad"):
+        check_goal(robot, overshoot)

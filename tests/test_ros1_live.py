@@ -25,6 +25,7 @@ from rlff.robot.plan import load_for_robot
 from rosrig import (
     DRIVEN,
     ROBOT,
+    Ros,
     free_port,
     robot_file,
     ros_env,
@@ -115,7 +116,7 @@ def test_timeout_cancels_the_goal_and_the_arm_brakes(ros, tmp_path):
     assert result.returncode == 1, result.stderr
     outcome = json.loads(result.stdout)
     assert outcome["status"] == "timed out" and outcome["duration"] == pytest.approx(sent.duration)
-    assert "goal timed out: timed out; goal cancelled; cancelled at" in result.stderr
+    assert "goal timed out: timed out; goal cancelled; cancelled after" in result.stderr
     assert brakes() == before + 1  # the server braked the arm to rest
 
 
@@ -129,6 +130,23 @@ def test_topic_mode_plans_from_the_arm_and_drives_it(ros, tmp_path):
          60, "the topic trajectory to complete")
     np.testing.assert_allclose(ros.pose(tmp_path), sent.positions[-1], atol=1e-9)
     assert abs(sent.positions[-1, DRIVEN] - sent.positions[0, DRIVEN]) > 0.5
+
+
+def test_serve_sim_mujoco_throws_where_sim_throw_does(tmp_path):
+    # FollowJointTrajectory carries no release: the server finds it in the planned points
+    rig = Ros(tmp_path / "mujoco", "--sim", "mujoco", "--basket", "2.0")
+    try:
+        path = throw_csv(tmp_path, "throw.csv", -0.8, 1.6, 1.5)
+        result = rig.rlff("robot", "send", str(path), "--json", "--timeout", "120")
+        assert result.returncode == 0, result.stderr
+        text = json.loads(result.stdout)["error_string"]
+    finally:
+        rig.close()
+    simulated = rig.rlff("sim", "throw", str(path), "--basket", "2.0", "--json")
+    assert simulated.returncode == 0, simulated.stderr
+    landing = json.loads(simulated.stdout)["landing_x"]
+    assert text.startswith("MuJoCo throw: miss, landed at ")
+    assert float(text.split("landed at ")[1].split(" m")[0]) == pytest.approx(landing, abs=1e-3)
 
 
 def test_client_without_master_exits_with_a_clear_error(tmp_path):

@@ -3,9 +3,9 @@
 A real roscore (own free port), ``rlff robot serve``, raw FollowJointTrajectory goals from a
 separate rospy process (tests/ros1_goal.py, bypassing rlff's client and its checks) and
 ``rlff robot send``; /joint_states recorded by ``rostopic echo``. Every goal is refused with the
-numbers, or executed without a jump: the recorded motion's divided differences (see
-:func:`rosrig.peaks`) stay within the speed and acceleration limits, with no allowance but the
-motion check's relative slack for rounding (LIMIT_SLACK).
+numbers, or executed without a jump: the recorded positions stay within the position limits and
+their divided differences (see :func:`rosrig.peaks`) within the speed and acceleration limits,
+with no allowance but the motion check's relative slack for rounding (LIMIT_SLACK).
 """
 
 from __future__ import annotations
@@ -19,12 +19,14 @@ import time
 import numpy as np
 import pytest
 
+from rlff.robot.sendfile import load_for_sending
 from rlff.trajectory.check import LIMIT_SLACK
 from rosrig import (
     AMAX,
     DRIVEN,
     ROBOT,
     VMAX,
+    human_csv,
     peaks,
     ros_fixture,
     ros_installed,
@@ -42,6 +44,8 @@ NAMES = list(ROBOT.joint_names)
 
 def _within_limits(path) -> tuple[np.ndarray, np.ndarray]:
     stamps, positions = states(path)
+    lower, upper = (np.array([getattr(joint, side) for joint in ROBOT.joints]) for side in ("lower", "upper"))
+    assert np.all((positions >= lower) & (positions <= upper))
     velocity, acceleration = peaks(stamps, positions)
     assert np.all(velocity <= VMAX * (1 + LIMIT_SLACK)), (velocity, VMAX)
     assert np.all(acceleration <= AMAX * (1 + LIMIT_SLACK)), (acceleration, AMAX)
@@ -105,17 +109,17 @@ def test_cancel_brakes_within_the_limits(ros, tmp_path):
 
 
 def test_a_preempted_throw_hands_over_without_a_step(ros, tmp_path):
-    slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.6)
+    slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.2)  # several seconds: still running when preempted
     quick = throw_csv(tmp_path, "quick.csv", 0.3, -0.3, 1.0)
     recorder = ros.record(tmp_path / "states.csv")
     first = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow), "--json"], env=ros.env,
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
-    def fast() -> bool:
+    def moving() -> bool:
         stamps, positions = states(tmp_path / "states.csv")
-        return len(stamps) > 3 and np.abs(np.diff(positions[-3:, DRIVEN])).max() / 0.01 > 1.0
+        return len(stamps) > 3 and np.abs(np.diff(positions[-3:, DRIVEN])).max() / 0.01 > 0.2
 
-    wait(fast, 120, "the first throw to move the arm fast")
+    wait(moving, 120, "the first throw to move the arm")
     second = ros.rlff("robot", "send", str(quick), "--json", "--timeout", "60")
     out, _ = first.communicate(timeout=60)
     time.sleep(0.3)
@@ -131,9 +135,14 @@ def test_a_preempted_throw_hands_over_without_a_step(ros, tmp_path):
 
 
 def test_serve_checks_its_options_and_never_replaces_a_running_server(ros, tmp_path):
-    for args, message in ((("--rate", "0"), "--rate must be a positive number of ticks per second, got 0 Hz"),
-                          ((), "a node /rlff_comau_controller is already running")):
-        result = ros.rlff("robot", "serve", *args, timeout=60)
+    elsewhere = dict(ros.env, ROS_NAMESPACE="/other")  # another node name, the same action
+    for args, env, message in (
+            (("--rate", "0"), ros.env, "--rate must be a positive number of ticks per second, got 0 Hz"),
+            (("--rate", "nan"), ros.env, "--rate must be a positive number of ticks per second, got nan Hz"),
+            ((), ros.env, "a node /rlff_comau_controller is already running"),
+            ((), elsewhere, "/rlff_comau_controller already serves the action of "
+                            "/comau_controller/follow_joint_trajectory/status")):
+        result = ros.rlff("robot", "serve", *args, timeout=60, env=env)
         assert result.returncode == 2, result.stderr
         assert result.stderr.count("\n") == 1 and message in result.stderr
     # the first server still serves: its node answers and a goal still moves the arm
@@ -146,16 +155,16 @@ def test_serve_checks_its_options_and_never_replaces_a_running_server(ros, tmp_p
 
 
 def test_ctrl_c_of_send_brakes_and_the_client_waits_for_rest(ros, tmp_path):
-    slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.6)
+    slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.2)  # several seconds: still running at the Ctrl-C
     recorder = ros.record(tmp_path / "states.csv")
     sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow)], env=ros.env,
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
-    def fast() -> bool:
+    def moving() -> bool:
         stamps, positions = states(tmp_path / "states.csv")
-        return len(stamps) > 3 and np.abs(np.diff(positions[-3:, DRIVEN])).max() / 0.01 > 1.0
+        return len(stamps) > 3 and np.abs(np.diff(positions[-3:, DRIVEN])).max() / 0.01 > 0.2
 
-    wait(fast, 120, "the throw to move the arm fast")
+    wait(moving, 120, "the throw to move the arm")
     sender.send_signal(signal.SIGINT)
     _, err = sender.communicate(timeout=60)
     exited = time.time()
@@ -165,4 +174,92 @@ def test_ctrl_c_of_send_brakes_and_the_client_waits_for_rest(ros, tmp_path):
     _within_limits(tmp_path / "states.csv")
     stamps, positions = states(tmp_path / "states.csv")
     assert np.ptp(positions[stamps > exited], axis=0).max() == 0.0  # at rest once the client is gone
-    assert "braked to rest from" in ros.log()
+    assert "braked to rest from" in ros.log().split("cancelled: braking to rest")[-1]
+
+
+def test_goals_of_other_joints_or_beyond_the_limits_are_rejected_with_their_codes(ros, tmp_path):
+    here = ros.pose(tmp_path)
+    beyond = here.copy()
+    beyond[DRIVEN] = 3.0
+    unknown = {"joint_names": ["axis_1"], "time": [1.0], "positions": [[0.0]]}
+    rejected = ros.goal(tmp_path, unknown)
+    assert (rejected["status"], rejected["error_code"]) == ("rejected", -2)  # INVALID_JOINTS
+    assert "unknown joints ['axis_1']" in rejected["error_string"]
+    rejected = ros.goal(tmp_path, _spec([1.0], [beyond]))
+    assert (rejected["status"], rejected["error_code"]) == ("rejected", -1)  # INVALID_GOAL
+    assert "joint_2 position 3 rad beyond the limit 2.71 rad" in rejected["error_string"]
+    np.testing.assert_array_equal(ros.pose(tmp_path), here)
+
+
+def test_a_throw_sent_by_rlff_stays_within_the_limits_and_ends_at_rest(ros, tmp_path):
+    # the model asks for a release at 1.6 rad and 2.6 rad/s, 93 % of joint_2's speed limit
+    path = human_csv(tmp_path / "throw.csv", np.linspace(-0.8, 1.6, 30), np.linspace(0.5, 2.6, 30))
+    recorder = ros.record(tmp_path / "states.csv")
+    result = ros.rlff("robot", "send", str(path), "--json", "--timeout", "60")
+    time.sleep(0.3)
+    stop(recorder)
+    assert result.returncode == 0, result.stderr
+    velocity, acceleration = _within_limits(tmp_path / "states.csv")
+    assert velocity[DRIVEN] > 2.5 and acceleration[DRIVEN] > 0.9 * AMAX[DRIVEN]  # a real throw, at the limits
+    stamps, positions = states(tmp_path / "states.csv")
+    assert np.ptp(positions[stamps > stamps[-1] - 0.2], axis=0).max() == 0.0
+
+
+def test_an_exported_trajectory_is_sent_only_from_its_start(ros, tmp_path):
+    path = throw_csv(tmp_path, "throw.csv", 0.2, -0.6, 1.0)
+    assert ros.rlff("robot", "export", str(path), "-f", "json", "-o", str(tmp_path / "throw.json")).returncode == 0
+    exported = json.loads((tmp_path / "throw.json").read_text())
+    first = np.array(exported["positions"][0])
+    here = ros.pose(tmp_path)
+    if abs(here[DRIVEN] - first[DRIVEN]) < 0.1:  # make sure the arm is elsewhere
+        elsewhere = here.copy()
+        elsewhere[DRIVEN] += 0.5
+        assert ros.goal(tmp_path, _spec([0.5], [elsewhere]))["status"] == "succeeded"
+        here = elsewhere
+    refused = ros.rlff("robot", "send", str(tmp_path / "throw.json"), "--timeout", "30")
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1
+    assert (f"throw.json: point 0 (t = 0.000000 s): joint_2 position {first[DRIVEN]:.6g} rad is not where the arm "
+            f"is ({here[DRIVEN]:.6g} rad") in refused.stderr
+    assert "send the generated trajectory CSV" in refused.stderr
+    assert ros.goal(tmp_path, _spec([0.5], [first]))["status"] == "succeeded"  # to its start
+    sent = ros.rlff("robot", "send", str(tmp_path / "throw.json"), "--json", "--timeout", "30")
+    assert sent.returncode == 0, sent.stderr
+    np.testing.assert_allclose(ros.pose(tmp_path), exported["positions"][-1], atol=1e-9)
+
+
+def test_rosbag_play_of_an_export_obeys_the_goal_rules(ros, tmp_path):
+    path = throw_csv(tmp_path, "throw.csv", 0.4, -0.4, 1.0)
+    bag = tmp_path / "throw.bag"
+    assert ros.rlff("robot", "export", str(path), "-f", "ros1-bag", "-o", str(bag)).returncode == 0
+    exported = load_for_sending(bag, ROBOT, None)[1].trajectory
+    here = ros.pose(tmp_path)
+    away = here.copy()
+    away[DRIVEN] = exported.positions[0, DRIVEN] + 0.7  # the arm 0.7 rad from the bag's start
+    assert ros.goal(tmp_path, _spec([0.5], [away]))["status"] == "succeeded"
+
+    def play() -> None:
+        subprocess.run(["rosbag", "play", "--quiet", "--wait-for-subscribers", str(bag)], env=ros.env,
+                       check=True, timeout=120, capture_output=True)
+
+    recorder = ros.record(tmp_path / "refused.csv")
+    logged = len(ros.log())
+    play()
+    wait(lambda: "refused" in ros.log()[logged:], 30, "the server to refuse the bag")
+    time.sleep(0.3)
+    stop(recorder)
+    refusal = ros.log()[logged:]
+    assert "trajectory on /comau/joint_trajectory refused (PATH_TOLERANCE_VIOLATED)" in refusal
+    assert "(0.7 rad apart, tolerance 0.001 rad)" in refusal
+    _, positions = states(tmp_path / "refused.csv")
+    assert np.ptp(positions, axis=0).max() == 0.0  # no jump, no motion
+
+    assert ros.goal(tmp_path, _spec([0.5], [exported.positions[0]]))["status"] == "succeeded"
+    recorder = ros.record(tmp_path / "played.csv")
+    play()
+
+    def arrived() -> bool:
+        return np.abs(states(tmp_path / "played.csv")[1][-1] - exported.positions[-1]).max() < 1e-9
+
+    wait(arrived, 60, "the bag's trajectory to be executed")
+    stop(recorder)
+    _within_limits(tmp_path / "played.csv")

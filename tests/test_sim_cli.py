@@ -52,6 +52,18 @@ def test_sim_throw_prints_the_outcome_as_json(cli, tmp_path):
     assert release["velocity"][0] > 0 and release["velocity"][2] > 0
 
 
+def test_an_exported_throw_lands_where_its_generated_path_does(rlff, tmp_path):
+    path = _generated_path(tmp_path / "traj.csv")
+    direct = rlff("sim", "throw", str(path), "--basket", "1.9", "--json")
+    assert direct.code == 0, direct.stderr
+    for fmt in ("json", "csv"):
+        exported = tmp_path / f"robot.{fmt}"
+        assert rlff("robot", "export", str(path), "-f", fmt, "-o", str(exported)).code == 0
+        again = rlff("sim", "throw", str(exported), "--basket", "1.9", "--json")
+        assert again.code == 0, again.stderr
+        assert json.loads(again.stdout)["landing_x"] == pytest.approx(json.loads(direct.stdout)["landing_x"], abs=1e-9)
+
+
 def test_sim_throw_refuses_bad_input_in_one_line(cli, tmp_path):
     fast = _generated_path(tmp_path / "fast.csv", peak=20.0)
     result = cli("sim", "throw", str(fast), "--basket", "2.0")

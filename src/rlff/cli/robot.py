@@ -53,10 +53,11 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
         return
     out = stdout()
     out.print(f"{model.name} ({model.source})", highlight=False)
-    out.print(f"{'joint':<10}{'lower (rad)':>12}{'upper (rad)':>12}{'max speed (rad/s)':>19}", highlight=False)
+    out.print(f"{'joint':<10}{'lower (rad)':>12}{'upper (rad)':>12}{'max speed (rad/s)':>19}"
+              f"{'max accel. (rad/s^2)':>22}{'max jerk (rad/s^3)':>20}", highlight=False)
     for joint in model.joints:
-        out.print(f"{joint.name:<10}{joint.lower:>12.4g}{joint.upper:>12.4g}{joint.max_velocity:>19.4g}",
-                  highlight=False)
+        out.print(f"{joint.name:<10}{joint.lower:>12.4g}{joint.upper:>12.4g}{joint.max_velocity:>19.4g}"
+                  f"{joint.max_acceleration:>22.4g}{joint.max_jerk:>20.4g}", highlight=False)
     if mapping is not None:
         pose = ", ".join(f"{name}={value:g}" for name, value in mapping.start_pose.items())
         out.print(f"throwing: human angle drives {mapping.joint} = {mapping.angle_offset:g} + "

@@ -29,6 +29,11 @@ contract every FollowJointTrajectory client expects; the ROS 1 server
   cancelled once the arm stands still. Should the shortest brake overrun a position limit
   (moving fast towards it), the goal's own motion, which is checked to stop in time, runs on
   to its end instead.
+- FollowJointTrajectory carries no release: the executed trajectory of a goal marks as its
+  ``release_time`` its last point where the arm moves at zero acceleration (:func:`release_time`),
+  which for a throw planned by :func:`rlff.trajectory.planner.plan_throw` is its release (the
+  throw ends there at zero acceleration, the braking after it never has one), so that a
+  completion hook (``serve --sim mujoco``) releases the ball where the model asked.
 - Every motion the arm executes (approach and goal, or a brake) passes
   :func:`rlff.trajectory.check.check_trajectory` with the arm's pose as its start, under the
   arm's own interpolation (quintic, :mod:`rlff.robot.kinematic`), from the arm's position and
@@ -61,12 +66,23 @@ START_POSITION_TOLERANCE = POSITION_TOLERANCE
 START_VELOCITY_TOLERANCE = VELOCITY_TOLERANCE
 #: Below this speed (rad/s) on every joint the arm counts as at rest.
 AT_REST = 1e-9
+#: Below this acceleration (rad/s^2) on every joint a moving point may be a throw's release.
+RELEASE_ACCELERATION = 1e-6
 
 
 def check_rate(rate: float) -> None:
     """:class:`InputError` unless ``rate`` (ticks per second of a transport) is positive and finite."""
     if not (math.isfinite(rate) and rate > 0):
         raise InputError(f"--rate must be a positive number of ticks per second, got {rate:g} Hz")
+
+
+def release_time(traj: JointTrajectory) -> float | None:
+    """Time (s) of the last point of ``traj`` moving (a speed above :data:`VELOCITY_TOLERANCE`)
+    with every acceleration below :data:`RELEASE_ACCELERATION`; None if no point is."""
+    moving = np.any(np.abs(traj.velocities) > VELOCITY_TOLERANCE, axis=1)
+    coasting = np.all(np.abs(traj.accelerations) <= RELEASE_ACCELERATION, axis=1)
+    candidates = np.flatnonzero(moving & coasting)
+    return float(traj.time[candidates[-1]]) if candidates.size else None
 
 
 class ResultCode(IntEnum):
@@ -198,6 +214,8 @@ class TrajectoryController:
             raise
         except InputError as exc:
             raise GoalRejected(ResultCode.INVALID_GOAL, f"from the arm's state: {exc}") from None
+        executed = JointTrajectory(executed.joint_names, executed.time, executed.positions,
+                                   executed.velocities, executed.accelerations, release_time(executed))
         outcomes = self._preempt(state)
         self.arm.follow(executed, begin)
         self._motion = _Motion(goal, executed)
@@ -275,20 +293,21 @@ class TrajectoryController:
             return []
         state = self.arm.state(now)
         if np.all(np.abs(state.velocities) <= AT_REST) and np.all(np.abs(state.accelerations) <= AT_REST):
-            return self._end("cancelled", f"cancelled at {now:.3f} s; the arm was at rest")
+            return self._end("cancelled", f"cancelled after {state.elapsed:.3f} s of "
+                                          f"{motion.trajectory.duration:.3f} s; the arm was at rest")
         peak = float(np.max(np.abs(state.velocities)))
+        when = f"cancelled after {state.elapsed:.3f} s of {motion.trajectory.duration:.3f} s"
         try:
             brake = plan_stop(state.positions, state.velocities, state.accelerations, self.joints,
                               period=self.period)
             check_trajectory(brake, self.joints, start=state.positions, start_velocity=state.velocities)
         except InputError as exc:  # no room to brake: the goal's own checked motion stops in time
             self._motion = _Motion(goal, motion.trajectory, braking=(
-                f"cancelled at {now:.3f} s at {peak:.4g} rad/s, too fast to brake before a limit ({exc}); "
-                "the goal ran to its end"))
+                f"{when} at {peak:.4g} rad/s, too fast to brake before a limit ({exc}); the goal ran to its end"))
             return []
         self.arm.follow(brake, now)
         self._motion = _Motion(goal, motion.trajectory, braking=(
-            f"cancelled at {now:.3f} s; braked to rest from {peak:.4g} rad/s in {brake.duration:.3f} s"))
+            f"{when}; braked to rest from {peak:.4g} rad/s in {brake.duration:.3f} s"))
         return []
 
     def update(self, now: float) -> tuple[ArmState, list[Outcome]]:

@@ -71,11 +71,17 @@ def read_json(path: Path) -> JointTrajectory:
 
 
 def write_csv(traj: JointTrajectory, path: Path) -> None:
-    """One row per point: ``time`` (s), then ``{joint}_position`` (rad), ``_velocity``, ``_acceleration``."""
+    """One row per point: ``time`` (s), then ``{joint}_position`` (rad), ``_velocity``, ``_acceleration``.
+
+    A planned throw also gets a ``release_time`` column (s), the same on every row (the way
+    per-trajectory metadata rides along in rlff's CSV files).
+    """
     columns = {"time": traj.time}
     for index, name in enumerate(traj.joint_names):
         for quantity, values in zip(_QUANTITIES, (traj.positions, traj.velocities, traj.accelerations), strict=True):
             columns[f"{name}_{quantity}"] = values[:, index]
+    if traj.release_time is not None:
+        columns["release_time"] = np.full(len(traj), traj.release_time)
     pd.DataFrame(columns).to_csv(path, index=False, float_format="%.17g")
 
 
@@ -91,9 +97,15 @@ def read_csv(path: Path) -> JointTrajectory:
     missing = [f"{n}_{q}" for q in _QUANTITIES for n in names if f"{n}_{q}" not in table]
     if missing:
         raise InputError(f"{path}: missing columns {missing}")
+    release = None
+    if "release_time" in table:
+        values = pd.to_numeric(table["release_time"], errors="coerce").to_numpy(float)
+        if not (np.all(np.isfinite(values)) and np.all(values == values[0])):
+            raise InputError(f"{path}: column 'release_time' must hold one number of seconds on every row")
+        release = float(values[0])
     try:
         arrays = [table[[f"{n}_{q}" for n in names]].to_numpy(float) for q in _QUANTITIES]
-        return JointTrajectory(tuple(names), table["time"].to_numpy(float), *arrays)
+        return JointTrajectory(tuple(names), table["time"].to_numpy(float), *arrays, release_time=release)
     except ValueError as exc:
         raise InputError(f"{path}: not a robot trajectory ({exc})") from None
 

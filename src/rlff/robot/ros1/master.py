@@ -59,7 +59,7 @@ def require_no_server(node_name: str, status_topic: str) -> None:
     registrations of nodes that no longer answer are ignored.
     """
     master = rosgraph.Master("/rlff_probe")
-    name = rosgraph.names.ns_join("/", node_name)
+    name = rosgraph.names.ns_join(rosgraph.names.get_ros_namespace(), node_name)  # as init_node names it
     previous = socket.getdefaulttimeout()
     socket.setdefaulttimeout(2.0)
     try:

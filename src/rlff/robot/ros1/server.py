@@ -52,26 +52,25 @@ CompletionHook = Callable[[JointTrajectory], str]
 
 
 class TrajectoryServer:
-    """The ROS 1 transport of a :class:`TrajectoryController` of ``robot``.
+    """The ROS 1 transport of a :class:`TrajectoryController` (needs an initialised node).
 
     Parameters
     ----------
-    robot : Robot
-    initial : array of shape (J,)
-        Starting joint positions (rad), within the limits.
+    controller : TrajectoryController
+        Decides what every goal, cancel and tick does.
     rate : float
         Ticks per second: state, /joint_states and feedback are computed and published this often.
     on_complete : callable, optional
         Called with every trajectory that ran to its end (e.g. a MuJoCo throw).
     """
 
-    def __init__(self, robot: Robot, initial: np.ndarray, rate: float = 100.0,
+    def __init__(self, controller: TrajectoryController, rate: float = 100.0,
                  on_complete: CompletionHook | None = None) -> None:
         check_rate(rate)
-        self.robot = robot
+        self.controller = controller
+        self.robot = controller.robot
         self.rate = rate
         self.on_complete = on_complete
-        self.controller = TrajectoryController(robot, initial)
         self._handles: dict[str, actionlib.ServerGoalHandle] = {}
         self._states = rospy.Publisher(JOINT_STATES, JointState, queue_size=10)
         self._server = actionlib.ActionServer(ACTION_NAMESPACE, FollowJointTrajectoryAction,
@@ -227,11 +226,11 @@ def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: C
         No master answers within 10 s.
     """
     check_rate(rate)
-    TrajectoryController(robot, initial)  # the initial pose within the limits, before any node
+    controller = TrajectoryController(robot, initial)  # the initial pose within the limits
     wait_for_master(10.0)
     require_no_server(node_name, ACTION_NAMESPACE + "/status")
     rospy.init_node(node_name)
-    server = TrajectoryServer(robot, initial, rate, on_complete)
+    server = TrajectoryServer(controller, rate, on_complete)
     if on_ready:
         on_ready()
     server.spin()
