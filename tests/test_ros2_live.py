@@ -208,3 +208,19 @@ def test_a_newer_goal_preempts_the_running_one(node, client):
     node.latest(after=node.now() + 0.3)
     assert node.latest()[1][DRIVEN] == pytest.approx(target[DRIVEN], abs=1e-9)
     assert math.isclose(node.latest()[1][0], here[0], abs_tol=1e-12)
+
+
+def test_a_cancel_while_the_arm_waits_for_the_start_ends_the_goal_cancelled(node, client):
+    from action_msgs.msg import GoalStatus
+
+    _, here = node.latest()
+    goal, _, _ = smooth_move(here, DRIVEN, 0.3, 1.0, points=5, delay=3.0)  # the arm waits 3 s at rest
+    handle = send(client, goal)
+    before = node.now()
+    wait_future(handle.cancel_goal_async(), 30, "the cancel response")
+    answer = wait_future(handle.get_result_async(), 30, "the result")
+    assert answer.status == GoalStatus.STATUS_CANCELED, answer.result.error_string
+    assert "the arm was at rest" in answer.result.error_string
+    node.latest(after=node.now() + 0.5)
+    _, positions = node.states(since=before)
+    assert np.ptp(positions, axis=0).max() == 0.0

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 import threading
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
@@ -202,6 +203,12 @@ class TrajectoryServer:
         with self._lock:
             self._goals.pop(_goal_key(handle), None)
         result = FollowJointTrajectory.Result(error_code=goal.code, error_string=goal.text)
+        if goal.status == "cancelled":
+            # a cancel of an arm at rest ends the goal inside the cancel callback, before rclpy
+            # has moved the goal to CANCELING: give it that moment
+            deadline = time.monotonic() + 1.0
+            while not handle.is_cancel_requested and time.monotonic() < deadline:
+                time.sleep(0.005)
         if goal.status == "succeeded":
             handle.succeed()
         elif goal.status == "cancelled" and handle.is_cancel_requested:
