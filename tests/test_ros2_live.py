@@ -110,8 +110,11 @@ def test_a_goal_of_an_independent_client_moves_the_arm_as_sent(node, client):
     _, here = node.latest()
     amplitude, duration = 0.5, 2.0
     goal, _, _ = smooth_move(here, DRIVEN, amplitude, duration)
-    indices = []
     sent_at = node.now()
+    start = sent_at + 0.5  # the goal's time 0 (its header stamp): the arm at rest starts then
+    goal.trajectory.header.stamp.sec = int(start)
+    goal.trajectory.header.stamp.nanosec = int(round((start - int(start)) * 1e9))
+    indices = []
     handle = send(client, goal, lambda message: indices.append(message.feedback.index))
     answer = wait_future(handle.get_result_async(), 60, "the result")
     assert answer.status == GoalStatus.STATUS_SUCCEEDED
@@ -121,12 +124,13 @@ def test_a_goal_of_an_independent_client_moves_the_arm_as_sent(node, client):
     node.latest(after=node.now() + 0.3)
     stamps, positions = node.states(since=sent_at)
     moved = positions[:, DRIVEN] - here[DRIVEN]
-    started = stamps[np.flatnonzero(moved > 1e-6)[0] - 1]  # the last state at rest
-    elapsed = stamps - started
+    start = goal.trajectory.header.stamp.sec + goal.trajectory.header.stamp.nanosec * 1e-9
+    elapsed = stamps - start  # each state is stamped with the instant it was computed for
     during = (elapsed > 0) & (elapsed < duration)
     assert during.sum() > 100  # 100 Hz for 2 s
     error = np.abs(moved[during] - motion(amplitude, duration, elapsed[during]))
-    assert error.max() < EXECUTION_TOLERANCE + 1.875 * abs(amplitude) / duration * 0.01  # and one 10 ms tick
+    assert error.max() < EXECUTION_TOLERANCE
+    assert np.all(moved[elapsed < 0] == 0.0)  # at rest until its start
     others = np.delete(positions, DRIVEN, axis=1)
     np.testing.assert_array_equal(others, np.tile(np.delete(here, DRIVEN), (len(others), 1)))
     assert positions[-1, DRIVEN] == pytest.approx(here[DRIVEN] + amplitude, abs=1e-9)
@@ -224,3 +228,21 @@ def test_a_cancel_while_the_arm_waits_for_the_start_ends_the_goal_cancelled(node
     node.latest(after=node.now() + 0.5)
     _, positions = node.states(since=before)
     assert np.ptp(positions, axis=0).max() == 0.0
+
+
+def test_a_second_server_is_refused_and_the_first_goes_on(server, node, client, domain, tmp_path):
+    import subprocess
+    import sys
+
+    from ros2rig import ros2_env
+
+    second = subprocess.run([sys.executable, "-m", "rlff", "robot", "serve", "--ros", "2"],
+                            env=ros2_env(domain, tmp_path), capture_output=True, text=True, timeout=120)
+    assert second.returncode == 2
+    assert second.stderr.strip().splitlines()[-1].startswith(
+        "rlff: error: node /rlff_comau_controller already serves /comau_controller/follow_joint_trajectory")
+    assert server.proc.poll() is None
+    _, here = node.latest()
+    goal, _, _ = smooth_move(here, DRIVEN, 0.1, 0.5, points=10)
+    answer = wait_future(send(client, goal).get_result_async(), 30, "the result")
+    assert answer.result.error_code == 0

@@ -25,6 +25,7 @@ states is this module's:
 from __future__ import annotations
 
 import math
+import os
 import threading
 import time
 from collections.abc import Callable
@@ -62,6 +63,12 @@ JOINT_STATES = "/joint_states"
 NODE_NAME = "rlff_comau_controller"
 #: Threads of the executor: goals wait for their end in one each, besides the tick and callbacks.
 THREADS = 8
+#: Seconds a starting server listens for another server of the action (discovery on this host).
+DISCOVERY_WAIT = 1.5
+
+
+class ServerRunning(InputError):
+    """Another server already serves the action in this ROS domain."""
 
 #: Called with each completed trajectory; its text goes to the log and the result's error_string.
 CompletionHook = Callable[[JointTrajectory], str]
@@ -284,6 +291,24 @@ class TrajectoryServer:
         goal.handle.publish_feedback(feedback)
 
 
+def _require_no_server(node: Node) -> None:
+    """:class:`ServerRunning` if another node serves the action (publishes its status) in reach.
+
+    Two ROS 2 servers of one action would both take every goal (ROS 2 allows it, with nodes of
+    the same name too), so a second ``rlff robot serve --ros 2`` is refused and the first goes on.
+    """
+    status = f"{ACTION_NAME}/_action/status"
+    deadline = time.monotonic() + DISCOVERY_WAIT
+    while time.monotonic() < deadline:
+        servers = node.get_publishers_info_by_topic(status)
+        if servers:
+            other = servers[0]
+            raise ServerRunning(f"node {other.node_namespace.rstrip('/')}/{other.node_name} already serves "
+                                f"{ACTION_NAME} (ROS_DOMAIN_ID {os.environ.get('ROS_DOMAIN_ID', '0')}): stop it "
+                                "first; a second server would compete for the goals")
+        time.sleep(0.05)
+
+
 def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: CompletionHook | None = None,
           node_name: str = NODE_NAME, on_ready: Callable[[], None] | None = None) -> None:
     """Start a ROS 2 node with a :class:`TrajectoryServer` and run it until Ctrl-C.
@@ -294,6 +319,8 @@ def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: C
     ------
     InputError
         ``rate`` is not a positive number, or the initial pose is beyond the limits.
+    ServerRunning
+        Another server of the action answers (checked before this one starts serving).
     """
     check_rate(rate)
     TrajectoryController(robot, initial)  # the initial pose within the limits, before any node
@@ -301,6 +328,11 @@ def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: C
     rclpy.init(context=context)
     try:
         node = make_node(node_name, context)
+        try:
+            _require_no_server(node)
+        except ServerRunning:
+            node.destroy_node()
+            raise
         TrajectoryServer(node, robot, initial, rate, on_complete)
         executor = MultiThreadedExecutor(num_threads=THREADS, context=context)
         executor.add_node(node)
