@@ -160,3 +160,33 @@ def test_the_throw_is_no_faster_than_toppras_time_optimum_and_jerk_costs_little(
                                       parametrizer="ParametrizeConstAccel")
     bound = optimum.compute_trajectory(0.0, speed / abs(release - first)).duration
     assert bound - 0.002 <= throw_duration <= bound + J2.max_acceleration / J2.max_jerk + 0.002
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(position=st.floats(-1.4, 2.6), speed=st.floats(-0.99, 0.99), acceleration=st.floats(-0.9, 0.9),
+       target=st.one_of(st.none(), st.floats(-1.4, 2.6)), period=st.sampled_from([0.002, 0.01]))
+def test_stops_and_transitions_from_any_state_pass_the_check(position, speed, acceleration, target, period):
+    """What the live server's cancel, preemption and approach ask of the planner: from any state
+    within the limits, brake (or go to a pose) within them, or refuse for want of room."""
+    state = MAPPING.pose(position)
+    velocity, accel = np.zeros(6), np.zeros(6)
+    velocity[1], accel[1] = speed * J2.max_velocity, acceleration * J2.max_acceleration
+    # still accelerating towards the speed limit, the jerk limit lets the speed grow by a^2 / 2j first
+    overshoot = velocity[1] + accel[1] * abs(accel[1]) / (2 * J2.max_jerk)
+    try:
+        if target is None:
+            motion = plan_stop(state, velocity, accel, ROBOT.joints, period=period)
+        else:
+            motion = plan_transition(state, velocity, accel, MAPPING.pose(target), np.zeros(6), ROBOT.joints,
+                                     period=period)
+            np.testing.assert_allclose(motion.positions[-1], MAPPING.pose(target), atol=1e-12)
+    except MotionLimitError as exc:
+        if "rad/s (t = " in str(exc):  # beyond the speed limit: only from a state that must overshoot
+            assert abs(overshoot) > 0.99 * J2.max_velocity and "cannot turn the acceleration round" in str(exc)
+        else:
+            assert "beyond its" in str(exc) and "limit" in str(exc) and "joint_2" in str(exc)
+        return
+    assert abs(overshoot) <= J2.max_velocity * 1.001
+    check_trajectory(motion, ROBOT.joints, start=state, start_velocity=velocity)
+    assert np.all(motion.velocities[-1] == 0)
+    assert len(motion) == 1 or finite_jerk(motion)[1] <= J2.max_jerk * (1 + 1e-6)

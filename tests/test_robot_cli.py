@@ -168,10 +168,15 @@ def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):
     other.write_bytes(b"#ROSBAG V2.0\n\x00\x01")
     program = tmp_path / "throw.txt"
     program.write_text('coord_type = "-j"\n')
+    folder = tmp_path / "bag2"
+    folder.mkdir()
     for command, message in (
             (("robot", "export", str(other), "-f", "json", "-o", str(tmp_path / "o.json")),
              "other.bag: neither a generated path"),
+            (("robot", "export", str(folder), "-f", "json", "-o", str(tmp_path / "o.json")),
+             "bag2 is a folder (a ROS 2 bag?)"),
             (("robot", "send", str(other)), "other.bag: not a readable bag"),  # send reads bags
+            (("robot", "send", str(folder)), "bag2: a folder, but not a ROS 2 bag (no metadata.yaml)"),
             (("robot", "send", str(program)), "throw.txt: a Comau program, which runs on the Comau controller")):
         code, _, err = run(capsys, *command)
         assert code == 2 and message in err
@@ -210,3 +215,9 @@ def test_send_refuses_bad_input_before_connecting(cli, tmp_path):
                  env={"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"})
     assert result.code == 2
     assert "beyond the limit 2.71 rad" in result.stderr and "master" not in result.stderr
+    # the path ending 0.01 rad from the limit at 2.7 rad/s: no room to brake, nothing sent
+    edge = human_csv(tmp_path / "edge.csv", np.linspace(1.5, 2.70, 13), np.full(13, 2.7))
+    result = cli("robot", "send", str(edge), "--timeout", "1",
+                 env={"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"})
+    assert result.code == 2 and "no room to brake after the release" in result.stderr
+    assert "master" not in result.stderr

@@ -66,12 +66,18 @@ def test_executed_path_matches_the_sent_trajectory(ros, tmp_path):
     quintic = BPoly.from_derivatives(sent.time, np.stack([sent.positions, sent.velocities,
                                                           sent.accelerations], axis=1))
     stamps, positions = states(tmp_path / "states.csv")
-    elapsed = stamps - outcome["start"]
-    moving = (elapsed >= 0) & (elapsed <= sent.duration)
-    assert moving.sum() >= 20
-    error = np.abs(positions[moving] - quintic(elapsed[moving]))
-    assert error.max() < EXECUTION_TOLERANCE
-    after = elapsed > sent.duration + 0.05
+    # the goal starts at its stamp, or on receipt if it arrives later (a loaded machine): find
+    # that delay (1 ms steps), then the whole recorded motion must match
+    def error(delay: float) -> float:
+        elapsed = stamps - outcome["start"] - delay
+        moving = (elapsed >= 0) & (elapsed <= sent.duration)
+        return float(np.abs(positions[moving] - quintic(elapsed[moving])).max()) if moving.sum() >= 20 else np.inf
+
+    delays = np.arange(0.0, 0.5, 0.001)
+    errors = [error(delay) for delay in delays]
+    best = int(np.argmin(errors))
+    assert errors[best] < EXECUTION_TOLERANCE, (delays[best], errors[best])
+    after = stamps - outcome["start"] - delays[best] > sent.duration + 0.05
     assert after.sum() > 0
     np.testing.assert_allclose(positions[after], np.tile(sent.positions[-1], (after.sum(), 1)), atol=1e-9)
 

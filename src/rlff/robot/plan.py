@@ -47,8 +47,10 @@ class RobotPlan:
 
     def summary(self) -> str:
         """One line: what was clipped, and the plan's duration and release."""
-        clipped = self.clipped_points.summary() if self.clipped_points else "nothing clipped"
         traj = self.trajectory
+        if self.points is traj:
+            return f"a robot trajectory, checked as it is: {len(traj)} points, {traj.duration:.3f} s"
+        clipped = self.clipped_points.summary() if self.clipped_points else "nothing clipped"
         release = f", release at {traj.release_time:.3f} s" if traj.release_time is not None else ""
         return f"planned {traj.duration:.3f} s to rest{release}; {clipped}"
 
@@ -113,6 +115,9 @@ def plan(
 
 def _robot_file_kind(path: Path) -> str:
     """Which kind ``path`` is; :class:`InputError` in one line for any other file."""
+    if path.is_dir():
+        raise InputError(f"{path} is a folder (a ROS 2 bag?): give a generated path CSV or a robot "
+                         "trajectory JSON/CSV that `rlff robot export` wrote")
     if not path.is_file():
         raise InputError(f"{path}: no such file")
     if path.suffix.lower() == ".json":

@@ -131,7 +131,20 @@ def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_posit
 
 
 def _require_inside(traj: JointTrajectory, limits: MotionLimits, what: str, room_from=None) -> None:
-    """Raise :class:`MotionLimitError` if ``traj`` leaves a position limit during ``what``."""
+    """Raise :class:`MotionLimitError` if ``traj`` leaves a position or speed limit during ``what``.
+
+    A profile leaves the speed limit only from a state that no jerk-limited motion can keep
+    inside it (close to the limit and still accelerating towards it).
+    """
+    speed = np.abs(traj.velocities) > limits.velocity * (1 + 1e-9)
+    if np.any(speed):
+        row, j = (int(index[0]) for index in np.nonzero(speed))
+        peak = float(np.max(np.abs(traj.velocities[:, j])))
+        raise MotionLimitError(
+            f"{what}: {limits.names[j]} would reach {peak:.6g} rad/s (t = {traj.time[row]:.4f} s), beyond its "
+            f"limit {limits.velocity[j]:.6g} rad/s: from {traj.velocities[0, j]:.6g} rad/s accelerating at "
+            f"{traj.accelerations[0, j]:.6g} rad/s^2, max_jerk {limits.jerk[j]:g} rad/s^3 cannot turn the "
+            "acceleration round in time")
     for j, name in enumerate(limits.names):
         q = traj.positions[:, j]
         for beyond, limit, side in ((q > limits.upper[j], limits.upper[j], "upper"),

@@ -88,9 +88,10 @@ class TrajectoryServer:
         msg = handle.get_goal().trajectory
         goal = handle.get_goal_id().id
         with self._lock:
+            now, start = rospy.get_time(), _start(msg)
             try:
                 traj = from_msg(msg)
-                executed, ended = self.controller.submit(goal, traj, rospy.get_time(), _start(msg))
+                executed, ended = self.controller.submit(goal, traj, now, start)
             except GoalRejected as exc:
                 self._reject(handle, exc.code, str(exc))
                 return
@@ -102,6 +103,8 @@ class TrajectoryServer:
             self._report(ended)
         rospy.loginfo("goal %s accepted: %d points, %.3f s (executed: %.3f s)", goal, len(traj),
                       traj.duration, executed.duration)
+        if start is not None and start < now:
+            rospy.logwarn("goal %s arrived %.3f s after its header stamp: started on receipt", goal, now - start)
 
     def _on_topic(self, msg: TrajectoryMsg) -> None:
         with self._lock:
