@@ -299,14 +299,21 @@ def _require_no_server(node: Node) -> None:
     """
     status = f"{ACTION_NAME}/_action/status"
     deadline = time.monotonic() + DISCOVERY_WAIT
+    found = None
     while time.monotonic() < deadline:
+        # an endpoint may be discovered before its node's name (then "_NODE_NAME_UNKNOWN_")
         servers = node.get_publishers_info_by_topic(status)
-        if servers:
-            other = servers[0]
-            raise ServerRunning(f"node {other.node_namespace.rstrip('/')}/{other.node_name} already serves "
-                                f"{ACTION_NAME} (ROS_DOMAIN_ID {os.environ.get('ROS_DOMAIN_ID', '0')}): stop it "
-                                "first; a second server would compete for the goals")
+        named = [info for info in servers if not info.node_name.startswith("_NODE_NAME_UNKNOWN")]
+        found = named[0] if named else found or (servers[0] if servers else None)
+        if named:
+            break
         time.sleep(0.05)
+    if found is not None:
+        who = ("another node" if found.node_name.startswith("_NODE_NAME_UNKNOWN")
+               else f"node {found.node_namespace.rstrip('/')}/{found.node_name}")
+        raise ServerRunning(f"{who} already serves {ACTION_NAME} (ROS_DOMAIN_ID "
+                            f"{os.environ.get('ROS_DOMAIN_ID', '0')}): stop it first; a second server would "
+                            "compete for the goals")
 
 
 def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: CompletionHook | None = None,
