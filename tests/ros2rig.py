@@ -99,6 +99,9 @@ class RosNode:
     """An rclpy context and node of the test, spinning in a thread, recording /joint_states."""
 
     def __init__(self, domain: int, name: str = "rlff_test") -> None:
+        from rlff.robot.rospath import prefer
+
+        prefer(2)  # this worker may have imported ROS 1's std_msgs & co. (e.g. for `rlff robot send`)
         import rclpy
         from rclpy.executors import MultiThreadedExecutor
         from rclpy.node import Node

@@ -57,3 +57,19 @@ def test_the_built_interface_has_the_standard_type_hash(type_name):
     description = Path(sys.prefix) / "share" / package / kind / f"{name}.json"
     hashes = {entry["type_name"]: entry["hash_string"] for entry in json.loads(description.read_text())["type_hashes"]}
     assert hashes[type_name] == STANDARD_HASHES[type_name]
+
+
+def test_a_process_that_looked_at_ros1_imports_ros2_messages_again():
+    """One process, both ROS in turn (as a test worker does): each gets its own messages."""
+    from rlff.robot import ros1, ros2
+
+    if ros1.missing() is None:  # Debian's ROS 1 is installed: its trajectory_msgs is the one now
+        import trajectory_msgs.msg
+
+        assert hasattr(trajectory_msgs.msg.JointTrajectory, "_md5sum")
+    assert ros2.missing() is None
+    from sensor_msgs.msg import JointState
+    from trajectory_msgs.msg import JointTrajectory
+
+    assert hasattr(JointTrajectory, "get_fields_and_field_types") and not hasattr(JointTrajectory, "_md5sum")
+    assert "header" in JointState.get_fields_and_field_types()

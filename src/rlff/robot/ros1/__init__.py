@@ -6,28 +6,16 @@ These modules need Debian's ROS 1 Python packages and the control_msgs messages 
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
+from rlff.robot.rospath import prefer
 
-
-def _ros1_first() -> None:
-    """Put the venv's ROS 1 folder (``.venv/ros1``) before site-packages on ``sys.path``.
-
-    The ROS 2 wheels of the ``ros2`` extra install packages of the same names (std_msgs,
-    trajectory_msgs, control_msgs, ...) into site-packages; a process that drives ROS 1 must
-    import Debian's. Every ROS 1 module of rlff imports this package first.
-    """
-    folder = str(Path(sys.prefix) / "ros1")
-    if folder in sys.path:
-        sys.path.remove(folder)
-        sys.path.insert(0, folder)
-
-
-_ros1_first()
+# Debian's ROS 1 before the ROS 2 wheels' packages of the same names: every ROS 1 module of rlff
+# imports this package first
+prefer(1)
 
 
 def missing() -> str | None:
     """Why live ROS 1 cannot run here (a message naming the fix), or None when it can."""
+    prefer(1)
     try:
         import actionlib  # noqa: F401
         import rospy  # noqa: F401
