@@ -40,14 +40,16 @@ def require_ros2() -> None:
     pytest.skip(reason)
 
 
-_DOMAINS = itertools.count(random.SystemRandom().randint(1, 80))
+#: Domains per pytest-xdist worker: worker w uses 1 + 40 w .. 40 + 40 w (Fast DDS fits up to 232).
+_BLOCK = 40
+_WORKER = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw") or 0) % 5
+_DOMAINS = itertools.count(random.SystemRandom().randrange(_BLOCK))
 
 
 def free_domain() -> int:
-    """A ROS_DOMAIN_ID of its own for each caller: consecutive from a random start in 1..80 per
-    process (Fast DDS' ports fit domains up to 232), so that test modules and concurrent runs on
-    one machine do not see each other."""
-    return next(_DOMAINS)
+    """A ROS_DOMAIN_ID of its own for each caller: the worker's block of domains, taken in turn
+    from a random start, so that test modules, workers and concurrent runs do not see each other."""
+    return 1 + _BLOCK * _WORKER + next(_DOMAINS) % _BLOCK
 
 
 def ros2_env(domain: int, home: Path) -> dict[str, str]:
@@ -153,10 +155,10 @@ class RosNode:
 
     def close(self) -> None:
         self.executor.shutdown(timeout_sec=2.0)
+        self._thread.join(timeout=2.0)
         self.node.destroy_node()
         if self.context.ok():
             self.rclpy.shutdown(context=self.context)
-        self._thread.join(timeout=2.0)
 
 
 def wait_future(future, seconds: float, what: str):

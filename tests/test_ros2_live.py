@@ -236,11 +236,18 @@ def test_a_second_server_is_refused_and_the_first_goes_on(server, node, client, 
 
     from ros2rig import ros2_env
 
-    second = subprocess.run([sys.executable, "-m", "rlff", "robot", "serve", "--ros", "2"],
-                            env=ros2_env(domain, tmp_path), capture_output=True, text=True, timeout=120)
-    assert second.returncode == 2
-    assert second.stderr.strip().splitlines()[-1].startswith(
-        "rlff: error: node /rlff_comau_controller already serves /comau_controller/follow_joint_trajectory")
+    second = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "serve", "--ros", "2"],
+                              env=ros2_env(domain, tmp_path), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True)
+    try:
+        _, err = second.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        second.kill()
+        _, err = second.communicate()
+        pytest.fail(f"a second server started beside the first: {err}")
+    assert second.returncode == 2, err
+    assert err.strip().splitlines()[-1].startswith(
+        "rlff: error: node /rlff_comau_controller already serves /comau_controller/follow_joint_trajectory"), err
     assert server.proc.poll() is None
     _, here = node.latest()
     goal, _, _ = smooth_move(here, DRIVEN, 0.1, 0.5, points=10)

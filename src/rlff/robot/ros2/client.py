@@ -79,11 +79,12 @@ class Connection:
         self.node.create_subscription(msg_type, topic, callback, 10)
 
     def close(self) -> None:
+        # the spin ends before the node goes, so no callback runs on a destroyed node
         self.executor.shutdown(timeout_sec=1.0)
+        self._thread.join(timeout=2.0)
         self.node.destroy_node()
         if self.context.ok():
             rclpy.shutdown(context=self.context)
-        self._thread.join(timeout=2.0)
 
     def __enter__(self) -> Connection:
         return self

@@ -63,8 +63,9 @@ JOINT_STATES = "/joint_states"
 NODE_NAME = "rlff_comau_controller"
 #: Threads of the executor: goals wait for their end in one each, besides the tick and callbacks.
 THREADS = 8
-#: Seconds a starting server listens for another server of the action (discovery on this host).
-DISCOVERY_WAIT = 1.5
+#: Seconds a starting server listens for another server of the action (discovery on this host
+#: takes a fraction of a second when idle, more on a loaded machine).
+DISCOVERY_WAIT = 3.0
 
 
 class ServerRunning(InputError):
