@@ -98,6 +98,17 @@ def motion(amplitude: float, duration: float, t: np.ndarray) -> np.ndarray:
     return amplitude * (10 * s**3 - 15 * s**4 + 6 * s**5)
 
 
+def rest_pose(node) -> np.ndarray:
+    """The arm's pose (J,) once it stands still (its last 0.2 s of states all equal)."""
+    def still() -> bool:
+        stamp, _ = node.latest()
+        stamps, positions = node.states(since=stamp - 0.2)
+        return len(stamps) >= 3 and np.ptp(positions, axis=0).max() == 0.0
+
+    wait_until(still, 60, "the arm to stand still")
+    return node.latest()[1]
+
+
 def send(client, goal, feedback=None):
     handle = wait_future(client.send_goal_async(goal, feedback_callback=feedback), 30, "the goal response")
     assert handle.accepted
@@ -107,7 +118,7 @@ def send(client, goal, feedback=None):
 def test_a_goal_of_an_independent_client_moves_the_arm_as_sent(node, client):
     from action_msgs.msg import GoalStatus
 
-    _, here = node.latest()
+    here = rest_pose(node)
     amplitude, duration = 0.5, 2.0
     goal, _, _ = smooth_move(here, DRIVEN, amplitude, duration)
     sent_at = node.now()
@@ -139,7 +150,7 @@ def test_a_goal_of_an_independent_client_moves_the_arm_as_sent(node, client):
 def test_a_goal_beyond_the_limits_is_answered_invalid_goal_and_nothing_moves(node, client):
     from action_msgs.msg import GoalStatus
 
-    _, here = node.latest()
+    here = rest_pose(node)
     target = 3.0  # joint_2 stops at 2.71 rad
     goal, _, _ = smooth_move(here, DRIVEN, target - here[DRIVEN], 3.0)
     before = node.now()
@@ -155,7 +166,7 @@ def test_a_goal_beyond_the_limits_is_answered_invalid_goal_and_nothing_moves(nod
 def test_unknown_joints_are_answered_invalid_joints(node, client):
     from action_msgs.msg import GoalStatus
 
-    _, here = node.latest()
+    here = rest_pose(node)
     goal, _, _ = smooth_move(here, DRIVEN, 0.2, 1.0)
     goal.trajectory.joint_names = [name.replace("joint_", "axis_") for name in NAMES]
     answer = wait_future(send(client, goal).get_result_async(), 30, "the result")
@@ -166,7 +177,7 @@ def test_unknown_joints_are_answered_invalid_joints(node, client):
 def test_a_tolerance_for_an_unknown_joint_is_answered_invalid_joints(node, client):
     from control_msgs.msg import JointTolerance
 
-    _, here = node.latest()
+    here = rest_pose(node)
     goal, _, _ = smooth_move(here, DRIVEN, 0.2, 1.0)
     goal.goal_tolerance = [JointTolerance(name="elbow", position=0.01)]
     answer = wait_future(send(client, goal).get_result_async(), 30, "the result")
@@ -176,7 +187,7 @@ def test_a_tolerance_for_an_unknown_joint_is_answered_invalid_joints(node, clien
 def test_cancel_brakes_the_arm_to_rest_short_of_the_end(node, client):
     from action_msgs.msg import GoalStatus
 
-    _, here = node.latest()
+    here = rest_pose(node)
     amplitude, duration = -1.0, 6.0
     goal, _, _ = smooth_move(here, DRIVEN, amplitude, duration)
     handle = send(client, goal)
@@ -195,7 +206,7 @@ def test_cancel_brakes_the_arm_to_rest_short_of_the_end(node, client):
 def test_a_newer_goal_preempts_the_running_one(node, client):
     from action_msgs.msg import GoalStatus
 
-    _, here = node.latest()
+    here = rest_pose(node)
     first, _, _ = smooth_move(here, DRIVEN, 1.0, 6.0)
     running = send(client, first)
     wait_until(lambda: node.latest()[1][DRIVEN] - here[DRIVEN] > 0.15, 30, "the first goal to move the arm")
@@ -217,7 +228,7 @@ def test_a_newer_goal_preempts_the_running_one(node, client):
 def test_a_cancel_while_the_arm_waits_for_the_start_ends_the_goal_cancelled(node, client):
     from action_msgs.msg import GoalStatus
 
-    _, here = node.latest()
+    here = rest_pose(node)
     goal, _, _ = smooth_move(here, DRIVEN, 0.3, 1.0, points=5, delay=3.0)  # the arm waits 3 s at rest
     handle = send(client, goal)
     before = node.now()
@@ -249,7 +260,20 @@ def test_a_second_server_is_refused_and_the_first_goes_on(server, node, client, 
     assert err.strip().splitlines()[-1].startswith(
         "rlff: error: node /rlff_comau_controller already serves /comau_controller/follow_joint_trajectory"), err
     assert server.proc.poll() is None
-    _, here = node.latest()
+    here = rest_pose(node)
     goal, _, _ = smooth_move(here, DRIVEN, 0.1, 0.5, points=10)
     answer = wait_future(send(client, goal).get_result_async(), 30, "the result")
     assert answer.result.error_code == 0
+
+
+def test_a_trajectory_on_the_topic_moves_the_arm(node, client):
+    from trajectory_msgs.msg import JointTrajectory as TrajectoryMsg
+
+    here = rest_pose(node)
+    goal, _, positions = smooth_move(here, DRIVEN, -0.25, 1.0, points=20)
+    publisher = node.node.create_publisher(TrajectoryMsg, "/comau/joint_trajectory", 1)
+    wait_until(lambda: publisher.get_subscription_count() > 0, 30, "the server's subscription")
+    publisher.publish(goal.trajectory)
+    wait_until(lambda: abs(node.latest()[1][DRIVEN] - positions[-1, DRIVEN]) < 1e-9, 30,
+               "the topic trajectory to be executed")
+    node.node.destroy_publisher(publisher)
