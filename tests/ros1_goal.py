@@ -6,12 +6,13 @@ Used by tests/test_ros1_safety.py as a separate process (a rospy node lives once
 time, 0: on receipt). It bypasses rlff's client and its checks, so the server's own are tested.
 """
 
-from __future__ import annotations
+from __future__ import annotations  # noqa: I001 - rlff.robot.ros1 first, see below
 
 import argparse
 import json
 import sys
 
+import rlff.robot.ros1  # noqa: F401 - Debian's ROS 1 before the ROS 2 wheels of the same names
 import actionlib
 import rospy
 from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryGoal

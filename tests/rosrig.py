@@ -40,12 +40,12 @@ def missing() -> str | None:
     """Why the live ROS 1 tests cannot run here, or None."""
     if shutil.which("roscore") is None or shutil.which("rostopic") is None:
         return "roscore/rostopic are not installed (scripts/setup.sh --test installs ros-core)"
-    try:
-        import control_msgs.msg  # noqa: F401
-        import rospy  # noqa: F401
-    except ImportError as exc:
-        return f"ROS 1 is not reachable from the venv ({exc}); run scripts/setup.sh --test"
-    return None
+    # in a child: importing ROS 1 here would put its packages before the ROS 2 wheels' of the
+    # same names (std_msgs, trajectory_msgs, ...) for the ROS 2 tests of this worker
+    probe = subprocess.run([sys.executable, "-c", "from rlff.robot import ros1; print(ros1.missing() or '')"],
+                           capture_output=True, text=True, timeout=120)
+    problem = probe.stdout.strip() or probe.stderr.strip()[-500:]
+    return f"ROS 1 is not reachable from the venv ({problem}); run scripts/setup.sh --test" if problem else None
 
 
 @pytest.fixture(scope="module", autouse=True)

@@ -33,6 +33,7 @@ echo "$ros_dir" > "$site/rlff-ros1.pth"
 
 .venv/bin/python -m rlff.robot.ros1.msgs "$ros_dir" >/dev/null
 .venv/bin/python - <<'PY'
+import rlff.robot.ros1  # Debian's ROS 1 before the ROS 2 wheels' packages of the same names
 import numpy, rospy, actionlib
 from control_msgs.msg import FollowJointTrajectoryAction
 assert "/usr/lib/python3" not in numpy.__file__, numpy.__file__

@@ -1,4 +1,4 @@
-"""``rlff learn``: the closed learning-from-failure loop on the simulated robot."""
+"""``rlff learn``: the closed learning-from-failure loop, on the simulated robot or a live one."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, plural, progress, say, stdout
+from rlff.cli._common import emit_json, plural, progress, say, stderr, stdout
 
 
 def register(root: typer.Typer) -> None:
@@ -43,11 +43,21 @@ def learn_command(
                                          "ros2-bag folder) or --format."),
     fmt: str | None = typer.Option(None, "--format", "-f", help="Format of --out: json, csv, ros1-bag, ros2-bag, comau."),
     period: float = typer.Option(0.002, "--period", help="Controller period (s) of --out, as `robot export --period`."),
+    executor: str = typer.Option("sim", "--executor",
+                                 help="sim (MuJoCo), or ros1 / ros2: each attempt through the robot's "
+                                      "FollowJointTrajectory action (`rlff robot serve`, or the real arm)."),
+    outcome: str | None = typer.Option(None, "--outcome",
+                                       help="With a robot executor: ask (type hit, miss or the signed miss at "
+                                            "a prompt) or topic (landings a vision system publishes)."),
+    landing_topic: str = typer.Option("/rlff/landing", "--landing-topic",
+                                      help="geometry_msgs/PointStamped of --outcome topic (point.x: landing, m)."),
+    network: bool = typer.Option(False, "--network", help="Let a robot executor's node reach other hosts."),
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
     from rlff.cli.output import guard
     from rlff.dataset import read_csv
+    from rlff.errors import InputError
     from rlff.learn import learn
 
     # the log is read (resumed) and written: it may exist, but must not be the demonstrations
@@ -58,9 +68,11 @@ def learn_command(
 
         fmt = export_format(out, fmt)
         if fmt not in FORMATS:
-            from rlff.errors import InputError
-
             raise InputError(f"unknown --format {fmt!r} (known: {', '.join(FORMATS)})")
+    if executor not in ("sim", "ros1", "ros2"):
+        raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")
+    if (executor == "sim") != (outcome is None):
+        raise InputError("--outcome ask|topic goes with --executor ros1|ros2 (the simulation knows its outcomes)")
     data = read_csv(demos)
     if preset:
         from rlff.preprocess import Pipeline
@@ -68,17 +80,27 @@ def learn_command(
         data, _ = Pipeline.preset(preset).run(data)
     with ExitStack() as stack:
         bar = []  # opened at the first attempt, so that bad input fails before any display
+        run_on = None
+        if executor != "sim":
+            from rlff.learn.robot import robot_executor
+
+            run_on = _learn_live(lambda: stack.enter_context(robot_executor(
+                executor, outcome, robot, basket, feedback, ask=_ask, landing_topic=landing_topic, network=network)))
 
         def show(attempt) -> None:
+            if outcome == "ask":  # no progress bar under the prompt
+                say(f"attempt {attempt.index}: {'hit' if attempt.hit else 'miss'}, exploration {attempt.exploration:.2f}")
+                return
             if not bar:
                 bar.append(stack.enter_context(progress(f"learning to hit {basket:g} m", total=budget)))
-            outcome = f"{'hit' if attempt.hit else 'miss'} {attempt.miss:+.2f} m"
-            bar[0](1, description=f"attempt {attempt.index}: {outcome}, "
+            seen = f"{'hit' if attempt.hit else 'miss'} {attempt.miss:+.2f} m"
+            bar[0](1, description=f"attempt {attempt.index}: {seen}, "
                                   f"exploration {attempt.exploration:.2f}")
 
-        result = learn(data, basket, budget=budget, feedback=feedback, update=update, seed=seed,
-                       log_path=log, progress=show, robot=robot, pedestal=pedestal, until=until,
-                       centre_share=centre_share)
+        result = _learn_live(lambda: learn(data, basket, budget=budget, feedback=feedback, update=update, seed=seed,
+                                           log_path=log, progress=show, robot=robot, pedestal=pedestal,
+                                           until=until, centre_share=centre_share,
+                                           executor=run_on, executed_on=executor))
     for note in result.notes:
         say(note)
     written = _write_best(result, robot, out, fmt, period) if out is not None else None
@@ -114,3 +136,29 @@ def _write_best(result, robot: str, out: Path, fmt: str, period: float) -> dict 
     say(f"wrote {out} ({fmt}): attempt {best.index}, {what} ({best.miss:+.3f} m), "
         f"{len(planned.trajectory)} points, {planned.trajectory.duration:.3f} s")
     return {"path": out, "format": fmt, "attempt": best.index, "hit": best.hit, "miss": best.miss}
+
+def _ask(question: str) -> str:
+    """One answer typed on stdin after ``question`` on stderr; EOF is an error."""
+    import sys
+
+    from rlff.errors import InputError
+
+    stderr().print(question, end="", highlight=False, markup=False)
+    line = sys.stdin.readline()
+    if not line:
+        stderr().print()  # end the prompt's line
+        raise InputError("--outcome ask: no answer (stdin is closed); the attempts so far are in the log")
+    return line
+
+
+def _learn_live(run):
+    """``run()``, with a robot that fails or cannot be reached ending the command in one line (exit 1)."""
+    from rlff.errors import InputError, RlffError
+
+    try:
+        return run()
+    except InputError:
+        raise
+    except RlffError as exc:  # the arm did not execute an attempt, or is not there
+        stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
+        raise typer.Exit(1) from None

@@ -1,4 +1,4 @@
-"""``rlff robot ...``: robot description, exports, and live ROS 1 (serve / send)."""
+"""``rlff robot ...``: robot description, URDF, exports, and live ROS 1 or ROS 2 (serve / send)."""
 
 from __future__ import annotations
 
@@ -17,7 +17,8 @@ if TYPE_CHECKING:
 DEFAULT_ROBOT = "comau_smart5_six"  # rlff.robot.description.DEFAULT_ROBOT
 FORMATS = ("json", "csv", "ros1-bag", "ros2-bag", "comau")  # rlff.robot.formats.FORMATS
 
-app = typer.Typer(help="The robot: its limits, exports, and live ROS 1 (serve / send).", no_args_is_help=True)
+app = typer.Typer(help="The robot: its limits, URDF, exports, and live ROS 1 or 2 (serve / send).",
+                  no_args_is_help=True)
 
 ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help=f"Robot file (.toml) or built-in robot name ({DEFAULT_ROBOT}).")
 CLIP = typer.Option(False, "--clip", help="Clip values beyond the limits (and report each) instead of refusing.")
@@ -26,6 +27,9 @@ ATTEMPT = typer.Option(None, "--attempt", min=1,
 INPUT_HELP = ("Generated trajectory CSV (angle, velocity[, time], ...), a robot trajectory (JSON/CSV of "
               "`robot export`, e.g. `rlff learn --out`), or an attempts log (with --attempt).")
 JSON = typer.Option(False, "--json", help="Print a machine-readable result on stdout.")
+ROS = typer.Option(1, "--ros", help="ROS version: 1 (rospy, a roscore) or 2 (rclpy, ROS 2 Kilted).")
+NETWORK = typer.Option(False, "--network", help="Let other hosts reach the node (default: this host only); "
+                                                "a warning says so.")
 
 
 def _report(result: RobotPlan) -> None:
@@ -63,6 +67,28 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
         out.print(f"throwing: human angle drives {mapping.joint} = {mapping.angle_offset:g} + "
                   f"{mapping.angle_scale:g} * angle, velocity * {mapping.velocity_scale:g}; start pose {pose}",
                   highlight=False)
+
+
+@app.command()
+def urdf(
+    out: Path = typer.Option(..., "--output", "-o", "--out", help="URDF file to write."),
+    robot: str = ROBOT,
+    json: bool = JSON,
+) -> None:
+    """Write the robot as URDF (joints, limits, links as cylinders) for RViz, MoveIt and ros2_control."""
+    from rlff.cli.output import guard
+    from rlff.fileio import write_text
+    from rlff.robot.description import load_robot
+    from rlff.robot.urdf import robot_urdf
+
+    model = load_robot(robot)
+    source = Path(model.source)
+    guard(inputs={"--robot": source if source.is_file() else None}, outputs={"-o/--output": out})
+    write_text(out, robot_urdf(model))
+    if json:
+        emit_json({"out": out, "robot": model.name, "joints": list(model.joint_names)})
+    else:
+        say(f"wrote {out} ({model.name}, {len(model.joints)} joints)")
 
 
 @app.command()
@@ -112,6 +138,8 @@ def serve(
     rate: float = typer.Option(100.0, "--rate", help="Ticks per second of the simulated arm (Hz)."),
     sim: str = typer.Option("kinematic", "--sim", help="kinematic, or mujoco: also simulate each finished throw."),
     basket: float = typer.Option(2.0, "--basket", help="Basket distance (m) for --sim mujoco."),
+    ros: int = ROS,
+    network: bool = NETWORK,
 ) -> None:
     """Run the FollowJointTrajectory action server of a simulated arm until Ctrl-C."""
     from rlff.errors import InputError
@@ -121,16 +149,20 @@ def serve(
 
     # every option is checked before a node registers: a bad one must not disturb a running server
     check_rate(rate)
+    _check_ros(ros)
     model = load_robot(robot)
     mapping = RobotMapping.for_robot(model)
     if sim not in ("kinematic", "mujoco"):
         raise InputError(f"unknown --sim {sim!r} (kinematic or mujoco)")
+    hook = _mujoco_throw(model, basket) if sim == "mujoco" else None
+    if ros == 2:
+        _serve_ros2(model, mapping.pose(0.0), rate, hook, network)
+        return
     _require_ros()
+    _ros1_reach(network)
     from rlff.robot.ros1.master import RosUnavailable
     from rlff.robot.ros1.server import ACTION_NAMESPACE, TOPIC
     from rlff.robot.ros1.server import serve as run_server
-
-    hook = _mujoco_throw(model, basket) if sim == "mujoco" else None
 
     def ready() -> None:
         arm = "kinematic arm" + (", each finished throw simulated in MuJoCo" if hook else "")
@@ -160,6 +192,51 @@ def goal_message(outcome) -> str:
 def _robot_file(robot: str) -> Path | None:
     """The robot file ``--robot`` names, if it names a file rather than a built-in robot."""
     return Path(robot) if robot.endswith(".toml") else None
+
+
+def _check_ros(ros: int) -> None:
+    from rlff.errors import InputError
+
+    if ros not in (1, 2):
+        raise InputError(f"--ros must be 1 or 2, got {ros}")
+
+
+def _ros1_reach(network: bool) -> None:
+    """Bind ROS 1 nodes to the loopback address when the master is local, unless ``network``."""
+    from rlff.robot.ros1.network import limit_to_loopback
+
+    warning = limit_to_loopback(network)
+    if warning:
+        stderr().print(f"rlff: warning: {warning}", highlight=False, markup=False)
+
+
+def _require_ros2(network: bool) -> None:
+    """Exit 1 unless ROS 2 is installed; limit its discovery to this host unless ``network``."""
+    from rlff.robot import ros2
+
+    problem = ros2.missing()
+    if problem:
+        stderr().print(f"rlff: error: {problem}", highlight=False, markup=False)
+        raise typer.Exit(1)
+    from rlff.robot.ros2.network import limit_discovery
+
+    warning = limit_discovery(network)
+    if warning:
+        stderr().print(f"rlff: warning: {warning}", highlight=False, markup=False)
+
+
+def _serve_ros2(model, initial, rate: float, hook, network: bool) -> None:
+    _require_ros2(network)
+    from rlff.robot.ros2.server import ACTION_NAME, TOPIC
+    from rlff.robot.ros2.server import serve as run_server
+
+    def ready() -> None:
+        arm = "kinematic arm" + (", each finished throw simulated in MuJoCo" if hook else "")
+        reach = "the network" if network else "this host only"
+        say(f"serving {ACTION_NAME} and {TOPIC} for {model.name} over ROS 2 ({arm}, {rate:g} Hz, "
+            f"{reach}); Ctrl-C stops")
+
+    run_server(model, initial, rate, hook, on_ready=ready)
 
 
 def _require_ros() -> None:
@@ -197,6 +274,8 @@ def send(
     approach: bool = typer.Option(False, "--approach", help="An exported trajectory that starts at rest away from "
                                                             "the arm: first move there (a planned, limit-respecting "
                                                             "approach) instead of refusing it."),
+    ros: int = ROS,
+    network: bool = NETWORK,
     json: bool = JSON,
 ) -> None:
     """Send a trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels).
@@ -209,8 +288,13 @@ def send(
     from rlff.learn.log import is_attempts_log
     from rlff.learn.replay import load_input
     from rlff.robot.description import load_robot
+    from rlff.robot.send import goal_for_arm
     from rlff.robot.sendfile import load_for_sending
 
+    _check_ros(ros)
+    if ros == 2 and topic_mode:
+        raise InputError("--topic-mode is the ROS 1 driver's topic; over ROS 2 the goal goes by the action "
+                         "(drop --topic-mode)")
     model = load_robot(robot)
 
     def load(start=None):
@@ -221,9 +305,15 @@ def send(
         return load_for_sending(trajectory, model, period, clip, start=start, approach=approach)[1]
 
     load()  # a wrong file is refused before any connection
-    _require_ros()
-    from rlff.robot.ros1.client import arm_state, goal_for_arm, publish_trajectory, send_goal
-    from rlff.robot.ros1.master import RosUnavailable
+    if ros == 2:
+        _require_ros2(network)
+        from rlff.robot.ros2.client import ServerUnavailable as RosUnavailable
+        from rlff.robot.ros2.client import arm_state, send_goal
+    else:
+        _require_ros()
+        _ros1_reach(network)
+        from rlff.robot.ros1.client import arm_state, publish_trajectory, send_goal
+        from rlff.robot.ros1.master import RosUnavailable
 
     try:
         pose, speed = arm_state(model, timeout)

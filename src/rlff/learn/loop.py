@@ -155,6 +155,7 @@ def learn(
     opening: float = 0.35,
     until: str = "hit",
     centre_share: float = CENTRE_SHARE,
+    executed_on: str = "sim",
 ) -> LearningResult:
     """Learn to hit a basket at distance ``basket`` from (possibly failed) demonstrations.
 
@@ -193,6 +194,9 @@ def learn(
         narrower window), so every method and both feedbacks work unchanged.
     centre_share : float
         In (0, 1]: the share of the half-opening a centred hit lands within.
+    executed_on : str
+        What ``executor`` runs the throws on (``sim``, ``ros1``, ``ros2``): a log resumes only
+        on the same (a run in simulation writes no such field, so older logs resume).
 
     Returns
     -------
@@ -246,6 +250,8 @@ def learn(
     if until == "centred":
         centre_window = 0.5 * centre_share * target.opening
         run["centre_share"] = centre_share
+    if executed_on != "sim":
+        run["executor"] = executed_on
     log = AttemptLog(log_path, run) if log_path is not None else None
     try:
         return _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,

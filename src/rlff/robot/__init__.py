@@ -1,4 +1,4 @@
-"""The robot side: robot description, human-to-robot mapping, exports, ROS 1 client and server.
+"""The robot side: robot description, URDF, human-to-robot mapping, exports, live ROS 1 and ROS 2.
 
 The public names are imported on first use (PEP 562) so that importing a submodule such as
 ``rlff.robot.description`` does not load the mapping's SciPy dependencies.

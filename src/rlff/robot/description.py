@@ -193,7 +193,11 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
     Parameters
     ----------
     path_or_name : str or Path
-        A TOML file, or the name of a built-in robot (see :func:`available_robots`).
+        A TOML file, a URDF file (joints with position and speed limits only), or the name of a
+        built-in robot (see :func:`available_robots`). A TOML file may take its joints from a
+        URDF: its field ``urdf`` names the file (relative to the TOML's folder), its
+        ``[[joints]]`` tables add to the URDF joints of the same name what a URDF cannot state
+        (``max_acceleration``, ``max_jerk``; :func:`rlff.robot.urdf.merge_urdf`).
 
     Raises
     ------
@@ -201,7 +205,13 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
         Unknown robot, unreadable file, or a missing or invalid field (named in the message).
     """
     text_name = str(path_or_name)
-    is_file = isinstance(path_or_name, Path) or text_name.endswith(".toml") or "/" in text_name
+    is_file = isinstance(path_or_name, Path) or text_name.endswith((".toml", ".urdf")) or "/" in text_name
+    if is_file and text_name.endswith(".urdf"):
+        from rlff.robot.urdf import urdf_joints
+
+        # a URDF states no acceleration or jerk limits: such a robot is checked, not planned for
+        name, joints = urdf_joints(path_or_name)
+        return Robot(name, tuple(Joint(**joint) for joint in joints), source=str(path_or_name))
     if is_file:
         path = Path(path_or_name)
         try:
@@ -220,4 +230,8 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
         document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{source}: not valid TOML: {exc}") from None
+    if is_file and "urdf" in document:
+        from rlff.robot.urdf import merge_urdf
+
+        document = merge_urdf(document, Path(path_or_name).parent, source)
     return parse_robot(document, source)

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
 
 import actionlib
 import numpy as np
@@ -25,65 +24,30 @@ from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectory as TrajectoryMsg
 
 from rlff.errors import InputError
-from rlff.robot.controller import START_VELOCITY_TOLERANCE, ResultCode
 from rlff.robot.description import Robot
-from rlff.robot.goal import InvalidJoints, check_goal
+from rlff.robot.goal import check_goal
 from rlff.robot.ros1.convert import to_msg
 from rlff.robot.ros1.master import RosUnavailable, wait_for_master
 from rlff.robot.ros1.server import ACTION_NAMESPACE, JOINT_STATES, TOPIC
+from rlff.robot.send import ERROR_NAMES, SendResult, goal_start
 from rlff.trajectory.joint import JointTrajectory
 
 #: Seconds between sending a goal and its start (its header stamp), so the server is ready.
 START_LEAD = 0.2
 #: Default seconds to wait for the master and the server when no timeout is given.
 CONNECT_TIMEOUT = 10.0
-#: Seconds after its start at which a goal sent to a moving arm has its first point.
-APPROACH_LEAD = 0.1
 #: Seconds to wait for the server to acknowledge a cancel (it answers once the arm has braked).
 CANCEL_WAIT = 10.0
 
-_ERROR_NAMES = {code.value: code.name for code in ResultCode}
 # PREEMPTED is a goal cancelled while it ran: by us ("cancelled") or by a newer goal ("preempted")
 _STATES = {GoalStatus.SUCCEEDED: "succeeded", GoalStatus.REJECTED: "rejected", GoalStatus.ABORTED: "aborted",
            GoalStatus.PREEMPTED: "preempted", GoalStatus.RECALLED: "cancelled", GoalStatus.LOST: "lost"}
-
-
-@dataclass(frozen=True)
-class SendResult:
-    """What became of a goal.
-
-    ``status``: succeeded, rejected, aborted, preempted (by another goal), cancelled, lost or
-    timed out; ``error_code``: the action result's code (e.g. -1); ``error_name`` its name
-    (INVALID_GOAL), None for the 0 of a goal that did not succeed (FollowJointTrajectory has no
-    code for a preemption or a cancel); ``start``: the goal's start (ROS time, s);
-    ``duration``: the trajectory's (s); ``feedback``: messages received.
-    """
-
-    status: str
-    error_code: int | None
-    error_name: str | None
-    error_string: str
-    start: float
-    duration: float
-    feedback: int
-
-    @property
-    def succeeded(self) -> bool:
-        return self.status == "succeeded" and self.error_code == FollowJointTrajectoryResult.SUCCESSFUL
-
-    def to_dict(self) -> dict:
-        return asdict(self) | {"succeeded": self.succeeded}
 
 
 def _connect(deadline: float, node: str) -> None:
     wait_for_master(max(0.0, deadline - time.monotonic()))
     if not rospy.core.is_initialized():
         rospy.init_node(node, anonymous=True, disable_signals=True)
-
-
-def goal_start(robot: Robot, traj: JointTrajectory, pose: np.ndarray) -> np.ndarray:
-    """The arm's ``pose`` (J,) in ``robot``'s joint order, restricted to ``traj``'s joints."""
-    return np.asarray(pose, dtype=float)[[robot.index(name) for name in traj.joint_names]]
 
 
 def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -112,41 +76,6 @@ def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, n
     velocities = np.asarray(msg.velocity, dtype=float)
     return (np.asarray(msg.position, dtype=float)[index],
             velocities[index] if velocities.size == len(names) else np.zeros(len(index)))
-
-
-def goal_for_arm(robot: Robot, traj: JointTrajectory, pose: np.ndarray, velocity: np.ndarray) -> JointTrajectory:
-    """``traj`` checked as a goal from the arm's state, ready to send.
-
-    Parameters
-    ----------
-    robot : Robot
-    traj : JointTrajectory
-        The motion, its first point where the arm is (e.g. planned from ``pose``).
-    pose, velocity : arrays of shape (J,)
-        The arm's state (rad, rad/s; every joint of ``robot``, e.g. :func:`arm_state`).
-
-    Returns
-    -------
-    JointTrajectory
-        ``traj`` itself for an arm at rest; for a moving arm (a running goal), whose pose is
-        stale by the time the goal arrives, ``traj`` with every point :data:`APPROACH_LEAD` s
-        later, so that the server approaches its first point from wherever the arm then is.
-
-    Raises
-    ------
-    InputError
-        ``traj`` fails the motion check from ``pose`` (nothing is sent).
-    """
-    try:
-        check_goal(robot, traj, goal_start(robot, traj, pose))
-    except InvalidJoints:
-        raise
-    except InputError as exc:
-        raise type(exc)(f"from the arm's pose on {JOINT_STATES}: {exc}") from None
-    if np.abs(velocity).max() <= START_VELOCITY_TOLERANCE:
-        return traj
-    return JointTrajectory(traj.joint_names, traj.time + APPROACH_LEAD, traj.positions, traj.velocities,
-                           traj.accelerations)
 
 
 def send_goal(
@@ -214,7 +143,7 @@ def send_goal(
     result = client.get_result()
     status = _STATES.get(client.get_state(), "unknown")
     code = None if result is None else int(result.error_code)
-    name = None if code == FollowJointTrajectoryResult.SUCCESSFUL and status != "succeeded" else _ERROR_NAMES.get(code)
+    name = None if code == FollowJointTrajectoryResult.SUCCESSFUL and status != "succeeded" else ERROR_NAMES.get(code)
     return SendResult(status, code, name, (result.error_string if result else "") or client.get_goal_status_text(),
                       start.to_sec(), traj.duration, received)
 

@@ -1,0 +1,308 @@
+"""Learning through a robot: every attempt runs through the FollowJointTrajectory action.
+
+The loop (:func:`rlff.learn.learn`) hands an executor the robot trajectory of each proposed
+throw. :class:`RobotExecutor` plans it from the arm's pose (read from /joint_states) with the
+approach and the braking tail (:func:`rlff.trajectory.planner.plan_throw`), sends it as a goal
+(ROS 1 or ROS 2, whichever transport it is given) and waits for its end, then takes the outcome
+from whoever watched the throw:
+
+- a person (``ask``): "hit", "miss", or the signed miss in metres (negative short of the
+  basket), typed at a prompt; see :func:`parse_answer`;
+- a vision system (``topic``): the landing point it publishes, a geometry_msgs/PointStamped whose
+  ``point.x`` is the landing distance (m) along the throwing direction from the robot's base
+  axis, stamped after the goal started; see :class:`Landings`.
+
+The outcome joins the attempts log like a simulated one (hit, landing, signed miss), so a run
+resumes the same way. A goal that does not succeed stops the run with an error naming the
+attempt: the log keeps the attempts before it.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+import time
+from collections.abc import Callable, Iterator
+from contextlib import ExitStack, contextmanager
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from rlff.errors import InputError, RlffError
+from rlff.robot.description import Robot
+from rlff.robot.send import SendResult, goal_for_arm
+from rlff.trajectory.joint import JointTrajectory
+from rlff.trajectory.planner import plan_throw
+
+#: Topic a vision system publishes the measured landing on (geometry_msgs/PointStamped).
+LANDING_TOPIC = "/rlff/landing"
+#: Planning period (s) of the executed throws (``rlff robot send``'s default).
+PERIOD = 0.01
+#: Seconds to wait for a landing after the goal ended.
+OUTCOME_TIMEOUT = 60.0
+
+
+@dataclass(frozen=True)
+class ReportedOutcome:
+    """What whoever watched reports: ``hit``, ``landing_x`` (m; NaN if not measured) and
+    ``miss`` (m, ``landing_x`` less the basket's distance; 0 for a hit, NaN if not measured)."""
+
+    hit: bool
+    landing_x: float
+    miss: float
+
+
+class RobotFailed(RlffError):
+    """A goal of the learning run did not succeed (rejected, aborted, timed out)."""
+
+
+def outcome_of_landing(landing: float, basket: float, tolerance: float) -> ReportedOutcome:
+    """The outcome of a ball measured landing at ``landing`` (m) for a basket at ``basket`` (m):
+    a hit when within ``tolerance`` (m) of the basket's centre."""
+    miss = float(landing) - float(basket)
+    hit = abs(miss) <= tolerance
+    return ReportedOutcome(hit, float(landing), 0.0 if hit else miss)
+
+
+def parse_answer(text: str, basket: float, distance_needed: bool) -> ReportedOutcome:
+    """The outcome a person typed.
+
+    ``hit`` (or ``h``, ``y``): in the basket (landing taken as the basket's centre); ``miss`` (or
+    ``m``, ``n``): out, not measured (only when ``distance_needed`` is False); a number: the signed
+    miss (m, negative short), 0 counting as a hit.
+
+    Raises
+    ------
+    InputError
+        Anything else, naming what was typed and what is expected.
+    """
+    answer = text.strip().lower()
+    if answer in ("hit", "h", "y", "yes"):
+        return ReportedOutcome(True, float(basket), 0.0)
+    if answer in ("miss", "m", "n", "no"):
+        if distance_needed:
+            raise InputError("distance feedback needs the signed miss in m (e.g. -0.3 for 30 cm short), "
+                             "not just 'miss'")
+        return ReportedOutcome(False, math.nan, math.nan)
+    try:
+        miss = float(answer)
+    except ValueError:
+        raise InputError(f"answer {text.strip()!r}: type hit, miss, or the signed miss in m "
+                         "(negative short of the basket)") from None
+    if not math.isfinite(miss):
+        raise InputError(f"answer {text.strip()!r}: the miss must be a finite number of metres")
+    if miss == 0:
+        return ReportedOutcome(True, float(basket), 0.0)
+    return ReportedOutcome(False, float(basket) + miss, miss)
+
+
+class Landings:
+    """The landing points a vision system publishes, kept as they arrive.
+
+    ``subscribe(callback)`` connects the topic; the transport calls ``callback(stamp, x)`` with
+    each message's header stamp (s) and ``point.x`` (m).
+    """
+
+    def __init__(self, subscribe: Callable[[Callable[[float, float], None]], None]) -> None:
+        self._seen: list[tuple[float, float]] = []
+        self._arrived = threading.Condition()
+        subscribe(self._on_landing)
+
+    def _on_landing(self, stamp: float, x: float) -> None:
+        with self._arrived:
+            self._seen.append((stamp, x))
+            self._arrived.notify_all()
+
+    def after(self, start: float, timeout: float, topic: str = LANDING_TOPIC) -> float:
+        """The first landing (m) stamped at or after ``start`` (s), waiting up to ``timeout`` s.
+
+        Raises
+        ------
+        RobotFailed
+            None arrived in time, or it is not a finite number.
+        """
+        deadline = time.monotonic() + timeout
+        with self._arrived:
+            while True:
+                for stamp, x in self._seen:
+                    if stamp >= start:
+                        self._seen = [(s, v) for s, v in self._seen if s > stamp]
+                        if not math.isfinite(x):
+                            raise RobotFailed(f"the landing on {topic} is not a number ({x})")
+                        return x
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    raise RobotFailed(f"no landing on {topic} within {timeout:g} s of the throw "
+                                      "(is the vision system publishing geometry_msgs/PointStamped?)")
+                self._arrived.wait(left)
+
+
+class LiveArm(Protocol):
+    """A transport to the arm: :class:`rlff.robot.ros2.client.Connection`, or ROS 1's client."""
+
+    def arm_state(self, robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]: ...
+
+    def send_goal(self, robot: Robot, traj: JointTrajectory, pose: np.ndarray, timeout: float | None = None,
+                  on_feedback: Callable[[float], None] | None = None) -> SendResult: ...
+
+
+class RobotExecutor:
+    """Runs each attempt's throw on the arm and returns what was seen of it.
+
+    Parameters
+    ----------
+    arm : LiveArm
+    robot : Robot
+    outcome : callable
+        ``outcome(attempt, start)`` -> :class:`ReportedOutcome` for the attempt (1, 2, ...) whose
+        goal started at ROS time ``start`` (s): a prompt, or ``Landings.after``.
+    period : float
+        Planning period (s) of the executed motion.
+    """
+
+    def __init__(self, arm: LiveArm, robot: Robot, outcome: Callable[[int, float], ReportedOutcome],
+                 period: float = PERIOD) -> None:
+        self.arm = arm
+        self.robot = robot
+        self.outcome = outcome
+        self.period = period
+        self.attempts = 0
+
+    def __call__(self, trajectory: JointTrajectory) -> ReportedOutcome:
+        self.attempts += 1
+        pose, velocity = self.arm.arm_state(self.robot)
+        planned = plan_throw(trajectory, self.robot.joints, start=pose, period=self.period)
+        goal = goal_for_arm(self.robot, planned, pose, velocity)
+        sent = self.arm.send_goal(self.robot, goal, pose)
+        if not sent.succeeded:
+            detail = f" ({sent.error_name})" if sent.error_name else ""
+            raise RobotFailed(f"attempt {self.attempts}: goal {sent.status}{detail}: {sent.error_string}")
+        return self.outcome(self.attempts, sent.start)
+
+
+#: The executors of ``rlff learn --executor`` and the outcome sources of ``--outcome``.
+EXECUTORS = ("sim", "ros1", "ros2")
+OUTCOMES = ("ask", "topic")
+
+
+@contextmanager
+def robot_executor(
+    kind: str,
+    outcome: str,
+    robot: str | Robot,
+    basket: float,
+    feedback: str,
+    ask: Callable[[str], str] | None = None,
+    landing_topic: str = LANDING_TOPIC,
+    outcome_timeout: float = OUTCOME_TIMEOUT,
+    network: bool = False,
+) -> Iterator[RobotExecutor]:
+    """A :class:`RobotExecutor` on a live arm, for the time of the ``with`` block.
+
+    Parameters
+    ----------
+    kind : {"ros1", "ros2"}
+    outcome : {"ask", "topic"}
+    robot : str or Robot
+        Robot name, robot file or description (as ``rlff.learn.learn`` takes it).
+    basket : float
+        Basket distance (m), for the hit window of a measured landing and a typed miss.
+    feedback : {"binary", "distance"}
+        With distance feedback a typed answer must be a number.
+    ask : callable, optional
+        ``ask(question) -> answer`` for ``outcome="ask"`` (the command line's prompt); asked
+        again after an answer it cannot read.
+    landing_topic : str
+        Where the vision system publishes for ``outcome="topic"``.
+    outcome_timeout : float
+        Seconds to wait for a landing after the goal started.
+    network : bool
+        Open the nodes to the network (default: this host only).
+
+    Raises
+    ------
+    InputError
+        Unknown kind or outcome, ``ask`` missing.
+    """
+    from rlff.learn.loop import _hit_tolerance
+    from rlff.robot.description import load_robot
+    from rlff.sim import Basket
+
+    if kind not in EXECUTORS[1:]:
+        raise InputError(f"unknown robot executor {kind!r} (ros1 or ros2; sim is the simulation)")
+    if outcome not in OUTCOMES:
+        raise InputError(f"--outcome must be one of {', '.join(OUTCOMES)} with --executor {kind}, got {outcome!r}")
+    if outcome == "ask" and ask is None:
+        raise InputError("--outcome ask needs someone to ask")
+    model = robot if isinstance(robot, Robot) else load_robot(robot)
+    tolerance = _hit_tolerance(Basket(float(basket)))
+
+    def asked(attempt: int, start: float) -> ReportedOutcome:
+        question = (f"attempt {attempt}: hit, miss, or the signed miss in m (negative short)? "
+                    if feedback != "distance" else f"attempt {attempt}: the signed miss in m (negative short; 0 or hit)? ")
+        while True:
+            answer = ask(question)  # an error here (no one to answer) ends the run
+            try:
+                return parse_answer(answer, basket, feedback == "distance")
+            except InputError as exc:
+                question = f"{exc}; attempt {attempt}? "
+
+    with ExitStack() as stack:
+        if kind == "ros2":
+            arm, subscribe = _ros2_arm(stack, landing_topic, network)
+        else:
+            arm, subscribe = _ros1_arm(model, landing_topic, network)
+        if outcome == "topic":
+            landings = Landings(subscribe)
+
+            def measured(attempt: int, start: float) -> ReportedOutcome:
+                return outcome_of_landing(landings.after(start, outcome_timeout, landing_topic), basket, tolerance)
+
+            yield RobotExecutor(arm, model, measured)
+        else:
+            yield RobotExecutor(arm, model, asked)
+
+
+def _ros2_arm(stack: ExitStack, topic: str, network: bool):
+    from rlff.robot import ros2
+
+    problem = ros2.missing()
+    if problem:
+        raise RobotFailed(problem)
+    from rlff.robot.ros2.network import limit_discovery
+
+    limit_discovery(network)
+    from geometry_msgs.msg import PointStamped
+
+    from rlff.robot.ros2.client import Connection
+
+    connection = stack.enter_context(Connection("rlff_learn"))
+
+    def subscribe(callback: Callable[[float, float], None]) -> None:
+        connection.subscribe(PointStamped, topic, lambda msg: callback(
+            msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, msg.point.x))
+
+    return connection, subscribe
+
+
+def _ros1_arm(robot: Robot, topic: str, network: bool):
+    from rlff.robot import ros1
+
+    problem = ros1.missing()
+    if problem:
+        raise RobotFailed(problem)
+    from rlff.robot.ros1.network import limit_to_loopback
+
+    limit_to_loopback(network)
+    import rospy
+    from geometry_msgs.msg import PointStamped
+
+    from rlff.robot.ros1 import client
+
+    client.arm_state(robot)  # starts the node (and checks the arm answers) before subscribing
+
+    def subscribe(callback: Callable[[float, float], None]) -> None:
+        rospy.Subscriber(topic, PointStamped, lambda msg: callback(msg.header.stamp.to_sec(), msg.point.x))
+
+    return client, subscribe

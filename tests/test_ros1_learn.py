@@ -1,0 +1,49 @@
+"""Learning through a ROS 1 robot: ``rlff learn --executor ros1`` against ``rlff robot serve``.
+
+A real roscore and server (tests/rosrig.py); the "vision system" is Debian's ``rostopic pub`` of a
+geometry_msgs/PointStamped on /rlff/landing each time the server reports a completed throw.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from rosrig import ros_fixture, ros_installed, wait
+
+pytestmark = [pytest.mark.ros, pytest.mark.integration, pytest.mark.slow]
+_ros_installed = ros_installed
+ros = pytest.fixture(scope="module")(ros_fixture)
+
+BASKET = 2.0  # m
+LANDINGS = [1.5, 2.05]  # a miss 0.5 m short, then a hit (within the basket's opening)
+
+
+def test_attempts_run_on_the_arm_with_landings_from_rostopic(ros, tmp_path):
+    demos = tmp_path / "demos.csv"
+    made = ros.rlff("data", "synth", "throws", "-o", str(demos), "--seed", "4", timeout=300)
+    assert made.returncode == 0, made.stderr
+    log = tmp_path / "attempts.jsonl"
+    learner = subprocess.Popen([sys.executable, "-m", "rlff", "learn", str(demos), "--preset", "thesis", "--basket",
+                                str(BASKET), "--executor", "ros1", "--outcome", "topic", "--budget", "4", "--log",
+                                str(log), "--json"], env=ros.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               text=True)
+    before = ros.log().count("trajectory completed")
+    for number, landing in enumerate(LANDINGS, start=1):
+        wait(lambda n=number: ros.log().count("trajectory completed") >= before + n or learner.poll() is not None,
+             300, f"throw {number} on the arm")
+        assert learner.poll() is None, learner.communicate()[1]
+        subprocess.run(["rostopic", "pub", "-1", "/rlff/landing", "geometry_msgs/PointStamped",
+                        f"{{header: {{stamp: now}}, point: {{x: {landing}}}}}"], env=ros.env, check=True,
+                       capture_output=True, timeout=60)
+    out, err = learner.communicate(timeout=300)
+    assert learner.returncode == 0, err
+    result = json.loads(out)
+    assert (result["attempts"], result["hit"]) == (2, True)
+    assert result["landings"] == pytest.approx(LANDINGS)
+    lines = [json.loads(line) for line in log.read_text().splitlines()]
+    assert lines[0]["run"]["executor"] == "ros1"
+    assert [a["miss"] for a in lines[1:]] == pytest.approx([LANDINGS[0] - BASKET, 0.0])

@@ -1,0 +1,188 @@
+"""Live ROS 2: ``rlff robot send --ros 2`` against a FollowJointTrajectory server written in the test.
+
+The server is the test's own rclpy ActionServer of the generated control_msgs type (and a
+/joint_states publisher at the pose the throw starts from): it records the goal rlff sends and
+answers as the test tells it to, so rlff's client is checked against the standard action alone.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from rlff.robot import RobotMapping, load_robot
+from rlff.robot.sendfile import load_for_sending
+from ros2rig import ACTION, RosNode, free_domain, require_ros2, ros2_env
+
+pytestmark = [pytest.mark.ros2, pytest.mark.integration, pytest.mark.slow]
+
+PERIOD = 0.01  # s: the planning period given to send
+
+
+@pytest.fixture(scope="module")
+def domain():
+    require_ros2()
+    return free_domain()
+
+
+@pytest.fixture(scope="module")
+def throw(tmp_path_factory):
+    """A generated-throw CSV, the arm's pose (away from the throw's start) and what rlff plans from it."""
+    model = load_robot()
+    mapping = RobotMapping.for_robot(model)
+    q = np.linspace(-0.8, 1.0, 30)
+    speed = 0.2 + 1.2 * np.sin(np.linspace(0, np.pi, 30))
+    path = tmp_path_factory.mktemp("throw") / "throw.csv"
+    velocity = speed / mapping.velocity_scale
+    pd.DataFrame({"angle": (q - mapping.angle_offset) / mapping.angle_scale, "velocity": velocity, "pdf": 1.0,
+                  "exploration": 0.0, "gmr_mean": velocity}).to_csv(path, index=False)
+    pose = mapping.pose(-0.3)
+    return path, pose, load_for_sending(path, model, PERIOD, start=pose)[1].trajectory
+
+
+class FakeController:
+    """The test's FollowJointTrajectory server: answers with ``answer`` (a function of the goal)."""
+
+    def __init__(self, node: RosNode, pose: np.ndarray) -> None:
+        from control_msgs.action import FollowJointTrajectory
+        from rclpy.action import ActionServer, CancelResponse, GoalResponse
+        from rclpy.callback_groups import ReentrantCallbackGroup
+        from sensor_msgs.msg import JointState
+
+        self.goals: list = []
+        self.cancelled = threading.Event()
+        self.accept = True
+        self.answer = self.succeed
+        group = ReentrantCallbackGroup()
+        self.server = ActionServer(node.node, FollowJointTrajectory, ACTION, self._execute,
+                                   goal_callback=lambda goal: GoalResponse.ACCEPT if self.accept else GoalResponse.REJECT,
+                                   cancel_callback=lambda handle: CancelResponse.ACCEPT, callback_group=group)
+        publisher = node.node.create_publisher(JointState, "/joint_states", 10)
+        names = list(load_robot().joint_names)
+
+        def publish() -> None:
+            msg = JointState(name=names, position=pose.tolist(), velocity=[0.0] * len(names))
+            msg.header.stamp = node.node.get_clock().now().to_msg()
+            publisher.publish(msg)
+
+        node.node.create_timer(0.05, publish, callback_group=group)
+        self.result_type = FollowJointTrajectory.Result
+        self.feedback_type = FollowJointTrajectory.Feedback
+
+    def _execute(self, handle):
+        self.goals.append(handle.request)
+        return self.answer(handle)
+
+    def succeed(self, handle):
+        for index in range(3):
+            handle.publish_feedback(self.feedback_type(index=index))
+            time.sleep(0.02)
+        handle.succeed()
+        return self.result_type(error_code=0, error_string="executed by the test's server")
+
+    def tolerance_violated(self, handle):
+        handle.abort()
+        return self.result_type(error_code=-5, error_string="joint_2 missed its goal by 0.2 rad")
+
+    def never_finish(self, handle):
+        while not handle.is_cancel_requested:
+            time.sleep(0.02)
+        self.cancelled.set()
+        handle.canceled()
+        return self.result_type(error_code=0, error_string="cancelled")
+
+
+@pytest.fixture(scope="module")
+def controller(domain, throw):
+    node = RosNode(domain, "test_controller")
+    fake = FakeController(node, throw[1])
+    yield fake
+    node.close()
+
+
+def rlff_send(domain, folder, *args: str, timeout: float = 120) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "rlff", "robot", "send", *args, "--ros", "2", "--period", str(PERIOD)],
+                          env=ros2_env(domain, folder), capture_output=True, text=True, timeout=timeout)
+
+
+def test_rlff_plans_from_the_arm_sends_and_reports_success(controller, domain, throw, tmp_path):
+    path, pose, planned = throw
+    controller.answer = controller.succeed
+    before = len(controller.goals)
+    sent_at = time.time()
+    result = rlff_send(domain, tmp_path, str(path), "--json", "--timeout", "60")
+    assert result.returncode == 0, result.stderr
+    outcome = json.loads(result.stdout)
+    assert (outcome["status"], outcome["error_code"], outcome["error_name"]) == ("succeeded", 0, "SUCCESSFUL")
+    assert outcome["error_string"] == "executed by the test's server" and outcome["feedback"] == 3
+    assert len(controller.goals) == before + 1
+    goal = controller.goals[-1].trajectory
+    assert list(goal.joint_names) == list(planned.joint_names)
+    np.testing.assert_allclose(goal.points[0].positions, pose, atol=1e-12)  # from where the arm stands
+    times = np.array([p.time_from_start.sec + p.time_from_start.nanosec * 1e-9 for p in goal.points])
+    np.testing.assert_allclose(times, planned.time, atol=1e-9)
+    np.testing.assert_allclose([p.positions for p in goal.points], planned.positions, atol=1e-12)
+    np.testing.assert_allclose([p.velocities for p in goal.points], planned.velocities, atol=1e-12)
+    stamp = goal.header.stamp.sec + goal.header.stamp.nanosec * 1e-9
+    assert sent_at < stamp < time.time() + 1  # starts shortly after it was sent
+    assert outcome["start"] == pytest.approx(stamp, abs=1e-6)
+
+
+def test_an_aborted_goal_is_an_error_with_its_code(controller, domain, throw, tmp_path):
+    controller.answer = controller.tolerance_violated
+    result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "60")
+    assert result.returncode == 1, result.stderr
+    outcome = json.loads(result.stdout)
+    assert (outcome["status"], outcome["error_code"], outcome["error_name"]) == (
+        "aborted", -5, "GOAL_TOLERANCE_VIOLATED")
+    assert "rlff: goal aborted (GOAL_TOLERANCE_VIOLATED): joint_2 missed its goal by 0.2 rad" in result.stderr
+
+
+def test_a_goal_the_server_does_not_accept_is_rejected(controller, domain, throw, tmp_path):
+    controller.accept = False
+    try:
+        result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "60")
+    finally:
+        controller.accept = True
+    assert result.returncode == 1
+    assert json.loads(result.stdout)["status"] == "rejected"
+
+
+def test_the_timeout_cancels_the_goal_on_the_server(controller, domain, throw, tmp_path):
+    controller.answer = controller.never_finish
+    controller.cancelled.clear()
+    result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "4")
+    assert result.returncode == 1
+    outcome = json.loads(result.stdout)
+    assert outcome["status"] == "timed out" and "goal cancelled" in outcome["error_string"]
+    assert controller.cancelled.is_set()
+
+
+def test_a_robot_trajectory_that_does_not_start_at_the_arm_is_not_sent(controller, domain, throw, tmp_path):
+    # an exported trajectory is sent as it is: one from elsewhere than the arm is refused, nothing goes out
+    exported = tmp_path / "throw.json"
+    made = subprocess.run([sys.executable, "-m", "rlff", "robot", "export", str(throw[0]), "-f", "json", "-o",
+                           str(exported)], capture_output=True, text=True, timeout=120)
+    assert made.returncode == 0, made.stderr
+    before = len(controller.goals)
+    result = rlff_send(domain, tmp_path, str(exported), "--timeout", "60")
+    assert result.returncode == 2, result.stderr
+    last = result.stderr.strip().splitlines()[-1]
+    assert last.startswith("rlff: error:") and "is not where the arm is (-0.3 rad" in last, result.stderr
+    assert "joint_2" in last
+    assert len(controller.goals) == before
+
+
+def test_without_a_server_the_client_gives_up_with_a_clear_error(throw, tmp_path):
+    require_ros2()
+    lonely = free_domain()  # a domain of its own, where nobody serves
+    result = rlff_send(lonely, tmp_path, str(throw[0]), "--timeout", "2", timeout=60)
+    assert result.returncode == 1
+    assert "nothing on /joint_states" in result.stderr

@@ -1,0 +1,145 @@
+"""Learning through a robot: ``rlff learn --executor ros2`` against ``rlff robot serve --ros 2``.
+
+Each attempt runs as a goal on the live server; the outcome comes from a "vision system" node of
+the test, which publishes the next of its scripted landings (geometry_msgs/PointStamped on
+/rlff/landing) whenever a goal of the action succeeds, or from a person typing at the prompt.
+The attempts log must hold exactly those landings, and a second run must resume it.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import threading
+
+import pytest
+
+from ros2rig import ACTION, RosNode, Server, free_domain, require_ros2, ros2_env
+
+pytestmark = [pytest.mark.ros2, pytest.mark.integration, pytest.mark.slow]
+
+BASKET = 2.0  # m
+# misses of -0.8, -0.5, +0.6, -0.3, +0.4, -0.2, then the basket's centre: a hit
+LANDINGS = [1.2, 1.5, 2.6, 1.7, 2.4, 1.8, 2.0]
+
+
+@pytest.fixture(scope="module")
+def domain():
+    require_ros2()
+    return free_domain()
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    return tmp_path_factory.mktemp("learn")
+
+
+@pytest.fixture(scope="module")
+def server(domain, folder):
+    server = Server(ros2_env(domain, folder), folder / "serve.log")
+    yield server
+    server.close()
+
+
+@pytest.fixture(scope="module")
+def demos(folder):
+    path = folder / "demos.csv"
+    made = subprocess.run([sys.executable, "-m", "rlff", "data", "synth", "throws", "-o", str(path), "--seed", "3"],
+                          capture_output=True, text=True, timeout=300)
+    assert made.returncode == 0, made.stderr
+    return path
+
+
+class Vision:
+    """Publishes the next scripted landing each time a goal of the action succeeds."""
+
+    def __init__(self, node: RosNode, landings: list[float]) -> None:
+        from action_msgs.msg import GoalStatus, GoalStatusArray
+        from geometry_msgs.msg import PointStamped
+
+        self.landings = list(landings)
+        self.published: list[float] = []
+        self._done: set[bytes] = set()
+        self._lock = threading.Lock()
+        publisher = node.node.create_publisher(PointStamped, "/rlff/landing", 10)
+
+        def on_status(msg) -> None:
+            with self._lock:
+                for status in msg.status_list:
+                    goal = bytes(status.goal_info.goal_id.uuid)
+                    if status.status == GoalStatus.STATUS_SUCCEEDED and goal not in self._done and self.landings:
+                        self._done.add(goal)
+                        landing = PointStamped()
+                        landing.header.stamp = node.node.get_clock().now().to_msg()
+                        landing.point.x = self.landings.pop(0)
+                        publisher.publish(landing)
+                        self.published.append(landing.point.x)
+
+        node.node.create_subscription(GoalStatusArray, f"{ACTION}/_action/status", on_status, 10)
+
+
+@pytest.fixture(scope="module")
+def vision(server, domain):
+    node = RosNode(domain, "test_vision")
+    yield Vision(node, LANDINGS)
+    node.close()
+
+
+def learn(domain, folder, demos, *args: str, stdin: str | None = None) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "rlff", "learn", str(demos), "--preset", "thesis", "--basket",
+                           str(BASKET), "--executor", "ros2", *args], env=ros2_env(domain, folder),
+                          capture_output=True, text=True, timeout=600, input=stdin)
+
+
+def attempts(log) -> list[dict]:
+    lines = [json.loads(line) for line in log.read_text().splitlines()]
+    assert lines[0]["format"] == "rlff-attempts" and lines[0]["run"]["executor"] == "ros2"
+    return lines[1:]
+
+
+def test_five_attempts_with_landings_from_a_topic_then_a_resume(server, vision, domain, folder, demos):
+    log = folder / "attempts.jsonl"
+    first = learn(domain, folder, demos, "--outcome", "topic", "--budget", "5", "--log", str(log), "--json")
+    assert first.returncode == 0, first.stderr
+    result = json.loads(first.stdout)
+    assert (result["attempts"], result["hit"], result["resumed"]) == (5, False, 0)
+    assert result["landings"] == pytest.approx(LANDINGS[:5])
+    assert result["misses"] == pytest.approx([x - BASKET for x in LANDINGS[:5]])
+    recorded = attempts(log)
+    assert [a["landing"] for a in recorded] == pytest.approx(LANDINGS[:5])
+    assert not any(a["hit"] for a in recorded)
+    assert server.text().count("trajectory completed") == 5  # every attempt ran on the arm
+
+    second = learn(domain, folder, demos, "--outcome", "topic", "--budget", "10", "--log", str(log), "--json")
+    assert second.returncode == 0, second.stderr
+    result = json.loads(second.stdout)
+    assert (result["attempts"], result["hit"], result["resumed"]) == (7, True, 5)
+    assert result["landings"] == pytest.approx(LANDINGS)
+    recorded = attempts(log)
+    assert [a["attempt"] for a in recorded] == list(range(1, 8)) and recorded[-1]["hit"]
+    assert recorded[-1]["miss"] == 0.0
+    assert server.text().count("trajectory completed") == 7
+    assert vision.published == pytest.approx(LANDINGS)
+
+
+def test_outcomes_typed_at_the_prompt(server, domain, folder, demos):
+    log = folder / "asked.jsonl"
+    # an answer it cannot read is asked again; -0.4 m is a miss 40 cm short, then a hit
+    done = learn(domain, folder, demos, "--outcome", "ask", "--feedback", "distance", "--update", "calibrate",
+                 "--budget", "5", "--log", str(log), "--json", stdin="maybe\n-0.4\nhit\n")
+    assert done.returncode == 0, done.stderr
+    result = json.loads(done.stdout)
+    assert (result["attempts"], result["hit"]) == (2, True)
+    assert result["landings"] == pytest.approx([BASKET - 0.4, BASKET])
+    assert "answer 'maybe': type hit, miss, or the signed miss in m" in done.stderr
+    assert "attempt 1: the signed miss in m (negative short; 0 or hit)?" in done.stderr
+
+
+def test_a_closed_stdin_stops_the_run_and_keeps_the_log(server, domain, folder, demos):
+    log = folder / "closed.jsonl"
+    done = learn(domain, folder, demos, "--outcome", "ask", "--budget", "3", "--log", str(log), stdin="-0.5\n")
+    assert done.returncode == 2
+    assert done.stderr.strip().splitlines()[-1] == (
+        "rlff: error: --outcome ask: no answer (stdin is closed); the attempts so far are in the log")
+    assert [a["landing"] for a in attempts(log)] == pytest.approx([BASKET - 0.5])
