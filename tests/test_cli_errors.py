@@ -284,7 +284,7 @@ def test_fit_names_the_k_chosen_and_warns_at_the_top_of_the_range(rlff, files, t
 )
 def test_a_preempted_goal_is_not_reported_successful(status, code, name, text, line):
     from rlff.cli.robot import goal_message
-    from rlff.robot.ros1.client import SendResult
+    from rlff.robot.send import SendResult
 
     assert goal_message(SendResult(status, code, name, text, 0.0, 1.0, 3)) == line
 

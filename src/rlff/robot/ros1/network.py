@@ -35,6 +35,9 @@ def limit_to_loopback(network: bool = False) -> str | None:
     master on another host that the node must reach anyway), else None.
     """
     master = os.environ.get("ROS_MASTER_URI", DEFAULT_MASTER)
+    parsed = urlparse(master)
+    if parsed.scheme not in ("http", "https") or not parsed.hostname:
+        return None  # not a master URI at all: finding the master says so, in one line
     if not network and master_is_local(master):
         os.environ["ROS_IP"] = "127.0.0.1"
         os.environ.pop("ROS_HOSTNAME", None)
