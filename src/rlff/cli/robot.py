@@ -122,7 +122,8 @@ def export(
     say(f"{trajectory}: {source.kind}")
     result = source.plan
     export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)
-    _report(result)
+    for change in result.clipped_points.changes:  # the summary is in the line above
+        say(f"clipped: {change.describe()}")
     planned = result.trajectory
     if json:
         emit_json({"out": out, "format": fmt, "points": len(planned), "duration": planned.duration,

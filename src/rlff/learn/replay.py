@@ -128,8 +128,8 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
         return ThrowInput(planned, f"attempt {chosen.index} of {path} ({outcome}), {planned.summary()}", run)
     if attempt is not None:
         raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
-    kind, planned = load_for_robot(path, robot, period, clip, start)
-    return ThrowInput(planned, f"{kind}, {planned.summary()}")
+    _, planned = load_for_robot(path, robot, period, clip, start)
+    return ThrowInput(planned, planned.summary())
 
 
 def export_format(out: str | Path, fmt: str | None = None) -> str:
