@@ -85,3 +85,24 @@ def test_a_manifest_listing_a_throw_twice_is_exit_2_with_the_row(rlff, session, 
     result = rlff("data", "import", str(session), "--manifest", str(manifest), "-o", str(tmp_path / "x.csv"))
     assert result.code == 2 and "line 3: session.txt (throw 1) is listed again" in result.stderr
     assert not (tmp_path / "x.csv").exists()
+
+
+def test_the_output_format_follows_its_extension_and_learn_reads_it(rlff, session, tmp_path):
+    """-o x.parquet writes Parquet (it wrote CSV text under any name), an unknown extension fails
+    before the import, and learn reads the file by its extension too."""
+    from rlff.formats import read_parquet
+
+    as_csv, as_parquet = tmp_path / "demos.csv", tmp_path / "demos.parquet"
+    assert rlff("data", "import", str(session), "-o", str(as_csv)).code == 0
+    assert rlff("data", "import", str(session), "-o", str(as_parquet)).code == 0
+    assert as_parquet.read_bytes()[:4] == b"PAR1"
+    written, expected = read_parquet(as_parquet), read_csv(as_csv)
+    assert written.ids == expected.ids
+    for a, b in zip(written, expected, strict=True):
+        np.testing.assert_array_equal(a["angle"], b["angle"])
+    result = rlff("data", "import", str(session), "-o", str(tmp_path / "demos.xlsx"))
+    assert result.code == 2 and "unknown dataset extension '.xlsx'" in result.stderr
+    assert not (tmp_path / "demos.xlsx").exists()
+    learned = rlff("learn", str(as_parquet), "--preset", "thesis", "--basket", "1.2", "--budget", "1", "--json")
+    assert learned.code == 0, learned.stderr
+    assert json.loads(learned.stdout)["attempts"] == 1

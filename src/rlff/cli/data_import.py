@@ -50,6 +50,9 @@ def import_command(
 
     guard(inputs={"FILES": files, "--manifest": manifest},
           outputs={"-o/--output": output, "--contact-sheet": contact_sheet}, folders=["--contact-sheet"])
+    from rlff.formats import format_of
+
+    format_of(output)  # an output extension rlff cannot write fails before the import
     frame_names = [name.strip() for name in frames.split(",") if name.strip()]
     with progress("importing", total=len(files)) as advance:
         dataset, report = import_recordings(
@@ -89,8 +92,9 @@ def import_command(
 
 
 def _write(dataset, output: Path, allow_empty: bool) -> bool:
-    """Write the throws; without any: exit 2, or with ``allow_empty`` an empty file where none is yet."""
-    from rlff.dataset import write_csv
+    """Write the throws (in the format of ``output``'s extension); without any: exit 2, or with
+    ``allow_empty`` an empty file where none is yet."""
+    from rlff.formats import write_dataset as write_csv
 
     if len(dataset):
         write_csv(dataset, output)

@@ -16,7 +16,7 @@ def register(root: typer.Typer) -> None:
 
 
 def learn_command(
-    demos: Path = typer.Argument(..., help="Demonstrations CSV (angle, distance, velocity)."),
+    demos: Path = typer.Argument(..., help="Demonstrations (CSV, NPZ, Parquet or thesis matrix, by extension: angle, distance, velocity)."),
     basket: float = typer.Option(..., "--basket", help="Basket distance from the robot's base (m)."),
     budget: int = typer.Option(20, "--budget", min=1, help="Most attempts, counting resumed ones."),
     feedback: str = typer.Option("binary", "--feedback",
@@ -56,8 +56,8 @@ def learn_command(
 ) -> None:
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
     from rlff.cli.output import guard
-    from rlff.dataset import read_csv
     from rlff.errors import InputError
+    from rlff.formats import read_dataset
     from rlff.learn import learn
 
     # the log is read (resumed) and written: it may exist, but must not be the demonstrations
@@ -73,7 +73,7 @@ def learn_command(
         raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")
     if (executor == "sim") != (outcome is None):
         raise InputError("--outcome ask|topic goes with --executor ros1|ros2 (the simulation knows its outcomes)")
-    data = read_csv(demos)
+    data = read_dataset(demos)
     if preset:
         from rlff.preprocess import Pipeline
 
