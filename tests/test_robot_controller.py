@@ -260,3 +260,18 @@ def test_a_goal_that_ended_before_its_receipt_is_old(controller):
 def test_a_rate_must_be_a_positive_number(rate):
     with pytest.raises(InputError, match="--rate must be a positive number of ticks per second"):
         check_rate(rate)
+
+
+def test_a_goal_cancelled_while_the_arm_waits_for_its_start_never_moves_the_arm(controller):
+    """A goal whose first point comes later is waited for at rest; cancelled then, it ends at once
+    and the arm stays where it is (it once went on to execute the cancelled goal's motion)."""
+    here = controller.state(0.0).positions
+    there = here.copy()
+    there[DRIVEN] += 0.3
+    controller.submit("g", _goal([1.0, 2.0], [here, there]), now=0.0)
+    [outcome] = controller.cancel("g", 0.3)
+    assert (outcome.goal, outcome.status) == ("g", "cancelled") and "the arm was at rest" in outcome.text
+    assert controller.active_goal is None
+    _, positions, outcomes = _run(controller, 0.3, 3.0)
+    assert outcomes == []
+    np.testing.assert_array_equal(positions, np.tile(here, (len(positions), 1)))

@@ -293,6 +293,10 @@ class TrajectoryController:
             return []
         state = self.arm.state(now)
         if np.all(np.abs(state.velocities) <= AT_REST) and np.all(np.abs(state.accelerations) <= AT_REST):
+            # hold the pose: the arm may be waiting at rest for the goal's start, and must not go on to it
+            rest = np.zeros_like(state.positions)
+            self.arm.follow(JointTrajectory(self.arm.joint_names, np.zeros(1), state.positions[None],
+                                            rest[None], rest[None]), now)
             return self._end("cancelled", f"cancelled after {state.elapsed:.3f} s of "
                                           f"{motion.trajectory.duration:.3f} s; the arm was at rest")
         peak = float(np.max(np.abs(state.velocities)))
