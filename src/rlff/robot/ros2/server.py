@@ -26,14 +26,17 @@ from __future__ import annotations
 
 import math
 import os
+import tempfile
 import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import rclpy
 from control_msgs.action import FollowJointTrajectory
+from filelock import lock_descriptor
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
@@ -292,6 +295,36 @@ class TrajectoryServer:
         goal.handle.publish_feedback(feedback)
 
 
+def _claim_on_this_host(node_name: str) -> int | None:
+    """Lock this host's claim on the action in this ROS domain; the locked descriptor, held until
+    the process ends (the kernel frees it if the process dies).
+
+    Discovery alone can miss a server on this host for seconds on a loaded machine; this lock
+    cannot. Servers on other hosts are still found by :func:`_require_no_server`. None when the
+    lock file cannot be opened (another user's): then discovery alone decides.
+
+    Raises
+    ------
+    ServerRunning
+        Another ``rlff robot serve --ros 2`` of this domain runs on this host.
+    """
+    domain = os.environ.get("ROS_DOMAIN_ID", "0")
+    path = Path(tempfile.gettempdir()) / f"rlff-ros2-domain{domain}{ACTION_NAME.replace('/', '-')}.lock"
+    try:
+        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+    except OSError:
+        return None
+    if not lock_descriptor(fd, blocking=False):
+        holder, _, pid = os.pread(fd, 200, 0).decode("utf-8", errors="replace").strip().partition("\n")
+        os.close(fd)
+        raise ServerRunning(f"{holder or 'another rlff server'} already serves {ACTION_NAME} on this host "
+                            f"({pid or 'pid unknown'}, ROS_DOMAIN_ID {domain}): stop it first; a second server "
+                            "would compete for the goals")
+    os.ftruncate(fd, 0)
+    os.pwrite(fd, f"node /{node_name}\npid {os.getpid()}".encode(), 0)
+    return fd
+
+
 def _require_no_server(node: Node) -> None:
     """:class:`ServerRunning` if another node serves the action (publishes its status) in reach.
 
@@ -332,6 +365,7 @@ def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: C
     """
     check_rate(rate)
     TrajectoryController(robot, initial)  # the initial pose within the limits, before any node
+    _claim_on_this_host(node_name)  # held until the process ends
     context = rclpy.Context()
     rclpy.init(context=context)
     try:
