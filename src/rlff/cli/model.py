@@ -117,6 +117,8 @@ def fit_command(
         "--effective-samples", effective_samples, {"all": None, "measured": "auto"}, lambda v: 0 < v < math.inf,
         "all, measured or a number > 0",
     )
+    if components != "auto" and not (components.isdigit() and int(components) >= 1):
+        raise InputError(f"--components must be auto or an integer >= 1, got {components!r}")
     dataset = _read(data)
     total = max_components if components == "auto" else 1
     with progress("fitting", total=total) as advance, warnings.catch_warnings(record=True) as caught:
