@@ -37,7 +37,7 @@ def learn_command(
     centre_share: float = typer.Option(0.5, "--centre-share",
                                        help="With --until centred: a centred hit lands within this share of the "
                                             "half-opening from the centre (0.5: the middle half)."),
-    out: Path | None = typer.Option(None, "--out", "-o",
+    out: Path | None = typer.Option(None, "--output", "-o", "--out",
                                     help="Write the best throw (the last hit) robot-ready, as `rlff robot export` "
                                          "does; the format from the suffix (.json, .csv, .bag, .txt: comau; none: "
                                          "ros2-bag folder) or --format."),
@@ -61,7 +61,7 @@ def learn_command(
     from rlff.learn import learn
 
     # the log is read (resumed) and written: it may exist, but must not be the demonstrations
-    guard(inputs={"DEMOS": demos}, outputs={"--log": log, "--out": out})
+    guard(inputs={"DEMOS": demos}, outputs={"--log": log, "-o/--output": out})
     if out is not None:  # a bad --out or --format fails before the first throw
         from rlff.learn.replay import export_format
         from rlff.robot.formats import FORMATS
