@@ -18,13 +18,14 @@ from __future__ import annotations
 import contextlib
 import math
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn import statistics
 from rlff.learn.scenarios import DEMONSTRATORS, Feedback, Scenario, reporting_executor
 from rlff.learn.scenarios import demonstrations as scenario_demonstrations
+from rlff.learn.statistics import Run
 from rlff.learn.strategies import PROJECT_METHODS
 
 #: Methods run with each feedback kind: the project's methods with their ablations, then the
@@ -48,20 +49,6 @@ HELD_OUT_SEEDS = 100
 SCENARIOS = DEMONSTRATORS
 #: Seconds to wait for a Dask scheduler to answer.
 SCHEDULER_TIMEOUT = 10.0
-
-
-@dataclass(frozen=True)
-class Run:
-    """One cell of the grid and its outcome (``attempts`` counts to the first reported hit)."""
-
-    scenario: str
-    landings: str
-    feedback: str
-    method: str
-    basket: float
-    seed: int
-    hit: bool
-    attempts: int
 
 
 def demonstrations(seed: int, scenario: Scenario | str = "short") -> Dataset:

@@ -13,13 +13,14 @@ treatment keeps them in the ranking); when every pair is equal the p-value is 1.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Protocol
+from dataclasses import dataclass
 
 import numpy as np
 
 
-class RunLike(Protocol):
-    """What the statistics need of a run (:class:`rlff.learn.benchmark.Run` is one)."""
+@dataclass(frozen=True)
+class Run:
+    """One cell of a benchmark grid and its outcome (``attempts`` counts to the first reported hit)."""
 
     scenario: str
     landings: str
@@ -31,19 +32,19 @@ class RunLike(Protocol):
     attempts: int
 
 
-def counted(run: RunLike, budget: int) -> int:
+def counted(run: Run, budget: int) -> int:
     """Attempts to the first hit, ``budget + 1`` for a run that never hit."""
     return run.attempts if run.hit else budget + 1
 
 
-def _groups(runs: Sequence[RunLike]) -> dict[tuple[str, str, str, str], list[RunLike]]:
-    groups: dict[tuple[str, str, str, str], list[RunLike]] = {}
+def _groups(runs: Sequence[Run]) -> dict[tuple[str, str, str, str], list[Run]]:
+    groups: dict[tuple[str, str, str, str], list[Run]] = {}
     for run in runs:
         groups.setdefault((run.scenario, run.landings, run.feedback, run.method), []).append(run)
     return groups
 
 
-def rows(runs: Sequence[RunLike], budget: int, project: Sequence[str]) -> list[dict]:
+def rows(runs: Sequence[Run], budget: int, project: Sequence[str]) -> list[dict]:
     """One row per (scenario, landings, feedback, method), in the order the runs first show them.
 
     Returns
@@ -64,7 +65,7 @@ def rows(runs: Sequence[RunLike], budget: int, project: Sequence[str]) -> list[d
     return out
 
 
-def comparisons(runs: Sequence[RunLike], budget: int, project: Sequence[str]) -> list[dict]:
+def comparisons(runs: Sequence[Run], budget: int, project: Sequence[str]) -> list[dict]:
     """Each project method against every other method of its scenario and feedback, paired.
 
     Returns

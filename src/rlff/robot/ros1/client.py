@@ -23,9 +23,9 @@ from control_msgs.msg import (
 from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectory as TrajectoryMsg
 
-from rlff.errors import InputError
 from rlff.robot.description import Robot
 from rlff.robot.goal import check_goal
+from rlff.robot.messages import arm_state_of
 from rlff.robot.ros1.convert import to_msg
 from rlff.robot.ros1.master import RosUnavailable, wait_for_master
 from rlff.robot.ros1.server import ACTION_NAMESPACE, JOINT_STATES, TOPIC
@@ -68,14 +68,7 @@ def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, n
     except rospy.ROSException:
         raise RosUnavailable(f"nothing on {JOINT_STATES}: the arm's pose is unknown "
                              "(is `rlff robot serve` running?)") from None
-    names = list(msg.name)
-    missing = [name for name in robot.joint_names if name not in names]
-    if missing:
-        raise InputError(f"{JOINT_STATES} has no position of {', '.join(missing)} (it names {', '.join(names)})")
-    index = [names.index(name) for name in robot.joint_names]
-    velocities = np.asarray(msg.velocity, dtype=float)
-    return (np.asarray(msg.position, dtype=float)[index],
-            velocities[index] if velocities.size == len(names) else np.zeros(len(index)))
+    return arm_state_of(robot, JOINT_STATES, msg.name, msg.position, msg.velocity)
 
 
 def send_goal(

@@ -22,9 +22,10 @@ from rclpy.action import ActionClient
 from rclpy.executors import SingleThreadedExecutor
 from sensor_msgs.msg import JointState
 
-from rlff.errors import InputError, RlffError
+from rlff.errors import RlffError
 from rlff.robot.description import Robot
 from rlff.robot.goal import check_goal
+from rlff.robot.messages import arm_state_of
 from rlff.robot.ros2.convert import seconds, to_msg
 from rlff.robot.ros2.network import make_node
 from rlff.robot.ros2.server import ACTION_NAME, JOINT_STATES
@@ -115,14 +116,7 @@ class Connection:
         finally:
             self.node.destroy_subscription(subscription)
         msg = received[0]
-        names = list(msg.name)
-        missing = [name for name in robot.joint_names if name not in names]
-        if missing:
-            raise InputError(f"{JOINT_STATES} has no position of {', '.join(missing)} (it names {', '.join(names)})")
-        index = [names.index(name) for name in robot.joint_names]
-        velocities = np.asarray(msg.velocity, dtype=float)
-        return (np.asarray(msg.position, dtype=float)[index],
-                velocities[index] if velocities.size == len(names) else np.zeros(len(index)))
+        return arm_state_of(robot, JOINT_STATES, msg.name, msg.position, msg.velocity)
 
     def send_goal(self, robot: Robot, traj: JointTrajectory, pose: np.ndarray, timeout: float | None = None,
                   on_feedback: Callable[[float], None] | None = None) -> SendResult:

@@ -1,0 +1,72 @@
+"""The fields of trajectory_msgs/JointTrajectory and sensor_msgs/JointState as rlff's types.
+
+ROS 1 and ROS 2 messages carry the same fields and differ only in how a duration is read; each
+transport's ``convert`` module reads its durations and passes the fields here, so that what a
+message may hold, and the errors for what it may not, are written once.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from rlff.errors import InputError
+from rlff.robot.description import Robot
+from rlff.trajectory.joint import JointTrajectory
+
+
+def trajectory_from_points(joint_names: Sequence[str], points: Sequence[Any],
+                           seconds: Callable[[Any], float]) -> JointTrajectory:
+    """The trajectory of a message's joint names and points; :class:`InputError` naming the point at fault.
+
+    Parameters
+    ----------
+    joint_names : sequence of str, length J
+    points : sequence of JointTrajectoryPoint (ROS 1 or ROS 2)
+        Each with ``positions`` (J,), ``velocities`` (J,) or empty, ``accelerations`` and
+        ``time_from_start``.
+    seconds : callable
+        A point's ``time_from_start`` in seconds (the transport's duration type).
+
+    Missing velocities are zeros; accelerations are taken if every point has them.
+    """
+    if not points:
+        raise InputError("the trajectory has no points")
+    joints = len(joint_names)
+    for index, point in enumerate(points):
+        if len(point.positions) != joints:
+            raise InputError(f"point {index} has {len(point.positions)} positions for {joints} joints")
+        if len(point.velocities) not in (0, joints):
+            raise InputError(f"point {index} has {len(point.velocities)} velocities for {joints} joints")
+    time = np.array([seconds(point.time_from_start) for point in points])
+    if np.any(np.diff(time) <= 0) or time[0] < 0:
+        raise InputError("time_from_start must start at 0 or later and increase strictly from point to point")
+    positions = np.array([point.positions for point in points], dtype=float)
+    velocities = np.array([point.velocities if len(point.velocities) else [0.0] * joints for point in points],
+                          dtype=float)
+    with_accelerations = all(len(point.accelerations) == joints for point in points)
+    accelerations = (np.array([point.accelerations for point in points], dtype=float)
+                     if with_accelerations else None)
+    return JointTrajectory(tuple(joint_names), time, positions, velocities, accelerations)
+
+
+def arm_state_of(robot: Robot, topic: str, names: Sequence[str], positions: Sequence[float],
+                 velocities: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
+    """The arm's pose and velocity (each (J,), rad and rad/s, ``robot``'s joints in order) from a
+    JointState message's fields; velocities are zeros when the message has none.
+
+    Raises
+    ------
+    InputError
+        The message (on ``topic``) leaves out a joint of ``robot``.
+    """
+    names = list(names)
+    missing = [name for name in robot.joint_names if name not in names]
+    if missing:
+        raise InputError(f"{topic} has no position of {', '.join(missing)} (it names {', '.join(names)})")
+    index = [names.index(name) for name in robot.joint_names]
+    velocities = np.asarray(velocities, dtype=float)
+    return (np.asarray(positions, dtype=float)[index],
+            velocities[index] if velocities.size == len(names) else np.zeros(len(index)))
