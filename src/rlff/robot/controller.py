@@ -46,7 +46,7 @@ The controller is not thread-safe: a transport calls it under one lock of its ow
 from __future__ import annotations
 
 import math
-from collections.abc import Hashable
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass
 from enum import IntEnum
 
@@ -120,6 +120,24 @@ class Outcome:
     code: ResultCode
     text: str
     trajectory: JointTrajectory
+
+
+#: Called with each completed trajectory (e.g. to throw it in MuJoCo); its text is the goal's result.
+CompletionHook = Callable[[JointTrajectory], str]
+
+
+def completion_text(hook: CompletionHook | None, outcome: Outcome) -> tuple[str, bool]:
+    """The result text of a goal that succeeded, and whether ``hook`` failed.
+
+    The hook's text when there is one; the controller's when there is none, or with the hook's
+    error appended when it raised (the arm did finish: a server reports that and goes on).
+    """
+    if hook is None:
+        return outcome.text, False
+    try:
+        return hook(outcome.trajectory), False
+    except Exception as exc:  # noqa: BLE001 - the arm did finish; the server must go on
+        return f"{outcome.text}; the completion hook failed: {exc}", True
 
 
 @dataclass

@@ -30,25 +30,23 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 
 from rlff.errors import InputError
 from rlff.robot.controller import (
+    CompletionHook,
     GoalRejected,
     Outcome,
     ResultCode,
     TrajectoryController,
     check_rate,
+    completion_text,
 )
 from rlff.robot.description import Robot
 from rlff.robot.kinematic import ArmState
 from rlff.robot.ros1.convert import from_msg
 from rlff.robot.ros1.master import require_no_server, wait_for_master
-from rlff.trajectory.joint import JointTrajectory
 
 ACTION_NAMESPACE = "/comau_controller/follow_joint_trajectory"
 TOPIC = "/comau/joint_trajectory"
 JOINT_STATES = "/joint_states"
 NODE_NAME = "rlff_comau_controller"
-
-#: Called with each completed trajectory; its text goes to the log and the result's error_string.
-CompletionHook = Callable[[JointTrajectory], str]
 
 
 class TrajectoryServer:
@@ -162,13 +160,9 @@ class TrajectoryServer:
 
     def _succeed(self, outcome: Outcome) -> None:
         # the completion hook (a MuJoCo throw) may take a while: not under the lock
-        text = outcome.text
-        if self.on_complete:
-            try:
-                text = self.on_complete(outcome.trajectory)
-            except Exception as exc:  # noqa: BLE001 - the arm did finish; the server must go on
-                text = f"{outcome.text}; the completion hook failed: {exc}"
-                rospy.logerr(text)
+        text, failed = completion_text(self.on_complete, outcome)
+        if failed:
+            rospy.logerr(text)
         rospy.loginfo(text)
         if outcome.goal is None:
             return

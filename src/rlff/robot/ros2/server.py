@@ -48,11 +48,13 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 
 from rlff.errors import InputError
 from rlff.robot.controller import (
+    CompletionHook,
     GoalRejected,
     Outcome,
     ResultCode,
     TrajectoryController,
     check_rate,
+    completion_text,
 )
 from rlff.robot.description import Robot
 from rlff.robot.kinematic import ArmState
@@ -74,8 +76,6 @@ DISCOVERY_WAIT = 3.0
 class ServerRunning(InputError):
     """Another server already serves the action in this ROS domain."""
 
-#: Called with each completed trajectory; its text goes to the log and the result's error_string.
-CompletionHook = Callable[[JointTrajectory], str]
 
 
 @dataclass
@@ -256,13 +256,9 @@ class TrajectoryServer:
 
     def _succeed(self, outcome: Outcome) -> None:
         # the completion hook (a MuJoCo throw) may take a while: not under the lock
-        text = outcome.text
-        if self.on_complete:
-            try:
-                text = self.on_complete(outcome.trajectory)
-            except Exception as exc:  # noqa: BLE001 - the arm did finish; the server must go on
-                text = f"{outcome.text}; the completion hook failed: {exc}"
-                self.node.get_logger().error(text)
+        text, failed = completion_text(self.on_complete, outcome)
+        if failed:
+            self.node.get_logger().error(text)
         self.node.get_logger().info(text)
         if outcome.goal is None:
             return
