@@ -119,23 +119,20 @@ def learn_command(
 
 
 def _write_best(result, robot: str, out: Path, fmt: str, period: float) -> dict | None:
-    """The best throw to ``out`` through the planning and writing of ``rlff robot export``."""
-    from rlff.learn.replay import plan_attempt
+    """The best throw to ``out``, planned and written as ``rlff robot export`` does."""
+    from rlff.learn.replay import export_attempt
     from rlff.robot.description import load_robot
-    from rlff.robot.formats import export_trajectory
-    from rlff.robot.mapping import RobotMapping
 
     best = result.best
     if best is None:
         say(f"no throw came down: nothing written to {out}")
         return None
-    mapping = RobotMapping.for_robot(load_robot(robot))
-    planned = plan_attempt(best, mapping, period)
-    export_trajectory(planned.trajectory, mapping, fmt, out)
+    planned = export_attempt(best, load_robot(robot), out, fmt, period).trajectory
     what = "the last hit" if best.hit else "no hit: the throw nearest the centre"
     say(f"wrote {out} ({fmt}): attempt {best.index}, {what} ({best.miss:+.3f} m), "
-        f"{len(planned.trajectory)} points, {planned.trajectory.duration:.3f} s")
+        f"{len(planned)} points, {planned.duration:.3f} s")
     return {"path": out, "format": fmt, "attempt": best.index, "hit": best.hit, "miss": best.miss}
+
 
 def _ask(question: str) -> str:
     """One answer typed on stdin after ``question`` on stderr; EOF is an error."""

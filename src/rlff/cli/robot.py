@@ -286,11 +286,9 @@ def send(
     starting at the arm's pose.
     """
     from rlff.errors import InputError
-    from rlff.learn.log import is_attempts_log
-    from rlff.learn.replay import load_input
+    from rlff.learn.replay import load_for_send
     from rlff.robot.description import load_robot
     from rlff.robot.send import goal_for_arm
-    from rlff.robot.sendfile import load_for_sending
 
     _check_ros(ros)
     if ros == 2 and topic_mode:
@@ -299,11 +297,8 @@ def send(
     model = load_robot(robot)
 
     def load(start=None):
-        if is_attempts_log(trajectory):
-            return load_input(trajectory, model, attempt=attempt, period=period, clip=clip, start=start).plan
-        if attempt is not None:
-            raise InputError(f"--attempt {attempt}: {trajectory} is not an attempts log")
-        return load_for_sending(trajectory, model, period, clip, start=start, approach=approach)[1]
+        return load_for_send(trajectory, model, attempt=attempt, period=period, clip=clip, start=start,
+                             approach=approach)
 
     load()  # a wrong file is refused before any connection
     if ros == 2:

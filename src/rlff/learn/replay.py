@@ -23,8 +23,10 @@ from rlff.fileio import require_file
 from rlff.learn.attempt import Attempt
 from rlff.learn.log import brief, first_difference, is_attempts_log, read_log, robot_record
 from rlff.robot.description import Robot
+from rlff.robot.formats import export_trajectory
 from rlff.robot.mapping import RobotMapping
 from rlff.robot.plan import RobotPlan, load_for_robot, plan
+from rlff.robot.sendfile import load_for_sending
 from rlff.trajectory.planner import DEFAULT_PERIOD
 
 #: Export format of an output file by its suffix (a path without one is a ROS 2 bag folder).
@@ -130,6 +132,34 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
         raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
     _, planned = load_for_robot(path, robot, period, clip, start)
     return ThrowInput(planned, planned.summary())
+
+
+def load_for_send(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float = DEFAULT_PERIOD,
+                  clip: bool = False, start: np.ndarray | None = None, approach: bool = False) -> RobotPlan:
+    """What ``rlff robot send`` sends from ``path``: an attempt of an attempts log planned from the
+    arm's pose ``start`` (J,), or any file :func:`rlff.robot.sendfile.load_for_sending` takes.
+
+    Raises
+    ------
+    InputError
+        ``attempt`` for a file that is not a log, or what :func:`load_input` and
+        :func:`~rlff.robot.sendfile.load_for_sending` refuse.
+    """
+    if is_attempts_log(path):
+        return load_input(path, robot, attempt=attempt, period=period, clip=clip, start=start).plan
+    if attempt is not None:
+        raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
+    return load_for_sending(path, robot, period, clip, start=start, approach=approach)[1]
+
+
+def export_attempt(attempt: Attempt, robot: Robot, out: str | Path, fmt: str,
+                   period: float = DEFAULT_PERIOD) -> RobotPlan:
+    """Plan ``attempt`` as ``rlff robot export`` plans a path and write it to ``out`` as ``fmt``
+    (one of :data:`rlff.robot.formats.FORMATS`); the plan written."""
+    mapping = RobotMapping.for_robot(robot)
+    planned = plan_attempt(attempt, mapping, period)
+    export_trajectory(planned.trajectory, mapping, fmt, out)
+    return planned
 
 
 def export_format(out: str | Path, fmt: str | None = None) -> str:
