@@ -49,6 +49,7 @@ from rlff.capture.users import keep_consistent_user
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
 from rlff.fileio import require_distinct
+from rlff.limits import DISTANCE_RANGE
 
 FORMATS = ("bag", "kinect-text", "msr", "csv", "thesis")
 ARMS = ("auto", "right", "left")
@@ -496,6 +497,13 @@ def _throw(
             f"{path}: throw {number} at t={native[0] - origin:.2f} s left out: no basket distance and the ball "
             f"never comes down to {landing.target_height} m from the estimated release"
         )
+        return None
+    if target is None and distance < DISTANCE_RANGE[0]:  # no basket stands that close
+        reason = (f"no basket distance and the estimated landing ({landed:.2f} m, labelled {distance:g} m) is "
+                  f"nearer than any basket ({DISTANCE_RANGE[0]:g} m): the hand came down near the body")
+        rise = float(motion.angle[cut.extension_end] - motion.angle[cut.extension_start])
+        report.reject(Rejection(release.time, "landing", reason, rise), motion.arm.label)
+        report.warnings.append(f"{path}: throw {number} at t={native[0] - origin:.2f} s left out: {reason}")
         return None
     spacing = np.diff(native)
     native_rate = 1.0 / float(np.median(spacing)) if spacing.size else float("nan")
