@@ -56,7 +56,7 @@ def bench_em(sizes: list[int], repeats: int) -> list[dict]:
     worst difference of the mean log-likelihood per sample (rlff - sklearn)."""
     from sklearn.mixture import GaussianMixture as SkMixture
 
-    from rlff.mixture import GaussianMixture
+    from rlff.model.mixture import GaussianMixture
 
     rows = []
     for n in sizes:
@@ -88,8 +88,8 @@ def bench_gmr(n_queries: int, repeats: int) -> list[dict]:
     and mean) against gmr's GMM.predict (means only), on the same queries, interleaved."""
     from gmr import GMM
 
-    from rlff.mixture import GaussianMixture
-    from rlff.regression import condition, predict
+    from rlff.model.mixture import GaussianMixture
+    from rlff.model.regression import condition, predict
 
     rows = []
     for k in (3, 10):
@@ -126,7 +126,7 @@ def bfgs_modes(conditional, eps: np.ndarray, gamma: float = 2.0) -> tuple[np.nda
     """The thesis' method: per query, scipy BFGS on -P_DMM from the GMR mean (exact gradient)."""
     from scipy.optimize import minimize
 
-    from rlff.donut import donut_radii
+    from rlff.model.donut import donut_radii
 
     r_a2, r_b2 = donut_radii(eps, 1, gamma)
     variances = conditional.covariances[:, 0, 0]
@@ -148,8 +148,8 @@ def bfgs_modes(conditional, eps: np.ndarray, gamma: float = 2.0) -> tuple[np.nda
 
 
 def bench_dmm(n_queries: int, repeats: int) -> list[dict]:
-    from rlff.donut import dmm_mode
     from rlff.model import Model
+    from rlff.model.donut import dmm_mode
     from rlff.synthetic.thesis import thesis_dataset
 
     rows = []

@@ -9,10 +9,10 @@ from hypothesis import strategies as st
 from scipy.optimize import minimize
 from scipy.stats import multivariate_normal, norm
 
-from rlff.donut import dmm_mode, dmm_pdf, donut_pdf, donut_radii, exploration_factor
 from rlff.errors import InputError
-from rlff.mixture import GaussianMixture
-from rlff.regression import Conditional, condition
+from rlff.model.donut import dmm_mode, dmm_pdf, donut_pdf, donut_radii, exploration_factor
+from rlff.model.mixture import GaussianMixture
+from rlff.model.regression import Conditional, condition
 
 
 def conditional_of(weights, means, covariances) -> Conditional:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rlff.fastexp import LOWEST, exp_relative
+from rlff.model.fastexp import LOWEST, exp_relative
 
 
 def run(values: np.ndarray, top: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

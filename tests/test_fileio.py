@@ -195,8 +195,8 @@ def test_data_values_beyond_the_magnitude_limit_are_refused():
 
 def test_model_generate_refuses_a_grid_beyond_the_limit_before_working():
     from rlff.limits import MAX_GRID_POINTS
-    from rlff.mixture import GaussianMixture
     from rlff.model import Model
+    from rlff.model.mixture import GaussianMixture
 
     mixture = GaussianMixture.from_parameters(
         np.array([1.0]), np.array([[0.5, 2.0, 1.0]]), np.eye(3)[None] * 0.1

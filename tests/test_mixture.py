@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from scipy.stats import multivariate_normal
 
 from rlff.errors import InputError
-from rlff.mixture import GaussianMixture, select_components
+from rlff.model.mixture import GaussianMixture, select_components
 
 
 def blobs(seed: int = 0, n: int = 200, sigma: float = 0.5) -> np.ndarray:

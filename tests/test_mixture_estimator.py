@@ -11,7 +11,7 @@ from sklearn.preprocessing import StandardScaler
 from sklearn.utils.estimator_checks import check_estimator
 
 from rlff.errors import InputError
-from rlff.mixture import GaussianMixture
+from rlff.model.mixture import GaussianMixture
 
 
 def two_clusters(seed: int = 0) -> np.ndarray:

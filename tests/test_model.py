@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from rlff.dataset import Dataset, Trajectory
-from rlff.donut import dmm_pdf
 from rlff.errors import InputError
 from rlff.model import Model
+from rlff.model.donut import dmm_pdf
 from rlff.synthetic.thesis import thesis_dataset
 
 

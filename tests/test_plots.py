@@ -338,7 +338,7 @@ def test_donut_family_against_the_gaussian(tmp_path):
 
 
 def test_dmm_heatmap_shows_the_density_the_throw_and_the_mean(tmp_path, thesis_model):
-    from rlff.donut import dmm_pdf
+    from rlff.model.donut import dmm_pdf
     from rlff.plots.donut import dmm_heatmap
 
     data, model = thesis_model

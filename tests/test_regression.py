@@ -8,8 +8,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rlff.errors import InputError
-from rlff.mixture import GaussianMixture
-from rlff.regression import condition, predict
+from rlff.model.mixture import GaussianMixture
+from rlff.model.regression import condition, predict
 
 
 def mixture_of(weights, means, covariances) -> GaussianMixture:

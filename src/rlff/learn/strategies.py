@@ -92,7 +92,7 @@ class DmmStrategy(Method):
         """Fit the mixture to ``data`` and return the DMM's throw for distance ``query`` (m).
 
         ``continuity`` keeps the path on the donut side that continues it where two modes are
-        nearly as high (see :func:`rlff.donut.dmm_mode`).
+        nearly as high (see :func:`rlff.model.donut.dmm_mode`).
         """
         problem = self.problem
         model = self.fit(data, sample_weight)

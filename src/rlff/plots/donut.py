@@ -45,9 +45,9 @@ def donut_family(
         Exploration factors in [0, 1]; ε = 0 is the Gaussian itself, ε = 1 has zero density at
         the mean.
     gamma : float, optional
-        The donut's weight γ > 1 (default :data:`rlff.donut.GAMMA`, the thesis' 2).
+        The donut's weight γ > 1 (default :data:`rlff.model.donut.GAMMA`, the thesis' 2).
     """
-    from rlff.donut import GAMMA, donut_pdf
+    from rlff.model.donut import GAMMA, donut_pdf
 
     gamma = GAMMA if gamma is None else gamma
     values = [float(e) for e in eps]
@@ -101,7 +101,7 @@ def dmm_heatmap(
     exploration, exploration_scale
         As for :meth:`rlff.model.Model.generate`.
     """
-    from rlff.donut import dmm_pdf
+    from rlff.model.donut import dmm_pdf
 
     if len(model.outputs) != 1 or len(model.inputs) != 2:
         raise InputError(

@@ -18,7 +18,7 @@ from scipy.cluster.vq import kmeans2
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError
-from rlff.mixture import GaussianMixture
+from rlff.model.mixture import GaussianMixture
 from rlff.plots._figure import (
     SavedFigure,
     add_curves,
@@ -78,7 +78,7 @@ def kmeans_em_steps(
     """k-means clusters (top row) and the Gaussian mixture EM makes of them (bottom row), per K.
 
     k-means (scipy's, with k-means++ seeding, on standardised columns) gives the first placement
-    of the components; EM (:class:`rlff.mixture.GaussianMixture`) refines it into weights, means
+    of the components; EM (:class:`rlff.model.mixture.GaussianMixture`) refines it into weights, means
     and covariances (thesis section 2.2.1).
 
     Parameters
@@ -306,7 +306,7 @@ def selection_for_dataset(
     seed: int = 0,
 ) -> SavedFigure:
     """Fit K = 1 .. ``max_components`` to the dataset's columns and plot :func:`selection_curve`."""
-    from rlff.mixture import select_components
+    from rlff.model.mixture import select_components
 
     if len(dataset) == 0:
         raise InputError("the dataset is empty: nothing to fit")
@@ -341,7 +341,7 @@ def model_components(
         File stem of the PNG and SVG.
     columns : (x, y) column names of the plane.
     """
-    from rlff.regression import condition
+    from rlff.model.regression import condition
 
     if len(model.context_names) != 1:
         raise InputError(

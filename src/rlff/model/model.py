@@ -1,6 +1,6 @@
 """The learnt model: a Gaussian mixture over named columns, its file, and the paths it generates.
 
-:class:`Model` ties a :class:`rlff.mixture.GaussianMixture` to column names and roles: the
+:class:`Model` ties a :class:`rlff.model.mixture.GaussianMixture` to column names and roles: the
 *inputs* (the first one is the path variable, ``angle``; the others are the *context*, such as the
 basket ``distance``) and the *outputs* (``velocity``). It fits itself to a dataset (K by BIC),
 saves to and loads from ``model.json`` (no pickle; validated on load), conditions on inputs
@@ -28,12 +28,12 @@ import numpy as np
 
 from rlff import __version__
 from rlff.dataset import THROW_INPUTS, THROW_OUTPUTS, Dataset
-from rlff.donut import dmm_mode
 from rlff.errors import InputError
 from rlff.fileio import write_text
 from rlff.jsonfile import read_json_object
 from rlff.limits import MAX_GRID_POINTS, MAX_MAGNITUDE, check_count
-from rlff.mixture import (
+from rlff.model.donut import dmm_mode
+from rlff.model.mixture import (
     GaussianMixture,
     check_samples,
     check_weights,
@@ -42,7 +42,7 @@ from rlff.mixture import (
     is_frame,
     select_components,
 )
-from rlff.regression import Conditional, condition, predict
+from rlff.model.regression import Conditional, condition, predict
 from rlff.trajectory.timing import time_along_path
 
 FORMAT = "rlff-model"
@@ -264,7 +264,7 @@ class Model:
             samples), else 0; a number: that resolution for every context input; None or 0: none.
         effective_samples : "auto", float or None
             How many independent samples the data stand for, for BIC and AIC (see
-            :func:`rlff.mixture.information_criteria`). "auto" (default): each trajectory's
+            :func:`rlff.model.mixture.information_criteria`). "auto" (default): each trajectory's
             samples times its ``measured_share`` metadata (the share of measured samples, which
             ``densify`` records; 1 when absent), summed (weighted by ``sample_weight``), so that
             samples interpolated between measurements do not count as independent evidence for
@@ -370,7 +370,7 @@ class Model:
             ["release"]``, see :func:`_typical_release`), or over the data's whole range when
             the model does not know it (fitted to an array, or an older model.json).
         exploration : "auto", float or array of shape (T,)
-            See :func:`rlff.donut.dmm_mode`.
+            See :func:`rlff.model.donut.dmm_mode`.
         exploration_scale : float
             Exploration scale sigma in output units (with "auto").
         continuity : bool or float

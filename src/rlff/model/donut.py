@@ -32,7 +32,7 @@ import numba
 import numpy as np
 
 from rlff.errors import InputError
-from rlff.regression import Conditional
+from rlff.model.regression import Conditional
 
 #: Donut weight gamma of the thesis.
 GAMMA = 2.0
@@ -234,7 +234,7 @@ def dmm_pdf(
     Parameters
     ----------
     conditional : Conditional
-        GMR of N inputs (see :func:`rlff.regression.condition`).
+        GMR of N inputs (see :func:`rlff.model.regression.condition`).
     y : array of shape (N, O) or (N, M, O)
         One or M output points per input.
     exploration : float or array of shape (N,)

@@ -24,8 +24,8 @@ import numba
 import numpy as np
 
 from rlff.errors import InputError
-from rlff.fastexp import exp_relative
-from rlff.mixture import by_name, gaussian_log_coefficients
+from rlff.model.fastexp import exp_relative
+from rlff.model.mixture import by_name, gaussian_log_coefficients
 
 #: Samples per block of the compiled pass: keeps the (K, block) work arrays in the CPU cache.
 _BLOCK = 1024
@@ -159,7 +159,7 @@ class _Regression:
         self.n_components, self.n_out, self.n_in = regression.shape
         # Inputs centred on the components' mean input, so the quadratic expansion of the
         # Mahalanobis distance works on moderate numbers. log w_k N(x | mu_in, S_ii) is linear in
-        # the features [1, x, x_i x_j] of x (see rlff.mixture.gaussian_log_coefficients), and so
+        # the features [1, x, x_i x_j] of x (see rlff.model.mixture.gaussian_log_coefficients), and so
         # is the component mean m_k(x) = (mu_out - A_k mu_in) + A_k x.
         self.center = weights @ means[:, i_in]
         mu_in = means[:, i_in] - self.center

@@ -1,0 +1,32 @@
+"""The model stage: Gaussian mixture, regression on it (GMR), the Donut Mixture Model, the model file.
+
+``mixture``      GaussianMixture: k-means++ and EM in log space, BIC/AIC, K by a criterion
+``regression``   conditioning a mixture on any input columns (batch weights, means, covariances)
+``donut``        the DMM density, the exploration factor, the global mode, continuity along a path
+``fastexp``      the compiled exponential the GMR and DMM kernels share
+``model``        Model: a mixture over named columns with roles, model.json, generated paths
+
+The names a user needs are imported from here (and from ``rlff``) lazily, so that importing the
+package for one of its modules loads nothing else.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+_EXPORTS = {
+    "Model": "rlff.model.model",
+    "GeneratedPath": "rlff.model.model",
+    "ComponentSelection": "rlff.model.model",
+    "compile_kernels": "rlff.model.model",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'rlff.model' has no attribute {name!r}")
+    return getattr(importlib.import_module(module), name)
