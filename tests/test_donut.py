@@ -246,8 +246,8 @@ def test_bad_mode_options_are_named(kwargs, message):
 def test_each_compiled_kernel_has_one_version_whatever_the_memory_layout():
     """Another argument type or layout would compile (and cache) another version of a kernel,
     seconds each on first use: every entry point hands the kernels C-ordered float64 arrays."""
-    from rlff import donut as donut_module
-    from rlff import regression
+    from rlff.model import donut as donut_module
+    from rlff.model import regression
 
     mixture = GaussianMixture.from_parameters(
         np.array([0.3, 0.7]), np.array([[0.0, 0.0, 1.0], [2.0, 1.0, 3.0]]), np.array([np.eye(3), 2 * np.eye(3)])
