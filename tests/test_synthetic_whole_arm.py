@@ -114,7 +114,7 @@ def test_the_chain_velocity_is_the_derivative_of_its_position():
     assert (float(x), float(z)) == pytest.approx((UPPER_ARM + FOREARM_ONLY + HAND, 1.5))
 
 
-def test_proximal_to_distal_the_shoulder_leads_the_elbow_and_the_wrist_snaps_last(clean):
+def test_proximal_to_distal_the_shoulder_leads_the_elbow_and_the_wrist_follows(clean):
     for trajectory in clean:
         time, shoulder = trajectory["time"], trajectory["shoulder"]
         extension = _extension(trajectory)
@@ -126,7 +126,9 @@ def test_proximal_to_distal_the_shoulder_leads_the_elbow_and_the_wrist_snaps_las
         shoulder_peak = t[np.argmax(trajectory["shoulder_velocity"][extension])]
         elbow_peak = t[np.argmax(trajectory["velocity"][extension])]
         wrist_peak = t[np.argmax(trajectory["wrist_velocity"][extension])]
-        assert shoulder_peak < elbow_peak <= wrist_peak + 1e-9
+        assert shoulder_peak < elbow_peak
+        # the hand straightens with the elbow's fastest extension (in the recordings too)
+        assert shoulder_peak <= wrist_peak and abs(wrist_peak - elbow_peak) <= 0.1 + 1e-9
         # the shoulder started its swing before the elbow started extending
         moving = np.flatnonzero(trajectory["shoulder_velocity"] > 0.05)
         assert time[moving[moving > extension.start - 3][0]] <= time[extension.start]
