@@ -229,3 +229,13 @@ def test_a_glitch_disturbs_every_joint_and_the_spike_filter_removes_it_from_all(
             np.testing.assert_array_equal(cleaned[0][joint], truth[joint][kept])
             np.testing.assert_allclose(cleaned[0][velocity], np.gradient(cleaned[0][joint], cleaned[0]["time"]))
     assert seen >= 3
+
+
+@pytest.mark.parametrize("extension", ["csv", "parquet", "npz"])
+def test_whole_arm_demonstrations_round_trip_through_every_dataset_format(tmp_path, extension):
+    from rlff.formats import read_dataset, write_dataset
+
+    dataset = whole_arm_demonstrations(0, subjects=1, distances=(1.0, 2.0), joints=("shoulder", "elbow", "wrist"))
+    write_dataset(dataset, tmp_path / f"arm.{extension}")
+    back = read_dataset(tmp_path / f"arm.{extension}")
+    assert back.equals(dataset) and back.context == ("distance", "bearing", "height")
