@@ -162,7 +162,8 @@ def arm_release_state(
 
 @dataclass(frozen=True)
 class _Throw:
-    """One throw's motion: the person's style, this throw's swing and release, its duration."""
+    """One throw's motion, whatever its duration: the person's style, this throw's raise of the
+    upper arm and its release, the joints that move."""
 
     style: _Style
     swing: float  # shoulder elevation gained during the throw (rad)
@@ -220,10 +221,10 @@ class _Throw:
         shoulder = s.shoulder_wound if "shoulder" in self.joints else s.shoulder_wound + s.shoulder_swing
         return {"shoulder": shoulder, "angle": s.wound_angle, "wrist": wrist}
 
-    def release(self, duration: float, u: float | None = None) -> tuple[np.ndarray, ...]:
-        """Ball position and velocity at throw fraction ``u`` (default the release), for a throw
-        lasting ``duration`` (s)."""
-        phases = self.phases(self.release_u if u is None else u)
+    def release(self, duration: float) -> tuple[np.ndarray, ...]:
+        """Ball position (m) and velocity (m/s) at the release of a throw lasting ``duration`` (s):
+        ``x, z, vx, vz`` as :func:`arm_release_state`."""
+        phases = self.phases(self.release_u)
         spans, starts = self.spans(), self.starts()
         angle = {name: starts[name] + spans[name] * phases[name][0] for name in spans}
         rate = {name: spans[name] * phases[name][1] / duration for name in spans}
