@@ -8,6 +8,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 sys.path.insert(0, str(Path(__file__).parent))
 import bagfactory as bf  # noqa: E402
@@ -72,6 +74,19 @@ def test_elevation_exact_cases():
     # against a torso leaning forward by 0.3 rad, an arm straight down is raised by 0.3 rad
     lean = np.array([np.sin(-0.3), 0.0, -np.cos(0.3)])
     assert elevation(shoulder[:1], elbow[:1], lean)[0] == pytest.approx(0.3)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10_000))
+def test_elevation_does_not_depend_on_the_frame_and_up_is_its_supplement(seed):
+    rng = np.random.default_rng(seed)
+    shoulder, elbow, down = rng.normal(size=(3, 6, 3))
+    rotation, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    shift = rng.normal(size=3)
+    moved = [p @ rotation.T + shift for p in (shoulder, elbow)]
+    expected = elevation(shoulder, elbow, down)
+    np.testing.assert_allclose(elevation(*moved, down @ rotation.T), expected, atol=1e-9)
+    np.testing.assert_allclose(elevation(shoulder, elbow, -down), np.pi - expected, atol=1e-9)
 
 
 def test_msr_text_of_a_known_arm_gives_its_shoulder_wrist_and_their_velocities(tmp_path):
