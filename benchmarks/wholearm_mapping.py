@@ -26,11 +26,11 @@ import statistics
 
 import numpy as np
 
-from rlff.ballistics import crossing_distance
 from rlff.robot import load_robot, mapping_for
 from rlff.robot.plan import plan_path
 from rlff.sim import Basket, simulate_throw
 from rlff.sim.arm import Arm
+from rlff.sim.reach import release_reach
 from rlff.synthetic.throws import whole_arm_demonstrations
 
 
@@ -41,19 +41,6 @@ def extension(trajectory, columns):
     path = {name: trajectory[name][start:release + 1] for name in columns}
     rising = np.concatenate([[True], np.diff(path["angle"]) > 0])
     return {name: values[rising] for name, values in path.items()}
-
-
-def scaled_reach(robot, points) -> float:
-    """Landing (m, 0.3 m rim) of the mapped release with its velocities scaled to the first limit."""
-    names = ("joint_2", "joint_3", "joint_5")
-    q = [points.positions[-1, points.joint_index(n)] for n in names]
-    v = np.array([points.velocities[-1, points.joint_index(n)] for n in names])
-    limits = np.array([robot.joint(n).max_velocity for n in names])
-    moving = np.abs(v) > 1e-9
-    v = v * np.min(limits[moving] / np.abs(v[moving]))
-    plane = Arm.from_robot(robot).in_plane(*q)
-    velocity = plane.jacobian @ v
-    return float(crossing_distance(plane.ball[0], plane.ball[1], velocity[0], velocity[1], 0.3))
 
 
 def draw(path, robot, planned, outcome, basket) -> None:
@@ -134,7 +121,7 @@ def main() -> None:
             draw(args.figure, robot, planned, outcome, Basket(target, height, bearing=bearing))
             drawn = True
         rows.setdefault(target, []).append((float(throw.meta["landing"]) / target, outcome.landing_x / target,
-                                            clipped, scaled_reach(robot, planned.points)))
+                                            clipped, release_reach(robot, planned.points.positions[-1], planned.points.velocities[-1])))
     print(f"whole-arm people (seed {args.seed}) thrown by the Comau with {', '.join(mapping.driven_joints)} "
           f"(time_scale {mapping.time_scale:g}); medians over throws")
     print(f"{'target (m)':>10} {'throws':>7} {'person/target':>14} {'robot/target':>13} {'robot +-30 %':>13} "
