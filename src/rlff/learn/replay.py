@@ -13,6 +13,7 @@ the first field that differs.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -92,7 +93,8 @@ def plan_attempt(attempt: Attempt, mapping: RobotMapping, period: float = DEFAUL
 
 
 def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float = DEFAULT_PERIOD,
-               clip: bool = False, start: np.ndarray | None = None) -> ThrowInput:
+               clip: bool = False, start: np.ndarray | None = None, joints: Sequence[str] | None = None,
+               bearing: float | None = None) -> ThrowInput:
     """Read a generated path, a robot trajectory or an attempt of a log and plan it for ``robot``.
 
     Parameters
@@ -111,6 +113,9 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
     start : array of shape (J,), optional
         The arm's pose (rad, ``robot``'s joints in order) a path or an attempt is planned from;
         default its first pose.
+    joints, bearing : optional
+        For a generated path: the robot joints it drives and the basket's bearing (deg), see
+        :func:`rlff.robot.plan.load_for_robot`.
 
     Raises
     ------
@@ -130,12 +135,13 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
         return ThrowInput(planned, f"attempt {chosen.index} of {path} ({outcome}), {planned.summary()}", run)
     if attempt is not None:
         raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
-    _, planned = load_for_robot(path, robot, period, clip, start)
+    _, planned = load_for_robot(path, robot, period, clip, start, joints=joints, bearing=bearing)
     return ThrowInput(planned, planned.summary())
 
 
 def load_for_send(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float = DEFAULT_PERIOD,
-                  clip: bool = False, start: np.ndarray | None = None, approach: bool = False) -> RobotPlan:
+                  clip: bool = False, start: np.ndarray | None = None, approach: bool = False,
+                  joints: Sequence[str] | None = None, bearing: float | None = None) -> RobotPlan:
     """What ``rlff robot send`` sends from ``path``: an attempt of an attempts log planned from the
     arm's pose ``start`` (J,), or any file :func:`rlff.robot.sendfile.load_for_sending` takes.
 
@@ -149,7 +155,8 @@ def load_for_send(path: str | Path, robot: Robot, *, attempt: int | None = None,
         return load_input(path, robot, attempt=attempt, period=period, clip=clip, start=start).plan
     if attempt is not None:
         raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
-    return load_for_sending(path, robot, period, clip, start=start, approach=approach)[1]
+    return load_for_sending(path, robot, period, clip, start=start, approach=approach, joints=joints,
+                            bearing=bearing)[1]
 
 
 def export_attempt(attempt: Attempt, robot: Robot, out: str | Path, fmt: str,

@@ -16,7 +16,10 @@ _EXPORTS = {
     "Robot": "rlff.robot.description",
     "available_robots": "rlff.robot.description",
     "load_robot": "rlff.robot.description",
+    "ArmMapping": "rlff.robot.mapping",
+    "HumanPath": "rlff.robot.mapping",
     "RobotMapping": "rlff.robot.mapping",
+    "mapping_for": "rlff.robot.mapping",
 }
 
 __all__ = sorted(_EXPORTS)

@@ -105,9 +105,11 @@ class Geometry:
 class Robot:
     """A robot arm: its joints in controller order, geometry and extra tables of its file.
 
-    ``throwing`` holds the default human-to-robot mapping (read by
-    :meth:`rlff.robot.mapping.RobotMapping.for_robot`), ``comau_program`` the layout of the
-    Comau text program; both may be empty. ``source`` names the file it came from.
+    ``throwing`` holds the default one-joint human-to-robot mapping (read by
+    :meth:`rlff.robot.mapping.RobotMapping.for_robot`), ``whole_arm`` the mapping of several
+    human joints to several robot joints (:meth:`rlff.robot.mapping.ArmMapping.for_robot`),
+    ``comau_program`` the layout of the Comau text program; each may be empty. ``source`` names
+    the file it came from.
     """
 
     name: str
@@ -116,6 +118,7 @@ class Robot:
     throwing: Mapping[str, Any] = field(default_factory=dict)
     comau_program: Mapping[str, Any] = field(default_factory=dict)
     source: str = "<memory>"
+    whole_arm: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         names = [joint.name for joint in self.joints]
@@ -123,6 +126,7 @@ class Robot:
             raise InputError(f"{self.source}: joint names must be unique and non-empty, got {names}")
         object.__setattr__(self, "throwing", MappingProxyType(dict(self.throwing)))
         object.__setattr__(self, "comau_program", MappingProxyType(dict(self.comau_program)))
+        object.__setattr__(self, "whole_arm", MappingProxyType(dict(self.whole_arm)))
 
     @property
     def joint_names(self) -> tuple[str, ...]:
@@ -170,7 +174,7 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
         if not isinstance(joint_name, str) or not joint_name:
             raise InputError(f"{where}: missing field 'name'")
         joints.append(Joint(joint_name, *(number_field(table, key, where) for key in LIMIT_FIELDS)))
-    for key in ("geometry", "throwing", "comau_program"):
+    for key in ("geometry", "throwing", "whole_arm", "comau_program"):
         if key in document and not isinstance(document[key], Mapping):
             raise InputError(f"{source}: [{key}] must be a table, got {document[key]!r}")
     geometry = None
@@ -178,7 +182,7 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
         values = {key: number_field(document["geometry"], key, f"{source}: [geometry]") for key in _GEOMETRY_FIELDS}
         geometry = Geometry(**values)
     return Robot(name, tuple(joints), geometry, document.get("throwing", {}),
-                 document.get("comau_program", {}), source)
+                 document.get("comau_program", {}), source, document.get("whole_arm", {}))
 
 
 def available_robots() -> list[str]:

@@ -1,25 +1,45 @@
-"""Human to robot (thesis 4.4): the learned human angle drives one robot joint.
+"""Human to robot (thesis 4.4): the learned human joints drive robot joints.
 
-The driven joint's position is ``angle_offset + angle_scale * angle`` and its velocity
-``velocity_scale * velocity``; every other joint stays at its start pose. The robot's timing
-follows from the mapped path (t = integral of dq / qdot), i.e. the human timing stretched by
-``angle_scale / velocity_scale``. A point beyond a position or velocity limit is an error unless
-clipping is asked for, and then every changed value is reported.
+:class:`RobotMapping` (the robot file's ``[throwing]`` table): the learned human angle drives
+one robot joint. The driven joint's position is ``angle_offset + angle_scale * angle`` and its
+velocity ``velocity_scale * velocity``; every other joint stays at its start pose. The robot's
+timing follows from the mapped path (t = integral of dq / qdot), i.e. the human timing stretched
+by ``angle_scale / velocity_scale``.
+
+:class:`ArmMapping` (the ``[whole_arm]`` table): several human joints (elbow ``angle``,
+``shoulder``, ``wrist``) drive several robot joints on one time base: each robot position is
+``offset + scale * human position``, each robot velocity ``scale * human velocity / time_scale``,
+the robot's time the human's times ``time_scale``.
+
+Both offer the path protocol the learning loop and the CLI use (:meth:`ArmMapping.path_to_robot`,
+``path_from_robot``, ``max_human_speeds``, ``driven_joints``, ``human_columns``); the basket's
+bearing turns the ``bearing_joint`` (joint 1) to face it. A point beyond a position or velocity
+limit is an error unless clipping is asked for, and then every changed value is reported.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
 import numpy as np
 
+from rlff.dataset import JOINT_COLUMNS as HUMAN_JOINT_COLUMNS
+from rlff.dataset import velocity_column
 from rlff.errors import InputError
 from rlff.robot.description import Robot, number_field
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport, LimitChange, clip_to_limits, require_within_limits
 from rlff.trajectory.timing import time_along_path
+
+#: A throw in human units (thesis 4.2): columns of equal length T, always ``angle`` (rad, the
+#: elbow, the phase) and ``velocity`` (rad/s), plus ``shoulder``/``shoulder_velocity`` and
+#: ``wrist``/``wrist_velocity`` for the joints driven, optionally ``time`` (s).
+HumanPath = Mapping[str, np.ndarray]
+
+#: The robot joint that turns the arm to the basket's bearing when a robot file does not say.
+DEFAULT_BEARING_JOINT = "joint_1"
 
 
 @dataclass(frozen=True)
@@ -131,19 +151,10 @@ class RobotMapping:
         """
         angle = np.asarray(angle, dtype=float)
         velocity = np.array(velocity, dtype=float)
-        backward = self._backward(angle, velocity, clip)
+        backward = _backward_samples(angle, velocity, clip)
         original_velocity = velocity.copy()
         velocity[backward] = 0.0
-        if time is None:
-            human_time = time_along_path(angle, velocity)
-        else:
-            human_time = np.asarray(time, dtype=float)
-            time_along_path(angle, velocity)  # same checks of the path: finite, monotonic
-            if human_time.shape != angle.shape or not np.all(np.isfinite(human_time)):
-                raise InputError(f"time must be finite with the shape of angle {angle.shape}")
-            if np.any(np.diff(human_time) <= 0):
-                bad = int(np.flatnonzero(np.diff(human_time) <= 0)[0]) + 1
-                raise InputError(f"time is not strictly increasing at sample {bad}")
+        human_time = _human_time(angle, velocity, time)
         robot_time = (human_time - human_time[0]) * self.time_scale
         driven = self.robot.index(self.joint)
         count, joints = angle.size, len(self.robot.joints)
@@ -167,20 +178,6 @@ class RobotMapping:
                                 clipped.velocities, _accelerations(clipped.time, clipped.velocities)),
                 report)
 
-    def _backward(self, angle: np.ndarray, velocity: np.ndarray, clip: bool) -> np.ndarray:
-        """Samples whose velocity points against the path (a model's dip below 0 at a stop).
-
-        Without ``clip`` they are an error; with it they are set to 0 (the joint at rest there)
-        and reported.
-        """
-        direction = np.sign(angle[-1] - angle[0]) if angle.ndim == 1 and angle.size > 1 else 0.0
-        backward = np.flatnonzero(velocity * direction < 0) if velocity.shape == angle.shape else np.array([], int)
-        if backward.size and not clip:
-            i = int(backward[0])
-            raise InputError(f"velocity at sample {i} ({velocity[i]:g} rad/s) moves against the path "
-                             f"({backward.size} samples do); clipping sets them to 0 (--clip)")
-        return backward
-
     def from_robot(self, traj: JointTrajectory) -> tuple[np.ndarray, np.ndarray]:
         """The human (angle (rad), velocity (rad/s)) of a robot trajectory, each of shape (T,).
 
@@ -191,6 +188,363 @@ class RobotMapping:
         angle = (traj.positions[:, column] - self.angle_offset) / self.angle_scale
         velocity = traj.velocities[:, column] / self.velocity_scale
         return angle, velocity
+
+    # the path protocol shared with ArmMapping
+
+    @property
+    def driven_joints(self) -> tuple[str, ...]:
+        """The robot joint the path drives: ``(joint,)``."""
+        return (self.joint,)
+
+    @property
+    def human_columns(self) -> tuple[str, ...]:
+        """The human position column that drives it: ``("angle",)``."""
+        return ("angle",)
+
+    @property
+    def bearing_joint(self) -> str | None:
+        """The joint that turns the arm to the basket's bearing (the ``[whole_arm]`` table's, or
+        joint_1), None when the robot has no such joint or it is the driven one."""
+        name = str(self.robot.whole_arm.get("bearing_joint", DEFAULT_BEARING_JOINT))
+        return name if name in self.robot.joint_names and name != self.joint else None
+
+    def path_to_robot(self, path: HumanPath, *, bearing: float = 0.0,
+                      clip: bool = False) -> tuple[JointTrajectory, ClipReport]:
+        """:meth:`to_robot` of ``path["angle"]``, ``path["velocity"]`` (and ``path["time"]``),
+        with the bearing joint turned ``bearing`` degrees from its start pose (see
+        :meth:`ArmMapping.path_to_robot`; at bearing 0 exactly :meth:`to_robot`)."""
+        _require_columns(path, ("angle", "velocity"))
+        traj, report = self.to_robot(path["angle"], path["velocity"], path.get("time"), clip=clip)
+        return _turned(traj, self.robot, self.bearing_joint, bearing), report
+
+    def path_from_robot(self, traj: JointTrajectory) -> dict[str, np.ndarray]:
+        """The human columns ``angle``, ``velocity`` and ``time`` (s, from the robot's time) of a
+        robot trajectory; arrays of shape (T,)."""
+        angle, velocity = self.from_robot(traj)
+        return {"angle": angle, "velocity": velocity, "time": traj.time / self.time_scale}
+
+    def max_human_speeds(self) -> dict[str, float]:
+        """The driven joint's speed limit in human units: ``{"velocity": rad/s}``."""
+        return {"velocity": self.robot.joint(self.joint).max_velocity / abs(self.velocity_scale)}
+
+
+@dataclass(frozen=True)
+class JointMap:
+    """One robot joint following one human joint.
+
+    Parameters
+    ----------
+    joint : str
+        The robot joint.
+    human : str
+        The human position column it follows (``angle``, ``shoulder`` or ``wrist``).
+    offset, scale : float
+        Robot position (rad) = ``offset + scale * human position`` (rad); ``scale`` non-zero.
+    """
+
+    joint: str
+    human: str
+    offset: float
+    scale: float
+
+
+@dataclass(frozen=True)
+class ArmMapping:
+    """How a whole-arm human path becomes one coordinated robot joint trajectory.
+
+    Parameters
+    ----------
+    robot : Robot
+    joints : sequence of JointMap
+        The driven robot joints, the one following ``angle`` (the elbow, the phase) first.
+    start_pose : mapping of joint name to position (rad)
+        Positions of the joints not driven (required), and where the arm rests before a throw
+        (:meth:`pose`; a driven joint without one rests at 0); the bearing joint's is its
+        position at bearing 0.
+    time_scale : float
+        Robot time per human time (s/s), one for all joints, so they stay coordinated.
+    bearing_joint : str or None
+        The robot joint turned to the basket's bearing (deg, counter-clockwise from above).
+    """
+
+    robot: Robot
+    joints: tuple[JointMap, ...]
+    start_pose: Mapping[str, float]
+    time_scale: float
+    bearing_joint: str | None = DEFAULT_BEARING_JOINT
+
+    def __post_init__(self) -> None:
+        where = f"{self.robot.source}: [whole_arm]"
+        joints = tuple(self.joints)
+        if not joints or joints[0].human != "angle":
+            raise InputError(f"{where}: the driven joints must include the one following the elbow "
+                             f"(human = \"angle\"), first; got {[(j.joint, j.human) for j in joints]}")
+        names = [j.joint for j in joints]
+        humans = [j.human for j in joints]
+        for item in joints:
+            self.robot.joint(item.joint)
+            if item.human not in HUMAN_JOINT_COLUMNS:
+                raise InputError(f"{where}.joints.{item.joint}: human must be one of "
+                                 f"{', '.join(HUMAN_JOINT_COLUMNS)}, got {item.human!r}")
+            if item.scale == 0 or not np.isfinite(item.scale) or not np.isfinite(item.offset):
+                raise InputError(f"{where}.joints.{item.joint}: scale must be non-zero and finite, "
+                                 f"offset finite (got {item.scale}, {item.offset})")
+        if len(set(names)) != len(names) or len(set(humans)) != len(humans):
+            raise InputError(f"{where}: each robot joint and each human joint may be driven once, got "
+                             f"{[(j.joint, j.human) for j in joints]}")
+        if not (np.isfinite(self.time_scale) and self.time_scale > 0):
+            raise InputError(f"{where}: time_scale must be a positive number, got {self.time_scale}")
+        if self.bearing_joint is not None:
+            self.robot.joint(self.bearing_joint)
+            if self.bearing_joint in names:
+                raise InputError(f"{where}: bearing_joint {self.bearing_joint} cannot also be driven")
+        missing = [n for n in self.robot.joint_names if n not in names and n not in self.start_pose]
+        if missing:
+            raise InputError(f"{where}.start_pose misses joints {missing}")
+        for name in self.start_pose:
+            self.robot.joint(name)
+        pose = {name: float(value) for name, value in self.start_pose.items()}
+        for name, value in pose.items():
+            joint = self.robot.joint(name)
+            if not joint.lower <= value <= joint.upper:
+                raise InputError(f"{where}.start_pose: {name} ({value} rad) is outside its limits "
+                                 f"[{joint.lower}, {joint.upper}] rad")
+        object.__setattr__(self, "joints", joints)
+        object.__setattr__(self, "start_pose", MappingProxyType(pose))
+        object.__setattr__(self, "time_scale", float(self.time_scale))
+
+    @classmethod
+    def for_robot(cls, robot: Robot, joints: Sequence[str] = ("joint_2", "joint_3")) -> ArmMapping:
+        """The mapping of the robot file's ``[whole_arm]`` table for the robot ``joints`` driven.
+
+        Parameters
+        ----------
+        robot : Robot
+        joints : sequence of str
+            A subset of the table's ``[whole_arm.joints]`` that includes the one following the
+            elbow (``human = "angle"``); each other joint of the table stays at its start pose.
+
+        Raises
+        ------
+        InputError
+            No ``[whole_arm]`` table, a joint not in it, a missing or bad field (all named).
+        """
+        table = robot.whole_arm
+        where = f"{robot.source}: [whole_arm]"
+        if not table:
+            raise InputError(f"{robot.source} has no [whole_arm] table: it maps one joint only "
+                             "(leave out --joints)")
+        entries = table.get("joints")
+        pose = table.get("start_pose")
+        if not isinstance(entries, Mapping) or not entries:
+            raise InputError(f"{where}: missing tables [whole_arm.joints.<joint>]")
+        if not isinstance(pose, Mapping):
+            raise InputError(f"{where}: missing table 'start_pose'")
+        asked = [str(name) for name in joints]
+        unknown = [name for name in asked if name not in entries]
+        if unknown:
+            raise InputError(f"joints {unknown} are not in {where}.joints (mapped: {', '.join(entries)})")
+        maps = []
+        for name in asked:
+            entry = entries[name]
+            here = f"{where}.joints.{name}"
+            if not isinstance(entry, Mapping) or not isinstance(entry.get("human"), str):
+                raise InputError(f"{here}: needs human = \"angle\" | \"shoulder\" | \"wrist\", offset and scale")
+            maps.append(JointMap(name, entry["human"], number_field(entry, "offset", here),
+                                 number_field(entry, "scale", here)))
+        if "angle" not in [m.human for m in maps]:
+            elbow = [name for name, entry in entries.items() if isinstance(entry, Mapping) and entry.get("human") == "angle"]
+            raise InputError(f"joints {asked} must include the one following the elbow (the phase): "
+                             f"{', '.join(elbow) or 'none in ' + where}")
+        maps.sort(key=lambda m: m.human != "angle")
+        bearing = table.get("bearing_joint", DEFAULT_BEARING_JOINT)
+        if bearing is not None and not isinstance(bearing, str):
+            raise InputError(f"{where}: bearing_joint must be a joint name, got {bearing!r}")
+        start = {name: number_field(pose, name, f"{where}.start_pose") for name in pose}
+        # an undriven joint of the table rests at its start pose
+        return cls(robot, tuple(maps), start, number_field(table, "time_scale", where), bearing or None)
+
+    @property
+    def driven_joints(self) -> tuple[str, ...]:
+        """The robot joints driven, in the order of :attr:`human_columns`."""
+        return tuple(m.joint for m in self.joints)
+
+    @property
+    def human_columns(self) -> tuple[str, ...]:
+        """The human position columns that drive them, ``angle`` first."""
+        return tuple(m.human for m in self.joints)
+
+    def pose(self) -> np.ndarray:
+        """Positions (J,) (rad) of every joint at the start pose: where the arm rests before a
+        throw, the ``start`` the approach is planned from (a driven joint without one at 0)."""
+        return np.array([self.start_pose.get(name, 0.0) for name in self.robot.joint_names])
+
+    def path_to_robot(self, path: HumanPath, *, bearing: float = 0.0,
+                      clip: bool = False) -> tuple[JointTrajectory, ClipReport]:
+        """The coordinated robot trajectory of a whole-arm human path, checked against the limits.
+
+        Parameters
+        ----------
+        path : HumanPath
+            Columns of shape (T,): ``angle`` (rad, the phase: strictly monotonic), ``velocity``
+            (rad/s), and the position and velocity column of every other human joint of
+            :attr:`human_columns`; optional ``time`` (s; default: from angle and velocity,
+            :func:`rlff.trajectory.timing.time_along_path`).
+        bearing : float
+            The basket's bearing (deg, counter-clockwise seen from above): the bearing joint
+            stands at its start pose plus this angle through the whole throw.
+        clip : bool
+            Clip positions and velocities into the limits instead of raising (each change
+            reported); an elbow velocity against the path is set to 0 first.
+
+        Returns
+        -------
+        JointTrajectory
+            T points of every robot joint (controller order), time from 0 (human time times
+            :attr:`time_scale`); accelerations from the velocities over time.
+        ClipReport
+            What was clipped (empty unless ``clip``).
+
+        Raises
+        ------
+        InputError
+            A missing column (named), NaN, a non-monotonic angle, a bad time, a bearing the
+            bearing joint cannot turn to, or (without ``clip``) a value beyond a limit.
+        """
+        velocities_of = tuple(velocity_column(c) for c in self.human_columns)
+        needed = tuple(c for pair in zip(self.human_columns, velocities_of, strict=True) for c in pair)
+        _require_columns(path, needed, f"driving {', '.join(self.driven_joints)} needs {', '.join(needed)}: "
+                                       "a whole-arm model's path")
+        angle = np.asarray(path["angle"], dtype=float)
+        human = {c: np.asarray(path[c], dtype=float) for c in (*self.human_columns, *velocities_of)}
+        for name, column in human.items():
+            if column.shape != angle.shape:
+                raise InputError(f"path column {name!r} has shape {column.shape}, angle {angle.shape}")
+            if not np.all(np.isfinite(column)):
+                raise InputError(f"path column {name!r} holds NaN or inf")
+        velocity = human["velocity"].copy()
+        backward = _backward_samples(angle, velocity, clip)
+        velocity[backward] = 0.0
+        human["velocity"] = velocity
+        human_time = _human_time(angle, velocity, path.get("time"))
+        robot_time = (human_time - human_time[0]) * self.time_scale
+        positions = np.tile(self.pose(), (angle.size, 1))
+        velocities = np.zeros_like(positions)
+        for item, speed in zip(self.joints, velocities_of, strict=True):
+            column = self.robot.index(item.joint)
+            positions[:, column] = item.offset + item.scale * human[item.human]
+            velocities[:, column] = item.scale * human[speed] / self.time_scale
+        traj = JointTrajectory(self.robot.joint_names, robot_time, positions, velocities,
+                               _accelerations(robot_time, velocities))
+        traj = _turned(traj, self.robot, self.bearing_joint, bearing)
+        if not clip:
+            require_within_limits(traj, self.robot.joints)
+            return traj, ClipReport()
+        clipped, report = clip_to_limits(traj, self.robot.joints)
+        elbow = self.joints[0]
+        stopped = [LimitChange(int(i), elbow.joint, "velocity", float(elbow.scale * before / self.time_scale), 0.0)
+                   for i, before in zip(backward, np.asarray(path["velocity"], dtype=float)[backward], strict=True)]
+        report = ClipReport(tuple(sorted(report.changes + tuple(stopped), key=lambda c: (c.point, c.joint, c.quantity))))
+        if not report:
+            return traj, report
+        return (JointTrajectory(clipped.joint_names, clipped.time, clipped.positions, clipped.velocities,
+                                _accelerations(clipped.time, clipped.velocities)), report)
+
+    def path_from_robot(self, traj: JointTrajectory) -> dict[str, np.ndarray]:
+        """The human columns (positions, velocities, ``time`` in s) of a robot trajectory: the
+        inverse of :meth:`path_to_robot` on the driven joints; arrays of shape (T,)."""
+        path = {}
+        for item in self.joints:
+            column = traj.joint_index(item.joint)
+            path[item.human] = (traj.positions[:, column] - item.offset) / item.scale
+            path[velocity_column(item.human)] = traj.velocities[:, column] * self.time_scale / item.scale
+        path["time"] = traj.time / self.time_scale
+        return path
+
+    def max_human_speeds(self) -> dict[str, float]:
+        """Each driven joint's speed limit in human units (rad/s), by velocity column."""
+        return {velocity_column(m.human): self.robot.joint(m.joint).max_velocity * self.time_scale / abs(m.scale)
+                for m in self.joints}
+
+
+def mapping_for(robot: Robot, joints: Sequence[str] | None = None) -> RobotMapping | ArmMapping:
+    """The mapping for the robot ``joints`` driven: None or the ``[throwing]`` table's one joint
+    alone gives the one-joint :class:`RobotMapping` exactly as before; several joints the
+    :class:`ArmMapping` of the ``[whole_arm]`` table.
+
+    Raises
+    ------
+    InputError
+        Joints the robot file does not map (named), see :meth:`ArmMapping.for_robot`.
+    """
+    if joints is None:
+        return RobotMapping.for_robot(robot)
+    joints = tuple(str(name) for name in joints)
+    if not joints:
+        raise InputError("--joints names no joint (e.g. joint_2,joint_3)")
+    if len(joints) == 1 and joints[0] == robot.throwing.get("joint"):
+        return RobotMapping.for_robot(robot)
+    return ArmMapping.for_robot(robot, joints)
+
+
+def _require_columns(path: HumanPath, columns: Sequence[str], why: str = "") -> None:
+    """:class:`InputError` naming the columns of ``columns`` that ``path`` lacks (and ``why``)."""
+    missing = [name for name in columns if name not in path]
+    if missing:
+        because = f"; {why}" if why else ""
+        raise InputError(f"the path lacks the columns {', '.join(missing)} (it has {', '.join(path)}){because}")
+
+
+def _turned(traj: JointTrajectory, robot: Robot, joint: str | None, bearing: float) -> JointTrajectory:
+    """``traj`` with ``joint`` turned ``bearing`` degrees from where it stands (unchanged at 0).
+
+    Raises
+    ------
+    InputError
+        A non-finite bearing, a bearing without a joint to turn, or one beyond its limits.
+    """
+    if not np.isfinite(bearing):
+        raise InputError(f"--bearing must be a finite number of degrees, got {bearing}")
+    if bearing == 0:
+        return traj
+    if joint is None:
+        raise InputError(f"robot {robot.name} has no joint to turn to a bearing of {bearing:g} deg")
+    column = traj.joint_index(joint)
+    positions = np.array(traj.positions)
+    positions[:, column] += np.radians(bearing)
+    limits = robot.joint(joint)
+    turned = positions[0, column]
+    if not limits.lower <= turned <= limits.upper:
+        raise InputError(f"--bearing {bearing:g} deg turns {joint} to {turned:.4g} rad, beyond its limits "
+                         f"[{limits.lower:g}, {limits.upper:g}] rad "
+                         f"({np.degrees(limits.lower):.0f} to {np.degrees(limits.upper):.0f} deg)")
+    return JointTrajectory(traj.joint_names, traj.time, positions, traj.velocities, traj.accelerations,
+                           traj.release_time)
+
+
+def _backward_samples(angle: np.ndarray, velocity: np.ndarray, clip: bool) -> np.ndarray:
+    """Samples whose phase velocity points against the path; an error without ``clip``."""
+    direction = np.sign(angle[-1] - angle[0]) if angle.ndim == 1 and angle.size > 1 else 0.0
+    backward = np.flatnonzero(velocity * direction < 0) if velocity.shape == angle.shape else np.array([], int)
+    if backward.size and not clip:
+        i = int(backward[0])
+        raise InputError(f"velocity at sample {i} ({velocity[i]:g} rad/s) moves against the path "
+                         f"({backward.size} samples do); clipping sets them to 0 (--clip)")
+    return backward
+
+
+def _human_time(angle: np.ndarray, velocity: np.ndarray, time: np.ndarray | None) -> np.ndarray:
+    """The human time (s) of a path, shape (T,): ``time``, checked, or from angle and velocity."""
+    if time is None:
+        return time_along_path(angle, velocity)
+    human_time = np.asarray(time, dtype=float)
+    time_along_path(angle, velocity)  # same checks of the path: finite, monotonic
+    if human_time.shape != angle.shape or not np.all(np.isfinite(human_time)):
+        raise InputError(f"time must be finite with the shape of angle {angle.shape}")
+    if np.any(np.diff(human_time) <= 0):
+        bad = int(np.flatnonzero(np.diff(human_time) <= 0)[0]) + 1
+        raise InputError(f"time is not strictly increasing at sample {bad}")
+    return human_time
 
 
 def _accelerations(time: np.ndarray, velocities: np.ndarray) -> np.ndarray:

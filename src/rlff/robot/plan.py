@@ -5,14 +5,17 @@ reaches a file, a bag, a Comau program, a live goal or the simulation without th
 (:func:`rlff.trajectory.planner.plan_throw`) and the one check
 (:func:`rlff.trajectory.check.check_trajectory`):
 
-- a generated path (CSV of ``angle``, ``velocity`` [, ``time``]) is mapped to the robot, planned
-  (approach, the throw to its release, braking to rest) and checked;
+- a generated path (CSV of ``angle``, ``velocity`` [, ``time``], and for a whole-arm throw the
+  other joints' columns) is mapped to the robot (one joint, or several on one time base), planned
+  (approach, the throw to its release with every driven joint's release kept, braking to rest)
+  and checked;
 - a robot trajectory (what ``rlff robot export --format json|csv`` writes) is read and checked
   as it is: it must already be executable.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -21,7 +24,7 @@ import pandas as pd
 
 from rlff.errors import InputError
 from rlff.robot.description import DEFAULT_ROBOT, Robot, load_robot
-from rlff.robot.mapping import RobotMapping
+from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
@@ -112,11 +115,35 @@ def plan(
 ) -> RobotPlan:
     """Map a human path (angle (T,) rad, velocity (T,) rad/s, time (T,) s or None) and plan it.
 
+    The one-joint form of :func:`plan_path`; its parameters and errors are those.
+    """
+    path = {"angle": angle, "velocity": velocity}
+    if time is not None:
+        path["time"] = time
+    return plan_path(mapping, path, period=period, clip=clip, start=start)
+
+
+def plan_path(
+    mapping: RobotMapping | ArmMapping,
+    path: HumanPath,
+    *,
+    bearing: float = 0.0,
+    period: float | None = DEFAULT_PERIOD,
+    clip: bool = False,
+    start: np.ndarray | None = None,
+) -> RobotPlan:
+    """Map a human path to the robot (one joint or the whole arm) and plan it.
+
     Parameters
     ----------
-    mapping : RobotMapping
-    angle, velocity, time : arrays of shape (T,)
-        The generated throw; its last sample is the release.
+    mapping : RobotMapping or ArmMapping
+    path : HumanPath
+        The generated throw: columns (T,) ``angle`` (rad), ``velocity`` (rad/s), the other
+        driven human joints' positions and velocities, optionally ``time`` (s); its last sample
+        is the release.
+    bearing : float
+        The basket's bearing (deg): the throw's first pose has the bearing joint turned to it,
+        so the approach from ``start`` turns the arm to face the basket.
     period : float
         Controller period (s) of the planned trajectory; must be positive.
     clip : bool
@@ -135,9 +162,9 @@ def plan(
     if period is None or not (np.isfinite(period) and period > 0):
         raise InputError(f"--period must be a positive controller period (s), got {period!r}: "
                          "the points of a path are not a trajectory a controller can follow")
-    if time is not None:
-        _require_time_agrees(angle, velocity, time)
-    points, report = mapping.to_robot(angle, velocity, time, clip=True)
+    if path.get("time") is not None and "angle" in path and "velocity" in path:
+        _require_time_agrees(path["angle"], path["velocity"], path["time"])
+    points, report = mapping.path_to_robot(path, bearing=bearing, clip=True)
     if not clip:
         _require_unclipped(report, len(points) - 1)
     joints = mapping.robot.joints
@@ -146,7 +173,7 @@ def plan(
     return RobotPlan(points, trajectory, report if clip else ClipReport())
 
 
-def _robot_file_kind(path: Path) -> str:
+def robot_file_kind(path: Path) -> str:
     """Which kind ``path`` is; :class:`InputError` in one line for any other file."""
     if path.is_dir():
         raise InputError(f"{path} is a folder (a ROS 2 bag?): give a generated path CSV or a robot "
@@ -174,24 +201,32 @@ def load_for_robot(
     period: float | None = DEFAULT_PERIOD,
     clip: bool = False,
     start: np.ndarray | None = None,
+    *,
+    joints: Sequence[str] | None = None,
+    bearing: float | None = None,
 ) -> tuple[str, RobotPlan]:
     """The checked trajectory of a generated path or robot trajectory file for ``robot``.
 
     Returns the kind (:data:`GENERATED` or :data:`ROBOT_TRAJECTORY`) and the plan; for a robot
-    trajectory, ``points`` and ``trajectory`` are the file's trajectory and ``period`` and
-    ``clip`` do not apply (a file beyond a limit is refused, not changed). ``start`` (J,) is
-    where the arm is (rad, ``robot``'s joints in order) to plan a generated throw from; default
-    the throw's first pose (a robot trajectory is checked on its own).
+    trajectory, ``points`` and ``trajectory`` are the file's trajectory and ``period``, ``clip``,
+    ``joints`` and ``bearing`` do not apply (a file beyond a limit is refused, not changed).
+    ``start`` (J,) is where the arm is (rad, ``robot``'s joints in order) to plan a generated
+    throw from; default the throw's first pose (a robot trajectory is checked on its own).
+    ``joints`` are the robot joints a generated path drives (:func:`rlff.robot.mapping.mapping_for`;
+    None: the one-joint mapping), ``bearing`` the basket's bearing (deg; None: the file's
+    ``bearing`` column, else 0).
     """
     from rlff.robot.export import read_csv, read_json
 
     path = Path(path)
-    kind = _robot_file_kind(path)
+    kind = robot_file_kind(path)
     if kind == GENERATED:
         generated = read_generated_path(path)
-        mapping = RobotMapping.for_robot(robot)
+        mapping = mapping_for(robot, joints)
+        bearing = generated.context.get("bearing", 0.0) if bearing is None else bearing
         try:
-            return kind, plan(mapping, generated.angle, generated.velocity, generated.time, period, clip, start)
+            return kind, plan_path(mapping, generated.to_path(), bearing=bearing, period=period, clip=clip,
+                                   start=start)
         except InputError as exc:
             raise type(exc)(f"{path}: {exc}") from None
     trajectory = read_json(path) if path.suffix.lower() == ".json" else read_csv(path)
@@ -207,7 +242,11 @@ def plan_file(
     robot: str | Path = DEFAULT_ROBOT,
     period: float | None = DEFAULT_PERIOD,
     clip: bool = False,
-) -> tuple[RobotPlan, RobotMapping]:
-    """:func:`load_for_robot` for a robot file or name, with the robot's default mapping."""
+    *,
+    joints: Sequence[str] | None = None,
+    bearing: float | None = None,
+) -> tuple[RobotPlan, RobotMapping | ArmMapping]:
+    """:func:`load_for_robot` for a robot file or name, with the mapping of ``joints``."""
     model = load_robot(robot)
-    return load_for_robot(path, model, period, clip)[1], RobotMapping.for_robot(model)
+    return (load_for_robot(path, model, period, clip, joints=joints, bearing=bearing)[1],
+            mapping_for(model, joints))

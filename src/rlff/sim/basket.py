@@ -1,4 +1,4 @@
-"""The target: an open square basket standing on the ground in front of the robot."""
+"""The target: an open square basket standing on the ground, on a bearing line from the robot."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ WALL = 0.01
 
 @dataclass(frozen=True)
 class Basket:
-    """A square basket on the ground, centred on the robot's forward axis.
+    """A square basket on the ground, its centre ``distance`` m along the bearing line.
 
     Parameters
     ----------
@@ -25,11 +25,16 @@ class Basket:
         Height of the rim above the ground (m).
     opening : float
         Inner width of the square opening (m).
+    bearing : float
+        Direction of the basket seen from above (deg): 0 straight ahead (the robot's x axis),
+        positive to the left (counter-clockwise, the sense of joint 1); -180..180. The basket's
+        walls face the robot.
     """
 
     distance: float
     rim_height: float = 0.3
     opening: float = 0.35
+    bearing: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("distance", "rim_height", "opening"):
@@ -37,16 +42,38 @@ class Basket:
             if not np.isfinite(value) or value <= 0:
                 raise InputError(f"basket {name} must be a positive number of metres, got {value}")
         check_distance("basket distance", self.distance)
+        if not (np.isfinite(self.bearing) and -180.0 <= self.bearing <= 180.0):
+            raise InputError(f"basket bearing must be -180..180 degrees, got {self.bearing}")
         object.__setattr__(self, "distance", float(self.distance))
         object.__setattr__(self, "rim_height", float(self.rim_height))
         object.__setattr__(self, "opening", float(self.opening))
+        object.__setattr__(self, "bearing", float(self.bearing))
+
+    @property
+    def direction(self) -> np.ndarray:
+        """Unit vector (2,) of the bearing line on the floor (x forward, y left)."""
+        angle = np.radians(self.bearing)
+        return np.array([np.cos(angle), np.sin(angle)])
+
+    @property
+    def centre(self) -> np.ndarray:
+        """Centre of the basket on the floor (2,): x, y (m)."""
+        return self.distance * self.direction
+
+    def along_line(self, x: float, y: float) -> tuple[float, float]:
+        """A floor point (m) as (distance along the bearing line from joint 1's axis, lateral
+        offset from the line: + left of it), both m."""
+        ux, uy = self.direction
+        return float(x * ux + y * uy), float(-x * uy + y * ux)
 
     def holds(self, position: np.ndarray, radius: float) -> bool:
         """Whether a ball of ``radius`` (m) centred at ``position`` (3,) is inside, below the rim."""
         x, y, z = np.asarray(position, dtype=float)
+        along, lateral = self.along_line(x, y)
         half = 0.5 * self.opening
-        return bool(abs(x - self.distance) < half and abs(y) < half and z < self.rim_height - radius)
+        return bool(abs(along - self.distance) < half and abs(lateral) < half and z < self.rim_height - radius)
 
     def to_dict(self) -> dict[str, float]:
-        """Plain values for JSON: distance, rim_height and opening (m)."""
-        return {"distance": self.distance, "rim_height": self.rim_height, "opening": self.opening}
+        """Plain values for JSON: distance, rim_height, opening (m) and bearing (deg)."""
+        return {"distance": self.distance, "rim_height": self.rim_height, "opening": self.opening,
+                "bearing": self.bearing}

@@ -126,7 +126,11 @@ def scene_xml(arm: Arm, basket: Basket, pedestal: float = 0.0, timestep: float =
     ball_x = fwd + fore + flange + r
     ball_z = pedestal + up + g.upper_arm + a
     d, h, half = basket.distance, basket.rim_height, 0.5 * basket.opening
+    # the basket stands on its bearing line, its walls facing the robot; the side camera and the
+    # light turn with it, so that the throw is seen side on at any bearing
+    (cx, cy), (ux, uy), yaw = basket.centre, basket.direction, np.radians(basket.bearing)
     view = max(d + 1.5, 3.0)
+    cam_along, cam_across = 0.5 * (d - 1.0), -1.1 * view
     actuators = "\n    ".join(
         f'<velocity name="{n}" joint="{n}" kv="{kv}" ctrlrange="{-v * SPEED_MARGIN} {v * SPEED_MARGIN}" '
         f'forcerange="{-f} {f}"/>'
@@ -152,20 +156,23 @@ def scene_xml(arm: Arm, basket: Basket, pedestal: float = 0.0, timestep: float =
     <material name="floor" texture="grid" texrepeat="8 8"/>
   </asset>
   <worldbody>
-    <light pos="{0.5 * d} -2 4" dir="0 0.4 -1" directional="true"/>
-    <camera name="side" pos="{0.5 * (d - 1.0)} {-1.1 * view} {1.4 + 0.5 * pedestal}" xyaxes="1 0 0 0 0.05 1"/>
+    <light pos="{0.5 * d * ux + 2 * uy} {0.5 * d * uy - 2 * ux} 4" dir="{-0.4 * uy} {0.4 * ux} -1" directional="true"/>
+    <camera name="side" pos="{cam_along * ux - cam_across * uy} {cam_along * uy + cam_across * ux} {1.4 + 0.5 * pedestal}"
+      xyaxes="{ux} {uy} 0 {-0.05 * uy} {0.05 * ux} 1"/>
     <geom name="ground" class="hit" type="plane" size="0 0 0.05" material="floor" rgba="1 1 1 1"/>
     <geom name="pedestal" type="box" pos="0 0 {0.5 * pedestal}" size="0.3 0.3 {max(0.5 * pedestal, 1e-3)}"
       rgba="0.3 0.3 0.35 1"/>
-    <geom name="basket_floor" class="hit" type="box" pos="{d} 0 {0.5 * WALL}" size="{half} {half} {0.5 * WALL}"/>
-    <geom name="basket_near" class="hit" type="box" pos="{d - half - 0.5 * WALL} 0 {0.5 * h}"
-      size="{0.5 * WALL} {half + WALL} {0.5 * h}"/>
-    <geom name="basket_far" class="hit" type="box" pos="{d + half + 0.5 * WALL} 0 {0.5 * h}"
-      size="{0.5 * WALL} {half + WALL} {0.5 * h}"/>
-    <geom name="basket_left" class="hit" type="box" pos="{d} {half + 0.5 * WALL} {0.5 * h}"
-      size="{half} {0.5 * WALL} {0.5 * h}"/>
-    <geom name="basket_right" class="hit" type="box" pos="{d} {-half - 0.5 * WALL} {0.5 * h}"
-      size="{half} {0.5 * WALL} {0.5 * h}"/>
+    <body name="basket" pos="{cx} {cy} 0" euler="0 0 {yaw}">
+      <geom name="basket_floor" class="hit" type="box" pos="0 0 {0.5 * WALL}" size="{half} {half} {0.5 * WALL}"/>
+      <geom name="basket_near" class="hit" type="box" pos="{-half - 0.5 * WALL} 0 {0.5 * h}"
+        size="{0.5 * WALL} {half + WALL} {0.5 * h}"/>
+      <geom name="basket_far" class="hit" type="box" pos="{half + 0.5 * WALL} 0 {0.5 * h}"
+        size="{0.5 * WALL} {half + WALL} {0.5 * h}"/>
+      <geom name="basket_left" class="hit" type="box" pos="0 {half + 0.5 * WALL} {0.5 * h}"
+        size="{half} {0.5 * WALL} {0.5 * h}"/>
+      <geom name="basket_right" class="hit" type="box" pos="0 {-half - 0.5 * WALL} {0.5 * h}"
+        size="{half} {0.5 * WALL} {0.5 * h}"/>
+    </body>
     <body name="link_1" pos="0 0 {pedestal}" gravcomp="1">
       <joint name="{j1[0]}" type="hinge" axis="0 0 1" range="{j1[1]} {j1[2]}" armature="{ARMATURE[0]}"/>
       <geom type="cylinder" size="0.2 0.08" pos="0 0 0.08" mass="{0.5 * m1}"/>

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 import mujoco
 import numpy as np
 
-from rlff.ballistics import GRAVITY, crossing_distance
+from rlff.ballistics import GRAVITY
 from rlff.ballistics import flight_time as time_to_height
 from rlff.errors import InputError
 from rlff.limits import check_pedestal
@@ -86,15 +86,20 @@ class ThrowOutcome:
     hit : bool
         The ball ended inside the basket, having entered it through the opening.
     landing_x : float
-        Where the ball first came down to the rim's height (m from the joint 1 axis): the landing
-        point on the plane of the basket's opening. A ball that grazed the rim first lands where
-        its free flight crosses that plane; one released below the rim, where it first touched.
+        Where the ball first came down to the rim's height, as a distance along the basket's
+        bearing line from the joint 1 axis (m): the landing point on the plane of the basket's
+        opening (a higher rim is crossed earlier, nearer). A ball that grazed the rim first lands
+        where its free flight crosses that plane; one released below the rim, where it first
+        touched.
     miss : float
         ``landing_x - basket.distance`` (m), hits included: negative = short, positive = long.
+    lateral : float
+        The landing point's offset from the bearing line (m): positive = left of it.
     release : ReleaseState
-    predicted_landing_x : float
-        The closed-form projectile's crossing of the rim's height from the release state (m);
-        NaN if it never comes down through it (``None`` in :meth:`to_dict`).
+    predicted_landing_x, predicted_lateral : float
+        The closed-form projectile's crossing of the rim's height from the release state (m,
+        along the bearing line and off it, as ``landing_x`` and ``lateral``); NaN if it never
+        comes down through it (``None`` in :meth:`to_dict`).
     reachable : bool
         Whether the basket lies within the robot's reach with the joints this trajectory moves.
     basket : Basket
@@ -123,8 +128,10 @@ class ThrowOutcome:
     hit: bool
     landing_x: float
     miss: float
+    lateral: float
     release: ReleaseState
     predicted_landing_x: float
+    predicted_lateral: float
     reachable: bool
     basket: Basket
     first_contact: str
@@ -143,8 +150,10 @@ class ThrowOutcome:
             "hit": self.hit,
             "landing_x": self.landing_x,
             "miss": self.miss,
+            "lateral": self.lateral,
             "release": self.release.to_dict(),
             "predicted_landing_x": _number_or_none(self.predicted_landing_x),
+            "predicted_lateral": _number_or_none(self.predicted_lateral),
             "reachable": self.reachable,
             "basket": self.basket.to_dict(),
             "first_contact": self.first_contact,
@@ -248,18 +257,29 @@ def simulate_throw(
     return ThrowOutcome(**outcome, reachable=reachable, basket=basket, frames=frames, notes=tuple(notes))
 
 
-def _free_landing(state: tuple[float, ...], rim: float, release_time: float) -> tuple[float, float]:
-    """Landing point (m) and flight time (s) of a ball that touched something before its centre
-    came down through the rim's height: its free flight from ``state`` (x, z in m, vx, vz in m/s,
-    time in s: the last step without a contact) carried on to the rim's plane in closed form, so
-    that a ball grazing the rim lands where its flight crosses the opening, whatever the step.
-    NaN for a ball already below the rim (a release below it): it lands where it touched.
+def _free_landing(state: tuple[float, ...], rim: float, release_time: float) -> tuple[float, float, float]:
+    """Landing point (x, y in m) and flight time (s) of a ball that touched something before its
+    centre came down through the rim's height: its free flight from ``state`` (x, y, z in m, vx,
+    vy, vz in m/s, time in s: the last step without a contact) carried on to the rim's plane in
+    closed form, so that a ball grazing the rim lands where its flight crosses the opening,
+    whatever the step. NaN for a ball already below the rim (a release below it): it lands where
+    it touched.
     """
-    x, z, vx, vz, time = state
+    x, y, z, vx, vy, vz, time = state
     if z < rim:
-        return float("nan"), float("nan")
+        return float("nan"), float("nan"), float("nan")
     t = float(time_to_height(z, vz, rim))
-    return float(crossing_distance(x, z, vx, vz, rim)), time + t - release_time
+    return x + vx * t, y + vy * t, time + t - release_time
+
+
+def _predicted_landing(release: ReleaseState, basket: Basket) -> tuple[float, float]:
+    """The closed-form crossing of the rim's height from the release (along the bearing line,
+    lateral; m), NaN for both if the ball never comes down through it."""
+    (x, y, z), (vx, vy, vz) = release.position, release.velocity
+    t = float(time_to_height(z, vz, basket.rim_height))
+    if not np.isfinite(t):
+        return float("nan"), float("nan")
+    return basket.along_line(x + vx * t, y + vy * t)
 
 
 def _throwing_joint(trajectory: JointTrajectory, name: str | None) -> str:
@@ -328,9 +348,9 @@ class _Run:
         speed_limits = np.array([joint.max_velocity for joint in scene.arm.joints])
         peak_speed = float(np.max(np.abs(history_speed[: step + 1]) / speed_limits))
         flight = self._fly(data, q, step)
-        predicted = float(crossing_distance(release.position[0], release.position[2], release.velocity[0],
-                                            release.velocity[2], scene.basket.rim_height))
-        return {"release": release, "predicted_landing_x": predicted, "tracking_error": tracking_error,
+        predicted, predicted_lateral = _predicted_landing(release, scene.basket)
+        return {"release": release, "predicted_landing_x": predicted, "predicted_lateral": predicted_lateral,
+                "tracking_error": tracking_error,
                 "peak_speed": peak_speed, "saturated": self.reference.saturated, **flight}
 
     def _fly(self, data: mujoco.MjData, q: np.ndarray, step: int) -> dict[str, Any]:
@@ -341,13 +361,14 @@ class _Run:
         rim, dt = basket.rim_height, model.opt.timestep
         ball = data.qpos[scene.ball_qpos:scene.ball_qpos + 3]  # views into the simulation state
         ball_velocity = data.qvel[scene.ball_dof:scene.ball_dof + 3]
-        landing_x = flight_time = np.nan
+        landing = np.full(2, np.nan)  # x, y (m) where the ball first came down to the rim's height
+        flight_time = np.nan
         first_contact = "nothing"
         release_time = data.time
         still = 0
-        x, z = ball[0], ball[2]
-        # the ball's last state before anything touched it: x, z (m), vx, vz (m/s), time (s)
-        free_state = (x, z, ball_velocity[0], ball_velocity[2], data.time)
+        x, y, z = ball
+        # the ball's last state before anything touched it: x, y, z (m), vx, vy, vz (m/s), time (s)
+        free_state = (x, y, z, *ball_velocity[:3], data.time)
         cap = step + round(FLIGHT_CAP / dt)
         last = len(self.reference.positions) - 1
         idle = step >= last
@@ -366,7 +387,7 @@ class _Run:
                     free = min(free, cap - step)
                     mujoco.mj_step(model, data, free)
                     step += free
-                    x, z = ball[0], ball[2]
+                    x, y, z = ball
                     continue
             mujoco.mj_step(model, data)
             step += 1
@@ -375,22 +396,21 @@ class _Run:
                 data.ctrl[:] = 0.0
             if self.recorder is not None and step % self.frame_every == 0:
                 self.recorder.capture(data)
-            x_before, z_before = x, z
-            x, z = ball[0], ball[2]
-            if z_before >= rim > z and np.isnan(landing_x):
+            x_before, y_before, z_before = x, y, z
+            x, y, z = ball
+            if z_before >= rim > z and np.isnan(landing[0]):
                 share = (z_before - rim) / (z_before - z)
-                landing_x = x_before + share * (x - x_before)
+                landing = np.array([x_before + share * (x - x_before), y_before + share * (y - y_before)])
                 flight_time = data.time - release_time - dt * (1.0 - share)
             if not data.ncon:
-                free_state = (x, z, ball_velocity[0], ball_velocity[2], data.time)
+                free_state = (x, y, z, *ball_velocity[:3], data.time)
                 continue
             touches = self._touches(data)
             if first_contact == "nothing" and touches:
                 first_contact = "ground" if "ground" in touches else "basket"
-                if np.isnan(landing_x):
-                    landing_x, flight_time = _free_landing(free_state, rim, release_time)
-                    if np.isnan(landing_x):
-                        landing_x = x
+                if np.isnan(landing[0]):
+                    *free_landing, flight_time = _free_landing(free_state, rim, release_time)
+                    landing = np.array(free_landing if np.isfinite(free_landing[0]) else [x, y])
             if "ground" in touches:
                 break
             if basket.holds(ball, BALL_RADIUS):
@@ -407,11 +427,12 @@ class _Run:
         if self.recorder is not None:
             self.recorder.capture(data)
         hit = first_contact == "basket" and basket.holds(rest, BALL_RADIUS)
-        landing_x = float(landing_x) if np.isfinite(landing_x) else float(rest[0])
+        landing_x, lateral = basket.along_line(*(landing if np.all(np.isfinite(landing)) else rest[:2]))
         return {
             "hit": bool(hit),
             "landing_x": landing_x,
             "miss": landing_x - basket.distance,
+            "lateral": lateral,
             "first_contact": first_contact,
             "rest_position": rest,
             "flight_time": float(flight_time),
