@@ -477,7 +477,8 @@ class Model:
 
 
 def compile_kernels() -> None:
-    """Compile the compiled loops of GMR and the DMM mode, or load them from numba's cache.
+    """Compile the compiled loops of GMR and the DMM mode (one output and several), or load them
+    from numba's cache.
 
     The first call after installing compiles them (10-20 s) and stores the machine code beside
     the sources; later processes load it in well under a second. ``scripts/setup.sh`` calls this
@@ -485,6 +486,10 @@ def compile_kernels() -> None:
     """
     mixture = GaussianMixture.from_parameters(np.array([0.5, 0.5]), np.array([[0.0, 0.0], [1.0, 2.0]]), np.array([np.eye(2)] * 2))
     dmm_mode(condition(mixture, [0], [1], np.array([[0.5]])))
+    several = GaussianMixture.from_parameters(  # the several-output kernel (whole-arm models)
+        np.array([0.5, 0.5]), np.array([[0.0, 0.0, 0.0], [1.0, 2.0, 1.0]]), np.array([np.eye(3)] * 2)
+    )
+    dmm_mode(condition(several, [0], [1, 2], np.array([[0.5]])))
 
 
 def _release_of(trajectory, column: str) -> tuple[float, str]:
