@@ -232,6 +232,49 @@ def dmm_pdf(
     return pdf[:, 0] if single else pdf
 
 
+def dmm_marginal_pdf(
+    conditional: Conditional, y: np.ndarray, exploration: float | np.ndarray, output: int = 0, gamma: float = GAMMA
+) -> np.ndarray:
+    """The density of one output of the DMM, the other outputs integrated out.
+
+    A donut of d outputs is gamma N(m, S / r_a^2) - (gamma - 1) N(m, S / r_b^2), so its marginal
+    on output j is the same difference of the two Gaussians' marginals: the 1-D donut of mean
+    m_j and variance S_jj with the radii of the d-output donut (not those of a 1-D donut with
+    the same eps). With one output this is :func:`dmm_pdf`.
+
+    Parameters
+    ----------
+    conditional : Conditional
+        GMR of N inputs, O outputs.
+    y : array of shape (N, M)
+        M values of the output per input.
+    exploration : float or array of shape (N,)
+        eps in [0, 1] per input.
+    output : int
+        Which output (column of the conditional's outputs).
+    gamma : float
+        Donut weight (> 1).
+
+    Returns
+    -------
+    ndarray of shape (N, M)
+    """
+    _check_gamma(gamma)
+    n, _, o = np.shape(conditional.means)
+    if not 0 <= output < o:
+        raise InputError(f"output {output} out of range for {o} outputs")
+    y = np.asarray(y, dtype=float)
+    if y.ndim != 2 or y.shape[0] != n:
+        raise InputError(f"y must have shape ({n}, M), got {y.shape}")
+    r_a2, r_b2 = donut_radii(_check_exploration(exploration, n), o, gamma)
+    variance = np.asarray(conditional.covariances, dtype=float)[:, output, output]  # (K,)
+    q = (y[:, :, None] - np.asarray(conditional.means, dtype=float)[:, None, :, output]) ** 2 / variance  # (N, M, K)
+    base = np.asarray(conditional.weights, dtype=float)[:, None, :] / np.sqrt(2 * math.pi * variance)
+    a = gamma * np.sqrt(r_a2)[:, None, None] * np.exp(-0.5 * r_a2[:, None, None] * q)
+    b = (gamma - 1.0) * np.sqrt(r_b2)[:, None, None] * np.exp(-0.5 * r_b2[:, None, None] * q)
+    return (base * (a - b)).sum(axis=2)
+
+
 # -- the global mode --------------------------------------------------------------------------
 
 
