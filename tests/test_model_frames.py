@@ -124,7 +124,7 @@ def test_a_named_frame_needs_a_named_mixture_and_unnamed_frames_are_positional(s
 
 
 def test_a_read_only_array_from_a_frame_runs_the_one_compiled_kernel(model):
-    from rlff import regression
+    from rlff.model import regression
 
     model.predict(np.array([[ANGLE, DISTANCE]]))
     versions = len(regression._conditional_kernel.signatures)
