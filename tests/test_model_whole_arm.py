@@ -143,3 +143,12 @@ def test_plots_of_a_whole_arm_model_draw_the_first_output(arm_model, rlff, tmp_p
     path = arm_model.generate({"distance": 2.5}, lines["GMR mean"].get_xdata())
     np.testing.assert_allclose(lines["chosen throw (highest density)"].get_ydata(), path.outputs[:, 0])
     np.testing.assert_allclose(lines["GMR mean"].get_ydata(), path.gmr_means[:, 0])
+
+
+def test_fit_names_the_column_a_default_role_misses(rlff, tmp_path):
+    data = tmp_path / "speed.csv"
+    data.write_text("trajectory,angle,distance,speed\na,0.1,1,2\na,0.2,1,3\nb,0.1,2,2\nb,0.2,2,3\n")
+    result = rlff("fit", str(data), "-o", str(tmp_path / "m.json"))
+    assert result.code == 2
+    assert "no column 'velocity' for the default outputs" in result.stderr and "--outputs" in result.stderr
+    assert rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--outputs", "speed", "-k", "1").code == 0

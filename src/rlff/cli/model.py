@@ -128,6 +128,13 @@ def fit_command(
         raise InputError(f"--components must be auto or an integer >= 1, got {components!r}")
     dataset = _read(data)
     default_inputs, default_outputs = throw_roles(dataset.columns)
+    for option, given, default in (("--inputs", inputs, default_inputs), ("--outputs", outputs, default_outputs)):
+        missing = [name for name in default if name not in dataset.columns]
+        if given is None and missing:
+            raise InputError(
+                f"{data}: no column {missing[0]!r} for the default {option[2:]} ({', '.join(default)}; columns: "
+                f"{', '.join(dataset.columns)}): name them with {option}"
+            )
     total = max_components if components == "auto" else 1
     with progress("fitting", total=total) as advance, warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
