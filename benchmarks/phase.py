@@ -7,7 +7,7 @@ of 10 people, see ../shared/data/msr-action3d-throws/README.md), imported by rlf
 release time, basket distance from the estimated landing), with the shoulder's elevation
 computed here from the same frames (the angle between the upper arm, shoulder -> elbow, and the
 torso's downward axis, neck -> hip centre, as in the whole-arm contract). Each throw's extension
-(from its least elbow angle to its release, 3 to 7 frames at 15 Hz) is resampled to 25 points
+(from its least elbow angle to its release, at least 3 frames at 15 Hz) is resampled to 25 points
 by PCHIP in time; BIC counts the measured frames (``measured_share``).
 
 Two models, each K by BIC, fitted leaving one person out at a time:
