@@ -289,6 +289,7 @@ def bfgs_tops(conditional: Conditional, eps: np.ndarray, i: int) -> list[float]:
     return tops
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("o", [2, 3])
 @pytest.mark.parametrize("seed", [21, 22])
 def test_several_outputs_never_below_bfgs_from_the_gmr_mean_and_every_component_mean(seed, o):
