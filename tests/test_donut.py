@@ -263,7 +263,59 @@ def test_each_compiled_kernel_has_one_version_whatever_the_memory_layout():
         np.asfortranarray(conditional.mean), np.asfortranarray(conditional.covariance),
     )
     dmm_mode(transposed)
-    dmm_mode(condition(mixture, [0], [1, 2], X[:, :1]))  # two outputs: the NumPy climb, the same choice
+    for queries in (X[:, :1], np.asfortranarray(X[::3, :1]), X[:1, :1].tolist()):  # two outputs: the other kernel
+        dmm_mode(condition(mixture, [0], [1, 2], queries))
+        dmm_mode(condition(mixture, [0], [1, 2], queries), 0.7, continuity=True)
     assert len(regression._conditional_kernel.signatures) == 1
     assert len(donut_module._modes_1d_kernel.signatures) == 1
-    assert len(donut_module._highest.signatures) == 1
+    assert len(donut_module._modes_nd_kernel.signatures) == 1
+
+
+# -- several outputs: the compiled climb -----------------------------------------------------------
+
+
+def bfgs_tops(conditional: Conditional, eps: np.ndarray, i: int) -> list[float]:
+    """P_DMM at the ends of scipy BFGS runs for input i, started from the GMR mean and from
+    every component mean (the thesis' method and its obvious extension)."""
+    single = Conditional(
+        conditional.weights[i : i + 1], conditional.means[i : i + 1], conditional.covariances,
+        conditional.mean[i : i + 1], conditional.covariance[i : i + 1],
+    )
+    starts = [conditional.mean[i], *conditional.means[i]]
+    tops = []
+    for start in starts:
+        result = minimize(lambda y, s=single, e=eps[i : i + 1]: -dmm_pdf(s, y[None, :], e)[0], start, method="BFGS")
+        tops.append(-result.fun)
+    return tops
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("o", [2, 3])
+@pytest.mark.parametrize("seed", [21, 22])
+def test_several_outputs_never_below_bfgs_from_the_gmr_mean_and_every_component_mean(seed, o):
+    conditional = random_conditional(seed, 25, 4, o=o)
+    for exploration in ("auto", 1.0):
+        mode = dmm_mode(conditional, exploration)
+        np.testing.assert_allclose(dmm_pdf(conditional, mode.output, mode.exploration), mode.pdf, rtol=1e-12)
+        for i in range(len(conditional)):
+            assert mode.pdf[i] >= max(bfgs_tops(conditional, mode.exploration, i)) * (1 - 1e-7), (exploration, i)
+
+
+def test_continuity_with_two_outputs_keeps_the_mode_nearest_the_previous_point():
+    """Two components of two outputs, far apart, swap weight along the path: the global mode
+    jumps from one to the other half way. With continuity the path stays on the mode it is on,
+    the one of near-equal density nearest the previous point."""
+    n = 41
+    share = np.linspace(0.46, 0.54, n)
+    weights = np.column_stack([share, 1 - share])
+    means = np.broadcast_to(np.array([[0.0, 0.0], [3.0, 1.5]]), (n, 2, 2)).copy()
+    covariance = np.array([[0.3, 0.05], [0.05, 0.2]])
+    conditional = conditional_of(weights, means, [covariance, covariance])
+    plain = dmm_mode(conditional, 0.0)
+    smooth = dmm_mode(conditional, 0.0, continuity=0.2)
+    jumps = np.sqrt((np.diff(plain.output, axis=0) ** 2).sum(axis=1))
+    assert jumps.max() > 3.0 and np.count_nonzero(jumps > 1e-6) == 1
+    assert np.sqrt((np.diff(smooth.output, axis=0) ** 2).sum(axis=1)).max() < 1e-6
+    np.testing.assert_allclose(smooth.output, np.broadcast_to(plain.output[-1], (n, 2)), atol=1e-5)
+    assert np.all(smooth.density_traded <= 0.2) and smooth.density_traded[0] > 0.1
+    np.testing.assert_allclose(smooth.pdf, smooth.max_pdf * (1 - smooth.density_traded), rtol=1e-12)

@@ -288,3 +288,20 @@ def test_constant_column_warns_and_fits():
     assert any("column 'distance' is constant" in str(w.message) for w in caught)
     path = model.generate({"distance": 2.5})
     assert np.all(np.isfinite(path.velocity))
+
+
+def test_one_output_paths_are_bit_identical_to_those_before_the_multi_output_climb():
+    """The reference holds, as hexadecimal floats, the paths the code before the compiled
+    several-output climb (commit 649ba55) generated from the model stored beside it: the one-output
+    case must not move by one bit."""
+    from pathlib import Path
+
+    data = Path(__file__).parent / "data"
+    model = Model.load(data / "thesis_model_k_bic.json")
+    reference = json.loads((data / "thesis_paths_before_multi_output.json").read_text())
+    for distance in (3.0, 8.5, 12.5):
+        for continuity in (False, True):
+            path = model.generate({"distance": distance}, np.linspace(0, 10, 40), continuity=continuity)
+            expected = reference[f"distance={distance:g} continuity={continuity}"]
+            for name in ("velocity", "pdf", "exploration"):
+                assert [float(v).hex() for v in getattr(path, name)] == expected[name], (distance, continuity, name)

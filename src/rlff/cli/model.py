@@ -88,8 +88,14 @@ def _grid(text: str | None, first_input: str):
 def fit_command(
     data: Path = typer.Argument(..., help="Demonstrations (CSV long format; other formats by extension)."),
     output: Path = typer.Option(..., "--output", "-o", help="model.json to write."),
-    inputs: str = typer.Option("angle,distance", "--inputs", help="Input columns; the first is the path variable."),
-    outputs: str = typer.Option("velocity", "--outputs", help="Output columns."),
+    inputs: str | None = typer.Option(
+        None, "--inputs",
+        help="Input columns; the first is the path variable. Default: angle and every context column present (distance, bearing, height).",
+    ),
+    outputs: str | None = typer.Option(
+        None, "--outputs",
+        help="Output columns. Default: velocity and every other joint's column present (shoulder, shoulder_velocity, wrist, wrist_velocity).",
+    ),
     components: str = typer.Option("auto", "--components", "-k", help="Number of components K, or auto (lowest BIC)."),
     max_components: int = typer.Option(8, "--max-components", help="Largest K tried with auto."),
     criterion: str = typer.Option("bic", "--criterion", help="bic or aic (with auto)."),
@@ -107,6 +113,7 @@ def fit_command(
 ) -> None:
     """Fit a Gaussian mixture to the demonstrations (K by BIC) and save it as model.json."""
     from rlff.model import Model
+    from rlff.model.model import throw_roles
 
     guard(inputs={"DATA": data}, outputs={"-o/--output": output})
     resolution = _word_or_number(
@@ -120,11 +127,21 @@ def fit_command(
     if components != "auto" and not (components.isdigit() and int(components) >= 1):
         raise InputError(f"--components must be auto or an integer >= 1, got {components!r}")
     dataset = _read(data)
+    default_inputs, default_outputs = throw_roles(dataset.columns)
+    for option, given, default in (("--inputs", inputs, default_inputs), ("--outputs", outputs, default_outputs)):
+        missing = [name for name in default if name not in dataset.columns]
+        if given is None and missing:
+            raise InputError(
+                f"{data}: no column {missing[0]!r} for the default {option[2:]} ({', '.join(default)}; columns: "
+                f"{', '.join(dataset.columns)}): name them with {option}"
+            )
     total = max_components if components == "auto" else 1
     with progress("fitting", total=total) as advance, warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         model = Model.fit(
-            dataset, inputs=_names("--inputs", inputs), outputs=_names("--outputs", outputs),
+            dataset,
+            inputs=default_inputs if inputs is None else _names("--inputs", inputs),
+            outputs=default_outputs if outputs is None else _names("--outputs", outputs),
             components=components, max_components=max_components, criterion=criterion, seed=seed,
             n_init=n_init, context_resolution=resolution, effective_samples=effective,
             progress=lambda done, total: advance(1, description=f"fitting: {done} of {total} values of K tried"),

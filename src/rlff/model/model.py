@@ -53,6 +53,25 @@ DEFAULT_POINTS = 100
 DEFAULT_N_INIT = 3
 #: Peak speed below which a path does not move (output units).
 _STILL = 1e-9
+#: The whole-arm contract's context columns and the other joints' columns (position, velocity),
+#: in the order :func:`throw_roles` uses them (the names of rlff.dataset's whole-arm columns).
+WHOLE_ARM_CONTEXT = ("distance", "bearing", "height")
+WHOLE_ARM_JOINT_OUTPUTS = ("shoulder", "shoulder_velocity", "wrist", "wrist_velocity")
+
+
+def throw_roles(columns: Sequence[str]) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The inputs and outputs of a throwing model for a dataset with these columns.
+
+    Inputs: ``angle`` (the elbow's, the phase) and every context column present (distance,
+    bearing, height); outputs: ``velocity`` and every other joint's column present (shoulder,
+    shoulder_velocity, wrist, wrist_velocity): the other joints' positions are outputs because
+    the phase is the elbow's angle, not theirs. A one-joint dataset gives (angle, distance) ->
+    velocity, the model of the thesis.
+    """
+    present = set(columns)
+    inputs = ("angle", *(name for name in WHOLE_ARM_CONTEXT if name in present))
+    outputs = ("velocity", *(name for name in WHOLE_ARM_JOINT_OUTPUTS if name in present))
+    return inputs, outputs
 
 
 @dataclass(frozen=True)
@@ -477,7 +496,8 @@ class Model:
 
 
 def compile_kernels() -> None:
-    """Compile the compiled loops of GMR and the DMM mode, or load them from numba's cache.
+    """Compile the compiled loops of GMR and the DMM mode (one output and several), or load them
+    from numba's cache.
 
     The first call after installing compiles them (10-20 s) and stores the machine code beside
     the sources; later processes load it in well under a second. ``scripts/setup.sh`` calls this
@@ -485,6 +505,10 @@ def compile_kernels() -> None:
     """
     mixture = GaussianMixture.from_parameters(np.array([0.5, 0.5]), np.array([[0.0, 0.0], [1.0, 2.0]]), np.array([np.eye(2)] * 2))
     dmm_mode(condition(mixture, [0], [1], np.array([[0.5]])))
+    several = GaussianMixture.from_parameters(  # the several-output kernel (whole-arm models)
+        np.array([0.5, 0.5]), np.array([[0.0, 0.0, 0.0], [1.0, 2.0, 1.0]]), np.array([np.eye(3)] * 2)
+    )
+    dmm_mode(condition(several, [0], [1, 2], np.array([[0.5]])))
 
 
 def _release_of(trajectory, column: str) -> tuple[float, str]:

@@ -86,10 +86,16 @@ def dmm_heatmap(
     """The DMM density P(velocity | angle, distance) as a heat map, the throw the model chooses
     (highest density at every angle) and the GMR mean; below it the exploration factor ε.
 
+    With several outputs (a whole-arm model: velocity, shoulder, ...) the map is the density of
+    the first output with the others integrated out (:func:`rlff.model.donut.dmm_marginal_pdf`),
+    and the throw drawn is the first output of the joint mode, which need not sit on the
+    marginal's ridge.
+
     Parameters
     ----------
     model : rlff.model.Model
-        A fitted model with inputs (angle, distance) and one output (velocity).
+        A fitted model with inputs (angle, distance) and one output (velocity) or several (the
+        first is drawn).
     distance : float
         Basket distance (m).
     out : path
@@ -101,12 +107,12 @@ def dmm_heatmap(
     exploration, exploration_scale
         As for :meth:`rlff.model.Model.generate`.
     """
-    from rlff.model.donut import dmm_pdf
+    from rlff.model.donut import dmm_marginal_pdf
 
-    if len(model.outputs) != 1 or len(model.inputs) != 2:
+    if len(model.inputs) != 2:
         raise InputError(
-            f"the density map needs a model with 2 inputs and 1 output, this one has inputs {list(model.inputs)} "
-            f"and outputs {list(model.outputs)}"
+            f"the density map needs a model with 2 inputs (the path variable and the distance), this one has "
+            f"inputs {list(model.inputs)}"
         )
     x_name, context = model.inputs
     y_name = model.outputs[0]
@@ -118,8 +124,8 @@ def dmm_heatmap(
     margin = 0.05 * (high - low)
     velocities = np.linspace(low - margin, high + margin, _GRID)
     conditional = model.condition(np.column_stack([path.angle, np.full(path.angle.size, distance)]))
-    grid = np.broadcast_to(velocities[None, :, None], (path.angle.size, velocities.size, 1))
-    density = dmm_pdf(conditional, grid, path.exploration)  # (T, M)
+    grid = np.broadcast_to(velocities[None, :], (path.angle.size, velocities.size))
+    density = dmm_marginal_pdf(conditional, grid, path.exploration)  # (T, M)
     with figure_style():
         figure = new_figure(9.0, 6.4)
         top, bottom = figure.subplots(2, 1, sharex=True, height_ratios=[3.2, 1.0])
@@ -142,7 +148,7 @@ def dmm_heatmap(
         top.grid(False)
         # the colour bar sits in an inset so that both panels keep one width and their angles align
         colour_bar = figure.colorbar(mesh, cax=top.inset_axes([1.02, 0.0, 0.025, 1.0]))
-        colour_bar.set_label("P_DMM(ξ̇ | ξ, z) (s/rad)")
+        colour_bar.set_label("P_DMM(ξ̇ | ξ, z) (s/rad)" + (", other outputs integrated out" if len(model.outputs) > 1 else ""))
         bottom.plot(path.angle, path.exploration, color="#7c3aed", linewidth=1.8)
         bottom.set_ylim(0.0, 1.0)
         bottom.set_ylabel("exploration ε")

@@ -159,7 +159,8 @@ def model_outputs(
     Parameters
     ----------
     model : rlff.model.Model
-        A model with one context input (the distance) and one output (the velocity).
+        A model with one context input (the distance) and one output (the velocity) or several
+        (a whole-arm model: the first, the elbow's velocity, is drawn).
     distances : sequence of float
         Basket distances (m); distances outside the data are welcome (extrapolation).
     out : path
@@ -171,10 +172,10 @@ def model_outputs(
     continuity : bool
         Keep each throw continuous where two modes are nearly as high (see ``Model.generate``).
     """
-    if len(model.context_names) != 1 or len(model.outputs) != 1:
+    if len(model.context_names) != 1:
         raise InputError(
-            f"the outputs figure needs a model with one context input and one output, this one has "
-            f"context {list(model.context_names)} and outputs {list(model.outputs)}"
+            f"the outputs figure needs a model with one context input (the distance), this one has "
+            f"context {list(model.context_names)}"
         )
     if not distances:
         raise InputError("no distances to generate throws for")
