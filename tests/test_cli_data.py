@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 from rlff.cli import main
@@ -79,3 +80,48 @@ def test_preprocess_names_the_bad_line_of_the_input(capsys, tmp_path):
 def test_synth_throws_rejects_a_bad_rate(capsys, tmp_path):
     assert main(["data", "synth", "throws", "-o", str(tmp_path / "d.csv"), "--rate", "60"]) == 2
     assert "15 to 30 Hz" in capsys.readouterr().err
+
+
+def test_synth_whole_arm_throws_preprocess_and_fit(rlff, tmp_path):
+    demos, clean, model = tmp_path / "demos.csv", tmp_path / "clean.csv", tmp_path / "model.json"
+    made = rlff("data", "synth", "throws", "--whole-arm", "--joints", "shoulder,elbow,wrist", "--subjects", "3",
+                "--distances", "1,2,3,4", "--bearings", "0,90", "--heights", "0.3,1", "--seed", "4",
+                "-o", str(demos), "--json")
+    assert made.code == 0, made.stderr
+    summary = json.loads(made.stdout)
+    assert summary["trajectories"] == 3 * 4 * 2 * 2
+    assert summary["columns"] == ["time", "angle", "velocity", "shoulder", "shoulder_velocity", "wrist",
+                                  "wrist_velocity", "distance", "bearing", "height"]
+    result = rlff("data", "preprocess", str(demos), "--preset", "thesis", "-o", str(clean), "--json")
+    assert result.code == 0, result.stderr
+    report = json.loads(result.stdout)
+    (spikes,) = [s for s in report["steps"] if s["step"] == "spike_filter"]
+    assert "velocity, shoulder_velocity, wrist_velocity recomputed from angle, shoulder, wrist" in " ".join(spikes["notes"])
+    cleaned = read_dataset(clean)
+    assert cleaned.context == ("distance", "bearing", "height") and len(cleaned) > 30
+    for trajectory in cleaned:
+        # densified on the elbow's angle like every other column: a throw up to its release
+        assert np.all(np.diff(trajectory["angle"]) > 0)
+        assert np.all((trajectory["shoulder"] > np.pi / 2) & (trajectory["shoulder"] < np.pi))
+        assert np.all((trajectory["wrist"] > 1.8) & (trajectory["wrist"] <= np.pi + 0.3))
+    fitted = rlff("fit", str(clean), "-o", str(model), "--inputs", "angle,distance,height",
+                  "--outputs", "velocity,shoulder,shoulder_velocity,wrist,wrist_velocity", "--components", "3")
+    assert fitted.code == 0, fitted.stderr
+    saved = json.loads(model.read_text())
+    assert saved["outputs"] == ["velocity", "shoulder", "shoulder_velocity", "wrist", "wrist_velocity"]
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--heights", "1"], "--heights: only with --whole-arm"),
+        (["--joints", "shoulder,elbow"], "--joints: only with --whole-arm"),
+        (["--whole-arm", "--inconsistent-distance", "2.75"], "only for one-joint throws"),
+        (["--whole-arm", "--joints", "shoulder,wrist"], "the elbow must throw"),
+        (["--whole-arm", "--bearings", "0,east"], "--bearings: '0,east' is not a comma-separated list"),
+    ],
+)
+def test_synth_whole_arm_bad_options_are_one_line_and_exit_2(capsys, tmp_path, args, message):
+    assert main(["data", "synth", "throws", "-o", str(tmp_path / "d.csv"), *args]) == 2
+    stderr = capsys.readouterr().err
+    assert message in stderr and len(stderr.strip().splitlines()) == 1

@@ -5,7 +5,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rlff.dataset import Dataset, Trajectory, read_csv, write_csv
+from rlff.dataset import (
+    ARM_JOINT_COLUMNS,
+    THROW_CONTEXT,
+    UNITS,
+    Dataset,
+    Trajectory,
+    joint_columns,
+    read_csv,
+    velocity_column,
+    write_csv,
+)
 from rlff.errors import InputError
 
 
@@ -130,3 +140,77 @@ def test_missing_column_is_named():
     dataset = Dataset([_trajectory("a", 1.0)])
     with pytest.raises(InputError, match=r"no column 'height' in the data \(columns: time, angle, distance, velocity\)"):
         dataset.require(["angle", "height"])
+
+
+# -- whole-arm columns -----------------------------------------------------------------------
+
+
+def _arm_trajectory(name: str, distance: float, n: int = 4, joints=("shoulder",), **context) -> Trajectory:
+    base = _trajectory(name, distance, n)
+    columns = {}
+    for k, joint in enumerate(joints):
+        columns[joint] = np.linspace(2.6, 2.2, n) + k
+        columns[velocity_column(joint)] = np.full(n, -0.4)
+    columns.update({key: np.full(n, value) for key, value in context.items()})
+    return base.with_columns(**columns)
+
+
+def test_velocity_column_names_and_units():
+    assert velocity_column("angle") == "velocity"
+    assert velocity_column("shoulder") == "shoulder_velocity"
+    assert velocity_column("wrist") == "wrist_velocity"
+    assert ARM_JOINT_COLUMNS == ("shoulder", "wrist")
+    assert THROW_CONTEXT == ("distance", "bearing", "height")
+    assert UNITS["shoulder"] == UNITS["wrist"] == "rad"
+    assert UNITS["shoulder_velocity"] == UNITS["wrist_velocity"] == "rad/s"
+    assert (UNITS["bearing"], UNITS["height"]) == ("deg", "m")
+    assert joint_columns(["time", "wrist", "angle", "distance", "wrist_velocity"]) == ("angle", "wrist")
+
+
+def test_any_subset_of_joints_is_valid_but_a_position_needs_its_velocity():
+    for joints in ((), ("shoulder",), ("wrist",), ("shoulder", "wrist")):
+        dataset = Dataset([_arm_trajectory("a", 1.0, joints=joints), _arm_trajectory("b", 2.0, joints=joints)])
+        assert set(joint_columns(dataset.columns)) == {"angle", *joints}
+    lonely = _arm_trajectory("a", 1.0, joints=("wrist",))
+    lonely = lonely.replace(data={k: v for k, v in lonely.data.items() if k != "wrist_velocity"})
+    with pytest.raises(InputError, match="column 'wrist' needs its velocity column 'wrist_velocity'"):
+        Dataset([lonely])
+    columns = {name: lonely[name] for name in lonely.columns}
+    with pytest.raises(InputError, match="column 'wrist' needs its velocity column 'wrist_velocity'"):
+        Dataset.from_columns(columns, ["a"], [len(lonely)])
+
+
+def test_bearing_and_height_are_context_when_present():
+    trajectories = [
+        _arm_trajectory(f"t{i}", d, bearing=b, height=h)
+        for i, (d, b, h) in enumerate([(2.0, 30.0, 0.3), (2.0, 0.0, 1.0), (1.0, 90.0, 0.6), (2.0, 30.0, 0.3)])
+    ]
+    dataset = Dataset(trajectories)
+    assert dataset.context == ("distance", "bearing", "height")
+    assert list(dataset.by_context()) == [(1.0, 90.0, 0.6), (2.0, 0.0, 1.0), (2.0, 30.0, 0.3)]
+    only_height = Dataset([_arm_trajectory("h", 2.0, height=0.6)])
+    assert only_height.context == ("distance", "height")
+    varying = _arm_trajectory("v", 1.0, bearing=30.0).with_columns(bearing=np.array([30.0, 30.0, 60.0, 30.0]))
+    with pytest.raises(InputError, match="context column 'bearing' is not constant"):
+        Dataset([varying])
+
+
+def test_whole_arm_csv_round_trip_is_exact(tmp_path):
+    dataset = Dataset([
+        _arm_trajectory("a", 1.5, joints=("shoulder", "wrist"), bearing=60.0, height=0.6),
+        _arm_trajectory("b", 3.0, n=6, joints=("shoulder", "wrist"), bearing=-30.0, height=1.0),
+    ])
+    path = tmp_path / "arm.csv"
+    write_csv(dataset, path)
+    back = read_csv(path)
+    assert back.equals(dataset)
+    assert back.context == ("distance", "bearing", "height")
+    header = path.read_text().splitlines()[0].split(",")
+    assert {"shoulder", "shoulder_velocity", "wrist", "wrist_velocity", "bearing", "height"} <= set(header)
+
+
+def test_csv_with_a_joint_but_not_its_velocity_is_an_error_naming_the_file(tmp_path):
+    path = tmp_path / "arm.csv"
+    path.write_text("trajectory,angle,velocity,shoulder,distance\na,1,2,2.5,1\na,1.1,2,2.4,1\n")
+    with pytest.raises(InputError, match=r"arm\.csv: column 'shoulder' needs its velocity column"):
+        read_csv(path)

@@ -4,8 +4,15 @@ A :class:`Trajectory` is one demonstration: an ordered series of samples with na
 columns (for throwing ``angle`` in rad, ``distance`` in m, ``velocity`` in rad/s and optionally
 ``time`` in s) and per-trajectory metadata (subject, source file, target distance, outcome).
 A :class:`Dataset` is an ordered collection of trajectories that share their columns. Context
-columns (``distance`` by default, more may be added: basket height, direction) are constant
-within a trajectory.
+columns (``distance``, ``bearing``, ``height``: those present) are constant within a trajectory.
+
+Whole-arm throws carry further joints beside the elbow's ``angle`` (the phase variable) and its
+``velocity``: ``shoulder`` (rad, the upper arm's elevation against the torso's downward axis: 0
+hanging, pi/2 horizontal, pi straight up) and ``wrist`` (rad, the included angle between forearm
+and hand, about pi straight), each with its rate ``shoulder_velocity`` / ``wrist_velocity``
+(rad/s). A dataset may carry any subset of them, but a joint's position never without its
+velocity. The basket's ``bearing`` (deg, 0 straight ahead, positive to the left) and ``height``
+(m, its rim above the floor; absent: the default basket, rim 0.3 m) are context columns.
 
 The CSV long format (one row per sample, a ``trajectory`` id column, then the numeric columns,
 then metadata columns constant within a trajectory) is read and written here; other formats live
@@ -41,13 +48,46 @@ ID_COLUMN = "trajectory"
 #: Default column roles of the throwing task.
 THROW_INPUTS = ("angle", "distance")
 THROW_OUTPUTS = ("velocity",)
-THROW_CONTEXT = ("distance",)
-#: Columns that are always numeric sample columns when present.
-_NUMERIC_NAMES = ("angle", "distance", "velocity", "time")
+#: Context columns of the throwing task, in this order; a dataset uses those it has.
+THROW_CONTEXT = ("distance", "bearing", "height")
+#: The elbow's angle is the phase variable; these joints of a whole-arm throw ride beside it.
+ARM_JOINT_COLUMNS = ("shoulder", "wrist")
+#: Every joint position column, the phase first.
+JOINT_COLUMNS = ("angle", *ARM_JOINT_COLUMNS)
 #: Fewest samples of a trajectory read from a file: a single sample is no motion (a cut gone wrong).
 MIN_FILE_SAMPLES = 2
 #: Units of the throwing task's columns; every stage keeps them (no step converts units).
-UNITS = {"angle": "rad", "distance": "m", "velocity": "rad/s", "time": "s"}
+UNITS = {
+    "angle": "rad", "velocity": "rad/s",
+    "shoulder": "rad", "shoulder_velocity": "rad/s",
+    "wrist": "rad", "wrist_velocity": "rad/s",
+    "distance": "m", "bearing": "deg", "height": "m",
+    "time": "s",
+}
+#: Columns that are always numeric sample columns when present.
+_NUMERIC_NAMES = tuple(UNITS)
+
+
+def velocity_column(name: str) -> str:
+    """The velocity column of joint position column ``name``: ``"angle"`` -> ``"velocity"``,
+    ``"shoulder"`` -> ``"shoulder_velocity"``."""
+    return "velocity" if name == "angle" else f"{name}_velocity"
+
+
+def joint_columns(columns: Iterable[str]) -> tuple[str, ...]:
+    """The joint position columns among ``columns``, in the order of :data:`JOINT_COLUMNS`."""
+    present = set(columns)
+    return tuple(name for name in JOINT_COLUMNS if name in present)
+
+
+def _check_joint_velocities(columns: Sequence[str]) -> None:
+    """Raise :class:`InputError` when an arm joint's position column comes without its velocity."""
+    for name in ARM_JOINT_COLUMNS:
+        if name in columns and velocity_column(name) not in columns:
+            raise InputError(
+                f"column {name!r} needs its velocity column {velocity_column(name)!r} "
+                f"(columns: {', '.join(columns)})"
+            )
 
 
 @dataclass(frozen=True)
@@ -178,7 +218,8 @@ class Dataset(Sequence[Trajectory]):
     ------
     InputError
         Duplicate ids, trajectories with different columns, a context column that varies within
-        a trajectory, or a ``time`` column that does not increase strictly.
+        a trajectory, a ``time`` column that does not increase strictly, or a ``shoulder`` or
+        ``wrist`` column without its velocity column.
     """
 
     def __init__(self, trajectories: Iterable[Trajectory], context: Sequence[str] | None = None):
@@ -248,6 +289,7 @@ class Dataset(Sequence[Trajectory]):
             arrays[name] = array
         if not arrays and ids:
             raise InputError(f"trajectory {ids[0]!r} has no columns")
+        _check_joint_velocities(tuple(arrays))
         if context is None:
             context = tuple(name for name in THROW_CONTEXT if name in arrays)
         if lengths.size:
@@ -288,6 +330,7 @@ class Dataset(Sequence[Trajectory]):
         return dataset
 
     def _validate(self) -> None:
+        _check_joint_velocities(self.columns)
         seen: set[str] = set()
         for trajectory in self._trajectories:
             if trajectory.id in seen:

@@ -26,36 +26,65 @@ def _floats(option: str, text: str) -> list[float]:
 def synth_throws_command(
     output: Path = typer.Option(..., "--output", "-o", help="Dataset to write (.csv, .parquet, .npz or .txt)."),
     seed: int = typer.Option(0, "--seed", help="Random seed (same seed, same throws)."),
-    subjects: int = typer.Option(10, "--subjects", help="Number of subjects."),
+    subjects: int | None = typer.Option(None, "--subjects", help="Number of subjects (default 10; 4 with --whole-arm)."),
     distances: str = typer.Option("1,1.5,2,2.25,2.5,2.75,3,3.25,3.5,4", "--distances", help="Basket distances (m), comma-separated."),
-    throws: int = typer.Option(4, "--throws", help="Throws of each subject at each basket."),
+    throws: int | None = typer.Option(None, "--throws", help="Throws of each subject at each basket (default 4; 1 with --whole-arm)."),
     rate: float = typer.Option(30.0, "--rate", help="Camera frame rate (15-30 Hz)."),
     noise: float = typer.Option(0.03, "--noise", help="Angle measurement noise (rad, standard deviation)."),
     dropped_frames: float = typer.Option(0.03, "--dropped-frames", help="Probability that a frame is missing."),
     glitches: float = typer.Option(0.01, "--glitches", help="Probability per frame of a tracking glitch."),
-    inconsistent_distance: float | None = typer.Option(None, "--inconsistent-distance", help="A distance whose throws are all too slow (e.g. 2.75)."),
+    inconsistent_distance: float | None = typer.Option(None, "--inconsistent-distance", help="A distance whose throws are all too slow (e.g. 2.75; one-joint throws only)."),
     all_short: bool = typer.Option(False, "--all-short", help="Every throw falls short of its basket (failures only)."),
     clean: bool = typer.Option(False, "--clean", help="The true motion: no noise, dropped frames or glitches."),
+    whole_arm: bool = typer.Option(False, "--whole-arm", help="Throws with shoulder and elbow (and wrist), baskets at several bearings and heights."),
+    joints: str | None = typer.Option(None, "--joints", help="With --whole-arm: the joints that throw, among shoulder, elbow, wrist (default shoulder,elbow)."),
+    bearings: str | None = typer.Option(None, "--bearings", help="With --whole-arm: basket bearings (deg), comma-separated (default 0,30,60,90)."),
+    heights: str | None = typer.Option(None, "--heights", help="With --whole-arm: rim heights (m), comma-separated (default 0.3,0.6,1)."),
     as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
 ) -> None:
     """Simulated human overhand throws at the thesis' basket distances, with their outcomes."""
     from rlff.formats import format_of, write_dataset
-    from rlff.synthetic.throws import simulate_throws
 
     guard(inputs={}, outputs={"-o/--output": output})
     format_of(output)  # an unknown extension fails before the simulation
 
-    dataset = simulate_throws(
-        seed, subjects=subjects, distances=_floats("--distances", distances), throws_per_distance=throws,
-        rate_hz=rate, noise=noise, dropped_frames=dropped_frames, glitches=glitches,
-        inconsistent_distance=inconsistent_distance, all_short=all_short, raw=not clean,
-    )
+    camera = {"rate_hz": rate, "noise": noise, "dropped_frames": dropped_frames, "glitches": glitches}
+    if whole_arm:
+        from rlff.synthetic.whole_arm import (
+            THESIS_BEARINGS,
+            THESIS_HEIGHTS,
+            whole_arm_demonstrations,
+        )
+
+        if inconsistent_distance is not None:
+            raise InputError("--inconsistent-distance: only for one-joint throws, not with --whole-arm")
+        dataset = whole_arm_demonstrations(
+            seed, subjects=4 if subjects is None else subjects, distances=_floats("--distances", distances),
+            bearings=THESIS_BEARINGS if bearings is None else _floats("--bearings", bearings),
+            heights=THESIS_HEIGHTS if heights is None else _floats("--heights", heights),
+            throws_per_basket=1 if throws is None else throws,
+            joints=("shoulder", "elbow") if joints is None else [j.strip() for j in joints.split(",") if j.strip()],
+            all_short=all_short, raw=not clean, **camera,
+        )
+    else:
+        from rlff.synthetic.throws import simulate_throws
+
+        for option, value in (("--joints", joints), ("--bearings", bearings), ("--heights", heights)):
+            if value is not None:
+                raise InputError(f"{option}: only with --whole-arm")
+        dataset = simulate_throws(
+            seed, subjects=10 if subjects is None else subjects, distances=_floats("--distances", distances),
+            throws_per_distance=4 if throws is None else throws,
+            inconsistent_distance=inconsistent_distance, all_short=all_short, raw=not clean, **camera,
+        )
     write_dataset(dataset, output)
     hits = sum(bool(t.meta["hit"]) for t in dataset)
     summary = {
         "output": str(output), "trajectories": len(dataset), "samples": dataset.n_samples,
         "hits": hits, "glitches": sum(int(t.meta["glitches"]) for t in dataset), "seed": seed,
     }
+    if whole_arm:
+        summary["columns"] = list(dataset.columns)
     if as_json:
         emit_json(summary)
         return

@@ -13,7 +13,8 @@ from typing import Literal
 
 import numpy as np
 
-from rlff.dataset import Dataset
+from rlff.dataset import ARM_JOINT_COLUMNS, Dataset
+from rlff.dataset import velocity_column as velocity_of
 from rlff.errors import InputError
 from rlff.preprocess.report import StepReport
 
@@ -55,7 +56,9 @@ def spike_filter(
     recompute_velocity : bool
         When the data has a ``time`` column, recompute ``velocity_column`` of the trajectories
         that lost samples as the finite difference of ``column`` over time (``numpy.gradient``),
-        since a glitch also corrupts the velocities of its neighbours.
+        since a glitch also corrupts the velocities of its neighbours; so too every other joint's
+        velocity (``shoulder_velocity``, ``wrist_velocity``) from its angle: a glitch frame is the
+        tracker following another skeleton, every joint of it is wrong and goes.
     velocity_column : str
 
     Returns
@@ -76,6 +79,10 @@ def spike_filter(
         "recompute_velocity": recompute_velocity, "velocity_column": velocity_column,
     }
     recompute = recompute_velocity and timed and velocity_column in dataset.columns
+    pairs = [(column, velocity_column)] + [
+        (joint, velocity_of(joint)) for joint in ARM_JOINT_COLUMNS
+        if joint != column and joint in dataset.columns and velocity_of(joint) in dataset.columns
+    ]
     unit = "/s" if timed else " per sample"
     out = []
     for trajectory in dataset:
@@ -87,7 +94,9 @@ def spike_filter(
             continue
         kept = trajectory.take(np.setdiff1d(np.arange(len(trajectory)), spikes))
         if recompute and len(kept) > 1:
-            kept = kept.with_columns(**{velocity_column: np.gradient(kept[column], kept["time"])})
+            kept = kept.with_columns(
+                **{velocity: np.gradient(kept[position], kept["time"]) for position, velocity in pairs}
+            )
         out.append(kept)
         report.change_samples(
             trajectory.id, spikes.size, 0,
@@ -95,7 +104,9 @@ def spike_filter(
             f"{column} jumps out and back faster than {float(threshold):.3g}{unit}",
         )
     if recompute and report.samples:
-        report.notes.append(f"{velocity_column} recomputed from {column} and time where samples were removed")
+        velocities = ", ".join(velocity for _, velocity in pairs)
+        positions = ", ".join(position for position, _ in pairs)
+        report.notes.append(f"{velocities} recomputed from {positions} and time where samples were removed")
     report.after = dataset.replace(out)
     return report.after, report
 

@@ -19,7 +19,8 @@ from typing import Literal
 import numpy as np
 from scipy.interpolate import Akima1DInterpolator, PchipInterpolator, make_interp_spline
 
-from rlff.dataset import Dataset, Trajectory
+from rlff.dataset import ARM_JOINT_COLUMNS, Dataset, Trajectory
+from rlff.dataset import velocity_column as velocity_of
 from rlff.errors import InputError
 from rlff.limits import MAX_DENSIFY_SAMPLES, check_count
 from rlff.preprocess.report import StepReport
@@ -42,7 +43,8 @@ def stop_point(
     The new angle is ``last * (1 + extension)`` (the thesis' choice; beyond the last angle in the
     direction of motion for negative angles), its velocity 0. A ``time`` column gets the time of
     a uniform deceleration from the last velocity (one median time step when that velocity is not
-    towards the new point); other columns repeat their last value.
+    towards the new point); the other joints (``shoulder``, ``wrist``) stay where they were, at
+    rest (their velocities 0 too); other columns repeat their last value.
     """
     dataset.require([column, velocity_column])
     params = {"column": column, "velocity_column": velocity_column, "extension": extension}
@@ -56,6 +58,9 @@ def stop_point(
         added = {name: np.append(trajectory[name], trajectory[name][-1]) for name in trajectory.columns}
         added[column] = np.append(values, stop)
         added[velocity_column] = np.append(trajectory[velocity_column], 0.0)
+        for joint in ARM_JOINT_COLUMNS:
+            if joint != column and velocity_of(joint) in added:
+                added[velocity_of(joint)][-1] = 0.0
         if "time" in trajectory.columns:
             time = trajectory["time"]
             speed = float(trajectory[velocity_column][-1]) * np.sign(stop - last)

@@ -31,21 +31,30 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rlff.ballistics import GRAVITY, crossing_distance
+from rlff.ballistics import crossing_distance
 from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.limits import check_distance
+from rlff.synthetic.people import (
+    MAX_ELBOW_SPEED,
+    RIM_HEIGHT,
+    THESIS_DISTANCES,
+    minimum_jerk,
+    minimum_jerk_speed,
+    needed_speed,
+    record,
+)
+from rlff.synthetic.whole_arm import whole_arm_demonstrations
+
+__all__ = [
+    "FOREARM", "MAX_ELBOW_SPEED", "RIM_HEIGHT", "THESIS_DISTANCES", "UPPER_ARM", "release_state",
+    "simulate_throws", "whole_arm_demonstrations",
+]
 
 #: Upper arm length, shoulder to elbow (m).
 UPPER_ARM = 0.30
 #: Forearm with hand, elbow to the ball's centre (m).
 FOREARM = 0.35
-#: Height of the basket's rim (m).
-RIM_HEIGHT = 0.3
-#: Fastest elbow extension a simulated person makes (rad/s; about 10 m/s at the ball).
-MAX_ELBOW_SPEED = 30.0
-#: The thesis' basket distances (m), section 4.2 (the three 2 m baskets of other heights left out).
-THESIS_DISTANCES = (1.0, 1.5, 2.0, 2.25, 2.5, 2.75, 3.0, 3.25, 3.5, 4.0)
 
 
 @dataclass(frozen=True)
@@ -61,16 +70,6 @@ class _Style:
     release_phase: float  # fraction of the extension's duration at which the ball leaves
     windup_duration: float  # s
     speed_factor: float  # multiplies the angular velocity the throw needs (< 1: falls short)
-
-
-def _minimum_jerk(s: np.ndarray) -> np.ndarray:
-    """Position fraction of a minimum-jerk move at time fraction ``s`` in [0, 1]."""
-    return s**3 * (10.0 - 15.0 * s + 6.0 * s**2)
-
-
-def _minimum_jerk_speed(s: np.ndarray | float) -> np.ndarray:
-    """d(position fraction)/d(time fraction) of a minimum-jerk move: 30 s^2 (1 - s)^2."""
-    return 30.0 * np.asarray(s) ** 2 * (1.0 - np.asarray(s)) ** 2
 
 
 def release_state(
@@ -108,16 +107,12 @@ def release_state(
 def _needed_angular_velocity(style: _Style, release_angle: float, landing: float) -> float:
     """Elbow angular velocity (rad/s) at release that lands the ball at ``landing`` (m).
 
-    From the parabola through the release point: z = z0 + d tan(a) - g d^2 / (2 v^2 cos^2 a),
-    set to the rim height at horizontal offset d.
+    The ball's speed is the elbow's rate times :data:`FOREARM` (:func:`~rlff.synthetic.people.needed_speed`).
     """
     x0, z0, vx, vz = release_state(style.upper_arm_elevation, style.shoulder_height, release_angle, 1.0)
-    launch = float(np.arctan2(vz, vx))
-    offset = landing - float(x0)
-    drop = float(z0) - RIM_HEIGHT + offset * np.tan(launch)
-    if offset <= 0 or drop <= 0:
+    speed = needed_speed(float(x0), float(z0), float(np.arctan2(vz, vx)), landing, RIM_HEIGHT)
+    if speed is None:
         raise InputError(f"basket distance {landing} m cannot be reached by the simulated arm")
-    speed = np.sqrt(GRAVITY * offset**2 / (2.0 * np.cos(launch) ** 2 * drop))
     if speed / FOREARM > MAX_ELBOW_SPEED:
         raise InputError(
             f"basket distance {landing} m needs {speed / FOREARM:.0f} rad/s at the elbow, beyond a "
@@ -164,42 +159,13 @@ def _angle_profile(
         extend = np.clip((t - t_extend) / extension_duration, 0.0, 1.0)
         settle = np.clip((t - t_stop) / recoil_duration, 0.0, 1.0)
         value = style.rest_angle + (style.wound_angle - style.rest_angle) * 0.5 * (1 - np.cos(np.pi * windup))
-        value = np.where(t >= t_hold, style.wound_angle + span * _minimum_jerk(extend), value)
+        value = np.where(t >= t_hold, style.wound_angle + span * minimum_jerk(extend), value)
         # abrupt stop: the extension's velocity is cut at full extension, then a small recoil
         return value - recoil * np.sin(0.5 * np.pi * settle)
 
     release_time = t_extend + style.release_phase * extension_duration
-    release_angle = style.wound_angle + span * float(_minimum_jerk(np.asarray(style.release_phase)))
+    release_angle = style.wound_angle + span * float(minimum_jerk(np.asarray(style.release_phase)))
     return angle, release_time, release_angle, duration
-
-
-def _record(
-    rng: np.random.Generator,
-    angle_of_time: Callable[[np.ndarray], np.ndarray],
-    duration: float,
-    rate_hz: float,
-    noise: float,
-    dropped_frames: float,
-    glitches: float,
-) -> tuple[np.ndarray, np.ndarray, int]:
-    """Sample a throw as the camera does; returns (time (s), angle (rad), number of glitches)."""
-    period = 1.0 / rate_hz
-    time = rng.uniform(0.0, period) + np.arange(0.0, duration, period)
-    angle = angle_of_time(time) + rng.normal(0.0, noise, time.size) if noise else angle_of_time(time)
-    keep = rng.random(time.size) >= dropped_frames
-    keep[[0, -1]] = True
-    time, angle = time[keep], angle[keep]
-    count = 0
-    if glitches:
-        # the second skeleton: isolated samples (1 or 2 frames) sticking near zero, not at the ends
-        starts = np.flatnonzero(rng.random(time.size) < glitches)
-        starts = starts[(starts >= 2) & (starts <= time.size - 4)]
-        starts = starts[np.concatenate([[True], np.diff(starts) > 3])] if starts.size else starts
-        for start in starts:
-            width = 2 if rng.random() < 0.2 else 1
-            angle[start : start + width] = rng.uniform(0.0, 0.15, width)
-        count = int(starts.size)
-    return time, angle, count
 
 
 def simulate_throws(
@@ -315,7 +281,7 @@ def _throw(
 ) -> tuple[str, dict[str, np.ndarray], dict[str, object]]:
     """One recorded throw: its id, columns and metadata."""
     span = style.extended_angle - style.wound_angle
-    release_angle = style.wound_angle + span * float(_minimum_jerk(np.asarray(style.release_phase)))
+    release_angle = style.wound_angle + span * float(minimum_jerk(np.asarray(style.release_phase)))
     needed = _needed_angular_velocity(style, release_angle, target)
     error = 1.0 + rng.normal(0.0, throw_error)
     aimed = needed * style.speed_factor * error * slowdown
@@ -323,9 +289,12 @@ def _throw(
         short_landing = target - hit_radius - 0.05 - abs(rng.normal(0.0, 0.1 * target))
         aimed = min(aimed, _needed_angular_velocity(style, release_angle, max(short_landing, 0.3)))
     # the extension lasts what makes the minimum-jerk speed at the release phase equal the aim
-    extension_duration = span * float(_minimum_jerk_speed(style.release_phase)) / aimed
+    extension_duration = span * float(minimum_jerk_speed(style.release_phase)) / aimed
     angle_of_time, release_time, release_angle, duration = _angle_profile(rng, style, extension_duration)
-    time, angle, count = _record(rng, angle_of_time, duration, rate_hz, noise, dropped_frames, glitches)
+    time, angles, count = record(
+        rng, lambda t: {"angle": angle_of_time(t)}, duration, rate_hz, noise, dropped_frames, glitches
+    )
+    angle = angles["angle"]
     x, z, vx, vz = release_state(style.upper_arm_elevation, style.shoulder_height, release_angle, aimed)
     landing = float(crossing_distance(x, z, vx, vz, RIM_HEIGHT))
     start = time[0]

@@ -1,0 +1,113 @@
+"""What every simulated person shares: minimum-jerk moves, the camera that records them, the aim.
+
+The one-joint people of :mod:`rlff.synthetic.throws` and the whole-arm people of
+:mod:`rlff.synthetic.whole_arm` move their joints along minimum-jerk profiles, are recorded by
+the same depth camera (thesis section 4.2.1: 15-30 Hz, measurement noise, dropped frames and
+"second skeleton" glitches: a frame where the tracker follows someone else and every joint angle
+jumps to that person's) and aim by the ball speed a parabola needs to reach the basket's rim.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from rlff.ballistics import GRAVITY
+
+#: The thesis' basket distances (m), section 4.2 (the three 2 m baskets of other heights left out).
+THESIS_DISTANCES = (1.0, 1.5, 2.0, 2.25, 2.5, 2.75, 3.0, 3.25, 3.5, 4.0)
+#: Height of the default basket's rim (m).
+RIM_HEIGHT = 0.3
+#: Fastest elbow extension a simulated person makes (rad/s; about 10 m/s at the ball).
+MAX_ELBOW_SPEED = 30.0
+
+#: Where a glitch puts each joint angle (rad, uniform between the bounds): the second skeleton
+#: stands idle, its elbow folded near zero (thesis 4.3.6.1), its arm down, its hand straight.
+_GLITCH_RANGE = {"angle": (0.0, 0.15), "shoulder": (0.0, 0.3), "wrist": (2.9, np.pi)}
+#: Measurement noise of each joint angle relative to the elbow's: the hand's segment is short, so
+#: the same error in the tracked points turns the wrist's angle more.
+_NOISE_SCALE = {"angle": 1.0, "shoulder": 1.0, "wrist": 2.0}
+
+
+def minimum_jerk(s: np.ndarray) -> np.ndarray:
+    """Position fraction of a minimum-jerk move at time fraction ``s`` in [0, 1]."""
+    return s**3 * (10.0 - 15.0 * s + 6.0 * s**2)
+
+
+def minimum_jerk_speed(s: np.ndarray | float) -> np.ndarray:
+    """d(position fraction)/d(time fraction) of a minimum-jerk move: 30 s^2 (1 - s)^2."""
+    return 30.0 * np.asarray(s) ** 2 * (1.0 - np.asarray(s)) ** 2
+
+
+def needed_speed(x0: float, z0: float, launch: float, landing: float, rim_height: float) -> float | None:
+    """Ball speed (m/s) that carries a ball released at ``(x0, z0)`` (m) at elevation ``launch``
+    (rad) down to ``rim_height`` (m) at horizontal distance ``landing`` (m); None when no speed
+    does (the basket behind the hand, or the launch line passing below the rim).
+
+    From the parabola through the release point: z = z0 + d tan(a) - g d^2 / (2 v^2 cos^2 a),
+    set to the rim height at horizontal offset d = landing - x0.
+    """
+    offset = landing - x0
+    drop = z0 - rim_height + offset * np.tan(launch)
+    if offset <= 0 or drop <= 0:
+        return None
+    return float(np.sqrt(GRAVITY * offset**2 / (2.0 * np.cos(launch) ** 2 * drop)))
+
+
+def record(
+    rng: np.random.Generator,
+    positions_of_time: Callable[[np.ndarray], dict[str, np.ndarray]],
+    duration: float,
+    rate_hz: float,
+    noise: float,
+    dropped_frames: float,
+    glitches: float,
+) -> tuple[np.ndarray, dict[str, np.ndarray], int]:
+    """Sample a throw as the camera does.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    positions_of_time : callable
+        Maps times (s), shape (T,), to the true joint angles (rad), ``{"angle": (T,), ...}``
+        (joints among ``angle``, ``shoulder``, ``wrist``).
+    duration : float
+        Length of the recording (s).
+    rate_hz, noise, dropped_frames, glitches : float
+        Frame rate, elbow angle noise (rad, sd; other joints scaled by their segment), probability
+        of a dropped frame, probability per frame that a glitch starts (1 frame, sometimes 2).
+
+    Returns
+    -------
+    time : array of shape (T,)
+        Frame times (s), from a random phase of the first frame.
+    angles : dict of str to array of shape (T,)
+        The recorded joint angles (rad), in the order ``positions_of_time`` gives them.
+    glitches : int
+        Number of glitches; every joint of a glitch frame jumps to the second skeleton's angle.
+    """
+    period = 1.0 / rate_hz
+    time = rng.uniform(0.0, period) + np.arange(0.0, duration, period)
+    angles = positions_of_time(time)
+    if noise:
+        angles = {
+            name: values + rng.normal(0.0, noise * _NOISE_SCALE[name], time.size)
+            for name, values in angles.items()
+        }
+    keep = rng.random(time.size) >= dropped_frames
+    keep[[0, -1]] = True
+    time = time[keep]
+    angles = {name: values[keep] for name, values in angles.items()}
+    count = 0
+    if glitches:
+        # the second skeleton: isolated samples (1 or 2 frames), not at the ends
+        starts = np.flatnonzero(rng.random(time.size) < glitches)
+        starts = starts[(starts >= 2) & (starts <= time.size - 4)]
+        starts = starts[np.concatenate([[True], np.diff(starts) > 3])] if starts.size else starts
+        for start in starts:
+            width = 2 if rng.random() < 0.2 else 1
+            for name, values in angles.items():
+                values[start : start + width] = rng.uniform(*_GLITCH_RANGE[name], width)
+        count = int(starts.size)
+    return time, angles, count
