@@ -48,6 +48,7 @@ differ in how the attempts join the data, with what weight, and which distance i
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 from scipy.special import logsumexp, ndtr
@@ -61,6 +62,7 @@ from rlff.learn.method import (
     Proposal,
     attempt_trajectory,
     labelled_demos,
+    scale_speed,
     training_set,
 )
 
@@ -79,13 +81,9 @@ class DmmStrategy(Method):
 
     def fit(self, data: Dataset, sample_weight: np.ndarray):
         """The mixture model of ``data`` (weighted), with the run's number of components."""
-        from rlff.model import Model
-
         # one EM start: the number of components is fixed and the data change by one throw
         # between refits, so restarts buy little and triple the loop's own time per attempt
-        return Model.fit(data, inputs=("angle", "distance"), outputs=("velocity",),
-                         components=self.problem.components, seed=self.problem.seed,
-                         sample_weight=sample_weight, n_init=1)
+        return self.problem.fit(data, sample_weight, n_init=1)
 
     def generate(self, data: Dataset, sample_weight: np.ndarray, query: float, info: dict, *,
                  continuity: bool = False) -> Proposal:
@@ -98,8 +96,8 @@ class DmmStrategy(Method):
         model = self.fit(data, sample_weight)
         if self.shape_source == "gmr":
             inputs = np.column_stack([problem.angles, np.full(problem.angles.size, float(query))])
-            mean = model.condition(inputs).mean[:, 0]
-            return Proposal(problem.angles, mean, float(query), 0.0, info)
+            mean = model.condition(inputs).mean
+            return Proposal.of_outputs(problem.angles, mean, model.outputs, query, 0.0, info)
         try:
             path = model.generate({"distance": query}, problem.angles, exploration=self.exploration,
                                   continuity=continuity)
@@ -108,15 +106,10 @@ class DmmStrategy(Method):
             # the GMR mean, on the wrong side of zero all along): that is no throw, and the
             # loop executes it as a crawl, a miss like any other.
             inputs = np.column_stack([problem.angles, np.full(problem.angles.size, float(query))])
-            mean = model.condition(inputs).mean[:, 0]
-            return Proposal(problem.angles, mean, float(query), 0.0, {**info, "no_motion": True})
-        return Proposal(
-            angle=np.asarray(path.angle, dtype=float),
-            velocity=np.asarray(path.velocity, dtype=float).reshape(-1),
-            query=float(query),
-            exploration=float(np.mean(path.exploration)),
-            info=info,
-        )
+            mean = model.condition(inputs).mean
+            return Proposal.of_outputs(problem.angles, mean, model.outputs, query, 0.0, {**info, "no_motion": True})
+        return Proposal.of_outputs(path.angle, path.outputs, path.output_names, query,
+                                   float(np.mean(path.exploration)), info)
 
 
 class FailureUpdate(DmmStrategy):
@@ -259,11 +252,11 @@ class CalibrateUpdate(DmmStrategy):
         self.demos = labelled_demos(problem.demos)
         data, sample_weight = training_set(self.demos, [1.0] * len(self.demos))
         inputs = np.column_stack([problem.angles, np.full(problem.angles.size, problem.target)])
-        mean = self.fit(data, sample_weight).condition(inputs).mean[:, 0]
+        model = self.fit(data, sample_weight)
         #: The GMR mean's throw from the demonstrations alone, and its release speed (rad/s):
         #: where the calibration's prior says the basket is.
-        self.first = Proposal(problem.angles, mean, problem.target)
-        self.reference = release_speed(problem.angles, mean)
+        self.first = Proposal.of_outputs(problem.angles, model.condition(inputs).mean, model.outputs, problem.target)
+        self.reference = release_speed(problem.angles, self.first.velocity)
         self._demos_shape: Proposal | None = None
         if not self.reference > 0:
             raise InputError(f"the GMR throw for {problem.target:g} m does not move at its "
@@ -272,12 +265,13 @@ class CalibrateUpdate(DmmStrategy):
     def propose(self, history: Sequence[Attempt]) -> Proposal:
         problem = self.problem
         shape = self.shape(history)
-        velocity = fastest_at_release(problem.angles, shape.velocity)
-        speed = release_speed(problem.angles, velocity)
+        throw = capped_at_release(problem.angles, shape)
+        speed = release_speed(problem.angles, throw.velocity)
         if not speed > 0:  # no motion at the release: keep the demonstrations' shape
-            velocity, speed = self.first.velocity, self.reference
+            throw, speed = self.first, self.reference
+        # the whole throw is scaled by one factor: the other joints' limits bound it too
         calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference,
-                                       problem.max_speed)
+                                       min(problem.max_speed, speed * problem.arm_speed_factor(throw)))
         for attempt in history:
             executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
                                                                attempt.velocity))
@@ -286,9 +280,8 @@ class CalibrateUpdate(DmmStrategy):
             elif not attempt.hit:
                 calibration.observe_miss(executed)
         wanted, p_hit = calibration.best_speed()
-        return Proposal(shape.angle, velocity * (wanted / speed), query=problem.target,
-                        exploration=shape.exploration,
-                        info={"speed": round(wanted, 4), "p_hit": round(p_hit, 4)})
+        return replace(scale_speed(throw, wanted / speed), query=problem.target, exploration=shape.exploration,
+                       info={"speed": round(wanted, 4), "p_hit": round(p_hit, 4)})
 
 
     def shape(self, history: Sequence[Attempt]) -> Proposal:
@@ -357,6 +350,16 @@ def fastest_at_release(angles: np.ndarray, velocity: np.ndarray) -> np.ndarray:
     """
     cap = release_speed(angles, velocity)
     return np.sign(velocity) * np.minimum(np.abs(velocity), cap)
+
+
+def capped_at_release(angles: np.ndarray, proposal: Proposal) -> Proposal:
+    """``proposal`` with its elbow capped by :func:`fastest_at_release` and every other joint's
+    velocity slowed by the same factor at each sample (the coordinated throw keeps one time base)."""
+    capped = fastest_at_release(angles, proposal.velocity)
+    moving = proposal.velocity != 0
+    factor = np.ones(capped.shape)
+    factor[moving] = capped[moving] / proposal.velocity[moving]
+    return replace(scale_speed(proposal, factor), velocity=capped)
 
 
 def ablations(method: type[DmmStrategy]) -> list[type[DmmStrategy]]:
