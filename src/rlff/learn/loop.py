@@ -499,8 +499,8 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset) -> Non
                  if np.isfinite(reach.distance) else f"never bring the ball down through the {basket.rim_height:.2f} m rim")
     raise InputError(
         f"basket at {basket.distance:.2f} m is out of reach of the whole-arm throws this robot executes: the "
-        f"demonstrations' typical throw with {', '.join(mapping.driven_joints)}, sped up until {reach.limiting} "
-        f"reaches its limit, would {came_down}, so the farthest basket with a {basket.opening:.2f} m opening is "
+        f"demonstrations' typical throw with {', '.join(mapping.driven_joints)}, sped up until {reach.limiting}, "
+        f"would {came_down}, so the farthest basket with a {basket.opening:.2f} m opening is "
         f"at {farthest:.2f} m (pedestal {pedestal:.2f} m)"
     )
 
@@ -517,7 +517,7 @@ class ArmReach:
     factor : float
         The speed factor on the typical throw that gets there.
     limiting : str
-        The joint (or ``"<joint> over its swing"``) whose limit sets ``factor``.
+        What sets ``factor``: a joint at its speed limit, or the planner's room to wind up.
     """
 
     distance: float
@@ -531,15 +531,17 @@ def arm_reach(mapping, demos: Dataset, rim_height: float, pedestal: float = 0.0)
     Every method throws the shape of the demonstrations along the loop's angle grid, sped up or
     slowed down as a whole (one factor on every joint's velocity); the farthest of them is the
     demonstrations' typical throw (each column's median along the grid) at the largest factor
-    that keeps every driven joint within its speed limit along the path and, at the release,
-    within what its acceleration and jerk limits reach over its swing
-    (:func:`rlff.sim.reach.attainable_speed`). The ball leaves with the arm's in-plane velocity
-    at the release pose (joint 1 turns the plane to the bearing; it does not change the
-    distance).
+    that keeps every driven joint within its speed limit along the path and that the motion
+    planner can still execute from rest (a swing too short for the release speed is preceded by
+    a wind-up, which must stay within the position limits;
+    :func:`rlff.trajectory.planner.plan_throw`), found by bisection. The ball leaves with the
+    arm's in-plane velocity at the release pose (joint 1 turns the plane to the bearing; it does
+    not change the distance).
     """
     from rlff.ballistics import crossing_distance
+    from rlff.robot.plan import plan_path
     from rlff.sim.arm import Arm
-    from rlff.sim.reach import GROUND_CLEARANCE, PLANE_JOINTS, attainable_speed
+    from rlff.sim.reach import GROUND_CLEARANCE, PLANE_JOINTS
 
     angles = _angle_grid(demos)
     columns = ("velocity", *joint_outputs(mapping.human_columns)[1:])
@@ -550,19 +552,33 @@ def arm_reach(mapping, demos: Dataset, rim_height: float, pedestal: float = 0.0)
     points, _ = mapping.path_to_robot(typical, clip=True)
     factor, limiting = math.inf, ""
     for name in mapping.driven_joints:
-        joint = mapping.robot.joint(name)
-        column = points.joint_index(name)
-        speed = np.abs(points.velocities[:, column])
-        bounds = [(joint.max_velocity / float(np.max(speed)), name)] if np.max(speed) > 0 else []
-        travel = abs(points.positions[-1, column] - points.positions[0, column])
-        if speed[-1] > 0:
-            bounds.append((float(attainable_speed(joint, travel)) / speed[-1], f"{name} over its swing"))
-        for bound, why in bounds:
-            if bound < factor:
-                factor, limiting = bound, why
-    release = {name: points.positions[-1, points.joint_index(name)] for name in PLANE_JOINTS}
-    rates = np.array([points.velocities[-1, points.joint_index(name)] for name in PLANE_JOINTS]) * factor
-    plane = Arm.from_robot(mapping.robot).in_plane(*(release[n] for n in PLANE_JOINTS), pedestal=pedestal)
+        peak = float(np.max(np.abs(points.velocities[:, points.joint_index(name)])))
+        if peak > 0 and mapping.robot.joint(name).max_velocity / peak < factor:
+            factor, limiting = mapping.robot.joint(name).max_velocity / peak, f"{name} reaches its speed limit"
+    factor *= 1 - 1e-9  # at the limit, not a rounding beyond it
+
+    speeds = [c for c in columns if c == "velocity" or c.endswith("_velocity")]
+
+    def scaled(f: float) -> dict[str, np.ndarray]:
+        return {c: v * f if c in speeds else v for c, v in typical.items()}
+
+    def executable(f: float) -> bool:
+        try:
+            plan_path(mapping, scaled(f))
+        except InputError:
+            return False
+        return True
+
+    if not executable(factor):
+        low, high = 0.0, factor
+        for _ in range(14):  # the factor to 1e-4 of the speed limit's
+            middle = 0.5 * (low + high)
+            low, high = (middle, high) if executable(middle) else (low, middle)
+        factor, limiting = low, "the planner runs out of room to wind up within the position limits"
+    release, _ = mapping.path_to_robot(scaled(factor), clip=True)
+    pose = [release.positions[-1, release.joint_index(n)] for n in PLANE_JOINTS]
+    rates = np.array([release.velocities[-1, release.joint_index(n)] for n in PLANE_JOINTS])
+    plane = Arm.from_robot(mapping.robot).in_plane(*pose, pedestal=pedestal)
     velocity = plane.jacobian @ rates
     crossing = float(crossing_distance(plane.ball[0], plane.ball[1], velocity[0], velocity[1], rim_height))
     lowest = min(plane.elbow[1], plane.wrist[1], plane.ball[1])

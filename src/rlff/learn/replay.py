@@ -108,7 +108,8 @@ def plan_attempt(attempt: Attempt, mapping: RobotMapping | ArmMapping, period: f
 
 
 def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float = DEFAULT_PERIOD,
-               clip: bool = False, start: np.ndarray | None = None) -> ThrowInput:
+               clip: bool = False, start: np.ndarray | None = None, joints: Sequence[str] | None = None,
+               bearing: float | None = None) -> ThrowInput:
     """Read a generated path, a robot trajectory or an attempt of a log and plan it for ``robot``.
 
     Parameters
@@ -127,6 +128,9 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
     start : array of shape (J,), optional
         The arm's pose (rad, ``robot``'s joints in order) a path or an attempt is planned from;
         default its first pose.
+    joints, bearing : optional
+        For a generated path: the robot joints it drives and the basket's bearing (deg), see
+        :func:`rlff.robot.plan.load_for_robot`.
 
     Raises
     ------
@@ -146,7 +150,7 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
         return ThrowInput(planned, f"attempt {chosen.index} of {path} ({outcome}), {planned.summary()}", run)
     if attempt is not None:
         raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
-    _, planned = load_for_robot(path, robot, period, clip, start)
+    _, planned = load_for_robot(path, robot, period, clip, start, joints=joints, bearing=bearing)
     return ThrowInput(planned, planned.summary())
 
 
