@@ -179,6 +179,30 @@ def peaks(stamps: np.ndarray, positions: np.ndarray) -> tuple[np.ndarray, np.nda
     return np.abs(velocity).max(axis=0), np.abs(acceleration).max(axis=0)
 
 
+def execution_error(stamps: np.ndarray, positions: np.ndarray, sent, start: float) -> tuple[float, float]:
+    """How closely a recorded motion followed the sent trajectory: (delay s, largest error rad).
+
+    The sent points joined by quintic segments through their positions, velocities and
+    accelerations (as the server interpolates; scipy's own quintic Hermite here) against the
+    recorded positions over the motion. The goal starts at its stamp ``start`` (s), or on receipt
+    if it arrives later (a loaded machine): the delay (1 ms steps up to 0.5 s) that fits best.
+    """
+    from scipy.interpolate import BPoly
+
+    quintic = BPoly.from_derivatives(sent.time, np.stack([sent.positions, sent.velocities,
+                                                          sent.accelerations], axis=1))
+
+    def error(delay: float) -> float:
+        elapsed = stamps - start - delay
+        moving = (elapsed >= 0) & (elapsed <= sent.duration)
+        return float(np.abs(positions[moving] - quintic(elapsed[moving])).max()) if moving.sum() >= 20 else np.inf
+
+    delays = np.arange(0.0, 0.5, 0.001)
+    errors = [error(delay) for delay in delays]
+    best = int(np.argmin(errors))
+    return float(delays[best]), errors[best]
+
+
 def human_csv(path: Path, robot_positions: np.ndarray, robot_speed: np.ndarray) -> Path:
     """A generated-trajectory CSV whose mapped joint_2 path is ``robot_positions`` (rad) at ``robot_speed``."""
     mapping = RobotMapping.for_robot(ROBOT)

@@ -102,7 +102,8 @@ def test_synth_whole_arm_throws_preprocess_and_fit(rlff, tmp_path):
     for trajectory in cleaned:
         # densified on the elbow's angle like every other column: a throw up to its release
         assert np.all(np.diff(trajectory["angle"]) > 0)
-        assert np.all((trajectory["shoulder"] > np.pi / 2) & (trajectory["shoulder"] < np.pi))
+        shoulder = trajectory["shoulder"]
+        assert np.all((shoulder > 1.0) & (shoulder < np.pi)) and shoulder[-1] > max(shoulder[0], np.pi / 2)
         assert np.all((trajectory["wrist"] > 1.8) & (trajectory["wrist"] <= np.pi + 0.3))
     fitted = rlff("fit", str(clean), "-o", str(model), "--inputs", "angle,distance,height",
                   "--outputs", "velocity,shoulder,shoulder_velocity,wrist,wrist_velocity", "--components", "3")

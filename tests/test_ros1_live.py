@@ -26,6 +26,7 @@ from rosrig import (
     DRIVEN,
     ROBOT,
     Ros,
+    execution_error,
     free_port,
     robot_file,
     ros_env,
@@ -63,21 +64,10 @@ def test_executed_path_matches_the_sent_trajectory(ros, tmp_path):
     wait(lambda: states(tmp_path / "states.csv")[0][-1] > end + 0.5, 120, "states after the end")
     stop(recorder)
 
-    quintic = BPoly.from_derivatives(sent.time, np.stack([sent.positions, sent.velocities,
-                                                          sent.accelerations], axis=1))
     stamps, positions = states(tmp_path / "states.csv")
-    # the goal starts at its stamp, or on receipt if it arrives later (a loaded machine): find
-    # that delay (1 ms steps), then the whole recorded motion must match
-    def error(delay: float) -> float:
-        elapsed = stamps - outcome["start"] - delay
-        moving = (elapsed >= 0) & (elapsed <= sent.duration)
-        return float(np.abs(positions[moving] - quintic(elapsed[moving])).max()) if moving.sum() >= 20 else np.inf
-
-    delays = np.arange(0.0, 0.5, 0.001)
-    errors = [error(delay) for delay in delays]
-    best = int(np.argmin(errors))
-    assert errors[best] < EXECUTION_TOLERANCE, (delays[best], errors[best])
-    after = stamps - outcome["start"] - delays[best] > sent.duration + 0.05
+    delay, worst = execution_error(stamps, positions, sent, outcome["start"])
+    assert worst < EXECUTION_TOLERANCE, (delay, worst)
+    after = stamps - outcome["start"] - delay > sent.duration + 0.05
     assert after.sum() > 0
     np.testing.assert_allclose(positions[after], np.tile(sent.positions[-1], (after.sum(), 1)), atol=1e-9)
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scipy.interpolate import CubicSpline
 
 from rlff.ballistics import crossing_distance
 from rlff.errors import InputError
@@ -118,15 +119,16 @@ def test_proximal_to_distal_the_shoulder_leads_the_elbow_and_the_wrist_snaps_las
         time, shoulder = trajectory["time"], trajectory["shoulder"]
         extension = _extension(trajectory)
         t = time[extension]
-        # the wind-up raises the arm from low to above the horizontal, the throw swings it forward
-        assert shoulder[0] < 0.7 and shoulder[extension.start] > 2.3
+        # the wind-up raises the arm from hanging to about horizontal, the throw raises it further
+        # (as in the MSR high throws)
+        assert shoulder[0] < 0.7 and 1.2 < shoulder[extension.start] < 1.7
         assert np.all(np.diff(trajectory["angle"][extension]) > 0), "the elbow's angle is the phase"
-        shoulder_peak = t[np.argmin(trajectory["shoulder_velocity"][extension])]
+        shoulder_peak = t[np.argmax(trajectory["shoulder_velocity"][extension])]
         elbow_peak = t[np.argmax(trajectory["velocity"][extension])]
         wrist_peak = t[np.argmax(trajectory["wrist_velocity"][extension])]
         assert shoulder_peak < elbow_peak <= wrist_peak + 1e-9
         # the shoulder started its swing before the elbow started extending
-        moving = np.flatnonzero(trajectory["shoulder_velocity"] < -0.05)
+        moving = np.flatnonzero(trajectory["shoulder_velocity"] > 0.05)
         assert time[moving[moving > extension.start - 3][0]] <= time[extension.start]
         release = trajectory.meta["release_time"]
         assert np.interp(release, time, shoulder) > np.pi / 2, "the arm above the horizontal at release"
@@ -140,22 +142,25 @@ def test_velocities_are_finite_differences_of_the_recorded_angles(demos):
 
 
 def test_landing_follows_the_arm_and_the_ballistics():
-    # the landing rebuilt from the recorded motion (30 Hz, true angles) matches the label
+    # the landing rebuilt from the recorded motion (30 Hz, true angles) matches the label to a cm
     clean = whole_arm_demonstrations(
         9, subjects=2, distances=(1.5, 3.0), bearings=(0.0,), heights=(0.3, 1.0),
         joints=("shoulder", "elbow", "wrist"), raw=False,
     )
+    errors = []
     for trajectory in clean:
         time, release = trajectory["time"], trajectory.meta["release_time"]
-        state = [np.interp(release, time, trajectory[name]) for name in
-                 ("shoulder", "angle", "wrist", "shoulder_velocity", "velocity", "wrist_velocity")]
+        # the recorded angles through a spline: positions and rates at the release
+        splines = [CubicSpline(time, trajectory[name]) for name in ("shoulder", "angle", "wrist")]
+        state = [float(f(release)) for f in splines] + [float(f(release, 1)) for f in splines]
         assert state[1] == pytest.approx(trajectory.meta["release_angle"], abs=0.05)
         # the subject's shoulder height is not recorded: solve it from the landing's label
         heights = np.linspace(1.3, 1.6, 301)
         x, z, vx, vz = arm_release_state(heights, *state)
         landings = crossing_distance(x, z, vx, vz, trajectory["height"][0])
-        assert np.min(np.abs(landings - trajectory.meta["landing"])) < 0.2
+        errors.append(float(np.min(np.abs(landings - trajectory.meta["landing"]))))
         assert trajectory.meta["hit"] == (abs(trajectory.meta["landing"] - trajectory.meta["target"]) <= 0.15)
+    assert max(errors) < 0.01
 
 
 def test_farther_and_higher_baskets_are_thrown_faster():

@@ -191,6 +191,16 @@ def generate_command(
     continuity: bool = typer.Option(True, "--continuity/--no-continuity",
                                     help="Keep the output continuous where modes are nearly equally high (within 5 %): "
                                          "no jumps between donut sides (default on: a robot can follow it)."),
+    joints: str | None = typer.Option(None, "--joints", help="Robot joints the path will drive, comma-separated "
+                                                             "(e.g. joint_2,joint_3[,joint_5]): writes the outputs "
+                                                             "they need (the robot file's [whole_arm] table says "
+                                                             "which); default every output."),
+    bearing: float | None = typer.Option(None, "--bearing", help="The basket's bearing (deg, 0 ahead, + left): a "
+                                                                 "context value if the model has it, else only "
+                                                                 "written into the CSV for the robot step."),
+    height: float | None = typer.Option(None, "--height", help="The basket rim's height (m): as --bearing."),
+    robot: str = typer.Option("comau_smart5_six", "--robot", help="Robot file (.toml) or built-in robot name, "
+                                                                  "whose [whole_arm] table maps --joints."),
     as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
 ) -> None:
     """Generate a path: for every angle, the velocity of highest Donut Mixture density."""
@@ -199,24 +209,30 @@ def generate_command(
     guard(inputs={"MODEL": model_path}, outputs={"-o/--output": output})
     context_values = _context(context)
     model = Model.load(model_path)
+    written = _basket_values(context_values, model.context_names, bearing, height)
+    selected = None if joints is None else _joint_outputs(model, robot, joints)
     path = model.generate(
         context_values, _grid(grid, model.inputs[0]), exploration=_word_or_number(
             "--exploration", exploration, {"auto": "auto"}, lambda v: 0 <= v <= 1, "auto or a number in [0, 1]"
         ),
         exploration_scale=exploration_scale, continuity=continuity,
     )
+    used = dict(path.context)
+    path = _with_columns(path, selected, written)
     path.write_csv(output)
     for note in path.notes:
         say(f"note: {note}")
     summary = {
         "output": str(output),
         "points": len(path),
-        "context": path.context,
+        "context": used,
+        "written_context": written,
         "duration": float(path.time[-1]),
         "peak_velocity": float(path.velocity.max()),
         "mean_exploration": float(path.exploration.mean()),
         "max_density_traded": float(path.density_traded.max()),
         "notes": list(path.notes),
+        "outputs": list(path.output_names),
     }
     if as_json:
         emit_json(summary)
@@ -225,6 +241,61 @@ def generate_command(
         f"{plural(summary['points'], 'point')}, peak {model.outputs[0]} {summary['peak_velocity']:.4g}, "
         f"duration {summary['duration']:.4g}, mean exploration {summary['mean_exploration']:.3f} -> {output}"
     )
+
+
+def _basket_values(context: dict[str, float], names: tuple[str, ...], bearing: float | None,
+                   height: float | None) -> dict[str, float]:
+    """Put ``--bearing`` (deg) and ``--height`` (m) into ``context`` where the model has them as
+    inputs; return the others, which only go into the CSV (for ``sim throw`` and ``robot``)."""
+    written = {}
+    for name, value, valid, expected in (("bearing", bearing, lambda v: -180 <= v <= 180, "-180..180 degrees"),
+                                         ("height", height, lambda v: v > 0, "a positive height (m)")):
+        if value is None:
+            continue
+        if not (math.isfinite(value) and valid(value)):
+            raise InputError(f"--{name}: give {expected}, got {value:g}")
+        if name in context:
+            raise InputError(f"--{name} and --context {name}=... both given: give it once")
+        if name in names:
+            context[name] = value
+        else:
+            written[name] = value
+    return written
+
+
+def _joint_outputs(model, robot: str, joints: str) -> tuple[str, ...]:
+    """The model outputs the robot ``joints`` need (velocity first), by the robot file's
+    ``[whole_arm]`` table; :class:`InputError` naming those the model lacks."""
+    from rlff.cli.robot import joint_list
+    from rlff.robot.description import load_robot
+    from rlff.robot.mapping import mapping_for, velocity_name
+
+    mapping = mapping_for(load_robot(robot), joint_list(joints))
+    if model.inputs[0] != "angle":
+        raise InputError(f"--joints {joints}: the robot follows the elbow's angle as the phase, but the model's "
+                         f"path variable is {model.inputs[0]!r}")
+    needed = ["velocity"]
+    for column in mapping.human_columns[1:]:
+        needed += [column, velocity_name(column)]
+    missing = [name for name in needed if name not in model.outputs]
+    if missing:
+        raise InputError(f"--joints {joints} needs the model outputs {', '.join(needed)}; the model lacks "
+                         f"{', '.join(missing)} (its outputs: {', '.join(model.outputs)}): fit it on a whole-arm "
+                         "dataset with those columns as outputs")
+    return tuple(needed)
+
+
+def _with_columns(path, outputs: tuple[str, ...] | None, written: dict[str, float]):
+    """``path`` with only ``outputs`` (all when None) and the ``written`` values as context columns."""
+    import dataclasses
+
+    if outputs is not None:
+        index = [path.output_names.index(name) for name in outputs]
+        path = dataclasses.replace(path, outputs=path.outputs[:, index], gmr_means=path.gmr_means[:, index],
+                                   gmr_stds=path.gmr_stds[:, index], output_names=outputs)
+    if written:
+        path = dataclasses.replace(path, context={**path.context, **written})
+    return path
 
 
 def register(root: typer.Typer) -> None:

@@ -30,6 +30,24 @@ JSON = typer.Option(False, "--json", help="Print a machine-readable result on st
 ROS = typer.Option(1, "--ros", help="ROS version: 1 (rospy, a roscore) or 2 (rclpy, ROS 2 Kilted).")
 NETWORK = typer.Option(False, "--network", help="Let other hosts reach the node (default: this host only); "
                                                 "a warning says so.")
+JOINTS = typer.Option(None, "--joints", help="Robot joints a generated path drives, comma-separated, e.g. "
+                                             "joint_2,joint_3[,joint_5] (the robot file's [whole_arm] table maps "
+                                             "them); default the one joint of [throwing].")
+BEARING = typer.Option(None, "--bearing", help="The basket's bearing (deg; 0 straight ahead, + to the left): "
+                                               "joint_1 turns to it before the throw; default the generated "
+                                               "path's bearing column, else 0.")
+
+
+def joint_list(text: str | None) -> tuple[str, ...] | None:
+    """The joints of ``--joints joint_2,joint_3``; None without the option (the one-joint mapping)."""
+    if text is None:
+        return None
+    from rlff.errors import InputError
+
+    names = tuple(part.strip() for part in text.split(",") if part.strip())
+    if not names:
+        raise InputError(f"--joints: give robot joints, comma-separated (e.g. joint_2,joint_3), got {text!r}")
+    return names
 
 
 def _report(result: RobotPlan) -> None:
@@ -103,6 +121,8 @@ def export(
                                                          "sampled at (> 0)."),
     stamp_now: bool = typer.Option(False, "--stamp-now", help="Bags: header.stamp = the time of writing "
                                                               "instead of 0 (0: the controller starts on receipt)."),
+    joints: str = JOINTS,
+    bearing: float = BEARING,
     json: bool = JSON,
 ) -> None:
     """Plan a generated throw for the robot (approach, throw, braking to rest), check it, and write it
@@ -113,12 +133,14 @@ def export(
     from rlff.learn.replay import load_input
     from rlff.robot.description import load_robot
     from rlff.robot.formats import export_trajectory
-    from rlff.robot.mapping import RobotMapping
+    from rlff.robot.mapping import mapping_for
 
     guard(inputs={"TRAJECTORY": trajectory, "--robot": _robot_file(robot)}, outputs={"-o/--output": out},
           folders=["-o/--output"] if fmt == "ros2-bag" else [])
-    mapping = RobotMapping.for_robot(load_robot(robot))
-    source = load_input(trajectory, mapping.robot, attempt=attempt, period=period, clip=clip)
+    driven = joint_list(joints)
+    mapping = mapping_for(load_robot(robot), driven)
+    source = load_input(trajectory, mapping.robot, attempt=attempt, period=period, clip=clip, joints=driven,
+                        bearing=bearing)
     say(f"{trajectory}: {source.kind}")
     result = source.plan
     export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)
@@ -275,6 +297,8 @@ def send(
     approach: bool = typer.Option(False, "--approach", help="An exported trajectory that starts at rest away from "
                                                             "the arm: first move there (a planned, limit-respecting "
                                                             "approach) instead of refusing it."),
+    joints: str = JOINTS,
+    bearing: float = BEARING,
     ros: int = ROS,
     network: bool = NETWORK,
     json: bool = JSON,
@@ -295,10 +319,11 @@ def send(
         raise InputError("--topic-mode is the ROS 1 driver's topic; over ROS 2 the goal goes by the action "
                          "(drop --topic-mode)")
     model = load_robot(robot)
+    driven = joint_list(joints)
 
     def load(start=None):
         return load_for_send(trajectory, model, attempt=attempt, period=period, clip=clip, start=start,
-                             approach=approach)
+                             approach=approach, joints=driven, bearing=bearing)
 
     load()  # a wrong file is refused before any connection
     if ros == 2:

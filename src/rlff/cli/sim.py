@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import typer
 
 from rlff.cli._common import emit_json, say, stdout
-from rlff.cli.robot import DEFAULT_ROBOT
+from rlff.cli.robot import DEFAULT_ROBOT, JOINTS, joint_list
 
 # The library (MuJoCo, SciPy) is imported inside the commands: other commands do not pay for it
 
@@ -15,7 +16,7 @@ app = typer.Typer(help="Simulate throws in MuJoCo: outcome, frames, reach.", no_
 
 ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help=f"Robot file (.toml) or built-in robot name ({DEFAULT_ROBOT}).")
 PEDESTAL = typer.Option(0.0, "--pedestal", help="Height of the robot's base above the ground (m).")
-RIM = typer.Option(0.3, "--rim-height", help="Height of the basket's rim (m).")
+RIM = typer.Option(0.3, "--height", "--rim-height", help="Height of the basket's rim above the floor (m).")
 OPENING = typer.Option(0.35, "--opening", help="Inner width of the basket's square opening (m).")
 JSON = typer.Option(False, "--json", help="Print a machine-readable result on stdout.")
 
@@ -27,8 +28,9 @@ def throw(
                                                  "--out`, or an attempts log (with --attempt)."),
     basket: float = typer.Option(None, "--basket", help="Distance of the basket's centre from the robot (m); "
                                                         "default for an attempts log: its basket."),
-    rim_height: float = typer.Option(None, "--rim-height", help="Height of the basket's rim (m); default 0.3, "
-                                                                "or the attempts log's."),
+    rim_height: float = typer.Option(None, "--height", "--rim-height",
+                                     help="Height of the basket's rim above the floor (m); default the attempts "
+                                          "log's, or the generated path's height column, else 0.3."),
     opening: float = typer.Option(None, "--opening", help="Inner width of the basket's square opening (m); "
                                                           "default 0.35, or the attempts log's."),
     attempt: int = typer.Option(None, "--attempt", min=1,
@@ -42,6 +44,11 @@ def throw(
     frames: Path = typer.Option(None, "--frames", help="Write PNG frames and an animated GIF here."),
     clip: bool = typer.Option(False, "--clip", help="Clip a mapped path into the joint limits (reported) "
                                                     "instead of refusing it."),
+    joints: str = JOINTS,
+    bearing: float = typer.Option(None, "--bearing", help="The basket's bearing (deg; 0 straight ahead, + to the "
+                                                          "left); a generated path turns joint_1 to it. Default the "
+                                                          "attempts log's, or the generated path's bearing column, "
+                                                          "else 0."),
     json: bool = JSON,
 ) -> None:
     """Execute a trajectory on the simulated robot and report where the ball lands."""
@@ -54,15 +61,17 @@ def throw(
 
     guard(inputs={"TRAJECTORY": trajectory}, outputs={"--frames": frames}, folders=["--frames"])
     model = load_robot(robot)
-    loaded = load_input(trajectory, model, attempt=attempt, period=SIM_PERIOD, clip=clip)
+    loaded = load_input(trajectory, model, attempt=attempt, period=SIM_PERIOD, clip=clip, joints=joint_list(joints),
+                        bearing=bearing)
     run = loaded.run or {}
-    logged = run.get("basket", {})
+    logged = {**path_context(trajectory), **run.get("basket", {})}  # an attempts log's basket first
     basket = logged.get("distance") if basket is None else basket
     pedestal = run.get("pedestal", 0.0) if pedestal is None else pedestal
     if basket is None:
         raise InputError("--basket is needed (only an attempts log carries its basket)")
     target = Basket(basket, logged.get("rim_height", 0.3) if rim_height is None else rim_height,
-                    logged.get("opening", 0.35) if opening is None else opening)
+                    logged.get("opening", 0.35) if opening is None else opening,
+                    logged.get("bearing", 0.0) if bearing is None else bearing)
     say(f"{trajectory}: {loaded.kind}")
     outcome = simulate_throw(loaded.plan.trajectory, target, robot=model, release_angle=release_angle,
                              pedestal=pedestal, frames_dir=frames)
@@ -74,8 +83,11 @@ def throw(
     release = outcome.release.to_dict()
     side = "short of" if outcome.miss < 0 else "beyond"
     out = stdout()
-    out.print(f"{'HIT' if outcome.hit else 'miss'}: the ball came down to the rim's height at "
-              f"{outcome.landing_x:.3f} m, {abs(outcome.miss):.3f} m {side} the centre of the basket at "
+    line = f" on the {target.bearing:g} deg line" if target.bearing else ""
+    lateral = ("" if abs(outcome.lateral) < 0.0005
+               else f", {abs(outcome.lateral):.3f} m {'left' if outcome.lateral > 0 else 'right'} of the line")
+    out.print(f"{'HIT' if outcome.hit else 'miss'}: the ball came down to the {target.rim_height:g} m rim's height at "
+              f"{outcome.landing_x:.3f} m{line}{lateral}, {abs(outcome.miss):.3f} m {side} the centre of the basket at "
               f"{basket:g} m (signed miss {outcome.miss:+.3f} m; first touched: {outcome.first_contact})",
               highlight=False)
     position = release["position"]
@@ -88,6 +100,20 @@ def throw(
         out.print(f"frames: {len(outcome.frames) - 1} PNG and {outcome.frames[-1]}", highlight=False)
 
 
+def path_context(path: Path) -> dict[str, float]:
+    """The basket's bearing and rim height a generated path CSV was made for (its ``bearing`` and
+    ``height`` columns, as Basket fields); empty for any other file. Its ``distance`` is not taken:
+    ``--basket`` says where the basket stands, as it always did."""
+    from rlff.robot.plan import GENERATED, robot_file_kind
+    from rlff.trajectory.path_csv import read_generated_path
+
+    if path.suffix.lower() != ".csv" or robot_file_kind(path) != GENERATED:
+        return {}
+    context = read_generated_path(path).context
+    return {field: context[name] for name, field in (("bearing", "bearing"), ("height", "rim_height"))
+            if name in context}
+
+
 @app.command()
 def reach(
     robot: str = ROBOT,
@@ -96,21 +122,30 @@ def reach(
     pedestal: float = PEDESTAL,
     joints: str = typer.Option("joint_2", "--joints",
                                help="Throwing joints at their speed limits, comma-separated (joint_2, joint_3, joint_5)."),
+    bearing: float = typer.Option(0.0, "--bearing", help="The basket's bearing (deg): joint_1 turns the arm to face "
+                                                         "it, so the reach is the same on every line joint_1 reaches."),
     json: bool = JSON,
 ) -> None:
     """How far the robot throws: where the ball comes down to the rim's height, at best."""
+    from rlff.errors import InputError
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import RobotMapping
-    from rlff.sim import throw_reach
+    from rlff.sim import Basket, throw_reach
     from rlff.sim.reach import executable_reach, farthest_basket
 
     model = load_robot(robot)
     names = [name.strip() for name in joints.split(",") if name.strip()]
+    turn = model.joint(str(model.whole_arm.get("bearing_joint", "joint_1")))
+    if not turn.lower <= math.radians(bearing) <= turn.upper:
+        raise InputError(f"--bearing {bearing:g} deg is beyond {turn.name}'s range "
+                         f"{math.degrees(turn.lower):.0f} to {math.degrees(turn.upper):.0f} deg")
+    Basket(1.0, rim_height, opening, bearing)  # the basket's own checks of height, opening, bearing
     result = throw_reach(model, rim_height, pedestal, names)
     farthest = farthest_basket(result.distance, opening)
     mapped = executable_reach(RobotMapping.for_robot(model), rim_height, pedestal) if model.throwing else None
     if json:
-        emit_json({"robot": model.name, "rim_height": rim_height, "pedestal": pedestal, "joints": list(result.joints),
+        emit_json({"robot": model.name, "rim_height": rim_height, "bearing": bearing, "pedestal": pedestal,
+                   "joints": list(result.joints),
                    "reach": result.distance, "farthest_basket": farthest, "opening": opening,
                    "release_pose": result.pose, "joint_velocities": result.velocities,
                    "release_position": result.position, "release_velocity": result.velocity,
@@ -119,9 +154,11 @@ def reach(
                        "speed": mapped.speed, "farthest_basket": farthest_basket(mapped.distance, opening)}})
         return
     out = stdout()
+    line = f" on the {bearing:g} deg line (joint_1 turned to it)" if bearing else ""
     out.print(f"{model.name}, throwing with {', '.join(result.joints)} at the speed limit from a "
               f"{pedestal:g} m pedestal: the ball comes down to a {rim_height:g} m rim at most "
-              f"{result.distance:.3f} m away; farthest basket ({opening:g} m opening): {farthest:.3f} m", highlight=False)
+              f"{result.distance:.3f} m away{line}; farthest basket ({opening:g} m opening): {farthest:.3f} m",
+              highlight=False)
     pose = ", ".join(f"{name} = {value:.3f} rad" for name, value in result.pose.items())
     speed = float((result.velocity**2).sum() ** 0.5)
     out.print(f"best release: {pose}; ball at x = {result.position[0]:.3f} m, z = {result.position[1]:.3f} m, "

@@ -155,7 +155,8 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
 
 
 def load_for_send(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float = DEFAULT_PERIOD,
-                  clip: bool = False, start: np.ndarray | None = None, approach: bool = False) -> RobotPlan:
+                  clip: bool = False, start: np.ndarray | None = None, approach: bool = False,
+                  joints: Sequence[str] | None = None, bearing: float | None = None) -> RobotPlan:
     """What ``rlff robot send`` sends from ``path``: an attempt of an attempts log planned from the
     arm's pose ``start`` (J,), or any file :func:`rlff.robot.sendfile.load_for_sending` takes.
 
@@ -169,7 +170,8 @@ def load_for_send(path: str | Path, robot: Robot, *, attempt: int | None = None,
         return load_input(path, robot, attempt=attempt, period=period, clip=clip, start=start).plan
     if attempt is not None:
         raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
-    return load_for_sending(path, robot, period, clip, start=start, approach=approach)[1]
+    return load_for_sending(path, robot, period, clip, start=start, approach=approach, joints=joints,
+                            bearing=bearing)[1]
 
 
 def export_attempt(attempt: Attempt, robot: Robot, out: str | Path, fmt: str,

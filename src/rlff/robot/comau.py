@@ -17,6 +17,13 @@ trajectory that moves another joint is refused. The last row is the arm at rest 
 every exported trajectory ends at rest. Note that the thesis numbers the driven joint
 "joint 2" while it sits in slot 3: the joint whose own slot is taken (joint_3 here) stays where
 the main program placed the robot before the throw.
+
+A whole-arm throw (:class:`rlff.robot.mapping.ArmMapping`) moves several joints, so every joint
+keeps its own slot (slot k holds joint k, as a plain ``"-j"`` position does: joint_2, joint_3 and
+joint_5 carry the throw, joint_1 the turn to the bearing), and the velocity slot carries the
+coordinated motion's speed: the percentage of the joint that moves fastest against its maximum
+(the controller's joint interpolation moves the others so that all arrive together). The joint
+of the velocity slot must not move.
 """
 
 from __future__ import annotations
@@ -27,13 +34,13 @@ import numpy as np
 
 from rlff.errors import InputError
 from rlff.fileio import write_text
-from rlff.robot.mapping import RobotMapping
+from rlff.robot.mapping import ArmMapping, RobotMapping
 from rlff.trajectory.joint import JointTrajectory
 
 HEADER = 'coord_type = "-j"'
 
 
-def _slot(mapping: RobotMapping, key: str, default: int) -> int:
+def _slot(mapping: RobotMapping | ArmMapping, key: str, default: int) -> int:
     value = mapping.robot.comau_program.get(key, default)
     if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= len(mapping.robot.joints):
         raise InputError(f"{mapping.robot.source}: [comau_program] {key} must be a slot number "
@@ -47,21 +54,24 @@ def _number(value: float) -> str:
     return "0" if text in ("-0", "") else text
 
 
-def comau_rows(traj: JointTrajectory, mapping: RobotMapping) -> np.ndarray:
+def comau_rows(traj: JointTrajectory, mapping: RobotMapping | ArmMapping) -> np.ndarray:
     """The program's values, shape (T, 6): degrees, and the speed slot in % of the joint's maximum.
 
     Parameters
     ----------
     traj : JointTrajectory
         A trajectory of ``mapping.robot`` (every joint, any order).
-    mapping : RobotMapping
-        Gives the driven joint and the start pose of the others.
+    mapping : RobotMapping or ArmMapping
+        Gives the driven joint and the start pose of the others (one joint, the thesis' layout),
+        or the robot of a whole-arm throw (every joint in its own slot).
     """
     robot = mapping.robot
     if len(robot.joints) != 6:
         raise InputError(f"the Comau program has six slots; robot {robot.name} has {len(robot.joints)} joints")
-    position_slot = _slot(mapping, "position_slot", 3)
     velocity_slot = _slot(mapping, "velocity_slot", 6)
+    if isinstance(mapping, ArmMapping):
+        return _whole_arm_rows(traj, mapping, velocity_slot)
+    position_slot = _slot(mapping, "position_slot", 3)
     if position_slot == velocity_slot:
         raise InputError(f"{robot.source}: [comau_program] position_slot and velocity_slot are both {position_slot}")
     driven = traj.joint_index(mapping.joint)
@@ -79,7 +89,24 @@ def comau_rows(traj: JointTrajectory, mapping: RobotMapping) -> np.ndarray:
     return rows
 
 
-def write_comau_program(traj: JointTrajectory, mapping: RobotMapping, path: Path) -> None:
+def _whole_arm_rows(traj: JointTrajectory, mapping: ArmMapping, velocity_slot: int) -> np.ndarray:
+    """The rows of a whole-arm throw, shape (T, 6): every joint's position (deg) in its own slot,
+    the fastest joint's speed (% of its maximum) in ``velocity_slot``."""
+    robot = mapping.robot
+    traj = traj.select(robot.joint_names)
+    held = robot.joint_names[velocity_slot - 1]
+    if np.ptp(traj.positions[:, velocity_slot - 1]) > 1e-9:
+        raise InputError(f"the Comau program's velocity slot {velocity_slot} is {held}'s, and this trajectory moves "
+                         f"{held}; give [comau_program] velocity_slot a joint the throw does not move")
+    rows = np.degrees(traj.positions)
+    _, _, speed_limits = robot.limits()
+    share = np.abs(traj.velocities) / speed_limits
+    share[:, velocity_slot - 1] = 0.0
+    rows[:, velocity_slot - 1] = 100.0 * share.max(axis=1)
+    return rows
+
+
+def write_comau_program(traj: JointTrajectory, mapping: RobotMapping | ArmMapping, path: Path) -> None:
     """Write the text program: the ``coord_type`` header, then one row per point of ``traj``."""
     lines = [HEADER]
     for row in comau_rows(traj, mapping):

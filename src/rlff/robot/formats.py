@@ -12,14 +12,14 @@ from pathlib import Path
 from rlff.errors import InputError
 from rlff.robot.comau import write_comau_program
 from rlff.robot.export import write_csv, write_json, write_ros1_bag, write_ros2_bag
-from rlff.robot.mapping import RobotMapping
+from rlff.robot.mapping import ArmMapping, RobotMapping
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 
 FORMATS = ("json", "csv", "ros1-bag", "ros2-bag", "comau")
 
 
-def export_trajectory(traj: JointTrajectory, mapping: RobotMapping, fmt: str, path: Path,
+def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping, fmt: str, path: Path,
                       header_stamp_ns: int = 0) -> None:
     """Check ``traj`` (a trajectory of ``mapping.robot``) and write it to ``path`` in format ``fmt``.
 

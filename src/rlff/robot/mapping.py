@@ -414,7 +414,9 @@ class ArmMapping:
             bearing joint cannot turn to, or (without ``clip``) a value beyond a limit.
         """
         velocities_of = tuple(velocity_name(c) for c in self.human_columns)
-        _require_columns(path, tuple(c for pair in zip(self.human_columns, velocities_of, strict=True) for c in pair))
+        needed = tuple(c for pair in zip(self.human_columns, velocities_of, strict=True) for c in pair)
+        _require_columns(path, needed, f"driving {', '.join(self.driven_joints)} needs {', '.join(needed)}: "
+                                       "a whole-arm model's path")
         angle = np.asarray(path["angle"], dtype=float)
         human = {c: np.asarray(path[c], dtype=float) for c in (*self.human_columns, *velocities_of)}
         for name, column in human.items():
@@ -487,11 +489,12 @@ def mapping_for(robot: Robot, joints: Sequence[str] | None = None) -> RobotMappi
     return ArmMapping.for_robot(robot, joints)
 
 
-def _require_columns(path: HumanPath, columns: Sequence[str]) -> None:
-    """:class:`InputError` naming the columns of ``columns`` that ``path`` lacks."""
+def _require_columns(path: HumanPath, columns: Sequence[str], why: str = "") -> None:
+    """:class:`InputError` naming the columns of ``columns`` that ``path`` lacks (and ``why``)."""
     missing = [name for name in columns if name not in path]
     if missing:
-        raise InputError(f"the path lacks the columns {', '.join(missing)} (it has {', '.join(path)})")
+        because = f"; {why}" if why else ""
+        raise InputError(f"the path lacks the columns {', '.join(missing)} (it has {', '.join(path)}){because}")
 
 
 def _turned(traj: JointTrajectory, robot: Robot, joint: str | None, bearing: float) -> JointTrajectory:

@@ -173,7 +173,7 @@ def plan_path(
     return RobotPlan(points, trajectory, report if clip else ClipReport())
 
 
-def _robot_file_kind(path: Path) -> str:
+def robot_file_kind(path: Path) -> str:
     """Which kind ``path`` is; :class:`InputError` in one line for any other file."""
     if path.is_dir():
         raise InputError(f"{path} is a folder (a ROS 2 bag?): give a generated path CSV or a robot "
@@ -219,7 +219,7 @@ def load_for_robot(
     from rlff.robot.export import read_csv, read_json
 
     path = Path(path)
-    kind = _robot_file_kind(path)
+    kind = robot_file_kind(path)
     if kind == GENERATED:
         generated = read_generated_path(path)
         mapping = mapping_for(robot, joints)

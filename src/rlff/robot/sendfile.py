@@ -8,6 +8,7 @@ runs on the Comau controller, not over ROS: refused in one line saying what to s
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -36,6 +37,8 @@ def load_for_sending(
     clip: bool = False,
     start: np.ndarray | None = None,
     approach: bool = False,
+    joints: Sequence[str] | None = None,
+    bearing: float | None = None,
 ) -> tuple[str, RobotPlan]:
     """The checked trajectory to send from ``path``, and the file's kind.
 
@@ -53,6 +56,10 @@ def load_for_sending(
         With ``start``: a trajectory that starts at rest elsewhere is sent after a planned
         approach from the arm's pose to its first point (:func:`with_approach`), instead of
         being refused.
+    joints, bearing : optional
+        For a generated throw: the robot joints it drives (default the one joint of
+        ``[throwing]``) and the basket's bearing (deg; default the file's, else 0), see
+        :func:`rlff.robot.plan.load_for_robot`.
 
     Returns
     -------
@@ -72,9 +79,10 @@ def load_for_sending(
         if _is_comau_program(path):
             raise InputError(f"{path}: a Comau program, which runs on the Comau controller, not over ROS; "
                              f"send the generated trajectory CSV or an export in {', '.join(SENDABLE)}")
-        kind, plan = load_for_robot(path, robot, period, clip)
+        kind, plan = load_for_robot(path, robot, period, clip, joints=joints, bearing=bearing)
         if kind == GENERATED:
-            return kind, plan if start is None else load_for_robot(path, robot, period, clip, start)[1]
+            return kind, plan if start is None else load_for_robot(path, robot, period, clip, start, joints=joints,
+                                                                   bearing=bearing)[1]
         trajectory = plan.trajectory
     else:
         trajectory = _one_trajectory(path)

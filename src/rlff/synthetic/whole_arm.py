@@ -17,12 +17,13 @@ Segments: :data:`UPPER_ARM` 0.30 m, :data:`FOREARM_ONLY` 0.26 m (elbow to wrist)
 one-joint people's 0.35 m. The ball leaves with the velocity of the chain's end,
 ``sum_i L_i * dphi_i/dt * (-sin phi_i, cos phi_i)`` over the segments' directions phi_i.
 
-The throw, with human coordination (proximal to distal): at rest, the arm low; the wind-up raises
-the upper arm (shoulder to about 2.5-2.9 rad), then flexes the elbow (0.6-0.9 rad) and bends the
-hand back; the throw swings the upper arm forward and down (the shoulder's elevation falls by
-0.3-0.7 rad, more for farther baskets), the elbow starts extending after the shoulder has started
-and peaks after it (minimum-jerk moves), the wrist snaps last, around the release; the elbow
-stops abruptly near full extension with a small recoil and the arm follows through. Every joint
+The throw, with human coordination (proximal to distal) as the MSR Action3D high throws show it
+(docs/capture.md): at rest, the arm hangs (shoulder 0.25-0.6 rad); the wind-up raises the upper
+arm to 1.0-1.6 rad, flexes the elbow (0.6-0.9 rad) and bends the hand back; the throw goes on
+raising the upper arm (by 0.5-1.1 rad, more for farther baskets: above the horizontal at the
+release, still rising), the elbow starts extending after the shoulder has started and peaks after
+it (minimum-jerk moves), the wrist snaps last, after the elbow's peak; the elbow stops abruptly
+near full extension with a small recoil and the arm comes down a little as it follows through. Every joint
 of a throw moves on one clock: the throw's duration D scales all velocities at once, so the
 person aims by D: the ball speed the parabola to the basket's rim needs (without drag, to the rim
 ``height``), times their bias (most people fall short) and a per-throw error; the release also
@@ -78,8 +79,8 @@ class _Style:
     name: str
     shoulder_height: float  # m
     shoulder_rest: float
-    shoulder_cocked: float  # elevation after the wind-up
-    shoulder_swing: float  # elevation lost during the throw, at a 2.5 m basket
+    shoulder_wound: float  # elevation after the wind-up
+    shoulder_swing: float  # elevation gained during the throw, at a 2.5 m basket
     shoulder_after: float  # the shoulder's swing ends this fraction of the throw after the release
     rest_angle: float  # elbow
     wound_angle: float
@@ -100,14 +101,14 @@ def _draw_style(rng: np.random.Generator, name: str, bias: float) -> _Style:
         name=name,
         shoulder_height=rng.uniform(1.35, 1.55),
         shoulder_rest=rng.uniform(0.25, 0.6),
-        shoulder_cocked=rng.uniform(2.55, 2.85),
-        shoulder_swing=rng.uniform(0.25, 0.45),
-        shoulder_after=rng.uniform(0.05, 0.2),
+        shoulder_wound=rng.uniform(1.25, 1.65),
+        shoulder_swing=rng.uniform(0.75, 0.95),
+        shoulder_after=rng.uniform(0.02, 0.15),
         rest_angle=rng.uniform(1.5, 2.1),
         wound_angle=rng.uniform(0.6, 0.9),
         extended_angle=rng.uniform(2.8, 3.1),
         elbow_start=rng.uniform(0.15, 0.3),
-        release_phase=rng.uniform(0.4, 0.5),
+        release_phase=rng.uniform(0.45, 0.55),
         wrist_rest=rng.uniform(2.9, 3.1),
         wrist_cocked=rng.uniform(2.2, 2.5),
         wrist_snapped=rng.uniform(2.95, 3.1),
@@ -162,7 +163,7 @@ class _Throw:
     """One throw's motion: the person's style, this throw's swing and release, its duration."""
 
     style: _Style
-    swing: float  # shoulder elevation lost during the throw (rad)
+    swing: float  # shoulder elevation gained during the throw (rad)
     release_phase: float  # fraction of the elbow's extension at the release
     joints: tuple[str, ...]  # the joints that move, among shoulder, elbow, wrist
 
@@ -203,7 +204,7 @@ class _Throw:
         """How far each joint moves during the throw (rad)."""
         s = self.style
         return {
-            "shoulder": -self.swing,
+            "shoulder": self.swing,
             "angle": s.extended_angle - s.wound_angle,
             "wrist": (s.wrist_snapped - s.wrist_cocked) if "wrist" in self.joints else 0.0,
         }
@@ -212,7 +213,9 @@ class _Throw:
         """Each joint's angle when the throw starts (rad)."""
         s = self.style
         wrist = s.wrist_cocked if "wrist" in self.joints else np.pi
-        return {"shoulder": s.shoulder_cocked, "angle": s.wound_angle, "wrist": wrist}
+        # a person who does not throw with the shoulder holds the upper arm raised, as at a release
+        shoulder = s.shoulder_wound if "shoulder" in self.joints else s.shoulder_wound + s.shoulder_swing
+        return {"shoulder": shoulder, "angle": s.wound_angle, "wrist": wrist}
 
     def release(self, duration: float, u: float | None = None) -> tuple[np.ndarray, ...]:
         """Ball position and velocity at throw fraction ``u`` (default the release), for a throw
@@ -319,7 +322,7 @@ def whole_arm_demonstrations(
     joints : sequence of str
         The joints that throw, among ``shoulder``, ``elbow``, ``wrist``; the elbow always (its
         angle is the phase). Without the wrist the hand is held straight and not recorded; without
-        the shoulder the upper arm holds its wound-up elevation and is not recorded.
+        the shoulder the upper arm is held raised (as at the release) and is not recorded.
     rate_hz, noise, dropped_frames, glitches : float
         The camera, as :func:`rlff.synthetic.throws.simulate_throws` (noise: of the elbow angle,
         rad; the wrist's is twice it).
@@ -421,7 +424,7 @@ def _throw(
     target, bearing, height = basket
     throw_error, release_jitter, shape_scatter = scatter
     shoulder = "shoulder" in joints
-    # farther baskets: a wider swing of the upper arm (a person without the shoulder holds it)
+    # farther baskets: a wider raise of the upper arm (a person without the shoulder holds it)
     swing = style.shoulder_swing * (0.75 + 0.1 * target) * (1.0 + rng.normal(0.0, shape_scatter)) if shoulder else 0.0
     planned = _Throw(style, swing, style.release_phase, joints)
     duration = _aim(planned, target, height) / (style.speed_factor * (1.0 + rng.normal(0.0, throw_error)))
