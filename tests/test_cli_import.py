@@ -6,6 +6,7 @@ import json
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -35,7 +36,12 @@ def test_import_a_bag_with_a_manifest_and_contact_sheets(cli, bag, tmp_path):
     dataset = read_csv(out)
     assert [t.meta["target"] for t in dataset] == [2.0, 3.25]
     assert all(t.meta["subject"] == "anna" and t.meta["distance_source"] == "manifest" for t in dataset)
-    assert set(dataset.columns) == {"time", "angle", "distance", "velocity"}
+    # NiTE frames hold the torso (neck, hips) but no wrist: the shoulder beside the elbow; the
+    # simulated upper arm points 20 degrees from straight up, the torso upright
+    assert set(dataset.columns) == {"time", "angle", "velocity", "shoulder", "shoulder_velocity", "distance"}
+    for trajectory in dataset:
+        assert np.median(np.abs(trajectory["shoulder"] - np.radians(160))) < 0.03
+        assert np.median(np.abs(trajectory["shoulder_velocity"])) < 0.5
 
 
 def test_import_msr_files_with_the_format_guessed(cli, msr_dir, tmp_path):

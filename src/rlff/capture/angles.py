@@ -1,4 +1,4 @@
-"""From joint positions to the elbow angle and its velocity, on the recording's own samples.
+"""From joint positions to the arm's joint angles and their velocities, on the recording's own samples.
 
 The stamps are the elbow's own samples (over the time all joints overlap); the other joints are
 interpolated to them, which is exact when the format stamps all joints together (text, CSV) and
@@ -19,6 +19,16 @@ threshold downstream is a time or an angle, never a number of samples.
   but its width in time grows as the sampling thins, and at 5 Hz it flattens the throw itself.
 * The angle is the elbow's included angle (thesis figure 4.14): about 0.7 rad wound up, near pi
   straight, so it increases during the extension.
+* The shoulder's elevation is the angle between the upper arm (shoulder -> elbow) and the torso's
+  downward axis (neck -> hip centre): 0 with the arm hanging along the torso, pi/2 horizontal, pi
+  straight up. Where the format has no torso points, the downward vertical (against the
+  recording's up) stands in: the same for a person standing upright, off by their lean otherwise.
+* The wrist's angle, where the format has a hand point beside the wrist, is the included angle
+  between forearm (wrist -> elbow) and hand (wrist -> hand): about pi straight.
+* Glitches of the shoulder's or the wrist's angle (a torso point or the hand jumping away while
+  the elbow is fine) are found by the same rule on that joint's own series, after the elbow's
+  glitches went, and bridged by a line between the neighbours: the sample stays, since the
+  elbow's angle there is good.
 * Velocities: a local polynomial fit in time (cubic when the window holds 6 samples or more,
   quadratic from 3), which smooths the tracker's jitter; where the window holds fewer than 3
   samples the chord to the neighbours (a 3-point derivative on the uneven spacing) stands in. The
@@ -30,13 +40,18 @@ threshold downstream is a time or an angle, never a number of samples.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from rlff.capture.skeleton import ArmTrack, JointTrack
 from rlff.errors import InputError
 
+#: Shortest torso (neck to hip centre, m) whose axis is used; a tracker's torso is about 0.5 m.
+MIN_TORSO = 0.1
+#: Up when a caller gives none (z, as in a ROS frame); only used without torso points.
+_DEFAULT_UP = np.array([0.0, 0.0, 1.0])
 #: Width (s) of the local fit used for velocities: 4 usual spacings, within these bounds.
 DERIVATIVE_WINDOW_S = (0.25, 0.35)
 #: A gap is lost tracking when longer than this (s) ...
@@ -68,6 +83,16 @@ class ArmMotion:
         Its time derivative (rad/s): local fit in time, computed within each run.
     shoulder, hand : arrays of shape (T, 3)
         Positions (m).
+    joints : mapping of str to array of shape (T,)
+        The other joint angles (rad) by dataset column: ``shoulder`` (elevation against the torso)
+        always, ``wrist`` where the arm has a wrist and a hand point.
+    joint_velocities : mapping of str to array of shape (T,)
+        Their time derivatives (rad/s), by the same local fit as ``velocity``.
+    torso : str
+        What the shoulder's elevation is measured against: ``"neck -> hip centre"`` or
+        ``"vertical"`` (no torso points in the recording).
+    joint_glitches : mapping of str to int
+        Samples of each other joint's angle bridged as glitches.
     valid : bool array of shape (T,)
         False where a joint other than the elbow has no sample within a lost-tracking gap
         (values there are interpolated across it and must not be trusted).
@@ -86,6 +111,10 @@ class ArmMotion:
     valid: np.ndarray
     lost_gap: float
     glitches: np.ndarray
+    joints: Mapping[str, np.ndarray] = field(default_factory=dict)
+    joint_velocities: Mapping[str, np.ndarray] = field(default_factory=dict)
+    torso: str = "vertical"
+    joint_glitches: Mapping[str, int] = field(default_factory=dict)
 
     @property
     def rate_hz(self) -> float:
@@ -206,7 +235,7 @@ def lost_tracking_gap(time: np.ndarray, max_gap: float = MAX_GAP_S, gap_factor: 
     return max(max_gap, gap_factor * spacing)
 
 
-def _glitches(time: np.ndarray, angle: np.ndarray, hand: np.ndarray) -> np.ndarray:
+def _glitches(time: np.ndarray, angle: np.ndarray, hand: np.ndarray | None) -> np.ndarray:
     """Boolean mask of shape (T,): samples that leave their neighbours and come back (one at a time).
 
     Two cases, both within a short time: the neighbours (at most ``GLITCH_SPAN`` apart) agree
@@ -235,19 +264,62 @@ def _glitches(time: np.ndarray, angle: np.ndarray, hand: np.ndarray) -> np.ndarr
         quick = (span <= QUICK_SPAN) & (jump > limit)
         return np.where(agreeing | quick, departure / limit, 0.0)
 
-    score = np.maximum(leaves(angle, GLITCH_ANGLE, True), leaves(hand, GLITCH_DISTANCE, False))
+    score = leaves(angle, GLITCH_ANGLE, True)
+    if hand is not None:
+        score = np.maximum(score, leaves(hand, GLITCH_DISTANCE, False))
     # a glitch also puts its neighbours off their lines: only the sample that leaves most is one
     padded = np.r_[0.0, score, 0.0]
     inner = (score > 0) & (score >= padded[:-2]) & (score > padded[2:])
     return np.r_[False, inner, False]
 
 
-def align_arm(arm: ArmTrack, max_gap: float = MAX_GAP_S, gap_factor: float = GAP_FACTOR) -> ArmMotion:
-    """The arm's joints at the elbow's own stamps, without glitches, with the angle and its velocity.
+def elevation(shoulder: np.ndarray, elbow: np.ndarray, down: np.ndarray) -> np.ndarray:
+    """Shoulder elevation (rad): the angle between the upper arm and the torso's downward axis.
+
+    Parameters
+    ----------
+    shoulder, elbow : arrays of shape (T, 3)
+        Joint positions (m).
+    down : array of shape (T, 3) or (3,)
+        The torso's downward direction (neck -> hip centre, any length), or the vertical.
+
+    Returns
+    -------
+    ndarray of shape (T,)
+        In [0, pi]: 0 hanging along the torso, pi/2 horizontal (for an upright torso), pi straight up.
+    """
+    upper = np.asarray(elbow, dtype=float) - np.asarray(shoulder, dtype=float)
+    down = np.broadcast_to(np.asarray(down, dtype=float), upper.shape)
+    return np.arctan2(np.linalg.norm(np.cross(upper, down), axis=-1), np.einsum("...i,...i->...", upper, down))
+
+
+def _bridge_glitches(time: np.ndarray, values: np.ndarray) -> tuple[np.ndarray, int]:
+    """A joint angle's glitches (the rule of :func:`_glitches` on the angle alone) replaced by
+    the line between their neighbours, one at a time until none is left; and their number."""
+    values = values.copy()
+    count = 0
+    for _ in range(values.size):
+        glitch = np.flatnonzero(_glitches(time, values, None))
+        if not glitch.size:
+            break
+        for index in glitch:
+            share = (time[index] - time[index - 1]) / (time[index + 1] - time[index - 1])
+            values[index] = values[index - 1] + share * (values[index + 1] - values[index - 1])
+        count += glitch.size
+    return values, count
+
+
+def align_arm(
+    arm: ArmTrack, max_gap: float = MAX_GAP_S, gap_factor: float = GAP_FACTOR, up: np.ndarray = _DEFAULT_UP
+) -> ArmMotion:
+    """The arm's joints at the elbow's own stamps, without glitches, with their angles and velocities.
 
     Parameters
     ----------
     arm : ArmTrack
+    up : array of shape (3,)
+        The recording's up direction: the shoulder's elevation is measured against its opposite
+        when the arm has no torso points (neck and hip centre).
     max_gap, gap_factor : float
         A gap (s) is lost tracking when longer than both ``max_gap`` and ``gap_factor`` x the
         median spacing of the elbow's samples.
@@ -261,6 +333,10 @@ def align_arm(arm: ArmTrack, max_gap: float = MAX_GAP_S, gap_factor: float = GAP
     for track in tracks:
         if len(track) < 2:
             raise InputError(f"{arm.label}: joint {track.name!r} has {len(track)} samples")
+    torso = [arm.neck, arm.hip] if arm.neck is not None and arm.hip is not None else []
+    torso = [track for track in torso if len(track) >= 2]
+    if len(torso) < 2 or max(t.time[0] for t in torso) >= min(t.time[-1] for t in torso):
+        torso = []  # no torso tracked alongside the arm: the vertical stands in
     begin = max(track.time[0] for track in tracks)
     end = min(track.time[-1] for track in tracks)
     if end <= begin:
@@ -276,13 +352,33 @@ def align_arm(arm: ArmTrack, max_gap: float = MAX_GAP_S, gap_factor: float = GAP
     glitch = _glitches(stamps, angle, hand)
     keep = ~glitch
     glitch_times = stamps[glitch]
+    # the other joints, on the same stamps: the shoulder against the torso (or the vertical), the
+    # wrist between forearm and hand where the arm has both points
+    down = _interpolate(torso[1], stamps) - _interpolate(torso[0], stamps) if torso else None
+    if down is not None and np.median(np.linalg.norm(down, axis=1)) < MIN_TORSO:
+        torso, down = [], None  # neck and hip in one place: not a torso
+    if down is None:
+        down = -np.asarray(up, dtype=float)
+    joints = {"shoulder": elevation(shoulder, elbow, down)}
+    if arm.wrist is not None:
+        joints["wrist"] = included_angle(elbow, fore_end, hand)
     stamps, angle, shoulder, hand, valid = stamps[keep], angle[keep], shoulder[keep], hand[keep], valid[keep]
+    joints = {name: values[keep] for name, values in joints.items()}
     motion = ArmMotion(arm, stamps, angle, np.zeros_like(angle), shoulder, hand, valid, lost_gap, elbow_time[:0])
     velocity = np.zeros_like(angle)
     window = derivative_window(stamps)
+    bridged = {name: 0 for name in joints}
+    rates = {name: np.zeros_like(values) for name, values in joints.items()}
     for run in motion.runs():
         velocity[run] = local_derivative(stamps[run], angle[run], window)
-    return ArmMotion(arm, stamps, angle, velocity, shoulder, hand, valid, lost_gap, glitch_times)
+        for name in joints:
+            joints[name][run], found = _bridge_glitches(stamps[run], joints[name][run])
+            bridged[name] += found
+            rates[name][run] = local_derivative(stamps[run], joints[name][run], window)
+    return ArmMotion(
+        arm, stamps, angle, velocity, shoulder, hand, valid, lost_gap, glitch_times, joints, rates,
+        "neck -> hip centre" if torso else "vertical", bridged,
+    )
 
 
 def hand_excursion(motion: ArmMotion) -> float:

@@ -8,7 +8,8 @@ definitions stored in the bag; camera images in the same bag are never deseriali
 
 Arm frames are matched by name without the user number, so every tracked user is found
 (``right_elbow_1``, ``right_elbow_2``...) and both arms when the bag has the other side's
-frames (``right`` swapped for ``left`` in the names).
+frames (``right`` swapped for ``left`` in the names). The torso's frames (:data:`TORSO_FRAMES`:
+``neck``, the hips, ``torso``) of the same user give the torso's axis when the bag has them.
 
 Bags are opened by :mod:`rlff.capture.bag_stream`, which also reads a ROS 1 bag damaged at the
 end up to the damage, with a warning.
@@ -30,6 +31,10 @@ from rlff.errors import InputError
 #: Default frames of the throwing arm (NiTE / openni_tracker names, user 1).
 DEFAULT_FRAMES = ("right_shoulder_1", "right_elbow_1", "right_hand_1")
 DEFAULT_TOPIC = "/tf"
+#: NiTE / openni_tracker torso frames (without the user number): the neck is the torso's top; its
+#: bottom is the hip centre (the middle of both hips), or the ``torso`` frame (on the spine, the
+#: same axis) when the hips are missing.
+TORSO_FRAMES = ("neck_", "left_hip_", "right_hip_", "torso_")
 #: Message types of /tf in ROS 1 (tf) and ROS 1/2 (tf2), as rosbags names them.
 TF_TYPES = ("tf2_msgs/msg/TFMessage", "tf/msg/tfMessage")
 IMAGE_TYPES = ("sensor_msgs/msg/CompressedImage",)
@@ -72,7 +77,8 @@ def read_bag(
     stems = [re.sub(r"\d+$", "", name) for name in names]
     sides = _sides(stems)
     pattern = re.compile(
-        "^(?:" + "|".join(re.escape(stem) for side in sides.values() for stem in side) + r")(\d*)$"
+        "^(?:" + "|".join(re.escape(stem) for stem in [*(s for side in sides.values() for s in side), *TORSO_FRAMES])
+        + r")(\d*)$"
     )
     wanted: dict[str, bool] = {}
 
@@ -130,6 +136,7 @@ def _arm_tracks(
     arms = []
     by_name = {name.lstrip("/"): value for name, value in collected.items()}
     for user in users:
+        neck, hip = _torso(path, by_name, user, notes)
         for side, stems in sides.items():
             frame_names = [stem + user for stem in stems]
             missing = [name for name in frame_names if name not in by_name]
@@ -144,8 +151,33 @@ def _arm_tracks(
                     f"({', '.join(sorted(parents))}); they need one common parent"
                 )
             joints = [_joint_track(name, *by_name[name][1:], notes, path) for name in frame_names]
-            arms.append(ArmTrack(user or "1", side, *joints))
+            if neck is not None and by_name[neck.name][0] != by_name[frame_names[0]][0]:
+                notes.append(f"{path.name}: user {user or '1'}: torso frames relative to another parent, not used")
+                arms.append(ArmTrack(user or "1", side, *joints))
+            else:
+                arms.append(ArmTrack(user or "1", side, *joints, neck=neck, hip=hip))
     return arms
+
+
+def _torso(
+    path: Path, by_name: dict[str, tuple[str, np.ndarray, np.ndarray]], user: str, notes: list[str]
+) -> tuple[JointTrack | None, JointTrack | None]:
+    """The user's neck and hip centre tracks (None, None without a neck or anything below it)."""
+    neck_name, left_name, right_name, torso_name = (stem + user for stem in TORSO_FRAMES)
+    if neck_name not in by_name:
+        return None, None
+    neck = _joint_track(neck_name, *by_name[neck_name][1:], notes, path)
+    if left_name in by_name and right_name in by_name and by_name[left_name][0] == by_name[right_name][0]:
+        left = _joint_track(left_name, *by_name[left_name][1:], notes, path)
+        right = _joint_track(right_name, *by_name[right_name][1:], notes, path)
+        inside = (left.time >= right.time[0]) & (left.time <= right.time[-1])
+        if inside.sum() >= 2:
+            stamps = left.time[inside]
+            other = np.column_stack([np.interp(stamps, right.time, right.position[:, k]) for k in range(3)])
+            return neck, JointTrack(f"hip centre {user}", stamps, 0.5 * (left.position[inside] + other))
+    if torso_name in by_name:
+        return neck, _joint_track(torso_name, *by_name[torso_name][1:], notes, path)
+    return None, None
 
 
 def _joint_track(name: str, time: np.ndarray, position: np.ndarray, notes: list[str], path: Path) -> JointTrack:

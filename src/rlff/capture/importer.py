@@ -8,8 +8,10 @@ releases that are not at a target and label the others (:mod:`~rlff.capture.labe
 finished throw is resampled, onto an even grid at its own median spacing (no coarser than
 ``OUTPUT_RATE_HZ``; a shape-preserving PCHIP curve between the samples), and its native rate and
 largest gap go into its metadata. Each throw becomes one trajectory with columns ``time`` (s from
-the throw's start), ``angle`` (rad), ``velocity`` (rad/s) and ``distance`` (m). Cleaning
-(glitches, cropping, cutting at the release) is left to :mod:`rlff.preprocess`.
+the throw's start), ``angle`` (rad), ``velocity`` (rad/s), the other joints the recordings carry
+(``shoulder`` and ``shoulder_velocity``, ``wrist`` and ``wrist_velocity``, on the elbow's samples;
+``joints=("elbow",)`` leaves them out) and ``distance`` (m). Cleaning (glitches, cropping,
+cutting at the release) is left to :mod:`rlff.preprocess`.
 
 Every candidate movement that is not taken is reported (:class:`FileReport.rejected`) with its time
 from the file's start and the rule that stopped it; a file without a throw says which rule stopped
@@ -46,13 +48,15 @@ from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_thro
 from rlff.capture.skeleton import Recording
 from rlff.capture.skeleton_text import axis_vector, read_joint_csv, read_kinect_text, read_msr_text
 from rlff.capture.users import keep_consistent_user
-from rlff.dataset import Dataset, Trajectory
+from rlff.dataset import Dataset, Trajectory, joint_columns, velocity_column
 from rlff.errors import InputError
 from rlff.fileio import require_distinct
 from rlff.limits import DISTANCE_RANGE
 
 FORMATS = ("bag", "kinect-text", "msr", "csv", "thesis")
 ARMS = ("auto", "right", "left")
+#: Joints an import may write, as the user names them; the elbow (``angle``) always.
+JOINTS = ("shoulder", "elbow", "wrist")
 #: Formats whose positions are in the sensor's frame (the camera at the origin).
 SENSOR_FRAMES = ("bag", "kinect-text", "msr")
 #: A finished throw is resampled at its own median spacing, but no coarser than this (Hz).
@@ -202,6 +206,7 @@ def import_recordings(
     up: str | None = None,
     segment: SegmentSettings | None = None,
     landing: LandingSettings | None = None,
+    joints: Sequence[str] | None = None,
 ) -> tuple[Dataset, ImportReport]:
     """Import skeleton recordings as a dataset of single, labelled throws.
 
@@ -218,12 +223,18 @@ def import_recordings(
     columns : column map of the CSV format (our name -> the file's)
     up : the up axis of the recordings' frame (``x``, ``-y``...); default per format
     segment, landing : settings of the throw finder and of the landing estimate
+    joints : the joints to write, among ``shoulder``, ``elbow`` (always) and ``wrist``; None:
+        every joint all the recordings carry (the wrist only where each has a hand point beside
+        the wrist; the thesis matrix carries the elbow alone). ``("elbow",)``: the one-joint
+        dataset, as before whole-arm capture.
 
     Returns
     -------
     dataset : Dataset
-        One trajectory per throw: ``time``, ``angle``, ``velocity``, ``distance`` (the basket's,
-        or without one the landing estimate rounded to ``landing.distance_step``); metadata
+        One trajectory per throw: ``time``, ``angle``, ``velocity``, the other joints' angles and
+        velocities (``shoulder``, ``shoulder_velocity``, ``wrist``, ``wrist_velocity``, rad and
+        rad/s), ``distance`` (the basket's, or without one the landing estimate rounded to
+        ``landing.distance_step``); metadata
         ``subject``, ``source``, ``target``/``hit`` (when the basket is known), ``landing``,
         ``distance_source``, ``release_time`` (s from the throw's start), ``start_time`` and
         ``end_time`` (s from the recording's first sample), ``arm``, ``native_rate_hz``,
@@ -238,8 +249,10 @@ def import_recordings(
     InputError
         A file that cannot be read (named, with what is wrong), an unknown format or arm, a
         manifest row at fault (a throw listed twice with different distances, a throw number
-        that does not exist, start after end).
+        that does not exist, start after end), a joint that is not known or that a recording
+        does not carry.
     """
+    wanted = _check_joints(joints)
     if format not in (None, "auto", *FORMATS):
         raise InputError(f"unknown format {format!r} (formats: {', '.join(FORMATS)})")
     if arm not in ARMS:
@@ -262,11 +275,54 @@ def import_recordings(
             file_report, found = _import_recording(
                 recording, kind, arm, rows, segment or SegmentSettings(), landing, used_ids, up_given=up is not None
             )
+        _require_joints(wanted, file_report, found)
         trajectories.extend(found)
         report.files.append(file_report)
         if progress is not None:
             progress(str(path))
-    return Dataset(trajectories), report
+    return Dataset(_common_joints(trajectories, wanted, report)), report
+
+
+def _check_joints(joints: Sequence[str] | None) -> tuple[str, ...] | None:
+    """The joint columns asked for (``angle`` for the elbow), or None for every joint there is."""
+    if joints is None:
+        return None
+    unknown = [name for name in joints if name not in JOINTS]
+    if unknown:
+        raise InputError(f"joint {unknown[0]!r}: not one of {', '.join(JOINTS)}")
+    if "elbow" not in joints:
+        raise InputError(f"joints {', '.join(joints) or 'none'}: the elbow must be one (its angle is the phase)")
+    return tuple("angle" if name == "elbow" else name for name in JOINTS if name in joints)
+
+
+def _require_joints(wanted: tuple[str, ...] | None, file_report: FileReport, found: list[Trajectory]) -> None:
+    """Raise when a file's throws lack a joint asked for by name."""
+    if wanted is None or not found:
+        return
+    for name in wanted:
+        if name not in found[0].columns:
+            why = ("the thesis matrix holds the elbow only" if file_report.format == "thesis"
+                   else "the format has no hand point beside the wrist")
+            raise InputError(f"{file_report.source}: no {name} angle ({why}); leave {name} out of the joints")
+
+
+def _common_joints(
+    trajectories: list[Trajectory], wanted: tuple[str, ...] | None, report: ImportReport
+) -> list[Trajectory]:
+    """Every throw with the same joint columns: those asked for, or those all throws carry."""
+    if not trajectories:
+        return trajectories
+    carried = [set(joint_columns(t.columns)) for t in trajectories]
+    keep = set(wanted) if wanted is not None else set.intersection(*carried)
+    dropped = sorted(set.union(*carried) - keep)
+    if wanted is None and dropped:
+        report.files[0].notes.append(
+            f"{', '.join(dropped)} left out: not every recording carries {'it' if len(dropped) == 1 else 'them'}"
+        )
+    gone = {name for joint in dropped for name in (joint, velocity_column(joint))}
+    if not gone:
+        return trajectories
+    return [t.replace(data={k: v for k, v in t.data.items() if k not in gone}) for t in trajectories]
 
 
 def _import_thesis(path: Path, used_ids: set[str]) -> tuple[FileReport, list[Trajectory]]:
@@ -314,13 +370,17 @@ def _import_recording(
         if not arms:
             sides = sorted({track.side for track in recording.arms})
             raise InputError(f"{path}: no {arm} arm (arms there: {', '.join(sides)})")
-    motions = [align_arm(track) for track in arms]
+    motions = [align_arm(track, up=recording.up) for track in arms]
     motion = motions[0] if len(motions) == 1 else throwing_arm(motions)
     report.arm, report.user = motion.arm.side, motion.arm.user
     report.clock_origin = origin = float(motion.time[0])
     if len(motions) > 1:
         report.notes.append(f"{path.name}: throwing arm: {motion.arm.side} (the hand that sweeps furthest)")
     report.notes.extend(_tracking_notes(path, motion, origin))
+    if motion.torso == "vertical":
+        report.notes.append(
+            f"{path.name}: no torso points (neck and hip centre): the shoulder's elevation is measured against the vertical"
+        )
     cuts, rejections = find_throws(motion, segment)
     facing = _torso_facing(arms, recording.up) if kind not in SENSOR_FRAMES else None
     releases = []
@@ -348,6 +408,9 @@ def _import_recording(
 def _tracking_notes(path: Path, motion: ArmMotion, origin: float) -> list[str]:
     """What the angle step left out: glitch samples, stretches without tracking, untracked joints."""
     notes = []
+    for name, count in motion.joint_glitches.items():
+        if count:
+            notes.append(f"{path.name}: {count} glitch samples of the {name} angle bridged between their neighbours")
     if motion.glitches.size:
         times = ", ".join(f"{t - origin:.2f}" for t in motion.glitches[:5]) + (", ..." if motion.glitches.size > 5 else "")
         notes.append(
@@ -536,11 +599,14 @@ def _throw(
             native_rate, largest_gap, release.confidence,
         )
     )
-    grid, angle, velocity = _resampled(native, angle, velocity) if native.size > 1 else (native, angle, velocity)
-    data = {
-        "time": grid - grid[0],
-        "angle": angle,
-        "velocity": velocity,
-        "distance": np.full(grid.size, float(distance)),
-    }
+    series = {"angle": angle, "velocity": velocity}
+    for name, values in motion.joints.items():
+        series[name] = values[window]
+        series[velocity_column(name)] = motion.joint_velocities[name][window]
+    if native.size > 1:
+        grid, *resampled = _resampled(native, *series.values())
+        series = dict(zip(series, resampled, strict=True))
+    else:
+        grid = native
+    data = {"time": grid - grid[0], **series, "distance": np.full(grid.size, float(distance))}
     return Trajectory(identifier, data, meta)

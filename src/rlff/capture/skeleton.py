@@ -2,8 +2,9 @@
 
 A reader (ROS bag, Kinect SDK text, MSR Action3D text, CSV) turns a file into a
 :class:`Recording`: one :class:`ArmTrack` per (user, side) that the file holds, each made of
-three :class:`JointTrack` (shoulder, elbow, hand; optionally the wrist) with their own time
-stamps, because a tf stream publishes every joint on its own and may drop some of them.
+three :class:`JointTrack` (shoulder, elbow, hand; optionally the wrist, and the torso's neck and
+hip centre) with their own time stamps, because a tf stream publishes every joint on its own and
+may drop some of them.
 """
 
 from __future__ import annotations
@@ -67,6 +68,9 @@ class ArmTrack:
     wrist : JointTrack, optional
         When the format has one: used as the forearm's end for the angle, since the hand joint
         also moves with the wrist's flexion; the hand is still used for the release speed.
+    neck, hip : JointTrack, optional
+        The torso's top (neck, shoulder centre) and bottom (hip centre) when the format has them:
+        the torso's downward axis, neck -> hip, against which the shoulder's elevation is measured.
     """
 
     user: str
@@ -75,6 +79,8 @@ class ArmTrack:
     elbow: JointTrack
     hand: JointTrack
     wrist: JointTrack | None = None
+    neck: JointTrack | None = None
+    hip: JointTrack | None = None
 
     @property
     def label(self) -> str:

@@ -2,14 +2,18 @@
 
 Kinect SDK v1 text
     One line per frame: the frame number, then 20 joints x (x y z) in the Kinect's joint order
-    (0-based: 4-7 shoulder, elbow, wrist, hand left; 8-11 shoulder, elbow, wrist, hand right).
+    (0-based: 4-7 shoulder, elbow, wrist, hand left; 8-11 shoulder, elbow, wrist, hand right;
+    the torso: 2 shoulder centre, 0 hip centre).
     Time is frame number / frame rate (default 30 Hz), so dropped frames keep their place.
 MSR Action3D
     20 lines ``x y z confidence`` per frame, no time stamps: time is frame index / 15 Hz. Arm B
-    (lines 2, 9, 11, 13) is reported as the right arm, arm A (lines 1, 8, 10, 12) as the left.
+    (lines 2, 9, 11, 13) is reported as the right arm, arm A (lines 1, 8, 10, 12) as the left;
+    the torso is line 3 (neck) to line 7 (hip centre).
 CSV
-    One row per frame with columns ``{side}_{joint}_{axis}`` (e.g. ``right_elbow_x``) and an
-    optional ``time`` column (s), or any other names through a column map.
+    One row per frame with columns ``{side}_{joint}_{axis}`` (e.g. ``right_elbow_x``; joints
+    shoulder, elbow, hand and optionally wrist), optionally the torso's ``neck_{axis}`` and
+    ``hip_{axis}`` (hip centre), and an optional ``time`` column (s), or any other names through
+    a column map.
 
 Frames whose arm joints are all zero (the tracker lost the user) are dropped, and so are repeats
 of a frame number (Kinect) or of a time stamp (CSV); each reader says how many in its notes.
@@ -32,6 +36,12 @@ KINECT_UP = np.array([0.0, 1.0, 0.0])
 KINECT_ARMS = {"right": (8, 9, 10, 11), "left": (4, 5, 6, 7)}
 #: MSR Action3D joint indices (0-based lines within a frame): arm B is the throwing arm of a06.
 MSR_ARMS = {"right": (1, 8, 10, 12), "left": (0, 7, 9, 11)}
+#: Torso joints (0-based), top then bottom: Kinect SDK v1 shoulder centre and hip centre, MSR
+#: neck and hip centre.
+KINECT_TORSO = (2, 0)
+MSR_TORSO = (2, 6)
+#: Torso points of the CSV format (columns ``{name}_{axis}``), top then bottom.
+CSV_TORSO = ("neck", "hip")
 KINECT_RATE_HZ = 30.0
 MSR_RATE_HZ = 15.0
 _JOINTS = ("shoulder", "elbow", "wrist", "hand")
@@ -87,15 +97,20 @@ def _clean_frames(
     return frames[~lost], time[~lost]
 
 
-def _arms(frames: np.ndarray, time: np.ndarray, layout: Mapping[str, tuple[int, ...]], prefix: str) -> list[ArmTrack]:
-    """Arm tracks from frames of shape (N, J, 3) sharing one time base of shape (N,)."""
+def _arms(
+    frames: np.ndarray, time: np.ndarray, layout: Mapping[str, tuple[int, ...]], prefix: str,
+    torso: tuple[int, int],
+) -> list[ArmTrack]:
+    """Arm tracks from frames of shape (N, J, 3) sharing one time base of shape (N,), with the
+    torso's top and bottom joints ``torso``."""
+    neck, hip = (JointTrack(f"{prefix}{index + 1}", time, frames[:, index, :]) for index in torso)
     arms = []
     for side, indices in layout.items():
         joints = {
             joint: JointTrack(f"{prefix}{index + 1}", time, frames[:, index, :])
             for joint, index in zip(_JOINTS, indices, strict=True)
         }
-        arms.append(ArmTrack("1", side, joints["shoulder"], joints["elbow"], joints["hand"], joints["wrist"]))
+        arms.append(ArmTrack("1", side, joints["shoulder"], joints["elbow"], joints["hand"], joints["wrist"], neck, hip))
     return arms
 
 
@@ -127,7 +142,7 @@ def read_kinect_text(path: str | Path, rate_hz: float | None = None) -> Recordin
     frames = values[:, 1:].reshape(-1, 20, 3)
     arm_joints = [i for indices in KINECT_ARMS.values() for i in indices]
     frames, time = _clean_frames(frames, values[:, 0] / rate, arm_joints, notes, path)
-    return Recording(str(path), _arms(frames, time, KINECT_ARMS, "joint "), KINECT_UP, notes)
+    return Recording(str(path), _arms(frames, time, KINECT_ARMS, "joint ", KINECT_TORSO), KINECT_UP, notes)
 
 
 def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
@@ -156,7 +171,7 @@ def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
     notes: list[str] = []
     arm_joints = [i for indices in MSR_ARMS.values() for i in indices]
     frames, time = _clean_frames(frames, np.arange(len(frames)) / rate, arm_joints, notes, path)
-    return Recording(str(path), _arms(frames, time, MSR_ARMS, "line "), KINECT_UP, notes)
+    return Recording(str(path), _arms(frames, time, MSR_ARMS, "line ", MSR_TORSO), KINECT_UP, notes)
 
 
 def read_joint_csv(
@@ -171,9 +186,10 @@ def read_joint_csv(
     ----------
     path : path of the file
     columns : mapping of str to str, optional
-        Our name -> the file's column name, for any of ``time`` and
-        ``{side}_{joint}_{axis}`` (side right/left, joint shoulder/elbow/wrist/hand, axis x/y/z).
-        Names not mapped are looked up as they are.
+        Our name -> the file's column name, for any of ``time``,
+        ``{side}_{joint}_{axis}`` (side right/left, joint shoulder/elbow/wrist/hand, axis x/y/z)
+        and the torso's ``neck_{axis}`` and ``hip_{axis}``. Names not mapped are looked up as
+        they are.
     rate_hz : float, optional
         Frame rate when the file has no ``time`` column (default 30 Hz).
     up : {"x", "y", "z", "-x", "-y", "-z"}
@@ -235,6 +251,16 @@ def read_joint_csv(
         for side in sides
     }
     slots = [(side, joint) for side in sides for joint in joints_by_side[side]]
+    arm_slots = list(range(len(slots)))
+    torso = {}
+    for point in CSV_TORSO:
+        names = [column(f"{point}_{axis}") for axis in _AXES]
+        if all(name is not None for name in names):
+            torso[point] = dict(zip((f"{point}_{axis}" for axis in _AXES), names, strict=True))
+    if len(torso) == len(CSV_TORSO):
+        for point in CSV_TORSO:
+            found[point] = torso[point]
+            slots.append((point, point))
     frames = np.stack(
         [np.column_stack([numeric(found[side][f"{joint}_{axis}"]) for axis in _AXES]) for side, joint in slots],
         axis=1,
@@ -244,14 +270,18 @@ def read_joint_csv(
     if first.size < time.size:
         notes.append(f"{path.name}: dropped {time.size - first.size} rows repeating a time stamp (kept the first)")
     frames, time = frames[first], time[first]
-    frames, time = _clean_frames(frames, time, list(range(len(slots))), notes, path)
+    frames, time = _clean_frames(frames, time, arm_slots, notes, path)
+    neck, hip = (
+        (JointTrack(point, time, frames[:, slots.index((point, point)), :]) for point in CSV_TORSO)
+        if (CSV_TORSO[0], CSV_TORSO[0]) in slots else (None, None)
+    )
     arms = []
     for side in sides:
         tracks = {
             joint: JointTrack(f"{side}_{joint}", time, frames[:, slots.index((side, joint)), :])
             for joint in joints_by_side[side]
         }
-        arms.append(ArmTrack("1", side, tracks["shoulder"], tracks["elbow"], tracks["hand"], tracks.get("wrist")))
+        arms.append(ArmTrack("1", side, tracks["shoulder"], tracks["elbow"], tracks["hand"], tracks.get("wrist"), neck, hip))
     return Recording(str(path), arms, axis_vector(up), notes)
 
 

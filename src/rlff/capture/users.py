@@ -75,12 +75,13 @@ def _joined(first: JointTrack, second: JointTrack) -> JointTrack:
 
 
 def _join(kept: ArmTrack, other: ArmTrack) -> ArmTrack:
-    wrist = None
-    if kept.wrist is not None and other.wrist is not None:
-        wrist = _joined(kept.wrist, other.wrist)
+    optional = {}
+    for name in ("wrist", "neck", "hip"):
+        mine, theirs = getattr(kept, name), getattr(other, name)
+        optional[name] = _joined(mine, theirs) if mine is not None and theirs is not None else None
     return ArmTrack(
         kept.user, kept.side, _joined(kept.shoulder, other.shoulder), _joined(kept.elbow, other.elbow),
-        _joined(kept.hand, other.hand), wrist,
+        _joined(kept.hand, other.hand), **optional,
     )
 
 

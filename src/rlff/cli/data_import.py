@@ -37,10 +37,15 @@ def import_command(
     rate: float | None = typer.Option(None, "--rate", help="Frame rate (Hz) of text recordings without time stamps."),
     columns: str | None = typer.Option(None, "--columns", help="CSV column map: NAME=COLUMN,... (e.g. right_elbow_x=ElbowRight.X)."),
     up: str | None = typer.Option(None, "--up", help="Up axis of the recordings' frame (x, y, z, -x...); default per format."),
+    joints: str | None = typer.Option(None, "--joints", help="Joints to write: elbow (the one-joint dataset), shoulder, wrist, comma-separated; default every joint all the recordings carry."),
     allow_empty: bool = typer.Option(False, "--allow-empty", help="Finding no throw is not an error (exit 0; an existing output is still kept)."),
     as_json: bool = typer.Option(False, "--json", help="Print the import report as JSON (with every candidate not taken, and why)."),
 ) -> None:
     """Cut and label the throws in skeleton recordings: one trajectory (time, angle, velocity, distance) per throw.
+
+    Beside the elbow's angle every throw carries the shoulder's elevation (against the torso) and,
+    where the format has a hand point beside the wrist, the wrist's angle, with their velocities
+    (--joints elbow: the elbow alone).
 
     Every movement not taken as a throw is listed with its time and the rule that stopped it.
 
@@ -58,6 +63,7 @@ def import_command(
         dataset, report = import_recordings(
             files, format, manifest=manifest, topic=topic, frames=frame_names, arm=arm, rate_hz=rate,
             columns=_column_map(columns), up=up,
+            joints=None if joints is None else [name.strip() for name in joints.split(",") if name.strip()],
             progress=lambda path: advance(1, description=Path(path).name),
         )
     for note in report.notes:
