@@ -31,6 +31,7 @@ import math
 import time as clock
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
+from functools import partial
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -167,7 +168,7 @@ def learn(
     log_path: str | Path | None = None,
     executor: Executor | None = None,
     progress: Callable[[Attempt], None] | None = None,
-    robot: str = "comau_smart5_six",
+    robot: str | Any = "comau_smart5_six",
     pedestal: float = 0.0,
     rim_height: float = 0.3,
     opening: float = 0.35,
@@ -206,8 +207,9 @@ def learn(
         default: the MuJoCo simulation of :mod:`rlff.sim` for this basket.
     progress : callable, optional
         Called with every attempt as it ends (also those resumed from the log).
-    robot : str
-        Robot name or robot file; its ``[throwing]`` table is the mapping.
+    robot : str or Robot
+        Robot name, robot file or description; its ``[throwing]`` table is the one-joint
+        mapping, its ``[whole_arm]`` table the whole arm's.
     pedestal, rim_height, opening : float
         Height of the robot's base, of the basket's rim, and the basket's inner width (m).
     until : {"hit", "centred"}
@@ -239,7 +241,7 @@ def learn(
         Unknown method or feedback, a method that needs other feedback, a basket out of the
         robot's reach, demonstrations beyond the joint limits, or a corrupt or foreign log.
     """
-    from rlff.robot import load_robot, mapping_for
+    from rlff.robot import Robot, load_robot, mapping_for
     from rlff.sim import Basket
 
     if update not in METHODS:
@@ -256,7 +258,7 @@ def learn(
         raise InputError(f"unknown until {until!r} (known: {', '.join(UNTILS)})")
     if not 0 < centre_share <= 1:
         raise InputError(f"centre share must be in (0, 1] of the half-opening, got {centre_share!r}")
-    robot_model = load_robot(robot)
+    robot_model = robot if isinstance(robot, Robot) else load_robot(robot)
     mapping = mapping_for(robot_model, None if joints is None else tuple(joints))
     rim = rim_height if height is None else height
     # checks the stated range
@@ -321,6 +323,9 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         max_speed=speeds["velocity"],
         outputs=outputs,
         max_speeds=speeds,
+        **({"elasticity": release_elasticity(mapping, demos, target.distance, target.rim_height, pedestal),
+            "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal)}
+           if _whole_arm(mapping) else {}),
     )
 
     def done(attempt: Attempt) -> bool:
@@ -529,42 +534,24 @@ def arm_reach(mapping, demos: Dataset, rim_height: float, pedestal: float = 0.0)
     """The reach of the whole-arm throws the loop makes from ``demos`` through ``mapping``.
 
     Every method throws the shape of the demonstrations along the loop's angle grid, sped up or
-    slowed down as a whole (one factor on every joint's velocity); the farthest of them is the
-    demonstrations' typical throw (each column's median along the grid) at the largest factor
-    that keeps every driven joint within its speed limit along the path and that the motion
-    planner can still execute from rest (a swing too short for the release speed is preceded by
-    a wind-up, which must stay within the position limits;
-    :func:`rlff.trajectory.planner.plan_throw`), found by bisection. The ball leaves with the
-    arm's in-plane velocity at the release pose (joint 1 turns the plane to the bearing; it does
-    not change the distance).
+    slowed down as a whole (one factor on every joint's velocity). The motion planner keeps a
+    throw's first pose and its release state exactly and plans the swing between them within
+    the limits (:func:`rlff.trajectory.planner.plan_throw`; a swing too short for the release
+    speed is preceded by a wind-up, which must stay within the position limits), so the farthest
+    of these throws is the demonstrations' typical throw (:func:`_typical_throw`) at the largest
+    factor that keeps every driven joint's release velocity within its speed limit and that the
+    planner can still execute, found by bisection; its ball comes down where the release state
+    sends it (:func:`_release_crossing`).
     """
-    from rlff.ballistics import crossing_distance
     from rlff.robot.plan import plan_path
-    from rlff.sim.arm import Arm
-    from rlff.sim.reach import GROUND_CLEARANCE, PLANE_JOINTS
 
-    angles = _angle_grid(demos)
-    columns = ("velocity", *joint_outputs(mapping.human_columns)[1:])
-    typical = {"angle": angles}
-    for column in columns:
-        typical[column] = np.median([np.interp(angles, t["angle"], t[column]) for t in demos], axis=0)
-    typical["velocity"] = _forward_velocity(angles, typical["velocity"])
-    points, _ = mapping.path_to_robot(typical, clip=True)
-    factor, limiting = math.inf, ""
-    for name in mapping.driven_joints:
-        peak = float(np.max(np.abs(points.velocities[:, points.joint_index(name)])))
-        if peak > 0 and mapping.robot.joint(name).max_velocity / peak < factor:
-            factor, limiting = mapping.robot.joint(name).max_velocity / peak, f"{name} reaches its speed limit"
+    typical = _typical_throw(mapping, demos)
+    factor, limiting = _release_speed_factor(mapping, typical)
     factor *= 1 - 1e-9  # at the limit, not a rounding beyond it
-
-    speeds = [c for c in columns if c == "velocity" or c.endswith("_velocity")]
-
-    def scaled(f: float) -> dict[str, np.ndarray]:
-        return {c: v * f if c in speeds else v for c, v in typical.items()}
 
     def executable(f: float) -> bool:
         try:
-            plan_path(mapping, scaled(f))
+            plan_path(mapping, _scaled(typical, f))
         except InputError:
             return False
         return True
@@ -575,16 +562,110 @@ def arm_reach(mapping, demos: Dataset, rim_height: float, pedestal: float = 0.0)
             middle = 0.5 * (low + high)
             low, high = (middle, high) if executable(middle) else (low, middle)
         factor, limiting = low, "the planner runs out of room to wind up within the position limits"
-    release, _ = mapping.path_to_robot(scaled(factor), clip=True)
+    return ArmReach(_release_crossing(mapping, _scaled(typical, factor), rim_height, pedestal), factor, limiting)
+
+
+def release_elasticity(mapping, demos: Dataset, target: float, rim_height: float, pedestal: float = 0.0) -> float:
+    """The elasticity d ln L / d ln u of the landing L in the throw's speed u near ``target`` (m),
+    from the arm's kinematics: the demonstrations' typical throw sped up or slowed down as a
+    whole until its release state sends the ball to ``target`` (or as far as it goes), its
+    landing differentiated there. A one-joint throw from the base has about 1.6 (the speed
+    calibration's prior); a whole-arm throw released above and behind the base has more, and
+    the calibration centres its prior on it.
+    """
+    typical = _typical_throw(mapping, demos)
+    highest, _ = _release_speed_factor(mapping, typical)
+
+    def landing(f: float) -> float:
+        return _release_crossing(mapping, _scaled(typical, f), rim_height, pedestal)
+
+    low, high = 0.05, highest
+    if landing(high) > target:
+        for _ in range(30):
+            middle = math.sqrt(low * high)
+            low, high = (middle, high) if landing(middle) < target else (low, middle)
+    step = 1.03
+    near, far = landing(high / step), landing(high)
+    if not (near > 0 and far > near):
+        return 1.6
+    return float(np.clip(math.log(far / near) / math.log(step), 0.5, 5.0))
+
+
+def aimed_factor(mapping, target: float, rim_height: float, pedestal: float, proposal) -> float:
+    """The factor on every velocity of ``proposal`` (a whole-arm throw) that sends its ball to
+    ``target`` (m) by the arm's kinematics and the free flight from the release
+    (:func:`_release_crossing`), found by bisection in log speed between a twentieth of its
+    speed and the fastest release within the joints' speed limits (that one when the target is
+    beyond it); 1 when its release sends the ball nowhere.
+
+    This is what a whole-arm throw's speed calibration takes as the speed where the basket is
+    (its prior's centre): the mapping from the people's joints to the robot's changes where a
+    throw lands far more than the one-joint mapping does, while the robot's own geometry
+    predicts the free flight from a release state (in the simulation to about a centimetre).
+    """
+    path = proposal.path
+    highest, _ = _release_speed_factor(mapping, path)
+    if not np.isfinite(highest):
+        return 1.0
+
+    def landing(f: float) -> float:
+        return _release_crossing(mapping, _scaled(path, f), rim_height, pedestal)
+
+    low, high = 0.05 * highest, highest * (1 - 1e-9)
+    if landing(high) <= target:
+        return high if np.isfinite(landing(high)) else 1.0
+    for _ in range(40):
+        middle = math.sqrt(low * high)
+        low, high = (middle, high) if landing(middle) < target else (low, middle)
+    return math.sqrt(low * high)
+
+
+def _typical_throw(mapping, demos: Dataset) -> dict[str, np.ndarray]:
+    """The demonstrations' typical whole-arm throw along the loop's angle grid: the median of
+    each column of :func:`joint_outputs` (T,), the elbow's velocity forward."""
+    angles = _angle_grid(demos)
+    typical = {"angle": angles}
+    for column in joint_outputs(mapping.human_columns):
+        typical[column] = np.median([np.interp(angles, t["angle"], t[column]) for t in demos], axis=0)
+    typical["velocity"] = _forward_velocity(angles, typical["velocity"])
+    return typical
+
+
+def _scaled(path: dict[str, np.ndarray], factor: float) -> dict[str, np.ndarray]:
+    """``path`` with every velocity column times ``factor``."""
+    return {c: v * factor if c == "velocity" or c.endswith("_velocity") else v for c, v in path.items()}
+
+
+def _release_speed_factor(mapping, path: dict[str, np.ndarray]) -> tuple[float, str]:
+    """The largest factor on every velocity of ``path`` that keeps each driven joint's release
+    velocity within its speed limit, and that joint (as the reason)."""
+    limits = mapping.max_human_speeds()
+    factor, limiting = math.inf, ""
+    for column, name in zip((c for c in joint_outputs(mapping.human_columns) if c.endswith("velocity")),
+                            mapping.driven_joints, strict=True):
+        release = abs(float(path[column][-1]))
+        if release > 0 and limits[column] / release < factor:
+            factor, limiting = limits[column] / release, f"{name} reaches its speed limit"
+    return factor, limiting
+
+
+def _release_crossing(mapping, path: dict[str, np.ndarray], rim_height: float, pedestal: float) -> float:
+    """Where the ball of ``path``'s release comes down through the rim's height (m from joint 1's
+    axis, no drag): the arm's in-plane ball velocity at the release pose (joint 1 turns the plane
+    to the bearing; it does not change the distance); ``-inf`` when it never does or the arm is
+    too low."""
+    from rlff.ballistics import crossing_distance
+    from rlff.sim.arm import Arm
+    from rlff.sim.reach import GROUND_CLEARANCE, PLANE_JOINTS
+
+    release, _ = mapping.path_to_robot(path, clip=True)
     pose = [release.positions[-1, release.joint_index(n)] for n in PLANE_JOINTS]
     rates = np.array([release.velocities[-1, release.joint_index(n)] for n in PLANE_JOINTS])
     plane = Arm.from_robot(mapping.robot).in_plane(*pose, pedestal=pedestal)
     velocity = plane.jacobian @ rates
     crossing = float(crossing_distance(plane.ball[0], plane.ball[1], velocity[0], velocity[1], rim_height))
     lowest = min(plane.elbow[1], plane.wrist[1], plane.ball[1])
-    if not (np.isfinite(crossing) and lowest > GROUND_CLEARANCE):
-        crossing = -math.inf
-    return ArmReach(crossing, factor, limiting)
+    return crossing if np.isfinite(crossing) and lowest > GROUND_CLEARANCE else -math.inf
 
 
 def _require_demos_within_limits(demos: Dataset, mapping) -> None:

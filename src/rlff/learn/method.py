@@ -13,7 +13,7 @@ landing point and the miss of every attempt are NaN, so a method cannot use them
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
 from typing import Any
@@ -67,6 +67,15 @@ class Problem:
         positions and velocities for a whole-arm one (:func:`joint_outputs`).
     max_speeds : mapping of str to float
         Fastest speed (rad/s, demonstrations' units) of every velocity column of ``outputs``.
+    elasticity : float
+        Where the speed calibration's prior centres the elasticity of the landing in the release
+        speed: 1.6 for a one-joint throw, from the arm's kinematics for a whole-arm one
+        (:func:`rlff.learn.loop.release_elasticity`).
+    aim : callable, optional
+        ``aim(proposal) -> factor``: the factor on every velocity of a proposal that sends the
+        ball to the target by the arm's kinematics and the free flight from its release (a
+        whole-arm throw, :func:`rlff.learn.loop.aimed_factor`); None: the demonstrations' own
+        speed is where the calibration's prior puts the basket.
     """
 
     demos: Dataset
@@ -79,6 +88,8 @@ class Problem:
     max_speed: float = float("inf")
     outputs: tuple[str, ...] = ONE_JOINT_OUTPUTS
     max_speeds: Mapping[str, float] = field(default_factory=dict)
+    elasticity: float = 1.6
+    aim: Callable[[Proposal], float] | None = None
 
     def fit(self, data: Dataset, sample_weight: np.ndarray | None = None, n_init: int | None = None):
         """The mixture over (angle, distance) -> :attr:`outputs` of ``data`` (an
@@ -92,13 +103,14 @@ class Problem:
 
     def arm_speed_factor(self, proposal: Proposal) -> float:
         """Largest factor on every velocity of ``proposal`` that keeps each driven joint other than
-        the elbow within its speed limit (at its peak); ``inf`` for a one-joint throw. The
-        elbow's own limit is :attr:`max_speed`."""
+        the elbow within its speed limit at the release; ``inf`` for a one-joint throw. The
+        elbow's own limit is :attr:`max_speed`. (The motion planner keeps the release state and
+        plans the swing before it within the limits, so the release is what must fit.)"""
         factor = float("inf")
         for column, values in proposal.arm.items():
-            peak = float(np.max(np.abs(values))) if column.endswith("_velocity") else 0.0
-            if peak > 0 and column in self.max_speeds:
-                factor = min(factor, self.max_speeds[column] / peak)
+            release = abs(float(values[-1])) if column.endswith("_velocity") else 0.0
+            if release > 0 and column in self.max_speeds:
+                factor = min(factor, self.max_speeds[column] / release)
         return factor
 
 

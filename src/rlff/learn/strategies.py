@@ -257,6 +257,8 @@ class CalibrateUpdate(DmmStrategy):
         #: where the calibration's prior says the basket is.
         self.first = Proposal.of_outputs(problem.angles, model.condition(inputs).mean, model.outputs, problem.target)
         self.reference = release_speed(problem.angles, self.first.velocity)
+        if problem.aim is not None:  # a whole-arm throw: the arm's kinematics say how fast
+            self.reference *= problem.aim(self.first)
         self._demos_shape: Proposal | None = None
         if not self.reference > 0:
             raise InputError(f"the GMR throw for {problem.target:g} m does not move at its "
@@ -271,7 +273,8 @@ class CalibrateUpdate(DmmStrategy):
             throw, speed = self.first, self.reference
         # the whole throw is scaled by one factor: the other joints' limits bound it too
         calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference,
-                                       min(problem.max_speed, speed * problem.arm_speed_factor(throw)))
+                                       min(problem.max_speed, speed * problem.arm_speed_factor(throw)),
+                                       slope=problem.elasticity)
         for attempt in history:
             executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
                                                                attempt.velocity))
