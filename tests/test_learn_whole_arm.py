@@ -7,6 +7,7 @@ import json
 import numpy as np
 import pytest
 
+from armrobot import arm_robot
 from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn import learn
@@ -16,26 +17,12 @@ from rlff.learn.method import Problem, Proposal, joint_outputs, scale_speed
 ARM = ("joint_2", "joint_3")
 #: A basket the whole arm reaches from the demonstrations below.
 BASKET = 1.5
-#: The whole-arm mapping of these tests (the Comau's, with these offsets and scales): the loop's
-#: mechanics are tested on a mapping of their own, not on the tuning of the robot file's defaults.
-TEST_MAPPING = {
-    "time_scale": 1.33,
-    "joints": {"joint_2": {"human": "shoulder", "offset": -3.077, "scale": 1.3},
-               "joint_3": {"human": "angle", "offset": -2.193, "scale": 0.37}},
-}
 
 
 @pytest.fixture(scope="module")
 def robot():
-    """The Comau Smart5 SiX with :data:`TEST_MAPPING` as its [whole_arm] table."""
-    from dataclasses import replace
-
-    from rlff.robot import load_robot
-
-    comau = load_robot()
-    table = dict(comau.whole_arm)
-    table.update(time_scale=TEST_MAPPING["time_scale"], joints={**table["joints"], **TEST_MAPPING["joints"]})
-    return replace(comau, whole_arm=table)
+    """The Comau with the tests' own whole-arm mapping (tests/armrobot.py)."""
+    return arm_robot()
 
 
 @pytest.fixture(scope="module")
