@@ -10,7 +10,7 @@ from rlff.robot import load_robot, mapping_for
 from rlff.robot.plan import plan_path
 from rlff.sim import Basket, simulate_throw
 from rlff.sim.arm import BALL_RADIUS
-from wholearm import human_throw
+from wholearm import human_throw, release_landing
 
 
 @pytest.fixture(scope="module")
@@ -39,37 +39,46 @@ def test_the_basket_stands_on_its_bearing_line():
 
 @pytest.mark.parametrize("bearing", [0.0, 45.0, 90.0])
 def test_a_whole_arm_throw_at_a_bearing_lands_where_the_release_says(robot, mapping, bearing):
-    planned = plan_path(mapping, human_throw(7.7, wrist=False), bearing=bearing, start=mapping.pose())
+    planned = plan_path(mapping, human_throw(12.0, wrist=False), bearing=bearing, start=mapping.pose())
     # the approach turns joint_1 to the bearing before the throw; the throw itself keeps it there
     joint_1 = planned.trajectory.positions[:, robot.index("joint_1")]
     release = round(planned.trajectory.release_time / 0.002)
     assert joint_1[0] == 0.0 and np.all(joint_1[release - 100:] == pytest.approx(np.radians(bearing)))
-    outcome = simulate_throw(planned.trajectory, Basket(2.75, bearing=bearing), robot=robot)
+    # the basket where the arm's kinematics at the planned release send the ball
+    target = release_landing(robot, planned.trajectory)
+    assert 2.0 < target < 4.0
+    outcome = simulate_throw(planned.trajectory, Basket(target, bearing=bearing), robot=robot)
+    assert outcome.landing_x == pytest.approx(target, abs=0.05)  # the servos track the plan to ~1 mrad
     # MuJoCo's free flight against the closed-form projectile from the simulated release
     assert outcome.landing_x == pytest.approx(outcome.predicted_landing_x, abs=0.015)
     assert abs(outcome.lateral) < 1e-3 and abs(outcome.predicted_lateral) < 1e-3
     direction = np.array([np.cos(np.radians(bearing)), np.sin(np.radians(bearing))])
     assert outcome.release.velocity[:2] @ direction > 0 and outcome.release.velocity[2] > 0  # forward, upward
-    assert outcome.hit and outcome.miss == pytest.approx(outcome.landing_x - 2.75)
-    np.testing.assert_allclose(outcome.rest_position[:2], 2.75 * direction, atol=0.2)
+    assert outcome.hit and outcome.miss == pytest.approx(outcome.landing_x - target)
+    np.testing.assert_allclose(outcome.rest_position[:2], target * direction, atol=0.2)
 
 
 def test_a_higher_rim_is_crossed_nearer_and_changes_the_verdict(robot, mapping):
-    planned = plan_path(mapping, human_throw(7.7, wrist=False))
-    low = simulate_throw(planned.trajectory, Basket(2.75, rim_height=0.3), robot=robot)
-    high = simulate_throw(planned.trajectory, Basket(2.75, rim_height=1.0), robot=robot)
+    planned = plan_path(mapping, human_throw(12.0, wrist=False))
+    target = release_landing(robot, planned.trajectory, rim_height=0.3)
+    low = simulate_throw(planned.trajectory, Basket(target, rim_height=0.3), robot=robot)
+    high = simulate_throw(planned.trajectory, Basket(target, rim_height=1.0), robot=robot)
     (x, _, z), (vx, _, vz) = low.release.position, low.release.velocity
     for outcome, rim in ((low, 0.3), (high, 1.0)):
         flight = (vz + np.sqrt(vz**2 + 2 * 9.81 * (z - rim))) / 9.81
         assert outcome.landing_x == pytest.approx(x + vx * flight, abs=0.015)
-    assert high.landing_x < low.landing_x - 0.4
+    assert high.landing_x == pytest.approx(release_landing(robot, planned.trajectory, rim_height=1.0), abs=0.05)
+    assert high.landing_x < low.landing_x - 0.2
     assert low.hit and not high.hit and high.miss < 0
 
 
-def test_three_joints_throw_farther_than_two_from_the_same_human_speed(robot):
-    path = human_throw(7.0)
+def test_the_wrist_adds_to_the_throw_from_the_same_human_speed(robot):
+    path = human_throw(12.0)
     two = plan_path(mapping_for(robot, ("joint_2", "joint_3")), path)
     three = plan_path(mapping_for(robot, ("joint_2", "joint_3", "joint_5")), path)
+    wrist = robot.index("joint_5")
+    assert np.all(two.trajectory.velocities[:, wrist] == 0) and three.points.velocities[-1, wrist] > 0.5
     far = Basket(3.0)
     landings = [simulate_throw(p.trajectory, far, robot=robot, check_reach=False).landing_x for p in (two, three)]
-    assert landings[1] > landings[0] + 0.3
+    assert landings[1] > landings[0] + 0.05
+    assert landings == pytest.approx([release_landing(robot, p.trajectory) for p in (two, three)], abs=0.05)

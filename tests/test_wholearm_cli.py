@@ -13,9 +13,14 @@ from rlff.robot.comau import comau_rows
 from rlff.robot.export import read_bag, read_json
 from rlff.robot.plan import load_for_robot
 from rlff.trajectory.path_csv import read_generated_path
-from wholearm import human_throw
+from wholearm import human_throw, release_landing
 
 JOINTS = "joint_2,joint_3"
+
+
+def speeds_limit(robot):
+    """Speed limits (rad/s) of joints 1 to 5, the Comau program's position slots."""
+    return np.array([joint.max_velocity for joint in robot.joints[:5]])
 
 
 @pytest.fixture(scope="module")
@@ -27,7 +32,7 @@ def robot():
 def throw_csv(tmp_path):
     """A whole-arm generated path as `rlff generate --joints ... --bearing 45` writes it."""
     path = tmp_path / "throw.csv"
-    frame = pd.DataFrame(human_throw(7.7))
+    frame = pd.DataFrame(human_throw(12.0))
     frame["distance"], frame["bearing"], frame["height"] = 2.75, 45.0, 0.3
     frame.to_csv(path, index=False)
     return path
@@ -44,15 +49,17 @@ def test_a_generated_path_brings_its_joint_and_context_columns(throw_csv, tmp_pa
         read_generated_path(tmp_path / "changing.csv")
 
 
-def test_sim_throw_with_joints_at_the_paths_bearing_hits(rlff, throw_csv):
-    result = rlff("sim", "throw", str(throw_csv), "--joints", JOINTS, "--basket", "2.75", "--json")
+def test_sim_throw_with_joints_at_the_paths_bearing_hits(rlff, robot, throw_csv):
+    planned = load_for_robot(throw_csv, robot, 0.002, joints=("joint_2", "joint_3"))[1].trajectory
+    target = f"{release_landing(robot, planned):.3f}"  # where the release sends the ball
+    result = rlff("sim", "throw", str(throw_csv), "--joints", JOINTS, "--basket", target, "--json")
     assert result.code == 0, result.stderr
     outcome = json.loads(result.stdout)
     assert outcome["basket"]["bearing"] == 45.0 and outcome["hit"]
     assert abs(outcome["lateral"]) < 1e-3 and abs(outcome["landing_x"] - outcome["predicted_landing_x"]) < 0.015
     joint_1 = outcome["release"]["joint_positions"]["joint_1"]
     assert joint_1 == pytest.approx(np.radians(45.0), abs=1e-3)
-    text = rlff("sim", "throw", str(throw_csv), "--joints", JOINTS, "--basket", "2.75", "--bearing", "-30",
+    text = rlff("sim", "throw", str(throw_csv), "--joints", JOINTS, "--basket", target, "--bearing", "-30",
                 "--height", "1.0")
     assert text.code == 0, text.stderr
     assert "miss: the ball came down to the 1 m rim's height at" in text.stdout and "on the -30 deg line" in text.stdout
@@ -60,7 +67,7 @@ def test_sim_throw_with_joints_at_the_paths_bearing_hits(rlff, throw_csv):
 
 def test_sim_throw_without_the_columns_the_joints_need_names_them(rlff, tmp_path):
     path = tmp_path / "one.csv"
-    pd.DataFrame({k: v for k, v in human_throw(7.7).items() if k in ("angle", "velocity", "time")}).to_csv(path)
+    pd.DataFrame({k: v for k, v in human_throw(12.0).items() if k in ("angle", "velocity", "time")}).to_csv(path)
     result = rlff("sim", "throw", str(path), "--joints", JOINTS, "--basket", "2.0")
     assert result.code == 2
     assert "lacks the columns shoulder, shoulder_velocity" in result.stderr and str(path) in result.stderr
@@ -102,11 +109,11 @@ def test_the_comau_program_of_a_whole_arm_throw_carries_every_driven_joint(rlff,
     assert rows.shape == (len(planned), 6)
     for slot, joint in ((1, "joint_1"), (2, "joint_2"), (3, "joint_3"), (5, "joint_5")):
         np.testing.assert_allclose(rows[:, slot - 1], np.degrees(planned.positions[:, robot.index(joint)]), atol=1e-4)
-    speeds = np.abs(planned.velocities[:, :5]) / np.array([j.max_velocity for j in robot.joints[:5]])
+    speeds = np.abs(planned.velocities[:, :5]) / speeds_limit(robot)
     np.testing.assert_allclose(rows[:, 5], 100 * speeds.max(axis=1), atol=1e-4)
-    # the fastest instant is the release, led by joint_3 (the elbow)
+    # the fastest instant is the release (no joint outruns its release speed)
     release = planned.velocities[round(planned.release_time / 0.002)]
-    assert rows[:, 5].max() == pytest.approx(100 * release[2] / robot.joint("joint_3").max_velocity, abs=1e-3)
+    assert rows[:, 5].max() == pytest.approx(100 * (np.abs(release[:5]) / speeds_limit(robot)).max(), abs=1e-3)
     np.testing.assert_allclose(comau_rows(planned, mapping_for(robot, ("joint_2", "joint_3"))), rows, atol=1e-4)
 
 
