@@ -199,6 +199,7 @@ def test_joints_asked_for_that_a_format_lacks_are_errors_and_mixed_files_keep_th
     dataset, report = import_recordings([bag, csv])
     assert dataset.columns == ("time", "angle", "velocity", "shoulder", "shoulder_velocity", "distance")
     assert any("wrist left out: not every recording carries it" in note for note in report.notes)
+    assert report.joints == ["angle", "shoulder"] and report.to_dict()["notes"] == report.general
     # the bag's torso: NiTE's neck and the middle of its hips (upright), the upper arm 20 degrees
     # from straight up, with the factory's tracker noise
     from_bag = [t for t in dataset if t.meta["source"] == str(bag)]

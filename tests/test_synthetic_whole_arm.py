@@ -114,7 +114,7 @@ def test_the_chain_velocity_is_the_derivative_of_its_position():
     assert (float(x), float(z)) == pytest.approx((UPPER_ARM + FOREARM_ONLY + HAND, 1.5))
 
 
-def test_proximal_to_distal_the_shoulder_leads_the_elbow_and_the_wrist_snaps_last(clean):
+def test_proximal_to_distal_the_shoulder_leads_the_elbow_and_the_wrist_follows(clean):
     for trajectory in clean:
         time, shoulder = trajectory["time"], trajectory["shoulder"]
         extension = _extension(trajectory)
@@ -126,7 +126,9 @@ def test_proximal_to_distal_the_shoulder_leads_the_elbow_and_the_wrist_snaps_las
         shoulder_peak = t[np.argmax(trajectory["shoulder_velocity"][extension])]
         elbow_peak = t[np.argmax(trajectory["velocity"][extension])]
         wrist_peak = t[np.argmax(trajectory["wrist_velocity"][extension])]
-        assert shoulder_peak < elbow_peak <= wrist_peak + 1e-9
+        assert shoulder_peak < elbow_peak
+        # the hand straightens with the elbow's fastest extension (in the recordings too)
+        assert shoulder_peak <= wrist_peak and abs(wrist_peak - elbow_peak) <= 0.1 + 1e-9
         # the shoulder started its swing before the elbow started extending
         moving = np.flatnonzero(trajectory["shoulder_velocity"] > 0.05)
         assert time[moving[moving > extension.start - 3][0]] <= time[extension.start]
@@ -227,3 +229,13 @@ def test_a_glitch_disturbs_every_joint_and_the_spike_filter_removes_it_from_all(
             np.testing.assert_array_equal(cleaned[0][joint], truth[joint][kept])
             np.testing.assert_allclose(cleaned[0][velocity], np.gradient(cleaned[0][joint], cleaned[0]["time"]))
     assert seen >= 3
+
+
+@pytest.mark.parametrize("extension", ["csv", "parquet", "npz"])
+def test_whole_arm_demonstrations_round_trip_through_every_dataset_format(tmp_path, extension):
+    from rlff.formats import read_dataset, write_dataset
+
+    dataset = whole_arm_demonstrations(0, subjects=1, distances=(1.0, 2.0), joints=("shoulder", "elbow", "wrist"))
+    write_dataset(dataset, tmp_path / f"arm.{extension}")
+    back = read_dataset(tmp_path / f"arm.{extension}")
+    assert back.equals(dataset) and back.context == ("distance", "bearing", "height")

@@ -112,9 +112,12 @@ class FileReport:
 
 @dataclass
 class ImportReport:
-    """What the import did, file by file."""
+    """What the import did, file by file; ``joints`` the joint columns written (``angle`` first),
+    ``general`` what concerns all files (a joint left out because some file lacks it)."""
 
     files: list[FileReport] = field(default_factory=list)
+    joints: list[str] = field(default_factory=list)
+    general: list[str] = field(default_factory=list)
 
     @property
     def n_throws(self) -> int:
@@ -131,13 +134,15 @@ class ImportReport:
 
     @property
     def notes(self) -> list[str]:
-        return [note for report in self.files for note in report.notes]
+        return [note for report in self.files for note in report.notes] + self.general
 
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-able summary."""
         return {
             "throws": self.n_throws,
             "estimated_distances": self.estimated_distances,
+            "joints": self.joints,
+            "notes": self.general,
             "files": [asdict(report) for report in self.files],
         }
 
@@ -316,9 +321,10 @@ def _common_joints(
     keep = set(wanted) if wanted is not None else set.intersection(*carried)
     dropped = sorted(set.union(*carried) - keep)
     if wanted is None and dropped:
-        report.files[0].notes.append(
+        report.general.append(
             f"{', '.join(dropped)} left out: not every recording carries {'it' if len(dropped) == 1 else 'them'}"
         )
+    report.joints = list(joint_columns(keep))
     gone = {name for joint in dropped for name in (joint, velocity_column(joint))}
     if not gone:
         return trajectories

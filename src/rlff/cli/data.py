@@ -42,7 +42,11 @@ def synth_throws_command(
     heights: str | None = typer.Option(None, "--heights", help="With --whole-arm: rim heights (m), comma-separated (default 0.3,0.6,1)."),
     as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
 ) -> None:
-    """Simulated human overhand throws at the thesis' basket distances, with their outcomes."""
+    """Simulated human overhand throws at the thesis' basket distances, with their outcomes.
+
+    The elbow alone by default; with --whole-arm the shoulder and the elbow (and the wrist)
+    together, at baskets by distance, bearing and rim height (docs/data.md).
+    """
     from rlff.formats import format_of, write_dataset
 
     guard(inputs={}, outputs={"-o/--output": output})

@@ -92,7 +92,9 @@ def import_command(
         })
         return
     target = str(output) if written else f"{output} (not written)"
-    stdout().print(f"{plural(report.n_throws, 'throw')} from {plural(len(report.files), 'file')} -> {target}")
+    joints = ", ".join("elbow" if name == "angle" else name for name in report.joints)
+    carried = f" (joints: {joints})" if report.n_throws else ""
+    stdout().print(f"{plural(report.n_throws, 'throw')} from {plural(len(report.files), 'file')}{carried} -> {target}")
     for path in sheets:
         stdout().print(f"contact sheet: {path}")
 

@@ -18,12 +18,14 @@ one-joint people's 0.35 m. The ball leaves with the velocity of the chain's end,
 ``sum_i L_i * dphi_i/dt * (-sin phi_i, cos phi_i)`` over the segments' directions phi_i.
 
 The throw, with human coordination (proximal to distal) as the MSR Action3D high throws show it
-(docs/capture.md): at rest, the arm hangs (shoulder 0.25-0.6 rad); the wind-up raises the upper
-arm to 1.0-1.6 rad, flexes the elbow (0.6-0.9 rad) and bends the hand back; the throw goes on
-raising the upper arm (by 0.5-1.1 rad, more for farther baskets: above the horizontal at the
-release, still rising), the elbow starts extending after the shoulder has started and peaks after
-it (minimum-jerk moves), the wrist snaps last, after the elbow's peak; the elbow stops abruptly
-near full extension with a small recoil and the arm comes down a little as it follows through. Every joint
+(docs/capture.md, ``benchmarks/whole_arm_people.py``): at rest the arm hangs (shoulder 0.25-0.6
+rad, elbow 2.3-2.9 rad); the wind-up raises the upper arm to 1.25-1.65 rad, flexes the elbow
+(0.6-0.9 rad) and bends the hand back; the throw goes on raising the upper arm (by about 0.6-1.1
+rad, more for farther baskets: above the horizontal at the release, still rising), the elbow
+starts extending after the shoulder has started and peaks after it (minimum-jerk moves), the
+wrist straightens with the elbow's fastest extension (at most a little before it, as the
+recordings show); the elbow stops abruptly near full extension with a small recoil and the arm
+comes down a little as it follows through. Every joint
 of a throw moves on one clock: the throw's duration D scales all velocities at once, so the
 person aims by D: the ball speed the parabola to the basket's rim needs (without drag, to the rim
 ``height``), times their bias (most people fall short) and a per-throw error; the release also
@@ -90,7 +92,7 @@ class _Style:
     wrist_rest: float
     wrist_cocked: float
     wrist_snapped: float
-    wrist_delay: float  # the wrist's snap peaks this fraction of the throw after the elbow's speed
+    wrist_delay: float  # the wrist's snap peaks this fraction of the throw before the elbow's speed
     wrist_span: float  # fraction of the throw the snap lasts
     windup_duration: float
     speed_factor: float  # multiplies the ball speed the throw needs (< 1: falls short)
@@ -104,7 +106,7 @@ def _draw_style(rng: np.random.Generator, name: str, bias: float) -> _Style:
         shoulder_wound=rng.uniform(1.25, 1.65),
         shoulder_swing=rng.uniform(0.75, 0.95),
         shoulder_after=rng.uniform(0.02, 0.15),
-        rest_angle=rng.uniform(1.5, 2.1),
+        rest_angle=rng.uniform(2.3, 2.9),  # the arm hangs nearly straight
         wound_angle=rng.uniform(0.6, 0.9),
         extended_angle=rng.uniform(2.8, 3.1),
         elbow_start=rng.uniform(0.15, 0.3),
@@ -112,8 +114,8 @@ def _draw_style(rng: np.random.Generator, name: str, bias: float) -> _Style:
         wrist_rest=rng.uniform(2.9, 3.1),
         wrist_cocked=rng.uniform(2.2, 2.5),
         wrist_snapped=rng.uniform(2.95, 3.1),
-        wrist_delay=rng.uniform(0.02, 0.1),
-        wrist_span=rng.uniform(0.3, 0.45),
+        wrist_delay=rng.uniform(0.0, 0.08),
+        wrist_span=rng.uniform(0.2, 0.3),
         windup_duration=rng.uniform(0.3, 0.5),
         speed_factor=float(np.clip(1.0 - rng.normal(bias, 0.03), 0.7, 1.2)),
     )
@@ -160,7 +162,8 @@ def arm_release_state(
 
 @dataclass(frozen=True)
 class _Throw:
-    """One throw's motion: the person's style, this throw's swing and release, its duration."""
+    """One throw's motion, whatever its duration: the person's style, this throw's raise of the
+    upper arm and its release, the joints that move."""
 
     style: _Style
     swing: float  # shoulder elevation gained during the throw (rad)
@@ -184,10 +187,11 @@ class _Throw:
 
     @property
     def wrist_move(self) -> tuple[float, float]:
-        """Start and end of the wrist's snap as fractions of the throw's duration: centred a
-        little after the elbow's fastest extension (the middle of its move)."""
+        """Start and end of the wrist's snap as fractions of the throw's duration: centred on the
+        elbow's fastest extension (the middle of its move) or a little before, as in the MSR
+        recordings, where the hand is nearly straight at the release."""
         s = self.style
-        peak = 0.5 * (s.elbow_start + 1.0) + s.wrist_delay
+        peak = 0.5 * (s.elbow_start + 1.0) - s.wrist_delay
         return peak - 0.5 * s.wrist_span, peak + 0.5 * s.wrist_span
 
     @property
@@ -217,10 +221,10 @@ class _Throw:
         shoulder = s.shoulder_wound if "shoulder" in self.joints else s.shoulder_wound + s.shoulder_swing
         return {"shoulder": shoulder, "angle": s.wound_angle, "wrist": wrist}
 
-    def release(self, duration: float, u: float | None = None) -> tuple[np.ndarray, ...]:
-        """Ball position and velocity at throw fraction ``u`` (default the release), for a throw
-        lasting ``duration`` (s)."""
-        phases = self.phases(self.release_u if u is None else u)
+    def release(self, duration: float) -> tuple[np.ndarray, ...]:
+        """Ball position (m) and velocity (m/s) at the release of a throw lasting ``duration`` (s):
+        ``x, z, vx, vz`` as :func:`arm_release_state`."""
+        phases = self.phases(self.release_u)
         spans, starts = self.spans(), self.starts()
         angle = {name: starts[name] + spans[name] * phases[name][0] for name in spans}
         rate = {name: spans[name] * phases[name][1] / duration for name in spans}
