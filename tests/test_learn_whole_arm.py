@@ -63,15 +63,6 @@ def test_scale_speed_scales_every_velocity_by_one_factor_and_keeps_the_positions
     assert ratio == pytest.approx(per_sample.velocity / proposal.velocity)
 
 
-def test_the_arm_speed_factor_is_set_by_the_joint_nearest_its_limit():
-    problem = Problem(None, 1.0, "binary", 0.1, np.linspace(0, 1, 3), 1, 0, max_speed=10.0,
-                      outputs=joint_outputs(("angle", "shoulder")), max_speeds={"velocity": 10.0, "shoulder_velocity": 3.0})
-    proposal = Proposal(np.linspace(0, 1, 3), np.ones(3), arm={"shoulder": np.full(3, 2.5),
-                                                               "shoulder_velocity": np.array([-1.0, -2.0, -1.5])})
-    assert problem.arm_speed_factor(proposal) == pytest.approx(2.0)  # 3 rad/s over the 1.5 rad/s release
-    assert problem.arm_speed_factor(Proposal(np.linspace(0, 1, 3), np.ones(3))) == np.inf
-
-
 @pytest.mark.slow
 def test_whole_arm_attempts_carry_every_joint_and_resume_from_the_log(aimed, robot, tmp_path):
     log = tmp_path / "attempts.jsonl"
@@ -144,8 +135,7 @@ def test_the_refit_and_the_calibration_drive_every_joint_by_one_time_scale(aimed
     demos = _learning_demos(aimed, mapping.human_columns, 0.3)
     outputs = joint_outputs(mapping.human_columns)
     problem = Problem(demos, BASKET, "binary", 0.12, _angle_grid(demos), _components(demos, 0, outputs), 0,
-                      max_speed=mapping.max_human_speeds()["velocity"], outputs=outputs,
-                      max_speeds=mapping.max_human_speeds())
+                      max_speed=mapping.max_human_speeds()["velocity"], outputs=outputs)
     method = CalibrateUpdate(problem)
     assert method.fit(*_training(demos)).outputs == outputs
     first = method.propose([])
@@ -175,8 +165,7 @@ def test_the_donut_explores_the_shoulder_where_the_attempts_disagree(aimed, robo
     demos = _learning_demos(aimed, mapping.human_columns, 0.3)
     outputs = joint_outputs(mapping.human_columns)
     problem = Problem(demos, BASKET, "binary", 0.12, _angle_grid(demos), _components(demos, 0, outputs), 0,
-                      max_speed=mapping.max_human_speeds()["velocity"], outputs=outputs,
-                      max_speeds=mapping.max_human_speeds())
+                      max_speed=mapping.max_human_speeds()["velocity"], outputs=outputs)
     method = DonutSearch(problem)
     first = method.shape([])
     # misses thrown faster and with the shoulder held higher join the data labelled with the target:

@@ -75,8 +75,8 @@ class GmrBaseline(Method):
         self.throw = Proposal.of_outputs(path.angle, path.gmr_means, path.output_names, problem.target)
         self.angle, self.mean = self.throw.angle, self.throw.velocity
         fastest = float(np.max(np.abs(self.mean)))
-        #: Largest speed factor that keeps the GMR mean within every joint's speed limit.
-        self.limit = min(problem.max_speed / fastest if fastest > 0 else np.inf, problem.arm_speed_factor(self.throw))
+        #: Largest speed factor that keeps the GMR mean within the joint's speed limit.
+        self.limit = problem.max_speed / fastest if fastest > 0 else np.inf
 
     def scaled(self, factor: np.ndarray | float, info: dict) -> Proposal:
         """The GMR mean with every velocity times ``factor`` (scalar or shape (T,)), within the limit."""

@@ -48,6 +48,7 @@ from rlff.learn.method import (
     ONE_JOINT_OUTPUTS,
     Method,
     Problem,
+    Proposal,
     joint_outputs,
 )
 from rlff.learn.strategies import STRATEGIES
@@ -267,7 +268,8 @@ def learn(
     _require_reach(robot_model, target, pedestal, mapping.driven_joints)
     demos = _learning_demos(demos, mapping.human_columns, target.rim_height)
     _require_demos_within_limits(demos, mapping)
-    _require_executable(mapping, target, pedestal, demos)
+    components = _components(demos, seed, joint_outputs(mapping.human_columns))
+    _require_executable(mapping, target, pedestal, demos, components, seed)
     if executor is None:
         executor = _simulator(robot_model, target, pedestal)
 
@@ -295,14 +297,14 @@ def learn(
     log = AttemptLog(log_path, run) if log_path is not None else None
     try:
         return _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
-                    progress, until, centre_window, pedestal)
+                    progress, until, centre_window, pedestal, components)
     finally:
         if log:
             log.close()
 
 
 def _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor, progress,
-         until, centre_window, pedestal) -> LearningResult:
+         until, centre_window, pedestal, components) -> LearningResult:
     """The attempts of :func:`learn` after its checks, with the log (or None) held."""
     history = list(log.contents.attempts) if log else []
     resumed = len(history)
@@ -311,18 +313,16 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
             progress(attempt)
 
     outputs = joint_outputs(mapping.human_columns)
-    speeds = mapping.max_human_speeds()
     problem = Problem(
         demos=demos,
         target=target.distance,
         feedback=feedback,
         tolerance=min(_hit_tolerance(target), centre_window),
         angles=_angle_grid(demos),
-        components=_components(demos, seed, outputs),
+        components=components,
         seed=seed,
-        max_speed=speeds["velocity"],
+        max_speed=mapping.max_human_speeds()["velocity"],
         outputs=outputs,
-        max_speeds=speeds,
         **({"elasticity": release_elasticity(mapping, demos, target.distance, target.rim_height, pedestal),
             "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal)}
            if _whole_arm(mapping) else {}),
@@ -481,13 +481,16 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0) -> 
     return farthest_basket(reach.distance, basket.opening)
 
 
-def _require_executable(mapping, basket, pedestal: float, demos: Dataset) -> None:
+def _require_executable(mapping, basket, pedestal: float, demos: Dataset, components: int = 1,
+                        seed: int = 0) -> None:
     """Refuse a basket that no throw of this loop can reach, before the first throw.
 
     Every method throws along the same angle grid (rad, shape (T,)), so the driven joint swings
     from its mapped first angle and lets go at the mapped last one, at most at its speed limit
     (and what its acceleration and jerk limits allow over that swing), the other joints at the
-    start pose. A whole-arm throw: see :func:`arm_reach`.
+    start pose. A whole-arm throw: the loop's first throw for the basket (the GMR mean of the
+    demonstrations for its distance, with ``components`` and ``seed``: the shape every method
+    starts from) at the fastest the arm executes it (:func:`arm_reach`).
     """
     from rlff.sim.reach import farthest_basket, require_executable
 
@@ -496,18 +499,39 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset) -> Non
         require_executable(basket, mapping, pedestal, release, swing_from=start,
                            release_source="where the demonstrations let go")
         return
-    reach = arm_reach(mapping, demos, basket.rim_height, pedestal)
+    shape = _first_throw(demos, basket.distance, joint_outputs(mapping.human_columns), components, seed)
+    reach = arm_reach(mapping, demos, basket.rim_height, pedestal, shape)
     farthest = farthest_basket(reach.distance, basket.opening)
     if basket.distance <= farthest:
         return
     came_down = (f"bring the ball down to the {basket.rim_height:.2f} m rim at most {reach.distance:.2f} m away"
                  if np.isfinite(reach.distance) else f"never bring the ball down through the {basket.rim_height:.2f} m rim")
+    mapped = mapping.robot.whole_arm.get("joints", {})
+    more = [name for name in mapped if name not in mapping.driven_joints]
+    hint = f"; --joints {','.join((*sorted(mapping.driven_joints), *more))} may reach farther" if more else ""
     raise InputError(
         f"basket at {basket.distance:.2f} m is out of reach of the whole-arm throws this robot executes: the "
-        f"demonstrations' typical throw with {', '.join(mapping.driven_joints)}, sped up until {reach.limiting}, "
-        f"would {came_down}, so the farthest basket with a {basket.opening:.2f} m opening is "
-        f"at {farthest:.2f} m (pedestal {pedestal:.2f} m)"
+        f"loop's first throw for it (the demonstrations' GMR mean) with {', '.join(mapping.driven_joints)}, sped "
+        f"up until {reach.limiting}, would {came_down}, so the farthest basket with a {basket.opening:.2f} m "
+        f"opening is at {farthest:.2f} m (pedestal {pedestal:.2f} m){hint}"
     )
+
+
+def _first_throw(demos: Dataset, distance: float, outputs: tuple[str, ...], components: int,
+                 seed: int) -> dict[str, np.ndarray]:
+    """The GMR mean of ``demos`` (labelled as every method labels them) for ``distance`` (m) along
+    the loop's angle grid: the whole-arm throw (T,) columns every method starts from."""
+    from rlff.learn.method import labelled_demos, training_set
+    from rlff.model import Model
+
+    data, _ = training_set(labelled_demos(demos), [1.0] * len(demos))
+    model = Model.fit(data, inputs=("angle", "distance"), outputs=outputs, components=components, seed=seed,
+                      n_init=1)
+    angles = _angle_grid(demos)
+    mean = model.condition(np.column_stack([angles, np.full(angles.size, float(distance))])).mean
+    path = Proposal.of_outputs(angles, mean, outputs, distance).path
+    path["velocity"] = _forward_velocity(angles, path["velocity"])
+    return path
 
 
 @dataclass(frozen=True)
@@ -530,28 +554,30 @@ class ArmReach:
     limiting: str
 
 
-def arm_reach(mapping, demos: Dataset, rim_height: float, pedestal: float = 0.0) -> ArmReach:
+def arm_reach(mapping, demos: Dataset, rim_height: float, pedestal: float = 0.0,
+              shape: dict[str, np.ndarray] | None = None) -> ArmReach:
     """The reach of the whole-arm throws the loop makes from ``demos`` through ``mapping``.
 
-    Every method throws the shape of the demonstrations along the loop's angle grid, sped up or
-    slowed down as a whole (one factor on every joint's velocity). The motion planner keeps a
-    throw's first pose and its release state exactly and plans the swing between them within
-    the limits (:func:`rlff.trajectory.planner.plan_throw`; a swing too short for the release
-    speed is preceded by a wind-up, which must stay within the position limits), so the farthest
-    of these throws is the demonstrations' typical throw (:func:`_typical_throw`) at the largest
-    factor that keeps every driven joint's release velocity within its speed limit and that the
-    planner can still execute, found by bisection; its ball comes down where the release state
-    sends it (:func:`_release_crossing`).
+    Every method throws a shape along the loop's angle grid, sped up or slowed down as a whole
+    (one factor on every joint's velocity). The motion planner keeps a throw's first pose and
+    its release state exactly and plans the swing between them within the limits
+    (:func:`rlff.trajectory.planner.plan_throw`; a swing too short for the release speed is
+    preceded by a wind-up, which must stay within the position limits), so the farthest of
+    these throws is ``shape`` (default: the demonstrations' typical throw,
+    :func:`_typical_throw`) at the largest factor that keeps the elbow's joint within its speed
+    limit at the release (the other joints saturate at theirs) and that the planner can still
+    execute, found by bisection; its ball comes down where the release state sends it
+    (:func:`_release_crossing`).
     """
     from rlff.robot.plan import plan_path
 
-    typical = _typical_throw(mapping, demos)
+    typical = _typical_throw(mapping, demos) if shape is None else shape
     factor, limiting = _release_speed_factor(mapping, typical)
     factor *= 1 - 1e-9  # at the limit, not a rounding beyond it
 
     def executable(f: float) -> bool:
         try:
-            plan_path(mapping, _scaled(typical, f))
+            plan_path(mapping, _scaled(typical, f), clip=True)  # saturated as the loop executes it
         except InputError:
             return False
         return True
@@ -637,16 +663,14 @@ def _scaled(path: dict[str, np.ndarray], factor: float) -> dict[str, np.ndarray]
 
 
 def _release_speed_factor(mapping, path: dict[str, np.ndarray]) -> tuple[float, str]:
-    """The largest factor on every velocity of ``path`` that keeps each driven joint's release
-    velocity within its speed limit, and that joint (as the reason)."""
-    limits = mapping.max_human_speeds()
-    factor, limiting = math.inf, ""
-    for column, name in zip((c for c in joint_outputs(mapping.human_columns) if c.endswith("velocity")),
-                            mapping.driven_joints, strict=True):
-        release = abs(float(path[column][-1]))
-        if release > 0 and limits[column] / release < factor:
-            factor, limiting = limits[column] / release, f"{name} reaches its speed limit"
-    return factor, limiting
+    """The largest factor on every velocity of ``path`` that keeps the elbow's joint (the phase's)
+    within its speed limit at the release, and that joint (as the reason). The other driven
+    joints saturate at their own limits where the factor takes them beyond (as every executed
+    throw does: the robot never exceeds a limit)."""
+    release = abs(float(path["velocity"][-1]))
+    if not release > 0:
+        return math.inf, ""
+    return mapping.max_human_speeds()["velocity"] / release, f"{mapping.driven_joints[0]} reaches its speed limit"
 
 
 def _release_crossing(mapping, path: dict[str, np.ndarray], rim_height: float, pedestal: float) -> float:

@@ -61,12 +61,12 @@ class Problem:
     seed : int
         Seed of every random choice of the run.
     max_speed : float
-        Fastest speed of the elbow's joint in the demonstrations' units (rad/s).
+        Fastest speed of the elbow's joint in the demonstrations' units (rad/s). A proposal
+        scaled beyond another driven joint's limit has that joint saturate there, as the robot
+        does; the landing still grows with the speed.
     outputs : tuple of str
         The model's outputs: ``("velocity",)`` for a one-joint throw, with the other joints'
         positions and velocities for a whole-arm one (:func:`joint_outputs`).
-    max_speeds : mapping of str to float
-        Fastest speed (rad/s, demonstrations' units) of every velocity column of ``outputs``.
     elasticity : float
         Where the speed calibration's prior centres the elasticity of the landing in the release
         speed: 1.6 for a one-joint throw, from the arm's kinematics for a whole-arm one
@@ -87,7 +87,6 @@ class Problem:
     seed: int
     max_speed: float = float("inf")
     outputs: tuple[str, ...] = ONE_JOINT_OUTPUTS
-    max_speeds: Mapping[str, float] = field(default_factory=dict)
     elasticity: float = 1.6
     aim: Callable[[Proposal], float] | None = None
 
@@ -100,18 +99,6 @@ class Problem:
         starts = {} if n_init is None else {"n_init": n_init}
         return Model.fit(data, inputs=("angle", "distance"), outputs=self.outputs, components=self.components,
                          seed=self.seed, sample_weight=sample_weight, **starts)
-
-    def arm_speed_factor(self, proposal: Proposal) -> float:
-        """Largest factor on every velocity of ``proposal`` that keeps each driven joint other than
-        the elbow within its speed limit at the release; ``inf`` for a one-joint throw. The
-        elbow's own limit is :attr:`max_speed`. (The motion planner keeps the release state and
-        plans the swing before it within the limits, so the release is what must fit.)"""
-        factor = float("inf")
-        for column, values in proposal.arm.items():
-            release = abs(float(values[-1])) if column.endswith("_velocity") else 0.0
-            if release > 0 and column in self.max_speeds:
-                factor = min(factor, self.max_speeds[column] / release)
-        return factor
 
 
 @dataclass(frozen=True)

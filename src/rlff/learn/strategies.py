@@ -271,9 +271,7 @@ class CalibrateUpdate(DmmStrategy):
         speed = release_speed(problem.angles, throw.velocity)
         if not speed > 0:  # no motion at the release: keep the demonstrations' shape
             throw, speed = self.first, self.reference
-        # the whole throw is scaled by one factor: the other joints' limits bound it too
-        calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference,
-                                       min(problem.max_speed, speed * problem.arm_speed_factor(throw)),
+        calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference, problem.max_speed,
                                        slope=problem.elasticity)
         for attempt in history:
             executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
