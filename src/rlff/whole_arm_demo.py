@@ -4,8 +4,8 @@ Simulated people throw with the shoulder and the elbow (and the wrist) at basket
 on bearings 0 to 90 deg and mostly miss (:func:`rlff.synthetic.throws.whole_arm_demonstrations`)
 → the thesis' cleaning steps → for every basket, demonstrated or not, the learning loop with
 the default method and binary feedback throws whole-arm (joint 2 from the shoulder, joint 3 from
-the elbow, and joint 5 from the wrist where the basket is beyond what the first two reach), joint 1
-turned to the basket's bearing, until it hits or 10 attempts are spent.
+the elbow, and joint 5 from the wrist where the loop refuses the basket as beyond what the
+first two reach), joint 1 turned to the basket's bearing, until it hits or 10 attempts are spent.
 
 The robot learns from what a recording knows: the basket each person aimed at, not where the ball
 came down. Every basket is thrown at one bearing, the bearings taken in turn along the distances,
@@ -151,10 +151,9 @@ def run_whole_arm(
         Fewer than 2 demonstrations survive the cleaning.
     """
     from rlff.learn import learn
-    from rlff.learn.loop import learnable_basket
     from rlff.learn.scenarios import with_landings
     from rlff.preprocess import Pipeline
-    from rlff.robot import load_robot, mapping_for
+    from rlff.robot import load_robot
     from rlff.sim import Basket
     from rlff.synthetic.throws import whole_arm_demonstrations
 
@@ -169,27 +168,31 @@ def run_whole_arm(
     write_csv(clean, out_dir / "whole-arm-clean.csv")
     demonstrated = sorted({float(t["distance"][0]) for t in clean})
     aimed = with_landings(clean, "none", seed)
-    wrist = "wrist" in clean.columns
-    arm_reach = learnable_basket(aimed, mapping_for(robot, ARM_JOINTS), Basket(1.0))
+    choices = [ARM_JOINTS, (*ARM_JOINTS, WRIST_JOINT)] if "wrist" in clean.columns else [ARM_JOINTS]
 
     logs = out_dir / "attempts" / "whole-arm"
     runs, learned = [], {}
     for distance, bearing in baskets(demonstrated, unseen, bearings) if only is None else only:
-        joints = ARM_JOINTS if distance <= arm_reach or not wrist else (*ARM_JOINTS, WRIST_JOINT)
-        outcomes = []
-        executor = _recording_simulator(robot, Basket(distance, bearing=bearing), outcomes)
         log = logs / f"{distance:g}m-{bearing:g}deg.jsonl"
         log.unlink(missing_ok=True)
-        try:
-            result = learn(
-                aimed, distance, budget=budget, feedback="binary", seed=seed, robot=robot.name, log_path=log,
-                joints=joints, bearing=bearing, executor=executor,
-                progress=lambda attempt, d=distance, b=bearing: tell(
-                    f"whole arm at {d:g} m, {b:g} deg: attempt {attempt.index} ({'hit' if attempt.hit else 'miss'})"),
-            )
-        except InputError as exc:  # out of the loop's reach: the table says so, the other baskets go on
+        for joints in choices:  # joint 5 only where joints 2 and 3 do not reach
+            outcomes = []
+            executor = _recording_simulator(robot, Basket(distance, bearing=bearing), outcomes)
+            try:
+                result = learn(
+                    aimed, distance, budget=budget, feedback="binary", seed=seed, robot=robot.name, log_path=log,
+                    joints=joints, bearing=bearing, executor=executor,
+                    progress=lambda attempt, d=distance, b=bearing: tell(
+                        f"whole arm at {d:g} m, {b:g} deg: attempt {attempt.index} ({'hit' if attempt.hit else 'miss'})"),
+                )
+                refused = ""
+                break
+            except InputError as exc:  # out of the loop's reach (nothing thrown, no log line written)
+                refused = str(exc)
+                log.unlink(missing_ok=True)
+        if refused:  # the table says so, the other baskets go on
             runs.append(BasketRun(distance, bearing, distance in demonstrated, tuple(joints), False, 0, [], None,
-                                  str(exc)))
+                                  refused))
             continue
         last = outcomes[-1]
         runs.append(BasketRun(

@@ -76,7 +76,7 @@ def flights_3d(
         axes.set_ylim(-0.3, reach)
         axes.set_zlim(0.0, top)
         axes.set_box_aspect((reach + 0.3, reach + 0.3, top))  # metres look like metres
-        axes.view_init(elev=24, azim=-118)
+        axes.view_init(elev=32, azim=-118)
         axes.set_xlabel("forward x (m)")
         axes.set_ylabel("left y (m)")
         axes.set_zlabel("height z (m)")
