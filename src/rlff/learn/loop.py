@@ -324,7 +324,8 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         max_speed=mapping.max_human_speeds()["velocity"],
         outputs=outputs,
         **({"elasticity": release_elasticity(mapping, demos, target.distance, target.rim_height, pedestal),
-            "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal)}
+            "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal),
+            "saturation": partial(saturation_factor, mapping)}
            if _whole_arm(mapping) else {}),
     )
 
@@ -646,6 +647,12 @@ def aimed_factor(mapping, target: float, rim_height: float, pedestal: float, pro
     return math.sqrt(low * high)
 
 
+def saturation_factor(mapping, proposal) -> float:
+    """The factor on every velocity of ``proposal`` (a whole-arm throw) beyond which no driven
+    joint can go faster at the release (see :func:`_release_speed_factor`)."""
+    return _release_speed_factor(mapping, proposal.path)[0]
+
+
 def _typical_throw(mapping, demos: Dataset) -> dict[str, np.ndarray]:
     """The demonstrations' typical whole-arm throw along the loop's angle grid: the median of
     each column of :func:`joint_outputs` (T,), the elbow's velocity forward."""
@@ -663,14 +670,18 @@ def _scaled(path: dict[str, np.ndarray], factor: float) -> dict[str, np.ndarray]
 
 
 def _release_speed_factor(mapping, path: dict[str, np.ndarray]) -> tuple[float, str]:
-    """The largest factor on every velocity of ``path`` that keeps the elbow's joint (the phase's)
-    within its speed limit at the release, and that joint (as the reason). The other driven
-    joints saturate at their own limits where the factor takes them beyond (as every executed
-    throw does: the robot never exceeds a limit)."""
-    release = abs(float(path["velocity"][-1]))
-    if not release > 0:
-        return math.inf, ""
-    return mapping.max_human_speeds()["velocity"] / release, f"{mapping.driven_joints[0]} reaches its speed limit"
+    """The factor on every velocity of ``path`` at which the last driven joint reaches its speed
+    limit at the release, and that joint (as the reason): below it, the joints that get there
+    first saturate (as every executed throw does: the robot never exceeds a limit) while the
+    others still speed up and throw farther; above it, nothing changes."""
+    factor, limiting = 0.0, ""
+    limits = mapping.max_human_speeds()
+    for column, name in zip((c for c in joint_outputs(mapping.human_columns) if c.endswith("velocity")),
+                            mapping.driven_joints, strict=True):
+        release = abs(float(path[column][-1]))
+        if release > 0 and limits[column] / release > factor:
+            factor, limiting = limits[column] / release, f"every joint reaches its speed limit (the last: {name})"
+    return (factor, limiting) if factor > 0 else (math.inf, "")
 
 
 def _release_crossing(mapping, path: dict[str, np.ndarray], rim_height: float, pedestal: float) -> float:

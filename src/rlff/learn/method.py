@@ -71,6 +71,12 @@ class Problem:
         Where the speed calibration's prior centres the elasticity of the landing in the release
         speed: 1.6 for a one-joint throw, from the arm's kinematics for a whole-arm one
         (:func:`rlff.learn.loop.release_elasticity`).
+    saturation : callable, optional
+        ``saturation(proposal) -> factor``: for a whole-arm throw, the factor on every velocity
+        beyond which no driven joint goes faster at the release (each saturates at its limit, the
+        elbow's too, :func:`rlff.learn.loop.saturation_factor`); a speed calibration searches up
+        to it, in the commanded speed (the executed elbow speed stops growing where the elbow
+        saturates, the landing does not). None: :attr:`max_speed` bounds the executed speed.
     aim : callable, optional
         ``aim(proposal) -> factor``: the factor on every velocity of a proposal that sends the
         ball to the target by the arm's kinematics and the free flight from its release (a
@@ -88,6 +94,7 @@ class Problem:
     max_speed: float = float("inf")
     outputs: tuple[str, ...] = ONE_JOINT_OUTPUTS
     elasticity: float = 1.6
+    saturation: Callable[[Proposal], float] | None = None
     aim: Callable[[Proposal], float] | None = None
 
     def fit(self, data: Dataset, sample_weight: np.ndarray | None = None, n_init: int | None = None):

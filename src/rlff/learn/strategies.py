@@ -271,11 +271,14 @@ class CalibrateUpdate(DmmStrategy):
         speed = release_speed(problem.angles, throw.velocity)
         if not speed > 0:  # no motion at the release: keep the demonstrations' shape
             throw, speed = self.first, self.reference
-        calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference, problem.max_speed,
+        fastest = problem.max_speed if problem.saturation is None else speed * problem.saturation(throw)
+        calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference, fastest,
                                        slope=problem.elasticity)
         for attempt in history:
             executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
                                                                attempt.velocity))
+            if problem.saturation is not None:  # whole arm: the speed asked for (see Problem)
+                executed = float(attempt.info.get("speed", executed))
             if problem.feedback == "distance":
                 calibration.observe_landing(executed, attempt.landing)
             elif not attempt.hit:
