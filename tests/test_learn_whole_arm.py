@@ -180,9 +180,10 @@ def test_the_donut_explores_the_shoulder_where_the_attempts_disagree(aimed, robo
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("distance, bearing", [(1.25, 45.0), (2.6, 90.0)])
-def test_calibrate_hits_unseen_baskets_at_a_bearing_with_binary_feedback(aimed, robot, distance, bearing):
-    result = learn(aimed, distance, budget=10, joints=ARM, bearing=bearing, feedback="binary", robot=robot, seed=11)
+@pytest.mark.parametrize("distance, bearing, height", [(1.25, 45.0, 0.3), (2.6, 90.0, 0.3), (2.2, 30.0, 1.0)])
+def test_calibrate_hits_unseen_baskets_at_a_bearing_with_binary_feedback(aimed, robot, distance, bearing, height):
+    result = learn(aimed, distance, budget=10, joints=ARM, bearing=bearing, height=height, feedback="binary",
+                   robot=robot, seed=11)
     assert result.hit, result.misses
     assert result.attempts <= 10
 
@@ -196,3 +197,15 @@ def test_bad_joints_on_the_command_line_are_one_line_and_exit_2(rlff, tmp_path):
     assert empty.code == 2 and "--joints" in empty.stderr
     far = rlff("learn", str(demos), "--basket", "1.2", "--bearing", "200")
     assert far.code == 2 and "bearing" in far.stderr
+
+
+def test_demonstrations_at_several_rim_heights_teach_from_the_nearest():
+    from rlff.learn.loop import _learning_demos
+    from rlff.synthetic.throws import whole_arm_demonstrations
+
+    demos = whole_arm_demonstrations(7, subjects=2, distances=(1.0, 1.5), bearings=(0.0,), heights=(0.3, 1.0))
+    assert {float(t["height"][0]) for t in demos} == {0.3, 1.0}
+    high = _learning_demos(demos, ("angle", "shoulder"), rim_height=0.9)
+    assert len(high) == 4 and all(t.id.endswith("h1-1") for t in high)
+    assert {c for t in high for c in t.columns} == {"angle", "distance", "velocity", "shoulder", "shoulder_velocity"}
+    assert len(_learning_demos(demos, ("angle", "shoulder"), rim_height=0.3)) == 4
