@@ -82,3 +82,24 @@ def test_the_wrist_adds_to_the_throw_from_the_same_human_speed(robot):
     landings = [simulate_throw(p.trajectory, far, robot=robot, check_reach=False).landing_x for p in (two, three)]
     assert landings[1] > landings[0] + 0.05
     assert landings == pytest.approx([release_landing(robot, p.trajectory) for p in (two, three)], abs=0.05)
+
+
+def test_release_reach_scales_the_throws_shape_to_the_first_speed_limit(robot, mapping):
+    from rlff.sim.reach import release_reach, throw_reach
+
+    path = {k: v for k, v in human_throw(6.0, wrist=False).items() if k != "time"}
+    points = plan_path(mapping, path).points
+    q, v = points.positions[-1], points.velocities[-1]
+    reach = release_reach(robot, q, v)
+    # only the shape and the limits count: the same shape at twice the speed reaches as far
+    assert release_reach(robot, q, 2 * v) == pytest.approx(reach)
+    # the human throw's velocities scaled by that factor, planned and thrown in MuJoCo, come down there
+    factor = 0.999 * min(robot.joint(n).max_velocity / abs(v[robot.index(n)]) for n in ("joint_2", "joint_3"))
+    fast = {k: (values * factor if k.endswith("velocity") else values) for k, values in path.items()}
+    outcome = simulate_throw(plan_path(mapping, fast).trajectory, Basket(3.0), robot=robot, check_reach=False)
+    assert outcome.landing_x == pytest.approx(reach, abs=0.05)
+    # at the free reach's best pose and rates it is that reach
+    best = throw_reach(robot, joints=("joint_2", "joint_3"))
+    assert 1.0 < reach <= best.distance
+    optimal = dict.fromkeys(robot.joint_names, 0.0) | best.pose
+    assert release_reach(robot, optimal, best.velocities) == pytest.approx(best.distance, abs=1e-6)

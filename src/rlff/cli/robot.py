@@ -58,12 +58,13 @@ def _report(result: RobotPlan) -> None:
 
 @app.command()
 def show(robot: str = ROBOT, json: bool = JSON) -> None:
-    """Print the robot's joints, limits and default throwing mapping."""
+    """Print the robot's joints, limits and default throwing mappings (one joint, whole arm)."""
     from rlff.robot.description import load_robot
-    from rlff.robot.mapping import RobotMapping
+    from rlff.robot.mapping import ArmMapping, RobotMapping
 
     model = load_robot(robot)
     mapping = RobotMapping.for_robot(model) if model.throwing else None
+    arm = ArmMapping.for_robot(model, tuple(model.whole_arm["joints"])) if model.whole_arm else None
     if json:
         emit_json({"name": model.name, "source": model.source,
                    "joints": [vars(joint) for joint in model.joints],
@@ -71,7 +72,11 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
                    "throwing": None if mapping is None else {
                        "joint": mapping.joint, "start_pose": dict(mapping.start_pose),
                        "angle_offset": mapping.angle_offset, "angle_scale": mapping.angle_scale,
-                       "velocity_scale": mapping.velocity_scale}})
+                       "velocity_scale": mapping.velocity_scale},
+                   "whole_arm": None if arm is None else {
+                       "time_scale": arm.time_scale, "bearing_joint": arm.bearing_joint,
+                       "joints": {m.joint: {"human": m.human, "offset": m.offset, "scale": m.scale} for m in arm.joints},
+                       "start_pose": dict(arm.start_pose)}})
         return
     out = stdout()
     out.print(f"{model.name} ({model.source})", highlight=False)
@@ -85,6 +90,10 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
         out.print(f"throwing: human angle drives {mapping.joint} = {mapping.angle_offset:g} + "
                   f"{mapping.angle_scale:g} * angle, velocity * {mapping.velocity_scale:g}; start pose {pose}",
                   highlight=False)
+    if arm is not None:
+        driven = ", ".join(f"{m.joint} = {m.offset:g} + {m.scale:g} * {m.human}" for m in arm.joints)
+        out.print(f"whole arm (--joints): {driven}; velocities * scale / {arm.time_scale:g} (time_scale); "
+                  f"{arm.bearing_joint} turns to --bearing", highlight=False)
 
 
 @app.command()

@@ -264,7 +264,9 @@ class ArmMapping:
     joints : sequence of JointMap
         The driven robot joints, the one following ``angle`` (the elbow, the phase) first.
     start_pose : mapping of joint name to position (rad)
-        Positions of the joints not driven; the bearing joint's is its position at bearing 0.
+        Positions of the joints not driven (required), and where the arm rests before a throw
+        (:meth:`pose`; a driven joint without one rests at 0); the bearing joint's is its
+        position at bearing 0.
     time_scale : float
         Robot time per human time (s/s), one for all joints, so they stay coordinated.
     bearing_joint : str or None
@@ -302,11 +304,12 @@ class ArmMapping:
             self.robot.joint(self.bearing_joint)
             if self.bearing_joint in names:
                 raise InputError(f"{where}: bearing_joint {self.bearing_joint} cannot also be driven")
-        rest = [n for n in self.robot.joint_names if n not in names]
-        missing = [n for n in rest if n not in self.start_pose]
+        missing = [n for n in self.robot.joint_names if n not in names and n not in self.start_pose]
         if missing:
             raise InputError(f"{where}.start_pose misses joints {missing}")
-        pose = {name: float(self.start_pose[name]) for name in rest}
+        for name in self.start_pose:
+            self.robot.joint(name)
+        pose = {name: float(value) for name, value in self.start_pose.items()}
         for name, value in pose.items():
             joint = self.robot.joint(name)
             if not joint.lower <= value <= joint.upper:
@@ -378,7 +381,8 @@ class ArmMapping:
         return tuple(m.human for m in self.joints)
 
     def pose(self) -> np.ndarray:
-        """Positions (J,) (rad) of every joint at the start pose, driven joints at 0."""
+        """Positions (J,) (rad) of every joint at the start pose: where the arm rests before a
+        throw, the ``start`` the approach is planned from (a driven joint without one at 0)."""
         return np.array([self.start_pose.get(name, 0.0) for name in self.robot.joint_names])
 
     def path_to_robot(self, path: HumanPath, *, bearing: float = 0.0,

@@ -11,6 +11,10 @@ bound of what a trajectory within the limits achieves.
 joint moves, from a given release (the learning loop's is fixed by the demonstrations), at its
 speed limit or what its acceleration and jerk limits allow over the swing, the other joints at
 the start pose. ``rlff learn`` refuses a basket beyond it before the first throw.
+
+:func:`release_reach` is the reach of one throw's shape, for any number of joints (a whole-arm
+throw): its release pose kept, its release velocities scaled by one factor until the first joint
+reaches its speed limit (what a speed calibration that scales the coordinated throw can reach).
 """
 
 from __future__ import annotations
@@ -260,6 +264,9 @@ def executable_reach(mapping, rim_height: float = 0.3, pedestal: float = 0.0,
     InputError
         A driven joint outside the throwing plane, or a release outside its range.
     """
+    if not hasattr(mapping, "joint"):
+        raise InputError("executable_reach is the reach of a one-joint mapping; a whole-arm throw's is "
+                         "release_reach (its release pose and the shape of its velocities)")
     arm = Arm.from_robot(mapping.robot)
     if mapping.joint not in PLANE_JOINTS:
         raise InputError(f"the mapping drives {mapping.joint}, which does not throw in the vertical plane "
@@ -307,3 +314,38 @@ def require_executable(basket: Basket, mapping, pedestal: float = 0.0, release: 
         f"{came_down}, so the farthest basket with a {basket.opening:.2f} m opening is at {farthest:.2f} m "
         f"(pedestal {pedestal:.2f} m)"
     )
+
+
+def release_reach(robot: Robot, positions, velocities, rim_height: float = 0.3, pedestal: float = 0.0) -> float:
+    """Farthest landing (m from joint 1's axis, along the line joint 1 faces) of a throw's shape.
+
+    Parameters
+    ----------
+    robot : Robot
+    positions, velocities : mapping of joint name to float, or array of shape (J,)
+        The release state (rad, rad/s), e.g. the last point of a mapped throw; joints 2, 3 and
+        5 throw in the vertical plane (joint 4 at 0), the others do not move the ball.
+    rim_height, pedestal : float
+        Rim height and the base's height above the ground (m).
+
+    Returns
+    -------
+    float
+        Where the ball comes down through the rim's height with the release velocities of the
+        throwing joints scaled by one factor until the first reaches its speed limit; -inf when
+        it never comes down through it or no throwing joint moves.
+    """
+    arm = Arm.from_robot(robot)
+    names = robot.joint_names
+    position = dict(positions) if isinstance(positions, dict) else dict(zip(names, np.asarray(positions, float), strict=True))
+    velocity = dict(velocities) if isinstance(velocities, dict) else dict(zip(names, np.asarray(velocities, float), strict=True))
+    rates = np.array([velocity.get(name, 0.0) for name in PLANE_JOINTS])
+    limits = np.array([robot.joint(name).max_velocity for name in PLANE_JOINTS])
+    moving = np.abs(rates) > 1e-12
+    if not np.any(moving):
+        return -np.inf
+    rates = rates * np.min(limits[moving] / np.abs(rates[moving]))
+    plane = arm.in_plane(*(position.get(name, 0.0) for name in PLANE_JOINTS), pedestal=pedestal)
+    ball_velocity = plane.jacobian @ rates
+    landing = float(crossing_distance(plane.ball[0], plane.ball[1], ball_velocity[0], ball_velocity[1], rim_height))
+    return landing if np.isfinite(landing) else -np.inf
