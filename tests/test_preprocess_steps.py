@@ -371,3 +371,42 @@ def test_reject_shapes_removes_the_odd_one_of_a_context():
     assert "shape differs from its context's common shape" in report.removed[0].reason
     assert "1 context(s) with fewer than 3 trajectories not compared" in report.notes
     assert len(out) == 6
+
+
+# -- whole-arm columns through the steps --------------------------------------------------------
+
+
+def test_spike_filter_recomputes_every_joints_velocity():
+    time = [0.0, 0.1, 0.2, 0.3, 0.4]
+    data = _one(_throw("a", [1.0, 1.1, 0.05, 1.3, 1.4], velocity=[9] * 5, time=time,
+                       shoulder=[2.0, 2.05, 0.1, 2.15, 2.2], shoulder_velocity=[9] * 5,
+                       wrist=[2.4, 2.6, 3.1, 3.0, 3.2], wrist_velocity=[9] * 5))
+    out, report = spike_filter(data, threshold=2.0)
+    np.testing.assert_array_equal(out["a"]["shoulder"], [2.0, 2.05, 2.15, 2.2])
+    np.testing.assert_allclose(out["a"]["shoulder_velocity"], [0.5, 0.5, 0.5, 0.5], atol=1e-12)
+    np.testing.assert_allclose(out["a"]["wrist_velocity"], [2.0, 2.0, 2.0, 2.0], atol=1e-12)
+    assert report.notes == [
+        "velocity, shoulder_velocity, wrist_velocity recomputed from angle, shoulder, wrist and time "
+        "where samples were removed"
+    ]
+
+
+def test_stop_point_leaves_the_other_joints_at_rest():
+    data = _one(_throw("a", [1.0, 2.0], velocity=[1.0, 4.0], time=[0.0, 0.5],
+                       shoulder=[1.8, 2.1], shoulder_velocity=[0.5, 0.6]))
+    out, _ = stop_point(data)
+    np.testing.assert_array_equal(out["a"]["shoulder"], [1.8, 2.1, 2.1])
+    np.testing.assert_array_equal(out["a"]["shoulder_velocity"], [0.5, 0.6, 0.0])
+
+
+def test_densify_resamples_the_other_joints_along_the_angle():
+    # every column linear in the angle: resampled exactly on the angle's grid, the context kept
+    angle = np.array([0.8, 1.0, 1.3, 1.7, 2.0])
+    arm = _throw("a", angle, velocity=2.0 * angle, time=angle / 4, shoulder=1.2 + 0.5 * angle,
+                 shoulder_velocity=3.0 - angle, height=np.full(5, 0.6))
+    out, _ = densify(Dataset([arm], context=("distance", "height")), step=0.1)
+    grid = out["a"]["angle"]
+    np.testing.assert_allclose(grid, np.arange(8, 21) / 10, atol=1e-12)
+    np.testing.assert_allclose(out["a"]["shoulder"], 1.2 + 0.5 * grid, atol=1e-12)
+    np.testing.assert_allclose(out["a"]["shoulder_velocity"], 3.0 - grid, atol=1e-12)
+    np.testing.assert_array_equal(out["a"]["height"], np.full(grid.size, 0.6))

@@ -317,12 +317,12 @@ def align_arm(
     Parameters
     ----------
     arm : ArmTrack
-    up : array of shape (3,)
-        The recording's up direction: the shoulder's elevation is measured against its opposite
-        when the arm has no torso points (neck and hip centre).
     max_gap, gap_factor : float
         A gap (s) is lost tracking when longer than both ``max_gap`` and ``gap_factor`` x the
         median spacing of the elbow's samples.
+    up : array of shape (3,)
+        The recording's up direction: the shoulder's elevation is measured against its opposite
+        when the arm has no torso points (neck and hip centre, at least ``MIN_TORSO`` apart).
 
     Raises
     ------
