@@ -2,17 +2,16 @@
 
 - ``rlff demo``'s whole-arm part: every demonstrated (1-4 m) and unseen (1.25-4.5 m) basket, at
   bearings 0-90 deg, hit within 10 attempts of the default method with binary feedback. The demo
-  runs seed 0; this test runs seed 2 (nothing was tuned on it).
+  runs seed 0; this test runs seed 5 (the robot file's whole-arm mapping was tuned on seeds 0, 2
+  and 3; nothing on 5).
 - The MSR Action3D high throws (real shoulders and elbows, captured whole-arm): hits at 2.0, 3.0
-  and 4.0 m within 10 attempts each (the first throw for 4 m needs joint 5: joints 2 and 3 alone
-  are refused, naming joint 5).
+  and 4.0 m within 10 attempts each, with joints 2 and 3 (and with joint 5 too at 4 m).
 """
 
 from __future__ import annotations
 
 import pytest
 
-from rlff.errors import InputError
 from rlff.learn import learn
 
 pytestmark = [pytest.mark.slow, pytest.mark.integration]
@@ -21,7 +20,7 @@ pytestmark = [pytest.mark.slow, pytest.mark.integration]
 def test_every_demo_basket_around_the_robot_is_hit_within_10_attempts(tmp_path):
     from rlff.whole_arm_demo import BUDGET, run_whole_arm
 
-    whole = run_whole_arm(tmp_path, seed=2)
+    whole = run_whole_arm(tmp_path, seed=5)
     distances = {run.distance for run in whole.runs}
     assert {1.0, 2.0, 3.0, 4.0} <= distances and {1.25, 4.5} <= distances
     assert {run.bearing for run in whole.runs} >= {0.0, 30.0, 60.0, 90.0}
@@ -53,14 +52,10 @@ def msr_throws(tmp_path_factory):
 @pytest.mark.parametrize("basket, joints", [
     (2.0, ("joint_2", "joint_3")),
     (3.0, ("joint_2", "joint_3")),
+    (4.0, ("joint_2", "joint_3")),
     (4.0, ("joint_2", "joint_3", "joint_5")),
 ])
 def test_the_msr_throws_teach_hits_at_2_3_and_4_m(msr_throws, basket, joints):
     result = learn(msr_throws, basket, budget=10, joints=joints, feedback="binary", seed=7)
     assert result.hit, result.misses
     assert result.attempts <= 10
-
-
-def test_the_msr_first_throw_for_4_m_needs_joint_5(msr_throws):
-    with pytest.raises(InputError, match=r"out of reach.*--joints joint_2,joint_3,joint_5 may reach farther"):
-        learn(msr_throws, 4.0, joints=("joint_2", "joint_3"))

@@ -521,10 +521,14 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
 def _first_throw(demos: Dataset, distance: float, outputs: tuple[str, ...], components: int,
                  seed: int) -> dict[str, np.ndarray]:
     """The GMR mean of ``demos`` (labelled as every method labels them) for ``distance`` (m) along
-    the loop's angle grid: the whole-arm throw (T,) columns every method starts from."""
-    from rlff.learn.method import labelled_demos, training_set
+    the loop's angle grid, the distance kept within the labels as the calibration keeps it
+    (:func:`rlff.learn.strategies.shape_distance`): the whole-arm throw (T,) columns the default
+    method starts from."""
+    from rlff.learn.method import known_labels, labelled_demos, training_set
     from rlff.model import Model
 
+    labels = known_labels(demos)
+    distance = float(np.clip(distance, labels.min(), labels.max()))
     data, _ = training_set(labelled_demos(demos), [1.0] * len(demos))
     model = Model.fit(data, inputs=("angle", "distance"), outputs=outputs, components=components, seed=seed,
                       n_init=1)

@@ -250,8 +250,10 @@ class CalibrateUpdate(DmmStrategy):
     def __init__(self, problem: Problem):
         super().__init__(problem)
         self.demos = labelled_demos(problem.demos)
+        #: Distance (m) the throw's shape is asked for: see :func:`shape_distance`.
+        self.shape_query = shape_distance(problem)
         data, sample_weight = training_set(self.demos, [1.0] * len(self.demos))
-        inputs = np.column_stack([problem.angles, np.full(problem.angles.size, problem.target)])
+        inputs = np.column_stack([problem.angles, np.full(problem.angles.size, self.shape_query)])
         model = self.fit(data, sample_weight)
         #: The GMR mean's throw from the demonstrations alone, and its release speed (rad/s):
         #: where the calibration's prior says the basket is.
@@ -300,7 +302,7 @@ class CalibrateUpdate(DmmStrategy):
         trajectories = list(self.demos) + [attempt_trajectory(a, a.landing) for a in landed]
         weights = [1.0] * len(self.demos) + [self.robot_weight] * len(landed)
         data, sample_weight = training_set(trajectories, weights)
-        shape = self.generate(data, sample_weight, self.problem.target, {}, continuity=True)
+        shape = self.generate(data, sample_weight, self.shape_query, {}, continuity=True)
         if not landed:
             self._demos_shape = shape
         return shape
@@ -330,10 +332,25 @@ class DonutSearch(CalibrateUpdate):
         trajectories = list(self.demos) + [attempt_trajectory(a, self.problem.target) for a in failed]
         weights = [1.0] * len(self.demos) + [self.robot_weight] * len(failed)
         data, sample_weight = training_set(trajectories, weights)
-        shape = self.generate(data, sample_weight, self.problem.target, {}, continuity=True)
+        shape = self.generate(data, sample_weight, self.shape_query, {}, continuity=True)
         if not failed:
             self._demos_shape = shape
         return shape
+
+
+def shape_distance(problem: Problem) -> float:
+    """The distance (m) a calibrated throw's shape is asked for: the target, except that a
+    whole-arm throw's is kept within the demonstrations' labels. A whole-arm shape holds the other
+    joints' positions, and a regression extrapolated beyond its data moves the release pose (on
+    the MSR throws, labelled up to 2.75 m, the shoulder's release fell from 2.0 rad at 2 m to 1.4
+    rad at 4 m, and the throw's reach with it); the speed calibration takes the throw the rest of
+    the way. A one-joint shape is a velocity only, which the calibration rescales anyway."""
+    from rlff.learn.method import known_labels
+
+    if problem.aim is None:
+        return problem.target
+    labels = known_labels(problem.demos)
+    return float(np.clip(problem.target, labels.min(), labels.max()))
 
 
 def release_speed(angles: np.ndarray, velocity: np.ndarray) -> float:
