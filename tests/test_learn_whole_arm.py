@@ -217,3 +217,17 @@ def test_demonstrations_at_several_rim_heights_teach_from_the_nearest():
     assert len(high) == 4 and all(t.id.endswith("h1-1") for t in high)
     assert {c for t in high for c in t.columns} == {"angle", "distance", "velocity", "shoulder", "shoulder_velocity"}
     assert len(_learning_demos(demos, ("angle", "shoulder"), rim_height=0.3)) == 4
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("update, feedback", [
+    ("failure", "binary"), ("hindsight", "distance"), ("donut", "binary"), ("imitation", "binary"),
+    ("random", "binary"), ("sweep", "binary"), ("secant", "distance"), ("gp-bo", "distance"), ("cma", "distance"),
+])
+def test_every_method_throws_the_whole_arm(aimed, robot, update, feedback):
+    result = learn(aimed, 2.0, budget=2, joints=ARM, bearing=60.0, update=update, feedback=feedback, robot=robot,
+                   seed=5, until="centred", centre_share=0.01)
+    assert result.attempts == 2
+    for attempt in result.history:
+        assert set(attempt.arm) == {"shoulder", "shoulder_velocity"}
+        assert np.ptp(attempt.arm["shoulder"]) > 0.05 and np.isfinite(attempt.miss)
