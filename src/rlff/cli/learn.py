@@ -16,7 +16,8 @@ def register(root: typer.Typer) -> None:
 
 
 def learn_command(
-    demos: Path = typer.Argument(..., help="Demonstrations (CSV, NPZ, Parquet or thesis matrix, by extension: angle, distance, velocity)."),
+    demos: Path = typer.Argument(..., help="Demonstrations (CSV, NPZ, Parquet or thesis matrix, by extension: angle, distance, velocity; "
+                                           "with --joints also shoulder[, wrist] and their velocities)."),
     basket: float = typer.Option(..., "--basket", help="Basket distance from the robot's base (m)."),
     budget: int = typer.Option(20, "--budget", min=1, help="Most attempts, counting resumed ones."),
     feedback: str = typer.Option("binary", "--feedback",
@@ -53,9 +54,9 @@ def learn_command(
                                       help="geometry_msgs/PointStamped of --outcome topic (point.x: landing, m)."),
     network: bool = typer.Option(False, "--network", help="Let a robot executor's node reach other hosts."),
     joints: str | None = typer.Option(None, "--joints",
-                                      help="Throw with the whole arm: robot joints of the robot file's [whole_arm] "
+                                      help="Throw with the whole arm: robot joints of the robot file's whole_arm "
                                            "table, e.g. joint_2,joint_3[,joint_5] (the demonstrations need the "
-                                           "shoulder[, wrist] columns). Default: one joint, the [throwing] table's."),
+                                           "shoulder (and wrist) columns). Default: one joint, the throwing table's."),
     bearing: float = typer.Option(0.0, "--bearing",
                                   help="Basket direction (deg, 0 straight ahead, positive to the left): joint 1 "
                                        "turns the arm to it before the throw."),

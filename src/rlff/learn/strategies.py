@@ -43,6 +43,13 @@ differ in how the attempts join the data, with what weight, and which distance i
     - the shape keeps to one side of the donut (``continuity``) and is capped at its release
       speed (:func:`fastest_at_release`), so that the release speed alone decides the landing
       even where the demonstrations disagree and the DMM's mode would jump between sides.
+
+    A whole-arm throw (several joints, :mod:`rlff.learn.loop`) is scaled as a whole (every
+    velocity by one factor, :func:`rlff.learn.method.scale_speed`); its shape is asked for within
+    the demonstrations' labels (:func:`shape_distance`); u0 is the speed at which the arm's
+    kinematics send that shape to Z (``Problem.aim``), b's prior is centred on the elasticity they
+    give there (``Problem.elasticity``), and the search goes up to where every joint saturates,
+    in the speed asked for (``Problem.saturation``).
 """
 
 from __future__ import annotations
