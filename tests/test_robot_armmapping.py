@@ -7,9 +7,9 @@ from importlib import resources
 import numpy as np
 import pytest
 
+from rlff.dataset import velocity_column
 from rlff.errors import InputError
 from rlff.robot import ArmMapping, RobotMapping, load_robot, mapping_for
-from rlff.robot.mapping import velocity_name
 from wholearm import human_throw
 
 
@@ -37,7 +37,7 @@ def test_each_driven_joint_follows_its_human_joint_on_one_time_base(robot, arm):
         entry, column = table(robot, joint), robot.index(joint)
         np.testing.assert_allclose(traj.positions[:, column], entry["offset"] + entry["scale"] * path[human])
         np.testing.assert_allclose(traj.velocities[:, column],
-                                   entry["scale"] * path[velocity_name(human)] / arm.time_scale)
+                                   entry["scale"] * path[velocity_column(human)] / arm.time_scale)
     np.testing.assert_allclose(traj.time, path["time"] * robot.whole_arm["time_scale"])
     for joint in ("joint_1", "joint_4", "joint_6"):
         column = robot.index(joint)
@@ -89,7 +89,7 @@ def test_max_human_speeds_are_the_robot_limits_in_human_units(robot, arm):
         scaled = dict(path)
         scaled[column] = np.full_like(path[column], limit * (1 - 1e-12))  # rounding
         traj, _ = arm.path_to_robot(scaled)
-        joint = arm.driven_joints[[velocity_name(h) for h in arm.human_columns].index(column)]
+        joint = arm.driven_joints[[velocity_column(h) for h in arm.human_columns].index(column)]
         np.testing.assert_allclose(np.abs(traj.velocities[:, robot.index(joint)]), robot.joint(joint).max_velocity)
     one = RobotMapping.for_robot(robot)
     assert one.max_human_speeds() == {"velocity": robot.joint("joint_2").max_velocity / one.velocity_scale}

@@ -267,8 +267,9 @@ def _joint_outputs(model, robot: str, joints: str) -> tuple[str, ...]:
     """The model outputs the robot ``joints`` need (velocity first), by the robot file's
     ``[whole_arm]`` table; :class:`InputError` naming those the model lacks."""
     from rlff.cli.robot import joint_list
+    from rlff.dataset import velocity_column
     from rlff.robot.description import load_robot
-    from rlff.robot.mapping import mapping_for, velocity_name
+    from rlff.robot.mapping import mapping_for
 
     mapping = mapping_for(load_robot(robot), joint_list(joints))
     if model.inputs[0] != "angle":
@@ -276,7 +277,7 @@ def _joint_outputs(model, robot: str, joints: str) -> tuple[str, ...]:
                          f"path variable is {model.inputs[0]!r}")
     needed = ["velocity"]
     for column in mapping.human_columns[1:]:
-        needed += [column, velocity_name(column)]
+        needed += [column, velocity_column(column)]
     missing = [name for name in needed if name not in model.outputs]
     if missing:
         raise InputError(f"--joints {joints} needs the model outputs {', '.join(needed)}; the model lacks "

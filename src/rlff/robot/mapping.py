@@ -25,6 +25,8 @@ from types import MappingProxyType
 
 import numpy as np
 
+from rlff.dataset import JOINT_COLUMNS as HUMAN_JOINT_COLUMNS
+from rlff.dataset import velocity_column
 from rlff.errors import InputError
 from rlff.robot.description import Robot, number_field
 from rlff.trajectory.joint import JointTrajectory
@@ -36,16 +38,8 @@ from rlff.trajectory.timing import time_along_path
 #: ``wrist``/``wrist_velocity`` for the joints driven, optionally ``time`` (s).
 HumanPath = Mapping[str, np.ndarray]
 
-#: The human position columns a robot joint may follow; ``angle`` is the elbow, the phase.
-HUMAN_JOINT_COLUMNS = ("angle", "shoulder", "wrist")
 #: The robot joint that turns the arm to the basket's bearing when a robot file does not say.
 DEFAULT_BEARING_JOINT = "joint_1"
-
-
-def velocity_name(column: str) -> str:
-    """The velocity column of a human position column: ``angle`` -> ``velocity``, ``shoulder`` ->
-    ``shoulder_velocity``."""
-    return "velocity" if column == "angle" else f"{column}_velocity"
 
 
 @dataclass(frozen=True)
@@ -417,7 +411,7 @@ class ArmMapping:
             A missing column (named), NaN, a non-monotonic angle, a bad time, a bearing the
             bearing joint cannot turn to, or (without ``clip``) a value beyond a limit.
         """
-        velocities_of = tuple(velocity_name(c) for c in self.human_columns)
+        velocities_of = tuple(velocity_column(c) for c in self.human_columns)
         needed = tuple(c for pair in zip(self.human_columns, velocities_of, strict=True) for c in pair)
         _require_columns(path, needed, f"driving {', '.join(self.driven_joints)} needs {', '.join(needed)}: "
                                        "a whole-arm model's path")
@@ -463,13 +457,13 @@ class ArmMapping:
         for item in self.joints:
             column = traj.joint_index(item.joint)
             path[item.human] = (traj.positions[:, column] - item.offset) / item.scale
-            path[velocity_name(item.human)] = traj.velocities[:, column] * self.time_scale / item.scale
+            path[velocity_column(item.human)] = traj.velocities[:, column] * self.time_scale / item.scale
         path["time"] = traj.time / self.time_scale
         return path
 
     def max_human_speeds(self) -> dict[str, float]:
         """Each driven joint's speed limit in human units (rad/s), by velocity column."""
-        return {velocity_name(m.human): self.robot.joint(m.joint).max_velocity * self.time_scale / abs(m.scale)
+        return {velocity_column(m.human): self.robot.joint(m.joint).max_velocity * self.time_scale / abs(m.scale)
                 for m in self.joints}
 
 
