@@ -8,6 +8,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 sys.path.insert(0, str(Path(__file__).parent))
 import bagfactory as bf  # noqa: E402
@@ -72,6 +74,19 @@ def test_elevation_exact_cases():
     # against a torso leaning forward by 0.3 rad, an arm straight down is raised by 0.3 rad
     lean = np.array([np.sin(-0.3), 0.0, -np.cos(0.3)])
     assert elevation(shoulder[:1], elbow[:1], lean)[0] == pytest.approx(0.3)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10_000))
+def test_elevation_does_not_depend_on_the_frame_and_up_is_its_supplement(seed):
+    rng = np.random.default_rng(seed)
+    shoulder, elbow, down = rng.normal(size=(3, 6, 3))
+    rotation, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    shift = rng.normal(size=3)
+    moved = [p @ rotation.T + shift for p in (shoulder, elbow)]
+    expected = elevation(shoulder, elbow, down)
+    np.testing.assert_allclose(elevation(*moved, down @ rotation.T), expected, atol=1e-9)
+    np.testing.assert_allclose(elevation(shoulder, elbow, -down), np.pi - expected, atol=1e-9)
 
 
 def test_msr_text_of_a_known_arm_gives_its_shoulder_wrist_and_their_velocities(tmp_path):
@@ -228,3 +243,25 @@ def test_real_high_throws_raise_the_arm_in_the_wind_up_and_release_above_the_hor
         assert release > 1.6, trajectory.id  # at least about horizontal at release
     assert above == len(dataset) == len(files)
     assert rising >= 0.75 * len(dataset)
+
+
+def test_a_manifest_gives_the_baskets_bearing_and_height(tmp_path):
+    path = _throws_csv(tmp_path / "throws.csv", lean=0.0)
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,throw,distance,bearing,height\nthrows.csv,1,2.0,30,1.0\nthrows.csv,2,2.5,,\n")
+    dataset, report = import_recordings([path], "csv", manifest=manifest)
+    assert dataset.context == ("distance", "bearing", "height")
+    first, second = dataset
+    assert (first["bearing"][0], first["height"][0]) == (30.0, 1.0)
+    assert (second["bearing"][0], second["height"][0]) == (0.0, 0.3)  # the default basket
+    assert any("1 throws without a manifest bearing stand for the default basket's (0)" in n for n in report.notes)
+    # the first throw's landing is where it crosses its 1 m rim: nearer than the floor
+    plain_manifest = tmp_path / "plain.csv"
+    plain_manifest.write_text("file,throw,distance\nthrows.csv,1,2.0\nthrows.csv,2,2.5\n")
+    plain, _ = import_recordings([path], "csv", manifest=plain_manifest)
+    assert plain.context == ("distance",)
+    assert first.meta["landing"] < plain[0].meta["landing"]
+    assert second.meta["landing"] == plain[1].meta["landing"]
+    manifest.write_text("file,throw,distance,bearing\nthrows.csv,1,2.0,200\n")
+    with pytest.raises(InputError, match=r"baskets\.csv, line 2: column 'bearing' 200: out of range -180 to 180 deg"):
+        import_recordings([path], "csv", manifest=manifest)

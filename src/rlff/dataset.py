@@ -66,6 +66,13 @@ UNITS = {
 }
 #: Columns that are always numeric sample columns when present.
 _NUMERIC_NAMES = tuple(UNITS)
+#: Ranges of the basket's context columns a simulation or a label may give: its bearing (deg)
+#: and its rim's height (m, below a standing person's hand at release).
+BEARING_RANGE = (-180.0, 180.0)
+HEIGHT_RANGE = (0.0, 1.5)
+#: The context a dataset without ``bearing`` or ``height`` stands for: straight ahead (deg), the
+#: default basket's rim (m).
+DEFAULT_CONTEXT = {"bearing": 0.0, "height": 0.3}
 
 
 def velocity_column(name: str) -> str:

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -48,7 +48,7 @@ from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_thro
 from rlff.capture.skeleton import Recording
 from rlff.capture.skeleton_text import axis_vector, read_joint_csv, read_kinect_text, read_msr_text
 from rlff.capture.users import keep_consistent_user
-from rlff.dataset import Dataset, Trajectory, joint_columns, velocity_column
+from rlff.dataset import DEFAULT_CONTEXT, Dataset, Trajectory, joint_columns, velocity_column
 from rlff.errors import InputError
 from rlff.fileio import require_distinct
 from rlff.limits import DISTANCE_RANGE
@@ -285,7 +285,22 @@ def import_recordings(
         report.files.append(file_report)
         if progress is not None:
             progress(str(path))
-    return Dataset(_common_joints(trajectories, wanted, report)), report
+    return Dataset(_same_context(_common_joints(trajectories, wanted, report), report)), report
+
+
+def _same_context(trajectories: list[Trajectory], report: ImportReport) -> list[Trajectory]:
+    """Every throw with the basket columns some manifest row gave (``bearing``, ``height``): the
+    throws without one stand for the default basket (straight ahead, rim 0.3 m), with a note."""
+    out = trajectories
+    for name, default in DEFAULT_CONTEXT.items():
+        lacking = [t for t in out if name not in t.columns]
+        if not lacking or len(lacking) == len(out):
+            continue
+        report.general.append(
+            f"{len(lacking)} throws without a manifest {name} stand for the default basket's ({default:g})"
+        )
+        out = [t if name in t.columns else t.with_columns(**{name: np.full(len(t), default)}) for t in out]
+    return out
 
 
 def _check_joints(joints: Sequence[str] | None) -> tuple[str, ...] | None:
@@ -544,8 +559,10 @@ def _throw(
     origin = report.clock_origin
     window = slice(cut.start, cut.stop)
     native = motion.time[window]
-    landed = landing_distance(release, landing)
     row = manifest_entry(rows, recording.source, number, float(motion.time[cut.peak] - origin)) if rows else None
+    if row is not None and row.height is not None:  # judged where the ball crosses the basket's rim
+        landing = replace(landing, target_height=row.height)
+    landed = landing_distance(release, landing)
     target: float | None = None
     if row is not None:
         target, source_of_distance = row.distance, "manifest"
@@ -615,4 +632,8 @@ def _throw(
     else:
         grid = native
     data = {"time": grid - grid[0], **series, "distance": np.full(grid.size, float(distance))}
+    for name in ("bearing", "height"):
+        value = getattr(row, name) if row is not None else None
+        if value is not None:
+            data[name] = np.full(grid.size, float(value))
     return Trajectory(identifier, data, meta)

@@ -50,6 +50,7 @@ import numpy as np
 from rlff.ballistics import crossing_distance
 from rlff.capture.angles import ArmMotion
 from rlff.capture.segment import ThrowCut
+from rlff.dataset import BEARING_RANGE, HEIGHT_RANGE
 from rlff.errors import InputError
 
 
@@ -111,6 +112,8 @@ class ManifestRow:
     subject: str | None = None
     line: int = 0
     manifest: str = ""
+    bearing: float | None = None
+    height: float | None = None
 
     @property
     def where(self) -> str:
@@ -233,7 +236,8 @@ def distance_from_name(path: str | Path) -> float | None:
 
 
 def read_manifest(path: str | Path) -> list[ManifestRow]:
-    """Read a manifest CSV (columns ``file``, ``distance``; optional ``throw``, ``start``, ``end``, ``subject``).
+    """Read a manifest CSV (columns ``file``, ``distance``; optional ``throw``, ``start``, ``end``,
+    ``subject``, and the basket's ``bearing`` (deg, -180 to 180) and rim ``height`` (m)).
 
     Raises
     ------
@@ -271,9 +275,16 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
         if distance is None or not np.isfinite(distance) or distance <= 0:
             raise InputError(f"manifest {path}, line {number}: column 'distance' needs a positive number (m)")
         subject = str(record.get("subject", "")).strip() or None
+        bearing, height = number_or_none("bearing", float), number_or_none("height", float)
+        for name, value, (low, high), unit in (("bearing", bearing, BEARING_RANGE, "deg"), ("height", height, HEIGHT_RANGE, "m")):
+            if value is not None and not low <= value <= high:
+                raise InputError(
+                    f"manifest {path}, line {number}: column {name!r} {value:g}: out of range {low:g} to {high:g} {unit}"
+                )
         row = ManifestRow(
             str(record["file"]).strip(), distance, number_or_none("throw", int),
             number_or_none("start", float), number_or_none("end", float), subject, number, str(path),
+            bearing, height,
         )
         if not row.file:
             raise InputError(f"{row.where}: column 'file' is empty")

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rlff.ballistics import crossing_distance
-from rlff.dataset import Dataset, velocity_column
+from rlff.dataset import BEARING_RANGE, HEIGHT_RANGE, Dataset, velocity_column
 from rlff.errors import InputError
 from rlff.limits import check_distance
 from rlff.synthetic.people import (
@@ -66,8 +66,6 @@ THESIS_BEARINGS = (0.0, 30.0, 60.0, 90.0)
 THESIS_HEIGHTS = (0.3, 0.6, 1.0)
 #: Joints a whole-arm person may throw with; the elbow always.
 ARM_JOINTS = ("shoulder", "elbow", "wrist")
-#: Highest rim a simulated person throws at (m): below the hand at release.
-MAX_RIM_HEIGHT = 1.5
 #: Time of the elbow's recoil after the abrupt stop (s).
 _SETTLE = 0.2
 #: Time of the upper arm's follow-through after the extension stops (s): slower than its swing.
@@ -320,7 +318,7 @@ def whole_arm_demonstrations(
     bearings : sequence of float
         Basket bearings (deg, -180 to 180; 0 straight ahead, positive to the left).
     heights : sequence of float
-        Rim heights (m, 0 to :data:`MAX_RIM_HEIGHT`).
+        Rim heights (m, within :data:`rlff.dataset.HEIGHT_RANGE`, 0 to 1.5).
     throws_per_basket : int
         Throws of each person at each basket.
     joints : sequence of str
@@ -377,11 +375,11 @@ def whole_arm_demonstrations(
     for distance in distances:
         check_distance("basket distance", distance)
     for bearing in bearings:
-        if not -180.0 <= bearing <= 180.0:
-            raise InputError(f"basket bearing {bearing:g} deg: out of range -180 to 180")
+        if not BEARING_RANGE[0] <= bearing <= BEARING_RANGE[1]:
+            raise InputError(f"basket bearing {bearing:g} deg: out of range {BEARING_RANGE[0]:g} to {BEARING_RANGE[1]:g}")
     for height in heights:
-        if not 0.0 <= height <= MAX_RIM_HEIGHT:
-            raise InputError(f"basket height {height:g} m: out of range 0 to {MAX_RIM_HEIGHT:g} m")
+        if not HEIGHT_RANGE[0] <= height <= HEIGHT_RANGE[1]:
+            raise InputError(f"basket height {height:g} m: out of range {HEIGHT_RANGE[0]:g} to {HEIGHT_RANGE[1]:g} m")
     if not raw:
         noise = dropped_frames = glitches = 0.0
     rng = np.random.default_rng(seed)
