@@ -68,6 +68,7 @@ from rlff.learn.method import (
     Problem,
     Proposal,
     attempt_trajectory,
+    known_labels,
     labelled_demos,
     scale_speed,
     training_set,
@@ -352,8 +353,6 @@ def shape_distance(problem: Problem) -> float:
     the MSR throws, labelled up to 2.75 m, the shoulder's release fell from 2.0 rad at 2 m to 1.4
     rad at 4 m, and the throw's reach with it); the speed calibration takes the throw the rest of
     the way. A one-joint shape is a velocity only, which the calibration rescales anyway."""
-    from rlff.learn.method import known_labels
-
     if problem.aim is None:
         return problem.target
     labels = known_labels(problem.demos)
