@@ -16,7 +16,7 @@ from rlff.report import read_run
 
 pytestmark = [pytest.mark.slow, pytest.mark.integration]
 
-SECTIONS = ["data", "preprocessing", "model", "outputs", "simulation", "learning"]
+SECTIONS = ["data", "preprocessing", "model", "outputs", "simulation", "learning", "whole-arm"]
 
 
 class _Images(HTMLParser):
@@ -43,6 +43,7 @@ def test_demo_small_end_to_end(tmp_path):
     demo = run_small_demo(tmp_path / "rlff-demo")
     check_complete_run(demo)
     check_numbers_agree_with_files(demo)
+    check_whole_arm(demo)
     check_report_embeds_every_figure(demo)
     check_report_in_chromium(demo, tmp_path)
     _, _, stderr = demo
@@ -104,6 +105,33 @@ def check_numbers_agree_with_files(demo) -> None:
         assert run_row["hit"] == json.loads(lines[-1])["hit"]
 
 
+def check_whole_arm(demo) -> None:
+    """The whole-arm part: every basket of the small plan hit within 10 attempts of binary
+    feedback, at its bearing, with what the logs and the report's table say."""
+    out, summary, _ = demo
+    runs = summary["whole_arm"]
+    assert [(r["distance"], r["bearing"]) for r in runs] == [(2.0, 0.0), (3.75, 60.0), (4.5, 90.0)]
+    for row in runs:
+        assert row["hit"] and 1 <= row["attempts"] <= 10, row
+        assert {"joint_2", "joint_3"} <= set(row["joints"])
+        header, *lines = (json.loads(line) for line in
+                          (out / "attempts" / "whole-arm" / f"{row['distance']:g}m-{row['bearing']:g}deg.jsonl")
+                          .read_text().splitlines())
+        assert header["run"]["basket"].get("bearing", 0.0) == row["bearing"]
+        assert sorted(header["run"]["joints"]) == sorted(row["joints"])
+        assert [line["miss"] for line in lines] == pytest.approx(row["misses"])
+        assert "shoulder" in lines[-1]["arm"]
+    assert runs[-1]["joints"][-1] == "joint_5"  # 4.5 m is beyond joints 2 and 3 alone
+    people = read_csv(out / "whole-arm-demos.csv")
+    assert {"shoulder", "shoulder_velocity", "wrist", "wrist_velocity", "bearing"} <= set(people.columns)
+    section = read_run(out).section("whole-arm")
+    [table] = section.tables
+    assert [row[4] for row in table.rows] == [True] * len(runs)
+    assert [row[5] for row in table.rows] == [r["attempts"] for r in runs]
+    drawn = {Path(f.file).stem for f in read_run(out).figures if f.section == "whole-arm"}
+    assert drawn == {"whole-arm-flights", "whole-arm-joints"}
+
+
 def check_report_embeds_every_figure(demo) -> None:
     out, _, _ = demo
     parser = _Images()
@@ -116,7 +144,8 @@ def check_report_embeds_every_figure(demo) -> None:
 def test_demo_prints_a_summary_table(cli, tmp_path):
     result = cli("-q", "demo", "--small", "--out", str(tmp_path / "human"))
     assert result.code == 0, result.stderr
-    for fragment in ("simulated throws", "executed in MuJoCo", "Learning from failure at", "report:"):
+    for fragment in ("simulated throws", "executed in MuJoCo", "Learning from failure at", "Whole-arm learning",
+                     "report:"):
         assert fragment in result.stdout
     assert f"{len(STAGES)}/{len(STAGES)}" not in result.stderr  # -q: no progress display
 
@@ -128,4 +157,4 @@ def check_report_in_chromium(demo, tmp_path: Path) -> None:
     check = open_in_chromium(out / "report.html", tmp_path / "demo-report.png")
     assert_clean_page(check, len(read_run(out).figures))
     assert check.headings == ["Demonstrations", "Preprocessing", "Model", "Generated throws",
-                              "Simulated robot throws", "Learning from failure"]
+                              "Simulated robot throws", "Learning from failure", "Whole-arm throws around the robot"]

@@ -143,3 +143,26 @@ def test_a_closed_stdin_stops_the_run_and_keeps_the_log(server, domain, folder, 
     assert done.stderr.strip().splitlines()[-1] == (
         "rlff: error: --outcome ask: no answer (stdin is closed); the attempts so far are in the log")
     assert [a["landing"] for a in attempts(log)] == pytest.approx([BASKET - 0.5])
+
+
+def test_whole_arm_attempts_at_a_bearing_with_typed_outcomes(server, domain, folder):
+    from armrobot import arm_robot_file
+
+    demos = folder / "arm-demos.csv"
+    made = subprocess.run([sys.executable, "-m", "rlff", "data", "synth", "throws", "--whole-arm", "--subjects", "3",
+                           "--distances", "1,1.5,2", "--bearings", "0,60", "--heights", "0.3", "-o", str(demos),
+                           "--seed", "4"], capture_output=True, text=True, timeout=300)
+    assert made.returncode == 0, made.stderr
+    log = folder / "arm.jsonl"
+    before = server.text().count("trajectory completed")
+    done = subprocess.run([sys.executable, "-m", "rlff", "learn", str(demos), "--preset", "thesis", "--basket", "1.5",
+                           "--joints", "joint_2,joint_3", "--bearing", "60", "--robot", str(arm_robot_file(folder)),
+                           "--executor", "ros2", "--outcome", "ask", "--budget", "3", "--log", str(log), "--json"],
+                          env=ros2_env(domain, folder), capture_output=True, text=True, timeout=600, input="miss\nhit\n")
+    assert done.returncode == 0, done.stderr
+    result = json.loads(done.stdout)
+    assert (result["attempts"], result["hit"]) == (2, True)
+    assert server.text().count("trajectory completed") == before + 2  # both whole-arm throws ran on the arm
+    header, *lines = (json.loads(line) for line in log.read_text().splitlines())
+    assert header["run"]["joints"] == ["joint_3", "joint_2"] and header["run"]["basket"]["bearing"] == 60.0
+    assert all(set(line["arm"]) == {"shoulder", "shoulder_velocity"} for line in lines)

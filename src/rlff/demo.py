@@ -2,13 +2,17 @@
 
 Simulated people throw at baskets from 1 to 4 m and mostly miss → the thesis' cleaning steps →
 the number of Gaussian components by BIC → the model → a throw for every basket distance, also
-distances nobody demonstrated → the robot (Comau Smart5 SiX) throws each of them in MuJoCo → for a
-distance nobody demonstrated, the robot learns from its failures until it hits → figures, a
-``run.json`` and a self-contained HTML report in ``out_dir``.
+distances nobody demonstrated → the robot (Comau Smart5 SiX) throws each of them in MuJoCo with
+joint 2 alone, as the thesis did → for a distance nobody demonstrated, the robot learns from its
+failures until it hits → then the whole arm (:mod:`rlff.whole_arm_demo`): people who throw with
+shoulder and elbow, and the robot learning every demonstrated and unseen basket from 1 to 4.5 m
+at bearings 0 to 90 deg with joints 2, 3 (and 5) → figures, a ``run.json`` and a self-contained
+HTML report in ``out_dir``.
 
 Layout of ``out_dir``: ``report.html``, ``run.json`` (see :mod:`rlff.report.run`),
 ``figures/*.png|svg``, ``demos.csv`` (the simulated recordings), ``clean.csv`` (after the
-preprocessing), ``model.json``, ``attempts/<method>.jsonl`` (the learning runs' logs).
+preprocessing), ``model.json``, ``attempts/<method>.jsonl`` (the learning runs' logs),
+``whole-arm-demos.csv``, ``whole-arm-clean.csv`` and ``attempts/whole-arm/*.jsonl``.
 """
 
 from __future__ import annotations
@@ -28,6 +32,7 @@ import numpy as np
 from rlff.dataset import Dataset, write_csv
 from rlff.errors import InputError
 from rlff.report import FigureEntry, Run, Section, Table, build_report, write_run
+from rlff.whole_arm_demo import BasketRun, whole_arm_section
 
 #: What happens, in order; ``progress`` is called with each as it starts.
 STAGES = (
@@ -37,6 +42,7 @@ STAGES = (
     "generating throws for every distance",
     "throwing them with the simulated robot",
     "learning from failure",
+    "whole arm: learning every basket around the robot",
     "drawing the figures",
     "writing the report",
 )
@@ -58,6 +64,9 @@ class DemoSize:
         Most attempts of each learning run.
     methods : tuple of (update, feedback)
         The learning runs, compared in the learning curve.
+    whole_arm_baskets : tuple of (distance, bearing), optional
+        The whole-arm baskets (m, deg); None: every demonstrated and unseen distance, the
+        bearings in turn (:func:`rlff.whole_arm_demo.baskets`).
     """
 
     subjects: int
@@ -65,6 +74,7 @@ class DemoSize:
     throws_per_distance: int
     budget: int
     methods: tuple[tuple[str, str], ...]
+    whole_arm_baskets: tuple[tuple[float, float], ...] | None = None
 
 
 SIZES = {
@@ -89,6 +99,7 @@ SIZES = {
         throws_per_distance=3,
         budget=8,
         methods=(("calibrate", "binary"), ("imitation", "binary")),
+        whole_arm_baskets=((2.0, 0.0), (3.75, 60.0), (4.5, 90.0)),
     ),
 }
 
@@ -140,6 +151,8 @@ class DemoSummary:
     learning_distance : float
         The distance (m) of the learning runs; nobody demonstrated it.
     learning : list of LearningRow
+    whole_arm : list of BasketRun
+        The whole-arm learning run of every basket (see :mod:`rlff.whole_arm_demo`).
     stage_seconds : dict of str to float
         Wall time of each stage (s).
     seconds : float
@@ -160,6 +173,7 @@ class DemoSummary:
     throws: list[ThrowRow]
     learning_distance: float
     learning: list[LearningRow]
+    whole_arm: list[BasketRun] = field(default_factory=list)
     stage_seconds: dict[str, float] = field(default_factory=dict)
     seconds: float = 0.0
 
@@ -306,6 +320,7 @@ def run_demo(
     from rlff.sim.reach import farthest_basket
     from rlff.synthetic.throws import simulate_throws
     from rlff.trajectory.timing import time_along_path
+    from rlff.whole_arm_demo import run_whole_arm, whole_arm_figures
 
     check_demo_options(out_dir, size)
     plan = SIZES[size]
@@ -388,18 +403,23 @@ def run_demo(
         learning.append(LearningRow(method, feedback, result.hit, result.attempts, list(result.misses)))
 
     clock.stage(STAGES[6])
+    whole_arm = run_whole_arm(out_dir, seed=seed, robot=robot, note=clock.note, only=plan.whole_arm_baskets)
+
+    clock.stage(STAGES[7])
     figure_entries = _figures(
         figures_dir, raw=raw, clean=clean, preprocessing=preprocessing, model=model, paths=paths,
         demonstrated=demonstrated, learning_distance=learning_distance,
         results=results, mapping=mapping, robot=robot, frames=frames, seed=seed,
     )
+    figure_entries += whole_arm_figures(figures_dir, whole_arm, robot)
 
-    clock.stage(STAGES[7])
+    clock.stage(STAGES[8])
     run = _run_record(
         size=size, seed=seed, raw=raw, raw_hits=raw_hits, clean=clean, preprocessing=preprocessing,
         model=model, paths=paths, demonstrated=demonstrated, throws=throws, farthest=farthest,
         learning_distance=learning_distance, learning=learning, budget=plan.budget,
         loop_components=loop_components, figures=[FigureEntry(p.relative_to(out_dir).as_posix(), s, t, c) for p, s, t, c in figure_entries],
+        whole_arm=whole_arm,
     )
     run_json = write_run(run, out_dir)
     report = build_report(out_dir, out_dir / "report.html")
@@ -408,8 +428,8 @@ def run_demo(
         out_dir=out_dir, report=report, run_json=run_json, figures=[p for p, *_ in figure_entries], size=size,
         seed=seed, demonstrations=len(raw), demonstration_hits=raw_hits, clean_trajectories=len(clean),
         demonstrated_distances=demonstrated, components=int(model.n_components), throws=throws,
-        learning_distance=learning_distance, learning=learning, stage_seconds=clock.seconds,
-        seconds=round(seconds, 3),
+        learning_distance=learning_distance, learning=learning, whole_arm=whole_arm.runs,
+        stage_seconds=clock.seconds, seconds=round(seconds, 3),
     )
 
 
@@ -516,7 +536,7 @@ def _tolerance() -> float:
 
 def _run_record(
     *, size, seed, raw, raw_hits, clean, preprocessing, model, paths, demonstrated, throws, farthest,
-    learning_distance, learning, budget, loop_components, figures,
+    learning_distance, learning, budget, loop_components, figures, whole_arm,
 ) -> Run:
     """The run.json record: facts and tables per section."""
     raw_distances = sorted({float(t["distance"][0]) for t in raw})
@@ -603,6 +623,7 @@ def _run_record(
                           [[r.method, r.feedback, r.hit, r.attempts, r.misses[0] if r.misses else None,
                             r.misses[-1] if r.misses else None] for r in learning])],
         ),
+        whole_arm_section(whole_arm),
     ]
     return Run(
         title="rlff demo: learning to throw from failed demonstrations",

@@ -67,5 +67,27 @@ def demo_command(
             misses = [*misses[:3], "…", *misses[-2:]]
         learning.add_row(row.method, row.feedback, result, " ".join(misses))
     console.print(learning)
+    if summary.whole_arm:
+        console.print(_whole_arm_table(summary.whole_arm))
     console.print(f"report: {summary.report}  ({len(summary.figures)} figures, {summary.seconds:.0f} s)", highlight=False)
     say(f"open it with: xdg-open {summary.report}")
+
+
+def _whole_arm_table(runs):
+    """The whole-arm baskets: where each stood, what the robot threw with, the attempts to a hit."""
+    from rich.table import Table
+
+    hits = sum(1 for r in runs if r.hit)
+    table = Table(title=f"Whole-arm learning (calibrate, binary feedback): {hits} of {len(runs)} baskets hit",
+                  title_justify="left")
+    for column in ("basket", "bearing", "seen", "joints", "result", "misses (m)"):
+        table.add_column(column, justify="right" if column in ("basket", "bearing") else "left",
+                         no_wrap=column != "misses (m)")
+    for r in runs:
+        result = f"hit at {r.attempts}" if r.hit else f"no hit in {r.attempts}" if r.attempts else "out of reach"
+        misses = ["none" if m != m else f"{m:+.2f}" for m in r.misses]
+        if len(misses) > 5:
+            misses = [*misses[:2], "…", *misses[-2:]]
+        table.add_row(f"{r.distance:g} m", f"{r.bearing:g}°", "yes" if r.demonstrated else "new",
+                      ",".join(j.removeprefix("joint_") for j in r.joints), result, " ".join(misses))
+    return table

@@ -16,7 +16,8 @@ def register(root: typer.Typer) -> None:
 
 
 def learn_command(
-    demos: Path = typer.Argument(..., help="Demonstrations (CSV, NPZ, Parquet or thesis matrix, by extension: angle, distance, velocity)."),
+    demos: Path = typer.Argument(..., help="Demonstrations (CSV, NPZ, Parquet or thesis matrix, by extension: angle, distance, velocity; "
+                                           "with --joints also shoulder[, wrist] and their velocities)."),
     basket: float = typer.Option(..., "--basket", help="Basket distance from the robot's base (m)."),
     budget: int = typer.Option(20, "--budget", min=1, help="Most attempts, counting resumed ones."),
     feedback: str = typer.Option("binary", "--feedback",
@@ -52,6 +53,14 @@ def learn_command(
     landing_topic: str = typer.Option("/rlff/landing", "--landing-topic",
                                       help="geometry_msgs/PointStamped of --outcome topic (point.x: landing, m)."),
     network: bool = typer.Option(False, "--network", help="Let a robot executor's node reach other hosts."),
+    joints: str | None = typer.Option(None, "--joints",
+                                      help="Throw with the whole arm: robot joints of the robot file's whole_arm "
+                                           "table, e.g. joint_2,joint_3[,joint_5] (the demonstrations need the "
+                                           "shoulder (and wrist) columns). Default: one joint, the throwing table's."),
+    bearing: float = typer.Option(0.0, "--bearing",
+                                  help="Basket direction (deg, 0 straight ahead, positive to the left): joint 1 "
+                                       "turns the arm to it before the throw."),
+    height: float | None = typer.Option(None, "--height", help="Basket rim height above the floor (m; default 0.3)."),
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
@@ -73,6 +82,7 @@ def learn_command(
         raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")
     if (executor == "sim") != (outcome is None):
         raise InputError("--outcome ask|topic goes with --executor ros1|ros2 (the simulation knows its outcomes)")
+    driven = _joint_list(joints)
     data = read_dataset(demos)
     if preset:
         from rlff.preprocess import Pipeline
@@ -100,10 +110,11 @@ def learn_command(
         result = _learn_live(lambda: learn(data, basket, budget=budget, feedback=feedback, update=update, seed=seed,
                                            log_path=log, progress=show, robot=robot, pedestal=pedestal,
                                            until=until, centre_share=centre_share,
-                                           executor=run_on, executed_on=executor))
+                                           executor=run_on, executed_on=executor, joints=driven,
+                                           bearing=bearing, height=height))
     for note in result.notes:
         say(note)
-    written = _write_best(result, robot, out, fmt, period) if out is not None else None
+    written = _write_best(result, robot, out, fmt, period, driven, bearing) if out is not None else None
     if as_json:
         emit_json({**result.to_json(), "out": written})
         return
@@ -114,11 +125,26 @@ def learn_command(
                else f"no {goal[2:]} in {plural(result.attempts, 'attempt')}")
     misses = ", ".join(("no landing" if m != m else f"{m:+.2f}") + (" hit" if a.hit else "")
                        for m, a in zip(result.misses, result.history, strict=True))
-    stdout().print(f"{verdict} (basket {basket:g} m, {feedback} feedback, update {update}); "
+    where = "".join([f", bearing {bearing:g} deg" if bearing else "", f", rim {height:g} m" if height is not None else "",
+                     f", joints {', '.join(driven)}" if driven else ""])
+    stdout().print(f"{verdict} (basket {basket:g} m{where}, {feedback} feedback, update {update}); "
                    f"signed misses from the centre (m): {misses}", highlight=False)
 
 
-def _write_best(result, robot: str, out: Path, fmt: str, period: float) -> dict | None:
+def _joint_list(joints: str | None) -> tuple[str, ...] | None:
+    """``--joints joint_2,joint_3`` as a tuple of names (None without the option)."""
+    from rlff.errors import InputError
+
+    if joints is None:
+        return None
+    names = tuple(name.strip() for name in joints.split(",") if name.strip())
+    if not names:
+        raise InputError(f"--joints {joints!r} names no joint (e.g. --joints joint_2,joint_3)")
+    return names
+
+
+def _write_best(result, robot: str, out: Path, fmt: str, period: float, joints: tuple[str, ...] | None,
+                bearing: float) -> dict | None:
     """The best throw to ``out``, planned and written as ``rlff robot export`` does."""
     from rlff.learn.replay import export_attempt
     from rlff.robot.description import load_robot
@@ -127,7 +153,7 @@ def _write_best(result, robot: str, out: Path, fmt: str, period: float) -> dict 
     if best is None:
         say(f"no throw came down: nothing written to {out}")
         return None
-    planned = export_attempt(best, load_robot(robot), out, fmt, period).trajectory
+    planned = export_attempt(best, load_robot(robot), out, fmt, period, joints=joints, bearing=bearing).trajectory
     what = "the last hit" if best.hit else "no hit: the throw nearest the centre"
     say(f"wrote {out} ({fmt}): attempt {best.index}, {what} ({best.miss:+.3f} m), "
         f"{len(planned)} points, {planned.duration:.3f} s")

@@ -24,7 +24,8 @@ class Attempt:
         Distance the model was asked for (m): the target for the plain strategies, the
         calibrated label for ``calibrate``, ``nan`` for the baselines that do not query a model.
     angle, velocity : array of shape (T,)
-        What the robot did, mapped back to the demonstrations' units (rad, rad/s).
+        What the robot did with the joint the elbow drives, mapped back to the demonstrations'
+        units (rad, rad/s).
     time : array of shape (T,)
         Time of each sample (s).
     hit : bool
@@ -43,6 +44,9 @@ class Attempt:
         Wall time of the attempt (s): model, mapping and execution.
     info : dict
         Whatever else the method reports (JSON-serialisable), e.g. a baseline's parameters.
+    arm : dict of str to array of shape (T,)
+        What the other driven joints did, in the demonstrations' units: ``shoulder`` (rad),
+        ``shoulder_velocity`` (rad/s), ``wrist``, ``wrist_velocity``; empty for a one-joint throw.
     """
 
     index: int
@@ -58,6 +62,7 @@ class Attempt:
     clipped: int = 0
     seconds: float = 0.0
     info: dict[str, Any] = field(default_factory=dict)
+    arm: dict[str, np.ndarray] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         for name in ("angle", "velocity", "time"):
@@ -67,6 +72,17 @@ class Attempt:
             object.__setattr__(self, name, array)
         if not (self.angle.size == self.velocity.size == self.time.size):
             raise InputError(f"attempt {self.index}: angle, velocity and time differ in length")
+        arm = {name: np.asarray(values, dtype=float) for name, values in self.arm.items()}
+        for name, values in arm.items():
+            if values.shape != self.angle.shape:
+                raise InputError(f"attempt {self.index}: {name} has {values.size} samples, angle {self.angle.size}")
+        object.__setattr__(self, "arm", arm)
+
+    @property
+    def path(self) -> dict[str, np.ndarray]:
+        """The whole executed path (``rlff.robot.mapping.HumanPath``): angle, velocity, time and
+        :attr:`arm`."""
+        return {"angle": self.angle, "velocity": self.velocity, "time": self.time, **self.arm}
 
     def to_json(self) -> dict[str, Any]:
         """A plain dict for one line of the attempts log."""
@@ -84,6 +100,8 @@ class Attempt:
             "velocity": self.velocity.tolist(),
             "time": self.time.tolist(),
             "info": self.info,
+            # a one-joint attempt writes no "arm": its line is what older versions wrote
+            **({"arm": {name: values.tolist() for name, values in self.arm.items()}} if self.arm else {}),
         }
 
     @classmethod
@@ -103,6 +121,7 @@ class Attempt:
             clipped=int(record["clipped"]),
             seconds=float(record["seconds"]),
             info=dict(record["info"]),
+            arm={str(name): np.asarray(values, dtype=float) for name, values in dict(record.get("arm", {})).items()},
         )
 
 

@@ -38,12 +38,21 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 from scipy.stats import norm
 
 from rlff.learn.attempt import Attempt
-from rlff.learn.method import Method, Problem, Proposal, finite_miss, labelled_demos, training_set
+from rlff.learn.method import (
+    Method,
+    Problem,
+    Proposal,
+    finite_miss,
+    labelled_demos,
+    scale_speed,
+    training_set,
+)
 
 #: Largest change of the speed factor in one secant step (a factor, > 1).
 _MAX_STEP = 1.5
@@ -59,27 +68,20 @@ class GmrBaseline(Method):
 
     def __init__(self, problem: Problem):
         super().__init__(problem)
-        from rlff.model import Model
-
         data, _ = training_set(labelled_demos(problem.demos), [1.0] * len(problem.demos))
-        model = Model.fit(
-            data,
-            inputs=("angle", "distance"),
-            outputs=("velocity",),
-            components=problem.components,
-            seed=problem.seed,
-        )
+        model = problem.fit(data)
         path = model.generate({"distance": problem.target}, problem.angles, exploration=0.0)
-        self.angle = np.asarray(path.angle, dtype=float)
-        self.mean = np.asarray(path.gmr_mean, dtype=float).reshape(-1)
+        #: The GMR mean's throw (every joint of it) for the target.
+        self.throw = Proposal.of_outputs(path.angle, path.gmr_means, path.output_names, problem.target)
+        self.angle, self.mean = self.throw.angle, self.throw.velocity
         fastest = float(np.max(np.abs(self.mean)))
         #: Largest speed factor that keeps the GMR mean within the joint's speed limit.
         self.limit = problem.max_speed / fastest if fastest > 0 else np.inf
 
     def scaled(self, factor: np.ndarray | float, info: dict) -> Proposal:
-        """The GMR mean with its velocity times ``factor`` (scalar or shape (T,)), within the limit."""
+        """The GMR mean with every velocity times ``factor`` (scalar or shape (T,)), within the limit."""
         factor = np.minimum(factor, self.limit)
-        return Proposal(self.angle, self.mean * factor, query=self.problem.target, info=info)
+        return replace(scale_speed(self.throw, factor), info=info)
 
 
 class Imitation(GmrBaseline):

@@ -39,7 +39,7 @@ from rlff.fileio import prepare_output, write_text
 from rlff.learn.attempt import Attempt
 
 if TYPE_CHECKING:
-    from rlff.robot.mapping import RobotMapping
+    from rlff.robot.mapping import ArmMapping, RobotMapping
 
 FORMAT = "rlff-attempts"
 VERSION = 1
@@ -167,7 +167,10 @@ class AttemptLog:
 
     def _check_header(self, header: dict[str, Any]) -> None:
         logged = _run_of(self.path, header)
-        difference = first_difference(logged, self.run)
+        # what the user chose is named before what follows from it (other joints drive other
+        # columns of the demonstrations, so their fingerprint differs too)
+        difference = (first_difference(logged.get("joints"), self.run.get("joints"), "joints")
+                      or first_difference(logged, self.run))
         if difference is not None:
             key, before, now = difference
             raise InputError(
@@ -176,25 +179,36 @@ class AttemptLog:
             )
 
 
-def robot_record(mapping: RobotMapping) -> dict[str, Any]:
+def robot_record(mapping: RobotMapping | ArmMapping) -> dict[str, Any]:
     """What the log's header keeps of the robot: its name, a digest and the description digested.
 
     The description is what a throw depends on: every joint's limits (all the numbers of its
     robot-file table), the geometry and the human-to-robot mapping actually used; not where the
     file lies. A log resumes only with the same description, and a changed one is named field by
-    field (``robot.description.mapping.angle_scale``).
+    field (``robot.description.mapping.angle_scale``). A whole-arm mapping is described by its
+    driven joints (each with its human joint, offset and scale), time scale, bearing joint and
+    start pose; a one-joint one as it always was.
     """
     robot = mapping.robot
     description = {
         "joints": {joint.name: {k: v for k, v in vars(joint).items() if k != "name"} for joint in robot.joints},
         "geometry": vars(robot.geometry) if robot.geometry else None,
-        "mapping": {"joint": mapping.joint, "start_pose": dict(mapping.start_pose),
-                    "angle_offset": mapping.angle_offset, "angle_scale": mapping.angle_scale,
-                    "velocity_scale": mapping.velocity_scale},
+        "mapping": _mapping_description(mapping),
     }
     canonical = json.dumps(description, sort_keys=True, separators=(",", ":"))
     return {"name": robot.name, "digest": hashlib.sha256(canonical.encode()).hexdigest()[:16],
             "description": description}
+
+
+def _mapping_description(mapping: RobotMapping | ArmMapping) -> dict[str, Any]:
+    """The numbers of a mapping that decide what the robot does (see :func:`robot_record`)."""
+    if len(mapping.human_columns) == 1:
+        return {"joint": mapping.joint, "start_pose": dict(mapping.start_pose),
+                "angle_offset": mapping.angle_offset, "angle_scale": mapping.angle_scale,
+                "velocity_scale": mapping.velocity_scale}
+    return {"driven": {m.joint: {"human": m.human, "offset": m.offset, "scale": m.scale} for m in mapping.joints},
+            "time_scale": mapping.time_scale, "bearing_joint": mapping.bearing_joint,
+            "start_pose": dict(mapping.start_pose)}
 
 
 def read_log(path: str | Path) -> tuple[dict[str, Any], LogContents]:

@@ -4,6 +4,17 @@ fit -> generate the DMM's throw for the basket distance -> map it to the robot -
 record the attempt -> update -> repeat, until a hit (or, with ``until="centred"``, a hit near the
 basket's centre) or the budget is spent.
 
+One joint or the whole arm: by default the human elbow's angle drives one robot joint (the
+robot file's ``[throwing]`` table). With ``joints`` (e.g. joint_2, joint_3[, joint_5]) the
+``[whole_arm]`` table maps the human shoulder, elbow (and wrist) to them: the elbow's angle stays
+the throw's phase, the model's outputs become the elbow's velocity and the other joints'
+positions and velocities along it (:func:`rlff.learn.method.joint_outputs`), and every proposal,
+attempt and log line carries all of them. The basket may stand at a ``bearing`` (joint 1 turns
+the arm to face it; people face the basket they throw at, so the arm's motion in its plane does
+not depend on the bearing and every demonstration is used whatever its bearing) and at a rim
+``height``: demonstrations labelled with rim heights learn from those at the height nearest the
+basket's (a throw that drops into a 1 m rim is not one that drops into a 0.3 m rim).
+
 The loop works on what the robot does. The demonstrations are checked against the robot
 through the human-to-robot mapping before anything runs; every proposed throw is mapped to the
 robot and saturated at the joint limits if it goes beyond them (the robot never exceeds a
@@ -18,8 +29,9 @@ from __future__ import annotations
 import hashlib
 import math
 import time as clock
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
+from functools import partial
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -30,7 +42,15 @@ from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
 from rlff.learn.baselines import BASELINES
 from rlff.learn.log import AttemptLog, robot_record
-from rlff.learn.method import COLUMNS, FEEDBACKS, Method, Problem
+from rlff.learn.method import (
+    COLUMNS,
+    FEEDBACKS,
+    ONE_JOINT_OUTPUTS,
+    Method,
+    Problem,
+    Proposal,
+    joint_outputs,
+)
 from rlff.learn.strategies import STRATEGIES
 from rlff.limits import check_pedestal
 from rlff.trajectory.joint import JointTrajectory
@@ -149,13 +169,16 @@ def learn(
     log_path: str | Path | None = None,
     executor: Executor | None = None,
     progress: Callable[[Attempt], None] | None = None,
-    robot: str = "comau_smart5_six",
+    robot: str | Any = "comau_smart5_six",
     pedestal: float = 0.0,
     rim_height: float = 0.3,
     opening: float = 0.35,
     until: str = "hit",
     centre_share: float = CENTRE_SHARE,
     executed_on: str = "sim",
+    joints: Sequence[str] | None = None,
+    bearing: float = 0.0,
+    height: float | None = None,
 ) -> LearningResult:
     """Learn to hit a basket at distance ``basket`` from (possibly failed) demonstrations.
 
@@ -164,7 +187,9 @@ def learn(
     demos : Dataset
         Demonstrations with columns ``angle`` (rad), ``distance`` (m: the basket aimed at) and
         ``velocity`` (rad/s), one throw per trajectory up to its release, in the human units the
-        robot mapping takes. Metadata ``landing`` (m), where known, is used by ``calibrate``.
+        robot mapping takes; for a whole-arm throw also the driven joints' columns (``shoulder``,
+        ``shoulder_velocity``, ``wrist``, ``wrist_velocity``), and optionally ``height`` (m).
+        Metadata ``landing`` (m), where known, is used by ``calibrate``.
     basket : float
         Distance of the basket's centre from the robot's base axis (m).
     budget : int
@@ -183,8 +208,9 @@ def learn(
         default: the MuJoCo simulation of :mod:`rlff.sim` for this basket.
     progress : callable, optional
         Called with every attempt as it ends (also those resumed from the log).
-    robot : str
-        Robot name or robot file; its ``[throwing]`` table is the mapping.
+    robot : str or Robot
+        Robot name, robot file or description; its ``[throwing]`` table is the one-joint
+        mapping, its ``[whole_arm]`` table the whole arm's.
     pedestal, rim_height, opening : float
         Height of the robot's base, of the basket's rim, and the basket's inner width (m).
     until : {"hit", "centred"}
@@ -197,6 +223,14 @@ def learn(
     executed_on : str
         What ``executor`` runs the throws on (``sim``, ``ros1``, ``ros2``): a log resumes only
         on the same (a run in simulation writes no such field, so older logs resume).
+    joints : sequence of str, optional
+        Robot joints the throw drives (``joint_2``, ``joint_3`` [, ``joint_5``]) through the
+        robot file's ``[whole_arm]`` table; None (or ``("joint_2",)``) is the one-joint throw.
+    bearing : float
+        Direction of the basket (deg, 0 straight ahead, positive to the left): joint 1 turns
+        the arm to it before the throw.
+    height : float, optional
+        The basket rim's height (m); default ``rim_height``.
 
     Returns
     -------
@@ -208,7 +242,7 @@ def learn(
         Unknown method or feedback, a method that needs other feedback, a basket out of the
         robot's reach, demonstrations beyond the joint limits, or a corrupt or foreign log.
     """
-    from rlff.robot import RobotMapping, load_robot
+    from rlff.robot import Robot, load_robot, mapping_for
     from rlff.sim import Basket
 
     if update not in METHODS:
@@ -225,19 +259,25 @@ def learn(
         raise InputError(f"unknown until {until!r} (known: {', '.join(UNTILS)})")
     if not 0 < centre_share <= 1:
         raise InputError(f"centre share must be in (0, 1] of the half-opening, got {centre_share!r}")
-    robot_model = load_robot(robot)
-    mapping = RobotMapping.for_robot(robot_model)
-    target = Basket(float(basket), rim_height=rim_height, opening=opening)  # checks the stated range
+    robot_model = robot if isinstance(robot, Robot) else load_robot(robot)
+    mapping = mapping_for(robot_model, None if joints is None else tuple(joints))
+    rim = rim_height if height is None else height
+    # checks the stated range
+    target = Basket(float(basket), rim_height=rim, opening=opening, bearing=float(bearing))
     pedestal = check_pedestal(pedestal)
-    _require_reach(robot_model, target, pedestal)
-    demos = _learning_demos(demos)
+    _require_reach(robot_model, target, pedestal, mapping.driven_joints)
+    demos = _learning_demos(demos, mapping.human_columns, target.rim_height)
     _require_demos_within_limits(demos, mapping)
-    _require_executable(mapping, target, pedestal, _angle_grid(demos))
+    components = _components(demos, seed, joint_outputs(mapping.human_columns))
+    _require_executable(mapping, target, pedestal, demos, components, seed)
     if executor is None:
         executor = _simulator(robot_model, target, pedestal)
 
+    basket_record = target.to_dict()
+    if not basket_record.get("bearing"):  # straight ahead: the header older versions wrote
+        basket_record.pop("bearing", None)
     run = {
-        "basket": target.to_dict(),
+        "basket": basket_record,
         "feedback": feedback,
         "update": update,
         "seed": seed,
@@ -252,17 +292,19 @@ def learn(
         run["centre_share"] = centre_share
     if executed_on != "sim":
         run["executor"] = executed_on
+    if _whole_arm(mapping):
+        run["joints"] = list(mapping.driven_joints)
     log = AttemptLog(log_path, run) if log_path is not None else None
     try:
         return _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
-                    progress, until, centre_window)
+                    progress, until, centre_window, pedestal, components)
     finally:
         if log:
             log.close()
 
 
 def _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor, progress,
-         until, centre_window) -> LearningResult:
+         until, centre_window, pedestal, components) -> LearningResult:
     """The attempts of :func:`learn` after its checks, with the log (or None) held."""
     history = list(log.contents.attempts) if log else []
     resumed = len(history)
@@ -270,15 +312,21 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         if progress:
             progress(attempt)
 
+    outputs = joint_outputs(mapping.human_columns)
     problem = Problem(
         demos=demos,
         target=target.distance,
         feedback=feedback,
         tolerance=min(_hit_tolerance(target), centre_window),
         angles=_angle_grid(demos),
-        components=_components(demos, seed),
+        components=components,
         seed=seed,
-        max_speed=mapping.robot.joint(mapping.joint).max_velocity / abs(mapping.velocity_scale),
+        max_speed=mapping.max_human_speeds()["velocity"],
+        outputs=outputs,
+        **({"elasticity": release_elasticity(mapping, demos, target.distance, target.rim_height, pedestal),
+            "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal),
+            "saturation": partial(saturation_factor, mapping)}
+           if _whole_arm(mapping) else {}),
     )
 
     def done(attempt: Attempt) -> bool:
@@ -288,7 +336,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
     while method is not None and len(history) < budget and not (history and done(history[-1])):
         start = clock.perf_counter()
         proposal = method.propose([_as_reported(a, feedback, centre_window) for a in history])
-        attempt = _execute(proposal, len(history) + 1, target.distance, mapping, executor, start)
+        attempt = _execute(proposal, len(history) + 1, target, mapping, executor, start)
         if log:
             log.append(attempt)
         history.append(attempt)
@@ -315,22 +363,21 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
     )
 
 
-def _execute(proposal, index: int, target: float, mapping, executor: Executor, start: float) -> Attempt:
+def _execute(proposal, index: int, target, mapping, executor: Executor, start: float) -> Attempt:
     """Map a proposal to the robot (saturating at its limits), execute it, record what it did."""
-    from rlff.robot.plan import plan
-
-    velocity = _forward_velocity(proposal.angle, proposal.velocity)
-    planned = plan(mapping, proposal.angle, velocity, time_along_path(proposal.angle, velocity), clip=True)
-    trajectory, clip_report = planned.points, planned.clipped_points
-    outcome = executor(planned.trajectory)
-    angle, executed = mapping.from_robot(trajectory)
+    path = dict(proposal.path)
+    path["velocity"] = _forward_velocity(proposal.angle, proposal.velocity)
+    path["time"] = time_along_path(proposal.angle, path["velocity"])
+    points, trajectory, clip_report = _plan(mapping, path, target.bearing)
+    outcome = executor(trajectory)
+    executed = mapping.path_from_robot(points)
     return Attempt(
         index=index,
-        target=target,
+        target=target.distance,
         query=proposal.query,
-        angle=angle,
-        velocity=executed,
-        time=trajectory.time / mapping.time_scale,
+        angle=executed["angle"],
+        velocity=executed["velocity"],
+        time=executed["time"],
         hit=bool(outcome.hit),
         landing=float(outcome.landing_x),
         miss=float(outcome.miss),
@@ -338,29 +385,57 @@ def _execute(proposal, index: int, target: float, mapping, executor: Executor, s
         clipped=len(clip_report),
         seconds=clock.perf_counter() - start,
         info=proposal.info,
+        arm={name: executed[name] for name in joint_outputs(mapping.human_columns)[1:]},
     )
 
 
+def _plan(mapping, path, bearing: float):
+    """The mapped throw at the path's samples, the planned trajectory to execute and what was
+    clipped: :func:`rlff.robot.plan.plan_path` with clipping (a proposal beyond a limit
+    saturates there, as the robot would)."""
+    from rlff.robot.plan import plan_path
+
+    planned = plan_path(mapping, path, bearing=bearing, clip=True)
+    return planned.points, planned.trajectory, planned.clipped_points
+
+
 def fingerprint(demos: Dataset) -> str:
-    """Short hash of the demonstrations' samples and labels: a log resumes only for the same data."""
+    """Short hash of the demonstrations' samples and labels: a log resumes only for the same data.
+
+    The one-joint columns, then any other joint's columns in name order (a one-joint set hashes
+    as it always did)."""
     digest = hashlib.sha256()
     for trajectory in demos:
+        columns = COLUMNS + tuple(sorted(set(trajectory.columns) - set(COLUMNS)))
         digest.update(trajectory.id.encode())
-        digest.update(np.ascontiguousarray(trajectory.to_array(COLUMNS)).tobytes())
+        digest.update(np.ascontiguousarray(trajectory.to_array(columns)).tobytes())
         digest.update(repr(trajectory.meta.get("landing")).encode())
     return digest.hexdigest()[:16]
 
 
-def _learning_demos(demos: Dataset, max_samples: int = MAX_SAMPLES) -> Dataset:
+def _learning_demos(demos: Dataset, human_columns: Sequence[str] = ("angle",), rim_height: float | None = None,
+                    max_samples: int = MAX_SAMPLES) -> Dataset:
     """The demonstrations reduced to the columns the loop learns from, thinned if dense.
 
-    Densified demonstrations (a sample every 0.01 rad) repeat themselves; the mixture is
-    refitted at every attempt, so every k-th sample of each throw is kept (its release sample
-    always) until the set has at most ``max_samples`` samples. A throw's ``measured_share`` (the
-    share of its samples that stand for a measurement, which BIC counts) grows by what thinning
-    dropped: the kept samples still rest on the same measurements, up to one each.
+    The columns are ``angle``, ``distance``, ``velocity`` and, for a whole-arm throw, every
+    other driven joint's position and velocity (``human_columns``: the mapping's, ``"angle"``
+    first). Demonstrations labelled with a rim ``height`` (m) are kept only at the height
+    nearest ``rim_height``. Densified demonstrations (a sample every 0.01 rad) repeat
+    themselves; the mixture is refitted at every attempt, so every k-th sample of each throw is
+    kept (its release sample always) until the set has at most ``max_samples`` samples. A
+    throw's ``measured_share`` (the share of its samples that stand for a measurement, which BIC
+    counts) grows by what thinning dropped: the kept samples still rest on the same
+    measurements, up to one each.
     """
+    columns = COLUMNS + joint_outputs(human_columns)[1:]
     demos.require(COLUMNS)
+    missing = [c for c in columns if c not in demos.columns]
+    if missing:
+        raise InputError(f"the demonstrations have no column {missing[0]!r}, which the throw driving "
+                         f"{', '.join(human_columns)} needs (columns: {', '.join(demos.columns)}); capture the "
+                         "whole arm (rlff data import) or drop --joints")
+    if rim_height is not None and "height" in demos.columns:
+        demos = _at_nearest_height(demos, rim_height)
     if len(demos) < 2:
         raise InputError(f"learning needs at least 2 demonstrations, got {len(demos)}")
     step = max(1, math.ceil(demos.n_samples / max_samples))
@@ -370,39 +445,266 @@ def _learning_demos(demos: Dataset, max_samples: int = MAX_SAMPLES) -> Dataset:
         meta = dict(t.meta)
         if "measured_share" in meta:
             meta["measured_share"] = min(1.0, float(meta["measured_share"]) * len(t) / keep.size)
-        thinned.append(t.replace(data={c: t[c][keep] for c in COLUMNS}, meta=meta))
+        thinned.append(t.replace(data={c: t[c][keep] for c in columns}, meta=meta))
     return Dataset(thinned, context=("distance",))
 
 
-def _require_reach(robot, basket, pedestal: float) -> None:
-    from rlff.sim import require_reachable
+def _at_nearest_height(demos: Dataset, rim_height: float) -> Dataset:
+    """The demonstrations whose ``height`` label (m) is the one nearest ``rim_height`` (m)."""
+    heights = np.array([float(t["height"][0]) for t in demos])
+    nearest = heights[int(np.argmin(np.abs(heights - rim_height)))] if heights.size else rim_height
+    return demos.replace([t for t, h in zip(demos, heights, strict=True) if h == nearest])
 
-    require_reachable(basket, robot, pedestal)
+
+def _whole_arm(mapping) -> bool:
+    """Whether ``mapping`` drives more than the one joint of the ``[throwing]`` table."""
+    return len(mapping.human_columns) > 1
+
+
+def _require_reach(robot, basket, pedestal: float, joints: Sequence[str] = ("joint_2",)) -> None:
+    from rlff.sim import require_reachable
+    from rlff.sim.reach import PLANE_JOINTS
+
+    require_reachable(basket, robot, pedestal, tuple(j for j in joints if j in PLANE_JOINTS) or ("joint_2",))
 
 
 def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0) -> float:
-    """Farthest basket centre (m) of ``basket``'s shape that :func:`learn` accepts from ``demos``:
-    what the throws of its angle grid reach (see :func:`_require_executable`)."""
+    """Farthest basket centre (m) of ``basket``'s shape (its rim height and opening) that
+    :func:`learn` accepts from ``demos`` through ``mapping``: what the throws of its angle grid
+    reach (see :func:`_require_executable`)."""
     from rlff.sim.reach import executable_reach, farthest_basket
 
-    start, release = mapping.angle_offset + mapping.angle_scale * _angle_grid(_learning_demos(demos))[[0, -1]]
+    demos = _learning_demos(demos, mapping.human_columns, basket.rim_height)
+    if _whole_arm(mapping):
+        return farthest_basket(arm_reach(mapping, demos, basket.rim_height, pedestal).distance, basket.opening)
+    start, release = mapping.angle_offset + mapping.angle_scale * _angle_grid(demos)[[0, -1]]
     reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from=start)
     return farthest_basket(reach.distance, basket.opening)
 
 
-def _require_executable(mapping, basket, pedestal: float, angles: np.ndarray) -> None:
+def _require_executable(mapping, basket, pedestal: float, demos: Dataset, components: int = 1,
+                        seed: int = 0) -> None:
     """Refuse a basket that no throw of this loop can reach, before the first throw.
 
     Every method throws along the same angle grid (rad, shape (T,)), so the driven joint swings
     from its mapped first angle and lets go at the mapped last one, at most at its speed limit
     (and what its acceleration and jerk limits allow over that swing), the other joints at the
-    start pose.
+    start pose. A whole-arm throw: the loop's first throw for the basket (the GMR mean of the
+    demonstrations for its distance, with ``components`` and ``seed``: the shape every method
+    starts from) at the fastest the arm executes it (:func:`arm_reach`).
     """
-    from rlff.sim.reach import require_executable
+    from rlff.sim.reach import farthest_basket, require_executable
 
-    start, release = mapping.angle_offset + mapping.angle_scale * angles[[0, -1]]
-    require_executable(basket, mapping, pedestal, release, swing_from=start,
-                       release_source="where the demonstrations let go")
+    if not _whole_arm(mapping):
+        start, release = mapping.angle_offset + mapping.angle_scale * _angle_grid(demos)[[0, -1]]
+        require_executable(basket, mapping, pedestal, release, swing_from=start,
+                           release_source="where the demonstrations let go")
+        return
+    shape = _first_throw(demos, basket.distance, joint_outputs(mapping.human_columns), components, seed)
+    reach = arm_reach(mapping, demos, basket.rim_height, pedestal, shape)
+    farthest = farthest_basket(reach.distance, basket.opening)
+    if basket.distance <= farthest:
+        return
+    came_down = (f"bring the ball down to the {basket.rim_height:.2f} m rim at most {reach.distance:.2f} m away"
+                 if np.isfinite(reach.distance) else f"never bring the ball down through the {basket.rim_height:.2f} m rim")
+    mapped = mapping.robot.whole_arm.get("joints", {})
+    more = [name for name in mapped if name not in mapping.driven_joints]
+    hint = f"; --joints {','.join((*sorted(mapping.driven_joints), *more))} may reach farther" if more else ""
+    raise InputError(
+        f"basket at {basket.distance:.2f} m is out of reach of the whole-arm throws this robot executes: the "
+        f"loop's first throw for it (the demonstrations' GMR mean) with {', '.join(mapping.driven_joints)}, sped "
+        f"up until {reach.limiting}, would {came_down}, so the farthest basket with a {basket.opening:.2f} m "
+        f"opening is at {farthest:.2f} m (pedestal {pedestal:.2f} m){hint}"
+    )
+
+
+def _first_throw(demos: Dataset, distance: float, outputs: tuple[str, ...], components: int,
+                 seed: int) -> dict[str, np.ndarray]:
+    """The GMR mean of ``demos`` (labelled as every method labels them) for ``distance`` (m) along
+    the loop's angle grid, the distance kept within the labels as the calibration keeps it
+    (:func:`rlff.learn.strategies.shape_distance`): the whole-arm throw (T,) columns the default
+    method starts from."""
+    from rlff.learn.method import known_labels, labelled_demos, training_set
+    from rlff.model import Model
+
+    labels = known_labels(demos)
+    distance = float(np.clip(distance, labels.min(), labels.max()))
+    data, _ = training_set(labelled_demos(demos), [1.0] * len(demos))
+    model = Model.fit(data, inputs=("angle", "distance"), outputs=outputs, components=components, seed=seed,
+                      n_init=1)
+    angles = _angle_grid(demos)
+    mean = model.condition(np.column_stack([angles, np.full(angles.size, float(distance))])).mean
+    path = Proposal.of_outputs(angles, mean, outputs, distance).path
+    path["velocity"] = _forward_velocity(angles, path["velocity"])
+    return path
+
+
+@dataclass(frozen=True)
+class ArmReach:
+    """How far the loop's whole-arm throws go (see :func:`arm_reach`).
+
+    Attributes
+    ----------
+    distance : float
+        Where the ball comes down through the rim's height (m from the joint 1 axis); ``-inf``
+        when it never does.
+    factor : float
+        The speed factor on the typical throw that gets there.
+    limiting : str
+        What sets ``factor``: a joint at its speed limit, or the planner's room to wind up.
+    """
+
+    distance: float
+    factor: float
+    limiting: str
+
+
+def arm_reach(mapping, demos: Dataset, rim_height: float, pedestal: float = 0.0,
+              shape: dict[str, np.ndarray] | None = None) -> ArmReach:
+    """The reach of the whole-arm throws the loop makes from ``demos`` through ``mapping``.
+
+    Every method throws a shape along the loop's angle grid, sped up or slowed down as a whole
+    (one factor on every joint's velocity). The motion planner keeps a throw's first pose and
+    its release state exactly and plans the swing between them within the limits
+    (:func:`rlff.trajectory.planner.plan_throw`; a swing too short for the release speed is
+    preceded by a wind-up, which must stay within the position limits), so the farthest of
+    these throws is ``shape`` (default: the demonstrations' typical throw,
+    :func:`_typical_throw`) at the largest factor that keeps the elbow's joint within its speed
+    limit at the release (the other joints saturate at theirs) and that the planner can still
+    execute, found by bisection; its ball comes down where the release state sends it
+    (:func:`_release_crossing`).
+    """
+    from rlff.robot.plan import plan_path
+
+    typical = _typical_throw(mapping, demos) if shape is None else shape
+    factor, limiting = _release_speed_factor(mapping, typical)
+    factor *= 1 - 1e-9  # at the limit, not a rounding beyond it
+
+    def executable(f: float) -> bool:
+        try:
+            plan_path(mapping, _scaled(typical, f), clip=True)  # saturated as the loop executes it
+        except InputError:
+            return False
+        return True
+
+    if not executable(factor):
+        low, high = 0.0, factor
+        for _ in range(14):  # the factor to 1e-4 of the speed limit's
+            middle = 0.5 * (low + high)
+            low, high = (middle, high) if executable(middle) else (low, middle)
+        factor, limiting = low, "the planner runs out of room to wind up within the position limits"
+    return ArmReach(_release_crossing(mapping, _scaled(typical, factor), rim_height, pedestal), factor, limiting)
+
+
+def release_elasticity(mapping, demos: Dataset, target: float, rim_height: float, pedestal: float = 0.0) -> float:
+    """The elasticity d ln L / d ln u of the landing L in the throw's speed u near ``target`` (m),
+    from the arm's kinematics: the demonstrations' typical throw sped up or slowed down as a
+    whole until its release state sends the ball to ``target`` (or as far as it goes), its
+    landing differentiated there. A one-joint throw from the base has about 1.6 (the speed
+    calibration's prior); a whole-arm throw released above and behind the base has more, and
+    the calibration centres its prior on it.
+    """
+    typical = _typical_throw(mapping, demos)
+    highest, _ = _release_speed_factor(mapping, typical)
+
+    def landing(f: float) -> float:
+        return _release_crossing(mapping, _scaled(typical, f), rim_height, pedestal)
+
+    low, high = 0.05, highest
+    if landing(high) > target:
+        for _ in range(30):
+            middle = math.sqrt(low * high)
+            low, high = (middle, high) if landing(middle) < target else (low, middle)
+    step = 1.03
+    near, far = landing(high / step), landing(high)
+    if not (near > 0 and far > near):
+        return 1.6
+    return float(np.clip(math.log(far / near) / math.log(step), 0.5, 5.0))
+
+
+def aimed_factor(mapping, target: float, rim_height: float, pedestal: float, proposal) -> float:
+    """The factor on every velocity of ``proposal`` (a whole-arm throw) that sends its ball to
+    ``target`` (m) by the arm's kinematics and the free flight from the release
+    (:func:`_release_crossing`), found by bisection in log speed between a twentieth of its
+    speed and the fastest release within the joints' speed limits (that one when the target is
+    beyond it); 1 when its release sends the ball nowhere.
+
+    This is what a whole-arm throw's speed calibration takes as the speed where the basket is
+    (its prior's centre): the mapping from the people's joints to the robot's changes where a
+    throw lands far more than the one-joint mapping does, while the robot's own geometry
+    predicts the free flight from a release state (in the simulation to about a centimetre).
+    """
+    path = proposal.path
+    highest, _ = _release_speed_factor(mapping, path)
+    if not np.isfinite(highest):
+        return 1.0
+
+    def landing(f: float) -> float:
+        return _release_crossing(mapping, _scaled(path, f), rim_height, pedestal)
+
+    low, high = 0.05 * highest, highest * (1 - 1e-9)
+    if landing(high) <= target:
+        return high if np.isfinite(landing(high)) else 1.0
+    for _ in range(40):
+        middle = math.sqrt(low * high)
+        low, high = (middle, high) if landing(middle) < target else (low, middle)
+    return math.sqrt(low * high)
+
+
+def saturation_factor(mapping, proposal) -> float:
+    """The factor on every velocity of ``proposal`` (a whole-arm throw) beyond which no driven
+    joint can go faster at the release (see :func:`_release_speed_factor`)."""
+    return _release_speed_factor(mapping, proposal.path)[0]
+
+
+def _typical_throw(mapping, demos: Dataset) -> dict[str, np.ndarray]:
+    """The demonstrations' typical whole-arm throw along the loop's angle grid: the median of
+    each column of :func:`joint_outputs` (T,), the elbow's velocity forward."""
+    angles = _angle_grid(demos)
+    typical = {"angle": angles}
+    for column in joint_outputs(mapping.human_columns):
+        typical[column] = np.median([np.interp(angles, t["angle"], t[column]) for t in demos], axis=0)
+    typical["velocity"] = _forward_velocity(angles, typical["velocity"])
+    return typical
+
+
+def _scaled(path: dict[str, np.ndarray], factor: float) -> dict[str, np.ndarray]:
+    """``path`` with every velocity column times ``factor``."""
+    return {c: v * factor if c == "velocity" or c.endswith("_velocity") else v for c, v in path.items()}
+
+
+def _release_speed_factor(mapping, path: dict[str, np.ndarray]) -> tuple[float, str]:
+    """The factor on every velocity of ``path`` at which the last driven joint reaches its speed
+    limit at the release, and that joint (as the reason): below it, the joints that get there
+    first saturate (as every executed throw does: the robot never exceeds a limit) while the
+    others still speed up and throw farther; above it, nothing changes."""
+    factor, limiting = 0.0, ""
+    limits = mapping.max_human_speeds()
+    for column, name in zip((c for c in joint_outputs(mapping.human_columns) if c.endswith("velocity")),
+                            mapping.driven_joints, strict=True):
+        release = abs(float(path[column][-1]))
+        if release > 0 and limits[column] / release > factor:
+            factor, limiting = limits[column] / release, f"every joint reaches its speed limit (the last: {name})"
+    return (factor, limiting) if factor > 0 else (math.inf, "")
+
+
+def _release_crossing(mapping, path: dict[str, np.ndarray], rim_height: float, pedestal: float) -> float:
+    """Where the ball of ``path``'s release comes down through the rim's height (m from joint 1's
+    axis, no drag): the arm's in-plane ball velocity at the release pose (joint 1 turns the plane
+    to the bearing; it does not change the distance); ``-inf`` when it never does or the arm is
+    too low."""
+    from rlff.ballistics import crossing_distance
+    from rlff.sim.arm import Arm
+    from rlff.sim.reach import GROUND_CLEARANCE, PLANE_JOINTS
+
+    release, _ = mapping.path_to_robot(path, clip=True)
+    pose = [release.positions[-1, release.joint_index(n)] for n in PLANE_JOINTS]
+    rates = np.array([release.velocities[-1, release.joint_index(n)] for n in PLANE_JOINTS])
+    plane = Arm.from_robot(mapping.robot).in_plane(*pose, pedestal=pedestal)
+    velocity = plane.jacobian @ rates
+    crossing = float(crossing_distance(plane.ball[0], plane.ball[1], velocity[0], velocity[1], rim_height))
+    lowest = min(plane.elbow[1], plane.wrist[1], plane.ball[1])
+    return crossing if np.isfinite(crossing) and lowest > GROUND_CLEARANCE else -math.inf
 
 
 def _require_demos_within_limits(demos: Dataset, mapping) -> None:
@@ -410,16 +712,25 @@ def _require_demos_within_limits(demos: Dataset, mapping) -> None:
 
     Speeds beyond the robot's limits are allowed (the robot saturates when it executes a throw
     that fast), but a path outside the joint's range means the mapping does not fit the data.
+    A whole-arm throw checks every driven joint.
     """
     for demo in demos:
         angle = demo["angle"]
+        path = {column: demo[column] for column in demo.columns if column != "distance"}
+        path["velocity"] = _forward_velocity(angle, demo["velocity"])
         try:
-            _, report = mapping.to_robot(angle, _forward_velocity(angle, demo["velocity"]), clip=True)
+            _, report = mapping.path_to_robot(path, clip=True)
         except InputError as exc:
             raise InputError(
                 f"demonstration {demo.id!r} is not one throw up to its release ({exc}); clean "
                 "the demonstrations first (rlff data preprocess --preset thesis, or --preset)"
             ) from None
+        if report.count("position") and _whole_arm(mapping):
+            raise InputError(
+                f"demonstration {demo.id!r} is beyond the robot's joint limits: its path maps outside "
+                f"{', '.join(sorted({c.joint for c in report.changes if c.quantity == 'position'}))}'s range "
+                f"({report.summary()}); check the robot file's [whole_arm] mapping"
+            )
         if report.count("position"):
             positions = mapping.angle_offset + mapping.angle_scale * angle[[0, -1]]
             raise InputError(
@@ -461,7 +772,7 @@ def _angle_grid(demos: Dataset) -> np.ndarray:
     return np.linspace(first, last, max(count, MIN_POINTS))
 
 
-def _components(demos: Dataset, seed: int) -> int:
+def _components(demos: Dataset, seed: int, outputs: tuple[str, ...] = ONE_JOINT_OUTPUTS) -> int:
     """Number of mixture components, chosen once by BIC on the demonstrations.
 
     At most ``MAX_COMPONENTS``: the loop asks the mixture for distances beyond the
@@ -469,7 +780,7 @@ def _components(demos: Dataset, seed: int) -> int:
     """
     from rlff.model import Model
 
-    model = Model.fit(demos, inputs=("angle", "distance"), outputs=("velocity",),
+    model = Model.fit(demos, inputs=("angle", "distance"), outputs=outputs,
                       components="auto", max_components=MAX_COMPONENTS, seed=seed)
     return int(model.n_components)
 

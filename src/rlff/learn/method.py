@@ -13,18 +13,29 @@ landing point and the miss of every attempt are NaN, so a method cannot use them
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
 
-from rlff.dataset import Dataset, Trajectory
+from rlff.dataset import Dataset, Trajectory, velocity_column
 from rlff.learn.attempt import Attempt
 
 FEEDBACKS = ("binary", "distance")
 #: The dataset columns the loop learns from (the throwing task).
 COLUMNS = ("angle", "distance", "velocity")
+#: Outputs of the one-joint model: the elbow's velocity along its angle.
+ONE_JOINT_OUTPUTS = ("velocity",)
+
+
+def joint_outputs(human_columns: Sequence[str]) -> tuple[str, ...]:
+    """The model outputs of a throw driving ``human_columns`` (``"angle"`` first): the elbow's
+    velocity, then every other joint's position and velocity, e.g. ``("velocity", "shoulder",
+    "shoulder_velocity")``. The other joints' positions are outputs because the phase is the
+    elbow's angle, not theirs."""
+    return ("velocity", *(c for column in human_columns[1:] for c in (column, velocity_column(column))))
 
 
 @dataclass(frozen=True)
@@ -50,7 +61,27 @@ class Problem:
     seed : int
         Seed of every random choice of the run.
     max_speed : float
-        Fastest speed of the driven joint in the demonstrations' units (rad/s).
+        Fastest speed of the elbow's joint in the demonstrations' units (rad/s). A proposal
+        scaled beyond another driven joint's limit has that joint saturate there, as the robot
+        does; the landing still grows with the speed.
+    outputs : tuple of str
+        The model's outputs: ``("velocity",)`` for a one-joint throw, with the other joints'
+        positions and velocities for a whole-arm one (:func:`joint_outputs`).
+    elasticity : float
+        Where the speed calibration's prior centres the elasticity of the landing in the release
+        speed: 1.6 for a one-joint throw, from the arm's kinematics for a whole-arm one
+        (:func:`rlff.learn.loop.release_elasticity`).
+    saturation : callable, optional
+        ``saturation(proposal) -> factor``: for a whole-arm throw, the factor on every velocity
+        beyond which no driven joint goes faster at the release (each saturates at its limit, the
+        elbow's too, :func:`rlff.learn.loop.saturation_factor`); a speed calibration searches up
+        to it, in the commanded speed (the executed elbow speed stops growing where the elbow
+        saturates, the landing does not). None: :attr:`max_speed` bounds the executed speed.
+    aim : callable, optional
+        ``aim(proposal) -> factor``: the factor on every velocity of a proposal that sends the
+        ball to the target by the arm's kinematics and the free flight from its release (a
+        whole-arm throw, :func:`rlff.learn.loop.aimed_factor`); None: the demonstrations' own
+        speed is where the calibration's prior puts the basket.
     """
 
     demos: Dataset
@@ -61,6 +92,20 @@ class Problem:
     components: int
     seed: int
     max_speed: float = float("inf")
+    outputs: tuple[str, ...] = ONE_JOINT_OUTPUTS
+    elasticity: float = 1.6
+    saturation: Callable[[Proposal], float] | None = None
+    aim: Callable[[Proposal], float] | None = None
+
+    def fit(self, data: Dataset, sample_weight: np.ndarray | None = None, n_init: int | None = None):
+        """The mixture over (angle, distance) -> :attr:`outputs` of ``data`` (an
+        :class:`rlff.model.Model`), with the run's number of components and seed, ``n_init`` EM
+        starts (default: the model's)."""
+        from rlff.model import Model
+
+        starts = {} if n_init is None else {"n_init": n_init}
+        return Model.fit(data, inputs=("angle", "distance"), outputs=self.outputs, components=self.components,
+                         seed=self.seed, sample_weight=sample_weight, **starts)
 
 
 @dataclass(frozen=True)
@@ -70,13 +115,16 @@ class Proposal:
     Parameters
     ----------
     angle, velocity : array of shape (T,)
-        The throw in the demonstrations' units (rad, rad/s).
+        The elbow's path in the demonstrations' units (rad, rad/s): the throw's phase.
     query : float
         Distance the model was asked for (m); NaN when no model was queried.
     exploration : float
         Mean DMM exploration factor along the path (0 without one).
     info : dict
         JSON-serialisable details kept in the attempts log.
+    arm : mapping of str to array of shape (T,)
+        The other driven joints along the same samples: ``shoulder`` (rad),
+        ``shoulder_velocity`` (rad/s), ``wrist``, ``wrist_velocity``; empty for a one-joint throw.
     """
 
     angle: np.ndarray
@@ -84,6 +132,31 @@ class Proposal:
     query: float = float("nan")
     exploration: float = 0.0
     info: dict[str, Any] = field(default_factory=dict)
+    arm: Mapping[str, np.ndarray] = field(default_factory=lambda: MappingProxyType({}))
+
+    @property
+    def path(self) -> dict[str, np.ndarray]:
+        """The whole human path (``rlff.robot.mapping.HumanPath``): angle, velocity and :attr:`arm`."""
+        return {"angle": self.angle, "velocity": self.velocity, **self.arm}
+
+    @classmethod
+    def of_outputs(cls, angle: np.ndarray, outputs: np.ndarray, names: Sequence[str], query: float,
+                   exploration: float = 0.0, info: dict[str, Any] | None = None) -> Proposal:
+        """The proposal of a model's outputs (T, O) named ``names`` (``velocity`` among them)."""
+        columns = {name: np.asarray(outputs[:, j], dtype=float) for j, name in enumerate(names)}
+        velocity = columns.pop("velocity")
+        return cls(np.asarray(angle, dtype=float), velocity, float(query), float(exploration), info or {}, columns)
+
+
+def scale_speed(proposal: Proposal, factor: np.ndarray | float) -> Proposal:
+    """``proposal`` with every velocity column times ``factor`` (scalar, or (T,) per sample).
+
+    The positions along the path stay; only the time it takes changes (by 1 / ``factor``): the
+    coordinated throw sped up or slowed down as a whole, every joint by the same time scale.
+    """
+    arm = {name: values * factor if name.endswith("_velocity") else values for name, values in proposal.arm.items()}
+    return replace(proposal, velocity=proposal.velocity * factor, arm=arm)
+
 
 
 class Method(ABC):
@@ -107,13 +180,15 @@ class Method(ABC):
 
 
 def attempt_trajectory(attempt: Attempt, label: float, *, source: str = "robot") -> Trajectory:
-    """An attempt as a training trajectory labelled with distance ``label`` (m)."""
+    """An attempt as a training trajectory labelled with distance ``label`` (m): every column
+    it drove (the elbow's angle and velocity, and the other joints' of a whole-arm throw)."""
     return Trajectory(
         f"attempt-{attempt.index}",
         {
             "angle": attempt.angle,
             "distance": np.full(attempt.angle.size, float(label)),
             "velocity": attempt.velocity,
+            **attempt.arm,
         },
         {"source": source, "target": attempt.target, "hit": attempt.hit},
     )

@@ -6,9 +6,11 @@ robot export`` writes them) or an attempts log with an attempt number (default: 
 An attempt is stored in the demonstrations' units (what the robot executed, mapped back), so it
 goes through the same :func:`rlff.robot.plan.plan` as a generated path: the same mapping, the
 same motion planner (approach, the throw to its release, braking to rest) and the same motion
-check, and nothing a learned throw writes can differ from what ``robot export`` writes of it. An attempt is replayed only with the robot it was thrown
-with: the log's header keeps the robot's description, and a different one is refused naming
-the first field that differs.
+check, and nothing a learned throw writes can differ from what ``robot export`` writes of it.
+An attempt is replayed only with the robot it was thrown with: the log's header keeps the
+robot's description, and a different one is refused naming the first field that differs. A
+whole-arm attempt is replayed with the joints (``run["joints"]``) and the basket's bearing
+(``run["basket"]["bearing"]``) of its run: every joint it drove, joint 1 turned to the basket.
 """
 
 from __future__ import annotations
@@ -25,8 +27,8 @@ from rlff.learn.attempt import Attempt
 from rlff.learn.log import brief, first_difference, is_attempts_log, read_log, robot_record
 from rlff.robot.description import Robot
 from rlff.robot.formats import export_trajectory
-from rlff.robot.mapping import RobotMapping
-from rlff.robot.plan import RobotPlan, load_for_robot, plan
+from rlff.robot.mapping import ArmMapping, RobotMapping, mapping_for
+from rlff.robot.plan import RobotPlan, load_for_robot, plan_path
 from rlff.robot.sendfile import load_for_sending
 from rlff.trajectory.planner import DEFAULT_PERIOD
 
@@ -75,7 +77,19 @@ def pick_attempt(path: str | Path, number: int | None = None) -> tuple[Attempt, 
     return attempts[number - 1], run
 
 
-def require_same_robot(path: str | Path, run: dict, mapping: RobotMapping) -> None:
+def run_mapping(robot: Robot, run: dict) -> RobotMapping | ArmMapping:
+    """The mapping an attempts log's run threw with: the one-joint one, or the whole arm's
+    ``run["joints"]``."""
+    joints = run.get("joints")
+    return mapping_for(robot, None if joints is None else tuple(joints))
+
+
+def run_bearing(run: dict) -> float:
+    """The bearing (deg) of an attempts log's basket: 0 when the log does not say (straight ahead)."""
+    return float(run.get("basket", {}).get("bearing", 0.0))
+
+
+def require_same_robot(path: str | Path, run: dict, mapping: RobotMapping | ArmMapping) -> None:
     """Raise :class:`InputError` unless ``mapping`` is the robot and mapping the log was thrown with."""
     difference = first_difference(run.get("robot"), robot_record(mapping), "robot")
     if difference is not None:
@@ -84,12 +98,13 @@ def require_same_robot(path: str | Path, run: dict, mapping: RobotMapping) -> No
                          f"{brief(now)} with {mapping.robot.source}); give its robot file with --robot")
 
 
-def plan_attempt(attempt: Attempt, mapping: RobotMapping, period: float = DEFAULT_PERIOD,
-                 clip: bool = False, start: np.ndarray | None = None) -> RobotPlan:
-    """The robot trajectory of an attempt, planned as :func:`rlff.robot.plan.plan` plans a path:
-    approach (from ``start``, the arm's pose in rad, default the throw's first pose), the throw to
-    its release, braking to rest, and the one motion check."""
-    return plan(mapping, attempt.angle, attempt.velocity, attempt.time, period, clip, start)
+def plan_attempt(attempt: Attempt, mapping: RobotMapping | ArmMapping, period: float = DEFAULT_PERIOD,
+                 clip: bool = False, start: np.ndarray | None = None, bearing: float = 0.0) -> RobotPlan:
+    """The robot trajectory of an attempt, planned as :func:`rlff.robot.plan.plan_path` plans a
+    path: approach (from ``start``, the arm's pose in rad, default the throw's first pose, to
+    joint 1 turned ``bearing`` deg), the throw of every joint it drove to its release, braking to
+    rest, and the one motion check."""
+    return plan_path(mapping, attempt.path, bearing=bearing, period=period, clip=clip, start=start)
 
 
 def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float = DEFAULT_PERIOD,
@@ -126,12 +141,12 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
     path = Path(path)
     if not path.is_dir():  # a folder gets load_for_robot's word on what to give instead
         require_file(path)
-    mapping = RobotMapping.for_robot(robot)
     if is_attempts_log(path):
         chosen, run = pick_attempt(path, attempt)
+        mapping = run_mapping(robot, run)
         require_same_robot(path, run, mapping)
         outcome = f"hit, {chosen.miss:+.3f} m from the centre" if chosen.hit else f"miss {chosen.miss:+.3f} m"
-        planned = plan_attempt(chosen, mapping, period, clip, start)
+        planned = plan_attempt(chosen, mapping, period, clip, start, run_bearing(run))
         return ThrowInput(planned, f"attempt {chosen.index} of {path} ({outcome}), {planned.summary()}", run)
     if attempt is not None:
         raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
@@ -160,11 +175,13 @@ def load_for_send(path: str | Path, robot: Robot, *, attempt: int | None = None,
 
 
 def export_attempt(attempt: Attempt, robot: Robot, out: str | Path, fmt: str,
-                   period: float = DEFAULT_PERIOD) -> RobotPlan:
-    """Plan ``attempt`` as ``rlff robot export`` plans a path and write it to ``out`` as ``fmt``
-    (one of :data:`rlff.robot.formats.FORMATS`); the plan written."""
-    mapping = RobotMapping.for_robot(robot)
-    planned = plan_attempt(attempt, mapping, period)
+                   period: float = DEFAULT_PERIOD, *, joints: Sequence[str] | None = None,
+                   bearing: float = 0.0) -> RobotPlan:
+    """Plan ``attempt`` as ``rlff robot export`` plans a path (driving ``joints``, joint 1 turned
+    ``bearing`` deg) and write it to ``out`` as ``fmt`` (one of
+    :data:`rlff.robot.formats.FORMATS`); the plan written."""
+    mapping = mapping_for(robot, None if joints is None else tuple(joints))
+    planned = plan_attempt(attempt, mapping, period, bearing=bearing)
     export_trajectory(planned.trajectory, mapping, fmt, out)
     return planned
 

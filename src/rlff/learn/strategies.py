@@ -43,11 +43,19 @@ differ in how the attempts join the data, with what weight, and which distance i
     - the shape keeps to one side of the donut (``continuity``) and is capped at its release
       speed (:func:`fastest_at_release`), so that the release speed alone decides the landing
       even where the demonstrations disagree and the DMM's mode would jump between sides.
+
+    A whole-arm throw (several joints, :mod:`rlff.learn.loop`) is scaled as a whole (every
+    velocity by one factor, :func:`rlff.learn.method.scale_speed`); its shape is asked for within
+    the demonstrations' labels (:func:`shape_distance`); u0 is the speed at which the arm's
+    kinematics send that shape to Z (``Problem.aim``), b's prior is centred on the elasticity they
+    give there (``Problem.elasticity``), and the search goes up to where every joint saturates,
+    in the speed asked for (``Problem.saturation``).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 from scipy.special import logsumexp, ndtr
@@ -60,7 +68,9 @@ from rlff.learn.method import (
     Problem,
     Proposal,
     attempt_trajectory,
+    known_labels,
     labelled_demos,
+    scale_speed,
     training_set,
 )
 
@@ -79,13 +89,9 @@ class DmmStrategy(Method):
 
     def fit(self, data: Dataset, sample_weight: np.ndarray):
         """The mixture model of ``data`` (weighted), with the run's number of components."""
-        from rlff.model import Model
-
         # one EM start: the number of components is fixed and the data change by one throw
         # between refits, so restarts buy little and triple the loop's own time per attempt
-        return Model.fit(data, inputs=("angle", "distance"), outputs=("velocity",),
-                         components=self.problem.components, seed=self.problem.seed,
-                         sample_weight=sample_weight, n_init=1)
+        return self.problem.fit(data, sample_weight, n_init=1)
 
     def generate(self, data: Dataset, sample_weight: np.ndarray, query: float, info: dict, *,
                  continuity: bool = False) -> Proposal:
@@ -98,8 +104,8 @@ class DmmStrategy(Method):
         model = self.fit(data, sample_weight)
         if self.shape_source == "gmr":
             inputs = np.column_stack([problem.angles, np.full(problem.angles.size, float(query))])
-            mean = model.condition(inputs).mean[:, 0]
-            return Proposal(problem.angles, mean, float(query), 0.0, info)
+            mean = model.condition(inputs).mean
+            return Proposal.of_outputs(problem.angles, mean, model.outputs, query, 0.0, info)
         try:
             path = model.generate({"distance": query}, problem.angles, exploration=self.exploration,
                                   continuity=continuity)
@@ -108,15 +114,10 @@ class DmmStrategy(Method):
             # the GMR mean, on the wrong side of zero all along): that is no throw, and the
             # loop executes it as a crawl, a miss like any other.
             inputs = np.column_stack([problem.angles, np.full(problem.angles.size, float(query))])
-            mean = model.condition(inputs).mean[:, 0]
-            return Proposal(problem.angles, mean, float(query), 0.0, {**info, "no_motion": True})
-        return Proposal(
-            angle=np.asarray(path.angle, dtype=float),
-            velocity=np.asarray(path.velocity, dtype=float).reshape(-1),
-            query=float(query),
-            exploration=float(np.mean(path.exploration)),
-            info=info,
-        )
+            mean = model.condition(inputs).mean
+            return Proposal.of_outputs(problem.angles, mean, model.outputs, query, 0.0, {**info, "no_motion": True})
+        return Proposal.of_outputs(path.angle, path.outputs, path.output_names, query,
+                                   float(np.mean(path.exploration)), info)
 
 
 class FailureUpdate(DmmStrategy):
@@ -257,13 +258,17 @@ class CalibrateUpdate(DmmStrategy):
     def __init__(self, problem: Problem):
         super().__init__(problem)
         self.demos = labelled_demos(problem.demos)
+        #: Distance (m) the throw's shape is asked for: see :func:`shape_distance`.
+        self.shape_query = shape_distance(problem)
         data, sample_weight = training_set(self.demos, [1.0] * len(self.demos))
-        inputs = np.column_stack([problem.angles, np.full(problem.angles.size, problem.target)])
-        mean = self.fit(data, sample_weight).condition(inputs).mean[:, 0]
+        inputs = np.column_stack([problem.angles, np.full(problem.angles.size, self.shape_query)])
+        model = self.fit(data, sample_weight)
         #: The GMR mean's throw from the demonstrations alone, and its release speed (rad/s):
         #: where the calibration's prior says the basket is.
-        self.first = Proposal(problem.angles, mean, problem.target)
-        self.reference = release_speed(problem.angles, mean)
+        self.first = Proposal.of_outputs(problem.angles, model.condition(inputs).mean, model.outputs, problem.target)
+        self.reference = release_speed(problem.angles, self.first.velocity)
+        if problem.aim is not None:  # a whole-arm throw: the arm's kinematics say how fast
+            self.reference *= problem.aim(self.first)
         self._demos_shape: Proposal | None = None
         if not self.reference > 0:
             raise InputError(f"the GMR throw for {problem.target:g} m does not move at its "
@@ -272,23 +277,25 @@ class CalibrateUpdate(DmmStrategy):
     def propose(self, history: Sequence[Attempt]) -> Proposal:
         problem = self.problem
         shape = self.shape(history)
-        velocity = fastest_at_release(problem.angles, shape.velocity)
-        speed = release_speed(problem.angles, velocity)
+        throw = capped_at_release(problem.angles, shape)
+        speed = release_speed(problem.angles, throw.velocity)
         if not speed > 0:  # no motion at the release: keep the demonstrations' shape
-            velocity, speed = self.first.velocity, self.reference
-        calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference,
-                                       problem.max_speed)
+            throw, speed = self.first, self.reference
+        fastest = problem.max_speed if problem.saturation is None else speed * problem.saturation(throw)
+        calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference, fastest,
+                                       slope=problem.elasticity)
         for attempt in history:
             executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
                                                                attempt.velocity))
+            if problem.saturation is not None:  # whole arm: the speed asked for (see Problem)
+                executed = float(attempt.info.get("speed", executed))
             if problem.feedback == "distance":
                 calibration.observe_landing(executed, attempt.landing)
             elif not attempt.hit:
                 calibration.observe_miss(executed)
         wanted, p_hit = calibration.best_speed()
-        return Proposal(shape.angle, velocity * (wanted / speed), query=problem.target,
-                        exploration=shape.exploration,
-                        info={"speed": round(wanted, 4), "p_hit": round(p_hit, 4)})
+        return replace(scale_speed(throw, wanted / speed), query=problem.target, exploration=shape.exploration,
+                       info={"speed": round(wanted, 4), "p_hit": round(p_hit, 4)})
 
 
     def shape(self, history: Sequence[Attempt]) -> Proposal:
@@ -303,7 +310,7 @@ class CalibrateUpdate(DmmStrategy):
         trajectories = list(self.demos) + [attempt_trajectory(a, a.landing) for a in landed]
         weights = [1.0] * len(self.demos) + [self.robot_weight] * len(landed)
         data, sample_weight = training_set(trajectories, weights)
-        shape = self.generate(data, sample_weight, self.problem.target, {}, continuity=True)
+        shape = self.generate(data, sample_weight, self.shape_query, {}, continuity=True)
         if not landed:
             self._demos_shape = shape
         return shape
@@ -333,10 +340,23 @@ class DonutSearch(CalibrateUpdate):
         trajectories = list(self.demos) + [attempt_trajectory(a, self.problem.target) for a in failed]
         weights = [1.0] * len(self.demos) + [self.robot_weight] * len(failed)
         data, sample_weight = training_set(trajectories, weights)
-        shape = self.generate(data, sample_weight, self.problem.target, {}, continuity=True)
+        shape = self.generate(data, sample_weight, self.shape_query, {}, continuity=True)
         if not failed:
             self._demos_shape = shape
         return shape
+
+
+def shape_distance(problem: Problem) -> float:
+    """The distance (m) a calibrated throw's shape is asked for: the target, except that a
+    whole-arm throw's is kept within the demonstrations' labels. A whole-arm shape holds the other
+    joints' positions, and a regression extrapolated beyond its data moves the release pose (on
+    the MSR throws, labelled up to 2.75 m, the shoulder's release fell from 2.0 rad at 2 m to 1.4
+    rad at 4 m, and the throw's reach with it); the speed calibration takes the throw the rest of
+    the way. A one-joint shape is a velocity only, which the calibration rescales anyway."""
+    if problem.aim is None:
+        return problem.target
+    labels = known_labels(problem.demos)
+    return float(np.clip(problem.target, labels.min(), labels.max()))
 
 
 def release_speed(angles: np.ndarray, velocity: np.ndarray) -> float:
@@ -357,6 +377,16 @@ def fastest_at_release(angles: np.ndarray, velocity: np.ndarray) -> np.ndarray:
     """
     cap = release_speed(angles, velocity)
     return np.sign(velocity) * np.minimum(np.abs(velocity), cap)
+
+
+def capped_at_release(angles: np.ndarray, proposal: Proposal) -> Proposal:
+    """``proposal`` with its elbow capped by :func:`fastest_at_release` and every other joint's
+    velocity slowed by the same factor at each sample (the coordinated throw keeps one time base)."""
+    capped = fastest_at_release(angles, proposal.velocity)
+    moving = proposal.velocity != 0
+    factor = np.ones(capped.shape)
+    factor[moving] = capped[moving] / proposal.velocity[moving]
+    return replace(scale_speed(proposal, factor), velocity=capped)
 
 
 def ablations(method: type[DmmStrategy]) -> list[type[DmmStrategy]]:

@@ -1,10 +1,11 @@
-"""A snapshot of a simulated throw: the arm at the release, the ball's flight and the basket, seen
-from the side; beside it a frame rendered by MuJoCo when one exists.
+"""One simulated throw: a snapshot (the arm at the release, the ball's flight and the basket, seen
+from the side; beside it a frame rendered by MuJoCo when one exists), and each driven joint's
+trajectory, human and robot.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -147,7 +148,8 @@ def throw_snapshot_from_outcome(
     outcome : rlff.sim.ThrowOutcome or mapping
         The outcome, or its JSON form (``ThrowOutcome.to_dict()``, what ``rlff sim throw
         --json`` prints): ``hit``, ``landing_x``, ``miss``, ``basket`` {distance, rim_height,
-        opening}, ``release`` {position, velocity, joint_positions}, optional ``frames``.
+        opening[, bearing]}, ``release`` {position, velocity, joint_positions}, optional
+        ``frames``. A basket at a bearing is seen from the side of its bearing line.
     out : path
         File stem of the PNG and SVG.
     robot : rlff.robot.Robot, optional
@@ -174,10 +176,13 @@ def throw_snapshot_from_outcome(
         raise InputError("throw outcome: release position and velocity must be (x, y, z)")
     robot = load_robot() if robot is None else robot
     pngs = [Path(p) for p in record.get("frames", []) if Path(p).suffix.lower() == ".png" and Path(p).is_file()]
+    # seen from the side of the basket's bearing line: the vertical plane the arm throws in
+    ray = np.radians(float(basket.get("bearing", 0.0)))
+    along = np.array([np.cos(ray), np.sin(ray), 0.0])
     return throw_snapshot(
         out,
-        release_position=position[[0, 2]],
-        release_velocity=velocity[[0, 2]],
+        release_position=np.array([position @ along, position[2]]),
+        release_velocity=np.array([velocity @ along, velocity[2]]),
         basket_distance=fields[0],
         rim_height=fields[1],
         opening=fields[2],
@@ -188,3 +193,96 @@ def throw_snapshot_from_outcome(
         frame=pngs[len(pngs) // 2] if pngs else None,
         title=title,
     )
+
+
+#: What each human joint column is called on a figure.
+_HUMAN_NAMES = {"angle": "elbow", "shoulder": "shoulder", "wrist": "wrist"}
+
+
+def joint_trajectories(
+    human: Mapping[str, np.ndarray],
+    robot: Any,
+    driven: Sequence[tuple[str, str]],
+    out: str | Path,
+    *,
+    demos: Sequence[Mapping[str, np.ndarray]] = (),
+    limits: Mapping[str, tuple[float, float]] | None = None,
+    turned: Sequence[str] = (),
+    title: str | None = None,
+) -> SavedFigure:
+    """Each driven joint of one throw, as the human path and as the robot's trajectory.
+
+    One row per joint: the human joint's angle and velocity over the throw's time (the
+    demonstrations in grey behind), then the robot joint's position and velocity over the
+    planned trajectory (approach, the throw, braking), its release marked.
+
+    Parameters
+    ----------
+    human : mapping of str to array of shape (T,)
+        The throw in human units: ``time`` (s) and, for every human column of ``driven``, its
+        position (rad) and velocity (rad/s) columns (``angle``/``velocity``,
+        ``shoulder``/``shoulder_velocity``, ``wrist``/``wrist_velocity``).
+    robot : rlff.trajectory.joint.JointTrajectory
+        The planned robot trajectory (``release_time`` marks the release when set).
+    driven : sequence of (robot joint, human column)
+        The joints to draw, e.g. ``[("joint_3", "angle"), ("joint_2", "shoulder")]``.
+    out : path
+        File stem of the PNG and SVG.
+    demos : sequence of mapping
+        Demonstrations in the columns of ``human`` (``time`` included), drawn in grey.
+    limits : mapping of robot joint to (lower, upper), optional
+        Position limits (rad), drawn dashed.
+    turned : sequence of str
+        Robot joints no human joint drives (joint 1 turning to the basket's bearing), drawn in
+        the robot's columns only, below the driven ones.
+    title : str, optional
+
+    Raises
+    ------
+    InputError
+        No joint to draw, or a column missing from ``human`` or a joint from ``robot``.
+    """
+    from rlff.dataset import velocity_column
+
+    if not driven:
+        raise InputError("no joints to draw")
+    for _, column in driven:
+        for name in (column, velocity_column(column), "time"):
+            if name not in human:
+                raise InputError(f"the throw has no column {name!r} (columns: {', '.join(human)})")
+    with figure_style():
+        rows = [*driven, *((joint, None) for joint in turned)]
+        figure = new_figure(14.0, 2.6 * len(rows) + 0.6)
+        grid = np.atleast_2d(figure.subplots(len(rows), 4, squeeze=False))
+        release = getattr(robot, "release_time", None)
+        for row, (joint, column) in enumerate(rows):
+            index = robot.joint_index(joint)
+            if column is None:  # no human joint: say what the robot joint does instead
+                grid[row, 0].set_axis_off()
+                grid[row, 1].set_axis_off()
+                grid[row, 0].text(0.0, 0.5, f"{joint}: no human joint drives it;\nit turns the arm to the basket's bearing",
+                                  transform=grid[row, 0].transAxes, va="center")
+            else:
+                name = _HUMAN_NAMES.get(column, column)
+                for col, values in ((0, column), (1, velocity_column(column))):
+                    axes = grid[row, col]
+                    for demo in demos:
+                        axes.plot(demo["time"], demo[values], color="grey", alpha=0.35, linewidth=0.8)
+                    axes.plot(human["time"], human[values], color=_ARM_COLOUR, linewidth=2.0)
+                    axes.set_ylabel(f"{name} {'(rad)' if col == 0 else '(rad/s)'}")
+            for col, values, unit in ((2, robot.positions[:, index], "rad"), (3, robot.velocities[:, index], "rad/s")):
+                axes = grid[row, col]
+                axes.plot(robot.time, values, color=_BASKET_COLOUR, linewidth=2.0)
+                if release is not None:
+                    axes.axvline(release, color="black", linewidth=0.8, linestyle="--")
+                if col == 2 and limits and joint in limits:
+                    for bound in limits[joint]:
+                        axes.axhline(bound, color=MISS_COLOUR, linewidth=0.8, linestyle=":")
+                axes.set_ylabel(f"{joint} ({unit})")
+        titles = ("human angle", "human velocity", "robot position", "robot velocity")
+        for col, text in enumerate(titles):
+            grid[0, col].set_title(text + (" (grey: demonstrations)" if col < 2 and demos else
+                                           " (dashed: release)" if col >= 2 and release is not None else ""))
+            grid[len(driven) - 1 if col < 2 else -1, col].set_xlabel("human time (s)" if col < 2 else "robot time (s)")
+        figure.suptitle(title or "Each joint of the throw, human and robot")
+    return save(figure, out)

@@ -1,0 +1,233 @@
+"""The learning loop with the whole arm: several joints, a bearing, a rim height (real model, real MuJoCo)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from armrobot import arm_robot
+from rlff.dataset import Dataset
+from rlff.errors import InputError
+from rlff.learn import learn
+from rlff.learn.log import read_log
+from rlff.learn.method import Problem, Proposal, joint_outputs, scale_speed
+
+ARM = ("joint_2", "joint_3")
+#: A basket the whole arm reaches from the demonstrations below.
+BASKET = 1.5
+
+
+@pytest.fixture(scope="module")
+def robot():
+    """The Comau with the tests' own whole-arm mapping (tests/armrobot.py)."""
+    return arm_robot()
+
+
+@pytest.fixture(scope="module")
+def arm_demos() -> Dataset:
+    from rlff.preprocess import Pipeline
+    from rlff.synthetic.throws import whole_arm_demonstrations
+
+    raw = whole_arm_demonstrations(7, subjects=3, distances=(1.0, 1.5, 2.0), bearings=(0.0, 60.0), heights=(0.3,))
+    clean, _ = Pipeline.preset("thesis").run(raw)
+    return clean
+
+
+@pytest.fixture(scope="module")
+def aimed(arm_demos) -> Dataset:
+    """The demonstrations as a recording knows them: the basket aimed at, not the landing."""
+    from rlff.learn.scenarios import with_landings
+
+    return with_landings(arm_demos, "none", 0)
+
+
+def test_joint_outputs_are_the_elbow_velocity_then_every_other_joint():
+    assert joint_outputs(("angle",)) == ("velocity",)
+    assert joint_outputs(("angle", "shoulder", "wrist")) == (
+        "velocity", "shoulder", "shoulder_velocity", "wrist", "wrist_velocity")
+
+
+def test_scale_speed_scales_every_velocity_by_one_factor_and_keeps_the_positions():
+    angle = np.linspace(0.8, 1.8, 5)
+    proposal = Proposal(angle, np.full(5, 4.0), 2.0, 0.1, {}, {"shoulder": np.linspace(2.6, 2.3, 5),
+                                                             "shoulder_velocity": np.full(5, -1.5)})
+    faster = scale_speed(proposal, 1.5)
+    assert faster.velocity == pytest.approx(np.full(5, 6.0))
+    assert faster.arm["shoulder_velocity"] == pytest.approx(np.full(5, -2.25))
+    assert faster.arm["shoulder"] is proposal.arm["shoulder"]
+    assert np.array_equal(faster.angle, angle)
+    per_sample = scale_speed(proposal, np.array([1.0, 1.0, 0.5, 0.5, 2.0]))
+    ratio = per_sample.arm["shoulder_velocity"] / proposal.arm["shoulder_velocity"]
+    assert ratio == pytest.approx(per_sample.velocity / proposal.velocity)
+
+
+@pytest.mark.slow
+def test_whole_arm_attempts_carry_every_joint_and_resume_from_the_log(aimed, robot, tmp_path):
+    log = tmp_path / "attempts.jsonl"
+    first = learn(aimed, BASKET, budget=2, joints=ARM, bearing=30.0, log_path=log, until="centred", centre_share=0.01,
+                  robot=robot)
+    assert first.attempts == 2
+    for attempt in first.history:
+        assert set(attempt.arm) == {"shoulder", "shoulder_velocity"}
+        assert attempt.arm["shoulder"].shape == attempt.angle.shape
+        assert np.ptp(attempt.arm["shoulder"]) > 0.05  # the shoulder moved along with the elbow
+    run, contents = read_log(log)
+    assert run["joints"] == ["joint_3", "joint_2"]  # the elbow's joint first: the phase
+    assert run["basket"]["bearing"] == 30.0
+    assert np.array_equal(contents.attempts[1].arm["shoulder_velocity"], first.history[1].arm["shoulder_velocity"])
+    resumed = learn(aimed, BASKET, budget=3, joints=ARM, bearing=30.0, log_path=log, until="centred",
+                    centre_share=0.01, robot=robot)
+    straight = learn(aimed, BASKET, budget=3, joints=ARM, bearing=30.0, until="centred", centre_share=0.01, robot=robot)
+    assert resumed.resumed == 2
+    assert resumed.misses == pytest.approx(straight.misses)  # exactly as the uninterrupted run
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("change, field", [
+    ({"bearing": 0.0}, "basket.bearing"),
+    ({"height": 0.6}, "basket.rim_height"),
+    ({"joints": None}, "joints"),
+])
+def test_a_log_resumes_only_with_the_same_joints_bearing_and_height(aimed, robot, tmp_path, change, field):
+    log = tmp_path / "attempts.jsonl"
+    settings = {"joints": ARM, "bearing": 30.0, "height": 0.3, "robot": robot}
+    learn(aimed, BASKET, budget=1, log_path=log, **settings)
+    with pytest.raises(InputError, match=field.replace(".", r"\.")):
+        learn(aimed, BASKET, budget=2, log_path=log, **{**settings, **change})
+
+
+def test_a_one_joint_log_keeps_the_old_header_and_lines(tmp_path):
+    from rlff.preprocess import Pipeline
+    from rlff.synthetic.throws import simulate_throws
+
+    demos, _ = Pipeline.preset("thesis").run(simulate_throws(3, subjects=2, distances=(1.0, 1.5), throws_per_distance=2))
+    log = tmp_path / "one.jsonl"
+    learn(demos, 1.3, budget=1, log_path=log)
+    header, line = (json.loads(text) for text in log.read_text().splitlines())
+    assert "joints" not in header["run"] and "bearing" not in header["run"]["basket"]
+    assert "arm" not in line
+
+
+def test_one_joint_demonstrations_for_a_whole_arm_throw_name_the_missing_column(tmp_path):
+    from rlff.preprocess import Pipeline
+    from rlff.synthetic.throws import simulate_throws
+
+    demos, _ = Pipeline.preset("thesis").run(simulate_throws(3, subjects=2, distances=(1.0, 1.5), throws_per_distance=2))
+    with pytest.raises(InputError, match="no column 'shoulder'.*drop --joints"):
+        learn(demos, 1.3, joints=ARM)
+
+
+def test_a_basket_beyond_the_whole_arm_reach_is_refused_with_the_numbers(aimed, robot):
+    from dataclasses import replace
+
+    # the elbow mapped 0.6 rad further back: the arm lets go pointing up and behind, and the
+    # loop's throws no longer reach what the arm could reach from its best pose (4.45 m)
+    table = dict(robot.whole_arm)
+    elbow = dict(table["joints"]["joint_3"], offset=table["joints"]["joint_3"]["offset"] - 0.6)
+    behind = replace(robot, whole_arm={**table, "joints": {**table["joints"], "joint_3": elbow}})
+    with pytest.raises(InputError, match=r"out of reach of the whole-arm throws.*joint_3, joint_2.*farthest basket.*"
+                                         r"--joints joint_2,joint_3,joint_5 may reach farther"):
+        learn(aimed, 3.5, joints=ARM, robot=behind)
+
+
+@pytest.mark.slow
+def test_the_refit_and_the_calibration_drive_every_joint_by_one_time_scale(aimed, robot):
+    from rlff.learn.attempt import Attempt
+    from rlff.learn.loop import _angle_grid, _components, _learning_demos
+    from rlff.learn.strategies import CalibrateUpdate
+    from rlff.robot import mapping_for
+
+    mapping = mapping_for(robot, ARM)
+    demos = _learning_demos(aimed, mapping.human_columns, 0.3)
+    outputs = joint_outputs(mapping.human_columns)
+    problem = Problem(demos, BASKET, "binary", 0.12, _angle_grid(demos), _components(demos, 0, outputs), 0,
+                      max_speed=mapping.max_human_speeds()["velocity"], outputs=outputs)
+    method = CalibrateUpdate(problem)
+    assert method.fit(*_training(demos)).outputs == outputs
+    first = method.propose([])
+    miss = Attempt(1, BASKET, BASKET, first.angle, first.velocity, np.linspace(0, 1, first.angle.size), False,
+                   np.nan, np.nan, arm=dict(first.arm))
+    second = method.propose([miss])
+    factor = second.velocity / first.velocity
+    assert not np.allclose(factor, 1.0)  # the miss moved the speed
+    assert second.arm["shoulder_velocity"] / first.arm["shoulder_velocity"] == pytest.approx(factor)
+    assert np.array_equal(second.arm["shoulder"], first.arm["shoulder"])  # the same path, faster or slower
+
+
+def _training(demos):
+    from rlff.learn.method import labelled_demos, training_set
+
+    return training_set(labelled_demos(demos), [1.0] * len(demos))
+
+
+@pytest.mark.slow
+def test_the_donut_explores_the_shoulder_where_the_attempts_disagree(aimed, robot):
+    from rlff.learn.attempt import Attempt
+    from rlff.learn.loop import _angle_grid, _components, _learning_demos
+    from rlff.learn.strategies import DonutSearch
+    from rlff.robot import mapping_for
+
+    mapping = mapping_for(robot, ARM)
+    demos = _learning_demos(aimed, mapping.human_columns, 0.3)
+    outputs = joint_outputs(mapping.human_columns)
+    problem = Problem(demos, BASKET, "binary", 0.12, _angle_grid(demos), _components(demos, 0, outputs), 0,
+                      max_speed=mapping.max_human_speeds()["velocity"], outputs=outputs)
+    method = DonutSearch(problem)
+    first = method.shape([])
+    # misses thrown faster and with the shoulder held higher join the data labelled with the target:
+    # they disagree with the demonstrations there, the exploration grows and the donut moves the
+    # shoulder's shape along the path, not only the speed
+    high = {"shoulder": first.arm["shoulder"] + 0.3, "shoulder_velocity": first.arm["shoulder_velocity"] * 1.5}
+    misses = [Attempt(i, BASKET, BASKET, first.angle, first.velocity * 1.5, np.linspace(0, 1, first.angle.size),
+                      False, np.nan, np.nan, arm=high) for i in (1, 2, 3)]
+    explored = method.shape(misses)
+    assert explored.exploration > first.exploration + 0.02
+    assert np.max(np.abs(explored.arm["shoulder"] - first.arm["shoulder"])) > 0.05
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("distance, bearing, height", [(1.25, 45.0, 0.3), (2.6, 90.0, 0.3), (2.2, 30.0, 1.0)])
+def test_calibrate_hits_unseen_baskets_at_a_bearing_with_binary_feedback(aimed, robot, distance, bearing, height):
+    result = learn(aimed, distance, budget=10, joints=ARM, bearing=bearing, height=height, feedback="binary",
+                   robot=robot, seed=11)
+    assert result.hit, result.misses
+    assert result.attempts <= 10
+
+
+def test_bad_joints_on_the_command_line_are_one_line_and_exit_2(rlff, tmp_path):
+    demos = tmp_path / "demos.csv"
+    assert rlff("data", "synth", "throws", "--whole-arm", "--subjects", "2", "--distances", "1,1.5", "-o", str(demos)).code == 0
+    unknown = rlff("learn", str(demos), "--basket", "1.2", "--joints", "joint_2,joint_9")
+    assert unknown.code == 2 and "joint_9" in unknown.stderr and len(unknown.stderr.strip().splitlines()) == 1
+    empty = rlff("learn", str(demos), "--basket", "1.2", "--joints", " , ")
+    assert empty.code == 2 and "--joints" in empty.stderr
+    far = rlff("learn", str(demos), "--basket", "1.2", "--bearing", "200")
+    assert far.code == 2 and "bearing" in far.stderr
+
+
+def test_demonstrations_at_several_rim_heights_teach_from_the_nearest():
+    from rlff.learn.loop import _learning_demos
+    from rlff.synthetic.throws import whole_arm_demonstrations
+
+    demos = whole_arm_demonstrations(7, subjects=2, distances=(1.0, 1.5), bearings=(0.0,), heights=(0.3, 1.0))
+    assert {float(t["height"][0]) for t in demos} == {0.3, 1.0}
+    high = _learning_demos(demos, ("angle", "shoulder"), rim_height=0.9)
+    assert len(high) == 4 and all(t.id.endswith("h1-1") for t in high)
+    assert {c for t in high for c in t.columns} == {"angle", "distance", "velocity", "shoulder", "shoulder_velocity"}
+    assert len(_learning_demos(demos, ("angle", "shoulder"), rim_height=0.3)) == 4
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("update, feedback", [
+    ("failure", "binary"), ("hindsight", "distance"), ("donut", "binary"), ("imitation", "binary"),
+    ("random", "binary"), ("sweep", "binary"), ("secant", "distance"), ("gp-bo", "distance"), ("cma", "distance"),
+])
+def test_every_method_throws_the_whole_arm(aimed, robot, update, feedback):
+    result = learn(aimed, 2.0, budget=2, joints=ARM, bearing=60.0, update=update, feedback=feedback, robot=robot,
+                   seed=5, until="centred", centre_share=0.01)
+    assert result.attempts == 2
+    for attempt in result.history:
+        assert set(attempt.arm) == {"shoulder", "shoulder_velocity"}
+        assert np.ptp(attempt.arm["shoulder"]) > 0.05 and np.isfinite(attempt.miss)
