@@ -102,6 +102,18 @@ def test_a_record_missing_a_field_is_an_error(tmp_path):
         AttemptLog(path, RUN)
 
 
+def test_an_infinite_attempt_number_is_a_corrupt_record_not_a_crash(tmp_path):
+    """json reads the non-standard Infinity; int() of it overflows (found by the fuzz tests)."""
+    path = tmp_path / "attempts.jsonl"
+    write(path)
+    record = make_attempt(1).to_json()
+    with open(path, "a") as handle:
+        handle.write(json.dumps(record).replace('"attempt": 1', '"attempt": Infinity') + "\n")
+        handle.write(json.dumps(make_attempt(2).to_json()) + "\n")
+    with pytest.raises(InputError, match=r"line 2: corrupt attempt record"):
+        AttemptLog(path, RUN)
+
+
 def test_attempts_out_of_order_are_an_error(tmp_path):
     path = tmp_path / "attempts.jsonl"
     write(path, make_attempt(1), make_attempt(3))

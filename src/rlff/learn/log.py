@@ -283,7 +283,7 @@ def _attempts(path: Path, records: list[dict[str, Any]]) -> list[Attempt]:
     for number, record in enumerate(records[1:], start=2):
         try:
             attempt = Attempt.from_json(record)
-        except (KeyError, TypeError, ValueError) as exc:
+        except (KeyError, TypeError, ValueError, OverflowError) as exc:
             raise InputError(f"{path}, line {number}: corrupt attempt record ({exc})") from None
         if attempt.index != len(attempts) + 1:
             raise InputError(

@@ -97,7 +97,7 @@ def _checked(index: int, flight: Mapping[str, Any]) -> dict[str, Any]:
             "opening": float(flight.get("opening", 0.35)),
             "hit": bool(flight["hit"]),
         }
-    except (KeyError, TypeError, ValueError) as exc:
+    except (KeyError, TypeError, ValueError, OverflowError) as exc:
         raise InputError(f"flight {index}: missing or malformed field {exc}") from None
     if throw["position"].shape != (3,) or throw["velocity"].shape != (3,):
         raise InputError(f"flight {index}: position and velocity must be (x, y, z)")

@@ -139,7 +139,7 @@ def read_learning_log(path: str | Path) -> LoggedRun:
         misses = [float(r["miss"]) for r in records[1:]]
         hits = [bool(r["hit"]) for r in records[1:]]
         basket = float(run["basket"]["distance"])
-    except (KeyError, TypeError, ValueError) as exc:
+    except (KeyError, TypeError, ValueError, OverflowError) as exc:
         raise InputError(f"{path}: attempt or run record without {exc}") from None
     return LoggedRun(str(run.get("update", path.stem)), str(run.get("feedback", "")), basket, misses, hits)
 

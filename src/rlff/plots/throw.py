@@ -170,7 +170,7 @@ def throw_snapshot_from_outcome(
         landing_x = float("nan") if record["landing_x"] is None else float(record["landing_x"])
         miss = float("nan") if record["miss"] is None else float(record["miss"])
         fields = (float(basket["distance"]), float(basket["rim_height"]), float(basket["opening"]), bool(record["hit"]))
-    except (KeyError, TypeError, ValueError) as exc:
+    except (KeyError, TypeError, ValueError, OverflowError) as exc:
         raise InputError(f"throw outcome: missing or malformed field {exc}") from None
     if position.shape != (3,) or velocity.shape != (3,):
         raise InputError("throw outcome: release position and velocity must be (x, y, z)")
