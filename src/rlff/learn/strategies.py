@@ -33,13 +33,14 @@ differ in how the attempts join the data, with what weight, and which distance i
       release height and the release point's offset from the base bring the elasticity of the
       distance from the base down to about 1.3-1.9 here);
     - distance feedback: each landing is a noisy observation of the law;
-    - binary feedback: each miss removes the laws under which that speed would have hit (the
-      window Z +- tolerance), so the posterior mass moves to both sides of what failed and the
-      next speed goes where most of it is: a search that brackets the basket without ever being
-      told short or long;
     - the next throw is the DMM's shape scaled to the speed with the highest posterior
       probability of a hit, never beyond the robot's speed limit. The law is stated in the
       *executed* speed, so a throw the robot had to saturate counts for what it did;
+    - binary feedback says neither short nor long, so there the speed comes from the window
+      search of :mod:`rlff.learn.windows` instead: the release speed's hit windows, tiled from
+      the GMR mean's speed to the speed limit, thrown in the order of their prior probability
+      (normal about the GMR mean's speed; everything beyond the limit belongs to the fastest
+      window, as the basket is within reach);
     - the shape keeps to one side of the donut (``continuity``) and is capped at its release
       speed (:func:`fastest_at_release`), so that the release speed alone decides the landing
       even where the demonstrations disagree and the DMM's mode would jump between sides.
@@ -47,10 +48,11 @@ differ in how the attempts join the data, with what weight, and which distance i
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Callable, Sequence
 
 import numpy as np
-from scipy.special import logsumexp, ndtr
+from scipy.special import logsumexp
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError
@@ -63,6 +65,7 @@ from rlff.learn.method import (
     labelled_demos,
     training_set,
 )
+from rlff.learn.windows import WindowSearch
 
 
 class DmmStrategy(Method):
@@ -212,17 +215,6 @@ class SpeedCalibration:
         residual = np.log(landing / self.target) - predicted
         self.log_p = self.log_p - 0.5 * (residual / self.noise) ** 2
 
-    def observe_miss(self, speed: float, *, trust: float = 0.9) -> None:
-        """Binary feedback: a throw with release speed ``speed`` missed.
-
-        The laws under which it would have hit lose their mass; ``trust`` < 1 keeps a little,
-        so that one misleading miss (a bounce off the rim) cannot rule a region out for good.
-        """
-        predicted = self.offset[:, None] + self.slope[None, :] * self._log_x(speed)
-        half = self.tolerance / self.target  # the window in log units, to first order
-        p_hit = ndtr((half - predicted) / self.noise) - ndtr((-half - predicted) / self.noise)
-        self.log_p = self.log_p + np.log1p(-trust * p_hit)
-
     def posterior(self) -> np.ndarray:
         """Normalised posterior on the grid, shape (A, B)."""
         return np.exp(self.log_p - logsumexp(self.log_p))
@@ -259,12 +251,15 @@ class CalibrateUpdate(DmmStrategy):
         self.demos = labelled_demos(problem.demos)
         data, sample_weight = training_set(self.demos, [1.0] * len(self.demos))
         inputs = np.column_stack([problem.angles, np.full(problem.angles.size, problem.target)])
-        mean = self.fit(data, sample_weight).condition(inputs).mean[:, 0]
+        #: The mixture of the demonstrations alone.
+        self.model = self.fit(data, sample_weight)
+        mean = self.model.condition(inputs).mean[:, 0]
         #: The GMR mean's throw from the demonstrations alone, and its release speed (rad/s):
         #: where the calibration's prior says the basket is.
         self.first = Proposal(problem.angles, mean, problem.target)
         self.reference = release_speed(problem.angles, mean)
         self._demos_shape: Proposal | None = None
+        self._windows: WindowSearch | None = None
         if not self.reference > 0:
             raise InputError(f"the GMR throw for {problem.target:g} m does not move at its "
                              "release: the demonstrations give no throw to calibrate")
@@ -276,20 +271,35 @@ class CalibrateUpdate(DmmStrategy):
         speed = release_speed(problem.angles, velocity)
         if not speed > 0:  # no motion at the release: keep the demonstrations' shape
             velocity, speed = self.first.velocity, self.reference
-        calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference,
-                                       problem.max_speed)
-        for attempt in history:
-            executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
-                                                               attempt.velocity))
-            if problem.feedback == "distance":
+        if problem.feedback == "binary":
+            x, mass = self.windows().offset(len(history))
+            wanted = min(self.reference * math.exp(x), problem.max_speed)
+            info = {"speed": round(wanted, 4), "log_factor": round(x, 4), "p_window": round(mass, 4)}
+        else:
+            calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference,
+                                           problem.max_speed)
+            for attempt in history:
+                executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
+                                                                   attempt.velocity))
                 calibration.observe_landing(executed, attempt.landing)
-            elif not attempt.hit:
-                calibration.observe_miss(executed)
-        wanted, p_hit = calibration.best_speed()
+            wanted, p_hit = calibration.best_speed()
+            info = {"speed": round(wanted, 4), "p_hit": round(p_hit, 4)}
         return Proposal(shape.angle, velocity * (wanted / speed), query=problem.target,
-                        exploration=shape.exploration,
-                        info={"speed": round(wanted, 4), "p_hit": round(p_hit, 4)})
+                        exploration=shape.exploration, info=info)
 
+    def windows(self) -> WindowSearch:
+        """The binary search over the release speed's hit windows (made once per run)."""
+        if self._windows is None:
+            problem = self.problem
+            self._windows = WindowSearch(problem.target, problem.tolerance,
+                                         math.log(problem.max_speed / self.reference),
+                                         self.speed_prior())
+        return self._windows
+
+    def speed_prior(self) -> Callable[[np.ndarray], np.ndarray] | None:
+        """Log prior density over the hit's log speed factor for the window search (None: its
+        normal prior about the GMR mean's speed, :data:`rlff.learn.windows.PRIOR_SCALE`)."""
+        return None
 
     def shape(self, history: Sequence[Attempt]) -> Proposal:
         """The DMM's throw for the target from the demonstrations and the landed attempts.
@@ -310,33 +320,40 @@ class CalibrateUpdate(DmmStrategy):
 
 
 class DonutSearch(CalibrateUpdate):
-    """The donut's exploration of the throw's shape, combined with the speed calibration.
+    """``calibrate`` with the window search ordered by the DMM's density of the release speed.
 
-    ``calibrate`` with binary feedback keeps one shape (a miss has no landing to label it with)
-    and searches the speed only. Here every miss also joins the data labelled with the target,
-    as in Grollman & Billard's update: where the robot's misses disagree with the
-    demonstrations the conditional variance grows, the exploration factor with it, and the
-    donut moves the throw's shape (the velocity profile along the path) away from what failed,
-    while the calibration still sets its release speed. With distance feedback the attempts join
-    with their landings, as in ``calibrate``.
+    The demonstrations all missed, so the hit is not where they agree: the DMM puts its density
+    on a ring about each component's mean, as far out as the demonstrations disagree. With
+    binary feedback the hit windows of the release speed are thrown in the order of the mass
+    the DMM (fitted to the demonstrations, conditioned on the release part of the path and the
+    basket) gives each, instead of the normal prior about the GMR mean that ``calibrate`` uses.
+    With distance feedback it is ``calibrate`` with the attempts weighted as one demonstration
+    each instead of three.
     """
 
     name = "donut"
     robot_weight = 1.0
 
-    def shape(self, history: Sequence[Attempt]) -> Proposal:
-        if self.problem.feedback == "distance":
-            return super().shape(history)
-        failed = [a for a in history if not a.hit]
-        if not failed and self._demos_shape is not None:
-            return self._demos_shape
-        trajectories = list(self.demos) + [attempt_trajectory(a, self.problem.target) for a in failed]
-        weights = [1.0] * len(self.demos) + [self.robot_weight] * len(failed)
-        data, sample_weight = training_set(trajectories, weights)
-        shape = self.generate(data, sample_weight, self.problem.target, {}, continuity=True)
-        if not failed:
-            self._demos_shape = shape
-        return shape
+    def speed_prior(self) -> Callable[[np.ndarray], np.ndarray]:
+        from rlff.model.donut import dmm_pdf, exploration_factor
+
+        problem = self.problem
+        tail = max(2, problem.angles.size // 10)  # the release part of the path (release_speed)
+        inputs = np.column_stack([problem.angles[-tail:], np.full(tail, problem.target)])
+        conditional = self.model.condition(inputs)
+        if self.exploration == "auto":
+            eps = exploration_factor(conditional.covariance)
+        else:
+            eps = np.full(tail, float(self.exploration))
+        mean = conditional.mean[:, 0]  # (tail,), its mean speed is the reference u0
+
+        def log_density(x: np.ndarray) -> np.ndarray:
+            # the GMR mean's release part scaled by e^x, density in log speed (Jacobian u)
+            velocity = mean[:, None] * np.exp(x)[None, :]  # (tail, G)
+            pdf = np.mean(dmm_pdf(conditional, velocity[:, :, None], eps), axis=0)
+            return np.log(np.maximum(pdf, 1e-300)) + x
+
+        return log_density
 
 
 def release_speed(angles: np.ndarray, velocity: np.ndarray) -> float:
