@@ -9,7 +9,8 @@ hit window seen through the range law (2 tolerance / Z in log distance over the 
 mean's own speed (x = 0) up to the robot's speed limit and down to the slowest throw any search
 tries, and throws them in the order of the probability a prior puts on each:
 
-- a prior density over x* (where the hit is), evaluated on a fine grid of x;
+- a prior density over x* (where the hit is): normal about 0 (its masses in closed form), or
+  any density given on a fine grid of x (``donut``: the DMM's);
 - every window collects the prior's mass between the midpoints to its neighbours; the fastest
   window also collects all the mass beyond it, and the slowest all below it: the basket is
   within the robot's reach (the loop refuses one that is not before the first throw), so the
@@ -33,10 +34,11 @@ from scipy.stats import norm
 from rlff.learn.baselines import RANGE_ELASTICITY
 
 #: Standard deviation (log speed) of the default prior over the hit's log speed factor, centred on
-#: the GMR mean's speed: the robot's first throw may need up to e^{+-0.3} (35 %) more or less
-#: speed, 0.3 x 1.6 = 0.48 in log distance (tuned on seeds 0-15 among 0.19-0.6).
+#: the GMR mean's speed: one standard deviation is 35 % more or less speed, 0.3 x 1.6 = 0.48 in
+#: log distance (chosen on seeds 0-15 among 0.15-0.6, checked on seeds 20-35).
 PRIOR_SCALE = 0.3
-#: Slowest log speed factor any search tries (a throw at 30 % of the demonstrations' speed).
+#: Slowest log speed factor any search tries (a throw at 30 % of the demonstrations' speed; the
+#: sweep's too).
 LOWEST = -1.2
 #: Points of the grid the prior is integrated on, per unit of log speed.
 _GRID_DENSITY = 400
