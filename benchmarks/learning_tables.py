@@ -32,9 +32,12 @@ def load(paths: list[str]) -> tuple[list[dict], list[dict]]:
     """The rows and comparisons of every file, in file order."""
     rows, comparisons = [], []
     for path in paths:
-        report = json.loads(Path(path).read_text())
-        rows += report["rows"]
-        comparisons += report["comparisons"]
+        try:
+            report = json.loads(Path(path).read_text())
+            rows += report["rows"]
+            comparisons += report["comparisons"]
+        except (OSError, ValueError, KeyError, TypeError) as exc:
+            raise SystemExit(f"{path}: not a report of rlff bench learning --json ({exc})") from None
     return rows, comparisons
 
 
