@@ -208,3 +208,24 @@ def test_a_scheduler_nobody_runs_is_an_input_error(monkeypatch):
 
     with pytest.raises(InputError, match="no Dask scheduler answers"), parallel_backend("tcp://127.0.0.1:9"):
         pass
+
+
+def test_the_held_out_tables_come_from_the_json_report(tmp_path):
+    """benchmarks/learning_tables.py prints the report's cells: median / mean / hits (p)."""
+    import json
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    path = tmp_path / "short.json"
+    path.write_text(json.dumps(report(RUNS, budget=9)))
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "learning_tables.py"
+    full = subprocess.run([sys.executable, str(script), str(path), "--budget", "9"], capture_output=True,
+                          text=True, check=True).stdout
+    p = paired_p_value(np.array([2, 5, 10, 1]), np.array([10, 10, 7, 4]))
+    # calibrate: attempts 2, 5, 10 (no hit: budget + 1), 1; random: 10, 10, 7, 4
+    assert "| calibrate | **3.5 / 4.5 / 3** |" in full
+    assert f"| random | 8.5 / 7.8 / 2 ({p:.2g}) |" in full
+    compact = subprocess.run([sys.executable, str(script), str(path), "--budget", "9", "--readme"],
+                             capture_output=True, text=True, check=True).stdout
+    assert compact.splitlines()[2].startswith("| short, none | binary | **3.5 / 4.5 / 3** |")

@@ -616,8 +616,9 @@ def _run_record(
             f"The loop fits its own model, not the K = {model.n_components} one above: {loop_components} "
             "components (BIC over the measured samples, at most 4) on the demonstrations thinned to at most "
             "600 samples, refitted at every attempt; calibrate throws the DMM's mode for the basket (keeping "
-            "to one side of the donut, capped at its release speed) scaled to the release speed its "
-            "calibration picks, the baselines the GMR mean.",
+            "to one side of the donut, capped at its release speed) scaled to a release speed: with binary "
+            "feedback the next of the release speed's hit windows, the likeliest first, with distance "
+            "feedback the one its calibration of landing against speed picks; the baselines the GMR mean.",
             facts={"basket (m)": learning_distance, "budget": budget, "loop components K": loop_components},
             tables=[Table("Runs", ["method", "feedback", "hit", "attempts", "first throw miss (m)", "last miss (m)"],
                           [[r.method, r.feedback, r.hit, r.attempts, r.misses[0] if r.misses else None,

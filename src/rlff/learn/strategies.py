@@ -33,13 +33,14 @@ differ in how the attempts join the data, with what weight, and which distance i
       release height and the release point's offset from the base bring the elasticity of the
       distance from the base down to about 1.3-1.9 here);
     - distance feedback: each landing is a noisy observation of the law;
-    - binary feedback: each miss removes the laws under which that speed would have hit (the
-      window Z +- tolerance), so the posterior mass moves to both sides of what failed and the
-      next speed goes where most of it is: a search that brackets the basket without ever being
-      told short or long;
     - the next throw is the DMM's shape scaled to the speed with the highest posterior
       probability of a hit, never beyond the robot's speed limit. The law is stated in the
       *executed* speed, so a throw the robot had to saturate counts for what it did;
+    - binary feedback says neither short nor long, so there the speed comes from the window
+      search of :mod:`rlff.learn.windows` instead: the release speed's hit windows, tiled from
+      the GMR mean's speed to the speed limit, thrown in the order of their prior probability
+      (normal about the GMR mean's speed; everything beyond the limit belongs to the fastest
+      window, as the basket is within reach);
     - the shape keeps to one side of the donut (``continuity``) and is capped at its release
       speed (:func:`fastest_at_release`), so that the release speed alone decides the landing
       even where the demonstrations disagree and the DMM's mode would jump between sides.
@@ -54,11 +55,12 @@ differ in how the attempts join the data, with what weight, and which distance i
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import math
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 
 import numpy as np
-from scipy.special import logsumexp, ndtr
+from scipy.special import logsumexp
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError
@@ -73,6 +75,7 @@ from rlff.learn.method import (
     scale_speed,
     training_set,
 )
+from rlff.learn.windows import WindowSearch
 
 
 class DmmStrategy(Method):
@@ -213,17 +216,6 @@ class SpeedCalibration:
         residual = np.log(landing / self.target) - predicted
         self.log_p = self.log_p - 0.5 * (residual / self.noise) ** 2
 
-    def observe_miss(self, speed: float, *, trust: float = 0.9) -> None:
-        """Binary feedback: a throw with release speed ``speed`` missed.
-
-        The laws under which it would have hit lose their mass; ``trust`` < 1 keeps a little,
-        so that one misleading miss (a bounce off the rim) cannot rule a region out for good.
-        """
-        predicted = self.offset[:, None] + self.slope[None, :] * self._log_x(speed)
-        half = self.tolerance / self.target  # the window in log units, to first order
-        p_hit = ndtr((half - predicted) / self.noise) - ndtr((-half - predicted) / self.noise)
-        self.log_p = self.log_p + np.log1p(-trust * p_hit)
-
     def posterior(self) -> np.ndarray:
         """Normalised posterior on the grid, shape (A, B)."""
         return np.exp(self.log_p - logsumexp(self.log_p))
@@ -262,7 +254,8 @@ class CalibrateUpdate(DmmStrategy):
         self.shape_query = shape_distance(problem)
         data, sample_weight = training_set(self.demos, [1.0] * len(self.demos))
         inputs = np.column_stack([problem.angles, np.full(problem.angles.size, self.shape_query)])
-        model = self.fit(data, sample_weight)
+        #: The mixture of the demonstrations alone.
+        self.model = model = self.fit(data, sample_weight)
         #: The GMR mean's throw from the demonstrations alone, and its release speed (rad/s):
         #: where the calibration's prior says the basket is.
         self.first = Proposal.of_outputs(problem.angles, model.condition(inputs).mean, model.outputs, problem.target)
@@ -270,6 +263,7 @@ class CalibrateUpdate(DmmStrategy):
         if problem.aim is not None:  # a whole-arm throw: the arm's kinematics say how fast
             self.reference *= problem.aim(self.first)
         self._demos_shape: Proposal | None = None
+        self._windows: WindowSearch | None = None
         if not self.reference > 0:
             raise InputError(f"the GMR throw for {problem.target:g} m does not move at its "
                              "release: the demonstrations give no throw to calibrate")
@@ -281,22 +275,42 @@ class CalibrateUpdate(DmmStrategy):
         speed = release_speed(problem.angles, throw.velocity)
         if not speed > 0:  # no motion at the release: keep the demonstrations' shape
             throw, speed = self.first, self.reference
+        # the fastest speed asked for: the driven joint's limit, or (a whole arm) where every
+        # joint saturates at its limit
         fastest = problem.max_speed if problem.saturation is None else speed * problem.saturation(throw)
-        calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference, fastest,
-                                       slope=problem.elasticity)
-        for attempt in history:
-            executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
-                                                               attempt.velocity))
-            if problem.saturation is not None:  # whole arm: the speed asked for (see Problem)
-                executed = float(attempt.info.get("speed", executed))
-            if problem.feedback == "distance":
+        if problem.feedback == "binary":
+            x, mass = self.windows(fastest).offset(len(history))
+            wanted = min(self.reference * math.exp(x), fastest)
+            info = {"speed": round(wanted, 4), "log_factor": round(x, 4), "p_window": round(mass, 4)}
+        else:
+            calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference, fastest,
+                                           slope=problem.elasticity)
+            for attempt in history:
+                executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
+                                                                   attempt.velocity))
+                if problem.saturation is not None:  # whole arm: the speed asked for (see Problem)
+                    executed = float(attempt.info.get("speed", executed))
                 calibration.observe_landing(executed, attempt.landing)
-            elif not attempt.hit:
-                calibration.observe_miss(executed)
-        wanted, p_hit = calibration.best_speed()
+            wanted, p_hit = calibration.best_speed()
+            info = {"speed": round(wanted, 4), "p_hit": round(p_hit, 4)}
         return replace(scale_speed(throw, wanted / speed), query=problem.target, exploration=shape.exploration,
-                       info={"speed": round(wanted, 4), "p_hit": round(p_hit, 4)})
+                       info=info)
 
+    def windows(self, fastest: float) -> WindowSearch:
+        """The binary search over the release speed's hit windows up to the speed ``fastest``
+        (rad/s; made once per run, at the first attempt: with binary feedback the shape and with
+        it the fastest speed stay the same), its windows as wide as the hit window seen through
+        the elasticity of the landing in the speed (``Problem.elasticity``)."""
+        if self._windows is None:
+            problem = self.problem
+            self._windows = WindowSearch(problem.target, problem.tolerance, math.log(fastest / self.reference),
+                                         self.speed_prior(), elasticity=problem.elasticity)
+        return self._windows
+
+    def speed_prior(self) -> Callable[[np.ndarray], np.ndarray] | None:
+        """Log prior density over the hit's log speed factor for the window search (None: its
+        normal prior about the GMR mean's speed, :data:`rlff.learn.windows.PRIOR_SCALE`)."""
+        return None
 
     def shape(self, history: Sequence[Attempt]) -> Proposal:
         """The DMM's throw for the target from the demonstrations and the landed attempts.
@@ -317,19 +331,45 @@ class CalibrateUpdate(DmmStrategy):
 
 
 class DonutSearch(CalibrateUpdate):
-    """The donut's exploration of the throw's shape, combined with the speed calibration.
+    """``calibrate`` with the window search ordered by the DMM's density of the release speed.
 
-    ``calibrate`` with binary feedback keeps one shape (a miss has no landing to label it with)
-    and searches the speed only. Here every miss also joins the data labelled with the target,
-    as in Grollman & Billard's update: where the robot's misses disagree with the
-    demonstrations the conditional variance grows, the exploration factor with it, and the
-    donut moves the throw's shape (the velocity profile along the path) away from what failed,
-    while the calibration still sets its release speed. With distance feedback the attempts join
-    with their landings, as in ``calibrate``.
+    The demonstrations all missed, so the hit is not where they agree: the DMM puts its density
+    on a ring about each component's mean, as far out as the demonstrations disagree. With
+    binary feedback the hit windows of the release speed are thrown in the order of the mass
+    the DMM (fitted to the demonstrations, conditioned on the release part of the path and the
+    basket) gives each, instead of the normal prior about the GMR mean that ``calibrate`` uses.
+    Every miss also joins the data labelled with the target, as in Grollman & Billard's update:
+    where the misses disagree with the demonstrations the donut moves the throw's shape away from
+    what failed (for a whole arm the other joints' path and release pose; for one joint the
+    planner keeps only the release, so this changes nothing the ball sees). With distance
+    feedback it is ``calibrate`` with the attempts weighted as one demonstration each instead of
+    three.
     """
 
     name = "donut"
     robot_weight = 1.0
+
+    def speed_prior(self) -> Callable[[np.ndarray], np.ndarray]:
+        from rlff.model.donut import dmm_marginal_pdf, exploration_factor
+
+        problem = self.problem
+        tail = max(2, problem.angles.size // 10)  # the release part of the path (release_speed)
+        inputs = np.column_stack([problem.angles[-tail:], np.full(tail, self.shape_query)])
+        conditional = self.model.condition(inputs)
+        if self.exploration == "auto":
+            eps = exploration_factor(conditional.covariance)
+        else:
+            eps = np.full(tail, float(self.exploration))
+        mean = conditional.mean[:, 0]  # (tail,), its mean speed is the reference u0
+
+        def log_density(x: np.ndarray) -> np.ndarray:
+            # the GMR mean's release part scaled by e^x, density in log speed (Jacobian u)
+            velocity = mean[:, None] * np.exp(x)[None, :]  # (tail, G)
+            # the speed's density, a whole arm's other outputs integrated out (one output: dmm_pdf)
+            pdf = np.mean(dmm_marginal_pdf(conditional, velocity, eps), axis=0)
+            return np.log(np.maximum(pdf, 1e-300)) + x
+
+        return log_density
 
     def shape(self, history: Sequence[Attempt]) -> Proposal:
         if self.problem.feedback == "distance":

@@ -1,0 +1,107 @@
+"""The window search of binary feedback: the lattice, the prior's masses, the order, and the
+methods that use it against the real model and the real MuJoCo simulation."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.stats import norm
+
+from rlff.learn import learn
+from rlff.learn.baselines import RANGE_ELASTICITY
+from rlff.learn.windows import WindowSearch, lattice, window_masses, window_width
+
+
+def test_the_window_is_the_hit_window_through_the_range_law():
+    # 2 x 0.14 m at 1.75 m is 0.16 in log distance, over the elasticity 1.6: 0.1 in log speed
+    assert window_width(1.75, 0.14) == pytest.approx(0.1)
+    assert window_width(1.75, 0.14, elasticity=2.0) == pytest.approx(0.08)
+
+
+def test_the_lattice_runs_in_the_sweeps_order_within_the_limits():
+    np.testing.assert_allclose(lattice(0.1, 0.25, lowest=-0.35), [0, 0.1, -0.1, 0.2, -0.2, -0.3])
+    # the GMR mean's own speed beyond the limit: the lattice starts at the first centre below it
+    np.testing.assert_allclose(lattice(0.1, -0.15, lowest=-0.45), [-0.2, -0.3, -0.4])
+
+
+def test_window_masses_are_the_prior_between_the_midpoints_the_ends_take_the_tails():
+    x = np.linspace(-3.0, 3.0, 6001)
+    centres = np.array([0.0, 0.1, -0.1])
+    masses = window_masses(centres, x, norm.pdf(x, 0.0, 0.3))
+    top = 1.0 - norm.cdf(0.05, 0.0, 0.3)  # everything above the midpoint to the top window
+    np.testing.assert_allclose(masses, [norm.cdf(0.05, 0, 0.3) - norm.cdf(-0.05, 0, 0.3), top, top], atol=1e-6)
+    assert masses.sum() == pytest.approx(1.0)
+
+
+def test_the_fastest_window_comes_first_when_the_prior_says_the_basket_needs_more_than_the_robot():
+    # limit 0.17 above the GMR mean's speed: the top window (0.1) holds P(x* > 0.05) under
+    # N(0, 0.3), everything above its lower edge, and that beats any other window
+    search = WindowSearch(1.75, 0.14, highest=0.17)
+    offsets = [search.offset(k)[0] for k in range(4)]
+    np.testing.assert_allclose(offsets, [0.1, 0.0, -0.1, -0.2], atol=1e-9)
+    first_mass = search.offset(0)[1]
+    assert first_mass == pytest.approx(1.0 - norm.cdf(0.05, 0.0, 0.3), abs=1e-3)
+    # far from the limit the GMR mean's own speed comes first, then the sweep's order
+    free = WindowSearch(1.75, 0.14, highest=0.8)
+    np.testing.assert_allclose([free.offset(k)[0] for k in range(5)], [0, 0.1, -0.1, 0.2, -0.2], atol=1e-9)
+
+
+def test_after_the_lattice_come_the_half_shifted_windows_then_the_lattice_again():
+    search = WindowSearch(1.75, 0.14, highest=0.5)
+    width = search.width
+    first = np.array([search.offset(k)[0] for k in range(lattice(width, 0.5).size)])
+    np.testing.assert_allclose(np.sort(first), np.sort(lattice(width, 0.5)))
+    # the half-shifted windows: every centre + w/2 that stays within the limit, in the same order
+    shifted = first[first + 0.5 * width <= 0.5 + 1e-12] + 0.5 * width
+    second = np.array([search.offset(first.size + k)[0] for k in range(shifted.size)])
+    np.testing.assert_allclose(second, shifted)
+    assert search.offset(first.size)[1] == 0.0  # past the first pass: no prior mass claimed
+    assert search.offset(first.size + shifted.size)[0] == first[0]  # then the lattice again
+    assert search.offset(10_000)[0] == first[-1]  # past everything: the last window again
+
+
+def test_a_prior_density_of_its_own_reorders_the_windows():
+    # a ring at +-0.25 (two bumps): the windows near the bumps before the GMR mean's speed
+    def ring(x):
+        return np.logaddexp(norm.logpdf(x, 0.25, 0.05), norm.logpdf(x, -0.25, 0.05))
+
+    search = WindowSearch(1.75, 0.14, highest=0.8, log_density=ring)
+    first_two = sorted(search.offset(k)[0] for k in range(2))
+    np.testing.assert_allclose(first_two, [-0.2, 0.2], atol=1e-9)  # 0.2 and 0.3 tie with 0.25: kept order
+    assert search.offset(2)[0] != 0.0
+
+
+def test_the_width_uses_the_baselines_elasticity():
+    assert window_width(2.0, 0.1) == pytest.approx(0.2 / (RANGE_ELASTICITY * 2.0))
+
+
+@pytest.fixture(scope="module")
+def short_demos():
+    from rlff.learn.scenarios import Scenario, demonstrations
+
+    return demonstrations(20, Scenario("short", landings="none"))
+
+
+@pytest.mark.parametrize("method", ["calibrate", "donut"])
+def test_binary_runs_throw_the_windows_in_order_and_hit(short_demos, method):
+    result = learn(short_demos, 1.4, budget=20, feedback="binary", update=method, seed=20)
+    assert result.hit, result.misses
+    offsets = [a.info["log_factor"] for a in result.history]
+    assert len(set(offsets)) == len(offsets)  # no window twice in the first pass
+    # every throw released at the speed its window asked for (the planner keeps the release)
+    reference = result.history[0].info["speed"] / math.exp(offsets[0])
+    for attempt in result.history:
+        assert attempt.info["speed"] == pytest.approx(reference * math.exp(attempt.info["log_factor"]), rel=1e-3)
+
+
+def test_a_resumed_binary_run_continues_with_the_next_window(short_demos, tmp_path):
+    log = tmp_path / "attempts.jsonl"
+    first = learn(short_demos, 1.4, budget=1, feedback="binary", seed=21, log_path=log)
+    assert not first.hit  # the GMR mean's speed (window 0) misses this basket
+    straight = learn(short_demos, 1.4, budget=3, feedback="binary", seed=21)
+    resumed = learn(short_demos, 1.4, budget=3, feedback="binary", seed=21, log_path=log)
+    assert resumed.resumed == 1
+    assert [a.info["log_factor"] for a in resumed.history] == [a.info["log_factor"] for a in straight.history]
+    assert resumed.hit == straight.hit
