@@ -146,8 +146,11 @@ class TrajectoryServer:
     # -- the fixed-rate loop -----------------------------------------------------------------
     def tick(self) -> None:
         """Advance the arm to now, publish /joint_states and feedback, answer goals that ended."""
-        now_time = rospy.Time.now()
         with self._lock:
+            # the clock is read under the lock: a goal or cancel that took the lock in between
+            # (with its own, later now) must not see the arm advanced to an earlier time, nor a
+            # state be published stamped before the motion it was computed from
+            now_time = rospy.Time.now()
             state, ended = self.controller.update(now_time.to_sec())
             self._publish_state(now_time, state)
             active = self._handles.get(self.controller.active_goal)

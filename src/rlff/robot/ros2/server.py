@@ -242,8 +242,8 @@ class TrajectoryServer:
     # -- the fixed-rate loop -----------------------------------------------------------------
     def tick(self) -> None:
         """Advance the arm to now, publish /joint_states and feedback, end goals that finished."""
-        now = self.node.get_clock().now()
         with self._lock:
+            now = self.node.get_clock().now()  # under the lock, as in the ROS 1 server's tick
             state, ended = self.controller.update(now.nanoseconds * 1e-9)
             self._publish_state(now.to_msg(), state)
             active = self._goals.get(self.controller.active_goal)
