@@ -39,6 +39,9 @@ from rlff.trajectory.planner import plan_throw
 LANDING_TOPIC = "/rlff/landing"
 #: Planning period (s) of the executed throws (``rlff robot send``'s default).
 PERIOD = 0.01
+#: Seconds to wait at the start for the vision system's landing publisher to be discovered
+#: (ROS 2); without one the throws go ahead and each waits for its landing as before.
+LANDING_DISCOVERY = 10.0
 #: Seconds to wait for a landing after the goal ended.
 OUTCOME_TIMEOUT = 60.0
 
@@ -280,8 +283,11 @@ def _ros2_arm(stack: ExitStack, topic: str, network: bool):
     connection = stack.enter_context(Connection("rlff_learn"))
 
     def subscribe(callback: Callable[[float, float], None]) -> None:
+        # a vision system already running is matched before the first throw, so that its first
+        # landing is not published before discovery joined the two
         connection.subscribe(PointStamped, topic, lambda msg: callback(
-            msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, msg.point.x))
+            msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, msg.point.x),
+            wait_for_publisher=LANDING_DISCOVERY)
 
     return connection, subscribe
 

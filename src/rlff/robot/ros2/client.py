@@ -75,9 +75,19 @@ class Connection:
         """ROS time (s)."""
         return self.node.get_clock().now().nanoseconds * 1e-9
 
-    def subscribe(self, msg_type, topic: str, callback: Callable) -> None:
-        """Call ``callback(message)`` for every message on ``topic`` (from the executor's thread)."""
-        self.node.create_subscription(msg_type, topic, callback, 10)
+    def subscribe(self, msg_type, topic: str, callback: Callable, wait_for_publisher: float = 0.0) -> bool:
+        """Call ``callback(message)`` for every message on ``topic`` (from the executor's thread).
+
+        With ``wait_for_publisher`` (s), wait that long at most for a publisher to be matched:
+        a message published before discovery matched the two is lost to this subscription
+        (volatile durability), and discovery can take seconds on a loaded machine. Returns
+        whether a publisher is matched.
+        """
+        subscription = self.node.create_subscription(msg_type, topic, callback, 10)
+        deadline = time.monotonic() + wait_for_publisher
+        while subscription.get_publisher_count() == 0 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        return subscription.get_publisher_count() > 0
 
     def close(self) -> None:
         # the spin ends before the node goes, so no callback runs on a destroyed node
