@@ -18,12 +18,11 @@ from __future__ import annotations
 import contextlib
 import math
 from collections.abc import Callable, Iterator, Sequence
-from dataclasses import asdict
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn import statistics
-from rlff.learn.scenarios import DEMONSTRATORS, Feedback, Scenario, reporting_executor
+from rlff.learn.scenarios import Feedback, Scenario, reporting_executor
 from rlff.learn.scenarios import demonstrations as scenario_demonstrations
 from rlff.learn.statistics import Run
 from rlff.learn.strategies import PROJECT_METHODS
@@ -45,8 +44,6 @@ METHODS_BY_FEEDBACK = {
 }
 #: Seed of the first run of the record: the methods were tuned on seeds below it.
 HELD_OUT_SEEDS = 100
-#: The demonstrators, by name (kept for callers that name them).
-SCENARIOS = DEMONSTRATORS
 #: Seconds to wait for a Dask scheduler to answer.
 SCHEDULER_TIMEOUT = 10.0
 
@@ -187,9 +184,4 @@ def _median_text(value: float, budget: int) -> str:
     if value > budget:
         return f"> {budget}"
     return f"{value:g}" if math.isfinite(value) else ""
-
-
-def runs_as_dicts(runs: Sequence[Run]) -> list[dict]:
-    """The runs as plain dicts (for JSON)."""
-    return [asdict(r) for r in runs]
 

@@ -27,7 +27,7 @@ reproducible and every method of a seed sees the same demonstrations.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -175,9 +175,6 @@ class Scenario:
     @property
     def name(self) -> str:
         return self.demonstrators
-
-    def with_feedbacks(self, names: list[str]) -> Scenario:
-        return replace(self, feedbacks=tuple(parse_feedback(n) for n in names))
 
 
 def demonstrations(seed: int, scenario: Scenario) -> Dataset:

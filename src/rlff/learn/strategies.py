@@ -157,9 +157,10 @@ class SpeedCalibration:
     ``u`` is the robot's speed over the release part of the path (in the demonstrations' units),
     ``u0`` a reference speed (the DMM's first proposal). The posterior lives on an (a, b) grid:
     a ~ N(0, ``prior_scale``) says how far from the basket the first proposal may land, b is
-    log-normal about 1 (a projectile's range from the release point grows with the square of
-    its speed; measured from the robot's base that is an elasticity of about 1 at these
-    distances) and wide enough to be learned from the attempts.
+    log-normal about ``slope`` (a projectile's range from the release point grows with the square
+    of its speed; measured from the robot's base that is an elasticity of 1.3-1.9 at these
+    distances, 1.6 by default, and a whole-arm throw's from the arm's kinematics) and wide enough
+    to be learned from the attempts.
 
     Parameters
     ----------
