@@ -17,6 +17,8 @@ from rlff.ballistics import GRAVITY
 
 #: The thesis' basket distances (m), section 4.2 (the three 2 m baskets of other heights left out).
 THESIS_DISTANCES = (1.0, 1.5, 2.0, 2.25, 2.5, 2.75, 3.0, 3.25, 3.5, 4.0)
+#: Upper arm length, shoulder to elbow (m), of every simulated person.
+UPPER_ARM = 0.30
 #: Height of the default basket's rim (m).
 RIM_HEIGHT = 0.3
 #: Fastest elbow extension a simulated person makes (rad/s; about 10 m/s at the ball).

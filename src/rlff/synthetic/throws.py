@@ -39,6 +39,7 @@ from rlff.synthetic.people import (
     MAX_ELBOW_SPEED,
     RIM_HEIGHT,
     THESIS_DISTANCES,
+    UPPER_ARM,
     minimum_jerk,
     minimum_jerk_speed,
     needed_speed,
@@ -51,8 +52,6 @@ __all__ = [
     "simulate_throws", "whole_arm_demonstrations",
 ]
 
-#: Upper arm length, shoulder to elbow (m).
-UPPER_ARM = 0.30
 #: Forearm with hand, elbow to the ball's centre (m).
 FOREARM = 0.35
 

@@ -48,14 +48,13 @@ from rlff.synthetic.people import (
     MAX_ELBOW_SPEED,
     RIM_HEIGHT,
     THESIS_DISTANCES,
+    UPPER_ARM,
     minimum_jerk,
     minimum_jerk_speed,
     needed_speed,
     record,
 )
 
-#: Upper arm, shoulder to elbow (m).
-UPPER_ARM = 0.30
 #: Forearm, elbow to wrist (m).
 FOREARM_ONLY = 0.26
 #: Hand, wrist to the ball's centre (m).
