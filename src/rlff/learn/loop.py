@@ -693,18 +693,11 @@ def _release_crossing(mapping, path: dict[str, np.ndarray], rim_height: float, p
     axis, no drag): the arm's in-plane ball velocity at the release pose (joint 1 turns the plane
     to the bearing; it does not change the distance); ``-inf`` when it never does or the arm is
     too low."""
-    from rlff.ballistics import crossing_distance
-    from rlff.sim.arm import Arm
-    from rlff.sim.reach import GROUND_CLEARANCE, PLANE_JOINTS
+    from rlff.sim.reach import release_crossing
 
     release, _ = mapping.path_to_robot(path, clip=True)
-    pose = [release.positions[-1, release.joint_index(n)] for n in PLANE_JOINTS]
-    rates = np.array([release.velocities[-1, release.joint_index(n)] for n in PLANE_JOINTS])
-    plane = Arm.from_robot(mapping.robot).in_plane(*pose, pedestal=pedestal)
-    velocity = plane.jacobian @ rates
-    crossing = float(crossing_distance(plane.ball[0], plane.ball[1], velocity[0], velocity[1], rim_height))
-    lowest = min(plane.elbow[1], plane.wrist[1], plane.ball[1])
-    return crossing if np.isfinite(crossing) and lowest > GROUND_CLEARANCE else -math.inf
+    return release_crossing(mapping.robot, release.positions[-1], release.velocities[-1], rim_height, pedestal,
+                            clearance=True)
 
 
 def _require_demos_within_limits(demos: Dataset, mapping) -> None:

@@ -335,17 +335,34 @@ def release_reach(robot: Robot, positions, velocities, rim_height: float = 0.3, 
         throwing joints scaled by one factor until the first reaches its speed limit; -inf when
         it never comes down through it or no throwing joint moves.
     """
-    arm = Arm.from_robot(robot)
     names = robot.joint_names
-    position = dict(positions) if isinstance(positions, dict) else dict(zip(names, np.asarray(positions, float), strict=True))
     velocity = dict(velocities) if isinstance(velocities, dict) else dict(zip(names, np.asarray(velocities, float), strict=True))
     rates = np.array([velocity.get(name, 0.0) for name in PLANE_JOINTS])
     limits = np.array([robot.joint(name).max_velocity for name in PLANE_JOINTS])
     moving = np.abs(rates) > 1e-12
     if not np.any(moving):
         return -np.inf
-    rates = rates * np.min(limits[moving] / np.abs(rates[moving]))
-    plane = arm.in_plane(*(position.get(name, 0.0) for name in PLANE_JOINTS), pedestal=pedestal)
-    ball_velocity = plane.jacobian @ rates
+    scaled = dict(zip(PLANE_JOINTS, rates * np.min(limits[moving] / np.abs(rates[moving])), strict=True))
+    return release_crossing(robot, positions, scaled, rim_height, pedestal)
+
+
+def release_crossing(robot: Robot, positions, velocities, rim_height: float = 0.3, pedestal: float = 0.0,
+                     clearance: bool = False) -> float:
+    """Where the ball of a release state comes down through the rim's height, without drag (m
+    from joint 1's axis, along the line joint 1 faces: joint 1 turns the plane, it does not
+    change the distance).
+
+    ``positions``, ``velocities`` as for :func:`release_reach` (a joint left out is at 0); with
+    ``clearance``, a release pose that brings the elbow, the wrist or the ball within
+    :data:`GROUND_CLEARANCE` of the ground sends the ball nowhere. Returns -inf when the ball
+    never comes down through the rim's height.
+    """
+    names = robot.joint_names
+    position = dict(positions) if isinstance(positions, dict) else dict(zip(names, np.asarray(positions, float), strict=True))
+    velocity = dict(velocities) if isinstance(velocities, dict) else dict(zip(names, np.asarray(velocities, float), strict=True))
+    plane = Arm.from_robot(robot).in_plane(*(position.get(name, 0.0) for name in PLANE_JOINTS), pedestal=pedestal)
+    ball_velocity = plane.jacobian @ np.array([velocity.get(name, 0.0) for name in PLANE_JOINTS])
     landing = float(crossing_distance(plane.ball[0], plane.ball[1], ball_velocity[0], ball_velocity[1], rim_height))
+    if clearance and min(plane.elbow[1], plane.wrist[1], plane.ball[1]) <= GROUND_CLEARANCE:
+        return -np.inf
     return landing if np.isfinite(landing) else -np.inf
