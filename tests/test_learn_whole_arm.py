@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from armrobot import arm_robot
-from rlff.dataset import Dataset
+from rlff.dataset import Dataset, joint_outputs
 from rlff.errors import InputError
 from rlff.learn import learn
 from rlff.learn.log import read_log
-from rlff.learn.method import Problem, Proposal, joint_outputs, scale_speed
+from rlff.learn.method import Problem, Proposal, scale_speed
 
 ARM = ("joint_2", "joint_3")
 #: A basket the whole arm reaches from the demonstrations below.

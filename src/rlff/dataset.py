@@ -81,6 +81,14 @@ def velocity_column(name: str) -> str:
     return "velocity" if name == "angle" else f"{name}_velocity"
 
 
+def joint_outputs(human_columns: Sequence[str]) -> tuple[str, ...]:
+    """The model outputs of a throw driving ``human_columns`` (``"angle"`` first): the elbow's
+    velocity, then every other joint's position and velocity, e.g. ``("velocity", "shoulder",
+    "shoulder_velocity")``. The other joints' positions are outputs because the phase is the
+    elbow's angle, not theirs."""
+    return ("velocity", *(c for column in human_columns[1:] for c in (column, velocity_column(column))))
+
+
 def joint_columns(columns: Iterable[str]) -> tuple[str, ...]:
     """The joint position columns among ``columns``, in the order of :data:`JOINT_COLUMNS`."""
     present = set(columns)

@@ -284,7 +284,7 @@ def _joint_outputs(model, robot: str, joints: str) -> tuple[str, ...]:
     """The model outputs the robot ``joints`` need (velocity first), by the robot file's
     ``[whole_arm]`` table; :class:`InputError` naming those the model lacks."""
     from rlff.cli.robot import joint_list
-    from rlff.dataset import velocity_column
+    from rlff.dataset import joint_outputs
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import mapping_for
 
@@ -292,15 +292,13 @@ def _joint_outputs(model, robot: str, joints: str) -> tuple[str, ...]:
     if model.inputs[0] != "angle":
         raise InputError(f"--joints {joints}: the robot follows the elbow's angle as the phase, but the model's "
                          f"path variable is {model.inputs[0]!r}")
-    needed = ["velocity"]
-    for column in mapping.human_columns[1:]:
-        needed += [column, velocity_column(column)]
+    needed = joint_outputs(mapping.human_columns)
     missing = [name for name in needed if name not in model.outputs]
     if missing:
         raise InputError(f"--joints {joints} needs the model outputs {', '.join(needed)}; the model lacks "
                          f"{', '.join(missing)} (its outputs: {', '.join(model.outputs)}): fit it on a whole-arm "
                          "dataset with those columns as outputs")
-    return tuple(needed)
+    return needed
 
 
 def _with_columns(path, outputs: tuple[str, ...] | None, written: dict[str, float]):

@@ -8,7 +8,7 @@ One joint or the whole arm: by default the human elbow's angle drives one robot 
 robot file's ``[throwing]`` table). With ``joints`` (e.g. joint_2, joint_3[, joint_5]) the
 ``[whole_arm]`` table maps the human shoulder, elbow (and wrist) to them: the elbow's angle stays
 the throw's phase, the model's outputs become the elbow's velocity and the other joints'
-positions and velocities along it (:func:`rlff.learn.method.joint_outputs`), and every proposal,
+positions and velocities along it (:func:`rlff.dataset.joint_outputs`), and every proposal,
 attempt and log line carries all of them. The basket may stand at a ``bearing`` (joint 1 turns
 the arm to face it; people face the basket they throw at, so the arm's motion in its plane does
 not depend on the bearing and every demonstration is used whatever its bearing) and at a rim
@@ -37,7 +37,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from rlff.dataset import Dataset
+from rlff.dataset import Dataset, joint_outputs
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
 from rlff.learn.baselines import BASELINES
@@ -49,7 +49,6 @@ from rlff.learn.method import (
     Method,
     Problem,
     Proposal,
-    joint_outputs,
 )
 from rlff.learn.strategies import STRATEGIES
 from rlff.limits import check_pedestal

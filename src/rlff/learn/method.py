@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from rlff.dataset import Dataset, Trajectory, velocity_column
+from rlff.dataset import Dataset, Trajectory
 from rlff.learn.attempt import Attempt
 
 FEEDBACKS = ("binary", "distance")
@@ -28,14 +28,6 @@ FEEDBACKS = ("binary", "distance")
 COLUMNS = ("angle", "distance", "velocity")
 #: Outputs of the one-joint model: the elbow's velocity along its angle.
 ONE_JOINT_OUTPUTS = ("velocity",)
-
-
-def joint_outputs(human_columns: Sequence[str]) -> tuple[str, ...]:
-    """The model outputs of a throw driving ``human_columns`` (``"angle"`` first): the elbow's
-    velocity, then every other joint's position and velocity, e.g. ``("velocity", "shoulder",
-    "shoulder_velocity")``. The other joints' positions are outputs because the phase is the
-    elbow's angle, not theirs."""
-    return ("velocity", *(c for column in human_columns[1:] for c in (column, velocity_column(column))))
 
 
 @dataclass(frozen=True)
