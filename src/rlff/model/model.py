@@ -27,7 +27,14 @@ from typing import Any
 import numpy as np
 
 from rlff import __version__
-from rlff.dataset import THROW_INPUTS, THROW_OUTPUTS, Dataset
+from rlff.dataset import (
+    ARM_JOINT_COLUMNS,
+    THROW_CONTEXT,
+    THROW_INPUTS,
+    THROW_OUTPUTS,
+    Dataset,
+    velocity_column,
+)
 from rlff.errors import InputError
 from rlff.fileio import write_text
 from rlff.jsonfile import read_json_object
@@ -53,10 +60,8 @@ DEFAULT_POINTS = 100
 DEFAULT_N_INIT = 3
 #: Peak speed below which a path does not move (output units).
 _STILL = 1e-9
-#: The whole-arm contract's context columns and the other joints' columns (position, velocity),
-#: in the order :func:`throw_roles` uses them (the names of rlff.dataset's whole-arm columns).
-WHOLE_ARM_CONTEXT = ("distance", "bearing", "height")
-WHOLE_ARM_JOINT_OUTPUTS = ("shoulder", "shoulder_velocity", "wrist", "wrist_velocity")
+#: The other joints' outputs of a whole-arm model, in order: each position, then its velocity.
+WHOLE_ARM_JOINT_OUTPUTS = tuple(c for joint in ARM_JOINT_COLUMNS for c in (joint, velocity_column(joint)))
 
 
 def throw_roles(columns: Sequence[str]) -> tuple[tuple[str, ...], tuple[str, ...]]:
@@ -69,7 +74,7 @@ def throw_roles(columns: Sequence[str]) -> tuple[tuple[str, ...], tuple[str, ...
     velocity, the model of the thesis.
     """
     present = set(columns)
-    inputs = ("angle", *(name for name in WHOLE_ARM_CONTEXT if name in present))
+    inputs = ("angle", *(name for name in THROW_CONTEXT if name in present))
     outputs = ("velocity", *(name for name in WHOLE_ARM_JOINT_OUTPUTS if name in present))
     return inputs, outputs
 
