@@ -105,3 +105,13 @@ def test_a_resumed_binary_run_continues_with_the_next_window(short_demos, tmp_pa
     assert resumed.resumed == 1
     assert [a.info["log_factor"] for a in resumed.history] == [a.info["log_factor"] for a in straight.history]
     assert resumed.hit == straight.hit
+
+
+def test_a_centre_moves_the_lattice_and_the_prior_with_it():
+    search = WindowSearch(1.75, 0.14, highest=0.8, centre=0.13, scale=0.15)
+    np.testing.assert_allclose([search.offset(k)[0] for k in range(5)], [0.13, 0.23, 0.03, 0.33, -0.07], atol=1e-9)
+    assert search.offset(0)[1] == pytest.approx(norm.cdf(0.05, 0, 0.15) - norm.cdf(-0.05, 0, 0.15), abs=1e-6)
+    # a centre beyond the speed limit: the fastest throw first
+    beyond = WindowSearch(1.75, 0.14, highest=0.2, centre=0.35, scale=0.15)
+    assert beyond.offset(0)[0] == pytest.approx(0.2)
+    assert beyond.offset(1)[0] == pytest.approx(0.1)

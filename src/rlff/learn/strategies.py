@@ -65,6 +65,7 @@ from scipy.special import logsumexp
 from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
+from rlff.learn.landings import ROBOT_SCALE, landing_speed
 from rlff.learn.method import (
     Method,
     Problem,
@@ -75,7 +76,7 @@ from rlff.learn.method import (
     scale_speed,
     training_set,
 )
-from rlff.learn.windows import WindowSearch
+from rlff.learn.windows import PRIOR_SCALE, WindowSearch
 
 
 class DmmStrategy(Method):
@@ -304,9 +305,25 @@ class CalibrateUpdate(DmmStrategy):
         the elasticity of the landing in the speed (``Problem.elasticity``)."""
         if self._windows is None:
             problem = self.problem
+            centre, scale = self.speed_centre()
             self._windows = WindowSearch(problem.target, problem.tolerance, math.log(fastest / self.reference),
-                                         self.speed_prior(), elasticity=problem.elasticity)
+                                         self.speed_prior(), scale=scale, elasticity=problem.elasticity,
+                                         centre=centre)
         return self._windows
+
+    def speed_centre(self) -> tuple[float, float]:
+        """Where the window search's lattice and normal prior are centred (log speed factor), and
+        the prior's standard deviation: about the speed the demonstrations' landings point to
+        when enough of them are known (:func:`rlff.learn.landings.landing_speed`; its standard
+        error and :data:`rlff.learn.landings.ROBOT_SCALE` added in quadrature), else about the GMR
+        mean's speed with :data:`rlff.learn.windows.PRIOR_SCALE`. A whole-arm throw's u0 comes
+        from the arm's kinematics already and keeps the latter."""
+        problem = self.problem
+        law = None if problem.aim is not None else landing_speed(problem.demos, problem.angles, problem.target,
+                                                                  problem.elasticity)
+        if law is None:
+            return 0.0, PRIOR_SCALE
+        return math.log(law.speed / self.reference), math.hypot(law.log_error, ROBOT_SCALE)
 
     def speed_prior(self) -> Callable[[np.ndarray], np.ndarray] | None:
         """Log prior density over the hit's log speed factor for the window search (None: its

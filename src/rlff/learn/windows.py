@@ -5,17 +5,18 @@ rule out the speeds that would have hit had the law been what the miss disproved
 log speeds around the speed tried. This module tiles the log speed factor x = log(u / u0)
 (u the release speed, u0 the GMR mean's for the basket) with such windows, each as wide as the
 hit window seen through the range law (2 tolerance / Z in log distance over the elasticity,
-:data:`rlff.learn.baselines.RANGE_ELASTICITY`, the same prior the sweep has), from the GMR
-mean's own speed (x = 0) up to the robot's speed limit and down to the slowest throw any search
-tries, and throws them in the order of the probability a prior puts on each:
+:data:`rlff.learn.baselines.RANGE_ELASTICITY`, the same prior the sweep has), from a centre
+(the GMR mean's own speed, x = 0, or where the demonstrations' landings point when they are
+known, :mod:`rlff.learn.landings`) up to the robot's speed limit and down to the slowest throw
+any search tries, and throws them in the order of the probability a prior puts on each:
 
-- a prior density over x* (where the hit is): normal about 0 (its masses in closed form), or
-  any density given on a fine grid of x (``donut``: the DMM's);
+- a prior density over x* (where the hit is): normal about the centre (its masses in closed
+  form), or any density given on a fine grid of x (``donut``: the DMM's);
 - every window collects the prior's mass between the midpoints to its neighbours; the fastest
   window also collects all the mass beyond it, and the slowest all below it: the basket is
   within the robot's reach (the loop refuses one that is not before the first throw), so the
   belief that it needs a faster throw than the robot can make is belief in the fastest throw;
-- windows of equal mass go in the sweep's order (0, +w, -w, +2w, ...).
+- windows of equal mass go in the sweep's order (the centre, then +w, -w, +2w, ... about it).
 
 After every window of the lattice, the same windows shifted by half a window (the gaps a
 steeper range law than the prior's leaves), then the lattice again (a hit the feedback reported
@@ -87,12 +88,12 @@ def window_masses(centres: np.ndarray, x: np.ndarray, density: np.ndarray) -> np
     return masses[np.searchsorted(sorted_centres, centres)]
 
 
-def normal_masses(centres: np.ndarray, scale: float) -> np.ndarray:
-    """Mass of each window under N(0, ``scale``^2), shape (W,): the exact form of
+def normal_masses(centres: np.ndarray, scale: float, mean: float = 0.0) -> np.ndarray:
+    """Mass of each window under N(``mean``, ``scale``^2), shape (W,): the exact form of
     :func:`window_masses` for the default prior."""
     sorted_centres = np.sort(centres)
     edges = np.r_[-np.inf, 0.5 * (sorted_centres[1:] + sorted_centres[:-1]), np.inf]
-    masses = np.diff(norm.cdf(edges, 0.0, scale))
+    masses = np.diff(norm.cdf(edges, mean, scale))
     return masses[np.searchsorted(sorted_centres, centres)]
 
 
@@ -109,23 +110,29 @@ class WindowSearch:
         Largest log speed factor the robot can make, log(max speed / u0) (may be inf).
     log_density : callable, optional
         Log prior density over the hit's log speed factor, taking an array of shape (G,);
-        default normal about 0 with standard deviation ``scale``.
+        default normal about ``centre`` with standard deviation ``scale``.
     scale : float
         Standard deviation (log speed) of the default prior.
+    centre : float
+        Log speed factor the lattice is laid about (its first window's centre) and the default
+        prior's mean: 0, the GMR mean's speed, or where the demonstrations' landings point
+        (:mod:`rlff.learn.landings`); at most ``highest``.
     elasticity : float
         Elasticity of the landing in the release speed that sizes the windows (the range law's
         prior; a whole-arm throw's comes from the arm's kinematics).
     """
 
     def __init__(self, target: float, tolerance: float, highest: float, log_density=None,
-                 scale: float = PRIOR_SCALE, elasticity: float = RANGE_ELASTICITY):
+                 scale: float = PRIOR_SCALE, elasticity: float = RANGE_ELASTICITY, centre: float = 0.0):
         self.width = window_width(target, tolerance, elasticity)
         # no faster than the slowest throw is slow (a robot without a speed limit: the sweep's
         # range), and room for one window above the slowest
         self.highest = float(np.clip(highest, LOWEST + self.width, -LOWEST))
-        centres = lattice(self.width, self.highest)
+        #: Log speed factor the lattice is laid about (a centre beyond the limit: the limit).
+        self.centre = float(np.clip(centre, LOWEST + self.width, self.highest))
+        centres = self.centre + lattice(self.width, self.highest - self.centre, LOWEST - self.centre)
         if log_density is None:
-            masses = normal_masses(centres, scale)
+            masses = normal_masses(centres, scale, self.centre)
         else:
             x = np.linspace(LOWEST - 1.0, self.highest + 2.0,
                             int(_GRID_DENSITY * (self.highest - LOWEST + 3.0)) + 1)
