@@ -206,8 +206,10 @@ def test_until_centred_refines_past_rim_hits_until_one_lands_near_the_centre(fai
     # every earlier attempt was a miss or a hit outside the window: the run went on after them
     assert all(not a.hit or abs(a.miss) > window for a in centred.history[:-1])
     # the search steps by the narrower window: every throw's log speed factor is a whole
-    # number of centre windows (2 x window / 1.4 m over the elasticity 1.6) from the GMR mean's
-    steps = np.array([a.info["log_factor"] for a in centred.history]) / window_width(1.4, window)
+    # number of centre windows (2 x window / 1.4 m over the elasticity 1.6) from the first's
+    # (where the demonstrations' landings point)
+    factors = np.array([a.info["log_factor"] for a in centred.history])
+    steps = (factors - factors[0]) / window_width(1.4, window)
     np.testing.assert_allclose(steps, np.round(steps), atol=2e-3)
     with pytest.raises(InputError, match="until"):
         learn(failed_demos, 1.4, until="perfect")

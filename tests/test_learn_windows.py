@@ -115,3 +115,15 @@ def test_a_centre_moves_the_lattice_and_the_prior_with_it():
     beyond = WindowSearch(1.75, 0.14, highest=0.2, centre=0.35, scale=0.15)
     assert beyond.offset(0)[0] == pytest.approx(0.2)
     assert beyond.offset(1)[0] == pytest.approx(0.1)
+
+
+def test_the_band_between_the_top_window_and_the_limit_gets_a_window_of_its_own():
+    # about 0.13 with w = 0.1, the top window is 0.13 (0.23 is beyond the limit 0.2): its upper
+    # edge 0.18 leaves 0.18-0.2 uncovered, so a window at 0.2 joins with the mass of that band
+    search = WindowSearch(1.75, 0.14, highest=0.2, centre=0.13, scale=0.15)
+    first_pass = search.offsets[: search.masses.size]
+    assert np.count_nonzero(np.isclose(first_pass, 0.2)) == 1
+    band = norm.cdf(0.2, 0.13, 0.15) - norm.cdf(0.18, 0.13, 0.15)
+    assert search.masses[np.flatnonzero(np.isclose(first_pass, 0.2))[0]] == pytest.approx(band)
+    # about 0 the lattice ends within half a window of the limit (0.1 + 0.05 >= 0.12): no band
+    assert not np.any(np.isclose(WindowSearch(1.75, 0.14, highest=0.12).offsets, 0.12))

@@ -18,7 +18,9 @@ any search tries, and throws them in the order of the probability a prior puts o
   belief that it needs a faster throw than the robot can make is belief in the fastest throw;
 - windows of equal mass go in the sweep's order (the centre, then +w, -w, +2w, ... about it).
 
-After every window of the lattice, the same windows shifted by half a window (the gaps a
+Where the lattice's top window ends more than half a window below the limit, one window at the
+limit covers the band between, with the prior's mass of that band. After every window of the
+lattice, the same windows shifted by half a window (the gaps a
 steeper range law than the prior's leaves), then the lattice again (a hit the feedback reported
 as a miss comes round once more). The order is a deterministic function of the number of
 attempts, so a resumed run makes the attempts the uninterrupted one would have.
@@ -131,13 +133,27 @@ class WindowSearch:
         #: Log speed factor the lattice is laid about (a centre beyond the limit: the limit).
         self.centre = float(np.clip(centre, LOWEST + self.width, self.highest))
         centres = self.centre + lattice(self.width, self.highest - self.centre, LOWEST - self.centre)
+        # the speeds between the top window's upper edge and the limit (a lattice laid about a
+        # centre other than 0 seldom ends at the limit): one more window, at the limit, with
+        # the prior's mass of that band only (the tail beyond stays with the top window)
+        band = (centres.max() + 0.5 * self.width, self.highest)
+        if band[1] - band[0] <= 1e-9:
+            band = None
         if log_density is None:
             masses = normal_masses(centres, scale, self.centre)
+            if band:
+                masses = np.r_[masses, np.diff(norm.cdf(band, self.centre, scale))]
         else:
             x = np.linspace(LOWEST - 1.0, self.highest + 2.0,
                             int(_GRID_DENSITY * (self.highest - LOWEST + 3.0)) + 1)
             log_p = np.asarray(log_density(x), dtype=float)
-            masses = window_masses(centres, x, np.exp(log_p - np.max(log_p)))
+            density = np.exp(log_p - np.max(log_p))
+            masses = window_masses(centres, x, density)
+            if band:
+                inside = (x >= band[0]) & (x <= band[1])
+                masses = np.r_[masses, np.trapezoid(density[inside], x[inside]) / np.trapezoid(density, x)]
+        if band:
+            centres = np.r_[centres, self.highest]
         # equal masses (a symmetric prior's +-kw, equal up to the integration's error) keep the
         # sweep's order
         rank = np.argsort(-np.round(masses, 4), kind="stable")
