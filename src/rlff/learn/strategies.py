@@ -38,9 +38,11 @@ differ in how the attempts join the data, with what weight, and which distance i
       *executed* speed, so a throw the robot had to saturate counts for what it did;
     - binary feedback says neither short nor long, so there the speed comes from the window
       search of :mod:`rlff.learn.windows` instead: the release speed's hit windows, tiled from
-      the GMR mean's speed to the speed limit, thrown in the order of their prior probability
-      (normal about the GMR mean's speed; everything beyond the limit belongs to the fastest
-      window, as the basket is within reach);
+      a centre to the speed limit, thrown in the order of their prior probability (normal about
+      the centre; everything beyond the limit belongs to the fastest window, as the basket is
+      within reach). The centre is the speed that one range law fitted to all the
+      demonstrations' known landings gives for the basket (:mod:`rlff.learn.landings`; the
+      prior's width its error and the robot's scatter about it), else the GMR mean's speed;
     - the shape keeps to one side of the donut (``continuity``) and is capped at its release
       speed (:func:`fastest_at_release`), so that the release speed alone decides the landing
       even where the demonstrations disagree and the DMM's mode would jump between sides.
