@@ -133,9 +133,10 @@ class WindowSearch:
         #: Log speed factor the lattice is laid about (a centre beyond the limit: the limit).
         self.centre = float(np.clip(centre, LOWEST + self.width, self.highest))
         centres = self.centre + lattice(self.width, self.highest - self.centre, LOWEST - self.centre)
-        # the speeds between the top window's upper edge and the limit (a lattice laid about a
-        # centre other than 0 seldom ends at the limit): one more window, at the limit, with
-        # the prior's mass of that band only (the tail beyond stays with the top window)
+        # the speeds between the top window's upper edge and the limit (the lattice's steps
+        # seldom end at the limit): one more window, at the limit, with the prior's mass of that
+        # band only; the tail beyond stays with the top window (given to the limit's window it
+        # threw the limit first more often: 3.14 attempts against 2.65 on seeds 0-7 without labels)
         band = (centres.max() + 0.5 * self.width, self.highest)
         if band[1] - band[0] <= 1e-9:
             band = None
