@@ -301,6 +301,56 @@ def test_several_outputs_never_below_bfgs_from_the_gmr_mean_and_every_component_
             assert mode.pdf[i] >= max(bfgs_tops(conditional, mode.exploration, i)) * (1 - 1e-7), (exploration, i)
 
 
+def each_alone(conditional: Conditional, exploration: np.ndarray) -> np.ndarray:
+    """The highest P_DMM of every input climbed on its own (a batch of one: nothing to follow)."""
+    tops = []
+    for i in range(len(conditional)):
+        single = Conditional(
+            conditional.weights[i : i + 1], conditional.means[i : i + 1], conditional.covariances,
+            conditional.mean[i : i + 1], conditional.covariance[i : i + 1],
+        )
+        tops.append(dmm_mode(single, exploration[i : i + 1]).max_pdf[0])
+    return np.array(tops)
+
+
+def test_a_top_that_rises_inside_a_followed_block_is_found_at_every_input():
+    """Along a path the climb follows the tops from input to input and climbs every start afresh
+    only at the ends of each block. Here a far component's weight rises from 3e-4 to 1 - 5e-5 along
+    41 inputs: its top is a low one (not followed) at first and the highest from about input 18 on,
+    inside the first block. The fresh climb at the block's end finds it, and following it back
+    must give every input its global mode, as climbing each input alone does."""
+    n = 41
+    share = 1 / (1 + np.exp(-np.linspace(-8.0, 10.0, n)))
+    weights = np.column_stack([1 - share, share])
+    means = np.broadcast_to(np.array([[0.0, 0.0], [4.0, -3.0]]), (n, 2, 2)).copy()
+    covariances = [np.array([[0.3, 0.05], [0.05, 0.2]]), np.array([[0.2, -0.04], [-0.04, 0.25]])]
+    conditional = conditional_of(weights, means, covariances)
+    eps = np.full(n, 0.3)
+    mode = dmm_mode(conditional, eps)
+    np.testing.assert_allclose(mode.max_pdf, each_alone(conditional, eps), rtol=1e-9)
+    switch = int(np.argmax(mode.output[:, 0] > 2.0))
+    assert 5 < switch < 31  # inside the first block: found by following back, not afresh
+    np.testing.assert_allclose(mode.output[switch:], np.broadcast_to(mode.output[-1], (n - switch, 2)), atol=1e-4)
+
+
+@pytest.mark.parametrize("outputs", [("velocity", "shoulder"), ("velocity", "shoulder", "shoulder_velocity")])
+@pytest.mark.parametrize(("seed", "points"), [(3, 600), (5, 150)])
+def test_followed_modes_along_a_whole_arm_path_are_those_of_each_input_alone(outputs, seed, points):
+    """A whole-arm model's DMM along a throw's phase points, followed, against every point
+    climbed alone. Seed 3 at 600 points has tops born and gone within 14 points and one that the
+    followed top jumps onto; seed 5 at 150 points a narrow component that leaves its followed
+    top behind from one point to the next."""
+    from rlff.model import Model
+    from wholearm_dataset import whole_arm_throws
+
+    model = Model.fit(whole_arm_throws(seed=seed), outputs=outputs, seed=0)
+    path = np.column_stack([np.linspace(0.8, 2.9, points), np.full(points, 2.5)])
+    conditional = model.condition(path)
+    mode = dmm_mode(conditional)
+    np.testing.assert_allclose(dmm_pdf(conditional, mode.output, mode.exploration), mode.pdf, rtol=1e-12)
+    assert np.all(mode.max_pdf >= each_alone(conditional, mode.exploration) * (1 - 1e-9))
+
+
 def test_continuity_with_two_outputs_keeps_the_mode_nearest_the_previous_point():
     """Two components of two outputs, far apart, swap weight along the path: the global mode
     jumps from one to the other half way. With continuity the path stays on the mode it is on,

@@ -44,6 +44,38 @@ _MAX_NEWTON = 60
 #: donut: P_DMM is at least that peak somewhere (all terms are >= 0), so the K terms skipped move
 #: the density by less than K 1e-20 of its maximum, while most terms far from a start cost no exp.
 _NEGLIGIBLE = -46.0
+#: Following along a path (see :func:`_modes_nd_kernel`): every this many inputs climb all their
+#: starts afresh, the inputs in between follow the tops.
+_TRACK_BLOCK = 8
+#: Input i continues input i-1 when no component of relative weight above e^-7 (1e-3) at either
+#: changes its log-weight by more than ``_TRACK_LOG_WEIGHT`` and the donut radii change by less
+#: than ``_TRACK_RADII`` (relative). (Not the means' steps: a narrow component's mean can slide
+#: by more than its width from one phase point to the next while its top is followed well.)
+_TRACK_RELEVANT = -7.0
+_TRACK_LOG_WEIGHT = 1.0
+_TRACK_RADII = 0.05
+#: A followed top whose climb ends farther than this (scaled outputs: widest standard
+#: deviations) from where it was predicted is lost (it vanished, or jumped to another top): the
+#: input is climbed afresh instead, and what that finds is followed back.
+_TRACK_JUMP = 0.15
+#: ... and so is one whose density fell below this share of what it was at the input before (a
+#: path too coarse for following: the top has left the reach of its climb).
+_TRACK_DROP = 0.5
+#: The largest step of a top from one input to the next that predicts its next step.
+_TRACK_PREDICT = 0.05
+#: Two end points this close (scaled outputs) are one top: followed once.
+_SAME_TOP = 1e-3
+#: Tops below this share of the highest at an input are not followed to the next (until the
+#: block's next fresh climb); the block's last input checks for tops above ``_TOP_SHARE``.
+_FOLLOW_SHARE = 0.1
+#: Tops below this share of the highest are not checked for (continuity tolerances up to 0.9
+#: choose only among higher ones).
+_TOP_SHARE = 0.1
+#: A fresh climb's top is among the followed ones when one of them ended this close to it.
+_FOUND_TOP = 1e-2
+#: Up to ``_LATE_SLOTS`` tops a block's last input finds and the following missed are followed
+#: back through the block into slots of their own; more than that, and the block is climbed afresh.
+_LATE_SLOTS = 2
 
 
 # -- exploration and radii -------------------------------------------------------------------
@@ -73,9 +105,53 @@ def exploration_factor(covariance: np.ndarray, scale: float = 1.0) -> np.ndarray
     if covariance.shape[1] == 1:
         norm = covariance[:, 0, 0]
     else:
-        norm = np.linalg.eigvalsh(covariance)[:, -1]
+        norm = np.empty(len(covariance))
+        _largest_eigenvalues(np.ascontiguousarray(covariance), norm)
     norm = np.maximum(norm, 0.0)
     return norm / (norm + scale**2)
+
+
+@numba.njit(cache=True, nogil=True)
+def _largest_eigenvalues(matrices: np.ndarray, out: np.ndarray) -> None:
+    """The largest eigenvalue of each symmetric matrix (N, O, O) into ``out`` (N,), by cyclic
+    Jacobi rotations until the off-diagonal part is below 1e-30 of the diagonal (squared sums).
+
+    Why by hand (numba): np.linalg.eigvalsh makes one LAPACK call per matrix, and for the 2-5
+    outputs of a throw the call costs more than the arithmetic: 0.5 us for a 3x3 matrix, where a
+    whole GMR pass takes 0.2 us per point.
+    """
+    n, o, _ = matrices.shape
+    a = np.empty((o, o))
+    for i in range(n):
+        a[:, :] = matrices[i]
+        for _ in range(50):
+            off = diagonal = 0.0
+            for p in range(o):
+                diagonal += a[p, p] * a[p, p]
+                for q in range(p + 1, o):
+                    off += a[p, q] * a[p, q]
+            if not off > 1e-30 * diagonal:
+                break
+            for p in range(o - 1):
+                for q in range(p + 1, o):
+                    if a[p, q] == 0.0:
+                        continue
+                    theta = (a[q, q] - a[p, p]) / (2.0 * a[p, q])
+                    t = (1.0 if theta >= 0.0 else -1.0) / (abs(theta) + math.sqrt(theta * theta + 1.0))
+                    c = 1.0 / math.sqrt(t * t + 1.0)
+                    s = t * c
+                    for k in range(o):  # A J, then J^T (A J): zeroes a[p, q]
+                        left, right = a[k, p], a[k, q]
+                        a[k, p] = c * left - s * right
+                        a[k, q] = s * left + c * right
+                    for k in range(o):
+                        upper, lower = a[p, k], a[q, k]
+                        a[p, k] = c * upper - s * lower
+                        a[q, k] = s * upper + c * lower
+        largest = a[0, 0]
+        for p in range(1, o):
+            largest = max(largest, a[p, p])
+        out[i] = largest
 
 
 def donut_radii(exploration: np.ndarray, n_dims: int, gamma: float = GAMMA) -> tuple[np.ndarray, np.ndarray]:
@@ -573,12 +649,14 @@ def _modes_nd(donuts: _Donuts, gmr_mean: np.ndarray, tol: float) -> tuple[np.nda
     precision = donuts.precision * unit[:, None] * unit[None, :]  # of the scaled outputs
     # ring offsets per unit Mahalanobis radius along each principal axis: (K, O axes, O coords)
     axes = np.swapaxes(donuts.eigenvectors, 1, 2) * np.sqrt(donuts.eigenvalues)[:, :, None] / unit
-    n_starts = donuts.k * (1 + 2 * donuts.o) + 1
+    ring = donuts.ring_radius2()
+    # the ring points are starts only where a donut has a hole: without any, one start per component
+    n_starts = donuts.k * ((1 + 2 * donuts.o) if np.any(ring > 1e-12) else 1) + 1 + _LATE_SLOTS
     ends = np.empty((donuts.n, n_starts, donuts.o))
     pdf = np.empty((donuts.n, n_starts))
     best = np.empty(donuts.n, dtype=np.int64)
     # C-ordered float64 arrays only: one compiled (and cached) version of the kernel
-    inputs = [gmr_mean / unit, donuts.m / unit, log_a, log_b, precision, axes, donuts.r_a2, donuts.r_b2, donuts.ring_radius2()]
+    inputs = [gmr_mean / unit, donuts.m / unit, log_a, log_b, precision, axes, donuts.r_a2, donuts.r_b2, ring]
     _modes_nd_kernel(*(np.ascontiguousarray(a, dtype=float) for a in inputs), float(tol), ends, pdf, best)
     ends *= unit
     return ends, pdf, best
@@ -728,17 +806,35 @@ def _modes_nd_kernel(
     Gaussian terms; precision (K, O, O) = S_k^-1; axes (K, O, O): row j the offset of one
     Mahalanobis unit along S_k's j-th principal axis; r_a2, r_b2, ring (N,): squared radii and
     the squared Mahalanobis radius of the donuts' highest ring. Outputs: ends (N, S, O) and pdf
-    (N, S) with S = K (1 + 2 O) + 1, in this order: each component's mean, its ring points on
-    its O principal axes (+), the same (-), then the GMR mean; pdf -inf for starts left out;
-    best (N,): the highest (see :func:`_highest`).
+    (N, S) with S = K (1 + 2 O) + 1 + ``_LATE_SLOTS``, in this order: each component's mean, its
+    ring points on its O principal axes (+), the same (-), the GMR mean, then the slots of tops
+    followed back (below); without a hole in any donut, S = K + 1 + ``_LATE_SLOTS`` (no ring
+    points); pdf -inf for starts left out and slots unused; best (N,): the highest (see
+    :func:`_highest`).
 
     Starts as in :func:`_modes_1d_kernel`: components whose h_k max D_k is below 1e-7 of the
     largest are left out (they add less than that anywhere); a donut without a hole climbs from
     its mean. A donut with a hole climbs from its ring points *and* its mean: with several
     outputs the ring is a shell, not two points, and the climb from the hole follows the other
     components' pull to the part of the shell they raise (what BFGS from that mean does). The
-    GMR mean is always climbed (the thesis' start). So the result is not below BFGS from the GMR
-    mean or from any component mean (tested on random mixtures, to the climbs' precision).
+    GMR mean is always climbed (the thesis' start). Climbed so at every input, the result is not
+    below BFGS from the GMR mean or from any component mean (tested on random mixtures, to the
+    climbs' precision).
+
+    Along a path the tops are followed instead. Every ``_TRACK_BLOCK``-th input (and the last)
+    climbs all its starts afresh; in between, where input i continues input i-1
+    (:func:`_continues`), each start climbs from where it ended at i-1, carried on by the step
+    it made before (:func:`_follow_point`): starts that ended on one top climb once, tops below
+    ``_FOLLOW_SHARE`` of the highest are let go, and a climb takes a step or two instead of the
+    five or so from a component mean. An input that does not continue, or where a followed top
+    is lost (``_TRACK_JUMP``, ``_TRACK_DROP``: it vanished under its climb), is climbed afresh. At each fresh input the tops above
+    ``_TOP_SHARE`` of the highest that the following did not reach (born, or risen from a top let
+    go, inside the block) are followed back through the block into late slots of their own
+    (:func:`_follow_back`); when there are more of them than late slots, the block is climbed
+    afresh. What this can miss is a top born and gone again between two fresh inputs.
+
+    (Both cores with numba's prange took the time down by 1.3-1.6x on an idle machine and up
+    by about 3x on a busy one, where a thread waits for the other at every join: left out.)
 
     Each climb is :func:`_climb_start_nd`; only the components whose log-weight is above the
     floor of negligible terms enter its density sums. (Stopping a climb whose Newton step lands
@@ -763,60 +859,358 @@ def _modes_nd_kernel(
         for j in range(n_out):
             widest = max(widest, _dot(axes[k, j], axes[k, j]))
         low[k] = 1.0 / widest
-    peaks = np.empty(n_components)
-    active = np.empty(n_components, dtype=np.int64)
-    start = np.empty(n_out)
-    point = np.empty(n_out)
-    work = np.empty((8, n_out))
-    square = np.empty((3, n_out, n_out))
-    slots = 1 + 2 * n_out
-    first = np.empty(n_components * slots + 1)
-    a_i = np.empty(n_components)
-    b_i = np.empty(n_components)
+    context = (gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol)
+    n_starts = pdf.shape[1]
+    n_blocks = (n - 1 + _TRACK_BLOCK - 1) // _TRACK_BLOCK  # block b: inputs b B .. min((b + 1) B, n - 1)
+    fresh_ends = np.empty((n_blocks + 1, n_starts, n_out))
+    fresh_pdf = np.empty((n_blocks + 1, n_starts))
+    scratch = _scratch(n_components, n_out, n_starts)
+    for j in range(n_blocks + 1):  # the fresh inputs
+        _fresh_point(min(j * _TRACK_BLOCK, n - 1), j, context, scratch, fresh_ends, fresh_pdf)
+    ends[n - 1] = fresh_ends[n_blocks]
+    pdf[n - 1] = fresh_pdf[n_blocks]
+    block_ends = np.empty((_TRACK_BLOCK + 1, n_starts, n_out))
+    block_pdf = np.empty((_TRACK_BLOCK + 1, n_starts))
+    missed = np.empty(_LATE_SLOTS, dtype=np.int64)
+    for b in range(n_blocks):  # the blocks between them
+        first, last = b * _TRACK_BLOCK, min((b + 1) * _TRACK_BLOCK, n - 1)
+        _follow_block(first, last, fresh_ends[b], fresh_pdf[b], fresh_ends[b + 1], fresh_pdf[b + 1], context,
+                      scratch, block_ends, block_pdf, missed)
+        ends[first:last] = block_ends[: last - first]
+        pdf[first:last] = block_pdf[: last - first]
     for i in range(n):
-        ra2, rb2, q = r_a2[i], r_b2[i], ring[i]
-        hole = q > 1e-12
-        # the climbs see P / e^M with M the largest log-weight: every exponent is then <= 0, for
-        # the compiled exp of rlff.model.fastexp (a fraction of math.exp's time)
-        highest = log_a[i].max()
-        scale = math.exp(highest)
-        for k in range(n_components):
-            a_i[k] = log_a[i, k] - highest
-            b_i[k] = log_b[i, k] - highest
-            peaks[k] = math.exp(a_i[k] - 0.5 * ra2 * q) - math.exp(b_i[k] - 0.5 * rb2 * q)
-        top = peaks.max()
-        floor = math.log(top) + _NEGLIGIBLE if top > 0 else -np.inf
-        n_active = 0
-        for k in range(n_components):  # a term's exponent is at most its log-weight
-            if a_i[k] >= floor:
-                active[n_active] = k
-                n_active += 1
-        used = active[:n_active]
-        first_radius = narrowest / math.sqrt(rb2)
-        for s in range(n_components * slots + 1):
-            k, slot = divmod(s, slots)
-            pdf[i, s] = -np.inf
-            if k < n_components and not (peaks[k] >= 1e-7 * top and (slot == 0 or hole)):
-                ends[i, s] = means[i, k]
-                first[s] = ends[i, s, 0]
-                continue
-            if k == n_components:
-                start[:] = gmr_mean[i]
+        best[i] = _highest(ends[i, :, 0], pdf[i])
+
+
+@numba.njit(cache=True, nogil=True)
+def _follow_block(
+    first: int,
+    last: int,
+    first_ends: np.ndarray,
+    first_pdf: np.ndarray,
+    last_ends: np.ndarray,
+    last_pdf: np.ndarray,
+    context: tuple,
+    scratch: tuple,
+    block_ends: np.ndarray,
+    block_pdf: np.ndarray,
+    missed: np.ndarray,
+) -> None:
+    """Inputs first .. last - 1 into rows 0 .. last - first - 1 of block_ends (R, S, O) and
+    block_pdf (R, S), from the fresh climbs at ``first`` and ``last`` (S, O) and (S,) (see
+    :func:`_modes_nd_kernel`); row last - first is work space."""
+    gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
+    rows = last - first
+    block_ends[0] = first_ends
+    block_pdf[0] = first_pdf
+    _release(scratch)
+    for row in range(1, rows + 1):
+        i = first + row
+        if _continues(i, log_a, r_a2, r_b2) and _follow_point(i, row, context, scratch, block_ends, block_pdf):
+            continue
+        # a top lost: climb this input afresh, and follow back what it finds that was not followed
+        if row < rows:
+            _fresh_point(i, row, context, scratch, block_ends, block_pdf)
+            _find_back(block_ends[row], block_pdf[row], block_ends[row - 1], block_pdf[row - 1], first, row, context, scratch, block_ends, block_pdf, missed)
+        else:
+            _find_back(last_ends, last_pdf, block_ends[row - 1], block_pdf[row - 1], first, row, context, scratch, block_ends, block_pdf, missed)
+            return
+    _find_back(last_ends, last_pdf, block_ends[rows], block_pdf[rows], first, rows, context, scratch, block_ends, block_pdf, missed)
+
+
+@numba.njit(cache=True, nogil=True)
+def _find_back(
+    fresh_ends: np.ndarray,
+    fresh_pdf: np.ndarray,
+    followed_ends: np.ndarray,
+    followed_pdf: np.ndarray,
+    first: int,
+    row: int,
+    context: tuple,
+    scratch: tuple,
+    block_ends: np.ndarray,
+    block_pdf: np.ndarray,
+    missed: np.ndarray,
+) -> None:
+    """The tops of a fresh climb of input first + row (S, O) and (S,) that the followed climbs
+    (S, O) and (S,) did not reach (:func:`_missed_tops`), followed back through rows row - 1 .. 1
+    (:func:`_follow_back`); when there are more than ``_LATE_SLOTS`` of them, those rows are
+    climbed afresh instead."""
+    n_missed = _missed_tops(fresh_ends, fresh_pdf, followed_ends, followed_pdf, missed)
+    if n_missed > _LATE_SLOTS:
+        for again in range(1, row):
+            _fresh_point(first + again, again, context, scratch, block_ends, block_pdf)
+        return
+    for j in range(n_missed):
+        _follow_back(fresh_ends[missed[j]], first, row, context, scratch, block_ends, block_pdf)
+
+
+@numba.njit(cache=True, nogil=True)
+def _scratch(n_components: int, n_out: int, n_starts: int) -> tuple:
+    """Work space of :func:`_modes_nd_kernel`: per-input log-weights, peaks and
+    the active components, a start and an end point, the climb's vectors and matrices, the
+    starts climbed at the current input and the starts let go in the current block."""
+    return (
+        np.empty(n_components), np.empty(n_components), np.empty(n_components), np.empty(n_components, dtype=np.int64),
+        np.empty(n_out), np.empty(n_out), np.empty((8, n_out)), np.empty((3, n_out, n_out)),
+        np.empty(n_starts, dtype=np.int64), np.zeros(n_starts, dtype=np.bool_),
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def _release(scratch: tuple) -> None:
+    """No start let go (at a fresh input or a block's start)."""
+    scratch[9][:] = False
+
+
+@numba.njit(cache=True, nogil=True)
+def _weigh_point(i: int, context: tuple, scratch: tuple) -> tuple[float, float, int, float]:
+    """Input i's log-weights relative to the largest into the scratch (the climbs see P / e^M with
+    M the largest log-weight: every exponent is then <= 0, for the compiled exp of
+    rlff.model.fastexp), each donut's peak h_k max D_k and the components above the floor of
+    negligible terms. Returns (e^M, the floor, the number of active components, the largest peak)."""
+    gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
+    ra2, rb2, q = r_a2[i], r_b2[i], ring[i]
+    highest = log_a[i].max()
+    for k in range(a_i.size):
+        a_i[k] = log_a[i, k] - highest
+        b_i[k] = log_b[i, k] - highest
+        exponent_a, exponent_b = a_i[k] - 0.5 * ra2 * q, b_i[k] - 0.5 * rb2 * q  # both <= 0
+        peaks[k] = exp_nonpositive(max(exponent_a, LOWEST)) - exp_nonpositive(max(exponent_b, LOWEST))
+    top = peaks.max()
+    floor = math.log(top) + _NEGLIGIBLE if top > 0 else -np.inf
+    n_active = 0
+    for k in range(a_i.size):  # a term's exponent is at most its log-weight
+        if a_i[k] >= floor:
+            active[n_active] = k
+            n_active += 1
+    return math.exp(highest), floor, n_active, top
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _slots(pdf: np.ndarray, n_components: int) -> int:
+    """Starts per component in the layout of ``pdf`` (N, S): 1 + 2 O with ring points, else 1."""
+    return (pdf.shape[1] - 1 - _LATE_SLOTS) // n_components
+
+
+@numba.njit(cache=True, nogil=True)
+def _prepare_point(
+    i: int, row: int, context: tuple, scratch: tuple, ends: np.ndarray, pdf: np.ndarray
+) -> tuple[float, float, int, float, int]:
+    """:func:`_weigh_point` of input i, and the starts it climbs (see :func:`_modes_nd_kernel`)
+    into the scratch's list; in ends[row], pdf[row] the starts left out get pdf -inf and their
+    component's mean, the late slots pdf -inf and the GMR mean. Returns :func:`_weigh_point`'s
+    and the number of starts."""
+    gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
+    scale, floor, n_active, top = _weigh_point(i, context, scratch)
+    n_components, n_out = means.shape[1], means.shape[2]
+    slots = _slots(pdf, n_components)
+    n_slots = 0
+    hole = ring[i] > 1e-12
+    for k in range(n_components):
+        kept = peaks[k] >= 1e-7 * top
+        for slot in range(slots):
+            s = k * slots + slot
+            if kept and (slot == 0 or hole):
+                tracked[n_slots] = s
+                n_slots += 1
             else:
-                start[:] = means[i, k]
-                if slot > 0:  # on the ring, along a principal axis
-                    sign = 1.0 if slot <= n_out else -1.0
-                    axis = axes[k, (slot - 1) % n_out]
-                    for o in range(n_out):
-                        start[o] += sign * math.sqrt(q) * axis[o]
-            climbed = _climb_start_nd(
-                start, means[i], a_i, b_i, precision, low, used, ra2, rb2, floor, first_radius, sigma, tol,
-                point, work, square,
-            )
-            pdf[i, s] = climbed * scale
-            ends[i, s] = point
-            first[s] = ends[i, s, 0]
-        best[i] = _highest(first, pdf[i])
+                pdf[row, s] = -np.inf
+                for o in range(n_out):
+                    ends[row, s, o] = means[i, k, o]
+    tracked[n_slots] = n_components * slots  # the GMR mean
+    for s in range(n_components * slots + 1, pdf.shape[1]):
+        pdf[row, s] = -np.inf
+        ends[row, s] = gmr_mean[i]
+    return scale, floor, n_active, top, n_slots + 1
+
+
+@numba.njit(cache=True, nogil=True)
+def _fresh_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.ndarray, pdf: np.ndarray) -> None:
+    """Input i: every start climbed from where :func:`_modes_nd_kernel` says, into ends[row], pdf[row]."""
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
+    scale, floor, n_active, top, n_slots = _prepare_point(i, row, context, scratch, ends, pdf)
+    _release(scratch)
+    for t in range(n_slots):
+        s = tracked[t]
+        k, slot = divmod(s, _slots(pdf, peaks.size))
+        pdf[row, s] = _climb_fresh(i, k, slot, context, scratch, active[:n_active], floor) * scale
+        ends[row, s] = point
+
+
+@numba.njit(cache=True, nogil=True)
+def _climb_fresh(i: int, k: int, slot: int, context: tuple, scratch: tuple, used: np.ndarray, floor: float) -> float:
+    """One start of input i climbed from component k's mean (slot 0), its ring point on a
+    principal axis (slots 1 to 2 O) or, for k = K, the GMR mean; end point into the scratch's
+    point, its density (relative to e^M, see :func:`_prepare_point`) returned."""
+    gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
+    n_out = means.shape[2]
+    if k == means.shape[1]:
+        start[:] = gmr_mean[i]
+    else:
+        start[:] = means[i, k]
+        if slot > 0:  # on the ring, along a principal axis
+            sign = 1.0 if slot <= n_out else -1.0
+            axis = axes[k, (slot - 1) % n_out]
+            for o in range(n_out):
+                start[o] += sign * math.sqrt(ring[i]) * axis[o]
+    return _climb_start_nd(
+        start, means[i], a_i, b_i, precision, low, used, r_a2[i], r_b2[i], floor, narrowest / math.sqrt(r_b2[i]), sigma,
+        tol, point, work, square,
+    )
+
+
+@numba.njit(cache=True, nogil=True)
+def _follow_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.ndarray, pdf: np.ndarray) -> bool:
+    """Input i into ends[row], pdf[row] from the previous input in row - 1: each start that
+    climbed there climbs from where it ended (once per top, see :func:`_predict`), a start new
+    at i afresh, a top below ``_FOLLOW_SHARE`` of the highest is let go. False when a followed
+    top is lost (``_TRACK_JUMP``; the row is then incomplete)."""
+    gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
+    scale, floor, n_active, top, n_slots = _prepare_point(i, row, context, scratch, ends, pdf)
+    used = active[:n_active]
+    slots = _slots(pdf, means.shape[1])
+    lowest_followed = _FOLLOW_SHARE * pdf[row - 1].max()
+    for t in range(n_slots):
+        s = tracked[t]
+        k, slot = divmod(s, slots)
+        if not dropped[s] and pdf[row - 1, s] == -np.inf:  # a start new at this input
+            pdf[row, s] = _climb_fresh(i, k, slot, context, scratch, used, floor) * scale
+            ends[row, s] = point
+            continue
+        if dropped[s] or pdf[row - 1, s] < lowest_followed:  # a low top: let go
+            dropped[s] = True
+            pdf[row, s] = -np.inf
+            ends[row, s] = ends[row - 1, s]
+            continue
+        same = -1
+        for other in tracked[:t]:  # a start that ended on the same top was followed already
+            if pdf[row - 1, other] > -np.inf and _distance2(ends[row - 1, s], ends[row - 1, other]) <= _SAME_TOP**2:
+                same = other
+                break
+        if same >= 0:
+            pdf[row, s] = pdf[row, same]
+            ends[row, s] = ends[row, same]
+            continue
+        _predict(ends, pdf, row, s, start)
+        climbed = _climb_start_nd(
+            start, means[i], a_i, b_i, precision, low, used, r_a2[i], r_b2[i], floor,
+            narrowest / math.sqrt(r_b2[i]), sigma, tol, point, work, square,
+        )
+        if _distance2(point, start) > _TRACK_JUMP**2 or not climbed * scale > _TRACK_DROP * pdf[row - 1, s]:
+            return False  # not where it was headed, or far lower than it was: lost
+        pdf[row, s] = climbed * scale
+        ends[row, s] = point
+    return True
+
+
+@numba.njit(cache=True, nogil=True)
+def _predict(ends: np.ndarray, pdf: np.ndarray, row: int, s: int, start: np.ndarray) -> None:
+    """Where start s's top is expected in ``row``, into ``start`` (O,): the parabola through its
+    ends in the three rows before, or the line through the last two, carried on by one row (a
+    predictor for the climb, which then corrects); where it was in the row before when there are
+    no such ends (a new start, or one whose step was longer than ``_TRACK_PREDICT``: another top)."""
+    start[:] = ends[row - 1, s]
+    if row < 2 or pdf[row - 2, s] == -np.inf or _distance2(ends[row - 1, s], ends[row - 2, s]) > _TRACK_PREDICT**2:
+        return
+    if row >= 3 and pdf[row - 3, s] > -np.inf and _distance2(ends[row - 2, s], ends[row - 3, s]) <= _TRACK_PREDICT**2:
+        for o in range(start.size):
+            start[o] += 2.0 * ends[row - 1, s, o] - 3.0 * ends[row - 2, s, o] + ends[row - 3, s, o]
+        return
+    for o in range(start.size):
+        start[o] += ends[row - 1, s, o] - ends[row - 2, s, o]
+
+
+@numba.njit(cache=True, nogil=True)
+def _continues(i: int, log_a: np.ndarray, r_a2: np.ndarray, r_b2: np.ndarray) -> bool:
+    """Whether input i continues input i-1 along a path (the ``_TRACK_*`` limits)."""
+    if abs(r_a2[i] - r_a2[i - 1]) > _TRACK_RADII * r_a2[i - 1] or abs(r_b2[i] - r_b2[i - 1]) > _TRACK_RADII * r_b2[i - 1]:
+        return False
+    highest, highest_before = log_a[i].max(), log_a[i - 1].max()
+    for k in range(log_a.shape[1]):
+        if log_a[i, k] - highest < _TRACK_RELEVANT and log_a[i - 1, k] - highest_before < _TRACK_RELEVANT:
+            continue
+        if abs((log_a[i, k] - highest) - (log_a[i - 1, k] - highest_before)) > _TRACK_LOG_WEIGHT:
+            return False
+    return True
+
+
+@numba.njit(cache=True, nogil=True)
+def _missed_tops(
+    fresh_ends: np.ndarray, fresh_pdf: np.ndarray, followed_ends: np.ndarray, followed_pdf: np.ndarray, missed: np.ndarray
+) -> int:
+    """The tops of a fresh climb (S, O) with a pdf above ``_TOP_SHARE`` of the highest that no
+    followed climb (S, O) of the same input reached: their starts into ``missed`` (as many as it
+    holds, one per top), their number returned."""
+    top = fresh_pdf.max()
+    n_missed = 0
+    for s in range(fresh_pdf.size):
+        if not fresh_pdf[s] >= _TOP_SHARE * top:
+            continue
+        found = False
+        for other in range(followed_pdf.size):
+            if followed_pdf[other] > -np.inf and _distance2(fresh_ends[s], followed_ends[other]) <= _FOUND_TOP**2:
+                found = True
+                break
+        for j in range(min(n_missed, missed.size)):  # another start of the same missed top
+            if _distance2(fresh_ends[s], fresh_ends[missed[j]]) <= _FOUND_TOP**2:
+                found = True
+                break
+        if not found:
+            if n_missed < missed.size:
+                missed[n_missed] = s
+            n_missed += 1
+    return n_missed
+
+
+@numba.njit(cache=True, nogil=True)
+def _follow_back(
+    top_end: np.ndarray, first: int, rows: int, context: tuple, scratch: tuple, ends: np.ndarray, pdf: np.ndarray
+) -> None:
+    """A top ``top_end`` (O,) that a fresh climb at input first + rows found and the following
+    missed, followed back through rows rows - 1 .. 1 (inputs first + row) into a late slot free in
+    each, until it vanishes (its climb jumps: it was born there) or meets a top there."""
+    gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
+    a_i, b_i, peaks, active, begin, point, work, square, tracked, dropped = scratch
+    previous = top_end
+    older = top_end  # the top two rows on, for the predictor (none yet)
+    for row in range(rows - 1, 0, -1):
+        i = first + row
+        late = pdf.shape[1] - _LATE_SLOTS
+        while late < pdf.shape[1] and pdf[row, late] > -np.inf:
+            late += 1
+        if late == pdf.shape[1]:
+            return
+        scale, floor, n_active, top = _weigh_point(i, context, scratch)
+        begin[:] = previous
+        if row + 2 <= rows and _distance2(previous, older) <= _TRACK_PREDICT**2:
+            for o in range(begin.size):
+                begin[o] += previous[o] - older[o]
+        climbed = _climb_start_nd(
+            begin, means[i], a_i, b_i, precision, low, active[:n_active], r_a2[i], r_b2[i], floor,
+            narrowest / math.sqrt(r_b2[i]), sigma, tol, point, work, square,
+        )
+        if _distance2(point, begin) > _TRACK_JUMP**2 or not climbed > 0.0:
+            return
+        for other in range(pdf.shape[1]):
+            if pdf[row, other] > -np.inf and _distance2(point, ends[row, other]) <= _FOUND_TOP**2:
+                return
+        pdf[row, late] = climbed * scale
+        ends[row, late] = point
+        older, previous = previous, ends[row, late]
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _distance2(x: np.ndarray, y: np.ndarray) -> float:
+    """|x - y|^2 of two (O,) vectors."""
+    total = 0.0
+    for o in range(x.size):
+        total += (x[o] - y[o]) * (x[o] - y[o])
+    return total
 
 
 @numba.njit(cache=True, nogil=True)
@@ -862,7 +1256,7 @@ def _climb_start_nd(
         last = False
         if kind == 0:
             rise = 0.5 * _dot(grad, step) / p
-            if rise <= 1e-14:
+            if rise <= tol * tol:  # ln P within tol^2 of the top: as close as a step of tol
                 break
             last = length <= radius and rise <= 1e-8
         if kind == 1 or length > radius:  # a direction only, or a Newton step beyond the radius
