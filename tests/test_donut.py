@@ -49,6 +49,27 @@ def test_exploration_factor_formula_scale_and_spectral_norm():
         exploration_factor(variance, scale=0.0)
 
 
+@pytest.mark.parametrize("o", [2, 3, 4])
+def test_the_spectral_norm_is_numpys_largest_eigenvalue_also_where_eigenvalues_coincide(o):
+    """exploration_factor takes ||V|| from its own closed forms (2x2, 3x3) and Jacobi rotations:
+    against np.linalg.eigvalsh on random covariances, the identity, zero, and matrices whose two
+    largest eigenvalues coincide or nearly do (where the 3x3 formula's arccos loses digits)."""
+    from rlff.model.donut import _largest_eigenvalues
+
+    rng = np.random.default_rng(o)
+    factors = rng.normal(size=(500, o, o))
+    matrices = factors @ np.swapaxes(factors, 1, 2)
+    axes = rng.normal(size=(100, o))
+    axes /= np.linalg.norm(axes, axis=1)[:, None]
+    outer = np.einsum("ni,nj->nij", axes, axes)
+    matrices[:50] = 2 * np.eye(o) - outer[:50]  # the largest eigenvalue twice (o >= 3: o - 1 times)
+    matrices[50:100] = 2 * np.eye(o) - outer[50:] + 1e-7 * outer[50:]
+    matrices[100], matrices[101], matrices[102] = np.eye(o), 0.0, np.diag(np.arange(1.0, o + 1))
+    largest = np.empty(len(matrices))
+    _largest_eigenvalues(matrices, largest)
+    np.testing.assert_allclose(largest, np.linalg.eigvalsh(matrices)[:, -1], rtol=1e-13, atol=1e-15)
+
+
 @pytest.mark.parametrize("d", [1, 2, 3])
 def test_radii_keep_the_covariance_and_bound_the_hole(d):
     eps = np.linspace(0, 1, 11)

@@ -113,8 +113,9 @@ def exploration_factor(covariance: np.ndarray, scale: float = 1.0) -> np.ndarray
 
 @numba.njit(cache=True, nogil=True)
 def _largest_eigenvalues(matrices: np.ndarray, out: np.ndarray) -> None:
-    """The largest eigenvalue of each symmetric matrix (N, O, O) into ``out`` (N,), by cyclic
-    Jacobi rotations until the off-diagonal part is below 1e-30 of the diagonal (squared sums).
+    """The largest eigenvalue of each symmetric matrix (N, O, O) into ``out`` (N,): in closed form
+    for O = 2 and 3 (the 3x3 by the trigonometric solution of the characteristic cubic, unless its
+    two largest eigenvalues nearly coincide), else by cyclic Jacobi rotations.
 
     Why by hand (numba): np.linalg.eigvalsh makes one LAPACK call per matrix, and for the 2-5
     outputs of a throw the call costs more than the arithmetic: 0.5 us for a 3x3 matrix, where a
@@ -123,35 +124,66 @@ def _largest_eigenvalues(matrices: np.ndarray, out: np.ndarray) -> None:
     n, o, _ = matrices.shape
     a = np.empty((o, o))
     for i in range(n):
-        a[:, :] = matrices[i]
-        for _ in range(50):
-            off = diagonal = 0.0
-            for p in range(o):
-                diagonal += a[p, p] * a[p, p]
-                for q in range(p + 1, o):
-                    off += a[p, q] * a[p, q]
-            if not off > 1e-30 * diagonal:
-                break
-            for p in range(o - 1):
-                for q in range(p + 1, o):
-                    if a[p, q] == 0.0:
-                        continue
-                    theta = (a[q, q] - a[p, p]) / (2.0 * a[p, q])
-                    t = (1.0 if theta >= 0.0 else -1.0) / (abs(theta) + math.sqrt(theta * theta + 1.0))
-                    c = 1.0 / math.sqrt(t * t + 1.0)
-                    s = t * c
-                    for k in range(o):  # A J, then J^T (A J): zeroes a[p, q]
-                        left, right = a[k, p], a[k, q]
-                        a[k, p] = c * left - s * right
-                        a[k, q] = s * left + c * right
-                    for k in range(o):
-                        upper, lower = a[p, k], a[q, k]
-                        a[p, k] = c * upper - s * lower
-                        a[q, k] = s * upper + c * lower
-        largest = a[0, 0]
-        for p in range(1, o):
-            largest = max(largest, a[p, p])
-        out[i] = largest
+        m = matrices[i]
+        if o == 2:
+            half = 0.5 * (m[0, 0] - m[1, 1])
+            out[i] = 0.5 * (m[0, 0] + m[1, 1]) + math.sqrt(half * half + m[0, 1] * m[0, 1])
+        elif o == 3:
+            off = m[0, 1] * m[0, 1] + m[0, 2] * m[0, 2] + m[1, 2] * m[1, 2]
+            mean = (m[0, 0] + m[1, 1] + m[2, 2]) / 3.0
+            d0, d1, d2 = m[0, 0] - mean, m[1, 1] - mean, m[2, 2] - mean
+            p = math.sqrt((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * off) / 6.0)
+            if off == 0.0 or p == 0.0:
+                out[i] = max(m[0, 0], m[1, 1], m[2, 2])
+                continue
+            # det((A - mean I) / p) / 2 = cos(3 phi): the largest root is mean + 2 p cos(phi)
+            det = d0 * (d1 * d2 - m[1, 2] * m[1, 2]) - m[0, 1] * (m[0, 1] * d2 - m[1, 2] * m[0, 2]) + m[0, 2] * (
+                m[0, 1] * m[1, 2] - d1 * m[0, 2]
+            )
+            r = 0.5 * det / (p * p * p)
+            if r > -0.999:
+                out[i] = mean + 2.0 * p * math.cos(math.acos(min(1.0, r)) / 3.0)
+                continue
+            a[:, :] = m  # the two largest nearly equal: acos loses digits there (1e-8), Jacobi does not
+            out[i] = _jacobi_largest(a)
+        else:
+            a[:, :] = m
+            out[i] = _jacobi_largest(a)
+
+
+@numba.njit(cache=True, nogil=True)
+def _jacobi_largest(a: np.ndarray) -> float:
+    """The largest eigenvalue of a symmetric matrix (O, O), overwritten: cyclic Jacobi rotations
+    until the off-diagonal part is below 1e-30 of the diagonal (squared sums)."""
+    o = a.shape[0]
+    for _ in range(50):
+        off = diagonal = 0.0
+        for p in range(o):
+            diagonal += a[p, p] * a[p, p]
+            for q in range(p + 1, o):
+                off += a[p, q] * a[p, q]
+        if not off > 1e-30 * diagonal:
+            break
+        for p in range(o - 1):
+            for q in range(p + 1, o):
+                if a[p, q] == 0.0:
+                    continue
+                theta = (a[q, q] - a[p, p]) / (2.0 * a[p, q])
+                t = (1.0 if theta >= 0.0 else -1.0) / (abs(theta) + math.sqrt(theta * theta + 1.0))
+                c = 1.0 / math.sqrt(t * t + 1.0)
+                s = t * c
+                for k in range(o):  # A J, then J^T (A J): zeroes a[p, q]
+                    left, right = a[k, p], a[k, q]
+                    a[k, p] = c * left - s * right
+                    a[k, q] = s * left + c * right
+                for k in range(o):
+                    upper, lower = a[p, k], a[q, k]
+                    a[p, k] = c * upper - s * lower
+                    a[q, k] = s * upper + c * lower
+    largest = a[0, 0]
+    for p in range(1, o):
+        largest = max(largest, a[p, p])
+    return largest
 
 
 def donut_radii(exploration: np.ndarray, n_dims: int, gamma: float = GAMMA) -> tuple[np.ndarray, np.ndarray]:
