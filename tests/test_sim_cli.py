@@ -81,6 +81,8 @@ def test_sim_reach_reports_the_reach(cli):
     payload = json.loads(result.stdout)
     assert payload["reach"] == pytest.approx(2.30, abs=0.01)
     assert payload["farthest_basket"] == pytest.approx(payload["reach"] + 0.175 - 0.033)
+    text = cli("sim", "reach").stdout  # plain text (no rich markup): the table name as in the robot file
+    assert "throws of the [throwing] mapping" in text and "\\" not in text
 
 
 @pytest.mark.slow

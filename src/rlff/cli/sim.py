@@ -164,6 +164,6 @@ def reach(
     out.print(f"best release: {pose}; ball at x = {result.position[0]:.3f} m, z = {result.position[1]:.3f} m, "
               f"{speed:.3f} m/s", highlight=False)
     if mapped is not None:
-        out.print(f"throws of the \\[throwing] mapping ({mapped.joint} alone at {mapped.speed:.3f} rad/s, the rest at "
+        out.print(f"throws of the [throwing] mapping ({mapped.joint} alone at {mapped.speed:.3f} rad/s, the rest at "
                   f"the start pose): at most {mapped.distance:.3f} m, released at {mapped.release:.3f} rad; farthest "
                   f"basket {farthest_basket(mapped.distance, opening):.3f} m", highlight=False)
