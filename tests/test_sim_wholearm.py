@@ -103,3 +103,21 @@ def test_release_reach_scales_the_throws_shape_to_the_first_speed_limit(robot, m
     assert 1.0 < reach <= best.distance
     optimal = dict.fromkeys(robot.joint_names, 0.0) | best.pose
     assert release_reach(robot, optimal, best.velocities) == pytest.approx(best.distance, abs=1e-6)
+
+
+def test_the_servers_mujoco_hook_throws_at_the_basket_it_was_given(robot, mapping):
+    """`rlff robot serve --sim mujoco --bearing B --height H`: each finished throw is simulated at
+    that basket, as `simulate_throw` does; a throw turned to another bearing lands off the line."""
+    from rlff.cli.robot import _mujoco_throw
+
+    planned = plan_path(mapping, human_throw(12.0, wrist=False), bearing=45.0, start=mapping.pose())
+    target = release_landing(robot, planned.trajectory, rim_height=0.6)
+    message = _mujoco_throw(robot, round(target, 2), 45.0, 0.6)(planned.trajectory)
+    expected = simulate_throw(planned.trajectory, Basket(round(target, 2), rim_height=0.6, bearing=45.0), robot=robot)
+    assert expected.hit and message.startswith("MuJoCo throw: hit, landed at ")
+    assert f"landed at {expected.landing_x:.3f} m, {expected.lateral:+.3f} m off the line" in message
+    assert message.endswith(f"(basket at {round(target, 2):g} m on the 45 deg line)")
+    elsewhere = _mujoco_throw(robot, round(target, 2), -45.0, 0.6)(planned.trajectory)
+    assert elsewhere.startswith("MuJoCo throw: miss") and float(elsewhere.split(", ")[2].split(" m off")[0]) > 1.0
+    with pytest.raises(InputError, match="bearing"):
+        _mujoco_throw(robot, 2.0, 200.0, 0.3)

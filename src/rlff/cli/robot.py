@@ -170,6 +170,9 @@ def serve(
     rate: float = typer.Option(100.0, "--rate", help="Ticks per second of the simulated arm (Hz)."),
     sim: str = typer.Option("kinematic", "--sim", help="kinematic, or mujoco: also simulate each finished throw."),
     basket: float = typer.Option(2.0, "--basket", help="Basket distance (m) for --sim mujoco."),
+    bearing: float = typer.Option(0.0, "--bearing", help="The basket's bearing (deg; 0 straight ahead, + to the "
+                                                         "left) for --sim mujoco."),
+    height: float = typer.Option(0.3, "--height", "--rim-height", help="The basket's rim height (m) for --sim mujoco."),
     ros: int = ROS,
     network: bool = NETWORK,
 ) -> None:
@@ -186,7 +189,7 @@ def serve(
     mapping = RobotMapping.for_robot(model)
     if sim not in ("kinematic", "mujoco"):
         raise InputError(f"unknown --sim {sim!r} (kinematic or mujoco)")
-    hook = _mujoco_throw(model, basket) if sim == "mujoco" else None
+    hook = _mujoco_throw(model, basket, bearing, height) if sim == "mujoco" else None
     if ros == 2:
         _serve_ros2(model, mapping.pose(0.0), rate, hook, network)
         return
@@ -280,16 +283,19 @@ def _require_ros() -> None:
         raise typer.Exit(1)
 
 
-def _mujoco_throw(model, basket: float):
-    """The server's completion hook: simulate the executed throw in MuJoCo."""
+def _mujoco_throw(model, basket: float, bearing: float = 0.0, height: float = 0.3):
+    """The server's completion hook: simulate the executed throw in MuJoCo at a basket ``basket`` m
+    away on the ``bearing`` (deg) line with its rim ``height`` m high (checked here, before any
+    node registers)."""
     from rlff.sim import Basket, simulate_throw
 
-    target = Basket(basket)
+    target = Basket(basket, rim_height=height, bearing=bearing)
+    where = f"basket at {basket:g} m" + (f" on the {bearing:g} deg line" if bearing else "")
 
     def throw(trajectory) -> str:
         outcome = simulate_throw(trajectory, target, robot=model, check_reach=False)
-        return (f"MuJoCo throw: {'hit' if outcome.hit else 'miss'}, landed at {outcome.landing_x:.3f} m "
-                f"(basket at {basket:g} m)")
+        side = f", {outcome.lateral:+.3f} m off the line" if bearing else ""
+        return f"MuJoCo throw: {'hit' if outcome.hit else 'miss'}, landed at {outcome.landing_x:.3f} m{side} ({where})"
 
     return throw
 
