@@ -1082,7 +1082,7 @@ def _fresh_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.ndar
 def _climb_fresh(i: int, k: int, slot: int, context: tuple, scratch: tuple, used: np.ndarray, floor: float) -> float:
     """One start of input i climbed from component k's mean (slot 0), its ring point on a
     principal axis (slots 1 to 2 O) or, for k = K, the GMR mean; end point into the scratch's
-    point, its density (relative to e^M, see :func:`_prepare_point`) returned."""
+    point, its density (relative to e^M, see :func:`_weigh_point`) returned."""
     gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
     a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
     n_out = means.shape[2]
@@ -1095,8 +1095,18 @@ def _climb_fresh(i: int, k: int, slot: int, context: tuple, scratch: tuple, used
             axis = axes[k, (slot - 1) % n_out]
             for o in range(n_out):
                 start[o] += sign * math.sqrt(ring[i]) * axis[o]
+    return _climb_from(i, start, context, scratch, used, floor)
+
+
+@numba.njit(cache=True, nogil=True)
+def _climb_from(i: int, begin: np.ndarray, context: tuple, scratch: tuple, used: np.ndarray, floor: float) -> float:
+    """:func:`_climb_start_nd` of input i from ``begin`` (O,) over the components ``used``, with the
+    first trust radius of the narrowest donut; end point into the scratch's point, its density
+    (relative to e^M, see :func:`_weigh_point`) returned."""
+    gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
     return _climb_start_nd(
-        start, means[i], a_i, b_i, precision, low, used, r_a2[i], r_b2[i], floor, narrowest / math.sqrt(r_b2[i]), sigma,
+        begin, means[i], a_i, b_i, precision, low, used, r_a2[i], r_b2[i], floor, narrowest / math.sqrt(r_b2[i]), sigma,
         tol, point, work, square,
     )
 
@@ -1135,10 +1145,7 @@ def _follow_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.nda
             ends[row, s] = ends[row, same]
             continue
         _predict(ends, pdf, row, s, start)
-        climbed = _climb_start_nd(
-            start, means[i], a_i, b_i, precision, low, used, r_a2[i], r_b2[i], floor,
-            narrowest / math.sqrt(r_b2[i]), sigma, tol, point, work, square,
-        )
+        climbed = _climb_from(i, start, context, scratch, used, floor)
         if _distance2(point, start) > _TRACK_JUMP**2 or not climbed * scale > _TRACK_DROP * pdf[row - 1, s]:
             return False  # not where it was headed, or far lower than it was: lost
         pdf[row, s] = climbed * scale
@@ -1228,10 +1235,7 @@ def _follow_back(
         if row + 2 <= rows and _distance2(previous, older) <= _TRACK_PREDICT**2:
             for o in range(begin.size):
                 begin[o] += previous[o] - older[o]
-        climbed = _climb_start_nd(
-            begin, means[i], a_i, b_i, precision, low, active[:n_active], r_a2[i], r_b2[i], floor,
-            narrowest / math.sqrt(r_b2[i]), sigma, tol, point, work, square,
-        )
+        climbed = _climb_from(i, begin, context, scratch, active[:n_active], floor)
         if _distance2(point, begin) > _TRACK_JUMP**2 or not climbed > 0.0:
             return
         for other in range(pdf.shape[1]):
