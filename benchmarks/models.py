@@ -152,9 +152,23 @@ def bfgs_modes(conditional, eps: np.ndarray, gamma: float = 2.0) -> tuple[np.nda
     return outputs, pdfs
 
 
+def time_gmr_and_mode(model, inputs: np.ndarray, repeats: int) -> tuple:
+    """One GMR pass over ``inputs`` and the DMM mode of its conditional, interleaved ``repeats``
+    times: (conditional, mode, best GMR time, best mode time)."""
+    from rlff.model.donut import dmm_mode
+
+    conditional = model.condition(inputs)
+    gmr_t = mode_t = np.inf
+    for _ in range(repeats):
+        t, _ = best_time(lambda: model.condition(inputs), 1)
+        gmr_t = min(gmr_t, t)
+        t, mode = best_time(lambda: dmm_mode(conditional), 1)
+        mode_t = min(mode_t, t)
+    return conditional, mode, gmr_t, mode_t
+
+
 def bench_dmm(n_queries: int, repeats: int) -> list[dict]:
     from rlff.model import Model
-    from rlff.model.donut import dmm_mode
     from rlff.synthetic.thesis import thesis_dataset
 
     rows = []
@@ -162,13 +176,7 @@ def bench_dmm(n_queries: int, repeats: int) -> list[dict]:
     queries = np.column_stack([rng.uniform(0, 10, n_queries), rng.uniform(1, 12.5, n_queries)])
     for components in (3, "auto"):
         model = Model.fit(thesis_dataset(), components=components, seed=0)
-        conditional = model.condition(queries)
-        gmr_t = ours_t = np.inf
-        for _ in range(repeats):
-            t, _ = best_time(lambda model=model: model.condition(queries), 1)
-            gmr_t = min(gmr_t, t)
-            t, mode = best_time(lambda conditional=conditional: dmm_mode(conditional), 1)
-            ours_t = min(ours_t, t)
+        conditional, mode, gmr_t, ours_t = time_gmr_and_mode(model, queries, repeats)
         bfgs_t, (_, bfgs_pdf) = best_time(lambda conditional=conditional, mode=mode: bfgs_modes(conditional, mode.exploration), 1)
         lower = int(np.sum(mode.pdf < bfgs_pdf * (1 - 1e-9)))
         higher = int(np.sum(mode.pdf > bfgs_pdf * (1 + 1e-6)))
@@ -239,20 +247,13 @@ def bfgs_modes_several(conditional, eps: np.ndarray, gamma: float = 2.0) -> np.n
 
 def bench_dmm_several(n_points: int, repeats: int) -> list[dict]:
     from rlff.model import Model
-    from rlff.model.donut import dmm_mode
 
     rows = []
     data = whole_arm_demonstrations()
     path = np.column_stack([np.linspace(0.8, 2.9, n_points), np.full(n_points, 2.5)])
     for outputs in (("velocity", "shoulder"), ("velocity", "shoulder", "shoulder_velocity")):
         model = Model.fit(data, outputs=outputs, seed=0)
-        conditional = model.condition(path)
-        gmr_t = ours_t = np.inf
-        for _ in range(repeats):
-            t, _ = best_time(lambda model=model: model.condition(path), 1)
-            gmr_t = min(gmr_t, t)
-            t, mode = best_time(lambda conditional=conditional: dmm_mode(conditional), 1)
-            ours_t = min(ours_t, t)
+        conditional, mode, gmr_t, ours_t = time_gmr_and_mode(model, path, repeats)
         bfgs_t, bfgs_pdf = best_time(
             lambda conditional=conditional, mode=mode: bfgs_modes_several(conditional, mode.exploration), 1
         )
