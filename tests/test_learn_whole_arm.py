@@ -135,15 +135,10 @@ def test_a_basket_beyond_the_whole_arm_reach_is_refused_with_the_numbers(aimed, 
 @pytest.mark.slow
 def test_the_refit_and_the_calibration_drive_every_joint_by_one_time_scale(aimed, robot):
     from rlff.learn.attempt import Attempt
-    from rlff.learn.loop import _angle_grid, _components, _learning_demos
     from rlff.learn.strategies import CalibrateUpdate
-    from rlff.robot import mapping_for
 
-    mapping = mapping_for(robot, ARM)
-    demos = _learning_demos(aimed, mapping.human_columns, 0.3)
-    outputs = joint_outputs(mapping.human_columns)
-    problem = Problem(demos, BASKET, "binary", 0.12, _angle_grid(demos), _components(demos, 0, outputs), 0,
-                      max_speed=mapping.max_human_speeds()["velocity"], outputs=outputs)
+    problem = _binary_problem(aimed, robot)
+    demos, outputs = problem.demos, problem.outputs
     method = CalibrateUpdate(problem)
     assert method.fit(*_training(demos)).outputs == outputs
     first = method.propose([])
@@ -156,6 +151,18 @@ def test_the_refit_and_the_calibration_drive_every_joint_by_one_time_scale(aimed
     assert np.array_equal(second.arm["shoulder"], first.arm["shoulder"])  # the same path, faster or slower
 
 
+def _binary_problem(aimed, robot) -> Problem:
+    """The whole-arm problem the loop poses for BASKET with binary feedback (without its aim)."""
+    from rlff.learn.loop import _angle_grid, _components, _learning_demos
+    from rlff.robot import mapping_for
+
+    mapping = mapping_for(robot, ARM)
+    demos = _learning_demos(aimed, mapping.human_columns, 0.3)
+    outputs = joint_outputs(mapping.human_columns)
+    return Problem(demos, BASKET, "binary", 0.12, _angle_grid(demos), _components(demos, 0, outputs), 0,
+                   max_speed=mapping.max_human_speeds()["velocity"], outputs=outputs)
+
+
 def _training(demos):
     from rlff.learn.method import labelled_demos, training_set
 
@@ -165,15 +172,9 @@ def _training(demos):
 @pytest.mark.slow
 def test_the_donut_explores_the_shoulder_where_the_attempts_disagree(aimed, robot):
     from rlff.learn.attempt import Attempt
-    from rlff.learn.loop import _angle_grid, _components, _learning_demos
     from rlff.learn.strategies import DonutSearch
-    from rlff.robot import mapping_for
 
-    mapping = mapping_for(robot, ARM)
-    demos = _learning_demos(aimed, mapping.human_columns, 0.3)
-    outputs = joint_outputs(mapping.human_columns)
-    problem = Problem(demos, BASKET, "binary", 0.12, _angle_grid(demos), _components(demos, 0, outputs), 0,
-                      max_speed=mapping.max_human_speeds()["velocity"], outputs=outputs)
+    problem = _binary_problem(aimed, robot)
     method = DonutSearch(problem)
     first = method.shape([])
     # misses thrown faster and with the shoulder held higher join the data labelled with the target:

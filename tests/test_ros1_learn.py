@@ -24,6 +24,19 @@ BASKET = 2.0  # m
 LANDINGS = [1.5, 2.05]  # a miss 0.5 m short, then a hit (within the basket's opening)
 
 
+def report_landings(ros, learner: subprocess.Popen, landings: list[float], what: str) -> None:
+    """The vision system: after each throw the server completes, publish its landing (m) on
+    /rlff/landing with rostopic, while the learner keeps running."""
+    before = ros.log().count("trajectory completed")
+    for number, landing in enumerate(landings, start=1):
+        wait(lambda n=number: ros.log().count("trajectory completed") >= before + n or learner.poll() is not None,
+             300, f"{what} {number} on the arm")
+        assert learner.poll() is None, learner.communicate()[1]
+        subprocess.run(["rostopic", "pub", "-1", "/rlff/landing", "geometry_msgs/PointStamped",
+                        f"{{header: {{stamp: now}}, point: {{x: {landing}}}}}"], env=ros.env, check=True,
+                       capture_output=True, timeout=60)
+
+
 def test_attempts_run_on_the_arm_with_landings_from_rostopic(ros, tmp_path):
     demos = tmp_path / "demos.csv"
     made = ros.rlff("data", "synth", "throws", "-o", str(demos), "--seed", "4", timeout=300)
@@ -33,14 +46,7 @@ def test_attempts_run_on_the_arm_with_landings_from_rostopic(ros, tmp_path):
                                 str(BASKET), "--executor", "ros1", "--outcome", "topic", "--budget", "4", "--log",
                                 str(log), "--json"], env=ros.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                text=True)
-    before = ros.log().count("trajectory completed")
-    for number, landing in enumerate(LANDINGS, start=1):
-        wait(lambda n=number: ros.log().count("trajectory completed") >= before + n or learner.poll() is not None,
-             300, f"throw {number} on the arm")
-        assert learner.poll() is None, learner.communicate()[1]
-        subprocess.run(["rostopic", "pub", "-1", "/rlff/landing", "geometry_msgs/PointStamped",
-                        f"{{header: {{stamp: now}}, point: {{x: {landing}}}}}"], env=ros.env, check=True,
-                       capture_output=True, timeout=60)
+    report_landings(ros, learner, LANDINGS, "throw")
     out, err = learner.communicate(timeout=300)
     assert learner.returncode == 0, err
     result = json.loads(out)
@@ -62,15 +68,7 @@ def test_whole_arm_attempts_run_on_the_arm_at_a_bearing(ros, tmp_path):
                                 "1.5", "--joints", "joint_2,joint_3", "--bearing", "30", "--robot", str(robot),
                                 "--executor", "ros1", "--outcome", "topic", "--budget", "3", "--log", str(log),
                                 "--json"], env=ros.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    before = ros.log().count("trajectory completed")
-    landings = [1.1, 1.52]  # along the bearing line: short, then in the basket
-    for number, landing in enumerate(landings, start=1):
-        wait(lambda n=number: ros.log().count("trajectory completed") >= before + n or learner.poll() is not None,
-             300, f"whole-arm throw {number} on the arm")
-        assert learner.poll() is None, learner.communicate()[1]
-        subprocess.run(["rostopic", "pub", "-1", "/rlff/landing", "geometry_msgs/PointStamped",
-                        f"{{header: {{stamp: now}}, point: {{x: {landing}}}}}"], env=ros.env, check=True,
-                       capture_output=True, timeout=60)
+    report_landings(ros, learner, [1.1, 1.52], "whole-arm throw")  # along the bearing line: short, then a hit
     out, err = learner.communicate(timeout=300)
     assert learner.returncode == 0, err
     result = json.loads(out)
