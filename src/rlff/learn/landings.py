@@ -3,7 +3,7 @@
 Where the demonstrations' landings are known (``landing`` metadata: exactly, or estimated from
 the hand's release with an error of a few decimetres), every demonstration is one observation
 (u_i, L_i) of the law between the release speed and the landing: u_i the demonstration's mean
-speed over the release part of the loop's angle grid (:func:`rlff.learn.strategies.release_speed`
+speed over the release part of the loop's angle grid (:func:`rlff.learn.method.release_speed`
 on the demonstration's own samples), L_i where its ball came down. This module fits
 
     L = c u^b
@@ -38,6 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rlff.dataset import Dataset
+from rlff.learn.method import release_speed
 
 #: Standard deviation (log speed) of the robot's hit about the speed the demonstrations' landings
 #: point to, beyond the fit's own error: the human-to-robot mapping (the robot lets go at the
@@ -70,18 +71,14 @@ class LandingSpeed:
 
 
 def demonstration_release_speeds(demos: Dataset, angles: np.ndarray) -> np.ndarray:
-    """Each demonstration's mean speed (rad/s) over the release part of ``angles``, shape (S,).
-
-    The release part is the last tenth of the grid (at least 2 angles), as for a generated
-    throw; a demonstration that let go before the grid's end counts with its speed at its own
-    last sample.
+    """Each demonstration's :func:`rlff.learn.method.release_speed` on ``angles`` (rad/s), shape (S,):
+    its velocity at the grid's angles, as for a generated throw; a demonstration that let go
+    before the grid's end counts with its speed at its own last sample.
     """
-    tail = angles[-max(2, angles.size // 10):]
     speeds = []
     for trajectory in demos:
         order = np.argsort(trajectory["angle"], kind="stable")
-        velocity = np.interp(tail, trajectory["angle"][order], trajectory["velocity"][order])
-        speeds.append(float(np.mean(np.abs(velocity))))
+        speeds.append(release_speed(angles, np.interp(angles, trajectory["angle"][order], trajectory["velocity"][order])))
     return np.asarray(speeds)
 
 

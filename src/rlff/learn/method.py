@@ -140,6 +140,17 @@ class Proposal:
         return cls(np.asarray(angle, dtype=float), velocity, float(query), float(exploration), info or {}, columns)
 
 
+def release_samples(count: int) -> int:
+    """How many of a path's ``count`` samples are its release part: the last tenth, at least 2."""
+    return max(2, count // 10)
+
+
+def release_speed(angles: np.ndarray, velocity: np.ndarray) -> float:
+    """Mean speed (rad/s) over the release part of the path (:func:`release_samples`): what
+    decides where the ball goes."""
+    return float(np.mean(np.abs(velocity[-release_samples(angles.size):])))
+
+
 def scale_speed(proposal: Proposal, factor: np.ndarray | float) -> Proposal:
     """``proposal`` with every velocity column times ``factor`` (scalar, or (T,) per sample).
 

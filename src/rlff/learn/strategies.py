@@ -75,6 +75,8 @@ from rlff.learn.method import (
     attempt_trajectory,
     known_labels,
     labelled_demos,
+    release_samples,
+    release_speed,
     scale_speed,
     training_set,
 )
@@ -373,7 +375,7 @@ class DonutSearch(CalibrateUpdate):
         from rlff.model.donut import dmm_marginal_pdf, exploration_factor
 
         problem = self.problem
-        tail = max(2, problem.angles.size // 10)  # the release part of the path (release_speed)
+        tail = release_samples(problem.angles.size)
         inputs = np.column_stack([problem.angles[-tail:], np.full(tail, self.shape_query)])
         conditional = self.model.condition(inputs)
         if self.exploration == "auto":
@@ -417,12 +419,6 @@ def shape_distance(problem: Problem) -> float:
         return problem.target
     labels = known_labels(problem.demos)
     return float(np.clip(problem.target, labels.min(), labels.max()))
-
-
-def release_speed(angles: np.ndarray, velocity: np.ndarray) -> float:
-    """Mean speed (rad/s) over the last tenth of the path: what decides where the ball goes."""
-    tail = max(2, angles.size // 10)
-    return float(np.mean(np.abs(velocity[-tail:])))
 
 
 def fastest_at_release(angles: np.ndarray, velocity: np.ndarray) -> np.ndarray:
