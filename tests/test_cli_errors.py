@@ -187,6 +187,9 @@ def test_a_tiny_densify_step_is_refused_with_its_numbers(rlff, files, tmp_path):
         (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploration-scale", "lots"], ["--exploration-scale", "valid number", "(got 'lots')"]),
         (["fit", "{data}", "-o", "{tmp}/m.json", "--components", "lots"], ["--components", "integer >= 1", "'lots'"]),
         (["no-such-command"], ["no-such-command"]),
+        # a context typed as an option: generate says how contexts go
+        (["generate", "{model}", "-o", "{tmp}/g.csv", "--distance", "2"], ["--distance", "-c distance=..."]),
+        (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploraton", "2"], ["Possible options: --exploration"]),
     ],
 )
 def test_option_parsing_errors_are_one_line(rlff, files, tmp_path, args, fragments):

@@ -107,6 +107,11 @@ def _usage(exc, args: list[str]) -> str:
     given = _given(getattr(exc, "param", None), args)
     if given is not None and repr(given) not in message:
         message += f" (got {given!r})"
+    unknown = getattr(exc, "option_name", None)
+    takes_context = exc.ctx is not None and any("--context" in getattr(p, "opts", ()) for p in exc.ctx.command.params)
+    if unknown and takes_context and not getattr(exc, "possibilities", None):  # --distance 2: a context
+        name = unknown.lstrip("-").split("=")[0]
+        message += f"; a context value goes as -c NAME=VALUE, e.g. -c {name}=..."
     return f"error: {command}: {message} (see {command} --help)"
 
 
