@@ -73,6 +73,15 @@ _FOLLOW_SHARE = 0.1
 _TOP_SHARE = 0.1
 #: A fresh climb's top is among the followed ones when one of them ended this close to it.
 _FOUND_TOP = 1e-2
+#: How the several-output climb's helpers compile: without numba's reference counting (its
+#: ``_nrt=False`` option, which numba's own tests use but does not document). They only read and
+#: write arrays that :func:`_modes_nd_kernel` allocated and holds while they run, and with the
+#: counting every array argument, view and tuple element of each call cost an atomic increment
+#: and decrement: perf put half the kernel's time in them (NRT_incref, NRT_decref), and without
+#: them the kernel takes half the time on 1,000 path points. What would need the runtime (an
+#: allocation, a slice assignment, ndarray.max) does not compile under this option, so it cannot
+#: slip in; the kernel itself, which allocates, keeps it.
+_UNCOUNTED = {"cache": True, "nogil": True, "_nrt": False}
 #: Up to ``_LATE_SLOTS`` tops a block's last input finds and the following missed are followed
 #: back through the block into slots of their own; more than that, and the block is climbed afresh.
 _LATE_SLOTS = 2
@@ -700,7 +709,7 @@ def _modes_nd(donuts: _Donuts, gmr_mean: np.ndarray, tol: float) -> tuple[np.nda
     return ends, pdf, best
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _density_nd(
     y: np.ndarray,
     means: np.ndarray,
@@ -764,7 +773,7 @@ def _density_nd(
     return pdf
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _newton_direction(pdf: float, grad: np.ndarray, hess: np.ndarray, factor: np.ndarray, out: np.ndarray) -> int:
     """The Newton step on ln P into ``out`` (O,): 0 where ln P is concave (the step itself), 1
     where it is not (a direction only: the step with M shifted to positive definite), -1 if
@@ -804,7 +813,7 @@ def _newton_direction(pdf: float, grad: np.ndarray, hess: np.ndarray, factor: np
     return 0 if shift == 0.0 else 1
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _cholesky_shifted(pdf: float, grad: np.ndarray, hess: np.ndarray, shift: float, factor: np.ndarray) -> bool:
     """Cholesky factor of g g^T - P H + shift I into ``factor``; False if not positive definite."""
     n = grad.size
@@ -920,7 +929,7 @@ def _modes_nd_kernel(
         best[i] = _highest(ends[i, :, 0], pdf[i])
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _follow_block(
     first: int,
     last: int,
@@ -939,8 +948,8 @@ def _follow_block(
     :func:`_modes_nd_kernel`); row last - first is work space."""
     gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
     rows = last - first
-    block_ends[0] = first_ends
-    block_pdf[0] = first_pdf
+    _copy(block_ends[0], first_ends)
+    _copy(block_pdf[0], first_pdf)
     _release(scratch)
     for row in range(1, rows + 1):
         i = first + row
@@ -956,7 +965,7 @@ def _follow_block(
     _find_back(last_ends, last_pdf, block_ends[rows], block_pdf[rows], first, rows, context, scratch, block_ends, block_pdf, missed)
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _find_back(
     fresh_ends: np.ndarray,
     fresh_pdf: np.ndarray,
@@ -995,13 +1004,13 @@ def _scratch(n_components: int, n_out: int, n_starts: int) -> tuple:
     )
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _release(scratch: tuple) -> None:
     """No start let go (at a fresh input or a block's start)."""
     scratch[9][:] = False
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _weigh_point(i: int, context: tuple, scratch: tuple) -> tuple[float, float, int, float]:
     """Input i's log-weights relative to the largest into the scratch (the climbs see P / e^M with
     M the largest log-weight: every exponent is then <= 0, for the compiled exp of
@@ -1010,13 +1019,13 @@ def _weigh_point(i: int, context: tuple, scratch: tuple) -> tuple[float, float, 
     gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
     a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
     ra2, rb2, q = r_a2[i], r_b2[i], ring[i]
-    highest = log_a[i].max()
+    highest = _largest(log_a[i])
     for k in range(a_i.size):
         a_i[k] = log_a[i, k] - highest
         b_i[k] = log_b[i, k] - highest
         exponent_a, exponent_b = a_i[k] - 0.5 * ra2 * q, b_i[k] - 0.5 * rb2 * q  # both <= 0
         peaks[k] = exp_nonpositive(max(exponent_a, LOWEST)) - exp_nonpositive(max(exponent_b, LOWEST))
-    top = peaks.max()
+    top = _largest(peaks)
     floor = math.log(top) + _NEGLIGIBLE if top > 0 else -np.inf
     n_active = 0
     for k in range(a_i.size):  # a term's exponent is at most its log-weight
@@ -1026,13 +1035,13 @@ def _weigh_point(i: int, context: tuple, scratch: tuple) -> tuple[float, float, 
     return math.exp(highest), floor, n_active, top
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@numba.njit(**_UNCOUNTED, inline="always")
 def _slots(pdf: np.ndarray, n_components: int) -> int:
     """Starts per component in the layout of ``pdf`` (N, S): 1 + 2 O with ring points, else 1."""
     return (pdf.shape[1] - 1 - _LATE_SLOTS) // n_components
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _prepare_point(
     i: int, row: int, context: tuple, scratch: tuple, ends: np.ndarray, pdf: np.ndarray
 ) -> tuple[float, float, int, float, int]:
@@ -1061,11 +1070,11 @@ def _prepare_point(
     tracked[n_slots] = n_components * slots  # the GMR mean
     for s in range(n_components * slots + 1, pdf.shape[1]):
         pdf[row, s] = -np.inf
-        ends[row, s] = gmr_mean[i]
+        _copy(ends[row, s], gmr_mean[i])
     return scale, floor, n_active, top, n_slots + 1
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _fresh_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.ndarray, pdf: np.ndarray) -> None:
     """Input i: every start climbed from where :func:`_modes_nd_kernel` says, into ends[row], pdf[row]."""
     a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
@@ -1075,10 +1084,10 @@ def _fresh_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.ndar
         s = tracked[t]
         k, slot = divmod(s, _slots(pdf, peaks.size))
         pdf[row, s] = _climb_fresh(i, k, slot, context, scratch, active[:n_active], floor) * scale
-        ends[row, s] = point
+        _copy(ends[row, s], point)
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _climb_fresh(i: int, k: int, slot: int, context: tuple, scratch: tuple, used: np.ndarray, floor: float) -> float:
     """One start of input i climbed from component k's mean (slot 0), its ring point on a
     principal axis (slots 1 to 2 O) or, for k = K, the GMR mean; end point into the scratch's
@@ -1087,9 +1096,9 @@ def _climb_fresh(i: int, k: int, slot: int, context: tuple, scratch: tuple, used
     a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
     n_out = means.shape[2]
     if k == means.shape[1]:
-        start[:] = gmr_mean[i]
+        _copy(start, gmr_mean[i])
     else:
-        start[:] = means[i, k]
+        _copy(start, means[i, k])
         if slot > 0:  # on the ring, along a principal axis
             sign = 1.0 if slot <= n_out else -1.0
             axis = axes[k, (slot - 1) % n_out]
@@ -1098,7 +1107,7 @@ def _climb_fresh(i: int, k: int, slot: int, context: tuple, scratch: tuple, used
     return _climb_from(i, start, context, scratch, used, floor)
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _climb_from(i: int, begin: np.ndarray, context: tuple, scratch: tuple, used: np.ndarray, floor: float) -> float:
     """:func:`_climb_start_nd` of input i from ``begin`` (O,) over the components ``used``, with the
     first trust radius of the narrowest donut; end point into the scratch's point, its density
@@ -1111,7 +1120,7 @@ def _climb_from(i: int, begin: np.ndarray, context: tuple, scratch: tuple, used:
     )
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _follow_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.ndarray, pdf: np.ndarray) -> bool:
     """Input i into ends[row], pdf[row] from the previous input in row - 1: each start that
     climbed there climbs from where it ended (once per top, see :func:`_predict`), a start new
@@ -1122,18 +1131,18 @@ def _follow_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.nda
     scale, floor, n_active, top, n_slots = _prepare_point(i, row, context, scratch, ends, pdf)
     used = active[:n_active]
     slots = _slots(pdf, means.shape[1])
-    lowest_followed = _FOLLOW_SHARE * pdf[row - 1].max()
+    lowest_followed = _FOLLOW_SHARE * _largest(pdf[row - 1])
     for t in range(n_slots):
         s = tracked[t]
         k, slot = divmod(s, slots)
         if not dropped[s] and pdf[row - 1, s] == -np.inf:  # a start new at this input
             pdf[row, s] = _climb_fresh(i, k, slot, context, scratch, used, floor) * scale
-            ends[row, s] = point
+            _copy(ends[row, s], point)
             continue
         if dropped[s] or pdf[row - 1, s] < lowest_followed:  # a low top: let go
             dropped[s] = True
             pdf[row, s] = -np.inf
-            ends[row, s] = ends[row - 1, s]
+            _copy(ends[row, s], ends[row - 1, s])
             continue
         same = -1
         for other in tracked[:t]:  # a start that ended on the same top was followed already
@@ -1142,24 +1151,24 @@ def _follow_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.nda
                 break
         if same >= 0:
             pdf[row, s] = pdf[row, same]
-            ends[row, s] = ends[row, same]
+            _copy(ends[row, s], ends[row, same])
             continue
         _predict(ends, pdf, row, s, start)
         climbed = _climb_from(i, start, context, scratch, used, floor)
         if _distance2(point, start) > _TRACK_JUMP**2 or not climbed * scale > _TRACK_DROP * pdf[row - 1, s]:
             return False  # not where it was headed, or far lower than it was: lost
         pdf[row, s] = climbed * scale
-        ends[row, s] = point
+        _copy(ends[row, s], point)
     return True
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _predict(ends: np.ndarray, pdf: np.ndarray, row: int, s: int, start: np.ndarray) -> None:
     """Where start s's top is expected in ``row``, into ``start`` (O,): the parabola through its
     ends in the three rows before, or the line through the last two, carried on by one row (a
     predictor for the climb, which then corrects); where it was in the row before when there are
     no such ends (a new start, or one whose step was longer than ``_TRACK_PREDICT``: another top)."""
-    start[:] = ends[row - 1, s]
+    _copy(start, ends[row - 1, s])
     if row < 2 or pdf[row - 2, s] == -np.inf or _distance2(ends[row - 1, s], ends[row - 2, s]) > _TRACK_PREDICT**2:
         return
     if row >= 3 and pdf[row - 3, s] > -np.inf and _distance2(ends[row - 2, s], ends[row - 3, s]) <= _TRACK_PREDICT**2:
@@ -1170,12 +1179,12 @@ def _predict(ends: np.ndarray, pdf: np.ndarray, row: int, s: int, start: np.ndar
         start[o] += ends[row - 1, s, o] - ends[row - 2, s, o]
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _continues(i: int, log_a: np.ndarray, r_a2: np.ndarray, r_b2: np.ndarray) -> bool:
     """Whether input i continues input i-1 along a path (the ``_TRACK_*`` limits)."""
     if abs(r_a2[i] - r_a2[i - 1]) > _TRACK_RADII * r_a2[i - 1] or abs(r_b2[i] - r_b2[i - 1]) > _TRACK_RADII * r_b2[i - 1]:
         return False
-    highest, highest_before = log_a[i].max(), log_a[i - 1].max()
+    highest, highest_before = _largest(log_a[i]), _largest(log_a[i - 1])
     for k in range(log_a.shape[1]):
         if log_a[i, k] - highest < _TRACK_RELEVANT and log_a[i - 1, k] - highest_before < _TRACK_RELEVANT:
             continue
@@ -1184,14 +1193,14 @@ def _continues(i: int, log_a: np.ndarray, r_a2: np.ndarray, r_b2: np.ndarray) ->
     return True
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _missed_tops(
     fresh_ends: np.ndarray, fresh_pdf: np.ndarray, followed_ends: np.ndarray, followed_pdf: np.ndarray, missed: np.ndarray
 ) -> int:
     """The tops of a fresh climb (S, O) with a pdf above ``_TOP_SHARE`` of the highest that no
     followed climb (S, O) of the same input reached: their starts into ``missed`` (as many as it
     holds, one per top), their number returned."""
-    top = fresh_pdf.max()
+    top = _largest(fresh_pdf)
     n_missed = 0
     for s in range(fresh_pdf.size):
         if not fresh_pdf[s] >= _TOP_SHARE * top:
@@ -1212,7 +1221,7 @@ def _missed_tops(
     return n_missed
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _follow_back(
     top_end: np.ndarray, first: int, rows: int, context: tuple, scratch: tuple, ends: np.ndarray, pdf: np.ndarray
 ) -> None:
@@ -1231,7 +1240,7 @@ def _follow_back(
         if late == pdf.shape[1]:
             return
         scale, floor, n_active, top = _weigh_point(i, context, scratch)
-        begin[:] = previous
+        _copy(begin, previous)
         if row + 2 <= rows and _distance2(previous, older) <= _TRACK_PREDICT**2:
             for o in range(begin.size):
                 begin[o] += previous[o] - older[o]
@@ -1242,11 +1251,28 @@ def _follow_back(
             if pdf[row, other] > -np.inf and _distance2(point, ends[row, other]) <= _FOUND_TOP**2:
                 return
         pdf[row, late] = climbed * scale
-        ends[row, late] = point
+        _copy(ends[row, late], point)
         older, previous = previous, ends[row, late]
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@numba.njit(**_UNCOUNTED, inline="always")
+def _copy(destination: np.ndarray, source: np.ndarray) -> None:
+    """destination[...] = source for two arrays of one shape, as a loop (a slice assignment needs
+    numba's runtime: see :data:`_UNCOUNTED`)."""
+    for index in np.ndindex(destination.shape):
+        destination[index] = source[index]
+
+
+@numba.njit(**_UNCOUNTED, inline="always")
+def _largest(x: np.ndarray) -> float:
+    """max(x) of a (S,) vector (-inf if empty), as a loop (ndarray.max needs numba's runtime)."""
+    top = -np.inf
+    for value in x:
+        top = max(top, value)
+    return top
+
+
+@numba.njit(**_UNCOUNTED, inline="always")
 def _distance2(x: np.ndarray, y: np.ndarray) -> float:
     """|x - y|^2 of two (O,) vectors."""
     total = 0.0
@@ -1255,7 +1281,7 @@ def _distance2(x: np.ndarray, y: np.ndarray) -> float:
     return total
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _climb_start_nd(
     start: np.ndarray,
     means: np.ndarray,
@@ -1285,7 +1311,7 @@ def _climb_start_nd(
     """
     diff, u, grad, step, trial, grad_t = work[0], work[1], work[2], work[3], work[4], work[5]
     hess, hess_t, factor = square[0], square[1], square[2]
-    point[:] = start
+    _copy(point, start)
     p = _density_nd(point, means, log_a, log_b, precision, low, used, r_a2, r_b2, floor, diff, u, grad, hess)
     kind = _newton_direction(p, grad, hess, factor, step)
     radius = (1.0 if kind == 0 else 0.1) * first_radius
@@ -1308,10 +1334,10 @@ def _climb_start_nd(
             trial[o] = point[o] + step[o]
         p_t = _density_nd(trial, means, log_a, log_b, precision, low, used, r_a2, r_b2, floor, diff, u, grad_t, hess_t)
         if p_t > p:
-            point[:] = trial
+            _copy(point, trial)
             p = p_t
-            grad[:] = grad_t
-            hess[:, :] = hess_t
+            _copy(grad, grad_t)
+            _copy(hess, hess_t)
             radius = max(radius, 4.0 * length)
         else:
             radius = 0.25 * length
@@ -1321,7 +1347,7 @@ def _climb_start_nd(
     return p
 
 
-@numba.njit(cache=True, nogil=True, inline="always")
+@numba.njit(**_UNCOUNTED, inline="always")
 def _dot(x: np.ndarray, y: np.ndarray) -> float:
     """x . y of two (O,) vectors, as a loop (an array expression would allocate a temporary)."""
     total = 0.0
@@ -1330,11 +1356,11 @@ def _dot(x: np.ndarray, y: np.ndarray) -> float:
     return total
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _highest(first: np.ndarray, pdf: np.ndarray) -> int:
     """Index of the highest of S end points, from their densities (S,) and first coordinates (S,):
     ties within a relative 1e-9 go to the larger first coordinate (the first such on an exact tie)."""
-    tied = pdf.max() * (1.0 - 1e-9)
+    tied = _largest(pdf) * (1.0 - 1e-9)
     choice = -1
     for s in range(pdf.size):
         if pdf[s] >= tied and (choice < 0 or first[s] > first[choice]):
