@@ -354,22 +354,54 @@ def test_a_top_that_rises_inside_a_followed_block_is_found_at_every_input():
     np.testing.assert_allclose(mode.output[switch:], np.broadcast_to(mode.output[-1], (n - switch, 2)), atol=1e-4)
 
 
-@pytest.mark.parametrize("outputs", [("velocity", "shoulder"), ("velocity", "shoulder", "shoulder_velocity")])
-@pytest.mark.parametrize(("seed", "points"), [(3, 600), (5, 150)])
-def test_followed_modes_along_a_whole_arm_path_are_those_of_each_input_alone(outputs, seed, points):
+TWO, THREE = ("velocity", "shoulder"), ("velocity", "shoulder", "shoulder_velocity")
+
+
+@pytest.mark.parametrize(
+    ("outputs", "seed", "points", "distance"),
+    [(TWO, 3, 600, 2.5), (THREE, 3, 600, 2.5), (TWO, 5, 150, 2.5), (THREE, 5, 150, 2.5), (THREE, 5, 600, 3.5)],
+)
+def test_followed_modes_along_a_whole_arm_path_are_those_of_each_input_alone(outputs, seed, points, distance):
     """A whole-arm model's DMM along a throw's phase points, followed, against every point
     climbed alone. Seed 3 at 600 points has tops born and gone within 14 points and one that the
     followed top jumps onto; seed 5 at 150 points a narrow component that leaves its followed
-    top behind from one point to the next."""
+    top behind from one point to the next; seed 5 at 3.5 m a top, let go while low, whose
+    component's weight then rises fast: it becomes the highest inside a block and moves by more
+    than a climb follows from one point to the next, so that following it back from the fresh
+    input that finds it needs fresh climbs on the way (without them 7 points kept a top 4x lower)."""
     from rlff.model import Model
     from wholearm_dataset import whole_arm_throws
 
     model = Model.fit(whole_arm_throws(seed=seed), outputs=outputs, seed=0)
-    path = np.column_stack([np.linspace(0.8, 2.9, points), np.full(points, 2.5)])
+    path = np.column_stack([np.linspace(0.8, 2.9, points), np.full(points, distance)])
     conditional = model.condition(path)
     mode = dmm_mode(conditional)
     np.testing.assert_allclose(dmm_pdf(conditional, mode.output, mode.exploration), mode.pdf, rtol=1e-12)
     assert np.all(mode.max_pdf >= each_alone(conditional, mode.exploration) * (1 - 1e-9))
+
+
+def test_fresh_inputs_along_a_path_follow_how_fast_the_mixture_changes():
+    """The inputs climbed afresh: the first and the last, one every ``_TRACK_CHANGE`` of change of
+    the mixture (here a component mean moving 0.01 per input, then 0.25), at most
+    ``_TRACK_LONGEST`` apart; every input where the inputs are not a path."""
+    from rlff.model import donut as donut_module
+
+    n = 201
+    step = np.where(np.arange(n) < 100, 0.01, 0.25)
+    means = np.zeros((n, 2, 2))
+    means[:, 0, 0] = np.cumsum(step)
+    log_a, radii = np.zeros((n, 2)), np.ones(n)
+    fresh = donut_module._fresh_inputs(means, log_a, radii, 2 * radii)
+    assert fresh[0] == 0 and fresh[-1] == n - 1
+    gaps = np.diff(fresh)
+    slow, fast = gaps[fresh[1:] < 100], gaps[fresh[:-1] > 100]
+    assert np.all(slow == donut_module._TRACK_LONGEST)  # 0.32 of change: the longest block
+    per_block = donut_module._TRACK_CHANGE / 0.25  # inputs (up to the sums' rounding)
+    assert np.all((fast[:-1] >= per_block) & (fast[:-1] <= per_block + 1))
+    rng = np.random.default_rng(0)  # random queries: means and weights anywhere at each input
+    scattered, jumping = rng.normal(0.0, 10.0, size=(n, 2, 2)), np.log(rng.uniform(1e-3, 1.0, size=(n, 2)))
+    np.testing.assert_array_equal(donut_module._fresh_inputs(scattered, jumping, radii, 2 * radii), np.arange(n))
+    np.testing.assert_array_equal(donut_module._fresh_inputs(means[:1], log_a[:1], radii[:1], radii[:1]), [0])
 
 
 def test_continuity_with_two_outputs_keeps_the_mode_nearest_the_previous_point():

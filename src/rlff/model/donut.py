@@ -44,9 +44,11 @@ _MAX_NEWTON = 60
 #: donut: P_DMM is at least that peak somewhere (all terms are >= 0), so the K terms skipped move
 #: the density by less than K 1e-20 of its maximum, while most terms far from a start cost no exp.
 _NEGLIGIBLE = -46.0
-#: Following along a path (see :func:`_modes_nd_kernel`): every this many inputs climb all their
-#: starts afresh, the inputs in between follow the tops.
-_TRACK_BLOCK = 8
+#: Following along a path (see :func:`_modes_nd_kernel`): inputs climbed afresh, with the tops
+#: followed between them, wherever the mixture has changed by this much since the last (see
+#: :func:`_fresh_inputs`), and at least every ``_TRACK_LONGEST`` inputs.
+_TRACK_CHANGE = 2.0
+_TRACK_LONGEST = 32
 #: Input i continues input i-1 when no component of relative weight above e^-7 (1e-3) at either
 #: changes its log-weight by more than ``_TRACK_LOG_WEIGHT`` and the donut radii change by less
 #: than ``_TRACK_RADII`` (relative). (Not the means' steps: a narrow component's mean can slide
@@ -61,8 +63,6 @@ _TRACK_JUMP = 0.15
 #: ... and so is one whose density fell below this share of what it was at the input before (a
 #: path too coarse for following: the top has left the reach of its climb).
 _TRACK_DROP = 0.5
-#: The largest step of a top from one input to the next that predicts its next step.
-_TRACK_PREDICT = 0.05
 #: Two end points this close (scaled outputs) are one top: followed once.
 _SAME_TOP = 1e-3
 #: Tops below this share of the highest at an input are not followed to the next (until the
@@ -468,10 +468,12 @@ def dmm_mode(
     mean GMR variance, so that outputs in different units (rad, rad/s) weigh alike.
 
     With several outputs and inputs that are consecutive points of a path, the tops are followed
-    from one input to the next and all starts are climbed only at every 8th input (and where a
-    followed top is lost); a top that a fresh climb finds and the following missed is followed
+    from one input to the next, and all starts are climbed only where the mixture has changed
+    enough since the last such input (57 of a throw's 1,000 phase points, 46 of 150) and where a
+    followed top is lost; a top that a fresh climb finds and the following missed is followed
     back (see :func:`_modes_nd_kernel`). The result is that of climbing every input alone, but
-    for a top born and gone again between two fresh inputs, and 2-3x faster on 1,000 path points.
+    for a top born and gone again between two fresh inputs, and about 4x faster on 1,000 path
+    points. Inputs that are not a path (random queries) are each climbed alone.
     """
     n = len(conditional)
     if isinstance(exploration, str):
@@ -703,9 +705,8 @@ def _modes_nd(donuts: _Donuts, gmr_mean: np.ndarray, tol: float) -> tuple[np.nda
     pdf = np.empty((donuts.n, n_starts))
     best = np.empty(donuts.n, dtype=np.int64)
     # C-ordered float64 arrays only: one compiled (and cached) version of the kernel
-    inputs = [gmr_mean / unit, donuts.m / unit, log_a, log_b, precision, axes, donuts.r_a2, donuts.r_b2, ring]
+    inputs = [gmr_mean, donuts.m, log_a, log_b, precision, axes, donuts.r_a2, donuts.r_b2, ring, unit]
     _modes_nd_kernel(*(np.ascontiguousarray(a, dtype=float) for a in inputs), float(tol), ends, pdf, best)
-    ends *= unit
     return ends, pdf, best
 
 
@@ -842,6 +843,7 @@ def _modes_nd_kernel(
     r_a2: np.ndarray,
     r_b2: np.ndarray,
     ring: np.ndarray,
+    unit: np.ndarray,
     tol: float,
     ends: np.ndarray,
     pdf: np.ndarray,
@@ -852,7 +854,9 @@ def _modes_nd_kernel(
     Inputs: gmr_mean (N, O); means (N, K, O); log_a, log_b (N, K): log-weights of the two
     Gaussian terms; precision (K, O, O) = S_k^-1; axes (K, O, O): row j the offset of one
     Mahalanobis unit along S_k's j-th principal axis; r_a2, r_b2, ring (N,): squared radii and
-    the squared Mahalanobis radius of the donuts' highest ring. Outputs: ends (N, S, O) and pdf
+    the squared Mahalanobis radius of the donuts' highest ring; unit (O,): the scale of each
+    output (the means, the axes and the precisions are of the outputs divided by it, see
+    :func:`_modes_nd`; gmr_mean and means are divided here). Outputs: ends (N, S, O) and pdf
     (N, S) with S = K (1 + 2 O) + 1 + ``_LATE_SLOTS``, in this order: each component's mean, its
     ring points on its O principal axes (+), the same (-), the GMR mean, then the slots of tops
     followed back (below); without a hole in any donut, S = K + 1 + ``_LATE_SLOTS`` (no ring
@@ -868,17 +872,19 @@ def _modes_nd_kernel(
     below BFGS from the GMR mean or from any component mean (tested on random mixtures, to the
     climbs' precision).
 
-    Along a path the tops are followed instead. Every ``_TRACK_BLOCK``-th input (and the last)
-    climbs all its starts afresh; in between, where input i continues input i-1
-    (:func:`_continues`), each start climbs from where it ended at i-1, carried on by the step
-    it made before (:func:`_follow_point`): starts that ended on one top climb once, tops below
-    ``_FOLLOW_SHARE`` of the highest are let go, and a climb takes a step or two instead of the
-    five or so from a component mean. An input that does not continue, or where a followed top
-    is lost (``_TRACK_JUMP``, ``_TRACK_DROP``: it vanished under its climb), is climbed afresh. At each fresh input the tops above
-    ``_TOP_SHARE`` of the highest that the following did not reach (born, or risen from a top let
-    go, inside the block) are followed back through the block into late slots of their own
-    (:func:`_follow_back`); when there are more of them than late slots, the block is climbed
-    afresh. What this can miss is a top born and gone again between two fresh inputs.
+    Along a path the tops are followed instead. The inputs of :func:`_fresh_inputs` (the first,
+    the last, and one wherever the mixture has changed by ``_TRACK_CHANGE``) climb all their
+    starts afresh; in between, each start climbs from where it ended at i-1, carried on along the
+    parabola through its last ends (:func:`_follow_point`, :func:`_predict`): starts that ended
+    on one top climb once, tops below ``_FOLLOW_SHARE`` of the highest are let go, and a climb
+    takes one or two density evaluations instead of the five or so from a component mean. An
+    input where a followed top is lost (``_TRACK_JUMP``, ``_TRACK_DROP``: it vanished under its
+    climb) is climbed afresh. At each fresh input the tops above ``_TOP_SHARE`` of the highest
+    that the following did not reach (born, or risen from a top let go, inside the block) are
+    followed back through the block into late slots of their own (:func:`_follow_back`, which
+    climbs a row afresh where such a top moved too far to follow); when there are more of them
+    than late slots, the block is climbed afresh. What this can miss is a top born and gone
+    again between two fresh inputs.
 
     (Both cores with numba's prange took the time down by 1.3-1.6x on an idle machine and up
     by about 3x on a busy one, where a thread waits for the other at every join: left out.)
@@ -893,6 +899,8 @@ def _modes_nd_kernel(
     number per step (tens of microseconds each) and by evaluating every start to the last step.
     """
     n, n_components, n_out = means.shape
+    gmr_mean = gmr_mean / unit  # the outputs scaled (see _modes_nd), the end points scaled back below
+    means = means / unit
     narrowest = np.inf
     sigma = 0.0
     for k in range(n_components):  # the scaled components' extreme standard deviations
@@ -908,25 +916,72 @@ def _modes_nd_kernel(
         low[k] = 1.0 / widest
     context = (gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol)
     n_starts = pdf.shape[1]
-    n_blocks = (n - 1 + _TRACK_BLOCK - 1) // _TRACK_BLOCK  # block b: inputs b B .. min((b + 1) B, n - 1)
-    fresh_ends = np.empty((n_blocks + 1, n_starts, n_out))
-    fresh_pdf = np.empty((n_blocks + 1, n_starts))
+    fresh = _fresh_inputs(means, log_a, r_a2, r_b2)  # block b: inputs fresh[b] .. fresh[b + 1]
+    n_blocks = fresh.size - 1
+    fresh_ends = np.empty((fresh.size, n_starts, n_out))
+    fresh_pdf = np.empty((fresh.size, n_starts))
     scratch = _scratch(n_components, n_out, n_starts)
-    for j in range(n_blocks + 1):  # the fresh inputs
-        _fresh_point(min(j * _TRACK_BLOCK, n - 1), j, context, scratch, fresh_ends, fresh_pdf)
+    for j in range(fresh.size):
+        _fresh_point(fresh[j], j, context, scratch, fresh_ends, fresh_pdf)
     ends[n - 1] = fresh_ends[n_blocks]
     pdf[n - 1] = fresh_pdf[n_blocks]
-    block_ends = np.empty((_TRACK_BLOCK + 1, n_starts, n_out))
-    block_pdf = np.empty((_TRACK_BLOCK + 1, n_starts))
+    block_ends = np.empty((_TRACK_LONGEST + 1, n_starts, n_out))
+    block_pdf = np.empty((_TRACK_LONGEST + 1, n_starts))
     missed = np.empty(_LATE_SLOTS, dtype=np.int64)
     for b in range(n_blocks):  # the blocks between them
-        first, last = b * _TRACK_BLOCK, min((b + 1) * _TRACK_BLOCK, n - 1)
+        first, last = fresh[b], fresh[b + 1]
         _follow_block(first, last, fresh_ends[b], fresh_pdf[b], fresh_ends[b + 1], fresh_pdf[b + 1], context,
                       scratch, block_ends, block_pdf, missed)
         ends[first:last] = block_ends[: last - first]
         pdf[first:last] = block_pdf[: last - first]
     for i in range(n):
         best[i] = _highest(ends[i, :, 0], pdf[i])
+        for s in range(n_starts):
+            for o in range(n_out):
+                ends[i, s, o] *= unit[o]
+
+
+@numba.njit(cache=True, nogil=True)
+def _fresh_inputs(means: np.ndarray, log_a: np.ndarray, r_a2: np.ndarray, r_b2: np.ndarray) -> np.ndarray:
+    """The inputs (F,) climbed afresh along a path of N inputs: the first, the last, and between
+    them each where the mixture has changed by ``_TRACK_CHANGE`` since the fresh one before, or
+    ``_TRACK_LONGEST`` inputs after it, or that does not continue the one before (:func:`_continues`).
+
+    The change from one input to the next is the largest, over the components of relative weight
+    above e^-7 at either, of the step of the (scaled) mean plus that of the relative log-weight
+    (at most 10). Its sum over a throw's phase path is about 100-130 whatever the number of
+    points, so the benchmark's path has 57 fresh inputs at 1,000 points and 46 at 150 (with
+    blocks of a fixed 8 inputs they were 126 and 19: the short paths, where the mixture changes
+    most from one point to the next, now get more of them). With ``_TRACK_CHANGE`` = 2 every point
+    of 162 whole-arm paths (seeds 0-7 and the benchmark's, 2 and 3 outputs, 1.5-3.5 m, 150-1,000
+    points) got the mode of climbing it alone, to a relative 1e-8; with 3, one point was 1.3e-8
+    lower, and with 4 and 6 one point kept a top 0.4 % lower. (4 would save about 5 %.)
+    """
+    n, n_components, n_out = means.shape
+    fresh = np.empty(n, dtype=np.int64)
+    fresh[0] = 0
+    count = 1
+    change = 0.0
+    for i in range(1, n):
+        if not _continues(i, log_a, r_a2, r_b2):
+            change = np.inf
+        else:
+            step = 0.0
+            highest, highest_before = _largest(log_a[i]), _largest(log_a[i - 1])
+            for k in range(n_components):
+                weight, weight_before = log_a[i, k] - highest, log_a[i - 1, k] - highest_before
+                if weight < _TRACK_RELEVANT and weight_before < _TRACK_RELEVANT:
+                    continue
+                moved = 0.0
+                for o in range(n_out):
+                    moved += (means[i, k, o] - means[i - 1, k, o]) ** 2
+                step = max(step, math.sqrt(moved) + min(abs(weight - weight_before), 10.0))
+            change += step
+        if i == n - 1 or change >= _TRACK_CHANGE or i - fresh[count - 1] >= _TRACK_LONGEST:
+            fresh[count] = i
+            count += 1
+            change = 0.0
+    return fresh[:count]
 
 
 @numba.njit(**_UNCOUNTED)
@@ -985,8 +1040,7 @@ def _find_back(
     climbed afresh instead."""
     n_missed = _missed_tops(fresh_ends, fresh_pdf, followed_ends, followed_pdf, missed)
     if n_missed > _LATE_SLOTS:
-        for again in range(1, row):
-            _fresh_point(first + again, again, context, scratch, block_ends, block_pdf)
+        _climb_rows_afresh(first, 1, row, context, scratch, block_ends, block_pdf)
         return
     for j in range(n_missed):
         _follow_back(fresh_ends[missed[j]], first, row, context, scratch, block_ends, block_pdf)
@@ -996,18 +1050,22 @@ def _find_back(
 def _scratch(n_components: int, n_out: int, n_starts: int) -> tuple:
     """Work space of :func:`_modes_nd_kernel`: per-input log-weights, peaks and
     the active components, a start and an end point, the climb's vectors and matrices, the
-    starts climbed at the current input and the starts let go in the current block."""
+    starts climbed at the current input, the starts let go in the current block, a row's
+    followed climbs with the tops a fresh climb of it adds (:func:`_follow_back`), and how many
+    steps each start has been followed for (:func:`_predict`)."""
     return (
         np.empty(n_components), np.empty(n_components), np.empty(n_components), np.empty(n_components, dtype=np.int64),
         np.empty(n_out), np.empty(n_out), np.empty((8, n_out)), np.empty((3, n_out, n_out)),
         np.empty(n_starts, dtype=np.int64), np.zeros(n_starts, dtype=np.bool_),
+        np.empty((n_starts, n_out)), np.empty(n_starts), np.empty(2, dtype=np.int64), np.zeros(n_starts, dtype=np.int64),
     )
 
 
 @numba.njit(**_UNCOUNTED)
 def _release(scratch: tuple) -> None:
-    """No start let go (at a fresh input or a block's start)."""
+    """No start let go, none followed (at a fresh input or a block's start)."""
     scratch[9][:] = False
+    scratch[13][:] = 0
 
 
 @numba.njit(**_UNCOUNTED)
@@ -1017,7 +1075,7 @@ def _weigh_point(i: int, context: tuple, scratch: tuple) -> tuple[float, float, 
     rlff.model.fastexp), each donut's peak h_k max D_k and the components above the floor of
     negligible terms. Returns (e^M, the floor, the number of active components, the largest peak)."""
     gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
-    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped, kept_ends, kept_pdf, moved, followed = scratch
     ra2, rb2, q = r_a2[i], r_b2[i], ring[i]
     highest = _largest(log_a[i])
     for k in range(a_i.size):
@@ -1050,7 +1108,7 @@ def _prepare_point(
     component's mean, the late slots pdf -inf and the GMR mean. Returns :func:`_weigh_point`'s
     and the number of starts."""
     gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
-    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped, kept_ends, kept_pdf, moved, followed = scratch
     scale, floor, n_active, top = _weigh_point(i, context, scratch)
     n_components, n_out = means.shape[1], means.shape[2]
     slots = _slots(pdf, n_components)
@@ -1077,7 +1135,7 @@ def _prepare_point(
 @numba.njit(**_UNCOUNTED)
 def _fresh_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.ndarray, pdf: np.ndarray) -> None:
     """Input i: every start climbed from where :func:`_modes_nd_kernel` says, into ends[row], pdf[row]."""
-    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped, kept_ends, kept_pdf, moved, followed = scratch
     scale, floor, n_active, top, n_slots = _prepare_point(i, row, context, scratch, ends, pdf)
     _release(scratch)
     for t in range(n_slots):
@@ -1093,7 +1151,7 @@ def _climb_fresh(i: int, k: int, slot: int, context: tuple, scratch: tuple, used
     principal axis (slots 1 to 2 O) or, for k = K, the GMR mean; end point into the scratch's
     point, its density (relative to e^M, see :func:`_weigh_point`) returned."""
     gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
-    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped, kept_ends, kept_pdf, moved, followed = scratch
     n_out = means.shape[2]
     if k == means.shape[1]:
         _copy(start, gmr_mean[i])
@@ -1113,7 +1171,7 @@ def _climb_from(i: int, begin: np.ndarray, context: tuple, scratch: tuple, used:
     first trust radius of the narrowest donut; end point into the scratch's point, its density
     (relative to e^M, see :func:`_weigh_point`) returned."""
     gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
-    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped, kept_ends, kept_pdf, moved, followed = scratch
     return _climb_start_nd(
         begin, means[i], a_i, b_i, precision, low, used, r_a2[i], r_b2[i], floor, narrowest / math.sqrt(r_b2[i]), sigma,
         tol, point, work, square,
@@ -1127,7 +1185,7 @@ def _follow_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.nda
     at i afresh, a top below ``_FOLLOW_SHARE`` of the highest is let go. False when a followed
     top is lost (``_TRACK_JUMP``; the row is then incomplete)."""
     gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
-    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped = scratch
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped, kept_ends, kept_pdf, moved, followed = scratch
     scale, floor, n_active, top, n_slots = _prepare_point(i, row, context, scratch, ends, pdf)
     used = active[:n_active]
     slots = _slots(pdf, means.shape[1])
@@ -1138,9 +1196,11 @@ def _follow_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.nda
         if not dropped[s] and pdf[row - 1, s] == -np.inf:  # a start new at this input
             pdf[row, s] = _climb_fresh(i, k, slot, context, scratch, used, floor) * scale
             _copy(ends[row, s], point)
+            followed[s] = 0
             continue
         if dropped[s] or pdf[row - 1, s] < lowest_followed:  # a low top: let go
             dropped[s] = True
+            followed[s] = 0
             pdf[row, s] = -np.inf
             _copy(ends[row, s], ends[row - 1, s])
             continue
@@ -1152,31 +1212,33 @@ def _follow_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.nda
         if same >= 0:
             pdf[row, s] = pdf[row, same]
             _copy(ends[row, s], ends[row, same])
+            followed[s] += 1
             continue
-        _predict(ends, pdf, row, s, start)
+        _predict(ends, row, s, followed[s], start)
         climbed = _climb_from(i, start, context, scratch, used, floor)
         if _distance2(point, start) > _TRACK_JUMP**2 or not climbed * scale > _TRACK_DROP * pdf[row - 1, s]:
             return False  # not where it was headed, or far lower than it was: lost
         pdf[row, s] = climbed * scale
         _copy(ends[row, s], point)
+        followed[s] += 1
     return True
 
 
 @numba.njit(**_UNCOUNTED)
-def _predict(ends: np.ndarray, pdf: np.ndarray, row: int, s: int, start: np.ndarray) -> None:
-    """Where start s's top is expected in ``row``, into ``start`` (O,): the parabola through its
-    ends in the three rows before, or the line through the last two, carried on by one row (a
-    predictor for the climb, which then corrects); where it was in the row before when there are
-    no such ends (a new start, or one whose step was longer than ``_TRACK_PREDICT``: another top)."""
+def _predict(ends: np.ndarray, row: int, s: int, followed: int, start: np.ndarray) -> None:
+    """Where start s's top is expected in ``row``, into ``start`` (O,), from its ends in the rows
+    before and the number of steps ``followed`` that led to its end in row - 1 by following (a
+    fresh climb can put a start on another top): the parabola through the last three ends when
+    two steps were followed, the line through the last two after one, else where it was (a
+    predictor for the climb, which then corrects; a top that moves by more than a component's
+    width from one input to the next is then still found in a step or two)."""
     _copy(start, ends[row - 1, s])
-    if row < 2 or pdf[row - 2, s] == -np.inf or _distance2(ends[row - 1, s], ends[row - 2, s]) > _TRACK_PREDICT**2:
-        return
-    if row >= 3 and pdf[row - 3, s] > -np.inf and _distance2(ends[row - 2, s], ends[row - 3, s]) <= _TRACK_PREDICT**2:
+    if followed >= 2 and row >= 3:
         for o in range(start.size):
             start[o] += 2.0 * ends[row - 1, s, o] - 3.0 * ends[row - 2, s, o] + ends[row - 3, s, o]
-        return
-    for o in range(start.size):
-        start[o] += ends[row - 1, s, o] - ends[row - 2, s, o]
+    elif followed >= 1 and row >= 2:
+        for o in range(start.size):
+            start[o] += ends[row - 1, s, o] - ends[row - 2, s, o]
 
 
 @numba.njit(**_UNCOUNTED)
@@ -1227,9 +1289,13 @@ def _follow_back(
 ) -> None:
     """A top ``top_end`` (O,) that a fresh climb at input first + rows found and the following
     missed, followed back through rows rows - 1 .. 1 (inputs first + row) into a late slot free in
-    each, until it vanishes (its climb jumps: it was born there) or meets a top there."""
+    each, until it meets a top there or its climb jumps. A jump is a top born at the row after, or
+    one that moved farther in a step than a climb follows (a component whose weight changes fast
+    carries its top along): that row is climbed afresh, and a top there that the followed climbs
+    had not reached (the same top, moved) is followed on from there. Where no late slot is free,
+    or the fresh row holds more than one such top, the rows left are climbed afresh."""
     gmr_mean, means, log_a, log_b, precision, axes, r_a2, r_b2, ring, low, narrowest, sigma, tol = context
-    a_i, b_i, peaks, active, begin, point, work, square, tracked, dropped = scratch
+    a_i, b_i, peaks, active, begin, point, work, square, tracked, dropped, kept_ends, kept_pdf, moved, followed = scratch
     previous = top_end
     older = top_end  # the top two rows on, for the predictor (none yet)
     for row in range(rows - 1, 0, -1):
@@ -1238,21 +1304,41 @@ def _follow_back(
         while late < pdf.shape[1] and pdf[row, late] > -np.inf:
             late += 1
         if late == pdf.shape[1]:
+            _climb_rows_afresh(first, 1, row + 1, context, scratch, ends, pdf)
             return
         scale, floor, n_active, top = _weigh_point(i, context, scratch)
         _copy(begin, previous)
-        if row + 2 <= rows and _distance2(previous, older) <= _TRACK_PREDICT**2:
+        if row + 2 <= rows:  # the line through the two tops before
             for o in range(begin.size):
                 begin[o] += previous[o] - older[o]
         climbed = _climb_from(i, begin, context, scratch, active[:n_active], floor)
-        if _distance2(point, begin) > _TRACK_JUMP**2 or not climbed > 0.0:
+        if _distance2(point, begin) <= _TRACK_JUMP**2 and climbed > 0.0:
+            for other in range(pdf.shape[1]):
+                if pdf[row, other] > -np.inf and _distance2(point, ends[row, other]) <= _FOUND_TOP**2:
+                    return
+            pdf[row, late] = climbed * scale
+            _copy(ends[row, late], point)
+            older, previous = previous, ends[row, late]
+            continue
+        _copy(kept_ends, ends[row])  # jumped: this row afresh, against what was followed there
+        _copy(kept_pdf, pdf[row])
+        _fresh_point(i, row, context, scratch, ends, pdf)
+        n_moved = _missed_tops(ends[row], pdf[row], kept_ends, kept_pdf, moved)
+        if n_moved == 0:  # born at the row after
             return
-        for other in range(pdf.shape[1]):
-            if pdf[row, other] > -np.inf and _distance2(point, ends[row, other]) <= _FOUND_TOP**2:
-                return
-        pdf[row, late] = climbed * scale
-        _copy(ends[row, late], point)
-        older, previous = previous, ends[row, late]
+        if n_moved > 1:
+            _climb_rows_afresh(first, 1, row, context, scratch, ends, pdf)
+            return
+        older = previous = ends[row, moved[0]]
+
+
+@numba.njit(**_UNCOUNTED)
+def _climb_rows_afresh(
+    first: int, start: int, stop: int, context: tuple, scratch: tuple, ends: np.ndarray, pdf: np.ndarray
+) -> None:
+    """Rows start .. stop - 1 (inputs first + row) of ends (R, S, O), pdf (R, S) climbed afresh."""
+    for row in range(start, stop):
+        _fresh_point(first + row, row, context, scratch, ends, pdf)
 
 
 @numba.njit(**_UNCOUNTED, inline="always")
