@@ -726,8 +726,10 @@ def _density_nd(
     u: np.ndarray,
     grad: np.ndarray,
     hess: np.ndarray,
+    derivatives: bool = True,
 ) -> float:
-    """P_DMM at y (O,) for one input, its gradient into ``grad`` (O,) and Hessian into ``hess`` (O, O).
+    """P_DMM at y (O,) for one input, its gradient into ``grad`` (O,) and Hessian into ``hess`` (O, O)
+    (left as they are when ``derivatives`` is False: a climb's last point needs only P).
 
     means (K, O), log_a, log_b (K,): component means and log-weights of the two Gaussian terms;
     precision (K, O, O) = S_k^-1 and low (K,) its smallest eigenvalue; used: the components
@@ -764,6 +766,8 @@ def _density_nd(
         slope = r_a2 * a - r_b2 * b
         bend = r_a2 * r_a2 * a - r_b2 * r_b2 * b
         pdf += a - b
+        if not derivatives:
+            continue
         for o in range(n_out):
             grad[o] -= slope * u[o]
             for p in range(o + 1):
@@ -1008,7 +1012,8 @@ def _follow_block(
     _release(scratch)
     for row in range(1, rows + 1):
         i = first + row
-        if _continues(i, log_a, r_a2, r_b2) and _follow_point(i, row, context, scratch, block_ends, block_pdf):
+        # (every input inside a block continues the one before: see _fresh_inputs)
+        if (row < rows or _continues(i, log_a, r_a2, r_b2)) and _follow_point(i, row, context, scratch, block_ends, block_pdf):
             continue
         # a top lost: climb this input afresh, and follow back what it finds that was not followed
         if row < rows:
@@ -1418,7 +1423,8 @@ def _climb_start_nd(
             length = radius
         for o in range(point.size):
             trial[o] = point[o] + step[o]
-        p_t = _density_nd(trial, means, log_a, log_b, precision, low, used, r_a2, r_b2, floor, diff, u, grad_t, hess_t)
+        p_t = _density_nd(trial, means, log_a, log_b, precision, low, used, r_a2, r_b2, floor, diff, u, grad_t, hess_t,
+                          not last)
         if p_t > p:
             _copy(point, trial)
             p = p_t
