@@ -73,14 +73,15 @@ _FOLLOW_SHARE = 0.1
 _TOP_SHARE = 0.1
 #: A fresh climb's top is among the followed ones when one of them ended this close to it.
 _FOUND_TOP = 1e-2
-#: How the several-output climb's helpers compile: without numba's reference counting (its
-#: ``_nrt=False`` option, which numba's own tests use but does not document). They only read and
-#: write arrays that :func:`_modes_nd_kernel` allocated and holds while they run, and with the
-#: counting every array argument, view and tuple element of each call cost an atomic increment
-#: and decrement: perf put half the kernel's time in them (NRT_incref, NRT_decref), and without
-#: them the kernel takes half the time on 1,000 path points. What would need the runtime (an
-#: allocation, a slice assignment, ndarray.max) does not compile under this option, so it cannot
-#: slip in; the kernel itself, which allocates, keeps it.
+#: How the climbs' helpers compile: without numba's reference counting (its ``_nrt=False``
+#: option, which numba's own tests use but does not document). They only read and write arrays
+#: that the kernels (:func:`_modes_1d_kernel`, :func:`_modes_nd_kernel`) allocated and hold while
+#: they run, and with the counting every array argument, view and tuple element of each call cost
+#: an atomic increment and decrement: perf put half the several-output kernel's time in them
+#: (NRT_incref, NRT_decref), and without them it takes half the time on 1,000 path points (the
+#: one-output kernel 10-20 % less). What would need the runtime (an allocation, a slice
+#: assignment, ndarray.max) does not compile under this option, so it cannot slip in; the
+#: kernels themselves, which allocate, keep it.
 _UNCOUNTED = {"cache": True, "nogil": True, "_nrt": False}
 #: Up to ``_LATE_SLOTS`` tops a block's last input finds and the following missed are followed
 #: back through the block into slots of their own; more than that, and the block is climbed afresh.
@@ -523,7 +524,7 @@ def _modes_1d(donuts: _Donuts, gmr_mean: np.ndarray, tol: float) -> tuple[np.nda
     return ends, pdf, best
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _density_1d(
     y: float,
     means: np.ndarray,
@@ -622,7 +623,7 @@ def _modes_1d_kernel(
         best[i] = _highest(ends[i], pdf[i])
 
 
-@numba.njit(cache=True, nogil=True)
+@numba.njit(**_UNCOUNTED)
 def _climb_start(
     start: float,
     gmr_start: bool,
