@@ -1018,12 +1018,28 @@ def _follow_block(
             continue
         # a top lost: climb this input afresh, and follow back what it finds that was not followed
         if row < rows:
-            _fresh_point(i, row, context, scratch, block_ends, block_pdf)
+            _refollow(i, row, context, scratch, block_ends, block_pdf)
             _find_back(block_ends[row], block_pdf[row], block_ends[row - 1], block_pdf[row - 1], first, row, context, scratch, block_ends, block_pdf, missed)
         else:
             _find_back(last_ends, last_pdf, block_ends[row - 1], block_pdf[row - 1], first, row, context, scratch, block_ends, block_pdf, missed)
             return
     _find_back(last_ends, last_pdf, block_ends[rows], block_pdf[rows], first, rows, context, scratch, block_ends, block_pdf, missed)
+
+
+@numba.njit(**_UNCOUNTED)
+def _refollow(i: int, row: int, context: tuple, scratch: tuple, ends: np.ndarray, pdf: np.ndarray) -> None:
+    """Input i, where following lost a top, climbed afresh into ends[row], pdf[row]; a start whose
+    fresh climb ends on the top its followed climb reached (a top that moved by more than
+    ``_TRACK_JUMP`` from where it was, with nothing to predict the move by) counts as followed
+    for one step, so that the next input predicts it along the line through its last two ends
+    (else a top that moves that fast is lost at every input)."""
+    a_i, b_i, peaks, active, start, point, work, square, tracked, dropped, kept_ends, kept_pdf, moved, followed = scratch
+    _copy(kept_ends, ends[row])  # the followed climbs up to the lost one
+    _copy(kept_pdf, pdf[row])
+    _fresh_point(i, row, context, scratch, ends, pdf)
+    for s in range(pdf.shape[1]):
+        if kept_pdf[s] > -np.inf and pdf[row, s] > -np.inf and _gap2(kept_ends, s, ends[row], s) <= _FOUND_TOP**2:
+            followed[s] = 1
 
 
 @numba.njit(**_UNCOUNTED)
@@ -1222,10 +1238,10 @@ def _follow_point(i: int, row: int, context: tuple, scratch: tuple, ends: np.nda
             continue
         _predict(ends, row, s, followed[s], start)
         climbed = _climb_from(i, start, context, scratch, used, floor)
-        if _distance2(point, start) > _TRACK_JUMP**2 or not climbed * scale > _TRACK_DROP * pdf[row - 1, s]:
-            return False  # not where it was headed, or far lower than it was: lost
         pdf[row, s] = climbed * scale
         _copy(ends[row, s], point)
+        if _distance2(point, start) > _TRACK_JUMP**2 or not climbed * scale > _TRACK_DROP * pdf[row - 1, s]:
+            return False  # not where it was headed, or far lower than it was: lost
         followed[s] += 1
     return True
 
@@ -1362,6 +1378,15 @@ def _largest(x: np.ndarray) -> float:
     for value in x:
         top = max(top, value)
     return top
+
+
+@numba.njit(**_UNCOUNTED, inline="always")
+def _gap2(x: np.ndarray, s: int, y: np.ndarray, t: int) -> float:
+    """|x[s] - y[t]|^2 of two rows of (S, O) end points."""
+    total = 0.0
+    for o in range(x.shape[1]):
+        total += (x[s, o] - y[t, o]) * (x[s, o] - y[t, o])
+    return total
 
 
 @numba.njit(**_UNCOUNTED, inline="always")
