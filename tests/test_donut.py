@@ -267,8 +267,7 @@ def test_bad_mode_options_are_named(kwargs, message):
 def test_each_compiled_kernel_has_one_version_whatever_the_memory_layout():
     """Another argument type or layout would compile (and cache) another version of a kernel,
     seconds each on first use: every entry point hands the kernels C-ordered float64 arrays."""
-    from rlff.model import donut as donut_module
-    from rlff.model import regression
+    from rlff.model import climb, regression
 
     mixture = GaussianMixture.from_parameters(
         np.array([0.3, 0.7]), np.array([[0.0, 0.0, 1.0], [2.0, 1.0, 3.0]]), np.array([np.eye(3), 2 * np.eye(3)])
@@ -288,8 +287,8 @@ def test_each_compiled_kernel_has_one_version_whatever_the_memory_layout():
         dmm_mode(condition(mixture, [0], [1, 2], queries))
         dmm_mode(condition(mixture, [0], [1, 2], queries), 0.7, continuity=True)
     assert len(regression._conditional_kernel.signatures) == 1
-    assert len(donut_module._modes_1d_kernel.signatures) == 1
-    assert len(donut_module._modes_nd_kernel.signatures) == 1
+    assert len(climb._modes_1d_kernel.signatures) == 1
+    assert len(climb._modes_nd_kernel.signatures) == 1
 
 
 # -- several outputs: the compiled climb -----------------------------------------------------------
@@ -384,24 +383,24 @@ def test_fresh_inputs_along_a_path_follow_how_fast_the_mixture_changes():
     """The inputs climbed afresh: the first and the last, one every ``_TRACK_CHANGE`` of change of
     the mixture (here a component mean moving 0.01 per input, then 0.25), at most
     ``_TRACK_LONGEST`` apart; every input where the inputs are not a path."""
-    from rlff.model import donut as donut_module
+    from rlff.model import climb
 
     n = 201
     step = np.where(np.arange(n) < 100, 0.01, 0.25)
     means = np.zeros((n, 2, 2))
     means[:, 0, 0] = np.cumsum(step)
     log_a, radii = np.zeros((n, 2)), np.ones(n)
-    fresh = donut_module._fresh_inputs(means, log_a, radii, 2 * radii)
+    fresh = climb._fresh_inputs(means, log_a, radii, 2 * radii)
     assert fresh[0] == 0 and fresh[-1] == n - 1
     gaps = np.diff(fresh)
     slow, fast = gaps[fresh[1:] < 100], gaps[fresh[:-1] > 100]
-    assert np.all(slow == donut_module._TRACK_LONGEST)  # 0.32 of change: the longest block
-    per_block = donut_module._TRACK_CHANGE / 0.25  # inputs (up to the sums' rounding)
+    assert np.all(slow == climb._TRACK_LONGEST)  # 0.32 of change: the longest block
+    per_block = climb._TRACK_CHANGE / 0.25  # inputs (up to the sums' rounding)
     assert np.all((fast[:-1] >= per_block) & (fast[:-1] <= per_block + 1))
     rng = np.random.default_rng(0)  # random queries: means and weights anywhere at each input
     scattered, jumping = rng.normal(0.0, 10.0, size=(n, 2, 2)), np.log(rng.uniform(1e-3, 1.0, size=(n, 2)))
-    np.testing.assert_array_equal(donut_module._fresh_inputs(scattered, jumping, radii, 2 * radii), np.arange(n))
-    np.testing.assert_array_equal(donut_module._fresh_inputs(means[:1], log_a[:1], radii[:1], radii[:1]), [0])
+    np.testing.assert_array_equal(climb._fresh_inputs(scattered, jumping, radii, 2 * radii), np.arange(n))
+    np.testing.assert_array_equal(climb._fresh_inputs(means[:1], log_a[:1], radii[:1], radii[:1]), [0])
 
 
 def test_continuity_with_two_outputs_keeps_the_mode_nearest_the_previous_point():
