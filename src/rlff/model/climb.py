@@ -604,7 +604,7 @@ def _refollow(i: int, row: int, context: tuple, scratch: tuple, ends: np.ndarray
     _copy(kept_pdf, pdf[row])
     _fresh_point(i, row, context, scratch, ends, pdf)
     for s in range(pdf.shape[1]):
-        if kept_pdf[s] > -np.inf and pdf[row, s] > -np.inf and _gap2(kept_ends, s, ends[row], s) <= _FOUND_TOP**2:
+        if kept_pdf[s] > -np.inf and pdf[row, s] > -np.inf and _distance2(kept_ends[s], ends[row, s]) <= _FOUND_TOP**2:
             followed[s] = 1
 
 
@@ -944,15 +944,6 @@ def _largest(x: np.ndarray) -> float:
     for value in x:
         top = max(top, value)
     return top
-
-
-@numba.njit(**_UNCOUNTED, inline="always")
-def _gap2(x: np.ndarray, s: int, y: np.ndarray, t: int) -> float:
-    """|x[s] - y[t]|^2 of two rows of (S, O) end points."""
-    total = 0.0
-    for o in range(x.shape[1]):
-        total += (x[s, o] - y[t, o]) * (x[s, o] - y[t, o])
-    return total
 
 
 @numba.njit(**_UNCOUNTED, inline="always")
