@@ -6,9 +6,9 @@ continuous chain. With one output the starts are each component's mean, its two 
 the GMR mean; with several, the same on every principal axis, and along a path the tops are
 followed from one input to the next (:func:`modes_nd`, :func:`_modes_nd_kernel`).
 
-Why by hand: these are the project's own search (the thesis runs BFGS from the GMR mean, which
-stops at a donut's hole); a general optimiser per start and input was 300-1,000 times slower
-(benchmarks/models.py, sections (c) and (d)).
+Why by hand: the search is the project's own (the thesis runs BFGS from the GMR mean, which
+stops at a donut's hole). scipy's BFGS, one run per input, is 270-1,000 times slower and ends
+lower wherever it stops in a hole (benchmarks/models.py, sections (c) and (d)).
 """
 
 from __future__ import annotations
