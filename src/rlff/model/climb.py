@@ -516,11 +516,8 @@ def _modes_nd_kernel(
 def _fresh_inputs(means: np.ndarray, log_a: np.ndarray, r_a2: np.ndarray, r_b2: np.ndarray) -> np.ndarray:
     """The inputs (F,) climbed afresh along a path of N inputs: the first, the last, and between
     them each where the mixture has changed by ``_TRACK_CHANGE`` since the fresh one before, or
-    ``_TRACK_LONGEST`` inputs after it, or that does not continue the one before (:func:`_continues`).
-
-    The change from one input to the next is the largest, over the components of relative weight
-    above e^-7 at either, of the step of the (scaled) mean plus that of the relative log-weight
-    (at most 10). Its sum over a throw's phase path is about 100-130 whatever the number of
+    ``_TRACK_LONGEST`` inputs after it, or that does not continue the one before (see
+    :func:`_change`). The change sums over a throw's phase path to about 100-130 whatever the number of
     points, so the benchmark's path has 57 fresh inputs at 1,000 points and 46 at 150 (with
     blocks of a fixed 8 inputs they were 126 and 19: the short paths, where the mixture changes
     most from one point to the next, now get more of them). With ``_TRACK_CHANGE`` = 2 every point
@@ -528,26 +525,13 @@ def _fresh_inputs(means: np.ndarray, log_a: np.ndarray, r_a2: np.ndarray, r_b2: 
     points) got the mode of climbing it alone, to a relative 1e-8; with 3, one point was 1.3e-8
     lower, and with 4 and 6 one point kept a top 0.4 % lower. (4 would save about 5 %.)
     """
-    n, n_components, n_out = means.shape
+    n = means.shape[0]
     fresh = np.empty(n, dtype=np.int64)
     fresh[0] = 0
     count = 1
     change = 0.0
     for i in range(1, n):
-        if not _continues(i, log_a, r_a2, r_b2):
-            change = np.inf
-        else:
-            step = 0.0
-            highest, highest_before = _largest(log_a[i]), _largest(log_a[i - 1])
-            for k in range(n_components):
-                weight, weight_before = log_a[i, k] - highest, log_a[i - 1, k] - highest_before
-                if weight < _TRACK_RELEVANT and weight_before < _TRACK_RELEVANT:
-                    continue
-                moved = 0.0
-                for o in range(n_out):
-                    moved += (means[i, k, o] - means[i - 1, k, o]) ** 2
-                step = max(step, math.sqrt(moved) + min(abs(weight - weight_before), 10.0))
-            change += step
+        change += _change(i, means, log_a, r_a2, r_b2)
         if i == n - 1 or change >= _TRACK_CHANGE or i - fresh[count - 1] >= _TRACK_LONGEST:
             fresh[count] = i
             count += 1
@@ -580,7 +564,7 @@ def _follow_block(
     for row in range(1, rows + 1):
         i = first + row
         # (every input inside a block continues the one before: see _fresh_inputs)
-        if (row < rows or _continues(i, log_a, r_a2, r_b2)) and _follow_point(i, row, context, scratch, block_ends, block_pdf):
+        if (row < rows or _change(i, means, log_a, r_a2, r_b2) < np.inf) and _follow_point(i, row, context, scratch, block_ends, block_pdf):
             continue
         # a top lost: climb this input afresh, and follow back what it finds that was not followed
         if row < rows:
@@ -830,17 +814,24 @@ def _predict(ends: np.ndarray, row: int, s: int, followed: int, start: np.ndarra
 
 
 @numba.njit(**_UNCOUNTED)
-def _continues(i: int, log_a: np.ndarray, r_a2: np.ndarray, r_b2: np.ndarray) -> bool:
-    """Whether input i continues input i-1 along a path (the ``_TRACK_*`` limits)."""
+def _change(i: int, means: np.ndarray, log_a: np.ndarray, r_a2: np.ndarray, r_b2: np.ndarray) -> float:
+    """How much the mixture changed from input i-1 to input i (scaled outputs): the largest, over
+    the components of relative weight above e^-7 (``_TRACK_RELEVANT``) at either, of the step of
+    the mean plus that of the relative log-weight; inf where input i does not continue input i-1
+    along a path (a relevant log-weight changes by more than ``_TRACK_LOG_WEIGHT``, or the donut
+    radii by more than ``_TRACK_RADII``)."""
     if abs(r_a2[i] - r_a2[i - 1]) > _TRACK_RADII * r_a2[i - 1] or abs(r_b2[i] - r_b2[i - 1]) > _TRACK_RADII * r_b2[i - 1]:
-        return False
+        return np.inf
     highest, highest_before = _largest(log_a[i]), _largest(log_a[i - 1])
+    step = 0.0
     for k in range(log_a.shape[1]):
-        if log_a[i, k] - highest < _TRACK_RELEVANT and log_a[i - 1, k] - highest_before < _TRACK_RELEVANT:
+        weight, weight_before = log_a[i, k] - highest, log_a[i - 1, k] - highest_before
+        if weight < _TRACK_RELEVANT and weight_before < _TRACK_RELEVANT:
             continue
-        if abs((log_a[i, k] - highest) - (log_a[i - 1, k] - highest_before)) > _TRACK_LOG_WEIGHT:
-            return False
-    return True
+        if abs(weight - weight_before) > _TRACK_LOG_WEIGHT:
+            return np.inf
+        step = max(step, math.sqrt(_distance2(means[i, k], means[i - 1, k])) + abs(weight - weight_before))
+    return step
 
 
 @numba.njit(**_UNCOUNTED)
