@@ -24,24 +24,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
+from alone import each_alone  # noqa: E402
 from rlff.model import Model  # noqa: E402
 from rlff.model.donut import dmm_mode  # noqa: E402
-from rlff.model.regression import Conditional  # noqa: E402
 from wholearm_dataset import whole_arm_throws  # noqa: E402
 
 OUTPUTS = (("velocity", "shoulder"), ("velocity", "shoulder", "shoulder_velocity"))
-
-
-def each_alone(conditional: Conditional, exploration: np.ndarray) -> np.ndarray:
-    """The highest P_DMM (N,) of every input of ``conditional`` climbed on its own."""
-    tops = np.empty(len(conditional))
-    for i in range(len(conditional)):
-        single = Conditional(
-            conditional.weights[i : i + 1], conditional.means[i : i + 1], conditional.covariances,
-            conditional.mean[i : i + 1], conditional.covariance[i : i + 1],
-        )
-        tops[i] = dmm_mode(single, exploration[i : i + 1]).max_pdf[0]
-    return tops
 
 
 def seed_range(text: str) -> list[int]:

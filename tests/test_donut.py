@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 from scipy.optimize import minimize
 from scipy.stats import multivariate_normal, norm
 
+from alone import each_alone
 from rlff.errors import InputError
 from rlff.model.donut import dmm_mode, dmm_pdf, donut_pdf, donut_radii, exploration_factor
 from rlff.model.mixture import GaussianMixture
@@ -319,18 +320,6 @@ def test_several_outputs_never_below_bfgs_from_the_gmr_mean_and_every_component_
         np.testing.assert_allclose(dmm_pdf(conditional, mode.output, mode.exploration), mode.pdf, rtol=1e-12)
         for i in range(len(conditional)):
             assert mode.pdf[i] >= max(bfgs_tops(conditional, mode.exploration, i)) * (1 - 1e-7), (exploration, i)
-
-
-def each_alone(conditional: Conditional, exploration: np.ndarray) -> np.ndarray:
-    """The highest P_DMM of every input climbed on its own (a batch of one: nothing to follow)."""
-    tops = []
-    for i in range(len(conditional)):
-        single = Conditional(
-            conditional.weights[i : i + 1], conditional.means[i : i + 1], conditional.covariances,
-            conditional.mean[i : i + 1], conditional.covariance[i : i + 1],
-        )
-        tops.append(dmm_mode(single, exploration[i : i + 1]).max_pdf[0])
-    return np.array(tops)
 
 
 def test_a_top_that_rises_inside_a_followed_block_is_found_at_every_input():
