@@ -17,7 +17,9 @@ script measures those curves, then counts the attempts to the first hit of
 - ``scale-0.4``: ``kept`` with a prior of 0.4;
 - ``failed-demos``: the donut's idea in the range law's terms: every demonstration that missed
   its basket rules out (softly) the speeds that would have hit it, a demonstration that hit
-  makes them likelier, about the normal prior 0.3 (:func:`failed_demos_prior`);
+  makes them likelier, about the normal prior 0.3 (:func:`rlff.learn.outcomes.outcomes_prior`);
+- ``calibrate``: the method's own windows (``failed-demos`` where every demonstration missed,
+  else ``kept``);
 - ``aimed``: a normal prior of :data:`AIM_SCALE` about the speed the robot's own kinematics
   send to the basket (the
   free flight from the planned release, as the whole-arm loop aims,
@@ -39,7 +41,6 @@ import numpy as np
 from scipy.stats import norm
 
 from rlff.learn.attempt import Attempt
-from rlff.learn.landings import demonstration_release_speeds
 from rlff.learn.loop import (
     METHODS,
     _angle_grid,
@@ -51,6 +52,7 @@ from rlff.learn.loop import (
     aimed_factor,
 )
 from rlff.learn.method import Problem, scale_speed
+from rlff.learn.outcomes import outcomes_prior
 from rlff.learn.scenarios import DEMONSTRATORS, Scenario, demonstrations
 from rlff.learn.strategies import capped_at_release, release_speed
 from rlff.learn.windows import LOWEST, PRIOR_SCALE, WindowSearch, lattice, window_width
@@ -59,10 +61,6 @@ from rlff.sim import Basket
 
 BUDGET = 20
 STEP = 0.0125
-#: ``failed-demos``: blur (log speed) of one demonstration's hit window (each person's release
-#: style moves their own law) and of the whole set's (the human-to-robot mapping); the best of
-#: 0.03-0.1 and 0-0.15 on seeds 0-23.
-DEMO_BLUR, MAPPING_BLUR = 0.03, 0.15
 #: ``aimed``: standard deviation (log speed) of the prior about the kinematic aim (its error on
 #: a real arm is not known here; in this simulation it is below 0.01).
 AIM_SCALE = 0.1
@@ -124,31 +122,6 @@ def variant_offsets(width: float, highest: float, variant: str) -> np.ndarray:
     return first
 
 
-def failed_demos_prior(problem: Problem, reference: float):
-    """Log prior density over the hit's log speed factor x from the demonstrations' outcomes.
-
-    Demonstration i, released at u_i and aimed at Z_i, would have hit where the range law
-    L = c u^1.6 puts Z_i within the tolerance; seen from the robot's basket Z that is the window
-    x in log(u_i / u0) + log(Z / (Z_i +- tolerance)) / 1.6. A miss multiplies the normal prior
-    (0.3 about the GMR mean) by one minus that window's probability (blurred by
-    :data:`DEMO_BLUR`), a hit by the probability; the product is blurred by :data:`MAPPING_BLUR`
-    (the robot does not land where the person did)."""
-    x = np.linspace(-3.0, 3.0, 2401)
-    log_p = norm.logpdf(x, 0.0, PRIOR_SCALE)
-    shift = np.log(demonstration_release_speeds(problem.demos, problem.angles) / reference)
-    aimed = np.array([float(t.meta["target"]) for t in problem.demos])
-    hit = np.array([bool(t.meta.get("hit")) for t in problem.demos])
-    low = shift + np.log(problem.target / (aimed + problem.tolerance)) / 1.6
-    high = shift + np.log(problem.target / np.maximum(aimed - problem.tolerance, 1e-3)) / 1.6
-    inside = (norm.cdf((high[:, None] - x) / DEMO_BLUR) - norm.cdf((low[:, None] - x) / DEMO_BLUR))  # (S, G)
-    log_p = log_p + np.sum(np.log(np.clip(np.where(hit[:, None], inside, 1.0 - inside), 1e-6, 1.0)), axis=0)
-    step = x[1] - x[0]
-    kernel = norm.pdf(np.arange(-4 * MAPPING_BLUR, 4 * MAPPING_BLUR + step / 2, step), 0.0, MAPPING_BLUR)
-    density = np.convolve(np.exp(log_p - log_p.max()), kernel / kernel.sum(), mode="same")
-    log_density = np.log(np.maximum(density, 1e-300))
-    return lambda q: np.interp(q, x, log_density)
-
-
 def aimed_offset(problem: Problem, reference: float) -> float:
     """Log speed factor at which the robot's kinematics send calibrate's throw to the basket."""
     shape = capped_at_release(problem.angles, METHODS["calibrate"](problem).shape([]))
@@ -161,7 +134,9 @@ def orders(problem: Problem, reference: float) -> dict[str, np.ndarray]:
     highest = math.log(problem.max_speed / reference)
     kept = WindowSearch(problem.target, problem.tolerance, highest)
     wide = WindowSearch(problem.target, problem.tolerance, highest, scale=0.4)
-    failed = WindowSearch(problem.target, problem.tolerance, highest, failed_demos_prior(problem, reference))
+    failed = WindowSearch(problem.target, problem.tolerance, highest,
+                          outcomes_prior(problem.demos, problem.angles, problem.target, problem.tolerance, reference))
+    calibrate = METHODS["calibrate"](problem).windows(problem.max_speed)
     aimed = WindowSearch(problem.target, problem.tolerance, highest, scale=AIM_SCALE,
                          centre=aimed_offset(problem, reference))
     width = window_width(problem.target, problem.tolerance)
@@ -171,6 +146,7 @@ def orders(problem: Problem, reference: float) -> dict[str, np.ndarray]:
         "gmr-first": variant_offsets(width, kept.highest, "gmr-first"),
         "scale-0.4": wide.offsets,
         "failed-demos": failed.offsets,
+        "calibrate": calibrate.offsets,
         "aimed": aimed.offsets,
     }
     speeds = {name: np.minimum(reference * np.exp(x[:BUDGET]), problem.max_speed) for name, x in offsets.items()}
@@ -183,7 +159,7 @@ def main() -> None:
     parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--scenario", default="short,wide,overshooting,near,mixed")
     args = parser.parse_args()
-    names = ("sweep", "kept", "truncated", "gmr-first", "scale-0.4", "failed-demos", "aimed")
+    names = ("sweep", "kept", "truncated", "gmr-first", "scale-0.4", "failed-demos", "calibrate", "aimed")
     scenarios = args.scenario.split(",")
     means: dict[str, dict[str, float]] = {name: {} for name in names}
     for scenario in scenarios:

@@ -43,6 +43,9 @@ differ in how the attempts join the data, with what weight, and which distance i
       within reach). The centre is the speed that one range law fitted to all the
       demonstrations' known landings gives for the basket (:mod:`rlff.learn.landings`; the
       prior's width its error and the robot's scatter about it), else the GMR mean's speed;
+      where no landing is known and every demonstration missed, the prior rules out the speeds
+      at which the failures would have hit and throws the ring about them first
+      (:mod:`rlff.learn.outcomes`: the donut's reasoning, stated in the release speed);
     - the shape keeps to one side of the donut (``continuity``) and is capped at its release
       speed (:func:`fastest_at_release`), so that the release speed alone decides the landing
       even where the demonstrations disagree and the DMM's mode would jump between sides.
@@ -67,7 +70,7 @@ from scipy.special import logsumexp
 from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
-from rlff.learn.landings import ROBOT_SCALE, landing_speed
+from rlff.learn.landings import ROBOT_SCALE, LandingSpeed, landing_speed
 from rlff.learn.method import (
     Method,
     Problem,
@@ -80,6 +83,7 @@ from rlff.learn.method import (
     scale_speed,
     training_set,
 )
+from rlff.learn.outcomes import all_missed, outcomes_prior
 from rlff.learn.windows import PRIOR_SCALE, WindowSearch
 
 
@@ -322,17 +326,30 @@ class CalibrateUpdate(DmmStrategy):
         error and :data:`rlff.learn.landings.ROBOT_SCALE` added in quadrature), else about the GMR
         mean's speed with :data:`rlff.learn.windows.PRIOR_SCALE`. A whole-arm throw's u0 comes
         from the arm's kinematics already and keeps the latter."""
-        problem = self.problem
-        law = None if problem.aim is not None else landing_speed(problem.demos, problem.angles, problem.target,
-                                                                  problem.elasticity)
+        law = self.landings_law()
         if law is None:
             return 0.0, PRIOR_SCALE
         return math.log(law.speed / self.reference), math.hypot(law.log_error, ROBOT_SCALE)
 
+    def landings_law(self) -> LandingSpeed | None:
+        """The speed the demonstrations' known landings point to (None: fewer than 3 known, or a
+        whole-arm throw, whose u0 the arm's kinematics give)."""
+        problem = self.problem
+        if problem.aim is not None:
+            return None
+        return landing_speed(problem.demos, problem.angles, problem.target, problem.elasticity)
+
     def speed_prior(self) -> Callable[[np.ndarray], np.ndarray] | None:
-        """Log prior density over the hit's log speed factor for the window search (None: its
-        normal prior about the GMR mean's speed, :data:`rlff.learn.windows.PRIOR_SCALE`)."""
-        return None
+        """Log prior density over the hit's log speed factor for the window search. Where every
+        demonstration missed and none of their landings is known (a one-joint throw), the
+        failures' prior of :mod:`rlff.learn.outcomes`: the speeds at which they would have hit
+        are ruled out, the ring about them goes first. Else None: the normal prior about
+        :meth:`speed_centre`."""
+        problem = self.problem
+        if problem.aim is not None or not all_missed(problem.demos) or self.landings_law() is not None:
+            return None
+        return outcomes_prior(problem.demos, problem.angles, problem.target, problem.tolerance, self.reference,
+                              problem.elasticity)
 
     def shape(self, history: Sequence[Attempt]) -> Proposal:
         """The DMM's throw for the target from the demonstrations and the landed attempts.

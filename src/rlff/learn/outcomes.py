@@ -1,0 +1,102 @@
+"""Where the robot's hit is not: what demonstrations that all missed say about the release speed.
+
+Without landings the demonstrations still record whether each ball went in (``hit`` metadata, as
+the synthetic people and a labelled capture give it). When every one of them missed, the mean of
+the demonstrations is a mean of failures: the thesis' reason for the Donut Mixture Model, whose
+density is low where the failed demonstrations agree and high on a ring about them. This module
+states that reasoning where it reaches the ball, in the release speed of the range law
+L = c u^b (:mod:`rlff.learn.landings`):
+
+- demonstration i, released at speed u_i and aimed at Z_i, would have hit had the law been one
+  of those through (u_i, Z_i +- tolerance); seen from the robot's basket Z that law asks for the
+  log speed factor x = log(u_i / u0) + log(Z / (Z_i -+ tolerance)) / b (u0 the GMR mean's release
+  speed for Z);
+- its miss multiplies the window search's normal prior about the GMR mean
+  (:data:`rlff.learn.windows.PRIOR_SCALE`) by one minus the probability of that window, blurred
+  by :data:`DEMO_BLUR` (each person's own release moves their law a little);
+- the product is blurred by :data:`MAPPING_BLUR`: the robot does not land where the person did
+  (the human-to-robot mapping changes the arm and the release), by the same amount for all.
+
+The result is a density over the robot's hit x* with a hole where the failures would have
+hit, which :class:`rlff.learn.windows.WindowSearch` turns into an order of the speed windows:
+the ring about the failures first. On the tuning seeds (0-39, binary feedback, no landings,
+emulated on measured hit curves: ``benchmarks/learning_orders.py``) it took the `short`
+demonstrators (every throw short) from 3.66 attempts to 2.94; where some demonstrations hit, the
+robot's hit is not ruled out by anything and the normal prior stays (docs/learn.md has where
+this loses: a robot whose hit lies in the failures' region).
+
+Hand-written: a product of normal window probabilities on a grid and one convolution, the
+project's own method.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+from scipy.stats import norm
+
+from rlff.dataset import Dataset
+from rlff.learn.landings import demonstration_release_speeds
+from rlff.learn.method import demo_labels
+from rlff.learn.windows import PRIOR_SCALE
+
+#: Blur (log speed) of one demonstration's would-have-hit window: each person's release style
+#: moves their own law (chosen among 0.02-0.06 on seeds 0-39).
+DEMO_BLUR = 0.03
+#: Blur (log speed) of the whole prior: how far the robot's hit may lie from the person's for the
+#: same throw (chosen among 0.1-0.3 on seeds 0-39; 0.15-0.2 within 0.1 attempts of each other).
+MAPPING_BLUR = 0.15
+#: The grid (log speed factors) the prior is computed on.
+_GRID = np.linspace(-3.0, 3.0, 2401)
+
+
+def all_missed(demos: Dataset) -> bool:
+    """True when every demonstration (at least 3) is recorded as a miss (``hit`` False)."""
+    outcomes = [t.meta.get("hit") for t in demos]
+    return len(outcomes) >= 3 and all(outcome is False for outcome in outcomes)
+
+
+def outcomes_prior(demos: Dataset, angles: np.ndarray, target: float, tolerance: float, reference: float,
+                   elasticity: float = 1.6) -> Callable[[np.ndarray], np.ndarray]:
+    """Log prior density over the robot's hit log speed factor x* = log(u* / ``reference``) from
+    the demonstrations' outcomes: a miss rules its would-have-hit window out, a hit (``hit``
+    True) makes it likelier. ``calibrate`` uses it where every demonstration missed
+    (:func:`all_missed`); with hits among them the same reasoning loses (docs/learn.md).
+
+    Parameters
+    ----------
+    demos : Dataset
+        The demonstrations (``angle`` rad, ``velocity`` rad/s; the basket each aimed at as its
+        label; ``hit`` metadata, a demonstration without it counted as a miss).
+    angles : array of shape (T,)
+        The loop's angle grid (rad); its last tenth is the release part.
+    target : float
+        The robot's basket Z (m).
+    tolerance : float
+        Half-width of the hit window (m); the people's basket is taken as wide as the robot's.
+    reference : float
+        u0, the GMR mean's release speed for Z (rad/s).
+    elasticity : float
+        b of the range law.
+
+    Returns
+    -------
+    callable
+        ``log_density(x)`` for an array of log speed factors, unnormalised (any scale).
+    """
+    shift = np.log(np.maximum(demonstration_release_speeds(demos, angles), 1e-9) / reference)  # (S,)
+    aimed = demo_labels(demos)  # (S,)
+    low = shift + np.log(target / (aimed + tolerance)) / elasticity
+    high = shift + np.log(target / np.maximum(aimed - tolerance, 1e-3)) / elasticity
+    inside = (norm.cdf((high[:, None] - _GRID) / DEMO_BLUR)
+              - norm.cdf((low[:, None] - _GRID) / DEMO_BLUR))  # (S, G): would it have hit at x
+    hit = np.array([t.meta.get("hit") is True for t in demos])  # (S,)
+    likelihood = np.where(hit[:, None], inside, 1.0 - inside)
+    log_p = norm.logpdf(_GRID, 0.0, PRIOR_SCALE) + np.sum(np.log(np.clip(likelihood, 1e-6, 1.0)), axis=0)
+    step = _GRID[1] - _GRID[0]
+    half = int(np.ceil(4.0 * MAPPING_BLUR / step))
+    kernel = norm.pdf(np.arange(-half, half + 1) * step, 0.0, MAPPING_BLUR)
+    density = np.convolve(np.exp(log_p - log_p.max()), kernel / kernel.sum(), mode="same")
+    log_density = np.log(np.maximum(density, 1e-300))
+    return lambda x: np.interp(x, _GRID, log_density)

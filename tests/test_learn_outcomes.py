@@ -1,0 +1,82 @@
+"""What demonstrations that all missed say about the robot's hit: the failures' prior over the
+release speed, and calibrate's windows in its order against the real model and MuJoCo."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rlff.dataset import Dataset, Trajectory
+from rlff.learn import learn
+from rlff.learn.outcomes import all_missed, outcomes_prior
+from rlff.learn.scenarios import Scenario, demonstrations
+
+ANGLES = np.linspace(0.8, 2.6, 30)
+#: u0 of the tests: the speed over the grid's last tenth of a ramp up to 10 rad/s at its end
+REFERENCE = float(np.mean(10.0 * (ANGLES[-3:] - 0.8) / 1.8))
+
+
+def _demo(name: str, end_speed: float, aimed: float, hit: bool | None) -> Trajectory:
+    angle = np.linspace(0.8, 2.6, 40)
+    velocity = end_speed * (angle - 0.8) / 1.8  # a ramp: its release speed scales with end_speed
+    meta = {} if hit is None else {"hit": hit}
+    return Trajectory(name, {"angle": angle, "distance": np.full(40, aimed), "velocity": velocity}, meta)
+
+
+def _people(hits: list[bool | None], target: float = 1.5) -> Dataset:
+    # throws about u0, aimed at the robot's basket: their would-have-hit windows cluster at x = 0
+    speeds = 10.0 * np.exp(np.linspace(-0.04, 0.04, len(hits)))
+    return Dataset([_demo(f"d{i}", s, target, h) for i, (s, h) in enumerate(zip(speeds, hits, strict=True))],
+                   context=("distance",))
+
+
+def test_all_missed_needs_every_demonstration_recorded_as_a_miss():
+    assert all_missed(_people([False] * 5))
+    assert not all_missed(_people([False] * 4 + [True]))
+    assert not all_missed(_people([False] * 4 + [None]))  # an outcome not recorded says nothing
+    assert not all_missed(_people([False] * 2))  # too few to rule anything out
+
+
+def test_the_failures_own_speed_is_ruled_out_and_the_ring_about_it_goes_first():
+    log_density = outcomes_prior(_people([False] * 12), ANGLES, 1.5, 0.14, REFERENCE)
+    x = np.array([-0.3, 0.0, 0.3])
+    ring_low, centre, ring_high = np.exp(log_density(x))
+    assert centre < 0.8 * ring_high  # without the failures, N(0, 0.3) puts 1.65x more at 0
+    assert ring_low == pytest.approx(ring_high, rel=0.05)  # nothing says short or long
+    # farther out the normal prior about the GMR mean takes over again
+    assert np.exp(log_density(np.array([1.0])))[0] < 0.1 * ring_high
+
+
+def test_a_demonstration_that_hit_makes_its_speed_likelier():
+    missed = outcomes_prior(_people([False] * 12), ANGLES, 1.5, 0.14, REFERENCE)
+    one_hit = outcomes_prior(_people([False] * 11 + [True]), ANGLES, 1.5, 0.14, REFERENCE)
+    # the hit (the fastest throw, x = +0.04) lifts the middle against the ring
+    ratio_missed = np.exp(missed(np.array([0.04])) - missed(np.array([0.3])))[0]
+    ratio_hit = np.exp(one_hit(np.array([0.04])) - one_hit(np.array([0.3])))[0]
+    assert ratio_hit > 2.0 * ratio_missed
+
+
+def test_the_hole_moves_with_the_basket_the_people_aimed_at():
+    # aimed at 1.2 m, thrown at u0: for a 1.5 m basket their would-have-hit speed is
+    # log(1.5 / 1.2) / 1.6 = 0.14 above u0, so the hole is there, not at 0
+    moved = 0.14
+    at_basket = outcomes_prior(_people([False] * 12), ANGLES, 1.5, 0.14, REFERENCE)
+    short_of_it = outcomes_prior(_people([False] * 12, target=1.2), ANGLES, 1.5, 0.14, REFERENCE)
+    x = np.array([0.0, moved])
+    assert np.diff(at_basket(x))[0] > 0.2  # the hole at 0
+    assert np.diff(short_of_it(x))[0] < -0.2  # the hole at +0.14
+
+
+def test_calibrate_throws_the_ring_first_where_every_demonstration_missed():
+    # the short demonstrators of a tuning seed (below 100): every throw fell short, no landings
+    missed = demonstrations(24, Scenario("short", landings="none"))
+    assert all_missed(missed)
+    unknown = Dataset([t.replace(meta={k: v for k, v in t.meta.items() if k != "hit"}) for t in missed],
+                      context=missed.context)
+    ruled_out = learn(missed, 1.4, budget=20, feedback="binary", update="calibrate", seed=24)
+    normal = learn(unknown, 1.4, budget=1, feedback="binary", update="calibrate", seed=24)
+    assert ruled_out.hit, ruled_out.misses
+    order = [a.info["log_factor"] for a in ruled_out.history]
+    assert len(set(order)) == len(order)  # no window twice
+    assert 0.0 not in order[:3]  # the failures' own speed, the GMR mean's, is ruled out
+    assert normal.history[0].info["log_factor"] == 0.0  # outcomes unknown: the normal prior's order
