@@ -11,7 +11,8 @@ script measures those curves, then counts the attempts to the first hit of
 
 - ``sweep``: the baseline's own proposals (0, +w, -w, ... about the GMR mean's speed);
 - ``kept``: :class:`rlff.learn.windows.WindowSearch` as ``calibrate`` uses it without landings
-  (normal prior 0.3 about the GMR mean's speed, the tail beyond the limit to the fastest window);
+  unless every demonstration missed (normal prior 0.3 about the GMR mean's speed, the tail
+  beyond the limit to the fastest window);
 - ``truncated``: the same prior truncated at the limit (the tail to nobody);
 - ``gmr-first``: the GMR mean's window first, then ``kept``'s order;
 - ``scale-0.4``: ``kept`` with a prior of 0.4;
