@@ -290,18 +290,23 @@ def test_constant_column_warns_and_fits():
     assert np.all(np.isfinite(path.velocity))
 
 
-def test_one_output_paths_are_bit_identical_to_those_before_the_multi_output_climb():
+def test_one_output_paths_are_those_before_the_multi_output_climb():
     """The reference holds, as hexadecimal floats, the paths the code before the compiled
     several-output climb (commit 649ba55) generated from the model stored beside it: the one-output
-    case must not move by one bit."""
+    case must not move. Bit for bit only on a machine like the one that wrote it: the compiled
+    kernels and libm round differently on other CPUs (on an AMD EPYC: densities and exploration
+    1e-14 apart, the continuity's climbs, which stop at a tolerance, up to 2e-9), so the check is
+    to rounding, far below any change of the method (a mode moved by a climb's step is 1e-4 off)."""
     from pathlib import Path
 
     data = Path(__file__).parent / "data"
     model = Model.load(data / "thesis_model_k_bic.json")
     reference = json.loads((data / "thesis_paths_before_multi_output.json").read_text())
+    tolerance = {"velocity": 1e-8, "pdf": 1e-12, "exploration": 1e-12}
     for distance in (3.0, 8.5, 12.5):
         for continuity in (False, True):
             path = model.generate({"distance": distance}, np.linspace(0, 10, 40), continuity=continuity)
             expected = reference[f"distance={distance:g} continuity={continuity}"]
-            for name in ("velocity", "pdf", "exploration"):
-                assert [float(v).hex() for v in getattr(path, name)] == expected[name], (distance, continuity, name)
+            for name, rtol in tolerance.items():
+                np.testing.assert_allclose(getattr(path, name), [float.fromhex(v) for v in expected[name]],
+                                           rtol=rtol, atol=0, err_msg=f"{distance} {continuity} {name}")

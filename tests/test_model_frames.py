@@ -36,7 +36,9 @@ def test_predict_takes_a_frames_columns_by_name_not_position(model):
     positional, _ = model.predict(reordered.to_numpy())  # an array is positional: angle 8.5, distance 5
     np.testing.assert_array_equal(by_name, in_model_order)
     assert by_name[0, 0] == pytest.approx(21.26, abs=0.005)  # the right answer
-    assert positional[0, 0] == pytest.approx(8.41, abs=0.005)  # what the frame gave before
+    # what the frame gave before: the array read in the model's order, angle 8.5 and distance 5
+    np.testing.assert_array_equal(positional, model.predict(np.array([[DISTANCE, ANGLE]]))[0])
+    assert abs(positional[0, 0] - by_name[0, 0]) > 5.0
 
 
 def test_condition_takes_the_inputs_among_other_columns(model, samples):
