@@ -98,14 +98,20 @@ class Server:
 
 
 class RosNode:
-    """An rclpy context and node of the test, spinning in a thread, recording /joint_states."""
+    """An rclpy context and node of the test, spinning in a thread, recording /joint_states.
 
-    def __init__(self, domain: int, name: str = "rlff_test") -> None:
+    One executor thread unless ``threads`` says more: rclpy's MultiThreadedExecutor kept a core
+    busy on its own (ros2/rclpy#1223) and the node then saw /joint_states at 30 Hz with gaps of
+    a second instead of 100 Hz, which made the live tests flaky. A node whose callbacks block
+    (a test's own action server waiting for a cancel) needs ``threads`` > 1.
+    """
+
+    def __init__(self, domain: int, name: str = "rlff_test", threads: int = 1) -> None:
         from rlff.robot.rospath import prefer
 
         prefer(2)  # this worker may have imported ROS 1's std_msgs & co. (e.g. for `rlff robot send`)
         import rclpy
-        from rclpy.executors import MultiThreadedExecutor
+        from rclpy.executors import MultiThreadedExecutor, SingleThreadedExecutor
         from rclpy.node import Node
         from sensor_msgs.msg import JointState
 
@@ -113,7 +119,8 @@ class RosNode:
         self.context = rclpy.Context()
         rclpy.init(context=self.context, domain_id=domain)
         self.node = Node(name, context=self.context)
-        self.executor = MultiThreadedExecutor(num_threads=4, context=self.context)
+        self.executor = (SingleThreadedExecutor(context=self.context) if threads == 1
+                         else MultiThreadedExecutor(num_threads=threads, context=self.context))
         self.executor.add_node(self.node)
         self._states: list[tuple[float, np.ndarray, np.ndarray]] = []
         self._lock = threading.Lock()

@@ -101,7 +101,7 @@ class FakeController:
 
 @pytest.fixture(scope="module")
 def controller(domain, throw):
-    node = RosNode(domain, "test_controller")
+    node = RosNode(domain, "test_controller", threads=4)  # its goal callback blocks until cancelled
     fake = FakeController(node, throw[1])
     yield fake
     node.close()

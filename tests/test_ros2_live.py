@@ -61,6 +61,10 @@ def client(node):
 
     client = ActionClient(node.node, FollowJointTrajectory, ACTION)
     assert client.wait_for_server(timeout_sec=60), "rlff's action server was not discovered"
+    # the server's services answer before its feedback topic is matched: a goal sent at once
+    # had its feedback arrive only at the end (2 messages of 37, once in CI)
+    feedback = f"{ACTION}/_action/feedback"
+    wait_until(lambda: node.node.count_publishers(feedback) >= 1, 60, "the action's feedback publisher")
     return client
 
 
