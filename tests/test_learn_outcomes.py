@@ -80,3 +80,5 @@ def test_calibrate_throws_the_ring_first_where_every_demonstration_missed():
     assert len(set(order)) == len(order)  # no window twice
     assert 0.0 not in order[:3]  # the failures' own speed, the GMR mean's, is ruled out
     assert normal.history[0].info["log_factor"] == 0.0  # outcomes unknown: the normal prior's order
+    # the attempts log says which prior ordered the windows
+    assert ruled_out.history[0].info["prior"] == "failures" and normal.history[0].info["prior"] == "normal"

@@ -274,6 +274,7 @@ class CalibrateUpdate(DmmStrategy):
             self.reference *= problem.aim(self.first)
         self._demos_shape: Proposal | None = None
         self._windows: WindowSearch | None = None
+        self._prior = ""  # the window search's prior, by name (set with the windows)
         if not self.reference > 0:
             raise InputError(f"the GMR throw for {problem.target:g} m does not move at its "
                              "release: the demonstrations give no throw to calibrate")
@@ -291,7 +292,8 @@ class CalibrateUpdate(DmmStrategy):
         if problem.feedback == "binary":
             x, mass = self.windows(fastest).offset(len(history))
             wanted = min(self.reference * math.exp(x), fastest)
-            info = {"speed": round(wanted, 4), "log_factor": round(x, 4), "p_window": round(mass, 4)}
+            info = {"speed": round(wanted, 4), "log_factor": round(x, 4), "p_window": round(mass, 4),
+                    "prior": self._prior}
         else:
             calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference, fastest,
                                            slope=problem.elasticity)
@@ -314,9 +316,9 @@ class CalibrateUpdate(DmmStrategy):
         if self._windows is None:
             problem = self.problem
             centre, scale = self.speed_centre()
+            self._prior, density = self.speed_prior()
             self._windows = WindowSearch(problem.target, problem.tolerance, math.log(fastest / self.reference),
-                                         self.speed_prior(), scale=scale, elasticity=problem.elasticity,
-                                         centre=centre)
+                                         density, scale=scale, elasticity=problem.elasticity, centre=centre)
         return self._windows
 
     def speed_centre(self) -> tuple[float, float]:
@@ -339,17 +341,20 @@ class CalibrateUpdate(DmmStrategy):
             return None
         return landing_speed(problem.demos, problem.angles, problem.target, problem.elasticity)
 
-    def speed_prior(self) -> Callable[[np.ndarray], np.ndarray] | None:
-        """Log prior density over the hit's log speed factor for the window search. Where every
-        demonstration missed and none of their landings is known (a one-joint throw), the
-        failures' prior of :mod:`rlff.learn.outcomes`: the speeds at which they would have hit
-        are ruled out, the ring about them goes first. Else None: the normal prior about
-        :meth:`speed_centre`."""
+    def speed_prior(self) -> tuple[str, Callable[[np.ndarray], np.ndarray] | None]:
+        """The window search's prior over the hit's log speed factor: its name, which the
+        attempts log records as ``prior``, and its log density (None: the normal prior about
+        :meth:`speed_centre`). ``landings``: normal about the speed the known landings point to;
+        ``failures``: where every demonstration missed and none of their landings is known (a
+        one-joint throw), the prior of :mod:`rlff.learn.outcomes` (the speeds at which they would
+        have hit ruled out, the ring about them first); ``normal``: about the GMR mean's speed."""
         problem = self.problem
-        if problem.aim is not None or not all_missed(problem.demos) or self.landings_law() is not None:
-            return None
-        return outcomes_prior(problem.demos, problem.angles, problem.target, problem.tolerance, self.reference,
-                              problem.elasticity)
+        if self.landings_law() is not None:
+            return "landings", None
+        if problem.aim is not None or not all_missed(problem.demos):
+            return "normal", None
+        return "failures", outcomes_prior(problem.demos, problem.angles, problem.target, problem.tolerance,
+                                          self.reference, problem.elasticity)
 
     def shape(self, history: Sequence[Attempt]) -> Proposal:
         """The DMM's throw for the target from the demonstrations and the landed attempts.
@@ -388,7 +393,7 @@ class DonutSearch(CalibrateUpdate):
     name = "donut"
     robot_weight = 1.0
 
-    def speed_prior(self) -> Callable[[np.ndarray], np.ndarray]:
+    def speed_prior(self) -> tuple[str, Callable[[np.ndarray], np.ndarray]]:
         from rlff.model.donut import dmm_marginal_pdf, exploration_factor
 
         problem = self.problem
@@ -408,7 +413,7 @@ class DonutSearch(CalibrateUpdate):
             pdf = np.mean(dmm_marginal_pdf(conditional, velocity, eps), axis=0)
             return np.log(np.maximum(pdf, 1e-300)) + x
 
-        return log_density
+        return "dmm", log_density
 
     def shape(self, history: Sequence[Attempt]) -> Proposal:
         if self.problem.feedback == "distance":
