@@ -63,6 +63,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
+from functools import cached_property
 
 import numpy as np
 from scipy.special import logsumexp
@@ -328,14 +329,16 @@ class CalibrateUpdate(DmmStrategy):
         error and :data:`rlff.learn.landings.ROBOT_SCALE` added in quadrature), else about the GMR
         mean's speed with :data:`rlff.learn.windows.PRIOR_SCALE`. A whole-arm throw's u0 comes
         from the arm's kinematics already and keeps the latter."""
-        law = self.landings_law()
+        law = self.landings_law
         if law is None:
             return 0.0, PRIOR_SCALE
         return math.log(law.speed / self.reference), math.hypot(law.log_error, ROBOT_SCALE)
 
+    @cached_property
     def landings_law(self) -> LandingSpeed | None:
         """The speed the demonstrations' known landings point to (None: fewer than 3 known, or a
-        whole-arm throw, whose u0 the arm's kinematics give)."""
+        whole-arm throw, whose u0 the arm's kinematics give); fitted once, for the centre and the
+        prior of the window search."""
         problem = self.problem
         if problem.aim is not None:
             return None
@@ -349,7 +352,7 @@ class CalibrateUpdate(DmmStrategy):
         one-joint throw), the prior of :mod:`rlff.learn.outcomes` (the speeds at which they would
         have hit ruled out, the ring about them first); ``normal``: about the GMR mean's speed."""
         problem = self.problem
-        if self.landings_law() is not None:
+        if self.landings_law is not None:
             return "landings", None
         if problem.aim is not None or not all_missed(problem.demos):
             return "normal", None
