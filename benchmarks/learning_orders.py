@@ -79,9 +79,9 @@ def problem_for(scenario: str, seed: int, basket: float) -> tuple[Problem, Baske
     return problem, target
 
 
-def hit_curve(problem: Problem, target: Basket) -> tuple[np.ndarray, np.ndarray, float]:
-    """Release speeds (rad/s, shape (N,)), whether a throw at each hit (N,), and u0 (rad/s)."""
-    method = METHODS["calibrate"](problem)
+def hit_curve(problem: Problem, target: Basket, method) -> tuple[np.ndarray, np.ndarray, float]:
+    """Release speeds (rad/s, shape (N,)), whether a throw of ``method``'s shape (``calibrate``
+    of ``problem``) at each hits (N,), and u0 (rad/s)."""
     shape = method.propose([])
     at = release_speed(problem.angles, shape.velocity)
     execute = _simulator(ROBOT, target, 0.0)
@@ -123,23 +123,26 @@ def variant_offsets(width: float, highest: float, variant: str) -> np.ndarray:
     return first
 
 
-def aimed_offset(problem: Problem, reference: float) -> float:
-    """Log speed factor at which the robot's kinematics send calibrate's throw to the basket."""
-    shape = capped_at_release(problem.angles, METHODS["calibrate"](problem).shape([]))
+def aimed_offset(problem: Problem, method) -> float:
+    """Log speed factor at which the robot's kinematics send ``method``'s throw (``calibrate``) to
+    the basket."""
+    shape = capped_at_release(problem.angles, method.shape([]))
     speed = release_speed(problem.angles, shape.velocity)
-    return math.log(speed * aimed_factor(MAPPING, problem.target, 0.3, 0.0, shape) / reference)
+    return math.log(speed * aimed_factor(MAPPING, problem.target, 0.3, 0.0, shape) / method.reference)
 
 
-def orders(problem: Problem, reference: float) -> dict[str, np.ndarray]:
-    """Release speeds (rad/s) of every order compared, attempt by attempt."""
+def orders(problem: Problem, method) -> dict[str, np.ndarray]:
+    """Release speeds (rad/s) of every order compared, attempt by attempt (``method``:
+    ``calibrate`` of ``problem``, whose u0 they are laid about)."""
+    reference = method.reference
     highest = math.log(problem.max_speed / reference)
     kept = WindowSearch(problem.target, problem.tolerance, highest)
     wide = WindowSearch(problem.target, problem.tolerance, highest, scale=0.4)
     failed = WindowSearch(problem.target, problem.tolerance, highest,
                           outcomes_prior(problem.demos, problem.angles, problem.target, problem.tolerance, reference))
-    calibrate = METHODS["calibrate"](problem).windows(problem.max_speed)
+    calibrate = method.windows(problem.max_speed)
     aimed = WindowSearch(problem.target, problem.tolerance, highest, scale=AIM_SCALE,
-                         centre=aimed_offset(problem, reference))
+                         centre=aimed_offset(problem, method))
     width = window_width(problem.target, problem.tolerance)
     offsets = {
         "kept": kept.offsets,
@@ -168,8 +171,9 @@ def main() -> None:
         for seed in range(args.first_seed, args.first_seed + args.seeds):
             for basket in DEMONSTRATORS[scenario].baskets:
                 problem, target = problem_for(scenario, seed, float(basket))
-                curve = hit_curve(problem, target)
-                for name, speeds in orders(problem, curve[2]).items():
+                method = METHODS["calibrate"](problem)  # fits the mixture: once per case
+                curve = hit_curve(problem, target, method)
+                for name, speeds in orders(problem, method).items():
                     counts[name].append(attempts(speeds, curve))
         for name in names:
             means[name][scenario] = float(np.mean(counts[name]))
