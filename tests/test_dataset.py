@@ -136,6 +136,25 @@ def test_bad_csv_is_a_clear_error_naming_file_and_line(tmp_path, text, message):
     assert str(path) in str(error.value)
 
 
+@pytest.mark.parametrize(("cells", "expected"), [
+    (("yes", "No"), (True, False)), (("1", "0"), (True, False)), (("hit", "MISS"), (True, False)),
+    (("True", "false"), (True, False)), (("y", ""), (True, None)),
+])
+def test_a_capture_s_hit_column_reads_as_bools(tmp_path, cells, expected):
+    path = tmp_path / "hits.csv"
+    path.write_text("trajectory,angle,velocity,hit\n" + "".join(
+        f"{name},{a},0.5,{cell}\n" for name, cell in zip("ab", cells, strict=True) for a in (0.1, 0.2)))
+    back = read_csv(path)
+    assert tuple(t.meta.get("hit") for t in back) == expected
+
+
+def test_a_hit_that_is_no_outcome_is_an_error_naming_line_and_words(tmp_path):
+    path = tmp_path / "hits.csv"
+    path.write_text("trajectory,angle,velocity,hit\na,0.1,0.5,yes\na,0.2,0.5,yes\nb,0.1,0.5,maybe\nb,0.2,0.5,maybe\n")
+    with pytest.raises(InputError, match=r"line 4: trajectory 'b' has hit 'maybe' \(use true/false, yes/no"):
+        read_csv(path)
+
+
 def test_missing_column_is_named():
     dataset = Dataset([_trajectory("a", 1.0)])
     with pytest.raises(InputError, match=r"no column 'height' in the data \(columns: time, angle, distance, velocity\)"):

@@ -484,19 +484,45 @@ def _meta_value(value: Any) -> Any:
     return text
 
 
+#: How a capture's ``hit`` column may say whether the ball went in (case-insensitive).
+HIT_WORDS = {"true": True, "yes": True, "y": True, "1": True, "hit": True,
+             "false": False, "no": False, "n": False, "0": False, "miss": False}
+
+
+def _hit_value(value: Any) -> bool | None:
+    """A ``hit`` cell as a bool (None: empty), from a bool, 0/1 or one of :data:`HIT_WORDS`.
+
+    Raises
+    ------
+    ValueError
+        Anything else: a learning method that reads ``hit`` must not take a typo for "unknown".
+    """
+    value = _meta_value(value)
+    if value is None or isinstance(value, bool):
+        return value
+    if isinstance(value, float) and value.is_integer():
+        value = int(value)
+    word = str(value).strip().lower()
+    if word not in HIT_WORDS:
+        raise ValueError(f"{value!r} (use true/false, yes/no, 1/0 or hit/miss)")
+    return HIT_WORDS[word]
+
+
 def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
     """Read a dataset from the CSV long format.
 
     One row per sample, a header, a ``trajectory`` id column, numeric sample columns and
     optional metadata columns (``subject``, ``source``, ``target``, ``landing``, ``hit`` or any
     non-numeric column) constant within a trajectory. Row order within a trajectory is kept.
+    ``hit`` reads as a bool from true/false, yes/no, 1/0 or hit/miss (:data:`HIT_WORDS`).
 
     Raises
     ------
     InputError
         The file is missing or malformed, has no ``trajectory`` column, a non-numeric value in a
         sample column, a non-finite value, metadata that varies within a trajectory, a
-        trajectory of a single sample, or a ``time`` column that does not increase.
+        trajectory of a single sample, a ``time`` column that does not increase, or a ``hit``
+        that is none of :data:`HIT_WORDS`.
     """
     import pandas as pd
 
@@ -548,7 +574,14 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
                 raise InputError(
                     f"{path}: metadata column {name!r} varies within trajectory {trajectory_id!r}"
                 )
-            value = _meta_value(values.iloc[0])
+            if name == "hit":
+                try:
+                    value = _hit_value(values.iloc[0])
+                except ValueError as exc:
+                    line = int(group.index[0]) + 2
+                    raise InputError(f"{path}, line {line}: trajectory {trajectory_id!r} has hit {exc}") from None
+            else:
+                value = _meta_value(values.iloc[0])
             if value is not None:
                 meta[name] = value
         if len(group) < MIN_FILE_SAMPLES:
