@@ -128,6 +128,17 @@ def test_parquet_from_another_tool_with_scattered_rows(tmp_path):
     assert dataset.context == ("distance",)
 
 
+def test_parquet_from_another_tool_reads_its_hit_column_as_bools(tmp_path):
+    table = {"trajectory": ["a", "a", "b", "b"], "angle": [0.1, 0.2, 0.1, 0.2]}
+    pq.write_table(pa.table({**table, "hit": ["yes", "yes", "no", "no"]}), tmp_path / "words.parquet")
+    pq.write_table(pa.table({**table, "hit": [1, 1, 0, 0]}), tmp_path / "numbers.parquet")
+    for name in ("words", "numbers"):
+        assert [t.meta["hit"] for t in read_parquet(tmp_path / f"{name}.parquet")] == [True, False]
+    pq.write_table(pa.table({**table, "hit": ["yes", "yes", "perhaps", "perhaps"]}), tmp_path / "bad.parquet")
+    with pytest.raises(InputError, match=r"bad.parquet: trajectory 'b' has hit 'perhaps' \(use true/false"):
+        read_parquet(tmp_path / "bad.parquet")
+
+
 def test_parquet_errors_name_the_file(tmp_path):
     pq.write_table(pa.table({"trajectory": ["a", "a"], "angle": [0.1, None]}), tmp_path / "null.parquet")
     with pytest.raises(InputError, match=r"null.parquet: column 'angle' has an empty value at row 2"):

@@ -489,8 +489,9 @@ HIT_WORDS = {"true": True, "yes": True, "y": True, "1": True, "hit": True,
              "false": False, "no": False, "n": False, "0": False, "miss": False}
 
 
-def _hit_value(value: Any) -> bool | None:
-    """A ``hit`` cell as a bool (None: empty), from a bool, 0/1 or one of :data:`HIT_WORDS`.
+def parse_hit(value: Any) -> bool | None:
+    """A ``hit`` metadata value as a bool (None: empty), from a bool, 0/1 or one of
+    :data:`HIT_WORDS`: what the CSV and Parquet readers store as ``hit``.
 
     Raises
     ------
@@ -576,7 +577,7 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
                 )
             if name == "hit":
                 try:
-                    value = _hit_value(values.iloc[0])
+                    value = parse_hit(values.iloc[0])
                 except ValueError as exc:
                     line = int(group.index[0]) + 2
                     raise InputError(f"{path}, line {line}: trajectory {trajectory_id!r} has hit {exc}") from None

@@ -24,7 +24,15 @@ from typing import Any
 
 import numpy as np
 
-from rlff.dataset import ID_COLUMN, META_KEYS, MIN_FILE_SAMPLES, Dataset, read_csv, write_csv
+from rlff.dataset import (
+    ID_COLUMN,
+    META_KEYS,
+    MIN_FILE_SAMPLES,
+    Dataset,
+    parse_hit,
+    read_csv,
+    write_csv,
+)
 from rlff.errors import InputError
 from rlff.fileio import atomic_path, atomic_write, require_file, write_text
 
@@ -370,7 +378,8 @@ def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Data
 
     Rows of one trajectory must be contiguous or are gathered in their file order (a trajectory's
     samples are never reordered). Without rlff's schema metadata, string and bool columns and the
-    known metadata keys (subject, source, target, landing, hit) are metadata, the rest samples.
+    known metadata keys (subject, source, target, landing, hit) are metadata, the rest samples;
+    ``hit`` is read as :func:`rlff.dataset.parse_hit` reads it (0/1, yes/no, ... as bools).
     """
     import pyarrow as pa
     import pyarrow.parquet as pq
@@ -438,7 +447,12 @@ def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Data
         if varying.size:
             owner = np.searchsorted(starts, varying[0], side="right") - 1
             raise InputError(f"{path}: metadata column {key!r} varies within trajectory {ids[owner]!r}")
-        for meta, value in zip(metas, column.take(pa.array(starts)).to_pylist(), strict=True):
+        for trajectory_id, meta, value in zip(ids, metas, column.take(pa.array(starts)).to_pylist(), strict=True):
+            if key == "hit":
+                try:
+                    value = parse_hit(value)
+                except ValueError as exc:
+                    raise InputError(f"{path}: trajectory {trajectory_id!r} has hit {exc}") from None
             if value is not None:
                 meta[key] = value
     try:
