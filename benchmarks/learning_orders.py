@@ -28,7 +28,9 @@ script measures those curves, then counts the attempts to the first hit of
   in this simulation, which has no gap between that model and what the ball does,
 
 and prints the mean per scenario (a run without a hit counts as 21). ``--by-basket`` adds, per
-scenario, each basket's means of ``sweep``, ``kept``, ``calibrate`` and ``aimed``, and in how
+scenario, each basket's means of ``sweep``, ``kept``, ``calibrate`` and ``aimed``, where the hit
+lies (the middle of the hitting speeds, log speed over u0, and below the joint's speed limit;
+mean and standard deviation over the seeds), and in how
 many blocks of 8 seeds x 2 baskets (the issue's 16 paired runs) ``calibrate`` needs fewer
 attempts than the sweep with a paired p < 0.05: how often a table of the record could show the
 win that the mean over all seeds shows. Tuning seeds only: the
@@ -70,6 +72,8 @@ STEP = 0.0125
 #: ``aimed``: standard deviation (log speed) of the prior about the kinematic aim (its error on
 #: a real arm is not known here; in this simulation it is below 0.01).
 AIM_SCALE = 0.1
+#: The orders ``--by-basket`` shows per basket.
+SHOWN = ("sweep", "kept", "calibrate", "aimed")
 ROBOT = load_robot("comau_smart5_six")
 MAPPING = mapping_for(ROBOT, None)
 
@@ -94,6 +98,17 @@ def hit_curve(problem: Problem, target: Basket, method) -> tuple[np.ndarray, np.
     speeds = method.reference * np.exp(np.arange(LOWEST - 2 * STEP, highest, STEP))
     hits = [_execute(scale_speed(shape, u / at), 1, target, MAPPING, execute, 0.0).hit for u in speeds]
     return speeds, np.asarray(hits, dtype=float), method.reference
+
+
+def hit_place(curve: tuple[np.ndarray, np.ndarray, float], max_speed: float) -> tuple[float, float]:
+    """Where a curve's hit lies: the middle of its hitting speeds as a log speed factor over u0,
+    and how far (log speed) that is below ``max_speed`` (NaN, NaN: no speed hits)."""
+    grid, hits, reference = curve
+    hitting = np.log(grid[hits >= 0.5] / reference)
+    if hitting.size == 0:
+        return math.nan, math.nan
+    middle = 0.5 * float(hitting.min() + hitting.max())
+    return middle, math.log(max_speed / reference) - middle
 
 
 def attempts(speeds: np.ndarray, curve: tuple[np.ndarray, np.ndarray, float]) -> int:
@@ -175,18 +190,21 @@ def main() -> None:
     breakdown = []
     for scenario in scenarios:
         counts: dict[str, list[int]] = {name: [] for name in names}
+        places: list[tuple[float, float]] = []  # hit_place of every case, in the order of counts
         baskets = DEMONSTRATORS[scenario].baskets
         for seed in range(args.first_seed, args.first_seed + args.seeds):
             for basket in baskets:
                 problem, target = problem_for(scenario, seed, float(basket))
                 method = METHODS["calibrate"](problem)  # fits the mixture: once per case
                 curve = hit_curve(problem, target, method)
+                places.append(hit_place(curve, problem.max_speed))
                 for name, speeds in orders(problem, method).items():
                     counts[name].append(attempts(speeds, curve))
         for name in names:
             means[name][scenario] = float(np.mean(counts[name]))
         if args.by_basket:
-            breakdown.append(by_basket(scenario, baskets, {n: np.asarray(c) for n, c in counts.items()}))
+            breakdown.append(by_basket(scenario, baskets, {n: np.asarray(c) for n, c in counts.items()},
+                                       np.asarray(places)))
     print(f"mean attempts to the first hit, binary feedback, no landings, seeds {args.first_seed}-"
           f"{args.first_seed + args.seeds - 1}, emulated on measured hit curves")
     print("| order | " + " | ".join(scenarios) + " | mean |")
@@ -195,26 +213,31 @@ def main() -> None:
         values = [means[name][s] for s in scenarios]
         print(f"| {name} | " + " | ".join(f"{v:.2f}" for v in values) + f" | {np.mean(values):.2f} |")
     if breakdown:
-        shown = ("sweep", "kept", "calibrate", "aimed")
-        print("\n| scenario | basket (m) | " + " | ".join(shown) + " | blocks of 16 runs: calibrate < sweep, p < 0.05 |")
-        print("|---|---|" + "---|" * (len(shown) + 1))
+        print("\n| scenario | basket (m) | " + " | ".join(SHOWN) + " | hit x* (log speed over u0) | limit - x* "
+              "| blocks of 16 runs: calibrate < sweep, p < 0.05 |")
+        print("|---|---|" + "---|" * (len(SHOWN) + 3))
         for rows in breakdown:
             for row in rows:
                 print("| " + " | ".join(row) + " |")
 
 
-def by_basket(scenario: str, baskets: tuple[float, ...], counts: dict[str, np.ndarray]) -> list[list[str]]:
-    """Table rows of one scenario: each basket's mean attempts of the shown orders, and (on the
-    first row) the 16-run blocks in which ``calibrate`` beats the sweep (paired p < 0.05).
-    ``counts`` holds each order's attempts, seed by seed and within a seed basket by basket."""
+def by_basket(scenario: str, baskets: tuple[float, ...], counts: dict[str, np.ndarray],
+              places: np.ndarray) -> list[list[str]]:
+    """Table rows of one scenario: each basket's mean attempts of :data:`SHOWN`, where its hit lies
+    (mean +- standard deviation of ``places``, shape (N, 2), :func:`hit_place`), and (on the first
+    row) the 16-run blocks in which ``calibrate`` beats the sweep (paired p < 0.05). ``counts``
+    and ``places`` go seed by seed and within a seed basket by basket."""
     per_block = 16
     a, b = counts["calibrate"], counts["sweep"]
     blocks = [(a[k:k + per_block], b[k:k + per_block]) for k in range(0, a.size - per_block + 1, per_block)]
     won = sum(1 for x, y in blocks if x.mean() < y.mean() and paired_p_value(x, y) < 0.05)
     rows = []
     for j, basket in enumerate(baskets):
-        means = [f"{counts[name][j::len(baskets)].mean():.2f}" for name in ("sweep", "kept", "calibrate", "aimed")]
-        rows.append([scenario if j == 0 else "", f"{basket:g}", *means, f"{won} of {len(blocks)}" if j == 0 else ""])
+        means = [f"{counts[name][j::len(baskets)].mean():.2f}" for name in SHOWN]
+        place = places[j::len(baskets)]
+        where = [f"{np.nanmean(v):+.2f} +- {np.nanstd(v):.2f}" for v in place.T]
+        rows.append([scenario if j == 0 else "", f"{basket:g}", *means, *where,
+                     f"{won} of {len(blocks)}" if j == 0 else ""])
     return rows
 
 
