@@ -157,8 +157,11 @@ def test_serve_checks_its_options_and_never_replaces_a_running_server(ros, tmp_p
 def test_ctrl_c_of_send_brakes_and_the_client_waits_for_rest(ros, tmp_path):
     slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.2)  # several seconds: still running at the Ctrl-C
     recorder = ros.record(tmp_path / "states.csv")
+    # Ctrl-C as a terminal gives it: a suite started in the background of a shell (`.ci/run &`)
+    # inherits SIGINT ignored, and Python then never turns it into KeyboardInterrupt
     sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow)], env=ros.env,
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                              preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
 
     def moving() -> bool:
         stamps, positions = states(tmp_path / "states.csv")
