@@ -65,6 +65,30 @@ def test_killed_run_resumes_from_the_last_logged_attempt(cli, demos_csv, tmp_pat
 
 
 @pytest.mark.slow
+@pytest.mark.integration
+def test_sigterm_stops_a_run_with_143_and_its_log_resumes(cli, demos_csv, tmp_path):
+    # a supervisor's stop (kill, systemd, a launch file) is not a crash: the run says so, exits
+    # 143, and leaves whole lines that the next run continues from
+    log = tmp_path / "attempts.jsonl"
+    args = ["learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--budget", "6",
+            "--log", str(log), "--json"]
+    proc = subprocess.Popen([sys.executable, "-m", "rlff", *args], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=dict(os.environ, MPLBACKEND="Agg"))
+    deadline = time.monotonic() + 120
+    while len(attempt_lines(log)) < 1 and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    logged = attempt_lines(log)
+    assert proc.returncode == 143 and err.strip().endswith("rlff: terminated"), err
+    assert 1 <= len(logged) < 6 and log.read_text().endswith("\n")
+
+    result = cli(*args)
+    assert result.code == 0, result.stderr
+    assert json.loads(result.stdout)["resumed"] == len(logged)
+
+
+@pytest.mark.slow
 def test_a_partial_last_line_is_dropped_and_the_run_goes_on(cli, demos_csv, tmp_path):
     log = tmp_path / "attempts.jsonl"
     args = ["learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--log", str(log), "--json"]

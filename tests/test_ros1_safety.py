@@ -154,7 +154,11 @@ def test_serve_checks_its_options_and_never_replaces_a_running_server(ros, tmp_p
     assert ros.goal(tmp_path, _spec([0.5], [target]))["status"] == "succeeded"
 
 
-def test_ctrl_c_of_send_brakes_and_the_client_waits_for_rest(ros, tmp_path):
+@pytest.mark.parametrize(("stop_signal", "code", "word"), [(signal.SIGINT, 130, "interrupted"),
+                                                           (signal.SIGTERM, 143, "terminated")],
+                         ids=["ctrl-c", "sigterm"])
+def test_stopping_send_brakes_and_the_client_waits_for_rest(ros, tmp_path, stop_signal, code, word):
+    # Ctrl-C, or the SIGTERM of a supervisor (kill, systemd, a launch file): the goal is cancelled
     slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.2)  # several seconds: still running at the Ctrl-C
     recorder = ros.record(tmp_path / "states.csv")
     # Ctrl-C as a terminal gives it: a suite started in the background of a shell (`.ci/run &`)
@@ -168,12 +172,12 @@ def test_ctrl_c_of_send_brakes_and_the_client_waits_for_rest(ros, tmp_path):
         return len(stamps) > 3 and np.abs(np.diff(positions[-3:, DRIVEN])).max() / 0.01 > 0.2
 
     wait(moving, 120, "the throw to move the arm")
-    sender.send_signal(signal.SIGINT)
+    sender.send_signal(stop_signal)
     _, err = sender.communicate(timeout=60)
     exited = time.time()
     wait(lambda: states(tmp_path / "states.csv")[0][-1] > exited + 0.5, 60, "states after the exit")
     stop(recorder)
-    assert sender.returncode == 130 and "interrupted: goal cancelled" in err
+    assert sender.returncode == code and f"{word}: goal cancelled" in err, err
     _within_limits(tmp_path / "states.csv")
     stamps, positions = states(tmp_path / "states.csv")
     assert np.ptp(positions[stamps > exited], axis=0).max() == 0.0  # at rest once the client is gone

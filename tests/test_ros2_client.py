@@ -8,6 +8,7 @@ answers as the test tells it to, so rlff's client is checked against the standar
 from __future__ import annotations
 
 import json
+import signal
 import subprocess
 import sys
 import threading
@@ -92,7 +93,13 @@ class FakeController:
         return self.result_type(error_code=-5, error_string="joint_2 missed its goal by 0.2 rad")
 
     def never_finish(self, handle):
+        """Runs until cancelled (at most a minute: a client that left without cancelling fails
+        its test instead of hanging the server's teardown)."""
+        give_up = time.monotonic() + 60
         while not handle.is_cancel_requested:
+            if time.monotonic() > give_up:
+                handle.abort()
+                return self.result_type(error_code=-1, error_string="never cancelled")
             time.sleep(0.02)
         self.cancelled.set()
         handle.canceled()
@@ -163,6 +170,27 @@ def test_the_timeout_cancels_the_goal_on_the_server(controller, domain, throw, t
     outcome = json.loads(result.stdout)
     assert outcome["status"] == "timed out" and "goal cancelled" in outcome["error_string"]
     assert controller.cancelled.is_set()
+
+
+@pytest.mark.parametrize(("stop_signal", "code", "word"), [(signal.SIGINT, 130, "interrupted"),
+                                                           (signal.SIGTERM, 143, "terminated")],
+                         ids=["ctrl-c", "sigterm"])
+def test_stopping_send_cancels_the_goal_on_the_server(controller, domain, throw, tmp_path, stop_signal, code, word):
+    controller.answer = controller.never_finish
+    controller.cancelled.clear()
+    sent = len(controller.goals)
+    # SIGINT at its default: a suite started in a shell's background inherits it ignored
+    sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(throw[0]), "--ros", "2", "--period",
+                               str(PERIOD)], env=ros2_env(domain, tmp_path), stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True,
+                              preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    deadline = time.monotonic() + 120
+    while len(controller.goals) == sent and sender.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    sender.send_signal(stop_signal)
+    _, err = sender.communicate(timeout=60)
+    assert sender.returncode == code and f"{word}: goal cancelled" in err, err
+    assert controller.cancelled.is_set()  # the client asked before it went
 
 
 def test_a_robot_trajectory_that_does_not_start_at_the_arm_is_not_sent(controller, domain, throw, tmp_path):

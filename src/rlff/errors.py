@@ -16,3 +16,12 @@ class InputError(RlffError, ValueError):
 
     The message names the file, the column or the value at fault so that it can be shown alone.
     """
+
+
+class Terminated(KeyboardInterrupt):
+    """The process was asked to stop (SIGTERM: a supervisor, ``kill``, a launch file shutting down).
+
+    The command line raises it where the process is, like the KeyboardInterrupt of Ctrl-C, so
+    that every clean-up written for Ctrl-C runs for it too: a goal on the arm is cancelled (the
+    arm brakes to rest) and a log is closed, instead of the process vanishing mid-throw.
+    """

@@ -14,7 +14,9 @@ The one error boundary is :func:`main`:
 
 from __future__ import annotations
 
+import signal
 import sys
+import threading
 import traceback
 import warnings
 
@@ -30,7 +32,7 @@ except ImportError:  # pragma: no cover - older typer
     from click.utils import echo
 
 from rlff.cli._common import stderr, verbosity
-from rlff.errors import InputError
+from rlff.errors import InputError, Terminated
 
 HELP_OPTIONS = ["-h", "--help"]
 
@@ -132,9 +134,41 @@ def _os_error(exc: OSError) -> str:
     return f"error: {exc.filename}: {reason}" if exc.filename is not None else f"error: {reason}"
 
 
+class _Sigterm:
+    """The SIGTERM handler while a command runs: raises :class:`Terminated` and remembers it
+    (Typer turns any KeyboardInterrupt into exit code 130, the exception's kind lost)."""
+
+    def __init__(self) -> None:
+        self.received = False
+
+    def __call__(self, signum, frame) -> None:
+        self.received = True
+        raise Terminated()
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``rlff`` console script; returns the exit code."""
+    """Entry point of the ``rlff`` console script; returns the exit code.
+
+    SIGTERM is raised as :class:`Terminated` while a command runs (exit code 143), so that a
+    supervisor's stop cancels a goal on the arm as Ctrl-C does (130) rather than killing the
+    process mid-throw.
+    """
     args = sys.argv[1:] if argv is None else list(argv)
+    if threading.current_thread() is not threading.main_thread():  # signals reach the main thread only
+        return _main(args)
+    sigterm = _Sigterm()
+    previous = signal.signal(signal.SIGTERM, sigterm)
+    try:
+        code = _main(args)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    if sigterm.received and code == 130:  # not reported by the command itself (robot send says 143)
+        stderr().print("rlff: terminated")
+        return 143
+    return code
+
+
+def _main(args: list[str]) -> int:
     debug = "--debug" in args
     with warnings.catch_warnings():
         if not debug:

@@ -101,7 +101,8 @@ def send_goal(
     RosUnavailable
         No master or no action server answered in time.
     KeyboardInterrupt
-        After cancelling the goal.
+        After cancelling the goal (re-raised as it came: :class:`rlff.errors.Terminated` for
+        the SIGTERM the command line turns into it).
     """
     check_goal(robot, traj, goal_start(robot, traj, pose))
     started = time.monotonic()
@@ -124,9 +125,9 @@ def send_goal(
     client.send_goal(FollowJointTrajectoryGoal(trajectory=to_msg(traj, start)), feedback_cb=feedback)
     try:
         finished = client.wait_for_result(rospy.Duration.from_sec(max(0.01, deadline - time.monotonic())))
-    except (KeyboardInterrupt, rospy.ROSInterruptException):
+    except (KeyboardInterrupt, rospy.ROSInterruptException) as exc:
         _cancel(client)
-        raise KeyboardInterrupt from None
+        raise (exc if isinstance(exc, KeyboardInterrupt) else KeyboardInterrupt()) from None  # Terminated stays
     if not finished:
         _cancel(client)
         result = client.get_result()

@@ -151,10 +151,11 @@ class Connection:
 
         start = self.now() + START_LEAD
         goal = FollowJointTrajectory.Goal(trajectory=to_msg(traj, start))
-        handle = None
+        handle = sent = None
         try:
             sent = client.send_goal_async(goal, feedback_callback=feedback)
             if not _wait(sent, deadline):
+                _cancel_when_accepted(sent)
                 return SendResult("timed out", None, None, "timed out before the server accepted the goal", start,
                                   traj.duration, received)
             handle = sent.result()
@@ -169,6 +170,8 @@ class Connection:
         except KeyboardInterrupt:
             if handle is not None and handle.accepted:
                 _cancel(handle)
+            elif handle is None and sent is not None:  # sent, its acceptance not yet heard
+                _cancel_when_accepted(sent)
             raise
         outcome = answer.result()
         code = int(outcome.result.error_code)
@@ -225,11 +228,19 @@ def send_goal(
     ServerUnavailable
         No action server answered in time.
     KeyboardInterrupt
-        After cancelling the goal.
+        After cancelling the goal (re-raised as it came: :class:`rlff.errors.Terminated` for
+        the SIGTERM the command line turns into it).
     """
     check_goal(robot, traj, goal_start(robot, traj, pose))
     with Connection("rlff_send", action) as connection:
         return connection.send_goal(robot, traj, pose, timeout, on_feedback)
+
+
+def _cancel_when_accepted(sent) -> None:
+    """Cancel a goal whose acceptance had not arrived when the client gave up on it: an
+    acceptance on its way would otherwise start the arm with nobody left to stop it."""
+    if _wait(sent, time.monotonic() + CANCEL_WAIT) and sent.result().accepted:
+        _cancel(sent.result())
 
 
 def _cancel(handle) -> None:
