@@ -183,6 +183,10 @@ def test_a_tiny_densify_step_is_refused_with_its_numbers(rlff, files, tmp_path):
     [
         (["fit", "--no-such-option"], ["rlff fit", "--no-such-option", "rlff fit --help"]),
         (["fit"], ["rlff fit", "Missing argument"]),
+        # an option's value missing at the end: click gives no context, the command is still named
+        (["-q", "bench", "learning", "--seeds"], ["rlff bench learning: Option '--seeds' requires an argument",
+                                                  "rlff bench learning --help"]),
+        (["bench", "learning", "--gap", "speed:2"], ["--gap", "'speed:2'", "0 < G <= 1"]),
         (["fit", "{data}", "-o", "{tmp}/m.json", "--json", "true"], ["rlff fit", "(true)"]),
         (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploration-scale", "lots"], ["--exploration-scale", "valid number", "(got 'lots')"]),
         (["fit", "{data}", "-o", "{tmp}/m.json", "--components", "lots"], ["--components", "integer >= 1", "'lots'"]),

@@ -15,7 +15,9 @@ from rlff.learn.scenarios import (
     Scenario,
     demonstrations,
     parse_feedback,
+    parse_gap,
     parse_landings,
+    reporting_executor,
     with_landings,
 )
 from rlff.learn.statistics import comparisons, paired_p_value, rows
@@ -102,6 +104,63 @@ def test_landings_knowledge():
         Scenario("far")
     with pytest.raises(InputError, match="opening"):
         Scenario(opening=0.0)
+
+
+@pytest.mark.parametrize(("text", "name", "speed", "delay"), [
+    ("none", "none", 1.0, 0.0), ("speed:0.950", "speed:0.95", 0.95, 0.0), ("speed:1", "speed:1", 1.0, 0.0),
+    (" delay:0.02 ", "delay:0.02", 1.0, 0.02)])
+def test_gap_names(text, name, speed, delay):
+    gap = parse_gap(text)
+    assert (gap.name, gap.speed, gap.delay) == (name, speed, delay)
+    assert Scenario("short", gap=text).name == ("short" if gap.none else f"short/{name}")
+
+
+@pytest.mark.parametrize(("text", "message"), [
+    ("speed:1.2", "0 < G <= 1"), ("speed:0", "0 < G <= 1"), ("delay:-0.1", "0 to 0.2 s"), ("delay:x", "not a number"),
+    ("speed:nan", "not a finite number"), ("link:1.1", "unknown gap 'link:1.1'"), ("none:1", "unknown gap")])
+def test_bad_gap_names_the_value(text, message):
+    with pytest.raises(InputError, match=message):
+        parse_gap(text)
+
+
+@pytest.fixture(scope="module")
+def planned_throw():
+    """A throw the robot file says lands near 1.9 m, as the loop plans it."""
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.robot.plan import plan
+    from rlff.trajectory.timing import time_along_path
+
+    angle = np.linspace(0.7, 1.95, 30)
+    velocity = 9.0 * np.sin(0.5 * np.pi * (angle - 0.7) / 1.25) ** 0.5
+    velocity[0] = 0.5
+    return plan(RobotMapping.for_robot(load_robot()), angle, velocity, time_along_path(angle, velocity)).trajectory
+
+
+def test_a_slower_arm_runs_the_same_path_slower_and_a_late_release_lets_go_further_on(planned_throw):
+    slower = parse_gap("speed:0.9").executed(planned_throw)
+    np.testing.assert_array_equal(slower.positions, planned_throw.positions)
+    np.testing.assert_allclose(slower.time, planned_throw.time / 0.9)
+    np.testing.assert_allclose(slower.velocities, planned_throw.velocities * 0.9)
+    np.testing.assert_allclose(slower.accelerations, planned_throw.accelerations * 0.81)
+    assert slower.release_time == pytest.approx(planned_throw.release_time / 0.9)
+    late = parse_gap("delay:0.02").executed(planned_throw)
+    index = int(np.flatnonzero(planned_throw.time == planned_throw.release_time)[0])
+    later = planned_throw.time[index:] >= planned_throw.release_time + 0.02 - 1e-12
+    assert late.release_time == planned_throw.time[index + int(np.argmax(later))]
+    np.testing.assert_array_equal(late.time, planned_throw.time)
+    assert parse_gap("none").executed(planned_throw) is planned_throw
+
+
+def test_the_benchmark_throws_with_the_arm_not_the_file(planned_throw):
+    from rlff.sim import Basket, simulate_throw
+
+    binary = Feedback("binary", "binary")
+    assert reporting_executor(Scenario("short"), binary, 1.9, 0) is None  # the loop's own simulation
+    as_planned = simulate_throw(planned_throw, Basket(1.9)).landing_x
+    slower = reporting_executor(Scenario("short", gap="speed:0.9"), binary, 1.9, 0)(planned_throw)
+    assert slower.landing_x < as_planned - 0.1  # about 0.81 of the range
+    late = reporting_executor(Scenario("short", gap="delay:0.03"), binary, 1.9, 0)(planned_throw)
+    assert abs(late.landing_x - as_planned) > 0.02
 
 
 @pytest.fixture(scope="module")

@@ -104,7 +104,7 @@ def _fail(message: str, code: int, debug: bool) -> int:
 
 def _usage(exc, args: list[str]) -> str:
     """A click usage error as one line: the command, the fault and the value given, where to look."""
-    command = exc.ctx.command_path if exc.ctx is not None else "rlff"
+    command = exc.ctx.command_path if exc.ctx is not None else _command_path(args)
     message = exc.format_message()
     given = _given(getattr(exc, "param", None), args)
     if given is not None and repr(given) not in message:
@@ -115,6 +115,20 @@ def _usage(exc, args: list[str]) -> str:
         name = unknown.lstrip("-").split("=")[0]
         message += f"; a context value goes as -c NAME=VALUE, e.g. -c {name}=..."
     return f"error: {command}: {message} (see {command} --help)"
+
+
+def _command_path(args: list[str]) -> str:
+    """``rlff bench learning`` of ``bench learning --seeds``: the (sub)commands named in ``args``,
+    for an error click raises without a context (an option's value missing at the end)."""
+    command, path = _command(), ["rlff"]
+    for arg in args:
+        if arg.startswith("-"):
+            continue
+        command = getattr(command, "commands", {}).get(arg)
+        if command is None:
+            break
+        path.append(arg)
+    return " ".join(path)
 
 
 def _given(param, args: list[str]) -> str | None:

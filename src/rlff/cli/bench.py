@@ -37,6 +37,10 @@ def learning(
                                       "false-miss:RATE."),
     opening: float = typer.Option(0.35, "--opening", help="Inner width of the basket (m)."),
     robot: str = typer.Option("comau_smart5_six", "--robot", help="Robot name or robot file."),
+    gap: str = typer.Option("none", "--gap",
+                            help="How the simulated arm differs from the robot file, comma-separated: none, "
+                                 "speed:G (reaches G of the commanded speed, 0 < G <= 1), delay:S (lets go S s "
+                                 "late)."),
     methods: str | None = typer.Option(None, "--methods",
                                        help="Comma-separated methods (default: every method that can use "
                                             "the feedback)."),
@@ -50,7 +54,13 @@ def learning(
     """Attempts to the first hit over seeds x baskets x feedback kinds x methods, per scenario."""
     from rlff.learn.benchmark import METHODS_BY_FEEDBACK, format_table, learning_benchmark, report
     from rlff.learn.loop import METHODS
-    from rlff.learn.scenarios import DEMONSTRATORS, Scenario, parse_feedback, parse_landings
+    from rlff.learn.scenarios import (
+        DEMONSTRATORS,
+        Scenario,
+        parse_feedback,
+        parse_gap,
+        parse_landings,
+    )
     from rlff.robot import load_robot
 
     people = list(DEMONSTRATORS) if scenario == "all" else _names("--scenario", scenario, list(DEMONSTRATORS))
@@ -62,13 +72,17 @@ def learning(
         feedbacks = tuple(parse_feedback(n) for n in _names("--feedback", feedback))
     except InputError as exc:
         raise InputError(f"--feedback: {exc}") from None
+    try:
+        gaps = [parse_gap(n) for n in _names("--gap", gap)]
+    except InputError as exc:
+        raise InputError(f"--gap: {exc}") from None
     chosen = None
     if methods is not None:
         wanted = _names("--methods", methods, list(METHODS))
         chosen = {kind: [m for m in wanted if kind in METHODS[m].feedbacks] for kind in METHODS_BY_FEEDBACK}
     try:
-        cases = [Scenario(name, landings=known, feedbacks=feedbacks, opening=opening, robot=robot)
-                 for name in people for known in knowledge]
+        cases = [Scenario(name, landings=known, feedbacks=feedbacks, opening=opening, robot=robot, gap=arm)
+                 for name in people for known in knowledge for arm in gaps]
     except InputError as exc:
         raise InputError(f"--opening: {exc}") from None
     try:

@@ -19,6 +19,11 @@ feedback
     ball that bounces out of a real basket is).
 opening, robot
     The basket's inner width (m) and the robot (name or robot file).
+gap
+    How the arm that throws differs from the robot file every method plans with (:class:`Gap`):
+    ``none``, ``speed:G`` (the arm reaches G times the commanded speed, as under a controller's
+    speed override or a servo that lags) or ``delay:S`` (the gripper lets go S seconds after the
+    planned release). A real arm is never exactly its file.
 
 The noise of the landings and of the feedback is drawn from the run's seed, so a run is
 reproducible and every method of a seed sees the same demonstrations.
@@ -27,7 +32,7 @@ reproducible and every method of a seed sees the same demonstrations.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -114,6 +119,60 @@ def parse_feedback(text: str) -> Feedback:
                      "false-miss:RATE)")
 
 
+@dataclass(frozen=True)
+class Gap:
+    """How the simulated arm differs from the robot file the methods plan with.
+
+    Parameters
+    ----------
+    name : str
+        As written on the command line (``none``, ``speed:0.95``, ``delay:0.02``).
+    speed : float
+        Fraction (0, 1] of the commanded joint speeds the arm reaches: the trajectory runs
+        1 / speed times slower along the same path (positions kept, velocities scaled).
+    delay : float
+        Seconds (>= 0) the ball leaves after the planned release: at the first sample at or
+        after it, further along the throw's braking.
+    """
+
+    name: str = "none"
+    speed: float = 1.0
+    delay: float = 0.0
+
+    @property
+    def none(self) -> bool:
+        """The arm is its robot file."""
+        return self.speed == 1.0 and self.delay == 0.0
+
+    def executed(self, trajectory):
+        """The :class:`~rlff.trajectory.JointTrajectory` the arm makes of the commanded one."""
+        if self.none:
+            return trajectory
+        time = trajectory.time / self.speed
+        release = trajectory.release_time
+        if release is not None:
+            index = min(int(np.searchsorted(trajectory.time, release + self.delay - 1e-12)), len(time) - 1)
+            release = float(time[index])
+        return replace(trajectory, time=time, velocities=trajectory.velocities * self.speed,
+                       accelerations=trajectory.accelerations * self.speed**2, release_time=release)
+
+
+def parse_gap(text: str) -> Gap:
+    """The gap of ``none``, ``speed:G`` (0 < G <= 1) or ``delay:S`` (0 <= S <= 0.2 s)."""
+    word, _, value = text.strip().partition(":")
+    if word == "none" and not value:
+        return Gap()
+    if word in ("speed", "delay"):
+        number = _number(value, f"gap {text!r}")
+        if word == "speed" and 0 < number <= 1:
+            return Gap(f"speed:{number:g}", speed=number)
+        if word == "delay" and 0 <= number <= 0.2:
+            return Gap(f"delay:{number:g}", delay=number)
+        raise InputError(f"gap {text!r}: speed takes the fraction of the commanded speed the arm reaches "
+                         "(0 < G <= 1), delay the seconds the release comes late (0 to 0.2 s)")
+    raise InputError(f"unknown gap {text!r} (known: none, speed:G, delay:S)")
+
+
 def parse_landings(text: str) -> str:
     """``exact``, ``none`` or ``noisy:STD`` (STD > 0, m), normalised."""
     word, _, value = text.strip().partition(":")
@@ -154,6 +213,8 @@ class Scenario:
         Robot name or robot file.
     baskets : tuple of float, optional
         Basket distances (m); default the demonstrators'.
+    gap : Gap or str
+        How the simulated arm differs from ``robot`` (default none).
     """
 
     demonstrators: str = "short"
@@ -162,8 +223,11 @@ class Scenario:
     opening: float = 0.35
     robot: str = "comau_smart5_six"
     baskets: tuple[float, ...] | None = None
+    gap: Gap | str = Gap()
 
     def __post_init__(self) -> None:
+        if isinstance(self.gap, str):
+            object.__setattr__(self, "gap", parse_gap(self.gap))
         if self.demonstrators not in DEMONSTRATORS:
             raise InputError(f"unknown scenario {self.demonstrators!r} (known: {', '.join(DEMONSTRATORS)})")
         object.__setattr__(self, "landings", parse_landings(self.landings))
@@ -174,7 +238,8 @@ class Scenario:
 
     @property
     def name(self) -> str:
-        return self.demonstrators
+        """The demonstrators, and the gap when there is one (``short/speed:0.95``)."""
+        return self.demonstrators if self.gap.none else f"{self.demonstrators}/{self.gap.name}"
 
 
 def demonstrations(seed: int, scenario: Scenario) -> Dataset:
@@ -221,12 +286,13 @@ class ReportedOutcome:
 
 
 def reporting_executor(scenario: Scenario, feedback: Feedback, basket: float, seed: int):
-    """The MuJoCo simulation of ``basket``, its outcomes reported as ``feedback`` says.
+    """The MuJoCo simulation of ``basket`` by the scenario's arm (its gap applied to every
+    trajectory), its outcomes reported as ``feedback`` says.
 
-    Returns None for faithful feedback (the loop's own simulator is the same). The noise of
-    attempt k is drawn from (seed, k), so a run is reproducible.
+    Returns None for faithful feedback and no gap (the loop's own simulator is the same). The
+    noise of attempt k is drawn from (seed, k), so a run is reproducible.
     """
-    if feedback.faithful:
+    if feedback.faithful and scenario.gap.none:
         return None
     from rlff.robot import load_robot
     from rlff.sim import Basket, simulate_throw
@@ -237,7 +303,7 @@ def reporting_executor(scenario: Scenario, feedback: Feedback, basket: float, se
 
     def execute(trajectory):
         calls[0] += 1
-        outcome = simulate_throw(trajectory, target, robot=robot)
+        outcome = simulate_throw(scenario.gap.executed(trajectory), target, robot=robot)
         rng = np.random.default_rng([seed, calls[0], 11])
         landing, hit = float(outcome.landing_x), bool(outcome.hit)
         if feedback.noise and math.isfinite(landing):
