@@ -2,9 +2,11 @@
 
     .venv/bin/python benchmarks/learning.py [--seeds N] [--first-seed S] [--quick] [--jobs N]
         [--scheduler ADDRESS] [--scenario short,wide,...|all] [--landings none,exact,noisy:0.3]
+        [--gap none,speed:0.95,delay:0.02]
 
 Part 1 runs the grid of ``rlff bench learning`` (seeds x baskets x feedback kinds x methods,
-real MuJoCo throws) for every scenario and knowledge of the landings asked for, on held-out
+real MuJoCo throws) for every scenario, knowledge of the landings and gap between the simulated
+arm and its robot file asked for, on held-out
 seeds (100 and up by default), and prints one table each with the paired Wilcoxon p-values of
 the project's methods against every baseline and ablation. Part 2 times what the loop itself
 does per attempt (refit the mixture to the demonstrations plus the attempts so far, generate
@@ -72,18 +74,21 @@ def main() -> None:
     parser.add_argument("--scheduler", default=None, help="Dask scheduler address")
     parser.add_argument("--scenario", default="short,wide", help="comma-separated demonstrators, or all")
     parser.add_argument("--landings", default="none,exact,noisy:0.3", help="comma-separated")
+    parser.add_argument("--gap", default="none", help="comma-separated: none, speed:G, delay:S")
     args = parser.parse_args()
     seeds, budget = (min(args.seeds, 2), min(args.budget, 12)) if args.quick else (args.seeds, args.budget)
     people = list(DEMONSTRATORS) if args.scenario == "all" else args.scenario.split(",")
 
     for name in people:
         for landings in args.landings.split(","):
-            start = time.perf_counter()
-            runs = learning_benchmark(Scenario(name, landings=landings), seeds, first_seed=args.first_seed,
-                                      budget=budget, jobs=args.jobs, scheduler=args.scheduler)
-            print(f"## {name}, landings {landings} (seeds {args.first_seed}-{args.first_seed + seeds - 1}, "
-                  f"budget {budget}, {time.perf_counter() - start:.0f} s)\n")
-            print(format_table(runs, budget) + "\n")
+            for gap in args.gap.split(","):
+                start = time.perf_counter()
+                scenario = Scenario(name, landings=landings, gap=gap)
+                runs = learning_benchmark(scenario, seeds, first_seed=args.first_seed, budget=budget,
+                                          jobs=args.jobs, scheduler=args.scheduler)
+                print(f"## {scenario.name}, landings {landings} (seeds {args.first_seed}-"
+                      f"{args.first_seed + seeds - 1}, budget {budget}, {time.perf_counter() - start:.0f} s)\n")
+                print(format_table(runs, budget) + "\n")
 
     print("\n## The loop's own work per attempt (median)\n")
     work, throw = loop_work_per_attempt()

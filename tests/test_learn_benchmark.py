@@ -224,7 +224,7 @@ def test_expected_improvement_of_the_absolute_miss_matches_sampling():
         assert exact == pytest.approx(sampled, abs=3e-3)
 
 
-def test_the_sweep_alternates_in_window_steps_within_the_speed_limit(short_demos):
+def test_the_sweep_alternates_in_window_steps_to_the_speed_limit_then_between(short_demos):
     from rlff.learn.baselines import RANGE_ELASTICITY, BracketingSweep
     from rlff.learn.loop import _angle_grid, _learning_demos
     from rlff.learn.method import Problem
@@ -235,12 +235,22 @@ def test_the_sweep_alternates_in_window_steps_within_the_speed_limit(short_demos
     step = 2 * 0.14 / (RANGE_ELASTICITY * 1.4)
     offsets = [sweep.propose([None] * k).info["log_factor"] for k in range(5)]
     np.testing.assert_allclose(offsets, [0, step, -step, 2 * step, -2 * step], atol=1e-4)
-    # a limit just above the demonstrations' speed: the sweep goes down only, past the limit
+    # a limit 1.8 windows above the demonstrations' speed: the sweep throws at the limit (the
+    # window at +w ends 0.3 w below it), then goes down only
     limited = BracketingSweep(Problem(demos, 1.4, "binary", 0.14, _angle_grid(demos), 3, 0,
+                                      max_speed=float(np.max(np.abs(sweep.mean))) * math.exp(1.8 * step)))
+    offsets = [limited.propose([None] * k).info["log_factor"] for k in range(6)]
+    np.testing.assert_allclose(offsets, [0, step, -step, 1.8 * step, -2 * step, -3 * step], atol=1e-4)
+    assert np.max(np.abs(limited.propose([None] * 3).velocity)) == pytest.approx(limited.problem.max_speed)
+    # at 1.5 windows the window at +w reaches the limit: no throw there
+    covered = BracketingSweep(Problem(demos, 1.4, "binary", 0.14, _angle_grid(demos), 3, 0,
                                       max_speed=float(np.max(np.abs(sweep.mean))) * math.exp(1.5 * step)))
-    offsets = [limited.propose([None] * k).info["log_factor"] for k in range(4)]
-    np.testing.assert_allclose(offsets, [0, step, -step, -2 * step], atol=1e-4)
-    assert np.max(np.abs(limited.propose([None]).velocity)) <= limited.problem.max_speed + 1e-9
+    np.testing.assert_allclose(covered.offsets[:4], [0, step, -step, -2 * step], atol=1e-4)
+    # after the whole range, the windows between: +w/2, -w/2, +3w/2, ...
+    between = int(np.argmin(np.abs(np.array(covered.offsets) - step / 2)))
+    assert min(covered.offsets[:between]) < -1.0  # down to 30 % of the speed first
+    np.testing.assert_allclose(covered.offsets[between:between + 3], [step / 2, -step / 2, 1.5 * step], atol=1e-4)
+    assert max(covered.offsets) <= 1.5 * step + 1e-9 and len(set(covered.offsets)) == len(covered.offsets)
 
 
 GRID = {"binary": ["imitation", "sweep"], "distance": []}

@@ -108,19 +108,40 @@ class RandomPerturbation(GmrBaseline):
 
 
 class BracketingSweep(GmrBaseline):
-    """Log speed factors 0, +w, -w, +2w, ... in steps of the hit window (binary feedback)."""
+    """Log speed factors 0, +w, -w, +2w, ... in steps w of the hit window (binary feedback).
+
+    The upward side ends with a throw at the speed limit when the last step below it leaves
+    more than half a window uncovered (a hit there, at the edge of the reach, would otherwise
+    be stepped over); after the whole range, the same order shifted by w / 2 (the gaps a range
+    law steeper than :data:`RANGE_ELASTICITY` leaves between the windows), then the end again.
+    """
 
     name = "sweep"
     feedbacks = ("binary",)
 
-    def propose(self, history: Sequence[Attempt]) -> Proposal:
-        problem = self.problem
+    def __init__(self, problem: Problem):
+        super().__init__(problem)
         step = 2.0 * problem.tolerance / (RANGE_ELASTICITY * problem.target)
         highest = min(float(np.log(self.limit)), -_LOWEST)
-        rings = int(np.ceil(-_LOWEST / step)) + 1
-        offsets = [x for k in range(rings) for x in ((0.0,) if k == 0 else (k * step, -k * step))
-                   if _LOWEST <= x <= highest + 1e-12]
-        x = offsets[min(len(history), len(offsets) - 1)]  # swept the whole range: stay at its end
+        #: The log speed factors in the order thrown.
+        self.offsets = self._pass(step, 0.0, highest) + self._pass(step, 0.5, highest)
+
+    @staticmethod
+    def _pass(step: float, shift: float, highest: float) -> list[float]:
+        rings = int(np.ceil(-_LOWEST / step)) + 2
+        ups = [(k + shift) * step for k in range(rings) if (k + shift) * step <= highest + 1e-12]
+        if not ups or highest - ups[-1] > 0.5 * step + 1e-12:  # the band below the limit uncovered
+            ups.append(highest)
+        downs = [-(k + shift) * step for k in range(rings)]
+        downs = [x for x in downs if _LOWEST <= x <= highest and min(abs(x - u) for u in ups) > 0.5 * step - 1e-12]
+        order = ups[:1] if shift == 0.0 else []  # the GMR mean's own speed once, first
+        rest = ups[1:] if shift == 0.0 else ups
+        for k in range(max(len(rest), len(downs))):
+            order += rest[k:k + 1] + downs[k:k + 1]
+        return order
+
+    def propose(self, history: Sequence[Attempt]) -> Proposal:
+        x = self.offsets[min(len(history), len(self.offsets) - 1)]  # swept everything: stay at the end
         return self.scaled(float(np.exp(x)), {"log_factor": round(x, 4)})
 
 
