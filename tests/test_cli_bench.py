@@ -31,6 +31,16 @@ def test_json_is_rows_and_comparisons_of_the_scenario_asked_for(cli):
         assert 0 <= comparison["p_value"] <= 1
 
 
+@pytest.mark.slow
+def test_each_gap_is_a_case_of_its_own_named_by_it(cli):
+    result = cli("bench", "learning", "--seeds", "1", "--budget", "3", "--jobs", "1", "--feedback", "binary",
+                 "--methods", "imitation", "--gap", "none,speed:0.9", "--json")
+    assert result.code == 0, result.stderr
+    rows = {r["scenario"]: r for r in json.loads(result.stdout)["rows"]}
+    assert set(rows) == {"short", "short/speed:0.9"}
+    assert all(row["runs"] == 2 for row in rows.values())
+
+
 @pytest.mark.parametrize("option, value, message", [
     ("--scenario", "far", "--scenario: unknown 'far'"),
     ("--landings", "guess", "--landings: landings 'guess'"),
@@ -38,6 +48,7 @@ def test_json_is_rows_and_comparisons_of_the_scenario_asked_for(cli):
     ("--methods", "telepathy", "--methods: unknown 'telepathy'"),
     ("--opening", "0", "--opening: basket opening must be a width > 0"),
     ("--robot", "no-such-robot", "--robot:"),
+    ("--gap", "link:1.1", "--gap: unknown gap 'link:1.1'"),
 ])
 def test_bad_options_are_one_line_input_errors(cli, option, value, message):
     result = cli("bench", "learning", option, value)
