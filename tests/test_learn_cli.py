@@ -66,21 +66,26 @@ def test_killed_run_resumes_from_the_last_logged_attempt(cli, demos_csv, tmp_pat
 
 @pytest.mark.slow
 @pytest.mark.integration
-def test_sigterm_stops_a_run_with_143_and_its_log_resumes(cli, demos_csv, tmp_path):
-    # a supervisor's stop (kill, systemd, a launch file) is not a crash: the run says so, exits
-    # 143, and leaves whole lines that the next run continues from
+@pytest.mark.parametrize(("stop_signal", "code", "word"), [(signal.SIGINT, 130, "interrupted"),
+                                                           (signal.SIGTERM, 143, "terminated")],
+                         ids=["ctrl-c", "sigterm"])
+def test_a_stopped_run_says_so_and_its_log_resumes(cli, demos_csv, tmp_path, stop_signal, code, word):
+    # Ctrl-C, or a supervisor's stop (kill, systemd, a launch file), is not a crash: the run says
+    # so, exits 130 or 143, and leaves whole lines that the next run continues from
     log = tmp_path / "attempts.jsonl"
     args = ["learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--budget", "6",
             "--log", str(log), "--json"]
+    # SIGINT at its default: a suite started in a shell's background inherits it ignored
     proc = subprocess.Popen([sys.executable, "-m", "rlff", *args], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env=dict(os.environ, MPLBACKEND="Agg"))
+                            stderr=subprocess.PIPE, text=True, env=dict(os.environ, MPLBACKEND="Agg"),
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 120
     while len(attempt_lines(log)) < 1 and proc.poll() is None and time.monotonic() < deadline:
         time.sleep(0.02)
-    proc.send_signal(signal.SIGTERM)
+    proc.send_signal(stop_signal)
     _, err = proc.communicate(timeout=60)
     logged = attempt_lines(log)
-    assert proc.returncode == 143 and err.strip().endswith("rlff: terminated"), err
+    assert proc.returncode == code and err.strip().endswith(f"rlff: {word}"), err
     assert 1 <= len(logged) < 6 and log.read_text().endswith("\n")
 
     result = cli(*args)

@@ -148,38 +148,50 @@ def _os_error(exc: OSError) -> str:
     return f"error: {exc.filename}: {reason}" if exc.filename is not None else f"error: {reason}"
 
 
-class _Sigterm:
-    """The SIGTERM handler while a command runs: raises :class:`Terminated` and remembers it
-    (Typer turns any KeyboardInterrupt into exit code 130, the exception's kind lost)."""
+class _Stop:
+    """The SIGINT and SIGTERM handler while a command runs: raises KeyboardInterrupt, or
+    :class:`Terminated` for SIGTERM, and remembers which (Typer turns either into exit code
+    130, the kind lost)."""
 
     def __init__(self) -> None:
-        self.received = False
+        self.signal: int | None = None
 
     def __call__(self, signum, frame) -> None:
-        self.received = True
-        raise Terminated()
+        self.signal = signum
+        raise Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``rlff`` console script; returns the exit code.
 
-    SIGTERM is raised as :class:`Terminated` while a command runs (exit code 143), so that a
-    supervisor's stop cancels a goal on the arm as Ctrl-C does (130) rather than killing the
-    process mid-throw.
+    Ctrl-C ends a command with ``rlff: interrupted`` and exit code 130, SIGTERM (a supervisor's
+    stop) with ``rlff: terminated`` and 143. Both are raised where the command is, so that its
+    clean-up runs: a goal on the arm is cancelled rather than left running mid-throw.
     """
     args = sys.argv[1:] if argv is None else list(argv)
     if threading.current_thread() is not threading.main_thread():  # signals reach the main thread only
-        return _main(args)
-    sigterm = _Sigterm()
-    previous = signal.signal(signal.SIGTERM, sigterm)
+        return _reported(_main(args), None)
+    stop = _Stop()
+    previous = {signal.SIGTERM: signal.signal(signal.SIGTERM, stop)}
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:  # an ignored SIGINT stays ignored
+        previous[signal.SIGINT] = signal.signal(signal.SIGINT, stop)
     try:
         code = _main(args)
     finally:
-        signal.signal(signal.SIGTERM, previous)
-    if sigterm.received and code == 130:  # not reported by the command itself (robot send says 143)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+    return _reported(code, stop.signal)
+
+
+def _reported(code: int, signum: int | None) -> int:
+    """An interrupted command's code (130) said on stderr, 143 when SIGTERM stopped it."""
+    if code != 130:
+        return code
+    if signum == signal.SIGTERM:
         stderr().print("rlff: terminated")
         return 143
-    return code
+    stderr().print("rlff: interrupted")
+    return 130
 
 
 def _main(args: list[str]) -> int:
@@ -200,8 +212,7 @@ def _main(args: list[str]) -> int:
         except click_errors.ClickException as exc:
             return _fail(f"error: {exc.format_message()}", 2, debug)
         except (typer.Abort, KeyboardInterrupt):
-            stderr().print("rlff: interrupted")
-            return 130
+            return 130  # said by main
         except InputError as exc:
             return _fail(f"error: {exc}", 2, debug)
         except OSError as exc:  # a file the user named: missing, a folder, no permission, disk full

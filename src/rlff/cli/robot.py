@@ -8,7 +8,6 @@ from typing import TYPE_CHECKING
 import typer
 
 from rlff.cli._common import emit_json, progress, say, stderr, stdout
-from rlff.errors import Terminated
 
 if TYPE_CHECKING:
     from rlff.robot.plan import RobotPlan
@@ -380,10 +379,9 @@ def send(
     except RosUnavailable as exc:
         stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
         raise typer.Exit(1) from None
-    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM as Terminated: the client cancelled the goal
-        word, code = ("terminated", 143) if isinstance(exc, Terminated) else ("interrupted", 130)
-        stderr().print(f"rlff: {word}: goal cancelled", highlight=False, markup=False)
-        raise typer.Exit(code) from None
+    except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the client cancelled the goal before re-raising
+        stderr().print("rlff: goal cancelled", highlight=False, markup=False)
+        raise
     if json:
         emit_json(outcome.to_dict())
     message = goal_message(outcome)
