@@ -161,6 +161,13 @@ def test_the_benchmark_throws_with_the_arm_not_the_file(planned_throw):
     assert slower.landing_x < as_planned - 0.1  # about 0.81 of the range
     late = reporting_executor(Scenario("short", gap="delay:0.03"), binary, 1.9, 0)(planned_throw)
     assert abs(late.landing_x - as_planned) > 0.02
+    # the whole-arm demo's simulator takes the same gap
+    from rlff.robot import load_robot
+    from rlff.whole_arm_demo import _recording_simulator
+
+    outcomes = []
+    _recording_simulator(load_robot(), Basket(1.9), outcomes, parse_gap("speed:0.9"))(planned_throw)
+    assert outcomes[0].landing_x == pytest.approx(slower.landing_x)
 
 
 @pytest.fixture(scope="module")

@@ -17,11 +17,15 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from rlff.dataset import Dataset, write_csv
 from rlff.errors import InputError
+
+if TYPE_CHECKING:
+    from rlff.learn.scenarios import Gap
 
 #: Most attempts of every basket's run (the issue's goal: a hit within 10).
 BUDGET = 10
@@ -123,6 +127,7 @@ def run_whole_arm(
     unseen: Sequence[float] = UNSEEN,
     bearings: Sequence[float] = BEARINGS,
     only: Sequence[tuple[float, float]] | None = None,
+    gap: Gap | None = None,
 ) -> WholeArm:
     """Simulate the whole-arm people, clean their throws and learn every basket.
 
@@ -144,6 +149,9 @@ def run_whole_arm(
         The baskets nobody demonstrated (m) and the bearings (deg) taken in turn.
     only : sequence of (distance, bearing), optional
         Throw at these baskets (m, deg) instead (a quick run).
+    gap : Gap, optional
+        How the simulated arm differs from ``robot`` (:class:`rlff.learn.scenarios.Gap`): the
+        loop plans with ``robot``, the throws are simulated with the gap applied.
 
     Raises
     ------
@@ -177,7 +185,7 @@ def run_whole_arm(
         log.unlink(missing_ok=True)
         for joints in choices:  # joint 5 only where joints 2 and 3 do not reach
             outcomes = []
-            executor = _recording_simulator(robot, Basket(distance, bearing=bearing), outcomes)
+            executor = _recording_simulator(robot, Basket(distance, bearing=bearing), outcomes, gap)
             try:
                 result = learn(
                     aimed, distance, budget=budget, feedback="binary", seed=seed, robot=robot.name, log_path=log,
@@ -206,13 +214,14 @@ def run_whole_arm(
     return WholeArm(len(raw), hits, len(clean), demonstrated, runs, clean, learned)
 
 
-def _recording_simulator(robot, basket, outcomes: list):
+def _recording_simulator(robot, basket, outcomes: list, gap: Gap | None = None):
     """The learning loop's MuJoCo executor for ``basket``, keeping every outcome in ``outcomes``
-    (the last one's release draws the flight in the 3-D figure)."""
+    (the last one's release draws the flight in the 3-D figure); ``gap`` applied to every
+    trajectory."""
     from rlff.sim import simulate_throw
 
     def execute(trajectory):
-        outcome = simulate_throw(trajectory, basket, robot=robot)
+        outcome = simulate_throw(trajectory if gap is None else gap.executed(trajectory), basket, robot=robot)
         outcomes.append(outcome)
         return outcome
 
