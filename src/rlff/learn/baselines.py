@@ -53,14 +53,18 @@ from rlff.learn.method import (
     scale_speed,
     training_set,
 )
+from rlff.learn.windows import (  # the sweep's windows are the window search's, unordered by a prior
+    LOWEST,
+    RANGE_ELASTICITY,
+    half_shifted,
+    lattice,
+    limit_band,
+    reachable_top,
+    window_width,
+)
 
 #: Largest change of the speed factor in one secant step (a factor, > 1).
 _MAX_STEP = 1.5
-#: Elasticity of the landing distance in the release speed that the baselines assume (the prior
-#: of ``calibrate``'s speed calibration: range ~ speed^2, brought down by the release height).
-RANGE_ELASTICITY = 1.6
-#: Smallest log speed factor any search tries (a throw at 30 % of the demonstrations' speed).
-_LOWEST = -1.2
 
 
 class GmrBaseline(Method):
@@ -110,10 +114,10 @@ class RandomPerturbation(GmrBaseline):
 class BracketingSweep(GmrBaseline):
     """Log speed factors 0, +w, -w, +2w, ... in steps w of the hit window (binary feedback).
 
-    The upward side ends with a throw at the speed limit when the last step below it leaves
-    more than half a window uncovered (a hit there, at the edge of the reach, would otherwise
-    be stepped over); after the whole range, the same order shifted by w / 2 (the gaps a range
-    law steeper than :data:`RANGE_ELASTICITY` leaves between the windows), then the end again.
+    The windows are :class:`rlff.learn.windows.WindowSearch`'s (the lattice, one at the speed
+    limit where the lattice's top window ends more than half a window below it, then the pass
+    shifted by w / 2), thrown nearest the GMR mean's speed first, the faster of two equally near
+    first, instead of in the order of a prior; after both passes, the last again.
     """
 
     name = "sweep"
@@ -121,28 +125,23 @@ class BracketingSweep(GmrBaseline):
 
     def __init__(self, problem: Problem):
         super().__init__(problem)
-        step = 2.0 * problem.tolerance / (RANGE_ELASTICITY * problem.target)
-        highest = min(float(np.log(self.limit)), -_LOWEST)
-        #: The log speed factors in the order thrown.
-        self.offsets = self._pass(step, 0.0, highest) + self._pass(step, 0.5, highest)
-
-    @staticmethod
-    def _pass(step: float, shift: float, highest: float) -> list[float]:
-        rings = int(np.ceil(-_LOWEST / step)) + 2
-        ups = [(k + shift) * step for k in range(rings) if (k + shift) * step <= highest + 1e-12]
-        if not ups or highest - ups[-1] > 0.5 * step + 1e-12:  # the band below the limit uncovered
-            ups.append(highest)
-        downs = [-(k + shift) * step for k in range(rings)]
-        downs = [x for x in downs if _LOWEST <= x <= highest and min(abs(x - u) for u in ups) > 0.5 * step - 1e-12]
-        order = ups[:1] if shift == 0.0 else []  # the GMR mean's own speed once, first
-        rest = ups[1:] if shift == 0.0 else ups
-        for k in range(max(len(rest), len(downs))):
-            order += rest[k:k + 1] + downs[k:k + 1]
-        return order
+        width = window_width(problem.target, problem.tolerance)
+        highest = reachable_top(float(np.log(self.limit)), width)
+        centres = lattice(width, highest)
+        if limit_band(centres, width, highest):
+            centres = np.r_[centres, highest]
+        first = _nearest_first(centres)
+        #: The log speed factors in the order thrown, shape (N,).
+        self.offsets = np.r_[first, _nearest_first(half_shifted(first, width, highest))]
 
     def propose(self, history: Sequence[Attempt]) -> Proposal:
-        x = self.offsets[min(len(history), len(self.offsets) - 1)]  # swept everything: stay at the end
+        x = float(self.offsets[min(len(history), self.offsets.size - 1)])  # swept everything: stay at the end
         return self.scaled(float(np.exp(x)), {"log_factor": round(x, 4)})
+
+
+def _nearest_first(offsets: np.ndarray) -> np.ndarray:
+    """``offsets`` by distance from 0, the larger of +-x first (the sweep's order)."""
+    return np.asarray(sorted(offsets, key=lambda x: (abs(x), -x)), dtype=float)
 
 
 class CmaSearch(GmrBaseline):
@@ -261,8 +260,8 @@ class GpSearch(GmrBaseline):
         with warnings.catch_warnings():  # a bound reached on a handful of points is no news
             warnings.simplefilter("ignore")
             gp.fit(x[:, None], miss - prior(x))
-        highest = min(float(np.log(self.limit)), -_LOWEST)
-        grid = np.linspace(_LOWEST, highest, 481)
+        highest = min(float(np.log(self.limit)), -LOWEST)
+        grid = np.linspace(LOWEST, highest, 481)
         mean, std = gp.predict(grid[:, None], return_std=True)
         gain = expected_improvement_of_abs(mean + prior(grid), std, float(np.min(np.abs(miss))))
         best = float(grid[int(np.argmax(gain))])

@@ -5,7 +5,7 @@ rule out the speeds that would have hit had the law been what the miss disproved
 log speeds around the speed tried. This module tiles the log speed factor x = log(u / u0)
 (u the release speed, u0 the GMR mean's for the basket) with such windows, each as wide as the
 hit window seen through the range law (2 tolerance / Z in log distance over the elasticity,
-:data:`rlff.learn.baselines.RANGE_ELASTICITY`, the same prior the sweep has), from a centre
+:data:`RANGE_ELASTICITY`, the same prior the sweep baseline has), from a centre
 (the GMR mean's own speed, x = 0, or where the demonstrations' landings point when they are
 known, :mod:`rlff.learn.landings`) up to the robot's speed limit and down to the slowest throw
 any search tries, and throws them in the order of the probability a prior puts on each:
@@ -34,8 +34,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import norm
 
-from rlff.learn.baselines import RANGE_ELASTICITY
-
+#: Elasticity of the landing distance in the release speed the searches assume (a drag-free
+#: throw's range goes as speed^2, brought down by the release height).
+RANGE_ELASTICITY = 1.6
 #: Standard deviation (log speed) of the default prior over the hit's log speed factor, centred on
 #: the GMR mean's speed: one standard deviation is 35 % more or less speed, 0.3 x 1.6 = 0.48 in
 #: log distance (chosen on seeds 0-15 among 0.15-0.6, checked on seeds 20-35).
@@ -65,6 +66,28 @@ def lattice(width: float, highest: float, lowest: float = LOWEST) -> np.ndarray:
     reach = max(abs(top), bottom)
     steps = [k for j in range(reach + 1) for k in ((0,) if j == 0 else (j, -j)) if -bottom <= k <= top]
     return np.asarray(steps, dtype=float) * width
+
+
+def reachable_top(highest: float, width: float) -> float:
+    """The largest log speed factor a search tries: ``highest`` (log of the speed limit over u0),
+    no faster than the slowest throw is slow (a robot without a speed limit: the range of
+    :data:`LOWEST`), and room for one window above the slowest."""
+    return float(np.clip(highest, LOWEST + width, -LOWEST))
+
+
+def limit_band(centres: np.ndarray, width: float, highest: float) -> tuple[float, float] | None:
+    """The log speeds between the top window's upper edge and ``highest`` (the lattice's steps
+    seldom end at the limit), which one more window, at the limit, covers; None when there are
+    none."""
+    band = (float(np.max(centres)) + 0.5 * width, highest)
+    return band if band[1] - band[0] > 1e-9 else None
+
+
+def half_shifted(first: np.ndarray, width: float, highest: float) -> np.ndarray:
+    """The second pass, shape (V,): the windows of ``first`` shifted up by half a window (the
+    gaps a range law steeper than the prior's leaves), those within ``highest``, in ``first``'s
+    order."""
+    return first[first + 0.5 * width <= highest + 1e-12] + 0.5 * width
 
 
 def window_masses(centres: np.ndarray, x: np.ndarray, density: np.ndarray) -> np.ndarray:
@@ -127,9 +150,7 @@ class WindowSearch:
     def __init__(self, target: float, tolerance: float, highest: float, log_density=None,
                  scale: float = PRIOR_SCALE, elasticity: float = RANGE_ELASTICITY, centre: float = 0.0):
         self.width = window_width(target, tolerance, elasticity)
-        # no faster than the slowest throw is slow (a robot without a speed limit: the sweep's
-        # range), and room for one window above the slowest
-        self.highest = float(np.clip(highest, LOWEST + self.width, -LOWEST))
+        self.highest = reachable_top(highest, self.width)
         #: Log speed factor the lattice is laid about (a centre beyond the limit: the limit).
         self.centre = float(np.clip(centre, LOWEST + self.width, self.highest))
         centres = self.centre + lattice(self.width, self.highest - self.centre, LOWEST - self.centre)
@@ -137,9 +158,7 @@ class WindowSearch:
         # seldom end at the limit): one more window, at the limit, with the prior's mass of that
         # band only; the tail beyond stays with the top window (given to the limit's window it
         # threw the limit first more often: 3.14 attempts against 2.65 on seeds 0-7 without labels)
-        band = (centres.max() + 0.5 * self.width, self.highest)
-        if band[1] - band[0] <= 1e-9:
-            band = None
+        band = limit_band(centres, self.width, self.highest)
         if log_density is None:
             masses = normal_masses(centres, scale, self.centre)
             if band:
@@ -159,9 +178,8 @@ class WindowSearch:
         # sweep's order
         rank = np.argsort(-np.round(masses, 4), kind="stable")
         first = centres[rank]
-        shifted = first[first + 0.5 * self.width <= self.highest + 1e-12] + 0.5 * self.width
         #: Log speed factors of the attempts, in order, shape (N,).
-        self.offsets = np.r_[first, shifted, first]
+        self.offsets = np.r_[first, half_shifted(first, self.width, self.highest), first]
         #: Prior mass of the first pass's windows, in the same order, shape (W,).
         self.masses = masses[rank]
 
