@@ -132,6 +132,29 @@ def test_a_basket_beyond_the_whole_arm_reach_is_refused_with_the_numbers(aimed, 
         learn(aimed, 3.5, joints=ARM, robot=behind)
 
 
+def test_the_learnable_basket_is_where_learn_stops_refusing_and_headroom_brings_it_in(aimed, robot):
+    from rlff.learn.loop import arm_reach, learnable_basket
+    from rlff.robot import mapping_for
+    from rlff.sim import Basket
+
+    mapping = mapping_for(robot, ARM)
+    farthest = learnable_basket(aimed, mapping, Basket(3.0), seed=0)
+    # the reach of the loop's own first throw for that basket: learn accepts just within it and
+    # refuses just beyond, with the same numbers
+    learn(aimed, farthest - 0.02, budget=1, joints=ARM, robot=robot, seed=0)
+    with pytest.raises(InputError, match=f"farthest basket with a 0.35 m opening is at {farthest:.2f} m"):
+        learn(aimed, farthest + 0.02, budget=1, joints=ARM, robot=robot, seed=0)
+    # 10 % of the joints' speed kept in reserve: a slower, shorter throw
+    kept = learnable_basket(aimed, mapping, Basket(3.0), seed=0, headroom=0.1)
+    assert 0.5 * farthest < kept < farthest - 0.1
+    assert arm_reach(mapping, aimed, 0.3, headroom=0.1).factor == pytest.approx(
+        0.9 * arm_reach(mapping, aimed, 0.3).factor)
+    with pytest.raises(InputError, match=r"speed headroom must be a share in \[0, 1\), got 1.0"):
+        arm_reach(mapping, aimed, 0.3, headroom=1.0)
+    with pytest.raises(InputError, match="a one-joint throw's reach is at its joint's speed limit"):
+        learnable_basket(aimed, mapping_for(robot, None), Basket(3.0), headroom=0.1)
+
+
 @pytest.mark.slow
 def test_the_refit_and_the_calibration_drive_every_joint_by_one_time_scale(aimed, robot):
     from rlff.learn.attempt import Attempt

@@ -467,15 +467,28 @@ def _require_reach(robot, basket, pedestal: float, joints: Sequence[str] = ("joi
     require_reachable(basket, robot, pedestal, tuple(j for j in joints if j in PLANE_JOINTS) or ("joint_2",))
 
 
-def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0) -> float:
+def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, seed: int = 0,
+                     headroom: float = 0.0) -> float:
     """Farthest basket centre (m) of ``basket``'s shape (its rim height and opening) that
-    :func:`learn` accepts from ``demos`` through ``mapping``: what the throws of its angle grid
-    reach (see :func:`_require_executable`)."""
+    :func:`learn` accepts from ``demos`` through ``mapping`` (see :func:`_require_executable`):
+    what the throws of its angle grid reach, or a whole-arm throw's, what the loop's first throw
+    for ``basket``'s distance (with ``seed``) reaches.
+
+    ``headroom`` (whole-arm throws): the share of the joints' speed limits kept in reserve, so that
+    the basket is reached at ``1 - headroom`` of the fastest throw the arm executes (0.1: at 90 %),
+    as a choice of joints for an arm that may be slower than its robot file wants it.
+    """
     from rlff.sim.reach import executable_reach, farthest_basket
 
     demos = _learning_demos(demos, mapping.human_columns, basket.rim_height)
     if _whole_arm(mapping):
-        return farthest_basket(arm_reach(mapping, demos, basket.rim_height, pedestal).distance, basket.opening)
+        outputs = joint_outputs(mapping.human_columns)
+        shape = _first_throw(demos, basket.distance, outputs, _components(demos, seed, outputs), seed)
+        reach = arm_reach(mapping, demos, basket.rim_height, pedestal, shape, headroom=headroom)
+        return farthest_basket(reach.distance, basket.opening)
+    if headroom:
+        raise InputError("a speed headroom is a choice among the joints of a whole-arm throw; a one-joint "
+                         "throw's reach is at its joint's speed limit")
     start, release = mapping.angle_offset + mapping.angle_scale * _angle_grid(demos)[[0, -1]]
     reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from=start)
     return farthest_basket(reach.distance, basket.opening)
@@ -559,7 +572,7 @@ class ArmReach:
 
 
 def arm_reach(mapping, demos: Dataset, rim_height: float, pedestal: float = 0.0,
-              shape: dict[str, np.ndarray] | None = None) -> ArmReach:
+              shape: dict[str, np.ndarray] | None = None, *, headroom: float = 0.0) -> ArmReach:
     """The reach of the whole-arm throws the loop makes from ``demos`` through ``mapping``.
 
     Every method throws a shape along the loop's angle grid, sped up or slowed down as a whole
@@ -571,13 +584,16 @@ def arm_reach(mapping, demos: Dataset, rim_height: float, pedestal: float = 0.0,
     :func:`_typical_throw`) at the largest factor that keeps the elbow's joint within its speed
     limit at the release (the other joints saturate at theirs) and that the planner can still
     execute, found by bisection; its ball comes down where the release state sends it
-    (:func:`_release_crossing`).
+    (:func:`_release_crossing`). With ``headroom`` (0 <= h < 1) the largest factor is
+    ``1 - headroom`` of that: the reach with that share of the joints' speed kept in reserve.
     """
     from rlff.robot.plan import plan_path
 
     typical = _typical_throw(mapping, demos) if shape is None else shape
     factor, limiting = _release_speed_factor(mapping, typical)
-    factor *= 1 - 1e-9  # at the limit, not a rounding beyond it
+    if not 0.0 <= headroom < 1.0:
+        raise InputError(f"speed headroom must be a share in [0, 1), got {headroom!r}")
+    factor *= (1 - headroom) * (1 - 1e-9)  # at the limit, not a rounding beyond it
 
     def executable(f: float) -> bool:
         try:
