@@ -43,6 +43,18 @@ def test_an_arm_slower_than_its_robot_file_still_hits_at_the_edge_of_the_reach(t
     assert run.attempts <= BUDGET
 
 
+def test_the_first_whole_arm_throw_is_where_the_kinematics_aim_not_at_the_speed_limit(tmp_path):
+    # the people of seed 1 at 4-4.5 m: joint 5 joins and the speed limit lies 1-3 windows above
+    # the aim; with the one-joint prior's width (0.3) about the aim its tail beyond the limit
+    # outweighed the aim's window, and the first throw went to the limit, up to 0.8 m long
+    from rlff.whole_arm_demo import run_whole_arm
+
+    whole = run_whole_arm(tmp_path, seed=1, only=[(4.0, 0.0), (4.25, 30.0), (4.5, 60.0)])
+    first = [whole.learned[(run.distance, run.bearing)].history[0] for run in whole.runs]
+    assert [attempt.info["log_factor"] for attempt in first] == [0.0, 0.0, 0.0]
+    assert all(abs(attempt.miss) < 0.2 for attempt in first), [attempt.miss for attempt in first]
+
+
 @pytest.fixture(scope="module")
 def msr_throws(tmp_path_factory):
     from conftest import MSR_THROWS, run_cli
