@@ -278,14 +278,26 @@ class CalibrateUpdate(DmmStrategy):
         #: where the calibration's prior says the basket is.
         self.first = Proposal.of_outputs(problem.angles, model.condition(inputs).mean, model.outputs, problem.target)
         self.reference = release_speed(problem.angles, self.first.velocity)
-        if problem.aim is not None:  # a whole-arm throw: the arm's kinematics say how fast
-            self.reference *= problem.aim(self.first)
         self._demos_shape: Proposal | None = None
         self._windows: WindowSearch | None = None
         self._prior = ""  # the window search's prior, by name (set with the windows)
+        if problem.aim is not None:  # a whole-arm throw: the arm's kinematics say how fast
+            self.reference = self.aimed_speed()
         if not self.reference > 0:
             raise InputError(f"the GMR throw for {problem.target:g} m does not move at its "
                              "release: the demonstrations give no throw to calibrate")
+
+    def aimed_speed(self) -> float:
+        """The driven joint's release speed (rad/s) at which the arm's kinematics send this
+        method's first throw to the basket (``Problem.aim``): its shape from the demonstrations
+        alone, capped at the release, as :meth:`propose` scales it. (Aiming the GMR mean's throw
+        instead, whose other joints move differently, put the MSR throw for 2 m at 2.17 m.)"""
+        problem = self.problem
+        thrown = capped_at_release(problem.angles, self.shape([]))
+        speed = release_speed(problem.angles, thrown.velocity)
+        if not speed > 0:  # no motion at the release: propose throws the GMR mean's throw
+            thrown, speed = self.first, release_speed(problem.angles, self.first.velocity)
+        return speed * problem.aim(thrown)
 
     def propose(self, history: Sequence[Attempt]) -> Proposal:
         problem = self.problem
@@ -293,7 +305,8 @@ class CalibrateUpdate(DmmStrategy):
         throw = capped_at_release(problem.angles, shape)
         speed = release_speed(problem.angles, throw.velocity)
         if not speed > 0:  # no motion at the release: keep the demonstrations' shape
-            throw, speed = self.first, self.reference
+            throw = self.first
+            speed = release_speed(problem.angles, throw.velocity)
         # the fastest speed asked for: the driven joint's limit, or (a whole arm) where every
         # joint saturates at its limit
         fastest = problem.max_speed if problem.saturation is None else speed * problem.saturation(throw)
