@@ -310,3 +310,30 @@ def test_one_output_paths_are_those_before_the_multi_output_climb():
             for name, rtol in tolerance.items():
                 np.testing.assert_allclose(getattr(path, name), [float.fromhex(v) for v in expected[name]],
                                            rtol=rtol, atol=0, err_msg=f"{distance} {continuity} {name}")
+
+
+def _throws(peaks: list[tuple[float, float]]) -> Dataset:
+    """Three throws per (distance m, peak velocity rad/s): one velocity profile scaled."""
+    angle = np.linspace(0.5, 2.4, 40)
+    profile = np.sin(0.5 * np.pi * (angle - 0.5) / 1.9 + 0.2)
+    return Dataset([Trajectory(f"t{i}_{k}", {"angle": angle, "velocity": (peak + 0.1 * k) * profile,
+                                              "distance": np.full(angle.size, distance)})
+                    for i, (distance, peak) in enumerate(peaks) for k in range(3)], context=("distance",))
+
+
+@pytest.mark.parametrize("peaks, turned_back", [
+    ([(1.0, 5.0), (1.5, 7.0), (2.0, 6.0)], True),  # the farthest throws were slower: the slope turns
+    ([(1.0, 5.0), (1.5, 6.0), (2.0, 7.0)], False),
+])
+def test_a_distance_past_the_data_whose_throw_turns_back_says_so(peaks, turned_back):
+    model = Model.fit(_throws(peaks), inputs=("angle", "distance"), outputs=("velocity",), components=3, seed=0)
+    notes = model.generate({"distance": 2.6}).notes
+    assert "distance = 2.6 is outside the fitted range [1, 2]: extrapolating" in notes
+    reversal = [note for note in notes if "turns back" in note]
+    if turned_back:
+        assert reversal == [next(n for n in notes if n.startswith("the velocity generated for distance 2.6 peaks at"))]
+        assert "below the" in reversal[0] and "for 2 (the fitted range's top)" in reversal[0]
+        assert "would land shorter than the one for 2; ask within [1, 2]" in reversal[0]
+    else:
+        assert not reversal
+    assert not [n for n in model.generate({"distance": 1.7}).notes if "turns back" in n]  # within the range

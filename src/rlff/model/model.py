@@ -423,6 +423,7 @@ class Model:
             for lo, hi in [self.input_range[name]]
             if not lo <= value <= hi
         ]
+        notes.extend(self._speed_reversal(angles, values, conditional.mean[:, 0]))
         velocity = mode.output[:, 0]
         time, time_notes = _path_time(angles, velocity, self.outputs[0])
         notes.extend(time_notes)
@@ -444,6 +445,32 @@ class Model:
             context=dict(zip(self.context_names, values, strict=True)),
             notes=tuple(notes),
         )
+
+    def _speed_reversal(self, angles: np.ndarray, values: Sequence[float], mean: np.ndarray) -> list[str]:
+        """A note when a distance beyond the fitted range gets a slower throw than the range's
+        edge (or, below it, a faster one): the GMR mean (``mean``, shape (T,), of the first output
+        along ``angles``) past the data follows the edge component's local slope, which in noisy
+        demonstrations may point the wrong way, so the throw lands on the wrong side of the
+        edge's. Compared by the peak of the first output's magnitude (its speed)."""
+        if "distance" not in self.context_names:
+            return []
+        index = self.context_names.index("distance")
+        value = float(values[index])
+        lo, hi = self.input_range["distance"]
+        if lo <= value <= hi:
+            return []
+        edge = hi if value > hi else lo
+        edge_values = [edge if i == index else v for i, v in enumerate(values)]
+        X_edge = np.column_stack([angles, *(np.full(angles.size, v) for v in edge_values)])
+        peak, edge_peak = float(np.max(np.abs(mean))), float(np.max(np.abs(self.predict(X_edge)[0][:, 0])))
+        farther = value > hi
+        if (peak < 0.98 * edge_peak) if farther else (peak > 1.02 * edge_peak):
+            return [f"the {self.outputs[0]} generated for distance {value:.3g} peaks at {peak:.3g}, "
+                    f"{'below' if farther else 'above'} the {edge_peak:.3g} for {edge:.3g} (the fitted range's "
+                    f"{'top' if farther else 'bottom'}): past the data the regression turns back, and this throw "
+                    f"would land {'shorter' if farther else 'farther'} than the one for {edge:.3g}; ask within "
+                    f"[{lo:.3g}, {hi:.3g}], or let rlff learn calibrate the speed for this distance"]
+        return []
 
     def default_path(self) -> np.ndarray:
         """The default values (T,) of the path variable :meth:`generate` uses: up to the release.
