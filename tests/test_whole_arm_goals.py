@@ -13,6 +13,7 @@ from __future__ import annotations
 import pytest
 
 from rlff.learn import learn
+from rlff.learn.scenarios import parse_gap
 
 pytestmark = [pytest.mark.slow, pytest.mark.integration]
 
@@ -34,7 +35,6 @@ def test_an_arm_slower_than_its_robot_file_still_hits_at_the_edge_of_the_reach(t
     # joints 2 and 3 reach these baskets only near their speed limits: an arm at 95 % of the
     # commanded speed fell short at the limit and missed 10 times until joint 5 joined wherever
     # joints 2 and 3 lack the speed headroom (whole_arm_demo.SPEED_HEADROOM)
-    from rlff.learn.scenarios import parse_gap
     from rlff.whole_arm_demo import ARM_JOINTS, BUDGET, run_whole_arm
 
     run, = run_whole_arm(tmp_path, seed=seed, only=[(distance, 0.0)], gap=parse_gap("speed:0.95")).runs
@@ -53,6 +53,19 @@ def test_the_first_whole_arm_throw_is_where_the_kinematics_aim_not_at_the_speed_
     first = [whole.learned[(run.distance, run.bearing)].history[0] for run in whole.runs]
     assert [attempt.info["log_factor"] for attempt in first] == [0.0, 0.0, 0.0]
     assert all(abs(attempt.miss) < 0.2 for attempt in first), [attempt.miss for attempt in first]
+
+
+def test_each_whole_arm_basket_starts_where_the_one_before_it_hit(tmp_path):
+    # an arm 5 % slower than its robot file: the hit lies above the aim, and the next basket (the
+    # nearest in distance, the same joints) starts from the offset the last hit found
+    from rlff.whole_arm_demo import run_whole_arm
+
+    whole = run_whole_arm(tmp_path, seed=1, only=[(4.0, 0.0), (4.25, 30.0)], gap=parse_gap("speed:0.95"))
+    first, second = (whole.learned[(run.distance, run.bearing)] for run in whole.runs)
+    assert first.hit and first.history[-1].info["log_factor"] > 0  # above the aim: the arm is slower
+    assert second.notes[0].startswith(f"carried from {tmp_path / 'attempts' / 'whole-arm' / '4m-0deg.jsonl'}")
+    assert second.history[0].info["log_factor"] == pytest.approx(first.history[-1].info["log_factor"], abs=2e-4)
+    assert second.hit and second.attempts == 1
 
 
 @pytest.fixture(scope="module")

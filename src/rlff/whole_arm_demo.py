@@ -138,7 +138,9 @@ def run_whole_arm(
     """Simulate the whole-arm people, clean their throws and learn every basket.
 
     Writes ``whole-arm-demos.csv``, ``whole-arm-clean.csv`` and the attempts logs
-    ``attempts/whole-arm/<distance>m-<bearing>deg.jsonl`` into ``out_dir``.
+    ``attempts/whole-arm/<distance>m-<bearing>deg.jsonl`` into ``out_dir``. The baskets are
+    learned in order of distance, each starting from the speed offset of the hits before it
+    with the same joints (``learn(..., carry_from=...)``, :mod:`rlff.learn.carry`).
 
     Parameters
     ----------
@@ -187,6 +189,7 @@ def run_whole_arm(
 
     logs = out_dir / "attempts" / "whole-arm"
     runs, learned = [], {}
+    hit_logs: dict[tuple[str, ...], list[Path]] = {}  # per joint set: the logs of baskets hit so far
     for distance, bearing in baskets(demonstrated, unseen, bearings) if only is None else only:
         log = logs / f"{distance:g}m-{bearing:g}deg.jsonl"
         log.unlink(missing_ok=True)
@@ -199,7 +202,7 @@ def run_whole_arm(
             try:
                 result = learn(
                     aimed, distance, budget=budget, feedback="binary", seed=seed, robot=robot.name, log_path=log,
-                    joints=joints, bearing=bearing, executor=executor,
+                    joints=joints, bearing=bearing, executor=executor, carry_from=hit_logs.get(tuple(joints), [])[-1:],
                     progress=lambda attempt, d=distance, b=bearing: tell(
                         f"whole arm at {d:g} m, {b:g} deg: attempt {attempt.index} ({'hit' if attempt.hit else 'miss'})"),
                 )
@@ -220,6 +223,8 @@ def run_whole_arm(
              "rim_height": last.basket.rim_height, "hit": bool(last.hit)},
         ))
         learned[(distance, bearing)] = result
+        if result.hit:  # the next basket with these joints starts from the speed offset this hit found
+            hit_logs.setdefault(tuple(joints), []).append(log)
     hits = sum(1 for t in raw if t.meta.get("hit") is True)
     return WholeArm(len(raw), hits, len(clean), demonstrated, runs, clean, learned)
 

@@ -61,6 +61,10 @@ def learn_command(
                                   help="Basket direction (deg, 0 straight ahead, positive to the left): joint 1 "
                                        "turns the arm to it before the throw."),
     height: float | None = typer.Option(None, "--height", help="Basket rim height above the floor (m; default 0.3)."),
+    carry: list[Path] = typer.Option([], "--carry",
+                                     help="Attempts log of an earlier run at another basket (same demonstrations, "
+                                          "robot, joints and --update; repeatable): start from the speed its hits "
+                                          "point to."),
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
@@ -70,7 +74,7 @@ def learn_command(
     from rlff.learn import learn
 
     # the log is read (resumed) and written: it may exist, but must not be the demonstrations
-    guard(inputs={"DEMOS": demos}, outputs={"--log": log, "-o/--output": out})
+    guard(inputs={"DEMOS": demos, "--carry": carry or None}, outputs={"--log": log, "-o/--output": out})
     if out is not None:  # a bad --out or --format fails before the first throw
         from rlff.learn.replay import export_format
         from rlff.robot.formats import FORMATS
@@ -111,7 +115,7 @@ def learn_command(
                                            log_path=log, progress=show, robot=robot, pedestal=pedestal,
                                            until=until, centre_share=centre_share,
                                            executor=run_on, executed_on=executor, joints=driven,
-                                           bearing=bearing, height=height))
+                                           bearing=bearing, height=height, carry_from=carry))
     for note in result.notes:
         say(note)
     written = _write_best(result, robot, out, fmt, period, driven, bearing) if out is not None else None

@@ -36,6 +36,7 @@ largest factor that keeps the GMR mean within it):
 
 from __future__ import annotations
 
+import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import replace
@@ -44,6 +45,7 @@ import numpy as np
 from scipy.stats import norm
 
 from rlff.learn.attempt import Attempt
+from rlff.learn.carry import carried_centre
 from rlff.learn.method import (
     Method,
     Problem,
@@ -81,10 +83,14 @@ class GmrBaseline(Method):
         fastest = float(np.max(np.abs(self.mean)))
         #: Largest speed factor that keeps the GMR mean within the joint's speed limit.
         self.limit = problem.max_speed / fastest if fastest > 0 else np.inf
+        #: Speed factor the baseline's factors are relative to: 1, or where earlier baskets' hits
+        #: point (:mod:`rlff.learn.carry`: the same information ``calibrate`` gets).
+        self.start = math.exp(carried_centre(problem.carried)) if problem.carried else 1.0
 
     def scaled(self, factor: np.ndarray | float, info: dict) -> Proposal:
-        """The GMR mean with every velocity times ``factor`` (scalar or shape (T,)), within the limit."""
-        factor = np.minimum(factor, self.limit)
+        """The GMR mean with every velocity times ``start * factor`` (``factor`` scalar or shape
+        (T,)), within the limit."""
+        factor = np.minimum(self.start * np.asarray(factor, dtype=float), self.limit)
         return replace(scale_speed(self.throw, factor), info=info)
 
 
@@ -126,7 +132,7 @@ class BracketingSweep(GmrBaseline):
     def __init__(self, problem: Problem):
         super().__init__(problem)
         width = window_width(problem.target, problem.tolerance)
-        highest = reachable_top(float(np.log(self.limit)), width)
+        highest = reachable_top(float(np.log(self.limit / self.start)), width)
         centres = lattice(width, highest)
         if limit_band(centres, width, highest):
             centres = np.r_[centres, highest]
@@ -136,7 +142,8 @@ class BracketingSweep(GmrBaseline):
 
     def propose(self, history: Sequence[Attempt]) -> Proposal:
         x = float(self.offsets[min(len(history), self.offsets.size - 1)])  # swept everything: stay at the end
-        return self.scaled(float(np.exp(x)), {"log_factor": round(x, 4)})
+        # logged over the GMR mean's speed, as calibrate logs it: what a later basket carries
+        return self.scaled(float(np.exp(x)), {"log_factor": round(x + math.log(self.start), 4)})
 
 
 def _nearest_first(offsets: np.ndarray) -> np.ndarray:
@@ -202,9 +209,9 @@ class SecantSearch(GmrBaseline):
         misses: list[float] = []
         for attempt in history:
             misses.append(finite_miss(attempt))
-            factors.append(min(self._next(factors, misses), self.limit))
+            factors.append(min(self._next(factors, misses), self.limit / self.start))
         factor = factors[len(history)]
-        return self.scaled(factor, {"factor": factor})
+        return self.scaled(factor, {"factor": factor, "log_factor": round(math.log(self.start * factor), 4)})
 
     def _next(self, factors: list[float], misses: list[float]) -> float:
         s = np.asarray(factors[: len(misses)])
@@ -245,10 +252,11 @@ class GpSearch(GmrBaseline):
         from sklearn.gaussian_process import GaussianProcessRegressor
         from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
 
+        shift = math.log(self.start)  # its log factors are logged over the GMR mean's speed
         if not history:
-            return self.scaled(1.0, {"log_factor": 0.0})
+            return self.scaled(1.0, {"log_factor": round(shift, 4)})
         target = self.problem.target
-        x = np.array([a.info["log_factor"] for a in history])
+        x = np.array([a.info["log_factor"] for a in history]) - shift
         miss = np.array([finite_miss(a) for a in history])
         reach = max(target + miss[0], 0.05 * target)  # the range law through the first attempt
 
@@ -260,12 +268,12 @@ class GpSearch(GmrBaseline):
         with warnings.catch_warnings():  # a bound reached on a handful of points is no news
             warnings.simplefilter("ignore")
             gp.fit(x[:, None], miss - prior(x))
-        highest = min(float(np.log(self.limit)), -LOWEST)
+        highest = min(float(np.log(self.limit / self.start)), -LOWEST)
         grid = np.linspace(LOWEST, highest, 481)
         mean, std = gp.predict(grid[:, None], return_std=True)
         gain = expected_improvement_of_abs(mean + prior(grid), std, float(np.min(np.abs(miss))))
         best = float(grid[int(np.argmax(gain))])
-        return self.scaled(float(np.exp(best)), {"log_factor": best})
+        return self.scaled(float(np.exp(best)), {"log_factor": best + shift})
 
 
 def expected_improvement_of_abs(mean: np.ndarray, std: np.ndarray, best: float) -> np.ndarray:

@@ -41,6 +41,7 @@ from rlff.dataset import Dataset, joint_outputs
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
 from rlff.learn.baselines import BASELINES
+from rlff.learn.carry import carried_offsets
 from rlff.learn.log import AttemptLog, robot_record
 from rlff.learn.method import (
     COLUMNS,
@@ -178,6 +179,7 @@ def learn(
     joints: Sequence[str] | None = None,
     bearing: float = 0.0,
     height: float | None = None,
+    carry_from: Sequence[str | Path] = (),
 ) -> LearningResult:
     """Learn to hit a basket at distance ``basket`` from (possibly failed) demonstrations.
 
@@ -230,6 +232,12 @@ def learn(
         the arm to it before the throw.
     height : float, optional
         The basket rim's height (m); default ``rim_height``.
+    carry_from : sequence of paths
+        Attempts logs of earlier runs at other baskets (the same method, demonstrations, robot,
+        joints and pedestal): the speed offsets of their hits centre this run's search
+        (:mod:`rlff.learn.carry`; ``calibrate``, ``donut`` and the GMR baselines use them, the
+        ``failure`` and ``hindsight`` updates, which move the DMM rather than a speed, do not).
+        The offsets go into this run's log header, so it resumes only with the same.
 
     Returns
     -------
@@ -293,17 +301,22 @@ def learn(
         run["executor"] = executed_on
     if _whole_arm(mapping):
         run["joints"] = list(mapping.driven_joints)
+    carried, carry_notes = carried_offsets(carry_from, run) if carry_from else ((), [])
+    if carried:
+        run["carried"] = [round(x, 4) for x in carried]
     log = AttemptLog(log_path, run) if log_path is not None else None
     try:
-        return _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
-                    progress, until, centre_window, pedestal, components)
+        result = _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
+                      progress, until, centre_window, pedestal, components, tuple(run.get("carried", ())))
+        result.notes[:0] = carry_notes
+        return result
     finally:
         if log:
             log.close()
 
 
 def _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor, progress,
-         until, centre_window, pedestal, components) -> LearningResult:
+         until, centre_window, pedestal, components, carried) -> LearningResult:
     """The attempts of :func:`learn` after its checks, with the log (or None) held."""
     history = list(log.contents.attempts) if log else []
     resumed = len(history)
@@ -322,6 +335,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         seed=seed,
         max_speed=mapping.max_human_speeds()["velocity"],
         outputs=outputs,
+        carried=carried,
         **({"elasticity": release_elasticity(mapping, demos, target.distance, target.rim_height, pedestal),
             "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal),
             "saturation": partial(saturation_factor, mapping)}

@@ -74,6 +74,9 @@ class Problem:
         ball to the target by the arm's kinematics and the free flight from its release (a
         whole-arm throw, :func:`rlff.learn.loop.aimed_factor`); None: the demonstrations' own
         speed is where the calibration's prior puts the basket.
+    carried : tuple of float
+        Log speed factors of earlier runs' hits over their own start (:mod:`rlff.learn.carry`):
+        where this run's search centres, when given.
     """
 
     demos: Dataset
@@ -88,6 +91,7 @@ class Problem:
     elasticity: float = 1.6
     saturation: Callable[[Proposal], float] | None = None
     aim: Callable[[Proposal], float] | None = None
+    carried: tuple[float, ...] = ()
 
     def fit(self, data: Dataset, sample_weight: np.ndarray | None = None, n_init: int | None = None):
         """The mixture over (angle, distance) -> :attr:`outputs` of ``data`` (an

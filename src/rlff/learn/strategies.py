@@ -71,6 +71,7 @@ from scipy.special import logsumexp
 from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
+from rlff.learn.carry import CARRY_SCALE, carried_centre
 from rlff.learn.landings import ROBOT_SCALE, LandingSpeed, landing_speed
 from rlff.learn.method import (
     Method,
@@ -316,7 +317,9 @@ class CalibrateUpdate(DmmStrategy):
             info = {"speed": round(wanted, 4), "log_factor": round(x, 4), "p_window": round(mass, 4),
                     "prior": self._prior}
         else:
-            calibration = SpeedCalibration(problem.target, problem.tolerance, self.reference, fastest,
+            # carried hits: the first proposal at the speed they point to
+            start = self.reference * math.exp(carried_centre(problem.carried) if problem.carried else 0.0)
+            calibration = SpeedCalibration(problem.target, problem.tolerance, start, fastest,
                                            slope=problem.elasticity)
             for attempt in history:
                 executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
@@ -325,7 +328,8 @@ class CalibrateUpdate(DmmStrategy):
                     executed = float(attempt.info.get("speed", executed))
                 calibration.observe_landing(executed, attempt.landing)
             wanted, p_hit = calibration.best_speed()
-            info = {"speed": round(wanted, 4), "p_hit": round(p_hit, 4)}
+            info = {"speed": round(wanted, 4), "log_factor": round(math.log(wanted / self.reference), 4),
+                    "p_hit": round(p_hit, 4)}
         return replace(scale_speed(throw, wanted / speed), query=problem.target, exploration=shape.exploration,
                        info=info)
 
@@ -344,7 +348,8 @@ class CalibrateUpdate(DmmStrategy):
 
     def speed_centre(self) -> tuple[float, float]:
         """Where the window search's lattice and normal prior are centred (log speed factor), and
-        the prior's standard deviation: about the speed the demonstrations' landings point to
+        the prior's standard deviation: about the mean offset of earlier baskets' hits with
+        :data:`rlff.learn.carry.CARRY_SCALE` when the run carries them; about the speed the demonstrations' landings point to
         when enough of them are known (:func:`rlff.learn.landings.landing_speed`; its standard
         error and :data:`rlff.learn.landings.ROBOT_SCALE` added in quadrature), else about the GMR
         mean's speed with :data:`rlff.learn.windows.PRIOR_SCALE`. A whole-arm throw's u0 is where
@@ -352,6 +357,8 @@ class CalibrateUpdate(DmmStrategy):
         :data:`AIM_SCALE` about it: as wide as the GMR mean's, its tail beyond the speed limit
         outweighed the aim's window wherever the limit lay within three windows above the aim,
         and the first throw went to the limit (0.2-0.8 m long on the people of seed 1 at 4-4.5 m)."""
+        if self.problem.carried:
+            return carried_centre(self.problem.carried), CARRY_SCALE
         law = self.landings_law
         if law is None:
             return 0.0, AIM_SCALE if self.problem.aim is not None else PRIOR_SCALE
@@ -370,11 +377,14 @@ class CalibrateUpdate(DmmStrategy):
     def speed_prior(self) -> tuple[str, Callable[[np.ndarray], np.ndarray] | None]:
         """The window search's prior over the hit's log speed factor: its name, which the
         attempts log records as ``prior``, and its log density (None: the normal prior about
-        :meth:`speed_centre`). ``landings``: normal about the speed the known landings point to;
+        :meth:`speed_centre`). ``carried``: normal about the speed earlier baskets' hits point to
+        (:mod:`rlff.learn.carry`); ``landings``: normal about the speed the known landings point to;
         ``failures``: where every demonstration missed and none of their landings is known (a
         one-joint throw), the prior of :mod:`rlff.learn.outcomes` (the speeds at which they would
         have hit ruled out, the ring about them first); ``normal``: about the GMR mean's speed."""
         problem = self.problem
+        if problem.carried:
+            return "carried", None
         if self.landings_law is not None:
             return "landings", None
         if problem.aim is not None or not all_missed(problem.demos):
@@ -419,10 +429,12 @@ class DonutSearch(CalibrateUpdate):
     name = "donut"
     robot_weight = 1.0
 
-    def speed_prior(self) -> tuple[str, Callable[[np.ndarray], np.ndarray]]:
+    def speed_prior(self) -> tuple[str, Callable[[np.ndarray], np.ndarray] | None]:
         from rlff.model.donut import dmm_marginal_pdf, exploration_factor
 
         problem = self.problem
+        if problem.carried:  # the robot's own hits say more than where the demonstrations disagree
+            return "carried", None
         tail = release_samples(problem.angles.size)
         inputs = np.column_stack([problem.angles[-tail:], np.full(tail, self.shape_query)])
         conditional = self.model.condition(inputs)

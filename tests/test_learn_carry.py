@@ -1,0 +1,104 @@
+"""Baskets in sequence: one run's hits carried into the next (real model, real MuJoCo, real logs)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from rlff.dataset import write_csv
+from rlff.errors import InputError
+from rlff.learn import learn
+from rlff.learn.log import read_log
+
+NEAR, FAR = 1.4, 1.9
+
+
+@pytest.fixture(scope="module")
+def demos():
+    """Seed 3's `short` people as a recording knows them (every throw short, no landings)."""
+    from rlff.learn.scenarios import Scenario, demonstrations
+
+    return demonstrations(3, Scenario("short", landings="none"))
+
+
+@pytest.fixture(scope="module")
+def near_log(demos, tmp_path_factory):
+    """The log of a calibrate run that hit the near basket, and the hit's log speed factor."""
+    log = tmp_path_factory.mktemp("carry") / "near.jsonl"
+    result = learn(demos, NEAR, budget=20, feedback="binary", seed=3, log_path=log)
+    assert result.hit
+    return log, result.history[-1].info["log_factor"]
+
+
+@pytest.mark.parametrize("update, feedback", [("calibrate", "binary"), ("donut", "binary"), ("sweep", "binary"),
+                                              ("calibrate", "distance"), ("gp-bo", "distance")])
+def test_a_carried_run_starts_at_the_speed_the_earlier_hit_found(demos, tmp_path, update, feedback):
+    near = tmp_path / "near.jsonl"
+    first = learn(demos, NEAR, budget=20, feedback=feedback, update=update, seed=3, log_path=near)
+    assert first.hit
+    offset = first.history[-1].info["log_factor"]
+    alone = learn(demos, FAR, budget=1, feedback=feedback, update=update, seed=3)
+    carried = learn(demos, FAR, budget=1, feedback=feedback, update=update, seed=3, carry_from=[near],
+                    log_path=tmp_path / "far.jsonl")
+    assert carried.history[0].info["log_factor"] == pytest.approx(offset, abs=2e-4)
+    assert alone.history[0].info["log_factor"] != pytest.approx(offset, abs=0.02)  # not where it starts anyway
+    assert carried.notes[0] == f"carried from {near} (basket 1.4 m): {offset:+.3f} in log speed over its start"
+    header, _ = read_log(tmp_path / "far.jsonl")
+    assert header["carried"] == [pytest.approx(offset, abs=1e-4)]
+
+
+def test_the_calibration_searches_about_the_carried_offset_with_its_own_prior(demos, near_log):
+    log, offset = near_log
+    result = learn(demos, FAR, budget=3, feedback="binary", seed=3, carry_from=[log])
+    assert {attempt.info["prior"] for attempt in result.history} == {"carried"}
+    if len(result.history) > 1:  # the next windows lie either side of it
+        assert abs(result.history[1].info["log_factor"] - offset) < 0.2
+
+
+def test_a_carried_log_resumes_only_with_the_same_carry(demos, near_log, tmp_path):
+    log, _ = near_log
+    far = tmp_path / "far.jsonl"
+    learn(demos, FAR, budget=1, feedback="binary", seed=3, carry_from=[log], log_path=far)
+    resumed = learn(demos, FAR, budget=2, feedback="binary", seed=3, carry_from=[log], log_path=far)
+    assert resumed.resumed == 1
+    with pytest.raises(InputError, match=r"the log belongs to another run \(carried = .* in the log, None now\)"):
+        learn(demos, FAR, budget=2, feedback="binary", seed=3, log_path=far)
+
+
+def test_only_runs_with_the_same_method_and_demonstrations_carry(demos, near_log, tmp_path):
+    log, _ = near_log
+    with pytest.raises(InputError, match=r"near.jsonl: cannot carry its hits into this run \(update = 'calibrate' "
+                                         r"there, 'sweep' here\)"):
+        learn(demos, FAR, budget=1, feedback="binary", update="sweep", seed=3, carry_from=[log])
+    other = demos.replace(list(demos)[1:])
+    with pytest.raises(InputError, match=r"cannot carry its hits into this run \(demos = "):
+        learn(other, FAR, budget=1, feedback="binary", seed=3, carry_from=[log])
+    with pytest.raises(InputError, match="no such attempts log"):
+        learn(demos, FAR, budget=1, feedback="binary", seed=3, carry_from=[tmp_path / "absent.jsonl"])
+
+
+def test_a_log_without_a_hit_carries_nothing_and_says_so(demos, tmp_path):
+    missed = tmp_path / "missed.jsonl"
+    first = learn(demos, NEAR, budget=1, feedback="binary", update="imitation", seed=3, log_path=missed)
+    assert not first.hit
+    result = learn(demos, FAR, budget=1, feedback="binary", update="imitation", seed=3, carry_from=[missed],
+                   log_path=tmp_path / "far.jsonl")
+    assert result.notes[0] == f"{missed} (basket 1.4 m) has no hit to carry"
+    header, _ = read_log(tmp_path / "far.jsonl")
+    assert "carried" not in header
+
+
+def test_rlff_learn_carry_on_the_command_line(rlff, demos, near_log, tmp_path):
+    log, offset = near_log
+    path = tmp_path / "demos.csv"
+    write_csv(demos, path)
+    done = rlff("learn", str(path), "--basket", "1.9", "--carry", str(log), "--budget", "1", "--seed", "3", "--json")
+    assert done.code == 0, done.stderr
+    result = json.loads(done.stdout)
+    assert result["notes"][0].startswith(f"carried from {log} (basket 1.4 m): {offset:+.3f}")
+    same = rlff("learn", str(path), "--basket", "1.9", "--carry", str(log), "--log", str(log))
+    assert same.code == 2 and "--log" in same.stderr and "refusing to overwrite an input" in same.stderr
+    wrong = rlff("learn", str(path), "--basket", "1.9", "--carry", str(log), "--update", "sweep")
+    assert wrong.code == 2
+    assert "cannot carry its hits into this run (update = 'calibrate' there, 'sweep' here)" in wrong.stderr
