@@ -189,7 +189,7 @@ def run_whole_arm(
 
     logs = out_dir / "attempts" / "whole-arm"
     runs, learned = [], {}
-    hit_logs: dict[tuple[str, ...], list[Path]] = {}  # per joint set: the logs of baskets hit so far
+    last_hit: dict[tuple[str, ...], Path] = {}  # per joint set: the log of the last basket hit
     for distance, bearing in baskets(demonstrated, unseen, bearings) if only is None else only:
         log = logs / f"{distance:g}m-{bearing:g}deg.jsonl"
         log.unlink(missing_ok=True)
@@ -202,7 +202,7 @@ def run_whole_arm(
             try:
                 result = learn(
                     aimed, distance, budget=budget, feedback="binary", seed=seed, robot=robot.name, log_path=log,
-                    joints=joints, bearing=bearing, executor=executor, carry_from=hit_logs.get(tuple(joints), [])[-1:],
+                    joints=joints, bearing=bearing, executor=executor, carry_from=[last_hit[joints]] if joints in last_hit else [],
                     progress=lambda attempt, d=distance, b=bearing: tell(
                         f"whole arm at {d:g} m, {b:g} deg: attempt {attempt.index} ({'hit' if attempt.hit else 'miss'})"),
                 )
@@ -224,7 +224,7 @@ def run_whole_arm(
         ))
         learned[(distance, bearing)] = result
         if result.hit:  # the next basket with these joints starts from the speed offset this hit found
-            hit_logs.setdefault(tuple(joints), []).append(log)
+            last_hit[joints] = log
     hits = sum(1 for t in raw if t.meta.get("hit") is True)
     return WholeArm(len(raw), hits, len(clean), demonstrated, runs, clean, learned)
 

@@ -45,7 +45,6 @@ import numpy as np
 from scipy.stats import norm
 
 from rlff.learn.attempt import Attempt
-from rlff.learn.carry import carried_centre
 from rlff.learn.method import (
     Method,
     Problem,
@@ -85,7 +84,7 @@ class GmrBaseline(Method):
         self.limit = problem.max_speed / fastest if fastest > 0 else np.inf
         #: Speed factor the baseline's factors are relative to: 1, or where earlier baskets' hits
         #: point (:mod:`rlff.learn.carry`: the same information ``calibrate`` gets).
-        self.start = math.exp(carried_centre(problem.carried)) if problem.carried else 1.0
+        self.start = math.exp(problem.carried_shift)
 
     def scaled(self, factor: np.ndarray | float, info: dict) -> Proposal:
         """The GMR mean with every velocity times ``start * factor`` (``factor`` scalar or shape

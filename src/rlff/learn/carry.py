@@ -78,7 +78,3 @@ def carried_offsets(logs: Sequence[str | Path], run: dict[str, Any]) -> tuple[tu
             notes.append(f"{path} (basket {basket:g} m) has no hit to carry")
     return tuple(offsets), notes
 
-
-def carried_centre(offsets: Sequence[float]) -> float:
-    """The log speed factor a carrying run's search centres on: the mean of ``offsets``."""
-    return float(sum(offsets) / len(offsets))

@@ -93,6 +93,11 @@ class Problem:
     aim: Callable[[Proposal], float] | None = None
     carried: tuple[float, ...] = ()
 
+    @property
+    def carried_shift(self) -> float:
+        """Log speed factor the carried hits point to (their mean; 0 without any)."""
+        return float(np.mean(self.carried)) if self.carried else 0.0
+
     def fit(self, data: Dataset, sample_weight: np.ndarray | None = None, n_init: int | None = None):
         """The mixture over (angle, distance) -> :attr:`outputs` of ``data`` (an
         :class:`rlff.model.Model`), with the run's number of components and seed, ``n_init`` EM

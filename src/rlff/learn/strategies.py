@@ -71,7 +71,7 @@ from scipy.special import logsumexp
 from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
-from rlff.learn.carry import CARRY_SCALE, carried_centre
+from rlff.learn.carry import CARRY_SCALE
 from rlff.learn.landings import ROBOT_SCALE, LandingSpeed, landing_speed
 from rlff.learn.method import (
     Method,
@@ -318,7 +318,7 @@ class CalibrateUpdate(DmmStrategy):
                     "prior": self._prior}
         else:
             # carried hits: the first proposal at the speed they point to
-            start = self.reference * math.exp(carried_centre(problem.carried) if problem.carried else 0.0)
+            start = self.reference * math.exp(problem.carried_shift)
             calibration = SpeedCalibration(problem.target, problem.tolerance, start, fastest,
                                            slope=problem.elasticity)
             for attempt in history:
@@ -358,7 +358,7 @@ class CalibrateUpdate(DmmStrategy):
         outweighed the aim's window wherever the limit lay within three windows above the aim,
         and the first throw went to the limit (0.2-0.8 m long on the people of seed 1 at 4-4.5 m)."""
         if self.problem.carried:
-            return carried_centre(self.problem.carried), CARRY_SCALE
+            return self.problem.carried_shift, CARRY_SCALE
         law = self.landings_law
         if law is None:
             return 0.0, AIM_SCALE if self.problem.aim is not None else PRIOR_SCALE
