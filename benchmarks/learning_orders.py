@@ -18,7 +18,8 @@ script measures those curves, then counts the attempts to the first hit of
 - ``scale-0.4``: ``kept`` with a prior of 0.4;
 - ``failed-demos``: the donut's idea in the range law's terms: every demonstration that missed
   its basket rules out (softly) the speeds that would have hit it, a demonstration that hit
-  makes them likelier, about the normal prior 0.3 (:func:`rlff.learn.outcomes.outcomes_prior`);
+  makes them likelier, about the normal prior 0.3, mixed with that normal prior alone
+  (:data:`rlff.learn.outcomes.TRANSFER_WEIGHT`; :func:`rlff.learn.outcomes.outcomes_prior`);
 - ``calibrate``: the method's own windows (``failed-demos`` where every demonstration missed,
   else ``kept``);
 - ``aimed``: a normal prior of :data:`AIM_SCALE` about the speed the robot's own kinematics

@@ -22,11 +22,12 @@ L = c u^b (:mod:`rlff.learn.landings`):
 
 The result is a density over the robot's hit x* with a hole where the failures would have
 hit, which :class:`rlff.learn.windows.WindowSearch` turns into an order of the speed windows:
-the ring about the failures first. On the tuning seeds (0-39, binary feedback, no landings,
-emulated on measured hit curves: ``benchmarks/learning_orders.py``) it took the `short`
-demonstrators (every throw short) from 3.66 attempts to 2.94 (seeds 0-95, the mixture: 3.16 ->
-2.85), on held-out seeds (100-123, real runs) from 3.7 to 3.5 with the median from 4 to 2 (the
-mixture: 3.35); where some demonstrations hit, the
+the ring about the failures first. Binary feedback, no landings, the `short` demonstrators
+(every throw short), mean attempts: the failures alone took the normal prior's 3.66 to 2.94 on
+the tuning seeds 0-39 (emulated on measured hit curves, ``benchmarks/learning_orders.py``) and
+3.7 to 3.5 on held-out seeds 100-123 (real runs, the median 4 to 2); the mixture takes the
+failures alone's 3.16 to 2.85 on seeds 0-95 and 3.5 to 3.35 on 100-123. Where some
+demonstrations hit, the
 robot's hit is not ruled out by anything and the normal prior stays (docs/learn.md has where
 this loses: a robot whose hit lies in the failures' region).
 
