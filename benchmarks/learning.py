@@ -36,7 +36,7 @@ def loop_work_per_attempt(repeats: int = 10) -> tuple[float, float]:
     from rlff.learn.strategies import CalibrateUpdate
     from rlff.robot import RobotMapping, load_robot
     from rlff.sim import Basket, simulate_throw
-    from rlff.trajectory.timing import time_along_path
+    from rlff.timing import time_along_path
 
     demos = _learning_demos(demonstrations(0))
     problem = Problem(demos=demos, target=1.9, feedback="distance", tolerance=0.14,

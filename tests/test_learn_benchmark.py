@@ -128,7 +128,7 @@ def planned_throw():
     """A throw the robot file says lands near 1.9 m, as the loop plans it."""
     from rlff.robot import RobotMapping, load_robot
     from rlff.robot.plan import plan
-    from rlff.trajectory.timing import time_along_path
+    from rlff.timing import time_along_path
 
     angle = np.linspace(0.7, 1.95, 30)
     velocity = 9.0 * np.sin(0.5 * np.pi * (angle - 0.7) / 1.25) ** 0.5

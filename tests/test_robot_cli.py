@@ -12,7 +12,7 @@ import pytest
 from rlff.cli import main
 from rlff.robot import RobotMapping, load_robot
 from rlff.robot.export import read_json
-from rlff.trajectory.timing import time_along_path
+from rlff.timing import time_along_path
 
 
 def human_csv(path, robot_positions, robot_speed, **extra):

@@ -12,7 +12,7 @@ from PIL import Image
 from rlff.robot import RobotMapping, load_robot
 from rlff.robot.plan import plan
 from rlff.sim import Basket, simulate_throw
-from rlff.trajectory.timing import time_along_path
+from rlff.timing import time_along_path
 
 
 def _generated_path(path: Path, peak: float = 9.0) -> Path:

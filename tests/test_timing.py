@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rlff.errors import InputError
-from rlff.trajectory.timing import time_along_path
+from rlff.timing import time_along_path
 
 
 def test_constant_velocity_gives_linear_time():

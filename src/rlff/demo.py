@@ -319,7 +319,7 @@ def run_demo(
     from rlff.sim import Basket, max_reach, simulate_throw
     from rlff.sim.reach import farthest_basket
     from rlff.synthetic.throws import simulate_throws
-    from rlff.trajectory.timing import time_along_path
+    from rlff.timing import time_along_path
     from rlff.whole_arm_demo import run_whole_arm, whole_arm_figures
 
     check_demo_options(out_dir, size)

@@ -53,8 +53,8 @@ from rlff.learn.method import (
 )
 from rlff.learn.strategies import STRATEGIES
 from rlff.limits import check_pedestal
+from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.timing import time_along_path
 
 #: Quantile of the demonstrations' last angles where generated throws release.
 RELEASE_QUANTILE = 0.25

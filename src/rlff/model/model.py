@@ -9,7 +9,7 @@ saves to and loads from ``model.json`` (no pickle; validated on load), condition
 Where the generated velocity is <= 0 (the thesis' demonstrations start and end at rest, and the
 DMM may dip just below 0 there) the ``velocity`` column keeps the model's value, and the ``time``
 column is computed from the velocity clipped at 0 in the direction of the path: a stop is crossed
-at the floor speed of :func:`rlff.trajectory.timing.time_along_path` (1 % of the peak speed), so
+at the floor speed of :func:`rlff.timing.time_along_path` (1 % of the peak speed), so
 the time is always finite and increasing. Should the model give no forward velocity anywhere on
 the path, the time uses |velocity| (or a unit speed if that is zero too), and a note says so.
 """
@@ -50,7 +50,7 @@ from rlff.model.mixture import (
     select_components,
 )
 from rlff.model.regression import Conditional, condition, predict
-from rlff.trajectory.timing import time_along_path
+from rlff.timing import time_along_path
 
 FORMAT = "rlff-model"
 VERSION = 1

@@ -29,9 +29,9 @@ from rlff.dataset import JOINT_COLUMNS as HUMAN_JOINT_COLUMNS
 from rlff.dataset import velocity_column
 from rlff.errors import InputError
 from rlff.robot.description import Robot, number_field
+from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport, LimitChange, clip_to_limits, require_within_limits
-from rlff.trajectory.timing import time_along_path
 
 #: A throw in human units (thesis 4.2): columns of equal length T, always ``angle`` (rad, the
 #: elbow, the phase) and ``velocity`` (rad/s), plus ``shoulder``/``shoulder_velocity`` and
@@ -389,7 +389,7 @@ class ArmMapping:
             Columns of shape (T,): ``angle`` (rad, the phase: strictly monotonic), ``velocity``
             (rad/s), and the position and velocity column of every other human joint of
             :attr:`human_columns`; optional ``time`` (s; default: from angle and velocity,
-            :func:`rlff.trajectory.timing.time_along_path`).
+            :func:`rlff.timing.time_along_path`).
         bearing : float
             The basket's bearing (deg, counter-clockwise seen from above): the bearing joint
             stands at its start pose plus this angle through the whole throw.

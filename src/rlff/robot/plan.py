@@ -83,7 +83,7 @@ def _require_time_agrees(angle: np.ndarray, velocity: np.ndarray, time: np.ndarr
     """Refuse a path whose ``time`` column disagrees with its angle and velocity.
 
     Where both ends of a step move at 10 % of the peak speed or more, the step takes
-    ``2 |d angle| / (v_i + v_{i+1})`` (:func:`rlff.trajectory.timing.time_along_path`); a time
+    ``2 |d angle| / (v_i + v_{i+1})`` (:func:`rlff.timing.time_along_path`); a time
     column stretched, or velocities scaled with the time kept, differ from it.
     """
     angle, velocity, time = (np.asarray(a, dtype=float) for a in (angle, velocity, time))

@@ -5,7 +5,7 @@ positions and velocities (scipy's CubicHermiteSpline), so the resampled position
 accelerations are one function and its first two derivatives: consistent with each other by
 construction, and the original points are passed through exactly. A cubic Hermite reproduces any
 polynomial path of degree <= 3, in particular the constant-acceleration segments that
-:func:`rlff.trajectory.timing.time_along_path` assumes.
+:func:`rlff.timing.time_along_path` assumes.
 """
 
 from __future__ import annotations

@@ -6,6 +6,10 @@ dt = 2 d angle / (v_i + v_{i+1}): exact for constant velocity and for uniform ac
 finite when one end of the segment is at rest. Where both ends are (nearly) at rest the speed is
 floored at ``min_speed`` (default 1 % of the peak speed) so that the time stays finite: a segment
 that starts and ends at rest takes its length over that floor, as if crept through slowly.
+
+A leaf module (it needs only :mod:`rlff.errors`): the model stage times the paths it generates
+with it, the robot mapping and the motion planner below it time theirs, so it lives beneath them
+all rather than in :mod:`rlff.trajectory`, which the model stage must not import.
 """
 
 from __future__ import annotations
