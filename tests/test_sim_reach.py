@@ -12,7 +12,7 @@ from rlff.robot import load_robot
 from rlff.robot.description import Geometry, Joint, Robot
 from rlff.sim import Basket, max_reach, require_reachable, simulate_throw, throw_reach
 from rlff.sim.arm import BALL_RADIUS
-from rlff.sim.reach import farthest_basket
+from rlff.sim.reach import centimetres_below, farthest_basket
 from rlff.trajectory.joint import JointTrajectory
 
 
@@ -65,6 +65,17 @@ def test_an_unreachable_basket_says_how_far_the_robot_throws(robot):
     with pytest.raises(InputError, match=r"basket at 3\.00 m is out of reach.*2\.30 m.*joint_3 too"):
         require_reachable(Basket(3.0), robot)
     require_reachable(Basket(3.0), robot, joints=("joint_2", "joint_3"))
+
+
+def test_the_farthest_basket_an_error_names_is_one_the_check_takes(robot):
+    assert centimetres_below(2.2549) == "2.25" and centimetres_below(2.2599) == "2.25"
+    assert centimetres_below(2.25) == "2.25"  # a value on the centimetre stays
+    with pytest.raises(InputError) as error:
+        require_reachable(Basket(3.0), robot)
+    named = float(str(error.value).split("opening is at ")[1].split(" m")[0])
+    require_reachable(Basket(named), robot)  # the basket it names is taken
+    with pytest.raises(InputError):
+        require_reachable(Basket(named + 0.01), robot)  # and the next centimetre is not
 
 
 def test_only_joints_of_the_throwing_plane_throw(robot):

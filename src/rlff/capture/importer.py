@@ -431,11 +431,13 @@ def _tracking_notes(path: Path, motion: ArmMotion, origin: float) -> list[str]:
     notes = []
     for name, count in motion.joint_glitches.items():
         if count:
-            notes.append(f"{path.name}: {count} glitch samples of the {name} angle bridged between their neighbours")
+            samples = "sample" if count == 1 else "samples"
+            notes.append(f"{path.name}: {count} glitch {samples} of the {name} angle bridged between their neighbours")
     if motion.glitches.size:
         times = ", ".join(f"{t - origin:.2f}" for t in motion.glitches[:5]) + (", ..." if motion.glitches.size > 5 else "")
         notes.append(
-            f"{path.name}: {motion.glitches.size} glitch samples removed (one sample leaving two neighbours that agree) at t={times} s"
+            f"{path.name}: {motion.glitches.size} glitch {'sample' if motion.glitches.size == 1 else 'samples'} removed "
+            f"(one sample leaving two neighbours that agree) at t={times} s"
         )
     spans = motion.lost_spans()
     if spans:
@@ -585,7 +587,9 @@ def _throw(
         )
         return None
     if target is None and distance < DISTANCE_RANGE[0]:  # no basket stands that close
-        reason = (f"no basket distance and the estimated landing ({landed:.2f} m, labelled {distance:g} m) is "
+        # + 0.0 after rounding: a ball at the feet reads 0.00 m, not -0.00
+        reason = (f"no basket distance and the estimated landing ({round(landed, 2) + 0.0:.2f} m, labelled "
+                  f"{distance + 0.0:g} m) is "
                   f"nearer than any basket ({DISTANCE_RANGE[0]:g} m): the hand came down near the body")
         rise = float(motion.angle[cut.extension_end] - motion.angle[cut.extension_start])
         report.reject(Rejection(release.time, "landing", reason, rise), motion.arm.label)

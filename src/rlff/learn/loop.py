@@ -519,7 +519,7 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
     demonstrations for its distance, with ``components`` and ``seed``: the shape every method
     starts from) at the fastest the arm executes it (:func:`arm_reach`).
     """
-    from rlff.sim.reach import farthest_basket, require_executable
+    from rlff.sim.reach import centimetres_below, farthest_basket, require_executable
 
     if not _whole_arm(mapping):
         start, release = mapping.angle_offset + mapping.angle_scale * _angle_grid(demos)[[0, -1]]
@@ -540,7 +540,7 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
         f"basket at {basket.distance:.2f} m is out of reach of the whole-arm throws this robot executes: the "
         f"loop's first throw for it (the demonstrations' GMR mean) with {', '.join(mapping.driven_joints)}, sped "
         f"up until {reach.limiting}, would {came_down}, so the farthest basket with a {basket.opening:.2f} m "
-        f"opening is at {farthest:.2f} m (pedestal {pedestal:.2f} m){hint}"
+        f"opening is at {centimetres_below(farthest)} m (pedestal {pedestal:.2f} m){hint}"
     )
 
 

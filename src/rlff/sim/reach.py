@@ -20,6 +20,7 @@ reaches its speed limit (what a speed calibration that scales the coordinated th
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import lru_cache
@@ -118,6 +119,12 @@ def farthest_basket(reach: float, opening: float) -> float:
     return reach + 0.5 * opening - BALL_RADIUS
 
 
+def centimetres_below(distance: float) -> str:
+    """``distance`` (m) as text, rounded down to the centimetre: a farthest basket printed is one
+    the loop takes (2.2549 m reads 2.25 m, and a basket at 2.25 m is within it)."""
+    return f"{math.floor(distance * 100.0 + 1e-9) / 100.0:.2f}"
+
+
 def require_reachable(
     basket: Basket,
     robot: Robot | None = None,
@@ -135,14 +142,14 @@ def require_reachable(
     hints = []
     if "joint_3" not in joints:
         more = throw_reach(robot, basket.rim_height, pedestal, (*joints, "joint_3")).distance
-        hints.append(f"with joint_3 too: {farthest_basket(more, basket.opening):.2f} m")
+        hints.append(f"with joint_3 too: {centimetres_below(farthest_basket(more, basket.opening))} m")
     higher = throw_reach(robot, basket.rim_height, pedestal + 0.5, joints).distance
-    hints.append(f"on a pedestal 0.5 m higher: {farthest_basket(higher, basket.opening):.2f} m")
+    hints.append(f"on a pedestal 0.5 m higher: {centimetres_below(farthest_basket(higher, basket.opening))} m")
     raise InputError(
         f"basket at {basket.distance:.2f} m is out of reach: throwing with {', '.join(joints)} at the "
         f"speed limit, the ball comes down to the {basket.rim_height:.2f} m rim at most "
         f"{reach.distance:.2f} m away, so the farthest basket with a {basket.opening:.2f} m opening is at "
-        f"{farthest_basket(reach.distance, basket.opening):.2f} m (pedestal {pedestal:.2f} m; farthest basket "
+        f"{centimetres_below(farthest_basket(reach.distance, basket.opening))} m (pedestal {pedestal:.2f} m; farthest basket "
         f"{'; '.join(hints)})"
     )
 
@@ -311,8 +318,8 @@ def require_executable(basket: Basket, mapping, pedestal: float = 0.0, release: 
     raise InputError(
         f"basket at {basket.distance:.2f} m is out of reach of the throws this robot executes: {reach.joint} "
         f"at {reach.speed:.2f} rad/s ({limit}), {where}, the other joints at the start pose, "
-        f"{came_down}, so the farthest basket with a {basket.opening:.2f} m opening is at {farthest:.2f} m "
-        f"(pedestal {pedestal:.2f} m)"
+        f"{came_down}, so the farthest basket with a {basket.opening:.2f} m opening is at "
+        f"{centimetres_below(farthest)} m (pedestal {pedestal:.2f} m)"
     )
 
 
