@@ -32,7 +32,7 @@ except ImportError:  # pragma: no cover - older typer
     from click.utils import echo
 
 from rlff.cli._common import stderr, verbosity
-from rlff.errors import InputError, Terminated
+from rlff.errors import InputError, Interrupted, Terminated
 
 HELP_OPTIONS = ["-h", "--help"]
 
@@ -149,8 +149,8 @@ def _os_error(exc: OSError) -> str:
 
 
 class _Stop:
-    """The SIGINT and SIGTERM handler while a command runs: raises KeyboardInterrupt, or
-    :class:`Terminated` for SIGTERM, and remembers which (Typer turns either into exit code
+    """The SIGINT and SIGTERM handler while a command runs: raises :class:`Interrupted` (a
+    KeyboardInterrupt), or :class:`Terminated` for SIGTERM, and remembers which (Typer turns either into exit code
     130, the kind lost)."""
 
     def __init__(self) -> None:
@@ -158,7 +158,7 @@ class _Stop:
 
     def __call__(self, signum, frame) -> None:
         self.signal = signum
-        raise Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+        raise Terminated() if signum == signal.SIGTERM else Interrupted()
 
 
 def main(argv: list[str] | None = None) -> int:
