@@ -56,6 +56,8 @@ def _allowed(part: str) -> set[str]:
     return LEAVES | {name for group in STAGES[:level] for name in group} | {part}
 
 
+#: Every source file but the package's own ``__init__``, which re-exports the library's names for
+#: its users and so imports from every stage.
 SOURCES = sorted(p for p in SOURCE.rglob("*.py") if p != SOURCE / "__init__.py")
 
 

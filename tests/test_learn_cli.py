@@ -101,6 +101,7 @@ def test_a_ctrl_c_caught_inside_an_import_still_exits_130(tmp_path):
     from rlff.cli import _Stop
     from rlff.errors import Interrupted
 
+    stopped = None
     try:
         _Stop()(signal.SIGINT, None)
     except KeyboardInterrupt as exc:  # caught here whatever it is, so that pytest itself goes on

@@ -431,8 +431,8 @@ def _tracking_notes(path: Path, motion: ArmMotion, origin: float) -> list[str]:
     notes = []
     for name, count in motion.joint_glitches.items():
         if count:
-            samples = "sample" if count == 1 else "samples"
-            notes.append(f"{path.name}: {count} glitch {samples} of the {name} angle bridged between their neighbours")
+            notes.append(f"{path.name}: {count} glitch {'sample' if count == 1 else 'samples'} of the {name} angle "
+                         "bridged between their neighbours")
     if motion.glitches.size:
         times = ", ".join(f"{t - origin:.2f}" for t in motion.glitches[:5]) + (", ..." if motion.glitches.size > 5 else "")
         notes.append(

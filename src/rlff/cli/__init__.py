@@ -150,8 +150,8 @@ def _os_error(exc: OSError) -> str:
 
 class _Stop:
     """The SIGINT and SIGTERM handler while a command runs: raises :class:`Interrupted` (a
-    KeyboardInterrupt), or :class:`Terminated` for SIGTERM, and remembers which (Typer turns either into exit code
-    130, the kind lost)."""
+    KeyboardInterrupt), or :class:`Terminated` for SIGTERM, and remembers which (Typer turns
+    either into exit code 130, the kind lost)."""
 
     def __init__(self) -> None:
         self.signal: int | None = None

@@ -27,9 +27,8 @@ the ring about the failures first. Binary feedback, no landings, the `short` dem
 the tuning seeds 0-39 (emulated on measured hit curves, ``benchmarks/learning_orders.py``) and
 3.7 to 3.5 on held-out seeds 100-123 (real runs, the median 4 to 2); the mixture takes the
 failures alone's 3.16 to 2.85 on seeds 0-95 and 3.5 to 3.35 on 100-123. Where some
-demonstrations hit, the
-robot's hit is not ruled out by anything and the normal prior stays (docs/learn.md has where
-this loses: a robot whose hit lies in the failures' region).
+demonstrations hit, the robot's hit is not ruled out by anything and the normal prior stays
+(docs/learn.md has where this loses: a robot whose hit lies in the failures' region).
 
 Hand-written: a product of normal window probabilities on a grid (the project's own method),
 blurred by scipy's ``gaussian_filter1d``.

@@ -23,6 +23,7 @@ from control_msgs.msg import (
 from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectory as TrajectoryMsg
 
+from rlff.errors import Interrupted
 from rlff.robot.description import Robot
 from rlff.robot.goal import check_goal
 from rlff.robot.messages import arm_state_of
@@ -102,7 +103,8 @@ def send_goal(
         No master or no action server answered in time.
     KeyboardInterrupt
         After cancelling the goal (re-raised as it came: :class:`rlff.errors.Terminated` for
-        the SIGTERM the command line turns into it).
+        the SIGTERM the command line turns into it; rospy's own shutdown as
+        :class:`rlff.errors.Interrupted`).
     """
     check_goal(robot, traj, goal_start(robot, traj, pose))
     started = time.monotonic()
@@ -127,7 +129,7 @@ def send_goal(
         finished = client.wait_for_result(rospy.Duration.from_sec(max(0.01, deadline - time.monotonic())))
     except (KeyboardInterrupt, rospy.ROSInterruptException) as exc:
         _cancel(client)
-        raise (exc if isinstance(exc, KeyboardInterrupt) else KeyboardInterrupt()) from None  # Terminated stays
+        raise (exc if isinstance(exc, KeyboardInterrupt) else Interrupted()) from None  # Terminated stays
     if not finished:
         _cancel(client)
         result = client.get_result()
