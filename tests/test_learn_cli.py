@@ -150,6 +150,22 @@ def test_an_unreachable_basket_is_one_clear_line_and_exit_2(cli, demos_csv):
     assert result.stderr.strip().count("\n") == 0
 
 
+def test_demonstrations_without_a_velocity_column_are_named_with_their_file(cli, demos_csv, tmp_path):
+    import csv
+
+    rows = list(csv.DictReader(demos_csv.open()))
+    names = [name for name in rows[0] if name != "velocity"]
+    bare = tmp_path / "no_velocity.csv"
+    with bare.open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=names, extrasaction="ignore")
+        writer.writeheader()
+        writer.writerows(rows)
+    result = cli("learn", str(bare), "--basket", "1.9", "--preset", "thesis")
+    assert result.code == 2
+    assert result.stderr.strip().count("\n") == 0
+    assert f"{bare}: no column 'velocity'" in result.stderr
+
+
 def test_hindsight_with_binary_feedback_is_refused(cli, demos_csv):
     result = cli("learn", str(demos_csv), "--basket", "1.9", "--update", "hindsight", "--feedback", "binary")
     assert result.code == 2

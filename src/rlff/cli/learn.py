@@ -72,6 +72,7 @@ def learn_command(
     from rlff.errors import InputError
     from rlff.formats import read_dataset
     from rlff.learn import learn
+    from rlff.learn.method import COLUMNS
 
     # the log is read (resumed) and written: it may exist, but must not be the demonstrations
     guard(inputs={"DEMOS": demos, "--carry": carry or None}, outputs={"--log": log, "-o/--output": out})
@@ -88,6 +89,10 @@ def learn_command(
         raise InputError("--outcome ask|topic goes with --executor ros1|ros2 (the simulation knows its outcomes)")
     driven = _joint_list(joints)
     data = read_dataset(demos)
+    missing = [name for name in COLUMNS if name not in data.columns]
+    if missing:  # said with the file's name, before any cleaning
+        raise InputError(f"{demos}: no column {missing[0]!r}, which learning needs ({', '.join(COLUMNS)}; "
+                         f"columns: {', '.join(data.columns)})")
     if preset:
         from rlff.preprocess import Pipeline
 
