@@ -83,6 +83,15 @@ def test_calibrate_centres_its_windows_on_the_landings_law_and_hits_early(landin
     assert result.hit and result.attempts <= 3, [a.info for a in result.history]
 
 
+@pytest.mark.parametrize("feedback", ["binary", "distance"])
+def test_a_gmr_mean_extrapolated_to_a_standstill_release_is_left_for_the_hit(feedback):
+    # seed 4106's people landed at 0.6-1.3 m; the GMR mean for 1.9 m, far beyond, hardly moves
+    # at its release (0.29 rad/s against the limit's 11.2: its ball comes down behind the base)
+    demos = demonstrations(4106, Scenario("short", landings="exact"))
+    result = learn(demos, 1.9, budget=20, feedback=feedback, update="calibrate", seed=4106)
+    assert result.hit and result.attempts <= 3, [a.info for a in result.history]
+
+
 def test_without_landings_the_windows_stay_about_the_gmr_mean():
     demos = demonstrations(24, Scenario("short", landings="none"))
     result = learn(demos, 1.4, budget=1, feedback="binary", update="calibrate", seed=24)

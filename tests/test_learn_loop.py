@@ -111,6 +111,24 @@ class TestSpeedCalibration:
         assert best <= 10.5
 
 
+    def test_a_reference_far_below_the_limit_reaches_the_limit(self):
+        # u0 = 0.3 rad/s with the limit at 11: the candidates and the law's offsets reach it
+        calibration = SpeedCalibration(1.9, 0.14, reference=0.3, max_speed=11.0)
+        calibration.observe_landing(0.3 * 20.0, 1.9 * 0.6)  # short at 20 u0: the hit is faster
+        best, _ = calibration.best_speed()
+        assert 0.3 * 20.0 < best <= 11.0
+
+    def test_a_ball_that_came_down_behind_the_base_speeds_the_next_throw_up(self):
+        calibration = SpeedCalibration(1.9, 0.14, reference=0.3, max_speed=11.0)
+        first, _ = calibration.best_speed()
+        calibration.observe_landing(first, -0.46)  # it hardly moved at its release
+        second, _ = calibration.best_speed()
+        # no farther than 0.14 m at the first speed: a law of slope 1.6 wants (1.9 / 0.14)^(1 / 1.6)
+        assert second > 3.0 * first
+        calibration.observe_landing(second, float("nan"))  # no landing: nothing learned
+        assert calibration.best_speed()[0] == pytest.approx(second)
+
+
 def make_problem(demos: Dataset, feedback: str) -> Problem:
     from rlff.learn.loop import _angle_grid, _learning_demos
 

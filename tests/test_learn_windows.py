@@ -127,3 +127,13 @@ def test_the_band_between_the_top_window_and_the_limit_gets_a_window_of_its_own(
     assert search.masses[np.flatnonzero(np.isclose(first_pass, 0.2))[0]] == pytest.approx(band)
     # about 0 the lattice ends within half a window of the limit (0.1 + 0.05 >= 0.12): no band
     assert not np.any(np.isclose(WindowSearch(1.75, 0.14, highest=0.12).offsets, 0.12))
+
+
+def test_a_limit_far_above_the_gmr_means_speed_is_within_the_search():
+    # u0 a thirtieth of the limit (a GMR mean extrapolated to a throw that hardly moves at its
+    # release) and the landings' law at e^3 u0: its window is the first, not one at e^1.2 u0
+    search = WindowSearch(1.9, 0.14, highest=math.log(30.0), centre=3.0, scale=0.2)
+    assert search.offset(0)[0] == pytest.approx(3.0)
+    assert search.offsets.max() + 0.5 * search.width >= math.log(30.0)  # the windows cover the limit
+    # a robot without a speed limit: as fast as the slowest throw is slow
+    assert WindowSearch(1.9, 0.14, highest=math.inf).offsets.max() <= 1.2 + 1e-9

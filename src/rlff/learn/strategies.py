@@ -67,6 +67,7 @@ from functools import cached_property
 
 import numpy as np
 from scipy.special import logsumexp
+from scipy.stats import norm
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError
@@ -86,7 +87,7 @@ from rlff.learn.method import (
     training_set,
 )
 from rlff.learn.outcomes import all_missed, outcomes_prior
-from rlff.learn.windows import PRIOR_SCALE, WindowSearch
+from rlff.learn.windows import LOWEST, PRIOR_SCALE, WindowSearch
 
 
 class DmmStrategy(Method):
@@ -205,28 +206,45 @@ class SpeedCalibration:
         self.tolerance = float(tolerance)
         self.reference = float(reference)
         self.noise = float(noise)
-        self.offset = np.linspace(-4.0 * prior_scale, 4.0 * prior_scale, 161)  # a, shape (A,)
+        # candidate speeds u / u0, log-spaced 0.01 apart, shape (C,): from e^-1.2 to e^1.2, or on
+        # to the robot's limit where that lies beyond (a GMR mean extrapolated to a throw that
+        # hardly moves at its release, :func:`rlff.learn.windows.reachable_top`)
+        span = -LOWEST
+        top = max(span, math.log(max_speed / self.reference)) if math.isfinite(max_speed) else span
+        ratios = np.exp(-span + 0.01 * np.arange(int(round((top + span) / 0.01)) + 1))
+        self.ratios = ratios[ratios * self.reference <= max_speed]
+        if self.ratios.size == 0:
+            self.ratios = np.array([max_speed / self.reference])
+        # a, shape (A,), in steps of prior_scale / 20 over 4 standard deviations either side,
+        # wider by what a law of twice the prior's slope needs to put the basket at candidates
+        # beyond e^1.2 (the first landings then lie that far from the prior)
+        beyond = max(0.0, math.log(self.ratios[-1]) - span)
+        steps = 80 + math.ceil(2.0 * slope * beyond / (prior_scale / 20))
+        self.offset = prior_scale / 20 * np.arange(-steps, steps + 1)
         self.slope = np.geomspace(0.2, 5.0, 41)  # b, shape (B,)
         self.log_p = (
             -0.5 * (self.offset[:, None] / prior_scale) ** 2
             - 0.5 * (np.log(self.slope[None, :] / slope) / slope_scale) ** 2
         )
-        # candidate speeds u / u0, log-spaced, shape (C,), within the robot's limit
-        ratios = np.exp(np.linspace(-1.2, 1.2, 241))
-        self.ratios = ratios[ratios * self.reference <= max_speed]
-        if self.ratios.size == 0:
-            self.ratios = np.array([max_speed / self.reference])
 
     def _log_x(self, speed: float) -> float:
         return float(np.log(max(speed, 1e-9) / self.reference))
 
     def observe_landing(self, speed: float, landing: float) -> None:
-        """Distance feedback: a throw with release speed ``speed`` landed at ``landing`` (m)."""
-        if not landing > 0:
-            return  # a throw that never reached forward says nothing about the scale
+        """Distance feedback: a throw with release speed ``speed`` landed at ``landing`` (m).
+
+        A ball that came down at or behind the robot's base (``landing`` <= 0; a throw that
+        hardly moved at its release) is outside the law, whose landings are forward: it is
+        counted as censored, "no farther than the hit window's half-width" (otherwise the
+        posterior stayed as it was, and the same throw was made again for the whole budget)."""
+        if not landing == landing:
+            return  # no landing reported
         predicted = self.offset[:, None] + self.slope[None, :] * self._log_x(speed)
-        residual = np.log(landing / self.target) - predicted
-        self.log_p = self.log_p - 0.5 * (residual / self.noise) ** 2
+        if landing > 0:
+            residual = np.log(landing / self.target) - predicted
+            self.log_p = self.log_p - 0.5 * (residual / self.noise) ** 2
+        else:
+            self.log_p = self.log_p + norm.logcdf((np.log(self.tolerance / self.target) - predicted) / self.noise)
 
     def posterior(self) -> np.ndarray:
         """Normalised posterior on the grid, shape (A, B)."""
