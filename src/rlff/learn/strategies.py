@@ -237,7 +237,7 @@ class SpeedCalibration:
         hardly moved at its release) is outside the law, whose landings are forward: it is
         counted as censored, "no farther than the hit window's half-width" (otherwise the
         posterior stayed as it was, and the same throw was made again for the whole budget)."""
-        if not landing == landing:
+        if math.isnan(landing):
             return  # no landing reported
         predicted = self.offset[:, None] + self.slope[None, :] * self._log_x(speed)
         if landing > 0:
