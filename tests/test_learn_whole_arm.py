@@ -115,7 +115,7 @@ def test_one_joint_demonstrations_for_a_whole_arm_throw_name_the_missing_column(
     from rlff.synthetic.throws import simulate_throws
 
     demos, _ = Pipeline.preset("thesis").run(simulate_throws(3, subjects=2, distances=(1.0, 1.5), throws_per_distance=2))
-    with pytest.raises(InputError, match="no column 'shoulder'.*drop --joints"):
+    with pytest.raises(InputError, match="no column 'shoulder', which joint_2 follows.*drop --joints"):
         learn(demos, 1.3, joints=ARM)
 
 

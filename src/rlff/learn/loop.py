@@ -273,7 +273,7 @@ def learn(
     target = Basket(float(basket), rim_height=rim, opening=opening, bearing=float(bearing))
     pedestal = check_pedestal(pedestal)
     _require_reach(robot_model, target, pedestal, mapping.driven_joints)
-    demos = _learning_demos(demos, mapping.human_columns, target.rim_height)
+    demos = _learning_demos(demos, mapping.human_columns, target.rim_height, driven_joints=mapping.driven_joints)
     _require_demos_within_limits(demos, mapping)
     components = _components(demos, seed, joint_outputs(mapping.human_columns))
     _require_executable(mapping, target, pedestal, demos, components, seed)
@@ -427,7 +427,7 @@ def fingerprint(demos: Dataset) -> str:
 
 
 def _learning_demos(demos: Dataset, human_columns: Sequence[str] = ("angle",), rim_height: float | None = None,
-                    max_samples: int = MAX_SAMPLES) -> Dataset:
+                    max_samples: int = MAX_SAMPLES, driven_joints: Sequence[str] = ()) -> Dataset:
     """The demonstrations reduced to the columns the loop learns from, thinned if dense.
 
     The columns are ``angle``, ``distance``, ``velocity`` and, for a whole-arm throw, every
@@ -444,9 +444,13 @@ def _learning_demos(demos: Dataset, human_columns: Sequence[str] = ("angle",), r
     demos.require(COLUMNS)
     missing = [c for c in columns if c not in demos.columns]
     if missing:
-        raise InputError(f"the demonstrations have no column {missing[0]!r}, which the throw driving "
-                         f"{', '.join(human_columns)} needs (columns: {', '.join(demos.columns)}); capture the "
-                         "whole arm (rlff data import) or drop --joints")
+        human = missing[0].removesuffix("_velocity")
+        joint = dict(zip(human_columns, driven_joints, strict=False)).get(human)
+        follows = f"which {joint} follows" if joint else f"which the throw driving {', '.join(human_columns)} needs"
+        leave = f"leave {joint} out of --joints (or drop --joints: the elbow alone)" if joint else "drop --joints"
+        raise InputError(f"the demonstrations have no column {missing[0]!r}, {follows}; columns: "
+                         f"{', '.join(demos.columns)}. Capture the {human} too (rlff data import; simulated: "
+                         f"rlff data synth throws --whole-arm --joints shoulder,elbow,wrist) or {leave}")
     if rim_height is not None and "height" in demos.columns:
         demos = _at_nearest_height(demos, rim_height)
     if len(demos) < 2:
@@ -494,7 +498,7 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
     """
     from rlff.sim.reach import executable_reach, farthest_basket
 
-    demos = _learning_demos(demos, mapping.human_columns, basket.rim_height)
+    demos = _learning_demos(demos, mapping.human_columns, basket.rim_height, driven_joints=mapping.driven_joints)
     if _whole_arm(mapping):
         outputs = joint_outputs(mapping.human_columns)
         shape = _first_throw(demos, basket.distance, outputs, _components(demos, seed, outputs), seed)
