@@ -62,6 +62,18 @@ def test_after_the_lattice_come_the_half_shifted_windows_then_the_lattice_again(
     assert search.offset(10_000)[0] == first[-1]  # past everything: the last window again
 
 
+def test_the_second_pass_throws_at_the_limit_where_the_top_window_shifted_would_pass_it():
+    # w = 0.1, limit 0.43: the top window 0.4 reaches to 0.45, so no band window; shifted by
+    # w / 2 it would ask for 0.45, so the second pass throws the limit there, once
+    search = WindowSearch(1.75, 0.14, highest=0.43)
+    first = search.offsets[: search.masses.size]
+    second = search.offsets[search.masses.size: 2 * search.masses.size]
+    assert not np.any(np.isclose(first, 0.43))
+    assert np.count_nonzero(np.isclose(second, 0.43)) == 1
+    assert np.flatnonzero(np.isclose(second, 0.43))[0] == np.flatnonzero(np.isclose(first, 0.4))[0]
+    assert second.max() == pytest.approx(0.43)
+
+
 def test_a_prior_density_of_its_own_reorders_the_windows():
     # a ring at +-0.25 (two bumps): the windows near the bumps before the GMR mean's speed
     def ring(x):
@@ -126,7 +138,8 @@ def test_the_band_between_the_top_window_and_the_limit_gets_a_window_of_its_own(
     band = norm.cdf(0.2, 0.13, 0.15) - norm.cdf(0.18, 0.13, 0.15)
     assert search.masses[np.flatnonzero(np.isclose(first_pass, 0.2))[0]] == pytest.approx(band)
     # about 0 the lattice ends within half a window of the limit (0.1 + 0.05 >= 0.12): no band
-    assert not np.any(np.isclose(WindowSearch(1.75, 0.14, highest=0.12).offsets, 0.12))
+    near = WindowSearch(1.75, 0.14, highest=0.12)
+    assert not np.any(np.isclose(near.offsets[: near.masses.size], 0.12))
 
 
 def test_a_limit_far_above_the_gmr_means_speed_is_within_the_search():

@@ -20,9 +20,9 @@ any search tries, and throws them in the order of the probability a prior puts o
 
 Where the lattice's top window ends more than half a window below the limit, one window at the
 limit covers the band between, with the prior's mass of that band. After every window of the
-lattice, the same windows shifted by half a window (the gaps a
-steeper range law than the prior's leaves), then the lattice again (a hit the feedback reported
-as a miss comes round once more). The order is a deterministic function of the number of
+lattice, the same windows shifted by half a window (the gaps a steeper range law than the
+prior's leaves; the first shifted past the limit at the limit), then the lattice again (a hit
+the feedback reported as a miss comes round once more). The order is a deterministic function of the number of
 attempts, so a resumed run makes the attempts the uninterrupted one would have.
 
 The search is hand-written: it is the project's own method (an ordering of the lattice by a
@@ -92,9 +92,21 @@ def limit_band(centres: np.ndarray, width: float, highest: float) -> tuple[float
 
 def half_shifted(first: np.ndarray, width: float, highest: float) -> np.ndarray:
     """The second pass, shape (V,): the windows of ``first`` shifted up by half a window (the
-    gaps a range law steeper than the prior's leaves), those within ``highest``, in ``first``'s
-    order."""
-    return first[first + 0.5 * width <= highest + 1e-12] + 0.5 * width
+    gaps a range law steeper than the prior's leaves), in ``first``'s order; the first one
+    shifted beyond ``highest`` is thrown at the limit instead, unless ``first`` has a window
+    there, and the others beyond are left out.
+
+    Without the throw at the limit, an arm a little slower than its robot file whose hit lay
+    between the top window and the limit was never hit (``short`` without labels, arm at 95 %
+    of the commanded speed, seed 5204 at 1.9 m: 20 misses, the limit's throw lands 10 cm short).
+    """
+    shifted = first + 0.5 * width
+    beyond = np.flatnonzero(shifted > highest + 1e-12)
+    keep = shifted <= highest + 1e-12
+    if beyond.size and not np.any(np.isclose(first, highest)):
+        keep[beyond[0]] = True
+        shifted[beyond[0]] = highest
+    return shifted[keep]
 
 
 def window_masses(centres: np.ndarray, x: np.ndarray, density: np.ndarray) -> np.ndarray:
