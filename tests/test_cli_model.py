@@ -132,6 +132,9 @@ def test_fit_effective_samples(rlff, tmp_path):
     assert json.loads(default.stdout)["effective_samples"] == pytest.approx(72)  # measured by default
     plain = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "2", "--effective-samples", "all", "--json")
     assert json.loads(plain.stdout)["effective_samples"] is None
+    assert "hardly decide K" not in measured.stderr  # 72 measured samples, at most 29 parameters (K = 3)
+    few = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--max-components", "3", "--effective-samples", "5")
+    assert few.code == 0 and "BIC rests on 5 effective samples, fewer than the" in few.stderr
     bad = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--effective-samples", "some")
     assert bad.code == 2 and "--effective-samples" in bad.stderr
 

@@ -156,6 +156,11 @@ def fit_command(
     if model.selection is not None and model.n_components == max_components and max_components > 1:
         say(f"warning: {model.selection.criterion.upper()} chose K = {model.n_components}, the largest tried: "
             "a larger K may fit better (raise --max-components)")
+    effective = model.fit_info["effective_samples"]
+    parameters = model.mixture.n_parameters()
+    if model.selection is not None and effective and effective < parameters:
+        say(f"warning: BIC rests on {effective:.0f} effective samples, fewer than the {parameters} parameters of "
+            f"K = {model.n_components}: the data hardly decide K (record more throws, or fix it with --components)")
     model.save(output)
     summary = {
         "output": str(output),
