@@ -135,6 +135,12 @@ def test_learning_curves_one_line_per_method_and_first_hits(tmp_path):
     stars = [line for line in again.figure.get_axes()[0].get_lines() if line.get_marker() == "*"]
     assert [star.get_xdata()[0] for star in stars] == [3]
 
+    # two methods whose first hit is the same throw: the second star smaller, on top, both seen
+    same = learning_curves({"secant": [-0.08], "imitation": [-0.08]}, tmp_path / "same", tolerance=0.14)
+    stars = [line for line in same.figure.get_axes()[0].get_lines() if line.get_marker() == "*"]
+    assert [star.get_markersize() for star in stars] == [17, 11]
+    assert stars[1].get_zorder() > stars[0].get_zorder()
+
 
 def test_output_trajectories_one_line_per_distance(tmp_path):
     paths = {}

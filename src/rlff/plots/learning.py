@@ -52,6 +52,7 @@ def learning_curves(
         if tolerance is not None:
             axes.axhspan(-tolerance, tolerance, color=HIT_COLOUR, alpha=0.12, label="lands within the opening")
         colours = [f"C{i}" for i in range(10)]
+        stars: dict[tuple[int, float], int] = {}  # first hits already drawn at a point (attempt, miss in cm)
         for index, (method, values) in enumerate(misses.items()):
             miss = np.asarray(values, dtype=float)
             attempts = np.arange(1, miss.size + 1)
@@ -68,9 +69,13 @@ def learning_curves(
                 hit = np.zeros(miss.size, dtype=bool)
             if hit.any():
                 first = int(np.flatnonzero(hit)[0])
+                # a star on another method's (same attempt, same cm) is drawn smaller on top of it
+                point = (first, round(float(miss[first]) * 100))
+                below = stars.get(point, 0)
+                stars[point] = below + 1
                 axes.plot(
-                    attempts[first], miss[first], marker="*", markersize=17, color=colour,
-                    markeredgecolor="black", linestyle="none", zorder=5,
+                    attempts[first], miss[first], marker="*", markersize=max(17 - 6 * below, 6), color=colour,
+                    markeredgecolor="black", linestyle="none", zorder=5 + below,
                 )
         axes.xaxis.set_major_locator(MaxNLocator(integer=True))
         axes.set_xlabel("attempt")
