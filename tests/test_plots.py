@@ -140,6 +140,10 @@ def test_learning_curves_one_line_per_method_and_first_hits(tmp_path):
     stars = [line for line in same.figure.get_axes()[0].get_lines() if line.get_marker() == "*"]
     assert [star.get_markersize() for star in stars] == [17, 11]
     assert stars[1].get_zorder() > stars[0].get_zorder()
+    # a hit reported without a landing (an operator's answer on the robot) still gets its star
+    unlanded = learning_curves({"calibrate": [-0.5, float("nan")]}, tmp_path / "unlanded", tolerance=0.14,
+                               hits={"calibrate": [False, True]})
+    assert [line.get_marker() for line in unlanded.figure.get_axes()[0].get_lines()].count("*") == 1
 
 
 def test_output_trajectories_one_line_per_distance(tmp_path):

@@ -438,7 +438,8 @@ def _learning_demos(demos: Dataset, human_columns: Sequence[str] = ("angle",), r
     kept (its release sample always) until the set has at most ``max_samples`` samples. A
     throw's ``measured_share`` (the share of its samples that stand for a measurement, which BIC
     counts) grows by what thinning dropped: the kept samples still rest on the same
-    measurements, up to one each.
+    measurements, up to one each. ``driven_joints`` (the robot joints, in the order of
+    ``human_columns``) name the joint whose column is missing in the error.
     """
     columns = COLUMNS + joint_outputs(human_columns)[1:]
     demos.require(COLUMNS)

@@ -22,8 +22,8 @@ Where the lattice's top window ends more than half a window below the limit, one
 limit covers the band between, with the prior's mass of that band. After every window of the
 lattice, the same windows shifted by half a window (the gaps a steeper range law than the
 prior's leaves; the first shifted past the limit at the limit), then the lattice again (a hit
-the feedback reported as a miss comes round once more). The order is a deterministic function of the number of
-attempts, so a resumed run makes the attempts the uninterrupted one would have.
+the feedback reported as a miss comes round once more). The order is a deterministic function
+of the number of attempts, so a resumed run makes the attempts the uninterrupted one would have.
 
 The search is hand-written: it is the project's own method (an ordering of the lattice by a
 prior over hit windows), a dozen lines of numpy around a cumulative sum.
@@ -76,7 +76,7 @@ def reachable_top(highest: float, width: float) -> float:
     The limit is not cut to that range: where the GMR mean is extrapolated to a throw that
     hardly moves at its release, the hit lies far above it (``short`` with exact landings, seed
     4106, 1.9 m: u0 = 0.29 rad/s, the hit at the limit, 11.2; cut at -:data:`LOWEST`, e^1.2 u0,
-    every method stopped at 0.98 and none hit in 20).
+    ``calibrate`` threw at most 0.98 and missed for 20 attempts).
     """
     top = highest if np.isfinite(highest) else -LOWEST
     return float(max(top, LOWEST + width))
@@ -98,7 +98,7 @@ def half_shifted(first: np.ndarray, width: float, highest: float) -> np.ndarray:
 
     Without the throw at the limit, an arm a little slower than its robot file whose hit lay
     between the top window and the limit was never hit (``short`` without labels, arm at 95 %
-    of the commanded speed, seed 5204 at 1.9 m: 20 misses, the limit's throw lands 10 cm short).
+    of the commanded speed, seed 5204 at 1.9 m: 20 misses; the throw at the limit hits).
     """
     shifted = first + 0.5 * width
     beyond = np.flatnonzero(shifted > highest + 1e-12)

@@ -52,7 +52,7 @@ def learning_curves(
         if tolerance is not None:
             axes.axhspan(-tolerance, tolerance, color=HIT_COLOUR, alpha=0.12, label="lands within the opening")
         colours = [f"C{i}" for i in range(10)]
-        stars: dict[tuple[int, float], int] = {}  # first hits already drawn at a point (attempt, miss in cm)
+        stars: dict[tuple[int, int | None], int] = {}  # first hits drawn at (attempt, miss in cm; None: no landing)
         for index, (method, values) in enumerate(misses.items()):
             miss = np.asarray(values, dtype=float)
             attempts = np.arange(1, miss.size + 1)
@@ -70,7 +70,7 @@ def learning_curves(
             if hit.any():
                 first = int(np.flatnonzero(hit)[0])
                 # a star on another method's (same attempt, same cm) is drawn smaller on top of it
-                point = (first, round(float(miss[first]) * 100))
+                point = (first, round(float(miss[first]) * 100) if np.isfinite(miss[first]) else None)
                 below = stars.get(point, 0)
                 stars[point] = below + 1
                 axes.plot(
