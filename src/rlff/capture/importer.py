@@ -52,6 +52,7 @@ from rlff.dataset import DEFAULT_CONTEXT, Dataset, Trajectory, joint_columns, ve
 from rlff.errors import InputError
 from rlff.fileio import require_distinct
 from rlff.limits import DISTANCE_RANGE
+from rlff.wording import plural
 
 FORMATS = ("bag", "kinect-text", "msr", "csv", "thesis")
 ARMS = ("auto", "right", "left")
@@ -431,12 +432,12 @@ def _tracking_notes(path: Path, motion: ArmMotion, origin: float) -> list[str]:
     notes = []
     for name, count in motion.joint_glitches.items():
         if count:
-            notes.append(f"{path.name}: {count} glitch {'sample' if count == 1 else 'samples'} of the {name} angle "
-                         "bridged between their neighbours")
+            notes.append(f"{path.name}: {plural(count, 'glitch sample')} of the {name} angle bridged between "
+                         "their neighbours")
     if motion.glitches.size:
         times = ", ".join(f"{t - origin:.2f}" for t in motion.glitches[:5]) + (", ..." if motion.glitches.size > 5 else "")
         notes.append(
-            f"{path.name}: {motion.glitches.size} glitch {'sample' if motion.glitches.size == 1 else 'samples'} removed "
+            f"{path.name}: {plural(motion.glitches.size, 'glitch sample')} removed "
             f"(one sample leaving two neighbours that agree) at t={times} s"
         )
     spans = motion.lost_spans()

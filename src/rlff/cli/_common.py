@@ -46,11 +46,6 @@ def say(message: str) -> None:
         stderr().print(message)
 
 
-def plural(count: int, noun: str, many: str | None = None) -> str:
-    """``"1 attempt"``, ``"3 attempts"``: the count and the noun in the right number."""
-    return f"{count} {noun if count == 1 else (many or noun + 's')}"
-
-
 def jsonable(value: Any) -> Any:
     """``json.dumps``' ``default``: numpy arrays and scalars, and paths."""
     import numpy as np

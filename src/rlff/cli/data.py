@@ -6,9 +6,10 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, plural, progress, say, stdout
+from rlff.cli._common import emit_json, progress, say, stdout
 from rlff.cli.output import guard, write_json
 from rlff.errors import InputError
+from rlff.wording import plural
 
 app = typer.Typer(help="Make, import and clean demonstration data.", no_args_is_help=True)
 synth_app = typer.Typer(help="Built-in data: the thesis' synthetic set and simulated human throws.", no_args_is_help=True)

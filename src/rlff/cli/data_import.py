@@ -6,10 +6,11 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, plural, progress, say, stdout
+from rlff.cli._common import emit_json, progress, say, stdout
 from rlff.cli.data import app
 from rlff.cli.output import guard
 from rlff.errors import InputError
+from rlff.wording import plural
 
 
 def _column_map(text: str | None) -> dict[str, str] | None:

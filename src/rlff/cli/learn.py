@@ -7,7 +7,8 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, plural, progress, say, stderr, stdout
+from rlff.cli._common import emit_json, progress, say, stderr, stdout
+from rlff.wording import plural
 
 
 def register(root: typer.Typer) -> None:
@@ -89,10 +90,10 @@ def learn_command(
         raise InputError("--outcome ask|topic goes with --executor ros1|ros2 (the simulation knows its outcomes)")
     driven = _joint_list(joints)
     data = read_dataset(demos)
-    missing = [name for name in COLUMNS if name not in data.columns]
-    if missing:  # said with the file's name, before any cleaning
-        raise InputError(f"{demos}: no column {missing[0]!r}, which learning needs ({', '.join(COLUMNS)}; "
-                         f"columns: {', '.join(data.columns)})")
+    try:  # said with the file's name, before any cleaning
+        data.require(COLUMNS)
+    except InputError as exc:
+        raise InputError(f"{demos}: {exc}") from None
     if preset:
         from rlff.preprocess import Pipeline
 

@@ -10,9 +10,10 @@ from typing import Any
 
 import typer
 
-from rlff.cli._common import emit_json, plural, progress, say, stdout, verbosity
+from rlff.cli._common import emit_json, progress, say, stdout, verbosity
 from rlff.cli.output import guard
 from rlff.errors import InputError
+from rlff.wording import plural
 
 
 def _names(option: str, text: str) -> tuple[str, ...]:

@@ -6,9 +6,10 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, plural, stdout
+from rlff.cli._common import emit_json, stdout
 from rlff.cli.data import synth_app
 from rlff.cli.output import guard
+from rlff.wording import plural
 
 
 @synth_app.command("thesis")

@@ -13,6 +13,7 @@ from matplotlib.ticker import MaxNLocator
 
 from rlff.errors import InputError
 from rlff.plots._figure import HIT_COLOUR, SavedFigure, figure_style, new_figure, save
+from rlff.wording import plural
 
 _MARKERS = "osD^vP<>Xh"
 
@@ -59,7 +60,7 @@ def learning_curves(
             colour = colours[index % len(colours)]
             axes.plot(
                 attempts, miss, marker=_MARKERS[index % len(_MARKERS)], markersize=5,
-                color=colour, linewidth=1.4, label=f"{method} ({miss.size} attempt{'s' if miss.size != 1 else ''})",
+                color=colour, linewidth=1.4, label=f"{method} ({plural(miss.size, 'attempt')})",
             )
             if hits is not None and method in hits:
                 hit = np.asarray(hits[method], dtype=bool)
