@@ -90,6 +90,9 @@ def test_a_gmr_mean_extrapolated_to_a_standstill_release_is_left_for_the_hit(fee
     demos = demonstrations(4106, Scenario("short", landings="exact"))
     result = learn(demos, 1.9, budget=20, feedback=feedback, update="calibrate", seed=4106)
     assert result.hit and result.attempts <= 3, [a.info for a in result.history]
+    # asked for at most the limit on every sample, so nothing saturated and every attempt's
+    # time still fits its velocity (the learned throw can be planned and written)
+    assert [a.clipped for a in result.history] == [0] * result.attempts
 
 
 def test_without_landings_the_windows_stay_about_the_gmr_mean():
