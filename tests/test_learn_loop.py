@@ -233,3 +233,32 @@ def test_until_centred_refines_past_rim_hits_until_one_lands_near_the_centre(fai
         learn(failed_demos, 1.4, until="perfect")
     with pytest.raises(InputError, match="centre share"):
         learn(failed_demos, 1.4, until="centred", centre_share=0.0)
+
+
+def test_an_attempt_the_robot_saturated_can_still_be_planned_from_its_log(tmp_path):
+    # a proposal 20 % beyond the joint's limit on its last samples: the robot saturates them,
+    # and the attempt logs the clipped velocities; re-planning it (rlff learn --out, robot
+    # export of the log) gives the throw that was executed instead of refusing its time column
+    from rlff.learn.loop import _execute, _simulator
+    from rlff.learn.method import Proposal
+    from rlff.learn.replay import plan_attempt
+    from rlff.robot import load_robot, mapping_for
+    from rlff.sim import Basket
+
+    robot = load_robot("comau_smart5_six")
+    mapping = mapping_for(robot, None)
+    limit = mapping.max_human_speeds()["velocity"]
+    angle = np.linspace(0.6, 1.8, 60)
+    velocity = limit * np.minimum(1.2, np.linspace(0.3, 1.5, 60))
+    basket = Basket(1.5, rim_height=0.3, opening=0.35)
+    attempt = _execute(Proposal(angle, velocity), 1, basket, mapping, _simulator(robot, basket, 0.0), 0.0)
+    assert attempt.clipped >= 10
+    assert np.max(attempt.velocity) == pytest.approx(limit)
+    executed = _execute(Proposal(angle, np.minimum(velocity, limit)), 1, basket, mapping,
+                        _simulator(robot, basket, 0.0), 0.0)
+    replanned = plan_attempt(attempt, mapping).trajectory
+    assert replanned.release_time is not None
+    release = np.searchsorted(replanned.time, replanned.release_time)
+    driven = robot.index(mapping.joint)
+    assert replanned.velocities[release, driven] == pytest.approx(mapping.velocity_scale * limit)
+    assert attempt.landing == pytest.approx(executed.landing)  # saturating is asking for the limit

@@ -103,8 +103,17 @@ def plan_attempt(attempt: Attempt, mapping: RobotMapping | ArmMapping, period: f
     """The robot trajectory of an attempt, planned as :func:`rlff.robot.plan.plan_path` plans a
     path: approach (from ``start``, the arm's pose in rad, default the throw's first pose, to
     joint 1 turned ``bearing`` deg), the throw of every joint it drove to its release, braking to
-    rest, and the one motion check."""
-    return plan_path(mapping, attempt.path, bearing=bearing, period=period, clip=clip, start=start)
+    rest, and the one motion check.
+
+    An attempt the robot saturated (``clipped`` > 0) logs the clipped velocities with the time
+    it was planned on, which no longer fit each other; the time is left out and comes from the
+    path again (the planner keeps only the first pose and the release, so the plan is the
+    executed one, and the check on a path's time column is for files, not for the loop's log).
+    """
+    path = attempt.path
+    if attempt.clipped:
+        path = {name: column for name, column in path.items() if name != "time"}
+    return plan_path(mapping, path, bearing=bearing, period=period, clip=clip, start=start)
 
 
 def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float = DEFAULT_PERIOD,
