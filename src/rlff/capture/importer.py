@@ -433,7 +433,7 @@ def _tracking_notes(path: Path, motion: ArmMotion, origin: float) -> list[str]:
     for name, count in motion.joint_glitches.items():
         if count:
             notes.append(f"{path.name}: {plural(count, 'glitch sample')} of the {name} angle bridged between "
-                         "their neighbours")
+                         f"{'its' if count == 1 else 'their'} neighbours")
     if motion.glitches.size:
         times = ", ".join(f"{t - origin:.2f}" for t in motion.glitches[:5]) + (", ..." if motion.glitches.size > 5 else "")
         notes.append(
