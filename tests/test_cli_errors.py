@@ -190,6 +190,9 @@ def test_a_tiny_densify_step_is_refused_with_its_numbers(rlff, files, tmp_path):
         (["fit", "{data}", "-o", "{tmp}/m.json", "--json", "true"], ["rlff fit", "(true)"]),
         (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploration-scale", "lots"], ["--exploration-scale", "valid number", "(got 'lots')"]),
         (["fit", "{data}", "-o", "{tmp}/m.json", "--components", "lots"], ["--components", "integer >= 1", "'lots'"]),
+        # a decimal comma where a float is asked for: the number with a point
+        (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploration-scale", "1,5"],
+         ["(got '1,5')", "numbers take a decimal point: 1.5"]),
         (["no-such-command"], ["no-such-command"]),
         # a context typed as an option: generate says how contexts go
         (["generate", "{model}", "-o", "{tmp}/g.csv", "--distance", "2"], ["--distance", "-c distance=..."]),

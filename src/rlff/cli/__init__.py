@@ -14,6 +14,7 @@ The one error boundary is :func:`main`:
 
 from __future__ import annotations
 
+import re
 import signal
 import sys
 import threading
@@ -109,6 +110,9 @@ def _usage(exc, args: list[str]) -> str:
     given = _given(getattr(exc, "param", None), args)
     if given is not None and repr(given) not in message:
         message += f" (got {given!r})"
+    # --basket 1,5: a decimal comma where a float is asked for (an integer's error says "integer")
+    if "valid number" in message and given is not None and re.fullmatch(r"[+-]?\d+,\d+", given):
+        message += f"; numbers take a decimal point: {given.replace(',', '.')}"
     unknown = getattr(exc, "option_name", None)
     takes_context = exc.ctx is not None and any("--context" in getattr(p, "opts", ()) for p in exc.ctx.command.params)
     if unknown and takes_context and not getattr(exc, "possibilities", None):  # --distance 2: a context
