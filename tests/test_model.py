@@ -280,6 +280,22 @@ def test_bic_counts_the_measured_samples_of_densified_throws():
         Model.fit(dense, components=2, effective_samples="some")
 
 
+def test_a_chosen_k_says_when_it_is_the_largest_tried_or_the_data_hardly_decide_it():
+    data = thesis_dataset()
+    assert Model.fit(data, components=2).selection_notes() == []  # K given: nothing to say
+    capped = Model.fit(data, max_components=2)
+    assert capped.n_components == 2
+    assert capped.selection_notes() == [
+        "BIC chose K = 2, the largest tried: a larger K may fit better (raise max_components, "
+        "rlff fit --max-components)"]
+    few = Model.fit(data, max_components=3, effective_samples=5.0)
+    notes = few.selection_notes()
+    assert len(notes) == 1 and notes[0].startswith(
+        f"BIC rests on 5 effective samples, fewer than the {few.mixture.n_parameters()} parameters")
+    wide = Model.fit(data, max_components=10)
+    assert wide.n_components < 10 and wide.selection_notes() == []
+
+
 def test_constant_column_warns_and_fits():
     data = Dataset([t.with_columns(distance=np.full(len(t), 2.5)) for t in thesis_dataset()[:1]])
     with warnings.catch_warnings(record=True) as caught:

@@ -154,14 +154,8 @@ def fit_command(
         if text not in shown and (verbosity.debug or not issubclass(warning.category, RuntimeWarning)):
             say(f"warning: {text}")
             shown.add(text)
-    if model.selection is not None and model.n_components == max_components and max_components > 1:
-        say(f"warning: {model.selection.criterion.upper()} chose K = {model.n_components}, the largest tried: "
-            "a larger K may fit better (raise --max-components)")
-    effective = model.fit_info["effective_samples"]
-    parameters = model.mixture.n_parameters()
-    if model.selection is not None and effective and effective < parameters:
-        say(f"warning: BIC rests on {effective:.0f} effective samples, fewer than the {parameters} parameters of "
-            f"K = {model.n_components}: the data hardly decide K (record more throws, or fix it with --components)")
+    for note in model.selection_notes():
+        say(f"warning: {note}")
     model.save(output)
     summary = {
         "output": str(output),
