@@ -131,12 +131,20 @@ def test_a_centre_moves_the_lattice_and_the_prior_with_it():
 
 def test_the_band_between_the_top_window_and_the_limit_gets_a_window_of_its_own():
     # about 0.13 with w = 0.1, the top window is 0.13 (0.23 is beyond the limit 0.2): its upper
-    # edge 0.18 leaves 0.18-0.2 uncovered, so a window at 0.2 joins with the mass of that band
+    # edge 0.18 leaves 0.18-0.2 uncovered, so a window at 0.2 joins with the mass of what it
+    # would hit: that band and the half window above the limit, 0.2-0.25
     search = WindowSearch(1.75, 0.14, highest=0.2, centre=0.13, scale=0.15)
     first_pass = search.offsets[: search.masses.size]
     assert np.count_nonzero(np.isclose(first_pass, 0.2)) == 1
-    band = norm.cdf(0.2, 0.13, 0.15) - norm.cdf(0.18, 0.13, 0.15)
-    assert search.masses[np.flatnonzero(np.isclose(first_pass, 0.2))[0]] == pytest.approx(band)
+    reach = norm.cdf(0.25, 0.13, 0.15) - norm.cdf(0.18, 0.13, 0.15)
+    assert search.masses[np.flatnonzero(np.isclose(first_pass, 0.2))[0]] == pytest.approx(reach)
+    # the same with the prior given as a density on a grid
+    gridded = WindowSearch(1.75, 0.14, highest=0.2, centre=0.13,
+                           log_density=lambda x: norm.logpdf(x, 0.13, 0.15))
+    assert gridded.masses == pytest.approx(search.masses, abs=1e-4)
+    assert np.allclose(gridded.offsets, search.offsets)
+    # the top window keeps the tail beyond the limit as well: it stays first
+    assert search.offset(0)[0] == pytest.approx(0.13)
     # about 0 the lattice ends within half a window of the limit (0.1 + 0.05 >= 0.12): no band
     near = WindowSearch(1.75, 0.14, highest=0.12)
     assert not np.any(np.isclose(near.offsets[: near.masses.size], 0.12))
