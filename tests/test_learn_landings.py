@@ -95,6 +95,24 @@ def test_a_gmr_mean_extrapolated_to_a_standstill_release_is_left_for_the_hit(fee
     assert [a.clipped for a in result.history] == [0] * result.attempts
 
 
+def test_a_throw_that_peaks_before_its_release_is_capped_at_the_release_only():
+    # seed 118's throw for 1.9 m (landings known to 0.3 m) peaks mid-path: capped on every
+    # sample, its release stayed at 8.5 rad/s, 0.46 m short for 20 attempts; the planner keeps
+    # only the first pose and the release, so the earlier peak saturates and the release is free
+    from rlff.learn.replay import plan_attempt
+    from rlff.robot import load_robot, mapping_for
+
+    demos = demonstrations(118, Scenario("short", landings="noisy:0.3"))
+    result = learn(demos, 1.9, budget=3, feedback="binary", update="calibrate", seed=118)
+    assert result.hit, [(a.miss, a.info) for a in result.history]
+    mapping = mapping_for(load_robot("comau_smart5_six"), None)
+    limit = mapping.max_human_speeds()["velocity"]
+    hit = result.history[-1]
+    assert hit.clipped > 0 and abs(hit.velocity[-1]) <= limit * (1 + 1e-9)
+    planned = plan_attempt(hit, mapping).trajectory  # the saturated attempt plans from its log
+    assert planned.release_time is not None
+
+
 def test_without_landings_the_windows_stay_about_the_gmr_mean():
     demos = demonstrations(24, Scenario("short", landings="none"))
     result = learn(demos, 1.4, budget=1, feedback="binary", update="calibrate", seed=24)
