@@ -85,8 +85,22 @@ def test_demonstrations_beyond_the_joint_range_are_refused():
         Trajectory(f"d{i}", {"angle": angle, "distance": np.full(20, 1.0 + i),
                              "velocity": np.full(20, 5.0)}) for i in range(2)
     ])
-    with pytest.raises(InputError, match="'d0' is beyond the robot's joint limits"):
+    with pytest.raises(InputError, match="'d0' is beyond the robot's joint limits.*2 demonstrations of 2 are"):
         learn(demos, 1.5)
+
+
+def test_one_demonstration_beyond_the_joint_range_is_left_out_with_a_note(failed_demos):
+    # one of the real MSR throws maps beyond joint_2's range with the whole arm; the others are
+    # still a set to learn from, so that one is left out and named, not the run refused
+    angle = np.linspace(4.0, 6.5, 20)
+    odd = Trajectory("odd", {"time": np.linspace(0.0, 0.5, 20), "angle": angle, "distance": np.full(20, 1.25),
+                             "velocity": np.full(20, 5.0)})
+    result = learn(Dataset([*failed_demos, odd]), 1.4, budget=1, seed=0)
+    assert result.attempts == 1
+    count = len(failed_demos) + 1
+    assert result.notes[0].startswith(f"left out 1 demonstration of {count} beyond the robot's joint "
+                                      "limits: 'odd' (its path maps to joint_2 positions")
+    assert result.notes[0].endswith(f"learning from the other {count - 1}")
 
 
 class TestSpeedCalibration:

@@ -55,6 +55,7 @@ from rlff.learn.strategies import STRATEGIES
 from rlff.limits import check_pedestal
 from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
+from rlff.wording import plural
 
 #: Quantile of the demonstrations' last angles where generated throws release.
 RELEASE_QUANTILE = 0.25
@@ -274,7 +275,7 @@ def learn(
     pedestal = check_pedestal(pedestal)
     _require_reach(robot_model, target, pedestal, mapping.driven_joints)
     demos = _learning_demos(demos, mapping.human_columns, target.rim_height, driven_joints=mapping.driven_joints)
-    _require_demos_within_limits(demos, mapping)
+    demos, limit_notes = _demos_within_limits(demos, mapping)
     components = _components(demos, seed, joint_outputs(mapping.human_columns))
     _require_executable(mapping, target, pedestal, demos, components, seed)
     if executor is None:
@@ -308,7 +309,7 @@ def learn(
     try:
         result = _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
                       progress, until, centre_window, pedestal, components, tuple(run.get("carried", ())))
-        result.notes[:0] = carry_notes
+        result.notes[:0] = limit_notes + carry_notes
         return result
     finally:
         if log:
@@ -734,13 +735,18 @@ def _release_crossing(mapping, path: dict[str, np.ndarray], rim_height: float, p
                             clearance=True)
 
 
-def _require_demos_within_limits(demos: Dataset, mapping) -> None:
-    """Every demonstration's path must map inside the driven joint's position range.
+def _demos_within_limits(demos: Dataset, mapping) -> tuple[Dataset, list[str]]:
+    """The demonstrations whose paths map inside the driven joints' position ranges, and a note
+    naming those left out.
 
     Speeds beyond the robot's limits are allowed (the robot saturates when it executes a throw
-    that fast), but a path outside the joint's range means the mapping does not fit the data.
-    A whole-arm throw checks every driven joint.
+    that fast), but a path outside a joint's range is not a throw this robot can make: it is
+    left out with a note (one of the 48 real MSR throws maps beyond joint_2's range with the
+    whole arm, and refusing all 48 for it left nothing to learn from). When fewer than two are
+    left the mapping does not fit the data: :class:`InputError` naming the first. A whole-arm
+    throw checks every driven joint.
     """
+    kept, beyond = [], []
     for demo in demos:
         angle = demo["angle"]
         path = {column: demo[column] for column in demo.columns if column != "distance"}
@@ -752,19 +758,28 @@ def _require_demos_within_limits(demos: Dataset, mapping) -> None:
                 f"demonstration {demo.id!r} is not one throw up to its release ({exc}); clean "
                 "the demonstrations first (rlff data preprocess --preset thesis, or --preset)"
             ) from None
-        if report.count("position") and _whole_arm(mapping):
-            raise InputError(
-                f"demonstration {demo.id!r} is beyond the robot's joint limits: its path maps outside "
-                f"{', '.join(sorted({c.joint for c in report.changes if c.quantity == 'position'}))}'s range "
-                f"({report.summary()}); check the robot file's [whole_arm] mapping"
-            )
-        if report.count("position"):
+        if not report.count("position"):
+            kept.append(demo)
+        elif _whole_arm(mapping):
+            joints = sorted({c.joint for c in report.changes if c.quantity == "position"})
+            beyond.append((demo.id, f"maps outside {', '.join(joints)}'s range ({report.summary()})",
+                           "the robot file's [whole_arm] mapping"))
+        else:
             positions = mapping.angle_offset + mapping.angle_scale * angle[[0, -1]]
-            raise InputError(
-                f"demonstration {demo.id!r} is beyond the robot's joint limits: its path maps to "
-                f"{mapping.joint} positions {positions[0]:.3f} .. {positions[1]:.3f} rad "
-                f"({report.summary()}); check the robot file's [throwing] mapping"
-            )
+            beyond.append((demo.id, f"maps to {mapping.joint} positions {positions[0]:.3f} .. "
+                           f"{positions[1]:.3f} rad ({report.summary()})", "the robot file's [throwing] mapping"))
+    if not beyond:
+        return demos, []
+    name, why, where = beyond[0]
+    if len(kept) < 2:
+        raise InputError(f"demonstration {name!r} is beyond the robot's joint limits: its path {why}; "
+                         f"{plural(len(beyond), 'demonstration')} of {len(demos)} are, too few are left "
+                         f"to learn from; check {where}")
+    names = ", ".join(repr(n) for n, _, _ in beyond[:3]) + (", ..." if len(beyond) > 3 else "")
+    whose = "its" if len(beyond) == 1 else "the first's"
+    note = (f"left out {plural(len(beyond), 'demonstration')} of {len(demos)} beyond the robot's joint "
+            f"limits: {names} ({whose} path {why}); learning from the other {len(kept)}")
+    return demos.replace(kept), [note]
 
 
 def _simulator(robot, basket, pedestal: float) -> Executor:
