@@ -85,7 +85,7 @@ def test_demonstrations_beyond_the_joint_range_are_refused():
         Trajectory(f"d{i}", {"angle": angle, "distance": np.full(20, 1.0 + i),
                              "velocity": np.full(20, 5.0)}) for i in range(2)
     ])
-    with pytest.raises(InputError, match="'d0' is beyond the robot's joint limits.*2 demonstrations of 2 are"):
+    with pytest.raises(InputError, match="'d0' is beyond the robot's joint limits.*2 of 2 demonstrations are beyond them, which leaves"):
         learn(demos, 1.5)
 
 

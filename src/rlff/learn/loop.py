@@ -741,8 +741,8 @@ def _demos_within_limits(demos: Dataset, mapping) -> tuple[Dataset, list[str]]:
 
     Speeds beyond the robot's limits are allowed (the robot saturates when it executes a throw
     that fast), but a path outside a joint's range is not a throw this robot can make: it is
-    left out with a note (one of the 48 real MSR throws maps beyond joint_2's range with the
-    whole arm, and refusing all 48 for it left nothing to learn from). When fewer than two are
+    left out with a note (one of the 45 cleaned real MSR throws maps beyond joint_2's range with
+    the whole arm, and refusing them all for it left nothing to learn from). When fewer than two are
     left the mapping does not fit the data: :class:`InputError` naming the first. A whole-arm
     throw checks every driven joint.
     """
@@ -772,9 +772,10 @@ def _demos_within_limits(demos: Dataset, mapping) -> tuple[Dataset, list[str]]:
         return demos, []
     name, why, where = beyond[0]
     if len(kept) < 2:
+        verb = "is" if len(beyond) == 1 else "are"
         raise InputError(f"demonstration {name!r} is beyond the robot's joint limits: its path {why}; "
-                         f"{plural(len(beyond), 'demonstration')} of {len(demos)} are, too few are left "
-                         f"to learn from; check {where}")
+                         f"{len(beyond)} of {plural(len(demos), 'demonstration')} {verb} beyond them, which leaves too "
+                         f"few to learn from; check {where}")
     names = ", ".join(repr(n) for n, _, _ in beyond[:3]) + (", ..." if len(beyond) > 3 else "")
     whose = "its" if len(beyond) == 1 else "the first's"
     note = (f"left out {plural(len(beyond), 'demonstration')} of {len(demos)} beyond the robot's joint "
