@@ -101,6 +101,14 @@ def test_one_demonstration_beyond_the_joint_range_is_left_out_with_a_note(failed
     assert result.notes[0].startswith(f"left out 1 demonstration of {count} beyond the robot's joint "
                                       "limits: 'odd' (its path maps to joint_2 positions")
     assert result.notes[0].endswith(f"learning from the other {count - 1}")
+    # the farthest basket learn takes is judged on the same demonstrations
+    from rlff.learn.loop import learnable_basket
+    from rlff.robot import load_robot, mapping_for
+    from rlff.sim import Basket
+
+    mapping = mapping_for(load_robot("comau_smart5_six"), None)
+    assert learnable_basket(Dataset([*failed_demos, odd]), mapping, Basket(1.4)) == pytest.approx(
+        learnable_basket(failed_demos, mapping, Basket(1.4)))
 
 
 class TestSpeedCalibration:

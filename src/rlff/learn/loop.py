@@ -274,8 +274,7 @@ def learn(
     target = Basket(float(basket), rim_height=rim, opening=opening, bearing=float(bearing))
     pedestal = check_pedestal(pedestal)
     _require_reach(robot_model, target, pedestal, mapping.driven_joints)
-    demos = _learning_demos(demos, mapping.human_columns, target.rim_height, driven_joints=mapping.driven_joints)
-    demos, limit_notes = _demos_within_limits(demos, mapping)
+    demos, limit_notes = _usable_demos(demos, mapping, target.rim_height)
     components = _components(demos, seed, joint_outputs(mapping.human_columns))
     _require_executable(mapping, target, pedestal, demos, components, seed)
     if executor is None:
@@ -500,7 +499,7 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
     """
     from rlff.sim.reach import executable_reach, farthest_basket
 
-    demos = _learning_demos(demos, mapping.human_columns, basket.rim_height, driven_joints=mapping.driven_joints)
+    demos, _ = _usable_demos(demos, mapping, basket.rim_height)
     if _whole_arm(mapping):
         outputs = joint_outputs(mapping.human_columns)
         shape = _first_throw(demos, basket.distance, outputs, _components(demos, seed, outputs), seed)
@@ -733,6 +732,14 @@ def _release_crossing(mapping, path: dict[str, np.ndarray], rim_height: float, p
     release, _ = mapping.path_to_robot(path, clip=True)
     return release_crossing(mapping.robot, release.positions[-1], release.velocities[-1], rim_height, pedestal,
                             clearance=True)
+
+
+def _usable_demos(demos: Dataset, mapping, rim_height: float) -> tuple[Dataset, list[str]]:
+    """The demonstrations as :func:`learn` learns from them through ``mapping`` at a rim of
+    ``rim_height`` (m): :func:`_learning_demos`, then :func:`_demos_within_limits`, and the notes
+    on what was left out (:func:`learnable_basket` judges the reach on the same set)."""
+    demos = _learning_demos(demos, mapping.human_columns, rim_height, driven_joints=mapping.driven_joints)
+    return _demos_within_limits(demos, mapping)
 
 
 def _demos_within_limits(demos: Dataset, mapping) -> tuple[Dataset, list[str]]:
