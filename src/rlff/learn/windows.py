@@ -217,7 +217,7 @@ class WindowSearch:
             if reach:
                 cumulative = _cumulative(x, density)
                 masses = np.r_[masses, np.diff(np.interp(reach, x, cumulative)) / cumulative[-1]]
-        if band:
+        if reach:
             centres = np.r_[centres, self.highest]
         # equal masses (a symmetric prior's +-kw, equal up to the integration's error) keep the
         # sweep's order
