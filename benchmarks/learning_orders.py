@@ -1,7 +1,7 @@
 """Orders of the binary window search, compared on measured landing curves (no labels).
 
     .venv/bin/python benchmarks/learning_orders.py [--seeds 8] [--first-seed 0]
-        [--scenario short,wide,overshooting,near,mixed]
+        [--scenario short,wide,overshooting,near,mixed] [--by-basket] [--cache DIR]
 
 With binary feedback a search on the release speed is an order of speeds, fixed in advance:
 each throw only says hit or miss. So the attempts any order needs can be read off one curve per
@@ -28,7 +28,10 @@ script measures those curves, then counts the attempts to the first hit of
   :func:`rlff.learn.loop.aimed_factor`): what a method with the robot's flight model could do
   in this simulation, which has no gap between that model and what the ball does,
 
-and prints the mean per scenario (a run without a hit counts as 21). ``--by-basket`` adds, per
+and prints the mean per scenario (a run without a hit counts as 21). ``--cache DIR`` keeps the
+measured curves in DIR (joblib's ``Memory``, keyed by scenario, seed and basket), so that a
+changed or added order is counted in seconds; empty DIR after changing anything a throw depends
+on (the method's shape, the planner, the simulation). ``--by-basket`` adds, per
 scenario, each basket's means of ``sweep``, ``kept``, ``calibrate`` and ``aimed``, where the hit
 lies (the middle of the hitting speeds, log speed over u0, and below the joint's speed limit;
 mean and standard deviation over the seeds), and in how
@@ -45,6 +48,7 @@ from __future__ import annotations
 import argparse
 import math
 
+import joblib
 import numpy as np
 from scipy.stats import norm
 
@@ -99,6 +103,13 @@ def hit_curve(problem: Problem, target: Basket, method) -> tuple[np.ndarray, np.
     speeds = method.reference * np.exp(np.arange(LOWEST - 2 * STEP, highest, STEP))
     hits = [_execute(scale_speed(shape, u / at), 1, target, MAPPING, execute, 0.0).hit for u in speeds]
     return speeds, np.asarray(hits, dtype=float), method.reference
+
+
+def case_curve(scenario: str, seed: int, basket: float, problem: Problem, target: Basket,
+               method) -> tuple[np.ndarray, np.ndarray, float]:
+    """:func:`hit_curve` of the case (``scenario``, ``seed``, ``basket``), whose ``problem``,
+    ``target`` and ``method`` are given: ``--cache`` keeps it under the first three alone."""
+    return hit_curve(problem, target, method)
 
 
 def hit_place(curve: tuple[np.ndarray, np.ndarray, float], max_speed: float) -> tuple[float, float]:
@@ -184,7 +195,9 @@ def main() -> None:
     parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--scenario", default="short,wide,overshooting,near,mixed")
     parser.add_argument("--by-basket", action="store_true", help="per-basket means and 16-run blocks")
+    parser.add_argument("--cache", metavar="DIR", help="keep the measured curves in DIR")
     args = parser.parse_args()
+    curve_of = joblib.Memory(args.cache, verbose=0).cache(case_curve, ignore=["problem", "target", "method"])
     names = ("sweep", "kept", "truncated", "gmr-first", "scale-0.4", "failed-demos", "calibrate", "aimed")
     scenarios = args.scenario.split(",")
     means: dict[str, dict[str, float]] = {name: {} for name in names}
@@ -197,7 +210,7 @@ def main() -> None:
             for basket in baskets:
                 problem, target = problem_for(scenario, seed, float(basket))
                 method = METHODS["calibrate"](problem)  # fits the mixture: once per case
-                curve = hit_curve(problem, target, method)
+                curve = curve_of(scenario, seed, float(basket), problem, target, method)
                 places.append(hit_place(curve, problem.max_speed))
                 for name, speeds in orders(problem, method).items():
                     counts[name].append(attempts(speeds, curve))

@@ -305,3 +305,26 @@ def test_the_held_out_tables_come_from_the_json_report(tmp_path):
     compact = subprocess.run([sys.executable, str(script), str(path), "--budget", "9", "--readme"],
                              capture_output=True, text=True, check=True).stdout
     assert compact.splitlines()[2].startswith("| short, none | binary | **3.5 / 4.5 / 3** |")
+
+
+def test_the_orders_benchmark_counts_from_its_cache(tmp_path):
+    """benchmarks/learning_orders.py --cache keeps the measured curves and counts from them: the
+    same again, and a kept curve made to never hit counts every order at the budget + 1."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import joblib
+
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "learning_orders.py"
+    command = [sys.executable, str(script), "--seeds", "1", "--scenario", "near", "--cache", str(tmp_path)]
+    measured = subprocess.run(command, capture_output=True, text=True, check=True).stdout
+    kept = sorted(tmp_path.rglob("output.pkl"))
+    assert len(kept) == 2  # one curve per basket of the scenario
+    assert subprocess.run(command, capture_output=True, text=True, check=True).stdout == measured
+    for path in kept:
+        speeds, hits, reference = joblib.load(path)
+        joblib.dump((speeds, np.zeros_like(hits), reference), path)
+    never = subprocess.run(command, capture_output=True, text=True, check=True).stdout
+    assert "| calibrate | 21.00 | 21.00 |" in never
+    assert "| calibrate | 21.00 |" not in measured
