@@ -359,7 +359,12 @@ class CalibrateUpdate(DmmStrategy):
             wanted, p_hit = calibration.best_speed()
             info = {"speed": round(wanted, 4), "log_factor": round(math.log(wanted / self.reference), 4),
                     "p_hit": round(p_hit, 4)}
-        return replace(scale_speed(throw, wanted / speed), query=problem.target, exploration=shape.exploration,
+        factor = wanted / speed
+        if problem.saturation is None:
+            # never beyond the limit at the release sample: the binary windows are made on the
+            # first attempt's shape, and ``donut``'s shape changes with every miss
+            factor = min(factor, problem.max_speed / max(abs(float(throw.velocity[-1])), 1e-12))
+        return replace(scale_speed(throw, factor), query=problem.target, exploration=shape.exploration,
                        info=info)
 
     def windows(self, fastest: float) -> WindowSearch:
