@@ -96,14 +96,16 @@ def test_a_gmr_mean_extrapolated_to_a_standstill_release_is_left_for_the_hit(fee
 
 
 def test_a_throw_that_peaks_before_its_release_is_capped_at_the_release_only():
-    # seed 118's throw for 1.9 m (landings known to 0.3 m) peaks mid-path: capped on every
-    # sample, its release stayed at 8.5 rad/s, 0.46 m short for 20 attempts; the planner keeps
-    # only the first pose and the release, so the earlier peak saturates and the release is free
+    # found on seed 118's throw for 1.9 m (landings known to 0.3 m), as the one-start mixture
+    # shaped it: it peaked mid-path, and capped on every sample its release stayed at 8.5 rad/s,
+    # 0.46 m short for 20 attempts; the planner keeps only the first pose and the release, so the
+    # earlier peak saturates and the release is free. With the restarts that mixture no longer
+    # peaks early; seed 100's throw for 1.9 m with exact landings does, 4 samples before its release
     from rlff.learn.replay import plan_attempt
     from rlff.robot import load_robot, mapping_for
 
-    demos = demonstrations(118, Scenario("short", landings="noisy:0.3"))
-    result = learn(demos, 1.9, budget=3, feedback="binary", update="calibrate", seed=118)
+    demos = demonstrations(100, Scenario("short", landings="exact"))
+    result = learn(demos, 1.9, budget=3, feedback="binary", update="calibrate", seed=100)
     assert result.hit, [(a.miss, a.info) for a in result.history]
     mapping = mapping_for(load_robot("comau_smart5_six"), None)
     limit = mapping.max_human_speeds()["velocity"]
