@@ -25,7 +25,7 @@ script measures those curves, then counts the attempts to the first hit of
 - ``aimed``: a normal prior of :data:`AIM_SCALE` about the speed the robot's own kinematics
   send to the basket (the
   free flight from the planned release, as the whole-arm loop aims,
-  :func:`rlff.learn.loop.aimed_factor`): what a method with the robot's flight model could do
+  :func:`rlff.learn.reach.aimed_factor`): what a method with the robot's flight model could do
   in this simulation, which has no gap between that model and what the ball does,
 
 and prints the mean per scenario (a run without a hit counts as 21). ``--cache DIR`` keeps the
@@ -61,10 +61,10 @@ from rlff.learn.loop import (
     _hit_tolerance,
     _learning_demos,
     _simulator,
-    aimed_factor,
 )
 from rlff.learn.method import Problem, scale_speed
 from rlff.learn.outcomes import outcomes_prior
+from rlff.learn.reach import aimed_factor
 from rlff.learn.scenarios import DEMONSTRATORS, Scenario, demonstrations
 from rlff.learn.statistics import paired_p_value
 from rlff.learn.strategies import capped_at_release, release_speed

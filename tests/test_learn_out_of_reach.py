@@ -16,7 +16,7 @@ import pytest
 
 from rlff.dataset import Dataset
 from rlff.learn import learn
-from rlff.learn.loop import SHORT_AT_THE_LIMIT, shortfall_at_the_limit
+from rlff.learn.reach import SHORT_AT_THE_LIMIT, shortfall_at_the_limit
 from rlff.learn.scenarios import Scenario, parse_feedback, reporting_executor
 from rlff.robot import load_robot, mapping_for
 from rlff.sim import Basket

@@ -133,7 +133,8 @@ def test_a_basket_beyond_the_whole_arm_reach_is_refused_with_the_numbers(aimed, 
 
 
 def test_the_learnable_basket_is_where_learn_stops_refusing_and_headroom_brings_it_in(aimed, robot):
-    from rlff.learn.loop import arm_reach, learnable_basket
+    from rlff.learn.loop import learnable_basket, typical_throw
+    from rlff.learn.reach import arm_reach
     from rlff.robot import mapping_for
     from rlff.sim import Basket
 
@@ -147,10 +148,11 @@ def test_the_learnable_basket_is_where_learn_stops_refusing_and_headroom_brings_
     # 10 % of the joints' speed kept in reserve: a slower, shorter throw
     kept = learnable_basket(aimed, mapping, Basket(3.0), seed=0, headroom=0.1)
     assert 0.5 * farthest < kept < farthest - 0.1
-    assert arm_reach(mapping, aimed, 0.3, headroom=0.1).factor == pytest.approx(
-        0.9 * arm_reach(mapping, aimed, 0.3).factor)
+    typical = typical_throw(mapping, aimed)
+    assert arm_reach(mapping, typical, 0.3, headroom=0.1).factor == pytest.approx(
+        0.9 * arm_reach(mapping, typical, 0.3).factor)
     with pytest.raises(InputError, match=r"speed headroom must be a share in \[0, 1\), got 1.0"):
-        arm_reach(mapping, aimed, 0.3, headroom=1.0)
+        arm_reach(mapping, typical, 0.3, headroom=1.0)
     with pytest.raises(InputError, match="a one-joint throw's reach is at its joint's speed limit"):
         learnable_basket(aimed, mapping_for(robot, None), Basket(3.0), headroom=0.1)
 

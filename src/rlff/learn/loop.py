@@ -51,6 +51,14 @@ from rlff.learn.method import (
     Problem,
     Proposal,
 )
+from rlff.learn.reach import (
+    aimed_factor,
+    arm_reach,
+    beyond_reach,
+    release_elasticity,
+    saturation_factor,
+    widest_hit,
+)
 from rlff.learn.strategies import STRATEGIES
 from rlff.limits import check_pedestal
 from rlff.timing import time_along_path
@@ -71,11 +79,6 @@ METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
 UNTILS = ("hit", "centred")
 #: Default share of the opening (centre to rim) a centred hit lands within.
 CENTRE_SHARE = 0.5
-#: Throws in a row that came down short of the basket's rim even sped up to the fastest release
-#: the joints allow, after which a run stops: the basket is beyond what this arm throws.
-SHORT_AT_THE_LIMIT = 3
-
-
 class Outcome(Protocol):
     """What an executor reports about one throw (``rlff.sim``'s ThrowOutcome is one)."""
 
@@ -116,9 +119,10 @@ class LearningResult:
     centre_window : float
         Largest ``abs(miss)`` (m) of a centred hit; ``inf`` when the run stops at any hit.
     out_of_reach : bool
-        The run stopped before its budget: the last :data:`SHORT_AT_THE_LIMIT` throws came down
-        short of the basket by more than the fastest release the joints allow would make up
-        (see :func:`shortfall_at_the_limit`); a note says by how much.
+        The run stopped before its budget: the last
+        :data:`~rlff.learn.reach.SHORT_AT_THE_LIMIT` throws came down short of the basket by
+        more than the fastest release the joints allow would make up (see
+        :func:`rlff.learn.reach.shortfall_at_the_limit`); a note says by how much.
     """
 
     hit: bool
@@ -253,9 +257,9 @@ def learn(
     -------
     LearningResult
         Also when the run stops before its budget because the basket is beyond the arm's reach
-        (``out_of_reach``: the executor reported :data:`SHORT_AT_THE_LIMIT` landings in a row that
-        no faster release could bring to the basket; an arm slower than its robot file, a late
-        release or a heavier ball does that), with a note that says so.
+        (``out_of_reach``: the executor reported :data:`~rlff.learn.reach.SHORT_AT_THE_LIMIT`
+        landings in a row that no faster release could bring to the basket; an arm slower than
+        its robot file, a late release or a heavier ball does that), with a note that says so.
 
     Raises
     ------
@@ -349,7 +353,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         max_speed=mapping.max_human_speeds()["velocity"],
         outputs=outputs,
         carried=carried,
-        **({"elasticity": release_elasticity(mapping, demos, target.distance, target.rim_height, pedestal),
+        **({"elasticity": release_elasticity(mapping, typical_throw(mapping, demos), target.distance, target.rim_height, pedestal),
             "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal),
             "saturation": partial(saturation_factor, mapping)}
            if _whole_arm(mapping) else {}),
@@ -365,14 +369,14 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
     if until == "centred":
         reach_window, window = centre_window, "centre window"
     else:
-        reach_window, window = _widest_hit(target), "basket's rim"
+        reach_window, window = widest_hit(target), "basket's rim"
 
-    def beyond_reach() -> str | None:
-        return _beyond_reach(history, mapping, target, reach_window, pedestal, window)
+    def out_of_reach_note() -> str | None:
+        return beyond_reach(history, mapping, target, reach_window, pedestal, window)
 
     method = method_class(problem) if not (history and done(history[-1])) else None
     while (method is not None and len(history) < budget and not (history and done(history[-1]))
-           and beyond_reach() is None):
+           and out_of_reach_note() is None):
         start = clock.perf_counter()
         proposal = method.propose([_as_reported(a, feedback, centre_window) for a in history])
         attempt = _execute(proposal, len(history) + 1, target, mapping, executor, start)
@@ -385,7 +389,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
     notes = []
     if log and log.contents.dropped_partial_line:
         notes.append(f"{log.path}: dropped a partial last line (a run interrupted mid-write)")
-    out_of_reach = beyond_reach() if not (history and done(history[-1])) else None
+    out_of_reach = out_of_reach_note() if not (history and done(history[-1])) else None
     if out_of_reach:
         notes.append(out_of_reach)
     return LearningResult(
@@ -404,58 +408,6 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         centre_window=centre_window,
         out_of_reach=bool(out_of_reach),
     )
-
-
-def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, pedestal: float = 0.0) -> float:
-    """How far (m) ``attempt`` would still have come down short of the window ``tolerance`` (m)
-    about the basket's centre had the robot released it as fast as its joints allow; 0 when that
-    throw could reach the window, or when the attempt did not land short of it or reported no
-    landing.
-
-    The attempt's executed path, every velocity scaled by one factor up to where the last
-    driven joint reaches its speed limit at the release (the others saturate at theirs, as the
-    robot saturates them), gains what the free flight from its release state gains
-    (:func:`_release_crossing`): that gain is added to the landing the executor reported, so the
-    judgement rests on where the ball came down, not on the robot file's flight alone. An arm
-    slower than its file gains less than the file says, so the rule errs towards throwing again.
-    The shape is the attempt's: a method that changes the release angle could reach farther,
-    which is why :func:`learn` asks for :data:`SHORT_AT_THE_LIMIT` such throws in a row.
-    """
-    if not (math.isfinite(attempt.miss) and attempt.miss < -tolerance):
-        return 0.0
-    path = {"angle": attempt.angle, "velocity": attempt.velocity, **attempt.arm}
-    factor, _ = _release_speed_factor(mapping, path)
-    if not math.isfinite(factor):
-        return 0.0
-    now = _release_crossing(mapping, path, basket.rim_height, pedestal)
-    fastest = _release_crossing(mapping, _scaled(path, max(factor, 1.0)), basket.rim_height, pedestal)
-    if not (math.isfinite(now) and math.isfinite(fastest)):
-        return 0.0
-    return max(0.0, -tolerance - (attempt.miss + max(fastest - now, 0.0)))
-
-
-def _beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, pedestal: float,
-                  window: str = "basket's rim") -> str | None:
-    """A note that the basket is beyond the arm's reach when each of the last
-    :data:`SHORT_AT_THE_LIMIT` attempts came down short by more than its fastest release would
-    make up (:func:`shortfall_at_the_limit`; ``window``, the name of the ``tolerance``'s window in
-    the note), else None. Needs the landings: under binary
-    feedback from an operator (no landing reported) it never stops a run."""
-    last = history[-SHORT_AT_THE_LIMIT:]
-    if len(last) < SHORT_AT_THE_LIMIT:
-        return None
-    shortfalls = [shortfall_at_the_limit(a, mapping, basket, tolerance, pedestal) for a in last]
-    if not all(shortfalls):
-        return None
-    joints = ", ".join(mapping.driven_joints)
-    allow = "allows" if len(mapping.driven_joints) == 1 else "allow"
-    low, high = f"{min(shortfalls):.2f}", f"{max(shortfalls):.2f}"
-    by = f"{low} m" if low == high else f"{low}-{high} m"
-    return (f"stopped after attempt {last[-1].index}: the basket at {basket.distance:g} m is out of this arm's reach. "
-            f"Attempts {last[0].index}-{last[-1].index} came down short, and even at the fastest release {joints} "
-            f"{allow} they would have fallen {by} short of the {window}. An arm slower than its robot file, a late "
-            "release or a heavier ball does that: check the robot file's speed limits, or move the basket nearer "
-            "(rlff sim reach says how far the arm throws)")
 
 
 def _execute(proposal, index: int, target, mapping, executor: Executor, start: float) -> Attempt:
@@ -585,7 +537,7 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
     if _whole_arm(mapping):
         outputs = joint_outputs(mapping.human_columns)
         shape = _first_throw(demos, basket.distance, outputs, _components(demos, seed, outputs), seed)
-        reach = arm_reach(mapping, demos, basket.rim_height, pedestal, shape, headroom=headroom)
+        reach = arm_reach(mapping, shape, basket.rim_height, pedestal, headroom=headroom)
         return farthest_basket(reach.distance, basket.opening)
     if headroom:
         raise InputError("a speed headroom is a choice among the joints of a whole-arm throw; a one-joint "
@@ -614,7 +566,7 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
                            release_source="where the demonstrations let go")
         return
     shape = _first_throw(demos, basket.distance, joint_outputs(mapping.human_columns), components, seed)
-    reach = arm_reach(mapping, demos, basket.rim_height, pedestal, shape)
+    reach = arm_reach(mapping, shape, basket.rim_height, pedestal)
     farthest = farthest_basket(reach.distance, basket.opening)
     if basket.distance <= farthest:
         return
@@ -652,128 +604,7 @@ def _first_throw(demos: Dataset, distance: float, outputs: tuple[str, ...], comp
     return path
 
 
-@dataclass(frozen=True)
-class ArmReach:
-    """How far the loop's whole-arm throws go (see :func:`arm_reach`).
-
-    Attributes
-    ----------
-    distance : float
-        Where the ball comes down through the rim's height (m from the joint 1 axis); ``-inf``
-        when it never does.
-    factor : float
-        The speed factor on the typical throw that gets there.
-    limiting : str
-        What sets ``factor``: a joint at its speed limit, or the planner's room to wind up.
-    """
-
-    distance: float
-    factor: float
-    limiting: str
-
-
-def arm_reach(mapping, demos: Dataset, rim_height: float, pedestal: float = 0.0,
-              shape: dict[str, np.ndarray] | None = None, *, headroom: float = 0.0) -> ArmReach:
-    """The reach of the whole-arm throws the loop makes from ``demos`` through ``mapping``.
-
-    Every method throws a shape along the loop's angle grid, sped up or slowed down as a whole
-    (one factor on every joint's velocity). The motion planner keeps a throw's first pose and
-    its release state exactly and plans the swing between them within the limits
-    (:func:`rlff.trajectory.planner.plan_throw`; a swing too short for the release speed is
-    preceded by a wind-up, which must stay within the position limits), so the farthest of
-    these throws is ``shape`` (default: the demonstrations' typical throw,
-    :func:`_typical_throw`) at the largest factor that keeps the elbow's joint within its speed
-    limit at the release (the other joints saturate at theirs) and that the planner can still
-    execute, found by bisection; its ball comes down where the release state sends it
-    (:func:`_release_crossing`). With ``headroom`` (0 <= h < 1) the largest factor is
-    ``1 - headroom`` of that: the reach with that share of the joints' speed kept in reserve.
-    """
-    from rlff.robot.plan import plan_path
-
-    typical = _typical_throw(mapping, demos) if shape is None else shape
-    factor, limiting = _release_speed_factor(mapping, typical)
-    if not 0.0 <= headroom < 1.0:
-        raise InputError(f"speed headroom must be a share in [0, 1), got {headroom!r}")
-    factor *= (1 - headroom) * (1 - 1e-9)  # at the limit, not a rounding beyond it
-
-    def executable(f: float) -> bool:
-        try:
-            plan_path(mapping, _scaled(typical, f), clip=True)  # saturated as the loop executes it
-        except InputError:
-            return False
-        return True
-
-    if not executable(factor):
-        low, high = 0.0, factor
-        for _ in range(14):  # the factor to 1e-4 of the speed limit's
-            middle = 0.5 * (low + high)
-            low, high = (middle, high) if executable(middle) else (low, middle)
-        factor, limiting = low, "the planner runs out of room to wind up within the position limits"
-    return ArmReach(_release_crossing(mapping, _scaled(typical, factor), rim_height, pedestal), factor, limiting)
-
-
-def release_elasticity(mapping, demos: Dataset, target: float, rim_height: float, pedestal: float = 0.0) -> float:
-    """The elasticity d ln L / d ln u of the landing L in the throw's speed u near ``target`` (m),
-    from the arm's kinematics: the demonstrations' typical throw sped up or slowed down as a
-    whole until its release state sends the ball to ``target`` (or as far as it goes), its
-    landing differentiated there. A one-joint throw from the base has about 1.6 (the speed
-    calibration's prior); a whole-arm throw released above and behind the base has more, and
-    the calibration centres its prior on it.
-    """
-    typical = _typical_throw(mapping, demos)
-    highest, _ = _release_speed_factor(mapping, typical)
-
-    def landing(f: float) -> float:
-        return _release_crossing(mapping, _scaled(typical, f), rim_height, pedestal)
-
-    low, high = 0.05, highest
-    if landing(high) > target:
-        for _ in range(30):
-            middle = math.sqrt(low * high)
-            low, high = (middle, high) if landing(middle) < target else (low, middle)
-    step = 1.03
-    near, far = landing(high / step), landing(high)
-    if not (near > 0 and far > near):
-        return 1.6
-    return float(np.clip(math.log(far / near) / math.log(step), 0.5, 5.0))
-
-
-def aimed_factor(mapping, target: float, rim_height: float, pedestal: float, proposal) -> float:
-    """The factor on every velocity of ``proposal`` (a whole-arm throw) that sends its ball to
-    ``target`` (m) by the arm's kinematics and the free flight from the release
-    (:func:`_release_crossing`), found by bisection in log speed between a twentieth of its
-    speed and the fastest release within the joints' speed limits (that one when the target is
-    beyond it); 1 when its release sends the ball nowhere.
-
-    This is what a whole-arm throw's speed calibration takes as the speed where the basket is
-    (its prior's centre): the mapping from the people's joints to the robot's changes where a
-    throw lands far more than the one-joint mapping does, while the robot's own geometry
-    predicts the free flight from a release state (in the simulation to about a centimetre).
-    """
-    path = proposal.path
-    highest, _ = _release_speed_factor(mapping, path)
-    if not np.isfinite(highest):
-        return 1.0
-
-    def landing(f: float) -> float:
-        return _release_crossing(mapping, _scaled(path, f), rim_height, pedestal)
-
-    low, high = 0.05 * highest, highest * (1 - 1e-9)
-    if landing(high) <= target:
-        return high if np.isfinite(landing(high)) else 1.0
-    for _ in range(40):
-        middle = math.sqrt(low * high)
-        low, high = (middle, high) if landing(middle) < target else (low, middle)
-    return math.sqrt(low * high)
-
-
-def saturation_factor(mapping, proposal) -> float:
-    """The factor on every velocity of ``proposal`` (a whole-arm throw) beyond which no driven
-    joint can go faster at the release (see :func:`_release_speed_factor`)."""
-    return _release_speed_factor(mapping, proposal.path)[0]
-
-
-def _typical_throw(mapping, demos: Dataset) -> dict[str, np.ndarray]:
+def typical_throw(mapping, demos: Dataset) -> dict[str, np.ndarray]:
     """The demonstrations' typical whole-arm throw along the loop's angle grid: the median of
     each column of :func:`joint_outputs` (T,), the elbow's velocity forward."""
     angles = _angle_grid(demos)
@@ -782,38 +613,6 @@ def _typical_throw(mapping, demos: Dataset) -> dict[str, np.ndarray]:
         typical[column] = np.median([np.interp(angles, t["angle"], t[column]) for t in demos], axis=0)
     typical["velocity"] = _forward_velocity(angles, typical["velocity"])
     return typical
-
-
-def _scaled(path: dict[str, np.ndarray], factor: float) -> dict[str, np.ndarray]:
-    """``path`` with every velocity column times ``factor``."""
-    return {c: v * factor if c == "velocity" or c.endswith("_velocity") else v for c, v in path.items()}
-
-
-def _release_speed_factor(mapping, path: dict[str, np.ndarray]) -> tuple[float, str]:
-    """The factor on every velocity of ``path`` at which the last driven joint reaches its speed
-    limit at the release, and that joint (as the reason): below it, the joints that get there
-    first saturate (as every executed throw does: the robot never exceeds a limit) while the
-    others still speed up and throw farther; above it, nothing changes."""
-    factor, limiting = 0.0, ""
-    limits = mapping.max_human_speeds()
-    for column, name in zip((c for c in joint_outputs(mapping.human_columns) if c.endswith("velocity")),
-                            mapping.driven_joints, strict=True):
-        release = abs(float(path[column][-1]))
-        if release > 0 and limits[column] / release > factor:
-            factor, limiting = limits[column] / release, f"every joint reaches its speed limit (the last: {name})"
-    return (factor, limiting) if factor > 0 else (math.inf, "")
-
-
-def _release_crossing(mapping, path: dict[str, np.ndarray], rim_height: float, pedestal: float) -> float:
-    """Where the ball of ``path``'s release comes down through the rim's height (m from joint 1's
-    axis, no drag): the arm's in-plane ball velocity at the release pose (joint 1 turns the plane
-    to the bearing; it does not change the distance); ``-inf`` when it never does or the arm is
-    too low."""
-    from rlff.sim.reach import release_crossing
-
-    release, _ = mapping.path_to_robot(path, clip=True)
-    return release_crossing(mapping.robot, release.positions[-1], release.velocities[-1], rim_height, pedestal,
-                            clearance=True)
 
 
 def _usable_demos(demos: Dataset, mapping, rim_height: float) -> tuple[Dataset, list[str]]:
@@ -879,15 +678,6 @@ def _simulator(robot, basket, pedestal: float) -> Executor:
         return simulate_throw(trajectory, basket, robot=robot, pedestal=pedestal)
 
     return execute
-
-
-def _widest_hit(basket) -> float:
-    """Largest distance (m) from the basket's centre at which a ball coming down to the rim's
-    height can still end in the basket: half the opening and the ball's radius (its centre over
-    the rim, so that it strikes the rim's top and may drop in)."""
-    from rlff.sim.arm import BALL_RADIUS
-
-    return 0.5 * basket.opening + BALL_RADIUS
 
 
 def _hit_tolerance(basket) -> float:

@@ -62,17 +62,17 @@ class Problem:
     elasticity : float
         Where the speed calibration's prior centres the elasticity of the landing in the release
         speed: 1.6 for a one-joint throw, from the arm's kinematics for a whole-arm one
-        (:func:`rlff.learn.loop.release_elasticity`).
+        (:func:`rlff.learn.reach.release_elasticity`).
     saturation : callable, optional
         ``saturation(proposal) -> factor``: for a whole-arm throw, the factor on every velocity
         beyond which no driven joint goes faster at the release (each saturates at its limit, the
-        elbow's too, :func:`rlff.learn.loop.saturation_factor`); a speed calibration searches up
+        elbow's too, :func:`rlff.learn.reach.saturation_factor`); a speed calibration searches up
         to it, in the commanded speed (the executed elbow speed stops growing where the elbow
         saturates, the landing does not). None: :attr:`max_speed` bounds the executed speed.
     aim : callable, optional
         ``aim(proposal) -> factor``: the factor on every velocity of a proposal that sends the
         ball to the target by the arm's kinematics and the free flight from its release (a
-        whole-arm throw, :func:`rlff.learn.loop.aimed_factor`); None: the demonstrations' own
+        whole-arm throw, :func:`rlff.learn.reach.aimed_factor`); None: the demonstrations' own
         speed is where the calibration's prior puts the basket.
     carried : tuple of float
         Log speed factors of earlier runs' hits over their own start (:mod:`rlff.learn.carry`):

@@ -278,7 +278,7 @@ class SpeedCalibration:
 
 
 #: Standard deviation (log speed) of a whole-arm throw's prior about the speed its kinematics aim
-#: at the basket (:func:`rlff.learn.loop.aimed_factor`): in the simulation the aim's landing is
+#: at the basket (:func:`rlff.learn.reach.aimed_factor`): in the simulation the aim's landing is
 #: within about 1 cm; on an arm a few per cent slower than its robot file, or one that lets go
 #: late, it is off by about 0.05.
 AIM_SCALE = 0.1
@@ -393,7 +393,7 @@ class CalibrateUpdate(DmmStrategy):
         when enough of them are known (:func:`rlff.learn.landings.landing_speed`; its standard
         error and :data:`rlff.learn.landings.ROBOT_SCALE` added in quadrature), else about the GMR
         mean's speed with :data:`rlff.learn.windows.PRIOR_SCALE`. A whole-arm throw's u0 is where
-        the arm's kinematics aim (:func:`rlff.learn.loop.aimed_factor`), and its prior is
+        the arm's kinematics aim (:func:`rlff.learn.reach.aimed_factor`), and its prior is
         :data:`AIM_SCALE` about it: as wide as the GMR mean's, its tail beyond the speed limit
         outweighed the aim's window wherever the limit lay within three windows above the aim,
         and the first throw went to the limit (0.2-0.8 m long on the people of seed 1 at 4-4.5 m)."""

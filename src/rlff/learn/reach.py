@@ -1,0 +1,252 @@
+"""What the arm's throws reach: the whole-arm throw's reach, aim and speed law, and when a run
+stops because the basket is beyond the arm.
+
+The loop's throws are one shape along its angle grid, sped up or slowed down as a whole (one
+factor on every driven joint's velocity). The robot file's geometry says where the free flight
+from a throw's release state comes down (to about a centimetre in the simulation), and so how
+far a shape reaches at the joints' speed limits (:func:`arm_reach`), the factor that aims it at a
+basket (:func:`aimed_factor`), the landing's elasticity in the speed (:func:`release_elasticity`)
+and where faster stops helping (:func:`saturation_factor`): what the whole-arm calibration and
+the loop's checks before the first throw use.
+
+After a throw, the landing the executor reported and the gain the fastest release would add to
+it say whether the basket is within the real arm's reach (:func:`shortfall_at_the_limit`): the
+loop stops after :data:`SHORT_AT_THE_LIMIT` throws in a row that say it is not
+(:func:`beyond_reach`), as an arm slower than its robot file, a late release or a heavier ball
+make it.
+
+Hand-written: bisections on one speed factor and a closed-form flight, the project's own
+reasoning about its throws.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from rlff.dataset import joint_outputs
+from rlff.errors import InputError
+from rlff.learn.attempt import Attempt
+
+#: Throws in a row that came down short of the basket's rim even sped up to the fastest release
+#: the joints allow, after which a run stops: the basket is beyond what this arm throws.
+SHORT_AT_THE_LIMIT = 3
+
+
+@dataclass(frozen=True)
+class ArmReach:
+    """How far the loop's whole-arm throws go (see :func:`arm_reach`).
+
+    Attributes
+    ----------
+    distance : float
+        Where the ball comes down through the rim's height (m from the joint 1 axis); ``-inf``
+        when it never does.
+    factor : float
+        The speed factor on the typical throw that gets there.
+    limiting : str
+        What sets ``factor``: a joint at its speed limit, or the planner's room to wind up.
+    """
+
+    distance: float
+    factor: float
+    limiting: str
+
+
+def arm_reach(mapping, shape: dict[str, np.ndarray], rim_height: float, pedestal: float = 0.0, *,
+              headroom: float = 0.0) -> ArmReach:
+    """The reach of the whole-arm throws of ``shape`` through ``mapping``.
+
+    Every method throws a shape along the loop's angle grid, sped up or slowed down as a whole
+    (one factor on every joint's velocity). The motion planner keeps a throw's first pose and
+    its release state exactly and plans the swing between them within the limits
+    (:func:`rlff.trajectory.planner.plan_throw`; a swing too short for the release speed is
+    preceded by a wind-up, which must stay within the position limits), so the farthest of
+    these throws is ``shape`` (the loop's first throw, or the demonstrations' typical throw,
+    :func:`rlff.learn.loop.typical_throw`: columns of shape (T,) along the angle grid, the
+    velocities forward) at the largest factor that keeps the elbow's joint within its speed
+    limit at the release (the other joints saturate at theirs) and that the planner can still
+    execute, found by bisection; its ball comes down where the release state sends it
+    (:func:`release_crossing_of`). With ``headroom`` (0 <= h < 1) the largest factor is
+    ``1 - headroom`` of that: the reach with that share of the joints' speed kept in reserve.
+    """
+    from rlff.robot.plan import plan_path
+
+    typical = shape
+    factor, limiting = release_speed_factor(mapping, typical)
+    if not 0.0 <= headroom < 1.0:
+        raise InputError(f"speed headroom must be a share in [0, 1), got {headroom!r}")
+    factor *= (1 - headroom) * (1 - 1e-9)  # at the limit, not a rounding beyond it
+
+    def executable(f: float) -> bool:
+        try:
+            plan_path(mapping, scaled(typical, f), clip=True)  # saturated as the loop executes it
+        except InputError:
+            return False
+        return True
+
+    if not executable(factor):
+        low, high = 0.0, factor
+        for _ in range(14):  # the factor to 1e-4 of the speed limit's
+            middle = 0.5 * (low + high)
+            low, high = (middle, high) if executable(middle) else (low, middle)
+        factor, limiting = low, "the planner runs out of room to wind up within the position limits"
+    return ArmReach(release_crossing_of(mapping, scaled(typical, factor), rim_height, pedestal), factor, limiting)
+
+
+def release_elasticity(mapping, typical: dict[str, np.ndarray], target: float, rim_height: float,
+                       pedestal: float = 0.0) -> float:
+    """The elasticity d ln L / d ln u of the landing L in the throw's speed u near ``target`` (m),
+    from the arm's kinematics: the demonstrations' typical throw (``typical``,
+    :func:`rlff.learn.loop.typical_throw`) sped up or slowed down as a
+    whole until its release state sends the ball to ``target`` (or as far as it goes), its
+    landing differentiated there. A one-joint throw from the base has about 1.6 (the speed
+    calibration's prior); a whole-arm throw released above and behind the base has more, and
+    the calibration centres its prior on it.
+    """
+    highest, _ = release_speed_factor(mapping, typical)
+
+    def landing(f: float) -> float:
+        return release_crossing_of(mapping, scaled(typical, f), rim_height, pedestal)
+
+    low, high = 0.05, highest
+    if landing(high) > target:
+        for _ in range(30):
+            middle = math.sqrt(low * high)
+            low, high = (middle, high) if landing(middle) < target else (low, middle)
+    step = 1.03
+    near, far = landing(high / step), landing(high)
+    if not (near > 0 and far > near):
+        return 1.6
+    return float(np.clip(math.log(far / near) / math.log(step), 0.5, 5.0))
+
+
+def aimed_factor(mapping, target: float, rim_height: float, pedestal: float, proposal) -> float:
+    """The factor on every velocity of ``proposal`` (a whole-arm throw) that sends its ball to
+    ``target`` (m) by the arm's kinematics and the free flight from the release
+    (:func:`release_crossing_of`), found by bisection in log speed between a twentieth of its
+    speed and the fastest release within the joints' speed limits (that one when the target is
+    beyond it); 1 when its release sends the ball nowhere.
+
+    This is what a whole-arm throw's speed calibration takes as the speed where the basket is
+    (its prior's centre): the mapping from the people's joints to the robot's changes where a
+    throw lands far more than the one-joint mapping does, while the robot's own geometry
+    predicts the free flight from a release state (in the simulation to about a centimetre).
+    """
+    path = proposal.path
+    highest, _ = release_speed_factor(mapping, path)
+    if not np.isfinite(highest):
+        return 1.0
+
+    def landing(f: float) -> float:
+        return release_crossing_of(mapping, scaled(path, f), rim_height, pedestal)
+
+    low, high = 0.05 * highest, highest * (1 - 1e-9)
+    if landing(high) <= target:
+        return high if np.isfinite(landing(high)) else 1.0
+    for _ in range(40):
+        middle = math.sqrt(low * high)
+        low, high = (middle, high) if landing(middle) < target else (low, middle)
+    return math.sqrt(low * high)
+
+
+def saturation_factor(mapping, proposal) -> float:
+    """The factor on every velocity of ``proposal`` (a whole-arm throw) beyond which no driven
+    joint can go faster at the release (see :func:`release_speed_factor`)."""
+    return release_speed_factor(mapping, proposal.path)[0]
+
+
+def scaled(path: dict[str, np.ndarray], factor: float) -> dict[str, np.ndarray]:
+    """``path`` with every velocity column times ``factor``."""
+    return {c: v * factor if c == "velocity" or c.endswith("_velocity") else v for c, v in path.items()}
+
+
+def release_speed_factor(mapping, path: dict[str, np.ndarray]) -> tuple[float, str]:
+    """The factor on every velocity of ``path`` at which the last driven joint reaches its speed
+    limit at the release, and that joint (as the reason): below it, the joints that get there
+    first saturate (as every executed throw does: the robot never exceeds a limit) while the
+    others still speed up and throw farther; above it, nothing changes."""
+    factor, limiting = 0.0, ""
+    limits = mapping.max_human_speeds()
+    for column, name in zip((c for c in joint_outputs(mapping.human_columns) if c.endswith("velocity")),
+                            mapping.driven_joints, strict=True):
+        release = abs(float(path[column][-1]))
+        if release > 0 and limits[column] / release > factor:
+            factor, limiting = limits[column] / release, f"every joint reaches its speed limit (the last: {name})"
+    return (factor, limiting) if factor > 0 else (math.inf, "")
+
+
+def release_crossing_of(mapping, path: dict[str, np.ndarray], rim_height: float, pedestal: float) -> float:
+    """Where the ball of ``path``'s release comes down through the rim's height (m from joint 1's
+    axis, no drag): the arm's in-plane ball velocity at the release pose (joint 1 turns the plane
+    to the bearing; it does not change the distance); ``-inf`` when it never does or the arm is
+    too low."""
+    from rlff.sim.reach import release_crossing
+
+    release, _ = mapping.path_to_robot(path, clip=True)
+    return release_crossing(mapping.robot, release.positions[-1], release.velocities[-1], rim_height, pedestal,
+                            clearance=True)
+
+
+def widest_hit(basket) -> float:
+    """Largest distance (m) from the basket's centre at which a ball coming down to the rim's
+    height can still end in the basket: half the opening and the ball's radius (its centre over
+    the rim, so that it strikes the rim's top and may drop in)."""
+    from rlff.sim.arm import BALL_RADIUS
+
+    return 0.5 * basket.opening + BALL_RADIUS
+
+
+def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, pedestal: float = 0.0) -> float:
+    """How far (m) ``attempt`` would still have come down short of the window ``tolerance`` (m)
+    about the basket's centre had the robot released it as fast as its joints allow; 0 when that
+    throw could reach the window, or when the attempt did not land short of it or reported no
+    landing.
+
+    The attempt's executed path, every velocity scaled by one factor up to where the last
+    driven joint reaches its speed limit at the release (the others saturate at theirs, as the
+    robot saturates them), gains what the free flight from its release state gains
+    (:func:`release_crossing_of`): that gain is added to the landing the executor reported, so the
+    judgement rests on where the ball came down, not on the robot file's flight alone. An arm
+    slower than its file gains less than the file says, so the rule errs towards throwing again.
+    The shape is the attempt's: a method that changes the release angle could reach farther,
+    which is why :func:`learn` asks for :data:`SHORT_AT_THE_LIMIT` such throws in a row.
+    """
+    if not (math.isfinite(attempt.miss) and attempt.miss < -tolerance):
+        return 0.0
+    path = {"angle": attempt.angle, "velocity": attempt.velocity, **attempt.arm}
+    factor, _ = release_speed_factor(mapping, path)
+    if not math.isfinite(factor):
+        return 0.0
+    now = release_crossing_of(mapping, path, basket.rim_height, pedestal)
+    fastest = release_crossing_of(mapping, scaled(path, max(factor, 1.0)), basket.rim_height, pedestal)
+    if not (math.isfinite(now) and math.isfinite(fastest)):
+        return 0.0
+    return max(0.0, -tolerance - (attempt.miss + max(fastest - now, 0.0)))
+
+
+def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, pedestal: float,
+                  window: str = "basket's rim") -> str | None:
+    """A note that the basket is beyond the arm's reach when each of the last
+    :data:`SHORT_AT_THE_LIMIT` attempts came down short by more than its fastest release would
+    make up (:func:`shortfall_at_the_limit`; ``window``, the name of the ``tolerance``'s window in
+    the note), else None. Needs the landings: under binary
+    feedback from an operator (no landing reported) it never stops a run."""
+    last = history[-SHORT_AT_THE_LIMIT:]
+    if len(last) < SHORT_AT_THE_LIMIT:
+        return None
+    shortfalls = [shortfall_at_the_limit(a, mapping, basket, tolerance, pedestal) for a in last]
+    if not all(shortfalls):
+        return None
+    joints = ", ".join(mapping.driven_joints)
+    allow = "allows" if len(mapping.driven_joints) == 1 else "allow"
+    low, high = f"{min(shortfalls):.2f}", f"{max(shortfalls):.2f}"
+    by = f"{low} m" if low == high else f"{low}-{high} m"
+    return (f"stopped after attempt {last[-1].index}: the basket at {basket.distance:g} m is out of this arm's reach. "
+            f"Attempts {last[0].index}-{last[-1].index} came down short, and even at the fastest release {joints} "
+            f"{allow} they would have fallen {by} short of the {window}. An arm slower than its robot file, a late "
+            "release or a heavier ball does that: check the robot file's speed limits, or move the basket nearer "
+            "(rlff sim reach says how far the arm throws)")
