@@ -46,7 +46,7 @@ class ArmReach:
         Where the ball comes down through the rim's height (m from the joint 1 axis); ``-inf``
         when it never does.
     factor : float
-        The speed factor on the typical throw that gets there.
+        The speed factor on the shape that gets there.
     limiting : str
         What sets ``factor``: a joint at its speed limit, or the planner's room to wind up.
     """
@@ -75,15 +75,14 @@ def arm_reach(mapping, shape: dict[str, np.ndarray], rim_height: float, pedestal
     """
     from rlff.robot.plan import plan_path
 
-    typical = shape
-    factor, limiting = release_speed_factor(mapping, typical)
+    factor, limiting = release_speed_factor(mapping, shape)
     if not 0.0 <= headroom < 1.0:
         raise InputError(f"speed headroom must be a share in [0, 1), got {headroom!r}")
     factor *= (1 - headroom) * (1 - 1e-9)  # at the limit, not a rounding beyond it
 
     def executable(f: float) -> bool:
         try:
-            plan_path(mapping, scaled(typical, f), clip=True)  # saturated as the loop executes it
+            plan_path(mapping, scaled(shape, f), clip=True)  # saturated as the loop executes it
         except InputError:
             return False
         return True
@@ -94,7 +93,7 @@ def arm_reach(mapping, shape: dict[str, np.ndarray], rim_height: float, pedestal
             middle = 0.5 * (low + high)
             low, high = (middle, high) if executable(middle) else (low, middle)
         factor, limiting = low, "the planner runs out of room to wind up within the position limits"
-    return ArmReach(release_crossing_of(mapping, scaled(typical, factor), rim_height, pedestal), factor, limiting)
+    return ArmReach(release_crossing_of(mapping, scaled(shape, factor), rim_height, pedestal), factor, limiting)
 
 
 def release_elasticity(mapping, typical: dict[str, np.ndarray], target: float, rim_height: float,
@@ -213,7 +212,7 @@ def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, 
     judgement rests on where the ball came down, not on the robot file's flight alone. An arm
     slower than its file gains less than the file says, so the rule errs towards throwing again.
     The shape is the attempt's: a method that changes the release angle could reach farther,
-    which is why :func:`learn` asks for :data:`SHORT_AT_THE_LIMIT` such throws in a row.
+    which is why :func:`rlff.learn.learn` asks for :data:`SHORT_AT_THE_LIMIT` such throws in a row.
     """
     if not (math.isfinite(attempt.miss) and attempt.miss < -tolerance):
         return 0.0
@@ -229,12 +228,12 @@ def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, 
 
 
 def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, pedestal: float,
-                  window: str = "basket's rim") -> str | None:
+                 window: str = "basket's rim") -> str | None:
     """A note that the basket is beyond the arm's reach when each of the last
     :data:`SHORT_AT_THE_LIMIT` attempts came down short by more than its fastest release would
     make up (:func:`shortfall_at_the_limit`; ``window``, the name of the ``tolerance``'s window in
-    the note), else None. Needs the landings: under binary
-    feedback from an operator (no landing reported) it never stops a run."""
+    the note), else None. Needs the landings: under binary feedback from an operator (no landing
+    reported) it never stops a run."""
     last = history[-SHORT_AT_THE_LIMIT:]
     if len(last) < SHORT_AT_THE_LIMIT:
         return None
