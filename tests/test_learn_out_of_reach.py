@@ -9,6 +9,7 @@ budget ran out (seed 12001: 19 throws at the limit, each 0.24 m short).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -127,3 +128,36 @@ def test_the_shortfall_counts_what_the_fastest_release_would_add():
     # a hit, a long miss, a miss inside the window, and no landing reported: no shortfall
     for miss in (+0.5, -0.10, math.nan):
         assert shortfall_at_the_limit(_attempt(limit, miss), mapping, basket, window) == 0.0
+
+
+def test_a_throw_at_the_limit_that_fell_short_judges_every_slower_throw_from_its_release():
+    from rlff.learn.reach import fastest_seen
+
+    mapping = mapping_for(load_robot(), None)
+    limit = mapping.max_human_speeds()["velocity"]
+    at_limit, slower = _attempt(limit, -0.30), _attempt(0.6 * limit, -1.2)
+    assert fastest_seen(slower, [slower, at_limit], mapping) == pytest.approx(-0.30)
+    # below the limit, or let go at another angle, it says nothing of the slower throw
+    assert math.isnan(fastest_seen(slower, [_attempt(0.99 * limit, -0.35)], mapping))
+    other_release = replace(at_limit, angle=at_limit.angle + 0.05)
+    assert math.isnan(fastest_seen(slower, [other_release], mapping))
+    # no landing reported: no evidence
+    assert math.isnan(fastest_seen(slower, [replace(at_limit, miss=math.nan)], mapping))
+    # the slower throw is judged on it: 0.30 m short at best, 0.09 beyond the rim (0.208 m)
+    basket = Basket(BASKET)
+    assert shortfall_at_the_limit(slower, mapping, basket, 0.208, seen=[at_limit]) == pytest.approx(0.092)
+
+
+@pytest.mark.slow
+def test_binary_runs_stop_once_a_throw_at_the_limit_fell_short():
+    # binary feedback, the landings known to the loop (a vision system): the window search goes
+    # on to slower windows after its throw at the limit fell short; those cannot reach either
+    seed = 12001
+    from rlff.learn.scenarios import demonstrations
+
+    demos = demonstrations(seed, Scenario("short", landings="none"))
+    execute = reporting_executor(Scenario("short", gap="speed:0.9"), parse_feedback("binary"), BASKET, seed)
+    result = learn(demos, BASKET, budget=20, feedback="binary", update="calibrate", seed=seed, executor=execute)
+    assert result.out_of_reach and result.attempts < 20
+    limit = mapping_for(load_robot(), None).max_human_speeds()["velocity"]
+    assert any(abs(a.velocity[-1]) >= 0.999 * limit and a.miss < -0.208 for a in result.history)

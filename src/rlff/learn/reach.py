@@ -199,32 +199,73 @@ def widest_hit(basket) -> float:
     return 0.5 * basket.opening + BALL_RADIUS
 
 
-def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, pedestal: float = 0.0) -> float:
+def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, pedestal: float = 0.0,
+                           seen: Sequence[Attempt] = ()) -> float:
     """How far (m) ``attempt`` would still have come down short of the window ``tolerance`` (m)
     about the basket's centre had the robot released it as fast as its joints allow; 0 when that
     throw could reach the window, or when the attempt did not land short of it or reported no
     landing.
 
-    The attempt's executed path, every velocity scaled by one factor up to where the last
-    driven joint reaches its speed limit at the release (the others saturate at theirs, as the
-    robot saturates them), gains what the free flight from its release state gains
-    (:func:`release_crossing_of`): that gain is added to the landing the executor reported, so the
-    judgement rests on where the ball came down, not on the robot file's flight alone. An arm
-    slower than its file gains less than the file says, so the rule errs towards throwing again.
+    Two judgements, the larger counts:
+
+    - the attempt's executed path, every velocity scaled by one factor up to where the last
+      driven joint reaches its speed limit at the release (the others saturate at theirs, as the
+      robot saturates them), gains what the free flight from its release state gains
+      (:func:`release_crossing_of`): that gain is added to the landing the executor reported. An
+      arm slower than its file, or one that lets go late, gains less than the file says, so this
+      errs towards throwing again;
+    - a throw among ``seen`` (the run's attempts) that let go from the same release pose at the
+      fastest the joints allow, its release velocities the attempt's sped up, came down where
+      the attempt's would at best (:func:`fastest_seen`): no model, only that a faster release
+      of the same direction throws farther.
+
     The shape is the attempt's: a method that changes the release angle could reach farther,
     which is why :func:`rlff.learn.learn` asks for :data:`SHORT_AT_THE_LIMIT` such throws in a row.
     """
     if not (math.isfinite(attempt.miss) and attempt.miss < -tolerance):
         return 0.0
+    observed = fastest_seen(attempt, seen, mapping)
+    shortfall = max(0.0, -tolerance - observed) if math.isfinite(observed) else 0.0
     path = {"angle": attempt.angle, "velocity": attempt.velocity, **attempt.arm}
     factor, _ = release_speed_factor(mapping, path)
     if not math.isfinite(factor):
-        return 0.0
+        return shortfall
     now = release_crossing_of(mapping, path, basket.rim_height, pedestal)
     fastest = release_crossing_of(mapping, scaled(path, max(factor, 1.0)), basket.rim_height, pedestal)
     if not (math.isfinite(now) and math.isfinite(fastest)):
-        return 0.0
-    return max(0.0, -tolerance - (attempt.miss + max(fastest - now, 0.0)))
+        return shortfall
+    return max(shortfall, -tolerance - (attempt.miss + max(fastest - now, 0.0)))
+
+
+def fastest_seen(attempt: Attempt, seen: Sequence[Attempt], mapping) -> float:
+    """The signed miss (m) of the farthest throw in ``seen`` that let go from ``attempt``'s
+    release pose as fast as the joints allow (the last driven joint within 0.1 % of its speed
+    limit), its release velocities ``attempt``'s times one factor of at least 1; NaN when none
+    did, or none reported a landing."""
+    pose, velocity = _release_state(attempt)
+    misses = []
+    for other in seen:
+        if not math.isfinite(other.miss):
+            continue
+        other_pose, other_velocity = _release_state(other)
+        if other_pose.shape != pose.shape or not np.allclose(other_pose, pose, rtol=0.0, atol=1e-6):
+            continue
+        factor = float(other_velocity @ velocity) / max(float(velocity @ velocity), 1e-12)
+        if factor < 1.0 - 1e-9 or not np.allclose(other_velocity, factor * velocity, rtol=1e-6, atol=1e-9):
+            continue
+        path = {"angle": other.angle, "velocity": other.velocity, **other.arm}
+        if release_speed_factor(mapping, path)[0] <= 1.001:
+            misses.append(other.miss)
+    return max(misses) if misses else math.nan
+
+
+def _release_state(attempt: Attempt) -> tuple[np.ndarray, np.ndarray]:
+    """The release pose (rad) and velocities (rad/s) of every driven column of ``attempt``
+    (the elbow's first, then the others' in name order), shape (J,) each."""
+    names = sorted(attempt.arm)
+    pose = [attempt.angle[-1]] + [attempt.arm[n][-1] for n in names if not n.endswith("_velocity")]
+    velocity = [attempt.velocity[-1]] + [attempt.arm[n][-1] for n in names if n.endswith("_velocity")]
+    return np.array(pose, dtype=float), np.array(velocity, dtype=float)
 
 
 def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, pedestal: float,
@@ -237,7 +278,7 @@ def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, 
     last = history[-SHORT_AT_THE_LIMIT:]
     if len(last) < SHORT_AT_THE_LIMIT:
         return None
-    shortfalls = [shortfall_at_the_limit(a, mapping, basket, tolerance, pedestal) for a in last]
+    shortfalls = [shortfall_at_the_limit(a, mapping, basket, tolerance, pedestal, history) for a in last]
     if not all(shortfalls):
         return None
     joints = ", ".join(mapping.driven_joints)
