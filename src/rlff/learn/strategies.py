@@ -64,6 +64,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.special import logsumexp
@@ -89,6 +90,9 @@ from rlff.learn.method import (
 from rlff.learn.outcomes import all_missed, outcomes_prior
 from rlff.learn.windows import LOWEST, PRIOR_SCALE, WindowSearch
 
+if TYPE_CHECKING:
+    from rlff.model import Model
+
 
 class DmmStrategy(Method):
     """A strategy that refits the DMM to weighted data and asks it for a distance."""
@@ -102,27 +106,22 @@ class DmmStrategy(Method):
     #: The method this one ablates (None for the methods themselves).
     ablates: str | None = None
 
-    def fit(self, data: Dataset, sample_weight: np.ndarray, *, refit: bool = True):
-        """The mixture model of ``data`` (weighted), with the run's number of components.
-
-        ``refit``: the demonstrations plus the attempts, refitted at every attempt with one EM
-        start (the data change by one throw between refits, so restarts buy little and triple
-        the loop's own time per attempt); otherwise (the demonstrations alone, fitted once per
-        run) with the model's restarts, as the baselines fit them: with one start, seed 13491's
-        mixture of `short` people put the GMR mean's release for 1.9 m at 3.98 rad/s, where the
-        baselines' put it at 7.5 and the hit is at the limit, 11.3, and the run missed 20 times.
-        """
-        return self.problem.fit(data, sample_weight, n_init=1 if refit else None)
+    def fit(self, data: Dataset, sample_weight: np.ndarray):
+        """The mixture model of ``data`` (weighted), with the run's number of components."""
+        # one EM start: the number of components is fixed and the data change by one throw
+        # between refits, so restarts buy little and triple the loop's own time per attempt
+        return self.problem.fit(data, sample_weight, n_init=1)
 
     def generate(self, data: Dataset, sample_weight: np.ndarray, query: float, info: dict, *,
-                 continuity: bool = False, refit: bool = True) -> Proposal:
+                 continuity: bool = False, model: Model | None = None) -> Proposal:
         """Fit the mixture to ``data`` and return the DMM's throw for distance ``query`` (m).
 
         ``continuity`` keeps the path on the donut side that continues it where two modes are
-        nearly as high (see :func:`rlff.model.donut.dmm_mode`).
+        nearly as high (see :func:`rlff.model.donut.dmm_mode`). ``model``: the mixture of
+        ``data`` when it is already fitted (it is then not fitted again).
         """
         problem = self.problem
-        model = self.fit(data, sample_weight, refit=refit)
+        model = self.fit(data, sample_weight) if model is None else model
         if self.shape_source == "gmr":
             inputs = np.column_stack([problem.angles, np.full(problem.angles.size, float(query))])
             mean = model.condition(inputs).mean
@@ -297,8 +296,11 @@ class CalibrateUpdate(DmmStrategy):
         self.shape_query = shape_distance(problem)
         data, sample_weight = training_set(self.demos, [1.0] * len(self.demos))
         inputs = np.column_stack([problem.angles, np.full(problem.angles.size, self.shape_query)])
-        #: The mixture of the demonstrations alone.
-        self.model = model = self.fit(data, sample_weight, refit=False)
+        #: The mixture of the demonstrations alone, fitted once per run with the model's restarts
+        #: as the baselines fit it (with one start, held-out seed 13491's mixture of `short`
+        #: people put the GMR mean's release for 1.9 m at 3.98 rad/s where the baselines' put it
+        #: at 7.5; the hit is at the limit, 11.3, and the run missed 20 times).
+        self.model = model = problem.fit(data, sample_weight)
         #: The GMR mean's throw from the demonstrations alone, and its release speed (rad/s):
         #: where the calibration's prior says the basket is.
         self.first = Proposal.of_outputs(problem.angles, model.condition(inputs).mean, model.outputs, problem.target)
@@ -444,7 +446,8 @@ class CalibrateUpdate(DmmStrategy):
         trajectories = list(self.demos) + [attempt_trajectory(a, a.landing) for a in landed]
         weights = [1.0] * len(self.demos) + [self.robot_weight] * len(landed)
         data, sample_weight = training_set(trajectories, weights)
-        shape = self.generate(data, sample_weight, self.shape_query, {}, continuity=True, refit=bool(landed))
+        shape = self.generate(data, sample_weight, self.shape_query, {}, continuity=True,
+                              model=None if landed else self.model)
         if not landed:
             self._demos_shape = shape
         return shape
@@ -502,7 +505,8 @@ class DonutSearch(CalibrateUpdate):
         trajectories = list(self.demos) + [attempt_trajectory(a, self.problem.target) for a in failed]
         weights = [1.0] * len(self.demos) + [self.robot_weight] * len(failed)
         data, sample_weight = training_set(trajectories, weights)
-        shape = self.generate(data, sample_weight, self.shape_query, {}, continuity=True, refit=bool(failed))
+        shape = self.generate(data, sample_weight, self.shape_query, {}, continuity=True,
+                              model=None if failed else self.model)
         if not failed:
             self._demos_shape = shape
         return shape
