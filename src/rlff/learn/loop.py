@@ -595,8 +595,8 @@ def _first_throw(demos: Dataset, distance: float, outputs: tuple[str, ...], comp
     labels = known_labels(demos)
     distance = float(np.clip(distance, labels.min(), labels.max()))
     data, _ = training_set(labelled_demos(demos), [1.0] * len(demos))
-    model = Model.fit(data, inputs=("angle", "distance"), outputs=outputs, components=components, seed=seed,
-                      n_init=1)
+    # with the model's restarts, as calibrate fits the demonstrations alone: the throw it starts from
+    model = Model.fit(data, inputs=("angle", "distance"), outputs=outputs, components=components, seed=seed)
     angles = _angle_grid(demos)
     mean = model.condition(np.column_stack([angles, np.full(angles.size, float(distance))])).mean
     path = Proposal.of_outputs(angles, mean, outputs, distance).path
