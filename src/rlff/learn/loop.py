@@ -79,6 +79,8 @@ METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
 UNTILS = ("hit", "centred")
 #: Default share of the opening (centre to rim) a centred hit lands within.
 CENTRE_SHARE = 0.5
+
+
 class Outcome(Protocol):
     """What an executor reports about one throw (``rlff.sim``'s ThrowOutcome is one)."""
 
@@ -119,10 +121,10 @@ class LearningResult:
     centre_window : float
         Largest ``abs(miss)`` (m) of a centred hit; ``inf`` when the run stops at any hit.
     out_of_reach : bool
-        The run stopped before its budget: the last
-        :data:`~rlff.learn.reach.SHORT_AT_THE_LIMIT` throws came down short of the basket by
-        more than the fastest release the joints allow would make up (see
-        :func:`rlff.learn.reach.shortfall_at_the_limit`); a note says by how much.
+        The basket is beyond the arm: the last :data:`~rlff.learn.reach.SHORT_AT_THE_LIMIT`
+        throws came down short of it by more than the fastest release the joints allow would
+        make up (see :func:`rlff.learn.reach.shortfall_at_the_limit`), and the run stopped there
+        (before its budget, unless they were its last); a note says by how much.
     """
 
     hit: bool
@@ -353,7 +355,8 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         max_speed=mapping.max_human_speeds()["velocity"],
         outputs=outputs,
         carried=carried,
-        **({"elasticity": release_elasticity(mapping, typical_throw(mapping, demos), target.distance, target.rim_height, pedestal),
+        **({"elasticity": release_elasticity(mapping, typical_throw(mapping, demos), target.distance,
+                                             target.rim_height, pedestal),
             "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal),
             "saturation": partial(saturation_factor, mapping)}
            if _whole_arm(mapping) else {}),
@@ -372,11 +375,15 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         reach_window, window = widest_hit(target), "basket's rim"
 
     def out_of_reach_note() -> str | None:
+        """Judged once after every attempt (and on the attempts resumed from the log)."""
+        if history and done(history[-1]):
+            return None
         return beyond_reach(history, mapping, target, reach_window, pedestal, window)
 
-    method = method_class(problem) if not (history and done(history[-1])) else None
-    while (method is not None and len(history) < budget and not (history and done(history[-1]))
-           and out_of_reach_note() is None):
+    out_of_reach = out_of_reach_note()
+    method = None  # made at the first attempt this call throws: a finished log needs none
+    while len(history) < budget and not (history and done(history[-1])) and out_of_reach is None:
+        method = method or method_class(problem)
         start = clock.perf_counter()
         proposal = method.propose([_as_reported(a, feedback, centre_window) for a in history])
         attempt = _execute(proposal, len(history) + 1, target, mapping, executor, start)
@@ -385,11 +392,11 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         history.append(attempt)
         if progress:
             progress(attempt)
+        out_of_reach = out_of_reach_note()
 
     notes = []
     if log and log.contents.dropped_partial_line:
         notes.append(f"{log.path}: dropped a partial last line (a run interrupted mid-write)")
-    out_of_reach = out_of_reach_note() if not (history and done(history[-1])) else None
     if out_of_reach:
         notes.append(out_of_reach)
     return LearningResult(

@@ -226,7 +226,7 @@ def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, 
         return 0.0
     observed = fastest_seen(attempt, seen, mapping)
     shortfall = max(0.0, -tolerance - observed) if math.isfinite(observed) else 0.0
-    path = {"angle": attempt.angle, "velocity": attempt.velocity, **attempt.arm}
+    path = _untimed(attempt)
     factor, _ = release_speed_factor(mapping, path)
     if not math.isfinite(factor):
         return shortfall
@@ -242,29 +242,34 @@ def fastest_seen(attempt: Attempt, seen: Sequence[Attempt], mapping) -> float:
     release pose as fast as the joints allow (the last driven joint within 0.1 % of its speed
     limit), its release velocities ``attempt``'s times one factor of at least 1; NaN when none
     did, or none reported a landing."""
-    pose, velocity = _release_state(attempt)
+    pose, velocity = _release_state(attempt, mapping)
     misses = []
     for other in seen:
         if not math.isfinite(other.miss):
             continue
-        other_pose, other_velocity = _release_state(other)
-        if other_pose.shape != pose.shape or not np.allclose(other_pose, pose, rtol=0.0, atol=1e-6):
+        other_pose, other_velocity = _release_state(other, mapping)
+        if not np.allclose(other_pose, pose, rtol=0.0, atol=1e-6):
             continue
         factor = float(other_velocity @ velocity) / max(float(velocity @ velocity), 1e-12)
         if factor < 1.0 - 1e-9 or not np.allclose(other_velocity, factor * velocity, rtol=1e-6, atol=1e-9):
             continue
-        path = {"angle": other.angle, "velocity": other.velocity, **other.arm}
-        if release_speed_factor(mapping, path)[0] <= 1.001:
+        if release_speed_factor(mapping, _untimed(other))[0] <= 1.001:
             misses.append(other.miss)
     return max(misses) if misses else math.nan
 
 
-def _release_state(attempt: Attempt) -> tuple[np.ndarray, np.ndarray]:
-    """The release pose (rad) and velocities (rad/s) of every driven column of ``attempt``
-    (the elbow's first, then the others' in name order), shape (J,) each."""
-    names = sorted(attempt.arm)
-    pose = [attempt.angle[-1]] + [attempt.arm[n][-1] for n in names if not n.endswith("_velocity")]
-    velocity = [attempt.velocity[-1]] + [attempt.arm[n][-1] for n in names if n.endswith("_velocity")]
+def _untimed(attempt: Attempt) -> dict[str, np.ndarray]:
+    """``attempt``'s executed path without its time: what :func:`scaled` speeds up (the time of
+    a path sped up follows from its angle and velocity, not from the attempt's)."""
+    return {column: values for column, values in attempt.path.items() if column != "time"}
+
+
+def _release_state(attempt: Attempt, mapping) -> tuple[np.ndarray, np.ndarray]:
+    """The release pose (rad) and velocities (rad/s) of ``attempt``'s driven columns, in the
+    order of ``mapping``'s (the elbow's first), shape (J,) each."""
+    path = attempt.path
+    pose = [path[column][-1] for column in mapping.human_columns]
+    velocity = [path[column][-1] for column in joint_outputs(mapping.human_columns) if column.endswith("velocity")]
     return np.array(pose, dtype=float), np.array(velocity, dtype=float)
 
 
@@ -278,9 +283,12 @@ def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, 
     last = history[-SHORT_AT_THE_LIMIT:]
     if len(last) < SHORT_AT_THE_LIMIT:
         return None
-    shortfalls = [shortfall_at_the_limit(a, mapping, basket, tolerance, pedestal, history) for a in last]
-    if not all(shortfalls):
-        return None
+    shortfalls = []
+    for attempt in reversed(last):  # the newest first: most runs end the judgement there
+        shortfall = shortfall_at_the_limit(attempt, mapping, basket, tolerance, pedestal, history)
+        if not shortfall:
+            return None
+        shortfalls.append(shortfall)
     joints = ", ".join(mapping.driven_joints)
     allow = "allows" if len(mapping.driven_joints) == 1 else "allow"
     low, high = f"{min(shortfalls):.2f}", f"{max(shortfalls):.2f}"
