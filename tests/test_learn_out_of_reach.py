@@ -61,14 +61,13 @@ def test_a_basket_beyond_the_slower_arm_stops_the_run_after_three_short_throws(s
     # the physical check, independent of the rule's flight model: the last throw, released as
     # fast as joint_2 allows and executed by the same slower arm, still falls short of the basket
     from rlff.robot.plan import plan_path
+    from rlff.timing import time_along_path
 
     mapping = mapping_for(load_robot(), None)
     last = result.history[-1]
     fastest = mapping.max_human_speeds()["velocity"] / abs(last.velocity[-1])
     assert fastest >= 1.0
     path = {"angle": last.angle, "velocity": last.velocity * fastest * (1 - 1e-9)}
-    from rlff.timing import time_along_path
-
     path["time"] = time_along_path(path["angle"], path["velocity"])
     outcome = slower_arm()(plan_path(mapping, path, clip=True).trajectory)
     assert not outcome.hit and outcome.miss < -(0.175 + 0.033)

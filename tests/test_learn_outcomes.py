@@ -101,7 +101,6 @@ def test_calibrate_throws_the_ring_first_where_every_demonstration_missed():
     assert ruled_out.history[0].info["prior"] == "failures" and normal.history[0].info["prior"] == "normal"
 
 
-
 def test_the_demonstrations_mixture_is_fitted_with_restarts_as_the_baselines_fit_it():
     # seed 13491 (held out): with one EM start, the mixture of the short people's throws put the
     # GMR mean's release for 1.9 m at 3.98 rad/s, the windows were tiled about it and the run
