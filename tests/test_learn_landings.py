@@ -10,7 +10,7 @@ import pytest
 
 from rlff.dataset import Dataset, Trajectory
 from rlff.learn import learn
-from rlff.learn.landings import demonstration_release_speeds, landing_speed
+from rlff.learn.landings import aims_shift, demonstration_release_speeds, landing_speed
 from rlff.learn.scenarios import Scenario, demonstrations
 from rlff.learn.windows import window_width
 
@@ -24,6 +24,12 @@ def _demo(name: str, release_speed: float, landing: float | None) -> Trajectory:
     velocity = release_speed * (angle - 0.8) / 1.8
     meta = {} if landing is None else {"landing": landing}
     return Trajectory(name, {"angle": angle, "distance": np.full(40, 1.0), "velocity": velocity}, meta)
+
+
+def _aimed(name: str, release_speed: float, aimed: float) -> Trajectory:
+    # :func:`_demo` labelled with the basket it aimed at, its landing not known
+    demo = _demo(name, release_speed, None)
+    return demo.replace(data={**demo.data, "distance": np.full(40, aimed)})
 
 
 def _release(speed: float) -> float:
@@ -137,3 +143,32 @@ def test_without_landings_the_windows_stay_about_the_gmr_mean():
     width = window_width(1.4, 0.5 * 0.35 - BALL_RADIUS)
     offset = result.history[0].info["log_factor"]
     assert offset / width == pytest.approx(round(offset / width), abs=1e-3)  # a window k w from x = 0
+
+
+def test_the_labels_read_through_the_law_give_the_speed_that_lands_at_the_basket():
+    # people who landed where they aimed, on L = c u^1.6: the law through their labels puts a
+    # 1.8 m basket at u* = (1.8 / c)^(1 / 1.6), whatever speed u0 it is measured from
+    c, b = 0.02, 1.6
+    speeds = [7.0, 8.0, 9.0, 10.0]
+    demos = Dataset([_aimed(f"d{k}", s, c * _release(s) ** b) for k, s in enumerate(speeds)], context=("distance",))
+    for reference in (5.0, 9.0):
+        assert aims_shift(demos, ANGLES, 1.8, reference, b) == pytest.approx(math.log((1.8 / c) ** (1 / b) / reference))
+
+
+def test_without_landings_the_normal_prior_is_laid_where_the_labels_law_puts_the_basket():
+    # people who aimed at 0.8-1.1 m (seed 22, a tuning seed; some of their throws went in):
+    # across subjects their speed grows with the label more slowly than the robot's law, so
+    # the GMR mean extrapolated to 1.4 m lets go slower than the law through their labels says
+    from rlff.learn.loop import _angle_grid, _learning_demos
+    from rlff.learn.outcomes import all_missed
+
+    people = demonstrations(22, Scenario("near", landings="none"))
+    assert not all_missed(people)
+    result = learn(people, 1.4, budget=20, feedback="binary", update="calibrate", seed=22)
+    first = result.history[0].info
+    reference = first["speed"] / math.exp(first["log_factor"])  # u0, the GMR mean's release speed
+    demos = _learning_demos(people, ("angle",), 0.3)
+    centre = aims_shift(demos, _angle_grid(demos), 1.4, reference, 1.6)
+    assert centre > 0.05
+    assert first["prior"] == "normal" and first["log_factor"] == pytest.approx(centre, abs=1e-3)
+    assert result.hit, [a.info for a in result.history]

@@ -107,7 +107,9 @@ def test_calibrate_throws_the_ring_first_where_every_demonstration_missed():
     order = [a.info["log_factor"] for a in ruled_out.history]
     assert len(set(order)) == len(order)  # no window twice
     assert 0.0 not in order[:3]  # the failures' own speed, the GMR mean's, is ruled out
-    assert normal.history[0].info["log_factor"] == 0.0  # outcomes unknown: the normal prior's order
+    # outcomes unknown: the normal prior's order, its centre first (where the labels' law puts
+    # the basket, next to the GMR mean's speed here)
+    assert abs(normal.history[0].info["log_factor"]) < 0.05
     # the attempts log says which prior ordered the windows
     assert ruled_out.history[0].info["prior"] == "failures" and normal.history[0].info["prior"] == "normal"
 

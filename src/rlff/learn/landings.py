@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rlff.dataset import Dataset
-from rlff.learn.method import release_speed
+from rlff.learn.method import demo_labels, release_speed
 
 #: Standard deviation (log speed) of the robot's hit about the speed the demonstrations' landings
 #: point to, beyond the fit's own error: the human-to-robot mapping (the robot lets go at the
@@ -115,3 +115,41 @@ def landing_speed(demos: Dataset, angles: np.ndarray, target: float, elasticity:
     scale_error = scatter / math.sqrt(float(np.sum(powered**2)))
     speed = (target / scale) ** (1.0 / elasticity)
     return LandingSpeed(speed, scale_error / scale / elasticity, count, scatter)
+
+
+def aims_shift(demos: Dataset, angles: np.ndarray, target: float, reference: float, elasticity: float) -> float:
+    """Log speed factor over ``reference`` at which the range law puts ``target`` when every
+    demonstration is taken to have come down where it aimed (its label): the mean over the
+    demonstrations of log(u_i / u0) + log(Z / Z_i) / b.
+
+    Without landings this is the law's reading of the labels beside the mixture's, the GMR mean
+    (u0): the GMR regresses the speed on the label across subjects, a slope flatter than the
+    robot's law (see the module's docstring), so for a basket beyond the middle of the labels its
+    mean lets go slower than the law says, and faster short of it. ``calibrate`` lays its normal
+    prior here where no landing is known and not every demonstration missed.
+
+    Parameters
+    ----------
+    demos : Dataset
+        Demonstrations with ``angle`` (rad), ``velocity`` (rad/s) and ``distance`` (the basket
+        aimed at, m) columns.
+    angles : array of shape (T,)
+        The loop's angle grid (rad); its last tenth is the release part.
+    target : float
+        Basket distance Z (m).
+    reference : float
+        u0 (rad/s), the GMR mean's release speed for ``target``.
+    elasticity : float
+        b of the law.
+
+    Returns
+    -------
+    float
+        The log speed factor (0 when no demonstration moves at its release).
+    """
+    speeds = demonstration_release_speeds(demos, angles)
+    moved = speeds > 0
+    if not np.any(moved):
+        return 0.0
+    aimed = demo_labels(demos)[moved]
+    return float(np.mean(np.log(speeds[moved] / reference) + np.log(target / aimed) / elasticity))
