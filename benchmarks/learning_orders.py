@@ -10,9 +10,10 @@ a fine grid (steps of 0.0125 in log speed, real MuJoCo throws through the loop's
 script measures those curves, then counts the attempts to the first hit of
 
 - ``sweep``: the baseline's own proposals (0, +w, -w, ... about the GMR mean's speed);
-- ``kept``: :class:`rlff.learn.windows.WindowSearch` as ``calibrate`` uses it without landings
-  unless every demonstration missed (normal prior 0.3 about the GMR mean's speed, the tail
-  beyond the limit to the fastest window);
+- ``kept``: :class:`rlff.learn.windows.WindowSearch` with the normal prior 0.3 about the GMR
+  mean's speed, the tail beyond the limit to the fastest window (as ``calibrate`` used it
+  without landings, unless every demonstration missed, until it came to lay it where the range
+  law through the labels puts the basket, :func:`rlff.learn.landings.aims_shift`);
 - ``truncated``: the same prior truncated at the limit (the tail to nobody);
 - ``gmr-first``: the GMR mean's window first, then ``kept``'s order;
 - ``scale-0.4``: ``kept`` with a prior of 0.4;
