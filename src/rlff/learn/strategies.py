@@ -74,7 +74,7 @@ from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
 from rlff.learn.carry import CARRY_SCALE
-from rlff.learn.landings import ROBOT_SCALE, LandingSpeed, aims_shift, landing_speed
+from rlff.learn.landings import LABELS_SCALE, ROBOT_SCALE, LandingSpeed, aims_shift, landing_speed
 from rlff.learn.method import (
     Method,
     Problem,
@@ -398,7 +398,8 @@ class CalibrateUpdate(DmmStrategy):
         lattice), else about where the range law through the demonstrations' labels puts the
         basket (:func:`rlff.learn.landings.aims_shift`: near / wide / overshooting / mixed
         2.47 / 2.37 / 1.78 / 2.35 -> 2.25 / 2.36 / 1.78 / 2.21 attempts on the tuning seeds 0-95,
-        emulated on measured hit curves), both with :data:`rlff.learn.windows.PRIOR_SCALE`. A
+        emulated on measured hit curves), the first with :data:`rlff.learn.windows.PRIOR_SCALE`,
+        the second with the narrower :data:`rlff.learn.landings.LABELS_SCALE`. A
         whole-arm throw's u0 is where
         the arm's kinematics aim (:func:`rlff.learn.reach.aimed_factor`), and its prior is
         :data:`AIM_SCALE` about it: as wide as the GMR mean's, its tail beyond the speed limit
@@ -415,7 +416,7 @@ class CalibrateUpdate(DmmStrategy):
         if all_missed(problem.demos):  # the failures' prior, whose lattice is laid about u0
             return 0.0, PRIOR_SCALE
         return aims_shift(problem.demos, problem.angles, problem.target, self.reference,
-                          problem.elasticity), PRIOR_SCALE
+                          problem.elasticity), LABELS_SCALE
 
     @cached_property
     def landings_law(self) -> LandingSpeed | None:
