@@ -86,7 +86,7 @@ def check_numbers_agree_with_files(demo) -> None:
     throws = summary["throws"]
     assert any(t["demonstrated"] for t in throws) and any(not t["demonstrated"] for t in throws)
     learning_row = next(t for t in throws if t["distance"] == summary["learning_distance"])
-    assert learning_row["reachable"] and not learning_row["demonstrated"]
+    assert learning_row["reachable"]
     for row in throws:
         assert row["hit"] or row["miss"] == pytest.approx(row["landing"] - row["distance"], abs=1e-9)
     # the showcase: where the default method's own first throw missed, shown in the report's table
@@ -94,6 +94,9 @@ def check_numbers_agree_with_files(demo) -> None:
     assert default["misses"][0] != 0.0 and default["attempts"] > 1
     learning = run.section("learning")
     assert learning.facts["loop components K"] >= 1
+    # which arm the robot learned on: its robot file, or one that is not (said in the report)
+    assert (summary["learning_arm"] == "none") == learning.facts["arm"].startswith("is as its robot file")
+    assert summary["learning_arm"] in learning.facts["arm"] or summary["learning_arm"] == "none"
     [runs] = learning.tables
     assert runs.columns[4] == "first throw miss (m)"
     assert runs.rows[0][4] == pytest.approx(default["misses"][0])
@@ -158,3 +161,27 @@ def check_report_in_chromium(demo, tmp_path: Path) -> None:
     assert_clean_page(check, len(read_run(out).figures))
     assert check.headings == ["Demonstrations", "Preprocessing", "Model", "Generated throws",
                               "Simulated robot throws", "Learning from failure", "Whole-arm throws around the robot"]
+
+
+def test_the_learning_basket_is_where_the_first_throw_misses_new_distances_first():
+    from rlff.demo import _learning_distance
+
+    demonstrated = [1.0, 1.5, 2.0]
+    # new distances on the 0.1 m grid at least 0.1 m from the demonstrated ones: 1.1-1.4, 1.6-1.8
+    throws = {1.1: (True, -0.14), 1.2: (False, -0.3), 1.3: (False, 0.5), 1.4: (True, 0.1), 1.6: (True, -0.12),
+              1.7: (True, 0.16), 1.8: (False, 0.2), 1.0: (False, -0.9), 1.5: (True, 0.0)}
+    asked = []
+
+    def first_throw(d):
+        asked.append(d)
+        return throws[round(d, 3)]
+
+    assert _learning_distance(demonstrated, 1.85, first_throw) == (1.3, True)  # the largest miss
+    assert 1.0 not in asked  # no demonstrated distance needed
+    # every new distance hit: a demonstrated one where the first throw misses
+    for d in (1.2, 1.3, 1.8):
+        throws[d] = (True, 0.1)
+    assert _learning_distance(demonstrated, 1.85, first_throw) == (1.0, True)
+    # hit everywhere: where it landed farthest from the middle, said not to have missed
+    throws[1.0] = (True, 0.05)
+    assert _learning_distance(demonstrated, 1.85, first_throw) == (1.7, False)

@@ -77,6 +77,14 @@ class DemoSize:
     whole_arm_baskets: tuple[tuple[float, float], ...] | None = None
 
 
+#: How the arm the learning is shown on differs from its robot file when, on the arm as the file
+#: describes it, the loop's first throw hits at every reachable distance (the demonstrations'
+#: labels read through the range law put it there, as on the full plan's people): it reaches
+#: 90 % of the commanded joint speeds, as a loaded arm or a lagging controller may (a
+#: :class:`rlff.learn.scenarios.Gap`, the learning benchmark's ``--gap``), and the robot has to
+#: learn that from its misses.
+SHOWCASE_GAP = "speed:0.9"
+
 SIZES = {
     # the thesis' recording plan (section 4.2): 10 people, 4 throws at each of 10 baskets
     "full": DemoSize(
@@ -149,7 +157,11 @@ class DemoSummary:
     throws : list of ThrowRow
         The model's throw for every distance, executed in the simulation.
     learning_distance : float
-        The distance (m) of the learning runs; nobody demonstrated it.
+        The distance (m) of the learning runs; nobody demonstrated it (unless every reachable new
+        distance is hit at the first throw).
+    learning_arm : str
+        How the arm of the learning runs differs from its robot file: ``none``, or
+        :data:`SHOWCASE_GAP` where the loop's first throw hits everywhere on the faithful arm.
     learning : list of LearningRow
     whole_arm : list of BasketRun
         The whole-arm learning run of every basket (see :mod:`rlff.whole_arm_demo`).
@@ -172,6 +184,7 @@ class DemoSummary:
     components: int
     throws: list[ThrowRow]
     learning_distance: float
+    learning_arm: str
     learning: list[LearningRow]
     whole_arm: list[BasketRun] = field(default_factory=list)
     stage_seconds: dict[str, float] = field(default_factory=dict)
@@ -255,18 +268,40 @@ def _output_distances(demonstrated: list[float], farthest: float) -> tuple[list[
     return shown, sorted(new)
 
 
-def _learning_distance(demonstrated: list[float], farthest: float, first_miss: Callable[[float], float]) -> float:
-    """The basket the robot learns at: on a 0.1 m grid of reachable distances at least 0.1 m from
-    every demonstrated one, where the learning loop's own first throw (``first_miss(distance)``,
-    its signed miss in m) misses most, so that learning has something to do there. Falls back
-    to the reachable demonstrated distances when no new one is reachable."""
+def _learning_distance(demonstrated: list[float], farthest: float,
+                       first_throw: Callable[[float], tuple[bool, float]]) -> tuple[float, bool]:
+    """The basket the robot learns at, and whether the learning loop's own first throw misses
+    there (``first_throw(distance)``: its hit and signed miss in m), so that learning has
+    something to do: on a 0.1 m grid of reachable distances at least 0.1 m from every
+    demonstrated one, where that throw misses by most; else the reachable demonstrated distance
+    where it misses by most; else (it hits everywhere) the one where it lands farthest from the
+    basket's middle."""
     grid = np.round(np.arange(min(demonstrated) + 0.1, farthest - 0.05 + 1e-9, 0.1), 3)
     new = [float(d) for d in grid if all(abs(d - x) >= 0.1 - 1e-9 for x in demonstrated)]
+    throws: dict[float, tuple[bool, float]] = {}
+
+    def by_miss(d: float) -> float:
+        return abs(throws[d][1]) if math.isfinite(throws[d][1]) else -1.0
+
     for candidates in (new, [d for d in demonstrated if d <= farthest]):
-        if candidates:
-            misses = {d: first_miss(d) for d in candidates}
-            return max(misses, key=lambda d: abs(misses[d]) if math.isfinite(misses[d]) else -1.0)
-    raise InputError("no demonstrated or new distance is within the robot's reach: no basket to learn at")
+        throws.update({d: first_throw(d) for d in candidates})
+        missed = [d for d in candidates if not throws[d][0]]
+        if missed:
+            return max(missed, key=by_miss), True
+    if not throws:
+        raise InputError("no demonstrated or new distance is within the robot's reach: no basket to learn at")
+    return max(throws, key=by_miss), False
+
+
+def _arm_executor(gap, robot, distance: float):
+    """The learning loop's executor on an arm that differs from its robot file by ``gap``
+    (:class:`rlff.learn.scenarios.Gap`); None (the loop's own simulator) when it does not."""
+    if gap.none:
+        return None
+    from rlff.sim import Basket, simulate_throw
+
+    target = Basket(distance)
+    return lambda trajectory: simulate_throw(gap.executed(trajectory), target, robot=robot)
 
 
 def check_demo_options(out_dir: str | Path, size: str) -> None:
@@ -312,7 +347,7 @@ def run_demo(
     """
     from rlff.learn import learn
     from rlff.learn.loop import _components, _learning_demos, learnable_basket
-    from rlff.learn.scenarios import with_landings
+    from rlff.learn.scenarios import Gap, parse_gap, with_landings
     from rlff.model import Model
     from rlff.preprocess import Pipeline
     from rlff.robot import RobotMapping, load_robot
@@ -357,15 +392,22 @@ def run_demo(
     # the ball came down (given the landings, calibrate hits at once nearly everywhere)
     aimed = with_landings(clean, "none", seed)
 
-    def first_miss(distance: float) -> float:
-        clock.note(f"the learning basket: the loop's first throw at {distance:g} m")
+    def first_throw(distance: float, gap) -> tuple[bool, float]:
+        clock.note(f"the learning basket: the loop's first throw at {distance:g} m"
+                   + ("" if gap.none else f" ({gap.name})"))
         first = learn(aimed, distance, budget=1, feedback=showcase_feedback, update=showcase_method, seed=seed,
-                      robot=robot.name)
-        return first.history[0].miss
+                      robot=robot.name, executor=_arm_executor(gap, robot, distance)).history[0]
+        return first.hit, first.miss
 
     # no farther than what the learning loop's own throws reach (its angle grid, the motion limits)
     learnable = min(farthest, learnable_basket(aimed, RobotMapping.for_robot(robot), basket_shape))
-    learning_distance = _learning_distance(demonstrated, learnable, first_miss)
+    # on the arm as its robot file says, else (the first throw hits everywhere) on one that is not
+    for learning_gap in (Gap(), parse_gap(SHOWCASE_GAP)):
+        # a slower arm reaches less far: a drag-free range goes as the speed squared
+        learning_distance, first_missed = _learning_distance(
+            demonstrated, learnable * learning_gap.speed**2, lambda d, gap=learning_gap: first_throw(d, gap))
+        if first_missed:
+            break
     loop_components = _components(_learning_demos(aimed), seed)
     new = sorted({*new, learning_distance})  # its throw is in the table too
     angles = _angle_grid(clean)
@@ -393,7 +435,7 @@ def run_demo(
         log.unlink(missing_ok=True)
         result = learn(
             aimed, learning_distance, budget=plan.budget, feedback=feedback, update=method, seed=seed,
-            log_path=log, robot=robot.name,
+            log_path=log, robot=robot.name, executor=_arm_executor(learning_gap, robot, learning_distance),
             progress=lambda attempt, method=method: clock.note(
                 f"learning at {learning_distance:g} m: {method}, attempt {attempt.index}"
                 f" ({'hit' if attempt.hit else f'miss {attempt.miss:+.2f} m'})"
@@ -409,7 +451,7 @@ def run_demo(
     figure_entries = _figures(
         figures_dir, raw=raw, clean=clean, preprocessing=preprocessing, model=model, paths=paths,
         demonstrated=demonstrated, learning_distance=learning_distance,
-        results=results, mapping=mapping, robot=robot, frames=frames, seed=seed,
+        learning_gap=learning_gap, results=results, mapping=mapping, robot=robot, frames=frames, seed=seed,
     )
     figure_entries += whole_arm_figures(figures_dir, whole_arm, robot)
 
@@ -417,7 +459,7 @@ def run_demo(
     run = _run_record(
         size=size, seed=seed, raw=raw, raw_hits=raw_hits, clean=clean, preprocessing=preprocessing,
         model=model, paths=paths, demonstrated=demonstrated, throws=throws, farthest=farthest,
-        learning_distance=learning_distance, learning=learning, budget=plan.budget,
+        learning_distance=learning_distance, learning_gap=learning_gap, learning=learning, budget=plan.budget,
         loop_components=loop_components, figures=[FigureEntry(p.relative_to(out_dir).as_posix(), s, t, c) for p, s, t, c in figure_entries],
         whole_arm=whole_arm,
     )
@@ -428,7 +470,8 @@ def run_demo(
         out_dir=out_dir, report=report, run_json=run_json, figures=[p for p, *_ in figure_entries], size=size,
         seed=seed, demonstrations=len(raw), demonstration_hits=raw_hits, clean_trajectories=len(clean),
         demonstrated_distances=demonstrated, components=int(model.n_components), throws=throws,
-        learning_distance=learning_distance, learning=learning, whole_arm=whole_arm.runs,
+        learning_distance=learning_distance, learning_arm=learning_gap.name, learning=learning,
+        whole_arm=whole_arm.runs,
         stage_seconds=clock.seconds, seconds=round(seconds, 3),
     )
 
@@ -442,7 +485,7 @@ def _angle_grid(clean: Dataset, points: int = 120) -> np.ndarray:
 
 def _figures(
     figures_dir: Path, *, raw, clean, preprocessing, model, paths, demonstrated, learning_distance,
-    results, mapping, robot, frames: bool, seed: int,
+    learning_gap, results, mapping, robot, frames: bool, seed: int,
 ) -> list[tuple[Path, str, str, str]]:
     """Draw every figure; returns (png path, section, title, caption) in report order."""
     from rlff.plots.data import dataset_3d, dataset_slices
@@ -493,7 +536,7 @@ def _figures(
         "Generated throws, demonstrated and new distances",
         "Farther baskets get faster throws, also at distances nobody demonstrated (dashed; thesis fig. 4.7, 4.50).")
     first_method, first_run = next(iter(results.items()))
-    first_throw = _replay(first_run.history[0], mapping, robot, learning_distance)
+    first_throw = _replay(first_run.history[0], mapping, robot, learning_distance, learning_gap)
     add(throw_snapshot_from_outcome(first_throw, figures_dir / "first-throw", robot=robot,
                                     title=f"The loop's first throw at {learning_distance:g} m ({first_method}), "
                                           "before learning"),
@@ -509,19 +552,25 @@ def _figures(
     if best is not None:
         frames_dir = figures_dir / "frames"
         shutil.rmtree(frames_dir, ignore_errors=True)  # no stale frames of an earlier run
-        outcome = _replay(best.history[-1], mapping, robot, learning_distance, frames_dir if frames else None)
+        outcome = _replay(best.history[-1], mapping, robot, learning_distance, learning_gap,
+                          frames_dir if frames else None)
         add(throw_snapshot_from_outcome(outcome, figures_dir / "learned-throw", robot=robot,
                                         title=f"The learned throw at {learning_distance:g} m ({best.update})"),
             "learning", "The learned throw", "The hit found by the learning loop, executed again in MuJoCo.")
     return entries
 
 
-def _replay(attempt, mapping, robot, distance: float, frames_dir: Path | None = None):
-    """An attempt of the learning loop executed again in MuJoCo (for its figure)."""
+def _replay(attempt, mapping, robot, distance: float, gap, frames_dir: Path | None = None):
+    """An attempt of the learning loop executed again in MuJoCo (for its figure), on the arm it
+    was made on (its robot file less ``gap``, :class:`rlff.learn.scenarios.Gap`)."""
+    from rlff.robot.plan import plan_path
     from rlff.sim import Basket, simulate_throw
 
-    trajectory, _ = mapping.to_robot(attempt.angle, _forward(attempt.velocity), attempt.time, clip=True)
-    return simulate_throw(trajectory, Basket(distance), robot=robot, check_reach=False, frames_dir=frames_dir)
+    # planned as the loop plans its throws, so that the figure shows the landing the table gives
+    path = {"angle": attempt.angle, "velocity": _forward(attempt.velocity), "time": attempt.time}
+    trajectory = plan_path(mapping, path, clip=True).trajectory
+    return simulate_throw(gap.executed(trajectory), Basket(distance), robot=robot, check_reach=False,
+                          frames_dir=frames_dir)
 
 
 def _tolerance() -> float:
@@ -534,9 +583,32 @@ def _tolerance() -> float:
     return max(0.5 * basket.opening - BALL_RADIUS, 0.25 * basket.opening)
 
 
+def arm_words(gap) -> str:
+    """What the arm of the learning runs does, in a few words after "the arm" (``gap``:
+    :class:`rlff.learn.scenarios.Gap`)."""
+    if gap.none:
+        return "is as its robot file describes it"
+    if gap.delay:
+        return f"lets the ball go {1000 * gap.delay:.0f} ms late"
+    return f"reaches {100 * gap.speed:.0f} % of the commanded joint speeds"
+
+
+def _learning_basket_words(distance: float, demonstrated: list[float], gap, method: str) -> str:
+    """The report's sentences on where the learning basket stands and on which arm."""
+    who = "people demonstrated it" if distance in demonstrated else "nobody demonstrated it"
+    if gap.none:
+        return (f"The basket is put at {distance:g} m: {who}, the robot can reach it, and of such distances "
+                f"it is where the learning loop's own first throw ({method}) missed most. ")
+    return (f"On the arm as its robot file describes it, the learning loop's own first throw ({method}) went "
+            "in at every distance the arm can reach: the demonstrations' labels, read through the range law, "
+            "put it there. So the learning is shown on an arm that is not its robot file, as a real one may "
+            f"not be: it {arm_words(gap)} ({gap.name}), which nothing in the loop knows. The basket is put at {distance:g} m: "
+            f"{who}, and on that arm it is where the first throw missed most. ")
+
+
 def _run_record(
     *, size, seed, raw, raw_hits, clean, preprocessing, model, paths, demonstrated, throws, farthest,
-    learning_distance, learning, budget, loop_components, figures, whole_arm,
+    learning_distance, learning_gap, learning, budget, loop_components, figures, whole_arm,
 ) -> Run:
     """The run.json record: facts and tables per section."""
     raw_distances = sorted({float(t["distance"][0]) for t in raw})
@@ -608,9 +680,8 @@ def _run_record(
         ),
         Section(
             "learning", "Learning from failure",
-            f"The basket is put at {learning_distance:g} m: nobody demonstrated it, the robot can reach it, and of "
-            f"such distances it is where the learning loop's own first throw ({learning[0].method}) missed most. "
-            "It learns from the demonstrations labelled with the basket each person aimed at, not with where "
+            _learning_basket_words(learning_distance, demonstrated, learning_gap, learning[0].method)
+            + "It learns from the demonstrations labelled with the basket each person aimed at, not with where "
             "their ball came down (which a recording does not see). "
             f"The robot throws, sees the outcome, updates and throws again, at most {budget} times per method. "
             f"The loop fits its own model, not the K = {model.n_components} one above: {loop_components} "
@@ -619,7 +690,8 @@ def _run_record(
             "to one side of the donut, capped at its release speed) scaled to a release speed: with binary "
             "feedback the next of the release speed's hit windows, the likeliest first, with distance "
             "feedback the one its calibration of landing against speed picks; the baselines the GMR mean.",
-            facts={"basket (m)": learning_distance, "budget": budget, "loop components K": loop_components},
+            facts={"basket (m)": learning_distance, "arm": f"{arm_words(learning_gap)} ({learning_gap.name})", "budget": budget,
+                   "loop components K": loop_components},
             tables=[Table("Runs", ["method", "feedback", "hit", "attempts", "first throw miss (m)", "last miss (m)"],
                           [[r.method, r.feedback, r.hit, r.attempts, r.misses[0] if r.misses else None,
                             r.misses[-1] if r.misses else None] for r in learning])],

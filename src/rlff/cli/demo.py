@@ -25,7 +25,8 @@ def demo_command(
     from rich.table import Table
 
     from rlff.cli.output import guard
-    from rlff.demo import STAGES, check_demo_options, run_demo
+    from rlff.demo import STAGES, arm_words, check_demo_options, run_demo
+    from rlff.learn.scenarios import parse_gap
 
     guard(inputs={}, outputs={"-o/--output": out}, folders=["-o/--output"])
     size = "small" if small else "full"
@@ -56,7 +57,10 @@ def demo_command(
         throws.add_row(f"{row.distance:g}", "yes" if row.demonstrated else "new",
                        "yes" if row.reachable else "no", outcome)
     console.print(throws)
-    learning = Table(title=f"Learning from failure at {summary.learning_distance:g} m (not demonstrated)",
+    where = "demonstrated" if summary.learning_distance in summary.demonstrated_distances else "not demonstrated"
+    gap = parse_gap(summary.learning_arm)
+    arm = "" if gap.none else f"; the arm {arm_words(gap)}"
+    learning = Table(title=f"Learning from failure at {summary.learning_distance:g} m ({where}{arm})",
                      title_justify="left")
     for column in ("method", "feedback", "result", "misses (m)"):
         learning.add_column(column)
