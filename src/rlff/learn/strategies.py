@@ -406,17 +406,33 @@ class CalibrateUpdate(DmmStrategy):
         outweighed the aim's window wherever the limit lay within three windows above the aim,
         and the first throw went to the limit (0.2-0.8 m long on the people of seed 1 at 4-4.5 m)."""
         problem = self.problem
-        if problem.carried:
+        belief = self.speed_belief()
+        if belief == "carried":
             return problem.carried_shift, CARRY_SCALE
-        law = self.landings_law
-        if law is not None:
+        if belief == "landings":
+            law = self.landings_law
             return math.log(law.speed / self.reference), math.hypot(law.log_error, ROBOT_SCALE)
-        if problem.aim is not None:
+        if belief == "aim":
             return 0.0, AIM_SCALE
-        if all_missed(problem.demos):  # the failures' prior, whose lattice is laid about u0
+        if belief == "failures":  # the failures' prior, whose lattice is laid about u0
             return 0.0, PRIOR_SCALE
         return aims_shift(problem.demos, problem.angles, problem.target, self.reference,
                           problem.elasticity), LABELS_SCALE
+
+    def speed_belief(self) -> str:
+        """What the window search's prior rests on, decided once for :meth:`speed_centre` and
+        :meth:`speed_prior`, first that applies: ``carried`` (earlier baskets' hits), ``landings``
+        (at least 3 known landings, a one-joint throw), ``aim`` (a whole-arm throw's kinematic
+        aim), ``failures`` (every demonstration missed) or ``labels`` (the range law through the
+        demonstrations' labels)."""
+        problem = self.problem
+        if problem.carried:
+            return "carried"
+        if self.landings_law is not None:
+            return "landings"
+        if problem.aim is not None:
+            return "aim"
+        return "failures" if all_missed(problem.demos) else "labels"
 
     @cached_property
     def landings_law(self) -> LandingSpeed | None:
@@ -438,14 +454,12 @@ class CalibrateUpdate(DmmStrategy):
         have hit ruled out, the ring about them first); ``normal``: about the speed of
         :meth:`speed_centre` (where the labels' law puts the basket, or the kinematic aim)."""
         problem = self.problem
-        if problem.carried:
-            return "carried", None
-        if self.landings_law is not None:
-            return "landings", None
-        if problem.aim is not None or not all_missed(problem.demos):
-            return "normal", None
-        return "failures", outcomes_prior(problem.demos, problem.angles, problem.target, problem.tolerance,
+        belief = self.speed_belief()
+        if belief == "failures":
+            return belief, outcomes_prior(problem.demos, problem.angles, problem.target, problem.tolerance,
                                           self.reference, problem.elasticity)
+        # the attempts log has called the prior about the aim or the labels' law "normal"
+        return ("normal" if belief in ("aim", "labels") else belief), None
 
     def shape(self, history: Sequence[Attempt]) -> Proposal:
         """The DMM's throw for the target from the demonstrations and the landed attempts.
