@@ -185,3 +185,18 @@ def test_the_learning_basket_is_where_the_first_throw_misses_new_distances_first
     # hit everywhere: where it landed farthest from the middle, said not to have missed
     throws[1.0] = (True, 0.05)
     assert _learning_distance(demonstrated, 1.85, first_throw) == (1.7, False)
+
+
+def test_the_report_says_where_and_on_which_arm_the_robot_learns():
+    from rlff.demo import _learning_basket_words
+    from rlff.learn.scenarios import Gap, parse_gap
+
+    faithful = _learning_basket_words(1.4, [1.0, 1.5], Gap(), "calibrate", missed=True)
+    assert "nobody demonstrated it" in faithful and "missed most" in faithful and "90 %" not in faithful
+    slower = _learning_basket_words(1.5, [1.0, 1.5], parse_gap("speed:0.9"), "calibrate", missed=True)
+    assert "people demonstrated it" in slower and "90 % of the commanded joint speeds (speed:0.9)" in slower
+    late = _learning_basket_words(1.4, [1.0], parse_gap("delay:0.02"), "calibrate", missed=True)
+    assert "20 ms late" in late
+    # a first throw that went in is not called a miss
+    hit = _learning_basket_words(1.4, [1.0], Gap(), "calibrate", missed=False)
+    assert "missed" not in hit and "goes in at every distance" in hit
