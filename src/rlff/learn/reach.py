@@ -240,8 +240,8 @@ def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, 
 def fastest_seen(attempt: Attempt, seen: Sequence[Attempt], mapping) -> float:
     """The signed miss (m) of the farthest throw in ``seen`` that let go from ``attempt``'s
     release pose as fast as the joints allow (the last driven joint within 0.1 % of its speed
-    limit), its release velocities ``attempt``'s times one factor of at least 1; NaN when none
-    did, or none reported a landing."""
+    limit), every driven joint at least as fast as in ``attempt`` and in the same direction
+    (:func:`at_least_as_fast`); NaN when none did, or none reported a landing."""
     pose, velocity = _release_state(attempt, mapping)
     misses = []
     for other in seen:
@@ -250,12 +250,25 @@ def fastest_seen(attempt: Attempt, seen: Sequence[Attempt], mapping) -> float:
         other_pose, other_velocity = _release_state(other, mapping)
         if not np.allclose(other_pose, pose, rtol=0.0, atol=1e-6):
             continue
-        factor = float(other_velocity @ velocity) / max(float(velocity @ velocity), 1e-12)
-        if factor < 1.0 - 1e-9 or not np.allclose(other_velocity, factor * velocity, rtol=1e-6, atol=1e-9):
+        if not at_least_as_fast(other_velocity, velocity):
             continue
         if release_speed_factor(mapping, _untimed(other))[0] <= 1.001:
             misses.append(other.miss)
     return max(misses) if misses else math.nan
+
+
+def at_least_as_fast(faster: np.ndarray, slower: np.ndarray) -> bool:
+    """Whether release velocities ``faster`` (rad/s, shape (J,)) have every joint at least as fast
+    as ``slower`` in the same direction, a joint still in ``slower`` still in ``faster``: what one
+    shape sped up by a larger factor gives, each joint saturating at its own limit (a whole-arm
+    throw at the fastest release is seldom the slower one's velocities times one factor: with a
+    late release, people of seed 4 threw 10 times at 4.5 m, each slower window judged on the
+    model's gain alone, where 3 say the basket is beyond the arm)."""
+    still = np.abs(slower) <= 1e-12
+    if np.any(np.abs(faster[still]) > 1e-9):
+        return False
+    moving = ~still
+    return bool(np.all(faster[moving] / slower[moving] >= 1.0 - 1e-9))
 
 
 def _untimed(attempt: Attempt) -> dict[str, np.ndarray]:
