@@ -170,7 +170,7 @@ def test_without_landings_the_normal_prior_is_laid_where_the_labels_law_puts_the
     demos = _learning_demos(people, ("angle",), 0.3)
     centre = aims_shift(demos, _angle_grid(demos), 1.4, reference, 1.6)
     assert centre > 0.05
-    assert first["prior"] == "normal" and first["log_factor"] == pytest.approx(centre, abs=1e-3)
+    assert first["prior"] == "labels" and first["log_factor"] == pytest.approx(centre, abs=1e-3)
     assert result.hit, [a.info for a in result.history]
 
 

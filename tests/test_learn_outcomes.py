@@ -111,7 +111,7 @@ def test_calibrate_throws_the_ring_first_where_every_demonstration_missed():
     # the basket, next to the GMR mean's speed here)
     assert abs(normal.history[0].info["log_factor"]) < 0.05
     # the attempts log says which prior ordered the windows
-    assert ruled_out.history[0].info["prior"] == "failures" and normal.history[0].info["prior"] == "normal"
+    assert ruled_out.history[0].info["prior"] == "failures" and normal.history[0].info["prior"] == "labels"
 
 
 def test_the_demonstrations_mixture_is_fitted_with_restarts_as_the_baselines_fit_it():

@@ -451,15 +451,16 @@ class CalibrateUpdate(DmmStrategy):
         (:mod:`rlff.learn.carry`); ``landings``: normal about the speed the known landings point to;
         ``failures``: where every demonstration missed and none of their landings is known (a
         one-joint throw), the prior of :mod:`rlff.learn.outcomes` (the speeds at which they would
-        have hit ruled out, the ring about them first); ``normal``: about the speed of
-        :meth:`speed_centre` (where the labels' law puts the basket, or the kinematic aim)."""
+        have hit ruled out, the ring about them first); ``aim``: normal about a whole-arm throw's
+        kinematic aim; ``labels``: normal about where the range law through the demonstrations'
+        labels puts the basket (:meth:`speed_belief`; before 2026-12-05 the log called the last
+        two ``normal``)."""
         problem = self.problem
         belief = self.speed_belief()
         if belief == "failures":
             return belief, outcomes_prior(problem.demos, problem.angles, problem.target, problem.tolerance,
                                           self.reference, problem.elasticity)
-        # the attempts log has called the prior about the aim or the labels' law "normal"
-        return ("normal" if belief in ("aim", "labels") else belief), None
+        return belief, None
 
     def shape(self, history: Sequence[Attempt]) -> Proposal:
         """The DMM's throw for the target from the demonstrations and the landed attempts.
