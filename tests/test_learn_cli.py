@@ -223,6 +223,24 @@ def test_resuming_with_a_robot_that_changed_its_mapping_is_refused(cli, demos_cs
     assert replay.code == 2 and "mapping.angle_scale" in replay.stderr
 
 
+def test_a_slower_simulated_arm_lands_shorter_and_its_log_resumes_only_on_that_arm(cli, demos_csv, tmp_path):
+    args = ["learn", str(demos_csv), "--basket", "1.4", "--budget", "1", "--json"]
+    faithful = json.loads(cli(*args).stdout)
+    log = tmp_path / "slower.jsonl"
+    result = cli(*args, "--gap", "speed:0.9", "--log", str(log))
+    assert result.code == 0, result.stderr
+    slower = json.loads(result.stdout)
+    # the same planned throw (the loop plans with the robot file), executed 10 % slower: shorter
+    assert slower["misses"][0] < faithful["misses"][0] - 0.1
+    assert json.loads(log.read_text().splitlines()[0])["run"]["gap"] == "speed:0.9"
+    refused = cli("learn", str(demos_csv), "--basket", "1.4", "--budget", "2", "--log", str(log))
+    assert refused.code == 2 and "gap" in refused.stderr
+    # and a gap is the simulation's: not with a live robot
+    live = cli("learn", str(demos_csv), "--basket", "1.4", "--gap", "delay:0.02", "--executor", "ros1",
+               "--outcome", "ask")
+    assert live.code == 2 and "--gap" in live.stderr and "--executor sim" in live.stderr
+
+
 @pytest.mark.slow
 def test_learn_out_is_what_robot_export_writes_of_the_attempt_and_it_plays_back(cli, demos_csv, tmp_path):
     from rlff.robot.export import read_bag, read_json

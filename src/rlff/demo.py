@@ -293,17 +293,6 @@ def _learning_distance(demonstrated: list[float], farthest: float,
     return max(throws, key=by_miss), False
 
 
-def _arm_executor(gap, robot, distance: float):
-    """The learning loop's executor on an arm that differs from its robot file by ``gap``
-    (:class:`rlff.learn.scenarios.Gap`); None (the loop's own simulator) when it does not."""
-    if gap.none:
-        return None
-    from rlff.sim import Basket, simulate_throw
-
-    target = Basket(distance)
-    return lambda trajectory: simulate_throw(gap.executed(trajectory), target, robot=robot)
-
-
 def check_demo_options(out_dir: str | Path, size: str) -> None:
     """Raise :class:`InputError` for an unknown size or an output path that is not a folder."""
     if size not in SIZES:
@@ -396,7 +385,7 @@ def run_demo(
         clock.note(f"the learning basket: the loop's first throw at {distance:g} m"
                    + ("" if gap.none else f" ({gap.name})"))
         first = learn(aimed, distance, budget=1, feedback=showcase_feedback, update=showcase_method, seed=seed,
-                      robot=robot.name, executor=_arm_executor(gap, robot, distance)).history[0]
+                      robot=robot.name, gap=gap.name).history[0]
         return first.hit, first.miss
 
     # no farther than what the learning loop's own throws reach (its angle grid, the motion limits)
@@ -438,7 +427,7 @@ def run_demo(
         log.unlink(missing_ok=True)
         result = learn(
             aimed, learning_distance, budget=plan.budget, feedback=feedback, update=method, seed=seed,
-            log_path=log, robot=robot.name, executor=_arm_executor(learning_gap, robot, learning_distance),
+            log_path=log, robot=robot.name, gap=learning_gap.name,
             progress=lambda attempt, method=method: clock.note(
                 f"learning at {learning_distance:g} m: {method}, attempt {attempt.index}"
                 f" ({'hit' if attempt.hit else f'miss {attempt.miss:+.2f} m'})"

@@ -66,6 +66,10 @@ def learn_command(
                                      help="Attempts log of an earlier run at another basket (same demonstrations, "
                                           "robot, joints and --update; repeatable): start from the speed its hits "
                                           "point to."),
+    gap: str = typer.Option("none", "--gap",
+                            help="With --executor sim: how the simulated arm differs from its robot file, "
+                                 "speed:G (reaches G of the commanded joint speeds) or delay:S (lets go S s "
+                                 "late); the loop still plans with the file."),
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
@@ -88,6 +92,10 @@ def learn_command(
         raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")
     if (executor == "sim") != (outcome is None):
         raise InputError("--outcome ask|topic goes with --executor ros1|ros2 (the simulation knows its outcomes)")
+    from rlff.learn.scenarios import parse_gap
+
+    if executor != "sim" and not parse_gap(gap).none:
+        raise InputError("--gap is how the simulated arm differs from its robot file: it goes with --executor sim")
     driven = _joint_list(joints)
     data = read_dataset(demos)
     try:  # said with the file's name, before any cleaning
@@ -121,7 +129,7 @@ def learn_command(
                                            log_path=log, progress=show, robot=robot, pedestal=pedestal,
                                            until=until, centre_share=centre_share,
                                            executor=run_on, executed_on=executor, joints=driven,
-                                           bearing=bearing, height=height, carry_from=carry))
+                                           bearing=bearing, height=height, carry_from=carry, gap=gap))
     for note in result.notes:
         say(note)
     written = _write_best(result, robot, out, fmt, period, driven, bearing) if out is not None else None
@@ -137,7 +145,8 @@ def learn_command(
     misses = ", ".join(("no landing" if m != m else f"{m:+.2f}") + (" hit" if a.hit else "")
                        for m, a in zip(result.misses, result.history, strict=True))
     where = "".join([f", bearing {bearing:g} deg" if bearing else "", f", rim {height:g} m" if height is not None else "",
-                     f", joints {', '.join(driven)}" if driven else ""])
+                     f", joints {', '.join(driven)}" if driven else "",
+                     "" if parse_gap(gap).none else f", simulated arm {parse_gap(gap).name}"])
     stdout().print(f"{verdict} (basket {basket:g} m{where}, {feedback} feedback, update {update}); "
                    f"signed misses from the centre (m): {misses}", highlight=False)
 

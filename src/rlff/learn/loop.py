@@ -196,6 +196,7 @@ def learn(
     bearing: float = 0.0,
     height: float | None = None,
     carry_from: Sequence[str | Path] = (),
+    gap: str = "none",
 ) -> LearningResult:
     """Learn to hit a basket at distance ``basket`` from (possibly failed) demonstrations.
 
@@ -254,6 +255,12 @@ def learn(
         (:mod:`rlff.learn.carry`; ``calibrate``, ``donut`` and the GMR baselines use them, the
         ``failure`` and ``hindsight`` updates, which move the DMM rather than a speed, do not).
         The offsets go into this run's log header, so it resumes only with the same.
+    gap : str
+        How the simulated arm differs from its robot file: ``none``, ``speed:G`` (it reaches G
+        of the commanded joint speeds) or ``delay:S`` (it lets go S s late;
+        :func:`rlff.learn.scenarios.parse_gap`). The loop plans and aims with the file; the
+        simulation executes every throw as that arm would. Only with the default executor; the
+        log's header records it, so a run resumes only on the same arm.
 
     Returns
     -------
@@ -286,6 +293,12 @@ def learn(
         raise InputError(f"unknown until {until!r} (known: {', '.join(UNTILS)})")
     if not 0 < centre_share <= 1:
         raise InputError(f"centre share must be in (0, 1] of the half-opening, got {centre_share!r}")
+    from rlff.learn.scenarios import parse_gap
+
+    arm_gap = parse_gap(gap)
+    if executor is not None and not arm_gap.none:
+        raise InputError(f"gap {arm_gap.name!r} is how the simulated arm differs from its robot file: it goes "
+                         "with the simulation, not with another executor")
     robot_model = robot if isinstance(robot, Robot) else load_robot(robot)
     mapping = mapping_for(robot_model, None if joints is None else tuple(joints))
     rim = rim_height if height is None else height
@@ -297,7 +310,7 @@ def learn(
     components = _components(demos, seed, joint_outputs(mapping.human_columns))
     _require_executable(mapping, target, pedestal, demos, components, seed)
     if executor is None:
-        executor = _simulator(robot_model, target, pedestal)
+        executor = _simulator(robot_model, target, pedestal, arm_gap)
 
     basket_record = target.to_dict()
     if not basket_record.get("bearing"):  # straight ahead: the header older versions wrote
@@ -318,6 +331,8 @@ def learn(
         run["centre_share"] = centre_share
     if executed_on != "sim":
         run["executor"] = executed_on
+    if not arm_gap.none:  # a run without one writes no such field, so older logs resume
+        run["gap"] = arm_gap.name
     if _whole_arm(mapping):
         run["joints"] = list(mapping.driven_joints)
     carried, carry_notes = carried_offsets(carry_from, run) if carry_from else ((), [])
@@ -678,11 +693,14 @@ def _demos_within_limits(demos: Dataset, mapping) -> tuple[Dataset, list[str]]:
     return demos.replace(kept), [note]
 
 
-def _simulator(robot, basket, pedestal: float) -> Executor:
+def _simulator(robot, basket, pedestal: float, gap=None) -> Executor:
+    """The MuJoCo simulation of ``basket``, every throw executed as an arm that differs from
+    ``robot`` by ``gap`` would (:class:`rlff.learn.scenarios.Gap`; None: the robot file's)."""
     from rlff.sim import simulate_throw
 
     def execute(trajectory: JointTrajectory) -> Outcome:
-        return simulate_throw(trajectory, basket, robot=robot, pedestal=pedestal)
+        executed = trajectory if gap is None else gap.executed(trajectory)
+        return simulate_throw(executed, basket, robot=robot, pedestal=pedestal)
 
     return execute
 
