@@ -235,6 +235,10 @@ def test_a_slower_simulated_arm_lands_shorter_and_its_log_resumes_only_on_that_a
     assert json.loads(log.read_text().splitlines()[0])["run"]["gap"] == "speed:0.9"
     refused = cli("learn", str(demos_csv), "--basket", "1.4", "--budget", "2", "--log", str(log))
     assert refused.code == 2 and "gap" in refused.stderr
+    # replayed in the simulation, the logged throw lands where the log says: on the run's arm
+    replay = cli("sim", "throw", str(log), "--attempt", "1", "--json")
+    assert replay.code == 0 and "gap speed:0.9" in replay.stderr
+    assert json.loads(replay.stdout)["miss"] == pytest.approx(slower["misses"][0], abs=1e-9)
     # and a gap is the simulation's: not with a live robot
     live = cli("learn", str(demos_csv), "--basket", "1.4", "--gap", "delay:0.02", "--executor", "ros1",
                "--outcome", "ask")
