@@ -17,7 +17,7 @@ import argparse
 import tempfile
 from pathlib import Path
 
-from rlff.learn.scenarios import parse_gap
+from rlff.sim.gap import parse_gap
 from rlff.whole_arm_demo import BUDGET, run_whole_arm
 
 

@@ -189,7 +189,7 @@ def test_the_learning_basket_is_where_the_first_throw_misses_new_distances_first
 
 def test_the_report_says_where_and_on_which_arm_the_robot_learns():
     from rlff.demo import _learning_basket_words
-    from rlff.learn.scenarios import Gap, parse_gap
+    from rlff.sim.gap import Gap, parse_gap
 
     faithful = _learning_basket_words(1.4, [1.0, 1.5], Gap(), "calibrate", missed=True)
     assert "nobody demonstrated it" in faithful and "missed most" in faithful and "90 %" not in faithful

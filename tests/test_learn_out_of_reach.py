@@ -182,7 +182,7 @@ def test_a_whole_arm_basket_beyond_an_arm_that_lets_go_late_stops_after_three_th
     # (with joint 5, every joint at its limit, the ball lands 0.15-0.3 m short). The slower
     # windows after the throw at the limit were judged on the model's gain alone, which a late
     # release makes too hopeful: 10 throws, each shorter than the last
-    from rlff.learn.scenarios import parse_gap
+    from rlff.sim.gap import parse_gap
     from rlff.whole_arm_demo import run_whole_arm
 
     [run] = run_whole_arm(tmp_path, seed=4, gap=parse_gap("delay:0.02"), only=[(4.5, 45.0)]).runs

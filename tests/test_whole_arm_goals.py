@@ -13,7 +13,7 @@ from __future__ import annotations
 import pytest
 
 from rlff.learn import learn
-from rlff.learn.scenarios import parse_gap
+from rlff.sim.gap import parse_gap
 
 pytestmark = [pytest.mark.slow, pytest.mark.integration]
 

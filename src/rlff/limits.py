@@ -55,6 +55,17 @@ def check_count(what: str, count: float, maximum: int, hint: str = "") -> int:
     return int(count)
 
 
+def parse_number(text: str, what: str) -> float:
+    """``text`` as a finite float, or an :class:`InputError` naming ``what`` it came from."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(f"{what}: {text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise InputError(f"{what}: {text!r} is not a finite number")
+    return value
+
+
 def check_range(name: str, value: float, bounds: tuple[float, float], unit: str = "m") -> float:
     """``value`` as a float within ``bounds`` (inclusive), or an :class:`InputError` naming it."""
     low, high = bounds

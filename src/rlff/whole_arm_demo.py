@@ -25,7 +25,7 @@ from rlff.dataset import Dataset, write_csv
 from rlff.errors import InputError
 
 if TYPE_CHECKING:
-    from rlff.learn.scenarios import Gap
+    from rlff.sim.gap import Gap
 
 #: Most attempts of every basket's run (the issue's goal: a hit within 10).
 BUDGET = 10
@@ -158,7 +158,7 @@ def run_whole_arm(
     only : sequence of (distance, bearing), optional
         Throw at these baskets (m, deg) instead (a quick run).
     gap : Gap, optional
-        How the simulated arm differs from ``robot`` (:class:`rlff.learn.scenarios.Gap`): the
+        How the simulated arm differs from ``robot`` (:class:`rlff.sim.gap.Gap`): the
         loop plans with ``robot``, the throws are simulated with the gap applied.
 
     Raises

@@ -26,7 +26,7 @@ def demo_command(
 
     from rlff.cli.output import guard
     from rlff.demo import STAGES, arm_words, check_demo_options, run_demo
-    from rlff.learn.scenarios import parse_gap
+    from rlff.sim.gap import parse_gap
 
     guard(inputs={}, outputs={"-o/--output": out}, folders=["-o/--output"])
     size = "small" if small else "full"

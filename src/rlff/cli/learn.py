@@ -92,9 +92,10 @@ def learn_command(
         raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")
     if (executor == "sim") != (outcome is None):
         raise InputError("--outcome ask|topic goes with --executor ros1|ros2 (the simulation knows its outcomes)")
-    from rlff.learn.scenarios import parse_gap
+    from rlff.sim.gap import parse_gap
 
-    if executor != "sim" and not parse_gap(gap).none:
+    arm = parse_gap(gap)  # a bad --gap, or one with a live robot, fails before anything connects
+    if executor != "sim" and not arm.none:
         raise InputError("--gap is how the simulated arm differs from its robot file: it goes with --executor sim")
     driven = _joint_list(joints)
     data = read_dataset(demos)
@@ -129,7 +130,7 @@ def learn_command(
                                            log_path=log, progress=show, robot=robot, pedestal=pedestal,
                                            until=until, centre_share=centre_share,
                                            executor=run_on, executed_on=executor, joints=driven,
-                                           bearing=bearing, height=height, carry_from=carry, gap=gap))
+                                           bearing=bearing, height=height, carry_from=carry, gap=arm.name))
     for note in result.notes:
         say(note)
     written = _write_best(result, robot, out, fmt, period, driven, bearing) if out is not None else None
@@ -146,7 +147,7 @@ def learn_command(
                        for m, a in zip(result.misses, result.history, strict=True))
     where = "".join([f", bearing {bearing:g} deg" if bearing else "", f", rim {height:g} m" if height is not None else "",
                      f", joints {', '.join(driven)}" if driven else "",
-                     "" if parse_gap(gap).none else f", simulated arm {parse_gap(gap).name}"])
+                     "" if arm.none else f", simulated arm {arm.name}"])
     stdout().print(f"{verdict} (basket {basket:g} m{where}, {feedback} feedback, update {update}); "
                    f"signed misses from the centre (m): {misses}", highlight=False)
 

@@ -258,7 +258,7 @@ def learn(
     gap : str
         How the simulated arm differs from its robot file: ``none``, ``speed:G`` (it reaches G
         of the commanded joint speeds) or ``delay:S`` (it lets go S s late;
-        :func:`rlff.learn.scenarios.parse_gap`). The loop plans and aims with the file; the
+        :func:`rlff.sim.gap.parse_gap`). The loop plans and aims with the file; the
         simulation executes every throw as that arm would. Only with the default executor; the
         log's header records it, so a run resumes only on the same arm.
 
@@ -293,7 +293,7 @@ def learn(
         raise InputError(f"unknown until {until!r} (known: {', '.join(UNTILS)})")
     if not 0 < centre_share <= 1:
         raise InputError(f"centre share must be in (0, 1] of the half-opening, got {centre_share!r}")
-    from rlff.learn.scenarios import parse_gap
+    from rlff.sim.gap import parse_gap
 
     arm_gap = parse_gap(gap)
     if executor is not None and not arm_gap.none:
@@ -695,7 +695,7 @@ def _demos_within_limits(demos: Dataset, mapping) -> tuple[Dataset, list[str]]:
 
 def _simulator(robot, basket, pedestal: float, gap=None) -> Executor:
     """The MuJoCo simulation of ``basket``, every throw executed as an arm that differs from
-    ``robot`` by ``gap`` would (:class:`rlff.learn.scenarios.Gap`; None: the robot file's)."""
+    ``robot`` by ``gap`` would (:class:`rlff.sim.gap.Gap`; None: the robot file's)."""
     from rlff.sim import simulate_throw
 
     def execute(trajectory: JointTrajectory) -> Outcome:

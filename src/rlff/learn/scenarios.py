@@ -32,12 +32,14 @@ reproducible and every method of a seed sees the same demonstrations.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError
+from rlff.limits import parse_number
+from rlff.sim.gap import Gap, parse_gap
 
 
 @dataclass(frozen=True)
@@ -108,7 +110,7 @@ def parse_feedback(text: str) -> Feedback:
     if word in ("binary", "distance") and not value:
         return Feedback(word, word)
     if word in ("noisy-distance", "false-miss"):
-        number = _number(value, f"feedback {text!r}")
+        number = parse_number(value, f"feedback {text!r}")
         if word == "noisy-distance" and number > 0:
             return Feedback(f"{word}:{number:g}", "distance", noise=number)
         if word == "false-miss" and 0 < number < 1:
@@ -119,80 +121,18 @@ def parse_feedback(text: str) -> Feedback:
                      "false-miss:RATE)")
 
 
-@dataclass(frozen=True)
-class Gap:
-    """How the simulated arm differs from the robot file the methods plan with.
-
-    Parameters
-    ----------
-    name : str
-        As written on the command line (``none``, ``speed:0.95``, ``delay:0.02``).
-    speed : float
-        Fraction (0, 1] of the commanded joint speeds the arm reaches: the trajectory runs
-        1 / speed times slower along the same path (positions kept, velocities scaled).
-    delay : float
-        Seconds (>= 0) the ball leaves after the planned release: at the first sample at or
-        after it, further along the throw's braking.
-    """
-
-    name: str = "none"
-    speed: float = 1.0
-    delay: float = 0.0
-
-    @property
-    def none(self) -> bool:
-        """The arm is its robot file."""
-        return self.speed == 1.0 and self.delay == 0.0
-
-    def executed(self, trajectory):
-        """The :class:`~rlff.trajectory.JointTrajectory` the arm makes of the commanded one."""
-        if self.none:
-            return trajectory
-        time = trajectory.time / self.speed
-        release = trajectory.release_time
-        if release is not None:
-            index = min(int(np.searchsorted(trajectory.time, release + self.delay - 1e-12)), len(time) - 1)
-            release = float(time[index])
-        return replace(trajectory, time=time, velocities=trajectory.velocities * self.speed,
-                       accelerations=trajectory.accelerations * self.speed**2, release_time=release)
-
-
-def parse_gap(text: str) -> Gap:
-    """The gap of ``none``, ``speed:G`` (0 < G <= 1) or ``delay:S`` (0 <= S <= 0.2 s)."""
-    word, _, value = text.strip().partition(":")
-    if word == "none" and not value:
-        return Gap()
-    if word in ("speed", "delay"):
-        number = _number(value, f"gap {text!r}")
-        if word == "speed" and 0 < number <= 1:
-            return Gap(f"speed:{number:g}", speed=number)
-        if word == "delay" and 0 <= number <= 0.2:
-            return Gap(f"delay:{number:g}", delay=number)
-        raise InputError(f"gap {text!r}: speed takes the fraction of the commanded speed the arm reaches "
-                         "(0 < G <= 1), delay the seconds the release comes late (0 to 0.2 s)")
-    raise InputError(f"unknown gap {text!r} (known: none, speed:G, delay:S)")
-
-
 def parse_landings(text: str) -> str:
     """``exact``, ``none`` or ``noisy:STD`` (STD > 0, m), normalised."""
     word, _, value = text.strip().partition(":")
     if word in ("exact", "none") and not value:
         return word
     if word == "noisy":
-        std = _number(value, f"landings {text!r}")
+        std = parse_number(value, f"landings {text!r}")
         if std > 0:
             return f"noisy:{std:g}"
     raise InputError(f"landings {text!r}: use exact, none or noisy:STD (a standard deviation > 0, m)")
 
 
-def _number(text: str, what: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise InputError(f"{what}: {text!r} is not a number") from None
-    if not math.isfinite(value):
-        raise InputError(f"{what}: {text!r} is not a finite number")
-    return value
 
 
 @dataclass(frozen=True)

@@ -17,15 +17,18 @@ if "MUJOCO_GL" not in os.environ:
         os.environ["MUJOCO_GL"] = "osmesa"
 
 from rlff.sim.basket import Basket  # noqa: E402
+from rlff.sim.gap import Gap, parse_gap  # noqa: E402
 from rlff.sim.reach import Reach, max_reach, require_reachable, throw_reach  # noqa: E402
 from rlff.sim.throw import ReleaseState, ThrowOutcome, simulate_throw  # noqa: E402
 
 __all__ = [
     "Basket",
+    "Gap",
     "Reach",
     "ReleaseState",
     "ThrowOutcome",
     "max_reach",
+    "parse_gap",
     "require_reachable",
     "simulate_throw",
     "throw_reach",
