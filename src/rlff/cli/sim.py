@@ -73,13 +73,9 @@ def throw(
                     logged.get("opening", 0.35) if opening is None else opening,
                     logged.get("bearing", 0.0) if bearing is None else bearing)
     say(f"{trajectory}: {loaded.kind}")
-    executed = loaded.plan.trajectory
-    if "gap" in run:  # the run's simulated arm was not its robot file: replay the throw on that arm
-        from rlff.learn.scenarios import parse_gap
-
-        executed = parse_gap(run["gap"]).executed(executed)
-        say(f"thrown as the run's simulated arm throws: gap {run['gap']} (the log's)")
-    outcome = simulate_throw(executed, target, robot=model, release_angle=release_angle,
+    if not loaded.arm.none:
+        say(f"thrown as the run's simulated arm throws: gap {loaded.arm.name} (the log's)")
+    outcome = simulate_throw(loaded.simulated, target, robot=model, release_angle=release_angle,
                              pedestal=pedestal, frames_dir=frames)
     for note in outcome.notes:
         say(note)

@@ -18,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -31,6 +32,9 @@ from rlff.robot.mapping import ArmMapping, RobotMapping, mapping_for
 from rlff.robot.plan import RobotPlan, load_for_robot, plan_path
 from rlff.robot.sendfile import load_for_sending
 from rlff.trajectory.planner import DEFAULT_PERIOD
+
+if TYPE_CHECKING:
+    from rlff.sim.gap import Gap
 
 #: Export format of an output file by its suffix (a path without one is a ROS 2 bag folder).
 SUFFIX_FORMATS = {".json": "json", ".csv": "csv", ".bag": "ros1-bag", ".txt": "comau", "": "ros2-bag"}
@@ -54,6 +58,21 @@ class ThrowInput:
     plan: RobotPlan
     kind: str
     run: dict | None = None
+
+    @property
+    def arm(self) -> Gap:
+        """How the simulated arm of the log's run differed from its robot file (``run["gap"]``;
+        none for other files and runs on the file's arm)."""
+        from rlff.sim.gap import parse_gap  # not at import: exporting a throw needs no MuJoCo
+
+        return parse_gap((self.run or {}).get("gap", "none"))
+
+    @property
+    def simulated(self):
+        """The :class:`~rlff.trajectory.JointTrajectory` to simulate: the plan as :attr:`arm`
+        executes it, so that a logged attempt lands where its log says. What goes to a robot is
+        :attr:`plan`'s, unchanged."""
+        return self.arm.executed(self.plan.trajectory)
 
 
 def pick_attempt(path: str | Path, number: int | None = None) -> tuple[Attempt, dict]:
