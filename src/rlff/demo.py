@@ -25,7 +25,7 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -33,6 +33,9 @@ from rlff.dataset import Dataset, write_csv
 from rlff.errors import InputError
 from rlff.report import FigureEntry, Run, Section, Table, build_report, write_run
 from rlff.whole_arm_demo import BasketRun, whole_arm_section
+
+if TYPE_CHECKING:
+    from rlff.sim.gap import Gap
 
 #: What happens, in order; ``progress`` is called with each as it starts.
 STAGES = (
@@ -81,7 +84,7 @@ class DemoSize:
 #: describes it, the loop's first throw hits at every reachable distance (the demonstrations'
 #: labels read through the range law put it there, as on the full plan's people): it reaches
 #: 90 % of the commanded joint speeds, as a loaded arm or a lagging controller may (a
-#: :class:`rlff.learn.scenarios.Gap`, the learning benchmark's ``--gap``), and the robot has to
+#: :class:`rlff.sim.gap.Gap`, the learning benchmark's ``--gap``), and the robot has to
 #: learn that from its misses.
 SHOWCASE_GAP = "speed:0.9"
 
@@ -293,6 +296,25 @@ def _learning_distance(demonstrated: list[float], farthest: float,
     return max(throws, key=by_miss), False
 
 
+def _learning_arm_and_basket(demonstrated: list[float], learnable: float,
+                             first_throw: Callable[[float, Gap], tuple[bool, float]]) -> tuple[Gap, float]:
+    """The arm and the basket the learning is shown on: the arm as its robot file says where the
+    loop's first throw misses somewhere (:func:`_learning_distance`); else one that is not its
+    file (:data:`SHOWCASE_GAP`), among the distances that arm reaches (a drag-free range goes as
+    the speed squared); else (it hits everywhere there too) the arm as its file says after all.
+    ``first_throw(distance, gap)``: the loop's first throw's hit and signed miss (m)."""
+    from rlff.sim.gap import Gap, parse_gap
+
+    faithful = Gap()
+    distance, missed = _learning_distance(demonstrated, learnable, lambda d: first_throw(d, faithful))
+    if missed:
+        return faithful, distance
+    slower = parse_gap(SHOWCASE_GAP)
+    on_slower, missed = _learning_distance(demonstrated, learnable * slower.speed**2,
+                                           lambda d: first_throw(d, slower))
+    return (slower, on_slower) if missed else (faithful, distance)
+
+
 def check_demo_options(out_dir: str | Path, size: str) -> None:
     """Raise :class:`InputError` for an unknown size or an output path that is not a folder."""
     if size not in SIZES:
@@ -336,7 +358,7 @@ def run_demo(
     """
     from rlff.learn import learn
     from rlff.learn.loop import _components, _learning_demos, learnable_basket
-    from rlff.learn.scenarios import Gap, parse_gap, with_landings
+    from rlff.learn.scenarios import with_landings
     from rlff.model import Model
     from rlff.preprocess import Pipeline
     from rlff.robot import RobotMapping, load_robot
@@ -390,16 +412,7 @@ def run_demo(
 
     # no farther than what the learning loop's own throws reach (its angle grid, the motion limits)
     learnable = min(farthest, learnable_basket(aimed, RobotMapping.for_robot(robot), basket_shape))
-    # on the arm as its robot file says, else (the first throw hits everywhere) on one that is not,
-    # else (it hits everywhere on that one too) on the arm as its file says after all
-    choices = []
-    for gap in (Gap(), parse_gap(SHOWCASE_GAP)):
-        # a slower arm reaches less far: a drag-free range goes as the speed squared
-        choices.append((gap, *_learning_distance(demonstrated, learnable * gap.speed**2,
-                                                 lambda d, gap=gap: first_throw(d, gap))))
-        if choices[-1][2]:
-            break
-    learning_gap, learning_distance, _ = choices[-1] if choices[-1][2] else choices[0]
+    learning_gap, learning_distance = _learning_arm_and_basket(demonstrated, learnable, first_throw)
     loop_components = _components(_learning_demos(aimed), seed)
     new = sorted({*new, learning_distance})  # its throw is in the table too
     angles = _angle_grid(clean)
@@ -528,13 +541,14 @@ def _figures(
         "Generated throws, demonstrated and new distances",
         "Farther baskets get faster throws, also at distances nobody demonstrated (dashed; thesis fig. 4.7, 4.50).")
     first_method, first_run = next(iter(results.items()))
+    on_arm = "" if learning_gap.none else f"; the arm {arm_words(learning_gap)}"
     first_throw = _replay(first_run.history[0], mapping, robot, learning_distance, learning_gap)
     add(throw_snapshot_from_outcome(first_throw, figures_dir / "first-throw", robot=robot,
                                     title=f"The loop's first throw at {learning_distance:g} m ({first_method}), "
                                           "before learning"),
         "simulation", "The robot's first throw",
         f"The first attempt of the learning loop ({first_method}) on the Comau's joint 2, executed again in "
-        "MuJoCo: the arm at the release, the ball's flight and the basket.")
+        f"MuJoCo{on_arm}: the arm at the release, the ball's flight and the basket.")
     add(learning_curves({f"{name} ({r.feedback} feedback)": r.misses for name, r in results.items()},
                         figures_dir / "learning", tolerance=_tolerance(), basket=learning_distance,
                         hits={f"{name} ({r.feedback} feedback)": [a.hit for a in r.history] for name, r in results.items()}),
@@ -548,19 +562,18 @@ def _figures(
                           frames_dir if frames else None)
         add(throw_snapshot_from_outcome(outcome, figures_dir / "learned-throw", robot=robot,
                                         title=f"The learned throw at {learning_distance:g} m ({best.update})"),
-            "learning", "The learned throw", "The hit found by the learning loop, executed again in MuJoCo.")
+            "learning", "The learned throw", f"The hit found by the learning loop, executed again in MuJoCo{on_arm}.")
     return entries
 
 
 def _replay(attempt, mapping, robot, distance: float, gap, frames_dir: Path | None = None):
     """An attempt of the learning loop executed again in MuJoCo (for its figure), on the arm it
-    was made on (its robot file less ``gap``, :class:`rlff.learn.scenarios.Gap`)."""
-    from rlff.robot.plan import plan_path
+    was made on (its robot file less ``gap``, :class:`rlff.sim.gap.Gap`)."""
+    from rlff.learn.replay import plan_attempt
     from rlff.sim import Basket, simulate_throw
 
-    # planned as the loop plans its throws, so that the figure shows the landing the table gives
-    path = {"angle": attempt.angle, "velocity": _forward(attempt.velocity), "time": attempt.time}
-    trajectory = plan_path(mapping, path, clip=True).trajectory
+    # planned as `rlff sim throw LOG --attempt N` plans it: the landing the table gives
+    trajectory = plan_attempt(attempt, mapping, clip=True).trajectory
     return simulate_throw(gap.executed(trajectory), Basket(distance), robot=robot, check_reach=False,
                           frames_dir=frames_dir)
 
@@ -577,7 +590,7 @@ def _tolerance() -> float:
 
 def arm_words(gap) -> str:
     """What the arm of the learning runs does, in a few words after "the arm" (``gap``:
-    :class:`rlff.learn.scenarios.Gap`)."""
+    :class:`rlff.sim.gap.Gap`)."""
     if gap.none:
         return "is as its robot file describes it"
     if gap.delay:
