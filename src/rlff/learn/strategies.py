@@ -406,7 +406,7 @@ class CalibrateUpdate(DmmStrategy):
         outweighed the aim's window wherever the limit lay within three windows above the aim,
         and the first throw went to the limit (0.2-0.8 m long on the people of seed 1 at 4-4.5 m)."""
         problem = self.problem
-        belief = self.speed_belief()
+        belief = self.speed_belief
         if belief == "carried":
             return problem.carried_shift, CARRY_SCALE
         if belief == "landings":
@@ -419,6 +419,7 @@ class CalibrateUpdate(DmmStrategy):
         return aims_shift(problem.demos, problem.angles, problem.target, self.reference,
                           problem.elasticity), LABELS_SCALE
 
+    @cached_property
     def speed_belief(self) -> str:
         """What the window search's prior rests on, decided once for :meth:`speed_centre` and
         :meth:`speed_prior`, first that applies: ``carried`` (earlier baskets' hits), ``landings``
@@ -456,7 +457,7 @@ class CalibrateUpdate(DmmStrategy):
         labels puts the basket (:meth:`speed_belief`; before 2026-12-05 the log called the last
         two ``normal``)."""
         problem = self.problem
-        belief = self.speed_belief()
+        belief = self.speed_belief
         if belief == "failures":
             return belief, outcomes_prior(problem.demos, problem.angles, problem.target, problem.tolerance,
                                           self.reference, problem.elasticity)
