@@ -200,3 +200,27 @@ def test_the_report_says_where_and_on_which_arm_the_robot_learns():
     # a first throw that went in is not called a miss
     hit = _learning_basket_words(1.4, [1.0], Gap(), "calibrate", missed=False)
     assert "missed" not in hit and "goes in at every distance" in hit
+
+
+def test_the_slower_arm_is_taken_only_where_the_first_throw_misses_nowhere_on_the_faithful_one():
+    from rlff.demo import SHOWCASE_GAP, _learning_arm_and_basket
+
+    demonstrated = [1.0, 1.5, 2.0]
+    asked = []
+
+    def first_throw(misses_on_the_faithful_arm: bool, misses_on_the_slower_arm: bool):
+        def throw(distance, gap):
+            asked.append((round(distance, 3), gap.name))
+            missed = misses_on_the_faithful_arm if gap.none else misses_on_the_slower_arm
+            return not missed, (-0.3 if missed else 0.05) * distance  # the farthest misses most
+        return throw
+
+    gap, distance = _learning_arm_and_basket(demonstrated, 1.85, first_throw(True, True))
+    assert gap.none and distance == 1.8 and all(name == "none" for _, name in asked)
+    asked.clear()
+    gap, distance = _learning_arm_and_basket(demonstrated, 1.85, first_throw(False, True))
+    # on the slower arm, only within what it reaches: 1.85 m x 0.9^2 = 1.5 m
+    assert gap.name == SHOWCASE_GAP and distance <= 1.85 * gap.speed**2
+    assert max(d for d, name in asked if name == SHOWCASE_GAP) <= 1.85 * gap.speed**2
+    gap, distance = _learning_arm_and_basket(demonstrated, 1.85, first_throw(False, False))
+    assert gap.none and distance == 1.8  # in everywhere: the faithful arm, where it lands farthest off
