@@ -9,11 +9,16 @@ jumps to that person's) and aim by the ball speed a parabola needs to reach the 
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from rlff.ballistics import GRAVITY
+from rlff.dataset import Dataset
+from rlff.errors import InputError
+
+#: One simulated throw: its id, its columns (each of shape (T,)) and its metadata.
+Throw = tuple[str, dict[str, np.ndarray], dict[str, object]]
 
 #: The thesis' basket distances (m), section 4.2 (the three 2 m baskets of other heights left out).
 THESIS_DISTANCES = (1.0, 1.5, 2.0, 2.25, 2.5, 2.75, 3.0, 3.25, 3.5, 4.0)
@@ -113,3 +118,45 @@ def record(
                 values[start : start + width] = rng.uniform(*_GLITCH_RANGE[name], width)
         count = int(starts.size)
     return time, angles, count
+
+
+def subject_names(subjects: int | Sequence[str]) -> list[str]:
+    """The people's names: ``s01``, ``s02``, ... for a count, else the names given."""
+    return [f"s{i + 1:02d}" for i in range(subjects)] if isinstance(subjects, int) else list(subjects)
+
+
+def check_recording(rate_hz: float, **amounts: float) -> None:
+    """Refuse a camera rate outside 15-30 Hz, and a negative amount (noise, bias, scatter; sign
+    of ``bias`` ignored) or a probability (``dropped_frames``, ``glitches``) of 0.5 or more."""
+    if not 15.0 <= rate_hz <= 30.0:
+        raise InputError(f"rate_hz {rate_hz}: a depth camera records at 15 to 30 Hz")
+    for name, value in amounts.items():
+        value = abs(value) if name == "bias" else value
+        if value < 0 or (name in ("dropped_frames", "glitches") and value >= 0.5):
+            raise InputError(f"{name} {value}: out of range")
+
+
+def throw_meta(subject: str, target: float, landing: float, hit_radius: float, release_angle: float,
+               release_time: float, glitches: int) -> dict[str, object]:
+    """A simulated throw's metadata: who threw at which basket (m), where the ball came down (m)
+    and whether within ``hit_radius`` (m) of it, the release's elbow angle (rad) and time (s, on
+    the recording's clock) and the glitches recorded."""
+    return {
+        "subject": subject,
+        "source": "simulated",
+        "target": target,
+        "landing": landing,
+        "hit": bool(abs(landing - target) <= hit_radius),
+        "release_angle": release_angle,
+        "release_time": release_time,
+        "glitches": glitches,
+    }
+
+
+def throws_dataset(throws: Sequence[Throw], columns: Sequence[str], context: tuple[str, ...]) -> Dataset:
+    """The throws as one :class:`~rlff.dataset.Dataset` with ``columns`` in that order."""
+    return Dataset.from_columns(
+        {name: np.concatenate([data[name] for _, data, _ in throws]) for name in columns},
+        [name for name, _, _ in throws], [data["time"].size for _, data, _ in throws],
+        [meta for _, _, meta in throws], context=context,
+    )

@@ -40,10 +40,15 @@ from rlff.synthetic.people import (
     RIM_HEIGHT,
     THESIS_DISTANCES,
     UPPER_ARM,
+    Throw,
+    check_recording,
     minimum_jerk,
     minimum_jerk_speed,
     needed_speed,
     record,
+    subject_names,
+    throw_meta,
+    throws_dataset,
 )
 from rlff.synthetic.whole_arm import whole_arm_demonstrations
 
@@ -239,13 +244,9 @@ def simulate_throws(
         A rate outside 15-30 Hz, negative probabilities or noise, an empty plan, or a distance
         the simulated arm cannot reach.
     """
-    if not 15.0 <= rate_hz <= 30.0:
-        raise InputError(f"rate_hz {rate_hz}: a depth camera records at 15 to 30 Hz")
-    for name, value in (("noise", noise), ("dropped_frames", dropped_frames), ("glitches", glitches),
-                        ("bias", abs(bias)), ("throw_error", throw_error)):
-        if value < 0 or (name in ("dropped_frames", "glitches") and value >= 0.5):
-            raise InputError(f"{name} {value}: out of range")
-    names = [f"s{i + 1:02d}" for i in range(subjects)] if isinstance(subjects, int) else list(subjects)
+    check_recording(rate_hz, noise=noise, dropped_frames=dropped_frames, glitches=glitches, bias=bias,
+                    throw_error=throw_error)
+    names = subject_names(subjects)
     if not names or not len(distances) or throws_per_distance < 1:
         raise InputError("no throws to simulate: give at least one subject, distance and throw")
     for distance in distances:
@@ -262,11 +263,7 @@ def simulate_throws(
                throw_error, all_short, hit_radius)
         for style in styles for distance in distances for k in range(throws_per_distance)
     ]
-    columns = {name: np.concatenate([data[name] for _, data, _ in throws]) for name in throws[0][1]}
-    return Dataset.from_columns(
-        columns, [name for name, _, _ in throws], [data["time"].size for _, data, _ in throws],
-        [meta for _, _, meta in throws], context=("distance",),
-    )
+    return throws_dataset(throws, ("time", "angle", "distance", "velocity"), ("distance",))
 
 
 def _same(distance: float, other: float | None) -> bool:
@@ -277,7 +274,7 @@ def _throw(
     rng: np.random.Generator, style: _Style, target: float, k: int, rate_hz: float, noise: float,
     dropped_frames: float, glitches: float, slowdown: float, throw_error: float, all_short: bool,
     hit_radius: float,
-) -> tuple[str, dict[str, np.ndarray], dict[str, object]]:
+) -> Throw:
     """One recorded throw: its id, columns and metadata."""
     span = style.extended_angle - style.wound_angle
     release_angle = style.wound_angle + span * float(minimum_jerk(np.asarray(style.release_phase)))
@@ -299,15 +296,6 @@ def _throw(
     start = time[0]
     time = time - start
     velocity = np.gradient(angle, time)
-    meta = {
-        "subject": style.name,
-        "source": "simulated",
-        "target": target,
-        "landing": landing,
-        "hit": bool(abs(landing - target) <= hit_radius),
-        "release_angle": release_angle,
-        "release_time": float(release_time - start),
-        "glitches": count,
-    }
+    meta = throw_meta(style.name, target, landing, hit_radius, release_angle, float(release_time - start), count)
     data = {"time": time, "angle": angle, "distance": np.full(time.size, target), "velocity": velocity}
     return f"{style.name}-d{target:g}-{k + 1}", data, meta

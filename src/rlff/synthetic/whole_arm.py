@@ -49,10 +49,15 @@ from rlff.synthetic.people import (
     RIM_HEIGHT,
     THESIS_DISTANCES,
     UPPER_ARM,
+    Throw,
+    check_recording,
     minimum_jerk,
     minimum_jerk_speed,
     needed_speed,
     record,
+    subject_names,
+    throw_meta,
+    throws_dataset,
 )
 
 #: Forearm, elbow to wrist (m).
@@ -361,14 +366,9 @@ def whole_arm_demonstrations(
         plan, a bearing, height or distance out of range, or a basket the person cannot reach.
     """
     throwing = _check_joints(joints)
-    if not 15.0 <= rate_hz <= 30.0:
-        raise InputError(f"rate_hz {rate_hz}: a depth camera records at 15 to 30 Hz")
-    for name, value in (("noise", noise), ("dropped_frames", dropped_frames), ("glitches", glitches),
-                        ("bias", abs(bias)), ("throw_error", throw_error),
-                        ("release_jitter", release_jitter), ("shape_scatter", shape_scatter)):
-        if value < 0 or (name in ("dropped_frames", "glitches") and value >= 0.5):
-            raise InputError(f"{name} {value}: out of range")
-    names = [f"s{i + 1:02d}" for i in range(subjects)] if isinstance(subjects, int) else list(subjects)
+    check_recording(rate_hz, noise=noise, dropped_frames=dropped_frames, glitches=glitches, bias=bias,
+                    throw_error=throw_error, release_jitter=release_jitter, shape_scatter=shape_scatter)
+    names = subject_names(subjects)
     if not names or not len(distances) or not len(bearings) or not len(heights) or throws_per_basket < 1:
         raise InputError("no throws to simulate: give at least one subject, distance, bearing, height and throw")
     for distance in distances:
@@ -400,11 +400,7 @@ def whole_arm_demonstrations(
         if joint in throwing:
             order += [joint, velocity_column(joint)]
     order += context
-    columns = {name: np.concatenate([data[name] for _, data, _ in throws]) for name in order}
-    return Dataset.from_columns(
-        columns, [name for name, _, _ in throws], [data["time"].size for _, data, _ in throws],
-        [meta for _, _, meta in throws], context=tuple(context),
-    )
+    return throws_dataset(throws, order, tuple(context))
 
 
 def _check_joints(joints: Sequence[str]) -> tuple[str, ...]:
@@ -420,7 +416,7 @@ def _throw(
     rng: np.random.Generator, style: _Style, basket: tuple[float, float, float], k: int,
     joints: tuple[str, ...], camera: tuple[float, float, float, float], scatter: tuple[float, float, float],
     all_short: bool, hit_radius: float,
-) -> tuple[str, dict[str, np.ndarray], dict[str, object]]:
+) -> Throw:
     """One recorded throw: its id, columns and metadata."""
     target, bearing, height = basket
     throw_error, release_jitter, shape_scatter = scatter
@@ -453,16 +449,7 @@ def _throw(
     data.update(distance=np.full(time.size, target), bearing=np.full(time.size, bearing),
                 height=np.full(time.size, height))
     release_angle = float(positions(np.array([release_time]))["angle"][0])
-    meta = {
-        "subject": style.name,
-        "source": "simulated",
-        "target": target,
-        "landing": landing,
-        "hit": bool(abs(landing - target) <= hit_radius),
-        "release_angle": release_angle,
-        "release_time": float(release_time - start),
-        "glitches": count,
-    }
+    meta = throw_meta(style.name, target, landing, hit_radius, release_angle, float(release_time - start), count)
     return f"{style.name}-d{target:g}-b{bearing:g}-h{height:g}-{k + 1}", data, meta
 
 
