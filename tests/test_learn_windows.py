@@ -11,7 +11,15 @@ from scipy.stats import norm
 
 from rlff.learn import learn
 from rlff.learn.baselines import RANGE_ELASTICITY
-from rlff.learn.windows import WindowSearch, lattice, window_masses, window_width
+from rlff.learn.windows import (
+    MISREPORT,
+    RETRIES,
+    WindowSearch,
+    lattice,
+    window_masses,
+    window_width,
+    with_retries,
+)
 
 
 def test_the_window_is_the_hit_window_through_the_range_law():
@@ -48,26 +56,66 @@ def test_the_fastest_window_comes_first_when_the_prior_says_the_basket_needs_mor
     np.testing.assert_allclose([free.offset(k)[0] for k in range(5)], [0, 0.1, -0.1, 0.2, -0.2], atol=1e-9)
 
 
+def _first_pass(search: WindowSearch) -> np.ndarray:
+    """The lattice's windows in the order of their first throw (retries left out)."""
+    thrown = search.offsets[: search.masses.size]
+    _, first_seen = np.unique(np.round(thrown, 9), return_index=True)
+    return thrown[np.sort(first_seen)]
+
+
 def test_after_the_lattice_come_the_half_shifted_windows_then_the_lattice_again():
     search = WindowSearch(1.75, 0.14, highest=0.5)
     width = search.width
-    first = np.array([search.offset(k)[0] for k in range(lattice(width, 0.5).size)])
+    first = _first_pass(search)
     np.testing.assert_allclose(np.sort(first), np.sort(lattice(width, 0.5)))
     # the half-shifted windows: every centre + w/2 that stays within the limit, in the same order
     shifted = first[first + 0.5 * width <= 0.5 + 1e-12] + 0.5 * width
-    second = np.array([search.offset(first.size + k)[0] for k in range(shifted.size)])
+    passed = search.masses.size  # the lattice with its retries
+    second = np.array([search.offset(passed + k)[0] for k in range(shifted.size)])
     np.testing.assert_allclose(second, shifted)
-    assert search.offset(first.size)[1] == 0.0  # past the first pass: no prior mass claimed
-    assert search.offset(first.size + shifted.size)[0] == first[0]  # then the lattice again
+    assert search.offset(passed)[1] == 0.0  # past the first pass: no prior mass claimed
+    assert search.offset(passed + shifted.size)[0] == first[0]  # then the lattice again
     assert search.offset(10_000)[0] == first[-1]  # past everything: the last window again
+
+
+def test_a_likely_window_that_missed_is_thrown_again_before_the_unlikely_ones():
+    # N(0, 0.3), w = 0.1: once the untried windows left hold less than MISREPORT of the GMR
+    # mean's window, a miss there may have been a misreported hit
+    search = WindowSearch(1.75, 0.14, highest=0.8)
+    thrown, masses = search.offsets[: search.masses.size], search.masses
+    top = round(float(masses[0]), 4)
+    again = [k for k in range(1, thrown.size) if np.any(np.isclose(thrown[:k], thrown[k]))]
+    assert again, "no window thrown twice"
+    retry = again[0]
+    assert thrown[retry] == pytest.approx(0.0)  # the likeliest window comes round first
+    assert np.all(np.round(masses[:retry], 4) >= MISREPORT * top)
+    untried_after = [masses[k] for k in range(retry + 1, thrown.size)
+                     if not np.any(np.isclose(thrown[:k], thrown[k]))]
+    assert untried_after and max(untried_after) <= MISREPORT * top + 1e-4
+    # every window is thrown in the first pass, none more than once again
+    counts = [int(np.count_nonzero(np.isclose(thrown, x))) for x in lattice(search.width, search.highest)]
+    assert min(counts) == 1 and max(counts) == 1 + RETRIES
+
+
+def test_retries_follow_the_masses_and_stop_at_the_cap():
+    first = np.array([0.0, 0.1, -0.1, 0.2])
+    masses = np.array([0.4, 0.3, 0.2, 0.001])
+    np.testing.assert_allclose(with_retries(first, masses, 0.0)[0], first)  # no misreports: no retries
+    # 0.1: the 0.4 window (0.04 after its miss), the 0.3 (0.03) and the 0.2 (0.02) go again
+    # before the 0.001 one; a second retry of the 0.4 window (0.004) would too, but the cap is 1
+    offsets, thrown = with_retries(first, masses, 0.1, retries=1)
+    np.testing.assert_allclose(offsets, [0.0, 0.1, -0.1, 0.0, 0.1, -0.1, 0.2])
+    np.testing.assert_allclose(thrown, [0.4, 0.3, 0.2, 0.4, 0.3, 0.2, 0.001])
+    np.testing.assert_allclose(with_retries(first, masses, 0.1, retries=2)[0],
+                               [0.0, 0.1, -0.1, 0.0, 0.1, -0.1, 0.0, 0.1, -0.1, 0.2])
 
 
 def test_the_second_pass_throws_at_the_limit_where_the_top_window_shifted_would_pass_it():
     # w = 0.1, limit 0.43: the top window 0.4 reaches to 0.45, so no band window; shifted by
     # w / 2 it would ask for 0.45, so the second pass throws the limit there, once
     search = WindowSearch(1.75, 0.14, highest=0.43)
-    first = search.offsets[: search.masses.size]
-    second = search.offsets[search.masses.size: 2 * search.masses.size]
+    first = _first_pass(search)
+    second = search.offsets[search.masses.size: search.masses.size + first.size]
     assert not np.any(np.isclose(first, 0.43))
     assert np.count_nonzero(np.isclose(second, 0.43)) == 1
     assert np.flatnonzero(np.isclose(second, 0.43))[0] == np.flatnonzero(np.isclose(first, 0.4))[0]
@@ -134,10 +182,10 @@ def test_the_band_between_the_top_window_and_the_limit_gets_a_window_of_its_own(
     # edge 0.18 leaves 0.18-0.2 uncovered, so a window at 0.2 joins with the mass of what it
     # would hit: that band and the half window above the limit, 0.2-0.25
     search = WindowSearch(1.75, 0.14, highest=0.2, centre=0.13, scale=0.15)
-    first_pass = search.offsets[: search.masses.size]
-    assert np.count_nonzero(np.isclose(first_pass, 0.2)) == 1
+    thrown = search.offsets[: search.masses.size]
+    assert np.count_nonzero(np.isclose(_first_pass(search), 0.2)) == 1
     reach = norm.cdf(0.25, 0.13, 0.15) - norm.cdf(0.18, 0.13, 0.15)
-    assert search.masses[np.flatnonzero(np.isclose(first_pass, 0.2))[0]] == pytest.approx(reach)
+    assert search.masses[np.flatnonzero(np.isclose(thrown, 0.2))[0]] == pytest.approx(reach)
     # the same with the prior given as a density on a grid
     gridded = WindowSearch(1.75, 0.14, highest=0.2, centre=0.13,
                            log_density=lambda x: norm.logpdf(x, 0.13, 0.15))
@@ -147,7 +195,7 @@ def test_the_band_between_the_top_window_and_the_limit_gets_a_window_of_its_own(
     assert search.offset(0)[0] == pytest.approx(0.13)
     # about 0 the lattice ends within half a window of the limit (0.1 + 0.05 >= 0.12): no band
     near = WindowSearch(1.75, 0.14, highest=0.12)
-    assert not np.any(np.isclose(near.offsets[: near.masses.size], 0.12))
+    assert not np.any(np.isclose(_first_pass(near), 0.12))
 
 
 def test_a_limit_far_above_the_gmr_means_speed_is_within_the_search():
