@@ -64,8 +64,8 @@ _GRID_DENSITY = 400
 MISREPORT = 0.05
 #: Throws of one window again in the first pass, at most. Without a cap a narrow prior throws its
 #: likeliest windows again and again before the unlikely ones (0.15 about a centre 0.07 below
-#: the limit: the limit's window 300 times), and an unlikely window is more often the hit than a
-#: prior says where the robot differs from the people (docs/learn.md).
+#: the limit: the windows there over 200 times each), and an unlikely window is more often the
+#: hit than a prior says where the robot differs from the people (docs/learn.md).
 RETRIES = 1
 
 
