@@ -206,3 +206,14 @@ def test_a_limit_far_above_the_gmr_means_speed_is_within_the_search():
     assert search.offsets.max() + 0.5 * search.width >= math.log(30.0)  # the windows cover the limit
     # a robot without a speed limit: as fast as the slowest throw is slow
     assert WindowSearch(1.9, 0.14, highest=math.inf).offsets.max() <= 1.2 + 1e-9
+
+
+def test_a_search_without_misreports_throws_no_window_twice_in_its_first_pass():
+    search = WindowSearch(1.75, 0.14, highest=0.8, misreport=0.0)
+    first = search.offsets[: search.masses.size]
+    assert first.size == lattice(search.width, search.highest).size
+    assert np.unique(np.round(first, 9)).size == first.size
+    # the default search throws the same windows, some of them twice
+    default = WindowSearch(1.75, 0.14, highest=0.8)
+    assert default.masses.size > search.masses.size
+    np.testing.assert_allclose(np.unique(np.round(default.offsets[: default.masses.size], 9)), np.unique(np.round(first, 9)))

@@ -247,10 +247,14 @@ class WindowSearch:
     elasticity : float
         Elasticity of the landing in the release speed that sizes the windows (the range law's
         prior; a whole-arm throw's comes from the arm's kinematics).
+    misreport : float
+        Probability the search gives a hit being reported as a miss (:func:`with_retries`; 0:
+        no window twice in the first pass).
     """
 
     def __init__(self, target: float, tolerance: float, highest: float, log_density=None,
-                 scale: float = PRIOR_SCALE, elasticity: float = RANGE_ELASTICITY, centre: float = 0.0):
+                 scale: float = PRIOR_SCALE, elasticity: float = RANGE_ELASTICITY, centre: float = 0.0,
+                 misreport: float = MISREPORT):
         self.width = window_width(target, tolerance, elasticity)
         self.highest = reachable_top(highest, self.width)
         #: Log speed factor the lattice is laid about (a centre beyond the limit: the limit).
@@ -282,7 +286,7 @@ class WindowSearch:
         # sweep's order
         rank = np.argsort(-np.round(masses, 4), kind="stable")
         first = centres[rank]
-        retried, thrown = with_retries(first, masses[rank])
+        retried, thrown = with_retries(first, masses[rank], misreport)
         #: Log speed factors of the attempts, in order, shape (N,).
         self.offsets = np.r_[retried, half_shifted(first, self.width, self.highest), first]
         #: Prior mass of the window of each attempt of the first pass (with its retries), shape (M,).
