@@ -27,9 +27,9 @@ wrong): a window that missed keeps :data:`MISREPORT` of its mass rather than non
 likeliest windows are thrown once more (:data:`RETRIES`) where the untried ones left are
 :data:`MISREPORT` times less likely (:func:`with_retries`). After every window of the lattice,
 the same windows shifted by half a window (the gaps a steeper range law than the prior's
-leaves; the first shifted past the limit at the limit), then the lattice again. The order is a deterministic function of the
-number of attempts (every attempt before the hit missed), so a resumed run makes the attempts
-the uninterrupted one would have.
+leaves; the first shifted past the limit at the limit), then the lattice again. The order is a
+deterministic function of the number of attempts (every attempt before the hit missed), so a
+resumed run makes the attempts the uninterrupted one would have.
 
 The search is hand-written: it is the project's own method (an ordering of the lattice by a
 prior over hit windows), a dozen lines of numpy around a cumulative sum.
