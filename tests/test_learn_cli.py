@@ -245,6 +245,22 @@ def test_a_slower_simulated_arm_lands_shorter_and_its_log_resumes_only_on_that_a
     assert live.code == 2 and "--gap" in live.stderr and "--executor sim" in live.stderr
 
 
+def test_misreport_goes_into_the_logs_header_unless_it_is_the_default(cli, demos_csv, tmp_path):
+    from rlff.learn.windows import MISREPORT
+
+    args = ["learn", str(demos_csv), "--basket", "1.4", "--budget", "1"]
+    default, never = tmp_path / "default.jsonl", tmp_path / "never.jsonl"
+    assert cli(*args, "--misreport", str(MISREPORT), "--log", str(default)).code == 0
+    assert "misreport" not in json.loads(default.read_text().splitlines()[0])["run"]
+    assert cli(*args, "--log", str(default)).code == 0  # the CLI's default is the library's: it resumes
+    assert cli(*args, "--misreport", "0", "--log", str(never)).code == 0
+    assert json.loads(never.read_text().splitlines()[0])["run"]["misreport"] == 0
+    refused = cli(*args, "--budget", "2", "--log", str(never))
+    assert refused.code == 2 and "misreport" in refused.stderr
+    bad = cli(*args, "--misreport", "1.5")
+    assert bad.code == 2 and "misreport" in bad.stderr and "[0, 1)" in bad.stderr
+
+
 @pytest.mark.slow
 def test_learn_out_is_what_robot_export_writes_of_the_attempt_and_it_plays_back(cli, demos_csv, tmp_path):
     from rlff.robot.export import read_bag, read_json

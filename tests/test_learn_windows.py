@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from scipy.stats import norm
 
+from rlff.errors import InputError
 from rlff.learn import learn
 from rlff.learn.baselines import RANGE_ELASTICITY
 from rlff.learn.windows import (
@@ -154,6 +155,33 @@ def test_binary_runs_throw_the_windows_in_order_and_hit(short_demos, method):
     reference = result.history[0].info["speed"] / math.exp(offsets[0])
     for attempt in result.history:
         assert attempt.info["speed"] == pytest.approx(reference * math.exp(attempt.info["log_factor"]), rel=1e-3)
+
+
+def test_the_runs_misreport_reaches_calibrates_window_search_and_donut_keeps_none(short_demos):
+    from dataclasses import replace
+
+    from rlff.learn.loop import METHODS, _angle_grid
+    from rlff.learn.method import Problem
+
+    problem = Problem(demos=short_demos, target=1.4, feedback="binary", tolerance=0.14,
+                      angles=_angle_grid(short_demos), components=2, seed=0)
+    fastest = 30.0  # rad/s, far above the people's: the whole lattice is within reach
+
+    def first_pass(method_name: str, misreport: float) -> np.ndarray:
+        search = METHODS[method_name](replace(problem, misreport=misreport)).windows(fastest)
+        return np.round(search.offsets[: search.masses.size], 9)
+
+    default, none, often = first_pass("calibrate", MISREPORT), first_pass("calibrate", 0.0), first_pass("calibrate", 0.5)
+    assert np.unique(none).size == none.size  # no window twice
+    assert none.size < default.size <= often.size  # retries, sooner and more of them the likelier a misreport
+    assert set(default) == set(none) == set(often)  # the same windows
+    donut = first_pass("donut", 0.5)
+    assert np.unique(donut).size == donut.size
+
+
+def test_a_misreport_outside_0_1_is_refused(short_demos):
+    with pytest.raises(InputError, match="misreport"):
+        learn(short_demos, 1.4, budget=1, misreport=1.0)
 
 
 def test_a_resumed_binary_run_continues_with_the_next_window(short_demos, tmp_path):

@@ -70,6 +70,11 @@ def learn_command(
                             help="With --executor sim: how the simulated arm differs from its robot file, "
                                  "speed:G (reaches G of the commanded joint speeds) or delay:S (lets go S s "
                                  "late); the loop still plans with the file."),
+    misreport: float = typer.Option(0.05, "--misreport",
+                                    help="With binary feedback: the probability that a hit is reported as a miss "
+                                         "(a ball that rattles out). calibrate throws a likely window that missed "
+                                         "once more where that is likelier than a hit in the windows left; 0: "
+                                         "never twice before its second pass."),
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
@@ -130,7 +135,8 @@ def learn_command(
                                            log_path=log, progress=show, robot=robot, pedestal=pedestal,
                                            until=until, centre_share=centre_share,
                                            executor=run_on, executed_on=executor, joints=driven,
-                                           bearing=bearing, height=height, carry_from=carry, gap=arm.name))
+                                           bearing=bearing, height=height, carry_from=carry, gap=arm.name,
+                                           misreport=misreport))
     for note in result.notes:
         say(note)
     written = _write_best(result, robot, out, fmt, period, driven, bearing) if out is not None else None

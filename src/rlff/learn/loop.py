@@ -60,6 +60,7 @@ from rlff.learn.reach import (
     widest_hit,
 )
 from rlff.learn.strategies import STRATEGIES
+from rlff.learn.windows import MISREPORT
 from rlff.limits import check_pedestal
 from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
@@ -197,6 +198,7 @@ def learn(
     height: float | None = None,
     carry_from: Sequence[str | Path] = (),
     gap: str = "none",
+    misreport: float = MISREPORT,
 ) -> LearningResult:
     """Learn to hit a basket at distance ``basket`` from (possibly failed) demonstrations.
 
@@ -261,6 +263,12 @@ def learn(
         :func:`rlff.sim.gap.parse_gap`). The loop plans and aims with the file; the
         simulation executes every throw as that arm would. Only with the default executor; the
         log's header records it, so a run resumes only on the same arm.
+    misreport : float
+        In [0, 1): with binary feedback, the probability that a hit is reported as a miss (a
+        ball that rattles out, a sensor that misses it). ``calibrate`` throws a likely window
+        that missed once more where a misreported hit there is likelier than a hit in the
+        windows left (:func:`rlff.learn.windows.with_retries`); 0: no window twice before the
+        second pass. A value other than the default goes into the log's header.
 
     Returns
     -------
@@ -293,6 +301,8 @@ def learn(
         raise InputError(f"unknown until {until!r} (known: {', '.join(UNTILS)})")
     if not 0 < centre_share <= 1:
         raise InputError(f"centre share must be in (0, 1] of the half-opening, got {centre_share!r}")
+    if not 0 <= misreport < 1:
+        raise InputError(f"misreport is the probability that a hit is reported as a miss, in [0, 1); got {misreport!r}")
     from rlff.sim.gap import parse_gap
 
     arm_gap = parse_gap(gap)
@@ -333,6 +343,8 @@ def learn(
         run["executor"] = executed_on
     if not arm_gap.none:  # a run without one writes no such field, so older logs resume
         run["gap"] = arm_gap.name
+    if misreport != MISREPORT:  # the default writes no such field, so older logs resume
+        run["misreport"] = misreport
     if _whole_arm(mapping):
         run["joints"] = list(mapping.driven_joints)
     carried, carry_notes = carried_offsets(carry_from, run) if carry_from else ((), [])
@@ -341,7 +353,8 @@ def learn(
     log = AttemptLog(log_path, run) if log_path is not None else None
     try:
         result = _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
-                      progress, until, centre_window, pedestal, components, tuple(run.get("carried", ())))
+                      progress, until, centre_window, pedestal, components, tuple(run.get("carried", ())),
+                      misreport)
         result.notes[:0] = limit_notes + carry_notes
         return result
     finally:
@@ -350,7 +363,7 @@ def learn(
 
 
 def _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor, progress,
-         until, centre_window, pedestal, components, carried) -> LearningResult:
+         until, centre_window, pedestal, components, carried, misreport) -> LearningResult:
     """The attempts of :func:`learn` after its checks, with the log (or None) held."""
     history = list(log.contents.attempts) if log else []
     resumed = len(history)
@@ -370,6 +383,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         max_speed=mapping.max_human_speeds()["velocity"],
         outputs=outputs,
         carried=carried,
+        misreport=misreport,
         **({"elasticity": release_elasticity(mapping, typical_throw(mapping, demos), target.distance,
                                              target.rim_height, pedestal),
             "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal),

@@ -22,6 +22,7 @@ import numpy as np
 
 from rlff.dataset import Dataset, Trajectory
 from rlff.learn.attempt import Attempt
+from rlff.learn.windows import MISREPORT
 
 FEEDBACKS = ("binary", "distance")
 #: The dataset columns the loop learns from (the throwing task).
@@ -77,6 +78,9 @@ class Problem:
     carried : tuple of float
         Log speed factors of earlier runs' hits over their own start (:mod:`rlff.learn.carry`):
         where this run's search centres, when given.
+    misreport : float
+        With binary feedback, the probability that a hit is reported as a miss, which the window
+        search gives a window that missed (:func:`rlff.learn.windows.with_retries`).
     """
 
     demos: Dataset
@@ -92,6 +96,7 @@ class Problem:
     saturation: Callable[[Proposal], float] | None = None
     aim: Callable[[Proposal], float] | None = None
     carried: tuple[float, ...] = ()
+    misreport: float = MISREPORT
 
     @property
     def carried_shift(self) -> float:

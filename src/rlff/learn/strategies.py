@@ -88,7 +88,7 @@ from rlff.learn.method import (
     training_set,
 )
 from rlff.learn.outcomes import all_missed, outcomes_prior
-from rlff.learn.windows import LOWEST, MISREPORT, PRIOR_SCALE, WindowSearch
+from rlff.learn.windows import LOWEST, PRIOR_SCALE, WindowSearch
 
 if TYPE_CHECKING:
     from rlff.model import Model
@@ -288,9 +288,9 @@ class CalibrateUpdate(DmmStrategy):
 
     name = "calibrate"
     robot_weight = 3.0
-    #: With binary feedback, the probability the window search gives a hit being reported as a
-    #: miss (:data:`rlff.learn.windows.MISREPORT`).
-    misreport = MISREPORT
+    #: With binary feedback, whether the window search comes back to a window that missed (with
+    #: the run's ``Problem.misreport``, :func:`rlff.learn.windows.with_retries`).
+    retries_misses = True
 
     def __init__(self, problem: Problem):
         super().__init__(problem)
@@ -389,7 +389,7 @@ class CalibrateUpdate(DmmStrategy):
             self._prior, density = self.speed_prior()
             self._windows = WindowSearch(problem.target, problem.tolerance, math.log(fastest / self.reference),
                                          density, scale=scale, elasticity=problem.elasticity, centre=centre,
-                                         misreport=self.misreport)
+                                         misreport=problem.misreport if self.retries_misses else 0.0)
         return self._windows
 
     def speed_centre(self) -> tuple[float, float]:
@@ -504,12 +504,13 @@ class DonutSearch(CalibrateUpdate):
 
     name = "donut"
     robot_weight = 1.0
-    #: No window twice in the first pass: the DMM's ring gives the windows masses so uneven that a
+    #: No window twice in the first pass, whatever ``--misreport`` says: the DMM's ring gives the
+    #: windows masses so uneven that a
     #: likely window's retry came before an unlikely one that was the hit (held-out block 100-107,
     #: binary: 62 of 480 runs of ``donut`` and its ablations later, none sooner, e.g. ``short``
     #: without labels 8 -> 13 throws), and with 20 % false misses it gained nothing (seeds
     #: 41000-41007, ``short``: 12.3 -> 13.4).
-    misreport = 0.0
+    retries_misses = False
 
     def speed_prior(self) -> tuple[str, Callable[[np.ndarray], np.ndarray] | None]:
         from rlff.model.donut import dmm_marginal_pdf, exploration_factor
