@@ -505,11 +505,10 @@ class DonutSearch(CalibrateUpdate):
     name = "donut"
     robot_weight = 1.0
     #: No window twice in the first pass, whatever ``--misreport`` says: the DMM's ring gives the
-    #: windows masses so uneven that a
-    #: likely window's retry came before an unlikely one that was the hit (held-out block 100-107,
-    #: binary: 62 of 480 runs of ``donut`` and its ablations later, none sooner, e.g. ``short``
-    #: without labels 8 -> 13 throws), and with 20 % false misses it gained nothing (seeds
-    #: 41000-41007, ``short``: 12.3 -> 13.4).
+    #: windows masses so uneven that a likely window's retry came before an unlikely one that was
+    #: the hit (held-out block 100-107, binary: 62 of 480 runs of ``donut`` and its ablations
+    #: later, none sooner, e.g. ``short`` without labels 8 -> 13 throws), and with 20 % false
+    #: misses it gained nothing (seeds 41000-41007, ``short``: 12.3 -> 13.4).
     retries_misses = False
 
     def speed_prior(self) -> tuple[str, Callable[[np.ndarray], np.ndarray] | None]:
