@@ -43,18 +43,15 @@ def _read(path: Path):
 
 
 def _context(items: list[str]) -> dict[str, float]:
+    from rlff.limits import parse_number  # not at import: rlff.limits loads numpy
+
     context = {}
     for item in items:
         name, sep, value = item.partition("=")
         if not sep or not name.strip():
             raise InputError(f"--context: {item!r} is not NAME=VALUE (e.g. distance=2.5)")
         name = name.strip()
-        try:
-            number = float(value)
-        except ValueError:
-            raise InputError(f"--context: {value!r} in {item!r} is not a number") from None
-        if not math.isfinite(number):
-            raise InputError(f"--context: {item!r}: the value must be a finite number")
+        number = parse_number(value, f"--context {item!r}")
         if name in context:
             raise InputError(f"--context: {name} given twice ({name}={context[name]:g} and {item}): give each context once")
         context[name] = number
