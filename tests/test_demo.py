@@ -202,6 +202,20 @@ def test_the_report_says_where_and_on_which_arm_the_robot_learns():
     assert "missed" not in hit and "goes in at every distance" in hit
 
 
+def test_the_learning_tables_title_says_where_and_on_which_arm():
+    from rlff.demo import DemoSummary
+
+    summary = DemoSummary(
+        out_dir=Path("out"), report=Path("out/report.html"), run_json=Path("out/run.json"), figures=[],
+        size="small", seed=0, demonstrations=4, demonstration_hits=0, clean_trajectories=4,
+        demonstrated_distances=[1.0, 1.5], components=1, throws=[], learning_distance=1.4,
+        learning_arm="none", learning=[],
+    )
+    assert summary.learning_setting == "not demonstrated"
+    summary.learning_distance, summary.learning_arm = 1.5, "speed:0.9"
+    assert summary.learning_setting == "demonstrated; the arm reaches 90 % of the commanded joint speeds"
+
+
 def test_the_slower_arm_is_taken_only_where_the_first_throw_misses_nowhere_on_the_faithful_one():
     from rlff.demo import SHOWCASE_GAP, _learning_arm_and_basket
 

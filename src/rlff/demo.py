@@ -193,6 +193,16 @@ class DemoSummary:
     stage_seconds: dict[str, float] = field(default_factory=dict)
     seconds: float = 0.0
 
+    @property
+    def learning_setting(self) -> str:
+        """Where the learning basket stands and on which arm, in a few words for a title:
+        ``not demonstrated`` or ``demonstrated``, then the arm where it is not its robot file."""
+        from rlff.sim.gap import parse_gap
+
+        where = "demonstrated" if self.learning_distance in self.demonstrated_distances else "not demonstrated"
+        gap = parse_gap(self.learning_arm)
+        return where if gap.none else f"{where}; the arm {arm_words(gap)}"
+
     def to_json(self) -> dict[str, Any]:
         """Plain values for ``rlff demo --json``."""
         data = asdict(self)

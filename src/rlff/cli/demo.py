@@ -25,8 +25,7 @@ def demo_command(
     from rich.table import Table
 
     from rlff.cli.output import guard
-    from rlff.demo import STAGES, arm_words, check_demo_options, run_demo
-    from rlff.sim.gap import parse_gap
+    from rlff.demo import STAGES, check_demo_options, run_demo
 
     guard(inputs={}, outputs={"-o/--output": out}, folders=["-o/--output"])
     size = "small" if small else "full"
@@ -57,10 +56,7 @@ def demo_command(
         throws.add_row(f"{row.distance:g}", "yes" if row.demonstrated else "new",
                        "yes" if row.reachable else "no", outcome)
     console.print(throws)
-    where = "demonstrated" if summary.learning_distance in summary.demonstrated_distances else "not demonstrated"
-    gap = parse_gap(summary.learning_arm)
-    arm = "" if gap.none else f"; the arm {arm_words(gap)}"
-    learning = Table(title=f"Learning from failure at {summary.learning_distance:g} m ({where}{arm})",
+    learning = Table(title=f"Learning from failure at {summary.learning_distance:g} m ({summary.learning_setting})",
                      title_justify="left")
     for column in ("method", "feedback", "result", "misses (m)"):
         learning.add_column(column)

@@ -133,8 +133,6 @@ def parse_landings(text: str) -> str:
     raise InputError(f"landings {text!r}: use exact, none or noisy:STD (a standard deviation > 0, m)")
 
 
-
-
 @dataclass(frozen=True)
 class Scenario:
     """Everything a learning run depends on besides the method and the seed.
