@@ -31,7 +31,7 @@ def loop_work_per_attempt(repeats: int = 10) -> tuple[float, float]:
     """Median wall time (ms) of one update + proposal + out-of-reach check, and of one simulated throw."""
     from rlff.learn.attempt import Attempt
     from rlff.learn.benchmark import demonstrations
-    from rlff.learn.loop import _angle_grid, _components, _learning_demos
+    from rlff.learn.demos import angle_grid, learning_demos, loop_components
     from rlff.learn.method import Problem
     from rlff.learn.reach import beyond_reach, widest_hit
     from rlff.learn.strategies import CalibrateUpdate
@@ -39,9 +39,9 @@ def loop_work_per_attempt(repeats: int = 10) -> tuple[float, float]:
     from rlff.sim import Basket, simulate_throw
     from rlff.timing import time_along_path
 
-    demos = _learning_demos(demonstrations(0))
+    demos = learning_demos(demonstrations(0))
     problem = Problem(demos=demos, target=1.9, feedback="distance", tolerance=0.14,
-                      angles=_angle_grid(demos), components=_components(demos, 0), seed=0)
+                      angles=angle_grid(demos), components=loop_components(demos, 0), seed=0)
     robot = load_robot()
     mapping = RobotMapping.for_robot(robot)
     method = CalibrateUpdate(problem)

@@ -54,15 +54,8 @@ import numpy as np
 from scipy.stats import norm
 
 from rlff.learn.attempt import Attempt
-from rlff.learn.loop import (
-    METHODS,
-    _angle_grid,
-    _components,
-    _execute,
-    _hit_tolerance,
-    _learning_demos,
-    _simulator,
-)
+from rlff.learn.demos import angle_grid, learning_demos, loop_components
+from rlff.learn.loop import METHODS, _execute, _hit_tolerance, _simulator
 from rlff.learn.method import Problem, scale_speed
 from rlff.learn.outcomes import outcomes_prior
 from rlff.learn.reach import aimed_factor
@@ -86,10 +79,10 @@ MAPPING = mapping_for(ROBOT, None)
 
 def problem_for(scenario: str, seed: int, basket: float) -> tuple[Problem, Basket]:
     """The problem the loop builds for a binary run without landings."""
-    demos = _learning_demos(demonstrations(seed, Scenario(scenario, landings="none")), MAPPING.human_columns, 0.3)
+    demos = learning_demos(demonstrations(seed, Scenario(scenario, landings="none")), MAPPING.human_columns, 0.3)
     target = Basket(basket, rim_height=0.3, opening=0.35)
     problem = Problem(demos=demos, target=basket, feedback="binary", tolerance=_hit_tolerance(target),
-                      angles=_angle_grid(demos), components=_components(demos, seed), seed=seed,
+                      angles=angle_grid(demos), components=loop_components(demos, seed), seed=seed,
                       max_speed=MAPPING.max_human_speeds()["velocity"])
     return problem, target
 

@@ -200,9 +200,9 @@ def test_the_other_demonstrators_throw_as_named(name):
 
 
 def test_the_learning_loop_thins_without_losing_the_measured_count(short_demos):
-    from rlff.learn.loop import _learning_demos
+    from rlff.learn.demos import learning_demos
 
-    thinned = _learning_demos(short_demos)
+    thinned = learning_demos(short_demos)
     assert thinned.n_samples < short_demos.n_samples / 3
     measured = sum(len(t) * t.meta["measured_share"] for t in short_demos)
     kept = sum(len(t) * t.meta["measured_share"] for t in thinned)
@@ -233,24 +233,24 @@ def test_expected_improvement_of_the_absolute_miss_matches_sampling():
 
 def test_the_sweep_alternates_in_window_steps_to_the_speed_limit_then_between(short_demos):
     from rlff.learn.baselines import RANGE_ELASTICITY, BracketingSweep
-    from rlff.learn.loop import _angle_grid, _learning_demos
+    from rlff.learn.demos import angle_grid, learning_demos
     from rlff.learn.method import Problem
 
-    demos = _learning_demos(short_demos)
-    problem = Problem(demos, 1.4, "binary", 0.14, _angle_grid(demos), 3, 0)
+    demos = learning_demos(short_demos)
+    problem = Problem(demos, 1.4, "binary", 0.14, angle_grid(demos), 3, 0)
     sweep = BracketingSweep(problem)
     step = 2 * 0.14 / (RANGE_ELASTICITY * 1.4)
     offsets = [sweep.propose([None] * k).info["log_factor"] for k in range(5)]
     np.testing.assert_allclose(offsets, [0, step, -step, 2 * step, -2 * step], atol=1e-4)
     # a limit 1.8 windows above the demonstrations' speed: the sweep throws at the limit (the
     # window at +w ends 0.3 w below it), then goes down only
-    limited = BracketingSweep(Problem(demos, 1.4, "binary", 0.14, _angle_grid(demos), 3, 0,
+    limited = BracketingSweep(Problem(demos, 1.4, "binary", 0.14, angle_grid(demos), 3, 0,
                                       max_speed=float(np.max(np.abs(sweep.mean))) * math.exp(1.8 * step)))
     offsets = [limited.propose([None] * k).info["log_factor"] for k in range(6)]
     np.testing.assert_allclose(offsets, [0, step, -step, 1.8 * step, -2 * step, -3 * step], atol=1e-4)
     assert np.max(np.abs(limited.propose([None] * 3).velocity)) == pytest.approx(limited.problem.max_speed)
     # at 1.5 windows the window at +w reaches the limit: no throw there
-    covered = BracketingSweep(Problem(demos, 1.4, "binary", 0.14, _angle_grid(demos), 3, 0,
+    covered = BracketingSweep(Problem(demos, 1.4, "binary", 0.14, angle_grid(demos), 3, 0,
                                       max_speed=float(np.max(np.abs(sweep.mean))) * math.exp(1.5 * step)))
     np.testing.assert_allclose(covered.offsets[:4], [0, step, -step, -2 * step], atol=1e-4)
     # after the whole range, the windows between: +w/2, -w/2, +3w/2, ...

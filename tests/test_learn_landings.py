@@ -159,7 +159,7 @@ def test_without_landings_the_normal_prior_is_laid_where_the_labels_law_puts_the
     # people who aimed at 0.8-1.1 m (seed 22, a tuning seed; some of their throws went in):
     # across subjects their speed grows with the label more slowly than the robot's law, so
     # the GMR mean extrapolated to 1.4 m lets go slower than the law through their labels says
-    from rlff.learn.loop import _angle_grid, _learning_demos
+    from rlff.learn.demos import angle_grid, learning_demos
     from rlff.learn.outcomes import all_missed
 
     people = demonstrations(22, Scenario("near", landings="none"))
@@ -167,8 +167,8 @@ def test_without_landings_the_normal_prior_is_laid_where_the_labels_law_puts_the
     result = learn(people, 1.4, budget=20, feedback="binary", update="calibrate", seed=22)
     first = result.history[0].info
     reference = first["speed"] / math.exp(first["log_factor"])  # u0, the GMR mean's release speed
-    demos = _learning_demos(people, ("angle",), 0.3)
-    centre = aims_shift(demos, _angle_grid(demos), 1.4, reference, 1.6)
+    demos = learning_demos(people, ("angle",), 0.3)
+    centre = aims_shift(demos, angle_grid(demos), 1.4, reference, 1.6)
     assert centre > 0.05
     assert first["prior"] == "labels" and first["log_factor"] == pytest.approx(centre, abs=1e-3)
     assert result.hit, [a.info for a in result.history]
@@ -180,8 +180,8 @@ def test_the_labels_law_window_goes_first_even_with_the_speed_limit_two_windows_
     # windows above. A prior as wide as the GMR mean's (0.3) gave the windows above the centre
     # the prior's upper side and its tail beyond the limit, and threw the one at the limit
     # first, a miss; the labels' own window goes first and hits
+    from rlff.learn.demos import angle_grid, learning_demos
     from rlff.learn.landings import LABELS_SCALE
-    from rlff.learn.loop import _angle_grid, _learning_demos
     from rlff.learn.outcomes import all_missed
     from rlff.learn.windows import WindowSearch
     from rlff.robot import load_robot, mapping_for
@@ -192,8 +192,8 @@ def test_the_labels_law_window_goes_first_even_with_the_speed_limit_two_windows_
     result = learn(people, 1.4, budget=20, feedback="binary", update="calibrate", seed=22)
     first = result.history[0].info
     reference = first["speed"] / math.exp(first["log_factor"])
-    demos = _learning_demos(people, ("angle",), 0.3)
-    centre = aims_shift(demos, _angle_grid(demos), 1.4, reference, 1.6)
+    demos = learning_demos(people, ("angle",), 0.3)
+    centre = aims_shift(demos, angle_grid(demos), 1.4, reference, 1.6)
     assert first["log_factor"] == pytest.approx(centre, abs=1e-3)
     assert result.hit and result.attempts == 1, [a.info for a in result.history]
     # the case the test is about: the GMR mean's prior width threw a faster window first

@@ -152,11 +152,11 @@ class TestSpeedCalibration:
 
 
 def make_problem(demos: Dataset, feedback: str) -> Problem:
-    from rlff.learn.loop import _angle_grid, _learning_demos
+    from rlff.learn.demos import angle_grid, learning_demos
 
-    demos = _learning_demos(demos)
+    demos = learning_demos(demos)
     return Problem(demos=demos, target=1.9, feedback=feedback, tolerance=0.14,
-                   angles=_angle_grid(demos), components=2, seed=4)
+                   angles=angle_grid(demos), components=2, seed=4)
 
 
 def fake_attempt(index: int, proposal, landing: float) -> Attempt:

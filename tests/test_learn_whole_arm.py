@@ -133,7 +133,8 @@ def test_a_basket_beyond_the_whole_arm_reach_is_refused_with_the_numbers(aimed, 
 
 
 def test_the_learnable_basket_is_where_learn_stops_refusing_and_headroom_brings_it_in(aimed, robot):
-    from rlff.learn.loop import learnable_basket, typical_throw
+    from rlff.learn.demos import typical_throw
+    from rlff.learn.loop import learnable_basket
     from rlff.learn.reach import arm_reach
     from rlff.robot import mapping_for
     from rlff.sim import Basket
@@ -178,13 +179,13 @@ def test_the_refit_and_the_calibration_drive_every_joint_by_one_time_scale(aimed
 
 def _binary_problem(aimed, robot) -> Problem:
     """The whole-arm problem the loop poses for BASKET with binary feedback (without its aim)."""
-    from rlff.learn.loop import _angle_grid, _components, _learning_demos
+    from rlff.learn.demos import angle_grid, learning_demos, loop_components
     from rlff.robot import mapping_for
 
     mapping = mapping_for(robot, ARM)
-    demos = _learning_demos(aimed, mapping.human_columns, 0.3)
+    demos = learning_demos(aimed, mapping.human_columns, 0.3)
     outputs = joint_outputs(mapping.human_columns)
-    return Problem(demos, BASKET, "binary", 0.12, _angle_grid(demos), _components(demos, 0, outputs), 0,
+    return Problem(demos, BASKET, "binary", 0.12, angle_grid(demos), loop_components(demos, 0, outputs), 0,
                    max_speed=mapping.max_human_speeds()["velocity"], outputs=outputs)
 
 
@@ -234,15 +235,15 @@ def test_bad_joints_on_the_command_line_are_one_line_and_exit_2(rlff, tmp_path):
 
 
 def test_demonstrations_at_several_rim_heights_teach_from_the_nearest():
-    from rlff.learn.loop import _learning_demos
+    from rlff.learn.demos import learning_demos
     from rlff.synthetic.throws import whole_arm_demonstrations
 
     demos = whole_arm_demonstrations(7, subjects=2, distances=(1.0, 1.5), bearings=(0.0,), heights=(0.3, 1.0))
     assert {float(t["height"][0]) for t in demos} == {0.3, 1.0}
-    high = _learning_demos(demos, ("angle", "shoulder"), rim_height=0.9)
+    high = learning_demos(demos, ("angle", "shoulder"), rim_height=0.9)
     assert len(high) == 4 and all(t.id.endswith("h1-1") for t in high)
     assert {c for t in high for c in t.columns} == {"angle", "distance", "velocity", "shoulder", "shoulder_velocity"}
-    assert len(_learning_demos(demos, ("angle", "shoulder"), rim_height=0.3)) == 4
+    assert len(learning_demos(demos, ("angle", "shoulder"), rim_height=0.3)) == 4
 
 
 @pytest.mark.slow

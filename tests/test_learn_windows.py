@@ -160,11 +160,12 @@ def test_binary_runs_throw_the_windows_in_order_and_hit(short_demos, method):
 def test_the_runs_misreport_reaches_calibrates_window_search_and_donut_keeps_none(short_demos):
     from dataclasses import replace
 
-    from rlff.learn.loop import METHODS, _angle_grid
+    from rlff.learn.demos import angle_grid
+    from rlff.learn.loop import METHODS
     from rlff.learn.method import Problem
 
     problem = Problem(demos=short_demos, target=1.4, feedback="binary", tolerance=0.14,
-                      angles=_angle_grid(short_demos), components=2, seed=0)
+                      angles=angle_grid(short_demos), components=2, seed=0)
     fastest = 30.0  # rad/s, far above the people's: the whole lattice is within reach
 
     def first_pass(method_name: str, misreport: float) -> np.ndarray:

@@ -367,7 +367,8 @@ def run_demo(
     DemoSummary
     """
     from rlff.learn import learn
-    from rlff.learn.loop import _components, _learning_demos, learnable_basket
+    from rlff.learn.demos import loop_components, usable_demos
+    from rlff.learn.loop import learnable_basket
     from rlff.learn.scenarios import with_landings
     from rlff.model import Model
     from rlff.preprocess import Pipeline
@@ -421,9 +422,11 @@ def run_demo(
         return first.hit, first.miss
 
     # no farther than what the learning loop's own throws reach (its angle grid, the motion limits)
-    learnable = min(farthest, learnable_basket(aimed, RobotMapping.for_robot(robot), basket_shape))
+    mapping = RobotMapping.for_robot(robot)
+    learnable = min(farthest, learnable_basket(aimed, mapping, basket_shape))
     learning_gap, learning_distance = _learning_arm_and_basket(demonstrated, learnable, first_throw)
-    loop_components = _components(_learning_demos(aimed), seed)
+    # the K the loop's runs fit: BIC on the set they learn from
+    loop_k = loop_components(usable_demos(aimed, mapping, basket_shape.rim_height)[0], seed)
     new = sorted({*new, learning_distance})  # its throw is in the table too
     angles = _angle_grid(clean)
     # continuity: where two modes are nearly as high, keep to the one that continues the throw
@@ -431,7 +434,6 @@ def run_demo(
     paths = {d: model.generate({"distance": d}, angles, continuity=True) for d in sorted({*shown, *new})}
 
     clock.stage(STAGES[4])
-    mapping = RobotMapping.for_robot(robot)
     throws: list[ThrowRow] = []
     for distance, path in paths.items():
         velocity = _forward(np.asarray(path.velocity, dtype=float))
@@ -475,7 +477,7 @@ def run_demo(
         size=size, seed=seed, raw=raw, raw_hits=raw_hits, clean=clean, preprocessing=preprocessing,
         model=model, paths=paths, demonstrated=demonstrated, throws=throws, farthest=farthest,
         learning_distance=learning_distance, learning_gap=learning_gap, learning=learning, budget=plan.budget,
-        loop_components=loop_components, figures=[FigureEntry(p.relative_to(out_dir).as_posix(), s, t, c) for p, s, t, c in figure_entries],
+        loop_components=loop_k, figures=[FigureEntry(p.relative_to(out_dir).as_posix(), s, t, c) for p, s, t, c in figure_entries],
         whole_arm=whole_arm,
     )
     run_json = write_run(run, out_dir)

@@ -26,7 +26,6 @@ the last recorded attempt, exactly as the uninterrupted run would have.
 
 from __future__ import annotations
 
-import hashlib
 import math
 import time as clock
 from collections.abc import Callable, Sequence
@@ -42,15 +41,18 @@ from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
 from rlff.learn.baselines import BASELINES
 from rlff.learn.carry import carried_offsets
-from rlff.learn.log import AttemptLog, robot_record
-from rlff.learn.method import (
-    COLUMNS,
-    FEEDBACKS,
-    ONE_JOINT_OUTPUTS,
-    Method,
-    Problem,
-    Proposal,
+from rlff.learn.demos import (
+    angle_grid,
+    drives_whole_arm,
+    fingerprint,
+    first_throw,
+    forward_velocity,
+    loop_components,
+    typical_throw,
+    usable_demos,
 )
+from rlff.learn.log import AttemptLog, robot_record
+from rlff.learn.method import FEEDBACKS, Method, Problem
 from rlff.learn.reach import (
     aimed_factor,
     arm_reach,
@@ -64,16 +66,7 @@ from rlff.learn.windows import MISREPORT
 from rlff.limits import check_pedestal
 from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
-from rlff.wording import plural
 
-#: Quantile of the demonstrations' last angles where generated throws release.
-RELEASE_QUANTILE = 0.25
-#: Most mixture components the loop uses.
-MAX_COMPONENTS = 4
-#: Fewest points of a generated throw.
-MIN_POINTS = 30
-#: Most demonstration samples the mixture is refitted to at every attempt.
-MAX_SAMPLES = 600
 #: Every method the loop can run, by name: update strategies first, then baselines.
 METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
 #: When a run stops: at the first hit, or at the first hit within the centre share of the opening.
@@ -316,8 +309,8 @@ def learn(
     target = Basket(float(basket), rim_height=rim, opening=opening, bearing=float(bearing))
     pedestal = check_pedestal(pedestal)
     _require_reach(robot_model, target, pedestal, mapping.driven_joints)
-    demos, limit_notes = _usable_demos(demos, mapping, target.rim_height)
-    components = _components(demos, seed, joint_outputs(mapping.human_columns))
+    demos, limit_notes = usable_demos(demos, mapping, target.rim_height)
+    components = loop_components(demos, seed, joint_outputs(mapping.human_columns))
     _require_executable(mapping, target, pedestal, demos, components, seed)
     if executor is None:
         executor = _simulator(robot_model, target, pedestal, arm_gap)
@@ -345,7 +338,7 @@ def learn(
         run["gap"] = arm_gap.name
     if misreport != MISREPORT:  # the default writes no such field, so older logs resume
         run["misreport"] = misreport
-    if _whole_arm(mapping):
+    if drives_whole_arm(mapping):
         run["joints"] = list(mapping.driven_joints)
     carried, carry_notes = carried_offsets(carry_from, run) if carry_from else ((), [])
     if carried:
@@ -377,7 +370,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         target=target.distance,
         feedback=feedback,
         tolerance=min(_hit_tolerance(target), centre_window),
-        angles=_angle_grid(demos),
+        angles=angle_grid(demos),
         components=components,
         seed=seed,
         max_speed=mapping.max_human_speeds()["velocity"],
@@ -388,7 +381,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
                                              target.rim_height, pedestal),
             "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal),
             "saturation": partial(saturation_factor, mapping)}
-           if _whole_arm(mapping) else {}),
+           if drives_whole_arm(mapping) else {}),
     )
 
     def done(attempt: Attempt) -> bool:
@@ -449,7 +442,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
 def _execute(proposal, index: int, target, mapping, executor: Executor, start: float) -> Attempt:
     """Map a proposal to the robot (saturating at its limits), execute it, record what it did."""
     path = dict(proposal.path)
-    path["velocity"] = _forward_velocity(proposal.angle, proposal.velocity)
+    path["velocity"] = forward_velocity(proposal.angle, proposal.velocity)
     path["time"] = time_along_path(proposal.angle, path["velocity"])
     points, trajectory, clip_report = _plan(mapping, path, target.bearing)
     outcome = executor(trajectory)
@@ -482,73 +475,6 @@ def _plan(mapping, path, bearing: float):
     return planned.points, planned.trajectory, planned.clipped_points
 
 
-def fingerprint(demos: Dataset) -> str:
-    """Short hash of the demonstrations' samples and labels: a log resumes only for the same data.
-
-    The one-joint columns, then any other joint's columns in name order (a one-joint set hashes
-    as it always did)."""
-    digest = hashlib.sha256()
-    for trajectory in demos:
-        columns = COLUMNS + tuple(sorted(set(trajectory.columns) - set(COLUMNS)))
-        digest.update(trajectory.id.encode())
-        digest.update(np.ascontiguousarray(trajectory.to_array(columns)).tobytes())
-        digest.update(repr(trajectory.meta.get("landing")).encode())
-    return digest.hexdigest()[:16]
-
-
-def _learning_demos(demos: Dataset, human_columns: Sequence[str] = ("angle",), rim_height: float | None = None,
-                    max_samples: int = MAX_SAMPLES, driven_joints: Sequence[str] = ()) -> Dataset:
-    """The demonstrations reduced to the columns the loop learns from, thinned if dense.
-
-    The columns are ``angle``, ``distance``, ``velocity`` and, for a whole-arm throw, every
-    other driven joint's position and velocity (``human_columns``: the mapping's, ``"angle"``
-    first). Demonstrations labelled with a rim ``height`` (m) are kept only at the height
-    nearest ``rim_height``. Densified demonstrations (a sample every 0.01 rad) repeat
-    themselves; the mixture is refitted at every attempt, so every k-th sample of each throw is
-    kept (its release sample always) until the set has at most ``max_samples`` samples. A
-    throw's ``measured_share`` (the share of its samples that stand for a measurement, which BIC
-    counts) grows by what thinning dropped: the kept samples still rest on the same
-    measurements, up to one each. ``driven_joints`` (the robot joints, in the order of
-    ``human_columns``) name the joint whose column is missing in the error.
-    """
-    columns = COLUMNS + joint_outputs(human_columns)[1:]
-    demos.require(COLUMNS)
-    missing = [c for c in columns if c not in demos.columns]
-    if missing:
-        human = missing[0].removesuffix("_velocity")
-        joint = dict(zip(human_columns, driven_joints, strict=False)).get(human)
-        follows = f"which {joint} follows" if joint else f"which the throw driving {', '.join(human_columns)} needs"
-        leave = f"leave {joint} out of --joints (or drop --joints: the elbow alone)" if joint else "drop --joints"
-        raise InputError(f"the demonstrations have no column {missing[0]!r}, {follows}; columns: "
-                         f"{', '.join(demos.columns)}. Capture the {human} too (rlff data import; simulated: "
-                         f"rlff data synth throws --whole-arm --joints shoulder,elbow,wrist) or {leave}")
-    if rim_height is not None and "height" in demos.columns:
-        demos = _at_nearest_height(demos, rim_height)
-    if len(demos) < 2:
-        raise InputError(f"learning needs at least 2 demonstrations, got {len(demos)}")
-    step = max(1, math.ceil(demos.n_samples / max_samples))
-    thinned = []
-    for t in demos:
-        keep = np.unique(np.r_[np.arange(0, len(t), step), len(t) - 1])
-        meta = dict(t.meta)
-        if "measured_share" in meta:
-            meta["measured_share"] = min(1.0, float(meta["measured_share"]) * len(t) / keep.size)
-        thinned.append(t.replace(data={c: t[c][keep] for c in columns}, meta=meta))
-    return Dataset(thinned, context=("distance",))
-
-
-def _at_nearest_height(demos: Dataset, rim_height: float) -> Dataset:
-    """The demonstrations whose ``height`` label (m) is the one nearest ``rim_height`` (m)."""
-    heights = np.array([float(t["height"][0]) for t in demos])
-    nearest = heights[int(np.argmin(np.abs(heights - rim_height)))] if heights.size else rim_height
-    return demos.replace([t for t, h in zip(demos, heights, strict=True) if h == nearest])
-
-
-def _whole_arm(mapping) -> bool:
-    """Whether ``mapping`` drives more than the one joint of the ``[throwing]`` table."""
-    return len(mapping.human_columns) > 1
-
-
 def _require_reach(robot, basket, pedestal: float, joints: Sequence[str] = ("joint_2",)) -> None:
     from rlff.sim import require_reachable
     from rlff.sim.reach import PLANE_JOINTS
@@ -569,16 +495,16 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
     """
     from rlff.sim.reach import executable_reach, farthest_basket
 
-    demos, _ = _usable_demos(demos, mapping, basket.rim_height)
-    if _whole_arm(mapping):
+    demos, _ = usable_demos(demos, mapping, basket.rim_height)
+    if drives_whole_arm(mapping):
         outputs = joint_outputs(mapping.human_columns)
-        shape = _first_throw(demos, basket.distance, outputs, _components(demos, seed, outputs), seed)
+        shape = first_throw(demos, basket.distance, outputs, loop_components(demos, seed, outputs), seed)
         reach = arm_reach(mapping, shape, basket.rim_height, pedestal, headroom=headroom)
         return farthest_basket(reach.distance, basket.opening)
     if headroom:
         raise InputError("a speed headroom is a choice among the joints of a whole-arm throw; a one-joint "
                          "throw's reach is at its joint's speed limit")
-    start, release = mapping.angle_offset + mapping.angle_scale * _angle_grid(demos)[[0, -1]]
+    start, release = mapping.angle_offset + mapping.angle_scale * angle_grid(demos)[[0, -1]]
     reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from=start)
     return farthest_basket(reach.distance, basket.opening)
 
@@ -596,12 +522,12 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
     """
     from rlff.sim.reach import centimetres_below, farthest_basket, require_executable
 
-    if not _whole_arm(mapping):
-        start, release = mapping.angle_offset + mapping.angle_scale * _angle_grid(demos)[[0, -1]]
+    if not drives_whole_arm(mapping):
+        start, release = mapping.angle_offset + mapping.angle_scale * angle_grid(demos)[[0, -1]]
         require_executable(basket, mapping, pedestal, release, swing_from=start,
                            release_source="where the demonstrations let go")
         return
-    shape = _first_throw(demos, basket.distance, joint_outputs(mapping.human_columns), components, seed)
+    shape = first_throw(demos, basket.distance, joint_outputs(mapping.human_columns), components, seed)
     reach = arm_reach(mapping, shape, basket.rim_height, pedestal)
     farthest = farthest_basket(reach.distance, basket.opening)
     if basket.distance <= farthest:
@@ -617,94 +543,6 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
         f"up until {reach.limiting}, would {came_down}, so the farthest basket with a {basket.opening:.2f} m "
         f"opening is at {centimetres_below(farthest)} m (pedestal {pedestal:.2f} m){hint}"
     )
-
-
-def _first_throw(demos: Dataset, distance: float, outputs: tuple[str, ...], components: int,
-                 seed: int) -> dict[str, np.ndarray]:
-    """The GMR mean of ``demos`` (labelled as every method labels them) for ``distance`` (m) along
-    the loop's angle grid, the distance kept within the labels as the calibration keeps it
-    (:func:`rlff.learn.strategies.shape_distance`): the whole-arm throw (T,) columns the default
-    method starts from."""
-    from rlff.learn.method import known_labels, labelled_demos, training_set
-    from rlff.model import Model
-
-    labels = known_labels(demos)
-    distance = float(np.clip(distance, labels.min(), labels.max()))
-    data, _ = training_set(labelled_demos(demos), [1.0] * len(demos))
-    # with the model's restarts, as calibrate fits the demonstrations alone: the throw it starts from
-    model = Model.fit(data, inputs=("angle", "distance"), outputs=outputs, components=components, seed=seed)
-    angles = _angle_grid(demos)
-    mean = model.condition(np.column_stack([angles, np.full(angles.size, float(distance))])).mean
-    path = Proposal.of_outputs(angles, mean, outputs, distance).path
-    path["velocity"] = _forward_velocity(angles, path["velocity"])
-    return path
-
-
-def typical_throw(mapping, demos: Dataset) -> dict[str, np.ndarray]:
-    """The demonstrations' typical whole-arm throw along the loop's angle grid: the median of
-    each column of :func:`joint_outputs` (T,), the elbow's velocity forward."""
-    angles = _angle_grid(demos)
-    typical = {"angle": angles}
-    for column in joint_outputs(mapping.human_columns):
-        typical[column] = np.median([np.interp(angles, t["angle"], t[column]) for t in demos], axis=0)
-    typical["velocity"] = _forward_velocity(angles, typical["velocity"])
-    return typical
-
-
-def _usable_demos(demos: Dataset, mapping, rim_height: float) -> tuple[Dataset, list[str]]:
-    """The demonstrations as :func:`learn` learns from them through ``mapping`` at a rim of
-    ``rim_height`` (m): :func:`_learning_demos`, then :func:`_demos_within_limits`, and the notes
-    on what was left out (:func:`learnable_basket` judges the reach on the same set)."""
-    demos = _learning_demos(demos, mapping.human_columns, rim_height, driven_joints=mapping.driven_joints)
-    return _demos_within_limits(demos, mapping)
-
-
-def _demos_within_limits(demos: Dataset, mapping) -> tuple[Dataset, list[str]]:
-    """The demonstrations whose paths map inside the driven joints' position ranges, and a note
-    naming those left out.
-
-    Speeds beyond the robot's limits are allowed (the robot saturates when it executes a throw
-    that fast), but a path outside a joint's range is not a throw this robot can make: it is
-    left out with a note (one of the 45 cleaned real MSR throws maps beyond joint_2's range with
-    the whole arm, and refusing them all for it left nothing to learn from). When fewer than two are
-    left the mapping does not fit the data: :class:`InputError` naming the first. A whole-arm
-    throw checks every driven joint.
-    """
-    kept, beyond = [], []
-    for demo in demos:
-        angle = demo["angle"]
-        path = {column: demo[column] for column in demo.columns if column != "distance"}
-        path["velocity"] = _forward_velocity(angle, demo["velocity"])
-        try:
-            _, report = mapping.path_to_robot(path, clip=True)
-        except InputError as exc:
-            raise InputError(
-                f"demonstration {demo.id!r} is not one throw up to its release ({exc}); clean "
-                "the demonstrations first (rlff data preprocess --preset thesis, or --preset)"
-            ) from None
-        if not report.count("position"):
-            kept.append(demo)
-        elif _whole_arm(mapping):
-            joints = sorted({c.joint for c in report.changes if c.quantity == "position"})
-            beyond.append((demo.id, f"maps outside {', '.join(joints)}'s range ({report.summary()})",
-                           "the robot file's [whole_arm] mapping"))
-        else:
-            positions = mapping.angle_offset + mapping.angle_scale * angle[[0, -1]]
-            beyond.append((demo.id, f"maps to {mapping.joint} positions {positions[0]:.3f} .. "
-                           f"{positions[1]:.3f} rad ({report.summary()})", "the robot file's [throwing] mapping"))
-    if not beyond:
-        return demos, []
-    name, why, where = beyond[0]
-    if len(kept) < 2:
-        verb = "is" if len(beyond) == 1 else "are"
-        raise InputError(f"demonstration {name!r} is beyond the robot's joint limits: its path {why}; "
-                         f"{len(beyond)} of {plural(len(demos), 'demonstration')} {verb} beyond them, which leaves too "
-                         f"few to learn from; check {where}")
-    names = ", ".join(repr(n) for n, _, _ in beyond[:3]) + (", ..." if len(beyond) > 3 else "")
-    whose = "its" if len(beyond) == 1 else "the first's"
-    note = (f"left out {plural(len(beyond), 'demonstration')} of {len(demos)} beyond the robot's joint "
-            f"limits: {names} ({whose} path {why}); learning from the other {len(kept)}")
-    return demos.replace(kept), [note]
 
 
 def _simulator(robot, basket, pedestal: float, gap=None) -> Executor:
@@ -724,50 +562,6 @@ def _hit_tolerance(basket) -> float:
     from rlff.sim.arm import BALL_RADIUS
 
     return max(0.5 * basket.opening - BALL_RADIUS, 0.25 * basket.opening)
-
-
-def _angle_grid(demos: Dataset) -> np.ndarray:
-    """The angle grid (rad) of generated throws, shape (T,).
-
-    From the median first angle to the release angle, with the median number of samples of a
-    demonstration (at least ``MIN_POINTS``). The release is the ``RELEASE_QUANTILE`` quantile of the demonstrations' last
-    angles: early enough that most demonstrations cover the whole path, so the mixture's
-    velocity at the release rests on most of them rather than on the few that went farthest.
-    """
-    first = float(np.median([t["angle"][0] for t in demos]))
-    last = float(np.quantile([t["angle"][-1] for t in demos], RELEASE_QUANTILE))
-    count = int(np.median([len(t) for t in demos]))
-    if first == last:
-        raise InputError("the demonstrations do not move: first and last angles coincide")
-    return np.linspace(first, last, max(count, MIN_POINTS))
-
-
-def _components(demos: Dataset, seed: int, outputs: tuple[str, ...] = ONE_JOINT_OUTPUTS) -> int:
-    """Number of mixture components, chosen once by BIC on the demonstrations.
-
-    At most ``MAX_COMPONENTS``: the loop asks the mixture for distances beyond the
-    demonstrations, where many small components make the regression wiggle.
-    """
-    from rlff.model import Model
-
-    model = Model.fit(demos, inputs=("angle", "distance"), outputs=outputs,
-                      components="auto", max_components=MAX_COMPONENTS, seed=seed)
-    return int(model.n_components)
-
-
-def _forward_velocity(angle: np.ndarray, velocity: np.ndarray, crawl: float = 0.1) -> np.ndarray:
-    """Velocity (rad/s), shape (T,), with any sample against the direction of motion set to 0.
-
-    A mixture's output may dip just below zero where a throw starts from rest; a joint cannot
-    move backwards along a path that goes forwards. A proposal with no forward motion at all
-    (a DMM mode on the wrong side of zero everywhere) is executed as a crawl at ``crawl``
-    rad/s: the robot moves along the path and the ball drops, a miss like any other.
-    """
-    direction = math.copysign(1.0, float(angle[-1] - angle[0]))
-    speed = np.maximum(direction * np.asarray(velocity, dtype=float), 0.0)
-    if not np.any(speed > 0):
-        speed = np.full(speed.shape, crawl)
-    return direction * speed
 
 
 def _as_reported(attempt: Attempt, feedback: str, centre_window: float = math.inf) -> Attempt:

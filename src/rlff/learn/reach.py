@@ -66,7 +66,7 @@ def arm_reach(mapping, shape: dict[str, np.ndarray], rim_height: float, pedestal
     (:func:`rlff.trajectory.planner.plan_throw`; a swing too short for the release speed is
     preceded by a wind-up, which must stay within the position limits), so the farthest of
     these throws is ``shape`` (the loop's first throw, or the demonstrations' typical throw,
-    :func:`rlff.learn.loop.typical_throw`: columns of shape (T,) along the angle grid, the
+    :func:`rlff.learn.demos.typical_throw`: columns of shape (T,) along the angle grid, the
     velocities forward) at the largest factor that keeps the elbow's joint within its speed
     limit at the release (the other joints saturate at theirs) and that the planner can still
     execute, found by bisection; its ball comes down where the release state sends it
@@ -100,7 +100,7 @@ def release_elasticity(mapping, typical: dict[str, np.ndarray], target: float, r
                        pedestal: float = 0.0) -> float:
     """The elasticity d ln L / d ln u of the landing L in the throw's speed u near ``target`` (m),
     from the arm's kinematics: the demonstrations' typical throw (``typical``,
-    :func:`rlff.learn.loop.typical_throw`) sped up or slowed down as a
+    :func:`rlff.learn.demos.typical_throw`) sped up or slowed down as a
     whole until its release state sends the ball to ``target`` (or as far as it goes), its
     landing differentiated there. A one-joint throw from the base has about 1.6 (the speed
     calibration's prior); a whole-arm throw released above and behind the base has more, and

@@ -1,0 +1,310 @@
+"""The demonstrations as the learning loop learns from them.
+
+Before its first throw :func:`rlff.learn.learn` reduces the demonstrations to the columns it
+learns from (:func:`learning_demos`), keeps those the robot can execute (:func:`usable_demos`),
+chooses the number of mixture components by BIC (:func:`loop_components`) and lays out the angle
+grid every throw follows (:func:`angle_grid`); a whole-arm run also plans the first throw
+(:func:`first_throw`) to check the basket is within reach.
+
+The same preparation serves basket after basket: the demo's choice of a learning basket and its
+whole-arm part (:func:`rlff.learn.loop.learnable_basket`, then :func:`rlff.learn.learn`, for
+every basket) ask for it again and again with the same demonstrations. So the three costly steps
+(the limits check maps every demonstration to the robot; BIC fits a mixture per candidate K; the
+first throw fits one more) keep their last few results, looked up by a digest of everything their
+inputs hold (:class:`_ByContent`): equal inputs give the very same result, so a run is as it was
+without the store, only its start-up is shorter.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+import threading
+from collections import OrderedDict
+from collections.abc import Callable, Hashable, Sequence
+from typing import TypeVar
+
+import numpy as np
+
+from rlff.dataset import Dataset, joint_outputs
+from rlff.errors import InputError
+from rlff.learn.method import COLUMNS, ONE_JOINT_OUTPUTS, Proposal
+from rlff.wording import plural
+
+#: Quantile of the demonstrations' last angles where generated throws release.
+RELEASE_QUANTILE = 0.25
+#: Most mixture components the loop uses.
+MAX_COMPONENTS = 4
+#: Fewest points of a generated throw.
+MIN_POINTS = 30
+#: Most demonstration samples the mixture is refitted to at every attempt.
+MAX_SAMPLES = 600
+
+T = TypeVar("T")
+
+
+class _ByContent:
+    """The last ``size`` results of one pure function, by a key that digests its inputs' content.
+
+    Hand-written rather than :func:`functools.lru_cache`: the inputs (datasets, robot mappings) are
+    not hashable, and a key by identity would miss the same demonstrations read or filtered anew
+    by each call. Results are shared, not copied: datasets (read-only columns), tuples and models,
+    which nothing changes after they are made.
+    """
+
+    def __init__(self, size: int = 4):
+        self._size = size
+        self._results: OrderedDict[Hashable, object] = OrderedDict()
+        self._lock = threading.Lock()  # joblib's and Dask's threads may share the module
+
+    def get(self, key: Hashable, compute: Callable[[], T]) -> T:
+        """The result kept for ``key``, or ``compute()``'s, kept (the oldest dropped beyond the size)."""
+        with self._lock:
+            if key in self._results:
+                self._results.move_to_end(key)
+                return self._results[key]  # type: ignore[return-value]
+        result = compute()
+        with self._lock:
+            self._results[key] = result
+            while len(self._results) > self._size:
+                self._results.popitem(last=False)
+        return result
+
+
+_USABLE = _ByContent()
+_COMPONENTS = _ByContent()
+_FIRST_MODEL = _ByContent()
+
+
+def content_digest(demos: Dataset) -> str:
+    """Digest of everything ``demos`` holds: every trajectory's id, columns (names and samples)
+    and metadata, and the dataset's context columns. Two datasets with the same digest give the
+    same result in every function of this module."""
+    digest = hashlib.sha256(repr(tuple(demos.context)).encode())
+    for trajectory in demos:
+        digest.update(trajectory.id.encode())
+        for name in trajectory.columns:
+            digest.update(name.encode())
+            digest.update(np.ascontiguousarray(trajectory[name]).tobytes())
+        digest.update(repr(sorted(trajectory.meta.items())).encode())
+    return digest.hexdigest()
+
+
+def _mapping_digest(mapping) -> str:
+    """Digest of what a throw through ``mapping`` depends on (:func:`rlff.learn.log.robot_record`)."""
+    from rlff.learn.log import robot_record
+
+    return robot_record(mapping)["digest"]
+
+
+def fingerprint(demos: Dataset) -> str:
+    """Short hash of the demonstrations' samples and labels: a log resumes only for the same data.
+
+    The one-joint columns, then any other joint's columns in name order (a one-joint set hashes
+    as it always did)."""
+    digest = hashlib.sha256()
+    for trajectory in demos:
+        columns = COLUMNS + tuple(sorted(set(trajectory.columns) - set(COLUMNS)))
+        digest.update(trajectory.id.encode())
+        digest.update(np.ascontiguousarray(trajectory.to_array(columns)).tobytes())
+        digest.update(repr(trajectory.meta.get("landing")).encode())
+    return digest.hexdigest()[:16]
+
+
+def learning_demos(demos: Dataset, human_columns: Sequence[str] = ("angle",), rim_height: float | None = None,
+                    max_samples: int = MAX_SAMPLES, driven_joints: Sequence[str] = ()) -> Dataset:
+    """The demonstrations reduced to the columns the loop learns from, thinned if dense.
+
+    The columns are ``angle``, ``distance``, ``velocity`` and, for a whole-arm throw, every
+    other driven joint's position and velocity (``human_columns``: the mapping's, ``"angle"``
+    first). Demonstrations labelled with a rim ``height`` (m) are kept only at the height
+    nearest ``rim_height``. Densified demonstrations (a sample every 0.01 rad) repeat
+    themselves; the mixture is refitted at every attempt, so every k-th sample of each throw is
+    kept (its release sample always) until the set has at most ``max_samples`` samples. A
+    throw's ``measured_share`` (the share of its samples that stand for a measurement, which BIC
+    counts) grows by what thinning dropped: the kept samples still rest on the same
+    measurements, up to one each. ``driven_joints`` (the robot joints, in the order of
+    ``human_columns``) name the joint whose column is missing in the error.
+    """
+    columns = COLUMNS + joint_outputs(human_columns)[1:]
+    demos.require(COLUMNS)
+    missing = [c for c in columns if c not in demos.columns]
+    if missing:
+        human = missing[0].removesuffix("_velocity")
+        joint = dict(zip(human_columns, driven_joints, strict=False)).get(human)
+        follows = f"which {joint} follows" if joint else f"which the throw driving {', '.join(human_columns)} needs"
+        leave = f"leave {joint} out of --joints (or drop --joints: the elbow alone)" if joint else "drop --joints"
+        raise InputError(f"the demonstrations have no column {missing[0]!r}, {follows}; columns: "
+                         f"{', '.join(demos.columns)}. Capture the {human} too (rlff data import; simulated: "
+                         f"rlff data synth throws --whole-arm --joints shoulder,elbow,wrist) or {leave}")
+    if rim_height is not None and "height" in demos.columns:
+        demos = _at_nearest_height(demos, rim_height)
+    if len(demos) < 2:
+        raise InputError(f"learning needs at least 2 demonstrations, got {len(demos)}")
+    step = max(1, math.ceil(demos.n_samples / max_samples))
+    thinned = []
+    for t in demos:
+        keep = np.unique(np.r_[np.arange(0, len(t), step), len(t) - 1])
+        meta = dict(t.meta)
+        if "measured_share" in meta:
+            meta["measured_share"] = min(1.0, float(meta["measured_share"]) * len(t) / keep.size)
+        thinned.append(t.replace(data={c: t[c][keep] for c in columns}, meta=meta))
+    return Dataset(thinned, context=("distance",))
+
+
+def _at_nearest_height(demos: Dataset, rim_height: float) -> Dataset:
+    """The demonstrations whose ``height`` label (m) is the one nearest ``rim_height`` (m)."""
+    heights = np.array([float(t["height"][0]) for t in demos])
+    nearest = heights[int(np.argmin(np.abs(heights - rim_height)))] if heights.size else rim_height
+    return demos.replace([t for t, h in zip(demos, heights, strict=True) if h == nearest])
+
+
+def drives_whole_arm(mapping) -> bool:
+    """Whether ``mapping`` drives more than the one joint of the ``[throwing]`` table."""
+    return len(mapping.human_columns) > 1
+
+
+def usable_demos(demos: Dataset, mapping, rim_height: float) -> tuple[Dataset, list[str]]:
+    """The demonstrations as :func:`rlff.learn.learn` learns from them through ``mapping`` at a rim
+    of ``rim_height`` (m): :func:`learning_demos`, then :func:`demos_within_limits`, and the notes
+    on what was left out (:func:`rlff.learn.loop.learnable_basket` judges the reach on the same set).
+    Kept by content (module notes)."""
+    def compute() -> tuple[Dataset, tuple[str, ...]]:
+        usable, notes = demos_within_limits(
+            learning_demos(demos, mapping.human_columns, rim_height, driven_joints=mapping.driven_joints), mapping)
+        return usable, tuple(notes)
+
+    usable, notes = _USABLE.get((content_digest(demos), _mapping_digest(mapping), float(rim_height)), compute)
+    return usable, list(notes)
+
+
+def demos_within_limits(demos: Dataset, mapping) -> tuple[Dataset, list[str]]:
+    """The demonstrations whose paths map inside the driven joints' position ranges, and a note
+    naming those left out.
+
+    Speeds beyond the robot's limits are allowed (the robot saturates when it executes a throw
+    that fast), but a path outside a joint's range is not a throw this robot can make: it is
+    left out with a note (one of the 45 cleaned real MSR throws maps beyond joint_2's range with
+    the whole arm, and refusing them all for it left nothing to learn from). When fewer than two are
+    left the mapping does not fit the data: :class:`InputError` naming the first. A whole-arm
+    throw checks every driven joint.
+    """
+    kept, beyond = [], []
+    for demo in demos:
+        angle = demo["angle"]
+        path = {column: demo[column] for column in demo.columns if column != "distance"}
+        path["velocity"] = forward_velocity(angle, demo["velocity"])
+        try:
+            _, report = mapping.path_to_robot(path, clip=True)
+        except InputError as exc:
+            raise InputError(
+                f"demonstration {demo.id!r} is not one throw up to its release ({exc}); clean "
+                "the demonstrations first (rlff data preprocess --preset thesis, or --preset)"
+            ) from None
+        if not report.count("position"):
+            kept.append(demo)
+        elif drives_whole_arm(mapping):
+            joints = sorted({c.joint for c in report.changes if c.quantity == "position"})
+            beyond.append((demo.id, f"maps outside {', '.join(joints)}'s range ({report.summary()})",
+                           "the robot file's [whole_arm] mapping"))
+        else:
+            positions = mapping.angle_offset + mapping.angle_scale * angle[[0, -1]]
+            beyond.append((demo.id, f"maps to {mapping.joint} positions {positions[0]:.3f} .. "
+                           f"{positions[1]:.3f} rad ({report.summary()})", "the robot file's [throwing] mapping"))
+    if not beyond:
+        return demos, []
+    name, why, where = beyond[0]
+    if len(kept) < 2:
+        verb = "is" if len(beyond) == 1 else "are"
+        raise InputError(f"demonstration {name!r} is beyond the robot's joint limits: its path {why}; "
+                         f"{len(beyond)} of {plural(len(demos), 'demonstration')} {verb} beyond them, which leaves too "
+                         f"few to learn from; check {where}")
+    names = ", ".join(repr(n) for n, _, _ in beyond[:3]) + (", ..." if len(beyond) > 3 else "")
+    whose = "its" if len(beyond) == 1 else "the first's"
+    note = (f"left out {plural(len(beyond), 'demonstration')} of {len(demos)} beyond the robot's joint "
+            f"limits: {names} ({whose} path {why}); learning from the other {len(kept)}")
+    return demos.replace(kept), [note]
+
+
+def angle_grid(demos: Dataset) -> np.ndarray:
+    """The angle grid (rad) of generated throws, shape (T,).
+
+    From the median first angle to the release angle, with the median number of samples of a
+    demonstration (at least ``MIN_POINTS``). The release is the ``RELEASE_QUANTILE`` quantile of the demonstrations' last
+    angles: early enough that most demonstrations cover the whole path, so the mixture's
+    velocity at the release rests on most of them rather than on the few that went farthest.
+    """
+    first = float(np.median([t["angle"][0] for t in demos]))
+    last = float(np.quantile([t["angle"][-1] for t in demos], RELEASE_QUANTILE))
+    count = int(np.median([len(t) for t in demos]))
+    if first == last:
+        raise InputError("the demonstrations do not move: first and last angles coincide")
+    return np.linspace(first, last, max(count, MIN_POINTS))
+
+
+def loop_components(demos: Dataset, seed: int, outputs: tuple[str, ...] = ONE_JOINT_OUTPUTS) -> int:
+    """Number of mixture components, chosen once by BIC on the demonstrations (kept by content,
+    module notes).
+
+    At most ``MAX_COMPONENTS``: the loop asks the mixture for distances beyond the
+    demonstrations, where many small components make the regression wiggle.
+    """
+    from rlff.model import Model
+
+    def compute() -> int:
+        model = Model.fit(demos, inputs=("angle", "distance"), outputs=outputs,
+                          components="auto", max_components=MAX_COMPONENTS, seed=seed)
+        return int(model.n_components)
+
+    return _COMPONENTS.get((content_digest(demos), int(seed), tuple(outputs)), compute)
+
+
+def first_throw(demos: Dataset, distance: float, outputs: tuple[str, ...], components: int,
+                 seed: int) -> dict[str, np.ndarray]:
+    """The GMR mean of ``demos`` (labelled as every method labels them) for ``distance`` (m) along
+    the loop's angle grid, the distance kept within the labels as the calibration keeps it
+    (:func:`rlff.learn.strategies.shape_distance`): the whole-arm throw (T,) columns the default
+    method starts from. The demonstrations' model is kept by content (module notes)."""
+    from rlff.learn.method import known_labels, labelled_demos, training_set
+    from rlff.model import Model
+
+    labels = known_labels(demos)
+    distance = float(np.clip(distance, labels.min(), labels.max()))
+
+    def fit():
+        data, _ = training_set(labelled_demos(demos), [1.0] * len(demos))
+        # with the model's restarts, as calibrate fits the demonstrations alone: the throw it starts from
+        return Model.fit(data, inputs=("angle", "distance"), outputs=outputs, components=components, seed=seed)
+
+    model = _FIRST_MODEL.get((content_digest(demos), tuple(outputs), int(components), int(seed)), fit)
+    angles = angle_grid(demos)
+    mean = model.condition(np.column_stack([angles, np.full(angles.size, float(distance))])).mean
+    path = Proposal.of_outputs(angles, mean, outputs, distance).path
+    path["velocity"] = forward_velocity(angles, path["velocity"])
+    return path
+
+
+def typical_throw(mapping, demos: Dataset) -> dict[str, np.ndarray]:
+    """The demonstrations' typical whole-arm throw along the loop's angle grid: the median of
+    each column of :func:`joint_outputs` (T,), the elbow's velocity forward."""
+    angles = angle_grid(demos)
+    typical = {"angle": angles}
+    for column in joint_outputs(mapping.human_columns):
+        typical[column] = np.median([np.interp(angles, t["angle"], t[column]) for t in demos], axis=0)
+    typical["velocity"] = forward_velocity(angles, typical["velocity"])
+    return typical
+
+
+def forward_velocity(angle: np.ndarray, velocity: np.ndarray, crawl: float = 0.1) -> np.ndarray:
+    """Velocity (rad/s), shape (T,), with any sample against the direction of motion set to 0.
+
+    A mixture's output may dip just below zero where a throw starts from rest; a joint cannot
+    move backwards along a path that goes forwards. A proposal with no forward motion at all
+    (a DMM mode on the wrong side of zero everywhere) is executed as a crawl at ``crawl``
+    rad/s: the robot moves along the path and the ball drops, a miss like any other.
+    """
+    direction = math.copysign(1.0, float(angle[-1] - angle[0]))
+    speed = np.maximum(direction * np.asarray(velocity, dtype=float), 0.0)
+    if not np.any(speed > 0):
+        speed = np.full(speed.shape, crawl)
+    return direction * speed

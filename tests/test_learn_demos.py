@@ -1,0 +1,45 @@
+"""The demonstrations as the loop learns from them: the preparation is kept by content, never by
+the object, and a dataset that differs in anything gets its own."""
+
+from __future__ import annotations
+
+import pytest
+
+from rlff.dataset import Dataset
+from rlff.learn.demos import content_digest, loop_components, usable_demos
+from rlff.robot import RobotMapping, load_robot
+
+
+@pytest.fixture(scope="module")
+def clean() -> Dataset:
+    from rlff.preprocess import Pipeline
+    from rlff.synthetic.throws import simulate_throws
+
+    raw = simulate_throws(5, subjects=3, distances=(1.0, 1.5), throws_per_distance=2)
+    return Pipeline.preset("thesis").run(raw)[0]
+
+
+def _copy(demos: Dataset, **meta) -> Dataset:
+    """A new dataset with the same samples; ``meta`` changes the first trajectory's metadata."""
+    first, *rest = demos
+    return demos.replace([first.replace(meta={**first.meta, **meta}), *rest])
+
+
+def test_the_same_content_read_anew_gets_the_same_preparation(clean):
+    mapping = RobotMapping.for_robot(load_robot())
+    usable, notes = usable_demos(clean, mapping, 0.3)
+    again, again_notes = usable_demos(_copy(clean), RobotMapping.for_robot(load_robot()), 0.3)
+    assert again is usable and again_notes == notes
+    assert loop_components(usable, 2) == loop_components(_copy(usable), 2)
+
+
+def test_demonstrations_that_differ_in_their_metadata_are_prepared_on_their_own(clean):
+    mapping = RobotMapping.for_robot(load_robot())
+    usable, _ = usable_demos(clean, mapping, 0.3)
+    relabelled = _copy(clean, hit=not clean[0].meta.get("hit"), landing=1.23)
+    assert content_digest(relabelled) != content_digest(clean)
+    other, _ = usable_demos(relabelled, mapping, 0.3)
+    assert other is not usable
+    assert other[0].meta["landing"] == 1.23 and usable[0].meta.get("landing") != 1.23
+    # another rim height is another preparation too
+    assert usable_demos(clean, mapping, 0.6)[0] is not usable
