@@ -127,7 +127,7 @@ def test_a_basket_beyond_the_whole_arm_reach_is_refused_with_the_numbers(aimed, 
     table = dict(robot.whole_arm)
     elbow = dict(table["joints"]["joint_3"], offset=table["joints"]["joint_3"]["offset"] - 0.6)
     behind = replace(robot, whole_arm={**table, "joints": {**table["joints"], "joint_3": elbow}})
-    with pytest.raises(InputError, match=r"out of reach of the whole-arm throws.*joint_3, joint_2.*farthest basket.*"
+    with pytest.raises(InputError, match=r"out of reach of the whole-arm throws.*joint_2, joint_3.*farthest basket.*"
                                          r"--joints joint_2,joint_3,joint_5 may reach farther"):
         learn(aimed, 3.5, joints=ARM, robot=behind)
 

@@ -539,7 +539,7 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
     hint = f"; --joints {','.join((*sorted(mapping.driven_joints), *more))} may reach farther" if more else ""
     raise InputError(
         f"basket at {basket.distance:.2f} m is out of reach of the whole-arm throws this robot executes: the "
-        f"loop's first throw for it (the demonstrations' GMR mean) with {', '.join(mapping.driven_joints)}, sped "
+        f"loop's first throw for it (the demonstrations' GMR mean) with {', '.join(sorted(mapping.driven_joints))}, sped "
         f"up until {reach.limiting}, would {came_down}, so the farthest basket with a {basket.opening:.2f} m "
         f"opening is at {centimetres_below(farthest)} m (pedestal {pedestal:.2f} m){hint}"
     )
