@@ -245,6 +245,24 @@ def test_cut_release_at_a_fixed_angle_or_at_the_velocity_peak():
     np.testing.assert_array_equal(out["a"]["velocity"], [1, 3, 5, 4])
 
 
+def test_cut_release_takes_the_middle_of_the_velocitys_top():
+    # three samples within a tenth of the fastest, the fastest first: which of a camera's few
+    # frames of the extension's fastest part is fastest is the tracker's noise
+    data = Dataset([_throw("flat", [0.5, 0.8, 1.0, 1.2, 1.4, 1.6], velocity=[1, 3, 5.0, 4.8, 4.7, 2])])
+    out, report = cut_release(data, mode="estimated", top=0.1)
+    assert out["flat"].meta["cut_angle"] == 1.2  # the middle of 1.0 .. 1.4
+    assert report.params["top"] == 0.1
+    assert cut_release(data, mode="estimated")[0]["flat"].meta["cut_angle"] == 1.0  # default: the fastest
+    assert cut_release(data, mode="estimated", top=0.03)[0]["flat"].meta["cut_angle"] == 1.0  # 4.8 < 4.85
+    # a drop after the peak counts from the top's middle, by a share of the fastest speed
+    assert cut_release(data, mode="estimated", top=0.1, after_peak=0.5)[0]["flat"].meta["cut_angle"] == 1.6
+    # a trajectory that never moves forward is cut at its least backward sample, as without a top
+    back = Dataset([_throw("back", [0.5, 0.8, 1.0], velocity=[-1, -0.5, -2])])
+    assert cut_release(back, mode="estimated", top=0.1)[0]["back"].meta["cut_angle"] == 0.8
+    with pytest.raises(InputError, match=r"top 1.0: the share of the peak speed"):
+        cut_release(data, top=1.0)
+
+
 # -- 10-11. rejection --------------------------------------------------------------------------
 
 

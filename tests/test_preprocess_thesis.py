@@ -159,3 +159,47 @@ def test_real_msr_velocity_grows_with_distance_then_levels_off(real_high_throws,
     assert np.all(np.diff(levels[short]) > 0), levels
     assert levels[short][-1] > 1.2 * levels[0], levels  # at least 20 % faster at 1.5 m than at 1 m
     assert np.all(levels[~short] > 0.85 * levels[short][-1]), levels
+
+
+@pytest.mark.realdata
+def test_a_sparse_recordings_release_is_the_middle_of_the_velocitys_top(tmp_path):
+    """The MSR a06 throws at 15 Hz and every second frame of them (7.5 Hz, as Kinect text): at the
+    fastest sample the cut wanders over the flat top's frames, the top's middle keeps the cut and
+    the loop's release (the lower quartile of the last angles) where the 15 Hz throws have them."""
+    import sys
+    from pathlib import Path
+
+    from conftest import MSR_THROWS
+
+    if not MSR_THROWS.is_dir():
+        pytest.skip(f"{MSR_THROWS} is absent")
+    sys.path.insert(0, str(Path(__file__).parent))
+    import thinned as th
+    from rlff.capture import import_recordings
+
+    sparse = []
+    for source in sorted(MSR_THROWS.glob("a06_*_skeleton3D.txt")):
+        frames = th.msr_frames(source)
+        every_second = np.arange(0, len(frames), 2)
+        sparse.append(th.write_copy(tmp_path, source.stem, frames[every_second], every_second / 15.0, "kinect-text"))
+    recordings = {
+        "15 Hz": import_recordings(sorted(MSR_THROWS.glob("a06_*_skeleton3D.txt")), "msr", joints=("elbow",))[0],
+        "7.5 Hz": import_recordings(sparse, "kinect-text", joints=("elbow",))[0],
+    }
+
+    def cleaned(data, top):
+        preset = Pipeline.preset("thesis")
+        return Pipeline([(s.name, {**s.params, "top": top} if s.name == "cut_release" else s.params)
+                         for s in preset.steps if s.enabled]).run(data)[0]
+
+    def spread_and_release(data):
+        cuts = [t.meta["cut_angle"] for t in data]
+        return np.subtract(*np.quantile(cuts, [0.75, 0.25])), np.quantile([t["angle"][-1] for t in data], 0.25)
+
+    at_15_hz = spread_and_release(cleaned(recordings["15 Hz"], 0.1))
+    fastest = spread_and_release(cleaned(recordings["7.5 Hz"], 0.0))
+    middle = spread_and_release(cleaned(recordings["7.5 Hz"], 0.1))
+    # measured: cut angles' interquartile range 1.01 rad at the fastest sample, 0.19 at the top's
+    # middle (0.18 at 15 Hz); the release 1.43 rad against 1.81 (15 Hz: 1.80)
+    assert fastest[0] > 0.6 and middle[0] < 0.35, (fastest, middle)
+    assert abs(middle[1] - at_15_hz[1]) < 0.1 < abs(fastest[1] - at_15_hz[1]), (fastest, middle, at_15_hz)

@@ -234,6 +234,7 @@ def cut_release(
     column: str = "angle",
     velocity_column: str = "velocity",
     after_peak: float = 0.0,
+    top: float = 0.0,
 ) -> tuple[Dataset, StepReport]:
     """Keep each trajectory up to the ball's release, dropping the follow-through.
 
@@ -245,13 +246,21 @@ def cut_release(
         rlff's elbow angle grows from about 0.7 to 3 rad, so a fixed cut must be chosen on that
         scale). "estimated": cut where the velocity peaks, where the acceleration turns from
         positive to negative (the thesis' suggested improvement: the ball leaves the hand near the
-        peak of the extension's speed), or later, see ``after_peak``.
+        peak of the extension's speed), or later, see ``after_peak``; with ``top``, the middle of
+        the velocity's top.
     angle : float
         Cut angle for mode "angle"; samples beyond it (in the direction of motion) are dropped.
     column, velocity_column : str
     after_peak : float
         Mode "estimated": cut at the first sample after the peak whose speed has dropped by this
         fraction of the peak (0: at the peak).
+    top : float
+        Mode "estimated": the samples about the fastest one whose speed is within this share of
+        it are the velocity's top, and the peak is the top's middle (in angle); 0 (default): the
+        fastest sample itself. A camera sees the extension's fastest 0.2 s in a few frames,
+        nearly equal in speed, so which of them is fastest is the tracker's noise: at 10 Hz the
+        cut angles of the real MSR throws spread over 1.0-3.0 rad (1.3-2.7 at 15 Hz). 0.1 is
+        measured better for recordings sparser than 15 Hz (docs/data.md, "Sparse recordings").
 
     The cut angle goes into each trajectory's metadata as ``cut_angle``. Trajectories left
     without samples (they start beyond the fixed angle) are removed with that reason.
@@ -259,8 +268,10 @@ def cut_release(
     dataset.require([column, velocity_column])
     if not 0.0 <= after_peak < 1.0:
         raise InputError(f"after_peak {after_peak}: must be in [0, 1)")
+    if not 0.0 <= top < 1.0:
+        raise InputError(f"top {top}: the share of the peak speed the velocity's top spans, must be in [0, 1)")
     params = {"mode": mode, "angle": angle, "column": column,
-              "velocity_column": velocity_column, "after_peak": after_peak}
+              "velocity_column": velocity_column, "after_peak": after_peak, "top": top}
     report = StepReport("cut_release", params, dataset)
     out = []
     for trajectory in dataset:
@@ -271,8 +282,8 @@ def cut_release(
             why = f"cut at {column} {angle:g}"
         else:
             speed = direction * trajectory[velocity_column]
-            peak = int(np.argmax(speed))
-            below = np.flatnonzero(speed[peak:] <= (1.0 - after_peak) * speed[peak]) if after_peak else [0]
+            peak = _middle_of_top(values, speed, top)
+            below = np.flatnonzero(speed[peak:] <= (1.0 - after_peak) * speed.max()) if after_peak else [0]
             keep = peak + int(below[0] if len(below) else speed.size - 1 - peak) + 1
             why = f"cut at the estimated release ({velocity_column} peak{' + drop' if after_peak else ''})"
         if keep == 0:
@@ -283,4 +294,17 @@ def cut_release(
         report.change_samples(trajectory.id, len(trajectory) - keep, 0, f"{why}: {column} {values[keep - 1]:.4g}")
     report.after = dataset.replace(out)
     return report.after, report
+
+
+def _middle_of_top(values: np.ndarray, speed: np.ndarray, top: float) -> int:
+    """Index of the sample nearest the middle (in ``values``, the angle) of the run of samples
+    about the fastest whose ``speed`` is within ``top`` of the fastest's; shapes (T,)."""
+    fastest = int(np.argmax(speed))
+    if top == 0 or speed[fastest] <= 0:  # the fastest sample; or no motion forward, no top
+        return fastest
+    within = speed >= (1.0 - top) * speed[fastest]
+    first = fastest - int(np.argmin(within[fastest::-1])) + 1 if not within[: fastest + 1].all() else 0
+    last = fastest + int(np.argmin(within[fastest:])) - 1 if not within[fastest:].all() else speed.size - 1
+    middle = 0.5 * (values[first] + values[last])
+    return first + int(np.argmin(np.abs(values[first : last + 1] - middle)))
 
