@@ -194,6 +194,9 @@ def test_a_tiny_densify_step_is_refused_with_its_numbers(rlff, files, tmp_path):
         (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploration-scale", "1,5"],
          ["(got '1,5')", "numbers take a decimal point: 1.5"]),
         (["no-such-command"], ["no-such-command"]),
+        # rlff's own option after the subcommand: where it goes
+        (["data", "preprocess", "{data}", "-o", "{tmp}/c.csv", "-q"],
+         ["No such option: -q", "-q goes before the subcommand: rlff -q data preprocess ..."]),
         # a context typed as an option: generate says how contexts go
         (["generate", "{model}", "-o", "{tmp}/g.csv", "--distance", "2"], ["--distance", "-c distance=..."]),
         (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploraton", "2"], ["Possible options: --exploration"]),

@@ -118,6 +118,9 @@ def _usage(exc, args: list[str]) -> str:
     if unknown and takes_context and not getattr(exc, "possibilities", None):  # --distance 2: a context
         name = unknown.lstrip("-").split("=")[0]
         message += f"; a context value goes as -c NAME=VALUE, e.g. -c {name}=..."
+    own = {opt for param in _command().params for opt in getattr(param, "opts", ())}
+    if unknown in own and command != "rlff":  # rlff data preprocess -q: an option of rlff itself
+        message += f"; {unknown} goes before the subcommand: rlff {unknown} {command.removeprefix('rlff ')} ..."
     return f"error: {command}: {message} (see {command} --help)"
 
 
