@@ -6,7 +6,8 @@ from __future__ import annotations
 import pytest
 
 from rlff.dataset import Dataset
-from rlff.learn.demos import content_digest, loop_components, usable_demos
+from rlff.learn.demos import loop_components, usable_demos
+from rlff.learn.memo import content_digest
 from rlff.robot import RobotMapping, load_robot
 
 
@@ -43,3 +44,19 @@ def test_demonstrations_that_differ_in_their_metadata_are_prepared_on_their_own(
     assert other[0].meta["landing"] == 1.23 and usable[0].meta.get("landing") != 1.23
     # another rim height is another preparation too
     assert usable_demos(clean, mapping, 0.6)[0] is not usable
+
+
+def test_every_method_of_a_run_starts_from_one_fit_of_the_demonstrations(clean):
+    from rlff.learn.demos import angle_grid, learning_demos
+    from rlff.learn.method import Problem, labelled_demos, training_set
+
+    demos = learning_demos(clean)
+    problem = Problem(demos, 1.4, "binary", 0.14, angle_grid(demos), 2, 0)
+    data, weights = training_set(labelled_demos(demos), [1.0] * len(demos))
+    model = problem.fit(data, weights)
+    again, _ = training_set(labelled_demos(_copy(demos)), [1.0] * len(demos))
+    assert problem.fit(again, weights.copy()) is model
+    # other weights, starts or components: another fit
+    assert problem.fit(data, 2.0 * weights) is not model
+    assert problem.fit(data, weights, n_init=1) is not model
+    assert Problem(demos, 1.4, "binary", 0.14, angle_grid(demos), 3, 0).fit(data, weights) is not model

@@ -3,32 +3,29 @@
 Before its first throw :func:`rlff.learn.learn` reduces the demonstrations to the columns it
 learns from (:func:`learning_demos`), keeps those the robot can execute (:func:`usable_demos`),
 chooses the number of mixture components by BIC (:func:`loop_components`) and lays out the angle
-grid every throw follows (:func:`angle_grid`); a whole-arm run also plans the first throw
-(:func:`first_throw`) to check the basket is within reach.
+grid every throw follows (:func:`angle_grid`).
 
 The same preparation serves basket after basket: the demo's choice of a learning basket and its
 whole-arm part (:func:`rlff.learn.loop.learnable_basket`, then :func:`rlff.learn.learn`, for
-every basket) ask for it again and again with the same demonstrations. So the three costly steps
-(the limits check maps every demonstration to the robot; BIC fits a mixture per candidate K; the
-first throw fits one more) keep their last few results, looked up by a digest of everything their
-inputs hold (:class:`_ByContent`): equal inputs give the very same result, so a run is as it was
-without the store, only its start-up is shorter.
+every basket) and a benchmark's methods ask for it again and again with the same
+demonstrations. So the two costly steps (the limits check maps every demonstration to the robot;
+BIC fits a mixture per candidate K) keep their last few results, looked up by a digest of
+everything their inputs hold (:class:`rlff.learn.memo.ByContent`): equal inputs give the very same result, so a
+run is as it was without the store, only its start-up is shorter.
 """
 
 from __future__ import annotations
 
 import hashlib
 import math
-import threading
-from collections import OrderedDict
-from collections.abc import Callable, Hashable, Sequence
-from typing import TypeVar
+from collections.abc import Sequence
 
 import numpy as np
 
 from rlff.dataset import Dataset, joint_outputs
 from rlff.errors import InputError
-from rlff.learn.method import COLUMNS, ONE_JOINT_OUTPUTS, Proposal
+from rlff.learn.memo import ByContent, content_digest
+from rlff.learn.method import COLUMNS, ONE_JOINT_OUTPUTS
 from rlff.wording import plural
 
 #: Quantile of the demonstrations' last angles where generated throws release.
@@ -40,54 +37,8 @@ MIN_POINTS = 30
 #: Most demonstration samples the mixture is refitted to at every attempt.
 MAX_SAMPLES = 600
 
-T = TypeVar("T")
-
-
-class _ByContent:
-    """The last ``size`` results of one pure function, by a key that digests its inputs' content.
-
-    Hand-written rather than :func:`functools.lru_cache`: the inputs (datasets, robot mappings) are
-    not hashable, and a key by identity would miss the same demonstrations read or filtered anew
-    by each call. Results are shared, not copied: datasets (read-only columns), tuples and models,
-    which nothing changes after they are made.
-    """
-
-    def __init__(self, size: int = 4):
-        self._size = size
-        self._results: OrderedDict[Hashable, object] = OrderedDict()
-        self._lock = threading.Lock()  # joblib's and Dask's threads may share the module
-
-    def get(self, key: Hashable, compute: Callable[[], T]) -> T:
-        """The result kept for ``key``, or ``compute()``'s, kept (the oldest dropped beyond the size)."""
-        with self._lock:
-            if key in self._results:
-                self._results.move_to_end(key)
-                return self._results[key]  # type: ignore[return-value]
-        result = compute()
-        with self._lock:
-            self._results[key] = result
-            while len(self._results) > self._size:
-                self._results.popitem(last=False)
-        return result
-
-
-_USABLE = _ByContent()
-_COMPONENTS = _ByContent()
-_FIRST_MODEL = _ByContent()
-
-
-def content_digest(demos: Dataset) -> str:
-    """Digest of everything ``demos`` holds: every trajectory's id, columns (names and samples)
-    and metadata, and the dataset's context columns. Two datasets with the same digest give the
-    same result in every function of this module."""
-    digest = hashlib.sha256(repr(tuple(demos.context)).encode())
-    for trajectory in demos:
-        digest.update(trajectory.id.encode())
-        for name in trajectory.columns:
-            digest.update(name.encode())
-            digest.update(np.ascontiguousarray(trajectory[name]).tobytes())
-        digest.update(repr(sorted(trajectory.meta.items())).encode())
-    return digest.hexdigest()
+_USABLE = ByContent()
+_COMPONENTS = ByContent()
 
 
 def _mapping_digest(mapping) -> str:
@@ -257,31 +208,6 @@ def loop_components(demos: Dataset, seed: int, outputs: tuple[str, ...] = ONE_JO
         return int(model.n_components)
 
     return _COMPONENTS.get((content_digest(demos), int(seed), tuple(outputs)), compute)
-
-
-def first_throw(demos: Dataset, distance: float, outputs: tuple[str, ...], components: int,
-                 seed: int) -> dict[str, np.ndarray]:
-    """The GMR mean of ``demos`` (labelled as every method labels them) for ``distance`` (m) along
-    the loop's angle grid, the distance kept within the labels as the calibration keeps it
-    (:func:`rlff.learn.strategies.shape_distance`): the whole-arm throw (T,) columns the default
-    method starts from. The demonstrations' model is kept by content (module notes)."""
-    from rlff.learn.method import known_labels, labelled_demos, training_set
-    from rlff.model import Model
-
-    labels = known_labels(demos)
-    distance = float(np.clip(distance, labels.min(), labels.max()))
-
-    def fit():
-        data, _ = training_set(labelled_demos(demos), [1.0] * len(demos))
-        # with the model's restarts, as calibrate fits the demonstrations alone: the throw it starts from
-        return Model.fit(data, inputs=("angle", "distance"), outputs=outputs, components=components, seed=seed)
-
-    model = _FIRST_MODEL.get((content_digest(demos), tuple(outputs), int(components), int(seed)), fit)
-    angles = angle_grid(demos)
-    mean = model.condition(np.column_stack([angles, np.full(angles.size, float(distance))])).mean
-    path = Proposal.of_outputs(angles, mean, outputs, distance).path
-    path["velocity"] = forward_velocity(angles, path["velocity"])
-    return path
 
 
 def typical_throw(mapping, demos: Dataset) -> dict[str, np.ndarray]:

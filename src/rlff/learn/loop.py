@@ -45,7 +45,6 @@ from rlff.learn.demos import (
     angle_grid,
     drives_whole_arm,
     fingerprint,
-    first_throw,
     forward_velocity,
     loop_components,
     typical_throw,
@@ -311,7 +310,7 @@ def learn(
     _require_reach(robot_model, target, pedestal, mapping.driven_joints)
     demos, limit_notes = usable_demos(demos, mapping, target.rim_height)
     components = loop_components(demos, seed, joint_outputs(mapping.human_columns))
-    _require_executable(mapping, target, pedestal, demos, components, seed)
+    _require_executable(mapping, target, pedestal, demos, components, seed, method_class)
     if executor is None:
         executor = _simulator(robot_model, target, pedestal, arm_gap)
 
@@ -364,25 +363,8 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         if progress:
             progress(attempt)
 
-    outputs = joint_outputs(mapping.human_columns)
-    problem = Problem(
-        demos=demos,
-        target=target.distance,
-        feedback=feedback,
-        tolerance=min(_hit_tolerance(target), centre_window),
-        angles=angle_grid(demos),
-        components=components,
-        seed=seed,
-        max_speed=mapping.max_human_speeds()["velocity"],
-        outputs=outputs,
-        carried=carried,
-        misreport=misreport,
-        **({"elasticity": release_elasticity(mapping, typical_throw(mapping, demos), target.distance,
-                                             target.rim_height, pedestal),
-            "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal),
-            "saturation": partial(saturation_factor, mapping)}
-           if drives_whole_arm(mapping) else {}),
-    )
+    problem = _problem(demos, target, feedback, seed, mapping, pedestal, components,
+                       tolerance=min(_hit_tolerance(target), centre_window), carried=carried, misreport=misreport)
 
     def done(attempt: Attempt) -> bool:
         return attempt.hit and abs(attempt.miss) <= centre_window
@@ -439,6 +421,47 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
     )
 
 
+def _problem(demos: Dataset, target, feedback: str, seed: int, mapping, pedestal: float, components: int, *,
+             tolerance: float, carried: tuple[float, ...] = (), misreport: float = MISREPORT) -> Problem:
+    """What a method of :func:`learn` knows before its first attempt at basket ``target``
+    (:class:`rlff.sim.Basket`), the demonstrations prepared (:func:`rlff.learn.demos.usable_demos`);
+    a whole-arm throw also the arm's aim, saturation and landing elasticity."""
+    return Problem(
+        demos=demos,
+        target=target.distance,
+        feedback=feedback,
+        tolerance=tolerance,
+        angles=angle_grid(demos),
+        components=components,
+        seed=seed,
+        max_speed=mapping.max_human_speeds()["velocity"],
+        outputs=joint_outputs(mapping.human_columns),
+        carried=carried,
+        misreport=misreport,
+        **({"elasticity": release_elasticity(mapping, typical_throw(mapping, demos), target.distance,
+                                             target.rim_height, pedestal),
+            "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal),
+            "saturation": partial(saturation_factor, mapping)}
+           if drives_whole_arm(mapping) else {}),
+    )
+
+
+def _first_shape(method_class: type[Method], demos: Dataset, mapping, basket, pedestal: float, components: int,
+                 seed: int) -> dict[str, np.ndarray]:
+    """The path (columns of shape (T,)) of the first throw ``method_class`` makes for ``basket``
+    with nothing tried yet: the shape its later throws speed up or slow down, whose reach at the
+    joints' limits decides whether a whole-arm basket is within the loop's reach. (The check used
+    the GMR mean's shape before, which is not what ``calibrate`` throws: on the real MSR throws
+    cut at the middle of the velocity's top its DMM shape reached 3.87 m where the GMR mean's
+    reached 4.29 m, and a 4 m basket was accepted that no throw of the run could reach.)"""
+    feedback = "binary" if "binary" in method_class.feedbacks else method_class.feedbacks[0]
+    problem = _problem(demos, basket, feedback, seed, mapping, pedestal, components, tolerance=_hit_tolerance(basket))
+    proposal = method_class(problem).propose([])
+    path = dict(proposal.path)
+    path["velocity"] = forward_velocity(proposal.angle, proposal.velocity)
+    return path
+
+
 def _execute(proposal, index: int, target, mapping, executor: Executor, start: float) -> Attempt:
     """Map a proposal to the robot (saturating at its limits), execute it, record what it did."""
     path = dict(proposal.path)
@@ -483,24 +506,31 @@ def _require_reach(robot, basket, pedestal: float, joints: Sequence[str] = ("joi
 
 
 def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, seed: int = 0,
-                     headroom: float = 0.0) -> float:
+                     headroom: float = 0.0, update: str = "calibrate") -> float:
     """Farthest basket centre (m) of ``basket``'s shape (its rim height and opening) that
     :func:`learn` accepts from ``demos`` through ``mapping`` (see :func:`_require_executable`):
-    what the throws of its angle grid reach, or a whole-arm throw's, what the loop's first throw
-    for ``basket``'s distance (with ``seed``) reaches.
+    what the throws of its angle grid reach, or a whole-arm throw's, what the first throw of
+    ``update`` for ``basket``'s distance (with ``seed``) reaches.
 
     ``headroom`` (whole-arm throws): the share of the joints' speed limits kept in reserve, so that
     the basket is reached at ``1 - headroom`` of the fastest throw the arm executes (0.1: at 90 %),
-    as a choice of joints for an arm that may be slower than its robot file wants it.
+    as a choice of joints for an arm that may be slower than its robot file wants it. That choice
+    takes the nearer of two reaches: the first throw of ``update`` and the demonstrations' GMR
+    mean (``imitation``'s throw, what the baselines scale). The headroom was measured with the
+    GMR mean's shape (``benchmarks/whole_arm_gap.py``); with ``calibrate``'s shape alone, seed
+    6's people at 4 m kept joints 2 and 3 by 4 cm, and an arm that lets go 20 ms late missed there.
     """
     from rlff.sim.reach import executable_reach, farthest_basket
 
     demos, _ = usable_demos(demos, mapping, basket.rim_height)
     if drives_whole_arm(mapping):
-        outputs = joint_outputs(mapping.human_columns)
-        shape = first_throw(demos, basket.distance, outputs, loop_components(demos, seed, outputs), seed)
-        reach = arm_reach(mapping, shape, basket.rim_height, pedestal, headroom=headroom)
-        return farthest_basket(reach.distance, basket.opening)
+        if update not in METHODS:
+            raise InputError(f"unknown update {update!r} (known: {', '.join(METHODS)})")
+        components = loop_components(demos, seed, joint_outputs(mapping.human_columns))
+        methods = {update, "imitation"} if headroom else {update}
+        reach = min(arm_reach(mapping, _first_shape(METHODS[name], demos, mapping, basket, pedestal, components, seed),
+                              basket.rim_height, pedestal, headroom=headroom).distance for name in sorted(methods))
+        return farthest_basket(reach, basket.opening)
     if headroom:
         raise InputError("a speed headroom is a choice among the joints of a whole-arm throw; a one-joint "
                          "throw's reach is at its joint's speed limit")
@@ -510,15 +540,15 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
 
 
 def _require_executable(mapping, basket, pedestal: float, demos: Dataset, components: int = 1,
-                        seed: int = 0) -> None:
+                        seed: int = 0, method_class: type[Method] | None = None) -> None:
     """Refuse a basket that no throw of this loop can reach, before the first throw.
 
     Every method throws along the same angle grid (rad, shape (T,)), so the driven joint swings
     from its mapped first angle and lets go at the mapped last one, at most at its speed limit
     (and what its acceleration and jerk limits allow over that swing), the other joints at the
-    start pose. A whole-arm throw: the loop's first throw for the basket (the GMR mean of the
-    demonstrations for its distance, with ``components`` and ``seed``: the shape every method
-    starts from) at the fastest the arm executes it (:func:`arm_reach`).
+    start pose. A whole-arm throw: the first throw of ``method_class`` (default ``calibrate``)
+    for the basket (:func:`_first_shape`, with ``components`` and ``seed``) at the fastest the
+    arm executes it (:func:`arm_reach`).
     """
     from rlff.sim.reach import centimetres_below, farthest_basket, require_executable
 
@@ -527,7 +557,8 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
         require_executable(basket, mapping, pedestal, release, swing_from=start,
                            release_source="where the demonstrations let go")
         return
-    shape = first_throw(demos, basket.distance, joint_outputs(mapping.human_columns), components, seed)
+    method_class = method_class or METHODS["calibrate"]
+    shape = _first_shape(method_class, demos, mapping, basket, pedestal, components, seed)
     reach = arm_reach(mapping, shape, basket.rim_height, pedestal)
     farthest = farthest_basket(reach.distance, basket.opening)
     if basket.distance <= farthest:
@@ -539,7 +570,7 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
     hint = f"; --joints {','.join((*sorted(mapping.driven_joints), *more))} may reach farther" if more else ""
     raise InputError(
         f"basket at {basket.distance:.2f} m is out of reach of the whole-arm throws this robot executes: the "
-        f"loop's first throw for it (the demonstrations' GMR mean) with {', '.join(sorted(mapping.driven_joints))}, sped "
+        f"first throw of {method_class.name} for it with {', '.join(sorted(mapping.driven_joints))}, sped "
         f"up until {reach.limiting}, would {came_down}, so the farthest basket with a {basket.opening:.2f} m "
         f"opening is at {centimetres_below(farthest)} m (pedestal {pedestal:.2f} m){hint}"
     )

@@ -22,6 +22,7 @@ import numpy as np
 
 from rlff.dataset import Dataset, Trajectory
 from rlff.learn.attempt import Attempt
+from rlff.learn.memo import ByContent, content_digest
 from rlff.learn.windows import MISREPORT
 
 FEEDBACKS = ("binary", "distance")
@@ -29,6 +30,8 @@ FEEDBACKS = ("binary", "distance")
 COLUMNS = ("angle", "distance", "velocity")
 #: Outputs of the one-joint model: the elbow's velocity along its angle.
 ONE_JOINT_OUTPUTS = ("velocity",)
+#: The last mixtures :meth:`Problem.fit` made, by the content of what they were fitted to.
+_FITS = ByContent()
 
 
 @dataclass(frozen=True)
@@ -106,12 +109,16 @@ class Problem:
     def fit(self, data: Dataset, sample_weight: np.ndarray | None = None, n_init: int | None = None):
         """The mixture over (angle, distance) -> :attr:`outputs` of ``data`` (an
         :class:`rlff.model.Model`), with the run's number of components and seed, ``n_init`` EM
-        starts (default: the model's)."""
+        starts (default: the model's). Kept by content (:mod:`rlff.learn.memo`): every method
+        and every reach check of a run starts from the same fit of the demonstrations."""
         from rlff.model import Model
 
         starts = {} if n_init is None else {"n_init": n_init}
-        return Model.fit(data, inputs=("angle", "distance"), outputs=self.outputs, components=self.components,
-                         seed=self.seed, sample_weight=sample_weight, **starts)
+        weights = None if sample_weight is None else np.ascontiguousarray(sample_weight, dtype=float).tobytes()
+        key = (content_digest(data), weights, self.outputs, self.components, self.seed, n_init)
+        return _FITS.get(key, lambda: Model.fit(data, inputs=("angle", "distance"), outputs=self.outputs,
+                                                components=self.components, seed=self.seed,
+                                                sample_weight=sample_weight, **starts))
 
 
 @dataclass(frozen=True)
