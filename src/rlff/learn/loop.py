@@ -453,7 +453,7 @@ def _first_shape(method_class: type[Method], demos: Dataset, mapping, basket, pe
     joints' limits decides whether a whole-arm basket is within the loop's reach. (The check used
     the GMR mean's shape before, which is not what ``calibrate`` throws: on the real MSR throws
     cut at the middle of the velocity's top its DMM shape reached 3.87 m where the GMR mean's
-    reached 4.29 m, and a 4 m basket was accepted that no throw of the run could reach.)"""
+    reached 4.29 m, and the check accepted baskets 0.4 m beyond the run's throws.)"""
     feedback = "binary" if "binary" in method_class.feedbacks else method_class.feedbacks[0]
     problem = _problem(demos, basket, feedback, seed, mapping, pedestal, components, tolerance=_hit_tolerance(basket))
     proposal = method_class(problem).propose([])
