@@ -3,6 +3,7 @@ the object, and a dataset that differs in anything gets its own."""
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from rlff.dataset import Dataset
@@ -52,11 +53,15 @@ def test_every_method_of_a_run_starts_from_one_fit_of_the_demonstrations(clean):
 
     demos = learning_demos(clean)
     problem = Problem(demos, 1.4, "binary", 0.14, angle_grid(demos), 2, 0)
-    data, weights = training_set(labelled_demos(demos), [1.0] * len(demos))
-    model = problem.fit(data, weights)
-    again, _ = training_set(labelled_demos(_copy(demos)), [1.0] * len(demos))
-    assert problem.fit(again, weights.copy()) is model
-    # other weights, starts or components: another fit
-    assert problem.fit(data, 2.0 * weights) is not model
-    assert problem.fit(data, weights, n_init=1) is not model
-    assert Problem(demos, 1.4, "binary", 0.14, angle_grid(demos), 3, 0).fit(data, weights) is not model
+    model = problem.demonstrations_model()
+    # the same demonstrations read anew, another basket: the same fit
+    again = Problem(_copy(demos), 1.9, "distance", 0.14, angle_grid(demos), 2, 0)
+    assert again.demonstrations_model() is model
+    # what it is: the plain fit of the labelled demonstrations
+    data, _ = training_set(labelled_demos(demos), [1.0] * len(demos))
+    np.testing.assert_array_equal(problem.fit(data).mixture.means_, model.mixture.means_)
+    # other labels, components or seed: another fit
+    assert Problem(_copy(demos, landing=1.23), 1.4, "binary", 0.14, angle_grid(demos), 2, 0).demonstrations_model() \
+        is not model
+    assert Problem(demos, 1.4, "binary", 0.14, angle_grid(demos), 3, 0).demonstrations_model() is not model
+    assert Problem(demos, 1.4, "binary", 0.14, angle_grid(demos), 2, 1).demonstrations_model() is not model

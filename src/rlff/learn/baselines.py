@@ -50,9 +50,7 @@ from rlff.learn.method import (
     Problem,
     Proposal,
     finite_miss,
-    labelled_demos,
     scale_speed,
-    training_set,
 )
 from rlff.learn.windows import (  # the sweep's windows are the window search's, unordered by a prior
     LOWEST,
@@ -73,8 +71,7 @@ class GmrBaseline(Method):
 
     def __init__(self, problem: Problem):
         super().__init__(problem)
-        data, _ = training_set(labelled_demos(problem.demos), [1.0] * len(problem.demos))
-        model = problem.fit(data)
+        model = problem.demonstrations_model()
         path = model.generate({"distance": problem.target}, problem.angles, exploration=0.0)
         #: The GMR mean's throw (every joint of it) for the target.
         self.throw = Proposal.of_outputs(path.angle, path.gmr_means, path.output_names, problem.target)

@@ -54,7 +54,9 @@ class ByContent:
 def content_digest(demos: Dataset) -> str:
     """Digest of everything ``demos`` holds: every trajectory's id, columns (names and samples)
     and metadata, and the dataset's context columns. Two datasets with the same digest give the
-    same result in every step kept by content."""
+    same result in every step kept by content. (Not :func:`rlff.learn.demos.fingerprint`: that one
+    hashes only what a throw depends on and is written into attempts logs, so it must hash as it
+    always did for old logs to resume.)"""
     digest = hashlib.sha256(repr(tuple(demos.context)).encode())
     for trajectory in demos:
         digest.update(trajectory.id.encode())

@@ -30,8 +30,8 @@ FEEDBACKS = ("binary", "distance")
 COLUMNS = ("angle", "distance", "velocity")
 #: Outputs of the one-joint model: the elbow's velocity along its angle.
 ONE_JOINT_OUTPUTS = ("velocity",)
-#: The last mixtures :meth:`Problem.fit` made, by the content of what they were fitted to.
-_FITS = ByContent()
+#: The last mixtures :meth:`Problem.demonstrations_model` made, by the demonstrations' content.
+_DEMONSTRATIONS_MODELS = ByContent()
 
 
 @dataclass(frozen=True)
@@ -109,16 +109,24 @@ class Problem:
     def fit(self, data: Dataset, sample_weight: np.ndarray | None = None, n_init: int | None = None):
         """The mixture over (angle, distance) -> :attr:`outputs` of ``data`` (an
         :class:`rlff.model.Model`), with the run's number of components and seed, ``n_init`` EM
-        starts (default: the model's). Kept by content (:mod:`rlff.learn.memo`): every method
-        and every reach check of a run starts from the same fit of the demonstrations."""
+        starts (default: the model's)."""
         from rlff.model import Model
 
         starts = {} if n_init is None else {"n_init": n_init}
-        weights = None if sample_weight is None else np.ascontiguousarray(sample_weight, dtype=float).tobytes()
-        key = (content_digest(data), weights, self.outputs, self.components, self.seed, n_init)
-        return _FITS.get(key, lambda: Model.fit(data, inputs=("angle", "distance"), outputs=self.outputs,
-                                                components=self.components, seed=self.seed,
-                                                sample_weight=sample_weight, **starts))
+        return Model.fit(data, inputs=("angle", "distance"), outputs=self.outputs, components=self.components,
+                         seed=self.seed, sample_weight=sample_weight, **starts)
+
+    def demonstrations_model(self):
+        """:meth:`fit` of the demonstrations alone, labelled as every method labels them
+        (:func:`labelled_demos`), with the model's restarts: what every method starts from.
+        Kept by content (:mod:`rlff.learn.memo`), so the methods of a benchmark and a whole-arm
+        run's reach checks share one fit; the refits at every attempt (:meth:`fit`) are not kept,
+        none of them comes twice."""
+        def fit():
+            data, _ = training_set(labelled_demos(self.demos), [1.0] * len(self.demos))
+            return self.fit(data)
+
+        return _DEMONSTRATIONS_MODELS.get((content_digest(self.demos), self.outputs, self.components, self.seed), fit)
 
 
 @dataclass(frozen=True)
