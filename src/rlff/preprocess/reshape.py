@@ -285,7 +285,8 @@ def cut_release(
             peak = _middle_of_top(values, speed, top)
             below = np.flatnonzero(speed[peak:] <= (1.0 - after_peak) * speed.max()) if after_peak else [0]
             keep = peak + int(below[0] if len(below) else speed.size - 1 - peak) + 1
-            why = f"cut at the estimated release ({velocity_column} peak{' + drop' if after_peak else ''})"
+            peak_words = f"middle of the {velocity_column}'s top" if top else f"{velocity_column} peak"
+            why = f"cut at the estimated release ({peak_words}{' + drop' if after_peak else ''})"
         if keep == 0:
             report.remove(trajectory.id, f"starts beyond the cut {column} {angle:g}")
             continue
@@ -303,8 +304,9 @@ def _middle_of_top(values: np.ndarray, speed: np.ndarray, top: float) -> int:
     if top == 0 or speed[fastest] <= 0:  # the fastest sample; or no motion forward, no top
         return fastest
     within = speed >= (1.0 - top) * speed[fastest]
-    first = fastest - int(np.argmin(within[fastest::-1])) + 1 if not within[: fastest + 1].all() else 0
-    last = fastest + int(np.argmin(within[fastest:])) - 1 if not within[fastest:].all() else speed.size - 1
+    outside = np.flatnonzero(~within)
+    first = int(outside[outside < fastest].max(initial=-1)) + 1
+    last = int(outside[outside > fastest].min(initial=speed.size)) - 1
     middle = 0.5 * (values[first] + values[last])
     return first + int(np.argmin(np.abs(values[first : last + 1] - middle)))
 
