@@ -56,3 +56,31 @@ def test_each_joint_human_and_robot_one_row_per_joint(tmp_path):
     assert saved.figure.axes[10].get_ylabel() == "joint_1 (rad)"
     with pytest.raises(InputError, match="no column 'wrist'"):
         joint_trajectories(human, robot, [("joint_5", "wrist")], tmp_path / "wrist")
+
+
+def test_the_joints_figure_shows_the_motion_the_robot_executes():
+    """The figure's human columns are the planned throw from rest to the release, in the people's
+    units: each velocity is the rate of its angle (the path the planner was given has its speeds
+    clipped into the limits at its own samples, so a saturated joint's velocity there is flat
+    while its angle rises many times faster), and the release is the one the model asked for."""
+    from rlff.robot import load_robot, mapping_for
+    from rlff.robot.plan import plan_path
+    from rlff.whole_arm_demo import executed_throw
+    from wholearm import human_throw
+
+    robot = load_robot("comau_smart5_six")
+    mapping = mapping_for(robot, ("joint_2", "joint_3"))
+    planned = plan_path(mapping, human_throw(40.0, wrist=False), clip=True)
+    sent = mapping.path_from_robot(planned.points)
+    shoulder_limit = mapping.max_human_speeds()["shoulder_velocity"]
+    assert np.ptp(sent["shoulder_velocity"]) == 0 and sent["shoulder_velocity"][0] == pytest.approx(shoulder_limit)
+
+    executed = executed_throw(planned.trajectory, mapping)
+    assert executed["time"][-1] == 0 and np.all(np.diff(executed["time"]) > 0)
+    for column, velocity in (("angle", "velocity"), ("shoulder", "shoulder_velocity")):
+        assert executed[velocity][0] == 0  # from rest
+        rate = np.gradient(executed[column], executed["time"])
+        assert np.max(np.abs(rate - executed[velocity])) < 0.02 * np.max(np.abs(executed[velocity]))
+        assert executed[column][-1] == pytest.approx(sent[column][-1], abs=1e-9)  # the release kept
+        assert executed[velocity][-1] == pytest.approx(sent[velocity][-1], abs=1e-9)
+    assert np.max(np.abs(executed["shoulder_velocity"])) <= shoulder_limit * (1 + 1e-9)

@@ -319,10 +319,9 @@ def whole_arm_figures(figures_dir: Path, whole: WholeArm, robot) -> list[tuple[P
     planned = plan_attempt(attempt, mapping, bearing=shown.bearing).trajectory
     demos = [{c: t[c] for c in t.columns} for t in whole.clean
              if float(t["distance"][0]) == shown.distance and "time" in t.columns]
-    human = attempt.path
-    human["time"] = human["time"] - human["time"][0]
-    for demo in demos:
-        demo["time"] = demo["time"] - demo["time"][0]
+    human = executed_throw(planned, mapping)
+    for demo in demos:  # a demonstration's last sample is its release
+        demo["time"] = demo["time"] - demo["time"][-1]
     saved = joint_trajectories(
         human, planned, list(zip(mapping.driven_joints, mapping.human_columns, strict=True)),
         figures_dir / "whole-arm-joints", demos=demos,
@@ -331,8 +330,36 @@ def whole_arm_figures(figures_dir: Path, whole: WholeArm, robot) -> list[tuple[P
         title=f"Each joint of the last throw at {shown.distance:g} m, {shown.bearing:g}° "
               f"({'hit' if shown.hit else 'miss'})")
     entries.append((saved.png, "whole-arm", "Each joint, human and robot",
-                    "Left: the human joints of the throw the robot made (what it executed, mapped back to the "
-                    "people's units) over its time, the demonstrations at that distance in grey. Right: the robot "
-                    "joints they drive over the planned trajectory: the approach (joint 1 turns to the bearing), "
-                    "the throw to its release (dashed) and the braking; dotted: position limits."))
+                    "Left: the throw the robot executed, from rest to the release, mapped back to the people's "
+                    "units, over the time to its release; the demonstrations at that distance in grey. Right: "
+                    "the robot joints they drive over the planned trajectory: the approach (joint 1 turns to the "
+                    "bearing), the throw to its release (dashed) and the braking; dotted: position limits."))
     return entries
+
+
+def executed_throw(planned, mapping) -> dict[str, np.ndarray]:
+    """The part of a planned whole-arm throw that makes the throw, in the people's units: from the
+    arm's last rest before the release (a wind-up included) to the release.
+
+    Not the attempt's path: that is what the planner was given, the model's shape at its own
+    samples with every speed clipped into the limits (a saturated joint's velocity is flat while
+    its angle rises at many times that), of which the planner keeps the first pose and the
+    release; the motion between is ruckig's.
+
+    Parameters
+    ----------
+    planned : rlff.trajectory.JointTrajectory
+        A planned throw (``release_time`` set).
+    mapping : rlff.robot.mapping.ArmMapping
+
+    Returns
+    -------
+    dict of str to array of shape (T,)
+        The driven human columns (rad, rad/s) and ``time`` (s in human time, 0 at the release).
+    """
+    release = int(np.searchsorted(planned.time, planned.release_time))
+    resting = np.flatnonzero(np.all(planned.velocities[:release + 1] == 0, axis=1))
+    start = int(resting[-1]) if resting.size else 0
+    path = {name: values[start:release + 1] for name, values in mapping.path_from_robot(planned).items()}
+    path["time"] = path["time"] - path["time"][-1]
+    return path

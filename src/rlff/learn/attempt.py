@@ -24,10 +24,13 @@ class Attempt:
         Distance the model was asked for (m): the target for the plain strategies, the
         calibrated label for ``calibrate``, ``nan`` for the baselines that do not query a model.
     angle, velocity : array of shape (T,)
-        What the robot did with the joint the elbow drives, mapped back to the demonstrations'
-        units (rad, rad/s).
+        The path of the joint the elbow drives as the motion planner was given it, mapped back
+        to the demonstrations' units (rad, rad/s): the proposal saturated at the robot's
+        limits, at its own samples. The planner executes its first pose and its release (the
+        last sample, all the ball's flight depends on) exactly and times the motion between
+        (:mod:`rlff.trajectory.planner`), so planning this path again gives the executed trajectory.
     time : array of shape (T,)
-        Time of each sample (s).
+        Time of each sample (s) along that path.
     hit : bool
         The ball ended in the basket.
     landing : float
@@ -45,7 +48,7 @@ class Attempt:
     info : dict
         Whatever else the method reports (JSON-serialisable), e.g. a baseline's parameters.
     arm : dict of str to array of shape (T,)
-        What the other driven joints did, in the demonstrations' units: ``shoulder`` (rad),
+        The other driven joints' path, as ``angle``'s, in the demonstrations' units: ``shoulder`` (rad),
         ``shoulder_velocity`` (rad/s), ``wrist``, ``wrist_velocity``; empty for a one-joint throw.
     """
 

@@ -18,8 +18,10 @@ basket's (a throw that drops into a 1 m rim is not one that drops into a 0.3 m r
 The loop works on what the robot does. The demonstrations are checked against the robot
 through the human-to-robot mapping before anything runs; every proposed throw is mapped to the
 robot and saturated at the joint limits if it goes beyond them (the robot never exceeds a
-limit, and the attempt says how many values were clipped); what the robot executed is mapped
-back to the demonstrations' units and that is what joins the data. Every attempt goes to the
+limit, and the attempt says how many values were clipped); that saturated path, the one the
+motion planner is given, is mapped back to the demonstrations' units and joins the data (the
+planner keeps its first pose and its release, where the ball's flight is decided, exactly, and
+replaying the attempt plans the same trajectory again). Every attempt goes to the
 attempts log the moment it ends, and a run started again with the same log continues after
 the last recorded attempt, exactly as the uninterrupted run would have.
 """

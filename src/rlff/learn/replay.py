@@ -3,11 +3,11 @@
 ``rlff robot export``, ``rlff robot send``, ``rlff sim throw`` and ``rlff learn --out`` share
 this: an input file is a generated path (CSV), a robot joint trajectory (JSON or CSV as ``rlff
 robot export`` writes them) or an attempts log with an attempt number (default: its last hit).
-An attempt is stored in the demonstrations' units (what the robot executed, mapped back), so it
-goes through the same :func:`rlff.robot.plan.plan` as a generated path: the same mapping, the
-same motion planner (approach, the throw to its release, braking to rest) and the same motion
-check, and nothing a learned throw writes can differ from what ``robot export`` writes of it.
-An attempt is replayed only with the robot it was thrown with: the log's header keeps the
+An attempt is stored in the demonstrations' units (the saturated path the planner was given,
+mapped back), so it goes through the same :func:`rlff.robot.plan.plan` as a generated path: the
+same mapping, the same motion planner (approach, the throw to its release, braking to rest) and
+the same motion check, and nothing a learned throw writes can differ from what ``robot export``
+writes of it. An attempt is replayed only with the robot it was thrown with: the log's header keeps the
 robot's description, and a different one is refused naming the first field that differs. A
 whole-arm attempt is replayed with the joints (``run["joints"]``) and the basket's bearing
 (``run["basket"]["bearing"]``) of its run: every joint it drove, joint 1 turned to the basket.

@@ -219,7 +219,7 @@ def joint_trajectories(
     Parameters
     ----------
     human : mapping of str to array of shape (T,)
-        The throw in human units: ``time`` (s) and, for every human column of ``driven``, its
+        The throw in human units: ``time`` (s, 0 at the release) and, for every human column of ``driven``, its
         position (rad) and velocity (rad/s) columns (``angle``/``velocity``,
         ``shoulder``/``shoulder_velocity``, ``wrist``/``wrist_velocity``).
     robot : rlff.trajectory.joint.JointTrajectory
@@ -229,7 +229,7 @@ def joint_trajectories(
     out : path
         File stem of the PNG and SVG.
     demos : sequence of mapping
-        Demonstrations in the columns of ``human`` (``time`` included), drawn in grey.
+        Demonstrations in the columns of ``human`` (``time`` included, 0 at the release), drawn in grey.
     limits : mapping of robot joint to (lower, upper), optional
         Position limits (rad), drawn dashed.
     turned : sequence of str
@@ -283,6 +283,7 @@ def joint_trajectories(
         for col, text in enumerate(titles):
             grid[0, col].set_title(text + (" (grey: demonstrations)" if col < 2 and demos else
                                            " (dashed: release)" if col >= 2 and release is not None else ""))
-            grid[len(driven) - 1 if col < 2 else -1, col].set_xlabel("human time (s)" if col < 2 else "robot time (s)")
+            grid[len(driven) - 1 if col < 2 else -1, col].set_xlabel("human time to the release (s)" if col < 2
+                                                                     else "robot time (s)")
         figure.suptitle(title or "Each joint of the throw, human and robot")
     return save(figure, out)
