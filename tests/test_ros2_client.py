@@ -165,7 +165,8 @@ def test_a_goal_the_server_does_not_accept_is_rejected(controller, domain, throw
 def test_the_timeout_cancels_the_goal_on_the_server(controller, domain, throw, tmp_path):
     controller.answer = controller.never_finish
     controller.cancelled.clear()
-    result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "4")
+    # long enough for the goal to be accepted on a loaded machine before the timeout cancels it
+    result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "8")
     assert result.returncode == 1
     outcome = json.loads(result.stdout)
     assert outcome["status"] == "timed out" and "goal cancelled" in outcome["error_string"]
