@@ -189,3 +189,20 @@ def test_attainable_speed_inverts_a_jerk_limited_start_from_rest(speed):
     # never beyond the speed limit, and without motion limits the speed limit at once
     assert attainable_speed(joint, 100.0) == 5.0
     assert attainable_speed(Joint("joint_2", -3.0, 3.0, 5.0), 0.01) == 5.0
+
+
+def test_a_rim_higher_than_the_ball_goes_is_refused_in_words(robot, rlff):
+    """No release of joint 2 at its speed limit gets the ball up to a 2 m rim: the reach is -inf,
+    and every check that says how far the robot throws says that instead of a number."""
+    from rlff.robot.mapping import RobotMapping
+    from rlff.sim.reach import require_executable
+
+    assert throw_reach(robot, 2.0).distance == -np.inf and centimetres_below(-np.inf) == "none"
+    with pytest.raises(InputError, match=r"never comes down through a rim 2\.00 m high .* no basket with a 0\.35 m "
+                                         r"opening at that rim height is within reach .*joint_3 too: \d\.\d\d m"):
+        require_reachable(Basket(1.0, rim_height=2.0), robot)
+    with pytest.raises(InputError, match=r"the ball never comes down through a rim 2\.00 m high"):
+        require_executable(Basket(1.0, rim_height=2.0), RobotMapping.for_robot(robot))
+    result = rlff("sim", "reach", "--height", "3")
+    assert result.code == 2 and "never comes down through a rim 3.00 m high" in result.stderr
+    assert "-inf" not in result.stderr + result.stdout

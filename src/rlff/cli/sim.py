@@ -133,7 +133,7 @@ def reach(
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import RobotMapping
     from rlff.sim import Basket, throw_reach
-    from rlff.sim.reach import executable_reach, farthest_basket
+    from rlff.sim.reach import came_down_words, executable_reach, farthest_basket
 
     model = load_robot(robot)
     names = [name.strip() for name in joints.split(",") if name.strip()]
@@ -143,6 +143,11 @@ def reach(
                          f"{math.degrees(turn.lower):.0f} to {math.degrees(turn.upper):.0f} deg")
     Basket(1.0, rim_height, opening, bearing)  # the basket's own checks of height, opening, bearing
     result = throw_reach(model, rim_height, pedestal, names)
+    if not math.isfinite(result.distance):
+        raise InputError(f"{model.name}, throwing with {', '.join(result.joints)} at the speed limit from a "
+                         f"{pedestal:g} m pedestal: the ball {came_down_words(result.distance, rim_height)}; "
+                         "a lower rim (--height), a higher pedestal (--pedestal) or more joints (--joints) may bring it "
+                         "within reach")
     farthest = farthest_basket(result.distance, opening)
     mapped = executable_reach(RobotMapping.for_robot(model), rim_height, pedestal) if model.throwing else None
     if json:
@@ -165,7 +170,10 @@ def reach(
     speed = float((result.velocity**2).sum() ** 0.5)
     out.print(f"best release: {pose}; ball at x = {result.position[0]:.3f} m, z = {result.position[1]:.3f} m, "
               f"{speed:.3f} m/s", highlight=False)
-    if mapped is not None:
+    if mapped is not None and not math.isfinite(mapped.distance):
+        out.print(f"throws of the [throwing] mapping ({mapped.joint} alone, the rest at the start pose): the ball "
+                  f"{came_down_words(mapped.distance, rim_height)}", highlight=False)
+    elif mapped is not None:
         out.print(f"throws of the [throwing] mapping ({mapped.joint} alone at {mapped.speed:.3f} rad/s, the rest at "
                   f"the start pose): at most {mapped.distance:.3f} m, released at {mapped.release:.3f} rad; farthest "
                   f"basket {farthest_basket(mapped.distance, opening):.3f} m", highlight=False)

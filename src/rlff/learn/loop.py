@@ -552,7 +552,7 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
     for the basket (:func:`_first_shape`, with ``components`` and ``seed``) at the fastest the
     arm executes it (:func:`arm_reach`).
     """
-    from rlff.sim.reach import centimetres_below, farthest_basket, require_executable
+    from rlff.sim.reach import came_down_words, farthest_basket, farthest_words, require_executable
 
     if not drives_whole_arm(mapping):
         start, release = mapping.angle_offset + mapping.angle_scale * angle_grid(demos)[[0, -1]]
@@ -565,16 +565,14 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
     farthest = farthest_basket(reach.distance, basket.opening)
     if basket.distance <= farthest:
         return
-    came_down = (f"bring the ball down to the {basket.rim_height:.2f} m rim at most {reach.distance:.2f} m away"
-                 if np.isfinite(reach.distance) else f"never bring the ball down through the {basket.rim_height:.2f} m rim")
     mapped = mapping.robot.whole_arm.get("joints", {})
     more = [name for name in mapped if name not in mapping.driven_joints]
     hint = f"; --joints {','.join((*sorted(mapping.driven_joints), *more))} may reach farther" if more else ""
     raise InputError(
         f"basket at {basket.distance:.2f} m is out of reach of the whole-arm throws this robot executes: the "
         f"first throw of {method_class.name} for it with {', '.join(sorted(mapping.driven_joints))}, sped "
-        f"up until {reach.limiting}, would {came_down}, so the farthest basket with a {basket.opening:.2f} m "
-        f"opening is at {centimetres_below(farthest)} m (pedestal {pedestal:.2f} m){hint}"
+        f"up until {reach.limiting}: the ball {came_down_words(reach.distance, basket.rim_height)}, so "
+        f"{farthest_words(farthest, basket.opening)} (pedestal {pedestal:.2f} m){hint}"
     )
 
 

@@ -121,8 +121,35 @@ def farthest_basket(reach: float, opening: float) -> float:
 
 def centimetres_below(distance: float) -> str:
     """``distance`` (m) as text, rounded down to the centimetre: a farthest basket printed is one
-    the loop takes (2.2549 m reads 2.25 m, and a basket at 2.25 m is within it)."""
+    the loop takes (2.2549 m reads 2.25 m, and a basket at 2.25 m is within it); ``none`` for a
+    reach of ``-inf`` (no throw brings the ball down through the rim's height)."""
+    if not math.isfinite(distance):
+        return "none"
     return f"{math.floor(distance * 100.0 + 1e-9) / 100.0:.2f}"
+
+
+def farthest_words(farthest: float, opening: float) -> str:
+    """The farthest basket centre (m, :func:`farthest_basket`) a reach allows, as an error says
+    it: "the farthest basket with a 0.40 m opening is at 2.25 m", or that none is within reach
+    when no throw gets the ball up to the rim."""
+    if not math.isfinite(farthest):
+        return f"no basket with a {opening:.2f} m opening at that rim height is within reach"
+    return f"the farthest basket with a {opening:.2f} m opening is at {centimetres_below(farthest)} m"
+
+
+def came_down_words(distance: float, rim_height: float) -> str:
+    """Where the farthest throw comes down (m, ``-inf`` for nowhere) through a rim ``rim_height`` m
+    high, after "the ball": "comes down to the 0.30 m rim at most 2.10 m away", or that it
+    never does."""
+    if not math.isfinite(distance):
+        return f"never comes down through a rim {rim_height:.2f} m high (it does not get that high)"
+    return f"comes down to the {rim_height:.2f} m rim at most {distance:.2f} m away"
+
+
+def _hint(distance: float, opening: float) -> str:
+    """A hint's farthest basket: "2.25 m", or "none"."""
+    text = centimetres_below(farthest_basket(distance, opening))
+    return text if text == "none" else f"{text} m"
 
 
 def require_reachable(
@@ -142,15 +169,14 @@ def require_reachable(
     hints = []
     if "joint_3" not in joints:
         more = throw_reach(robot, basket.rim_height, pedestal, (*joints, "joint_3")).distance
-        hints.append(f"with joint_3 too: {centimetres_below(farthest_basket(more, basket.opening))} m")
+        hints.append(f"with joint_3 too: {_hint(more, basket.opening)}")
     higher = throw_reach(robot, basket.rim_height, pedestal + 0.5, joints).distance
-    hints.append(f"on a pedestal 0.5 m higher: {centimetres_below(farthest_basket(higher, basket.opening))} m")
+    hints.append(f"on a pedestal 0.5 m higher: {_hint(higher, basket.opening)}")
     raise InputError(
         f"basket at {basket.distance:.2f} m is out of reach: throwing with {', '.join(joints)} at the "
-        f"speed limit, the ball comes down to the {basket.rim_height:.2f} m rim at most "
-        f"{reach.distance:.2f} m away, so the farthest basket with a {basket.opening:.2f} m opening is at "
-        f"{centimetres_below(farthest_basket(reach.distance, basket.opening))} m (pedestal {pedestal:.2f} m; farthest basket "
-        f"{'; '.join(hints)})"
+        f"speed limit, the ball {came_down_words(reach.distance, basket.rim_height)}, so "
+        f"{farthest_words(farthest_basket(reach.distance, basket.opening), basket.opening)} "
+        f"(pedestal {pedestal:.2f} m; farthest basket {'; '.join(hints)})"
     )
 
 
@@ -189,10 +215,12 @@ def _reach(arm: Arm, rim_height: float, pedestal: float, joints: tuple[str, ...]
         pose = np.clip(pose, lower, upper)
         return -float(distances(pose[None])[0, rate])
 
-    refined = minimize(objective, start, method="Nelder-Mead", options={"xatol": 1e-6, "fatol": 1e-7})
-    pose = np.clip(refined.x, lower, upper)
-    if not objective(pose) <= objective(start):
-        pose = start
+    pose = start
+    if np.isfinite(found[best]):  # else no release gets the ball up to the rim: nothing to refine
+        refined = minimize(objective, start, method="Nelder-Mead", options={"xatol": 1e-6, "fatol": 1e-7})
+        pose = np.clip(refined.x, lower, upper)
+        if not objective(pose) <= objective(start):
+            pose = start
     plane = arm.in_plane(*pose, pedestal=pedestal)
     velocity = plane.jacobian @ rates[rate]
     return Reach(
@@ -313,13 +341,11 @@ def require_executable(basket: Basket, mapping, pedestal: float = 0.0, release: 
              else "the fastest its acceleration and jerk limits allow over the swing")
     where = (f"released at {reach.release:.2f} rad" + (f" ({release_source})" if release_source else "")
              if release is not None else f"released at its best position ({reach.release:.2f} rad)")
-    came_down = (f"brings the ball down to the {basket.rim_height:.2f} m rim at most {reach.distance:.2f} m away"
-                 if np.isfinite(reach.distance) else f"never brings the ball down through the {basket.rim_height:.2f} m rim")
     raise InputError(
         f"basket at {basket.distance:.2f} m is out of reach of the throws this robot executes: {reach.joint} "
-        f"at {reach.speed:.2f} rad/s ({limit}), {where}, the other joints at the start pose, "
-        f"{came_down}, so the farthest basket with a {basket.opening:.2f} m opening is at "
-        f"{centimetres_below(farthest)} m (pedestal {pedestal:.2f} m)"
+        f"at {reach.speed:.2f} rad/s ({limit}), {where}, the other joints at the start pose: the ball "
+        f"{came_down_words(reach.distance, basket.rim_height)}, so {farthest_words(farthest, basket.opening)} "
+        f"(pedestal {pedestal:.2f} m)"
     )
 
 
