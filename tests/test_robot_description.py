@@ -95,3 +95,43 @@ def test_unknown_robot_and_joint_are_named():
         load_robot("/nonexistent/robot.toml")
     with pytest.raises(InputError, match="unknown joint 'joint_7'.*joint_1, joint_2"):
         load_robot().joint("joint_7")
+
+
+def _builtin_text() -> str:
+    from importlib import resources
+
+    return (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (("[comau_program]", "[comau_progam]"), r"unknown field 'comau_progam' \(did you mean 'comau_program'\?\)"),
+    (("position_slot = 3", "position_slott = 2"),
+     r"\[comau_program\]: unknown field 'position_slott' \(did you mean 'position_slot'\?\)"),
+    (("max_velocity = 2.792", "max_velocity = 2.792\nmax_velcoity = 9.0"),
+     r"joint 2 \(joint_2\): unknown field 'max_velcoity' \(did you mean 'max_velocity'\?\)"),
+    (("velocity_scale = 0.25", "velocity_scale = 0.25\nspeed = 2"), r"\[throwing\]: unknown field 'speed' \(known: "),
+    (("scale = 0.851", "scale = 0.851\nsclae = 1"), r"\[whole_arm.joints.joint_2\]: unknown field 'sclae'"),
+    (("[throwing.start_pose]\njoint_1 = 0.0", "[throwing.start_pose]\njoint_7 = 0.0\njoint_1 = 0.0"),
+     r"\[throwing.start_pose\] names 'joint_7', not a joint of the robot"),
+    (("upper_arm = 0.59", "upper_arm = -0.59"), r"\[geometry\] upper_arm is a length and must be positive \(m\), got -0.59"),
+    (("flange = 0.095", "flange = -0.01"), r"\[geometry\] flange is a length and must be zero or more"),
+], ids=["table", "comau-key", "joint-key", "throwing-key", "whole-arm-key", "start-pose-joint", "negative-arm",
+        "negative-flange"])
+def test_a_misspelt_key_or_an_impossible_length_is_refused_by_name(tmp_path, edit, message):
+    """A key no table holds would be ignored and its default used (a Comau program's slot, a
+    joint's speed limit): the file is refused, naming it and the nearest known key."""
+    text = _builtin_text()
+    assert edit[0] in text
+    path = tmp_path / "mine.toml"
+    path.write_text(text.replace(edit[0], edit[1], 1))
+    with pytest.raises(InputError, match=rf"mine.toml: .*{message}"):
+        load_robot(path)
+
+
+def test_a_mapping_error_names_the_file_and_its_table(tmp_path):
+    path = tmp_path / "mine.toml"
+    path.write_text(_builtin_text().replace('joint = "joint_2"', 'joint = "joint2"', 1))
+    with pytest.raises(InputError, match=r"mine.toml: \[throwing\]: unknown joint 'joint2'"):
+        from rlff.robot.mapping import RobotMapping
+
+        RobotMapping.for_robot(load_robot(path))

@@ -6,6 +6,7 @@ kinematic convention); the Comau Smart5 SiX ships with rlff, another robot is an
 
 from __future__ import annotations
 
+import difflib
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -26,6 +27,22 @@ _GEOMETRY_FIELDS = ("shoulder_height", "shoulder_forward", "upper_arm", "elbow_o
 
 #: The limits every joint of a robot file states (see :class:`Joint`).
 LIMIT_FIELDS = ("lower", "upper", "max_velocity", "max_acceleration", "max_jerk")
+
+#: What each table of a robot file may hold. A key outside them is refused by name: a misspelt
+#: one (``[comau_progam]``, ``max_velcoity``) would otherwise be ignored and its default used,
+#: so that a joint's value lands in a Comau program slot nobody asked for.
+_FIELDS = {
+    "": ("name", "description", "joints", "geometry", "throwing", "whole_arm", "comau_program"),
+    "[[joints]]": ("name", *LIMIT_FIELDS),
+    "[geometry]": _GEOMETRY_FIELDS,
+    "[throwing]": ("joint", "angle_offset", "angle_scale", "velocity_scale", "start_pose"),
+    "[whole_arm]": ("time_scale", "bearing_joint", "joints", "start_pose"),
+    "[whole_arm.joints.<joint>]": ("human", "offset", "scale"),
+    "[comau_program]": ("position_slot", "velocity_slot"),
+}
+#: Link lengths that must be positive, and distances that cannot be negative (the offsets
+#: ``shoulder_forward`` and ``elbow_offset`` are signed: see the robot file's convention).
+_POSITIVE_LENGTHS, _DISTANCES = ("upper_arm", "forearm"), ("shoulder_height", "flange")
 
 
 @dataclass(frozen=True)
@@ -157,6 +174,38 @@ def number_field(table: Mapping[str, Any], key: str, where: str) -> float:
     return float(value)
 
 
+def _require_known(table: Mapping[str, Any], kind: str, where: str) -> None:
+    """:class:`InputError` naming the first key of ``table`` that a ``kind`` table (a key of
+    :data:`_FIELDS`) does not hold, with the nearest known key when one is close."""
+    known = _FIELDS[kind]
+    for key in table:
+        if key not in known:
+            near = difflib.get_close_matches(str(key), known, n=1)
+            hint = f" (did you mean {near[0]!r}?)" if near else f" (known: {', '.join(known)})"
+            raise InputError(f"{where}: unknown field {key!r}{hint}")
+
+
+def _require_known_fields(document: Mapping[str, Any], joints: Sequence[str], source: str) -> None:
+    """Refuse a key no table of a robot file holds (see :data:`_FIELDS`), and a start pose of a
+    joint the robot does not have."""
+    _require_known(document, "", source)
+    for number, table in enumerate(document.get("joints", []), start=1):
+        _require_known(table, "[[joints]]", f"{source}: joint {number} ({table.get('name')})")
+    for key in ("geometry", "throwing", "whole_arm", "comau_program"):
+        _require_known(document.get(key, {}), f"[{key}]", f"{source}: [{key}]")
+    arm = document.get("whole_arm", {})
+    entries = arm.get("joints", {})
+    for joint, entry in entries.items() if isinstance(entries, Mapping) else ():
+        if isinstance(entry, Mapping):
+            _require_known(entry, "[whole_arm.joints.<joint>]", f"{source}: [whole_arm.joints.{joint}]")
+    for key in ("throwing", "whole_arm"):
+        pose = document.get(key, {}).get("start_pose", {})
+        unknown = [name for name in pose if name not in joints] if isinstance(pose, Mapping) else []
+        if unknown:
+            raise InputError(f"{source}: [{key}.start_pose] names {unknown[0]!r}, not a joint of the robot "
+                             f"(joints: {', '.join(joints)})")
+
+
 def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
     """Build a :class:`Robot` from a parsed robot file; errors name ``source`` and the field."""
     name = document.get("name")
@@ -181,9 +230,14 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
     for key in ("geometry", "throwing", "whole_arm", "comau_program"):
         if key in document and not isinstance(document[key], Mapping):
             raise InputError(f"{source}: [{key}] must be a table, got {document[key]!r}")
+    _require_known_fields(document, joint_names(joints), source)
     geometry = None
     if "geometry" in document:
         values = {key: number_field(document["geometry"], key, f"{source}: [geometry]") for key in _GEOMETRY_FIELDS}
+        for key in _POSITIVE_LENGTHS + _DISTANCES:
+            if values[key] < 0 or (key in _POSITIVE_LENGTHS and values[key] == 0):
+                bound = "positive" if key in _POSITIVE_LENGTHS else "zero or more"
+                raise InputError(f"{source}: [geometry] {key} is a length and must be {bound} (m), got {values[key]:g}")
         geometry = Geometry(**values)
     return Robot(name, tuple(joints), geometry, document.get("throwing", {}),
                  document.get("comau_program", {}), source, document.get("whole_arm", {}))

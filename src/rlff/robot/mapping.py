@@ -19,7 +19,8 @@ limit is an error unless clipping is asked for, and then every changed value is 
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
@@ -98,9 +99,10 @@ class RobotMapping:
         pose = table.get("start_pose")
         if not isinstance(pose, Mapping):
             raise InputError(f"{where}: missing table 'start_pose'")
-        return cls(robot, str(table["joint"]),
-                   {name: number_field(pose, name, f"{where}.start_pose") for name in pose},
-                   *(number_field(table, key, where) for key in ("angle_offset", "angle_scale", "velocity_scale")))
+        with _naming(where, robot.source):
+            return cls(robot, str(table["joint"]),
+                       {name: number_field(pose, name, f"{where}.start_pose") for name in pose},
+                       *(number_field(table, key, where) for key in ("angle_offset", "angle_scale", "velocity_scale")))
 
     def pose(self, driven: float = 0.0) -> np.ndarray:
         """Positions (J,) (rad) of every joint: the start pose, the driven joint at ``driven``."""
@@ -362,7 +364,8 @@ class ArmMapping:
             raise InputError(f"{where}: bearing_joint must be a joint name, got {bearing!r}")
         start = {name: number_field(pose, name, f"{where}.start_pose") for name in pose}
         # an undriven joint of the table rests at its start pose
-        return cls(robot, tuple(maps), start, number_field(table, "time_scale", where), bearing or None)
+        with _naming(where, robot.source):
+            return cls(robot, tuple(maps), start, number_field(table, "time_scale", where), bearing or None)
 
     @property
     def driven_joints(self) -> tuple[str, ...]:
@@ -485,6 +488,18 @@ def mapping_for(robot: Robot, joints: Sequence[str] | None = None) -> RobotMappi
     if len(joints) == 1 and joints[0] == robot.throwing.get("joint"):
         return RobotMapping.for_robot(robot)
     return ArmMapping.for_robot(robot, joints)
+
+
+@contextmanager
+def _naming(where: str, source: str) -> Iterator[None]:
+    """Prefix ``where`` (the robot file and its table) to an :class:`InputError` that does not
+    name the file already (a mapping's own checks name no file)."""
+    try:
+        yield
+    except InputError as exc:
+        if str(exc).startswith(source):
+            raise
+        raise InputError(f"{where}: {exc}") from None
 
 
 def _require_columns(path: HumanPath, columns: Sequence[str], why: str = "") -> None:
