@@ -288,6 +288,12 @@ def test_learn_out_is_what_robot_export_writes_of_the_attempt_and_it_plays_back(
     assert thrown["hit"] and thrown["miss"] == pytest.approx(payload["misses"][-1], abs=0.01)
     replayed = json.loads(cli("sim", "throw", str(log), "--json").stdout)  # basket from the log
     assert replayed["hit"] and replayed["basket"]["distance"] == 1.4
+    # at another bearing the arm turns to it: the same throw, on the new line
+    turned = json.loads(cli("sim", "throw", str(log), "--bearing", "30", "--json").stdout)
+    assert turned["basket"]["bearing"] == 30 and abs(turned["lateral"]) < 1e-3
+    assert turned["miss"] == pytest.approx(replayed["miss"], abs=1e-3)
+    other = cli("sim", "throw", str(log), "--joints", "joint_2,joint_3")  # a log's joints are its run's
+    assert other.code == 2 and "was thrown with joint_2" in other.stderr
 
 
 def test_learn_out_with_an_unknown_suffix_fails_before_any_throw(cli, demos_csv, tmp_path):

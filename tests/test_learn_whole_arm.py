@@ -85,6 +85,26 @@ def test_whole_arm_attempts_carry_every_joint_and_resume_from_the_log(aimed, rob
 
 
 @pytest.mark.slow
+def test_a_whole_arm_log_exports_with_its_own_joints(aimed, robot, tmp_path, rlff):
+    """``rlff robot export LOG -f comau`` takes the joints the run threw with (the log says them):
+    the program carries joints 2 and 3 without --joints, and other --joints are refused."""
+    from armrobot import arm_robot_file
+
+    log, program = tmp_path / "attempts.jsonl", tmp_path / "throw.txt"
+    learn(aimed, BASKET, budget=1, joints=ARM, bearing=30.0, log_path=log, robot=robot)
+    robot_file = str(arm_robot_file(tmp_path))
+    result = rlff("robot", "export", str(log), "--attempt", "1", "-f", "comau", "-o", str(program),
+                  "--robot", robot_file)
+    assert result.code == 0, result.stderr
+    rows = np.array([[float(v.strip("'")) for v in line[len("(coord_type,"):-1].split(",")]
+                     for line in program.read_text().splitlines()[1:]])
+    assert np.ptp(rows[:, 1]) > 1 and np.ptp(rows[:, 2]) > 1  # joint 2 and joint 3 move (deg)
+    refused = rlff("robot", "export", str(log), "--attempt", "1", "-f", "comau", "-o", str(program),
+                   "--robot", robot_file, "--joints", "joint_2")
+    assert refused.code == 2 and "was thrown with joint_2,joint_3" in refused.stderr
+
+
+@pytest.mark.slow
 @pytest.mark.parametrize("change, field", [
     ({"bearing": 0.0}, "basket.bearing"),
     ({"height": 0.6}, "basket.rim_height"),

@@ -115,6 +115,11 @@ def test_the_comau_program_of_a_whole_arm_throw_carries_every_driven_joint(rlff,
     release = planned.velocities[round(planned.release_time / 0.002)]
     assert rows[:, 5].max() == pytest.approx(100 * (np.abs(release[:5]) / speeds_limit(robot)).max(), abs=1e-3)
     np.testing.assert_allclose(comau_rows(planned, mapping_for(robot, ("joint_2", "joint_3"))), rows, atol=1e-4)
+    # a robot trajectory file does not say which joints it drives: the error says to give them
+    exported = tmp_path / "throw.json"
+    assert rlff("robot", "export", str(throw_csv), "--joints", JOINTS, "-f", "json", "-o", str(exported)).code == 0
+    bare = rlff("robot", "export", str(exported), "-f", "comau", "-o", str(tmp_path / "bare.txt"))
+    assert bare.code == 2 and "also moves joint_3" in bare.stderr and "(--joints, e.g. joint_2,joint_3)" in bare.stderr
 
 
 @pytest.fixture(scope="module")

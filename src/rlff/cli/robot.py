@@ -139,7 +139,7 @@ def export(
     import time as clock
 
     from rlff.cli.output import guard
-    from rlff.learn.replay import load_input
+    from rlff.learn.replay import load_input, run_mapping
     from rlff.robot.description import load_robot
     from rlff.robot.formats import export_trajectory
     from rlff.robot.mapping import mapping_for
@@ -150,6 +150,8 @@ def export(
     mapping = mapping_for(load_robot(robot), driven)
     source = load_input(trajectory, mapping.robot, attempt=attempt, period=period, clip=clip, joints=driven,
                         bearing=bearing)
+    if source.run is not None:  # an attempts log: the joints its run threw with
+        mapping = run_mapping(mapping.robot, source.run)
     say(f"{trajectory}: {source.kind}")
     result = source.plan
     export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)

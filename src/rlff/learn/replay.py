@@ -117,6 +117,18 @@ def require_same_robot(path: str | Path, run: dict, mapping: RobotMapping | ArmM
                          f"{brief(now)} with {mapping.robot.source}); give its robot file with --robot")
 
 
+def require_run_joints(path: str | Path, run: dict, mapping: RobotMapping | ArmMapping,
+                       joints: Sequence[str] | None) -> None:
+    """Raise :class:`InputError` when ``joints`` (None: not given) are not the joints the log's
+    run threw with: its attempts are throws of those joints and no others."""
+    if joints is None:
+        return
+    thrown = getattr(mapping, "driven_joints", None) or (mapping.joint,)
+    if sorted(joints) != sorted(thrown):
+        raise InputError(f"--joints {','.join(joints)}: {path} was thrown with {','.join(sorted(thrown))}, and its "
+                         "attempts are throws of those joints; leave out --joints")
+
+
 def plan_attempt(attempt: Attempt, mapping: RobotMapping | ArmMapping, period: float = DEFAULT_PERIOD,
                  clip: bool = False, start: np.ndarray | None = None, bearing: float = 0.0) -> RobotPlan:
     """The robot trajectory of an attempt, planned as :func:`rlff.robot.plan.plan_path` plans a
@@ -158,7 +170,9 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
         default its first pose.
     joints, bearing : optional
         For a generated path: the robot joints it drives and the basket's bearing (deg), see
-        :func:`rlff.robot.plan.load_for_robot`.
+        :func:`rlff.robot.plan.load_for_robot`. For an attempts log: the joints must be the
+        run's (an attempt is a throw of those joints); a bearing turns joint 1 to it instead of
+        to the run's basket (the same throw at another basket's bearing).
 
     Raises
     ------
@@ -173,8 +187,9 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
         chosen, run = pick_attempt(path, attempt)
         mapping = run_mapping(robot, run)
         require_same_robot(path, run, mapping)
+        require_run_joints(path, run, mapping, joints)
         outcome = f"hit, {chosen.miss:+.3f} m from the centre" if chosen.hit else f"miss {chosen.miss:+.3f} m"
-        planned = plan_attempt(chosen, mapping, period, clip, start, run_bearing(run))
+        planned = plan_attempt(chosen, mapping, period, clip, start, run_bearing(run) if bearing is None else bearing)
         return ThrowInput(planned, f"attempt {chosen.index} of {path} ({outcome}), {planned.summary()}", run)
     if attempt is not None:
         raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
@@ -195,7 +210,8 @@ def load_for_send(path: str | Path, robot: Robot, *, attempt: int | None = None,
         :func:`~rlff.robot.sendfile.load_for_sending` refuse.
     """
     if is_attempts_log(path):
-        return load_input(path, robot, attempt=attempt, period=period, clip=clip, start=start).plan
+        return load_input(path, robot, attempt=attempt, period=period, clip=clip, start=start, joints=joints,
+                          bearing=bearing).plan
     if attempt is not None:
         raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
     return load_for_sending(path, robot, period, clip, start=start, approach=approach, joints=joints,

@@ -80,7 +80,8 @@ def comau_rows(traj: JointTrajectory, mapping: RobotMapping | ArmMapping) -> np.
             if name != mapping.joint and np.ptp(traj.positions[:, index]) > 1e-9]
     if held:
         raise InputError(f"the Comau program carries the motion of {mapping.joint} only; this "
-                         f"trajectory also moves {', '.join(held)}")
+                         f"trajectory also moves {', '.join(held)}: a whole-arm throw's program needs "
+                         "the joints it drives (--joints, e.g. joint_2,joint_3)")
     pose = [traj.positions[0, traj.joint_index(name)] if name in traj.joint_names
             else mapping.start_pose.get(name, position[0]) for name in robot.joint_names]
     rows = np.tile(np.degrees(pose), (len(traj), 1))
