@@ -86,6 +86,11 @@ def test_a_robot_file_may_take_its_joints_from_a_urdf(urdf_file, tmp_path, rlff)
     assert [(j.name, j.lower, j.upper, j.max_velocity) for j in bare.joints] == [
         (j.name, j.lower, j.upper, j.max_velocity) for j in builtin.joints]
     assert bare.joint("joint_1").max_acceleration is None and not bare.throwing
+    shown = rlff("robot", "show", "--robot", str(urdf_file))  # its missing limits shown as such
+    assert shown.code == 0, shown.stderr
+    assert "no acceleration or jerk limits" in shown.stdout and "        -" in shown.stdout
+    with pytest.raises(InputError, match=r"comau.urdf has no \[throwing\] table.*a URDF states the joints"):
+        RobotMapping.for_robot(bare)
 
 
 def test_bad_urdf_files_are_errors_that_name_the_joint(tmp_path):

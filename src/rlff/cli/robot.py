@@ -82,9 +82,14 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
     out.print(f"{model.name} ({model.source})", highlight=False)
     out.print(f"{'joint':<10}{'lower (rad)':>12}{'upper (rad)':>12}{'max speed (rad/s)':>19}"
               f"{'max accel. (rad/s^2)':>22}{'max jerk (rad/s^3)':>20}", highlight=False)
-    for joint in model.joints:
+    for joint in model.joints:  # a URDF states no acceleration or jerk limits: "-"
+        acceleration, jerk = (f"{value:.4g}" if value is not None else "-"
+                              for value in (joint.max_acceleration, joint.max_jerk))
         out.print(f"{joint.name:<10}{joint.lower:>12.4g}{joint.upper:>12.4g}{joint.max_velocity:>19.4g}"
-                  f"{joint.max_acceleration:>22.4g}{joint.max_jerk:>20.4g}", highlight=False)
+                  f"{acceleration:>22}{jerk:>20}", highlight=False)
+    if any(joint.max_acceleration is None or joint.max_jerk is None for joint in model.joints):
+        out.print("no acceleration or jerk limits: no trajectory can be planned or checked for this robot "
+                  "(a robot file with urdf = ... adds them)", highlight=False)
     if mapping is not None:
         pose = ", ".join(f"{name}={value:g}" for name, value in mapping.start_pose.items())
         out.print(f"throwing: human angle drives {mapping.joint} = {mapping.angle_offset:g} + "

@@ -92,6 +92,11 @@ class RobotMapping:
     def for_robot(cls, robot: Robot, **overrides: object) -> RobotMapping:
         """The mapping of the robot file's ``[throwing]`` table, with keyword ``overrides``."""
         table = dict(robot.throwing)
+        if not table:
+            also = (": a URDF states the joints and their position and speed limits only, and a robot file "
+                    "with urdf = \"...\" adds the rest (docs/robot.md)" if robot.source.endswith(".urdf") else "")
+            raise InputError(f"{robot.source} has no [throwing] table, which maps a generated throw to the "
+                             f"robot and says how it rests{also}")
         table.update(overrides)
         where = f"{robot.source}: [throwing]"
         if "joint" not in table:
