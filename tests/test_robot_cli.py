@@ -186,9 +186,20 @@ def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):
     program.write_text('coord_type = "-j"\n')
     folder = tmp_path / "bag2"
     folder.mkdir()
+    disguised = tmp_path / "throw.csv"  # a robot trajectory JSON saved as .csv: 50 kB of "columns"
+    disguised.write_text('{"format": "rlff-joint-trajectory", "time": [' + ", ".join(["0.002"] * 10000) + "]}\n")
+    wide = tmp_path / "wide.csv"
+    wide.write_text(",".join(f"column_{i}_" + "x" * 60 for i in range(30)) + "\n")
+    cut = tmp_path / "cut.jsonl"  # an attempts log whose header line was cut short
+    cut.write_text('{"format":"rlff-attempts","version":1,"run":{"basket":{"dist')
     for command, message in (
             (("robot", "export", str(other), "-f", "json", "-o", str(tmp_path / "o.json")),
              "other.bag: neither a generated path"),
+            (("robot", "export", str(disguised), "-f", "json", "-o", str(tmp_path / "o.json")),
+             "throw.csv: holds JSON, not CSV: a robot trajectory JSON needs the .json suffix"),
+            (("robot", "export", str(wide), "-f", "json", "-o", str(tmp_path / "o.json")), "... and 22 more"),
+            (("robot", "export", str(cut), "-f", "json", "-o", str(tmp_path / "o.json")),
+             "cut.jsonl: corrupt attempts log (no complete header line)"),
             (("robot", "export", str(folder), "-f", "json", "-o", str(tmp_path / "o.json")),
              "bag2 is a folder (a ROS 2 bag?)"),
             (("robot", "send", str(other)), "other.bag: not a readable"),  # send reads bags
@@ -196,7 +207,7 @@ def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):
             (("robot", "send", str(program)), "throw.txt: a Comau program, which runs on the Comau controller")):
         code, _, err = run(capsys, *command)
         assert code == 2 and message in err
-        assert len(err.strip().splitlines()) == 1
+        assert len(err.strip().splitlines()) == 1 and len(err) < 600
 
 
 @pytest.mark.parametrize(

@@ -229,13 +229,21 @@ def read_log(path: str | Path) -> tuple[dict[str, Any], LogContents]:
 
 
 def is_attempts_log(path: str | Path) -> bool:
-    """Whether the first line of ``path`` is the header of an attempts log."""
+    """Whether the first line of ``path`` is the header of an attempts log, or the start of one
+    cut short (a damaged log, which :func:`read_log` then refuses as such)."""
     try:
         with open(path, "rb") as handle:
-            first = _parse(handle.readline().rstrip(b"\n"))
+            line = handle.readline().rstrip(b"\n")
     except OSError:
         return False
-    return first is not None and first.get("format") == FORMAT
+    first = _parse(line)
+    if first is None:
+        return line.startswith(_HEADER_START)
+    return first.get("format") == FORMAT
+
+
+#: How every attempts log begins (:func:`_line` writes the header's ``format`` first).
+_HEADER_START = b'{"format":"' + FORMAT.encode() + b'"'
 
 
 def _records(path: Path, raw: bytes) -> tuple[list[bytes], list[dict[str, Any]], bool]:

@@ -191,8 +191,20 @@ def robot_file_kind(path: Path) -> str:
         return GENERATED
     if "time" in header and any(str(column).endswith("_position") for column in header):
         return ROBOT_TRAJECTORY
+    with open(path, "rb") as handle:
+        opening = handle.read(64).lstrip()[:1]
+    if opening in (b"{", b"["):
+        raise InputError(f"{path}: holds JSON, not CSV: a robot trajectory JSON needs the .json suffix")
     raise InputError(f"{path}: neither a generated path (angle, velocity[, time]) nor a robot trajectory "
-                     f"(time, <joint>_position, ...); columns: {', '.join(map(str, header))}")
+                     f"(time, <joint>_position, ...); columns: {_brief_columns(header)}")
+
+
+def _brief_columns(header: Sequence[object], shown: int = 8, width: int = 40) -> str:
+    """A CSV header's first ``shown`` column names, each cut to ``width`` characters, for an
+    error of one line (the header of a file of another kind can be a whole file long)."""
+    names = [str(name) if len(str(name)) <= width else str(name)[:width] + "..." for name in header[:shown]]
+    more = f" and {len(header) - shown} more" if len(header) > shown else ""
+    return ", ".join(names) + more
 
 
 def load_for_robot(
