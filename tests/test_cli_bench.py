@@ -55,3 +55,9 @@ def test_bad_options_are_one_line_input_errors(cli, option, value, message):
     assert result.code == 2
     assert message in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
+
+
+def test_methods_that_cannot_use_the_feedback_are_refused_not_an_empty_table(cli):
+    result = cli("bench", "learning", "--methods", "hindsight", "--feedback", "binary", "--seeds", "1")
+    assert result.code == 2 and result.stdout == ""
+    assert "no method of --methods hindsight works with --feedback binary (hindsight: distance)" in result.stderr

@@ -93,6 +93,9 @@ def learning(
         seeds, budget = min(seeds, 2), min(budget, 12)
     grid = chosen or METHODS_BY_FEEDBACK
     total = sum(seeds * len(case.baskets) * len(grid[f.kind]) for case in cases for f in case.feedbacks)
+    if total == 0:  # every method chosen needs another feedback than those given
+        needs = "; ".join(f"{name}: {', '.join(METHODS[name].feedbacks)}" for name in wanted)
+        raise InputError(f"no method of --methods {methods} works with --feedback {feedback} ({needs})")
     runs = []
     with progress("learning benchmark", total=total) as advance:
         for case in cases:
