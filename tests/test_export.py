@@ -66,6 +66,9 @@ def test_ros1_bag_reads_back_with_the_standard_checksum(traj, tmp_path):
 def test_ros2_bag_reads_back(traj, tmp_path):
     path = tmp_path / "bag2"
     write_ros2_bag(traj, path, stamp_ns=5)
+    # its database is named after the bag, not after a temporary folder a user would clean up
+    assert sorted(p.name for p in path.iterdir()) == ["bag2.db3", "metadata.yaml"]
+    assert [p.name for p in tmp_path.iterdir()] == ["bag2"]
     with Ros2Reader(path) as reader:
         (connection,) = reader.connections
         assert (connection.topic, connection.msgtype) == (TRAJECTORY_TOPIC, "trajectory_msgs/msg/JointTrajectory")

@@ -61,12 +61,17 @@ def test_a_folder_output_replaces_the_old_folder_whole(tmp_path):
     target.mkdir()
     (target / "old.db3").write_text("old")
     with atomic_path(target, folder=True) as temp:
-        assert not temp.exists()
+        assert not temp.exists() and temp.name == "bag"  # the final name, in a hidden folder
+        assert temp.parent.parent == tmp_path and temp.parent.name.startswith(".bag.")
         temp.mkdir()
         (temp / "new.db3").write_text("new")
         assert (target / "old.db3").exists()
     assert sorted(p.name for p in target.iterdir()) == ["new.db3"]
     assert [p.name for p in tmp_path.iterdir()] == ["bag"]
+    with pytest.raises(RuntimeError), atomic_path(tmp_path / "broken", folder=True) as temp:
+        temp.mkdir()
+        raise RuntimeError("the writer failed")
+    assert [p.name for p in tmp_path.iterdir()] == ["bag"]  # nothing left of it
 
 
 @pytest.mark.parametrize(

@@ -128,7 +128,10 @@ def atomic_path(path: str | Path, *, folder: bool = False) -> Iterator[Path]:
         The final output.
     folder : bool
         The writer makes a folder (a ROS 2 bag). The temporary path does not exist yet when
-        yielded; an existing folder at ``path`` is replaced only after the new one is complete.
+        yielded; it has ``path``'s own name, inside a hidden temporary folder beside ``path``,
+        so that a writer naming the files inside after their folder (rosbags names the
+        database ``NAME.db3``) names them as they will stay. An existing folder at ``path`` is
+        replaced only after the new one is complete.
 
     Yields
     ------
@@ -142,11 +145,13 @@ def atomic_path(path: str | Path, *, folder: bool = False) -> Iterator[Path]:
         As :func:`prepare_output`.
     """
     path = prepare_output(path, folder=folder)
-    handle, name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=_TEMP_SUFFIX + path.suffix, dir=path.parent)
-    os.close(handle)
-    temp = Path(name)
     if folder:
-        temp.unlink()
+        container = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=_TEMP_SUFFIX, dir=path.parent))
+        temp = container / path.name
+    else:
+        handle, name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=_TEMP_SUFFIX + path.suffix, dir=path.parent)
+        os.close(handle)
+        temp = container = Path(name)
     try:
         yield temp
         if not temp.exists():
@@ -154,15 +159,16 @@ def atomic_path(path: str | Path, *, folder: bool = False) -> Iterator[Path]:
         _fsync_tree(temp)
         if folder:
             _replace_folder(temp, path)
+            container.rmdir()
         else:
             os.chmod(temp, _umask_mode() if not path.exists() else path.stat().st_mode & 0o7777)
             os.replace(temp, path)
         _sync_folder(path.parent)
     except BaseException:
-        if temp.is_dir():
-            shutil.rmtree(temp, ignore_errors=True)
+        if container.is_dir():
+            shutil.rmtree(container, ignore_errors=True)
         else:
-            temp.unlink(missing_ok=True)
+            container.unlink(missing_ok=True)
         raise
 
 
