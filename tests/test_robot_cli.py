@@ -233,7 +233,7 @@ def test_robot_file_with_a_missing_limit_is_refused(capsys, throw, tmp_path):
                        "--robot", str(broken))
     assert code == 2 and "broken.toml: joint 3 (joint_3): missing field 'max_velocity'" in err
     code, _, err = run(capsys, "robot", "export", str(throw), "-f", "yaml", "-o", str(tmp_path / "o.yaml"))
-    assert code == 2 and "unknown format 'yaml'" in err
+    assert code == 2 and "unknown --format 'yaml'" in err
 
 
 def test_send_refuses_bad_input_before_connecting(cli, tmp_path):
@@ -248,3 +248,20 @@ def test_send_refuses_bad_input_before_connecting(cli, tmp_path):
                  env={"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"})
     assert result.code == 2 and "no room to brake after the release" in result.stderr
     assert "master" not in result.stderr
+
+
+def test_the_format_and_the_output_are_checked_before_any_planning(capsys, tmp_path):
+    """A path far beyond joint 2's limits would be refused by the planning; a bad --format, a
+    suffix of another format or an existing ROS 2 bag folder is refused first, and nothing written."""
+    beyond = human_csv(tmp_path / "beyond.csv", np.linspace(-0.5, 9.0, 21), np.full(21, 2.0))
+    (tmp_path / "bag").mkdir()
+    for args, message in (
+            (("-f", "JSON", "-o", str(tmp_path / "t.json")), "unknown --format 'JSON'"),
+            (("-f", "json", "-o", str(tmp_path / "t.csv")),
+             "t.csv: --format json under the suffix .csv of the csv format"),
+            (("-f", "ros2-bag", "-o", str(tmp_path / "bag")), "bag exists: a ROS 2 bag is a new folder")):
+        code, _, err = run(capsys, "robot", "export", str(beyond), *args)
+        assert code == 2 and message in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bag", "beyond.csv"]
+    code, _, err = run(capsys, "robot", "export", str(beyond), "-f", "json", "-o", str(tmp_path / "t.json"))
+    assert code == 2 and "beyond the robot's limits" in err  # what the planning says, once the rest is right

@@ -88,11 +88,8 @@ def learn_command(
     guard(inputs={"DEMOS": demos, "--carry": carry or None}, outputs={"--log": log, "-o/--output": out})
     if out is not None:  # a bad --out or --format fails before the first throw
         from rlff.learn.replay import export_format
-        from rlff.robot.formats import FORMATS
 
         fmt = export_format(out, fmt)
-        if fmt not in FORMATS:
-            raise InputError(f"unknown --format {fmt!r} (known: {', '.join(FORMATS)})")
     if executor not in ("sim", "ros1", "ros2"):
         raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")
     if (executor == "sim") != (outcome is None):

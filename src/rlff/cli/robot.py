@@ -144,13 +144,14 @@ def export(
     import time as clock
 
     from rlff.cli.output import guard
-    from rlff.learn.replay import load_input, run_mapping
+    from rlff.learn.replay import export_format, load_input, run_mapping
     from rlff.robot.description import load_robot
     from rlff.robot.formats import export_trajectory
     from rlff.robot.mapping import mapping_for
 
     guard(inputs={"TRAJECTORY": trajectory, "--robot": _robot_file(robot)}, outputs={"-o/--output": out},
           folders=["-o/--output"] if fmt == "ros2-bag" else [])
+    export_format(out, fmt)  # before any planning
     driven = joint_list(joints)
     mapping = mapping_for(load_robot(robot), driven)
     source = load_input(trajectory, mapping.robot, attempt=attempt, period=period, clip=clip, joints=driven,

@@ -230,12 +230,36 @@ def export_attempt(attempt: Attempt, robot: Robot, out: str | Path, fmt: str,
     return planned
 
 
+#: Suffixes that name one data format: a file of another format under one of them is refused
+#: (``-f json -o x.csv`` would write JSON that every CSV reader then fails on).
+TELLING_SUFFIXES = {".json": "json", ".csv": "csv", ".bag": "ros1-bag"}
+
+
 def export_format(out: str | Path, fmt: str | None = None) -> str:
-    """``fmt``, or the export format of ``out``'s suffix (:data:`SUFFIX_FORMATS`)."""
-    if fmt is not None:
-        return fmt
-    suffix = Path(out).suffix.lower()
-    if suffix not in SUFFIX_FORMATS:
-        known = ", ".join(f"{s or 'no suffix'} ({f})" for s, f in SUFFIX_FORMATS.items())
-        raise InputError(f"{out}: no export format for the suffix {suffix!r} ({known}); give --format")
-    return SUFFIX_FORMATS[suffix]
+    """``fmt``, or the export format of ``out``'s suffix (:data:`SUFFIX_FORMATS`); checked before
+    any work: a known format, not under another format's suffix (:data:`TELLING_SUFFIXES`), and
+    a ROS 2 bag only where no folder is yet.
+
+    Raises
+    ------
+    InputError
+        No format for the suffix, an unknown ``fmt``, a suffix of another format, or an
+        existing ``out`` for a ROS 2 bag.
+    """
+    from rlff.robot.formats import FORMATS
+
+    out = Path(out)
+    suffix = out.suffix.lower()
+    if fmt is None:
+        if suffix not in SUFFIX_FORMATS:
+            known = ", ".join(f"{s or 'no suffix'} ({f})" for s, f in SUFFIX_FORMATS.items())
+            raise InputError(f"{out}: no export format for the suffix {suffix!r} ({known}); give --format")
+        fmt = SUFFIX_FORMATS[suffix]
+    if fmt not in FORMATS:
+        raise InputError(f"unknown --format {fmt!r} (known: {', '.join(FORMATS)})")
+    if TELLING_SUFFIXES.get(suffix, fmt) != fmt:
+        raise InputError(f"{out}: --format {fmt} under the suffix {suffix} of the {TELLING_SUFFIXES[suffix]} "
+                         f"format; name the file for its format or give --format {TELLING_SUFFIXES[suffix]}")
+    if fmt == "ros2-bag" and out.exists():
+        raise InputError(f"{out} exists: a ROS 2 bag is a new folder, remove it first")
+    return fmt
