@@ -155,6 +155,14 @@ def test_dataset_parquet(data):
         assert_finite_dataset(check_reader(read_dataset, path))
 
 
+def test_a_parquet_file_whose_ids_point_past_their_dictionary_is_damaged():
+    """Found by the fuzzing above on a random run: pyarrow reads this damaged file's id column
+    with indices beyond its dictionary, and the reader indexed the names with them."""
+    path = Path(__file__).parent / "data" / "damaged_ids.parquet"
+    with pytest.raises(InputError, match="damaged Parquet file: the 'trajectory' column refers to ids it does not hold"):
+        read_dataset(path)
+
+
 _PARQUET_COLUMNS = {
     "float": st.lists(st.floats(allow_nan=True, allow_infinity=True) | st.none(), min_size=4, max_size=4),
     "int": st.lists(st.integers(-(2**62), 2**62) | st.none(), min_size=4, max_size=4),

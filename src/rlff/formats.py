@@ -411,6 +411,9 @@ def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Data
         ids_column = ids_column.cast(pa.string()).dictionary_encode()
     codes = ids_column.indices.to_numpy(zero_copy_only=False)
     names = ids_column.dictionary.to_pylist()
+    if codes.size and not 0 <= codes.min() <= codes.max() < len(names):
+        # a damaged file: pyarrow reads a dictionary page and indices that do not belong together
+        raise InputError(f"{path}: damaged Parquet file: the {ID_COLUMN!r} column refers to ids it does not hold")
     order = None
     if codes.size > 1 and np.count_nonzero(np.diff(codes)) + 1 != np.count_nonzero(np.bincount(codes)):
         # rows of a trajectory are scattered: gather them, keeping each trajectory's own order
