@@ -88,9 +88,9 @@ def test_bad_toml_names_the_file_and_the_step(tmp_path, text, message):
 
 
 def test_an_error_inside_a_step_names_the_step():
-    data = Dataset([Trajectory("a", {"angle": [2.0, 2.0], "distance": [1.0, 1.0], "velocity": [0.0, 0.0]})])
-    with pytest.raises(InputError, match=r"^steps.toml, step 'rescale': trajectory 'a': cannot stretch"):
-        Pipeline([("rescale", {"mode": "stretch"})], source="steps.toml").run(data)
+    data = Dataset([Trajectory("a", {"angle": [2.0, 2.5], "distance": [1.0, 1.0], "velocity": [0.0, 0.0]})])
+    with pytest.raises(InputError, match=r"^steps.toml, step 'densify': densify step -0.1: must be"):
+        Pipeline([("densify", {"step": -0.1})], source="steps.toml").run(data)
 
 
 def test_a_missing_column_is_named_with_the_step():
@@ -108,6 +108,35 @@ def test_a_step_that_drops_data_silently_is_caught(monkeypatch):
     monkeypatch.setitem(pipeline.STEPS, "crop", careless)
     with pytest.raises(RlffError, match=r"step 'crop' changed data without reporting it \(trajectories \['t1-0'\]"):
         Pipeline([("crop", {})]).run(_dataset())
+
+
+def test_a_step_that_leaves_a_single_sample_is_caught(monkeypatch):
+    from rlff.preprocess import StepReport, pipeline
+
+    def careless(dataset, *, column: str = "angle"):
+        report = StepReport("crop", {}, dataset)
+        for trajectory in dataset:
+            report.change_samples(trajectory.id, len(trajectory) - 1, 0, "kept the first sample")
+        return dataset.replace(t.take(slice(0, 1)) for t in dataset), report
+
+    monkeypatch.setitem(pipeline.STEPS, "crop", careless)
+    with pytest.raises(RlffError, match=r"step 'crop' left trajectories \['t1-0', .* with fewer than 2 samples"):
+        Pipeline([("crop", {})]).run(_dataset())
+
+
+def test_a_throw_the_stretch_would_reverse_is_dropped_not_cut_to_one_sample():
+    """A throw that starts beyond the mean final angle: stretched backwards, with its velocity
+    forward, cut_release cut it to its first sample and `rlff fit` refused the file."""
+    angle = np.array([0.7, 1.2, 2.0, 2.6, 2.9])
+    late = np.array([3.10, 3.11, 3.12, 3.13])
+    data = Dataset([Trajectory(name, {"angle": a, "distance": np.full(a.size, 2.0),
+                                      "velocity": np.linspace(2.0, 6.0, a.size) * (1 - np.linspace(0, 0.5, a.size))})
+                    for name, a in (("a", angle), ("b", angle + 0.05), ("late", late))])
+    steps = [s for s in Pipeline.preset("thesis").steps if s.name in ("rescale", "densify", "cut_release")]
+    cleaned, report = Pipeline(steps).run(data)
+    assert cleaned.ids == ("a", "b")
+    (removal,) = report.steps[0].removed
+    assert removal.trajectory == "late" and "would reverse the motion" in removal.reason
 
 
 def test_bad_list_and_preset_names():

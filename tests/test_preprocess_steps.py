@@ -116,13 +116,13 @@ def test_crop_increasing_is_the_largest_rise_not_the_global_minimum():
     assert largest_change(np.array([1.0, 0.5, 0.5, 2.0, 2.0]), "increasing") == (1, 3)
 
 
-def test_crop_without_a_rise_keeps_one_sample_for_min_points_to_remove():
-    data = Dataset([_throw("falls", [3.0, 2.0, 1.0]), _throw("flat", [2.0, 2.0]), _throw("one", [1.0])])
-    out, report = crop(data, direction="increasing")
-    assert [len(t) for t in out] == [1, 1, 1]
-    assert [(c.trajectory, c.removed) for c in report.samples] == [("falls", 2), ("flat", 1)]
-    kept, removal = min_points(out, min_points=2)
-    assert len(kept) == 0 and [r.trajectory for r in removal.removed] == ["falls", "flat", "one"]
+def test_crop_and_longest_monotonic_remove_a_trajectory_without_a_rise_with_the_reason():
+    data = Dataset([_throw("falls", [3.0, 2.0, 1.0]), _throw("flat", [2.0, 2.0]), _throw("up", [1.0, 2.0])])
+    for step in (crop, longest_monotonic):
+        out, report = step(data, direction="increasing")
+        assert out.ids == ("up",)
+        assert [r.trajectory for r in report.removed] == ["falls", "flat"]
+        assert "is a single sample: no motion to keep" in report.removed[0].reason
 
 
 @given(st.lists(st.floats(-10, 10, allow_nan=False), min_size=1, max_size=30))
@@ -199,6 +199,22 @@ def test_rescale_to_the_mean_final_angle(mode, expected_first, expected_second):
     np.testing.assert_allclose(scaled["b"]["velocity"], [2.5, 2.5])
 
 
+@pytest.mark.parametrize("mode", ["scale", "stretch"])
+def test_rescale_removes_a_throw_it_would_reverse_or_cannot_move(mode):
+    # the mean end is 2.5: stretched, "beyond" (2.6 -> 2.7) would run backwards from 2.6 to 2.5
+    # with its velocity still forward; scaled, "negative" would be flipped about 0
+    data = Dataset([_throw("a", [1.0, 2.0]), _throw("b", [1.5, 3.1]), _throw("beyond", [2.6, 2.7]),
+                    _throw("negative", [-1.0, -0.3]), _throw("still", [0.0, 0.0] if mode == "scale" else [2.0, 2.0])])
+    out, report = rescale(data, mode=mode)
+    removed = {r.trajectory: r.reason for r in report.removed}
+    expected = {"scale": {"negative", "still"}, "stretch": {"beyond", "still"}}[mode]
+    assert set(removed) == expected
+    assert set(out.ids) == set(data.ids) - expected
+    assert all(np.all(np.diff(t["angle"]) > 0) for t in out)
+    assert "would reverse the motion" in removed["beyond" if mode == "stretch" else "negative"]
+    assert "its last angle is" in removed["still"]
+
+
 def test_densify_resamples_a_line_exactly_in_the_direction_of_motion():
     up = _throw("up", [0.0, 0.1, 0.2, 0.3], velocity=[1.0, 1.2, 1.4, 1.6], time=[0.0, 0.1, 0.2, 0.3])
     down = _throw("down", [0.3, 0.2, 0.1, 0.02], velocity=[-1.0, -1.2, -1.4, -1.56], time=[0, 1, 2, 2.8])
@@ -243,6 +259,14 @@ def test_cut_release_at_a_fixed_angle_or_at_the_velocity_peak():
     np.testing.assert_array_equal(out["late"]["angle"], [1.0, 1.1])
     out, _ = cut_release(data, mode="estimated", after_peak=0.2)
     np.testing.assert_array_equal(out["a"]["velocity"], [1, 3, 5, 4])
+
+
+def test_cut_release_removes_a_trajectory_it_would_leave_with_one_sample():
+    data = Dataset([_throw("a", [0.5, 0.8, 0.9], velocity=[5, 3, 1]), _throw("b", [0.5, 0.95, 1.0], velocity=[1, 3, 2])])
+    for mode in ("estimated", "angle"):
+        out, report = cut_release(data, mode=mode, angle=0.7)
+        assert "a" not in out.ids and all(len(t) >= 2 for t in out)
+        assert "leaves 1 sample, fewer than 2" in report.removed[0].reason
 
 
 def test_cut_release_takes_the_middle_of_the_velocitys_top():

@@ -28,7 +28,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from rlff.dataset import Dataset
+from rlff.dataset import MIN_FILE_SAMPLES, Dataset
 from rlff.errors import InputError, RlffError
 from rlff.fileio import require_file
 from rlff.preprocess.glitches import spike_filter
@@ -233,7 +233,8 @@ class Pipeline:
 
 
 def _check_accounted(report: StepReport, before: Dataset, after: Dataset) -> None:
-    """Every trajectory or sample a step drops must be in its report (a step's bug otherwise)."""
+    """Every trajectory or sample a step drops must be in its report, and a trajectory it
+    shortens must keep 2 samples at least, which a data file needs (a step's bug otherwise)."""
     removed = {r.trajectory for r in report.removed}
     missing = set(before.ids) - set(after.ids) - removed
     changed = {c.trajectory for c in report.samples}
@@ -243,6 +244,12 @@ def _check_accounted(report: StepReport, before: Dataset, after: Dataset) -> Non
         raise RlffError(
             f"step {report.step!r} changed data without reporting it "
             f"(trajectories {sorted(missing)[:3]}, samples of {silent[:3]})"
+        )
+    short = [t.id for t in after if len(t) < min(MIN_FILE_SAMPLES, lengths[t.id])]
+    if short:
+        raise RlffError(
+            f"step {report.step!r} left trajectories {short[:3]} with fewer than {MIN_FILE_SAMPLES} "
+            "samples instead of removing them"
         )
 
 

@@ -19,7 +19,7 @@ from typing import Literal
 import numpy as np
 from scipy.interpolate import Akima1DInterpolator, PchipInterpolator, make_interp_spline
 
-from rlff.dataset import ARM_JOINT_COLUMNS, Dataset, Trajectory
+from rlff.dataset import ARM_JOINT_COLUMNS, MIN_FILE_SAMPLES, Dataset, Trajectory
 from rlff.dataset import velocity_column as velocity_of
 from rlff.errors import InputError
 from rlff.limits import MAX_DENSIFY_SAMPLES, check_count
@@ -97,6 +97,11 @@ def rescale(
     scale_velocity : bool
         Multiply the velocity by the same factor (the thesis did not: only positions move).
     velocity_column : str
+
+    The common end is taken over every trajectory. A trajectory whose factor is not positive and
+    finite is removed with the reason: stretched, a throw that starts beyond the common end
+    would run backwards while its velocity stays forward (a negative factor), one whose last
+    value is its first has none.
     """
     dataset.require([column] + ([velocity_column] if scale_velocity else []))
     params = {"column": column, "mode": mode, "reference": reference,
@@ -111,25 +116,42 @@ def rescale(
     for trajectory in dataset:
         values = trajectory[column]
         pivot = 0.0 if mode == "scale" else float(values[0])
-        span = float(values[-1]) - pivot
-        if span == 0.0:
-            raise InputError(
-                f"trajectory {trajectory.id!r}: cannot {mode} {column} to end at {end:.4g}: its last "
-                f"value equals its {'first value' if mode == 'stretch' else 'pivot 0'}"
-            )
-        factor = (end - pivot) / span
+        factor, problem = _rescale_factor(values, pivot, end, mode, column)
+        if problem:
+            report.remove(trajectory.id, problem)
+            continue
         factors.append(factor)
         changes = {column: pivot + (values - pivot) * factor}
         if scale_velocity:
             changes[velocity_column] = trajectory[velocity_column] * factor
         out.append(trajectory.with_columns(**changes))
     report.params["end"] = end
-    report.notes.append(
-        f"{column} {'scaled' if mode == 'scale' else 'stretched'} to end at {end:.4g} "
-        f"(factors {min(factors):.3g} to {max(factors):.3g})"
-    )
+    if factors:
+        report.notes.append(
+            f"{column} {'scaled' if mode == 'scale' else 'stretched'} to end at {end:.4g} "
+            f"(factors {min(factors):.3g} to {max(factors):.3g})"
+        )
     report.after = dataset.replace(out)
     return report.after, report
+
+
+def _rescale_factor(values: np.ndarray, pivot: float, end: float, mode: str, column: str) -> tuple[float, str]:
+    """The factor about ``pivot`` that moves the last of ``values`` (shape (T,)) to ``end``, and
+    why there is no sensible one (else ""): a factor that is not positive and finite would
+    reverse the motion, flatten it to one value or blow it up."""
+    first, last = float(values[0]), float(values[-1])
+    cannot = f"cannot {mode} {column} to end at {end:.4g}"
+    if last == pivot:
+        return math.nan, f"{cannot}: its last {column} is {'its first' if mode == 'stretch' else '0'}"
+    factor = (end - pivot) / (last - pivot)
+    if factor > 0 and math.isfinite(factor):
+        return factor, ""
+    effect = "reverse the motion" if factor < 0 else "flatten it" if factor == 0 else "blow it up"
+    fixed = f"its first {column}" if mode == "stretch" else "0"
+    return factor, (
+        f"{cannot}: it runs {first:.4g} -> {last:.4g} and a {mode} keeps {fixed} fixed, so the "
+        f"factor {factor:.3g} would {effect}"
+    )
 
 
 def densify(
@@ -263,7 +285,8 @@ def cut_release(
         measured better for recordings sparser than 15 Hz (docs/data.md, "Sparse recordings").
 
     The cut angle goes into each trajectory's metadata as ``cut_angle``. Trajectories left
-    without samples (they start beyond the fixed angle) are removed with that reason.
+    with fewer than 2 samples (they start beyond the fixed angle, or their velocity peaks at their
+    first sample) are removed with that reason.
     """
     dataset.require([column, velocity_column])
     if not 0.0 <= after_peak < 1.0:
@@ -287,8 +310,8 @@ def cut_release(
             keep = peak + int(below[0] if len(below) else speed.size - 1 - peak) + 1
             peak_words = f"middle of the {velocity_column}'s top" if top else f"{velocity_column} peak"
             why = f"cut at the estimated release ({peak_words}{' + drop' if after_peak else ''})"
-        if keep == 0:
-            report.remove(trajectory.id, f"starts beyond the cut {column} {angle:g}")
+        if keep < MIN_FILE_SAMPLES:
+            report.remove(trajectory.id, f"{why} leaves {keep} sample{'s' if keep != 1 else ''}, fewer than {MIN_FILE_SAMPLES}")
             continue
         kept = trajectory.take(slice(0, keep))
         out.append(kept.replace(meta={**kept.meta, "cut_angle": float(values[keep - 1])}))

@@ -41,8 +41,7 @@ def crop(
         maximum to the minimum when the maximum comes first), the largest change either way.
 
     The first occurrence of each extreme is used. A trajectory that never moves in
-    ``direction`` keeps its first sample only, so that the minimum-points step removes it with
-    its reason.
+    ``direction`` is removed with that reason (a single sample is no motion).
     """
     return _keep_interval(
         "crop", dataset, column, direction, largest_change,
@@ -98,8 +97,7 @@ def longest_monotonic(
     column : str
     direction : {"any", "increasing", "decreasing"}
         Only runs in this direction qualify ("increasing" for the throw's extension in rlff's
-        angle convention). A trajectory without such a run keeps its first sample only, so that
-        the minimum-points step removes it with its reason.
+        angle convention). A trajectory without such a run is removed with that reason.
     """
     return _keep_interval(
         "longest_monotonic", dataset, column, direction, monotonic_run,
@@ -121,6 +119,9 @@ def _keep_interval(
     out = []
     for trajectory in dataset:
         first, last = find(trajectory[column], direction)
+        if last == first:
+            report.remove(trajectory.id, f"{what} is a single sample: no motion to keep")
+            continue
         out.append(trajectory.take(slice(first, last + 1)))
         report.change_samples(
             trajectory.id, len(trajectory) - (last - first + 1), 0, f"kept samples {first}-{last}, {what}"
