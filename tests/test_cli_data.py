@@ -70,6 +70,17 @@ def test_preprocess_bad_input_is_one_line_and_exit_2(capsys, tmp_path, args, mes
     assert len(stderr.strip().splitlines()) == 1
 
 
+def test_preprocess_that_removes_every_throw_writes_nothing_and_names_the_step(capsys, tmp_path):
+    demos, clean = tmp_path / "demos.csv", tmp_path / "c.csv"
+    demos.write_text("trajectory,angle,distance,velocity\na,1,2,3\na,2,2,3\nb,1,2.5,4\nb,2,2.5,5\n")
+    assert main(["data", "preprocess", str(demos), "-o", str(clean)]) == 2
+    assert (
+        f"rlff: error: step 'min_points' removed the last throw (b: 2 samples, fewer than 4): no throw "
+        f"left, {clean} not written"
+    ) in capsys.readouterr().err
+    assert not clean.exists()
+
+
 def test_preprocess_names_the_bad_line_of_the_input(capsys, tmp_path):
     demos = tmp_path / "demos.csv"
     demos.write_text("trajectory,angle,distance,velocity\na,0.1,2,0\na,oops,2,1\n")

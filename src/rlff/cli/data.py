@@ -98,6 +98,13 @@ def synth_throws_command(
     )
 
 
+def _last_removal(report) -> str:
+    """Which step of a pipeline ``report`` removed the last throw, and why."""
+    step = next(step for step in reversed(report.steps) if len(step.before))
+    removal = step.removed[-1]
+    return f"step {step.step!r} removed the last throw ({removal.trajectory}: {removal.reason})"
+
+
 @app.command("preprocess")
 def preprocess_command(
     data: Path = typer.Argument(..., help="Demonstrations (.csv, .parquet, .npz or thesis .txt)."),
@@ -122,6 +129,8 @@ def preprocess_command(
     enabled = sum(step.enabled for step in pipeline.steps)
     with progress("preprocessing", total=enabled) as advance:
         cleaned, report = pipeline.run(dataset, progress=advance)
+    if not len(cleaned):
+        raise InputError(f"{_last_removal(report)}: no throw left, {output} not written")
     write_dataset(cleaned, output)
     payload = {**report.to_dict(), "input": str(data), "output": str(output)}
     if report_path is not None:
