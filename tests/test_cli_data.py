@@ -81,6 +81,21 @@ def test_preprocess_that_removes_every_throw_writes_nothing_and_names_the_step(c
     assert not clean.exists()
 
 
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [("", "no step"), ('description = "x"\n', "no step"),
+     ('[[step]]\nname = "crop"\nenabled = false\n', "no enabled step")],
+)
+@pytest.mark.parametrize("command", [["data", "preprocess"], ["plot", "preprocess"]])
+def test_a_pipeline_file_without_a_step_is_refused(capsys, tmp_path, command, text, message):
+    demos, config, out = tmp_path / "demos.csv", tmp_path / "steps.toml", tmp_path / "out.csv"
+    demos.write_text("trajectory,angle,distance,velocity\na,0.1,2,0\na,0.2,2,1\n")
+    config.write_text(text)
+    assert main([*command, str(demos), "--config", str(config), "-o", str(out)]) == 2
+    assert f"rlff: error: {config}: {message}: a pipeline needs at least one [[step]]" in capsys.readouterr().err
+    assert set(tmp_path.iterdir()) == {demos, config}
+
+
 def test_preprocess_names_the_bad_line_of_the_input(capsys, tmp_path):
     demos = tmp_path / "demos.csv"
     demos.write_text("trajectory,angle,distance,velocity\na,0.1,2,0\na,oops,2,1\n")

@@ -149,6 +149,12 @@ class Pipeline:
             else:
                 name, params = step
                 checked.append(check_step(name, params, where))
+        if not any(step.enabled for step in checked):
+            where = f"{source}: " if source else ""
+            raise InputError(
+                f"{where}no {'enabled ' if checked else ''}step: a pipeline needs at least one "
+                "[[step]] table with a name (docs/data.md lists the steps)"
+            )
         self.steps: tuple[Step, ...] = tuple(checked)
 
     def __repr__(self) -> str:
