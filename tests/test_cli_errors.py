@@ -352,3 +352,35 @@ def test_preprocess_names_every_throw_it_removed_and_why(rlff, tmp_path):
             assert f"{step}: removed throw {trajectory}: {reason}" in lines
     quiet = rlff("-q", "data", "preprocess", str(demos), "--preset", "thesis", "-o", str(tmp_path / "c2.csv"))
     assert "removed throw" not in quiet.stderr
+
+
+def _seed_options() -> list[tuple[str, object]]:
+    """Every seed option of the command tree, as (command path, click parameter)."""
+    from rlff.cli import _command
+
+    found, stack = [], [("rlff", _command())]
+    while stack:
+        path, command = stack.pop()
+        stack += [(f"{path} {name}", sub) for name, sub in getattr(command, "commands", {}).items()]
+        found += [(path, p) for p in command.params if any("seed" in o and o != "--seeds" for o in p.opts)]
+    return found
+
+
+def test_every_seed_option_takes_0_to_2_to_the_32_minus_1():
+    options = _seed_options()
+    assert {path for path, _ in options} >= {"rlff fit", "rlff plot bic", "rlff plot kmeans-em", "rlff learn",
+                                             "rlff demo", "rlff bench learning", "rlff data synth throws"}
+    for path, option in options:
+        assert (option.min, option.max) == (0, 2**32 - 1), (path, option.opts)
+
+
+@pytest.mark.parametrize("seed", ["-1", "4294967296"])
+def test_a_seed_out_of_range_is_a_usage_error(rlff, files, tmp_path, seed):
+    one_line_error(rlff("fit", str(files["data"]), "-o", str(tmp_path / "m.json"), "--seed", seed),
+                   "Invalid value for '--seed'", f"(got '{seed}')")
+    assert not (tmp_path / "m.json").exists()
+
+
+def test_bench_seeds_past_the_largest_are_refused(rlff):
+    one_line_error(rlff("bench", "learning", "--quick", "--first-seed", str(2**32 - 1)),
+                   "--first-seed 4294967295 with --seeds 2 runs past the largest seed")

@@ -284,3 +284,10 @@ def test_an_attempt_the_robot_saturated_can_still_be_planned_from_its_log(tmp_pa
     driven = robot.index(mapping.joint)
     assert replanned.velocities[release, driven] == pytest.approx(mapping.velocity_scale * limit)
     assert attempt.landing == pytest.approx(executed.landing)  # saturating is asking for the limit
+
+
+def test_cma_takes_the_largest_seed(failed_demos):
+    from dataclasses import replace
+
+    problem = replace(make_problem(failed_demos, "distance"), seed=2**32 - 1)
+    assert CmaSearch(problem).propose([]).velocity.size  # numpy.random.seed refused 2**32

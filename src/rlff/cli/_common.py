@@ -12,6 +12,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
+import typer
 from rich.console import Console
 
 # numpy and rich.progress are imported where they are used so that `rlff --help` starts fast
@@ -38,6 +39,16 @@ def stdout() -> Console:
 def stderr() -> Console:
     """Console for progress, notes and warnings."""
     return Console(file=sys.stderr, soft_wrap=True, markup=False, emoji=False, highlight=False)
+
+
+#: The largest seed an option takes: numpy's generators take any non-negative integer, but
+#: scikit-learn's ``random_state`` and CMA-ES (``numpy.random.seed``) at most 2**32 - 1.
+MAX_SEED = 2**32 - 1
+
+
+def seed_option(help: str, *, name: str = "--seed", default: int = 0) -> Any:
+    """A seed option: an integer from 0 to :data:`MAX_SEED`, anything else a usage error (exit 2)."""
+    return typer.Option(default, name, min=0, max=MAX_SEED, help=help)
 
 
 def say(message: str) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from rlff.cli._common import emit_json, progress, stdout
+from rlff.cli._common import MAX_SEED, emit_json, progress, seed_option, stdout
 from rlff.errors import InputError
 
 app = typer.Typer(help="Benchmarks: how many attempts learning takes, and against which baselines.",
@@ -24,8 +24,8 @@ def _names(option: str, text: str, known: list[str] | None = None) -> list[str]:
 @app.command("learning")
 def learning(
     seeds: int = typer.Option(8, "--seeds", min=1, help="Seeds (each draws its own demonstrations)."),
-    first_seed: int = typer.Option(100, "--first-seed", min=0,
-                                   help="First seed; the methods were tuned on seeds below 100."),
+    first_seed: int = seed_option("First seed; the methods were tuned on seeds below 100.",
+                                  name="--first-seed", default=100),
     scenario: str = typer.Option("short", "--scenario",
                                  help="Demonstrators, comma-separated: short, wide, overshooting, near, mixed "
                                       "(or all)."),
@@ -91,6 +91,9 @@ def learning(
         raise InputError(f"--robot: {exc}") from None
     if quick:
         seeds, budget = min(seeds, 2), min(budget, 12)
+    if first_seed + seeds - 1 > MAX_SEED:
+        raise InputError(f"--first-seed {first_seed} with --seeds {seeds} runs past the largest seed, "
+                         f"{MAX_SEED}: give a smaller --first-seed")
     grid = chosen or METHODS_BY_FEEDBACK
     total = sum(seeds * len(case.baskets) * len(grid[f.kind]) for case in cases for f in case.feedbacks)
     if total == 0:  # every method chosen needs another feedback than those given

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, stdout
+from rlff.cli._common import emit_json, progress, say, seed_option, stdout
 from rlff.cli.output import guard, write_json
 from rlff.errors import InputError
 from rlff.wording import plural
@@ -26,7 +26,7 @@ def _floats(option: str, text: str) -> list[float]:
 @synth_app.command("throws")
 def synth_throws_command(
     output: Path = typer.Option(..., "--output", "-o", help="Dataset to write (.csv, .parquet, .npz or .txt)."),
-    seed: int = typer.Option(0, "--seed", help="Random seed (same seed, same throws)."),
+    seed: int = seed_option("Random seed (same seed, same throws)."),
     subjects: int | None = typer.Option(None, "--subjects", help="Number of subjects (default 10; 4 with --whole-arm)."),
     distances: str = typer.Option("1,1.5,2,2.25,2.5,2.75,3,3.25,3.5,4", "--distances", help="Basket distances (m), comma-separated."),
     throws: int | None = typer.Option(None, "--throws", help="Throws of each subject at each basket (default 4; 1 with --whole-arm)."),

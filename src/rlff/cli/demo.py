@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, stdout
+from rlff.cli._common import emit_json, progress, say, seed_option, stdout
 
 
 def register(root: typer.Typer) -> None:
@@ -17,7 +17,7 @@ def register(root: typer.Typer) -> None:
 def demo_command(
     out: Path = typer.Option(Path("rlff-demo"), "--output", "-o", "--out", help="Folder for the report, figures, data and model."),
     small: bool = typer.Option(False, "--small", help="A quick version: fewer people, baskets and learning runs."),
-    seed: int = typer.Option(0, "--seed", help="Seed of the simulated people, the fits and the learning runs."),
+    seed: int = seed_option("Seed of the simulated people, the fits and the learning runs."),
     frames: bool = typer.Option(True, "--frames/--no-frames", help="Render the learned throw with MuJoCo beside its drawing (needs OpenGL)."),
     as_json: bool = typer.Option(False, "--json", help="Print the summary as JSON."),
 ) -> None:

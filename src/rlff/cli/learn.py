@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, stderr, stdout
+from rlff.cli._common import emit_json, progress, say, seed_option, stderr, stdout
 from rlff.wording import plural
 
 
@@ -28,7 +28,7 @@ def learn_command(
                                     "secant, gp-bo, cma; a DMM method with :no-exploration or :gmr-mean is its "
                                     "ablation (e.g. calibrate:no-exploration)."),
     log: Path | None = typer.Option(None, "--log", help="Attempts log (JSONL); resumed when it exists."),
-    seed: int = typer.Option(0, "--seed", help="Random seed."),
+    seed: int = seed_option("Random seed."),
     preset: str | None = typer.Option(None, "--preset",
                                       help="Clean the demonstrations first with this preprocessing preset (e.g. thesis)."),
     pedestal: float = typer.Option(0.0, "--pedestal", help="Height of the robot's base (m)."),

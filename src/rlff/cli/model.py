@@ -10,7 +10,7 @@ from typing import Any
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, stdout, verbosity
+from rlff.cli._common import emit_json, progress, say, seed_option, stdout, verbosity
 from rlff.cli.output import guard
 from rlff.errors import InputError
 from rlff.wording import plural
@@ -98,7 +98,7 @@ def fit_command(
     max_components: int = typer.Option(8, "--max-components", help="Largest K tried with auto."),
     criterion: str = typer.Option("bic", "--criterion", help="bic or aic (with auto)."),
     n_init: int = typer.Option(3, "--n-init", help="EM restarts per K (k-means++ seeds)."),
-    seed: int = typer.Option(0, "--seed", help="Seed of the initialisations."),
+    seed: int = seed_option("Seed of the initialisations."),
     context_resolution: str = typer.Option(
         "auto", "--context-resolution",
         help="How finely the context (e.g. the basket distance) is known, in its units: auto (the median gap between recorded values), a number, or 0.",

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, stdout
+from rlff.cli._common import emit_json, seed_option, stdout
 from rlff.errors import InputError
 
 app = typer.Typer(
@@ -96,7 +96,7 @@ def kmeans_em_command(
     data: Path = typer.Argument(..., help=f"Dataset CSV. {_COLUMNS_HELP}"),
     k: str = typer.Option("2,3,4", "--k", help="Numbers of components, comma-separated."),
     distance: float | None = typer.Option(None, "--distance", help="Use only the samples at this basket distance (m)."),
-    seed: int = typer.Option(0, "--seed", help="Seed of k-means and EM."),
+    seed: int = seed_option("Seed of k-means and EM."),
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:
@@ -114,7 +114,7 @@ def bic_command(
     data: Path = typer.Argument(..., help=f"Dataset CSV. {_COLUMNS_HELP}"),
     max_components: int = typer.Option(8, "--max-components", min=1, help="Largest K tried."),
     criterion: str = typer.Option("bic", "--criterion", help="bic or aic: which one chooses K."),
-    seed: int = typer.Option(0, "--seed", help="Seed of the fits."),
+    seed: int = seed_option("Seed of the fits."),
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:

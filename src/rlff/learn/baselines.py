@@ -158,9 +158,9 @@ class CmaSearch(GmrBaseline):
         super().__init__(problem)
         import cma
 
-        self.es = cma.CMAEvolutionStrategy(
-            [0.0, 0.0], self.sigma0, {"seed": problem.seed + 1, "verbose": -9, "verb_log": 0}
-        )
+        # CMA-ES takes a seed of 0 for "from the clock" and seeds numpy with it (at most 2**32 - 1)
+        seed = problem.seed % (2**32 - 1) + 1
+        self.es = cma.CMAEvolutionStrategy([0.0, 0.0], self.sigma0, {"seed": seed, "verbose": -9, "verb_log": 0})
         self.pending: list[np.ndarray] = []  # candidates of the current generation, asked order
         self.fitness: list[float] = []
         self.seen = 0
