@@ -131,6 +131,16 @@ def test_unknown_format_and_arm_are_input_errors(tmp_path):
         import_recordings([path], "msr", arm="both")
 
 
+@pytest.mark.parametrize("rate", [1e300, 1e-300, 0.5, 0.0, -1.0, float("nan")])
+def test_a_frame_rate_outside_1_to_1000_hz_is_refused_before_any_file_is_read(tmp_path, rate):
+    # 1e300 Hz made every time step 0 (a singular matrix), 1e-300 Hz times of 300 digits
+    path = tmp_path / "x.txt"
+    path.write_text("1 2\n")
+    for read in (lambda: import_recordings([path], "msr", rate_hz=rate), lambda: read_msr_text(path, rate)):
+        with pytest.raises(InputError, match=r"frame rate: .* Hz is outside the range 1 to 1000 Hz"):
+            read()
+
+
 def test_glitches_do_not_make_throws():
     """Single-frame spikes of the hand (a reflection mixed in) neither add nor remove throws."""
     simulation = bf.standard_simulation(seed=8, n_throws=4, second_user=False, glitches=12)

@@ -141,6 +141,8 @@ def test_a_missing_output_folder_is_created(rlff, files, tmp_path):
         (["generate", "{model}", "-c", "distance=2", "--grid", "angle=8:2:50", "-o", "{tmp}/g.csv"],
          ["--grid", "START 8 is above STOP 2"]),
         (["data", "import", "{data}", "{data}", "-o", "{tmp}/i.csv"], ["data.csv", "given twice"]),
+        (["data", "import", "{data}", "--format", "msr", "--rate", "1e300", "-o", "{tmp}/i.csv"],
+         ["--rate: 1e+300 Hz is outside the range 1 to 1000 Hz"]),
     ],
 )
 def test_bad_values_are_refused_up_front(rlff, files, tmp_path, args, fragments):

@@ -18,6 +18,9 @@ The numbers:
 - :data:`DISTANCE_RANGE`: basket distances (m) from the robot's base or the thrower: from just
   outside the base (0.3 m) to 20 m, far beyond what a person or this arm throws.
 - :data:`PEDESTAL_RANGE`: height (m) of the robot's base above the ground.
+- :data:`FRAME_RATE_RANGE`: the frame rate (Hz) of a recording without time stamps: depth cameras
+  and skeleton trackers record at 4 to 120 Hz, motion capture up to a few hundred; 1 to 1000 Hz
+  holds them all with a margin. 1e300 Hz made every time step 0 and a singular matrix.
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ MAX_DENSIFY_SAMPLES = 20_000_000
 MAX_MAGNITUDE = 1e100
 DISTANCE_RANGE = (0.3, 20.0)
 PEDESTAL_RANGE = (0.0, 5.0)
+FRAME_RATE_RANGE = (1.0, 1000.0)
 
 
 def check_count(what: str, count: float, maximum: int, hint: str = "") -> int:
@@ -88,6 +92,11 @@ def check_pedestal(value: float, name: str = "pedestal") -> float:
     return check_range(name, value, PEDESTAL_RANGE)
 
 
+def check_frame_rate(value: float, name: str = "frame rate") -> float:
+    """A recording's frame rate (Hz) within :data:`FRAME_RATE_RANGE`."""
+    return check_range(name, value, FRAME_RATE_RANGE, "Hz")
+
+
 def check_magnitudes(where: str, columns: Mapping[str, np.ndarray]) -> None:
     """Refuse a non-finite value or one beyond :data:`MAX_MAGNITUDE` in any column.
 
@@ -124,6 +133,7 @@ def apart(value: float, limit: float, digits: int = 6) -> tuple[str, str]:
 
 __all__ = [
     "DISTANCE_RANGE",
+    "FRAME_RATE_RANGE",
     "MAX_DENSIFY_SAMPLES",
     "MAX_GRID_POINTS",
     "MAX_MAGNITUDE",
@@ -131,6 +141,7 @@ __all__ = [
     "apart",
     "check_count",
     "check_distance",
+    "check_frame_rate",
     "check_magnitudes",
     "check_pedestal",
     "check_range",

@@ -51,7 +51,7 @@ from rlff.capture.users import keep_consistent_user
 from rlff.dataset import DEFAULT_CONTEXT, Dataset, Trajectory, joint_columns, velocity_column
 from rlff.errors import InputError
 from rlff.fileio import require_distinct
-from rlff.limits import DISTANCE_RANGE
+from rlff.limits import DISTANCE_RANGE, check_frame_rate
 from rlff.wording import plural
 
 FORMATS = ("bag", "kinect-text", "msr", "csv", "thesis")
@@ -259,6 +259,8 @@ def import_recordings(
         does not carry.
     """
     wanted = _check_joints(joints)
+    if rate_hz is not None:
+        check_frame_rate(rate_hz)
     if format not in (None, "auto", *FORMATS):
         raise InputError(f"unknown format {format!r} (formats: {', '.join(FORMATS)})")
     if arm not in ARMS:

@@ -29,6 +29,7 @@ import numpy as np
 from rlff.capture.skeleton import SIDES, ArmTrack, JointTrack, Recording
 from rlff.errors import InputError
 from rlff.fileio import require_file
+from rlff.limits import check_frame_rate
 
 #: Up direction of the Kinect's camera frame (x left, y up, z away from the camera).
 KINECT_UP = np.array([0.0, 1.0, 0.0])
@@ -129,7 +130,7 @@ def read_kinect_text(path: str | Path, rate_hz: float | None = None) -> Recordin
         A line without 61 columns, a non-numeric value, or no tracked frame.
     """
     path = Path(path)
-    rate = KINECT_RATE_HZ if rate_hz is None else _positive_rate(rate_hz)
+    rate = KINECT_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz)
     values = _numeric_rows(path, 61, "frame number then 20 joints x (x y z)")
     frame_numbers = values[:, 0]
     notes: list[str] = []
@@ -160,7 +161,7 @@ def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
         A line without 4 columns, a line count that is not a multiple of 20, or no tracked frame.
     """
     path = Path(path)
-    rate = MSR_RATE_HZ if rate_hz is None else _positive_rate(rate_hz)
+    rate = MSR_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz)
     values = _numeric_rows(path, 4, "x y z confidence")
     if len(values) % 20:
         raise InputError(
@@ -242,7 +243,7 @@ def read_joint_csv(
     if time_column is not None:
         time = numeric(time_column)
     else:
-        time = np.arange(len(frame)) / (KINECT_RATE_HZ if rate_hz is None else _positive_rate(rate_hz))
+        time = np.arange(len(frame)) / (KINECT_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz))
     order = np.argsort(time, kind="stable")
     notes: list[str] = []
     sides = list(found)
@@ -297,7 +298,3 @@ def axis_vector(axis: str) -> np.ndarray:
     return vector
 
 
-def _positive_rate(rate_hz: float) -> float:
-    if not np.isfinite(rate_hz) or rate_hz <= 0:
-        raise InputError(f"frame rate {rate_hz!r} Hz: must be a positive number")
-    return float(rate_hz)

@@ -35,7 +35,7 @@ def import_command(
     topic: str = typer.Option("/tf", "--topic", help="tf topic of bags."),
     frames: str = typer.Option("right_shoulder_1,right_elbow_1,right_hand_1", "--frames", help="Shoulder, elbow, hand tf frames (the trailing number is the user; any user matches)."),
     arm: str = typer.Option("auto", "--arm", help="auto, right or left."),
-    rate: float | None = typer.Option(None, "--rate", help="Frame rate (Hz) of text recordings without time stamps."),
+    rate: float | None = typer.Option(None, "--rate", help="Frame rate (Hz, 1 to 1000) of text recordings without time stamps."),
     columns: str | None = typer.Option(None, "--columns", help="CSV column map: NAME=COLUMN,... (e.g. right_elbow_x=ElbowRight.X)."),
     up: str | None = typer.Option(None, "--up", help="Up axis of the recordings' frame (x, y, z, -x...); default per format."),
     joints: str | None = typer.Option(None, "--joints", help="Joints to write: elbow (the one-joint dataset), shoulder, wrist, comma-separated; default every joint all the recordings carry."),
@@ -57,8 +57,11 @@ def import_command(
     guard(inputs={"FILES": files, "--manifest": manifest},
           outputs={"-o/--output": output, "--contact-sheet": contact_sheet}, folders=["--contact-sheet"])
     from rlff.formats import format_of
+    from rlff.limits import check_frame_rate
 
     format_of(output)  # an output extension rlff cannot write fails before the import
+    if rate is not None:
+        check_frame_rate(rate, "--rate")
     frame_names = [name.strip() for name in frames.split(",") if name.strip()]
     with progress("importing", total=len(files)) as advance:
         dataset, report = import_recordings(
