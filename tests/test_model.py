@@ -65,6 +65,18 @@ def test_generated_path_columns_and_time(thesis_model, tmp_path):
     np.testing.assert_array_equal(frame["distance"].to_numpy(), np.full(60, 2.5))
 
 
+def test_a_path_with_a_non_finite_value_is_not_written(thesis_model, tmp_path):
+    # distance=1e300 gave NaN and inf, written with exit 0 (and printed as invalid JSON)
+    import dataclasses
+
+    path = thesis_model.generate({"distance": 2.5}, np.linspace(0, 10, 60))
+    broken = dataclasses.replace(path, pdf=np.where(np.arange(60) == 3, np.nan, path.pdf))
+    target = tmp_path / "traj.csv"
+    with pytest.raises(InputError, match=r"the path generated at distance=2.5 \(.*traj.csv not written\): pdf holds nan at row 4"):
+        broken.write_csv(target)
+    assert not target.exists()
+
+
 def test_zero_exploration_gives_the_gmr_mean_where_unimodal():
     model = Model.fit(thesis_dataset(), components=1)
     path = model.generate({"distance": 5.0}, exploration=0.0)

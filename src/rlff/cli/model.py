@@ -43,7 +43,7 @@ def _read(path: Path):
 
 
 def _context(items: list[str]) -> dict[str, float]:
-    from rlff.limits import parse_number  # not at import: rlff.limits loads numpy
+    from rlff.limits import check_distance, parse_number  # not at import: rlff.limits loads numpy
 
     context = {}
     for item in items:
@@ -54,7 +54,7 @@ def _context(items: list[str]) -> dict[str, float]:
         number = parse_number(value, f"--context {item!r}")
         if name in context:
             raise InputError(f"--context: {name} given twice ({name}={context[name]:g} and {item}): give each context once")
-        context[name] = number
+        context[name] = check_distance("--context distance", number) if name == "distance" else number
     return context
 
 

@@ -17,6 +17,13 @@ app = typer.Typer(
 _COLUMNS_HELP = "Columns: angle (rad), distance (m), velocity (rad/s)."
 
 
+def _distance(option: str, value: float) -> float:
+    """A basket distance (m) from ``option``, within the stated range, or a one-line error."""
+    from rlff.limits import check_distance  # not at import: rlff.limits loads numpy
+
+    return check_distance(option, value)
+
+
 def _numbers(option: str, text: str, *, integers: bool = False) -> list:
     """A comma-separated list of numbers from an option, or a one-line error naming it."""
     values = []
@@ -88,6 +95,7 @@ def components_command(
     from rlff.plots.mixture import model_components
 
     _guard(out, {"MODEL": model, "DATA": data})
+    distance = _distance("--distance", distance)
     _done([model_components(Model.load(model), read_csv(data), distance, out)], as_json)
 
 
@@ -106,6 +114,7 @@ def kmeans_em_command(
 
     _guard(out, {"DATA": data})
     ks = _numbers("--k", k, integers=True)
+    distance = None if distance is None else _distance("--distance", distance)
     _done([kmeans_em_for_dataset(read_csv(data), out, ks=ks, distance=distance, seed=seed)], as_json)
 
 
@@ -156,6 +165,7 @@ def dmm_command(
     from rlff.plots.donut import dmm_heatmap
 
     _guard(out, {"MODEL": model, "--data": data})
+    distance = _distance("--distance", distance)
     dataset = read_csv(data) if data is not None else None
     _done([dmm_heatmap(Model.load(model), distance, out, dataset=dataset)], as_json)
 
@@ -174,8 +184,9 @@ def outputs_command(
     from rlff.plots.outputs import model_outputs
 
     _guard(out, {"MODEL": model, "--data": data})
+    chosen = [_distance("--distances", d) for d in _numbers("--distances", distances)]
     dataset = read_csv(data) if data is not None else None
-    _done([model_outputs(Model.load(model), _numbers("--distances", distances), out, dataset=dataset)], as_json)
+    _done([model_outputs(Model.load(model), chosen, out, dataset=dataset)], as_json)
 
 
 @app.command("preprocess")

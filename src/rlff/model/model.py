@@ -38,7 +38,7 @@ from rlff.dataset import (
 from rlff.errors import InputError
 from rlff.fileio import write_text
 from rlff.jsonfile import read_json_object
-from rlff.limits import MAX_GRID_POINTS, MAX_MAGNITUDE, check_count
+from rlff.limits import MAX_GRID_POINTS, MAX_MAGNITUDE, check_count, check_magnitudes
 from rlff.model.donut import dmm_mode
 from rlff.model.mixture import (
     GaussianMixture,
@@ -165,11 +165,17 @@ class GeneratedPath:
         return pd.DataFrame(columns)
 
     def write_csv(self, path: str | Path) -> None:
-        """Write :meth:`to_frame`'s columns as CSV (round-trip float precision, atomically)."""
+        """Write :meth:`to_frame`'s columns as CSV (round-trip float precision, atomically).
+
+        A path with a non-finite value (a context far outside the data) is an
+        :class:`InputError`, and nothing is written."""
         from rlff.csvtable import write_csv_columns
 
         frame = self.to_frame()
-        write_csv_columns(path, {name: frame[name].to_numpy() for name in frame.columns})
+        columns = {name: frame[name].to_numpy() for name in frame.columns}
+        context = ", ".join(f"{name}={value:g}" for name, value in self.context.items())
+        check_magnitudes(f"the path generated at {context or 'no context'} ({path} not written)", columns)
+        write_csv_columns(path, columns)
 
 
 class Model:
