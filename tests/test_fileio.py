@@ -30,6 +30,25 @@ def test_a_failed_write_leaves_the_old_file_and_no_temporary(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["out.txt"]
 
 
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs Linux's /proc, where no one can create a file")
+def test_a_folder_the_system_refuses_is_named_by_the_output_not_the_temporary(tmp_path):
+    # the message named a hidden ".m.o5q8w160.tmp.json" the user never gave
+    with pytest.raises(InputError, match=r"^/proc/m.json: cannot write the output there \(") as error:
+        write_text("/proc/m.json", "{}")
+    assert ".tmp" not in str(error.value)
+
+
+def test_a_writer_refused_mid_write_is_named_by_the_output(tmp_path):
+    target = tmp_path / "out.txt"
+    with pytest.raises(InputError, match=r"out.txt: cannot write the output there \(No space left on device\)"):
+        with atomic_path(target) as temp:
+            raise OSError(28, "No space left on device", str(temp))
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(OSError, match="other.txt"):  # an error about another file stays as it is
+        with atomic_path(target):
+            raise OSError(2, "No such file or directory", str(tmp_path / "other.txt"))
+
+
 def test_the_new_file_appears_whole_and_keeps_the_old_mode(tmp_path):
     target = tmp_path / "out.txt"
     target.write_text("old\n")

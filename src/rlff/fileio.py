@@ -142,16 +142,21 @@ def atomic_path(path: str | Path, *, folder: bool = False) -> Iterator[Path]:
     Raises
     ------
     InputError
-        As :func:`prepare_output`.
+        As :func:`prepare_output`; and when the system refuses to write there (a read-only or
+        immutable folder, ``/proc``, a full disk), naming ``path``, not the temporary file.
     """
     path = prepare_output(path, folder=folder)
-    if folder:
-        container = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=_TEMP_SUFFIX, dir=path.parent))
-        temp = container / path.name
-    else:
-        handle, name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=_TEMP_SUFFIX + path.suffix, dir=path.parent)
-        os.close(handle)
-        temp = container = Path(name)
+    try:
+        if folder:
+            container = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=_TEMP_SUFFIX, dir=path.parent))
+            temp = container / path.name
+        else:
+            handle, name = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=_TEMP_SUFFIX + path.suffix,
+                                            dir=path.parent)
+            os.close(handle)
+            temp = container = Path(name)
+    except OSError as exc:
+        raise _cannot_write(path, exc) from None
     try:
         yield temp
         if not temp.exists():
@@ -164,12 +169,20 @@ def atomic_path(path: str | Path, *, folder: bool = False) -> Iterator[Path]:
             os.chmod(temp, _umask_mode() if not path.exists() else path.stat().st_mode & 0o7777)
             os.replace(temp, path)
         _sync_folder(path.parent)
-    except BaseException:
+    except BaseException as exc:
         if container.is_dir():
             shutil.rmtree(container, ignore_errors=True)
         else:
             container.unlink(missing_ok=True)
+        named = {str(name) for name in (getattr(exc, "filename", None), getattr(exc, "filename2", None)) if name}
+        if isinstance(exc, OSError) and any(name.startswith(str(container)) for name in named):
+            raise _cannot_write(path, exc) from None  # the user never named the hidden temporary file
         raise
+
+
+def _cannot_write(path: Path, exc: OSError) -> InputError:
+    """The error for an output the system refuses: the user's path and the system's reason."""
+    return InputError(f"{path}: cannot write the output there ({exc.strerror or exc})")
 
 
 def _replace_folder(temp: Path, path: Path) -> None:
