@@ -159,6 +159,26 @@ def test_plot_model_figures(rlff, throws_csv, model_json, tmp_path):
         assert files[0].stat().st_size > 5000
 
 
+@pytest.mark.parametrize("suffix", [".parquet", ".npz"])
+def test_plot_reads_datasets_as_fit_does(rlff, throws_csv, model_json, tmp_path, suffix):
+    from rlff.dataset import read_csv
+    from rlff.formats import write_dataset
+
+    data = tmp_path / f"throws{suffix}"
+    write_dataset(read_csv(throws_csv), data)
+    for kind, *args in (
+        ("dataset", str(data)),
+        ("components", str(model_json), str(data), "--distance", "2.5"),
+        ("dmm", str(model_json), "--distance", "3.0", "--data", str(data)),
+        ("outputs", str(model_json), "--distances", "1.5", "--data", str(data)),
+        ("kmeans-em", str(data), "--k", "2"),
+        ("bic", str(data), "--max-components", "2"),
+        ("preprocess", str(data)),
+    ):
+        assert written(rlff("plot", kind, *args, "-o", str(tmp_path / kind), "--json")), kind
+    one_line_error(rlff("plot", "bic", str(model_json), "-o", str(tmp_path / "x")), "unknown dataset extension '.json'")
+
+
 def test_plot_preprocess_runs_the_pipeline(rlff, tmp_path):
     from rlff.synthetic.throws import simulate_throws
 

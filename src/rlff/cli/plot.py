@@ -15,6 +15,7 @@ app = typer.Typer(
 )
 
 _COLUMNS_HELP = "Columns: angle (rad), distance (m), velocity (rad/s)."
+_FORMATS_HELP = "CSV long format; .npz, .parquet, thesis .txt/.tsv by extension, as rlff fit reads them"
 
 
 def _distance(option: str, value: float) -> float:
@@ -37,6 +38,13 @@ def _numbers(option: str, text: str, *, integers: bool = False) -> list:
     if not values:
         raise InputError(f"{option}: empty list")
     return values
+
+
+def _read(path: Path):
+    """The dataset in ``path``, read as ``rlff fit`` reads it (the format by its extension)."""
+    from rlff.formats import read_dataset
+
+    return read_dataset(path)
 
 
 def _done(saved: list, as_json: bool) -> None:
@@ -64,16 +72,15 @@ _JSON = typer.Option(False, "--json", help="Print the written files as JSON.")
 
 @app.command("dataset")
 def dataset_command(
-    data: Path = typer.Argument(..., help=f"Dataset CSV. {_COLUMNS_HELP}"),
+    data: Path = typer.Argument(..., help=f"Dataset ({_FORMATS_HELP}). {_COLUMNS_HELP}"),
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:
     """The demonstrations in 3-D (OUT-3d) and as one panel per distance (OUT-slices)."""
-    from rlff.dataset import read_csv
     from rlff.plots.data import dataset_3d, dataset_slices
 
     _guard(out, {"DATA": data}, ("-3d", "-slices"))
-    dataset = read_csv(data)
+    dataset = _read(data)
     stem = out.with_suffix("") if out.suffix in (".png", ".svg") else out
     _done(
         [dataset_3d(dataset, stem.with_name(stem.name + "-3d")), dataset_slices(dataset, stem.with_name(stem.name + "-slices"))],
@@ -84,24 +91,23 @@ def dataset_command(
 @app.command("components")
 def components_command(
     model: Path = typer.Argument(..., help="Model file (model.json from `rlff fit`)."),
-    data: Path = typer.Argument(..., help="The dataset the model was fitted to (CSV)."),
+    data: Path = typer.Argument(..., help=f"The dataset the model was fitted to ({_FORMATS_HELP})."),
     distance: float = typer.Option(..., "--distance", help="Basket distance (m) to show the components at."),
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:
     """The Gaussian components as ellipses on the (angle, velocity) plane at one distance (thesis fig. 4.2-4.3)."""
-    from rlff.dataset import read_csv
     from rlff.model import Model
     from rlff.plots.mixture import model_components
 
     _guard(out, {"MODEL": model, "DATA": data})
     distance = _distance("--distance", distance)
-    _done([model_components(Model.load(model), read_csv(data), distance, out)], as_json)
+    _done([model_components(Model.load(model), _read(data), distance, out)], as_json)
 
 
 @app.command("kmeans-em")
 def kmeans_em_command(
-    data: Path = typer.Argument(..., help=f"Dataset CSV. {_COLUMNS_HELP}"),
+    data: Path = typer.Argument(..., help=f"Dataset ({_FORMATS_HELP}). {_COLUMNS_HELP}"),
     k: str = typer.Option("2,3,4", "--k", help="Numbers of components, comma-separated."),
     distance: float | None = typer.Option(None, "--distance", help="Use only the samples at this basket distance (m)."),
     seed: int = seed_option("Seed of k-means and EM."),
@@ -109,18 +115,17 @@ def kmeans_em_command(
     as_json: bool = _JSON,
 ) -> None:
     """k-means clusters and the mixture EM makes of them, for several K (thesis fig. 2.3-2.4)."""
-    from rlff.dataset import read_csv
     from rlff.plots.mixture import kmeans_em_for_dataset
 
     _guard(out, {"DATA": data})
     ks = _numbers("--k", k, integers=True)
     distance = None if distance is None else _distance("--distance", distance)
-    _done([kmeans_em_for_dataset(read_csv(data), out, ks=ks, distance=distance, seed=seed)], as_json)
+    _done([kmeans_em_for_dataset(_read(data), out, ks=ks, distance=distance, seed=seed)], as_json)
 
 
 @app.command("bic")
 def bic_command(
-    data: Path = typer.Argument(..., help=f"Dataset CSV. {_COLUMNS_HELP}"),
+    data: Path = typer.Argument(..., help=f"Dataset ({_FORMATS_HELP}). {_COLUMNS_HELP}"),
     max_components: int = typer.Option(8, "--max-components", min=1, help="Largest K tried."),
     criterion: str = typer.Option("bic", "--criterion", help="bic or aic: which one chooses K."),
     seed: int = seed_option("Seed of the fits."),
@@ -128,12 +133,11 @@ def bic_command(
     as_json: bool = _JSON,
 ) -> None:
     """BIC and AIC against the number of components K, the chosen K marked (thesis eq. 2.2)."""
-    from rlff.dataset import read_csv
     from rlff.plots.mixture import selection_for_dataset
 
     _guard(out, {"DATA": data})
     _done(
-        [selection_for_dataset(read_csv(data), out, max_components=max_components, criterion=criterion, seed=seed)],
+        [selection_for_dataset(_read(data), out, max_components=max_components, criterion=criterion, seed=seed)],
         as_json,
     )
 
@@ -155,18 +159,17 @@ def donuts_command(
 def dmm_command(
     model: Path = typer.Argument(..., help="Model file (model.json from `rlff fit`)."),
     distance: float = typer.Option(..., "--distance", help="Basket distance (m)."),
-    data: Path | None = typer.Option(None, "--data", help="Dataset CSV to draw over the density."),
+    data: Path | None = typer.Option(None, "--data", help=f"Dataset to draw over the density ({_FORMATS_HELP})."),
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:
     """The DMM density over (angle, velocity) with the chosen throw and the GMR mean (thesis fig. 2.7)."""
-    from rlff.dataset import read_csv
     from rlff.model import Model
     from rlff.plots.donut import dmm_heatmap
 
     _guard(out, {"MODEL": model, "--data": data})
     distance = _distance("--distance", distance)
-    dataset = read_csv(data) if data is not None else None
+    dataset = _read(data) if data is not None else None
     _done([dmm_heatmap(Model.load(model), distance, out, dataset=dataset)], as_json)
 
 
@@ -174,37 +177,35 @@ def dmm_command(
 def outputs_command(
     model: Path = typer.Argument(..., help="Model file (model.json from `rlff fit`)."),
     distances: str = typer.Option(..., "--distances", help="Basket distances (m), comma-separated; new ones welcome."),
-    data: Path | None = typer.Option(None, "--data", help="Dataset CSV: drawn behind the outputs, marks demonstrated distances."),
+    data: Path | None = typer.Option(None, "--data", help=f"Dataset ({_FORMATS_HELP}): drawn behind the outputs, marks demonstrated distances."),
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:
     """The generated throws for several distances, demonstrated and new (thesis fig. 4.7, 4.50)."""
-    from rlff.dataset import read_csv
     from rlff.model import Model
     from rlff.plots.outputs import model_outputs
 
     _guard(out, {"MODEL": model, "--data": data})
     chosen = [_distance("--distances", d) for d in _numbers("--distances", distances)]
-    dataset = read_csv(data) if data is not None else None
+    dataset = _read(data) if data is not None else None
     _done([model_outputs(Model.load(model), chosen, out, dataset=dataset)], as_json)
 
 
 @app.command("preprocess")
 def preprocess_command(
-    data: Path = typer.Argument(..., help="Raw demonstrations CSV."),
+    data: Path = typer.Argument(..., help=f"Raw demonstrations ({_FORMATS_HELP})."),
     preset: str | None = typer.Option(None, "--preset", help="A built-in pipeline, e.g. thesis (the default)."),
     config: Path | None = typer.Option(None, "--config", help="A pipeline TOML file instead of a preset."),
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:
     """Each preprocessing step: the data before (grey) and after (coloured)."""
-    from rlff.dataset import read_csv
     from rlff.plots.preprocess import pipeline_steps
 
     _guard(out, {"DATA": data, "--config": config})
     if preset is not None and config is not None:
         raise InputError("give either --preset or --config, not both")
-    _done([pipeline_steps(read_csv(data), out, preset=preset, config=config)], as_json)
+    _done([pipeline_steps(_read(data), out, preset=preset, config=config)], as_json)
 
 
 @app.command("learning")
