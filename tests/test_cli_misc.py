@@ -152,6 +152,7 @@ def test_plot_model_figures(rlff, throws_csv, model_json, tmp_path):
         ("outputs", str(model_json), "--distances", "1.5,3.0,4.5", "--data", str(throws_csv)),
         ("kmeans-em", str(throws_csv), "--k", "2,3", "--distance", "2.5"),
         ("bic", str(throws_csv), "--max-components", "3"),
+        ("bic", str(throws_csv), "--max-components", "3", "--effective-samples", "all"),
         ("donuts", "--eps", "0,0.5,1"),
     ):
         files = written(rlff("plot", kind, *args, "-o", str(tmp_path / kind), "--json"))
@@ -197,6 +198,9 @@ def test_plot_bad_input(rlff, throws_csv, tmp_path):
     one_line_error(rlff("plot", "preprocess", str(throws_csv), "--preset", "thesis", "--config", "a.toml",
                        "-o", str(tmp_path / "x")), "either --preset or --config")
     one_line_error(rlff("plot", "donuts", "--eps", "0,2", "-o", str(tmp_path / "x")), "exploration factor 2 is outside [0, 1]")
+    for kind in ("bic", "kmeans-em"):
+        one_line_error(rlff("plot", kind, str(throws_csv), "--effective-samples", "x", "-o", str(tmp_path / "x")),
+                       "--effective-samples: give all, measured or a number > 0, got 'x'")
     one_line_error(rlff("plot", "outputs", str(tmp_path / "none.json"), "--distances", "2", "-o", str(tmp_path / "x")),
                    "none.json")
     one_line_error(rlff("plot", "kmeans-em", str(throws_csv), "--distance", "9", "-o", str(tmp_path / "x")),

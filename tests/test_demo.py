@@ -78,6 +78,9 @@ def check_numbers_agree_with_files(demo) -> None:
     assert summary["demonstrated_distances"] == sorted({float(t["distance"][0]) for t in clean})
     model = Model.load(out / "model.json")
     assert summary["components"] == model.n_components
+    # the BIC figure counts the samples as the fit did, so its circled K is the model's
+    counted = f"BIC and AIC over {model.fit_info['effective_samples']:.0f} effective samples"
+    assert counted in (out / "figures" / "bic.svg").read_text()
     run = read_run(out)
     assert run.section("model").facts["components K"] == model.n_components
     resolution = model.fit_info["context_resolution"]["distance"]

@@ -282,6 +282,42 @@ def test_selection_curve_marks_the_minimum(tmp_path, criterion, chosen):
     assert axes.get_xlabel() == "number of Gaussian components K"
 
 
+def densified_throws() -> Dataset:
+    """:func:`throws` as densify leaves them: a fifth of the samples stand for a measurement."""
+    return Dataset([t.replace(meta={**t.meta, "measured_share": 0.2}) for t in throws()])
+
+
+@pytest.mark.parametrize(("setting", "counted"), [("auto", "BIC and AIC over 27 effective samples (of 135)"),
+                                                  (None, "BIC and AIC over all 135 samples")])
+def test_selection_for_dataset_draws_the_choice_of_fit(tmp_path, setting, counted):
+    from rlff.model import Model
+    from rlff.plots.mixture import selection_for_dataset
+
+    data = densified_throws()
+    model = Model.fit(data, max_components=4, effective_samples=setting)
+    saved = selection_for_dataset(data, tmp_path / "bic", max_components=4, effective_samples=setting)
+    (axes,) = saved.figure.get_axes()
+    bic, aic, mark = axes.get_lines()
+    np.testing.assert_allclose(bic.get_ydata(), [row["bic"] for row in model.selection.table])
+    np.testing.assert_allclose(aic.get_ydata(), [row["aic"] for row in model.selection.table])
+    assert mark.get_xdata()[0] == model.n_components
+    assert axes.get_title().endswith(counted)
+
+
+def test_kmeans_em_for_dataset_counts_bic_samples_as_fit_does(tmp_path):
+    from rlff.model.mixture import GaussianMixture
+    from rlff.plots.mixture import kmeans_em_for_dataset
+
+    data = densified_throws()
+    points = data.to_array(("angle", "velocity"))
+    for setting, counted, effective in (("auto", "BIC over 27 effective samples (of 135)", 27.0),
+                                        (None, "BIC over all 135 samples", None)):
+        saved = kmeans_em_for_dataset(data, tmp_path / "kem", ks=(2,), effective_samples=setting)
+        assert saved.figure.get_suptitle().endswith(counted)
+        bic = GaussianMixture(2, random_state=0).fit(points).bic(points, effective_samples=effective)
+        assert saved.figure.get_axes()[1].get_title() == f"EM, K = 2 (BIC {bic:.4g})"
+
+
 def test_components_at_distance_draws_weighted_ellipses(tmp_path):
     from rlff.plots.mixture import components_at_distance
 

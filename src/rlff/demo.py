@@ -532,9 +532,14 @@ def _figures(
         "preprocessing", "The cleaned demonstrations in 3-D",
         "What the model learns from: (angle, distance, velocity) of every kept throw up to the release "
         "(thesis fig. 4.43, 4.47).")
-    add(selection_curve(model.selection.table, figures_dir / "bic"), "model", "Choosing K",
-        "BIC = -2 ln L + p ln n against the number of components; the lowest wins (thesis eq. 2.2).")
-    add(kmeans_em_steps(clean.to_array(("angle", "velocity")), figures_dir / "kmeans-em", seed=seed), "model",
+    effective = model.fit_info["effective_samples"]  # n as the model's fit counted it
+    add(selection_curve(model.selection.table, figures_dir / "bic", n_samples=model.fit_info["n_samples"],
+                        effective_samples=effective), "model", "Choosing K",
+        "BIC = -2 ln L + p ln n against the number of components, n counted as the fit counts it (densified "
+        "samples as the share of a measurement they are; the title says how many); the lowest wins, the model's "
+        "K (thesis eq. 2.2).")
+    add(kmeans_em_steps(clean.to_array(("angle", "velocity")), figures_dir / "kmeans-em", seed=seed,
+                        effective_samples=effective), "model",
         "k-means, then EM",
         "k-means places the components (top), EM fits their weights, means and covariances (bottom); "
         "shown on the (angle, velocity) plane (thesis fig. 2.3-2.4).")

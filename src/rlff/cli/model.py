@@ -36,6 +36,16 @@ def _word_or_number(option: str, text: str, words: dict[str, Any], accept: Calla
     return value
 
 
+EFFECTIVE_SAMPLES_HELP = ("Samples BIC counts: measured (default: densified samples as the share of a measurement "
+                          "they are), all (every sample), or a number.")
+
+
+def effective_samples_setting(text: str) -> str | float | None:
+    """``--effective-samples`` as ``Model.fit(effective_samples=)`` takes it: "auto", None or a number."""
+    return _word_or_number("--effective-samples", text, {"all": None, "measured": "auto"}, lambda v: 0 < v < math.inf,
+                           "all, measured or a number > 0")
+
+
 def _read(path: Path):
     from rlff.formats import read_dataset
 
@@ -105,7 +115,7 @@ def fit_command(
     ),
     effective_samples: str = typer.Option(
         "measured", "--effective-samples",
-        help="Samples BIC counts: measured (default: densified samples as the share of a measurement they are), all (every sample), or a number.",
+        help=EFFECTIVE_SAMPLES_HELP,
     ),
     as_json: bool = typer.Option(False, "--json", help="Print the fit summary as JSON."),
 ) -> None:
@@ -118,10 +128,7 @@ def fit_command(
         "--context-resolution", context_resolution, {"auto": "auto"}, lambda v: 0 <= v < math.inf,
         "auto or a number >= 0 (0 for none)",
     )
-    effective = _word_or_number(
-        "--effective-samples", effective_samples, {"all": None, "measured": "auto"}, lambda v: 0 < v < math.inf,
-        "all, measured or a number > 0",
-    )
+    effective = effective_samples_setting(effective_samples)
     if components != "auto" and not (components.isdigit() and int(components) >= 1):
         raise InputError(f"--components must be auto or an integer >= 1, got {components!r}")
     dataset = _read(data)

@@ -7,6 +7,7 @@ from pathlib import Path
 import typer
 
 from rlff.cli._common import emit_json, seed_option, stdout
+from rlff.cli.model import EFFECTIVE_SAMPLES_HELP, effective_samples_setting
 from rlff.errors import InputError
 
 app = typer.Typer(
@@ -68,6 +69,7 @@ def _guard(out: Path, inputs: dict, parts: tuple[str, ...] = ("",)) -> None:
              for part in parts for suffix in (".png", ".svg")}
     guard(inputs=inputs, outputs=files)
 _JSON = typer.Option(False, "--json", help="Print the written files as JSON.")
+_EFFECTIVE_SAMPLES = typer.Option("measured", "--effective-samples", help=EFFECTIVE_SAMPLES_HELP + " As rlff fit.")
 
 
 @app.command("dataset")
@@ -111,6 +113,7 @@ def kmeans_em_command(
     k: str = typer.Option("2,3,4", "--k", help="Numbers of components, comma-separated."),
     distance: float | None = typer.Option(None, "--distance", help="Use only the samples at this basket distance (m)."),
     seed: int = seed_option("Seed of k-means and EM."),
+    effective_samples: str = _EFFECTIVE_SAMPLES,
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:
@@ -120,7 +123,9 @@ def kmeans_em_command(
     _guard(out, {"DATA": data})
     ks = _numbers("--k", k, integers=True)
     distance = None if distance is None else _distance("--distance", distance)
-    _done([kmeans_em_for_dataset(_read(data), out, ks=ks, distance=distance, seed=seed)], as_json)
+    effective = effective_samples_setting(effective_samples)
+    _done([kmeans_em_for_dataset(_read(data), out, ks=ks, distance=distance, seed=seed, effective_samples=effective)],
+          as_json)
 
 
 @app.command("bic")
@@ -129,15 +134,18 @@ def bic_command(
     max_components: int = typer.Option(8, "--max-components", min=1, help="Largest K tried."),
     criterion: str = typer.Option("bic", "--criterion", help="bic or aic: which one chooses K."),
     seed: int = seed_option("Seed of the fits."),
+    effective_samples: str = _EFFECTIVE_SAMPLES,
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:
-    """BIC and AIC against the number of components K, the chosen K marked (thesis eq. 2.2)."""
+    """BIC and AIC against the number of components K, the K `rlff fit` chooses marked (thesis eq. 2.2)."""
     from rlff.plots.mixture import selection_for_dataset
 
     _guard(out, {"DATA": data})
+    effective = effective_samples_setting(effective_samples)
     _done(
-        [selection_for_dataset(_read(data), out, max_components=max_components, criterion=criterion, seed=seed)],
+        [selection_for_dataset(_read(data), out, max_components=max_components, criterion=criterion, seed=seed,
+                               effective_samples=effective)],
         as_json,
     )
 

@@ -805,13 +805,14 @@ class GaussianMixture:
         self._check_fitted()
         return _n_parameters(*self.means_.shape)
 
-    def bic(self, X: np.ndarray, sample_weight: np.ndarray | None = None) -> float:
+    def bic(self, X: np.ndarray, sample_weight: np.ndarray | None = None, effective_samples: float | None = None) -> float:
         """Bayesian information criterion -2 ln L + p ln n (lower is better).
 
-        With ``sample_weight``, ln L is the weighted sum and n the sum of the weights.
+        With ``sample_weight``, ln L is the weighted sum and n the sum of the weights; with
+        ``effective_samples``, n is that many independent samples (:func:`information_criteria`).
         """
         log_likelihood, n = self._total_log_likelihood(X, sample_weight)
-        return information_criteria(log_likelihood, self.n_parameters(), n)[0]
+        return information_criteria(log_likelihood, self.n_parameters(), n, effective_samples)[0]
 
     def aic(self, X: np.ndarray, sample_weight: np.ndarray | None = None) -> float:
         """Akaike information criterion -2 ln L + 2 p (lower is better)."""

@@ -334,7 +334,7 @@ class Model:
         resolution = {name: _resolution(X[:, j], context_resolution, name) for j, name in enumerate(inputs) if j > 0}
         column_variance = np.array([resolution.get(name, 0.0) ** 2 / 12.0 for name in names])
         settings = {"random_state": seed, "n_init": n_init, "reg_covar": reg_covar, "column_variance": column_variance}
-        effective = _effective_samples(data, weights, effective_samples)
+        effective = effective_sample_count(data, weights, effective_samples)
         if components == "auto":
             if not isinstance(max_components, (int, np.integer)) or max_components < 1:
                 raise InputError(f"max_components must be an integer >= 1, got {max_components!r}")
@@ -605,8 +605,9 @@ def _typical_release(data: Dataset | np.ndarray, column: str) -> dict[str, Any] 
     return {"value": float(np.median([value for value, _ in found])), "sources": sources}
 
 
-def _effective_samples(data: Dataset | np.ndarray, weights: np.ndarray, setting: str | float | None) -> float | None:
-    """The number of independent samples for BIC, see ``Model.fit(effective_samples=)``."""
+def effective_sample_count(data: Dataset | np.ndarray, weights: np.ndarray, setting: str | float | None) -> float | None:
+    """The number of independent samples BIC counts, see ``Model.fit(effective_samples=)``;
+    None for every sample. ``weights`` (N,) are the samples' weights (ones when unweighted)."""
     if setting is None:
         return None
     if isinstance(setting, str):

@@ -32,6 +32,8 @@ from rlff.plots._figure import (
 #: Ellipses drawn at these Mahalanobis radii (1 and 2 standard deviations).
 _SIGMAS = (1.0, 2.0)
 _DATA_COLOUR = "#9a9a9a"
+#: The criteria's names in titles.
+_CRITERIA = {"bic": "Bayesian information criterion", "aic": "Akaike information criterion"}
 #: Components whose weight at the shown distance is below this are left out of the drawing.
 MIN_SHOWN_WEIGHT = 0.01
 
@@ -74,6 +76,7 @@ def kmeans_em_steps(
     columns: tuple[str, str] = ("angle", "velocity"),
     seed: int = 0,
     max_points: int = 3000,
+    effective_samples: float | None = None,
 ) -> SavedFigure:
     """k-means clusters (top row) and the Gaussian mixture EM makes of them (bottom row), per K.
 
@@ -94,6 +97,10 @@ def kmeans_em_steps(
         Seed of k-means, EM and the subset.
     max_points : int
         Larger sets are shown (and clustered) through a random subset of this size, said in the title.
+    effective_samples : float, optional
+        How many independent samples the N points stand for, for the BIC in the titles, as
+        ``Model.fit`` counts them (:func:`rlff.model.model.effective_sample_count`); None: every
+        point counts. A random subset stands for its share of them.
     """
     points = np.asarray(points, dtype=float)
     if points.ndim != 2 or points.shape[1] != 2:
@@ -105,6 +112,7 @@ def kmeans_em_steps(
     n_points = points.shape[0]
     if n_points > max_points:  # an illustration of the algorithms: a random subset reads as well
         points = points[np.sort(np.random.default_rng(seed).choice(n_points, max_points, replace=False))]
+    counted = None if effective_samples is None else effective_samples * points.shape[0] / n_points
     scale = points.std(axis=0)
     scale[scale == 0] = 1.0
     centre = points.mean(axis=0)
@@ -128,7 +136,7 @@ def kmeans_em_steps(
             bottom.scatter(points[:, 0], points[:, 1], s=4, color=_DATA_COLOUR, alpha=0.5, rasterized=True)
             for rank, j in enumerate(np.argsort(mixture.means_[:, 0])):
                 draw_ellipses(bottom, mixture.means_[j], mixture.covariances_[j], component_colour(rank))
-            bottom.set_title(f"EM, K = {k} (BIC {mixture.bic(points):.4g})")
+            bottom.set_title(f"EM, K = {k} (BIC {mixture.bic(points, effective_samples=counted):.4g})")
             bottom.set_xlabel(axis_label(columns[0]))
         for row in range(2):
             panels[row, 0].set_ylabel(axis_label(columns[1]))
@@ -141,7 +149,8 @@ def kmeans_em_steps(
             ncols=2,
         )
         shown = f" ({points.shape[0]} of {n_points} samples, drawn at random)" if n_points > points.shape[0] else ""
-        figure.suptitle(f"Placing the components: k-means, then EM{shown}", x=0.02, horizontalalignment="left")
+        bic = _counted("BIC", points.shape[0], counted)
+        figure.suptitle(f"Placing the components: k-means, then EM{shown}; {bic}", x=0.02, horizontalalignment="left")
     return save(figure, out)
 
 
@@ -150,6 +159,8 @@ def selection_curve(
     out: str | Path,
     *,
     criterion: str = "bic",
+    n_samples: int | None = None,
+    effective_samples: float | None = None,
 ) -> SavedFigure:
     """BIC and AIC against the number of components K, the chosen K marked.
 
@@ -161,6 +172,11 @@ def selection_curve(
         File stem of the PNG and SVG.
     criterion : {"bic", "aic"}
         The criterion that chose K (its minimum is marked).
+    n_samples : int, optional
+        The samples the mixtures were fitted to; with it the title says what n the criteria count.
+    effective_samples : float, optional
+        The independent samples the criteria counted in place of ``n_samples``
+        (``model.fit_info["effective_samples"]``); None: every sample.
     """
     if not table:
         raise InputError("the model-selection table is empty")
@@ -186,8 +202,18 @@ def selection_curve(
         axes.set_xlabel("number of Gaussian components K")
         axes.set_ylabel("criterion (lower is better)")
         axes.legend()
-        axes.set_title("Choosing K by the Bayesian information criterion")
+        title = f"Choosing K by the {_CRITERIA[criterion]}"
+        if n_samples is not None:
+            title += "\n" + _counted("BIC and AIC", n_samples, effective_samples)
+        axes.set_title(title)
     return save(figure, out)
+
+
+def _counted(criteria: str, n_samples: int, effective_samples: float | None) -> str:
+    """What n the information ``criteria`` count, in words for a title."""
+    if effective_samples is None:
+        return f"{criteria} over all {n_samples} samples"
+    return f"{criteria} over {effective_samples:.0f} effective samples (of {n_samples})"
 
 
 def components_at_distance(
@@ -288,34 +314,43 @@ def kmeans_em_for_dataset(
     distance: float | None = None,
     columns: tuple[str, str] = ("angle", "velocity"),
     seed: int = 0,
+    effective_samples: str | float | None = "auto",
 ) -> SavedFigure:
-    """:func:`kmeans_em_steps` on a dataset's (angle, velocity) samples, all or at one distance (m)."""
+    """:func:`kmeans_em_steps` on a dataset's (angle, velocity) samples, all or at one distance (m).
+
+    ``effective_samples`` is the samples the BIC in the titles counts, as ``Model.fit`` takes it:
+    "auto" (the measured share of densified samples), None (every sample) or a number.
+    """
+    from rlff.model.model import effective_sample_count
+
     if len(dataset) == 0:
         raise InputError("the dataset is empty: nothing to cluster")
     subset = dataset if distance is None else _at_distance(dataset, distance)
-    return kmeans_em_steps(subset.to_array(columns), out, ks=ks, columns=columns, seed=seed)
+    effective = effective_sample_count(subset, np.ones(subset.n_samples), effective_samples)
+    return kmeans_em_steps(subset.to_array(columns), out, ks=ks, columns=columns, seed=seed, effective_samples=effective)
 
 
 def selection_for_dataset(
     dataset: Dataset,
     out: str | Path,
     *,
-    columns: Sequence[str] = ("angle", "distance", "velocity"),
     max_components: int = 8,
     criterion: str = "bic",
     seed: int = 0,
+    effective_samples: str | float | None = "auto",
 ) -> SavedFigure:
-    """Fit K = 1 .. ``max_components`` to the dataset's columns and plot :func:`selection_curve`."""
-    from rlff.model.mixture import select_components
+    """Choose K as ``rlff fit`` does and plot :func:`selection_curve`: ``Model.fit`` with K = 1 ..
+    ``max_components`` on the throw's columns (:func:`rlff.model.model.throw_roles`), its
+    defaults otherwise; ``effective_samples`` as in ``Model.fit`` ("auto", None or a number)."""
+    from rlff.model.model import Model, throw_roles
 
-    if len(dataset) == 0:
-        raise InputError("the dataset is empty: nothing to fit")
     if criterion not in ("bic", "aic"):
         raise InputError(f"criterion must be 'bic' or 'aic', got {criterion!r}")
-    selection = select_components(
-        dataset.to_array(tuple(columns)), range(1, max_components + 1), criterion=criterion, random_state=seed
-    )
-    return selection_curve(selection.table, out, criterion=criterion)
+    inputs, outputs = throw_roles(dataset.columns)
+    model = Model.fit(dataset, inputs=inputs, outputs=outputs, max_components=max_components, criterion=criterion,
+                      seed=seed, effective_samples=effective_samples)
+    return selection_curve(model.selection.table, out, criterion=criterion, n_samples=model.fit_info["n_samples"],
+                           effective_samples=model.fit_info["effective_samples"])
 
 
 def model_components(
