@@ -146,14 +146,20 @@ def test_learning_curves_one_line_per_method_and_first_hits(tmp_path):
     assert [line.get_marker() for line in unlanded.figure.get_axes()[0].get_lines()].count("*") == 1
 
 
-def test_output_trajectories_one_line_per_distance(tmp_path):
+def generated_paths(distances) -> dict:
+    """Stand-ins of generated throws, one per distance (m)."""
     paths = {}
-    for distance in (1.5, 2.5, 4.0):
+    for distance in distances:
         angle = np.linspace(0.2, 1.4, 30)
         mean = (1.0 + 0.3 * distance) * np.sin(np.pi * (angle - 0.2) / 1.2)
         paths[distance] = SimpleNamespace(
             angle=angle, velocity=mean + 0.1, gmr_mean=mean, gmr_std=np.full(30, 0.05), exploration=np.full(30, 0.2)
         )
+    return paths
+
+
+def test_output_trajectories_one_line_per_distance(tmp_path):
+    paths = generated_paths((1.5, 2.5, 4.0))
     saved = output_trajectories(paths, tmp_path / "outputs", dataset=throws())
     check_files(saved)
     axes = visible_axes(saved.figure)
@@ -172,6 +178,18 @@ def test_output_trajectories_one_line_per_distance(tmp_path):
     np.testing.assert_allclose(panels[0].get_lines()[1].get_ydata(), paths[1.5].velocity)
     assert panels[0].get_title() == "z = 1.5 m (demonstrated)\nmean exploration ε = 0.20"
     assert len([c for c in panels[1].collections if hasattr(c, "get_segments")][0].get_segments()) == 0
+
+
+def test_output_trajectories_without_data_do_not_call_a_distance_new(tmp_path):
+    """Without the dataset which distances were demonstrated is not known: none is called new."""
+    saved = output_trajectories(generated_paths((1.5, 4.0)), tmp_path / "outputs")
+    axes = visible_axes(saved.figure)
+    summary = next(a for a in axes if a.get_title() == SUMMARY_TITLE)
+    assert [line.get_label() for line in summary.get_lines()] == ["z = 1.5 m", "z = 4 m"]
+    assert [line.get_linestyle() for line in summary.get_lines()] == ["-", "-"]
+    assert [a.get_title().split("\n")[0] for a in axes if a is not summary] == ["z = 1.5 m", "z = 4 m"]
+    (legend,) = [legend for subfigure in saved.figure.subfigs for legend in subfigure.legends]
+    assert "demonstrations at this distance" not in [text.get_text() for text in legend.get_texts()]
 
 
 def test_bad_input_is_named(tmp_path):

@@ -46,7 +46,10 @@ class GeneratedPathLike(Protocol):
     exploration: np.ndarray
 
 
-def _label(distance: float, demonstrated: bool) -> str:
+def _label(distance: float, demonstrated: bool | None) -> str:
+    """The distance, and whether it was demonstrated when that is known (None: not known)."""
+    if demonstrated is None:
+        return format_distance(distance)
     return f"{format_distance(distance)} ({'demonstrated' if demonstrated else 'new'})"
 
 
@@ -61,10 +64,12 @@ def output_trajectories(
 ) -> SavedFigure:
     """The DMM's throw for every distance: all together, then one panel each with its data.
 
-    The top panel overlays the outputs, coloured by distance; distances without demonstrations
-    are dashed. Below, one panel per distance shows the demonstrations at that distance (grey),
-    the GMR mean with its ±2σ band and the DMM output, which leaves the mean where the
-    demonstrations disagree (thesis figure 4.7).
+    The top panel overlays the outputs, coloured by distance; with a dataset, distances without
+    demonstrations are dashed and the labels say "demonstrated" or "new" (without one, which
+    distances were demonstrated is not known, and neither is said). Below, one panel per
+    distance shows the demonstrations at that distance (grey), the GMR mean with its ±2σ band
+    and the DMM output, which leaves the mean where the demonstrations disagree (thesis figure
+    4.7).
 
     Parameters
     ----------
@@ -87,7 +92,9 @@ def output_trajectories(
         dataset.require((x, y, context))
         demonstrated_values = {float(t[context][0]) for t in dataset}
 
-    def is_demonstrated(distance: float) -> bool:
+    def is_demonstrated(distance: float) -> bool | None:
+        if dataset is None:
+            return None
         return any(abs(distance - value) < 1e-9 for value in demonstrated_values)
 
     colours, _, _ = distance_colours(distances)
@@ -100,7 +107,7 @@ def output_trajectories(
             path = by_distance[distance]
             summary.plot(
                 path.angle, path.velocity, color=colours[distance], linewidth=2.0,
-                linestyle="-" if is_demonstrated(distance) else "--",
+                linestyle="--" if is_demonstrated(distance) is False else "-",
                 label=_label(distance, is_demonstrated(distance)),
             )
         summary.set_xlabel(axis_label(x))
@@ -132,16 +139,14 @@ def output_trajectories(
                 lowest.set_xlabel(axis_label(x))
         for axes in panels[:, 0]:
             axes.set_ylabel(axis_label(y))
-        bottom.legend(
-            handles=[
-                Line2D([], [], color=_DEMO_COLOUR, linewidth=0.7, label="demonstrations at this distance"),
-                Line2D([], [], color="black", linestyle="--", label="GMR mean"),
-                Patch(color="black", alpha=0.08, label="GMR ±2σ"),
-                Line2D([], [], color=colours[distances[0]], linewidth=2.0, label="DMM output: the throw sent (colour: distance)"),
-            ],
-            loc="outside lower center",
-            ncols=4,
-        )
+        handles = [
+            Line2D([], [], color="black", linestyle="--", label="GMR mean"),
+            Patch(color="black", alpha=0.08, label="GMR ±2σ"),
+            Line2D([], [], color=colours[distances[0]], linewidth=2.0, label="DMM output: the throw sent (colour: distance)"),
+        ]
+        if dataset is not None:
+            handles.insert(0, Line2D([], [], color=_DEMO_COLOUR, linewidth=0.7, label="demonstrations at this distance"))
+        bottom.legend(handles=handles, loc="outside lower center", ncols=len(handles))
     return save(figure, out)
 
 
