@@ -50,6 +50,21 @@ def visible_axes(figure):
     return [axes for axes in figure.get_axes() if axes.get_visible() and axes.get_label() != "<colorbar>"]
 
 
+def clipped(figure) -> list[str]:
+    """The titles and legends of a figure, drawn as saved, that reach past its edges."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    canvas = FigureCanvasAgg(figure)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    parts = [figure, *figure.subfigs]
+    artists = [artist for part in parts for artist in (*part.texts, *part.legends)]
+    artists += [artist for axes in visible_axes(figure) for artist in (axes.title, axes.get_legend()) if artist]
+    bounds = figure.bbox.expanded(1.001, 1.001)
+    return [str(artist) for artist in artists if artist.get_visible()
+            and not all(bounds.contains(*corner) for corner in artist.get_window_extent(renderer).corners())]
+
+
 def test_dataset_3d_draws_every_trajectory_in_both_views(tmp_path):
     saved = dataset_3d(throws(), tmp_path / "d3.png")
     check_files(saved)
@@ -111,6 +126,23 @@ def test_preprocessing_steps_before_and_after(tmp_path):
     assert len(before_lines.get_segments()) == 9 and len(after_lines.get_segments()) == 6
     assert {to_hex(c) for c in before_lines.get_colors()} == {"#b0b0b0"}
     assert len(after_lines.get_segments()[0]) == 10  # samples 2 to 11 of the cropped throw
+
+
+def test_narrow_figures_keep_their_titles_and_legends_inside(tmp_path):
+    from rlff.plots.mixture import kmeans_em_steps
+
+    one = throws()[:1]
+    note = "angle stretched to end at 2.979 (factors -4.23 to 1.15) and every word of it shown"
+    figures = {
+        "one panel of slices": dataset_slices(one, tmp_path / "slices").figure,
+        "one output": output_trajectories(generated_paths((1.5,)), tmp_path / "outputs", dataset=throws()).figure,
+        "one K": kmeans_em_steps(one.to_array(("angle", "velocity")), tmp_path / "kem", ks=(2,)).figure,
+        "a long note": preprocessing_steps([("rescale", one, one, note)], tmp_path / "steps").figure,
+    }
+    for name, figure in figures.items():
+        assert clipped(figure) == [], name
+    title = visible_axes(figures["a long note"])[0].get_title()
+    assert " ".join(title.split("\n")[2:]) == note
 
 
 def test_learning_curves_one_line_per_method_and_first_hits(tmp_path):

@@ -31,6 +31,7 @@ from rlff.plots._figure import (
     robust_limits,
     save,
 )
+from rlff.wording import plural
 
 #: Two viewpoints of the 3-D figure (elevation, azimuth in degrees), as in thesis figure 4.17.
 _VIEWS = ((22.0, -60.0), (14.0, -30.0))
@@ -46,7 +47,7 @@ def _outcome_counts(trajectories: Sequence[Trajectory]) -> str:
     hits = sum(1 for t in trajectories if t.meta.get("hit") is True)
     misses = sum(1 for t in trajectories if t.meta.get("hit") is False)
     if hits + misses == 0:
-        return f"{len(trajectories)} throws"
+        return plural(len(trajectories), "throw")
     return f"{hits} hit, {misses} missed"
 
 
@@ -173,5 +174,7 @@ def dataset_slices(
                 loc="outside upper right",
                 ncols=2,
             )
-        figure.suptitle(title or f"Demonstrations per basket distance ({len(dataset)} trajectories)")
+        count = plural(len(dataset), "trajectory", "trajectories")
+        # wrapped: one or two panels are narrower than the title
+        figure.suptitle(title or f"Demonstrations per basket distance ({count})", wrap=True)
     return save(figure, out)

@@ -146,11 +146,12 @@ def kmeans_em_steps(
                 Line2D([], [], marker="x", color="grey", linestyle="none", label="Gaussian mean, 1σ and 2σ ellipses"),
             ],
             loc="outside lower center",
-            ncols=2,
+            ncols=2 if len(ks) > 1 else 1,  # one K is too narrow for both in a row
         )
         shown = f" ({points.shape[0]} of {n_points} samples, drawn at random)" if n_points > points.shape[0] else ""
         bic = _counted("BIC", points.shape[0], counted)
-        figure.suptitle(f"Placing the components: k-means, then EM{shown}; {bic}", x=0.02, horizontalalignment="left")
+        figure.suptitle(f"Placing the components: k-means, then EM{shown}\n{bic}", x=0.02, horizontalalignment="left",
+                        wrap=True)  # one K is narrower than the title
     return save(figure, out)
 
 

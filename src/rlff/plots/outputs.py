@@ -146,7 +146,8 @@ def output_trajectories(
         ]
         if dataset is not None:
             handles.insert(0, Line2D([], [], color=_DEMO_COLOUR, linewidth=0.7, label="demonstrations at this distance"))
-        bottom.legend(handles=handles, loc="outside lower center", ncols=len(handles))
+        # one row fits from three panels across (10.8 in); a narrower figure takes two rows
+        bottom.legend(handles=handles, loc="outside lower center", ncols=len(handles) if columns >= 3 else 2)
     return save(figure, out)
 
 

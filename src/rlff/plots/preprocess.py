@@ -93,8 +93,8 @@ def preprocessing_steps(
                 if limits is not None:
                     setter(*limits)
             title = f"{index + 1}. {name}\n{_change(before, after)}"
-            if note and note[0]:
-                title += "\n" + textwrap.shorten(note[0], 52, placeholder=" …")
+            if note and note[0]:  # wrapped to the panel's width, cut only past three lines
+                title += "\n" + "\n".join(textwrap.wrap(note[0], 52, max_lines=3, placeholder=" …"))
             axes.set_title(title, fontsize=9.5)
             if index % columns == 0:
                 axes.set_ylabel(axis_label(y))
