@@ -308,6 +308,20 @@ def test_a_chosen_k_says_when_it_is_the_largest_tried_or_the_data_hardly_decide_
     assert wide.n_components < 10 and wide.selection_notes() == []
 
 
+def test_on_tiny_data_the_notes_say_the_samples_are_too_few_not_to_raise_max_components():
+    """Four samples: K stops at 4 (one component per sample) whatever max_components says, and
+    the samples, every one counted, are far fewer than the parameters."""
+    tiny = Dataset([Trajectory(name, {"angle": np.array([1.0, 2.0]), "distance": np.full(2, distance),
+                                      "velocity": np.array(velocity)})
+                    for name, distance, velocity in (("a", 2.0, [3.0, 3.0]), ("b", 2.5, [4.0, 5.0]))])
+    model = Model.fit(tiny, max_components=8)
+    assert model.fit_info["effective_samples"] is None
+    notes = model.selection_notes()
+    assert not any("the largest tried" in note for note in notes)
+    assert len(notes) == 1 and notes[0].startswith(
+        f"BIC rests on 4 samples, fewer than the {model.mixture.n_parameters()} parameters of K = {model.n_components}")
+
+
 def test_constant_column_warns_and_fits():
     data = Dataset([t.with_columns(distance=np.full(len(t), 2.5)) for t in thesis_dataset()[:1]])
     with warnings.catch_warnings(record=True) as caught:

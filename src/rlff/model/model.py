@@ -237,18 +237,21 @@ class Model:
 
     def selection_notes(self) -> list[str]:
         """What a reader of a K chosen by the criterion should know (empty when K was given):
-        that K is the largest tried (a larger one may fit better), and that the criterion rests
-        on fewer effective samples than the chosen K's parameters (the data hardly decide K)."""
+        that K is the largest tried (a larger one may fit better; not when K is as large as the
+        samples allow), and that the criterion rests on fewer (effective) samples than the chosen
+        K's parameters (the data hardly decide K)."""
         if self.selection is None:
             return []
         notes = []
         tried = max(int(row["n_components"]) for row in self.selection.table)
-        if self.n_components == tried > 1:
+        n_samples = self.fit_info.get("n_samples", math.inf)
+        if self.n_components == tried > 1 and tried < n_samples:  # K = n: no larger K to try
             notes.append(f"{self.selection.criterion.upper()} chose K = {self.n_components}, the largest tried: "
                          "a larger K may fit better (raise max_components, rlff fit --max-components)")
         effective, parameters = self.fit_info.get("effective_samples"), self.mixture.n_parameters()
-        if effective and effective < parameters:
-            notes.append(f"{self.selection.criterion.upper()} rests on {effective:.0f} effective samples, fewer than "
+        counted, what = (effective, "effective samples") if effective else (n_samples, "samples")  # None: every one
+        if counted < parameters:
+            notes.append(f"{self.selection.criterion.upper()} rests on {counted:.0f} {what}, fewer than "
                          f"the {parameters} parameters of K = {self.n_components}: the data hardly decide K (record "
                          "more throws, or fix K: components, rlff fit --components)")
         return notes
