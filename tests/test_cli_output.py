@@ -181,3 +181,21 @@ def test_a_ros2_bag_folder_is_replaced_whole(rlff, made, tmp_path):
 
     assert len(read_bag(out)) == 1
     assert [p.name for p in tmp_path.iterdir()] == ["bag2"]
+
+
+def test_json_output_is_strict_json_with_null_for_what_is_not_finite(capsys):
+    """Python writes NaN and Infinity, which are no JSON: jq, browsers and strict parsers refuse
+    them. A payload with them anywhere (numpy arrays included) prints them as null."""
+    import json
+
+    import numpy as np
+
+    from rlff.cli._common import emit_json
+
+    def strict(text):
+        return json.loads(text, parse_constant=lambda name: pytest.fail(f"{name} in the JSON"))
+
+    emit_json({"landing": float("nan"), "reach": [1.5, float("-inf")], "misses": np.array([np.nan, -0.25])})
+    assert strict(capsys.readouterr().out) == {"landing": None, "reach": [1.5, None], "misses": [None, -0.25]}
+    emit_json({"miss": -0.25, "hit": True})  # a finite payload prints as it is
+    assert strict(capsys.readouterr().out) == {"miss": -0.25, "hit": True}

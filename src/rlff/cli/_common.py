@@ -71,9 +71,19 @@ def jsonable(value: Any) -> Any:
 
 
 def emit_json(payload: Any) -> None:
-    """Print a machine-readable result on stdout."""
-    sys.stdout.write(json.dumps(payload, default=jsonable, indent=2) + "\n")
+    """Print a machine-readable result on stdout: strict JSON, a non-finite number as ``null``
+    (Python's ``NaN`` and ``Infinity`` are no JSON, and ``jq`` and browsers refuse them)."""
+    text = json.dumps(payload, default=jsonable, indent=2)
+    try:
+        json.loads(text, parse_constant=_refuse)
+    except ValueError:  # NaN or +-Infinity somewhere: null instead
+        text = json.dumps(json.loads(text, parse_constant=lambda _: None), indent=2)
+    sys.stdout.write(text + "\n")
     sys.stdout.flush()
+
+
+def _refuse(constant: str) -> None:
+    raise ValueError(constant)
 
 
 @contextmanager
