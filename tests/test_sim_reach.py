@@ -65,6 +65,8 @@ def test_an_unreachable_basket_says_how_far_the_robot_throws(robot):
     with pytest.raises(InputError, match=r"basket at 3\.00 m is out of reach.*2\.30 m.*joint_3 too"):
         require_reachable(Basket(3.0), robot)
     require_reachable(Basket(3.0), robot, joints=("joint_2", "joint_3"))
+    with pytest.raises(InputError, match=r"throwing with joint_2, joint_3 at .* with joint_5 too: \d\.\d\d m"):
+        require_reachable(Basket(5.0), robot, joints=("joint_3", "joint_2"))  # in order, and the next joint
 
 
 def test_the_farthest_basket_an_error_names_is_one_the_check_takes(robot):

@@ -167,13 +167,15 @@ def require_reachable(
     if basket.distance <= farthest_basket(reach.distance, basket.opening):
         return reach
     hints = []
-    if "joint_3" not in joints:
-        more = throw_reach(robot, basket.rim_height, pedestal, (*joints, "joint_3")).distance
-        hints.append(f"with joint_3 too: {_hint(more, basket.opening)}")
+    for joint in ("joint_3", "joint_5"):  # the next joint of the throwing plane that may help
+        if joint not in joints:
+            more = throw_reach(robot, basket.rim_height, pedestal, (*joints, joint)).distance
+            hints.append(f"with {joint} too: {_hint(more, basket.opening)}")
+            break
     higher = throw_reach(robot, basket.rim_height, pedestal + 0.5, joints).distance
     hints.append(f"on a pedestal 0.5 m higher: {_hint(higher, basket.opening)}")
     raise InputError(
-        f"basket at {basket.distance:.2f} m is out of reach: throwing with {', '.join(joints)} at the "
+        f"basket at {basket.distance:.2f} m is out of reach: throwing with {', '.join(sorted(joints))} at the "
         f"speed limit, the ball {came_down_words(reach.distance, basket.rim_height)}, so "
         f"{farthest_words(farthest_basket(reach.distance, basket.opening), basket.opening)} "
         f"(pedestal {pedestal:.2f} m; farthest basket {'; '.join(hints)})"
