@@ -131,6 +131,13 @@ def test_unknown_format_and_arm_are_input_errors(tmp_path):
         import_recordings([path], "msr", arm="both")
 
 
+def test_a_missing_recording_is_named_missing_whatever_the_format(tmp_path):
+    # with the format guessed it was "cannot tell the format; give --format"
+    for format in ("auto", "msr"):
+        with pytest.raises(InputError, match=r"nonexist.txt: no such file"):
+            import_recordings([tmp_path / "nonexist.txt"], format)
+
+
 @pytest.mark.parametrize("rate", [1e300, 1e-300, 0.5, 0.0, -1.0, float("nan")])
 def test_a_frame_rate_outside_1_to_1000_hz_is_refused_before_any_file_is_read(tmp_path, rate):
     # 1e300 Hz made every time step 0 (a singular matrix), 1e-300 Hz times of 300 digits

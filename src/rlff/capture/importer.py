@@ -169,6 +169,8 @@ def detect_format(path: str | Path) -> str:
                     if len(fields) == 61:
                         return "kinect-text"
                     break
+    elif not path.exists():
+        raise InputError(f"{path}: no such file or folder")
     raise InputError(f"{path}: cannot tell the format; give --format ({'|'.join(FORMATS)})")
 
 
