@@ -81,6 +81,11 @@ def test_report_bad_input(rlff, tmp_path):
     verbose = rlff("-v", "report", str(tmp_path / "absent"))  # -v does not
     assert verbose.code == 2 and "Traceback" not in verbose.stderr
     one_line_error(rlff("report", str(tmp_path)), "no run.json")
+    picture = tmp_path / "pic.png"
+    picture.write_bytes(b"\x89PNG")
+    # without -o it was RUN/report.html refused as an output, with -o "no such run directory"
+    for output in ([], ["-o", str(tmp_path / "r.html")]):
+        one_line_error(rlff("report", str(picture), *output), "pic.png: is a file, not a run directory")
     (tmp_path / "run.json").write_text('{"format": "rlff-run", "version": 9}')
     one_line_error(rlff("report", str(tmp_path)), "unsupported version 9")
 

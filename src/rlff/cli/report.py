@@ -24,10 +24,12 @@ def report_command(
     """Build the HTML report of a run: figures embedded, no network needed to open it."""
     from rlff.cli.output import guard
     from rlff.report import build_report
+    from rlff.report.run import require_run_dir
 
+    require_run_dir(run)  # before RUN/report.html is checked as an output
     target = out if out is not None else run / "report.html"
     # what the report reads: run.json and the figures beside it
-    read = [path for path in run.rglob("*") if path.name == "run.json" or path.suffix.lower() in _FIGURES] if run.is_dir() else []
+    read = [path for path in run.rglob("*") if path.name == "run.json" or path.suffix.lower() in _FIGURES]
     guard(inputs={"RUN": read}, outputs={"-o/--output": target})
     written = build_report(run, target)
     if as_json:

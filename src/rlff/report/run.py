@@ -186,19 +186,27 @@ def _require(document: Mapping[str, Any], key: str, kind: type | tuple[type, ...
     return value
 
 
+def require_run_dir(run_dir: str | Path) -> Path:
+    """``run_dir`` as a Path, or an :class:`InputError` saying it is missing or a file."""
+    run_dir = Path(run_dir)
+    if run_dir.is_file():
+        raise InputError(f"{run_dir}: is a file, not a run directory (a folder holding {RUN_FILE} and its figures)")
+    if not run_dir.is_dir():
+        raise InputError(f"{run_dir}: no such run directory")
+    return run_dir
+
+
 def read_run(run_dir: str | Path) -> Run:
     """Read and validate ``RUN/run.json``.
 
     Raises
     ------
     InputError
-        No such directory or file, not JSON, another format or version, a missing or mistyped
-        field (named), a figure file that does not exist.
+        No such directory or file, a file given as the directory, not JSON, another format or
+        version, a missing or mistyped field (named), a figure file that does not exist.
     """
-    run_dir = Path(run_dir)
+    run_dir = require_run_dir(run_dir)
     path = run_dir / RUN_FILE
-    if not run_dir.is_dir():
-        raise InputError(f"{run_dir}: no such run directory")
     if not path.is_file():
         raise InputError(f"{run_dir}: no {RUN_FILE} (is this a run directory written by `rlff demo`?)")
     document = read_json_object(path)
