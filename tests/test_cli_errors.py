@@ -200,6 +200,12 @@ def test_a_tiny_densify_step_is_refused_with_its_numbers(rlff, files, tmp_path):
         (["fit", "{data}", "-o", "{tmp}/m.json", "--json", "true"], ["rlff fit", "(true)"]),
         (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploration-scale", "lots"], ["--exploration-scale", "valid number", "(got 'lots')"]),
         (["fit", "{data}", "-o", "{tmp}/m.json", "--components", "lots"], ["--components", "integer >= 1", "'lots'"]),
+        # the fit's settings by the options typed, not Model.fit's parameter names
+        (["fit", "{data}", "-o", "{tmp}/m.json", "-k", "100000"], ["-k/--components 100000 is more than the", "samples"]),
+        (["fit", "{data}", "-o", "{tmp}/m.json", "--max-components", "0"], ["'--max-components'", "(got '0')"]),
+        (["fit", "{data}", "-o", "{tmp}/m.json", "--n-init", "0"], ["'--n-init'", "(got '0')"]),
+        (["fit", "{data}", "-o", "{tmp}/m.json", "--criterion", "bci"], ["--criterion must be bic or aic, got 'bci'"]),
+        (["plot", "bic", "{data}", "-o", "{tmp}/b", "--criterion", "bci"], ["--criterion must be bic or aic"]),
         # a decimal comma where a float is asked for: the number with a point
         (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploration-scale", "1,5"],
          ["(got '1,5')", "numbers take a decimal point: 1.5"]),

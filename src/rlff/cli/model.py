@@ -46,6 +46,13 @@ def effective_samples_setting(text: str) -> str | float | None:
                            "all, measured or a number > 0")
 
 
+def check_criterion(criterion: str) -> str:
+    """``--criterion`` as ``Model.fit(criterion=)`` takes it, or an :class:`InputError` naming the option."""
+    if criterion not in ("bic", "aic"):
+        raise InputError(f"--criterion must be bic or aic, got {criterion!r}")
+    return criterion
+
+
 def _read(path: Path):
     from rlff.formats import read_dataset
 
@@ -105,9 +112,9 @@ def fit_command(
         help="Output columns. Default: velocity and every other joint's column present (shoulder, shoulder_velocity, wrist, wrist_velocity).",
     ),
     components: str = typer.Option("auto", "--components", "-k", help="Number of components K, or auto (lowest BIC)."),
-    max_components: int = typer.Option(8, "--max-components", help="Largest K tried with auto."),
+    max_components: int = typer.Option(8, "--max-components", min=1, help="Largest K tried with auto."),
     criterion: str = typer.Option("bic", "--criterion", help="bic or aic (with auto)."),
-    n_init: int = typer.Option(3, "--n-init", help="EM restarts per K (k-means++ seeds)."),
+    n_init: int = typer.Option(3, "--n-init", min=1, help="EM restarts per K (k-means++ seeds)."),
     seed: int = seed_option("Seed of the initialisations."),
     context_resolution: str = typer.Option(
         "auto", "--context-resolution",
@@ -131,7 +138,10 @@ def fit_command(
     effective = effective_samples_setting(effective_samples)
     if components != "auto" and not (components.isdigit() and int(components) >= 1):
         raise InputError(f"--components must be auto or an integer >= 1, got {components!r}")
+    check_criterion(criterion)
     dataset = _read(data)
+    if components != "auto" and int(components) > dataset.n_samples:
+        raise InputError(f"-k/--components {components} is more than the {dataset.n_samples} samples of {data}")
     default_inputs, default_outputs = throw_roles(dataset.columns)
     for option, given, default in (("--inputs", inputs, default_inputs), ("--outputs", outputs, default_outputs)):
         missing = [name for name in default if name not in dataset.columns]

@@ -7,7 +7,7 @@ from pathlib import Path
 import typer
 
 from rlff.cli._common import emit_json, seed_option, stdout
-from rlff.cli.model import EFFECTIVE_SAMPLES_HELP, effective_samples_setting
+from rlff.cli.model import EFFECTIVE_SAMPLES_HELP, check_criterion, effective_samples_setting
 from rlff.errors import InputError
 
 app = typer.Typer(
@@ -142,6 +142,7 @@ def bic_command(
     from rlff.plots.mixture import selection_for_dataset
 
     _guard(out, {"DATA": data})
+    check_criterion(criterion)
     effective = effective_samples_setting(effective_samples)
     _done(
         [selection_for_dataset(_read(data), out, max_components=max_components, criterion=criterion, seed=seed,
