@@ -120,6 +120,24 @@ def test_csv_with_a_column_map_and_missing_columns(tmp_path):
     assert "right_shoulder_x" in str(error.value) and "ElbowRight.X" in str(error.value)
 
 
+def test_bad_cells_of_the_csv_readers_are_shown_as_the_file_has_them(tmp_path):
+    # numpy's repr leaked into the messages: "np.float64(nan)"
+    from rlff.trajectory.path_csv import read_generated_path
+
+    joints = tmp_path / "joints.csv"
+    points = [f"right_{joint}_{axis}" for joint in ("shoulder", "elbow", "hand") for axis in "xyz"]
+    joints.write_text(",".join(["time", *points]) + "\n0" + ",0.1" * 9 + "\n0.1," + ",0.2" * 8 + "\n")
+    with pytest.raises(InputError, match=r"line 3: column 'right_shoulder_x' has an empty or nan value$"):
+        read_joint_csv(joints, {})
+    path = tmp_path / "cells.csv"
+    path.write_text("time,angle,velocity\n0,0.1,0.2\n0.1,,0.3\n0.2,0.3,inf\n")
+    with pytest.raises(InputError, match=r"column 'angle' row 2 has an empty or nan value$"):
+        read_generated_path(path)
+    path.write_text("time,angle,velocity\n0,0.1,0.2\n0.1,0.2,0.3\n0.2,0.3,inf\n")
+    with pytest.raises(InputError, match=r"column 'velocity' row 3 has a non-finite value inf$"):
+        read_generated_path(path)
+
+
 def test_unknown_format_and_arm_are_input_errors(tmp_path):
     path = tmp_path / "x.txt"
     path.write_text("1 2\n")

@@ -122,7 +122,10 @@ def test_csv_round_trip_is_exact(tmp_path):
         ("trajectory,angle\na,0.1\na,0.2\nb,\"x\n", r"malformed CSV|line"),
         ("angle,velocity\n0.1,0.2\n", r"no 'trajectory' column"),
         ("trajectory,angle,velocity\na,0.1,0.2\na,zero,0.3\n", r"line 3: column 'angle' has a non-numeric"),
-        ("trajectory,angle,velocity\na,0.1,0.2\na,nan,0.3\n", r"line 3: column 'angle' has a non-numeric or non-finite"),
+        # the cell as the file shows it, not numpy's repr (np.float64(nan))
+        ("trajectory,angle,velocity\na,0.1,0.2\na,nan,0.3\n", r"line 3: column 'angle' has an empty or nan value$"),
+        ("trajectory,angle,velocity\na,0.1,0.2\na,,0.3\n", r"line 3: column 'angle' has an empty or nan value$"),
+        ("trajectory,angle,velocity\na,0.1,0.2\na,-inf,0.3\n", r"line 3: column 'angle' has a non-finite value -inf$"),
         ("trajectory,angle,time\na,0.1,0.0\na,0.2,0.1\na,0.3,0.1\n", r"line 4: time does not increase"),
         ("trajectory,angle,velocity\na,0.1,0.2\na,0.2,0.3\nb,0.1,0.2\n", r"line 4: trajectory 'b' has a single sample"),
         ("trajectory,subject\na,s1\n", r"no numeric sample columns"),

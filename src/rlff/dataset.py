@@ -32,6 +32,7 @@ import numpy as np
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.limits import MAX_MAGNITUDE
+from rlff.wording import bad_cell
 
 #: Metadata keys with a meaning to rlff (read as metadata even when numeric); others are kept
 #: as given. ``release_angle`` (rad) and ``release_time`` (s) locate the ball's release when known
@@ -562,8 +563,7 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
         if bad.any():
             row = int(np.flatnonzero(bad.to_numpy())[0])
             raise InputError(
-                f"{path}, line {row + 2}: column {name!r} has a non-numeric or non-finite value "
-                f"{column.iloc[row]!r}"
+                f"{path}, line {row + 2}: column {name!r} has {bad_cell(column.iloc[row])}"
             )
         frame[name] = numeric.astype(float)
     trajectories = []

@@ -1,9 +1,23 @@
-"""Words in messages: a count with its noun in the right number, for every stage and the CLI."""
+"""Words in messages, for every stage and the CLI: a count with its noun in the right number, a
+bad CSV cell as the file shows it."""
 
 from __future__ import annotations
+
+import math
+from typing import Any
 
 
 def plural(count: int, noun: str, many: str | None = None) -> str:
     """``"1 attempt"``, ``"3 attempts"``: the count and the noun in the right number (``many``:
     an irregular plural)."""
     return f"{count} {noun if count == 1 else (many or noun + 's')}"
+
+
+def bad_cell(value: Any) -> str:
+    """What is wrong with a CSV cell pandas read where a finite number belongs, the cell as the
+    file shows it: text quoted, ``inf`` as written, not numpy's ``np.float64(inf)`` (pandas reads
+    an empty cell and ``nan`` alike, as NaN)."""
+    if isinstance(value, str):
+        return f"a non-numeric or non-finite value {value!r}"
+    number = float(value)
+    return "an empty or nan value" if math.isnan(number) else f"a non-finite value {number:g}"

@@ -30,6 +30,7 @@ from rlff.capture.skeleton import SIDES, ArmTrack, JointTrack, Recording
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.limits import check_frame_rate
+from rlff.wording import bad_cell
 
 #: Up direction of the Kinect's camera frame (x left, y up, z away from the camera).
 KINECT_UP = np.array([0.0, 1.0, 0.0])
@@ -220,7 +221,7 @@ def read_joint_csv(
         values = pd.to_numeric(frame[name], errors="coerce").to_numpy(dtype=float)
         if not np.all(np.isfinite(values)):
             row = int(np.flatnonzero(~np.isfinite(values))[0])
-            raise InputError(f"{path}, line {row + 2}: column {name!r} has a non-numeric value {frame[name].iloc[row]!r}")
+            raise InputError(f"{path}, line {row + 2}: column {name!r} has {bad_cell(frame[name].iloc[row])}")
         return values
 
     found: dict[str, dict[str, str]] = {}

@@ -17,6 +17,7 @@ import pandas as pd
 
 from rlff.errors import InputError
 from rlff.fileio import require_file
+from rlff.wording import bad_cell
 
 #: The further joint columns of a whole-arm path (rad, rad/s) and its context columns.
 JOINT_COLUMNS = ("shoulder", "shoulder_velocity", "wrist", "wrist_velocity")
@@ -65,8 +66,7 @@ def read_generated_path(path: str | Path) -> GeneratedPath:
         values = pd.to_numeric(table[column], errors="coerce").to_numpy(float)
         bad = np.flatnonzero(~np.isfinite(values))
         if bad.size:
-            raise InputError(f"{path}: column {column!r} row {int(bad[0]) + 1} is "
-                             f"{table[column].iloc[bad[0]]!r}, not a finite number")
+            raise InputError(f"{path}: column {column!r} row {int(bad[0]) + 1} has {bad_cell(table[column].iloc[bad[0]])}")
         columns[column] = values
     if columns["angle"].size < 2:
         raise InputError(f"{path}: needs at least 2 rows, has {columns['angle'].size}")
