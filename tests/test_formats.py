@@ -91,7 +91,9 @@ def test_thesis_figure_2_1_reads_with_comma_decimals(tmp_path):
         ("0 0.1\n1 1\n0 0.5\n0 0.1\n1 1\n", r"line 5: incomplete block: 2 of 3 rows"),
         ("0 0.1\n1 2\n0 0.5\n", r"line 2: context row 'distance' is not constant"),
         ("0 abc\n1 1\n0 0.5\n", r"line 1: 'abc' is not a number"),
-        ("0.1,0.2,0.3\n1,1,1\n0,1,2\n", r"line 1: '0.1.0.2.0.3' is not a number"),
+        # quoted as in the file, not with its commas read as decimal points ('0.1.0.2.0.3')
+        ("0.1,0.2,0.3\n1,1,1\n0,1,2\n", r"line 1: '0.1,0.2,0.3' is not a number"),
+        ("trajectory,angle\na,0.1\n", r"line 1: 'trajectory,angle' is not a number"),
         ("0 nan\n1 1\n0 0.5\n", r"line 1: non-finite value in row 'angle'"),
         ("0\n1\n0\n", r"line 1: a single value"),
         ("# nothing here\n", r"no data rows"),

@@ -103,11 +103,11 @@ def read_thesis_matrix(
         if text.startswith("#"):
             pending_header = _header(text, path, number) or pending_header
             continue
-        tokens = [t for t in _SEPARATORS.split(text.replace(",", ".")) if t]
+        tokens = [t for t in _SEPARATORS.split(text) if t]
         try:
-            values = np.array([float(t) for t in tokens])
+            values = np.array([float(t.replace(",", ".")) for t in tokens])
         except ValueError:
-            bad = next(t for t in tokens if not _is_number(t))
+            bad = next(t for t in tokens if not _is_number(t.replace(",", ".")))  # quoted as in the file
             raise InputError(
                 f"{path}, line {number}: {bad!r} is not a number (values are separated by tabs, "
                 "spaces or semicolons; a comma is a decimal separator)"
