@@ -53,6 +53,18 @@ def test_import_msr_files_with_the_format_guessed(cli, msr_dir, tmp_path):
     assert len(read_csv(out)) == 3
 
 
+def test_a_recording_copied_under_another_name_is_refused(cli, msr_dir, tmp_path):
+    # the check of paths let it through, and every throw of it counted twice
+    original = msr_dir / "a06_s01_e01_skeleton3D.txt"
+    copy = tmp_path / "copy_of_e01.txt"
+    copy.write_bytes(original.read_bytes())
+    result = cli("data", "import", str(original), str(msr_dir / "a06_s01_e02_skeleton3D.txt"), str(copy),
+                 "-o", str(tmp_path / "x.csv"))
+    assert result.code == 2 and not (tmp_path / "x.csv").exists()
+    assert f"{original} and {copy} hold the same throw, sample for sample" in result.stderr
+    assert "give each recording once" in result.stderr
+
+
 def test_missing_frames_are_one_line_and_exit_code_2(cli, bag, tmp_path):
     result = cli("data", "import", str(bag), "--frames", "a_1,b_1,c_1", "-o", str(tmp_path / "x.csv"))
     assert result.code == 2

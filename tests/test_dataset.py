@@ -11,6 +11,7 @@ from rlff.dataset import (
     UNITS,
     Dataset,
     Trajectory,
+    copies_warning,
     joint_columns,
     read_csv,
     velocity_column,
@@ -46,6 +47,22 @@ def test_dataset_rejects_duplicates_varying_context_and_time_going_back():
     backwards = _trajectory("a", 1.0).with_columns(time=np.array([0.0, 0.1, 0.1, 0.2]))
     with pytest.raises(InputError, match="time does not increase at sample 2"):
         Dataset([backwards])
+
+
+def test_duplicates_are_trajectories_with_identical_samples_whatever_their_ids_and_metadata():
+    original = _trajectory("a", 1.0, subject="s01")
+    nudged = original["angle"].copy()
+    nudged[2] = np.nextafter(nudged[2], 3.0)
+    dataset = Dataset([
+        original, _trajectory("b", 2.0), original.replace(id="a_copy", meta={"subject": "s02"}),
+        original.replace(id="a_nudged").with_columns(angle=nudged), _trajectory("b_copy", 2.0),
+        original.replace(id="a_again"), _trajectory("a_longer", 1.0, n=5),
+    ])
+    assert dataset.duplicates() == [("a", "a_copy", "a_again"), ("b", "b_copy")]
+    warning = copies_warning(dataset)
+    assert warning.startswith("3 throws repeat another sample for sample (the first: a and a_copy and a_again)")
+    assert "count" in warning and "BIC" in warning
+    assert Dataset([original, _trajectory("b", 2.0)]).duplicates() == [] and copies_warning(Dataset([original])) is None
 
 
 def test_two_context_columns_group_trajectories():

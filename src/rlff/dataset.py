@@ -21,6 +21,7 @@ in :mod:`rlff.formats`.
 
 from __future__ import annotations
 
+import hashlib
 import math
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -32,7 +33,7 @@ import numpy as np
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.limits import MAX_MAGNITUDE
-from rlff.wording import bad_cell
+from rlff.wording import bad_cell, plural
 
 #: Metadata keys with a meaning to rlff (read as metadata even when numeric); others are kept
 #: as given. ``release_angle`` (rad) and ``release_time`` (s) locate the ball's release when known
@@ -426,6 +427,21 @@ class Dataset(Sequence[Trajectory]):
             for mine, theirs in zip(self._trajectories, other._trajectories, strict=True)
         )
 
+    def duplicates(self) -> list[tuple[str, ...]]:
+        """Groups of ids whose trajectories hold identical samples: the same values in every
+        column, bit for bit (ids and metadata may differ), each group in dataset order, the groups
+        in the order of their first trajectory. A throw given twice (a recording imported under
+        two names, a file appended to itself) counts twice in a fit, as if it were new evidence.
+        """
+        groups: dict[bytes, list[str]] = {}
+        for trajectory in self._trajectories:
+            digest = hashlib.sha256(str(len(trajectory)).encode())
+            for name in self.columns:
+                digest.update(name.encode() + b"\0")
+                digest.update(np.ascontiguousarray(trajectory[name]).tobytes())
+            groups.setdefault(digest.digest(), []).append(trajectory.id)
+        return [tuple(ids) for ids in groups.values() if len(ids) > 1]
+
     def replace(self, trajectories: Iterable[Trajectory]) -> Dataset:
         """A dataset with the same context columns holding other trajectories.
 
@@ -457,6 +473,20 @@ class Dataset(Sequence[Trajectory]):
         for trajectory in self._trajectories:
             groups.setdefault(trajectory.context_value(self.context), []).append(trajectory)
         return dict(sorted(groups.items()))
+
+
+def copies_warning(dataset: Dataset) -> str | None:
+    """A warning naming the first of the throws whose samples another throw repeats
+    (:meth:`Dataset.duplicates`) and what they do to a fit; None when there are none."""
+    groups = dataset.duplicates()
+    if not groups:
+        return None
+    copies = sum(len(ids) - 1 for ids in groups)
+    return (
+        f"{plural(copies, 'throw')} {'repeats' if copies == 1 else 'repeat'} another sample for sample (the "
+        f"first: {' and '.join(groups[0])}): every copy counts in the fit and in BIC as a new throw "
+        "(BIC then favours a larger K); keep one of each"
+    )
 
 
 def _unusable(value: float) -> str:

@@ -258,7 +258,8 @@ def import_recordings(
         A file that cannot be read (named, with what is wrong), an unknown format or arm, a
         manifest row at fault (a throw listed twice with different distances, a throw number
         that does not exist, start after end), a joint that is not known or that a recording
-        does not carry.
+        does not carry, the same file twice or two files holding the same throw sample for
+        sample (one recording under two names).
     """
     wanted = _check_joints(joints)
     if rate_hz is not None:
@@ -275,6 +276,7 @@ def import_recordings(
     trajectories: list[Trajectory] = []
     report = ImportReport()
     used_ids: set[str] = set()
+    origin: dict[str, Path] = {}  # the file of every throw, by id
     for raw_path in paths:
         path = Path(raw_path)
         kind = detect_format(path) if format in (None, "auto") else format
@@ -287,10 +289,29 @@ def import_recordings(
             )
         _require_joints(wanted, file_report, found)
         trajectories.extend(found)
+        origin.update((trajectory.id, path) for trajectory in found)
         report.files.append(file_report)
         if progress is not None:
             progress(str(path))
-    return Dataset(_same_context(_common_joints(trajectories, wanted, report), report)), report
+    dataset = Dataset(_same_context(_common_joints(trajectories, wanted, report), report))
+    _refuse_copies(dataset, origin)
+    return dataset, report
+
+
+def _refuse_copies(dataset: Dataset, origin: Mapping[str, Path]) -> None:
+    """Refuse a throw that two files hold sample for sample (:meth:`Dataset.duplicates`): one
+    recording under two names, which :func:`require_distinct`, comparing paths, cannot see and
+    which would count twice. Copies within one file are left to the fit's warning."""
+    for ids in dataset.duplicates():
+        first: dict[Path, str] = {}  # each file of the group and its first copy
+        for trajectory_id in ids:
+            first.setdefault(origin[trajectory_id], trajectory_id)
+        if len(first) > 1:
+            (file_a, id_a), (file_b, id_b) = list(first.items())[:2]
+            raise InputError(
+                f"{file_a} and {file_b} hold the same throw, sample for sample ({id_a} and {id_b}): one "
+                "recording under two names would count twice; give each recording once"
+            )
 
 
 def _same_context(trajectories: list[Trajectory], report: ImportReport) -> list[Trajectory]:

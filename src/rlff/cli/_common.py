@@ -57,6 +57,16 @@ def say(message: str) -> None:
         stderr().print(message)
 
 
+def warn_copies(dataset: Any, source: Any) -> None:
+    """Warn of the throws of ``source`` (a Dataset read from it) that repeat another sample for
+    sample: they count twice in a fit."""
+    from rlff.dataset import copies_warning
+
+    warning = copies_warning(dataset)
+    if warning is not None:
+        say(f"warning: {source}: {warning}")
+
+
 def jsonable(value: Any) -> Any:
     """``json.dumps``' ``default``: numpy arrays and scalars, and paths."""
     import numpy as np

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, seed_option, stdout
+from rlff.cli._common import emit_json, progress, say, seed_option, stdout, warn_copies
 from rlff.cli.output import guard, write_json
 from rlff.errors import InputError
 from rlff.wording import plural
@@ -126,6 +126,7 @@ def preprocess_command(
         raise InputError("give either --preset or --config, not both")
     pipeline = Pipeline.from_toml(config) if config is not None else Pipeline.preset(preset or "thesis")
     dataset = read_dataset(data)
+    warn_copies(dataset, data)
     enabled = sum(step.enabled for step in pipeline.steps)
     with progress("preprocessing", total=enabled) as advance:
         cleaned, report = pipeline.run(dataset, progress=advance)

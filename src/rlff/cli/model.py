@@ -10,7 +10,7 @@ from typing import Any
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, seed_option, stdout, verbosity
+from rlff.cli._common import emit_json, progress, say, seed_option, stdout, verbosity, warn_copies
 from rlff.cli.output import guard
 from rlff.errors import InputError
 from rlff.wording import plural
@@ -140,6 +140,7 @@ def fit_command(
         raise InputError(f"--components must be auto or an integer >= 1, got {components!r}")
     check_criterion(criterion)
     dataset = _read(data)
+    warn_copies(dataset, data)
     if components != "auto" and int(components) > dataset.n_samples:
         raise InputError(f"-k/--components {components} is more than the {dataset.n_samples} samples of {data}")
     default_inputs, default_outputs = throw_roles(dataset.columns)
