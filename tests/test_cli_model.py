@@ -135,6 +135,13 @@ def test_fit_effective_samples(rlff, tmp_path):
     assert "hardly decide K" not in measured.stderr  # 72 measured samples, at most 29 parameters (K = 3)
     few = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--max-components", "3", "--effective-samples", "5")
     assert few.code == 0 and "BIC rests on 5 effective samples, fewer than the" in few.stderr
+    # K beyond the samples BIC counts is not tried: --max-components 100000 ran for hours on 2,215
+    # samples, its progress bar counting to 100000
+    capped = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--max-components", "100000",
+                  "--effective-samples", "5", "--json")
+    assert capped.code == 0, capped.stderr
+    assert [row["n_components"] for row in json.loads(capped.stdout)["selection"]] == [1, 2, 3, 4, 5]
+    assert "--max-components 100000: K is tried up to 5 only, the effective samples" in capped.stderr
     bad = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--effective-samples", "some")
     assert bad.code == 2 and "--effective-samples" in bad.stderr
 

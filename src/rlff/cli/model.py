@@ -53,6 +53,22 @@ def check_criterion(criterion: str) -> str:
     return criterion
 
 
+def _candidates(dataset, max_components: int, effective: str | float | None) -> int:
+    """How many K ``Model.fit`` tries with auto: up to --max-components, but no more than the samples
+    BIC counts (:func:`rlff.model.model.component_bound`), said when that caps it."""
+    import numpy as np
+
+    from rlff.model.model import component_bound, effective_sample_count
+
+    counted = effective_sample_count(dataset, np.ones(dataset.n_samples), effective)
+    bound = component_bound(dataset.n_samples, counted)
+    if max_components > bound:
+        what = "samples" if counted is None else "effective samples (--effective-samples)"
+        say(f"note: --max-components {max_components}: K is tried up to {bound} only, the {what} BIC counts "
+            "(with more components than samples it has nothing to choose by)")
+    return min(max_components, bound)
+
+
 def _read(path: Path):
     from rlff.formats import read_dataset
 
@@ -151,7 +167,7 @@ def fit_command(
                 f"{data}: no column {missing[0]!r} for the default {option[2:]} ({', '.join(default)}; columns: "
                 f"{', '.join(dataset.columns)}): name them with {option}"
             )
-    total = max_components if components == "auto" else 1
+    total = _candidates(dataset, max_components, effective) if components == "auto" else 1
     with progress("fitting", total=total) as advance, warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         model = Model.fit(

@@ -245,11 +245,11 @@ class Model:
         notes = []
         tried = max(int(row["n_components"]) for row in self.selection.table)
         n_samples = self.fit_info.get("n_samples", math.inf)
-        if self.n_components == tried > 1 and tried < n_samples:  # K = n: no larger K to try
-            notes.append(f"{self.selection.criterion.upper()} chose K = {self.n_components}, the largest tried: "
-                         "a larger K may fit better (raise max_components, rlff fit --max-components)")
         effective, parameters = self.fit_info.get("effective_samples"), self.mixture.n_parameters()
         counted, what = (effective, "effective samples") if effective else (n_samples, "samples")  # None: every one
+        if self.n_components == tried > 1 and tried + 1 <= counted:  # K at component_bound: no larger K to try
+            notes.append(f"{self.selection.criterion.upper()} chose K = {self.n_components}, the largest tried: "
+                         "a larger K may fit better (raise max_components, rlff fit --max-components)")
         if counted < parameters:
             notes.append(f"{self.selection.criterion.upper()} rests on {counted:.0f} {what}, fewer than "
                          f"the {parameters} parameters of K = {self.n_components}: the data hardly decide K (record "
@@ -294,7 +294,7 @@ class Model:
         components : "auto" or int
             K, or "auto" to pick it by ``criterion`` over 1..``max_components``.
         max_components : int
-            Largest K tried with "auto" (capped at the number of samples).
+            Largest K tried with "auto", capped at :func:`component_bound` (the samples BIC counts).
         criterion : {"bic", "aic"}
         seed : int or None
             Seed of the k-means++ initialisations.
@@ -341,8 +341,9 @@ class Model:
         if components == "auto":
             if not isinstance(max_components, (int, np.integer)) or max_components < 1:
                 raise InputError(f"max_components must be an integer >= 1, got {max_components!r}")
+            largest = min(max_components, component_bound(X.shape[0], effective))
             found = select_components(
-                X, range(1, max_components + 1), criterion=criterion, sample_weight=sample_weight,
+                X, range(1, largest + 1), criterion=criterion, sample_weight=sample_weight,
                 effective_samples=effective, progress=progress, **settings,
             )
             mixture = found.model
@@ -606,6 +607,15 @@ def _typical_release(data: Dataset | np.ndarray, column: str) -> dict[str, Any] 
     for _, source in found:
         sources[source] = sources.get(source, 0) + 1
     return {"value": float(np.median([value for value, _ in found])), "sources": sources}
+
+
+def component_bound(n_samples: int, effective_samples: float | None) -> int:
+    """The most components ``components="auto"`` tries whatever ``max_components`` says: the
+    samples BIC counts (``effective_samples``, else all ``n_samples``), at least 1. With more
+    components than samples the criterion has nothing to choose by (every sample could have its
+    own), and the fits of K up to the number of samples took hours."""
+    counted = n_samples if effective_samples is None else effective_samples
+    return max(1, math.floor(counted))
 
 
 def effective_sample_count(data: Dataset | np.ndarray, weights: np.ndarray, setting: str | float | None) -> float | None:
