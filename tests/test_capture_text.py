@@ -274,7 +274,8 @@ def test_thesis_matrix_files_pass_through(tmp_path):
     )
     first, second = tmp_path / "a.txt", tmp_path / "b.txt"
     write_thesis_matrix(throws, first)
-    write_thesis_matrix(throws, second)
+    # other throws under the same ids (a copy of the first file would be refused as given twice)
+    write_thesis_matrix(throws.replace(t.with_columns(velocity=t["velocity"] + 1.0) for t in throws), second)
     dataset, report = import_recordings([first, second], "thesis")
     assert len(dataset) == 4 and len({t.id for t in dataset}) == 4
     assert [f.format for f in report.files] == ["thesis", "thesis"]

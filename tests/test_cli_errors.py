@@ -288,7 +288,7 @@ def test_flags_are_shown_as_flags_in_help(rlff):
     assert result.code == 0
     flag_line = next(line for line in result.stdout.splitlines() if "--json" in line)
     assert "<bool>" not in flag_line and "<bool>" not in result.stdout
-    assert "<int>" in result.stdout  # options that take values still say what they take
+    assert "<int" in result.stdout  # options that take values still say what they take ("<int range>")
 
 
 def test_fit_names_the_k_chosen_and_warns_at_the_top_of_the_range(rlff, files, tmp_path):
