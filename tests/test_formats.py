@@ -94,6 +94,8 @@ def test_thesis_figure_2_1_reads_with_comma_decimals(tmp_path):
         # quoted as in the file, not with its commas read as decimal points ('0.1.0.2.0.3')
         ("0.1,0.2,0.3\n1,1,1\n0,1,2\n", r"line 1: '0.1,0.2,0.3' is not a number"),
         ("trajectory,angle\na,0.1\n", r"line 1: 'trajectory,angle' is not a number"),
+        ("trajectory,angle,velocity\na,0.1,2\n", r"'trajectory,angle,velocity' is not a number .*it looks like CSV: "
+                                                 r"a \.csv file is read as CSV"),
         ("0 nan\n1 1\n0 0.5\n", r"line 1: non-finite value in row 'angle'"),
         ("0\n1\n0\n", r"line 1: a single value"),
         ("# nothing here\n", r"no data rows"),

@@ -108,9 +108,11 @@ def read_thesis_matrix(
             values = np.array([float(t.replace(",", ".")) for t in tokens])
         except ValueError:
             bad = next(t for t in tokens if not _is_number(t.replace(",", ".")))  # quoted as in the file
+            # several commas in one token: a CSV file under the thesis matrix's suffix
+            csv = "; it looks like CSV: a .csv file is read as CSV" if bad.count(",") > 1 else ""
             raise InputError(
                 f"{path}, line {number}: {bad!r} is not a number (values are separated by tabs, "
-                "spaces or semicolons; a comma is a decimal separator)"
+                f"spaces or semicolons; a comma is a decimal separator){csv}"
             ) from None
         if not np.all(np.isfinite(values)):
             raise InputError(f"{path}, line {number}: non-finite value in row {rows[len(current_rows)]!r}")

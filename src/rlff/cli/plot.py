@@ -124,8 +124,14 @@ def kmeans_em_command(
     ks = _numbers("--k", k, integers=True)
     distance = None if distance is None else _distance("--distance", distance)
     effective = effective_samples_setting(effective_samples)
-    _done([kmeans_em_for_dataset(_read(data), out, ks=ks, distance=distance, seed=seed, effective_samples=effective)],
-          as_json)
+    try:
+        saved = kmeans_em_for_dataset(_read(data), out, ks=ks, distance=distance, seed=seed,
+                                      effective_samples=effective)
+    except InputError as exc:  # the library names its parameter; the user typed --k
+        if str(exc).startswith("numbers of components"):
+            raise InputError(f"--k: {exc}") from None
+        raise
+    _done([saved], as_json)
 
 
 @app.command("bic")
