@@ -87,8 +87,24 @@ def _context(items: list[str]) -> dict[str, float]:
         number = parse_number(value, f"--context {item!r}")
         if name in context:
             raise InputError(f"--context: {name} given twice ({name}={context[name]:g} and {item}): give each context once")
-        context[name] = check_distance("--context distance", number) if name == "distance" else number
+        if name == "distance":
+            number = check_distance("--context distance", number)
+        elif name in _BASKET_CHECKS:
+            _check_basket_value(f"--context {name}", name, number)
+        context[name] = number
     return context
+
+
+#: What a basket's bearing (deg) and rim height (m) may be, and how an error says it.
+_BASKET_CHECKS = {"bearing": (lambda v: -180 <= v <= 180, "-180..180 degrees"),
+                  "height": (lambda v: v > 0, "a positive height (m)")}
+
+
+def _check_basket_value(option: str, name: str, value: float) -> None:
+    """:class:`InputError` unless ``value`` is a finite bearing or height (:data:`_BASKET_CHECKS`)."""
+    valid, expected = _BASKET_CHECKS[name]
+    if not (math.isfinite(value) and valid(value)):
+        raise InputError(f"{option}: give {expected}, got {value:g}")
 
 
 def _grid(text: str | None, first_input: str):
@@ -296,12 +312,10 @@ def _basket_values(context: dict[str, float], names: tuple[str, ...], bearing: f
     """Put ``--bearing`` (deg) and ``--height`` (m) into ``context`` where the model has them as
     inputs; return the others, which only go into the CSV (for ``sim throw`` and ``robot``)."""
     written = {}
-    for name, value, valid, expected in (("bearing", bearing, lambda v: -180 <= v <= 180, "-180..180 degrees"),
-                                         ("height", height, lambda v: v > 0, "a positive height (m)")):
+    for name, value in (("bearing", bearing), ("height", height)):
         if value is None:
             continue
-        if not (math.isfinite(value) and valid(value)):
-            raise InputError(f"--{name}: give {expected}, got {value:g}")
+        _check_basket_value(f"--{name}", name, value)
         if name in context:
             raise InputError(f"--{name} and --context {name}=... both given: give it once")
         if name in names:
