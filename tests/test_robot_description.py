@@ -135,3 +135,12 @@ def test_a_mapping_error_names_the_file_and_its_table(tmp_path):
         from rlff.robot.mapping import RobotMapping
 
         RobotMapping.for_robot(load_robot(path))
+
+
+def test_a_geometry_built_in_code_is_held_to_the_same_lengths():
+    from rlff.robot.description import Geometry
+
+    with pytest.raises(InputError, match=r"\[geometry\] forearm is a length and must be positive \(m\), got 0"):
+        Geometry(shoulder_height=0.45, shoulder_forward=0.15, upper_arm=0.59, elbow_offset=0.13, forearm=0.0,
+                 flange=0.095)
+    Geometry(shoulder_height=0.0, shoulder_forward=-0.1, upper_arm=0.59, elbow_offset=-0.13, forearm=0.6, flange=0.0)

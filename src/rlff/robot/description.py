@@ -117,6 +117,13 @@ class Geometry:
     forearm: float
     flange: float
 
+    def __post_init__(self) -> None:
+        for key in _POSITIVE_LENGTHS + _DISTANCES:
+            value = getattr(self, key)
+            if value < 0 or (key in _POSITIVE_LENGTHS and value == 0):
+                bound = "positive" if key in _POSITIVE_LENGTHS else "zero or more"
+                raise InputError(f"[geometry] {key} is a length and must be {bound} (m), got {value:g}")
+
 
 @dataclass(frozen=True)
 class Robot:
@@ -234,11 +241,10 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
     geometry = None
     if "geometry" in document:
         values = {key: number_field(document["geometry"], key, f"{source}: [geometry]") for key in _GEOMETRY_FIELDS}
-        for key in _POSITIVE_LENGTHS + _DISTANCES:
-            if values[key] < 0 or (key in _POSITIVE_LENGTHS and values[key] == 0):
-                bound = "positive" if key in _POSITIVE_LENGTHS else "zero or more"
-                raise InputError(f"{source}: [geometry] {key} is a length and must be {bound} (m), got {values[key]:g}")
-        geometry = Geometry(**values)
+        try:
+            geometry = Geometry(**values)
+        except InputError as exc:  # the geometry's own checks name no file
+            raise InputError(f"{source}: {exc}") from None
     return Robot(name, tuple(joints), geometry, document.get("throwing", {}),
                  document.get("comau_program", {}), source, document.get("whole_arm", {}))
 
