@@ -198,6 +198,15 @@ class Trajectory:
         """A copy with ``id``, ``data`` or ``meta`` replaced."""
         return replace(self, **changes)
 
+    def samples_digest(self) -> bytes:
+        """SHA-256 of the samples: every column's name and values, bit for bit, in name order
+        (not the id or the metadata). Equal digests: the same samples."""
+        digest = hashlib.sha256(str(len(self)).encode())
+        for name in sorted(self.columns):
+            digest.update(name.encode() + b"\0")
+            digest.update(np.ascontiguousarray(self[name]).tobytes())
+        return digest.digest()
+
     def with_columns(self, **columns: np.ndarray) -> Trajectory:
         """A copy with some columns replaced or added (all columns must keep one length)."""
         data = dict(self.data)
@@ -435,11 +444,7 @@ class Dataset(Sequence[Trajectory]):
         """
         groups: dict[bytes, list[str]] = {}
         for trajectory in self._trajectories:
-            digest = hashlib.sha256(str(len(trajectory)).encode())
-            for name in self.columns:
-                digest.update(name.encode() + b"\0")
-                digest.update(np.ascontiguousarray(trajectory[name]).tobytes())
-            groups.setdefault(digest.digest(), []).append(trajectory.id)
+            groups.setdefault(trajectory.samples_digest(), []).append(trajectory.id)
         return [tuple(ids) for ids in groups.values() if len(ids) > 1]
 
     def replace(self, trajectories: Iterable[Trajectory]) -> Dataset:

@@ -15,8 +15,6 @@ from collections import OrderedDict
 from collections.abc import Callable, Hashable
 from typing import TypeVar
 
-import numpy as np
-
 from rlff.dataset import Dataset
 
 T = TypeVar("T")
@@ -50,7 +48,6 @@ class ByContent:
         return result
 
 
-
 def content_digest(demos: Dataset) -> str:
     """Digest of everything ``demos`` holds: every trajectory's id, columns (names and samples)
     and metadata, and the dataset's context columns. Two datasets with the same digest give the
@@ -60,8 +57,6 @@ def content_digest(demos: Dataset) -> str:
     digest = hashlib.sha256(repr(tuple(demos.context)).encode())
     for trajectory in demos:
         digest.update(trajectory.id.encode())
-        for name in trajectory.columns:
-            digest.update(name.encode())
-            digest.update(np.ascontiguousarray(trajectory[name]).tobytes())
+        digest.update(trajectory.samples_digest())
         digest.update(repr(sorted(trajectory.meta.items())).encode())
     return digest.hexdigest()
