@@ -153,11 +153,10 @@ def export(
           folders=["-o/--output"] if fmt == "ros2-bag" else [])
     export_format(out, fmt)  # before any planning
     driven = joint_list(joints)
-    mapping = mapping_for(load_robot(robot), driven)
-    source = load_input(trajectory, mapping.robot, attempt=attempt, period=period, clip=clip, joints=driven,
-                        bearing=bearing)
-    if source.run is not None:  # an attempts log: the joints its run threw with
-        mapping = run_mapping(mapping.robot, source.run)
+    model = load_robot(robot)
+    source = load_input(trajectory, model, attempt=attempt, period=period, clip=clip, joints=driven, bearing=bearing)
+    # what the Comau program carries: an attempts log's run's joints, else the ones asked for
+    mapping = run_mapping(model, source.run) if source.run is not None else mapping_for(model, driven)
     say(f"{trajectory}: {source.kind}")
     result = source.plan
     export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)

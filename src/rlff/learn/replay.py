@@ -7,8 +7,9 @@ An attempt is stored in the demonstrations' units (the saturated path the planne
 mapped back), so it goes through the same :func:`rlff.robot.plan.plan` as a generated path: the
 same mapping, the same motion planner (approach, the throw to its release, braking to rest) and
 the same motion check, and nothing a learned throw writes can differ from what ``robot export``
-writes of it. An attempt is replayed only with the robot it was thrown with: the log's header keeps the
-robot's description, and a different one is refused naming the first field that differs. A
+writes of it. An attempt is replayed only with the robot it was thrown with: the log's header
+keeps the robot's description, and a different one is refused naming the first field that
+differs. A
 whole-arm attempt is replayed with the joints (``run["joints"]``) and the basket's bearing
 (``run["basket"]["bearing"]``) of its run: every joint it drove, joint 1 turned to the basket.
 """
@@ -123,7 +124,7 @@ def require_run_joints(path: str | Path, run: dict, mapping: RobotMapping | ArmM
     run threw with: its attempts are throws of those joints and no others."""
     if joints is None:
         return
-    thrown = getattr(mapping, "driven_joints", None) or (mapping.joint,)
+    thrown = mapping.driven_joints
     if sorted(joints) != sorted(thrown):
         raise InputError(f"--joints {','.join(joints)}: {path} was thrown with {','.join(sorted(thrown))}, and its "
                          "attempts are throws of those joints; leave out --joints")
