@@ -69,7 +69,9 @@ def _candidates(dataset, max_components: int, effective: str | float | None) -> 
     return min(max_components, bound)
 
 
-def _read(path: Path):
+def read_data(path: Path):
+    """The dataset in ``path``, its format by its extension (:func:`rlff.formats.read_dataset`;
+    imported here, not at start-up: it loads numpy and pandas)."""
     from rlff.formats import read_dataset
 
     return read_dataset(path)
@@ -171,7 +173,7 @@ def fit_command(
     if components != "auto" and not (components.isdigit() and int(components) >= 1):
         raise InputError(f"--components must be auto or an integer >= 1, got {components!r}")
     check_criterion(criterion)
-    dataset = _read(data)
+    dataset = read_data(data)
     warn_copies(dataset, data)
     if components != "auto" and int(components) > dataset.n_samples:
         raise InputError(f"-k/--components {components} is more than the {dataset.n_samples} samples of {data}")

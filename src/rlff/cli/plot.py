@@ -7,7 +7,12 @@ from pathlib import Path
 import typer
 
 from rlff.cli._common import emit_json, seed_option, stdout
-from rlff.cli.model import EFFECTIVE_SAMPLES_HELP, check_criterion, effective_samples_setting
+from rlff.cli.model import (
+    EFFECTIVE_SAMPLES_HELP,
+    check_criterion,
+    effective_samples_setting,
+    read_data,
+)
 from rlff.errors import InputError
 
 app = typer.Typer(
@@ -39,13 +44,6 @@ def _numbers(option: str, text: str, *, integers: bool = False) -> list:
     if not values:
         raise InputError(f"{option}: empty list")
     return values
-
-
-def _read(path: Path):
-    """The dataset in ``path``, read as ``rlff fit`` reads it (the format by its extension)."""
-    from rlff.formats import read_dataset
-
-    return read_dataset(path)
 
 
 def _done(saved: list, as_json: bool) -> None:
@@ -82,7 +80,7 @@ def dataset_command(
     from rlff.plots.data import dataset_3d, dataset_slices
 
     _guard(out, {"DATA": data}, ("-3d", "-slices"))
-    dataset = _read(data)
+    dataset = read_data(data)
     stem = out.with_suffix("") if out.suffix in (".png", ".svg") else out
     _done(
         [dataset_3d(dataset, stem.with_name(stem.name + "-3d")), dataset_slices(dataset, stem.with_name(stem.name + "-slices"))],
@@ -104,7 +102,7 @@ def components_command(
 
     _guard(out, {"MODEL": model, "DATA": data})
     distance = _distance("--distance", distance)
-    _done([model_components(Model.load(model), _read(data), distance, out)], as_json)
+    _done([model_components(Model.load(model), read_data(data), distance, out)], as_json)
 
 
 @app.command("kmeans-em")
@@ -125,7 +123,7 @@ def kmeans_em_command(
     distance = None if distance is None else _distance("--distance", distance)
     effective = effective_samples_setting(effective_samples)
     try:
-        saved = kmeans_em_for_dataset(_read(data), out, ks=ks, distance=distance, seed=seed,
+        saved = kmeans_em_for_dataset(read_data(data), out, ks=ks, distance=distance, seed=seed,
                                       effective_samples=effective)
     except InputError as exc:  # the library names its parameter; the user typed --k
         if str(exc).startswith("numbers of components"):
@@ -151,7 +149,7 @@ def bic_command(
     check_criterion(criterion)
     effective = effective_samples_setting(effective_samples)
     _done(
-        [selection_for_dataset(_read(data), out, max_components=max_components, criterion=criterion, seed=seed,
+        [selection_for_dataset(read_data(data), out, max_components=max_components, criterion=criterion, seed=seed,
                                effective_samples=effective)],
         as_json,
     )
@@ -184,7 +182,7 @@ def dmm_command(
 
     _guard(out, {"MODEL": model, "--data": data})
     distance = _distance("--distance", distance)
-    dataset = _read(data) if data is not None else None
+    dataset = read_data(data) if data is not None else None
     _done([dmm_heatmap(Model.load(model), distance, out, dataset=dataset)], as_json)
 
 
@@ -202,7 +200,7 @@ def outputs_command(
 
     _guard(out, {"MODEL": model, "--data": data})
     chosen = [_distance("--distances", d) for d in _numbers("--distances", distances)]
-    dataset = _read(data) if data is not None else None
+    dataset = read_data(data) if data is not None else None
     _done([model_outputs(Model.load(model), chosen, out, dataset=dataset)], as_json)
 
 
@@ -220,7 +218,7 @@ def preprocess_command(
     _guard(out, {"DATA": data, "--config": config})
     if preset is not None and config is not None:
         raise InputError("give either --preset or --config, not both")
-    _done([pipeline_steps(_read(data), out, preset=preset, config=config)], as_json)
+    _done([pipeline_steps(read_data(data), out, preset=preset, config=config)], as_json)
 
 
 @app.command("learning")
