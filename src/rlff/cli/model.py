@@ -97,15 +97,20 @@ def _context(items: list[str]) -> dict[str, float]:
     return context
 
 
-#: What a basket's bearing (deg) and rim height (m) may be, and how an error says it.
-_BASKET_CHECKS = {"bearing": (lambda v: -180 <= v <= 180, "-180..180 degrees"),
-                  "height": (lambda v: v > 0, "a positive height (m)")}
+#: The basket values checked here: its bearing (deg) and its rim's height (m).
+_BASKET_CHECKS = ("bearing", "height")
 
 
 def _check_basket_value(option: str, name: str, value: float) -> None:
-    """:class:`InputError` unless ``value`` is a finite bearing or height (:data:`_BASKET_CHECKS`)."""
-    valid, expected = _BASKET_CHECKS[name]
-    if not (math.isfinite(value) and valid(value)):
+    """:class:`InputError` unless ``value`` is a finite bearing within
+    :data:`rlff.dataset.BEARING_RANGE` (as :class:`rlff.sim.Basket` takes it) or a positive
+    rim height."""
+    from rlff.dataset import BEARING_RANGE  # not at import: rlff.dataset loads numpy
+
+    low, high = BEARING_RANGE
+    valid, expected = ((low <= value <= high, f"{low:g}..{high:g} degrees") if name == "bearing"
+                       else (value > 0, "a positive height (m)"))
+    if not (math.isfinite(value) and valid):
         raise InputError(f"{option}: give {expected}, got {value:g}")
 
 

@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rlff.dataset import BEARING_RANGE
 from rlff.errors import InputError
 from rlff.limits import check_distance
 
@@ -42,8 +43,9 @@ class Basket:
             if not np.isfinite(value) or value <= 0:
                 raise InputError(f"basket {name} must be a positive number of metres, got {value}")
         check_distance("basket distance", self.distance)
-        if not (np.isfinite(self.bearing) and -180.0 <= self.bearing <= 180.0):
-            raise InputError(f"basket bearing must be -180..180 degrees, got {self.bearing}")
+        low, high = BEARING_RANGE
+        if not (np.isfinite(self.bearing) and low <= self.bearing <= high):
+            raise InputError(f"basket bearing must be {low:g}..{high:g} degrees, got {self.bearing}")
         object.__setattr__(self, "distance", float(self.distance))
         object.__setattr__(self, "rim_height", float(self.rim_height))
         object.__setattr__(self, "opening", float(self.opening))
