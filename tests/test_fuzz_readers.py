@@ -163,6 +163,19 @@ def test_a_parquet_file_whose_ids_point_past_their_dictionary_is_damaged():
         read_dataset(path)
 
 
+def test_a_parquet_file_whose_column_name_is_not_utf8_is_damaged(tmp_path):
+    """Found by the fuzzing above on a random run: one flipped byte in the footer made a column
+    name that pyarrow could not decode, and its UnicodeDecodeError escaped the reader."""
+    path = tmp_path / "demos.parquet"
+    write_parquet(small_dataset(), path)
+    content = path.read_bytes()
+    # the footer names the column twice, in the schema (first) and in its chunk's path
+    assert content.count(b"\x05angle") == 2
+    path.write_bytes(content.replace(b"\x05angle", b"\x05\xe1ngle", 1))
+    with pytest.raises(InputError, match="damaged Parquet file: a column name is not UTF-8 text"):
+        read_dataset(path)
+
+
 _PARQUET_COLUMNS = {
     "float": st.lists(st.floats(allow_nan=True, allow_infinity=True) | st.none(), min_size=4, max_size=4),
     "int": st.lists(st.integers(-(2**62), 2**62) | st.none(), min_size=4, max_size=4),

@@ -392,6 +392,10 @@ def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Data
         table = pq.read_table(path)
     except (pa.ArrowException, OSError) as exc:
         raise InputError(f"{path}: not a Parquet file ({exc})") from None
+    try:
+        table.column_names  # noqa: B018 -- pyarrow decodes the names only when they are asked for
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: damaged Parquet file: a column name is not UTF-8 text") from None
     info = _parquet_info(path, table)
     if ID_COLUMN not in table.column_names:
         raise InputError(f"{path}: no {ID_COLUMN!r} column (columns: {', '.join(table.column_names)})")
