@@ -59,6 +59,25 @@ def test_one_throw_per_high_throw_file_in_a_human_range(imported):
 
 
 @pytest.mark.realdata
+def test_a_throw_starts_where_its_wind_up_starts(imported):
+    """The elbow falls into the wind-up before it extends. A blip of jitter in the hold at the
+    bottom used to end the backward walk there, cutting off three wind-ups (``a06_s05_e02``
+    started at 0.65 rad, 0.66 s after its angle began to fall from 2.62)."""
+    dataset, _ = imported
+    wind_ups = {}
+    for trajectory in dataset:
+        if "a06_" in trajectory.meta["source"]:
+            angle = trajectory["angle"]
+            lowest = int(np.argmin(angle))
+            wind_ups[trajectory.id] = float(angle[: lowest + 1].max() - angle[lowest])
+    assert len(wind_ups) == 26
+    # one throw (a06_s08_e03) rises 0.3 rad out of its wind-up and falls again before extending:
+    # the walk stops at that rise, a movement of its own
+    assert sum(fall >= 0.45 for fall in wind_ups.values()) == 25, wind_ups
+    assert wind_ups["a06_s05_e02_skeleton3D_t1"] > 1.9
+
+
+@pytest.mark.realdata
 def test_all_zero_frames_of_subject_02_are_dropped_and_reported(msr_dir):
     recording = read_msr_text(msr_dir / "a20_s02_e01_skeleton3D.txt")
     assert any("all arm joints at zero" in note for note in recording.notes)

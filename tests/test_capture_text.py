@@ -188,19 +188,28 @@ def test_glitches_do_not_make_throws():
         assert motion.time[cut.start] == pytest.approx(start, abs=0.1) and motion.time[cut.stop - 1] == pytest.approx(end, abs=0.1)
 
 
-# derandomized in CI, as the fuzz tests: about 1 case in 1,000 has a boundary beyond 0.12 s (the
-# known faults below), and a random draw of 15 would fail about one CI run in 50
+# derandomized in CI, as the fuzz tests: about 1 case in 5,000 has a boundary beyond 0.12 s (the
+# known fault below), and a random draw of 15 would fail about one CI run in 300
 @settings(max_examples=15, deadline=None, derandomize=os.environ.get("CI", "").lower() == "true")
 @given(seed=st.integers(0, 10_000), n_throws=st.integers(1, 5))
 def test_the_number_of_throws_is_recovered(seed, n_throws):
     _check_recovered(seed, n_throws)
 
 
-@pytest.mark.xfail(strict=True, reason="known: a one-sample blip of tracker jitter faster than 0.5 rad/s "
-                                       "in the hold at the bottom of the wind-up ends the backward walk "
-                                       "(docs/capture.md); the start comes 0.5 s late")
-@pytest.mark.parametrize(("seed", "n_throws"), [(3782, 5), (8680, 2)])
-def test_a_jitter_blip_in_the_hold_does_not_cut_off_the_wind_up(seed, n_throws):
+@pytest.mark.parametrize(("seed", "n_throws"), [(3782, 5), (8680, 2), (1425, 4)])
+def test_jitter_in_the_hold_or_the_rest_does_not_move_the_start(seed, n_throws):
+    """Found by random draws of the test above: a one-sample blip faster than 0.5 rad/s in the
+    hold at the bottom of the wind-up ended the backward walk (3782 and 8680: the start 0.5 s
+    late), and a blip that was not taken restarted the hold's clock, so three samples of rest
+    jitter further back passed for wind-up (1425: 0.6 s early)."""
+    _check_recovered(seed, n_throws)
+
+
+@pytest.mark.xfail(strict=True, reason="known: a slow follow-through whose speed, fitted over "
+                                       "settle_window, dips below 0.5 rad/s for one sample ends "
+                                       "there, 0.13-0.15 s early (docs/capture.md)")
+@pytest.mark.parametrize(("seed", "n_throws"), [(72, 4), (1455, 5)])
+def test_a_dip_in_a_slow_follow_through_does_not_end_it(seed, n_throws):
     _check_recovered(seed, n_throws)
 
 

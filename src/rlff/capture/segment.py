@@ -16,9 +16,11 @@ time, never a number of samples:
    ``max_follow_through`` later).
 
 In both walks, motion after a pause counts only when it lasts ``min_motion`` (tracker noise in a
-rest makes blips); a sample stands for the time half-way to each neighbour, so a single sample of
-a sparse recording can be enough. The follow-through's velocity is a local fit over
-``settle_window`` (the wind-up's, over the output's 0.25 s, stops where the extension begins). Every candidate not taken comes back as a :class:`Rejection` with
+rest makes blips), and a blip does not restart the pause's clock; a rise within the wind-up's
+hold ends the walk only when it lasts ``min_motion`` too. A sample stands for the time half-way
+to each neighbour, so a single sample of a sparse recording can be enough. The follow-through's
+velocity is a local fit over ``settle_window`` (the wind-up's, over the output's 0.25 s, stops
+where the extension begins). Every candidate not taken comes back as a :class:`Rejection` with
 its time, the rule that stopped it and why. Consecutive throws never overlap; a throw never spans
 lost tracking (:meth:`ArmMotion.runs`), and a rise across lost tracking is reported too.
 """
@@ -259,29 +261,46 @@ class _Walk:
 
         ``time`` and ``velocity`` are in walking order (``time`` backwards for the wind-up).
         Stops at a pause longer than ``pause``, beyond ``longest`` or, with ``stop_at_rise``,
-        where the angle rises (the movement before). Motion separated from what was already taken
-        by a pause counts only when it lasts ``min_motion``: each sample stands for the time
-        half-way to its neighbours.
+        where the angle rises (the movement before). Each sample stands for the time half-way to
+        its neighbours, and motion or a rise shorter than ``min_motion`` is tracker jitter:
+
+        - motion separated from what was already taken by a pause counts only when it lasts
+          ``min_motion``, and a pause is timed from the last motion taken (a blip of jitter does
+          not restart it);
+        - until motion lasting ``min_motion`` has been taken, a rise ends the walk only when it
+          lasts ``min_motion`` too (a blip in the hold at the bottom of the wind-up is not the
+          movement before); after it, any rise does.
         """
         distance = np.abs(time - time[0])
         edges = np.concatenate([[0.0], (distance[1:] + distance[:-1]) / 2, [distance[-1]]])
-        rest, min_motion = self.settings.rest_velocity, self.settings.min_motion
-        last = last_moving = 0
-        run_start: int | None = None
+        rest = self.settings.rest_velocity
+
+        def lasts(first: int, step: int) -> bool:
+            return bool(edges[step + 1] - edges[first] >= self.settings.min_motion - 1e-9)
+
+        last = 0
+        run_start: int | None = None  # the motion (or rise) the walk is in
+        rise_start: int | None = None
+        moved = False  # motion lasting min_motion has been taken
         for step in range(1, distance.size):
             if distance[step] > self.longest + 1e-9:
                 break
             value = velocity[step]
             if self.stop_at_rise and value >= rest:
-                break
+                rise_start = step if rise_start is None else rise_start
+                if moved or lasts(rise_start, step):
+                    break
+                run_start = None
+                continue
+            rise_start = None
             if abs(value) >= rest:
                 run_start = step if run_start is None else run_start
-                last_moving = step
-                if edges[step + 1] - edges[run_start] >= min_motion - 1e-9 or run_start == last + 1:
+                if lasts(run_start, step) or run_start == last + 1:
                     last = step
+                    moved = moved or lasts(run_start, step)
             else:
                 run_start = None
-                if distance[step] - distance[last_moving] > self.pause + 1e-9:
+                if distance[step] - distance[last] > self.pause + 1e-9:
                     break
         return last
 
