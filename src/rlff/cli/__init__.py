@@ -32,12 +32,13 @@ except ImportError:  # pragma: no cover - older typer
     from click import exceptions as click_errors
     from click.utils import echo
 
-from rlff.cli._common import stderr, verbosity
+from rlff.cli._common import PLAIN_HELP, stderr, verbosity
 from rlff.errors import InputError, Interrupted, Terminated
 
 HELP_OPTIONS = ["-h", "--help"]
 
 app = typer.Typer(
+    rich_markup_mode=PLAIN_HELP,
     name="rlff",
     help="Robot learning from failed demonstrations: from skeleton recordings to robot throws.",
     no_args_is_help=True,

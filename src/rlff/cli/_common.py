@@ -31,6 +31,9 @@ verbosity = Verbosity()
 
 
 # Markup and emoji codes are off: file names and values print as they are ("a:b:c.csv", "[x].csv").
+#: Help texts are plain text: rich markup would swallow a robot file's table names ("[whole_arm]").
+PLAIN_HELP = None
+
 def stdout() -> Console:
     """Console for results (follows ``sys.stdout`` so test runners can capture it)."""
     return Console(file=sys.stdout, soft_wrap=True, markup=False, emoji=False, highlight=False)

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import typer
 
-from rlff.cli._common import MAX_SEED, emit_json, progress, seed_option, stdout
+from rlff.cli._common import MAX_SEED, PLAIN_HELP, emit_json, progress, seed_option, stdout
 from rlff.errors import InputError
 
-app = typer.Typer(help="Benchmarks: how many attempts learning takes, and against which baselines.",
+app = typer.Typer(rich_markup_mode=PLAIN_HELP, help="Benchmarks: how many attempts learning takes, and against which baselines.",
                   no_args_is_help=True)
 
 

@@ -6,13 +6,13 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, seed_option, stdout, warn_copies
+from rlff.cli._common import PLAIN_HELP, emit_json, progress, say, seed_option, stdout, warn_copies
 from rlff.cli.output import guard, write_json
 from rlff.errors import InputError
 from rlff.wording import plural
 
-app = typer.Typer(help="Make, import and clean demonstration data.", no_args_is_help=True)
-synth_app = typer.Typer(help="Built-in data: the thesis' synthetic set and simulated human throws.", no_args_is_help=True)
+app = typer.Typer(rich_markup_mode=PLAIN_HELP, help="Make, import and clean demonstration data.", no_args_is_help=True)
+synth_app = typer.Typer(rich_markup_mode=PLAIN_HELP, help="Built-in data: the thesis' synthetic set and simulated human throws.", no_args_is_help=True)
 app.add_typer(synth_app, name="synth")
 
 

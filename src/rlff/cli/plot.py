@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, seed_option, stdout
+from rlff.cli._common import PLAIN_HELP, emit_json, seed_option, stdout
 from rlff.cli.model import (
     EFFECTIVE_SAMPLES_HELP,
     check_criterion,
@@ -16,6 +16,7 @@ from rlff.cli.model import (
 from rlff.errors import InputError
 
 app = typer.Typer(
+    rich_markup_mode=PLAIN_HELP,
     help="Figures from data, model and log files; each writes OUT.png and OUT.svg.",
     no_args_is_help=True,
 )

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, stderr, stdout
+from rlff.cli._common import PLAIN_HELP, emit_json, progress, say, stderr, stdout
 
 if TYPE_CHECKING:
     from rlff.robot.plan import RobotPlan
@@ -17,7 +17,7 @@ if TYPE_CHECKING:
 DEFAULT_ROBOT = "comau_smart5_six"  # rlff.robot.description.DEFAULT_ROBOT
 FORMATS = ("json", "csv", "ros1-bag", "ros2-bag", "comau")  # rlff.robot.formats.FORMATS
 
-app = typer.Typer(help="The robot: its limits, URDF, exports, and live ROS 1 or 2 (serve / send).",
+app = typer.Typer(rich_markup_mode=PLAIN_HELP, help="The robot: its limits, URDF, exports, and live ROS 1 or 2 (serve / send).",
                   no_args_is_help=True)
 
 ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help=f"Robot file (.toml) or built-in robot name ({DEFAULT_ROBOT}).")

@@ -7,12 +7,12 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, say, stdout
+from rlff.cli._common import PLAIN_HELP, emit_json, say, stdout
 from rlff.cli.robot import DEFAULT_ROBOT, JOINTS, joint_list
 
 # The library (MuJoCo, SciPy) is imported inside the commands: other commands do not pay for it
 
-app = typer.Typer(help="Simulate throws in MuJoCo: outcome, frames, reach.", no_args_is_help=True)
+app = typer.Typer(rich_markup_mode=PLAIN_HELP, help="Simulate throws in MuJoCo: outcome, frames, reach.", no_args_is_help=True)
 
 ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help=f"Robot file (.toml) or built-in robot name ({DEFAULT_ROBOT}).")
 PEDESTAL = typer.Option(0.0, "--pedestal", help="Height of the robot's base above the ground (m).")
