@@ -212,8 +212,8 @@ def local_derivative(time: np.ndarray, values: np.ndarray, window_s: float) -> n
     return result.reshape(values.shape)
 
 
-def _interpolate(track: JointTrack, stamps: np.ndarray) -> np.ndarray:
-    """Positions of shape (T, 3) at the stamps, linear between samples."""
+def positions_at(track: JointTrack, stamps: np.ndarray) -> np.ndarray:
+    """The track's positions of shape (T, 3) at the stamps of shape (T,), linear between samples."""
     return np.column_stack([np.interp(stamps, track.time, track.position[:, axis]) for axis in range(3)])
 
 
@@ -346,7 +346,7 @@ def align_arm(
     if stamps.size < 2:
         raise InputError(f"{arm.label}: fewer than 2 elbow samples while all joints are tracked")
     lost_gap = lost_tracking_gap(stamps, max_gap, gap_factor)
-    shoulder, elbow, fore_end, hand = (_interpolate(track, stamps) for track in tracks)
+    shoulder, elbow, fore_end, hand = (positions_at(track, stamps) for track in tracks)
     valid = np.logical_and.reduce([_covered(track, stamps, lost_gap) for track in tracks])
     angle = included_angle(shoulder, elbow, fore_end)
     glitch = _glitches(stamps, angle, hand)
@@ -354,7 +354,7 @@ def align_arm(
     glitch_times = stamps[glitch]
     # the other joints, on the same stamps: the shoulder against the torso (or the vertical), the
     # wrist between forearm and hand where the arm has both points
-    down = _interpolate(torso[1], stamps) - _interpolate(torso[0], stamps) if torso else None
+    down = positions_at(torso[1], stamps) - positions_at(torso[0], stamps) if torso else None
     if down is not None and np.median(np.linalg.norm(down, axis=1)) < MIN_TORSO:
         torso, down = [], None  # neck and hip in one place: not a torso
     if down is None:
@@ -381,16 +381,22 @@ def align_arm(
     )
 
 
-def hand_excursion(motion: ArmMotion) -> float:
-    """How far the hand moves around the shoulder (m): norm of its 5-95 percentile range.
+def sweep(relative: np.ndarray) -> float:
+    """How far positions of shape (T, 3) range (m): norm of their 5-95 percentile range, 0 below 2.
 
-    The throwing hand sweeps more than a metre; the other one stays near the body. Percentiles
-    keep a few glitched samples from deciding.
+    Percentiles keep a few glitched samples from deciding.
     """
-    relative = (motion.hand - motion.shoulder)[motion.valid]
     if len(relative) < 2:
         return 0.0
     return float(np.linalg.norm(np.percentile(relative, 95, axis=0) - np.percentile(relative, 5, axis=0)))
+
+
+def hand_excursion(motion: ArmMotion) -> float:
+    """How far the hand moves around the shoulder (m): the :func:`sweep` of hand - shoulder.
+
+    The throwing hand sweeps more than a metre; the other one stays near the body.
+    """
+    return sweep((motion.hand - motion.shoulder)[motion.valid])
 
 
 def throwing_arm(motions: list[ArmMotion]) -> ArmMotion:

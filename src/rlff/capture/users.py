@@ -3,8 +3,14 @@
 A skeleton tracker sometimes sees a second "user" in a reflection or a shadow (thesis 4.2.1):
 it flickers in and out, for a few frames at a time, with bones that change length. The person
 who throws is tracked for most of the recording with a steady skeleton. Each user is scored by
-the number of arm samples divided by (1 + 10 x the relative spread of the upper arm's length);
-the best one is kept.
+the number of arm samples divided by (1 + 10 x the relative spread of the upper arm's length).
+
+A bystander is tracked as long and as steadily as the thrower, sometimes longer. Among the users
+scoring at least half the best score, the one whose hand sweeps furthest around its shoulder
+(norm of the 5-95 percentile range of hand - shoulder, either arm) is kept: the thrower's hand
+sweeps about half a metre or more, a bystander's stays near the body. A reflection flickers and
+its bones stretch, so it stays far below half the score (4-7 % in the simulated sessions) and its
+hand, which mirrors the thrower's plus noise, does not decide.
 
 A tracker that loses the person and finds them again gives them a new user id. A user who is
 never tracked at the same time as the kept one (at most 5 % of their samples overlap it) and
@@ -16,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from rlff.capture.angles import positions_at, sweep
 from rlff.capture.skeleton import ArmTrack, JointTrack, Recording
 
 #: A user's track is broken into appearances where it has no sample for longer than this (s).
@@ -23,14 +30,18 @@ _APPEARANCE_GAP_S = 0.5
 #: Re-acquired person: largest share of samples overlapping the kept user, largest bone difference.
 _MAX_OVERLAP = 0.05
 _MAX_BONE_DIFFERENCE = 0.15
+#: Users scoring at least this share of the best score are told apart by how their hand moves.
+_COMPARABLE_SCORE = 0.5
 
 
 def _upper_arm_lengths(arm: ArmTrack) -> np.ndarray:
     """Upper-arm length (m) at each elbow sample, shape (T,)."""
-    shoulder = np.column_stack(
-        [np.interp(arm.elbow.time, arm.shoulder.time, arm.shoulder.position[:, axis]) for axis in range(3)]
-    )
-    return np.linalg.norm(shoulder - arm.elbow.position, axis=1)
+    return np.linalg.norm(positions_at(arm.shoulder, arm.elbow.time) - arm.elbow.position, axis=1)
+
+
+def hand_sweep(arms: list[ArmTrack]) -> float:
+    """How far one user's hand sweeps around its shoulder (m), the arm that moves most: see :func:`sweep`."""
+    return max(sweep(arm.hand.position - positions_at(arm.shoulder, arm.hand.time)) for arm in arms)
 
 
 def bone_spread(arm: ArmTrack) -> float:
@@ -86,7 +97,7 @@ def _join(kept: ArmTrack, other: ArmTrack) -> ArmTrack:
 
 
 def keep_consistent_user(recording: Recording) -> tuple[list[ArmTrack], list[str]]:
-    """The arms of the most consistent user, and a note for every user dropped.
+    """The arms of the thrower: the steadiest user, or of the steady ones the one whose hand moves most.
 
     Parameters
     ----------
@@ -97,14 +108,16 @@ def keep_consistent_user(recording: Recording) -> tuple[list[ArmTrack], list[str
     arms : list of ArmTrack
         Both sides of the kept user, as far as the recording has them.
     notes : list of str
-        One per other user: joined (re-acquired) or dropped (samples, appearances, time span).
+        One per other user: joined (re-acquired) or dropped (why, samples, appearances, time span).
     """
     users = recording.users()
     by_user = {user: [arm for arm in recording.arms if arm.user == user] for user in users}
     if len(users) <= 1:
         return recording.arms, []
     scores = {user: consistency(arms) for user, arms in by_user.items()}
-    kept = max(users, key=lambda user: scores[user])
+    steady = [user for user in users if scores[user] >= _COMPARABLE_SCORE * max(scores.values())]
+    sweeps = {user: hand_sweep(by_user[user]) for user in steady}
+    kept = max(steady, key=lambda user: (sweeps[user], scores[user]))
     origin = min(arm.elbow.time[0] for arm in recording.arms)
     arms = {arm.side: arm for arm in by_user[kept]}
     notes = []
@@ -121,8 +134,13 @@ def keep_consistent_user(recording: Recording) -> tuple[list[ArmTrack], list[str
             )
             continue
         arm = max(by_user[user], key=lambda a: a.n_samples)
+        why = (
+            f"tracked about as steadily as user {kept}, but its hand sweeps {sweeps[user]:.2f} m around its "
+            f"shoulder against {sweeps[kept]:.2f} m: not the thrower"
+            if user in sweeps else "second skeleton, e.g. a reflection"
+        )
         notes.append(
-            f"{recording.source}: dropped tracked user {user} (second skeleton, e.g. a reflection): "
+            f"{recording.source}: dropped tracked user {user} ({why}): "
             f"{arm.n_samples} samples in {_appearances(arm)} appearances between "
             f"t={arm.elbow.time[0] - origin:.2f} and {arm.elbow.time[-1] - origin:.2f} s; kept user {kept} "
             f"({max(a.n_samples for a in by_user[kept])} samples)"

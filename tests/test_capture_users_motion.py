@@ -1,0 +1,50 @@
+"""Two people in view, both tracked all the time: the one whose arm moves is the thrower."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+import bagfactory as bf  # noqa: E402
+from rlff.capture.importer import import_recordings  # noqa: E402
+
+
+class _Bystander(bf.Simulation):
+    """The thrower as user 1 (with dropped frames), a reflection as user 2 when asked for, and a
+    person standing still as user 3 in every frame."""
+
+    def frames(self):
+        rng = np.random.default_rng(99)
+        shoulder = bf.SHOULDER + np.array([0.3, 1.2, 0.0])
+        elbow, hand = shoulder + np.array([0.0, 0.0, -0.3]), shoulder + np.array([0.05, 0.0, -0.58])
+        for t, users in super().frames():
+            still = {name: p + rng.normal(0.0, 0.002, 3) for name, p in bf._body(shoulder, elbow, hand).items()}
+            yield t, {**users, "3": still}
+
+
+def _import(tmp_path: Path, reflection: bool):
+    simulation = bf.standard_simulation(seed=3, n_throws=3)
+    session = _Bystander(simulation.throws, simulation.starts, simulation.duration, seed=3, second_user=reflection)
+    dataset, report = import_recordings([bf.write_ros1_bag(tmp_path / "two_people.bag", session)], "bag")
+    (file,) = report.files
+    return dataset, file
+
+
+def test_a_bystander_tracked_longer_than_the_thrower_is_dropped_and_the_throws_kept(tmp_path):
+    dataset, file = _import(tmp_path, reflection=False)
+    assert file.user == "1" and file.arm == "right"
+    assert len(dataset) == 3
+    (note,) = [note for note in file.notes if "tracked user" in note]
+    assert "dropped tracked user 3 (tracked about as steadily as user 1, but its hand sweeps 0.0" in note
+    assert "not the thrower" in note and "kept user 1" in note
+
+
+def test_a_reflection_is_dropped_by_its_score_even_though_its_hand_sweeps_furthest(tmp_path):
+    dataset, file = _import(tmp_path, reflection=True)
+    assert file.user == "1" and len(dataset) == 3
+    reflection, bystander = sorted(note for note in file.notes if "tracked user" in note)
+    assert "dropped tracked user 2 (second skeleton, e.g. a reflection)" in reflection
+    assert "dropped tracked user 3 (tracked about as steadily as user 1" in bystander
