@@ -21,7 +21,8 @@ of a frame number (Kinect) or of a time stamp (CSV); each reader says how many i
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import math
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -50,14 +51,19 @@ _JOINTS = ("shoulder", "elbow", "wrist", "hand")
 _AXES = ("x", "y", "z")
 
 
-def _numeric_rows(path: Path, expected: int, what: str) -> np.ndarray:
-    """Whitespace- or comma-separated numbers, ``expected`` per line; blank and # lines skipped.
+def _numeric_rows(
+    path: Path, expected: int, what: str, frame_of: Callable[[int, list[float]], str]
+) -> tuple[np.ndarray, np.ndarray]:
+    """Whitespace- or comma-separated numbers, ``expected`` per line; blank and # lines skipped,
+    a UTF-8 byte order mark read past.
 
-    Returns an array of shape (N, expected); raises InputError naming the first bad line.
+    ``frame_of(row, values)`` names the frame of the ``row``-th numeric line (0-based) in messages.
+    Returns the values, shape (N, expected), and the file line of each row, shape (N,); raises
+    InputError naming the first bad line.
     """
     require_file(path)
-    rows = []
-    with path.open(encoding="utf-8", errors="replace") as handle:
+    rows, lines = [], []
+    with path.open(encoding="utf-8-sig", errors="replace") as handle:
         for number, line in enumerate(handle, start=1):
             text = line.split("#", 1)[0].replace(",", " ").strip()
             if not text:
@@ -68,16 +74,20 @@ def _numeric_rows(path: Path, expected: int, what: str) -> np.ndarray:
                     f"{path}, line {number}: {len(fields)} columns, expected {expected} ({what})"
                 )
             try:
-                rows.append([float(value) for value in fields])
+                row = [float(value) for value in fields]
             except ValueError:
                 raise InputError(f"{path}, line {number}: non-numeric value in {text[:60]!r}") from None
+            bad = next((index for index, value in enumerate(row) if not math.isfinite(value)), None)
+            if bad is not None:
+                raise InputError(
+                    f"{path}, line {number} ({frame_of(len(rows), row)}): value {bad + 1} is "
+                    f"{fields[bad]!r}, not a finite number"
+                )
+            rows.append(row)
+            lines.append(number)
     if not rows:
         raise InputError(f"{path}: no frames ({what})")
-    values = np.asarray(rows)
-    if not np.all(np.isfinite(values)):
-        line = int(np.flatnonzero(~np.all(np.isfinite(values), axis=1))[0]) + 1
-        raise InputError(f"{path}: non-finite value in frame {line}")
-    return values
+    return np.asarray(rows), np.asarray(lines)
 
 
 def _clean_frames(
@@ -132,7 +142,9 @@ def read_kinect_text(path: str | Path, rate_hz: float | None = None) -> Recordin
     """
     path = Path(path)
     rate = KINECT_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz)
-    values = _numeric_rows(path, 61, "frame number then 20 joints x (x y z)")
+    values, lines = _numeric_rows(
+        path, 61, "frame number then 20 joints x (x y z)", lambda row, values: f"frame number {values[0]:g}"
+    )
     frame_numbers = values[:, 0]
     notes: list[str] = []
     _, first = np.unique(frame_numbers, return_index=True)
@@ -163,7 +175,9 @@ def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
     """
     path = Path(path)
     rate = MSR_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz)
-    values = _numeric_rows(path, 4, "x y z confidence")
+    values, _ = _numeric_rows(
+        path, 4, "x y z confidence", lambda row, values: f"frame {row // 20 + 1}, joint {row % 20 + 1}"
+    )
     if len(values) % 20:
         raise InputError(
             f"{path}: {len(values)} joint lines, not a multiple of 20 (20 joints per frame); "
