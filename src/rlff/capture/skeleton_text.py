@@ -16,7 +16,9 @@ CSV
     a column map.
 
 Frames whose arm joints are all zero (the tracker lost the user) are dropped, and so are repeats
-of a frame number (Kinect) or of a time stamp (CSV); each reader says how many in its notes.
+of the frame number (Kinect) or time stamp (CSV) of the row before; each reader says how many in
+its notes. A frame number or time stamp below the one before (two recordings appended, a clock
+reset, rows out of order) is an error naming its line: the rows are never re-sorted.
 """
 
 from __future__ import annotations
@@ -90,6 +92,30 @@ def _numeric_rows(
     return np.asarray(rows), np.asarray(lines)
 
 
+def _forward_rows(stamps: np.ndarray, lines: np.ndarray, what: str, notes: list[str], path: Path) -> np.ndarray:
+    """Rows to keep, a boolean array of shape (N,), of rows whose ``what`` (time, frame number)
+    ``stamps`` of shape (N,) never go back: a repeat of the row before is dropped with a note.
+
+    ``lines`` of shape (N,) are the rows' file lines. Raises InputError at the first stamp
+    below the one before (two recordings appended, a clock reset, rows out of order).
+    """
+    step = np.diff(stamps)
+    if np.any(step < 0):
+        row = int(np.flatnonzero(step < 0)[0]) + 1
+        raise InputError(
+            f"{path}, line {lines[row]}: {what} {stamps[row]:g} after {stamps[row - 1]:g} goes back "
+            f"(two recordings appended, or rows out of order?): split the file at this line, or sort "
+            f"its rows by {what}"
+        )
+    repeat = np.r_[False, step == 0]
+    if repeat.any():
+        notes.append(
+            f"{path.name}: dropped {int(repeat.sum())} repeated {what}s (kept the first; the first "
+            f"repeat is on line {lines[int(np.flatnonzero(repeat)[0])]})"
+        )
+    return ~repeat
+
+
 def _clean_frames(
     frames: np.ndarray, time: np.ndarray, arm_joints: list[int], notes: list[str], path: Path
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -138,21 +164,16 @@ def read_kinect_text(path: str | Path, rate_hz: float | None = None) -> Recordin
     Raises
     ------
     InputError
-        A line without 61 columns, a non-numeric value, or no tracked frame.
+        A line without 61 columns, a non-numeric or non-finite value, a frame number that goes
+        back, or no tracked frame.
     """
     path = Path(path)
     rate = KINECT_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz)
     values, lines = _numeric_rows(
         path, 61, "frame number then 20 joints x (x y z)", lambda row, values: f"frame number {values[0]:g}"
     )
-    frame_numbers = values[:, 0]
     notes: list[str] = []
-    _, first = np.unique(frame_numbers, return_index=True)
-    if first.size < frame_numbers.size:
-        notes.append(f"{path.name}: dropped {frame_numbers.size - first.size} repeated frame numbers (kept the first)")
-    values = values[np.sort(first)]
-    order = np.argsort(values[:, 0], kind="stable")
-    values = values[order]
+    values = values[_forward_rows(values[:, 0], lines, "frame number", notes, path)]
     frames = values[:, 1:].reshape(-1, 20, 3)
     arm_joints = [i for indices in KINECT_ARMS.values() for i in indices]
     frames, time = _clean_frames(frames, values[:, 0] / rate, arm_joints, notes, path)
@@ -171,7 +192,8 @@ def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
     Raises
     ------
     InputError
-        A line without 4 columns, a line count that is not a multiple of 20, or no tracked frame.
+        A line without 4 columns, a non-numeric or non-finite value, a line count that is not a
+        multiple of 20, or no tracked frame.
     """
     path = Path(path)
     rate = MSR_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz)
@@ -259,8 +281,8 @@ def read_joint_csv(
         time = numeric(time_column)
     else:
         time = np.arange(len(frame)) / (KINECT_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz))
-    order = np.argsort(time, kind="stable")
     notes: list[str] = []
+    keep = _forward_rows(time, np.arange(len(time)) + 2, "time stamp", notes, path)
     sides = list(found)
     joints_by_side = {
         side: [joint for joint in _JOINTS if f"{joint}_x" in found[side] and f"{joint}_y" in found[side] and f"{joint}_z" in found[side]]
@@ -280,12 +302,8 @@ def read_joint_csv(
     frames = np.stack(
         [np.column_stack([numeric(found[side][f"{joint}_{axis}"]) for axis in _AXES]) for side, joint in slots],
         axis=1,
-    )[order]
-    time = time[order]
-    _, first = np.unique(time, return_index=True)
-    if first.size < time.size:
-        notes.append(f"{path.name}: dropped {time.size - first.size} rows repeating a time stamp (kept the first)")
-    frames, time = frames[first], time[first]
+    )[keep]
+    time = time[keep]
     frames, time = _clean_frames(frames, time, arm_slots, notes, path)
     neck, hip = (
         (JointTrack(point, time, frames[:, slots.index((point, point)), :]) for point in CSV_TORSO)
