@@ -23,6 +23,7 @@ reset, rows out of order) is an error naming its line: the rows are never re-sor
 
 from __future__ import annotations
 
+import difflib
 import math
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -220,6 +221,10 @@ def read_joint_csv(
 ) -> Recording:
     """Read a CSV of joint positions, one row per frame.
 
+    A file with ``;`` or tab between its header's names is read with that separator, and a
+    decimal comma or point. Without a time column, frames are ``rate_hz`` apart, 30 Hz with a
+    warning when not given; with one, ``rate_hz`` is ignored (a note says so).
+
     Parameters
     ----------
     path : path of the file
@@ -229,7 +234,7 @@ def read_joint_csv(
         and the torso's ``neck_{axis}`` and ``hip_{axis}``. Names not mapped are looked up as
         they are.
     rate_hz : float, optional
-        Frame rate when the file has no ``time`` column (default 30 Hz).
+        Frame rate when the file has no ``time`` column (default 30 Hz, with a warning).
     up : {"x", "y", "z", "-x", "-y", "-z"}
         Axis pointing up in the file's frame.
 
@@ -237,17 +242,26 @@ def read_joint_csv(
     ------
     InputError
         No arm with all of shoulder, elbow and hand x/y/z columns (the message lists what is
-        missing and the columns that are there), a non-numeric value, or time that goes back.
+        missing and the columns that are there), a column map entry whose name is not one of
+        ours or whose column the file does not have (with the nearest), a non-numeric value, or
+        a time stamp below the one before.
     """
     import pandas as pd
 
     path = Path(path)
     require_file(path)
-    mapping = dict(columns or {})
+    notes: list[str] = []
+    warnings: list[str] = []
+    separator = _separator(path)
+    if separator != ",":
+        shown = "tab" if separator == "\t" else repr(separator)
+        notes.append(f"{path.name}: columns separated by {shown} (decimal comma or point)")
     try:
-        frame = pd.read_csv(path)
+        frame = pd.read_csv(path, sep=separator, decimal="." if separator == "," else ",")
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise InputError(f"{path}: not a readable CSV ({str(exc).strip().splitlines()[-1]})") from None
+    mapping = dict(columns or {})
+    _check_column_map(mapping, [str(name) for name in frame.columns], path)
 
     def column(name: str) -> str | None:
         real = mapping.get(name, name)
@@ -276,12 +290,23 @@ def read_joint_csv(
             f"{path}: no arm with shoulder, elbow and hand x/y/z columns (missing {wanted}); "
             f"columns present: {', '.join(map(str, frame.columns))}"
         )
+    rate = None if rate_hz is None else check_frame_rate(rate_hz)
     time_column = column("time")
     if time_column is not None:
         time = numeric(time_column)
+        if rate is not None:
+            notes.append(f"{path.name}: --rate {rate:g} Hz is ignored: the time column {time_column!r} gives the time")
     else:
-        time = np.arange(len(frame)) / (KINECT_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz))
-    notes: list[str] = []
+        time = np.arange(len(frame)) / (KINECT_RATE_HZ if rate is None else rate)
+        timelike = [str(name) for name in frame.columns if any(word in str(name).lower() for word in ("time", "stamp"))]
+        hint = f" (the file has a column {timelike[0]!r}: map it with --columns time={timelike[0]})" if timelike else ""
+        if rate is None:
+            warnings.append(
+                f"{path}: no time column: frames taken as {KINECT_RATE_HZ:g} Hz; give --rate or map the time "
+                f"column{hint}"
+            )
+        elif timelike:
+            notes.append(f"{path.name}: no time column: frames taken as {rate:g} Hz (--rate){hint}")
     keep = _forward_rows(time, np.arange(len(time)) + 2, "time stamp", notes, path)
     sides = list(found)
     joints_by_side = {
@@ -316,7 +341,40 @@ def read_joint_csv(
             for joint in joints_by_side[side]
         }
         arms.append(ArmTrack("1", side, tracks["shoulder"], tracks["elbow"], tracks["hand"], tracks.get("wrist"), neck, hip))
-    return Recording(str(path), arms, axis_vector(up), notes)
+    return Recording(str(path), arms, axis_vector(up), notes, warnings)
+
+
+def _separator(path: Path) -> str:
+    """The field separator of a CSV: of ``,``, ``;`` and tab, the one its header line holds most of
+    (``,`` on a tie)."""
+    with path.open(encoding="utf-8-sig", errors="replace") as handle:
+        header = next((line for line in handle if line.strip()), "")
+    return max((",", ";", "\t"), key=header.count)
+
+
+def _check_column_map(mapping: Mapping[str, str], present: list[str], path: Path) -> None:
+    """InputError at the first entry of a CSV's column ``mapping`` (our name -> the file's column)
+    whose name is not one of ours or whose column is not among ``present``, with the nearest one."""
+    ours = ["time", *(f"{side}_{joint}_{axis}" for side in SIDES for joint in _JOINTS for axis in _AXES)]
+    ours += [f"{point}_{axis}" for point in CSV_TORSO for axis in _AXES]
+    where = f"{path}: column map (--columns)"
+    for name, column in mapping.items():
+        if name not in ours:
+            raise InputError(
+                f"{where}: unknown name {name!r}"
+                + _nearest(name, ours, "names: time, {side}_{joint}_{axis}, neck_{axis}, hip_{axis}")
+            )
+        if column not in present:
+            raise InputError(
+                f"{where}: {name}={column}: no column {column!r} in the file"
+                + _nearest(column, present, f"columns: {', '.join(present)}")
+            )
+
+
+def _nearest(word: str, choices: list[str], otherwise: str) -> str:
+    """`` (did you mean 'x'?)`` with the choice nearest to ``word``, or `` (otherwise)``."""
+    near = difflib.get_close_matches(word, choices, n=1)
+    return f" (did you mean {near[0]!r}?)" if near else f" ({otherwise})"
 
 
 def axis_vector(axis: str) -> np.ndarray:
