@@ -16,12 +16,16 @@ CSV
     a column map.
 
 Frames whose arm joints are all zero (the tracker lost the user) are dropped, and so are repeats
-of a frame number (Kinect) or of a time stamp (CSV); each reader says how many in its notes.
+of the frame number (Kinect) or time stamp (CSV) of the row before; each reader says how many in
+its notes. A frame number or time stamp below the one before (two recordings appended, a clock
+reset, rows out of order) is an error naming its line: the rows are never re-sorted.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import difflib
+import math
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import numpy as np
@@ -50,14 +54,19 @@ _JOINTS = ("shoulder", "elbow", "wrist", "hand")
 _AXES = ("x", "y", "z")
 
 
-def _numeric_rows(path: Path, expected: int, what: str) -> np.ndarray:
-    """Whitespace- or comma-separated numbers, ``expected`` per line; blank and # lines skipped.
+def _numeric_rows(
+    path: Path, expected: int, what: str, frame_of: Callable[[int, list[float]], str]
+) -> tuple[np.ndarray, np.ndarray]:
+    """Whitespace- or comma-separated numbers, ``expected`` per line; blank and # lines skipped,
+    a UTF-8 byte order mark read past.
 
-    Returns an array of shape (N, expected); raises InputError naming the first bad line.
+    ``frame_of(row, values)`` names the frame of the ``row``-th numeric line (0-based) in messages.
+    Returns the values, shape (N, expected), and the file line of each row, shape (N,); raises
+    InputError naming the first bad line.
     """
     require_file(path)
-    rows = []
-    with path.open(encoding="utf-8", errors="replace") as handle:
+    rows, lines = [], []
+    with path.open(encoding="utf-8-sig", errors="replace") as handle:
         for number, line in enumerate(handle, start=1):
             text = line.split("#", 1)[0].replace(",", " ").strip()
             if not text:
@@ -68,16 +77,44 @@ def _numeric_rows(path: Path, expected: int, what: str) -> np.ndarray:
                     f"{path}, line {number}: {len(fields)} columns, expected {expected} ({what})"
                 )
             try:
-                rows.append([float(value) for value in fields])
+                row = [float(value) for value in fields]
             except ValueError:
                 raise InputError(f"{path}, line {number}: non-numeric value in {text[:60]!r}") from None
+            bad = next((index for index, value in enumerate(row) if not math.isfinite(value)), None)
+            if bad is not None:
+                raise InputError(
+                    f"{path}, line {number} ({frame_of(len(rows), row)}): value {bad + 1} is "
+                    f"{fields[bad]!r}, not a finite number"
+                )
+            rows.append(row)
+            lines.append(number)
     if not rows:
         raise InputError(f"{path}: no frames ({what})")
-    values = np.asarray(rows)
-    if not np.all(np.isfinite(values)):
-        line = int(np.flatnonzero(~np.all(np.isfinite(values), axis=1))[0]) + 1
-        raise InputError(f"{path}: non-finite value in frame {line}")
-    return values
+    return np.asarray(rows), np.asarray(lines)
+
+
+def _forward_rows(stamps: np.ndarray, lines: np.ndarray, what: str, notes: list[str], path: Path) -> np.ndarray:
+    """Rows to keep, a boolean array of shape (N,), of rows whose ``what`` (time, frame number)
+    ``stamps`` of shape (N,) never go back: a repeat of the row before is dropped with a note.
+
+    ``lines`` of shape (N,) are the rows' file lines. Raises InputError at the first stamp
+    below the one before (two recordings appended, a clock reset, rows out of order).
+    """
+    step = np.diff(stamps)
+    if np.any(step < 0):
+        row = int(np.flatnonzero(step < 0)[0]) + 1
+        raise InputError(
+            f"{path}, line {lines[row]}: {what} {stamps[row]:g} after {stamps[row - 1]:g} goes back "
+            f"(two recordings appended, or rows out of order?): split the file at this line, or sort "
+            f"its rows by {what}"
+        )
+    repeat = np.r_[False, step == 0]
+    if repeat.any():
+        notes.append(
+            f"{path.name}: dropped {int(repeat.sum())} repeated {what}s (kept the first; the first "
+            f"repeat is on line {lines[int(np.flatnonzero(repeat)[0])]})"
+        )
+    return ~repeat
 
 
 def _clean_frames(
@@ -128,19 +165,16 @@ def read_kinect_text(path: str | Path, rate_hz: float | None = None) -> Recordin
     Raises
     ------
     InputError
-        A line without 61 columns, a non-numeric value, or no tracked frame.
+        A line without 61 columns, a non-numeric or non-finite value, a frame number that goes
+        back, or no tracked frame.
     """
     path = Path(path)
     rate = KINECT_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz)
-    values = _numeric_rows(path, 61, "frame number then 20 joints x (x y z)")
-    frame_numbers = values[:, 0]
+    values, lines = _numeric_rows(
+        path, 61, "frame number then 20 joints x (x y z)", lambda row, values: f"frame number {values[0]:g}"
+    )
     notes: list[str] = []
-    _, first = np.unique(frame_numbers, return_index=True)
-    if first.size < frame_numbers.size:
-        notes.append(f"{path.name}: dropped {frame_numbers.size - first.size} repeated frame numbers (kept the first)")
-    values = values[np.sort(first)]
-    order = np.argsort(values[:, 0], kind="stable")
-    values = values[order]
+    values = values[_forward_rows(values[:, 0], lines, "frame number", notes, path)]
     frames = values[:, 1:].reshape(-1, 20, 3)
     arm_joints = [i for indices in KINECT_ARMS.values() for i in indices]
     frames, time = _clean_frames(frames, values[:, 0] / rate, arm_joints, notes, path)
@@ -159,11 +193,14 @@ def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
     Raises
     ------
     InputError
-        A line without 4 columns, a line count that is not a multiple of 20, or no tracked frame.
+        A line without 4 columns, a non-numeric or non-finite value, a line count that is not a
+        multiple of 20, or no tracked frame.
     """
     path = Path(path)
     rate = MSR_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz)
-    values = _numeric_rows(path, 4, "x y z confidence")
+    values, _ = _numeric_rows(
+        path, 4, "x y z confidence", lambda row, values: f"frame {row // 20 + 1}, joint {row % 20 + 1}"
+    )
     if len(values) % 20:
         raise InputError(
             f"{path}: {len(values)} joint lines, not a multiple of 20 (20 joints per frame); "
@@ -184,6 +221,10 @@ def read_joint_csv(
 ) -> Recording:
     """Read a CSV of joint positions, one row per frame.
 
+    A file with ``;`` or tab between its header's names is read with that separator, and a
+    decimal comma or point. Without a time column, frames are ``rate_hz`` apart, 30 Hz with a
+    warning when not given; with one, ``rate_hz`` is ignored (a note says so).
+
     Parameters
     ----------
     path : path of the file
@@ -193,7 +234,7 @@ def read_joint_csv(
         and the torso's ``neck_{axis}`` and ``hip_{axis}``. Names not mapped are looked up as
         they are.
     rate_hz : float, optional
-        Frame rate when the file has no ``time`` column (default 30 Hz).
+        Frame rate when the file has no ``time`` column (default 30 Hz, with a warning).
     up : {"x", "y", "z", "-x", "-y", "-z"}
         Axis pointing up in the file's frame.
 
@@ -201,17 +242,26 @@ def read_joint_csv(
     ------
     InputError
         No arm with all of shoulder, elbow and hand x/y/z columns (the message lists what is
-        missing and the columns that are there), a non-numeric value, or time that goes back.
+        missing and the columns that are there), a column map entry whose name is not one of
+        ours or whose column the file does not have (with the nearest), a non-numeric value, or
+        a time stamp below the one before.
     """
     import pandas as pd
 
     path = Path(path)
     require_file(path)
-    mapping = dict(columns or {})
+    notes: list[str] = []
+    warnings: list[str] = []
+    separator = _separator(path)
+    if separator != ",":
+        shown = "tab" if separator == "\t" else repr(separator)
+        notes.append(f"{path.name}: columns separated by {shown} (decimal comma or point)")
     try:
-        frame = pd.read_csv(path)
+        frame = pd.read_csv(path, sep=separator, decimal="." if separator == "," else ",")
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise InputError(f"{path}: not a readable CSV ({str(exc).strip().splitlines()[-1]})") from None
+    mapping = dict(columns or {})
+    _check_column_map(mapping, [str(name) for name in frame.columns], path)
 
     def column(name: str) -> str | None:
         real = mapping.get(name, name)
@@ -240,13 +290,24 @@ def read_joint_csv(
             f"{path}: no arm with shoulder, elbow and hand x/y/z columns (missing {wanted}); "
             f"columns present: {', '.join(map(str, frame.columns))}"
         )
+    rate = None if rate_hz is None else check_frame_rate(rate_hz)
     time_column = column("time")
     if time_column is not None:
         time = numeric(time_column)
+        if rate is not None:
+            notes.append(f"{path.name}: --rate {rate:g} Hz is ignored: the time column {time_column!r} gives the time")
     else:
-        time = np.arange(len(frame)) / (KINECT_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz))
-    order = np.argsort(time, kind="stable")
-    notes: list[str] = []
+        time = np.arange(len(frame)) / (KINECT_RATE_HZ if rate is None else rate)
+        timelike = [str(name) for name in frame.columns if any(word in str(name).lower() for word in ("time", "stamp"))]
+        hint = f" (the file has a column {timelike[0]!r}: map it with --columns time={timelike[0]})" if timelike else ""
+        if rate is None:
+            warnings.append(
+                f"{path}: no time column: frames taken as {KINECT_RATE_HZ:g} Hz; give --rate or map the time "
+                f"column{hint}"
+            )
+        elif timelike:
+            notes.append(f"{path.name}: no time column: frames taken as {rate:g} Hz (--rate){hint}")
+    keep = _forward_rows(time, np.arange(len(time)) + 2, "time stamp", notes, path)
     sides = list(found)
     joints_by_side = {
         side: [joint for joint in _JOINTS if f"{joint}_x" in found[side] and f"{joint}_y" in found[side] and f"{joint}_z" in found[side]]
@@ -266,12 +327,8 @@ def read_joint_csv(
     frames = np.stack(
         [np.column_stack([numeric(found[side][f"{joint}_{axis}"]) for axis in _AXES]) for side, joint in slots],
         axis=1,
-    )[order]
-    time = time[order]
-    _, first = np.unique(time, return_index=True)
-    if first.size < time.size:
-        notes.append(f"{path.name}: dropped {time.size - first.size} rows repeating a time stamp (kept the first)")
-    frames, time = frames[first], time[first]
+    )[keep]
+    time = time[keep]
     frames, time = _clean_frames(frames, time, arm_slots, notes, path)
     neck, hip = (
         (JointTrack(point, time, frames[:, slots.index((point, point)), :]) for point in CSV_TORSO)
@@ -284,7 +341,40 @@ def read_joint_csv(
             for joint in joints_by_side[side]
         }
         arms.append(ArmTrack("1", side, tracks["shoulder"], tracks["elbow"], tracks["hand"], tracks.get("wrist"), neck, hip))
-    return Recording(str(path), arms, axis_vector(up), notes)
+    return Recording(str(path), arms, axis_vector(up), notes, warnings)
+
+
+def _separator(path: Path) -> str:
+    """The field separator of a CSV: of ``,``, ``;`` and tab, the one its header line holds most of
+    (``,`` on a tie)."""
+    with path.open(encoding="utf-8-sig", errors="replace") as handle:
+        header = next((line for line in handle if line.strip()), "")
+    return max((",", ";", "\t"), key=header.count)
+
+
+def _check_column_map(mapping: Mapping[str, str], present: list[str], path: Path) -> None:
+    """InputError at the first entry of a CSV's column ``mapping`` (our name -> the file's column)
+    whose name is not one of ours or whose column is not among ``present``, with the nearest one."""
+    ours = ["time", *(f"{side}_{joint}_{axis}" for side in SIDES for joint in _JOINTS for axis in _AXES)]
+    ours += [f"{point}_{axis}" for point in CSV_TORSO for axis in _AXES]
+    where = f"{path}: column map (--columns)"
+    for name, column in mapping.items():
+        if name not in ours:
+            raise InputError(
+                f"{where}: unknown name {name!r}"
+                + _nearest(name, ours, "names: time, {side}_{joint}_{axis}, neck_{axis}, hip_{axis}")
+            )
+        if column not in present:
+            raise InputError(
+                f"{where}: {name}={column}: no column {column!r} in the file"
+                + _nearest(column, present, f"columns: {', '.join(present)}")
+            )
+
+
+def _nearest(word: str, choices: list[str], otherwise: str) -> str:
+    """`` (did you mean 'x'?)`` with the choice nearest to ``word``, or `` (otherwise)``."""
+    near = difflib.get_close_matches(word, choices, n=1)
+    return f" (did you mean {near[0]!r}?)" if near else f" ({otherwise})"
 
 
 def axis_vector(axis: str) -> np.ndarray:

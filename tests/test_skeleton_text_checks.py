@@ -1,0 +1,137 @@
+"""What the text and CSV skeleton readers refuse or report: time that goes back, a time column
+under another name, column-map typos, where a non-finite value is, a BOM, ';' and tab separators."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rlff.capture import import_recordings
+from rlff.capture.skeleton_text import read_joint_csv, read_kinect_text, read_msr_text
+from rlff.errors import InputError
+
+_POINTS = [f"{side}_{joint}_{axis}" for side in ("right", "left") for joint in ("shoulder", "elbow", "hand") for axis in "xyz"]
+
+
+def _positions(count: int) -> np.ndarray:
+    """Positions of shape (count, 18) for ``_POINTS``: arms that move a little, never all at zero."""
+    base = np.tile([0.0, 0.3, 2.6, 0.05, 0.1, 2.6, 0.02, -0.25, 2.6], 2) + np.repeat([0.0, 0.4], 9)
+    return base + 0.01 * np.sin(np.arange(count))[:, None]
+
+
+def _write_csv(path: Path, time: list[float] | None, sep: str = ",", decimal: str = ".", time_name: str = "time") -> Path:
+    """A joint CSV: a header line, then one row per frame (line 2 is the first frame)."""
+    values = _positions(len(time) if time is not None else 6)
+    header = ([time_name] if time is not None else []) + _POINTS
+    rows = [sep.join(header)]
+    for index, row in enumerate(values):
+        cells = ([f"{time[index]:g}"] if time is not None else []) + [f"{v:.6f}" for v in row]
+        rows.append(sep.join(cell.replace(".", decimal) for cell in cells))
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
+def _kinect_lines(numbers: list[int]) -> list[str]:
+    frames = np.tile(np.linspace(0.1, 2.5, 60), (len(numbers), 1)) + 0.01 * np.arange(len(numbers))[:, None]
+    return [" ".join([str(n), *(f"{v:.6f}" for v in frame)]) for n, frame in zip(numbers, frames, strict=True)]
+
+
+def _msr_lines(frames: int) -> list[str]:
+    return [f"{0.1 + 0.01 * j:.6f} {0.2 + 0.001 * f:.6f} 2.5 1" for f in range(frames) for j in range(20)]
+
+
+def test_csv_time_that_goes_back_names_the_line_and_what_to_do(tmp_path):
+    # a clock reset (two recordings appended) was sorted into one, noting only the repeated stamps
+    path = _write_csv(tmp_path / "reset.csv", [0.0, 0.1, 0.2, 0.0, 0.1, 0.2])
+    with pytest.raises(InputError, match=r"reset.csv, line 5: time stamp 0 after 0.2 goes back.*split the file.*sort"):
+        read_joint_csv(path)
+    # stamps of two recordings interleaved
+    path = _write_csv(tmp_path / "interleaved.csv", [0.0, 0.1, 0.2, 0.05, 0.15, 0.25])
+    with pytest.raises(InputError, match=r"interleaved.csv, line 5: time stamp 0.05 after 0.2 goes back"):
+        read_joint_csv(path)
+
+
+def test_a_repeated_time_stamp_or_frame_number_is_dropped_with_a_note(tmp_path):
+    recording = read_joint_csv(_write_csv(tmp_path / "repeat.csv", [0.0, 0.1, 0.1, 0.2, 0.3, 0.4]))
+    assert len(recording.arms[0].elbow) == 5
+    assert any("dropped 1 repeated time stamps (kept the first; the first repeat is on line 4)" in note for note in recording.notes)
+    path = tmp_path / "repeat.txt"
+    path.write_text("\n".join(_kinect_lines([0, 1, 2, 2, 3])) + "\n")
+    recording = read_kinect_text(path)
+    assert any("dropped 1 repeated frame numbers (kept the first; the first repeat is on line 4)" in note for note in recording.notes)
+
+
+def test_kinect_frame_numbers_that_go_back_name_the_line(tmp_path):
+    # frame numbers out of order were re-sorted without a word
+    path = tmp_path / "back.txt"
+    path.write_text("# header\n" + "\n".join(_kinect_lines([0, 2, 4, 8, 6, 10])) + "\n")
+    with pytest.raises(InputError, match=r"back.txt, line 6: frame number 6 after 8 goes back.*split the file.*sort"):
+        read_kinect_text(path)
+
+
+def test_a_csv_without_a_time_column_says_the_rate_it_assumes(tmp_path):
+    # a time column under another name was ignored and 30 Hz assumed without a word
+    path = _write_csv(tmp_path / "stamp.csv", [0.0, 0.05, 0.1, 0.15, 0.2, 0.25], time_name="Timestamp")
+    recording = read_joint_csv(path)
+    assert recording.arms[0].elbow.time[1] == pytest.approx(1 / 30)
+    (warning,) = recording.warnings
+    assert "no time column: frames taken as 30 Hz; give --rate or map the time column" in warning
+    assert "--columns time=Timestamp" in warning
+    _, report = import_recordings([path], "csv")
+    assert any("no time column" in warning for warning in report.warnings)
+    plain = read_joint_csv(_write_csv(tmp_path / "plain.csv", None))
+    assert any("no time column: frames taken as 30 Hz" in warning for warning in plain.warnings)
+    assert not read_joint_csv(tmp_path / "plain.csv", rate_hz=15.0).warnings
+    # --rate with a time column: the time column wins, and the note says so
+    timed = read_joint_csv(_write_csv(tmp_path / "timed.csv", [0.0, 0.1, 0.2, 0.3, 0.4, 0.5]), rate_hz=15.0)
+    assert timed.arms[0].elbow.time[1] == pytest.approx(0.1)
+    assert any("--rate 15 Hz is ignored: the time column 'time' gives the time" in note for note in timed.notes)
+
+
+def test_column_map_typos_are_errors_with_the_nearest_name(tmp_path):
+    path = _write_csv(tmp_path / "joints.csv", [0.0, 0.1, 0.2, 0.3, 0.4, 0.5])
+    with pytest.raises(InputError, match=r"joints.csv: column map \(--columns\): unknown name 'rigth_hand_q'.*did you mean 'right_hand_[xyz]'"):
+        read_joint_csv(path, {"rigth_hand_q": "Foo"})
+    with pytest.raises(InputError, match=r"joints.csv: column map \(--columns\): right_elbow_x=right_elbw_x: no column 'right_elbw_x'.*did you mean 'right_elbow_x'"):
+        read_joint_csv(path, {"right_elbow_x": "right_elbw_x"})
+    with pytest.raises(InputError, match=r"no column 'Zzz' in the file \(columns: time, right_shoulder_x"):
+        read_joint_csv(path, {"time": "Zzz"})
+
+
+def test_a_non_finite_value_is_located_by_its_file_line(tmp_path):
+    # MSR: line 201 was "frame 201" (it is frame 11); Kinect: line 13 (frame number 20) was "frame 11"
+    lines = _msr_lines(12)
+    lines[200] = "nan 0.2 2.5 1"
+    msr = tmp_path / "a06_s01_e01_skeleton3D.txt"
+    msr.write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputError, match=r"skeleton3D.txt, line 201 \(frame 11, joint 1\): value 1 is 'nan', not a finite number"):
+        read_msr_text(msr)
+    lines = _kinect_lines(list(range(0, 40, 2)))
+    fields = lines[10].split()
+    lines[10] = " ".join([fields[0], "inf", *fields[2:]])
+    kinect = tmp_path / "kin_nan.txt"
+    kinect.write_text("# joints\n\n" + "\n".join(lines) + "\n")
+    with pytest.raises(InputError, match=r"kin_nan.txt, line 13 \(frame number 20\): value 2 is 'inf', not a finite number"):
+        read_kinect_text(kinect)
+
+
+def test_a_byte_order_mark_is_read_past(tmp_path):
+    msr = tmp_path / "bom_skeleton3D.txt"
+    msr.write_text("\n".join(_msr_lines(3)) + "\n", encoding="utf-8-sig")
+    assert len(read_msr_text(msr).arms[0].elbow) == 3
+    kinect = tmp_path / "bom.txt"
+    kinect.write_text("\n".join(_kinect_lines([0, 1, 2])) + "\n", encoding="utf-8-sig")
+    assert len(read_kinect_text(kinect).arms[0].elbow) == 3
+
+
+@pytest.mark.parametrize(("sep", "decimal", "name"), [(";", ",", "';'"), (";", ".", "';'"), ("\t", ".", "tab"), ("\t", ",", "tab")])
+def test_semicolon_and_tab_separated_csv_are_read(tmp_path, sep, decimal, name):
+    # they gave "no arm with ... columns", listing one merged column
+    time = [0.0, 0.1, 0.2, 0.3, 0.4, 0.5]
+    expected = read_joint_csv(_write_csv(tmp_path / "comma.csv", time))
+    recording = read_joint_csv(_write_csv(tmp_path / "other.csv", time, sep=sep, decimal=decimal))
+    np.testing.assert_array_equal(recording.arms[0].elbow.position, expected.arms[0].elbow.position)
+    np.testing.assert_array_equal(recording.arms[0].elbow.time, expected.arms[0].elbow.time)
+    assert any(f"columns separated by {name}" in note for note in recording.notes)
