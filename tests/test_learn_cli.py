@@ -324,3 +324,17 @@ def test_an_unknown_until_is_one_line_and_exit_2(rlff, demos_csv):
     result = rlff("learn", str(demos_csv), "--basket", "1.4", "--until", "perfect")
     assert result.code == 2
     assert "unknown until 'perfect' (known: hit, centred)" in result.stderr
+
+
+def test_a_live_executor_without_an_outcome_source_says_what_is_missing(rlff, demos_csv):
+    # it said "--outcome ask|topic goes with --executor ros1|ros2": the opposite of the problem
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--executor", "ros2")
+    assert result.code == 2
+    assert "--executor ros2 needs --outcome ask" in result.stderr and "goes with" not in result.stderr
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--outcome", "ask")
+    assert result.code == 2 and "--outcome ask|topic goes with --executor ros1|ros2" in result.stderr
+
+
+def test_a_negative_rim_height_names_the_option(rlff, demos_csv):
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--height", "-0.3")
+    assert result.code == 2 and "(--height) must be a positive number of metres, got -0.3" in result.stderr

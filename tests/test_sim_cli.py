@@ -85,6 +85,18 @@ def test_sim_reach_reports_the_reach(cli):
     assert "throws of the [throwing] mapping" in text and "\\" not in text
 
 
+def test_sim_reach_of_an_arm_it_cannot_simulate_says_why(cli, tmp_path):
+    # a 7-joint arm got "unknown joint 'joint_1' on robot seven"; sim throw said it needs 6 joints
+    lines = ["name = 'seven'"]
+    for k in range(1, 8):
+        lines += ["[[joints]]", f"name = 'a{k}'", "lower = -2.0", "upper = 2.0", "max_velocity = 1.5",
+                  "max_acceleration = 5.0", "max_jerk = 40.0"]
+    robot = tmp_path / "seven.toml"
+    robot.write_text("\n".join(lines) + "\n")
+    result = cli("sim", "reach", "--robot", str(robot))
+    assert result.code == 2 and "cannot be simulated" in result.stderr and "unknown joint" not in result.stderr
+
+
 @pytest.mark.slow
 def test_frames_are_written_as_png_and_gif(tmp_path):
     robot = load_robot()

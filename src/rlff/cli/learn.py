@@ -92,8 +92,11 @@ def learn_command(
         fmt = export_format(out, fmt)
     if executor not in ("sim", "ros1", "ros2"):
         raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")
-    if (executor == "sim") != (outcome is None):
+    if executor == "sim" and outcome is not None:
         raise InputError("--outcome ask|topic goes with --executor ros1|ros2 (the simulation knows its outcomes)")
+    if executor != "sim" and outcome is None:
+        raise InputError(f"--executor {executor} needs --outcome ask (you type hit or miss) or --outcome topic "
+                         "(a node publishes each landing): a real arm does not know where its ball went")
     from rlff.sim.gap import parse_gap
 
     arm = parse_gap(gap)  # a bad --gap, or one with a live robot, fails before anything connects

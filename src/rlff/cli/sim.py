@@ -133,9 +133,11 @@ def reach(
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import RobotMapping
     from rlff.sim import Basket, throw_reach
+    from rlff.sim.arm import Arm
     from rlff.sim.reach import came_down_words, executable_reach, farthest_basket
 
     model = load_robot(robot)
+    Arm.from_robot(model)  # the simulated arm's own checks: 6 joints and a [geometry] table
     names = [name.strip() for name in joints.split(",") if name.strip()]
     turn = model.joint(str(model.whole_arm.get("bearing_joint", "joint_1")))
     if not turn.lower <= math.radians(bearing) <= turn.upper:

@@ -38,10 +38,10 @@ class Basket:
     bearing: float = 0.0
 
     def __post_init__(self) -> None:
-        for name in ("distance", "rim_height", "opening"):
+        for name, option in (("distance", "--basket"), ("rim_height", "--height"), ("opening", "--opening")):
             value = getattr(self, name)
             if not np.isfinite(value) or value <= 0:
-                raise InputError(f"basket {name} must be a positive number of metres, got {value}")
+                raise InputError(f"basket {name} ({option}) must be a positive number of metres, got {value}")
         check_distance("basket distance", self.distance)
         low, high = BEARING_RANGE
         if not (np.isfinite(self.bearing) and low <= self.bearing <= high):
