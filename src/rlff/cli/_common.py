@@ -60,6 +60,15 @@ def say(message: str) -> None:
         stderr().print(message)
 
 
+def say_first(lines: list[str], where_all: str, limit: int = 10) -> None:
+    """Say the first ``limit`` of ``lines`` and how many more there are, and where to find them all
+    (``where_all``, e.g. "--json lists every one"): hundreds of lines bury what matters."""
+    for line in lines[:limit]:
+        say(line)
+    if len(lines) > limit:
+        say(f"... and {len(lines) - limit} more ({where_all})")
+
+
 def warn_copies(dataset: Any, source: Any) -> None:
     """Warn of the throws of ``source`` (a Dataset read from it) that repeat another sample for
     sample: they count twice in a fit."""

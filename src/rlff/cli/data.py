@@ -6,7 +6,16 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import PLAIN_HELP, emit_json, progress, say, seed_option, stdout, warn_copies
+from rlff.cli._common import (
+    PLAIN_HELP,
+    emit_json,
+    progress,
+    say,
+    say_first,
+    seed_option,
+    stdout,
+    warn_copies,
+)
 from rlff.cli.output import guard, write_json
 from rlff.errors import InputError
 from rlff.wording import plural
@@ -154,6 +163,6 @@ def preprocess_command(
             say(f"{step.step}: context {label} rejected ({plural(len(rejection.trajectories), 'throw')}: "
                 f"{', '.join(rejection.trajectories)}): {rejection.reason}")
         in_contexts = {name for rejection in step.contexts for name in rejection.trajectories}
-        for removal in step.removed:
-            if removal.trajectory not in in_contexts:
-                say(f"{step.step}: removed throw {removal.trajectory}: {removal.reason}")
+        say_first([f"{step.step}: removed throw {removal.trajectory}: {removal.reason}"
+                   for removal in step.removed if removal.trajectory not in in_contexts],
+                  "--report FILE lists every one")

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from rlff.cli._common import PLAIN_HELP, emit_json, progress, say, stderr, stdout
+from rlff.cli._common import PLAIN_HELP, emit_json, progress, say, say_first, stderr, stdout
 
 if TYPE_CHECKING:
     from rlff.robot.plan import RobotPlan
@@ -51,8 +51,8 @@ def joint_list(text: str | None) -> tuple[str, ...] | None:
 
 
 def _report(result: RobotPlan) -> None:
-    for change in result.clipped_points.changes:
-        say(f"clipped: {change.describe()}")
+    say_first([f"clipped: {change.describe()}" for change in result.clipped_points.changes],
+              "rlff robot export with --json lists every one")
     say(result.summary())
 
 
@@ -160,8 +160,8 @@ def export(
     say(f"{trajectory}: {source.kind}")
     result = source.plan
     export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)
-    for change in result.clipped_points.changes:  # the summary is in the line above
-        say(f"clipped: {change.describe()}")
+    # the summary is in the line above
+    say_first([f"clipped: {change.describe()}" for change in result.clipped_points.changes], "--json lists every one")
     planned = result.trajectory
     if json:
         emit_json({"out": out, "format": fmt, "points": len(planned), "duration": planned.duration,
