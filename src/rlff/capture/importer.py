@@ -45,7 +45,7 @@ from rlff.capture.label import (
     read_manifest,
 )
 from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_throws
-from rlff.capture.skeleton import Recording
+from rlff.capture.skeleton import ArmTrack, Recording
 from rlff.capture.skeleton_text import axis_vector, read_joint_csv, read_kinect_text, read_msr_text
 from rlff.capture.users import keep_consistent_user
 from rlff.dataset import DEFAULT_CONTEXT, Dataset, Trajectory, joint_columns, velocity_column
@@ -62,6 +62,11 @@ JOINTS = ("shoulder", "elbow", "wrist")
 SENSOR_FRAMES = ("bag", "kinect-text", "msr")
 #: A finished throw is resampled at its own median spacing, but no coarser than this (Hz).
 OUTPUT_RATE_HZ = 15.0
+#: The median upper arm (shoulder to elbow, m) of a recording in metres: 0.25-0.34 m in every arm
+#: of the MSR throws and the test bags (148 arms); the range leaves a factor of 3 either way.
+UPPER_ARM_RANGE = (0.1, 1.0)
+#: Units a recording's coordinates may be in instead of metres, with their size in metres.
+OTHER_UNITS = {"millimetres": 1e-3, "centimetres": 1e-2}
 
 
 @dataclass
@@ -419,6 +424,7 @@ def _import_recording(
             raise InputError(f"{path}: no {arm} arm (arms there: {', '.join(sides)})")
     motions = [align_arm(track, up=recording.up) for track in arms]
     motion = motions[0] if len(motions) == 1 else throwing_arm(motions)
+    _check_metres(path, motion.arm)
     report.arm, report.user = motion.arm.side, motion.arm.user
     report.clock_origin = origin = float(motion.time[0])
     if len(motions) > 1:
@@ -450,6 +456,34 @@ def _import_recording(
         if trajectory is not None:
             trajectories.append(trajectory)
     return report, trajectories
+
+
+def _check_metres(path: Path, track: ArmTrack) -> None:
+    """Refuse a recording whose median upper arm is not a person's in metres (:data:`UPPER_ARM_RANGE`):
+    coordinates in millimetres or centimetres would give landings hundreds of metres away.
+
+    Raises
+    ------
+    InputError
+        Naming the file, the arm, its median upper arm and the units the coordinates look like.
+    """
+    shoulder = np.column_stack([np.interp(track.elbow.time, track.shoulder.time, axis) for axis in track.shoulder.position.T])
+    lengths = np.linalg.norm(track.elbow.position - shoulder, axis=1)
+    length = float(np.nanmedian(lengths)) if np.isfinite(lengths).any() else float("nan")
+    low, high = UPPER_ARM_RANGE
+    if not np.isfinite(length) or low <= length <= high:
+        return
+    units = [name for name, size in OTHER_UNITS.items() if low <= length * size <= high]
+    if units:
+        looks = f"the coordinates look like {units[0]}"
+    elif length > high:
+        looks = "the coordinates are not in metres"
+    else:
+        looks = "the shoulder and elbow points nearly coincide, or the coordinates are not in metres"
+    raise InputError(
+        f"{path}: the median upper arm (shoulder to elbow, {track.label}) measures {length:.3g} in the file's units, where a person's is "
+        f"{low:g}-{high:g} m: {looks}; rlff reads metres (convert the coordinates to metres)"
+    )
 
 
 def _tracking_notes(path: Path, motion: ArmMotion, origin: float) -> list[str]:
@@ -612,11 +646,13 @@ def _throw(
             f"never comes down to {landing.target_height} m from the estimated release"
         )
         return None
-    if target is None and distance < DISTANCE_RANGE[0]:  # no basket stands that close
+    if target is None and not DISTANCE_RANGE[0] <= distance <= DISTANCE_RANGE[1]:  # no basket stands there
         # + 0.0 after rounding: a ball at the feet reads 0.00 m, not -0.00
-        reason = (f"no basket distance and the estimated landing ({round(landed, 2) + 0.0:.2f} m, labelled "
-                  f"{distance + 0.0:g} m) is "
-                  f"nearer than any basket ({DISTANCE_RANGE[0]:g} m): the hand came down near the body")
+        reason = f"no basket distance and the estimated landing ({round(landed, 2) + 0.0:.2f} m, labelled {distance + 0.0:g} m) is "
+        if distance < DISTANCE_RANGE[0]:
+            reason += f"nearer than any basket ({DISTANCE_RANGE[0]:g} m): the hand came down near the body"
+        else:
+            reason += f"farther than any basket ({DISTANCE_RANGE[1]:g} m): check --up and that the recording is in metres"
         rise = float(motion.angle[cut.extension_end] - motion.angle[cut.extension_start])
         report.reject(Rejection(release.time, "landing", reason, rise), motion.arm.label)
         report.warnings.append(f"{path}: throw {number} at t={native[0] - origin:.2f} s left out: {reason}")

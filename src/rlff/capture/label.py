@@ -52,6 +52,7 @@ from rlff.capture.angles import ArmMotion
 from rlff.capture.segment import ThrowCut
 from rlff.dataset import BEARING_RANGE, HEIGHT_RANGE
 from rlff.errors import InputError
+from rlff.limits import DISTANCE_RANGE, check_distance
 
 
 @dataclass(frozen=True)
@@ -227,12 +228,24 @@ _DISTANCE_IN_NAME = re.compile(r"(?:^|[_\-\s.])(\d+(?:[._,]\d+)?)(cm|m)(?=$|[_\-
 
 
 def distance_from_name(path: str | Path) -> float | None:
-    """Basket distance (m) written in a file name (``2.5m``, ``2_5m``, ``250cm``), or None."""
+    """Basket distance (m) written in a file name (``2.5m``, ``2_5m``, ``250cm``), or None.
+
+    Raises
+    ------
+    InputError
+        The distance is outside :data:`rlff.limits.DISTANCE_RANGE` (naming the file).
+    """
     match = _DISTANCE_IN_NAME.search(Path(path).name)
     if match is None:
         return None
     value = float(re.sub(r"[_,]", ".", match.group(1)))
-    return value / 100.0 if match.group(2).lower() == "cm" else value
+    distance = value / 100.0 if match.group(2).lower() == "cm" else value
+    if not DISTANCE_RANGE[0] <= distance <= DISTANCE_RANGE[1]:
+        raise InputError(
+            f"{path}: the basket distance in the file name ({distance:g} m) is outside "
+            f"the range {DISTANCE_RANGE[0]:g} to {DISTANCE_RANGE[1]:g} m; rename the file or give its distance in a --manifest"
+        )
+    return distance
 
 
 def read_manifest(path: str | Path) -> list[ManifestRow]:
@@ -274,6 +287,7 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
         distance = number_or_none("distance", float)
         if distance is None or not np.isfinite(distance) or distance <= 0:
             raise InputError(f"manifest {path}, line {number}: column 'distance' needs a positive number (m)")
+        check_distance(f"manifest {path}, line {number}: column 'distance'", distance)
         subject = str(record.get("subject", "")).strip() or None
         bearing, height = number_or_none("bearing", float), number_or_none("height", float)
         for name, value, (low, high), unit in (("bearing", bearing, BEARING_RANGE, "deg"), ("height", height, HEIGHT_RANGE, "m")):
