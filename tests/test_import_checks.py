@@ -1,4 +1,4 @@
-"""``data import`` checks what it is given: units and basket distances."""
+"""``data import`` checks what it is given: units, basket distances and manifest rows."""
 
 from __future__ import annotations
 
@@ -67,3 +67,27 @@ def test_a_distance_out_of_range_in_a_file_name_names_the_file(tmp_path):
     path = _joint_csv(tmp_path / "arm_30m.csv")
     with pytest.raises(InputError, match="arm_30m.csv: the basket distance in the file name"):
         import_recordings([path])
+
+
+def test_a_manifest_row_for_no_recording_given_is_a_warning(tmp_path):
+    path = _joint_csv(tmp_path / "session.csv")
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,throw,distance\nsession.csv,1,2.0\nsesion.csv,1,1.0\n")
+    dataset, report = import_recordings([path], manifest=manifest, up="z")
+    assert [t.meta["target"] for t in dataset] == [2.0]
+    assert report.warnings == [f"manifest {manifest}, line 3: sesion.csv is none of the recordings given; the row is not used"]
+    assert report.to_dict()["warnings"] == report.warnings
+
+
+def test_manifest_rows_with_folders_tell_same_named_recordings_apart(tmp_path):
+    first = _joint_csv(tmp_path / "d1" / "x.csv", seed=4)
+    second = _joint_csv(tmp_path / "d2" / "x.csv", seed=5)
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,throw,distance\nd1/x.csv,1,2.0\nd2/x.csv,1,3.0\n")
+    dataset, report = import_recordings([first, second], manifest=manifest, up="z")
+    assert [(t.meta["source"], t.meta["target"]) for t in dataset] == [(str(first), 2.0), (str(second), 3.0)]
+    assert report.warnings == []
+    # a row without a folder names both: against a row with one, two distances for one throw
+    manifest.write_text("file,throw,distance\nx.csv,1,2.0\nd1/x.csv,1,3.0\n")
+    with pytest.raises(InputError, match=r"line 3: d1/x.csv \(throw 1\) is listed again with distance 3 m; line 2 gives 2 m"):
+        read_manifest(manifest)

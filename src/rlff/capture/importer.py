@@ -119,11 +119,13 @@ class FileReport:
 @dataclass
 class ImportReport:
     """What the import did, file by file; ``joints`` the joint columns written (``angle`` first),
-    ``general`` what concerns all files (a joint left out because some file lacks it)."""
+    ``general`` notes on all files (a joint left out because some file lacks it),
+    ``general_warnings`` warnings on no one file (a manifest row that names none of them)."""
 
     files: list[FileReport] = field(default_factory=list)
     joints: list[str] = field(default_factory=list)
     general: list[str] = field(default_factory=list)
+    general_warnings: list[str] = field(default_factory=list)
 
     @property
     def n_throws(self) -> int:
@@ -131,7 +133,7 @@ class ImportReport:
 
     @property
     def warnings(self) -> list[str]:
-        return [warning for report in self.files for warning in report.warnings]
+        return [warning for report in self.files for warning in report.warnings] + self.general_warnings
 
     @property
     def estimated_distances(self) -> int:
@@ -149,6 +151,7 @@ class ImportReport:
             "estimated_distances": self.estimated_distances,
             "joints": self.joints,
             "notes": self.general,
+            "warnings": self.general_warnings,
             "files": [asdict(report) for report in self.files],
         }
 
@@ -298,6 +301,10 @@ def import_recordings(
         report.files.append(file_report)
         if progress is not None:
             progress(str(path))
+    report.general_warnings.extend(
+        f"{row.where}: {row.file} is none of the recordings given; the row is not used"
+        for row in rows if not any(row.matches(path) for path in paths)
+    )
     dataset = Dataset(_same_context(_common_joints(trajectories, wanted, report), report))
     _refuse_copies(dataset, origin)
     return dataset, report
