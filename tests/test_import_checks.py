@@ -1,10 +1,13 @@
-"""``data import`` checks what it is given: units, basket distances and manifest rows."""
+"""``data import`` checks what it is given: units, basket distances, manifest rows, the count and
+the JSON report of a failed import."""
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
@@ -91,3 +94,28 @@ def test_manifest_rows_with_folders_tell_same_named_recordings_apart(tmp_path):
     manifest.write_text("file,throw,distance\nx.csv,1,2.0\nd1/x.csv,1,3.0\n")
     with pytest.raises(InputError, match=r"line 3: d1/x.csv \(throw 1\) is listed again with distance 3 m; line 2 gives 2 m"):
         read_manifest(manifest)
+
+
+def test_the_rows_of_a_thesis_matrix_are_counted(rlff, tmp_path):
+    matrix, out = tmp_path / "th.txt", tmp_path / "thi.csv"
+    assert rlff("data", "synth", "thesis", "-o", str(matrix)).code == 0
+    result = rlff("data", "import", str(matrix), "--format", "thesis", "-o", str(out))
+    assert result.code == 0 and result.stdout.startswith("11 throws from 1 file"), result.stdout
+    result = rlff("data", "import", str(matrix), "--format", "thesis", "-o", str(out), "--json")
+    payload = json.loads(result.stdout)
+    assert payload["throws"] == 11 and payload["files"][0]["trajectories"] == 11
+
+
+def test_json_reports_an_import_without_a_throw_before_exit_2(rlff, tmp_path):
+    import pandas as pd
+
+    path = _joint_csv(tmp_path / "still.csv")
+    frame = pd.read_csv(path)
+    frame.iloc[:, 1:] = np.tile(frame.iloc[0, 1:].to_numpy(), (len(frame), 1))  # the arm never moves
+    frame.to_csv(path, index=False)
+    out = tmp_path / "o.csv"
+    result = rlff("data", "import", str(path), "--up", "z", "-o", str(out), "--json")
+    assert result.code == 2 and not out.exists()
+    payload = json.loads(result.stdout)
+    assert payload["throws"] == 0 and payload["written"] is False and "no throw found" in payload["error"]
+    assert "no throw found" in payload["files"][0]["warnings"][0]

@@ -97,6 +97,8 @@ class FileReport:
 
     ``rejected`` holds every candidate movement not taken as a throw (its ``time`` in s from the
     recording's first sample, the ``rule`` that stopped it and the ``reason``); each also has a note.
+    ``trajectories`` counts the trajectories taken from the file: its ``throws``, or a thesis
+    matrix's rows (which carry no cut to report).
     """
 
     source: str
@@ -108,6 +110,7 @@ class FileReport:
     rejected: list[Rejection] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
+    trajectories: int = 0
 
     def reject(self, rejection: Rejection, label: str) -> None:
         """Record a candidate not taken (``rejection.time`` on the recording's clock) with a note."""
@@ -129,7 +132,8 @@ class ImportReport:
 
     @property
     def n_throws(self) -> int:
-        return sum(len(report.throws) for report in self.files)
+        """Trajectories imported: every file's throws and the rows of thesis matrices."""
+        return sum(report.trajectories for report in self.files)
 
     @property
     def warnings(self) -> list[str]:
@@ -296,6 +300,7 @@ def import_recordings(
                 recording, kind, arm, rows, segment or SegmentSettings(), landing, used_ids, up_given=up is not None
             )
         _require_joints(wanted, file_report, found)
+        file_report.trajectories = len(found)
         trajectories.extend(found)
         origin.update((trajectory.id, path) for trajectory in found)
         report.files.append(file_report)
