@@ -45,7 +45,7 @@ from rlff.capture.label import (
     read_manifest,
 )
 from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_throws
-from rlff.capture.skeleton import Recording
+from rlff.capture.skeleton import ArmTrack, Recording
 from rlff.capture.skeleton_text import axis_vector, read_joint_csv, read_kinect_text, read_msr_text
 from rlff.capture.users import keep_consistent_user
 from rlff.dataset import DEFAULT_CONTEXT, Dataset, Trajectory, joint_columns, velocity_column
@@ -62,6 +62,11 @@ JOINTS = ("shoulder", "elbow", "wrist")
 SENSOR_FRAMES = ("bag", "kinect-text", "msr")
 #: A finished throw is resampled at its own median spacing, but no coarser than this (Hz).
 OUTPUT_RATE_HZ = 15.0
+#: The median upper arm (shoulder to elbow, m) of a recording in metres: 0.25-0.34 m in every arm
+#: of the MSR throws and the test bags (148 arms); the range leaves a factor of 3 either way.
+UPPER_ARM_RANGE = (0.1, 1.0)
+#: Units a recording's coordinates may be in instead of metres, with their size in metres.
+OTHER_UNITS = {"millimetres": 1e-3, "centimetres": 1e-2}
 
 
 @dataclass
@@ -92,6 +97,8 @@ class FileReport:
 
     ``rejected`` holds every candidate movement not taken as a throw (its ``time`` in s from the
     recording's first sample, the ``rule`` that stopped it and the ``reason``); each also has a note.
+    ``trajectories`` counts the trajectories taken from the file: its ``throws``, or a thesis
+    matrix's rows (which carry no cut to report).
     """
 
     source: str
@@ -103,6 +110,7 @@ class FileReport:
     rejected: list[Rejection] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
+    trajectories: int = 0
 
     def reject(self, rejection: Rejection, label: str) -> None:
         """Record a candidate not taken (``rejection.time`` on the recording's clock) with a note."""
@@ -114,19 +122,22 @@ class FileReport:
 @dataclass
 class ImportReport:
     """What the import did, file by file; ``joints`` the joint columns written (``angle`` first),
-    ``general`` what concerns all files (a joint left out because some file lacks it)."""
+    ``general`` notes on all files (a joint left out because some file lacks it),
+    ``general_warnings`` warnings on no one file (a manifest row that names none of them)."""
 
     files: list[FileReport] = field(default_factory=list)
     joints: list[str] = field(default_factory=list)
     general: list[str] = field(default_factory=list)
+    general_warnings: list[str] = field(default_factory=list)
 
     @property
     def n_throws(self) -> int:
-        return sum(len(report.throws) for report in self.files)
+        """Trajectories imported: every file's throws and the rows of thesis matrices."""
+        return sum(report.trajectories for report in self.files)
 
     @property
     def warnings(self) -> list[str]:
-        return [warning for report in self.files for warning in report.warnings]
+        return [warning for report in self.files for warning in report.warnings] + self.general_warnings
 
     @property
     def estimated_distances(self) -> int:
@@ -144,6 +155,7 @@ class ImportReport:
             "estimated_distances": self.estimated_distances,
             "joints": self.joints,
             "notes": self.general,
+            "warnings": self.general_warnings,
             "files": [asdict(report) for report in self.files],
         }
 
@@ -288,11 +300,16 @@ def import_recordings(
                 recording, kind, arm, rows, segment or SegmentSettings(), landing, used_ids, up_given=up is not None
             )
         _require_joints(wanted, file_report, found)
+        file_report.trajectories = len(found)
         trajectories.extend(found)
         origin.update((trajectory.id, path) for trajectory in found)
         report.files.append(file_report)
         if progress is not None:
             progress(str(path))
+    report.general_warnings.extend(
+        f"{row.where}: {row.file} is none of the recordings given; the row is not used"
+        for row in rows if not any(row.matches(path) for path in paths)
+    )
     dataset = Dataset(_same_context(_common_joints(trajectories, wanted, report), report))
     _refuse_copies(dataset, origin)
     return dataset, report
@@ -419,6 +436,7 @@ def _import_recording(
             raise InputError(f"{path}: no {arm} arm (arms there: {', '.join(sides)})")
     motions = [align_arm(track, up=recording.up) for track in arms]
     motion = motions[0] if len(motions) == 1 else throwing_arm(motions)
+    _check_metres(path, motion.arm)
     report.arm, report.user = motion.arm.side, motion.arm.user
     report.clock_origin = origin = float(motion.time[0])
     if len(motions) > 1:
@@ -450,6 +468,34 @@ def _import_recording(
         if trajectory is not None:
             trajectories.append(trajectory)
     return report, trajectories
+
+
+def _check_metres(path: Path, track: ArmTrack) -> None:
+    """Refuse a recording whose median upper arm is not a person's in metres (:data:`UPPER_ARM_RANGE`):
+    coordinates in millimetres or centimetres would give landings hundreds of metres away.
+
+    Raises
+    ------
+    InputError
+        Naming the file, the arm, its median upper arm and the units the coordinates look like.
+    """
+    shoulder = np.column_stack([np.interp(track.elbow.time, track.shoulder.time, axis) for axis in track.shoulder.position.T])
+    lengths = np.linalg.norm(track.elbow.position - shoulder, axis=1)
+    length = float(np.nanmedian(lengths)) if np.isfinite(lengths).any() else float("nan")
+    low, high = UPPER_ARM_RANGE
+    if not np.isfinite(length) or low <= length <= high:
+        return
+    units = [name for name, size in OTHER_UNITS.items() if low <= length * size <= high]
+    if units:
+        looks = f"the coordinates look like {units[0]}"
+    elif length > high:
+        looks = "the coordinates are not in metres"
+    else:
+        looks = "the shoulder and elbow points nearly coincide, or the coordinates are not in metres"
+    raise InputError(
+        f"{path}: the median upper arm (shoulder to elbow, {track.label}) measures {length:.3g} in the file's units, where a person's is "
+        f"{low:g}-{high:g} m: {looks}; rlff reads metres (convert the coordinates to metres)"
+    )
 
 
 def _tracking_notes(path: Path, motion: ArmMotion, origin: float) -> list[str]:
@@ -612,11 +658,13 @@ def _throw(
             f"never comes down to {landing.target_height} m from the estimated release"
         )
         return None
-    if target is None and distance < DISTANCE_RANGE[0]:  # no basket stands that close
+    if target is None and not DISTANCE_RANGE[0] <= distance <= DISTANCE_RANGE[1]:  # no basket stands there
         # + 0.0 after rounding: a ball at the feet reads 0.00 m, not -0.00
-        reason = (f"no basket distance and the estimated landing ({round(landed, 2) + 0.0:.2f} m, labelled "
-                  f"{distance + 0.0:g} m) is "
-                  f"nearer than any basket ({DISTANCE_RANGE[0]:g} m): the hand came down near the body")
+        reason = f"no basket distance and the estimated landing ({round(landed, 2) + 0.0:.2f} m, labelled {distance + 0.0:g} m) is "
+        if distance < DISTANCE_RANGE[0]:
+            reason += f"nearer than any basket ({DISTANCE_RANGE[0]:g} m): the hand came down near the body"
+        else:
+            reason += f"farther than any basket ({DISTANCE_RANGE[1]:g} m): check --up and that the recording is in metres"
         rise = float(motion.angle[cut.extension_end] - motion.angle[cut.extension_start])
         report.reject(Rejection(release.time, "landing", reason, rise), motion.arm.label)
         report.warnings.append(f"{path}: throw {number} at t={native[0] - origin:.2f} s left out: {reason}")

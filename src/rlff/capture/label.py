@@ -41,6 +41,7 @@ release dipping more than 30 deg below horizontal is still taken as the arm comi
 
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -52,6 +53,7 @@ from rlff.capture.angles import ArmMotion
 from rlff.capture.segment import ThrowCut
 from rlff.dataset import BEARING_RANGE, HEIGHT_RANGE
 from rlff.errors import InputError
+from rlff.limits import DISTANCE_RANGE, check_distance
 
 
 @dataclass(frozen=True)
@@ -119,6 +121,21 @@ class ManifestRow:
     def where(self) -> str:
         """``manifest PATH, line N`` for messages."""
         return f"manifest {self.manifest}, line {self.line}"
+
+    @property
+    def folders(self) -> tuple[str, ...]:
+        """The folder part of ``file`` (``..`` left out), empty when it names a file alone."""
+        return tuple(part for part in Path(self.file).parent.parts if part != "..")
+
+    def matches(self, source: str | Path) -> bool:
+        """Whether the row names the recording ``source``: by file name or stem, and when ``file``
+        has a folder part (``d1/x.bag``), only a recording whose path ends in those folders."""
+        path = Path(source)
+        if Path(self.file).name not in (path.name, path.stem):
+            return False
+        folders = self.folders
+        parents = Path(os.path.abspath(path)).parent.parts
+        return not folders or parents[len(parents) - len(folders):] == folders
 
 
 def estimate_release(
@@ -227,12 +244,24 @@ _DISTANCE_IN_NAME = re.compile(r"(?:^|[_\-\s.])(\d+(?:[._,]\d+)?)(cm|m)(?=$|[_\-
 
 
 def distance_from_name(path: str | Path) -> float | None:
-    """Basket distance (m) written in a file name (``2.5m``, ``2_5m``, ``250cm``), or None."""
+    """Basket distance (m) written in a file name (``2.5m``, ``2_5m``, ``250cm``), or None.
+
+    Raises
+    ------
+    InputError
+        The distance is outside :data:`rlff.limits.DISTANCE_RANGE` (naming the file).
+    """
     match = _DISTANCE_IN_NAME.search(Path(path).name)
     if match is None:
         return None
     value = float(re.sub(r"[_,]", ".", match.group(1)))
-    return value / 100.0 if match.group(2).lower() == "cm" else value
+    distance = value / 100.0 if match.group(2).lower() == "cm" else value
+    if not DISTANCE_RANGE[0] <= distance <= DISTANCE_RANGE[1]:
+        raise InputError(
+            f"{path}: the basket distance in the file name ({distance:g} m) is outside "
+            f"the range {DISTANCE_RANGE[0]:g} to {DISTANCE_RANGE[1]:g} m; rename the file or give its distance in a --manifest"
+        )
+    return distance
 
 
 def read_manifest(path: str | Path) -> list[ManifestRow]:
@@ -274,6 +303,7 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
         distance = number_or_none("distance", float)
         if distance is None or not np.isfinite(distance) or distance <= 0:
             raise InputError(f"manifest {path}, line {number}: column 'distance' needs a positive number (m)")
+        check_distance(f"manifest {path}, line {number}: column 'distance'", distance)
         subject = str(record.get("subject", "")).strip() or None
         bearing, height = number_or_none("bearing", float), number_or_none("height", float)
         for name, value, (low, high), unit in (("bearing", bearing, BEARING_RANGE, "deg"), ("height", height, HEIGHT_RANGE, "m")):
@@ -298,12 +328,17 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
 
 
 def _check_no_conflicts(rows: list[ManifestRow]) -> None:
-    """The same throw (same file name, same throw number or time span) listed with different distances."""
-    seen: dict[tuple, ManifestRow] = {}
+    """The same throw (same file name, same throw number or time span) listed with different
+    distances, by rows that can name the same recording (``x.bag`` and ``d1/x.bag`` can,
+    ``d1/x.bag`` and ``d2/x.bag`` cannot)."""
+    seen: dict[tuple, list[ManifestRow]] = {}
     for row in rows:
         key = (Path(row.file).name, row.throw, row.start, row.end)
-        first = seen.setdefault(key, row)
-        if first is not row and first.distance != row.distance:
+        earlier = seen.setdefault(key, [])
+        clashing = [first for first in earlier if first.distance != row.distance and _same_folders(first, row)]
+        earlier.append(row)
+        if clashing:
+            first = clashing[0]
             which = f"throw {row.throw}" if row.throw is not None else (
                 "the same time span" if row.start is not None or row.end is not None else "the whole file"
             )
@@ -311,6 +346,12 @@ def _check_no_conflicts(rows: list[ManifestRow]) -> None:
                 f"{row.where}: {row.file} ({which}) is listed again with distance {row.distance:g} m; "
                 f"line {first.line} gives {first.distance:g} m"
             )
+
+
+def _same_folders(a: ManifestRow, b: ManifestRow) -> bool:
+    """Whether two rows' folder parts can name the same recording: one ends the other."""
+    short, long = sorted((a.folders, b.folders), key=len)
+    return long[len(long) - len(short):] == short
 
 
 def check_throw_numbers(rows: list[ManifestRow], source: str, count: int) -> None:
@@ -322,9 +363,8 @@ def check_throw_numbers(rows: list[ManifestRow], source: str, count: int) -> Non
         Naming the row, the file and how many throws it has.
     """
     path = Path(source)
-    names = {str(path), path.name, path.stem}
     for row in rows:
-        if row.throw is not None and row.throw > count and (row.file in names or Path(row.file).name in names):
+        if row.throw is not None and row.throw > count and row.matches(path):
             raise InputError(
                 f"{row.where}: throw {row.throw} of {path.name} does not exist ({count} throws found there)"
             )
@@ -336,15 +376,13 @@ def manifest_entry(rows: list[ManifestRow], source: str, throw_number: int, peak
     Parameters
     ----------
     rows : the manifest
-    source : the recording's path; rows match it by full path, file name or stem
+    source : the recording's path; rows match it as :meth:`ManifestRow.matches` says
     throw_number : 1-based index of the throw in its recording
     peak_time : time (s from the recording's first sample) of the throw's extension peak
     """
-    path = Path(source)
-    names = {str(path), path.name, path.stem}
     fallback = None
     for row in rows:
-        if row.file not in names and Path(row.file).name not in names:
+        if not row.matches(source):
             continue
         if row.throw is not None:
             if row.throw == throw_number:

@@ -51,6 +51,7 @@ def import_command(
     Every movement not taken as a throw is listed with its time and the rule that stopped it.
 
     No throw at all is an error (exit 2) unless --allow-empty; an existing output is never replaced with an empty one.
+    With --json the report is printed even then (with "written": false and the "error").
     """
     from rlff.capture import import_recordings
 
@@ -74,7 +75,12 @@ def import_command(
         say(note)
     for warning in report.warnings:
         say(f"warning: {warning}")
-    written = _write(dataset, output, allow_empty)
+    try:
+        written = _write(dataset, output, allow_empty)
+    except InputError as exc:
+        if as_json:  # the rejections say why, also to a script reading stdout
+            emit_json({**report.to_dict(), "output": str(output), "written": False, "error": str(exc)})
+        raise
     if report.estimated_distances:
         say(
             f"warning: {report.estimated_distances} of {report.n_throws} throws have an estimated basket distance "

@@ -1,0 +1,121 @@
+"""``data import`` checks what it is given: units, basket distances, manifest rows, the count and
+the JSON report of a failed import."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+import bagfactory as bf  # noqa: E402
+from rlff.capture import import_recordings  # noqa: E402
+from rlff.capture.label import LandingSettings, distance_from_name, read_manifest  # noqa: E402
+from rlff.errors import InputError  # noqa: E402
+
+
+def _joint_csv(path: Path, seed: int = 4, scale: float = 1.0, n_throws: int = 1) -> Path:
+    """A joint CSV of a simulated right arm (z up), its positions multiplied by ``scale``."""
+    import pandas as pd
+
+    simulation = bf.standard_simulation(seed=seed, n_throws=n_throws, noise=0.0, second_user=False)
+    points = simulation.arm_positions(simulation.angle(simulation.frame_times))
+    frame = pd.DataFrame({"time": simulation.frame_times})
+    for joint, values in zip(("shoulder", "elbow", "hand"), points, strict=True):
+        for axis, column in zip("xyz", values.T, strict=True):
+            frame[f"right_{joint}_{axis}"] = column * scale
+    path.parent.mkdir(parents=True, exist_ok=True)
+    frame.to_csv(path, index=False)
+    return path
+
+
+@pytest.mark.parametrize(("scale", "units"), [(1000.0, "millimetres"), (100.0, "centimetres")])
+def test_a_recording_not_in_metres_is_refused_with_its_upper_arm(tmp_path, scale, units):
+    path = _joint_csv(tmp_path / "arm.csv", scale=scale)
+    with pytest.raises(InputError) as error:
+        import_recordings([path])
+    message = str(error.value)
+    assert message.startswith(f"{path}: the median upper arm") and "\n" not in message
+    assert f"look like {units}" in message and "rlff reads metres" in message and "0.1-1 m" in message
+    length = float(message.split(" measures ")[1].split()[0])
+    assert 0.1 * scale <= length <= scale  # the simulated upper arm, in the file's units
+    dataset, _ = import_recordings([_joint_csv(tmp_path / "metres.csv")])
+    assert len(dataset) == 1
+
+
+def test_an_estimated_landing_beyond_any_basket_is_left_out_with_a_warning(tmp_path):
+    path = _joint_csv(tmp_path / "arm.csv")
+    # a release 5 km up (standing for one too fast to be real) comes down about 35 m away
+    dataset, report = import_recordings([path], up="z", landing=LandingSettings(shoulder_height=5000.0))
+    assert len(dataset) == 0 and report.n_throws == 0
+    assert report.files[0].rejected[-1].rule == "landing"
+    assert any("farther than any basket (20 m)" in warning for warning in report.warnings)
+
+
+def test_a_manifest_distance_out_of_range_names_its_line(tmp_path):
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,throw,distance\narm.csv,1,2.0\narm.csv,2,200\n")
+    with pytest.raises(InputError, match=r"^manifest .*baskets.csv, line 3: column 'distance': 200 m is outside the range 0.3 to 20 m$"):
+        read_manifest(manifest)
+
+
+def test_a_distance_out_of_range_in_a_file_name_names_the_file(tmp_path):
+    assert distance_from_name("d1_250cm.bag") == 2.5
+    for name, distance in (("d1_30m.bag", "30"), ("d1_2500cm.bag", "25"), ("line_0.1m.csv", "0.1")):
+        with pytest.raises(InputError, match=rf"^{name}: the basket distance in the file name \({distance} m\) is outside the range 0.3 to 20 m"):
+            distance_from_name(name)
+    path = _joint_csv(tmp_path / "arm_30m.csv")
+    with pytest.raises(InputError, match="arm_30m.csv: the basket distance in the file name"):
+        import_recordings([path])
+
+
+def test_a_manifest_row_for_no_recording_given_is_a_warning(tmp_path):
+    path = _joint_csv(tmp_path / "session.csv")
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,throw,distance\nsession.csv,1,2.0\nsesion.csv,1,1.0\n")
+    dataset, report = import_recordings([path], manifest=manifest, up="z")
+    assert [t.meta["target"] for t in dataset] == [2.0]
+    assert report.warnings == [f"manifest {manifest}, line 3: sesion.csv is none of the recordings given; the row is not used"]
+    assert report.to_dict()["warnings"] == report.warnings
+
+
+def test_manifest_rows_with_folders_tell_same_named_recordings_apart(tmp_path):
+    first = _joint_csv(tmp_path / "d1" / "x.csv", seed=4)
+    second = _joint_csv(tmp_path / "d2" / "x.csv", seed=5)
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,throw,distance\nd1/x.csv,1,2.0\nd2/x.csv,1,3.0\n")
+    dataset, report = import_recordings([first, second], manifest=manifest, up="z")
+    assert [(t.meta["source"], t.meta["target"]) for t in dataset] == [(str(first), 2.0), (str(second), 3.0)]
+    assert report.warnings == []
+    # a row without a folder names both: against a row with one, two distances for one throw
+    manifest.write_text("file,throw,distance\nx.csv,1,2.0\nd1/x.csv,1,3.0\n")
+    with pytest.raises(InputError, match=r"line 3: d1/x.csv \(throw 1\) is listed again with distance 3 m; line 2 gives 2 m"):
+        read_manifest(manifest)
+
+
+def test_the_rows_of_a_thesis_matrix_are_counted(rlff, tmp_path):
+    matrix, out = tmp_path / "th.txt", tmp_path / "thi.csv"
+    assert rlff("data", "synth", "thesis", "-o", str(matrix)).code == 0
+    result = rlff("data", "import", str(matrix), "--format", "thesis", "-o", str(out))
+    assert result.code == 0 and result.stdout.startswith("11 throws from 1 file"), result.stdout
+    result = rlff("data", "import", str(matrix), "--format", "thesis", "-o", str(out), "--json")
+    payload = json.loads(result.stdout)
+    assert payload["throws"] == 11 and payload["files"][0]["trajectories"] == 11
+
+
+def test_json_reports_an_import_without_a_throw_before_exit_2(rlff, tmp_path):
+    import pandas as pd
+
+    path = _joint_csv(tmp_path / "still.csv")
+    frame = pd.read_csv(path)
+    frame.iloc[:, 1:] = np.tile(frame.iloc[0, 1:].to_numpy(), (len(frame), 1))  # the arm never moves
+    frame.to_csv(path, index=False)
+    out = tmp_path / "o.csv"
+    result = rlff("data", "import", str(path), "--up", "z", "-o", str(out), "--json")
+    assert result.code == 2 and not out.exists()
+    payload = json.loads(result.stdout)
+    assert payload["throws"] == 0 and payload["written"] is False and "no throw found" in payload["error"]
+    assert "no throw found" in payload["files"][0]["warnings"][0]
