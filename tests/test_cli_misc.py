@@ -217,7 +217,8 @@ def test_plot_bad_input(rlff, throws_csv, tmp_path):
 def test_every_plot_kind_has_help(rlff):
     result = rlff("plot", "--help")
     assert result.code == 0
-    kinds = ["dataset", "components", "kmeans-em", "bic", "donuts", "dmm", "outputs", "preprocess", "learning", "throw"]
+    kinds = ["dataset", "components", "kmeans-em", "bic", "donuts", "dmm", "outputs", "preprocess", "learning", "throw",
+             "cuts"]
     for kind in kinds:
         assert kind in result.stdout
     for kind in kinds[:3]:

@@ -415,6 +415,39 @@ def _subject(path: Path, row: ManifestRow | None) -> str:
     return match.group(1) if match else path.stem
 
 
+def arm_motion(recording: Recording, arm: str = "auto") -> tuple[ArmMotion, list[ArmTrack], list[str]]:
+    """The arm whose throws the import cuts: the consistent user's, on the side asked for or, with
+    ``auto``, the one whose hand sweeps furthest.
+
+    Returns
+    -------
+    motion : ArmMotion
+        That arm's joints, angles (rad) and velocities (rad/s) on the elbow's own stamps (s).
+    arms : list of ArmTrack
+        The kept user's arms (both sides where tracked).
+    notes : list of str
+        Which user and arm were kept, and why.
+
+    Raises
+    ------
+    InputError
+        No arm on the side asked for, or coordinates that are not in metres.
+    """
+    path = Path(recording.source)
+    arms, notes = keep_consistent_user(recording)
+    if arm != "auto":
+        arms = [track for track in arms if track.side == arm]
+        if not arms:
+            sides = sorted({track.side for track in recording.arms})
+            raise InputError(f"{path}: no {arm} arm (arms there: {', '.join(sides)})")
+    motions = [align_arm(track, up=recording.up) for track in arms]
+    motion = motions[0] if len(motions) == 1 else throwing_arm(motions)
+    _check_metres(path, motion.arm)
+    if len(motions) > 1:
+        notes.append(f"{path.name}: throwing arm: {motion.arm.side} (the hand that sweeps furthest)")
+    return motion, arms, notes
+
+
 def _import_recording(
     recording: Recording,
     kind: str,
@@ -427,20 +460,10 @@ def _import_recording(
 ) -> tuple[FileReport, list[Trajectory]]:
     path = Path(recording.source)
     report = FileReport(str(path), kind, notes=list(recording.notes), warnings=list(recording.warnings))
-    arms, user_notes = keep_consistent_user(recording)
-    report.notes.extend(user_notes)
-    if arm != "auto":
-        arms = [track for track in arms if track.side == arm]
-        if not arms:
-            sides = sorted({track.side for track in recording.arms})
-            raise InputError(f"{path}: no {arm} arm (arms there: {', '.join(sides)})")
-    motions = [align_arm(track, up=recording.up) for track in arms]
-    motion = motions[0] if len(motions) == 1 else throwing_arm(motions)
-    _check_metres(path, motion.arm)
+    motion, arms, arm_notes = arm_motion(recording, arm)
+    report.notes.extend(arm_notes)
     report.arm, report.user = motion.arm.side, motion.arm.user
     report.clock_origin = origin = float(motion.time[0])
-    if len(motions) > 1:
-        report.notes.append(f"{path.name}: throwing arm: {motion.arm.side} (the hand that sweeps furthest)")
     report.notes.extend(_tracking_notes(path, motion, origin))
     if motion.torso == "vertical":
         report.notes.append(

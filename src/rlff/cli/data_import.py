@@ -13,7 +13,7 @@ from rlff.errors import InputError
 from rlff.wording import plural
 
 
-def _column_map(text: str | None) -> dict[str, str] | None:
+def column_map(text: str | None) -> dict[str, str] | None:
     if not text:
         return None
     mapping = {}
@@ -67,7 +67,7 @@ def import_command(
     with progress("importing", total=len(files)) as advance:
         dataset, report = import_recordings(
             files, format, manifest=manifest, topic=topic, frames=frame_names, arm=arm, rate_hz=rate,
-            columns=_column_map(columns), up=up,
+            columns=column_map(columns), up=up,
             joints=None if joints is None else [name.strip() for name in joints.split(",") if name.strip()],
             progress=lambda path: advance(1, description=Path(path).name),
         )

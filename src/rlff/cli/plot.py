@@ -252,3 +252,34 @@ def throw_command(
     _guard(out, {"OUTCOME": outcome, "--robot": Path(robot) if robot.endswith(".toml") else None})
     record = read_json_object(outcome)
     _done([throw_snapshot_from_outcome(record, out, robot=load_robot(robot), pedestal=pedestal)], as_json)
+
+
+@app.command("cuts")
+def cuts_command(
+    recording: Path = typer.Argument(..., help="One recording, as rlff data import reads it (bag, bag folder, text, CSV)."),
+    format: str = typer.Option("auto", "--format", "-f", help="bag, kinect-text, msr, csv, or auto (from the file)."),
+    arm: str = typer.Option("auto", "--arm", help="auto, right or left."),
+    up: str | None = typer.Option(None, "--up", help="Up axis of the recording's frame (x, y, z, -x...); default per format."),
+    rate: float | None = typer.Option(None, "--rate", help="Frame rate (Hz) of text recordings without time stamps."),
+    columns: str | None = typer.Option(None, "--columns", help="CSV column map: NAME=COLUMN,... as for rlff data import."),
+    topic: str = typer.Option("/tf", "--topic", help="tf topic of bags."),
+    frames: str = typer.Option("right_shoulder_1,right_elbow_1,right_hand_1", "--frames",
+                               help="Shoulder, elbow, hand tf frames of bags, as for rlff data import."),
+    out: Path = _OUT,
+    as_json: bool = _JSON,
+) -> None:
+    """Where rlff data import cuts a recording: the elbow angle over time, each throw and each movement not taken."""
+    from rlff.capture import import_recordings
+    from rlff.capture.importer import arm_motion, detect_format, read_recording
+    from rlff.cli.data_import import column_map
+    from rlff.plots.capture import throw_cuts
+
+    _guard(out, {"RECORDING": recording})
+    kind = detect_format(recording) if format == "auto" else format
+    if kind == "thesis":
+        raise InputError(f"{recording}: a thesis matrix holds throws already cut: there is no recording to show")
+    frame_names = [name.strip() for name in frames.split(",") if name.strip()]
+    options = {"topic": topic, "frames": frame_names, "rate_hz": rate, "columns": column_map(columns), "up": up}
+    _, report = import_recordings([recording], kind, arm=arm, **options)
+    motion, _, _ = arm_motion(read_recording(recording, kind, **options), arm)
+    _done([throw_cuts(motion, report.files[0], out)], as_json)

@@ -1,0 +1,62 @@
+"""Where the import cut a recording: the elbow angle over time, each throw and each movement not taken."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from rlff.capture.angles import ArmMotion
+from rlff.capture.importer import FileReport
+from rlff.plots._figure import HIT_COLOUR, MISS_COLOUR, SavedFigure, figure_style, new_figure, save
+from rlff.wording import plural
+
+#: Colour of the shaded span of a throw that was kept.
+THROW_COLOUR = HIT_COLOUR
+#: Colour of the marks of candidate movements that were not taken.
+REJECTED_COLOUR = MISS_COLOUR
+
+
+def throw_cuts(motion: ArmMotion, report: FileReport, out: str | Path) -> SavedFigure:
+    """The elbow angle of the arm the import used, its throws shaded and its rejections marked.
+
+    Parameters
+    ----------
+    motion : ArmMotion
+        The arm whose throws were cut (:func:`rlff.capture.importer.arm_motion`); its samples are
+        drawn on the recording's clock from its first sample (s), runs of lost tracking apart.
+    report : FileReport
+        The import's account of the same file: each throw from its start to its end with its
+        release (a dashed line) and id, each candidate not taken at its time with its rule.
+    out : path
+        File stem of the PNG and SVG.
+    """
+    time = motion.time - motion.time[0]
+    with figure_style():
+        figure = new_figure(max(7.0, min(16.0, 2.0 + 0.6 * float(time[-1]))), 4.2)
+        axes = figure.add_subplot()
+        for number, run in enumerate(motion.runs()):
+            axes.plot(time[run], motion.angle[run], ".-", color="0.25", markersize=3, linewidth=1,
+                      label="elbow angle" if number == 0 else None)
+        for number, throw in enumerate(report.throws):
+            axes.axvspan(throw.start, throw.end, color=THROW_COLOUR, alpha=0.18, linewidth=0,
+                         label="throw kept" if number == 0 else None)
+            axes.axvline(throw.release, color=THROW_COLOUR, linestyle="--", linewidth=1,
+                         label="release" if number == 0 else None)
+            axes.annotate(f"{throw.id}\n{throw.distance:g} m", (throw.start, 1.0), xycoords=("data", "axes fraction"),
+                          xytext=(2, -2), textcoords="offset points", va="top", fontsize=8)
+        for number, rejection in enumerate(report.rejected):
+            axes.axvline(rejection.time, color=REJECTED_COLOUR, linestyle=":", linewidth=1,
+                         label="not taken (rule)" if number == 0 else None)
+            axes.annotate(rejection.rule, (rejection.time, 0.0), xycoords=("data", "axes fraction"),
+                          xytext=(2, 2), textcoords="offset points", rotation=90, va="bottom",
+                          fontsize=8, color=REJECTED_COLOUR)
+        axes.set_xlim(0.0, max(float(time[-1]), 1e-3))
+        axes.set_ylim(0.0, max(np.pi, float(np.nanmax(motion.angle)) + 0.1))
+        axes.set_xlabel("time from the recording's first sample (s)")
+        axes.set_ylabel("elbow angle (rad, π straight)")
+        side = f"{motion.arm.side} arm, user {motion.arm.user}"
+        axes.set_title(f"{Path(report.source).name} ({side}): {plural(len(report.throws), 'throw')}, "
+                       f"{plural(len(report.rejected), 'movement')} not taken", wrap=True)
+        figure.legend(loc="outside lower center", ncols=4, fontsize=8, frameon=False)
+    return save(figure, out)

@@ -1,0 +1,46 @@
+"""``rlff plot cuts``: where the import cut a recording, drawn from a real bag written and read back."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+import bagfactory as bf
+
+
+def test_the_figure_shows_each_throw_where_the_import_cut_it(rlff, tmp_path):
+    simulation = bf.standard_simulation(seed=4, n_throws=3, second_user=False)
+    bag = bf.write_ros1_bag(tmp_path / "session_2m.bag", simulation, compression=None)
+    report = tmp_path / "import.json"
+    imported = rlff("data", "import", str(bag), "-o", str(tmp_path / "d.csv"), "--json")
+    assert imported.code == 0, imported.stderr
+    report.write_text(imported.stdout)
+    throws = json.loads(imported.stdout)["files"][0]["throws"]
+    assert len(throws) == 3
+
+    result = rlff("plot", "cuts", str(bag), "-o", str(tmp_path / "cuts"), "--json")
+    assert result.code == 0, result.stderr
+    assert (tmp_path / "cuts.png").stat().st_size > 0 and (tmp_path / "cuts.svg").is_file()
+
+    from rlff.capture import import_recordings
+    from rlff.capture.importer import arm_motion, read_recording
+    from rlff.plots.capture import throw_cuts
+
+    _, again = import_recordings([bag])
+    motion, _, _ = arm_motion(read_recording(bag, "bag"))
+    figure = throw_cuts(motion, again.files[0], tmp_path / "again").figure
+    (axes,) = figure.axes
+    spans = sorted(patch.get_x() for patch in axes.patches)  # axvspan: one rectangle per throw
+    assert np.allclose(spans, [throw["start"] for throw in throws])
+    # the angle is drawn on the recording's clock from its first sample, as the report's times
+    (line, *_) = axes.lines
+    assert line.get_xdata()[0] == 0.0 and np.allclose(line.get_ydata(), motion.angle)
+    assert "3 throws" in axes.get_title()
+
+
+def test_a_thesis_matrix_has_no_recording_to_show(rlff, tmp_path):
+    matrix = tmp_path / "th.txt"
+    assert rlff("-q", "data", "synth", "thesis", "-o", str(matrix)).code == 0
+    result = rlff("plot", "cuts", str(matrix), "-f", "thesis", "-o", str(tmp_path / "c"))
+    assert result.code == 2 and "holds throws already cut" in result.stderr
