@@ -24,9 +24,17 @@ acceleration: its profiles switch acceleration instantly (unbounded jerk), so it
 
 Every phase lasts a whole number of controller periods (ruckig's discrete durations) and is
 sampled at every period with the positions, velocities and accelerations of ruckig's profile:
-the samples are evenly spaced, the release falls on the controller's clock, and the
-controller's quintic interpolation between two samples is the profile itself up to ~0.02 % of
-the acceleration (hence :data:`MARGIN`).
+the samples are evenly spaced and the release falls on the controller's clock.
+
+The controller's quintic interpolation between two samples is the profile itself except in a
+step where the profile's jerk jumps (a corner of its acceleration): there the quintic, smooth
+through the step, overshoots the profile by up to ``jerk * period / 24`` in acceleration and
+``jerk * period**2 / 90`` in velocity (:data:`ACCELERATION_OVERSHOOT`,
+:data:`VELOCITY_OVERSHOOT`). The profiles use :data:`MARGIN` of the velocity and acceleration
+limits and a jerk low enough that both overshoots fit in what the margin leaves
+(:func:`planning_jerk`): a robot file's ``max_jerk`` far above ``max_acceleration / period``
+asks for acceleration changes within one controller period, which no quintic through the
+samples follows, so such a jerk is planned lower.
 """
 
 from __future__ import annotations
@@ -37,17 +45,24 @@ from itertools import chain
 import numpy as np
 
 from rlff.errors import InputError
-from rlff.trajectory.check import MotionLimitError
+from rlff.trajectory.check import MotionLimitError, violation_counts
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import JointLimits
 from rlff.trajectory.motion_limits import MotionLimits, motion_limits
 
 #: Controller period (s) a plan is sampled at unless told otherwise.
 DEFAULT_PERIOD = 0.002
-#: Share of the velocity and acceleration limits the profiles use: the controller's quintic
-#: between two samples of a profile that just reached a limit overshoots it by ~0.02 %
-#: (2 ms samples, the Comau's limits); 1 % keeps the interpolated path inside.
+#: Share of the velocity and acceleration limits the profiles use; the rest absorbs the quintic's
+#: overshoot at the profiles' corners (:func:`planning_jerk`).
 MARGIN = 0.99
+#: Largest overshoot (rad/s^2) of the quintic through the samples of a jerk-limited profile over
+#: the profile's acceleration, per rad/s^3 of jerk and s of period, wherever its corners fall in
+#: the step: 1/24, for an acceleration plateau 2/3 of a step long starting 1/6 into it (one corner
+#: alone: 1/32).
+ACCELERATION_OVERSHOOT = 1 / 24
+#: The same for the velocity (rad/s), per rad/s^3 of jerk and s^2 of period: 0.0105 at most
+#: (an acceleration bump of 0.4 jerk * period ending in the step), rounded up to 1/90.
+VELOCITY_OVERSHOOT = 1 / 90
 
 
 def _vector(values, size: int, label: str) -> np.ndarray:
@@ -64,6 +79,27 @@ def _period(period: float | None) -> float:
     if not (np.isfinite(period) and period > 0):
         raise InputError(f"the controller period must be positive, got {period!r} s")
     return float(period)
+
+
+def planning_jerk(limits: MotionLimits, period: float) -> np.ndarray:
+    """The jerk (rad/s^3, shape (J,)) the profiles use at a controller ``period`` (s).
+
+    The robot file's ``max_jerk``, lowered where the quintic's overshoot at a corner
+    (:data:`ACCELERATION_OVERSHOOT` ``* jerk * period`` and :data:`VELOCITY_OVERSHOOT`
+    ``* jerk * period**2``) would exceed the ``1 - MARGIN`` of the acceleration or velocity limit
+    the profiles leave free. The built-in Comau's jerks are below both caps at 2-20 ms periods.
+    """
+    spare = 1 - MARGIN
+    return np.minimum(limits.jerk, spare * np.minimum(
+        limits.acceleration / (ACCELERATION_OVERSHOOT * period),
+        limits.velocity / (VELOCITY_OVERSHOOT * period**2)))
+
+
+def _jerk_text(limits: MotionLimits, period: float, j: int) -> str:
+    """``max_jerk`` of joint ``j`` for a message, with the jerk planned if lower (:func:`planning_jerk`)."""
+    used = planning_jerk(limits, period)[j]
+    text = f"max_jerk {limits.jerk[j]:g} rad/s^3"
+    return text if used == limits.jerk[j] else f"{text}, planned with {used:.4g} at a {period:g} s period"
 
 
 def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_position,
@@ -104,7 +140,7 @@ def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_posit
     speed = MARGIN * limits.velocity if max_velocity is None else max_velocity
     request.max_velocity = np.maximum(speed, np.abs(target_velocity))[moving].tolist()
     request.max_acceleration = (MARGIN * limits.acceleration[moving]).tolist()
-    request.max_jerk = limits.jerk[moving].tolist()
+    request.max_jerk = planning_jerk(limits, period)[moving].tolist()
     # a whole number of periods: every sample (a phase's end, the release) falls on the
     # controller's clock, and the last step is no shorter than the others
     request.duration_discretization = DurationDiscretization.Discrete
@@ -130,7 +166,8 @@ def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_posit
     return JointTrajectory(limits.names, time, states[:, 0], states[:, 1], states[:, 2])
 
 
-def _require_inside(traj: JointTrajectory, limits: MotionLimits, what: str, room_from=None) -> None:
+def _require_inside(traj: JointTrajectory, limits: MotionLimits, period: float, what: str,
+                    room_from=None) -> None:
     """Raise :class:`MotionLimitError` if ``traj`` leaves a position or speed limit during ``what``.
 
     A profile leaves the speed limit only from a state that no jerk-limited motion can keep
@@ -143,7 +180,7 @@ def _require_inside(traj: JointTrajectory, limits: MotionLimits, what: str, room
         raise MotionLimitError(
             f"{what}: {limits.names[j]} would reach {peak:.6g} rad/s (t = {traj.time[row]:.4f} s), beyond its "
             f"limit {limits.velocity[j]:.6g} rad/s: from {traj.velocities[0, j]:.6g} rad/s accelerating at "
-            f"{traj.accelerations[0, j]:.6g} rad/s^2, max_jerk {limits.jerk[j]:g} rad/s^3 cannot turn the "
+            f"{traj.accelerations[0, j]:.6g} rad/s^2, {_jerk_text(limits, period, j)} cannot turn the "
             "acceleration round in time")
     for j, name in enumerate(limits.names):
         q = traj.positions[:, j]
@@ -157,8 +194,31 @@ def _require_inside(traj: JointTrajectory, limits: MotionLimits, what: str, room
                 f"{what}: {name} would reach {extreme:.6g} rad, beyond its {side} limit {limit:.6g} rad "
                 f"(it needs {abs(extreme - where):.4g} rad from {where:.6g} rad, moving at "
                 f"{traj.velocities[0, j]:.6g} rad/s, with max_acceleration "
-                f"{limits.acceleration[j]:g} rad/s^2 and max_jerk {limits.jerk[j]:g} rad/s^3; "
+                f"{limits.acceleration[j]:g} rad/s^2 and {_jerk_text(limits, period, j)}; "
                 f"the limit is {abs(limit - where):.4g} rad away)")
+
+
+def _require_interpolated_speed(traj: JointTrajectory, joints: Sequence[JointLimits], limits: MotionLimits,
+                                target_velocity: np.ndarray, period: float, what: str) -> None:
+    """Raise :class:`MotionLimitError` if the controller's quintic between the samples of ``traj``
+    (one phase, ending at ``target_velocity``) leaves a speed limit.
+
+    With :func:`planning_jerk` it can only where the profile levels off at a target speed above
+    :data:`MARGIN` of the limit (a release at the speed limit, reached early and held): the
+    overshoot there, up to :data:`VELOCITY_OVERSHOOT` ``* jerk * period**2``, has no room left.
+    """
+    share = np.abs(target_velocity) / limits.velocity
+    if np.all(share <= MARGIN) or violation_counts(traj, joints)["velocity"] == 0:
+        return
+    j = int(np.argmax(share))
+    jerk = planning_jerk(limits, period)[j]
+    raise MotionLimitError(
+        f"{what}: {limits.names[j]} reaches its target speed {abs(target_velocity[j]):.6g} rad/s, "
+        f"{100 * share[j]:.4g} % of its limit {limits.velocity[j]:.6g} rad/s, "
+        f"early and holds it; the controller's quintic between the {period:g} s samples overshoots "
+        f"where the profile levels off (by up to {VELOCITY_OVERSHOOT * jerk * period**2:.3g} rad/s with "
+        f"{_jerk_text(limits, period, j)}) and leaves the limit: aim below the speed limit, or lower "
+        "max_jerk or the period")
 
 
 def plan_transition(
@@ -211,9 +271,11 @@ def plan_transition(
     target_velocity = _vector(target_velocity, size, "target velocity")
     if max_velocity is not None:
         max_velocity = np.minimum(_vector(max_velocity, size, "max_velocity"), MARGIN * limits.velocity)
-    traj = _ruckig(limits, *state, target, target_velocity, max_velocity, _period(period))
+    period = _period(period)
+    traj = _ruckig(limits, *state, target, target_velocity, max_velocity, period)
     what = "the transition" if target is not None else "braking to rest"
-    _require_inside(traj, limits, what)
+    _require_inside(traj, limits, period, what)
+    _require_interpolated_speed(traj, joints, limits, target_velocity, period, what)
     return traj
 
 
@@ -316,10 +378,11 @@ def plan_throw(
     cap = np.where(release_speed > 1e-6, release_speed, np.where(peak > 1e-6, peak, limits.velocity))
     cap = np.minimum(cap, MARGIN * limits.velocity)
     throwing = _ruckig(limits, first, rest, rest, release, release_velocity, cap, period)
-    _require_inside(throwing, limits, "the throw (start to release)")
+    _require_inside(throwing, limits, period, "the throw (start to release)")
+    _require_interpolated_speed(throwing, moved, limits, release_velocity, period, "the throw (start to release)")
     phases.append(throwing)
     braking = _ruckig(limits, release, release_velocity, rest, None, rest, None, period)
-    _require_inside(braking, limits, "no room to brake after the release", room_from=release)
+    _require_inside(braking, limits, period, "no room to brake after the release", room_from=release)
     phases.append(braking)
     joined, ends = _join(phases)
     return JointTrajectory(joined.joint_names, joined.time, joined.positions, joined.velocities,
