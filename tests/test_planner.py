@@ -85,6 +85,16 @@ def test_a_release_beyond_a_limit_is_refused():
         plan_throw(mapped_throw(1.0, 2.8, 1.0), ROBOT.joints)
 
 
+def test_an_arm_already_beyond_a_limit_is_named_so():
+    # it said the transition "would reach 0 rad, beyond its upper limit -0.05 rad (it needs 0 rad
+    # from 0 rad ...)": the arm was there already, and the robot file's limit excluded it
+    start = MAPPING.pose(0.0)
+    start[1] = J2.upper + 0.2
+    with pytest.raises(MotionLimitError, match=r"the transition: joint_2 starts at 2\.91 rad, already beyond its "
+                                               r"upper limit 2\.71 rad in the robot file: move the arm inside"):
+        plan_transition(start, np.zeros(6), np.zeros(6), MAPPING.pose(0.0), np.zeros(6), ROBOT.joints)
+
+
 def test_stop_brakes_within_the_acceleration_and_jerk_limits():
     position, velocity = MAPPING.pose(0.0), np.zeros(6)
     velocity[1] = 2.5
