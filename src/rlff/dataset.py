@@ -40,11 +40,17 @@ from rlff.wording import bad_cell, plural
 #: (simulated throws), ``glitches`` counts the tracking glitches a simulated throw holds,
 #: ``cut_angle`` (rad) is where preprocessing cut a throw at its release; ``start_time`` and
 #: ``end_time`` (s) place an imported throw in its recording; ``measured_share`` is the share of
-#: a trajectory's samples that stand for a measurement (densifying interpolates the rest).
+#: a trajectory's samples that stand for a measurement (densifying interpolates the rest);
+#: ``distance_source``, ``arm`` and ``release_confidence`` are set by capture.
 META_KEYS = (
     "subject", "source", "target", "landing", "hit", "release_angle", "release_time", "glitches",
     "cut_angle", "start_time", "end_time", "measured_share", "native_rate_hz", "largest_gap",
+    "distance_source", "arm", "release_confidence",
 )
+#: Metadata keys whose values are text: the CSV reader keeps their cells as written, never as a
+#: number, a bool or a missing value (subject ``007`` stays ``"007"``, ``nan`` stays ``"nan"``),
+#: as the trajectory ids. Only an empty cell is no value.
+TEXT_META_KEYS = ("subject", "source", "distance_source", "arm", "release_confidence")
 #: Column of the CSV long format that holds the trajectory id.
 ID_COLUMN = "trajectory"
 #: Default column roles of the throwing task.
@@ -545,13 +551,22 @@ def parse_hit(value: Any) -> bool | None:
     return HIT_WORDS[word]
 
 
+#: The cells pandas reads as missing by default (its documented ``na_values`` list): what the CSV
+#: reader still takes for a missing value in every column but the id and :data:`TEXT_META_KEYS`.
+_PANDAS_NA = ("", "#N/A", "#N/A N/A", "#NA", "-1.#IND", "-1.#QNAN", "-NaN", "-nan", "1.#IND", "1.#QNAN",
+              "<NA>", "N/A", "NA", "NULL", "NaN", "None", "n/a", "nan", "null")
+
+
 def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
     """Read a dataset from the CSV long format.
 
     One row per sample, a header, a ``trajectory`` id column, numeric sample columns and
-    optional metadata columns (``subject``, ``source``, ``target``, ``landing``, ``hit`` or any
-    non-numeric column) constant within a trajectory. Row order within a trajectory is kept.
-    ``hit`` reads as a bool from true/false, yes/no, 1/0 or hit/miss (:data:`HIT_WORDS`).
+    optional metadata columns (those of :data:`META_KEYS` or any non-numeric column) constant
+    within a trajectory. Row order within a trajectory is kept. Ids and the text keys
+    (:data:`TEXT_META_KEYS`: ``subject``, ``source``, ...) are kept as written (``007`` stays
+    ``"007"``; only an empty cell is no value); ``hit`` reads as a bool from true/false, yes/no, 1/0
+    or hit/miss (:data:`HIT_WORDS`); other metadata cells read as numbers, bools (true/false) or
+    text, as they look.
 
     Raises
     ------
@@ -565,7 +580,14 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
 
     path = require_file(path)
     try:
-        frame = pd.read_csv(path, dtype={ID_COLUMN: str}, keep_default_na=True)
+        # ids and text metadata are read as written: only an empty cell is missing there (pandas
+        # would read "nan", "NA" or "None" as missing, and "007" or "1e3" as a number elsewhere)
+        header = pd.read_csv(path, nrows=0).columns
+        text = [name for name in header if name == ID_COLUMN or name in TEXT_META_KEYS]
+        frame = pd.read_csv(
+            path, dtype=dict.fromkeys(text, str), keep_default_na=False,
+            na_values={name: [""] if name in text else _PANDAS_NA for name in header},
+        )
     except (pd.errors.ParserError, UnicodeDecodeError) as exc:
         raise InputError(f"{path}: malformed CSV ({str(exc).strip().splitlines()[-1]})") from None
     except pd.errors.EmptyDataError:
@@ -616,6 +638,8 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
                 except ValueError as exc:
                     line = int(group.index[0]) + 2
                     raise InputError(f"{path}, line {line}: trajectory {trajectory_id!r} has hit {exc}") from None
+            elif name in TEXT_META_KEYS:
+                value = None if pd.isna(values.iloc[0]) else str(values.iloc[0])
             else:
                 value = _meta_value(values.iloc[0])
             if value is not None:
@@ -642,7 +666,14 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
 
 
 def write_csv(dataset: Dataset, path: str | Path) -> None:
-    """Write a dataset in the CSV long format; :func:`read_csv` gives it back exactly.
+    """Write a dataset in the CSV long format; :func:`read_csv` gives back its samples, ids and
+    metadata exactly.
+
+    A CSV cell holds no type: ids and the values of :data:`TEXT_META_KEYS` come back as the text
+    written, other metadata as what its text looks like, so a text value that looks like a number
+    or a bool under a key of one's own (``{"session": "007"}``) comes back as one (a column of
+    numbers under a key not in :data:`META_KEYS`, as a sample column); Parquet and NPZ keep every
+    value's type.
 
     Floats are written as the shortest decimal that reads back to the same double, through
     pyarrow's CSV writer (:mod:`rlff.csvtable`), and atomically: an existing file is only ever

@@ -15,11 +15,17 @@ from importlib import resources
 from pathlib import Path
 from string import Template
 
-from rlff.errors import InputError
 from rlff.fileio import write_text
-from rlff.report.run import FigureEntry, Run, Scalar, Section, Table, read_run
-
-_MIME = {".png": "image/png", ".svg": "image/svg+xml", ".jpg": "image/jpeg", ".jpeg": "image/jpeg", ".gif": "image/gif"}
+from rlff.report.run import (
+    FIGURE_TYPES,
+    FigureEntry,
+    Run,
+    Scalar,
+    Section,
+    Table,
+    figure_file,
+    read_run,
+)
 
 
 def _package_text(name: str) -> str:
@@ -81,17 +87,16 @@ def _table(table: Table) -> str:
     return f"<h3>{html.escape(table.title)}</h3><table><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
 
 
-def _data_uri(path: Path) -> str:
-    mime = _MIME.get(path.suffix.lower())
-    if mime is None:
-        raise InputError(f"{path}: unsupported figure type {path.suffix!r} (use PNG, SVG, JPEG or GIF)")
+def _data_uri(run_dir: Path, file: str) -> str:
+    path = figure_file(run_dir, file)  # inside the run, an image of its extension's type
+    mime = FIGURE_TYPES[path.suffix.lower()][0]
     return f"data:{mime};base64,{base64.b64encode(path.read_bytes()).decode('ascii')}"
 
 
 def _figure(entry: FigureEntry, run_dir: Path) -> str:
     caption = f"<strong>{html.escape(entry.title)}.</strong> {html.escape(entry.caption)}"
     return (
-        f'<figure><img src="{_data_uri(run_dir / entry.file)}" alt="{html.escape(entry.title, quote=True)}">'
+        f'<figure><img src="{_data_uri(run_dir, entry.file)}" alt="{html.escape(entry.title, quote=True)}">'
         f"<figcaption>{caption}</figcaption></figure>"
     )
 
@@ -108,7 +113,14 @@ def _section(section: Section, figures: Sequence[FigureEntry], run_dir: Path) ->
 
 
 def render_report(run: Run, run_dir: str | Path) -> str:
-    """The HTML text of the report of ``run`` whose figures live under ``run_dir``."""
+    """The HTML text of the report of ``run`` whose figures live under ``run_dir``.
+
+    Raises
+    ------
+    InputError
+        A figure file outside ``run_dir``, missing, or not an image of its extension's type
+        (:func:`rlff.report.run.figure_file`), named.
+    """
     run_dir = Path(run_dir)
     nav = "\n".join(
         f'<li><a href="#{html.escape(s.id, quote=True)}">{html.escape(s.title)}</a></li>' for s in run.sections
@@ -149,7 +161,8 @@ def build_report(run_dir: str | Path, out_html: str | Path) -> Path:
     Raises
     ------
     InputError
-        The run directory or its ``run.json`` is missing or invalid, or a figure is missing.
+        The run directory or its ``run.json`` is missing or invalid, or a figure is missing, outside
+        the run directory or not an image of the type its extension names.
     """
     run = read_run(run_dir)
     return write_text(out_html, render_report(run, run_dir))

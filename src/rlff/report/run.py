@@ -13,7 +13,8 @@ Layout::
 facts are single
 values for scripts and for the summary list of the report, tables are small row sets (one row per
 distance, per step, per method). A figure is ``{"file" (relative to RUN), "section" (a section
-id), "title", "caption"}``. The report shows sections in their order and each figure in its
+id), "title", "caption"}``: a PNG, SVG, JPEG or GIF file inside RUN, whose content must be of
+the type its extension names. The report shows sections in their order and each figure in its
 section.
 """
 
@@ -21,6 +22,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -36,6 +38,69 @@ RUN_FILE = "run.json"
 
 #: A value a fact or a table cell may hold: it must survive JSON.
 Scalar = str | int | float | bool | None
+
+#: Figure file types by extension: the MIME type the report embeds them as, and the type's name.
+FIGURE_TYPES = {
+    ".png": ("image/png", "PNG"),
+    ".svg": ("image/svg+xml", "SVG"),
+    ".jpg": ("image/jpeg", "JPEG"),
+    ".jpeg": ("image/jpeg", "JPEG"),
+    ".gif": ("image/gif", "GIF"),
+}
+
+
+def _looks_like(kind: str, head: bytes) -> bool:
+    """Whether the first bytes of a file are those of an image of this kind (its name in FIGURE_TYPES)."""
+    if kind == "PNG":
+        return head.startswith(b"\x89PNG\r\n\x1a\n")
+    if kind == "JPEG":
+        return head.startswith(b"\xff\xd8\xff")
+    if kind == "GIF":
+        return head.startswith((b"GIF87a", b"GIF89a"))
+    # SVG: XML text whose first element is <svg> (after a declaration, comments, a doctype)
+    text = head.decode("utf-8-sig", errors="replace")
+    text = re.sub(r"<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^>]*>", "", text, flags=re.DOTALL).lstrip()
+    return re.match(r"<svg[\s>]", text) is not None
+
+
+#: Bytes of a figure read to tell its type.
+_HEAD = 4096
+
+
+def figure_file(run_dir: str | Path, file: str) -> Path:
+    """The path of the figure ``file`` of the run in ``run_dir``, checked.
+
+    Raises
+    ------
+    InputError
+        Naming ``file``: a path outside ``run_dir`` (absolute, or leading out of it with ``..``
+        or a link), an extension that is not PNG, SVG, JPEG or GIF, no such file, or content that
+        is not an image of the type the extension names.
+    """
+    run_dir = Path(run_dir)
+    path = run_dir / file
+    try:
+        outside = Path(file).is_absolute() or not path.resolve().is_relative_to(run_dir.resolve())
+    except (OSError, RuntimeError, ValueError):  # a loop of links, a NUL character
+        raise InputError(f"figure file {file!r}: not a usable path") from None
+    if outside:
+        raise InputError(
+            f"figure file {file!r} is outside the run directory {run_dir} (give a path inside it, "
+            "relative to it, e.g. figures/bic.png)"
+        )
+    kind = FIGURE_TYPES.get(path.suffix.lower())
+    if kind is None:
+        raise InputError(f"figure file {file!r}: unsupported type {path.suffix!r} (use PNG, SVG, JPEG or GIF)")
+    if not path.is_file():
+        raise InputError(f"figure file {file!r} does not exist in {run_dir}")
+    try:
+        with path.open("rb") as handle:
+            head = handle.read(_HEAD)
+    except OSError as exc:
+        raise InputError(f"figure file {file!r}: cannot be read ({exc.strerror or exc})") from None
+    if not _looks_like(kind[1], head):
+        raise InputError(f"figure file {file!r} is not a {kind[1]} image (its content is not that of a {path.suffix} file)")
+    return path
 
 
 @dataclass(frozen=True)
@@ -168,11 +233,20 @@ def _json_scalar(value: Any, where: str) -> Scalar:
 
 
 def write_run(run: Run, run_dir: str | Path) -> Path:
-    """Write ``RUN/run.json`` (the figures must already be in place); returns its path."""
+    """Write ``RUN/run.json`` (the figures must already be in place); returns its path.
+
+    Raises
+    ------
+    InputError
+        A figure file that :func:`figure_file` refuses (outside ``run_dir``, missing, not an image
+        of its extension's type).
+    """
     run_dir = Path(run_dir)
-    missing = [f.file for f in run.figures if not (run_dir / f.file).is_file()]
-    if missing:
-        raise InputError(f"{run_dir}: figure file {missing[0]!r} does not exist")
+    for entry in run.figures:
+        try:
+            figure_file(run_dir, entry.file)
+        except InputError as exc:
+            raise InputError(f"{run_dir}: {exc}") from None
     return write_text(run_dir / RUN_FILE, json.dumps(run.to_dict(), indent=2) + "\n")
 
 
@@ -203,7 +277,8 @@ def read_run(run_dir: str | Path) -> Run:
     ------
     InputError
         No such directory or file, a file given as the directory, not JSON, another format or
-        version, a missing or mistyped field (named), a figure file that does not exist.
+        version, a missing or mistyped field (named), a figure file that :func:`figure_file`
+        refuses (outside the run directory, missing, not an image of its extension's type).
     """
     run_dir = require_run_dir(run_dir)
     path = run_dir / RUN_FILE
@@ -258,8 +333,10 @@ def read_run(run_dir: str | Path) -> Run:
             title=_require(item, "title", str, where),
             caption=item.get("caption", ""),
         )
-        if not (run_dir / entry.file).is_file():
-            raise InputError(f"{where}: figure file {entry.file!r} does not exist in {run_dir}")
+        try:
+            figure_file(run_dir, entry.file)
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
         figures.append(entry)
     try:
         return Run(
