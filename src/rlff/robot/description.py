@@ -7,6 +7,8 @@ kinematic convention); the Comau Smart5 SiX ships with rlff, another robot is an
 from __future__ import annotations
 
 import difflib
+import math
+import re
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -40,6 +42,13 @@ _FIELDS = {
     "[whole_arm.joints.<joint>]": ("human", "offset", "scale"),
     "[comau_program]": ("position_slot", "velocity_slot"),
 }
+#: Bounds (rad, rad/s) no revolute joint of an arm exceeds, so that a robot file written in
+#: degrees is refused, not read as radians: eight turns either way (the Comau's joint 6 turns
+#: ±7.5, ±47.12 rad) and 50 rad/s (about 2,900 deg/s; its fastest joint does 9.6 rad/s).
+#: Accelerations and jerks have no such bound (see docs/robot.md).
+MAX_POSITION, MAX_VELOCITY = 8 * 2 * math.pi, 50.0
+#: A joint name rlff reads as the controller's k-th joint (``joint_2`` is the shoulder).
+_NUMBERED = re.compile(r"joint_(\d+)")
 #: Link lengths that must be positive, and distances that cannot be negative (the offsets
 #: ``shoulder_forward`` and ``elbow_offset`` are signed: see the robot file's convention).
 _POSITIVE_LENGTHS, _DISTANCES = ("upper_arm", "forearm"), ("shoulder_height", "flange")
@@ -129,6 +138,10 @@ class Geometry:
 class Robot:
     """A robot arm: its joints in controller order, geometry and extra tables of its file.
 
+    The joints' order is the controller's (the Comau program's slots, the URDF's and the MuJoCo
+    scene's chain): a joint named ``joint_<k>`` must be the k-th, since rlff's geometry, reach
+    and mappings take ``joint_2`` for the shoulder; joints named otherwise keep their order.
+
     ``throwing`` holds the default one-joint human-to-robot mapping (read by
     :meth:`rlff.robot.mapping.RobotMapping.for_robot`), ``whole_arm`` the mapping of several
     human joints to several robot joints (:meth:`rlff.robot.mapping.ArmMapping.for_robot`),
@@ -148,6 +161,12 @@ class Robot:
         names = [joint.name for joint in self.joints]
         if not names or len(set(names)) != len(names):
             raise InputError(f"{self.source}: joint names must be unique and non-empty, got {names}")
+        for position, name in enumerate(names, start=1):
+            numbered = _NUMBERED.fullmatch(name)
+            if numbered and int(numbered[1]) != position:
+                raise InputError(f"{self.source}: {name} is listed as joint {position}; rlff takes joint_<k> to be "
+                                 "the controller's k-th joint (joint_2 the shoulder): list the [[joints]] tables "
+                                 "in controller order, joint_1 first")
         object.__setattr__(self, "throwing", MappingProxyType(dict(self.throwing)))
         object.__setattr__(self, "comau_program", MappingProxyType(dict(self.comau_program)))
         object.__setattr__(self, "whole_arm", MappingProxyType(dict(self.whole_arm)))
@@ -213,6 +232,23 @@ def _require_known_fields(document: Mapping[str, Any], joints: Sequence[str], so
                              f"(joints: {', '.join(joints)})")
 
 
+def _require_radians(tables: Any, source: str) -> None:
+    """Refuse a ``[[joints]]`` table whose position limit is beyond :data:`MAX_POSITION` or whose
+    speed limit is beyond :data:`MAX_VELOCITY`: a file in degrees. Fields that are missing or not
+    numbers are left to :func:`parse_robot`."""
+    for number, table in enumerate(tables if isinstance(tables, list) else [], start=1):
+        if not isinstance(table, Mapping):
+            continue
+        where = f"{source}: joint {number} ({table.get('name')})"
+        for key, bound, unit, what in (("lower", MAX_POSITION, "rad", "more than eight turns"),
+                                       ("upper", MAX_POSITION, "rad", "more than eight turns"),
+                                       ("max_velocity", MAX_VELOCITY, "rad/s", "faster than any arm's joint")):
+            value = table.get(key)
+            if isinstance(value, int | float) and not isinstance(value, bool) and abs(value) > bound:
+                raise InputError(f"{where}: {key} {value:g} {unit} is {what} ({bound:.4g} {unit}); rlff reads "
+                                 "radians (rad, rad/s, rad/s^2, rad/s^3): is this file in degrees?")
+
+
 def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
     """Build a :class:`Robot` from a parsed robot file; errors name ``source`` and the field."""
     name = document.get("name")
@@ -270,7 +306,9 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
     Raises
     ------
     InputError
-        Unknown robot, unreadable file, or a missing or invalid field (named in the message).
+        Unknown robot, unreadable file, a missing or invalid field (named in the message), limits
+        written in degrees (:data:`MAX_POSITION`, :data:`MAX_VELOCITY`), or ``joint_<k>`` not the
+        k-th joint (:class:`Robot`).
     """
     text_name = str(path_or_name)
     is_file = isinstance(path_or_name, Path) or text_name.endswith((".toml", ".urdf")) or "/" in text_name
@@ -298,6 +336,8 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
         document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{source}: not valid TOML: {exc}") from None
+    # the values the file writes; a URDF's own are in SI by its specification, metres for a prismatic joint
+    _require_radians(document.get("joints"), source)
     if is_file and "urdf" in document:
         from rlff.robot.urdf import merge_urdf
 

@@ -1,0 +1,107 @@
+"""Robot files that would make a real arm move wrongly: joints out of controller order, degrees."""
+
+from __future__ import annotations
+
+import itertools
+import math
+import re
+from importlib import resources
+
+import numpy as np
+import pytest
+
+from rlff.cli import main
+from rlff.errors import InputError
+from rlff.robot import load_robot
+from rlff.robot.description import Robot
+
+COMAU = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text(encoding="utf-8")
+#: The built-in file cut into its head (up to the first [[joints]]), its six tables and the rest.
+_FIRST, _AFTER = COMAU.index("[[joints]]"), COMAU.index("[geometry]")
+HEAD, TABLES, TAIL = COMAU[:_FIRST], COMAU[_FIRST:_AFTER].split("\n\n[[joints]]"), COMAU[_AFTER:]
+TABLES = [TABLES[0]] + ["[[joints]]" + table for table in TABLES[1:]]
+
+
+def comau_file(path, order=range(6), edit=lambda table: table):
+    """The built-in Comau file with its [[joints]] tables in ``order`` (0-based), each passed
+    through ``edit``; written to ``path``."""
+    path.write_text(HEAD + "\n\n".join(edit(TABLES[k]).rstrip("\n") for k in order) + "\n\n" + TAIL)
+    return path
+
+
+def in_degrees(table):
+    """A [[joints]] table with every limit written in degrees (deg, deg/s, deg/s^2, deg/s^3)."""
+    return re.sub(r"^(lower|upper|max_\w+) = (\S+)$",
+                  lambda m: f"{m[1]} = {round(math.degrees(float(m[2])), 1)}", table, flags=re.M)
+
+
+def seven_joint_file(path, names):
+    """A seven-joint arm whose joints have names of their own, listed in the order ``names``."""
+    tables = [f'[[joints]]\nname = "{name}"\nlower = -2.0\nupper = 2.0\nmax_velocity = 2.0\n'
+              f"max_acceleration = 8.0\nmax_jerk = 80.0\n" for name in names]
+    path.write_text('name = "seven"\n' + "\n".join(tables))
+    return path
+
+
+def test_the_comau_file_cut_and_joined_again_is_the_built_in_robot(tmp_path):
+    assert load_robot(comau_file(tmp_path / "same.toml")).joints == load_robot().joints
+
+
+@pytest.mark.parametrize("order", [(1, 0, 2, 3, 4, 5), (0, 1, 2, 3, 5, 4), (5, 0, 1, 2, 3, 4)])
+def test_joints_out_of_controller_order_are_refused_naming_the_file(tmp_path, order):
+    path = comau_file(tmp_path / "reordered.toml", order)
+    with pytest.raises(InputError, match=r"reordered\.toml: joint_\d is listed as joint \d; .*"
+                                         r"list the \[\[joints\]\] tables in controller order, joint_1 first"):
+        load_robot(path)
+
+
+def test_the_command_line_refuses_a_reordered_file_in_one_line(tmp_path, capsys):
+    path = comau_file(tmp_path / "reordered.toml", (1, 0, 2, 3, 4, 5))
+    assert main(["robot", "show", "--robot", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "reordered.toml: joint_2 is listed as joint 1" in err
+
+
+def test_a_robot_built_in_code_is_held_to_the_same_order():
+    joints = load_robot().joints
+    with pytest.raises(InputError, match="mine: joint_2 is listed as joint 1"):
+        Robot("mine", (joints[1], joints[0], *joints[2:]), source="mine")
+
+
+def test_a_file_in_degrees_is_refused(tmp_path):
+    path = comau_file(tmp_path / "degrees.toml", edit=in_degrees)
+    with pytest.raises(InputError, match=r"degrees\.toml: joint 1 \(joint_1\): lower -170 rad is more than "
+                                         r"eight turns .*rlff reads radians .*is this file in degrees\?"):
+        load_robot(path)
+
+
+def test_a_speed_in_degrees_is_refused_even_with_positions_in_radians(tmp_path):
+    path = comau_file(tmp_path / "speed.toml",
+                      edit=lambda table: table.replace("max_velocity = 2.792", "max_velocity = 160.0"))
+    with pytest.raises(InputError, match=r"speed\.toml: joint 2 \(joint_2\): max_velocity 160 rad/s is faster "
+                                         r"than any arm's joint .*is this file in degrees\?"):
+        load_robot(path)
+
+
+@pytest.mark.parametrize("limit", [2 * math.pi, 47.12, 8 * 2 * math.pi])
+def test_a_joint_of_several_turns_loads(tmp_path, limit):
+    """A UR joint turns ±2π, the Comau's joint 6 ±47.12 rad; eight turns is the bound itself."""
+    path = comau_file(tmp_path / "turns.toml",
+                      edit=lambda table: table.replace("lower = -3.67", f"lower = {-limit!r}")
+                                              .replace("upper = 3.67", f"upper = {limit!r}"))
+    assert load_robot(path).joint("joint_4").upper == limit
+
+
+@pytest.mark.parametrize("names", [("a1", "a2", "a3", "a4", "a5", "a6", "a7"),
+                                   ("a3", "a1", "a2", "a4", "a5", "a6", "a7"),
+                                   ("a7", "a2", "a1", "a6", "a4", "a3", "a5")])
+def test_a_seven_joint_arm_with_names_of_its_own_keeps_its_file_order(tmp_path, names):
+    assert load_robot(seven_joint_file(tmp_path / "seven.toml", names)).joint_names == names
+
+
+def test_every_order_of_joints_named_otherwise_loads(tmp_path):
+    names = ("shoulder_pan", "shoulder_lift", "elbow", "wrist_1")
+    for order in itertools.permutations(names):
+        robot = load_robot(seven_joint_file(tmp_path / "four.toml", order))
+        assert robot.joint_names == order
+        np.testing.assert_array_equal(robot.limits()[0], -2.0)
