@@ -79,3 +79,13 @@ def test_a_text_file_with_wrong_columns_is_named(cli, tmp_path):
     result = cli("data", "import", str(path), "--format", "msr", "-o", str(tmp_path / "x.csv"))
     assert result.code == 2
     assert f"{path}, line 2: 3 columns, expected 4" in result.stderr
+
+
+def test_quiet_keeps_the_warnings(rlff, tmp_path):
+    # -q hid every warning: a throw labelled with an estimated basket said nothing at all
+    simulation = bf.standard_simulation(seed=2, n_throws=1, second_user=False)
+    session = bf.write_ros1_bag(tmp_path / "session.bag", simulation, compression=None)
+    result = rlff("-q", "data", "import", str(session), "-o", str(tmp_path / "d.csv"))
+    assert result.code == 0, result.stderr
+    assert "warning: 1 of 1 throws have an estimated basket distance" in result.stderr
+    assert "not a throw" not in result.stderr and "dropped" not in result.stderr  # the notes stay quiet

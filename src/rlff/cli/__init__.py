@@ -58,7 +58,7 @@ def _version(value: bool) -> None:
 
 @app.callback()
 def _root(
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print only results and errors."),
+    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print only results, warnings and errors."),
     verbose: bool = typer.Option(False, "--verbose", "-v", help="More detail in what commands print."),
     debug: bool = typer.Option(False, "--debug", help="Show the traceback of an error, and numpy's warnings."),
     version: bool = typer.Option(False, "--version", callback=_version, is_eager=True, help="Print the version and exit."),

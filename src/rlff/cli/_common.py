@@ -60,6 +60,11 @@ def say(message: str) -> None:
         stderr().print(message)
 
 
+def warn(message: str) -> None:
+    """A warning on stderr, also under -q: it says a result may be wrong or incomplete."""
+    stderr().print(f"warning: {message}")
+
+
 def say_first(lines: list[str], where_all: str, limit: int = 10) -> None:
     """Say the first ``limit`` of ``lines`` and how many more there are, and where to find them all
     (``where_all``, e.g. "--json lists every one"): hundreds of lines bury what matters."""
@@ -76,7 +81,7 @@ def warn_copies(dataset: Any, source: Any) -> None:
 
     warning = copies_warning(dataset)
     if warning is not None:
-        say(f"warning: {source}: {warning}")
+        warn(f"{source}: {warning}")
 
 
 def jsonable(value: Any) -> Any:

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, stdout
+from rlff.cli._common import emit_json, progress, say, stdout, warn
 from rlff.cli.data import app
 from rlff.cli.output import guard
 from rlff.errors import InputError
@@ -74,7 +74,7 @@ def import_command(
     for note in report.notes:
         say(note)
     for warning in report.warnings:
-        say(f"warning: {warning}")
+        warn(warning)
     try:
         written = _write(dataset, output, allow_empty)
     except InputError as exc:
@@ -82,8 +82,8 @@ def import_command(
             emit_json({**report.to_dict(), "output": str(output), "written": False, "error": str(exc)})
         raise
     if report.estimated_distances:
-        say(
-            f"warning: {report.estimated_distances} of {report.n_throws} throws have an estimated basket distance "
+        warn(
+            f"{report.estimated_distances} of {report.n_throws} throws have an estimated basket distance "
             "(no manifest row, no distance in the file name): the landing estimate from the hand's release, "
             "rounded; give --manifest for the real baskets"
         )
@@ -123,7 +123,7 @@ def _write(dataset, output: Path, allow_empty: bool) -> bool:
             "candidate; --allow-empty accepts an empty result)"
         )
     if output.exists():
-        say(f"warning: no throw found: {output} is left as it was, not replaced with an empty file")
+        warn(f"no throw found: {output} is left as it was, not replaced with an empty file")
         return False
     write_csv(dataset, output)
     return True

@@ -10,7 +10,16 @@ from typing import Any
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, seed_option, stdout, verbosity, warn_copies
+from rlff.cli._common import (
+    emit_json,
+    progress,
+    say,
+    seed_option,
+    stdout,
+    verbosity,
+    warn,
+    warn_copies,
+)
 from rlff.cli.output import guard
 from rlff.errors import InputError
 from rlff.wording import plural
@@ -206,10 +215,10 @@ def fit_command(
         # numpy's RuntimeWarnings are noise unless --debug (the fit checks its results itself)
         text = str(warning.message)
         if text not in shown and (verbosity.debug or not issubclass(warning.category, RuntimeWarning)):
-            say(f"warning: {text}")
+            warn(text)
             shown.add(text)
     for note in model.selection_notes():
-        say(f"warning: {note}")
+        warn(note)
     model.save(output)
     summary = {
         "output": str(output),
