@@ -119,3 +119,22 @@ def test_json_reports_an_import_without_a_throw_before_exit_2(rlff, tmp_path):
     payload = json.loads(result.stdout)
     assert payload["throws"] == 0 and payload["written"] is False and "no throw found" in payload["error"]
     assert "no throw found" in payload["files"][0]["warnings"][0]
+
+
+def test_a_column_map_without_a_csv_recording_is_refused(tmp_path):
+    # --columns was ignored without a word for bags and text
+    simulation = bf.standard_simulation(seed=2, n_throws=1, second_user=False)
+    bag = bf.write_ros1_bag(tmp_path / "session_2m.bag", simulation, compression=None)
+    with pytest.raises(InputError, match=r"a column map \(--columns\) is for CSV recordings, and none is given "
+                                         r"\(formats: bag\)"):
+        import_recordings([bag], columns={"time": "stamp"})
+
+
+def test_a_tsv_recording_is_read_as_csv(tmp_path):
+    csv = _joint_csv(tmp_path / "joints.csv")
+    tsv = tmp_path / "joints.tsv"
+    tsv.write_text(csv.read_text().replace(",", "\t"))
+    from_csv, _ = import_recordings([csv])
+    from_tsv, _ = import_recordings([tsv])
+    (a,), (b,) = from_csv, from_tsv
+    assert np.allclose(a["angle"], b["angle"]) and a.meta["landing"] == pytest.approx(b.meta["landing"])

@@ -259,7 +259,9 @@ def test_the_format_and_the_output_are_checked_before_any_planning(capsys, tmp_p
             (("-f", "JSON", "-o", str(tmp_path / "t.json")), "unknown --format 'JSON'"),
             (("-f", "json", "-o", str(tmp_path / "t.csv")),
              "t.csv: --format json under the suffix .csv of the csv format"),
-            (("-f", "ros2-bag", "-o", str(tmp_path / "bag")), "bag exists: a ROS 2 bag is a new folder")):
+            (("-f", "ros2-bag", "-o", str(tmp_path / "bag")), "bag exists: a ROS 2 bag is a new folder"),
+            # a ROS 1 bag named .txt read as a Comau program (learn --out x.txt writes one)
+            (("-f", "ros1-bag", "-o", str(tmp_path / "x.txt")), "x.txt: --format ros1-bag (binary) under the suffix .txt of the comau format")):
         code, _, err = run(capsys, "robot", "export", str(beyond), *args)
         assert code == 2 and message in err, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bag", "beyond.csv"]

@@ -164,12 +164,12 @@ def detect_format(path: str | Path) -> str:
     """Guess a recording's format from its name and first line.
 
     ``.bag`` files and ROS 2 bag folders are bags, ``*_skeleton3D.txt`` and 4-column text is MSR,
-    61-column text is Kinect SDK v1, ``.csv`` is a joint CSV.
+    61-column text is Kinect SDK v1, ``.csv`` and ``.tsv`` are a joint CSV.
     """
     path = Path(path)
     if path.suffix == ".bag" or path.is_dir() or path.suffix in (".db3", ".mcap"):
         return "bag"
-    if path.suffix.lower() == ".csv":
+    if path.suffix.lower() in (".csv", ".tsv"):
         return "csv"
     if path.is_file():
         with path.open(encoding="utf-8", errors="replace") as handle:
@@ -289,9 +289,12 @@ def import_recordings(
     report = ImportReport()
     used_ids: set[str] = set()
     origin: dict[str, Path] = {}  # the file of every throw, by id
-    for raw_path in paths:
+    kinds = [detect_format(path) if format in (None, "auto") else format for path in map(Path, paths)]
+    if columns and "csv" not in kinds:
+        raise InputError(f"a column map (--columns) is for CSV recordings, and none is given (formats: "
+                         f"{', '.join(sorted(set(kinds)))})")
+    for raw_path, kind in zip(paths, kinds, strict=True):
         path = Path(raw_path)
-        kind = detect_format(path) if format in (None, "auto") else format
         if kind == "thesis":
             file_report, found = _import_thesis(path, used_ids)
         else:

@@ -234,6 +234,9 @@ def export_attempt(attempt: Attempt, robot: Robot, out: str | Path, fmt: str,
 #: Suffixes that name one data format: a file of another format under one of them is refused
 #: (``-f json -o x.csv`` would write JSON that every CSV reader then fails on).
 TELLING_SUFFIXES = {".json": "json", ".csv": "csv", ".bag": "ros1-bag"}
+#: Binary formats, refused under another format's suffix (:data:`SUFFIX_FORMATS`): a ROS 1 bag
+#: named ``x.txt`` reads as a Comau program.
+BINARY_FORMATS = ("ros1-bag",)
 
 
 def export_format(out: str | Path, fmt: str | None = None) -> str:
@@ -244,8 +247,8 @@ def export_format(out: str | Path, fmt: str | None = None) -> str:
     Raises
     ------
     InputError
-        No format for the suffix, an unknown ``fmt``, a suffix of another format, or an
-        existing ``out`` for a ROS 2 bag.
+        No format for the suffix, an unknown ``fmt``, a suffix of another format (for a ROS 1
+        bag, any other format's), or an existing ``out`` for a ROS 2 bag.
     """
     from rlff.robot.formats import FORMATS
 
@@ -261,6 +264,9 @@ def export_format(out: str | Path, fmt: str | None = None) -> str:
     if TELLING_SUFFIXES.get(suffix, fmt) != fmt:
         raise InputError(f"{out}: --format {fmt} under the suffix {suffix} of the {TELLING_SUFFIXES[suffix]} "
                          f"format; name the file for its format or give --format {TELLING_SUFFIXES[suffix]}")
+    if fmt in BINARY_FORMATS and suffix and SUFFIX_FORMATS.get(suffix, fmt) != fmt:
+        raise InputError(f"{out}: --format {fmt} (binary) under the suffix {suffix} of the "
+                         f"{SUFFIX_FORMATS[suffix]} format; name the file for its format")
     if fmt == "ros2-bag" and out.exists():
         raise InputError(f"{out} exists: a ROS 2 bag is a new folder, remove it first")
     return fmt
