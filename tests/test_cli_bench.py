@@ -41,6 +41,15 @@ def test_each_gap_is_a_case_of_its_own_named_by_it(cli):
     assert all(row["runs"] == 2 for row in rows.values())
 
 
+def test_the_baskets_can_be_chosen_for_an_arm_of_ones_own(cli):
+    # the scenarios' baskets were fixed: an arm that throws less far could not be benchmarked
+    result = cli("bench", "learning", "--seeds", "1", "--budget", "3", "--jobs", "1", "--feedback", "binary",
+                 "--methods", "imitation", "--baskets", "1.1", "--json")
+    assert result.code == 0, result.stderr
+    (row,) = json.loads(result.stdout)["rows"]
+    assert row["runs"] == 1  # one seed, one basket (the scenario's own are two)
+
+
 @pytest.mark.parametrize("option, value, message", [
     ("--scenario", "far", "--scenario: unknown 'far'"),
     ("--landings", "guess", "--landings: landings 'guess'"),
@@ -49,6 +58,8 @@ def test_each_gap_is_a_case_of_its_own_named_by_it(cli):
     ("--opening", "0", "--opening: basket opening must be a width > 0"),
     ("--robot", "no-such-robot", "--robot:"),
     ("--gap", "link:1.1", "--gap: unknown gap 'link:1.1'"),
+    ("--baskets", "1.2,far", "--baskets: 'far' is not a number"),
+    ("--baskets", "0.1", "--baskets: 0.1 m is outside the range 0.3 to 20 m"),
 ])
 def test_bad_options_are_one_line_input_errors(cli, option, value, message):
     result = cli("bench", "learning", option, value)

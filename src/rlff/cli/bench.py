@@ -36,6 +36,9 @@ def learning(
                                  help="Comma-separated: binary, distance, noisy-distance:STD (m), "
                                       "false-miss:RATE."),
     opening: float = typer.Option(0.35, "--opening", help="Inner width of the basket (m)."),
+    baskets: str | None = typer.Option(None, "--baskets",
+                                       help="Basket distances (m), comma-separated; default each scenario's own "
+                                            "(short 1-1.5 m ...). Within your robot's reach (rlff sim reach)."),
     robot: str = typer.Option("comau_smart5_six", "--robot", help="Robot name or robot file."),
     gap: str = typer.Option("none", "--gap",
                             help="How the simulated arm differs from the robot file, comma-separated: none, "
@@ -61,6 +64,7 @@ def learning(
         parse_gap,
         parse_landings,
     )
+    from rlff.limits import check_distance, parse_number
     from rlff.robot import load_robot
 
     people = list(DEMONSTRATORS) if scenario == "all" else _names("--scenario", scenario, list(DEMONSTRATORS))
@@ -80,8 +84,11 @@ def learning(
     if methods is not None:
         wanted = _names("--methods", methods, list(METHODS))
         chosen = {kind: [m for m in wanted if kind in METHODS[m].feedbacks] for kind in METHODS_BY_FEEDBACK}
+    distances = None if baskets is None else tuple(
+        check_distance("--baskets", parse_number(part, "--baskets")) for part in _names("--baskets", baskets))
     try:
-        cases = [Scenario(name, landings=known, feedbacks=feedbacks, opening=opening, robot=robot, gap=arm)
+        cases = [Scenario(name, landings=known, feedbacks=feedbacks, opening=opening, robot=robot, gap=arm,
+                          baskets=distances)
                  for name in people for known in knowledge for arm in gaps]
     except InputError as exc:
         raise InputError(f"--opening: {exc}") from None

@@ -38,7 +38,7 @@ import numpy as np
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError
-from rlff.limits import parse_number
+from rlff.limits import check_distance, parse_number
 from rlff.sim.gap import Gap, parse_gap
 
 
@@ -173,6 +173,9 @@ class Scenario:
             raise InputError(f"basket opening must be a width > 0 (m), got {self.opening!r}")
         if self.baskets is None:
             object.__setattr__(self, "baskets", DEMONSTRATORS[self.demonstrators].baskets)
+        if not self.baskets:
+            raise InputError("a scenario needs at least one basket")
+        object.__setattr__(self, "baskets", tuple(check_distance("basket", float(b)) for b in self.baskets))
 
     @property
     def name(self) -> str:
