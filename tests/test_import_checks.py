@@ -138,3 +138,14 @@ def test_a_tsv_recording_is_read_as_csv(tmp_path):
     from_tsv, _ = import_recordings([tsv])
     (a,), (b,) = from_csv, from_tsv
     assert np.allclose(a["angle"], b["angle"]) and a.meta["landing"] == pytest.approx(b.meta["landing"])
+
+
+def test_a_manifest_time_span_without_a_throw_is_said_to_label_nothing(tmp_path):
+    # such a row was ignored without a word; the throw then got a landing estimate instead
+    csv = _joint_csv(tmp_path / "arm.csv", n_throws=2)
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,start,end,distance\narm.csv,0,3,1.5\narm.csv,20,25,2.5\n")
+    dataset, report = import_recordings([csv], manifest=manifest)
+    (warning,) = [w for w in report.warnings if "the row is not used" in w]
+    assert warning.startswith(f"manifest {manifest}, line 3: no throw of arm.csv peaks within 20-25 s (its throws peak at t = ")
+    assert [t.meta["distance_source"] for t in dataset] == ["manifest", "landing estimate, rounded to 0.25 m"]

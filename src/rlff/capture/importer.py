@@ -43,6 +43,7 @@ from rlff.capture.label import (
     manifest_entry,
     not_at_a_target,
     read_manifest,
+    rows_without_a_throw,
 )
 from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_throws
 from rlff.capture.skeleton import ArmTrack, Recording
@@ -488,6 +489,8 @@ def _import_recording(
         report.warnings.append(f"{path}: {hint} (up is taken as {_axis_name(recording.up)}; release and landing depend on it)")
     if rows:
         check_throw_numbers(rows, recording.source, len(kept))
+        peaks = [float(motion.time[cut.peak] - origin) for cut, _ in kept]
+        report.warnings.extend(rows_without_a_throw(rows, recording.source, peaks))
     trajectories = []
     for number, (cut, release) in enumerate(kept, start=1):
         trajectory = _throw(recording, motion, cut, release, number, rows, landing, report, used_ids)

@@ -370,6 +370,25 @@ def check_throw_numbers(rows: list[ManifestRow], source: str, count: int) -> Non
             )
 
 
+def rows_without_a_throw(rows: list[ManifestRow], source: str, peak_times: list[float]) -> list[str]:
+    """Warnings for the rows of ``source`` with a time span (``start``/``end``, s from the
+    recording's first sample) that holds none of its throws' extension peaks (``peak_times``, s):
+    such a row labels nothing, and its distance is not used."""
+    name = Path(source).name
+    found = ", ".join(f"{t:.2f}" for t in peak_times) or "none"
+    warnings = []
+    for row in rows:
+        if not row.matches(source) or row.throw is not None or (row.start is None and row.end is None):
+            continue
+        low = -np.inf if row.start is None else row.start
+        high = np.inf if row.end is None else row.end
+        if not any(low <= t <= high for t in peak_times):
+            span = f"{'start' if row.start is None else f'{row.start:g}'}-{'end' if row.end is None else f'{row.end:g}'} s"
+            warnings.append(f"{row.where}: no throw of {name} peaks within {span} (its throws peak at t = {found} s); "
+                            "the row is not used")
+    return warnings
+
+
 def manifest_entry(rows: list[ManifestRow], source: str, throw_number: int, peak_time: float) -> ManifestRow | None:
     """The manifest row for a throw, or None.
 
