@@ -149,3 +149,13 @@ def test_a_manifest_time_span_without_a_throw_is_said_to_label_nothing(tmp_path)
     (warning,) = [w for w in report.warnings if "the row is not used" in w]
     assert warning.startswith(f"manifest {manifest}, line 3: no throw of arm.csv peaks within 20-25 s (its throws peak at t = ")
     assert [t.meta["distance_source"] for t in dataset] == ["manifest", "landing estimate, rounded to 0.25 m"]
+
+
+def test_a_thesis_matrix_is_told_from_a_tsv_recording_by_its_header(rlff, tmp_path):
+    # .tsv is a thesis matrix's suffix as well as a tab-separated CSV's
+    for name in ("th.tsv", "th.txt"):
+        matrix = tmp_path / name
+        assert rlff("-q", "data", "synth", "thesis", "-o", str(matrix)).code == 0
+        result = rlff("data", "import", str(matrix), "-o", str(tmp_path / f"{name}.csv"))
+        assert result.code == 0, result.stderr
+        assert "11 throws from 1 file" in result.stdout

@@ -165,15 +165,22 @@ def detect_format(path: str | Path) -> str:
     """Guess a recording's format from its name and first line.
 
     ``.bag`` files and ROS 2 bag folders are bags, ``*_skeleton3D.txt`` and 4-column text is MSR,
-    61-column text is Kinect SDK v1, ``.csv`` and ``.tsv`` are a joint CSV.
+    61-column text is Kinect SDK v1, a file whose first line is rlff's ``# {"trajectory": ...}``
+    comment a thesis matrix, ``.csv`` and any other ``.tsv`` a joint CSV.
     """
     path = Path(path)
     if path.suffix == ".bag" or path.is_dir() or path.suffix in (".db3", ".mcap"):
         return "bag"
-    if path.suffix.lower() in (".csv", ".tsv"):
+    if path.suffix.lower() == ".csv":
         return "csv"
     if path.is_file():
         with path.open(encoding="utf-8", errors="replace") as handle:
+            first = next((line for line in handle if line.strip()), "")
+            if first.startswith("#") and '"trajectory"' in first:
+                return "thesis"  # rlff writes a thesis matrix with a JSON comment before each block
+            if path.suffix.lower() == ".tsv":
+                return "csv"
+            handle.seek(0)
             for line in handle:
                 fields = line.split("#", 1)[0].replace(",", " ").split()
                 if fields:
