@@ -189,7 +189,9 @@ def test_any_columns_several_contexts_and_outputs():
     frame = path.to_frame()
     for name in ("t", "y1", "y2", "velocity", "time", "gmr_mean_y2", "a", "b"):
         assert name in frame.columns
-    with pytest.raises(InputError, match="missing context 'b'"):
+    # the hint is the middle of what was demonstrated (it was "b=2.5" for any context)
+    with pytest.raises(InputError, match=r"missing context 'b': give a value, e\.g\. b=\S+ "
+                                         r"\(demonstrated: -0\.99\d* to 0\.99\d*\)$"):
         model.generate({"a": 1.5})
     with pytest.raises(InputError, match="unknown context 'c'"):
         model.generate({"a": 1.5, "b": 0.0, "c": 1.0})

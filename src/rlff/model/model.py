@@ -432,7 +432,7 @@ class Model:
         -------
         GeneratedPath
         """
-        values = _context_values(context, self.context_names)
+        values = _context_values(context, self.context_names, self.input_range)
         first = self.inputs[0]
         if angles is None:
             angles = self.default_path()
@@ -713,7 +713,11 @@ def _component_count(components: Any) -> int:
     return k
 
 
-def _context_values(context: Mapping[str, float], names: tuple[str, ...]) -> list[float]:
+def _context_values(
+    context: Mapping[str, float], names: tuple[str, ...], ranges: Mapping[str, tuple[float, float]]
+) -> list[float]:
+    """The context's values in ``names``' order; :class:`InputError` for an unknown, missing (with
+    the model's demonstrated range of it) or non-finite value."""
     unknown = [name for name in context if name not in names]
     if unknown:
         expected = ", ".join(names) if names else "none"
@@ -721,7 +725,9 @@ def _context_values(context: Mapping[str, float], names: tuple[str, ...]) -> lis
     values = []
     for name in names:
         if name not in context:
-            raise InputError(f"missing context {name!r}: give a value, e.g. {name}=2.5")
+            lo, hi = ranges[name]
+            raise InputError(f"missing context {name!r}: give a value, e.g. {name}={(lo + hi) / 2:.3g} "
+                             f"(demonstrated: {lo:g} to {hi:g})")
         try:
             value = float(context[name])
         except (TypeError, ValueError):
