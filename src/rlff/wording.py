@@ -1,9 +1,11 @@
 """Words in messages, for every stage and the CLI: a count with its noun in the right number, a
-bad CSV cell as the file shows it."""
+bad CSV cell as the file shows it, the nearest of the names a misspelt one may mean."""
 
 from __future__ import annotations
 
+import difflib
 import math
+from collections.abc import Sequence
 from typing import Any
 
 
@@ -21,3 +23,10 @@ def bad_cell(value: Any) -> str:
         return f"a non-numeric or non-finite value {value!r}"
     number = float(value)
     return "an empty or nan value" if math.isnan(number) else f"a non-finite value {number:g}"
+
+
+def nearest_hint(word: str, choices: Sequence[str], otherwise: str) -> str:
+    """`` (did you mean 'x'?)`` with the choice nearest to a misspelt ``word`` (difflib), or
+    `` (otherwise)`` when none is close (e.g. the list of the choices)."""
+    near = difflib.get_close_matches(word, list(choices), n=1)
+    return f" (did you mean {near[0]!r}?)" if near else f" ({otherwise})"

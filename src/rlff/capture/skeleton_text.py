@@ -23,7 +23,6 @@ reset, rows out of order) is an error naming its line: the rows are never re-sor
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -34,7 +33,7 @@ from rlff.capture.skeleton import SIDES, ArmTrack, JointTrack, Recording
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.limits import check_frame_rate
-from rlff.wording import bad_cell
+from rlff.wording import bad_cell, nearest_hint
 
 #: Up direction of the Kinect's camera frame (x left, y up, z away from the camera).
 KINECT_UP = np.array([0.0, 1.0, 0.0])
@@ -362,19 +361,13 @@ def _check_column_map(mapping: Mapping[str, str], present: list[str], path: Path
         if name not in ours:
             raise InputError(
                 f"{where}: unknown name {name!r}"
-                + _nearest(name, ours, "names: time, {side}_{joint}_{axis}, neck_{axis}, hip_{axis}")
+                + nearest_hint(name, ours, "names: time, {side}_{joint}_{axis}, neck_{axis}, hip_{axis}")
             )
         if column not in present:
             raise InputError(
                 f"{where}: {name}={column}: no column {column!r} in the file"
-                + _nearest(column, present, f"columns: {', '.join(present)}")
+                + nearest_hint(column, present, f"columns: {', '.join(present)}")
             )
-
-
-def _nearest(word: str, choices: list[str], otherwise: str) -> str:
-    """`` (did you mean 'x'?)`` with the choice nearest to ``word``, or `` (otherwise)``."""
-    near = difflib.get_close_matches(word, choices, n=1)
-    return f" (did you mean {near[0]!r}?)" if near else f" ({otherwise})"
 
 
 def axis_vector(axis: str) -> np.ndarray:

@@ -6,7 +6,6 @@ kinematic convention); the Comau Smart5 SiX ships with rlff, another robot is an
 
 from __future__ import annotations
 
-import difflib
 import math
 import re
 import tomllib
@@ -20,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from rlff.errors import InputError
+from rlff.wording import nearest_hint
 
 DEFAULT_ROBOT = "comau_smart5_six"
 
@@ -206,9 +206,7 @@ def _require_known(table: Mapping[str, Any], kind: str, where: str) -> None:
     known = _FIELDS[kind]
     for key in table:
         if key not in known:
-            near = difflib.get_close_matches(str(key), known, n=1)
-            hint = f" (did you mean {near[0]!r}?)" if near else f" (known: {', '.join(known)})"
-            raise InputError(f"{where}: unknown field {key!r}{hint}")
+            raise InputError(f"{where}: unknown field {key!r}" + nearest_hint(str(key), known, f"known: {', '.join(known)}"))
 
 
 def _require_known_fields(document: Mapping[str, Any], joints: Sequence[str], source: str) -> None:
