@@ -28,8 +28,10 @@ def test_the_figure_shows_each_throw_where_the_import_cut_it(rlff, tmp_path):
     from rlff.plots.capture import throw_cuts
 
     _, again = import_recordings([bag])
-    motion, _, _ = arm_motion(read_recording(bag, "bag"))
-    figure = throw_cuts(motion, again.files[0], tmp_path / "again").figure
+    motion = again.files[0].motion  # the arm the throws were cut from, as arm_motion gives it
+    assert np.array_equal(motion.angle, arm_motion(read_recording(bag, "bag"))[0].angle)
+    assert "motion" not in again.to_dict()["files"][0]  # kept out of the JSON report
+    figure = throw_cuts(again.files[0], tmp_path / "again").figure
     (axes,) = figure.axes
     spans = sorted(patch.get_x() for patch in axes.patches)  # axvspan: one rectangle per throw
     assert np.allclose(spans, [throw["start"] for throw in throws])

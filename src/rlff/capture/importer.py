@@ -48,7 +48,7 @@ from rlff.capture.label import (
 from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_throws
 from rlff.capture.skeleton import ArmTrack, Recording
 from rlff.capture.skeleton_text import axis_vector, read_joint_csv, read_kinect_text, read_msr_text
-from rlff.capture.users import keep_consistent_user
+from rlff.capture.users import keep_consistent_user, upper_arm_lengths
 from rlff.dataset import DEFAULT_CONTEXT, Dataset, Trajectory, joint_columns, velocity_column
 from rlff.errors import InputError
 from rlff.fileio import require_distinct
@@ -99,7 +99,9 @@ class FileReport:
     ``rejected`` holds every candidate movement not taken as a throw (its ``time`` in s from the
     recording's first sample, the ``rule`` that stopped it and the ``reason``); each also has a note.
     ``trajectories`` counts the trajectories taken from the file: its ``throws``, or a thesis
-    matrix's rows (which carry no cut to report).
+    matrix's rows (which carry no cut to report). ``motion`` is the arm the throws were cut from
+    (:func:`arm_motion`; None for a thesis matrix), for figures; :meth:`ImportReport.to_dict`
+    leaves it out.
     """
 
     source: str
@@ -112,6 +114,7 @@ class FileReport:
     notes: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
     trajectories: int = 0
+    motion: ArmMotion | None = field(default=None, repr=False, compare=False)
 
     def reject(self, rejection: Rejection, label: str) -> None:
         """Record a candidate not taken (``rejection.time`` on the recording's clock) with a note."""
@@ -157,7 +160,8 @@ class ImportReport:
             "joints": self.joints,
             "notes": self.general,
             "warnings": self.general_warnings,
-            "files": [asdict(report) for report in self.files],
+            "files": [{key: value for key, value in asdict(replace(report, motion=None)).items() if key != "motion"}
+                      for report in self.files],
         }
 
 
@@ -472,6 +476,7 @@ def _import_recording(
     path = Path(recording.source)
     report = FileReport(str(path), kind, notes=list(recording.notes), warnings=list(recording.warnings))
     motion, arms, arm_notes = arm_motion(recording, arm)
+    report.motion = motion
     report.notes.extend(arm_notes)
     report.arm, report.user = motion.arm.side, motion.arm.user
     report.clock_origin = origin = float(motion.time[0])
@@ -515,8 +520,7 @@ def _check_metres(path: Path, track: ArmTrack) -> None:
     InputError
         Naming the file, the arm, its median upper arm and the units the coordinates look like.
     """
-    shoulder = np.column_stack([np.interp(track.elbow.time, track.shoulder.time, axis) for axis in track.shoulder.position.T])
-    lengths = np.linalg.norm(track.elbow.position - shoulder, axis=1)
+    lengths = upper_arm_lengths(track)
     length = float(np.nanmedian(lengths)) if np.isfinite(lengths).any() else float("nan")
     low, high = UPPER_ARM_RANGE
     if not np.isfinite(length) or low <= length <= high:

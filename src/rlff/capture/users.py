@@ -34,7 +34,7 @@ _MAX_BONE_DIFFERENCE = 0.15
 _COMPARABLE_SCORE = 0.5
 
 
-def _upper_arm_lengths(arm: ArmTrack) -> np.ndarray:
+def upper_arm_lengths(arm: ArmTrack) -> np.ndarray:
     """Upper-arm length (m) at each elbow sample, shape (T,)."""
     return np.linalg.norm(positions_at(arm.shoulder, arm.elbow.time) - arm.elbow.position, axis=1)
 
@@ -46,7 +46,7 @@ def hand_sweep(arms: list[ArmTrack]) -> float:
 
 def bone_spread(arm: ArmTrack) -> float:
     """Relative spread of the upper arm's length: median absolute deviation / median."""
-    length = _upper_arm_lengths(arm)
+    length = upper_arm_lengths(arm)
     median = float(np.median(length))
     if median <= 0:
         return np.inf
@@ -72,7 +72,7 @@ def _overlap(arm: ArmTrack, other: ArmTrack) -> float:
 
 def _same_person(kept: ArmTrack, other: ArmTrack) -> bool:
     """``other`` is ``kept`` re-acquired under a new id: never tracked together, same upper arm."""
-    bone, other_bone = float(np.median(_upper_arm_lengths(kept))), float(np.median(_upper_arm_lengths(other)))
+    bone, other_bone = float(np.median(upper_arm_lengths(kept))), float(np.median(upper_arm_lengths(other)))
     return _overlap(kept, other) <= _MAX_OVERLAP and abs(other_bone - bone) <= _MAX_BONE_DIFFERENCE * bone
 
 

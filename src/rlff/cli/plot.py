@@ -270,16 +270,11 @@ def cuts_command(
 ) -> None:
     """Where rlff data import cuts a recording: the elbow angle over time, each throw and each movement not taken."""
     from rlff.capture import import_recordings
-    from rlff.capture.importer import arm_motion, detect_format, read_recording
     from rlff.cli.data_import import column_map
     from rlff.plots.capture import throw_cuts
 
     _guard(out, {"RECORDING": recording})
-    kind = detect_format(recording) if format == "auto" else format
-    if kind == "thesis":
-        raise InputError(f"{recording}: a thesis matrix holds throws already cut: there is no recording to show")
     frame_names = [name.strip() for name in frames.split(",") if name.strip()]
-    options = {"topic": topic, "frames": frame_names, "rate_hz": rate, "columns": column_map(columns), "up": up}
-    _, report = import_recordings([recording], kind, arm=arm, **options)
-    motion, _, _ = arm_motion(read_recording(recording, kind, **options), arm)
-    _done([throw_cuts(motion, report.files[0], out)], as_json)
+    _, report = import_recordings([recording], format, arm=arm, topic=topic, frames=frame_names, rate_hz=rate,
+                                  columns=column_map(columns), up=up)
+    _done([throw_cuts(report.files[0], out)], as_json)

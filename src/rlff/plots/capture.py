@@ -6,8 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rlff.capture.angles import ArmMotion
 from rlff.capture.importer import FileReport
+from rlff.errors import InputError
 from rlff.plots._figure import HIT_COLOUR, MISS_COLOUR, SavedFigure, figure_style, new_figure, save
 from rlff.wording import plural
 
@@ -17,20 +17,27 @@ THROW_COLOUR = HIT_COLOUR
 REJECTED_COLOUR = MISS_COLOUR
 
 
-def throw_cuts(motion: ArmMotion, report: FileReport, out: str | Path) -> SavedFigure:
+def throw_cuts(report: FileReport, out: str | Path) -> SavedFigure:
     """The elbow angle of the arm the import used, its throws shaded and its rejections marked.
 
     Parameters
     ----------
-    motion : ArmMotion
-        The arm whose throws were cut (:func:`rlff.capture.importer.arm_motion`); its samples are
-        drawn on the recording's clock from its first sample (s), runs of lost tracking apart.
     report : FileReport
-        The import's account of the same file: each throw from its start to its end with its
-        release (a dashed line) and id, each candidate not taken at its time with its rule.
+        The import's account of one recording (``import_recordings(...)[1].files``): its
+        ``motion``, the arm whose throws were cut, drawn on the recording's clock from its first
+        sample (s), runs of lost tracking apart; each throw from its start to its end with its
+        release (a dashed line) and id; each candidate not taken at its time with its rule.
     out : path
         File stem of the PNG and SVG.
+
+    Raises
+    ------
+    InputError
+        A report without a motion: a thesis matrix holds throws already cut.
     """
+    motion = report.motion
+    if motion is None:
+        raise InputError(f"{report.source}: a thesis matrix holds throws already cut: there is no recording to show")
     time = motion.time - motion.time[0]
     with figure_style():
         figure = new_figure(max(7.0, min(16.0, 2.0 + 0.6 * float(time[-1]))), 4.2)
