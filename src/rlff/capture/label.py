@@ -123,6 +123,18 @@ class ManifestRow:
         return f"manifest {self.manifest}, line {self.line}"
 
     @property
+    def has_span(self) -> bool:
+        """The row names its throw by a time span (``start`` and/or ``end``), not by number."""
+        return self.throw is None and (self.start is not None or self.end is not None)
+
+    def spans(self, time: float) -> bool:
+        """Whether ``time`` (s from the recording's first sample) lies within ``start``-``end``
+        (either open when not given)."""
+        low = -np.inf if self.start is None else self.start
+        high = np.inf if self.end is None else self.end
+        return bool(low <= time <= high)
+
+    @property
     def folders(self) -> tuple[str, ...]:
         """The folder part of ``file`` (``..`` left out), empty when it names a file alone."""
         return tuple(part for part in Path(self.file).parent.parts if part != "..")
@@ -378,11 +390,7 @@ def rows_without_a_throw(rows: list[ManifestRow], source: str, peak_times: list[
     found = ", ".join(f"{t:.2f}" for t in peak_times) or "none"
     warnings = []
     for row in rows:
-        if not row.matches(source) or row.throw is not None or (row.start is None and row.end is None):
-            continue
-        low = -np.inf if row.start is None else row.start
-        high = np.inf if row.end is None else row.end
-        if not any(low <= t <= high for t in peak_times):
+        if row.has_span and row.matches(source) and not any(row.spans(t) for t in peak_times):
             span = f"{'start' if row.start is None else f'{row.start:g}'}-{'end' if row.end is None else f'{row.end:g}'} s"
             warnings.append(f"{row.where}: no throw of {name} peaks within {span} (its throws peak at t = {found} s); "
                             "the row is not used")
@@ -406,10 +414,8 @@ def manifest_entry(rows: list[ManifestRow], source: str, throw_number: int, peak
         if row.throw is not None:
             if row.throw == throw_number:
                 return row
-        elif row.start is not None or row.end is not None:
-            low = -np.inf if row.start is None else row.start
-            high = np.inf if row.end is None else row.end
-            if low <= peak_time <= high:
+        elif row.has_span:
+            if row.spans(peak_time):
                 return row
         else:
             fallback = row
