@@ -166,19 +166,6 @@ def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_posit
     return JointTrajectory(limits.names, time, states[:, 0], states[:, 1], states[:, 2])
 
 
-def _require_start_inside(position: np.ndarray, limits: MotionLimits, what: str) -> None:
-    """Raise :class:`MotionLimitError` if a motion would start beyond a position limit (rad): the
-    arm, or the state before, is already outside what the robot file allows."""
-    for j, name in enumerate(limits.names):
-        for beyond, limit, side in ((position[j] > limits.upper[j] + 1e-9, limits.upper[j], "upper"),
-                                    (position[j] < limits.lower[j] - 1e-9, limits.lower[j], "lower")):
-            if beyond:
-                raise MotionLimitError(
-                    f"{what}: {name} starts at {position[j]:.6g} rad, already beyond its {side} limit "
-                    f"{limit:.6g} rad in the robot file: move the arm inside its limits, or check the "
-                    "robot file's limits against the arm's")
-
-
 def _require_inside(traj: JointTrajectory, limits: MotionLimits, period: float, what: str,
                     room_from=None) -> None:
     """Raise :class:`MotionLimitError` if ``traj`` leaves a position or speed limit during ``what``.
@@ -201,6 +188,11 @@ def _require_inside(traj: JointTrajectory, limits: MotionLimits, period: float, 
                                     (q < limits.lower[j], limits.lower[j], "lower")):
             if not np.any(beyond):
                 continue
+            if beyond[0] and room_from is None:  # the arm (or the state given) is already there
+                raise MotionLimitError(
+                    f"{what}: {name} starts at {q[0]:.6g} rad, already beyond its {side} limit {limit:.6g} rad "
+                    "in the robot file: move the arm inside its limits, or check the robot file's limits "
+                    "against the arm's")
             extreme = float(q.max() if side == "upper" else q.min())
             where = q[0] if room_from is None else room_from[j]
             raise MotionLimitError(
@@ -285,9 +277,8 @@ def plan_transition(
     if max_velocity is not None:
         max_velocity = np.minimum(_vector(max_velocity, size, "max_velocity"), MARGIN * limits.velocity)
     period = _period(period)
-    what = "the transition" if target is not None else "braking to rest"
-    _require_start_inside(state[0], limits, what)
     traj = _ruckig(limits, *state, target, target_velocity, max_velocity, period)
+    what = "the transition" if target is not None else "braking to rest"
     _require_inside(traj, limits, period, what)
     _require_interpolated_speed(traj, joints, limits, target_velocity, period, what)
     return traj
