@@ -288,6 +288,10 @@ def test_manifest_by_throw_index_and_by_time(tmp_path):
     path.write_text("file,distance\nx.bag,far\n")
     with pytest.raises(InputError, match=r"manifest .*line 2: column 'distance' has a bad value 'far'"):
         read_manifest(path)
+    # a blank line between two days' rows: the line as the file shows it
+    path.write_text("file,distance\nx.bag,2\n\ny.bag,far\n")
+    with pytest.raises(InputError, match=r"manifest .*line 4: column 'distance' has a bad value 'far'"):
+        read_manifest(path)
     path.write_text("name,distance\nx.bag,2\n")
     with pytest.raises(InputError, match=r"no column 'file'"):
         read_manifest(path)

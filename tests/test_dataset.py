@@ -253,3 +253,24 @@ def test_csv_with_a_joint_but_not_its_velocity_is_an_error_naming_the_file(tmp_p
     path.write_text("trajectory,angle,velocity,shoulder,distance\na,1,2,2.5,1\na,1.1,2,2.4,1\n")
     with pytest.raises(InputError, match=r"arm\.csv: column 'shoulder' needs its velocity column"):
         read_csv(path)
+
+
+def test_an_error_names_the_file_line_past_blank_lines_and_multi_line_notes(tmp_path):
+    # pandas skips blank lines and reads a quoted line break as part of its cell: "row + 2" named
+    # a line three above the bad cell
+    path = tmp_path / "gaps.csv"
+    path.write_text(
+        "trajectory,angle,velocity,note\n"
+        "a,0.1,0.2,\"first take,\nsecond line\"\n"  # lines 2-3
+        "\n"
+        "a,0.2,0.3,\"first take,\nsecond line\"\n"  # lines 5-6
+        "   \n"
+        "\n"
+        "b,0.1,0.2,x\n"  # line 9
+        "b,abc,0.2,x\n"  # line 10
+    )
+    with pytest.raises(InputError, match=r"gaps.csv, line 10: column 'angle' has a non-numeric"):
+        read_csv(path)
+    path.write_text("trajectory,angle\n\na,0.1\na,0.2\n\n\nb,0.2\n")
+    with pytest.raises(InputError, match=r"gaps.csv, line 7: trajectory 'b' has a single sample"):
+        read_csv(path)

@@ -117,6 +117,21 @@ def test_a_non_finite_value_is_located_by_its_file_line(tmp_path):
         read_kinect_text(kinect)
 
 
+def test_a_csv_line_is_counted_past_blank_lines(tmp_path):
+    # a blank line between two takes put every later line number one too low
+    path = _write_csv(tmp_path / "takes.csv", [0.0, 0.1, 0.2, 0.0, 0.1, 0.2])
+    lines = path.read_text().splitlines()
+    path.write_text("\n".join([*lines[:4], "", *lines[4:]]) + "\n")
+    with pytest.raises(InputError, match=r"takes.csv, line 6: time stamp 0 after 0.2 goes back"):
+        read_joint_csv(path)
+    lines = _write_csv(path, [0.0, 0.1, 0.2, 0.3, 0.4, 0.5]).read_text().splitlines()
+    cells = lines[5].split(",")
+    lines[5] = ",".join([*cells[:3], "nan", *cells[4:]])
+    path.write_text("\n".join([lines[0], "", *lines[1:4], "", "", *lines[4:]]) + "\n")
+    with pytest.raises(InputError, match=r"takes.csv, line 9: column 'right_shoulder_z' has an empty or nan value"):
+        read_joint_csv(path)
+
+
 def test_a_byte_order_mark_is_read_past(tmp_path):
     msr = tmp_path / "bom_skeleton3D.txt"
     msr.write_text("\n".join(_msr_lines(3)) + "\n", encoding="utf-8-sig")

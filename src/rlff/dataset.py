@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from rlff.csvlines import data_row_line
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.limits import MAX_MAGNITUDE
@@ -599,7 +600,7 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
     if frame.empty:
         raise InputError(f"{path}: no samples")
     if frame[ID_COLUMN].isna().any():
-        line = int(np.flatnonzero(frame[ID_COLUMN].isna().to_numpy())[0]) + 2
+        line = data_row_line(path, int(np.flatnonzero(frame[ID_COLUMN].isna().to_numpy())[0]))
         raise InputError(f"{path}, line {line}: empty trajectory id")
     numeric_share = {
         c: pd.to_numeric(frame[c], errors="coerce").notna().mean() for c in frame.columns
@@ -620,7 +621,7 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
         if bad.any():
             row = int(np.flatnonzero(bad.to_numpy())[0])
             raise InputError(
-                f"{path}, line {row + 2}: column {name!r} has {bad_cell(column.iloc[row])}"
+                f"{path}, line {data_row_line(path, row)}: column {name!r} has {bad_cell(column.iloc[row])}"
             )
         frame[name] = numeric.astype(float)
     trajectories = []
@@ -636,7 +637,7 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
                 try:
                     value = parse_hit(values.iloc[0])
                 except ValueError as exc:
-                    line = int(group.index[0]) + 2
+                    line = data_row_line(path, int(group.index[0]))
                     raise InputError(f"{path}, line {line}: trajectory {trajectory_id!r} has hit {exc}") from None
             elif name in TEXT_META_KEYS:
                 value = None if pd.isna(values.iloc[0]) else str(values.iloc[0])
@@ -646,14 +647,14 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
                 meta[name] = value
         if len(group) < MIN_FILE_SAMPLES:
             raise InputError(
-                f"{path}, line {int(group.index[0]) + 2}: trajectory {trajectory_id!r} has a single "
+                f"{path}, line {data_row_line(path, int(group.index[0]))}: trajectory {trajectory_id!r} has a single "
                 "sample (a demonstration needs at least 2)"
             )
         data = {name: group[name].to_numpy(dtype=float) for name in sample_columns}
         if "time" in data and np.any(np.diff(data["time"]) <= 0):
             row = int(group.index[int(np.flatnonzero(np.diff(data["time"]) <= 0)[0]) + 1])
             raise InputError(
-                f"{path}, line {row + 2}: time does not increase within trajectory {trajectory_id!r}"
+                f"{path}, line {data_row_line(path, row)}: time does not increase within trajectory {trajectory_id!r}"
             )
         try:
             trajectories.append(Trajectory(trajectory_id, data, meta))

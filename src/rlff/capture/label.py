@@ -51,6 +51,7 @@ import numpy as np
 from rlff.ballistics import crossing_distance
 from rlff.capture.angles import ArmMotion
 from rlff.capture.segment import ThrowCut
+from rlff.csvlines import data_row_lines
 from rlff.dataset import BEARING_RANGE, HEIGHT_RANGE
 from rlff.errors import InputError
 from rlff.limits import DISTANCE_RANGE, check_distance
@@ -301,7 +302,10 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
     if missing:
         raise InputError(f"manifest {path}: no column {', '.join(map(repr, missing))} (columns: {', '.join(frame.columns)})")
     rows = []
-    for number, record in enumerate(frame.to_dict("records"), start=2):
+    lines = data_row_lines(path)
+    if len(lines) != len(frame):  # read otherwise than pandas read it: the lines as if none were blank
+        lines = list(range(2, len(frame) + 2))
+    for number, record in zip(lines, frame.to_dict("records"), strict=True):
 
         def number_or_none(name: str, kind: type, record: dict = record, number: int = number):
             text = str(record.get(name, "")).strip()

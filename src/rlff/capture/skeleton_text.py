@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from rlff.capture.skeleton import SIDES, ArmTrack, JointTrack, Recording
+from rlff.csvlines import data_row_line
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.limits import check_frame_rate
@@ -92,18 +93,18 @@ def _numeric_rows(
     return np.asarray(rows), np.asarray(lines)
 
 
-def _forward_rows(stamps: np.ndarray, lines: np.ndarray, what: str, notes: list[str], path: Path) -> np.ndarray:
+def _forward_rows(stamps: np.ndarray, line_of: Callable[[int], int], what: str, notes: list[str], path: Path) -> np.ndarray:
     """Rows to keep, a boolean array of shape (N,), of rows whose ``what`` (time, frame number)
     ``stamps`` of shape (N,) never go back: a repeat of the row before is dropped with a note.
 
-    ``lines`` of shape (N,) are the rows' file lines. Raises InputError at the first stamp
+    ``line_of(row)`` is a row's file line. Raises InputError at the first stamp
     below the one before (two recordings appended, a clock reset, rows out of order).
     """
     step = np.diff(stamps)
     if np.any(step < 0):
         row = int(np.flatnonzero(step < 0)[0]) + 1
         raise InputError(
-            f"{path}, line {lines[row]}: {what} {stamps[row]:g} after {stamps[row - 1]:g} goes back "
+            f"{path}, line {line_of(row)}: {what} {stamps[row]:g} after {stamps[row - 1]:g} goes back "
             f"(two recordings appended, or rows out of order?): split the file at this line, or sort "
             f"its rows by {what}"
         )
@@ -111,7 +112,7 @@ def _forward_rows(stamps: np.ndarray, lines: np.ndarray, what: str, notes: list[
     if repeat.any():
         notes.append(
             f"{path.name}: dropped {int(repeat.sum())} repeated {what}s (kept the first; the first "
-            f"repeat is on line {lines[int(np.flatnonzero(repeat)[0])]})"
+            f"repeat is on line {line_of(int(np.flatnonzero(repeat)[0]))})"
         )
     return ~repeat
 
@@ -173,7 +174,7 @@ def read_kinect_text(path: str | Path, rate_hz: float | None = None) -> Recordin
         path, 61, "frame number then 20 joints x (x y z)", lambda row, values: f"frame number {values[0]:g}"
     )
     notes: list[str] = []
-    values = values[_forward_rows(values[:, 0], lines, "frame number", notes, path)]
+    values = values[_forward_rows(values[:, 0], lambda row: int(lines[row]), "frame number", notes, path)]
     frames = values[:, 1:].reshape(-1, 20, 3)
     arm_joints = [i for indices in KINECT_ARMS.values() for i in indices]
     frames, time = _clean_frames(frames, values[:, 0] / rate, arm_joints, notes, path)
@@ -270,7 +271,7 @@ def read_joint_csv(
         values = pd.to_numeric(frame[name], errors="coerce").to_numpy(dtype=float)
         if not np.all(np.isfinite(values)):
             row = int(np.flatnonzero(~np.isfinite(values))[0])
-            raise InputError(f"{path}, line {row + 2}: column {name!r} has {bad_cell(frame[name].iloc[row])}")
+            raise InputError(f"{path}, line {data_row_line(path, row, separator)}: column {name!r} has {bad_cell(frame[name].iloc[row])}")
         return values
 
     found: dict[str, dict[str, str]] = {}
@@ -306,7 +307,7 @@ def read_joint_csv(
             )
         elif timelike:
             notes.append(f"{path.name}: no time column: frames taken as {rate:g} Hz (--rate){hint}")
-    keep = _forward_rows(time, np.arange(len(time)) + 2, "time stamp", notes, path)
+    keep = _forward_rows(time, lambda row: data_row_line(path, row, separator), "time stamp", notes, path)
     sides = list(found)
     joints_by_side = {
         side: [joint for joint in _JOINTS if f"{joint}_x" in found[side] and f"{joint}_y" in found[side] and f"{joint}_z" in found[side]]
