@@ -338,3 +338,22 @@ def test_a_live_executor_without_an_outcome_source_says_what_is_missing(rlff, de
 def test_a_negative_rim_height_names_the_option(rlff, demos_csv):
     result = rlff("learn", str(demos_csv), "--basket", "1.4", "--height", "-0.3")
     assert result.code == 2 and "(--height) must be a positive number of metres, got -0.3" in result.stderr
+
+
+@pytest.mark.parametrize("basket", ["0", "-1", "0.1", "nan"])
+def test_a_basket_out_of_range_gives_the_range(rlff, demos_csv, basket):
+    # 0 and -1 said "must be a positive number of metres", 0.1 "outside the range 0.3 to 20 m"
+    result = rlff("learn", str(demos_csv), "--basket", basket)
+    assert result.code == 2
+    expected = "nan is not a number" if basket == "nan" else f"{basket} m is outside the range 0.3 to 20 m"
+    assert f"basket distance (--basket): {expected}" in result.stderr
+
+
+@pytest.mark.parametrize("period", ["0", "-1"])
+def test_a_bad_period_fails_before_the_first_throw(rlff, demos_csv, tmp_path, period):
+    # it was checked when the best throw was written: after every throw, on a real arm too
+    log = tmp_path / "a.jsonl"
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--out", str(tmp_path / "best.json"),
+                  "--period", period, "--log", str(log))
+    assert result.code == 2 and "--period must be a positive controller period (s)" in result.stderr
+    assert not log.exists()

@@ -77,7 +77,9 @@ def check_range(name: str, value: float, bounds: tuple[float, float], unit: str 
         number = float(value)
     except (TypeError, ValueError):
         raise InputError(f"{name}: {value!r} is not a number") from None
-    if not low <= number <= high:  # also refuses nan
+    if math.isnan(number):
+        raise InputError(f"{name}: {value!r} is not a number")
+    if not low <= number <= high:
         raise InputError(f"{name}: {value:g} {unit} is outside the range {low:g} to {high:g} {unit}")
     return number
 
@@ -95,6 +97,14 @@ def check_pedestal(value: float, name: str = "pedestal") -> float:
 def check_frame_rate(value: float, name: str = "frame rate") -> float:
     """A recording's frame rate (Hz) within :data:`FRAME_RATE_RANGE`."""
     return check_range(name, value, FRAME_RATE_RANGE, "Hz")
+
+
+def check_period(value: float, name: str = "--period") -> float:
+    """A controller period (s): positive and finite."""
+    if value is None or not (math.isfinite(value) and value > 0):
+        raise InputError(f"{name} must be a positive controller period (s), got {value!r}: "
+                         "the points of a path are not a trajectory a controller can follow")
+    return float(value)
 
 
 def check_magnitudes(where: str, columns: Mapping[str, np.ndarray]) -> None:

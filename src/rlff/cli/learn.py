@@ -86,10 +86,12 @@ def learn_command(
 
     # the log is read (resumed) and written: it may exist, but must not be the demonstrations
     guard(inputs={"DEMOS": demos, "--carry": carry or None}, outputs={"--log": log, "-o/--output": out})
-    if out is not None:  # a bad --out or --format fails before the first throw
+    if out is not None:  # a bad --out, --format or --period fails before the first throw
         from rlff.learn.replay import export_format
+        from rlff.limits import check_period
 
         fmt = export_format(out, fmt)
+        check_period(period)
     if executor not in ("sim", "ros1", "ros2"):
         raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")
     if executor == "sim" and outcome is not None:

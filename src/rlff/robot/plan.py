@@ -23,6 +23,7 @@ import numpy as np
 import pandas as pd
 
 from rlff.errors import InputError
+from rlff.limits import check_period
 from rlff.robot.description import DEFAULT_ROBOT, Robot, load_robot
 from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for
 from rlff.trajectory.check import check_trajectory
@@ -159,9 +160,7 @@ def plan_path(
         (without ``clip``), or a plan that fails the check
         (:class:`rlff.trajectory.check.MotionLimitError`, e.g. no room to brake).
     """
-    if period is None or not (np.isfinite(period) and period > 0):
-        raise InputError(f"--period must be a positive controller period (s), got {period!r}: "
-                         "the points of a path are not a trajectory a controller can follow")
+    check_period(period)
     if path.get("time") is not None and "angle" in path and "velocity" in path:
         _require_time_agrees(path["angle"], path["velocity"], path["time"])
     points, report = mapping.path_to_robot(path, bearing=bearing, clip=True)

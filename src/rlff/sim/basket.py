@@ -38,11 +38,11 @@ class Basket:
     bearing: float = 0.0
 
     def __post_init__(self) -> None:
-        for name, option in (("distance", "--basket"), ("rim_height", "--height"), ("opening", "--opening")):
+        check_distance("basket distance (--basket)", self.distance)
+        for name, option in (("rim_height", "--height"), ("opening", "--opening")):
             value = getattr(self, name)
             if not np.isfinite(value) or value <= 0:
                 raise InputError(f"basket {name} ({option}) must be a positive number of metres, got {value}")
-        check_distance("basket distance", self.distance)
         low, high = BEARING_RANGE
         if not (np.isfinite(self.bearing) and low <= self.bearing <= high):
             raise InputError(f"basket bearing must be {low:g}..{high:g} degrees, got {self.bearing}")
