@@ -121,7 +121,7 @@ def learn_command(
             from rlff.learn.robot import robot_executor
 
             run_on = _learn_live(lambda: stack.enter_context(robot_executor(
-                executor, outcome, robot, basket, feedback, ask=_ask, landing_topic=landing_topic, network=network)))
+                executor, outcome, robot, basket, feedback, until=until, ask=_ask, landing_topic=landing_topic, network=network)))
 
         def show(attempt) -> None:
             if outcome == "ask":  # no progress bar under the prompt

@@ -10,7 +10,12 @@ from whoever watched the throw:
   basket), typed at a prompt; see :func:`parse_answer`;
 - a vision system (``topic``): the landing point it publishes, a geometry_msgs/PointStamped whose
   ``point.x`` is the landing distance (m) along the throwing direction from the robot's base
-  axis, stamped after the goal started; see :class:`Landings`.
+  axis, stamped after the planned release; see :class:`Landings`.
+
+A landing, typed or measured, is a hit within the basket's hit window, the same as in the
+simulation, and keeps its measured miss (``--until centred`` judges hits by it). A landing
+outside :data:`LANDING_RANGE` (behind the base, or beyond 20 m: a unit slip, a vision system's
+glitch) is never learned from: a typed one is asked again, a published one stops the run.
 
 The outcome joins the attempts log like a simulated one (hit, landing, signed miss), so a run
 resumes the same way. A goal that does not succeed stops the run with an error naming the
@@ -30,6 +35,7 @@ from typing import Protocol
 import numpy as np
 
 from rlff.errors import InputError, RlffError
+from rlff.limits import DISTANCE_RANGE
 from rlff.robot.description import Robot
 from rlff.robot.send import SendResult, goal_for_arm
 from rlff.trajectory.joint import JointTrajectory
@@ -44,6 +50,9 @@ PERIOD = 0.01
 LANDING_DISCOVERY = 10.0
 #: Seconds to wait for a landing after the goal ended.
 OUTCOME_TIMEOUT = 60.0
+#: Where a ball can come down (m from the robot's base axis): not behind it, and no farther than
+#: the farthest basket rlff takes (``rlff.limits.DISTANCE_RANGE``).
+LANDING_RANGE = (0.0, DISTANCE_RANGE[1])
 
 
 @dataclass(frozen=True)
@@ -61,27 +70,44 @@ class RobotFailed(RlffError):
 
 
 def outcome_of_landing(landing: float, basket: float, tolerance: float) -> ReportedOutcome:
-    """The outcome of a ball measured landing at ``landing`` (m) for a basket at ``basket`` (m):
-    a hit when within ``tolerance`` (m) of the basket's centre."""
-    miss = float(landing) - float(basket)
-    hit = abs(miss) <= tolerance
-    return ReportedOutcome(hit, float(landing), 0.0 if hit else miss)
-
-
-def parse_answer(text: str, basket: float, distance_needed: bool) -> ReportedOutcome:
-    """The outcome a person typed.
-
-    ``hit`` (or ``h``, ``y``): in the basket (landing taken as the basket's centre); ``miss`` (or
-    ``m``, ``n``): out, not measured (only when ``distance_needed`` is False); a number: the signed
-    miss (m, negative short), 0 counting as a hit.
+    """The outcome of a ball landing at ``landing`` (m) for a basket at ``basket`` (m): a hit
+    when within ``tolerance`` (m) of the basket's centre; the miss is kept for a hit too.
 
     Raises
     ------
     InputError
-        Anything else, naming what was typed and what is expected.
+        ``landing`` is not a number within :data:`LANDING_RANGE`.
+    """
+    low, high = LANDING_RANGE
+    if not low <= landing <= high:  # also NaN
+        where = "behind the robot's base" if landing < low else f"beyond {high:g} m" if landing > high else "not a number"
+        raise InputError(f"a landing at {landing:g} m ({landing - basket:+g} m from the basket at {basket:g} m) is "
+                         f"{where}: a ball comes down {low:g} to {high:g} m from the base (a unit slip? the miss "
+                         "is in metres: -0.3 for 30 cm short)")
+    miss = float(landing) - float(basket)
+    return ReportedOutcome(abs(miss) <= tolerance, float(landing), miss)
+
+
+def parse_answer(text: str, basket: float, tolerance: float, distance_needed: bool,
+                 hit_distance_needed: bool = False) -> ReportedOutcome:
+    """The outcome a person typed.
+
+    ``hit`` (or ``h``, ``y``): in the basket (landing taken as the basket's centre; only when
+    ``hit_distance_needed`` is False); ``miss`` (or ``m``, ``n``): out, not measured (only when
+    ``distance_needed`` is False); a number: the signed miss (m, negative short), a hit within
+    ``tolerance`` (m) of the centre, as :func:`outcome_of_landing` judges a measured landing.
+
+    Raises
+    ------
+    InputError
+        Anything else, or a miss that puts the landing outside :data:`LANDING_RANGE`, naming what
+        was typed and what is expected.
     """
     answer = text.strip().lower()
     if answer in ("hit", "h", "y", "yes"):
+        if hit_distance_needed:
+            raise InputError("--until centred needs a hit's signed miss in m (e.g. 0.05 for 5 cm long), "
+                             "not just 'hit'")
         return ReportedOutcome(True, float(basket), 0.0)
     if answer in ("miss", "m", "n", "no"):
         if distance_needed:
@@ -95,9 +121,7 @@ def parse_answer(text: str, basket: float, distance_needed: bool) -> ReportedOut
                          "(negative short of the basket)") from None
     if not math.isfinite(miss):
         raise InputError(f"answer {text.strip()!r}: the miss must be a finite number of metres")
-    if miss == 0:
-        return ReportedOutcome(True, float(basket), 0.0)
-    return ReportedOutcome(False, float(basket) + miss, miss)
+    return outcome_of_landing(float(basket) + miss, basket, tolerance)
 
 
 class Landings:
@@ -118,7 +142,8 @@ class Landings:
             self._arrived.notify_all()
 
     def after(self, start: float, timeout: float, topic: str = LANDING_TOPIC) -> float:
-        """The first landing (m) stamped at or after ``start`` (s), waiting up to ``timeout`` s.
+        """The first landing (m) stamped at or after ``start`` (s, the throw's release), waiting up
+        to ``timeout`` s. Landings stamped earlier are older than the throw and dropped.
 
         Raises
         ------
@@ -158,8 +183,8 @@ class RobotExecutor:
     arm : LiveArm
     robot : Robot
     outcome : callable
-        ``outcome(attempt, start)`` -> :class:`ReportedOutcome` for the attempt (1, 2, ...) whose
-        goal started at ROS time ``start`` (s): a prompt, or ``Landings.after``.
+        ``outcome(attempt, release)`` -> :class:`ReportedOutcome` for the attempt (1, 2, ...) whose
+        ball left the hand at ROS time ``release`` (s, as planned): a prompt, or ``Landings.after``.
     period : float
         Planning period (s) of the executed motion.
     """
@@ -181,7 +206,9 @@ class RobotExecutor:
         if not sent.succeeded:
             detail = f" ({sent.error_name})" if sent.error_name else ""
             raise RobotFailed(f"attempt {self.attempts}: goal {sent.status}{detail}: {sent.error_string}")
-        return self.outcome(self.attempts, sent.start)
+        # the goal may start later than the plan (a moving arm's approach lead)
+        release = sent.start + float(goal.time[0] - planned.time[0]) + float(planned.release_time or 0.0)
+        return self.outcome(self.attempts, release)
 
 
 #: The executors of ``rlff learn --executor`` and the outcome sources of ``--outcome``.
@@ -196,6 +223,7 @@ def robot_executor(
     robot: str | Robot,
     basket: float,
     feedback: str,
+    until: str = "hit",
     ask: Callable[[str], str] | None = None,
     landing_topic: str = LANDING_TOPIC,
     outcome_timeout: float = OUTCOME_TIMEOUT,
@@ -212,7 +240,9 @@ def robot_executor(
     basket : float
         Basket distance (m), for the hit window of a measured landing and a typed miss.
     feedback : {"binary", "distance"}
-        With distance feedback a typed answer must be a number.
+        With distance feedback a typed miss must be a number.
+    until : {"hit", "centred"}
+        With ``centred`` a typed hit must be a number too: its distance from the centre decides.
     ask : callable, optional
         ``ask(question) -> answer`` for ``outcome="ask"`` (the command line's prompt); asked
         again after an answer it cannot read.
@@ -241,13 +271,17 @@ def robot_executor(
     model = robot if isinstance(robot, Robot) else load_robot(robot)
     tolerance = _hit_tolerance(Basket(float(basket)))
 
-    def asked(attempt: int, start: float) -> ReportedOutcome:
-        question = (f"attempt {attempt}: hit, miss, or the signed miss in m (negative short)? "
-                    if feedback != "distance" else f"attempt {attempt}: the signed miss in m (negative short; 0 or hit)? ")
+    def asked(attempt: int, release: float) -> ReportedOutcome:
+        if until == "centred":
+            question = f"attempt {attempt}: the signed miss in m (negative short; 0 the centre){'' if feedback == 'distance' else ', or miss'}? "
+        elif feedback == "distance":
+            question = f"attempt {attempt}: the signed miss in m (negative short; 0 or hit)? "
+        else:
+            question = f"attempt {attempt}: hit, miss, or the signed miss in m (negative short)? "
         while True:
             answer = ask(question)  # an error here (no one to answer) ends the run
             try:
-                return parse_answer(answer, basket, feedback == "distance")
+                return parse_answer(answer, basket, tolerance, feedback == "distance", until == "centred")
             except InputError as exc:
                 question = f"{exc}; attempt {attempt}? "
 
@@ -259,8 +293,13 @@ def robot_executor(
         if outcome == "topic":
             landings = Landings(subscribe)
 
-            def measured(attempt: int, start: float) -> ReportedOutcome:
-                return outcome_of_landing(landings.after(start, outcome_timeout, landing_topic), basket, tolerance)
+            def measured(attempt: int, release: float) -> ReportedOutcome:
+                landing = landings.after(release, outcome_timeout, landing_topic)
+                try:
+                    return outcome_of_landing(landing, basket, tolerance)
+                except InputError as exc:
+                    raise RobotFailed(f"attempt {attempt}: {landing_topic}: {exc}; check the vision system's "
+                                      "frame and units (the log keeps the attempts before)") from None
 
             yield RobotExecutor(arm, model, measured)
         else:

@@ -1,0 +1,71 @@
+"""What a person types or a vision system publishes after a throw on the real arm, read as the
+simulation reads its own landings: the same hit window, the miss kept, implausible landings never
+learned from, and no landing older than the throw."""
+
+from __future__ import annotations
+
+import math
+import threading
+
+import pytest
+
+from rlff.errors import InputError
+from rlff.learn.robot import Landings, RobotFailed, outcome_of_landing, parse_answer
+
+BASKET = 1.75  # m
+WINDOW = 0.14  # m: half the 0.35 m opening less the ball's radius
+
+
+@pytest.mark.parametrize(("typed", "hit", "miss"), [
+    ("0.05", True, 0.05),  # in the basket: it was a miss, and the robot threw again
+    ("-0.13", True, -0.13),
+    ("0", True, 0.0),
+    ("0.2", False, 0.2),
+    ("-0.5", False, -0.5),
+])
+def test_a_typed_miss_is_judged_by_the_basket_s_hit_window(typed, hit, miss):
+    outcome = parse_answer(typed, BASKET, WINDOW, distance_needed=True)
+    assert (outcome.hit, outcome.miss, outcome.landing_x) == (hit, pytest.approx(miss), pytest.approx(BASKET + miss))
+    # a measured landing is judged the same, and a hit keeps its miss (it was logged as 0)
+    measured = outcome_of_landing(BASKET + miss, BASKET, WINDOW)
+    assert (measured.hit, measured.miss) == (hit, pytest.approx(miss))
+
+
+@pytest.mark.parametrize(("typed", "message"), [
+    ("1e9", r"beyond 20 m.*unit slip"),
+    ("30", r"beyond 20 m"),  # 30 for 30 cm
+    ("-2", r"behind the robot's base"),
+    ("nan", r"finite number"),
+    ("30cm", r"type hit, miss, or the signed miss"),
+])
+def test_an_implausible_typed_miss_is_refused_with_what_to_type(typed, message):
+    with pytest.raises(InputError, match=message):
+        parse_answer(typed, BASKET, WINDOW, distance_needed=True)
+
+
+def test_words_need_what_the_run_judges_by():
+    assert parse_answer("hit", BASKET, WINDOW, distance_needed=False).hit
+    assert math.isnan(parse_answer("miss", BASKET, WINDOW, distance_needed=False).miss)
+    with pytest.raises(InputError, match=r"distance feedback needs the signed miss"):
+        parse_answer("miss", BASKET, WINDOW, distance_needed=True)
+    # --until centred: a bare "hit" counted as dead centre
+    with pytest.raises(InputError, match=r"--until centred needs a hit's signed miss"):
+        parse_answer("hit", BASKET, WINDOW, distance_needed=False, hit_distance_needed=True)
+    assert parse_answer("0.1", BASKET, WINDOW, distance_needed=False, hit_distance_needed=True).miss == pytest.approx(0.1)
+
+
+@pytest.mark.parametrize(("landing", "message"), [(-50.0, r"behind the robot's base"), (1e9, r"beyond 20 m")])
+def test_an_implausible_measured_landing_is_refused(landing, message):
+    with pytest.raises(InputError, match=message):
+        outcome_of_landing(landing, BASKET, WINDOW)
+
+
+def test_a_landing_stamped_before_the_release_is_not_the_throw_s():
+    published = []
+    landings = Landings(published.append)
+    (deliver,) = published
+    deliver(10.0, 1.2)  # seen before the ball left the hand: an older detection
+    threading.Timer(0.05, deliver, args=(10.6, 1.7)).start()
+    assert landings.after(10.4, timeout=5.0) == 1.7
+    with pytest.raises(RobotFailed, match=r"no landing on /rlff/landing within 0.1 s"):
+        landings.after(11.0, timeout=0.1)
