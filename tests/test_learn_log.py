@@ -180,3 +180,19 @@ def test_a_changed_nested_field_is_named_by_its_path(tmp_path):
     changed = {**run, "robot": {"name": "arm", "description": {"mapping": {"angle_scale": 0.8, "joint": "joint_2"}}}}
     with pytest.raises(InputError, match=r"robot\.description\.mapping\.angle_scale = 0\.71 in the log, 0\.8 now"):
         AttemptLog(path, changed)
+
+
+@pytest.mark.parametrize(("logged", "now", "message"), [
+    ({"executor": "ros1"}, {}, r"\(executor = 'ros1' in the log, 'sim' now, from --executor\)"),
+    ({}, {"gap": "speed:0.9"}, r"\(gap = 'none' in the log, 'speed:0.9' now, from --gap\)"),
+    ({"until": "hit"}, {"until": "centred", "centre_share": 0.5}, r"\(until = 'hit' in the log, 'centred' now, from --until\)"),
+    ({"basket": {"distance": 1.75}}, {"basket": {"distance": 1.8}}, r"\(basket\.distance = 1\.75 in the log, 1\.8 now, from --basket\)"),
+])
+def test_a_log_of_another_run_names_the_option_that_differs(tmp_path, logged, now, message):
+    from rlff.learn.loop import RUN_OPTIONS
+
+    path = tmp_path / "attempts.jsonl"
+    base = {"until": "hit", "seed": 0}
+    AttemptLog(path, {**base, **logged}, RUN_OPTIONS).close()
+    with pytest.raises(InputError, match=message):
+        AttemptLog(path, {**base, **now}, RUN_OPTIONS)

@@ -28,6 +28,7 @@ import json
 import os
 import socket
 import time as clock
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -78,6 +79,10 @@ class AttemptLog:
         The JSONL file; created (with its folder) when absent.
     run : dict
         JSON-serialisable description of the run; compared on resume.
+    options : mapping of str to (str, str or None), optional
+        The run's (dotted) keys a user sets with an option: key -> (the option, how a header
+        without the key reads, e.g. ``"'sim'"``; None when the key is always written). On resume a
+        difference in these is named first, in this order, with its option.
 
     Raises
     ------
@@ -88,9 +93,11 @@ class AttemptLog:
         line.
     """
 
-    def __init__(self, path: str | Path, run: dict[str, Any]):
+    def __init__(self, path: str | Path, run: dict[str, Any],
+                 options: Mapping[str, tuple[str, str | None]] | None = None):
         self.path = Path(path)
         self.run = json.loads(json.dumps(run))  # normalised as it will read back
+        self.options = dict(options or {})
         prepare_output(self.path)  # a folder, or a file where its folder should be, is refused
         self._lock = self._acquire()
         try:
@@ -168,15 +175,22 @@ class AttemptLog:
     def _check_header(self, header: dict[str, Any]) -> None:
         logged = _run_of(self.path, header)
         # what the user chose is named before what follows from it (other joints drive other
-        # columns of the demonstrations, so their fingerprint differs too)
-        difference = (first_difference(logged.get("joints"), self.run.get("joints"), "joints")
-                      or first_difference(logged, self.run))
-        if difference is not None:
-            key, before, now = difference
-            raise InputError(
-                f"{self.path}: the log belongs to another run ({key} = {brief(before)} in the log, {brief(now)} "
-                "now); use another --log file"
-            )
+        # columns of the demonstrations, so their fingerprint differs too; --until centred adds
+        # a centre share)
+        chosen = (first_difference(_at(logged, key), _at(self.run, key), key) for key in self.options)
+        difference = next((found for found in chosen if found is not None), None) or first_difference(logged, self.run)
+        if difference is None:
+            return
+        key, before, now = difference
+        option, absent = self.options.get(key) or self.options.get(key.split(".")[0]) or (None, None)
+
+        def shown(value: Any) -> str:
+            return absent if value is None and absent is not None else brief(value)
+
+        raise InputError(
+            f"{self.path}: the log belongs to another run ({key} = {shown(before)} in the log, {shown(now)} now"
+            f"{f', from {option}' if option else ''}); use another --log file"
+        )
 
 
 def robot_record(mapping: RobotMapping | ArmMapping) -> dict[str, Any]:
@@ -314,6 +328,13 @@ def first_difference(logged: Any, now: Any, where: str = "") -> tuple[str, Any, 
                 return found
         return None
     return None if logged == now else (where, logged, now)
+
+
+def _at(record: dict[str, Any], key: str) -> Any:
+    """The value at a dotted ``key`` of nested dicts, or None where any part is absent."""
+    for part in key.split("."):
+        record = record.get(part) if isinstance(record, dict) else None
+    return record
 
 
 def brief(value: Any, width: int = 60) -> str:

@@ -74,6 +74,25 @@ METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
 UNTILS = ("hit", "centred")
 #: Default share of the opening (centre to rim) a centred hit lands within.
 CENTRE_SHARE = 0.5
+#: The log header's keys a user sets with an option of ``rlff learn``: (the option, how a header
+#: without the key reads). A resumed log that differs in one names it, in this order, first.
+RUN_OPTIONS: dict[str, tuple[str, str | None]] = {
+    "joints": ("--joints", "one joint (the [throwing] table's)"),
+    "until": ("--until", None),
+    "basket.distance": ("--basket", None),
+    "basket.rim_height": ("--height", None),
+    "basket.bearing": ("--bearing", "0.0"),
+    "feedback": ("--feedback", None),
+    "update": ("--update", None),
+    "seed": ("--seed", None),
+    "robot": ("--robot", None),
+    "pedestal": ("--pedestal", None),
+    "executor": ("--executor", "'sim'"),
+    "gap": ("--gap", "'none'"),
+    "misreport": ("--misreport", repr(MISREPORT)),
+    "centre_share": ("--centre-share", None),
+    "carried": ("--carry", "none"),
+}
 
 
 class Outcome(Protocol):
@@ -344,7 +363,7 @@ def learn(
     carried, carry_notes = carried_offsets(carry_from, run) if carry_from else ((), [])
     if carried:
         run["carried"] = [round(x, 4) for x in carried]
-    log = AttemptLog(log_path, run) if log_path is not None else None
+    log = AttemptLog(log_path, run, RUN_OPTIONS) if log_path is not None else None
     try:
         result = _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
                       progress, until, centre_window, pedestal, components, tuple(run.get("carried", ())),
