@@ -160,3 +160,21 @@ def test_fit_and_generate_refuse_bad_files(thesis_files, cli, rlff, tmp_path):
     nan_data.write_text("trajectory,angle,distance,velocity\na,0,1,0\na,1,1,nan\n")
     result = rlff("fit", str(nan_data), "-o", str(tmp_path / "m.json"))
     assert result.code == 2 and "velocity" in result.stderr
+
+
+@pytest.mark.parametrize(("name", "text", "kind"), [
+    ("a06_s01_e01_skeleton3D.txt", "".join(f"0.{j} 0.2 2.5 1\n" for j in range(40)), "MSR Action3D text"),
+    ("take.csv", "time,right_shoulder_x,right_shoulder_y\n0,0.1,0.2\n", "joint CSV"),
+])
+@pytest.mark.parametrize("command", [
+    ("fit", "{path}", "-o", "{out}.json"),
+    ("learn", "{path}", "--basket", "1.5", "--log", "{out}.jsonl"),
+    ("data", "preprocess", "{path}", "-o", "{out}.csv"),
+])
+def test_a_recording_given_as_demonstrations_says_to_import_it(rlff, tmp_path, name, text, kind, command):
+    # an MSR file was read as a thesis matrix: "line 2: context row 'distance' is not constant"
+    path = tmp_path / name
+    path.write_text(text)
+    result = rlff(*(arg.format(path=path, out=tmp_path / "out") for arg in command))
+    assert result.code == 2
+    assert f"a skeleton recording ({kind}), not demonstrations: import it first" in result.stderr

@@ -126,7 +126,8 @@ def preprocess_command(
     """Clean demonstrations step by step and report what every step removed and why."""
     from rich.table import Table
 
-    from rlff.formats import format_of, read_dataset, write_dataset
+    from rlff.cli.model import read_data
+    from rlff.formats import format_of, write_dataset
     from rlff.preprocess import Pipeline
 
     guard(inputs={"DATA": data, "--config": config}, outputs={"-o/--output": output, "--report": report_path})
@@ -134,7 +135,7 @@ def preprocess_command(
     if preset is not None and config is not None:
         raise InputError("give either --preset or --config, not both")
     pipeline = Pipeline.from_toml(config) if config is not None else Pipeline.preset(preset or "thesis")
-    dataset = read_dataset(data)
+    dataset = read_data(data)
     warn_copies(dataset, data)
     enabled = sum(step.enabled for step in pipeline.steps)
     with progress("preprocessing", total=enabled) as advance:

@@ -78,9 +78,9 @@ def learn_command(
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
+    from rlff.cli.model import read_data
     from rlff.cli.output import guard
     from rlff.errors import InputError
-    from rlff.formats import read_dataset
     from rlff.learn import learn
     from rlff.learn.method import COLUMNS
 
@@ -105,7 +105,7 @@ def learn_command(
     if executor != "sim" and not arm.none:
         raise InputError("--gap is how the simulated arm differs from its robot file: it goes with --executor sim")
     driven = _joint_list(joints)
-    data = read_dataset(demos)
+    data = read_data(demos)
     try:  # said with the file's name, before any cleaning
         data.require(COLUMNS)
     except InputError as exc:

@@ -80,10 +80,40 @@ def _candidates(dataset, max_components: int, effective: str | float | None) -> 
 
 def read_data(path: Path):
     """The dataset in ``path``, its format by its extension (:func:`rlff.formats.read_dataset`;
-    imported here, not at start-up: it loads numpy and pandas)."""
+    imported here, not at start-up: it loads numpy and pandas).
+
+    A skeleton recording given where demonstrations go (a tired user's MSR or Kinect text, read
+    as a thesis matrix, said "context row 'distance' is not constant") is said to be one, with
+    the command that imports it.
+    """
+    from rlff.errors import InputError
     from rlff.formats import read_dataset
 
-    return read_dataset(path)
+    try:
+        return read_dataset(path)
+    except InputError:
+        kind = _recording_kind(path)
+        if kind is None:
+            raise
+        raise InputError(f"{path}: a skeleton recording ({kind}), not demonstrations: import it first with "
+                         "`rlff data import RECORDINGS -o demos.csv` (docs/capture.md), then "
+                         "`rlff data preprocess demos.csv -o clean.csv`") from None
+
+
+def _recording_kind(path: Path) -> str | None:
+    """The skeleton format ``path`` looks like (``rlff data import``'s guess), or None."""
+    from rlff.capture.importer import detect_format
+    from rlff.errors import InputError
+
+    try:
+        kind = detect_format(path)
+    except InputError:
+        return None
+    if kind == "csv":  # a CSV is a recording when it has a skeleton's columns
+        with open(path, encoding="utf-8-sig", errors="replace") as handle:
+            header = handle.readline().lower()
+        return "joint CSV" if "trajectory" not in header and "_shoulder_" in header else None
+    return {"msr": "MSR Action3D text", "kinect-text": "Kinect SDK text", "bag": "ROS bag"}.get(kind)
 
 
 def _context(items: list[str]) -> dict[str, float]:
