@@ -86,6 +86,12 @@ def test_report_bad_input(rlff, tmp_path):
     # without -o it was RUN/report.html refused as an output, with -o "no such run directory"
     for output in ([], ["-o", str(tmp_path / "r.html")]):
         one_line_error(rlff("report", str(picture), *output), "pic.png: is a file, not a run directory")
+    # a learn run has an attempts log, no run.json: the figure it can have is named
+    log = tmp_path / "attempts.jsonl"
+    log.write_text("")
+    one_line_error(rlff("report", str(log)), "`rlff plot learning LOG -o OUT` draws its learning curve")
+    one_line_error(rlff("report", str(tmp_path)), "no run.json (is this a run directory written by `rlff demo`?); "
+                   "for the attempts log of `rlff learn` (attempts.jsonl), `rlff plot learning LOG")
     (tmp_path / "run.json").write_text('{"format": "rlff-run", "version": 9}')
     one_line_error(rlff("report", str(tmp_path)), "unsupported version 9")
 

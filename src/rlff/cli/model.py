@@ -105,6 +105,9 @@ def _recording_kind(path: Path) -> str | None:
     from rlff.capture.importer import detect_format
     from rlff.errors import InputError
 
+    path = Path(path)
+    if not path.exists() or (path.is_dir() and not (path / "metadata.yaml").is_file()):
+        return None  # said as it is: no such file, a folder
     try:
         kind = detect_format(path)
     except InputError:

@@ -264,7 +264,9 @@ def require_run_dir(run_dir: str | Path) -> Path:
     """``run_dir`` as a Path, or an :class:`InputError` saying it is missing or a file."""
     run_dir = Path(run_dir)
     if run_dir.is_file():
-        raise InputError(f"{run_dir}: is a file, not a run directory (a folder holding {RUN_FILE} and its figures)")
+        hint = (": for an attempts log of `rlff learn`, `rlff plot learning LOG -o OUT` draws its learning curve"
+                if run_dir.suffix == ".jsonl" else "")
+        raise InputError(f"{run_dir}: is a file, not a run directory (a folder holding {RUN_FILE} and its figures){hint}")
     if not run_dir.is_dir():
         raise InputError(f"{run_dir}: no such run directory")
     return run_dir
@@ -283,7 +285,10 @@ def read_run(run_dir: str | Path) -> Run:
     run_dir = require_run_dir(run_dir)
     path = run_dir / RUN_FILE
     if not path.is_file():
-        raise InputError(f"{run_dir}: no {RUN_FILE} (is this a run directory written by `rlff demo`?)")
+        logs = sorted(run_dir.glob("*.jsonl"))
+        hint = (f"; for the attempts log of `rlff learn` ({logs[0].name}), `rlff plot learning LOG -o OUT` draws its "
+                "learning curve" if logs else "")
+        raise InputError(f"{run_dir}: no {RUN_FILE} (is this a run directory written by `rlff demo`?){hint}")
     document = read_json_object(path)
     if document.get("format") != RUN_FORMAT:
         raise InputError(f"{path}: field 'format' must be {RUN_FORMAT!r}, got {document.get('format')!r}")
