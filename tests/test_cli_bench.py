@@ -60,12 +60,28 @@ def test_the_baskets_can_be_chosen_for_an_arm_of_ones_own(cli):
     ("--gap", "link:1.1", "--gap: unknown gap 'link:1.1'"),
     ("--baskets", "1.2,far", "--baskets: 'far' is not a number"),
     ("--baskets", "0.1", "--baskets: 0.1 m is outside the range 0.3 to 20 m"),
+    # a repeat ran its cases again and counted them twice in the row's runs and hits
+    ("--methods", "calibrate,sweep,calibrate", "--methods: 'calibrate' given twice"),
+    ("--scenario", "short,short", "--scenario: 'short' given twice"),
+    ("--landings", "none,none", "--landings: 'none' given twice"),
+    ("--baskets", "1.4,1.40", "--baskets 1.4,1.40: a distance given twice"),
+    # it was said by the first run, after the progress bar had started, without the option's name
+    ("--baskets", "5", "--baskets: basket at 5.00 m is out of reach"),
 ])
 def test_bad_options_are_one_line_input_errors(cli, option, value, message):
     result = cli("bench", "learning", option, value)
     assert result.code == 2
     assert message in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
+
+
+def test_a_method_that_cannot_use_the_feedback_is_said_to_be_left_out(cli):
+    # --methods calibrate,cma --feedback binary showed calibrate alone without a word
+    result = cli("bench", "learning", "--methods", "calibrate,cma", "--feedback", "binary", "--seeds", "1",
+                 "--baskets", "1.4", "--budget", "1", "--json")
+    assert result.code == 0
+    assert "--methods: cma left out: no --feedback binary they can use (cma: distance" in result.stderr
+    assert [row["method"] for row in json.loads(result.stdout)["rows"]] == ["calibrate"]
 
 
 def test_methods_that_cannot_use_the_feedback_are_refused_not_an_empty_table(cli):

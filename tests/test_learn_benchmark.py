@@ -68,7 +68,7 @@ def test_the_table_marks_the_projects_methods_and_says_when_the_median_run_never
     assert table[0].startswith("| scenario | landings | feedback | method | median | mean | hits | p vs calibrate")
     assert table[2].startswith("| short | none | binary | **calibrate** | 3.5 | 4.8 | 3/4 |")
     p = wilcoxon([2, 5, 11, 1], [11, 11, 7, 4], zero_method="pratt").pvalue
-    assert table[3].startswith(f"| short | none | binary | random | 9 | 8.2 | 2/4 | {p:.3f} |")
+    assert table[3].startswith(f"| short | none | binary | random | 9 | 8.2 | 2/4 | {p:.2g} |")
     never = format_table([_run("random", 0, 1.4, False, 10)], budget=10).splitlines()[2]
     assert "| > 10 | 11.0 | 0/1 |" in never
 

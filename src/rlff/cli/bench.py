@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import typer
 
-from rlff.cli._common import MAX_SEED, PLAIN_HELP, emit_json, progress, seed_option, stdout
+from rlff.cli._common import MAX_SEED, PLAIN_HELP, emit_json, progress, seed_option, stdout, warn
 from rlff.errors import InputError
 
 app = typer.Typer(rich_markup_mode=PLAIN_HELP, help="Benchmarks: how many attempts learning takes, and against which baselines.",
@@ -18,6 +18,9 @@ def _names(option: str, text: str, known: list[str] | None = None) -> list[str]:
     unknown = [n for n in names if known is not None and n not in known]
     if unknown:
         raise InputError(f"{option}: unknown {', '.join(map(repr, unknown))} (known: {', '.join(known)})")
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:  # each case would run again and count again in its row's runs and hits
+        raise InputError(f"{option}: {', '.join(map(repr, twice))} given twice")
     return names
 
 
@@ -86,6 +89,8 @@ def learning(
         chosen = {kind: [m for m in wanted if kind in METHODS[m].feedbacks] for kind in METHODS_BY_FEEDBACK}
     distances = None if baskets is None else tuple(
         check_distance("--baskets", parse_number(part, "--baskets")) for part in _names("--baskets", baskets))
+    if distances is not None and len(set(distances)) < len(distances):
+        raise InputError(f"--baskets {baskets}: a distance given twice")
     try:
         cases = [Scenario(name, landings=known, feedbacks=feedbacks, opening=opening, robot=robot, gap=arm,
                           baskets=distances)
@@ -93,9 +98,17 @@ def learning(
     except InputError as exc:
         raise InputError(f"--opening: {exc}") from None
     try:
-        load_robot(robot)
+        description = load_robot(robot)
     except InputError as exc:
         raise InputError(f"--robot: {exc}") from None
+    if distances is not None:  # said before the runs start, not by the first run of the basket
+        from rlff.sim import Basket, require_reachable
+
+        for distance in distances:
+            try:
+                require_reachable(Basket(distance, opening=opening), description)
+            except InputError as exc:
+                raise InputError(f"--baskets: {exc}") from None
     if quick:
         seeds, budget = min(seeds, 2), min(budget, 12)
     if first_seed + seeds - 1 > MAX_SEED:
@@ -103,9 +116,14 @@ def learning(
                          f"{MAX_SEED}: give a smaller --first-seed")
     grid = chosen or METHODS_BY_FEEDBACK
     total = sum(seeds * len(case.baskets) * len(grid[f.kind]) for case in cases for f in case.feedbacks)
-    if total == 0:  # every method chosen needs another feedback than those given
-        needs = "; ".join(f"{name}: {', '.join(METHODS[name].feedbacks)}" for name in wanted)
-        raise InputError(f"no method of --methods {methods} works with --feedback {feedback} ({needs})")
+    if chosen is not None:
+        kinds = {f.kind for f in feedbacks}
+        unused = [name for name in wanted if not kinds & set(METHODS[name].feedbacks)]
+        needs = "; ".join(f"{name}: {', '.join(METHODS[name].feedbacks)}" for name in unused)
+        if total == 0:  # every method chosen needs another feedback than those given
+            raise InputError(f"no method of --methods {methods} works with --feedback {feedback} ({needs})")
+        if unused:
+            warn(f"--methods: {', '.join(unused)} left out: no --feedback {feedback} they can use ({needs})")
     runs = []
     with progress("learning benchmark", total=total) as advance:
         for case in cases:

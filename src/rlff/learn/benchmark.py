@@ -181,7 +181,7 @@ def format_table(runs: Sequence[Run], budget: int) -> str:
                  f"{row['hits']}/{row['runs']}"]
         for mine in PROJECT_METHODS:
             p = p_values.get((*key, mine, row["method"]))
-            cells.append("" if p is None else f"{p:.3f}")
+            cells.append("" if p is None else f"{p:.2g}")  # 0.00042 is not 0.000
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 

@@ -6,8 +6,9 @@ attempts, so that a method that never hits cannot look better than one that hits
 
 Each of the project's methods is compared with every baseline (and ablation) of the same
 scenario and feedback on the same (seed, basket) pairs: the Wilcoxon signed-rank test (scipy,
-two-sided) of the paired attempt counts. Pairs of equal counts carry no rank (Pratt's
-treatment keeps them in the ranking); when every pair is equal the p-value is 1.
+two-sided) of the paired attempt counts, with Pratt's treatment of equal pairs: they are ranked
+with the others, then their ranks are dropped from the statistic. With equal pairs or ties scipy
+takes the p-value from the normal approximation; when every pair is equal it is 1.
 """
 
 from __future__ import annotations
