@@ -45,7 +45,7 @@ def test_thesis_paths_grow_with_distance_and_sit_on_the_global_maximum(thesis_mo
         density = dmm_pdf(conditional, np.broadcast_to(grid[None, :, None], (100, grid.size, 1)), path.exploration)
         assert np.all(path.pdf >= density.max(axis=1) * (1 - 1e-6))
         np.testing.assert_allclose(dmm_pdf(conditional, path.velocity[:, None], path.exploration), path.pdf, rtol=1e-12)
-    assert any("12.5 is outside the fitted range" in note for note in paths[12.5].notes)
+    assert any("12.5 is outside the fitted range" in warning for warning in paths[12.5].warnings)
 
 
 def test_generated_path_columns_and_time(thesis_model, tmp_path):
@@ -371,13 +371,33 @@ def _throws(peaks: list[tuple[float, float]]) -> Dataset:
 ])
 def test_a_distance_past_the_data_whose_throw_turns_back_says_so(peaks, turned_back):
     model = Model.fit(_throws(peaks), inputs=("angle", "distance"), outputs=("velocity",), components=3, seed=0)
-    notes = model.generate({"distance": 2.6}).notes
-    assert "distance = 2.6 is outside the fitted range [1, 2]: extrapolating" in notes
-    reversal = [note for note in notes if "turns back" in note]
+    warnings = model.generate({"distance": 2.6}).warnings  # -q kept them no more than a note
+    assert "distance = 2.6 is outside the fitted range [1, 2]: extrapolating" in warnings
+    reversal = [warning for warning in warnings if "turns back" in warning]
     if turned_back:
-        assert reversal == [next(n for n in notes if n.startswith("the velocity generated for distance 2.6 peaks at"))]
+        # it said "the velocity generated ... peaks at" the GMR mean's peak, not the generated one's
+        assert reversal == [next(w for w in warnings if w.startswith("the regression's (GMR mean) velocity for "
+                                                                     "distance 2.6 peaks at"))]
         assert "below the" in reversal[0] and "for 2 (the fitted range's top)" in reversal[0]
         assert "would land shorter than the one for 2; ask within [1, 2]" in reversal[0]
     else:
         assert not reversal
-    assert not [n for n in model.generate({"distance": 1.7}).notes if "turns back" in n]  # within the range
+    assert not model.generate({"distance": 1.7}).warnings  # within the range
+
+
+def test_a_path_past_the_data_and_an_impossible_joint_angle_are_warned(tmp_path):
+    # a grid of -5..10 rad and a wrist of 3.43 rad (straight is pi) came out without a word
+    angle = np.linspace(0.6, 2.8, 30)
+    trajectories = [Trajectory(f"t{d}_{k}", {"angle": angle, "velocity": (4 + d + 0.1 * k) * np.sin(angle),
+                                             "wrist": np.full(angle.size, 2.2 + 0.4 * d + 0.01 * k),
+                                             "wrist_velocity": np.zeros(angle.size),
+                                             "distance": np.full(angle.size, float(d))})
+                    for d in (1, 2) for k in range(3)]
+    model = Model.fit(Dataset(trajectories, context=("distance",)), inputs=("angle", "distance"),
+                      outputs=("velocity", "wrist"), components=1, seed=0)
+    inside = model.generate({"distance": 1.5})
+    assert not inside.warnings
+    far = model.generate({"distance": 5.0}, np.linspace(-1.0, 4.0, 20))
+    assert "angle values -1 to 4 leave the fitted range [0.6, 2.8]: extrapolating" in far.warnings
+    (wrist,) = [w for w in far.warnings if w.startswith("wrist goes")]
+    assert far.outputs[:, 1].max() > np.pi + 0.05 and "outside 0 to pi" in wrist

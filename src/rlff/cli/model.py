@@ -333,6 +333,8 @@ def generate_command(
     used = dict(path.context)
     path = _with_columns(path, selected, written)
     path.write_csv(output)
+    for warning in path.warnings:
+        warn(warning)
     for note in path.notes:
         say(f"note: {note}")
     summary = {
@@ -344,6 +346,7 @@ def generate_command(
         "peak_velocity": float(path.velocity.max()),
         "mean_exploration": float(path.exploration.mean()),
         "max_density_traded": float(path.density_traded.max()),
+        "warnings": list(path.warnings),
         "notes": list(path.notes),
         "outputs": list(path.output_names),
     }

@@ -120,7 +120,10 @@ class GeneratedPath:
     output_names : tuple of str
     context : dict of str to float
     notes : tuple of str
-        What the user should know (extrapolation, clipped velocities).
+        What the user should know of how the time was made (clipped velocities).
+    warnings : tuple of str
+        What may make the path wrong: a context or the path variable outside the fitted range, a
+        joint angle outside 0 to pi, a throw past the data that turns back (extrapolation).
     """
 
     angle: np.ndarray
@@ -138,6 +141,7 @@ class GeneratedPath:
     output_names: tuple[str, ...] = ("velocity",)
     context: dict[str, float] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
+    warnings: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return self.angle.size
@@ -445,16 +449,20 @@ class Model:
         X_in = np.column_stack([angles, *(np.full(angles.size, v) for v in values)])
         conditional = self.condition(X_in)
         mode = dmm_mode(conditional, exploration, exploration_scale, continuity)
-        notes = [
+        warnings = [
             f"{name} = {value:g} is outside the fitted range [{lo:g}, {hi:g}]: extrapolating"
             for name, value in zip(self.context_names, values, strict=True)
             for lo, hi in [self.input_range[name]]
             if not lo <= value <= hi
         ]
-        notes.extend(self._speed_reversal(angles, values, conditional.mean[:, 0]))
+        lo, hi = self.input_range[first]
+        if angles.min() < lo or angles.max() > hi:
+            warnings.append(f"{first} values {angles.min():g} to {angles.max():g} leave the fitted range "
+                            f"[{lo:g}, {hi:g}]: extrapolating")
+        warnings.extend(self._speed_reversal(angles, values, conditional.mean[:, 0]))
+        warnings.extend(_impossible_angles(mode.output, self.outputs))
         velocity = mode.output[:, 0]
-        time, time_notes = _path_time(angles, velocity, self.outputs[0])
-        notes.extend(time_notes)
+        time, notes = _path_time(angles, velocity, self.outputs[0])
         std = np.sqrt(np.maximum(conditional.variance, 0.0))
         return GeneratedPath(
             angle=angles,
@@ -472,6 +480,7 @@ class Model:
             output_names=self.outputs,
             context=dict(zip(self.context_names, values, strict=True)),
             notes=tuple(notes),
+            warnings=tuple(warnings),
         )
 
     def _speed_reversal(self, angles: np.ndarray, values: Sequence[float], mean: np.ndarray) -> list[str]:
@@ -493,7 +502,7 @@ class Model:
         peak, edge_peak = float(np.max(np.abs(mean))), float(np.max(np.abs(self.predict(X_edge)[0][:, 0])))
         farther = value > hi
         if (peak < 0.98 * edge_peak) if farther else (peak > 1.02 * edge_peak):
-            return [f"the {self.outputs[0]} generated for distance {value:.3g} peaks at {peak:.3g}, "
+            return [f"the regression's (GMR mean) {self.outputs[0]} for distance {value:.3g} peaks at {peak:.3g}, "
                     f"{'below' if farther else 'above'} the {edge_peak:.3g} for {edge:.3g} (the fitted range's "
                     f"{'top' if farther else 'bottom'}): past the data the regression turns back, and this throw "
                     f"would land {'shorter' if farther else 'farther'} than the one for {edge:.3g}; ask within "
@@ -553,6 +562,25 @@ class Model:
 
 
 # -- helpers -------------------------------------------------------------------------------------
+
+
+#: How far (rad) a generated joint angle may pass 0 or pi before it is said to be impossible: the
+#: regression smooths a wrist held straight (about pi) a little past it inside the data.
+ANGLE_SLACK = 0.05
+
+
+def _impossible_angles(outputs: np.ndarray, names: Sequence[str]) -> list[str]:
+    """A warning for each joint-angle output (``shoulder``, ``wrist``: angles between two limbs,
+    0 to pi) that leaves 0 to pi by more than :data:`ANGLE_SLACK` somewhere in ``outputs``
+    (T, O): no arm takes that pose, so the model was asked far past its data."""
+    found = []
+    for j, name in enumerate(names):
+        if name in ARM_JOINT_COLUMNS:
+            low, high = float(outputs[:, j].min()), float(outputs[:, j].max())
+            if low < -ANGLE_SLACK or high > math.pi + ANGLE_SLACK:
+                found.append(f"{name} goes {low:.3g} to {high:.3g} rad, outside 0 to pi (the angle between two "
+                             "limbs): no arm takes that pose; the model is asked far past its data")
+    return found
 
 
 def compile_kernels() -> None:
