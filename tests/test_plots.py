@@ -472,3 +472,17 @@ def test_ellipse_helper_matches_the_covariance():
     assert [(e.width, e.height) for e in ellipses] == [(4.0, 2.0), (8.0, 4.0)]  # 1σ and 2σ
     assert all(e.center == (1.0, 2.0) for e in ellipses)
     assert ellipses[0].angle == pytest.approx(0.0) or ellipses[0].angle == pytest.approx(180.0)
+
+
+def test_the_outputs_figure_draws_the_throw_generate_writes(thesis_model, tmp_path):
+    # it drew the throw without continuity (a jump between donut sides) under the legend "the
+    # throw sent", where rlff generate writes the continuous one
+    from rlff.plots.outputs import model_outputs
+
+    _, model = thesis_model
+    saved = model_outputs(model, [1.5], tmp_path / "outputs")
+    sent = model.generate({"distance": 1.5}, continuity=True).velocity
+    assert np.abs(model.generate({"distance": 1.5}).velocity - sent).max() > 0.5  # the two differ here
+    drawn = [line.get_ydata() for axes in saved.figure.get_axes() for line in axes.get_lines()
+             if len(line.get_ydata()) == sent.size]
+    assert any(np.array_equal(np.asarray(y, dtype=float), sent) for y in drawn)

@@ -192,6 +192,9 @@ def outputs_command(
     model: Path = typer.Argument(..., help="Model file (model.json from `rlff fit`)."),
     distances: str = typer.Option(..., "--distances", help="Basket distances (m), comma-separated; new ones welcome."),
     data: Path | None = typer.Option(None, "--data", help=f"Dataset ({_FORMATS_HELP}): drawn behind the outputs, marks demonstrated distances."),
+    continuity: bool = typer.Option(True, "--continuity/--no-continuity",
+                                    help="As rlff generate: keep each throw continuous where modes are nearly "
+                                         "equally high (default on, the throw generate writes)."),
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:
@@ -202,7 +205,7 @@ def outputs_command(
     _guard(out, {"MODEL": model, "--data": data})
     chosen = [_distance("--distances", d) for d in _numbers("--distances", distances)]
     dataset = read_data(data) if data is not None else None
-    _done([model_outputs(Model.load(model), chosen, out, dataset=dataset)], as_json)
+    _done([model_outputs(Model.load(model), chosen, out, dataset=dataset, continuity=continuity)], as_json)
 
 
 @app.command("preprocess")

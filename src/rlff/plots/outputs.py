@@ -158,7 +158,7 @@ def model_outputs(
     *,
     dataset: Dataset | None = None,
     angles: np.ndarray | None = None,
-    continuity: bool = False,
+    continuity: bool = True,
 ) -> SavedFigure:
     """:func:`output_trajectories` of a model's throws for several basket distances.
 
@@ -174,9 +174,10 @@ def model_outputs(
     dataset : Dataset, optional
         The demonstrations, drawn behind the outputs.
     angles : array of shape (T,), optional
-        Angle grid (rad); default the model's fitted range.
+        Angle grid (rad); default ``Model.generate``'s (up to the demonstrations' release).
     continuity : bool
-        Keep each throw continuous where two modes are nearly as high (see ``Model.generate``).
+        Keep each throw continuous where two modes are nearly as high (see ``Model.generate``);
+        on by default, as ``rlff generate`` writes the throw.
     """
     if len(model.context_names) != 1:
         raise InputError(
