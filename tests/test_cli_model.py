@@ -178,3 +178,15 @@ def test_a_recording_given_as_demonstrations_says_to_import_it(rlff, tmp_path, n
     result = rlff(*(arg.format(path=path, out=tmp_path / "out") for arg in command))
     assert result.code == 2
     assert f"a skeleton recording ({kind}), not demonstrations: import it first" in result.stderr
+
+
+def test_distances_in_centimetres_are_refused_before_a_model_nobody_can_ask(rlff, tmp_path):
+    # fit took 75-275 (cm) without a word; generate then refused 150 m and extrapolated at 1.5 m
+    rows = ["trajectory,angle,velocity,distance"] + [
+        f"t{d}_{k},{a:.2f},{(1 + a) * d / 100:.3f},{d}" for d in (75, 150, 275) for k in range(3) for a in (0.5, 1.0, 1.5, 2.0)]
+    data = tmp_path / "cm.csv"
+    data.write_text("\n".join(rows) + "\n")
+    result = rlff("fit", str(data), "-o", str(tmp_path / "m.json"))
+    assert result.code == 2
+    assert "column 'distance' holds 75 to 275, outside the basket distances 0.3 to 20 m (centimetres?" in result.stderr
+    assert not (tmp_path / "m.json").exists()

@@ -90,7 +90,7 @@ def read_data(path: Path):
     from rlff.formats import read_dataset
 
     try:
-        return read_dataset(path)
+        dataset = read_dataset(path)
     except InputError:
         kind = _recording_kind(path)
         if kind is None:
@@ -98,6 +98,25 @@ def read_data(path: Path):
         raise InputError(f"{path}: a skeleton recording ({kind}), not demonstrations: import it first with "
                          "`rlff data import RECORDINGS -o demos.csv` (docs/capture.md), then "
                          "`rlff data preprocess demos.csv -o clean.csv`") from None
+    _require_metre_distances(path, dataset)
+    return dataset
+
+
+def _require_metre_distances(path: Path, dataset) -> None:
+    """:class:`InputError` when the ``distance`` column leaves the basket distances rlff takes
+    (``rlff.limits.DISTANCE_RANGE``, m): a model fitted to 75-275 (cm) could be asked for none of
+    them (generate refuses 150 m) and extrapolated at 1.5 m."""
+    from rlff.errors import InputError
+    from rlff.limits import DISTANCE_RANGE
+
+    if "distance" not in dataset.columns or len(dataset) == 0:
+        return
+    values = dataset.to_array(["distance"])[:, 0]
+    low, high = float(values.min()), float(values.max())
+    if low < DISTANCE_RANGE[0] or high > DISTANCE_RANGE[1]:
+        unit = " (centimetres? the distance is in metres)" if high > DISTANCE_RANGE[1] else ""
+        raise InputError(f"{path}: column 'distance' holds {low:g} to {high:g}, outside the basket distances "
+                         f"{DISTANCE_RANGE[0]:g} to {DISTANCE_RANGE[1]:g} m{unit}")
 
 
 def _recording_kind(path: Path) -> str | None:
