@@ -26,7 +26,7 @@ STAGES = (
     ("__main__",),
 )
 #: Shared leaf modules: plain types, files, errors and facts every stage may use.
-LEAVES = {"ballistics", "csvtable", "dataset", "errors", "fileio", "formats", "jsonfile", "limits", "timing", "wording"}
+LEAVES = {"ballistics", "csvlines", "csvtable", "dataset", "errors", "fileio", "formats", "jsonfile", "limits", "timing", "wording"}
 
 
 def _part(path: Path) -> str:
