@@ -401,3 +401,24 @@ def test_a_path_past_the_data_and_an_impossible_joint_angle_are_warned(tmp_path)
     assert "angle values -1 to 4 leave the fitted range [0.6, 2.8]: extrapolating" in far.warnings
     (wrist,) = [w for w in far.warnings if w.startswith("wrist goes")]
     assert far.outputs[:, 1].max() > np.pi + 0.05 and "outside 0 to pi" in wrist
+
+
+def test_a_step_between_modes_is_said_where_it_is(thesis_model):
+    # a 2.7 rad/s step between neighbouring points came out without a word (density_traded 7e-8)
+    from rlff.learn.benchmark import demonstrations
+    from rlff.learn.scenarios import Scenario
+
+    people = Model.fit(demonstrations(0, Scenario("wide", landings="exact")), inputs=("angle", "distance"),
+                       outputs=("velocity",), components="auto", seed=0)
+    said = 0
+    for model, distance in [(thesis_model, 2.0), (thesis_model, 7.0), (people, 1.5), (people, 2.5)]:
+        path = model.generate({"distance": distance}, continuity=True)
+        steps = np.abs(np.diff(path.velocity))
+        notes = [note for note in path.notes if note.startswith("velocity steps by")]
+        if steps.max() > 0.1 * np.ptp(path.velocity):
+            i = int(np.argmax(steps))
+            assert len(notes) == 1 and f"between angle {path.angle[i]:.4g} and {path.angle[i + 1]:.4g}" in notes[0]
+            said += 1
+        else:
+            assert not notes
+    assert said == 2  # the simulated people's DMM changes mode along the path, the thesis set's does not

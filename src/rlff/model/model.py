@@ -463,6 +463,7 @@ class Model:
         warnings.extend(_impossible_angles(mode.output, self.outputs))
         velocity = mode.output[:, 0]
         time, notes = _path_time(angles, velocity, self.outputs[0])
+        notes.extend(_steps(angles, velocity, first, self.outputs[0]))
         std = np.sqrt(np.maximum(conditional.variance, 0.0))
         return GeneratedPath(
             angle=angles,
@@ -562,6 +563,29 @@ class Model:
 
 
 # -- helpers -------------------------------------------------------------------------------------
+
+
+#: A step of the first output between two neighbouring points larger than this share of its range
+#: along the path is said (a mode of the DMM ends, and the path goes on from another).
+STEP_SHARE = 0.1
+
+
+def _steps(angles: np.ndarray, output: np.ndarray, input_name: str, output_name: str) -> list[str]:
+    """A note on the largest step of ``output`` (T,) between neighbouring points of ``angles``
+    (T,) when it is above :data:`STEP_SHARE` of the output's range along the path: where the mode
+    followed ends (or the next is more than the continuity's 5 % higher) the path jumps to another,
+    and a robot cannot follow a step; the robot step plans a smooth swing to the release."""
+    if output.size < 3:
+        return []
+    steps = np.abs(np.diff(output))
+    i = int(np.argmax(steps))
+    large = int(np.count_nonzero(steps > STEP_SHARE * float(np.ptp(output))))
+    if not large:
+        return []
+    others = f" (and {large - 1} more step{'s' if large > 2 else ''} above a tenth of its range)" if large > 1 else ""
+    return [f"{output_name} steps by {steps[i]:.3g} between {input_name} {angles[i]:.4g} and {angles[i + 1]:.4g} "
+            f"({output[i]:.4g} -> {output[i + 1]:.4g}){others}: the density's mode followed ends there and the path "
+            "goes on from another (rlff robot export plans a smooth swing to the release)"]
 
 
 #: How far (rad) a generated joint angle may pass 0 or pi before it is said to be impossible: the
