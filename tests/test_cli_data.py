@@ -32,6 +32,19 @@ def test_synth_throws_then_preprocess_with_the_thesis_preset(cli, tmp_path):
     assert [s["step"] for s in written["steps"]][0] == "spike_filter"
     (rejected,) = [c for s in written["steps"] for c in s["contexts"]]
     assert rejected["context"] == {"distance": 2.75}
+    assert "balance kept at most 10 throws per basket" in result.stderr  # of the 12 thrown at each
+
+
+def test_preprocess_says_how_to_keep_more_throws_than_balance_keeps(capsys, tmp_path):
+    # 93 % of a long recording went in balance, and nothing said how to keep them
+    demos = tmp_path / "demos.npz"
+    assert main(["data", "synth", "throws", "-o", str(demos), "--subjects", "1", "--throws", "4"]) == 0
+    config = tmp_path / "steps.toml"
+    config.write_text('[[step]]\nname = "balance"\nmax_per_context = 3\n')
+    capsys.readouterr()
+    assert main(["data", "preprocess", str(demos), "--config", str(config), "-o", str(tmp_path / "c.csv")]) == 0
+    assert ("balance kept at most 3 throws per basket: to keep more, raise its max_per_context in a copy of the "
+            "pipeline") in capsys.readouterr().err
 
 
 # the cases below run the same entry point in-process (``rlff.cli.main``), to spare start-ups

@@ -167,3 +167,7 @@ def preprocess_command(
         say_first([f"{step.step}: removed throw {removal.trajectory}: {removal.reason}"
                    for removal in step.removed if removal.trajectory not in in_contexts],
                   "--report FILE lists every one")
+        if step.step == "balance" and step.removed:  # a big recording loses most of its throws here
+            say(f"balance kept at most {step.params['max_per_context']} throws per basket: to keep more, raise its "
+                "max_per_context in a copy of the pipeline (the preset: src/rlff/presets/thesis.toml) and pass that "
+                "with --config (docs/data.md)")
