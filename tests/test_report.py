@@ -97,6 +97,7 @@ def test_report_embeds_every_figure_and_escapes_text(tmp_path):
     assert all(link.startswith("#") for link in parser.links)
     assert not re.search(r"(src|href)=\"https?:", text)
     assert "test run &lt;&amp;&gt;" in text
+    assert "2 sections · 1 figure" in text  # "1 figures", "1 sections" before
     # outcome columns are coloured, other yes/no columns plain
     assert '<td class="flag">no</td><td class="yes">yes</td>' in text
     assert '<td class="flag">yes</td><td class="no">no</td>' in text

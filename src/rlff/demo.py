@@ -719,7 +719,7 @@ def _run_record(
             "to one side of the donut, capped at its release speed) scaled to a release speed: with binary "
             "feedback the next of the release speed's hit windows, the likeliest first, with distance "
             "feedback the one its calibration of landing against speed picks; the baselines the GMR mean.",
-            facts={"basket (m)": learning_distance, "arm": f"{arm_words(learning_gap)} ({learning_gap.name})", "budget": budget,
+            facts={"basket (m)": learning_distance, "arm": arm_words(learning_gap) + ("" if learning_gap.none else f" ({learning_gap.name})"), "budget": budget,
                    "loop components K": loop_components},
             tables=[Table("Runs", ["method", "feedback", "hit", "attempts", "first throw miss (m)", "last miss (m)"],
                           [[r.method, r.feedback, r.hit, r.attempts, r.misses[0] if r.misses else None,

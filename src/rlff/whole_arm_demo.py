@@ -286,7 +286,7 @@ def whole_arm_section(whole: WholeArm):
             "throws recorded": whole.demonstrations, "of them hits": whole.demonstration_hits,
             "kept after cleaning": whole.clean_trajectories,
             "demonstrated distances (m)": ", ".join(f"{d:g}" for d in whole.demonstrated_distances),
-            "bearings (deg)": ", ".join(f"{b:g}" for b in bearings),
+            "basket bearings thrown at (deg)": ", ".join(f"{b:g}" for b in bearings),
             "baskets hit": f"{len(hits)} of {len(runs)}",
             "attempts to a hit (mean, most)": (f"{np.mean(attempts):.1f}, {max(attempts)}" if attempts else "none hit"),
         },

@@ -26,6 +26,7 @@ from rlff.report.run import (
     figure_file,
     read_run,
 )
+from rlff.wording import plural
 
 
 def _package_text(name: str) -> str:
@@ -133,7 +134,8 @@ def render_report(run: Run, run_dir: str | Path) -> str:
         settings = _facts(run.settings)
     return Template(_package_text("template.html")).substitute(
         title=html.escape(run.title),
-        meta=html.escape(f"created {run.created} · {len(run.sections)} sections · {len(run.figures)} figures"),
+        meta=html.escape(f"created {run.created} · {plural(len(run.sections), 'section')} · "
+                         f"{plural(len(run.figures), 'figure')}"),
         settings=settings,
         nav=nav,
         sections=sections,
