@@ -141,7 +141,13 @@ def test_fit_effective_samples(rlff, tmp_path):
                   "--effective-samples", "5", "--json")
     assert capped.code == 0, capped.stderr
     assert [row["n_components"] for row in json.loads(capped.stdout)["selection"]] == [1, 2, 3, 4, 5]
-    assert "--max-components 100000: K is tried up to 5 only, the effective samples" in capped.stderr
+    # said with the count, the one the summary gives (it said "up to 69 only, the effective samples"
+    # beside "BIC over 70 effective samples")
+    assert "--max-components 100000: K is tried up to 5 only: BIC counts 5 effective samples" in capped.stderr
+    # a K given outright beyond them is fitted, with a word
+    fixed = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "8", "--effective-samples", "5")
+    assert fixed.code == 0 and ("-k/--components 8 is more than the 5 effective samples (--effective-samples) of "
+                                f"{data} support (5 at most)") in fixed.stderr
     bad = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--effective-samples", "some")
     assert bad.code == 2 and "--effective-samples" in bad.stderr
 

@@ -469,7 +469,10 @@ class Dataset(Sequence[Trajectory]):
         """Raise :class:`InputError` naming the first of ``columns`` the dataset lacks."""
         for name in columns:
             if name not in self.columns:
-                raise InputError(f"no column {name!r} in the data (columns: {', '.join(self.columns)})")
+                metadata = any(name in trajectory.meta for trajectory in self.trajectories)
+                what = (f"column {name!r} is metadata (one value per trajectory), not a sample column" if metadata
+                        else f"no column {name!r} in the data")
+                raise InputError(f"{what} (columns: {', '.join(self.columns)})")
 
     def to_array(self, columns: Sequence[str] | None = None) -> np.ndarray:
         """All samples stacked as an array of shape (N, D), columns in the order given."""

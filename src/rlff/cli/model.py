@@ -65,17 +65,24 @@ def check_criterion(criterion: str) -> str:
 def _candidates(dataset, max_components: int, effective: str | float | None) -> int:
     """How many K ``Model.fit`` tries with auto: up to --max-components, but no more than the samples
     BIC counts (:func:`rlff.model.model.component_bound`), said when that caps it."""
+    bound, counted = _component_bound(dataset, effective)
+    if max_components > bound:
+        say(f"note: --max-components {max_components}: K is tried up to {bound} only: BIC counts {counted} "
+            "(with more components than samples it has nothing to choose by)")
+    return min(max_components, bound)
+
+
+def _component_bound(dataset, effective: str | float | None) -> tuple[int, str]:
+    """The most components the samples BIC counts support (:func:`rlff.model.model.component_bound`),
+    and those samples in words ("69.6 effective samples (--effective-samples)")."""
     import numpy as np
 
     from rlff.model.model import component_bound, effective_sample_count
 
     counted = effective_sample_count(dataset, np.ones(dataset.n_samples), effective)
-    bound = component_bound(dataset.n_samples, counted)
-    if max_components > bound:
-        what = "samples" if counted is None else "effective samples (--effective-samples)"
-        say(f"note: --max-components {max_components}: K is tried up to {bound} only, the {what} BIC counts "
-            "(with more components than samples it has nothing to choose by)")
-    return min(max_components, bound)
+    words = (plural(dataset.n_samples, "sample") if counted is None
+             else f"{counted:.4g} effective samples (--effective-samples)")
+    return component_bound(dataset.n_samples, counted), words
 
 
 def read_data(path: Path):
@@ -243,6 +250,11 @@ def fit_command(
     warn_copies(dataset, data)
     if components != "auto" and int(components) > dataset.n_samples:
         raise InputError(f"-k/--components {components} is more than the {dataset.n_samples} samples of {data}")
+    if components != "auto":
+        bound, counted = _component_bound(dataset, effective)
+        if int(components) > bound:  # BIC would not have tried it: each component fits the noise of a few samples
+            warn(f"-k/--components {components} is more than the {counted} of {data} support ({bound} at most): "
+                 "components fit the noise of a few samples; leave K to BIC (-k auto)")
     default_inputs, default_outputs = throw_roles(dataset.columns)
     for option, given, default in (("--inputs", inputs, default_inputs), ("--outputs", outputs, default_outputs)):
         missing = [name for name in default if name not in dataset.columns]
