@@ -136,7 +136,7 @@ def kmeans_em_steps(
             bottom.scatter(points[:, 0], points[:, 1], s=4, color=_DATA_COLOUR, alpha=0.5, rasterized=True)
             for rank, j in enumerate(np.argsort(mixture.means_[:, 0])):
                 draw_ellipses(bottom, mixture.means_[j], mixture.covariances_[j], component_colour(rank))
-            bottom.set_title(f"EM, K = {k} (BIC {mixture.bic(points, effective_samples=counted):.4g})")
+            bottom.set_title(f"EM, K = {k} (BIC {mixture.bic(points, effective_samples=counted):.4g} of this plane)")
             bottom.set_xlabel(axis_label(columns[0]))
         for row in range(2):
             panels[row, 0].set_ylabel(axis_label(columns[1]))
@@ -150,7 +150,9 @@ def kmeans_em_steps(
         )
         shown = f" ({points.shape[0]} of {n_points} samples, drawn at random)" if n_points > points.shape[0] else ""
         bic = _counted("BIC", points.shape[0], counted)
-        figure.suptitle(f"Placing the components: k-means, then EM{shown}\n{bic}", x=0.02, horizontalalignment="left",
+        plane = f"the ({columns[0]}, {columns[1]}) plane: its BIC is not rlff fit's, which fits every column"
+        figure.suptitle(f"Placing the components: k-means, then EM, on {plane}{shown}\n{bic}", x=0.02,
+                        horizontalalignment="left",
                         wrap=True)  # one K is narrower than the title
     return save(figure, out)
 
