@@ -365,7 +365,7 @@ def test_kmeans_em_for_dataset_counts_bic_samples_as_fit_does(tmp_path):
         saved = kmeans_em_for_dataset(data, tmp_path / "kem", ks=(2,), effective_samples=setting)
         assert saved.figure.get_suptitle().endswith(counted)
         bic = GaussianMixture(2, random_state=0).fit(points).bic(points, effective_samples=effective)
-        assert saved.figure.get_axes()[1].get_title() == f"EM, K = 2 (BIC {bic:.4g})"
+        assert saved.figure.get_axes()[1].get_title() == f"EM, K = 2 (BIC {bic:.4g} of this plane)"
 
 
 def test_components_at_distance_draws_weighted_ellipses(tmp_path):
