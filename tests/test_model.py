@@ -422,3 +422,26 @@ def test_a_step_between_modes_is_said_where_it_is(thesis_model):
         else:
             assert not notes
     assert said == 2  # the simulated people's DMM changes mode along the path, the thesis set's does not
+
+
+def test_a_grid_is_held_to_what_its_climbs_would_hold(thesis_model):
+    # a 1,000,000-point path of a K = 8, 5-output model grew past 3.3 GB over hours
+    from rlff.limits import MAX_GENERATE_BYTES
+    from rlff.model.climb import starts_per_input
+
+    per_point = 8 * starts_per_input(thesis_model.n_components, 1) * 3
+    assert MAX_GENERATE_BYTES // per_point > 2_000_000  # one output: the grid's own limit binds
+    angle = np.linspace(0.5, 2.5, 30)
+    arm = Model.fit(Dataset([Trajectory(f"t{d}_{k}", {"angle": angle, "velocity": (d + 0.1 * k) * np.sin(angle),
+                                                      "wrist": np.full(30, 2.0 + 0.1 * d + 0.01 * k),
+                                                      "wrist_velocity": np.full(30, 0.1 * k),
+                                                      "shoulder": np.full(30, 1.0 + 0.1 * d - 0.01 * k),
+                                                      "shoulder_velocity": np.full(30, 0.2 * k),
+                                                      "distance": np.full(30, float(d))})
+                             for d in (1, 2) for k in range(4)], context=("distance",)),
+                    inputs=("angle", "distance"), components=2, seed=0,
+                    outputs=("velocity", "shoulder", "shoulder_velocity", "wrist", "wrist_velocity"))
+    most = MAX_GENERATE_BYTES // (8 * starts_per_input(2, 5) * 7)
+    with pytest.raises(InputError, match=rf"with this model \(2 components, 5 outputs: about .* kB a point\): "
+                                         rf"{most + 1:,} is more than the {most:,} allowed"):
+        arm.generate({"distance": 1.5}, np.linspace(0.5, 2.5, most + 1))

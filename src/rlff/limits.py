@@ -10,6 +10,11 @@ The numbers:
 - :data:`MAX_GRID_POINTS`: points of a generated path. ``rlff generate`` peaks at about 0.9 kB a
   point (1.1 GB for 1,000,000 points, measured), so the maximum needs about 2 GB; a 100,000,000
   point grid asked for about 90 GB and was killed.
+- :data:`MAX_GENERATE_BYTES`: what the climbs of a generated path may hold. Each point keeps
+  every start's end point: 8 bytes x (K (1 + 2 O) + 3) starts x (O + 2) values for K components
+  and O outputs, 4.5 kB for a whole-arm model of K = 7 and 5 outputs (4.6 kB measured), so such
+  a model is held to about 450,000 points where a one-output model keeps the 2,000,000 (a
+  1,000,000-point path of a K = 8 whole-arm model grew past 3.3 GB and ran for hours).
 - :data:`MAX_DENSIFY_SAMPLES`: samples a resampling step (``densify``) may make, all trajectories
   together (8 bytes a value, a few columns and spline copies: about 1 GB at the maximum).
 - :data:`MAX_MAGNITUDE`: the largest magnitude of a data value or a model parameter. Mixtures
@@ -33,6 +38,7 @@ import numpy as np
 from rlff.errors import InputError
 
 MAX_GRID_POINTS = 2_000_000
+MAX_GENERATE_BYTES = 2_000_000_000
 MAX_DENSIFY_SAMPLES = 20_000_000
 MAX_MAGNITUDE = 1e100
 DISTANCE_RANGE = (0.3, 20.0)
@@ -145,6 +151,7 @@ __all__ = [
     "DISTANCE_RANGE",
     "FRAME_RATE_RANGE",
     "MAX_DENSIFY_SAMPLES",
+    "MAX_GENERATE_BYTES",
     "MAX_GRID_POINTS",
     "MAX_MAGNITUDE",
     "PEDESTAL_RANGE",

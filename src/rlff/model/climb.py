@@ -249,6 +249,12 @@ def _climb_start(
     return point, p
 
 
+def starts_per_input(k: int, o: int, holes: bool = True) -> int:
+    """The climbs' slots per input of :func:`modes_nd` (K components, O outputs): each component's
+    mean, with ``holes`` its 2 O ring points, the GMR mean and the late slots."""
+    return k * ((1 + 2 * o) if holes else 1) + 1 + _LATE_SLOTS
+
+
 def modes_nd(donuts: _Donuts, gmr_mean: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The climb for several outputs, compiled: end points (N, S, O) and their pdf (N, S) for the
     starts of :func:`_modes_nd_kernel` (pdf -inf for those left out), and the index (N,) of the
@@ -267,7 +273,7 @@ def modes_nd(donuts: _Donuts, gmr_mean: np.ndarray, tol: float) -> tuple[np.ndar
     axes = np.swapaxes(donuts.eigenvectors, 1, 2) * np.sqrt(donuts.eigenvalues)[:, :, None] / unit
     ring = donuts.ring_radius2()
     # the ring points are starts only where a donut has a hole: without any, one start per component
-    n_starts = donuts.k * ((1 + 2 * donuts.o) if np.any(ring > 1e-12) else 1) + 1 + _LATE_SLOTS
+    n_starts = starts_per_input(donuts.k, donuts.o, holes=bool(np.any(ring > 1e-12)))
     ends = np.empty((donuts.n, n_starts, donuts.o))
     pdf = np.empty((donuts.n, n_starts))
     best = np.empty(donuts.n, dtype=np.int64)

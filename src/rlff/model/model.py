@@ -38,7 +38,14 @@ from rlff.dataset import (
 from rlff.errors import InputError
 from rlff.fileio import write_text
 from rlff.jsonfile import read_json_object
-from rlff.limits import MAX_GRID_POINTS, MAX_MAGNITUDE, check_count, check_magnitudes
+from rlff.limits import (
+    MAX_GENERATE_BYTES,
+    MAX_GRID_POINTS,
+    MAX_MAGNITUDE,
+    check_count,
+    check_magnitudes,
+)
+from rlff.model.climb import starts_per_input
 from rlff.model.donut import dmm_mode
 from rlff.model.mixture import (
     GaussianMixture,
@@ -444,6 +451,10 @@ class Model:
         if angles.size == 0:
             raise InputError(f"no {first} values to generate at")
         check_count(f"{first} values to generate at", angles.size, MAX_GRID_POINTS, "use fewer points")
+        per_point = 8 * starts_per_input(self.n_components, len(self.outputs)) * (len(self.outputs) + 2)
+        check_count(f"{first} values to generate at with this model ({self.n_components} components, "
+                    f"{len(self.outputs)} outputs: about {per_point / 1000:.2g} kB a point)", angles.size,
+                    MAX_GENERATE_BYTES // per_point, "use fewer points")
         if not np.all(np.isfinite(angles)):
             raise InputError(f"{first} values hold NaN or inf")
         X_in = np.column_stack([angles, *(np.full(angles.size, v) for v in values)])
