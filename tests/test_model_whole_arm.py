@@ -152,3 +152,18 @@ def test_fit_names_the_column_a_default_role_misses(rlff, tmp_path):
     assert result.code == 2
     assert "no column 'velocity' for the default outputs" in result.stderr and "--outputs" in result.stderr
     assert rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--outputs", "speed", "-k", "1").code == 0
+
+
+def test_a_long_path_is_climbed_in_parts_told_and_as_high(arm_model, monkeypatch):
+    # 10,000 points of a whole-arm model were one compiled call: no progress, and Ctrl-C
+    # answered only at its end, minutes later
+    import rlff.model.donut as donut
+
+    angles = np.linspace(0.8, 2.4, 60)
+    whole = arm_model.generate({"distance": 2.5}, angles, continuity=True)
+    monkeypatch.setattr(donut, "CLIMB_CHUNK", 7)
+    told = []
+    parts = arm_model.generate({"distance": 2.5}, angles, continuity=True, progress=lambda *a: told.append(a))
+    assert told == [(min(n, 60), 60) for n in range(7, 67, 7)]
+    # every point as high as climbed in one call, to the climbs' precision
+    np.testing.assert_allclose(parts.pdf, whole.pdf, rtol=1e-7)

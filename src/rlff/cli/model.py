@@ -349,18 +349,29 @@ def generate_command(
 ) -> None:
     """Generate a path: for every angle, the velocity of highest Donut Mixture density."""
     from rlff.model import Model
+    from rlff.model.donut import CLIMB_CHUNK
 
     guard(inputs={"MODEL": model_path}, outputs={"-o/--output": output})
     context_values = _context(context)
     model = Model.load(model_path)
     written = _basket_values(context_values, model.context_names, bearing, height)
     selected = None if joints is None else _joint_outputs(model, robot, joints)
-    path = model.generate(
-        context_values, _grid(grid, model.inputs[0]), exploration=_word_or_number(
-            "--exploration", exploration, {"auto": "auto"}, lambda v: 0 <= v <= 1, "auto or a number in [0, 1]"
-        ),
-        exploration_scale=exploration_scale, continuity=continuity,
-    )
+    angles = _grid(grid, model.inputs[0])
+    factor = _word_or_number("--exploration", exploration, {"auto": "auto"}, lambda v: 0 <= v <= 1,
+                             "auto or a number in [0, 1]")
+    if angles is not None and angles.size > CLIMB_CHUNK and len(model.outputs) > 1:  # seconds to minutes
+        with progress("generating", total=angles.size) as advance:
+            done = [0]
+
+            def told(count: int, total: int) -> None:
+                advance(count - done[0], description=f"generating: {count} of {total} points climbed")
+                done[0] = count
+
+            path = model.generate(context_values, angles, exploration=factor, exploration_scale=exploration_scale,
+                                  continuity=continuity, progress=told)
+    else:
+        path = model.generate(context_values, angles, exploration=factor, exploration_scale=exploration_scale,
+                              continuity=continuity)
     used = dict(path.context)
     path = _with_columns(path, selected, written)
     path.write_csv(output)

@@ -255,10 +255,13 @@ def starts_per_input(k: int, o: int, holes: bool = True) -> int:
     return k * ((1 + 2 * o) if holes else 1) + 1 + _LATE_SLOTS
 
 
-def modes_nd(donuts: _Donuts, gmr_mean: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def modes_nd(donuts: _Donuts, gmr_mean: np.ndarray, tol: float,
+             holes: bool | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The climb for several outputs, compiled: end points (N, S, O) and their pdf (N, S) for the
     starts of :func:`_modes_nd_kernel` (pdf -inf for those left out), and the index (N,) of the
-    highest.
+    highest. ``holes``: whether any donut has a hole, so the ring points are starts (default:
+    whether one of these inputs' has; a path climbed in parts passes the whole path's, so every
+    part has the same S).
 
     The climb runs on outputs divided by their widest component standard deviation, so that
     outputs in different units (rad and rad/s) get trust radii and gradient steps of one scale;
@@ -273,7 +276,7 @@ def modes_nd(donuts: _Donuts, gmr_mean: np.ndarray, tol: float) -> tuple[np.ndar
     axes = np.swapaxes(donuts.eigenvectors, 1, 2) * np.sqrt(donuts.eigenvalues)[:, :, None] / unit
     ring = donuts.ring_radius2()
     # the ring points are starts only where a donut has a hole: without any, one start per component
-    n_starts = starts_per_input(donuts.k, donuts.o, holes=bool(np.any(ring > 1e-12)))
+    n_starts = starts_per_input(donuts.k, donuts.o, holes=bool(np.any(ring > 1e-12)) if holes is None else holes)
     ends = np.empty((donuts.n, n_starts, donuts.o))
     pdf = np.empty((donuts.n, n_starts))
     best = np.empty(donuts.n, dtype=np.int64)

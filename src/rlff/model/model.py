@@ -420,6 +420,7 @@ class Model:
         exploration: str | float | np.ndarray = "auto",
         exploration_scale: float = 1.0,
         continuity: bool | float = False,
+        progress: Callable[[int, int], None] | None = None,
     ) -> GeneratedPath:
         """The DMM path at a fixed context: for every angle, the output of highest density.
 
@@ -438,6 +439,9 @@ class Model:
             Exploration scale sigma in output units (with "auto").
         continuity : bool or float
             Keep the output continuous along the path where modes are nearly equally high.
+        progress : callable, optional
+            ``progress(done, total)`` as the climb of a several-output model goes through the
+            points (see :func:`rlff.model.donut.dmm_mode`).
 
         Returns
         -------
@@ -459,7 +463,7 @@ class Model:
             raise InputError(f"{first} values hold NaN or inf")
         X_in = np.column_stack([angles, *(np.full(angles.size, v) for v in values)])
         conditional = self.condition(X_in)
-        mode = dmm_mode(conditional, exploration, exploration_scale, continuity)
+        mode = dmm_mode(conditional, exploration, exploration_scale, continuity, progress=progress)
         warnings = [
             f"{name} = {value:g} is outside the fitted range [{lo:g}, {hi:g}]: extrapolating"
             for name, value in zip(self.context_names, values, strict=True)
