@@ -150,3 +150,11 @@ def test_semicolon_and_tab_separated_csv_are_read(tmp_path, sep, decimal, name):
     np.testing.assert_array_equal(recording.arms[0].elbow.position, expected.arms[0].elbow.position)
     np.testing.assert_array_equal(recording.arms[0].elbow.time, expected.arms[0].elbow.time)
     assert any(f"columns separated by {name}" in note for note in recording.notes)
+
+
+def test_the_import_tells_each_file_s_stages(tmp_path):
+    # one long file sat at "0/1" for a minute: the bar moved only when a file was done
+    paths = [_write_csv(tmp_path / f"take{n}.csv", [0.0, 0.1, 0.2, 0.3, 0.4, 0.5]) for n in (1, 2)]
+    told = []
+    import_recordings(paths, "csv", progress=lambda path, stage: told.append((Path(path).name, stage)))
+    assert told == [(name, stage) for name in ("take1.csv", "take2.csv") for stage in ("reading", "cutting throws", "done")]

@@ -233,7 +233,7 @@ def import_recordings(
     frames: Sequence[str] = DEFAULT_FRAMES,
     arm: str = "auto",
     rate_hz: float | None = None,
-    progress: Callable[[str], None] | None = None,
+    progress: Callable[[str, str], None] | None = None,
     columns: Mapping[str, str] | None = None,
     up: str | None = None,
     segment: SegmentSettings | None = None,
@@ -251,7 +251,8 @@ def import_recordings(
     topic, frames : tf topic and (shoulder, elbow, hand) frames, for bags
     arm : ``auto`` (the arm whose hand sweeps furthest), ``right`` or ``left``
     rate_hz : frame rate of text formats without time stamps (Kinect 30, MSR 15, CSV 30 by default)
-    progress : called with each file's path when it is done
+    progress : ``progress(path, stage)`` for each file as it is ``"reading"``, ``"cutting throws"``
+        and ``"done"`` (a long recording takes a minute between the first and the last)
     columns : column map of the CSV format (our name -> the file's)
     up : the up axis of the recordings' frame (``x``, ``-y``...); default per format
     segment, landing : settings of the throw finder and of the landing estimate
@@ -305,12 +306,18 @@ def import_recordings(
     if columns and "csv" not in kinds:
         raise InputError(f"a column map (--columns) is for CSV recordings, and none is given (formats: "
                          f"{', '.join(sorted(set(kinds)))})")
+    def tell(path: Path, stage: str) -> None:
+        if progress is not None:
+            progress(str(path), stage)
+
     for raw_path, kind in zip(paths, kinds, strict=True):
         path = Path(raw_path)
+        tell(path, "reading")
         if kind == "thesis":
             file_report, found = _import_thesis(path, used_ids)
         else:
             recording = read_recording(path, kind, topic=topic, frames=frames, rate_hz=rate_hz, columns=columns, up=up)
+            tell(path, "cutting throws")
             file_report, found = _import_recording(
                 recording, kind, arm, rows, segment or SegmentSettings(), landing, used_ids, up_given=up is not None
             )
@@ -319,8 +326,7 @@ def import_recordings(
         trajectories.extend(found)
         origin.update((trajectory.id, path) for trajectory in found)
         report.files.append(file_report)
-        if progress is not None:
-            progress(str(path))
+        tell(path, "done")
     report.general_warnings.extend(
         f"{row.where}: {row.file} is none of the recordings given; the row is not used"
         for row in rows if not any(row.matches(path) for path in paths)

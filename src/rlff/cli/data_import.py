@@ -69,7 +69,7 @@ def import_command(
             files, format, manifest=manifest, topic=topic, frames=frame_names, arm=arm, rate_hz=rate,
             columns=column_map(columns), up=up,
             joints=None if joints is None else [name.strip() for name in joints.split(",") if name.strip()],
-            progress=lambda path: advance(1, description=Path(path).name),
+            progress=lambda path, stage: advance(int(stage == "done"), description=f"{Path(path).name}: {stage}"),
         )
     for note in report.notes:
         say(note)
