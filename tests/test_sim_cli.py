@@ -64,6 +64,24 @@ def test_an_exported_throw_lands_where_its_generated_path_does(rlff, tmp_path):
         assert json.loads(again.stdout)["landing_x"] == pytest.approx(json.loads(direct.stdout)["landing_x"], abs=1e-9)
 
 
+def test_an_exported_throw_at_a_bearing_is_scored_on_its_line(rlff, tmp_path):
+    # an export keeps no bearing: sim throw put the basket at 0 deg, and a hit at 60 deg was "1.4 m
+    # short, 3.2 m left of the line"
+    path = _generated_path(tmp_path / "traj.csv")
+    direct = rlff("sim", "throw", str(path), "--basket", "1.9", "--bearing", "40", "--json")
+    assert direct.code == 0, direct.stderr
+    exported = tmp_path / "robot.json"
+    assert rlff("robot", "export", str(path), "--bearing", "40", "-f", "json", "-o", str(exported)).code == 0
+    again = rlff("sim", "throw", str(exported), "--basket", "1.9", "--json")
+    assert again.code == 0, again.stderr
+    assert "basket bearing 40 deg, where the trajectory's joint_1 stands at the release" in again.stderr
+    for key in ("landing_x", "miss", "lateral"):
+        assert json.loads(again.stdout)[key] == pytest.approx(json.loads(direct.stdout)[key], abs=1e-9)
+    # a bearing given is taken as given
+    aside = rlff("sim", "throw", str(exported), "--basket", "1.9", "--bearing", "0", "--json")
+    assert aside.code == 0 and abs(json.loads(aside.stdout)["lateral"]) > 0.5
+
+
 def test_sim_throw_refuses_bad_input_in_one_line(cli, tmp_path):
     fast = _generated_path(tmp_path / "fast.csv", peak=20.0)
     result = cli("sim", "throw", str(fast), "--basket", "2.0")

@@ -56,6 +56,8 @@ def throw(
     from rlff.errors import InputError
     from rlff.learn.replay import load_input
     from rlff.robot.description import load_robot
+    from rlff.robot.mapping import bearing_at_release
+    from rlff.robot.plan import ROBOT_TRAJECTORY, robot_file_kind
     from rlff.sim import Basket, simulate_throw
     from rlff.sim.inputs import SIM_PERIOD
 
@@ -65,6 +67,14 @@ def throw(
                         bearing=bearing)
     run = loaded.run or {}
     logged = {**path_context(trajectory), **run.get("basket", {})}  # an attempts log's basket first
+    if bearing is None and not run and robot_file_kind(trajectory) == ROBOT_TRAJECTORY:
+        # an export (or learn --out) keeps no bearing: its joint_1 says where it throws, and a
+        # basket put at 0 deg scored a whole-arm hit at 60 deg as a 1.4 m miss
+        found = bearing_at_release(loaded.plan.trajectory, model)
+        if found is not None and found[0]:
+            bearing = found[0]
+            say(f"basket bearing {bearing:g} deg, where the trajectory's {found[1]} stands at the release (give "
+                "--bearing to put it elsewhere)")
     basket = logged.get("distance") if basket is None else basket
     pedestal = run.get("pedestal", 0.0) if pedestal is None else pedestal
     if basket is None:

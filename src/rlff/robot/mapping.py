@@ -19,6 +19,7 @@ limit is an error unless clipping is asked for, and then every changed value is 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -513,6 +514,21 @@ def _require_columns(path: HumanPath, columns: Sequence[str], why: str = "") -> 
     if missing:
         because = f"; {why}" if why else ""
         raise InputError(f"the path lacks the columns {', '.join(missing)} (it has {', '.join(path)}){because}")
+
+
+def bearing_at_release(traj: JointTrajectory, robot: Robot) -> tuple[float, str] | None:
+    """The bearing (deg) a robot trajectory throws at, and the joint it is read from: how far the
+    bearing joint (joint_1, or the ``[whole_arm]`` table's) stands at the release (the last point
+    without one) from its pose in the ``[throwing]`` table's start pose, the inverse of what
+    ``path_to_robot`` does with a bearing. None when the trajectory has no such joint.
+    """
+    mapping = mapping_for(robot)
+    joint = mapping.bearing_joint
+    if joint is None or joint not in traj.joint_names:
+        return None
+    when = traj.time[-1] if traj.release_time is None else traj.release_time
+    position = float(np.interp(when, traj.time, traj.positions[:, traj.joint_index(joint)]))
+    return round(math.degrees(position - mapping.start_pose[joint]), 6), joint
 
 
 def _turned(traj: JointTrajectory, robot: Robot, joint: str | None, bearing: float) -> JointTrajectory:
