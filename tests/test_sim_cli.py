@@ -135,3 +135,25 @@ def test_frames_are_written_as_png_and_gif(tmp_path):
         pixels = np.asarray(picture.convert("RGB"), dtype=float)
     assert pixels.shape == (360, 480, 3)
     assert pixels.std() > 10  # a picture, not a blank
+
+
+@pytest.mark.parametrize(("backend", "message"), [
+    ("bogus", "MUJOCO_GL='bogus' is no backend MuJoCo knows (egl, osmesa, glfw)"),
+    ("osmesa", "MUJOCO_GL=osmesa: libOSMesa is not installed"),
+])
+def test_a_mujoco_gl_that_cannot_load_is_one_line(tmp_path, backend, message):
+    # MuJoCo's import failed with "internal error: AttributeError: 'NoneType' object has no
+    # attribute 'glGetError'", and every throw with it, frames or not
+    import ctypes.util
+    import os
+    import subprocess
+    import sys
+
+    if backend == "osmesa" and ctypes.util.find_library("OSMesa"):
+        pytest.skip("libOSMesa is installed here: the backend loads")
+    path = _generated_path(tmp_path / "traj.csv")
+    done = subprocess.run([sys.executable, "-m", "rlff", "sim", "throw", str(path), "--basket", "1.9"],
+                          env={**os.environ, "MUJOCO_GL": backend}, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 2
+    (line,) = done.stderr.strip().splitlines()
+    assert line.startswith(f"rlff: error: {message}")

@@ -8,6 +8,7 @@ the user chose one. Without a backend the frames are skipped with a note, never 
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import mujoco
@@ -77,7 +78,9 @@ class FrameRecorder:
 def open_recorder(model: mujoco.MjModel, folder: Path) -> tuple[FrameRecorder | None, str]:
     """A recorder for ``model``, or ``None`` and the reason when no OpenGL backend works."""
     try:
-        renderer = mujoco.Renderer(model, HEIGHT, WIDTH)
+        with warnings.catch_warnings():  # glfw without a display warns before it fails: the note says it
+            warnings.simplefilter("ignore")
+            renderer = mujoco.Renderer(model, HEIGHT, WIDTH)
     except Exception as exc:  # the backends fail with many kinds of errors (ImportError, FatalError, ...)
         return None, (f"frames skipped: no OpenGL backend for offscreen rendering ({type(exc).__name__}: {exc}); "
                       "install libegl1 or libosmesa6 and set MUJOCO_GL=egl or osmesa")
