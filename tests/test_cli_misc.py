@@ -140,6 +140,13 @@ def test_plot_throw_from_the_sim_json(rlff, tmp_path):
     record.write_text(json.dumps(outcome.to_dict(), default=float))
     files = written(rlff("plot", "throw", str(record), "-o", str(tmp_path / "throw"), "--json"))
     assert files[0].name == "throw.png"
+    # the arm is the outcome's: it drew the built-in Comau on the floor for any robot on any pedestal
+    other = tmp_path / "other.json"
+    other.write_text(json.dumps({**outcome.to_dict(), "robot": "my_arm", "pedestal": 0.5}, default=float))
+    one_line_error(rlff("plot", "throw", str(other), "-o", str(tmp_path / "t")),
+                   "other.json was thrown by robot 'my_arm', from a robot file: give that file with --robot")
+    drawn = rlff("plot", "throw", str(other), "--robot", "comau_smart5_six", "-o", str(tmp_path / "t"))
+    assert drawn.code == 0 and "was thrown by robot 'my_arm'; the arm drawn is 'comau_smart5_six'" in drawn.stderr
     record.write_text("{broken")
     one_line_error(rlff("plot", "throw", str(record), "-o", str(tmp_path / "t")), "outcome.json: not valid JSON")
     record.write_text('{"hit": true}')
