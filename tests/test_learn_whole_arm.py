@@ -102,6 +102,12 @@ def test_a_whole_arm_log_exports_with_its_own_joints(aimed, robot, tmp_path, rlf
     refused = rlff("robot", "export", str(log), "--attempt", "1", "-f", "comau", "-o", str(program),
                    "--robot", robot_file, "--joints", "joint_2")
     assert refused.code == 2 and "was thrown with joint_2,joint_3" in refused.stderr
+    # another bearing re-aims the learned throw: said, where it was silent (other joints are refused)
+    assert "was learned at" not in result.stderr
+    aimed_aside = rlff("robot", "export", str(log), "--attempt", "1", "-f", "comau", "-o", str(program),
+                       "--robot", robot_file, "--bearing", "0")
+    assert aimed_aside.code == 0 and ("warning: --bearing 0 deg: attempts.jsonl was learned at a basket at 30 deg; "
+                                      "this throw is aimed along the 0 deg line instead") in aimed_aside.stderr
 
 
 @pytest.mark.slow

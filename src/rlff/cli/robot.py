@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from rlff.cli._common import PLAIN_HELP, emit_json, progress, say, say_first, stderr, stdout
+from rlff.cli._common import PLAIN_HELP, emit_json, progress, say, say_first, stderr, stdout, warn
 
 if TYPE_CHECKING:
     from rlff.robot.plan import RobotPlan
@@ -144,7 +144,7 @@ def export(
     import time as clock
 
     from rlff.cli.output import guard
-    from rlff.learn.replay import export_format, load_input, run_mapping
+    from rlff.learn.replay import export_format, load_input, rebearing_warning, run_mapping
     from rlff.robot.description import load_robot
     from rlff.robot.formats import export_trajectory
     from rlff.robot.mapping import mapping_for
@@ -155,6 +155,8 @@ def export(
     driven = joint_list(joints)
     model = load_robot(robot)
     source = load_input(trajectory, model, attempt=attempt, period=period, clip=clip, joints=driven, bearing=bearing)
+    if (aside := rebearing_warning(trajectory, bearing)) is not None:
+        warn(aside)
     # what the Comau program carries: an attempts log's run's joints, else the ones asked for
     mapping = run_mapping(model, source.run) if source.run is not None else mapping_for(model, driven)
     say(f"{trajectory}: {source.kind}")
@@ -332,7 +334,7 @@ def send(
     starting at the arm's pose.
     """
     from rlff.errors import InputError
-    from rlff.learn.replay import load_for_send
+    from rlff.learn.replay import load_for_send, rebearing_warning
     from rlff.robot.description import load_robot
     from rlff.robot.send import goal_for_arm
 
@@ -348,6 +350,8 @@ def send(
                              approach=approach, joints=driven, bearing=bearing)
 
     load()  # a wrong file is refused before any connection
+    if (aside := rebearing_warning(trajectory, bearing)) is not None:
+        warn(aside)
     if ros == 2:
         _require_ros2(network)
         from rlff.robot.ros2.client import ServerUnavailable as RosUnavailable

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import PLAIN_HELP, emit_json, say, stdout
+from rlff.cli._common import PLAIN_HELP, emit_json, say, stdout, warn
 from rlff.cli.robot import DEFAULT_ROBOT, JOINTS, joint_list
 
 # The library (MuJoCo, SciPy) is imported inside the commands: other commands do not pay for it
@@ -54,7 +54,7 @@ def throw(
     """Execute a trajectory on the simulated robot and report where the ball lands."""
     from rlff.cli.output import guard
     from rlff.errors import InputError
-    from rlff.learn.replay import load_input
+    from rlff.learn.replay import load_input, rebearing_warning
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import bearing_at_release
     from rlff.robot.plan import ROBOT_TRAJECTORY, robot_file_kind
@@ -65,6 +65,8 @@ def throw(
     model = load_robot(robot)
     loaded = load_input(trajectory, model, attempt=attempt, period=SIM_PERIOD, clip=clip, joints=joint_list(joints),
                         bearing=bearing)
+    if (aside := rebearing_warning(trajectory, bearing)) is not None:
+        warn(aside)
     run = loaded.run or {}
     logged = {**path_context(trajectory), **run.get("basket", {})}  # an attempts log's basket first
     if bearing is None and not run and robot_file_kind(trajectory) == ROBOT_TRAJECTORY:

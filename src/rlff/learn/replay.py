@@ -109,6 +109,19 @@ def run_bearing(run: dict) -> float:
     return float(run.get("basket", {}).get("bearing", 0.0))
 
 
+def rebearing_warning(path: str | Path, bearing: float | None) -> str | None:
+    """What to say when ``bearing`` (deg, a ``--bearing`` given) aims an attempt of the attempts
+    log ``path`` along another line than its run was learned on; None for any other file or the
+    same bearing. Not an error: the same throw at a basket on another line is a fair use."""
+    if bearing is None or not is_attempts_log(path):
+        return None
+    learned = run_bearing(read_log(path)[0])
+    if abs(learned - bearing) < 1e-9:
+        return None
+    return (f"--bearing {bearing:g} deg: {Path(path).name} was learned at a basket at {learned:g} deg; this throw is "
+            f"aimed along the {bearing:g} deg line instead (leave out --bearing for the learned line)")
+
+
 def require_same_robot(path: str | Path, run: dict, mapping: RobotMapping | ArmMapping) -> None:
     """Raise :class:`InputError` unless ``mapping`` is the robot and mapping the log was thrown with."""
     difference = first_difference(run.get("robot"), robot_record(mapping), "robot")
