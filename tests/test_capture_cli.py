@@ -106,3 +106,15 @@ def test_the_output_format_follows_its_extension_and_learn_reads_it(rlff, sessio
     learned = rlff("learn", str(as_parquet), "--preset", "thesis", "--basket", "1.2", "--budget", "1", "--json")
     assert learned.code == 0, learned.stderr
     assert json.loads(learned.stdout)["attempts"] == 1
+
+
+def test_a_recording_that_stops_in_a_wind_up_says_so(rlff, tmp_path):
+    # it said only "never rises by 0.30 rad or more (it stays within 0.77-2.96 rad)", as for a
+    # person standing still, where the recording ended as the extension began
+    frames, time, truth = th.session(9)
+    keep = time < truth[0].start + th._WIND_UP + th._HOLD + 0.08  # 0.08 s into the first extension
+    cut = th.write_kinect_text(tmp_path / "cut.txt", frames[keep], np.arange(int(keep.sum())))
+    result = rlff("data", "import", str(cut), "-o", str(tmp_path / "demos.csv"))
+    assert result.code == 2
+    assert ("never rises by 0.30 rad or more (it stays within" in result.stderr
+            and "still rising where the recording ends: it may stop before the throw's extension" in result.stderr)

@@ -600,9 +600,13 @@ def _no_throw(path: Path, motion: ArmMotion, report: FileReport, segment: Segmen
         message += f"; the best candidate, at t={best.time:.2f} s, was stopped by rule {best.rule!r}: {best.reason}"
     else:
         low, high = np.percentile(motion.angle, [1, 99])
+        rises = motion.angle - np.minimum.accumulate(motion.angle)  # above the lowest before
+        top = int(np.argmax(rises))
+        at_end = top == motion.angle.size - 1 and rises[top] > 0
         message += (
-            f"; the elbow angle never rises by {segment.min_candidate:.2f} rad or more "
-            f"(it stays within {low:.2f}-{high:.2f} rad)"
+            f"; the elbow angle never rises by {segment.min_candidate:.2f} rad or more (it stays within "
+            f"{low:.2f}-{high:.2f} rad; its largest rise is {rises[top]:.2f} rad"
+            + (", still rising where the recording ends: it may stop before the throw's extension)" if at_end else ")")
         )
     return f"{message}; {hint}" if hint else message
 
