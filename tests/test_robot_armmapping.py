@@ -68,7 +68,7 @@ def test_the_bearing_turns_joint_1_through_the_whole_throw(robot, arm):
     np.testing.assert_allclose(traj.positions[:, column], np.radians(60.0))
     others = [i for i in range(len(robot.joints)) if i != column]
     np.testing.assert_array_equal(traj.positions[:, others], straight.positions[:, others])
-    with pytest.raises(InputError, match=r"--bearing 200 deg turns joint_1 to 3.491 rad, beyond its limits"):
+    with pytest.raises(InputError, match=r"bearing 200 deg turns joint_1 to 3.491 rad, beyond its limits"):
         arm.path_to_robot(human_throw(3.0), bearing=200.0)
 
 

@@ -105,7 +105,10 @@ def throw(
               f"{basket:g} m (signed miss {outcome.miss:+.3f} m; first touched: {outcome.first_contact})",
               highlight=False)
     position = release["position"]
-    out.print(f"release at t = {release['time']:.3f} s: ball at x = {position[0]:.3f} m, z = {position[2]:.3f} m, "
+    # along the basket's line, as the landing is measured (x alone is the world's, off the line)
+    where = (f"{target.along_line(position[0], position[1])[0]:.3f} m along the line" if target.bearing
+             else f"x = {position[0]:.3f} m")
+    out.print(f"release at t = {release['time']:.3f} s: ball at {where}, z = {position[2]:.3f} m, "
               f"{release['speed']:.3f} m/s at {release['angle']:.1f} deg", highlight=False)
     out.print(f"closed-form projectile from the release: {outcome.predicted_landing_x:.3f} m "
               f"(MuJoCo's free flight differs by {abs(outcome.landing_x - outcome.predicted_landing_x) * 1000:.1f} mm)",

@@ -540,7 +540,7 @@ def _turned(traj: JointTrajectory, robot: Robot, joint: str | None, bearing: flo
         A non-finite bearing, a bearing without a joint to turn, or one beyond its limits.
     """
     if not np.isfinite(bearing):
-        raise InputError(f"--bearing must be a finite number of degrees, got {bearing}")
+        raise InputError(f"bearing must be a finite number of degrees, got {bearing}")
     if bearing == 0:
         return traj
     if joint is None:
@@ -551,7 +551,7 @@ def _turned(traj: JointTrajectory, robot: Robot, joint: str | None, bearing: flo
     limits = robot.joint(joint)
     turned = positions[0, column]
     if not limits.lower <= turned <= limits.upper:
-        raise InputError(f"--bearing {bearing:g} deg turns {joint} to {turned:.4g} rad, beyond its limits "
+        raise InputError(f"bearing {bearing:g} deg turns {joint} to {turned:.4g} rad, beyond its limits "
                          f"[{limits.lower:g}, {limits.upper:g}] rad "
                          f"({np.degrees(limits.lower):.0f} to {np.degrees(limits.upper):.0f} deg)")
     return JointTrajectory(traj.joint_names, traj.time, positions, traj.velocities, traj.accelerations,

@@ -234,12 +234,14 @@ def load_for_robot(
     if kind == GENERATED:
         generated = read_generated_path(path)
         mapping = mapping_for(robot, joints)
+        where = "--bearing" if bearing is not None else "the path's bearing column"
         bearing = generated.context.get("bearing", 0.0) if bearing is None else bearing
         try:
             return kind, plan_path(mapping, generated.to_path(), bearing=bearing, period=period, clip=clip,
                                    start=start)
         except InputError as exc:
-            raise type(exc)(f"{path}: {exc}") from None
+            said = f"{exc} ({where})" if str(exc).startswith("bearing ") else str(exc)
+            raise type(exc)(f"{path}: {said}") from None
     trajectory = read_json(path) if path.suffix.lower() == ".json" else read_csv(path)
     try:
         check_trajectory(trajectory, robot.joints)
