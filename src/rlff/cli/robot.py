@@ -155,8 +155,9 @@ def export(
     driven = joint_list(joints)
     model = load_robot(robot)
     source = load_input(trajectory, model, attempt=attempt, period=period, clip=clip, joints=driven, bearing=bearing)
-    if (aside := rebearing_warning(trajectory, bearing)) is not None:
-        warn(aside)
+    for aside in (rebearing_warning(trajectory, bearing), *source.plan.warnings):
+        if aside is not None:
+            warn(aside)
     # what the Comau program carries: an attempts log's run's joints, else the ones asked for
     mapping = run_mapping(model, source.run) if source.run is not None else mapping_for(model, driven)
     say(f"{trajectory}: {source.kind}")
@@ -349,9 +350,9 @@ def send(
         return load_for_send(trajectory, model, attempt=attempt, period=period, clip=clip, start=start,
                              approach=approach, joints=driven, bearing=bearing)
 
-    load()  # a wrong file is refused before any connection
-    if (aside := rebearing_warning(trajectory, bearing)) is not None:
-        warn(aside)
+    for aside in (rebearing_warning(trajectory, bearing), *load().warnings):  # a wrong file: before any connection
+        if aside is not None:
+            warn(aside)
     if ros == 2:
         _require_ros2(network)
         from rlff.robot.ros2.client import ServerUnavailable as RosUnavailable

@@ -16,12 +16,13 @@ reaches a file, a bag, a Comau program, a live goal or the simulation without th
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
+from rlff.dataset import ARM_JOINT_COLUMNS
 from rlff.errors import InputError
 from rlff.limits import check_period
 from rlff.robot.description import DEFAULT_ROBOT, Robot, load_robot
@@ -42,12 +43,14 @@ class RobotPlan:
 
     ``points`` is the mapped throw at the path's own samples (the model's release is its last
     point); ``trajectory`` the planned, checked trajectory to execute; ``clipped_points`` the
-    values of ``points`` clipped into the limits (only with ``clip``).
+    values of ``points`` clipped into the limits (only with ``clip``); ``warnings`` what the
+    user should know of how the file was read (a whole-arm path thrown with one joint).
     """
 
     points: JointTrajectory
     trajectory: JointTrajectory
     clipped_points: ClipReport
+    warnings: tuple[str, ...] = ()
 
     def summary(self) -> str:
         """One line: what was clipped, and the plan's duration and release."""
@@ -236,12 +239,17 @@ def load_for_robot(
         mapping = mapping_for(robot, joints)
         where = "--bearing" if bearing is not None else "the path's bearing column"
         bearing = generated.context.get("bearing", 0.0) if bearing is None else bearing
+        unused = [name for name in generated.joints if name in ARM_JOINT_COLUMNS]
+        # a whole-arm path thrown with one joint: its other joints' columns would go unseen
+        hint = (f"{path.name} holds {', '.join(unused)} columns (a whole-arm path), thrown with one joint: give "
+                "--joints (e.g. joint_2,joint_3, as rlff generate --joints wrote it) to drive them too"
+                if joints is None and unused else None)
         try:
-            return kind, plan_path(mapping, generated.to_path(), bearing=bearing, period=period, clip=clip,
-                                   start=start)
+            planned = plan_path(mapping, generated.to_path(), bearing=bearing, period=period, clip=clip, start=start)
         except InputError as exc:
             said = f"{exc} ({where})" if str(exc).startswith("bearing ") else str(exc)
-            raise type(exc)(f"{path}: {said}") from None
+            raise type(exc)(f"{path}: {said}" + (f"; {hint}" if hint else "")) from None
+        return kind, replace(planned, warnings=(hint,)) if hint else planned
     trajectory = read_json(path) if path.suffix.lower() == ".json" else read_csv(path)
     try:
         check_trajectory(trajectory, robot.joints)
