@@ -134,3 +134,11 @@ def test_velocity_dipping_against_the_path_needs_clip_and_is_reported(robot):
         (0, "velocity", -0.01, 0.0), (4, "velocity", -0.005, 0.0)]
     np.testing.assert_allclose(traj.velocities[:, 1], [0.0, 0.25, 0.5, 0.25, 0.0])
     np.testing.assert_allclose(traj.time, time_along_path(angle, np.clip(velocity, 0, None)) * 2.0)
+
+
+@pytest.mark.parametrize("clip", [False, True])
+def test_a_path_that_never_moves_forward_is_no_throw_even_clipped(robot, clip):
+    angle = np.linspace(0.0, 2.0, 5)
+    with pytest.raises(InputError, match=r"velocity never moves along the path \(-0.6 to 0 rad/s while the angle "
+                                         r"runs 0 -> 2 rad\): there is no throw to plan"):
+        mapping(robot).to_robot(angle, np.array([-0.6, -0.3, 0.0, -0.1, -0.2]), clip=clip)

@@ -531,6 +531,18 @@ def bearing_at_release(traj: JointTrajectory, robot: Robot) -> tuple[float, str]
     return round(math.degrees(position - mapping.start_pose[joint]), 6), joint
 
 
+def bearing_range(robot: Robot) -> tuple[str, float, float] | None:
+    """The bearings (deg) the robot can face: ``(joint, lowest, highest)``, how far its bearing
+    joint (joint_1, or the ``[whole_arm]`` table's) may turn from its ``[throwing]`` start pose
+    within its limits; None when it has no such joint."""
+    mapping = mapping_for(robot)
+    joint = mapping.bearing_joint
+    if joint is None:
+        return None
+    limits, start = robot.joint(joint), mapping.start_pose[joint]
+    return joint, math.degrees(limits.lower - start), math.degrees(limits.upper - start)
+
+
 def _turned(traj: JointTrajectory, robot: Robot, joint: str | None, bearing: float) -> JointTrajectory:
     """``traj`` with ``joint`` turned ``bearing`` degrees from where it stands (unchanged at 0).
 
@@ -562,6 +574,11 @@ def _backward_samples(angle: np.ndarray, velocity: np.ndarray, clip: bool) -> np
     """Samples whose phase velocity points against the path; an error without ``clip``."""
     direction = np.sign(angle[-1] - angle[0]) if angle.ndim == 1 and angle.size > 1 else 0.0
     backward = np.flatnonzero(velocity * direction < 0) if velocity.shape == angle.shape else np.array([], int)
+    if direction and velocity.shape == angle.shape and np.all(np.isfinite(velocity)) and not np.any(velocity * direction > 0):
+        raise InputError(f"velocity never moves along the path ({velocity.min():g} to {velocity.max():g} rad/s "
+                         f"while the angle runs {angle[0]:g} -> {angle[-1]:g} rad): there is no throw to plan "
+                         "(a model gives this where its demonstrations move backward or rest at that context; "
+                         "rlff generate notes it)")
     if backward.size and not clip:
         i = int(backward[0])
         raise InputError(f"velocity at sample {i} ({velocity[i]:g} rad/s) moves against the path "

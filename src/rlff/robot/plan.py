@@ -94,6 +94,8 @@ def _require_time_agrees(angle: np.ndarray, velocity: np.ndarray, time: np.ndarr
     if time.shape != angle.shape or angle.size < 2:
         return  # the mapping refuses these, naming them
     speed = np.maximum(np.sign(angle[-1] - angle[0]) * velocity, 0.0)
+    if speed.max() <= 0:
+        return  # nothing moves along the path: timed by |velocity|, and refused as backward by the mapping
     fast = np.minimum(speed[:-1], speed[1:]) >= 0.1 * speed.max()
     expected = 2 * np.abs(np.diff(angle)) / np.maximum(speed[:-1] + speed[1:], 1e-300)
     ratio = np.diff(time) / expected
