@@ -163,7 +163,12 @@ def test_generate_writes_the_outputs_the_joints_need_and_the_basket(rlff, whole_
     summary = json.loads(result.stdout)
     # height is a model input, bearing is not: it only goes into the CSV, for the robot step
     assert summary["context"] == {"distance": 2.5, "height": 0.5} and summary["written_context"] == {"bearing": 30.0}
-    assert summary["outputs"] == ["velocity", "shoulder", "shoulder_velocity"]
+    assert summary["outputs"] == ["velocity", "shoulder", "shoulder_velocity"] and summary["warnings"] == []
+    # a bearing joint_1 cannot turn to: written, but warned of here rather than found at the robot step
+    far = rlff("generate", str(whole_arm_model), "-o", str(out), "-c", "distance=2.5", "--joints", JOINTS,
+               "--bearing", "175", "--height", "0.5", "--json")
+    warning = "--bearing 175 deg is beyond comau_smart5_six's joint_1 range -170 to 170 deg"
+    assert far.code == 0 and warning in far.stderr and any(warning in w for w in json.loads(far.stdout)["warnings"])
     missing = rlff("generate", str(whole_arm_model), "-o", str(out), "-c", "distance=2.5", "-c", "height=0.4",
                    "--joints", "joint_2,joint_3,joint_5")
     assert missing.code == 2 and "the model lacks wrist, wrist_velocity" in missing.stderr

@@ -374,6 +374,8 @@ def generate_command(
                               continuity=continuity)
     used = dict(path.context)
     path = _with_columns(path, selected, written)
+    if bearing is not None:
+        path = _with_bearing_warning(path, bearing, robot)
     path.write_csv(output)
     for warning in path.warnings:
         warn(warning)
@@ -417,6 +419,30 @@ def _basket_values(context: dict[str, float], names: tuple[str, ...], bearing: f
         else:
             written[name] = value
     return written
+
+
+def _with_bearing_warning(path, bearing: float, robot: str):
+    """``path`` with a warning when ``robot`` cannot turn to face ``bearing`` (deg): generate
+    warns rather than refuses, since the path may be meant for another arm; the robot step
+    refuses it."""
+    import dataclasses
+
+    from rlff.robot.description import load_robot
+    from rlff.robot.mapping import bearing_range
+
+    model = load_robot(robot)
+    span = bearing_range(model)
+    if span is None:
+        if bearing == 0:
+            return path
+        warning = f"--bearing {bearing:g} deg: {model.name} has no joint to turn to it; the robot step will refuse this path"
+    else:
+        joint, lowest, highest = span
+        if lowest <= bearing <= highest:
+            return path
+        warning = (f"--bearing {bearing:g} deg is beyond {model.name}'s {joint} range {lowest:.0f} to {highest:.0f} deg: "
+                   "the robot step will refuse this path (--robot names another arm)")
+    return dataclasses.replace(path, warnings=(*path.warnings, warning))
 
 
 def _joint_outputs(model, robot: str, joints: str) -> tuple[str, ...]:
