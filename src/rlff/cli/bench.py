@@ -41,7 +41,8 @@ def learning(
     opening: float = typer.Option(0.35, "--opening", help="Inner width of the basket (m)."),
     baskets: str | None = typer.Option(None, "--baskets",
                                        help="Basket distances (m), comma-separated; default each scenario's own "
-                                            "(short 1-1.5 m ...). Within your robot's reach (rlff sim reach)."),
+                                            "(wide 1.25 and 1.75 m, the others 1.4 and 1.9 m). Within your "
+                                            "robot's reach (rlff sim reach)."),
     robot: str = typer.Option("comau_smart5_six", "--robot", help="Robot name or robot file."),
     gap: str = typer.Option("none", "--gap",
                             help="How the simulated arm differs from the robot file, comma-separated: none, "
