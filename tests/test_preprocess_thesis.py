@@ -113,18 +113,18 @@ def test_real_msr_recordings_go_through_the_thesis_preset(real_high_throws):
     # angle, and rescale had to drop it as reversed
     assert not _step(report, "rescale").removed
     assert survivors["cut_release"] == 26
-    # two throws of subject 8 (one with a long slow creep out of the wind-up before its
-    # extension) stand out from their basket's shape
-    assert [r.trajectory for r in _step(report, "reject_shapes").removed] == [
-        "a06_s08_e01_skeleton3D_t1", "a06_s08_e02_skeleton3D_t1"]
+    # one throw stands out from its basket's shape (1.5 m: a06_s07_e03, measured 0.44 against a
+    # limit of 0.30). With the flatter velocity of the quadratic fit at 15 Hz (before the cubic
+    # from 5 samples, docs/capture.md) subject 8's two throws stood out instead
+    assert [r.trajectory for r in _step(report, "reject_shapes").removed] == ["a06_s07_e03_skeleton3D_t1"]
     # the landing estimate of capture (the hand over the elbow's fastest 0.28 s, the same at any
-    # frame rate, docs/capture.md) puts two throws at 1 m that scatter (measured: velocity spread
-    # 55 % of the level, against 10 % typical): a06_s02_e02 extends late, from 2.12 rad, and
-    # a06_s10_e01 from 0.91 rad
+    # frame rate, docs/capture.md) puts two throws at 1 m that scatter: a06_s02_e02 extends late,
+    # from 2.12 rad, and a06_s10_e01 from 0.91 rad, so over the band most throws cover the 1 m
+    # basket's level rests on a06_s02_e02's first samples, near rest (measured: level -0.4 rad/s)
     (rejected,) = _step(report, "reject_contexts").contexts
     assert rejected.context == {"distance": 1.0} and "scatter" in rejected.reason
     assert set(rejected.trajectories) == {"a06_s02_e02_skeleton3D_t1", "a06_s10_e01_skeleton3D_t1"}
-    assert len(cleaned) == 22
+    assert len(cleaned) == 23
     assert set(cleaned.ids) <= set(dataset.ids)
     assert all(np.all(np.diff(t["angle"]) > 0) for t in cleaned)
     # baskets of several throws are judged, single throws are not
@@ -164,7 +164,7 @@ def test_real_msr_velocity_grows_with_distance_then_levels_off(real_high_throws,
     # angle does not see); the 0.75 m basket's three throws, with the quickest extension of the
     # set, are faster than the 1.25 m ones
     counts = np.array([sum(float(t["distance"][0]) == d for t in cleaned) for d in distances])
-    assert counts.tolist() == [3, 4, 5, 7, 1, 1, 1], counts
+    assert counts.tolist() == [3, 5, 5, 7, 1, 1, 1], counts
     well_sampled = counts >= 4
     assert np.all(np.diff(levels[well_sampled]) > 0), levels
     assert levels[well_sampled][-1] > 1.08 * levels[well_sampled][0], levels  # measured: 11-12 % faster

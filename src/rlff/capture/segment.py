@@ -19,8 +19,8 @@ In both walks, motion after a pause counts only when it lasts ``min_motion`` (tr
 rest makes blips), and a blip does not restart the pause's clock; a rise within the wind-up's
 hold ends the walk only when it lasts ``min_motion`` too. A sample stands for the time half-way
 to each neighbour, so a single sample of a sparse recording can be enough. The follow-through's
-velocity is a local fit over ``settle_window`` (the wind-up's, over the output's 0.25 s, stops
-where the extension begins). Every candidate not taken comes back as a :class:`Rejection` with
+velocity is a local fit over ``settle_window`` (the wind-up's, over the output's 0.25 s but a
+quadratic where it holds fewer than 6 samples, stops where the extension begins). Every candidate not taken comes back as a :class:`Rejection` with
 its time, the rule that stopped it and why. Consecutive throws never overlap; a throw never spans
 lost tracking (:meth:`ArmMotion.runs`), and a rise across lost tracking is reported too.
 """
@@ -31,7 +31,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from rlff.capture.angles import ArmMotion, local_derivative
+from rlff.capture.angles import ArmMotion, derivative_window, local_derivative
+
+#: Fewest samples for the cubic fit of the wind-up walk's velocity (see :func:`local_derivative`).
+WIND_UP_CUBIC_FROM = 6
 
 
 @dataclass(frozen=True)
@@ -150,7 +153,10 @@ def find_throws(motion: ArmMotion, settings: SegmentSettings | None = None) -> t
     rejections: list[Rejection] = []
     runs = motion.runs()
     for run in runs:
-        time, angle, velocity = motion.time[run], motion.angle[run], motion.velocity[run]
+        time, angle = motion.time[run], motion.angle[run]
+        # the wind-up's hold compares tracker jitter with rest_velocity: a fit that smooths more
+        # than the output's where samples are few (a quadratic up to 5 samples, as at 15 Hz)
+        velocity = local_derivative(time, angle, derivative_window(motion.time), cubic_from=WIND_UP_CUBIC_FROM)
         # the follow-through compares a slow speed with rest_velocity: a wider fit than the output's
         # keeps tracker jitter from crossing it (the chord when sparse anyway)
         settling = local_derivative(time, angle, settings.settle_window)
