@@ -266,4 +266,4 @@ def test_the_format_and_the_output_are_checked_before_any_planning(capsys, tmp_p
         assert code == 2 and message in err, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bag", "beyond.csv"]
     code, _, err = run(capsys, "robot", "export", str(beyond), "-f", "json", "-o", str(tmp_path / "t.json"))
-    assert code == 2 and "beyond the robot's limits" in err  # what the planning says, once the rest is right
+    assert code == 2 and "the robot would execute beyond its limits" in err  # what the planning says, once the rest is right

@@ -65,7 +65,7 @@ def test_default_mapping_of_the_robot_file(robot):
 def test_point_beyond_a_limit_is_an_error_naming_it(robot):
     m = mapping(robot, angle_scale=1.0, velocity_scale=1.0, angle_offset=0.0)
     angle = np.array([0.0, 1.0, 2.0, 3.0])
-    with pytest.raises(InputError, match=r"1 values beyond.*point 3: joint_2 position 3 rad beyond the limit 2.71 rad"):
+    with pytest.raises(InputError, match=r"1 value beyond.*point 3: joint_2 position 3 rad beyond the limit 2.71 rad"):
         m.to_robot(angle, np.full(4, 1.0))
     with pytest.raises(InputError, match=r"point 1: joint_2 velocity 3 rad/s beyond the limit 2.792 rad/s"):
         m.to_robot(angle[:3], np.array([1.0, 3.0, 1.0]))

@@ -155,9 +155,10 @@ def export(
     driven = joint_list(joints)
     model = load_robot(robot)
     source = load_input(trajectory, model, attempt=attempt, period=period, clip=clip, joints=driven, bearing=bearing)
-    for aside in (rebearing_warning(trajectory, bearing), *source.plan.warnings):
-        if aside is not None:
-            warn(aside)
+    if (aside := rebearing_warning(trajectory, bearing)) is not None:
+        warn(aside)
+    for note in source.plan.notes:
+        say(f"note: {note}")
     # what the Comau program carries: an attempts log's run's joints, else the ones asked for
     mapping = run_mapping(model, source.run) if source.run is not None else mapping_for(model, driven)
     say(f"{trajectory}: {source.kind}")
@@ -350,9 +351,11 @@ def send(
         return load_for_send(trajectory, model, attempt=attempt, period=period, clip=clip, start=start,
                              approach=approach, joints=driven, bearing=bearing)
 
-    for aside in (rebearing_warning(trajectory, bearing), *load().warnings):  # a wrong file: before any connection
-        if aside is not None:
-            warn(aside)
+    notes = load().notes  # a wrong file is refused before any connection
+    if (aside := rebearing_warning(trajectory, bearing)) is not None:
+        warn(aside)
+    for note in notes:
+        say(f"note: {note}")
     if ros == 2:
         _require_ros2(network)
         from rlff.robot.ros2.client import ServerUnavailable as RosUnavailable

@@ -65,9 +65,10 @@ def throw(
     model = load_robot(robot)
     loaded = load_input(trajectory, model, attempt=attempt, period=SIM_PERIOD, clip=clip, joints=joint_list(joints),
                         bearing=bearing)
-    for aside in (rebearing_warning(trajectory, bearing), *loaded.plan.warnings):
-        if aside is not None:
-            warn(aside)
+    if (aside := rebearing_warning(trajectory, bearing)) is not None:
+        warn(aside)
+    for note in loaded.plan.notes:
+        say(f"note: {note}")
     run = loaded.run or {}
     logged = {**path_context(trajectory), **run.get("basket", {})}  # an attempts log's basket first
     if bearing is None and not run and robot_file_kind(trajectory) == ROBOT_TRAJECTORY:

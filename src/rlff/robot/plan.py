@@ -32,6 +32,7 @@ from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
 from rlff.trajectory.path_csv import read_generated_path
 from rlff.trajectory.planner import DEFAULT_PERIOD, plan_throw
+from rlff.wording import plural
 
 #: What :func:`load_for_robot` calls the two kinds of files.
 GENERATED, ROBOT_TRAJECTORY = "generated path", "robot trajectory"
@@ -43,14 +44,15 @@ class RobotPlan:
 
     ``points`` is the mapped throw at the path's own samples (the model's release is its last
     point); ``trajectory`` the planned, checked trajectory to execute; ``clipped_points`` the
-    values of ``points`` clipped into the limits (only with ``clip``); ``warnings`` what the
-    user should know of how the file was read (a whole-arm path thrown with one joint).
+    values of ``points`` clipped into the limits (only with ``clip``); ``notes`` what the
+    user may want to know of how the file was read (a whole-arm path thrown with one joint: the
+    README's chain does that, so it is a note, not a warning).
     """
 
     points: JointTrajectory
     trajectory: JointTrajectory
     clipped_points: ClipReport
-    warnings: tuple[str, ...] = ()
+    notes: tuple[str, ...] = ()
 
     def summary(self) -> str:
         """One line: what was clipped, and the plan's duration and release."""
@@ -75,7 +77,11 @@ def _require_unclipped(report: ClipReport, last: int) -> None:
                       f"{c.after:.6g} {c.unit}" + (" (the release)" if c.point == last else "")
                       for c in faults[:3])
     more = f" (and {len(faults) - 3} more)" if len(faults) > 3 else ""
-    raise InputError(f"{len(faults)} values beyond the robot's limits: {shown}{more}; --clip clips them")
+    others = len(report.changes) - len(faults)
+    also = (f" (and reports {plural(others, 'velocity', 'velocities')} along the path beyond a limit too, "
+            "which the planner does not execute)" if others else "")
+    raise InputError(f"{plural(len(faults), 'value')} the robot would execute beyond its limits: {shown}{more}; "
+                     f"--clip clips {'it' if len(faults) == 1 else 'them'}{also}")
 
 
 #: Largest relative difference between a generated path's time steps and those its angle and
@@ -250,8 +256,10 @@ def load_for_robot(
             planned = plan_path(mapping, generated.to_path(), bearing=bearing, period=period, clip=clip, start=start)
         except InputError as exc:
             said = f"{exc} ({where})" if str(exc).startswith("bearing ") else str(exc)
-            raise type(exc)(f"{path}: {said}" + (f"; {hint}" if hint else "")) from None
-        return kind, replace(planned, warnings=(hint,)) if hint else planned
+            # the hint explains a limit refusal (the elbow alone must be faster), nothing else
+            beyond = hint and "would execute beyond its limits" in said
+            raise type(exc)(f"{path}: {said}" + (f"; {hint}" if beyond else "")) from None
+        return kind, replace(planned, notes=(hint,)) if hint else planned
     trajectory = read_json(path) if path.suffix.lower() == ".json" else read_csv(path)
     try:
         check_trajectory(trajectory, robot.joints)

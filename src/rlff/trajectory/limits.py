@@ -15,6 +15,7 @@ import numpy as np
 from rlff.errors import InputError
 from rlff.limits import apart
 from rlff.trajectory.joint import JointTrajectory
+from rlff.wording import plural
 
 
 class JointLimits(Protocol):
@@ -131,7 +132,7 @@ def require_within_limits(traj: JointTrajectory, joints: Sequence[JointLimits]) 
                 c.point, c.joint, c.quantity, *apart(c.before, c.after), unit=c.unit)
             for c in report.changes[:3])
         more = f" (and {len(report) - 3} more)" if len(report) > 3 else ""
-        raise InputError(f"{len(report)} values beyond the robot's limits: {shown}{more}")
+        raise InputError(f"{plural(len(report), 'value')} beyond the robot's limits: {shown}{more}")
 
 
 def clip_to_limits(
