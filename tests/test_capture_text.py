@@ -143,6 +143,39 @@ def test_csv_with_a_column_map_and_missing_columns(tmp_path):
     assert "right_shoulder_x" in str(error.value) and "ElbowRight.X" in str(error.value)
 
 
+def _simulated_csv(path: Path, time_scale: float = 1.0) -> Path:
+    """The right arm of a simulated throw as a joint CSV, its time multiplied by ``time_scale``."""
+    import pandas as pd
+
+    simulation = bf.standard_simulation(seed=4, n_throws=1, noise=0.0)
+    points = simulation.arm_positions(simulation.angle(simulation.frame_times))
+    frame = pd.DataFrame({"time": simulation.frame_times * time_scale})
+    for joint, values in zip(("shoulder", "elbow", "hand"), points, strict=True):
+        for axis, column in zip("xyz", values.T, strict=True):
+            frame[f"right_{joint}_{axis}"] = column
+    frame.to_csv(path, index=False)
+    return path
+
+
+def test_a_csv_with_spaces_after_its_commas_reads_as_without(tmp_path):
+    path = _simulated_csv(tmp_path / "plain.csv")
+    plain = read_joint_csv(path)
+    spaced_path = tmp_path / "spaced.csv"
+    spaced_path.write_text(path.read_text().replace(",", ", "))  # "time, right_shoulder_x, ..."
+    spaced = read_joint_csv(spaced_path)
+    np.testing.assert_array_equal(spaced.arms[0].elbow.position, plain.arms[0].elbow.position)
+    np.testing.assert_array_equal(spaced.arms[0].elbow.time, plain.arms[0].elbow.time)
+
+
+@pytest.mark.parametrize(("scale", "unit"), [(1e3, "milliseconds"), (1e6, "microseconds"), (1e9, "nanoseconds")])
+def test_a_time_column_in_another_unit_is_named(tmp_path, scale, unit):
+    path = _simulated_csv(tmp_path / "joints.csv", time_scale=scale)
+    with pytest.raises(InputError, match=rf"the time column 'time' steps by .* outside 1-1000 Hz; rlff reads seconds: "
+                                         rf"it looks like {unit} \(divide the column by {scale:,.0f}\)$"):
+        read_joint_csv(path)
+    read_joint_csv(_simulated_csv(tmp_path / "seconds.csv"))  # the same in seconds is read
+
+
 def test_bad_cells_of_the_csv_readers_are_shown_as_the_file_has_them(tmp_path):
     # numpy's repr leaked into the messages: "np.float64(nan)"
     from rlff.trajectory.path_csv import read_generated_path

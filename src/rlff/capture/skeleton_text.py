@@ -33,7 +33,7 @@ from rlff.capture.skeleton import SIDES, ArmTrack, JointTrack, Recording
 from rlff.csvlines import data_row_line
 from rlff.errors import InputError
 from rlff.fileio import require_file
-from rlff.limits import check_frame_rate
+from rlff.limits import FRAME_RATE_RANGE, check_frame_rate
 from rlff.wording import bad_cell, nearest_hint
 
 #: Up direction of the Kinect's camera frame (x left, y up, z away from the camera).
@@ -257,9 +257,10 @@ def read_joint_csv(
         shown = "tab" if separator == "\t" else repr(separator)
         notes.append(f"{path.name}: columns separated by {shown} (decimal comma or point)")
     try:
-        frame = pd.read_csv(path, sep=separator, decimal="." if separator == "," else ",")
+        frame = pd.read_csv(path, sep=separator, decimal="." if separator == "," else ",", skipinitialspace=True)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise InputError(f"{path}: not a readable CSV ({str(exc).strip().splitlines()[-1]})") from None
+    frame.columns = [str(name).strip() for name in frame.columns]  # "time, right_shoulder_x, ..." as Excel writes
     mapping = dict(columns or {})
     _check_column_map(mapping, [str(name) for name in frame.columns], path)
 
@@ -294,6 +295,7 @@ def read_joint_csv(
     time_column = column("time")
     if time_column is not None:
         time = numeric(time_column)
+        _check_time_unit(time, time_column, path)
         if rate is not None:
             notes.append(f"{path.name}: --rate {rate:g} Hz is ignored: the time column {time_column!r} gives the time")
     else:
@@ -342,6 +344,26 @@ def read_joint_csv(
         }
         arms.append(ArmTrack("1", side, tracks["shoulder"], tracks["elbow"], tracks["hand"], tracks.get("wrist"), neck, hip))
     return Recording(str(path), arms, axis_vector(up), notes, warnings)
+
+
+def _check_time_unit(time: np.ndarray, name: str, path: Path) -> None:
+    """Refuse a time column whose median step puts the frame rate outside :data:`FRAME_RATE_RANGE`
+    (a column in milliseconds, or in microseconds), naming the unit it looks like."""
+    steps = np.diff(time)
+    steps = steps[steps > 0]
+    if steps.size == 0:
+        return  # one row, or all repeats: the rows' own checks say so
+    spacing = float(np.median(steps))
+    low, high = FRAME_RATE_RANGE
+    if low <= 1.0 / spacing <= high:
+        return
+    looks = ""
+    for unit, per_second in (("milliseconds", 1e3), ("microseconds", 1e6), ("nanoseconds", 1e9)):
+        if low <= per_second / spacing <= high:
+            looks = f": it looks like {unit} (divide the column by {per_second:,.0f})"
+            break
+    raise InputError(f"{path}: the time column {name!r} steps by {spacing:.6g} per frame (median), "
+                     f"{1.0 / spacing:.3g} frames per second, outside {low:g}-{high:g} Hz; rlff reads seconds{looks}")
 
 
 def _separator(path: Path) -> str:
