@@ -176,6 +176,27 @@ def test_a_time_column_in_another_unit_is_named(tmp_path, scale, unit):
     read_joint_csv(_simulated_csv(tmp_path / "seconds.csv"))  # the same in seconds is read
 
 
+def test_a_frozen_tracker_mid_throw_is_dropped_and_bridged_and_a_still_arm_is_not(tmp_path):
+    import pandas as pd
+
+    path = _simulated_csv(tmp_path / "clean.csv")
+    clean = read_joint_csv(path)
+    assert not any("frozen" in note for note in clean.notes)  # the noise-free rests are not frozen frames
+    frame = pd.read_csv(path)
+    hand = frame[["right_hand_x", "right_hand_y", "right_hand_z"]].to_numpy()
+    fastest = int(np.argmax(np.linalg.norm(np.diff(hand, axis=0), axis=1)))
+    joints = [c for c in frame.columns if c != "time"]
+    frame.loc[fastest + 1:fastest + 5, joints] = frame.loc[fastest, joints].to_numpy()  # held for 5 frames
+    frozen_path = tmp_path / "frozen.csv"
+    frame.to_csv(frozen_path, index=False)
+    frozen = read_joint_csv(frozen_path)
+    (note,) = [note for note in frozen.notes if "frozen" in note]
+    assert note.startswith("frozen.csv: dropped 5 frames whose arm joints all repeat the frame before exactly")
+    kept = frozen.arms[0].elbow.time
+    assert len(kept) == len(clean.arms[0].elbow.time) - 5
+    assert not np.isin(frame["time"].to_numpy()[fastest + 1:fastest + 6], kept).any()
+
+
 def test_bad_cells_of_the_csv_readers_are_shown_as_the_file_has_them(tmp_path):
     # numpy's repr leaked into the messages: "np.float64(nan)"
     from rlff.trajectory.path_csv import read_generated_path

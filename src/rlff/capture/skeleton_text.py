@@ -133,7 +133,43 @@ def _clean_frames(
         notes.append(f"{path.name}: dropped {int(lost.sum())} frames with all arm joints at zero (tracking lost)")
     if (~lost).sum() < 2:
         raise InputError(f"{path}: fewer than 2 frames with a tracked arm")
-    return frames[~lost], time[~lost]
+    frames, time = frames[~lost], time[~lost]
+    frozen = _frozen(frames[:, arm_joints, :], time)
+    if frozen.any():
+        first = int(np.flatnonzero(frozen)[0])
+        notes.append(f"{path.name}: dropped {int(frozen.sum())} frames whose arm joints all repeat the frame before "
+                     f"exactly while the arm was moving (a frozen tracker; the first at t={time[first]:.2f} s): "
+                     "the motion is bridged across them")
+    return frames[~frozen], time[~frozen]
+
+
+#: Hand speed (m/s, the fastest arm joint) above which a stretch of frames that repeat the one
+#: before exactly is a frozen tracker: a moving arm cannot stop dead to the last digit. A
+#: recording without noise coming smoothly to rest (a simulation) slows below it first.
+FROZEN_ENTRY_SPEED = 0.5
+
+
+def _frozen(arm: np.ndarray, time: np.ndarray) -> np.ndarray:
+    """Frames (N,) that repeat the frame before in every arm joint, arm of shape (N, J, 3), in
+    stretches the arm entered faster than :data:`FROZEN_ENTRY_SPEED` (the first frame of a
+    stretch is kept: it is the tracker's last real pose)."""
+    frozen = np.zeros(len(time), dtype=bool)
+    repeats = np.r_[False, np.all(arm[1:] == arm[:-1], axis=(1, 2))]
+    index = 1
+    while index < len(time):
+        if not repeats[index]:
+            index += 1
+            continue
+        end = index
+        while end < len(time) and repeats[end]:
+            end += 1
+        held = index - 1  # the last real pose, repeated at rows index .. end - 1
+        if held >= 1:
+            step = np.linalg.norm(arm[held] - arm[held - 1], axis=1).max()
+            if step / max(time[held] - time[held - 1], 1e-9) > FROZEN_ENTRY_SPEED:
+                frozen[index:end] = True
+        index = end
+    return frozen
 
 
 def _arms(
