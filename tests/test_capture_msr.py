@@ -97,3 +97,15 @@ def test_the_import_runs_through_the_thesis_preprocessing(imported):
     # every throw survives the per-trajectory cleaning (the later steps compare baskets)
     (sparse,) = [step for step in report.steps if step.step == "min_points"]
     assert len(sparse.after) == 26
+
+
+@pytest.mark.realdata
+@pytest.mark.parametrize(("rate", "seen"), [(3.75, "slower than a throw"), (60.0, "faster than a throw")])
+def test_msr_files_read_at_a_wrong_rate_are_warned_of(imported, rate, seen):
+    from conftest import MSR_THROWS
+
+    _, at_15_hz = imported
+    assert not any("rate they were recorded at" in warning for warning in at_15_hz.warnings)
+    _, report = import_recordings(sorted(MSR_THROWS.glob("a06_*_skeleton3D.txt")), "msr", rate_hz=rate)
+    (warning,) = [warning for warning in report.warnings if "rate they were recorded at" in warning]
+    assert seen in warning and f"were read at --rate {rate:g} Hz" in warning

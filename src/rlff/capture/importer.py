@@ -47,7 +47,14 @@ from rlff.capture.label import (
 )
 from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_throws
 from rlff.capture.skeleton import ArmTrack, Recording
-from rlff.capture.skeleton_text import axis_vector, read_joint_csv, read_kinect_text, read_msr_text
+from rlff.capture.skeleton_text import (
+    KINECT_RATE_HZ,
+    MSR_RATE_HZ,
+    axis_vector,
+    read_joint_csv,
+    read_kinect_text,
+    read_msr_text,
+)
 from rlff.capture.users import keep_consistent_user, upper_arm_lengths
 from rlff.dataset import DEFAULT_CONTEXT, Dataset, Trajectory, joint_columns, velocity_column
 from rlff.errors import InputError
@@ -66,6 +73,14 @@ OUTPUT_RATE_HZ = 15.0
 #: The median upper arm (shoulder to elbow, m) of a recording in metres: 0.25-0.34 m in every arm
 #: of the MSR throws and the test bags (148 arms); the range leaves a factor of 3 either way.
 UPPER_ARM_RANGE = (0.1, 1.0)
+#: Median elbow peak speeds (rad/s) of a set of throws read at an assumed frame rate that pass
+#: without a warning: the MSR throws peak at 10-16 rad/s (a median 12.7), a human elbow at about
+#: 30 at most; read at a quarter or four times their rate they give 3.8 or about 50.
+PLAUSIBLE_PEAK = (5.0, 35.0)
+#: Median throw (wind-up to follow-through, s) below which such a set is too fast: 0.9-1.5 s for
+#: the MSR throws (10-90 %); read at four times their rate, 0.3 s (the fit then flattens the
+#: elbow's peak, so the speed alone does not tell).
+SHORTEST_THROW = 0.5
 #: Units a recording's coordinates may be in instead of metres, with their size in metres.
 OTHER_UNITS = {"millimetres": 1e-3, "centimetres": 1e-2}
 
@@ -331,9 +346,34 @@ def import_recordings(
         f"{row.where}: {row.file} is none of the recordings given; the row is not used"
         for row in rows if not any(row.matches(path) for path in paths)
     )
+    report.general_warnings.extend(_rate_warnings(report, rate_hz))
     dataset = Dataset(_same_context(_common_joints(trajectories, wanted, report), report))
     _refuse_copies(dataset, origin)
     return dataset, report
+
+
+def _rate_warnings(report: ImportReport, rate_hz: float | None) -> list[str]:
+    """A warning per text format read at an assumed rate (frames, no time stamps) whose throws'
+    elbow peaks are implausible for a throw: the frame rate is the likely mistake."""
+    said = []
+    for kind, default in (("msr", MSR_RATE_HZ), ("kinect-text", KINECT_RATE_HZ)):
+        throws = [throw for file in report.files if file.format == kind for throw in file.throws]
+        if not throws:
+            continue
+        peak = float(np.median([throw.peak_velocity for throw in throws]))
+        duration = float(np.median([throw.end - throw.start for throw in throws]))
+        low, high = PLAUSIBLE_PEAK
+        if peak < low:
+            seen = f"their elbows peak at a median {peak:.3g} rad/s, slower than a throw ({low:g}-{high:g} rad/s)"
+        elif peak > high or duration < SHORTEST_THROW:
+            seen = (f"they last a median {duration:.2g} s, wind-up to follow-through, and peak at {peak:.3g} rad/s: "
+                    f"faster than a throw (at least {SHORTEST_THROW:g} s, at most {high:g} rad/s)")
+        else:
+            continue
+        rate = f"--rate {rate_hz:g} Hz" if rate_hz is not None else f"{default:g} Hz (the format's rate; --rate changes it)"
+        said.append(f"the {len(throws)} {kind} throws: {seen}; their files have no time stamps and were read at "
+                    f"{rate}: was it the rate they were recorded at?")
+    return said
 
 
 def _refuse_copies(dataset: Dataset, origin: Mapping[str, Path]) -> None:
