@@ -109,3 +109,24 @@ def test_msr_files_read_at_a_wrong_rate_are_warned_of(imported, rate, seen):
     _, report = import_recordings(sorted(MSR_THROWS.glob("a06_*_skeleton3D.txt")), "msr", rate_hz=rate)
     (warning,) = [warning for warning in report.warnings if "rate they were recorded at" in warning]
     assert seen in warning and f"were read at --rate {rate:g} Hz" in warning
+
+
+@pytest.mark.realdata
+def test_a_second_throw_in_an_msr_file_is_warned_of_and_named_in_a_manifest_error(tmp_path):
+    from conftest import MSR_THROWS
+
+    from rlff.errors import InputError
+
+    if not MSR_THROWS.is_dir():
+        pytest.skip(f"{MSR_THROWS} is absent")
+    two = tmp_path / "a06_s01_e98_skeleton3D.txt"  # two performances appended: a session
+    two.write_text("".join((MSR_THROWS / f"a06_s01_e0{n}_skeleton3D.txt").read_text() for n in (1, 2)))
+    dataset, report = import_recordings([two], "msr")
+    assert len(dataset) == 1
+    (warning,) = [w for w in report.warnings if "left out: an MSR file holds one throw" in w]
+    assert warning.startswith(f"{two}: a throw at t=") and "cut the file in two" in warning
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text(f"file,throw,distance\n{two.name},2,2.0\n")
+    with pytest.raises(InputError, match=r"throw 2 of a06_s01_e98_skeleton3D.txt does not exist \(1 throw found there; "
+                                         r"one throw per MSR file: the one with the fastest release is kept\)"):
+        import_recordings([two], "msr", manifest=manifest)

@@ -73,6 +73,8 @@ OUTPUT_RATE_HZ = 15.0
 #: The median upper arm (shoulder to elbow, m) of a recording in metres: 0.25-0.34 m in every arm
 #: of the MSR throws and the test bags (148 arms); the range leaves a factor of 3 either way.
 UPPER_ARM_RANGE = (0.1, 1.0)
+#: The rule that keeps one throw of an MSR file.
+ONE_PER_MSR_FILE = "one throw per MSR file"
 #: Median elbow peak speeds (rad/s) of a set of throws read at an assumed frame rate that pass
 #: without a warning: the MSR throws peak at 10-16 rad/s (a median 12.7), a human elbow at about
 #: 30 at most; read at a quarter or four times their rate they give 3.8 or about 50.
@@ -540,13 +542,18 @@ def _import_recording(
     kept, more = _throws_at_a_target(motion, cuts, releases, one_per_file=kind == "msr")
     for rejection in sorted([*rejections, *more], key=lambda item: item.time):
         report.reject(rejection, motion.arm.label)
+        if rejection.rule == ONE_PER_MSR_FILE:  # a throw by every other rule: more than a note
+            report.warnings.append(f"{path}: a throw at t={rejection.time - origin:.2f} s left out: {rejection.reason} "
+                                   "(MSR Action3D files hold one performance; to keep both, cut the file in two "
+                                   "at a frame's first line, 20 lines a frame)")
     hint = _up_hint(motion, recording.up) if kind == "csv" and not up_given else None
     if not kept:
         report.warnings.append(_no_throw(path, motion, report, segment, hint))
     elif hint:
         report.warnings.append(f"{path}: {hint} (up is taken as {_axis_name(recording.up)}; release and landing depend on it)")
     if rows:
-        check_throw_numbers(rows, recording.source, len(kept))
+        check_throw_numbers(rows, recording.source, len(kept),
+                            f"; {ONE_PER_MSR_FILE}: the one with the fastest release is kept" if more and kind == "msr" else "")
         peaks = [float(motion.time[cut.peak] - origin) for cut, _ in kept]
         report.warnings.extend(rows_without_a_throw(rows, recording.source, peaks))
     trajectories = []
@@ -693,7 +700,7 @@ def _throws_at_a_target(
             if cut is not best[0]:
                 rise = float(motion.angle[cut.extension_end] - motion.angle[cut.extension_start])
                 rejected.append(Rejection(
-                    release.time, "one throw per MSR file",
+                    release.time, ONE_PER_MSR_FILE,
                     "an MSR file holds one throw, the one with the fastest release is kept", rise,
                 ))
         kept = [best]

@@ -55,6 +55,7 @@ from rlff.csvlines import data_row_lines
 from rlff.dataset import BEARING_RANGE, HEIGHT_RANGE
 from rlff.errors import InputError
 from rlff.limits import DISTANCE_RANGE, check_distance
+from rlff.wording import plural
 
 
 @dataclass(frozen=True)
@@ -370,8 +371,9 @@ def _same_folders(a: ManifestRow, b: ManifestRow) -> bool:
     return long[len(long) - len(short):] == short
 
 
-def check_throw_numbers(rows: list[ManifestRow], source: str, count: int) -> None:
-    """Raise when a manifest row names a throw of ``source`` beyond the ``count`` throws found there.
+def check_throw_numbers(rows: list[ManifestRow], source: str, count: int, why: str = "") -> None:
+    """Raise when a manifest row names a throw of ``source`` beyond the ``count`` throws found there
+    (``why``: what left others out, appended to the count).
 
     Raises
     ------
@@ -382,7 +384,7 @@ def check_throw_numbers(rows: list[ManifestRow], source: str, count: int) -> Non
     for row in rows:
         if row.throw is not None and row.throw > count and row.matches(path):
             raise InputError(
-                f"{row.where}: throw {row.throw} of {path.name} does not exist ({count} throws found there)"
+                f"{row.where}: throw {row.throw} of {path.name} does not exist ({plural(count, 'throw')} found there{why})"
             )
 
 
