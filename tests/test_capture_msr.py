@@ -114,7 +114,6 @@ def test_msr_files_read_at_a_wrong_rate_are_warned_of(imported, rate, seen):
 @pytest.mark.realdata
 def test_a_second_throw_in_an_msr_file_is_warned_of_and_named_in_a_manifest_error(tmp_path):
     from conftest import MSR_THROWS
-
     from rlff.errors import InputError
 
     if not MSR_THROWS.is_dir():

@@ -374,6 +374,19 @@ def test_manifest_by_throw_index_and_by_time(tmp_path):
         read_manifest(path)
 
 
+@pytest.mark.parametrize("text", ["file;throw;distance\nline1.bag;2;2,5\n\nline1.bag;1;1.75\n",
+                                  "file\tthrow\tdistance\nline1.bag\t2\t2,5\n\nline1.bag\t1\t1.75\n",
+                                  "file, throw, distance\nline1.bag, 2, 2.5\n\nline1.bag, 1, 1.75\n"])
+def test_a_manifest_as_spreadsheets_write_it_reads_as_the_comma_one(tmp_path, text):
+    path = tmp_path / "manifest.csv"
+    path.write_text(text)
+    rows = read_manifest(path)
+    assert [(row.throw, row.distance) for row in rows] == [(2, 2.5), (1, 1.75)]
+    path.write_text(text.replace("1.75", "far"))
+    with pytest.raises(InputError, match=r"line 4: column 'distance' has a bad value 'far'"):
+        read_manifest(path)
+
+
 def test_thesis_matrix_files_pass_through(tmp_path):
     from rlff.dataset import Dataset, Trajectory
     from rlff.formats import write_thesis_matrix

@@ -41,3 +41,11 @@ def data_row_line(path: str | Path, row: int, separator: str = ",") -> int:
     """
     lines = data_row_lines(path, separator)
     return lines[row] if row < len(lines) else row + 2
+
+
+def header_separator(path: str | Path) -> str:
+    """The field separator of a CSV: of ``,``, ``;`` and tab, the one its header line holds most of
+    (``,`` on a tie). A file with ``;`` or tab writes its decimals with a comma or a point."""
+    with open(path, encoding="utf-8-sig", errors="replace") as handle:
+        header = next((line for line in handle if line.strip()), "")
+    return max((",", ";", "\t"), key=header.count)

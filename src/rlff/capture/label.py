@@ -51,7 +51,7 @@ import numpy as np
 from rlff.ballistics import crossing_distance
 from rlff.capture.angles import ArmMotion
 from rlff.capture.segment import ThrowCut
-from rlff.csvlines import data_row_lines
+from rlff.csvlines import data_row_lines, header_separator
 from rlff.dataset import BEARING_RANGE, HEIGHT_RANGE
 from rlff.errors import InputError
 from rlff.limits import DISTANCE_RANGE, check_distance
@@ -295,7 +295,8 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
     if not path.is_file():
         raise InputError(f"manifest {path}: {'is a folder, not a file' if path.is_dir() else 'no such file'}")
     try:
-        frame = pd.read_csv(path, dtype=str, keep_default_na=False)
+        separator = header_separator(path)  # as spreadsheets write it: ";" with decimal commas, or tabs
+        frame = pd.read_csv(path, sep=separator, dtype=str, keep_default_na=False, skipinitialspace=True)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise InputError(f"manifest {path}: not a readable CSV ({str(exc).strip().splitlines()[-1]})") from None
     frame.columns = [str(c).strip().lower() for c in frame.columns]
@@ -303,7 +304,7 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
     if missing:
         raise InputError(f"manifest {path}: no column {', '.join(map(repr, missing))} (columns: {', '.join(frame.columns)})")
     rows = []
-    lines = data_row_lines(path)
+    lines = data_row_lines(path, separator)
     if len(lines) != len(frame):  # read otherwise than pandas read it: the lines as if none were blank
         lines = list(range(2, len(frame) + 2))
     for number, record in zip(lines, frame.to_dict("records"), strict=True):
@@ -312,6 +313,8 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
             text = str(record.get(name, "")).strip()
             if not text:
                 return None
+            if separator != "," and kind is float:
+                text = text.replace(",", ".")  # a decimal comma
             try:
                 return kind(text)
             except ValueError:

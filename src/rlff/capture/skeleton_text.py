@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from rlff.capture.skeleton import SIDES, ArmTrack, JointTrack, Recording
-from rlff.csvlines import data_row_line
+from rlff.csvlines import data_row_line, header_separator
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.limits import FRAME_RATE_RANGE, check_frame_rate
@@ -288,7 +288,7 @@ def read_joint_csv(
     require_file(path)
     notes: list[str] = []
     warnings: list[str] = []
-    separator = _separator(path)
+    separator = header_separator(path)
     if separator != ",":
         shown = "tab" if separator == "\t" else repr(separator)
         notes.append(f"{path.name}: columns separated by {shown} (decimal comma or point)")
@@ -400,14 +400,6 @@ def _check_time_unit(time: np.ndarray, name: str, path: Path) -> None:
             break
     raise InputError(f"{path}: the time column {name!r} steps by {spacing:.6g} per frame (median), "
                      f"{1.0 / spacing:.3g} frames per second, outside {low:g}-{high:g} Hz; rlff reads seconds{looks}")
-
-
-def _separator(path: Path) -> str:
-    """The field separator of a CSV: of ``,``, ``;`` and tab, the one its header line holds most of
-    (``,`` on a tie)."""
-    with path.open(encoding="utf-8-sig", errors="replace") as handle:
-        header = next((line for line in handle if line.strip()), "")
-    return max((",", ";", "\t"), key=header.count)
 
 
 def _check_column_map(mapping: Mapping[str, str], present: list[str], path: Path) -> None:
