@@ -176,6 +176,27 @@ def test_a_time_column_in_another_unit_is_named(tmp_path, scale, unit):
     read_joint_csv(_simulated_csv(tmp_path / "seconds.csv"))  # the same in seconds is read
 
 
+def test_blank_cells_are_a_joint_not_tracked_there_and_a_blank_arm_is_left_out(tmp_path):
+    import pandas as pd
+
+    path = _simulated_csv(tmp_path / "clean.csv")
+    frame = pd.read_csv(path)
+    frame.loc[[3, 4, 40], ["right_hand_x", "right_hand_y", "right_hand_z"]] = np.nan  # written as blanks
+    for axis in "xyz":  # a left arm the tracker hardly saw
+        frame[f"left_shoulder_{axis}"], frame[f"left_elbow_{axis}"], frame[f"left_hand_{axis}"] = 0.1, 0.2, 0.3
+    frame.loc[5:, [c for c in frame.columns if c.startswith("left_")]] = np.nan
+    blank = tmp_path / "blank.csv"
+    frame.to_csv(blank, index=False)
+    recording = read_joint_csv(blank)
+    (arm,) = recording.arms
+    assert arm.side == "right" and len(arm.hand) == len(frame) - 3 and len(arm.elbow) == len(frame)
+    assert any(note.startswith("blank.csv: the left arm is blank or nan in 96% of the rows: left out") for note in recording.notes)
+    assert any("3 frames with a nan or blank value in a joint rlff reads" in note for note in recording.notes)
+    dataset, _ = import_recordings([blank])
+    clean, _ = import_recordings([path])
+    assert len(dataset) == len(clean) == 1
+
+
 def test_a_frozen_tracker_mid_throw_is_dropped_and_bridged_and_a_still_arm_is_not(tmp_path):
     import pandas as pd
 
@@ -203,9 +224,12 @@ def test_bad_cells_of_the_csv_readers_are_shown_as_the_file_has_them(tmp_path):
 
     joints = tmp_path / "joints.csv"
     points = [f"right_{joint}_{axis}" for joint in ("shoulder", "elbow", "hand") for axis in "xyz"]
-    joints.write_text(",".join(["time", *points]) + "\n0" + ",0.1" * 9 + "\n0.1," + ",0.2" * 8 + "\n")
-    with pytest.raises(InputError, match=r"line 3: column 'right_shoulder_x' has an empty or nan value$"):
+    joints.write_text(",".join(["time", *points]) + "\n0" + ",0.1" * 9 + "\n0.1,inf" + ",0.2" * 8 + "\n")
+    with pytest.raises(InputError, match=r"line 3: column 'right_shoulder_x' has a non-finite value inf$"):
         read_joint_csv(joints, {})
+    joints.write_text(",".join(["time", *points]) + "\n0" + ",0.1" * 9 + "\n" + ",0.2" * 9 + "\n")
+    with pytest.raises(InputError, match=r"line 3: column 'time' has an empty or nan value$"):
+        read_joint_csv(joints, {})  # a blank joint is a joint not tracked; a blank time is no time
     path = tmp_path / "cells.csv"
     path.write_text("time,angle,velocity\n0,0.1,0.2\n0.1,,0.3\n0.2,0.3,inf\n")
     with pytest.raises(InputError, match=r"column 'angle' row 2 has an empty or nan value$"):

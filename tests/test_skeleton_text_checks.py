@@ -103,11 +103,21 @@ def test_column_map_typos_are_errors_with_the_nearest_name(tmp_path):
 def test_a_non_finite_value_is_located_by_its_file_line(tmp_path):
     # MSR: line 201 was "frame 201" (it is frame 11); Kinect: line 13 (frame number 20) was "frame 11"
     lines = _msr_lines(12)
-    lines[200] = "nan 0.2 2.5 1"
+    lines[200] = "inf 0.2 2.5 1"
     msr = tmp_path / "a06_s01_e01_skeleton3D.txt"
     msr.write_text("\n".join(lines) + "\n")
-    with pytest.raises(InputError, match=r"skeleton3D.txt, line 201 \(frame 11, joint 1\): value 1 is 'nan', not a finite number"):
+    with pytest.raises(InputError, match=r"skeleton3D.txt, line 201 \(frame 11, joint 1\): value 1 is 'inf', not a finite number"):
         read_msr_text(msr)
+    # nan is a joint the tracker did not give: left out of that joint's track alone (joint 1 is
+    # the left shoulder), and where no joint rlff reads has it (joint 20, the head) no loss at all
+    lines[200] = "nan 0.2 2.5 1"
+    lines[199] = "nan nan nan 0"
+    msr.write_text("\n".join(lines) + "\n")
+    recording = read_msr_text(msr)
+    left = next(arm for arm in recording.arms if arm.side == "left")
+    assert len(left.shoulder) == 11 and len(left.elbow) == 12 and len(recording.arms[0].elbow) == 12
+    assert any("1 frame with a nan or blank value in a joint rlff reads (the first at t=0.67 s)" in note
+               for note in recording.notes)
     lines = _kinect_lines(list(range(0, 40, 2)))
     fields = lines[10].split()
     lines[10] = " ".join([fields[0], "inf", *fields[2:]])
@@ -126,9 +136,10 @@ def test_a_csv_line_is_counted_past_blank_lines(tmp_path):
         read_joint_csv(path)
     lines = _write_csv(path, [0.0, 0.1, 0.2, 0.3, 0.4, 0.5]).read_text().splitlines()
     cells = lines[5].split(",")
-    lines[5] = ",".join([*cells[:3], "nan", *cells[4:]])
+    lines[5] = ",".join([*cells[:3], "x", *cells[4:]])
     path.write_text("\n".join([lines[0], "", *lines[1:4], "", "", *lines[4:]]) + "\n")
-    with pytest.raises(InputError, match=r"takes.csv, line 9: column 'right_shoulder_z' has an empty or nan value"):
+    with pytest.raises(InputError, match=r"takes.csv, line 9: column 'right_shoulder_z' has a non-numeric or "
+                                         r"non-finite value 'x'"):
         read_joint_csv(path)
 
 

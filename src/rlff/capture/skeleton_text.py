@@ -34,7 +34,7 @@ from rlff.csvlines import data_row_line, header_separator
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.limits import FRAME_RATE_RANGE, check_frame_rate
-from rlff.wording import bad_cell, nearest_hint
+from rlff.wording import bad_cell, nearest_hint, plural
 
 #: Up direction of the Kinect's camera frame (x left, y up, z away from the camera).
 KINECT_UP = np.array([0.0, 1.0, 0.0])
@@ -80,7 +80,9 @@ def _numeric_rows(
                 row = [float(value) for value in fields]
             except ValueError:
                 raise InputError(f"{path}, line {number}: non-numeric value in {text[:60]!r}") from None
-            bad = next((index for index, value in enumerate(row) if not math.isfinite(value)), None)
+            # nan is a joint the tracker did not give (the readers drop the frame where rlff reads
+            # that joint); inf is no tracker's
+            bad = next((index for index, value in enumerate(row) if math.isinf(value)), None)
             if bad is not None:
                 raise InputError(
                     f"{path}, line {number} ({frame_of(len(rows), row)}): value {bad + 1} is "
@@ -118,19 +120,30 @@ def _forward_rows(stamps: np.ndarray, line_of: Callable[[int], int], what: str, 
 
 
 def _clean_frames(
-    frames: np.ndarray, time: np.ndarray, arm_joints: list[int], notes: list[str], path: Path
+    frames: np.ndarray, time: np.ndarray, arm_joints: list[int], notes: list[str], path: Path,
+    read_joints: list[int] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Drop frames whose arm joints are all at zero (the tracker lost the user).
+    """Drop frames whose arm joints are all at zero (the tracker lost the user) and a frozen
+    tracker's repeats; note the frames with a nan in a joint that is read (:func:`_track` leaves
+    them out of that joint's track).
 
     Parameters
     ----------
-    frames : array of shape (N, J, 3)
+    frames : array of shape (N, J, 3); nan where the tracker gave no value
     time : array of shape (N,)
     arm_joints : joint indices whose loss means the frame is useless
+    read_joints : every joint index the readers use (arms and torso; default ``arm_joints``): a
+        nan in another joint (the head, the feet) is no loss
     """
+    read_joints = arm_joints if read_joints is None else read_joints
     lost = np.all(frames[:, arm_joints, :] == 0.0, axis=(1, 2))
     if lost.any():
         notes.append(f"{path.name}: dropped {int(lost.sum())} frames with all arm joints at zero (tracking lost)")
+    blank = ~np.all(np.isfinite(frames[:, read_joints, :]), axis=2)  # (N, read joints)
+    if blank.any():
+        rows, first = int(blank.any(axis=1).sum()), int(np.flatnonzero(blank.any(axis=1))[0])
+        notes.append(f"{path.name}: {plural(rows, 'frame')} with a nan or blank value in a joint rlff reads (the "
+                     f"first at t={time[first]:.2f} s): left out of that joint's track (tracking lost there)")
     if (~lost).sum() < 2:
         raise InputError(f"{path}: fewer than 2 frames with a tracked arm")
     frames, time = frames[~lost], time[~lost]
@@ -172,17 +185,24 @@ def _frozen(arm: np.ndarray, time: np.ndarray) -> np.ndarray:
     return frozen
 
 
+def _track(name: str, time: np.ndarray, positions: np.ndarray) -> JointTrack:
+    """The joint's track of its frames with a value, positions (N, 3) at ``time`` (N,): a nan (a
+    frame the tracker did not give the joint) is left out, as a bag leaves out a missing frame."""
+    given = np.all(np.isfinite(positions), axis=1)
+    return JointTrack(name, time[given], positions[given])
+
+
 def _arms(
     frames: np.ndarray, time: np.ndarray, layout: Mapping[str, tuple[int, ...]], prefix: str,
     torso: tuple[int, int],
 ) -> list[ArmTrack]:
     """Arm tracks from frames of shape (N, J, 3) sharing one time base of shape (N,), with the
     torso's top and bottom joints ``torso``."""
-    neck, hip = (JointTrack(f"{prefix}{index + 1}", time, frames[:, index, :]) for index in torso)
+    neck, hip = (_track(f"{prefix}{index + 1}", time, frames[:, index, :]) for index in torso)
     arms = []
     for side, indices in layout.items():
         joints = {
-            joint: JointTrack(f"{prefix}{index + 1}", time, frames[:, index, :])
+            joint: _track(f"{prefix}{index + 1}", time, frames[:, index, :])
             for joint, index in zip(_JOINTS, indices, strict=True)
         }
         arms.append(ArmTrack("1", side, joints["shoulder"], joints["elbow"], joints["hand"], joints["wrist"], neck, hip))
@@ -210,10 +230,13 @@ def read_kinect_text(path: str | Path, rate_hz: float | None = None) -> Recordin
         path, 61, "frame number then 20 joints x (x y z)", lambda row, values: f"frame number {values[0]:g}"
     )
     notes: list[str] = []
+    if np.isnan(values[:, 0]).any():
+        raise InputError(f"{path}, line {int(lines[np.flatnonzero(np.isnan(values[:, 0]))[0]])}: the frame number is "
+                         "'nan', not a number")
     values = values[_forward_rows(values[:, 0], lambda row: int(lines[row]), "frame number", notes, path)]
     frames = values[:, 1:].reshape(-1, 20, 3)
     arm_joints = [i for indices in KINECT_ARMS.values() for i in indices]
-    frames, time = _clean_frames(frames, values[:, 0] / rate, arm_joints, notes, path)
+    frames, time = _clean_frames(frames, values[:, 0] / rate, arm_joints, notes, path, [*arm_joints, *KINECT_TORSO])
     return Recording(str(path), _arms(frames, time, KINECT_ARMS, "joint ", KINECT_TORSO), KINECT_UP, notes)
 
 
@@ -245,7 +268,7 @@ def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
     frames = values[:, :3].reshape(-1, 20, 3)
     notes: list[str] = []
     arm_joints = [i for indices in MSR_ARMS.values() for i in indices]
-    frames, time = _clean_frames(frames, np.arange(len(frames)) / rate, arm_joints, notes, path)
+    frames, time = _clean_frames(frames, np.arange(len(frames)) / rate, arm_joints, notes, path, [*arm_joints, *MSR_TORSO])
     return Recording(str(path), _arms(frames, time, MSR_ARMS, "line ", MSR_TORSO), KINECT_UP, notes)
 
 
@@ -304,8 +327,16 @@ def read_joint_csv(
         real = mapping.get(name, name)
         return real if real in frame.columns else None
 
-    def numeric(name: str) -> np.ndarray:
+    def numeric(name: str, finite: bool = True) -> np.ndarray:
+        """The column's numbers; a cell that is no number is an error, and a blank or nan one too
+        unless ``finite`` is False (then nan: a joint the tracker did not give)."""
         values = pd.to_numeric(frame[name], errors="coerce").to_numpy(dtype=float)
+        blank = frame[name].isna().to_numpy() | frame[name].astype(str).str.strip().str.lower().isin(["", "nan"]).to_numpy()
+        bad = ~np.isfinite(values) & (True if finite else ~blank)
+        if bad.any():
+            row = int(np.flatnonzero(bad)[0])
+            raise InputError(f"{path}, line {data_row_line(path, row, separator)}: column {name!r} has {bad_cell(frame[name].iloc[row])}")
+        return values
         if not np.all(np.isfinite(values)):
             row = int(np.flatnonzero(~np.isfinite(values))[0])
             raise InputError(f"{path}, line {data_row_line(path, row, separator)}: column {name!r} has {bad_cell(frame[name].iloc[row])}")
@@ -346,6 +377,20 @@ def read_joint_csv(
         elif timelike:
             notes.append(f"{path.name}: no time column: frames taken as {rate:g} Hz (--rate){hint}")
     keep = _forward_rows(time, lambda row: data_row_line(path, row, separator), "time stamp", notes, path)
+    torso = {}
+    for point in CSV_TORSO:
+        names = [column(f"{point}_{axis}") for axis in _AXES]
+        if all(name is not None for name in names):
+            torso[point] = dict(zip((f"{point}_{axis}" for axis in _AXES), names, strict=True))
+    # a blank or nan cell is a joint the tracker did not give: mostly blank, the arm or torso is
+    # not tracked and is left out; else the rows where it is blank are lost tracking
+    for group, label in ((found, "arm"), (torso, "torso")):
+        for name in list(group):
+            cells = np.column_stack([numeric(column_name, finite=False)[keep] for column_name in group[name].values()])
+            share = float(np.mean(~np.all(np.isfinite(cells), axis=1)))
+            if share > 0.5 and (label == "torso" or len(found) > 1):
+                notes.append(f"{path.name}: the {name} {label} is blank or nan in {share:.0%} of the rows: left out")
+                del group[name]
     sides = list(found)
     joints_by_side = {
         side: [joint for joint in _JOINTS if f"{joint}_x" in found[side] and f"{joint}_y" in found[side] and f"{joint}_z" in found[side]]
@@ -353,29 +398,25 @@ def read_joint_csv(
     }
     slots = [(side, joint) for side in sides for joint in joints_by_side[side]]
     arm_slots = list(range(len(slots)))
-    torso = {}
-    for point in CSV_TORSO:
-        names = [column(f"{point}_{axis}") for axis in _AXES]
-        if all(name is not None for name in names):
-            torso[point] = dict(zip((f"{point}_{axis}" for axis in _AXES), names, strict=True))
     if len(torso) == len(CSV_TORSO):
         for point in CSV_TORSO:
             found[point] = torso[point]
             slots.append((point, point))
     frames = np.stack(
-        [np.column_stack([numeric(found[side][f"{joint}_{axis}"]) for axis in _AXES]) for side, joint in slots],
+        [np.column_stack([numeric(found[side][f"{joint}_{axis}"], finite=False) for axis in _AXES])
+         for side, joint in slots],
         axis=1,
     )[keep]
     time = time[keep]
-    frames, time = _clean_frames(frames, time, arm_slots, notes, path)
+    frames, time = _clean_frames(frames, time, arm_slots, notes, path, list(range(len(slots))))
     neck, hip = (
-        (JointTrack(point, time, frames[:, slots.index((point, point)), :]) for point in CSV_TORSO)
+        (_track(point, time, frames[:, slots.index((point, point)), :]) for point in CSV_TORSO)
         if (CSV_TORSO[0], CSV_TORSO[0]) in slots else (None, None)
     )
     arms = []
     for side in sides:
         tracks = {
-            joint: JointTrack(f"{side}_{joint}", time, frames[:, slots.index((side, joint)), :])
+            joint: _track(f"{side}_{joint}", time, frames[:, slots.index((side, joint)), :])
             for joint in joints_by_side[side]
         }
         arms.append(ArmTrack("1", side, tracks["shoulder"], tracks["elbow"], tracks["hand"], tracks.get("wrist"), neck, hip))
