@@ -296,7 +296,8 @@ def whole_arm_section(whole: WholeArm):
 
 def whole_arm_figures(figures_dir: Path, whole: WholeArm, robot) -> list[tuple[Path, str, str, str]]:
     """The whole-arm figures: every basket's last flight in 3-D, and each joint of the farthest
-    basket's last throw, human and robot; (png, section, title, caption) in report order."""
+    basket hit (a demonstrated one where any was hit) at its last throw, human and robot; (png,
+    section, title, caption) in report order."""
     from rlff.learn.replay import plan_attempt
     from rlff.plots.flights import flights_3d
     from rlff.plots.throw import joint_trajectories
@@ -313,7 +314,9 @@ def whole_arm_figures(figures_dir: Path, whole: WholeArm, robot) -> list[tuple[P
                     "The robot's base at the origin, each basket at its distance and bearing (the rim's height drawn), "
                     "and the ball's flight of the last attempt at each, from the release (dot) down through the rim "
                     "(solid) to the floor (dotted); green: hit, red: the budget ran out."))
-    shown = max(thrown, key=lambda r: (r.hit, r.distance))
+    demonstrated = {float(t["distance"][0]) for t in whole.clean}
+    # the farthest basket hit where people threw too, so their throws can be drawn behind it
+    shown = max(thrown, key=lambda r: (r.hit, r.distance in demonstrated, r.distance))
     attempt = whole.learned[(shown.distance, shown.bearing)].history[-1]
     mapping = mapping_for(robot, shown.joints)
     planned = plan_attempt(attempt, mapping, bearing=shown.bearing).trajectory
@@ -331,7 +334,9 @@ def whole_arm_figures(figures_dir: Path, whole: WholeArm, robot) -> list[tuple[P
               f"({'hit' if shown.hit else 'miss'})")
     entries.append((saved.png, "whole-arm", "Each joint, human and robot",
                     "Left: the throw the robot executed, from rest to the release, mapped back to the people's "
-                    "units, over the time to its release; the demonstrations at that distance in grey. Right: "
+                    "units, over the time to its release; the demonstrations at that distance in grey. The robot "
+                    "keeps the model's first pose and release and plans the swing between within its own limits, "
+                    "so its wind-up may go where no elbow goes (below 0 rad). Right: "
                     "the robot joints they drive over the planned trajectory: the approach (joint 1 turns to the "
                     "bearing), the throw to its release (dashed) and the braking; dotted: position limits."))
     return entries
