@@ -80,7 +80,8 @@ def test_report_bad_input(rlff, tmp_path):
     assert debug.code == 2 and "Traceback" in debug.stderr and "no such run directory" in debug.stderr
     verbose = rlff("-v", "report", str(tmp_path / "absent"))  # -v does not
     assert verbose.code == 2 and "Traceback" not in verbose.stderr
-    one_line_error(rlff("report", str(tmp_path)), "no run.json")
+    one_line_error(rlff("report", str(tmp_path)), "no run.json, and no rlff dataset (.csv), model (.json) or "
+                   "attempts log (.jsonl) in it")
     picture = tmp_path / "pic.png"
     picture.write_bytes(b"\x89PNG")
     # without -o it was RUN/report.html refused as an output, with -o "no such run directory"
@@ -90,10 +91,36 @@ def test_report_bad_input(rlff, tmp_path):
     log = tmp_path / "attempts.jsonl"
     log.write_text("")
     one_line_error(rlff("report", str(log)), "`rlff plot learning LOG -o OUT` draws its learning curve")
-    one_line_error(rlff("report", str(tmp_path)), "no run.json (is this a run directory written by `rlff demo`?); "
-                   "for the attempts log of `rlff learn` (attempts.jsonl), `rlff plot learning LOG")
+    # an empty log is no log: passed over, named
+    one_line_error(rlff("report", str(tmp_path)), "(passed over attempts.jsonl: not an rlff attempts log",
+                   "give a folder that `rlff demo` wrote, or one holding your own chain's files")
     (tmp_path / "run.json").write_text('{"format": "rlff-run", "version": 9}')
     one_line_error(rlff("report", str(tmp_path)), "unsupported version 9")
+
+
+def test_report_of_a_folder_of_ones_own_chain(rlff, tmp_path):
+    """No run.json: the datasets, models and attempts logs the folder holds, each in a section with
+    its figures, embedded; other files passed over and named."""
+    import base64
+    import re
+
+    folder = tmp_path / "mine"
+    folder.mkdir()
+    demos = folder / "demos.csv"
+    assert rlff("data", "synth", "throws", "--subjects", "2", "--throws", "3", "--seed", "3", "-o", str(demos)).code == 0
+    assert rlff("fit", str(demos), "-o", str(folder / "model.json"), "--max-components", "3").code == 0
+    learned = rlff("learn", str(demos), "--preset", "thesis", "--basket", "1.5", "--budget", "2", "--log", str(folder / "a.jsonl"))
+    assert learned.code == 0, learned.stderr
+    (folder / "notes.json").write_text('{"what": "my own notes"}')
+    result = rlff("report", str(folder), "-o", str(tmp_path / "r.html"))
+    assert result.code == 0, result.stderr
+    assert "passed over notes.json: not an rlff dataset or model" in result.stderr
+    text = (tmp_path / "r.html").read_text()
+    for title in ("Demonstrations", "Models", "Learning", "demos.csv", "model.json", "a.jsonl"):
+        assert title in text
+    images = re.findall(r'src="data:image/png;base64,([^"]+)"', text)
+    assert len(images) == 3 and all(base64.b64decode(i).startswith(b"\x89PNG") for i in images)  # data, K, learning
+    assert not list(folder.glob("*.png")) and not (folder / "run.json").exists()  # nothing written in the folder
 
 
 # -- rlff plot ----------------------------------------------------------------------------------

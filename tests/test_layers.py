@@ -20,7 +20,7 @@ STAGES = (
     ("sim",),
     ("learn",),
     ("plots", "report"),
-    ("whole_arm_demo",),
+    ("whole_arm_demo", "chain_report"),
     ("demo",),
     ("cli",),
     ("__main__",),

@@ -15,21 +15,55 @@ def register(root: typer.Typer) -> None:
 
 
 def report_command(
-    run: Path = typer.Argument(..., help="Run directory (run.json and figures), e.g. the output of `rlff demo`."),
+    run: Path = typer.Argument(..., help="Run directory (run.json and figures), e.g. the output of `rlff demo`; or a "
+                                         "folder of your own chain's files (datasets, model.json, attempts logs)."),
     out: Path | None = typer.Option(None, "--output", "-o", "--out", help="HTML file to write (default: RUN/report.html)."),
     as_json: bool = typer.Option(False, "--json", help="Print the written path as JSON."),
 ) -> None:
     """Build the HTML report of a run: figures embedded, no network needed to open it."""
     from rlff.cli.output import guard
     from rlff.report import build_report
-    from rlff.report.run import FIGURE_TYPES, require_run_dir
+    from rlff.report.run import FIGURE_TYPES, RUN_FILE, require_run_dir
 
     require_run_dir(run)  # before RUN/report.html is checked as an output
     target = out if out is not None else run / "report.html"
+    if not (run / RUN_FILE).is_file():
+        _chain_report(run, target, as_json)
+        return
     # what the report reads: run.json and the figures beside it
     read = [path for path in run.rglob("*") if path.name == "run.json" or path.suffix.lower() in FIGURE_TYPES]
     guard(inputs={"RUN": read}, outputs={"-o/--output": target})
     written = build_report(run, target)
+    if as_json:
+        emit_json({"report": written})
+    else:
+        stdout().print(f"report: {written}", highlight=False)
+
+
+def _chain_report(folder: Path, target: Path, as_json: bool) -> None:
+    """The report of a folder without run.json: its datasets, models and attempts logs
+    (:mod:`rlff.chain_report`), the figures drawn in a temporary run directory and embedded."""
+    import tempfile
+
+    from rlff.chain_report import chain_run
+    from rlff.cli._common import say, warn
+    from rlff.cli.output import guard
+    from rlff.fileio import write_text
+    from rlff.report.html import render_report
+    from rlff.report.run import write_run
+    from rlff.wording import plural
+
+    read = [path for path in folder.iterdir() if path.suffix.lower() in (".csv", ".json", ".jsonl")]
+    guard(inputs={"RUN": read}, outputs={"-o/--output": target})
+    with tempfile.TemporaryDirectory(prefix="rlff-report-") as scratch:
+        run, passed = chain_run(folder, Path(scratch) / "figures")
+        for why in passed:
+            warn(f"{folder}: passed over {why}")
+        write_run(run, scratch)
+        written = write_text(target, render_report(run, scratch, source=folder))
+    counts = run.settings
+    say(f"{folder}: no run.json: a report of its {plural(counts['datasets'], 'dataset')}, "
+        f"{plural(counts['models'], 'model')} and {plural(counts['attempts logs'], 'attempts log')}")
     if as_json:
         emit_json({"report": written})
     else:

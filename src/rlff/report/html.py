@@ -113,8 +113,9 @@ def _section(section: Section, figures: Sequence[FigureEntry], run_dir: Path) ->
     return "\n".join(parts)
 
 
-def render_report(run: Run, run_dir: str | Path) -> str:
-    """The HTML text of the report of ``run`` whose figures live under ``run_dir``.
+def render_report(run: Run, run_dir: str | Path, source: str | Path | None = None) -> str:
+    """The HTML text of the report of ``run`` whose figures live under ``run_dir`` (the report
+    names ``source`` as where it comes from, default ``run_dir``).
 
     Raises
     ------
@@ -141,7 +142,7 @@ def render_report(run: Run, run_dir: str | Path) -> str:
         sections=sections,
         css=_package_text("style.css"),
         version=html.escape(_version()),
-        source=html.escape(str(run_dir)),
+        source=html.escape(str(run_dir if source is None else source)),
     )
 
 
