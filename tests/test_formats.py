@@ -157,6 +157,13 @@ def test_parquet_errors_name_the_file(tmp_path):
     (tmp_path / "junk.parquet").write_text("not parquet")
     with pytest.raises(InputError, match="junk.parquet: not a Parquet file"):
         read_parquet(tmp_path / "junk.parquet")
+    # ids whose bytes are not UTF-8 (the fuzz test's damaged file): pyarrow decodes them only when read
+    offsets = pa.py_buffer(np.array([0, 2, 2, 4], dtype=np.int32).tobytes())
+    ids = pa.Array.from_buffers(pa.string(), 3, [None, offsets, pa.py_buffer(b"\xf40t1")])
+    pq.write_table(pa.table({"trajectory": ids, "angle": [0.1, 0.2, 0.3]}), tmp_path / "bytes.parquet")
+    with pytest.raises(InputError, match=r"bytes.parquet: damaged Parquet file: a text cell \(a trajectory id or a "
+                                         r"metadata value\) is not UTF-8 text"):
+        read_parquet(tmp_path / "bytes.parquet")
 
 
 def test_unknown_extension_and_format(tmp_path):

@@ -396,6 +396,17 @@ def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Data
         table.column_names  # noqa: B018 -- pyarrow decodes the names only when they are asked for
     except UnicodeDecodeError:
         raise InputError(f"{path}: damaged Parquet file: a column name is not UTF-8 text") from None
+    try:  # pyarrow decodes text cells (ids, subjects) only as they are read
+        return _dataset_of_table(path, table, context)
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: damaged Parquet file: a text cell (a trajectory id or a metadata value) is not "
+                         "UTF-8 text") from None
+
+
+def _dataset_of_table(path: Path, table: Any, context: Sequence[str] | None) -> Dataset:
+    """The dataset of a Parquet file's ``table`` (a pyarrow Table), checked as :func:`read_parquet` says."""
+    import pyarrow as pa
+
     info = _parquet_info(path, table)
     if ID_COLUMN not in table.column_names:
         raise InputError(f"{path}: no {ID_COLUMN!r} column (columns: {', '.join(table.column_names)})")
