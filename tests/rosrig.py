@@ -92,9 +92,9 @@ def stop(proc: subprocess.Popen) -> None:
 
 
 class Ros:
-    """A roscore and an ``rlff robot serve`` on a free loopback port."""
+    """A roscore and an ``rlff robot serve`` on a free loopback port (no server with ``serve=False``)."""
 
-    def __init__(self, folder: Path, *serve_args: str) -> None:
+    def __init__(self, folder: Path, *serve_args: str, serve: bool = True) -> None:
         self.port = free_port()
         self.folder = folder
         self.env = ros_env(self.port, folder)
@@ -110,6 +110,9 @@ class Ros:
 
         wait(master_up, 60, "roscore")
         self.server_log = folder / "serve.log"
+        if not serve:
+            self.server = subprocess.Popen([sys.executable, "-c", "pass"])  # nothing to stop
+            return
         with open(self.server_log, "w") as log:
             self.server = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "serve", *serve_args],
                                            env=self.env, stdout=log, stderr=subprocess.STDOUT)

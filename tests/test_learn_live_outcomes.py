@@ -1,6 +1,6 @@
 """What a person types or a vision system publishes after a throw on the real arm, read as the
 simulation reads its own landings: the same hit window, the miss kept, implausible landings never
-learned from, and no landing older than the throw."""
+learned from, and no landing older than the throw, stamped in the future or in another frame."""
 
 from __future__ import annotations
 
@@ -10,7 +10,13 @@ import threading
 import pytest
 
 from rlff.errors import InputError
-from rlff.learn.robot import Landings, RobotFailed, outcome_of_landing, parse_answer
+from rlff.learn.robot import (
+    Landings,
+    RobotFailed,
+    measured_outcome,
+    outcome_of_landing,
+    parse_answer,
+)
 
 BASKET = 1.75  # m
 WINDOW = 0.14  # m: half the 0.35 m opening less the ball's radius
@@ -69,3 +75,57 @@ def test_a_landing_stamped_before_the_release_is_not_the_throw_s():
     assert landings.after(10.4, timeout=5.0) == 1.7
     with pytest.raises(RobotFailed, match=r"no landing on /rlff/landing within 0.1 s"):
         landings.after(11.0, timeout=0.1)
+
+
+def _landings(now: float = 100.0):
+    published = []
+    landings = Landings(published.append, now=lambda: now)
+    return landings, published[0]
+
+
+def test_landings_all_older_than_the_throw_are_counted_and_the_stamp_named():
+    landings, deliver = _landings()
+    deliver(0.0, 1.5, "")  # rostopic pub without `stamp: now`
+    deliver(42.0, 1.9, "")
+    with pytest.raises(RobotFailed) as caught:
+        measured_outcome(landings, 3, 99.0, BASKET, WINDOW, timeout=0.1)
+    message = str(caught.value)
+    assert "\n" not in message and message.startswith("attempt 3: no landing on /rlff/landing stamped after")
+    assert "2 arrived, all stamped before it (the last 1.9 m at 42.000 s, the release at 99.000 s)" in message
+    assert "header.stamp" in message and "stamp: now" in message
+
+
+def test_a_landing_stamped_in_the_future_is_refused():
+    landings, deliver = _landings(now=100.0)
+    deliver(100.3, 1.7, "")  # within the tolerance of clocks a little out of step
+    assert landings.after(99.0, timeout=1.0) == 1.7
+    deliver(220.0, 1.8, "")
+    with pytest.raises(RobotFailed, match=r"attempt 2: /rlff/landing: the landing \(1.8 m\) is stamped 120 s in "
+                                          r"the future"):
+        measured_outcome(landings, 2, 99.0, BASKET, WINDOW, timeout=1.0)
+
+
+@pytest.mark.parametrize("frame", ["camera_optical_frame", "world"])
+def test_a_landing_in_another_frame_is_refused_naming_it(frame):
+    landings, deliver = _landings()
+    deliver(99.5, 1.5, frame)
+    with pytest.raises(RobotFailed, match=rf"attempt 1: /rlff/landing: the landing \(1.5 m\) is in frame '{frame}', "
+                                          r"not the robot's base frame.*frame_id '' or 'base_link'"):
+        measured_outcome(landings, 1, 99.0, BASKET, WINDOW, timeout=1.0)
+
+
+@pytest.mark.parametrize("frame", ["", "base_link"])
+def test_a_landing_in_the_base_frame_is_taken(frame):
+    landings, deliver = _landings()
+    deliver(99.5, BASKET + 0.05, frame)
+    outcome = measured_outcome(landings, 1, 99.0, BASKET, WINDOW, timeout=1.0)
+    assert outcome.hit and outcome.miss == pytest.approx(0.05)
+
+
+def test_a_landing_that_is_not_a_number_names_the_attempt_and_what_to_check():
+    landings, deliver = _landings()
+    deliver(99.5, math.nan, "")
+    with pytest.raises(RobotFailed) as caught:
+        measured_outcome(landings, 4, 99.0, BASKET, WINDOW, timeout=1.0)
+    assert str(caught.value) == ("attempt 4: /rlff/landing: the landing is not a number (nan): check the vision "
+                                 "system's output (the log keeps the attempts before)")

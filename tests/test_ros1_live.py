@@ -13,6 +13,7 @@ Without Debian's ROS 1 packages these tests skip locally and FAIL in CI (CI=true
 from __future__ import annotations
 
 import json
+import signal
 import subprocess
 import sys
 import time
@@ -202,3 +203,65 @@ def test_a_learned_throw_is_sent_as_rlff_learn_out_wrote_it(tmp_path):
         return float(np.abs(positions[moving] - quintic(elapsed[moving])).max()) if moving.sum() >= 20 else np.inf
 
     assert min(error(delay) for delay in np.arange(0.0, 0.5, 0.001)) < EXECUTION_TOLERANCE
+
+
+def test_a_stale_latched_state_is_not_taken_as_the_arm_s_pose(tmp_path):
+    """A driver that published once, latched, stamped t = 1 s (or not at all): its pose is no
+    longer the arm's; the client waits for a fresh state, then refuses, nothing sent."""
+    rig = Ros(tmp_path, serve=False)
+    try:
+        names = "[" + ", ".join(ROBOT.joint_names) + "]"
+        path = throw_csv(tmp_path, "throw.csv", -0.5, 0.5, 0.5)
+        for stamp, said in (("{secs: 1}", "the last is stamped 1.000 s, 56"),
+                            ("{secs: 0}", "its messages are unstamped (header.stamp 0)")):
+            latched = subprocess.Popen(["rostopic", "pub", "-l", "/joint_states", "sensor_msgs/JointState",
+                                        f"{{header: {{stamp: {stamp}}}, name: {names}, "
+                                        "position: [0, 0, -1.373, 0, -0.198, 0], velocity: [0, 0, 0, 0, 0, 0]}"],
+                                       env=rig.env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            try:
+                time.sleep(3)  # registered and latched
+                result = rig.rlff("robot", "send", str(path), "--timeout", "4")
+            finally:
+                stop(latched)
+            assert result.returncode == 1, result.stderr
+            assert result.stderr.count("\n") == 1, result.stderr
+            assert result.stderr.startswith("rlff: error: no fresh state on /joint_states within 4 s: "), result.stderr
+            assert said in result.stderr and "the arm's pose is unknown" in result.stderr
+    finally:
+        rig.close()
+
+
+def test_stopping_send_before_any_goal_says_no_cancel(tmp_path):
+    rig = Ros(tmp_path, serve=False)  # nothing on /joint_states: the client waits for the arm's pose
+    try:
+        path = throw_csv(tmp_path, "throw.csv", -0.5, 0.5, 0.5)
+        sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(path)], env=rig.env,
+                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        time.sleep(5)
+        sender.send_signal(signal.SIGTERM)
+        _, err = sender.communicate(timeout=60)
+    finally:
+        rig.close()
+    assert sender.returncode == 143 and err.strip() == "rlff: terminated", err
+
+
+def test_a_server_that_dies_mid_goal_is_reported_lost_not_cancelled(tmp_path):
+    rig = Ros(tmp_path)
+    try:
+        slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.2)  # several seconds
+        sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow), "--json"],
+                                  env=rig.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        wait(lambda: "accepted" in rig.log() or sender.poll() is not None, 120, "the goal to be accepted")
+        rig.server.kill()  # the driver crashes: no result, no answer to the cancel
+        killed = time.monotonic()
+        out, err = sender.communicate(timeout=60)
+        took = time.monotonic() - killed
+    finally:
+        rig.close()
+    assert sender.returncode == 1, err
+    outcome = json.loads(out)
+    assert outcome["status"] == "lost" and "goal cancelled" not in err
+    assert outcome["error_string"].startswith("the server at /comau_controller/follow_joint_trajectory stopped "
+                                              "answering (no status for ")
+    assert "the cancel was not confirmed (no server is left to answer it): the arm's state is unknown" in err
+    assert took < 8  # seen within seconds, not after the throw's duration + 10 s + the cancel's 10 s

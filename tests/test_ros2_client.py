@@ -19,6 +19,7 @@ import pandas as pd
 import pytest
 
 from rlff.robot import RobotMapping, load_robot
+from rlff.robot.send import approach_line
 from rlff.robot.sendfile import load_for_sending
 from ros2rig import ACTION, RosNode, free_domain, require_ros2, ros2_env
 
@@ -48,6 +49,18 @@ def throw(tmp_path_factory):
     return path, pose, load_for_sending(path, model, PERIOD, start=pose)[1].trajectory
 
 
+class State:
+    """What the test's /joint_states says: its stamp ``age`` (s behind the clock; None: unstamped,
+    stamp 0), ``velocity`` (J,) (None: no velocities) and ``drift`` (J,), the rad/s at which the
+    published positions move."""
+
+    def __init__(self, age: float | None = 0.0, velocity=(0.0,) * 6, drift=(0.0,) * 6) -> None:
+        self.age = age
+        self.velocity = None if velocity is None else list(velocity)
+        self.drift = np.array(drift)
+        self.since = time.monotonic()
+
+
 class FakeController:
     """The test's FollowJointTrajectory server: answers with ``answer`` (a function of the goal)."""
 
@@ -67,10 +80,18 @@ class FakeController:
                                    cancel_callback=lambda handle: CancelResponse.ACCEPT, callback_group=group)
         publisher = node.node.create_publisher(JointState, "/joint_states", 10)
         names = list(load_robot().joint_names)
+        self.pose = pose
+        self.state = State()
 
         def publish() -> None:
-            msg = JointState(name=names, position=pose.tolist(), velocity=[0.0] * len(names))
-            msg.header.stamp = node.node.get_clock().now().to_msg()
+            state = self.state
+            now = node.node.get_clock().now()
+            position = self.pose + state.drift * (time.monotonic() - state.since)
+            msg = JointState(name=names, position=position.tolist(),
+                             velocity=[] if state.velocity is None else list(state.velocity))
+            if state.age is not None:
+                stamp = now.nanoseconds * 1e-9 - state.age
+                msg.header.stamp.sec, msg.header.stamp.nanosec = int(stamp), int(stamp % 1 * 1e9)
             publisher.publish(msg)
 
         node.node.create_timer(0.05, publish, callback_group=group)
@@ -91,6 +112,20 @@ class FakeController:
     def tolerance_violated(self, handle):
         handle.abort()
         return self.result_type(error_code=-5, error_string="joint_2 missed its goal by 0.2 rad")
+
+    def fall_silent(self, handle):
+        """Feedback for half a second, then nothing, a cancel unanswered: a server that crashed
+        mid-goal (its process gone, which discovery learns only when its lease ends)."""
+        for _ in range(10):
+            handle.publish_feedback(self.feedback_type())
+            time.sleep(0.05)
+        return self.deaf(handle)
+
+    def deaf(self, handle):
+        """Never ends, and never answers a cancel (20 s at most, so the teardown does not hang)."""
+        time.sleep(20)
+        handle.abort()
+        return self.result_type(error_code=-1, error_string="gave up")
 
     def never_finish(self, handle):
         """Runs until cancelled (at most a minute: a client that left without cancelling fails
@@ -137,6 +172,8 @@ def test_rlff_plans_from_the_arm_sends_and_reports_success(controller, domain, t
     np.testing.assert_allclose(times, planned.time, atol=1e-9)
     np.testing.assert_allclose([p.positions for p in goal.points], planned.positions, atol=1e-12)
     np.testing.assert_allclose([p.velocities for p in goal.points], planned.velocities, atol=1e-12)
+    # the approach to the throw's start is announced before the goal goes out
+    assert approach_line(planned) in result.stderr and "approach first: joint_2 " in result.stderr
     stamp = goal.header.stamp.sec + goal.header.stamp.nanosec * 1e-9
     assert sent_at < stamp < time.time() + 1  # starts shortly after it was sent
     assert outcome["start"] == pytest.approx(stamp, abs=1e-6)
@@ -215,3 +252,111 @@ def test_without_a_server_the_client_gives_up_with_a_clear_error(throw, tmp_path
     result = rlff_send(lonely, tmp_path, str(throw[0]), "--timeout", "2", timeout=60)
     assert result.returncode == 1
     assert "nothing on /joint_states" in result.stderr
+
+
+@pytest.fixture
+def state(controller):
+    """The test's /joint_states, set back to a fresh state at rest after the test."""
+    pose = controller.pose
+    yield controller
+    controller.state = State()
+    controller.pose = pose
+
+
+def _refused(domain, folder, controller, throw, *args: str) -> str:
+    """``rlff robot send`` refused before anything was sent: its one error line."""
+    before = len(controller.goals)
+    result = rlff_send(domain, folder, str(throw[0]), "--timeout", "3", *args)
+    assert result.returncode == 1, result.stderr
+    assert len(controller.goals) == before  # nothing went out
+    last = result.stderr.strip().splitlines()
+    assert len(last) == 1, result.stderr
+    return last[0]
+
+
+@pytest.mark.parametrize(("made", "said"), [
+    (State(age=5.0), r"the last is stamped [\d.]+ s, 5 s old \(ROS time"),
+    (State(age=None), r"its messages are unstamped \(header.stamp 0\), so their age is unknown"),
+    (State(age=-30.0), r"the last is stamped [\d.]+ s, 30 s ahead of this host's ROS clock"),
+], ids=["stale", "unstamped", "future"])
+def test_a_state_not_fresh_is_not_taken_as_the_arm_s_pose(state, domain, throw, tmp_path, made, said):
+    import re
+
+    state.state = made
+    line = _refused(domain, tmp_path, state, throw)
+    assert line.startswith("rlff: error: no fresh state on /joint_states within 3 s: "), line
+    assert re.search(said, line), line
+    assert "the arm's pose is unknown" in line
+
+
+def test_a_moving_arm_is_refused(state, domain, throw, tmp_path):
+    state.state = State(velocity=[0.0, 1.5, 0.0, 0.0, 0.0, 0.0])
+    line = _refused(domain, tmp_path, state, throw)
+    assert line == "rlff: error: the arm is moving (1.5 rad/s on joint_2): wait until it rests, then send again"
+
+
+def test_without_velocities_the_speed_comes_from_the_positions(state, domain, throw, tmp_path):
+    # moving, its velocities left out: seen from two positions 0.05 s or more apart
+    state.state = State(velocity=None, drift=[0.0, 0.0, 0.0, 0.0, 0.0, 0.2])
+    line = _refused(domain, tmp_path, state, throw)
+    assert line.startswith("rlff: error: the arm is moving (0.2 rad/s on joint_6)"), line
+    # at rest, its velocities left out: sent
+    state.state = State(velocity=None)
+    state.answer = state.succeed
+    result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "60")
+    assert result.returncode == 0, result.stderr
+
+
+@pytest.mark.parametrize(("joint", "value", "said"), [
+    (1, float("nan"), "rlff: error: /joint_states reports joint_2 at nan rad: the arm's pose is unknown; "
+                      "check the arm's driver"),
+    (2, 0.0005, "rlff: error: /joint_states reports joint_3 at 0.0005 rad, beyond its upper limit 0 rad in the "
+                "robot file (comau_smart5_six): move the arm inside its limits"),
+], ids=["nan", "beyond-limit"])
+def test_a_bad_pose_is_blamed_on_joint_states_not_the_file(state, domain, throw, tmp_path, joint, value, said):
+    pose = state.pose.copy()
+    pose[joint] = value
+    state.pose = pose
+    line = _refused(domain, tmp_path, state, throw)
+    assert line.startswith(said), line
+    assert str(throw[0].name) not in line
+
+
+def test_a_cancel_the_server_ignores_is_not_called_a_cancel(state, domain, throw, tmp_path):
+    state.answer = state.deaf
+    started = time.monotonic()
+    result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "4")
+    took = time.monotonic() - started
+    assert result.returncode == 1, result.stderr
+    outcome = json.loads(result.stdout)
+    assert outcome["status"] == "timed out" and "goal cancelled" not in result.stderr
+    assert outcome["error_string"] == ("timed out; the cancel was not confirmed (no answer from the server within "
+                                       "10 s): the arm's state is unknown; check the arm (e-stop it if it moves)")
+    assert took < 4 + 10 + 10  # --timeout, the cancel's 10 s, and starting up
+
+
+def test_a_server_that_falls_silent_mid_goal_is_lost_not_cancelled(state, domain, throw, tmp_path):
+    state.answer = state.fall_silent
+    started = time.monotonic()
+    result = rlff_send(domain, tmp_path, str(throw[0]), "--json")  # no --timeout: 10 s more than the throw
+    took = time.monotonic() - started
+    assert result.returncode == 1, result.stderr
+    outcome = json.loads(result.stdout)
+    assert outcome["status"] == "lost" and "goal cancelled" not in result.stderr
+    assert outcome["error_string"].startswith(f"the server at {ACTION} stopped answering (its feedback stopped ")
+    assert outcome["error_string"].endswith("; the cancel was not confirmed (no server is left to answer it): the "
+                                            "arm's state is unknown; check the arm (e-stop it if it moves)")
+    assert took < 15  # seen within seconds, not after the throw's duration + 10 s + the cancel's 10 s
+
+
+def test_stopping_send_before_any_goal_says_no_cancel(throw, tmp_path):
+    require_ros2()
+    lonely = free_domain()  # nothing on /joint_states: the client is still waiting for the arm's pose
+    sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(throw[0]), "--ros", "2"],
+                              env=ros2_env(lonely, tmp_path), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True)
+    time.sleep(5)  # started, waiting up to 10 s for /joint_states
+    sender.send_signal(signal.SIGTERM)
+    _, err = sender.communicate(timeout=60)
+    assert sender.returncode == 143, err
+    assert err.strip() == "rlff: terminated", err

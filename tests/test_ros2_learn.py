@@ -166,3 +166,37 @@ def test_whole_arm_attempts_at_a_bearing_with_typed_outcomes(server, domain, fol
     header, *lines = (json.loads(line) for line in log.read_text().splitlines())
     assert header["run"]["joints"] == ["joint_3", "joint_2"] and header["run"]["basket"]["bearing"] == 60.0
     assert all(set(line["arm"]) == {"shoulder", "shoulder_velocity"} for line in lines)
+
+
+@pytest.mark.parametrize("when", ["mid-throw", "at-the-prompt"])
+def test_a_learn_stopped_on_the_arm_says_what_became_of_the_attempt(server, domain, folder, demos, when):
+    """SIGTERM (a supervisor's stop) mid-throw: the goal is cancelled, and the attempt, never logged,
+    is thrown again on resume; at the prompt: thrown, but not logged. Each on a line of its own."""
+    import signal
+    import time
+
+    from ros2rig import wait_until
+
+    log = folder / f"stopped-{when}.jsonl"
+    accepted, completed = server.text().count(" accepted:"), server.text().count("trajectory completed")
+    learner = subprocess.Popen([sys.executable, "-m", "rlff", "learn", str(demos), "--preset", "thesis", "--basket",
+                                str(BASKET), "--executor", "ros2", "--outcome", "ask", "--budget", "3", "--log",
+                                str(log)], env=ros2_env(domain, folder), stdin=subprocess.PIPE,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if when == "mid-throw":
+        wait_until(lambda: server.text().count(" accepted:") > accepted or learner.poll() is not None, 300,
+                   "the first throw's goal")
+    else:
+        wait_until(lambda: server.text().count("trajectory completed") > completed or learner.poll() is not None,
+                   300, "the first throw to end")
+        time.sleep(1.0)  # at the prompt
+    assert learner.poll() is None, learner.communicate()
+    learner.send_signal(signal.SIGTERM)
+    _, err = learner.communicate(timeout=120)
+    assert learner.returncode == 143, err
+    lines = err.strip().splitlines()
+    said = ("rlff: attempt 1: goal cancelled; not logged: a resumed run throws it again" if when == "mid-throw"
+            else "rlff: attempt 1: thrown, but no outcome given: not logged: a resumed run throws it again")
+    assert lines[-2:] == [said, "rlff: terminated"], err
+    assert any(line.startswith("attempt 1: approach first: ") and "joint_2 " in line for line in lines), err
+    assert attempts(log) == []  # the header alone

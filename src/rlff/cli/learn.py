@@ -81,7 +81,6 @@ def learn_command(
     from rlff.cli.model import read_data
     from rlff.cli.output import guard
     from rlff.errors import InputError
-    from rlff.learn import learn
     from rlff.learn.method import COLUMNS
 
     # the log is read (resumed) and written: it may exist, but must not be the demonstrations
@@ -114,31 +113,14 @@ def learn_command(
         from rlff.preprocess import Pipeline
 
         data, _ = Pipeline.preset(preset).run(data)
-    with ExitStack() as stack:
-        bar = []  # opened at the first attempt, so that bad input fails before any display
-        run_on = None
-        if executor != "sim":
-            from rlff.learn.robot import robot_executor
-
-            run_on = _learn_live(lambda: stack.enter_context(robot_executor(
-                executor, outcome, robot, basket, feedback, until=until, ask=_ask, landing_topic=landing_topic, network=network)))
-
-        def show(attempt) -> None:
-            if outcome == "ask":  # no progress bar under the prompt
-                say(f"attempt {attempt.index}: {'hit' if attempt.hit else 'miss'}, exploration {attempt.exploration:.2f}")
-                return
-            if not bar:
-                bar.append(stack.enter_context(progress(f"learning to hit {basket:g} m", total=budget)))
-            seen = f"{'hit' if attempt.hit else 'miss'} {attempt.miss:+.2f} m"
-            bar[0](1, description=f"attempt {attempt.index}: {seen}, "
-                                  f"exploration {attempt.exploration:.2f}")
-
-        result = _learn_live(lambda: learn(data, basket, budget=budget, feedback=feedback, update=update, seed=seed,
-                                           log_path=log, progress=show, robot=robot, pedestal=pedestal,
-                                           until=until, centre_share=centre_share,
-                                           executor=run_on, executed_on=executor, joints=driven,
-                                           bearing=bearing, height=height, carry_from=carry, gap=arm.name,
-                                           misreport=misreport))
+    try:
+        result = _run(data, basket, budget, feedback, update, seed, log, robot, pedestal, until, centre_share, executor,
+                      outcome, landing_topic, network, driven, bearing, height, carry, arm, misreport)
+    except KeyboardInterrupt as exc:  # on its own line, after the progress bar or the prompt
+        said = _interrupted_attempt(exc, log)
+        if said:
+            stderr().print(f"rlff: {said}", highlight=False, markup=False)
+        raise
     for note in result.notes:
         say(note)
     written = _write_best(result, robot, out, fmt, period, driven, bearing) if out is not None else None
@@ -158,6 +140,57 @@ def learn_command(
                      "" if arm.none else f", simulated arm {arm.name}"])
     stdout().print(f"{verdict} (basket {basket:g} m{where}, {feedback} feedback, update {update}); "
                    f"signed misses from the centre (m): {misses}", highlight=False)
+
+
+def _run(data, basket, budget, feedback, update, seed, log, robot, pedestal, until, centre_share, executor, outcome,
+         landing_topic, network, driven, bearing, height, carry, arm, misreport):
+    """The learning run, on the simulation or through a live robot (its progress shown as it goes)."""
+    from rlff.learn import learn
+
+    with ExitStack() as stack:
+        bar = []  # opened at the first attempt, so that bad input fails before any display
+        run_on = None
+        if executor != "sim":
+            from rlff.learn.robot import robot_executor
+
+            def tell(line: str) -> None:  # the approach, before the arm moves: shown even under -q
+                stderr().print(line, highlight=False, markup=False)
+
+            run_on = _learn_live(lambda: stack.enter_context(robot_executor(
+                executor, outcome, robot, basket, feedback, until=until, ask=_ask, landing_topic=landing_topic,
+                network=network, tell=tell)))
+
+        def show(attempt) -> None:
+            if outcome == "ask":  # no progress bar under the prompt
+                say(f"attempt {attempt.index}: {'hit' if attempt.hit else 'miss'}, exploration {attempt.exploration:.2f}")
+                return
+            if not bar:
+                bar.append(stack.enter_context(progress(f"learning to hit {basket:g} m", total=budget)))
+            seen = f"{'hit' if attempt.hit else 'miss'} {attempt.miss:+.2f} m"
+            bar[0](1, description=f"attempt {attempt.index}: {seen}, "
+                                  f"exploration {attempt.exploration:.2f}")
+
+        return _learn_live(lambda: learn(data, basket, budget=budget, feedback=feedback, update=update, seed=seed,
+                                         log_path=log, progress=show, robot=robot, pedestal=pedestal,
+                                         until=until, centre_share=centre_share,
+                                         executor=run_on, executed_on=executor, joints=driven,
+                                         bearing=bearing, height=height, carry_from=carry, gap=arm.name,
+                                         misreport=misreport))
+
+
+def _interrupted_attempt(exc: BaseException, log: Path | None) -> str | None:
+    """What became of the attempt a Ctrl-C or SIGTERM stopped on the arm; None when none was under way."""
+    from rlff.cli.robot import interrupted_goal
+
+    attempt = getattr(exc, "rlff_attempt", None)
+    if attempt is None:
+        return None
+    kept = ("not logged: a resumed run throws it again" if log is not None
+            else "not logged (no --log to resume)")
+    if getattr(exc, "rlff_outcome_missing", False):
+        return f"attempt {attempt}: thrown, but no outcome given: {kept}"
+    goal = interrupted_goal(exc) or "goal not sent"
+    return f"attempt {attempt}: {goal}; {kept}"
 
 
 def _joint_list(joints: str | None) -> tuple[str, ...] | None:
@@ -196,7 +229,11 @@ def _ask(question: str) -> str:
     from rlff.errors import InputError
 
     stderr().print(question, end="", highlight=False, markup=False)
-    line = sys.stdin.readline()
+    try:
+        line = sys.stdin.readline()
+    except KeyboardInterrupt:
+        stderr().print()  # end the prompt's line: what follows stands on its own
+        raise
     if not line:
         stderr().print()  # end the prompt's line
         raise InputError("--outcome ask: no answer (stdin is closed); the attempts so far are in the log")

@@ -316,7 +316,9 @@ def send(
     trajectory: Path = typer.Argument(..., help=INPUT_HELP),
     robot: str = ROBOT,
     attempt: int = ATTEMPT,
-    timeout: float = typer.Option(None, "--timeout", help="Seconds for everything; then the goal is cancelled."),
+    timeout: float = typer.Option(None, "--timeout", help="Seconds for connecting and executing; then the goal is "
+                                                          "cancelled, and the server has up to 10 s more to "
+                                                          "confirm the arm stopped."),
     topic_mode: bool = typer.Option(False, "--topic-mode", help="Publish on /comau/joint_trajectory instead of the action."),
     clip: bool = CLIP,
     period: float = typer.Option(0.01, "--period", help="Controller period (s) a generated throw is planned at (> 0)."),
@@ -332,13 +334,14 @@ def send(
     """Send a trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels).
 
     A generated throw or an attempt of an attempts log is planned from the arm's pose (read from
-    /joint_states); an exported trajectory is sent as it is. Each must pass the motion check,
-    starting at the arm's pose.
+    a fresh /joint_states message; an arm that moves is refused); an exported trajectory is sent
+    as it is. Each must pass the motion check, starting at the arm's pose. The approach to the
+    throw's start is announced before the goal is sent.
     """
     from rlff.errors import InputError
     from rlff.learn.replay import load_for_send, rebearing_warning
     from rlff.robot.description import load_robot
-    from rlff.robot.send import goal_for_arm
+    from rlff.robot.send import ArmStateError, approach_line, goal_for_arm, require_at_rest
 
     _check_ros(ros)
     if ros == 2 and topic_mode:
@@ -368,11 +371,13 @@ def send(
 
     try:
         pose, speed = arm_state(model, timeout)
+        require_at_rest(model, speed)  # before planning from rest
         result = load(start=pose)
         _report(result)
         traj = goal_for_arm(model, result.trajectory, pose, speed)
-        if traj is not result.trajectory:
-            say(f"the arm is moving ({abs(speed).max():.3g} rad/s): the server approaches the first point")
+        announced = approach_line(traj, "the throw" if traj.release_time is not None else "the trajectory")
+        if announced:  # before anything moves, even under -q
+            stderr().print(announced, highlight=False, markup=False)
         if topic_mode:
             subscribers = publish_trajectory(model, traj, pose, timeout)
             say(f"published {len(traj)} points on /comau/joint_trajectory to {subscribers} subscriber(s)")
@@ -391,11 +396,13 @@ def send(
                     done = now
 
             outcome = send_goal(model, traj, pose, timeout, on_feedback)
-    except RosUnavailable as exc:
+    except (RosUnavailable, ArmStateError) as exc:
         stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
         raise typer.Exit(1) from None
-    except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the client cancelled the goal before re-raising
-        stderr().print("rlff: goal cancelled", highlight=False, markup=False)
+    except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: the client cancelled the goal, if one was sent
+        said = interrupted_goal(exc)
+        if said:
+            stderr().print(f"rlff: {said}", highlight=False, markup=False)
         raise
     if json:
         emit_json(outcome.to_dict())
@@ -405,3 +412,15 @@ def send(
         return
     stderr().print(f"rlff: {message}", highlight=False, markup=False)
     raise typer.Exit(1)
+
+
+def interrupted_goal(exc: BaseException) -> str | None:
+    """What became of the goal an interrupt (Ctrl-C, SIGTERM) stopped: None when none was sent."""
+    from rlff.robot.send import CANCEL_UNCONFIRMED, GOAL_CANCELLED, cancel_unconfirmed, goal_fate
+
+    fate = goal_fate(exc)
+    if fate == GOAL_CANCELLED:
+        return "goal cancelled"
+    if fate == CANCEL_UNCONFIRMED:
+        return f"goal interrupted: {cancel_unconfirmed()}"
+    return None

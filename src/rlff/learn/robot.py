@@ -10,7 +10,8 @@ from whoever watched the throw:
   basket), typed at a prompt; see :func:`parse_answer`;
 - a vision system (``topic``): the landing point it publishes, a geometry_msgs/PointStamped whose
   ``point.x`` is the landing distance (m) along the throwing direction from the robot's base
-  axis, stamped after the planned release; see :class:`Landings`.
+  axis, stamped after the planned release (and not in the future), in the robot's base frame
+  (``header.frame_id`` empty or one of :data:`LANDING_FRAMES`); see :class:`Landings`.
 
 A landing, typed or measured, is a hit within the basket's hit window, the same as in the
 simulation, and keeps its measured miss (``--until centred`` judges hits by it). A landing
@@ -19,7 +20,9 @@ glitch) is never learned from: a typed one is asked again, a published one stops
 
 The outcome joins the attempts log like a simulated one (hit, landing, signed miss), so a run
 resumes the same way. A goal that does not succeed stops the run with an error naming the
-attempt: the log keeps the attempts before it.
+attempt: the log keeps the attempts before it. Each throw's approach (the move to its start pose)
+is announced (``tell``) before its goal is sent; an attempt interrupted mid-throw or at its
+outcome is not logged (a resumed run throws it again): the interrupt is marked with its number.
 """
 
 from __future__ import annotations
@@ -37,7 +40,7 @@ import numpy as np
 from rlff.errors import InputError, RlffError
 from rlff.limits import DISTANCE_RANGE
 from rlff.robot.description import Robot
-from rlff.robot.send import SendResult, goal_for_arm
+from rlff.robot.send import ArmStateError, SendResult, approach_line, goal_for_arm, require_at_rest
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.planner import plan_throw
 
@@ -50,6 +53,12 @@ PERIOD = 0.01
 LANDING_DISCOVERY = 10.0
 #: Seconds to wait for a landing after the goal ended.
 OUTCOME_TIMEOUT = 60.0
+#: The frames a landing may be given in (``header.frame_id``): none (taken as the robot's base
+#: frame) or the robot's base link, as ``rlff robot urdf`` names it. ``point.x`` is measured along
+#: the throwing direction from the base axis; a camera's frame is not converted.
+LANDING_FRAMES = ("", "base_link")
+#: Seconds a landing's stamp may lie ahead of this host's ROS clock (clocks a little out of step).
+LANDING_FUTURE = 0.5
 #: Where a ball can come down (m from the robot's base axis): not behind it, and no farther than
 #: the farthest basket rlff takes (``rlff.limits.DISTANCE_RANGE``).
 LANDING_RANGE = (0.0, DISTANCE_RANGE[1])
@@ -127,43 +136,92 @@ def parse_answer(text: str, basket: float, tolerance: float, distance_needed: bo
 class Landings:
     """The landing points a vision system publishes, kept as they arrive.
 
-    ``subscribe(callback)`` connects the topic; the transport calls ``callback(stamp, x)`` with
-    each message's header stamp (s) and ``point.x`` (m).
+    ``subscribe(callback)`` connects the topic; the transport calls ``callback(stamp, x, frame)``
+    with each message's header stamp (s), ``point.x`` (m) and ``header.frame_id``. ``now()``
+    is the ROS time (s), against which a stamp in the future is refused.
     """
 
-    def __init__(self, subscribe: Callable[[Callable[[float, float], None]], None]) -> None:
-        self._seen: list[tuple[float, float]] = []
+    def __init__(self, subscribe: Callable[[Callable[..., None]], None],
+                 now: Callable[[], float] = time.time) -> None:
+        self._seen: list[tuple[float, float, str]] = []
         self._arrived = threading.Condition()
+        self._now = now
         subscribe(self._on_landing)
 
-    def _on_landing(self, stamp: float, x: float) -> None:
+    def _on_landing(self, stamp: float, x: float, frame: str = "") -> None:
         with self._arrived:
-            self._seen.append((stamp, x))
+            self._seen.append((stamp, x, frame))
             self._arrived.notify_all()
 
     def after(self, start: float, timeout: float, topic: str = LANDING_TOPIC) -> float:
         """The first landing (m) stamped at or after ``start`` (s, the throw's release), waiting up
-        to ``timeout`` s. Landings stamped earlier are older than the throw and dropped.
+        to ``timeout`` s. Landings stamped earlier are older than the throw and passed over (the
+        error on a timeout counts them). The landing may not be a number: the caller judges it.
 
         Raises
         ------
         RobotFailed
-            None arrived in time, or it is not a finite number.
+            None arrived in time; the landing is stamped in the future (beyond
+            :data:`LANDING_FUTURE`) or given in a frame not of :data:`LANDING_FRAMES`.
         """
         deadline = time.monotonic() + timeout
+        older: list[tuple[float, float]] = []
         with self._arrived:
             while True:
-                for stamp, x in self._seen:
-                    if stamp >= start:
-                        self._seen = [(s, v) for s, v in self._seen if s > stamp]
-                        if not math.isfinite(x):
-                            raise RobotFailed(f"the landing on {topic} is not a number ({x})")
-                        return x
+                while self._seen:
+                    stamp, x, frame = self._seen.pop(0)
+                    if stamp < start:
+                        older.append((stamp, x))
+                        continue
+                    now = self._now()
+                    if stamp > now + LANDING_FUTURE:
+                        raise RobotFailed(
+                            f"{topic}: the landing ({x:g} m) is stamped {stamp - now:.3g} s in the future "
+                            f"({stamp:.3f} s, ROS time {now:.3f} s): stamp each landing with the ROS time the ball "
+                            "came down, on a clock in step with this host's")
+                    if frame not in LANDING_FRAMES:
+                        raise RobotFailed(
+                            f"{topic}: the landing ({x:g} m) is in frame {frame!r}, not the robot's base frame: "
+                            f"publish point.x along the throwing direction from the robot's base axis, frame_id "
+                            f"{' or '.join(repr(f) for f in LANDING_FRAMES)}")
+                    return x
                 left = deadline - time.monotonic()
                 if left <= 0:
+                    if older:
+                        last_stamp, last_x = older[-1]
+                        raise RobotFailed(
+                            f"no landing on {topic} stamped after the throw's release within {timeout:g} s: "
+                            f"{len(older)} arrived, all stamped before it (the last {last_x:g} m at "
+                            f"{last_stamp:.3f} s, the release at {start:.3f} s): set each landing's header.stamp "
+                            "to the ROS time now (rostopic pub: `header: {stamp: now}`), on a clock in step with "
+                            "this host's")
                     raise RobotFailed(f"no landing on {topic} within {timeout:g} s of the throw "
                                       "(is the vision system publishing geometry_msgs/PointStamped?)")
                 self._arrived.wait(left)
+
+
+def measured_outcome(landings: Landings, attempt: int, release: float, basket: float, tolerance: float,
+                     topic: str = LANDING_TOPIC, timeout: float = OUTCOME_TIMEOUT) -> ReportedOutcome:
+    """The outcome of ``attempt`` from the first landing on ``topic`` after its ``release`` (s).
+
+    Raises
+    ------
+    RobotFailed
+        No landing (:meth:`Landings.after`), or one that is not a number or not within
+        :data:`LANDING_RANGE`: one line naming the attempt and what to check.
+    """
+    try:
+        landing = landings.after(release, timeout, topic)
+    except RobotFailed as exc:
+        raise RobotFailed(f"attempt {attempt}: {exc} (the log keeps the attempts before)") from None
+    if not math.isfinite(landing):
+        raise RobotFailed(f"attempt {attempt}: {topic}: the landing is not a number ({landing}): check the vision "
+                          "system's output (the log keeps the attempts before)")
+    try:
+        return outcome_of_landing(landing, basket, tolerance)
+    except InputError as exc:
+        raise RobotFailed(f"attempt {attempt}: {topic}: {exc}; check the vision system's frame and units (the log "
+                          "keeps the attempts before)") from None
 
 
 class LiveArm(Protocol):
@@ -190,25 +248,41 @@ class RobotExecutor:
     """
 
     def __init__(self, arm: LiveArm, robot: Robot, outcome: Callable[[int, float], ReportedOutcome],
-                 period: float = PERIOD) -> None:
+                 period: float = PERIOD, tell: Callable[[str], None] | None = None) -> None:
         self.arm = arm
         self.robot = robot
         self.outcome = outcome
         self.period = period
+        self.tell = tell
         self.attempts = 0
 
     def __call__(self, trajectory: JointTrajectory) -> ReportedOutcome:
         self.attempts += 1
-        pose, velocity = self.arm.arm_state(self.robot)
-        planned = plan_throw(trajectory, self.robot.joints, start=pose, period=self.period)
-        goal = goal_for_arm(self.robot, planned, pose, velocity)
-        sent = self.arm.send_goal(self.robot, goal, pose)
+        try:
+            pose, velocity = self.arm.arm_state(self.robot)
+            require_at_rest(self.robot, velocity)  # before planning from rest
+            planned = plan_throw(trajectory, self.robot.joints, start=pose, period=self.period)
+            goal = goal_for_arm(self.robot, planned, pose, velocity)
+        except ArmStateError as exc:
+            raise RobotFailed(f"attempt {self.attempts}: {exc}") from None
+        announced = approach_line(goal)
+        if announced and self.tell is not None:
+            self.tell(f"attempt {self.attempts}: {announced}")
+        try:
+            sent = self.arm.send_goal(self.robot, goal, pose)
+        except KeyboardInterrupt as exc:  # the client cancelled the goal, if one went out
+            exc.rlff_attempt = self.attempts  # type: ignore[attr-defined]
+            raise
         if not sent.succeeded:
             detail = f" ({sent.error_name})" if sent.error_name else ""
             raise RobotFailed(f"attempt {self.attempts}: goal {sent.status}{detail}: {sent.error_string}")
-        # the goal may start later than the plan (a moving arm's approach lead)
-        release = sent.start + float(goal.time[0] - planned.time[0]) + float(planned.release_time or 0.0)
-        return self.outcome(self.attempts, release)
+        release = sent.start + float(planned.release_time or 0.0)
+        try:
+            return self.outcome(self.attempts, release)
+        except KeyboardInterrupt as exc:  # thrown, but no outcome: not logged either
+            exc.rlff_attempt = self.attempts  # type: ignore[attr-defined]
+            exc.rlff_outcome_missing = True  # type: ignore[attr-defined]
+            raise
 
 
 #: The executors of ``rlff learn --executor`` and the outcome sources of ``--outcome``.
@@ -228,6 +302,7 @@ def robot_executor(
     landing_topic: str = LANDING_TOPIC,
     outcome_timeout: float = OUTCOME_TIMEOUT,
     network: bool = False,
+    tell: Callable[[str], None] | None = None,
 ) -> Iterator[RobotExecutor]:
     """A :class:`RobotExecutor` on a live arm, for the time of the ``with`` block.
 
@@ -252,6 +327,8 @@ def robot_executor(
         Seconds to wait for a landing after the goal started.
     network : bool
         Open the nodes to the network (default: this host only).
+    tell : callable, optional
+        ``tell(line)``: each throw's approach, announced before its goal is sent.
 
     Raises
     ------
@@ -287,23 +364,19 @@ def robot_executor(
 
     with ExitStack() as stack:
         if kind == "ros2":
-            arm, subscribe = _ros2_arm(stack, landing_topic, network)
+            arm, subscribe, now = _ros2_arm(stack, landing_topic, network)
         else:
-            arm, subscribe = _ros1_arm(model, landing_topic, network)
+            arm, subscribe, now = _ros1_arm(model, landing_topic, network)
         if outcome == "topic":
-            landings = Landings(subscribe)
+            landings = Landings(subscribe, now)
 
             def measured(attempt: int, release: float) -> ReportedOutcome:
-                landing = landings.after(release, outcome_timeout, landing_topic)
-                try:
-                    return outcome_of_landing(landing, basket, tolerance)
-                except InputError as exc:
-                    raise RobotFailed(f"attempt {attempt}: {landing_topic}: {exc}; check the vision system's "
-                                      "frame and units (the log keeps the attempts before)") from None
+                return measured_outcome(landings, attempt, release, basket, tolerance, landing_topic,
+                                        outcome_timeout)
 
-            yield RobotExecutor(arm, model, measured)
+            yield RobotExecutor(arm, model, measured, tell=tell)
         else:
-            yield RobotExecutor(arm, model, asked)
+            yield RobotExecutor(arm, model, asked, tell=tell)
 
 
 def _ros2_arm(stack: ExitStack, topic: str, network: bool):
@@ -321,14 +394,14 @@ def _ros2_arm(stack: ExitStack, topic: str, network: bool):
 
     connection = stack.enter_context(Connection("rlff_learn"))
 
-    def subscribe(callback: Callable[[float, float], None]) -> None:
+    def subscribe(callback: Callable[[float, float, str], None]) -> None:
         # a vision system already running is matched before the first throw, so that its first
         # landing is not published before discovery joined the two
         connection.subscribe(PointStamped, topic, lambda msg: callback(
-            msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, msg.point.x),
+            msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, msg.point.x, msg.header.frame_id),
             wait_for_publisher=LANDING_DISCOVERY)
 
-    return connection, subscribe
+    return connection, subscribe, connection.now
 
 
 def _ros1_arm(robot: Robot, topic: str, network: bool):
@@ -347,7 +420,8 @@ def _ros1_arm(robot: Robot, topic: str, network: bool):
 
     client.arm_state(robot)  # starts the node (and checks the arm answers) before subscribing
 
-    def subscribe(callback: Callable[[float, float], None]) -> None:
-        rospy.Subscriber(topic, PointStamped, lambda msg: callback(msg.header.stamp.to_sec(), msg.point.x))
+    def subscribe(callback: Callable[[float, float, str], None]) -> None:
+        rospy.Subscriber(topic, PointStamped, lambda msg: callback(msg.header.stamp.to_sec(), msg.point.x,
+                                                                   msg.header.frame_id))
 
-    return client, subscribe
+    return client, subscribe, lambda: rospy.get_rostime().to_sec()

@@ -53,9 +53,10 @@ def trajectory_from_points(joint_names: Sequence[str], points: Sequence[Any],
 
 
 def arm_state_of(robot: Robot, topic: str, names: Sequence[str], positions: Sequence[float],
-                 velocities: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
+                 velocities: Sequence[float]) -> tuple[np.ndarray, np.ndarray | None]:
     """The arm's pose and velocity (each (J,), rad and rad/s, ``robot``'s joints in order) from a
-    JointState message's fields; velocities are zeros when the message has none.
+    JointState message's fields; the velocity is None when the message has none (or not one per
+    name): the arm's speed is then unknown, never taken as 0.
 
     Raises
     ------
@@ -66,7 +67,9 @@ def arm_state_of(robot: Robot, topic: str, names: Sequence[str], positions: Sequ
     missing = [name for name in robot.joint_names if name not in names]
     if missing:
         raise InputError(f"{topic} has no position of {', '.join(missing)} (it names {', '.join(names)})")
+    if len(positions) != len(names):
+        raise InputError(f"{topic} has {len(positions)} positions for {len(names)} joint names")
     index = [names.index(name) for name in robot.joint_names]
     velocities = np.asarray(velocities, dtype=float)
     return (np.asarray(positions, dtype=float)[index],
-            velocities[index] if velocities.size == len(names) else np.zeros(len(index)))
+            velocities[index] if velocities.size == len(names) else None)

@@ -1,26 +1,218 @@
 """What sending a FollowJointTrajectory goal shares across transports (ROS 1, ROS 2).
 
-The goal for the arm's state (checked from the pose /joint_states reports, delayed a little
-when the arm is moving) and the report of what became of it; the transports
-(:mod:`rlff.robot.ros1.client`, :mod:`rlff.robot.ros2.client`) only move messages.
+The arm's state taken from /joint_states (:class:`StateWatch`: only a fresh, stamped message whose
+pose is within the robot's limits), the refusal to plan from rest for an arm that moves
+(:func:`require_at_rest`), the goal checked from that state (:func:`goal_for_arm`), the line
+announcing the approach before anything moves (:func:`approach_line`), and the report of what
+became of a goal; the transports (:mod:`rlff.robot.ros1.client`, :mod:`rlff.robot.ros2.client`)
+only move messages.
 """
 
 from __future__ import annotations
 
+import math
+import threading
+import time
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from rlff.errors import InputError
-from rlff.robot.controller import START_VELOCITY_TOLERANCE, ResultCode
+from rlff.errors import InputError, RlffError
+from rlff.robot.controller import ResultCode
 from rlff.robot.description import Robot
 from rlff.robot.goal import InvalidJoints, check_goal
+from rlff.robot.messages import arm_state_of
 from rlff.trajectory.joint import JointTrajectory
 
-#: Seconds after its start at which a goal sent to a moving arm has its first point.
-APPROACH_LEAD = 0.1
+#: The topic the arm's state comes on.
+JOINT_STATES = "/joint_states"
+#: How far (s) a /joint_states header stamp may be from the ROS clock, behind or ahead, for the
+#: message to be taken as the arm's state now; an older one (a latched message, a driver that
+#: stopped, a clock out of step) is waited past, and refused when no fresh one comes.
+STATE_MAX_AGE = 1.0
+#: Without velocities in /joint_states, the arm's speed is its position change over two fresh
+#: messages at least this far apart (s).
+VELOCITY_SPAN = 0.05
+#: Above this speed (rad/s) on any joint the arm counts as moving: no goal planned from rest is sent.
+MOVING_SPEED = 0.01
+#: Seconds to wait for the server to confirm a cancel (it answers once the arm has braked to rest).
+CANCEL_WAIT = 10.0
+#: What a goal came to when the command was interrupted: cancelled (the server confirmed the
+#: goal's end) or a cancel sent but not confirmed; see :func:`mark_goal`.
+GOAL_CANCELLED, CANCEL_UNCONFIRMED = "cancelled", "unconfirmed"
 #: The result codes' names by value.
 ERROR_NAMES = {code.value: code.name for code in ResultCode}
+
+
+class ArmStateError(RlffError):
+    """/joint_states cannot be taken as the arm's state (stale, unstamped, not a number, beyond a
+    limit), or the arm is moving: nothing is sent."""
+
+
+def mark_goal(exc: BaseException, fate: str) -> BaseException:
+    """``exc`` (an interrupt) marked with what became of the goal it interrupted (:data:`GOAL_CANCELLED`
+    or :data:`CANCEL_UNCONFIRMED`); an interrupt without the mark came before any goal was sent."""
+    exc.rlff_goal = fate  # type: ignore[attr-defined]
+    return exc
+
+
+def goal_fate(exc: BaseException) -> str | None:
+    """What :func:`mark_goal` recorded on ``exc``; None: no goal was sent."""
+    return getattr(exc, "rlff_goal", None)
+
+
+def cancel_unconfirmed(wait: float | None = CANCEL_WAIT) -> str:
+    """The words for a cancel the server did not confirm within ``wait`` s (None: the server is gone)."""
+    why = "no server is left to answer it" if wait is None else f"no answer from the server within {wait:g} s"
+    return f"the cancel was not confirmed ({why}): the arm's state is unknown; check the arm (e-stop it if it moves)"
+
+
+def _span(seconds: float) -> str:
+    """``seconds`` in words: 0.312 s, 2.5 min, 56 years."""
+    for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60)):
+        if seconds >= 2 * size:
+            return f"{seconds / size:.3g} {unit}"
+    return f"{seconds:.3g} s"
+
+
+class StateWatch:
+    """The arm's state from the /joint_states messages a transport hands to :meth:`offer`.
+
+    A message is taken only when its header stamp is within :data:`STATE_MAX_AGE` of the ROS
+    clock (``now()``); an unstamped one (stamp 0) has no age and is never taken. A message without
+    velocities gives its pose, and the velocity of the change from an earlier fresh message at
+    least :data:`VELOCITY_SPAN` s before it. A fresh pose that is not a number, or beyond a
+    joint's limit, is refused naming /joint_states.
+    """
+
+    def __init__(self, robot: Robot, now: Callable[[], float], topic: str = JOINT_STATES) -> None:
+        self.robot = robot
+        self.now = now
+        self.topic = topic
+        self._arrived = threading.Condition()
+        self._state: tuple[np.ndarray, np.ndarray] | None = None
+        self._problem: Exception | None = None
+        self._untrusted: str | None = None  # why the last message was passed over
+        self._without_velocity: tuple[float, np.ndarray] | None = None
+
+    def offer(self, stamp: float, names: Sequence[str], positions: Sequence[float],
+              velocities: Sequence[float]) -> None:
+        """One message's header stamp (s of ROS time) and fields (from the transport's thread)."""
+        with self._arrived:
+            if self._state is not None or self._problem is not None:
+                return
+            now = self.now()
+            try:
+                self._take(stamp, now, names, positions, velocities)
+            except (ArmStateError, InputError) as exc:
+                self._problem = exc
+            self._arrived.notify_all()
+
+    def _take(self, stamp: float, now: float, names, positions, velocities) -> None:
+        age = now - stamp
+        if stamp <= 0:
+            self._untrusted = "its messages are unstamped (header.stamp 0), so their age is unknown"
+            return
+        if abs(age) > STATE_MAX_AGE:
+            when = (f"{_span(age)} old" if age > 0 else f"{_span(-age)} ahead of this host's ROS clock")
+            self._untrusted = f"the last is stamped {stamp:.3f} s, {when} (ROS time {now:.3f} s)"
+            return
+        pose, velocity = arm_state_of(self.robot, self.topic, names, positions, velocities)
+        self._check_pose(pose)
+        if velocity is None:
+            earlier = self._without_velocity
+            if earlier is None or stamp - earlier[0] < VELOCITY_SPAN:
+                if earlier is None or stamp < earlier[0]:
+                    self._without_velocity = (stamp, pose)
+                return
+            velocity = (pose - earlier[1]) / (stamp - earlier[0])
+        elif not np.all(np.isfinite(velocity)):
+            j = int(np.argmin(np.isfinite(velocity)))
+            raise ArmStateError(f"{self.topic} reports {self.robot.joint_names[j]} moving at {velocity[j]} rad/s: "
+                                "the arm's state is unknown; check the arm's driver")
+        self._state = (pose, velocity)
+
+    def _check_pose(self, pose: np.ndarray) -> None:
+        for joint, value in zip(self.robot.joints, pose, strict=True):
+            if not math.isfinite(value):
+                raise ArmStateError(f"{self.topic} reports {joint.name} at {value} rad: the arm's pose is unknown; "
+                                    "check the arm's driver")
+            for beyond, side, limit in ((value > joint.upper, "upper", joint.upper),
+                                        (value < joint.lower, "lower", joint.lower)):
+                if beyond:
+                    raise ArmStateError(
+                        f"{self.topic} reports {joint.name} at {value:.6g} rad, beyond its {side} limit {limit:.6g} "
+                        f"rad in the robot file ({self.robot.name}): move the arm inside its limits, or check the "
+                        "robot file's limits and the driver's joint offsets against the arm's")
+
+    def wait(self, deadline: float, waited: float) -> tuple[np.ndarray, np.ndarray] | None:
+        """The arm's (pose, velocity), each (J,) in ``robot``'s order, waiting up to the monotonic
+        ``deadline``; None when nothing came at all (``waited``: the seconds allowed, for the message).
+
+        Raises
+        ------
+        ArmStateError
+            Messages came, but none fresh; or a fresh one's pose is not a number or beyond a limit.
+        InputError
+            A fresh message leaves out a joint of the robot.
+        """
+        with self._arrived:
+            while self._state is None and self._problem is None:
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    break
+                self._arrived.wait(left)
+            if self._problem is not None:
+                raise self._problem
+            if self._state is not None:
+                return self._state
+            if self._untrusted is not None:
+                raise ArmStateError(
+                    f"no fresh state on {self.topic} within {waited:g} s: {self._untrusted}; the arm's pose is "
+                    f"unknown: check that its driver publishes, stamping each state with the time it was measured, "
+                    "and that its host's clock agrees with this one's")
+            if self._without_velocity is not None:
+                raise ArmStateError(
+                    f"{self.topic} carries no velocities, and no second fresh state came within {waited:g} s to "
+                    "tell whether the arm moves; have its driver publish velocities, or publish continuously")
+            return None
+
+
+def require_at_rest(robot: Robot, velocity: np.ndarray) -> None:
+    """Refuse (:class:`ArmStateError`) an arm moving faster than :data:`MOVING_SPEED` on a joint.
+
+    Goals are planned from the arm at rest; a controller that receives one while the arm moves
+    splices it in from the moving state (ros_control) over whatever time the goal gives, which
+    may take more than the arm's limits allow.
+    """
+    speed = np.abs(np.asarray(velocity, dtype=float))
+    if speed.size and speed.max() > MOVING_SPEED:
+        j = int(np.argmax(speed))
+        raise ArmStateError(f"the arm is moving ({speed[j]:.3g} rad/s on {robot.joint_names[j]}): wait until it "
+                            "rests, then send again")
+
+
+def approach_line(traj: JointTrajectory, what: str = "the throw") -> str | None:
+    """One line on the move that comes before ``what`` in ``traj``: which joints move how far (deg)
+    and for how long; None when there is none.
+
+    The approach is ``traj``'s motion up to its first point after 0 s where every joint is at rest,
+    when that point is not its last (a planned throw: the transition to its start pose; a
+    trajectory sent with ``--approach``: the move to its first point).
+    """
+    still = np.all(np.abs(traj.velocities) <= 1e-6, axis=1)
+    inner = np.flatnonzero(still[1:-1])
+    if inner.size == 0:
+        return None
+    end = int(inner[0]) + 1
+    moved = np.degrees(traj.positions[end] - traj.positions[0])
+    parts = [f"{name} {delta:+.1f} deg" for name, delta in zip(traj.joint_names, moved, strict=True)
+             if abs(delta) >= 0.05]
+    if not parts:
+        return None
+    duration = float(traj.time[end] - traj.time[0])
+    return f"approach first: {', '.join(parts)} in {duration:.2f} s, to the start of {what}"
 
 
 @dataclass(frozen=True)
@@ -64,27 +256,25 @@ def goal_for_arm(robot: Robot, traj: JointTrajectory, pose: np.ndarray, velocity
     traj : JointTrajectory
         The motion, its first point where the arm is (e.g. planned from ``pose``).
     pose, velocity : arrays of shape (J,)
-        The arm's state (rad, rad/s; every joint of ``robot``, e.g. :func:`arm_state`).
+        The arm's state (rad, rad/s; every joint of ``robot``, e.g. from :class:`StateWatch`).
 
     Returns
     -------
     JointTrajectory
-        ``traj`` itself for an arm at rest; for a moving arm (a running goal), whose pose is
-        stale by the time the goal arrives, ``traj`` with every point :data:`APPROACH_LEAD` s
-        later, so that the server approaches its first point from wherever the arm then is.
+        ``traj`` itself.
 
     Raises
     ------
+    ArmStateError
+        The arm is moving (:func:`require_at_rest`): a goal planned from rest is not sent to it.
     InputError
         ``traj`` fails the motion check from ``pose`` (nothing is sent).
     """
+    require_at_rest(robot, velocity)
     try:
         check_goal(robot, traj, goal_start(robot, traj, pose))
     except InvalidJoints:
         raise
     except InputError as exc:
         raise type(exc)(f"from the arm's pose on /joint_states: {exc}") from None
-    if np.abs(velocity).max() <= START_VELOCITY_TOLERANCE:
-        return traj
-    return JointTrajectory(traj.joint_names, traj.time + APPROACH_LEAD, traj.positions, traj.velocities,
-                           traj.accelerations)
+    return traj

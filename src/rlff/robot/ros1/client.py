@@ -1,9 +1,11 @@
 """Sending a trajectory to a FollowJointTrajectory server (``rlff robot send``), or on a topic.
 
 The trajectory is checked against the robot's limits before any connection is made, and again
-with the arm's current pose (read from /joint_states) as its start before it is sent
-(:func:`rlff.trajectory.check.check_trajectory`). A timeout or Ctrl-C cancels the goal on the
-server (the arm brakes to rest) before returning or re-raising.
+with the arm's current pose (a fresh /joint_states message, :class:`rlff.robot.send.StateWatch`)
+as its start before it is sent (:func:`rlff.trajectory.check.check_trajectory`). A timeout or
+Ctrl-C cancels the goal on the server (the arm brakes to rest) before returning or re-raising;
+a cancel the server does not confirm within :data:`CANCEL_WAIT` s, or a server that goes silent
+(its status topic stops), is reported as such: the arm's state is then unknown.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ from collections.abc import Callable
 import actionlib
 import numpy as np
 import rospy
-from actionlib_msgs.msg import GoalStatus
+from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from control_msgs.msg import (
     FollowJointTrajectoryAction,
     FollowJointTrajectoryGoal,
@@ -26,19 +28,30 @@ from trajectory_msgs.msg import JointTrajectory as TrajectoryMsg
 from rlff.errors import Interrupted
 from rlff.robot.description import Robot
 from rlff.robot.goal import check_goal
-from rlff.robot.messages import arm_state_of
 from rlff.robot.ros1.convert import to_msg
 from rlff.robot.ros1.master import RosUnavailable, wait_for_master
 from rlff.robot.ros1.server import ACTION_NAMESPACE, JOINT_STATES, TOPIC
-from rlff.robot.send import ERROR_NAMES, SendResult, goal_start
+from rlff.robot.send import (
+    CANCEL_UNCONFIRMED,
+    CANCEL_WAIT,
+    ERROR_NAMES,
+    GOAL_CANCELLED,
+    SendResult,
+    StateWatch,
+    cancel_unconfirmed,
+    goal_fate,
+    goal_start,
+    mark_goal,
+)
 from rlff.trajectory.joint import JointTrajectory
 
 #: Seconds between sending a goal and its start (its header stamp), so the server is ready.
 START_LEAD = 0.2
 #: Default seconds to wait for the master and the server when no timeout is given.
 CONNECT_TIMEOUT = 10.0
-#: Seconds to wait for the server to acknowledge a cancel (it answers once the arm has braked).
-CANCEL_WAIT = 10.0
+#: Seconds without a status message from the server (actionlib publishes one at 5 Hz) after
+#: which it counts as gone; one second once its status connection has closed too.
+SERVER_SILENCE = 5.0
 
 # PREEMPTED is a goal cancelled while it ran: by us ("cancelled") or by a newer goal ("preempted")
 _STATES = {GoalStatus.SUCCEEDED: "succeeded", GoalStatus.REJECTED: "rejected", GoalStatus.ABORTED: "aborted",
@@ -53,23 +66,55 @@ def _connect(deadline: float, node: str) -> None:
 
 def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order,
-    from one /joint_states message.
+    from a fresh /joint_states message (see :class:`rlff.robot.send.StateWatch`).
 
     Raises
     ------
     RosUnavailable
         No master, or nothing on /joint_states, within ``timeout`` s (default 10).
+    ArmStateError
+        Only stale or unstamped messages came, or the pose is not a number or beyond a limit.
     InputError
         The message leaves out a joint of ``robot``.
     """
-    deadline = time.monotonic() + (timeout if timeout is not None else CONNECT_TIMEOUT)
+    waited = timeout if timeout is not None else CONNECT_TIMEOUT
+    deadline = time.monotonic() + waited
     _connect(deadline, "rlff_send")
+    watch = StateWatch(robot, lambda: rospy.get_rostime().to_sec(), JOINT_STATES)
+    subscriber = rospy.Subscriber(JOINT_STATES, JointState, lambda msg: watch.offer(
+        msg.header.stamp.to_sec(), msg.name, msg.position, msg.velocity))
     try:
-        msg = rospy.wait_for_message(JOINT_STATES, JointState, max(0.01, deadline - time.monotonic()))
-    except rospy.ROSException:
-        raise RosUnavailable(f"nothing on {JOINT_STATES}: the arm's pose is unknown "
-                             "(is `rlff robot serve` running?)") from None
-    return arm_state_of(robot, JOINT_STATES, msg.name, msg.position, msg.velocity)
+        state = watch.wait(deadline, waited)
+    finally:
+        subscriber.unregister()
+    if state is None:
+        raise RosUnavailable(f"nothing on {JOINT_STATES} within {waited:g} s: the arm's pose is unknown (is the "
+                             "arm's driver, or `rlff robot serve`, running?)")
+    return state
+
+
+class _Status:
+    """When the server last published its status, and whether its status connection is up."""
+
+    def __init__(self) -> None:
+        self.last = time.monotonic()
+        self.subscriber = rospy.Subscriber(f"{ACTION_NAMESPACE}/status", GoalStatusArray, self._heard)
+        self.connected = False
+
+    def _heard(self, _msg) -> None:
+        self.last = time.monotonic()
+
+    def silence(self) -> float | None:
+        """Seconds the server has been silent, once it counts as gone; None while it answers."""
+        quiet = time.monotonic() - self.last
+        connected = self.subscriber.get_num_connections() > 0
+        self.connected = self.connected or connected
+        if quiet > SERVER_SILENCE or (self.connected and not connected and quiet > 1.0):
+            return quiet
+        return None
+
+    def close(self) -> None:
+        self.subscriber.unregister()
 
 
 def send_goal(
@@ -90,10 +135,17 @@ def send_goal(
         The arm's pose (rad, every joint of ``robot``, e.g. :func:`arm_pose`): where the goal
         must start.
     timeout : float, optional
-        Seconds for everything (connecting, executing); default: 10 s to connect, then the
-        trajectory's duration plus 10 s. When it runs out the goal is cancelled.
+        Seconds for connecting and executing; default: 10 s to connect, then the trajectory's
+        duration plus 10 s. When it runs out the goal is cancelled, and the server gets up to
+        :data:`CANCEL_WAIT` s more to confirm it (the arm braked to rest).
     on_feedback : callable, optional
         Called with the elapsed trajectory time (s) of each feedback message.
+
+    Returns
+    -------
+    SendResult
+        Its status "timed out" (or "lost": the server went silent) says in its text whether the
+        cancel was confirmed.
 
     Raises
     ------
@@ -104,7 +156,8 @@ def send_goal(
     KeyboardInterrupt
         After cancelling the goal (re-raised as it came: :class:`rlff.errors.Terminated` for
         the SIGTERM the command line turns into it; rospy's own shutdown as
-        :class:`rlff.errors.Interrupted`).
+        :class:`rlff.errors.Interrupted`), marked (:func:`rlff.robot.send.goal_fate`) with whether
+        the server confirmed the cancel.
     """
     check_goal(robot, traj, goal_start(robot, traj, pose))
     started = time.monotonic()
@@ -123,30 +176,69 @@ def send_goal(
         if on_feedback:
             on_feedback(message.desired.time_from_start.to_sec())
 
+    status = _Status()
     start = rospy.Time.now() + rospy.Duration.from_sec(START_LEAD)
-    client.send_goal(FollowJointTrajectoryGoal(trajectory=to_msg(traj, start)), feedback_cb=feedback)
     try:
-        finished = client.wait_for_result(rospy.Duration.from_sec(max(0.01, deadline - time.monotonic())))
-    except (KeyboardInterrupt, rospy.ROSInterruptException) as exc:
-        _cancel(client)
-        raise (exc if isinstance(exc, KeyboardInterrupt) else Interrupted()) from None  # Terminated stays
-    if not finished:
-        _cancel(client)
-        result = client.get_result()
-        text = f"; {result.error_string}" if result is not None and result.error_string else ""
-        return SendResult("timed out", None, None, f"timed out; goal cancelled{text}", start.to_sec(),
-                          traj.duration, received)
+        try:
+            client.send_goal(FollowJointTrajectoryGoal(trajectory=to_msg(traj, start)), feedback_cb=feedback)
+            ended = _wait(client, status, deadline)
+        except (KeyboardInterrupt, rospy.ROSInterruptException) as exc:
+            interrupt = exc if isinstance(exc, KeyboardInterrupt) else Interrupted()  # Terminated stays
+            try:
+                confirmed = _cancel(client, status)
+            except KeyboardInterrupt:  # a second one while cancelling: the cancel went out, unconfirmed
+                confirmed = False
+            raise mark_goal(interrupt, GOAL_CANCELLED if confirmed else CANCEL_UNCONFIRMED) from None
+        if ended != "ended":
+            lost = ended != "timed out"
+            confirmed = _cancel(client, status, lost=lost)
+            result = client.get_result()
+            text = f"; {result.error_string}" if confirmed and result is not None and result.error_string else ""
+            cancel = "goal cancelled" if confirmed else cancel_unconfirmed(None if lost else CANCEL_WAIT)
+            if lost:
+                return SendResult("lost", None, None, f"the server at {ACTION_NAMESPACE} stopped answering ({ended}); "
+                                  f"{cancel}{text}", start.to_sec(), traj.duration, received)
+            return SendResult("timed out", None, None, f"timed out; {cancel}{text}", start.to_sec(),
+                              traj.duration, received)
+    except KeyboardInterrupt as exc:  # a second Ctrl-C while cancelling: the cancel was sent, not confirmed
+        if goal_fate(exc) is None:
+            mark_goal(exc, CANCEL_UNCONFIRMED)
+        raise
+    finally:
+        status.close()
     result = client.get_result()
-    status = _STATES.get(client.get_state(), "unknown")
+    state = _STATES.get(client.get_state(), "unknown")
     code = None if result is None else int(result.error_code)
-    name = None if code == FollowJointTrajectoryResult.SUCCESSFUL and status != "succeeded" else ERROR_NAMES.get(code)
-    return SendResult(status, code, name, (result.error_string if result else "") or client.get_goal_status_text(),
+    name = None if code == FollowJointTrajectoryResult.SUCCESSFUL and state != "succeeded" else ERROR_NAMES.get(code)
+    return SendResult(state, code, name, (result.error_string if result else "") or client.get_goal_status_text(),
                       start.to_sec(), traj.duration, received)
 
 
-def _cancel(client: actionlib.SimpleActionClient) -> None:
+def _wait(client: actionlib.SimpleActionClient, status: _Status, deadline: float) -> str:
+    """Wait for the goal's end: "ended", "timed out", or why the server counts as gone."""
+    while True:
+        left = deadline - time.monotonic()
+        if left <= 0:
+            return "timed out"
+        if client.wait_for_result(rospy.Duration.from_sec(min(0.2, left))):
+            return "ended"
+        quiet = status.silence()
+        if quiet is not None:
+            return f"no status for {quiet:.1f} s"
+
+
+def _cancel(client: actionlib.SimpleActionClient, status: _Status, lost: bool = False) -> bool:
+    """Ask the server to cancel; whether it confirmed the goal's end (the arm braked to rest) within
+    :data:`CANCEL_WAIT` s. A server already gone gets the cancel (should it come back) and a
+    second to answer it."""
     client.cancel_goal()
-    client.wait_for_result(rospy.Duration.from_sec(CANCEL_WAIT))
+    deadline = time.monotonic() + (1.0 if lost else CANCEL_WAIT)
+    while time.monotonic() < deadline:
+        if client.wait_for_result(rospy.Duration.from_sec(0.2)):
+            return True
+        if not lost and status.silence() is not None:
+            return False
+    return False
 
 
 def publish_trajectory(robot: Robot, traj: JointTrajectory, pose: np.ndarray,

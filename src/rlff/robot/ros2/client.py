@@ -1,8 +1,11 @@
 """Sending a trajectory to a ROS 2 FollowJointTrajectory server (``rlff robot send --ros 2``).
 
-The trajectory is checked against the robot's limits, and with the arm's pose (read from
-/joint_states by :func:`arm_state`) as its start, before it is sent. A timeout or Ctrl-C
-cancels the goal on the server (the arm brakes to rest) before returning or re-raising. The
+The trajectory is checked against the robot's limits, and with the arm's pose (a fresh
+/joint_states message, read by :func:`arm_state`; see :class:`rlff.robot.send.StateWatch`) as
+its start, before it is sent. A timeout or Ctrl-C cancels the goal on the server (the arm brakes
+to rest) before returning or re-raising; a cancel the server does not confirm within
+:data:`CANCEL_WAIT` s, or a server that leaves the graph mid-goal, is reported as such: the arm's
+state is then unknown. The
 server's answer is reported as ROS 2 gives it: a goal the server refuses after accepting it (as
 rlff's and ros2_control's servers do, so that the error code reaches the client) is "aborted"
 with its code, one it does not accept at all is "rejected".
@@ -25,22 +28,36 @@ from sensor_msgs.msg import JointState
 from rlff.errors import RlffError
 from rlff.robot.description import Robot
 from rlff.robot.goal import check_goal
-from rlff.robot.messages import arm_state_of
 from rlff.robot.ros2.convert import seconds, to_msg
 from rlff.robot.ros2.network import make_node
 from rlff.robot.ros2.server import ACTION_NAME, JOINT_STATES
-from rlff.robot.send import ERROR_NAMES, SendResult, goal_start
+from rlff.robot.send import (
+    CANCEL_UNCONFIRMED,
+    CANCEL_WAIT,
+    ERROR_NAMES,
+    GOAL_CANCELLED,
+    SendResult,
+    StateWatch,
+    cancel_unconfirmed,
+    goal_fate,
+    goal_start,
+    mark_goal,
+)
 from rlff.trajectory.joint import JointTrajectory
 
 #: Seconds between sending a goal and its start (its header stamp), so the server is ready.
 START_LEAD = 0.2
 #: Default seconds to wait for the server when no timeout is given.
 CONNECT_TIMEOUT = 10.0
-#: Seconds to wait for the server to answer a cancel (it does once the arm has braked).
-CANCEL_WAIT = 10.0
 
 _STATES = {GoalStatus.STATUS_SUCCEEDED: "succeeded", GoalStatus.STATUS_ABORTED: "aborted",
            GoalStatus.STATUS_CANCELED: "cancelled"}
+
+
+#: Seconds without feedback, once the server sent some, after which it counts as gone (servers
+#: that send feedback send it every control cycle; a server that crashed is seen no other way
+#: until discovery's lease of some 20 s runs out).
+FEEDBACK_SILENCE = 3.0
 
 
 class ServerUnavailable(RlffError):
@@ -105,28 +122,31 @@ class Connection:
 
     def arm_state(self, robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order,
-        from the next /joint_states message.
+        from a fresh /joint_states message (see :class:`rlff.robot.send.StateWatch`).
 
         Raises
         ------
         ServerUnavailable
             Nothing on /joint_states within ``timeout`` s (default 10).
+        ArmStateError
+            Only stale or unstamped messages came, or the pose is not a number or beyond a limit.
         InputError
             The message leaves out a joint of ``robot``.
         """
-        deadline = time.monotonic() + (timeout if timeout is not None else CONNECT_TIMEOUT)
-        received: list[JointState] = []
-        subscription = self.node.create_subscription(JointState, JOINT_STATES, received.append, 1)
+        waited = timeout if timeout is not None else CONNECT_TIMEOUT
+        deadline = time.monotonic() + waited
+        watch = StateWatch(robot, self.now, JOINT_STATES)
+        subscription = self.node.create_subscription(JointState, JOINT_STATES, lambda msg: watch.offer(
+            msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, msg.name, msg.position, msg.velocity), 10)
         try:
-            while not received:
-                if time.monotonic() >= deadline:
-                    raise ServerUnavailable(f"nothing on {JOINT_STATES}: the arm's pose is unknown (is `rlff robot "
-                                            "serve --ros 2` running, with the same ROS_DOMAIN_ID?)")
-                time.sleep(0.01)
+            state = watch.wait(deadline, waited)
         finally:
             self.node.destroy_subscription(subscription)
-        msg = received[0]
-        return arm_state_of(robot, JOINT_STATES, msg.name, msg.position, msg.velocity)
+        if state is None:
+            raise ServerUnavailable(f"nothing on {JOINT_STATES} within {waited:g} s: the arm's pose is unknown (is "
+                                    "the arm's driver, or `rlff robot serve --ros 2`, running, with the same "
+                                    "ROS_DOMAIN_ID?)")
+        return state
 
     def send_goal(self, robot: Robot, traj: JointTrajectory, pose: np.ndarray, timeout: float | None = None,
                   on_feedback: Callable[[float], None] | None = None) -> SendResult:
@@ -142,10 +162,12 @@ class Connection:
         if timeout is None:
             deadline = time.monotonic() + START_LEAD + traj.duration + CONNECT_TIMEOUT
         received = 0
+        heard: list[float] = []
 
         def feedback(message) -> None:
             nonlocal received
             received += 1
+            heard[:] = [time.monotonic()]
             if on_feedback:
                 on_feedback(seconds(message.feedback.desired.time_from_start))
 
@@ -155,23 +177,39 @@ class Connection:
         try:
             sent = client.send_goal_async(goal, feedback_callback=feedback)
             if not _wait(sent, deadline):
-                _cancel_when_accepted(sent)
-                return SendResult("timed out", None, None, "timed out before the server accepted the goal", start,
-                                  traj.duration, received)
+                fate = _cancel_when_accepted(sent)
+                text = ("goal cancelled" if fate == GOAL_CANCELLED else cancel_unconfirmed(CANCEL_WAIT)
+                        if fate == CANCEL_UNCONFIRMED else "the goal was not accepted")
+                return SendResult("timed out", None, None, f"timed out before the server accepted the goal; {text}",
+                                  start, traj.duration, received)
             handle = sent.result()
             if not handle.accepted:
                 return SendResult("rejected", None, None, "the server rejected the goal", start, traj.duration,
                                   received)
             answer = handle.get_result_async()
-            if not _wait(answer, deadline):
-                _cancel(handle)
-                return SendResult("timed out", None, None, "timed out; goal cancelled", start, traj.duration,
-                                  received)
-        except KeyboardInterrupt:
-            if handle is not None and handle.accepted:
-                _cancel(handle)
-            elif handle is None and sent is not None:  # sent, its acceptance not yet heard
-                _cancel_when_accepted(sent)
+            ended = _wait(answer, deadline, client, lambda: heard[0] if heard else None)
+            if ended is not True:
+                lost = isinstance(ended, str)
+                confirmed = _cancel(handle, lost=lost)
+                cancel = "goal cancelled" if confirmed else cancel_unconfirmed(None if lost else CANCEL_WAIT)
+                if lost:
+                    return SendResult("lost", None, None, f"the server at {self.action} stopped answering ({ended}); "
+                                      f"{cancel}", start, traj.duration, received)
+                return SendResult("timed out", None, None, f"timed out; {cancel}", start, traj.duration, received)
+        except KeyboardInterrupt as exc:
+            if goal_fate(exc) is not None:  # a second Ctrl-C while cancelling
+                raise
+            try:
+                if handle is not None and handle.accepted:
+                    fate = GOAL_CANCELLED if _cancel(handle) else CANCEL_UNCONFIRMED
+                elif handle is None and sent is not None:  # sent, its acceptance not yet heard
+                    fate = _cancel_when_accepted(sent)
+                else:
+                    fate = None  # refused, or never sent: nothing runs
+            except KeyboardInterrupt:  # a second one while cancelling: the cancel went out, unconfirmed
+                fate = CANCEL_UNCONFIRMED
+            if fate is not None:
+                mark_goal(exc, fate)
             raise
         outcome = answer.result()
         code = int(outcome.result.error_code)
@@ -180,17 +218,32 @@ class Connection:
         return SendResult(status, code, name, outcome.result.error_string, start, traj.duration, received)
 
 
-def _wait(future, deadline: float) -> bool:
+def _wait(future, deadline: float, client: ActionClient | None = None,
+          heard: Callable[[], float | None] | None = None) -> bool | str:
+    """Whether ``future`` is done by ``deadline``; or why ``client``'s server counts as gone before
+    that: it left the ROS graph for a second, or its feedback (``heard()``: when the last came,
+    monotonic s; None before the first) stopped for :data:`FEEDBACK_SILENCE` s."""
+    gone = None
+    checked = 0.0
     while not future.done():
-        if time.monotonic() >= deadline:
+        now = time.monotonic()
+        if now >= deadline:
             return False
+        if client is not None and now - checked >= 0.1:
+            checked = now
+            gone = None if client.server_is_ready() else (gone or now)
+            if gone is not None and now - gone > 1.0:
+                return "it left the ROS graph"
+            last = heard() if heard is not None else None
+            if last is not None and now - last > FEEDBACK_SILENCE:
+                return f"its feedback stopped {now - last:.1f} s ago"
         time.sleep(0.01)
     return True
 
 
 def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order, from
-    one /joint_states message (:meth:`Connection.arm_state` on a connection of its own)."""
+    a fresh /joint_states message (:meth:`Connection.arm_state` on a connection of its own)."""
     with Connection("rlff_arm_state") as connection:
         return connection.arm_state(robot, timeout)
 
@@ -214,8 +267,9 @@ def send_goal(
         The arm's pose (rad, every joint of ``robot``, e.g. from :func:`arm_state`): where the
         goal must start.
     timeout : float, optional
-        Seconds for everything (connecting, executing); default: 10 s to connect, then the
-        trajectory's duration plus 10 s. When it runs out the goal is cancelled.
+        Seconds for connecting and executing; default: 10 s to connect, then the trajectory's
+        duration plus 10 s. When it runs out the goal is cancelled, and the server gets up to
+        :data:`CANCEL_WAIT` s more to confirm it (the arm braked to rest).
     on_feedback : callable, optional
         Called with the elapsed trajectory time (s) of each feedback message.
     action : str
@@ -229,22 +283,29 @@ def send_goal(
         No action server answered in time.
     KeyboardInterrupt
         After cancelling the goal (re-raised as it came: :class:`rlff.errors.Terminated` for
-        the SIGTERM the command line turns into it).
+        the SIGTERM the command line turns into it), marked (:func:`rlff.robot.send.goal_fate`)
+        with whether the server confirmed the cancel; unmarked when no goal was sent.
     """
     check_goal(robot, traj, goal_start(robot, traj, pose))
     with Connection("rlff_send", action) as connection:
         return connection.send_goal(robot, traj, pose, timeout, on_feedback)
 
 
-def _cancel_when_accepted(sent) -> None:
+def _cancel_when_accepted(sent) -> str | None:
     """Cancel a goal whose acceptance had not arrived when the client gave up on it: an
-    acceptance on its way would otherwise start the arm with nobody left to stop it."""
-    if _wait(sent, time.monotonic() + CANCEL_WAIT) and sent.result().accepted:
-        _cancel(sent.result())
+    acceptance on its way would otherwise start the arm with nobody left to stop it. Returns
+    what became of it: None (never accepted: nothing runs), :data:`GOAL_CANCELLED` or
+    :data:`CANCEL_UNCONFIRMED` (accepted, or no answer at all)."""
+    if not _wait(sent, time.monotonic() + CANCEL_WAIT):
+        return CANCEL_UNCONFIRMED
+    if not sent.result().accepted:
+        return None
+    return GOAL_CANCELLED if _cancel(sent.result()) else CANCEL_UNCONFIRMED
 
 
-def _cancel(handle) -> None:
-    """Ask the server to cancel and wait for the goal's end (the arm braked to rest)."""
-    deadline = time.monotonic() + CANCEL_WAIT
+def _cancel(handle, lost: bool = False) -> bool:
+    """Ask the server to cancel and wait for the goal's end (the arm braked to rest); whether it
+    came within :data:`CANCEL_WAIT` s (a second for a server that left the graph)."""
+    deadline = time.monotonic() + (1.0 if lost else CANCEL_WAIT)
     _wait(handle.cancel_goal_async(), deadline)
-    _wait(handle.get_result_async(), deadline)
+    return _wait(handle.get_result_async(), deadline) is True
