@@ -127,18 +127,31 @@ def test_outcomes_typed_at_the_prompt(server, domain, folder, demos):
     log = folder / "asked.jsonl"
     # an answer it cannot read is asked again; -0.4 m is a miss 40 cm short, then a hit
     done = learn(domain, folder, demos, "--outcome", "ask", "--feedback", "distance", "--update", "calibrate",
-                 "--budget", "5", "--log", str(log), "--json", stdin="maybe\n-0.4\nhit\n")
+                 "--budget", "5", "--log", str(log), "--json", stdin="\nmaybe\n\n-0.4\n\nhit\n")
     assert done.returncode == 0, done.stderr
     result = json.loads(done.stdout)
     assert (result["attempts"], result["hit"]) == (2, True)
     assert result["landings"] == pytest.approx([BASKET - 0.4, BASKET])
     assert "answer 'maybe': type hit, miss, or the signed miss in m" in done.stderr
     assert "attempt 1: the signed miss in m (negative short; 0 or hit)?" in done.stderr
+    # each throw waited for an empty line: whoever answers may stand where the ball lands
+    assert done.stderr.count("the arm is about to throw: Enter to throw, Ctrl-C to stop") == 2
+
+
+def test_an_answer_typed_ahead_does_not_throw(server, domain, folder, demos):
+    log = folder / "ahead.jsonl"
+    before = server.text().count(" accepted:")
+    # "-0.5" for attempt 1, then "miss" typed ahead: not taken for attempt 2's go, asked again
+    done = learn(domain, folder, demos, "--outcome", "ask", "--budget", "3", "--log", str(log), stdin="\n-0.5\nmiss\n")
+    assert done.returncode == 2
+    assert "attempt 2: not thrown yet, so nothing to answer: an empty line (Enter) throws" in done.stderr
+    assert server.text().count(" accepted:") == before + 1  # the second throw never went out
+    assert [a["landing"] for a in attempts(log)] == pytest.approx([BASKET - 0.5])
 
 
 def test_a_closed_stdin_stops_the_run_and_keeps_the_log(server, domain, folder, demos):
     log = folder / "closed.jsonl"
-    done = learn(domain, folder, demos, "--outcome", "ask", "--budget", "3", "--log", str(log), stdin="-0.5\n")
+    done = learn(domain, folder, demos, "--outcome", "ask", "--budget", "3", "--log", str(log), stdin="\n-0.5\n")
     assert done.returncode == 2
     assert done.stderr.strip().splitlines()[-1] == (
         "rlff: error: --outcome ask: no answer (stdin is closed); the attempts so far are in the log")
@@ -158,7 +171,7 @@ def test_whole_arm_attempts_at_a_bearing_with_typed_outcomes(server, domain, fol
     done = subprocess.run([sys.executable, "-m", "rlff", "learn", str(demos), "--preset", "thesis", "--basket", "1.5",
                            "--joints", "joint_2,joint_3", "--bearing", "60", "--robot", str(arm_robot_file(folder)),
                            "--executor", "ros2", "--outcome", "ask", "--budget", "3", "--log", str(log), "--json"],
-                          env=ros2_env(domain, folder), capture_output=True, text=True, timeout=600, input="miss\nhit\n")
+                          env=ros2_env(domain, folder), capture_output=True, text=True, timeout=600, input="\nmiss\n\nhit\n")
     assert done.returncode == 0, done.stderr
     result = json.loads(done.stdout)
     assert (result["attempts"], result["hit"]) == (2, True)
@@ -183,6 +196,8 @@ def test_a_learn_stopped_on_the_arm_says_what_became_of_the_attempt(server, doma
                                 str(BASKET), "--executor", "ros2", "--outcome", "ask", "--budget", "3", "--log",
                                 str(log)], env=ros2_env(domain, folder), stdin=subprocess.PIPE,
                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    learner.stdin.write("\n")  # the first throw's go
+    learner.stdin.flush()
     if when == "mid-throw":
         wait_until(lambda: server.text().count(" accepted:") > accepted or learner.poll() is not None, 300,
                    "the first throw's goal")

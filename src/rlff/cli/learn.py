@@ -237,6 +237,8 @@ def _ask(question: str) -> str:
     if not line:
         stderr().print()  # end the prompt's line
         raise InputError("--outcome ask: no answer (stdin is closed); the attempts so far are in the log")
+    if not sys.stdin.isatty():  # piped: nothing echoed the answer, so say it and end the prompt's line
+        stderr().print(line.rstrip("\r\n"), highlight=False, markup=False)
     return line
 
 

@@ -245,29 +245,34 @@ class RobotExecutor:
         ball left the hand at ROS time ``release`` (s, as planned): a prompt, or ``Landings.after``.
     period : float
         Planning period (s) of the executed motion.
+    tell : callable, optional
+        ``tell(line)``: each throw's approach, announced before its goal is sent.
+    ready : callable, optional
+        ``ready(attempt)`` returns when the throw may go (a person said so); None: at once.
     """
 
     def __init__(self, arm: LiveArm, robot: Robot, outcome: Callable[[int, float], ReportedOutcome],
-                 period: float = PERIOD, tell: Callable[[str], None] | None = None) -> None:
+                 period: float = PERIOD, tell: Callable[[str], None] | None = None,
+                 ready: Callable[[int], None] | None = None) -> None:
         self.arm = arm
         self.robot = robot
         self.outcome = outcome
         self.period = period
         self.tell = tell
+        self.ready = ready
         self.attempts = 0
 
     def __call__(self, trajectory: JointTrajectory) -> ReportedOutcome:
         self.attempts += 1
-        try:
-            pose, velocity = self.arm.arm_state(self.robot)
-            require_at_rest(self.robot, velocity)  # before planning from rest
-            planned = plan_throw(trajectory, self.robot.joints, start=pose, period=self.period)
-            goal = goal_for_arm(self.robot, planned, pose, velocity)
-        except ArmStateError as exc:
-            raise RobotFailed(f"attempt {self.attempts}: {exc}") from None
-        announced = approach_line(goal)
-        if announced and self.tell is not None:
-            self.tell(f"attempt {self.attempts}: {announced}")
+        pose, planned, goal = self._plan(trajectory)
+        while self.ready is not None:
+            self.ready(self.attempts)
+            before = pose
+            pose, planned, goal = self._plan(trajectory, announce=False)
+            if np.allclose(pose, before, rtol=0.0, atol=MOVED_WHILE_WAITING):
+                break
+            # someone moved the arm while the throw waited: plan again, say so, and ask again
+            self._announce(goal, "the arm moved while the throw waited: ")
         try:
             sent = self.arm.send_goal(self.robot, goal, pose)
         except KeyboardInterrupt as exc:  # the client cancelled the goal, if one went out
@@ -283,6 +288,30 @@ class RobotExecutor:
             exc.rlff_attempt = self.attempts  # type: ignore[attr-defined]
             exc.rlff_outcome_missing = True  # type: ignore[attr-defined]
             raise
+
+    def _plan(self, trajectory: JointTrajectory, announce: bool = True):
+        """The arm's pose (J,), the planned throw from it and the goal to send; the approach is
+        announced unless ``announce`` is False. :class:`RobotFailed` for an arm not at rest."""
+        try:
+            pose, velocity = self.arm.arm_state(self.robot)
+            require_at_rest(self.robot, velocity)  # before planning from rest
+            planned = plan_throw(trajectory, self.robot.joints, start=pose, period=self.period)
+            goal = goal_for_arm(self.robot, planned, pose, velocity)
+        except ArmStateError as exc:
+            raise RobotFailed(f"attempt {self.attempts}: {exc}") from None
+        if announce:
+            self._announce(goal)
+        return pose, planned, goal
+
+    def _announce(self, goal: JointTrajectory, why: str = "") -> None:
+        announced = approach_line(goal)
+        if announced and self.tell is not None:
+            self.tell(f"attempt {self.attempts}: {why}{announced}")
+
+
+#: How far (rad, any joint) the arm may have moved while a throw waited for its go before the
+#: throw is planned again from where it is.
+MOVED_WHILE_WAITING = 1e-3
 
 
 #: The executors of ``rlff learn --executor`` and the outcome sources of ``--outcome``.
@@ -362,6 +391,14 @@ def robot_executor(
             except InputError as exc:
                 question = f"{exc}; attempt {attempt}? "
 
+    def confirmed(attempt: int) -> None:
+        # whoever answers may stand where the ball lands: each throw waits for an empty line, and
+        # an answer typed ahead is not taken for one
+        question = f"attempt {attempt}: the arm is about to throw: Enter to throw, Ctrl-C to stop "
+        while ask(question).strip():
+            question = (f"attempt {attempt}: not thrown yet, so nothing to answer: an empty line (Enter) throws, "
+                        "Ctrl-C stops ")
+
     with ExitStack() as stack:
         if kind == "ros2":
             arm, subscribe, now = _ros2_arm(stack, landing_topic, network)
@@ -376,7 +413,7 @@ def robot_executor(
 
             yield RobotExecutor(arm, model, measured, tell=tell)
         else:
-            yield RobotExecutor(arm, model, asked, tell=tell)
+            yield RobotExecutor(arm, model, asked, tell=tell, ready=confirmed)
 
 
 def _ros2_arm(stack: ExitStack, topic: str, network: bool):
