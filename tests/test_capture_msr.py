@@ -124,8 +124,18 @@ def test_a_second_throw_in_an_msr_file_is_warned_of_and_named_in_a_manifest_erro
     assert len(dataset) == 1
     (warning,) = [w for w in report.warnings if "left out: an MSR file holds one throw" in w]
     assert warning.startswith(f"{two}: a throw at t=") and "cut the file in two" in warning
+    # the kept throw keeps its number in the file: a row for the other never labels it
+    (kept,) = dataset.ids
+    number = int(kept.rsplit("_t", 1)[1])
+    other = 3 - number
     manifest = tmp_path / "baskets.csv"
-    manifest.write_text(f"file,throw,distance\n{two.name},2,2.0\n")
-    with pytest.raises(InputError, match=r"throw 2 of a06_s01_e98_skeleton3D.txt does not exist \(1 throw found there; "
-                                         r"one throw per MSR file: the one with the fastest release is kept\)"):
+    manifest.write_text(f"file,throw,distance\n{two.name},{other},2.0\n")
+    with pytest.raises(InputError, match=rf"throw {other} of a06_s01_e98_skeleton3D.txt was left out: one throw per "
+                                         rf"MSR file \(the one with the fastest release, throw {number}, is kept\)"):
+        import_recordings([two], "msr", manifest=manifest)
+    manifest.write_text(f"file,throw,distance\n{two.name},{number},2.0\n")
+    labelled, _ = import_recordings([two], "msr", manifest=manifest)
+    assert labelled.ids == dataset.ids and float(labelled[0]["distance"][0]) == 2.0
+    manifest.write_text(f"file,throw,distance\n{two.name},3,2.0\n")
+    with pytest.raises(InputError, match=r"throw 3 of a06_s01_e98_skeleton3D.txt does not exist \(2 throws found there\)"):
         import_recordings([two], "msr", manifest=manifest)

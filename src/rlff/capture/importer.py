@@ -551,13 +551,20 @@ def _import_recording(
         report.warnings.append(_no_throw(path, motion, report, segment, hint))
     elif hint:
         report.warnings.append(f"{path}: {hint} (up is taken as {_axis_name(recording.up)}; release and landing depend on it)")
+    # a throw keeps its number among the file's throws at a target, so that a manifest row for
+    # throw 1 never labels throw 2 because the one-throw rule left throw 1 out
+    dropped = [r for r in more if r.rule == ONE_PER_MSR_FILE]
+    numbers = _numbers(kept, dropped)
     if rows:
-        check_throw_numbers(rows, recording.source, len(kept),
-                            f"; {ONE_PER_MSR_FILE}: the one with the fastest release is kept" if more and kind == "msr" else "")
+        check_throw_numbers(rows, recording.source, len(kept) + len(dropped))
+        for row in rows:
+            if row.throw is not None and row.matches(path) and row.throw not in numbers and dropped:
+                raise InputError(f"{row.where}: throw {row.throw} of {path.name} was left out: {ONE_PER_MSR_FILE} "
+                                 f"(the one with the fastest release, throw {numbers[0]}, is kept)")
         peaks = [float(motion.time[cut.peak] - origin) for cut, _ in kept]
         report.warnings.extend(rows_without_a_throw(rows, recording.source, peaks))
     trajectories = []
-    for number, (cut, release) in enumerate(kept, start=1):
+    for number, (cut, release) in zip(numbers, kept, strict=True):
         trajectory = _throw(recording, motion, cut, release, number, rows, landing, report, used_ids)
         if trajectory is not None:
             trajectories.append(trajectory)
@@ -705,6 +712,13 @@ def _throws_at_a_target(
                 ))
         kept = [best]
     return kept, rejected
+
+
+def _numbers(kept: list[tuple[ThrowCut, Release]], dropped: list[Rejection]) -> list[int]:
+    """The 1-based number of each kept throw among the file's throws at a target, those the
+    one-throw-per-MSR-file rule ``dropped`` (by their release times) included."""
+    times = sorted([*(release.time for _, release in kept), *(rejection.time for rejection in dropped)])
+    return [times.index(release.time) + 1 for _, release in kept]
 
 
 def _resampled(time: np.ndarray, *series: np.ndarray) -> tuple[np.ndarray, ...]:

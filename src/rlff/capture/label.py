@@ -374,9 +374,8 @@ def _same_folders(a: ManifestRow, b: ManifestRow) -> bool:
     return long[len(long) - len(short):] == short
 
 
-def check_throw_numbers(rows: list[ManifestRow], source: str, count: int, why: str = "") -> None:
-    """Raise when a manifest row names a throw of ``source`` beyond the ``count`` throws found there
-    (``why``: what left others out, appended to the count).
+def check_throw_numbers(rows: list[ManifestRow], source: str, count: int) -> None:
+    """Raise when a manifest row names a throw of ``source`` beyond the ``count`` throws found there.
 
     Raises
     ------
@@ -387,7 +386,7 @@ def check_throw_numbers(rows: list[ManifestRow], source: str, count: int, why: s
     for row in rows:
         if row.throw is not None and row.throw > count and row.matches(path):
             raise InputError(
-                f"{row.where}: throw {row.throw} of {path.name} does not exist ({plural(count, 'throw')} found there{why})"
+                f"{row.where}: throw {row.throw} of {path.name} does not exist ({plural(count, 'throw')} found there)"
             )
 
 
