@@ -212,10 +212,16 @@ def test_a_frozen_tracker_mid_throw_is_dropped_and_bridged_and_a_still_arm_is_no
     frame.to_csv(frozen_path, index=False)
     frozen = read_joint_csv(frozen_path)
     (note,) = [note for note in frozen.notes if "frozen" in note]
-    assert note.startswith("frozen.csv: dropped 5 frames whose arm joints all repeat the frame before exactly")
-    kept = frozen.arms[0].elbow.time
-    assert len(kept) == len(clean.arms[0].elbow.time) - 5
+    assert note.startswith("frozen.csv: 5 frames where a joint repeats its value of the frame before exactly")
+    kept = frozen.arms[0].hand.time  # the hand moved; the shoulder and elbow of this arm stand still
+    assert len(kept) == len(clean.arms[0].hand.time) - 5 and len(frozen.arms[0].elbow) == len(clean.arms[0].elbow)
     assert not np.isin(frame["time"].to_numpy()[fastest + 1:fastest + 6], kept).any()
+    # the hand's speed across the held frames was never measured: the import says so
+    _, report = import_recordings([frozen_path])
+    assert any("its extension has a 0.20 s gap in the hand's samples" in w and "bridged, not measured" in w
+               for w in report.warnings), report.warnings
+    _, clean_report = import_recordings([path])
+    assert not any("gap in the" in w for w in clean_report.warnings)
 
 
 def test_bad_cells_of_the_csv_readers_are_shown_as_the_file_has_them(tmp_path):

@@ -73,6 +73,11 @@ OUTPUT_RATE_HZ = 15.0
 #: The median upper arm (shoulder to elbow, m) of a recording in metres: 0.25-0.34 m in every arm
 #: of the MSR throws and the test bags (148 arms); the range leaves a factor of 3 either way.
 UPPER_ARM_RANGE = (0.1, 1.0)
+#: A gap in a throw's extension longer than this many of the recording's usual spacings, and
+#: than EXTENSION_GAP_S (s), leaves its speed unmeasured there: warned of (sparse recordings,
+#: 4-10 Hz, have no such gap by being sparse alone).
+EXTENSION_GAP_FACTOR = 3.0
+EXTENSION_GAP_S = 0.1
 #: The rule that keeps one throw of an MSR file.
 ONE_PER_MSR_FILE = "one throw per MSR file"
 #: Median elbow peak speeds (rad/s) of a set of throws read at an assumed frame rate that pass
@@ -714,6 +719,24 @@ def _throws_at_a_target(
     return kept, rejected
 
 
+def _extension_gap(motion: ArmMotion, cut: ThrowCut) -> tuple[float, float, str]:
+    """The longest gap (s) between the samples of any joint that makes the elbow angle, during the
+    throw's extension: (gap, its start time on the recording's clock, the joint)."""
+    begin, end = float(motion.time[cut.extension_start]), float(motion.time[cut.extension_end])
+    arm = motion.arm
+    worst = (0.0, begin, "elbow")
+    tracks = [("shoulder", arm.shoulder), ("elbow", arm.elbow), ("hand", arm.hand)]
+    if arm.wrist is not None:
+        tracks.append(("wrist", arm.wrist))
+    for name, track in tracks:
+        first = max(int(np.searchsorted(track.time, begin, side="right")) - 1, 0)
+        last = int(np.searchsorted(track.time, end, side="left")) + 1
+        steps = np.diff(track.time[first:last])
+        if steps.size and steps.max() > worst[0]:
+            worst = (float(steps.max()), float(track.time[first + int(np.argmax(steps))]), name)
+    return worst
+
+
 def _numbers(kept: list[tuple[ThrowCut, Release]], dropped: list[Rejection]) -> list[int]:
     """The 1-based number of each kept throw among the file's throws at a target, those the
     one-throw-per-MSR-file rule ``dropped`` (by their release times) included."""
@@ -783,6 +806,14 @@ def _throw(
     spacing = np.diff(native)
     native_rate = 1.0 / float(np.median(spacing)) if spacing.size else float("nan")
     largest_gap = float(spacing.max()) if spacing.size else 0.0
+    usual = float(np.median(np.diff(motion.time)))
+    gap, at, joint = _extension_gap(motion, cut)
+    if gap > max(EXTENSION_GAP_FACTOR * usual, EXTENSION_GAP_S):
+        report.warnings.append(
+            f"{path}: throw {number}: its extension has a {gap:.2f} s gap in the {joint}'s samples at "
+            f"t={at - origin:.2f} s (they are {usual:.3g} s apart elsewhere: a tracker frozen or lost there): its speed "
+            f"across it is bridged, not measured (peak {float(motion.velocity[window].max()):.3g} rad/s); check "
+            "the throw before fitting on it")
     identifier = _unique_id(f"{path.stem}_t{number}", used_ids)
     meta: dict[str, Any] = {
         "subject": _subject(path, row),

@@ -123,9 +123,9 @@ def _clean_frames(
     frames: np.ndarray, time: np.ndarray, arm_joints: list[int], notes: list[str], path: Path,
     read_joints: list[int] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Drop frames whose arm joints are all at zero (the tracker lost the user) and a frozen
-    tracker's repeats; note the frames with a nan in a joint that is read (:func:`_track` leaves
-    them out of that joint's track).
+    """Drop frames whose arm joints are all at zero (the tracker lost the user); note the frames
+    with a nan in a joint that is read and set to nan a joint a frozen tracker repeated
+    (:func:`_track` leaves both out of that joint's track).
 
     Parameters
     ----------
@@ -146,28 +146,34 @@ def _clean_frames(
                      f"first at t={time[first]:.2f} s): left out of that joint's track (tracking lost there)")
     if (~lost).sum() < 2:
         raise InputError(f"{path}: fewer than 2 frames with a tracked arm")
-    frames, time = frames[~lost], time[~lost]
-    frozen = _frozen(frames[:, arm_joints, :], time)
-    if frozen.any():
-        first = int(np.flatnonzero(frozen)[0])
-        notes.append(f"{path.name}: dropped {int(frozen.sum())} frames whose arm joints all repeat the frame before "
-                     f"exactly while the arm was moving (a frozen tracker; the first at t={time[first]:.2f} s): "
-                     "the motion is bridged across them")
-    return frames[~frozen], time[~frozen]
+    frames, time = frames[~lost].copy(), time[~lost]
+    held = np.zeros(frames.shape[:2], dtype=bool)  # (N, J): a joint the tracker froze in that frame
+    for joint in read_joints:
+        held[:, joint] = _frozen(frames[:, joint, :], time)
+    if held.any():
+        rows = held.any(axis=1)
+        first = int(np.flatnonzero(rows)[0])
+        notes.append(f"{path.name}: {plural(int(rows.sum()), 'frame')} where a joint repeats its value of the frame "
+                     f"before exactly while it was moving (a frozen tracker; the first at t={time[first]:.2f} s): "
+                     "left out of that joint's track, the motion bridged across")
+        frames[held] = np.nan
+    return frames, time
 
 
-#: Hand speed (m/s, the fastest arm joint) above which a stretch of frames that repeat the one
-#: before exactly is a frozen tracker: a moving arm cannot stop dead to the last digit. A
-#: recording without noise coming smoothly to rest (a simulation) slows below it first.
+#: A joint's speed (m/s) above which a stretch of frames repeating its position exactly is a
+#: frozen tracker: a moving joint cannot stop dead to the last digit. A recording without noise
+#: coming smoothly to rest (a simulation) slows below it first.
 FROZEN_ENTRY_SPEED = 0.5
+#: The longest such stretch (s): longer, the tracker lost the joint, and the gap says so.
+FROZEN_LONGEST = 0.5
 
 
-def _frozen(arm: np.ndarray, time: np.ndarray) -> np.ndarray:
-    """Frames (N,) that repeat the frame before in every arm joint, arm of shape (N, J, 3), in
-    stretches the arm entered faster than :data:`FROZEN_ENTRY_SPEED` (the first frame of a
-    stretch is kept: it is the tracker's last real pose)."""
+def _frozen(joint: np.ndarray, time: np.ndarray) -> np.ndarray:
+    """Frames (N,) where one joint's position, shape (N, 3), repeats the frame before exactly, in
+    stretches of at most :data:`FROZEN_LONGEST` that it entered and left faster than
+    :data:`FROZEN_ENTRY_SPEED` (the first frame of a stretch is kept: the tracker's last real pose)."""
     frozen = np.zeros(len(time), dtype=bool)
-    repeats = np.r_[False, np.all(arm[1:] == arm[:-1], axis=(1, 2))]
+    repeats = np.r_[False, np.all(joint[1:] == joint[:-1], axis=1)]
     index = 1
     while index < len(time):
         if not repeats[index]:
@@ -177,9 +183,12 @@ def _frozen(arm: np.ndarray, time: np.ndarray) -> np.ndarray:
         while end < len(time) and repeats[end]:
             end += 1
         held = index - 1  # the last real pose, repeated at rows index .. end - 1
-        if held >= 1:
-            step = np.linalg.norm(arm[held] - arm[held - 1], axis=1).max()
-            if step / max(time[held] - time[held - 1], 1e-9) > FROZEN_ENTRY_SPEED:
+        if 1 <= held and end < len(time) and time[end - 1] - time[held] <= FROZEN_LONGEST:
+            # entered moving and left with a jump (the tracker catching up): a still joint whose
+            # coordinates repeat (noise-free or rounded) neither enters nor leaves so
+            entered = float(np.linalg.norm(joint[held] - joint[held - 1])) / max(time[held] - time[held - 1], 1e-9)
+            left = float(np.linalg.norm(joint[end] - joint[end - 1])) / max(time[end] - time[end - 1], 1e-9)
+            if min(entered, left) > FROZEN_ENTRY_SPEED:
                 frozen[index:end] = True
         index = end
     return frozen
