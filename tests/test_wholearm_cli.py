@@ -72,10 +72,13 @@ def test_a_whole_arm_path_thrown_without_joints_says_what_it_leaves_out(rlff, ro
     assert note.startswith("throw.csv holds shoulder, wrist columns (a "
                            "whole-arm path), thrown with one joint: give --joints")
     assert not load_for_robot(throw_csv, robot, 0.002, joints=("joint_2", "joint_3"))[1].notes
-    result = rlff("robot", "export", str(throw_csv), "-f", "json", "-o", str(throw_csv.with_suffix(".json")))
-    assert "give --joints (e.g. joint_2,joint_3" in result.stderr  # in the refusal or as a note
+    result = rlff("robot", "export", str(throw_csv), "-f", "json", "-o", str(throw_csv.with_suffix(".json")), "--clip")
+    assert result.code == 0 and "note: throw.csv holds shoulder, wrist columns" in result.stderr
     # a note, not a warning: the README's chain (fit's default outputs, generate) writes such paths
     assert "warning:" not in result.stderr
+    # and not part of a limit refusal: following it may ask the joints for more, not less
+    refused = rlff("robot", "export", str(throw_csv), "-f", "json", "-o", str(throw_csv.with_suffix(".json")))
+    assert refused.code == 2 and "would execute beyond its limits" in refused.stderr and "--joints" not in refused.stderr
 
 
 def test_sim_throw_without_the_columns_the_joints_need_names_them(rlff, tmp_path):

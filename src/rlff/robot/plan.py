@@ -256,9 +256,7 @@ def load_for_robot(
             planned = plan_path(mapping, generated.to_path(), bearing=bearing, period=period, clip=clip, start=start)
         except InputError as exc:
             said = f"{exc} ({where})" if str(exc).startswith("bearing ") else str(exc)
-            # the hint explains a limit refusal (the elbow alone must be faster), nothing else
-            beyond = hint and "would execute beyond its limits" in said
-            raise type(exc)(f"{path}: {said}" + (f"; {hint}" if beyond else "")) from None
+            raise type(exc)(f"{path}: {said}") from None
         return kind, replace(planned, notes=(hint,)) if hint else planned
     trajectory = read_json(path) if path.suffix.lower() == ".json" else read_csv(path)
     try:
