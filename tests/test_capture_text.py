@@ -433,3 +433,14 @@ def test_thesis_matrix_files_pass_through(tmp_path):
     assert len(dataset) == 4 and len({t.id for t in dataset}) == 4
     assert [f.format for f in report.files] == ["thesis", "thesis"]
     np.testing.assert_allclose(dataset[3]["distance"], 3.0)
+
+
+def test_a_manifest_row_wider_than_its_header_is_named_not_shifted(tmp_path):
+    path = tmp_path / "manifest.csv"
+    path.write_text("file,distance\nsession.csv,1,5\n")  # a decimal comma in a comma file: three cells
+    with pytest.raises(InputError, match=r"line 2: 3 cells, but the header names 2 columns; a decimal comma in a "
+                                         r"comma-separated file\? write 1.5"):
+        read_manifest(path)
+    path.write_text("file;distance\nsession.csv;1.234,5\n")
+    with pytest.raises(InputError, match=r"line 2: column 'distance' has a bad value '1.234,5'"):
+        read_manifest(path)

@@ -300,6 +300,7 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise InputError(f"manifest {path}: not a readable CSV ({str(exc).strip().splitlines()[-1]})") from None
     frame.columns = [str(c).strip().lower() for c in frame.columns]
+    _require_row_widths(path, separator, len(frame.columns))
     missing = [name for name in ("file", "distance") if name not in frame.columns]
     if missing:
         raise InputError(f"manifest {path}: no column {', '.join(map(repr, missing))} (columns: {', '.join(frame.columns)})")
@@ -313,12 +314,13 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
             text = str(record.get(name, "")).strip()
             if not text:
                 return None
+            written = text
             if separator != "," and kind is float:
                 text = text.replace(",", ".")  # a decimal comma
             try:
                 return kind(text)
             except ValueError:
-                raise InputError(f"manifest {path}, line {number}: column {name!r} has a bad value {text!r}") from None
+                raise InputError(f"manifest {path}, line {number}: column {name!r} has a bad value {written!r}") from None
 
         distance = number_or_none("distance", float)
         if distance is None or not np.isfinite(distance) or distance <= 0:
@@ -372,6 +374,23 @@ def _same_folders(a: ManifestRow, b: ManifestRow) -> bool:
     """Whether two rows' folder parts can name the same recording: one ends the other."""
     short, long = sorted((a.folders, b.folders), key=len)
     return long[len(long) - len(short):] == short
+
+
+def _require_row_widths(path: Path, separator: str, width: int) -> None:
+    """:class:`InputError` at the first manifest row with more cells than its header: pandas would
+    take the first column for an index and shift the others (a decimal comma in a comma file)."""
+    import csv
+
+    with open(path, newline="", encoding="utf-8-sig", errors="replace") as handle:
+        for number, record in enumerate(csv.reader(handle, delimiter=separator, skipinitialspace=True), start=1):
+            cells = list(record)
+            while cells and not cells[-1].strip():
+                cells.pop()  # a trailing separator is no cell
+            if number > 1 and len(cells) > width:
+                comma = ("; a decimal comma in a comma-separated file? write 1.5, quote \"1,5\", or separate the "
+                         "columns with ';'" if separator == "," else "")
+                raise InputError(f"manifest {path}, line {number}: {len(cells)} cells, but the header names {width} "
+                                 f"columns{comma}")
 
 
 def check_throw_numbers(rows: list[ManifestRow], source: str, count: int) -> None:
