@@ -190,7 +190,7 @@ def test_blank_cells_are_a_joint_not_tracked_there_and_a_blank_arm_is_left_out(t
     recording = read_joint_csv(blank)
     (arm,) = recording.arms
     assert arm.side == "right" and len(arm.hand) == len(frame) - 3 and len(arm.elbow) == len(frame)
-    assert any(note.startswith("blank.csv: the left arm is blank or nan in 96% of the rows: left out") for note in recording.notes)
+    assert any(w.endswith("blank.csv: the left arm is blank or nan in 96% of the rows: left out") for w in recording.warnings)
     assert any("3 frames with a nan or blank value in a joint rlff reads" in note for note in recording.notes)
     dataset, _ = import_recordings([blank])
     clean, _ = import_recordings([path])

@@ -398,7 +398,11 @@ def read_joint_csv(
             cells = np.column_stack([numeric(column_name, finite=False)[keep] for column_name in group[name].values()])
             share = float(np.mean(~np.all(np.isfinite(cells), axis=1)))
             if share > 0.5 and (label == "torso" or len(found) > 1):
-                notes.append(f"{path.name}: the {name} {label} is blank or nan in {share:.0%} of the rows: left out")
+                what = f"the {name} arm" if label == "arm" else f"the torso's {name} point"
+                # an arm left out may be the throwing one: a warning; a torso point only changes
+                # what the shoulder's elevation is measured against
+                (warnings if label == "arm" else notes).append(
+                    f"{path}: {what} is blank or nan in {share:.0%} of the rows: left out")
                 del group[name]
     sides = list(found)
     joints_by_side = {
