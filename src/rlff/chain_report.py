@@ -58,6 +58,8 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
                 datasets.append((path, dataset))
             elif suffix == ".json" and _is_model(path):
                 models.append((path, Model.load(path)))
+            elif suffix == ".json" and _not_json(path):
+                passed.append(f"{path.name}: not JSON (a damaged or cut-short file?)")
             elif suffix == ".jsonl":
                 logs.append((path, read_learning_log(path)))
             elif suffix in (".csv", ".json"):
@@ -66,6 +68,9 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
             passed.append(f"{path.name}: {str(exc).removeprefix(str(path) + ': ')}")
     if not (datasets or models or logs):
         seen = f" (passed over {'; '.join(passed)})" if passed else ""
+        inner = sorted(p.name for p in folder.iterdir() if p.is_dir())
+        if inner:
+            seen += f"; its subfolders ({', '.join(inner[:3])}{', ...' if len(inner) > 3 else ''}) are not read"
         raise InputError(f"{folder}: no run.json, and no rlff dataset (.csv), model (.json) or attempts log (.jsonl) "
                          f"in it{seen}: give a folder that `rlff demo` wrote, or one holding your own chain's files")
     figures_dir.mkdir(parents=True, exist_ok=True)
@@ -98,6 +103,16 @@ def _is_model(path: Path) -> bool:
     except (OSError, UnicodeDecodeError, json.JSONDecodeError):
         return False
     return isinstance(document, dict) and document.get("format") == FORMAT
+
+
+def _not_json(path: Path) -> bool:
+    """Whether ``path`` does not parse as JSON at all."""
+    try:
+        with path.open(encoding="utf-8") as handle:
+            json.load(handle)
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return True
+    return False
 
 
 def _relative(saved_png: Path, figures_dir: Path) -> str:
