@@ -139,3 +139,26 @@ def test_a_second_throw_in_an_msr_file_is_warned_of_and_named_in_a_manifest_erro
     manifest.write_text(f"file,throw,distance\n{two.name},3,2.0\n")
     with pytest.raises(InputError, match=r"throw 3 of a06_s01_e98_skeleton3D.txt does not exist \(2 throws found there\)"):
         import_recordings([two], "msr", manifest=manifest)
+
+
+@pytest.mark.realdata
+def test_one_file_of_a_set_recorded_at_another_rate_is_named(tmp_path):
+    """A set where one file was recorded at 60 Hz (four times the frames of the same motion), all
+    read at MSR's 15 Hz: the set's medians look like throws, so the file is named on its own."""
+    from conftest import MSR_THROWS
+
+    if not MSR_THROWS.is_dir():
+        pytest.skip(f"{MSR_THROWS} is absent")
+    sources = sorted(MSR_THROWS.glob("a06_*_skeleton3D.txt"))[:6]
+    for source in sources[1:]:
+        (tmp_path / source.name).write_text(source.read_text())
+    frames = np.loadtxt(sources[0]).reshape(-1, 20, 4)
+    fine = np.linspace(0, len(frames) - 1, 4 * (len(frames) - 1) + 1)
+    dense = np.stack([[np.interp(fine, np.arange(len(frames)), frames[:, j, c]) for c in range(4)]
+                      for j in range(20)]).transpose(2, 0, 1)  # (T, 20, 4) at 60 Hz
+    odd = tmp_path / sources[0].name
+    odd.write_text("\n".join(" ".join(f"{v:.6f}" for v in row) for row in dense.reshape(-1, 4)) + "\n")
+    _, report = import_recordings(sorted(tmp_path.glob("*.txt")), "msr")
+    (warning,) = [w for w in report.warnings if "unlike a throw at the rate read" in w]
+    assert warning.startswith("1 of 6 msr files hold throws unlike a throw") and odd.name in warning
+    assert not any(source.name in warning for source in sources[1:])

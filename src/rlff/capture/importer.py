@@ -88,6 +88,13 @@ PLAUSIBLE_PEAK = (5.0, 35.0)
 #: the MSR throws (10-90 %); read at four times their rate, 0.3 s (the fit then flattens the
 #: elbow's peak, so the speed alone does not tell).
 SHORTEST_THROW = 0.5
+#: Median throw (s) above which such a set is too slow: the MSR throws last at most 1.9 s; read
+#: at a quarter of their rate 1.9-4 s (the wind-up's walk stops at 1.5 s, so the time alone
+#: does not scale).
+LONGEST_THROW = 3.0
+#: A file's throw that peaks below PLAUSIBLE_PEAK is judged read at a wrong rate only when it
+#: also lasts longer than this (s): the slowest real MSR throw (3.9 rad/s) lasts 1.9 s.
+SLOW_AND_LONG = 2.0
 #: Units a recording's coordinates may be in instead of metres, with their size in metres.
 OTHER_UNITS = {"millimetres": 1e-3, "centimetres": 1e-2}
 
@@ -360,27 +367,47 @@ def import_recordings(
 
 
 def _rate_warnings(report: ImportReport, rate_hz: float | None) -> list[str]:
-    """A warning per text format read at an assumed rate (frames, no time stamps) whose throws'
-    elbow peaks are implausible for a throw: the frame rate is the likely mistake."""
+    """A warning per text format read at an assumed rate (frames, no time stamps) whose throws
+    are implausible for a throw, all of them or those of some files (a set recorded at two
+    rates): the frame rate is the likely mistake."""
     said = []
     for kind, default in (("msr", MSR_RATE_HZ), ("kinect-text", KINECT_RATE_HZ)):
-        throws = [throw for file in report.files if file.format == kind for throw in file.throws]
-        if not throws:
-            continue
-        peak = float(np.median([throw.peak_velocity for throw in throws]))
-        duration = float(np.median([throw.end - throw.start for throw in throws]))
-        low, high = PLAUSIBLE_PEAK
-        if peak < low:
-            seen = f"their elbows peak at a median {peak:.3g} rad/s, slower than a throw ({low:g}-{high:g} rad/s)"
-        elif peak > high or duration < SHORTEST_THROW:
-            seen = (f"they last a median {duration:.2g} s, wind-up to follow-through, and peak at {peak:.3g} rad/s: "
-                    f"faster than a throw (at least {SHORTEST_THROW:g} s, at most {high:g} rad/s)")
-        else:
+        files = [file for file in report.files if file.format == kind and file.throws]
+        if not files:
             continue
         rate = f"--rate {rate_hz:g} Hz" if rate_hz is not None else f"{default:g} Hz (the format's rate; --rate changes it)"
-        said.append(f"the {len(throws)} {kind} throws: {seen}; their files have no time stamps and were read at "
-                    f"{rate}: was it the rate they were recorded at?")
+        seen = _implausible([throw for file in files for throw in file.throws])
+        if seen:
+            count = sum(len(file.throws) for file in files)
+            said.append(f"the {count} {kind} throws: {seen}; their files have no time stamps and were read at "
+                        f"{rate}: was it the rate they were recorded at?")
+            continue
+        odd = [(file, why) for file in files if (why := _implausible(file.throws, alone=True))]
+        if odd:
+            shown = "; ".join(f"{Path(file.source).name}: {why}" for file, why in odd[:3])
+            more = f" (and {len(odd) - 3} more)" if len(odd) > 3 else ""
+            said.append(f"{len(odd)} of {len(files)} {kind} files hold throws unlike a throw at the rate read "
+                        f"({rate}), the others not: {shown}{more}: were these recorded at another rate? (import "
+                        "them apart with their --rate)")
     return said
+
+
+def _implausible(throws: Sequence[ThrowInfo], alone: bool = False) -> str | None:
+    """What makes these throws (their medians) unlike a human throw, or None. ``alone``: the
+    throws of one file, judged more leniently (one slow throw is a person's, not a rate's: slow
+    and long together, or longer than any throw)."""
+    peak = float(np.median([throw.peak_velocity for throw in throws]))
+    duration = float(np.median([throw.end - throw.start for throw in throws]))
+    low, high = PLAUSIBLE_PEAK
+    if peak < low and (not alone or duration > SLOW_AND_LONG):
+        return f"elbows peak at a median {peak:.3g} rad/s, slower than a throw ({low:g}-{high:g} rad/s)"
+    if duration > LONGEST_THROW:
+        return (f"they last a median {duration:.2g} s wind-up to follow-through, longer than a throw (at most "
+                f"{LONGEST_THROW:g} s)")
+    if peak > high or duration < SHORTEST_THROW:
+        return (f"they last a median {duration:.2g} s, wind-up to follow-through, and peak at {peak:.3g} rad/s: "
+                f"faster than a throw (at least {SHORTEST_THROW:g} s, at most {high:g} rad/s)")
+    return None
 
 
 def _refuse_copies(dataset: Dataset, origin: Mapping[str, Path]) -> None:
