@@ -176,6 +176,13 @@ def test_a_time_column_in_another_unit_is_named(tmp_path, scale, unit):
     read_joint_csv(_simulated_csv(tmp_path / "seconds.csv"))  # the same in seconds is read
 
 
+def test_a_time_column_that_counts_frames_is_named(tmp_path):
+    path = _simulated_csv(tmp_path / "frames.csv", time_scale=30.0)  # 0, 1, 2, ... at 30 Hz
+    with pytest.raises(InputError, match=r"the time column 'time' steps by 1 per frame in whole numbers: a frame "
+                                         r"number\? rlff reads seconds"):
+        read_joint_csv(path)
+
+
 def test_blank_cells_are_a_joint_not_tracked_there_and_a_blank_arm_is_left_out(tmp_path):
     import pandas as pd
 

@@ -445,6 +445,10 @@ def _check_time_unit(time: np.ndarray, name: str, path: Path) -> None:
         return  # one row, or all repeats: the rows' own checks say so
     spacing = float(np.median(steps))
     low, high = FRAME_RATE_RANGE
+    if abs(spacing - 1.0) < 1e-6 and np.allclose(steps, np.round(steps), rtol=0, atol=1e-6):
+        # 1 Hz is a rate, but whole steps of 1 count frames
+        raise InputError(f"{path}: the time column {name!r} steps by 1 per frame in whole numbers: a frame number? "
+                         "rlff reads seconds: divide it by the frame rate, or rename the column and give --rate")
     if low <= 1.0 / spacing <= high:
         return
     looks = ""
