@@ -136,6 +136,11 @@ def test_a_second_throw_in_an_msr_file_is_warned_of_and_named_in_a_manifest_erro
     manifest.write_text(f"file,throw,distance\n{two.name},{number},2.0\n")
     labelled, _ = import_recordings([two], "msr", manifest=manifest)
     assert labelled.ids == dataset.ids and float(labelled[0]["distance"][0]) == 2.0
+    # a time span holding only the throw left out says so
+    left = next(r.time for f in report.files for r in f.rejected if r.rule == "one throw per MSR file")
+    manifest.write_text(f"file,start,end,distance\n{two.name},{left - 0.5:.2f},{left + 0.5:.2f},2.0\n")
+    _, spanned = import_recordings([two], "msr", manifest=manifest)
+    assert any(f"the throw at t={left:.2f} s was left out (one throw per MSR file)" in w for w in spanned.warnings)
     manifest.write_text(f"file,throw,distance\n{two.name},3,2.0\n")
     with pytest.raises(InputError, match=r"throw 3 of a06_s01_e98_skeleton3D.txt does not exist \(2 throws found there\)"):
         import_recordings([two], "msr", manifest=manifest)

@@ -594,7 +594,8 @@ def _import_recording(
                 raise InputError(f"{row.where}: throw {row.throw} of {path.name} was left out: {ONE_PER_MSR_FILE} "
                                  f"(the one with the fastest release, throw {numbers[0]}, is kept)")
         peaks = [float(motion.time[cut.peak] - origin) for cut, _ in kept]
-        report.warnings.extend(rows_without_a_throw(rows, recording.source, peaks))
+        left_out = [(r.time - origin, r.rule) for r in dropped]
+        report.warnings.extend(rows_without_a_throw(rows, recording.source, peaks, left_out))
     trajectories = []
     for number, (cut, release) in zip(numbers, kept, strict=True):
         trajectory = _throw(recording, motion, cut, release, number, rows, landing, report, used_ids)

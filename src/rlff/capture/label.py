@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import os
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -409,18 +410,21 @@ def check_throw_numbers(rows: list[ManifestRow], source: str, count: int) -> Non
             )
 
 
-def rows_without_a_throw(rows: list[ManifestRow], source: str, peak_times: list[float]) -> list[str]:
+def rows_without_a_throw(rows: list[ManifestRow], source: str, peak_times: list[float],
+                         left_out: Sequence[tuple[float, str]] = ()) -> list[str]:
     """Warnings for the rows of ``source`` with a time span (``start``/``end``, s from the
     recording's first sample) that holds none of its throws' extension peaks (``peak_times``, s):
-    such a row labels nothing, and its distance is not used."""
+    such a row labels nothing, and its distance is not used. ``left_out``: (time, rule) of throws
+    a rule left out, named where the span holds one."""
     name = Path(source).name
     found = ", ".join(f"{t:.2f}" for t in peak_times) or "none"
     warnings = []
     for row in rows:
         if row.has_span and row.matches(source) and not any(row.spans(t) for t in peak_times):
             span = f"{'start' if row.start is None else f'{row.start:g}'}-{'end' if row.end is None else f'{row.end:g}'} s"
-            warnings.append(f"{row.where}: no throw of {name} peaks within {span} (its throws peak at t = {found} s); "
-                            "the row is not used")
+            why = "".join(f"; the throw at t={t:.2f} s was left out ({rule})" for t, rule in left_out if row.spans(t))
+            warnings.append(f"{row.where}: no throw of {name} peaks within {span} (its throws peak at t = {found} s"
+                            f"{why}); the row is not used")
     return warnings
 
 
