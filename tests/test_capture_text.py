@@ -231,6 +231,23 @@ def test_a_frozen_tracker_mid_throw_is_dropped_and_bridged_and_a_still_arm_is_no
     assert not any("gap in the" in w for w in clean_report.warnings)
 
 
+def test_a_throw_that_begins_where_tracking_resumed_is_warned_of(tmp_path):
+    import pandas as pd
+
+    path = _simulated_csv(tmp_path / "clean.csv")
+    frame = pd.read_csv(path)
+    hand = frame[["right_hand_x", "right_hand_y", "right_hand_z"]].to_numpy()
+    fastest = int(np.argmax(np.linalg.norm(np.diff(hand, axis=0), axis=1)))
+    frame.loc[fastest - 3:, "time"] += 5.0  # the clock jumps (or tracking is lost) just before the release
+    jumped = tmp_path / "jumped.csv"
+    frame.to_csv(jumped, index=False)
+    _, report = import_recordings([jumped])
+    assert any("begins at t=" in w and "where tracking resumed after a 5.03 s gap, with the elbow already moving" in w
+               and "check the throw before fitting on it" in w for w in report.warnings), report.warnings
+    _, clean = import_recordings([path])
+    assert not any("tracking resumed" in w for w in clean.warnings)
+
+
 def test_bad_cells_of_the_csv_readers_are_shown_as_the_file_has_them(tmp_path):
     # numpy's repr leaked into the messages: "np.float64(nan)"
     from rlff.trajectory.path_csv import read_generated_path

@@ -598,7 +598,8 @@ def _import_recording(
         report.warnings.extend(rows_without_a_throw(rows, recording.source, peaks, left_out))
     trajectories = []
     for number, (cut, release) in zip(numbers, kept, strict=True):
-        trajectory = _throw(recording, motion, cut, release, number, rows, landing, report, used_ids)
+        trajectory = _throw(recording, motion, cut, release, number, rows, landing, report, used_ids,
+                            segment.rest_velocity)
         if trajectory is not None:
             trajectories.append(trajectory)
     return report, trajectories
@@ -790,7 +791,10 @@ def _throw(
     landing: LandingSettings,
     report: FileReport,
     used_ids: set[str],
+    segment_rest: float,
 ) -> Trajectory | None:
+    """The trajectory of one kept throw, labelled, with its warnings in ``report`` (None when its
+    landing stands for no basket); ``segment_rest`` is the throw finder's rest speed (rad/s)."""
     path = Path(recording.source)
     origin = report.clock_origin
     window = slice(cut.start, cut.stop)
@@ -834,6 +838,13 @@ def _throw(
     spacing = np.diff(native)
     native_rate = 1.0 / float(np.median(spacing)) if spacing.size else float("nan")
     largest_gap = float(spacing.max()) if spacing.size else 0.0
+    resumed = [run.start for run in motion.runs()[1:]]  # where tracking came back after a loss
+    if cut.start in resumed and abs(motion.velocity[cut.start]) > segment_rest:
+        report.warnings.append(
+            f"{path}: throw {number} begins at t={native[0] - origin:.2f} s, where tracking resumed after a "
+            f"{native[0] - motion.time[cut.start - 1]:.2f} s gap, with the elbow already moving "
+            f"({motion.velocity[cut.start]:.3g} rad/s): what came before is not measured (its wind-up, perhaps part "
+            "of its extension and release); check the throw before fitting on it")
     usual = float(np.median(np.diff(motion.time)))
     gap, at, joint = _extension_gap(motion, cut)
     if gap > max(EXTENSION_GAP_FACTOR * usual, EXTENSION_GAP_S):
