@@ -161,6 +161,24 @@ def derivative_window(time: np.ndarray) -> float:
     return float(np.clip(4 * spacing, low, high))
 
 
+def _windows(time: np.ndarray, window_s: float) -> tuple[np.ndarray, np.ndarray]:
+    """First and one-past-last sample index, each (T,), of every sample's fit window of
+    ``window_s`` s; near the ends the window keeps its width and slides inwards (one-sided, like
+    Savitzky-Golay's "interp")."""
+    centre = np.clip(time, time[0] + window_s / 2, time[-1] - window_s / 2) if time[-1] - time[0] > window_s else time
+    low = np.searchsorted(time, centre - window_s / 2 - 1e-9, side="left")
+    high = np.searchsorted(time, centre + window_s / 2 + 1e-9, side="right")
+    return low, high
+
+
+def fewest_in_window(time: np.ndarray, window_s: float) -> int:
+    """The fewest samples any fit window of :func:`local_derivative` holds on ``time`` (T,)."""
+    if len(time) < 2:
+        return len(time)
+    low, high = _windows(np.asarray(time, dtype=float), window_s)
+    return int((high - low).min())
+
+
 def local_derivative(time: np.ndarray, values: np.ndarray, window_s: float, cubic_from: int = 5) -> np.ndarray:
     """First derivative of unevenly sampled values by a local polynomial fit in time.
 
@@ -193,10 +211,7 @@ def local_derivative(time: np.ndarray, values: np.ndarray, window_s: float, cubi
     if len(time) < 2:
         return np.zeros_like(values)
     result = np.gradient(flat, time, axis=0, edge_order=1)
-    # near the ends the window keeps its width and slides inwards (one-sided, like Savitzky-Golay's "interp")
-    centre = np.clip(time, time[0] + window_s / 2, time[-1] - window_s / 2) if time[-1] - time[0] > window_s else time
-    low = np.searchsorted(time, centre - window_s / 2 - 1e-9, side="left")
-    high = np.searchsorted(time, centre + window_s / 2 + 1e-9, side="right")
+    low, high = _windows(time, window_s)
     counts = high - low
     width = int(counts.max())
     if width >= 3:

@@ -31,7 +31,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from rlff.capture.angles import ArmMotion, derivative_window, local_derivative
+from rlff.capture.angles import ArmMotion, derivative_window, fewest_in_window, local_derivative
 
 #: Fewest samples for the cubic fit of the wind-up walk's velocity (see :func:`local_derivative`).
 WIND_UP_CUBIC_FROM = 6
@@ -155,8 +155,11 @@ def find_throws(motion: ArmMotion, settings: SegmentSettings | None = None) -> t
     for run in runs:
         time, angle = motion.time[run], motion.angle[run]
         # the wind-up's hold compares tracker jitter with rest_velocity: a fit that smooths more
-        # than the output's where samples are few (a quadratic up to 5 samples, as at 15 Hz)
-        velocity = local_derivative(time, angle, derivative_window(motion.time), cubic_from=WIND_UP_CUBIC_FROM)
+        # than the output's where samples are few (a quadratic up to 5 samples, as at 15 Hz); where
+        # every window holds more, the two fits are one and the output's is taken as it is
+        window = derivative_window(motion.time)
+        velocity = (motion.velocity[run] if fewest_in_window(time, window) >= WIND_UP_CUBIC_FROM
+                    else local_derivative(time, angle, window, cubic_from=WIND_UP_CUBIC_FROM))
         # the follow-through compares a slow speed with rest_velocity: a wider fit than the output's
         # keeps tracker jitter from crossing it (the chord when sparse anyway)
         settling = local_derivative(time, angle, settings.settle_window)

@@ -173,15 +173,9 @@ def _frozen(joint: np.ndarray, time: np.ndarray) -> np.ndarray:
     stretches of at most :data:`FROZEN_LONGEST` that it entered and left faster than
     :data:`FROZEN_ENTRY_SPEED` (the first frame of a stretch is kept: the tracker's last real pose)."""
     frozen = np.zeros(len(time), dtype=bool)
-    repeats = np.r_[False, np.all(joint[1:] == joint[:-1], axis=1)]
-    index = 1
-    while index < len(time):
-        if not repeats[index]:
-            index += 1
-            continue
-        end = index
-        while end < len(time) and repeats[end]:
-            end += 1
+    repeats = np.r_[False, np.all(joint[1:] == joint[:-1], axis=1), False]
+    edges = np.diff(repeats.astype(np.int8))
+    for index, end in zip(np.flatnonzero(edges == 1) + 1, np.flatnonzero(edges == -1) + 1, strict=True):
         held = index - 1  # the last real pose, repeated at rows index .. end - 1
         if 1 <= held and end < len(time) and time[end - 1] - time[held] <= FROZEN_LONGEST:
             # entered moving and left with a jump (the tracker catching up): a still joint whose
@@ -190,7 +184,6 @@ def _frozen(joint: np.ndarray, time: np.ndarray) -> np.ndarray:
             left = float(np.linalg.norm(joint[end] - joint[end - 1])) / max(time[end] - time[end - 1], 1e-9)
             if min(entered, left) > FROZEN_ENTRY_SPEED:
                 frozen[index:end] = True
-        index = end
     return frozen
 
 
@@ -336,11 +329,18 @@ def read_joint_csv(
         real = mapping.get(name, name)
         return real if real in frame.columns else None
 
+    read: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # a column's numbers and blank cells, read once
+
     def numeric(name: str, finite: bool = True) -> np.ndarray:
         """The column's numbers; a cell that is no number is an error, and a blank or nan one too
         unless ``finite`` is False (then nan: a joint the tracker did not give)."""
-        values = pd.to_numeric(frame[name], errors="coerce").to_numpy(dtype=float)
-        blank = frame[name].isna().to_numpy() | frame[name].astype(str).str.strip().str.lower().isin(["", "nan"]).to_numpy()
+        if name not in read:
+            column = frame[name]
+            blank = column.isna().to_numpy()  # pandas reads empty cells, nan, NA, n/a as missing
+            if column.dtype == object:  # text among the numbers: "nan" spelt otherwise is blank too
+                blank |= column.astype(str).str.strip().str.lower().isin(["", "nan"]).to_numpy()
+            read[name] = (pd.to_numeric(column, errors="coerce").to_numpy(dtype=float), blank)
+        values, blank = read[name]
         bad = ~np.isfinite(values) & (True if finite else ~blank)
         if bad.any():
             row = int(np.flatnonzero(bad)[0])
