@@ -341,7 +341,7 @@ def send(
     from rlff.errors import InputError
     from rlff.learn.replay import load_for_send, rebearing_warning
     from rlff.robot.description import load_robot
-    from rlff.robot.send import ArmStateError, approach_line, goal_for_arm, require_at_rest
+    from rlff.robot.send import ArmStateError, approach_line, check_goal_for_arm, require_at_rest
 
     _check_ros(ros)
     if ros == 2 and topic_mode:
@@ -374,7 +374,8 @@ def send(
         require_at_rest(model, speed)  # before planning from rest
         result = load(start=pose)
         _report(result)
-        traj = goal_for_arm(model, result.trajectory, pose, speed)
+        traj = result.trajectory
+        check_goal_for_arm(model, traj, pose, speed)
         announced = approach_line(traj, "the throw" if traj.release_time is not None else "the trajectory")
         if announced:  # before anything moves, even under -q
             stderr().print(announced, highlight=False, markup=False)

@@ -40,7 +40,13 @@ import numpy as np
 from rlff.errors import InputError, RlffError
 from rlff.limits import DISTANCE_RANGE
 from rlff.robot.description import Robot
-from rlff.robot.send import ArmStateError, SendResult, approach_line, goal_for_arm, require_at_rest
+from rlff.robot.send import (
+    ArmStateError,
+    SendResult,
+    approach_line,
+    check_goal_for_arm,
+    require_at_rest,
+)
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.planner import plan_throw
 
@@ -264,17 +270,17 @@ class RobotExecutor:
 
     def __call__(self, trajectory: JointTrajectory) -> ReportedOutcome:
         self.attempts += 1
-        pose, planned, goal = self._plan(trajectory)
+        pose, planned = self._plan(trajectory)
         while self.ready is not None:
             self.ready(self.attempts)
             before = pose
-            pose, planned, goal = self._plan(trajectory, announce=False)
+            pose, planned = self._plan(trajectory, announce=False)
             if np.allclose(pose, before, rtol=0.0, atol=MOVED_WHILE_WAITING):
                 break
             # someone moved the arm while the throw waited: plan again, say so, and ask again
-            self._announce(goal, "the arm moved while the throw waited: ")
+            self._announce(planned, "the arm moved while the throw waited: ")
         try:
-            sent = self.arm.send_goal(self.robot, goal, pose)
+            sent = self.arm.send_goal(self.robot, planned, pose)
         except KeyboardInterrupt as exc:  # the client cancelled the goal, if one went out
             exc.rlff_attempt = self.attempts  # type: ignore[attr-defined]
             raise
@@ -289,19 +295,19 @@ class RobotExecutor:
             exc.rlff_outcome_missing = True  # type: ignore[attr-defined]
             raise
 
-    def _plan(self, trajectory: JointTrajectory, announce: bool = True):
-        """The arm's pose (J,), the planned throw from it and the goal to send; the approach is
-        announced unless ``announce`` is False. :class:`RobotFailed` for an arm not at rest."""
+    def _plan(self, trajectory: JointTrajectory, announce: bool = True) -> tuple[np.ndarray, JointTrajectory]:
+        """The arm's pose (J,) and the throw planned from it, checked as the goal to send; the
+        approach is announced unless ``announce`` is False. :class:`RobotFailed` for an arm not at rest."""
         try:
             pose, velocity = self.arm.arm_state(self.robot)
             require_at_rest(self.robot, velocity)  # before planning from rest
             planned = plan_throw(trajectory, self.robot.joints, start=pose, period=self.period)
-            goal = goal_for_arm(self.robot, planned, pose, velocity)
+            check_goal_for_arm(self.robot, planned, pose, velocity)
         except ArmStateError as exc:
             raise RobotFailed(f"attempt {self.attempts}: {exc}") from None
         if announce:
-            self._announce(goal)
-        return pose, planned, goal
+            self._announce(planned)
+        return pose, planned
 
     def _announce(self, goal: JointTrajectory, why: str = "") -> None:
         announced = approach_line(goal)

@@ -2,7 +2,7 @@
 
 The arm's state taken from /joint_states (:class:`StateWatch`: only a fresh, stamped message whose
 pose is within the robot's limits), the refusal to plan from rest for an arm that moves
-(:func:`require_at_rest`), the goal checked from that state (:func:`goal_for_arm`), the line
+(:func:`require_at_rest`), the goal checked from that state (:func:`check_goal_for_arm`), the line
 announcing the approach before anything moves (:func:`approach_line`), and the report of what
 became of a goal; the transports (:mod:`rlff.robot.ros1.client`, :mod:`rlff.robot.ros2.client`)
 only move messages.
@@ -22,11 +22,9 @@ from rlff.errors import InputError, RlffError
 from rlff.robot.controller import ResultCode
 from rlff.robot.description import Robot
 from rlff.robot.goal import InvalidJoints, check_goal
-from rlff.robot.messages import arm_state_of
+from rlff.robot.messages import JOINT_STATES, arm_state_of
 from rlff.trajectory.joint import JointTrajectory
 
-#: The topic the arm's state comes on.
-JOINT_STATES = "/joint_states"
 #: How far (s) a /joint_states header stamp may be from the ROS clock, behind or ahead, for the
 #: message to be taken as the arm's state now; an older one (a latched message, a driver that
 #: stopped, a clock out of step) is waited past, and refused when no fresh one comes.
@@ -242,13 +240,26 @@ class SendResult:
         return asdict(self) | {"succeeded": self.succeeded}
 
 
+def unfinished(gone: str | None, confirmed: bool, action: str, start: float, duration: float, feedback: int,
+               detail: str = "") -> SendResult:
+    """The :class:`SendResult` of a goal that ran out of time (``gone`` None) or whose server went
+    silent (``gone``: how it was noticed), after a cancel the server ``confirmed`` or not;
+    ``detail``: the server's error text, if any."""
+    cancel = "goal cancelled" if confirmed else cancel_unconfirmed(CANCEL_WAIT if gone is None else None)
+    if gone is not None:
+        return SendResult("lost", None, None, f"the server at {action} stopped answering ({gone}); {cancel}{detail}",
+                          start, duration, feedback)
+    return SendResult("timed out", None, None, f"timed out; {cancel}{detail}", start, duration, feedback)
+
+
 def goal_start(robot: Robot, traj: JointTrajectory, pose: np.ndarray) -> np.ndarray:
     """The arm's ``pose`` (J,) in ``robot``'s joint order, restricted to ``traj``'s joints."""
     return np.asarray(pose, dtype=float)[[robot.index(name) for name in traj.joint_names]]
 
 
-def goal_for_arm(robot: Robot, traj: JointTrajectory, pose: np.ndarray, velocity: np.ndarray) -> JointTrajectory:
-    """``traj`` checked as a goal from the arm's state, ready to send.
+def check_goal_for_arm(robot: Robot, traj: JointTrajectory, pose: np.ndarray, velocity: np.ndarray) -> None:
+    """Check ``traj`` as a goal for the arm in its state: at rest (:func:`require_at_rest`) and
+    passing the motion check from ``pose`` (nothing is sent otherwise).
 
     Parameters
     ----------
@@ -258,17 +269,12 @@ def goal_for_arm(robot: Robot, traj: JointTrajectory, pose: np.ndarray, velocity
     pose, velocity : arrays of shape (J,)
         The arm's state (rad, rad/s; every joint of ``robot``, e.g. from :class:`StateWatch`).
 
-    Returns
-    -------
-    JointTrajectory
-        ``traj`` itself.
-
     Raises
     ------
     ArmStateError
-        The arm is moving (:func:`require_at_rest`): a goal planned from rest is not sent to it.
+        The arm is moving: a goal planned from rest is not sent to it.
     InputError
-        ``traj`` fails the motion check from ``pose`` (nothing is sent).
+        ``traj`` fails the motion check from ``pose``.
     """
     require_at_rest(robot, velocity)
     try:
@@ -277,4 +283,3 @@ def goal_for_arm(robot: Robot, traj: JointTrajectory, pose: np.ndarray, velocity
         raise
     except InputError as exc:
         raise type(exc)(f"from the arm's pose on /joint_states: {exc}") from None
-    return traj

@@ -28,9 +28,10 @@ from trajectory_msgs.msg import JointTrajectory as TrajectoryMsg
 from rlff.errors import Interrupted
 from rlff.robot.description import Robot
 from rlff.robot.goal import check_goal
+from rlff.robot.messages import JOINT_STATES
 from rlff.robot.ros1.convert import to_msg
 from rlff.robot.ros1.master import RosUnavailable, wait_for_master
-from rlff.robot.ros1.server import ACTION_NAMESPACE, JOINT_STATES, TOPIC
+from rlff.robot.ros1.server import ACTION_NAMESPACE, TOPIC
 from rlff.robot.send import (
     CANCEL_UNCONFIRMED,
     CANCEL_WAIT,
@@ -38,10 +39,10 @@ from rlff.robot.send import (
     GOAL_CANCELLED,
     SendResult,
     StateWatch,
-    cancel_unconfirmed,
     goal_fate,
     goal_start,
     mark_goal,
+    unfinished,
 )
 from rlff.trajectory.joint import JointTrajectory
 
@@ -190,16 +191,11 @@ def send_goal(
                 confirmed = False
             raise mark_goal(interrupt, GOAL_CANCELLED if confirmed else CANCEL_UNCONFIRMED) from None
         if ended != "ended":
-            lost = ended != "timed out"
-            confirmed = _cancel(client, status, lost=lost)
+            gone = None if ended == "timed out" else ended
+            confirmed = _cancel(client, status, lost=gone is not None)
             result = client.get_result()
             text = f"; {result.error_string}" if confirmed and result is not None and result.error_string else ""
-            cancel = "goal cancelled" if confirmed else cancel_unconfirmed(None if lost else CANCEL_WAIT)
-            if lost:
-                return SendResult("lost", None, None, f"the server at {ACTION_NAMESPACE} stopped answering ({ended}); "
-                                  f"{cancel}{text}", start.to_sec(), traj.duration, received)
-            return SendResult("timed out", None, None, f"timed out; {cancel}{text}", start.to_sec(),
-                              traj.duration, received)
+            return unfinished(gone, confirmed, ACTION_NAMESPACE, start.to_sec(), traj.duration, received, text)
     except KeyboardInterrupt as exc:  # a second Ctrl-C while cancelling: the cancel was sent, not confirmed
         if goal_fate(exc) is None:
             mark_goal(exc, CANCEL_UNCONFIRMED)

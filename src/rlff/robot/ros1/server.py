@@ -40,12 +40,12 @@ from rlff.robot.controller import (
 )
 from rlff.robot.description import Robot
 from rlff.robot.kinematic import ArmState
+from rlff.robot.messages import JOINT_STATES
 from rlff.robot.ros1.convert import from_msg
 from rlff.robot.ros1.master import require_no_server, wait_for_master
 
 ACTION_NAMESPACE = "/comau_controller/follow_joint_trajectory"
 TOPIC = "/comau/joint_trajectory"
-JOINT_STATES = "/joint_states"
 NODE_NAME = "rlff_comau_controller"
 
 

@@ -28,9 +28,10 @@ from sensor_msgs.msg import JointState
 from rlff.errors import RlffError
 from rlff.robot.description import Robot
 from rlff.robot.goal import check_goal
+from rlff.robot.messages import JOINT_STATES
 from rlff.robot.ros2.convert import seconds, to_msg
 from rlff.robot.ros2.network import make_node
-from rlff.robot.ros2.server import ACTION_NAME, JOINT_STATES
+from rlff.robot.ros2.server import ACTION_NAME
 from rlff.robot.send import (
     CANCEL_UNCONFIRMED,
     CANCEL_WAIT,
@@ -42,6 +43,7 @@ from rlff.robot.send import (
     goal_fate,
     goal_start,
     mark_goal,
+    unfinished,
 )
 from rlff.trajectory.joint import JointTrajectory
 
@@ -189,13 +191,9 @@ class Connection:
             answer = handle.get_result_async()
             ended = _wait(answer, deadline, client, lambda: heard[0] if heard else None)
             if ended is not True:
-                lost = isinstance(ended, str)
-                confirmed = _cancel(handle, lost=lost)
-                cancel = "goal cancelled" if confirmed else cancel_unconfirmed(None if lost else CANCEL_WAIT)
-                if lost:
-                    return SendResult("lost", None, None, f"the server at {self.action} stopped answering ({ended}); "
-                                      f"{cancel}", start, traj.duration, received)
-                return SendResult("timed out", None, None, f"timed out; {cancel}", start, traj.duration, received)
+                gone = ended if isinstance(ended, str) else None
+                confirmed = _cancel(handle, lost=gone is not None)
+                return unfinished(gone, confirmed, self.action, start, traj.duration, received)
         except KeyboardInterrupt as exc:
             if goal_fate(exc) is not None:  # a second Ctrl-C while cancelling
                 raise

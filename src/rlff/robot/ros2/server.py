@@ -58,13 +58,13 @@ from rlff.robot.controller import (
 )
 from rlff.robot.description import Robot
 from rlff.robot.kinematic import ArmState
+from rlff.robot.messages import JOINT_STATES
 from rlff.robot.ros2.convert import duration, from_msg, start_of
 from rlff.robot.ros2.network import make_node
 from rlff.trajectory.joint import JointTrajectory
 
 ACTION_NAME = "/comau_controller/follow_joint_trajectory"
 TOPIC = "/comau/joint_trajectory"
-JOINT_STATES = "/joint_states"
 NODE_NAME = "rlff_comau_controller"
 #: Threads of the executor: goals wait for their end in one each, besides the tick and callbacks.
 THREADS = 8
