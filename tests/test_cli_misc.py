@@ -80,7 +80,7 @@ def test_report_bad_input(rlff, tmp_path):
     assert debug.code == 2 and "Traceback" in debug.stderr and "no such run directory" in debug.stderr
     verbose = rlff("-v", "report", str(tmp_path / "absent"))  # -v does not
     assert verbose.code == 2 and "Traceback" not in verbose.stderr
-    one_line_error(rlff("report", str(tmp_path)), "no run.json, and no rlff dataset (.csv), model (.json) or "
+    one_line_error(rlff("report", str(tmp_path)), "no run.json, and no rlff dataset (.csv, .npz, .parquet), model (.json) or "
                    "attempts log (.jsonl) in it")
     picture = tmp_path / "pic.png"
     picture.write_bytes(b"\x89PNG")
@@ -112,14 +112,17 @@ def test_report_of_a_folder_of_ones_own_chain(rlff, tmp_path):
     learned = rlff("learn", str(demos), "--preset", "thesis", "--basket", "1.5", "--budget", "2", "--log", str(folder / "a.jsonl"))
     assert learned.code == 0, learned.stderr
     (folder / "notes.json").write_text('{"what": "my own notes"}')
+    from rlff.formats import read_dataset, write_dataset
+
+    write_dataset(read_dataset(demos), folder / "demos.parquet")  # any dataset format the project writes
     result = rlff("report", str(folder), "-o", str(tmp_path / "r.html"))
     assert result.code == 0, result.stderr
     assert "passed over notes.json: not an rlff dataset or model" in result.stderr
     text = (tmp_path / "r.html").read_text()
-    for title in ("Demonstrations", "Models", "Learning", "demos.csv", "model.json", "a.jsonl"):
+    for title in ("Demonstrations", "Models", "Learning", "demos.csv", "demos.parquet", "model.json", "a.jsonl"):
         assert title in text
     images = re.findall(r'src="data:image/png;base64,([^"]+)"', text)
-    assert len(images) == 3 and all(base64.b64decode(i).startswith(b"\x89PNG") for i in images)  # data, K, learning
+    assert len(images) == 4 and all(base64.b64decode(i).startswith(b"\x89PNG") for i in images)  # 2 data, K, learning
     assert not list(folder.glob("*.png")) and not (folder / "run.json").exists()  # nothing written in the folder
 
 

@@ -8,8 +8,9 @@ module makes a :class:`~rlff.report.run.Run` of what it finds there, with its fi
 
 What counts (the folder itself, not its subfolders; anything else is passed over and named):
 
-- a dataset: a ``.csv`` that :func:`rlff.dataset.read_csv` reads with ``angle``, ``velocity``
-  and ``distance`` columns (an import, a preprocessed file, simulated people);
+- a dataset: a ``.csv``, ``.npz`` or ``.parquet`` file that :func:`rlff.formats.read_dataset`
+  reads with ``angle``, ``velocity`` and ``distance`` columns (an import, a preprocessed file,
+  simulated people);
 - a model: a ``.json`` in the ``rlff-model`` format (``rlff fit``);
 - an attempts log: a ``.jsonl`` of ``rlff learn --log``.
 """
@@ -26,6 +27,9 @@ from rlff.errors import InputError
 from rlff.report.run import FigureEntry, Run, Section, Table
 from rlff.wording import plural
 
+#: The dataset files a folder's report reads (:func:`rlff.formats.read_dataset`; ``.txt`` is left
+#: to skeleton recordings, which the thesis matrix format shares).
+DATASET_SUFFIXES = (".csv", ".npz", ".parquet")
 #: At most this many datasets get a figure (each is one panel per basket distance).
 MAX_DATASET_FIGURES = 4
 
@@ -41,8 +45,9 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     InputError
         The folder holds no dataset, model or attempts log.
     """
-    from rlff.dataset import read_csv
+    from rlff.formats import read_dataset
     from rlff.model import Model
+    from rlff.model.model import FORMAT as MODEL_FORMAT
     from rlff.plots.learning import read_learning_log
 
     folder, figures_dir = Path(folder), Path(figures_dir)
@@ -50,20 +55,22 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     for path in sorted(p for p in folder.iterdir() if p.is_file()):
         suffix = path.suffix.lower()
         try:
-            if suffix == ".csv":
-                dataset = read_csv(path)
+            if suffix in DATASET_SUFFIXES:
+                dataset = read_dataset(path)
                 missing = [c for c in ("angle", "velocity", "distance") if c not in dataset.columns]
                 if missing:
                     raise InputError(f"no column {', '.join(missing)}")
                 datasets.append((path, dataset))
-            elif suffix == ".json" and _is_model(path):
-                models.append((path, Model.load(path)))
-            elif suffix == ".json" and _not_json(path):
-                passed.append(f"{path.name}: not JSON (a damaged or cut-short file?)")
+            elif suffix == ".json":
+                document = _json(path)
+                if document is None:
+                    passed.append(f"{path.name}: not JSON (a damaged or cut-short file?)")
+                elif isinstance(document, dict) and document.get("format") == MODEL_FORMAT:
+                    models.append((path, Model.from_dict(document, str(path))))
+                else:
+                    passed.append(f"{path.name}: not an rlff dataset or model")
             elif suffix == ".jsonl":
                 logs.append((path, read_learning_log(path)))
-            elif suffix in (".csv", ".json"):
-                passed.append(f"{path.name}: not an rlff dataset or model")
         except InputError as exc:
             passed.append(f"{path.name}: {str(exc).removeprefix(str(path) + ': ')}")
     if not (datasets or models or logs):
@@ -71,7 +78,7 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
         inner = sorted(p.name for p in folder.iterdir() if p.is_dir())
         if inner:
             seen += f"; its subfolders ({', '.join(inner[:3])}{', ...' if len(inner) > 3 else ''}) are not read"
-        raise InputError(f"{folder}: no run.json, and no rlff dataset (.csv), model (.json) or attempts log (.jsonl) "
+        raise InputError(f"{folder}: no run.json, and no rlff dataset (.csv, .npz, .parquet), model (.json) or attempts log (.jsonl) "
                          f"in it{seen}: give a folder that `rlff demo` wrote, or one holding your own chain's files")
     figures_dir.mkdir(parents=True, exist_ok=True)
     sections, figures = [], []
@@ -93,26 +100,13 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     return Run(f"rlff: {folder.resolve().name}", created, settings, sections, figures), passed
 
 
-def _is_model(path: Path) -> bool:
-    """Whether ``path`` is a JSON object in the ``rlff-model`` format (other JSON is passed over)."""
-    from rlff.model.model import FORMAT
-
+def _json(path: Path) -> object | None:
+    """The JSON document in ``path``, or None when it does not parse."""
     try:
         with path.open(encoding="utf-8") as handle:
-            document = json.load(handle)
+            return json.load(handle)
     except (OSError, UnicodeDecodeError, json.JSONDecodeError):
-        return False
-    return isinstance(document, dict) and document.get("format") == FORMAT
-
-
-def _not_json(path: Path) -> bool:
-    """Whether ``path`` does not parse as JSON at all."""
-    try:
-        with path.open(encoding="utf-8") as handle:
-            json.load(handle)
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
-        return True
-    return False
+        return None
 
 
 def _relative(saved_png: Path, figures_dir: Path) -> str:

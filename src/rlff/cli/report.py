@@ -45,7 +45,7 @@ def _chain_report(folder: Path, target: Path, as_json: bool) -> None:
     (:mod:`rlff.chain_report`), the figures drawn in a temporary run directory and embedded."""
     import tempfile
 
-    from rlff.chain_report import chain_run
+    from rlff.chain_report import DATASET_SUFFIXES, chain_run
     from rlff.cli._common import say, warn
     from rlff.cli.output import guard
     from rlff.fileio import write_text
@@ -53,7 +53,7 @@ def _chain_report(folder: Path, target: Path, as_json: bool) -> None:
     from rlff.report.run import write_run
     from rlff.wording import plural
 
-    read = [path for path in folder.iterdir() if path.suffix.lower() in (".csv", ".json", ".jsonl")]
+    read = [path for path in folder.iterdir() if path.suffix.lower() in (*DATASET_SUFFIXES, ".json", ".jsonl")]
     guard(inputs={"RUN": read}, outputs={"-o/--output": target})
     with tempfile.TemporaryDirectory(prefix="rlff-report-") as scratch:
         run, passed = chain_run(folder, Path(scratch) / "figures")
