@@ -21,7 +21,7 @@ import time
 
 import numpy as np
 
-from rlff.learn.benchmark import HELD_OUT_SEEDS, format_table, learning_benchmark
+from rlff.learn.benchmark import HELD_OUT_SEEDS, format_table, learning_benchmark, robot_identity
 from rlff.learn.scenarios import DEMONSTRATORS, Scenario
 
 TARGET_MS = 50.0
@@ -92,7 +92,7 @@ def main() -> None:
                                           jobs=args.jobs, scheduler=args.scheduler)
                 print(f"## {scenario.name}, landings {landings} (seeds {args.first_seed}-"
                       f"{args.first_seed + seeds - 1}, budget {budget}, {time.perf_counter() - start:.0f} s)\n")
-                print(format_table(runs, budget) + "\n")
+                print(format_table(runs, budget, robot_identity(scenario.robot)) + "\n")
 
     print("\n## The loop's own work per attempt (median)\n")
     work, throw = loop_work_per_attempt()

@@ -3,8 +3,23 @@
 from __future__ import annotations
 
 import json
+from importlib import resources
+from pathlib import Path
 
 import pytest
+
+
+def slow_arm(folder: Path) -> Path:
+    """The Comau's robot file as another arm, ``slow_arm``, whose joint 2 turns at 1.6 rad/s: it
+    throws into a basket at 1.4 m, not at 1.9 m (its farthest basket is at about 1.8 m), and
+    from where the simulated people let go up to about 0.96 m."""
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    for old, new in (('name = "comau_smart5_six"', 'name = "slow_arm"'), ("max_velocity = 2.792", "max_velocity = 1.6")):
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    path = folder / "slow_arm.toml"
+    path.write_text(text)
+    return path
 
 
 @pytest.mark.slow
@@ -14,7 +29,8 @@ def test_json_is_rows_and_comparisons_of_the_scenario_asked_for(cli):
                  "--json")
     assert result.code == 0, result.stderr
     report = json.loads(result.stdout)
-    assert set(report) == {"rows", "comparisons"}
+    assert set(report) == {"robot", "rows", "comparisons"}
+    assert report["robot"]["name"] == "comau_smart5_six" and report["robot"]["file"] is None
     rows = {(r["feedback"], r["method"]): r for r in report["rows"]}
     assert set(rows) == {("binary", "calibrate"), ("binary", "sweep"), ("distance", "calibrate"),
                          ("distance", "secant")}
@@ -50,6 +66,42 @@ def test_the_baskets_can_be_chosen_for_an_arm_of_ones_own(cli):
     assert row["runs"] == 1  # one seed, one basket (the scenario's own are two)
 
 
+def test_the_default_baskets_beyond_the_robots_reach_are_refused_before_any_run(cli, tmp_path):
+    # the tester's arm failed at the 1.9 m basket 27 runs of 108 in, with no word of --baskets
+    arm = slow_arm(tmp_path)
+    result = cli("bench", "learning", "--robot", str(arm), "--seeds", "2", "--scenario", "short,wide")
+    assert result.code == 2 and result.stdout == ""
+    (line,) = result.stderr.strip().splitlines()  # no progress bar: nothing ran
+    assert line.startswith(f"rlff: error: --robot {arm} (slow_arm) does not reach the basket at 1.90 m of scenario "
+                           "short: throwing with joint_2 at the speed limit")
+    assert "of the baskets of short, wide (1.25, 1.40, 1.75, 1.90 m) it reaches 1.25, 1.40, 1.75 m" in line
+    assert "pass baskets within its reach with --baskets, e.g. --baskets 1.25,1.4,1.75" in line
+
+
+def test_the_table_and_json_name_the_robot_they_ran_on(cli, tmp_path):
+    # a table of another arm read like the Comau's
+    arm = slow_arm(tmp_path)
+    grid = ("bench", "learning", "--robot", str(arm), "--baskets", "0.9", "--seeds", "1", "--budget", "1",
+            "--jobs", "1", "--feedback", "binary", "--methods", "imitation")
+    table = cli(*grid)
+    assert table.code == 0, table.stderr
+    assert f"Robot: slow_arm (robot file {arm}, digest " in table.stdout
+    report = json.loads(cli(*grid, "--json").stdout)
+    assert report["robot"]["name"] == "slow_arm" and report["robot"]["file"] == str(arm)
+    assert len(report["robot"]["digest"]) == 16 and len(report["rows"]) == 1
+
+
+def test_a_basket_the_loops_throws_do_not_reach_is_refused_before_the_first_run(cli, tmp_path):
+    # within the arm's reach, beyond what it throws from where the people let go: the first run said it
+    result = cli("bench", "learning", "--robot", str(slow_arm(tmp_path)), "--baskets", "0.9,1.4", "--seeds", "2",
+                 "--budget", "1", "--jobs", "1", "--feedback", "binary", "--methods", "imitation")
+    assert result.code == 2 and result.stdout == ""
+    assert ("rlff: error: --baskets: the basket at 1.40 m is out of reach of the throws slow_arm executes from the "
+            "demonstrations of scenario short, seed 100") in result.stderr
+    assert "; it reaches 0.90 m: pass nearer baskets with --baskets" in result.stderr
+    assert "0/4" in result.stderr and "1/4" not in result.stderr  # not one run made
+
+
 @pytest.mark.parametrize("option, value, message", [
     ("--scenario", "far", "--scenario: unknown 'far'"),
     ("--landings", "guess", "--landings: landings 'guess'"),
@@ -66,7 +118,7 @@ def test_the_baskets_can_be_chosen_for_an_arm_of_ones_own(cli):
     ("--landings", "none,none", "--landings: 'none' given twice"),
     ("--baskets", "1.4,1.40", "--baskets 1.4,1.40: a distance given twice"),
     # it was said by the first run, after the progress bar had started, without the option's name
-    ("--baskets", "5", "--baskets: basket at 5.00 m is out of reach"),
+    ("--baskets", "5", "--baskets: basket at 5.00 m is out of reach of comau_smart5_six (built in)"),
 ])
 def test_bad_options_are_one_line_input_errors(cli, option, value, message):
     result = cli("bench", "learning", option, value)

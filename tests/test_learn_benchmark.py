@@ -9,7 +9,14 @@ import pytest
 from scipy.stats import wilcoxon
 
 from rlff.errors import InputError
-from rlff.learn.benchmark import Run, format_table, learning_benchmark, report, run_one
+from rlff.learn.benchmark import (
+    Run,
+    format_table,
+    learning_benchmark,
+    report,
+    robot_identity,
+    run_one,
+)
 from rlff.learn.scenarios import (
     Feedback,
     Scenario,
@@ -76,6 +83,28 @@ def test_the_table_marks_the_projects_methods_and_says_when_the_median_run_never
 
 def test_report_is_rows_and_comparisons():
     assert set(report(RUNS, 10)) == {"rows", "comparisons"}
+
+
+def test_the_report_and_the_table_name_the_robot_given():
+    comau = robot_identity("comau_smart5_six")
+    assert comau["name"] == "comau_smart5_six" and comau["file"] is None
+    assert list(report(RUNS, 10, comau)) == ["robot", "rows", "comparisons"]
+    assert format_table(RUNS, 10, comau).splitlines()[0] == (
+        f"Robot: comau_smart5_six (built in, digest {comau['digest']})")
+
+
+def test_the_robot_digest_is_the_one_its_attempts_logs_record():
+    from rlff.learn.log import robot_record
+    from rlff.robot import RobotMapping, load_robot
+
+    assert robot_identity("comau_smart5_six")["digest"] == robot_record(RobotMapping.for_robot(load_robot()))["digest"]
+
+
+def test_a_basket_beyond_the_robots_reach_stops_the_benchmark_before_its_first_run():
+    seen = []
+    with pytest.raises(InputError, match=r"--baskets: basket at 4\.00 m is out of reach of comau_smart5_six"):
+        learning_benchmark(Scenario(baskets=(1.4, 4.0)), 1, progress=seen.append)
+    assert seen == []
 
 
 @pytest.mark.parametrize("text, kind, noise, rate", [

@@ -56,10 +56,17 @@ def learning(
     jobs: int = typer.Option(2, "--jobs", min=1, help="Parallel workers."),
     scheduler: str | None = typer.Option(None, "--scheduler",
                                          help="Address of a Dask scheduler to run on (tcp://HOST:PORT)."),
-    as_json: bool = typer.Option(False, "--json", help='Print {"rows": [...], "comparisons": [...]}.'),
+    as_json: bool = typer.Option(False, "--json", help='Print {"robot": {...}, "rows": [...], "comparisons": [...]}.'),
 ) -> None:
     """Attempts to the first hit over seeds x baskets x feedback kinds x methods, per scenario."""
-    from rlff.learn.benchmark import METHODS_BY_FEEDBACK, format_table, learning_benchmark, report
+    from rlff.learn.benchmark import (
+        METHODS_BY_FEEDBACK,
+        format_table,
+        learning_benchmark,
+        report,
+        require_reachable_baskets,
+        robot_identity,
+    )
     from rlff.learn.loop import METHODS
     from rlff.learn.scenarios import (
         DEMONSTRATORS,
@@ -69,7 +76,6 @@ def learning(
         parse_landings,
     )
     from rlff.limits import check_distance, parse_number
-    from rlff.robot import load_robot
 
     people = list(DEMONSTRATORS) if scenario == "all" else _names("--scenario", scenario, list(DEMONSTRATORS))
     try:
@@ -99,17 +105,11 @@ def learning(
     except InputError as exc:
         raise InputError(f"--opening: {exc}") from None
     try:
-        description = load_robot(robot)
+        identity = robot_identity(robot)
     except InputError as exc:
         raise InputError(f"--robot: {exc}") from None
-    if distances is not None:  # said before the runs start, not by the first run of the basket
-        from rlff.sim import Basket, require_reachable
-
-        for distance in distances:
-            try:
-                require_reachable(Basket(distance, opening=opening), description)
-            except InputError as exc:
-                raise InputError(f"--baskets: {exc}") from None
+    # said before the runs start, not by the first run of a basket out of reach (27 runs in)
+    require_reachable_baskets(cases)
     if quick:
         seeds, budget = min(seeds, 2), min(budget, 12)
     if first_seed + seeds - 1 > MAX_SEED:
@@ -131,9 +131,9 @@ def learning(
             runs += learning_benchmark(case, seeds, first_seed=first_seed, methods=chosen, budget=budget,
                                        jobs=jobs, scheduler=scheduler, progress=lambda run: advance(1))
     if as_json:
-        emit_json(report(runs, budget))
+        emit_json(report(runs, budget, identity))
         return
     stdout().print(f"Seeds {first_seed}-{first_seed + seeds - 1}, budget {budget} (a run without a hit "
                    f"counts as {budget + 1}); p: paired Wilcoxon signed-rank, two-sided.\n",
                    highlight=False, markup=False)
-    stdout().print(format_table(runs, budget), highlight=False, markup=False)
+    stdout().print(format_table(runs, budget, identity), highlight=False, markup=False)

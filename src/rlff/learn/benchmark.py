@@ -11,6 +11,12 @@ record come from seeds 100 and above.
 The runs are independent and go to joblib workers: local processes (``loky``), or a Dask
 cluster given its scheduler's address (joblib's ``dask`` backend, which needs
 ``dask.distributed``).
+
+Before any run, every basket of the grid is checked against the robot's reach
+(:func:`require_reachable_baskets`): an arm of one's own that throws less far than the Comau
+would otherwise fail at its first run of a far basket, after all the runs before it. The
+results name the robot they were measured on (:func:`robot_identity`): a table of another arm
+reads like the Comau's otherwise.
 """
 
 from __future__ import annotations
@@ -19,6 +25,7 @@ import contextlib
 import math
 import warnings
 from collections.abc import Callable, Iterator, Sequence
+from typing import Any
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError
@@ -112,6 +119,7 @@ def learning_benchmark(
     methods = METHODS_BY_FEEDBACK if methods is None else methods
     if not (isinstance(seeds, int) and seeds >= 1) or not (isinstance(first_seed, int) and first_seed >= 0):
         raise InputError(f"seeds must be >= 1 and first seed >= 0, got {seeds!r} and {first_seed!r}")
+    require_reachable_baskets([scenario])
     seed_list = range(first_seed, first_seed + seeds)
     cases = [(f, m, float(b), s) for s in seed_list for b in scenario.baskets
              for f in scenario.feedbacks for m in methods[f.kind]]
@@ -125,6 +133,9 @@ def learning_benchmark(
         # the demonstrations of every seed, made once and shipped to the workers with each run
         demos = dict(zip(seed_list, parallel(joblib.delayed(scenario_demonstrations)(s, scenario)
                                              for s in seed_list), strict=True))
+        # what the loop's throws reach depends on where the demonstrations let go: judged for
+        # every seed here, as each run would judge it before its first throw, not 27 runs in
+        require_learnable_baskets(scenario, demos)
         runs = []
         for run in parallel(joblib.delayed(run_one)(demos[s], scenario, f, m, b, s, budget)
                             for f, m, b, s in cases):
@@ -157,24 +168,151 @@ def parallel_backend(scheduler: str | None) -> Iterator[None]:
         client.close()
 
 
-def report(runs: Sequence[Run], budget: int) -> dict:
-    """``{"rows": [...], "comparisons": [...]}`` of :mod:`rlff.learn.statistics`."""
-    return {
-        "rows": statistics.rows(runs, budget, PROJECT_METHODS),
-        "comparisons": statistics.comparisons(runs, budget, PROJECT_METHODS),
-    }
+def report(runs: Sequence[Run], budget: int, robot: dict[str, Any] | None = None) -> dict:
+    """``{"rows": [...], "comparisons": [...]}`` of :mod:`rlff.learn.statistics`, and
+    ``"robot"`` (:func:`robot_identity`) when given."""
+    result: dict[str, Any] = {} if robot is None else {"robot": robot}
+    result["rows"] = statistics.rows(runs, budget, PROJECT_METHODS)
+    result["comparisons"] = statistics.comparisons(runs, budget, PROJECT_METHODS)
+    return result
 
 
-def format_table(runs: Sequence[Run], budget: int) -> str:
+def robot_identity(robot: str) -> dict[str, Any]:
+    """The robot a benchmark runs on, as its table and ``--json`` name it.
+
+    Parameters
+    ----------
+    robot : str
+        A built-in robot's name or a robot file (:attr:`Scenario.robot`).
+
+    Returns
+    -------
+    dict
+        ``name`` (the robot file's ``name``), ``file`` (the file as given, None for a built-in
+        robot) and ``digest``: the digest an attempts log of ``rlff learn`` with this robot
+        records (:func:`rlff.learn.log.robot_record`), so that a table can be matched with logs.
+    """
+    from rlff.learn.log import robot_record
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.robot.description import available_robots
+
+    description = load_robot(robot)
+    built_in = robot in available_robots()
+    return {"name": description.name, "file": None if built_in else str(robot),
+            "digest": robot_record(RobotMapping.for_robot(description))["digest"]}
+
+
+def robot_words(identity: dict[str, Any]) -> str:
+    """"ur5e_like (robot file arms/ur5e.toml, digest b26ab21fb834f341)", or "(built in, ...)"."""
+    where = "built in" if identity.get("file") is None else f"robot file {identity['file']}"
+    return f"{identity['name']} ({where}, digest {identity['digest']})"
+
+
+def require_reachable_baskets(scenarios: Sequence[Scenario]) -> None:
+    """Raise :class:`InputError` before any run when a basket of ``scenarios`` is beyond the
+    robot's reach, as :func:`rlff.sim.require_reachable` judges it for the joints the loop throws
+    with (the robot file's mapping) on the floor.
+
+    The message names the robot, the basket and the farthest basket the robot reaches, which of
+    the scenarios' own baskets it reaches and how to pass others, or, for baskets chosen
+    (``--baskets``), how far they may be.
+    """
+    from rlff.learn.scenarios import DEMONSTRATORS
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.sim import Basket
+    from rlff.sim.reach import (
+        PLANE_JOINTS,
+        came_down_words,
+        centimetres_below,
+        farthest_basket,
+        farthest_words,
+        throw_reach,
+    )
+
+    for robot in dict.fromkeys(s.robot for s in scenarios):
+        description = load_robot(robot)
+        joints = tuple(j for j in RobotMapping.for_robot(description).driven_joints if j in PLANE_JOINTS) or ("joint_2",)
+        mine = [s for s in scenarios if s.robot == robot]
+        farthest, beyond, within = {}, {}, {}  # farthest basket (m) per opening; the baskets out and in
+        for scenario in mine:
+            rim = Basket(scenario.baskets[0], opening=scenario.opening).rim_height
+            reach = throw_reach(description, rim, 0.0, joints).distance
+            farthest[scenario.opening] = (reach, rim, farthest_basket(reach, scenario.opening))
+            for distance in scenario.baskets:
+                side = within if distance <= farthest[scenario.opening][2] else beyond
+                side.setdefault(distance, scenario)
+        if not beyond:
+            continue
+        distance, scenario = min(beyond.items())
+        reach, rim, edge = farthest[scenario.opening]
+        who = f"{description.name} ({'built in' if robot == description.name else robot})"
+        chosen = scenario.baskets != DEMONSTRATORS[scenario.demonstrators].baskets
+        why = (f"throwing with {', '.join(joints)} at the speed limit, the ball {came_down_words(reach, rim)}, so "
+               f"{farthest_words(edge, scenario.opening)}")
+        if chosen:
+            raise InputError(f"--baskets: basket at {distance:.2f} m is out of reach of {who}: {why}; give baskets "
+                             f"up to {centimetres_below(edge)} m")
+        named = ", ".join(dict.fromkeys(s.demonstrators for s in mine))
+        reached = sorted(within)
+        among = (f"of the baskets of {named} ({_metres(sorted({*beyond, *within}))}) it reaches "
+                 + (_metres(reached) if reached else "none"))
+        example = f", e.g. --baskets {','.join(f'{d:g}' for d in reached)}" if reached else ""
+        option = f"--robot {robot}" + ("" if robot == description.name else f" ({description.name})")
+        raise InputError(f"{option} does not reach the basket at {distance:.2f} m of "
+                         f"scenario {scenario.demonstrators}: {why}; {among}: pass baskets within its reach with "
+                         f"--baskets{example} (rlff sim reach --robot {robot} for what it throws)")
+
+
+def require_learnable_baskets(scenario: Scenario, demos: dict[int, Dataset]) -> None:
+    """Raise :class:`InputError` when a basket of ``scenario`` is beyond what the learning loop's
+    throws reach from the demonstrations of a seed (``demos``: seed to demonstrations), as
+    :func:`rlff.learn.learn` judges it before its first throw
+    (:func:`rlff.learn.loop.learnable_basket`): within the robot's reach
+    (:func:`require_reachable_baskets`), a throw from where the demonstrations let go may still
+    fall short of it."""
+    from rlff.learn.loop import learnable_basket
+    from rlff.learn.scenarios import DEMONSTRATORS
+    from rlff.robot import load_robot, mapping_for
+    from rlff.sim import Basket
+    from rlff.sim.reach import centimetres_below
+
+    description = load_robot(scenario.robot)
+    mapping = mapping_for(description, None)
+    for seed, shown in demos.items():
+        farthest = {distance: learnable_basket(shown, mapping, Basket(distance, opening=scenario.opening), seed=seed)
+                    for distance in scenario.baskets}
+        beyond = [distance for distance in scenario.baskets if distance > farthest[distance]]
+        if not beyond:
+            continue
+        distance = min(beyond)
+        within = [d for d in scenario.baskets if d not in beyond]
+        chosen = scenario.baskets != DEMONSTRATORS[scenario.demonstrators].baskets
+        option = "--baskets" if chosen else f"--robot {scenario.robot}" + (
+            "" if scenario.robot == description.name else f" ({description.name})")
+        kept = f"; it reaches {_metres(within)}" if within else ""
+        raise InputError(
+            f"{option}: the basket at {distance:.2f} m is out of reach of the throws {description.name} executes from "
+            f"the demonstrations of scenario {scenario.demonstrators}, seed {seed} (released where they let go, "
+            f"as rlff learn judges it before its first throw): the farthest basket with a {scenario.opening:.2f} m "
+            f"opening is at {centimetres_below(farthest[distance])} m{kept}: pass nearer baskets with --baskets")
+
+
+def _metres(distances: Sequence[float]) -> str:
+    return ", ".join(f"{d:.2f}" for d in distances) + " m"
+
+
+def format_table(runs: Sequence[Run], budget: int, robot: dict[str, Any] | None = None) -> str:
     """A Markdown table: per feedback and method, the median, the mean, the hits, and the paired
-    p-values of the project's methods against it."""
+    p-values of the project's methods against it; under a line naming the robot
+    (:func:`robot_identity`) when given."""
     result = report(runs, budget)
     p_values = {(c["scenario"], c["landings"], c["feedback"], c["method"], c["baseline"]): c["p_value"]
                 for c in result["comparisons"]}
     compared = [name for name in PROJECT_METHODS if any(c["method"] == name for c in result["comparisons"])]
     header = ["scenario", "landings", "feedback", "method", "median", "mean", "hits",
               *[f"p vs {name}" for name in compared]]  # a column only for the project's methods that ran
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    lines = [] if robot is None else [f"Robot: {robot_words(robot)}", ""]
+    lines += ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for row in result["rows"]:
         key = (row["scenario"], row["landings"], row["feedback"])
         name = row["method"] if row["baseline"] else f"**{row['method']}**"
