@@ -86,7 +86,7 @@ class Server:
         command = [*(prefix or []), sys.executable, "-m", "rlff", "robot", "serve", "--ros", "2", *args]
         with open(log, "w") as out:
             self.proc = subprocess.Popen(command, env=env, stdout=out, stderr=subprocess.STDOUT)
-        wait_until(lambda: "serving /comau_controller" in log.read_text() or self.proc.poll() is not None, 120,
+        wait_until(lambda: "serving /" in log.read_text() or self.proc.poll() is not None, 120,
                    "rlff robot serve --ros 2")
         assert self.proc.poll() is None, log.read_text()
 
@@ -98,7 +98,8 @@ class Server:
 
 
 class RosNode:
-    """An rclpy context and node of the test, spinning in a thread, recording /joint_states.
+    """An rclpy context and node of the test, spinning in a thread, recording the joint states
+    (``states``, default /joint_states).
 
     One executor thread unless ``threads`` says more: rclpy's MultiThreadedExecutor kept a core
     busy on its own (ros2/rclpy#1223) and the node then saw /joint_states at 30 Hz with gaps of
@@ -106,7 +107,7 @@ class RosNode:
     (a test's own action server waiting for a cancel) needs ``threads`` > 1.
     """
 
-    def __init__(self, domain: int, name: str = "rlff_test", threads: int = 1) -> None:
+    def __init__(self, domain: int, name: str = "rlff_test", threads: int = 1, states: str = "/joint_states") -> None:
         from rlff.robot.rospath import prefer
 
         prefer(2)  # this worker may have imported ROS 1's std_msgs & co. (e.g. for `rlff robot send`)
@@ -124,7 +125,7 @@ class RosNode:
         self.executor.add_node(self.node)
         self._states: list[tuple[float, np.ndarray, np.ndarray]] = []
         self._lock = threading.Lock()
-        self.node.create_subscription(JointState, "/joint_states", self._on_state, 50)
+        self.node.create_subscription(JointState, states, self._on_state, 50)
         self._thread = threading.Thread(target=self._spin, daemon=True)
         self._thread.start()
 

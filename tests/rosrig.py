@@ -116,7 +116,7 @@ class Ros:
         with open(self.server_log, "w") as log:
             self.server = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "serve", *serve_args],
                                            env=self.env, stdout=log, stderr=subprocess.STDOUT)
-        wait(lambda: "serving /comau_controller" in self.server_log.read_text(), 120, "rlff robot serve")
+        wait(lambda: "serving /" in self.server_log.read_text(), 120, "rlff robot serve")
 
     def rlff(self, *args: str, timeout: float = 120, env: dict | None = None) -> subprocess.CompletedProcess:
         return subprocess.run([sys.executable, "-m", "rlff", *args], env=env or self.env, capture_output=True,
@@ -131,21 +131,21 @@ class Ros:
         assert done.returncode == 0, done.stdout + done.stderr
         return json.loads(done.stdout.strip().splitlines()[-1])
 
-    def record(self, path: Path) -> subprocess.Popen:
-        """``rostopic echo -p /joint_states`` into ``path``; returns once the first state arrived."""
+    def record(self, path: Path, topic: str = "/joint_states") -> subprocess.Popen:
+        """``rostopic echo -p TOPIC`` (JointState) into ``path``; returns once the first state arrived."""
         out = open(path, "w")  # noqa: SIM115 (closed by the process' end)
-        proc = subprocess.Popen(["rostopic", "echo", "-p", "/joint_states"], env=self.env, stdout=out,
+        proc = subprocess.Popen(["rostopic", "echo", "-p", topic], env=self.env, stdout=out,
                                 stderr=subprocess.DEVNULL)
         out.close()
-        wait(lambda: path.read_text().count("\n") >= 3, 180, "/joint_states")
+        wait(lambda: path.read_text().count("\n") >= 3, 180, topic)
         return proc
 
     def log(self) -> str:
         return self.server_log.read_text()
 
-    def pose(self, folder: Path) -> np.ndarray:
-        """The arm's pose (J,) now, from one recorded /joint_states message."""
-        recorder = self.record(folder / "pose.csv")
+    def pose(self, folder: Path, topic: str = "/joint_states") -> np.ndarray:
+        """The arm's pose (J,) now, from one recorded message on ``topic`` (JointState)."""
+        recorder = self.record(folder / "pose.csv", topic)
         stop(recorder)
         return states(folder / "pose.csv")[1][-1]
 
@@ -229,3 +229,20 @@ def robot_file(folder: Path, name: str, edit) -> Path:
     path = folder / name
     path.write_text(edit(text))
     return path
+
+
+#: Names of an arm in a namespace of its own, for a robot file's [ros] table.
+ARM_NAMES = {"action": "/arm/follow_joint_trajectory", "joint_states": "/arm/joint_states",
+             "trajectory_topic": "/arm/joint_trajectory"}
+
+
+def named_robot_file(folder: Path, name: str, **names: str) -> Path:
+    """A copy of the robot file whose [ros] table gives ``names`` (e.g. action="/arm/...")."""
+    def edit(text: str) -> str:
+        for key, value in names.items():
+            line = f'{key} = "{getattr(ROBOT.ros, key)}"'
+            assert text.count(line) == 1, line
+            text = text.replace(line, f'{key} = "{value}"')
+        return text
+
+    return robot_file(folder, name, edit)

@@ -127,6 +127,20 @@ def test_a_robot_trajectory_that_disagrees_with_its_time_is_refused(capsys, thro
     np.testing.assert_array_equal(read_json(tmp_path / "t.json").positions[:, 1], table["joint_2_position"])
 
 
+def test_show_names_the_arm_s_controller_on_the_ros_graph(capsys, tmp_path):
+    text = resources.files("rlff").joinpath("robots", "comau_smart5_six.toml").read_text()
+    arm = tmp_path / "arm.toml"
+    arm.write_text(text.replace('joint_states = "/joint_states"', 'joint_states = "/arm/joint_states"'))
+    code, out, _ = run(capsys, "robot", "show", "--robot", str(arm))
+    assert code == 0
+    assert ("ros: action /comau_controller/follow_joint_trajectory, joint states /arm/joint_states, trajectory "
+            "topic /comau/joint_trajectory\n") in out
+    code, out, _ = run(capsys, "robot", "show", "--robot", str(arm), "--json")
+    assert json.loads(out)["ros"] == {"action": "/comau_controller/follow_joint_trajectory",
+                                      "joint_states": "/arm/joint_states",
+                                      "trajectory_topic": "/comau/joint_trajectory"}
+
+
 def test_show_prints_every_limit(capsys):
     code, out, _ = run(capsys, "robot", "show")
     assert code == 0 and "max accel. (rad/s^2)" in out and "max jerk (rad/s^3)" in out

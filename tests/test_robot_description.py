@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -144,3 +146,82 @@ def test_a_geometry_built_in_code_is_held_to_the_same_lengths():
         Geometry(shoulder_height=0.45, shoulder_forward=0.15, upper_arm=0.59, elbow_offset=0.13, forearm=0.0,
                  flange=0.095)
     Geometry(shoulder_height=0.0, shoulder_forward=-0.1, upper_arm=0.59, elbow_offset=-0.13, forearm=0.6, flange=0.0)
+
+
+def test_the_ros_names_default_to_the_comau_driver_s_and_the_shipped_file_states_them(tmp_path):
+    from rlff.robot.description import RosNames
+
+    path = tmp_path / "two_link.toml"
+    path.write_text(MINIMAL)  # a robot file from before [ros]: nothing changes for it
+    plain = load_robot(path)
+    assert (plain.ros.action, plain.ros.joint_states, plain.ros.trajectory_topic) == (
+        "/comau_controller/follow_joint_trajectory", "/joint_states", "/comau/joint_trajectory")
+    assert plain.ros_origin("action") == f"rlff's default; {path} has no [ros] action"
+    shipped = load_robot()
+    assert shipped.ros == plain.ros == RosNames()  # the shipped table writes the defaults out
+    assert shipped.ros_origin("joint_states") == "the [ros] joint_states of built-in robot comau_smart5_six"
+
+
+def test_a_ros_table_names_the_arm_s_controller(tmp_path):
+    path = tmp_path / "ur.toml"
+    path.write_text(MINIMAL + '[ros]\naction = "/scaled_joint_trajectory_controller/follow_joint_trajectory"\n'
+                              'joint_states = "/arm/joint_states"\n')
+    robot = load_robot(path)
+    assert robot.ros.action == "/scaled_joint_trajectory_controller/follow_joint_trajectory"
+    assert robot.ros.joint_states == "/arm/joint_states"
+    assert robot.ros.trajectory_topic == "/comau/joint_trajectory"  # not given: the default
+    assert robot.ros_origin("action") == f"the [ros] action of {path}"
+    assert robot.ros_origin("trajectory_topic") == f"rlff's default; {path} has no [ros] trajectory_topic"
+    for name in ("/a", "/_hidden/A9_z", "/arm__two/x_"):
+        path.write_text(MINIMAL + f'[ros]\ntrajectory_topic = "{name}"\n')
+        assert load_robot(path).ros.trajectory_topic == name
+
+
+@pytest.mark.parametrize(("value", "fault"), [
+    ('"arm/joint_states"', "is relative: each node would resolve it in its own namespace"),
+    ('"~/joint_states"', "is relative: each node would resolve it in its own namespace"),
+    ('""', "is empty"),
+    ('"/"', "ends with '/'"),
+    ('"/arm/"', "ends with '/'"),
+    ('"/arm//joint_states"', r"has an empty segment \('//'\)"),
+    ('"/arm/2nd_joint_states"', r"has a segment starting with a digit \('2nd_joint_states'\)"),
+    ('"/arm-1/joint_states"', "has the character '-'"),
+    ('"/arm/joint states"', "has the character ' '"),
+    ('"/bras/états"', "has the character 'é'"),
+    ("3", "is not a string"),
+    (f'"/{"a" * 200}"', "is longer than 200 characters"),
+], ids=["relative", "private", "empty", "root", "trailing-slash", "double-slash", "digit", "dash", "space",
+        "non-ascii", "number", "too-long"])
+def test_a_bad_ros_name_is_refused_naming_the_file_the_key_and_a_good_one(tmp_path, value, fault):
+    path = tmp_path / "mine.toml"
+    path.write_text(MINIMAL + f"[ros]\njoint_states = {value}\n")
+    with pytest.raises(InputError) as refused:
+        load_robot(path)
+    assert re.fullmatch(rf"{re.escape(str(path))}: \[ros\] joint_states .* {fault}; give an absolute ROS name, '/' and "
+                        r"segments of letters, digits and '_' \(none starting with a digit\), e.g. '/arm/joint_states'",
+                        str(refused.value)), str(refused.value)
+
+
+def test_an_unknown_key_in_the_ros_table_is_refused_by_name(tmp_path):
+    path = tmp_path / "mine.toml"
+    path.write_text(MINIMAL + '[ros]\nacton = "/arm/follow_joint_trajectory"\n')
+    with pytest.raises(InputError, match=r"mine.toml: \[ros\]: unknown field 'acton' \(did you mean 'action'\?\)"):
+        load_robot(path)
+    path.write_text(MINIMAL + '[ros]\nstated = ["action"]\n')  # the dataclass' own field is no key of the file
+    with pytest.raises(InputError, match=r"\[ros\]: unknown field 'stated' \(known: action, joint_states, "
+                                         r"trajectory_topic\)"):
+        load_robot(path)
+    path.write_text('ros = "/arm"\n' + MINIMAL)
+    with pytest.raises(InputError, match=r"mine.toml: \[ros\] must be a table, got '/arm'"):
+        load_robot(path)
+
+
+def test_ros_names_given_in_code_are_checked_and_named_as_the_robot_s():
+    from rlff.robot.description import Robot, RosNames
+
+    robot = Robot("x", (Joint("a", -1.0, 1.0, 1.0),), ros=RosNames(action="/arm/follow_joint_trajectory"))
+    assert robot.ros_origin("action") == "the [ros] action of <memory>"
+    assert robot.ros_origin("joint_states") == "rlff's default; <memory> has no [ros] joint_states"
+    with pytest.raises(InputError, match=r"^\[ros\] trajectory_topic '/arm/' ends with '/'; give an absolute ROS "
+                                         r"name, .* e.g. '/arm/joint_trajectory'$"):
+        RosNames(trajectory_topic="/arm/")

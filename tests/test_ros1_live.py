@@ -24,11 +24,13 @@ from scipy.interpolate import BPoly
 
 from rlff.robot.plan import load_for_robot
 from rosrig import (
+    ARM_NAMES,
     DRIVEN,
     ROBOT,
     Ros,
     execution_error,
     free_port,
+    named_robot_file,
     robot_file,
     ros_env,
     ros_fixture,
@@ -92,7 +94,11 @@ def test_goal_beyond_the_limits_is_rejected_and_nothing_moves(ros, tmp_path):
 
 
 def test_a_robot_the_arm_does_not_have_is_refused_before_sending(ros, tmp_path):
-    other = robot_file(tmp_path, "other.toml", lambda t: t.replace("joint_", "axis_"))
+    def rename(text: str) -> str:  # the joints, not the [ros] names (joint_states, follow_joint_trajectory)
+        joints, names = text.split("\n[ros]\n")
+        return joints.replace("joint_", "axis_") + "\n[ros]\n" + names
+
+    other = robot_file(tmp_path, "other.toml", rename)
     path = throw_csv(tmp_path, "throw.csv", -0.5, 0.5, 0.5)
     result = ros.rlff("robot", "send", str(path), "--robot", str(other), "--json", "--timeout", "60")
     assert result.returncode == 2
@@ -265,3 +271,49 @@ def test_a_server_that_dies_mid_goal_is_reported_lost_not_cancelled(tmp_path):
                                               "answering (no status for ")
     assert "the cancel was not confirmed (no server is left to answer it): the arm's state is unknown" in err
     assert took < 8  # seen within seconds, not after the throw's duration + 10 s + the cancel's 10 s
+
+
+def test_serve_and_send_under_the_robot_file_s_ros_names(tmp_path):
+    """An arm whose controller lives under /arm: `robot serve` and `robot send` with a robot file
+    whose [ros] table says so drive it (a goal, then topic mode), and rlff's default names find
+    nothing."""
+    from rlff.robot import RobotMapping, load_robot
+
+    arm = named_robot_file(tmp_path, "arm.toml", **ARM_NAMES)
+    robot = load_robot(arm)
+    rig = Ros(tmp_path, "--robot", str(arm))
+    try:
+        assert ("serving /arm/follow_joint_trajectory and /arm/joint_trajectory, publishing /arm/joint_states, "
+                "for comau_smart5_six") in rig.log()
+        path, back = throw_csv(tmp_path, "throw.csv", 0.0, 0.3, 0.5), throw_csv(tmp_path, "back.csv", 0.3, 0.0, 0.5)
+        sent = load_for_robot(path, robot, PERIOD, start=RobotMapping.for_robot(robot).pose(0.0))[1].trajectory
+        returned = load_for_robot(back, robot, PERIOD, start=sent.positions[-1])[1].trajectory
+        result = rig.rlff("robot", "send", str(path), "--robot", str(arm), "--json", "--timeout", "60")
+        assert result.returncode == 0, result.stderr
+        outcome = json.loads(result.stdout)
+        assert outcome["status"] == "succeeded" and outcome["duration"] == pytest.approx(sent.duration)
+
+        published = rig.rlff("robot", "send", str(back), "--robot", str(arm), "--topic-mode", "--timeout", "60")
+        assert published.returncode == 0, published.stderr
+        assert f"published {len(returned)} points on /arm/joint_trajectory to 1 subscriber(s)" in published.stderr
+        wait(lambda: rig.log().split("trajectory on /arm/joint_trajectory: ")[-1].count("trajectory completed"),
+             60, "the topic trajectory to complete")
+        np.testing.assert_allclose(rig.pose(tmp_path, "/arm/joint_states"), returned.positions[-1], atol=1e-9)
+
+        default = rig.rlff("robot", "send", str(path), "--timeout", "1")
+    finally:
+        rig.close()
+    assert default.returncode == 1
+    assert default.stderr.startswith("rlff: error: nothing on /joint_states within 1 s (the [ros] joint_states of "
+                                     "built-in robot comau_smart5_six): the arm's pose is unknown; "), default.stderr
+
+
+def test_an_action_nobody_serves_is_named_with_the_robot_file_s_ros_table(ros, tmp_path):
+    nobody = named_robot_file(tmp_path, "nobody.toml", action="/nobody/follow_joint_trajectory")
+    path = throw_csv(tmp_path, "throw.csv", -0.5, 0.5, 0.5)
+    result = ros.rlff("robot", "send", str(path), "--robot", str(nobody), "--timeout", "2")
+    assert result.returncode == 1
+    assert result.stderr.splitlines()[-1] == (
+        f"rlff: error: no action server at /nobody/follow_joint_trajectory (the [ros] action of {nobody}): is `rlff "
+        "robot serve` running, or does the arm's controller use another name? "
+        "(`rostopic list | grep follow_joint_trajectory`)"), result.stderr

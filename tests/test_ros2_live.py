@@ -10,7 +10,10 @@ Without the ROS 2 wheels these tests skip locally and FAIL in CI (CI=true).
 
 from __future__ import annotations
 
+import json
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -25,6 +28,7 @@ from ros2rig import (
     wait_future,
     wait_until,
 )
+from rosrig import ARM_NAMES, named_robot_file, throw_csv
 
 pytestmark = [pytest.mark.ros2, pytest.mark.integration, pytest.mark.slow]
 
@@ -281,3 +285,54 @@ def test_a_trajectory_on_the_topic_moves_the_arm(node, client):
     wait_until(lambda: abs(node.latest()[1][DRIVEN] - positions[-1, DRIVEN]) < 1e-9, 30,
                "the topic trajectory to be executed")
     node.node.destroy_publisher(publisher)
+
+
+def _rlff(env, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "rlff", *args], env=env, capture_output=True, text=True, timeout=180)
+
+
+def test_serve_and_send_under_the_robot_file_s_ros_names(domain, tmp_path):
+    """An arm whose controller lives under /arm: `robot serve --ros 2` and `robot send --ros 2`
+    with a robot file whose [ros] table says so drive it; a second server of that action is
+    refused by its name."""
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.robot.plan import load_for_robot
+
+    arm = named_robot_file(tmp_path, "arm.toml", **ARM_NAMES)
+    robot = load_robot(arm)
+    own = free_domain()  # not the module's server's
+    env = ros2_env(own, tmp_path)
+    server = Server(env, tmp_path / "serve.log", "--robot", str(arm))
+    node = None
+    try:
+        assert ("serving /arm/follow_joint_trajectory and /arm/joint_trajectory, publishing /arm/joint_states, "
+                "for comau_smart5_six over ROS 2") in server.text()
+        path = throw_csv(tmp_path, "throw.csv", 0.0, 0.3, 0.5)
+        sent = load_for_robot(path, robot, 0.01, start=RobotMapping.for_robot(robot).pose(0.0))[1].trajectory
+        result = _rlff(env, "robot", "send", str(path), "--ros", "2", "--robot", str(arm), "--json", "--timeout", "60")
+        assert result.returncode == 0, result.stderr
+        outcome = json.loads(result.stdout)
+        assert outcome["status"] == "succeeded" and outcome["duration"] == pytest.approx(sent.duration)
+        node = RosNode(own, states="/arm/joint_states")
+        np.testing.assert_allclose(node.latest()[1], sent.positions[-1], atol=1e-9)
+
+        second = _rlff(env, "robot", "serve", "--ros", "2", "--robot", str(arm))
+        assert second.returncode == 2, second.stderr
+        assert "already serves /arm/follow_joint_trajectory on this host" in second.stderr.splitlines()[-1]
+        assert server.proc.poll() is None
+    finally:
+        if node is not None:
+            node.close()
+        server.close()
+
+
+def test_an_action_nobody_serves_is_named_with_the_robot_file_s_ros_table(server, domain, tmp_path):
+    nobody = named_robot_file(tmp_path, "nobody.toml", action="/nobody/follow_joint_trajectory")
+    path = throw_csv(tmp_path, "throw.csv", -0.5, 0.5, 0.5)
+    result = _rlff(ros2_env(domain, tmp_path), "robot", "send", str(path), "--ros", "2", "--robot", str(nobody),
+                   "--timeout", "2")
+    assert result.returncode == 1
+    assert result.stderr.splitlines()[-1] == (
+        f"rlff: error: no action server at /nobody/follow_joint_trajectory (the [ros] action of {nobody}): is `rlff "
+        "robot serve --ros 2` running, with the same ROS_DOMAIN_ID and discovery range, or does the arm's "
+        "controller use another name? (`ros2 action list -t`)"), result.stderr

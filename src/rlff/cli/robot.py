@@ -76,7 +76,9 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
                    "whole_arm": None if arm is None else {
                        "time_scale": arm.time_scale, "bearing_joint": arm.bearing_joint,
                        "joints": {m.joint: {"human": m.human, "offset": m.offset, "scale": m.scale} for m in arm.joints},
-                       "start_pose": dict(arm.start_pose)}})
+                       "start_pose": dict(arm.start_pose)},
+                   "ros": {"action": model.ros.action, "joint_states": model.ros.joint_states,
+                           "trajectory_topic": model.ros.trajectory_topic}})
         return
     out = stdout()
     out.print(f"{model.name} ({model.source})", highlight=False)
@@ -99,6 +101,9 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
         driven = ", ".join(f"{m.joint} = {m.offset:g} + {m.scale:g} * {m.human}" for m in arm.joints)
         out.print(f"whole arm (--joints): {driven}; velocities * scale / {arm.time_scale:g} (time_scale); "
                   f"{arm.bearing_joint} turns to --bearing", highlight=False)
+    out.print(f"ros: action {model.ros.action}, joint states {model.ros.joint_states}, trajectory topic "
+              f"{model.ros.trajectory_topic}" + ("" if model.ros.stated else " (rlff's defaults; no [ros] table)"),
+              highlight=False)
 
 
 @app.command()
@@ -207,12 +212,11 @@ def serve(
     _require_ros()
     _ros1_reach(network)
     from rlff.robot.ros1.master import RosUnavailable
-    from rlff.robot.ros1.server import ACTION_NAMESPACE, TOPIC
     from rlff.robot.ros1.server import serve as run_server
 
     def ready() -> None:
         arm = "kinematic arm" + (", each finished throw simulated in MuJoCo" if hook else "")
-        say(f"serving {ACTION_NAMESPACE} and {TOPIC} for {model.name} ({arm}, {rate:g} Hz); Ctrl-C stops")
+        say(f"{_serving(model)} ({arm}, {rate:g} Hz); Ctrl-C stops")
 
     try:
         run_server(model, mapping.pose(0.0), rate, hook, on_ready=ready)
@@ -271,16 +275,21 @@ def _require_ros2(network: bool) -> None:
         stderr().print(f"rlff: warning: {warning}", highlight=False, markup=False)
 
 
+def _serving(model) -> str:
+    """What a server of ``model`` serves, under its robot file's [ros] names."""
+    names = model.ros
+    return (f"serving {names.action} and {names.trajectory_topic}, publishing {names.joint_states}, for "
+            f"{model.name}")
+
+
 def _serve_ros2(model, initial, rate: float, hook, network: bool) -> None:
     _require_ros2(network)
-    from rlff.robot.ros2.server import ACTION_NAME, TOPIC
     from rlff.robot.ros2.server import serve as run_server
 
     def ready() -> None:
         arm = "kinematic arm" + (", each finished throw simulated in MuJoCo" if hook else "")
         reach = "the network" if network else "this host only"
-        say(f"serving {ACTION_NAME} and {TOPIC} for {model.name} over ROS 2 ({arm}, {rate:g} Hz, "
-            f"{reach}); Ctrl-C stops")
+        say(f"{_serving(model)} over ROS 2 ({arm}, {rate:g} Hz, {reach}); Ctrl-C stops")
 
     run_server(model, initial, rate, hook, on_ready=ready)
 
@@ -319,7 +328,8 @@ def send(
     timeout: float = typer.Option(None, "--timeout", help="Seconds for connecting and executing; then the goal is "
                                                           "cancelled, and the server has up to 10 s more to "
                                                           "confirm the arm stopped."),
-    topic_mode: bool = typer.Option(False, "--topic-mode", help="Publish on /comau/joint_trajectory instead of the action."),
+    topic_mode: bool = typer.Option(False, "--topic-mode", help="Publish on the robot file's [ros] trajectory_topic "
+                                                                "instead of sending a goal to its action."),
     clip: bool = CLIP,
     period: float = typer.Option(0.01, "--period", help="Controller period (s) a generated throw is planned at (> 0)."),
     approach: bool = typer.Option(False, "--approach", help="An exported trajectory that starts at rest away from "
@@ -333,10 +343,11 @@ def send(
 ) -> None:
     """Send a trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels).
 
-    A generated throw or an attempt of an attempts log is planned from the arm's pose (read from
-    a fresh /joint_states message; an arm that moves is refused); an exported trajectory is sent
-    as it is. Each must pass the motion check, starting at the arm's pose. The approach to the
-    throw's start is announced before the goal is sent.
+    The action and the joint states topic are the robot file's [ros] names (`rlff robot show`
+    prints them). A generated throw or an attempt of an attempts log is planned from the arm's
+    pose (read from a fresh joint states message; an arm that moves is refused); an exported
+    trajectory is sent as it is. Each must pass the motion check, starting at the arm's pose. The
+    approach to the throw's start is announced before the goal is sent.
     """
     from rlff.errors import InputError
     from rlff.learn.replay import load_for_send, rebearing_warning
@@ -381,7 +392,7 @@ def send(
             stderr().print(announced, highlight=False, markup=False)
         if topic_mode:
             subscribers = publish_trajectory(model, traj, pose, timeout)
-            say(f"published {len(traj)} points on /comau/joint_trajectory to {subscribers} subscriber(s)")
+            say(f"published {len(traj)} points on {model.ros.trajectory_topic} to {subscribers} subscriber(s)")
             if json:
                 emit_json({"status": "published", "points": len(traj), "subscribers": subscribers})
             return

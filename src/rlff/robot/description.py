@@ -1,4 +1,5 @@
-"""Robot description as data: joints with limits, arm geometry, and the robot's extra tables.
+"""Robot description as data: joints with limits, arm geometry, the names of the arm's controller
+on the ROS graph, and the robot's extra tables.
 
 A robot is a TOML file (see ``rlff/robots/comau_smart5_six.toml`` for the fields and the
 kinematic convention); the Comau Smart5 SiX ships with rlff, another robot is another file.
@@ -34,14 +35,17 @@ LIMIT_FIELDS = ("lower", "upper", "max_velocity", "max_acceleration", "max_jerk"
 #: one (``[comau_progam]``, ``max_velcoity``) would otherwise be ignored and its default used,
 #: so that a joint's value lands in a Comau program slot nobody asked for.
 _FIELDS = {
-    "": ("name", "description", "joints", "geometry", "throwing", "whole_arm", "comau_program"),
+    "": ("name", "description", "joints", "geometry", "throwing", "whole_arm", "comau_program", "ros"),
     "[[joints]]": ("name", *LIMIT_FIELDS),
     "[geometry]": _GEOMETRY_FIELDS,
     "[throwing]": ("joint", "angle_offset", "angle_scale", "velocity_scale", "start_pose"),
     "[whole_arm]": ("time_scale", "bearing_joint", "joints", "start_pose"),
     "[whole_arm.joints.<joint>]": ("human", "offset", "scale"),
     "[comau_program]": ("position_slot", "velocity_slot"),
+    "[ros]": ("action", "joint_states", "trajectory_topic"),
 }
+#: The tables of a robot file besides ``[[joints]]``.
+_TABLES = ("geometry", "throwing", "whole_arm", "comau_program", "ros")
 #: Bounds (rad, rad/s) no revolute joint of an arm exceeds, so that a robot file written in
 #: degrees is refused, not read as radians: eight turns either way (the Comau's joint 6 turns
 #: ±7.5, ±47.12 rad) and 50 rad/s (about 2,900 deg/s; its fastest joint does 9.6 rad/s).
@@ -134,6 +138,83 @@ class Geometry:
                 raise InputError(f"[geometry] {key} is a length and must be {bound} (m), got {value:g}")
 
 
+#: A ROS graph name both ROS 1 and ROS 2 take as it is: absolute, then segments of letters,
+#: digits and '_', none starting with a digit (ROS 2 refuses that; ROS 1 resolves a relative
+#: name in each node's namespace, and ROS 2 has its own rules for '~' and '{}').
+_GRAPH_NAME = re.compile(r"(/[A-Za-z_][A-Za-z0-9_]*)+")
+#: Longest name taken: ROS 2 refuses a topic of more than 247 characters, and an action's own
+#: topics and services add up to 20 (``/_action/cancel_goal``).
+MAX_ROS_NAME = 200
+#: An example of a good value of each ``[ros]`` key, for the messages.
+_ROS_EXAMPLES = {"action": "/scaled_joint_trajectory_controller/follow_joint_trajectory",
+                 "joint_states": "/arm/joint_states", "trajectory_topic": "/arm/joint_trajectory"}
+
+
+def _graph_name_fault(value: Any) -> str | None:
+    """What keeps ``value`` from being a name of :data:`_GRAPH_NAME`, in words; None if nothing."""
+    if not isinstance(value, str):
+        return "is not a string"
+    if not value:
+        return "is empty"
+    if _GRAPH_NAME.fullmatch(value) and len(value) <= MAX_ROS_NAME:
+        return None
+    if not value.startswith("/"):
+        return "is relative: each node would resolve it in its own namespace"
+    if value.endswith("/"):
+        return "ends with '/'"
+    if "//" in value:
+        return "has an empty segment ('//')"
+    if len(value) > MAX_ROS_NAME:
+        return f"is longer than {MAX_ROS_NAME} characters"
+    for segment in value[1:].split("/"):
+        if segment[0].isdigit():
+            return f"has a segment starting with a digit ({segment!r})"
+    bad = next(char for char in value if not (char.isascii() and (char.isalnum() or char in "/_")))
+    return f"has the character {bad!r}"
+
+
+@dataclass(frozen=True)
+class RosNames:
+    """Where the arm's controller is on the ROS graph (ROS 1 and ROS 2): the robot file's ``[ros]``
+    table, each name rlff's default unless the file gives it.
+
+    Parameters
+    ----------
+    action : str
+        The FollowJointTrajectory action of the arm's controller (``rlff robot send``, ``rlff learn
+        --executor ros1|ros2``; ``rlff robot serve`` serves it). A UR arm under ros_control:
+        ``/scaled_joint_trajectory_controller/follow_joint_trajectory``.
+    joint_states : str
+        The sensor_msgs/JointState topic the arm's driver publishes its state on (read before every
+        goal; ``robot serve`` publishes it).
+    trajectory_topic : str
+        The trajectory_msgs/JointTrajectory topic of the original driver's topic mode: ``robot serve``
+        listens on it, ``robot send --topic-mode`` publishes on it, and exported bags carry the
+        trajectory on it.
+    stated : frozenset of str
+        The keys the robot file gives; for messages that say where a name comes from
+        (:meth:`Robot.ros_origin`).
+
+    Each name is absolute: '/' then segments of letters, digits and '_', none starting with a digit,
+    no longer than :data:`MAX_ROS_NAME` (what ROS 1 and ROS 2 both take as it is); another is an
+    :class:`InputError` naming the key and showing a good value.
+    """
+
+    action: str = "/comau_controller/follow_joint_trajectory"
+    joint_states: str = "/joint_states"
+    trajectory_topic: str = "/comau/joint_trajectory"
+    stated: frozenset[str] = field(default=frozenset(), compare=False, repr=False)
+
+    def __post_init__(self) -> None:
+        for key in _ROS_EXAMPLES:
+            value = getattr(self, key)
+            fault = _graph_name_fault(value)
+            if fault is not None:
+                raise InputError(f"[ros] {key} {value!r} {fault}; give an absolute ROS name, '/' and segments of "
+                                 f"letters, digits and '_' (none starting with a digit), e.g. {_ROS_EXAMPLES[key]!r}")
+        object.__setattr__(self, "stated", frozenset(self.stated))
+
+
 @dataclass(frozen=True)
 class Robot:
     """A robot arm: its joints in controller order, geometry and extra tables of its file.
@@ -145,8 +226,9 @@ class Robot:
     ``throwing`` holds the default one-joint human-to-robot mapping (read by
     :meth:`rlff.robot.mapping.RobotMapping.for_robot`), ``whole_arm`` the mapping of several
     human joints to several robot joints (:meth:`rlff.robot.mapping.ArmMapping.for_robot`),
-    ``comau_program`` the layout of the Comau text program; each may be empty. ``source`` names
-    the file it came from.
+    ``comau_program`` the layout of the Comau text program; each may be empty. ``ros`` holds the
+    names of the arm's controller on the ROS graph (:class:`RosNames`). ``source`` names the file it
+    came from.
     """
 
     name: str
@@ -156,6 +238,7 @@ class Robot:
     comau_program: Mapping[str, Any] = field(default_factory=dict)
     source: str = "<memory>"
     whole_arm: Mapping[str, Any] = field(default_factory=dict)
+    ros: RosNames = field(default_factory=RosNames)
 
     def __post_init__(self) -> None:
         names = [joint.name for joint in self.joints]
@@ -174,6 +257,13 @@ class Robot:
     @property
     def joint_names(self) -> tuple[str, ...]:
         return joint_names(self.joints)
+
+    def ros_origin(self, key: str) -> str:
+        """Where the ROS name ``key`` of :attr:`ros` comes from, for a message: ``the [ros] action
+        of mine.toml``, or ``rlff's default; mine.toml has no [ros] action``."""
+        if key in self.ros.stated or getattr(self.ros, key) != getattr(RosNames, key):  # given in code
+            return f"the [ros] {key} of {self.source}"
+        return f"rlff's default; {self.source} has no [ros] {key}"
 
     def joint(self, name: str) -> Joint:
         """The joint called ``name``; :class:`InputError` listing the joints if unknown."""
@@ -215,7 +305,7 @@ def _require_known_fields(document: Mapping[str, Any], joints: Sequence[str], so
     _require_known(document, "", source)
     for number, table in enumerate(document.get("joints", []), start=1):
         _require_known(table, "[[joints]]", f"{source}: joint {number} ({table.get('name')})")
-    for key in ("geometry", "throwing", "whole_arm", "comau_program"):
+    for key in _TABLES:
         _require_known(document.get(key, {}), f"[{key}]", f"{source}: [{key}]")
     arm = document.get("whole_arm", {})
     entries = arm.get("joints", {})
@@ -268,7 +358,7 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
             joints.append(Joint(joint_name, *limits))
         except InputError as exc:  # the joint's own checks (lower < upper, positive limits) name no file
             raise InputError(f"{source}: {exc}") from None
-    for key in ("geometry", "throwing", "whole_arm", "comau_program"):
+    for key in _TABLES:
         if key in document and not isinstance(document[key], Mapping):
             raise InputError(f"{source}: [{key}] must be a table, got {document[key]!r}")
     _require_known_fields(document, joint_names(joints), source)
@@ -279,8 +369,13 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
             geometry = Geometry(**values)
         except InputError as exc:  # the geometry's own checks name no file
             raise InputError(f"{source}: {exc}") from None
+    names = document.get("ros", {})
+    try:
+        ros = RosNames(**names, stated=frozenset(names))
+    except InputError as exc:  # the names' own checks name no file
+        raise InputError(f"{source}: {exc}") from None
     return Robot(name, tuple(joints), geometry, document.get("throwing", {}),
-                 document.get("comau_program", {}), source, document.get("whole_arm", {}))
+                 document.get("comau_program", {}), source, document.get("whole_arm", {}), ros)
 
 
 def available_robots() -> list[str]:

@@ -16,9 +16,6 @@ from rlff.errors import InputError
 from rlff.robot.description import Robot
 from rlff.trajectory.joint import JointTrajectory
 
-#: The topic an arm's driver publishes its joint states on (sensor_msgs/JointState).
-JOINT_STATES = "/joint_states"
-
 
 def trajectory_from_points(joint_names: Sequence[str], points: Sequence[Any],
                            seconds: Callable[[Any], float]) -> JointTrajectory:

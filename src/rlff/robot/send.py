@@ -1,6 +1,7 @@
 """What sending a FollowJointTrajectory goal shares across transports (ROS 1, ROS 2).
 
-The arm's state taken from /joint_states (:class:`StateWatch`: only a fresh, stamped message whose
+The arm's state taken from its joint states (the robot file's ``[ros] joint_states``,
+``/joint_states`` by default; :class:`StateWatch`: only a fresh, stamped message whose
 pose is within the robot's limits), the refusal to plan from rest for an arm that moves
 (:func:`require_at_rest`), the goal checked from that state (:func:`check_goal_for_arm`), the line
 announcing the approach before anything moves (:func:`approach_line`), and the report of what
@@ -22,14 +23,14 @@ from rlff.errors import InputError, RlffError
 from rlff.robot.controller import ResultCode
 from rlff.robot.description import Robot
 from rlff.robot.goal import InvalidJoints, check_goal
-from rlff.robot.messages import JOINT_STATES, arm_state_of
+from rlff.robot.messages import arm_state_of
 from rlff.trajectory.joint import JointTrajectory
 
-#: How far (s) a /joint_states header stamp may be from the ROS clock, behind or ahead, for the
+#: How far (s) a joint state's header stamp may be from the ROS clock, behind or ahead, for the
 #: message to be taken as the arm's state now; an older one (a latched message, a driver that
 #: stopped, a clock out of step) is waited past, and refused when no fresh one comes.
 STATE_MAX_AGE = 1.0
-#: Without velocities in /joint_states, the arm's speed is its position change over two fresh
+#: Without velocities in the joint states, the arm's speed is its position change over two fresh
 #: messages at least this far apart (s).
 VELOCITY_SPAN = 0.05
 #: Above this speed (rad/s) on any joint the arm counts as moving: no goal planned from rest is sent.
@@ -44,7 +45,7 @@ ERROR_NAMES = {code.value: code.name for code in ResultCode}
 
 
 class ArmStateError(RlffError):
-    """/joint_states cannot be taken as the arm's state (stale, unstamped, not a number, beyond a
+    """The joint states cannot be taken as the arm's state (stale, unstamped, not a number, beyond a
     limit), or the arm is moving: nothing is sent."""
 
 
@@ -75,19 +76,20 @@ def _span(seconds: float) -> str:
 
 
 class StateWatch:
-    """The arm's state from the /joint_states messages a transport hands to :meth:`offer`.
+    """The arm's state from the JointState messages (on the robot's ``ros.joint_states``) a
+    transport hands to :meth:`offer`.
 
     A message is taken only when its header stamp is within :data:`STATE_MAX_AGE` of the ROS
     clock (``now()``); an unstamped one (stamp 0) has no age and is never taken. A message without
     velocities gives its pose, and the velocity of the change from an earlier fresh message at
     least :data:`VELOCITY_SPAN` s before it. A fresh pose that is not a number, or beyond a
-    joint's limit, is refused naming /joint_states.
+    joint's limit, is refused naming the topic.
     """
 
-    def __init__(self, robot: Robot, now: Callable[[], float], topic: str = JOINT_STATES) -> None:
+    def __init__(self, robot: Robot, now: Callable[[], float]) -> None:
         self.robot = robot
         self.now = now
-        self.topic = topic
+        self.topic = robot.ros.joint_states
         self._arrived = threading.Condition()
         self._state: tuple[np.ndarray, np.ndarray] | None = None
         self._problem: Exception | None = None
@@ -282,4 +284,4 @@ def check_goal_for_arm(robot: Robot, traj: JointTrajectory, pose: np.ndarray, ve
     except InvalidJoints:
         raise
     except InputError as exc:
-        raise type(exc)(f"from the arm's pose on /joint_states: {exc}") from None
+        raise type(exc)(f"from the arm's pose on {robot.ros.joint_states}: {exc}") from None

@@ -1,8 +1,9 @@
 """Sending a trajectory to a FollowJointTrajectory server (``rlff robot send``), or on a topic.
 
-The trajectory is checked against the robot's limits before any connection is made, and again
-with the arm's current pose (a fresh /joint_states message, :class:`rlff.robot.send.StateWatch`)
-as its start before it is sent (:func:`rlff.trajectory.check.check_trajectory`). A timeout or
+The action, the joint states and the topic are the robot's (``robot.ros``, the robot file's
+``[ros]`` table). The trajectory is checked against the robot's limits before any connection is
+made, and again with the arm's current pose (a fresh joint state message,
+:class:`rlff.robot.send.StateWatch`) as its start before it is sent (:func:`rlff.trajectory.check.check_trajectory`). A timeout or
 Ctrl-C cancels the goal on the server (the arm brakes to rest) before returning or re-raising;
 a cancel the server does not confirm within :data:`CANCEL_WAIT` s, or a server that goes silent
 (its status topic stops), is reported as such: the arm's state is then unknown.
@@ -28,10 +29,8 @@ from trajectory_msgs.msg import JointTrajectory as TrajectoryMsg
 from rlff.errors import Interrupted
 from rlff.robot.description import Robot
 from rlff.robot.goal import check_goal
-from rlff.robot.messages import JOINT_STATES
 from rlff.robot.ros1.convert import to_msg
 from rlff.robot.ros1.master import RosUnavailable, wait_for_master
-from rlff.robot.ros1.server import ACTION_NAMESPACE, TOPIC
 from rlff.robot.send import (
     CANCEL_UNCONFIRMED,
     CANCEL_WAIT,
@@ -67,12 +66,13 @@ def _connect(deadline: float, node: str) -> None:
 
 def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order,
-    from a fresh /joint_states message (see :class:`rlff.robot.send.StateWatch`).
+    from a fresh message on its joint states topic (``robot.ros.joint_states``; see
+    :class:`rlff.robot.send.StateWatch`).
 
     Raises
     ------
     RosUnavailable
-        No master, or nothing on /joint_states, within ``timeout`` s (default 10).
+        No master, or nothing on the joint states topic, within ``timeout`` s (default 10).
     ArmStateError
         Only stale or unstamped messages came, or the pose is not a number or beyond a limit.
     InputError
@@ -81,25 +81,27 @@ def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, n
     waited = timeout if timeout is not None else CONNECT_TIMEOUT
     deadline = time.monotonic() + waited
     _connect(deadline, "rlff_send")
-    watch = StateWatch(robot, lambda: rospy.get_rostime().to_sec(), JOINT_STATES)
-    subscriber = rospy.Subscriber(JOINT_STATES, JointState, lambda msg: watch.offer(
+    topic = robot.ros.joint_states
+    watch = StateWatch(robot, lambda: rospy.get_rostime().to_sec())
+    subscriber = rospy.Subscriber(topic, JointState, lambda msg: watch.offer(
         msg.header.stamp.to_sec(), msg.name, msg.position, msg.velocity))
     try:
         state = watch.wait(deadline, waited)
     finally:
         subscriber.unregister()
     if state is None:
-        raise RosUnavailable(f"nothing on {JOINT_STATES} within {waited:g} s: the arm's pose is unknown (is the "
-                             "arm's driver, or `rlff robot serve`, running?)")
+        raise RosUnavailable(f"nothing on {topic} within {waited:g} s ({robot.ros_origin('joint_states')}): the "
+                             "arm's pose is unknown; is the arm's driver, or `rlff robot serve`, running, or does it "
+                             "publish on another topic? (`rostopic find sensor_msgs/JointState`)")
     return state
 
 
 class _Status:
-    """When the server last published its status, and whether its status connection is up."""
+    """When the server of ``action`` last published its status, and whether its status connection is up."""
 
-    def __init__(self) -> None:
+    def __init__(self, action: str) -> None:
         self.last = time.monotonic()
-        self.subscriber = rospy.Subscriber(f"{ACTION_NAMESPACE}/status", GoalStatusArray, self._heard)
+        self.subscriber = rospy.Subscriber(f"{action}/status", GoalStatusArray, self._heard)
         self.connected = False
 
     def _heard(self, _msg) -> None:
@@ -130,10 +132,11 @@ def send_goal(
     Parameters
     ----------
     robot : Robot
-        The goal is checked against its joints and limits first.
+        The goal is checked against its joints and limits first, and goes to its action
+        (``robot.ros.action``).
     traj : JointTrajectory
     pose : array of shape (J,)
-        The arm's pose (rad, every joint of ``robot``, e.g. :func:`arm_pose`): where the goal
+        The arm's pose (rad, every joint of ``robot``, e.g. :func:`arm_state`): where the goal
         must start.
     timeout : float, optional
         Seconds for connecting and executing; default: 10 s to connect, then the trajectory's
@@ -164,9 +167,12 @@ def send_goal(
     started = time.monotonic()
     deadline = started + (timeout if timeout is not None else CONNECT_TIMEOUT)
     _connect(deadline, "rlff_send")
-    client = actionlib.SimpleActionClient(ACTION_NAMESPACE, FollowJointTrajectoryAction)
+    action = robot.ros.action
+    client = actionlib.SimpleActionClient(action, FollowJointTrajectoryAction)
     if not client.wait_for_server(rospy.Duration.from_sec(max(0.01, deadline - time.monotonic()))):
-        raise RosUnavailable(f"no action server at {ACTION_NAMESPACE} (is `rlff robot serve` running?)")
+        raise RosUnavailable(f"no action server at {action} ({robot.ros_origin('action')}): is `rlff robot serve` "
+                             "running, or does the arm's controller use another name? "
+                             "(`rostopic list | grep follow_joint_trajectory`)")
     if timeout is None:
         deadline = time.monotonic() + START_LEAD + traj.duration + CONNECT_TIMEOUT
     received = 0
@@ -177,7 +183,7 @@ def send_goal(
         if on_feedback:
             on_feedback(message.desired.time_from_start.to_sec())
 
-    status = _Status()
+    status = _Status(action)
     start = rospy.Time.now() + rospy.Duration.from_sec(START_LEAD)
     try:
         try:
@@ -195,7 +201,7 @@ def send_goal(
             confirmed = _cancel(client, status, lost=gone is not None)
             result = client.get_result()
             text = f"; {result.error_string}" if confirmed and result is not None and result.error_string else ""
-            return unfinished(gone, confirmed, ACTION_NAMESPACE, start.to_sec(), traj.duration, received, text)
+            return unfinished(gone, confirmed, action, start.to_sec(), traj.duration, received, text)
     except KeyboardInterrupt as exc:  # a second Ctrl-C while cancelling: the cancel was sent, not confirmed
         if goal_fate(exc) is None:
             mark_goal(exc, CANCEL_UNCONFIRMED)
@@ -239,7 +245,8 @@ def _cancel(client: actionlib.SimpleActionClient, status: _Status, lost: bool = 
 
 def publish_trajectory(robot: Robot, traj: JointTrajectory, pose: np.ndarray,
                        timeout: float | None = None) -> int:
-    """Publish ``traj`` once on the topic of the original driver; returns the subscriber count.
+    """Publish ``traj`` once on the topic of the original driver (``robot.ros.trajectory_topic``);
+    returns the subscriber count.
 
     Checked like :func:`send_goal` (starting at ``pose``); waits for a subscriber (the
     controller) up to the timeout, then lets the message go out.
@@ -247,10 +254,12 @@ def publish_trajectory(robot: Robot, traj: JointTrajectory, pose: np.ndarray,
     check_goal(robot, traj, goal_start(robot, traj, pose))
     deadline = time.monotonic() + (timeout if timeout is not None else CONNECT_TIMEOUT)
     _connect(deadline, "rlff_publish")
-    publisher = rospy.Publisher(TOPIC, TrajectoryMsg, queue_size=1, latch=True)
+    topic = robot.ros.trajectory_topic
+    publisher = rospy.Publisher(topic, TrajectoryMsg, queue_size=1, latch=True)
     while publisher.get_num_connections() == 0:
         if time.monotonic() >= deadline:
-            raise RosUnavailable(f"nobody subscribes to {TOPIC} (is `rlff robot serve` running?)")
+            raise RosUnavailable(f"nobody subscribes to {topic} ({robot.ros_origin('trajectory_topic')}): is "
+                                 "`rlff robot serve` running, or does the arm's driver listen on another topic?")
         time.sleep(0.05)
     publisher.publish(to_msg(traj))
     time.sleep(0.5)  # latched: let the subscriber fetch it before the node goes away

@@ -1,12 +1,13 @@
 """The FollowJointTrajectory action server of a simulated arm (``rlff robot serve``).
 
-It stands in for the thesis' controller plug-in: goals on
-``/comau_controller/follow_joint_trajectory`` (and trajectories on the topic
-``/comau/joint_trajectory``, the original driver's topic mode) go to the transport-independent
-:class:`rlff.robot.controller.TrajectoryController`, which decides what the arm does (goal checks
-and result codes, approaches, braking on cancel, preemption); this module only turns messages
-into its calls and its outcomes into action results, and ticks it at a fixed rate, every tick
-publishing ``/joint_states`` and the active goal's feedback. A trajectory on the topic obeys the
+It stands in for the thesis' controller plug-in, under the names of the robot file's ``[ros]``
+table (:class:`rlff.robot.description.RosNames`; by default the action
+``/comau_controller/follow_joint_trajectory``, the topic ``/comau/joint_trajectory`` of the
+original driver's topic mode and ``/joint_states``): goals and topic trajectories go to the
+transport-independent :class:`rlff.robot.controller.TrajectoryController`, which decides what the
+arm does (goal checks and result codes, approaches, braking on cancel, preemption); this module
+only turns messages into its calls and its outcomes into action results, and ticks it at a fixed
+rate, every tick publishing the joint states and the active goal's feedback. A trajectory on the topic obeys the
 same rules as a goal; a refused one is logged and nothing moves. A goal starts at its header
 stamp (or on receipt when the stamp is 0 or the arm is moving).
 """
@@ -40,24 +41,22 @@ from rlff.robot.controller import (
 )
 from rlff.robot.description import Robot
 from rlff.robot.kinematic import ArmState
-from rlff.robot.messages import JOINT_STATES
 from rlff.robot.ros1.convert import from_msg
 from rlff.robot.ros1.master import require_no_server, wait_for_master
 
-ACTION_NAMESPACE = "/comau_controller/follow_joint_trajectory"
-TOPIC = "/comau/joint_trajectory"
 NODE_NAME = "rlff_comau_controller"
 
 
 class TrajectoryServer:
-    """The ROS 1 transport of a :class:`TrajectoryController` (needs an initialised node).
+    """The ROS 1 transport of a :class:`TrajectoryController` (needs an initialised node), under the
+    names of its robot's ``ros``.
 
     Parameters
     ----------
     controller : TrajectoryController
         Decides what every goal, cancel and tick does.
     rate : float
-        Ticks per second: state, /joint_states and feedback are computed and published this often.
+        Ticks per second: state, joint states and feedback are computed and published this often.
     on_complete : callable, optional
         Called with every trajectory that ran to its end (e.g. a MuJoCo throw).
     """
@@ -70,15 +69,17 @@ class TrajectoryServer:
         self.rate = rate
         self.on_complete = on_complete
         self._handles: dict[str, actionlib.ServerGoalHandle] = {}
-        self._states = rospy.Publisher(JOINT_STATES, JointState, queue_size=10)
-        self._server = actionlib.ActionServer(ACTION_NAMESPACE, FollowJointTrajectoryAction,
+        names = self.robot.ros
+        self._topic_name = names.trajectory_topic
+        self._states = rospy.Publisher(names.joint_states, JointState, queue_size=10)
+        self._server = actionlib.ActionServer(names.action, FollowJointTrajectoryAction,
                                               goal_cb=self._on_goal, cancel_cb=self._on_cancel,
                                               auto_start=False)
         # One lock guards the controller and the handles: the action server's own (re-entrant)
         # lock, which actionlib already holds when it calls the goal and cancel callbacks. A second
         # lock of ours would be taken in the opposite order by the tick (feedback) and deadlock.
         self._lock = self._server.lock
-        self._topic = rospy.Subscriber(TOPIC, TrajectoryMsg, self._on_topic, queue_size=1)
+        self._topic = rospy.Subscriber(names.trajectory_topic, TrajectoryMsg, self._on_topic, queue_size=1)
         self._server.start()
 
     # -- callbacks (subscriber threads) ------------------------------------------------------
@@ -111,10 +112,10 @@ class TrajectoryServer:
                 executed, ended = self.controller.submit(None, traj, rospy.get_time(), _start(msg))
             except InputError as exc:
                 code = exc.code.name if isinstance(exc, GoalRejected) else ResultCode.INVALID_GOAL.name
-                rospy.logerr("trajectory on %s refused (%s): %s", TOPIC, code, exc)
+                rospy.logerr("trajectory on %s refused (%s): %s", self._topic_name, code, exc)
                 return
             self._report(ended)
-        rospy.loginfo("trajectory on %s: %d points, %.3f s (executed: %.3f s)", TOPIC, len(traj),
+        rospy.loginfo("trajectory on %s: %d points, %.3f s (executed: %.3f s)", self._topic_name, len(traj),
                       traj.duration, executed.duration)
 
     def _on_cancel(self, handle: actionlib.ServerGoalHandle) -> None:
@@ -145,7 +146,7 @@ class TrajectoryServer:
 
     # -- the fixed-rate loop -----------------------------------------------------------------
     def tick(self) -> None:
-        """Advance the arm to now, publish /joint_states and feedback, answer goals that ended."""
+        """Advance the arm to now, publish the joint states and feedback, answer goals that ended."""
         with self._lock:
             # the clock is read under the lock: a goal or cancel that took the lock in between
             # (with its own, later now) must not see the arm advanced to an earlier time, nor a
@@ -210,7 +211,8 @@ def _start(msg: TrajectoryMsg) -> float | None:
 
 def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: CompletionHook | None = None,
           node_name: str = NODE_NAME, on_ready: Callable[[], None] | None = None) -> None:
-    """Start a ROS node with a :class:`TrajectoryServer` and run it until shut down (Ctrl-C).
+    """Start a ROS node with a :class:`TrajectoryServer` of ``robot``'s ROS names (its ``ros``) and
+    run it until shut down (Ctrl-C).
 
     The options are checked and the master asked for a running server (the node, or any
     publisher of the action's status topic) before the node registers, so a bad option or a
@@ -228,7 +230,7 @@ def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: C
     check_rate(rate)
     controller = TrajectoryController(robot, initial)  # the initial pose within the limits
     wait_for_master(10.0)
-    require_no_server(node_name, ACTION_NAMESPACE + "/status")
+    require_no_server(node_name, robot.ros.action + "/status")
     rospy.init_node(node_name)
     server = TrajectoryServer(controller, rate, on_complete)
     if on_ready:

@@ -1,8 +1,9 @@
 """Sending a trajectory to a ROS 2 FollowJointTrajectory server (``rlff robot send --ros 2``).
 
-The trajectory is checked against the robot's limits, and with the arm's pose (a fresh
-/joint_states message, read by :func:`arm_state`; see :class:`rlff.robot.send.StateWatch`) as
-its start, before it is sent. A timeout or Ctrl-C cancels the goal on the server (the arm brakes
+The action and the joint states are the robot's (``robot.ros``, the robot file's ``[ros]``
+table). The trajectory is checked against the robot's limits, and with the arm's pose (a fresh
+joint state message, read by :func:`arm_state`; see :class:`rlff.robot.send.StateWatch`) as its
+start, before it is sent. A timeout or Ctrl-C cancels the goal on the server (the arm brakes
 to rest) before returning or re-raising; a cancel the server does not confirm within
 :data:`CANCEL_WAIT` s, or a server that leaves the graph mid-goal, is reported as such: the arm's
 state is then unknown. The
@@ -28,10 +29,8 @@ from sensor_msgs.msg import JointState
 from rlff.errors import RlffError
 from rlff.robot.description import Robot
 from rlff.robot.goal import check_goal
-from rlff.robot.messages import JOINT_STATES
 from rlff.robot.ros2.convert import seconds, to_msg
 from rlff.robot.ros2.network import make_node
-from rlff.robot.ros2.server import ACTION_NAME
 from rlff.robot.send import (
     CANCEL_UNCONFIRMED,
     CANCEL_WAIT,
@@ -70,17 +69,17 @@ class Connection:
     """A node of its own (context, node, executor spinning in a thread) that talks to the arm.
 
     One call of :func:`arm_state` or :func:`send_goal` opens one; the learning loop keeps one for
-    a whole run (it also listens for the landings a vision system publishes).
+    a whole run (it also listens for the landings a vision system publishes). The topics and the
+    action are those of the robot each call is given (its ``ros``).
     """
 
-    def __init__(self, name: str = "rlff_send", action: str = ACTION_NAME) -> None:
-        self.action = action
+    def __init__(self, name: str = "rlff_send") -> None:
         self.context = rclpy.Context()
         rclpy.init(context=self.context)
         self.node = make_node(name, self.context)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
-        self._client: ActionClient | None = None
+        self._clients: dict[str, ActionClient] = {}  # by action name
         self._thread = threading.Thread(target=self._spin, daemon=True)
         self._thread.start()
 
@@ -124,12 +123,13 @@ class Connection:
 
     def arm_state(self, robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order,
-        from a fresh /joint_states message (see :class:`rlff.robot.send.StateWatch`).
+        from a fresh message on its joint states topic (``robot.ros.joint_states``; see
+        :class:`rlff.robot.send.StateWatch`).
 
         Raises
         ------
         ServerUnavailable
-            Nothing on /joint_states within ``timeout`` s (default 10).
+            Nothing on the joint states topic within ``timeout`` s (default 10).
         ArmStateError
             Only stale or unstamped messages came, or the pose is not a number or beyond a limit.
         InputError
@@ -137,17 +137,19 @@ class Connection:
         """
         waited = timeout if timeout is not None else CONNECT_TIMEOUT
         deadline = time.monotonic() + waited
-        watch = StateWatch(robot, self.now, JOINT_STATES)
-        subscription = self.node.create_subscription(JointState, JOINT_STATES, lambda msg: watch.offer(
+        topic = robot.ros.joint_states
+        watch = StateWatch(robot, self.now)
+        subscription = self.node.create_subscription(JointState, topic, lambda msg: watch.offer(
             msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, msg.name, msg.position, msg.velocity), 10)
         try:
             state = watch.wait(deadline, waited)
         finally:
             self.node.destroy_subscription(subscription)
         if state is None:
-            raise ServerUnavailable(f"nothing on {JOINT_STATES} within {waited:g} s: the arm's pose is unknown (is "
-                                    "the arm's driver, or `rlff robot serve --ros 2`, running, with the same "
-                                    "ROS_DOMAIN_ID?)")
+            raise ServerUnavailable(f"nothing on {topic} within {waited:g} s ({robot.ros_origin('joint_states')}): "
+                                    "the arm's pose is unknown; is the arm's driver, or `rlff robot serve --ros 2`, "
+                                    "running, with the same ROS_DOMAIN_ID, or does it publish on another topic? "
+                                    "(`ros2 topic find sensor_msgs/msg/JointState`)")
         return state
 
     def send_goal(self, robot: Robot, traj: JointTrajectory, pose: np.ndarray, timeout: float | None = None,
@@ -155,12 +157,14 @@ class Connection:
         """:func:`send_goal` on this connection."""
         check_goal(robot, traj, goal_start(robot, traj, pose))
         deadline = time.monotonic() + (timeout if timeout is not None else CONNECT_TIMEOUT)
-        if self._client is None:
-            self._client = ActionClient(self.node, FollowJointTrajectory, self.action)
-        client = self._client
+        action = robot.ros.action
+        if action not in self._clients:
+            self._clients[action] = ActionClient(self.node, FollowJointTrajectory, action)
+        client = self._clients[action]
         if not client.wait_for_server(timeout_sec=max(0.01, deadline - time.monotonic())):
-            raise ServerUnavailable(f"no action server at {self.action} (is `rlff robot serve --ros 2` running, "
-                                    "with the same ROS_DOMAIN_ID and discovery range?)")
+            raise ServerUnavailable(f"no action server at {action} ({robot.ros_origin('action')}): is `rlff robot "
+                                    "serve --ros 2` running, with the same ROS_DOMAIN_ID and discovery range, or "
+                                    "does the arm's controller use another name? (`ros2 action list -t`)")
         if timeout is None:
             deadline = time.monotonic() + START_LEAD + traj.duration + CONNECT_TIMEOUT
         received = 0
@@ -193,7 +197,7 @@ class Connection:
             if ended is not True:
                 gone = ended if isinstance(ended, str) else None
                 confirmed = _cancel(handle, lost=gone is not None)
-                return unfinished(gone, confirmed, self.action, start, traj.duration, received)
+                return unfinished(gone, confirmed, action, start, traj.duration, received)
         except KeyboardInterrupt as exc:
             if goal_fate(exc) is not None:  # a second Ctrl-C while cancelling
                 raise
@@ -241,7 +245,8 @@ def _wait(future, deadline: float, client: ActionClient | None = None,
 
 def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order, from
-    a fresh /joint_states message (:meth:`Connection.arm_state` on a connection of its own)."""
+    a fresh message on its joint states topic (:meth:`Connection.arm_state` on a connection of its
+    own)."""
     with Connection("rlff_arm_state") as connection:
         return connection.arm_state(robot, timeout)
 
@@ -252,14 +257,14 @@ def send_goal(
     pose: np.ndarray,
     timeout: float | None = None,
     on_feedback: Callable[[float], None] | None = None,
-    action: str = ACTION_NAME,
 ) -> SendResult:
     """Send ``traj`` as a FollowJointTrajectory goal and wait for its result.
 
     Parameters
     ----------
     robot : Robot
-        The goal is checked against its joints and limits first.
+        The goal is checked against its joints and limits first, and goes to its action
+        (``robot.ros.action``).
     traj : JointTrajectory
     pose : array of shape (J,)
         The arm's pose (rad, every joint of ``robot``, e.g. from :func:`arm_state`): where the
@@ -270,8 +275,6 @@ def send_goal(
         :data:`CANCEL_WAIT` s more to confirm it (the arm braked to rest).
     on_feedback : callable, optional
         Called with the elapsed trajectory time (s) of each feedback message.
-    action : str
-        The action's name.
 
     Raises
     ------
@@ -285,7 +288,7 @@ def send_goal(
         with whether the server confirmed the cancel; unmarked when no goal was sent.
     """
     check_goal(robot, traj, goal_start(robot, traj, pose))
-    with Connection("rlff_send", action) as connection:
+    with Connection("rlff_send") as connection:
         return connection.send_goal(robot, traj, pose, timeout, on_feedback)
 
 

@@ -1,10 +1,12 @@
 """The ROS 2 FollowJointTrajectory action server of a simulated arm (``rlff robot serve --ros 2``).
 
 The second thin transport over :class:`rlff.robot.controller.TrajectoryController` (the ROS 1
-one is :mod:`rlff.robot.ros1.server`): goals of ``control_msgs/action/FollowJointTrajectory`` on
-``/comau_controller/follow_joint_trajectory`` and trajectories on ``/comau/joint_trajectory``
-become the controller's calls; a timer ticks it at a fixed rate, every tick publishing
-``/joint_states`` and the active goal's feedback. What a goal does (checks and result codes,
+one is :mod:`rlff.robot.ros1.server`): goals of ``control_msgs/action/FollowJointTrajectory`` and
+trajectories on the topic, under the names of the robot file's ``[ros]`` table
+(:class:`rlff.robot.description.RosNames`; by default the action
+``/comau_controller/follow_joint_trajectory``, the topic ``/comau/joint_trajectory`` and
+``/joint_states``), become the controller's calls; a timer ticks it at a fixed rate, every tick
+publishing the joint states and the active goal's feedback. What a goal does (checks and result codes,
 approach, braking on cancel, preemption) is the controller's; only the mapping to ROS 2's goal
 states is this module's:
 
@@ -58,13 +60,10 @@ from rlff.robot.controller import (
 )
 from rlff.robot.description import Robot
 from rlff.robot.kinematic import ArmState
-from rlff.robot.messages import JOINT_STATES
 from rlff.robot.ros2.convert import duration, from_msg, start_of
 from rlff.robot.ros2.network import make_node
 from rlff.trajectory.joint import JointTrajectory
 
-ACTION_NAME = "/comau_controller/follow_joint_trajectory"
-TOPIC = "/comau/joint_trajectory"
 NODE_NAME = "rlff_comau_controller"
 #: Threads of the executor: goals wait for their end in one each, besides the tick and callbacks.
 THREADS = 8
@@ -100,7 +99,8 @@ def _goal_key(handle: ServerGoalHandle) -> bytes:
 
 
 class TrajectoryServer:
-    """The ROS 2 transport of a :class:`TrajectoryController` of ``robot`` on ``node``.
+    """The ROS 2 transport of a :class:`TrajectoryController` of ``robot`` on ``node``, under the
+    names of ``robot.ros``.
 
     Parameters
     ----------
@@ -109,7 +109,7 @@ class TrajectoryServer:
     initial : array of shape (J,)
         Starting joint positions (rad), within the limits.
     rate : float
-        Ticks per second: state, /joint_states and feedback are computed and published this often.
+        Ticks per second: state, joint states and feedback are computed and published this often.
     on_complete : callable, optional
         Called with every trajectory that ran to its end (e.g. a MuJoCo throw).
     """
@@ -124,12 +124,15 @@ class TrajectoryServer:
         self._lock = threading.Lock()  # guards the controller and the goals
         self._goals: dict[bytes, _Goal] = {}
         callbacks = ReentrantCallbackGroup()
-        self._states = node.create_publisher(JointState, JOINT_STATES, 10)
-        self._server = ActionServer(node, FollowJointTrajectory, ACTION_NAME, execute_callback=self._execute,
+        names = robot.ros
+        self._topic_name = names.trajectory_topic
+        self._states = node.create_publisher(JointState, names.joint_states, 10)
+        self._server = ActionServer(node, FollowJointTrajectory, names.action, execute_callback=self._execute,
                                     goal_callback=lambda request: GoalResponse.ACCEPT,
                                     handle_accepted_callback=self._on_accepted, cancel_callback=self._on_cancel,
                                     callback_group=callbacks)
-        self._topic = node.create_subscription(TrajectoryMsg, TOPIC, self._on_topic, 1, callback_group=callbacks)
+        self._topic = node.create_subscription(TrajectoryMsg, names.trajectory_topic, self._on_topic, 1,
+                                               callback_group=callbacks)
         self._timer = node.create_timer(1.0 / rate, self.tick, callback_group=MutuallyExclusiveCallbackGroup())
 
     def _now(self) -> float:
@@ -186,10 +189,10 @@ class TrajectoryServer:
                 executed, ended = self.controller.submit(None, traj, self._now(), start_of(msg))
             except InputError as exc:
                 code = exc.code if isinstance(exc, GoalRejected) else ResultCode.INVALID_GOAL
-                log.error(f"trajectory on {TOPIC} refused ({ResultCode(code).name}): {exc}")
+                log.error(f"trajectory on {self._topic_name} refused ({ResultCode(code).name}): {exc}")
                 return
             self._report(ended)
-        log.info(f"trajectory on {TOPIC}: {len(traj)} points, {traj.duration:.3f} s "
+        log.info(f"trajectory on {self._topic_name}: {len(traj)} points, {traj.duration:.3f} s "
                  f"(executed: {executed.duration:.3f} s)")
 
     def _on_cancel(self, handle: ServerGoalHandle) -> CancelResponse:
@@ -241,7 +244,7 @@ class TrajectoryServer:
 
     # -- the fixed-rate loop -----------------------------------------------------------------
     def tick(self) -> None:
-        """Advance the arm to now, publish /joint_states and feedback, end goals that finished."""
+        """Advance the arm to now, publish the joint states and feedback, end goals that finished."""
         with self._lock:
             now = self.node.get_clock().now()  # under the lock, as in the ROS 1 server's tick
             state, ended = self.controller.update(now.nanoseconds * 1e-9)
@@ -291,8 +294,8 @@ class TrajectoryServer:
         goal.handle.publish_feedback(feedback)
 
 
-def _claim_on_this_host(node_name: str) -> int | None:
-    """Lock this host's claim on the action in this ROS domain; the locked descriptor, held until
+def _claim_on_this_host(node_name: str, action: str) -> int | None:
+    """Lock this host's claim on ``action`` in this ROS domain; the locked descriptor, held until
     the process ends (the kernel frees it if the process dies).
 
     Discovery alone can miss a server on this host for seconds on a loaded machine; this lock
@@ -305,7 +308,7 @@ def _claim_on_this_host(node_name: str) -> int | None:
         Another ``rlff robot serve --ros 2`` of this domain runs on this host.
     """
     domain = os.environ.get("ROS_DOMAIN_ID", "0")
-    path = Path(tempfile.gettempdir()) / f"rlff-ros2-domain{domain}{ACTION_NAME.replace('/', '-')}.lock"
+    path = Path(tempfile.gettempdir()) / f"rlff-ros2-domain{domain}{action.replace('/', '-')}.lock"
     try:
         fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
     except OSError:
@@ -313,7 +316,7 @@ def _claim_on_this_host(node_name: str) -> int | None:
     if not lock_descriptor(fd, blocking=False):
         holder, _, pid = os.pread(fd, 200, 0).decode("utf-8", errors="replace").strip().partition("\n")
         os.close(fd)
-        raise ServerRunning(f"{holder or 'another rlff server'} already serves {ACTION_NAME} on this host "
+        raise ServerRunning(f"{holder or 'another rlff server'} already serves {action} on this host "
                             f"({pid or 'pid unknown'}, ROS_DOMAIN_ID {domain}): stop it first; a second server "
                             "would compete for the goals")
     os.ftruncate(fd, 0)
@@ -321,13 +324,13 @@ def _claim_on_this_host(node_name: str) -> int | None:
     return fd
 
 
-def _require_no_server(node: Node) -> None:
-    """:class:`ServerRunning` if another node serves the action (publishes its status) in reach.
+def _require_no_server(node: Node, action: str) -> None:
+    """:class:`ServerRunning` if another node serves ``action`` (publishes its status) in reach.
 
     Two ROS 2 servers of one action would both take every goal (ROS 2 allows it, with nodes of
     the same name too), so a second ``rlff robot serve --ros 2`` is refused and the first goes on.
     """
-    status = f"{ACTION_NAME}/_action/status"
+    status = f"{action}/_action/status"
     deadline = time.monotonic() + DISCOVERY_WAIT
     found = None
     while time.monotonic() < deadline:
@@ -341,14 +344,15 @@ def _require_no_server(node: Node) -> None:
     if found is not None:
         who = ("another node" if found.node_name.startswith("_NODE_NAME_UNKNOWN")
                else f"node {found.node_namespace.rstrip('/')}/{found.node_name}")
-        raise ServerRunning(f"{who} already serves {ACTION_NAME} (ROS_DOMAIN_ID "
+        raise ServerRunning(f"{who} already serves {action} (ROS_DOMAIN_ID "
                             f"{os.environ.get('ROS_DOMAIN_ID', '0')}): stop it first; a second server would "
                             "compete for the goals")
 
 
 def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: CompletionHook | None = None,
           node_name: str = NODE_NAME, on_ready: Callable[[], None] | None = None) -> None:
-    """Start a ROS 2 node with a :class:`TrajectoryServer` and run it until Ctrl-C.
+    """Start a ROS 2 node with a :class:`TrajectoryServer` of ``robot``'s ROS names (its ``ros``)
+    and run it until Ctrl-C.
 
     Call :func:`rlff.robot.ros2.network.limit_discovery` first (the CLI does).
 
@@ -361,13 +365,13 @@ def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: C
     """
     check_rate(rate)
     TrajectoryController(robot, initial)  # the initial pose within the limits, before any node
-    _claim_on_this_host(node_name)  # held until the process ends
+    _claim_on_this_host(node_name, robot.ros.action)  # held until the process ends
     context = rclpy.Context()
     rclpy.init(context=context)
     try:
         node = make_node(node_name, context)
         try:
-            _require_no_server(node)
+            _require_no_server(node, robot.ros.action)
         except ServerRunning:
             node.destroy_node()
             raise
