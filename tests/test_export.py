@@ -14,10 +14,10 @@ from rosbags.rosbag2 import Reader as Ros2Reader
 from rlff.errors import InputError
 from rlff.robot.export import (
     JOINT_TRAJECTORY_MD5,
-    TRAJECTORY_TOPIC,
     read_bag,
     read_csv,
     read_json,
+    trajectory_topics,
     write_csv,
     write_json,
     write_ros1_bag,
@@ -55,7 +55,7 @@ def test_ros1_bag_reads_back_with_the_standard_checksum(traj, tmp_path):
     write_ros1_bag(traj, path, stamp_ns=1_700_000_000_123_456_789)
     with Ros1Reader(path) as reader:
         (connection,) = reader.connections
-        assert connection.topic == TRAJECTORY_TOPIC
+        assert connection.topic == "/comau/joint_trajectory"  # the default [ros] trajectory_topic
         assert connection.msgtype == "trajectory_msgs/msg/JointTrajectory"
         assert connection.digest == JOINT_TRAJECTORY_MD5 == "65b4f94a94d1ed67169da35a02f33d3f"
         assert [stamp for _, stamp, _ in reader.messages()] == [1_700_000_000_123_456_789]
@@ -71,11 +71,23 @@ def test_ros2_bag_reads_back(traj, tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["bag2"]
     with Ros2Reader(path) as reader:
         (connection,) = reader.connections
-        assert (connection.topic, connection.msgtype) == (TRAJECTORY_TOPIC, "trajectory_msgs/msg/JointTrajectory")
+        assert (connection.topic, connection.msgtype) == ("/comau/joint_trajectory",
+                                                          "trajectory_msgs/msg/JointTrajectory")
     (back,) = read_bag(path)
     assert_same(back, traj, time_atol=1e-9)
     with pytest.raises(InputError, match="exists"):
         write_ros2_bag(traj, path)
+
+
+@pytest.mark.parametrize("writer, name", [(write_ros1_bag, "t.bag"), (write_ros2_bag, "bag2")])
+def test_a_bag_is_read_on_its_topic_only(traj, tmp_path, writer, name):
+    """A bag written on another topic (another robot file's [ros] trajectory_topic) holds nothing
+    on the default one; before, rosbags read every connection when none matched."""
+    writer(traj, tmp_path / name, topic="/arm/joint_trajectory", stamp_ns=1)
+    assert read_bag(tmp_path / name) == []
+    (back,) = read_bag(tmp_path / name, "/arm/joint_trajectory")
+    assert_same(back, traj, time_atol=1e-9)
+    assert trajectory_topics(tmp_path / name) == ["/arm/joint_trajectory"]
 
 
 def test_nanosecond_rounding_carries_into_seconds(tmp_path):

@@ -106,3 +106,35 @@ def test_an_export_away_from_the_arm_is_refused_or_approached_within_the_limits(
     # already there: nothing is prepended
     _, same = load_for_sending(out, ROBOT, 0.01, start=trajectory.positions[0], approach=True)
     assert same.trajectory.duration == pytest.approx(trajectory.duration)
+
+
+@pytest.mark.parametrize("fmt", ["ros1-bag", "ros2-bag"])
+def test_a_bag_carries_the_robot_file_s_trajectory_topic_and_is_read_back_from_it(planned, tmp_path, fmt):
+    """`rlff robot export --robot arm.toml` writes the bag on the file's [ros] trajectory_topic (a
+    real bag, read with rosbags); sending it reads it from there, and with a robot whose topic is
+    another the bag is refused, naming both topics."""
+    from rosbags.rosbag2 import Reader as Ros2Reader
+
+    from rlff.cli import main
+    from rosrig import robot_file
+
+    path, trajectory = planned
+    arm = robot_file(tmp_path, "arm.toml", lambda text: text.replace(
+        'trajectory_topic = "/comau/joint_trajectory"', 'trajectory_topic = "/arm/joint_trajectory"'))
+    out = tmp_path / ("throw.bag" if fmt == "ros1-bag" else "throw2")
+    assert main(["robot", "export", str(path), "-f", fmt, "--robot", str(arm), "--period", "0.01",
+                 "-o", str(out)]) == 0
+    with (Reader(out) if fmt == "ros1-bag" else Ros2Reader(out)) as reader:
+        assert [(c.topic, c.msgtype) for c in reader.connections] == [
+            ("/arm/joint_trajectory", "trajectory_msgs/msg/JointTrajectory")]
+    robot = load_robot(arm)
+    kind, plan = load_for_sending(out, robot, None, start=trajectory.positions[0])
+    assert kind == fmt
+    np.testing.assert_allclose(plan.trajectory.positions, trajectory.positions)
+    np.testing.assert_allclose(plan.trajectory.time, trajectory.time, atol=1e-9)
+    with pytest.raises(InputError) as refused:
+        load_for_sending(out, ROBOT, None, start=trajectory.positions[0])
+    assert str(refused.value) == (
+        f"{out}: holds no trajectory on /comau/joint_trajectory (the [ros] trajectory_topic of built-in robot "
+        "comau_smart5_six), but JointTrajectory messages on /arm/joint_trajectory: export it again with this robot "
+        "file, or send it with the robot file it was exported with")

@@ -1,7 +1,8 @@
 """Writing a timed joint trajectory to files: JSON, CSV, and ROS 1 / ROS 2 bags.
 
 Bags hold one ``trajectory_msgs/JointTrajectory`` message (the type the thesis' plug-in and the
-FollowJointTrajectory action take) on :data:`TRAJECTORY_TOPIC`, written with rosbags' type stores
+FollowJointTrajectory action take) on the robot's trajectory topic (the robot file's ``[ros]
+trajectory_topic``, :data:`DEFAULT_TOPIC` without one), written with rosbags' type stores
 (ROS 1 Noetic, ROS 2 Humble), so a ROS 1 bag carries the standard MD5 sum of the type and plays
 with ``rosbag play``. JSON and CSV read back with :func:`read_json` and :func:`read_csv`.
 
@@ -28,10 +29,12 @@ from rlff.csvtable import write_csv_columns
 from rlff.errors import InputError
 from rlff.fileio import atomic_path, write_text
 from rlff.jsonfile import read_json_object
+from rlff.robot.description import RosNames
 from rlff.trajectory.joint import JointTrajectory
 
-#: Topic of the original Comau driver's topic mode; bags carry the trajectory on it.
-TRAJECTORY_TOPIC = "/comau/joint_trajectory"
+#: The topic a bag carries the trajectory on when no robot names one (``RosNames``' default: the
+#: topic of the original Comau driver's topic mode).
+DEFAULT_TOPIC = RosNames.trajectory_topic
 #: The ROS 1 type of the trajectory messages and its standard MD5 sum.
 TRAJECTORY_TYPE = "trajectory_msgs/msg/JointTrajectory"
 JOINT_TRAJECTORY_MD5 = "65b4f94a94d1ed67169da35a02f33d3f"
@@ -137,7 +140,7 @@ def _message(traj: JointTrajectory, typestore, stamp_ns: int, ros1: bool):
     return types[TRAJECTORY_TYPE](header=header, joint_names=list(traj.joint_names), points=points)
 
 
-def write_ros1_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TOPIC,
+def write_ros1_bag(traj: JointTrajectory, path: Path, topic: str = DEFAULT_TOPIC,
                    stamp_ns: int | None = None, header_stamp_ns: int = 0) -> None:
     """A ROS 1 bag with one JointTrajectory on ``topic``, recorded at ``stamp_ns`` (default: now).
 
@@ -154,7 +157,7 @@ def write_ros1_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TO
             writer.write(connection, stamp_ns, typestore.serialize_ros1(message, TRAJECTORY_TYPE))
 
 
-def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TOPIC,
+def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = DEFAULT_TOPIC,
                    stamp_ns: int | None = None, header_stamp_ns: int = 0) -> None:
     """A ROS 2 bag (a folder, sqlite3 storage) with one JointTrajectory on ``topic``.
 
@@ -171,7 +174,7 @@ def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = TRAJECTORY_TO
         writer.write(connection, stamp_ns, typestore.serialize_cdr(message, TRAJECTORY_TYPE))
 
 
-def read_bag(path: Path, topic: str = TRAJECTORY_TOPIC) -> list[JointTrajectory]:
+def read_bag(path: Path, topic: str = DEFAULT_TOPIC) -> list[JointTrajectory]:
     """Every JointTrajectory on ``topic`` of a ROS 1 bag (a file) or a ROS 2 bag (a folder).
 
     Raises
@@ -180,29 +183,49 @@ def read_bag(path: Path, topic: str = TRAJECTORY_TOPIC) -> list[JointTrajectory]
         No such bag, a damaged bag (whatever rosbags or the message decoder met), or a message
         that is not a valid trajectory.
     """
+    return _from_bag(path, lambda reader, typestore, deserialize: _read_bag(reader, typestore, deserialize, topic))
+
+
+def trajectory_topics(path: Path) -> list[str]:
+    """The topics of a bag (as :func:`read_bag` takes it) that carry JointTrajectory messages.
+
+    Raises
+    ------
+    InputError
+        As :func:`read_bag`.
+    """
+    return _from_bag(path, lambda reader, *_: sorted({c.topic for c in reader.connections
+                                                      if c.msgtype == TRAJECTORY_TYPE}))
+
+
+def _from_bag(path: Path, read):
+    """``read(reader, typestore, deserialize)`` with the bag at ``path`` open: a ROS 1 bag (a
+    file) or a ROS 2 bag (a folder); any error on the way is an :class:`InputError` naming it."""
     path = Path(path)
     if not path.exists():
         raise InputError(f"{path}: no such file or folder")
     try:
-        return _read_bag(path, topic)
+        if path.is_dir():
+            reader, typestore, deserialize = Ros2Reader(path), get_typestore(Stores.ROS2_HUMBLE), "deserialize_cdr"
+        else:
+            reader, typestore, deserialize = Ros1Reader(path), get_typestore(Stores.ROS1_NOETIC), "deserialize_ros1"
+        with reader:
+            return read(reader, typestore, deserialize)
     except InputError as exc:
         raise InputError(f"{path}: not a robot trajectory ({exc})") from None
     except Exception as exc:  # noqa: BLE001 - rosbags, sqlite and the decoders raise many types on damage
         raise InputError(f"{path}: not a readable trajectory bag ({type(exc).__name__}: {exc})") from None
 
 
-def _read_bag(path: Path, topic: str) -> list[JointTrajectory]:
-    if path.is_dir():
-        reader, typestore, deserialize = Ros2Reader(path), get_typestore(Stores.ROS2_HUMBLE), "deserialize_cdr"
-    else:
-        reader, typestore, deserialize = Ros1Reader(path), get_typestore(Stores.ROS1_NOETIC), "deserialize_ros1"
+def _read_bag(reader, typestore, deserialize: str, topic: str) -> list[JointTrajectory]:
     trajectories = []
-    with reader:
-        connections = [c for c in reader.connections if c.topic == topic]
-        for connection, _, raw in reader.messages(connections=connections):
-            msg = getattr(typestore, deserialize)(raw, connection.msgtype)
-            time = [p.time_from_start.sec + p.time_from_start.nanosec * 1e-9 for p in msg.points]
-            trajectories.append(JointTrajectory(
-                tuple(msg.joint_names), time, [p.positions for p in msg.points],
-                [p.velocities for p in msg.points], [p.accelerations for p in msg.points]))
+    connections = [c for c in reader.connections if c.topic == topic]
+    if not connections:  # rosbags reads every connection when given none
+        return trajectories
+    for connection, _, raw in reader.messages(connections=connections):
+        msg = getattr(typestore, deserialize)(raw, connection.msgtype)
+        time = [p.time_from_start.sec + p.time_from_start.nanosec * 1e-9 for p in msg.points]
+        trajectories.append(JointTrajectory(
+            tuple(msg.joint_names), time, [p.positions for p in msg.points],
+            [p.velocities for p in msg.points], [p.accelerations for p in msg.points]))
     return trajectories

@@ -23,7 +23,9 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
                       header_stamp_ns: int = 0) -> None:
     """Check ``traj`` (a trajectory of ``mapping.robot``) and write it to ``path`` in format ``fmt``.
 
-    ``header_stamp_ns`` is the bags' ``header.stamp`` (ns; default 0: start on receipt).
+    Bags carry the trajectory on the robot's trajectory topic (``mapping.robot.ros``, the robot
+    file's ``[ros] trajectory_topic``); ``header_stamp_ns`` is their ``header.stamp`` (ns;
+    default 0: start on receipt).
 
     Raises
     ------
@@ -31,11 +33,12 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
         An unknown format, or a trajectory that fails the motion check (named point, joint,
         quantity, value and limit); nothing is written then.
     """
+    topic = mapping.robot.ros.trajectory_topic
     writers = {
         "json": write_json,
         "csv": write_csv,
-        "ros1-bag": partial(write_ros1_bag, header_stamp_ns=header_stamp_ns),
-        "ros2-bag": partial(write_ros2_bag, header_stamp_ns=header_stamp_ns),
+        "ros1-bag": partial(write_ros1_bag, topic=topic, header_stamp_ns=header_stamp_ns),
+        "ros2-bag": partial(write_ros2_bag, topic=topic, header_stamp_ns=header_stamp_ns),
         "comau": partial(write_comau_program, mapping=mapping),
     }
     if fmt not in writers:

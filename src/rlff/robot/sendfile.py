@@ -2,8 +2,9 @@
 
 A generated trajectory CSV is planned, a robot trajectory JSON or CSV checked
 (:func:`rlff.robot.plan.load_for_robot`); a ROS 1 bag (a file) or a ROS 2 bag (a folder) holding
-one JointTrajectory on the trajectory topic is checked like a robot trajectory. A Comau program
-runs on the Comau controller, not over ROS: refused in one line saying what to send instead.
+one JointTrajectory on the robot's trajectory topic (its file's ``[ros] trajectory_topic``) is
+checked like a robot trajectory. A Comau program runs on the Comau controller, not over ROS:
+refused in one line saying what to send instead.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from rosbags.rosbag2 import ReaderError as Ros2ReaderError
 from rlff.errors import InputError
 from rlff.robot.comau import HEADER as COMAU_HEADER
 from rlff.robot.description import Robot
-from rlff.robot.export import TRAJECTORY_TOPIC, read_bag
+from rlff.robot.export import read_bag, trajectory_topics
 from rlff.robot.plan import GENERATED, RobotPlan, load_for_robot
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
@@ -85,7 +86,7 @@ def load_for_sending(
                                                                    bearing=bearing)[1]
         trajectory = plan.trajectory
     else:
-        trajectory = _one_trajectory(path)
+        trajectory = _one_trajectory(path, robot)
     if approach and start is not None:
         trajectory = with_approach(robot, trajectory, start, period)
     _require_start(path, robot, trajectory, start)
@@ -171,12 +172,18 @@ def _is_comau_program(path: Path) -> bool:
         return stream.read(len(COMAU_HEADER)).decode("utf-8", errors="replace") == COMAU_HEADER
 
 
-def _one_trajectory(path: Path) -> JointTrajectory:
+def _one_trajectory(path: Path, robot: Robot) -> JointTrajectory:
+    topic = robot.ros.trajectory_topic
     try:
-        trajectories = read_bag(path)
+        trajectories = read_bag(path, topic)
     except (Ros1ReaderError, Ros2ReaderError) as exc:
         raise InputError(f"{path}: not a readable bag ({exc})") from None
+    if not trajectories:
+        others = [name for name in trajectory_topics(path) if name != topic]
+        if others:
+            raise InputError(f"{path}: holds no trajectory on {topic} ({robot.ros_origin('trajectory_topic')}), "
+                             f"but JointTrajectory messages on {', '.join(others)}: export it again with this "
+                             "robot file, or send it with the robot file it was exported with")
     if len(trajectories) != 1:
-        raise InputError(f"{path}: holds {len(trajectories)} trajectories on {TRAJECTORY_TOPIC}; "
-                         "send a bag with one")
+        raise InputError(f"{path}: holds {len(trajectories)} trajectories on {topic}; send a bag with one")
     return trajectories[0]
