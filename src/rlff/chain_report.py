@@ -12,13 +12,24 @@ What counts (the folder itself, not its subfolders; anything else is passed over
   reads with ``angle``, ``velocity`` and ``distance`` columns (an import, a preprocessed file,
   simulated people);
 - a model: a ``.json`` in the ``rlff-model`` format (``rlff fit``);
-- an attempts log: a ``.jsonl`` of ``rlff learn --log``.
+- an attempts log: a ``.jsonl`` of ``rlff learn --log``, with the robot, the joints and the
+  bearing its run threw with;
+- a simulated throw: the ``.json`` of ``rlff sim throw --json`` (its robot, basket, landing);
+- a cleaning report: the ``.json`` of ``rlff data preprocess --report`` (throws and samples
+  before and after, the steps that changed something).
+
+rlff's other outputs, which have nothing to tabulate beside these (a generated path, a robot
+trajectory: ``rlff generate``, ``rlff learn --out``, ``rlff robot export --format json|csv``),
+are recognised and counted in one line (``not reported: 4 generated paths, 2 robot
+trajectories``); a file that is none of these is passed over with the reason.
 """
 
 from __future__ import annotations
 
+import csv
 import datetime as dt
 import json
+import math
 from pathlib import Path
 
 import numpy as np
@@ -32,13 +43,23 @@ from rlff.wording import plural
 DATASET_SUFFIXES = (".csv", ".npz", ".parquet")
 #: At most this many datasets get a figure (each is one panel per basket distance).
 MAX_DATASET_FIGURES = 4
+#: rlff's own outputs that a folder's report recognises and counts without reporting them (and
+#: their plurals).
+NOT_REPORTED = {"generated path": "generated paths", "robot trajectory": "robot trajectories"}
+#: Columns every path ``rlff generate`` writes (DESIGN: generated trajectory).
+GENERATED_COLUMNS = frozenset({"angle", "velocity", "time", "pdf", "exploration", "gmr_mean"})
+#: Fields of every ``rlff sim throw --json`` outcome (:meth:`rlff.sim.throw.ThrowOutcome.to_dict`).
+OUTCOME_FIELDS = frozenset({"hit", "landing_x", "miss", "release", "basket", "first_contact"})
+#: The format tag of ``rlff data preprocess --report``.
+CLEANING_FORMAT = "rlff-preprocess-report"
 
 
-def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[str]]:
+def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[str], str]:
     """The run of the chain files in ``folder``, its figures written under ``figures_dir`` (which
     must lie in the run directory the report is built from, as ``figures_dir.parent``).
 
-    Returns the run and the files passed over, each with why.
+    Returns the run, the files passed over, each with why, and the one line that counts rlff's
+    own outputs that are not reported (:data:`NOT_REPORTED`; empty when there are none).
 
     Raises
     ------
@@ -49,13 +70,18 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     from rlff.model import Model
     from rlff.model.model import FORMAT as MODEL_FORMAT
     from rlff.plots.learning import read_learning_log
+    from rlff.robot.export import JSON_FORMAT as TRAJECTORY_FORMAT
 
     folder, figures_dir = Path(folder), Path(figures_dir)
-    datasets, models, logs, passed = [], [], [], []
+    datasets, models, logs, throws, cleanings, passed = [], [], [], [], [], []
+    unreported: dict[str, list[str]] = {}
     for path in sorted(p for p in folder.iterdir() if p.is_file()):
         suffix = path.suffix.lower()
         try:
-            if suffix in DATASET_SUFFIXES:
+            kind = _csv_kind(path) if suffix == ".csv" else None
+            if kind is not None:
+                unreported.setdefault(kind, []).append(path.name)
+            elif suffix in DATASET_SUFFIXES:
                 dataset = read_dataset(path)
                 missing = [c for c in ("angle", "velocity", "distance") if c not in dataset.columns]
                 if missing:
@@ -67,15 +93,23 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
                     passed.append(f"{path.name}: not JSON (a damaged or cut-short file?)")
                 elif isinstance(document, dict) and document.get("format") == MODEL_FORMAT:
                     models.append((path, Model.from_dict(document, str(path))))
+                elif isinstance(document, dict) and document.get("format") == TRAJECTORY_FORMAT:
+                    unreported.setdefault("robot trajectory", []).append(path.name)
+                elif isinstance(document, dict) and document.get("format") == CLEANING_FORMAT:
+                    cleanings.append((path, document))
+                elif isinstance(document, dict) and OUTCOME_FIELDS <= set(document):
+                    throws.append((path, document))
                 else:
                     passed.append(f"{path.name}: not an rlff dataset or model")
             elif suffix == ".jsonl":
                 logs.append((path, read_learning_log(path)))
         except InputError as exc:
             passed.append(f"{path.name}: {str(exc).removeprefix(str(path) + ': ')}")
-    if not (datasets or models or logs):
+    if not (datasets or models or logs or throws or cleanings):
         seen = f" (passed over {'; '.join(passed)})" if passed else ""
         inner = sorted(p.name for p in folder.iterdir() if p.is_dir())
+        if unreported:
+            seen += f" ({_not_reported(unreported)})"
         if inner:
             seen += f"; its subfolders ({', '.join(inner[:3])}{', ...' if len(inner) > 3 else ''}) are not read"
         raise InputError(f"{folder}: no run.json, and no rlff dataset (.csv, .npz, .parquet), model (.json) or attempts log (.jsonl) "
@@ -86,18 +120,55 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
         section, drawn = _data_section(datasets, figures_dir)
         sections.append(section)
         figures.extend(drawn)
+    if cleanings:
+        sections.append(_cleaning_section(cleanings))
     if models:
         section, drawn = _model_section(models, figures_dir)
         sections.append(section)
         figures.extend(drawn)
+    if throws:
+        sections.append(_simulation_section(throws))
     if logs:
         section, drawn = _learning_section(logs, figures_dir)
         sections.append(section)
         figures.extend(drawn)
     created = dt.datetime.now(dt.UTC).replace(microsecond=0).isoformat()
     settings = {"folder": str(folder.resolve()), "datasets": len(datasets), "models": len(models),
-                "attempts logs": len(logs)}
-    return Run(f"rlff: {folder.resolve().name}", created, settings, sections, figures), passed
+                "attempts logs": len(logs), "simulated throws": len(throws), "cleaning reports": len(cleanings)}
+    not_reported = _not_reported(unreported)
+    if not_reported:
+        settings["not reported"] = not_reported.removeprefix("not reported: ")
+    return Run(f"rlff: {folder.resolve().name}", created, settings, sections, figures), passed, not_reported
+
+
+def _csv_kind(path: Path) -> str | None:
+    """The kind of rlff output a CSV file is that the report counts without reporting it (a path
+    of ``rlff generate``, a robot trajectory of ``rlff robot export --format csv``), judged by
+    its header; None for anything else (a dataset has a ``trajectory`` column)."""
+    try:
+        with path.open(encoding="utf-8", newline="") as handle:
+            header = next(csv.reader(handle), [])
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return None
+    columns = {name.strip() for name in header}
+    if "trajectory" in columns:
+        return None
+    if GENERATED_COLUMNS <= columns:
+        return "generated path"
+    if "time" in columns and any(name.startswith("joint_") and name.endswith("_position") for name in columns):
+        return "robot trajectory"
+    return None
+
+
+def _not_reported(unreported: dict[str, list[str]]) -> str:
+    """"not reported: 4 generated paths (g1.csv, g2.csv, ...), 1 robot trajectory (t.json)", or ""."""
+    parts = []
+    for kind, many in NOT_REPORTED.items():
+        names = unreported.get(kind, [])
+        if names:
+            shown = ", ".join(names[:3]) + (", ..." if len(names) > 3 else "")
+            parts.append(f"{plural(len(names), kind, many)} ({shown})")
+    return "not reported: " + ", ".join(parts) if parts else ""
 
 
 def _json(path: Path) -> object | None:
@@ -136,6 +207,57 @@ def _data_section(datasets, figures_dir: Path) -> tuple[Section, list[FigureEntr
     return Section("data", "Demonstrations", text, {}, [table]), figures
 
 
+def _cleaning_section(cleanings) -> Section:
+    """The reports of ``rlff data preprocess --report``: throws and samples before and after, and
+    the steps that changed something."""
+    rows = []
+    for path, report in cleanings:
+        throws, samples = report.get("trajectories", {}), report.get("samples", {})
+        steps = report.get("steps") if isinstance(report.get("steps"), list) else []
+        changed = [str(step.get("step")) for step in steps if isinstance(step, dict)
+                   and step.get("summary") not in (None, "no change")]
+        rows.append([path.name, str(report.get("pipeline", "")), _before_after(throws), _before_after(samples),
+                     ", ".join(changed) or "none"])
+    table = Table("Cleaning reports", ["file", "pipeline", "throws", "samples", "steps that changed something"], rows)
+    return Section("preprocessing", "Cleaning",
+                   f"{plural(len(cleanings), 'report')} of `rlff data preprocess --report`.", {}, [table])
+
+
+def _before_after(counts: object) -> str | None:
+    if not isinstance(counts, dict) or "before" not in counts or "after" not in counts:
+        return None
+    return f"{counts['before']} → {counts['after']}"
+
+
+def _simulation_section(throws) -> Section:
+    """The outcomes of ``rlff sim throw --json``: the robot, the basket, where the ball came down."""
+    rows = []
+    for path, outcome in throws:
+        basket = outcome.get("basket") if isinstance(outcome.get("basket"), dict) else {}
+        landing, miss = _number(outcome.get("landing_x")), _number(outcome.get("miss"))
+        if outcome.get("hit") is True:
+            result = "hit"
+        elif miss is None:
+            result = "no landing"
+        else:
+            result = f"miss {miss:+.2f} m"
+        trajectory = outcome.get("trajectory")  # the path as given to sim throw: its name is enough here
+        rows.append([path.name, Path(trajectory).name if isinstance(trajectory, str) else None, outcome.get("robot"), _number(basket.get("distance")),
+                     f"{_number(basket.get('bearing')) or 0:g}°", _number(outcome.get("pedestal")), result,
+                     None if landing is None else round(landing, 3)])
+    table = Table("Simulated throws", ["file", "trajectory", "robot", "basket (m)", "bearing", "pedestal (m)",
+                                       "result", "landing (m)"], rows, outcome_columns=())
+    return Section("simulation", "Simulated throws",
+                   f"{plural(len(throws), 'outcome')} of `rlff sim throw --json`.", {}, [table])
+
+
+def _number(value: object) -> float | None:
+    """A finite number of a JSON document, or None."""
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        return None
+    return float(value)
+
+
 def _model_section(models, figures_dir: Path) -> tuple[Section, list[FigureEntry]]:
     from rlff.plots.mixture import selection_curve
 
@@ -157,6 +279,9 @@ def _model_section(models, figures_dir: Path) -> tuple[Section, list[FigureEntry
 
 
 def _learning_section(logs, figures_dir: Path) -> tuple[Section, list[FigureEntry]]:
+    """The attempts logs' table and their learning curves, one figure per basket (its distance and
+    bearing) and robot: each log named with the robot, the joints and the bearing it threw with,
+    which its header holds (a curve of another arm or another bearing is another task)."""
     from rlff.plots.learning import learning_curves_from_logs
 
     rows = []
@@ -164,17 +289,38 @@ def _learning_section(logs, figures_dir: Path) -> tuple[Section, list[FigureEntr
         first_hit = next((i + 1 for i, hit in enumerate(run.hits) if hit), None)
         result = f"hit at attempt {first_hit}" if first_hit else f"no hit in {len(run.hits)}"
         shown = " ".join("–" if not np.isfinite(m) else f"{m:+.2f}" for m in run.misses[:8])
-        rows.append([path.name, run.method, run.feedback, run.basket, len(run.hits), result,
-                     shown + (" …" if len(run.misses) > 8 else "")])
+        rows.append([path.name, _robot_words(run), ", ".join(run.joints) or None, f"{run.bearing:g}°", run.method,
+                     run.feedback, run.basket, len(run.hits), result, shown + (" …" if len(run.misses) > 8 else "")])
     figures = []
-    by_basket: dict[float, list[Path]] = {}
+    groups: dict[tuple, list[Path]] = {}
     for path, run in logs:
         if run.hits:
-            by_basket.setdefault(run.basket, []).append(path)
-    for index, (basket, paths) in enumerate(sorted(by_basket.items())):
+            groups.setdefault((run.basket, run.bearing, run.robot or "", run.digest or ""), []).append(path)
+    for index, ((basket, bearing, robot, _), paths) in enumerate(sorted(groups.items())):
         saved = learning_curves_from_logs(paths, figures_dir / f"learning-{index}")
-        figures.append(FigureEntry(_relative(saved.png, figures_dir), "learning", f"Learning at {basket:g} m",
-                                   "Signed miss of every attempt (m), the basket's opening shaded."))
-    table = Table("Attempts logs", ["file", "method", "feedback", "basket (m)", "attempts", "result", "misses (m)"], rows,
-                  outcome_columns=())
-    return Section("learning", "Learning", f"{plural(len(logs), 'attempts log')} of `rlff learn`.", {}, [table]), figures
+        title = f"Learning at {basket:g} m" + (f", bearing {bearing:g}°" if bearing else "") + (f", {robot}" if robot else "")
+        thrown = {", ".join(run.joints) for path, run in logs if path in paths and run.joints}
+        by = f" Thrown by {_robot_words(next(run for path, run in logs if path in paths))}" if robot else ""
+        with_joints = f" with {' / '.join(sorted(thrown))}" if thrown else ""
+        figures.append(FigureEntry(_relative(saved.png, figures_dir), "learning", title,
+                                   "Signed miss of every attempt (m), the basket's opening shaded."
+                                   + (f"{by}{with_joints}." if by else "")))
+    table = Table("Attempts logs", ["file", "robot", "joints", "bearing", "method", "feedback", "basket (m)", "attempts",
+                                    "result", "misses (m)"], rows, outcome_columns=())
+    text = f"{plural(len(logs), 'attempts log')} of `rlff learn`."
+    digests: dict[tuple[str, tuple[str, ...]], set[str]] = {}
+    for _, run in logs:
+        if run.robot and run.digest:
+            digests.setdefault((run.robot, run.joints), set()).add(run.digest)
+    for (name, joints), seen in sorted(digests.items()):
+        if len(seen) > 1:  # one name, the same joints, two descriptions: two robot files of that name
+            text += (f" {name} threw with {', '.join(joints) or 'its joints'} as {len(seen)} robots of that name "
+                     f"({', '.join(sorted(seen))}): robot files that differ in a limit, the geometry or the mapping.")
+    return Section("learning", "Learning", text, {}, [table]), figures
+
+
+def _robot_words(run) -> str | None:
+    """"ur5e_like (b26ab21fb834f341)": the robot a log names and the digest of its description."""
+    if run.robot is None:
+        return None
+    return run.robot + (f" ({run.digest})" if run.digest else "")

@@ -56,14 +56,19 @@ def _chain_report(folder: Path, target: Path, as_json: bool) -> None:
     read = [path for path in folder.iterdir() if path.suffix.lower() in (*DATASET_SUFFIXES, ".json", ".jsonl")]
     guard(inputs={"RUN": read}, outputs={"-o/--output": target})
     with tempfile.TemporaryDirectory(prefix="rlff-report-") as scratch:
-        run, passed = chain_run(folder, Path(scratch) / "figures")
+        run, passed, not_reported = chain_run(folder, Path(scratch) / "figures")
         for why in passed:
             warn(f"{folder}: passed over {why}")
+        if not_reported:  # rlff's own outputs with nothing to tabulate: counted once, not a warning each
+            say(f"{folder}: {not_reported}")
         write_run(run, scratch)
         written = write_text(target, render_report(run, scratch, source=folder))
     counts = run.settings
-    say(f"{folder}: no run.json: a report of its {plural(counts['datasets'], 'dataset')}, "
-        f"{plural(counts['models'], 'model')} and {plural(counts['attempts logs'], 'attempts log')}")
+    kinds = [plural(counts["datasets"], "dataset"), plural(counts["models"], "model"),
+             plural(counts["attempts logs"], "attempts log")]
+    kinds += [plural(counts[key], noun) for key, noun in (("simulated throws", "simulated throw"),
+                                                            ("cleaning reports", "cleaning report")) if counts[key]]
+    say(f"{folder}: no run.json: a report of its {', '.join(kinds[:-1])} and {kinds[-1]}")
     if as_json:
         emit_json({"report": written})
     else:

@@ -104,6 +104,16 @@ class LoggedRun:
     misses : list of float
         Signed miss of every attempt (m).
     hits : list of bool
+    robot : str or None
+        The robot the run threw with (its robot file's ``name``), None in a log that does not say.
+    digest : str or None
+        The digest of the robot's description and mapping the log records (two robot files of
+        one name differ in it).
+    joints : tuple of str
+        The robot joints the throws drove (``joint_2``; a whole-arm run's several), empty when the
+        log does not say.
+    bearing : float
+        The basket's bearing (degrees from the robot's forward axis, positive to the left).
     """
 
     method: str
@@ -111,6 +121,10 @@ class LoggedRun:
     basket: float
     misses: list[float]
     hits: list[bool]
+    robot: str | None = None
+    digest: str | None = None
+    joints: tuple[str, ...] = ()
+    bearing: float = 0.0
 
 
 def read_learning_log(path: str | Path) -> LoggedRun:
@@ -147,7 +161,37 @@ def read_learning_log(path: str | Path) -> LoggedRun:
         basket = float(run["basket"]["distance"])
     except (KeyError, TypeError, ValueError, OverflowError) as exc:
         raise InputError(f"{path}: attempt or run record without {exc}") from None
-    return LoggedRun(str(run.get("update", path.stem)), str(run.get("feedback", "")), basket, misses, hits)
+    try:
+        bearing = float(run["basket"].get("bearing", 0.0))  # left out for a basket straight ahead
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{path}: the run's basket bearing is not a number") from None
+    robot = run.get("robot") if isinstance(run.get("robot"), dict) else {}
+    name, digest = robot.get("name"), robot.get("digest")
+    return LoggedRun(str(run.get("update", path.stem)), str(run.get("feedback", "")), basket, misses, hits,
+                     None if name is None else str(name), None if digest is None else str(digest),
+                     _thrown_joints(run), bearing)
+
+
+def _thrown_joints(run: dict) -> tuple[str, ...]:
+    """The robot joints an attempts log's run drove: its ``joints`` (a whole-arm run), else the
+    joint of the one-joint mapping its robot record holds, else none known."""
+    joints = run.get("joints")
+    if isinstance(joints, list) and all(isinstance(j, str) for j in joints):
+        return tuple(sorted(joints))
+    mapping = _at(run, "robot", "description", "mapping")
+    if isinstance(mapping, dict):
+        if isinstance(mapping.get("joint"), str):
+            return (mapping["joint"],)
+        if isinstance(mapping.get("driven"), dict):
+            return tuple(sorted(map(str, mapping["driven"])))
+    return ()
+
+
+def _at(record: object, *keys: str) -> object:
+    """The value at ``keys`` of nested dicts, or None where a part is absent."""
+    for key in keys:
+        record = record.get(key) if isinstance(record, dict) else None
+    return record
 
 
 def learning_curves_from_logs(logs: Sequence[str | Path], out: str | Path, *, tolerance: float | None = None) -> SavedFigure:
