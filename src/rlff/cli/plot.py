@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import PLAIN_HELP, emit_json, seed_option, stdout, warn
+from rlff.cli._common import PLAIN_HELP, emit_json, seed_option, stdout
 from rlff.cli.model import (
     EFFECTIVE_SAMPLES_HELP,
     check_criterion,
@@ -244,30 +244,21 @@ def throw_command(
     outcome: Path = typer.Argument(..., help="A throw's outcome: the JSON of `rlff sim throw --json`."),
     pedestal: float | None = typer.Option(None, "--pedestal", help="Height of the robot's base (m); default the "
                                                                    "outcome's."),
-    robot: str | None = typer.Option(None, "--robot", help="Robot name or robot file, for the arm drawing; default "
-                                                           "the outcome's robot when it is built in."),
+    robot: str | None = typer.Option(None, "--robot", help="Robot name or robot file, for the arm drawing: the robot "
+                                                           "that threw (default the outcome's when it is built in)."),
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:
     """A side view of a simulated throw: arm at release, ball flight, basket (and a rendered frame if any)."""
     from rlff.jsonfile import read_json_object
-    from rlff.plots.throw import throw_snapshot_from_outcome
-    from rlff.robot import load_robot
-    from rlff.robot.description import DEFAULT_ROBOT, available_robots
+    from rlff.plots.throw import outcome_robot, throw_snapshot_from_outcome
 
     _guard(out, {"OUTCOME": outcome, "--robot": Path(robot) if robot and robot.endswith(".toml") else None})
     record = read_json_object(outcome)
     # the arm is drawn as the outcome's robot on the outcome's pedestal: the built-in Comau on the
-    # floor was drawn 0.3 m from the ball another arm on a 0.5 m pedestal had let go
-    thrown_by = record.get("robot", DEFAULT_ROBOT)
-    if robot is None:
-        if thrown_by not in available_robots():
-            raise InputError(f"{outcome} was thrown by robot {thrown_by!r}, from a robot file: give that file with "
-                             "--robot to draw its arm")
-        robot = thrown_by
-    arm = load_robot(robot)
-    if arm.name != thrown_by:
-        warn(f"{outcome} was thrown by robot {thrown_by!r}; the arm drawn is {arm.name!r} (--robot)")
+    # floor was drawn 0.3 m from the ball another arm on a 0.5 m pedestal had let go, and the
+    # Comau asked for with --robot for another arm's throw, the ball floating off it
+    arm = outcome_robot(record, outcome, robot)
     if pedestal is None:
         pedestal = float(record.get("pedestal", 0.0))
     _done([throw_snapshot_from_outcome(record, out, robot=arm, pedestal=pedestal)], as_json)

@@ -133,6 +133,74 @@ def _arm_at_release(joint_positions: Mapping[str, float], robot: Any, pedestal: 
     return np.vstack([base, shoulder, pose.elbow, pose.wrist, pose.ball])
 
 
+def outcome_robot(record: Mapping[str, Any], where: str | Path, robot: str | None = None) -> Any:
+    """The robot to draw a throw outcome's arm with: the one that threw it, or an error.
+
+    Parameters
+    ----------
+    record : mapping
+        The outcome's JSON (``rlff sim throw --json``): its ``robot`` names the robot that threw
+        (a robot file's ``name``; absent in old outcomes: the built-in Comau), its
+        ``trajectory`` the file thrown, which may be an attempts log.
+    where : str or Path
+        The outcome file, for messages; a ``trajectory`` given relative is looked for beside it
+        too.
+    robot : str, optional
+        The robot name or file asked for (``--robot``); default the outcome's robot when it is
+        built in.
+
+    Returns
+    -------
+    rlff.robot.Robot
+
+    Raises
+    ------
+    InputError
+        The outcome's robot is a robot file and none is given; the robot given has another name
+        than the outcome's; or the outcome was thrown from an attempts log whose robot (its
+        description and mapping, by digest) is not the robot given
+        (:func:`rlff.learn.replay.require_same_robot`). Drawn with another arm, the ball would
+        fly off a hand that is not there.
+    """
+    from rlff.robot import load_robot
+    from rlff.robot.description import DEFAULT_ROBOT, available_robots
+
+    thrown_by = str(record.get("robot", DEFAULT_ROBOT))
+    if robot is None:
+        if thrown_by not in available_robots():
+            raise InputError(f"{where} was thrown by robot {thrown_by!r}, from a robot file: give that file with "
+                             "--robot to draw its arm")
+        robot = thrown_by
+    arm = load_robot(robot)
+    if arm.name != thrown_by:
+        raise InputError(f"{where} was thrown by robot {thrown_by!r}, not {arm.name!r} (--robot {robot}): give the "
+                         f"robot file of {thrown_by!r} with --robot to draw the arm that threw it")
+    log = _thrown_log(record.get("trajectory"), Path(where))
+    if log is not None:
+        from rlff.learn.log import read_log
+        from rlff.learn.replay import require_same_robot, run_mapping
+
+        run, _ = read_log(log)
+        try:
+            require_same_robot(log, run, run_mapping(arm, run))
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
+    return arm
+
+
+def _thrown_log(trajectory: object, where: Path) -> Path | None:
+    """The attempts log an outcome was thrown from (its ``trajectory``, as given or beside the
+    outcome file), or None when it was another file or the log is not there to read."""
+    from rlff.learn.log import is_attempts_log
+
+    if not isinstance(trajectory, str) or not trajectory:
+        return None
+    for path in dict.fromkeys((Path(trajectory), where.parent / trajectory)):
+        if path.is_file() and is_attempts_log(path):
+            return path
+    return None
+
+
 def throw_snapshot_from_outcome(
     outcome: Any,
     out: str | Path,
