@@ -112,7 +112,8 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
             seen += f" ({_not_reported(unreported)})"
         if inner:
             seen += f"; its subfolders ({', '.join(inner[:3])}{', ...' if len(inner) > 3 else ''}) are not read"
-        raise InputError(f"{folder}: no run.json, and no rlff dataset (.csv, .npz, .parquet), model (.json) or attempts log (.jsonl) "
+        raise InputError(f"{folder}: no run.json, and no rlff dataset (.csv, .npz, .parquet), model, simulated throw or cleaning "
+                         "report (.json) or attempts log (.jsonl) "
                          f"in it{seen}: give a folder that `rlff demo` wrote, or one holding your own chain's files")
     figures_dir.mkdir(parents=True, exist_ok=True)
     sections, figures = [], []
