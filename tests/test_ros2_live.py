@@ -329,8 +329,9 @@ def test_serve_and_send_under_the_robot_file_s_ros_names(domain, tmp_path):
 def test_an_action_nobody_serves_is_named_with_the_robot_file_s_ros_table(server, domain, tmp_path):
     nobody = named_robot_file(tmp_path, "nobody.toml", action="/nobody/follow_joint_trajectory")
     path = throw_csv(tmp_path, "throw.csv", -0.5, 0.5, 0.5)
+    # the timeout bounds reading the arm's state too: discovery takes seconds on a loaded machine
     result = _rlff(ros2_env(domain, tmp_path), "robot", "send", str(path), "--ros", "2", "--robot", str(nobody),
-                   "--timeout", "2")
+                   "--timeout", "5")
     assert result.returncode == 1
     assert result.stderr.splitlines()[-1] == (
         f"rlff: error: no action server at /nobody/follow_joint_trajectory (the [ros] action of {nobody}): is `rlff "
