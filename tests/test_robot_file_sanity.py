@@ -105,3 +105,40 @@ def test_every_order_of_joints_named_otherwise_loads(tmp_path):
         robot = load_robot(seven_joint_file(tmp_path / "four.toml", order))
         assert robot.joint_names == order
         np.testing.assert_array_equal(robot.limits()[0], -2.0)
+
+
+def in_millimetres(text):
+    """A robot file with its [geometry] lengths written in millimetres."""
+    head, _, geometry = text.partition("[geometry]")
+    geometry, separator, rest = geometry.partition("\n[")
+    geometry = re.sub(r"^(\w+) = ([-\d.]+)", lambda m: f"{m[1]} = {float(m[2]) * 1000:g}", geometry, flags=re.M)
+    return head + "[geometry]" + geometry + separator + rest
+
+
+def test_a_geometry_in_millimetres_is_refused(tmp_path, capsys):
+    # it loaded, and `sim reach` put the farthest basket 845,754 m away
+    path = tmp_path / "mm.toml"
+    path.write_text(in_millimetres(COMAU))
+    with pytest.raises(InputError, match=r"mm\.toml: \[geometry\] shoulder_height 450 m is longer than any arm's "
+                                         r"link \(5 m; .*\); rlff reads metres: is this file in millimetres\?"):
+        load_robot(path)
+    assert main(["sim", "reach", "--robot", str(path)]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert "is this file in millimetres?" in line
+
+
+@pytest.mark.parametrize(("key", "value", "refused"), [
+    ("upper_arm", 5.01, True), ("forearm", 492.2, True), ("elbow_offset", -5.5, True), ("flange", 99.6, True),
+    ("upper_arm", 4.68, False), ("shoulder_forward", -4.9, False), ("forearm", 5.0, False),
+])
+def test_no_geometry_length_is_longer_than_the_largest_arm_s(key, value, refused):
+    from rlff.robot.description import Geometry
+
+    lengths = dict(shoulder_height=0.45, shoulder_forward=0.15, upper_arm=0.59, elbow_offset=0.13, forearm=0.647,
+                   flange=0.095)
+    lengths[key] = value
+    if refused:
+        with pytest.raises(InputError, match=rf"^\[geometry\] {key} {value:g} m is longer than any arm's link"):
+            Geometry(**lengths)
+    else:
+        assert getattr(Geometry(**lengths), key) == value

@@ -56,6 +56,11 @@ _NUMBERED = re.compile(r"joint_(\d+)")
 #: Link lengths that must be positive, and distances that cannot be negative (the offsets
 #: ``shoulder_forward`` and ``elbow_offset`` are signed: see the robot file's convention).
 _POSITIVE_LENGTHS, _DISTANCES = ("upper_arm", "forearm"), ("shoulder_height", "flange")
+#: The longest ``[geometry]`` length (m), either sign, rlff takes, so that a file in millimetres
+#: (``upper_arm = 425``) is refused, not read as an arm that throws 845 km: the largest industrial
+#: arms reach about 4.7 m from the shoulder to the flange (FANUC's M-2000iA/900L, 4.68 m), so no
+#: single link or offset of an arm is longer than 5 m (the Comau's longest is 0.647 m).
+MAX_LENGTH = 5.0
 
 
 @dataclass(frozen=True)
@@ -131,11 +136,17 @@ class Geometry:
     flange: float
 
     def __post_init__(self) -> None:
-        for key in _POSITIVE_LENGTHS + _DISTANCES:
+        for key in _GEOMETRY_FIELDS:
             value = getattr(self, key)
-            if value < 0 or (key in _POSITIVE_LENGTHS and value == 0):
+            if not math.isfinite(value):
+                raise InputError(f"[geometry] {key} must be a finite number (m), got {value:g}")
+            if key in _POSITIVE_LENGTHS + _DISTANCES and (value < 0 or (key in _POSITIVE_LENGTHS and value == 0)):
                 bound = "positive" if key in _POSITIVE_LENGTHS else "zero or more"
                 raise InputError(f"[geometry] {key} is a length and must be {bound} (m), got {value:g}")
+            if abs(value) > MAX_LENGTH:
+                raise InputError(f"[geometry] {key} {value:g} m is longer than any arm's link ({MAX_LENGTH:g} m; the "
+                                 "largest industrial arms reach about 4.7 m); rlff reads metres: is this file in "
+                                 "millimetres?")
 
 
 #: A ROS graph name both ROS 1 and ROS 2 take as it is: absolute, then segments of letters,
