@@ -130,6 +130,40 @@ def test_a_misspelt_key_or_an_impossible_length_is_refused_by_name(tmp_path, edi
         load_robot(path)
 
 
+@pytest.mark.parametrize(("edit", "message"), [
+    # the misspelt key stood where the field it misses belongs: "missing field 'max_velocity'" named the wrong fault
+    (("max_velocity = 2.792", "max_velocty = 2.792"),
+     r"joint 2 \(joint_2\): unknown field 'max_velocty' \(did you mean 'max_velocity'\?\)"),
+    (("max_jerk = 110.0", "max_jrek = 110.0"), r"joint 2 \(joint_2\): unknown field 'max_jrek' \(did you mean 'max_jerk'\?\)"),
+    (('name = "joint_2"', 'nmae = "joint_2"'), r"joint 2 \(None\): unknown field 'nmae' \(did you mean 'name'\?\)"),
+    (("upper_arm = 0.59", "upper_ram = 0.59"), r"\[geometry\]: unknown field 'upper_ram' \(did you mean 'upper_arm'\?\)"),
+    (("angle_scale = ", "angle_scael = "), r"\[throwing\]: unknown field 'angle_scael' \(did you mean 'angle_scale'\?\)"),
+], ids=["joint-limit", "joint-jerk", "joint-name", "geometry", "throwing"])
+def test_a_misspelt_key_is_named_before_the_field_it_misses(tmp_path, edit, message):
+    text = _builtin_text()
+    assert edit[0] in text
+    path = tmp_path / "mine.toml"
+    path.write_text(text.replace(edit[0], edit[1], 1))
+    with pytest.raises(InputError) as refused:
+        load_robot(path)
+    assert re.fullmatch(rf"{re.escape(str(path))}: {message}", str(refused.value)), str(refused.value)
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    # inf was "more than eight turns ... is this file in degrees?"
+    (("upper = 2.71", "upper = inf"), "field 'upper' must be a finite number, got inf"),
+    (("lower = -1.48", "lower = -inf"), "field 'lower' must be a finite number, got -inf"),
+    (("max_velocity = 2.792", "max_velocity = inf"), "field 'max_velocity' must be a finite number, got inf"),
+    (("upper = 2.71", "upper = nan"), "field 'upper' must be a finite number, got nan"),
+], ids=["upper-inf", "lower-inf", "speed-inf", "upper-nan"])
+def test_a_limit_that_is_no_finite_number_is_named_so(tmp_path, edit, message):
+    path = tmp_path / "mine.toml"
+    path.write_text(_builtin_text().replace(edit[0], edit[1], 1))
+    with pytest.raises(InputError) as refused:
+        load_robot(path)
+    assert str(refused.value) == f"{path}: joint 2 (joint_2): {message}"
+
+
 def test_a_mapping_error_names_the_file_and_its_table(tmp_path):
     path = tmp_path / "mine.toml"
     path.write_text(_builtin_text().replace('joint = "joint_2"', 'joint = "joint2"', 1))

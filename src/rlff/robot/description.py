@@ -310,19 +310,28 @@ def _require_known(table: Mapping[str, Any], kind: str, where: str) -> None:
             raise InputError(f"{where}: unknown field {key!r}" + nearest_hint(str(key), known, f"known: {', '.join(known)}"))
 
 
-def _require_known_fields(document: Mapping[str, Any], joints: Sequence[str], source: str) -> None:
-    """Refuse a key no table of a robot file holds (see :data:`_FIELDS`), and a start pose of a
-    joint the robot does not have."""
-    _require_known(document, "", source)
-    for number, table in enumerate(document.get("joints", []), start=1):
-        _require_known(table, "[[joints]]", f"{source}: joint {number} ({table.get('name')})")
+def _require_known_keys(document: Mapping[str, Any], source: str, top: Sequence[str] = ()) -> None:
+    """Refuse a key no table of a robot file holds (see :data:`_FIELDS`; ``top``: further keys of
+    the file's top level, such as ``urdf`` before the URDF is merged). Run before any value is read,
+    so that a misspelt key is named as such, not as the field it misses (``max_velocty``). Tables
+    that are not tables are left to :func:`parse_robot`, which says so."""
+    _require_known({key: value for key, value in document.items() if key not in top}, "", source)
+    tables = document.get("joints")
+    for number, table in enumerate(tables if isinstance(tables, list) else [], start=1):
+        if isinstance(table, Mapping):
+            _require_known(table, "[[joints]]", f"{source}: joint {number} ({table.get('name')})")
     for key in _TABLES:
-        _require_known(document.get(key, {}), f"[{key}]", f"{source}: [{key}]")
-    arm = document.get("whole_arm", {})
-    entries = arm.get("joints", {})
+        if isinstance(document.get(key), Mapping):
+            _require_known(document[key], f"[{key}]", f"{source}: [{key}]")
+    arm = document.get("whole_arm")
+    entries = arm.get("joints") if isinstance(arm, Mapping) else None
     for joint, entry in entries.items() if isinstance(entries, Mapping) else ():
         if isinstance(entry, Mapping):
             _require_known(entry, "[whole_arm.joints.<joint>]", f"{source}: [whole_arm.joints.{joint}]")
+
+
+def _require_known_joints(document: Mapping[str, Any], joints: Sequence[str], source: str) -> None:
+    """Refuse a start pose of a joint the robot does not have."""
     for key in ("throwing", "whole_arm"):
         pose = document.get(key, {}).get("start_pose", {})
         unknown = [name for name in pose if name not in joints] if isinstance(pose, Mapping) else []
@@ -343,13 +352,16 @@ def _require_radians(tables: Any, source: str) -> None:
                                        ("upper", MAX_POSITION, "rad", "more than eight turns"),
                                        ("max_velocity", MAX_VELOCITY, "rad/s", "faster than any arm's joint")):
             value = table.get(key)
-            if isinstance(value, int | float) and not isinstance(value, bool) and abs(value) > bound:
+            # a value that is not a finite number (inf, nan) is named as such by parse_robot
+            if isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value) \
+                    and abs(value) > bound:
                 raise InputError(f"{where}: {key} {value:g} {unit} is {what} ({bound:.4g} {unit}); rlff reads "
                                  "radians (rad, rad/s, rad/s^2, rad/s^3): is this file in degrees?")
 
 
 def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
     """Build a :class:`Robot` from a parsed robot file; errors name ``source`` and the field."""
+    _require_known_keys(document, source)
     name = document.get("name")
     if not isinstance(name, str) or not name:
         raise InputError(f"{source}: missing field 'name'")
@@ -372,7 +384,7 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
     for key in _TABLES:
         if key in document and not isinstance(document[key], Mapping):
             raise InputError(f"{source}: [{key}] must be a table, got {document[key]!r}")
-    _require_known_fields(document, joint_names(joints), source)
+    _require_known_joints(document, joint_names(joints), source)
     geometry = None
     if "geometry" in document:
         values = {key: number_field(document["geometry"], key, f"{source}: [geometry]") for key in _GEOMETRY_FIELDS}
@@ -440,6 +452,7 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
         document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise InputError(f"{source}: not valid TOML: {exc}") from None
+    _require_known_keys(document, source, top=("urdf",) if is_file else ())  # a misspelt key first, by name
     # the values the file writes; a URDF's own are in SI by its specification, metres for a prismatic joint
     _require_radians(document.get("joints"), source)
     if is_file and "urdf" in document:
