@@ -142,3 +142,35 @@ def test_no_geometry_length_is_longer_than_the_largest_arm_s(key, value, refused
             Geometry(**lengths)
     else:
         assert getattr(Geometry(**lengths), key) == value
+
+
+@pytest.mark.parametrize("command", [
+    ["robot", "show"],
+    ["robot", "urdf", "-o", "{tmp}/arm.urdf"],
+    ["robot", "export", "{tmp}/throw.json", "-f", "json", "-o", "{tmp}/out.json"],
+    ["sim", "reach", "--joints", "joint_2,joint_3"],
+    ["sim", "throw", "{tmp}/throw.json", "--basket", "2"],
+], ids=["robot-show", "robot-urdf", "robot-export", "sim-reach", "sim-throw"])
+def test_a_start_pose_outside_its_limits_is_refused_by_every_command_alike(tmp_path, capsys, command):
+    # robot show and learn --joints refused it; sim throw of a robot trajectory and sim reach --joints took it
+    text = COMAU.replace("[whole_arm.start_pose]\njoint_1 = 0.0\njoint_2 = -0.36",
+                         "[whole_arm.start_pose]\njoint_1 = 0.0\njoint_2 = -9.0")
+    assert text != COMAU
+    path = tmp_path / "mine.toml"
+    path.write_text(text)
+    (tmp_path / "throw.json").write_text("{}")
+    argv = [part.format(tmp=tmp_path) for part in command]
+    assert main([*argv, "--robot", str(path)]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert line == f"rlff: error: {path}: [whole_arm.start_pose]: joint_2 -9 rad is outside its limits [-1.48, 2.71] rad"
+
+
+def test_a_throwing_start_pose_outside_its_limits_is_refused_when_the_file_is_read(tmp_path):
+    path = tmp_path / "mine.toml"
+    path.write_text(COMAU.replace("[throwing.start_pose]\njoint_1 = 0.0", "[throwing.start_pose]\njoint_1 = 3.5"))
+    with pytest.raises(InputError) as refused:
+        load_robot(path)
+    assert str(refused.value) == f"{path}: [throwing.start_pose]: joint_1 3.5 rad is outside its limits [-2.967, 2.967] rad"
+    path.write_text(COMAU.replace("[throwing.start_pose]\njoint_1 = 0.0", "[throwing.start_pose]\njoint_1 = 'up'"))
+    with pytest.raises(InputError, match=r"mine.toml: \[throwing.start_pose\]: field 'joint_1' must be a finite number"):
+        load_robot(path)

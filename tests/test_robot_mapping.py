@@ -94,7 +94,8 @@ def test_clip_reports_exactly_what_changed(robot):
         ({"joint": "joint_9"}, "unknown joint 'joint_9'"),
         ({"start_pose": {"joint_1": 0.0}}, r"misses joints \['joint_3'"),
         ({"start_pose": {"joint_1": 0.0, "joint_3": 0.5, "joint_4": 0, "joint_5": 0, "joint_6": 0}},
-         "start pose of joint_3 .* outside its limits"),
+         r"^built-in robot comau_smart5_six: \[throwing.start_pose\]: joint_3 0.5 rad is outside its limits "
+         r"\[-2.967, 0\] rad$"),
         ({"velocity_scale": -1.0}, "same sign"),
         ({"angle_scale": 0.0}, "non-zero"),
     ],

@@ -291,6 +291,17 @@ class Robot:
                 np.array([j.max_velocity for j in joints]))
 
 
+def require_start_pose(joints: Sequence[Joint], pose: Mapping[str, float], where: str) -> None:
+    """:class:`InputError` naming ``where`` (the file and its table) and the first joint of
+    ``pose`` (joint name to rad) outside its limits: the one check of a start pose, made when the
+    robot file is read (:func:`parse_robot`) and by the mappings built in code."""
+    for name, value in pose.items():
+        joint = find_joint(joints, name)
+        if not joint.lower <= value <= joint.upper:
+            raise InputError(f"{where}: {name} {value:g} rad is outside its limits [{joint.lower:g}, "
+                             f"{joint.upper:g}] rad")
+
+
 def number_field(table: Mapping[str, Any], key: str, where: str) -> float:
     """``table[key]`` as a finite float; :class:`InputError` naming ``where`` and ``key`` if not."""
     if key not in table:
@@ -385,6 +396,11 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
         if key in document and not isinstance(document[key], Mapping):
             raise InputError(f"{source}: [{key}] must be a table, got {document[key]!r}")
     _require_known_joints(document, joint_names(joints), source)
+    for key in ("throwing", "whole_arm"):  # every command refuses such a file alike, whether it maps a throw or not
+        pose = document.get(key, {}).get("start_pose")
+        if isinstance(pose, Mapping):
+            where = f"{source}: [{key}.start_pose]"
+            require_start_pose(joints, {name: number_field(pose, name, where) for name in pose}, where)
     geometry = None
     if "geometry" in document:
         values = {key: number_field(document["geometry"], key, f"{source}: [geometry]") for key in _GEOMETRY_FIELDS}

@@ -30,7 +30,7 @@ import numpy as np
 from rlff.dataset import JOINT_COLUMNS as HUMAN_JOINT_COLUMNS
 from rlff.dataset import velocity_column
 from rlff.errors import InputError
-from rlff.robot.description import Robot, number_field
+from rlff.robot.description import Robot, number_field, require_start_pose
 from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport, LimitChange, clip_to_limits, require_within_limits
@@ -82,11 +82,7 @@ class RobotMapping:
             raise InputError("angle_scale and velocity_scale must have the same sign "
                              f"(got {self.angle_scale} and {self.velocity_scale})")
         pose = {name: float(self.start_pose[name]) for name in self.robot.joint_names if name != self.joint}
-        for name, value in pose.items():
-            joint = self.robot.joint(name)
-            if not joint.lower <= value <= joint.upper:
-                raise InputError(f"start pose of {name} ({value} rad) is outside its limits "
-                                 f"[{joint.lower}, {joint.upper}] rad")
+        require_start_pose(self.robot.joints, pose, f"{self.robot.source}: [throwing.start_pose]")
         object.__setattr__(self, "start_pose", MappingProxyType(pose))
 
     @classmethod
@@ -312,11 +308,7 @@ class ArmMapping:
         for name in self.start_pose:
             self.robot.joint(name)
         pose = {name: float(value) for name, value in self.start_pose.items()}
-        for name, value in pose.items():
-            joint = self.robot.joint(name)
-            if not joint.lower <= value <= joint.upper:
-                raise InputError(f"{where}.start_pose: {name} ({value} rad) is outside its limits "
-                                 f"[{joint.lower}, {joint.upper}] rad")
+        require_start_pose(self.robot.joints, pose, f"{self.robot.source}: [whole_arm.start_pose]")
         object.__setattr__(self, "joints", joints)
         object.__setattr__(self, "start_pose", MappingProxyType(pose))
         object.__setattr__(self, "time_scale", float(self.time_scale))
