@@ -174,3 +174,64 @@ def test_a_throwing_start_pose_outside_its_limits_is_refused_when_the_file_is_re
     path.write_text(COMAU.replace("[throwing.start_pose]\njoint_1 = 0.0", "[throwing.start_pose]\njoint_1 = 'up'"))
     with pytest.raises(InputError, match=r"mine.toml: \[throwing.start_pose\]: field 'joint_1' must be a finite number"):
         load_robot(path)
+
+
+@pytest.mark.parametrize("joint", ["joint_1", "joint_4", "joint_6"])
+def test_a_throw_driven_by_a_joint_outside_the_throwing_plane_is_refused_when_the_file_is_read(tmp_path, capsys,
+                                                                                              joint):
+    # robot show and robot export took [throwing] joint = "joint_1"; sim throw refused it after planning, learn
+    # and sim reach in other words, none naming the file or the table
+    text = COMAU.replace('[throwing]\njoint = "joint_2"', f'[throwing]\njoint = "{joint}"')
+    text = text.replace(f"[throwing.start_pose]\n{joint} = ", "[throwing.start_pose]\njoint_2 = 0.0\n# was: ")
+    path = tmp_path / "mine.toml"
+    path.write_text(text)
+    expected = (f"{path}: [throwing]: {joint} does not throw in the arm's vertical plane: a throw drives joint_2, "
+                "joint_3 or joint_5 (joint_1 turns the arm to the basket's bearing, joint_4 and joint_6 roll the "
+                "forearm and the flange)")
+    with pytest.raises(InputError) as refused:
+        load_robot(path)
+    assert str(refused.value) == expected
+    for command in (["robot", "show"], ["sim", "reach"], ["robot", "urdf", "-o", str(tmp_path / "arm.urdf")]):
+        assert main([*command, "--robot", str(path)]) == 2
+        assert capsys.readouterr().err.strip().splitlines() == [f"rlff: error: {expected}"]
+
+
+@pytest.mark.parametrize("joint", ["joint_3", "joint_5"])
+def test_a_throw_driven_by_another_joint_of_the_plane_loads(tmp_path, joint):
+    pose = "[throwing.start_pose]\njoint_1 = 0.0\njoint_3 = -1.373\njoint_4 = 0.0\njoint_5 = -0.198\n"
+    assert pose in COMAU
+    text = COMAU.replace('[throwing]\njoint = "joint_2"', f'[throwing]\njoint = "{joint}"')
+    text = text.replace(pose, pose.replace(f"{joint} = ", "joint_2 = 0.0\n# was: "))
+    path = tmp_path / "mine.toml"
+    path.write_text(text)
+    from rlff.robot.mapping import RobotMapping
+
+    robot = load_robot(path)
+    assert RobotMapping.for_robot(robot).joint == joint and robot.name == "comau_smart5_six"
+
+
+def test_a_whole_arm_joint_outside_the_throwing_plane_is_refused_when_the_file_is_read(tmp_path):
+    path = tmp_path / "mine.toml"
+    path.write_text(COMAU.replace("[whole_arm.joints.joint_5]", "[whole_arm.joints.joint_4]"))
+    with pytest.raises(InputError) as refused:
+        load_robot(path)
+    assert str(refused.value).startswith(f"{path}: [whole_arm.joints.joint_4]: joint_4 does not throw in the arm's "
+                                         "vertical plane: a throw drives joint_2, joint_3 or joint_5")
+
+
+def test_a_mapping_built_in_code_is_held_to_the_throwing_plane_in_the_same_words():
+    from rlff.robot.description import Joint
+    from rlff.robot.mapping import ArmMapping, JointMap, RobotMapping
+
+    robot = load_robot()
+    pose = {name: 0.0 for name in robot.joint_names if name != "joint_1"}
+    with pytest.raises(InputError, match=r"^built-in robot comau_smart5_six: \[throwing\]: joint_1 does not throw in "
+                                         r"the arm's vertical plane: a throw drives joint_2, joint_3 or joint_5 "):
+        RobotMapping(robot, "joint_1", pose)
+    with pytest.raises(InputError, match=r"^built-in robot comau_smart5_six: \[whole_arm.joints.joint_6\]: joint_6 "
+                                         r"does not throw"):
+        ArmMapping(robot, (JointMap("joint_3", "angle", 0.0, 1.0), JointMap("joint_6", "wrist", 0.0, 1.0)),
+                   {name: 0.0 for name in robot.joint_names}, 1.0)
+    # a joint with a name of its own is not read by rlff's convention, and is not held to it
+    own = Robot("own", (Joint("a1", -1.0, 1.0, 1.0), Joint("a2", -1.0, 1.0, 1.0)))
+    assert RobotMapping(own, "a1", {"a2": 0.0}).joint == "a1"

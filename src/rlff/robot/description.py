@@ -53,6 +53,11 @@ _TABLES = ("geometry", "throwing", "whole_arm", "comau_program", "ros")
 MAX_POSITION, MAX_VELOCITY = 8 * 2 * math.pi, 50.0
 #: A joint name rlff reads as the controller's k-th joint (``joint_2`` is the shoulder).
 _NUMBERED = re.compile(r"joint_(\d+)")
+#: The joints a throw may drive: in rlff's kinematic convention (joints named ``joint_<k>``) these
+#: swing the arm in its vertical plane, where the simulation, the reach and the learning loop
+#: throw; ``joint_1`` turns that plane (to the basket's bearing), ``joint_4`` and ``joint_6`` roll
+#: the forearm and the flange about their own axes.
+THROWING_JOINTS = ("joint_2", "joint_3", "joint_5")
 #: Link lengths that must be positive, and distances that cannot be negative (the offsets
 #: ``shoulder_forward`` and ``elbow_offset`` are signed: see the robot file's convention).
 _POSITIVE_LENGTHS, _DISTANCES = ("upper_arm", "forearm"), ("shoulder_height", "flange")
@@ -291,6 +296,16 @@ class Robot:
                 np.array([j.max_velocity for j in joints]))
 
 
+def require_throwing_joint(name: str, where: str) -> None:
+    """:class:`InputError` naming ``where`` (the file and its table) if ``name``, a joint of rlff's
+    convention (``joint_<k>``), is not among :data:`THROWING_JOINTS`; a joint with a name of its own
+    is not held to it. Checked when the robot file is read and by the mappings built in code."""
+    if _NUMBERED.fullmatch(name) and name not in THROWING_JOINTS:
+        raise InputError(f"{where}: {name} does not throw in the arm's vertical plane: a throw drives "
+                         f"{', '.join(THROWING_JOINTS[:-1])} or {THROWING_JOINTS[-1]} (joint_1 turns the arm to the "
+                         "basket's bearing, joint_4 and joint_6 roll the forearm and the flange)")
+
+
 def require_start_pose(joints: Sequence[Joint], pose: Mapping[str, float], where: str) -> None:
     """:class:`InputError` naming ``where`` (the file and its table) and the first joint of
     ``pose`` (joint name to rad) outside its limits: the one check of a start pose, made when the
@@ -396,11 +411,18 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
         if key in document and not isinstance(document[key], Mapping):
             raise InputError(f"{source}: [{key}] must be a table, got {document[key]!r}")
     _require_known_joints(document, joint_names(joints), source)
+    driven = document.get("throwing", {}).get("joint")
+    if isinstance(driven, str) and driven in joint_names(joints):  # an unknown one is named by the mapping
+        require_throwing_joint(driven, f"{source}: [throwing]")
+    entries = document.get("whole_arm", {}).get("joints")
+    for entry in entries if isinstance(entries, Mapping) else ():
+        if entry in joint_names(joints):
+            require_throwing_joint(entry, f"{source}: [whole_arm.joints.{entry}]")
     for key in ("throwing", "whole_arm"):  # every command refuses such a file alike, whether it maps a throw or not
         pose = document.get(key, {}).get("start_pose")
         if isinstance(pose, Mapping):
             where = f"{source}: [{key}.start_pose]"
-            require_start_pose(joints, {name: number_field(pose, name, where) for name in pose}, where)
+            require_start_pose(joints, {joint: number_field(pose, joint, where) for joint in pose}, where)
     geometry = None
     if "geometry" in document:
         values = {key: number_field(document["geometry"], key, f"{source}: [geometry]") for key in _GEOMETRY_FIELDS}

@@ -30,7 +30,7 @@ import numpy as np
 from rlff.dataset import JOINT_COLUMNS as HUMAN_JOINT_COLUMNS
 from rlff.dataset import velocity_column
 from rlff.errors import InputError
-from rlff.robot.description import Robot, number_field, require_start_pose
+from rlff.robot.description import Robot, number_field, require_start_pose, require_throwing_joint
 from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport, LimitChange, clip_to_limits, require_within_limits
@@ -71,6 +71,7 @@ class RobotMapping:
 
     def __post_init__(self) -> None:
         self.robot.joint(self.joint)
+        require_throwing_joint(self.joint, f"{self.robot.source}: [throwing]")
         for name in self.start_pose:
             self.robot.joint(name)
         missing = [n for n in self.robot.joint_names if n != self.joint and n not in self.start_pose]
@@ -287,6 +288,7 @@ class ArmMapping:
         humans = [j.human for j in joints]
         for item in joints:
             self.robot.joint(item.joint)
+            require_throwing_joint(item.joint, f"{self.robot.source}: [whole_arm.joints.{item.joint}]")
             if item.human not in HUMAN_JOINT_COLUMNS:
                 raise InputError(f"{where}.joints.{item.joint}: human must be one of "
                                  f"{', '.join(HUMAN_JOINT_COLUMNS)}, got {item.human!r}")
