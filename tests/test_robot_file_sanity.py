@@ -5,6 +5,7 @@ from __future__ import annotations
 import itertools
 import math
 import re
+import warnings
 from importlib import resources
 
 import numpy as np
@@ -13,7 +14,7 @@ import pytest
 from rlff.cli import main
 from rlff.errors import InputError
 from rlff.robot import load_robot
-from rlff.robot.description import Robot
+from rlff.robot.description import Robot, RobotFileWarning
 
 COMAU = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text(encoding="utf-8")
 #: The built-in file cut into its head (up to the first [[joints]]), its six tables and the rest.
@@ -235,3 +236,63 @@ def test_a_mapping_built_in_code_is_held_to_the_throwing_plane_in_the_same_words
     # a joint with a name of its own is not read by rlff's convention, and is not held to it
     own = Robot("own", (Joint("a1", -1.0, 1.0, 1.0), Joint("a2", -1.0, 1.0, 1.0)))
     assert RobotMapping(own, "a1", {"a2": 0.0}).joint == "a1"
+
+
+def ur_like(joint_2=lambda table: table):
+    """A UR5e-like file (the Comau's tables, every joint ±2π, 3.14 rad/s, 12 rad/s^2, 120 rad/s^3),
+    joint_2's table passed through ``joint_2``."""
+    def edit(table):
+        table = re.sub(r"^lower = .*$", "lower = -6.283", table, flags=re.M)
+        table = re.sub(r"^upper = .*$", "upper = 6.283", table, flags=re.M)
+        table = re.sub(r"^max_velocity = .*$", "max_velocity = 3.14", table, flags=re.M)
+        table = re.sub(r"^max_acceleration = .*$", "max_acceleration = 12.0", table, flags=re.M)
+        table = re.sub(r"^max_jerk = .*$", "max_jerk = 120.0", table, flags=re.M)
+        return joint_2(table) if 'name = "joint_2"' in table else table
+    return edit
+
+
+def _loaded_quietly(path):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        return load_robot(path)
+
+
+def test_the_shipped_file_and_a_ur_like_one_load_without_a_warning(tmp_path):
+    assert _loaded_quietly("comau_smart5_six").warnings == ()
+    assert _loaded_quietly(comau_file(tmp_path / "ur.toml", edit=ur_like())).warnings == ()
+
+
+def test_accelerations_in_degrees_are_warned_of(tmp_path):
+    # 687.5 (12 rad/s^2 in degrees) loaded silently and the plans used it: full speed in 4.6 ms
+    path = comau_file(tmp_path / "acc.toml", edit=lambda table: re.sub(
+        r"^max_acceleration = (.*)$", lambda m: f"max_acceleration = {math.degrees(float(m[1])):.1f}", table,
+        flags=re.M))
+    with pytest.warns(RobotFileWarning) as caught:
+        robot = load_robot(path)
+    assert [str(w.message) for w in caught] == list(robot.warnings) == [
+        f"{path}: joint 1 (joint_1): max_acceleration 573 rad/s^2 takes it from rest to its full speed 2.443 rad/s in "
+        "4.3 ms (and 5 more joints); published arm limits take 0.1 s or more (Franka's quickest joints 0.13 s): is "
+        "max_acceleration in degrees? rlff reads rad/s^2"]
+
+
+def test_one_joint_s_speed_in_degrees_is_warned_of(tmp_path, cli):
+    # 45 deg/s passed the 50 rad/s bound: sim reach said 227 m
+    path = comau_file(tmp_path / "speed.toml", edit=ur_like(lambda table: table.replace("3.14", "45.0")))
+    with pytest.warns(RobotFileWarning, match=r"speed\.toml: joint 2 \(joint_2\): max_velocity 45 rad/s is 14\.3 times "
+                                              r"that of the next fastest joint, joint_1 \(3\.14 rad/s\); .*is it in "
+                                              r"degrees per second\? rlff reads rad/s$"):
+        load_robot(path)
+    reach = cli("sim", "reach", "--robot", str(path))  # a process of its own: pytest would catch the warning
+    assert reach.code == 0 and "joint 2 (joint_2): max_velocity 45 rad/s is 14.3 times" in reach.stderr
+
+
+def test_a_bending_joint_s_limits_in_degrees_are_warned_of_and_a_roll_joint_s_are_not(tmp_path):
+    # ±45 on joint_2 passed the eight turns bound
+    degrees = ur_like(lambda table: table.replace("-6.283", "-45.0").replace("= 6.283", "= 45.0"))
+    with pytest.warns(RobotFileWarning, match=r"pos\.toml: joint 2 \(joint_2\): limits -45 to 45 rad reach 7\.2 turns "
+                                              r"from 0; joint_2 bends the arm, .*is it in degrees\? rlff reads rad$"):
+        load_robot(comau_file(tmp_path / "pos.toml", edit=degrees))
+    # the Comau's joint 6 turns ±7.5 turns, and any roll joint may
+    roll = comau_file(tmp_path / "roll.toml", edit=lambda table: table.replace("lower = -3.67", "lower = -45.0")
+                      .replace("upper = 3.67", "upper = 45.0"))
+    assert _loaded_quietly(roll).joint("joint_4").upper == 45.0

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import re
 import tomllib
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from importlib import resources
@@ -51,6 +52,28 @@ _TABLES = ("geometry", "throwing", "whole_arm", "comau_program", "ros")
 #: ±7.5, ±47.12 rad) and 50 rad/s (about 2,900 deg/s; its fastest joint does 9.6 rad/s).
 #: Accelerations and jerks have no such bound (see docs/robot.md).
 MAX_POSITION, MAX_VELOCITY = 8 * 2 * math.pi, 50.0
+#: What a robot file whose limits load may still hold of degrees (a joint or a field left in
+#: them), each warned of as the file is read (:class:`RobotFileWarning`), not refused: no bound
+#: here is a law of arms, and a robot file written for a test may cross one on purpose.
+#:
+#: * A joint that its ``max_acceleration`` takes from rest to its full speed in less than 50 ms.
+#:   Arm makers who publish accelerations give 0.13 s and more (Franka's wrist joints, 2.61 rad/s
+#:   at 20 rad/s^2; the Comau file's choices 0.25 s); an acceleration in deg/s^2 beside a speed in
+#:   rad/s gives 57 times less (4.4 ms for the Comau's, 4.6 ms for a UR's 3.14 rad/s at 12 rad/s^2).
+#: * A joint more than 5 times as fast as every other: an arm's fastest joint is a wrist joint a
+#:   little faster than the next (the Comau's 9.6 rad/s against 7.85); one joint in deg/s among
+#:   joints in rad/s is 57 times its real speed.
+#: * A joint that bends the arm (``joint_2``, ``joint_3``, ``joint_5`` of rlff's convention) with a
+#:   limit beyond a turn either way (the most any arm has, a UR's ±2π); a roll joint may turn many
+#:   (the Comau's joint 6 ±7.5 turns), so those and joints with names of their own are not looked at.
+MIN_TIME_TO_SPEED, MAX_SPEED_RATIO, MAX_BEND = 0.05, 5.0, 2 * math.pi + 1e-3
+
+
+class RobotFileWarning(UserWarning):
+    """A robot file that loads but holds a limit no arm has (:data:`MIN_TIME_TO_SPEED`,
+    :data:`MAX_SPEED_RATIO`, :data:`MAX_BEND`): one line naming the file, the joint and the value."""
+
+
 #: A joint name rlff reads as the controller's k-th joint (``joint_2`` is the shoulder).
 _NUMBERED = re.compile(r"joint_(\d+)")
 #: The joints a throw may drive: in rlff's kinematic convention (joints named ``joint_<k>``) these
@@ -244,7 +267,8 @@ class Robot:
     human joints to several robot joints (:meth:`rlff.robot.mapping.ArmMapping.for_robot`),
     ``comau_program`` the layout of the Comau text program; each may be empty. ``ros`` holds the
     names of the arm's controller on the ROS graph (:class:`RosNames`). ``source`` names the file it
-    came from.
+    came from, ``warnings`` what in it is implausible (:func:`implausible_limits`; one line each,
+    each also issued as a :class:`RobotFileWarning` by :func:`load_robot`).
     """
 
     name: str
@@ -255,8 +279,10 @@ class Robot:
     source: str = "<memory>"
     whole_arm: Mapping[str, Any] = field(default_factory=dict)
     ros: RosNames = field(default_factory=RosNames)
+    warnings: tuple[str, ...] = field(default=(), compare=False)
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "warnings", tuple(self.warnings))
         names = [joint.name for joint in self.joints]
         if not names or len(set(names)) != len(names):
             raise InputError(f"{self.source}: joint names must be unique and non-empty, got {names}")
@@ -385,6 +411,41 @@ def _require_radians(tables: Any, source: str) -> None:
                                  "radians (rad, rad/s, rad/s^2, rad/s^3): is this file in degrees?")
 
 
+def implausible_limits(joints: Sequence[Joint], source: str) -> tuple[str, ...]:
+    """What in ``joints`` no arm has, as the warnings of :class:`Robot`: one line per kind (see
+    :data:`MIN_TIME_TO_SPEED`), naming ``source``, the first joint at fault and the values, and
+    how many other joints are at fault too."""
+    def where(joint: Joint) -> str:
+        return f"{source}: joint {joints.index(joint) + 1} ({joint.name})"
+
+    def more(count: int) -> str:
+        return f" (and {count - 1} more joint{'s' if count > 2 else ''})" if count > 1 else ""
+
+    found = []
+    quick = [joint for joint in joints
+             if joint.max_acceleration and joint.max_velocity / joint.max_acceleration < MIN_TIME_TO_SPEED]
+    if quick:
+        joint = quick[0]
+        found.append(f"{where(joint)}: max_acceleration {joint.max_acceleration:g} rad/s^2 takes it from rest to its full "
+                     f"speed {joint.max_velocity:g} rad/s in {1e3 * joint.max_velocity / joint.max_acceleration:.2g} ms"
+                     f"{more(len(quick))}; published arm limits take 0.1 s or more (Franka's quickest joints 0.13 s): is "
+                     "max_acceleration in degrees? rlff reads rad/s^2")
+    by_speed = sorted(joints, key=lambda joint: joint.max_velocity, reverse=True)
+    if len(by_speed) > 1 and by_speed[0].max_velocity > MAX_SPEED_RATIO * by_speed[1].max_velocity:
+        fast, next_ = by_speed[:2]
+        found.append(f"{where(fast)}: max_velocity {fast.max_velocity:g} rad/s is {fast.max_velocity / next_.max_velocity:.3g}"
+                     f" times that of the next fastest joint, {next_.name} ({next_.max_velocity:g} rad/s); an arm's "
+                     "joints differ by a few times at most: is it in degrees per second? rlff reads rad/s")
+    bent = [joint for joint in joints if joint.name in THROWING_JOINTS and max(-joint.lower, joint.upper) > MAX_BEND]
+    if bent:
+        joint = bent[0]
+        turns = max(-joint.lower, joint.upper) / (2 * math.pi)
+        found.append(f"{where(joint)}: limits {joint.lower:g} to {joint.upper:g} rad reach {turns:.2g} turns from 0"
+                     f"{more(len(bent))}; {joint.name} bends the arm, and no arm bends a joint more than a turn either "
+                     "way (a UR's 2 pi is the most): is it in degrees? rlff reads rad")
+    return tuple(found)
+
+
 def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
     """Build a :class:`Robot` from a parsed robot file; errors name ``source`` and the field."""
     _require_known_keys(document, source)
@@ -436,7 +497,8 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
     except InputError as exc:  # the names' own checks name no file
         raise InputError(f"{source}: {exc}") from None
     return Robot(name, tuple(joints), geometry, document.get("throwing", {}),
-                 document.get("comau_program", {}), source, document.get("whole_arm", {}), ros)
+                 document.get("comau_program", {}), source, document.get("whole_arm", {}), ros,
+                 implausible_limits(joints, source))
 
 
 def available_robots() -> list[str]:
@@ -497,4 +559,7 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
         from rlff.robot.urdf import merge_urdf
 
         document = merge_urdf(document, Path(path_or_name).parent, source)
-    return parse_robot(document, source)
+    robot = parse_robot(document, source)
+    for text in robot.warnings:
+        warnings.warn(text, RobotFileWarning, stacklevel=2)
+    return robot
