@@ -7,11 +7,12 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from rlff.errors import InputError
 from rlff.robot.description import Joint, load_robot
 from rlff.robot.mapping import RobotMapping
 from rlff.trajectory.check import MotionLimitError, check_trajectory
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.planner import MARGIN, plan_stop, plan_throw, plan_transition
+from rlff.trajectory.planner import APPROACH_SPEED, MARGIN, plan_stop, plan_throw, plan_transition
 
 ROBOT = load_robot()
 MAPPING = RobotMapping.for_robot(ROBOT)
@@ -60,6 +61,35 @@ def test_a_throw_from_elsewhere_approaches_its_start_first():
     assert at_first.size and np.all(planned.velocities[at_first[0]] == 0)
     with pytest.raises(MotionLimitError, match="point 0 .*joint_2 position 0.5 rad is not where the arm is"):
         check_trajectory(planned, ROBOT.joints, start=MAPPING.pose(-1.3))
+
+
+@pytest.mark.parametrize("share", [APPROACH_SPEED, 0.1, 1.0])
+def test_the_approach_keeps_to_its_share_of_the_limits_and_the_throw_to_the_limits(share):
+    throw = mapped_throw(-1.3, -0.3, 2.6)
+    start = MAPPING.pose(0.5)  # 1.8 rad from the throw's start: long enough to cruise
+    planned = plan_throw(throw, ROBOT.joints, start=start, period=0.002, approach_speed=share)
+    arrived = int(np.flatnonzero(np.all(np.abs(planned.positions - throw.positions[0]) < 1e-12, axis=1))[0])
+    approach = planned.velocities[:arrived + 1, 1], planned.accelerations[:arrived + 1, 1]
+    assert np.abs(approach[0]).max() <= share * J2.max_velocity * (1 + 1e-9)
+    assert np.abs(approach[0]).max() >= 0.95 * share * MARGIN * J2.max_velocity  # it uses its share
+    assert np.abs(approach[1]).max() <= share * J2.max_acceleration * (1 + 1e-9)
+    # the throw itself is not slowed: it still releases at 2.6 rad/s, 93 % of joint_2's limit
+    release = int(np.flatnonzero(planned.time == planned.release_time)[0])
+    assert planned.velocities[release, 1] == pytest.approx(2.6)
+
+
+def test_the_approach_is_slow_by_default():
+    throw = mapped_throw(-1.3, -0.3, 2.0)
+    start = MAPPING.pose(0.5)
+    default, full = (plan_throw(throw, ROBOT.joints, start=start, **extra) for extra in ({}, {"approach_speed": 1.0}))
+    assert default.release_time > full.release_time + 1.0  # 1.8 rad at a quarter of the speed
+
+
+@pytest.mark.parametrize("share", [0.0, -0.25, 1.5, float("nan")])
+def test_an_approach_share_outside_0_to_1_is_refused(share):
+    throw = mapped_throw(-1.3, -0.3, 2.0)
+    with pytest.raises(InputError, match="approach speed is a share of the joints' limits"):
+        plan_throw(throw, ROBOT.joints, start=MAPPING.pose(0.5), approach_speed=share)
 
 
 def test_a_path_too_short_for_its_release_speed_winds_up_first():

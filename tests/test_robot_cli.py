@@ -281,3 +281,13 @@ def test_the_format_and_the_output_are_checked_before_any_planning(capsys, tmp_p
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bag", "beyond.csv"]
     code, _, err = run(capsys, "robot", "export", str(beyond), "-f", "json", "-o", str(tmp_path / "t.json"))
     assert code == 2 and "the robot would execute beyond its limits" in err  # what the planning says, once the rest is right
+
+
+def test_the_approach_speed_option_defaults_to_the_planners_share(cli, throw, tmp_path):
+    from rlff.cli._common import APPROACH_SPEED_OPTION
+    from rlff.trajectory.planner import APPROACH_SPEED
+
+    assert APPROACH_SPEED_OPTION.default == APPROACH_SPEED
+    for bad in ("0", "1.5", "nan", "-0.2"):  # refused before anything connects
+        result = cli("robot", "send", str(throw), "--approach-speed", bad)
+        assert result.code == 2 and f"--approach-speed {bad}: the approach speed is a share" in result.stderr

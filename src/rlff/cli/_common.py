@@ -54,6 +54,27 @@ def seed_option(help: str, *, name: str = "--seed", default: int = 0) -> Any:
     return typer.Option(default, name, min=0, max=MAX_SEED, help=help)
 
 
+#: ``--approach-speed``: the share of the joints' limits a live throw's approach uses (the move
+#: from the arm's pose to the throw's start). The value of
+#: :data:`rlff.trajectory.planner.APPROACH_SPEED`, written out so that ``rlff`` starts without
+#: numpy (tests/test_cli_startup.py; tests/test_robot_cli.py checks that the two agree).
+APPROACH_SPEED_OPTION = typer.Option(
+    0.25, "--approach-speed",
+    help="Share of the joints' speed, acceleration and jerk limits the move from the arm's pose to the "
+         "throw's start uses (0.25: a quarter; 1: full speed). The throw itself uses the limits.")
+
+
+def check_approach_speed_option(value: float) -> None:
+    """``--approach-speed`` checked before anything connects (an :class:`InputError` naming it)."""
+    from rlff.errors import InputError
+    from rlff.trajectory.planner import check_approach_speed
+
+    try:
+        check_approach_speed(value)
+    except InputError as exc:
+        raise InputError(f"--approach-speed {value:g}: {exc}") from None
+
+
 def say(message: str) -> None:
     """A note for the user on stderr, unless -q."""
     if not verbosity.quiet:

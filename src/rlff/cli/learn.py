@@ -7,7 +7,16 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, seed_option, stderr, stdout
+from rlff.cli._common import (
+    APPROACH_SPEED_OPTION,
+    check_approach_speed_option,
+    emit_json,
+    progress,
+    say,
+    seed_option,
+    stderr,
+    stdout,
+)
 from rlff.wording import plural
 
 
@@ -54,6 +63,7 @@ def learn_command(
     landing_topic: str = typer.Option("/rlff/landing", "--landing-topic",
                                       help="geometry_msgs/PointStamped of --outcome topic (point.x: landing, m)."),
     network: bool = typer.Option(False, "--network", help="Let a robot executor's node reach other hosts."),
+    approach_speed: float = APPROACH_SPEED_OPTION,
     joints: str | None = typer.Option(None, "--joints",
                                       help="Throw with the whole arm: robot joints of the robot file's whole_arm "
                                            "table, e.g. joint_2,joint_3[,joint_5] (the demonstrations need the "
@@ -95,6 +105,8 @@ def learn_command(
         raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")
     if executor == "sim" and outcome is not None:
         raise InputError("--outcome ask|topic goes with --executor ros1|ros2 (the simulation knows its outcomes)")
+    if executor != "sim":
+        check_approach_speed_option(approach_speed)
     if executor != "sim" and outcome is None:
         raise InputError(f"--executor {executor} needs --outcome ask (you type hit or miss) or --outcome topic "
                          "(a node publishes each landing): a real arm does not know where its ball went")
@@ -115,7 +127,7 @@ def learn_command(
         data, _ = Pipeline.preset(preset).run(data)
     try:
         result = _run(data, basket, budget, feedback, update, seed, log, robot, pedestal, until, centre_share, executor,
-                      outcome, landing_topic, network, driven, bearing, height, carry, arm, misreport)
+                      outcome, landing_topic, network, driven, bearing, height, carry, arm, misreport, approach_speed)
     except KeyboardInterrupt as exc:  # on its own line, after the progress bar or the prompt
         said = _interrupted_attempt(exc, log)
         if said:
@@ -143,7 +155,7 @@ def learn_command(
 
 
 def _run(data, basket, budget, feedback, update, seed, log, robot, pedestal, until, centre_share, executor, outcome,
-         landing_topic, network, driven, bearing, height, carry, arm, misreport):
+         landing_topic, network, driven, bearing, height, carry, arm, misreport, approach_speed):
     """The learning run, on the simulation or through a live robot (its progress shown as it goes)."""
     from rlff.learn import learn
 
@@ -158,7 +170,7 @@ def _run(data, basket, budget, feedback, update, seed, log, robot, pedestal, unt
 
             run_on = _learn_live(lambda: stack.enter_context(robot_executor(
                 executor, outcome, robot, basket, feedback, until=until, ask=_ask, landing_topic=landing_topic,
-                network=network, tell=tell)))
+                network=network, tell=tell, approach_speed=approach_speed)))
 
         def show(attempt) -> None:
             if outcome == "ask":  # no progress bar under the prompt

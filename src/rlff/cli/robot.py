@@ -7,7 +7,18 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from rlff.cli._common import PLAIN_HELP, emit_json, progress, say, say_first, stderr, stdout, warn
+from rlff.cli._common import (
+    APPROACH_SPEED_OPTION,
+    PLAIN_HELP,
+    check_approach_speed_option,
+    emit_json,
+    progress,
+    say,
+    say_first,
+    stderr,
+    stdout,
+    warn,
+)
 
 if TYPE_CHECKING:
     from rlff.robot.plan import RobotPlan
@@ -335,6 +346,7 @@ def send(
     approach: bool = typer.Option(False, "--approach", help="An exported trajectory that starts at rest away from "
                                                             "the arm: first move there (a planned, limit-respecting "
                                                             "approach) instead of refusing it."),
+    approach_speed: float = APPROACH_SPEED_OPTION,
     joints: str = JOINTS,
     bearing: float = BEARING,
     ros: int = ROS,
@@ -347,7 +359,8 @@ def send(
     prints them). A generated throw or an attempt of an attempts log is planned from the arm's
     pose (read from a fresh joint states message; an arm that moves is refused); an exported
     trajectory is sent as it is. Each must pass the motion check, starting at the arm's pose. The
-    approach to the throw's start is announced before the goal is sent.
+    approach to the throw's start (at --approach-speed of the limits) is announced before the goal
+    is sent.
     """
     from rlff.errors import InputError
     from rlff.learn.replay import load_for_send, rebearing_warning
@@ -358,12 +371,13 @@ def send(
     if ros == 2 and topic_mode:
         raise InputError("--topic-mode is the ROS 1 driver's topic; over ROS 2 the goal goes by the action "
                          "(drop --topic-mode)")
+    check_approach_speed_option(approach_speed)
     model = load_robot(robot)
     driven = joint_list(joints)
 
     def load(start=None):
         return load_for_send(trajectory, model, attempt=attempt, period=period, clip=clip, start=start,
-                             approach=approach, joints=driven, bearing=bearing)
+                             approach=approach, joints=driven, bearing=bearing, approach_speed=approach_speed)
 
     notes = load().notes  # a wrong file is refused before any connection
     if (aside := rebearing_warning(trajectory, bearing)) is not None:

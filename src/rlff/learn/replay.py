@@ -32,7 +32,7 @@ from rlff.robot.formats import export_trajectory
 from rlff.robot.mapping import ArmMapping, RobotMapping, mapping_for
 from rlff.robot.plan import RobotPlan, load_for_robot, plan_path
 from rlff.robot.sendfile import load_for_sending
-from rlff.trajectory.planner import DEFAULT_PERIOD
+from rlff.trajectory.planner import APPROACH_SPEED, DEFAULT_PERIOD
 
 if TYPE_CHECKING:
     from rlff.sim.gap import Gap
@@ -144,11 +144,12 @@ def require_run_joints(path: str | Path, run: dict, mapping: RobotMapping | ArmM
 
 
 def plan_attempt(attempt: Attempt, mapping: RobotMapping | ArmMapping, period: float = DEFAULT_PERIOD,
-                 clip: bool = False, start: np.ndarray | None = None, bearing: float = 0.0) -> RobotPlan:
+                 clip: bool = False, start: np.ndarray | None = None, bearing: float = 0.0,
+                 approach_speed: float = APPROACH_SPEED) -> RobotPlan:
     """The robot trajectory of an attempt, planned as :func:`rlff.robot.plan.plan_path` plans a
     path: approach (from ``start``, the arm's pose in rad, default the throw's first pose, to
-    joint 1 turned ``bearing`` deg), the throw of every joint it drove to its release, braking to
-    rest, and the one motion check.
+    joint 1 turned ``bearing`` deg, at ``approach_speed`` of the limits), the throw of every joint
+    it drove to its release, braking to rest, and the one motion check.
 
     An attempt the robot saturated (``clipped`` > 0) logs the clipped velocities with the time
     it was planned on, which no longer fit each other; the time is left out and comes from the
@@ -158,12 +159,13 @@ def plan_attempt(attempt: Attempt, mapping: RobotMapping | ArmMapping, period: f
     path = attempt.path
     if attempt.clipped:
         path = {name: column for name, column in path.items() if name != "time"}
-    return plan_path(mapping, path, bearing=bearing, period=period, clip=clip, start=start)
+    return plan_path(mapping, path, bearing=bearing, period=period, clip=clip, start=start,
+                     approach_speed=approach_speed)
 
 
 def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float = DEFAULT_PERIOD,
                clip: bool = False, start: np.ndarray | None = None, joints: Sequence[str] | None = None,
-               bearing: float | None = None) -> ThrowInput:
+               bearing: float | None = None, approach_speed: float = APPROACH_SPEED) -> ThrowInput:
     """Read a generated path, a robot trajectory or an attempt of a log and plan it for ``robot``.
 
     Parameters
@@ -182,6 +184,9 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
     start : array of shape (J,), optional
         The arm's pose (rad, ``robot``'s joints in order) a path or an attempt is planned from;
         default its first pose.
+    approach_speed : float
+        Share of the joints' limits the approach from ``start`` uses
+        (:data:`rlff.trajectory.planner.APPROACH_SPEED`).
     joints, bearing : optional
         For a generated path: the robot joints it drives and the basket's bearing (deg), see
         :func:`rlff.robot.plan.load_for_robot`. For an attempts log: the joints must be the
@@ -203,19 +208,23 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
         require_same_robot(path, run, mapping)
         require_run_joints(path, run, mapping, joints)
         outcome = f"hit, {chosen.miss:+.3f} m from the centre" if chosen.hit else f"miss {chosen.miss:+.3f} m"
-        planned = plan_attempt(chosen, mapping, period, clip, start, run_bearing(run) if bearing is None else bearing)
+        planned = plan_attempt(chosen, mapping, period, clip, start, run_bearing(run) if bearing is None else bearing,
+                               approach_speed)
         return ThrowInput(planned, f"attempt {chosen.index} of {path} ({outcome}), {planned.summary()}", run)
     if attempt is not None:
         raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
-    _, planned = load_for_robot(path, robot, period, clip, start, joints=joints, bearing=bearing)
+    _, planned = load_for_robot(path, robot, period, clip, start, joints=joints, bearing=bearing,
+                                approach_speed=approach_speed)
     return ThrowInput(planned, planned.summary())
 
 
 def load_for_send(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float = DEFAULT_PERIOD,
                   clip: bool = False, start: np.ndarray | None = None, approach: bool = False,
-                  joints: Sequence[str] | None = None, bearing: float | None = None) -> RobotPlan:
+                  joints: Sequence[str] | None = None, bearing: float | None = None,
+                  approach_speed: float = APPROACH_SPEED) -> RobotPlan:
     """What ``rlff robot send`` sends from ``path``: an attempt of an attempts log planned from the
-    arm's pose ``start`` (J,), or any file :func:`rlff.robot.sendfile.load_for_sending` takes.
+    arm's pose ``start`` (J,), or any file :func:`rlff.robot.sendfile.load_for_sending` takes; the
+    approach from ``start`` at ``approach_speed`` of the joints' limits.
 
     Raises
     ------
@@ -225,11 +234,11 @@ def load_for_send(path: str | Path, robot: Robot, *, attempt: int | None = None,
     """
     if is_attempts_log(path):
         return load_input(path, robot, attempt=attempt, period=period, clip=clip, start=start, joints=joints,
-                          bearing=bearing).plan
+                          bearing=bearing, approach_speed=approach_speed).plan
     if attempt is not None:
         raise InputError(f"--attempt {attempt}: {path} is not an attempts log")
     return load_for_sending(path, robot, period, clip, start=start, approach=approach, joints=joints,
-                            bearing=bearing)[1]
+                            bearing=bearing, approach_speed=approach_speed)[1]
 
 
 def export_attempt(attempt: Attempt, robot: Robot, out: str | Path, fmt: str,

@@ -48,7 +48,7 @@ from rlff.robot.send import (
     require_at_rest,
 )
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.planner import plan_throw
+from rlff.trajectory.planner import APPROACH_SPEED, check_approach_speed, plan_throw
 
 #: Topic a vision system publishes the measured landing on (geometry_msgs/PointStamped).
 LANDING_TOPIC = "/rlff/landing"
@@ -253,17 +253,21 @@ class RobotExecutor:
         Planning period (s) of the executed motion.
     tell : callable, optional
         ``tell(line)``: each throw's approach, announced before its goal is sent.
+    approach_speed : float
+        Share of the joints' limits each throw's approach uses
+        (:data:`rlff.trajectory.planner.APPROACH_SPEED`).
     ready : callable, optional
         ``ready(attempt)`` returns when the throw may go (a person said so); None: at once.
     """
 
     def __init__(self, arm: LiveArm, robot: Robot, outcome: Callable[[int, float], ReportedOutcome],
                  period: float = PERIOD, tell: Callable[[str], None] | None = None,
-                 ready: Callable[[int], None] | None = None) -> None:
+                 ready: Callable[[int], None] | None = None, approach_speed: float = APPROACH_SPEED) -> None:
         self.arm = arm
         self.robot = robot
         self.outcome = outcome
         self.period = period
+        self.approach_speed = check_approach_speed(approach_speed)
         self.tell = tell
         self.ready = ready
         self.attempts = 0
@@ -301,7 +305,8 @@ class RobotExecutor:
         try:
             pose, velocity = self.arm.arm_state(self.robot)
             require_at_rest(self.robot, velocity)  # before planning from rest
-            planned = plan_throw(trajectory, self.robot.joints, start=pose, period=self.period)
+            planned = plan_throw(trajectory, self.robot.joints, start=pose, period=self.period,
+                                 approach_speed=self.approach_speed)
             check_goal_for_arm(self.robot, planned, pose, velocity)
         except ArmStateError as exc:
             raise RobotFailed(f"attempt {self.attempts}: {exc}") from None
@@ -338,6 +343,7 @@ def robot_executor(
     outcome_timeout: float = OUTCOME_TIMEOUT,
     network: bool = False,
     tell: Callable[[str], None] | None = None,
+    approach_speed: float = APPROACH_SPEED,
 ) -> Iterator[RobotExecutor]:
     """A :class:`RobotExecutor` on a live arm, for the time of the ``with`` block.
 
@@ -364,6 +370,8 @@ def robot_executor(
         Open the nodes to the network (default: this host only).
     tell : callable, optional
         ``tell(line)``: each throw's approach, announced before its goal is sent.
+    approach_speed : float
+        Share of the joints' limits each throw's approach uses.
 
     Raises
     ------
@@ -417,9 +425,9 @@ def robot_executor(
                 return measured_outcome(landings, attempt, release, basket, tolerance, landing_topic,
                                         outcome_timeout)
 
-            yield RobotExecutor(arm, model, measured, tell=tell)
+            yield RobotExecutor(arm, model, measured, tell=tell, approach_speed=approach_speed)
         else:
-            yield RobotExecutor(arm, model, asked, tell=tell, ready=confirmed)
+            yield RobotExecutor(arm, model, asked, tell=tell, ready=confirmed, approach_speed=approach_speed)
 
 
 def _ros2_arm(stack: ExitStack, topic: str, network: bool):

@@ -31,7 +31,7 @@ from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
 from rlff.trajectory.path_csv import read_generated_path
-from rlff.trajectory.planner import DEFAULT_PERIOD, plan_throw
+from rlff.trajectory.planner import APPROACH_SPEED, DEFAULT_PERIOD, plan_throw
 from rlff.wording import plural
 
 #: What :func:`load_for_robot` calls the two kinds of files.
@@ -124,6 +124,7 @@ def plan(
     period: float | None = DEFAULT_PERIOD,
     clip: bool = False,
     start: np.ndarray | None = None,
+    approach_speed: float = APPROACH_SPEED,
 ) -> RobotPlan:
     """Map a human path (angle (T,) rad, velocity (T,) rad/s, time (T,) s or None) and plan it.
 
@@ -132,7 +133,7 @@ def plan(
     path = {"angle": angle, "velocity": velocity}
     if time is not None:
         path["time"] = time
-    return plan_path(mapping, path, period=period, clip=clip, start=start)
+    return plan_path(mapping, path, period=period, clip=clip, start=start, approach_speed=approach_speed)
 
 
 def plan_path(
@@ -143,6 +144,7 @@ def plan_path(
     period: float | None = DEFAULT_PERIOD,
     clip: bool = False,
     start: np.ndarray | None = None,
+    approach_speed: float = APPROACH_SPEED,
 ) -> RobotPlan:
     """Map a human path to the robot (one joint or the whole arm) and plan it.
 
@@ -163,6 +165,9 @@ def plan_path(
         instead of refusing them.
     start : array of shape (J,), optional
         Where the arm is (rad, the robot's joints in order); default the throw's first pose.
+    approach_speed : float
+        Share of the joints' limits the approach from ``start`` uses
+        (:data:`rlff.trajectory.planner.APPROACH_SPEED`; 1: the limits themselves).
 
     Raises
     ------
@@ -178,7 +183,7 @@ def plan_path(
     if not clip:
         _require_unclipped(report, len(points) - 1)
     joints = mapping.robot.joints
-    trajectory = plan_throw(points, joints, start=start, period=period)
+    trajectory = plan_throw(points, joints, start=start, period=period, approach_speed=approach_speed)
     check_trajectory(trajectory, joints, start=points.positions[0] if start is None else start)
     return RobotPlan(points, trajectory, report if clip else ClipReport())
 
@@ -226,6 +231,7 @@ def load_for_robot(
     *,
     joints: Sequence[str] | None = None,
     bearing: float | None = None,
+    approach_speed: float = APPROACH_SPEED,
 ) -> tuple[str, RobotPlan]:
     """The checked trajectory of a generated path or robot trajectory file for ``robot``.
 
@@ -233,7 +239,8 @@ def load_for_robot(
     trajectory, ``points`` and ``trajectory`` are the file's trajectory and ``period``, ``clip``,
     ``joints`` and ``bearing`` do not apply (a file beyond a limit is refused, not changed).
     ``start`` (J,) is where the arm is (rad, ``robot``'s joints in order) to plan a generated
-    throw from; default the throw's first pose (a robot trajectory is checked on its own).
+    throw from, with an approach at ``approach_speed`` of the limits (:func:`plan_path`); default the
+    throw's first pose (a robot trajectory is checked on its own).
     ``joints`` are the robot joints a generated path drives (:func:`rlff.robot.mapping.mapping_for`;
     None: the one-joint mapping), ``bearing`` the basket's bearing (deg; None: the file's
     ``bearing`` column, else 0).
@@ -253,7 +260,8 @@ def load_for_robot(
                 "--joints (e.g. joint_2,joint_3, as rlff generate --joints wrote it) to drive them too"
                 if joints is None and unused else None)
         try:
-            planned = plan_path(mapping, generated.to_path(), bearing=bearing, period=period, clip=clip, start=start)
+            planned = plan_path(mapping, generated.to_path(), bearing=bearing, period=period, clip=clip, start=start,
+                                approach_speed=approach_speed)
         except InputError as exc:
             said = f"{exc} ({where})" if str(exc).startswith("bearing ") else str(exc)
             raise type(exc)(f"{path}: {said}") from None

@@ -24,7 +24,7 @@ from rlff.robot.plan import GENERATED, RobotPlan, load_for_robot
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
-from rlff.trajectory.planner import plan_transition
+from rlff.trajectory.planner import APPROACH_SPEED, plan_transition
 
 #: The export formats ``robot send`` reads.
 SENDABLE = ("json", "csv", "ros1-bag", "ros2-bag")
@@ -40,6 +40,7 @@ def load_for_sending(
     approach: bool = False,
     joints: Sequence[str] | None = None,
     bearing: float | None = None,
+    approach_speed: float = APPROACH_SPEED,
 ) -> tuple[str, RobotPlan]:
     """The checked trajectory to send from ``path``, and the file's kind.
 
@@ -61,6 +62,9 @@ def load_for_sending(
         For a generated throw: the robot joints it drives (default the one joint of
         ``[throwing]``) and the basket's bearing (deg; default the file's, else 0), see
         :func:`rlff.robot.plan.load_for_robot`.
+    approach_speed : float
+        Share of the joints' limits any approach from ``start`` uses
+        (:data:`rlff.trajectory.planner.APPROACH_SPEED`).
 
     Returns
     -------
@@ -83,18 +87,18 @@ def load_for_sending(
         kind, plan = load_for_robot(path, robot, period, clip, joints=joints, bearing=bearing)
         if kind == GENERATED:
             return kind, plan if start is None else load_for_robot(path, robot, period, clip, start, joints=joints,
-                                                                   bearing=bearing)[1]
+                                                                   bearing=bearing, approach_speed=approach_speed)[1]
         trajectory = plan.trajectory
     else:
         trajectory = _one_trajectory(path, robot)
     if approach and start is not None:
-        trajectory = with_approach(robot, trajectory, start, period)
+        trajectory = with_approach(robot, trajectory, start, period, approach_speed)
     _require_start(path, robot, trajectory, start)
     return kind, RobotPlan(trajectory, trajectory, ClipReport())
 
 
 def with_approach(robot: Robot, trajectory: JointTrajectory, start: np.ndarray,
-                  period: float | None) -> JointTrajectory:
+                  period: float | None, approach_speed: float = APPROACH_SPEED) -> JointTrajectory:
     """``trajectory`` after the planned motion from the arm at rest at ``start`` to its first point.
 
     Parameters
@@ -106,6 +110,8 @@ def with_approach(robot: Robot, trajectory: JointTrajectory, start: np.ndarray,
         The arm's pose (rad, ``robot``'s joints in order), at rest.
     period : float or None
         Sampling period (s) of the approach (the planner's default when None).
+    approach_speed : float
+        Share of the joints' limits the approach uses (:data:`rlff.trajectory.planner.APPROACH_SPEED`).
 
     Returns
     -------
@@ -127,7 +133,7 @@ def with_approach(robot: Robot, trajectory: JointTrajectory, start: np.ndarray,
         raise InputError("the trajectory does not start at rest: no approach to its first point is planned")
     rest = np.zeros(len(names))
     move = plan_transition(here, rest, rest, trajectory.positions[0], rest, [robot.joint(n) for n in names],
-                           period=period)
+                           period=period, share=approach_speed)
     shift = move.duration
     after = trajectory.time[1:] - trajectory.time[0] + shift
     release = None if trajectory.release_time is None else trajectory.release_time - trajectory.time[0] + shift

@@ -4,7 +4,8 @@ A throw leaves rlff as three jerk-limited phases, each planned by ruckig (Bersch
 2021: time-optimal state-to-state motion under per-joint velocity, acceleration and jerk limits,
 in closed form, in microseconds):
 
-1. approach: from ``start`` (the arm's pose, at rest) to the throw's first pose, at rest;
+1. approach: from ``start`` (the arm's pose, at rest) to the throw's first pose, at rest, at
+   :data:`APPROACH_SPEED` of the limits (slow enough to be seen coming and stopped);
 2. the throw: from the first pose at rest to the release, reaching exactly the release
    position and velocity the model asked (its last point), with zero acceleration there, never
    faster than the release speed of each joint (it accelerates into the release, or reaches the
@@ -55,6 +56,14 @@ DEFAULT_PERIOD = 0.002
 #: Share of the velocity and acceleration limits the profiles use; the rest absorbs the quintic's
 #: overshoot at the profiles' corners (:func:`planning_jerk`).
 MARGIN = 0.99
+#: Share of each joint's velocity, acceleration and jerk limits the approach uses (the move from
+#: the arm's pose to the throw's first pose, before anything is thrown). The throw and the
+#: braking need the limits themselves; the approach does not, and an arm that crosses the cell at
+#: full speed to get to its start gives the people beside it no time to see it coming. A
+#: quarter: the built-in Comau's shoulder moves 1.5 rad to its start in 2.5 s at up to 0.69 rad/s
+#: instead of 0.9 s at 2.76. Motion planners for shared cells scale further down by default
+#: (MoveIt: a tenth); ``--approach-speed`` sets it per run.
+APPROACH_SPEED = 0.25
 #: Largest overshoot (rad/s^2) of the quintic through the samples of a jerk-limited profile over
 #: the profile's acceleration, per rad/s^3 of jerk and s of period, wherever its corners fall in
 #: the step: 1/24, for an acceleration plateau 2/3 of a step long starting 1/6 into it (one corner
@@ -81,6 +90,14 @@ def _period(period: float | None) -> float:
     return float(period)
 
 
+def check_approach_speed(share: float) -> float:
+    """``share`` checked: a share of the limits, 0 < share <= 1 (:class:`InputError` otherwise)."""
+    if not (np.isfinite(share) and 0 < share <= 1):
+        raise InputError(f"the approach speed is a share of the joints' limits, above 0 and at most 1 "
+                         f"(0.25: a quarter), not {share!r}")
+    return float(share)
+
+
 def planning_jerk(limits: MotionLimits, period: float) -> np.ndarray:
     """The jerk (rad/s^3, shape (J,)) the profiles use at a controller ``period`` (s).
 
@@ -103,8 +120,9 @@ def _jerk_text(limits: MotionLimits, period: float, j: int) -> str:
 
 
 def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_position,
-            target_velocity, max_velocity: np.ndarray | None, period: float) -> JointTrajectory:
-    """Sample ruckig's time-optimal profile between two states at ``period`` s.
+            target_velocity, max_velocity: np.ndarray | None, period: float, share: float = 1.0) -> JointTrajectory:
+    """Sample ruckig's time-optimal profile between two states at ``period`` s, within ``share``
+    of the velocity, acceleration and jerk limits (a target velocity above that share is reached).
 
     Joints already at their target and at rest stay out of ruckig (they hold still whatever the
     others do): fewer degrees of freedom to solve and to sample.
@@ -137,10 +155,12 @@ def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_posit
         request.target_position = position[moving].tolist()
     else:
         request.target_position = target_position[moving].tolist()
-    speed = MARGIN * limits.velocity if max_velocity is None else max_velocity
+    speed = share * MARGIN * limits.velocity
+    if max_velocity is not None:
+        speed = np.minimum(speed, max_velocity)
     request.max_velocity = np.maximum(speed, np.abs(target_velocity))[moving].tolist()
-    request.max_acceleration = (MARGIN * limits.acceleration[moving]).tolist()
-    request.max_jerk = planning_jerk(limits, period)[moving].tolist()
+    request.max_acceleration = (share * MARGIN * limits.acceleration[moving]).tolist()
+    request.max_jerk = (share * planning_jerk(limits, period)[moving]).tolist()
     # a whole number of periods: every sample (a phase's end, the release) falls on the
     # controller's clock, and the last step is no shorter than the others
     request.duration_discretization = DurationDiscretization.Discrete
@@ -236,6 +256,7 @@ def plan_transition(
     *,
     period: float | None = DEFAULT_PERIOD,
     max_velocity: np.ndarray | None = None,
+    share: float = 1.0,
 ) -> JointTrajectory:
     """The time-optimal jerk-limited motion from one state to another (ruckig).
 
@@ -253,6 +274,9 @@ def plan_transition(
         Sampling period (s) of the result; default :data:`DEFAULT_PERIOD`.
     max_velocity : array of shape (J,), optional
         A lower speed cap (rad/s) than the joints' limits for this motion.
+    share : float
+        Share (0 < share <= 1) of the velocity, acceleration and jerk limits the motion uses
+        (:data:`APPROACH_SPEED` for an approach); 1: the limits themselves.
 
     Returns
     -------
@@ -277,7 +301,7 @@ def plan_transition(
     if max_velocity is not None:
         max_velocity = np.minimum(_vector(max_velocity, size, "max_velocity"), MARGIN * limits.velocity)
     period = _period(period)
-    traj = _ruckig(limits, *state, target, target_velocity, max_velocity, period)
+    traj = _ruckig(limits, *state, target, target_velocity, max_velocity, period, check_approach_speed(share))
     what = "the transition" if target is not None else "braking to rest"
     _require_inside(traj, limits, period, what)
     _require_interpolated_speed(traj, joints, limits, target_velocity, period, what)
@@ -325,6 +349,7 @@ def plan_throw(
     *,
     start: np.ndarray | None = None,
     period: float | None = None,
+    approach_speed: float = APPROACH_SPEED,
 ) -> JointTrajectory:
     """Plan a throw for a real arm: approach, the throw up to its release, braking to rest.
 
@@ -341,6 +366,8 @@ def plan_throw(
         Where the arm is, at rest (rad, joints in ``throw`` order); default the throw's first pose.
     period : float, optional
         Controller period (s) of the samples; default :data:`DEFAULT_PERIOD`.
+    approach_speed : float
+        Share of the limits the approach from ``start`` uses (:data:`APPROACH_SPEED`).
 
     Returns
     -------
@@ -358,7 +385,7 @@ def plan_throw(
         raise InputError(f"a throw needs at least 2 points (its start and its release), got {len(throw)}")
     limits = motion_limits(joints, throw.joint_names)
     moved = [joint for name in throw.joint_names for joint in joints if joint.name == name]
-    period = _period(period)
+    period, approach_speed = _period(period), check_approach_speed(approach_speed)
     first, release, release_velocity = throw.positions[0], throw.positions[-1], throw.velocities[-1]
     for index, where in ((0, "the throw's start"), (len(throw) - 1, "the release")):
         q = throw.positions[index]
@@ -376,7 +403,7 @@ def plan_throw(
     rest = np.zeros(len(limits.names))
     phases = []
     if np.any(np.abs(start - first) > 0):
-        phases.append(plan_transition(start, rest, rest, first, rest, moved, period=period))
+        phases.append(plan_transition(start, rest, rest, first, rest, moved, period=period, share=approach_speed))
     # never faster than the release (a joint released at rest: than its peak in the model): the
     # throw accelerates into the release, or cruises at the release speed when it got there early
     release_speed, peak = np.abs(release_velocity), np.max(np.abs(throw.velocities), axis=0)
