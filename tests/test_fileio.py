@@ -68,6 +68,32 @@ def test_a_new_file_gets_the_umask_mode(tmp_path):
     assert (tmp_path / "new.txt").stat().st_mode & 0o777 == 0o644
 
 
+def test_a_linked_output_stays_a_link_and_its_target_gets_the_text(tmp_path):
+    target = tmp_path / "data" / "real.csv"
+    target.parent.mkdir()
+    target.write_text("old")
+    link = tmp_path / "out.csv"
+    link.symlink_to(target)
+    write_text(link, "new")
+    assert link.is_symlink() and target.read_text() == "new"
+
+
+def test_a_pipe_as_output_is_written_through_not_replaced(tmp_path):
+    """``-o /dev/stdout`` or a FIFO: renamed over, it became a plain file (as root, ``-o
+    /dev/null`` replaced the system's /dev/null). A FIFO stands in for the device here."""
+    import stat
+    import threading
+
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    received = []
+    reader = threading.Thread(target=lambda: received.append(fifo.read_text()))
+    reader.start()
+    write_text(fifo, "through the pipe")
+    reader.join(10)
+    assert received == ["through the pipe"] and stat.S_ISFIFO(fifo.lstat().st_mode)
+
+
 def test_atomic_path_keeps_the_suffix_for_writers_that_read_it(tmp_path):
     with atomic_path(tmp_path / "figure.png") as temp:
         assert temp.parent == tmp_path and temp.suffix == ".png" and temp.name.startswith(".")

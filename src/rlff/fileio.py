@@ -19,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
+import stat
 import tempfile
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
@@ -121,6 +122,8 @@ def atomic_path(path: str | Path, *, folder: bool = False) -> Iterator[Path]:
     """A temporary path beside ``path`` to write to; renamed over ``path`` when the block succeeds.
 
     For libraries that write a file (or a folder) by name: pyarrow, matplotlib, rosbags, Pillow.
+    A file output that is a symbolic link, a device or a pipe is yielded itself and written
+    through (not atomically): renamed over, it would be replaced by a plain file.
 
     Parameters
     ----------
@@ -146,6 +149,12 @@ def atomic_path(path: str | Path, *, folder: bool = False) -> Iterator[Path]:
         immutable folder, ``/proc``, a full disk), naming ``path``, not the temporary file.
     """
     path = prepare_output(path, folder=folder)
+    if not folder and (path.is_symlink() or (path.exists() and not path.is_file())):
+        # a link, a device or a pipe (out.csv -> elsewhere, /dev/null, /dev/stdout, a FIFO): a
+        # rename would put a new file in its place (as root, /dev/null itself), so it is written
+        # through, as the user named it, and not atomically
+        yield path
+        return
     try:
         if folder:
             container = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=_TEMP_SUFFIX, dir=path.parent))
@@ -227,7 +236,8 @@ def atomic_write(path: str | Path, mode: str = "w", *, encoding: str | None = "u
         with open(temp, mode, encoding=None if binary else encoding, newline=None if binary else newline) as handle:
             yield handle
             handle.flush()
-            os.fsync(handle.fileno())
+            if stat.S_ISREG(os.fstat(handle.fileno()).st_mode):  # a pipe or a device cannot be synced
+                os.fsync(handle.fileno())
 
 
 def write_text(path: str | Path, text: str) -> Path:
