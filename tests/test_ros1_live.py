@@ -93,9 +93,10 @@ def test_the_approach_goes_at_the_share_of_the_limits_asked_for(ros, tmp_path):
 
 
 def test_goal_beyond_the_limits_is_rejected_and_nothing_moves(ros, tmp_path):
-    # the client believes joint_2 reaches 3.5 rad; the server's robot stops at 2.71
-    wide = robot_file(tmp_path, "wide.toml", lambda t: t.replace("upper = 2.71", "upper = 3.5"))
-    path = throw_csv(tmp_path, "far.csv", 1.0, 3.2, 1.0)
+    # the client believes joint_2 tilts back to -1.9 rad; the server's robot stops at -1.48 (forward,
+    # past 1.85 rad, the arm would reach into the floor, which the client refuses itself)
+    wide = robot_file(tmp_path, "wide.toml", lambda t: t.replace("lower = -1.48", "lower = -1.9"))
+    path = throw_csv(tmp_path, "far.csv", -0.5, -1.7, 0.5)
     recorder = ros.record(tmp_path / "states.csv")
     result = ros.rlff("robot", "send", str(path), "--robot", str(wide), "--json", "--timeout", "60")
     answered = time.time()
@@ -105,7 +106,7 @@ def test_goal_beyond_the_limits_is_rejected_and_nothing_moves(ros, tmp_path):
     outcome = json.loads(result.stdout)
     assert outcome["status"] == "rejected" and outcome["error_code"] == -1
     assert outcome["error_name"] == "INVALID_GOAL"
-    assert "joint_2 position" in outcome["error_string"] and "beyond the limit 2.71 rad" in outcome["error_string"]
+    assert "joint_2 position" in outcome["error_string"] and "beyond the limit -1.48 rad" in outcome["error_string"]
     _, positions = states(tmp_path / "states.csv")
     assert np.ptp(positions, axis=0).max() == 0.0
 
@@ -124,9 +125,9 @@ def test_a_robot_the_arm_does_not_have_is_refused_before_sending(ros, tmp_path):
 
 
 def test_timeout_cancels_the_goal_and_the_arm_brakes(ros, tmp_path):
-    path = throw_csv(tmp_path, "slower.csv", -1.2, 2.4, 0.05)
+    path = throw_csv(tmp_path, "slower.csv", -1.4, 1.5, 0.05)  # within what keeps the arm above the floor
     sent = _planned(path, ros.pose(tmp_path))
-    assert sent.duration > 15
+    assert sent.duration > 12
 
     def brakes() -> int:
         return ros.log().count("braked to rest from")
@@ -271,7 +272,7 @@ def test_stopping_send_before_any_goal_says_no_cancel(tmp_path):
 def test_a_server_that_dies_mid_goal_is_reported_lost_not_cancelled(tmp_path):
     rig = Ros(tmp_path)
     try:
-        slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.2)  # several seconds
+        slow = throw_csv(tmp_path, "slow.csv", -1.2, 1.5, 0.2)  # several seconds
         sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow), "--json"],
                                   env=rig.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         wait(lambda: "accepted" in rig.log() or sender.poll() is not None, 120, "the goal to be accepted")

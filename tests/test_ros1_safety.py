@@ -109,7 +109,7 @@ def test_cancel_brakes_within_the_limits(ros, tmp_path):
 
 
 def test_a_moving_arm_is_refused_and_a_raw_goal_preempts_without_a_step(ros, tmp_path):
-    slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.2)  # several seconds: still running when preempted
+    slow = throw_csv(tmp_path, "slow.csv", -1.2, 1.5, 0.2)  # several seconds: still running when preempted
     quick = throw_csv(tmp_path, "quick.csv", 0.3, -0.3, 1.0)
     recorder = ros.record(tmp_path / "states.csv")
     first = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow), "--json"], env=ros.env,
@@ -166,7 +166,7 @@ def test_serve_checks_its_options_and_never_replaces_a_running_server(ros, tmp_p
                          ids=["ctrl-c", "sigterm"])
 def test_stopping_send_brakes_and_the_client_waits_for_rest(ros, tmp_path, stop_signal, code, word):
     # Ctrl-C, or the SIGTERM of a supervisor (kill, systemd, a launch file): the goal is cancelled
-    slow = throw_csv(tmp_path, "slow.csv", -1.2, 2.4, 0.2)  # several seconds: still running at the Ctrl-C
+    slow = throw_csv(tmp_path, "slow.csv", -1.2, 1.5, 0.2)  # several seconds: still running at the Ctrl-C
     recorder = ros.record(tmp_path / "states.csv")
     # Ctrl-C as a terminal gives it: a suite started in the background of a shell (`.ci/run &`)
     # inherits SIGINT ignored, and Python then never turns it into KeyboardInterrupt
@@ -206,8 +206,9 @@ def test_goals_of_other_joints_or_beyond_the_limits_are_rejected_with_their_code
 
 
 def test_a_throw_sent_by_rlff_stays_within_the_limits_and_ends_at_rest(ros, tmp_path):
-    # the model asks for a release at 1.6 rad and 2.6 rad/s, 93 % of joint_2's speed limit
-    path = human_csv(tmp_path / "throw.csv", np.linspace(-0.8, 1.6, 30), np.linspace(0.5, 2.6, 30))
+    # the model asks for a release at 0.6 rad and 2.6 rad/s, 93 % of joint_2's speed limit (braking
+    # from a release at 1.6 rad took the arm into the floor)
+    path = human_csv(tmp_path / "throw.csv", np.linspace(-0.8, 0.6, 30), np.linspace(0.5, 2.6, 30))
     recorder = ros.record(tmp_path / "states.csv")
     result = ros.rlff("robot", "send", str(path), "--json", "--timeout", "60")
     time.sleep(0.3)

@@ -60,6 +60,7 @@ def throw(
     from rlff.robot.plan import ROBOT_TRAJECTORY, robot_file_kind
     from rlff.sim import Basket, simulate_throw
     from rlff.sim.inputs import SIM_PERIOD
+    from rlff.sim.throw import not_followed
 
     guard(inputs={"TRAJECTORY": trajectory}, outputs={"--frames": frames}, folders=["--frames"])
     model = load_robot(robot)
@@ -92,7 +93,12 @@ def throw(
     outcome = simulate_throw(loaded.simulated, target, robot=model, release_angle=release_angle,
                              pedestal=pedestal, frames_dir=frames)
     for note in outcome.notes:
-        say(note)
+        (say if outcome.followed or note != not_followed(outcome) else warn)(note)
+    heading = math.radians(target.bearing)
+    forward = float(outcome.release.velocity[0] * math.cos(heading) + outcome.release.velocity[1] * math.sin(heading))
+    if forward < 0:  # a mapping whose signs send the arm the other way: the miss alone reads "short"
+        warn(f"the ball left the hand backwards, away from the basket ({-forward:.2f} m/s back towards the robot): "
+             f"check the signs of {model.source}'s [throwing] angle_scale and velocity_scale and its start pose")
     if json:
         emit_json({"trajectory": trajectory, "robot": model.name, "pedestal": pedestal, **outcome.to_dict()})
         return
@@ -112,9 +118,13 @@ def throw(
              else f"x = {position[0]:.3f} m")
     out.print(f"release at t = {release['time']:.3f} s: ball at {where}, z = {position[2]:.3f} m, "
               f"{release['speed']:.3f} m/s at {release['angle']:.1f} deg", highlight=False)
-    out.print(f"closed-form projectile from the release: {outcome.predicted_landing_x:.3f} m "
-              f"(MuJoCo's free flight differs by {abs(outcome.landing_x - outcome.predicted_landing_x) * 1000:.1f} mm)",
-              highlight=False)
+    if math.isfinite(outcome.predicted_landing_x):
+        out.print(f"closed-form projectile from the release: {outcome.predicted_landing_x:.3f} m (MuJoCo's free "
+                  f"flight differs by {abs(outcome.landing_x - outcome.predicted_landing_x) * 1000:.1f} mm)",
+                  highlight=False)
+    else:
+        out.print(f"closed-form projectile from the release: never comes down through the {target.rim_height:g} m rim's "
+                  "height (released below it)", highlight=False)
     if outcome.frames:
         out.print(f"frames: {len(outcome.frames) - 1} PNG and {outcome.frames[-1]}", highlight=False)
 

@@ -599,10 +599,14 @@ def _simulator(robot, basket, pedestal: float, gap=None) -> Executor:
     """The MuJoCo simulation of ``basket``, every throw executed as an arm that differs from
     ``robot`` by ``gap`` would (:class:`rlff.sim.gap.Gap`; None: the robot file's)."""
     from rlff.sim import simulate_throw
+    from rlff.sim.throw import not_followed
 
     def execute(trajectory: JointTrajectory) -> Outcome:
         executed = trajectory if gap is None else gap.executed(trajectory)
-        return simulate_throw(executed, basket, robot=robot, pedestal=pedestal)
+        outcome = simulate_throw(executed, basket, robot=robot, pedestal=pedestal)
+        if not outcome.followed:  # learning from it would learn what the plan does not do
+            raise InputError(f"{not_followed(outcome)}; the run stops")
+        return outcome
 
     return execute
 

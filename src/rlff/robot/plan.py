@@ -26,6 +26,7 @@ from rlff.dataset import ARM_JOINT_COLUMNS
 from rlff.errors import InputError
 from rlff.limits import check_period
 from rlff.robot.description import DEFAULT_ROBOT, Robot, load_robot
+from rlff.robot.links import require_above_base
 from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
@@ -174,7 +175,8 @@ def plan_path(
     InputError
         A bad path, a ``time`` that disagrees with its angle and velocity, a value beyond a limit
         (without ``clip``), or a plan that fails the check
-        (:class:`rlff.trajectory.check.MotionLimitError`, e.g. no room to brake).
+        (:class:`rlff.trajectory.check.MotionLimitError`, e.g. no room to brake, or a link below
+        the plane the base stands on: :func:`rlff.robot.links.require_above_base`).
     """
     check_period(period)
     if path.get("time") is not None and "angle" in path and "velocity" in path:
@@ -185,6 +187,7 @@ def plan_path(
     joints = mapping.robot.joints
     trajectory = plan_throw(points, joints, start=start, period=period, approach_speed=approach_speed)
     check_trajectory(trajectory, joints, start=points.positions[0] if start is None else start)
+    require_above_base(mapping.robot, trajectory, "the planned throw")
     return RobotPlan(points, trajectory, report if clip else ClipReport())
 
 
@@ -269,6 +272,7 @@ def load_for_robot(
     trajectory = read_json(path) if path.suffix.lower() == ".json" else read_csv(path)
     try:
         check_trajectory(trajectory, robot.joints)
+        require_above_base(robot, trajectory, "the trajectory")
     except InputError as exc:
         raise type(exc)(f"{path}: {exc}") from None
     return kind, RobotPlan(trajectory, trajectory, ClipReport())

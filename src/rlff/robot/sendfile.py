@@ -20,6 +20,7 @@ from rlff.errors import InputError
 from rlff.robot.comau import HEADER as COMAU_HEADER
 from rlff.robot.description import Robot
 from rlff.robot.export import read_bag, trajectory_topics
+from rlff.robot.links import require_above_base
 from rlff.robot.plan import GENERATED, RobotPlan, load_for_robot
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
@@ -157,6 +158,10 @@ def _require_start(path: Path, robot: Robot, trajectory: JointTrajectory, start:
                 "; send with --approach to move there first, or send the generated trajectory CSV to have "
                 "the motion planned from the arm's pose")
         raise type(exc)(f"{path}: {exc}{hint}") from None
+    try:
+        require_above_base(robot, trajectory, "the trajectory")
+    except InputError as exc:
+        raise type(exc)(f"{path}: {exc}") from None
 
 
 def _bag_kind(path: Path) -> str | None:

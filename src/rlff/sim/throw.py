@@ -12,7 +12,7 @@ is reached.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -42,6 +42,14 @@ FLIGHT_CAP = 3.0
 #: The ball counts as settled after this long (s) below this speed (m/s).
 SETTLED_SPEED = 0.05
 SETTLED_TIME = 0.1
+#: Largest deviation (rad) of a joint from its reference, up to the release, of an arm that only
+#: its servos move: about 0.002 rad for the shipped robot's throws (1-12 rad/s releases). Beyond
+#: it something struck or held the arm (a link or the held ball against the ground), and the
+#: outcome is not the planned throw's (:attr:`ThrowOutcome.followed`).
+TRACKING_TOLERANCE = 0.05
+#: Largest joint speed, as a share of its limit, of such an arm: its servos reach a limit the plan
+#: runs at with a few per mille to spare or over; a strike drives a joint far past it (3x).
+SPEED_TOLERANCE = 1.05
 
 
 @dataclass(frozen=True)
@@ -143,6 +151,13 @@ class ThrowOutcome:
     simulated_time: float
     frames: tuple[Path, ...] = ()
     notes: tuple[str, ...] = field(default_factory=tuple)
+
+    @property
+    def followed(self) -> bool:
+        """Whether the simulated arm followed its trajectory up to the release: within
+        :data:`TRACKING_TOLERANCE` and :data:`SPEED_TOLERANCE` of its speed limits, or behind it only because the
+        trajectory outran a limit (``saturated``, which says so itself)."""
+        return self.saturated or (self.tracking_error <= TRACKING_TOLERANCE and self.peak_speed <= SPEED_TOLERANCE)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain values for JSON: hit, landing_x, miss, release, and the rest."""
@@ -254,7 +269,16 @@ def simulate_throw(
         notes.append("the trajectory outruns a joint's speed or position limit between its points: "
                      "the controller saturated and followed it late")
     frames = recorder.finish() if recorder is not None else ()
-    return ThrowOutcome(**outcome, reachable=reachable, basket=basket, frames=frames, notes=tuple(notes))
+    result = ThrowOutcome(**outcome, reachable=reachable, basket=basket, frames=frames, notes=tuple(notes))
+    return result if result.followed else replace(result, notes=(*result.notes, not_followed(result)))
+
+
+def not_followed(outcome: ThrowOutcome) -> str:
+    """What to say of a throw whose arm did not follow its trajectory (:attr:`ThrowOutcome.followed`)."""
+    return (f"the simulated arm did not follow its trajectory: up to {outcome.tracking_error:.3g} rad from it and "
+            f"{outcome.peak_speed:.0%} of a joint's speed limit before the release (a free arm stays within "
+            f"{TRACKING_TOLERANCE:g} rad and {SPEED_TOLERANCE:.0%} of them): something struck or held it (the ball's first contact: "
+            f"{outcome.first_contact}); this outcome is not the planned throw's")
 
 
 def _free_landing(state: tuple[float, ...], rim: float, release_time: float) -> tuple[float, float, float]:
