@@ -54,7 +54,10 @@ class State:
     stamp 0), ``velocity`` (J,) (None: no velocities) and ``drift`` (J,), the rad/s at which the
     published positions move."""
 
-    def __init__(self, age: float | None = 0.0, velocity=(0.0,) * 6, drift=(0.0,) * 6) -> None:
+    def __init__(self, age: float | None = 0.0, velocity=(0.0,) * 6, drift=(0.0,) * 6, arm: bool = True,
+                 gripper: bool = False) -> None:
+        self.arm = arm  # the arm's message, every tick
+        self.gripper = gripper  # another device's message on the same topic before it, naming its own joint
         self.age = age
         self.velocity = None if velocity is None else list(velocity)
         self.drift = np.array(drift)
@@ -86,6 +89,12 @@ class FakeController:
         def publish() -> None:
             state = self.state
             now = node.node.get_clock().now()
+            if state.gripper:
+                gripper = JointState(name=["finger_joint"], position=[0.01], velocity=[0.0])
+                gripper.header.stamp = now.to_msg()
+                publisher.publish(gripper)
+            if not state.arm:
+                return
             position = self.pose + state.drift * (time.monotonic() - state.since)
             msg = JointState(name=names, position=position.tolist(),
                              velocity=[] if state.velocity is None else list(state.velocity))
@@ -306,6 +315,21 @@ def test_without_velocities_the_speed_comes_from_the_positions(state, domain, th
     state.answer = state.succeed
     result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "60")
     assert result.returncode == 0, result.stderr
+
+
+def test_another_devices_joint_states_on_the_topic_are_passed_over(state, domain, throw, tmp_path):
+    # a gripper's driver publishes its finger on /joint_states too: its messages do not stop the send
+    state.state = State(gripper=True)
+    state.answer = state.succeed
+    result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "60")
+    assert result.returncode == 0, result.stderr
+    # only the gripper's: refused within the grace, naming what it names
+    state.state = State(gripper=True, arm=False)
+    started = time.monotonic()
+    result = rlff_send(domain, tmp_path, str(throw[0]), "--timeout", "30")
+    assert result.returncode == 2 and time.monotonic() - started < 25, result.stderr
+    assert ("/joint_states has no position of joint_1, joint_2, joint_3, joint_4, joint_5, joint_6 (it names "
+            "finger_joint), and no message on it within 2 s named every joint of comau_smart5_six") in result.stderr
 
 
 @pytest.mark.parametrize(("joint", "value", "said"), [

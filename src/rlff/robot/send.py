@@ -33,6 +33,12 @@ STATE_MAX_AGE = 1.0
 #: Without velocities in the joint states, the arm's speed is its position change over two fresh
 #: messages at least this far apart (s).
 VELOCITY_SPAN = 0.05
+#: How long (s) to keep waiting, after a joint states message that leaves out joints of the robot,
+#: for one that names them all. Several drivers may publish on one joint states topic (the arm's,
+#: a gripper's with only its fingers: robot_state_publisher merges them); a message of another
+#: device is passed over, and only when none of the robot's comes does its absence become the
+#: error (a robot file whose joint names are not the arm's).
+PARTIAL_GRACE = 2.0
 #: Above this speed (rad/s) on any joint the arm counts as moving: no goal planned from rest is sent.
 MOVING_SPEED = 0.01
 #: Seconds to wait for the server to confirm a cancel (it answers once the arm has braked to rest).
@@ -83,7 +89,9 @@ class StateWatch:
     clock (``now()``); an unstamped one (stamp 0) has no age and is never taken. A message without
     velocities gives its pose, and the velocity of the change from an earlier fresh message at
     least :data:`VELOCITY_SPAN` s before it. A fresh pose that is not a number, or beyond a
-    joint's limit, is refused naming the topic.
+    joint's limit, is refused naming the topic. A message that leaves out joints of the robot
+    (another device's on the same topic) is passed over; when none names them all within
+    :data:`PARTIAL_GRACE` s of the first such message, that is the error.
     """
 
     def __init__(self, robot: Robot, now: Callable[[], float]) -> None:
@@ -95,6 +103,8 @@ class StateWatch:
         self._problem: Exception | None = None
         self._untrusted: str | None = None  # why the last message was passed over
         self._without_velocity: tuple[float, np.ndarray] | None = None
+        #: when (monotonic s) a message leaving out joints of the robot first came, and what it named
+        self._partial: tuple[float, str] | None = None
 
     def offer(self, stamp: float, names: Sequence[str], positions: Sequence[float],
               velocities: Sequence[float]) -> None:
@@ -117,6 +127,12 @@ class StateWatch:
         if abs(age) > STATE_MAX_AGE:
             when = (f"{_span(age)} old" if age > 0 else f"{_span(-age)} ahead of this host's ROS clock")
             self._untrusted = f"the last is stamped {stamp:.3f} s, {when} (ROS time {now:.3f} s)"
+            return
+        missing = [name for name in self.robot.joint_names if name not in names]
+        if missing:  # another device's message, or a robot file that names other joints
+            if self._partial is None:
+                self._partial = (time.monotonic(), f"{self.topic} has no position of {', '.join(missing)} (it names "
+                                                   f"{', '.join(names) or 'no joint'})")
             return
         pose, velocity = arm_state_of(self.robot, self.topic, names, positions, velocities)
         self._check_pose(pose)
@@ -155,11 +171,12 @@ class StateWatch:
         ArmStateError
             Messages came, but none fresh; or a fresh one's pose is not a number or beyond a limit.
         InputError
-            A fresh message leaves out a joint of the robot.
+            Fresh messages came, but none within :data:`PARTIAL_GRACE` s named every joint of the robot.
         """
         with self._arrived:
             while self._state is None and self._problem is None:
-                left = deadline - time.monotonic()
+                end = deadline if self._partial is None else min(deadline, self._partial[0] + PARTIAL_GRACE)
+                left = end - time.monotonic()
                 if left <= 0:
                     break
                 self._arrived.wait(left)
@@ -167,6 +184,9 @@ class StateWatch:
                 raise self._problem
             if self._state is not None:
                 return self._state
+            if self._partial is not None:
+                raise InputError(f"{self._partial[1]}, and no message on it within {PARTIAL_GRACE:g} s named every "
+                                 f"joint of {self.robot.name}: check the robot file's joint names against the arm's")
             if self._untrusted is not None:
                 raise ArmStateError(
                     f"no fresh state on {self.topic} within {waited:g} s: {self._untrusted}; the arm's pose is "
