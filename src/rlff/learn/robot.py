@@ -1,10 +1,11 @@
 """Learning through a robot: every attempt runs through the FollowJointTrajectory action.
 
 The loop (:func:`rlff.learn.learn`) hands an executor the robot trajectory of each proposed
-throw. :class:`RobotExecutor` plans it from the arm's pose (read from /joint_states) with the
-approach and the braking tail (:func:`rlff.trajectory.planner.plan_throw`), sends it as a goal
-(ROS 1 or ROS 2, whichever transport it is given) and waits for its end, then takes the outcome
-from whoever watched the throw:
+throw. :class:`RobotExecutor` plans it from the arm's pose (read from the robot file's joint
+states topic, ``[ros] joint_states``) with the approach (at ``approach_speed`` of the limits) and
+the braking tail (:func:`rlff.trajectory.planner.plan_throw`), sends it as a goal to the robot
+file's ``[ros] action`` (ROS 1 or ROS 2, whichever transport it is given) and waits for its
+end, then takes the outcome from whoever watched the throw:
 
 - a person (``ask``): "hit", "miss", or the signed miss in metres (negative short of the
   basket), typed at a prompt; see :func:`parse_answer`;
