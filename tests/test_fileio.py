@@ -78,20 +78,43 @@ def test_a_linked_output_stays_a_link_and_its_target_gets_the_text(tmp_path):
     assert link.is_symlink() and target.read_text() == "new"
 
 
-def test_a_pipe_as_output_is_written_through_not_replaced(tmp_path):
+@pytest.mark.parametrize("writer", ["text", "seeking", "removing first"])
+def test_a_pipe_as_output_gets_the_bytes_and_stays_a_pipe(tmp_path, writer):
     """``-o /dev/stdout`` or a FIFO: renamed over, it became a plain file (as root, ``-o
-    /dev/null`` replaced the system's /dev/null). A FIFO stands in for the device here."""
+    /dev/null`` replaced the system's /dev/null). A FIFO stands in for the device here; the
+    writers are those of rlff's outputs: plain text, a CSV writer that seeks back and truncates,
+    and a bag writer that wants no file where it writes."""
     import stat
     import threading
 
-    fifo = tmp_path / "pipe"
+    fifo = tmp_path / "pipe.csv"
     os.mkfifo(fifo)
     received = []
-    reader = threading.Thread(target=lambda: received.append(fifo.read_text()))
+    reader = threading.Thread(target=lambda: received.append(fifo.read_bytes()))
     reader.start()
-    write_text(fifo, "through the pipe")
+    if writer == "text":
+        write_text(fifo, "through the pipe")
+    elif writer == "seeking":
+        write_csv_columns(fifo, {"a": np.arange(3.0)})
+    else:
+        with atomic_path(fifo) as temp:
+            temp.unlink()
+            temp.write_bytes(b"through the pipe")
     reader.join(10)
-    assert received == ["through the pipe"] and stat.S_ISFIFO(fifo.lstat().st_mode)
+    assert stat.S_ISFIFO(fifo.lstat().st_mode) and len(received) == 1
+    if writer == "seeking":
+        assert received[0].decode().splitlines() == ["a", "0", "1", "2"]
+    else:
+        assert received[0] == b"through the pipe"
+
+
+def test_a_link_to_a_missing_file_creates_the_file_and_keeps_the_link(tmp_path):
+    link = tmp_path / "out.csv"
+    link.symlink_to(tmp_path / "made.csv")
+    with atomic_path(link) as temp:  # a bag writer: it removes its file, then writes
+        temp.unlink()
+        temp.write_bytes(b"bag")
+    assert link.is_symlink() and (tmp_path / "made.csv").read_bytes() == b"bag"
 
 
 def test_atomic_path_keeps_the_suffix_for_writers_that_read_it(tmp_path):

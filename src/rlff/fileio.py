@@ -19,7 +19,6 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
-import stat
 import tempfile
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
@@ -122,8 +121,9 @@ def atomic_path(path: str | Path, *, folder: bool = False) -> Iterator[Path]:
     """A temporary path beside ``path`` to write to; renamed over ``path`` when the block succeeds.
 
     For libraries that write a file (or a folder) by name: pyarrow, matplotlib, rosbags, Pillow.
-    A file output that is a symbolic link, a device or a pipe is yielded itself and written
-    through (not atomically): renamed over, it would be replaced by a plain file.
+    A symbolic link keeps being one: the file it names is replaced. A device or a pipe (``-o
+    /dev/stdout``, a FIFO) gets the bytes of a temporary file copied in once the block succeeds
+    (renamed over, it would be replaced by a plain file).
 
     Parameters
     ----------
@@ -149,12 +149,16 @@ def atomic_path(path: str | Path, *, folder: bool = False) -> Iterator[Path]:
         immutable folder, ``/proc``, a full disk), naming ``path``, not the temporary file.
     """
     path = prepare_output(path, folder=folder)
-    if not folder and (path.is_symlink() or (path.exists() and not path.is_file())):
-        # a link, a device or a pipe (out.csv -> elsewhere, /dev/null, /dev/stdout, a FIFO): a
-        # rename would put a new file in its place (as root, /dev/null itself), so it is written
-        # through, as the user named it, and not atomically
-        yield path
+    if not folder and path.exists() and not path.is_file():
+        # a device or a pipe (/dev/null, /dev/stdout, a FIFO), a link to one included: a rename
+        # would put a plain file in its place (as root, /dev/null itself), and writers that seek
+        # or remove their file first cannot write into it; written whole to a temporary file,
+        # then copied in
+        with _through_temporary(path) as temp:
+            yield temp
         return
+    if not folder and path.is_symlink():
+        path = Path(os.path.realpath(path))  # the link stays; the file it names is replaced
     try:
         if folder:
             container = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=_TEMP_SUFFIX, dir=path.parent))
@@ -187,6 +191,26 @@ def atomic_path(path: str | Path, *, folder: bool = False) -> Iterator[Path]:
         if isinstance(exc, OSError) and any(name.startswith(str(container)) for name in named):
             raise _cannot_write(path, exc) from None  # the user never named the hidden temporary file
         raise
+
+
+@contextlib.contextmanager
+def _through_temporary(path: Path) -> Iterator[Path]:
+    """A temporary file (in the system's temporary folder) whose bytes go into the device or pipe
+    ``path`` when the block succeeds."""
+    handle, name = tempfile.mkstemp(prefix=".rlff.", suffix=_TEMP_SUFFIX + path.suffix)
+    os.close(handle)
+    temp = Path(name)
+    try:
+        yield temp
+        if not temp.exists():
+            raise FileNotFoundError(f"{temp}: the writer produced nothing")
+        try:
+            with open(temp, "rb") as source, open(path, "wb") as sink:
+                shutil.copyfileobj(source, sink)
+        except OSError as exc:
+            raise _cannot_write(path, exc) from None
+    finally:
+        temp.unlink(missing_ok=True)
 
 
 def _cannot_write(path: Path, exc: OSError) -> InputError:
@@ -236,8 +260,7 @@ def atomic_write(path: str | Path, mode: str = "w", *, encoding: str | None = "u
         with open(temp, mode, encoding=None if binary else encoding, newline=None if binary else newline) as handle:
             yield handle
             handle.flush()
-            if stat.S_ISREG(os.fstat(handle.fileno()).st_mode):  # a pipe or a device cannot be synced
-                os.fsync(handle.fileno())
+            os.fsync(handle.fileno())
 
 
 def write_text(path: str | Path, text: str) -> Path:
