@@ -136,3 +136,28 @@ def test_sim_throw_warns_of_a_ball_that_leaves_backwards(cli, tmp_path):
     assert result.code == 0, result.stderr
     assert "warning: the ball left the hand backwards" in result.stderr and "[throwing] angle_scale" in result.stderr
     assert "backwards" not in cli("sim", "throw", str(path), "--basket", "1.5").stderr
+
+
+def test_a_trajectory_of_some_joints_is_checked_with_the_others_held():
+    """A controller holds the joints a goal leaves out: where they are (the arm's pose for a
+    send) decides where the links go (a re-tester's joint_2-only goal reached 0.25 m below)."""
+    alone = _into_the_floor().select(["joint_2"])
+    with pytest.raises(MotionLimitError, match="flange .* below the plane"):
+        require_above_base(ROBOT, alone)  # the others at the start pose
+    upright = np.zeros(6)  # forearm forward instead of up: at 2.5 rad still into the floor
+    with pytest.raises(MotionLimitError, match="below the plane"):
+        require_above_base(ROBOT, alone, held=upright)
+    low = _joint_2_sweep(1.5).select(["joint_2"])  # upper arm horizontal: clear with the forearm up,
+    require_above_base(ROBOT, low)
+    straight = RobotMapping.for_robot(ROBOT).pose()
+    straight[2] = 0.0  # not with the forearm straight on, which then points at the floor
+    with pytest.raises(MotionLimitError, match="flange .* below the plane"):
+        require_above_base(ROBOT, low, held=straight)
+
+
+def test_send_checks_a_partial_trajectory_with_the_joints_it_leaves_out_held(cli, tmp_path):
+    from rlff.robot.export import write_json
+
+    write_json(_into_the_floor().select(["joint_2"]), tmp_path / "low.json")
+    result = cli("robot", "send", str(tmp_path / "low.json"), "--timeout", "1")
+    assert result.code == 2 and "low.json: the trajectory takes the arm's flange" in result.stderr

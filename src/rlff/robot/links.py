@@ -62,20 +62,31 @@ def chain_points(geometry: Geometry, positions: np.ndarray) -> dict[str, np.ndar
     return dict(zip(POINTS, (shoulder, elbow, axis_start, wrist, flange), strict=True))
 
 
-def require_above_base(robot: Robot, trajectory: JointTrajectory, what: str = "the motion") -> None:
+def require_above_base(robot: Robot, trajectory: JointTrajectory, what: str = "the motion",
+                       held: np.ndarray | None = None) -> None:
     """Raise :class:`MotionLimitError` when a point of the chain goes below
     :data:`FLOOR_CLEARANCE` above the plane the base stands on, at any sample of ``trajectory``.
 
-    A robot file without geometry, or a trajectory that does not give all six joints of a
-    six-joint robot, says nothing about where its links are and passes. The message names the
-    point, the joints' positions there, the time and the height.
+    The joints ``trajectory`` leaves out hold still (a controller holds the joints a goal does
+    not name): at ``held`` (J,) rad in the robot's joint order (the arm's pose, for a trajectory
+    sent to it), else at the robot file's ``[throwing]`` start pose, where the arm waits before a
+    throw. A robot file without geometry, or not of six joints, says nothing about where its
+    links are, and passes; so does a trajectory that leaves joints out of a robot file with no
+    ``[throwing]`` table when ``held`` is not given. The message names the point, the joints'
+    positions there, the time and the height.
     """
     if robot.geometry is None or len(robot.joints) != 6:
         return
-    if not set(robot.joint_names) <= set(trajectory.joint_names):
-        return
-    columns = [trajectory.joint_index(name) for name in robot.joint_names]
-    positions = trajectory.positions[:, columns]
+    if held is None and not set(robot.joint_names) <= set(trajectory.joint_names):
+        if not robot.throwing:
+            return
+        from rlff.robot.mapping import RobotMapping
+
+        held = RobotMapping.for_robot(robot).pose()
+    positions = np.tile(np.zeros(6) if held is None else np.asarray(held, dtype=float), (len(trajectory), 1))
+    for column, name in enumerate(robot.joint_names):
+        if name in trajectory.joint_names:
+            positions[:, column] = trajectory.positions[:, trajectory.joint_index(name)]
     points = chain_points(robot.geometry, positions)
     heights = np.stack([points[name][:, 2] for name in POINTS], axis=1)  # (N, 5)
     row, column = np.unravel_index(int(np.argmin(heights)), heights.shape)

@@ -149,6 +149,7 @@ def with_approach(robot: Robot, trajectory: JointTrajectory, start: np.ndarray,
 
 def _require_start(path: Path, robot: Robot, trajectory: JointTrajectory, start: np.ndarray | None) -> None:
     """The motion check of a trajectory sent as it is, from the arm's pose ``start`` if given."""
+    pose = start
     if start is not None:
         start = np.asarray(start, dtype=float)[[robot.index(name) for name in trajectory.joint_names]]
     try:
@@ -159,7 +160,7 @@ def _require_start(path: Path, robot: Robot, trajectory: JointTrajectory, start:
                 "the motion planned from the arm's pose")
         raise type(exc)(f"{path}: {exc}{hint}") from None
     try:
-        require_above_base(robot, trajectory, "the trajectory")
+        require_above_base(robot, trajectory, "the trajectory", held=pose)  # the joints it leaves out stay put
     except InputError as exc:
         raise type(exc)(f"{path}: {exc}") from None
 
