@@ -20,7 +20,7 @@ def _log(path: Path, record: dict, basket: dict, joints: list[str] | None = None
     if joints is not None:
         run["joints"] = joints
     lines = [{"format": "rlff-attempts", "version": 1, "run": run}]
-    lines += [{"attempt": i + 1, "miss": m, "hit": abs(m) < 0.1} for i, m in enumerate(misses)]
+    lines += [{"attempt": i + 1, "miss": m, "hit": m is not None and abs(m) < 0.1} for i, m in enumerate(misses)]
     path.write_text("".join(json.dumps(line) + "\n" for line in lines))
     return path
 
@@ -116,3 +116,19 @@ def test_rlffs_own_outputs_are_reported_or_counted_in_one_line_not_warned_of_eac
     row = _cells(html, "clean.json")
     assert row[2] == f"{cleaning['trajectories']['before']} → {cleaning['trajectories']['after']}"
     assert "not reported" in html  # the report's header says what it left out, too
+
+
+def test_a_live_runs_log_with_misses_nobody_measured_is_reported(tmp_path):
+    # a "miss" typed at the prompt of a live run is logged with "miss": null; the report passed
+    # the whole log over ("without float() argument must be ... not 'NoneType'")
+    from rlff.learn.log import robot_record
+    from rlff.robot import RobotMapping, load_robot
+
+    folder = tmp_path / "live"
+    folder.mkdir()
+    record = robot_record(RobotMapping.for_robot(load_robot()))
+    _log(folder / "ros1.jsonl", record, {"distance": 1.5, "rim_height": 0.3, "opening": 0.35}, misses=(None, 0.0))
+    logged = read_learning_log(folder / "ros1.jsonl")
+    assert logged.hits == [False, True] and logged.misses[1] == 0.0 and logged.misses[0] != logged.misses[0]
+    run, passed, _ = chain_run(folder, tmp_path / "run" / "figures")
+    assert passed == [] and [row[0] for row in run.sections[0].tables[0].rows] == ["ros1.jsonl"]

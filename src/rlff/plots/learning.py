@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -53,6 +54,7 @@ def learning_curves(
         if tolerance is not None:
             axes.axhspan(-tolerance, tolerance, color=HIT_COLOUR, alpha=0.12, label="lands within the opening")
         colours = [f"C{i}" for i in range(10)]
+        blind = False  # whether some miss has no measured landing
         stars: dict[tuple[int, int | None], int] = {}  # first hits drawn at (attempt, miss in cm; None: no landing)
         for index, (method, values) in enumerate(misses.items()):
             miss = np.asarray(values, dtype=float)
@@ -68,6 +70,11 @@ def learning_curves(
                 hit = np.abs(miss) <= tolerance
             else:
                 hit = np.zeros(miss.size, dtype=bool)
+            unmeasured = ~np.isfinite(miss) & ~hit  # a miss seen but not measured (typed "miss" on a live arm)
+            if unmeasured.any():
+                axes.plot(attempts[unmeasured], np.zeros(unmeasured.sum()), marker="x", markersize=8, color=colour,
+                          linestyle="none")
+                blind = True
             if hit.any():
                 first = int(np.flatnonzero(hit)[0])
                 # a star on another method's (same attempt, same cm) is drawn smaller on top of it
@@ -79,11 +86,16 @@ def learning_curves(
                     markeredgecolor="black", linestyle="none", zorder=5 + below,
                 )
         axes.xaxis.set_major_locator(MaxNLocator(integer=True))
+        longest = max((len(values) for values in misses.values()), default=1)
+        axes.set_xlim(0.5, longest + 0.5)
         axes.set_xlabel("attempt")
         axes.set_ylabel("miss (m): < 0 short, > 0 long")
         handles, labels = axes.get_legend_handles_labels()
         handles.append(Line2D([], [], marker="*", markersize=12, color="grey", markeredgecolor="black", linestyle="none"))
         labels.append("first hit")
+        if blind:
+            handles.append(Line2D([], [], marker="x", markersize=8, color="grey", linestyle="none"))
+            labels.append("miss, landing not measured (drawn at 0)")
         figure.legend(handles, labels, loc="outside right upper")
         where = f" for a basket at {basket:g} m" if basket is not None else ""
         axes.set_title(f"Learning from failure{where}")
@@ -156,11 +168,14 @@ def read_learning_log(path: str | Path) -> LoggedRun:
         raise InputError(f"{path}: not an rlff attempts log (no 'rlff-attempts' header line)")
     run = records[0].get("run", {})
     try:
-        misses = [float(r["miss"]) for r in records[1:]]
+        # a miss nobody measured (typed "miss" on a live arm) is logged as null
+        misses = [math.nan if r["miss"] is None else float(r["miss"]) for r in records[1:]]
         hits = [bool(r["hit"]) for r in records[1:]]
         basket = float(run["basket"]["distance"])
-    except (KeyError, TypeError, ValueError, OverflowError) as exc:
+    except KeyError as exc:
         raise InputError(f"{path}: attempt or run record without {exc}") from None
+    except (TypeError, ValueError, OverflowError, AttributeError):
+        raise InputError(f"{path}: an attempt's miss or the run's basket distance is not a number") from None
     try:
         bearing = float(run["basket"].get("bearing", 0.0))  # left out for a basket straight ahead
     except (TypeError, ValueError, OverflowError):
