@@ -85,10 +85,10 @@ def test_the_approach_is_slow_by_default():
     assert default.release_time > full.release_time + 1.0  # 1.8 rad at a quarter of the speed
 
 
-@pytest.mark.parametrize("share", [0.0, -0.25, 1.5, float("nan")])
+@pytest.mark.parametrize("share", [0.0, 1e-6, -0.25, 1.5, float("nan")])
 def test_an_approach_share_outside_0_to_1_is_refused(share):
     throw = mapped_throw(-1.3, -0.3, 2.0)
-    with pytest.raises(InputError, match="approach speed is a share of the joints' limits"):
+    with pytest.raises(InputError, match="approach speed is a share of the joints. limits, from 0.01 to 1"):
         plan_throw(throw, ROBOT.joints, start=MAPPING.pose(0.5), approach_speed=share)
 
 

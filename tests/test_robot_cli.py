@@ -288,6 +288,6 @@ def test_the_approach_speed_option_defaults_to_the_planners_share(cli, throw, tm
     from rlff.trajectory.planner import APPROACH_SPEED
 
     assert APPROACH_SPEED_OPTION.default == APPROACH_SPEED
-    for bad in ("0", "1.5", "nan", "-0.2"):  # refused before anything connects
+    for bad in ("0", "1e-06", "1.0000001", "nan", "-0.2"):  # refused before anything connects
         result = cli("robot", "send", str(throw), "--approach-speed", bad)
         assert result.code == 2 and f"--approach-speed {bad}: the approach speed is a share" in result.stderr

@@ -72,7 +72,7 @@ def check_approach_speed_option(value: float) -> None:
     try:
         check_approach_speed(value)
     except InputError as exc:
-        raise InputError(f"--approach-speed {value:g}: {exc}") from None
+        raise InputError(f"--approach-speed {value:.10g}: {exc}") from None
 
 
 def say(message: str) -> None:

@@ -90,11 +90,18 @@ def _period(period: float | None) -> float:
     return float(period)
 
 
+#: The slowest approach asked for: a hundredth of the limits (a 1.5 rad move of the Comau's
+#: shoulder in 55 s). Below it ruckig's time-optimal profile of a long move fails to compute,
+#: and no one waits for it.
+SLOWEST_APPROACH = 0.01
+
+
 def check_approach_speed(share: float) -> float:
-    """``share`` checked: a share of the limits, 0 < share <= 1 (:class:`InputError` otherwise)."""
-    if not (np.isfinite(share) and 0 < share <= 1):
-        raise InputError(f"the approach speed is a share of the joints' limits, above 0 and at most 1 "
-                         f"(0.25: a quarter), not {share!r}")
+    """``share`` checked: a share of the limits, :data:`SLOWEST_APPROACH` <= share <= 1
+    (:class:`InputError` otherwise)."""
+    if not (np.isfinite(share) and SLOWEST_APPROACH <= share <= 1):
+        raise InputError(f"the approach speed is a share of the joints' limits, from {SLOWEST_APPROACH:g} to 1 "
+                         f"(0.25: a quarter), not {share:.10g}")
     return float(share)
 
 
@@ -165,7 +172,10 @@ def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_posit
     # controller's clock, and the last step is no shorter than the others
     request.duration_discretization = DurationDiscretization.Discrete
     profile = Trajectory(size)
-    result = Ruckig(size, period).calculate(request, profile)
+    try:
+        result = Ruckig(size, period).calculate(request, profile)
+    except ValueError:  # a code the binding does not name (-101 for limits far too low for the move)
+        result = Result.Error
     if result not in (Result.Working, Result.Finished):
         raise InputError(f"ruckig cannot plan the motion from {position.tolist()} rad at "
                          f"{velocity.tolist()} rad/s to {request.target_position} rad at "
