@@ -284,6 +284,9 @@ def test_one_joint_s_speed_in_degrees_is_warned_of(tmp_path, cli):
         load_robot(path)
     reach = cli("sim", "reach", "--robot", str(path))  # a process of its own: pytest would catch the warning
     assert reach.code == 0 and "joint 2 (joint_2): max_velocity 45 rad/s is 14.3 times" in reach.stderr
+    # one `warning:` line, as rlff's other warnings, not Python's two-line form with a source line
+    (said,) = [line for line in reach.stderr.splitlines() if "max_velocity 45 rad/s" in line]
+    assert said.startswith("warning: ") and "RobotFileWarning" not in reach.stderr
 
 
 def test_a_bending_joint_s_limits_in_degrees_are_warned_of_and_a_roll_joint_s_are_not(tmp_path):

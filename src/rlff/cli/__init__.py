@@ -209,6 +209,18 @@ def _main(args: list[str]) -> int:
             # numpy's overflow/invalid-value warnings: results are checked for finiteness where
             # they matter and reported as one InputError line; the raw warnings are noise
             warnings.simplefilter("ignore", RuntimeWarning)
+        shown = warnings.showwarning
+
+        def show(message, category, filename, lineno, file=None, line=None) -> None:
+            # rlff's own (a robot file's implausible values): one `warning:` line, as every other
+            if category.__module__.startswith("rlff."):
+                from rlff.cli._common import warn
+
+                warn(str(message))
+            else:
+                shown(message, category, filename, lineno, file, line)
+
+        warnings.showwarning = show
         try:
             code = _command().main(args=args, prog_name="rlff", standalone_mode=False)
         except click_errors.NoArgsIsHelpError as exc:
