@@ -280,7 +280,7 @@ def test_the_format_and_the_output_are_checked_before_any_planning(capsys, tmp_p
         assert code == 2 and message in err, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bag", "beyond.csv"]
     code, _, err = run(capsys, "robot", "export", str(beyond), "-f", "json", "-o", str(tmp_path / "t.json"))
-    assert code == 2 and "the robot would execute beyond its limits" in err  # what the planning says, once the rest is right
+    assert code == 2 and "the robot would not execute as asked" in err  # what the planning says, once the rest is right
 
 
 def test_the_approach_speed_option_defaults_to_the_planners_share(cli, throw, tmp_path):
@@ -291,3 +291,15 @@ def test_the_approach_speed_option_defaults_to_the_planners_share(cli, throw, tm
     for bad in ("0", "1e-06", "1.0000001", "nan", "-0.2"):  # refused before anything connects
         result = cli("robot", "send", str(throw), "--approach-speed", bad)
         assert result.code == 2 and f"--approach-speed {bad}: the approach speed is a share" in result.stderr
+
+
+def test_a_release_against_the_paths_direction_is_said_so_not_compared_with_a_limit_of_0(cli, tmp_path):
+    path = tmp_path / "turned.csv"
+    velocity = np.full(30, 6.0)
+    velocity[-1] = -4.0  # the last sample swings back
+    pd.DataFrame({"angle": np.linspace(0.4, 2.2, 30), "velocity": velocity}).to_csv(path, index=False)
+    result = cli("robot", "export", str(path), "-f", "json", "-o", str(tmp_path / "out.json"))
+    assert result.code == 2 and "1 value the robot would not execute as asked: point 29: joint_2 velocity -1 rad/s " \
+        "moves it against the path's direction (the release), which --clip stops (0 rad/s)" in result.stderr
+    assert "beyond the limit 0" not in result.stderr
+

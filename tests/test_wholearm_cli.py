@@ -78,7 +78,7 @@ def test_a_whole_arm_path_thrown_without_joints_says_what_it_leaves_out(rlff, ro
     assert "warning:" not in result.stderr
     # and not part of a limit refusal: following it may ask the joints for more, not less
     refused = rlff("robot", "export", str(throw_csv), "-f", "json", "-o", str(throw_csv.with_suffix(".json")))
-    assert refused.code == 2 and "would execute beyond its limits" in refused.stderr and "--joints" not in refused.stderr
+    assert refused.code == 2 and "would not execute as asked" in refused.stderr and "--joints" not in refused.stderr
 
 
 def test_sim_throw_without_the_columns_the_joints_need_names_them(rlff, tmp_path):

@@ -74,15 +74,24 @@ def _require_unclipped(report: ClipReport, last: int) -> None:
     faults = [change for change in report.changes if change.quantity == "position" or change.point == last]
     if not faults:
         return
-    shown = "; ".join(f"point {c.point}: {c.joint} {c.quantity} {c.before:.6g} {c.unit} beyond the limit "
-                      f"{c.after:.6g} {c.unit}" + (" (the release)" if c.point == last else "")
-                      for c in faults[:3])
+    shown = "; ".join(_fault(c, last) for c in faults[:3])
     more = f" (and {len(faults) - 3} more)" if len(faults) > 3 else ""
     others = len(report.changes) - len(faults)
     also = (f" (and reports {plural(others, 'velocity', 'velocities')} along the path beyond a limit too, "
             "which the planner does not execute)" if others else "")
-    raise InputError(f"{plural(len(faults), 'value')} the robot would execute beyond its limits: {shown}{more}; "
+    raise InputError(f"{plural(len(faults), 'value')} the robot would not execute as asked: {shown}{more}; "
                      f"--clip clips {'it' if len(faults) == 1 else 'them'}{also}")
+
+
+def _fault(change, last: int) -> str:
+    """One value of a path the robot would not execute as asked, for a message: beyond a limit,
+    or a velocity against the path's direction (which the mapping stops: 0, not a limit)."""
+    release = " (the release)" if change.point == last else ""
+    if change.quantity == "velocity" and change.after == 0.0 and change.before != 0.0:
+        return (f"point {change.point}: {change.joint} velocity {change.before:.6g} {change.unit} moves it against the "
+                f"path's direction{release}, which --clip stops (0 {change.unit})")
+    return (f"point {change.point}: {change.joint} {change.quantity} {change.before:.6g} {change.unit} beyond the "
+            f"limit {change.after:.6g} {change.unit}{release}")
 
 
 #: Largest relative difference between a generated path's time steps and those its angle and
