@@ -135,7 +135,7 @@ def test_a_misspelt_key_or_an_impossible_length_is_refused_by_name(tmp_path, edi
     (("max_velocity = 2.792", "max_velocty = 2.792"),
      r"joint 2 \(joint_2\): unknown field 'max_velocty' \(did you mean 'max_velocity'\?\)"),
     (("max_jerk = 110.0", "max_jrek = 110.0"), r"joint 2 \(joint_2\): unknown field 'max_jrek' \(did you mean 'max_jerk'\?\)"),
-    (('name = "joint_2"', 'nmae = "joint_2"'), r"joint 2 \(None\): unknown field 'nmae' \(did you mean 'name'\?\)"),
+    (('name = "joint_2"', 'nmae = "joint_2"'), r"joint 2: unknown field 'nmae' \(did you mean 'name'\?\)"),
     (("upper_arm = 0.59", "upper_ram = 0.59"), r"\[geometry\]: unknown field 'upper_ram' \(did you mean 'upper_arm'\?\)"),
     (("angle_scale = ", "angle_scael = "), r"\[throwing\]: unknown field 'angle_scael' \(did you mean 'angle_scale'\?\)"),
 ], ids=["joint-limit", "joint-jerk", "joint-name", "geometry", "throwing"])

@@ -371,7 +371,8 @@ def _require_known_keys(document: Mapping[str, Any], source: str, top: Sequence[
     tables = document.get("joints")
     for number, table in enumerate(tables if isinstance(tables, list) else [], start=1):
         if isinstance(table, Mapping):
-            _require_known(table, "[[joints]]", f"{source}: joint {number} ({table.get('name')})")
+            named = f" ({table['name']})" if isinstance(table.get("name"), str) else ""
+            _require_known(table, "[[joints]]", f"{source}: joint {number}{named}")
     for key in _TABLES:
         if isinstance(document.get(key), Mapping):
             _require_known(document[key], f"[{key}]", f"{source}: [{key}]")

@@ -31,12 +31,13 @@ from scipy.optimize import minimize
 from rlff.ballistics import crossing_distance
 from rlff.errors import InputError
 from rlff.limits import check_pedestal
-from rlff.robot.description import Robot, load_robot
+from rlff.robot.description import THROWING_JOINTS, Robot, load_robot
 from rlff.sim.arm import BALL_RADIUS, Arm
 from rlff.sim.basket import Basket
 
-#: Joints that move the ball in the vertical throwing plane, in the order of Arm.ball_in_plane.
-PLANE_JOINTS = ("joint_2", "joint_3", "joint_5")
+#: Joints that move the ball in the vertical throwing plane, in the order of Arm.ball_in_plane:
+#: the robot file's throwing joints.
+PLANE_JOINTS = THROWING_JOINTS
 #: Lowest height (m) of the elbow, the wrist and the ball's centre at release.
 GROUND_CLEARANCE = 0.1
 #: Grid points per joint of the coarse search.
