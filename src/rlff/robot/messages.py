@@ -52,21 +52,25 @@ def trajectory_from_points(joint_names: Sequence[str], points: Sequence[Any],
     return JointTrajectory(tuple(joint_names), time, positions, velocities, accelerations)
 
 
+def missing_joints(robot: Robot, names: Sequence[str]) -> list[str]:
+    """The joints of ``robot`` a JointState message naming ``names`` leaves out (another device's
+    message on the same topic, or a robot file whose joint names are not the arm's)."""
+    return [name for name in robot.joint_names if name not in names]
+
+
 def arm_state_of(robot: Robot, topic: str, names: Sequence[str], positions: Sequence[float],
                  velocities: Sequence[float]) -> tuple[np.ndarray, np.ndarray | None]:
     """The arm's pose and velocity (each (J,), rad and rad/s, ``robot``'s joints in order) from a
-    JointState message's fields; the velocity is None when the message has none (or not one per
-    name): the arm's speed is then unknown, never taken as 0.
+    JointState message's fields, which name every joint of ``robot`` (:func:`missing_joints` is
+    empty); the velocity is None when the message has none (or not one per name): the arm's speed
+    is then unknown, never taken as 0.
 
     Raises
     ------
     InputError
-        The message (on ``topic``) leaves out a joint of ``robot``.
+        The message (on ``topic``) has not one position per name.
     """
     names = list(names)
-    missing = [name for name in robot.joint_names if name not in names]
-    if missing:
-        raise InputError(f"{topic} has no position of {', '.join(missing)} (it names {', '.join(names)})")
     if len(positions) != len(names):
         raise InputError(f"{topic} has {len(positions)} positions for {len(names)} joint names")
     index = [names.index(name) for name in robot.joint_names]

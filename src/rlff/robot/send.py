@@ -23,7 +23,7 @@ from rlff.errors import InputError, RlffError
 from rlff.robot.controller import ResultCode
 from rlff.robot.description import Robot
 from rlff.robot.goal import InvalidJoints, check_goal
-from rlff.robot.messages import arm_state_of
+from rlff.robot.messages import arm_state_of, missing_joints
 from rlff.trajectory.joint import JointTrajectory
 
 #: How far (s) a joint state's header stamp may be from the ROS clock, behind or ahead, for the
@@ -128,7 +128,7 @@ class StateWatch:
             when = (f"{_span(age)} old" if age > 0 else f"{_span(-age)} ahead of this host's ROS clock")
             self._untrusted = f"the last is stamped {stamp:.3f} s, {when} (ROS time {now:.3f} s)"
             return
-        missing = [name for name in self.robot.joint_names if name not in names]
+        missing = missing_joints(self.robot, names)
         if missing:  # another device's message, or a robot file that names other joints
             if self._partial is None:
                 self._partial = (time.monotonic(), f"{self.topic} has no position of {', '.join(missing)} (it names "
