@@ -94,11 +94,10 @@ def throw(
                              pedestal=pedestal, frames_dir=frames)
     for note in outcome.notes:
         (say if outcome.followed or note != not_followed(outcome) else warn)(note)
-    heading = math.radians(target.bearing)
-    forward = float(outcome.release.velocity[0] * math.cos(heading) + outcome.release.velocity[1] * math.sin(heading))
-    if forward < 0:  # a mapping whose signs send the arm the other way: the miss alone reads "short"
-        warn(f"the ball left the hand backwards, away from the basket ({-forward:.2f} m/s back towards the robot): "
-             f"check the signs of {model.source}'s [throwing] angle_scale and velocity_scale and its start pose")
+    if outcome.speed_towards_basket < 0:  # the miss alone would read "short"
+        warn(f"the ball left the hand backwards, away from the basket ({-outcome.speed_towards_basket:.2f} m/s back "
+             f"towards the robot): check the signs of {model.source}'s [throwing] angle_scale and velocity_scale "
+             "and its start pose")
     if json:
         emit_json({"trajectory": trajectory, "robot": model.name, "pedestal": pedestal, **outcome.to_dict()})
         return

@@ -153,6 +153,12 @@ class ThrowOutcome:
     notes: tuple[str, ...] = field(default_factory=tuple)
 
     @property
+    def speed_towards_basket(self) -> float:
+        """The ball's horizontal speed at the release along the basket's bearing line (m/s);
+        negative for a ball that leaves backwards (a mapping whose signs turn the throw around)."""
+        return self.basket.along_line(*self.release.velocity[:2])[0]
+
+    @property
     def followed(self) -> bool:
         """Whether the simulated arm followed its trajectory up to the release: within
         :data:`TRACKING_TOLERANCE` and :data:`SPEED_TOLERANCE` of its speed limits, or behind it only because the
