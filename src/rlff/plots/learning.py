@@ -85,7 +85,7 @@ def learning_curves(
                     attempts[first], miss[first], marker="*", markersize=max(17 - 6 * below, 6), color=colour,
                     markeredgecolor="black", linestyle="none", zorder=5 + below,
                 )
-        axes.xaxis.set_major_locator(MaxNLocator(integer=True))
+        axes.xaxis.set_major_locator(MaxNLocator(integer=True, min_n_ticks=1))
         longest = max((len(values) for values in misses.values()), default=1)
         axes.set_xlim(0.5, longest + 0.5)
         axes.set_xlabel("attempt")
