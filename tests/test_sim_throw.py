@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
@@ -104,10 +105,21 @@ def test_a_release_angle_never_passed_is_refused(robot):
         simulate_throw(swing(), Basket(2.0), robot=robot, release_angle=0.5)
 
 
-def test_missing_joints_are_named(robot):
-    partial = swing().select(["joint_2", "joint_3"])
-    with pytest.raises(InputError, match="joint_1"):
-        simulate_throw(partial, Basket(2.0), robot=robot)
+def test_joints_left_out_are_held_at_the_start_pose(robot):
+    # swing() holds every other joint at the Comau's [throwing] start pose, so the partial throw
+    # is the same throw
+    whole = simulate_throw(swing(), Basket(2.0), robot=robot)
+    partial = simulate_throw(swing().select(["joint_2", "joint_3"]), Basket(2.0), robot=robot)
+    assert partial.landing_x == pytest.approx(whole.landing_x, abs=1e-9)
+    assert any("leaves out joint_1, joint_4, joint_5, joint_6" in note and "joint_5 -0.198" in note
+               for note in partial.notes)
+    assert not any("leaves out" in note for note in whole.notes)
+
+
+def test_joints_left_out_of_a_robot_without_a_start_pose_are_named(robot):
+    bare = dataclasses.replace(robot, throwing={})
+    with pytest.raises(InputError, match="no positions of joint_1, joint_4.*no \\[throwing\\] start pose"):
+        simulate_throw(swing().select(["joint_2", "joint_3"]), Basket(2.0), robot=bare)
 
 
 def test_a_pedestal_lifts_the_release_and_lengthens_the_throw(robot):

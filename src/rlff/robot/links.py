@@ -84,10 +84,7 @@ def require_above_base(robot: Robot, trajectory: JointTrajectory, what: str = "t
         if not robot.throwing:
             return
         held = RobotMapping.for_robot(robot).pose()
-    positions = np.tile(np.zeros(6) if held is None else np.asarray(held, dtype=float), (len(trajectory), 1))
-    for column, name in enumerate(robot.joint_names):
-        if name in trajectory.joint_names:
-            positions[:, column] = trajectory.positions[:, trajectory.joint_index(name)]
+    positions = trajectory.holding(robot.joint_names, np.zeros(6) if held is None else held).positions
     points = chain_points(robot.geometry, positions)
     heights = np.stack([points[name][:, 2] for name in POINTS], axis=1)  # (N, 5)
     row, column = np.unravel_index(int(np.argmin(heights)), heights.shape)

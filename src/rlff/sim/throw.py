@@ -24,6 +24,7 @@ from rlff.ballistics import flight_time as time_to_height
 from rlff.errors import InputError
 from rlff.limits import check_pedestal
 from rlff.robot.description import Robot, load_robot
+from rlff.robot.mapping import RobotMapping
 from rlff.sim.arm import BALL_RADIUS, Arm
 from rlff.sim.basket import Basket
 from rlff.sim.reach import PLANE_JOINTS, farthest_basket, require_reachable, throw_reach
@@ -211,7 +212,9 @@ def simulate_throw(
     Parameters
     ----------
     trajectory : JointTrajectory
-        Timed positions (rad) and velocities (rad/s) of every joint of the robot.
+        Timed positions (rad) and velocities (rad/s) of the robot's joints; a joint it leaves
+        out is held at the robot file's ``[throwing]`` start pose (said in the notes), as the
+        floor check (:func:`rlff.robot.links.require_above_base`) holds it.
     basket : Basket
     robot : Robot, optional
         Default: the built-in Comau Smart5 SiX.
@@ -247,9 +250,18 @@ def simulate_throw(
     check_pedestal(pedestal, "pedestal height")
     if not 0 < timestep <= 0.01:
         raise InputError(f"timestep must be in (0, 0.01] s, got {timestep}")
+    notes: list[str] = []
     missing = [name for name in arm.joint_names if name not in trajectory.joint_names]
+    if missing and not robot.throwing:
+        raise InputError(f"the trajectory has no positions of {', '.join(missing)} (it names "
+                         f"{', '.join(trajectory.joint_names)}), and {robot.source} has no [throwing] start pose "
+                         "to hold them at")
     if missing:
-        raise InputError(f"trajectory has no positions for joints {missing} (it has {list(trajectory.joint_names)})")
+        start = RobotMapping.for_robot(robot).pose()
+        held = ", ".join(f"{name} {start[robot.joint_names.index(name)]:.3g}" for name in missing)
+        notes.append(f"the trajectory leaves out {', '.join(missing)}: held at the start pose ({held} rad), as "
+                     "a controller holds the joints a goal does not name")
+        trajectory = trajectory.holding(robot.joint_names, start)
     trajectory = trajectory.select(arm.joint_names)
     require_within_limits(trajectory, arm.joints)
     require_room_to_stop(trajectory, arm)
@@ -263,7 +275,6 @@ def simulate_throw(
         reachable = basket.distance <= farthest_basket(reach, basket.opening)
     scene = build_scene(arm, basket, float(pedestal), float(timestep))
     recorder = None
-    notes: list[str] = []
     if frames_dir is not None:
         from rlff.sim.render import open_recorder
 

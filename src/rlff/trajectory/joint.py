@@ -84,6 +84,23 @@ class JointTrajectory:
         except ValueError:
             raise InputError(f"unknown joint {name!r} (joints: {', '.join(self.joint_names)})") from None
 
+    def holding(self, names: Sequence[str], still: Sequence[float]) -> JointTrajectory:
+        """The trajectory over the joints ``names`` (length J', in that order): the joints it has
+        as they are, every other one held at its entry of ``still`` ((J',) rad) at rest, as a
+        controller holds the joints a goal does not name."""
+        still = np.asarray(still, dtype=float)
+        if still.shape != (len(names),):
+            raise InputError(f"still must have one position per joint name ({len(names)}), got shape {still.shape}")
+        shape = (len(self), len(names))
+        positions, velocities, accelerations = np.tile(still, (shape[0], 1)), np.zeros(shape), np.zeros(shape)
+        for column, name in enumerate(names):
+            if name in self.joint_names:
+                own = self.joint_index(name)
+                positions[:, column] = self.positions[:, own]
+                velocities[:, column] = self.velocities[:, own]
+                accelerations[:, column] = self.accelerations[:, own]
+        return JointTrajectory(tuple(names), self.time, positions, velocities, accelerations, self.release_time)
+
     def select(self, names: Sequence[str]) -> JointTrajectory:
         """The same trajectory restricted to the joints ``names``, in that order."""
         index = [self.joint_index(n) for n in names]

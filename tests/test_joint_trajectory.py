@@ -1,0 +1,29 @@
+"""JointTrajectory: the joints a trajectory leaves out, held still."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rlff.errors import InputError
+from rlff.trajectory.joint import JointTrajectory
+
+
+def test_holding_keeps_its_joints_and_holds_the_others_at_rest():
+    time = np.array([0.0, 0.1, 0.2])
+    own = JointTrajectory(("b", "d"), time, [[1, 2], [3, 4], [5, 6]], [[7, 8], [9, 10], [11, 12]],
+                          [[-1, -2], [-3, -4], [-5, -6]], release_time=0.1)
+    whole = own.holding(("a", "b", "c", "d"), [0.5, 0.0, -0.5, 0.0])
+    assert whole.joint_names == ("a", "b", "c", "d")
+    np.testing.assert_array_equal(whole.positions, [[0.5, 1, -0.5, 2], [0.5, 3, -0.5, 4], [0.5, 5, -0.5, 6]])
+    np.testing.assert_array_equal(whole.velocities[:, [1, 3]], own.velocities)
+    np.testing.assert_array_equal(whole.accelerations[:, [1, 3]], own.accelerations)
+    assert not whole.velocities[:, [0, 2]].any() and not whole.accelerations[:, [0, 2]].any()
+    assert whole.release_time == 0.1
+    np.testing.assert_array_equal(whole.time, time)
+
+
+def test_holding_needs_one_position_per_name():
+    own = JointTrajectory(("a",), [0.0], [[1.0]], [[0.0]])
+    with pytest.raises(InputError, match="one position per joint name"):
+        own.holding(("a", "b"), [0.0])
