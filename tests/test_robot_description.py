@@ -74,16 +74,16 @@ def test_missing_limit_names_the_file_joint_and_field(tmp_path, field):
 def test_bad_values_are_refused(tmp_path):
     path = tmp_path / "r.toml"
     path.write_text(MINIMAL.replace("upper = 1.0", "upper = -2.0"))
-    with pytest.raises(InputError, match=r"r.toml: joint a: lower limit -1.0 is not below upper -2.0"):
+    with pytest.raises(InputError, match=r"r.toml: joint 1 \(a\): lower limit -1.0 is not below upper -2.0"):
         load_robot(path)
     path.write_text(MINIMAL.replace("max_velocity = 2.0", 'max_velocity = "fast"'))
     with pytest.raises(InputError, match="'max_velocity' must be a finite number"):
         load_robot(path)
     path.write_text(MINIMAL.replace("max_jerk = 80.0", "max_jerk = -1.0"))
-    with pytest.raises(InputError, match=r"r.toml: joint a: max_jerk must be positive and finite, got -1.0"):
+    with pytest.raises(InputError, match=r"r.toml: joint 1 \(a\): max_jerk must be positive and finite, got -1.0"):
         load_robot(path)
     path.write_text(MINIMAL.replace('name = "b"', 'name = "a"'))
-    with pytest.raises(InputError, match="unique"):
+    with pytest.raises(InputError, match=r"r.toml: joint 2 \(a\): joint 1 has that name too"):
         load_robot(path)
     path.write_text("name = 'x'\n[[joints]\n")
     with pytest.raises(InputError, match="not valid TOML"):

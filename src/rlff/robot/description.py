@@ -464,11 +464,14 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
         where = f"{source}: joint {number}" + (f" ({joint_name})" if joint_name else "")
         if not isinstance(joint_name, str) or not joint_name:
             raise InputError(f"{where}: missing field 'name'")
+        if joint_name in joint_names(joints):
+            raise InputError(f"{where}: joint {joint_names(joints).index(joint_name) + 1} has that name too; "
+                             "each joint needs its own name")
         limits = [number_field(table, key, where) for key in LIMIT_FIELDS]
         try:
             joints.append(Joint(joint_name, *limits))
         except InputError as exc:  # the joint's own checks (lower < upper, positive limits) name no file
-            raise InputError(f"{source}: {exc}") from None
+            raise InputError(f"{where}: {str(exc).removeprefix(f'joint {joint_name}: ')}") from None
     for key in _TABLES:
         if key in document and not isinstance(document[key], Mapping):
             raise InputError(f"{source}: [{key}] must be a table, got {document[key]!r}")
