@@ -125,9 +125,14 @@ def learn_command(
         from rlff.preprocess import Pipeline
 
         data, _ = Pipeline.preset(preset).run(data)
+    settings = {"budget": budget, "feedback": feedback, "update": update, "seed": seed, "log_path": log,
+                "robot": robot, "pedestal": pedestal, "until": until, "centre_share": centre_share,
+                "executed_on": executor, "joints": driven, "bearing": bearing, "height": height,
+                "carry_from": carry, "gap": arm.name, "misreport": misreport}
+    live = None if executor == "sim" else {"outcome": outcome, "landing_topic": landing_topic, "network": network,
+                                           "approach_speed": approach_speed}
     try:
-        result = _run(data, basket, budget, feedback, update, seed, log, robot, pedestal, until, centre_share, executor,
-                      outcome, landing_topic, network, driven, bearing, height, carry, arm, misreport, approach_speed)
+        result = _run(data, basket, settings, live)
     except KeyboardInterrupt as exc:  # on its own line, after the progress bar or the prompt
         said = _interrupted_attempt(exc, log)
         if said:
@@ -154,40 +159,38 @@ def learn_command(
                    f"signed misses from the centre (m): {misses}", highlight=False)
 
 
-def _run(data, basket, budget, feedback, update, seed, log, robot, pedestal, until, centre_share, executor, outcome,
-         landing_topic, network, driven, bearing, height, carry, arm, misreport, approach_speed):
-    """The learning run, on the simulation or through a live robot (its progress shown as it goes)."""
+def _run(data, basket: float, settings: dict, live: dict | None):
+    """The learning run (:func:`rlff.learn.learn` of ``data`` at ``basket`` m with ``settings``, its
+    keyword arguments), on the simulation or, with ``live`` (``outcome``, ``landing_topic``,
+    ``network``, ``approach_speed``), through the live robot of ``settings["executed_on"]``; its
+    progress shown as it goes."""
     from rlff.learn import learn
 
     with ExitStack() as stack:
         bar = []  # opened at the first attempt, so that bad input fails before any display
         run_on = None
-        if executor != "sim":
+        if live is not None:
             from rlff.learn.robot import robot_executor
 
             def tell(line: str) -> None:  # the approach, before the arm moves: shown even under -q
                 stderr().print(line, highlight=False, markup=False)
 
             run_on = _learn_live(lambda: stack.enter_context(robot_executor(
-                executor, outcome, robot, basket, feedback, until=until, ask=_ask, landing_topic=landing_topic,
-                network=network, tell=tell, approach_speed=approach_speed)))
+                settings["executed_on"], live["outcome"], settings["robot"], basket, settings["feedback"],
+                until=settings["until"], ask=_ask, landing_topic=live["landing_topic"], network=live["network"],
+                tell=tell, approach_speed=live["approach_speed"])))
 
         def show(attempt) -> None:
-            if outcome == "ask":  # no progress bar under the prompt
+            if live is not None and live["outcome"] == "ask":  # no progress bar under the prompt
                 say(f"attempt {attempt.index}: {'hit' if attempt.hit else 'miss'}, exploration {attempt.exploration:.2f}")
                 return
             if not bar:
-                bar.append(stack.enter_context(progress(f"learning to hit {basket:g} m", total=budget)))
+                bar.append(stack.enter_context(progress(f"learning to hit {basket:g} m", total=settings["budget"])))
             seen = f"{'hit' if attempt.hit else 'miss'} {attempt.miss:+.2f} m"
             bar[0](1, description=f"attempt {attempt.index}: {seen}, "
                                   f"exploration {attempt.exploration:.2f}")
 
-        return _learn_live(lambda: learn(data, basket, budget=budget, feedback=feedback, update=update, seed=seed,
-                                         log_path=log, progress=show, robot=robot, pedestal=pedestal,
-                                         until=until, centre_share=centre_share,
-                                         executor=run_on, executed_on=executor, joints=driven,
-                                         bearing=bearing, height=height, carry_from=carry, gap=arm.name,
-                                         misreport=misreport))
+        return _learn_live(lambda: learn(data, basket, **settings, progress=show, executor=run_on))
 
 
 def _interrupted_attempt(exc: BaseException, log: Path | None) -> str | None:
