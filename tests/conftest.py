@@ -65,3 +65,24 @@ def msr_dir() -> Path:
     if not MSR_THROWS.is_dir():
         pytest.skip(f"{MSR_THROWS} is absent")
     return MSR_THROWS
+
+
+@pytest.fixture(scope="session")
+def msr_throws(tmp_path_factory):
+    """The real MSR Action3D throws as a user gets them: imported (elbow, shoulder and wrist,
+    with the landings estimated from the hand's release) and cleaned by the thesis preset through
+    the command line; skips when the shared folder is absent."""
+    if not MSR_THROWS.is_dir():
+        pytest.skip(f"{MSR_THROWS} is absent")
+    folder = tmp_path_factory.mktemp("msr")
+    imported = run_cli("data", "import", *map(str, sorted(MSR_THROWS.glob("a06_*.txt"))), "--format", "msr", "-o",
+                       str(folder / "msr.csv"))
+    assert imported.code == 0, imported.stderr
+    cleaned = run_cli("data", "preprocess", str(folder / "msr.csv"), "--preset", "thesis", "-o",
+                      str(folder / "clean.csv"))
+    assert cleaned.code == 0, cleaned.stderr
+    from rlff.formats import read_dataset
+
+    demos = read_dataset(folder / "clean.csv")
+    assert {"shoulder", "shoulder_velocity", "wrist", "wrist_velocity"} <= set(demos.columns)
+    return demos

@@ -68,26 +68,6 @@ def test_each_whole_arm_basket_starts_where_the_one_before_it_hit(tmp_path):
     assert second.hit and second.attempts == 1
 
 
-@pytest.fixture(scope="module")
-def msr_throws(tmp_path_factory):
-    from conftest import MSR_THROWS, run_cli
-
-    if not MSR_THROWS.is_dir():
-        pytest.skip(f"{MSR_THROWS} is absent")
-    folder = tmp_path_factory.mktemp("msr")
-    imported = run_cli("data", "import", *map(str, sorted(MSR_THROWS.glob("a06_*.txt"))), "--format", "msr", "-o",
-                       str(folder / "msr.csv"))
-    assert imported.code == 0, imported.stderr
-    cleaned = run_cli("data", "preprocess", str(folder / "msr.csv"), "--preset", "thesis", "-o",
-                      str(folder / "clean.csv"))
-    assert cleaned.code == 0, cleaned.stderr
-    from rlff.formats import read_dataset
-
-    demos = read_dataset(folder / "clean.csv")
-    assert {"shoulder", "shoulder_velocity", "wrist", "wrist_velocity"} <= set(demos.columns)
-    return demos
-
-
 @pytest.mark.parametrize("basket, joints", [
     (2.0, ("joint_2", "joint_3")),
     (3.0, ("joint_2", "joint_3")),

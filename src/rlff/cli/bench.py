@@ -48,6 +48,10 @@ def learning(
                             help="How the simulated arm differs from the robot file, comma-separated: none, "
                                  "speed:G (reaches G of the commanded speed, 0 < G <= 1), delay:S (lets go S s "
                                  "late)."),
+    aim: str = typer.Option("auto", "--aim",
+                            help="Where the speed search starts, comma-separated: auto, kinematics (where the "
+                                 "robot file's kinematics send the throw; the GMR baselines start there too), "
+                                 "demonstrations (rlff learn --aim)."),
     methods: str | None = typer.Option(None, "--methods",
                                        help="Comma-separated methods (default: every method that can use "
                                             "the feedback)."),
@@ -90,6 +94,9 @@ def learning(
         gaps = [parse_gap(n) for n in _names("--gap", gap)]
     except InputError as exc:
         raise InputError(f"--gap: {exc}") from None
+    from rlff.learn.loop import AIMS
+
+    aims = _names("--aim", aim, list(AIMS))
     chosen = None
     if methods is not None:
         wanted = _names("--methods", methods, list(METHODS))
@@ -100,8 +107,8 @@ def learning(
         raise InputError(f"--baskets {baskets}: a distance given twice")
     try:
         cases = [Scenario(name, landings=known, feedbacks=feedbacks, opening=opening, robot=robot, gap=arm,
-                          baskets=distances)
-                 for name in people for known in knowledge for arm in gaps]
+                          baskets=distances, aim=where)
+                 for name in people for known in knowledge for arm in gaps for where in aims]
     except InputError as exc:
         raise InputError(f"--opening: {exc}") from None
     try:

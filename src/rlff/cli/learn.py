@@ -85,6 +85,11 @@ def learn_command(
                                          "(a ball that rattles out). calibrate throws a likely window that missed "
                                          "once more where that is likelier than a hit in the windows left; 0: "
                                          "never twice before its second pass."),
+    aim: str = typer.Option("auto", "--aim",
+                            help="Where the speed search starts: kinematics (where the robot file's geometry "
+                                 "sends the throw), demonstrations (their speeds, landings or labels), or auto: "
+                                 "kinematics for --joints, demonstrations for one joint. On real recordings "
+                                 "with one joint, kinematics (docs/learn.md)."),
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
@@ -101,6 +106,10 @@ def learn_command(
 
         fmt = export_format(out, fmt)
         check_period(period)
+    from rlff.learn.loop import AIMS
+
+    if aim not in AIMS:  # before the demonstrations are read and cleaned
+        raise InputError(f"unknown --aim {aim!r} (known: {', '.join(AIMS)})")
     if executor not in ("sim", "ros1", "ros2"):
         raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")
     if executor == "sim" and outcome is not None:
@@ -128,7 +137,7 @@ def learn_command(
     settings = {"budget": budget, "feedback": feedback, "update": update, "seed": seed, "log_path": log,
                 "robot": robot, "pedestal": pedestal, "until": until, "centre_share": centre_share,
                 "executed_on": executor, "joints": driven, "bearing": bearing, "height": height,
-                "carry_from": carry, "gap": arm.name, "misreport": misreport}
+                "carry_from": carry, "gap": arm.name, "misreport": misreport, "aim": aim}
     live = None if executor == "sim" else {"outcome": outcome, "landing_topic": landing_topic, "network": network,
                                            "approach_speed": approach_speed}
     try:

@@ -69,7 +69,7 @@ def run_one(demos: Dataset, scenario: Scenario, feedback: Feedback, method: str,
     from rlff.learn.loop import learn
 
     result = learn(demos, basket, budget=budget, feedback=feedback.kind, update=method, seed=seed,
-                   robot=scenario.robot, opening=scenario.opening,
+                   robot=scenario.robot, opening=scenario.opening, aim=scenario.aim,
                    executor=reporting_executor(scenario, feedback, basket, seed))
     return Run(scenario.name, scenario.landings, feedback.name, method, float(basket), seed, result.hit,
                result.attempts)

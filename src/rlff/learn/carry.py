@@ -31,7 +31,7 @@ from rlff.learn.log import brief, first_difference, read_log
 CARRY_SCALE = 0.1
 #: What a run and the runs it carries from must share (the header's keys): the offset is
 #: relative to a u0 that the method, the demonstrations, the robot and the joints decide.
-SHARED = ("update", "demos", "robot", "joints", "pedestal")
+SHARED = ("update", "demos", "robot", "joints", "pedestal", "aim")
 
 
 def carried_offsets(logs: Sequence[str | Path], run: dict[str, Any]) -> tuple[tuple[float, ...], list[str]]:
@@ -66,7 +66,8 @@ def carried_offsets(logs: Sequence[str | Path], run: dict[str, Any]) -> tuple[tu
                 where, before, now = difference
                 raise InputError(f"{path}: cannot carry its hits into this run ({where} = {brief(before)} there, "
                                  f"{brief(now)} here): the speed offset is relative to the method's own start, "
-                                 "which the method, the demonstrations, the robot, the joints and the pedestal set")
+                                 "which the method, the demonstrations, the robot, the joints, the pedestal and "
+                                 "the aim set")
         hits = [a.info["log_factor"] for a in contents.attempts
                 if a.hit and isinstance(a.info.get("log_factor"), int | float) and math.isfinite(a.info["log_factor"])]
         basket = logged.get("basket", {}).get("distance")

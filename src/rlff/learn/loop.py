@@ -74,6 +74,11 @@ METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
 UNTILS = ("hit", "centred")
 #: Default share of the opening (centre to rim) a centred hit lands within.
 CENTRE_SHARE = 0.5
+#: Where the speed search of ``calibrate`` (and the GMR baselines' start) puts the basket: where
+#: the robot file's kinematics send the throw (``kinematics``), or at the demonstrations' own
+#: speed (``demonstrations``); ``auto``: the kinematics for a whole-arm throw, the
+#: demonstrations for a one-joint one (see :func:`learn`).
+AIMS = ("auto", "kinematics", "demonstrations")
 #: The log header's keys a user sets with an option of ``rlff learn``: (the option, how a header
 #: without the key reads). A resumed log that differs in one names it, in this order, first.
 RUN_OPTIONS: dict[str, tuple[str, str | None]] = {
@@ -92,6 +97,7 @@ RUN_OPTIONS: dict[str, tuple[str, str | None]] = {
     "misreport": ("--misreport", repr(MISREPORT)),
     "centre_share": ("--centre-share", None),
     "carried": ("--carry", "none"),
+    "aim": ("--aim", "'auto'"),
 }
 
 
@@ -212,6 +218,7 @@ def learn(
     carry_from: Sequence[str | Path] = (),
     gap: str = "none",
     misreport: float = MISREPORT,
+    aim: str = "auto",
 ) -> LearningResult:
     """Learn to hit a basket at distance ``basket`` from (possibly failed) demonstrations.
 
@@ -282,6 +289,18 @@ def learn(
         that missed once more where a misreported hit there is likelier than a hit in the
         windows left (:func:`rlff.learn.windows.with_retries`); 0: no window twice before the
         second pass. A value other than the default goes into the log's header.
+    aim : {"auto", "kinematics", "demonstrations"}
+        Where the speed search starts (:data:`AIMS`). ``kinematics``: at the speed at which the
+        robot file's geometry and the free flight from the release send the method's first
+        throw to the basket (:func:`rlff.learn.reach.aimed_factor`), with the narrow prior
+        :data:`rlff.learn.strategies.AIM_SCALE` about it; the GMR baselines start there too
+        (the same information). ``demonstrations``: where the demonstrations' speeds (their
+        landings, their labels' range law, or the GMR mean) put it. ``auto`` (default): the
+        kinematics for a whole-arm throw, whose mapping moves a human throw's landing far; the
+        demonstrations for a one-joint throw, the benchmark's setting, where the mapping kept
+        the simulated people's landings close. On real recordings the one-joint mapping need not
+        (the MSR throws' speeds map to the speed limit at every basket), and ``kinematics``
+        starts there. An aim other than the default goes into the log's header.
 
     Returns
     -------
@@ -316,6 +335,8 @@ def learn(
         raise InputError(f"centre share must be in (0, 1] of the half-opening, got {centre_share!r}")
     if not 0 <= misreport < 1:
         raise InputError(f"misreport is the probability that a hit is reported as a miss, in [0, 1); got {misreport!r}")
+    if aim not in AIMS:
+        raise InputError(f"unknown aim {aim!r} (known: {', '.join(AIMS)})")
     from rlff.sim.gap import parse_gap
 
     arm_gap = parse_gap(gap)
@@ -360,6 +381,9 @@ def learn(
         run["misreport"] = misreport
     if drives_whole_arm(mapping):
         run["joints"] = list(mapping.driven_joints)
+    kinematic = drives_whole_arm(mapping) if aim == "auto" else aim == "kinematics"
+    if kinematic != drives_whole_arm(mapping):  # the default writes no such field, so older logs resume
+        run["aim"] = "kinematics" if kinematic else "demonstrations"
     carried, carry_notes = carried_offsets(carry_from, run) if carry_from else ((), [])
     if carried:
         run["carried"] = [round(x, 4) for x in carried]
@@ -367,7 +391,7 @@ def learn(
     try:
         result = _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
                       progress, until, centre_window, pedestal, components, tuple(run.get("carried", ())),
-                      misreport)
+                      misreport, kinematic)
         result.notes[:0] = limit_notes + carry_notes
         return result
     finally:
@@ -376,7 +400,7 @@ def learn(
 
 
 def _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor, progress,
-         until, centre_window, pedestal, components, carried, misreport) -> LearningResult:
+         until, centre_window, pedestal, components, carried, misreport, kinematic) -> LearningResult:
     """The attempts of :func:`learn` after its checks, with the log (or None) held."""
     history = list(log.contents.attempts) if log else []
     resumed = len(history)
@@ -385,7 +409,8 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
             progress(attempt)
 
     problem = _problem(demos, target, feedback, seed, mapping, pedestal, components,
-                       tolerance=min(_hit_tolerance(target), centre_window), carried=carried, misreport=misreport)
+                       tolerance=min(_hit_tolerance(target), centre_window), carried=carried, misreport=misreport,
+                       aim=kinematic)
 
     def done(attempt: Attempt) -> bool:
         return attempt.hit and abs(attempt.miss) <= centre_window
@@ -443,10 +468,22 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
 
 
 def _problem(demos: Dataset, target, feedback: str, seed: int, mapping, pedestal: float, components: int, *,
-             tolerance: float, carried: tuple[float, ...] = (), misreport: float = MISREPORT) -> Problem:
+             tolerance: float, carried: tuple[float, ...] = (), misreport: float = MISREPORT,
+             aim: bool | None = None) -> Problem:
     """What a method of :func:`learn` knows before its first attempt at basket ``target``
     (:class:`rlff.sim.Basket`), the demonstrations prepared (:func:`rlff.learn.demos.usable_demos`);
-    a whole-arm throw also the arm's aim, saturation and landing elasticity."""
+    a whole-arm throw also the arm's saturation and landing elasticity, and with ``aim`` (None:
+    for a whole-arm throw) the kinematics' aim, and their elasticity for a one-joint throw."""
+    whole_arm = drives_whole_arm(mapping)
+    aim = whole_arm if aim is None else aim
+    known = {}
+    if whole_arm or aim:
+        known["elasticity"] = release_elasticity(mapping, typical_throw(mapping, demos), target.distance,
+                                                 target.rim_height, pedestal)
+    if aim:
+        known["aim"] = partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal)
+    if whole_arm:
+        known["saturation"] = partial(saturation_factor, mapping)
     return Problem(
         demos=demos,
         target=target.distance,
@@ -459,11 +496,7 @@ def _problem(demos: Dataset, target, feedback: str, seed: int, mapping, pedestal
         outputs=joint_outputs(mapping.human_columns),
         carried=carried,
         misreport=misreport,
-        **({"elasticity": release_elasticity(mapping, typical_throw(mapping, demos), target.distance,
-                                             target.rim_height, pedestal),
-            "aim": partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal),
-            "saturation": partial(saturation_factor, mapping)}
-           if drives_whole_arm(mapping) else {}),
+        **known,
     )
 
 

@@ -153,6 +153,8 @@ class Scenario:
         Basket distances (m); default the demonstrators'.
     gap : Gap or str
         How the simulated arm differs from ``robot`` (default none).
+    aim : str
+        Where the speed search starts, one of :data:`rlff.learn.loop.AIMS` (default ``auto``).
     """
 
     demonstrators: str = "short"
@@ -162,8 +164,13 @@ class Scenario:
     robot: str = "comau_smart5_six"
     baskets: tuple[float, ...] | None = None
     gap: Gap | str = Gap()
+    aim: str = "auto"
 
     def __post_init__(self) -> None:
+        from rlff.learn.loop import AIMS
+
+        if self.aim not in AIMS:
+            raise InputError(f"unknown aim {self.aim!r} (known: {', '.join(AIMS)})")
         if isinstance(self.gap, str):
             object.__setattr__(self, "gap", parse_gap(self.gap))
         if self.demonstrators not in DEMONSTRATORS:
@@ -179,8 +186,11 @@ class Scenario:
 
     @property
     def name(self) -> str:
-        """The demonstrators, and the gap when there is one (``short/speed:0.95``)."""
-        return self.demonstrators if self.gap.none else f"{self.demonstrators}/{self.gap.name}"
+        """The demonstrators, the gap when there is one and the aim when not the default
+        (``short/speed:0.95/aim:kinematics``)."""
+        parts = [self.demonstrators, *([] if self.gap.none else [self.gap.name]),
+                 *([] if self.aim == "auto" else [f"aim:{self.aim}"])]
+        return "/".join(parts)
 
 
 def demonstrations(seed: int, scenario: Scenario) -> Dataset:

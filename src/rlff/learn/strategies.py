@@ -76,6 +76,7 @@ from rlff.learn.attempt import Attempt
 from rlff.learn.carry import CARRY_SCALE
 from rlff.learn.landings import LABELS_SCALE, ROBOT_SCALE, LandingSpeed, aims_shift, landing_speed
 from rlff.learn.method import (
+    ONE_JOINT_OUTPUTS,
     Method,
     Problem,
     Proposal,
@@ -310,7 +311,7 @@ class CalibrateUpdate(DmmStrategy):
         self._demos_shape: Proposal | None = None
         self._windows: WindowSearch | None = None
         self._prior = ""  # the window search's prior, by name (set with the windows)
-        if problem.aim is not None:  # a whole-arm throw: the arm's kinematics say how fast
+        if problem.aim is not None:  # the arm's kinematics say how fast (a whole-arm throw, or --aim)
             self.reference = self.aimed_speed()
         if not self.reference > 0:
             raise InputError(f"the GMR throw for {problem.target:g} m does not move at its "
@@ -557,7 +558,7 @@ def shape_distance(problem: Problem) -> float:
     the MSR throws, labelled up to 2.75 m, the shoulder's release fell from 2.0 rad at 2 m to 1.4
     rad at 4 m, and the throw's reach with it); the speed calibration takes the throw the rest of
     the way. A one-joint shape is a velocity only, which the calibration rescales anyway."""
-    if problem.aim is None:
+    if problem.outputs == ONE_JOINT_OUTPUTS:
         return problem.target
     labels = known_labels(problem.demos)
     return float(np.clip(problem.target, labels.min(), labels.max()))
