@@ -50,7 +50,9 @@ def test_an_implausible_typed_miss_is_refused_with_what_to_type(typed, message):
 
 
 def test_words_need_what_the_run_judges_by():
-    assert parse_answer("hit", BASKET, WINDOW, distance_needed=False).hit
+    typed_hit = parse_answer("hit", BASKET, WINDOW, distance_needed=False)
+    # in the basket is not a landing at its centre: nothing was measured
+    assert typed_hit.hit and math.isnan(typed_hit.landing_x) and math.isnan(typed_hit.miss)
     assert math.isnan(parse_answer("miss", BASKET, WINDOW, distance_needed=False).miss)
     with pytest.raises(InputError, match=r"distance feedback needs the signed miss"):
         parse_answer("miss", BASKET, WINDOW, distance_needed=True)

@@ -175,7 +175,9 @@ def test_learning_curves_one_line_per_method_and_first_hits(tmp_path):
     # a hit reported without a landing (an operator's answer on the robot) still gets its star
     unlanded = learning_curves({"calibrate": [-0.5, float("nan")]}, tmp_path / "unlanded", tolerance=0.14,
                                hits={"calibrate": [False, True]})
-    assert [line.get_marker() for line in unlanded.figure.get_axes()[0].get_lines()].count("*") == 1
+    star, = [line for line in unlanded.figure.get_axes()[0].get_lines() if line.get_marker() == "*"]
+    assert (star.get_xdata()[0], star.get_ydata()[0]) == (2, 0.0)  # drawn at 0, said in the legend
+    assert "landing not measured (drawn at 0)" in [t.get_text() for t in unlanded.figure.legends[0].get_texts()]
 
 
 def generated_paths(distances) -> dict:

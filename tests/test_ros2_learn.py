@@ -131,7 +131,10 @@ def test_outcomes_typed_at_the_prompt(server, domain, folder, demos):
     assert done.returncode == 0, done.stderr
     result = json.loads(done.stdout)
     assert (result["attempts"], result["hit"]) == (2, True)
-    assert result["landings"] == pytest.approx([BASKET - 0.4, BASKET])
+    # a typed hit is in the basket, not measured: no landing, no miss (null), in the log too
+    assert result["landings"][0] == pytest.approx(BASKET - 0.4) and result["landings"][1] is None
+    assert result["misses"][0] == pytest.approx(-0.4) and result["misses"][1] is None
+    assert [(a["hit"], a["miss"]) for a in attempts(log)][1] == (True, None)
     assert "answer 'maybe': type hit, miss, or the signed miss in m" in done.stderr
     assert "attempt 1: the signed miss in m (negative short; 0 or hit)?" in done.stderr
     # each throw waited for an empty line: whoever answers may stand where the ball lands

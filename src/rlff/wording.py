@@ -30,3 +30,12 @@ def nearest_hint(word: str, choices: Sequence[str], otherwise: str) -> str:
     `` (otherwise)`` when none is close (e.g. the list of the choices)."""
     near = difflib.get_close_matches(word, list(choices), n=1)
     return f" (did you mean {near[0]!r}?)" if near else f" ({otherwise})"
+
+
+def attempt_outcome(hit: bool, miss: float) -> str:
+    """An attempt's outcome in words: ``+0.23`` (m) for a measured miss, ``-0.07 hit`` for a
+    measured hit, ``hit (not measured)`` and ``miss (not measured)`` where the landing was not
+    measured (an operator typed hit or miss)."""
+    if miss != miss:  # NaN
+        return f"{'hit' if hit else 'miss'} (not measured)"
+    return f"{miss:+.2f}" + (" hit" if hit else "")

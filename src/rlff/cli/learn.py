@@ -17,7 +17,7 @@ from rlff.cli._common import (
     stderr,
     stdout,
 )
-from rlff.wording import plural
+from rlff.wording import attempt_outcome, plural
 
 
 def register(root: typer.Typer) -> None:
@@ -159,8 +159,7 @@ def learn_command(
     verdict = (f"{goal} after {plural(result.attempts, 'attempt')}" if result.hit and result.centred
                else f"no {goal[2:]} in {plural(result.attempts, 'attempt')}"
                + (", stopped: out of the arm's reach" if result.out_of_reach else ""))
-    misses = ", ".join(("no landing" if m != m else f"{m:+.2f}") + (" hit" if a.hit else "")
-                       for m, a in zip(result.misses, result.history, strict=True))
+    misses = ", ".join(attempt_outcome(a.hit, m) for m, a in zip(result.misses, result.history, strict=True))
     where = "".join([f", bearing {bearing:g} deg" if bearing else "", f", rim {height:g} m" if height is not None else "",
                      f", joints {', '.join(driven)}" if driven else "",
                      "" if arm.none else f", simulated arm {arm.name}"])
@@ -195,7 +194,8 @@ def _run(data, basket: float, settings: dict, live: dict | None):
                 return
             if not bar:
                 bar.append(stack.enter_context(progress(f"learning to hit {basket:g} m", total=settings["budget"])))
-            seen = f"{'hit' if attempt.hit else 'miss'} {attempt.miss:+.2f} m"
+            seen = f"{'hit' if attempt.hit else 'miss'} " + (f"{attempt.miss:+.2f} m" if attempt.miss == attempt.miss
+                                                             else "(not measured)")
             bar[0](1, description=f"attempt {attempt.index}: {seen}, "
                                   f"exploration {attempt.exploration:.2f}")
 
@@ -241,7 +241,7 @@ def _write_best(result, robot: str, out: Path, fmt: str, period: float, joints: 
         return None
     planned = export_attempt(best, load_robot(robot), out, fmt, period, joints=joints, bearing=bearing).trajectory
     what = "the last hit" if best.hit else "no hit: the throw nearest the centre"
-    say(f"wrote {out} ({fmt}): attempt {best.index}, {what} ({best.miss:+.3f} m), "
+    say(f"wrote {out} ({fmt}): attempt {best.index}, {what} ({f'{best.miss:+.3f} m' if best.miss == best.miss else 'landing not measured'}), "
         f"{len(planned)} points, {planned.duration:.3f} s")
     return {"path": out, "format": fmt, "attempt": best.index, "hit": best.hit, "miss": best.miss}
 

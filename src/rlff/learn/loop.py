@@ -187,8 +187,8 @@ class LearningResult:
             "resumed": self.resumed,
             "dropped_partial_line": self.dropped_partial_line,
             "until": self.until,
-            "centred": self.centred,
-            "centre_window": _json_number(self.centre_window),
+            # a run that stops at any hit has no centre window to say anything about
+            **({"centred": self.centred, "centre_window": self.centre_window} if self.until == "centred" else {}),
             "out_of_reach": self.out_of_reach,
             "notes": self.notes,
         }
@@ -413,7 +413,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
                        aim=kinematic)
 
     def done(attempt: Attempt) -> bool:
-        return attempt.hit and abs(attempt.miss) <= centre_window
+        return counts_as_hit(attempt, centre_window)
 
     # how far from the centre a landing may still count: a centred hit's window, or the farthest
     # a ball can come down and still drop in (its centre over the rim: half the opening and a
@@ -651,10 +651,16 @@ def _hit_tolerance(basket) -> float:
     return max(0.5 * basket.opening - BALL_RADIUS, 0.25 * basket.opening)
 
 
+def counts_as_hit(attempt: Attempt, centre_window: float = math.inf) -> bool:
+    """Whether ``attempt`` is a hit within ``centre_window`` (m) of the centre; every hit when the
+    window is infinite, one whose landing was not measured (a typed hit) too."""
+    return attempt.hit and (math.isinf(centre_window) or abs(attempt.miss) <= centre_window)
+
+
 def _as_reported(attempt: Attempt, feedback: str, centre_window: float = math.inf) -> Attempt:
     """The attempt as the feedback reports it: without landing and miss for binary feedback, and
     a hit only within ``centre_window`` (m) of the centre (``until="centred"``)."""
-    hit = attempt.hit and abs(attempt.miss) <= centre_window
+    hit = counts_as_hit(attempt, centre_window)
     if feedback == "distance":
         return attempt if hit == attempt.hit else replace(attempt, hit=hit)
     return replace(attempt, hit=hit, landing=math.nan, miss=math.nan)

@@ -207,7 +207,8 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
         mapping = run_mapping(robot, run)
         require_same_robot(path, run, mapping)
         require_run_joints(path, run, mapping, joints)
-        outcome = f"hit, {chosen.miss:+.3f} m from the centre" if chosen.hit else f"miss {chosen.miss:+.3f} m"
+        outcome = (f"hit, {chosen.miss:+.3f} m from the centre" if chosen.hit and chosen.miss == chosen.miss
+                   else "hit, landing not measured" if chosen.hit else f"miss {chosen.miss:+.3f} m")
         planned = plan_attempt(chosen, mapping, period, clip, start, run_bearing(run) if bearing is None else bearing,
                                approach_speed)
         return ThrowInput(planned, f"attempt {chosen.index} of {path} ({outcome}), {planned.summary()}", run)

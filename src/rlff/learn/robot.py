@@ -74,7 +74,8 @@ LANDING_RANGE = (0.0, DISTANCE_RANGE[1])
 @dataclass(frozen=True)
 class ReportedOutcome:
     """What whoever watched reports: ``hit``, ``landing_x`` (m; NaN if not measured) and
-    ``miss`` (m, ``landing_x`` less the basket's distance; 0 for a hit, NaN if not measured)."""
+    ``miss`` (m, ``landing_x`` less the basket's distance; NaN if not measured, a typed ``hit``
+    too: in the basket is not a landing at its centre)."""
 
     hit: bool
     landing_x: float
@@ -108,8 +109,8 @@ def parse_answer(text: str, basket: float, tolerance: float, distance_needed: bo
                  hit_distance_needed: bool = False) -> ReportedOutcome:
     """The outcome a person typed.
 
-    ``hit`` (or ``h``, ``y``): in the basket (landing taken as the basket's centre; only when
-    ``hit_distance_needed`` is False); ``miss`` (or ``m``, ``n``): out, not measured (only when
+    ``hit`` (or ``h``, ``y``): in the basket, where not measured (landing and miss NaN; only
+    when ``hit_distance_needed`` is False); ``miss`` (or ``m``, ``n``): out, not measured (only when
     ``distance_needed`` is False); a number: the signed miss (m, negative short), a hit within
     ``tolerance`` (m) of the centre, as :func:`outcome_of_landing` judges a measured landing.
 
@@ -124,7 +125,7 @@ def parse_answer(text: str, basket: float, tolerance: float, distance_needed: bo
         if hit_distance_needed:
             raise InputError("--until centred needs a hit's signed miss in m (e.g. 0.05 for 5 cm long), "
                              "not just 'hit'")
-        return ReportedOutcome(True, float(basket), 0.0)
+        return ReportedOutcome(True, math.nan, math.nan)
     if answer in ("miss", "m", "n", "no"):
         if distance_needed:
             raise InputError("distance feedback needs the signed miss in m (e.g. -0.3 for 30 cm short), "

@@ -81,8 +81,10 @@ def learning_curves(
                 point = (first, round(float(miss[first]) * 100) if np.isfinite(miss[first]) else None)
                 below = stars.get(point, 0)
                 stars[point] = below + 1
+                blind |= not np.isfinite(miss[first])  # a typed hit: drawn at 0 like an unmeasured miss
                 axes.plot(
-                    attempts[first], miss[first], marker="*", markersize=max(17 - 6 * below, 6), color=colour,
+                    attempts[first], np.nan_to_num(miss[first]), marker="*", markersize=max(17 - 6 * below, 6),
+                    color=colour,
                     markeredgecolor="black", linestyle="none", zorder=5 + below,
                 )
         axes.xaxis.set_major_locator(MaxNLocator(integer=True, min_n_ticks=1))
@@ -95,7 +97,7 @@ def learning_curves(
         labels.append("first hit")
         if blind:
             handles.append(Line2D([], [], marker="x", markersize=8, color="grey", linestyle="none"))
-            labels.append("miss, landing not measured (drawn at 0)")
+            labels.append("landing not measured (drawn at 0)")
         figure.legend(handles, labels, loc="outside right upper")
         where = f" for a basket at {basket:g} m" if basket is not None else ""
         axes.set_title(f"Learning from failure{where}")
