@@ -76,6 +76,10 @@ def test_bad_method_feedback_and_basket_are_input_errors(failed_demos):
         learn(failed_demos, 1.9, update="telepathy")
     with pytest.raises(InputError, match="out of reach"):
         learn(failed_demos, 6.0)
+    # the hint names joint 3, whose throw needs the shoulder's columns, which these lack
+    with pytest.raises(InputError, match=r"with joint_3 too: 4.59 m.*--joints joint_2,joint_3, which needs "
+                                         r"shoulder and shoulder_velocity columns in the demonstrations"):
+        learn(failed_demos, 3.0)
 
 
 def test_demonstrations_beyond_the_joint_range_are_refused():

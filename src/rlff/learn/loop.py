@@ -38,7 +38,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from rlff.dataset import Dataset, joint_outputs
+from rlff.dataset import Dataset, joint_outputs, velocity_column
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
 from rlff.learn.baselines import BASELINES
@@ -349,7 +349,7 @@ def learn(
     # checks the stated range
     target = Basket(float(basket), rim_height=rim, opening=opening, bearing=float(bearing))
     pedestal = check_pedestal(pedestal)
-    _require_reach(robot_model, target, pedestal, mapping.driven_joints)
+    _require_reach(robot_model, target, pedestal, mapping.driven_joints, demos.columns)
     demos, limit_notes = usable_demos(demos, mapping, target.rim_height)
     components = loop_components(demos, seed, joint_outputs(mapping.human_columns))
     _require_executable(mapping, target, pedestal, demos, components, seed, method_class)
@@ -552,11 +552,32 @@ def _plan(mapping, path, bearing: float):
     return planned.points, planned.trajectory, planned.clipped_points
 
 
-def _require_reach(robot, basket, pedestal: float, joints: Sequence[str] = ("joint_2",)) -> None:
+def _require_reach(robot, basket, pedestal: float, joints: Sequence[str] = ("joint_2",),
+                   columns: Sequence[str] = ()) -> None:
+    """:func:`rlff.sim.require_reachable`; where its hint names a joint the run does not drive,
+    it says too what that run needs of the demonstrations (``columns``) when they lack it."""
+    from rlff.robot import mapping_for
     from rlff.sim import require_reachable
     from rlff.sim.reach import PLANE_JOINTS
 
-    require_reachable(basket, robot, pedestal, tuple(j for j in joints if j in PLANE_JOINTS) or ("joint_2",))
+    plane = tuple(j for j in joints if j in PLANE_JOINTS) or ("joint_2",)
+    try:
+        require_reachable(basket, robot, pedestal, plane)
+    except InputError as exc:
+        more = [j for j in ("joint_3", "joint_5") if j not in plane and f"with {j} too" in str(exc)]
+        if not more or not robot.whole_arm:
+            raise
+        wanted = (*sorted(plane), more[0])
+        try:
+            needed = mapping_for(robot, wanted).human_columns
+        except InputError:  # the robot file's [whole_arm] does not drive that joint
+            raise exc from None
+        lacking = [column for name in needed for column in (name, velocity_column(name)) if column not in columns]
+        if not lacking:
+            raise
+        raise InputError(f"{exc}; with {more[0]} the throw is --joints {','.join(wanted)}, which needs "
+                         f"{' and '.join(lacking)} columns in the demonstrations, and these lack them (rlff data "
+                         "import keeps the shoulder and wrist unless --joints elbow)") from None
 
 
 def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, seed: int = 0,
