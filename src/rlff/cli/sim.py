@@ -90,8 +90,12 @@ def throw(
     say(f"{trajectory}: {loaded.kind}")
     if not loaded.arm.none:
         say(f"thrown as the run's simulated arm throws: gap {loaded.arm.name} (the log's)")
+    # a basket beyond the arm's reach is no reason not to say where this throw lands
     outcome = simulate_throw(loaded.simulated, target, robot=model, release_angle=release_angle,
-                             pedestal=pedestal, frames_dir=frames)
+                             pedestal=pedestal, frames_dir=frames, check_reach=False)
+    if not outcome.reachable:
+        warn(f"the basket at {basket:g} m is beyond the reach of {model.name} with the joints this trajectory "
+             "moves: no throw of this arm drops into it (rlff sim reach says how far it throws); simulated anyway")
     for note in outcome.notes:
         (say if outcome.followed or note != not_followed(outcome) else warn)(note)
     if outcome.speed_towards_basket < 0:  # the miss alone would read "short"
