@@ -310,6 +310,20 @@ def test_a_chosen_k_says_when_it_is_the_largest_tried_or_the_data_hardly_decide_
     assert wide.n_components < 10 and wide.selection_notes() == []
 
 
+def test_a_larger_k_fitted_worse_than_a_smaller_one_is_said():
+    # the thesis set: EM's three starts at K = 8 end below K = 7's ln L, which a mixture of 8
+    # can always match; BIC's K = 7 then rests on K = 8's poorer fit as much as on its size
+    model = Model.fit(thesis_dataset())
+    table = {row["n_components"]: row["log_likelihood"] for row in model.selection.table}
+    assert model.n_components == 7 and table[8] < table[7] - 0.25
+    fall, = [note for note in model.selection_notes() if note.startswith("ln L falls")]
+    assert fall.startswith(f"ln L falls from K = 7 to K = 8 ({table[7]:.2f} to {table[8]:.2f})")
+    assert "EM's 3 starts found a poorer optimum there" in fall and "rlff fit --n-init" in fall
+    # a fall below the chosen K cannot have changed the choice: nothing said
+    assert not [note for note in Model.fit(thesis_dataset(), max_components=10).selection_notes()
+                if note.startswith("ln L falls")]
+
+
 def test_on_tiny_data_the_notes_say_the_samples_are_too_few_not_to_raise_max_components():
     """Four samples: K stops at 4 (one component per sample) whatever max_components says, and
     the samples, every one counted, are far fewer than the parameters."""

@@ -261,6 +261,15 @@ class Model:
         if self.n_components == tried > 1 and tried + 1 <= counted:  # K at component_bound: no larger K to try
             notes.append(f"{self.selection.criterion.upper()} chose K = {self.n_components}, the largest tried: "
                          "a larger K may fit better (raise max_components, rlff fit --max-components)")
+        fallen = _fallen_likelihood(self.selection.table, self.n_components)
+        if fallen is not None:
+            larger, smaller = fallen
+            notes.append(f"ln L falls from K = {smaller['n_components']} to K = {larger['n_components']} "
+                         f"({smaller['log_likelihood']:.2f} to {larger['log_likelihood']:.2f}), though a mixture of "
+                         f"{larger['n_components']} can fit as well as one of {smaller['n_components']}: EM's "
+                         f"{self.fit_info.get('n_init', DEFAULT_N_INIT)} starts found a poorer optimum there, so "
+                         f"K = {larger['n_components']} may have lost to K = {self.n_components} for its fit, not "
+                         "its size (more starts: n_init, rlff fit --n-init)")
         if counted < parameters:
             notes.append(f"{self.selection.criterion.upper()} rests on {counted:.0f} {what}, fewer than "
                          f"the {parameters} parameters of K = {self.n_components}: the data hardly decide K (record "
@@ -674,6 +683,25 @@ def _typical_release(data: Dataset | np.ndarray, column: str) -> dict[str, Any] 
     for _, source in found:
         sources[source] = sources.get(source, 0) + 1
     return {"value": float(np.median([value for value, _ in found])), "sources": sources}
+
+
+#: How far (in ln L) a larger K's fit may fall below a smaller K's before :meth:`Model.selection_notes`
+#: says so: half a unit of BIC, below which the fall cannot change a choice by the criterion.
+LIKELIHOOD_FALL = 0.25
+
+
+def _fallen_likelihood(table: Sequence[dict[str, Any]], chosen: int) -> tuple[dict, dict] | None:
+    """The first row of a K above ``chosen`` whose ln L is more than :data:`LIKELIHOOD_FALL`
+    below that of a smaller K (EM short of the larger mixture's best fit), and that smaller K's
+    row (the best ln L below it); None when no such K."""
+    best: dict | None = None
+    for row in sorted(table, key=lambda r: r["n_components"]):
+        if (best is not None and row["n_components"] > chosen
+                and row["log_likelihood"] < best["log_likelihood"] - LIKELIHOOD_FALL):
+            return row, best
+        if best is None or row["log_likelihood"] > best["log_likelihood"]:
+            best = row
+    return None
 
 
 def component_bound(n_samples: int, effective_samples: float | None) -> int:
