@@ -24,6 +24,8 @@ def test_flights_in_3d_draw_every_basket_and_flight(tmp_path):
     assert axes.name == "3d"
     labels = [line.get_label() for line in axes.get_lines()]
     assert "hit (1)" in labels and "miss (1)" in labels and "baskets" in labels
+    legend = [text.get_text() for text in axes.get_legend().get_texts()]
+    assert "release" in legend  # the yellow dots say what they are
     # every flight starts at its release and comes down to the floor
     flights = [line for line in axes.get_lines() if line.get_linestyle() == ":" and line.get_color() != "grey"]
     assert len(flights) == 2
@@ -50,8 +52,15 @@ def test_each_joint_human_and_robot_one_row_per_joint(tmp_path):
     positions = np.column_stack([np.full(20, 0.5), -0.5 + t, -2.0 + t])
     robot = JointTrajectory(names, t * 2, positions, np.gradient(positions, t * 2, axis=0), np.zeros((20, 3)))
     saved = joint_trajectories(human, robot, [("joint_3", "angle"), ("joint_2", "shoulder")], tmp_path / "joints",
-                               demos=[human], limits={"joint_3": (-3.0, 0.0)}, turned=("joint_1",))
+                               demos=[human], limits={"joint_3": (-3.0, 0.0)}, speeds={"joint_2": 2.792},
+                               turned=("joint_1",))
     assert len(saved.figure.axes) == 12  # 3 rows (joint_3, joint_2, joint_1) x human/robot position/velocity
+    # joint_2's speed limit, either way, on its velocity panel; joint_3's position limits on its own
+    def bounds(axes):
+        return sorted(line.get_ydata()[0] for line in axes.get_lines() if line.get_linestyle() == ":")
+    assert bounds(saved.figure.axes[7]) == [-2.792, 2.792] and bounds(saved.figure.axes[3]) == []
+    assert bounds(saved.figure.axes[2]) == [-3.0, 0.0]
+    assert "blue: the robot's throw in the human's units" in saved.figure.get_suptitle()
     assert saved.figure.axes[0].get_ylabel() == "elbow (rad)" and saved.figure.axes[4].get_ylabel() == "shoulder (rad)"
     assert saved.figure.axes[10].get_ylabel() == "joint_1 (rad)"
     with pytest.raises(InputError, match="no column 'wrist'"):

@@ -329,6 +329,7 @@ def whole_arm_figures(figures_dir: Path, whole: WholeArm, robot) -> list[tuple[P
         human, planned, list(zip(mapping.driven_joints, mapping.human_columns, strict=True)),
         figures_dir / "whole-arm-joints", demos=demos,
         limits={j.name: (j.lower, j.upper) for j in robot.joints},
+        speeds={j.name: j.max_velocity for j in robot.joints},
         turned=(mapping.bearing_joint,) if mapping.bearing_joint else (),
         title=f"Each joint of the last throw at {shown.distance:g} m, {shown.bearing:g}° "
               f"({'hit' if shown.hit else 'miss'})")

@@ -18,6 +18,8 @@ from rlff.errors import InputError
 from rlff.plots._figure import HIT_COLOUR, MISS_COLOUR, SavedFigure, figure_style, new_figure, save
 
 _BASE_COLOUR = "#4d6a8a"
+#: Where the ball left the hand.
+_RELEASE_COLOUR = "#e3b505"
 _BASKET_COLOUR = "#8c5a2b"
 
 
@@ -69,6 +71,7 @@ def flights_3d(
             axes.plot([0, throw["position"][0]], [0, throw["position"][1]], [base_height, throw["position"][2]],
                       color=_BASE_COLOUR, linewidth=1.0, alpha=0.5, label="arm to the release" if index == 0 else None)
         hit = sum(t["hit"] for t in throws)
+        axes.scatter([], [], [], color=_RELEASE_COLOUR, edgecolor="black", s=14, label="release")
         axes.plot([], [], color=HIT_COLOUR, label=f"hit ({hit})")
         axes.plot([], [], color=MISS_COLOUR, label=f"miss ({len(throws) - hit})")
         top = max(tops) * 1.05
@@ -133,5 +136,5 @@ def _draw_flight(axes, throw: Mapping[str, Any]) -> float:
     below = position_at(position, velocity, np.linspace(split, to_floor, 15))
     axes.plot(above[:, 0], above[:, 1], above[:, 2], color=colour, linewidth=1.4)
     axes.plot(below[:, 0], below[:, 1], below[:, 2], color=colour, linewidth=1.0, linestyle=":")
-    axes.scatter([position[0]], [position[1]], [position[2]], color="#e3b505", edgecolor="black", s=14)
+    axes.scatter([position[0]], [position[1]], [position[2]], color=_RELEASE_COLOUR, edgecolor="black", s=14)
     return float(max(above[:, 2].max(), position[2]))

@@ -275,6 +275,7 @@ def joint_trajectories(
     *,
     demos: Sequence[Mapping[str, np.ndarray]] = (),
     limits: Mapping[str, tuple[float, float]] | None = None,
+    speeds: Mapping[str, float] | None = None,
     turned: Sequence[str] = (),
     title: str | None = None,
 ) -> SavedFigure:
@@ -299,7 +300,9 @@ def joint_trajectories(
     demos : sequence of mapping
         Demonstrations in the columns of ``human`` (``time`` included, 0 at the release), drawn in grey.
     limits : mapping of robot joint to (lower, upper), optional
-        Position limits (rad), drawn dashed.
+        Position limits (rad), drawn dotted.
+    speeds : mapping of robot joint to float, optional
+        Speed limits (rad/s, either direction), drawn dotted on the velocity panels.
     turned : sequence of str
         Robot joints no human joint drives (joint 1 turning to the basket's bearing), drawn in
         the robot's columns only, below the driven ones.
@@ -343,9 +346,10 @@ def joint_trajectories(
                 axes.plot(robot.time, values, color=_BASKET_COLOUR, linewidth=2.0)
                 if release is not None:
                     axes.axvline(release, color="black", linewidth=0.8, linestyle="--")
-                if col == 2 and limits and joint in limits:
-                    for bound in limits[joint]:
-                        axes.axhline(bound, color=MISS_COLOUR, linewidth=0.8, linestyle=":")
+                bounds = (limits or {}).get(joint, ()) if col == 2 else (
+                    (-speeds[joint], speeds[joint]) if speeds and joint in speeds else ())
+                for bound in bounds:
+                    axes.axhline(bound, color=MISS_COLOUR, linewidth=0.8, linestyle=":")
                 axes.set_ylabel(f"{joint} ({unit})")
         titles = ("human angle", "human velocity", "robot position", "robot velocity")
         for col, text in enumerate(titles):
@@ -353,5 +357,9 @@ def joint_trajectories(
                                            " (dashed: release)" if col >= 2 and release is not None else ""))
             grid[len(driven) - 1 if col < 2 else -1, col].set_xlabel("human time to the release (s)" if col < 2
                                                                      else "robot time (s)")
-        figure.suptitle(title or "Each joint of the throw, human and robot")
+        # the robot's whole motion mapped back, its wind-up the planner's: no person's elbow bends so
+        key = "blue: the robot's throw in the human's units (its wind-up is the planner's, not a person's)"
+        if limits or speeds:
+            key += "; dotted red: the joint's limits"
+        figure.suptitle(f"{title or 'Each joint of the throw, human and robot'}\n{key}")
     return save(figure, out)
