@@ -142,7 +142,8 @@ def output_trajectories(
         handles = [
             Line2D([], [], color="black", linestyle="--", label="GMR mean"),
             Patch(color="black", alpha=0.08, label="GMR ±2σ"),
-            Line2D([], [], color=colours[distances[0]], linewidth=2.0, label="DMM output: the throw sent (colour: distance)"),
+            Line2D([], [], color=colours[distances[0]], linewidth=2.0,
+                   label="DMM output (colour: distance; the robot keeps its first pose and release)"),
         ]
         if dataset is not None:
             handles.insert(0, Line2D([], [], color=_DEMO_COLOUR, linewidth=0.7, label="demonstrations at this distance"))
