@@ -103,6 +103,10 @@ def test_sim_reach_reports_the_reach(cli):
     assert payload["farthest_basket"] == pytest.approx(payload["reach"] + 0.175 - 0.033)
     text = cli("sim", "reach").stdout  # plain text (no rich markup): the table name as in the robot file
     assert "throws of the [throwing] mapping" in text and "\\" not in text
+    assert "for comparison" not in text
+    # beside the whole arm's reach, the one-joint line says it is a comparison
+    both = cli("sim", "reach", "--joints", "joint_2,joint_3").stdout
+    assert "for comparison, one joint: throws of the [throwing] mapping (joint_2 alone" in both
 
 
 def test_sim_reach_of_an_arm_it_cannot_simulate_says_why(cli, tmp_path):

@@ -202,10 +202,13 @@ def reach(
     speed = float((result.velocity**2).sum() ** 0.5)
     out.print(f"best release: {pose}; ball at x = {result.position[0]:.3f} m, z = {result.position[1]:.3f} m, "
               f"{speed:.3f} m/s", highlight=False)
+    # beside a reach of several joints, the one-joint throws are a comparison, not a contradiction
+    which = ("for comparison, one joint: " if mapped is not None and tuple(result.joints) != (mapped.joint,)
+             else "") + "throws of the [throwing] mapping"
     if mapped is not None and not math.isfinite(mapped.distance):
-        out.print(f"throws of the [throwing] mapping ({mapped.joint} alone, the rest at the start pose): the ball "
+        out.print(f"{which} ({mapped.joint} alone, the rest at the start pose): the ball "
                   f"{came_down_words(mapped.distance, rim_height)}", highlight=False)
     elif mapped is not None:
-        out.print(f"throws of the [throwing] mapping ({mapped.joint} alone at {mapped.speed:.3f} rad/s, the rest at "
+        out.print(f"{which} ({mapped.joint} alone at {mapped.speed:.3f} rad/s, the rest at "
                   f"the start pose): at most {mapped.distance:.3f} m, released at {mapped.release:.3f} rad; farthest "
                   f"basket {farthest_basket(mapped.distance, opening):.3f} m", highlight=False)
