@@ -100,6 +100,30 @@ def test_dataset_slices_one_panel_per_distance_with_outcomes(tmp_path):
     assert [t.get_text() for t in legend.get_texts()] == ["hit the basket", "missed"]
 
 
+def test_dataset_slices_leave_tracking_glitches_out_of_the_lines(tmp_path):
+    from rlff.preprocess import spike_filter
+    from rlff.preprocess.glitches import glitch_samples
+    from rlff.synthetic.throws import simulate_throws
+
+    raw = simulate_throws(1, subjects=2, distances=(1.5, 2.5), throws_per_distance=4)
+    glitches = glitch_samples(raw)
+    # the samples the cleaning's first step removes, no more and no fewer
+    _, report = spike_filter(raw)
+    removed = sum(change.removed for change in report.samples)
+    assert sum(map(len, glitches.values())) == removed > 0
+    saved = dataset_slices(raw, tmp_path / "raw")
+    dots = [line for axes in visible_axes(saved.figure) for line in axes.get_lines() if line.get_marker() == "."]
+    assert sum(len(line.get_xdata()) for line in dots) == removed
+    # no line passes through a glitch sample: every segment's points are finite off them
+    for axes in visible_axes(saved.figure):
+        for collection in axes.collections:
+            for segment in collection.get_segments():
+                finite = segment[np.isfinite(segment).all(axis=1)]
+                assert not np.isin(finite[:, 0], np.concatenate([d.get_xdata() for d in dots])).any()
+    legend = [t.get_text() for t in saved.figure.legends[0].get_texts()]
+    assert legend[-1] == f"tracking glitch ({removed} samples, left out of the lines)"
+
+
 def test_dataset_slices_label_the_lowest_panel_of_each_column(tmp_path):
     trajectories = [
         Trajectory(f"t{d}", {"angle": np.linspace(0, 1, 5), "distance": np.full(5, d), "velocity": np.ones(5)})

@@ -9,12 +9,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
+import numpy as np
 from matplotlib.cm import ScalarMappable
 from matplotlib.lines import Line2D
 from matplotlib.ticker import MaxNLocator
 from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
-from rlff.dataset import Dataset, Trajectory
+from rlff.dataset import JOINT_COLUMNS, Dataset, Trajectory
 from rlff.errors import InputError
 from rlff.plots._figure import (
     HIT_COLOUR,
@@ -31,10 +32,13 @@ from rlff.plots._figure import (
     robust_limits,
     save,
 )
+from rlff.preprocess.glitches import glitch_samples
 from rlff.wording import plural
 
 #: Two viewpoints of the 3-D figure (elevation, azimuth in degrees), as in thesis figure 4.17.
 _VIEWS = ((22.0, -60.0), (14.0, -30.0))
+#: Tracking glitches' samples, drawn as dots apart from the lines.
+_GLITCH_COLOUR = "#7f7f7f"
 
 
 def _check_columns(dataset: Dataset, columns: Sequence[str]) -> None:
@@ -143,14 +147,31 @@ def dataset_slices(
     with figure_style():
         figure = new_figure(3.4 * columns, 2.8 * rows + 0.6)
         panels = figure.subplots(rows, columns, sharex=True, sharey=True, squeeze=False)
+        # a tracking glitch's sample, joined into the line, throws strokes across the whole panel:
+        # the lines skip them, and they are drawn as dots (rlff data preprocess removes them)
+        glitches = glitch_samples(dataset, x) if len(dataset) and x in JOINT_COLUMNS else {}
+
+        def curve(t: Trajectory) -> tuple[np.ndarray, np.ndarray]:
+            """The line without the glitch samples, nor their neighbours, whose velocities the
+            glitch corrupts (a finite difference across it)."""
+            xs, ys = np.array(t[x], dtype=float), np.array(t[y], dtype=float)
+            spikes = glitches.get(t.id, np.empty(0, dtype=int))
+            near = np.unique(np.clip(np.concatenate([spikes - 1, spikes, spikes + 1]), 0, len(t) - 1))
+            xs[near] = np.nan
+            return xs, ys
+
         for axes, (value, trajectories) in zip(panels.flat, groups.items(), strict=False):
             if has_outcome:  # the few hits drawn over the many misses
                 misses = [t for t in trajectories if t.meta.get("hit") is not True]
                 hits = [t for t in trajectories if t.meta.get("hit") is True]
-                add_curves(axes, [(t[x], t[y]) for t in misses], MISS_COLOUR, linewidth=1.0, alpha=0.7, label="missed")
-                add_curves(axes, [(t[x], t[y]) for t in hits], HIT_COLOUR, linewidth=1.0, alpha=0.8, label="hit", zorder=3)
+                add_curves(axes, [curve(t) for t in misses], MISS_COLOUR, linewidth=1.0, alpha=0.7, label="missed")
+                add_curves(axes, [curve(t) for t in hits], HIT_COLOUR, linewidth=1.0, alpha=0.8, label="hit", zorder=3)
             else:
-                add_curves(axes, [(t[x], t[y]) for t in trajectories], colours[value], linewidth=1.0, alpha=0.8)
+                add_curves(axes, [curve(t) for t in trajectories], colours[value], linewidth=1.0, alpha=0.8)
+            stray = [(t[x][glitches[t.id]], t[y][glitches[t.id]]) for t in trajectories if t.id in glitches]
+            if stray:
+                axes.plot(np.concatenate([a for a, _ in stray]), np.concatenate([b for _, b in stray]), ".",
+                          color=_GLITCH_COLOUR, markersize=2.5, label="tracking glitch (sample)", zorder=2)
             label = format_distance(value) if context == "distance" else f"{context} = {value:g}"
             axes.set_title(f"{label} · {_outcome_counts(trajectories)}", fontsize=10)
         y_limits = robust_limits([(0.5, [t[y] for t in dataset])])
@@ -165,15 +186,13 @@ def dataset_slices(
                 lowest.set_xlabel(axis_label(x))
         for axes in panels[:, 0]:
             axes.set_ylabel(axis_label(y))
-        if has_outcome:
-            figure.legend(
-                handles=[
-                    Line2D([], [], color=HIT_COLOUR, label="hit the basket"),
-                    Line2D([], [], color=MISS_COLOUR, label="missed"),
-                ],
-                loc="outside upper right",
-                ncols=2,
-            )
+        handles = ([Line2D([], [], color=HIT_COLOUR, label="hit the basket"),
+                    Line2D([], [], color=MISS_COLOUR, label="missed")] if has_outcome else [])
+        if glitches:
+            handles.append(Line2D([], [], color=_GLITCH_COLOUR, marker=".", linestyle="none",
+                                  label=f"tracking glitch ({sum(map(len, glitches.values()))} samples, left out of the lines)"))
+        if handles:
+            figure.legend(handles=handles, loc="outside lower center", ncols=len(handles))
         count = plural(len(dataset), "trajectory", "trajectories")
         # wrapped: one or two panels are narrower than the title
         figure.suptitle(title or f"Demonstrations per basket distance ({count})", wrap=True)

@@ -111,6 +111,17 @@ def spike_filter(
     return report.after, report
 
 
+def glitch_samples(dataset: Dataset, column: str = "angle", k: float = 3.0,
+                   max_width: int = 2) -> dict[str, np.ndarray]:
+    """The glitch samples :func:`spike_filter` (with the automatic threshold) removes, by
+    trajectory id: indices ascending, only for trajectories that have any. For drawing raw data
+    without the lines a glitch throws across a figure."""
+    timed = "time" in dataset.columns
+    threshold = _auto_threshold(dataset, column, k, timed)
+    found = {t.id: find_spikes(t[column], t["time"] if timed else None, threshold, max_width) for t in dataset}
+    return {name: spikes for name, spikes in found.items() if spikes.size}
+
+
 def _frame(time: np.ndarray | None) -> float | None:
     """The camera's frame period (s): the median time step (an upper median, cheap on short arrays)."""
     if time is None or time.size < 2:
