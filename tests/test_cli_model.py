@@ -196,3 +196,22 @@ def test_distances_in_centimetres_are_refused_before_a_model_nobody_can_ask(rlff
     assert result.code == 2
     assert "column 'distance' holds 75 to 275, outside the basket distances 0.3 to 20 m (centimetres?" in result.stderr
     assert not (tmp_path / "m.json").exists()
+
+
+def test_fit_refuses_demonstrations_without_a_basket_distance(rlff, tmp_path):
+    # fit took (angle, velocity) alone by default: a model that threw the same for every basket,
+    # which generate -c distance=2 then refused with "the model's context: none"
+    rows = ["trajectory,angle,velocity"] + [f"t{k},{a:.2f},{(1 + a) * (1 + k / 10):.3f}"
+                                            for k in range(6) for a in (0.5, 1.0, 1.5, 2.0)]
+    data = tmp_path / "no-distance.csv"
+    data.write_text("\n".join(rows) + "\n")
+    result = rlff("fit", str(data), "-o", str(tmp_path / "m.json"))
+    assert result.code == 2
+    line = result.stderr.strip().splitlines()[-1]
+    assert line.startswith(f"rlff: error: {data}: no column 'distance', the basket distance each throw aimed at (m)")
+    assert "rlff data import RECORDINGS --manifest baskets.csv" in line and "add a distance column" in line
+    assert not (tmp_path / "m.json").exists()
+    # named inputs still fit a model without context, on purpose
+    chosen = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--inputs", "angle", "-k", "1", "--json")
+    assert chosen.code == 0, chosen.stderr
+    assert json.loads(chosen.stdout)["inputs"] == ["angle"]

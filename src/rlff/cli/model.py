@@ -235,7 +235,7 @@ def fit_command(
 ) -> None:
     """Fit a Gaussian mixture to the demonstrations (K by BIC) and save it as model.json."""
     from rlff.model import Model
-    from rlff.model.model import throw_roles
+    from rlff.model.model import check_throw_context, throw_roles
 
     guard(inputs={"DATA": data}, outputs={"-o/--output": output})
     resolution = _word_or_number(
@@ -255,6 +255,8 @@ def fit_command(
         if int(components) > bound:  # BIC would not have tried it: each component fits the noise of a few samples
             warn(f"-k/--components {components} is more than the {counted} of {data} support ({bound} at most): "
                  "components fit the noise of a few samples; leave K to BIC (-k auto)")
+    if inputs is None:
+        check_throw_context(dataset.columns, str(data))
     default_inputs, default_outputs = throw_roles(dataset.columns)
     for option, given, default in (("--inputs", inputs, default_inputs), ("--outputs", outputs, default_outputs)):
         missing = [name for name in default if name not in dataset.columns]

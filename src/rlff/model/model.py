@@ -86,6 +86,24 @@ def throw_roles(columns: Sequence[str]) -> tuple[tuple[str, ...], tuple[str, ...
     return inputs, outputs
 
 
+def check_throw_context(columns: Sequence[str], where: str) -> None:
+    """:class:`InputError` when ``columns`` hold none of the throw's context columns
+    (:data:`rlff.dataset.THROW_CONTEXT`), ``where`` naming the data.
+
+    :func:`throw_roles` would give the inputs ``angle`` alone, and the model the same throw for
+    every basket; a model without context is still fitted when its inputs are named (``rlff fit
+    --inputs angle``, ``Model.fit(inputs=("angle",))``).
+    """
+    if any(name in columns for name in THROW_CONTEXT):
+        return
+    raise InputError(
+        f"{where}: no column 'distance', the basket distance each throw aimed at (m): without it the model "
+        "gives the same throw for every basket; import the recordings with their baskets (`rlff data import "
+        "RECORDINGS --manifest baskets.csv`, docs/capture.md) or add a distance column (--inputs angle fits a "
+        "model without context on purpose)"
+    )
+
+
 @dataclass(frozen=True)
 class ComponentSelection:
     """How K was chosen: the criterion and one row per candidate (see :func:`select_components`)."""
