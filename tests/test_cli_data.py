@@ -186,3 +186,48 @@ def test_synth_whole_arm_bad_options_are_one_line_and_exit_2(capsys, tmp_path, a
     assert main(["data", "synth", "throws", "-o", str(tmp_path / "d.csv"), *args]) == 2
     stderr = capsys.readouterr().err
     assert message in stderr and len(stderr.strip().splitlines()) == 1
+
+
+def test_a_thesis_matrix_output_that_cannot_hold_the_data_is_refused_before_any_work(rlff, tmp_path, monkeypatch):
+    # --help offered .txt, and every dataset with a time column failed at the write, preprocess
+    # after running its whole pipeline
+    from rlff.capture import importer
+    from rlff.preprocess import Pipeline
+    from rlff.synthetic import throws
+
+    def work(*args, **kwargs):
+        raise AssertionError("the work ran before the output was checked")
+
+    demos = tmp_path / "demos.csv"
+    assert rlff("data", "synth", "throws", "-o", str(demos), "--subjects", "1", "--distances", "2").code == 0
+    monkeypatch.setattr(throws, "simulate_throws", work)
+    monkeypatch.setattr(Pipeline, "run", work)
+    monkeypatch.setattr(importer, "read_recording", work)
+    msr = tmp_path / "a06_s01_e01_skeleton3D.txt"
+    msr.write_text("".join(f"0.{j} 0.2 2.5 1\n" for j in range(40)))
+    refusals = [
+        (("data", "synth", "throws"), "the simulated throws"),
+        (("data", "preprocess", str(demos)), str(demos)),
+        (("data", "import", str(msr), "--joints", "elbow"), "the imported throws"),
+    ]
+    for command, what in refusals:
+        out = tmp_path / "out.txt"
+        result = rlff(*command, "-o", str(out))
+        assert result.code == 2, command
+        assert result.stderr.strip().splitlines()[-1] == (
+            f"rlff: error: {out}: .txt is the thesis matrix, which holds only angle, distance, velocity (a text row "
+            f"each per trajectory), not the column time of {what}: write .csv, .npz or .parquet to keep them")
+        assert not out.exists()
+
+
+def test_a_thesis_matrix_goes_through_synth_preprocess_and_import_as_a_thesis_matrix(rlff, tmp_path):
+    matrix = tmp_path / "thesis.txt"
+    assert rlff("data", "synth", "thesis", "-o", str(matrix)).code == 0
+    imported = tmp_path / "imported.txt"
+    result = rlff("data", "import", str(matrix), "-o", str(imported))
+    assert result.code == 0, result.stderr
+    assert read_dataset(imported).equals(read_dataset(matrix))
+    clean = tmp_path / "clean.txt"
+    result = rlff("data", "preprocess", str(matrix), "-o", str(clean))
+    assert result.code == 0, result.stderr
+    assert read_dataset(clean).columns == ("angle", "distance", "velocity")

@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
 from rlff.formats import (
+    check_holds,
     read_dataset,
     read_parquet,
     read_thesis_matrix,
@@ -112,8 +113,21 @@ def test_bad_thesis_matrix_names_file_and_line(tmp_path, text, message):
 def test_thesis_matrix_refuses_to_lose_columns(tmp_path):
     dataset = Dataset([Trajectory("a", {"angle": [0.0, 1.0], "distance": [1.0, 1.0], "velocity": [0.0, 1.0],
                                         "time": [0.0, 0.1]})])
-    with pytest.raises(InputError, match="also has time"):
+    with pytest.raises(InputError, match=r"d\.txt: \.txt is the thesis matrix, which holds only angle, distance, "
+                                         r"velocity \(a text row each per trajectory\), not the column time of the "
+                                         r"data: write \.csv, \.npz or \.parquet to keep them$"):
         write_thesis_matrix(dataset, tmp_path / "d.txt")
+
+
+def test_check_holds_refuses_columns_the_format_cannot_hold_before_any_work(tmp_path):
+    check_holds(tmp_path / "d.txt", ("trajectory", "angle", "distance", "velocity"), "the data")
+    for name in ("d.csv", "d.npz", "d.parquet"):
+        check_holds(tmp_path / name, ("angle", "distance", "velocity", "time", "shoulder"), "the data")
+    with pytest.raises(InputError, match=r"d\.tsv: \.tsv is the thesis matrix, .* not the columns time, shoulder of "
+                                         r"demos\.csv: write \.csv"):
+        check_holds(tmp_path / "d.tsv", ("time", "angle", "distance", "velocity", "shoulder"), "demos.csv")
+    with pytest.raises(InputError, match="unknown dataset extension '.dat'"):
+        check_holds(tmp_path / "d.dat", ("angle",), "the data")
 
 
 def test_parquet_from_another_tool_with_scattered_rows(tmp_path):

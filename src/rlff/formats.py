@@ -214,10 +214,7 @@ def write_thesis_matrix(
     dataset.require(rows)
     extra = [name for name in dataset.columns if name not in rows]
     if extra:
-        raise InputError(
-            f"the thesis matrix format holds only {', '.join(rows)}; the data also has "
-            f"{', '.join(extra)} (write CSV, NPZ or Parquet to keep them)"
-        )
+        raise InputError(_thesis_refusal(path, rows, "the data", extra))
     out = []
     for trajectory in dataset:
         if header:
@@ -227,6 +224,41 @@ def write_thesis_matrix(
             text = separator.join(repr(float(v)) for v in trajectory[name])
             out.append(text.replace(".", ",") if decimal_comma else text)
     write_text(path, "\n".join(out) + "\n")
+
+
+def _thesis_refusal(path: str | Path, rows: Sequence[str], what: str, extra: Sequence[str]) -> str:
+    """Why a thesis matrix at ``path`` cannot hold ``what``: its ``extra`` columns, beyond ``rows``."""
+    suffix = Path(path).suffix or "the thesis format"
+    columns = f"column{'s' if len(extra) > 1 else ''} {', '.join(extra)}"
+    return (f"{path}: {suffix} is the thesis matrix, which holds only {', '.join(rows)} (a text row each per "
+            f"trajectory), not the {columns} of {what}: write .csv, .npz or .parquet to keep them")
+
+
+def check_holds(path: str | Path, columns: Sequence[str], what: str, format: str | None = None) -> None:
+    """Refuse, before any work, an output whose format cannot hold ``columns``: the thesis matrix
+    (``.txt``, ``.tsv``) holds only :data:`THESIS_ROWS`; every other format any column.
+
+    Parameters
+    ----------
+    path : str or Path
+        The output; its format from its extension unless ``format`` is given.
+    columns : sequence of str
+        The sample columns the data written there will have (the ``trajectory`` id and the
+        metadata ride along in every format).
+    what : str
+        The data in words, for the message ("the simulated throws", "demos.csv").
+
+    Raises
+    ------
+    InputError
+        An unknown extension or format, or a column the format cannot hold, naming the format,
+        what it holds and the suffixes to use instead.
+    """
+    if format_of(path, format) != "thesis":
+        return
+    extra = [name for name in columns if name not in THESIS_ROWS and name != ID_COLUMN]
+    if extra:
+        raise InputError(_thesis_refusal(path, THESIS_ROWS, what, extra))
 
 
 # -- NPZ ---------------------------------------------------------------------------------------
@@ -536,6 +568,7 @@ def write_dataset(dataset: Dataset, path: str | Path, format: str | None = None)
 __all__ = [
     "FORMATS",
     "THESIS_ROWS",
+    "check_holds",
     "format_of",
     "read_dataset",
     "read_npz",

@@ -227,6 +227,14 @@ def detect_format(path: str | Path) -> str:
     raise InputError(f"{path}: cannot tell the format; give --format ({'|'.join(FORMATS)})")
 
 
+def imported_columns(paths: Sequence[str | Path], format: str | None = None) -> tuple[str, ...]:
+    """The sample columns every import of ``paths`` writes, known before any is read: a thesis
+    matrix passes through as (angle, distance, velocity); a recording's throws have ``time`` too
+    (and the other joints' columns where it carries them)."""
+    kinds = {detect_format(path) if format in (None, "auto") else format for path in paths}
+    return ("angle", "distance", "velocity") if kinds == {"thesis"} else ("time", "angle", "velocity", "distance")
+
+
 def read_recording(
     path: Path,
     format: str,

@@ -34,7 +34,7 @@ def _floats(option: str, text: str) -> list[float]:
 
 @synth_app.command("throws")
 def synth_throws_command(
-    output: Path = typer.Option(..., "--output", "-o", help="Dataset to write (.csv, .parquet, .npz or .txt)."),
+    output: Path = typer.Option(..., "--output", "-o", help="Dataset to write (.csv, .parquet or .npz; not the thesis .txt matrix, which has no time)."),
     seed: int = seed_option("Random seed (same seed, same throws)."),
     subjects: int | None = typer.Option(None, "--subjects", help="Number of subjects (default 10; 4 with --whole-arm)."),
     distances: str = typer.Option("1,1.5,2,2.25,2.5,2.75,3,3.25,3.5,4", "--distances", help="Basket distances (m), comma-separated."),
@@ -57,10 +57,10 @@ def synth_throws_command(
     The elbow alone by default; with --whole-arm the shoulder and the elbow (and the wrist)
     together, at baskets by distance, bearing and rim height (docs/data.md).
     """
-    from rlff.formats import format_of, write_dataset
+    from rlff.formats import check_holds, write_dataset
 
     guard(inputs={}, outputs={"-o/--output": output})
-    format_of(output)  # an unknown extension fails before the simulation
+    check_holds(output, ("time",), "the simulated throws")  # an unknown extension or .txt fails before the simulation
 
     camera = {"rate_hz": rate, "noise": noise, "dropped_frames": dropped_frames, "glitches": glitches}
     if whole_arm:
@@ -117,7 +117,7 @@ def _last_removal(report) -> str:
 @app.command("preprocess")
 def preprocess_command(
     data: Path = typer.Argument(..., help="Demonstrations (.csv, .parquet, .npz or thesis .txt)."),
-    output: Path = typer.Option(..., "--output", "-o", help="Cleaned dataset to write (format from the extension)."),
+    output: Path = typer.Option(..., "--output", "-o", help="Cleaned dataset to write, its format from the extension (.csv, .parquet, .npz; .txt: the thesis matrix, which holds only angle, distance, velocity)."),
     preset: str | None = typer.Option(None, "--preset", help="A built-in pipeline: thesis (the default)."),
     config: Path | None = typer.Option(None, "--config", help="A pipeline TOML file instead of a preset."),
     report_path: Path | None = typer.Option(None, "--report", help="Write the step report as JSON here."),
@@ -127,7 +127,7 @@ def preprocess_command(
     from rich.table import Table
 
     from rlff.cli.model import read_data
-    from rlff.formats import format_of, write_dataset
+    from rlff.formats import check_holds, format_of, write_dataset
     from rlff.preprocess import Pipeline
 
     guard(inputs={"DATA": data, "--config": config}, outputs={"-o/--output": output, "--report": report_path})
@@ -136,6 +136,7 @@ def preprocess_command(
         raise InputError("give either --preset or --config, not both")
     pipeline = Pipeline.from_toml(config) if config is not None else Pipeline.preset(preset or "thesis")
     dataset = read_data(data)
+    check_holds(output, dataset.columns, str(data))  # the steps keep the columns: refused before they run
     warn_copies(dataset, data)
     enabled = sum(step.enabled for step in pipeline.steps)
     with progress("preprocessing", total=enabled) as advance:

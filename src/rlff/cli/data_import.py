@@ -28,7 +28,7 @@ def column_map(text: str | None) -> dict[str, str] | None:
 @app.command("import")
 def import_command(
     files: list[Path] = typer.Argument(..., help="Recordings: ROS 1 .bag files, ROS 2 bag folders, skeleton text or CSV."),
-    output: Path = typer.Option(..., "--output", "-o", help="Demonstrations CSV to write."),
+    output: Path = typer.Option(..., "--output", "-o", help="Demonstrations to write: .csv (or .parquet, .npz)."),
     format: str = typer.Option("auto", "--format", "-f", help="bag, kinect-text, msr, csv, thesis, or auto (from each file)."),
     manifest: Path | None = typer.Option(None, "--manifest", "-m", help="CSV of basket distances: file, distance[, throw | start, end][, subject]."),
     contact_sheet: Path | None = typer.Option(None, "--contact-sheet", help="Folder for PNG contact sheets of the cuts (bags with a camera stream)."),
@@ -57,10 +57,13 @@ def import_command(
 
     guard(inputs={"FILES": files, "--manifest": manifest},
           outputs={"-o/--output": output, "--contact-sheet": contact_sheet}, folders=["--contact-sheet"])
-    from rlff.formats import format_of
+    from rlff.capture.importer import imported_columns
+    from rlff.formats import check_holds, format_of
     from rlff.limits import check_frame_rate
 
-    format_of(output)  # an output extension rlff cannot write fails before the import
+    # an output extension rlff cannot write, or a thesis matrix that cannot hold the throws, fails before the import
+    if format_of(output) == "thesis":
+        check_holds(output, imported_columns(files, format), "the imported throws")
     if rate is not None:
         check_frame_rate(rate, "--rate")
     frame_names = [name.strip() for name in frames.split(",") if name.strip()]
