@@ -89,3 +89,14 @@ def test_quiet_keeps_the_warnings(rlff, tmp_path):
     assert result.code == 0, result.stderr
     assert "warning: 1 of 1 throws have an estimated basket distance" in result.stderr
     assert "not a throw" not in result.stderr and "dropped" not in result.stderr  # the notes stay quiet
+
+
+def test_the_msr_folder_instead_of_its_files_says_which_files_to_give(cli, msr_dir, tmp_path):
+    out = tmp_path / "x.csv"
+    for format in ((), ("--format", "msr")):
+        result = cli("data", "import", str(msr_dir), *format, "-o", str(out))
+        assert result.code == 2
+        line = result.stderr.strip().splitlines()[-1]
+        assert line.startswith(f"rlff: error: {msr_dir}: is a folder")
+        assert line.endswith(f"give the recordings in it: {msr_dir}/*.txt ({len(list(msr_dir.glob('*.txt')))} .txt files)")
+        assert not out.exists()

@@ -159,3 +159,39 @@ def test_a_thesis_matrix_is_told_from_a_tsv_recording_by_its_header(rlff, tmp_pa
         result = rlff("data", "import", str(matrix), "-o", str(tmp_path / f"{name}.csv"))
         assert result.code == 0, result.stderr
         assert "11 throws from 1 file" in result.stdout
+
+
+@pytest.mark.parametrize(("format", "said"), [
+    (None, "is a folder, not a ROS 2 bag (no metadata.yaml in it): give the recordings in it: {dir}/*.txt (2 .txt files)"),
+    ("msr", "is a folder, and --format msr reads files: give the recordings in it: {dir}/*.txt (2 .txt files)"),
+    ("kinect-text", "is a folder, and --format kinect-text reads files: give the recordings in it: {dir}/*.txt "
+                    "(2 .txt files)"),
+    ("csv", "is a folder, and --format csv reads files: give the recordings themselves (the folder holds no .csv file)"),
+    ("bag", "is a folder, not a ROS 2 bag (no metadata.yaml in it): give the recordings themselves (the folder holds "
+            "no .bag file)"),
+])
+def test_a_folder_of_recordings_is_said_to_be_one_with_its_files_to_give(tmp_path, format, said):
+    # it said "not a readable ROS 2 bag (Expected metadata file '<folder>' does not exist.)"
+    folder = tmp_path / "msr"
+    folder.mkdir()
+    for name in ("a06_s01_e01_skeleton3D.txt", "a06_s01_e02_skeleton3D.txt", "README.md"):
+        (folder / name).write_text("0.1 0.2 2.5 1\n")
+    with pytest.raises(InputError) as error:
+        import_recordings([folder], format)
+    assert str(error.value) == f"{folder}: " + said.format(dir=folder)
+
+
+def test_a_folder_of_ros2_bags_is_told_to_give_the_bags_and_a_bag_folder_passes(tmp_path):
+    from rlff.capture.importer import refuse_folder
+
+    bag = tmp_path / "session" / "take1"
+    bag.mkdir(parents=True)
+    (bag / "metadata.yaml").write_text("rosbag2_bagfile_information: {}\n")
+    refuse_folder(bag)  # a ROS 2 bag: rosbags reads it (and says what is wrong with it)
+    refuse_folder(bag, "bag")
+    with pytest.raises(InputError, match=r"take1: is a folder, and --format msr reads files"):
+        refuse_folder(bag, "msr")
+    with pytest.raises(InputError) as error:
+        refuse_folder(bag.parent)
+    assert str(error.value) == (f"{bag.parent}: is a folder, not a ROS 2 bag (no metadata.yaml in it): give the ROS 2 "
+                                f"bags in it: {bag.parent}/*/ (1 bag folder)")

@@ -227,6 +227,52 @@ def detect_format(path: str | Path) -> str:
     raise InputError(f"{path}: cannot tell the format; give --format ({'|'.join(FORMATS)})")
 
 
+#: The suffix of the files each text format reads, for the files of a folder given in their place.
+FORMAT_SUFFIXES = {"kinect-text": ".txt", "msr": ".txt", "csv": ".csv", "thesis": ".txt"}
+#: Suffixes of recordings, as :func:`detect_format` tells them.
+_RECORDING_SUFFIXES = (".bag", ".txt", ".csv", ".tsv")
+
+
+def refuse_folder(path: str | Path, format: str | None = None) -> None:
+    """:class:`InputError` for a folder given where recordings go, unless it is a ROS 2 bag: it is
+    said to be a folder, with the files in it to give instead (``DIR/*.txt``).
+
+    Parameters
+    ----------
+    path : str or Path
+    format : str, optional
+        The ``--format`` given (None or ``auto``: guessed). A folder with a ``metadata.yaml``
+        or a bag database (``.db3``, ``.mcap``) is a ROS 2 bag and passes, for ``bag`` and
+        ``auto``; rosbags then says what is wrong with a damaged one.
+    """
+    path = Path(path)
+    if not path.is_dir():
+        return
+    guessed = format in (None, "auto")
+    if (guessed or format == "bag") and ((path / "metadata.yaml").is_file()
+                                         or any(path.glob("*.db3")) or any(path.glob("*.mcap"))):
+        return
+    files = [child for child in path.iterdir() if child.is_file()]
+    if guessed or format == "bag":
+        kind = "not a ROS 2 bag (no metadata.yaml in it)"
+        wanted = [".bag"] if format == "bag" else list(_RECORDING_SUFFIXES)
+    else:
+        kind = f"and --format {format} reads files"
+        wanted = [FORMAT_SUFFIXES[format]] if format in FORMAT_SUFFIXES else []
+    counts = {suffix: sum(child.suffix.lower() == suffix for child in files) for suffix in wanted}
+    found = {suffix: count for suffix, count in counts.items() if count}
+    bags = [child for child in path.iterdir() if child.is_dir() and (child / "metadata.yaml").is_file()]
+    if found:
+        suffix = max(found, key=lambda name: found[name])
+        hint = f"give the recordings in it: {path}/*{suffix} ({plural(found[suffix], suffix + ' file')})"
+    elif bags and (guessed or format == "bag"):
+        hint = f"give the ROS 2 bags in it: {path}/*/ ({plural(len(bags), 'bag folder')})"
+    else:
+        looked = ", ".join(wanted[:-1]) + " or " + wanted[-1] if len(wanted) > 1 else "".join(wanted) or "recording"
+        hint = f"give the recordings themselves (the folder holds no {looked} file)"
+    raise InputError(f"{path}: is a folder, {kind}: {hint}")
+
+
 def imported_columns(paths: Sequence[str | Path], format: str | None = None) -> tuple[str, ...]:
     """The sample columns every import of ``paths`` writes, known before any is read: a thesis
     matrix passes through as (angle, distance, velocity); a recording's throws have ``time`` too
@@ -339,6 +385,8 @@ def import_recordings(
     report = ImportReport()
     used_ids: set[str] = set()
     origin: dict[str, Path] = {}  # the file of every throw, by id
+    for path in paths:  # before anything is read
+        refuse_folder(path, format)
     kinds = [detect_format(path) if format in (None, "auto") else format for path in map(Path, paths)]
     if columns and "csv" not in kinds:
         raise InputError(f"a column map (--columns) is for CSV recordings, and none is given (formats: "
