@@ -100,6 +100,32 @@ def test_column_map_typos_are_errors_with_the_nearest_name(tmp_path):
         read_joint_csv(path, {"time": "Zzz"})
 
 
+def test_a_missing_axis_column_is_not_answered_with_another_axis_of_the_joint(tmp_path):
+    # a file without HandRight.X was told "did you mean 'HandRight.Z'?", which maps z as x
+    names = [f"{joint}Right.{axis}" for joint in ("Shoulder", "Elbow", "Hand") for axis in "XYZ"]
+    values = _positions(6)[:, :9]
+    kept = [index for index, name in enumerate(names) if name != "HandRight.X"]
+    path = tmp_path / "export.csv"
+    path.write_text("\n".join([",".join(["Timestamp", *(names[i] for i in kept)])]
+                              + [",".join([f"{0.1 * k:g}", *(f"{row[i]:.6f}" for i in kept)]) for k, row in enumerate(values)])
+                    + "\n")
+    mapping = {"time": "Timestamp", **{f"right_{joint.lower()}_{axis.lower()}": f"{joint}Right.{axis}"
+                                       for joint in ("Shoulder", "Elbow", "Hand") for axis in "XYZ"}}
+    with pytest.raises(InputError) as error:
+        read_joint_csv(path, mapping)
+    assert str(error.value) == (f"{path}: column map (--columns): right_hand_x=HandRight.X: no column 'HandRight.X' in "
+                                "the file; its columns for HandRight: HandRight.Y, HandRight.Z")
+    # the same column in another case is the fix, and is said so
+    with pytest.raises(InputError, match=r"right_hand_y=HandRight\.y: no column 'HandRight\.y' in the file "
+                                         r"\(did you mean 'HandRight\.Y'\?\)$"):
+        read_joint_csv(path, {**mapping, "right_hand_x": "HandRight.Y", "right_hand_y": "HandRight.y"})
+    # a misspelt joint is matched within its axis, never to another axis
+    with pytest.raises(InputError, match=r"no column 'ElbowRigth\.Y' in the file \(did you mean 'ElbowRight\.Y'\?\)$"):
+        read_joint_csv(path, {**mapping, "right_elbow_y": "ElbowRigth.Y"})
+    with pytest.raises(InputError, match=r"no column 'HandRigth\.X' in the file \(columns: Timestamp, ShoulderRight\.X"):
+        read_joint_csv(path, {**mapping, "right_hand_x": "HandRigth.X"})
+
+
 def test_a_non_finite_value_is_located_by_its_file_line(tmp_path):
     # MSR: line 201 was "frame 201" (it is frame 11); Kinect: line 13 (frame number 20) was "frame 11"
     lines = _msr_lines(12)

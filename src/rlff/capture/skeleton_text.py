@@ -473,10 +473,31 @@ def _check_column_map(mapping: Mapping[str, str], present: list[str], path: Path
                 + nearest_hint(name, ours, "names: time, {side}_{joint}_{axis}, neck_{axis}, hip_{axis}")
             )
         if column not in present:
-            raise InputError(
-                f"{where}: {name}={column}: no column {column!r} in the file"
-                + nearest_hint(column, present, f"columns: {', '.join(present)}")
-            )
+            raise InputError(f"{where}: {name}={column}: no column {column!r} in the file{_missing_column(column, present)}")
+
+
+def _axis_of(name: str) -> tuple[str, str]:
+    """A column name split into its joint and its axis (``"HandRight.X"``: ``("HandRight.", "x")``;
+    ``("Timestamp", "")`` when it does not end in x, y or z after something else)."""
+    if len(name) > 1 and name[-1].lower() in _AXES:
+        return name[:-1], name[-1].lower()
+    return name, ""
+
+
+def _missing_column(column: str, present: list[str]) -> str:
+    """What to say of a mapped ``column`` the file does not have: the same name in another case;
+    where the file has that joint's other axes, those (another axis is no fix for a missing one);
+    else the nearest name of the same axis, or every column."""
+    same = [name for name in present if name.lower() == column.lower()]
+    if same:
+        return f" (did you mean {same[0]!r}?)"
+    joint, axis = _axis_of(column)
+    if axis:
+        others = [name for name in present if _axis_of(name)[1] and _axis_of(name)[0].lower() == joint.lower()]
+        if others:
+            return f"; its columns for {joint.rstrip('._-: ') or joint}: {', '.join(others)}"
+    choices = [name for name in present if not (axis and _axis_of(name)[1] not in ("", axis))]
+    return nearest_hint(column, choices, f"columns: {', '.join(present)}")
 
 
 def axis_vector(axis: str) -> np.ndarray:
