@@ -303,3 +303,26 @@ def test_a_release_against_the_paths_direction_is_said_so_not_compared_with_a_li
         "moves it against the path's direction (the release), which --clip stops (0 rad/s)" in result.stderr
     assert "beyond the limit 0" not in result.stderr
 
+
+
+def test_export_takes_the_format_from_the_suffix_as_learn_out_does(capsys, throw, tmp_path):
+    # export required --format where learn --out x.json took it from the suffix
+    from rlff.learn.replay import SUFFIX_FORMATS
+
+    for suffix, fmt in SUFFIX_FORMATS.items():
+        code, out, err = run(capsys, "robot", "export", str(throw), "-o", str(tmp_path / f"t{suffix}"), "--json")
+        assert code == 0, err
+        assert json.loads(out)["format"] == fmt
+    assert read_json(tmp_path / "t.json").positions.shape[1] == 6
+    assert list(pd.read_csv(tmp_path / "t.csv").columns)[0] == "time"
+    assert (tmp_path / "t.txt").read_text().startswith('coord_type = "-j"')
+    assert (tmp_path / "t" / "metadata.yaml").is_file()  # no suffix: a ROS 2 bag folder
+    assert (tmp_path / "t.bag").read_bytes().startswith(b"#ROSBAG V2.0")
+    # --format still overrides where the suffix names no format, and is refused under another's
+    code, out, err = run(capsys, "robot", "export", str(throw), "-f", "comau", "-o", str(tmp_path / "p.prg"), "--json")
+    assert code == 0 and json.loads(out)["format"] == "comau", err
+    code, _, err = run(capsys, "robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "u.csv"))
+    assert code == 2 and "u.csv: --format json under the suffix .csv of the csv format" in err
+    code, _, err = run(capsys, "robot", "export", str(throw), "-o", str(tmp_path / "u.dat"))
+    assert code == 2 and "u.dat: no export format for the suffix '.dat'" in err and "give --format" in err
+    assert not (tmp_path / "u.csv").exists() and not (tmp_path / "u.dat").exists()

@@ -142,7 +142,9 @@ def urdf(
 @app.command()
 def export(
     trajectory: Path = typer.Argument(..., help=INPUT_HELP),
-    fmt: str = typer.Option(..., "--format", "-f", help=f"One of: {', '.join(FORMATS)}."),
+    fmt: str | None = typer.Option(None, "--format", "-f", help=f"One of: {', '.join(FORMATS)}; default from the "
+                                                              "suffix of -o (.json, .csv, .bag: ros1-bag, .txt: "
+                                                              "comau, none: ros2-bag), as rlff learn --out."),
     out: Path = typer.Option(..., "--output", "-o", "--out", help="Output file (a folder for ros2-bag)."),
     robot: str = ROBOT,
     clip: bool = CLIP,
@@ -160,14 +162,21 @@ def export(
     import time as clock
 
     from rlff.cli.output import guard
-    from rlff.learn.replay import export_format, load_input, rebearing_warning, run_mapping
+    from rlff.learn.replay import (
+        SUFFIX_FORMATS,
+        export_format,
+        load_input,
+        rebearing_warning,
+        run_mapping,
+    )
     from rlff.robot.description import load_robot
     from rlff.robot.formats import export_trajectory
     from rlff.robot.mapping import mapping_for
 
+    bag_folder = (fmt or SUFFIX_FORMATS.get(out.suffix.lower())) == "ros2-bag"
     guard(inputs={"TRAJECTORY": trajectory, "--robot": _robot_file(robot)}, outputs={"-o/--output": out},
-          folders=["-o/--output"] if fmt == "ros2-bag" else [])
-    export_format(out, fmt)  # before any planning
+          folders=["-o/--output"] if bag_folder else [])
+    fmt = export_format(out, fmt)  # before any planning; without --format, from the suffix
     driven = joint_list(joints)
     model = load_robot(robot)
     source = load_input(trajectory, model, attempt=attempt, period=period, clip=clip, joints=driven, bearing=bearing)
