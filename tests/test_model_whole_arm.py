@@ -83,8 +83,13 @@ def test_whole_arm_model_round_trips_and_generates_every_output(arm_model, rlff,
     frame = pd.read_csv(out)
     for name in ("angle", "velocity", *JOINTS, "time", "pdf", "exploration", "distance"):
         assert name in frame.columns, name
-    for name in ("velocity", *JOINTS):
-        assert f"gmr_mean_{name}" in frame.columns
+    for name in JOINTS:
+        assert f"gmr_mean_{name}" in frame.columns and f"gmr_std_{name}" in frame.columns
+    # the first output's GMR is gmr_mean, gmr_std (the contract's columns), written once, not twice
+    assert "gmr_mean_velocity" not in frame.columns and "gmr_std_velocity" not in frame.columns
+    mean, _ = loaded.predict(np.column_stack([frame["angle"], np.full(len(frame), 2.5)]))
+    np.testing.assert_allclose(frame["gmr_mean"], mean[:, 0], rtol=1e-9)
+    np.testing.assert_allclose(frame["gmr_mean_shoulder"], mean[:, loaded.outputs.index("shoulder")], rtol=1e-9)
     np.testing.assert_allclose(frame["angle"].diff().dropna(), frame["angle"].diff().dropna().iloc[0], rtol=1e-9)
 
 

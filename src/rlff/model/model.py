@@ -173,7 +173,8 @@ class GeneratedPath:
 
     def to_frame(self) -> Any:
         """The path as a pandas DataFrame: the input, every output, time, pdf, exploration,
-        gmr_mean, gmr_std (per output when there are several), density_traded, the context."""
+        gmr_mean, gmr_std (the first output's; ``gmr_mean_<name>``, ``gmr_std_<name>`` for every
+        further output), density_traded, the context."""
         import pandas as pd
 
         columns: dict[str, np.ndarray] = {self.input_name: self.angle}
@@ -184,10 +185,9 @@ class GeneratedPath:
         columns.update(
             time=self.time, pdf=self.pdf, exploration=self.exploration, gmr_mean=self.gmr_mean, gmr_std=self.gmr_std
         )
-        if len(self.output_names) > 1:
-            for j, name in enumerate(self.output_names):
-                columns[f"gmr_mean_{name}"] = self.gmr_means[:, j]
-                columns[f"gmr_std_{name}"] = self.gmr_stds[:, j]
+        for j, name in enumerate(self.output_names[1:], start=1):  # the first output's are gmr_mean, gmr_std
+            columns[f"gmr_mean_{name}"] = self.gmr_means[:, j]
+            columns[f"gmr_std_{name}"] = self.gmr_stds[:, j]
         columns["density_traded"] = self.density_traded
         for name, value in self.context.items():
             columns[name] = np.full(self.angle.size, value)
