@@ -204,6 +204,27 @@ def test_learning_curves_one_line_per_method_and_first_hits(tmp_path):
     assert "landing not measured (drawn at 0)" in [t.get_text() for t in unlanded.figure.legends[0].get_texts()]
 
 
+def test_learning_curves_of_logs_shade_the_logs_own_opening_and_name_a_gap(tmp_path):
+    from rlff.plots.learning import learning_curves_from_logs
+
+    logs = []
+    for name, gap in (("plain", None), ("slow", "speed:0.9")):
+        run = {"basket": {"distance": 1.4, "opening": 0.25}, "feedback": "binary", "update": "calibrate"}
+        if gap:
+            run["gap"] = gap
+        path = tmp_path / f"{name}.jsonl"
+        lines = [{"format": "rlff-attempts", "version": 1, "run": run},
+                 {"attempt": 1, "miss": -0.3, "hit": False}, {"attempt": 2, "miss": 0.05, "hit": True}]
+        path.write_text("".join(json.dumps(line) + "\n" for line in lines))
+        logs.append(path)
+    saved = learning_curves_from_logs(logs, tmp_path / "curves")
+    (axes,) = saved.figure.get_axes()
+    band, = [patch for patch in axes.patches if patch.get_label() == "lands within the opening"]
+    assert band.get_height() == pytest.approx(0.25)  # the logs' opening, not a guess
+    labels = [line.get_label() for line in axes.get_lines() if line.get_label().startswith("calibrate")]
+    assert labels == ["calibrate (2 attempts)", "calibrate, arm speed:0.9 (2 attempts)"]
+
+
 def generated_paths(distances) -> dict:
     """Stand-ins of generated throws, one per distance (m)."""
     paths = {}

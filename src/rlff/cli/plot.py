@@ -228,7 +228,8 @@ def preprocess_command(
 @app.command("learning")
 def learning_command(
     logs: list[Path] = typer.Argument(..., help="Attempts logs (JSONL) of `rlff learn --log`, one per method."),
-    tolerance: float | None = typer.Option(None, "--tolerance", help="Half the basket opening (m), shaded as a hit."),
+    tolerance: float | None = typer.Option(None, "--tolerance", help="Half the basket opening (m), shaded as a hit; default: the logs' "
+                                                                       "own basket's."),
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:

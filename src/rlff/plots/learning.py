@@ -128,6 +128,10 @@ class LoggedRun:
         log does not say.
     bearing : float
         The basket's bearing (degrees from the robot's forward axis, positive to the left).
+    opening : float
+        The basket's inner width (m; 0.35 in a log that does not say).
+    gap : str
+        How the simulated arm differed from its robot file (``none``, ``speed:0.9``, ...).
     """
 
     method: str
@@ -139,6 +143,8 @@ class LoggedRun:
     digest: str | None = None
     joints: tuple[str, ...] = ()
     bearing: float = 0.0
+    opening: float = 0.35
+    gap: str = "none"
 
 
 def read_learning_log(path: str | Path) -> LoggedRun:
@@ -180,13 +186,14 @@ def read_learning_log(path: str | Path) -> LoggedRun:
         raise InputError(f"{path}: an attempt's miss or the run's basket distance is not a number") from None
     try:
         bearing = float(run["basket"].get("bearing", 0.0))  # left out for a basket straight ahead
+        opening = float(run["basket"].get("opening", 0.35))
     except (TypeError, ValueError, OverflowError):
-        raise InputError(f"{path}: the run's basket bearing is not a number") from None
+        raise InputError(f"{path}: the run's basket bearing or opening is not a number") from None
     robot = run.get("robot") if isinstance(run.get("robot"), dict) else {}
     name, digest = robot.get("name"), robot.get("digest")
     return LoggedRun(str(run.get("update", path.stem)), str(run.get("feedback", "")), basket, misses, hits,
                      None if name is None else str(name), None if digest is None else str(digest),
-                     _thrown_joints(run), bearing)
+                     _thrown_joints(run), bearing, opening, str(run.get("gap", "none")))
 
 
 def _thrown_joints(run: dict) -> tuple[str, ...]:
@@ -214,8 +221,10 @@ def _at(record: object, *keys: str) -> object:
 def learning_curves_from_logs(logs: Sequence[str | Path], out: str | Path, *, tolerance: float | None = None) -> SavedFigure:
     """:func:`learning_curves` of one or more attempts logs (one line per log).
 
-    The logs must be for one basket distance; a method name seen twice gets its feedback added
-    (``hindsight, distance feedback``) and then a number.
+    The logs must be for one basket distance; a run on a simulated arm unlike its robot file has
+    its gap added to its name (``calibrate, arm speed:0.9``), and a name seen twice then its
+    feedback (``hindsight, distance feedback``) and then a number. ``tolerance`` (m) defaults to
+    half the logs' basket opening when they share one.
     """
     if not logs:
         raise InputError("no attempts logs given")
@@ -223,10 +232,13 @@ def learning_curves_from_logs(logs: Sequence[str | Path], out: str | Path, *, to
     baskets = sorted({run.basket for run in runs})
     if len(baskets) > 1:
         raise InputError(f"the logs are for different baskets ({', '.join(f'{b:g} m' for b in baskets)}); plot them separately")
+    openings = {run.opening for run in runs}
+    if tolerance is None and len(openings) == 1:
+        tolerance = 0.5 * openings.pop()
     misses: dict[str, list[float]] = {}
     hits: dict[str, list[bool]] = {}
     for run in runs:
-        name = run.method
+        name = run.method if run.gap == "none" else f"{run.method}, arm {run.gap}"
         if name in misses:
             name = f"{run.method}, {run.feedback} feedback"
         suffix = 2
