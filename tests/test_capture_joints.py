@@ -177,6 +177,24 @@ def test_csv_import_writes_every_joint_on_the_elbows_samples(tmp_path):
             np.testing.assert_array_equal(alone[name], whole[name])
 
 
+def test_a_csv_without_time_stamps_read_at_a_wrong_rate_is_warned_of(tmp_path):
+    # a mocap export's time column left out of --columns: its frames were taken as 30 Hz and the
+    # throws came out four times too slow with only the generic "no time column" warning
+    import pandas as pd
+
+    timed = _throws_csv(tmp_path / "timed.csv", lean=0.0)  # recorded at 30 Hz
+    frames = tmp_path / "frames.csv"
+    pd.read_csv(timed).drop(columns="time").to_csv(frames, index=False)
+    _, right = import_recordings([frames], "csv")  # 30 Hz assumed, and so it was
+    assert not any("rate they were recorded at" in warning for warning in right.warnings)
+    _, slow = import_recordings([frames], "csv", rate_hz=7.5)
+    (warning,) = [warning for warning in slow.warnings if "rate they were recorded at" in warning]
+    assert "slower than a throw" in warning and "were read at --rate 7.5 Hz" in warning
+    # time stamps give the rate: a --rate is ignored, and nothing is said of it
+    _, stamped = import_recordings([timed], "csv", rate_hz=7.5)
+    assert not any("rate they were recorded at" in warning for warning in stamped.warnings)
+
+
 def test_a_csv_without_torso_columns_measures_against_the_vertical_with_a_note(tmp_path):
     path = _throws_csv(tmp_path / "throws.csv", lean=None)
     dataset, report = import_recordings([path], "csv", joints=("shoulder", "elbow"))

@@ -79,6 +79,8 @@ def test_a_csv_without_a_time_column_says_the_rate_it_assumes(tmp_path):
     (warning,) = recording.warnings
     assert "no time column: frames taken as 30 Hz; give --rate or map the time column" in warning
     assert "--columns time=Timestamp" in warning
+    spaced = read_joint_csv(_write_csv(tmp_path / "spaced.csv", [0.0, 0.05, 0.1, 0.15, 0.2, 0.25], time_name="Time (s)"))
+    assert "--columns 'time=Time (s)'" in spaced.warnings[0]  # quoted, to paste into a shell
     _, report = import_recordings([path], "csv")
     assert any("no time column" in warning for warning in report.warnings)
     plain = read_joint_csv(_write_csv(tmp_path / "plain.csv", None))

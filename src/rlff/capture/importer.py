@@ -144,6 +144,8 @@ class FileReport:
     warnings: list[str] = field(default_factory=list)
     trajectories: int = 0
     motion: ArmMotion | None = field(default=None, repr=False, compare=False)
+    #: The frame rate (Hz) its time was made from when the file has no time stamps, else None.
+    assumed_rate: float | None = None
 
     def reject(self, rejection: Rejection, label: str) -> None:
         """Record a candidate not taken (``rejection.time`` on the recording's clock) with a note."""
@@ -423,15 +425,17 @@ def import_recordings(
 
 
 def _rate_warnings(report: ImportReport, rate_hz: float | None) -> list[str]:
-    """A warning per text format read at an assumed rate (frames, no time stamps) whose throws
-    are implausible for a throw, all of them or those of some files (a set recorded at two
-    rates): the frame rate is the likely mistake."""
+    """A warning per format read at an assumed rate (frames without time stamps: Kinect and MSR
+    text, a CSV without a time column) whose throws are implausible for a throw, all of them or
+    those of some files (a set recorded at two rates): the frame rate is the likely mistake."""
     said = []
-    for kind, default in (("msr", MSR_RATE_HZ), ("kinect-text", KINECT_RATE_HZ)):
-        files = [file for file in report.files if file.format == kind and file.throws]
+    for kind, default in (("msr", MSR_RATE_HZ), ("kinect-text", KINECT_RATE_HZ), ("csv", KINECT_RATE_HZ)):
+        files = [file for file in report.files if file.format == kind and file.throws and file.assumed_rate]
         if not files:
             continue
-        rate = f"--rate {rate_hz:g} Hz" if rate_hz is not None else f"{default:g} Hz (the format's rate; --rate changes it)"
+        rate = (f"--rate {rate_hz:g} Hz" if rate_hz is not None else
+                f"{default:g} Hz (the format's rate; --rate changes it)" if kind != "csv" else
+                f"{default:g} Hz (no time column; --rate, or map the time column with --columns \"time=NAME\")")
         seen = _implausible([throw for file in files for throw in file.throws])
         if seen:
             count = sum(len(file.throws) for file in files)
@@ -610,7 +614,8 @@ def _import_recording(
     up_given: bool,
 ) -> tuple[FileReport, list[Trajectory]]:
     path = Path(recording.source)
-    report = FileReport(str(path), kind, notes=list(recording.notes), warnings=list(recording.warnings))
+    report = FileReport(str(path), kind, notes=list(recording.notes), warnings=list(recording.warnings),
+                        assumed_rate=recording.assumed_rate)
     motion, arms, arm_notes = arm_motion(recording, arm)
     report.motion = motion
     report.notes.extend(arm_notes)

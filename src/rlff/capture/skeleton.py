@@ -114,6 +114,9 @@ class Recording:
         Things the reader dropped or repaired (all-zero frames, duplicate frames), for the report.
     warnings : list of str
         Problems the user should look at (a bag damaged at the end, read up to the damage).
+    assumed_rate : float, optional
+        The frame rate (Hz) the time was made from, for a file without time stamps (Kinect and
+        MSR text, a CSV without a time column); None when the samples carry their own time.
     """
 
     source: str
@@ -121,6 +124,7 @@ class Recording:
     up: np.ndarray
     notes: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
+    assumed_rate: float | None = None
 
     def users(self) -> list[str]:
         """User ids in order of first appearance."""

@@ -24,6 +24,7 @@ reset, rows out of order) is an error naming its line: the rows are never re-sor
 from __future__ import annotations
 
 import math
+import shlex
 from collections.abc import Callable, Mapping
 from pathlib import Path
 
@@ -239,7 +240,8 @@ def read_kinect_text(path: str | Path, rate_hz: float | None = None) -> Recordin
     frames = values[:, 1:].reshape(-1, 20, 3)
     arm_joints = [i for indices in KINECT_ARMS.values() for i in indices]
     frames, time = _clean_frames(frames, values[:, 0] / rate, arm_joints, notes, path, [*arm_joints, *KINECT_TORSO])
-    return Recording(str(path), _arms(frames, time, KINECT_ARMS, "joint ", KINECT_TORSO), KINECT_UP, notes)
+    return Recording(str(path), _arms(frames, time, KINECT_ARMS, "joint ", KINECT_TORSO), KINECT_UP, notes,
+                     assumed_rate=rate)
 
 
 def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
@@ -271,7 +273,7 @@ def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
     notes: list[str] = []
     arm_joints = [i for indices in MSR_ARMS.values() for i in indices]
     frames, time = _clean_frames(frames, np.arange(len(frames)) / rate, arm_joints, notes, path, [*arm_joints, *MSR_TORSO])
-    return Recording(str(path), _arms(frames, time, MSR_ARMS, "line ", MSR_TORSO), KINECT_UP, notes)
+    return Recording(str(path), _arms(frames, time, MSR_ARMS, "line ", MSR_TORSO), KINECT_UP, notes, assumed_rate=rate)
 
 
 def read_joint_csv(
@@ -377,7 +379,9 @@ def read_joint_csv(
     else:
         time = np.arange(len(frame)) / (KINECT_RATE_HZ if rate is None else rate)
         timelike = [str(name) for name in frame.columns if any(word in str(name).lower() for word in ("time", "stamp"))]
-        hint = f" (the file has a column {timelike[0]!r}: map it with --columns time={timelike[0]})" if timelike else ""
+        # quoted as a shell needs it: a pasted --columns time=Time (s) breaks at the space
+        hint = (f" (the file has a column {timelike[0]!r}: map it with --columns {shlex.quote('time=' + timelike[0])})"
+                if timelike else "")
         if rate is None:
             warnings.append(
                 f"{path}: no time column: frames taken as {KINECT_RATE_HZ:g} Hz; give --rate or map the time "
@@ -433,7 +437,8 @@ def read_joint_csv(
             for joint in joints_by_side[side]
         }
         arms.append(ArmTrack("1", side, tracks["shoulder"], tracks["elbow"], tracks["hand"], tracks.get("wrist"), neck, hip))
-    return Recording(str(path), arms, axis_vector(up), notes, warnings)
+    assumed = None if time_column is not None else (KINECT_RATE_HZ if rate is None else rate)
+    return Recording(str(path), arms, axis_vector(up), notes, warnings, assumed_rate=assumed)
 
 
 def _check_time_unit(time: np.ndarray, name: str, path: Path) -> None:
