@@ -208,3 +208,20 @@ def test_a_rim_higher_than_the_ball_goes_is_refused_in_words(robot, rlff):
     result = rlff("sim", "reach", "--height", "3")
     assert result.code == 2 and "never comes down through a rim 3.00 m high" in result.stderr
     assert "-inf" not in result.stderr + result.stdout
+
+
+def test_joints_of_more_than_a_turn_report_a_release_within_one(robot):
+    # a UR-like joint of +-2 pi: a pose one turn round is the same pose, and the search reported
+    # joint_2 = 6.283 rad and a mapped release at 6.239 rad, where 0 and -0.044 say it
+    from rlff.robot import mapping_for
+    from rlff.sim.reach import executable_reach
+
+    wide = dataclasses.replace(robot, joints=tuple(
+        dataclasses.replace(j, lower=-2 * np.pi, upper=2 * np.pi) if j.name in ("joint_2", "joint_5") else j
+        for j in robot.joints))
+    reach, plain = throw_reach(wide, 0.3, 0.0, ("joint_2",)), throw_reach(robot, 0.3, 0.0, ("joint_2",))
+    assert reach.distance == pytest.approx(plain.distance, abs=0.01)
+    assert all(-np.pi <= angle <= np.pi for angle in reach.pose.values()), reach.pose
+    executed = executable_reach(mapping_for(wide))
+    assert -np.pi <= executed.release <= np.pi
+    assert executed.distance == pytest.approx(executable_reach(mapping_for(robot)).distance, abs=0.01)

@@ -183,10 +183,21 @@ def require_reachable(
     )
 
 
+def one_turn(lower: float, upper: float) -> tuple[float, float]:
+    """The part of a revolute joint's range [``lower``, ``upper``] (rad) searched for a pose: all
+    of it when it spans less than a turn, else the turn about 0. A pose one turn round is the
+    same pose, and a UR-like joint's +-2 pi reported a release at 6.239 rad where 0 says it."""
+    if upper - lower < 2 * np.pi:
+        return lower, upper
+    low = min(max(lower, -np.pi), upper - 2 * np.pi)
+    return low, low + 2 * np.pi
+
+
 @lru_cache(maxsize=64)
 def _reach(arm: Arm, rim_height: float, pedestal: float, joints: tuple[str, ...]) -> Reach:
-    lower = np.array([arm.joint(n).lower for n in PLANE_JOINTS])
-    upper = np.array([arm.joint(n).upper for n in PLANE_JOINTS])
+    turns = [one_turn(arm.joint(n).lower, arm.joint(n).upper) for n in PLANE_JOINTS]
+    lower = np.array([low for low, _ in turns])
+    upper = np.array([high for _, high in turns])
     # joint rates (R, 3) to try: joint 2 swings forward (overhand), the others either way
     choices = [(1.0,) if name == "joint_2" else (-1.0, 1.0) for name in joints]
     rates = []
@@ -313,7 +324,7 @@ def executable_reach(mapping, rim_height: float = 0.3, pedestal: float = 0.0,
     if release is not None and not joint.lower <= release <= joint.upper:
         raise InputError(f"release position {release:g} rad is outside {joint.name}'s range "
                          f"[{joint.lower:g}, {joint.upper:g}] rad")
-    positions = np.linspace(joint.lower, joint.upper, 2001) if release is None else np.array([float(release)])
+    positions = np.linspace(*one_turn(joint.lower, joint.upper), 2001) if release is None else np.array([float(release)])
     pose = {name: np.full(positions.shape, mapping.start_pose.get(name, 0.0)) for name in PLANE_JOINTS}
     pose[mapping.joint] = positions
     plane = arm.in_plane(pose["joint_2"], pose["joint_3"], pose["joint_5"], pedestal)
