@@ -66,6 +66,9 @@ def test_words_need_what_the_run_judges_by():
 def test_an_implausible_measured_landing_is_refused(landing, message):
     with pytest.raises(InputError, match=message):
         outcome_of_landing(landing, BASKET, WINDOW)
+    # from the vision topic, the hint is about point.x, not about a typed miss
+    with pytest.raises(InputError, match=message + r".*point.x is in metres from the robot's base"):
+        outcome_of_landing(landing, BASKET, WINDOW, source="topic")
 
 
 def test_a_landing_stamped_before_the_release_is_not_the_throw_s():

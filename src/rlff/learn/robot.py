@@ -86,9 +86,17 @@ class RobotFailed(RlffError):
     """A goal of the learning run did not succeed (rejected, aborted, timed out)."""
 
 
-def outcome_of_landing(landing: float, basket: float, tolerance: float) -> ReportedOutcome:
+#: What a landing outside :data:`LANDING_RANGE` may be, by where it came from.
+_UNIT_SLIPS = {
+    "typed": "a unit slip? the miss is in metres: -0.3 for 30 cm short",
+    "topic": "a unit slip? point.x is in metres from the robot's base along the basket's line: 1.75, not 1750",
+}
+
+
+def outcome_of_landing(landing: float, basket: float, tolerance: float, source: str = "typed") -> ReportedOutcome:
     """The outcome of a ball landing at ``landing`` (m) for a basket at ``basket`` (m): a hit
     when within ``tolerance`` (m) of the basket's centre; the miss is kept for a hit too.
+    ``source`` (``typed`` or ``topic``) words the hint of the error.
 
     Raises
     ------
@@ -99,8 +107,7 @@ def outcome_of_landing(landing: float, basket: float, tolerance: float) -> Repor
     if not low <= landing <= high:  # also NaN
         where = "behind the robot's base" if landing < low else f"beyond {high:g} m" if landing > high else "not a number"
         raise InputError(f"a landing at {landing:g} m ({landing - basket:+g} m from the basket at {basket:g} m) is "
-                         f"{where}: a ball comes down {low:g} to {high:g} m from the base (a unit slip? the miss "
-                         "is in metres: -0.3 for 30 cm short)")
+                         f"{where}: a ball comes down {low:g} to {high:g} m from the base ({_UNIT_SLIPS[source]})")
     miss = float(landing) - float(basket)
     return ReportedOutcome(abs(miss) <= tolerance, float(landing), miss)
 
@@ -226,7 +233,7 @@ def measured_outcome(landings: Landings, attempt: int, release: float, basket: f
         raise RobotFailed(f"attempt {attempt}: {topic}: the landing is not a number ({landing}): check the vision "
                           "system's output (the log keeps the attempts before)")
     try:
-        return outcome_of_landing(landing, basket, tolerance)
+        return outcome_of_landing(landing, basket, tolerance, source="topic")
     except InputError as exc:
         raise RobotFailed(f"attempt {attempt}: {topic}: {exc}; check the vision system's frame and units (the log "
                           "keeps the attempts before)") from None
