@@ -160,3 +160,22 @@ def test_csv_carries_the_release_time(traj, tmp_path):
     (tmp_path / "bad.csv").write_text("\n".join(table) + "\n")
     with pytest.raises(InputError, match="bad.csv: column 'release_time' must hold one number"):
         read_csv(tmp_path / "bad.csv")
+
+
+def test_a_file_beyond_the_robot_s_limits_says_which_robot_checked_it(tmp_path):
+    # a trajectory exported for a faster arm, thrown without its --robot: the Comau's limit was
+    # named, not the Comau, so the user could not tell the robot was the wrong one
+    from rlff.robot import load_robot
+    from rlff.robot.plan import load_for_robot
+
+    comau = load_robot()
+    time = np.linspace(0.0, 1.0, 11)
+    positions = np.zeros((11, 6))
+    positions[:, 1] = -1.0 + 3.0 * time  # joint_2 at 3 rad/s: within a 3.6 rad/s arm's limit, beyond the Comau's
+    positions[:, 2], positions[:, 4] = -1.373, -0.198
+    velocities = np.gradient(positions, time, axis=0)
+    path = tmp_path / "fast.json"
+    write_json(JointTrajectory(comau.joint_names, time, positions, velocities), path)
+    with pytest.raises(InputError, match=r"fast.json: .*joint_2 velocity 3 rad/s beyond the limit 2.792 rad/s.*"
+                                         r"checked against built-in robot comau_smart5_six.*--robot"):
+        load_for_robot(path, comau)

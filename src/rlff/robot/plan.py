@@ -283,7 +283,9 @@ def load_for_robot(
         check_trajectory(trajectory, robot.joints)
         require_above_base(robot, trajectory, "the trajectory")
     except InputError as exc:
-        raise type(exc)(f"{path}: {exc}") from None
+        # a file keeps no robot: one planned for another arm fails on this one's limits, so say whose
+        raise type(exc)(f"{path}: {exc} (checked against {robot.source}; a trajectory planned for another "
+                        "robot is checked with its file: --robot)") from None
     return kind, RobotPlan(trajectory, trajectory, ClipReport())
 
 
