@@ -299,3 +299,22 @@ def test_a_bending_joint_s_limits_in_degrees_are_warned_of_and_a_roll_joint_s_ar
     roll = comau_file(tmp_path / "roll.toml", edit=lambda table: table.replace("lower = -3.67", "lower = -45.0")
                       .replace("upper = 3.67", "upper = 45.0"))
     assert _loaded_quietly(roll).joint("joint_4").upper == 45.0
+
+
+def test_geometry_with_a_controller_s_own_joint_names_is_refused(tmp_path):
+    # a UR's names with [geometry]: the angles were placed on rlff's chain by position, and the
+    # floor check judged another pose than the arm's (UR shoulder_lift 0 = upper arm horizontal)
+    names = ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
+             "wrist_3_joint")
+    text = COMAU
+    for k, name in enumerate(names, start=1):
+        text = text.replace(f'"joint_{k}"', f'"{name}"')
+    text = text[:text.index("[throwing]")] if "[throwing]" in text else text
+    path = tmp_path / "ur.toml"
+    path.write_text(text)
+    with pytest.raises(InputError, match=r"ur.toml: \[geometry\] describes rlff's chain, joints joint_1 to joint_6 "
+                                         r".*this file's joints are shoulder_pan_joint, .*leave \[geometry\] out"):
+        load_robot(path)
+    head, _, rest = text.partition("[geometry]")
+    path.write_text(head + rest[rest.index("\n[", 1):] if "\n[" in rest[1:] else head)
+    assert load_robot(path).joint_names == names  # without [geometry]: its names, no kinematics

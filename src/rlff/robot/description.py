@@ -447,6 +447,27 @@ def implausible_limits(joints: Sequence[Joint], source: str) -> tuple[str, ...]:
     return tuple(found)
 
 
+#: The joints of the chain ``[geometry]`` describes, in order, in rlff's kinematic convention
+#: (the comments of ``rlff/robots/comau_smart5_six.toml``).
+CHAIN_JOINTS = tuple(f"joint_{k}" for k in range(1, 7))
+
+
+def require_chain_names(names: Sequence[str], source: str) -> None:
+    """:class:`InputError` unless ``names`` are :data:`CHAIN_JOINTS`: ``[geometry]`` places
+    rlff's chain, whose joints and zeros are its own (joint 2 at 0 = upper arm vertical, ...).
+    A file of a controller's own names (a UR's ``shoulder_lift_joint``, 0 = upper arm
+    horizontal) had its angles placed on that chain by position, and the floor check and the
+    simulation judged another pose than the arm's."""
+    if sorted(names) == sorted(CHAIN_JOINTS):  # their order is the controller order's check (Robot)
+        return
+    raise InputError(
+        f"{source}: [geometry] describes rlff's chain, joints joint_1 to joint_6 with rlff's zeros and signs (joint_2 "
+        "at 0 = upper arm vertical, positive tilts it forward; the comments of the built-in comau_smart5_six.toml), "
+        f"and this file's joints are {', '.join(names)}: name them joint_1 to joint_6 with their angles in that "
+        "convention, or leave [geometry] out (then no floor check and no simulation); a controller whose joints "
+        "have other names or zeros cannot be driven through [geometry] yet (docs/robot.md)")
+
+
 def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
     """Build a :class:`Robot` from a parsed robot file; errors name ``source`` and the field."""
     _require_known_keys(document, source)
@@ -490,6 +511,7 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
             require_start_pose(joints, {joint: number_field(pose, joint, where) for joint in pose}, where)
     geometry = None
     if "geometry" in document:
+        require_chain_names(joint_names(joints), source)
         values = {key: number_field(document["geometry"], key, f"{source}: [geometry]") for key in _GEOMETRY_FIELDS}
         try:
             geometry = Geometry(**values)
