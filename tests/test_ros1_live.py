@@ -93,6 +93,25 @@ def test_the_approach_goes_at_the_share_of_the_limits_asked_for(ros, tmp_path):
         assert json.loads(result.stdout)["duration"] == pytest.approx(planned.duration)
 
 
+def test_a_dry_run_plans_from_the_live_pose_and_sends_nothing(ros, tmp_path):
+    # checking before the arm moves: the pose read, the plan and its checks, the approach said
+    path = throw_csv(tmp_path, "throw.csv", 0.9, 1.5, 1.0)
+    pose = ros.pose(tmp_path)
+    planned = _planned(path, pose)
+    recorder = ros.record(tmp_path / "states.csv")
+    result = ros.rlff("robot", "send", str(path), "--dry-run", "--json", "--timeout", "60")
+    assert result.returncode == 0, result.stderr
+    outcome = json.loads(result.stdout)
+    assert outcome["status"] == "dry-run" and outcome["duration"] == pytest.approx(planned.duration)
+    assert outcome["points"] == len(planned) and outcome["approach"] == approach_line(planned)
+    assert "dry run, nothing sent:" in result.stderr and "fastest: joint_2 at" in result.stderr
+    time.sleep(1.0)  # had a goal gone out, the arm would be moving now
+    stop(recorder)
+    _, positions = states(tmp_path / "states.csv")
+    assert len(positions) > 10 and np.ptp(positions, axis=0).max() == 0.0
+    np.testing.assert_allclose(ros.pose(tmp_path), pose, atol=0.0)
+
+
 def test_goal_beyond_the_limits_is_rejected_and_nothing_moves(ros, tmp_path):
     # the client believes joint_2 tilts back to -1.9 rad; the server's robot stops at -1.48 (forward,
     # past 1.85 rad, the arm would reach into the floor, which the client refuses itself)

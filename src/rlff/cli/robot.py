@@ -360,6 +360,8 @@ def send(
     bearing: float = BEARING,
     ros: int = ROS,
     network: bool = NETWORK,
+    dry_run: bool = typer.Option(False, "--dry-run", help="Read the arm's pose, plan and check from it, announce "
+                                                          "the approach, and stop there: nothing is sent."),
     json: bool = JSON,
 ) -> None:
     """Send a trajectory to the robot's FollowJointTrajectory server (Ctrl-C cancels).
@@ -369,7 +371,7 @@ def send(
     pose (read from a fresh joint states message; an arm that moves is refused); an exported
     trajectory is sent as it is. Each must pass the motion check, starting at the arm's pose. The
     approach to the throw's start (at --approach-speed of the limits) is announced before the goal
-    is sent.
+    is sent. --dry-run does all of that on the live arm's pose and sends nothing.
     """
     from rlff.errors import InputError
     from rlff.learn.replay import load_for_send, rebearing_warning
@@ -413,6 +415,14 @@ def send(
         announced = approach_line(traj, "the throw" if traj.release_time is not None else "the trajectory")
         if announced:  # before anything moves, even under -q
             stderr().print(announced, highlight=False, markup=False)
+        if dry_run:
+            fastest = dry_run_line(model, traj)
+            say(f"dry run, nothing sent: {len(traj)} points, {traj.duration:.3f} s from the arm's pose, every check "
+                f"passed; {fastest}")
+            if json:
+                emit_json({"status": "dry-run", "points": len(traj), "duration": traj.duration,
+                           "approach": announced})
+            return
         if topic_mode:
             subscribers = publish_trajectory(model, traj, pose, timeout)
             say(f"published {len(traj)} points on {model.ros.trajectory_topic} to {subscribers} subscriber(s)")
@@ -447,6 +457,17 @@ def send(
         return
     stderr().print(f"rlff: {message}", highlight=False, markup=False)
     raise typer.Exit(1)
+
+
+def dry_run_line(model, traj) -> str:
+    """The joint nearest its speed limit along ``traj``, in words: what a dry run says last."""
+    import numpy as np
+
+    shares = [float(np.max(np.abs(traj.velocities[:, traj.joint_index(joint.name)]))) / joint.max_velocity
+              for joint in model.joints if joint.name in traj.joint_names]
+    names = [joint for joint in model.joints if joint.name in traj.joint_names]
+    top = int(np.argmax(shares))
+    return (f"fastest: {names[top].name} at {shares[top]:.0%} of its {names[top].max_velocity:g} rad/s")
 
 
 def interrupted_goal(exc: BaseException) -> str | None:
