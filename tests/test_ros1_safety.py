@@ -11,6 +11,7 @@ with no allowance but the motion check's relative slack for rounding (LIMIT_SLAC
 from __future__ import annotations
 
 import json
+import re
 import signal
 import subprocess
 import sys
@@ -278,3 +279,39 @@ def test_rosbag_play_of_an_export_obeys_the_goal_rules(ros, tmp_path):
     wait(arrived, 60, "the bag's trajectory to be executed")
     stop(recorder)
     _within_limits(tmp_path / "played.csv")
+
+
+def test_a_second_publisher_of_the_arm_s_joints_is_refused_naming_the_jump(ros, tmp_path):
+    # a simulator left running beside the arm's driver (here rlff robot serve, 100 Hz): Debian's
+    # `rostopic pub` at 20 Hz, stamped now, 0.3 rad elsewhere on joint_2
+    here = ros.pose(tmp_path)
+    elsewhere = here.copy()
+    elsewhere[DRIVEN] += 0.3 if here[DRIVEN] < 2.0 else -0.3
+    message = (f"{{header: {{stamp: now}}, name: [{', '.join(NAMES)}], position: {elsewhere.tolist()}, "
+               "velocity: [0, 0, 0, 0, 0, 0]}")
+    path = throw_csv(tmp_path, "throw.csv", -0.5, 0.5, 0.5)
+    logged = len(ros.log())
+    simulator = subprocess.Popen(["rostopic", "pub", "-s", "-r", "20", "/joint_states", "sensor_msgs/JointState",
+                                  message], env=ros.env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        recorder = ros.record(tmp_path / "both.csv")  # both publish now
+        wait(lambda: np.abs(states(tmp_path / "both.csv")[1][:, DRIVEN] - elsewhere[DRIVEN]).min() < 1e-9, 60,
+             "the second publisher's states")
+        stop(recorder)
+        refused = ros.rlff("robot", "send", str(path), "--timeout", "30")
+    finally:
+        stop(simulator)
+    assert refused.returncode == 1, refused.stderr
+    line = refused.stderr.strip()
+    assert line.count("\n") == 0, refused.stderr
+    assert line.startswith("rlff: error: two fresh states on /joint_states disagree: joint_2 at "), line
+    jumped = sorted(f"{value:.6g}" for value in (here[DRIVEN], elsewhere[DRIVEN]))
+    assert sorted(re.search(r"joint_2 at (\S+) rad, then at (\S+) rad", line).groups()) == jumped, line
+    assert re.search(r" rad [\d.e-]+ s later by their stamps, 0\.3 rad where its max velocity \(2\.792 rad/s\) "
+                     r"allows [\d.e-]+: the arm's pose is unknown; ", line), line
+    assert line.endswith("two nodes likely publish the arm's joints on /joint_states (a simulator or a bag beside "
+                         "the arm's driver): `rostopic info /joint_states` lists them; stop all but the arm's driver")
+    assert "accepted" not in ros.log()[logged:]  # nothing was sent
+    # the driver alone again: sent as before
+    sent = ros.rlff("robot", "send", str(path), "--json", "--timeout", "60")
+    assert sent.returncode == 0, sent.stderr

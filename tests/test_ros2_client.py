@@ -8,6 +8,7 @@ answers as the test tells it to, so rlff's client is checked against the standar
 from __future__ import annotations
 
 import json
+import re
 import signal
 import subprocess
 import sys
@@ -21,7 +22,7 @@ import pytest
 from rlff.robot import RobotMapping, load_robot
 from rlff.robot.send import approach_line
 from rlff.robot.sendfile import load_for_sending
-from ros2rig import ACTION, RosNode, free_domain, require_ros2, ros2_env
+from ros2rig import ACTION, RosNode, free_domain, require_ros2, ros2_env, wait_until
 
 pytestmark = [pytest.mark.ros2, pytest.mark.integration, pytest.mark.slow]
 
@@ -73,6 +74,7 @@ class FakeController:
         from rclpy.callback_groups import ReentrantCallbackGroup
         from sensor_msgs.msg import JointState
 
+        self.node = node
         self.goals: list = []
         self.cancelled = threading.Event()
         self.accept = True
@@ -290,8 +292,6 @@ def _refused(domain, folder, controller, throw, *args: str) -> str:
     (State(age=-30.0), r"the last is stamped [\d.]+ s, (30|29\.9\d?) s ahead of this host's ROS clock"),
 ], ids=["stale", "unstamped", "future"])
 def test_a_state_not_fresh_is_not_taken_as_the_arm_s_pose(state, domain, throw, tmp_path, made, said):
-    import re
-
     state.state = made
     line = _refused(domain, tmp_path, state, throw)
     assert line.startswith("rlff: error: no fresh state on /joint_states within 3 s: "), line
@@ -385,3 +385,54 @@ def test_stopping_send_before_any_goal_says_no_cancel(throw, tmp_path):
     _, err = sender.communicate(timeout=60)
     assert sender.returncode == 143, err
     assert err.strip() == "rlff: terminated", err
+
+
+def test_a_second_publisher_of_the_arm_s_joints_is_refused_naming_the_jump(state, domain, throw, tmp_path):
+    # a simulator left running beside the arm's driver: a node publishing the arm's joints on
+    # /joint_states at 20 Hz, stamped now, 0.3 rad further on joint_2. It runs in the driver's
+    # process (one DDS participant, as nodes composed in one container are), so that rlff's
+    # discovery finds both together: a process of its own may be found seconds after the driver on
+    # a loaded machine, and its messages then come too late to be compared (docs/robot.md)
+    from rclpy.executors import SingleThreadedExecutor
+    from rclpy.node import Node
+    from sensor_msgs.msg import JointState
+
+    rig = state.node
+    elsewhere = state.pose.copy()
+    elsewhere[1] += 0.3
+    simulator = Node("test_simulator", context=rig.context)
+    publisher = simulator.create_publisher(JointState, "/joint_states", 10)
+
+    def publish() -> None:
+        msg = JointState(name=list(load_robot().joint_names), position=elsewhere.tolist(), velocity=[0.0] * 6)
+        msg.header.stamp = simulator.get_clock().now().to_msg()
+        publisher.publish(msg)
+
+    simulator.create_timer(0.05, publish)
+    executor = SingleThreadedExecutor(context=rig.context)  # its own: the driver's spins on when it goes
+    executor.add_node(simulator)
+    spinning = threading.Thread(target=executor.spin, daemon=True)
+    spinning.start()
+    try:
+        def both() -> bool:
+            heard = rig.states(since=rig.now() - 1.0)[1][:, 1]
+            return bool(np.any(heard == elsewhere[1]) and np.any(heard == state.pose[1]))
+
+        wait_until(both, 60, "both publishers on /joint_states")
+        line = _refused(domain, tmp_path, state, throw)
+    finally:
+        executor.shutdown(timeout_sec=2.0)  # no callback runs into the node's destruction
+        spinning.join(timeout=2.0)
+        simulator.destroy_node()
+    assert line.startswith("rlff: error: two fresh states on /joint_states disagree: joint_2 at "), line
+    seen = sorted(float(value) for value in re.search(r"joint_2 at (\S+) rad, then at (\S+) rad", line).groups())
+    np.testing.assert_allclose(seen, sorted([state.pose[1], elsewhere[1]]), atol=1e-6)
+    assert re.search(r" rad [\d.e-]+ s later by their stamps, 0\.3 rad where its max velocity \(2\.792 rad/s\) "
+                     r"allows [\d.e-]+: the arm's pose is unknown; ", line), line
+    assert line.endswith("two nodes likely publish the arm's joints on /joint_states (a simulator or a bag beside "
+                         "the arm's driver): `ros2 topic info /joint_states` lists them; stop all but the arm's "
+                         "driver")
+    # the driver alone again: sent as before
+    state.answer = state.succeed
+    result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "60")
+    assert result.returncode == 0, result.stderr

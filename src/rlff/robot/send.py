@@ -1,9 +1,9 @@
 """What sending a FollowJointTrajectory goal shares across transports (ROS 1, ROS 2).
 
 The arm's state taken from its joint states (the robot file's ``[ros] joint_states``,
-``/joint_states`` by default; :class:`StateWatch`: only a fresh, stamped message whose
-pose is within the robot's limits), the refusal to plan from rest for an arm that moves
-(:func:`require_at_rest`), the goal checked from that state (:func:`check_goal_for_arm`), the line
+``/joint_states`` by default; :class:`StateWatch`: only fresh, stamped messages whose poses
+are within the robot's limits and agree with each other), the refusal to plan from rest for an
+arm that moves (:func:`require_at_rest`), the goal checked from that state (:func:`check_goal_for_arm`), the line
 announcing the approach before anything moves (:func:`approach_line`), and the report of what
 became of a goal; the transports (:mod:`rlff.robot.ros1.client`, :mod:`rlff.robot.ros2.client`)
 only move messages.
@@ -30,15 +30,26 @@ from rlff.trajectory.joint import JointTrajectory
 #: message to be taken as the arm's state now; an older one (a latched message, a driver that
 #: stopped, a clock out of step) is waited past, and refused when no fresh one comes.
 STATE_MAX_AGE = 1.0
-#: Without velocities in the joint states, the arm's speed is its position change over two fresh
-#: messages at least this far apart (s).
-VELOCITY_SPAN = 0.05
+#: The arm's state is taken from fresh messages spanning at least this long (s) by their stamps,
+#: each agreeing with the one before (:class:`StateWatch`): a second node publishing the arm's
+#: joints at 10 Hz or more (a simulator's joint_state_controller at its default 50 Hz, a bag) shows
+#: among them, whatever the driver's rate; without velocities in the messages, the arm's speed is
+#: the position change over this span. It delays the state by 0.1 s, or by one message of a
+#: driver slower than 10 Hz.
+STATE_SPAN = 0.1
 #: How long (s) to keep waiting, after a joint states message that leaves out joints of the robot,
 #: for one that names them all. Several drivers may publish on one joint states topic (the arm's,
 #: a gripper's with only its fingers: robot_state_publisher merges them); a message of another
 #: device is passed over, and only when none of the robot's comes does its absence become the
 #: error (a robot file whose joint names are not the arm's).
 PARTIAL_GRACE = 2.0
+#: How far (rad) a joint may move between two fresh states beyond what its max velocity allows over
+#: their stamps' difference, and the two still count as one arm's (:class:`StateWatch`): encoder
+#: noise and a driver's rounding (an industrial arm's encoders resolve microradians), with room for
+#: a stamp taken a little after its measurement. It equals the motion check's start tolerance
+#: (:data:`rlff.trajectory.check.POSITION_TOLERANCE`): a pose off by less is one a goal may start
+#: from anyway; two poses further apart than the joints can move are not one arm's.
+STATE_NOISE = 1e-3
 #: Above this speed (rad/s) on any joint the arm counts as moving: no goal planned from rest is sent.
 MOVING_SPEED = 0.01
 #: Seconds to wait for the server to confirm a cancel (it answers once the arm has braked to rest).
@@ -86,25 +97,54 @@ class StateWatch:
     transport hands to :meth:`offer`.
 
     A message is taken only when its header stamp is within :data:`STATE_MAX_AGE` of the ROS
-    clock (``now()``); an unstamped one (stamp 0) has no age and is never taken. A message without
-    velocities gives its pose, and the velocity of the change from an earlier fresh message at
-    least :data:`VELOCITY_SPAN` s before it. A fresh pose that is not a number, or beyond a
-    joint's limit, is refused naming the topic. A message that leaves out joints of the robot
-    (another device's on the same topic) is passed over; when none names them all within
-    :data:`PARTIAL_GRACE` s of the first such message, that is the error.
+    clock (``now()``); an unstamped one (stamp 0) has no age and is never taken. A fresh pose that
+    is not a number, or beyond a joint's limit, is refused naming the topic. A message that leaves
+    out joints of the robot (another device's on the same topic) is passed over; when none names
+    them all within :data:`PARTIAL_GRACE` s of the first such message, that is the error.
+
+    The state is that of the first fresh message naming every joint at least :data:`STATE_SPAN`
+    s (by the stamps) after the earliest one, each such message agreeing with the one before it:
+    no joint moved more than its max velocity allows over their stamps' difference (plus
+    :data:`STATE_NOISE`). Two nodes publishing the arm's joints on the topic (a simulator left
+    running beside the arm's driver, a bag played) give poses that jump between their messages;
+    taking the first message would plan from whichever came first. Two that do not agree are
+    refused at once: waiting for a pair that does could take it from the wrong publisher. A
+    second publisher slower than one message per :data:`STATE_SPAN` may go unseen (``rostopic
+    info`` / ``ros2 topic info`` lists them all), and so may one whose messages reach the
+    subscription only later: a transport whose subscription reaches publishers one by one (ROS 2
+    discovery) holds the state (:meth:`hold`) until the others are likely heard. A message without
+    velocities gives the velocity of the change over that span.
+
+    ``info``: the command that lists a topic's publishers, for the error (``rostopic info``,
+    ``ros2 topic info``).
     """
 
-    def __init__(self, robot: Robot, now: Callable[[], float]) -> None:
+    def __init__(self, robot: Robot, now: Callable[[], float], info: str = "rostopic info") -> None:
         self.robot = robot
         self.now = now
+        self.info = info
         self.topic = robot.ros.joint_states
         self._arrived = threading.Condition()
         self._state: tuple[np.ndarray, np.ndarray] | None = None
         self._problem: Exception | None = None
         self._untrusted: str | None = None  # why the last message was passed over
-        self._without_velocity: tuple[float, np.ndarray] | None = None
+        #: the fresh messages naming every joint: how many, the earliest and the last (stamp, pose)
+        #: (the next must agree with the last), and whether the last carried no velocities
+        self._fresh = 0
+        self._earliest: tuple[float, np.ndarray] | None = None
+        self._last: tuple[float, np.ndarray] | None = None
+        self._without_velocity = False
         #: when (monotonic s) a message leaving out joints of the robot first came, and what it named
         self._partial: tuple[float, str] | None = None
+        self._not_before = 0.0  # no state is taken before this monotonic time (:meth:`hold`)
+
+    def hold(self, seconds: float) -> None:
+        """Take no state for ``seconds`` from now (0: take it as soon as the messages allow):
+        other publishers may not have reached the subscription yet. Messages go on being checked
+        meanwhile, and :meth:`wait` waits a hold out once messages come, past its deadline if
+        need be."""
+        with self._arrived:
+            self._not_before = time.monotonic() + seconds
 
     def offer(self, stamp: float, names: Sequence[str], positions: Sequence[float],
               velocities: Sequence[float]) -> None:
@@ -136,18 +176,44 @@ class StateWatch:
             return
         pose, velocity = arm_state_of(self.robot, self.topic, names, positions, velocities)
         self._check_pose(pose)
-        if velocity is None:
-            earlier = self._without_velocity
-            if earlier is None or stamp - earlier[0] < VELOCITY_SPAN:
-                if earlier is None or stamp < earlier[0]:
-                    self._without_velocity = (stamp, pose)
-                return
-            velocity = (pose - earlier[1]) / (stamp - earlier[0])
-        elif not np.all(np.isfinite(velocity)):
+        if velocity is not None and not np.all(np.isfinite(velocity)):
             j = int(np.argmin(np.isfinite(velocity)))
             raise ArmStateError(f"{self.topic} reports {self.robot.joint_names[j]} moving at {velocity[j]} rad/s: "
                                 "the arm's state is unknown; check the arm's driver")
+        last, self._last = self._last, (stamp, pose)
+        self._fresh += 1
+        self._without_velocity = velocity is None
+        if last is not None:
+            self._check_agree(last, (stamp, pose))
+        earliest = self._earliest
+        if earliest is None or stamp < earliest[0]:
+            self._earliest = (stamp, pose)
+            return
+        if stamp - earliest[0] < STATE_SPAN or time.monotonic() < self._not_before:
+            return
+        if velocity is None:
+            velocity = (pose - earliest[1]) / (stamp - earliest[0])
         self._state = (pose, velocity)
+
+    def _check_agree(self, first: tuple[float, np.ndarray], second: tuple[float, np.ndarray]) -> None:
+        """Refuse two fresh poses (stamp, pose) no arm can take in turn: a joint changed by more
+        than its max velocity allows over the stamps' difference, plus :data:`STATE_NOISE`."""
+        span = abs(second[0] - first[0])
+        change = np.abs(second[1] - first[1])
+        allowed = np.array([joint.max_velocity for joint in self.robot.joints]) * span + STATE_NOISE
+        jumped = np.flatnonzero(change > allowed)
+        if jumped.size == 0:
+            return
+        j = int(jumped[np.argmax((change - allowed)[jumped])])
+        names = self.robot.joint_names
+        others = [names[k] for k in jumped if k != j]
+        also = f" (and {', '.join(others)})" if others else ""
+        raise ArmStateError(
+            f"two fresh states on {self.topic} disagree: {names[j]} at {first[1][j]:.6g} rad, then at "
+            f"{second[1][j]:.6g} rad {span:.3g} s later by their stamps, {change[j]:.3g} rad where its max velocity "
+            f"({self.robot.joints[j].max_velocity:g} rad/s) allows {allowed[j]:.3g}{also}: the arm's pose is "
+            f"unknown; two nodes likely publish the arm's joints on {self.topic} (a simulator or a bag beside the "
+            f"arm's driver): `{self.info} {self.topic}` lists them; stop all but the arm's driver")
 
     def _check_pose(self, pose: np.ndarray) -> None:
         for joint, value in zip(self.robot.joints, pose, strict=True):
@@ -169,13 +235,17 @@ class StateWatch:
         Raises
         ------
         ArmStateError
-            Messages came, but none fresh; or a fresh one's pose is not a number or beyond a limit.
+            Messages came, but none fresh, or fresh ones spanning less than :data:`STATE_SPAN` s;
+            or a fresh one's pose is not a number or beyond a limit; or two fresh poses disagree.
         InputError
             Fresh messages came, but none within :data:`PARTIAL_GRACE` s named every joint of the robot.
         """
         with self._arrived:
             while self._state is None and self._problem is None:
-                end = deadline if self._partial is None else min(deadline, self._partial[0] + PARTIAL_GRACE)
+                grace = self._partial is not None and self._last is None
+                end = min(deadline, self._partial[0] + PARTIAL_GRACE) if grace else deadline
+                if self._last is not None:  # the state comes with the first message after a hold
+                    end = max(end, self._not_before + STATE_SPAN)
                 left = end - time.monotonic()
                 if left <= 0:
                     break
@@ -184,6 +254,18 @@ class StateWatch:
                 raise self._problem
             if self._state is not None:
                 return self._state
+            if self._last is not None:
+                if self._fresh == 1:
+                    came = f"one fresh state on {self.topic} within {waited:g} s, and none {STATE_SPAN:g} s after it"
+                else:
+                    span = self._last[0] - self._earliest[0]
+                    came = (f"{self._fresh} fresh states on {self.topic} within {waited:g} s, their stamps within "
+                            f"{span:.3g} s")
+                moves = " and whether it moves (they carry no velocities)" if self._without_velocity else ""
+                raise ArmStateError(
+                    f"{came}: states {STATE_SPAN:g} s apart that agree tell one arm's pose from two publishers'"
+                    f"{moves}; have the arm's driver publish continuously"
+                    + (", with velocities" if self._without_velocity else ""))
             if self._partial is not None:
                 raise InputError(f"{self._partial[1]}, and no message on it within {PARTIAL_GRACE:g} s named every "
                                  f"joint of {self.robot.name}: check the robot file's joint names against the arm's")
@@ -192,10 +274,6 @@ class StateWatch:
                     f"no fresh state on {self.topic} within {waited:g} s: {self._untrusted}; the arm's pose is "
                     f"unknown: check that its driver publishes, stamping each state with the time it was measured, "
                     "and that its host's clock agrees with this one's")
-            if self._without_velocity is not None:
-                raise ArmStateError(
-                    f"{self.topic} carries no velocities, and no second fresh state came within {waited:g} s to "
-                    "tell whether the arm moves; have its driver publish velocities, or publish continuously")
             return None
 
 

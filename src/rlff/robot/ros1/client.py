@@ -2,7 +2,7 @@
 
 The action, the joint states and the topic are the robot's (``robot.ros``, the robot file's
 ``[ros]`` table). The trajectory is checked against the robot's limits before any connection is
-made, and again with the arm's current pose (a fresh joint state message,
+made, and again with the arm's current pose (fresh joint state messages that agree,
 :class:`rlff.robot.send.StateWatch`) as its start before it is sent (:func:`rlff.trajectory.check.check_trajectory`). A timeout or
 Ctrl-C cancels the goal on the server (the arm brakes to rest) before returning or re-raising;
 a cancel the server does not confirm within :data:`CANCEL_WAIT` s, or a server that goes silent
@@ -66,7 +66,7 @@ def _connect(deadline: float, node: str) -> None:
 
 def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order,
-    from a fresh message on its joint states topic (``robot.ros.joint_states``; see
+    from fresh messages on its joint states topic (``robot.ros.joint_states``; see
     :class:`rlff.robot.send.StateWatch`).
 
     Raises
@@ -74,7 +74,8 @@ def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, n
     RosUnavailable
         No master, or nothing on the joint states topic, within ``timeout`` s (default 10).
     ArmStateError
-        Only stale or unstamped messages came, or the pose is not a number or beyond a limit.
+        Only stale or unstamped messages came, or the pose is not a number or beyond a limit, or
+        two fresh poses disagree (two publishers of the arm's joints).
     InputError
         The message leaves out a joint of ``robot``.
     """
@@ -82,7 +83,9 @@ def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, n
     deadline = time.monotonic() + waited
     _connect(deadline, "rlff_send")
     topic = robot.ros.joint_states
-    watch = StateWatch(robot, lambda: rospy.get_rostime().to_sec())
+    # the master lists every publisher of the topic at once, and rospy connects to them together
+    # (within some ms here): unlike ROS 2's discovery, no publisher comes late (StateWatch.hold)
+    watch = StateWatch(robot, lambda: rospy.get_rostime().to_sec(), "rostopic info")
     subscriber = rospy.Subscriber(topic, JointState, lambda msg: watch.offer(
         msg.header.stamp.to_sec(), msg.name, msg.position, msg.velocity))
     try:

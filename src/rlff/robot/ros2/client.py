@@ -1,8 +1,8 @@
 """Sending a trajectory to a ROS 2 FollowJointTrajectory server (``rlff robot send --ros 2``).
 
 The action and the joint states are the robot's (``robot.ros``, the robot file's ``[ros]``
-table). The trajectory is checked against the robot's limits, and with the arm's pose (a fresh
-joint state message, read by :func:`arm_state`; see :class:`rlff.robot.send.StateWatch`) as its
+table). The trajectory is checked against the robot's limits, and with the arm's pose (fresh
+joint state messages that agree, read by :func:`arm_state`; see :class:`rlff.robot.send.StateWatch`) as its
 start, before it is sent. A timeout or Ctrl-C cancels the goal on the server (the arm brakes
 to rest) before returning or re-raising; a cancel the server does not confirm within
 :data:`CANCEL_WAIT` s, or a server that leaves the graph mid-goal, is reported as such: the arm's
@@ -59,6 +59,20 @@ _STATES = {GoalStatus.STATUS_SUCCEEDED: "succeeded", GoalStatus.STATUS_ABORTED: 
 #: that send feedback send it every control cycle; a server that crashed is seen no other way
 #: until discovery's lease of some 20 s runs out).
 FEEDBACK_SILENCE = 3.0
+
+
+#: Seconds from the first joint states message a subscription hears before the arm's state may be
+#: taken (:meth:`rlff.robot.send.StateWatch.hold`; the messages meanwhile are compared), and how
+#: long at most, waiting for a message of every publisher discovery knows on the topic. Discovery
+#: connects a new subscription to a topic's publishers one by one, and a second publisher of the
+#: arm's joints must be heard before the state is taken. Measured here (two publishers, nodes of
+#: their own, and a new process subscribing): the second's first message came 0 to 0.12 s after
+#: the first's, once 0.75 s, and more than a second later in one run of twelve of the live test
+#: (tests/test_ros2_client.py), while the subscription had been matched to a publisher 1 to 2.5 s
+#: before its first message came. A publisher that discovery knows but that publishes nothing
+#: delays the state by :data:`HEAR_WAIT`.
+DISCOVERY_WINDOW = 1.0
+HEAR_WAIT = 3.0
 
 
 class ServerUnavailable(RlffError):
@@ -123,7 +137,7 @@ class Connection:
 
     def arm_state(self, robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order,
-        from a fresh message on its joint states topic (``robot.ros.joint_states``; see
+        from fresh messages on its joint states topic (``robot.ros.joint_states``; see
         :class:`rlff.robot.send.StateWatch`).
 
         Raises
@@ -131,16 +145,34 @@ class Connection:
         ServerUnavailable
             Nothing on the joint states topic within ``timeout`` s (default 10).
         ArmStateError
-            Only stale or unstamped messages came, or the pose is not a number or beyond a limit.
+            Only stale or unstamped messages came, or the pose is not a number or beyond a limit,
+            or two fresh poses disagree (two publishers of the arm's joints).
         InputError
             The message leaves out a joint of ``robot``.
         """
         waited = timeout if timeout is not None else CONNECT_TIMEOUT
         deadline = time.monotonic() + waited
         topic = robot.ros.joint_states
-        watch = StateWatch(robot, self.now)
-        subscription = self.node.create_subscription(JointState, topic, lambda msg: watch.offer(
-            msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, msg.name, msg.position, msg.velocity), 10)
+        watch = StateWatch(robot, self.now, "ros2 topic info")
+        heard: set[bytes] = set()  # the publishers a message came from
+        first: list[float] = []  # when (monotonic s) the first message came
+        subscription = None
+
+        def offer(msg, info) -> None:
+            now = time.monotonic()
+            gid = info.get("publisher_gid")
+            heard.add(bytes(gid["data"]) if gid else b"")
+            if not first:
+                first.append(now)
+                watch.hold(HEAR_WAIT)  # until every publisher discovery knows of has been heard
+            elif first[0] + DISCOVERY_WINDOW <= now < first[0] + HEAR_WAIT:
+                known = max(self.node.count_publishers(topic),
+                            subscription.get_publisher_count() if subscription is not None else 0)
+                if len(heard) >= known:
+                    watch.hold(0.0)
+            watch.offer(msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, msg.name, msg.position, msg.velocity)
+
+        subscription = self.node.create_subscription(JointState, topic, offer, 10)
         try:
             state = watch.wait(deadline, waited)
         finally:
@@ -245,7 +277,7 @@ def _wait(future, deadline: float, client: ActionClient | None = None,
 
 def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order, from
-    a fresh message on its joint states topic (:meth:`Connection.arm_state` on a connection of its
+    fresh messages on its joint states topic (:meth:`Connection.arm_state` on a connection of its
     own)."""
     with Connection("rlff_arm_state") as connection:
         return connection.arm_state(robot, timeout)
