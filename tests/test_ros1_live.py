@@ -332,6 +332,7 @@ def test_serve_and_send_under_the_robot_file_s_ros_names(tmp_path):
         assert result.returncode == 0, result.stderr
         outcome = json.loads(result.stdout)
         assert outcome["status"] == "succeeded" and outcome["duration"] == pytest.approx(sent.duration)
+        assert "\nexecuting " in result.stderr  # the progress bar, once the goal was accepted
 
         published = rig.rlff("robot", "send", str(back), "--robot", str(arm), "--topic-mode", "--timeout", "60")
         assert published.returncode == 0, published.stderr
@@ -357,3 +358,6 @@ def test_an_action_nobody_serves_is_named_with_the_robot_file_s_ros_table(ros, t
         f"rlff: error: no action server at /nobody/follow_joint_trajectory (the [ros] action of {nobody}): is `rlff "
         "robot serve` running, or does the arm's controller use another name? "
         "(`rostopic list | grep follow_joint_trajectory`)"), result.stderr
+    # before it: the plan and the approach announced, no progress bar of a goal that never went out
+    before = result.stderr.splitlines()[:-1]
+    assert [line.split(" ")[0] for line in before] == ["planned", "approach"], result.stderr

@@ -185,6 +185,7 @@ def test_rlff_plans_from_the_arm_sends_and_reports_success(controller, domain, t
     np.testing.assert_allclose([p.velocities for p in goal.points], planned.velocities, atol=1e-12)
     # the approach to the throw's start is announced before the goal goes out
     assert approach_line(planned) in result.stderr and "approach first: joint_2 " in result.stderr
+    assert "\nexecuting " in result.stderr  # the progress bar, once the goal was accepted
     stamp = goal.header.stamp.sec + goal.header.stamp.nanosec * 1e-9
     assert sent_at < stamp < time.time() + 1  # starts shortly after it was sent
     assert outcome["start"] == pytest.approx(stamp, abs=1e-6)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import threading
+from contextlib import ExitStack
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -21,6 +23,8 @@ from rlff.cli._common import (
 )
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from rlff.robot.plan import RobotPlan
 
 # The library (SciPy, pandas, rosbags) is imported inside the commands so that `rlff` starts fast;
@@ -430,17 +434,26 @@ def send(
                 emit_json({"status": "published", "points": len(traj), "subscribers": subscribers})
             return
         steps = max(1, round(traj.duration * 100))
-        with progress("executing", steps) as advance:
+        with ExitStack() as stack:
+            bar: list = []  # the progress bar, once the server accepted the goal
+            opening = threading.Lock()  # feedback and the acceptance may come on different threads
             done = 0
+
+            def accepted() -> Callable[..., None]:
+                with opening:
+                    if not bar:
+                        bar.append(stack.enter_context(progress("executing", steps)))
+                    return bar[0]
 
             def on_feedback(elapsed: float) -> None:
                 nonlocal done
+                advance = accepted()  # feedback means accepted, whatever the order they arrive in
                 now = min(steps, round(elapsed * 100))
                 if now > done:
                     advance(now - done)
                     done = now
 
-            outcome = send_goal(model, traj, pose, timeout, on_feedback)
+            outcome = send_goal(model, traj, pose, timeout, on_feedback, on_accepted=accepted)
     except (RosUnavailable, ArmStateError) as exc:
         stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
         raise typer.Exit(1) from None

@@ -129,6 +129,7 @@ def send_goal(
     pose: np.ndarray,
     timeout: float | None = None,
     on_feedback: Callable[[float], None] | None = None,
+    on_accepted: Callable[[], None] | None = None,
 ) -> SendResult:
     """Send ``traj`` as a FollowJointTrajectory goal and wait for its result.
 
@@ -147,6 +148,8 @@ def send_goal(
         :data:`CANCEL_WAIT` s more to confirm it (the arm braked to rest).
     on_feedback : callable, optional
         Called with the elapsed trajectory time (s) of each feedback message.
+    on_accepted : callable, optional
+        Called once the server accepted the goal (from rospy's thread).
 
     Returns
     -------
@@ -190,7 +193,8 @@ def send_goal(
     start = rospy.Time.now() + rospy.Duration.from_sec(START_LEAD)
     try:
         try:
-            client.send_goal(FollowJointTrajectoryGoal(trajectory=to_msg(traj, start)), feedback_cb=feedback)
+            client.send_goal(FollowJointTrajectoryGoal(trajectory=to_msg(traj, start)), feedback_cb=feedback,
+                             active_cb=on_accepted)
             ended = _wait(client, status, deadline)
         except (KeyboardInterrupt, rospy.ROSInterruptException) as exc:
             interrupt = exc if isinstance(exc, KeyboardInterrupt) else Interrupted()  # Terminated stays

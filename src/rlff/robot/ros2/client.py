@@ -185,7 +185,8 @@ class Connection:
         return state
 
     def send_goal(self, robot: Robot, traj: JointTrajectory, pose: np.ndarray, timeout: float | None = None,
-                  on_feedback: Callable[[float], None] | None = None) -> SendResult:
+                  on_feedback: Callable[[float], None] | None = None,
+                  on_accepted: Callable[[], None] | None = None) -> SendResult:
         """:func:`send_goal` on this connection."""
         check_goal(robot, traj, goal_start(robot, traj, pose))
         deadline = time.monotonic() + (timeout if timeout is not None else CONNECT_TIMEOUT)
@@ -224,6 +225,8 @@ class Connection:
             if not handle.accepted:
                 return SendResult("rejected", None, None, "the server rejected the goal", start, traj.duration,
                                   received)
+            if on_accepted:
+                on_accepted()
             answer = handle.get_result_async()
             ended = _wait(answer, deadline, client, lambda: heard[0] if heard else None)
             if ended is not True:
@@ -289,6 +292,7 @@ def send_goal(
     pose: np.ndarray,
     timeout: float | None = None,
     on_feedback: Callable[[float], None] | None = None,
+    on_accepted: Callable[[], None] | None = None,
 ) -> SendResult:
     """Send ``traj`` as a FollowJointTrajectory goal and wait for its result.
 
@@ -306,7 +310,10 @@ def send_goal(
         duration plus 10 s. When it runs out the goal is cancelled, and the server gets up to
         :data:`CANCEL_WAIT` s more to confirm it (the arm braked to rest).
     on_feedback : callable, optional
-        Called with the elapsed trajectory time (s) of each feedback message.
+        Called with the elapsed trajectory time (s) of each feedback message (from the
+        connection's thread).
+    on_accepted : callable, optional
+        Called once the server accepted the goal.
 
     Raises
     ------
@@ -321,7 +328,7 @@ def send_goal(
     """
     check_goal(robot, traj, goal_start(robot, traj, pose))
     with Connection("rlff_send") as connection:
-        return connection.send_goal(robot, traj, pose, timeout, on_feedback)
+        return connection.send_goal(robot, traj, pose, timeout, on_feedback, on_accepted)
 
 
 def _cancel_when_accepted(sent) -> str | None:
