@@ -14,6 +14,7 @@ import subprocess
 import sys
 import threading
 import time
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -27,6 +28,7 @@ from ros2rig import ACTION, RosNode, free_domain, require_ros2, ros2_env, wait_u
 pytestmark = [pytest.mark.ros2, pytest.mark.integration, pytest.mark.slow]
 
 PERIOD = 0.01  # s: the planning period given to send
+MUTE_SERVER = Path(__file__).with_name("ros2_mute_server.py")
 
 
 @pytest.fixture(scope="module")
@@ -373,6 +375,40 @@ def test_a_server_that_falls_silent_mid_goal_is_lost_not_cancelled(state, domain
     assert outcome["error_string"].endswith("; the cancel was not confirmed (no server is left to answer it): the "
                                             "arm's state is unknown; check the arm (e-stop it if it moves)")
     assert took < 15  # seen within seconds, not after the throw's duration + 10 s + the cancel's 10 s
+
+
+def test_a_server_killed_after_accepting_before_any_feedback_is_lost_within_seconds(throw, tmp_path):
+    # a driver of its own (tests/ros2_mute_server.py: accepts, then no feedback), in a domain of its own
+    require_ros2()
+    env = ros2_env(free_domain(), tmp_path)
+    log = tmp_path / "driver.log"
+    pose = ",".join(str(float(value)) for value in throw[1])
+    with open(log, "w") as out:
+        driver = subprocess.Popen([sys.executable, str(MUTE_SERVER), pose], env=env, stdout=out,
+                                  stderr=subprocess.STDOUT)
+    sender = None
+    try:
+        wait_until(lambda: "serving" in log.read_text() or driver.poll() is not None, 120, "the driver")
+        sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(throw[0]), "--ros", "2",
+                                   "--period", str(PERIOD), "--json"], env=env, stdout=subprocess.PIPE,
+                                  stderr=subprocess.PIPE, text=True)
+        wait_until(lambda: "accepted" in log.read_text() or sender.poll() is not None, 120, "the goal accepted")
+        driver.kill()  # it crashes: no feedback, no result, no answer to the cancel; still in the graph ~20 s
+        killed = time.monotonic()
+        out, err = sender.communicate(timeout=60)
+        took = time.monotonic() - killed
+    finally:
+        driver.kill()
+        if sender is not None and sender.poll() is None:
+            sender.kill()
+    assert sender.returncode == 1, err
+    outcome = json.loads(out)
+    assert outcome["status"] == "lost" and "goal cancelled" not in err
+    assert outcome["error_string"].startswith(f"the server at {ACTION} stopped answering (no feedback since it "
+                                              "accepted the goal, and no answer for "), outcome
+    assert outcome["error_string"].endswith("; the cancel was not confirmed (no server is left to answer it): the "
+                                            "arm's state is unknown; check the arm (e-stop it if it moves)")
+    assert took < 8  # within seconds: not after the throw's 10 s + 10 s, nor the graph's 20 s lease
 
 
 def test_stopping_send_before_any_goal_says_no_cancel(throw, tmp_path):

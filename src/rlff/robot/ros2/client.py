@@ -5,8 +5,9 @@ table). The trajectory is checked against the robot's limits, and with the arm's
 joint state messages that agree, read by :func:`arm_state`; see :class:`rlff.robot.send.StateWatch`) as its
 start, before it is sent. A timeout or Ctrl-C cancels the goal on the server (the arm brakes
 to rest) before returning or re-raising; a cancel the server does not confirm within
-:data:`CANCEL_WAIT` s, or a server that leaves the graph mid-goal, is reported as such: the arm's
-state is then unknown. The
+:data:`CANCEL_WAIT` s, or a server that goes away mid-goal (it leaves the graph, its feedback
+stops, or, before any feedback, it answers no ping: :class:`_Ping`), is reported as such: the
+arm's state is then unknown. The
 server's answer is reported as ROS 2 gives it: a goal the server refuses after accepting it (as
 rlff's and ros2_control's servers do, so that the error code reaches the client) is "aborted"
 with its code, one it does not accept at all is "rejected".
@@ -16,13 +17,16 @@ from __future__ import annotations
 
 import threading
 import time
+import uuid
 from collections.abc import Callable
 
 import numpy as np
 import rclpy
 from action_msgs.msg import GoalStatus
+from action_msgs.srv import CancelGoal
 from control_msgs.action import FollowJointTrajectory
 from rclpy.action import ActionClient
+from rclpy.client import Client
 from rclpy.executors import SingleThreadedExecutor
 from sensor_msgs.msg import JointState
 
@@ -57,8 +61,11 @@ _STATES = {GoalStatus.STATUS_SUCCEEDED: "succeeded", GoalStatus.STATUS_ABORTED: 
 
 #: Seconds without feedback, once the server sent some, after which it counts as gone (servers
 #: that send feedback send it every control cycle; a server that crashed is seen no other way
-#: until discovery's lease of some 20 s runs out).
+#: until discovery's lease of some 20 s runs out). Before its first feedback, seconds without an
+#: answer to a ping (:class:`_Ping`) after which it counts as gone.
 FEEDBACK_SILENCE = 3.0
+#: Seconds between pings of a server that sent no feedback since it accepted the goal.
+PING_PERIOD = 1.0
 
 
 #: Seconds from the first joint states message a subscription hears before the arm's state may be
@@ -94,6 +101,7 @@ class Connection:
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
         self._clients: dict[str, ActionClient] = {}  # by action name
+        self._pings: dict[str, Client] = {}  # the action's cancel service, to ping its server (_Ping)
         self._thread = threading.Thread(target=self._spin, daemon=True)
         self._thread.start()
 
@@ -193,6 +201,7 @@ class Connection:
         action = robot.ros.action
         if action not in self._clients:
             self._clients[action] = ActionClient(self.node, FollowJointTrajectory, action)
+            self._pings[action] = self.node.create_client(CancelGoal, f"{action}/_action/cancel_goal")
         client = self._clients[action]
         if not client.wait_for_server(timeout_sec=max(0.01, deadline - time.monotonic())):
             raise ServerUnavailable(f"no action server at {action} ({robot.ros_origin('action')}): is `rlff robot "
@@ -228,7 +237,8 @@ class Connection:
             if on_accepted:
                 on_accepted()
             answer = handle.get_result_async()
-            ended = _wait(answer, deadline, client, lambda: heard[0] if heard else None)
+            ended = _wait(answer, deadline, client, lambda: heard[0] if heard else None,
+                          _Ping(self._pings[action]))
             if ended is not True:
                 gone = ended if isinstance(ended, str) else None
                 confirmed = _cancel(handle, lost=gone is not None)
@@ -255,11 +265,46 @@ class Connection:
         return SendResult(status, code, name, outcome.result.error_string, start, traj.duration, received)
 
 
+class _Ping:
+    """Whether the server of an accepted goal that sends no feedback is still there.
+
+    A server process that dies (killed, crashed) stays in the ROS graph until discovery's lease
+    runs out, some 20 s; one that sends feedback is seen gone when it stops. One that sent none
+    yet is pinged every :data:`PING_PERIOD` s: asked, on the action's own cancel service, to
+    cancel a goal it never had (a random goal id, stamp 0, which cancels that goal alone: the
+    server answers ERROR_UNKNOWN_GOAL_ID and nothing else happens). A server that answers none
+    for :data:`FEEDBACK_SILENCE` s counts as gone; one whose cancel service this client has not
+    been matched to yet is not asked, and not counted against it.
+    """
+
+    def __init__(self, service) -> None:
+        self.service = service
+        self.answered = time.monotonic()  # the goal was just accepted
+        self.pending = None
+        self.request = CancelGoal.Request()
+        self.request.goal_info.goal_id.uuid = list(uuid.uuid4().bytes)
+
+    def silence(self) -> float | None:
+        """Seconds without an answer, once the server counts as gone; None while it answers."""
+        now = time.monotonic()
+        if self.pending is not None and self.pending.done():
+            self.pending = None
+            self.answered = now
+        if self.pending is None and now - self.answered >= PING_PERIOD:
+            if not self.service.service_is_ready():
+                self.answered = now  # not asked: no answer missing
+                return None
+            self.pending = self.service.call_async(self.request)
+        quiet = now - self.answered
+        return quiet if quiet > FEEDBACK_SILENCE else None
+
+
 def _wait(future, deadline: float, client: ActionClient | None = None,
-          heard: Callable[[], float | None] | None = None) -> bool | str:
+          heard: Callable[[], float | None] | None = None, ping: _Ping | None = None) -> bool | str:
     """Whether ``future`` is done by ``deadline``; or why ``client``'s server counts as gone before
     that: it left the ROS graph for a second, or its feedback (``heard()``: when the last came,
-    monotonic s; None before the first) stopped for :data:`FEEDBACK_SILENCE` s."""
+    monotonic s; None before the first) stopped for :data:`FEEDBACK_SILENCE` s, or, before any
+    feedback, it answered no ``ping`` for as long."""
     gone = None
     checked = 0.0
     while not future.done():
@@ -274,6 +319,9 @@ def _wait(future, deadline: float, client: ActionClient | None = None,
             last = heard() if heard is not None else None
             if last is not None and now - last > FEEDBACK_SILENCE:
                 return f"its feedback stopped {now - last:.1f} s ago"
+            quiet = ping.silence() if last is None and ping is not None else None
+            if quiet is not None:
+                return f"no feedback since it accepted the goal, and no answer for {quiet:.1f} s"
         time.sleep(0.01)
     return True
 
