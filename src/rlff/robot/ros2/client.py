@@ -69,17 +69,15 @@ PING_PERIOD = 1.0
 
 
 #: Seconds from the first joint states message a subscription hears before the arm's state may be
-#: taken (:meth:`rlff.robot.send.StateWatch.hold`; the messages meanwhile are compared), and how
-#: long at most, waiting for a message of every publisher discovery knows on the topic. Discovery
+#: taken (:meth:`rlff.robot.send.StateWatch.hold`; the messages meanwhile are compared): discovery
 #: connects a new subscription to a topic's publishers one by one, and a second publisher of the
 #: arm's joints must be heard before the state is taken. Measured here (two publishers, nodes of
 #: their own, and a new process subscribing): the second's first message came 0 to 0.12 s after
-#: the first's, once 0.75 s, and more than a second later in one run of twelve of the live test
-#: (tests/test_ros2_client.py), while the subscription had been matched to a publisher 1 to 2.5 s
-#: before its first message came. A publisher that discovery knows but that publishes nothing
-#: delays the state by :data:`HEAR_WAIT`.
+#: the first's, once 0.75 s, and more than a second later in one run of twelve of the live test;
+#: a publisher whose messages come later than this is not seen. (Waiting besides for a message of
+#: every publisher the graph knows, read in the subscription's callback, made the live tests'
+#: own discovery fail now and then, unexplained: left out.)
 DISCOVERY_WINDOW = 1.0
-HEAR_WAIT = 3.0
 
 
 class ServerUnavailable(RlffError):
@@ -162,22 +160,12 @@ class Connection:
         deadline = time.monotonic() + waited
         topic = robot.ros.joint_states
         watch = StateWatch(robot, self.now, "ros2 topic info")
-        heard: set[bytes] = set()  # the publishers a message came from
-        first: list[float] = []  # when (monotonic s) the first message came
-        subscription = None
+        heard = threading.Event()
 
-        def offer(msg, info) -> None:
-            now = time.monotonic()
-            gid = info.get("publisher_gid")
-            heard.add(bytes(gid["data"]) if gid else b"")
-            if not first:
-                first.append(now)
-                watch.hold(HEAR_WAIT)  # until every publisher discovery knows of has been heard
-            elif first[0] + DISCOVERY_WINDOW <= now < first[0] + HEAR_WAIT:
-                known = max(self.node.count_publishers(topic),
-                            subscription.get_publisher_count() if subscription is not None else 0)
-                if len(heard) >= known:
-                    watch.hold(0.0)
+        def offer(msg) -> None:
+            if not heard.is_set():  # the first message: other publishers may not have reached this one yet
+                heard.set()
+                watch.hold(DISCOVERY_WINDOW)
             watch.offer(msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, msg.name, msg.position, msg.velocity)
 
         subscription = self.node.create_subscription(JointState, topic, offer, 10)
