@@ -224,6 +224,24 @@ def test_the_timeout_cancels_the_goal_on_the_server(controller, domain, throw, t
     assert controller.cancelled.is_set()
 
 
+def test_an_error_once_the_goal_is_accepted_cancels_it(controller, domain, throw, tmp_path, monkeypatch):
+    # rlff's client in this process: what the command does on acceptance (its progress bar) fails;
+    # the accepted goal is cancelled before the error goes on, not left running
+    from rlff.robot.ros2.client import send_goal
+
+    for name, value in ros2_env(domain, tmp_path).items():
+        monkeypatch.setenv(name, value)
+    controller.answer = controller.never_finish
+    controller.cancelled.clear()
+
+    def fails() -> None:
+        raise RuntimeError("the progress bar failed")
+
+    with pytest.raises(RuntimeError, match="the progress bar failed"):
+        send_goal(load_robot(), throw[2], throw[1], timeout=60, on_accepted=fails)
+    assert controller.cancelled.is_set()
+
+
 @pytest.mark.parametrize(("stop_signal", "code", "word"), [(signal.SIGINT, 130, "interrupted"),
                                                            (signal.SIGTERM, 143, "terminated")],
                          ids=["ctrl-c", "sigterm"])

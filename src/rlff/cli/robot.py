@@ -434,6 +434,10 @@ def send(
                 emit_json({"status": "published", "points": len(traj), "subscribers": subscribers})
             return
         steps = max(1, round(traj.duration * 100))
+        # the bar's modules, before the goal goes out: a Ctrl-C or SIGTERM landing in an import
+        # surfaces as an error of that import (RuntimeError from dataclasses), not as the interrupt
+        # that cancels the goal
+        import rich.progress  # noqa: F401
         with ExitStack() as stack:
             bar: list = []  # the progress bar, once the server accepted the goal
             opening = threading.Lock()  # feedback and the acceptance may come on different threads

@@ -223,7 +223,11 @@ class Connection:
                 return SendResult("rejected", None, None, "the server rejected the goal", start, traj.duration,
                                   received)
             if on_accepted:
-                on_accepted()
+                try:
+                    on_accepted()
+                except Exception:
+                    _cancel(handle)  # accepted: it must not run on with nobody left to stop it
+                    raise
             answer = handle.get_result_async()
             ended = _wait(answer, deadline, client, lambda: heard[0] if heard else None,
                           _Ping(self._pings[action]))
