@@ -79,13 +79,12 @@ class GmrBaseline(Method):
         fastest = float(np.max(np.abs(self.mean)))
         #: Largest speed factor that keeps the GMR mean within the joint's speed limit.
         self.limit = problem.max_speed / fastest if fastest > 0 else np.inf
-        #: Speed factor the baseline's factors are relative to: 1, or where the arm's kinematics
-        #: send the GMR mean's throw (``Problem.aim``), times where earlier baskets' hits point
-        #: (:mod:`rlff.learn.carry`): the same information ``calibrate`` gets.
-        #: The speed factor the run's own u0 is (1: the GMR mean's speed; where the kinematics
-        #: aim it), which the attempts' ``log_factor`` is logged over, as ``calibrate`` logs it
-        #: over its u0: what a later basket carries.
+        #: The run's own u0 as a speed factor on the GMR mean: 1, or where the arm's kinematics send
+        #: its throw (``Problem.aim``). Attempts log their ``log_factor`` over it, as ``calibrate``
+        #: logs over its u0: what a later basket carries.
         self.aimed = problem.aim(self.throw) if problem.aim is not None else 1.0
+        #: Speed factor the baseline's factors are relative to: u0 shifted to where earlier
+        #: baskets' hits point (:mod:`rlff.learn.carry`): the same information ``calibrate`` gets.
         self.start = self.aimed * math.exp(problem.carried_shift)
 
     def scaled(self, factor: np.ndarray | float, info: dict) -> Proposal:
@@ -143,7 +142,7 @@ class BracketingSweep(GmrBaseline):
 
     def propose(self, history: Sequence[Attempt]) -> Proposal:
         x = float(self.offsets[min(len(history), self.offsets.size - 1)])  # swept everything: stay at the end
-        return self.scaled(float(np.exp(x)), {"log_factor": round(x + math.log(self.start / self.aimed), 4)})
+        return self.scaled(float(np.exp(x)), {"log_factor": round(x + self.problem.carried_shift, 4)})
 
 
 def _nearest_first(offsets: np.ndarray) -> np.ndarray:
@@ -212,7 +211,7 @@ class SecantSearch(GmrBaseline):
             factors.append(min(self._next(factors, misses), self.limit / self.start))
         factor = factors[len(history)]
         return self.scaled(factor, {"factor": factor,
-                                    "log_factor": round(math.log(self.start * factor / self.aimed), 4)})
+                                    "log_factor": round(math.log(factor) + self.problem.carried_shift, 4)})
 
     def _next(self, factors: list[float], misses: list[float]) -> float:
         s = np.asarray(factors[: len(misses)])
@@ -253,7 +252,7 @@ class GpSearch(GmrBaseline):
         from sklearn.gaussian_process import GaussianProcessRegressor
         from sklearn.gaussian_process.kernels import RBF, ConstantKernel, WhiteKernel
 
-        shift = math.log(self.start / self.aimed)  # its log factors are logged over the run's u0
+        shift = self.problem.carried_shift  # its log factors are logged over the run's u0
         if not history:
             return self.scaled(1.0, {"log_factor": round(shift, 4)})
         target = self.problem.target
