@@ -558,16 +558,16 @@ def _require_reach(robot, basket, pedestal: float, joints: Sequence[str] = ("joi
     it says too what that run needs of the demonstrations (``columns``) when they lack it."""
     from rlff.robot import mapping_for
     from rlff.sim import require_reachable
-    from rlff.sim.reach import PLANE_JOINTS
+    from rlff.sim.reach import PLANE_JOINTS, next_throwing_joint
 
     plane = tuple(j for j in joints if j in PLANE_JOINTS) or ("joint_2",)
     try:
         require_reachable(basket, robot, pedestal, plane)
     except InputError as exc:
-        more = [j for j in ("joint_3", "joint_5") if j not in plane and f"with {j} too" in str(exc)]
-        if not more or not robot.whole_arm:
+        more = next_throwing_joint(plane)  # the joint the error's hint names
+        if more is None or not robot.whole_arm:
             raise
-        wanted = (*sorted(plane), more[0])
+        wanted = (*sorted(plane), more)
         try:
             needed = mapping_for(robot, wanted).human_columns
         except InputError:  # the robot file's [whole_arm] does not drive that joint
@@ -575,7 +575,7 @@ def _require_reach(robot, basket, pedestal: float, joints: Sequence[str] = ("joi
         lacking = [column for name in needed for column in (name, velocity_column(name)) if column not in columns]
         if not lacking:
             raise
-        raise InputError(f"{exc}; with {more[0]} the throw is --joints {','.join(wanted)}, which needs "
+        raise InputError(f"{exc}; with {more} the throw is --joints {','.join(wanted)}, which needs "
                          f"{' and '.join(lacking)} columns in the demonstrations, and these lack them (rlff data "
                          "import keeps the shoulder and wrist unless --joints elbow)") from None
 

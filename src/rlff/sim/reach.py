@@ -153,6 +153,13 @@ def _hint(distance: float, opening: float) -> str:
     return text if text == "none" else f"{text} m"
 
 
+def next_throwing_joint(joints: Sequence[str]) -> str | None:
+    """The joint of the throwing plane that a throw with ``joints`` would take on next to reach
+    farther (joint 3, then joint 5), as :func:`require_reachable`'s hint names it; None when it
+    has both."""
+    return next((joint for joint in ("joint_3", "joint_5") if joint not in joints), None)
+
+
 def require_reachable(
     basket: Basket,
     robot: Robot | None = None,
@@ -168,11 +175,10 @@ def require_reachable(
     if basket.distance <= farthest_basket(reach.distance, basket.opening):
         return reach
     hints = []
-    for joint in ("joint_3", "joint_5"):  # the next joint of the throwing plane that may help
-        if joint not in joints:
-            more = throw_reach(robot, basket.rim_height, pedestal, (*joints, joint)).distance
-            hints.append(f"with {joint} too: {_hint(more, basket.opening)}")
-            break
+    joint = next_throwing_joint(joints)
+    if joint is not None:
+        more = throw_reach(robot, basket.rim_height, pedestal, (*joints, joint)).distance
+        hints.append(f"with {joint} too: {_hint(more, basket.opening)}")
     higher = throw_reach(robot, basket.rim_height, pedestal + 0.5, joints).distance
     hints.append(f"on a pedestal 0.5 m higher: {_hint(higher, basket.opening)}")
     raise InputError(
