@@ -84,12 +84,11 @@ def spike_filter(
         if joint != column and joint in dataset.columns and velocity_of(joint) in dataset.columns
     ]
     unit = "/s" if timed else " per sample"
+    found = glitch_samples(dataset, column, threshold=float(threshold), max_width=max_width)
     out = []
     for trajectory in dataset:
-        spikes = find_spikes(
-            trajectory[column], trajectory["time"] if timed else None, float(threshold), max_width
-        )
-        if not spikes.size:
+        spikes = found.get(trajectory.id)
+        if spikes is None:
             out.append(trajectory)
             continue
         kept = trajectory.take(np.setdiff1d(np.arange(len(trajectory)), spikes))
@@ -111,14 +110,16 @@ def spike_filter(
     return report.after, report
 
 
-def glitch_samples(dataset: Dataset, column: str = "angle", k: float = 3.0,
-                   max_width: int = 2) -> dict[str, np.ndarray]:
-    """The glitch samples :func:`spike_filter` (with the automatic threshold) removes, by
-    trajectory id: indices ascending, only for trajectories that have any. For drawing raw data
-    without the lines a glitch throws across a figure."""
+def glitch_samples(dataset: Dataset, column: str = "angle", *, threshold: float | Literal["auto"] = "auto",
+                   k: float = 3.0, max_width: int = 2) -> dict[str, np.ndarray]:
+    """The glitch samples :func:`spike_filter` removes with these settings (see there), by
+    trajectory id: indices ascending, only for trajectories that have any. Also for drawing raw
+    data without the lines a glitch throws across a figure."""
     timed = "time" in dataset.columns
-    threshold = _auto_threshold(dataset, column, k, timed)
-    found = {t.id: find_spikes(t[column], t["time"] if timed else None, threshold, max_width) for t in dataset}
+    if threshold == "auto":
+        threshold = _auto_threshold(dataset, column, k, timed)
+    found = {t.id: find_spikes(t[column], t["time"] if timed else None, float(threshold), max_width)
+             for t in dataset}
     return {name: spikes for name, spikes in found.items() if spikes.size}
 
 
