@@ -48,8 +48,6 @@ from rlff.capture.label import (
 from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_throws
 from rlff.capture.skeleton import ArmTrack, Recording
 from rlff.capture.skeleton_text import (
-    KINECT_RATE_HZ,
-    MSR_RATE_HZ,
     axis_vector,
     read_joint_csv,
     read_kinect_text,
@@ -429,13 +427,15 @@ def _rate_warnings(report: ImportReport, rate_hz: float | None) -> list[str]:
     text, a CSV without a time column) whose throws are implausible for a throw, all of them or
     those of some files (a set recorded at two rates): the frame rate is the likely mistake."""
     said = []
-    for kind, default in (("msr", MSR_RATE_HZ), ("kinect-text", KINECT_RATE_HZ), ("csv", KINECT_RATE_HZ)):
+    for kind in ("msr", "kinect-text", "csv"):
         files = [file for file in report.files if file.format == kind and file.throws and file.assumed_rate]
         if not files:
             continue
+        # the rate the reader assumed, the same for every file of a kind: the format's or --rate
         rate = (f"--rate {rate_hz:g} Hz" if rate_hz is not None else
-                f"{default:g} Hz (the format's rate; --rate changes it)" if kind != "csv" else
-                f"{default:g} Hz (no time column; --rate, or map the time column with --columns \"time=NAME\")")
+                f"{files[0].assumed_rate:g} Hz (the format's rate; --rate changes it)" if kind != "csv" else
+                f"{files[0].assumed_rate:g} Hz (no time column; --rate, or map the time column with --columns "
+                "\"time=NAME\")")
         seen = _implausible([throw for file in files for throw in file.throws])
         if seen:
             count = sum(len(file.throws) for file in files)
