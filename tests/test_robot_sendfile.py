@@ -138,3 +138,14 @@ def test_a_bag_carries_the_robot_file_s_trajectory_topic_and_is_read_back_from_i
         f"{out}: holds no trajectory on /comau/joint_trajectory (the [ros] trajectory_topic of built-in robot "
         "comau_smart5_six), but JointTrajectory messages on /arm/joint_trajectory: export it again with this robot "
         "file, or send it with the robot file it was exported with")
+
+
+def test_a_dry_run_names_the_joint_nearest_its_speed_limit(planned):
+    from rlff.robot.send import fastest_joint_line
+
+    _, trajectory = planned
+    peak = np.abs(trajectory.velocities).max(axis=0) / [joint.max_velocity for joint in ROBOT.joints]
+    top = ROBOT.joints[int(np.argmax(peak))]
+    assert top.name == "joint_2"  # the throw's joint, planned up to its limit at the release
+    assert fastest_joint_line(ROBOT, trajectory) == (f"fastest: joint_2 at {peak.max():.0%} of its "
+                                                      f"{top.max_velocity:g} rad/s")

@@ -380,7 +380,13 @@ def send(
     from rlff.errors import InputError
     from rlff.learn.replay import load_for_send, rebearing_warning
     from rlff.robot.description import load_robot
-    from rlff.robot.send import ArmStateError, approach_line, check_goal_for_arm, require_at_rest
+    from rlff.robot.send import (
+        ArmStateError,
+        approach_line,
+        check_goal_for_arm,
+        fastest_joint_line,
+        require_at_rest,
+    )
 
     _check_ros(ros)
     if ros == 2 and topic_mode:
@@ -420,9 +426,8 @@ def send(
         if announced:  # before anything moves, even under -q
             stderr().print(announced, highlight=False, markup=False)
         if dry_run:
-            fastest = dry_run_line(model, traj)
             say(f"dry run, nothing sent: {len(traj)} points, {traj.duration:.3f} s from the arm's pose, every check "
-                f"passed; {fastest}")
+                f"passed; {fastest_joint_line(model, traj)}")
             if json:
                 emit_json({"status": "dry-run", "points": len(traj), "duration": traj.duration,
                            "approach": announced})
@@ -474,17 +479,6 @@ def send(
         return
     stderr().print(f"rlff: {message}", highlight=False, markup=False)
     raise typer.Exit(1)
-
-
-def dry_run_line(model, traj) -> str:
-    """The joint nearest its speed limit along ``traj``, in words: what a dry run says last."""
-    import numpy as np
-
-    shares = [float(np.max(np.abs(traj.velocities[:, traj.joint_index(joint.name)]))) / joint.max_velocity
-              for joint in model.joints if joint.name in traj.joint_names]
-    names = [joint for joint in model.joints if joint.name in traj.joint_names]
-    top = int(np.argmax(shares))
-    return (f"fastest: {names[top].name} at {shares[top]:.0%} of its {names[top].max_velocity:g} rad/s")
 
 
 def interrupted_goal(exc: BaseException) -> str | None:

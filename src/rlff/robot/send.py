@@ -313,6 +313,16 @@ def approach_line(traj: JointTrajectory, what: str = "the throw") -> str | None:
     return f"approach first: {', '.join(parts)} in {duration:.2f} s, to the start of {what}"
 
 
+def fastest_joint_line(robot: Robot, traj: JointTrajectory) -> str:
+    """The joint of ``traj`` that comes nearest its speed limit, in words (``fastest: joint_2 at
+    100% of its 2.792 rad/s``): what a dry run of ``rlff robot send`` says last."""
+    joints = [joint for joint in robot.joints if joint.name in traj.joint_names]
+    shares = [float(np.max(np.abs(traj.velocities[:, traj.joint_index(joint.name)]))) / joint.max_velocity
+              for joint in joints]
+    top = int(np.argmax(shares))
+    return f"fastest: {joints[top].name} at {shares[top]:.0%} of its {joints[top].max_velocity:g} rad/s"
+
+
 @dataclass(frozen=True)
 class SendResult:
     """What became of a goal.
