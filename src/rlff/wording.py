@@ -32,10 +32,15 @@ def nearest_hint(word: str, choices: Sequence[str], otherwise: str) -> str:
     return f" (did you mean {near[0]!r}?)" if near else f" ({otherwise})"
 
 
+def signed_metres(value: float, digits: int = 2, unmeasured: str = "landing not measured") -> str:
+    """A signed miss in words: ``+0.23 m``, or ``unmeasured`` for NaN (an operator who typed hit
+    or miss measured no landing)."""
+    return unmeasured if value != value else f"{value:+.{digits}f} m"
+
+
 def attempt_outcome(hit: bool, miss: float) -> str:
-    """An attempt's outcome in words: ``+0.23`` (m) for a measured miss, ``-0.07 hit`` for a
-    measured hit, ``hit (not measured)`` and ``miss (not measured)`` where the landing was not
-    measured (an operator typed hit or miss)."""
+    """An attempt's outcome in a list of signed misses (m): ``+0.23``, ``-0.07 hit``, or
+    ``hit (not measured)`` and ``miss (not measured)`` where the landing was not measured."""
     if miss != miss:  # NaN
         return f"{'hit' if hit else 'miss'} (not measured)"
     return f"{miss:+.2f}" + (" hit" if hit else "")

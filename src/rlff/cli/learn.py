@@ -17,7 +17,7 @@ from rlff.cli._common import (
     stderr,
     stdout,
 )
-from rlff.wording import attempt_outcome, plural
+from rlff.wording import attempt_outcome, plural, signed_metres
 
 
 def register(root: typer.Typer) -> None:
@@ -194,8 +194,7 @@ def _run(data, basket: float, settings: dict, live: dict | None):
                 return
             if not bar:
                 bar.append(stack.enter_context(progress(f"learning to hit {basket:g} m", total=settings["budget"])))
-            seen = f"{'hit' if attempt.hit else 'miss'} " + (f"{attempt.miss:+.2f} m" if attempt.miss == attempt.miss
-                                                             else "(not measured)")
+            seen = f"{'hit' if attempt.hit else 'miss'} {signed_metres(attempt.miss, unmeasured='(not measured)')}"
             bar[0](1, description=f"attempt {attempt.index}: {seen}, "
                                   f"exploration {attempt.exploration:.2f}")
 
@@ -241,7 +240,7 @@ def _write_best(result, robot: str, out: Path, fmt: str, period: float, joints: 
         return None
     planned = export_attempt(best, load_robot(robot), out, fmt, period, joints=joints, bearing=bearing).trajectory
     what = "the last hit" if best.hit else "no hit: the throw nearest the centre"
-    say(f"wrote {out} ({fmt}): attempt {best.index}, {what} ({f'{best.miss:+.3f} m' if best.miss == best.miss else 'landing not measured'}), "
+    say(f"wrote {out} ({fmt}): attempt {best.index}, {what} ({signed_metres(best.miss, 3)}), "
         f"{len(planned)} points, {planned.duration:.3f} s")
     return {"path": out, "format": fmt, "attempt": best.index, "hit": best.hit, "miss": best.miss}
 

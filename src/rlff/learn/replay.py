@@ -33,6 +33,7 @@ from rlff.robot.mapping import ArmMapping, RobotMapping, mapping_for
 from rlff.robot.plan import RobotPlan, load_for_robot, plan_path
 from rlff.robot.sendfile import load_for_sending
 from rlff.trajectory.planner import APPROACH_SPEED, DEFAULT_PERIOD
+from rlff.wording import signed_metres
 
 if TYPE_CHECKING:
     from rlff.sim.gap import Gap
@@ -207,8 +208,9 @@ def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, pe
         mapping = run_mapping(robot, run)
         require_same_robot(path, run, mapping)
         require_run_joints(path, run, mapping, joints)
-        outcome = (f"hit, {chosen.miss:+.3f} m from the centre" if chosen.hit and chosen.miss == chosen.miss
-                   else "hit, landing not measured" if chosen.hit else f"miss {chosen.miss:+.3f} m")
+        # a miss typed on a live arm has no landing either: "miss +nan m" said nothing
+        outcome = (f"hit, {signed_metres(chosen.miss, 3)}" + (" from the centre" if chosen.miss == chosen.miss else "")
+                   if chosen.hit else f"miss, {signed_metres(chosen.miss, 3)}")
         planned = plan_attempt(chosen, mapping, period, clip, start, run_bearing(run) if bearing is None else bearing,
                                approach_speed)
         return ThrowInput(planned, f"attempt {chosen.index} of {path} ({outcome}), {planned.summary()}", run)
