@@ -129,32 +129,22 @@ def test_the_shortfall_counts_what_the_fastest_release_would_add():
         assert shortfall_at_the_limit(_attempt(limit, miss), mapping, basket, window) == 0.0
 
 
-def test_a_joint_its_acceleration_keeps_below_its_speed_limit_is_judged_at_what_it_reaches():
-    # joint 2 at 3 rad/s^2 (jerk 30) over the throw's swing: the planner lets go below 2.792 rad/s,
-    # and the 0.7 % a UR5e-like file lacked was taken for a gain, 18 throws in a row
-    from rlff.learn.reach import release_speed_factor
-    from rlff.sim.reach import attainable_speed
+def test_a_throw_the_planner_let_go_just_below_the_limit_counts_as_at_the_limit():
+    # the planner keeps 1 % of the speed limits: a UR5e-like file's throws asked for at the limit
+    # let go at 3.12 of 3.14 rad/s, and within 0.1 % such a throw never counted as the fastest,
+    # so 18 throws 7 mm beyond the rim each looked 0.7 % of speed from a hit
+    from rlff.learn.reach import AT_THE_LIMIT, fastest_seen
 
-    comau = load_robot()
-    slow = replace(comau, joints=tuple(replace(j, max_acceleration=3.0, max_jerk=30.0) if j.name == "joint_2" else j
-                                       for j in comau.joints))
-    mapping = mapping_for(slow, None)
+    mapping = mapping_for(load_robot(), None)
     limit = mapping.max_human_speeds()["velocity"]
-    attempt = _attempt(limit, -0.40)
-    first, release = mapping.angle_offset + mapping.angle_scale * attempt.angle[[0, -1]]
-    swing = release - max(first, slow.joint("joint_2").lower)  # the swing starts within the joint's range
-    reached = float(attainable_speed(slow.joint("joint_2"), swing)) / abs(mapping.velocity_scale)
-    assert reached < 0.95 * limit
-    at_reach = _attempt(reached, -0.215)
-    assert release_speed_factor(mapping, {"angle": at_reach.angle, "velocity": at_reach.velocity},
-                                executable=True)[0] == pytest.approx(1.0, rel=1e-9)
-    assert release_speed_factor(mapping, {"angle": at_reach.angle, "velocity": at_reach.velocity})[0] > 1.05
-    # at what the joint reaches, 7 mm beyond the rim: short at the limit, nothing to gain
-    assert shortfall_at_the_limit(at_reach, mapping, Basket(BASKET), 0.208) == pytest.approx(0.007, abs=1e-9)
-    # and it stands as the fastest release seen, for a slower throw from the same pose
-    from rlff.learn.reach import fastest_seen
-
-    assert fastest_seen(_attempt(0.6 * reached, -1.0), [at_reach], mapping) == pytest.approx(-0.215)
+    near = _attempt(0.993 * limit, -0.215)
+    assert 1 / 0.993 <= AT_THE_LIMIT
+    assert fastest_seen(near, [near], mapping) == pytest.approx(-0.215)
+    assert shortfall_at_the_limit(near, mapping, Basket(BASKET), 0.208, seen=[near]) == pytest.approx(0.007)
+    # it judges a slower throw from its pose; one the planner could still have let go faster does not
+    slower = _attempt(0.6 * limit, -1.0)
+    assert fastest_seen(slower, [near], mapping) == pytest.approx(-0.215)
+    assert math.isnan(fastest_seen(slower, [_attempt(0.98 * limit, -0.215)], mapping))
 
 
 def test_a_throw_at_the_limit_that_fell_short_judges_every_slower_throw_from_its_release():
@@ -165,7 +155,7 @@ def test_a_throw_at_the_limit_that_fell_short_judges_every_slower_throw_from_its
     at_limit, slower = _attempt(limit, -0.30), _attempt(0.6 * limit, -1.2)
     assert fastest_seen(slower, [slower, at_limit], mapping) == pytest.approx(-0.30)
     # below the limit, or let go at another angle, it says nothing of the slower throw
-    assert math.isnan(fastest_seen(slower, [_attempt(0.99 * limit, -0.35)], mapping))
+    assert math.isnan(fastest_seen(slower, [_attempt(0.98 * limit, -0.35)], mapping))  # 0.99: at the planner's margin
     other_release = replace(at_limit, angle=at_limit.angle + 0.05)
     assert math.isnan(fastest_seen(slower, [other_release], mapping))
     # no landing reported: no evidence

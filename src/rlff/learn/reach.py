@@ -30,10 +30,17 @@ import numpy as np
 from rlff.dataset import joint_outputs
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
+from rlff.trajectory.planner import MARGIN
 
 #: Throws in a row that came down short of the basket's rim even sped up to the fastest release
 #: the joints allow, after which a run stops: the basket is beyond what this arm throws.
 SHORT_AT_THE_LIMIT = 3
+#: A throw counts as let go as fast as the joints allow when its last driven joint could go at
+#: most this factor faster: the planner keeps :data:`rlff.trajectory.planner.MARGIN` of the speed
+#: limits, and a throw asked for at the limit lets go a little below it (a UR5e-like file at 3.12
+#: of its 3.14 rad/s, and within 0.1 %, the rule until 2026-12-06, it never counted: one throw
+#: 7 mm beyond the rim was thrown 18 times).
+AT_THE_LIMIT = 1 / MARGIN
 
 
 @dataclass(frozen=True)
@@ -163,38 +170,19 @@ def scaled(path: dict[str, np.ndarray], factor: float) -> dict[str, np.ndarray]:
     return {c: v * factor if c == "velocity" or c.endswith("_velocity") else v for c, v in path.items()}
 
 
-def release_speed_factor(mapping, path: dict[str, np.ndarray], executable: bool = False) -> tuple[float, str]:
+def release_speed_factor(mapping, path: dict[str, np.ndarray]) -> tuple[float, str]:
     """The factor on every velocity of ``path`` at which the last driven joint reaches its speed
     limit at the release, and that joint (as the reason): below it, the joints that get there
     first saturate (as every executed throw does: the robot never exceeds a limit) while the
-    others still speed up and throw farther; above it, nothing changes.
-
-    ``executable``: each joint's limit is also what it reaches from rest over the path's swing
-    (its first pose to the release) within its acceleration and jerk limits
-    (:func:`rlff.sim.reach.attainable_speed`), which the planner cannot exceed: a UR5e-like
-    file (8 rad/s^2) let go at 3.12 of its 3.14 rad/s, and a judgement that took the other 0.7 %
-    for a gain threw one short throw 18 times."""
+    others still speed up and throw farther; above it, nothing changes."""
     factor, limiting = 0.0, ""
     limits = mapping.max_human_speeds()
-    if executable:
-        from rlff.sim.reach import attainable_speed
-
-        robot_path, _ = mapping.path_to_robot(path, clip=True)
-        for column, name in zip(_velocity_columns(mapping), mapping.driven_joints, strict=True):
-            joint = mapping.robot.joint(name)
-            travel = abs(float(robot_path.positions[-1, robot_path.joint_index(name)]
-                               - robot_path.positions[0, robot_path.joint_index(name)]))
-            limits[column] *= float(attainable_speed(joint, travel)) / joint.max_velocity
-    for column, name in zip(_velocity_columns(mapping), mapping.driven_joints, strict=True):
+    for column, name in zip((c for c in joint_outputs(mapping.human_columns) if c.endswith("velocity")),
+                            mapping.driven_joints, strict=True):
         release = abs(float(path[column][-1]))
         if release > 0 and limits[column] / release > factor:
             factor, limiting = limits[column] / release, f"every joint reaches its speed limit (the last: {name})"
     return (factor, limiting) if factor > 0 else (math.inf, "")
-
-
-def _velocity_columns(mapping) -> list[str]:
-    """The velocity columns of ``mapping``'s driven joints, in their order."""
-    return [c for c in joint_outputs(mapping.human_columns) if c.endswith("velocity")]
 
 
 def release_crossing_of(mapping, path: dict[str, np.ndarray], rim_height: float, pedestal: float) -> float:
@@ -246,7 +234,7 @@ def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, 
     observed = fastest_seen(attempt, seen, mapping)
     shortfall = max(0.0, -tolerance - observed) if math.isfinite(observed) else 0.0
     path = _untimed(attempt)
-    factor, _ = release_speed_factor(mapping, path, executable=True)
+    factor, _ = release_speed_factor(mapping, path)
     if not math.isfinite(factor):
         return shortfall
     now = release_crossing_of(mapping, path, basket.rim_height, pedestal)
@@ -258,8 +246,8 @@ def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, 
 
 def fastest_seen(attempt: Attempt, seen: Sequence[Attempt], mapping) -> float:
     """The signed miss (m) of the farthest throw in ``seen`` that let go from ``attempt``'s
-    release pose as fast as the joints allow (the last driven joint within 0.1 % of its speed
-    limit), every driven joint at least as fast as in ``attempt`` and in the same direction
+    release pose as fast as the joints allow (the last driven joint within :data:`AT_THE_LIMIT`
+    of its speed limit), every driven joint at least as fast as in ``attempt`` and in the same direction
     (:func:`at_least_as_fast`); NaN when none did, or none reported a landing."""
     pose, velocity = _release_state(attempt, mapping)
     misses = []
@@ -271,7 +259,7 @@ def fastest_seen(attempt: Attempt, seen: Sequence[Attempt], mapping) -> float:
             continue
         if not at_least_as_fast(other_velocity, velocity):
             continue
-        if release_speed_factor(mapping, _untimed(other), executable=True)[0] <= 1.001:
+        if release_speed_factor(mapping, _untimed(other))[0] <= AT_THE_LIMIT:
             misses.append(other.miss)
     return max(misses) if misses else math.nan
 
