@@ -190,6 +190,9 @@ def test_learning_curves_one_line_per_method_and_first_hits(tmp_path):
                             hits={"calibrate": [False, False, True], "imitation": [False] * 4})
     stars = [line for line in again.figure.get_axes()[0].get_lines() if line.get_marker() == "*"]
     assert [star.get_xdata()[0] for star in stars] == [3]
+    # a run without a hit has no star, and its legend promises none
+    never = learning_curves({"calibrate": [-0.5, -0.3]}, tmp_path / "never", tolerance=0.1)
+    assert "first hit" not in [t.get_text() for t in never.figure.legends[0].get_texts()]
 
     # two methods whose first hit is the same throw: the second star smaller, on top, both seen
     same = learning_curves({"secant": [-0.08], "imitation": [-0.08]}, tmp_path / "same", tolerance=0.14)

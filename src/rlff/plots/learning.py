@@ -93,8 +93,10 @@ def learning_curves(
         axes.set_xlabel("attempt")
         axes.set_ylabel("miss (m): < 0 short, > 0 long")
         handles, labels = axes.get_legend_handles_labels()
-        handles.append(Line2D([], [], marker="*", markersize=12, color="grey", markeredgecolor="black", linestyle="none"))
-        labels.append("first hit")
+        if stars:
+            handles.append(Line2D([], [], marker="*", markersize=12, color="grey", markeredgecolor="black",
+                                  linestyle="none"))
+            labels.append("first hit")
         if blind:
             handles.append(Line2D([], [], marker="x", markersize=8, color="grey", linestyle="none"))
             labels.append("landing not measured (drawn at 0)")
