@@ -46,3 +46,25 @@ def test_a_thesis_matrix_has_no_recording_to_show(rlff, tmp_path):
     assert rlff("-q", "data", "synth", "thesis", "-o", str(matrix)).code == 0
     result = rlff("plot", "cuts", str(matrix), "-f", "thesis", "-o", str(tmp_path / "c"))
     assert result.code == 2 and "holds throws already cut" in result.stderr
+
+
+def test_the_throws_are_labelled_with_the_manifests_baskets(rlff, tmp_path):
+    # the figure checks an import: its baskets must be the ones the import with that manifest gives
+    bag = bf.write_ros1_bag(tmp_path / "session.bag", bf.standard_simulation(seed=4, n_throws=3, second_user=False),
+                            compression=None)
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,throw,distance\nsession.bag,1,1.5\nsession.bag,2,3.25\nsession.bag,3,2.0\n")
+    result = rlff("plot", "cuts", str(bag), "--manifest", str(manifest), "-o", str(tmp_path / "cuts"))
+    assert result.code == 0, result.stderr
+
+    from rlff.capture import import_recordings
+    from rlff.plots.capture import throw_cuts
+
+    _, report = import_recordings([bag], manifest=manifest)
+    (axes,) = throw_cuts(report.files[0], tmp_path / "again").figure.axes
+    labels = [text.get_text().split("\n")[-1] for text in axes.texts if text.get_text().startswith("session")]
+    assert labels == ["1.5 m", "3.25 m", "2 m"]
+    # the command reads the manifest as the import does: a basket out of range is refused
+    manifest.write_text("file,throw,distance\nsession.bag,1,200\n")
+    refused = rlff("plot", "cuts", str(bag), "--manifest", str(manifest), "-o", str(tmp_path / "c"))
+    assert refused.code == 2 and "baskets.csv" in refused.stderr and "200" in refused.stderr, refused.stderr

@@ -276,16 +276,23 @@ def cuts_command(
     topic: str = typer.Option("/tf", "--topic", help="tf topic of bags."),
     frames: str = typer.Option("right_shoulder_1,right_elbow_1,right_hand_1", "--frames",
                                help="Shoulder, elbow, hand tf frames of bags, as for rlff data import."),
+    manifest: Path | None = typer.Option(None, "--manifest", "-m",
+                                         help="Basket distances, as for rlff data import: the throws are labelled with them."),
+    release_window: float | None = typer.Option(None, "--release-window", metavar="SECONDS",
+                                                help="Release speed window, as for rlff data import."),
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:
     """Where rlff data import cuts a recording: the elbow angle over time, each throw and each movement not taken."""
     from rlff.capture import import_recordings
+    from rlff.capture.label import LandingSettings
     from rlff.cli.data_import import column_map
     from rlff.plots.capture import throw_cuts
 
-    _guard(out, {"RECORDING": recording})
+    _guard(out, {"RECORDING": recording, "--manifest": manifest})
     frame_names = [name.strip() for name in frames.split(",") if name.strip()]
+    # the baskets drawn are the import's: from the same manifest, or estimated the same way
     _, report = import_recordings([recording], format, arm=arm, topic=topic, frames=frame_names, rate_hz=rate,
-                                  columns=column_map(columns), up=up)
+                                  columns=column_map(columns), up=up, manifest=manifest,
+                                  landing=LandingSettings(release_window=release_window))
     _done([throw_cuts(report.files[0], out)], as_json)
