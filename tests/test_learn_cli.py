@@ -363,3 +363,19 @@ def test_a_bad_period_fails_before_the_first_throw(rlff, demos_csv, tmp_path, pe
                   "--period", period, "--log", str(log))
     assert result.code == 2 and "--period must be a positive controller period (s)" in result.stderr
     assert not log.exists()
+
+
+def test_a_one_joint_run_on_your_own_robot_file_is_pointed_at_the_kinematics_aim(cli, demos_csv, tmp_path):
+    # the [throwing] mapping of a user's file was likely not tuned on their arm; the built-in
+    # Comau's was, and an explicit --aim is the user's choice: no hint for either
+    from importlib import resources
+
+    mine = tmp_path / "mine.toml"
+    mine.write_text((resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text())
+    base = ["learn", str(demos_csv), "--basket", "1.4", "--budget", "1"]
+    hinted = cli(*base, "--robot", str(mine))
+    assert hinted.code == 0, hinted.stderr
+    assert "--aim kinematics starts where its geometry sends the throw" in hinted.stderr + hinted.stdout
+    for quiet in (cli(*base), cli(*base, "--robot", str(mine), "--aim", "demonstrations")):
+        assert quiet.code == 0, quiet.stderr
+        assert "--aim kinematics" not in quiet.stderr + quiet.stdout

@@ -140,6 +140,8 @@ def learn_command(
                 "carry_from": carry, "gap": arm.name, "misreport": misreport, "aim": aim}
     live = None if executor == "sim" else {"outcome": outcome, "landing_topic": landing_topic, "network": network,
                                            "approach_speed": approach_speed}
+    if aim == "auto" and driven is None and (hint := _aim_hint(robot)):
+        say(hint)
     try:
         result = _run(data, basket, settings, live)
     except KeyboardInterrupt as exc:  # on its own line, after the progress bar or the prompt
@@ -214,6 +216,29 @@ def _interrupted_attempt(exc: BaseException, log: Path | None) -> str | None:
         return f"attempt {attempt}: thrown, but no outcome given: {kept}"
     goal = interrupted_goal(exc) or "goal not sent"
     return f"attempt {attempt}: {goal}; {kept}"
+
+
+def _aim_hint(robot: str) -> str | None:
+    """What to say before a one-joint run that aims by the demonstrations (``--aim auto``) on a
+    robot file of the user's with a geometry: its ``[throwing]`` mapping was likely not tuned on
+    that arm, and the kinematics' aim does not need it to be (docs/learn.md: 4-7 more throws than
+    the sweep on an untuned UR5e-like file, 1 aimed). None for the built-in robots, whose mappings
+    were tuned, and for a file without ``[geometry]``, which cannot aim."""
+    import warnings
+
+    from rlff.robot import available_robots, load_robot
+    from rlff.robot.description import RobotFileWarning
+
+    if robot in available_robots():
+        return None
+    with warnings.catch_warnings():  # the run loads it again and says them once
+        warnings.simplefilter("ignore", RobotFileWarning)
+        model = load_robot(robot)
+    if model.geometry is None:
+        return None
+    return (f"aim: the demonstrations' speeds through the [throwing] mapping of {model.source} (--aim auto, one "
+            "joint); unless that mapping was tuned on this arm, --aim kinematics starts where its geometry sends "
+            "the throw, often at once (docs/learn.md); --aim demonstrations keeps this and says nothing")
 
 
 def _joint_list(joints: str | None) -> tuple[str, ...] | None:
