@@ -376,6 +376,9 @@ def test_a_one_joint_run_on_your_own_robot_file_is_pointed_at_the_kinematics_aim
     hinted = cli(*base, "--robot", str(mine))
     assert hinted.code == 0, hinted.stderr
     assert "--aim kinematics starts where its geometry sends the throw" in hinted.stderr + hinted.stdout
-    for quiet in (cli(*base), cli(*base, "--robot", str(mine), "--aim", "demonstrations")):
+    log = tmp_path / "a.jsonl"
+    assert cli(*base, "--robot", str(mine), "--log", str(log)).code == 0
+    resumed = cli(*base[:-1], "2", "--robot", str(mine), "--log", str(log))  # its run chose already
+    for quiet in (cli(*base), cli(*base, "--robot", str(mine), "--aim", "demonstrations"), resumed):
         assert quiet.code == 0, quiet.stderr
         assert "--aim kinematics" not in quiet.stderr + quiet.stdout

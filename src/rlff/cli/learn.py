@@ -140,7 +140,8 @@ def learn_command(
                 "carry_from": carry, "gap": arm.name, "misreport": misreport, "aim": aim}
     live = None if executor == "sim" else {"outcome": outcome, "landing_topic": landing_topic, "network": network,
                                            "approach_speed": approach_speed}
-    if aim == "auto" and driven is None and (hint := _aim_hint(robot)):
+    resuming = log is not None and log.exists()  # its run chose already
+    if aim == "auto" and driven is None and not resuming and (hint := _aim_hint(robot)):
         say(hint)
     try:
         result = _run(data, basket, settings, live)
