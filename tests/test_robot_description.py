@@ -243,7 +243,7 @@ def test_an_unknown_key_in_the_ros_table_is_refused_by_name(tmp_path):
         load_robot(path)
     path.write_text(MINIMAL + '[ros]\nstated = ["action"]\n')  # the dataclass' own field is no key of the file
     with pytest.raises(InputError, match=r"\[ros\]: unknown field 'stated' \(known: action, joint_states, "
-                                         r"trajectory_topic\)"):
+                                         r"trajectory_topic, joints\)"):
         load_robot(path)
     path.write_text('ros = "/arm"\n' + MINIMAL)
     with pytest.raises(InputError, match=r"mine.toml: \[ros\] must be a table, got '/arm'"):

@@ -122,6 +122,28 @@ class Outcome:
     trajectory: JointTrajectory
 
 
+def goal_in_rlff(robot: Robot, traj: JointTrajectory) -> JointTrajectory:
+    """A goal (or topic trajectory) as it came from the ROS graph, in the controller's joint names
+    and convention (``robot.ros.joints``, the robot file's ``[ros.joints]``), in rlff's: what
+    :meth:`TrajectoryController.submit` takes. ``traj`` itself without a map.
+
+    Raises
+    ------
+    GoalRejected
+        INVALID_JOINTS: it names a joint the controller does not have (rlff's own name of a joint
+        the map renames among them).
+    """
+    joints = robot.ros.joints
+    if joints.identity:
+        return traj
+    known = [joints.controller_name(name) for name in robot.joint_names]
+    unknown = [name for name in traj.joint_names if name not in known]
+    if unknown:
+        raise GoalRejected(ResultCode.INVALID_JOINTS, f"unknown joints {unknown} (the controller of robot "
+                                                      f"{robot.name} has {', '.join(known)})")
+    return joints.from_controller(traj)
+
+
 #: Called with each completed trajectory (e.g. to throw it in MuJoCo); its text is the goal's result.
 CompletionHook = Callable[[JointTrajectory], str]
 

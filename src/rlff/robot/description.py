@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from rlff.errors import InputError
+from rlff.robot.joint_map import ENTRY_FIELDS, ControllerJoint, JointMap
 from rlff.wording import nearest_hint
 
 DEFAULT_ROBOT = "comau_smart5_six"
@@ -43,7 +44,8 @@ _FIELDS = {
     "[whole_arm]": ("time_scale", "bearing_joint", "joints", "start_pose"),
     "[whole_arm.joints.<joint>]": ("human", "offset", "scale"),
     "[comau_program]": ("position_slot", "velocity_slot"),
-    "[ros]": ("action", "joint_states", "trajectory_topic"),
+    "[ros]": ("action", "joint_states", "trajectory_topic", "joints"),
+    "[ros.joints.<joint>]": ENTRY_FIELDS,
 }
 #: The tables of a robot file besides ``[[joints]]``.
 _TABLES = ("geometry", "throwing", "whole_arm", "comau_program", "ros")
@@ -230,6 +232,10 @@ class RosNames:
         The trajectory_msgs/JointTrajectory topic of the original driver's topic mode: ``robot serve``
         listens on it, ``robot send --topic-mode`` publishes on it, and exported bags carry the
         trajectory on it.
+    joints : JointMap
+        The controller's names, zeros and signs of the robot's joints (the ``[ros.joints]`` tables;
+        :mod:`rlff.robot.joint_map`): goals, joint states, feedback and bags go through it. Empty:
+        the controller's joints are the robot file's.
     stated : frozenset of str
         The keys the robot file gives; for messages that say where a name comes from
         (:meth:`Robot.ros_origin`).
@@ -242,6 +248,7 @@ class RosNames:
     action: str = "/comau_controller/follow_joint_trajectory"
     joint_states: str = "/joint_states"
     trajectory_topic: str = "/comau/joint_trajectory"
+    joints: JointMap = field(default_factory=JointMap)
     stated: frozenset[str] = field(default=frozenset(), compare=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -295,6 +302,10 @@ class Robot:
         object.__setattr__(self, "throwing", MappingProxyType(dict(self.throwing)))
         object.__setattr__(self, "comau_program", MappingProxyType(dict(self.comau_program)))
         object.__setattr__(self, "whole_arm", MappingProxyType(dict(self.whole_arm)))
+        try:
+            self.ros.joints.check_joints(names)
+        except InputError as exc:  # the map's own check names no file
+            raise InputError(f"{self.source}: {exc}") from None
 
     @property
     def joint_names(self) -> tuple[str, ...]:
@@ -376,11 +387,12 @@ def _require_known_keys(document: Mapping[str, Any], source: str, top: Sequence[
     for key in _TABLES:
         if isinstance(document.get(key), Mapping):
             _require_known(document[key], f"[{key}]", f"{source}: [{key}]")
-    arm = document.get("whole_arm")
-    entries = arm.get("joints") if isinstance(arm, Mapping) else None
-    for joint, entry in entries.items() if isinstance(entries, Mapping) else ():
-        if isinstance(entry, Mapping):
-            _require_known(entry, "[whole_arm.joints.<joint>]", f"{source}: [whole_arm.joints.{joint}]")
+    for table in ("whole_arm", "ros"):
+        parent = document.get(table)
+        entries = parent.get("joints") if isinstance(parent, Mapping) else None
+        for joint, entry in entries.items() if isinstance(entries, Mapping) else ():
+            if isinstance(entry, Mapping):
+                _require_known(entry, f"[{table}.joints.<joint>]", f"{source}: [{table}.joints.{joint}]")
 
 
 def _require_known_joints(document: Mapping[str, Any], joints: Sequence[str], source: str) -> None:
@@ -457,15 +469,17 @@ def require_chain_names(names: Sequence[str], source: str) -> None:
     rlff's chain, whose joints and zeros are its own (joint 2 at 0 = upper arm vertical, ...).
     A file of a controller's own names (a UR's ``shoulder_lift_joint``, 0 = upper arm
     horizontal) had its angles placed on that chain by position, and the floor check and the
-    simulation judged another pose than the arm's."""
+    simulation judged another pose than the arm's. Such a controller is driven from a file of
+    rlff's joints whose ``[ros.joints]`` give the controller's names, zeros and signs
+    (:class:`rlff.robot.joint_map.JointMap`)."""
     if sorted(names) == sorted(CHAIN_JOINTS):  # their order is the controller order's check (Robot)
         return
     raise InputError(
         f"{source}: [geometry] describes rlff's chain, joints joint_1 to joint_6 with rlff's zeros and signs (joint_2 "
         "at 0 = upper arm vertical, positive tilts it forward; the comments of the built-in comau_smart5_six.toml), "
         f"and this file's joints are {', '.join(names)}: name them joint_1 to joint_6 with their angles in that "
-        "convention, or leave [geometry] out (then no floor check and no simulation); a controller whose joints "
-        "have other names or zeros cannot be driven through [geometry] yet (docs/robot.md)")
+        "convention, and give the controller's names, zeros and signs in [ros.joints] tables (docs/robot.md), or "
+        "leave [geometry] out (then no floor check and no simulation)")
 
 
 def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
@@ -517,14 +531,51 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
             geometry = Geometry(**values)
         except InputError as exc:  # the geometry's own checks name no file
             raise InputError(f"{source}: {exc}") from None
-    names = document.get("ros", {})
+    names = dict(document.get("ros", {}))
+    joint_map = _joint_map(names.pop("joints"), source) if "joints" in names else JointMap()
     try:
-        ros = RosNames(**names, stated=frozenset(names))
+        ros = RosNames(**names, joints=joint_map, stated=frozenset(document.get("ros", {})))
     except InputError as exc:  # the names' own checks name no file
         raise InputError(f"{source}: {exc}") from None
     return Robot(name, tuple(joints), geometry, document.get("throwing", {}),
                  document.get("comau_program", {}), source, document.get("whole_arm", {}), ros,
-                 implausible_limits(joints, source))
+                 implausible_limits(joints, source) + implausible_offsets(joint_map, source))
+
+
+def _joint_map(tables: Any, source: str) -> JointMap:
+    """The :class:`JointMap` of a robot file's ``[ros.joints]`` tables; :class:`InputError` naming
+    the file and the table at fault (an offset beyond :data:`MAX_POSITION` is one in degrees). Its
+    joints are checked against the file's by :class:`Robot`."""
+    if not isinstance(tables, Mapping):
+        raise InputError(f"{source}: [ros] joints must be [ros.joints.<joint>] tables (name, offset, sign), "
+                         f"got {tables!r}")
+    entries = {}
+    for joint, table in tables.items():
+        where = f"{source}: [ros.joints.{joint}]"
+        if not isinstance(table, Mapping):
+            raise InputError(f"{where} must be a table (name, offset, sign), got {table!r}")
+        try:
+            entries[joint] = ControllerJoint(**({"name": joint} | dict(table)))
+        except InputError as exc:  # the entry's own checks name no file
+            raise InputError(f"{where}: {exc}") from None
+        offset = entries[joint].offset
+        if abs(offset) > MAX_POSITION:
+            raise InputError(f"{where}: offset {offset:g} rad is more than eight turns ({MAX_POSITION:.4g} rad); rlff "
+                             "reads radians: is it in degrees?")
+    return JointMap(entries)
+
+
+def implausible_offsets(joint_map: JointMap, source: str) -> tuple[str, ...]:
+    """A warning (one line, as :func:`implausible_limits`') for a ``[ros.joints]`` offset beyond a
+    turn either way (:data:`MAX_BEND`): a controller's zero is within a turn of rlff's, so such an
+    offset is likely in degrees (45 for a quarter turn's 0.785)."""
+    far = [(joint, entry.offset) for joint, entry in joint_map.joints.items() if abs(entry.offset) > MAX_BEND]
+    if not far:
+        return ()
+    joint, offset = far[0]
+    more = f" (and {len(far) - 1} more)" if len(far) > 1 else ""
+    return (f"{source}: [ros.joints.{joint}]: offset {offset:g} rad is {abs(offset) / (2 * math.pi):.2g} turns{more}; "
+            "a controller's zero is within a turn of rlff's: is it in degrees? rlff reads rad",)
 
 
 def available_robots() -> list[str]:

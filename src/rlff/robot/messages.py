@@ -53,17 +53,21 @@ def trajectory_from_points(joint_names: Sequence[str], points: Sequence[Any],
 
 
 def missing_joints(robot: Robot, names: Sequence[str]) -> list[str]:
-    """The joints of ``robot`` a JointState message naming ``names`` leaves out (another device's
-    message on the same topic, or a robot file whose joint names are not the arm's)."""
-    return [name for name in robot.joint_names if name not in names]
+    """The joints of ``robot`` a JointState message naming ``names`` (the controller's, see
+    :class:`rlff.robot.joint_map.JointMap`) leaves out, in words (``shoulder_lift_joint (joint_2)``
+    for a joint the robot file's ``[ros.joints]`` renames): another device's message on the same
+    topic, or a robot file whose joint names are not the arm's."""
+    joints = robot.ros.joints
+    return [joints.label(name) for name in robot.joint_names if joints.controller_name(name) not in names]
 
 
 def arm_state_of(robot: Robot, topic: str, names: Sequence[str], positions: Sequence[float],
                  velocities: Sequence[float]) -> tuple[np.ndarray, np.ndarray | None]:
-    """The arm's pose and velocity (each (J,), rad and rad/s, ``robot``'s joints in order) from a
-    JointState message's fields, which name every joint of ``robot`` (:func:`missing_joints` is
-    empty); the velocity is None when the message has none (or not one per name): the arm's speed
-    is then unknown, never taken as 0.
+    """The arm's pose and velocity (each (J,), rad and rad/s, ``robot``'s joints in order, in rlff's
+    convention) from a JointState message's fields, which name every joint of ``robot`` by the
+    controller's names (:func:`missing_joints` is empty) and give the controller's positions
+    (converted by ``robot.ros.joints``); the velocity is None when the message has none (or not
+    one per name): the arm's speed is then unknown, never taken as 0.
 
     Raises
     ------
@@ -73,7 +77,4 @@ def arm_state_of(robot: Robot, topic: str, names: Sequence[str], positions: Sequ
     names = list(names)
     if len(positions) != len(names):
         raise InputError(f"{topic} has {len(positions)} positions for {len(names)} joint names")
-    index = [names.index(name) for name in robot.joint_names]
-    velocities = np.asarray(velocities, dtype=float)
-    return (np.asarray(positions, dtype=float)[index],
-            velocities[index] if velocities.size == len(names) else None)
+    return robot.ros.joints.state_from_controller(robot.joint_names, names, positions, velocities)

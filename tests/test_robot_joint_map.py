@@ -1,0 +1,267 @@
+"""The robot file's [ros.joints]: the controller's names, zeros and signs of rlff's joints.
+
+Parsing and every refusal (one line naming the file and the table), the conversion's formula on
+exact numbers, its round trip (a property), identity without a map, and [geometry] with a
+UR-named controller (the restriction the map lifts).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import warnings
+from importlib import resources
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from rlff.errors import InputError
+from rlff.robot import load_robot
+from rlff.robot.controller import GoalRejected, ResultCode, goal_in_rlff
+from rlff.robot.description import Joint, Robot, RobotFileWarning, RosNames
+from rlff.robot.joint_map import ControllerJoint, JointMap
+from rlff.robot.messages import arm_state_of, missing_joints
+from rlff.trajectory.joint import JointTrajectory
+
+COMAU = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text(encoding="utf-8")
+UR_NAMES = ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
+            "wrist_3_joint")
+#: A UR-named controller: joint_2 and joint_3 with the zeros of docs/robot.md's example, joint_5
+#: counted the other way round (to exercise a sign), the rest renamed only.
+UR_MAP = """
+[ros.joints.joint_1]
+name = "shoulder_pan_joint"
+
+[ros.joints.joint_2]
+name = "shoulder_lift_joint"
+offset = -1.5707963267948966
+
+[ros.joints.joint_3]
+name = "elbow_joint"
+offset = 1.5707963267948966
+sign = 1
+
+[ros.joints.joint_4]
+name = "wrist_1_joint"
+
+[ros.joints.joint_5]
+name = "wrist_2_joint"
+offset = 0.25
+sign = -1
+
+[ros.joints.joint_6]
+name = "wrist_3_joint"
+"""
+
+
+def ur_file(path, tables: str = UR_MAP):
+    """The built-in Comau file (rlff's joints, [geometry]) with ``tables`` added after its [ros]."""
+    path.write_text(COMAU + tables)
+    return path
+
+
+def test_a_ur_named_map_loads_with_geometry_and_is_read_as_written(tmp_path):
+    robot = load_robot(ur_file(tmp_path / "ur.toml"))
+    assert robot.geometry is not None and robot.joint_names == tuple(f"joint_{k}" for k in range(1, 7))
+    joints = robot.ros.joints
+    assert [joints.controller_name(name) for name in robot.joint_names] == list(UR_NAMES)
+    assert joints.joints["joint_2"] == ControllerJoint("shoulder_lift_joint", -math.pi / 2, 1)
+    assert joints.joints["joint_5"] == ControllerJoint("wrist_2_joint", 0.25, -1)
+    assert joints.label("joint_2") == "shoulder_lift_joint (joint_2)" and not joints.identity
+    assert robot.ros.action == RosNames.action  # [ros]'s own keys are as they were
+    assert load_robot().ros.joints.identity and load_robot().ros.joints.joints == {}
+
+
+def test_a_joint_not_listed_keeps_its_name_zero_and_sign(tmp_path):
+    robot = load_robot(ur_file(tmp_path / "one.toml", '\n[ros.joints.joint_2]\nname = "lift"\n'))
+    joints = robot.ros.joints
+    assert [joints.controller_name(name) for name in robot.joint_names] == [
+        "joint_1", "lift", "joint_3", "joint_4", "joint_5", "joint_6"]
+    assert joints.label("joint_1") == "joint_1" and joints.joints["joint_2"] == ControllerJoint("lift", 0.0, 1)
+    # a table without a name keeps the joint's
+    robot = load_robot(ur_file(tmp_path / "zero.toml", "\n[ros.joints.joint_3]\noffset = 0.5\n"))
+    assert robot.ros.joints.joints["joint_3"] == ControllerJoint("joint_3", 0.5, 1)
+
+
+@pytest.mark.parametrize(("tables", "message"), [
+    ('\n[ros.joints.joint_2]\nname = "lift"\nsign = 2\n',
+     r"bad.toml: \[ros.joints.joint_2\]: sign must be 1 or -1 \(the controller counts the joint as rlff does, or "
+     r"the other way round\), got 2$"),
+    ('\n[ros.joints.joint_2]\nname = "lift"\nsign = true\n', r"\[ros.joints.joint_2\]: sign must be 1 or -1 .*got True$"),
+    ('\n[ros.joints.joint_2]\nname = "lift"\noffset = "90deg"\n',
+     r"bad.toml: \[ros.joints.joint_2\]: offset must be a finite number of radians, got '90deg'$"),
+    ('\n[ros.joints.joint_2]\noffset = nan\n', r"\[ros.joints.joint_2\]: offset must be a finite number of radians, "
+                                              r"got nan$"),
+    ('\n[ros.joints.joint_2]\noffset = 90\n',
+     r"bad.toml: \[ros.joints.joint_2\]: offset 90 rad is more than eight turns \(50.27 rad\); rlff reads radians: "
+     r"is it in degrees\?$"),
+    ('\n[ros.joints.joint_7]\nname = "wrist_4_joint"\n',
+     r"bad.toml: \[ros.joints.joint_7\]: joint_7 is not a joint of the robot \(did you mean 'joint_6'\?\); each "
+     r"table is named after one of the file's \[\[joints\]\], its `name` the controller's$"),
+    ('\n[ros.joints.shoulder_lift_joint]\nname = "joint_2"\n',
+     r"\[ros.joints.shoulder_lift_joint\]: shoulder_lift_joint is not a joint of the robot \(joints: joint_1, "),
+    ('\n[ros.joints.joint_2]\nname = "lift"\nsing = -1\n',
+     r"bad.toml: \[ros.joints.joint_2\]: unknown field 'sing' \(did you mean 'sign'\?\)$"),
+    ('\n[ros.joints.joint_2]\nname = "lift"\n[ros.joints.joint_3]\nname = "lift"\n',
+     r"bad.toml: \[ros.joints.joint_3\]: name 'lift' is also \[ros.joints.joint_2\]'s: each joint needs a "
+     r"controller name of its own$"),
+    ('\n[ros.joints.joint_2]\nname = "joint_3"\n',
+     r"bad.toml: \[ros.joints.joint_2\]: name 'joint_3' is the name of rlff's joint joint_3, which keeps it \(it "
+     r"has no \[ros.joints.joint_3\] table\): two joints under one name; give that joint the controller's own "
+     r"name too$"),
+    ('\n[ros.joints.joint_3]\nname = "joint_2"\n', r"\[ros.joints.joint_3\]: name 'joint_2' is the name of rlff's "
+                                                  r"joint joint_2, which keeps it"),
+    ('\n[ros.joints.joint_2]\nname = ""\n', r"\[ros.joints.joint_2\]: name must be the controller's joint name, a "
+                                           r"non-empty string, got ''$"),
+    ('\n[ros.joints.joint_2]\nname = 2\n', r"\[ros.joints.joint_2\]: name must be .*got 2$"),
+    ('\n[ros.joints.joint_2]\nname = " lift"\n', r"\[ros.joints.joint_2\]: name ' lift' begins or ends with a space"),
+    ('\n[ros.joints]\njoint_2 = "lift"\n', r"bad.toml: \[ros.joints.joint_2\] must be a table \(name, offset, sign\), "
+                                          r"got 'lift'$"),
+    ('\n[ros]\n', r"not valid TOML"),  # a second [ros] table: TOML's own error
+])
+def test_a_bad_joint_map_is_refused_in_one_line_naming_the_file_and_table(tmp_path, tables, message):
+    path = ur_file(tmp_path / "bad.toml", tables)
+    with pytest.raises(InputError, match=message) as caught:
+        load_robot(path)
+    assert "\n" not in str(caught.value)
+
+
+def test_a_joints_key_that_is_no_table_is_refused(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(COMAU.replace('trajectory_topic = "/comau/joint_trajectory"',
+                                  'trajectory_topic = "/comau/joint_trajectory"\njoints = "ur"'))
+    with pytest.raises(InputError, match=r"bad.toml: \[ros\] joints must be \[ros.joints.<joint>\] tables \(name, "
+                                         r"offset, sign\), got 'ur'$"):
+        load_robot(path)
+
+
+def test_a_swap_of_two_names_is_taken(tmp_path):
+    # two joints trading names is one name each: odd, not ambiguous
+    robot = load_robot(ur_file(tmp_path / "swap.toml", '\n[ros.joints.joint_4]\nname = "joint_6"\n'
+                                                       '[ros.joints.joint_6]\nname = "joint_4"\n'))
+    assert robot.ros.joints.rlff_name("joint_6") == "joint_4" and robot.ros.joints.rlff_name("joint_4") == "joint_6"
+
+
+def test_an_offset_beyond_a_turn_is_warned_of_as_degrees(tmp_path):
+    path = ur_file(tmp_path / "deg.toml", "\n[ros.joints.joint_2]\noffset = -45\n[ros.joints.joint_3]\noffset = 30\n")
+    with pytest.warns(RobotFileWarning, match=r"deg.toml: \[ros.joints.joint_2\]: offset -45 rad is 7.2 turns \(and 1 "
+                                              r"more\); a controller's zero is within a turn of rlff's: is it in "
+                                              r"degrees\? rlff reads rad$"):
+        robot = load_robot(path)
+    assert robot.ros.joints.joints["joint_2"].offset == -45.0  # warned of, still loaded
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_robot(ur_file(tmp_path / "rad.toml"))  # the UR's quarter turns: nothing to say
+
+
+def test_geometry_with_other_names_now_points_at_the_map(tmp_path):
+    text = COMAU
+    for k, name in enumerate(UR_NAMES, start=1):
+        text = text.replace(f'"joint_{k}"', f'"{name}"')
+    path = tmp_path / "ur_names.toml"
+    path.write_text(text[:text.index("[throwing]")])
+    with pytest.raises(InputError, match=r"ur_names.toml: \[geometry\] describes rlff's chain, .*and give the "
+                                         r"controller's names, zeros and signs in \[ros.joints\] tables "
+                                         r"\(docs/robot.md\), or leave \[geometry\] out"):
+        load_robot(path)
+
+
+def test_a_map_built_in_code_is_checked_against_the_robot_s_joints():
+    joints = (Joint("a", -1, 1, 1, 5, 50), Joint("b", -1, 1, 1, 5, 50))
+    with pytest.raises(InputError, match=r"<memory>: \[ros.joints.c\]: c is not a joint of the robot"):
+        Robot("r", joints, ros=RosNames(joints=JointMap({"c": ControllerJoint("x")})))
+    with pytest.raises(InputError, match=r"sign must be 1 or -1"):
+        ControllerJoint("x", 0.0, 0)
+    assert Robot("r", joints, ros=RosNames(joints=JointMap({"a": ControllerJoint("x", 0.1, -1)}))).ros.joints.label(
+        "a") == "x (a)"
+    assert hash(RosNames(joints=JointMap({"a": ControllerJoint("x")}))) == hash(
+        RosNames(joints=JointMap({"a": ControllerJoint("x")})))
+
+
+# -- the conversion -------------------------------------------------------------------------------------
+def _traj() -> JointTrajectory:
+    names = tuple(f"joint_{k}" for k in range(1, 7))
+    positions = np.array([[0.0, 0.1, -1.0, 0.2, -0.3, 1.0], [0.5, 0.4, -0.5, 0.0, 0.3, -1.0]])
+    return JointTrajectory(names, [0.0, 0.5], positions, positions * 2, positions * 3, release_time=0.5)
+
+
+def test_to_the_controller_renames_offsets_and_signs_exactly(tmp_path):
+    robot = load_robot(ur_file(tmp_path / "ur.toml"))
+    traj = _traj()
+    out = robot.ros.joints.to_controller(traj)
+    assert out.joint_names == UR_NAMES and out.release_time == 0.5
+    np.testing.assert_array_equal(out.time, traj.time)
+    expected = traj.positions + [0.0, -math.pi / 2, math.pi / 2, 0.0, 0.0, 0.0]
+    expected[:, 4] = 0.25 - traj.positions[:, 4]
+    np.testing.assert_array_equal(out.positions, expected)
+    sign = np.array([1, 1, 1, 1, -1, 1])
+    np.testing.assert_array_equal(out.velocities, sign * traj.velocities)
+    np.testing.assert_array_equal(out.accelerations, sign * traj.accelerations)
+    # a trajectory of some joints, in any order, maps those
+    some = traj.select(["joint_5", "joint_2"])
+    np.testing.assert_array_equal(robot.ros.joints.to_controller(some).positions,
+                                  expected[:, [4, 1]])
+    assert robot.ros.joints.to_controller(some).joint_names == ("wrist_2_joint", "shoulder_lift_joint")
+
+
+def test_without_a_map_every_conversion_is_the_identity():
+    robot = load_robot()
+    traj = _traj()
+    assert robot.ros.joints.to_controller(traj) is traj and robot.ros.joints.from_controller(traj) is traj
+    assert goal_in_rlff(robot, traj) is traj
+    pose = np.array([-0.0, 0.1, -1.0, 0.2, -0.3, 1.0])
+    names, positions, velocities = robot.ros.joints.state_to_controller(robot.joint_names, pose, pose)
+    assert names == list(robot.joint_names)
+    assert positions.tobytes() == pose.tobytes() and velocities.tobytes() == pose.tobytes()  # -0.0 stays
+
+
+finite = st.floats(-40.0, 40.0, allow_nan=False)
+
+
+@settings(max_examples=200, deadline=None)
+@given(offsets=st.lists(st.floats(-6.0, 6.0, allow_nan=False), min_size=6, max_size=6),
+       signs=st.lists(st.sampled_from([1, -1]), min_size=6, max_size=6),
+       values=st.lists(finite, min_size=18, max_size=18))
+def test_from_the_controller_undoes_to_the_controller(offsets, signs, values):
+    joints = JointMap({f"joint_{k + 1}": ControllerJoint(UR_NAMES[k], offsets[k], signs[k]) for k in range(6)})
+    q = np.array(values).reshape(3, 6)
+    traj = JointTrajectory(tuple(f"joint_{k}" for k in range(1, 7)), [0.0, 0.1, 0.3], q, q / 2, q / 3)
+    out = joints.to_controller(traj)
+    back = joints.from_controller(out)
+    assert back.joint_names == traj.joint_names and out.joint_names == UR_NAMES
+    # (offset + s q - offset) s: q within the rounding of the sum
+    np.testing.assert_allclose(back.positions, traj.positions, rtol=0, atol=1e-13)
+    np.testing.assert_array_equal(back.velocities, traj.velocities)  # a sign flip is exact
+    np.testing.assert_array_equal(back.accelerations, traj.accelerations)
+    names, positions, velocities = joints.state_to_controller(traj.joint_names, q[0], q[1])
+    pose, speed = joints.state_from_controller(traj.joint_names, names[::-1], positions[::-1], velocities[::-1])
+    np.testing.assert_allclose(pose, q[0], rtol=0, atol=1e-13)
+    np.testing.assert_array_equal(speed, q[1])
+
+
+def test_a_joint_state_in_the_controller_s_names_is_read_into_rlff_s(tmp_path):
+    robot = load_robot(ur_file(tmp_path / "ur.toml"))
+    # a UR driver's message, the gripper's finger among the arm's joints, in its own order
+    names = ["finger", *reversed(UR_NAMES)]
+    controller = [0.02, 0.0, 0.25 - 0.1, 0.0, math.pi / 2 - 1.3, -math.pi / 2 + 0.2, 0.3]
+    pose, velocity = arm_state_of(robot, "/joint_states", names, controller, [0.0] * 7)
+    np.testing.assert_allclose(pose, [0.3, 0.2, -1.3, 0.0, 0.1, 0.0], rtol=0, atol=1e-15)
+    pose, velocity = arm_state_of(robot, "/joint_states", names, controller, [])
+    assert velocity is None
+    # rlff's own names are not the controller's: the arm's joints are missing, said both ways
+    assert missing_joints(robot, [f"joint_{k}" for k in range(1, 7)]) == [
+        f"{name} (joint_{k})" for k, name in enumerate(UR_NAMES, start=1)]
+    assert missing_joints(robot, names) == []
+
+
+def test_a_goal_in_rlff_s_names_is_refused_by_a_mapped_controller(tmp_path):
+    robot = load_robot(ur_file(tmp_path / "ur.toml"))
+    with pytest.raises(GoalRejected, match=re.escape("unknown joints ['joint_2'] (the controller of robot "
+                                                     "comau_smart5_six has shoulder_pan_joint, shoulder_lift_joint, "
+                                                     "elbow_joint, wrist_1_joint, wrist_2_joint, wrist_3_joint)")) as e:
+        goal_in_rlff(robot, _traj().select(["joint_2"]))
+    assert e.value.code == ResultCode.INVALID_JOINTS
+    goal = robot.ros.joints.to_controller(_traj())
+    np.testing.assert_allclose(goal_in_rlff(robot, goal).positions, _traj().positions, atol=1e-15)
