@@ -124,6 +124,7 @@ class RosNode:
                          else MultiThreadedExecutor(num_threads=threads, context=self.context))
         self.executor.add_node(self.node)
         self._states: list[tuple[float, np.ndarray, np.ndarray]] = []
+        self.names: list[str] = []
         self._lock = threading.Lock()
         self.node.create_subscription(JointState, states, self._on_state, 50)
         self._thread = threading.Thread(target=self._spin, daemon=True)
@@ -139,6 +140,7 @@ class RosNode:
         stamp = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
         with self._lock:
             self._states.append((stamp, np.array(msg.position), np.array(msg.velocity)))
+            self.names = list(msg.name)  # the last message's joint names
 
     def states(self, since: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """Recorded (stamps (N,) s, positions (N, J) rad) of /joint_states from ``since`` on."""

@@ -246,3 +246,40 @@ def named_robot_file(folder: Path, name: str, **names: str) -> Path:
         return text
 
     return robot_file(folder, name, edit)
+
+
+UR_NAMES = ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
+            "wrist_3_joint")
+#: The [ros.joints] tables of a UR-named controller: joint_2 and joint_3 with the zeros of
+#: docs/robot.md's example, joint_5 counted the other way round from an offset (to exercise a
+#: sign), the rest renamed only.
+UR_MAP = """
+[ros.joints.joint_1]
+name = "shoulder_pan_joint"
+
+[ros.joints.joint_2]
+name = "shoulder_lift_joint"
+offset = -1.5707963267948966
+
+[ros.joints.joint_3]
+name = "elbow_joint"
+offset = 1.5707963267948966
+sign = 1
+
+[ros.joints.joint_4]
+name = "wrist_1_joint"
+
+[ros.joints.joint_5]
+name = "wrist_2_joint"
+offset = 0.25
+sign = -1
+
+[ros.joints.joint_6]
+name = "wrist_3_joint"
+"""
+
+
+def ur_file(path, tables: str = UR_MAP):
+    """The built-in Comau file (rlff's joints, [geometry]) with ``tables`` added after its [ros]."""
+    path.write_text((resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text(encoding="utf-8") + tables)
+    return path

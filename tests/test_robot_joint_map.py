@@ -24,42 +24,9 @@ from rlff.robot.description import Joint, Robot, RobotFileWarning, RosNames
 from rlff.robot.joint_map import ControllerJoint, JointMap
 from rlff.robot.messages import arm_state_of, missing_joints
 from rlff.trajectory.joint import JointTrajectory
+from rosrig import UR_NAMES, ur_file
 
 COMAU = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text(encoding="utf-8")
-UR_NAMES = ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint",
-            "wrist_3_joint")
-#: A UR-named controller: joint_2 and joint_3 with the zeros of docs/robot.md's example, joint_5
-#: counted the other way round (to exercise a sign), the rest renamed only.
-UR_MAP = """
-[ros.joints.joint_1]
-name = "shoulder_pan_joint"
-
-[ros.joints.joint_2]
-name = "shoulder_lift_joint"
-offset = -1.5707963267948966
-
-[ros.joints.joint_3]
-name = "elbow_joint"
-offset = 1.5707963267948966
-sign = 1
-
-[ros.joints.joint_4]
-name = "wrist_1_joint"
-
-[ros.joints.joint_5]
-name = "wrist_2_joint"
-offset = 0.25
-sign = -1
-
-[ros.joints.joint_6]
-name = "wrist_3_joint"
-"""
-
-
-def ur_file(path, tables: str = UR_MAP):
-    """The built-in Comau file (rlff's joints, [geometry]) with ``tables`` added after its [ros]."""
-    path.write_text(COMAU + tables)
-    return path
 
 
 def test_a_ur_named_map_loads_with_geometry_and_is_read_as_written(tmp_path):
@@ -98,10 +65,14 @@ def test_a_joint_not_listed_keeps_its_name_zero_and_sign(tmp_path):
      r"bad.toml: \[ros.joints.joint_2\]: offset 90 rad is more than eight turns \(50.27 rad\); rlff reads radians: "
      r"is it in degrees\?$"),
     ('\n[ros.joints.joint_7]\nname = "wrist_4_joint"\n',
-     r"bad.toml: \[ros.joints.joint_7\]: joint_7 is not a joint of the robot \(did you mean 'joint_6'\?\); each "
-     r"table is named after one of the file's \[\[joints\]\], its `name` the controller's$"),
+     r"bad.toml: \[ros.joints.joint_7\]: joint_7 is not a joint of the robot \(joints: joint_1, joint_2, joint_3, "
+     r"joint_4, joint_5, joint_6\); each table is named after one of the file's \[\[joints\]\], its `name` the "
+     r"controller's$"),
+    ('\n[ros.joints.joint2]\nname = "lift"\n', r"\[ros.joints.joint2\]: joint2 is not a joint of the robot \(did you "
+                                               r"mean 'joint_2'\?\)"),
     ('\n[ros.joints.shoulder_lift_joint]\nname = "joint_2"\n',
-     r"\[ros.joints.shoulder_lift_joint\]: shoulder_lift_joint is not a joint of the robot \(joints: joint_1, "),
+     r"\[ros.joints.shoulder_lift_joint\]: shoulder_lift_joint is not a joint of the robot \(joints: joint_1, .*; "
+     r"the other way round: \[ros.joints.joint_2\] with name = 'shoulder_lift_joint'\?\); each table"),
     ('\n[ros.joints.joint_2]\nname = "lift"\nsing = -1\n',
      r"bad.toml: \[ros.joints.joint_2\]: unknown field 'sing' \(did you mean 'sign'\?\)$"),
     ('\n[ros.joints.joint_2]\nname = "lift"\n[ros.joints.joint_3]\nname = "lift"\n',

@@ -149,3 +149,58 @@ def test_a_dry_run_names_the_joint_nearest_its_speed_limit(planned):
     assert top.name == "joint_2"  # the throw's joint, planned up to its limit at the release
     assert fastest_joint_line(ROBOT, trajectory) == (f"fastest: joint_2 at {peak.max():.0%} of its "
                                                       f"{top.max_velocity:g} rad/s")
+
+
+def _raw_messages(path: Path) -> list[bytes]:
+    """The serialized messages of a ROS 1 bag (a file) or a ROS 2 bag (a folder), as stored."""
+    from rosbags.rosbag2 import Reader as Ros2Reader
+
+    with (Ros2Reader(path) if path.is_dir() else Reader(path)) as reader:
+        return [raw for _, _, raw in reader.messages()]
+
+
+@pytest.mark.parametrize("fmt", ["ros1-bag", "ros2-bag"])
+def test_a_bag_of_a_mapped_robot_is_the_controller_s_and_reads_back_into_rlff_s(planned, tmp_path, fmt):
+    """A robot file with [ros.joints]: the exported bag names the controller's joints with its
+    positions (offset + sign * rlff's, velocities and accelerations times the sign); `robot send`
+    reads it back into rlff's convention (within rounding); a robot file without the map finds
+    none of its joints in it. JSON keeps rlff's names."""
+    from rlff.cli import main
+    from rlff.robot.export import read_bag, read_json, write_ros1_bag, write_ros2_bag
+    from rosrig import UR_NAMES, ur_file
+
+    path, trajectory = planned
+    mapped = load_robot(ur_file(tmp_path / "ur.toml"))
+    out = tmp_path / ("throw.bag" if fmt == "ros1-bag" else "throw2")
+    assert main(["robot", "export", str(path), "-f", fmt, "--robot", mapped.source, "--period", "0.01",
+                 "-o", str(out)]) == 0
+    (stored,) = read_bag(out)
+    assert stored.joint_names == UR_NAMES
+    expected = mapped.ros.joints.to_controller(trajectory)
+    np.testing.assert_array_equal(stored.positions, expected.positions)
+    np.testing.assert_array_equal(stored.velocities, expected.velocities)
+    np.testing.assert_array_equal(stored.accelerations, expected.accelerations)
+    assert np.any(stored.positions[:, 1] != trajectory.positions[:, 1])  # the offset is there
+
+    kind, plan = load_for_sending(out, mapped, None, start=trajectory.positions[0])
+    assert kind == fmt and plan.trajectory.joint_names == trajectory.joint_names
+    np.testing.assert_allclose(plan.trajectory.positions, trajectory.positions, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(plan.trajectory.velocities, trajectory.velocities)
+    np.testing.assert_allclose(plan.trajectory.time, trajectory.time, atol=1e-9)
+    with pytest.raises(InputError, match=r"unknown joints|not a joint|shoulder_pan_joint"):
+        load_for_sending(out, ROBOT, None, start=trajectory.positions[0])
+    # a bag of rlff's names sent with the mapped file: refused, saying why
+    plain = tmp_path / ("plain.bag" if fmt == "ros1-bag" else "plain2")
+    export_trajectory(trajectory, RobotMapping.for_robot(ROBOT), fmt, plain)
+    with pytest.raises(InputError, match=re.escape(
+            f"{plain}: joint_1 is not a joint of the arm's controller: the robot file's [ros.joints.joint_1] calls "
+            "rlff's joint_1 shoulder_pan_joint; export it again with this robot file, or send it with the robot file "
+            "it was exported with")):
+        load_for_sending(plain, mapped, None, start=trajectory.positions[0])
+    # without a map the bag's message is the writer's own, byte for byte (as before [ros.joints])
+    direct = tmp_path / ("direct.bag" if fmt == "ros1-bag" else "direct2")
+    (write_ros1_bag if fmt == "ros1-bag" else write_ros2_bag)(trajectory, direct)
+    assert _raw_messages(plain) == _raw_messages(direct)
+    # JSON stays in rlff's names and convention
+    export_trajectory(trajectory, RobotMapping.for_robot(mapped), "json", tmp_path / "t.json")
+    assert read_json(tmp_path / "t.json").joint_names == trajectory.joint_names

@@ -29,6 +29,7 @@ from rosrig import (
     ARM_NAMES,
     DRIVEN,
     ROBOT,
+    UR_NAMES,
     Ros,
     execution_error,
     free_port,
@@ -40,6 +41,7 @@ from rosrig import (
     states,
     stop,
     throw_csv,
+    ur_file,
     wait,
 )
 
@@ -361,3 +363,52 @@ def test_an_action_nobody_serves_is_named_with_the_robot_file_s_ros_table(ros, t
     # before it: the plan and the approach announced, no progress bar of a goal that never went out
     before = result.stderr.splitlines()[:-1]
     assert [line.split(" ")[0] for line in before] == ["planned", "approach"], result.stderr
+
+
+def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(tmp_path):
+    """A robot file of rlff's joints with [geometry] and [ros.joints] of a UR-named controller:
+    `robot serve` plays that controller (its joint states carry the UR's names and positions
+    offset + sign * rlff's), `robot send` reads them back into rlff's convention, plans from there
+    and sends the throw in the controller's; the arm ends where rlff planned. A file without the
+    map finds none of its joints on the topic."""
+    import pandas as pd
+
+    from rlff.robot import RobotMapping, load_robot
+
+    mapped = ur_file(tmp_path / "ur.toml")
+    robot = load_robot(mapped)
+    joints = robot.ros.joints
+    rig = Ros(tmp_path, "--robot", str(mapped))
+    try:
+        path = throw_csv(tmp_path, "throw.csv", 0.0, 0.3, 0.5)
+        start = RobotMapping.for_robot(robot).pose(0.0)  # where serve starts the arm, rlff's convention
+        sent = load_for_robot(path, robot, PERIOD, start=start)[1].trajectory
+        dry = rig.rlff("robot", "send", str(path), "--robot", str(mapped), "--dry-run", "--timeout", "60")
+        assert dry.returncode == 0, dry.stderr
+        lift = joints.positions_to_controller(["joint_2"], [start[1]])[0]
+        assert (f"arm's pose read (rad; the controller's = rlff's): shoulder_pan_joint 0 = joint_1 0, "
+                f"shoulder_lift_joint {lift:.4g} = joint_2 {start[1]:.4g}, ") in dry.stderr, dry.stderr
+
+        result = rig.rlff("robot", "send", str(path), "--robot", str(mapped), "--json", "--timeout", "60")
+        assert result.returncode == 0, result.stderr
+        outcome = json.loads(result.stdout)
+        assert outcome["status"] == "succeeded" and outcome["duration"] == pytest.approx(sent.duration)
+        assert outcome["feedback"] > 0
+
+        recorder = rig.record(tmp_path / "states.csv")
+        stop(recorder)
+        table = pd.read_csv(tmp_path / "states.csv")
+        assert [table[f"field.name{i}"].iloc[-1] for i in range(6)] == list(UR_NAMES)
+        np.testing.assert_allclose(states(tmp_path / "states.csv")[1][-1],
+                                   joints.positions_to_controller(robot.joint_names, sent.positions[-1]), atol=1e-9)
+        assert abs(sent.positions[-1][4] - start[4]) < 1e-12  # joint_5 held: 0.25 - its rlff angle on the topic
+        np.testing.assert_allclose(table["field.position4"].iloc[-1], 0.25 - start[4], atol=1e-12)
+
+        plain = rig.rlff("robot", "send", str(path), "--timeout", "5")
+    finally:
+        rig.close()
+    assert plain.returncode == 2, plain.stderr
+    assert plain.stderr.splitlines()[-1] == (
+        "rlff: error: /joint_states has no position of joint_1, joint_2, joint_3, joint_4, joint_5, joint_6 (it names "
+        f"{', '.join(UR_NAMES)}), and no message on it within 2 s named every joint of comau_smart5_six: check the "
+        "robot file's joint names against the arm's"), plain.stderr

@@ -28,7 +28,7 @@ from ros2rig import (
     wait_future,
     wait_until,
 )
-from rosrig import ARM_NAMES, named_robot_file, throw_csv
+from rosrig import ARM_NAMES, UR_NAMES, named_robot_file, throw_csv, ur_file
 
 pytestmark = [pytest.mark.ros2, pytest.mark.integration, pytest.mark.slow]
 
@@ -320,6 +320,37 @@ def test_serve_and_send_under_the_robot_file_s_ros_names(domain, tmp_path):
         assert second.returncode == 2, second.stderr
         assert "already serves /arm/follow_joint_trajectory on this host" in second.stderr.splitlines()[-1]
         assert server.proc.poll() is None
+    finally:
+        if node is not None:
+            node.close()
+        server.close()
+
+
+def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(domain, tmp_path):
+    """As over ROS 1 (tests/test_ros1_live.py): `robot serve --ros 2` of a robot file with
+    [ros.joints] publishes the UR's names and convention, `robot send --ros 2` reads them back,
+    sends the throw in the controller's and the arm ends where rlff planned."""
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.robot.plan import load_for_robot
+
+    mapped = ur_file(tmp_path / "ur.toml")
+    robot = load_robot(mapped)
+    own = free_domain()  # not the module's server's
+    env = ros2_env(own, tmp_path)
+    server = Server(env, tmp_path / "serve.log", "--robot", str(mapped))
+    node = None
+    try:
+        path = throw_csv(tmp_path, "throw.csv", 0.0, 0.3, 0.5)
+        sent = load_for_robot(path, robot, 0.01, start=RobotMapping.for_robot(robot).pose(0.0))[1].trajectory
+        result = _rlff(env, "robot", "send", str(path), "--ros", "2", "--robot", str(mapped), "--json", "--timeout",
+                       "60")
+        assert result.returncode == 0, result.stderr
+        outcome = json.loads(result.stdout)
+        assert outcome["status"] == "succeeded" and outcome["duration"] == pytest.approx(sent.duration)
+        node = RosNode(own)
+        np.testing.assert_allclose(node.latest()[1], robot.ros.joints.positions_to_controller(
+            robot.joint_names, sent.positions[-1]), atol=1e-9)
+        assert node.names == list(UR_NAMES)
     finally:
         if node is not None:
             node.close()

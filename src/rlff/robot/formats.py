@@ -24,8 +24,10 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
     """Check ``traj`` (a trajectory of ``mapping.robot``) and write it to ``path`` in format ``fmt``.
 
     Bags carry the trajectory on the robot's trajectory topic (``mapping.robot.ros``, the robot
-    file's ``[ros] trajectory_topic``); ``header_stamp_ns`` is their ``header.stamp`` (ns;
-    default 0: start on receipt).
+    file's ``[ros] trajectory_topic``), for the arm's controller: in its joint names and
+    convention (the robot file's ``[ros.joints]``, :class:`rlff.robot.joint_map.JointMap`);
+    ``header_stamp_ns`` is their ``header.stamp`` (ns; default 0: start on receipt). JSON, CSV
+    and the Comau program keep rlff's joints and convention.
 
     Raises
     ------
@@ -33,12 +35,18 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
         An unknown format, or a trajectory that fails the motion check (named point, joint,
         quantity, value and limit); nothing is written then.
     """
-    topic = mapping.robot.ros.trajectory_topic
+    topic, joints = mapping.robot.ros.trajectory_topic, mapping.robot.ros.joints
+
+    def bag(write):
+        def written(traj: JointTrajectory, path: Path) -> None:
+            write(joints.to_controller(traj), path, topic=topic, header_stamp_ns=header_stamp_ns)
+        return written
+
     writers = {
         "json": write_json,
         "csv": write_csv,
-        "ros1-bag": partial(write_ros1_bag, topic=topic, header_stamp_ns=header_stamp_ns),
-        "ros2-bag": partial(write_ros2_bag, topic=topic, header_stamp_ns=header_stamp_ns),
+        "ros1-bag": bag(write_ros1_bag),
+        "ros2-bag": bag(write_ros2_bag),
         "comau": partial(write_comau_program, mapping=mapping),
     }
     if fmt not in writers:

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -104,12 +105,18 @@ class JointMap:
         ``names`` (rlff's joints), or two joints under one controller name."""
         from rlff.wording import nearest_hint
 
-        for joint in self.joints:
-            if joint not in names:
-                raise InputError(f"[ros.joints.{joint}]: {joint} is not a joint of the robot"
-                                 + nearest_hint(joint, names, f"joints: {', '.join(names)}")
-                                 + "; each table is named after one of the file's [[joints]], its `name` the "
-                                   "controller's")
+        for joint, entry in self.joints.items():
+            if joint in names:
+                continue
+            listed = f"joints: {', '.join(names)}"
+            if entry.name in names:  # written the other way round
+                hint = f" ({listed}; the other way round: [ros.joints.{entry.name}] with name = {joint!r}?)"
+            elif re.fullmatch(r"joint_\d+", joint):  # a joint_7 is no misspelt joint_6
+                hint = f" ({listed})"
+            else:
+                hint = nearest_hint(joint, names, listed)
+            raise InputError(f"[ros.joints.{joint}]: {joint} is not a joint of the robot{hint}; each table is named "
+                             "after one of the file's [[joints]], its `name` the controller's")
         seen: dict[str, str] = {}
         for joint in names:
             name = self.controller_name(joint)

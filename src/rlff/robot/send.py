@@ -178,7 +178,8 @@ class StateWatch:
         self._check_pose(pose)
         if velocity is not None and not np.all(np.isfinite(velocity)):
             j = int(np.argmin(np.isfinite(velocity)))
-            raise ArmStateError(f"{self.topic} reports {self.robot.joint_names[j]} moving at {velocity[j]} rad/s: "
+            raise ArmStateError(f"{self.topic} reports {self.robot.ros.joints.label(self.robot.joint_names[j])} moving "
+                                f"at {velocity[j]} rad/s: "
                                 "the arm's state is unknown; check the arm's driver")
         last, self._last = self._last, (stamp, pose)
         self._fresh += 1
@@ -205,7 +206,7 @@ class StateWatch:
         if jumped.size == 0:
             return
         j = int(jumped[np.argmax((change - allowed)[jumped])])
-        names = self.robot.joint_names
+        names = [self.robot.ros.joints.label(name) for name in self.robot.joint_names]
         others = [names[k] for k in jumped if k != j]
         also = f" (and {', '.join(others)})" if others else ""
         raise ArmStateError(
@@ -216,15 +217,17 @@ class StateWatch:
             f"arm's driver): `{self.info} {self.topic}` lists them; stop all but the arm's driver")
 
     def _check_pose(self, pose: np.ndarray) -> None:
+        joints = self.robot.ros.joints
         for joint, value in zip(self.robot.joints, pose, strict=True):
             if not math.isfinite(value):
-                raise ArmStateError(f"{self.topic} reports {joint.name} at {value} rad: the arm's pose is unknown; "
-                                    "check the arm's driver")
+                raise ArmStateError(f"{self.topic} reports {joints.label(joint.name)} at {value} rad: the arm's pose "
+                                    "is unknown; check the arm's driver")
             for beyond, side, limit in ((value > joint.upper, "upper", joint.upper),
                                         (value < joint.lower, "lower", joint.lower)):
                 if beyond:
                     raise ArmStateError(
-                        f"{self.topic} reports {joint.name} at {value:.6g} rad, beyond its {side} limit {limit:.6g} "
+                        f"{self.topic} reports {joints.label(joint.name)} at {value:.6g} rad"
+                        f"{_as_counted(self.robot, joint.name, value)}, beyond its {side} limit {limit:.6g} "
                         f"rad in the robot file ({self.robot.name}): move the arm inside its limits, or check the "
                         "robot file's limits and the driver's joint offsets against the arm's")
 
@@ -277,6 +280,31 @@ class StateWatch:
             return None
 
 
+def _as_counted(robot: Robot, joint: str, value: float) -> str:
+    """For a message: what the controller reads of rlff's ``joint`` at ``value`` (rad), when its
+    robot file's ``[ros.joints]`` counts it otherwise (`` (rlff's convention; the controller's
+    -2.07 rad)``); empty when the controller counts it as rlff does."""
+    entry = robot.ros.joints.joints.get(joint)
+    if entry is None or (entry.offset == 0.0 and entry.sign == 1):
+        return ""
+    counted = robot.ros.joints.positions_to_controller([joint], [value])[0]
+    return f" (rlff's convention; the controller's {counted:.6g} rad)"
+
+
+def pose_line(robot: Robot, pose: np.ndarray) -> str:
+    """The arm's ``pose`` (J,) rad (rlff's convention, ``robot``'s joints) in words, each joint the
+    robot file's ``[ros.joints]`` renames or counts otherwise also as the controller has it:
+    ``arm's pose (rad): shoulder_lift_joint -1.571 = joint_2 0, ...``."""
+    joints = robot.ros.joints
+    counted = joints.positions_to_controller(robot.joint_names, pose)
+    parts = []
+    for name, value, theirs in zip(robot.joint_names, pose, counted, strict=True):
+        own = f"{name} {value:.4g}"
+        controller = joints.controller_name(name)
+        parts.append(own if controller == name and theirs == value else f"{controller} {theirs:.4g} = {own}")
+    return f"arm's pose read (rad; the controller's = rlff's): {', '.join(parts)}"
+
+
 def require_at_rest(robot: Robot, velocity: np.ndarray) -> None:
     """Refuse (:class:`ArmStateError`) an arm moving faster than :data:`MOVING_SPEED` on a joint.
 
@@ -287,7 +315,8 @@ def require_at_rest(robot: Robot, velocity: np.ndarray) -> None:
     speed = np.abs(np.asarray(velocity, dtype=float))
     if speed.size and speed.max() > MOVING_SPEED:
         j = int(np.argmax(speed))
-        raise ArmStateError(f"the arm is moving ({speed[j]:.3g} rad/s on {robot.joint_names[j]}): wait until it "
+        raise ArmStateError(f"the arm is moving ({speed[j]:.3g} rad/s on {robot.ros.joints.label(robot.joint_names[j])}): "
+                            "wait until it "
                             "rests, then send again")
 
 

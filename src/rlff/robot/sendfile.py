@@ -2,8 +2,9 @@
 
 A generated trajectory CSV is planned, a robot trajectory JSON or CSV checked
 (:func:`rlff.robot.plan.load_for_robot`); a ROS 1 bag (a file) or a ROS 2 bag (a folder) holding
-one JointTrajectory on the robot's trajectory topic (its file's ``[ros] trajectory_topic``) is
-checked like a robot trajectory. A Comau program runs on the Comau controller, not over ROS:
+one JointTrajectory on the robot's trajectory topic (its file's ``[ros] trajectory_topic``), in
+the controller's joint names and convention (its file's ``[ros.joints]``), is read back into
+rlff's and checked like a robot trajectory. A Comau program runs on the Comau controller, not over ROS:
 refused in one line saying what to send instead.
 """
 
@@ -198,4 +199,8 @@ def _one_trajectory(path: Path, robot: Robot) -> JointTrajectory:
                              "robot file, or send it with the robot file it was exported with")
     if len(trajectories) != 1:
         raise InputError(f"{path}: holds {len(trajectories)} trajectories on {topic}; send a bag with one")
-    return trajectories[0]
+    try:  # the bag is the controller's (the robot file's [ros.joints]); rlff checks and plans in its own
+        return robot.ros.joints.from_controller(trajectories[0])
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}; export it again with this robot file, or send it with the robot file it "
+                         "was exported with") from None

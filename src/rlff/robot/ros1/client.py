@@ -193,8 +193,9 @@ def send_goal(
     start = rospy.Time.now() + rospy.Duration.from_sec(START_LEAD)
     try:
         try:
-            client.send_goal(FollowJointTrajectoryGoal(trajectory=to_msg(traj, start)), feedback_cb=feedback,
-                             active_cb=on_accepted)
+            # in the controller's joint names and convention (the robot file's [ros.joints])
+            goal = FollowJointTrajectoryGoal(trajectory=to_msg(robot.ros.joints.to_controller(traj), start))
+            client.send_goal(goal, feedback_cb=feedback, active_cb=on_accepted)
             ended = _wait(client, status, deadline)
         except (KeyboardInterrupt, rospy.ROSInterruptException) as exc:
             interrupt = exc if isinstance(exc, KeyboardInterrupt) else Interrupted()  # Terminated stays
@@ -268,6 +269,6 @@ def publish_trajectory(robot: Robot, traj: JointTrajectory, pose: np.ndarray,
             raise RosUnavailable(f"nobody subscribes to {topic} ({robot.ros_origin('trajectory_topic')}): is "
                                  "`rlff robot serve` running, or does the arm's driver listen on another topic?")
         time.sleep(0.05)
-    publisher.publish(to_msg(traj))
+    publisher.publish(to_msg(robot.ros.joints.to_controller(traj)))
     time.sleep(0.5)  # latched: let the subscriber fetch it before the node goes away
     return publisher.get_num_connections()

@@ -38,6 +38,7 @@ from rlff.robot.controller import (
     TrajectoryController,
     check_rate,
     completion_text,
+    goal_in_rlff,
 )
 from rlff.robot.description import Robot
 from rlff.robot.kinematic import ArmState
@@ -89,7 +90,7 @@ class TrajectoryServer:
         with self._lock:
             now, start = rospy.get_time(), _start(msg)
             try:
-                traj = from_msg(msg)
+                traj = goal_in_rlff(self.robot, from_msg(msg))
                 executed, ended = self.controller.submit(goal, traj, now, start)
             except GoalRejected as exc:
                 self._reject(handle, exc.code, str(exc))
@@ -108,7 +109,7 @@ class TrajectoryServer:
     def _on_topic(self, msg: TrajectoryMsg) -> None:
         with self._lock:
             try:
-                traj = from_msg(msg)
+                traj = goal_in_rlff(self.robot, from_msg(msg))
                 executed, ended = self.controller.submit(None, traj, rospy.get_time(), _start(msg))
             except InputError as exc:
                 code = exc.code.name if isinstance(exc, GoalRejected) else ResultCode.INVALID_GOAL.name
@@ -177,19 +178,26 @@ class TrajectoryServer:
                                                                  error_string=text), text)
 
     def _publish_state(self, stamp: rospy.Time, state: ArmState) -> None:
-        msg = JointState(name=list(self.robot.joint_names), position=state.positions.tolist(),
-                         velocity=state.velocities.tolist())
+        names, positions, velocities = self._as_controller(state)[:3]
+        msg = JointState(name=names, position=positions.tolist(), velocity=velocities.tolist())
         msg.header.stamp = stamp
         self._states.publish(msg)
 
+    def _as_controller(self, state: ArmState) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
+        """The arm's joint names, positions, velocities and accelerations as its controller has them
+        (the robot file's ``[ros.joints]``)."""
+        joints, names = self.robot.ros.joints, self.robot.joint_names
+        return (*joints.state_to_controller(names, state.positions, state.velocities),
+                joints.rates_to_controller(names, state.accelerations))
+
     def _publish_feedback(self, handle: actionlib.ServerGoalHandle, stamp: rospy.Time, state: ArmState) -> None:
-        point = JointTrajectoryPoint(positions=state.positions.tolist(), velocities=state.velocities.tolist(),
-                                     accelerations=state.accelerations.tolist(),
+        names, positions, velocities, accelerations = self._as_controller(state)
+        point = JointTrajectoryPoint(positions=positions.tolist(), velocities=velocities.tolist(),
+                                     accelerations=accelerations.tolist(),
                                      time_from_start=rospy.Duration.from_sec(state.elapsed))
         zeros = JointTrajectoryPoint(positions=[0.0] * len(state.positions), velocities=[0.0] * len(state.positions),
                                      time_from_start=point.time_from_start)
-        feedback = FollowJointTrajectoryFeedback(joint_names=list(self.robot.joint_names),
-                                                 desired=point, actual=point, error=zeros)
+        feedback = FollowJointTrajectoryFeedback(joint_names=names, desired=point, actual=point, error=zeros)
         feedback.header.stamp = stamp
         handle.publish_feedback(feedback)
 

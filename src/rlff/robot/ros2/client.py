@@ -208,7 +208,7 @@ class Connection:
                 on_feedback(seconds(message.feedback.desired.time_from_start))
 
         start = self.now() + START_LEAD
-        goal = FollowJointTrajectory.Goal(trajectory=to_msg(traj, start))
+        goal = FollowJointTrajectory.Goal(trajectory=to_msg(robot.ros.joints.to_controller(traj), start))
         handle = sent = None
         try:
             sent = client.send_goal_async(goal, feedback_callback=feedback)

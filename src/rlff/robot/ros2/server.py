@@ -57,6 +57,7 @@ from rlff.robot.controller import (
     TrajectoryController,
     check_rate,
     completion_text,
+    goal_in_rlff,
 )
 from rlff.robot.description import Robot
 from rlff.robot.kinematic import ArmState
@@ -146,7 +147,7 @@ class TrajectoryServer:
         with self._lock:
             try:
                 self._check_extras(request)
-                traj = from_msg(request.trajectory)
+                traj = goal_in_rlff(self.robot, from_msg(request.trajectory))
                 executed, ended = self.controller.submit(key, traj, self._now(), start_of(request.trajectory))
             except InputError as exc:
                 code = exc.code if isinstance(exc, GoalRejected) else ResultCode.INVALID_GOAL
@@ -169,12 +170,14 @@ class TrajectoryServer:
         if request.component_path_tolerance or request.component_goal_tolerance:
             raise GoalRejected(ResultCode.INVALID_JOINTS,
                                "the goal has component tolerances, which are for multi-DOF joints")
+        # the controller's names (the robot file's [ros.joints]), as the goal's
+        known = [self.robot.ros.joints.controller_name(name) for name in self.robot.joint_names]
         for kind in ("path_tolerance", "goal_tolerance"):
             for tolerance in getattr(request, kind):
-                if tolerance.name not in self.robot.joint_names:
+                if tolerance.name not in known:
                     raise GoalRejected(ResultCode.INVALID_JOINTS,
                                        f"{kind} names joint {tolerance.name!r}, which robot {self.robot.name} "
-                                       f"does not have ({', '.join(self.robot.joint_names)})")
+                                       f"does not have ({', '.join(known)})")
                 for quantity in ("position", "velocity", "acceleration"):
                     value = getattr(tolerance, quantity)
                     if not math.isfinite(value):
@@ -185,7 +188,7 @@ class TrajectoryServer:
         log = self.node.get_logger()
         with self._lock:
             try:
-                traj = from_msg(msg)
+                traj = goal_in_rlff(self.robot, from_msg(msg))
                 executed, ended = self.controller.submit(None, traj, self._now(), start_of(msg))
             except InputError as exc:
                 code = exc.code if isinstance(exc, GoalRejected) else ResultCode.INVALID_GOAL
@@ -270,9 +273,16 @@ class TrajectoryServer:
             if goal is not None and not goal.ended.is_set():
                 goal.end("succeeded", ResultCode.SUCCESSFUL, text)
 
+    def _as_controller(self, state: ArmState) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
+        """The arm's joint names, positions, velocities and accelerations as its controller has them
+        (the robot file's ``[ros.joints]``)."""
+        joints, names = self.robot.ros.joints, self.robot.joint_names
+        return (*joints.state_to_controller(names, state.positions, state.velocities),
+                joints.rates_to_controller(names, state.accelerations))
+
     def _publish_state(self, stamp, state: ArmState) -> None:
-        msg = JointState(name=list(self.robot.joint_names), position=state.positions.tolist(),
-                         velocity=state.velocities.tolist())
+        names, positions, velocities = self._as_controller(state)[:3]
+        msg = JointState(name=names, position=positions.tolist(), velocity=velocities.tolist())
         msg.header.stamp = stamp
         self._states.publish(msg)
 
@@ -282,13 +292,14 @@ class TrajectoryServer:
         # (after an approach, if any)
         goal_time = state.elapsed - (executed.duration - traj.duration)
         index = int(np.clip(np.searchsorted(traj.time, goal_time, side="right") - 1, 0, len(traj) - 1))
-        point = JointTrajectoryPoint(positions=state.positions.tolist(), velocities=state.velocities.tolist(),
-                                     accelerations=state.accelerations.tolist(),
+        names, positions, velocities, accelerations = self._as_controller(state)
+        point = JointTrajectoryPoint(positions=positions.tolist(), velocities=velocities.tolist(),
+                                     accelerations=accelerations.tolist(),
                                      time_from_start=duration(max(0.0, state.elapsed)))
         zeros = JointTrajectoryPoint(positions=[0.0] * len(state.positions), velocities=[0.0] * len(state.positions),
                                      accelerations=[0.0] * len(state.positions),
                                      time_from_start=point.time_from_start)
-        feedback = FollowJointTrajectory.Feedback(joint_names=list(self.robot.joint_names), desired=point,
+        feedback = FollowJointTrajectory.Feedback(joint_names=names, desired=point,
                                                   actual=point, error=zeros, index=index)
         feedback.header.stamp = stamp
         goal.handle.publish_feedback(feedback)
