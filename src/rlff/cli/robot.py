@@ -93,7 +93,9 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
                        "joints": {m.joint: {"human": m.human, "offset": m.offset, "scale": m.scale} for m in arm.joints},
                        "start_pose": dict(arm.start_pose)},
                    "ros": {"action": model.ros.action, "joint_states": model.ros.joint_states,
-                           "trajectory_topic": model.ros.trajectory_topic}})
+                           "trajectory_topic": model.ros.trajectory_topic} | ({"joints": {
+                               joint: {"name": entry.name, "offset": entry.offset, "sign": entry.sign}
+                               for joint, entry in model.ros.joints.joints.items()}} if model.ros.joints.joints else {})})
         return
     out = stdout()
     out.print(f"{model.name} ({model.source})", highlight=False)
@@ -119,6 +121,25 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
     out.print(f"ros: action {model.ros.action}, joint states {model.ros.joint_states}, trajectory topic "
               f"{model.ros.trajectory_topic}" + ("" if model.ros.stated else " (rlff's defaults; no [ros] table)"),
               highlight=False)
+    if model.ros.joints.joints:
+        out.print(f"ros joints (goals, joint states, feedback and bags; controller = offset + sign * rlff, rad): "
+                  f"{_joint_map_words(model)}", highlight=False)
+
+
+def _joint_map_words(model) -> str:
+    """The robot file's [ros.joints] in words: ``joint_2 as shoulder_lift_joint = -1.571 - joint_2``,
+    every joint of the robot, ``joint_4 as joint_4`` for one the controller has as rlff does."""
+    joints = model.ros.joints
+    parts = []
+    for name in model.joint_names:
+        entry = joints.joints.get(name)
+        controller = joints.controller_name(name)
+        if entry is None or (entry.offset == 0.0 and entry.sign == 1):
+            parts.append(f"{name} as {controller}")
+            continue
+        offset = f"{entry.offset:.6g} {'+' if entry.sign > 0 else '-'} " if entry.offset else ("" if entry.sign > 0 else "-")
+        parts.append(f"{name} as {controller} = {offset}{name}")
+    return ", ".join(parts)
 
 
 @app.command()
@@ -385,6 +406,7 @@ def send(
         approach_line,
         check_goal_for_arm,
         fastest_joint_line,
+        pose_line,
         require_at_rest,
     )
 
@@ -426,6 +448,8 @@ def send(
         if announced:  # before anything moves, even under -q
             stderr().print(announced, highlight=False, markup=False)
         if dry_run:
+            if model.ros.joints.joints:  # which convention the pose was read in, and the other
+                say(pose_line(model, pose))
             say(f"dry run, nothing sent: {len(traj)} points, {traj.duration:.3f} s from the arm's pose, every check "
                 f"passed; {fastest_joint_line(model, traj)}")
             if json:
