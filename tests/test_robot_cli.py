@@ -326,3 +326,23 @@ def test_export_takes_the_format_from_the_suffix_as_learn_out_does(capsys, throw
     code, _, err = run(capsys, "robot", "export", str(throw), "-o", str(tmp_path / "u.dat"))
     assert code == 2 and "u.dat: no export format for the suffix '.dat'" in err and "give --format" in err
     assert not (tmp_path / "u.csv").exists() and not (tmp_path / "u.dat").exists()
+
+
+def test_show_prints_the_controller_s_joint_map(capsys, tmp_path):
+    from rosrig import UR_NAMES, ur_file
+
+    mapped = ur_file(tmp_path / "ur.toml")
+    code, out, _ = run(capsys, "robot", "show", "--robot", str(mapped))
+    assert code == 0
+    assert ("ros joints (goals, joint states, feedback and bags; controller = offset + sign * rlff, rad): joint_1 as "
+            "shoulder_pan_joint, joint_2 as shoulder_lift_joint = -1.5708 + joint_2, joint_3 as elbow_joint = 1.5708 + "
+            "joint_3, joint_4 as wrist_1_joint, joint_5 as wrist_2_joint = 0.25 - joint_5, joint_6 as wrist_3_joint\n"
+            ) in out
+    code, out, _ = run(capsys, "robot", "show", "--robot", str(mapped), "--json")
+    joints = json.loads(out)["ros"]["joints"]
+    assert [joints[f"joint_{k}"]["name"] for k in range(1, 7)] == list(UR_NAMES)
+    assert joints["joint_5"] == {"name": "wrist_2_joint", "offset": 0.25, "sign": -1}
+    code, out, _ = run(capsys, "robot", "show")  # no map: no line, no key
+    assert "ros joints" not in out
+    code, out, _ = run(capsys, "robot", "show", "--json")
+    assert "joints" not in json.loads(out)["ros"]
