@@ -236,3 +236,26 @@ def test_a_goal_in_rlff_s_names_is_refused_by_a_mapped_controller(tmp_path):
     assert e.value.code == ResultCode.INVALID_JOINTS
     goal = robot.ros.joints.to_controller(_traj())
     np.testing.assert_allclose(goal_in_rlff(robot, goal).positions, _traj().positions, atol=1e-15)
+
+
+def test_the_arm_s_state_is_checked_in_rlff_s_convention_and_named_both_ways(tmp_path):
+    from rlff.robot.send import ArmStateError, StateWatch, pose_line, require_at_rest
+
+    robot = load_robot(ur_file(tmp_path / "ur.toml"))
+    watch = StateWatch(robot, lambda: 10.0)
+    # joint_2 at 2.9 rad in rlff's convention, beyond its 2.71: the controller says 2.9 - pi/2
+    watch.offer(10.0, list(UR_NAMES), [0.0, 2.9 - math.pi / 2, math.pi / 2 - 1.0, 0.0, 0.25, 0.0], [0.0] * 6)
+    with pytest.raises(ArmStateError, match=re.escape(
+            "/joint_states reports shoulder_lift_joint (joint_2) at 2.9 rad (rlff's convention; the controller's "
+            "1.3292 rad), beyond its upper limit 2.71 rad in the robot file")):
+        watch.wait(0.0, 1.0)
+    with pytest.raises(ArmStateError, match=re.escape("(0.5 rad/s on wrist_2_joint (joint_5))")):
+        require_at_rest(robot, np.array([0.0, 0.0, 0.0, 0.0, -0.5, 0.0]))
+    assert pose_line(robot, np.array([0.0, 0.0, -1.0, 0.0, 0.1, 0.0])) == (
+        "arm's pose read (rad; the controller's = rlff's): shoulder_pan_joint 0 = joint_1 0, shoulder_lift_joint "
+        "-1.571 = joint_2 0, elbow_joint 0.5708 = joint_3 -1, wrist_1_joint 0 = joint_4 0, wrist_2_joint 0.15 = "
+        "joint_5 0.1, wrist_3_joint 0 = joint_6 0")
+    # without a map: the messages as they were
+    with pytest.raises(ArmStateError, match=re.escape("the arm is moving (0.5 rad/s on joint_5): wait until it "
+                                                      "rests, then send again")):
+        require_at_rest(load_robot(), np.array([0.0, 0.0, 0.0, 0.0, -0.5, 0.0]))
