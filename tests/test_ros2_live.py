@@ -351,6 +351,28 @@ def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(d
         np.testing.assert_allclose(node.latest()[1], robot.ros.joints.positions_to_controller(
             robot.joint_names, sent.positions[-1]), atol=1e-9)
         assert node.names == list(UR_NAMES)
+
+        # an independent client talks the controller's names: a goal with a goal tolerance moving
+        # wrist_2_joint (rlff's joint_5, counted the other way round), its feedback in those names
+        from control_msgs.action import FollowJointTrajectory
+        from control_msgs.msg import JointTolerance
+        from rclpy.action import ActionClient
+
+        client = ActionClient(node.node, FollowJointTrajectory, ACTION)
+        assert client.wait_for_server(timeout_sec=60)
+        here = rest_pose(node)
+        goal, _, _ = smooth_move(here, 4, 0.2, 1.0)
+        goal.trajectory.joint_names = list(UR_NAMES)
+        goal.goal_tolerance = [JointTolerance(name="shoulder_lift_joint", position=0.01)]
+        names = []
+        answer = wait_future(send(client, goal, lambda message: names.append(list(message.feedback.joint_names)))
+                             .get_result_async(), 60, "the result")
+        assert answer.result.error_code == 0, answer.result.error_string
+        assert names and all(each == list(UR_NAMES) for each in names)
+        assert rest_pose(node)[4] == pytest.approx(here[4] + 0.2, abs=1e-9)
+        goal.trajectory.joint_names = NAMES  # rlff's own names are not the controller's
+        answer = wait_future(send(client, goal).get_result_async(), 60, "the result")
+        assert answer.result.error_code == -2 and "unknown joints ['joint_1'" in answer.result.error_string
     finally:
         if node is not None:
             node.close()
