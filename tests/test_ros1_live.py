@@ -404,6 +404,17 @@ def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(t
         assert abs(sent.positions[-1][4] - start[4]) < 1e-12  # joint_5 held: 0.25 - its rlff angle on the topic
         np.testing.assert_allclose(table["field.position4"].iloc[-1], 0.25 - start[4], atol=1e-12)
 
+        # topic mode goes out in the controller's names and convention too
+        back = throw_csv(tmp_path, "back.csv", 0.3, 0.0, 0.5)
+        returned = load_for_robot(back, robot, PERIOD, start=sent.positions[-1])[1].trajectory
+        published = rig.rlff("robot", "send", str(back), "--robot", str(mapped), "--topic-mode", "--timeout", "60")
+        assert published.returncode == 0, published.stderr
+        topic = "trajectory on /comau/joint_trajectory: "
+        wait(lambda: topic in rig.log() and "trajectory completed" in rig.log().split(topic)[-1], 60,
+             "the topic trajectory to complete")
+        np.testing.assert_allclose(rig.pose(tmp_path), joints.positions_to_controller(
+            robot.joint_names, returned.positions[-1]), atol=1e-9)
+
         plain = rig.rlff("robot", "send", str(path), "--timeout", "5")
     finally:
         rig.close()
