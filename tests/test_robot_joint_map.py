@@ -247,7 +247,9 @@ def test_the_arm_s_state_is_checked_in_rlff_s_convention_and_named_both_ways(tmp
     watch.offer(10.0, list(UR_NAMES), [0.0, 2.9 - math.pi / 2, math.pi / 2 - 1.0, 0.0, 0.25, 0.0], [0.0] * 6)
     with pytest.raises(ArmStateError, match=re.escape(
             "/joint_states reports shoulder_lift_joint (joint_2) at 2.9 rad (rlff's convention; the controller's "
-            "1.3292 rad), beyond its upper limit 2.71 rad in the robot file")):
+            "1.3292 rad), beyond its upper limit 2.71 rad in the robot file (comau_smart5_six): move the arm inside "
+            "its limits, or check the robot file's limits, its [ros.joints.joint_2] and the driver's joint offsets "
+            "against the arm's")):
         watch.wait(0.0, 1.0)
     with pytest.raises(ArmStateError, match=re.escape("(0.5 rad/s on wrist_2_joint (joint_5))")):
         require_at_rest(robot, np.array([0.0, 0.0, 0.0, 0.0, -0.5, 0.0]))

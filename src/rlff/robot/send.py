@@ -225,11 +225,12 @@ class StateWatch:
             for beyond, side, limit in ((value > joint.upper, "upper", joint.upper),
                                         (value < joint.lower, "lower", joint.lower)):
                 if beyond:
+                    mapped = f", its [ros.joints.{joint.name}]" if joint.name in joints.joints else ""
                     raise ArmStateError(
                         f"{self.topic} reports {joints.label(joint.name)} at {value:.6g} rad"
                         f"{_as_counted(self.robot, joint.name, value)}, beyond its {side} limit {limit:.6g} "
                         f"rad in the robot file ({self.robot.name}): move the arm inside its limits, or check the "
-                        "robot file's limits and the driver's joint offsets against the arm's")
+                        f"robot file's limits{mapped} and the driver's joint offsets against the arm's")
 
     def wait(self, deadline: float, waited: float) -> tuple[np.ndarray, np.ndarray] | None:
         """The arm's (pose, velocity), each (J,) in ``robot``'s order, waiting up to the monotonic
