@@ -422,4 +422,5 @@ def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(t
     assert plain.stderr.splitlines()[-1] == (
         "rlff: error: /joint_states has no position of joint_1, joint_2, joint_3, joint_4, joint_5, joint_6 (it names "
         f"{', '.join(UR_NAMES)}), and no message on it within 2 s named every joint of comau_smart5_six: check the "
-        "robot file's joint names against the arm's"), plain.stderr
+        "robot file's joint names against the arm's, or map them to the arm's in [ros.joints] (docs/robot.md)"), \
+        plain.stderr

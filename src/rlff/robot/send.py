@@ -272,7 +272,8 @@ class StateWatch:
                     + (", with velocities" if self._without_velocity else ""))
             if self._partial is not None:
                 raise InputError(f"{self._partial[1]}, and no message on it within {PARTIAL_GRACE:g} s named every "
-                                 f"joint of {self.robot.name}: check the robot file's joint names against the arm's")
+                                 f"joint of {self.robot.name}: check the robot file's joint names against the arm's, or map "
+                                 "them to the arm's in [ros.joints] (docs/robot.md)")
             if self._untrusted is not None:
                 raise ArmStateError(
                     f"no fresh state on {self.topic} within {waited:g} s: {self._untrusted}; the arm's pose is "
