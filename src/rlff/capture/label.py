@@ -30,7 +30,8 @@ that chord, steady and parallel to the hand's path at the peak of an arc swept s
 it, and takes the speed from the hand's chord over the given time about the stretch's middle. With
 0.1 s the landing is 0.64 of the true one at 15 Hz, 0.73 at 30 Hz and 0.77 at 120 Hz, following it
 with correlations of 0.79-0.90; it is not the default because the estimates then change more with
-the frame rate, and real recordings' baskets spread over more bins (docs/capture.md).
+the frame rate than issue 14 allows a 4-10 Hz copy of a recording (15 %), and real recordings'
+baskets spread over more bins (docs/capture.md).
 
 When the samples around the stretch are further apart than half of it, the release is only roughly
 placed and is marked ``low`` confidence. From the hand's position and velocity there, the ball
