@@ -261,3 +261,26 @@ def test_the_arm_s_state_is_checked_in_rlff_s_convention_and_named_both_ways(tmp
     with pytest.raises(ArmStateError, match=re.escape("the arm is moving (0.5 rad/s on joint_5): wait until it "
                                                       "rests, then send again")):
         require_at_rest(load_robot(), np.array([0.0, 0.0, 0.0, 0.0, -0.5, 0.0]))
+
+
+def test_the_announced_approach_and_fastest_joint_are_in_the_controllers_names_and_turns(tmp_path):
+    # what the operator reads before the arm moves must match the arm's pendant: its names, and
+    # its direction of turning (joint_5 counts the other way round in this map)
+    from rlff.robot.send import approach_line, fastest_joint_line
+
+    robot = load_robot(ur_file(tmp_path / "ur.toml"))
+    time = np.array([0.0, 0.5, 1.0, 1.5])
+    positions = np.zeros((4, 6))
+    positions[1:, 1] = 0.5  # joint_2 up by 0.5 rad, then still
+    positions[1:, 4] = 0.2  # joint_5 by 0.2 rad
+    velocities = np.zeros((4, 6))
+    velocities[3, 1] = 1.0  # the throw after the approach: joint_2 at 1 rad/s
+    traj = JointTrajectory(robot.joint_names, time, positions, velocities)
+    assert approach_line(traj) == "approach first: joint_2 +28.6 deg, joint_5 +11.5 deg in 0.50 s, to the start of the throw"
+    assert approach_line(traj, joints=robot.ros.joints) == (
+        "approach first: shoulder_lift_joint (joint_2) +28.6 deg, wrist_2_joint (joint_5) -11.5 deg in 0.50 s, to the "
+        "start of the throw")
+    assert approach_line(traj, joints=load_robot().ros.joints) == approach_line(traj)  # no map: as before
+    top = robot.joint("joint_2").max_velocity
+    assert fastest_joint_line(robot, traj) == f"fastest: shoulder_lift_joint (joint_2) at {1 / top:.0%} of its {top:g} rad/s"
+    assert fastest_joint_line(load_robot(), traj) == f"fastest: joint_2 at {1 / top:.0%} of its {top:g} rad/s"

@@ -444,7 +444,8 @@ def send(
         _report(result)
         traj = result.trajectory
         check_goal_for_arm(model, traj, pose, speed)
-        announced = approach_line(traj, "the throw" if traj.release_time is not None else "the trajectory")
+        announced = approach_line(traj, "the throw" if traj.release_time is not None else "the trajectory",
+                                  model.ros.joints)
         if announced:  # before anything moves, even under -q
             stderr().print(announced, highlight=False, markup=False)
         if dry_run:

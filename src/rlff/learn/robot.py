@@ -324,7 +324,7 @@ class RobotExecutor:
         return pose, planned
 
     def _announce(self, goal: JointTrajectory, why: str = "") -> None:
-        announced = approach_line(goal)
+        announced = approach_line(goal, joints=self.robot.ros.joints)
         if announced and self.tell is not None:
             self.tell(f"attempt {self.attempts}: {why}{announced}")
 

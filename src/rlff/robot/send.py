@@ -23,6 +23,7 @@ from rlff.errors import InputError, RlffError
 from rlff.robot.controller import ResultCode
 from rlff.robot.description import Robot
 from rlff.robot.goal import InvalidJoints, check_goal
+from rlff.robot.joint_map import JointMap
 from rlff.robot.messages import arm_state_of, missing_joints
 from rlff.trajectory.joint import JointTrajectory
 
@@ -322,21 +323,28 @@ def require_at_rest(robot: Robot, velocity: np.ndarray) -> None:
                             "rests, then send again")
 
 
-def approach_line(traj: JointTrajectory, what: str = "the throw") -> str | None:
+def approach_line(traj: JointTrajectory, what: str = "the throw", joints: JointMap | None = None) -> str | None:
     """One line on the move that comes before ``what`` in ``traj``: which joints move how far (deg)
     and for how long; None when there is none.
 
     The approach is ``traj``'s motion up to its first point after 0 s where every joint is at rest,
     when that point is not its last (a planned throw: the transition to its start pose; a
-    trajectory sent with ``--approach``: the move to its first point).
+    trajectory sent with ``--approach``: the move to its first point). With the robot file's
+    ``[ros.joints]`` map ``joints``, each joint it renames or counts otherwise is named as the
+    controller names it and moves as the controller counts it (what the arm's pendant shows),
+    rlff's name beside it: ``shoulder_lift_joint (joint_2) -30.0 deg``.
     """
     still = np.all(np.abs(traj.velocities) <= 1e-6, axis=1)
     inner = np.flatnonzero(still[1:-1])
     if inner.size == 0:
         return None
     end = int(inner[0]) + 1
-    moved = np.degrees(traj.positions[end] - traj.positions[0])
-    parts = [f"{name} {delta:+.1f} deg" for name, delta in zip(traj.joint_names, moved, strict=True)
+    moved = traj.positions[end] - traj.positions[0]
+    names = list(traj.joint_names)
+    if joints is not None and not joints.identity:
+        moved = joints.rates_to_controller(traj.joint_names, moved)  # a change of position turns as a rate does
+        names = [joints.label(name) for name in traj.joint_names]
+    parts = [f"{name} {delta:+.1f} deg" for name, delta in zip(names, np.degrees(moved), strict=True)
              if abs(delta) >= 0.05]
     if not parts:
         return None
@@ -351,7 +359,8 @@ def fastest_joint_line(robot: Robot, traj: JointTrajectory) -> str:
     shares = [float(np.max(np.abs(traj.velocities[:, traj.joint_index(joint.name)]))) / joint.max_velocity
               for joint in joints]
     top = int(np.argmax(shares))
-    return f"fastest: {joints[top].name} at {shares[top]:.0%} of its {joints[top].max_velocity:g} rad/s"
+    return (f"fastest: {robot.ros.joints.label(joints[top].name)} at {shares[top]:.0%} of its "
+            f"{joints[top].max_velocity:g} rad/s")
 
 
 @dataclass(frozen=True)
