@@ -53,6 +53,13 @@ EXECUTION_TOLERANCE = 1e-3  # rad
 PERIOD = 0.01  # s, robot send's default
 
 
+def completed_after(log: str, marker: str) -> bool:
+    """Whether the server's ``log`` says a trajectory completed after its line with ``marker``:
+    an earlier goal's "trajectory completed" before that line does not count, nor does any before
+    the line was logged at all (the whole log then stands after no marker)."""
+    return marker in log and "trajectory completed" in log.split(marker)[-1]
+
+
 def _planned(path, pose):
     """What ``rlff robot send`` sends for the generated ``path`` to an arm at ``pose``."""
     return load_for_robot(path, ROBOT, PERIOD, start=pose)[1].trajectory
@@ -171,7 +178,7 @@ def test_topic_mode_plans_from_the_arm_and_drives_it(ros, tmp_path):
     result = ros.rlff("robot", "send", str(path), "--topic-mode", "--timeout", "60")
     assert result.returncode == 0, result.stderr
     assert f"published {len(sent)} points" in result.stderr
-    wait(lambda: ros.log().split(f"/comau/joint_trajectory: {len(sent)} points")[-1].count("trajectory completed"),
+    wait(lambda: completed_after(ros.log(), f"/comau/joint_trajectory: {len(sent)} points"),
          60, "the topic trajectory to complete")
     np.testing.assert_allclose(ros.pose(tmp_path), sent.positions[-1], atol=1e-9)
     assert np.ptp(sent.positions[:, DRIVEN]) > 0.5  # it drove the arm (where it ends depends on where it was)
@@ -339,7 +346,7 @@ def test_serve_and_send_under_the_robot_file_s_ros_names(tmp_path):
         published = rig.rlff("robot", "send", str(back), "--robot", str(arm), "--topic-mode", "--timeout", "60")
         assert published.returncode == 0, published.stderr
         assert f"published {len(returned)} points on /arm/joint_trajectory to 1 subscriber(s)" in published.stderr
-        wait(lambda: rig.log().split("trajectory on /arm/joint_trajectory: ")[-1].count("trajectory completed"),
+        wait(lambda: completed_after(rig.log(), "trajectory on /arm/joint_trajectory: "),
              60, "the topic trajectory to complete")
         np.testing.assert_allclose(rig.pose(tmp_path, "/arm/joint_states"), returned.positions[-1], atol=1e-9)
 
@@ -409,8 +416,7 @@ def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(t
         returned = load_for_robot(back, robot, PERIOD, start=sent.positions[-1])[1].trajectory
         published = rig.rlff("robot", "send", str(back), "--robot", str(mapped), "--topic-mode", "--timeout", "60")
         assert published.returncode == 0, published.stderr
-        topic = "trajectory on /comau/joint_trajectory: "
-        wait(lambda: topic in rig.log() and "trajectory completed" in rig.log().split(topic)[-1], 60,
+        wait(lambda: completed_after(rig.log(), "trajectory on /comau/joint_trajectory: "), 60,
              "the topic trajectory to complete")
         np.testing.assert_allclose(rig.pose(tmp_path), joints.positions_to_controller(
             robot.joint_names, returned.positions[-1]), atol=1e-9)
