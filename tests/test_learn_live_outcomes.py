@@ -82,6 +82,21 @@ def test_a_landing_stamped_before_the_release_is_not_the_throw_s():
         landings.after(11.0, timeout=0.1)
 
 
+def test_a_wait_for_nothing_names_the_topics_the_landings_are_published_on():
+    # a vision system publishing on another topic than rlff listens to: the timeout says where
+    graph = ["/rlff/landing", "/vision/landing"]
+    landings = Landings(lambda callback: None, published=lambda: graph)
+    with pytest.raises(RobotFailed, match=r"no landing on /rlff/landing within 0.1 s of the throw \(geometry_msgs/"
+                                          r"PointStamped is published on /vision/landing: if that is the vision "
+                                          r"system, give --landing-topic /vision/landing\)$"):
+        landings.after(0.0, timeout=0.1)
+    # only the topic listened to, or a graph that cannot be asked: the plain question
+    for published in (lambda: ["/rlff/landing"], lambda: 1 / 0, None):
+        quiet = Landings(lambda callback: None, published=published)
+        with pytest.raises(RobotFailed, match=r"\(is the vision system publishing geometry_msgs/PointStamped\?\)$"):
+            quiet.after(0.0, timeout=0.05)
+
+
 def _landings(now: float = 100.0):
     published = []
     landings = Landings(published.append, now=lambda: now)

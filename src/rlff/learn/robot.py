@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 import threading
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass
 from typing import Protocol
@@ -153,14 +153,18 @@ class Landings:
 
     ``subscribe(callback)`` connects the topic; the transport calls ``callback(stamp, x, frame)``
     with each message's header stamp (s), ``point.x`` (m) and ``header.frame_id``. ``now()``
-    is the ROS time (s), against which a stamp in the future is refused.
+    is the ROS time (s), against which a stamp in the future is refused. ``published()``, when
+    the transport can ask its graph, lists the topics on which geometry_msgs/PointStamped is
+    published: a wait that found nothing names them (a vision system on another topic).
     """
 
     def __init__(self, subscribe: Callable[[Callable[..., None]], None],
-                 now: Callable[[], float] = time.time) -> None:
+                 now: Callable[[], float] = time.time,
+                 published: Callable[[], Sequence[str]] | None = None) -> None:
         self._seen: list[tuple[float, float, str]] = []
         self._arrived = threading.Condition()
         self._now = now
+        self._published = published
         subscribe(self._on_landing)
 
     def _on_landing(self, stamp: float, x: float, frame: str = "") -> None:
@@ -211,8 +215,23 @@ class Landings:
                             "to the ROS time now (rostopic pub: `header: {stamp: now}`), on a clock in step with "
                             "this host's")
                     raise RobotFailed(f"no landing on {topic} within {timeout:g} s of the throw "
-                                      "(is the vision system publishing geometry_msgs/PointStamped?)")
+                                      f"({self._elsewhere(topic)})")
                 self._arrived.wait(left)
+
+
+    def _elsewhere(self, topic: str) -> str:
+        """What to check when nothing came on ``topic``: the other topics the graph has landings
+        on, when there are any."""
+        others: list[str] = []
+        if self._published is not None:
+            try:
+                others = sorted(name for name in self._published() if name != topic)
+            except Exception:  # noqa: BLE001 - a graph that cannot be asked only loses the hint
+                others = []
+        if not others:
+            return "is the vision system publishing geometry_msgs/PointStamped?"
+        return (f"geometry_msgs/PointStamped is published on {', '.join(others)}: if that is the vision system, "
+                f"give --landing-topic {others[0]}")
 
 
 def measured_outcome(landings: Landings, attempt: int, release: float, basket: float, tolerance: float,
@@ -424,11 +443,11 @@ def robot_executor(
 
     with ExitStack() as stack:
         if kind == "ros2":
-            arm, subscribe, now = _ros2_arm(stack, landing_topic, network)
+            arm, subscribe, now, published = _ros2_arm(stack, landing_topic, network)
         else:
-            arm, subscribe, now = _ros1_arm(model, landing_topic, network)
+            arm, subscribe, now, published = _ros1_arm(model, landing_topic, network)
         if outcome == "topic":
-            landings = Landings(subscribe, now)
+            landings = Landings(subscribe, now, published)
 
             def measured(attempt: int, release: float) -> ReportedOutcome:
                 return measured_outcome(landings, attempt, release, basket, tolerance, landing_topic,
@@ -461,7 +480,11 @@ def _ros2_arm(stack: ExitStack, topic: str, network: bool):
             msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9, msg.point.x, msg.header.frame_id),
             wait_for_publisher=LANDING_DISCOVERY)
 
-    return connection, subscribe, connection.now
+    def published() -> list[str]:
+        return [name for name, kinds in connection.node.get_topic_names_and_types()
+                if "geometry_msgs/msg/PointStamped" in kinds]
+
+    return connection, subscribe, connection.now, published
 
 
 def _ros1_arm(robot: Robot, topic: str, network: bool):
@@ -484,4 +507,7 @@ def _ros1_arm(robot: Robot, topic: str, network: bool):
         rospy.Subscriber(topic, PointStamped, lambda msg: callback(msg.header.stamp.to_sec(), msg.point.x,
                                                                    msg.header.frame_id))
 
-    return client, subscribe, lambda: rospy.get_rostime().to_sec()
+    def published() -> list[str]:
+        return [name for name, kind in rospy.get_published_topics() if kind == "geometry_msgs/PointStamped"]
+
+    return client, subscribe, lambda: rospy.get_rostime().to_sec(), published
