@@ -284,3 +284,45 @@ def test_the_announced_approach_and_fastest_joint_are_in_the_controllers_names_a
     top = robot.joint("joint_2").max_velocity
     assert fastest_joint_line(robot, traj) == f"fastest: shoulder_lift_joint (joint_2) at {1 / top:.0%} of its {top:g} rad/s"
     assert fastest_joint_line(load_robot(), traj) == f"fastest: joint_2 at {1 / top:.0%} of its {top:g} rad/s"
+
+
+#: Universal Robots' published Denavit-Hartenberg parameters of the UR5e (m, rad), joints 1-6.
+UR5E_D = (0.1625, 0.0, 0.0, 0.1333, 0.0997, 0.0996)
+UR5E_A = (0.0, -0.425, -0.3922, 0.0, 0.0, 0.0)
+UR5E_ALPHA = (math.pi / 2, 0.0, 0.0, math.pi / 2, -math.pi / 2, 0.0)
+
+
+def _ur5e_frame_origins(angles: np.ndarray) -> list[np.ndarray]:
+    """The origins (3,) of DH frames 1-6 of a UR5e at its controller's ``angles`` (6,) rad, in its
+    base frame: frame 2's is the elbow, frame 3's the wrist-1 joint at the forearm's end."""
+    frame, origins = np.eye(4), []
+    for theta, d, a, alpha in zip(angles, UR5E_D, UR5E_A, UR5E_ALPHA, strict=True):
+        ct, st, ca, sa = math.cos(theta), math.sin(theta), math.cos(alpha), math.sin(alpha)
+        frame = frame @ np.array([[ct, -st * ca, st * sa, a * ct], [st, ct * ca, -ct * sa, a * st],
+                                  [0.0, sa, ca, d], [0.0, 0.0, 0.0, 1.0]])
+        origins.append(frame[:3, 3].copy())
+    return origins
+
+
+def test_the_docs_ur_table_puts_the_elbow_and_forearm_where_the_ur5e_s_dh_parameters_do(tmp_path):
+    # docs/robot.md's worked example (shoulder_lift -pi/2, elbow +pi/2, both sign 1), with rlff's
+    # chain of the UR5e's upper arm and forearm: the elbow and the forearm's end agree with the
+    # UR's own kinematics in the arm's plane, rlff's forward being the side the UR's upper arm
+    # points to at shoulder_lift 0 (the UR base's -x). Joint 1 turns both alike.
+    from rlff.robot.description import Geometry
+    from rlff.robot.links import chain_points
+
+    table = ('\n[ros.joints.joint_1]\nname = "shoulder_pan_joint"\n'
+             '\n[ros.joints.joint_2]\nname = "shoulder_lift_joint"\noffset = -1.5707963267948966\n'
+             '\n[ros.joints.joint_3]\nname = "elbow_joint"\noffset = 1.5707963267948966\n')
+    joints = load_robot(ur_file(tmp_path / "ur.toml", table)).ros.joints
+    ur_arm = Geometry(shoulder_height=UR5E_D[0], shoulder_forward=0.0, upper_arm=-UR5E_A[1], elbow_offset=0.0,
+                      forearm=-UR5E_A[2], flange=0.0)
+    ur_base_from_rlff = np.diag([-1.0, -1.0, 1.0])  # a half turn about the vertical
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        pose = np.r_[rng.uniform(-2.5, 2.5), rng.uniform(-1.4, 2.6), rng.uniform(-2.9, 0.0), 0.0, 0.0, 0.0]
+        ours = chain_points(ur_arm, pose[None, :])
+        theirs = _ur5e_frame_origins(joints.positions_to_controller(tuple(f"joint_{k}" for k in range(1, 7)), pose))
+        np.testing.assert_allclose(ur_base_from_rlff @ ours["elbow"][0], theirs[1], atol=1e-12)
+        np.testing.assert_allclose(ur_base_from_rlff @ ours["wrist"][0], theirs[2], atol=1e-12)
