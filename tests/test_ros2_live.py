@@ -14,6 +14,7 @@ import json
 import math
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -58,8 +59,14 @@ def node(server, domain):
     node.close()
 
 
-@pytest.fixture(scope="module")
-def client(node):
+#: Seconds a new client waits once it sees the server, for the server to see it too: discovery is
+#: mutual only eventually, and a goal request sent at once had its response lost (the server had
+#: not matched the client's reader yet; "timed out waiting for the goal response", once in CI).
+DISCOVERY_SETTLE = 1.0
+
+
+def action_client(node):
+    """An ActionClient of ``node`` on rlff's action, once server and client have found each other."""
     from control_msgs.action import FollowJointTrajectory
     from rclpy.action import ActionClient
 
@@ -69,7 +76,13 @@ def client(node):
     # had its feedback arrive only at the end (2 messages of 37, once in CI)
     feedback = f"{ACTION}/_action/feedback"
     wait_until(lambda: node.node.count_publishers(feedback) >= 1, 60, "the action's feedback publisher")
+    time.sleep(DISCOVERY_SETTLE)
     return client
+
+
+@pytest.fixture(scope="module")
+def client(node):
+    return action_client(node)
 
 
 def smooth_move(start: np.ndarray, joint: int, amplitude: float, duration: float, points: int = 40,
@@ -354,12 +367,9 @@ def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(d
 
         # an independent client talks the controller's names: a goal with a goal tolerance moving
         # wrist_2_joint (rlff's joint_5, counted the other way round), its feedback in those names
-        from control_msgs.action import FollowJointTrajectory
         from control_msgs.msg import JointTolerance
-        from rclpy.action import ActionClient
 
-        client = ActionClient(node.node, FollowJointTrajectory, ACTION)
-        assert client.wait_for_server(timeout_sec=60)
+        client = action_client(node)
         here = rest_pose(node)
         goal, _, _ = smooth_move(here, 4, 0.2, 1.0)
         goal.trajectory.joint_names = list(UR_NAMES)
