@@ -40,9 +40,9 @@ def import_command(
     up: str | None = typer.Option(None, "--up", help="Up axis of the recordings' frame (x, y, z, -x...); default per format."),
     release_window: float | None = typer.Option(
         None, "--release-window", metavar="SECONDS",
-        help="Measure the release speed over this time about the release (0.1 follows the true landing closely "
-             "at 15 Hz and up); default the hand's mean over the elbow's fastest 0.28 s, steadier across frame "
-             "rates but a third of the landing (docs/capture.md)."),
+        help="Measure the release speed over this time about the release (0.1: landings 0.64-0.77 of the true "
+             "ones at 15-120 Hz, following them); default the hand's mean over the elbow's fastest 0.28 s, "
+             "steadier across frame rates but a third of the landing, following it loosely (docs/capture.md)."),
     joints: str | None = typer.Option(None, "--joints", help="Joints to write: elbow (the one-joint dataset), shoulder, wrist, comma-separated; default every joint all the recordings carry."),
     allow_empty: bool = typer.Option(False, "--allow-empty", help="Finding no throw is not an error (exit 0; an existing output is still kept)."),
     as_json: bool = typer.Option(False, "--json", help="Print the import report as JSON (with every candidate not taken, and why)."),
