@@ -136,12 +136,21 @@ def goal_in_rlff(robot: Robot, traj: JointTrajectory) -> JointTrajectory:
     joints = robot.ros.joints
     if joints.identity:
         return traj
-    known = [joints.controller_name(name) for name in robot.joint_names]
+    known = joints.controller_names(robot.joint_names)
     unknown = [name for name in traj.joint_names if name not in known]
     if unknown:
         raise GoalRejected(ResultCode.INVALID_JOINTS, f"unknown joints {unknown} (the controller of robot "
                                                       f"{robot.name} has {', '.join(known)})")
     return joints.from_controller(traj)
+
+
+def state_for_controller(robot: Robot, state: ArmState) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
+    """The arm's ``state`` as its controller publishes it (joint states, feedback): the joint names,
+    positions (J,) rad, velocities (J,) rad/s and accelerations (J,) rad/s^2 in the controller's
+    names and convention (``robot.ros.joints``, the robot file's ``[ros.joints]``)."""
+    joints, names = robot.ros.joints, robot.joint_names
+    return (*joints.state_to_controller(names, state.positions, state.velocities),
+            joints.rates_to_controller(names, state.accelerations))
 
 
 #: Called with each completed trajectory (e.g. to throw it in MuJoCo); its text is the goal's result.

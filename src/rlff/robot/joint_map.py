@@ -138,6 +138,10 @@ class JointMap:
         entry = self.joints.get(joint)
         return joint if entry is None else entry.name
 
+    def controller_names(self, joints: Sequence[str]) -> list[str]:
+        """The controller's names of rlff's ``joints``, in their order."""
+        return [self.controller_name(joint) for joint in joints]
+
     def rlff_name(self, name: str) -> str | None:
         """rlff's joint the controller calls ``name``; ``name`` itself for a joint the map does not
         rename; None for a name rlff's own joint gave up (``joint_2`` when the map calls rlff's
@@ -191,7 +195,7 @@ class JointMap:
             return traj
         joints = traj.joint_names
         return dataclasses.replace(
-            traj, joint_names=tuple(self.controller_name(joint) for joint in joints),
+            traj, joint_names=tuple(self.controller_names(joints)),
             positions=self.positions_to_controller(joints, traj.positions),
             velocities=self.rates_to_controller(joints, traj.velocities),
             accelerations=self.rates_to_controller(joints, traj.accelerations))
@@ -228,7 +232,7 @@ class JointMap:
                             velocities: np.ndarray) -> tuple[list[str], np.ndarray, np.ndarray]:
         """A joint state of rlff's ``joints`` (positions (J,) rad, velocities (J,) rad/s) as the
         controller publishes it: (names, positions, velocities)."""
-        return ([self.controller_name(joint) for joint in joints], self.positions_to_controller(joints, positions),
+        return (self.controller_names(joints), self.positions_to_controller(joints, positions),
                 self.rates_to_controller(joints, velocities))
 
     def state_from_controller(self, joints: Sequence[str], names: Sequence[str], positions: Sequence[float],

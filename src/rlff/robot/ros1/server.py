@@ -39,6 +39,7 @@ from rlff.robot.controller import (
     check_rate,
     completion_text,
     goal_in_rlff,
+    state_for_controller,
 )
 from rlff.robot.description import Robot
 from rlff.robot.kinematic import ArmState
@@ -178,20 +179,13 @@ class TrajectoryServer:
                                                                  error_string=text), text)
 
     def _publish_state(self, stamp: rospy.Time, state: ArmState) -> None:
-        names, positions, velocities = self._as_controller(state)[:3]
+        names, positions, velocities = state_for_controller(self.robot, state)[:3]
         msg = JointState(name=names, position=positions.tolist(), velocity=velocities.tolist())
         msg.header.stamp = stamp
         self._states.publish(msg)
 
-    def _as_controller(self, state: ArmState) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
-        """The arm's joint names, positions, velocities and accelerations as its controller has them
-        (the robot file's ``[ros.joints]``)."""
-        joints, names = self.robot.ros.joints, self.robot.joint_names
-        return (*joints.state_to_controller(names, state.positions, state.velocities),
-                joints.rates_to_controller(names, state.accelerations))
-
     def _publish_feedback(self, handle: actionlib.ServerGoalHandle, stamp: rospy.Time, state: ArmState) -> None:
-        names, positions, velocities, accelerations = self._as_controller(state)
+        names, positions, velocities, accelerations = state_for_controller(self.robot, state)
         point = JointTrajectoryPoint(positions=positions.tolist(), velocities=velocities.tolist(),
                                      accelerations=accelerations.tolist(),
                                      time_from_start=rospy.Duration.from_sec(state.elapsed))

@@ -58,6 +58,7 @@ from rlff.robot.controller import (
     check_rate,
     completion_text,
     goal_in_rlff,
+    state_for_controller,
 )
 from rlff.robot.description import Robot
 from rlff.robot.kinematic import ArmState
@@ -171,7 +172,7 @@ class TrajectoryServer:
             raise GoalRejected(ResultCode.INVALID_JOINTS,
                                "the goal has component tolerances, which are for multi-DOF joints")
         # the controller's names (the robot file's [ros.joints]), as the goal's
-        known = [self.robot.ros.joints.controller_name(name) for name in self.robot.joint_names]
+        known = self.robot.ros.joints.controller_names(self.robot.joint_names)
         for kind in ("path_tolerance", "goal_tolerance"):
             for tolerance in getattr(request, kind):
                 if tolerance.name not in known:
@@ -273,15 +274,8 @@ class TrajectoryServer:
             if goal is not None and not goal.ended.is_set():
                 goal.end("succeeded", ResultCode.SUCCESSFUL, text)
 
-    def _as_controller(self, state: ArmState) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
-        """The arm's joint names, positions, velocities and accelerations as its controller has them
-        (the robot file's ``[ros.joints]``)."""
-        joints, names = self.robot.ros.joints, self.robot.joint_names
-        return (*joints.state_to_controller(names, state.positions, state.velocities),
-                joints.rates_to_controller(names, state.accelerations))
-
     def _publish_state(self, stamp, state: ArmState) -> None:
-        names, positions, velocities = self._as_controller(state)[:3]
+        names, positions, velocities = state_for_controller(self.robot, state)[:3]
         msg = JointState(name=names, position=positions.tolist(), velocity=velocities.tolist())
         msg.header.stamp = stamp
         self._states.publish(msg)
@@ -292,7 +286,7 @@ class TrajectoryServer:
         # (after an approach, if any)
         goal_time = state.elapsed - (executed.duration - traj.duration)
         index = int(np.clip(np.searchsorted(traj.time, goal_time, side="right") - 1, 0, len(traj) - 1))
-        names, positions, velocities, accelerations = self._as_controller(state)
+        names, positions, velocities, accelerations = state_for_controller(self.robot, state)
         point = JointTrajectoryPoint(positions=positions.tolist(), velocities=velocities.tolist(),
                                      accelerations=accelerations.tolist(),
                                      time_from_start=duration(max(0.0, state.elapsed)))
