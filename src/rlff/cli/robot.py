@@ -123,23 +123,7 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
               highlight=False)
     if model.ros.joints.joints:
         out.print(f"ros joints (goals, joint states, feedback and bags; controller = offset + sign * rlff, rad): "
-                  f"{_joint_map_words(model)}", highlight=False)
-
-
-def _joint_map_words(model) -> str:
-    """The robot file's [ros.joints] in words: ``joint_2 as shoulder_lift_joint = -1.571 - joint_2``,
-    every joint of the robot, ``joint_4 as joint_4`` for one the controller has as rlff does."""
-    joints = model.ros.joints
-    parts = []
-    for name in model.joint_names:
-        entry = joints.joints.get(name)
-        controller = joints.controller_name(name)
-        if entry is None or (entry.offset == 0.0 and entry.sign == 1):
-            parts.append(f"{name} as {controller}")
-            continue
-        offset = f"{entry.offset:.6g} {'+' if entry.sign > 0 else '-'} " if entry.offset else ("" if entry.sign > 0 else "-")
-        parts.append(f"{name} as {controller} = {offset}{name}")
-    return ", ".join(parts)
+                  f"{model.ros.joints.words(model.joint_names)}", highlight=False)
 
 
 @app.command()

@@ -68,9 +68,15 @@ class ControllerJoint:
         object.__setattr__(self, "offset", float(self.offset))
         object.__setattr__(self, "sign", int(self.sign))
 
+    @property
+    def counts_as_rlff(self) -> bool:
+        """Whether the controller counts the joint from rlff's zero and the same way (offset 0,
+        sign 1), whatever its name."""
+        return self.offset == 0.0 and self.sign == 1
+
     def is_identity(self, joint: str) -> bool:
         """Whether this entry, for rlff's ``joint``, changes nothing."""
-        return self.name == joint and self.offset == 0.0 and self.sign == 1
+        return self.name == joint and self.counts_as_rlff
 
 
 @dataclass(frozen=True)
@@ -150,6 +156,23 @@ class JointMap:
             if entry.name == name:
                 return joint
         return None if name in self.joints else name
+
+    def counts_otherwise(self, joint: str) -> bool:
+        """Whether the controller counts rlff's ``joint`` from another zero or the other way round."""
+        entry = self.joints.get(joint)
+        return entry is not None and not entry.counts_as_rlff
+
+    def words(self, joints: Sequence[str]) -> str:
+        """The map of rlff's ``joints`` in words, as ``rlff robot show`` prints it:
+        ``joint_1 as shoulder_pan_joint, joint_2 as shoulder_lift_joint = -1.571 + joint_2, ...``."""
+        parts = []
+        for joint in joints:
+            said = f"{joint} as {self.controller_name(joint)}"
+            if self.counts_otherwise(joint):  # offset 0 here means sign -1
+                entry = self.joints[joint]
+                said += f" = {entry.offset:.6g} {'+' if entry.sign > 0 else '-'} {joint}" if entry.offset else f" = -{joint}"
+            parts.append(said)
+        return ", ".join(parts)
 
     def label(self, joint: str) -> str:
         """rlff's ``joint`` in words for a message: ``shoulder_lift_joint (joint_2)``, or

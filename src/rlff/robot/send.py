@@ -287,8 +287,7 @@ def _as_counted(robot: Robot, joint: str, value: float) -> str:
     """For a message: what the controller reads of rlff's ``joint`` at ``value`` (rad), when its
     robot file's ``[ros.joints]`` counts it otherwise (`` (rlff's convention; the controller's
     -2.07 rad)``); empty when the controller counts it as rlff does."""
-    entry = robot.ros.joints.joints.get(joint)
-    if entry is None or (entry.offset == 0.0 and entry.sign == 1):
+    if not robot.ros.joints.counts_otherwise(joint):
         return ""
     counted = robot.ros.joints.positions_to_controller([joint], [value])[0]
     return f" (rlff's convention; the controller's {counted:.6g} rad)"
@@ -341,7 +340,7 @@ def approach_line(traj: JointTrajectory, what: str = "the throw", joints: JointM
     end = int(inner[0]) + 1
     moved = traj.positions[end] - traj.positions[0]
     names = list(traj.joint_names)
-    if joints is not None and not joints.identity:
+    if joints is not None:
         moved = joints.rates_to_controller(traj.joint_names, moved)  # a change of position turns as a rate does
         names = [joints.label(name) for name in traj.joint_names]
     parts = [f"{name} {delta:+.1f} deg" for name, delta in zip(names, np.degrees(moved), strict=True)
