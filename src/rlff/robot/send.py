@@ -125,6 +125,7 @@ class StateWatch:
         self.now = now
         self.info = info
         self.topic = robot.ros.joint_states
+        self._max_velocity = robot.limits()[2]  # (J,) rad/s, for every message's agreement check
         self._arrived = threading.Condition()
         self._state: tuple[np.ndarray, np.ndarray] | None = None
         self._problem: Exception | None = None
@@ -202,7 +203,7 @@ class StateWatch:
         than its max velocity allows over the stamps' difference, plus :data:`STATE_NOISE`."""
         span = abs(second[0] - first[0])
         change = np.abs(second[1] - first[1])
-        allowed = np.array([joint.max_velocity for joint in self.robot.joints]) * span + STATE_NOISE
+        allowed = self._max_velocity * span + STATE_NOISE
         jumped = np.flatnonzero(change > allowed)
         if jumped.size == 0:
             return
