@@ -304,28 +304,42 @@ def _rlff(env, *args: str) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "rlff", *args], env=env, capture_output=True, text=True, timeout=180)
 
 
+def _own_server(tmp_path, robot_file):
+    """``rlff robot serve --ros 2 --robot ROBOT_FILE`` in a domain of its own (not the module's
+    server's): (domain, environment, server)."""
+    own = free_domain()
+    env = ros2_env(own, tmp_path)
+    return own, env, Server(env, tmp_path / "serve.log", "--robot", str(robot_file))
+
+
+def _send_a_throw(env, tmp_path, robot_file):
+    """``rlff robot send --ros 2`` of a throw to the arm served at its start pose; asserts that it
+    succeeded and took as long as planned, and returns the trajectory planned (rlff's convention)."""
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.robot.plan import load_for_robot
+
+    robot = load_robot(robot_file)
+    path = throw_csv(tmp_path, "throw.csv", 0.0, 0.3, 0.5)
+    sent = load_for_robot(path, robot, 0.01, start=RobotMapping.for_robot(robot).pose(0.0))[1].trajectory
+    result = _rlff(env, "robot", "send", str(path), "--ros", "2", "--robot", str(robot_file), "--json", "--timeout",
+                   "60")
+    assert result.returncode == 0, result.stderr
+    outcome = json.loads(result.stdout)
+    assert outcome["status"] == "succeeded" and outcome["duration"] == pytest.approx(sent.duration)
+    return sent
+
+
 def test_serve_and_send_under_the_robot_file_s_ros_names(domain, tmp_path):
     """An arm whose controller lives under /arm: `robot serve --ros 2` and `robot send --ros 2`
     with a robot file whose [ros] table says so drive it; a second server of that action is
     refused by its name."""
-    from rlff.robot import RobotMapping, load_robot
-    from rlff.robot.plan import load_for_robot
-
     arm = named_robot_file(tmp_path, "arm.toml", **ARM_NAMES)
-    robot = load_robot(arm)
-    own = free_domain()  # not the module's server's
-    env = ros2_env(own, tmp_path)
-    server = Server(env, tmp_path / "serve.log", "--robot", str(arm))
+    own, env, server = _own_server(tmp_path, arm)
     node = None
     try:
         assert ("serving /arm/follow_joint_trajectory and /arm/joint_trajectory, publishing /arm/joint_states, "
                 "for comau_smart5_six over ROS 2") in server.text()
-        path = throw_csv(tmp_path, "throw.csv", 0.0, 0.3, 0.5)
-        sent = load_for_robot(path, robot, 0.01, start=RobotMapping.for_robot(robot).pose(0.0))[1].trajectory
-        result = _rlff(env, "robot", "send", str(path), "--ros", "2", "--robot", str(arm), "--json", "--timeout", "60")
-        assert result.returncode == 0, result.stderr
-        outcome = json.loads(result.stdout)
-        assert outcome["status"] == "succeeded" and outcome["duration"] == pytest.approx(sent.duration)
+        sent = _send_a_throw(env, tmp_path, arm)
         node = RosNode(own, states="/arm/joint_states")
         np.testing.assert_allclose(node.latest()[1], sent.positions[-1], atol=1e-9)
 
@@ -343,23 +357,14 @@ def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(d
     """As over ROS 1 (tests/test_ros1_live.py): `robot serve --ros 2` of a robot file with
     [ros.joints] publishes the UR's names and convention, `robot send --ros 2` reads them back,
     sends the throw in the controller's and the arm ends where rlff planned."""
-    from rlff.robot import RobotMapping, load_robot
-    from rlff.robot.plan import load_for_robot
+    from rlff.robot import load_robot
 
     mapped = ur_file(tmp_path / "ur.toml")
     robot = load_robot(mapped)
-    own = free_domain()  # not the module's server's
-    env = ros2_env(own, tmp_path)
-    server = Server(env, tmp_path / "serve.log", "--robot", str(mapped))
+    own, env, server = _own_server(tmp_path, mapped)
     node = None
     try:
-        path = throw_csv(tmp_path, "throw.csv", 0.0, 0.3, 0.5)
-        sent = load_for_robot(path, robot, 0.01, start=RobotMapping.for_robot(robot).pose(0.0))[1].trajectory
-        result = _rlff(env, "robot", "send", str(path), "--ros", "2", "--robot", str(mapped), "--json", "--timeout",
-                       "60")
-        assert result.returncode == 0, result.stderr
-        outcome = json.loads(result.stdout)
-        assert outcome["status"] == "succeeded" and outcome["duration"] == pytest.approx(sent.duration)
+        sent = _send_a_throw(env, tmp_path, mapped)
         node = RosNode(own)
         np.testing.assert_allclose(node.latest()[1], robot.ros.joints.positions_to_controller(
             robot.joint_names, sent.positions[-1]), atol=1e-9)
