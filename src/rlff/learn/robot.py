@@ -214,10 +214,10 @@ class Landings:
                             f"{last_stamp:.3f} s, the release at {start:.3f} s): set each landing's header.stamp "
                             "to the ROS time now (rostopic pub: `header: {stamp: now}`), on a clock in step with "
                             "this host's")
-                    raise RobotFailed(f"no landing on {topic} within {timeout:g} s of the throw "
-                                      f"({self._elsewhere(topic)})")
+                    break
                 self._arrived.wait(left)
-
+        # asked of the ROS graph (the master, or discovery) outside the lock the landings come under
+        raise RobotFailed(f"no landing on {topic} within {timeout:g} s of the throw ({self._elsewhere(topic)})")
 
     def _elsewhere(self, topic: str) -> str:
         """What to check when nothing came on ``topic``: the other topics the graph has landings
