@@ -19,7 +19,13 @@ from hypothesis import strategies as st
 
 from rlff.errors import InputError
 from rlff.robot import load_robot
-from rlff.robot.controller import GoalRejected, ResultCode, goal_in_rlff
+from rlff.robot.controller import (
+    GoalRejected,
+    ResultCode,
+    TrajectoryController,
+    goal_in_rlff,
+    in_controller_words,
+)
 from rlff.robot.description import Joint, Robot, RobotFileWarning, RosNames
 from rlff.robot.joint_map import ControllerJoint, JointMap
 from rlff.robot.messages import arm_state_of, missing_joints
@@ -236,6 +242,28 @@ def test_a_goal_in_rlff_s_names_is_refused_by_a_mapped_controller(tmp_path):
     assert e.value.code == ResultCode.INVALID_JOINTS
     goal = robot.ros.joints.to_controller(_traj())
     np.testing.assert_allclose(goal_in_rlff(robot, goal).positions, _traj().positions, atol=1e-15)
+
+
+def test_a_mapped_controller_s_refusal_names_the_joints_as_its_client_does(tmp_path):
+    """The controller words a goal beyond a limit in rlff's names and convention; the client of a
+    UR-named controller reads the map of the joint it names beside it."""
+    robot = load_robot(ur_file(tmp_path / "ur.toml"))
+    controller = TrajectoryController(robot, np.zeros(6))
+    beyond = np.zeros((2, 6))
+    beyond[1, 1] = 3.0  # joint_2 at 3 rad, beyond its 2.71
+    goal = robot.ros.joints.to_controller(JointTrajectory(_traj().joint_names, [1.0, 3.0], beyond, np.zeros((2, 6))))
+    assert list(goal.joint_names) == list(UR_NAMES)
+    with pytest.raises(GoalRejected) as e:
+        controller.submit(None, goal_in_rlff(robot, goal), 0.0)
+    assert e.value.code == ResultCode.INVALID_GOAL
+    text = in_controller_words(robot, str(e.value))
+    assert text.startswith(str(e.value)) and "joint_2 position 3 rad beyond the limit 2.71 rad" in text
+    assert text.endswith("; in rlff's names and convention: joint_2 as shoulder_lift_joint = -1.5708 + joint_2")
+    # a joint only renamed is named too; a text of no joint of the arm stays as it was
+    assert in_controller_words(robot, "joint_4 moves") == "joint_4 moves; in rlff's names and convention: joint_4 as wrist_1_joint"
+    assert in_controller_words(robot, "joint_20 and joint_7 are none") == "joint_20 and joint_7 are none"
+    unmapped = load_robot("comau_smart5_six")
+    assert in_controller_words(unmapped, str(e.value)) == str(e.value)
 
 
 def test_the_arm_s_state_is_checked_in_rlff_s_convention_and_named_both_ways(tmp_path):

@@ -421,6 +421,15 @@ def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(t
         np.testing.assert_allclose(rig.pose(tmp_path), joints.positions_to_controller(
             robot.joint_names, returned.positions[-1]), atol=1e-9)
 
+        # a goal beyond a limit in the controller's names: refused in rlff's words, with the map
+        beyond = rig.pose(tmp_path)
+        beyond[1] = joints.positions_to_controller(["joint_2"], [robot.joint("joint_2").upper + 0.3])[0]
+        rejected = rig.goal(tmp_path, {"joint_names": list(UR_NAMES), "time": [4.0],
+                                       "positions": [list(map(float, beyond))]})
+        assert (rejected["status"], rejected["error_code"]) == ("rejected", -1), rejected  # INVALID_GOAL
+        assert rejected["error_string"].endswith(
+            "; in rlff's names and convention: joint_2 as shoulder_lift_joint = -1.5708 + joint_2"), rejected
+
         plain = rig.rlff("robot", "send", str(path), "--timeout", "5")
     finally:
         rig.close()

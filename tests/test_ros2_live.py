@@ -385,6 +385,15 @@ def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(d
         assert answer.result.error_code == 0, answer.result.error_string
         assert names and all(each == list(UR_NAMES) for each in names)
         assert rest_pose(node)[4] == pytest.approx(here[4] + 0.2, abs=1e-9)
+        # beyond a limit: refused in rlff's words, with the map of the joint it names
+        lift = robot.ros.joints.positions_to_controller(["joint_2"], [robot.joint("joint_2").upper + 0.3])[0]
+        beyond, _, _ = smooth_move(rest_pose(node), 1, lift - rest_pose(node)[1], 4.0)
+        beyond.trajectory.joint_names = list(UR_NAMES)
+        answer = wait_future(send(client, beyond).get_result_async(), 60, "the result")
+        assert answer.result.error_code == -1, answer.result.error_string
+        assert answer.result.error_string.endswith(
+            "; in rlff's names and convention: joint_2 as shoulder_lift_joint = -1.5708 + joint_2"), \
+            answer.result.error_string
         goal.trajectory.joint_names = NAMES  # rlff's own names are not the controller's
         answer = wait_future(send(client, goal).get_result_async(), 60, "the result")
         assert answer.result.error_code == -2 and "unknown joints ['joint_1'" in answer.result.error_string

@@ -46,6 +46,7 @@ The controller is not thread-safe: a transport calls it under one lock of its ow
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable, Hashable
 from dataclasses import dataclass
 from enum import IntEnum
@@ -142,6 +143,22 @@ def goal_in_rlff(robot: Robot, traj: JointTrajectory) -> JointTrajectory:
         raise GoalRejected(ResultCode.INVALID_JOINTS, f"unknown joints {unknown} (the controller of robot "
                                                       f"{robot.name} has {', '.join(known)})")
     return joints.from_controller(traj)
+
+
+def in_controller_words(robot: Robot, text: str) -> str:
+    """The controller's ``text`` (a refusal, an outcome) as a client of the controller reads it.
+
+    The controller checks and words goals in rlff's joint names and convention; a client of a
+    robot file with a ``[ros.joints]`` map talks the controller's. So the map of every joint the
+    text names is appended (``...; in rlff's names and convention: joint_2 as shoulder_lift_joint
+    = -1.571 + joint_2``). ``text`` itself when it names none, or the map renames nothing.
+    """
+    joints = robot.ros.joints
+    mapped = [joint for joint in robot.joint_names
+              if not joints.keeps(joint) and re.search(rf"(?<!\w){re.escape(joint)}(?!\w)", text)]
+    if not mapped:
+        return text
+    return f"{text}; in rlff's names and convention: {joints.words(mapped)}"
 
 
 def state_for_controller(robot: Robot, state: ArmState) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:

@@ -104,7 +104,11 @@ class JointMap:
     @property
     def identity(self) -> bool:
         """Whether the map changes nothing (no ``[ros.joints]``, or only entries that keep all)."""
-        return all(entry.is_identity(joint) for joint, entry in self.joints.items())
+        return all(self.keeps(joint) for joint in self.joints)
+
+    def keeps(self, joint: str) -> bool:
+        """Whether the controller has rlff's ``joint`` as rlff does: same name, zero and sense."""
+        return self.joints.get(joint, ControllerJoint(joint)).is_identity(joint)
 
     def check_joints(self, names: Sequence[str]) -> None:
         """:class:`InputError` (its text to follow ``[ros.joints]``) for an entry of a joint not in

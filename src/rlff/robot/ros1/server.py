@@ -39,6 +39,7 @@ from rlff.robot.controller import (
     check_rate,
     completion_text,
     goal_in_rlff,
+    in_controller_words,
     state_for_controller,
 )
 from rlff.robot.description import Robot
@@ -94,10 +95,10 @@ class TrajectoryServer:
                 traj = goal_in_rlff(self.robot, from_msg(msg))
                 executed, ended = self.controller.submit(goal, traj, now, start)
             except GoalRejected as exc:
-                self._reject(handle, exc.code, str(exc))
+                self._reject(handle, exc.code, in_controller_words(self.robot, str(exc)))
                 return
             except InputError as exc:
-                self._reject(handle, ResultCode.INVALID_GOAL, str(exc))
+                self._reject(handle, ResultCode.INVALID_GOAL, in_controller_words(self.robot, str(exc)))
                 return
             handle.set_accepted("executing")
             self._handles[goal] = handle
@@ -114,7 +115,8 @@ class TrajectoryServer:
                 executed, ended = self.controller.submit(None, traj, rospy.get_time(), _start(msg))
             except InputError as exc:
                 code = exc.code.name if isinstance(exc, GoalRejected) else ResultCode.INVALID_GOAL.name
-                rospy.logerr("trajectory on %s refused (%s): %s", self._topic_name, code, exc)
+                rospy.logerr("trajectory on %s refused (%s): %s", self._topic_name, code,
+                             in_controller_words(self.robot, str(exc)))
                 return
             self._report(ended)
         rospy.loginfo("trajectory on %s: %d points, %.3f s (executed: %.3f s)", self._topic_name, len(traj),

@@ -58,6 +58,7 @@ from rlff.robot.controller import (
     check_rate,
     completion_text,
     goal_in_rlff,
+    in_controller_words,
     state_for_controller,
 )
 from rlff.robot.description import Robot
@@ -152,9 +153,10 @@ class TrajectoryServer:
                 executed, ended = self.controller.submit(key, traj, self._now(), start_of(request.trajectory))
             except InputError as exc:
                 code = exc.code if isinstance(exc, GoalRejected) else ResultCode.INVALID_GOAL
+                text = in_controller_words(self.robot, str(exc))
                 goal = self._goals[key] = _Goal(handle, None)
-                goal.end("aborted", code, str(exc))
-                log.warning(f"goal {key.hex()} refused ({ResultCode(code).name}): {exc}")
+                goal.end("aborted", code, text)
+                log.warning(f"goal {key.hex()} refused ({ResultCode(code).name}): {text}")
             else:
                 self._goals[key] = _Goal(handle, traj, executed)
                 self._report(ended)
@@ -193,7 +195,8 @@ class TrajectoryServer:
                 executed, ended = self.controller.submit(None, traj, self._now(), start_of(msg))
             except InputError as exc:
                 code = exc.code if isinstance(exc, GoalRejected) else ResultCode.INVALID_GOAL
-                log.error(f"trajectory on {self._topic_name} refused ({ResultCode(code).name}): {exc}")
+                log.error(f"trajectory on {self._topic_name} refused ({ResultCode(code).name}): "
+                          f"{in_controller_words(self.robot, str(exc))}")
                 return
             self._report(ended)
         log.info(f"trajectory on {self._topic_name}: {len(traj)} points, {traj.duration:.3f} s "
