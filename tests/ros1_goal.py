@@ -3,7 +3,7 @@
 Used by tests/test_ros1_safety.py as a separate process (a rospy node lives once per process):
 ``python tests/ros1_goal.py GOAL.json [--cancel-after S]``, GOAL.json holding ``joint_names``,
 ``time`` (T,), ``positions`` (T, J) and optionally ``velocities`` (T, J) and ``stamp`` (s of ROS
-time, 0: on receipt). It bypasses rlff's client and its checks, so the server's own are tested.
+time, 0: on receipt); the result's JSON also lists the joint names its feedback carried. It bypasses rlff's client and its checks, so the server's own are tested.
 """
 
 from __future__ import annotations  # noqa: I001 - rlff.robot.ros1 first, see below
@@ -40,7 +40,8 @@ def main() -> int:
     goal.trajectory.points = [
         JointTrajectoryPoint(positions=p, velocities=v, time_from_start=rospy.Duration.from_sec(t))
         for t, p, v in zip(spec["time"], spec["positions"], velocities, strict=True)]
-    client.send_goal(goal)
+    feedback_names: list[list[str]] = []
+    client.send_goal(goal, feedback_cb=lambda feedback: feedback_names.append(list(feedback.joint_names)))
     if args.cancel_after is not None:
         if client.wait_for_result(rospy.Duration.from_sec(args.cancel_after)):
             print(json.dumps({"status": "ended before the cancel"}))
@@ -56,7 +57,8 @@ def main() -> int:
     print(json.dumps({"status": STATES.get(client.get_state(), str(client.get_state())),
                       "error_code": None if result is None else result.error_code,
                       "error_string": "" if result is None else result.error_string,
-                      "cancel_answered_after": answered}))
+                      "cancel_answered_after": answered,
+                      "feedback_joint_names": [list(n) for n in dict.fromkeys(map(tuple, feedback_names))]}))
     return 0
 
 

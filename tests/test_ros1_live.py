@@ -430,6 +430,14 @@ def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(t
         assert rejected["error_string"].endswith(
             "; in rlff's names and convention: joint_2 as shoulder_lift_joint = -1.5708 + joint_2"), rejected
 
+        # another program's goal in the controller's names: its feedback in those names too
+        moved = rig.pose(tmp_path)
+        moved[4] += 0.2
+        done = rig.goal(tmp_path, {"joint_names": list(UR_NAMES), "time": [2.0],
+                                   "positions": [list(map(float, moved))]})
+        assert done["status"] == "succeeded" and done["feedback_joint_names"] == [list(UR_NAMES)], done
+        np.testing.assert_allclose(rig.pose(tmp_path), moved, atol=1e-9)
+
         plain = rig.rlff("robot", "send", str(path), "--timeout", "5")
     finally:
         rig.close()
