@@ -411,75 +411,79 @@ def send(
         warn(aside)
     for note in notes:
         say(f"note: {note}")
-    if ros == 2:
-        _require_ros2(network)
-        from rlff.robot.ros2.client import ServerUnavailable as RosUnavailable
-        from rlff.robot.ros2.client import arm_state, send_goal
-    else:
-        _require_ros()
-        _ros1_reach(network)
-        from rlff.robot.ros1.client import arm_state, publish_trajectory, send_goal
-        from rlff.robot.ros1.master import RosUnavailable
+    with ExitStack() as node:  # over ROS 2, one node reads the arm's state and sends the goal
+        if ros == 2:
+            _require_ros2(network)
+            from rlff.robot.ros2.client import Connection
+            from rlff.robot.ros2.client import ServerUnavailable as RosUnavailable
 
-    try:
-        pose, speed = arm_state(model, timeout)
-        require_at_rest(model, speed)  # before planning from rest
-        result = load(start=pose)
-        _report(result)
-        traj = result.trajectory
-        check_goal_for_arm(model, traj, pose, speed)
-        announced = approach_line(traj, "the throw" if traj.release_time is not None else "the trajectory",
-                                  model.ros.joints)
-        if announced:  # before anything moves, even under -q
-            stderr().print(announced, highlight=False, markup=False)
-        if dry_run:
-            if model.ros.joints.joints:  # which convention the pose was read in, and the other
-                say(pose_line(model, pose))
-            say(f"dry run, nothing sent: {len(traj)} points, {traj.duration:.3f} s from the arm's pose, every check "
-                f"passed; {fastest_joint_line(model, traj)}")
-            if json:
-                emit_json({"status": "dry-run", "points": len(traj), "duration": traj.duration,
-                           "approach": announced})
-            return
-        if topic_mode:
-            subscribers = publish_trajectory(model, traj, pose, timeout)
-            say(f"published {len(traj)} points on {model.ros.trajectory_topic} to {subscribers} subscriber(s)")
-            if json:
-                emit_json({"status": "published", "points": len(traj), "subscribers": subscribers})
-            return
-        steps = max(1, round(traj.duration * 100))
-        # the bar's modules, before the goal goes out: a Ctrl-C or SIGTERM landing in an import
-        # surfaces as an error of that import (RuntimeError from dataclasses), not as the interrupt
-        # that cancels the goal
-        import rich.progress  # noqa: F401
-        with ExitStack() as stack:
-            bar: list = []  # the progress bar, once the server accepted the goal
-            opening = threading.Lock()  # feedback and the acceptance may come on different threads
-            done = 0
+            connection = node.enter_context(Connection("rlff_send"))
+            arm_state, send_goal = connection.arm_state, connection.send_goal
+        else:
+            _require_ros()
+            _ros1_reach(network)
+            from rlff.robot.ros1.client import arm_state, publish_trajectory, send_goal
+            from rlff.robot.ros1.master import RosUnavailable
 
-            def accepted() -> Callable[..., None]:
-                with opening:
-                    if not bar:
-                        bar.append(stack.enter_context(progress("executing", steps)))
-                    return bar[0]
+        try:
+            pose, speed = arm_state(model, timeout)
+            require_at_rest(model, speed)  # before planning from rest
+            result = load(start=pose)
+            _report(result)
+            traj = result.trajectory
+            check_goal_for_arm(model, traj, pose, speed)
+            announced = approach_line(traj, "the throw" if traj.release_time is not None else "the trajectory",
+                                      model.ros.joints)
+            if announced:  # before anything moves, even under -q
+                stderr().print(announced, highlight=False, markup=False)
+            if dry_run:
+                if model.ros.joints.joints:  # which convention the pose was read in, and the other
+                    say(pose_line(model, pose))
+                say(f"dry run, nothing sent: {len(traj)} points, {traj.duration:.3f} s from the arm's pose, every check "
+                    f"passed; {fastest_joint_line(model, traj)}")
+                if json:
+                    emit_json({"status": "dry-run", "points": len(traj), "duration": traj.duration,
+                               "approach": announced})
+                return
+            if topic_mode:
+                subscribers = publish_trajectory(model, traj, pose, timeout)
+                say(f"published {len(traj)} points on {model.ros.trajectory_topic} to {subscribers} subscriber(s)")
+                if json:
+                    emit_json({"status": "published", "points": len(traj), "subscribers": subscribers})
+                return
+            steps = max(1, round(traj.duration * 100))
+            # the bar's modules, before the goal goes out: a Ctrl-C or SIGTERM landing in an import
+            # surfaces as an error of that import (RuntimeError from dataclasses), not as the interrupt
+            # that cancels the goal
+            import rich.progress  # noqa: F401
+            with ExitStack() as stack:
+                bar: list = []  # the progress bar, once the server accepted the goal
+                opening = threading.Lock()  # feedback and the acceptance may come on different threads
+                done = 0
 
-            def on_feedback(elapsed: float) -> None:
-                nonlocal done
-                advance = accepted()  # feedback means accepted, whatever the order they arrive in
-                now = min(steps, round(elapsed * 100))
-                if now > done:
-                    advance(now - done)
-                    done = now
+                def accepted() -> Callable[..., None]:
+                    with opening:
+                        if not bar:
+                            bar.append(stack.enter_context(progress("executing", steps)))
+                        return bar[0]
 
-            outcome = send_goal(model, traj, pose, timeout, on_feedback, on_accepted=accepted)
-    except (RosUnavailable, ArmStateError) as exc:
-        stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
-        raise typer.Exit(1) from None
-    except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: the client cancelled the goal, if one was sent
-        said = interrupted_goal(exc)
-        if said:
-            stderr().print(f"rlff: {said}", highlight=False, markup=False)
-        raise
+                def on_feedback(elapsed: float) -> None:
+                    nonlocal done
+                    advance = accepted()  # feedback means accepted, whatever the order they arrive in
+                    now = min(steps, round(elapsed * 100))
+                    if now > done:
+                        advance(now - done)
+                        done = now
+
+                outcome = send_goal(model, traj, pose, timeout, on_feedback, on_accepted=accepted)
+        except (RosUnavailable, ArmStateError) as exc:
+            stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
+            raise typer.Exit(1) from None
+        except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: the client cancelled the goal, if one was sent
+            said = interrupted_goal(exc)
+            if said:
+                stderr().print(f"rlff: {said}", highlight=False, markup=False)
+            raise
     if json:
         emit_json(outcome.to_dict())
     message = goal_message(outcome)
