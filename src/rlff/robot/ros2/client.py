@@ -87,8 +87,9 @@ class ServerUnavailable(RlffError):
 class Connection:
     """A node of its own (context, node, executor spinning in a thread) that talks to the arm.
 
-    One call of :func:`arm_state` or :func:`send_goal` opens one; the learning loop keeps one for
-    a whole run (it also listens for the landings a vision system publishes). The topics and the
+    One call of :func:`arm_state` or :func:`send_goal` opens one; ``rlff robot send`` keeps one
+    to read the arm's state and send the goal, the learning loop one for a whole run (it also
+    listens for the landings a vision system publishes). The topics and the
     action are those of the robot each call is given (its ``ros``).
     """
 
