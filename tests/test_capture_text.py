@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -92,7 +93,7 @@ def test_kinect_text_gives_the_true_angle_drops_repeats_and_lost_frames(tmp_path
     path = _write_kinect(tmp_path / "kinect.txt", frames[order], numbers[order])
     recording = read_kinect_text(path)
     assert any("1 frames with all arm joints at zero" in note for note in recording.notes)
-    assert any("1 repeated frame numbers" in note for note in recording.notes)
+    assert any("1 repeated frame number " in note for note in recording.notes)
     right = recording.arm("1", "right")
     assert len(right.elbow) == len(frames) - 1
     motion = align_arm(right)
@@ -102,6 +103,29 @@ def test_kinect_text_gives_the_true_angle_drops_repeats_and_lost_frames(tmp_path
     np.testing.assert_allclose(motion.angle[on_frame], truth[on_frame], atol=1e-5)
     dataset, report = import_recordings([path], "kinect-text")
     assert len(dataset) == 2 and report.files[0].arm == "right"
+
+
+def test_an_arm_never_tracked_is_left_out_with_a_warning_and_no_arm_at_all_names_the_file(tmp_path):
+    # an MSR or Kinect file writes nan for a joint it did not track; the right (throwing) arm never
+    # was: the import went on with no word of which file stopped it ("joint 'line 2' has 0 samples")
+    simulation = bf.standard_simulation(seed=2, n_throws=2, noise=0.0, second_user=False, drop_frames=0.0, drop_joints=0.0)
+    frames = _kinect_frames(simulation)
+    frames[:, 5:8] += np.array([[0.0, -0.3, 0.0], [0.0, -0.55, 0.0], [0.0, -0.6, 0.0]])  # the left arm hangs down
+    frames[:, 8:12] = np.nan
+    path = _write_kinect(tmp_path / "untracked.txt", frames, np.arange(len(frames)))
+    dataset, report = import_recordings([path], "kinect-text")
+    assert report.files[0].arm == "left" and len(dataset) == 0
+    assert f"{path}: user 1, right arm left out: the right shoulder (joint 9) was never tracked (0 samples)" \
+        in report.warnings
+    frames[:, 4:8] = np.nan
+    _write_kinect(path, frames, np.arange(len(frames)))
+    with pytest.raises(InputError, match=re.escape(
+            f"{path}: user 1, right arm: the right shoulder (joint 9) was never tracked (0 samples) and no other arm "
+            "was: no arm to cut throws from; leave the file out")):
+        import_recordings([path], "kinect-text")
+    with pytest.raises(InputError, match=re.escape(f"{path}: user 1, left arm: the left shoulder (joint 5) was never "
+                                                   "tracked (0 samples): no arm to cut throws from")):
+        import_recordings([path], "kinect-text", arm="left")
 
 
 def test_kinect_text_with_a_wrong_number_of_columns_names_the_file_and_line(tmp_path):

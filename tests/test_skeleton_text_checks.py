@@ -56,11 +56,11 @@ def test_csv_time_that_goes_back_names_the_line_and_what_to_do(tmp_path):
 def test_a_repeated_time_stamp_or_frame_number_is_dropped_with_a_note(tmp_path):
     recording = read_joint_csv(_write_csv(tmp_path / "repeat.csv", [0.0, 0.1, 0.1, 0.2, 0.3, 0.4]))
     assert len(recording.arms[0].elbow) == 5
-    assert any("dropped 1 repeated time stamps (kept the first; the first repeat is on line 4)" in note for note in recording.notes)
+    assert any("dropped 1 repeated time stamp (kept the first; the first repeat is on line 4)" in note for note in recording.notes)
     path = tmp_path / "repeat.txt"
     path.write_text("\n".join(_kinect_lines([0, 1, 2, 2, 3])) + "\n")
     recording = read_kinect_text(path)
-    assert any("dropped 1 repeated frame numbers (kept the first; the first repeat is on line 4)" in note for note in recording.notes)
+    assert any("dropped 1 repeated frame number (kept the first; the first repeat is on line 4)" in note for note in recording.notes)
 
 
 def test_kinect_frame_numbers_that_go_back_name_the_line(tmp_path):

@@ -570,7 +570,7 @@ def _subject(path: Path, row: ManifestRow | None) -> str:
     return match.group(1) if match else path.stem
 
 
-def arm_motion(recording: Recording, arm: str = "auto") -> tuple[ArmMotion, list[ArmTrack], list[str]]:
+def arm_motion(recording: Recording, arm: str = "auto") -> tuple[ArmMotion, list[ArmTrack], list[str], list[str]]:
     """The arm whose throws the import cuts: the consistent user's, on the side asked for or, with
     ``auto``, the one whose hand sweeps furthest.
 
@@ -582,11 +582,14 @@ def arm_motion(recording: Recording, arm: str = "auto") -> tuple[ArmMotion, list
         The kept user's arms (both sides where tracked).
     notes : list of str
         Which user and arm were kept, and why.
+    warnings : list of str
+        An arm left out because a joint it needs was never tracked (it may be the throwing one).
 
     Raises
     ------
     InputError
-        No arm on the side asked for, or coordinates that are not in metres.
+        No arm on the side asked for, no arm whose joints were all tracked, or coordinates that
+        are not in metres.
     """
     path = Path(recording.source)
     arms, notes = keep_consistent_user(recording)
@@ -595,12 +598,21 @@ def arm_motion(recording: Recording, arm: str = "auto") -> tuple[ArmMotion, list
         if not arms:
             sides = sorted({track.side for track in recording.arms})
             raise InputError(f"{path}: no {arm} arm (arms there: {', '.join(sides)})")
+    untracked = [(track, track.untracked) for track in arms if track.untracked is not None]
+    if len(untracked) == len(arms):
+        track, joint = untracked[0]
+        raise InputError(f"{path}: {track.label}: the {joint.name} was never tracked ({plural(len(joint), 'sample')})"
+                         f"{' and no other arm was' if len(arms) > 1 else ''}: no arm to cut throws from; "
+                         "leave the file out")
+    warnings = [f"{path}: {track.label} left out: the {joint.name} was never tracked ({plural(len(joint), 'sample')})"
+                for track, joint in untracked]
+    arms = [track for track in arms if track.untracked is None]
     motions = [align_arm(track, up=recording.up) for track in arms]
     motion = motions[0] if len(motions) == 1 else throwing_arm(motions)
     _check_metres(path, motion.arm)
     if len(motions) > 1:
         notes.append(f"{path.name}: throwing arm: {motion.arm.side} (the hand that sweeps furthest)")
-    return motion, arms, notes
+    return motion, arms, notes, warnings
 
 
 def _import_recording(
@@ -616,9 +628,10 @@ def _import_recording(
     path = Path(recording.source)
     report = FileReport(str(path), kind, notes=list(recording.notes), warnings=list(recording.warnings),
                         assumed_rate=recording.assumed_rate)
-    motion, arms, arm_notes = arm_motion(recording, arm)
+    motion, arms, arm_notes, arm_warnings = arm_motion(recording, arm)
     report.motion = motion
     report.notes.extend(arm_notes)
+    report.warnings.extend(arm_warnings)
     report.arm, report.user = motion.arm.side, motion.arm.user
     report.clock_origin = origin = float(motion.time[0])
     report.notes.extend(_tracking_notes(path, motion, origin))

@@ -97,6 +97,15 @@ class ArmTrack:
         """Samples of the sparsest of the three joints."""
         return min(len(self.shoulder), len(self.elbow), len(self.hand))
 
+    @property
+    def untracked(self) -> JointTrack | None:
+        """The first joint the elbow angle and the release need (shoulder, elbow, forearm's end,
+        hand) with fewer than 2 samples: a joint the tracker never gave; None when there is none."""
+        for track in (self.shoulder, self.elbow, self.forearm_end, self.hand):
+            if len(track) < 2:
+                return track
+        return None
+
 
 @dataclass
 class Recording:

@@ -114,7 +114,7 @@ def _forward_rows(stamps: np.ndarray, line_of: Callable[[int], int], what: str, 
     repeat = np.r_[False, step == 0]
     if repeat.any():
         notes.append(
-            f"{path.name}: dropped {int(repeat.sum())} repeated {what}s (kept the first; the first "
+            f"{path.name}: dropped {plural(int(repeat.sum()), 'repeated ' + what)} (kept the first; the first "
             f"repeat is on line {line_of(int(np.flatnonzero(repeat)[0]))})"
         )
     return ~repeat
@@ -196,16 +196,17 @@ def _track(name: str, time: np.ndarray, positions: np.ndarray) -> JointTrack:
 
 
 def _arms(
-    frames: np.ndarray, time: np.ndarray, layout: Mapping[str, tuple[int, ...]], prefix: str,
-    torso: tuple[int, int],
+    frames: np.ndarray, time: np.ndarray, layout: Mapping[str, tuple[int, ...]], torso: tuple[int, int],
 ) -> list[ArmTrack]:
     """Arm tracks from frames of shape (N, J, 3) sharing one time base of shape (N,), with the
-    torso's top and bottom joints ``torso``."""
-    neck, hip = (_track(f"{prefix}{index + 1}", time, frames[:, index, :]) for index in torso)
+    torso's top and bottom joints ``torso``; each track named as in messages: ``right elbow
+    (joint 10)``, the joint's 1-based place in the frame."""
+    neck, hip = (_track(f"{name} (joint {index + 1})", time, frames[:, index, :])
+                 for name, index in zip(("neck", "hip centre"), torso, strict=True))
     arms = []
     for side, indices in layout.items():
         joints = {
-            joint: _track(f"{prefix}{index + 1}", time, frames[:, index, :])
+            joint: _track(f"{side} {joint} (joint {index + 1})", time, frames[:, index, :])
             for joint, index in zip(_JOINTS, indices, strict=True)
         }
         arms.append(ArmTrack("1", side, joints["shoulder"], joints["elbow"], joints["hand"], joints["wrist"], neck, hip))
@@ -240,7 +241,7 @@ def read_kinect_text(path: str | Path, rate_hz: float | None = None) -> Recordin
     frames = values[:, 1:].reshape(-1, 20, 3)
     arm_joints = [i for indices in KINECT_ARMS.values() for i in indices]
     frames, time = _clean_frames(frames, values[:, 0] / rate, arm_joints, notes, path, [*arm_joints, *KINECT_TORSO])
-    return Recording(str(path), _arms(frames, time, KINECT_ARMS, "joint ", KINECT_TORSO), KINECT_UP, notes,
+    return Recording(str(path), _arms(frames, time, KINECT_ARMS, KINECT_TORSO), KINECT_UP, notes,
                      assumed_rate=rate)
 
 
@@ -273,7 +274,7 @@ def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
     notes: list[str] = []
     arm_joints = [i for indices in MSR_ARMS.values() for i in indices]
     frames, time = _clean_frames(frames, np.arange(len(frames)) / rate, arm_joints, notes, path, [*arm_joints, *MSR_TORSO])
-    return Recording(str(path), _arms(frames, time, MSR_ARMS, "line ", MSR_TORSO), KINECT_UP, notes, assumed_rate=rate)
+    return Recording(str(path), _arms(frames, time, MSR_ARMS, MSR_TORSO), KINECT_UP, notes, assumed_rate=rate)
 
 
 def read_joint_csv(
