@@ -103,6 +103,8 @@ def test_kinect_text_gives_the_true_angle_drops_repeats_and_lost_frames(tmp_path
     np.testing.assert_allclose(motion.angle[on_frame], truth[on_frame], atol=1e-5)
     dataset, report = import_recordings([path], "kinect-text")
     assert len(dataset) == 2 and report.files[0].arm == "right"
+    for one in (path, str(path)):  # one recording, not in a list: not read as the characters of its path
+        assert [t.id for t in import_recordings(one, "kinect-text")[0]] == [t.id for t in dataset]
 
 
 def test_an_arm_never_tracked_is_left_out_with_a_warning_and_no_arm_at_all_names_the_file(tmp_path):

@@ -20,6 +20,7 @@ its best candidate.
 
 from __future__ import annotations
 
+import os
 import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field, replace
@@ -308,7 +309,7 @@ def read_recording(
 
 
 def import_recordings(
-    paths: Sequence[str | Path],
+    paths: str | os.PathLike | Sequence[str | os.PathLike],
     format: str | None = None,
     *,
     manifest: str | Path | None = None,
@@ -327,7 +328,7 @@ def import_recordings(
 
     Parameters
     ----------
-    paths : recordings (files, or ROS 2 bag folders)
+    paths : recordings (files, or ROS 2 bag folders), or one
     format : one of ``bag``, ``kinect-text``, ``msr``, ``csv``, ``thesis``; None or ``auto`` guesses
         it per file from the name and content
     manifest : CSV of basket distances (see :mod:`rlff.capture.label`)
@@ -369,6 +370,8 @@ def import_recordings(
         does not carry, the same file twice or two files holding the same throw sample for
         sample (one recording under two names).
     """
+    if isinstance(paths, (str, os.PathLike)):  # one recording: not the characters of its path
+        paths = [paths]
     wanted = _check_joints(joints)
     if rate_hz is not None:
         check_frame_rate(rate_hz)
