@@ -279,4 +279,13 @@ def test_demo_bad_input(cli, tmp_path):
     occupied.write_text("not a folder")
     one_line_error(cli("demo", "--small", "--out", str(occupied)), "is a file; give a folder")
     one_line_error(cli("demo", "--small", "--output", str(occupied)), "is a file; give a folder")
+    # a folder of the user's own files under the run's names, not an earlier run's: kept, refused
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "demos.csv").write_text("my recordings")
+    (mine / "model.json").write_text("{}")
+    one_line_error(cli("demo", "--small", "--out", str(mine)),
+                   f"{mine}: holds demos.csv, model.json but no run.json of an earlier demo, and the demo would "
+                   "replace them: give a new or empty folder with --out")
+    assert (mine / "demos.csv").read_text() == "my recordings"
     assert cli("demo", "--help").code == 0

@@ -325,13 +325,32 @@ def _learning_arm_and_basket(demonstrated: list[float], learnable: float,
     return (slower, on_slower) if missed else (faithful, distance)
 
 
+#: The files a run writes at the top of its folder (besides ``run.json``): a folder holding any of
+#: them without an earlier run's ``run.json`` may hold someone's own data of those names.
+RUN_FILES = ("demos.csv", "clean.csv", "model.json", "report.html", "whole-arm-demos.csv", "whole-arm-clean.csv")
+
+
+def _failures(raw, said: str) -> str:
+    """``most throws miss`` when most of ``raw``'s throws missed, else ``34 of 84 throws miss``
+    (a seed's people may hit more often than not): ``said`` after the count."""
+    misses = sum(1 for t in raw if t.meta.get("hit") is False)
+    return f"most {said}" if 2 * misses > len(raw) else f"{misses} of {len(raw)} {said}"
+
+
 def check_demo_options(out_dir: str | Path, size: str) -> None:
-    """Raise :class:`InputError` for an unknown size or an output path that is not a folder."""
+    """Raise :class:`InputError` for an unknown size, an output path that is not a folder, or a
+    folder that holds files of a run's names (:data:`RUN_FILES`) but no earlier run's
+    ``run.json``: the run would replace them."""
     if size not in SIZES:
         raise InputError(f"unknown demo size {size!r} (known: {', '.join(SIZES)})")
     out_dir = Path(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(f"{out_dir}: exists and is not a folder")
+    mine = [name for name in RUN_FILES if (out_dir / name).exists()]
+    if mine and not (out_dir / "run.json").exists():
+        raise InputError(f"{out_dir}: holds {', '.join(mine)} but no run.json of an earlier demo, and the demo would "
+                         "replace them: give a new or empty folder with --out (or delete them if they are an "
+                         "unfinished demo's)")
 
 
 def run_demo(
@@ -347,7 +366,8 @@ def run_demo(
     Parameters
     ----------
     out_dir : path
-        Output folder (created; files of an earlier run are replaced).
+        Output folder (created; files of an earlier run are replaced, a folder holding files of
+        its names without an earlier run's ``run.json`` is refused: :func:`check_demo_options`).
     size : {"full", "small"}
         ``full`` follows the thesis' recording plan (400 throws, 5 learning runs);
         ``small`` is a quick version (84 throws, 2 learning runs).
@@ -522,7 +542,7 @@ def _figures(
     add(dataset_slices(raw, figures_dir / "demonstrations-per-distance"), "data", "The recorded throws per basket distance",
         "Elbow angle and angular velocity of every simulated throw as a depth camera and a skeleton tracker "
         "record them: wind-up, extension, stop, and tracking glitches (the straight jumps). Green throws hit "
-        "the basket, red ones missed: most demonstrations are failures.")
+        f"the basket, red ones missed: {_failures(raw, 'demonstrations are failures')}.")
     add(preprocessing_steps(
         [(s.step, s.before, s.after if s.after is not None else s.before, s.summary()) for s in preprocessing.steps],
         figures_dir / "preprocessing"), "preprocessing", "Each cleaning step, before and after",
@@ -665,8 +685,8 @@ def _run_record(
         Section(
             "data", "Demonstrations",
             "Simulated people throw a ball overhand at baskets 1 to 4 m away, recorded like a depth camera "
-            "and a skeleton tracker would (15-30 Hz, noise, dropped frames, tracking glitches). Most throws "
-            "miss: these are the failed demonstrations the robot learns from.",
+            "and a skeleton tracker would (15-30 Hz, noise, dropped frames, tracking glitches). "
+            f"{_failures(raw, 'throws miss').capitalize()}: the failed demonstrations the robot learns from.",
             facts={"throws": len(raw), "hits": raw_hits, "hit rate": raw_hits / max(len(raw), 1),
                    "people": len(subjects), "samples": raw.n_samples, "basket distances (m)": ", ".join(f"{d:g}" for d in raw_distances)},
             tables=[Table("Throws per basket", ["distance (m)", "throws", "hits", "misses", "kept after cleaning"], per_distance)],
