@@ -105,6 +105,11 @@ def test_kinect_text_gives_the_true_angle_drops_repeats_and_lost_frames(tmp_path
     assert len(dataset) == 2 and report.files[0].arm == "right"
     for one in (path, str(path)):  # one recording, not in a list: not read as the characters of its path
         assert [t.id for t in import_recordings(one, "kinect-text")[0]] == [t.id for t in dataset]
+    # read at ten times its rate, its throws fail other rules first: the file's warning asks about the rate
+    dataset, report = import_recordings([path], "kinect-text", rate_hz=300.0)
+    assert len(dataset) == 0
+    assert any(w.startswith(f"{path}: ") and w.endswith("was it recorded at the 300 Hz it was read at? (--rate)")
+               for w in report.warnings), report.warnings
 
 
 def test_an_arm_never_tracked_is_left_out_with_a_warning_and_no_arm_at_all_names_the_file(tmp_path):

@@ -449,9 +449,10 @@ def _rate_warnings(report: ImportReport, rate_hz: float | None) -> list[str]:
         if odd:
             shown = "; ".join(f"{Path(file.source).name}: {why}" for file, why in odd[:3])
             more = f" (and {len(odd) - 3} more)" if len(odd) > 3 else ""
+            # the others pass, which says little: a rate off by a factor of 2 mostly passes
             said.append(f"{len(odd)} of {len(files)} {kind} files hold throws unlike a throw at the rate read "
-                        f"({rate}), the others not: {shown}{more}: were these recorded at another rate? (import "
-                        "them apart with their --rate)")
+                        f"({rate}): {shown}{more}: were these recorded at another rate? (import them apart with "
+                        "their --rate; a rate off by a factor of 2 can pass unseen, so check the others' too)")
     return said
 
 
@@ -679,6 +680,8 @@ def _import_recording(
                             segment.rest_velocity)
         if trajectory is not None:
             trajectories.append(trajectory)
+    if kept and not trajectories and (rate := _rate_hint(motion, report, [cut for cut, _ in kept])):
+        report.warnings.append(f"{path}: no throw kept; {rate}")
     return report, trajectories
 
 
@@ -773,7 +776,32 @@ def _no_throw(path: Path, motion: ArmMotion, report: FileReport, segment: Segmen
             f"{low:.2f}-{high:.2f} rad; its largest rise is {rises[top]:.2f} rad"
             + (", still rising where the recording ends: it may stop before the throw's extension)" if at_end else ")")
         )
+    rate = _rate_hint(motion, report)
+    message = f"{message}; {rate}" if rate else message
     return f"{message}; {hint}" if hint else message
+
+
+def _rate_hint(motion: ArmMotion, report: FileReport, cuts: Sequence[ThrowCut] = ()) -> str | None:
+    """For a file without a throw read at an assumed rate: whether the whole recording is shorter
+    than a throw (:data:`SHORTEST_THROW`), or its movements (``cuts``, those the throw rules
+    passed) are, or its elbow moves faster than a throw's
+    (:data:`PLAUSIBLE_PEAK`), as a file read at many times its rate does, whose throws fail other
+    rules (a landing behind the shoulder) before the set's rate check sees them."""
+    if not report.assumed_rate:
+        return None
+    asked = f"was it recorded at the {report.assumed_rate:g} Hz it was read at? (--rate)"
+    span = float(motion.time[-1] - motion.time[0])
+    if span < SHORTEST_THROW:  # the elbow's speed, fitted over a fixed time, flattens there
+        return f"the recording lasts {span:.2g} s, shorter than a throw (at least {SHORTEST_THROW:g} s): {asked}"
+    if cuts:
+        lasts = float(np.median([motion.time[cut.stop - 1] - motion.time[cut.start] for cut in cuts]))
+        if lasts < SHORTEST_THROW:
+            return (f"its movements last a median {lasts:.2g} s, wind-up to follow-through, shorter than a throw "
+                    f"(at least {SHORTEST_THROW:g} s): {asked}")
+    fastest = float(np.max(np.abs(motion.velocity)))
+    if fastest > PLAUSIBLE_PEAK[1]:
+        return f"its elbow reaches {fastest:.3g} rad/s, faster than a throw (at most {PLAUSIBLE_PEAK[1]:g} rad/s): {asked}"
+    return None
 
 
 def _axis_name(vector: np.ndarray) -> str:
@@ -903,7 +931,9 @@ def _throw(
         return None
     if target is None and not DISTANCE_RANGE[0] <= distance <= DISTANCE_RANGE[1]:  # no basket stands there
         # + 0.0 after rounding: a ball at the feet reads 0.00 m, not -0.00
-        reason = f"no basket distance and the estimated landing ({round(landed, 2) + 0.0:.2f} m, labelled {distance + 0.0:g} m) is "
+        # the label only where rounding took it out of the range: behind the shoulder it says nothing
+        label = f", labelled {distance + 0.0:g} m" if landed >= 0 else ": behind the shoulder"
+        reason = f"no basket distance and the estimated landing ({round(landed, 2) + 0.0:.2f} m{label}) is "
         if distance < DISTANCE_RANGE[0]:
             reason += f"nearer than any basket ({DISTANCE_RANGE[0]:g} m): the hand came down near the body"
         else:
