@@ -123,7 +123,7 @@ def test_a_second_throw_in_an_msr_file_is_warned_of_and_named_in_a_manifest_erro
     dataset, report = import_recordings([two], "msr")
     assert len(dataset) == 1
     (warning,) = [w for w in report.warnings if "left out: an MSR file holds one throw" in w]
-    assert warning.startswith(f"{two}: a throw at t=") and "cut the file in two" in warning
+    assert warning.startswith(f"{two}: a throw at t=") and "into one file per throw" in warning
     # the kept throw keeps its number in the file: a row for the other never labels it
     (kept,) = dataset.ids
     number = int(kept.rsplit("_t", 1)[1])

@@ -654,8 +654,8 @@ def _import_recording(
         report.reject(rejection, motion.arm.label)
         if rejection.rule == ONE_PER_MSR_FILE:  # a throw by every other rule: more than a note
             report.warnings.append(f"{path}: a throw at t={rejection.time - origin:.2f} s left out: {rejection.reason} "
-                                   "(MSR Action3D files hold one performance; to keep both, cut the file in two "
-                                   "at a frame's first line, 20 lines a frame)")
+                                   "(MSR Action3D files hold one performance; to keep it, cut the file at a frame's "
+                                   "first line, 20 lines a frame, into one file per throw)")
     hint = _up_hint(motion, recording.up) if kind == "csv" and not up_given else None
     if not kept:
         report.warnings.append(_no_throw(path, motion, report, segment, hint))

@@ -30,7 +30,7 @@ def import_command(
     files: list[Path] = typer.Argument(..., help="Recordings: ROS 1 .bag files, ROS 2 bag folders, skeleton text or CSV."),
     output: Path = typer.Option(..., "--output", "-o", help="Demonstrations to write: .csv (or .parquet, .npz)."),
     format: str = typer.Option("auto", "--format", "-f", help="bag, kinect-text, msr, csv, thesis, or auto (from each file)."),
-    manifest: Path | None = typer.Option(None, "--manifest", "-m", help="CSV of basket distances: file, distance[, throw | start, end][, subject]."),
+    manifest: Path | None = typer.Option(None, "--manifest", "-m", help="CSV of basket distances: file, distance[, throw | start, end][, subject][, bearing][, height]."),
     contact_sheet: Path | None = typer.Option(None, "--contact-sheet", help="Folder for PNG contact sheets of the cuts (bags with a camera stream)."),
     topic: str = typer.Option("/tf", "--topic", help="tf topic of bags."),
     frames: str = typer.Option("right_shoulder_1,right_elbow_1,right_hand_1", "--frames", help="Shoulder, elbow, hand tf frames (the trailing number is the user; any user matches)."),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import shlex
 from pathlib import Path
 
 import typer
@@ -70,7 +71,7 @@ def demo_command(
     if summary.whole_arm:
         console.print(_whole_arm_table(summary.whole_arm))
     console.print(f"report: {summary.report}  ({len(summary.figures)} figures, {summary.seconds:.0f} s)", highlight=False)
-    say(f"open it with: xdg-open {summary.report}")
+    say(f"open it with: xdg-open {shlex.quote(str(summary.report))}")  # a path with a space, pasted
 
 
 def _whole_arm_table(runs):
