@@ -142,6 +142,17 @@ def test_kinect_text_with_a_wrong_number_of_columns_names_the_file_and_line(tmp_
         read_kinect_text(path)
 
 
+def test_a_file_read_as_a_format_it_is_not_names_the_one_it_looks_like(tmp_path):
+    simulation = bf.standard_simulation(seed=2, n_throws=1, noise=0.0, second_user=False, drop_frames=0.0, drop_joints=0.0)
+    path = _write_kinect(tmp_path / "kinect.txt", _kinect_frames(simulation), np.arange(len(simulation.frame_times)))
+    for wrong, said in (("msr", "line 1: 61 columns, expected 4"), ("thesis", ""), ("csv", "--columns")):
+        with pytest.raises(InputError, match=re.escape("(read as --format " + wrong + "; it looks like kinect-text: "
+                                                       "give --format kinect-text, or leave --format out)")) as e:
+            import_recordings([path], wrong)
+        assert said in str(e.value)
+    assert len(import_recordings([path])[0]) == 1  # as it is, with the format guessed
+
+
 def test_msr_text_with_a_missing_joint_line_says_so(tmp_path):
     path = tmp_path / "a06_s01_e01_skeleton3D.txt"
     path.write_text("0.1 0.2 2.5 1\n" * 39)

@@ -22,7 +22,8 @@ from __future__ import annotations
 
 import os
 import re
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -282,6 +283,24 @@ def imported_columns(paths: Sequence[str | Path], format: str | None = None) -> 
     return ("angle", "distance", "velocity") if kinds == {"thesis"} else ("time", "angle", "velocity", "distance")
 
 
+@contextmanager
+def _format_named(path: Path, kind: str, given: str | None) -> Iterator[None]:
+    """Reading ``path`` as ``kind``: an :class:`InputError` of a format the user gave (``given``)
+    that the file's name and first line say it is not (:func:`detect_format`) names the format it
+    looks like (``--format thesis`` on an MSR file: "context row 'distance' is not constant")."""
+    try:
+        yield
+    except InputError as exc:
+        try:
+            looks = detect_format(path) if given not in (None, "auto") else kind
+        except InputError:
+            looks = kind
+        if looks == kind:
+            raise
+        raise InputError(f"{exc} (read as --format {kind}; it looks like {looks}: give --format {looks}, or leave "
+                         "--format out)") from None
+
+
 def read_recording(
     path: Path,
     format: str,
@@ -402,9 +421,12 @@ def import_recordings(
         path = Path(raw_path)
         tell(path, "reading")
         if kind == "thesis":
-            file_report, found = _import_thesis(path, used_ids)
+            with _format_named(path, kind, format):
+                file_report, found = _import_thesis(path, used_ids)
         else:
-            recording = read_recording(path, kind, topic=topic, frames=frames, rate_hz=rate_hz, columns=columns, up=up)
+            with _format_named(path, kind, format):
+                recording = read_recording(path, kind, topic=topic, frames=frames, rate_hz=rate_hz, columns=columns,
+                                           up=up)
             tell(path, "cutting throws")
             file_report, found = _import_recording(
                 recording, kind, arm, rows, segment or SegmentSettings(), landing, used_ids, up_given=up is not None

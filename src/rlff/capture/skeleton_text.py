@@ -368,7 +368,8 @@ def read_joint_csv(
         wanted = "; ".join(f"{side}: {', '.join(names)}" for side, names in missing.items())
         raise InputError(
             f"{path}: no arm with shoulder, elbow and hand x/y/z columns (missing {wanted}); "
-            f"columns present: {', '.join(map(str, frame.columns))}"
+            f"columns present: {', '.join(map(str, frame.columns))}; map the file's names to rlff's with --columns "
+            "(e.g. --columns right_elbow_x=ElbowRight.X, docs/capture.md)"
         )
     rate = None if rate_hz is None else check_frame_rate(rate_hz)
     time_column = column("time")
