@@ -232,3 +232,49 @@ def test_selecting_steps_keep_samples_in_their_order_and_values(data, steps):
         for name in data.columns:
             kept = np.searchsorted(source["time"], trajectory["time"])
             np.testing.assert_array_equal(trajectory[name], source[name][kept])
+
+
+_THROWS = Dataset([
+    Trajectory(f"t{i}", {"angle": np.linspace(0.8, 2.9 + 0.01 * i, 8), "distance": [1.0 + i % 3] * 8,
+                         "velocity": np.sin(np.linspace(0.2, 3.0, 8)) * (5.0 + i)})
+    for i in range(9)
+])
+
+
+@pytest.mark.parametrize(
+    ("step", "params", "message"),
+    [
+        ("spike_filter", {"k": -3}, r"k -3: must be positive"),
+        ("spike_filter", {"k": 0}, r"k 0: must be positive"),
+        ("spike_filter", {"threshold": -1.0}, r"threshold -1.0: must be \"auto\" or a speed of 0 or more"),
+        ("spike_filter", {"max_width": 0}, r"max_width 0: must be at least 1"),
+        ("balance", {"seed": -1}, r"seed -1: must be 0 or more"),
+        ("stop_point", {"extension": -0.5}, r"extension -0.5: must be positive"),
+        ("stop_point", {"extension": 0.0}, r"extension 0.0: must be positive"),
+        ("reject_shapes", {"k": -1.0}, r"k -1.0: must be positive"),
+        ("reject_shapes", {"k": 0.0}, r"k 0.0: must be positive"),
+        ("reject_shapes", {"min_trajectories": 0}, r"min_trajectories 0: must be at least 1"),
+        ("reject_shapes", {"points": 1}, r"points 1: must be at least 2"),
+        ("reject_contexts", {"tolerance": -0.1}, r"tolerance -0.1: must be 0 or more"),
+        ("reject_contexts", {"z": -2.0}, r"z -2.0: must be 0 or more"),
+        ("reject_contexts", {"max_spread_ratio": 0.5}, r"max_spread_ratio 0.5: must be 0 \(off\) or at least 1"),
+        ("reject_contexts", {"max_spread_ratio": -1.0}, r"max_spread_ratio -1.0: must be 0 \(off\) or at least 1"),
+        ("reject_contexts", {"min_contexts": 0}, r"min_contexts 0: must be at least 1"),
+        ("reject_contexts", {"min_trajectories": 0}, r"min_trajectories 0: must be at least 1"),
+        ("reject_contexts", {"bin_width": -0.25}, r"bin_width -0.25: must be 0 \(off\) or positive"),
+    ],
+)
+def test_an_impossible_parameter_value_is_refused_in_one_line(step, params, message):
+    with pytest.raises(InputError, match=rf"^steps.toml, step '{step}': {message}") as error:
+        Pipeline([(step, params)], source="steps.toml").run(_THROWS)
+    assert "\n" not in str(error.value)
+
+
+@pytest.mark.parametrize(
+    ("step", "params"),
+    [("spike_filter", {"threshold": 0.0}), ("reject_contexts", {"max_spread_ratio": 0.0, "tolerance": 0.0,
+                                                                  "z": 0.0, "bin_width": 0.0}),
+     ("reject_contexts", {"max_spread_ratio": 1.0}), ("balance", {"seed": 0}), ("stop_point", {"extension": 0.01})],
+)
+def test_the_edges_of_the_valid_ranges_are_accepted(step, params):
+    Pipeline([(step, params)]).run(_THROWS)

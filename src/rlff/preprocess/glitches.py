@@ -48,11 +48,13 @@ def spike_filter(
     threshold : float or "auto"
         Speed (column units per second; per sample without a ``time`` column) that both the jump
         out and the jump back must exceed. ``"auto"``: ``k`` robust standard deviations of the
-        change of speed from one step to the next, pooled over the whole dataset.
+        change of speed from one step to the next, pooled over the whole dataset. A speed must
+        be 0 or more.
     k : float
-        Multiplier of the automatic threshold.
+        Multiplier of the automatic threshold; positive.
     max_width : int
-        Longest run of consecutive glitch samples looked for (1 or 2 frames on a Kinect).
+        Longest run of consecutive glitch samples looked for (1 or 2 frames on a Kinect); at
+        least 1.
     recompute_velocity : bool
         When the data has a ``time`` column, recompute ``velocity_column`` of the trajectories
         that lost samples as the finite difference of ``column`` over time (``numpy.gradient``),
@@ -68,8 +70,7 @@ def spike_filter(
         trajectory (and above the threshold).
     """
     dataset.require([column])
-    if max_width < 1:
-        raise InputError(f"max_width {max_width}: must be at least 1")
+    _check_glitch_params(threshold, k, max_width)
     report = StepReport("spike_filter", {}, dataset)
     timed = "time" in dataset.columns
     if threshold == "auto":
@@ -115,12 +116,23 @@ def glitch_samples(dataset: Dataset, column: str = "angle", *, threshold: float 
     """The glitch samples :func:`spike_filter` removes with these settings (see there), by
     trajectory id: indices ascending, only for trajectories that have any. Also for drawing raw
     data without the lines a glitch throws across a figure."""
+    _check_glitch_params(threshold, k, max_width)
     timed = "time" in dataset.columns
     if threshold == "auto":
         threshold = _auto_threshold(dataset, column, k, timed)
     found = {t.id: find_spikes(t[column], t["time"] if timed else None, float(threshold), max_width)
              for t in dataset}
     return {name: spikes for name, spikes in found.items() if spikes.size}
+
+
+def _check_glitch_params(threshold: float | str, k: float, max_width: int) -> None:
+    """Refuse settings that would take ordinary motion for glitches (or none at all)."""
+    if threshold != "auto" and not threshold >= 0:
+        raise InputError(f'threshold {threshold}: must be "auto" or a speed of 0 or more (column units per second)')
+    if not k > 0:
+        raise InputError(f"k {k}: must be positive (robust standard deviations of the automatic threshold; 3 in the preset)")
+    if max_width < 1:
+        raise InputError(f"max_width {max_width}: must be at least 1")
 
 
 def _frame(time: np.ndarray | None) -> float | None:

@@ -56,16 +56,23 @@ def reject_shapes(
     column, velocity_column : str
     k : float
         A trajectory is rejected when its distance to its context's common shape exceeds the
-        median distance over the dataset by ``k`` robust standard deviations (MAD).
+        median distance over the dataset by ``k`` robust standard deviations (MAD); positive.
     min_trajectories : int
-        Contexts with fewer trajectories have no common shape to compare with; they are kept.
+        Contexts with fewer trajectories have no common shape to compare with; they are kept
+        (at least 1).
     points : int
-        Samples of a shape.
+        Samples of a shape (at least 2).
 
     The common shape is the pointwise median of the context's shapes (velocity against progress,
     over the mean speed); the distance is the root mean square difference.
     """
     dataset.require([column, velocity_column])
+    if not k > 0:
+        raise InputError(f"k {k}: must be positive (robust standard deviations above the median distance; 4 in the preset)")
+    if min_trajectories < 1:
+        raise InputError(f"min_trajectories {min_trajectories}: must be at least 1")
+    if points < 2:
+        raise InputError(f"points {points}: must be at least 2 (samples of a shape; 50 by default)")
     params = {"column": column, "velocity_column": velocity_column, "k": k,
               "min_trajectories": min_trajectories, "points": points}
     report = StepReport("reject_shapes", params, dataset)
@@ -131,11 +138,12 @@ def reject_contexts(
         checked again, so the neighbours of a bad context are not blamed for it. "none" skips
         the check.
     tolerance : float
-        Relative deviation allowed (0.10: 10 %).
+        Relative deviation allowed (0.10: 10 %); 0 or more.
     z : float
         The deviation must also exceed ``z`` standard errors of the levels compared (a level's
         standard error: 1.4826 MAD of its trajectories' mean velocities over the square root of
-        their number), so that sparse, noisy recordings do not lose good contexts to chance.
+        their number), so that sparse, noisy recordings do not lose good contexts to chance; 0
+        or more.
     by_subject : bool
         When every trajectory has a ``subject``, divide each trajectory's mean velocity by its
         subject's median (times the overall median, to stay in rad/s) before comparing contexts,
@@ -146,7 +154,8 @@ def reject_contexts(
     max_spread_ratio : float
         A context stands apart when its trajectories scatter more than this many times the
         median scatter of the contexts (scatter: the median RMS distance of a context's
-        velocity curves from their pointwise median, over the context's level). 0 skips it.
+        velocity curves from their pointwise median, over the context's level). 0 skips it;
+        otherwise at least 1.
     min_contexts : int
         With fewer contexts (per value of the other context columns) nothing is rejected.
     min_trajectories : int
@@ -155,7 +164,7 @@ def reject_contexts(
         distance have one throw per value; give ``bin_width`` for them).
     bin_width : float
         When positive, ``column`` is grouped into bins of this width (m) centred on multiples of
-        it, and a whole bin is judged and rejected as one context.
+        it, and a whole bin is judged and rejected as one context; 0 (default) or positive.
 
     With several context columns, the trend is checked along ``column`` within each group of
     contexts sharing the other columns' values.
@@ -163,6 +172,7 @@ def reject_contexts(
     dataset.require([angle_column, velocity_column])
     if column not in dataset.context:
         raise InputError(f"reject_contexts: {column!r} is not a context column (context: {', '.join(dataset.context) or 'none'})")
+    _check_context_params(tolerance, z, max_spread_ratio, min_contexts, min_trajectories, bin_width)
     params = {"column": column, "angle_column": angle_column, "velocity_column": velocity_column,
               "trend": trend, "tolerance": tolerance, "z": z, "by_subject": by_subject,
               "max_spread_ratio": max_spread_ratio,
@@ -215,6 +225,24 @@ def reject_contexts(
     dropped = {t.id for context in rejected for t in groups[context]}
     report.after = dataset.replace(t for t in dataset if t.id not in dropped)
     return report.after, report
+
+
+def _check_context_params(tolerance: float, z: float, max_spread_ratio: float, min_contexts: int,
+                          min_trajectories: int, bin_width: float) -> None:
+    """Refuse settings outside the ranges :func:`reject_contexts` documents."""
+    for name, value in (("tolerance", tolerance), ("z", z)):
+        if not value >= 0:
+            raise InputError(f"{name} {value}: must be 0 or more")
+    if not (max_spread_ratio == 0 or max_spread_ratio >= 1):
+        raise InputError(
+            f"max_spread_ratio {max_spread_ratio}: must be 0 (off) or at least 1 (below 1, a context "
+            "that scatters less than the typical one would stand apart)"
+        )
+    for name, count in (("min_contexts", min_contexts), ("min_trajectories", min_trajectories)):
+        if count < 1:
+            raise InputError(f"{name} {count}: must be at least 1")
+    if not bin_width >= 0:
+        raise InputError(f"bin_width {bin_width}: must be 0 (off) or positive (m)")
 
 
 def _grouped(dataset: Dataset, axis: int, bin_width: float) -> dict[tuple[float, ...], list[Trajectory]]:

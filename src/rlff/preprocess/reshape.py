@@ -47,6 +47,11 @@ def stop_point(
     rest (their velocities 0 too); other columns repeat their last value.
     """
     dataset.require([column, velocity_column])
+    if not extension > 0:
+        raise InputError(
+            f"extension {extension}: must be positive (the stop point's distance beyond the last {column}, "
+            "a share of it: 0.10 is 10 %)"
+        )
     params = {"column": column, "velocity_column": velocity_column, "extension": extension}
     report = StepReport("stop_point", params, dataset)
     out = []

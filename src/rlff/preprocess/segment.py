@@ -195,6 +195,8 @@ def balance(
     """
     if max_per_context < 1:
         raise InputError(f"max_per_context {max_per_context}: must be at least 1")
+    if seed < 0:
+        raise InputError(f"seed {seed}: must be 0 or more (a seed of numpy's random generator)")
     report = StepReport(
         "balance", {"max_per_context": max_per_context, "order": order, "seed": seed}, dataset
     )
