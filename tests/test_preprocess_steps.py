@@ -452,3 +452,40 @@ def test_densify_resamples_the_other_joints_along_the_angle():
     np.testing.assert_allclose(out["a"]["shoulder"], 1.2 + 0.5 * grid, atol=1e-12)
     np.testing.assert_allclose(out["a"]["shoulder_velocity"], 3.0 - grid, atol=1e-12)
     np.testing.assert_array_equal(out["a"]["height"], np.full(grid.size, 0.6))
+
+
+def _uncropped(name, end):
+    """A throw with its rest, wind-up, extension and follow-through: it starts at rest at 2.6,
+    flexes to 0.8, extends fast to 3.0 and falls back to ``end``, 10 Hz."""
+    angle = np.array([2.6, 2.3, 1.9, 1.4, 1.0, 0.8, 1.1, 1.9, 2.6, 3.0, 2.8, end])
+    time = np.arange(angle.size) * 0.1
+    return _throw(name, angle, velocity=np.gradient(angle, time), time=time)
+
+
+def test_cut_release_takes_the_throws_direction_from_their_extension_not_their_ends():
+    # both end lower than they start: the first and last angle say "decreasing"; the extension,
+    # the fastest part, goes up
+    data = Dataset([_uncropped("low", 2.4), _uncropped("lower", 2.3)])
+    out, report = cut_release(data, mode="estimated")
+    assert report.params["throws"] == "increasing"
+    assert [t.meta["cut_angle"] for t in out] == [1.9, 1.9]  # the fastest sample, 1.1 -> 1.9 -> 2.6
+    # a throw that starts below the fixed angle is cut in its extension; one that starts beyond it
+    # is removed with that reason
+    wound = Dataset([_throw("wound", [1.0, 0.7, 1.5, 2.4, 3.0, 2.2, 0.6], velocity=[-3, -1, 8, 12, 9, -4, -6])])
+    out, report = cut_release(wound, mode="angle", angle=2.0)
+    np.testing.assert_array_equal(out["wound"]["angle"], [1.0, 0.7, 1.5])
+    _, report = cut_release(data, mode="angle", angle=0.1)
+    assert [r.reason for r in report.removed] == ["cut at angle 0.1: it starts beyond it, at 2.6 (angle increasing in "
+                                               "the throws); crop it to its extension first (step crop)"] * 2
+
+
+def test_cut_release_direction_is_the_datasets_majority_or_given():
+    data = Dataset([_uncropped("a", 2.4), _uncropped("b", 2.4),
+                    _throw("odd", [3.0, 2.0, 1.9], velocity=[-9, -10, -1], time=[0, 0.1, 0.2])])
+    _, report = cut_release(data)
+    assert report.params["throws"] == "increasing"
+    assert "1 trajectory (odd) move angle the other way at their fastest sample" in report.notes[0]
+    tie = Dataset([_uncropped("a", 2.4), _throw("odd", [3.0, 2.0, 1.9], velocity=[-9, -10, -1], time=[0, 0.1, 0.2])])
+    with pytest.raises(InputError, match=r"cannot tell which way angle moves in the throws: 1 .* up .* 1 down; give direction"):
+        cut_release(tie)
+    assert cut_release(tie, direction="decreasing")[1].params["throws"] == "decreasing"

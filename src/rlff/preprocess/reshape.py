@@ -262,6 +262,7 @@ def cut_release(
     velocity_column: str = "velocity",
     after_peak: float = 0.0,
     top: float = 0.0,
+    direction: Literal["auto", "increasing", "decreasing"] = "auto",
 ) -> tuple[Dataset, StepReport]:
     """Keep each trajectory up to the ball's release, dropping the follow-through.
 
@@ -288,6 +289,12 @@ def cut_release(
         nearly equal in speed, so which of them is fastest is the tracker's noise: at 10 Hz the
         cut angles of the real MSR throws spread over 1.0-3.0 rad (1.3-2.7 at 15 Hz). 0.1 is
         measured better for recordings sparser than 15 Hz (docs/data.md, "Sparse recordings").
+    direction : {"auto", "increasing", "decreasing"}
+        Which way ``column`` moves in the throw's extension: "beyond" the fixed angle and the
+        speed of mode "estimated" are counted that way. "auto": the way the dataset's throws
+        share, each throw voting with the way its angle moves at its fastest sample (the
+        extension; a throw's first and last angle do not tell, since an uncropped throw starts
+        with its wind-up and may end lower than it started). A tie is an error asking for it.
 
     The cut angle goes into each trajectory's metadata as ``cut_angle``. Trajectories left
     with fewer than 2 samples (they start beyond the fixed angle, or their velocity peaks at their
@@ -298,18 +305,24 @@ def cut_release(
         raise InputError(f"after_peak {after_peak}: must be in [0, 1)")
     if not 0.0 <= top < 1.0:
         raise InputError(f"top {top}: the share of the peak speed the velocity's top spans, must be in [0, 1)")
-    params = {"mode": mode, "angle": angle, "column": column,
-              "velocity_column": velocity_column, "after_peak": after_peak, "top": top}
-    report = StepReport("cut_release", params, dataset)
+    report = StepReport("cut_release", {}, dataset)
+    sign = _throw_direction(dataset, column, velocity_column, direction, report)
+    report.params = {"mode": mode, "angle": angle, "column": column, "velocity_column": velocity_column,
+                     "after_peak": after_peak, "top": top, "direction": direction,
+                     "throws": "increasing" if sign > 0 else "decreasing"}
     out = []
     for trajectory in dataset:
         values = trajectory[column]
-        direction = _direction(values) or 1.0
         if mode == "angle":
-            keep = int(np.count_nonzero(np.cumprod(direction * (values - angle) <= 0)))
+            keep = int(np.count_nonzero(np.cumprod(sign * (values - angle) <= 0)))
             why = f"cut at {column} {angle:g}"
+            if keep == 0:
+                crop_first = "" if _monotonic(values) else "; crop it to its extension first (step crop)"
+                report.remove(trajectory.id, f"{why}: it starts beyond it, at {values[0]:.4g} ({column} "
+                              f"{'increasing' if sign > 0 else 'decreasing'} in the throws){crop_first}")
+                continue
         else:
-            speed = direction * trajectory[velocity_column]
+            speed = sign * trajectory[velocity_column]
             peak = _middle_of_top(values, speed, top)
             below = np.flatnonzero(speed[peak:] <= (1.0 - after_peak) * speed.max()) if after_peak else [0]
             keep = peak + int(below[0] if len(below) else speed.size - 1 - peak) + 1
@@ -323,6 +336,48 @@ def cut_release(
         report.change_samples(trajectory.id, len(trajectory) - keep, 0, f"{why}: {column} {values[keep - 1]:.4g}")
     report.after = dataset.replace(out)
     return report.after, report
+
+
+def _monotonic(values: np.ndarray) -> bool:
+    steps = np.diff(values)
+    return bool(np.all(steps > 0) or np.all(steps < 0))
+
+
+def _throw_direction(dataset: Dataset, column: str, velocity_column: str, direction: str,
+                     report: StepReport) -> float:
+    """+1 when ``column`` grows in the throws' extension, -1 when it falls: as given, or (``"auto"``)
+    the majority of the trajectories' votes, each the sign of the change of ``column`` about its
+    fastest sample (largest absolute ``velocity_column``). Dissenters get a note in ``report``;
+    a tie is an :class:`InputError`; no vote at all (no motion) counts as increasing."""
+    if direction not in ("auto", "increasing", "decreasing"):
+        raise InputError(f"direction {direction!r}: must be \"auto\", \"increasing\" or \"decreasing\"")
+    if direction != "auto":
+        return 1.0 if direction == "increasing" else -1.0
+    votes = {}
+    for trajectory in dataset:
+        values = trajectory[column]
+        if values.size < 2:
+            continue
+        fastest = int(np.argmax(np.abs(trajectory[velocity_column])))
+        vote = float(np.sign(np.gradient(values)[fastest]))
+        if vote:
+            votes[trajectory.id] = vote
+    up = sum(vote > 0 for vote in votes.values())
+    down = len(votes) - up
+    if up == down and votes:
+        raise InputError(
+            f"cannot tell which way {column} moves in the throws: {up} trajectories move it up at their "
+            f"fastest sample, {down} down; give direction = \"increasing\" or \"decreasing\""
+        )
+    sign = 1.0 if up >= down else -1.0
+    odd = [name for name, vote in votes.items() if vote != sign]
+    if odd:
+        report.notes.append(
+            f"{len(odd)} {'trajectories' if len(odd) > 1 else 'trajectory'} ({', '.join(odd[:3])}"
+            f"{', ...' if len(odd) > 3 else ''}) move {column} the other way at their fastest sample; "
+            f"cut as the other {max(up, down)}, {column} {'increasing' if sign > 0 else 'decreasing'}"
+        )
+    return sign
 
 
 def _middle_of_top(values: np.ndarray, speed: np.ndarray, top: float) -> int:
