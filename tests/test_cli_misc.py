@@ -247,7 +247,10 @@ def test_plot_bad_input(rlff, throws_csv, tmp_path):
     one_line_error(rlff("plot", "kmeans-em", str(throws_csv), "--k", "2,x", "-o", str(tmp_path / "x")),
                    "--k: 'x' is not a number")
     one_line_error(rlff("plot", "kmeans-em", str(throws_csv), "--k", "100000", "-o", str(tmp_path / "x")),
-                   "--k: numbers of components [100000] must be between 1 and the")
+                   "--k: number of components 100000 must be between 1 and the")
+    # only the bad values are named: 1 is a valid K
+    one_line_error(rlff("plot", "kmeans-em", str(throws_csv), "--k", "0,1,-2", "-o", str(tmp_path / "x")),
+                   "--k: numbers of components 0, -2 must be between 1 and the")
     one_line_error(rlff("plot", "preprocess", str(throws_csv), "--preset", "thesis", "--config", "a.toml",
                        "-o", str(tmp_path / "x")), "either --preset or --config")
     one_line_error(rlff("plot", "donuts", "--eps", "0,2", "-o", str(tmp_path / "x")), "exploration factor 2 is outside [0, 1]")

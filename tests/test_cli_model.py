@@ -60,6 +60,17 @@ def test_fit_prints_the_bic_table(thesis_files, rlff, tmp_path):
     assert json.loads(fixed.stdout)["n_components"] == 2 and json.loads(fixed.stdout)["selection"] is None
 
 
+def test_fit_warns_for_a_given_k_with_more_parameters_than_samples(thesis_files, rlff, tmp_path):
+    data, _, _ = thesis_files
+    # 39 parameters at K = 4, 20 samples counted; the automatic choice says as much for its K
+    result = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "4", "--effective-samples", "20")
+    assert result.code == 0, result.stderr
+    assert "the given K = 4 has 39 parameters, more than the 20 effective samples BIC counts" in result.stderr
+    assert "K = 4 given, 550 samples" in result.stdout and "chosen" not in result.stdout
+    auto = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--max-components", "2")
+    assert "K = 2 chosen" in auto.stdout and "K = 2 given" not in auto.stdout
+
+
 def test_generate_options(thesis_files, rlff, tmp_path):
     _, model, _ = thesis_files
     out = tmp_path / "traj.csv"

@@ -459,3 +459,12 @@ def test_a_grid_is_held_to_what_its_climbs_would_hold(thesis_model):
     with pytest.raises(InputError, match=rf"with this model \(2 components, 5 outputs: about .* kB a point\): "
                                          rf"{most + 1:,} is more than the {most:,} allowed"):
         arm.generate({"distance": 1.5}, np.linspace(0.5, 2.5, most + 1))
+
+
+def test_a_given_k_with_more_parameters_than_samples_is_said_too():
+    # K = 4 over (angle, distance, velocity): 4 x (3 + 6) + 3 = 39 parameters against 20 samples
+    model = Model.fit(thesis_dataset(), components=4, effective_samples=20.0)
+    assert model.mixture.n_parameters() == 39
+    assert model.selection_notes() == [
+        "the given K = 4 has 39 parameters, more than the 20 effective samples BIC counts: its components "
+        "fit the noise of a few samples (fewer components, or leave K to BIC: components=\"auto\", rlff fit -k auto)"]

@@ -250,9 +250,11 @@ def fit_command(
     warn_copies(dataset, data)
     if components != "auto" and int(components) > dataset.n_samples:
         raise InputError(f"-k/--components {components} is more than the {dataset.n_samples} samples of {data}")
+    beyond_bound = False
     if components != "auto":
         bound, counted = _component_bound(dataset, effective)
-        if int(components) > bound:  # BIC would not have tried it: each component fits the noise of a few samples
+        beyond_bound = int(components) > bound
+        if beyond_bound:  # BIC would not have tried it: each component fits the noise of a few samples
             warn(f"-k/--components {components} is more than the {counted} of {data} support ({bound} at most): "
                  "components fit the noise of a few samples; leave K to BIC (-k auto)")
     if inputs is None:
@@ -284,7 +286,8 @@ def fit_command(
             warn(text)
             shown.add(text)
     for note in model.selection_notes():
-        warn(note)
+        if not (beyond_bound and note.startswith("the given K")):  # said before the fit, in the CLI's words
+            warn(note)
     model.save(output)
     summary = {
         "output": str(output),
@@ -317,7 +320,7 @@ def fit_command(
             )
         stdout().print(table)
     stdout().print(
-        f"K = {model.n_components} chosen, {plural(summary['n_samples'], 'sample')}, BIC {summary['bic']:.2f}"
+        f"K = {model.n_components} {'given' if model.selection is None else 'chosen'}, {plural(summary['n_samples'], 'sample')}, BIC {summary['bic']:.2f}"
         + "".join(f", {name} resolution {value:g}" for name, value in summary["context_resolution"].items() if value > 0)
         + (f", BIC over {summary['effective_samples']:.0f} effective samples" if summary["effective_samples"] else "")
         + f" -> {output}",

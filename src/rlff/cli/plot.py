@@ -127,7 +127,7 @@ def kmeans_em_command(
         saved = kmeans_em_for_dataset(read_data(data), out, ks=ks, distance=distance, seed=seed,
                                       effective_samples=effective)
     except InputError as exc:  # the library names its parameter; the user typed --k
-        if str(exc).startswith("numbers of components"):
+        if str(exc).startswith(("number of components", "numbers of components", "no number of components")):
             raise InputError(f"--k: {exc}") from None
         raise
     _done([saved], as_json)

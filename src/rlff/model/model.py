@@ -265,17 +265,22 @@ class Model:
         return int(self.mixture.weights_.size)
 
     def selection_notes(self) -> list[str]:
-        """What a reader of a K chosen by the criterion should know (empty when K was given):
-        that K is the largest tried (a larger one may fit better; not when K is as large as the
-        samples allow), and that the criterion rests on fewer (effective) samples than the chosen
-        K's parameters (the data hardly decide K)."""
-        if self.selection is None:
-            return []
-        notes = []
-        tried = max(int(row["n_components"]) for row in self.selection.table)
+        """What a reader of a K chosen by the criterion should know: that K is the largest tried (a
+        larger one may fit better; not when K is as large as the samples allow), and that the
+        criterion rests on fewer (effective) samples than the chosen K's parameters (the data
+        hardly decide K). A K given outright gets the last note only, in its own words: its
+        components fit the noise of a few samples."""
         n_samples = self.fit_info.get("n_samples", math.inf)
         effective, parameters = self.fit_info.get("effective_samples"), self.mixture.n_parameters()
         counted, what = (effective, "effective samples") if effective else (n_samples, "samples")  # None: every one
+        if self.selection is None:
+            if counted >= parameters:
+                return []
+            return [f"the given K = {self.n_components} has {parameters} parameters, more than the {counted:.0f} "
+                    f"{what} BIC counts: its components fit the noise of a few samples (fewer components, or "
+                    "leave K to BIC: components=\"auto\", rlff fit -k auto)"]
+        notes = []
+        tried = max(int(row["n_components"]) for row in self.selection.table)
         if self.n_components == tried > 1 and tried + 1 <= counted:  # K at component_bound: no larger K to try
             notes.append(f"{self.selection.criterion.upper()} chose K = {self.n_components}, the largest tried: "
                          "a larger K may fit better (raise max_components, rlff fit --max-components)")

@@ -107,8 +107,12 @@ def kmeans_em_steps(
         raise InputError(f"points must have shape (N, 2), got {points.shape}")
     if not np.all(np.isfinite(points)):
         raise InputError("points hold NaN or inf")
-    if not ks or min(ks) < 1 or max(ks) > points.shape[0]:
-        raise InputError(f"numbers of components {list(ks)} must be between 1 and the {points.shape[0]} points")
+    if not ks:
+        raise InputError("no number of components: give one or more, e.g. 2,3,4")
+    bad = [k for k in ks if not 1 <= k <= points.shape[0]]
+    if bad:  # only the bad ones: "[0, 1] must be between 1 and ..." read as if 1 were wrong too
+        raise InputError(f"{'number' if len(bad) == 1 else 'numbers'} of components {', '.join(map(str, bad))} "
+                         f"must be between 1 and the {points.shape[0]} points")
     n_points = points.shape[0]
     if n_points > max_points:  # an illustration of the algorithms: a random subset reads as well
         points = points[np.sort(np.random.default_rng(seed).choice(n_points, max_points, replace=False))]
