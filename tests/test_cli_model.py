@@ -60,6 +60,28 @@ def test_fit_prints_the_bic_table(thesis_files, rlff, tmp_path):
     assert json.loads(fixed.stdout)["n_components"] == 2 and json.loads(fixed.stdout)["selection"] is None
 
 
+def test_fit_table_ln_l_is_the_one_bic_counts(rlff, tmp_path):
+    """With effective samples BIC scales ln L by n_e / n: the table's ln L is that one, so that
+    -2 ln L + p ln n_e gives its BIC, as the BIC figure's legend says."""
+    from rlff.dataset import Dataset, Trajectory, write_csv
+    from rlff.preprocess import densify
+
+    rng = np.random.default_rng(1)
+    throws = [Trajectory(f"t{i}", {"angle": np.linspace(0.7, 2.8, 6), "distance": np.full(6, 1.0 + 0.5 * (i % 3)),
+                                   "velocity": 6 * np.sin(np.linspace(0.7, 2.8, 6)) + rng.normal(0, 0.3, 6)})
+              for i in range(12)]
+    data = tmp_path / "dense.csv"
+    write_csv(densify(Dataset(throws), step=0.01)[0], data)
+    result = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--max-components", "2",
+                  "--effective-samples", "50")
+    assert result.code == 0, result.stderr
+    rows = [line.strip("│ ").split("│") for line in result.stdout.splitlines() if line.startswith("│")]
+    for k, bic, _, ln_l, _ in rows:
+        parameters = int(k.strip(" *")) * (3 + 6) + int(k.strip(" *")) - 1
+        assert -2 * float(ln_l) + parameters * np.log(50) == pytest.approx(float(bic), abs=0.02)
+    assert "ln L scaled by 50 effective samples / " in result.stdout
+
+
 def test_fit_warns_for_a_given_k_with_more_parameters_than_samples(thesis_files, rlff, tmp_path):
     data, _, _ = thesis_files
     # 39 parameters at K = 4, 20 samples counted; the automatic choice says as much for its K

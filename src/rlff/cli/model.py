@@ -309,14 +309,22 @@ def fit_command(
     if model.selection is not None:
         from rich.table import Table
 
-        table = Table(title=f"Choosing K by {model.selection.criterion.upper()} (lowest wins)")
+        # ln L as BIC and AIC count it (BIC = -2 ln L + p ln n, the figure's legend): with effective
+        # samples n_e, ln L over all n samples scaled by n_e / n
+        n, n_e = summary["n_samples"], summary["effective_samples"]
+        share = 1.0 if n_e is None else n_e / n
+        caption = None if n_e is None else (
+            f"ln L scaled by {n_e:.4g} effective samples / {n} samples, as BIC and AIC count it: "
+            f"BIC = -2 ln L + p ln {n_e:.4g}"
+        )
+        table = Table(title=f"Choosing K by {model.selection.criterion.upper()} (lowest wins)", caption=caption)
         for column in ("K", "BIC", "AIC", "ln L", "converged"):
             table.add_column(column, justify="right")
         for row in model.selection.table:
             mark = " *" if row["n_components"] == model.n_components else ""
             table.add_row(
                 f"{row['n_components']}{mark}", f"{row['bic']:.2f}", f"{row['aic']:.2f}",
-                f"{row['log_likelihood']:.2f}", "yes" if row["converged"] else "no",
+                f"{row['log_likelihood'] * share:.2f}", "yes" if row["converged"] else "no",
             )
         stdout().print(table)
     stdout().print(

@@ -287,8 +287,10 @@ class Model:
         fallen = _fallen_likelihood(self.selection.table, self.n_components)
         if fallen is not None:
             larger, smaller = fallen
+            share = effective / n_samples if effective else 1.0  # ln L as the criterion counts it (rlff fit's table)
             notes.append(f"ln L falls from K = {smaller['n_components']} to K = {larger['n_components']} "
-                         f"({smaller['log_likelihood']:.2f} to {larger['log_likelihood']:.2f}), though a mixture of "
+                         f"({smaller['log_likelihood'] * share:.2f} to {larger['log_likelihood'] * share:.2f}), "
+                         "though a mixture of "
                          f"{larger['n_components']} can fit as well as one of {smaller['n_components']}: EM's "
                          f"{self.fit_info.get('n_init', DEFAULT_N_INIT)} starts found a poorer optimum there, so "
                          f"K = {larger['n_components']} may have lost to K = {self.n_components} for its fit, not "
