@@ -242,6 +242,19 @@ def test_plot_preprocess_runs_the_pipeline(rlff, tmp_path):
         assert step in svg
 
 
+@pytest.mark.parametrize("kind", [("dataset", "{data}"), ("bic", "{data}"), ("donuts",), ("kmeans-em", "{data}")])
+@pytest.mark.parametrize("folder", ["made/", "existing"])
+def test_plot_refuses_a_folder_as_the_file_stem(rlff, throws_csv, tmp_path, kind, folder):
+    # -o p/ wrote ./p-3d.png and ./p-slices.png beside the folder
+    (tmp_path / "existing").mkdir()
+    out = str(tmp_path / folder) + ("/" if folder.endswith("/") else "")
+    args = [part.format(data=throws_csv) for part in kind]
+    line = one_line_error(rlff("plot", *args, "-o", out), "a folder, and -o is the figures' file stem",
+                          f"e.g. -o {tmp_path / folder.rstrip('/') / 'figure'}")
+    assert line
+    assert sorted(p.name for p in tmp_path.iterdir() if p.name != "throws.csv") == ["existing"]
+
+
 def test_plot_bad_input(rlff, throws_csv, tmp_path):
     one_line_error(rlff("plot", "dataset", str(tmp_path / "none.csv"), "-o", str(tmp_path / "x")), "none.csv: no such file")
     one_line_error(rlff("plot", "kmeans-em", str(throws_csv), "--k", "2,x", "-o", str(tmp_path / "x")),

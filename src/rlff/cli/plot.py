@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import typer
@@ -56,7 +57,20 @@ def _done(saved: list, as_json: bool) -> None:
         stdout().print(str(path), highlight=False)
 
 
-_OUT = typer.Option(..., "--output", "-o", "--out", help="Output file stem: writes OUT.png and OUT.svg.")
+def _figure_stem(text: str) -> Path:
+    """``-o``, the figures' file stem, refused when it names a folder (an existing one, or a path
+    ending in a separator, which ``Path`` would forget): the figures would land beside it."""
+    path = Path(text)
+    if text.endswith(("/", os.sep)) or path.is_dir():
+        raise typer.BadParameter(
+            f"a folder, and -o is the figures' file stem (OUT.png and OUT.svg are written): give a name "
+            f"in it, e.g. -o {path / 'figure'}"
+        )
+    return path
+
+
+_OUT = typer.Option(..., "--output", "-o", "--out", parser=_figure_stem,
+                    help="Output file stem: writes OUT.png and OUT.svg (a file name, not a folder).")
 
 
 def _guard(out: Path, inputs: dict, parts: tuple[str, ...] = ("",)) -> None:
