@@ -82,6 +82,18 @@ def test_fit_table_ln_l_is_the_one_bic_counts(rlff, tmp_path):
     assert "ln L scaled by 50 effective samples / " in result.stdout
 
 
+def test_a_dataset_given_as_the_model_says_to_fit_one_first(thesis_files, rlff, tmp_path):
+    data, _, _ = thesis_files
+    result = rlff("generate", str(data), "--context", "distance=2", "-o", str(tmp_path / "t.csv"))
+    assert result.code == 2 and len(result.stderr.strip().splitlines()) == 1
+    assert (f"{data}: a dataset, not a model (model.json): fit one first, rlff fit {data} -o model.json"
+            in result.stderr), result.stderr
+    garbage = tmp_path / "m.json"
+    garbage.write_text("{ nope")
+    assert "not valid JSON" in rlff("generate", str(garbage), "--context", "distance=2", "-o",
+                                    str(tmp_path / "t.csv")).stderr
+
+
 def test_fit_warns_for_a_given_k_with_more_parameters_than_samples(thesis_files, rlff, tmp_path):
     data, _, _ = thesis_files
     # 39 parameters at K = 4, 20 samples counted; the automatic choice says as much for its K

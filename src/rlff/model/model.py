@@ -607,8 +607,31 @@ class Model:
 
     @classmethod
     def load(cls, path: str | Path) -> Model:
-        """Read and validate ``model.json``."""
-        return _parse(read_json_object(path), str(path))
+        """Read and validate ``model.json``; a dataset given in its place is said to be one."""
+        try:
+            document = read_json_object(path)
+        except InputError:
+            if _looks_like_dataset(Path(path)):
+                raise InputError(f"{path}: a dataset, not a model (model.json): fit one first, "
+                                 f"rlff fit {path} -o model.json") from None
+            raise
+        return _parse(document, str(path))
+
+
+def _looks_like_dataset(path: Path) -> bool:
+    """Whether ``path``, which does not hold a JSON object, is a dataset file: by its extension
+    (:data:`rlff.formats.FORMATS`), or a long-format table's header (``trajectory,...``)."""
+    from rlff.formats import FORMATS
+
+    if not path.is_file():  # missing: read_json_object's "no such file" says it
+        return False
+    if path.suffix.lower() in {suffix for suffixes in FORMATS.values() for suffix in suffixes}:
+        return True
+    try:
+        with path.open("rb") as file:
+            return file.read(64).lstrip(b"\xef\xbb\xbf").startswith(b"trajectory,")
+    except OSError:
+        return False
 
 
 # -- helpers -------------------------------------------------------------------------------------
