@@ -9,6 +9,7 @@ from __future__ import annotations
 import hashlib
 import json
 import sys
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -54,8 +55,11 @@ def made(tmp_path_factory) -> dict[str, Path]:
                       "4944415478da63f8cfc0f01f0005000201a5f5d2c80000000049454e44ae426082"))
     write_run(Run("r", "2026-01-01T00:00:00+00:00", sections=[Section("a", "A", facts={"n": 1})],
                   figures=[FigureEntry("figures/dot.png", "a", "Dot")]), run)
+    arm = folder / "arm.toml"  # the user's own robot file
+    arm.write_text((resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text(encoding="utf-8"))
     return {"folder": folder, "raw": raw, "model": model, "path": path, "throw": throw, "bag": bag,
-            "manifest": manifest, "run_json": run / "run.json", "figure": run / "figures" / "dot.png", "run": run}
+            "manifest": manifest, "run_json": run / "run.json", "figure": run / "figures" / "dot.png", "run": run,
+            "arm": arm}
 
 
 # (arguments, the input that must survive, fragments of the one line)
@@ -81,6 +85,10 @@ OVERWRITES = {
     "plot over its input": (["plot", "dataset", "{raw}", "-o", "{folder}/raw.csv"], "raw", []),
     "learn --log the demonstrations": (["learn", "{raw}", "--basket", "2", "--log", "{raw}"], "raw",
                                                  ["--log", "is the input DEMOS"]),
+    "learn --out the robot file": (["learn", "{raw}", "--basket", "2", "--robot", "{arm}", "--out", "{arm}",
+                                    "--format", "csv"], "arm", ["-o/--output", "is the input --robot"]),
+    "robot export -o the robot file": (["robot", "export", "{throw}", "--robot", "{arm}", "--format", "json", "-o",
+                                        "{arm}"], "arm", ["is the input --robot"]),
     "the same file by another name": (["fit", "{raw}", "-o", "{folder}/../{folder_name}/raw.csv"], "raw",
                                       ["is the input DATA"]),
 }

@@ -94,12 +94,13 @@ def learn_command(
 ) -> None:
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
     from rlff.cli.model import read_data
-    from rlff.cli.output import guard
+    from rlff.cli.output import guard, robot_file
     from rlff.errors import InputError
     from rlff.learn.method import COLUMNS
 
     # the log is read (resumed) and written: it may exist, but must not be the demonstrations
-    guard(inputs={"DEMOS": demos, "--carry": carry or None}, outputs={"--log": log, "-o/--output": out})
+    guard(inputs={"DEMOS": demos, "--carry": carry or None, "--robot": robot_file(robot)},
+          outputs={"--log": log, "-o/--output": out})
     if out is not None:  # a bad --out, --format or --period fails before the first throw
         from rlff.learn.replay import export_format
         from rlff.limits import check_period

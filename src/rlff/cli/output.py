@@ -57,6 +57,12 @@ def guard(
     check_outputs(inputs, outputs)
 
 
+def robot_file(robot: str) -> Path | None:
+    """The robot file ``--robot`` names (an input no output may replace), or None for a built-in
+    robot's name."""
+    return Path(robot) if robot.endswith(".toml") or Path(robot).is_file() else None
+
+
 def write_json(path: PathLike, payload: Any) -> Path:
     """Write ``payload`` as indented JSON to ``path`` atomically (a ``--report`` file)."""
     from rlff.cli._common import jsonable
@@ -64,4 +70,4 @@ def write_json(path: PathLike, payload: Any) -> Path:
     return write_text(path, json.dumps(payload, default=jsonable, indent=2) + "\n")
 
 
-__all__ = ["guard", "write_json"]
+__all__ = ["guard", "robot_file", "write_json"]

@@ -170,7 +170,7 @@ def export(
     as JSON, CSV, a ROS bag or a Comau program."""
     import time as clock
 
-    from rlff.cli.output import guard
+    from rlff.cli.output import guard, robot_file
     from rlff.learn.replay import (
         SUFFIX_FORMATS,
         export_format,
@@ -183,7 +183,7 @@ def export(
     from rlff.robot.mapping import mapping_for
 
     bag_folder = (fmt or SUFFIX_FORMATS.get(out.suffix.lower())) == "ros2-bag"
-    guard(inputs={"TRAJECTORY": trajectory, "--robot": _robot_file(robot)}, outputs={"-o/--output": out},
+    guard(inputs={"TRAJECTORY": trajectory, "--robot": robot_file(robot)}, outputs={"-o/--output": out},
           folders=["-o/--output"] if bag_folder else [])
     fmt = export_format(out, fmt)  # before any planning; without --format, from the suffix
     driven = joint_list(joints)
@@ -266,11 +266,6 @@ def goal_message(outcome) -> str:
     if outcome.error_string:
         message += f": {outcome.error_string}"
     return message
-
-
-def _robot_file(robot: str) -> Path | None:
-    """The robot file ``--robot`` names, if it names a file rather than a built-in robot."""
-    return Path(robot) if robot.endswith(".toml") else None
 
 
 def _check_ros(ros: int) -> None:

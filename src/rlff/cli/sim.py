@@ -52,7 +52,7 @@ def throw(
     json: bool = JSON,
 ) -> None:
     """Execute a trajectory on the simulated robot and report where the ball lands."""
-    from rlff.cli.output import guard
+    from rlff.cli.output import guard, robot_file
     from rlff.errors import InputError
     from rlff.learn.replay import load_input, rebearing_warning
     from rlff.robot.description import load_robot
@@ -62,7 +62,8 @@ def throw(
     from rlff.sim.inputs import SIM_PERIOD
     from rlff.sim.throw import not_followed
 
-    guard(inputs={"TRAJECTORY": trajectory}, outputs={"--frames": frames}, folders=["--frames"])
+    guard(inputs={"TRAJECTORY": trajectory, "--robot": robot_file(robot)}, outputs={"--frames": frames},
+          folders=["--frames"])
     model = load_robot(robot)
     loaded = load_input(trajectory, model, attempt=attempt, period=SIM_PERIOD, clip=clip, joints=joint_list(joints),
                         bearing=bearing)
