@@ -71,6 +71,19 @@ def test_point_beyond_a_limit_is_an_error_naming_it(robot):
         m.to_robot(angle[:3], np.array([1.0, 3.0, 1.0]))
 
 
+def test_a_release_at_the_limit_mapped_back_from_human_units_is_at_the_limit_not_beyond(robot):
+    # a throw clipped at the limit is logged in human units: 2.792 / 0.147 mapped back is
+    # 2.7920000000000003, and a learned hit could not be written out ("2.792 beyond the limit 2.792")
+    m = mapping(robot, angle_scale=1.0, velocity_scale=0.147, angle_offset=0.0)
+    angle, velocity = np.array([0.0, 1.0, 2.0]), np.array([1.0, 5.0, 2.792 / 0.147])
+    assert velocity[-1] * 0.147 > 2.792
+    traj, report = m.to_robot(angle, velocity)
+    assert traj.velocities[-1, 1] == 2.792 and report.changes == ()
+    assert m.to_robot(angle, velocity, clip=True)[1].changes == ()
+    with pytest.raises(InputError, match=r"joint_2 velocity 2.79201 rad/s beyond the limit 2.792 rad/s"):
+        m.to_robot(angle, np.array([1.0, 5.0, 2.79201 / 0.147]))  # beyond by 10 urad/s: no rounding
+
+
 def test_clip_reports_exactly_what_changed(robot):
     m = mapping(robot, angle_scale=1.0, velocity_scale=1.0, angle_offset=0.0)
     angle = np.array([0.0, 1.0, 2.0, 3.0])

@@ -33,7 +33,13 @@ from rlff.errors import InputError
 from rlff.robot.description import Robot, number_field, require_start_pose, require_throwing_joint
 from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.limits import ClipReport, LimitChange, clip_to_limits, require_within_limits
+from rlff.trajectory.limits import (
+    ClipReport,
+    LimitChange,
+    clip_to_limits,
+    onto_limits,
+    require_within_limits,
+)
 
 #: A throw in human units (thesis 4.2): columns of equal length T, always ``angle`` (rad, the
 #: elbow, the phase) and ``velocity`` (rad/s), plus ``shoulder``/``shoulder_velocity`` and
@@ -167,8 +173,8 @@ class RobotMapping:
         velocities = np.zeros((count, joints))
         positions[:, driven] = self.angle_offset + self.angle_scale * angle
         velocities[:, driven] = self.velocity_scale * velocity
-        traj = JointTrajectory(self.robot.joint_names, robot_time, positions, velocities,
-                               _accelerations(robot_time, velocities))
+        traj = onto_limits(JointTrajectory(self.robot.joint_names, robot_time, positions, velocities,
+                                           _accelerations(robot_time, velocities)), self.robot.joints)
         if not clip:
             require_within_limits(traj, self.robot.joints)
             return traj, ClipReport()
@@ -439,7 +445,7 @@ class ArmMapping:
             velocities[:, column] = item.scale * human[speed] / self.time_scale
         traj = JointTrajectory(self.robot.joint_names, robot_time, positions, velocities,
                                _accelerations(robot_time, velocities))
-        traj = _turned(traj, self.robot, self.bearing_joint, bearing)
+        traj = onto_limits(_turned(traj, self.robot, self.bearing_joint, bearing), self.robot.joints)
         if not clip:
             require_within_limits(traj, self.robot.joints)
             return traj, ClipReport()

@@ -24,7 +24,7 @@ import pandas as pd
 
 from rlff.dataset import ARM_JOINT_COLUMNS
 from rlff.errors import InputError
-from rlff.limits import check_period
+from rlff.limits import apart, check_period
 from rlff.robot.description import DEFAULT_ROBOT, Robot, load_robot
 from rlff.robot.links import require_above_base
 from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for
@@ -90,8 +90,9 @@ def _fault(change, last: int) -> str:
     if change.quantity == "velocity" and change.after == 0.0 and change.before != 0.0:
         return (f"point {change.point}: {change.joint} velocity {change.before:.6g} {change.unit} moves it against the "
                 f"path's direction{release}, which --clip stops (0 {change.unit})")
-    return (f"point {change.point}: {change.joint} {change.quantity} {change.before:.6g} {change.unit} beyond the "
-            f"limit {change.after:.6g} {change.unit}{release}")
+    value, limit = apart(change.before, change.after)  # as many digits as tell them apart
+    return (f"point {change.point}: {change.joint} {change.quantity} {value} {change.unit} beyond the "
+            f"limit {limit} {change.unit}{release}")
 
 
 #: Largest relative difference between a generated path's time steps and those its angle and

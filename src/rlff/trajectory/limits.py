@@ -95,6 +95,26 @@ def _limit_arrays(traj: JointTrajectory, joints: Sequence[JointLimits]) -> tuple
     return lower, upper, vmax
 
 
+#: Relative excess over a limit that is rounding, not a request: a path logged in the human's
+#: units and mapped back puts a release clipped at 3.14 rad/s at 3.1400000000000006.
+ROUNDING = 1e-9
+
+
+def onto_limits(traj: JointTrajectory, joints: Sequence[JointLimits]) -> JointTrajectory:
+    """``traj`` with every position and velocity beyond a limit of ``joints`` by no more than
+    :data:`ROUNDING` of it set to the limit (``traj`` itself when none is): the mapping's own
+    rounding, which no check should count as beyond the limit, nor a clip report list."""
+    lower, upper, vmax = _limit_arrays(traj, joints)
+    values = []
+    for quantity, low, high in ((traj.positions, lower, upper), (traj.velocities, -vmax, vmax)):
+        clipped = np.clip(quantity, low, high)
+        rounding = np.abs(quantity - clipped) <= ROUNDING * np.maximum(np.abs(clipped), 1.0)
+        values.append(np.where(rounding, clipped, quantity))
+    if all(np.array_equal(new, old) for new, old in zip(values, (traj.positions, traj.velocities), strict=True)):
+        return traj
+    return JointTrajectory(traj.joint_names, traj.time, values[0], values[1], traj.accelerations, traj.release_time)
+
+
 def limit_changes(traj: JointTrajectory, joints: Sequence[JointLimits]) -> ClipReport:
     """Every position and velocity of ``traj`` beyond the limits of ``joints``.
 
