@@ -358,3 +358,10 @@ def test_the_orders_benchmark_counts_from_its_cache(tmp_path):
     never = subprocess.run(command, capture_output=True, text=True, check=True).stdout
     assert "| calibrate | 21.00 | 21.00 |" in never
     assert "| calibrate | 21.00 |" not in measured
+
+
+def test_a_run_that_fails_names_which_run_it_is(short_demos):
+    # one run of hundreds failing ended the benchmark with its error alone (a tester's robot file)
+    with pytest.raises(InputError, match=r"^short, landings none, seed 3, basket 1.4 m, binary feedback, calibrate: "
+                                         r"budget must be a positive whole number of attempts, got 0$"):
+        run_one(short_demos, Scenario("short"), parse_feedback("binary"), "calibrate", 1.4, 3, budget=0)

@@ -295,3 +295,38 @@ def test_cma_takes_the_largest_seed(failed_demos):
 
     problem = replace(make_problem(failed_demos, "distance"), seed=2**32 - 1)
     assert CmaSearch(problem).propose([]).velocity.size  # numpy.random.seed refused 2**32
+
+
+def test_a_throw_whose_run_up_would_pass_a_position_limit_is_slowed_to_the_fastest_that_fits(tmp_path):
+    """A short swing to a fast release needs a wind-up; with joint_2's lower limit just behind the
+    start the asked throw cannot be made, and the loop ended the run with the planner's error (a
+    tester's UR file). It now throws the fastest of that shape that fits, counted as clipped."""
+    import re
+    from importlib import resources
+
+    from rlff.learn.loop import _plan
+    from rlff.robot import load_robot, mapping_for
+    from rlff.robot.plan import plan_path
+    from rlff.timing import time_along_path
+    from rlff.trajectory.check import MotionLimitError, check_trajectory
+
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text(encoding="utf-8")
+    tight = tmp_path / "tight.toml"  # the start maps to joint_2 = -1.65 + 0.71 * 0.4 = -1.366 rad
+    tight.write_text(re.sub(r'(name = "joint_2"\nlower = )-1\.48', r"\g<1>-1.40", text))
+    robot = load_robot(tight)
+    mapping = mapping_for(robot, None)
+    angle = np.linspace(0.4, 0.7, 30)
+    velocity = np.linspace(2.0, 10.0, 30)  # released at 2.5 rad/s after a 0.21 rad swing
+    path = {"angle": angle, "velocity": velocity, "time": time_along_path(angle, velocity)}
+    with pytest.raises(MotionLimitError, match="beyond its lower limit -1.4 rad"):
+        plan_path(mapping, path, clip=True)
+    points, trajectory, clipped = _plan(mapping, path, 0.0)
+    check_trajectory(trajectory, robot.joints)
+    assert trajectory.positions[:, 1].min() >= -1.40
+    (change,) = clipped.changes
+    assert (change.point, change.joint, change.quantity, change.before) == (29, "joint_2", "velocity", 2.5)
+    assert 0.5 * 2.5 < change.after < 2.5 and points.velocities[-1, 1] == change.after
+    faster = {**path, "velocity": velocity * change.after / 2.5 * 1.01}  # the largest that fits, to 1 %
+    faster["time"] = time_along_path(angle, faster["velocity"])
+    with pytest.raises(MotionLimitError):
+        plan_path(mapping, faster, clip=True)

@@ -65,12 +65,23 @@ def demonstrations(seed: int, scenario: Scenario | str = "short") -> Dataset:
 
 def run_one(demos: Dataset, scenario: Scenario, feedback: Feedback, method: str, basket: float, seed: int,
             budget: int) -> Run:
-    """Run one method once from the demonstrations of ``seed``."""
+    """Run one method once from the demonstrations of ``seed``.
+
+    Raises
+    ------
+    InputError
+        The run's, prefixed with which run it is (scenario, landings, seed, basket, feedback,
+        method): one run of hundreds that fails ends the benchmark with that one line.
+    """
     from rlff.learn.loop import learn
 
-    result = learn(demos, basket, budget=budget, feedback=feedback.kind, update=method, seed=seed,
-                   robot=scenario.robot, opening=scenario.opening, aim=scenario.aim,
-                   executor=reporting_executor(scenario, feedback, basket, seed))
+    try:
+        result = learn(demos, basket, budget=budget, feedback=feedback.kind, update=method, seed=seed,
+                       robot=scenario.robot, opening=scenario.opening, aim=scenario.aim,
+                       executor=reporting_executor(scenario, feedback, basket, seed))
+    except InputError as exc:
+        raise InputError(f"{scenario.name}, landings {scenario.landings}, seed {seed}, basket {basket:g} m, "
+                         f"{feedback.name} feedback, {method}: {exc}") from None
     return Run(scenario.name, scenario.landings, feedback.name, method, float(basket), seed, result.hit,
                result.attempts)
 

@@ -542,14 +542,56 @@ def _execute(proposal, index: int, target, mapping, executor: Executor, start: f
     )
 
 
+#: Bisection steps of :func:`_plan`'s search for the fastest throw of a shape the arm can make:
+#: the speed found is within 2^-12 of the asked one below it.
+SATURATION_STEPS = 12
+
+
 def _plan(mapping, path, bearing: float):
     """The mapped throw at the path's samples, the planned trajectory to execute and what was
     clipped: :func:`rlff.robot.plan.plan_path` with clipping (a proposal beyond a limit
-    saturates there, as the robot would)."""
-    from rlff.robot.plan import plan_path
+    saturates there, as the robot would).
 
-    planned = plan_path(mapping, path, bearing=bearing, clip=True)
-    return planned.points, planned.trajectory, planned.clipped_points
+    A throw the arm cannot make as fast as asked, though every value is within the limits (a
+    release speed whose run-up from rest needs a wind-up past a position limit, or whose
+    braking runs past one), saturates too: the whole path slowed by one factor, the largest
+    (to 2^-:data:`SATURATION_STEPS`) the arm can make, its release velocities counted as clipped.
+    Before, such a proposal ended the run with the planner's error at that attempt, and at every
+    resumption (a tester's UR file with joint_2's lower limit at -1.25 rad, distance feedback).
+    Where no slower throw fits either, the error is the asked throw's.
+    """
+    from rlff.robot.plan import plan_path
+    from rlff.trajectory.check import MotionLimitError
+    from rlff.trajectory.limits import ClipReport, LimitChange
+
+    def slowed(factor: float):
+        scaled = {name: column * factor if name in velocities else column for name, column in path.items()}
+        scaled["time"] = time_along_path(scaled["angle"], scaled["velocity"])
+        return plan_path(mapping, scaled, bearing=bearing, clip=True)
+
+    velocities = [name for name in path if name == "velocity" or name.endswith("_velocity")]
+    try:
+        planned = plan_path(mapping, path, bearing=bearing, clip=True)
+        return planned.points, planned.trajectory, planned.clipped_points
+    except MotionLimitError as exc:
+        asked = exc
+    low, high = 0.0, 1.0
+    fitting = None
+    for _ in range(SATURATION_STEPS):
+        middle = 0.5 * (low + high)
+        try:
+            fitting, low = slowed(middle), middle
+        except MotionLimitError:
+            high = middle
+    if fitting is None:
+        raise asked
+    wanted = mapping.path_to_robot(path, bearing=bearing, clip=True)[0].velocities[-1]
+    made = fitting.points.velocities[-1]
+    last = len(fitting.points) - 1
+    slower = tuple(LimitChange(last, name, "velocity", float(before), float(after))
+                   for name, before, after in zip(fitting.points.joint_names, wanted, made, strict=True)
+                   if before != after)
+    return fitting.points, fitting.trajectory, ClipReport(fitting.clipped_points.changes + slower)
 
 
 def _require_reach(robot, basket, pedestal: float, joints: Sequence[str] = ("joint_2",),
