@@ -44,6 +44,16 @@ def test_a_stretched_time_column_is_refused(planned):
         check_trajectory(altered(planned, time=planned.time * 20), ROBOT.joints)
 
 
+@pytest.mark.parametrize(("scale", "unit"), [(1e3, "milliseconds"), (1e6, "microseconds")])
+def test_a_time_column_in_another_unit_is_refused_however_long_its_steps(planned, scale, unit):
+    # x1000: steps of 2 s, where the disagreement the acceleration limit allows (A dt^2 / 4) is 11 rad:
+    # a tester's file with its time in milliseconds passed, and the quintic swung off its path
+    with pytest.raises(MotionLimitError, match=rf"the positions move {1 / scale:.3g} times as far as the velocities "
+                                               rf"say over the time column's steps \(the median of \d+ steps of fast "
+                                               rf"motion\), as a time in {unit} does: is the time in seconds"):
+        check_trajectory(altered(planned, time=planned.time * scale), ROBOT.joints)
+
+
 def test_scaled_velocities_with_the_time_kept_are_refused(planned):
     with pytest.raises(MotionLimitError, match="joint_2 moves .* but its velocities say .* disagree"):
         check_trajectory(altered(planned, velocities=planned.velocities * 0.8), ROBOT.joints)

@@ -111,6 +111,40 @@ def _quintic(traj: JointTrajectory, fractions: np.ndarray) -> tuple[np.ndarray, 
     return position, velocity, acceleration
 
 
+#: Largest factor by which the positions' steps may differ from what the velocities say over the
+#: time column's steps (the median over the steps of fast motion) before the time is taken to be
+#: in another unit than seconds.
+TIME_UNIT_FACTOR = 2.0
+
+
+def _require_time_unit(traj: JointTrajectory, moved: np.ndarray, dt: np.ndarray) -> None:
+    """Refuse a trajectory whose positions move :data:`TIME_UNIT_FACTOR` times more or less than its
+    velocities say over its time steps (the median over every step where a joint moves one way at
+    a tenth of its peak speed or more): a time column in milliseconds moves 1000 times less.
+
+    The disagreement test before it allows A dt^2 / 4, which grows with the steps: a time column
+    in milliseconds (steps of 2 s) passed it, and the controller's quintic then swung the arm
+    0.25 rad off the file's path between samples, within every limit but not the file's motion.
+
+    ``moved`` (T-1, J) rad and ``dt`` (T-1, 1) s are the steps' motion and durations.
+    """
+    v0, v1 = traj.velocities[:-1], traj.velocities[1:]
+    peak = np.max(np.abs(traj.velocities), axis=0)
+    fast = (v0 * v1 > 0) & (np.minimum(np.abs(v0), np.abs(v1)) >= 0.1 * peak) & (peak > 0)
+    if not fast.any():
+        return
+    ratio = float(np.median(np.abs(moved[fast]) / (dt * 0.5 * np.abs(v0 + v1))[fast]))
+    if 1 / TIME_UNIT_FACTOR <= ratio <= TIME_UNIT_FACTOR:
+        return
+    unit = next((f", as a time in {name} does" for name, scale in (("milliseconds", 1e-3), ("microseconds", 1e-6),
+                                                                  ("nanoseconds", 1e-9))
+                 if 0.5 * scale <= ratio <= 2 * scale), "")
+    raise MotionLimitError(
+        f"the positions move {ratio:.3g} times as far as the velocities say over the time column's steps (the median "
+        f"of {int(fast.sum())} steps of fast motion){unit}: is the time in seconds, and are the velocities the "
+        "positions' rates in rad/s?")
+
+
 def violation_counts(traj: JointTrajectory, joints: Sequence[JointLimits]) -> dict[str, int]:
     """How many values of ``traj`` break each rule of :func:`check_trajectory` (0 everywhere: it passes
     the limits), for reports and benchmarks that count rather than refuse.
@@ -226,6 +260,7 @@ def check_trajectory(
                 f"positions and velocities disagree by more than the acceleration limit "
                 f"{limits.acceleration[j]:.6g} rad/s^2 allows ({abs(moved[row, j] - said[row, j]):.3g} "
                 f"rad against {allowed[row, j]:.3g} rad){_more(count)}")
+        _require_time_unit(traj, moved, dt)
         fractions = np.arange(1, SUBDIVISIONS) / SUBDIVISIONS
         inner = [values.reshape(-1, len(names)) for values in _quintic(traj, fractions)]
 
