@@ -207,3 +207,12 @@ def test_json_output_is_strict_json_with_null_for_what_is_not_finite(capsys):
     assert strict(capsys.readouterr().out) == {"landing": None, "reach": [1.5, None], "misses": [None, -0.25]}
     emit_json({"miss": -0.25, "hit": True})  # a finite payload prints as it is
     assert strict(capsys.readouterr().out) == {"miss": -0.25, "hit": True}
+
+
+def test_learn_out_over_an_existing_ros2_bag_folder_says_what_a_bag_needs(rlff, made, tmp_path):
+    # a ROS 2 bag output is a folder: "is a folder; give a file name for the output" told the wrong fix
+    bag = tmp_path / "lbag"
+    bag.mkdir()
+    result = rlff("-q", "learn", str(made["raw"]), "--basket", "2", "--out", str(bag))
+    assert result.code == 2 and result.stderr.strip() == (
+        f"rlff: error: {bag} exists: a ROS 2 bag is a new folder, remove it first"), result.stderr

@@ -69,7 +69,8 @@ def test_the_aim_goes_into_the_log_and_a_run_resumes_only_with_the_same(short_de
 def test_hits_carry_only_between_runs_of_the_same_aim(short_demos, tmp_path):
     log = tmp_path / "near.jsonl"
     learn(short_demos, 1.4, budget=3, feedback="binary", seed=0, aim="kinematics", log_path=log)
-    with pytest.raises(InputError, match=r"cannot carry its hits into this run \(aim = 'kinematics' there"):
+    with pytest.raises(InputError, match=r"cannot carry its hits into this run \(aim = 'kinematics' there, the "
+                                         r"default \('auto'\) here\): .*; give --aim kinematics to carry it$"):
         learn(short_demos, 1.9, budget=1, feedback="binary", seed=0, carry_from=[log])
 
 

@@ -208,7 +208,8 @@ def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):
     cut.write_text('{"format":"rlff-attempts","version":1,"run":{"basket":{"dist')
     for command, message in (
             (("robot", "export", str(other), "-f", "json", "-o", str(tmp_path / "o.json")),
-             "other.bag: neither a generated path"),
+             "other.bag is a ROS 1 bag: give a generated path CSV or a robot trajectory JSON/CSV"),
+            (("sim", "throw", str(other)), "`rlff robot send` takes the bag itself"),
             (("robot", "export", str(disguised), "-f", "json", "-o", str(tmp_path / "o.json")),
              "throw.csv: holds JSON, not CSV: a robot trajectory JSON needs the .json suffix"),
             (("robot", "export", str(wide), "-f", "json", "-o", str(tmp_path / "o.json")), "... and 22 more"),

@@ -97,12 +97,13 @@ def learn_command(
     from rlff.cli.output import guard, robot_file
     from rlff.errors import InputError
     from rlff.learn.method import COLUMNS
+    from rlff.learn.replay import SUFFIX_FORMATS, export_format
 
     # the log is read (resumed) and written: it may exist, but must not be the demonstrations
+    bag_folder = out is not None and (fmt or SUFFIX_FORMATS.get(out.suffix.lower())) == "ros2-bag"
     guard(inputs={"DEMOS": demos, "--carry": carry or None, "--robot": robot_file(robot)},
-          outputs={"--log": log, "-o/--output": out})
+          outputs={"--log": log, "-o/--output": out}, folders=["-o/--output"] if bag_folder else [])
     if out is not None:  # a bad --out, --format or --period fails before the first throw
-        from rlff.learn.replay import export_format
         from rlff.limits import check_period
 
         fmt = export_format(out, fmt)

@@ -64,10 +64,14 @@ def carried_offsets(logs: Sequence[str | Path], run: dict[str, Any]) -> tuple[tu
             difference = first_difference(logged.get(key), run.get(key), key)
             if difference is not None:
                 where, before, now = difference
-                raise InputError(f"{path}: cannot carry its hits into this run ({where} = {brief(before)} there, "
-                                 f"{brief(now)} here): the speed offset is relative to the method's own start, "
+                # a header names an aim only when it is not the default
+                said = [f"{brief(value)}" if key != "aim" or value is not None else "the default ('auto')"
+                        for value in (before, now)]
+                hint = f"; give --aim {before} to carry it" if key == "aim" and before is not None else ""
+                raise InputError(f"{path}: cannot carry its hits into this run ({where} = {said[0]} there, "
+                                 f"{said[1]} here): the speed offset is relative to the method's own start, "
                                  "which the method, the demonstrations, the robot, the joints, the pedestal and "
-                                 "the aim set")
+                                 f"the aim set{hint}")
         hits = [a.info["log_factor"] for a in contents.attempts
                 if a.hit and isinstance(a.info.get("log_factor"), int | float) and math.isfinite(a.info["log_factor"])]
         basket = logged.get("basket", {}).get("distance")

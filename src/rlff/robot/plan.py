@@ -210,6 +210,10 @@ def robot_file_kind(path: Path) -> str:
         raise InputError(f"{path}: no such file")
     if path.suffix.lower() == ".json":
         return ROBOT_TRAJECTORY
+    with open(path, "rb") as handle:
+        if handle.read(13) == b"#ROSBAG V2.0\n":  # not read as a CSV whose column is its magic line
+            raise InputError(f"{path} is a ROS 1 bag: give a generated path CSV or a robot trajectory JSON/CSV "
+                             "that `rlff robot export` wrote (`rlff robot send` takes the bag itself)")
     try:
         header = pd.read_csv(path, nrows=0).columns
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
