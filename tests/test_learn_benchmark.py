@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -365,3 +366,19 @@ def test_a_run_that_fails_names_which_run_it_is(short_demos):
     with pytest.raises(InputError, match=r"^short, landings none, seed 3, basket 1.4 m, binary feedback, calibrate: "
                                          r"budget must be a positive whole number of attempts, got 0$"):
         run_one(short_demos, Scenario("short"), parse_feedback("binary"), "calibrate", 1.4, 3, budget=0)
+
+
+def test_a_robot_file_s_warning_is_said_once_however_often_the_benchmark_reads_it(rlff, tmp_path):
+    # read for its identity, the baskets' reach and every run: three lines and a raw Python warning
+    from importlib import resources
+
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text(encoding="utf-8")
+    odd = tmp_path / "odd.toml"
+    # every joint at 3.14 rad/s but joint_2 at 45: degrees per second, by the look of it
+    text = re.sub(r"max_velocity = [\d.]+", "max_velocity = 3.14", text)
+    odd.write_text(re.sub(r'(name = "joint_2"\n(?:.*\n){2})max_velocity = 3.14', r"\g<1>max_velocity = 45.0", text))
+    result = rlff("bench", "learning", "--seeds", "1", "--robot", str(odd), "--scenario", "short", "--baskets",
+                  "1.4", "--methods", "calibrate", "--feedback", "binary", "--jobs", "1")
+    assert result.code == 0, result.stderr
+    assert result.stderr.count("max_velocity 45 rad/s") == 1, result.stderr
+    assert "RobotFileWarning" not in result.stderr

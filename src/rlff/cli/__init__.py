@@ -210,13 +210,17 @@ def _main(args: list[str]) -> int:
             # they matter and reported as one InputError line; the raw warnings are noise
             warnings.simplefilter("ignore", RuntimeWarning)
         shown = warnings.showwarning
+        said: set[str] = set()
 
         def show(message, category, filename, lineno, file=None, line=None) -> None:
-            # rlff's own (a robot file's implausible values): one `warning:` line, as every other
+            # rlff's own (a robot file's implausible values): one `warning:` line, as every other,
+            # once (a benchmark reads its robot file several times)
             if category.__module__.startswith("rlff."):
                 from rlff.cli._common import warn
 
-                warn(str(message))
+                if str(message) not in said:
+                    said.add(str(message))
+                    warn(str(message))
             else:
                 shown(message, category, filename, lineno, file, line)
 

@@ -74,11 +74,14 @@ def run_one(demos: Dataset, scenario: Scenario, feedback: Feedback, method: str,
         method): one run of hundreds that fails ends the benchmark with that one line.
     """
     from rlff.learn.loop import learn
+    from rlff.robot.description import RobotFileWarning
 
     try:
-        result = learn(demos, basket, budget=budget, feedback=feedback.kind, update=method, seed=seed,
-                       robot=scenario.robot, opening=scenario.opening, aim=scenario.aim,
-                       executor=reporting_executor(scenario, feedback, basket, seed))
+        with warnings.catch_warnings():  # the robot file's warnings: said once, before the runs
+            warnings.simplefilter("ignore", RobotFileWarning)
+            result = learn(demos, basket, budget=budget, feedback=feedback.kind, update=method, seed=seed,
+                           robot=scenario.robot, opening=scenario.opening, aim=scenario.aim,
+                           executor=reporting_executor(scenario, feedback, basket, seed))
     except InputError as exc:
         raise InputError(f"{scenario.name}, landings {scenario.landings}, seed {seed}, basket {basket:g} m, "
                          f"{feedback.name} feedback, {method}: {exc}") from None
