@@ -259,3 +259,16 @@ def test_ros_names_given_in_code_are_checked_and_named_as_the_robot_s():
     with pytest.raises(InputError, match=r"^\[ros\] trajectory_topic '/arm/' ends with '/'; give an absolute ROS "
                                          r"name, .* e.g. '/arm/joint_trajectory'$"):
         RosNames(trajectory_topic="/arm/")
+
+
+def test_the_throwing_joint_in_the_throwing_start_pose_is_warned_of_as_unused(tmp_path):
+    from rlff.robot.description import RobotFileWarning
+
+    path = tmp_path / "mine.toml"
+    path.write_text(_builtin_text().replace("[throwing.start_pose]\njoint_1 = 0.0",
+                                            "[throwing.start_pose]\njoint_2 = 0.3\njoint_1 = 0.0", 1))
+    with pytest.warns(RobotFileWarning, match=r"mine.toml: \[throwing.start_pose\] gives joint_2, the throwing joint: "
+                                              r"its start is the throw's first angle, and joint_2 = 0.3 is not used"):
+        robot = load_robot(path)
+    assert robot.warnings[-1].endswith("joint_2 = 0.3 is not used")
+    assert not any("start_pose" in said for said in load_robot().warnings)  # the built-in's whole_arm names its own

@@ -539,7 +539,19 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
         raise InputError(f"{source}: {exc}") from None
     return Robot(name, tuple(joints), geometry, document.get("throwing", {}),
                  document.get("comau_program", {}), source, document.get("whole_arm", {}), ros,
-                 implausible_limits(joints, source) + implausible_offsets(joint_map, source))
+                 implausible_limits(joints, source) + implausible_offsets(joint_map, source)
+                 + _driven_in_start_pose(document, source))
+
+
+def _driven_in_start_pose(document: Mapping[str, Any], source: str) -> tuple[str, ...]:
+    """A warning for a ``[throwing.start_pose]`` that names the throwing joint, whose start is the
+    throw's own first angle: the entry is not used (a tester's ``joint_2 = 0.3`` went unseen).
+    (``[whole_arm.start_pose]`` may name driven joints: a throw of fewer joints holds them there.)"""
+    joint, pose = document.get("throwing", {}).get("joint"), document.get("throwing", {}).get("start_pose")
+    if not (isinstance(pose, Mapping) and isinstance(joint, str) and joint in pose):
+        return ()
+    return (f"{source}: [throwing.start_pose] gives {joint}, the throwing joint: its start is the throw's first "
+            f"angle, and {joint} = {pose[joint]!r} is not used",)
 
 
 def _joint_map(tables: Any, source: str) -> JointMap:
