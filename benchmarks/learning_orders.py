@@ -2,6 +2,7 @@
 
     .venv/bin/python benchmarks/learning_orders.py [--seeds 8] [--first-seed 0]
         [--scenario short,wide,overshooting,near,mixed] [--by-basket] [--cache DIR]
+        [--robot NAME_OR_FILE] [--baskets 0.75,0.9]
 
 With binary feedback a search on the release speed is an order of speeds, fixed in advance:
 each throw only says hit or miss. So the attempts any order needs can be read off one curve per
@@ -23,13 +24,19 @@ script measures those curves, then counts the attempts to the first hit of
   (:data:`rlff.learn.outcomes.TRANSFER_WEIGHT`; :func:`rlff.learn.outcomes.outcomes_prior`);
 - ``calibrate``: the method's own windows (``failed-demos`` where every demonstration missed,
   else ``kept``);
+- ``floor-F``: ``calibrate``'s windows with a share F of the prior spread evenly over them
+  (:data:`rlff.learn.windows.UNLIKE_PEOPLE`, 0.2 since 2026-12-06: ``calibrate`` itself);
+- ``no-retries``: ``calibrate``'s prior without the floor and without retries (the orders above
+  it are without the floor too, as they were compared before it);
 - ``aimed``: a normal prior of :data:`AIM_SCALE` about the speed the robot's own kinematics
   send to the basket (the
   free flight from the planned release, as the whole-arm loop aims,
   :func:`rlff.learn.reach.aimed_factor`): what a method with the robot's flight model could do
   in this simulation, which has no gap between that model and what the ball does,
 
-and prints the mean per scenario (a run without a hit counts as 21). ``--cache DIR`` keeps the
+and prints the mean per scenario (a run without a hit counts as 21). ``--robot`` throws with
+another robot name or file (its ``[throwing]`` mapping), ``--baskets`` sets the baskets of every
+scenario (for an arm that does not reach the scenarios' own). ``--cache DIR`` keeps the
 measured curves in DIR (joblib's ``Memory``, keyed by scenario, seed and basket), so that a
 changed or added order is counted in seconds; empty DIR after changing anything a throw depends
 on (the method's shape, the planner, the simulation). ``--by-basket`` adds, per
@@ -55,6 +62,7 @@ from scipy.stats import norm
 
 from rlff.learn.attempt import Attempt
 from rlff.learn.demos import angle_grid, learning_demos, loop_components
+from rlff.learn.log import robot_record
 from rlff.learn.loop import METHODS, _execute, _hit_tolerance, _simulator
 from rlff.learn.method import Problem, scale_speed
 from rlff.learn.outcomes import outcomes_prior
@@ -71,10 +79,19 @@ STEP = 0.0125
 #: ``aimed``: standard deviation (log speed) of the prior about the kinematic aim (its error on
 #: a real arm is not known here; in this simulation it is below 0.01).
 AIM_SCALE = 0.1
+#: ``floor-F``: ``calibrate``'s windows with a share F of the prior spread evenly over them.
+FLOORS = (0.05, 0.1, 0.2, 0.3)
 #: The orders ``--by-basket`` shows per basket.
 SHOWN = ("sweep", "kept", "calibrate", "aimed")
 ROBOT = load_robot("comau_smart5_six")
 MAPPING = mapping_for(ROBOT, None)
+
+
+def use_robot(robot: str) -> None:
+    """Throw with ``robot`` (a name or a robot file) instead of the Comau."""
+    global ROBOT, MAPPING
+    ROBOT = load_robot(robot)
+    MAPPING = mapping_for(ROBOT, None)
 
 
 def problem_for(scenario: str, seed: int, basket: float) -> tuple[Problem, Basket]:
@@ -99,10 +116,10 @@ def hit_curve(problem: Problem, target: Basket, method) -> tuple[np.ndarray, np.
     return speeds, np.asarray(hits, dtype=float), method.reference
 
 
-def case_curve(scenario: str, seed: int, basket: float, problem: Problem, target: Basket,
+def case_curve(robot: str, scenario: str, seed: int, basket: float, problem: Problem, target: Basket,
                method) -> tuple[np.ndarray, np.ndarray, float]:
-    """:func:`hit_curve` of the case (``scenario``, ``seed``, ``basket``), whose ``problem``,
-    ``target`` and ``method`` are given: ``--cache`` keeps it under the first three alone."""
+    """:func:`hit_curve` of the case (``robot``'s digest, ``scenario``, ``seed``, ``basket``), whose
+    ``problem``, ``target`` and ``method`` are given: ``--cache`` keeps it under the first four alone."""
     return hit_curve(problem, target, method)
 
 
@@ -162,13 +179,15 @@ def orders(problem: Problem, method) -> dict[str, np.ndarray]:
     ``calibrate`` of ``problem``, whose u0 they are laid about)."""
     reference = method.reference
     highest = math.log(problem.max_speed / reference)
-    kept = WindowSearch(problem.target, problem.tolerance, highest)
-    wide = WindowSearch(problem.target, problem.tolerance, highest, scale=0.4)
+    # the orders compared before the floor of 2026-12-06 (UNLIKE_PEOPLE), as they were
+    kept = WindowSearch(problem.target, problem.tolerance, highest, floor=0.0)
+    wide = WindowSearch(problem.target, problem.tolerance, highest, scale=0.4, floor=0.0)
     failed = WindowSearch(problem.target, problem.tolerance, highest,
-                          outcomes_prior(problem.demos, problem.angles, problem.target, problem.tolerance, reference))
+                          outcomes_prior(problem.demos, problem.angles, problem.target, problem.tolerance, reference),
+                          floor=0.0)
     calibrate = method.windows(problem.max_speed)
     aimed = WindowSearch(problem.target, problem.tolerance, highest, scale=AIM_SCALE,
-                         centre=aimed_offset(problem, method))
+                         centre=aimed_offset(problem, method), floor=0.0)
     width = window_width(problem.target, problem.tolerance)
     offsets = {
         "kept": kept.offsets,
@@ -179,6 +198,14 @@ def orders(problem: Problem, method) -> dict[str, np.ndarray]:
         "calibrate": calibrate.offsets,
         "aimed": aimed.offsets,
     }
+    centre, scale = method.speed_centre()
+    _, density = method.speed_prior()
+    for floor in FLOORS:
+        offsets[f"floor-{floor:g}"] = WindowSearch(
+            problem.target, problem.tolerance, highest, density, scale=scale, elasticity=problem.elasticity,
+            centre=centre, misreport=problem.misreport if method.retries_misses else 0.0, floor=floor).offsets
+    offsets["no-retries"] = WindowSearch(problem.target, problem.tolerance, highest, density, scale=scale,
+                                         elasticity=problem.elasticity, centre=centre, misreport=0.0).offsets
     speeds = {name: np.minimum(reference * np.exp(x[:BUDGET]), problem.max_speed) for name, x in offsets.items()}
     return {"sweep": sweep_speeds(problem), **speeds}
 
@@ -190,21 +217,26 @@ def main() -> None:
     parser.add_argument("--scenario", default="short,wide,overshooting,near,mixed")
     parser.add_argument("--by-basket", action="store_true", help="per-basket means and 16-run blocks")
     parser.add_argument("--cache", metavar="DIR", help="keep the measured curves in DIR")
+    parser.add_argument("--robot", default="comau_smart5_six", help="robot name or file")
+    parser.add_argument("--baskets", help="basket distances (m), comma-separated, for every scenario")
     args = parser.parse_args()
+    use_robot(args.robot)
     curve_of = joblib.Memory(args.cache, verbose=0).cache(case_curve, ignore=["problem", "target", "method"])
-    names = ("sweep", "kept", "truncated", "gmr-first", "scale-0.4", "failed-demos", "calibrate", "aimed")
+    names = ("sweep", "kept", "truncated", "gmr-first", "scale-0.4", "failed-demos", "calibrate", "aimed",
+             *(f"floor-{floor:g}" for floor in FLOORS), "no-retries")
     scenarios = args.scenario.split(",")
     means: dict[str, dict[str, float]] = {name: {} for name in names}
     breakdown = []
     for scenario in scenarios:
         counts: dict[str, list[int]] = {name: [] for name in names}
         places: list[tuple[float, float]] = []  # hit_place of every case, in the order of counts
-        baskets = DEMONSTRATORS[scenario].baskets
+        baskets = (tuple(float(b) for b in args.baskets.split(",")) if args.baskets
+                   else DEMONSTRATORS[scenario].baskets)
         for seed in range(args.first_seed, args.first_seed + args.seeds):
             for basket in baskets:
                 problem, target = problem_for(scenario, seed, float(basket))
                 method = METHODS["calibrate"](problem)  # fits the mixture: once per case
-                curve = curve_of(scenario, seed, float(basket), problem, target, method)
+                curve = curve_of(robot_record(MAPPING)["digest"], scenario, seed, float(basket), problem, target, method)
                 places.append(hit_place(curve, problem.max_speed))
                 for name, speeds in orders(problem, method).items():
                     counts[name].append(attempts(speeds, curve))

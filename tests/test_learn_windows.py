@@ -15,6 +15,7 @@ from rlff.learn.baselines import RANGE_ELASTICITY
 from rlff.learn.windows import (
     MISREPORT,
     RETRIES,
+    UNLIKE_PEOPLE,
     WindowSearch,
     lattice,
     window_masses,
@@ -47,13 +48,13 @@ def test_window_masses_are_the_prior_between_the_midpoints_the_ends_take_the_tai
 def test_the_fastest_window_comes_first_when_the_prior_says_the_basket_needs_more_than_the_robot():
     # limit 0.17 above the GMR mean's speed: the top window (0.1) holds P(x* > 0.05) under
     # N(0, 0.3), everything above its lower edge, and that beats any other window
-    search = WindowSearch(1.75, 0.14, highest=0.17)
+    search = WindowSearch(1.75, 0.14, highest=0.17, floor=0.0)
     offsets = [search.offset(k)[0] for k in range(4)]
     np.testing.assert_allclose(offsets, [0.1, 0.0, -0.1, -0.2], atol=1e-9)
     first_mass = search.offset(0)[1]
     assert first_mass == pytest.approx(1.0 - norm.cdf(0.05, 0.0, 0.3), abs=1e-3)
     # far from the limit the GMR mean's own speed comes first, then the sweep's order
-    free = WindowSearch(1.75, 0.14, highest=0.8)
+    free = WindowSearch(1.75, 0.14, highest=0.8, floor=0.0)
     np.testing.assert_allclose([free.offset(k)[0] for k in range(5)], [0, 0.1, -0.1, 0.2, -0.2], atol=1e-9)
 
 
@@ -82,7 +83,7 @@ def test_after_the_lattice_come_the_half_shifted_windows_then_the_lattice_again(
 def test_a_likely_window_that_missed_is_thrown_again_before_the_unlikely_ones():
     # N(0, 0.3), w = 0.1: once the untried windows left hold less than MISREPORT of the GMR
     # mean's window, a miss there may have been a misreported hit
-    search = WindowSearch(1.75, 0.14, highest=0.8)
+    search = WindowSearch(1.75, 0.14, highest=0.8, floor=0.0)
     thrown, masses = search.offsets[: search.masses.size], search.masses
     top = round(float(masses[0]), 4)
     again = [k for k in range(1, thrown.size) if np.any(np.isclose(thrown[:k], thrown[k]))]
@@ -157,8 +158,12 @@ def test_binary_runs_throw_the_windows_in_order_and_hit(short_demos, method):
         assert attempt.info["speed"] == pytest.approx(reference * math.exp(attempt.info["log_factor"]), rel=1e-3)
 
 
-def test_the_runs_misreport_reaches_calibrates_window_search_and_donut_keeps_none(short_demos):
+def test_the_runs_misreport_reaches_calibrates_window_search_and_donut_keeps_none(short_demos, monkeypatch):
     from dataclasses import replace
+
+    import rlff.learn.windows
+
+    monkeypatch.setattr(rlff.learn.windows, "UNLIKE_PEOPLE", 0.0)  # the prior alone: retries among the windows
 
     from rlff.learn.demos import angle_grid
     from rlff.learn.loop import METHODS
@@ -197,11 +202,11 @@ def test_a_resumed_binary_run_continues_with_the_next_window(short_demos, tmp_pa
 
 
 def test_a_centre_moves_the_lattice_and_the_prior_with_it():
-    search = WindowSearch(1.75, 0.14, highest=0.8, centre=0.13, scale=0.15)
+    search = WindowSearch(1.75, 0.14, highest=0.8, centre=0.13, scale=0.15, floor=0.0)
     np.testing.assert_allclose([search.offset(k)[0] for k in range(5)], [0.13, 0.23, 0.03, 0.33, -0.07], atol=1e-9)
     assert search.offset(0)[1] == pytest.approx(norm.cdf(0.05, 0, 0.15) - norm.cdf(-0.05, 0, 0.15), abs=1e-6)
     # a centre beyond the speed limit: the fastest throw first
-    beyond = WindowSearch(1.75, 0.14, highest=0.2, centre=0.35, scale=0.15)
+    beyond = WindowSearch(1.75, 0.14, highest=0.2, centre=0.35, scale=0.15, floor=0.0)
     assert beyond.offset(0)[0] == pytest.approx(0.2)
     assert beyond.offset(1)[0] == pytest.approx(0.1)
 
@@ -210,20 +215,20 @@ def test_the_band_between_the_top_window_and_the_limit_gets_a_window_of_its_own(
     # about 0.13 with w = 0.1, the top window is 0.13 (0.23 is beyond the limit 0.2): its upper
     # edge 0.18 leaves 0.18-0.2 uncovered, so a window at 0.2 joins with the mass of what it
     # would hit: that band and the half window above the limit, 0.2-0.25
-    search = WindowSearch(1.75, 0.14, highest=0.2, centre=0.13, scale=0.15)
+    search = WindowSearch(1.75, 0.14, highest=0.2, centre=0.13, scale=0.15, floor=0.0)
     thrown = search.offsets[: search.masses.size]
     assert np.count_nonzero(np.isclose(_first_pass(search), 0.2)) == 1
     reach = norm.cdf(0.25, 0.13, 0.15) - norm.cdf(0.18, 0.13, 0.15)
     assert search.masses[np.flatnonzero(np.isclose(thrown, 0.2))[0]] == pytest.approx(reach)
     # the same with the prior given as a density on a grid
     gridded = WindowSearch(1.75, 0.14, highest=0.2, centre=0.13,
-                           log_density=lambda x: norm.logpdf(x, 0.13, 0.15))
+                           log_density=lambda x: norm.logpdf(x, 0.13, 0.15), floor=0.0)
     assert gridded.masses == pytest.approx(search.masses, abs=1e-4)
     assert np.allclose(gridded.offsets, search.offsets)
     # the top window keeps the tail beyond the limit as well: it stays first
     assert search.offset(0)[0] == pytest.approx(0.13)
     # about 0 the lattice ends within half a window of the limit (0.1 + 0.05 >= 0.12): no band
-    near = WindowSearch(1.75, 0.14, highest=0.12)
+    near = WindowSearch(1.75, 0.14, highest=0.12, floor=0.0)
     assert not np.any(np.isclose(_first_pass(near), 0.12))
 
 
@@ -242,7 +247,23 @@ def test_a_search_without_misreports_throws_no_window_twice_in_its_first_pass():
     first = search.offsets[: search.masses.size]
     assert first.size == lattice(search.width, search.highest).size
     assert np.unique(np.round(first, 9)).size == first.size
-    # the default search throws the same windows, some of them twice
-    default = WindowSearch(1.75, 0.14, highest=0.8)
-    assert default.masses.size > search.masses.size
-    np.testing.assert_allclose(np.unique(np.round(default.offsets[: default.masses.size], 9)), np.unique(np.round(first, 9)))
+    # the prior alone (no floor) throws the same windows, some of them twice
+    prior = WindowSearch(1.75, 0.14, highest=0.8, floor=0.0)
+    assert prior.masses.size > search.masses.size
+    np.testing.assert_allclose(np.unique(np.round(prior.offsets[: prior.masses.size], 9)), np.unique(np.round(first, 9)))
+
+
+def test_a_fifth_of_the_prior_on_every_window_throws_each_before_any_again_and_keeps_the_core_s_order():
+    # N(0, 0.3), w = 0.1, 20 windows: a retry of the likeliest (0.8 x 0.13 x 0.05) is worth less
+    # than the floor's 0.2 / 20 of an untried one; on an arm unlike the people the hit lay 2-3
+    # standard deviations out, behind the retries (docs/learn.md)
+    assert UNLIKE_PEOPLE == 0.2
+    default, prior = WindowSearch(1.75, 0.14, highest=0.8), WindowSearch(1.75, 0.14, highest=0.8, floor=0.0)
+    first = default.offsets[: default.masses.size]
+    assert np.unique(np.round(first, 9)).size == first.size == lattice(default.width, default.highest).size
+    assert default.masses.sum() == pytest.approx(1.0)
+    # the likeliest windows, whose masses beat the floor's share, keep the prior's order
+    np.testing.assert_allclose(first[:5], prior.offsets[:5])
+    # with the floor alone the lattice goes in the sweep's order
+    np.testing.assert_allclose(WindowSearch(1.75, 0.14, highest=0.8, floor=1.0).offsets[: first.size],
+                               lattice(default.width, default.highest))
