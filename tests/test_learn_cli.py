@@ -363,6 +363,10 @@ def test_a_bad_period_fails_before_the_first_throw(rlff, demos_csv, tmp_path, pe
                   "--period", period, "--log", str(log))
     assert result.code == 2 and "--period must be a positive controller period (s)" in result.stderr
     assert not log.exists()
+    # without --out too: a typo is not taken silently
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--period", period, "--log", str(log))
+    assert result.code == 2 and "--period must be a positive controller period (s)" in result.stderr
+    assert not log.exists()
 
 
 def test_a_one_joint_run_on_your_own_robot_file_is_pointed_at_the_kinematics_aim(cli, demos_csv, tmp_path):

@@ -103,11 +103,11 @@ def learn_command(
     bag_folder = out is not None and (fmt or SUFFIX_FORMATS.get(out.suffix.lower())) == "ros2-bag"
     guard(inputs={"DEMOS": demos, "--carry": carry or None, "--robot": robot_file(robot)},
           outputs={"--log": log, "-o/--output": out}, folders=["-o/--output"] if bag_folder else [])
-    if out is not None:  # a bad --out, --format or --period fails before the first throw
-        from rlff.limits import check_period
+    from rlff.limits import check_period
 
+    check_period(period)  # a bad --period fails before the first throw, with or without --out
+    if out is not None:  # and a bad --out or --format
         fmt = export_format(out, fmt)
-        check_period(period)
     from rlff.learn.loop import AIMS
 
     if aim not in AIMS:  # before the demonstrations are read and cleaned
