@@ -25,7 +25,8 @@ script measures those curves, then counts the attempts to the first hit of
 - ``calibrate``: the method's own windows (``failed-demos`` where every demonstration missed,
   else ``kept``);
 - ``floor-F``: ``calibrate``'s windows with a share F of the prior spread evenly over them
-  (:data:`rlff.learn.windows.UNLIKE_PEOPLE`, 0.2 since 2026-12-06: ``calibrate`` itself);
+  (:data:`rlff.learn.windows.UNLIKE_PEOPLE`, 0.2 since 2026-12-06: ``calibrate`` itself;
+  ``floor-0``: ``calibrate`` before it);
 - ``no-retries``: ``calibrate``'s prior without the floor and without retries (the orders above
   it are without the floor too, as they were compared before it);
 - ``aimed``: a normal prior of :data:`AIM_SCALE` about the speed the robot's own kinematics
@@ -80,7 +81,7 @@ STEP = 0.0125
 #: a real arm is not known here; in this simulation it is below 0.01).
 AIM_SCALE = 0.1
 #: ``floor-F``: ``calibrate``'s windows with a share F of the prior spread evenly over them.
-FLOORS = (0.05, 0.1, 0.2, 0.3)
+FLOORS = (0.0, 0.05, 0.1, 0.2, 0.3)
 #: The orders ``--by-basket`` shows per basket.
 SHOWN = ("sweep", "kept", "calibrate", "aimed")
 ROBOT = load_robot("comau_smart5_six")
