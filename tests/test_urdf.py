@@ -127,3 +127,35 @@ def test_urdf_of_a_robot_without_geometry_is_refused(tmp_path, rlff):
     assert result.code == 2
     assert "has no [geometry] table" in result.stderr
     assert not (tmp_path / "bare.urdf").exists()
+
+
+def test_a_mapped_robot_s_urdf_is_the_controller_s_and_draws_the_arm_its_joint_states_describe(rlff, tmp_path):
+    """With [ros.joints] the URDF carries the controller's names, zeros and senses: RViz fed the
+    controller's joint states (offset + sign x rlff's) draws every link where rlff's URDF at rlff's
+    angles does. It kept rlff's names, so the UR-named states of `robot serve` moved nothing."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from rosrig import UR_NAMES, ur_file
+
+    mapped = ur_file(tmp_path / "ur.toml")
+    robot = load_robot(mapped)
+    joints = robot.ros.joints
+    assert rlff("robot", "urdf", "--robot", str(mapped), "-o", str(tmp_path / "ur.urdf")).code == 0
+    assert rlff("robot", "urdf", "-o", str(tmp_path / "own.urdf")).code == 0
+    theirs = yourdfpy.URDF.load(str(tmp_path / "ur.urdf"), load_meshes=False)
+    own = yourdfpy.URDF.load(str(tmp_path / "own.urdf"), load_meshes=False)
+    movable = [joint for joint in theirs.robot.joints if joint.type != "fixed"]
+    assert [joint.name for joint in movable] == list(UR_NAMES)
+    for joint, mine in zip(movable, robot.joints, strict=True):  # the limits in the controller's convention
+        ends = sorted(joints.positions_to_controller([mine.name], [[mine.lower], [mine.upper]])[:, 0])
+        assert (joint.limit.lower, joint.limit.upper) == pytest.approx(tuple(ends), abs=1e-12)
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        q = np.array([rng.uniform(j.lower, j.upper) for j in robot.joints])
+        own.update_cfg(dict(zip(robot.joint_names, q, strict=True)))
+        theirs.update_cfg(dict(zip(UR_NAMES, joints.positions_to_controller(robot.joint_names, q), strict=True)))
+        for link in ("link_2", "link_3", "link_5", "flange"):
+            np.testing.assert_allclose(theirs.get_transform(link, "base_link"), own.get_transform(link, "base_link"),
+                                       atol=1e-9)

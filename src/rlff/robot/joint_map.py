@@ -184,12 +184,18 @@ class JointMap:
         name = self.controller_name(joint)
         return joint if name == joint else f"{name} ({joint})"
 
+    def offset_and_sign(self, joint: str) -> tuple[float, int]:
+        """The controller's offset (rad) and sign of rlff's ``joint`` (0 and 1 for a joint the map
+        leaves as it is)."""
+        entry = self.joints.get(joint, ControllerJoint(joint))
+        return entry.offset, entry.sign
+
     # -- values -----------------------------------------------------------------------------------------
     def _factors(self, joints: Sequence[str]) -> tuple[np.ndarray, np.ndarray]:
         """Offsets (J,) rad and signs (J,) of rlff's ``joints``."""
-        entries = [self.joints.get(joint, ControllerJoint(joint)) for joint in joints]
-        return (np.array([entry.offset for entry in entries], dtype=float),
-                np.array([entry.sign for entry in entries], dtype=float))
+        pairs = [self.offset_and_sign(joint) for joint in joints]
+        return (np.array([offset for offset, _ in pairs], dtype=float),
+                np.array([sign for _, sign in pairs], dtype=float))
 
     def positions_to_controller(self, joints: Sequence[str], positions: np.ndarray) -> np.ndarray:
         """Positions (..., J) rad of rlff's ``joints`` in the controller's convention: offset + sign * q."""

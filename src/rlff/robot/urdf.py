@@ -36,7 +36,12 @@ def robot_urdf(robot: Robot) -> str:
     """The URDF text of a six-joint arm of the robot-file convention.
 
     Links ``base_link``, ``link_1`` .. ``link_6`` and ``flange`` (the flange face, fixed to
-    ``link_6``); joints named as in the robot file, in its order.
+    ``link_6``); joints named as in the robot file, in its order. With a ``[ros.joints]`` map the
+    joints are the controller's (:class:`rlff.robot.joint_map.JointMap`): its names, and its zeros
+    and senses, so that the joint states its controller publishes draw the arm where it is (RViz).
+    Controller position q_c = offset + sign q turns the link by q = sign (q_c - offset) about the
+    axis: the joint's axis is sign times rlff's, its origin turned by -sign offset about it, its
+    limits offset + sign times rlff's.
 
     Raises
     ------
@@ -62,14 +67,20 @@ def robot_urdf(robot: Robot) -> str:
     root.append(ET.Comment(f" written by rlff from {robot.source}; units: m, rad, rad/s; effort 0: not stated "))
     ET.SubElement(root, "link", name="base_link")
     parent = "base_link"
+    joint_map = robot.ros.joints
     for number, (joint, (origin, axis, segment)) in enumerate(zip(robot.joints, chain, strict=True), start=1):
         link = f"link_{number}"
-        element = ET.SubElement(root, "joint", name=joint.name, type="revolute")
+        offset, sign = joint_map.offset_and_sign(joint.name)
+        # every axis of the chain is a coordinate axis: turning the origin about it is one rpy angle
+        turn = tuple(-sign * offset * component for component in axis)
+        lower, upper = sorted(float(v) for v in joint_map.positions_to_controller([joint.name], [[joint.lower],
+                                                                                               [joint.upper]])[:, 0])
+        element = ET.SubElement(root, "joint", name=joint_map.controller_name(joint.name), type="revolute")
         ET.SubElement(element, "parent", link=parent)
         ET.SubElement(element, "child", link=link)
-        ET.SubElement(element, "origin", xyz=_triple(origin), rpy="0 0 0")
-        ET.SubElement(element, "axis", xyz=_triple(axis))
-        ET.SubElement(element, "limit", lower=repr(joint.lower), upper=repr(joint.upper),
+        ET.SubElement(element, "origin", xyz=_triple(origin), rpy=_triple(turn) if offset else "0 0 0")
+        ET.SubElement(element, "axis", xyz=_triple(tuple(sign * component for component in axis)))
+        ET.SubElement(element, "limit", lower=repr(lower), upper=repr(upper),
                       velocity=repr(joint.max_velocity), effort="0")
         _link(root, link, segment)
         parent = link
