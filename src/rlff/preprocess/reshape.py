@@ -348,7 +348,7 @@ def _throw_direction(dataset: Dataset, column: str, velocity_column: str, direct
     """+1 when ``column`` grows in the throws' extension, -1 when it falls: as given, or (``"auto"``)
     the majority of the trajectories' votes, each the sign of the change of ``column`` about its
     fastest sample (largest absolute ``velocity_column``). Dissenters get a note in ``report``;
-    a tie is an :class:`InputError`; no vote at all (no motion) counts as increasing."""
+    a tie, or no vote at all (no motion), counts as increasing (rlff's convention), with a note."""
     if direction not in ("auto", "increasing", "decreasing"):
         raise InputError(f"direction {direction!r}: must be \"auto\", \"increasing\" or \"decreasing\"")
     if direction != "auto":
@@ -364,11 +364,13 @@ def _throw_direction(dataset: Dataset, column: str, velocity_column: str, direct
             votes[trajectory.id] = vote
     up = sum(vote > 0 for vote in votes.values())
     down = len(votes) - up
-    if up == down and votes:
-        raise InputError(
-            f"cannot tell which way {column} moves in the throws: {up} trajectories move it up at their "
-            f"fastest sample, {down} down; give direction = \"increasing\" or \"decreasing\""
+    if up == down and votes:  # a pipeline step does not stop a run: rlff's own convention, said
+        report.notes.append(
+            f"cannot tell which way {column} moves in the throws ({up} trajectories move it up at their fastest "
+            f"sample, {down} down): cut as increasing, rlff's convention for the extension; give direction = "
+            "\"decreasing\" if yours falls"
         )
+        return 1.0
     sign = 1.0 if up >= down else -1.0
     odd = [name for name, vote in votes.items() if vote != sign]
     if odd:
