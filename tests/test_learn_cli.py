@@ -386,3 +386,15 @@ def test_a_one_joint_run_on_your_own_robot_file_is_pointed_at_the_kinematics_aim
     for quiet in (cli(*base), cli(*base, "--robot", str(mine), "--aim", "demonstrations"), resumed):
         assert quiet.code == 0, quiet.stderr
         assert "--aim kinematics" not in quiet.stderr + quiet.stdout
+
+
+def test_a_finished_log_resumed_with_a_smaller_budget_counts_its_attempts_in_the_bar(rlff, demos_csv, tmp_path):
+    # the bar said "3/2": its total was the new --budget, below the attempts the log already holds
+    log = tmp_path / "a.jsonl"
+    first = rlff("learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--budget", "3", "--log", str(log))
+    assert first.code == 0, first.stderr
+    done = len(attempt_lines(log))
+    assert done >= 2
+    again = rlff("learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--budget", "1", "--log", str(log))
+    assert again.code == 0, again.stderr
+    assert f"{done}/{done}" in again.stderr and f"{done}/1" not in again.stderr, again.stderr

@@ -136,7 +136,8 @@ def _refuse(constant: str) -> None:
 
 @contextmanager
 def progress(description: str, total: int | None) -> Iterator[Callable[..., None]]:
-    """A progress bar on stderr; yields ``advance(n=1, description=None)``.
+    """A progress bar on stderr; yields ``advance(n=1, description=None, total=None)`` (``total``: a
+    new total, when the work turned out longer than said).
 
     Silent with -q or when stderr is not a terminal and ``total`` is unknown.
     """
@@ -156,9 +157,11 @@ def progress(description: str, total: int | None) -> Iterator[Callable[..., None
     with bar:
         task = bar.add_task(description, total=total)
 
-        def advance(n: int = 1, description: str | None = None) -> None:
+        def advance(n: int = 1, description: str | None = None, total: int | None = None) -> None:
             if description is not None:
                 bar.update(task, description=description)
+            if total is not None:
+                bar.update(task, total=total)
             bar.advance(task, n)
 
         yield advance

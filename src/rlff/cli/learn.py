@@ -200,8 +200,8 @@ def _run(data, basket: float, settings: dict, live: dict | None):
             if not bar:
                 bar.append(stack.enter_context(progress(f"learning to hit {basket:g} m", total=settings["budget"])))
             seen = f"{'hit' if attempt.hit else 'miss'} {signed_metres(attempt.miss, unmeasured='(not measured)')}"
-            bar[0](1, description=f"attempt {attempt.index}: {seen}, "
-                                  f"exploration {attempt.exploration:.2f}")
+            bar[0](1, description=f"attempt {attempt.index}: {seen}, exploration {attempt.exploration:.2f}",
+                   total=max(settings["budget"], attempt.index))  # a log resumed with a smaller --budget
 
         return _learn_live(lambda: learn(data, basket, **settings, progress=show, executor=run_on))
 
