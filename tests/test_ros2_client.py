@@ -430,7 +430,9 @@ def test_a_server_killed_after_accepting_before_any_feedback_is_lost_within_seco
                                               "accepted the goal, and no answer for "), outcome
     assert outcome["error_string"].endswith("; the cancel was not confirmed (no server is left to answer it): the "
                                             "arm's state is unknown; check the arm (e-stop it if it moves)")
-    assert took < 8  # within seconds: not after the throw's 10 s + 10 s, nor the graph's 20 s lease
+    # within seconds (4.3 s here): not after the throw's 10 s + 10 s, nor the graph's 20 s lease; 8 s
+    # failed once at 8.03 s under a full suite's load
+    assert took < 12
 
 
 def test_stopping_send_before_any_goal_says_no_cancel(throw, tmp_path):
