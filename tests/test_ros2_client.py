@@ -497,3 +497,33 @@ def test_a_second_publisher_of_the_arm_s_joints_is_refused_naming_the_jump(state
     state.answer = state.succeed
     result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "60")
     assert result.returncode == 0, result.stderr
+
+
+class _Graph:
+    """A node's graph as the client's settling reads it: the action's publishers appear at ``after`` s."""
+
+    def __init__(self, after: float | None) -> None:
+        self.appear = None if after is None else time.monotonic() + after
+        self.asked: set[str] = set()
+
+    def count_publishers(self, topic: str) -> int:
+        self.asked.add(topic)
+        return int(self.appear is not None and time.monotonic() >= self.appear)
+
+
+def test_a_new_action_client_waits_for_the_server_s_topics_then_settles_before_its_first_goal():
+    require_ros2()
+    from types import SimpleNamespace
+
+    from rlff.robot.ros2.client import ACTION_SETTLE, Connection
+
+    graph = _Graph(after=0.4)
+    began = time.monotonic()
+    Connection._settle(SimpleNamespace(node=graph), ACTION, began + 30)
+    waited = time.monotonic() - began
+    assert graph.asked == {f"{ACTION}/_action/feedback", f"{ACTION}/_action/status"}
+    assert 0.4 + ACTION_SETTLE <= waited < 0.4 + ACTION_SETTLE + 0.5
+    # publishers that never appear, or a deadline near: it gives the goal its chance, within the deadline
+    began = time.monotonic()
+    Connection._settle(SimpleNamespace(node=_Graph(after=None)), ACTION, began + 1.0)
+    assert time.monotonic() - began < 1.0

@@ -78,6 +78,14 @@ PING_PERIOD = 1.0
 #: every publisher the graph knows, read in the subscription's callback, made the live tests'
 #: own discovery fail now and then, unexplained: left out.)
 DISCOVERY_WINDOW = 1.0
+#: Seconds a new action client waits for the server's feedback and status publishers to appear in
+#: the graph once its services answer, and then seconds more before its first goal. Discovery is
+#: mutual only eventually: a client that sends as soon as it sees the server's services can have
+#: the goal's response (and the first feedback) lost, because the server has not matched the
+#: client's readers yet ("timed out waiting for the goal response", once in CI, with an rclpy
+#: ActionClient that sent at once; the arm would have thrown while rlff reported a timeout).
+ACTION_DISCOVERY = 3.0
+ACTION_SETTLE = 1.0
 
 
 class ServerUnavailable(RlffError):
@@ -181,6 +189,18 @@ class Connection:
                                     "(`ros2 topic find sensor_msgs/msg/JointState`)")
         return state
 
+    def _settle(self, action: str, deadline: float) -> None:
+        """Give a new action client's discovery time to become mutual before its first goal: wait
+        (at most :data:`ACTION_DISCOVERY` s) for the server's feedback and status publishers, then
+        :data:`ACTION_SETTLE` s; each wait takes at most half of what is left before ``deadline``
+        (monotonic s), so the goal keeps its chance."""
+        topics = (f"{action}/_action/feedback", f"{action}/_action/status")
+        began = time.monotonic()
+        until = began + min(ACTION_DISCOVERY, (deadline - began) / 2)
+        while time.monotonic() < until and any(self.node.count_publishers(topic) == 0 for topic in topics):
+            time.sleep(0.05)
+        time.sleep(max(0.0, min(ACTION_SETTLE, (deadline - time.monotonic()) / 2)))
+
     def send_goal(self, robot: Robot, traj: JointTrajectory, pose: np.ndarray, timeout: float | None = None,
                   on_feedback: Callable[[float], None] | None = None,
                   on_accepted: Callable[[], None] | None = None) -> SendResult:
@@ -188,7 +208,8 @@ class Connection:
         check_goal(robot, traj, goal_start(robot, traj, pose))
         deadline = time.monotonic() + (timeout if timeout is not None else CONNECT_TIMEOUT)
         action = robot.ros.action
-        if action not in self._clients:
+        fresh = action not in self._clients
+        if fresh:
             self._clients[action] = ActionClient(self.node, FollowJointTrajectory, action)
             self._pings[action] = self.node.create_client(CancelGoal, f"{action}/_action/cancel_goal")
         client = self._clients[action]
@@ -196,6 +217,8 @@ class Connection:
             raise ServerUnavailable(f"no action server at {action} ({robot.ros_origin('action')}): is `rlff robot "
                                     "serve --ros 2` running, with the same ROS_DOMAIN_ID and discovery range, or "
                                     "does the arm's controller use another name? (`ros2 action list -t`)")
+        if fresh:
+            self._settle(action, deadline)
         if timeout is None:
             deadline = time.monotonic() + START_LEAD + traj.duration + CONNECT_TIMEOUT
         received = 0
