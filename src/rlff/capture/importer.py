@@ -877,20 +877,29 @@ def _throws_at_a_target(
 
 def _extension_gap(motion: ArmMotion, cut: ThrowCut) -> tuple[float, float, str]:
     """The longest gap (s) between the samples of any joint that makes the elbow angle, during the
-    throw's extension: (gap, its start time on the recording's clock, the joint)."""
+    throw's extension: (gap, its start time on the recording's clock, the joints with that gap
+    there, in words: ``the elbow's``, ``the shoulder's and hand's``, ``every joint's``)."""
     begin, end = float(motion.time[cut.extension_start]), float(motion.time[cut.extension_end])
     arm = motion.arm
-    worst = (0.0, begin, "elbow")
     tracks = [("shoulder", arm.shoulder), ("elbow", arm.elbow), ("hand", arm.hand)]
     if arm.wrist is not None:
         tracks.append(("wrist", arm.wrist))
+    gaps = []  # (gap, its start, joint) per track
     for name, track in tracks:
         first = max(int(np.searchsorted(track.time, begin, side="right")) - 1, 0)
         last = int(np.searchsorted(track.time, end, side="left")) + 1
         steps = np.diff(track.time[first:last])
-        if steps.size and steps.max() > worst[0]:
-            worst = (float(steps.max()), float(track.time[first + int(np.argmax(steps))]), name)
-    return worst
+        if steps.size:
+            gaps.append((float(steps.max()), float(track.time[first + int(np.argmax(steps))]), name))
+    if not gaps:
+        return 0.0, begin, "the elbow's"
+    gap, at, _ = max(gaps, key=lambda entry: entry[0])
+    # the joints whose longest gap is this one (the same stretch, to within a sample's jitter)
+    alike = [name for length, start, name in gaps if length > gap - 0.01 and abs(start - at) < 0.01]
+    if len(alike) == len(tracks):
+        return gap, at, "every joint's"
+    possessive = [f"{name}'s" for name in alike]
+    return gap, at, "the " + (possessive[0] if len(alike) == 1 else f"{', '.join(possessive[:-1])} and {possessive[-1]}")
 
 
 def _numbers(kept: list[tuple[ThrowCut, Release]], dropped: list[Rejection]) -> list[int]:
@@ -900,12 +909,28 @@ def _numbers(kept: list[tuple[ThrowCut, Release]], dropped: list[Rejection]) -> 
     return [times.index(release.time) + 1 for _, release in kept]
 
 
-def _resampled(time: np.ndarray, *series: np.ndarray) -> tuple[np.ndarray, ...]:
-    """An even grid over ``time`` at its median spacing (at most 1 / OUTPUT_RATE_HZ) and the series on it (PCHIP)."""
+def _resampled(time: np.ndarray, series: dict[str, np.ndarray], rates: dict[str, str],
+               gap: float) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """An even grid over ``time`` (T,) at its median spacing (at most 1 / OUTPUT_RATE_HZ) and the
+    series on it (PCHIP).
+
+    ``rates`` maps a velocity series to the angle series it is the rate of. Inside a spacing of
+    ``time`` longer than ``gap`` (s: tracking lost or frozen mid-motion) a velocity is not
+    interpolated between the two samples that bound it (their local fits see only one side of
+    the gap: the hold before it, the follow-through after it, both slow), but bridged as the
+    derivative of its angle's interpolant, so that it integrates to the angle the gap spans.
+    """
     step = min(float(np.median(np.diff(time))), 1.0 / OUTPUT_RATE_HZ)
     count = int(np.floor((time[-1] - time[0]) / step + 1e-6)) + 1
     grid = time[0] + step * np.arange(count)
-    return (grid, *(PchipInterpolator(time, values)(grid) for values in series))
+    before = np.clip(np.searchsorted(time, grid, side="right") - 1, 0, len(time) - 2)
+    inside = (np.diff(time)[before] > gap) & (grid > time[before] + 1e-9)
+    shapes = {name: PchipInterpolator(time, values) for name, values in series.items()}
+    resampled = {name: shape(grid) for name, shape in shapes.items()}
+    for name, angle in rates.items():
+        if inside.any():
+            resampled[name][inside] = shapes[angle].derivative()(grid[inside])
+    return grid, resampled
 
 
 def _throw(
@@ -975,13 +1000,8 @@ def _throw(
             f"({motion.velocity[cut.start]:.3g} rad/s): what came before is not measured (its wind-up, perhaps part "
             "of its extension and release); check the throw before fitting on it")
     usual = float(np.median(np.diff(motion.time)))
-    gap, at, joint = _extension_gap(motion, cut)
-    if gap > max(EXTENSION_GAP_FACTOR * usual, EXTENSION_GAP_S):
-        report.warnings.append(
-            f"{path}: throw {number}: its extension has a {gap:.2f} s gap in the {joint}'s samples at "
-            f"t={at - origin:.2f} s (they are {usual:.3g} s apart elsewhere: a tracker frozen or lost there): its speed "
-            f"across it is bridged, not measured (peak {float(motion.velocity[window].max()):.3g} rad/s); check "
-            "the throw before fitting on it")
+    extension_gap = max(EXTENSION_GAP_FACTOR * usual, EXTENSION_GAP_S)
+    gap, at, joints = _extension_gap(motion, cut)
     identifier = _unique_id(f"{path.stem}_t{number}", used_ids)
     meta: dict[str, Any] = {
         "subject": _subject(path, row),
@@ -1001,24 +1021,31 @@ def _throw(
         meta["target"] = float(target)
         if np.isfinite(landed):
             meta["hit"] = bool(abs(landed - target) <= landing.hit_radius)
-    angle, velocity = motion.angle[window], motion.velocity[window]
+    series = {"angle": motion.angle[window], "velocity": motion.velocity[window]}
+    rates = {"velocity": "angle"}
+    for name, values in motion.joints.items():
+        series[name] = values[window]
+        series[velocity_column(name)] = motion.joint_velocities[name][window]
+        rates[velocity_column(name)] = name
+    if native.size > 1:
+        grid, series = _resampled(native, series, rates, extension_gap)
+    else:
+        grid = native
+    peak = float(series["velocity"].max())
+    if gap > extension_gap:
+        report.warnings.append(
+            f"{path}: throw {number}: its extension has a {gap:.2f} s gap in {joints} samples at "
+            f"t={at - origin:.2f} s (they are {usual:.3g} s apart elsewhere: a tracker frozen or lost there): its speed "
+            f"across it is bridged from the angles on either side, not measured (peak {peak:.3g} rad/s); check "
+            "the throw before fitting on it")
     report.throws.append(
         ThrowInfo(
             identifier, float(native[0] - origin), float(native[-1] - origin), float(release.time - origin),
-            float(velocity.max()), (float(angle.min()), float(angle.max())), float(distance),
+            peak, (float(series["angle"].min()), float(series["angle"].max())), float(distance),
             source_of_distance, float(landed) if np.isfinite(landed) else None,
             native_rate, largest_gap, release.confidence,
         )
     )
-    series = {"angle": angle, "velocity": velocity}
-    for name, values in motion.joints.items():
-        series[name] = values[window]
-        series[velocity_column(name)] = motion.joint_velocities[name][window]
-    if native.size > 1:
-        grid, *resampled = _resampled(native, *series.values())
-        series = dict(zip(series, resampled, strict=True))
-    else:
-        grid = native
     data = {"time": grid - grid[0], **series, "distance": np.full(grid.size, float(distance))}
     for name in ("bearing", "height"):
         value = getattr(row, name) if row is not None else None
