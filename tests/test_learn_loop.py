@@ -82,6 +82,29 @@ def test_bad_method_feedback_and_basket_are_input_errors(failed_demos):
         learn(failed_demos, 3.0)
 
 
+def test_a_basket_beyond_the_arm_s_reach_is_refused_with_the_reach_of_this_run_s_own_throws(failed_demos):
+    # the arm's reach is at its best release; this run lets go where the demonstrations let go and
+    # reaches less: the first refusal gives both, so the basket a user tries next is taken
+    import re
+
+    from rlff.learn.loop import learnable_basket
+    from rlff.robot import load_robot, mapping_for
+    from rlff.sim import Basket
+
+    with pytest.raises(InputError) as refused:
+        learn(failed_demos, 2.6)
+    found = re.search(r"farthest basket with a 0\.35 m opening is at (\S+) m .*; this run's throws \(joint_2 let go "
+                      r"where the demonstrations let go, -?\d\.\d\d rad\) reach a basket at (\S+) m at most$",
+                      str(refused.value))
+    assert found, refused.value
+    best, own = float(found[1]), float(found[2])
+    farthest = learnable_basket(failed_demos, mapping_for(load_robot("comau_smart5_six"), None), Basket(2.6))
+    assert own == pytest.approx(farthest, abs=0.01) and own < best < 2.6
+    assert learn(failed_demos, own, budget=1, seed=0).attempts == 1
+    with pytest.raises(InputError, match="out of reach of the throws this robot executes"):
+        learn(failed_demos, own + 0.05, budget=1, seed=0)
+
+
 def test_demonstrations_beyond_the_joint_range_are_refused():
     # joint_2 = -0.6 + 0.6 angle must stay below 2.71 rad: angle 6.5 rad is beyond it
     angle = np.linspace(4.0, 6.5, 20)

@@ -349,7 +349,10 @@ def learn(
     # checks the stated range
     target = Basket(float(basket), rim_height=rim, opening=opening, bearing=float(bearing))
     pedestal = check_pedestal(pedestal)
-    _require_reach(robot_model, target, pedestal, mapping.driven_joints, demos.columns)
+    try:
+        _require_reach(robot_model, target, pedestal, mapping.driven_joints, demos.columns)
+    except InputError as exc:
+        raise InputError(f"{exc}{_executed_reach_words(demos, mapping, target, pedestal)}") from None
     demos, limit_notes = usable_demos(demos, mapping, target.rim_height)
     components = loop_components(demos, seed, joint_outputs(mapping.human_columns))
     _require_executable(mapping, target, pedestal, demos, components, seed, method_class)
@@ -654,6 +657,26 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
     start, release = mapping.angle_offset + mapping.angle_scale * angle_grid(demos)[[0, -1]]
     reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from=start)
     return farthest_basket(reach.distance, basket.opening)
+
+
+def _executed_reach_words(demos: Dataset, mapping, basket, pedestal: float) -> str:
+    """For a one-joint run refused by :func:`_require_reach` (the arm's reach at its best release),
+    what this run's own throws reach, which :func:`_require_executable` holds it to next: "; this
+    run's throws (joint_2 let go where the demonstrations let go, -0.35 rad) reach a basket at
+    2.32 m at most"; "" for a whole-arm run (its first throw needs the model) or demonstrations
+    the loop cannot use (their own error comes next)."""
+    from rlff.sim.reach import centimetres_below
+
+    if drives_whole_arm(mapping):
+        return ""
+    try:
+        farthest = learnable_basket(demos, mapping, basket, pedestal)
+        usable, _ = usable_demos(demos, mapping, basket.rim_height)
+    except InputError:
+        return ""
+    release = mapping.angle_offset + mapping.angle_scale * angle_grid(usable)[-1]
+    reached = "no basket" if not math.isfinite(farthest) else f"a basket at {centimetres_below(farthest)} m at most"
+    return f"; this run's throws ({mapping.joint} let go where the demonstrations let go, {release:.2f} rad) reach {reached}"
 
 
 def _require_executable(mapping, basket, pedestal: float, demos: Dataset, components: int = 1,
