@@ -417,3 +417,24 @@ def test_an_action_nobody_serves_is_named_with_the_robot_file_s_ros_table(server
     # before it: the plan and the approach announced, no progress bar of a goal that never went out
     before = result.stderr.splitlines()[:-1]
     assert [line.split(" ")[0] for line in before] == ["planned", "approach"], result.stderr
+
+
+def test_serve_an_arm_whose_throwing_joint_s_range_leaves_0_out(domain, tmp_path):
+    """The simulated arm waits inside its limits, says where, and publishes that pose (it would
+    not start: its driven joint's 0 rad was beyond the limit, a point the user never gave)."""
+    from rlff.robot import RobotMapping, load_robot
+    from rosrig import robot_file
+
+    lowered = robot_file(tmp_path, "lowered.toml", lambda text: text.replace("upper = 2.71", "upper = -0.1", 1))
+    waiting = RobotMapping.for_robot(load_robot(lowered)).waiting_position()
+    assert waiting == pytest.approx(-0.1 - 0.05 * (1.48 - 0.1))
+    own, env, server = _own_server(tmp_path, lowered)
+    node = None
+    try:
+        assert f"joint_2 waits at {waiting:.3g} rad: its range [-1.48, -0.1] rad leaves 0 out" in server.text()
+        node = RosNode(own)
+        assert node.latest()[1][1] == pytest.approx(waiting, abs=1e-9)
+    finally:
+        if node is not None:
+            node.close()
+        server.close()

@@ -235,8 +235,13 @@ def serve(
     if sim not in ("kinematic", "mujoco"):
         raise InputError(f"unknown --sim {sim!r} (kinematic or mujoco)")
     hook = _mujoco_throw(model, basket, bearing, height) if sim == "mujoco" else None
+    waiting = mapping.waiting_position()
+    initial = mapping.pose(waiting)
+    if waiting != 0.0:  # the arm does not wait where a user of the built-in robot would expect
+        say(f"{mapping.joint} waits at {waiting:.3g} rad: its range [{model.joint(mapping.joint).lower:g}, "
+            f"{model.joint(mapping.joint).upper:g}] rad leaves 0 out")
     if ros == 2:
-        _serve_ros2(model, mapping.pose(0.0), rate, hook, network)
+        _serve_ros2(model, initial, rate, hook, network)
         return
     _require_ros()
     _ros1_reach(network)
@@ -248,7 +253,7 @@ def serve(
         say(f"{_serving(model)} ({arm}, {rate:g} Hz); Ctrl-C stops")
 
     try:
-        run_server(model, mapping.pose(0.0), rate, hook, on_ready=ready)
+        run_server(model, initial, rate, hook, on_ready=ready)
     except RosUnavailable as exc:
         stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
         raise typer.Exit(1) from None

@@ -48,6 +48,9 @@ HumanPath = Mapping[str, np.ndarray]
 
 #: The robot joint that turns the arm to the basket's bearing when a robot file does not say.
 DEFAULT_BEARING_JOINT = "joint_1"
+#: How far inside its nearer limit, as a share of its range, the driven joint of a simulated arm
+#: waits for its first goal where its range leaves 0 out (:meth:`RobotMapping.waiting_position`).
+WAITING_MARGIN = 0.05
 
 
 @dataclass(frozen=True)
@@ -117,6 +120,16 @@ class RobotMapping:
         """Positions (J,) (rad) of every joint: the start pose, the driven joint at ``driven``."""
         return np.array([driven if name == self.joint else self.start_pose[name]
                          for name in self.robot.joint_names])
+
+    def waiting_position(self) -> float:
+        """Where (rad) the driven joint of a simulated arm waits for its first goal (``rlff robot
+        serve``): 0, or where its range leaves 0 out, :data:`WAITING_MARGIN` of the range inside
+        the nearer limit (a goal may start there, and a goal's first move is not into the limit)."""
+        joint = self.robot.joint(self.joint)
+        if joint.lower <= 0.0 <= joint.upper:
+            return 0.0
+        margin = WAITING_MARGIN * (joint.upper - joint.lower)
+        return joint.lower + margin if joint.lower > 0.0 else joint.upper - margin
 
     @property
     def time_scale(self) -> float:
