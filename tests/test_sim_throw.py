@@ -230,3 +230,35 @@ def test_the_verdict_does_not_depend_on_the_step_across_the_basket(robot):
     assert agree >= 0.99
     # the landing itself barely moves with the step (the semi-implicit flight drops g dt t / 2)
     assert np.max(np.abs(misses - np.array([o.miss for o in reference]))) < 0.01
+
+
+def test_an_arm_that_rests_turned_throws_along_its_start_pose_s_bearing_line(robot, tmp_path):
+    # a cell whose arm rests with joint_1 at 0.6 rad: its throws, turned from there as a bearing
+    # turns them (bearing 0 = the start pose's facing), land on the basket's line as the
+    # unturned arm's do on the x axis (they flew 34 deg off it, and no method could learn a hit)
+    from importlib import resources
+
+    from rlff.robot import RobotMapping
+
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    assert text.count("joint_1 = 0.0") >= 1
+    turned_file = tmp_path / "turned.toml"
+    turned_file.write_text(text.replace("[throwing.start_pose]\njoint_1 = 0.0", "[throwing.start_pose]\njoint_1 = 0.6"))
+    turned = load_robot(turned_file)
+    assert RobotMapping.for_robot(turned).start_pose["joint_1"] == 0.6
+    straight = swing()
+    positions = np.array(straight.positions)
+    positions[:, 0] = 0.6
+    aside = JointTrajectory(JOINTS, straight.time, positions, straight.velocities)
+    probe = simulate_throw(straight, Basket(1.5), robot=robot)
+    basket = Basket(probe.landing_x + 0.05)
+    outcome = simulate_throw(aside, basket, robot=turned)
+    assert outcome.hit and abs(outcome.lateral) < 1e-3
+    assert outcome.landing_x == pytest.approx(probe.landing_x, abs=1e-3)
+    assert any(note.startswith("the start pose faces 34.38 deg (joint_1 0.6 rad)") for note in outcome.notes)
+    # a bearing counts from that facing too: 20 deg on from it
+    positions = np.array(positions)
+    positions[:, 0] = 0.6 + np.radians(20.0)
+    outcome = simulate_throw(JointTrajectory(JOINTS, straight.time, positions, straight.velocities),
+                             dataclasses.replace(basket, bearing=20.0), robot=turned)
+    assert outcome.hit and abs(outcome.lateral) < 1e-3

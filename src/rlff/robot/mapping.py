@@ -544,6 +544,20 @@ def bearing_at_release(traj: JointTrajectory, robot: Robot) -> tuple[float, str]
     return round(math.degrees(position - mapping.start_pose[joint]), 6), joint
 
 
+def start_facing(robot: Robot) -> tuple[float, str] | None:
+    """Where the arm faces at the ``[throwing]`` start pose, the line a bearing of 0 points along
+    (bearings count from it, :func:`bearing_at_release`): (deg from the robot base's x axis, the
+    bearing joint); None where that is the x axis itself, or the robot has no bearing joint or
+    ``[throwing]`` table."""
+    if not robot.throwing:
+        return None
+    mapping = mapping_for(robot)
+    joint = mapping.bearing_joint
+    if joint is None or not mapping.start_pose.get(joint, 0.0):
+        return None
+    return math.degrees(mapping.start_pose[joint]), joint
+
+
 def bearing_range(robot: Robot) -> tuple[str, float, float] | None:
     """The bearings (deg) the robot can face: ``(joint, lowest, highest)``, how far its bearing
     joint (joint_1, or the ``[whole_arm]`` table's) may turn from its ``[throwing]`` start pose

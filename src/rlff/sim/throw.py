@@ -12,6 +12,7 @@ is reached.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -24,7 +25,7 @@ from rlff.ballistics import flight_time as time_to_height
 from rlff.errors import InputError
 from rlff.limits import check_pedestal
 from rlff.robot.description import Robot, load_robot
-from rlff.robot.mapping import RobotMapping
+from rlff.robot.mapping import RobotMapping, start_facing
 from rlff.sim.arm import BALL_RADIUS, Arm
 from rlff.sim.basket import Basket
 from rlff.sim.reach import PLANE_JOINTS, farthest_basket, require_reachable, throw_reach
@@ -262,6 +263,13 @@ def simulate_throw(
         notes.append(f"the trajectory leaves out {', '.join(missing)}: held at the start pose ({held} rad), as "
                      "a controller holds the joints a goal does not name")
         trajectory = trajectory.holding(robot.joint_names, start)
+    if (facing := start_facing(robot)) is not None:
+        # the arm throws along its start pose's facing turned by the bearing (RobotMapping's
+        # convention); the scene's basket stands on the base's line: turned alike, not at 0 deg
+        turned = (basket.bearing + facing[0] + 180.0) % 360.0 - 180.0
+        notes.append(f"the start pose faces {facing[0]:.4g} deg ({facing[1]} {math.radians(facing[0]):.4g} rad), where "
+                     f"bearings count from: the basket stands on the base's {turned:.4g} deg line")
+        basket = replace(basket, bearing=turned)
     trajectory = trajectory.select(arm.joint_names)
     require_within_limits(trajectory, arm.joints)
     require_room_to_stop(trajectory, arm)
