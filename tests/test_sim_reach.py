@@ -225,3 +225,33 @@ def test_joints_of_more_than_a_turn_report_a_release_within_one(robot):
     executed = executable_reach(mapping_for(wide))
     assert -np.pi <= executed.release <= np.pi
     assert executed.distance == pytest.approx(executable_reach(mapping_for(robot)).distance, abs=0.01)
+
+
+def test_a_basket_nearer_than_where_the_executed_throws_let_go_is_refused():
+    # the executed throws let go at one position: a ball let go there comes down no nearer than
+    # the hand is, however slowly it is thrown; a basket whose far half lies nearer cannot be hit
+    from rlff.robot import RobotMapping
+    from rlff.sim.reach import executable_nearest, nearest_basket, require_executable
+
+    mapping = RobotMapping.for_robot(load_robot())
+    release = 0.97  # joint_2 leaning forward: the ball 1.29 m out, thrown forward and up
+    near = executable_nearest(mapping, release)
+    assert 1.2 < near < 1.4
+    with pytest.raises(InputError, match=rf"basket at 0\.80 m is nearer than the throws this robot executes come "
+                                         rf"down: joint_2 lets go of the ball {near:.2f} m out from joint 1's axis "
+                                         r"\(released at 0\.97 rad, where tested\).*nearest basket with a 0\.35 m "
+                                         r"opening is at 1\.15 m"):
+        require_executable(Basket(0.8), mapping, release=release, release_source="where tested")
+    require_executable(Basket(1.15), mapping, release=release)
+    assert nearest_basket(near, 0.35) == pytest.approx(near - 0.175 + BALL_RADIUS)
+    # the simulated arm agrees: a slow throw let go there lands beyond it
+    t = np.linspace(0.0, 1.0, 101)
+    positions = np.tile(mapping.pose(0.0), (t.size, 1))
+    positions[:, 1] = release - 0.3 * (1.0 - t) ** 2  # joint_2 comes up to the release at 0.6 rad/s
+    velocities = np.zeros_like(positions)
+    velocities[:, 1] = 0.6 * (1.0 - t)
+    slow = simulate_throw(JointTrajectory(mapping.robot.joint_names, t, positions, velocities), Basket(1.5),
+                          check_reach=False)
+    assert slow.landing_x > near
+    # backward or straight up at the release (joint_2 past the vertical): no such bound
+    assert executable_nearest(mapping, 2.0) is None

@@ -120,6 +120,13 @@ def farthest_basket(reach: float, opening: float) -> float:
     return reach + 0.5 * opening - BALL_RADIUS
 
 
+def nearest_basket(nearest: float, opening: float) -> float:
+    """Nearest centre distance (m) of a basket with an ``opening`` (m) wide that a throw coming
+    down no nearer than ``nearest`` m still drops into: anywhere in the far half of the opening,
+    clear of the rim by the ball's radius (:func:`farthest_basket` the other way round)."""
+    return nearest - 0.5 * opening + BALL_RADIUS
+
+
 def centimetres_below(distance: float) -> str:
     """``distance`` (m) as text, rounded down to the centimetre: a farthest basket printed is one
     the loop takes (2.2549 m reads 2.25 m, and a basket at 2.25 m is within it); ``none`` for a
@@ -347,6 +354,19 @@ def executable_reach(mapping, rim_height: float = 0.3, pedestal: float = 0.0,
     return ExecutableReach(float(crossing[best]), joint.name, float(positions[best]), float(speed[best]))
 
 
+def executable_nearest(mapping, release: float, pedestal: float = 0.0) -> float | None:
+    """The nearest (m from the joint 1 axis) that the throws ``mapping`` executes with the ball let
+    go at ``release`` (rad of the driven joint) come down: the ball's own place there, where a
+    throw ever slower lets it fall (a forward throw lands beyond it); None when the mapped swing
+    sends the ball backward or straight up there (a faster throw lands nearer, or behind)."""
+    arm = Arm.from_robot(mapping.robot)
+    pose = {name: mapping.start_pose.get(name, 0.0) for name in PLANE_JOINTS}
+    pose[mapping.joint] = float(release)
+    plane = arm.in_plane(pose["joint_2"], pose["joint_3"], pose["joint_5"], pedestal)
+    forward = plane.jacobian[0, PLANE_JOINTS.index(mapping.joint)] * np.sign(mapping.angle_scale)
+    return float(plane.ball[0]) if forward > 0 else None
+
+
 def require_executable(basket: Basket, mapping, pedestal: float = 0.0, release: float | None = None, *,
                        swing_from: float | None = None, release_source: str | None = None) -> ExecutableReach:
     """The executable reach, or :class:`InputError` if no throw the mapping executes can drop into
@@ -355,6 +375,16 @@ def require_executable(basket: Basket, mapping, pedestal: float = 0.0, release: 
     reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from)
     farthest = farthest_basket(reach.distance, basket.opening)
     if basket.distance <= farthest:
+        if release is not None and (near := executable_nearest(mapping, release, pedestal)) is not None:
+            nearest = nearest_basket(near, basket.opening)
+            if basket.distance < nearest:
+                raise InputError(
+                    f"basket at {basket.distance:.2f} m is nearer than the throws this robot executes come down: "
+                    f"{mapping.joint} lets go of the ball {near:.2f} m out from joint 1's axis (released at "
+                    f"{release:.2f} rad{f', {release_source}' if release_source else ''}), and the ball, thrown "
+                    f"forward from there however slowly, comes down farther, so the nearest basket with a "
+                    f"{basket.opening:.2f} m opening is at {math.ceil(nearest * 100.0 - 1e-9) / 100.0:.2f} m "
+                    f"(pedestal {pedestal:.2f} m)")
         return reach
     joint = mapping.robot.joint(reach.joint)
     limit = ("its speed limit" if reach.speed >= joint.max_velocity - 1e-12
