@@ -53,6 +53,16 @@ def test_csv_time_that_goes_back_names_the_line_and_what_to_do(tmp_path):
         read_joint_csv(path)
 
 
+def test_a_csv_with_a_header_and_no_rows_holds_no_frames(tmp_path):
+    # under pandas 3 it was "internal error: ValueError: output array is read-only"
+    path = _write_csv(tmp_path / "header.csv", [0.0, 0.1])
+    path.write_text(path.read_text().splitlines()[0] + "\n")
+    with pytest.raises(InputError, match=r"header.csv: no frames \(a header and no rows below it\)$"):
+        read_joint_csv(path)
+    with pytest.raises(InputError, match=r"header.csv: no frames"):
+        import_recordings([path])
+
+
 def test_a_repeated_time_stamp_or_frame_number_is_dropped_with_a_note(tmp_path):
     recording = read_joint_csv(_write_csv(tmp_path / "repeat.csv", [0.0, 0.1, 0.1, 0.2, 0.3, 0.4]))
     assert len(recording.arms[0].elbow) == 5

@@ -306,9 +306,9 @@ def read_joint_csv(
     ------
     InputError
         No arm with all of shoulder, elbow and hand x/y/z columns (the message lists what is
-        missing and the columns that are there), a column map entry whose name is not one of
-        ours or whose column the file does not have (with the nearest), a non-numeric value, or
-        a time stamp below the one before.
+        missing and the columns that are there), a header without rows, a column map entry whose
+        name is not one of ours or whose column the file does not have (with the nearest), a
+        non-numeric value, or a time stamp below the one before.
     """
     import pandas as pd
 
@@ -324,6 +324,8 @@ def read_joint_csv(
         frame = pd.read_csv(path, sep=separator, decimal="." if separator == "," else ",", skipinitialspace=True)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise InputError(f"{path}: not a readable CSV ({str(exc).strip().splitlines()[-1]})") from None
+    if frame.empty:
+        raise InputError(f"{path}: no frames (a header and no rows below it)")
     frame.columns = [str(name).strip() for name in frame.columns]  # "time, right_shoulder_x, ..." as Excel writes
     mapping = dict(columns or {})
     _check_column_map(mapping, [str(name) for name in frame.columns], path)
