@@ -63,6 +63,21 @@ def test_a_csv_with_a_header_and_no_rows_holds_no_frames(tmp_path):
         import_recordings([path])
 
 
+def test_nan_spelt_in_any_case_is_a_blank_cell(tmp_path):
+    # under pandas 3 a column with text has dtype str, not object: "NAN" was a non-numeric value
+    path = _write_csv(tmp_path / "upper.csv", [0.0, 0.1, 0.2, 0.3, 0.4, 0.5])
+    lines = path.read_text().splitlines()
+    hand_x = 1 + _POINTS.index("right_hand_x")  # after the time
+    for line, spelt in ((3, "NAN"), (5, "Nan")):
+        cells = lines[line - 1].split(",")
+        cells[hand_x] = spelt
+        lines[line - 1] = ",".join(cells)
+    path.write_text("\n".join(lines) + "\n")
+    recording = read_joint_csv(path)
+    assert len(recording.arms[0].hand) == 4 and len(recording.arms[0].elbow) == 6
+    assert any("2 frames with a nan or blank value in a joint rlff reads" in note for note in recording.notes)
+
+
 def test_a_repeated_time_stamp_or_frame_number_is_dropped_with_a_note(tmp_path):
     recording = read_joint_csv(_write_csv(tmp_path / "repeat.csv", [0.0, 0.1, 0.1, 0.2, 0.3, 0.4]))
     assert len(recording.arms[0].elbow) == 5

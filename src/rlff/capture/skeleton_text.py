@@ -342,8 +342,9 @@ def read_joint_csv(
         if name not in read:
             column = frame[name]
             blank = column.isna().to_numpy()  # pandas reads empty cells, nan, NA, n/a as missing
-            if column.dtype == object:  # text among the numbers: "nan" spelt otherwise is blank too
-                blank |= column.astype(str).str.strip().str.lower().isin(["", "nan"]).to_numpy()
+            if not pd.api.types.is_numeric_dtype(column):  # text among the numbers (dtype object, or str
+                # under pandas 3): "nan" spelt otherwise (NAN, " nan") is blank too
+                blank = blank | column.astype(str).str.strip().str.lower().isin(["", "nan"]).to_numpy()
             read[name] = (pd.to_numeric(column, errors="coerce").to_numpy(dtype=float), blank)
         values, blank = read[name]
         bad = ~np.isfinite(values) & (True if finite else ~blank)
