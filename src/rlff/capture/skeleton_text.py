@@ -352,10 +352,6 @@ def read_joint_csv(
             row = int(np.flatnonzero(bad)[0])
             raise InputError(f"{path}, line {data_row_line(path, row, separator)}: column {name!r} has {bad_cell(frame[name].iloc[row])}")
         return values
-        if not np.all(np.isfinite(values)):
-            row = int(np.flatnonzero(~np.isfinite(values))[0])
-            raise InputError(f"{path}, line {data_row_line(path, row, separator)}: column {name!r} has {bad_cell(frame[name].iloc[row])}")
-        return values
 
     found: dict[str, dict[str, str]] = {}
     missing: dict[str, list[str]] = {}
