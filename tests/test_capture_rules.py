@@ -110,6 +110,30 @@ def test_manifest_rows_at_fault_are_named(tmp_path):
     assert len(read_manifest(path)) == 3  # the same row twice, same distance: no conflict
 
 
+def test_a_manifest_column_rlff_does_not_read_is_named_not_lost(tmp_path):
+    # the baskets' bearings and heights under other names were dropped without a word
+    path = tmp_path / "manifest.csv"
+    path.write_text("file,throw,distance,bearing_deg,rim_height,notes\nline1.bag,1,2.0,30,1.0,ok\n")
+    with pytest.raises(InputError, match=r"manifest .*manifest.csv: unknown columns 'bearing_deg' \(did you mean "
+                                         r"'bearing'\?\), 'rim_height' \(did you mean 'height'\?\), 'notes'; a manifest's "
+                                         r"columns are file, distance, throw, start, end, subject, bearing, height: "
+                                         r"rename or drop them$"):
+        read_manifest(path)
+    # a measured outcome: rlff estimates the landing
+    path.write_text("file,throw,distance,Hit,landing\nline1.bag,1,2.0,1,2.05\n")
+    with pytest.raises(InputError, match=r"manifest .*manifest.csv: columns 'hit', 'landing': rlff reads no measured "
+                                         r"outcome from a manifest \(a throw's landing is estimated from the hand's "
+                                         r"release.*\); drop them$"):
+        read_manifest(path)
+    path.write_text("file,throw,distance,hit\nline1.bag,1,2.0,1\n")
+    with pytest.raises(InputError, match=r"column 'hit': rlff reads no measured outcome.*; drop it$"):
+        read_manifest(path)
+    # a separator ending the header (as spreadsheets write it) is no column
+    path.write_text("file,throw,distance,bearing,height,\nline1.bag,1,2.0,30,1.0,\n")
+    (row,) = read_manifest(path)
+    assert (row.bearing, row.height) == (30.0, 1.0)
+
+
 def test_a_manifest_throw_number_beyond_the_throws_found_is_an_error(tmp_path):
     frames, time, _ = th.session(7)
     recording = th.write_kinect_text(tmp_path / "session.txt", frames, np.rint(time * 30).astype(int))

@@ -64,19 +64,23 @@ def test_preprocess_json_and_config(capsys, tmp_path):
 
 
 def test_fit_and_preprocess_warn_of_throws_given_twice(rlff, tmp_path):
-    # a file holding every throw twice under other ids: K grew with nothing pointing at the copies
+    # a file holding every throw twice under other ids: K grew with nothing pointing at the copies;
+    # and a copy labelled with another basket went unseen
     from rlff.formats import write_dataset
 
     demos = tmp_path / "demos.csv"
     assert rlff("data", "synth", "throws", "-o", str(demos), "--subjects", "1", "--throws", "2").code == 0
     dataset = read_dataset(demos)
     doubled = tmp_path / "doubled.csv"
-    write_dataset(dataset.replace([*dataset, *(t.replace(id=f"{t.id}_copy") for t in dataset)]), doubled)
+    copies = [t.replace(id=f"{t.id}_copy") for t in dataset]
+    copies[0] = copies[0].with_columns(distance=copies[0]["distance"] + 0.5)
+    write_dataset(dataset.replace([*dataset, *copies]), doubled)
     first = f"(the first: {dataset.ids[0]} and {dataset.ids[0]}_copy)"
     for args in (["fit", str(doubled), "-k", "1"], ["data", "preprocess", str(doubled)]):
         result = rlff(*args, "-o", str(tmp_path / "out.csv" if args[0] == "data" else tmp_path / "m.json"))
         assert result.code == 0, result.stderr
-        assert f"warning: {doubled}: {len(dataset)} throws repeat another sample for sample {first}" in result.stderr
+        assert (f"warning: {doubled}: {len(dataset)} throws repeat another sample for sample, distance aside {first}"
+                in result.stderr)
     quiet = rlff("fit", str(demos), "-k", "1", "-o", str(tmp_path / "m.json"))
     assert "sample for sample" not in quiet.stderr
 

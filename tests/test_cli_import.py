@@ -82,6 +82,17 @@ def test_a_recording_copied_under_another_name_is_refused(cli, msr_dir, tmp_path
     assert "give each recording once" in result.stderr
 
 
+def test_a_recording_copied_under_a_name_with_a_distance_is_refused(cli, msr_dir, tmp_path):
+    # the copy's throws were labelled 2.5 m, the original's estimated: they compared as other throws
+    original = msr_dir / "a06_s01_e01_skeleton3D.txt"
+    copy = tmp_path / "e01_2.5m.txt"
+    copy.write_bytes(original.read_bytes())
+    result = cli("data", "import", str(copy), str(original), "-o", str(tmp_path / "x.csv"))
+    assert result.code == 2 and not (tmp_path / "x.csv").exists()
+    assert f"{copy} and {original} hold the same throw, sample for sample (e01_2.5m_t1 and " in result.stderr
+    assert "their baskets aside" in result.stderr
+
+
 def test_missing_frames_are_one_line_and_exit_code_2(cli, bag, tmp_path):
     result = cli("data", "import", str(bag), "--frames", "a_1,b_1,c_1", "-o", str(tmp_path / "x.csv"))
     assert result.code == 2

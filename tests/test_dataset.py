@@ -49,20 +49,24 @@ def test_dataset_rejects_duplicates_varying_context_and_time_going_back():
         Dataset([backwards])
 
 
-def test_duplicates_are_trajectories_with_identical_samples_whatever_their_ids_and_metadata():
+def test_duplicates_are_trajectories_with_identical_motion_whatever_their_ids_metadata_and_context():
     original = _trajectory("a", 1.0, subject="s01")
+    other = _trajectory("b", 2.0).with_columns(velocity=3 * original["angle"])
     nudged = original["angle"].copy()
     nudged[2] = np.nextafter(nudged[2], 3.0)
     dataset = Dataset([
-        original, _trajectory("b", 2.0), original.replace(id="a_copy", meta={"subject": "s02"}),
-        original.replace(id="a_nudged").with_columns(angle=nudged), _trajectory("b_copy", 2.0),
+        original, other, original.replace(id="a_copy", meta={"subject": "s02"}),
+        original.replace(id="a_nudged").with_columns(angle=nudged), other.replace(id="b_copy"),
         original.replace(id="a_again"), _trajectory("a_longer", 1.0, n=5),
+        # the same motion labelled with another basket (a copy whose file name gives a distance) was new
+        _trajectory("a_at_2.5m", 2.5),
     ])
-    assert dataset.duplicates() == [("a", "a_copy", "a_again"), ("b", "b_copy")]
+    assert dataset.duplicates() == [("a", "a_copy", "a_again", "a_at_2.5m"), ("b", "b_copy")]
     warning = copies_warning(dataset)
-    assert warning.startswith("3 throws repeat another sample for sample (the first: a and a_copy and a_again)")
+    assert warning.startswith("4 throws repeat another sample for sample, distance aside (the first: a and a_copy and "
+                              "a_again and a_at_2.5m)")
     assert "count" in warning and "BIC" in warning
-    assert Dataset([original, _trajectory("b", 2.0)]).duplicates() == [] and copies_warning(Dataset([original])) is None
+    assert Dataset([original, other]).duplicates() == [] and copies_warning(Dataset([original])) is None
 
 
 def test_two_context_columns_group_trajectories():

@@ -1,5 +1,6 @@
-"""What the text and CSV skeleton readers refuse or report: time that goes back, a time column
-under another name, column-map typos, where a non-finite value is, a BOM, ';' and tab separators."""
+"""What the text and CSV skeleton readers refuse or report: time that goes back (or jitters), a
+time column under another name, column-map typos, where a non-finite value is, a BOM, ';' and tab
+separators."""
 
 from __future__ import annotations
 
@@ -51,6 +52,56 @@ def test_csv_time_that_goes_back_names_the_line_and_what_to_do(tmp_path):
     path = _write_csv(tmp_path / "interleaved.csv", [0.0, 0.1, 0.2, 0.05, 0.15, 0.25])
     with pytest.raises(InputError, match=r"interleaved.csv, line 5: time stamp 0.05 after 0.2 goes back"):
         read_joint_csv(path)
+
+
+def test_a_csv_with_a_header_and_no_rows_holds_no_frames(tmp_path):
+    # under pandas 3 it was "internal error: ValueError: output array is read-only"
+    path = _write_csv(tmp_path / "header.csv", [0.0, 0.1])
+    path.write_text(path.read_text().splitlines()[0] + "\n")
+    with pytest.raises(InputError, match=r"header.csv: no frames \(a header and no rows below it\)$"):
+        read_joint_csv(path)
+    with pytest.raises(InputError, match=r"header.csv: no frames"):
+        import_recordings([path])
+
+
+def test_nan_spelt_in_any_case_is_a_blank_cell(tmp_path):
+    # under pandas 3 a column with text has dtype str, not object: "NAN" was a non-numeric value
+    path = _write_csv(tmp_path / "upper.csv", [0.0, 0.1, 0.2, 0.3, 0.4, 0.5])
+    lines = path.read_text().splitlines()
+    hand_x = 1 + _POINTS.index("right_hand_x")  # after the time
+    for line, spelt in ((3, "NAN"), (5, "Nan")):
+        cells = lines[line - 1].split(",")
+        cells[hand_x] = spelt
+        lines[line - 1] = ",".join(cells)
+    path.write_text("\n".join(lines) + "\n")
+    recording = read_joint_csv(path)
+    assert len(recording.arms[0].hand) == 4 and len(recording.arms[0].elbow) == 6
+    assert any("2 frames with a nan or blank value in a joint rlff reads" in note for note in recording.notes)
+
+
+def test_time_stamps_a_little_back_are_clock_jitter_put_in_order_with_a_note(tmp_path):
+    # 0.4 ms back at 120 Hz was "time stamp goes back (two recordings appended ...)": unimportable
+    time = [0.0, 0.1, 0.2, 0.197, 0.3, 0.4, 0.398, 0.5]
+    recording = read_joint_csv(_write_csv(tmp_path / "jitter.csv", time))
+    elbow = recording.arms[0].elbow
+    np.testing.assert_array_equal(elbow.time, sorted(time))
+    np.testing.assert_allclose(elbow.position[3], _positions(len(time))[2, 3:6], atol=1e-6)  # line 4's frame, after line 5's
+    assert any(note.startswith("jitter.csv: 2 time stamps went back, by at most 0.003 s, under 25% of the median step "
+                               "(clock jitter; the first on line 5): the rows put in time stamp order")
+               for note in recording.notes), recording.notes
+    # a quarter of a step back or more is no jitter
+    path = _write_csv(tmp_path / "back.csv", [0.0, 0.1, 0.2, 0.175, 0.3, 0.4])
+    with pytest.raises(InputError, match=r"back.csv, line 5: time stamp 0.175 after 0.2 goes back"):
+        read_joint_csv(path)
+    # measured from the latest stamp before, not only the row before
+    path = _write_csv(tmp_path / "creep.csv", [0.0, 0.1, 0.2, 0.185, 0.17, 0.3, 0.4])
+    with pytest.raises(InputError, match=r"creep.csv, line 6: time stamp 0.17 after 0.185 goes back"):
+        read_joint_csv(path)
+    # frame numbers count frames: one back is a whole frame
+    kinect = tmp_path / "numbers.txt"
+    kinect.write_text("\n".join(_kinect_lines([0, 1, 2, 4, 3, 5])) + "\n")
+    with pytest.raises(InputError, match=r"numbers.txt, line 5: frame number 3 after 4 goes back"):
+        read_kinect_text(kinect)
 
 
 def test_a_repeated_time_stamp_or_frame_number_is_dropped_with_a_note(tmp_path):

@@ -205,11 +205,11 @@ class Trajectory:
         """A copy with ``id``, ``data`` or ``meta`` replaced."""
         return replace(self, **changes)
 
-    def samples_digest(self) -> bytes:
-        """SHA-256 of the samples: every column's name and values, bit for bit, in name order
-        (not the id or the metadata). Equal digests: the same samples."""
+    def samples_digest(self, columns: Iterable[str] | None = None) -> bytes:
+        """SHA-256 of the samples: the name and values of every column (or of ``columns``), bit
+        for bit, in name order (not the id or the metadata). Equal digests: the same samples."""
         digest = hashlib.sha256(str(len(self)).encode())
-        for name in sorted(self.columns):
+        for name in sorted(self.columns if columns is None else columns):
             digest.update(name.encode() + b"\0")
             digest.update(np.ascontiguousarray(self[name]).tobytes())
         return digest.digest()
@@ -444,14 +444,17 @@ class Dataset(Sequence[Trajectory]):
         )
 
     def duplicates(self) -> list[tuple[str, ...]]:
-        """Groups of ids whose trajectories hold identical samples: the same values in every
-        column, bit for bit (ids and metadata may differ), each group in dataset order, the groups
-        in the order of their first trajectory. A throw given twice (a recording imported under
-        two names, a file appended to itself) counts twice in a fit, as if it were new evidence.
+        """Groups of ids whose trajectories hold the same motion: the same values in every column
+        but the context columns, bit for bit (ids, metadata and the context, the basket a throw is
+        labelled with, may differ), each group in dataset order, the groups in the order of their
+        first trajectory. A throw given twice (a recording imported under two names, one of them
+        naming a basket; a file appended to itself) counts twice in a fit, as if it were new
+        evidence.
         """
         groups: dict[bytes, list[str]] = {}
         for trajectory in self._trajectories:
-            groups.setdefault(trajectory.samples_digest(), []).append(trajectory.id)
+            motion = [name for name in trajectory.columns if name not in self.context]
+            groups.setdefault(trajectory.samples_digest(motion), []).append(trajectory.id)
         return [tuple(ids) for ids in groups.values() if len(ids) > 1]
 
     def replace(self, trajectories: Iterable[Trajectory]) -> Dataset:
@@ -497,8 +500,9 @@ def copies_warning(dataset: Dataset) -> str | None:
     if not groups:
         return None
     copies = sum(len(ids) - 1 for ids in groups)
+    aside = f", {', '.join(dataset.context)} aside" if dataset.context else ""
     return (
-        f"{plural(copies, 'throw')} {'repeats' if copies == 1 else 'repeat'} another sample for sample (the "
+        f"{plural(copies, 'throw')} {'repeats' if copies == 1 else 'repeat'} another sample for sample{aside} (the "
         f"first: {' and '.join(groups[0])}): every copy counts in the fit and in BIC as a new throw "
         "(BIC then favours a larger K); keep one of each"
     )

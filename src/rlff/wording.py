@@ -25,11 +25,17 @@ def bad_cell(value: Any) -> str:
     return "an empty or nan value" if math.isnan(number) else f"a non-finite value {number:g}"
 
 
-def nearest_hint(word: str, choices: Sequence[str], otherwise: str) -> str:
+def did_you_mean(word: str, choices: Sequence[str]) -> str:
     """`` (did you mean 'x'?)`` with the choice nearest to a misspelt ``word`` (difflib), or
-    `` (otherwise)`` when none is close (e.g. the list of the choices)."""
+    ``""`` when none is close."""
     near = difflib.get_close_matches(word, list(choices), n=1)
-    return f" (did you mean {near[0]!r}?)" if near else f" ({otherwise})"
+    return f" (did you mean {near[0]!r}?)" if near else ""
+
+
+def nearest_hint(word: str, choices: Sequence[str], otherwise: str) -> str:
+    """:func:`did_you_mean`, or `` (otherwise)`` when no choice is close (e.g. the list of the
+    choices)."""
+    return did_you_mean(word, choices) or f" ({otherwise})"
 
 
 def signed_metres(value: float, digits: int = 2, unmeasured: str = "landing not measured") -> str:

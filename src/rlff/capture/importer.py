@@ -497,9 +497,10 @@ def _implausible(throws: Sequence[ThrowInfo], alone: bool = False) -> str | None
 
 
 def _refuse_copies(dataset: Dataset, origin: Mapping[str, Path]) -> None:
-    """Refuse a throw that two files hold sample for sample (:meth:`Dataset.duplicates`): one
-    recording under two names, which :func:`require_distinct`, comparing paths, cannot see and
-    which would count twice. Copies within one file are left to the fit's warning."""
+    """Refuse a throw that two files hold sample for sample, whatever its basket
+    (:meth:`Dataset.duplicates`): one recording under two names (one of them naming a distance),
+    which :func:`require_distinct`, comparing paths, cannot see and which would count twice.
+    Copies within one file are left to the fit's warning."""
     for ids in dataset.duplicates():
         first: dict[Path, str] = {}  # each file of the group and its first copy
         for trajectory_id in ids:
@@ -507,8 +508,8 @@ def _refuse_copies(dataset: Dataset, origin: Mapping[str, Path]) -> None:
         if len(first) > 1:
             (file_a, id_a), (file_b, id_b) = list(first.items())[:2]
             raise InputError(
-                f"{file_a} and {file_b} hold the same throw, sample for sample ({id_a} and {id_b}): one "
-                "recording under two names would count twice; give each recording once"
+                f"{file_a} and {file_b} hold the same throw, sample for sample ({id_a} and {id_b}; their baskets "
+                "aside): one recording under two names would count twice; give each recording once"
             )
 
 

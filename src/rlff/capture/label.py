@@ -68,7 +68,7 @@ from rlff.csvlines import data_row_lines, header_separator
 from rlff.dataset import BEARING_RANGE, HEIGHT_RANGE
 from rlff.errors import InputError
 from rlff.limits import DISTANCE_RANGE, check_distance
-from rlff.wording import plural
+from rlff.wording import did_you_mean, plural
 
 
 @dataclass(frozen=True)
@@ -310,6 +310,13 @@ def distance_from_name(path: str | Path) -> float | None:
     return distance
 
 
+#: The columns of a manifest: ``file`` and ``distance``, then the optional ones.
+MANIFEST_COLUMNS = ("file", "distance", "throw", "start", "end", "subject", "bearing", "height")
+#: Measured outcomes, which rlff does not take from a manifest: a throw's landing is estimated
+#: from the hand's release, and its hit judged against the basket from that.
+_OUTCOME_COLUMNS = ("hit", "landing")
+
+
 def read_manifest(path: str | Path) -> list[ManifestRow]:
     """Read a manifest CSV (columns ``file``, ``distance``; optional ``throw``, ``start``, ``end``,
     ``subject``, and the basket's ``bearing`` (deg, -180 to 180) and rim ``height`` (m)).
@@ -317,9 +324,10 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
     Raises
     ------
     InputError
-        The file is missing or unreadable, lacks ``file`` or ``distance``, has a bad value, a
-        throw number below 1, a ``start`` after its ``end``, or lists the same throw twice with
-        different distances (the rows at fault are named).
+        The file is missing or unreadable, lacks ``file`` or ``distance``, has a column that is
+        none of :data:`MANIFEST_COLUMNS` (a measured outcome, ``hit`` or ``landing``, said to
+        be one), has a bad value, a throw number below 1, a ``start`` after its ``end``, or lists
+        the same throw twice with different distances (the rows at fault are named).
     """
     import pandas as pd
 
@@ -336,6 +344,9 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
     missing = [name for name in ("file", "distance") if name not in frame.columns]
     if missing:
         raise InputError(f"manifest {path}: no column {', '.join(map(repr, missing))} (columns: {', '.join(frame.columns)})")
+    # a column without a name or a value is a separator ending the header
+    _require_known_columns(path, [name for name in frame.columns
+                                  if not name.startswith("unnamed: ") or frame[name].str.strip().any()])
     rows = []
     lines = data_row_lines(path, separator)
     if len(lines) != len(frame):  # read otherwise than pandas read it: the lines as if none were blank
@@ -379,6 +390,29 @@ def read_manifest(path: str | Path) -> list[ManifestRow]:
         rows.append(row)
     _check_no_conflicts(rows)
     return rows
+
+
+def _require_known_columns(path: Path, columns: Sequence[str]) -> None:
+    """:class:`InputError` naming the manifest's ``columns`` (lower case) that are none of
+    :data:`MANIFEST_COLUMNS`, each with the nearest where one is close: their values would be lost
+    without a word."""
+    unknown = [name for name in columns if name not in MANIFEST_COLUMNS]
+    outcomes = [name for name in unknown if name in _OUTCOME_COLUMNS]  # said first, and apart
+    at_fault = outcomes or unknown
+    if not at_fault:
+        return
+    columns_word, it = ("columns", "them") if len(at_fault) > 1 else ("column", "it")
+    if outcomes:
+        raise InputError(
+            f"manifest {path}: {columns_word} {', '.join(map(repr, outcomes))}: rlff reads no measured outcome from "
+            "a manifest (a throw's landing is estimated from the hand's release, and its hit judged from that: "
+            f"docs/capture.md, Labels); drop {it}"
+        )
+    named = ", ".join(f"{name!r}{did_you_mean(name, MANIFEST_COLUMNS)}" for name in unknown)
+    raise InputError(
+        f"manifest {path}: unknown {columns_word} {named}; a manifest's columns are {', '.join(MANIFEST_COLUMNS)}: "
+        f"rename or drop {it}"
+    )
 
 
 def _check_no_conflicts(rows: list[ManifestRow]) -> None:

@@ -17,8 +17,10 @@ CSV
 
 Frames whose arm joints are all zero (the tracker lost the user) are dropped, and so are repeats
 of the frame number (Kinect) or time stamp (CSV) of the row before; each reader says how many in
-its notes. A frame number or time stamp below the one before (two recordings appended, a clock
-reset, rows out of order) is an error naming its line: the rows are never re-sorted.
+its notes. A time stamp (or frame number) a little below one before it, by less than a quarter
+of the median step, is clock jitter (a host clock stamping frames as they arrive): the rows are put
+in time order, with a note. Further below (two recordings appended, a clock reset, rows out of
+order) it is an error naming its line: such rows are never re-sorted.
 """
 
 from __future__ import annotations
@@ -96,28 +98,50 @@ def _numeric_rows(
     return np.asarray(rows), np.asarray(lines)
 
 
-def _forward_rows(stamps: np.ndarray, line_of: Callable[[int], int], what: str, notes: list[str], path: Path) -> np.ndarray:
-    """Rows to keep, a boolean array of shape (N,), of rows whose ``what`` (time, frame number)
-    ``stamps`` of shape (N,) never go back: a repeat of the row before is dropped with a note.
+#: A stamp below the latest one before it by less than this share of the median step between
+#: stamps is clock jitter (a host clock stamping frames as they arrive): the rows are put in time
+#: order. A larger step back is two recordings appended, a clock reset or rows out of order.
+JITTER_SHARE = 0.25
 
-    ``line_of(row)`` is a row's file line. Raises InputError at the first stamp
-    below the one before (two recordings appended, a clock reset, rows out of order).
+
+def _forward_rows(
+    stamps: np.ndarray, line_of: Callable[[int], int], what: str, notes: list[str], path: Path, unit: str = "",
+) -> np.ndarray:
+    """Rows to keep, in the order of their ``what`` (time, frame number) ``stamps`` of shape (N,):
+    row indices of shape (M,), M <= N. Stamps below one before them by less than
+    :data:`JITTER_SHARE` of the median step forward are put in order, and a repeat of the stamp
+    before is dropped, each with a note.
+
+    ``line_of(row)`` is a row's file line; ``unit`` follows a stamp's value in the note (`` s``).
+    Raises InputError at the first stamp further below one before it (two recordings appended, a
+    clock reset, rows out of order).
     """
-    step = np.diff(stamps)
-    if np.any(step < 0):
-        row = int(np.flatnonzero(step < 0)[0]) + 1
+    behind = np.maximum.accumulate(stamps)[:-1] - stamps[1:]  # (N - 1,): > 0 where a stamp goes back
+    ahead = -behind[behind < 0]
+    jitter = JITTER_SHARE * float(np.median(ahead)) if ahead.size else 0.0
+    far = (behind > 0) & (behind >= jitter)
+    if far.any():
+        row = int(np.flatnonzero(far)[0]) + 1
         raise InputError(
             f"{path}, line {line_of(row)}: {what} {stamps[row]:g} after {stamps[row - 1]:g} goes back "
             f"(two recordings appended, or rows out of order?): split the file at this line, or sort "
             f"its rows by {what}"
         )
-    repeat = np.r_[False, step == 0]
+    order = np.argsort(stamps, kind="stable")
+    if np.any(behind > 0):
+        back = np.flatnonzero(behind > 0)
+        notes.append(
+            f"{path.name}: {plural(back.size, what)} went back, by at most {behind.max():.3g}{unit}, under "
+            f"{JITTER_SHARE:.0%} of the median step (clock jitter; the first on line {line_of(int(back[0]) + 1)}): "
+            f"the rows put in {what} order"
+        )
+    repeat = np.r_[False, np.diff(stamps[order]) == 0]
     if repeat.any():
         notes.append(
             f"{path.name}: dropped {plural(int(repeat.sum()), 'repeated ' + what)} (kept the first; the first "
-            f"repeat is on line {line_of(int(np.flatnonzero(repeat)[0]))})"
+            f"repeat is on line {line_of(int(order[np.flatnonzero(repeat)[0]]))})"
         )
-    return ~repeat
+    return order[~repeat]
 
 
 def _clean_frames(
@@ -306,9 +330,9 @@ def read_joint_csv(
     ------
     InputError
         No arm with all of shoulder, elbow and hand x/y/z columns (the message lists what is
-        missing and the columns that are there), a column map entry whose name is not one of
-        ours or whose column the file does not have (with the nearest), a non-numeric value, or
-        a time stamp below the one before.
+        missing and the columns that are there), a header without rows, a column map entry whose
+        name is not one of ours or whose column the file does not have (with the nearest), a
+        non-numeric value, or a time stamp below the one before.
     """
     import pandas as pd
 
@@ -324,6 +348,8 @@ def read_joint_csv(
         frame = pd.read_csv(path, sep=separator, decimal="." if separator == "," else ",", skipinitialspace=True)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise InputError(f"{path}: not a readable CSV ({str(exc).strip().splitlines()[-1]})") from None
+    if frame.empty:
+        raise InputError(f"{path}: no frames (a header and no rows below it)")
     frame.columns = [str(name).strip() for name in frame.columns]  # "time, right_shoulder_x, ..." as Excel writes
     mapping = dict(columns or {})
     _check_column_map(mapping, [str(name) for name in frame.columns], path)
@@ -340,17 +366,14 @@ def read_joint_csv(
         if name not in read:
             column = frame[name]
             blank = column.isna().to_numpy()  # pandas reads empty cells, nan, NA, n/a as missing
-            if column.dtype == object:  # text among the numbers: "nan" spelt otherwise is blank too
-                blank |= column.astype(str).str.strip().str.lower().isin(["", "nan"]).to_numpy()
+            if not pd.api.types.is_numeric_dtype(column):  # text among the numbers (dtype object, or str
+                # under pandas 3): "nan" spelt otherwise (NAN, " nan") is blank too
+                blank = blank | column.astype(str).str.strip().str.lower().isin(["", "nan"]).to_numpy()
             read[name] = (pd.to_numeric(column, errors="coerce").to_numpy(dtype=float), blank)
         values, blank = read[name]
         bad = ~np.isfinite(values) & (True if finite else ~blank)
         if bad.any():
             row = int(np.flatnonzero(bad)[0])
-            raise InputError(f"{path}, line {data_row_line(path, row, separator)}: column {name!r} has {bad_cell(frame[name].iloc[row])}")
-        return values
-        if not np.all(np.isfinite(values)):
-            row = int(np.flatnonzero(~np.isfinite(values))[0])
             raise InputError(f"{path}, line {data_row_line(path, row, separator)}: column {name!r} has {bad_cell(frame[name].iloc[row])}")
         return values
 
@@ -391,7 +414,7 @@ def read_joint_csv(
             )
         elif timelike:
             notes.append(f"{path.name}: no time column: frames taken as {rate:g} Hz (--rate){hint}")
-    keep = _forward_rows(time, lambda row: data_row_line(path, row, separator), "time stamp", notes, path)
+    keep = _forward_rows(time, lambda row: data_row_line(path, row, separator), "time stamp", notes, path, " s")
     torso = {}
     for point in CSV_TORSO:
         names = [column(f"{point}_{axis}") for axis in _AXES]
