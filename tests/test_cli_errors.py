@@ -213,7 +213,9 @@ def test_a_tiny_densify_step_is_refused_with_its_numbers(rlff, files, tmp_path):
         # a decimal comma where a float is asked for: the number with a point
         (["generate", "{model}", "-o", "{tmp}/g.csv", "--exploration-scale", "1,5"],
          ["(got '1,5')", "numbers take a decimal point: 1.5"]),
-        (["no-such-command"], ["no-such-command"]),
+        (["no-such-command"], ["rlff: error: No such command 'no-such-command'", "(see rlff --help)"]),
+        (["data", "no-such-command"], ["rlff: error: rlff data: No such command 'no-such-command'",
+                                       "(see rlff data --help)"]),
         # rlff's own option after the subcommand: where it goes
         (["data", "preprocess", "{data}", "-o", "{tmp}/c.csv", "-q"],
          ["No such option: -q", "-q goes before the subcommand: rlff -q data preprocess ..."]),

@@ -122,7 +122,8 @@ def _usage(exc, args: list[str]) -> str:
     own = {opt for param in _command().params for opt in getattr(param, "opts", ())}
     if unknown in own and command != "rlff":  # rlff data preprocess -q: an option of rlff itself
         message += f"; {unknown} goes before the subcommand: rlff {unknown} {command.removeprefix('rlff ')} ..."
-    return f"error: {command}: {message} (see {command} --help)"
+    where = "" if command == "rlff" else f"{command}: "  # rlff's own error says "rlff: error:" already
+    return f"error: {where}{message} (see {command} --help)"
 
 
 def _command_path(args: list[str]) -> str:
