@@ -121,6 +121,20 @@ def test_sim_reach_of_an_arm_it_cannot_simulate_says_why(cli, tmp_path):
     assert result.code == 2 and "cannot be simulated" in result.stderr and "unknown joint" not in result.stderr
 
 
+def test_sim_reach_throws_with_the_robot_file_s_throwing_joint_unless_told(cli, tmp_path):
+    # a file that throws with joint_3 was given joint_2's reach first (and its farthest basket)
+    from importlib import resources
+
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    assert text.count('joint = "joint_2"') == 1
+    robot = tmp_path / "elbow.toml"
+    robot.write_text(text.replace('joint = "joint_2"', 'joint = "joint_3"').replace("joint_3 = -1.373\n", "joint_2 = 0.2\n"))
+    default = json.loads(cli("sim", "reach", "--robot", str(robot), "--json").stdout)
+    told = json.loads(cli("sim", "reach", "--robot", str(robot), "--json", "--joints", "joint_3").stdout)
+    assert default["joints"] == ["joint_3"] and default["reach"] == told["reach"]
+    assert json.loads(cli("sim", "reach", "--json").stdout)["joints"] == ["joint_2"]  # the built-in's
+
+
 @pytest.mark.slow
 def test_frames_are_written_as_png_and_gif(tmp_path):
     robot = load_robot()

@@ -153,8 +153,9 @@ def reach(
     rim_height: float = RIM,
     opening: float = OPENING,
     pedestal: float = PEDESTAL,
-    joints: str = typer.Option("joint_2", "--joints",
-                               help="Throwing joints at their speed limits, comma-separated (joint_2, joint_3, joint_5)."),
+    joints: str | None = typer.Option(
+        None, "--joints", help="Throwing joints at their speed limits, comma-separated (joint_2, joint_3, joint_5); "
+                               "default the robot file's [throwing] joint (joint_2 without one)."),
     bearing: float = typer.Option(0.0, "--bearing", help="The basket's bearing (deg): joint_1 turns the arm to face "
                                                          "it, so the reach is the same on every line joint_1 reaches."),
     json: bool = JSON,
@@ -169,6 +170,8 @@ def reach(
 
     model = load_robot(robot)
     Arm.from_robot(model)  # the simulated arm's own checks: 6 joints and a [geometry] table
+    if joints is None:  # the joint the robot file throws with: a joint_3 thrower's reach is not joint_2's
+        joints = str(model.throwing.get("joint", "joint_2"))
     names = [name.strip() for name in joints.split(",") if name.strip()]
     turn = model.joint(str(model.whole_arm.get("bearing_joint", "joint_1")))
     if not turn.lower <= math.radians(bearing) <= turn.upper:
