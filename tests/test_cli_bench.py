@@ -73,9 +73,29 @@ def test_the_default_baskets_beyond_the_robots_reach_are_refused_before_any_run(
     assert result.code == 2 and result.stdout == ""
     (line,) = result.stderr.strip().splitlines()  # no progress bar: nothing ran
     assert line.startswith(f"rlff: error: --robot {arm} (slow_arm) does not reach the basket at 1.90 m of scenario "
-                           "short: throwing with joint_2 at the speed limit")
+                           "short: throwing with joint_2 alone at its speed limit (the other joints at the [throwing] start "
+                           "pose)")
     assert "of the baskets of short, wide (1.25, 1.40, 1.75, 1.90 m) it reaches 1.25, 1.40, 1.75 m" in line
     assert "pass baskets within its reach with --baskets, e.g. --baskets 1.25,1.4,1.75" in line
+
+
+def test_the_reach_a_refusal_gives_is_that_of_the_robot_file_s_own_throwing_joint(cli, tmp_path):
+    # a joint_3 thrower was first told the free pose's farthest basket (its joint_2 at its limit
+    # too), then refused at a nearer one by the throws it executes
+    from importlib import resources
+
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.sim.reach import centimetres_below, executable_reach, farthest_basket
+
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    robot = tmp_path / "elbow.toml"
+    robot.write_text(text.replace('joint = "joint_2"', 'joint = "joint_3"').replace("joint_3 = -1.373\n", "joint_2 = 0.2\n"))
+    result = cli("bench", "learning", "--robot", str(robot), "--seeds", "1", "--baskets", "4.5", "--methods", "imitation")
+    assert result.code == 2, result.stderr
+    mapped = farthest_basket(executable_reach(RobotMapping.for_robot(load_robot(robot))).distance, 0.35)
+    assert ("throwing with joint_3 alone at its speed limit (the other joints at the [throwing] start pose)"
+            in result.stderr)
+    assert f"the farthest basket with a 0.35 m opening is at {centimetres_below(mapped)} m" in result.stderr
 
 
 def test_the_table_and_json_name_the_robot_they_ran_on(cli, tmp_path):
