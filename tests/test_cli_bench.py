@@ -98,6 +98,15 @@ def test_the_reach_a_refusal_gives_is_that_of_the_robot_file_s_own_throwing_join
     assert f"the farthest basket with a 0.35 m opening is at {centimetres_below(mapped)} m" in result.stderr
 
 
+@pytest.mark.parametrize(("opening", "said"), [("0.01", "is no wider than the ball (0.066 m across)"),
+                                               ("3", "reaches back past the robot from a basket 1.4 m away")])
+def test_an_opening_no_throw_can_score_in_is_refused(cli, opening, said):
+    # 0.01 m was taken and never hit; 3 m put the basket's near edge behind the robot, and the
+    # window search aimed its first throw behind the base (a median of 2 attempts for it)
+    result = cli("bench", "learning", "--seeds", "1", "--methods", "imitation", "--opening", opening)
+    assert result.code == 2 and f"basket opening (--opening) {opening} m {said}" in result.stderr
+
+
 def test_the_table_and_json_name_the_robot_they_ran_on(cli, tmp_path):
     # a table of another arm read like the Comau's
     arm = slow_arm(tmp_path)

@@ -162,6 +162,7 @@ def reach(
 ) -> None:
     """How far the robot throws: where the ball comes down to the rim's height, at best."""
     from rlff.errors import InputError
+    from rlff.limits import DISTANCE_RANGE
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import RobotMapping
     from rlff.sim import Basket, throw_reach
@@ -177,7 +178,9 @@ def reach(
     if not turn.lower <= math.radians(bearing) <= turn.upper:
         raise InputError(f"--bearing {bearing:g} deg is beyond {turn.name}'s range "
                          f"{math.degrees(turn.lower):.0f} to {math.degrees(turn.upper):.0f} deg")
-    Basket(1.0, rim_height, opening, bearing)  # the basket's own checks of height, opening, bearing
+    # the basket's own checks of height, opening and bearing; as far as a basket goes, since the
+    # reach has no basket's distance to judge an opening reaching back past the robot against
+    Basket(DISTANCE_RANGE[1], rim_height, opening, bearing)
     result = throw_reach(model, rim_height, pedestal, names)
     if not math.isfinite(result.distance):
         raise InputError(f"{model.name}, throwing with {', '.join(result.joints)} at the speed limit from a "

@@ -9,6 +9,7 @@ import numpy as np
 from rlff.dataset import BEARING_RANGE
 from rlff.errors import InputError
 from rlff.limits import check_distance
+from rlff.sim.arm import BALL_RADIUS
 
 #: Thickness of the basket's walls and floor (m).
 WALL = 0.01
@@ -43,6 +44,13 @@ class Basket:
             value = getattr(self, name)
             if not np.isfinite(value) or value <= 0:
                 raise InputError(f"basket {name} ({option}) must be a positive number of metres, got {value}")
+        if self.opening <= 2 * BALL_RADIUS:
+            raise InputError(f"basket opening (--opening) {self.opening:g} m is no wider than the ball "
+                             f"({2 * BALL_RADIUS:g} m across): no throw drops into it")
+        if self.opening >= 2 * self.distance:
+            raise InputError(f"basket opening (--opening) {self.opening:g} m reaches back past the robot from a basket "
+                             f"{self.distance:g} m away: give the opening's inner width in metres (0.35 is the thesis' "
+                             "basket)")
         low, high = BEARING_RANGE
         if not (np.isfinite(self.bearing) and low <= self.bearing <= high):
             raise InputError(f"basket bearing must be {low:g}..{high:g} degrees, got {self.bearing}")
