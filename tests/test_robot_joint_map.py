@@ -285,6 +285,10 @@ def test_the_arm_s_state_is_checked_in_rlff_s_convention_and_named_both_ways(tmp
         "arm's pose read (rad; the controller's = rlff's): shoulder_pan_joint 0 = joint_1 0, shoulder_lift_joint "
         "-1.571 = joint_2 0, elbow_joint 0.5708 = joint_3 -1, wrist_1_joint 0 = joint_4 0, wrist_2_joint 0.15 = "
         "joint_5 0.1, wrist_3_joint 0 = joint_6 0")
+    # a controller's -0.0 (and the map's sign turning a 0 into one) reads 0, not -0
+    assert " -0," not in pose_line(robot, np.array([-0.0, 0.0, -1.0, -0.0, 0.1, -0.0])) + ","
+    assert pose_line(load_robot(), np.array([0.0, -0.0, 0.0, 0.0, 0.0, 0.0])).endswith("joint_2 0, joint_3 0, "
+                                                                                        "joint_4 0, joint_5 0, joint_6 0")
     # without a map: the messages as they were
     with pytest.raises(ArmStateError, match=re.escape("the arm is moving (0.5 rad/s on joint_5): wait until it "
                                                       "rests, then send again")):

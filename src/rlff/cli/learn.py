@@ -49,7 +49,7 @@ def learn_command(
                                        help="With --until centred: a centred hit lands within this share of the "
                                             "half-opening from the centre (0.5: the middle half)."),
     out: Path | None = typer.Option(None, "--output", "-o", "--out",
-                                    help="Write the best throw (the last hit) robot-ready, as `rlff robot export` "
+                                    help="Write the best throw (the last hit, or without one the nearest miss) robot-ready, as `rlff robot export` "
                                          "does; the format from the suffix (.json, .csv, .bag, .txt: comau; none: "
                                          "ros2-bag folder) or --format."),
     fmt: str | None = typer.Option(None, "--format", "-f", help="Format of --out: json, csv, ros1-bag, ros2-bag, comau."),

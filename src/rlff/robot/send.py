@@ -302,9 +302,9 @@ def pose_line(robot: Robot, pose: np.ndarray) -> str:
     counted = joints.positions_to_controller(robot.joint_names, pose)
     parts = []
     for name, value, theirs in zip(robot.joint_names, pose, counted, strict=True):
-        own = f"{name} {value:.4g}"
+        own = f"{name} {value + 0.0:.4g}"  # + 0.0: a -0.0 the controller reports reads 0
         controller = joints.controller_name(name)
-        parts.append(own if controller == name and theirs == value else f"{controller} {theirs:.4g} = {own}")
+        parts.append(own if controller == name and theirs == value else f"{controller} {theirs + 0.0:.4g} = {own}")
     return f"arm's pose read (rad; the controller's = rlff's): {', '.join(parts)}"
 
 
