@@ -89,7 +89,7 @@ def test_the_flickering_second_skeleton_is_dropped_and_reported(lz4_bag):
     recording = read_bag(lz4_bag)
     assert recording.users() == ["1", "2"]
     assert {arm.side for arm in recording.arms} == {"right", "left"}
-    arms, notes = keep_consistent_user(recording)
+    arms, notes, _ = keep_consistent_user(recording)
     assert {arm.user for arm in arms} == {"1"}
     assert len(notes) == 1 and "dropped tracked user 2" in notes[0] and "appearances" in notes[0]
 

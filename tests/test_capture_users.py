@@ -37,7 +37,7 @@ def test_a_person_lost_and_found_again_under_a_new_id_is_joined_and_a_reflection
         ],
         bf.UP,
     )
-    arms, notes = keep_consistent_user(recording)
+    arms, notes, _ = keep_consistent_user(recording)
     kept, joined = ("3", "1") if second.sum() > first.sum() else ("1", "3")  # the longer track is kept
     assert len(arms) == 1 and arms[0].user == kept
     assert len(arms[0].elbow) == first.sum() + second.sum()
@@ -55,4 +55,4 @@ def test_a_single_user_is_kept_as_it_is():
     t = np.arange(10) / 30.0
     arm = _arm("1", t, (np.zeros((10, 3)), np.ones((10, 3)), np.full((10, 3), 2.0)))
     recording = Recording("x.bag", [arm], bf.UP)
-    assert keep_consistent_user(recording) == ([arm], [])
+    assert keep_consistent_user(recording) == ([arm], [], [])

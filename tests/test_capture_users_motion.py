@@ -6,10 +6,12 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
 import bagfactory as bf  # noqa: E402
 from rlff.capture.importer import import_recordings  # noqa: E402
+from rlff.errors import InputError  # noqa: E402
 
 
 class _Bystander(bf.Simulation):
@@ -48,3 +50,39 @@ def test_a_reflection_is_dropped_by_its_score_even_though_its_hand_sweeps_furthe
     reflection, bystander = sorted(note for note in file.notes if "tracked user" in note)
     assert "dropped tracked user 2 (second skeleton, e.g. a reflection)" in reflection
     assert "dropped tracked user 3 (tracked about as steadily as user 1" in bystander
+
+
+class _TwoThrowers(bf.Simulation):
+    """The thrower as user 1, and as user 2 a second person 1.2 m to its side, a little smaller,
+    throwing the same throws 0.3 s later (two people taking turns, or a pair in a drill)."""
+
+    delay = 0.3
+
+    def frames(self):
+        shoulder, elbow, hand = self.arm_positions(self.angle(np.maximum(self.frame_times - self.delay, 0.0)))
+        side = np.array([0.0, 1.2, 0.0])
+        for t, users in super().frames():
+            k = int(np.argmin(np.abs(self.frame_times - t)))
+            root = shoulder[k] + side
+            yield t, {**users, "2": bf._body(root, root + 0.85 * (elbow[k] - shoulder[k]),
+                                             root + 0.85 * (hand[k] - shoulder[k]))}
+
+
+def test_a_second_person_who_throws_too_is_warned_of_and_imported_with_user(tmp_path):
+    simulation = bf.standard_simulation(seed=3, n_throws=3)
+    session = _TwoThrowers(simulation.throws, simulation.starts, simulation.duration, seed=3, second_user=False)
+    path = bf.write_ros1_bag(tmp_path / "pair.bag", session)
+    first, report = import_recordings([path], "bag")
+    (file,) = report.files
+    assert file.user == "1" and len(first) == 3
+    (warning,) = [w for w in file.warnings if "tracked user 2" in w]
+    assert "its hand swept as a throwing hand does: if user 2 threw too, its throws are not imported" in warning
+    assert warning.endswith("import them with --user 2") and "not the thrower" not in warning
+    second, report = import_recordings([path], "bag", user="2")
+    (file,) = report.files
+    assert file.user == "2" and len(second) == 3
+    assert any("kept tracked user 2 (--user), left out user 1" in note for note in file.notes)
+    np.testing.assert_allclose([t.meta["start_time"] for t in second],
+                               [t.meta["start_time"] + session.delay for t in first], atol=0.07)
+    with pytest.raises(InputError, match=r"pair\.bag: no tracked user 3 \(--user; its users: 1, 2\)"):
+        import_recordings([path], "bag", user="3")

@@ -335,6 +335,7 @@ def import_recordings(
     topic: str = DEFAULT_TOPIC,
     frames: Sequence[str] = DEFAULT_FRAMES,
     arm: str = "auto",
+    user: str | None = None,
     rate_hz: float | None = None,
     progress: Callable[[str, str], None] | None = None,
     columns: Mapping[str, str] | None = None,
@@ -353,6 +354,8 @@ def import_recordings(
     manifest : CSV of basket distances (see :mod:`rlff.capture.label`)
     topic, frames : tf topic and (shoulder, elbow, hand) frames, for bags
     arm : ``auto`` (the arm whose hand sweeps furthest), ``right`` or ``left``
+    user : the tracked user whose throws to import (its id in the recordings: ``2`` for the
+        frames ``right_elbow_2``...); default the steady user whose hand sweeps furthest
     rate_hz : frame rate of text formats without time stamps (Kinect 30, MSR 15, CSV 30 by default)
     progress : ``progress(path, stage)`` for each file as it is ``"reading"``, ``"cutting throws"``
         and ``"done"`` (a long recording takes a minute between the first and the last)
@@ -429,7 +432,7 @@ def import_recordings(
                                            up=up)
             tell(path, "cutting throws")
             file_report, found = _import_recording(
-                recording, kind, arm, rows, segment or SegmentSettings(), landing, used_ids, up_given=up is not None
+                recording, kind, arm, user, rows, segment or SegmentSettings(), landing, used_ids, up_given=up is not None
             )
         _require_joints(wanted, file_report, found)
         file_report.trajectories = len(found)
@@ -597,9 +600,10 @@ def _subject(path: Path, row: ManifestRow | None) -> str:
     return match.group(1) if match else path.stem
 
 
-def arm_motion(recording: Recording, arm: str = "auto") -> tuple[ArmMotion, list[ArmTrack], list[str], list[str]]:
-    """The arm whose throws the import cuts: the consistent user's, on the side asked for or, with
-    ``auto``, the one whose hand sweeps furthest.
+def arm_motion(recording: Recording, arm: str = "auto",
+               user: str | None = None) -> tuple[ArmMotion, list[ArmTrack], list[str], list[str]]:
+    """The arm whose throws the import cuts: the consistent user's (or ``user``'s), on the side
+    asked for or, with ``auto``, the one whose hand sweeps furthest.
 
     Returns
     -------
@@ -610,7 +614,8 @@ def arm_motion(recording: Recording, arm: str = "auto") -> tuple[ArmMotion, list
     notes : list of str
         Which user and arm were kept, and why.
     warnings : list of str
-        An arm left out because a joint it needs was never tracked (it may be the throwing one).
+        An arm left out because a joint it needs was never tracked (it may be the throwing one);
+        a user left out whose hand swept as a thrower's does.
 
     Raises
     ------
@@ -619,7 +624,7 @@ def arm_motion(recording: Recording, arm: str = "auto") -> tuple[ArmMotion, list
         are not in metres.
     """
     path = Path(recording.source)
-    arms, notes = keep_consistent_user(recording)
+    arms, notes, warnings = keep_consistent_user(recording, user)
     if arm != "auto":
         arms = [track for track in arms if track.side == arm]
         if not arms:
@@ -631,8 +636,8 @@ def arm_motion(recording: Recording, arm: str = "auto") -> tuple[ArmMotion, list
         raise InputError(f"{path}: {track.label}: the {joint.name} was never tracked ({plural(len(joint), 'sample')})"
                          f"{' and no other arm was' if len(arms) > 1 else ''}: no arm to cut throws from; "
                          "leave the file out")
-    warnings = [f"{path}: {track.label} left out: the {joint.name} was never tracked ({plural(len(joint), 'sample')})"
-                for track, joint in untracked]
+    warnings += [f"{path}: {track.label} left out: the {joint.name} was never tracked ({plural(len(joint), 'sample')})"
+                 for track, joint in untracked]
     arms = [track for track in arms if track.untracked is None]
     motions = [align_arm(track, up=recording.up) for track in arms]
     motion = motions[0] if len(motions) == 1 else throwing_arm(motions)
@@ -646,6 +651,7 @@ def _import_recording(
     recording: Recording,
     kind: str,
     arm: str,
+    user: str | None,
     rows: list[ManifestRow],
     segment: SegmentSettings,
     landing: LandingSettings,
@@ -655,7 +661,7 @@ def _import_recording(
     path = Path(recording.source)
     report = FileReport(str(path), kind, notes=list(recording.notes), warnings=list(recording.warnings),
                         assumed_rate=recording.assumed_rate)
-    motion, arms, arm_notes, arm_warnings = arm_motion(recording, arm)
+    motion, arms, arm_notes, arm_warnings = arm_motion(recording, arm, user)
     report.motion = motion
     report.notes.extend(arm_notes)
     report.warnings.extend(arm_warnings)

@@ -16,6 +16,11 @@ A tracker that loses the person and finds them again gives them a new user id. A
 never tracked at the same time as the kept one (at most 5 % of their samples overlap it) and
 whose upper arm has the same length (within 15 %) is taken as the kept person re-acquired: their
 samples are joined to the kept user's, and the join is reported.
+
+One thrower is imported per recording. A steady user dropped for a hand that sweeps less, but
+still about as far as the thrower's (:data:`THROWER_SHARE`), may have thrown too (two people
+taking turns): that is a warning, not a note, and ``user`` (``rlff data import --user``) imports
+that user's throws instead.
 """
 
 from __future__ import annotations
@@ -24,6 +29,7 @@ import numpy as np
 
 from rlff.capture.angles import positions_at, sweep
 from rlff.capture.skeleton import ArmTrack, JointTrack, Recording
+from rlff.errors import InputError
 
 #: A user's track is broken into appearances where it has no sample for longer than this (s).
 _APPEARANCE_GAP_S = 0.5
@@ -32,6 +38,11 @@ _MAX_OVERLAP = 0.05
 _MAX_BONE_DIFFERENCE = 0.15
 #: Users scoring at least this share of the best score are told apart by how their hand moves.
 _COMPARABLE_SCORE = 0.5
+#: A dropped steady user whose hand sweeps at least this share of the kept thrower's sweep moved
+#: as a thrower does: in the 56 MSR recordings the other hand sweeps 0.37 m at the median, the
+#: throwing hand 1.24 m; the test sessions' bystanders under a fifth of the thrower's sweep, a
+#: second thrower about as much as the first.
+THROWER_SHARE = 0.5
 
 
 def upper_arm_lengths(arm: ArmTrack) -> np.ndarray:
@@ -96,12 +107,14 @@ def _join(kept: ArmTrack, other: ArmTrack) -> ArmTrack:
     )
 
 
-def keep_consistent_user(recording: Recording) -> tuple[list[ArmTrack], list[str]]:
+def keep_consistent_user(recording: Recording, user: str | None = None) -> tuple[list[ArmTrack], list[str], list[str]]:
     """The arms of the thrower: the steadiest user, or of the steady ones the one whose hand moves most.
 
     Parameters
     ----------
     recording : Recording
+    user : str, optional
+        The tracked user to keep instead (its id, as the recording numbers its users).
 
     Returns
     -------
@@ -109,40 +122,60 @@ def keep_consistent_user(recording: Recording) -> tuple[list[ArmTrack], list[str
         Both sides of the kept user, as far as the recording has them.
     notes : list of str
         One per other user: joined (re-acquired) or dropped (why, samples, appearances, time span).
+    warnings : list of str
+        A dropped user whose hand swept as a thrower's does: its throws are not imported.
+
+    Raises
+    ------
+    InputError
+        ``user`` is not a user of the recording.
     """
     users = recording.users()
-    by_user = {user: [arm for arm in recording.arms if arm.user == user] for user in users}
+    by_user = {name: [arm for arm in recording.arms if arm.user == name] for name in users}
+    if user is not None:
+        if str(user) not in by_user:
+            raise InputError(f"{recording.source}: no tracked user {user} (--user; its users: {', '.join(users)})")
+        others = [name for name in users if name != str(user)]
+        notes = [f"{recording.source}: kept tracked user {user} (--user), left out user{'s' if len(others) > 1 else ''} "
+                 f"{', '.join(others)}"] if others else []
+        return by_user[str(user)], notes, []
     if len(users) <= 1:
-        return recording.arms, []
-    scores = {user: consistency(arms) for user, arms in by_user.items()}
-    steady = [user for user in users if scores[user] >= _COMPARABLE_SCORE * max(scores.values())]
-    sweeps = {user: hand_sweep(by_user[user]) for user in steady}
-    kept = max(steady, key=lambda user: (sweeps[user], scores[user]))
+        return recording.arms, [], []
+    scores = {name: consistency(arms) for name, arms in by_user.items()}
+    steady = [name for name in users if scores[name] >= _COMPARABLE_SCORE * max(scores.values())]
+    sweeps = {name: hand_sweep(by_user[name]) for name in steady}
+    kept = max(steady, key=lambda name: (sweeps[name], scores[name]))
     origin = min(arm.elbow.time[0] for arm in recording.arms)
     arms = {arm.side: arm for arm in by_user[kept]}
-    notes = []
-    for user in sorted(users, key=lambda user: -scores[user]):
-        if user == kept:
+    notes, warnings = [], []
+    for name in sorted(users, key=lambda name: -scores[name]):
+        if name == kept:
             continue
-        others = {arm.side: arm for arm in by_user[user]}
+        others = {arm.side: arm for arm in by_user[name]}
         shared = [side for side in others if side in arms]
         if shared and all(_same_person(arms[side], others[side]) for side in shared):
             arms.update({side: _join(arms[side], others[side]) for side in shared})
             notes.append(
-                f"{recording.source}: tracked user {user} is user {kept} found again (never tracked together, "
+                f"{recording.source}: tracked user {name} is user {kept} found again (never tracked together, "
                 f"same upper arm): {others[shared[0]].n_samples} samples joined"
             )
             continue
-        arm = max(by_user[user], key=lambda a: a.n_samples)
+        arm = max(by_user[name], key=lambda a: a.n_samples)
+        thrower_like = name in sweeps and sweeps[name] >= THROWER_SHARE * sweeps[kept]
         why = (
-            f"tracked about as steadily as user {kept}, but its hand sweeps {sweeps[user]:.2f} m around its "
-            f"shoulder against {sweeps[kept]:.2f} m: not the thrower"
-            if user in sweeps else "second skeleton, e.g. a reflection"
+            f"tracked about as steadily as user {kept}, but its hand sweeps {sweeps[name]:.2f} m around its "
+            f"shoulder against {sweeps[kept]:.2f} m" + ("" if thrower_like else ": not the thrower")
+            if name in sweeps else "second skeleton, e.g. a reflection"
         )
-        notes.append(
-            f"{recording.source}: dropped tracked user {user} ({why}): "
+        dropped = (
+            f"{recording.source}: dropped tracked user {name} ({why}): "
             f"{arm.n_samples} samples in {_appearances(arm)} appearances between "
             f"t={arm.elbow.time[0] - origin:.2f} and {arm.elbow.time[-1] - origin:.2f} s; kept user {kept} "
             f"({max(a.n_samples for a in by_user[kept])} samples)"
         )
-    return list(arms.values()), notes
+        if thrower_like:
+            warnings.append(f"{dropped}; its hand swept as a throwing hand does: if user {name} threw too, its "
+                            f"throws are not imported (one thrower per recording): import them with --user {name}")
+        else:
+            notes.append(dropped)
+    return list(arms.values()), notes, warnings

@@ -33,8 +33,10 @@ def import_command(
     manifest: Path | None = typer.Option(None, "--manifest", "-m", help="CSV of basket distances: file, distance[, throw | start, end][, subject][, bearing][, height]."),
     contact_sheet: Path | None = typer.Option(None, "--contact-sheet", help="Folder for PNG contact sheets of the cuts (bags with a camera stream)."),
     topic: str = typer.Option("/tf", "--topic", help="tf topic of bags."),
-    frames: str = typer.Option("right_shoulder_1,right_elbow_1,right_hand_1", "--frames", help="Shoulder, elbow, hand tf frames (the trailing number is the user; any user matches)."),
+    frames: str = typer.Option("right_shoulder_1,right_elbow_1,right_hand_1", "--frames", help="Shoulder, elbow, hand tf frames (the trailing number is the user; any user matches: --user picks one)."),
     arm: str = typer.Option("auto", "--arm", help="auto, right or left."),
+    user: str | None = typer.Option(None, "--user", help="The tracked user whose throws to import (its id: 2 for "
+                                    "the frames right_elbow_2, ...); default the steady user whose hand sweeps furthest."),
     rate: float | None = typer.Option(None, "--rate", help="Frame rate (Hz, 1 to 1000) of text recordings without time stamps."),
     columns: str | None = typer.Option(None, "--columns", help="CSV column map: NAME=COLUMN,... (e.g. right_elbow_x=ElbowRight.X)."),
     up: str | None = typer.Option(None, "--up", help="Up axis of the recordings' frame (x, y, z, -x...); default per format."),
@@ -76,7 +78,7 @@ def import_command(
     landing = LandingSettings(release_window=release_window)
     with progress("importing", total=len(files)) as advance:
         dataset, report = import_recordings(
-            files, format, manifest=manifest, topic=topic, frames=frame_names, arm=arm, rate_hz=rate,
+            files, format, manifest=manifest, topic=topic, frames=frame_names, arm=arm, user=user, rate_hz=rate,
             columns=column_map(columns), up=up, landing=landing,
             joints=None if joints is None else [name.strip() for name in joints.split(",") if name.strip()],
             progress=lambda path, stage: advance(int(stage == "done"), description=f"{Path(path).name}: {stage}"),

@@ -285,6 +285,7 @@ def cuts_command(
     recording: Path = typer.Argument(..., help="One recording, as rlff data import reads it (bag, bag folder, text, CSV)."),
     format: str = typer.Option("auto", "--format", "-f", help="bag, kinect-text, msr, csv, or auto (from the file)."),
     arm: str = typer.Option("auto", "--arm", help="auto, right or left."),
+    user: str | None = typer.Option(None, "--user", help="The tracked user whose throws to cut, as for rlff data import."),
     up: str | None = typer.Option(None, "--up", help="Up axis of the recording's frame (x, y, z, -x...); default per format."),
     rate: float | None = typer.Option(None, "--rate", help="Frame rate (Hz) of text recordings without time stamps."),
     columns: str | None = typer.Option(None, "--columns", help="CSV column map: NAME=COLUMN,... as for rlff data import."),
@@ -307,7 +308,7 @@ def cuts_command(
     _guard(out, {"RECORDING": recording, "--manifest": manifest})
     frame_names = [name.strip() for name in frames.split(",") if name.strip()]
     # the baskets drawn are the import's: from the same manifest, or estimated the same way
-    _, report = import_recordings([recording], format, arm=arm, topic=topic, frames=frame_names, rate_hz=rate,
+    _, report = import_recordings([recording], format, arm=arm, user=user, topic=topic, frames=frame_names, rate_hz=rate,
                                   columns=column_map(columns), up=up, manifest=manifest,
                                   landing=LandingSettings(release_window=release_window))
     _done([throw_cuts(report.files[0], out)], as_json)
