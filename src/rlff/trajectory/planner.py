@@ -424,7 +424,11 @@ def plan_throw(
     _require_interpolated_speed(throwing, moved, limits, release_velocity, period, "the throw (start to release)")
     phases.append(throwing)
     braking = _ruckig(limits, release, release_velocity, rest, None, rest, None, period)
-    _require_inside(braking, limits, period, "no room to brake after the release", room_from=release)
+    try:
+        _require_inside(braking, limits, period, "no room to brake after the release", room_from=release)
+    except MotionLimitError as exc:  # what would give the room: the release is the throw's own
+        raise MotionLimitError(f"{exc}: a slower release, or one further from that limit (the robot file's "
+                               "[throwing] angle_offset), leaves room; clipping the throw's points does not") from None
     phases.append(braking)
     joined, ends = _join(phases)
     return JointTrajectory(joined.joint_names, joined.time, joined.positions, joined.velocities,
