@@ -132,3 +132,18 @@ def test_a_live_runs_log_with_misses_nobody_measured_is_reported(tmp_path):
     assert logged.hits == [False, True] and logged.misses[1] == 0.0 and logged.misses[0] != logged.misses[0]
     run, passed, _ = chain_run(folder, tmp_path / "run" / "figures")
     assert passed == [] and [row[0] for row in run.sections[0].tables[0].rows] == ["ros1.jsonl"]
+
+
+def test_a_folder_s_recordings_are_passed_over_in_one_line_not_a_warning_each(tmp_path):
+    # a folder holding the raw recordings beside the demonstrations gave a warning per recording,
+    # each listing its 31 columns
+    from rlff.formats import write_dataset
+    from rlff.synthetic.throws import simulate_throws
+
+    write_dataset(simulate_throws(1, subjects=1, throws_per_distance=1), tmp_path / "demos.csv")
+    for name in ("s01.csv", "s02.csv", "s03.csv", "s04.csv"):
+        (tmp_path / name).write_text("Time (s),RShoulder.X,RShoulder.Y\n0.0,0.1,0.2\n")
+    run, passed, _ = chain_run(tmp_path, tmp_path / "figures")
+    assert passed == ["4 CSV files without a 'trajectory' column, not rlff datasets (s01.csv, s02.csv, s03.csv, ...): "
+                      "recordings? `rlff data import` turns them into one"]
+    assert run.settings["datasets"] == 1

@@ -48,6 +48,9 @@ MAX_DATASET_FIGURES = 4
 NOT_REPORTED = {"generated path": "generated paths", "robot trajectory": "robot trajectories"}
 #: Columns every path ``rlff generate`` writes (DESIGN: generated trajectory).
 GENERATED_COLUMNS = frozenset({"angle", "velocity", "time", "pdf", "exploration", "gmr_mean"})
+#: A CSV file that is no rlff output (no ``trajectory`` column): a folder's recordings, passed over
+#: together in one line, not a warning each that lists their columns.
+FOREIGN_CSV = "foreign"
 #: Fields of every ``rlff sim throw --json`` outcome (:meth:`rlff.sim.throw.ThrowOutcome.to_dict`).
 OUTCOME_FIELDS = frozenset({"hit", "landing_x", "miss", "release", "basket", "first_contact"})
 #: The format tag of ``rlff data preprocess --report``.
@@ -73,13 +76,15 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     from rlff.robot.export import JSON_FORMAT as TRAJECTORY_FORMAT
 
     folder, figures_dir = Path(folder), Path(figures_dir)
-    datasets, models, logs, throws, cleanings, passed = [], [], [], [], [], []
+    datasets, models, logs, throws, cleanings, passed, foreign = [], [], [], [], [], [], []
     unreported: dict[str, list[str]] = {}
     for path in sorted(p for p in folder.iterdir() if p.is_file()):
         suffix = path.suffix.lower()
         try:
             kind = _csv_kind(path) if suffix == ".csv" else None
-            if kind is not None:
+            if kind == FOREIGN_CSV:
+                foreign.append(path.name)
+            elif kind is not None:
                 unreported.setdefault(kind, []).append(path.name)
             elif suffix in DATASET_SUFFIXES:
                 dataset = read_dataset(path)
@@ -105,6 +110,10 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
                 logs.append((path, read_learning_log(path)))
         except InputError as exc:
             passed.append(f"{path.name}: {str(exc).removeprefix(str(path) + ': ')}")
+    if foreign:
+        shown = ", ".join(foreign[:3]) + (", ..." if len(foreign) > 3 else "")
+        passed.append(f"{plural(len(foreign), 'CSV file')} without a 'trajectory' column, not rlff datasets ({shown}): "
+                      "recordings? `rlff data import` turns them into one")
     if not (datasets or models or logs or throws or cleanings):
         seen = f" (passed over {'; '.join(passed)})" if passed else ""
         inner = sorted(p.name for p in folder.iterdir() if p.is_dir())
@@ -143,9 +152,10 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
 
 
 def _csv_kind(path: Path) -> str | None:
-    """The kind of rlff output a CSV file is that the report counts without reporting it (a path
-    of ``rlff generate``, a robot trajectory of ``rlff robot export --format csv``), judged by
-    its header; None for anything else (a dataset has a ``trajectory`` column)."""
+    """The kind of file a CSV is that the report counts without reporting it, judged by its header:
+    an rlff output (a path of ``rlff generate``, a robot trajectory of ``rlff robot export
+    --format csv``) or :data:`FOREIGN_CSV` (no ``trajectory`` column: not rlff's, e.g. a
+    recording); None for a dataset (a ``trajectory`` column) or a file whose header is unreadable."""
     try:
         with path.open(encoding="utf-8", newline="") as handle:
             header = next(csv.reader(handle), [])
@@ -158,7 +168,7 @@ def _csv_kind(path: Path) -> str | None:
         return "generated path"
     if "time" in columns and any(name.startswith("joint_") and name.endswith("_position") for name in columns):
         return "robot trajectory"
-    return None
+    return FOREIGN_CSV if header else None
 
 
 def _not_reported(unreported: dict[str, list[str]]) -> str:
