@@ -72,6 +72,19 @@ def test_the_hits_of_throws_with_a_known_basket_are_said_with_what_judged_them(c
     assert "with a known basket" not in unlabelled.stderr
 
 
+def test_the_manifest_among_the_recordings_is_left_out_of_them(cli, bag, tmp_path):
+    # data import *.csv --manifest manifest.csv took the manifest for a recording: "manifest.csv:
+    # column map (--columns): ... no column ...", never saying it was the --manifest
+    manifest = tmp_path / "manifest.csv"
+    manifest.write_text("file,throw,distance\nline1.bag,1,2.0\nline1.bag,2,3.25\n")
+    result = cli("data", "import", str(bag), str(manifest), "--manifest", str(manifest), "-o", str(tmp_path / "a.csv"))
+    assert result.code == 0, result.stderr
+    assert f"note: {manifest} is the --manifest: left out of the recordings" in result.stderr
+    assert [t.meta["target"] for t in read_csv(tmp_path / "a.csv")] == [2.0, 3.25]
+    alone = cli("data", "import", str(manifest), "--manifest", str(manifest), "-o", str(tmp_path / "b.csv"))
+    assert alone.code == 2 and f"the only file given is the --manifest {manifest}: give the recordings too" in alone.stderr
+
+
 def test_a_release_window_measures_the_hand_near_the_release(cli, bag, tmp_path):
     # the hand's mean over the elbow's fastest 0.28 s is half its peak speed or less: the window
     # about the release gives the same throws farther landings, and says nothing else differently

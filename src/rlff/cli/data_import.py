@@ -62,6 +62,12 @@ def import_command(
     """
     from rlff.capture import import_recordings
 
+    if manifest is not None and any(_same_file(path, manifest) for path in files):
+        # a wildcard (data import *.csv --manifest baskets.csv) takes the manifest in too
+        files = [path for path in files if not _same_file(path, manifest)]
+        say(f"note: {manifest} is the --manifest: left out of the recordings")
+        if not files:
+            raise InputError(f"the only file given is the --manifest {manifest}: give the recordings too")
     guard(inputs={"FILES": files, "--manifest": manifest},
           outputs={"-o/--output": output, "--contact-sheet": contact_sheet}, folders=["--contact-sheet"])
     from rlff.capture.importer import imported_columns
@@ -120,6 +126,14 @@ def import_command(
     stdout().print(f"{plural(report.n_throws, 'throw')} from {plural(len(report.files), 'file')}{carried} -> {target}")
     for path in sheets:
         stdout().print(f"contact sheet: {path}")
+
+
+def _same_file(path: Path, other: Path) -> bool:
+    """Whether two paths name one existing file."""
+    try:
+        return path.samefile(other)
+    except OSError:
+        return False
 
 
 def _say_hits(dataset, release_window: float | None) -> None:
