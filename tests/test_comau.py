@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from rlff.errors import InputError
-from rlff.robot import Robot, RobotMapping, load_robot
-from rlff.robot.comau import comau_rows, write_comau_program
+from rlff.robot import Robot, RobotMapping, load_robot, mapping_for
+from rlff.robot.comau import comau_rows, joints_left_out, write_comau_program
 from rlff.trajectory import JointTrajectory
 
 EXPECTED = Path(__file__).parent / "data" / "comau_program_expected.txt"
@@ -73,3 +73,15 @@ def test_a_trajectory_moving_a_joint_the_program_cannot_carry_is_refused():
     moving = JointTrajectory(traj.joint_names, traj.time, positions, traj.velocities)
     with pytest.raises(InputError, match="carries the motion of joint_2 only; this trajectory also moves joint_1"):
         comau_rows(moving, mapping)
+
+
+def test_the_joints_the_program_leaves_out_are_named_with_their_start_pose():
+    robot = load_robot()
+    one = mapping_for(robot)  # joint_2 in slot 3: joint_3's own slot; slot 6 the speed
+    assert joints_left_out(one) == (
+        "the Comau program holds in slot 3 joint_2's position and slot 6 its speed: joint_3 (start pose "
+        f"{np.degrees(one.start_pose['joint_3']):.4g} deg) and joint_6 (start pose 0 deg) are in no slot and stay "
+        "where the main program placed the arm")
+    whole = mapping_for(robot, ("joint_2", "joint_3"))  # every joint in its own slot but the speed's
+    assert joints_left_out(whole).startswith("the Comau program holds in slot 6 its speed: joint_6 (start pose ")
+    assert "joint_3" not in joints_left_out(whole)

@@ -59,6 +59,10 @@ def test_export_writes_the_comau_program_ending_at_rest(cli, throw, tmp_path):
     assert rows[release, 2] == pytest.approx(np.degrees(1.5), abs=1e-3)
     assert lines[-1].split(",")[6] == "'0')"  # ends at rest, not at 90 % speed
     assert np.all(speed <= 100.0)
+    # the joints whose slots the throw takes are not in the program: the operator is told
+    assert ("note: the Comau program holds in slot 3 joint_2's position and slot 6 its speed: joint_3 (start pose "
+            "-78.67 deg) and joint_6 (start pose 0 deg) are in no slot and stay where the main program placed the "
+            "arm") in " ".join(result.stderr.split())
 
 
 def test_export_samples_the_plan_at_the_period(capsys, throw, tmp_path):

@@ -179,6 +179,7 @@ def export(
         rebearing_warning,
         run_mapping,
     )
+    from rlff.robot.comau import joints_left_out
     from rlff.robot.description import load_robot
     from rlff.robot.formats import export_trajectory
     from rlff.robot.mapping import mapping_for
@@ -199,6 +200,8 @@ def export(
     say(f"{trajectory}: {source.kind}")
     result = source.plan
     export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)
+    if fmt == "comau" and (left_out := joints_left_out(mapping)) is not None:
+        say(f"note: {left_out}")
     # the summary is in the line above
     say_first([f"clipped: {change.describe()}" for change in result.clipped_points.changes], "--json lists every one")
     planned = result.trajectory

@@ -40,6 +40,30 @@ from rlff.trajectory.joint import JointTrajectory
 HEADER = 'coord_type = "-j"'
 
 
+def joints_left_out(mapping: RobotMapping | ArmMapping) -> str | None:
+    """What the program does not carry, for the operator (one line), or None: the joints whose own
+    slot holds the driven joint's position or the speed stay wherever the main program placed
+    the arm, not at the robot file's start pose."""
+    robot = mapping.robot
+    if len(robot.joints) != 6:
+        return None
+    velocity_slot = _slot(mapping, "velocity_slot", 6)
+    slots = {velocity_slot: "its speed"}
+    if not isinstance(mapping, ArmMapping):
+        slots[_slot(mapping, "position_slot", 3)] = f"{mapping.joint}'s position"
+    taken = [(slot, robot.joint_names[slot - 1]) for slot in sorted(slots)
+             if isinstance(mapping, ArmMapping) or robot.joint_names[slot - 1] != mapping.joint]
+    if not taken:
+        return None
+    pose = mapping.start_pose
+    left = " and ".join(f"{name}" + (f" (start pose {np.degrees(pose[name]):.4g} deg)" if name in pose else "")
+                        for _, name in taken)
+    carried = " and ".join(f"slot {slot} {slots[slot]}" for slot in sorted(slots))
+    one = len(taken) == 1
+    return (f"the Comau program holds in {carried}: {left} {'is' if one else 'are'} in no slot and "
+            f"stay{'s' if one else ''} where the main program placed the arm")
+
+
 def _slot(mapping: RobotMapping | ArmMapping, key: str, default: int) -> int:
     value = mapping.robot.comau_program.get(key, default)
     if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= len(mapping.robot.joints):
