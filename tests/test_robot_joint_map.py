@@ -266,6 +266,25 @@ def test_a_mapped_controller_s_refusal_names_the_joints_as_its_client_does(tmp_p
     assert in_controller_words(unmapped, str(e.value)) == str(e.value)
 
 
+def test_a_goal_the_client_refuses_names_the_joints_both_ways(tmp_path):
+    # the client's own check (before anything is sent) named rlff's joint only, where the
+    # controller's refusal of the same goal gave the map too
+    from rlff.robot.send import check_goal_for_arm
+
+    robot = load_robot(ur_file(tmp_path / "ur.toml"))
+    beyond = np.zeros((2, 6))
+    beyond[1, 1] = 3.0  # joint_2 at 3 rad, beyond its 2.71
+    goal = JointTrajectory(_traj().joint_names, [0.0, 3.0], beyond, np.zeros((2, 6)))
+    with pytest.raises(InputError) as e:
+        check_goal_for_arm(robot, goal, np.zeros(6), np.zeros(6))
+    text = str(e.value)
+    assert text.startswith(f"from the arm's pose on {robot.ros.joint_states}: ") and "joint_2 position 3 rad" in text
+    assert text.endswith("; in rlff's names and convention: joint_2 as shoulder_lift_joint = -1.5708 + joint_2")
+    with pytest.raises(InputError) as plain:
+        check_goal_for_arm(load_robot(), goal, np.zeros(6), np.zeros(6))
+    assert "in rlff's names" not in str(plain.value)
+
+
 def test_the_arm_s_state_is_checked_in_rlff_s_convention_and_named_both_ways(tmp_path):
     from rlff.robot.send import ArmStateError, StateWatch, pose_line, require_at_rest
 

@@ -20,7 +20,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from rlff.errors import InputError, RlffError
-from rlff.robot.controller import ResultCode
+from rlff.robot.controller import ResultCode, in_controller_words
 from rlff.robot.description import Robot
 from rlff.robot.goal import InvalidJoints, check_goal
 from rlff.robot.joint_map import JointMap
@@ -431,5 +431,5 @@ def check_goal_for_arm(robot: Robot, traj: JointTrajectory, pose: np.ndarray, ve
         check_goal(robot, traj, goal_start(robot, traj, pose))
     except InvalidJoints:
         raise
-    except InputError as exc:
-        raise type(exc)(f"from the arm's pose on {robot.ros.joint_states}: {exc}") from None
+    except InputError as exc:  # worded as the controller's refusals are (a [ros.joints] map's joints both ways)
+        raise type(exc)(in_controller_words(robot, f"from the arm's pose on {robot.ros.joint_states}: {exc}")) from None
