@@ -324,6 +324,24 @@ def test_a_larger_k_fitted_worse_than_a_smaller_one_is_said():
                 if note.startswith("ln L falls")]
 
 
+def test_a_fall_in_ln_l_between_two_ks_that_lost_anyway_is_not_said():
+    # MSR data: BIC chose K = 1 and ln L fell from K = 20 to 21, and the note said "K = 21 may
+    # have lost to K = 1 for its fit": K = 20, fitted well, had lost to K = 1 by far
+    from rlff.model.model import ComponentSelection, _fall_may_have_decided
+
+    def row(k, bic, log_likelihood):
+        return {"n_components": k, "bic": bic, "aic": bic, "log_likelihood": log_likelihood}
+
+    table = [row(1, 100.0, -40.0), row(20, 400.0, -10.0), row(21, 430.0, -12.0)]
+    assert not _fall_may_have_decided(ComponentSelection("bic", table), 1, table[2], table[1], 1.0)  # 426 > 100
+    # below the chosen K's own ln L (the thesis set's K = 8 under K = 7): said
+    close = [row(7, 100.0, -40.0), row(8, 120.0, -43.0)]
+    assert _fall_may_have_decided(ComponentSelection("bic", close), 7, close[1], close[0], 1.0)
+    # between two larger Ks, where the larger, fitted as well, would have won: said
+    table = [row(2, 100.0, -40.0), row(3, 101.0, -30.0), row(4, 108.0, -36.0)]  # 108 - 12 = 96 < 100
+    assert _fall_may_have_decided(ComponentSelection("bic", table), 2, table[2], table[1], 1.0)
+
+
 def test_on_tiny_data_the_notes_say_the_samples_are_too_few_not_to_raise_max_components():
     """Four samples: K stops at 4 (one component per sample) whatever max_components says, and
     the samples, every one counted, are far fewer than the parameters."""

@@ -285,9 +285,9 @@ class Model:
             notes.append(f"{self.selection.criterion.upper()} chose K = {self.n_components}, the largest tried: "
                          "a larger K may fit better (raise max_components, rlff fit --max-components)")
         fallen = _fallen_likelihood(self.selection.table, self.n_components)
-        if fallen is not None:
+        share = effective / n_samples if effective else 1.0  # ln L as the criterion counts it (rlff fit's table)
+        if fallen is not None and _fall_may_have_decided(self.selection, self.n_components, *fallen, share):
             larger, smaller = fallen
-            share = effective / n_samples if effective else 1.0  # ln L as the criterion counts it (rlff fit's table)
             notes.append(f"ln L falls from K = {smaller['n_components']} to K = {larger['n_components']} "
                          f"({smaller['log_likelihood'] * share:.2f} to {larger['log_likelihood'] * share:.2f}), "
                          "though a mixture of "
@@ -750,6 +750,20 @@ def _fallen_likelihood(table: Sequence[dict[str, Any]], chosen: int) -> tuple[di
         if best is None or row["log_likelihood"] > best["log_likelihood"]:
             best = row
     return None
+
+
+def _fall_may_have_decided(selection: ComponentSelection, chosen: int, larger: dict, smaller: dict,
+                           share: float) -> bool:
+    """Whether the ``larger`` K's poor fit (its ln L below the ``smaller`` K's) may have decided the
+    choice of the ``chosen`` K: it fell below the chosen K's own ln L, or, fitted as well as the
+    smaller K, it would have beaten the chosen one on the criterion. A fall between two Ks that
+    lost anyway (K = 20 to 21, when BIC chose K = 1 far below both) decided nothing."""
+    if smaller["n_components"] == chosen:
+        return True
+    criterion = selection.criterion
+    chosen_row = next(row for row in selection.table if row["n_components"] == chosen)
+    better = larger[criterion] - 2.0 * share * (smaller["log_likelihood"] - larger["log_likelihood"])
+    return better < chosen_row[criterion]
 
 
 def component_bound(n_samples: int, effective_samples: float | None) -> int:
