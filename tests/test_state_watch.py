@@ -63,12 +63,26 @@ def test_one_fresh_message_is_not_enough_messages_0_1_s_apart_that_agree_are():
 
 
 def test_a_slow_driver_s_second_message_is_enough():
-    # a driver at 2 Hz: its second message, 0.5 s after the first, is the state
+    # a driver at 2 Hz: its second message, 0.5 s after the first, is the state (the joint crept
+    # 4 mrad: 0.008 rad/s, at rest as its velocity says)
     state = watch()
     state.offer(NOW, NAMES, POSE.tolist(), REST)
-    state.offer(NOW + 0.5, NAMES, moved(1, 0.01), REST)
+    state.offer(NOW + 0.5, NAMES, moved(1, 0.004), REST)
     pose, _ = taken(state)
-    np.testing.assert_array_equal(pose, moved(1, 0.01))
+    np.testing.assert_array_equal(pose, moved(1, 0.004))
+
+
+@pytest.mark.parametrize("rate", [0.5, 0.05])
+def test_positions_that_move_under_velocities_of_zero_are_a_moving_arm(rate):
+    # a driver that fills velocities with zeros: joint_2 turning at 0.5 rad/s passed as at rest,
+    # and a dry run said every check passed
+    state = watch()
+    for k in range(11):
+        state.offer(NOW + 0.01 * k, NAMES, moved(1, rate * 0.01 * k), REST)
+    with pytest.raises(ArmStateError, match=rf"^/joint_states reports joint_2 at 0 rad/s, but its position moved "
+                                            rf"\+{rate * STATE_SPAN:.4g} rad in 0.100 s \({rate:.3g} rad/s\): the arm is "
+                                            r"moving, or its driver's velocities are not its motion"):
+        taken(state)
 
 
 def test_the_last_pose_is_taken_when_the_joints_could_move_there():

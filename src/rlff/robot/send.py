@@ -194,9 +194,27 @@ class StateWatch:
             return
         if stamp - earliest[0] < STATE_SPAN or time.monotonic() < self._not_before:
             return
+        span = stamp - earliest[0]
         if velocity is None:
-            velocity = (pose - earliest[1]) / (stamp - earliest[0])
+            velocity = (pose - earliest[1]) / span
+        else:
+            self._check_still(pose - earliest[1], span, velocity)
         self._state = (pose, velocity)
+
+    def _check_still(self, moved: np.ndarray, span: float, velocity: np.ndarray) -> None:
+        """Refuse a state whose velocities say a joint rests (:data:`MOVING_SPEED` or less) while
+        its positions moved faster than that over the ``span`` s they were taken over (beyond
+        :data:`STATE_NOISE`): a driver that fills velocities with zeros reports a moving arm at
+        rest, and a goal planned from rest would be sent to it."""
+        speed = np.abs(moved) / span
+        unreported = np.flatnonzero((np.abs(velocity) <= MOVING_SPEED) & (speed > MOVING_SPEED + STATE_NOISE / span))
+        if unreported.size == 0:
+            return
+        j = int(unreported[np.argmax(speed[unreported])])
+        raise ArmStateError(
+            f"{self.topic} reports {self.robot.ros.joints.label(self.robot.joint_names[j])} at {velocity[j]:.3g} "
+            f"rad/s, but its position moved {moved[j]:+.4g} rad in {span:.3f} s ({speed[j]:.3g} rad/s): the arm is "
+            "moving, or its driver's velocities are not its motion; wait until it rests, then send again")
 
     def _check_agree(self, first: tuple[float, np.ndarray], second: tuple[float, np.ndarray]) -> None:
         """Refuse two fresh poses (stamp, pose) no arm can take in turn: a joint changed by more
