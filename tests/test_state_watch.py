@@ -245,3 +245,15 @@ def test_a_hold_of_0_releases_the_state():
     state.hold(0.0)  # every publisher heard
     state.offer(NOW + 0.11, NAMES, POSE.tolist(), REST)
     np.testing.assert_array_equal(taken(state)[0], POSE)
+
+
+def test_a_timeout_shorter_than_the_motion_is_said_before_the_goal_goes_out():
+    # --timeout 2 on a 3.03 s goal: the arm started and was braked 1.7 s in, without a word before
+    from rlff.robot.send import short_timeout
+    from rlff.trajectory.joint import JointTrajectory
+
+    traj = JointTrajectory(NAMES, [0.0, 3.03], np.tile(POSE, (2, 1)), np.zeros((2, 6)))
+    assert short_timeout(2.0, traj) == ("--timeout 2 s is shorter than the motion (3.030 s): the goal will be "
+                                        "cancelled mid-motion and the arm braked to rest (leave --timeout out to "
+                                        "wait for the whole motion)")
+    assert short_timeout(None, traj) is None and short_timeout(3.03, traj) is None

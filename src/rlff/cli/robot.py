@@ -396,6 +396,7 @@ def send(
         fastest_joint_line,
         pose_line,
         require_at_rest,
+        short_timeout,
     )
 
     _check_ros(ros)
@@ -440,6 +441,8 @@ def send(
                                       model.ros.joints)
             if announced:  # before anything moves, even under -q
                 stderr().print(announced, highlight=False, markup=False)
+            if not topic_mode and (short := short_timeout(timeout, traj)) is not None:
+                warn(short)
             if dry_run:
                 if model.ros.joints.joints:  # which convention the pose was read in, and the other
                     say(pose_line(model, pose))

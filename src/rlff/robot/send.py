@@ -420,6 +420,16 @@ def unfinished(gone: str | None, confirmed: bool, action: str, start: float, dur
     return SendResult("timed out", None, None, f"timed out; {cancel}{detail}", start, duration, feedback)
 
 
+def short_timeout(timeout: float | None, traj: JointTrajectory) -> str | None:
+    """What a ``timeout`` (s, ``--timeout``) shorter than ``traj``'s motion does, said before the
+    goal goes out (it cancels the goal mid-motion: the arm starts and is braked); None when it
+    covers the motion or none is given."""
+    if timeout is None or timeout >= traj.duration:
+        return None
+    return (f"--timeout {timeout:g} s is shorter than the motion ({traj.duration:.3f} s): the goal will be cancelled "
+            "mid-motion and the arm braked to rest (leave --timeout out to wait for the whole motion)")
+
+
 def goal_start(robot: Robot, traj: JointTrajectory, pose: np.ndarray) -> np.ndarray:
     """The arm's ``pose`` (J,) in ``robot``'s joint order, restricted to ``traj``'s joints."""
     return np.asarray(pose, dtype=float)[[robot.index(name) for name in traj.joint_names]]
