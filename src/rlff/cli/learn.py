@@ -191,7 +191,7 @@ def _run(data, basket: float, settings: dict, live: dict | None):
             run_on = _learn_live(lambda: stack.enter_context(robot_executor(
                 settings["executed_on"], live["outcome"], settings["robot"], basket, settings["feedback"],
                 until=settings["until"], ask=_ask, landing_topic=live["landing_topic"], network=live["network"],
-                tell=tell, approach_speed=live["approach_speed"])))
+                tell=tell, approach_speed=live["approach_speed"], resumed=_logged(settings["log_path"]))))
 
         def show(attempt) -> None:
             if live is not None and live["outcome"] == "ask":  # no progress bar under the prompt
@@ -204,6 +204,20 @@ def _run(data, basket: float, settings: dict, live: dict | None):
                    total=max(settings["budget"], attempt.index))  # a log resumed with a smaller --budget
 
         return _learn_live(lambda: learn(data, basket, **settings, progress=show, executor=run_on))
+
+
+def _logged(log: Path | None) -> int:
+    """How many attempts ``log`` holds (0 for none, or one that cannot be read: the run itself
+    says what is wrong with it), so that a resumed live run numbers its throws as the log does."""
+    from rlff.errors import InputError
+    from rlff.learn.log import read_log
+
+    if log is None or not Path(log).exists():
+        return 0
+    try:
+        return len(read_log(log)[1].attempts)
+    except InputError:
+        return 0
 
 
 def _interrupted_attempt(exc: BaseException, log: Path | None) -> str | None:

@@ -286,11 +286,15 @@ class RobotExecutor:
         (:data:`rlff.trajectory.planner.APPROACH_SPEED`).
     ready : callable, optional
         ``ready(attempt)`` returns when the throw may go (a person said so); None: at once.
+    resumed : int
+        Attempts the run's log already holds: the first throw here is attempt ``resumed + 1``, as
+        the log numbers it.
     """
 
     def __init__(self, arm: LiveArm, robot: Robot, outcome: Callable[[int, float], ReportedOutcome],
                  period: float = PERIOD, tell: Callable[[str], None] | None = None,
-                 ready: Callable[[int], None] | None = None, approach_speed: float = APPROACH_SPEED) -> None:
+                 ready: Callable[[int], None] | None = None, approach_speed: float = APPROACH_SPEED,
+                 resumed: int = 0) -> None:
         self.arm = arm
         self.robot = robot
         self.outcome = outcome
@@ -298,7 +302,7 @@ class RobotExecutor:
         self.approach_speed = check_approach_speed(approach_speed)
         self.tell = tell
         self.ready = ready
-        self.attempts = 0
+        self.attempts = resumed
 
     def __call__(self, trajectory: JointTrajectory) -> ReportedOutcome:
         self.attempts += 1
@@ -372,6 +376,7 @@ def robot_executor(
     network: bool = False,
     tell: Callable[[str], None] | None = None,
     approach_speed: float = APPROACH_SPEED,
+    resumed: int = 0,
 ) -> Iterator[RobotExecutor]:
     """A :class:`RobotExecutor` on a live arm, for the time of the ``with`` block.
 
@@ -400,6 +405,8 @@ def robot_executor(
         ``tell(line)``: each throw's approach, announced before its goal is sent.
     approach_speed : float
         Share of the joints' limits each throw's approach uses.
+    resumed : int
+        Attempts the run's log already holds (the throws are numbered on from them).
 
     Raises
     ------
@@ -453,9 +460,10 @@ def robot_executor(
                 return measured_outcome(landings, attempt, release, basket, tolerance, landing_topic,
                                         outcome_timeout)
 
-            yield RobotExecutor(arm, model, measured, tell=tell, approach_speed=approach_speed)
+            yield RobotExecutor(arm, model, measured, tell=tell, approach_speed=approach_speed, resumed=resumed)
         else:
-            yield RobotExecutor(arm, model, asked, tell=tell, ready=confirmed, approach_speed=approach_speed)
+            yield RobotExecutor(arm, model, asked, tell=tell, ready=confirmed, approach_speed=approach_speed,
+                                resumed=resumed)
 
 
 def _ros2_arm(stack: ExitStack, topic: str, network: bool):
