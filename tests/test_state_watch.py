@@ -257,3 +257,17 @@ def test_a_timeout_shorter_than_the_motion_is_said_before_the_goal_goes_out():
                                         "cancelled mid-motion and the arm braked to rest (leave --timeout out to "
                                         "wait for the whole motion)")
     assert short_timeout(None, traj) is None and short_timeout(3.03, traj) is None
+
+
+def test_an_interrupt_that_stopped_the_wait_for_the_cancel_says_so_not_that_the_server_was_silent():
+    # two quick Ctrl-Cs: the second stopped the wait 0.5 s in, and rlff said "no answer from the
+    # server within 10 s" while the server had braked the arm and confirmed
+    from rlff.cli.robot import interrupted_goal
+    from rlff.robot.send import CANCEL_NOT_AWAITED, CANCEL_UNCONFIRMED, GOAL_CANCELLED, mark_goal
+
+    said = interrupted_goal(mark_goal(KeyboardInterrupt(), CANCEL_NOT_AWAITED))
+    assert said == ("goal interrupted: the cancel went out, and a second interrupt stopped the wait for the server to "
+                    "confirm it: the arm's state is unknown; check the arm (e-stop it if it moves)")
+    assert "within 10 s" in interrupted_goal(mark_goal(KeyboardInterrupt(), CANCEL_UNCONFIRMED))
+    assert interrupted_goal(mark_goal(KeyboardInterrupt(), GOAL_CANCELLED)) == "goal cancelled"
+    assert interrupted_goal(KeyboardInterrupt()) is None

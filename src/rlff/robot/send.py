@@ -56,8 +56,9 @@ MOVING_SPEED = 0.01
 #: Seconds to wait for the server to confirm a cancel (it answers once the arm has braked to rest).
 CANCEL_WAIT = 10.0
 #: What a goal came to when the command was interrupted: cancelled (the server confirmed the
-#: goal's end) or a cancel sent but not confirmed; see :func:`mark_goal`.
-GOAL_CANCELLED, CANCEL_UNCONFIRMED = "cancelled", "unconfirmed"
+#: goal's end), a cancel sent but not confirmed, or a cancel sent whose confirmation a second
+#: interrupt stopped the wait for; see :func:`mark_goal`.
+GOAL_CANCELLED, CANCEL_UNCONFIRMED, CANCEL_NOT_AWAITED = "cancelled", "unconfirmed", "not awaited"
 #: The result codes' names by value.
 ERROR_NAMES = {code.value: code.name for code in ResultCode}
 
@@ -68,8 +69,9 @@ class ArmStateError(RlffError):
 
 
 def mark_goal(exc: BaseException, fate: str) -> BaseException:
-    """``exc`` (an interrupt) marked with what became of the goal it interrupted (:data:`GOAL_CANCELLED`
-    or :data:`CANCEL_UNCONFIRMED`); an interrupt without the mark came before any goal was sent."""
+    """``exc`` (an interrupt) marked with what became of the goal it interrupted (:data:`GOAL_CANCELLED`,
+    :data:`CANCEL_UNCONFIRMED` or :data:`CANCEL_NOT_AWAITED`); an interrupt without the mark came
+    before any goal was sent."""
     exc.rlff_goal = fate  # type: ignore[attr-defined]
     return exc
 

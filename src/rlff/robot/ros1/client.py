@@ -32,6 +32,7 @@ from rlff.robot.goal import check_goal
 from rlff.robot.ros1.convert import to_msg
 from rlff.robot.ros1.master import RosUnavailable, wait_for_master
 from rlff.robot.send import (
+    CANCEL_NOT_AWAITED,
     CANCEL_UNCONFIRMED,
     CANCEL_WAIT,
     ERROR_NAMES,
@@ -200,10 +201,10 @@ def send_goal(
         except (KeyboardInterrupt, rospy.ROSInterruptException) as exc:
             interrupt = exc if isinstance(exc, KeyboardInterrupt) else Interrupted()  # Terminated stays
             try:
-                confirmed = _cancel(client, status)
-            except KeyboardInterrupt:  # a second one while cancelling: the cancel went out, unconfirmed
-                confirmed = False
-            raise mark_goal(interrupt, GOAL_CANCELLED if confirmed else CANCEL_UNCONFIRMED) from None
+                fate = GOAL_CANCELLED if _cancel(client, status) else CANCEL_UNCONFIRMED
+            except KeyboardInterrupt:  # a second one while cancelling: the cancel went out, not awaited
+                fate = CANCEL_NOT_AWAITED
+            raise mark_goal(interrupt, fate) from None
         if ended != "ended":
             gone = None if ended == "timed out" else ended
             confirmed = _cancel(client, status, lost=gone is not None)

@@ -36,6 +36,7 @@ from rlff.robot.goal import check_goal
 from rlff.robot.ros2.convert import seconds, to_msg
 from rlff.robot.ros2.network import make_node
 from rlff.robot.send import (
+    CANCEL_NOT_AWAITED,
     CANCEL_UNCONFIRMED,
     CANCEL_WAIT,
     ERROR_NAMES,
@@ -269,8 +270,8 @@ class Connection:
                     fate = _cancel_when_accepted(sent)
                 else:
                     fate = None  # refused, or never sent: nothing runs
-            except KeyboardInterrupt:  # a second one while cancelling: the cancel went out, unconfirmed
-                fate = CANCEL_UNCONFIRMED
+            except KeyboardInterrupt:  # a second one while cancelling: the cancel went out, not awaited
+                fate = CANCEL_NOT_AWAITED
             if fate is not None:
                 mark_goal(exc, fate)
             raise
