@@ -128,6 +128,24 @@ def test_a_log_of_another_run_is_refused(tmp_path):
         AttemptLog(path, {**RUN, "feedback": "distance"})
 
 
+def test_a_log_without_attempts_is_started_afresh_for_another_run(tmp_path):
+    # a live run that stopped before its first throw (nothing on /joint_states) left a header
+    # only, and the next run, at another basket, was refused as "another run"
+    path = tmp_path / "attempts.jsonl"
+    AttemptLog(path, RUN).close()
+    other = {**RUN, "feedback": "distance"}
+    with AttemptLog(path, other) as log:
+        assert log.contents.attempts == []
+        log.append(make_attempt(1))
+    header = json.loads(path.read_text().splitlines()[0])
+    assert header["run"]["feedback"] == "distance"
+    with pytest.raises(InputError, match="another run.*feedback"):  # once it holds an attempt, it binds
+        AttemptLog(path, RUN)
+    path.write_text('{"format": "something-else"}\n')  # not an attempts log: never overwritten
+    with pytest.raises(InputError, match="not an rlff attempts log"):
+        AttemptLog(path, other)
+
+
 def test_a_file_that_is_not_a_log_is_refused(tmp_path):
     path = tmp_path / "demos.csv"
     path.write_text("trajectory,angle\n")
@@ -193,6 +211,7 @@ def test_a_log_of_another_run_names_the_option_that_differs(tmp_path, logged, no
 
     path = tmp_path / "attempts.jsonl"
     base = {"until": "hit", "seed": 0}
-    AttemptLog(path, {**base, **logged}, RUN_OPTIONS).close()
+    with AttemptLog(path, {**base, **logged}, RUN_OPTIONS) as log:  # a log without attempts binds nothing
+        log.append(make_attempt(1))
     with pytest.raises(InputError, match=message):
         AttemptLog(path, {**base, **now}, RUN_OPTIONS)

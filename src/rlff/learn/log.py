@@ -70,7 +70,8 @@ class AttemptLog:
     """An append-only, crash-safe attempts log bound to one run, held by one run at a time.
 
     Opening an existing file resumes it: the header must describe ``run`` exactly, complete
-    attempts are loaded into :attr:`contents`, a partial last line is cut off the file. The log
+    attempts are loaded into :attr:`contents`, a partial last line is cut off the file. A log
+    that holds no attempt (its run stopped before the first throw) is started afresh for ``run``. The log
     stays locked until :meth:`close` (or the end of a ``with`` block).
 
     Parameters
@@ -157,6 +158,11 @@ class AttemptLog:
     def _resume(self) -> LogContents:
         raw = self.path.read_bytes()
         lines, records, dropped = _records(self.path, raw)
+        if len(records) == 1 and first_difference(_run_of(self.path, records[0]), self.run) is not None:
+            # an attempts log of a run that stopped before its first throw (no joint states, a
+            # refused basket): nothing in it to keep, and its settings must not bind the next run
+            write_text(self.path, _line({"format": FORMAT, "version": VERSION, "run": self.run}))
+            return LogContents([], dropped)
         self._check_header(records[0])
         attempts = _attempts(self.path, records)
         good = b"".join(line + b"\n" for line in lines[: len(records)])
