@@ -255,16 +255,18 @@ def test_stopping_send_cancels_the_goal_on_the_server(controller, domain, throw,
     sent = len(controller.goals)
     # SIGINT at its default: a suite started in a shell's background inherits it ignored
     sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(throw[0]), "--ros", "2", "--period",
-                               str(PERIOD)], env=ros2_env(domain, tmp_path), stdout=subprocess.PIPE,
+                               str(PERIOD), "--json"], env=ros2_env(domain, tmp_path), stdout=subprocess.PIPE,
                               stderr=subprocess.PIPE, text=True,
                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 120
     while len(controller.goals) == sent and sender.poll() is None and time.monotonic() < deadline:
         time.sleep(0.02)
     sender.send_signal(stop_signal)
-    _, err = sender.communicate(timeout=60)
+    out, err = sender.communicate(timeout=60)
     assert sender.returncode == code and err.strip().endswith(f"rlff: goal cancelled\nrlff: {word}"), err
     assert controller.cancelled.is_set()  # the client asked before it went
+    # --json: what became of the goal on stdout too (it printed nothing when stopped)
+    assert json.loads(out) == {"status": "interrupted", "goal_sent": True, "error_string": "goal cancelled"}
 
 
 def test_a_robot_trajectory_that_does_not_start_at_the_arm_is_not_sent(controller, domain, throw, tmp_path):

@@ -490,6 +490,8 @@ def send(
             said = interrupted_goal(exc)
             if said:
                 stderr().print(f"rlff: {said}", highlight=False, markup=False)
+            if json:  # a supervisor that stopped the command reads what became of the goal too
+                emit_json({"status": "interrupted", "goal_sent": said is not None, "error_string": said or ""})
             raise
     if json:
         emit_json(outcome.to_dict())
