@@ -362,7 +362,9 @@ def send(
                                                           "cancelled, and the server has up to 10 s more to "
                                                           "confirm the arm stopped."),
     topic_mode: bool = typer.Option(False, "--topic-mode", help="Publish on the robot file's [ros] trajectory_topic "
-                                                                "instead of sending a goal to its action."),
+                                                                "instead of sending a goal to its action: no result "
+                                                                "comes back (a refusal is not seen) and the motion "
+                                                                "cannot be cancelled from here."),
     clip: bool = CLIP,
     period: float = typer.Option(0.01, "--period", help="Controller period (s) a generated throw is planned at (> 0)."),
     approach: bool = typer.Option(False, "--approach", help="An exported trajectory that starts at rest away from "
@@ -454,7 +456,9 @@ def send(
                 return
             if topic_mode:
                 subscribers = publish_trajectory(model, traj, pose, timeout)
-                say(f"published {len(traj)} points on {model.ros.trajectory_topic} to {subscribers} subscriber(s)")
+                say(f"published {len(traj)} points on {model.ros.trajectory_topic} to {subscribers} subscriber(s); a "
+                    "topic brings no result back: whether the controller took it, and when the arm stops, is not seen "
+                    "here (the action, without --topic-mode, reports both and cancels on Ctrl-C)")
                 if json:
                     emit_json({"status": "published", "points": len(traj), "subscribers": subscribers})
                 return
