@@ -131,8 +131,15 @@ def with_approach(robot: Robot, trajectory: JointTrajectory, start: np.ndarray,
     here = np.asarray(start, dtype=float)[[robot.index(name) for name in names]]
     if np.allclose(here, trajectory.positions[0], rtol=0.0, atol=1e-9):
         return trajectory
-    if np.abs(trajectory.velocities[0]).max() > 1e-9 or np.abs(trajectory.accelerations[0]).max() > 1e-9:
-        raise InputError("the trajectory does not start at rest: no approach to its first point is planned")
+    moving = np.abs(trajectory.velocities[0]) > 1e-9
+    accelerating = np.abs(trajectory.accelerations[0]) > 1e-9
+    if moving.any() or accelerating.any():
+        j = int(np.argmax(moving)) if moving.any() else int(np.argmax(accelerating))
+        state = (f"{names[j]} at {trajectory.velocities[0, j]:.4g} rad/s" if moving.any()
+                 else f"{names[j]} accelerating at {trajectory.accelerations[0, j]:.4g} rad/s^2")
+        raise InputError(f"the trajectory does not start at rest ({state} at its first point, t = "
+                         f"{trajectory.time[0]:.3f} s): an approach ends at rest, so none to a moving start is "
+                         "planned; send a trajectory that starts at rest, as the exports of rlff robot export do")
     rest = np.zeros(len(names))
     move = plan_transition(here, rest, rest, trajectory.positions[0], rest, [robot.joint(n) for n in names],
                            period=period, share=approach_speed)

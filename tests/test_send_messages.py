@@ -1,0 +1,57 @@
+"""What a send says of its goal around the motion check: a timeout too short for the motion, an
+interrupt's outcome, an approach that cannot be planned (no ROS: the live cases are in
+tests/test_ros1_live.py and tests/test_ros2_client.py)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rlff.errors import InputError
+from rlff.robot import load_robot
+
+ROBOT = load_robot()
+NAMES = list(ROBOT.joint_names)
+POSE = np.array([0.0, 0.5, -1.0, 0.0, 0.0, 0.0])
+
+
+def test_a_timeout_shorter_than_the_motion_is_said_before_the_goal_goes_out():
+    # --timeout 2 on a 3.03 s goal: the arm started and was braked 1.7 s in, without a word before
+    from rlff.robot.send import short_timeout
+    from rlff.trajectory.joint import JointTrajectory
+
+    traj = JointTrajectory(NAMES, [0.0, 3.03], np.tile(POSE, (2, 1)), np.zeros((2, 6)))
+    assert short_timeout(2.0, traj) == ("--timeout 2 s is shorter than the motion (3.030 s): the goal will be "
+                                        "cancelled mid-motion and the arm braked to rest (leave --timeout out to "
+                                        "wait for the whole motion)")
+    assert short_timeout(None, traj) is None and short_timeout(3.03, traj) is None
+
+
+def test_an_interrupt_that_stopped_the_wait_for_the_cancel_says_so_not_that_the_server_was_silent():
+    # two quick Ctrl-Cs: the second stopped the wait 0.5 s in, and rlff said "no answer from the
+    # server within 10 s" while the server had braked the arm and confirmed
+    from rlff.cli.robot import interrupted_goal
+    from rlff.robot.send import CANCEL_NOT_AWAITED, CANCEL_UNCONFIRMED, GOAL_CANCELLED, mark_goal
+
+    said = interrupted_goal(mark_goal(KeyboardInterrupt(), CANCEL_NOT_AWAITED))
+    assert said == ("goal interrupted: the cancel went out, and a second interrupt stopped the wait for the server to "
+                    "confirm it: the arm's state is unknown; check the arm (e-stop it if it moves)")
+    assert "within 10 s" in interrupted_goal(mark_goal(KeyboardInterrupt(), CANCEL_UNCONFIRMED))
+    assert interrupted_goal(mark_goal(KeyboardInterrupt(), GOAL_CANCELLED)) == "goal cancelled"
+    assert interrupted_goal(KeyboardInterrupt()) is None
+
+
+def test_an_approach_to_a_moving_start_is_refused_naming_the_joint_and_its_speed():
+    # a file cut mid-motion: "the trajectory does not start at rest: no approach to its first point
+    # is planned" named no joint, speed or way out
+    from rlff.robot.sendfile import with_approach
+    from rlff.trajectory.joint import JointTrajectory
+
+    velocities = np.zeros((2, 6))
+    velocities[0, 1] = 1.25
+    positions = np.tile(POSE, (2, 1))
+    positions[1, 1] += 0.05
+    cut = JointTrajectory(NAMES, [0.0, 0.1], positions, velocities)
+    with pytest.raises(InputError, match=r"^the trajectory does not start at rest \(joint_2 at 1\.25 rad/s at its first "
+                                         r"point, t = 0\.000 s\): an approach ends at rest"):
+        with_approach(ROBOT, cut, np.zeros(6), 0.01)
