@@ -113,6 +113,7 @@ def test_landings_all_older_than_the_throw_are_counted_and_the_stamp_named():
     assert "\n" not in message and message.startswith("attempt 3: no landing on /rlff/landing stamped after")
     assert "2 arrived, all stamped before it (the last 1.9 m at 42.000 s, the release at 99.000 s)" in message
     assert "header.stamp" in message and "stamp: now" in message
+    assert "a ROS 2 node: `node.get_clock().now().to_msg()`" in message  # not only ROS 1's tool
 
 
 def test_a_landing_stamped_in_the_future_is_refused():

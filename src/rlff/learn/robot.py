@@ -212,8 +212,8 @@ class Landings:
                             f"no landing on {topic} stamped after the throw's release within {timeout:g} s: "
                             f"{len(older)} arrived, all stamped before it (the last {last_x:g} m at "
                             f"{last_stamp:.3f} s, the release at {start:.3f} s): set each landing's header.stamp "
-                            "to the ROS time now (rostopic pub: `header: {stamp: now}`), on a clock in step with "
-                            "this host's")
+                            "to the ROS time now (ROS 1's rostopic pub: `header: {stamp: now}`; a ROS 2 node: "
+                            "`node.get_clock().now().to_msg()`), on a clock in step with this host's")
                     break
                 self._arrived.wait(left)
         # asked of the ROS graph (the master, or discovery) outside the lock the landings come under
