@@ -341,6 +341,14 @@ def test_a_live_executor_without_an_outcome_source_says_what_is_missing(rlff, de
     assert result.code == 2 and "--outcome ask|topic goes with --executor ros1|ros2" in result.stderr
 
 
+def test_a_relative_landing_topic_is_refused_before_anything_connects(rlff, demos_csv):
+    # `--landing-topic landing` was taken, to resolve in each node's own namespace
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--executor", "ros2", "--outcome", "topic",
+                  "--landing-topic", "landing")
+    assert result.code == 2 and ("--landing-topic 'landing' is relative: each node would resolve it in its own "
+                                 "namespace; give an absolute ROS name") in result.stderr
+
+
 def test_a_negative_rim_height_names_the_option(rlff, demos_csv):
     result = rlff("learn", str(demos_csv), "--basket", "1.4", "--height", "-0.3")
     assert result.code == 2 and "(--height) must be a positive number of metres, got -0.3" in result.stderr

@@ -121,6 +121,12 @@ def learn_command(
     if executor != "sim" and outcome is None:
         raise InputError(f"--executor {executor} needs --outcome ask (you type hit or miss) or --outcome topic "
                          "(a node publishes each landing): a real arm does not know where its ball went")
+    if outcome == "topic":  # a relative name resolves in each node's namespace: the vision node's may differ
+        from rlff.robot.description import graph_name_fault
+
+        if (fault := graph_name_fault(landing_topic)) is not None:
+            raise InputError(f"--landing-topic {landing_topic!r} {fault}; give an absolute ROS name, '/' and "
+                             "segments of letters, digits and '_', e.g. /rlff/landing")
     from rlff.sim.gap import parse_gap
 
     arm = parse_gap(gap)  # a bad --gap, or one with a live robot, fails before anything connects

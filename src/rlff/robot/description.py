@@ -191,7 +191,7 @@ _ROS_EXAMPLES = {"action": "/scaled_joint_trajectory_controller/follow_joint_tra
                  "joint_states": "/arm/joint_states", "trajectory_topic": "/arm/joint_trajectory"}
 
 
-def _graph_name_fault(value: Any) -> str | None:
+def graph_name_fault(value: Any) -> str | None:
     """What keeps ``value`` from being a name of :data:`_GRAPH_NAME`, in words; None if nothing."""
     if not isinstance(value, str):
         return "is not a string"
@@ -254,7 +254,7 @@ class RosNames:
     def __post_init__(self) -> None:
         for key in _ROS_EXAMPLES:
             value = getattr(self, key)
-            fault = _graph_name_fault(value)
+            fault = graph_name_fault(value)
             if fault is not None:
                 raise InputError(f"[ros] {key} {value!r} {fault}; give an absolute ROS name, '/' and segments of "
                                  f"letters, digits and '_' (none starting with a digit), e.g. {_ROS_EXAMPLES[key]!r}")
