@@ -414,9 +414,11 @@ def test_an_action_nobody_serves_is_named_with_the_robot_file_s_ros_table(server
         f"rlff: error: no action server at /nobody/follow_joint_trajectory (the [ros] action of {nobody}): is `rlff "
         "robot serve --ros 2` running, with the same ROS_DOMAIN_ID and discovery range, or does the arm's "
         "controller use another name? (`ros2 action list -t`)"), result.stderr
-    # before it: the plan and the approach announced, no progress bar of a goal that never went out
+    # before it: the plan, the approach and the too short --timeout announced, no progress bar of
+    # a goal that never went out
     before = result.stderr.splitlines()[:-1]
-    assert [line.split(" ")[0] for line in before] == ["planned", "approach"], result.stderr
+    assert [line.split(" ")[0] for line in before] == ["planned", "approach", "warning:"], result.stderr
+    assert before[-1].startswith("warning: --timeout ") and "shorter than the motion" in before[-1]
 
 
 def test_serve_an_arm_whose_throwing_joint_s_range_leaves_0_out(domain, tmp_path):
