@@ -654,9 +654,16 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
     if headroom:
         raise InputError("a speed headroom is a choice among the joints of a whole-arm throw; a one-joint "
                          "throw's reach is at its joint's speed limit")
-    start, release = mapping.angle_offset + mapping.angle_scale * angle_grid(demos)[[0, -1]]
+    start, release = _swing_ends(demos, mapping)
     reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from=start)
     return farthest_basket(reach.distance, basket.opening)
+
+
+def _swing_ends(demos: Dataset, mapping) -> tuple[float, float]:
+    """Where (rad of ``mapping``'s driven joint) every one-joint throw of the loop starts its swing
+    and lets go: the ends of the demonstrations' angle grid (:func:`angle_grid`), mapped."""
+    start, release = mapping.angle_offset + mapping.angle_scale * angle_grid(demos)[[0, -1]]
+    return float(start), float(release)
 
 
 def _executed_reach_words(demos: Dataset, mapping, basket, pedestal: float) -> str:
@@ -665,16 +672,18 @@ def _executed_reach_words(demos: Dataset, mapping, basket, pedestal: float) -> s
     run's throws (joint_2 let go where the demonstrations let go, -0.35 rad) reach a basket at
     2.32 m at most"; "" for a whole-arm run (its first throw needs the model) or demonstrations
     the loop cannot use (their own error comes next)."""
-    from rlff.sim.reach import centimetres_below
+    from rlff.sim.reach import centimetres_below, executable_reach, farthest_basket
 
     if drives_whole_arm(mapping):
         return ""
+
     try:
-        farthest = learnable_basket(demos, mapping, basket, pedestal)
         usable, _ = usable_demos(demos, mapping, basket.rim_height)
+        start, release = _swing_ends(usable, mapping)
+        reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from=start)
     except InputError:
         return ""
-    release = mapping.angle_offset + mapping.angle_scale * angle_grid(usable)[-1]
+    farthest = farthest_basket(reach.distance, basket.opening)
     reached = "no basket" if not math.isfinite(farthest) else f"a basket at {centimetres_below(farthest)} m at most"
     return f"; this run's throws ({mapping.joint} let go where the demonstrations let go, {release:.2f} rad) reach {reached}"
 
@@ -693,7 +702,7 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
     from rlff.sim.reach import came_down_words, farthest_basket, farthest_words, require_executable
 
     if not drives_whole_arm(mapping):
-        start, release = mapping.angle_offset + mapping.angle_scale * angle_grid(demos)[[0, -1]]
+        start, release = _swing_ends(demos, mapping)
         require_executable(basket, mapping, pedestal, release, swing_from=start,
                            release_source="where the demonstrations let go")
         return
