@@ -30,8 +30,13 @@ def test_a_timeout_shorter_than_the_motion_is_said_before_the_goal_goes_out():
 def test_an_interrupt_that_stopped_the_wait_for_the_cancel_says_so_not_that_the_server_was_silent():
     # two quick Ctrl-Cs: the second stopped the wait 0.5 s in, and rlff said "no answer from the
     # server within 10 s" while the server had braked the arm and confirmed
-    from rlff.cli.robot import interrupted_goal
-    from rlff.robot.send import CANCEL_NOT_AWAITED, CANCEL_UNCONFIRMED, GOAL_CANCELLED, mark_goal
+    from rlff.robot.send import (
+        CANCEL_NOT_AWAITED,
+        CANCEL_UNCONFIRMED,
+        GOAL_CANCELLED,
+        interrupted_goal,
+        mark_goal,
+    )
 
     said = interrupted_goal(mark_goal(KeyboardInterrupt(), CANCEL_NOT_AWAITED))
     assert said == ("goal interrupted: the cancel went out, and a second interrupt stopped the wait for the server to "

@@ -228,7 +228,7 @@ def _logged(log: Path | None) -> int:
 
 def _interrupted_attempt(exc: BaseException, log: Path | None) -> str | None:
     """What became of the attempt a Ctrl-C or SIGTERM stopped on the arm; None when none was under way."""
-    from rlff.cli.robot import interrupted_goal
+    from rlff.robot.send import interrupted_goal
 
     attempt = getattr(exc, "rlff_attempt", None)
     if attempt is None:

@@ -396,6 +396,7 @@ def send(
         approach_line,
         check_goal_for_arm,
         fastest_joint_line,
+        interrupted_goal,
         pose_line,
         require_at_rest,
         short_timeout,
@@ -505,24 +506,3 @@ def send(
         return
     stderr().print(f"rlff: {message}", highlight=False, markup=False)
     raise typer.Exit(1)
-
-
-def interrupted_goal(exc: BaseException) -> str | None:
-    """What became of the goal an interrupt (Ctrl-C, SIGTERM) stopped: None when none was sent."""
-    from rlff.robot.send import (
-        CANCEL_NOT_AWAITED,
-        CANCEL_UNCONFIRMED,
-        GOAL_CANCELLED,
-        cancel_unconfirmed,
-        goal_fate,
-    )
-
-    fate = goal_fate(exc)
-    if fate == GOAL_CANCELLED:
-        return "goal cancelled"
-    if fate == CANCEL_UNCONFIRMED:
-        return f"goal interrupted: {cancel_unconfirmed()}"
-    if fate == CANCEL_NOT_AWAITED:
-        return ("goal interrupted: the cancel went out, and a second interrupt stopped the wait for the server to "
-                "confirm it: the arm's state is unknown; check the arm (e-stop it if it moves)")
-    return None

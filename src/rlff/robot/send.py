@@ -87,6 +87,20 @@ def cancel_unconfirmed(wait: float | None = CANCEL_WAIT) -> str:
     return f"the cancel was not confirmed ({why}): the arm's state is unknown; check the arm (e-stop it if it moves)"
 
 
+def interrupted_goal(exc: BaseException) -> str | None:
+    """What became of the goal an interrupt (Ctrl-C, SIGTERM) stopped, in words (its
+    :func:`goal_fate`): None when none was sent."""
+    fate = goal_fate(exc)
+    if fate == GOAL_CANCELLED:
+        return "goal cancelled"
+    if fate == CANCEL_UNCONFIRMED:
+        return f"goal interrupted: {cancel_unconfirmed()}"
+    if fate == CANCEL_NOT_AWAITED:
+        return ("goal interrupted: the cancel went out, and a second interrupt stopped the wait for the server to "
+                "confirm it: the arm's state is unknown; check the arm (e-stop it if it moves)")
+    return None
+
+
 def _span(seconds: float) -> str:
     """``seconds`` in words: 0.312 s, 2.5 min, 56 years."""
     for unit, size in (("years", 365.25 * 86400), ("days", 86400), ("h", 3600), ("min", 60)):
