@@ -50,6 +50,7 @@ from rlff.learn.method import (
     Problem,
     Proposal,
     finite_miss,
+    release_speed,
     scale_speed,
 )
 from rlff.learn.windows import (  # the sweep's windows are the window search's, unordered by a prior
@@ -58,6 +59,7 @@ from rlff.learn.windows import (  # the sweep's windows are the window search's,
     half_shifted,
     lattice,
     limit_band,
+    lowest_for,
     reachable_top,
     window_width,
 )
@@ -133,7 +135,9 @@ class BracketingSweep(GmrBaseline):
         super().__init__(problem)
         width = window_width(problem.target, problem.tolerance)
         highest = reachable_top(float(np.log(self.limit / self.start)), width)
-        centres = lattice(width, highest)
+        lowest = lowest_for(problem.landing, self.start * release_speed(self.angle, self.mean), problem.target,
+                            problem.tolerance, width)  # as slow as a near basket needs, as calibrate's
+        centres = lattice(width, highest, lowest)
         if limit_band(centres, width, highest):
             centres = np.r_[centres, highest]
         first = _nearest_first(centres)
@@ -269,7 +273,9 @@ class GpSearch(GmrBaseline):
             warnings.simplefilter("ignore")
             gp.fit(x[:, None], miss - prior(x))
         highest = min(float(np.log(self.limit / self.start)), -LOWEST)
-        grid = np.linspace(LOWEST, highest, 481)
+        lowest = lowest_for(self.problem.landing, self.start * release_speed(self.angle, self.mean), target,
+                            self.problem.tolerance, window_width(target, self.problem.tolerance))
+        grid = np.linspace(lowest, highest, 481)
         mean, std = gp.predict(grid[:, None], return_std=True)
         gain = expected_improvement_of_abs(mean + prior(grid), std, float(np.min(np.abs(miss))))
         best = float(grid[int(np.argmax(gain))])

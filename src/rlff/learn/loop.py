@@ -60,6 +60,7 @@ from rlff.learn.reach import (
     beyond_reach,
     release_elasticity,
     saturation_factor,
+    typical_landing,
     widest_hit,
 )
 from rlff.learn.strategies import STRATEGIES
@@ -479,10 +480,10 @@ def _problem(demos: Dataset, target, feedback: str, seed: int, mapping, pedestal
     for a whole-arm throw) the kinematics' aim, and their elasticity for a one-joint throw."""
     whole_arm = drives_whole_arm(mapping)
     aim = whole_arm if aim is None else aim
+    typical = typical_throw(mapping, demos)
     known = {}
     if whole_arm or aim:
-        known["elasticity"] = release_elasticity(mapping, typical_throw(mapping, demos), target.distance,
-                                                 target.rim_height, pedestal)
+        known["elasticity"] = release_elasticity(mapping, typical, target.distance, target.rim_height, pedestal)
     if aim:
         known["aim"] = partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal)
     if whole_arm:
@@ -499,6 +500,7 @@ def _problem(demos: Dataset, target, feedback: str, seed: int, mapping, pedestal
         outputs=joint_outputs(mapping.human_columns),
         carried=carried,
         misreport=misreport,
+        landing=partial(typical_landing, mapping, typical, target.rim_height, pedestal),
         **known,
     )
 

@@ -84,6 +84,11 @@ class Problem:
     misreport : float
         With binary feedback, the probability that a hit is reported as a miss, which the window
         search gives a window that missed (:func:`rlff.learn.windows.with_retries`).
+    landing : callable, optional
+        ``landing(u) -> m``: where the demonstrations' typical throw released at speed u (rad/s,
+        as :func:`release_speed` measures it) comes down by the arm's kinematics
+        (:func:`rlff.learn.reach.typical_landing`); the speed searches go as slow as a near
+        basket needs by it (:func:`rlff.learn.windows.lowest_for`). None: no robot known.
     """
 
     demos: Dataset
@@ -100,6 +105,7 @@ class Problem:
     aim: Callable[[Proposal], float] | None = None
     carried: tuple[float, ...] = ()
     misreport: float = MISREPORT
+    landing: Callable[[float], float] | None = None
 
     @property
     def carried_shift(self) -> float:

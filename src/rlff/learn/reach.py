@@ -13,7 +13,8 @@ After a throw, the landing the executor reported and the gain the fastest releas
 it say whether the basket is within the real arm's reach (:func:`shortfall_at_the_limit`): the
 loop stops after :data:`SHORT_AT_THE_LIMIT` throws in a row that say it is not
 (:func:`beyond_reach`), as an arm slower than its robot file, a late release or a heavier ball
-make it.
+make it. The other way, where a throw comes down with every speed (:func:`typical_landing`)
+says how slow the searches must go for a near basket.
 
 Hand-written: bisections on one speed factor and a closed-form flight, the project's own
 reasoning about its throws.
@@ -195,6 +196,20 @@ def release_crossing_of(mapping, path: dict[str, np.ndarray], rim_height: float,
     release, _ = mapping.path_to_robot(path, clip=True)
     return release_crossing(mapping.robot, release.positions[-1], release.velocities[-1], rim_height, pedestal,
                             clearance=True)
+
+
+def typical_landing(mapping, typical: dict[str, np.ndarray], rim_height: float, pedestal: float,
+                    speed: float) -> float:
+    """Where ``typical`` (:func:`rlff.learn.demos.typical_throw`), sped up or slowed down as a
+    whole to the release speed ``speed`` (rad/s, the demonstrations' units, as
+    :func:`rlff.learn.method.release_speed` measures it), comes down through the rim's height (m
+    from joint 1's axis, :func:`release_crossing_of`); ``-inf`` when it never does."""
+    from rlff.learn.method import release_speed
+
+    own = release_speed(typical["angle"], typical["velocity"])
+    if not own > 0:
+        return -math.inf
+    return release_crossing_of(mapping, scaled(typical, speed / own), rim_height, pedestal)
 
 
 def widest_hit(basket) -> float:

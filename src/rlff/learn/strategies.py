@@ -89,7 +89,7 @@ from rlff.learn.method import (
     training_set,
 )
 from rlff.learn.outcomes import all_missed, outcomes_prior
-from rlff.learn.windows import LOWEST, PRIOR_SCALE, WindowSearch
+from rlff.learn.windows import LOWEST, PRIOR_SCALE, WindowSearch, lowest_for, window_width
 
 if TYPE_CHECKING:
     from rlff.model import Model
@@ -194,6 +194,9 @@ class SpeedCalibration:
         Prior standard deviation of a (log units).
     noise : float
         Standard deviation (log units) of a landing about the law.
+    landing : callable, optional
+        ``landing(u) -> m`` by the arm's kinematics: the candidates go below e^:data:`LOWEST` u0
+        where a near basket needs it (:func:`rlff.learn.windows.lowest_for`).
     """
 
     def __init__(
@@ -207,17 +210,20 @@ class SpeedCalibration:
         slope: float = 1.6,
         slope_scale: float = 0.25,
         noise: float = 0.03,
+        landing=None,
     ):
         self.target = float(target)
         self.tolerance = float(tolerance)
         self.reference = float(reference)
         self.noise = float(noise)
-        # candidate speeds u / u0, log-spaced 0.01 apart, shape (C,): from e^-1.2 to e^1.2, or on
-        # to the robot's limit where that lies beyond (a GMR mean extrapolated to a throw that
-        # hardly moves at its release, :func:`rlff.learn.windows.reachable_top`)
+        # candidate speeds u / u0, log-spaced 0.01 apart, shape (C,): from e^-1.2 (or lower, where
+        # the arm's kinematics say a near basket needs it) to e^1.2, or on to the robot's limit
+        # where that lies beyond (a GMR mean extrapolated to a throw that hardly moves at its
+        # release, :func:`rlff.learn.windows.reachable_top`)
         span = -LOWEST
         top = max(span, math.log(max_speed / self.reference)) if math.isfinite(max_speed) else span
-        ratios = np.exp(-span + 0.01 * np.arange(int(round((top + span) / 0.01)) + 1))
+        bottom = -lowest_for(landing, self.reference, self.target, self.tolerance, window_width(target, tolerance))
+        ratios = np.exp(-bottom + 0.01 * np.arange(int(round((top + bottom) / 0.01)) + 1))
         self.ratios = ratios[ratios * self.reference <= max_speed]
         if self.ratios.size == 0:
             self.ratios = np.array([max_speed / self.reference])
@@ -360,7 +366,7 @@ class CalibrateUpdate(DmmStrategy):
             # carried hits: the first proposal at the speed they point to
             start = self.reference * math.exp(problem.carried_shift)
             calibration = SpeedCalibration(problem.target, problem.tolerance, start, fastest,
-                                           slope=problem.elasticity)
+                                           slope=problem.elasticity, landing=problem.landing)
             for attempt in history:
                 executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
                                                                    attempt.velocity))
@@ -389,7 +395,8 @@ class CalibrateUpdate(DmmStrategy):
             self._prior, density = self.speed_prior()
             self._windows = WindowSearch(problem.target, problem.tolerance, math.log(fastest / self.reference),
                                          density, scale=scale, elasticity=problem.elasticity, centre=centre,
-                                         misreport=problem.misreport if self.retries_misses else 0.0)
+                                         misreport=problem.misreport if self.retries_misses else 0.0,
+                                         landing=problem.landing, reference=self.reference)
         return self._windows
 
     def speed_centre(self) -> tuple[float, float]:

@@ -50,8 +50,10 @@ RANGE_ELASTICITY = 1.6
 #: log distance (chosen on seeds 0-15 among 0.15-0.6, checked on seeds 20-35).
 PRIOR_SCALE = 0.3
 #: Slowest log speed factor any search tries (a throw at 30 % of the demonstrations' speed; the
-#: sweep's too).
+#: sweep's too), unless the arm's kinematics say a basket needs slower throws (:func:`lowest_for`).
 LOWEST = -1.2
+#: Slowest speed :func:`lowest_for` goes down to, as a share of the speed at :data:`LOWEST`.
+_SLOWEST_SHARE = 0.01
 #: Points of the grid the prior is integrated on, per unit of log speed.
 _GRID_DENSITY = 400
 #: Probability the search gives a hit being reported as a miss. Set a priori (a ball that
@@ -115,6 +117,42 @@ def reachable_top(highest: float, width: float) -> float:
     """
     top = highest if np.isfinite(highest) else -LOWEST
     return float(max(top, LOWEST + width))
+
+
+def lowest_for(landing, reference: float, target: float, tolerance: float, width: float) -> float:
+    """The slowest log speed factor (over ``reference``) a search of windows ``width`` wide must
+    go down to for a basket at ``target`` (m): :data:`LOWEST`, or lower where the arm's kinematics
+    (``landing``) say that even throws that slow come down beyond the basket's far edge, so that a
+    window lies below the speed x_far whose ball comes down at that edge: one window below it.
+
+    A near basket on an arm whose throws mostly carry the ball out by the release's own reach
+    needs throws far slower than the people's: on a tester's slow arm throwing with joint 3, at
+    0.4 m, the slowest window of the lattice (at most 30 % of the GMR mean's speed) came down at
+    0.58 m, 5 mm beyond the far edge, and the run missed 12 times at +0.18 to +0.31 m.
+
+    Parameters
+    ----------
+    landing : callable or None
+        ``landing(u) -> m``: where a throw released at speed u (rad/s, the demonstrations' units)
+        comes down by the arm's kinematics, increasing in u (``Problem.landing``); None: no
+        kinematics known, :data:`LOWEST`.
+    reference : float
+        u0 (rad/s), the speed the search's log factors are over.
+    target, tolerance : float
+        Basket distance and the hit window's half-width (m).
+    width : float
+        The search's window width (log speed).
+    """
+    far = target + tolerance
+    if landing is None or not landing(reference * np.exp(LOWEST + width)) > far:
+        return LOWEST
+    low, high = LOWEST + width + np.log(_SLOWEST_SHARE), LOWEST + width
+    if landing(reference * np.exp(low)) > far:  # every throw lands beyond: the slowest of all
+        return float(low - width)
+    for _ in range(30):  # bisection on the speed whose ball comes down at the far edge
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if landing(reference * np.exp(middle)) <= far else (low, middle)
+    return float(low - width)
 
 
 def limit_band(centres: np.ndarray, width: float, highest: float) -> tuple[float, float] | None:
@@ -266,16 +304,22 @@ class WindowSearch:
         no window twice in the first pass).
     floor : float, optional
         Share of the mass spread evenly over the windows; default :data:`UNLIKE_PEOPLE`.
+    landing : callable, optional
+        ``landing(u) -> m`` by the arm's kinematics, with which the lattice goes below
+        :data:`LOWEST` where the basket needs it (:func:`lowest_for`); ``reference`` is then the
+        speed u0 (rad/s) the log factors are over.
     """
 
     def __init__(self, target: float, tolerance: float, highest: float, log_density=None,
                  scale: float = PRIOR_SCALE, elasticity: float = RANGE_ELASTICITY, centre: float = 0.0,
-                 misreport: float = MISREPORT, floor: float | None = None):
+                 misreport: float = MISREPORT, floor: float | None = None, landing=None, reference: float = 1.0):
         self.width = window_width(target, tolerance, elasticity)
         self.highest = reachable_top(highest, self.width)
+        #: Slowest log speed factor of the lattice's range.
+        self.lowest = lowest = lowest_for(landing, reference, target, tolerance, self.width)
         #: Log speed factor the lattice is laid about (a centre beyond the limit: the limit).
-        self.centre = float(np.clip(centre, LOWEST + self.width, self.highest))
-        centres = self.centre + lattice(self.width, self.highest - self.centre, LOWEST - self.centre)
+        self.centre = float(np.clip(centre, lowest + self.width, self.highest))
+        centres = self.centre + lattice(self.width, self.highest - self.centre, lowest - self.centre)
         # the speeds between the top window's upper edge and the limit (the lattice's steps
         # seldom end at the limit): one more window, at the limit, with the prior's mass of what
         # it would hit, that band and the half window above the limit (:func:`limit_reach`); the
@@ -288,8 +332,8 @@ class WindowSearch:
             if reach:
                 masses = np.r_[masses, np.diff(norm.cdf(reach, self.centre, scale))]
         else:
-            x = np.linspace(LOWEST - 1.0, self.highest + 2.0,
-                            int(_GRID_DENSITY * (self.highest - LOWEST + 3.0)) + 1)
+            x = np.linspace(lowest - 1.0, self.highest + 2.0,
+                            int(_GRID_DENSITY * (self.highest - lowest + 3.0)) + 1)
             log_p = np.asarray(log_density(x), dtype=float)
             density = np.exp(log_p - np.max(log_p))
             masses = window_masses(centres, x, density)
