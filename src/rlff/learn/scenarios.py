@@ -261,7 +261,7 @@ def reporting_executor(scenario: Scenario, feedback: Feedback, basket: float, se
             landing += feedback.noise * float(rng.standard_normal())
         if hit and rng.random() < feedback.false_miss:
             hit = False
-        miss = 0.0 if hit else (landing - target.distance if math.isfinite(landing) else float(outcome.miss))
+        miss = landing - target.distance if math.isfinite(landing) else float(outcome.miss)
         return ReportedOutcome(hit, landing, miss)
 
     return execute
