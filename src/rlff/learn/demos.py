@@ -26,6 +26,7 @@ from rlff.dataset import Dataset, joint_outputs
 from rlff.errors import InputError
 from rlff.learn.memo import ByContent, content_digest
 from rlff.learn.method import COLUMNS, ONE_JOINT_OUTPUTS
+from rlff.limits import DISTANCE_RANGE
 from rlff.wording import plural
 
 #: Quantile of the demonstrations' last angles where generated throws release.
@@ -110,9 +111,66 @@ def _at_nearest_height(demos: Dataset, rim_height: float) -> Dataset:
     return demos.replace([t for t, h in zip(demos, heights, strict=True) if h == nearest])
 
 
+#: How far (a factor either way) the demonstrations' velocity may read, in the median, from the
+#: rate at which their angle changes over their time column (1.0 on the real MSR throws, the
+#: 10-90 % range 0.89-1.08; a velocity in deg/s reads 57).
+VELOCITY_AGREEMENT = 3.0
+
+
+def require_units(demos: Dataset) -> None:
+    """:class:`InputError` when the demonstrations' basket distances (the ``distance`` column) or
+    landings (``landing`` metadata) are not metres, or their velocity not the rate of change of
+    their angle: a distance outside :data:`rlff.limits.DISTANCE_RANGE`, a landing farther than
+    its top either way, a velocity whose integral over the ``time`` column is in the median more
+    than :data:`VELOCITY_AGREEMENT` times the angle's change, or less than its inverse.
+
+    In centimetres, the landings had put every throw the calibration made behind the arm's base
+    (-2.05 m from a basket at 1.75 m); in deg/s, the velocities sent every throw to the speed
+    limit, the same throw each time, 0.33 m long. Both runs missed to their end."""
+    low, high = DISTANCE_RANGE
+    if "distance" in demos.columns and len(demos):
+        values = demos.to_array(["distance"])[:, 0]
+        if values.min() < low or values.max() > high:
+            unit = " (centimetres? the distance is in metres)" if values.max() > high else ""
+            raise InputError(f"the demonstrations' column 'distance' holds {values.min():g} to {values.max():g}, "
+                             f"outside the basket distances {low:g} to {high:g} m{unit}")
+    landings = np.array([float(t.meta.get("landing", np.nan)) for t in demos])
+    far = np.isfinite(landings) & (np.abs(landings) > high)
+    if far.any():
+        first = int(np.flatnonzero(far)[0])
+        raise InputError(f"{np.count_nonzero(far)} of the {len(demos)} demonstrations' landings (metadata "
+                         f"'landing') lie beyond {high:g} m (throw {demos[first].id} at {landings[first]:.4g}): "
+                         "centimetres? landings are in metres from the thrower; leave the metadata out where "
+                         "they are not known")
+    _require_velocity_in_time(demos)
+
+
+def _require_velocity_in_time(demos: Dataset) -> None:
+    """See :func:`require_units`: the velocity against the angle's change over ``time``."""
+    if "time" not in demos.columns:
+        return
+    ratios = []
+    for trajectory in demos:
+        change = float(trajectory["angle"][-1] - trajectory["angle"][0])
+        if abs(change) > 1e-3:
+            ratios.append(float(np.trapezoid(trajectory["velocity"], trajectory["time"])) / change)
+    if not ratios:
+        return
+    ratio = float(np.median(ratios))
+    if not 1.0 / VELOCITY_AGREEMENT <= ratio <= VELOCITY_AGREEMENT:
+        hint = (" (degrees per second? velocity is in rad/s)" if 40.0 < ratio < 80.0
+                else " (time in milliseconds? it is in seconds)" if 300.0 < ratio < 3000.0 else "")
+        raise InputError(f"the demonstrations' velocity integrates over their time column to a median {ratio:.3g} "
+                         f"times their angle's change: it should be the angle's rate of change, rad/s with the "
+                         f"angle in rad and the time in s{hint}")
+
+
 def drives_whole_arm(mapping) -> bool:
-    """Whether ``mapping`` drives more than the one joint of the ``[throwing]`` table."""
-    return len(mapping.human_columns) > 1
+    """Whether ``mapping`` is the ``[whole_arm]`` table's (any joints but the ``[throwing]``
+    table's one joint alone, :func:`rlff.robot.mapping_for`), even with one joint driven."""
+    from rlff.robot.mapping import ArmMapping
+
+    return isinstance(mapping, ArmMapping)
 
 
 def usable_demos(demos: Dataset, mapping, rim_height: float) -> tuple[Dataset, list[str]]:

@@ -222,7 +222,9 @@ def robot_record(mapping: RobotMapping | ArmMapping) -> dict[str, Any]:
 
 def _mapping_description(mapping: RobotMapping | ArmMapping) -> dict[str, Any]:
     """The numbers of a mapping that decide what the robot does (see :func:`robot_record`)."""
-    if len(mapping.human_columns) == 1:
+    from rlff.robot.mapping import ArmMapping
+
+    if not isinstance(mapping, ArmMapping):
         return {"joint": mapping.joint, "start_pose": dict(mapping.start_pose),
                 "angle_offset": mapping.angle_offset, "angle_scale": mapping.angle_scale,
                 "velocity_scale": mapping.velocity_scale}

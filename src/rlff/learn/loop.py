@@ -29,6 +29,7 @@ the last recorded attempt, exactly as the uninterrupted run would have.
 from __future__ import annotations
 
 import math
+import numbers
 import time as clock
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
@@ -49,6 +50,7 @@ from rlff.learn.demos import (
     fingerprint,
     forward_velocity,
     loop_components,
+    require_units,
     typical_throw,
     usable_demos,
 )
@@ -65,7 +67,7 @@ from rlff.learn.reach import (
 )
 from rlff.learn.strategies import STRATEGIES
 from rlff.learn.windows import MISREPORT
-from rlff.limits import check_pedestal
+from rlff.limits import DISTANCE_RANGE, check_pedestal
 from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
 
@@ -103,7 +105,10 @@ RUN_OPTIONS: dict[str, tuple[str, str | None]] = {
 
 
 class Outcome(Protocol):
-    """What an executor reports about one throw (``rlff.sim``'s ThrowOutcome is one)."""
+    """What an executor reports about one throw (``rlff.sim``'s ThrowOutcome is one): ``hit``
+    (a bool), ``landing_x`` (m from the robot's base along the basket's line; NaN or None where
+    not measured) and ``miss`` (``landing_x`` less the basket's distance, m, negative short; NaN
+    where not measured), checked as :func:`reported_outcome` says."""
 
     hit: bool
     landing_x: float
@@ -328,8 +333,15 @@ def learn(
     if feedback not in method_class.feedbacks:
         raise InputError(f"update {update!r} needs {' or '.join(method_class.feedbacks)} feedback, "
                          f"not {feedback!r}")
-    if not (isinstance(budget, int) and budget >= 1):
+    if not (isinstance(budget, numbers.Integral) and not isinstance(budget, bool) and budget >= 1):
         raise InputError(f"budget must be a positive whole number of attempts, got {budget!r}")
+    budget = int(budget)
+    if not (isinstance(seed, numbers.Integral) and not isinstance(seed, bool) and seed >= 0):
+        raise InputError(f"seed must be a whole number >= 0, got {seed!r}")
+    seed = int(seed)
+    # one name or path given where several may be: that one, not its letters
+    joints = (joints,) if isinstance(joints, str) else joints
+    carry_from = (carry_from,) if isinstance(carry_from, str | Path) else carry_from
     if until not in UNTILS:
         raise InputError(f"unknown until {until!r} (known: {', '.join(UNTILS)})")
     if not 0 < centre_share <= 1:
@@ -354,6 +366,7 @@ def learn(
         _require_reach(robot_model, target, pedestal, mapping.driven_joints, demos.columns)
     except InputError as exc:
         raise InputError(f"{exc}{_executed_reach_words(demos, mapping, target, pedestal)}") from None
+    require_units(demos)
     demos, limit_notes = usable_demos(demos, mapping, target.rim_height)
     components = loop_components(demos, seed, joint_outputs(mapping.human_columns))
     _require_executable(mapping, target, pedestal, demos, components, seed, method_class)
@@ -527,7 +540,7 @@ def _execute(proposal, index: int, target, mapping, executor: Executor, start: f
     path["velocity"] = forward_velocity(proposal.angle, proposal.velocity)
     path["time"] = time_along_path(proposal.angle, path["velocity"])
     points, trajectory, clip_report = _plan(mapping, path, target.bearing)
-    outcome = executor(trajectory)
+    hit, landing, miss = reported_outcome(executor(trajectory), target)
     executed = mapping.path_from_robot(points)
     return Attempt(
         index=index,
@@ -536,15 +549,68 @@ def _execute(proposal, index: int, target, mapping, executor: Executor, start: f
         angle=executed["angle"],
         velocity=executed["velocity"],
         time=executed["time"],
-        hit=bool(outcome.hit),
-        landing=float(outcome.landing_x),
-        miss=float(outcome.miss),
+        hit=hit,
+        landing=landing,
+        miss=miss,
         exploration=proposal.exploration,
         clipped=len(clip_report),
         seconds=clock.perf_counter() - start,
         info=proposal.info,
         arm={name: executed[name] for name in joint_outputs(mapping.human_columns)[1:]},
     )
+
+
+def reported_outcome(outcome, basket) -> tuple[bool, float, float]:
+    """``(hit, landing, miss)`` of what an executor returned for a throw at ``basket``
+    (:class:`rlff.sim.Basket`), checked: the :class:`Outcome` protocol's ``hit`` a bool,
+    ``landing_x`` (m along the basket's line from the robot's base; None or NaN: not measured,
+    +-inf: never came down) no farther than the farthest basket rlff takes either way, ``miss``
+    (m, negative short) ``landing_x - basket.distance`` where both are known. (A hit far from
+    the basket is not refused: a measurement as noisy as ``noisy-distance:0.5`` gives one.)
+
+    An executor stands for the user's own arm, camera or person, so a unit slip or a slip of
+    the protocol comes in here: a landing in centimetres had been learned from (and a resumed
+    run then threw behind the arm), ``hit="False"`` counted as a hit.
+
+    Raises
+    ------
+    InputError
+        One line naming the field, what came and what is expected.
+    """
+    fields = ("hit", "landing_x", "miss")
+    if not all(hasattr(outcome, name) for name in fields):
+        raise InputError(f"the executor returned {type(outcome).__name__} {_short(outcome)}: it must return an "
+                         "object with hit (bool), landing_x and miss (m), as rlff.sim.simulate_throw's outcome has")
+    hit = outcome.hit
+    if not isinstance(hit, bool | np.bool_):
+        raise InputError(f"the executor's outcome has hit = {hit!r} ({type(hit).__name__}): give True or False")
+    landing, miss = (_metres(getattr(outcome, name), name) for name in ("landing_x", "miss"))
+    far = DISTANCE_RANGE[1]
+    for name, value in (("landing_x", landing), ("miss", miss)):
+        if math.isfinite(value) and abs(value) > far:
+            raise InputError(f"the executor's outcome has {name} = {value:g} m, beyond {far:g} m either way "
+                             "(a unit slip? landing_x and miss are in metres)")
+    if math.isfinite(landing) and math.isfinite(miss) and abs(miss - (landing - basket.distance)) > 1e-6:
+        raise InputError(f"the executor's outcome has miss = {miss:g} m with landing_x = {landing:g} m: the miss "
+                         f"is landing_x - the basket's distance ({landing - basket.distance:+g} m for the basket "
+                         f"at {basket.distance:g} m)")
+    return bool(hit), landing, miss
+
+
+def _metres(value, name: str) -> float:
+    """``value`` as a float (None: NaN, not measured), or :class:`InputError` naming ``name``."""
+    if value is None:
+        return math.nan
+    if isinstance(value, bool | np.bool_ | str) or not isinstance(value, numbers.Real):
+        raise InputError(f"the executor's outcome has {name} = {value!r} ({type(value).__name__}): give a "
+                         "number in metres (NaN or None where not measured)")
+    return float(value)
+
+
+def _short(value) -> str:
+    """``repr(value)`` cut to 60 characters, for an error message."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 #: Bisection steps of :func:`_plan`'s search for the fastest throw of a shape the arm can make:

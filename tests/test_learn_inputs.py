@@ -1,0 +1,120 @@
+"""What ``learn`` takes from a caller who scripts it: demonstrations in the units it reads, an
+executor's outcomes (the user's own arm), its arguments. Real model, real MuJoCo."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pytest
+
+from rlff.dataset import Dataset
+from rlff.errors import InputError
+from rlff.learn import learn
+from rlff.learn.log import read_log
+from rlff.sim import Basket, simulate_throw
+
+
+@pytest.fixture(scope="module")
+def demos() -> Dataset:
+    from rlff.preprocess import Pipeline
+    from rlff.synthetic.throws import simulate_throws
+
+    raw = simulate_throws(3, subjects=3, distances=(1.0, 1.25, 1.5), throws_per_distance=2, all_short=True)
+    clean, _ = Pipeline.preset("thesis").run(raw)
+    return clean
+
+
+def rescaled(demos: Dataset, column: str | None = None, factor: float = 1.0, landing: float | None = None) -> Dataset:
+    """``demos`` with ``column`` times ``factor``, and every landing times ``landing``."""
+    trajectories = []
+    for t in demos:
+        data = {name: t[name] * factor if name == column else t[name] for name in t.data}
+        meta = dict(t.meta)
+        if landing is not None:
+            meta["landing"] = float(meta["landing"]) * landing
+        trajectories.append(t.replace(data=data, meta=meta))
+    return Dataset(trajectories, context=demos.context)
+
+
+def test_landings_in_centimetres_are_refused_before_the_first_throw(demos):
+    # they had put every throw behind the arm's base, 2.05 m short of the basket, to the end
+    with pytest.raises(InputError, match=r"landings \(metadata 'landing'\) lie beyond 20 m .*centimetres"):
+        learn(rescaled(demos, landing=100.0), 1.4, budget=2)
+
+
+def test_distances_in_centimetres_are_refused_by_the_library_too(demos):
+    with pytest.raises(InputError, match=r"column 'distance' holds 100 to 150, .*centimetres"):
+        learn(rescaled(demos, "distance", 100.0), 1.4, budget=2)
+
+
+def test_a_velocity_in_degrees_per_second_is_refused(demos):
+    # read as rad/s, every throw was the same one at the speed limit, 0.33 m long, to the end
+    with pytest.raises(InputError, match=r"median 5\d\.\d times their angle's change.*degrees per second"):
+        learn(rescaled(demos, "velocity", math.degrees(1.0)), 1.4, budget=2)
+
+
+def test_the_demonstrations_as_they_are_pass_the_unit_checks(demos):
+    assert learn(demos, 1.4, budget=1).attempts == 1
+
+
+@dataclass(frozen=True)
+class Reported:
+    hit: object
+    landing_x: object
+    miss: object
+
+
+def arm(report):
+    """An executor: the simulated throw, its outcome passed through ``report``."""
+    def execute(trajectory):
+        outcome = simulate_throw(trajectory, Basket(1.4))
+        return report(outcome)
+    return execute
+
+
+@pytest.mark.parametrize(("report", "words"), [
+    (lambda o: Reported("False", o.landing_x, o.miss), r"hit = 'False' \(str\): give True or False"),
+    (lambda o: Reported(o.hit, 100.0 * o.landing_x, 100.0 * o.miss), r"landing_x = [\d.]+ m, beyond 20 m .*unit slip"),
+    (lambda o: Reported(o.hit, o.landing_x, o.miss + 0.5), r"miss = .* with landing_x = .*: the miss is landing_x"),
+    (lambda o: Reported(o.hit, "1.2", o.miss), r"landing_x = '1.2' \(str\): give a number in metres"),
+    (lambda o: {"hit": o.hit, "landing_x": o.landing_x, "miss": o.miss}, r"returned dict .*: it must return an object"),
+])
+def test_an_executors_outcome_is_checked_before_it_is_learned_from(demos, tmp_path, report, words):
+    log = tmp_path / "run.jsonl"
+    with pytest.raises(InputError, match=words):
+        learn(demos, 1.4, budget=3, executor=arm(report), log_path=log)
+    assert read_log(log)[1].attempts == []  # nothing of it logged
+
+
+def test_a_landing_not_measured_may_be_none(demos):
+    result = learn(demos, 1.4, budget=2, executor=arm(lambda o: Reported(bool(o.hit), None, math.nan)))
+    assert all(math.isnan(a.landing) for a in result.history)
+
+
+def test_one_joint_name_and_one_log_path_are_taken_whole(demos, tmp_path):
+    # a str where a sequence goes had been taken letter by letter ("joints ['j', 'o', ...]")
+    assert learn(demos, 1.4, budget=1, joints="joint_2").attempts == 1
+    with pytest.raises(InputError, match=r"nope\.jsonl: no such attempts log"):
+        learn(demos, 1.4, budget=1, carry_from=str(tmp_path / "nope.jsonl"))
+
+
+@pytest.mark.parametrize("seed", [None, -1, 1.5])
+def test_a_seed_that_is_no_whole_number_is_refused(demos, seed):
+    with pytest.raises(InputError, match="seed must be a whole number"):
+        learn(demos, 1.4, budget=1, seed=seed)
+
+
+def test_numpy_integers_are_whole_numbers(demos):
+    assert learn(demos, 1.4, budget=np.int64(1), seed=np.int64(2)).attempts == 1
+
+
+def test_the_elbow_joint_alone_learns_as_a_whole_arm_throw_of_one_joint(demos, tmp_path):
+    # joint_3 alone is not the [throwing] table's joint: an ArmMapping of one joint, which the loop
+    # had taken for the one-joint mapping and crashed on (no attribute 'joint')
+    log = tmp_path / "j3.jsonl"
+    result = learn(demos, 0.7, budget=6, joints=("joint_3",), log_path=log)
+    assert result.hit, result.misses
+    run, _ = read_log(log)
+    assert list(run["robot"]["description"]["mapping"]["driven"]) == ["joint_3"]
