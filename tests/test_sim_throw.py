@@ -61,6 +61,21 @@ def test_a_throw_aimed_into_the_basket_stays_in(robot):
     assert basket.holds(outcome.rest_position, BALL_RADIUS)
 
 
+@pytest.mark.parametrize("rim", [0.05, 0.07])
+def test_a_basket_lower_than_the_ball_still_holds_a_ball_lying_on_its_floor(robot, rim):
+    # the ball had to lie wholly below the rim: no rim below 0.076 m could ever hold it, and a
+    # run at 0.07 m threw its budget with the ball lying in the basket
+    probe = simulate_throw(swing(), Basket(1.5, rim_height=rim), robot=robot)
+    outcome = simulate_throw(swing(), Basket(probe.landing_x + 0.05, rim_height=rim), robot=robot)
+    assert outcome.hit, outcome.rest_position
+    assert outcome.rest_position[2] > rim - BALL_RADIUS  # lying on the floor, its top above the rim
+
+
+def test_a_rim_below_a_resting_balls_centre_is_refused():
+    with pytest.raises(InputError, match=r"rim_height \(--height\) 0.04 m is no higher than a ball resting"):
+        Basket(1.5, rim_height=0.04)
+
+
 @pytest.mark.parametrize("offset, sign", [(0.4, -1.0), (-0.4, 1.0)])
 def test_short_and_long_throws_miss_with_the_sign_of_the_miss(robot, offset, sign):
     slow = swing(peak=2.0)

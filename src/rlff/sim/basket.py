@@ -44,6 +44,10 @@ class Basket:
             value = getattr(self, name)
             if not np.isfinite(value) or value <= 0:
                 raise InputError(f"basket {name} ({option}) must be a positive number of metres, got {value}")
+        if self.rim_height <= WALL + BALL_RADIUS:
+            raise InputError(f"basket rim_height (--height) {self.rim_height:g} m is no higher than a ball resting on "
+                             f"the basket's floor reaches ({WALL + BALL_RADIUS:g} m to its centre): its walls would "
+                             "not keep the ball in; give the rim's height above the ground in metres")
         if self.opening <= 2 * BALL_RADIUS:
             raise InputError(f"basket opening (--opening) {self.opening:g} m is no wider than the ball "
                              f"({2 * BALL_RADIUS:g} m across): no throw drops into it")
@@ -77,11 +81,16 @@ class Basket:
         return float(x * ux + y * uy), float(-x * uy + y * ux)
 
     def holds(self, position: np.ndarray, radius: float) -> bool:
-        """Whether a ball of ``radius`` (m) centred at ``position`` (3,) is inside, below the rim."""
+        """Whether a ball of ``radius`` (m) centred at ``position`` (3,) is inside: within the
+        opening, and wholly below the rim or lying on the floor (its centre within half a radius
+        of where a ball at rest there has it; the walls reach above that, :meth:`__post_init__`).
+        With the rim's rule alone a rim below the ball's top at rest (0.076 m) could never hold a
+        ball: a tester's run at a 0.07 m rim threw its budget with the ball lying in the basket."""
         x, y, z = np.asarray(position, dtype=float)
         along, lateral = self.along_line(x, y)
         half = 0.5 * self.opening
-        return bool(abs(along - self.distance) < half and abs(lateral) < half and z < self.rim_height - radius)
+        below = z < self.rim_height - radius or z < WALL + 1.5 * radius
+        return bool(abs(along - self.distance) < half and abs(lateral) < half and below)
 
     def to_dict(self) -> dict[str, float]:
         """Plain values for JSON: distance, rim_height, opening (m) and bearing (deg)."""
