@@ -4,6 +4,7 @@ writes (run.json, figures, report, data, model, attempts logs) is complete and c
 from __future__ import annotations
 
 import json
+import math
 from html.parser import HTMLParser
 from pathlib import Path
 
@@ -87,6 +88,12 @@ def check_numbers_agree_with_files(demo) -> None:
     assert counted in (out / "figures" / "bic.svg").read_text()
     run = read_run(out)
     assert run.section("model").facts["components K"] == model.n_components
+    # the selection table's ln L is the one its BIC counts, BIC = -2 ln L + p ln n_e (full
+    # covariances in 3 dimensions: p = 10 K - 1); the raw sum over every sample had been printed
+    [selection] = run.section("model").tables
+    n_e = model.fit_info["effective_samples"]
+    for k, bic, _, log_likelihood in selection.rows:
+        assert bic == pytest.approx(-2 * log_likelihood + (10 * k - 1) * math.log(n_e), rel=1e-9)
     resolution = model.fit_info["context_resolution"]["distance"]
     assert resolution > 0 and run.section("model").facts["distance resolution"].startswith(f"{resolution:g} ")
     # throws for demonstrated and new distances; the learning distance is new and reachable

@@ -671,7 +671,14 @@ def _run_record(
          (s.after if s.after is not None else s.before).n_samples, s.summary()]
         for s in preprocessing.steps
     ]
-    selection = [[row["n_components"], row["bic"], row["aic"], row["log_likelihood"]] for row in model.selection.table]
+    # ln L as BIC counts it (BIC = -2 ln L + p ln n_e, the figure's caption), as `rlff fit` prints
+    # it: over all n samples scaled by n_e / n; the raw sum had not fitted the BIC beside it
+    n, effective = model.fit_info["n_samples"], model.fit_info["effective_samples"]
+    share = 1.0 if effective is None else effective / n
+    selection = [[row["n_components"], row["bic"], row["aic"], row["log_likelihood"] * share]
+                 for row in model.selection.table]
+    selection_title = ("Model selection" if effective is None else
+                       f"Model selection (ln L scaled to {effective:.4g} effective samples of {n}, as BIC counts it)")
     outputs = []
     for distance, path in paths.items():
         velocity = np.asarray(path.velocity, dtype=float)
@@ -705,7 +712,7 @@ def _run_record(
             facts={"components K": int(model.n_components), "criterion": "BIC",
                    **{f"{name} resolution": f"{value:g} (step^2/12 added to every component's variance)"
                       for name, value in model.fit_info.get("context_resolution", {}).items() if value > 0}},
-            tables=[Table("Model selection", ["K", "BIC", "AIC", "ln L"], selection)],
+            tables=[Table(selection_title, ["K", "BIC", "AIC", "ln L"], selection)],
         ),
         Section(
             "outputs", "Generated throws",
