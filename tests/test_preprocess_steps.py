@@ -170,6 +170,18 @@ def test_balance_keeps_at_most_m_per_context_deterministically():
     assert list(first.ids) == sorted(first.ids, key=data.ids.index)  # dataset order kept
 
 
+def test_balance_warns_of_subjects_it_leaves_out_whole():
+    # the thesis preset's first-ten rule kept 3 of 10 simulated people, and said only "removed 300"
+    data = Dataset([t.replace(meta={"subject": f"s{i // 2}"})
+                    for i, t in enumerate(_throw(f"t{i}", [1.0, 2.0], distance=1) for i in range(6))])
+    _, report = balance(data, max_per_context=2)
+    assert report.warnings == ["every throw of 2 subjects (s1, s2) was left out: order 'first' keeps the first "
+                               "of each basket in the data's order; order 'random' draws from every subject"]
+    assert report.to_dict()["warnings"] == report.warnings
+    _, kept_all = balance(data, max_per_context=6)
+    assert kept_all.warnings == []
+
+
 # -- 6-9. reshaping ----------------------------------------------------------------------------
 
 

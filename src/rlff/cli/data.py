@@ -14,6 +14,7 @@ from rlff.cli._common import (
     say_first,
     seed_option,
     stdout,
+    warn,
     warn_copies,
 )
 from rlff.cli.output import guard, write_json
@@ -168,6 +169,8 @@ def preprocess_command(
         say_first([f"{step.step}: removed throw {removal.trajectory}: {removal.reason}"
                    for removal in step.removed if removal.trajectory not in in_contexts],
                   "--report FILE lists every one")
+        for warning in step.warnings:
+            warn(f"{step.step}: {warning}")
         if step.step == "balance" and step.removed:  # a big recording loses most of its throws here
             say(f"balance kept at most {step.params['max_per_context']} throws per basket: to keep more, raise its "
                 "max_per_context in a copy of the pipeline (the preset: src/rlff/presets/thesis.toml) and pass that "

@@ -58,6 +58,8 @@ class StepReport:
         Contexts rejected, with their reason.
     notes : list of str
         Anything else worth knowing (values rescaled, checks skipped and why).
+    warnings : list of str
+        What the user should look at (a subject's every throw left out).
     before, after : Dataset
         The step's input and output.
     """
@@ -70,6 +72,7 @@ class StepReport:
     removed: list[Removal] = field(default_factory=list)
     contexts: list[ContextRejection] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
 
     def change_samples(self, trajectory: str, removed: int, added: int, reason: str) -> None:
         """Record samples removed from / added to a trajectory (nothing when both are zero)."""
@@ -125,6 +128,7 @@ class StepReport:
                 for r in self.contexts
             ],
             "notes": list(self.notes),
+            "warnings": list(self.warnings),
         }
 
 

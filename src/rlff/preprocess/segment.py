@@ -17,6 +17,7 @@ import numpy as np
 from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.preprocess.report import StepReport
+from rlff.wording import plural
 
 
 def crop(
@@ -218,4 +219,17 @@ def balance(
                     f"context {label} has {len(group)} trajectories, keeping {max_per_context} ({order})",
                 )
     report.after = dataset.replace(t for t in dataset if t.id not in dropped)
+    lost = _subjects(dataset) - _subjects(report.after)
+    if lost:
+        names = sorted(lost)
+        shown = ", ".join(names[:6]) + (f" and {len(names) - 6} more" if len(names) > 6 else "")
+        report.warnings.append(
+            f"every throw of {plural(len(names), 'subject')} ({shown}) was left out: order '{order}' keeps "
+            + ("the first of each basket in the data's order; order 'random' draws from every subject"
+               if order == "first" else "a random draw of each basket"))
     return report.after, report
+
+
+def _subjects(dataset: Dataset) -> set[str]:
+    """The ``subject`` metadata of the trajectories that have it."""
+    return {str(t.meta["subject"]) for t in dataset if t.meta.get("subject") is not None}
