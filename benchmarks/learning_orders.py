@@ -64,7 +64,7 @@ from scipy.stats import norm
 from rlff.learn.attempt import Attempt
 from rlff.learn.demos import angle_grid, learning_demos, loop_components
 from rlff.learn.log import robot_record
-from rlff.learn.loop import METHODS, _execute, _hit_tolerance, _simulator
+from rlff.learn.loop import METHODS, _execute, _simulator, hit_tolerance
 from rlff.learn.method import Problem, scale_speed
 from rlff.learn.outcomes import outcomes_prior
 from rlff.learn.reach import aimed_factor
@@ -99,7 +99,7 @@ def problem_for(scenario: str, seed: int, basket: float) -> tuple[Problem, Baske
     """The problem the loop builds for a binary run without landings."""
     demos = learning_demos(demonstrations(seed, Scenario(scenario, landings="none")), MAPPING.human_columns, 0.3)
     target = Basket(basket, rim_height=0.3, opening=0.35)
-    problem = Problem(demos=demos, target=basket, feedback="binary", tolerance=_hit_tolerance(target),
+    problem = Problem(demos=demos, target=basket, feedback="binary", tolerance=hit_tolerance(target),
                       angles=angle_grid(demos), components=loop_components(demos, seed), seed=seed,
                       max_speed=MAPPING.max_human_speeds()["velocity"])
     return problem, target

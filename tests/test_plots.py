@@ -18,6 +18,7 @@ from rlff.plots.data import dataset_3d, dataset_slices
 from rlff.plots.learning import learning_curves
 from rlff.plots.outputs import SUMMARY_TITLE, output_trajectories
 from rlff.plots.preprocess import preprocessing_steps
+from rlff.sim.arm import BALL_RADIUS
 
 DISTANCES = (1.5, 2.0, 3.0)
 PER_DISTANCE = 3
@@ -183,7 +184,7 @@ def test_learning_curves_one_line_per_method_and_first_hits(tmp_path):
     assert axes.get_xlabel() == "attempt" and "miss (m)" in axes.get_ylabel()
     assert axes.get_title() == "Learning from failure for a basket at 2.8 m"
     legend = [t.get_text() for t in saved.figure.legends[0].get_texts()]
-    assert legend == ["lands within the opening", "calibrate (3 attempts)", "imitation (4 attempts)", "first hit"]
+    assert legend == ["lands clear of the rim", "calibrate (3 attempts)", "imitation (4 attempts)", "first hit"]
 
     # the outcomes decide the stars when given: a landing within the opening may bounce off the rim
     again = learning_curves(misses, tmp_path / "hits", tolerance=0.1,
@@ -222,8 +223,8 @@ def test_learning_curves_of_logs_shade_the_logs_own_opening_and_name_a_gap(tmp_p
         logs.append(path)
     saved = learning_curves_from_logs(logs, tmp_path / "curves")
     (axes,) = saved.figure.get_axes()
-    band, = [patch for patch in axes.patches if patch.get_label() == "lands within the opening"]
-    assert band.get_height() == pytest.approx(0.25)  # the logs' opening, not a guess
+    band, = [patch for patch in axes.patches if patch.get_label() == "lands clear of the rim"]
+    assert band.get_height() == pytest.approx(2 * (0.125 - BALL_RADIUS))  # the loop's window at the logs' opening
     labels = [line.get_label() for line in axes.get_lines() if line.get_label().startswith("calibrate")]
     assert labels == ["calibrate (2 attempts)", "calibrate, arm speed:0.9 (2 attempts)"]
 

@@ -525,6 +525,7 @@ def _figures(
     learning_gap, results, mapping, robot, frames: bool, seed: int,
 ) -> list[tuple[Path, str, str, str]]:
     """Draw every figure; returns (png path, section, title, caption) in report order."""
+    from rlff.learn.loop import hit_tolerance
     from rlff.plots.data import dataset_3d, dataset_slices
     from rlff.plots.donut import dmm_heatmap, donut_family
     from rlff.plots.learning import learning_curves
@@ -532,6 +533,7 @@ def _figures(
     from rlff.plots.outputs import output_trajectories
     from rlff.plots.preprocess import preprocessing_steps
     from rlff.plots.throw import throw_snapshot_from_outcome
+    from rlff.sim import Basket
 
     entries: list[tuple[Path, str, str, str]] = []
 
@@ -587,7 +589,7 @@ def _figures(
         f"The first attempt of the learning loop ({first_method}) on the Comau's joint 2, executed again in "
         f"MuJoCo{on_arm}: the arm at the release, the ball's flight and the basket.")
     add(learning_curves({f"{name} ({r.feedback} feedback)": r.misses for name, r in results.items()},
-                        figures_dir / "learning", tolerance=_tolerance(), basket=learning_distance,
+                        figures_dir / "learning", tolerance=hit_tolerance(Basket(learning_distance)), basket=learning_distance,
                         hits={f"{name} ({r.feedback} feedback)": [a.hit for a in r.history] for name, r in results.items()}),
         "learning", "Learning from failure",
         "Signed miss of every attempt until the first hit (star), per method.")
@@ -613,16 +615,6 @@ def _replay(attempt, mapping, robot, distance: float, gap, frames_dir: Path | No
     trajectory = plan_attempt(attempt, mapping, clip=True).trajectory
     return simulate_throw(gap.executed(trajectory), Basket(distance), robot=robot, check_reach=False,
                           frames_dir=frames_dir)
-
-
-def _tolerance() -> float:
-    """Half-width (m) of the landing window of a hit for the demo's basket, as the learning loop
-    counts it: half the opening less the ball's radius (shaded in the learning curve)."""
-    from rlff.sim import Basket
-    from rlff.sim.arm import BALL_RADIUS
-
-    basket = Basket(1.0)
-    return max(0.5 * basket.opening - BALL_RADIUS, 0.25 * basket.opening)
 
 
 def arm_words(gap) -> str:

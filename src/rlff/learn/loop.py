@@ -426,7 +426,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
             progress(attempt)
 
     problem = _problem(demos, target, feedback, seed, mapping, pedestal, components,
-                       tolerance=min(_hit_tolerance(target), centre_window), carried=carried, misreport=misreport,
+                       tolerance=min(hit_tolerance(target), centre_window), carried=carried, misreport=misreport,
                        aim=kinematic)
 
     def done(attempt: Attempt) -> bool:
@@ -527,7 +527,7 @@ def _first_shape(method_class: type[Method], demos: Dataset, mapping, basket, pe
     cut at the middle of the velocity's top its DMM shape reached 3.87 m where the GMR mean's
     reached 4.29 m, and the check accepted baskets 0.4 m beyond the run's throws.)"""
     feedback = "binary" if "binary" in method_class.feedbacks else method_class.feedbacks[0]
-    problem = _problem(demos, basket, feedback, seed, mapping, pedestal, components, tolerance=_hit_tolerance(basket))
+    problem = _problem(demos, basket, feedback, seed, mapping, pedestal, components, tolerance=hit_tolerance(basket))
     proposal = method_class(problem).propose([])
     path = dict(proposal.path)
     path["velocity"] = forward_velocity(proposal.angle, proposal.velocity)
@@ -807,8 +807,10 @@ def _simulator(robot, basket, pedestal: float, gap=None) -> Executor:
     return execute
 
 
-def _hit_tolerance(basket) -> float:
-    """Half-width (m) of the landing window of a hit: half the opening less the ball's radius."""
+def hit_tolerance(basket) -> float:
+    """Half-width (m) of the landing window the loop counts as a hit (its searches' window, the
+    learning curves' shaded band): half the opening less the ball's radius, a landing clear of
+    the rim; a ball that lands on the rim may still bounce in (the simulation's hit decides)."""
     from rlff.sim.arm import BALL_RADIUS
 
     return max(0.5 * basket.opening - BALL_RADIUS, 0.25 * basket.opening)

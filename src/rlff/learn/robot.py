@@ -413,7 +413,7 @@ def robot_executor(
     InputError
         Unknown kind or outcome, ``ask`` missing.
     """
-    from rlff.learn.loop import _hit_tolerance
+    from rlff.learn.loop import hit_tolerance
     from rlff.robot.description import load_robot
     from rlff.sim import Basket
 
@@ -424,7 +424,7 @@ def robot_executor(
     if outcome == "ask" and ask is None:
         raise InputError("--outcome ask needs someone to ask")
     model = robot if isinstance(robot, Robot) else load_robot(robot)
-    tolerance = _hit_tolerance(Basket(float(basket)))
+    tolerance = hit_tolerance(Basket(float(basket)))
 
     def asked(attempt: int, release: float) -> ReportedOutcome:
         if until == "centred":

@@ -52,7 +52,7 @@ def learning_curves(
         axes = figure.add_subplot()
         axes.axhline(0.0, color="black", linewidth=0.8)
         if tolerance is not None:
-            axes.axhspan(-tolerance, tolerance, color=HIT_COLOUR, alpha=0.12, label="lands within the opening")
+            axes.axhspan(-tolerance, tolerance, color=HIT_COLOUR, alpha=0.12, label="lands clear of the rim")
         colours = [f"C{i}" for i in range(10)]
         blind = False  # whether some miss has no measured landing
         stars: dict[tuple[int, int | None], int] = {}  # first hits drawn at (attempt, miss in cm; None: no landing)
@@ -226,7 +226,8 @@ def learning_curves_from_logs(logs: Sequence[str | Path], out: str | Path, *, to
     The logs must be for one basket distance; a run on a simulated arm unlike its robot file has
     its gap added to its name (``calibrate, arm speed:0.9``), and a name seen twice then its
     feedback (``hindsight, distance feedback``) and then a number. ``tolerance`` (m) defaults to
-    half the logs' basket opening when they share one.
+    the loop's hit window for the logs' basket when they share an opening
+    (:func:`rlff.learn.loop.hit_tolerance`: half the opening less the ball's radius).
     """
     if not logs:
         raise InputError("no attempts logs given")
@@ -235,8 +236,11 @@ def learning_curves_from_logs(logs: Sequence[str | Path], out: str | Path, *, to
     if len(baskets) > 1:
         raise InputError(f"the logs are for different baskets ({', '.join(f'{b:g} m' for b in baskets)}); plot them separately")
     openings = {run.opening for run in runs}
-    if tolerance is None and len(openings) == 1:
-        tolerance = 0.5 * openings.pop()
+    if tolerance is None and len(openings) == 1:  # the band the loop counts as a hit, as the demo's
+        from rlff.learn.loop import hit_tolerance
+        from rlff.sim import Basket
+
+        tolerance = hit_tolerance(Basket(baskets[0], opening=openings.pop()))
     misses: dict[str, list[float]] = {}
     hits: dict[str, list[bool]] = {}
     for run in runs:
