@@ -496,6 +496,7 @@ def test_dmm_heatmap_shows_the_density_the_throw_and_the_mean(tmp_path, thesis_m
     lines = {line.get_label(): line for line in top.get_lines()}
     np.testing.assert_allclose(lines["chosen throw (highest density)"].get_ydata(), path.velocity)
     np.testing.assert_allclose(lines["GMR mean"].get_ydata(), path.gmr_mean)
+    assert "release (the generated throw ends)" not in lines  # these throws let go at the range's end
     (mesh,) = [c for c in top.collections if c.__class__.__name__ == "QuadMesh"]
     density = mesh.get_array().reshape(-1, path.angle.size)  # (velocities, angles)
     # the throw sits on the highest density of its column
@@ -511,6 +512,29 @@ def test_dmm_heatmap_shows_the_density_the_throw_and_the_mean(tmp_path, thesis_m
     assert top.get_ylabel() == "joint velocity ξ̇ (rad/s)" and bottom.get_ylabel() == "exploration ε"
     assert bottom.get_xlabel() == "joint angle ξ (rad)"
     np.testing.assert_allclose(bottom.get_lines()[0].get_ydata(), path.exploration)
+def test_dmm_heatmap_draws_the_throw_up_to_the_release_as_generate_makes_it(tmp_path, thesis_model):
+    # drawn on to the range's end, the chosen throw had run to 13 rad/s where the generated throw
+    # let go at 7.3; the density and the exploration stay over the whole range
+    from rlff.model import Model
+    from rlff.plots.donut import dmm_heatmap
+
+    _, whole = thesis_model
+    document = whole.to_dict()
+    document["fit"]["release"] = {"value": 7.0, "sources": {"cut_angle": 11}}
+    model = Model.from_dict(document)
+    saved = dmm_heatmap(model, 8.5, tmp_path / "dmm")
+    top, bottom = [a for a in saved.figure.get_axes() if a.get_label() != "<colorbar>" and a.get_ylabel()]
+    lines = {line.get_label(): line for line in top.get_lines()}
+    path = model.generate({"distance": 8.5}, np.linspace(*model.input_range["angle"], 220))
+    thrown = path.angle <= 7.0
+    np.testing.assert_allclose(lines["chosen throw (highest density)"].get_xdata(), path.angle[thrown])
+    np.testing.assert_allclose(lines["chosen throw (highest density)"].get_ydata(), path.velocity[thrown])
+    np.testing.assert_allclose(lines["GMR mean"].get_ydata(), path.gmr_mean[thrown])
+    assert lines["release (the generated throw ends)"].get_xdata()[0] == pytest.approx(7.0)
+    (exploration,) = [line for line in bottom.get_lines() if len(line.get_xdata()) > 2]
+    assert exploration.get_xdata()[-1] == pytest.approx(10.0)
+
+
 def test_ellipse_helper_matches_the_covariance():
     from matplotlib.figure import Figure
 

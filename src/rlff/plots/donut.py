@@ -73,6 +73,14 @@ def donut_family(
     return save(figure, out)
 
 
+def _up_to_release(model: Any, angles: np.ndarray) -> np.ndarray:
+    """Mask (T,) of the ``angles`` a generated throw covers: from the start of
+    :meth:`rlff.model.Model.default_path` to its end, the demonstrations' release."""
+    path = model.default_path()
+    low, high = sorted((float(path[0]), float(path[-1])))
+    return (angles >= low - 1e-12) & (angles <= high + 1e-12)
+
+
 def dmm_heatmap(
     model: Any,
     distance: float,
@@ -137,8 +145,19 @@ def dmm_heatmap(
             demos = [t for t in dataset if abs(float(t[context][0]) - distance) < 1e-9]
             add_curves(top, [(t[x_name], t[y_name]) for t in demos], "#d0d0d0", linewidth=0.6, alpha=0.6,
                        label=f"demonstrations at {format_distance(distance)}" if demos else None, zorder=2)
-        top.plot(path.angle, path.gmr_mean, color="white", linestyle="--", linewidth=1.5, label="GMR mean")
-        top.plot(path.angle, path.velocity, color="#22d3ee", linewidth=2.2, label="chosen throw (highest density)")
+        # the throw up to the release, where `rlff generate` ends it (the density goes on beyond:
+        # drawn on to the range's end, the chosen throw had run to 13 rad/s where the generated
+        # throw let go at 7.3)
+        thrown = _up_to_release(model, path.angle)
+        top.plot(path.angle[thrown], path.gmr_mean[thrown], color="white", linestyle="--", linewidth=1.5,
+                 label="GMR mean")
+        top.plot(path.angle[thrown], path.velocity[thrown], color="#22d3ee", linewidth=2.2,
+                 label="chosen throw (highest density)")
+        if not thrown.all():
+            release = float(model.default_path()[-1])
+            for axes in (top, bottom):
+                axes.axvline(release, color="#a3a3a3", linestyle=":", linewidth=1.2,
+                             label="release (the generated throw ends)" if axes is top else None)
         top.set_xlim(path.angle[0], path.angle[-1])
         top.set_ylim(velocities[0], velocities[-1])
         top.set_ylabel(axis_label(y_name))
