@@ -155,6 +155,12 @@ def test_a_missing_output_folder_is_created(rlff, files, tmp_path):
         (["data", "import", "{data}", "{data}", "-o", "{tmp}/i.csv"], ["data.csv", "given twice"]),
         (["data", "import", "{data}", "--format", "msr", "--rate", "1e300", "-o", "{tmp}/i.csv"],
          ["--rate: 1e+300 Hz is outside the range 1 to 1000 Hz"]),
+        # one rlff file where another goes: what it is, not "unknown dataset extension '.json'"
+        (["fit", "{model}", "-o", "{tmp}/m.json"],
+         ["model.json is an rlff model (rlff fit writes it), not a dataset of demonstrations"]),
+        (["learn", "{model}", "--basket", "2"], ["is an rlff model (rlff fit writes it), not a dataset"]),
+        (["sim", "throw", "{model}", "--basket", "2"],
+         ["is an rlff model (rlff fit writes it), not a robot trajectory (rlff-joint-trajectory)"]),
     ],
 )
 def test_bad_values_are_refused_up_front(rlff, files, tmp_path, args, fragments):

@@ -228,7 +228,7 @@ def test_plot_reads_datasets_as_fit_does(rlff, throws_csv, model_json, tmp_path,
         ("preprocess", str(data)),
     ):
         assert written(rlff("plot", kind, *args, "-o", str(tmp_path / kind), "--json")), kind
-    one_line_error(rlff("plot", "bic", str(model_json), "-o", str(tmp_path / "x")), "unknown dataset extension '.json'")
+    one_line_error(rlff("plot", "bic", str(model_json), "-o", str(tmp_path / "x")), "model.json is an rlff model (rlff fit writes it), not a dataset")
 
 
 def test_plot_preprocess_runs_the_pipeline(rlff, tmp_path):

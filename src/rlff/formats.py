@@ -35,6 +35,7 @@ from rlff.dataset import (
 )
 from rlff.errors import InputError
 from rlff.fileio import atomic_path, atomic_write, require_file, write_text
+from rlff.kinds import rlff_kind
 
 #: Format names and the file extensions that select them.
 FORMATS = {"csv": (".csv",), "thesis": (".txt", ".tsv"), "npz": (".npz",), "parquet": (".parquet", ".pq")}
@@ -556,6 +557,8 @@ def read_dataset(path: str | Path, format: str | None = None) -> Dataset:
     readers = {"csv": read_csv, "thesis": read_thesis_matrix, "npz": read_npz, "parquet": read_parquet}
     if Path(path).is_dir():
         require_file(path)  # a folder is said to be one, not an unknown extension
+    if format is None and (kind := rlff_kind(path)) is not None:
+        raise InputError(f"{path} is {kind}, not a dataset of demonstrations (.csv, .parquet, .npz or .txt)")
     return readers[format_of(path, format)](path)
 
 

@@ -29,6 +29,7 @@ from rlff.csvtable import write_csv_columns
 from rlff.errors import InputError
 from rlff.fileio import atomic_path, write_text
 from rlff.jsonfile import read_json_object
+from rlff.kinds import rlff_kind
 from rlff.robot.description import RosNames
 from rlff.trajectory.joint import JointTrajectory
 
@@ -60,7 +61,9 @@ def read_json(path: Path) -> JointTrajectory:
     """The trajectory of a file written by :func:`write_json`; :class:`InputError` naming the fault."""
     document = read_json_object(path)
     if document.get("format") != JSON_FORMAT:
-        raise InputError(f"{path}: not an {JSON_FORMAT} file")
+        kind = rlff_kind(path)
+        raise InputError(f"{path} is {kind}, not a robot trajectory ({JSON_FORMAT})" if kind
+                         else f"{path}: not an {JSON_FORMAT} file")
     fields = ("joint_names", "time", "positions", "velocities", "accelerations")
     missing = [name for name in fields if name not in document]
     if missing:
