@@ -26,7 +26,8 @@ STAGES = (
     ("__main__",),
 )
 #: Shared leaf modules: plain types, files, errors and facts every stage may use.
-LEAVES = {"ballistics", "csvlines", "csvtable", "dataset", "errors", "fileio", "formats", "jsonfile", "limits", "timing", "wording"}
+LEAVES = {"ballistics", "csvlines", "csvtable", "dataset", "errors", "fileio", "formats", "jsonfile", "kinds", "limits", "timing",
+          "wording"}
 
 
 def _part(path: Path) -> str:
