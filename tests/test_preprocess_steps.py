@@ -273,6 +273,18 @@ def test_cut_release_at_a_fixed_angle_or_at_the_velocity_peak():
     np.testing.assert_array_equal(out["a"]["velocity"], [1, 3, 5, 4])
 
 
+def test_cut_release_warns_when_the_throws_were_cut_before():
+    # the thesis preset run on its own output removed 2 more real throws and said nothing of why
+    data = Dataset([_throw("a", [0.5, 0.8, 0.9, 1.0, 1.2], velocity=[1, 3, 5, 4, 2]),
+                    _throw("b", [0.5, 0.8, 0.9, 1.0, 1.2], velocity=[1, 3, 5, 4, 2])])
+    once, first = cut_release(data, mode="estimated")
+    assert first.warnings == []
+    _, again = cut_release(once, mode="estimated")
+    assert again.warnings == ["2 of 2 throws were cut at their release before (their cut_angle): the data look "
+                              "cleaned already, and cleaning them again removes and reshapes more; give the "
+                              "demonstrations as imported or simulated"]
+
+
 def test_cut_release_removes_a_trajectory_it_would_leave_with_one_sample():
     data = Dataset([_throw("a", [0.5, 0.8, 0.9], velocity=[5, 3, 1]), _throw("b", [0.5, 0.95, 1.0], velocity=[1, 3, 2])])
     for mode in ("estimated", "angle"):

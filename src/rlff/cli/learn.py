@@ -16,6 +16,7 @@ from rlff.cli._common import (
     seed_option,
     stderr,
     stdout,
+    warn,
 )
 from rlff.wording import attempt_outcome, plural, signed_metres
 
@@ -141,7 +142,10 @@ def learn_command(
     if preset:
         from rlff.preprocess import Pipeline
 
-        data, _ = Pipeline.preset(preset).run(data)
+        data, cleaning = Pipeline.preset(preset).run(data)
+        for step in cleaning.steps:
+            for warning in step.warnings:
+                warn(f"--preset {preset}, {step.step}: {warning}")
     settings = {"budget": budget, "feedback": feedback, "update": update, "seed": seed, "log_path": log,
                 "robot": robot, "pedestal": pedestal, "until": until, "centre_share": centre_share,
                 "executed_on": executor, "joints": driven, "bearing": bearing, "height": height,

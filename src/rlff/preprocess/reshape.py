@@ -306,6 +306,12 @@ def cut_release(
     if not 0.0 <= top < 1.0:
         raise InputError(f"top {top}: the share of the peak speed the velocity's top spans, must be in [0, 1)")
     report = StepReport("cut_release", {}, dataset)
+    cut = sum("cut_angle" in t.meta for t in dataset)
+    if cut:  # cleaning cleaned data again changes it (a rescale, a shape rejected) without a word
+        report.warnings.append(
+            f"{cut} of {len(dataset)} throws were cut at their release before (their cut_angle): the data look "
+            "cleaned already, and cleaning them again removes and reshapes more; give the demonstrations as "
+            "imported or simulated")
     sign = _throw_direction(dataset, column, velocity_column, direction, report)
     report.params = {"mode": mode, "angle": angle, "column": column, "velocity_column": velocity_column,
                      "after_peak": after_peak, "top": top, "direction": direction,
