@@ -109,3 +109,18 @@ def test_rlff_learn_and_bench_refuse_an_unknown_aim_before_any_work(rlff, tmp_pa
     assert learned.code == 2 and "unknown --aim 'kinematic' (known: auto, kinematics, demonstrations)" in learned.stderr
     benched = rlff("bench", "learning", "--aim", "auto,kinematic", "--quick")
     assert benched.code == 2 and "--aim: unknown 'kinematic'" in benched.stderr
+
+
+def test_learn_suggests_the_kinematics_aim_for_recorded_throws_on_the_built_in_robot(rlff, short_demos, tmp_path):
+    # the Comau's mapping was tuned on simulated people; the real MSR throws took 1-4 attempts a
+    # basket by default and 1 aimed, and nothing said so
+    from rlff.dataset import write_csv
+
+    recorded = short_demos.replace(t.replace(meta={**t.meta, "distance_source": "manifest"}) for t in short_demos)
+    for name, data in (("simulated.csv", short_demos), ("recorded.csv", recorded)):
+        write_csv(data, tmp_path / name)
+    said = "--aim kinematics starts where the arm's geometry sends the throw"
+    assert said in rlff("learn", str(tmp_path / "recorded.csv"), "--basket", "1.4", "--budget", "1").stderr
+    assert said not in rlff("learn", str(tmp_path / "simulated.csv"), "--basket", "1.4", "--budget", "1").stderr
+    aimed = rlff("learn", str(tmp_path / "recorded.csv"), "--basket", "1.4", "--budget", "1", "--aim", "demonstrations")
+    assert aimed.code == 0 and said not in aimed.stderr

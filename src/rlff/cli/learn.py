@@ -153,7 +153,7 @@ def learn_command(
     live = None if executor == "sim" else {"outcome": outcome, "landing_topic": landing_topic, "network": network,
                                            "approach_speed": approach_speed}
     resuming = log is not None and log.exists()  # its run chose already
-    if aim == "auto" and driven is None and not resuming and (hint := _aim_hint(robot)):
+    if aim == "auto" and driven is None and not resuming and (hint := _aim_hint(robot, data)):
         say(hint)
     try:
         result = _run(data, basket, settings, live)
@@ -245,19 +245,26 @@ def _interrupted_attempt(exc: BaseException, log: Path | None) -> str | None:
     return f"attempt {attempt}: {goal}; {kept}"
 
 
-def _aim_hint(robot: str) -> str | None:
+def _aim_hint(robot: str, data) -> str | None:
     """What to say before a one-joint run that aims by the demonstrations (``--aim auto``) on a
     robot file of the user's with a geometry: its ``[throwing]`` mapping was likely not tuned on
     that arm, and the kinematics' aim does not need it to be (docs/learn.md: 4-7 more throws than
-    the sweep on an untuned UR5e-like file, 1 aimed). None for the built-in robots, whose mappings
-    were tuned, and for a file without ``[geometry]``, which cannot aim."""
+    the sweep on an untuned UR5e-like file, 1 aimed). On a built-in robot, whose mapping was tuned
+    on simulated people, the same for recorded demonstrations (``distance_source`` metadata, which
+    ``rlff data import`` writes): the real MSR throws took 1-4 throws a basket, 1 aimed. None
+    otherwise, and for a file without ``[geometry]``, which cannot aim."""
     import warnings
 
     from rlff.robot import available_robots, load_robot
     from rlff.robot.description import RobotFileWarning
 
     if robot in available_robots():
-        return None
+        if not any("distance_source" in t.meta for t in data):
+            return None
+        return (f"aim: recorded throws' speeds through the [throwing] mapping of {robot}, which was tuned on "
+                "simulated people (--aim auto, one joint); --aim kinematics starts where the arm's geometry sends "
+                "the throw (the real MSR throws: a hit at attempt 1 at 1.2-2.2 m, against 1-4 attempts; "
+                "docs/learn.md); --aim demonstrations keeps this and says nothing")
     with warnings.catch_warnings():  # the run loads it again and says them once
         warnings.simplefilter("ignore", RobotFileWarning)
         model = load_robot(robot)
