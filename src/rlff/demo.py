@@ -543,7 +543,7 @@ def _figures(
     middle = demonstrated[len(demonstrated) // 2]
     add(dataset_slices(raw, figures_dir / "demonstrations-per-distance"), "data", "The recorded throws per basket distance",
         "Elbow angle and angular velocity of every simulated throw as a depth camera and a skeleton tracker "
-        "record them: wind-up, extension, stop, and tracking glitches (the straight jumps). Green throws hit "
+        "record them: wind-up, extension, stop; tracking glitches are the grey dots, left out of the lines. Green throws hit "
         f"the basket, red ones missed: {_failures(raw, 'demonstrations are failures')}.")
     add(preprocessing_steps(
         [(s.step, s.before, s.after if s.after is not None else s.before, s.summary()) for s in preprocessing.steps],

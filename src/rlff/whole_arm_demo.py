@@ -338,8 +338,9 @@ def whole_arm_figures(figures_dir: Path, whole: WholeArm, robot) -> list[tuple[P
                     "units, over the time to its release; the demonstrations at that distance in grey. The robot "
                     "keeps the model's first pose and release and plans the swing between within its own limits, "
                     "so its wind-up may go where no elbow goes (below 0 rad). Right: "
-                    "the robot joints they drive over the planned trajectory: the approach (joint 1 turns to the "
-                    "bearing), the throw to its release (dashed) and the braking; dotted: position limits."))
+                    "the robot joints they drive over the planned trajectory, from the start pose with joint 1 "
+                    "already turned to the bearing, the throw to its release "
+                    "(dashed) and the braking; dotted: position limits."))
     return entries
 
 
