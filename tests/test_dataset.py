@@ -104,6 +104,21 @@ def test_from_columns_validates_in_bulk():
         Dataset.from_columns({"time": np.arange(4.0)}, ["a", "a"], [2, 2])
 
 
+def test_the_caller_s_arrays_stay_writeable_and_theirs():
+    # a trajectory froze the very arrays it was given: the caller's next in-place edit failed
+    angle, velocity = np.linspace(0.7, 2.5, 4), np.full(4, 8.0)
+    trajectory = Trajectory("a", {"angle": angle, "velocity": velocity[:]})
+    columns = {"angle": np.linspace(0.7, 2.5, 6), "distance": np.full(6, 2.0)}
+    built = Dataset.from_columns(columns, ["b", "c"], [3, 3])
+    assert angle.flags.writeable and velocity.flags.writeable
+    assert all(values.flags.writeable for values in columns.values())
+    angle[0], velocity[0], columns["angle"][0] = 0.0, 0.0, 0.0  # and the edits do not reach the library's copies
+    assert trajectory["angle"][0] == 0.7 and trajectory["velocity"][0] == 8.0 and built[0]["angle"][0] == 0.7
+    assert not trajectory["angle"].flags.writeable and not built[0]["angle"].flags.writeable
+    # the library's own read-only columns are shared, not copied, from trajectory to trajectory
+    assert trajectory.with_columns(time=np.arange(4.0))["angle"] is trajectory["angle"]
+
+
 def test_take_keeps_order_metadata_and_read_only_columns():
     trajectory = _trajectory("a", 1.0, 5, subject="s1")
     taken = trajectory.take(np.array([0, 2, 3]))
