@@ -197,6 +197,13 @@ def test_any_columns_several_contexts_and_outputs():
         model.generate({"a": 1.5, "b": 0.0, "c": 1.0})
 
 
+@pytest.mark.parametrize("distance", [175.0, -2.0, 0.0])
+def test_a_basket_distance_outside_what_rlff_takes_is_refused_as_the_cli_refuses_it(thesis_model, distance):
+    # 175 (centimetres) was extrapolated into a path of -285 rad/s over 5 ms, a warning at most
+    with pytest.raises(InputError, match=rf"^context 'distance': {distance:g} m is outside the range 0.3 to 20 m$"):
+        thesis_model.generate({"distance": distance})
+
+
 def test_sample_weights_move_the_model():
     data = thesis_dataset()
     X = data.to_array(("angle", "distance", "velocity"))

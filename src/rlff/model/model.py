@@ -43,6 +43,7 @@ from rlff.limits import (
     MAX_GRID_POINTS,
     MAX_MAGNITUDE,
     check_count,
+    check_distance,
     check_magnitudes,
 )
 from rlff.model.climb import starts_per_input
@@ -461,7 +462,8 @@ class Model:
         Parameters
         ----------
         context : mapping of str to float
-            A value for every input but the first (e.g. ``{"distance": 2.5}``).
+            A value for every input but the first (e.g. ``{"distance": 2.5}``); a ``distance``
+            is the basket's in m, within :data:`rlff.limits.DISTANCE_RANGE` (0.3 to 20 m).
         angles : array of shape (T,), optional
             Values of the first input, monotonic; default 100 points from the data's range end
             farthest from the demonstrations' typical release to that release (``fit_info
@@ -874,7 +876,8 @@ def _context_values(
     context: Mapping[str, float], names: tuple[str, ...], ranges: Mapping[str, tuple[float, float]]
 ) -> list[float]:
     """The context's values in ``names``' order; :class:`InputError` for an unknown, missing (with
-    the model's demonstrated range of it) or non-finite value."""
+    the model's demonstrated range of it) or non-finite value, or a ``distance`` outside the basket
+    distances rlff takes (:data:`rlff.limits.DISTANCE_RANGE`, m), as ``rlff generate`` refuses it."""
     unknown = [name for name in context if name not in names]
     if unknown:
         expected = ", ".join(names) if names else "none"
@@ -891,6 +894,8 @@ def _context_values(
             raise InputError(f"context {name!r} must be a number, got {context[name]!r}") from None
         if not math.isfinite(value):
             raise InputError(f"context {name!r} must be finite, got {value}")
+        if name == "distance":  # the throwing task's basket, in m: 175 (cm) gave a path of -285 rad/s
+            value = check_distance("context 'distance'", value)
         values.append(value)
     return values
 
