@@ -99,7 +99,7 @@ def test_the_simulated_throw_at_the_best_release_lands_at_the_reach(robot):
     velocities = np.zeros_like(positions)
     positions[:, 1], velocities[:, 1] = q2, v2
     trajectory = JointTrajectory(robot.joint_names, t, positions, velocities)
-    outcome = simulate_throw(trajectory, Basket(2.2), robot=robot, release_angle=pose["joint_2"])
+    outcome = simulate_throw(trajectory, Basket(2.2), robot=robot, release_angle=pose["joint_2"], check_motion=False)
     # the servos stop 0.2 % short of the speed limit: a few mm short of the reach
     assert outcome.landing_x == pytest.approx(reach.distance, abs=0.02)
     assert outcome.peak_speed <= 1.0
@@ -140,7 +140,7 @@ def test_executable_reach_is_what_a_throw_at_the_speed_limit_from_that_release_r
     positions[:, 1] = -1.2 + 2.3 * (t / 2.0 - duration / (2.0 * np.pi) * np.sin(phase))
     velocities[:, 1] = 2.3 * (1.0 - np.cos(phase)) / 2.0
     thrown = simulate_throw(JointTrajectory(robot.joint_names, t, positions, velocities), Basket(1.5),
-                            robot=robot, check_reach=False)
+                            robot=robot, check_reach=False, check_motion=False)
     assert thrown.landing_x == pytest.approx(reach.distance, abs=0.02)
     # the free-pose reach is an upper bound; the best release of the mapping is no farther
     best = executable_reach(mapping)

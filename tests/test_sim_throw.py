@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from rlff.errors import InputError
-from rlff.robot import load_robot
+from rlff.robot import RobotMapping, load_robot
+from rlff.robot.plan import plan
 from rlff.sim import Basket, simulate_throw
 from rlff.sim.arm import BALL_RADIUS
 from rlff.trajectory.joint import JointTrajectory
@@ -32,6 +33,12 @@ def swing(start: float = -1.2, release: float = -0.06, peak: float = 2.7, joint_
     return JointTrajectory(JOINTS, t, positions, velocities)
 
 
+def throw(trajectory: JointTrajectory, basket: Basket, **options):
+    """:func:`simulate_throw` of a raw test swing, past the motion check: the swings here end at
+    their release, unplanned, since the simulator is under test here, not the planner."""
+    return simulate_throw(trajectory, basket, check_motion=False, **options)
+
+
 @pytest.fixture(scope="module")
 def robot():
     return load_robot()
@@ -39,7 +46,7 @@ def robot():
 
 @pytest.mark.parametrize("peak", [2.0, 2.7])
 def test_free_flight_lands_where_the_closed_form_projectile_says(robot, peak):
-    outcome = simulate_throw(swing(peak=peak), Basket(1.5), robot=robot)
+    outcome = throw(swing(peak=peak), Basket(1.5), robot=robot)
     release = outcome.release
     # the closed form from the release state, written out here: z0 + vz t - g t^2 / 2 = rim
     vx, vz, z0 = release.velocity[0], release.velocity[2], release.position[2]
@@ -52,9 +59,9 @@ def test_free_flight_lands_where_the_closed_form_projectile_says(robot, peak):
 
 
 def test_a_throw_aimed_into_the_basket_stays_in(robot):
-    probe = simulate_throw(swing(), Basket(1.5), robot=robot)
+    probe = throw(swing(), Basket(1.5), robot=robot)
     basket = Basket(probe.landing_x + 0.05)
-    outcome = simulate_throw(swing(), basket, robot=robot)
+    outcome = throw(swing(), basket, robot=robot)
     assert outcome.hit
     assert outcome.first_contact == "basket"
     assert abs(outcome.miss + 0.05) < 0.01
@@ -65,8 +72,8 @@ def test_a_throw_aimed_into_the_basket_stays_in(robot):
 def test_a_basket_lower_than_the_ball_still_holds_a_ball_lying_on_its_floor(robot, rim):
     # the ball had to lie wholly below the rim: no rim below 0.076 m could ever hold it, and a
     # run at 0.07 m threw its budget with the ball lying in the basket
-    probe = simulate_throw(swing(), Basket(1.5, rim_height=rim), robot=robot)
-    outcome = simulate_throw(swing(), Basket(probe.landing_x + 0.05, rim_height=rim), robot=robot)
+    probe = throw(swing(), Basket(1.5, rim_height=rim), robot=robot)
+    outcome = throw(swing(), Basket(probe.landing_x + 0.05, rim_height=rim), robot=robot)
     assert outcome.hit, outcome.rest_position
     assert outcome.rest_position[2] > rim - BALL_RADIUS  # lying on the floor, its top above the rim
 
@@ -79,15 +86,15 @@ def test_a_rim_below_a_resting_balls_centre_is_refused():
 @pytest.mark.parametrize("offset, sign", [(0.4, -1.0), (-0.4, 1.0)])
 def test_short_and_long_throws_miss_with_the_sign_of_the_miss(robot, offset, sign):
     slow = swing(peak=2.0)
-    landing = simulate_throw(slow, Basket(1.5), robot=robot).landing_x
-    outcome = simulate_throw(slow, Basket(landing + offset), robot=robot)
+    landing = throw(slow, Basket(1.5), robot=robot).landing_x
+    outcome = throw(slow, Basket(landing + offset), robot=robot)
     assert not outcome.hit
     assert np.sign(outcome.miss) == sign
     assert outcome.miss == pytest.approx(-offset, abs=0.01)
 
 
 def test_release_at_a_given_angle_lets_go_there(robot):
-    outcome = simulate_throw(swing(), Basket(1.5), robot=robot, release_angle=-0.3)
+    outcome = throw(swing(), Basket(1.5), robot=robot, release_angle=-0.3)
     q2 = outcome.release.joint_positions["joint_2"]
     assert -0.3 <= q2 < -0.3 + 2.7 * 0.002
     # the arm tracks the trajectory closely up to the release
@@ -95,7 +102,7 @@ def test_release_at_a_given_angle_lets_go_there(robot):
 
 
 def test_outcome_to_dict_is_json_with_the_contract_keys(robot):
-    outcome = simulate_throw(swing(), Basket(2.0), robot=robot)
+    outcome = throw(swing(), Basket(2.0), robot=robot)
     payload = json.loads(json.dumps(outcome.to_dict()))
     assert {"hit", "landing_x", "miss", "release"} <= set(payload)
     assert len(payload["release"]["position"]) == 3
@@ -105,26 +112,26 @@ def test_outcome_to_dict_is_json_with_the_contract_keys(robot):
 def test_a_trajectory_beyond_the_joint_limits_is_refused(robot):
     fast = swing(peak=3.0)
     with pytest.raises(InputError, match="joint_2"):
-        simulate_throw(fast, Basket(2.0), robot=robot)
+        throw(fast, Basket(2.0), robot=robot)
 
 
 def test_an_unreachable_basket_is_refused_with_the_reach(robot):
     with pytest.raises(InputError, match=r"out of reach.*2\.30 m"):
-        simulate_throw(swing(), Basket(3.5), robot=robot)
-    unchecked = simulate_throw(swing(), Basket(3.5), robot=robot, check_reach=False)
+        throw(swing(), Basket(3.5), robot=robot)
+    unchecked = throw(swing(), Basket(3.5), robot=robot, check_reach=False)
     assert not unchecked.reachable and not unchecked.hit
 
 
 def test_a_release_angle_never_passed_is_refused(robot):
     with pytest.raises(InputError, match="release angle"):
-        simulate_throw(swing(), Basket(2.0), robot=robot, release_angle=0.5)
+        throw(swing(), Basket(2.0), robot=robot, release_angle=0.5)
 
 
 def test_joints_left_out_are_held_at_the_start_pose(robot):
     # swing() holds every other joint at the Comau's [throwing] start pose, so the partial throw
     # is the same throw
-    whole = simulate_throw(swing(), Basket(2.0), robot=robot)
-    partial = simulate_throw(swing().select(["joint_2", "joint_3"]), Basket(2.0), robot=robot)
+    whole = throw(swing(), Basket(2.0), robot=robot)
+    partial = throw(swing().select(["joint_2", "joint_3"]), Basket(2.0), robot=robot)
     assert partial.landing_x == pytest.approx(whole.landing_x, abs=1e-9)
     assert any("leaves out joint_1, joint_4, joint_5, joint_6" in note and "joint_5 -0.198" in note
                for note in partial.notes)
@@ -134,12 +141,12 @@ def test_joints_left_out_are_held_at_the_start_pose(robot):
 def test_joints_left_out_of_a_robot_without_a_start_pose_are_named(robot):
     bare = dataclasses.replace(robot, throwing={})
     with pytest.raises(InputError, match="no positions of joint_1, joint_4.*no \\[throwing\\] start pose"):
-        simulate_throw(swing().select(["joint_2", "joint_3"]), Basket(2.0), robot=bare)
+        throw(swing().select(["joint_2", "joint_3"]), Basket(2.0), robot=bare)
 
 
 def test_a_pedestal_lifts_the_release_and_lengthens_the_throw(robot):
-    ground = simulate_throw(swing(), Basket(2.0), robot=robot)
-    lifted = simulate_throw(swing(), Basket(2.0), robot=robot, pedestal=0.5)
+    ground = throw(swing(), Basket(2.0), robot=robot)
+    lifted = throw(swing(), Basket(2.0), robot=robot, pedestal=0.5)
     assert lifted.release.position[2] - ground.release.position[2] == pytest.approx(0.5, abs=1e-3)
     np.testing.assert_allclose(lifted.release.velocity, ground.release.velocity, atol=1e-3)
     assert lifted.landing_x > ground.landing_x + 0.2
@@ -156,8 +163,8 @@ def test_joint_3_as_a_second_throwing_joint_reaches_beyond_joint_2_alone(robot):
     velocities[:, 2] = 0.64 * velocities[:, 1] / (positions[-1, 1] - positions[0, 1])
     trajectory = JointTrajectory(JOINTS, both.time, positions, velocities)
     with pytest.raises(InputError, match="out of reach"):
-        simulate_throw(swing(), Basket(3.2), robot=robot)
-    outcome = simulate_throw(trajectory, Basket(3.2), robot=robot)
+        throw(swing(), Basket(3.2), robot=robot)
+    outcome = throw(trajectory, Basket(3.2), robot=robot)
     assert outcome.landing_x > 2.6
     assert abs(outcome.landing_x - outcome.predicted_landing_x) < 0.02
     assert outcome.peak_speed <= 1.0
@@ -169,7 +176,7 @@ def test_a_trajectory_outrunning_its_speed_limit_saturates_and_never_exceeds_it(
     base = swing(peak=2.7)
     velocities = np.minimum(base.velocities / 0.75, 2.792)
     clipped = JointTrajectory(JOINTS, base.time * 0.75, base.positions, velocities)
-    outcome = simulate_throw(clipped, Basket(2.0), robot=robot)
+    outcome = throw(clipped, Basket(2.0), robot=robot)
     assert outcome.saturated
     assert any("saturated" in note for note in outcome.notes)
     assert 0.99 < outcome.peak_speed <= 1.0
@@ -182,7 +189,7 @@ def test_a_release_below_the_rim_going_down_lands_where_it_first_touches(robot):
     # joint 2 swings forward past the horizontal: the ball leaves low and downward and never comes
     # down through the rim's height from above
     low = swing(start=1.2, release=2.4, peak=2.5, joint_3=-0.3, joint_5=0.0)
-    outcome = simulate_throw(low, Basket(2.0, rim_height=0.6), robot=robot, check_reach=False)
+    outcome = throw(low, Basket(2.0, rim_height=0.6), robot=robot, check_reach=False)
     assert outcome.release.position[2] < 0.6 and outcome.release.velocity[2] < 0
     payload = json.loads(json.dumps(outcome.to_dict(), allow_nan=False))
     assert payload["flight_time"] is None and payload["predicted_landing_x"] is None
@@ -192,10 +199,10 @@ def test_a_release_below_the_rim_going_down_lands_where_it_first_touches(robot):
 
 @pytest.mark.parametrize("offset", [-0.03, 0.0, 0.03])
 def test_a_ball_striking_the_rim_ends_in_or_out_consistently(robot, offset):
-    landing = simulate_throw(swing(peak=2.2), Basket(1.5), robot=robot).landing_x
+    landing = throw(swing(peak=2.2), Basket(1.5), robot=robot).landing_x
     # the near wall's top centre 'offset' m beyond where the ball comes down to the rim's height
     basket = Basket(landing + offset + 0.175 + 0.005)
-    outcome = simulate_throw(swing(peak=2.2), basket, robot=robot)
+    outcome = throw(swing(peak=2.2), basket, robot=robot)
     assert outcome.first_contact == "basket"
     assert outcome.hit == basket.holds(outcome.rest_position, BALL_RADIUS)
     on_ground = outcome.rest_position[2] < BALL_RADIUS + 0.005
@@ -205,16 +212,16 @@ def test_a_ball_striking_the_rim_ends_in_or_out_consistently(robot, offset):
 def test_a_trajectory_ending_too_fast_near_a_limit_is_refused(robot):
     # ends at joint 2 = 2.70 rad, 0.01 rad short of its upper limit, still at 2.7 rad/s
     with pytest.raises(InputError, match=r"joint_2 at 2\.7 rad moving at 2\.7 rad/s: stopping needs 0\.036\d rad.*2\.71 rad is 0\.01 rad away"):
-        simulate_throw(swing(start=1.5, release=2.70, joint_3=-0.3, joint_5=0.0), Basket(2.0), robot=robot,
+        throw(swing(start=1.5, release=2.70, joint_3=-0.3, joint_5=0.0), Basket(2.0), robot=robot,
                        check_reach=False)
 
 
 def test_a_ball_grazing_the_far_rim_lands_where_its_flight_crosses_the_rim_plane(robot):
     # a throw that touches the far wall's top edge before its centre comes down to the rim's
     # height: its landing is the free flight's crossing, not where the contact began
-    probe = simulate_throw(swing(peak=2.0), Basket(1.5), robot=robot)
+    probe = throw(swing(peak=2.0), Basket(1.5), robot=robot)
     basket = Basket(probe.predicted_landing_x - (0.5 * 0.35 - BALL_RADIUS) + 0.005)
-    outcome = simulate_throw(swing(peak=2.0), basket, robot=robot)
+    outcome = throw(swing(peak=2.0), basket, robot=robot)
     assert outcome.first_contact == "basket"
     assert outcome.landing_x == pytest.approx(outcome.predicted_landing_x, abs=0.005)
     assert np.isfinite(outcome.flight_time)
@@ -228,11 +235,11 @@ def test_the_verdict_does_not_depend_on_the_step_across_the_basket(robot):
     from rlff.sim.basket import WALL
 
     basket = Basket(1.75)
-    probe = [simulate_throw(swing(peak=p), basket, robot=robot, check_reach=False).landing_x for p in (1.8, 2.4)]
+    probe = [throw(swing(peak=p), basket, robot=robot, check_reach=False).landing_x for p in (1.8, 2.4)]
     slope = (probe[1] - probe[0]) / 0.6  # landing (m) per rad/s of peak speed, nearly constant
     peaks = 1.8 + (basket.distance + np.linspace(-0.35, 0.35, 200) - probe[0]) / slope
-    default = [simulate_throw(swing(peak=p), basket, robot=robot, check_reach=False) for p in peaks]
-    reference = [simulate_throw(swing(peak=p), basket, robot=robot, check_reach=False, timestep=0.00025)
+    default = [throw(swing(peak=p), basket, robot=robot, check_reach=False) for p in peaks]
+    reference = [throw(swing(peak=p), basket, robot=robot, check_reach=False, timestep=0.00025)
                  for p in peaks]
     misses = np.array([o.miss for o in default])
     hits = np.array([o.hit for o in default])
@@ -265,15 +272,70 @@ def test_an_arm_that_rests_turned_throws_along_its_start_pose_s_bearing_line(rob
     positions = np.array(straight.positions)
     positions[:, 0] = 0.6
     aside = JointTrajectory(JOINTS, straight.time, positions, straight.velocities)
-    probe = simulate_throw(straight, Basket(1.5), robot=robot)
+    probe = throw(straight, Basket(1.5), robot=robot)
     basket = Basket(probe.landing_x + 0.05)
-    outcome = simulate_throw(aside, basket, robot=turned)
+    outcome = throw(aside, basket, robot=turned)
     assert outcome.hit and abs(outcome.lateral) < 1e-3
     assert outcome.landing_x == pytest.approx(probe.landing_x, abs=1e-3)
     assert any(note.startswith("the start pose faces 34.38 deg (joint_1 0.6 rad)") for note in outcome.notes)
     # a bearing counts from that facing too: 20 deg on from it
     positions = np.array(positions)
     positions[:, 0] = 0.6 + np.radians(20.0)
-    outcome = simulate_throw(JointTrajectory(JOINTS, straight.time, positions, straight.velocities),
+    outcome = throw(JointTrajectory(JOINTS, straight.time, positions, straight.velocities),
                              dataclasses.replace(basket, bearing=20.0), robot=turned)
     assert outcome.hit and abs(outcome.lateral) < 1e-3
+
+
+@pytest.fixture(scope="module")
+def planned(robot):
+    """A planned throw (at rest at both ends, released on the way): an elbow path up to 9 rad/s."""
+    angle = np.linspace(0.7, 1.95, 30)
+    velocity = 9.0 * np.sin(0.5 * np.pi * (angle - 0.7) / 1.25) ** 0.5
+    velocity[0] = 0.5
+    return plan(RobotMapping.for_robot(robot), angle, velocity).trajectory
+
+
+def _cut_at_release(trajectory: JointTrajectory) -> JointTrajectory:
+    end = int(np.searchsorted(trajectory.time, trajectory.release_time)) + 1
+    return dataclasses.replace(trajectory, time=trajectory.time[:end], positions=trajectory.positions[:end],
+                               velocities=trajectory.velocities[:end], accelerations=trajectory.accelerations[:end])
+
+
+def _jumped(trajectory: JointTrajectory) -> JointTrajectory:
+    positions = trajectory.positions.copy()
+    positions[len(trajectory) // 2:, 1] += 0.3  # joint 2, 0.3 rad in one 2 ms step
+    return dataclasses.replace(trajectory, positions=positions)
+
+
+def _in_milliseconds(trajectory: JointTrajectory) -> JointTrajectory:
+    return dataclasses.replace(trajectory, time=1000 * trajectory.time, release_time=1000 * trajectory.release_time)
+
+
+@pytest.mark.parametrize(("spoil", "message"), [
+    (_cut_at_release, r"ends with joint_2 velocity \S+ rad/s, not at rest"),
+    (_jumped, r"joint_2 moves 0\.3\d* rad in 0\.002 s .* disagree"),
+    (_in_milliseconds, r"is the time in seconds"),
+])
+def test_a_trajectory_failing_the_motion_check_is_refused_as_rlff_sim_throw_refuses_it(robot, planned, spoil,
+                                                                                       message):
+    # the library simulated each of these and gave a plausible landing, where the CLI refused them
+    assert simulate_throw(planned, Basket(1.9), robot=robot, check_reach=False).followed
+    with pytest.raises(InputError, match=message):
+        simulate_throw(spoil(planned), Basket(1.9), robot=robot, check_reach=False)
+
+
+def test_a_number_for_the_basket_is_the_default_basket_at_that_distance(robot, planned):
+    # a float had failed with AttributeError: 'float' object has no attribute 'rim_height'
+    at = simulate_throw(planned, 1.9, robot=robot, check_reach=False)
+    assert at.basket == Basket(1.9)
+    assert at.landing_x == simulate_throw(planned, Basket(1.9), robot=robot, check_reach=False).landing_x
+    with pytest.raises(InputError, match=r"^basket must be a Basket or its distance in m, got '1\.9' \(str\)$"):
+        simulate_throw(planned, "1.9", robot=robot)
+
+
+@pytest.mark.parametrize("field", ["distance", "rim_height", "opening", "bearing"])
+def test_a_basket_value_that_is_no_number_is_named(field):
+    # Basket("1.2") failed with TypeError: '>=' not supported between instances of 'float' and 'str'
+    values = {"distance": 1.2, "rim_height": 0.3, "opening": 0.35, "bearing": 0.0}
+    with pytest.raises(InputError, match=rf"^basket {field} must be a number, got '1' \(str\)$"):
+        Basket(**{**values, field: "1"})

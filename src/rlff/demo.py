@@ -458,7 +458,9 @@ def run_demo(
     for distance, path in paths.items():
         velocity = _forward(np.asarray(path.velocity, dtype=float))
         trajectory, _ = mapping.to_robot(path.angle, velocity, time_along_path(path.angle, velocity), clip=True)
-        outcome = simulate_throw(trajectory, Basket(distance), robot=robot, check_reach=False)
+        # the mapped path itself, released at its end as the thesis executed it (unplanned: it ends
+        # moving), so past the motion check a planned throw passes
+        outcome = simulate_throw(trajectory, Basket(distance), robot=robot, check_reach=False, check_motion=False)
         throws.append(
             ThrowRow(distance, distance in demonstrated, distance <= farthest, bool(outcome.hit),
                      float(outcome.landing_x), float(outcome.miss))

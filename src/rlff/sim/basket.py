@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
+from numbers import Real
 
 import numpy as np
 
@@ -39,6 +40,8 @@ class Basket:
     bearing: float = 0.0
 
     def __post_init__(self) -> None:
+        for name in (f.name for f in fields(self)):
+            _require_number(name, getattr(self, name))
         check_distance("basket distance (--basket)", self.distance)
         for name, option in (("rim_height", "--height"), ("opening", "--opening")):
             value = getattr(self, name)
@@ -96,3 +99,20 @@ class Basket:
         """Plain values for JSON: distance, rim_height, opening (m) and bearing (deg)."""
         return {"distance": self.distance, "rim_height": self.rim_height, "opening": self.opening,
                 "bearing": self.bearing}
+
+
+def _require_number(name: str, value: object) -> None:
+    """:class:`InputError` unless ``value`` is a real number (not a str: ``Basket("1.2")`` failed
+    deep in the checks with a TypeError comparing a float with a str)."""
+    if not isinstance(value, Real) or isinstance(value, bool):
+        raise InputError(f"basket {name} must be a number, got {value!r} ({type(value).__name__})")
+
+
+def as_basket(basket: Basket | float) -> Basket:
+    """``basket``, or the default basket ``Basket(basket)`` at a distance (m) given as a number;
+    :class:`InputError` for anything else (a float had failed with an AttributeError)."""
+    if isinstance(basket, Basket):
+        return basket
+    if isinstance(basket, Real) and not isinstance(basket, bool):
+        return Basket(float(basket))
+    raise InputError(f"basket must be a Basket or its distance in m, got {basket!r} ({type(basket).__name__})")

@@ -27,10 +27,11 @@ from rlff.limits import check_pedestal
 from rlff.robot.description import Robot, load_robot
 from rlff.robot.mapping import RobotMapping, start_facing
 from rlff.sim.arm import BALL_RADIUS, Arm
-from rlff.sim.basket import Basket
+from rlff.sim.basket import Basket, as_basket
 from rlff.sim.reach import PLANE_JOINTS, farthest_basket, require_reachable, throw_reach
 from rlff.sim.scene import POSITION_GAIN, Scene, build_scene
 from rlff.sim.servo import require_room_to_stop, servo_reference
+from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import require_within_limits
 
@@ -198,7 +199,7 @@ def _number_or_none(value: float) -> float | None:
 
 def simulate_throw(
     trajectory: JointTrajectory,
-    basket: Basket,
+    basket: Basket | float,
     *,
     robot: Robot | None = None,
     release_angle: float | None = None,
@@ -207,6 +208,7 @@ def simulate_throw(
     frames_dir: str | Path | None = None,
     timestep: float = 0.002,
     check_reach: bool = True,
+    check_motion: bool = True,
 ) -> ThrowOutcome:
     """Execute ``trajectory`` on the simulated robot and report where the ball lands.
 
@@ -216,7 +218,8 @@ def simulate_throw(
         Timed positions (rad) and velocities (rad/s) of the robot's joints; a joint it leaves
         out is held at the robot file's ``[throwing]`` start pose (said in the notes), as the
         floor check (:func:`rlff.robot.links.require_above_base`) holds it.
-    basket : Basket
+    basket : Basket or float
+        The target; a number is the distance (m) of the default basket (``Basket(distance)``).
     robot : Robot, optional
         Default: the built-in Comau Smart5 SiX.
     release_angle : float, optional
@@ -235,6 +238,13 @@ def simulate_throw(
     check_reach : bool
         Raise :class:`InputError` for a basket out of the robot's reach (with the joints the
         trajectory moves in the throwing plane) instead of simulating a sure miss.
+    check_motion : bool
+        Refuse a trajectory that fails the motion check every trajectory leaving rlff passes
+        (:func:`rlff.trajectory.check.check_trajectory`, as ``rlff sim throw`` and the exports
+        apply it): one that does not end at rest (a throw cut at its release), whose positions
+        jump between points, or whose time is not in seconds. False simulates such a path
+        anyway (a raw mapped path or a test swing, to compare with the planned one); the
+        joint limits and the room to stop after its end are still required.
 
     Returns
     -------
@@ -244,8 +254,11 @@ def simulate_throw(
     ------
     InputError
         A trajectory beyond the joint limits, unknown or missing joints, a release angle the
-        throwing joint never passes, or (with ``check_reach``) an unreachable basket.
+        throwing joint never passes, (with ``check_motion``) a trajectory that fails the motion
+        check (:class:`rlff.trajectory.check.MotionLimitError`), (with ``check_reach``) an
+        unreachable basket, or a basket that is neither a Basket nor a number.
     """
+    basket = as_basket(basket)
     robot = load_robot() if robot is None else robot
     arm = Arm.from_robot(robot)
     check_pedestal(pedestal, "pedestal height")
@@ -271,6 +284,8 @@ def simulate_throw(
                      f"bearings count from: the basket stands on the base's {turned:.4g} deg line")
         basket = replace(basket, bearing=turned)
     trajectory = trajectory.select(arm.joint_names)
+    if check_motion:
+        check_trajectory(trajectory, robot.joints)
     require_within_limits(trajectory, arm.joints)
     require_room_to_stop(trajectory, arm)
     throwing = _throwing_joint(trajectory, release_joint)
