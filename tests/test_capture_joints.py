@@ -175,6 +175,8 @@ def test_csv_import_writes_every_joint_on_the_elbows_samples(tmp_path):
         assert alone.meta == whole.meta
         for name in alone.columns:
             np.testing.assert_array_equal(alone[name], whole[name])
+    # one joint's name alone is that joint (it was read letter by letter: "joint 'e'")
+    assert import_recordings([path], "csv", joints="elbow")[0].equals(elbow)
 
 
 def test_a_csv_without_time_stamps_read_at_a_wrong_rate_is_warned_of(tmp_path):

@@ -33,7 +33,7 @@ import numpy as np
 from rlff.csvlines import data_row_line
 from rlff.errors import InputError
 from rlff.fileio import require_file
-from rlff.limits import MAX_MAGNITUDE
+from rlff.limits import MAX_MAGNITUDE, as_names
 from rlff.wording import bad_cell, plural
 
 #: Metadata keys with a meaning to rlff (read as metadata even when numeric); others are kept
@@ -208,7 +208,7 @@ class Trajectory:
 
     def to_array(self, columns: Sequence[str] | None = None) -> np.ndarray:
         """Samples as an array of shape (T, D), columns in the order given (default: all)."""
-        names = self.columns if columns is None else tuple(columns)
+        names = self.columns if columns is None else as_names(columns)
         return np.column_stack([self[name] for name in names])
 
     def context_value(self, names: Sequence[str]) -> tuple[float, ...]:
@@ -274,7 +274,7 @@ class Dataset(Sequence[Trajectory]):
         columns = self._trajectories[0].columns if self._trajectories else ()
         if context is None:
             context = tuple(name for name in THROW_CONTEXT if name in columns)
-        self.context = tuple(context)
+        self.context = as_names(context)
         self.columns = columns
         self._validate()
 
@@ -337,8 +337,7 @@ class Dataset(Sequence[Trajectory]):
         if not arrays and ids:
             raise InputError(f"trajectory {ids[0]!r} has no columns")
         _check_joint_velocities(tuple(arrays))
-        if context is None:
-            context = tuple(name for name in THROW_CONTEXT if name in arrays)
+        context = tuple(name for name in THROW_CONTEXT if name in arrays) if context is None else as_names(context)
         if lengths.size:
             for name in context:
                 if name not in arrays:
@@ -493,7 +492,7 @@ class Dataset(Sequence[Trajectory]):
 
     def to_array(self, columns: Sequence[str] | None = None) -> np.ndarray:
         """All samples stacked as an array of shape (N, D), columns in the order given."""
-        names = self.columns if columns is None else tuple(columns)
+        names = self.columns if columns is None else as_names(columns)
         self.require(names)
         if not self._trajectories:
             return np.empty((0, len(names)))

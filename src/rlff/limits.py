@@ -3,7 +3,8 @@
 Sizes are checked before anything is allocated, so that a typo (``angle=0:2:100000000``,
 ``densify step = 1e-9``) is one line and exit 2 instead of tens of gigabytes and a killed process.
 Physical quantities are checked against ranges that hold for a throwing arm of the size rlff
-models (the Comau Smart5 SiX: about 1.4 m of reach) with a wide margin.
+models (the Comau Smart5 SiX: about 1.4 m of reach) with a wide margin. A single name given
+where the public functions take several (joints, columns) is that one name (:func:`as_names`).
 
 The numbers:
 
@@ -31,7 +32,7 @@ The numbers:
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 
 import numpy as np
 
@@ -113,6 +114,13 @@ def check_period(value: float, name: str = "--period") -> float:
     return float(value)
 
 
+def as_names(names: str | Iterable[str]) -> tuple[str, ...]:
+    """``names`` (joints, columns) as a tuple; a single str is one name, ``"elbow"`` ->
+    ``("elbow",)``, not the characters it is made of (``joints="elbow"`` had asked for the joints
+    'e', 'l', 'b', ...)."""
+    return (names,) if isinstance(names, str) else tuple(names)
+
+
 def check_magnitudes(where: str, columns: Mapping[str, np.ndarray]) -> None:
     """Refuse a non-finite value or one beyond :data:`MAX_MAGNITUDE` in any column.
 
@@ -156,6 +164,7 @@ __all__ = [
     "MAX_MAGNITUDE",
     "PEDESTAL_RANGE",
     "apart",
+    "as_names",
     "check_count",
     "check_distance",
     "check_frame_rate",

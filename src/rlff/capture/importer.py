@@ -59,7 +59,7 @@ from rlff.capture.users import keep_consistent_user, upper_arm_lengths
 from rlff.dataset import DEFAULT_CONTEXT, Dataset, Trajectory, joint_columns, velocity_column
 from rlff.errors import InputError
 from rlff.fileio import require_distinct
-from rlff.limits import DISTANCE_RANGE, check_frame_rate
+from rlff.limits import DISTANCE_RANGE, as_names, check_frame_rate
 from rlff.wording import plural
 
 FORMATS = ("bag", "kinect-text", "msr", "csv", "thesis")
@@ -535,6 +535,7 @@ def _check_joints(joints: Sequence[str] | None) -> tuple[str, ...] | None:
     """The joint columns asked for (``angle`` for the elbow), or None for every joint there is."""
     if joints is None:
         return None
+    joints = as_names(joints)
     unknown = [name for name in joints if name not in JOINTS]
     if unknown:
         raise InputError(f"joint {unknown[0]!r}: not one of {', '.join(JOINTS)}")

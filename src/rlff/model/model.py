@@ -42,6 +42,7 @@ from rlff.limits import (
     MAX_GENERATE_BYTES,
     MAX_GRID_POINTS,
     MAX_MAGNITUDE,
+    as_names,
     check_count,
     check_distance,
     check_magnitudes,
@@ -374,7 +375,7 @@ class Model:
         -------
         Model
         """
-        inputs, outputs = tuple(inputs), tuple(outputs)
+        inputs, outputs = as_names(inputs), as_names(outputs)
         _check_roles(inputs, outputs)
         names = inputs + outputs
         X = _columns_of(data, columns, names)

@@ -30,6 +30,7 @@ import numpy as np
 from rlff.dataset import JOINT_COLUMNS as HUMAN_JOINT_COLUMNS
 from rlff.dataset import velocity_column
 from rlff.errors import InputError
+from rlff.limits import as_names
 from rlff.robot.description import Robot, number_field, require_start_pose, require_throwing_joint
 from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
@@ -361,7 +362,7 @@ class ArmMapping:
             raise InputError(f"{where}: missing tables [whole_arm.joints.<joint>]")
         if not isinstance(pose, Mapping):
             raise InputError(f"{where}: missing table 'start_pose'")
-        asked = [str(name) for name in joints]
+        asked = [str(name) for name in as_names(joints)]
         unknown = [name for name in asked if name not in entries]
         if unknown:
             raise InputError(f"joints {unknown} are not in {where}.joints (mapped: {', '.join(entries)})")
@@ -501,7 +502,7 @@ def mapping_for(robot: Robot, joints: Sequence[str] | None = None) -> RobotMappi
     """
     if joints is None:
         return RobotMapping.for_robot(robot)
-    joints = tuple(str(name) for name in joints)
+    joints = tuple(str(name) for name in as_names(joints))
     if not joints:
         raise InputError("--joints names no joint (e.g. joint_2,joint_3)")
     if len(joints) == 1 and joints[0] == robot.throwing.get("joint"):

@@ -30,7 +30,7 @@ from scipy.optimize import minimize
 
 from rlff.ballistics import crossing_distance
 from rlff.errors import InputError
-from rlff.limits import check_pedestal
+from rlff.limits import as_names, check_pedestal
 from rlff.robot.description import THROWING_JOINTS, Robot, load_robot
 from rlff.sim.arm import BALL_RADIUS, Arm
 from rlff.sim.basket import Basket
@@ -104,6 +104,7 @@ def throw_reach(
 ) -> Reach:
     """The farthest throw with ``joints`` at their speed limits; see :func:`max_reach`."""
     arm = Arm.from_robot(load_robot() if robot is None else robot)
+    joints = as_names(joints)
     unknown = [name for name in joints if name not in PLANE_JOINTS]
     if unknown or not joints:
         raise InputError(f"throwing joints must be among {', '.join(PLANE_JOINTS)}, got {list(joints)}")

@@ -16,6 +16,7 @@ import numpy as np
 from rlff.ballistics import GRAVITY
 from rlff.dataset import Dataset
 from rlff.errors import InputError
+from rlff.limits import as_names
 
 #: One simulated throw: its id, its columns (each of shape (T,)) and its metadata.
 Throw = tuple[str, dict[str, np.ndarray], dict[str, object]]
@@ -122,7 +123,7 @@ def record(
 
 def subject_names(subjects: int | Sequence[str]) -> list[str]:
     """The people's names: ``s01``, ``s02``, ... for a count, else the names given."""
-    return [f"s{i + 1:02d}" for i in range(subjects)] if isinstance(subjects, int) else list(subjects)
+    return [f"s{i + 1:02d}" for i in range(subjects)] if isinstance(subjects, int) else list(as_names(subjects))
 
 
 def check_recording(rate_hz: float, **amounts: float) -> None:

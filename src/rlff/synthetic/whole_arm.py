@@ -43,7 +43,7 @@ import numpy as np
 from rlff.ballistics import crossing_distance
 from rlff.dataset import BEARING_RANGE, HEIGHT_RANGE, Dataset, velocity_column
 from rlff.errors import InputError
-from rlff.limits import check_distance
+from rlff.limits import as_names, check_distance
 from rlff.synthetic.people import (
     MAX_ELBOW_SPEED,
     RIM_HEIGHT,
@@ -404,6 +404,7 @@ def whole_arm_demonstrations(
 
 
 def _check_joints(joints: Sequence[str]) -> tuple[str, ...]:
+    joints = as_names(joints)
     unknown = [j for j in joints if j not in ARM_JOINTS]
     if unknown:
         raise InputError(f"joint {unknown[0]!r}: not one of {', '.join(ARM_JOINTS)}")

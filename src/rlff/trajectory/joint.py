@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rlff.errors import InputError
+from rlff.limits import as_names
 
 
 @dataclass(frozen=True)
@@ -38,7 +39,7 @@ class JointTrajectory:
     release_time: float | None = None
 
     def __post_init__(self) -> None:
-        names = tuple(str(n) for n in self.joint_names)
+        names = tuple(str(n) for n in as_names(self.joint_names))
         time = np.asarray(self.time, dtype=float)
         positions = np.asarray(self.positions, dtype=float)
         velocities = np.asarray(self.velocities, dtype=float)
@@ -88,6 +89,7 @@ class JointTrajectory:
         """The trajectory over the joints ``names`` (length J', in that order): the joints it has
         as they are, every other one held at its entry of ``still`` ((J',) rad) at rest, as a
         controller holds the joints a goal does not name."""
+        names = as_names(names)
         still = np.asarray(still, dtype=float)
         if still.shape != (len(names),):
             raise InputError(f"still must have one position per joint name ({len(names)}), got shape {still.shape}")
@@ -103,6 +105,7 @@ class JointTrajectory:
 
     def select(self, names: Sequence[str]) -> JointTrajectory:
         """The same trajectory restricted to the joints ``names``, in that order."""
+        names = as_names(names)
         index = [self.joint_index(n) for n in names]
         return JointTrajectory(tuple(names), self.time, self.positions[:, index],
                                self.velocities[:, index], self.accelerations[:, index],
