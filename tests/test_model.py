@@ -170,6 +170,20 @@ def test_unreadable_model_files(tmp_path):
         Model.load(broken)
 
 
+def test_a_context_every_demonstration_shared_is_said_to_tell_nothing():
+    # a manifest's rim height of 0.3 for every throw: asked for 1.0 the model gives the 0.3 throw,
+    # and it said only "outside the fitted range [0.3, 0.3]: extrapolating"
+    rng = np.random.default_rng(2)
+    t, a = rng.uniform(0, 1, 500), rng.uniform(1, 2, 500)
+    data = np.column_stack([t, a, np.full(500, 0.3), 2 * t + a + rng.normal(0, 0.05, 500)])
+    with pytest.warns(UserWarning, match="column 'h' is constant"):
+        model = Model.fit(data, columns=["t", "a", "h", "y"], inputs=("t", "a", "h"), outputs=("y",), components=2)
+    path = model.generate({"a": 1.5, "h": 1.0}, np.linspace(0.1, 0.9, 9))
+    assert list(path.warnings) == ["h = 1: every demonstration had h 0.3, so the model cannot tell one h from another and "
+                             "gives the throw for 0.3"]
+    assert not model.generate({"a": 1.5, "h": 0.3}, np.linspace(0.1, 0.9, 9)).warnings
+
+
 def test_any_columns_several_contexts_and_outputs():
     rng = np.random.default_rng(1)
     n = 2000
@@ -190,9 +204,12 @@ def test_any_columns_several_contexts_and_outputs():
     for name in ("t", "y1", "y2", "velocity", "time", "gmr_mean_y2", "a", "b"):
         assert name in frame.columns
     # the hint is the middle of what was demonstrated (it was "b=2.5" for any context)
-    with pytest.raises(InputError, match=r"missing context 'b': give a value, e\.g\. b=\S+ "
+    with pytest.raises(InputError, match=r"missing context 'b': give b=\S+ "
                                          r"\(demonstrated: -0\.99\d* to 0\.99\d*\)$"):
         model.generate({"a": 1.5})
+    # every missing one named at once (it named one per try)
+    with pytest.raises(InputError, match=r"missing context 'a', 'b': give a=\S+ \(demonstrated: .*\) and b="):
+        model.generate({})
     with pytest.raises(InputError, match="unknown context 'c'"):
         model.generate({"a": 1.5, "b": 0.0, "c": 1.0})
 

@@ -502,7 +502,9 @@ class Model:
         conditional = self.condition(X_in)
         mode = dmm_mode(conditional, exploration, exploration_scale, continuity, progress=progress)
         warnings = [
-            f"{name} = {value:g} is outside the fitted range [{lo:g}, {hi:g}]: extrapolating"
+            (f"{name} = {value:g} is outside the fitted range [{lo:g}, {hi:g}]: extrapolating" if hi > lo else
+             f"{name} = {value:g}: every demonstration had {name} {lo:g}, so the model cannot tell one {name} "
+             f"from another and gives the throw for {lo:g}")
             for name, value in zip(self.context_names, values, strict=True)
             for lo, hi in [self.input_range[name]]
             if not lo <= value <= hi
@@ -883,12 +885,17 @@ def _context_values(
     if unknown:
         expected = ", ".join(names) if names else "none"
         raise InputError(f"unknown context {unknown[0]!r} (the model's context: {expected})")
+    missing = [name for name in names if name not in context]
+    if missing:  # every one named at once, not one per try
+
+        def example(name: str) -> str:
+            lo, hi = ranges[name]
+            return f"{name}={(lo + hi) / 2:.3g} (demonstrated: {lo:g} to {hi:g})"
+
+        raise InputError(f"missing context {', '.join(map(repr, missing))}: give "
+                         f"{' and '.join(map(example, missing))}")
     values = []
     for name in names:
-        if name not in context:
-            lo, hi = ranges[name]
-            raise InputError(f"missing context {name!r}: give a value, e.g. {name}={(lo + hi) / 2:.3g} "
-                             f"(demonstrated: {lo:g} to {hi:g})")
         try:
             value = float(context[name])
         except (TypeError, ValueError):
