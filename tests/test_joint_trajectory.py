@@ -27,3 +27,13 @@ def test_holding_needs_one_position_per_name():
     own = JointTrajectory(("a",), [0.0], [[1.0]], [[0.0]])
     with pytest.raises(InputError, match="one position per joint name"):
         own.holding(("a", "b"), [0.0])
+
+
+def test_the_callers_arrays_stay_writeable_and_theirs():
+    # the trajectory froze the caller's own arrays, and their later in-place edits failed
+    time, positions = np.linspace(0.0, 1.0, 5), np.zeros((5, 2))
+    trajectory = JointTrajectory(("a", "b"), time, positions, np.zeros((5, 2)))
+    assert time.flags.writeable and positions.flags.writeable
+    assert not trajectory.positions.flags.writeable
+    positions[0, 0] = 1.0
+    assert trajectory.positions[0, 0] == 0.0

@@ -114,7 +114,7 @@ def _check_joint_velocities(columns: Sequence[str]) -> None:
             )
 
 
-def _own(array: np.ndarray, given: Any) -> np.ndarray:
+def owned(array: np.ndarray, given: Any) -> np.ndarray:
     """``array``, the float conversion of ``given``, as one the library may freeze: a copy when
     it may be the caller's own writeable array (numpy converts a float64 array, or a view of
     one, to itself), so that making the trajectory's column read-only leaves theirs writeable.
@@ -152,7 +152,7 @@ class Trajectory:
         columns = {}
         length = None
         for name, values in self.data.items():
-            array = _own(np.asarray(values, dtype=float), values)
+            array = owned(np.asarray(values, dtype=float), values)
             if array.ndim != 1:
                 raise InputError(f"trajectory {self.id!r}: column {name!r} must be 1-D, got shape {array.shape}")
             usable = np.abs(array) <= MAX_MAGNITUDE  # finite and small enough to square and sum
@@ -322,7 +322,7 @@ class Dataset(Sequence[Trajectory]):
         owner = np.repeat(np.arange(lengths.size), lengths)
         arrays: dict[str, np.ndarray] = {}
         for name, values in columns.items():
-            array = _own(np.ascontiguousarray(values, dtype=float), values)
+            array = owned(np.ascontiguousarray(values, dtype=float), values)
             if array.shape != (total,):
                 raise InputError(f"column {name!r} has shape {array.shape}, expected ({total},)")
             usable = np.abs(array) <= MAX_MAGNITUDE

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rlff.dataset import owned
 from rlff.errors import InputError
 from rlff.limits import as_names
 
@@ -40,11 +41,13 @@ class JointTrajectory:
 
     def __post_init__(self) -> None:
         names = tuple(str(n) for n in as_names(self.joint_names))
-        time = np.asarray(self.time, dtype=float)
-        positions = np.asarray(self.positions, dtype=float)
-        velocities = np.asarray(self.velocities, dtype=float)
+        # the caller's own arrays stay theirs and writeable: the trajectory freezes copies (owned)
+        time = owned(np.asarray(self.time, dtype=float), self.time)
+        positions = owned(np.asarray(self.positions, dtype=float), self.positions)
+        velocities = owned(np.asarray(self.velocities, dtype=float), self.velocities)
         accelerations = (
-            np.zeros_like(positions) if self.accelerations is None else np.asarray(self.accelerations, dtype=float)
+            np.zeros_like(positions) if self.accelerations is None
+            else owned(np.asarray(self.accelerations, dtype=float), self.accelerations)
         )
         if len(set(names)) != len(names) or not names:
             raise InputError(f"joint names must be unique and non-empty, got {list(names)}")
