@@ -42,7 +42,7 @@ def pair(scenario: Scenario, seed: int, method: str, first: float, second: float
     def run(basket: float, **options):
         return learn(demos, basket, budget=BUDGET, feedback="binary", update=method, seed=seed,
                      robot=scenario.robot, opening=scenario.opening,
-                     executor=reporting_executor(scenario, feedback, basket, seed), **options)
+                     executor=reporting_executor(scenario, feedback, basket, seed), executed_on="sim", **options)
 
     with tempfile.TemporaryDirectory() as folder:
         log = Path(folder) / "first.jsonl"

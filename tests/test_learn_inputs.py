@@ -118,3 +118,13 @@ def test_the_elbow_joint_alone_learns_as_a_whole_arm_throw_of_one_joint(demos, t
     assert result.hit, result.misses
     run, _ = read_log(log)
     assert list(run["robot"]["description"]["mapping"]["driven"]) == ["joint_3"]
+
+
+def test_a_log_of_the_callers_own_executor_says_so_and_resumes_only_with_one(demos, tmp_path):
+    # it said executed on the simulation, and a run on the simulator took it up
+    log = tmp_path / "own.jsonl"
+    learn(demos, 1.4, budget=1, executor=arm(lambda o: o), log_path=log)
+    assert read_log(log)[0]["executor"] == "python"
+    with pytest.raises(InputError, match="executor"):
+        learn(demos, 1.4, budget=2, log_path=log)
+    assert learn(demos, 1.4, budget=2, executor=arm(lambda o: o), log_path=log).resumed == 1

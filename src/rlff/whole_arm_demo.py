@@ -202,7 +202,7 @@ def run_whole_arm(
             try:
                 result = learn(
                     aimed, distance, budget=budget, feedback="binary", seed=seed, robot=robot.name, log_path=log,
-                    joints=joints, bearing=bearing, executor=executor, carry_from=[last_hit[joints]] if joints in last_hit else [],
+                    joints=joints, bearing=bearing, executor=executor, executed_on="sim", carry_from=[last_hit[joints]] if joints in last_hit else [],
                     progress=lambda attempt, d=distance, b=bearing: tell(
                         f"whole arm at {d:g} m, {b:g} deg: attempt {attempt.index} ({'hit' if attempt.hit else 'miss'})"),
                 )

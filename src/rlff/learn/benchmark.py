@@ -81,7 +81,7 @@ def run_one(demos: Dataset, scenario: Scenario, feedback: Feedback, method: str,
             warnings.simplefilter("ignore", RobotFileWarning)
             result = learn(demos, basket, budget=budget, feedback=feedback.kind, update=method, seed=seed,
                            robot=scenario.robot, opening=scenario.opening, aim=scenario.aim,
-                           executor=reporting_executor(scenario, feedback, basket, seed))
+                           executor=reporting_executor(scenario, feedback, basket, seed), executed_on="sim")
     except InputError as exc:
         raise InputError(f"{scenario.name}, landings {scenario.landings}, seed {seed}, basket {basket:g} m, "
                          f"{feedback.name} feedback, {method}: {exc}") from None

@@ -217,7 +217,7 @@ def learn(
     opening: float = 0.35,
     until: str = "hit",
     centre_share: float = CENTRE_SHARE,
-    executed_on: str = "sim",
+    executed_on: str | None = None,
     joints: Sequence[str] | None = None,
     bearing: float = 0.0,
     height: float | None = None,
@@ -266,9 +266,11 @@ def learn(
         narrower window), so every method and both feedbacks work unchanged.
     centre_share : float
         In (0, 1]: the share of the half-opening a centred hit lands within.
-    executed_on : str
-        What ``executor`` runs the throws on (``sim``, ``ros1``, ``ros2``): a log resumes only
-        on the same (a run in simulation writes no such field, so older logs resume).
+    executed_on : str, optional
+        What ``executor`` runs the throws on (``sim``, ``ros1``, ``ros2``, or a name of the
+        caller's): a log resumes only on the same (a run in simulation writes no such field, so
+        older logs resume). None: ``sim`` without an executor, ``python`` with one (the caller's
+        own arm; its log had said it was a simulation's, and resumed in one).
     joints : sequence of str, optional
         Robot joints the throw drives (``joint_2``, ``joint_3`` [, ``joint_5``]) through the
         robot file's ``[whole_arm]`` table; None (or ``("joint_2",)``) is the one-joint throw.
@@ -356,6 +358,8 @@ def learn(
     if executor is not None and not arm_gap.none:
         raise InputError(f"gap {arm_gap.name!r} is how the simulated arm differs from its robot file: it goes "
                          "with the simulation, not with another executor")
+    if executed_on is None:
+        executed_on = "sim" if executor is None else "python"
     robot_model = robot if isinstance(robot, Robot) else load_robot(robot)
     mapping = mapping_for(robot_model, None if joints is None else tuple(joints))
     rim = rim_height if height is None else height
