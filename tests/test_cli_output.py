@@ -216,3 +216,17 @@ def test_learn_out_over_an_existing_ros2_bag_folder_says_what_a_bag_needs(rlff, 
     result = rlff("-q", "learn", str(made["raw"]), "--basket", "2", "--out", str(bag))
     assert result.code == 2 and result.stderr.strip() == (
         f"rlff: error: {bag} exists: a ROS 2 bag is a new folder, remove it first"), result.stderr
+
+
+@pytest.mark.parametrize("file", ["robots/comau_smart5_six.toml", "presets/thesis.toml"])
+def test_rlffs_own_files_are_no_outputs(rlff, tmp_path, file):
+    # `rlff robot urdf -o .../rlff/robots/comau_smart5_six.toml` wrote URDF over the built-in robot,
+    # and every command's default robot broke
+    own = Path(str(resources.files("rlff") / file))
+    before = own.read_bytes()
+    link = tmp_path / "robot.toml"
+    link.symlink_to(own)
+    for target in (own, link):
+        result = rlff("robot", "urdf", "-o", str(target))
+        assert result.code == 2 and "is inside rlff's own package" in result.stderr, result.stderr
+    assert own.read_bytes() == before

@@ -46,6 +46,17 @@ def require_file(path: str | Path) -> Path:
     return path
 
 
+#: The installed rlff package's folder: no output goes inside it (`rlff robot urdf -o` had
+#: replaced the built-in robot file with URDF, and every command's default robot broke).
+_PACKAGE = Path(__file__).resolve().parent
+
+
+def _within(path: Path, folder: Path) -> bool:
+    """Whether ``path`` (resolved, symbolic links followed) is ``folder`` or lies inside it."""
+    resolved = Path(os.path.realpath(path))
+    return resolved == folder or folder in resolved.parents
+
+
 def check_output_path(path: str | Path, *, folder: bool = False) -> Path:
     """Check, without touching anything, that ``path`` can be made an output.
 
@@ -63,10 +74,13 @@ def check_output_path(path: str | Path, *, folder: bool = False) -> Path:
     Raises
     ------
     InputError
-        The path is an existing folder (for a file output), an existing file (for a folder
-        output), or a parent of it is a file.
+        The path is inside rlff's own package, an existing folder (for a file output), an
+        existing file (for a folder output), or a parent of it is a file.
     """
     path = Path(path)
+    if _within(path, _PACKAGE):  # rlff's own files: the built-in robots and presets every run reads
+        raise InputError(f"{path}: is inside rlff's own package ({_PACKAGE}), whose built-in robot files and "
+                         "presets every run reads; write the output elsewhere")
     if not folder and path.is_dir():
         raise InputError(f"{path}: is a folder; give a file name for the output")
     if folder and path.exists() and not path.is_dir():
