@@ -52,6 +52,17 @@ def test_sim_throw_prints_the_outcome_as_json(cli, tmp_path):
     assert release["velocity"][0] > 0 and release["velocity"][2] > 0
 
 
+def test_a_ball_that_never_comes_down_through_the_rims_height_is_said_to(rlff, tmp_path):
+    # a 1.9 m rim above every ball: it read "the ball came down to the 1.9 m rim's height at 1.782 m"
+    path = _generated_path(tmp_path / "traj.csv")
+    high = rlff("sim", "throw", str(path), "--basket", "1.9", "--height", "1.9")
+    assert high.code == 0, high.stderr
+    assert "the ball never came down through the 1.9 m rim's height; it first touched the" in high.stdout
+    assert "came down to the" not in high.stdout
+    low = rlff("sim", "throw", str(path), "--basket", "1.9")
+    assert "the ball came down to the 0.3 m rim's height at" in low.stdout
+
+
 def test_an_exported_throw_lands_where_its_generated_path_does(rlff, tmp_path):
     path = _generated_path(tmp_path / "traj.csv")
     direct = rlff("sim", "throw", str(path), "--basket", "1.9", "--json")

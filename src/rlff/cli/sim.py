@@ -112,7 +112,13 @@ def throw(
     line = f" on the {target.bearing:g} deg line" if target.bearing else ""
     lateral = ("" if abs(outcome.lateral) < 0.0005
                else f", {abs(outcome.lateral):.3f} m {'left' if outcome.lateral > 0 else 'right'} of the line")
-    out.print(f"{'HIT' if outcome.hit else 'miss'}: the ball came down to the {target.rim_height:g} m rim's height at "
+    # a ball that never comes down through the rim's height is placed where it first touched
+    # (or came to rest): said so, not as a landing at the rim's height that never was
+    came_down = (f"the ball came down to the {target.rim_height:g} m rim's height at" if math.isfinite(outcome.flight_time)
+                 else f"the ball never came down through the {target.rim_height:g} m rim's height; it first touched "
+                      f"the {outcome.first_contact} at" if outcome.first_contact != "nothing"
+                 else f"the ball never came down through the {target.rim_height:g} m rim's height; it came to rest at")
+    out.print(f"{'HIT' if outcome.hit else 'miss'}: {came_down} "
               f"{outcome.landing_x:.3f} m{line}{lateral}, {abs(outcome.miss):.3f} m {side} the centre of the basket at "
               f"{basket:g} m (signed miss {outcome.miss:+.3f} m; first touched: {outcome.first_contact})",
               highlight=False)
