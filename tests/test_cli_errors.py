@@ -63,8 +63,17 @@ def files(tmp_path_factory) -> dict[str, Path]:
     pd.DataFrame({"angle": (positions - mapping.angle_offset) / mapping.angle_scale,
                   "velocity": np.full(21, 2.0 / mapping.velocity_scale), "pdf": 1.0, "exploration": 0.0,
                   "gmr_mean": 0.0}).to_csv(throw, index=False)
+    throw_degrees = folder / "throw-degrees.csv"
+    generated = pd.read_csv(throw)
+    generated["angle"] = np.degrees(generated["angle"])
+    generated.to_csv(throw_degrees, index=False)
+    degrees = folder / "degrees.csv"
+    frame = pd.read_csv(data)
+    frame["angle"] = 18.0 * frame["angle"]  # the thesis set's 0-10 as 0-180
+    frame.to_csv(degrees, index=False)
     return {"folder": folder, "data": data, "model": model, "path": path, "huge": huge, "huge_model": huge_model,
-            "cut": cut, "nan_toml": nan_toml, "throw": throw}
+            "cut": cut, "nan_toml": nan_toml, "throw": throw, "degrees": degrees,
+            "throw_degrees": throw_degrees}
 
 
 # (arguments with {name} placeholders for the files above, fragments the one line must hold)
@@ -155,6 +164,11 @@ def test_a_missing_output_folder_is_created(rlff, files, tmp_path):
         (["data", "import", "{data}", "{data}", "-o", "{tmp}/i.csv"], ["data.csv", "given twice"]),
         (["data", "import", "{data}", "--format", "msr", "--rate", "1e300", "-o", "{tmp}/i.csv"],
          ["--rate: 1e+300 Hz is outside the range 1 to 1000 Hz"]),
+        # angles in degrees: refused as they are read, not after cleaning into 1.2 million samples
+        (["data", "preprocess", "{degrees}", "-o", "{tmp}/c.csv"],
+         ["degrees.csv: column 'angle' reaches", "beyond two turns in radians: degrees?"]),
+        (["robot", "export", "{throw_degrees}", "-o", "{tmp}/t.json"],
+         ["the path's angle reaches", "degrees?"]),
         # one rlff file where another goes: what it is, not "unknown dataset extension '.json'"
         (["fit", "{model}", "-o", "{tmp}/m.json"],
          ["model.json is an rlff model (rlff fit writes it), not a dataset of demonstrations"]),

@@ -55,6 +55,13 @@ def test_a_velocity_in_degrees_per_second_is_refused(demos):
         learn(rescaled(demos, "velocity", math.degrees(1.0)), 1.4, budget=2)
 
 
+def test_angles_in_degrees_are_refused(demos):
+    degrees = Dataset([t.replace(data={**t.data, "angle": np.degrees(t["angle"]),
+                                       "velocity": np.degrees(t["velocity"])}) for t in demos], context=demos.context)
+    with pytest.raises(InputError, match=r"the demonstrations' angle reaches \d+.*beyond two turns .*degrees\?"):
+        learn(degrees, 1.4, budget=1)
+
+
 def test_the_demonstrations_as_they_are_pass_the_unit_checks(demos):
     assert learn(demos, 1.4, budget=1).attempts == 1
 

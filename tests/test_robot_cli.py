@@ -272,7 +272,7 @@ def test_send_refuses_bad_input_before_connecting(cli, tmp_path):
 def test_the_format_and_the_output_are_checked_before_any_planning(capsys, tmp_path):
     """A path far beyond joint 2's limits would be refused by the planning; a bad --format, a
     suffix of another format or an existing ROS 2 bag folder is refused first, and nothing written."""
-    beyond = human_csv(tmp_path / "beyond.csv", np.linspace(-0.5, 9.0, 21), np.full(21, 2.0))
+    beyond = human_csv(tmp_path / "beyond.csv", np.linspace(-0.5, 4.0, 21), np.full(21, 2.0))
     (tmp_path / "bag").mkdir()
     for args, message in (
             (("-f", "JSON", "-o", str(tmp_path / "t.json")), "unknown --format 'JSON'"),

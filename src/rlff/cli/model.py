@@ -106,7 +106,23 @@ def read_data(path: Path):
                          "`rlff data import RECORDINGS -o demos.csv` (docs/capture.md), then "
                          "`rlff data preprocess demos.csv -o clean.csv`") from None
     _require_metre_distances(path, dataset)
+    _require_radians(path, dataset)
     return dataset
+
+
+def _require_radians(path: Path, dataset) -> None:
+    """:class:`InputError` when a joint angle column (``angle``, ``shoulder``, ``wrist``) holds
+    degrees (:func:`rlff.robot.mapping.require_radians`): they had gone through cleaning (1.2
+    million densified samples), fitting and generating to a robot limit error."""
+    from rlff.errors import InputError
+    from rlff.robot.mapping import require_radians
+
+    for column in ("angle", "shoulder", "wrist"):
+        if column in dataset.columns and len(dataset):
+            try:
+                require_radians(dataset.to_array([column])[:, 0], f"column {column!r}")
+            except InputError as exc:
+                raise InputError(f"{path}: {exc}") from None
 
 
 def _require_metre_distances(path: Path, dataset) -> None:

@@ -27,6 +27,7 @@ from rlff.errors import InputError
 from rlff.learn.memo import ByContent, content_digest
 from rlff.learn.method import COLUMNS, ONE_JOINT_OUTPUTS
 from rlff.limits import DISTANCE_RANGE
+from rlff.robot.mapping import require_radians
 from rlff.wording import plural
 
 #: Quantile of the demonstrations' last angles where generated throws release.
@@ -121,7 +122,8 @@ def require_units(demos: Dataset) -> None:
     """:class:`InputError` when the demonstrations' basket distances (the ``distance`` column) or
     landings (``landing`` metadata) are not metres, or their velocity not the rate of change of
     their angle: a distance outside :data:`rlff.limits.DISTANCE_RANGE`, a landing farther than
-    its top either way, a velocity whose integral over the ``time`` column is in the median more
+    its top either way, an angle in degrees (:func:`rlff.robot.mapping.require_radians`), a
+    velocity whose integral over the ``time`` column is in the median more
     than :data:`VELOCITY_AGREEMENT` times the angle's change, or less than its inverse.
 
     In centimetres, the landings had put every throw the calibration made behind the arm's base
@@ -142,6 +144,9 @@ def require_units(demos: Dataset) -> None:
                          f"'landing') lie beyond {high:g} m (throw {demos[first].id} at {landings[first]:.4g}): "
                          "centimetres? landings are in metres from the thrower; leave the metadata out where "
                          "they are not known")
+    for column in ("angle", "shoulder", "wrist"):
+        if column in demos.columns and len(demos):
+            require_radians(demos.to_array([column])[:, 0], f"the demonstrations' {column}")
     _require_velocity_in_time(demos)
 
 

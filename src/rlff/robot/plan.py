@@ -27,7 +27,7 @@ from rlff.errors import InputError
 from rlff.limits import apart, check_period
 from rlff.robot.description import DEFAULT_ROBOT, Robot, load_robot
 from rlff.robot.links import require_above_base
-from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for
+from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for, require_radians
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
@@ -189,6 +189,9 @@ def plan_path(
         the plane the base stands on: :func:`rlff.robot.links.require_above_base`).
     """
     check_period(period)
+    for column in mapping.human_columns:
+        if column in path:
+            require_radians(path[column], f"the path's {column}")
     if path.get("time") is not None and "angle" in path and "velocity" in path:
         _require_time_agrees(path["angle"], path["velocity"], path["time"])
     points, report = mapping.path_to_robot(path, bearing=bearing, clip=True)
