@@ -118,6 +118,9 @@ def test_sim_reach_reports_the_reach(cli):
     # beside the whole arm's reach, the one-joint line says it is a comparison
     both = cli("sim", "reach", "--joints", "joint_2,joint_3").stdout
     assert "for comparison, one joint: throws of the [throwing] mapping (joint_2 alone" in both
+    # an opening in centimetres had given "farthest basket 19.768 m"
+    wide = cli("sim", "reach", "--opening", "35")
+    assert wide.code == 2 and "--opening 35 m reaches back past the robot" in wide.stderr
 
 
 def test_sim_reach_of_an_arm_it_cannot_simulate_says_why(cli, tmp_path):

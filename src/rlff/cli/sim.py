@@ -193,6 +193,10 @@ def reach(
                          f"{pedestal:g} m pedestal: the ball {came_down_words(result.distance, rim_height)}; "
                          "a lower rim (--height), a higher pedestal (--pedestal) or more joints (--joints) may bring it "
                          "within reach")
+    if opening >= 2.0 * result.distance:  # the Basket's own rule at the farthest the ball comes down
+        raise InputError(f"--opening {opening:g} m reaches back past the robot from the farthest the ball comes "
+                         f"down ({result.distance:.2f} m): give the opening's inner width in metres (0.35 is the "
+                         "thesis' basket)")
     farthest = farthest_basket(result.distance, opening)
     mapped = executable_reach(RobotMapping.for_robot(model), rim_height, pedestal) if model.throwing else None
     if json:
