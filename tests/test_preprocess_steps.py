@@ -158,6 +158,19 @@ def test_min_points_removes_short_trajectories_with_the_reason():
         min_points(data, min_points=0)
 
 
+def test_crop_warns_when_the_throws_move_the_other_way_at_their_fastest():
+    # flexion angles (0 straight) fall as the arm extends: the preset's crop kept their wind-up
+    extension = [0.5, 1.0, 2.0, 2.5, 2.0]
+    velocity = [0.5, 3.0, 8.0, 2.0, -1.0]
+    normal = Dataset([_throw(f"t{i}", extension, velocity=velocity) for i in range(3)])
+    assert crop(normal, direction="increasing")[1].warnings == []
+    flexion = Dataset([_throw(f"t{i}", np.pi - np.array(extension), velocity=-np.array(velocity)) for i in range(3)])
+    _, report = crop(flexion, direction="increasing")
+    assert report.warnings[0].startswith("3 of 3 throws move their angle the other way at their fastest sample: it "
+                                         "is kept where it rises, their wind-up")
+    assert crop(flexion, direction="decreasing")[1].warnings == []
+
+
 def test_balance_keeps_at_most_m_per_context_deterministically():
     data = Dataset([_throw(f"t{i}", [1.0, 2.0], distance=d) for i, d in enumerate([1, 1, 2, 1, 1, 2, 3])])
     out, report = balance(data, max_per_context=2)

@@ -14,7 +14,7 @@ from typing import Literal
 
 import numpy as np
 
-from rlff.dataset import Dataset
+from rlff.dataset import Dataset, velocity_column
 from rlff.errors import InputError
 from rlff.preprocess.report import StepReport
 from rlff.wording import plural
@@ -44,10 +44,31 @@ def crop(
     The first occurrence of each extreme is used. A trajectory that never moves in
     ``direction`` is removed with that reason (a single sample is no motion).
     """
-    return _keep_interval(
+    out, report = _keep_interval(
         "crop", dataset, column, direction, largest_change,
         f"the largest {_CHANGE[direction]} of {column}",
     )
+    against = _against_their_fastest_motion(dataset, column, direction)
+    if against:
+        report.warnings.append(
+            f"{against} of {len(dataset)} throws move their {column} the other way at their fastest sample: it is "
+            f"kept where it {'rises' if direction == 'increasing' else 'falls'}, their wind-up; rlff's elbow angle "
+            "grows as the arm extends (0 folded, pi straight), so flexion angles (0 straight) go in as pi - angle, "
+            "with the velocity negated")
+    return out, report
+
+
+def _against_their_fastest_motion(dataset: Dataset, column: str, direction: str) -> int:
+    """How many trajectories' ``column`` moves against ``direction`` at their fastest sample (by
+    its velocity column), when most of them do; 0 otherwise, or without a velocity column or a
+    direction. The thesis preset keeps the rise of a flexion angle, which falls as the arm extends:
+    the wind-up, its velocities a third of the throw's, and nothing said so."""
+    speed = velocity_column(column)
+    if direction == "any" or speed not in dataset.columns or not len(dataset):
+        return 0
+    sign = 1.0 if direction == "increasing" else -1.0
+    against = sum(float(t[speed][int(np.argmax(np.abs(t[speed])))]) * sign < 0 for t in dataset)
+    return against if 2 * against > len(dataset) else 0
 
 
 _CHANGE = {"any": "change (global minimum to maximum)", "increasing": "rise", "decreasing": "fall"}
