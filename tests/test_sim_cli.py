@@ -63,6 +63,19 @@ def test_a_ball_that_never_comes_down_through_the_rims_height_is_said_to(rlff, t
     assert "the ball came down to the 0.3 m rim's height at" in low.stdout
 
 
+def test_a_robot_trajectory_without_a_release_time_is_said_to_drop_the_ball(rlff, tmp_path):
+    # let go at its end, at rest: the only warning had blamed the robot file's signs
+    exported = tmp_path / "robot.json"
+    assert rlff("robot", "export", str(_generated_path(tmp_path / "traj.csv")), "-o", str(exported)).code == 0
+    document = json.loads(exported.read_text())
+    document["release_time"] = None
+    exported.write_text(json.dumps(document))
+    result = rlff("sim", "throw", str(exported), "--basket", "1.9")
+    assert result.code == 0, result.stderr
+    assert "holds no release time: the ball is let go at its last point, at rest" in result.stderr
+    assert "left the hand backwards" not in result.stderr
+
+
 def test_an_exported_throw_lands_where_its_generated_path_does(rlff, tmp_path):
     path = _generated_path(tmp_path / "traj.csv")
     direct = rlff("sim", "throw", str(path), "--basket", "1.9", "--json")

@@ -89,6 +89,12 @@ def throw(
                     logged.get("opening", 0.35) if opening is None else opening,
                     logged.get("bearing", 0.0) if bearing is None else bearing)
     say(f"{trajectory}: {loaded.kind}")
+    dropped = loaded.simulated.release_time is None and release_angle is None
+    if dropped:
+        # said before the outcome: a throw let go at its end, at rest, drops the ball, and the
+        # warning that followed blamed the robot file's signs
+        warn(f"{trajectory} holds no release time: the ball is let go at its last point, at rest (give "
+             "--release-angle, or export the trajectory with rlff robot export, which writes release_time)")
     if not loaded.arm.none:
         say(f"thrown as the run's simulated arm throws: gap {loaded.arm.name} (the log's)")
     # a basket beyond the arm's reach is no reason not to say where this throw lands
@@ -99,7 +105,7 @@ def throw(
              "moves: no throw of this arm drops into it (rlff sim reach says how far it throws); simulated anyway")
     for note in outcome.notes:
         (say if outcome.followed or note != not_followed(outcome) else warn)(note)
-    if outcome.speed_towards_basket < 0:  # the miss alone would read "short"
+    if outcome.speed_towards_basket < 0 and not dropped:  # the miss alone would read "short"
         warn(f"the ball left the hand backwards, away from the basket ({-outcome.speed_towards_basket:.2f} m/s back "
              f"towards the robot): check the signs of {model.source}'s [throwing] angle_scale and velocity_scale "
              "and its start pose")
