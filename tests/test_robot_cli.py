@@ -167,6 +167,18 @@ def test_send_takes_what_export_json_writes(cli, throw, tmp_path):
     assert "master" not in result.stderr
 
 
+@pytest.mark.parametrize("timeout", ["nan", "0", "-1", "inf"])
+def test_send_refuses_a_timeout_that_is_no_time_before_connecting(cli, throw, timeout):
+    """nan was taken (a warning that it is shorter than the motion, then the goal went out), -1
+    blamed the arm's driver after waiting for nothing (exit 1)."""
+    env = {"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"}
+    result = cli("robot", "send", str(throw), "--timeout", timeout, env=env, timeout=60)
+    assert result.code == 2, result.stderr
+    assert result.stderr.startswith(f"rlff: error: --timeout {float(timeout):g}: give a finite number of seconds "
+                                    "above 0"), result.stderr
+    assert "master" not in result.stderr and len(result.stderr.strip().splitlines()) == 1
+
+
 def test_bags_stamp_now_only_when_asked(capsys, throw, tmp_path):
     from rosbags.rosbag1 import Reader
     from rosbags.typesys import Stores, get_typestore

@@ -358,7 +358,7 @@ def send(
     trajectory: Path = typer.Argument(..., help=INPUT_HELP),
     robot: str = ROBOT,
     attempt: int = ATTEMPT,
-    timeout: float = typer.Option(None, "--timeout", help="Seconds for connecting and executing; then the goal is "
+    timeout: float = typer.Option(None, "--timeout", help="Seconds (> 0) for connecting and executing; then the goal is "
                                                           "cancelled, and the server has up to 10 s more to "
                                                           "confirm the arm stopped."),
     topic_mode: bool = typer.Option(False, "--topic-mode", help="Publish on the robot file's [ros] trajectory_topic "
@@ -395,6 +395,7 @@ def send(
         ArmStateError,
         approach_line,
         check_goal_for_arm,
+        check_timeout,
         fastest_joint_line,
         interrupted_goal,
         pose_line,
@@ -407,6 +408,7 @@ def send(
         raise InputError("--topic-mode is the ROS 1 driver's topic; over ROS 2 the goal goes by the action "
                          "(drop --topic-mode)")
     check_approach_speed_option(approach_speed)
+    check_timeout(timeout)
     model = load_robot(robot)
     driven = joint_list(joints)
 

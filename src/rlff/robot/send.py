@@ -436,6 +436,15 @@ def unfinished(gone: str | None, confirmed: bool, action: str, start: float, dur
     return SendResult("timed out", None, None, f"timed out; {cancel}{detail}", start, duration, feedback)
 
 
+def check_timeout(timeout: float | None) -> None:
+    """Refuse a ``timeout`` (s, ``--timeout``) that is not a finite number above 0, before anything
+    connects: nan, 0 or -1 passed on to the transports as a wait that ends at once (the send then
+    blamed the arm's driver) or a warning about a motion it is shorter than."""
+    if timeout is not None and not (math.isfinite(timeout) and timeout > 0):
+        raise InputError(f"--timeout {timeout:g}: give a finite number of seconds above 0, or leave --timeout out "
+                         "(10 s to connect, and the whole motion)")
+
+
 def short_timeout(timeout: float | None, traj: JointTrajectory) -> str | None:
     """What a ``timeout`` (s, ``--timeout``) shorter than ``traj``'s motion does, said before the
     goal goes out (it cancels the goal mid-motion: the arm starts and is braked); None when it
