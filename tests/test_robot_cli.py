@@ -87,6 +87,25 @@ def test_period_zero_is_refused(capsys, throw, tmp_path):
         assert len(err.strip().splitlines()) == 1 and not (tmp_path / f"t.{fmt}").exists()
 
 
+@pytest.mark.parametrize("period", ["1e-6", "5e-05"])
+def test_a_period_below_a_controllers_is_refused(capsys, monkeypatch, throw, tmp_path, period):
+    """1e-6 s wrote 130 MB for a throw of 0.85 s, 1e-9 ran out of memory; an exported trajectory,
+    which is not planned again, is refused too: a --period is checked wherever it is given."""
+    said = f"--period {float(period):g} s is shorter than 0.0001 s (a 10 kHz controller)"
+    for fmt in ("json", "comau"):
+        code, _, err = run(capsys, "robot", "export", str(throw), "-f", fmt, "-o", str(tmp_path / f"t.{fmt}"),
+                           "--period", period)
+        assert code == 2 and said in err and len(err.strip().splitlines()) == 1, err
+        assert not (tmp_path / f"t.{fmt}").exists()
+    assert run(capsys, "robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json"))[0] == 0
+    code, _, err = run(capsys, "robot", "export", str(tmp_path / "t.json"), "-f", "csv", "-o", str(tmp_path / "t.csv"),
+                       "--period", period)
+    assert code == 2 and said in err and not (tmp_path / "t.csv").exists()
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there, should the check let it through
+    code, _, err = run(capsys, "robot", "send", str(tmp_path / "t.json"), "--period", period, "--timeout", "1")
+    assert code == 2 and said in err
+
+
 def test_clip_reports_every_change(capsys, tmp_path):
     path = human_csv(tmp_path / "far.csv", np.linspace(2.0, 2.8, 9), np.full(9, 1.0))
     code, _, err = run(capsys, "robot", "export", str(path), "-f", "csv", "-o", str(tmp_path / "o.csv"))

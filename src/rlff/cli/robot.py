@@ -160,7 +160,7 @@ def export(
     clip: bool = CLIP,
     attempt: int = ATTEMPT,
     period: float = typer.Option(0.002, "--period", help="Controller period (s) the planned trajectory is "
-                                                         "sampled at (> 0)."),
+                                                         "sampled at (>= 0.0001)."),
     stamp_now: bool = typer.Option(False, "--stamp-now", help="Bags: header.stamp = the time of writing "
                                                               "instead of 0 (0: the controller starts on receipt)."),
     joints: str = JOINTS,
@@ -179,6 +179,7 @@ def export(
         rebearing_warning,
         run_mapping,
     )
+    from rlff.limits import check_period
     from rlff.robot.comau import joints_left_out
     from rlff.robot.description import load_robot
     from rlff.robot.formats import export_trajectory
@@ -188,6 +189,7 @@ def export(
     guard(inputs={"TRAJECTORY": trajectory, "--robot": robot_file(robot)}, outputs={"-o/--output": out},
           folders=["-o/--output"] if bag_folder else [])
     fmt = export_format(out, fmt)  # before any planning; without --format, from the suffix
+    check_period(period)  # a robot trajectory is not planned again: its --period is checked here
     driven = joint_list(joints)
     model = load_robot(robot)
     source = load_input(trajectory, model, attempt=attempt, period=period, clip=clip, joints=driven, bearing=bearing)
@@ -366,7 +368,7 @@ def send(
                                                                 "comes back (a refusal is not seen) and the motion "
                                                                 "cannot be cancelled from here."),
     clip: bool = CLIP,
-    period: float = typer.Option(0.01, "--period", help="Controller period (s) a generated throw is planned at (> 0)."),
+    period: float = typer.Option(0.01, "--period", help="Controller period (s) a generated throw is planned at (>= 0.0001)."),
     approach: bool = typer.Option(False, "--approach", help="An exported trajectory that starts at rest away from "
                                                             "the arm: first move there (a planned, limit-respecting "
                                                             "approach) instead of refusing it."),
@@ -390,6 +392,7 @@ def send(
     """
     from rlff.errors import InputError
     from rlff.learn.replay import load_for_send, rebearing_warning
+    from rlff.limits import check_period
     from rlff.robot.description import load_robot
     from rlff.robot.send import (
         ArmStateError,
@@ -409,6 +412,7 @@ def send(
                          "(drop --topic-mode)")
     check_approach_speed_option(approach_speed)
     check_timeout(timeout)
+    check_period(period)  # a robot trajectory is sent as it is, but a bad --period is no less a typo
     model = load_robot(robot)
     driven = joint_list(joints)
 
