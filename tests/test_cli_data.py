@@ -143,6 +143,31 @@ def test_synth_throws_rejects_a_bad_rate(capsys, tmp_path):
     assert "15 to 30 Hz" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        # 400 throws of 2 samples each
+        (["--dropped-frames", "nan"], "--dropped-frames nan: a probability per frame, from 0 to below 0.5"),
+        (["--glitches", "nan"], "--glitches nan: a probability per frame"),
+        # taken, and nan blamed a trajectory's angle without naming the option
+        (["--noise", "1e9"], "--noise 1e+09: the angle noise is a standard deviation in rad, from 0 to 0.5"),
+        (["--noise", "nan"], "--noise nan: the angle noise is a standard deviation in rad"),
+        (["--rate", "nan"], "--rate nan: a depth camera records at 15 to 30 Hz"),
+        (["--distances", "1,nan"], "--distances: nan is not a number"),
+        (["--distances", "1,1"], "--distances: 1 m is given twice; give each once"),  # duplicate trajectory id
+        # silently ignored
+        (["--inconsistent-distance", "9"], "--inconsistent-distance 9 m is not among --distances (1, 1.5, 2, 2.25"),
+        (["--whole-arm", "--bearings", "0,0"], "--bearings: 0 deg is given twice"),
+        (["--whole-arm", "--heights", "0.3,1,0.3"], "--heights: 0.3 m is given twice"),
+    ],
+)
+def test_synth_throws_options_are_checked_by_name(capsys, tmp_path, args, message):
+    assert main(["data", "synth", "throws", "-o", str(tmp_path / "d.csv"), *args]) == 2
+    stderr = capsys.readouterr().err
+    assert message in stderr and len(stderr.strip().splitlines()) == 1, stderr
+    assert not (tmp_path / "d.csv").exists()
+
+
 def test_synth_whole_arm_throws_preprocess_and_fit(rlff, tmp_path):
     demos, clean, model = tmp_path / "demos.csv", tmp_path / "clean.csv", tmp_path / "model.json"
     made = rlff("data", "synth", "throws", "--whole-arm", "--joints", "shoulder,elbow,wrist", "--subjects", "3",

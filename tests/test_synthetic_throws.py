@@ -122,7 +122,15 @@ def test_dropped_frames_leave_gaps_at_the_camera_rate():
     ("kwargs", "message"),
     [({"rate_hz": 60}, "15 to 30 Hz"), ({"noise": -1.0}, "noise"), ({"subjects": 0}, "no throws"),
      ({"distances": (15.0,)}, "beyond a human throw"), ({"distances": (30.0,)}, "outside the range 0.3 to 20 m"),
-     ({"distances": (-1.0,)}, "outside the range"), ({"distances": (1e308,)}, "outside the range")],
+     ({"distances": (-1.0,)}, "outside the range"), ({"distances": (1e308,)}, "outside the range"),
+     # nan passed every comparison: 2 samples a throw, or a non-finite angle blamed on a trajectory
+     ({"dropped_frames": np.nan}, "dropped_frames nan: a probability per frame"),
+     ({"glitches": np.nan}, "glitches nan: a probability per frame"),
+     ({"noise": np.nan}, "noise nan: the angle noise is a standard deviation in rad"),
+     ({"noise": 1e9}, r"noise 1e\+09: the angle noise is a standard deviation in rad, from 0 to 0.5"),
+     ({"bias": np.nan}, "bias nan: out of range"),
+     ({"distances": (1.0, 2.0, 1.0)}, "basket distances: 1 m is given twice"),
+     ({"inconsistent_distance": 9.0}, r"inconsistent distance 9 m is not among the basket distances \(1, 1.5,")],
 )
 def test_bad_settings_are_input_errors(kwargs, message):
     with pytest.raises(InputError, match=message):

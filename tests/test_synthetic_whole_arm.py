@@ -85,6 +85,9 @@ def test_joints_choose_the_columns_and_a_single_default_basket_adds_no_context()
         ({"bearings": (200.0,)}, "basket bearing 200 deg: out of range"),
         ({"rate_hz": 60.0}, "rate_hz 60"),
         ({"bearings": ()}, "no throws to simulate"),
+        ({"bearings": (0.0, 30.0, 0.0)}, "basket bearings: 0 deg is given twice"),
+        ({"heights": (0.3, 0.3)}, "basket heights: 0.3 m is given twice"),
+        ({"noise": np.nan}, "noise nan: the angle noise"),
     ],
 )
 def test_bad_plans_are_errors_naming_the_value(options, message):

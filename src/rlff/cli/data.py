@@ -33,6 +33,26 @@ def _floats(option: str, text: str) -> list[float]:
         raise InputError(f"{option}: {text!r} is not a comma-separated list of numbers") from None
 
 
+def _check_camera(rate: float, noise: float, dropped_frames: float, glitches: float) -> None:
+    """The simulated camera's options checked by their names (the library names its parameters)."""
+    from rlff.synthetic.people import check_frame_fault, check_noise, check_rate
+
+    check_rate(rate, "--rate")
+    check_noise(noise, "--noise")
+    check_frame_fault(dropped_frames, "--dropped-frames")
+    check_frame_fault(glitches, "--glitches")
+
+
+def _baskets(option: str, text: str, unit: str) -> list[float]:
+    """A list of basket distances, bearings or heights, each given once (``--distances 1,1`` said
+    "duplicate trajectory id 's01-d1-1'")."""
+    from rlff.synthetic.people import check_distinct
+
+    values = _floats(option, text)
+    check_distinct(option, values, unit)
+    return values
+
+
 @synth_app.command("throws")
 def synth_throws_command(
     output: Path = typer.Option(..., "--output", "-o", help="Dataset to write (.csv, .parquet or .npz; not the thesis .txt matrix, which has no time)."),
@@ -41,10 +61,10 @@ def synth_throws_command(
     distances: str = typer.Option("1,1.5,2,2.25,2.5,2.75,3,3.25,3.5,4", "--distances", help="Basket distances (m), comma-separated."),
     throws: int | None = typer.Option(None, "--throws", help="Throws of each subject at each basket (default 4; 1 with --whole-arm)."),
     rate: float = typer.Option(30.0, "--rate", help="Camera frame rate (15-30 Hz)."),
-    noise: float = typer.Option(0.03, "--noise", help="Angle measurement noise (rad, standard deviation)."),
-    dropped_frames: float = typer.Option(0.03, "--dropped-frames", help="Probability that a frame is missing."),
-    glitches: float = typer.Option(0.01, "--glitches", help="Probability per frame of a tracking glitch."),
-    inconsistent_distance: float | None = typer.Option(None, "--inconsistent-distance", help="A distance whose throws are all too slow (e.g. 2.75; one-joint throws only)."),
+    noise: float = typer.Option(0.03, "--noise", help="Angle measurement noise (rad, standard deviation, 0 to 0.5)."),
+    dropped_frames: float = typer.Option(0.03, "--dropped-frames", help="Probability that a frame is missing (0 to below 0.5)."),
+    glitches: float = typer.Option(0.01, "--glitches", help="Probability per frame of a tracking glitch (0 to below 0.5)."),
+    inconsistent_distance: float | None = typer.Option(None, "--inconsistent-distance", help="One of --distances whose throws are all too slow (e.g. 2.75; one-joint throws only)."),
     all_short: bool = typer.Option(False, "--all-short", help="Every throw falls short of its basket (failures only)."),
     clean: bool = typer.Option(False, "--clean", help="The true motion: no noise, dropped frames or glitches."),
     whole_arm: bool = typer.Option(False, "--whole-arm", help="Throws with shoulder and elbow (and wrist), baskets at several bearings and heights."),
@@ -59,11 +79,16 @@ def synth_throws_command(
     together, at baskets by distance, bearing and rim height (docs/data.md).
     """
     from rlff.formats import check_holds, write_dataset
+    from rlff.limits import check_distance
 
     guard(inputs={}, outputs={"-o/--output": output})
     check_holds(output, ("time",), "the simulated throws")  # an unknown extension or .txt fails before the simulation
 
+    _check_camera(rate, noise, dropped_frames, glitches)
     camera = {"rate_hz": rate, "noise": noise, "dropped_frames": dropped_frames, "glitches": glitches}
+    baskets = _baskets("--distances", distances, "m")
+    for basket in baskets:
+        check_distance("--distances", basket)
     if whole_arm:
         from rlff.synthetic.whole_arm import (
             THESIS_BEARINGS,
@@ -74,21 +99,22 @@ def synth_throws_command(
         if inconsistent_distance is not None:
             raise InputError("--inconsistent-distance: only for one-joint throws, not with --whole-arm")
         dataset = whole_arm_demonstrations(
-            seed, subjects=4 if subjects is None else subjects, distances=_floats("--distances", distances),
-            bearings=THESIS_BEARINGS if bearings is None else _floats("--bearings", bearings),
-            heights=THESIS_HEIGHTS if heights is None else _floats("--heights", heights),
+            seed, subjects=4 if subjects is None else subjects, distances=baskets,
+            bearings=THESIS_BEARINGS if bearings is None else _baskets("--bearings", bearings, "deg"),
+            heights=THESIS_HEIGHTS if heights is None else _baskets("--heights", heights, "m"),
             throws_per_basket=1 if throws is None else throws,
             joints=("shoulder", "elbow") if joints is None else [j.strip() for j in joints.split(",") if j.strip()],
             all_short=all_short, raw=not clean, **camera,
         )
     else:
-        from rlff.synthetic.throws import simulate_throws
+        from rlff.synthetic.throws import check_inconsistent_distance, simulate_throws
 
         for option, value in (("--joints", joints), ("--bearings", bearings), ("--heights", heights)):
             if value is not None:
                 raise InputError(f"{option}: only with --whole-arm")
+        check_inconsistent_distance(inconsistent_distance, baskets, "--inconsistent-distance", "--distances")
         dataset = simulate_throws(
-            seed, subjects=10 if subjects is None else subjects, distances=_floats("--distances", distances),
+            seed, subjects=10 if subjects is None else subjects, distances=baskets,
             throws_per_distance=4 if throws is None else throws,
             inconsistent_distance=inconsistent_distance, all_short=all_short, raw=not clean, **camera,
         )

@@ -9,6 +9,7 @@ jumps to that person's) and aim by the ball speed a parabola needs to reach the 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -29,6 +30,16 @@ UPPER_ARM = 0.30
 RIM_HEIGHT = 0.3
 #: Fastest elbow extension a simulated person makes (rad/s; about 10 m/s at the ball).
 MAX_ELBOW_SPEED = 30.0
+
+#: The frame rates (Hz) of a depth camera, lowest and highest (thesis 4.2.1).
+CAMERA_RATES = (15.0, 30.0)
+#: The largest angle noise (rad, standard deviation) the camera takes: a skeleton tracker's elbow
+#: angle is off by a few hundredths of a radian (the default 0.03); 0.5 rad (29 degrees) is a
+#: quarter of the extension itself (0.6-0.9 rad to 2.8-3.1 rad), so more is a mistake (degrees?).
+MAX_NOISE = 0.5
+#: Dropped frames and glitches are probabilities per frame below this: with half the frames gone
+#: or a second skeleton's, there is hardly a throw left to see.
+MAX_FRAME_FAULT = 0.5
 
 #: Where a glitch puts each joint angle (rad, uniform between the bounds): the second skeleton
 #: stands idle, its elbow folded near zero (thesis 4.3.6.1), its arm down, its hand straight.
@@ -127,14 +138,49 @@ def subject_names(subjects: int | Sequence[str]) -> list[str]:
 
 
 def check_recording(rate_hz: float, **amounts: float) -> None:
-    """Refuse a camera rate outside 15-30 Hz, and a negative amount (noise, bias, scatter; sign
-    of ``bias`` ignored) or a probability (``dropped_frames``, ``glitches``) of 0.5 or more."""
-    if not 15.0 <= rate_hz <= 30.0:
-        raise InputError(f"rate_hz {rate_hz}: a depth camera records at 15 to 30 Hz")
+    """Refuse a camera rate outside :data:`CAMERA_RATES`, a noise beyond :data:`MAX_NOISE`, a
+    probability (``dropped_frames``, ``glitches``) outside [0, :data:`MAX_FRAME_FAULT`), and any
+    other amount (bias, scatter; sign of ``bias`` ignored) that is negative or not finite; each
+    named by its parameter."""
+    check_rate(rate_hz)
     for name, value in amounts.items():
-        value = abs(value) if name == "bias" else value
-        if value < 0 or (name in ("dropped_frames", "glitches") and value >= 0.5):
-            raise InputError(f"{name} {value}: out of range")
+        if name == "noise":
+            check_noise(value)
+        elif name in ("dropped_frames", "glitches"):
+            check_frame_fault(value, name)
+        elif not (math.isfinite(value) and (abs(value) if name == "bias" else value) >= 0):
+            raise InputError(f"{name} {value:g}: out of range (a finite amount >= 0)")
+
+
+def check_rate(value: float, name: str = "rate_hz") -> None:
+    """A depth camera's frame rate (Hz) within :data:`CAMERA_RATES`."""
+    low, high = CAMERA_RATES
+    if not low <= value <= high:
+        raise InputError(f"{name} {value:g}: a depth camera records at {low:g} to {high:g} Hz")
+
+
+def check_noise(value: float, name: str = "noise") -> None:
+    """An angle noise (rad, standard deviation) from 0 to :data:`MAX_NOISE`."""
+    if not 0.0 <= value <= MAX_NOISE:
+        raise InputError(f"{name} {value:g}: the angle noise is a standard deviation in rad, from 0 to {MAX_NOISE:g} "
+                         "(a tracker's is a few hundredths of a rad; the default 0.03)")
+
+
+def check_frame_fault(value: float, name: str) -> None:
+    """A probability per frame (a dropped frame, a glitch) in [0, :data:`MAX_FRAME_FAULT`)."""
+    if not 0.0 <= value < MAX_FRAME_FAULT:
+        raise InputError(f"{name} {value:g}: a probability per frame, from 0 to below {MAX_FRAME_FAULT:g}")
+
+
+def check_distinct(name: str, values: Sequence[float], unit: str) -> None:
+    """Refuse a value ``values`` holds twice (``--distances 1,1``): each value makes baskets of its
+    own, whose throws' ids, which write it with 6 digits, would repeat."""
+    seen: set[str] = set()
+    for value in values:
+        shown = f"{value:g}"
+        if shown in seen:
+            raise InputError(f"{name}: {shown} {unit} is given twice; give each once")
+        seen.add(shown)
 
 
 def throw_meta(subject: str, target: float, landing: float, hit_radius: float, release_angle: float,

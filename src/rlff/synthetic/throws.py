@@ -41,6 +41,7 @@ from rlff.synthetic.people import (
     THESIS_DISTANCES,
     UPPER_ARM,
     Throw,
+    check_distinct,
     check_recording,
     minimum_jerk,
     minimum_jerk_speed,
@@ -241,8 +242,9 @@ def simulate_throws(
     Raises
     ------
     InputError
-        A rate outside 15-30 Hz, negative probabilities or noise, an empty plan, or a distance
-        the simulated arm cannot reach.
+        A rate outside 15-30 Hz, a probability outside [0, 0.5), a noise outside 0-0.5 rad, an
+        empty plan, a distance given twice or the simulated arm cannot reach, or an
+        ``inconsistent_distance`` that is none of ``distances``.
     """
     check_recording(rate_hz, noise=noise, dropped_frames=dropped_frames, glitches=glitches, bias=bias,
                     throw_error=throw_error)
@@ -251,8 +253,8 @@ def simulate_throws(
         raise InputError("no throws to simulate: give at least one subject, distance and throw")
     for distance in distances:
         check_distance("basket distance", distance)
-    if inconsistent_distance is not None:
-        check_distance("inconsistent distance", inconsistent_distance)
+    check_distinct("basket distances", distances, "m")
+    check_inconsistent_distance(inconsistent_distance, distances)
     if not raw:
         noise = dropped_frames = glitches = 0.0
     rng = np.random.default_rng(seed)
@@ -264,6 +266,15 @@ def simulate_throws(
         for style in styles for distance in distances for k in range(throws_per_distance)
     ]
     return throws_dataset(throws, ("time", "angle", "distance", "velocity"), ("distance",))
+
+
+def check_inconsistent_distance(value: float | None, distances: Sequence[float], name: str = "inconsistent distance",
+                                among: str = "the basket distances") -> None:
+    """Refuse an inconsistent distance (m) that is none of ``distances`` (m): it slowed no throw,
+    and nothing said so."""
+    if value is not None and not any(_same(distance, value) for distance in distances):
+        shown = ", ".join(f"{distance:g}" for distance in distances)
+        raise InputError(f"{name} {value:g} m is not among {among} ({shown} m): it would slow no throw; give one of them")
 
 
 def _same(distance: float, other: float | None) -> bool:

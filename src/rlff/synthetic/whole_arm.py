@@ -50,6 +50,7 @@ from rlff.synthetic.people import (
     THESIS_DISTANCES,
     UPPER_ARM,
     Throw,
+    check_distinct,
     check_recording,
     minimum_jerk,
     minimum_jerk_speed,
@@ -363,7 +364,8 @@ def whole_arm_demonstrations(
     ------
     InputError
         An unknown joint or none but the elbow missing, a camera setting out of range, an empty
-        plan, a bearing, height or distance out of range, or a basket the person cannot reach.
+        plan, a bearing, height or distance out of range or given twice, or a basket the person
+        cannot reach.
     """
     throwing = _check_joints(joints)
     check_recording(rate_hz, noise=noise, dropped_frames=dropped_frames, glitches=glitches, bias=bias,
@@ -379,6 +381,9 @@ def whole_arm_demonstrations(
     for height in heights:
         if not HEIGHT_RANGE[0] <= height <= HEIGHT_RANGE[1]:
             raise InputError(f"basket height {height:g} m: out of range {HEIGHT_RANGE[0]:g} to {HEIGHT_RANGE[1]:g} m")
+    for name, values, unit in (("basket distances", distances, "m"), ("basket bearings", bearings, "deg"),
+                               ("basket heights", heights, "m")):
+        check_distinct(name, values, unit)
     if not raw:
         noise = dropped_frames = glitches = 0.0
     rng = np.random.default_rng(seed)
