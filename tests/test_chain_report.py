@@ -147,3 +147,18 @@ def test_a_folder_s_recordings_are_passed_over_in_one_line_not_a_warning_each(tm
     assert passed == ["4 CSV files without a 'trajectory' column, not rlff datasets (s01.csv, s02.csv, s03.csv, ...): "
                       "recordings? `rlff data import` turns them into one"]
     assert run.settings["datasets"] == 1
+
+
+def test_a_dataset_that_starts_with_a_byte_order_mark_is_reported(tmp_path):
+    # it was passed over as "1 CSV file without a 'trajectory' column", while preprocess and fit
+    # read it
+    from rlff.formats import write_dataset
+    from rlff.synthetic.throws import simulate_throws
+
+    plain = tmp_path / "plain.csv"
+    write_dataset(simulate_throws(1, subjects=1, throws_per_distance=1), plain)
+    folder = tmp_path / "run"
+    folder.mkdir()
+    (folder / "bom.csv").write_bytes(b"\xef\xbb\xbf" + plain.read_bytes())
+    run, passed, _ = chain_run(folder, tmp_path / "figures")
+    assert passed == [] and run.settings["datasets"] == 1

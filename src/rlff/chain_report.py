@@ -157,7 +157,9 @@ def _csv_kind(path: Path) -> str | None:
     --format csv``) or :data:`FOREIGN_CSV` (no ``trajectory`` column: not rlff's, e.g. a
     recording); None for a dataset (a ``trajectory`` column) or a file whose header is unreadable."""
     try:
-        with path.open(encoding="utf-8", newline="") as handle:
+        # utf-8-sig: a spreadsheet's CSV starts with a byte-order mark, which the dataset reader
+        # skips; read as utf-8 it made the first column '\ufefftrajectory', and the file foreign
+        with path.open(encoding="utf-8-sig", newline="") as handle:
             header = next(csv.reader(handle), [])
     except (OSError, UnicodeDecodeError, csv.Error):
         return None
