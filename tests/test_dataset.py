@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import gzip
+
 import numpy as np
 import pytest
 
@@ -93,7 +95,8 @@ def test_from_columns_equals_the_one_by_one_construction():
 
 def test_from_columns_validates_in_bulk():
     columns = {"time": np.array([0.0, 0.1, 0.2, 0.0, 0.1, 0.1]), "distance": np.ones(6)}
-    with pytest.raises(InputError, match=r"trajectory 'b': time does not increase at sample 2"):
+    with pytest.raises(InputError, match=r"trajectory 'b': time does not increase at sample 2; the rows of each "
+                                         r"trajectory must be in time order"):
         Dataset.from_columns(columns, ["a", "b"], [3, 3])
     columns = {"time": np.arange(6.0), "distance": np.array([1, 1, 1, 2, 2, 3.0])}
     with pytest.raises(InputError, match="trajectory 'b': context column 'distance' is not constant"):
@@ -173,6 +176,45 @@ def test_bad_csv_is_a_clear_error_naming_file_and_line(tmp_path, text, message):
     with pytest.raises(InputError, match=message) as error:
         read_csv(path)
     assert str(path) in str(error.value)
+
+
+DEMOS = "trajectory,time,angle\na,0.0,0.1\na,0.1,0.2\n"
+
+
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        # each said "malformed CSV ('utf-8' codec can't decode byte ...)"
+        (gzip.compress(DEMOS.encode()), r"bad.csv is gzip-compressed \(it starts with the bytes 1f 8b\), not UTF-8 "
+                                        r"text: decompress it first \(gunzip -c FILE > new.csv\)$"),
+        (b"PAR1\x15\x04\x15\xb0", r"bad.csv is a Parquet file \(it starts with PAR1\), not UTF-8 text: give it the "
+                                  r"suffix .parquet"),
+        (DEMOS.encode("utf-16"), r"bad.csv is UTF-16 text \(it starts with the byte-order mark ff fe\), not UTF-8 "
+                                 r"text: save it as UTF-8 \(iconv -f UTF-16 -t UTF-8 FILE > new.csv\)$"),
+        (b"\xfe\xff" + DEMOS.encode("utf-16-be"), r"bad.csv is UTF-16 text \(it starts with the byte-order mark fe ff\)"),
+        ("trajectory,subject\na,José\n".encode("latin-1"), r"malformed CSV \(.*\): rlff reads UTF-8 text; save the "
+                                                         r"file as UTF-8$"),
+        # said "no 'trajectory' column (columns: trajectory;time;angle)"
+        (DEMOS.replace(",", ";").encode(), r"no 'trajectory' column \(columns: trajectory;time;angle\); the file looks "
+                                           r"separated by ';' and rlff reads commas: save it comma-separated, with "
+                                           r"points as decimal marks$"),
+        (DEMOS.replace(",", "\t").encode(), r"the file looks separated by tabs and rlff reads commas"),
+        # decimal commas: "the rows have more fields than the header's 1 columns"
+        (DEMOS.replace(",", ";").replace(".", ",").encode(), r"more fields than the header's 1 columns; the file "
+                                                              r"looks separated by ';'"),
+        # said only "time does not increase within trajectory 'a'"
+        (b"trajectory,time,angle\na,0.1,0.2\na,0.0,0.1\n", r"line 3: time does not increase within trajectory 'a'; "
+                                                            r"the rows of each trajectory must be in time order: sort "
+                                                            r"them by trajectory and time$"),
+    ],
+    ids=["gzip", "parquet", "utf-16-le", "utf-16-be", "latin-1", "semicolons", "tabs", "decimal-commas", "time-order"],
+)
+def test_a_file_that_is_no_comma_separated_utf8_csv_says_what_it_looks_like_and_what_to_do(tmp_path, content,
+                                                                                          message):
+    path = tmp_path / "bad.csv"
+    path.write_bytes(content)
+    with pytest.raises(InputError, match=message):
+        read_csv(path)
 
 
 @pytest.mark.parametrize(("cells", "expected"), [

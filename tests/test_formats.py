@@ -200,3 +200,15 @@ def test_large_parquet_loads_all_samples(tmp_path):
     back = read_dataset(tmp_path / "big.parquet")
     assert back.n_samples == count * length
     assert back.equals(dataset)
+
+
+def test_a_thesis_matrix_that_is_no_text_says_what_it_is(tmp_path):
+    # it said "not a text file", for a compressed matrix and a UTF-16 one alike
+    path = tmp_path / "m.txt"
+    path.write_bytes("0.1\t0.2\n2\t2\n1\t1\n".encode("utf-16"))
+    with pytest.raises(InputError, match=r"m.txt is UTF-16 text \(it starts with the byte-order mark ff fe\), not "
+                                         r"UTF-8 text: save it as UTF-8 \(iconv -f UTF-16 -t UTF-8 FILE > new.txt\)"):
+        read_thesis_matrix(path)
+    path.write_bytes(b"0.1\t\xe9\n")
+    with pytest.raises(InputError, match=r"m.txt: not UTF-8 text; save it as UTF-8$"):
+        read_thesis_matrix(path)

@@ -30,12 +30,16 @@ from typing import Any
 
 import numpy as np
 
-from rlff.csvlines import data_row_line
+from rlff.csvlines import data_row_line, header_separator
 from rlff.errors import InputError
 from rlff.fileio import require_file
+from rlff.kinds import binary_kind
 from rlff.limits import MAX_MAGNITUDE, as_names
 from rlff.wording import bad_cell, plural
 
+#: What to do about a time that does not increase within a trajectory: rows out of order (a file
+#: sorted by another column, rows pasted in the wrong place).
+TIME_ORDER_HINT = "the rows of each trajectory must be in time order: sort them by trajectory and time"
 #: Metadata keys with a meaning to rlff (read as metadata even when numeric); others are kept
 #: as given. ``release_angle`` (rad) and ``release_time`` (s) locate the ball's release when known
 #: (simulated throws), ``glitches`` counts the tracking glitches a simulated throw holds,
@@ -357,7 +361,7 @@ class Dataset(Sequence[Trajectory]):
                     row = int(bad[0]) + 1
                     raise InputError(
                         f"trajectory {ids[owner[row]]!r}: time does not increase at sample "
-                        f"{row - starts[owner[row]]}"
+                        f"{row - starts[owner[row]]}; {TIME_ORDER_HINT}"
                     )
         trajectories = [
             Trajectory._trusted(
@@ -600,6 +604,8 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
     import pandas as pd
 
     path = require_file(path)
+    if (kind := binary_kind(path)) is not None:
+        raise InputError(f"{path} is {kind}")
     try:
         # ids and text metadata are read as written: only an empty cell is missing there (pandas
         # would read "nan", "NA" or "None" as missing, and "007" or "1e3" as a number elsewhere)
@@ -609,14 +615,18 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
             path, dtype=dict.fromkeys(text, str), keep_default_na=False,
             na_values={name: [""] if name in text else _PANDAS_NA for name in header},
         )
-    except (pd.errors.ParserError, UnicodeDecodeError) as exc:
+    except pd.errors.ParserError as exc:
         raise InputError(f"{path}: malformed CSV ({str(exc).strip().splitlines()[-1]})") from None
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{path}: malformed CSV ({exc}): rlff reads UTF-8 text; save the file as UTF-8") from None
     except pd.errors.EmptyDataError:
         raise InputError(f"{path}: empty file") from None
     if not isinstance(frame.index, pd.RangeIndex):  # pandas made the first fields the row labels
-        raise InputError(f"{path}: the rows have more fields than the header's {len(frame.columns)} columns")
+        raise InputError(f"{path}: the rows have more fields than the header's {len(frame.columns)} columns"
+                         + _separator_hint(path))
     if ID_COLUMN not in frame.columns:
-        raise InputError(f"{path}: no {ID_COLUMN!r} column (columns: {', '.join(map(str, frame.columns))})")
+        raise InputError(f"{path}: no {ID_COLUMN!r} column (columns: {', '.join(map(str, frame.columns))})"
+                         + _separator_hint(path))
     if frame.empty:
         raise InputError(f"{path}: no samples")
     if frame[ID_COLUMN].isna().any():
@@ -675,6 +685,7 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
             row = int(group.index[int(np.flatnonzero(np.diff(data["time"]) <= 0)[0]) + 1])
             raise InputError(
                 f"{path}, line {data_row_line(path, row)}: time does not increase within trajectory {trajectory_id!r}"
+                f"; {TIME_ORDER_HINT}"
             )
         try:
             trajectories.append(Trajectory(trajectory_id, data, meta))
@@ -684,6 +695,18 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
         return Dataset(trajectories, context=context)
     except InputError as exc:
         raise InputError(f"{path}: {exc}") from None
+
+
+def _separator_hint(path: Path) -> str:
+    """Why a file has no ``trajectory`` column, or rows longer than its header, when its header is
+    separated by ``;`` or tabs (a spreadsheet's export, its decimal commas splitting the rows'
+    numbers), said with what to do; "" for a comma-separated header."""
+    separator = header_separator(path)
+    if separator == ",":
+        return ""
+    shown = "tabs" if separator == "\t" else repr(separator)
+    return (f"; the file looks separated by {shown} and rlff reads commas: save it comma-separated, with points as "
+            "decimal marks")
 
 
 def write_csv(dataset: Dataset, path: str | Path) -> None:

@@ -35,7 +35,7 @@ from rlff.dataset import (
 )
 from rlff.errors import InputError
 from rlff.fileio import atomic_path, atomic_write, require_file, write_text
-from rlff.kinds import rlff_kind
+from rlff.kinds import binary_kind, rlff_kind
 
 #: Format names and the file extensions that select them.
 FORMATS = {"csv": (".csv",), "thesis": (".txt", ".tsv"), "npz": (".npz",), "parquet": (".parquet", ".pq")}
@@ -92,7 +92,8 @@ def read_thesis_matrix(
     try:
         lines = path.read_text().splitlines()
     except UnicodeDecodeError:
-        raise InputError(f"{path}: not a text file") from None
+        kind = binary_kind(path)
+        raise InputError(f"{path} is {kind}" if kind else f"{path}: not UTF-8 text; save it as UTF-8") from None
     blocks: list[tuple[list[int], list[np.ndarray], dict[str, Any] | None]] = []
     pending_header: dict[str, Any] | None = None
     current_lines: list[int] = []

@@ -1,6 +1,7 @@
-"""What an rlff file is, read from its ``format`` field: for the errors of a reader given one kind
-of rlff file where another goes (a model where demonstrations go said only "unknown dataset
-extension '.json'")."""
+"""What a file is, for the errors of a reader given it where another kind goes: an rlff file, from
+its ``format`` field (a model where demonstrations go said only "unknown dataset extension
+'.json'"), or a file that is no UTF-8 text, from its first bytes (a gzip, a Parquet or a UTF-16
+file given as a CSV said "malformed CSV ('utf-8' codec can't decode byte 0x8b ...)")."""
 
 from __future__ import annotations
 
@@ -18,6 +19,35 @@ KINDS = {
 #: Bytes read from a file's start to find its ``format`` (rlff writes it first).
 _HEAD = 4096
 _FORMAT = re.compile(rb'"format"\s*:\s*"(rlff-[a-z-]+)"')
+
+
+#: The first bytes of the files that are given as a text file (a CSV, a thesis matrix) but are no
+#: UTF-8 text: what the file is and what to do (``{new}``: a file name of the same suffix).
+_SIGNATURES = (
+    (b"\x1f\x8b", "gzip-compressed (it starts with the bytes 1f 8b)", "decompress it first (gunzip -c FILE > {new})"),
+    (b"PAR1", "a Parquet file (it starts with PAR1)", "give it the suffix .parquet, by which rlff reads Parquet"),
+    (b"\xff\xfe", "UTF-16 text (it starts with the byte-order mark ff fe)",
+     "save it as UTF-8 (iconv -f UTF-16 -t UTF-8 FILE > {new})"),
+    (b"\xfe\xff", "UTF-16 text (it starts with the byte-order mark fe ff)",
+     "save it as UTF-8 (iconv -f UTF-16 -t UTF-8 FILE > {new})"),
+    (b"PK\x03\x04", "a ZIP archive (it starts with PK: an .xlsx workbook? an .npz?)",
+     "save a workbook's sheet as CSV; give an .npz its suffix"),
+)
+
+
+def binary_kind(path: str | Path) -> str | None:
+    """What ``path`` is when its first bytes say it is no UTF-8 text, and what to do, as one phrase
+    (``"gzip-compressed (it starts with the bytes 1f 8b), not UTF-8 text: decompress it first
+    ..."``); None for any other file, or one not readable."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(4)
+    except OSError:
+        return None
+    for magic, kind, remedy in _SIGNATURES:
+        if head.startswith(magic):
+            return f"{kind}, not UTF-8 text: {remedy.format(new='new' + Path(path).suffix)}"
+    return None
 
 
 def rlff_kind(path: str | Path) -> str | None:
