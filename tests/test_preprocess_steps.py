@@ -298,6 +298,26 @@ def test_cut_release_warns_when_the_throws_were_cut_before():
                               "demonstrations as imported or simulated"]
 
 
+def test_cut_release_warns_when_no_throw_goes_beyond_the_fixed_angle():
+    # angle = 52 (degrees by mistake) cut nothing and said nothing
+    data = Dataset([_throw("a", [0.5, 0.8, 0.9, 1.0, 1.2], velocity=[1, 3, 5, 4, 2]),
+                    _throw("b", [0.6, 0.9, 1.3], velocity=[1, 3, 2])])
+    out, report = cut_release(data, mode="angle", angle=52)
+    assert [len(t) for t in out] == [5, 3]
+    assert report.warnings == ["no throw's angle goes beyond the cut angle 52 (the furthest is 1.3): nothing was cut; "
+                               "angles are in rad (52 deg is 0.9076 rad)"]
+    _, report = cut_release(data, mode="angle", angle=1.3)  # reached but not passed: still nothing cut
+    assert report.warnings == ["no throw's angle goes beyond the cut angle 1.3 (the furthest is 1.3): nothing was cut; "
+                               "angles are in rad"]
+    _, report = cut_release(data, mode="angle", angle=1.1)  # one throw goes beyond it
+    assert report.warnings == []
+    # throws that extend towards smaller angles: beyond is below
+    falling = Dataset([_throw("c", [2.0, 1.5, 1.0], velocity=[-1, -3, -2])])
+    _, report = cut_release(falling, mode="angle", angle=0.5)
+    assert report.warnings == ["no throw's angle goes beyond the cut angle 0.5 (the furthest is 1): nothing was cut; "
+                               "angles are in rad"]
+
+
 def test_cut_release_removes_a_trajectory_it_would_leave_with_one_sample():
     data = Dataset([_throw("a", [0.5, 0.8, 0.9], velocity=[5, 3, 1]), _throw("b", [0.5, 0.95, 1.0], velocity=[1, 3, 2])])
     for mode in ("estimated", "angle"):

@@ -298,7 +298,8 @@ def cut_release(
 
     The cut angle goes into each trajectory's metadata as ``cut_angle``. Trajectories left
     with fewer than 2 samples (they start beyond the fixed angle, or their velocity peaks at their
-    first sample) are removed with that reason.
+    first sample) are removed with that reason. A fixed angle that no throw goes beyond cuts
+    nothing, and the report warns of it.
     """
     dataset.require([column, velocity_column])
     if not 0.0 <= after_peak < 1.0:
@@ -340,8 +341,25 @@ def cut_release(
         kept = trajectory.take(slice(0, keep))
         out.append(kept.replace(meta={**kept.meta, "cut_angle": float(values[keep - 1])}))
         report.change_samples(trajectory.id, len(trajectory) - keep, 0, f"{why}: {column} {values[keep - 1]:.4g}")
+    if mode == "angle":
+        _warn_unreached(dataset, column, angle, sign, report)
     report.after = dataset.replace(out)
     return report.after, report
+
+
+def _warn_unreached(dataset: Dataset, column: str, angle: float, sign: float, report: StepReport) -> None:
+    """Warn in ``report`` when no throw of ``dataset`` goes beyond the fixed cut ``angle`` (rad), in
+    the throws' direction ``sign`` (+1 or -1): nothing was cut, which ``angle = 52`` (degrees by
+    mistake) did without a word."""
+    if not len(dataset):
+        return
+    furthest = sign * max(float(np.max(sign * t[column])) for t in dataset)
+    if sign * (furthest - angle) > 0:
+        return
+    degrees = f" ({angle:g} deg is {math.radians(angle):.4g} rad)" if abs(angle) > 2 * math.pi else ""
+    report.warnings.append(
+        f"no throw's {column} goes beyond the cut angle {angle:g} (the furthest is {furthest:.4g}): nothing was "
+        f"cut; angles are in rad{degrees}")
 
 
 def _monotonic(values: np.ndarray) -> bool:
