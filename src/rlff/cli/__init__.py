@@ -7,6 +7,8 @@ The one error boundary is :func:`main`:
   ``rlff: error: ...``, and exit code 2;
 - anything else is a bug: one line ``rlff: internal error: ...`` with a hint to rerun with
   ``--debug``, and exit code 1;
+- output whose reader went away (``rlff sim throw ... | head -1``) ends the command quietly with
+  exit code 141 (:func:`_output_closed`);
 - ``--debug`` prints the traceback of either, and lets numpy's RuntimeWarnings through (they are
   silenced otherwise: the library checks its results for non-finite values and says so);
 - ``-v`` only adds detail to what commands print; it no longer shows tracebacks.
@@ -14,6 +16,7 @@ The one error boundary is :func:`main`:
 
 from __future__ import annotations
 
+import os
 import re
 import signal
 import sys
@@ -32,7 +35,7 @@ except ImportError:  # pragma: no cover - older typer
     from click import exceptions as click_errors
     from click.utils import echo
 
-from rlff.cli._common import PLAIN_HELP, stderr, verbosity
+from rlff.cli._common import PLAIN_HELP, OutputClosed, stderr, verbosity
 from rlff.errors import InputError, Interrupted, Terminated
 
 HELP_OPTIONS = ["-h", "--help"]
@@ -203,6 +206,26 @@ def _reported(code: int, signum: int | None) -> int:
     return 130
 
 
+def _output_closed() -> int:
+    """Exit code 141 for a command whose stdout or stderr was closed by its reader, said nowhere.
+
+    141 (128 + SIGPIPE) rather than 0: the command did not finish (its output was cut short, and it
+    stopped where it was), and it is what the shell reports for any program a closed pipe stops
+    (``yes | head -1`` under ``set -o pipefail``), as 130 and 143 are for SIGINT and SIGTERM.
+    rlff does not let SIGPIPE kill it, which would skip the clean-up (a goal on the arm cancelled).
+    """
+    # Python flushes both streams once more at exit, which fails again on the closed pipe
+    # ("Exception ignored ... BrokenPipeError", exit 120): they write to /dev/null from here on
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            os.dup2(devnull, stream.fileno())
+        except (OSError, ValueError):  # a stream with no file descriptor (a test's capture)
+            pass
+    os.close(devnull)
+    return 141
+
+
 def _main(args: list[str]) -> int:
     debug = "--debug" in args
     with warnings.catch_warnings():
@@ -238,6 +261,8 @@ def _main(args: list[str]) -> int:
             return _fail(f"error: {exc.format_message()}", 2, debug)
         except (typer.Abort, KeyboardInterrupt):
             return 130  # said by main
+        except OutputClosed:
+            return _output_closed()
         except InputError as exc:
             return _fail(f"error: {exc}", 2, debug)
         except OSError as exc:  # a file the user named: missing, a folder, no permission, disk full

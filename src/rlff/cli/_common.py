@@ -34,14 +34,31 @@ verbosity = Verbosity()
 #: Help texts are plain text: rich markup would swallow a robot file's table names ("[whole_arm]").
 PLAIN_HELP = None
 
+class OutputClosed(Exception):
+    """The reader of rlff's stdout or stderr went away (``rlff sim throw ... | head -1``):
+    :func:`rlff.cli.main` ends the command quietly, with exit code 141.
+
+    Not a BrokenPipeError: click turns that (any OSError of EPIPE) into exit code 1 on its way out.
+    """
+
+
+class _Console(Console):
+    """A rich console that leaves a closed pipe to :func:`rlff.cli.main`: rich's own handling
+    exits with code 1, which says "a bug in rlff"."""
+
+    def on_broken_pipe(self) -> None:
+        self.quiet = True  # nothing more to write: its buffer is dropped
+        raise OutputClosed() from None
+
+
 def stdout() -> Console:
     """Console for results (follows ``sys.stdout`` so test runners can capture it)."""
-    return Console(file=sys.stdout, soft_wrap=True, markup=False, emoji=False, highlight=False)
+    return _Console(file=sys.stdout, soft_wrap=True, markup=False, emoji=False, highlight=False)
 
 
 def stderr() -> Console:
     """Console for progress, notes and warnings."""
-    return Console(file=sys.stderr, soft_wrap=True, markup=False, emoji=False, highlight=False)
+    return _Console(file=sys.stderr, soft_wrap=True, markup=False, emoji=False, highlight=False)
 
 
 #: The largest seed an option takes: numpy's generators take any non-negative integer, but
@@ -126,8 +143,11 @@ def emit_json(payload: Any) -> None:
         json.loads(text, parse_constant=_refuse)
     except ValueError:  # NaN or +-Infinity somewhere: null instead
         text = json.dumps(json.loads(text, parse_constant=lambda _: None), indent=2)
-    sys.stdout.write(text + "\n")
-    sys.stdout.flush()
+    try:
+        sys.stdout.write(text + "\n")
+        sys.stdout.flush()
+    except BrokenPipeError:
+        raise OutputClosed() from None
 
 
 def _refuse(constant: str) -> None:
