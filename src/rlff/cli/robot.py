@@ -428,7 +428,7 @@ def send(
     with ExitStack() as node:  # over ROS 2, one node reads the arm's state and sends the goal
         if ros == 2:
             _require_ros2(network)
-            from rlff.robot.ros2.client import Connection
+            from rlff.robot.ros2.client import CONNECT_TIMEOUT, Connection
             from rlff.robot.ros2.client import ServerUnavailable as RosUnavailable
 
             connection = node.enter_context(Connection("rlff_send"))
@@ -436,7 +436,12 @@ def send(
         else:
             _require_ros()
             _ros1_reach(network)
-            from rlff.robot.ros1.client import arm_state, publish_trajectory, send_goal
+            from rlff.robot.ros1.client import (
+                CONNECT_TIMEOUT,
+                arm_state,
+                publish_trajectory,
+                send_goal,
+            )
             from rlff.robot.ros1.master import RosUnavailable
 
         try:
@@ -493,6 +498,9 @@ def send(
                         advance(now - done)
                         done = now
 
+                # said before the wait: an absent server was 10 s of silence, then the error
+                say(f"sending the goal to {model.ros.action}: waiting up to "
+                    f"{CONNECT_TIMEOUT if timeout is None else timeout:g} s for its action server")
                 outcome = send_goal(model, traj, pose, timeout, on_feedback, on_accepted=accepted)
         except (RosUnavailable, ArmStateError) as exc:
             stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
