@@ -40,6 +40,7 @@ import math
 import warnings
 from collections.abc import Sequence
 from dataclasses import replace
+from functools import cached_property
 
 import numpy as np
 from scipy.stats import norm
@@ -89,6 +90,14 @@ class GmrBaseline(Method):
         #: baskets' hits point (:mod:`rlff.learn.carry`): the same information ``calibrate`` gets.
         self.start = self.aimed * math.exp(problem.carried_shift)
 
+    @cached_property
+    def lowest(self) -> float:
+        """Slowest log speed factor over :attr:`start` a search goes down to: as slow as a near
+        basket needs by the arm's kinematics, as calibrate's (:func:`rlff.learn.windows.lowest_for`)."""
+        problem = self.problem
+        return lowest_for(problem.landing, self.start * release_speed(self.angle, self.mean), problem.target,
+                          problem.tolerance, window_width(problem.target, problem.tolerance))
+
     def scaled(self, factor: np.ndarray | float, info: dict) -> Proposal:
         """The GMR mean with every velocity times ``start * factor`` (``factor`` scalar or shape
         (T,)), within the limit."""
@@ -135,9 +144,7 @@ class BracketingSweep(GmrBaseline):
         super().__init__(problem)
         width = window_width(problem.target, problem.tolerance)
         highest = reachable_top(float(np.log(self.limit / self.start)), width)
-        lowest = lowest_for(problem.landing, self.start * release_speed(self.angle, self.mean), problem.target,
-                            problem.tolerance, width)  # as slow as a near basket needs, as calibrate's
-        centres = lattice(width, highest, lowest)
+        centres = lattice(width, highest, self.lowest)
         if limit_band(centres, width, highest):
             centres = np.r_[centres, highest]
         first = _nearest_first(centres)
@@ -273,9 +280,7 @@ class GpSearch(GmrBaseline):
             warnings.simplefilter("ignore")
             gp.fit(x[:, None], miss - prior(x))
         highest = min(float(np.log(self.limit / self.start)), -LOWEST)
-        lowest = lowest_for(self.problem.landing, self.start * release_speed(self.angle, self.mean), target,
-                            self.problem.tolerance, window_width(target, self.problem.tolerance))
-        grid = np.linspace(lowest, highest, 481)
+        grid = np.linspace(self.lowest, highest, 481)
         mean, std = gp.predict(grid[:, None], return_std=True)
         gain = expected_improvement_of_abs(mean + prior(grid), std, float(np.min(np.abs(miss))))
         best = float(grid[int(np.argmax(gain))])

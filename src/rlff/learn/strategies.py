@@ -89,7 +89,14 @@ from rlff.learn.method import (
     training_set,
 )
 from rlff.learn.outcomes import all_missed, outcomes_prior
-from rlff.learn.windows import LOWEST, PRIOR_SCALE, WindowSearch, lowest_for, window_width
+from rlff.learn.windows import (
+    LOWEST,
+    PRIOR_SCALE,
+    RANGE_ELASTICITY,
+    WindowSearch,
+    lowest_for,
+    window_width,
+)
 
 if TYPE_CHECKING:
     from rlff.model import Model
@@ -194,9 +201,9 @@ class SpeedCalibration:
         Prior standard deviation of a (log units).
     noise : float
         Standard deviation (log units) of a landing about the law.
-    landing : callable, optional
-        ``landing(u) -> m`` by the arm's kinematics: the candidates go below e^:data:`LOWEST` u0
-        where a near basket needs it (:func:`rlff.learn.windows.lowest_for`).
+    lowest : float
+        Slowest log speed factor of the candidates: :data:`LOWEST`, or lower where a near basket
+        needs it (:func:`rlff.learn.windows.lowest_for`).
     """
 
     def __init__(
@@ -210,7 +217,7 @@ class SpeedCalibration:
         slope: float = 1.6,
         slope_scale: float = 0.25,
         noise: float = 0.03,
-        landing=None,
+        lowest: float = LOWEST,
     ):
         self.target = float(target)
         self.tolerance = float(tolerance)
@@ -222,7 +229,7 @@ class SpeedCalibration:
         # release, :func:`rlff.learn.windows.reachable_top`)
         span = -LOWEST
         top = max(span, math.log(max_speed / self.reference)) if math.isfinite(max_speed) else span
-        bottom = -lowest_for(landing, self.reference, self.target, self.tolerance, window_width(target, tolerance))
+        bottom = -lowest
         ratios = np.exp(-bottom + 0.01 * np.arange(int(round((top + bottom) / 0.01)) + 1))
         self.ratios = ratios[ratios * self.reference <= max_speed]
         if self.ratios.size == 0:
@@ -316,6 +323,7 @@ class CalibrateUpdate(DmmStrategy):
         self.reference = release_speed(problem.angles, self.first.velocity)
         self._demos_shape: Proposal | None = None
         self._windows: WindowSearch | None = None
+        self._lowest: dict[tuple[float, float], float] = {}  # see :meth:`lowest`
         self._prior = ""  # the window search's prior, by name (set with the windows)
         if problem.aim is not None:  # the arm's kinematics say how fast (a whole-arm throw, or --aim)
             self.reference = self.aimed_speed()
@@ -366,7 +374,7 @@ class CalibrateUpdate(DmmStrategy):
             # carried hits: the first proposal at the speed they point to
             start = self.reference * math.exp(problem.carried_shift)
             calibration = SpeedCalibration(problem.target, problem.tolerance, start, fastest,
-                                           slope=problem.elasticity, landing=problem.landing)
+                                           slope=problem.elasticity, lowest=self.lowest(start, RANGE_ELASTICITY))
             for attempt in history:
                 executed = release_speed(problem.angles, np.interp(problem.angles, attempt.angle,
                                                                    attempt.velocity))
@@ -396,8 +404,19 @@ class CalibrateUpdate(DmmStrategy):
             self._windows = WindowSearch(problem.target, problem.tolerance, math.log(fastest / self.reference),
                                          density, scale=scale, elasticity=problem.elasticity, centre=centre,
                                          misreport=problem.misreport if self.retries_misses else 0.0,
-                                         landing=problem.landing, reference=self.reference)
+                                         lowest=self.lowest(self.reference, problem.elasticity))
         return self._windows
+
+    def lowest(self, reference: float, elasticity: float) -> float:
+        """The slowest log speed factor over ``reference`` (rad/s) the speed search goes down to
+        with windows sized by ``elasticity`` (:func:`rlff.learn.windows.lowest_for`): the same for
+        the whole run (its reference and the basket stay), so found once and kept."""
+        key = (reference, elasticity)
+        if key not in self._lowest:
+            problem = self.problem
+            self._lowest[key] = lowest_for(problem.landing, reference, problem.target, problem.tolerance,
+                                           window_width(problem.target, problem.tolerance, elasticity))
+        return self._lowest[key]
 
     def speed_centre(self) -> tuple[float, float]:
         """Where the window search's lattice and normal prior are centred (log speed factor), and

@@ -304,19 +304,18 @@ class WindowSearch:
         no window twice in the first pass).
     floor : float, optional
         Share of the mass spread evenly over the windows; default :data:`UNLIKE_PEOPLE`.
-    landing : callable, optional
-        ``landing(u) -> m`` by the arm's kinematics, with which the lattice goes below
-        :data:`LOWEST` where the basket needs it (:func:`lowest_for`); ``reference`` is then the
-        speed u0 (rad/s) the log factors are over.
+    lowest : float
+        Slowest log speed factor of the lattice's range: :data:`LOWEST`, or lower where the
+        basket needs it (:func:`lowest_for`).
     """
 
     def __init__(self, target: float, tolerance: float, highest: float, log_density=None,
                  scale: float = PRIOR_SCALE, elasticity: float = RANGE_ELASTICITY, centre: float = 0.0,
-                 misreport: float = MISREPORT, floor: float | None = None, landing=None, reference: float = 1.0):
+                 misreport: float = MISREPORT, floor: float | None = None, lowest: float = LOWEST):
         self.width = window_width(target, tolerance, elasticity)
         self.highest = reachable_top(highest, self.width)
         #: Slowest log speed factor of the lattice's range.
-        self.lowest = lowest = lowest_for(landing, reference, target, tolerance, self.width)
+        self.lowest = lowest
         #: Log speed factor the lattice is laid about (a centre beyond the limit: the limit).
         self.centre = float(np.clip(centre, lowest + self.width, self.highest))
         centres = self.centre + lattice(self.width, self.highest - self.centre, lowest - self.centre)
