@@ -58,7 +58,7 @@ def test_a_velocity_in_degrees_per_second_is_refused(demos):
 def test_angles_in_degrees_are_refused(demos):
     degrees = Dataset([t.replace(data={**t.data, "angle": np.degrees(t["angle"]),
                                        "velocity": np.degrees(t["velocity"])}) for t in demos], context=demos.context)
-    with pytest.raises(InputError, match=r"the demonstrations' angle reaches \d+.*beyond two turns .*degrees\?"):
+    with pytest.raises(InputError, match=r"the demonstrations' column 'angle' reaches \d+.*beyond two turns .*degrees\?"):
         learn(degrees, 1.4, budget=1)
 
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -34,7 +34,7 @@ from rlff.csvlines import data_row_line, header_separator
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.kinds import binary_kind
-from rlff.limits import MAX_MAGNITUDE, as_names
+from rlff.limits import DISTANCE_RANGE, MAX_MAGNITUDE, as_names, require_radians
 from rlff.wording import bad_cell, plural
 
 #: What to do about a time that does not increase within a trajectory: rows out of order (a file
@@ -508,6 +508,25 @@ class Dataset(Sequence[Trajectory]):
         for trajectory in self._trajectories:
             groups.setdefault(trajectory.context_value(self.context), []).append(trajectory)
         return dict(sorted(groups.items()))
+
+
+def check_units(dataset: Dataset, named: Callable[[str], str] = lambda column: f"column {column!r}") -> None:
+    """:class:`InputError` when ``dataset``'s basket distances (``distance``) are not metres or its
+    joint angles (:data:`JOINT_COLUMNS`) not radians: a distance outside
+    :data:`rlff.limits.DISTANCE_RANGE` (a model fitted to 75-275 cm could be asked for none of its
+    baskets and extrapolated at 1.5 m), an angle beyond two turns (:func:`rlff.limits.require_radians`).
+    ``named(column)`` words a column in the message (``"column 'distance'"``)."""
+    if not len(dataset):
+        return
+    if "distance" in dataset.columns:
+        values = dataset.to_array(["distance"])[:, 0]
+        low, high = float(values.min()), float(values.max())
+        if low < DISTANCE_RANGE[0] or high > DISTANCE_RANGE[1]:
+            unit = " (centimetres? the distance is in metres)" if high > DISTANCE_RANGE[1] else ""
+            raise InputError(f"{named('distance')} holds {low:g} to {high:g}, outside the basket distances "
+                             f"{DISTANCE_RANGE[0]:g} to {DISTANCE_RANGE[1]:g} m{unit}")
+    for column in joint_columns(dataset.columns):
+        require_radians(dataset.to_array([column])[:, 0], named(column))
 
 
 def copies_warning(dataset: Dataset) -> str | None:

@@ -27,6 +27,10 @@ The numbers:
 - :data:`FRAME_RATE_RANGE`: the frame rate (Hz) of a recording without time stamps: depth cameras
   and skeleton trackers record at 4 to 120 Hz, motion capture up to a few hundred; 1 to 1000 Hz
   holds them all with a margin. 1e300 Hz made every time step 0 and a singular matrix.
+- :data:`MAX_JOINT_ANGLE`: the largest human joint angle (rad) a path or a dataset may hold, two
+  turns (:func:`require_radians`). An elbow's included angle lies within 0 to pi; beyond two turns
+  the angles are degrees (40-170), which had gone through cleaning, fitting and generating to a
+  robot limit error that pointed at --clip and the robot file.
 - :data:`MIN_PERIOD`: the shortest controller period (s) a trajectory is planned at. Arm
   controllers run at 100 Hz to 1 kHz (rlff plans at 2 ms or 10 ms, :data:`CONTROLLER_PERIODS`
   of :mod:`rlff.trajectory.resample`); 10 kHz leaves a margin. ``--period 0.000001`` wrote a 130 MB
@@ -50,6 +54,7 @@ DISTANCE_RANGE = (0.3, 20.0)
 PEDESTAL_RANGE = (0.0, 5.0)
 FRAME_RATE_RANGE = (1.0, 1000.0)
 MIN_PERIOD = 1e-4
+MAX_JOINT_ANGLE = 4.0 * math.pi
 
 
 def check_count(what: str, count: float, maximum: int, hint: str = "") -> int:
@@ -122,6 +127,15 @@ def check_period(value: float, name: str = "--period") -> float:
     return float(value)
 
 
+def require_radians(values: np.ndarray, what: str) -> None:
+    """:class:`InputError` when ``values`` (a human joint's angles, any shape) reach beyond
+    :data:`MAX_JOINT_ANGLE`: degrees where rlff reads radians."""
+    values = np.asarray(values, dtype=float)
+    if values.size and float(np.nanmax(np.abs(values))) > MAX_JOINT_ANGLE:
+        raise InputError(f"{what} reaches {float(np.nanmax(np.abs(values))):.4g}, beyond two turns in radians: "
+                         "degrees? joint angles are in rad (an elbow's from 0, folded, to about 3.1, straight)")
+
+
 def as_names(names: str | Iterable[str]) -> tuple[str, ...]:
     """``names`` (joints, columns) as a tuple; a single str is one name, ``"elbow"`` ->
     ``("elbow",)``, not the characters it is made of (``joints="elbow"`` had asked for the joints
@@ -169,6 +183,7 @@ __all__ = [
     "MAX_DENSIFY_SAMPLES",
     "MAX_GENERATE_BYTES",
     "MAX_GRID_POINTS",
+    "MAX_JOINT_ANGLE",
     "MAX_MAGNITUDE",
     "MIN_PERIOD",
     "PEDESTAL_RANGE",
@@ -181,4 +196,5 @@ __all__ = [
     "check_pedestal",
     "check_period",
     "check_range",
+    "require_radians",
 ]

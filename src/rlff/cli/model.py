@@ -93,6 +93,7 @@ def read_data(path: Path):
     as a thesis matrix, said "context row 'distance' is not constant") is said to be one, with
     the command that imports it.
     """
+    from rlff.dataset import check_units
     from rlff.errors import InputError
     from rlff.formats import read_dataset
 
@@ -105,41 +106,11 @@ def read_data(path: Path):
         raise InputError(f"{path}: a skeleton recording ({kind}), not demonstrations: import it first with "
                          "`rlff data import RECORDINGS -o demos.csv` (docs/capture.md), then "
                          "`rlff data preprocess demos.csv -o clean.csv`") from None
-    _require_metre_distances(path, dataset)
-    _require_radians(path, dataset)
+    try:  # basket distances in metres, joint angles in radians: said with the file's name
+        check_units(dataset)
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
     return dataset
-
-
-def _require_radians(path: Path, dataset) -> None:
-    """:class:`InputError` when a joint angle column (``angle``, ``shoulder``, ``wrist``) holds
-    degrees (:func:`rlff.robot.mapping.require_radians`): they had gone through cleaning (1.2
-    million densified samples), fitting and generating to a robot limit error."""
-    from rlff.errors import InputError
-    from rlff.robot.mapping import require_radians
-
-    for column in ("angle", "shoulder", "wrist"):
-        if column in dataset.columns and len(dataset):
-            try:
-                require_radians(dataset.to_array([column])[:, 0], f"column {column!r}")
-            except InputError as exc:
-                raise InputError(f"{path}: {exc}") from None
-
-
-def _require_metre_distances(path: Path, dataset) -> None:
-    """:class:`InputError` when the ``distance`` column leaves the basket distances rlff takes
-    (``rlff.limits.DISTANCE_RANGE``, m): a model fitted to 75-275 (cm) could be asked for none of
-    them (generate refuses 150 m) and extrapolated at 1.5 m."""
-    from rlff.errors import InputError
-    from rlff.limits import DISTANCE_RANGE
-
-    if "distance" not in dataset.columns or len(dataset) == 0:
-        return
-    values = dataset.to_array(["distance"])[:, 0]
-    low, high = float(values.min()), float(values.max())
-    if low < DISTANCE_RANGE[0] or high > DISTANCE_RANGE[1]:
-        unit = " (centimetres? the distance is in metres)" if high > DISTANCE_RANGE[1] else ""
-        raise InputError(f"{path}: column 'distance' holds {low:g} to {high:g}, outside the basket distances "
-                         f"{DISTANCE_RANGE[0]:g} to {DISTANCE_RANGE[1]:g} m{unit}")
 
 
 def _recording_kind(path: Path) -> str | None:

@@ -22,12 +22,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from rlff.dataset import Dataset, joint_outputs
+from rlff.dataset import Dataset, check_units, joint_outputs
 from rlff.errors import InputError
 from rlff.learn.memo import ByContent, content_digest
 from rlff.learn.method import COLUMNS, ONE_JOINT_OUTPUTS
 from rlff.limits import DISTANCE_RANGE
-from rlff.robot.mapping import require_radians
 from rlff.wording import plural
 
 #: Quantile of the demonstrations' last angles where generated throws release.
@@ -119,23 +118,17 @@ VELOCITY_AGREEMENT = 3.0
 
 
 def require_units(demos: Dataset) -> None:
-    """:class:`InputError` when the demonstrations' basket distances (the ``distance`` column) or
-    landings (``landing`` metadata) are not metres, or their velocity not the rate of change of
-    their angle: a distance outside :data:`rlff.limits.DISTANCE_RANGE`, a landing farther than
-    its top either way, an angle in degrees (:func:`rlff.robot.mapping.require_radians`), a
-    velocity whose integral over the ``time`` column is in the median more
-    than :data:`VELOCITY_AGREEMENT` times the angle's change, or less than its inverse.
+    """:class:`InputError` when the demonstrations' basket distances or joint angles are not
+    metres and radians (:func:`rlff.dataset.check_units`), their landings (``landing`` metadata)
+    are farther than :data:`rlff.limits.DISTANCE_RANGE`'s top either way, or their velocity is
+    not the rate of change of their angle (its integral over the ``time`` column in the median
+    more than :data:`VELOCITY_AGREEMENT` times the angle's change, or less than its inverse).
 
     In centimetres, the landings had put every throw the calibration made behind the arm's base
     (-2.05 m from a basket at 1.75 m); in deg/s, the velocities sent every throw to the speed
     limit, the same throw each time, 0.33 m long. Both runs missed to their end."""
-    low, high = DISTANCE_RANGE
-    if "distance" in demos.columns and len(demos):
-        values = demos.to_array(["distance"])[:, 0]
-        if values.min() < low or values.max() > high:
-            unit = " (centimetres? the distance is in metres)" if values.max() > high else ""
-            raise InputError(f"the demonstrations' column 'distance' holds {values.min():g} to {values.max():g}, "
-                             f"outside the basket distances {low:g} to {high:g} m{unit}")
+    check_units(demos, lambda column: f"the demonstrations' column {column!r}")
+    high = DISTANCE_RANGE[1]
     landings = np.array([float(t.meta.get("landing", np.nan)) for t in demos])
     far = np.isfinite(landings) & (np.abs(landings) > high)
     if far.any():
@@ -144,9 +137,6 @@ def require_units(demos: Dataset) -> None:
                          f"'landing') lie beyond {high:g} m (throw {demos[first].id} at {landings[first]:.4g}): "
                          "centimetres? landings are in metres from the thrower; leave the metadata out where "
                          "they are not known")
-    for column in ("angle", "shoulder", "wrist"):
-        if column in demos.columns and len(demos):
-            require_radians(demos.to_array([column])[:, 0], f"the demonstrations' {column}")
     _require_velocity_in_time(demos)
 
 

@@ -67,7 +67,7 @@ from rlff.learn.reach import (
 )
 from rlff.learn.strategies import STRATEGIES
 from rlff.learn.windows import MISREPORT
-from rlff.limits import DISTANCE_RANGE, check_pedestal
+from rlff.limits import DISTANCE_RANGE, as_names, check_pedestal
 from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
 
@@ -341,9 +341,9 @@ def learn(
     if not (isinstance(seed, numbers.Integral) and not isinstance(seed, bool) and seed >= 0):
         raise InputError(f"seed must be a whole number >= 0, got {seed!r}")
     seed = int(seed)
-    # one name or path given where several may be: that one, not its letters
-    joints = (joints,) if isinstance(joints, str) else joints
+    # one path given where several may be: that one, not its letters (joints: as_names)
     carry_from = (carry_from,) if isinstance(carry_from, str | Path) else carry_from
+    require_units(demos)  # before anything is judged in them (a unit slip is the likeliest fault)
     if until not in UNTILS:
         raise InputError(f"unknown until {until!r} (known: {', '.join(UNTILS)})")
     if not 0 < centre_share <= 1:
@@ -361,7 +361,7 @@ def learn(
     if executed_on is None:
         executed_on = "sim" if executor is None else "python"
     robot_model = robot if isinstance(robot, Robot) else load_robot(robot)
-    mapping = mapping_for(robot_model, None if joints is None else tuple(joints))
+    mapping = mapping_for(robot_model, None if joints is None else as_names(joints))
     rim = rim_height if height is None else height
     # checks the stated range
     target = Basket(float(basket), rim_height=rim, opening=opening, bearing=float(bearing))
@@ -370,7 +370,6 @@ def learn(
         _require_reach(robot_model, target, pedestal, mapping.driven_joints, demos.columns)
     except InputError as exc:
         raise InputError(f"{exc}{_executed_reach_words(demos, mapping, target, pedestal)}") from None
-    require_units(demos)
     demos, limit_notes = usable_demos(demos, mapping, target.rim_height)
     components = loop_components(demos, seed, joint_outputs(mapping.human_columns))
     _require_executable(mapping, target, pedestal, demos, components, seed, method_class)

@@ -490,21 +490,6 @@ class ArmMapping:
                 for m in self.joints}
 
 
-#: Largest human joint angle (rad) a path may hold: two turns. An elbow's included angle lies
-#: within 0-pi; beyond two turns the angles are degrees (40-170), which had gone through cleaning,
-#: fitting and generating to a limit error that pointed at --clip and the robot file.
-MAX_HUMAN_ANGLE = 4.0 * math.pi
-
-
-def require_radians(values: np.ndarray, what: str) -> None:
-    """:class:`InputError` when ``values`` (a human joint's angles, any shape) reach beyond
-    :data:`MAX_HUMAN_ANGLE`: degrees where rlff reads radians."""
-    values = np.asarray(values, dtype=float)
-    if values.size and float(np.nanmax(np.abs(values))) > MAX_HUMAN_ANGLE:
-        raise InputError(f"{what} reaches {float(np.nanmax(np.abs(values))):.4g}, beyond two turns in radians: "
-                         "degrees? joint angles are in rad (an elbow's from 0, folded, to about 3.1, straight)")
-
-
 def mapping_for(robot: Robot, joints: Sequence[str] | None = None) -> RobotMapping | ArmMapping:
     """The mapping for the robot ``joints`` driven: None or the ``[throwing]`` table's one joint
     alone gives the one-joint :class:`RobotMapping` exactly as before; several joints the

@@ -24,10 +24,10 @@ import pandas as pd
 
 from rlff.dataset import ARM_JOINT_COLUMNS
 from rlff.errors import InputError
-from rlff.limits import apart, check_period
+from rlff.limits import apart, check_period, require_radians
 from rlff.robot.description import DEFAULT_ROBOT, Robot, load_robot
 from rlff.robot.links import require_above_base
-from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for, require_radians
+from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
