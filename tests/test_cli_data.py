@@ -105,6 +105,16 @@ def test_preprocess_bad_input_is_one_line_and_exit_2(capsys, tmp_path, args, mes
     assert len(stderr.strip().splitlines()) == 1
 
 
+def test_a_csv_named_parquet_is_one_line_and_exit_2(capsys, tmp_path):
+    demos = tmp_path / "demos.parquet"
+    demos.write_text("trajectory,time,angle,distance,velocity\na,0,0.1,2,0\na,0.1,0.2,2,1\n")
+    assert main(["data", "preprocess", str(demos), "--preset", "thesis", "-o", str(tmp_path / "c.csv")]) == 2
+    stderr = capsys.readouterr().err
+    assert stderr.startswith(f"rlff: error: {demos} is text (its first line: 'trajectory,time,angle,distance,velocity'), "
+                             "not a Parquet file: rlff reads a dataset by its suffix")
+    assert len(stderr.strip().splitlines()) == 1
+
+
 def test_preprocess_that_removes_every_throw_writes_nothing_and_names_the_step(capsys, tmp_path):
     demos, clean = tmp_path / "demos.csv", tmp_path / "c.csv"
     demos.write_text("trajectory,angle,distance,velocity\na,1,2,3\na,2,2,3\nb,1,2.5,4\nb,2,2.5,5\n")

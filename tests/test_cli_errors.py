@@ -103,7 +103,7 @@ TRACEBACK_CASES = {
     "sim throw, folder as input": (["sim", "throw", "{folder}", "--basket", "2"], ["is a folder"]),
     "TOML densify step = nan": (["data", "preprocess", "{data}", "--config", "{nan_toml}", "-o", "{tmp}/c.csv"],
                                 ["nan.toml", "densify", "step", "finite"]),
-    "truncated .npz": (["fit", "{cut}", "-o", "{tmp}/m.json"], ["cut.npz", "not an rlff NPZ dataset"]),
+    "truncated .npz": (["fit", "{cut}", "-o", "{tmp}/m.json"], ["cut.npz", "an NPZ cut short or damaged"]),
     "synth --distances 1e308": (["data", "synth", "throws", "--distances", "1e308", "-o", "{tmp}/s.csv"],
                                 ["1e+308", "0.3 to 20 m"]),
     "bench --landings nope": (["bench", "learning", "--landings", "nope"], ["--landings", "'nope'", "noisy:STD"]),

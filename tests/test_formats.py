@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
@@ -14,6 +16,7 @@ from rlff.errors import InputError
 from rlff.formats import (
     check_holds,
     read_dataset,
+    read_npz,
     read_parquet,
     read_thesis_matrix,
     write_dataset,
@@ -168,9 +171,6 @@ def test_parquet_errors_name_the_file(tmp_path):
                    tmp_path / "meta.parquet")
     with pytest.raises(InputError, match="metadata column 'subject' varies within trajectory 'a'"):
         read_parquet(tmp_path / "meta.parquet")
-    (tmp_path / "junk.parquet").write_text("not parquet")
-    with pytest.raises(InputError, match="junk.parquet: not a Parquet file"):
-        read_parquet(tmp_path / "junk.parquet")
     # ids whose bytes are not UTF-8 (the fuzz test's damaged file): pyarrow decodes them only when read
     offsets = pa.py_buffer(np.array([0, 2, 2, 4], dtype=np.int32).tobytes())
     ids = pa.Array.from_buffers(pa.string(), 3, [None, offsets, pa.py_buffer(b"\xf40t1")])
@@ -178,6 +178,65 @@ def test_parquet_errors_name_the_file(tmp_path):
     with pytest.raises(InputError, match=r"bytes.parquet: damaged Parquet file: a text cell \(a trajectory id or a "
                                          r"metadata value\) is not UTF-8 text"):
         read_parquet(tmp_path / "bytes.parquet")
+
+
+def _dataset_bytes(tmp_path, suffix: str) -> bytes:
+    path = tmp_path / f"whole{suffix}"
+    write_dataset(Dataset([Trajectory("t0", {"angle": np.array([0.1, 0.2]), "velocity": np.array([1.0, 2.0])})]), path)
+    return path.read_bytes()
+
+
+# (file content, made in tmp_path: suffix -> bytes; what the message says), for both binary readers
+_OTHER_KINDS = {
+    "a CSV": (lambda tmp, suffix: b"trajectory,angle,velocity\nt0,0.1,1\nt0,0.2,2\n",
+              r"is text \(its first line: 'trajectory,angle,velocity'\), not {what}: rlff reads a dataset by its "
+              r"suffix \(\.csv, .*\); give the file the suffix of what it holds"),
+    "a text file": (lambda tmp, suffix: b"hello\n", r"is text \(its first line: 'hello'\), not {what}"),
+    "an empty file": (lambda tmp, suffix: b"", r"is empty \(0 bytes\), not {what}$"),
+    "a single array": (lambda tmp, suffix: b"\x93NUMPY\x01\x00", r"is a single numpy array \(an .npy file"),
+    "the other binary format": (
+        lambda tmp, suffix: _dataset_bytes(tmp, ".npz" if suffix == ".parquet" else ".parquet"),
+        r"is a (ZIP archive|Parquet file) \(it starts with P"),
+}
+_WHAT = {".npz": (read_npz, r"an NPZ dataset \(a ZIP archive of numpy arrays\)"), ".parquet": (read_parquet, "a Parquet file")}
+
+
+@pytest.mark.parametrize("suffix", list(_WHAT))
+@pytest.mark.parametrize("case", list(_OTHER_KINDS))
+def test_a_file_of_another_kind_says_what_it_looks_like(tmp_path, suffix, case):
+    # it said pyarrow's "Parquet magic bytes not found in footer" and numpy's "This file contains
+    # pickled (object) data" (a CSV or text file as an .npz); an .npy as an .npz was a TypeError
+    content, message = _OTHER_KINDS[case]
+    read, what = _WHAT[suffix]
+    path = tmp_path / f"d{suffix}"
+    path.write_bytes(content(tmp_path, suffix))
+    with pytest.raises(InputError, match=rf"^{re.escape(str(path))} {message.format(what=what)}"):
+        read(path)
+
+
+@pytest.mark.parametrize(("suffix", "message"), [
+    (".npz", r": an NPZ cut short or damaged: it starts as a ZIP archive, as an NPZ does, but the archive's "
+             r"directory, at its end, is missing or unreadable$"),
+    (".parquet", r": a Parquet file cut short: it starts with PAR1, but does not end with it as a whole one does$"),
+])
+def test_a_truncated_file_says_it_is_cut_short(tmp_path, suffix, message):
+    whole = _dataset_bytes(tmp_path, suffix)
+    path = tmp_path / f"cut{suffix}"
+    path.write_bytes(whole[: len(whole) // 2])
+    with pytest.raises(InputError, match=re.escape(str(path)) + message):
+        _WHAT[suffix][0](path)
+
+
+def test_an_npz_of_other_arrays_lists_what_it_holds(tmp_path):
+    path = tmp_path / "other.npz"
+    np.savez(path, **{name: np.arange(3) for name in "abcdef"})
+    with pytest.raises(InputError, match=rf"^{re.escape(str(path))}: not an rlff NPZ dataset: it holds 'a', 'b', 'c', "
+                                         r"'d', 'e', \.\.\. \(rlff's hold 'rlff', 'ids', 'lengths' and a 'column:NAME' "
+                                         r"for each column\)$"):
+        read_npz(path)
+    np.savez(path)
+    with pytest.raises(InputError, match="it holds no arrays"):
+        read_npz(path)
 
 
 def test_unknown_extension_and_format(tmp_path):

@@ -487,7 +487,7 @@ def test_csv_rows_longer_than_the_header_are_refused():
 
 
 def test_npz_damage_and_wrong_members_name_the_member():
-    _refused(read_dataset, NPZ_SEED[: len(NPZ_SEED) // 2], "d.npz", "not an rlff NPZ dataset")
+    _refused(read_dataset, NPZ_SEED[: len(NPZ_SEED) // 2], "d.npz", "an NPZ cut short or damaged")
     for key, value, message in [
         ("lengths", np.array(["6", "6"]), "member 'lengths' must be a 1-D array of integers"),
         ("lengths", np.array([12]), "member 'lengths' has 1 entries for 2 ids"),

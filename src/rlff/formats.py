@@ -35,7 +35,7 @@ from rlff.dataset import (
 )
 from rlff.errors import InputError
 from rlff.fileio import atomic_path, atomic_write, require_file, write_text
-from rlff.kinds import binary_kind, rlff_kind
+from rlff.kinds import EMPTY, binary_kind, file_kind, rlff_kind
 
 #: Format names and the file extensions that select them.
 FORMATS = {"csv": (".csv",), "thesis": (".txt", ".tsv"), "npz": (".npz",), "parquet": (".parquet", ".pq")}
@@ -55,6 +55,30 @@ def _jsonable(value: Any) -> Any:
 
 def _require_file(path: Path) -> None:
     require_file(path)
+
+
+def _marks(path: Path) -> tuple[bytes, bytes]:
+    """The first and the last four bytes of the file ``path`` (where a Parquet file and a ZIP
+    archive, an NPZ, carry their marks)."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(4)
+            size = handle.seek(0, 2)
+            handle.seek(max(size - 4, 0))
+            return head, handle.read(4)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot be read ({exc.strerror or exc})") from None
+
+
+def _not_a(path: Path, what: str) -> InputError:
+    """The error for a file that is not ``what`` (its format by the suffix): what it looks like,
+    and, unless it is empty, that the suffix says the format."""
+    kind = file_kind(path)
+    if kind == EMPTY:
+        return InputError(f"{path} is {kind}, not {what}")
+    known = ", ".join(s for suffixes in FORMATS.values() for s in suffixes)
+    return InputError(f"{path} is {kind}, not {what}: rlff reads a dataset by its suffix ({known}); give the file "
+                      "the suffix of what it holds")
 
 
 # -- thesis matrix -----------------------------------------------------------------------------
@@ -296,11 +320,21 @@ def read_npz(path: str | Path) -> Dataset:
     """
     path = Path(path)
     _require_file(path)
+    if _marks(path)[0] not in _ZIP_MARKS:
+        raise _not_a(path, "an NPZ dataset (a ZIP archive of numpy arrays)")
     try:
-        with np.load(path, allow_pickle=False) as npz:
-            members = {key: npz[key] for key in npz.files}
-    except _NPZ_DAMAGE as exc:
-        raise InputError(f"{path}: not an rlff NPZ dataset ({type(exc).__name__}: {exc})") from None
+        npz = np.load(path, allow_pickle=False)
+    except _NPZ_DAMAGE:
+        raise InputError(f"{path}: an NPZ cut short or damaged: it starts as a ZIP archive, as an NPZ does, but "
+                         "the archive's directory, at its end, is missing or unreadable") from None
+    members = {}
+    with npz:
+        for key in npz.files:
+            try:
+                members[key] = npz[key]
+            except _NPZ_DAMAGE:
+                raise InputError(f"{path}: damaged NPZ: its member {key!r} cannot be read (a byte changed, or the "
+                                 "file cut short)") from None
     columns, ids, lengths, info = _npz_contents(path, members)
     _check_lengths(path, ids, lengths)
     try:
@@ -313,6 +347,10 @@ def read_npz(path: str | Path) -> Dataset:
 #: (BadZipFile, zlib.error, EOFError), the .npy header (ValueError, SyntaxError from its
 #: literal_eval) or the file itself (OSError).
 _NPZ_DAMAGE = (OSError, ValueError, EOFError, SyntaxError, zipfile.BadZipFile, zlib.error)
+#: The first bytes of a ZIP archive (an NPZ): of its first member, or of the end of an empty one.
+_ZIP_MARKS = (b"PK\x03\x04", b"PK\x05\x06")
+#: Member names of a foreign NPZ that an error lists.
+_LISTED = 5
 
 
 def _npz_contents(
@@ -323,6 +361,10 @@ def _npz_contents(
     def fail(member: str, problem: str) -> InputError:
         return InputError(f"{path}: not an rlff NPZ dataset (member {member!r} {problem})")
 
+    if not {_RLFF_KEY, "ids", "lengths"} & members.keys():
+        held = ", ".join(repr(key) for key in list(members)[:_LISTED]) + (", ..." if len(members) > _LISTED else "")
+        raise InputError(f"{path}: not an rlff NPZ dataset: it holds {held or 'no arrays'} (rlff's hold "
+                         f"{_RLFF_KEY!r}, 'ids', 'lengths' and a 'column:NAME' for each column)")
     for member in (_RLFF_KEY, "ids", "lengths"):
         if member not in members:
             raise fail(member, "is missing")
@@ -422,10 +464,16 @@ def read_parquet(path: str | Path, context: Sequence[str] | None = None) -> Data
 
     path = Path(path)
     _require_file(path)
+    head, tail = _marks(path)
+    if head != b"PAR1":
+        raise _not_a(path, "a Parquet file")
     try:
         table = pq.read_table(path)
     except (pa.ArrowException, OSError) as exc:
-        raise InputError(f"{path}: not a Parquet file ({exc})") from None
+        if tail != b"PAR1":
+            raise InputError(f"{path}: a Parquet file cut short: it starts with PAR1, but does not end with it as a "
+                             "whole one does") from None
+        raise InputError(f"{path}: damaged Parquet file ({exc})") from None
     try:
         table.column_names  # noqa: B018 -- pyarrow decodes the names only when they are asked for
     except UnicodeDecodeError:

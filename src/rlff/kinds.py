@@ -1,10 +1,13 @@
 """What a file is, for the errors of a reader given it where another kind goes: an rlff file, from
 its ``format`` field (a model where demonstrations go said only "unknown dataset extension
 '.json'"), or a file that is no UTF-8 text, from its first bytes (a gzip, a Parquet or a UTF-16
-file given as a CSV said "malformed CSV ('utf-8' codec can't decode byte 0x8b ...)")."""
+file given as a CSV said "malformed CSV ('utf-8' codec can't decode byte 0x8b ...)"), or any file
+given to a binary reader (a CSV given as Parquet said "Parquet magic bytes not found in footer",
+and as an NPZ "This file contains pickled (object) data")."""
 
 from __future__ import annotations
 
+import codecs
 import re
 from pathlib import Path
 
@@ -48,6 +51,42 @@ def binary_kind(path: str | Path) -> str | None:
         if head.startswith(magic):
             return f"{kind}, not UTF-8 text: {remedy.format(new='new' + Path(path).suffix)}"
     return None
+
+
+#: The first bytes of binary files that :data:`_SIGNATURES` does not hold (they are not given as text).
+_BINARY = ((b"\x93NUMPY", "a single numpy array (an .npy file: it starts with \\x93NUMPY)"),)
+#: What :func:`file_kind` calls a file of no bytes.
+EMPTY = "empty (0 bytes)"
+#: Characters of a text file's first line that :func:`file_kind` quotes.
+_QUOTED = 60
+
+
+def file_kind(path: str | Path) -> str:
+    """What ``path`` looks like, as a phrase for "``path`` is ...": ``"empty (0 bytes)"``, a binary
+    kind from its first bytes (``"a ZIP archive (it starts with PK: ...)"``), an rlff file
+    (:data:`KINDS`' words), ``"text (its first line: 'trajectory,angle,...')"``, or
+    ``"binary data of no kind rlff knows (it starts with the bytes 00 01 02 03)"``."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(_HEAD)
+    except OSError as exc:
+        return f"not readable ({exc.strerror})"
+    if not head:
+        return EMPTY
+    for magic, kind in (*((magic, kind) for magic, kind, _ in _SIGNATURES), *_BINARY):
+        if head.startswith(magic):
+            return kind
+    if (kind := rlff_kind(path)) is not None:
+        return kind
+    try:  # the last character may be cut by the _HEAD bytes read
+        text = codecs.getincrementaldecoder("utf-8")().decode(head, final=len(head) < _HEAD)
+    except UnicodeDecodeError:
+        text = "\0"
+    if "\0" in text:
+        return f"binary data of no kind rlff knows (it starts with the bytes {head[:4].hex(' ')})"
+    line = next((line.strip() for line in text.splitlines() if line.strip()), "")
+    quoted = line if len(line) <= _QUOTED else line[:_QUOTED] + "..."
+    return f"text (its first line: {quoted!r})" if line else "text of blank lines"
 
 
 def rlff_kind(path: str | Path) -> str | None:
