@@ -4,6 +4,11 @@ tests/test_ros1_live.py and tests/test_ros2_client.py)."""
 
 from __future__ import annotations
 
+import json
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -25,6 +30,66 @@ def test_a_timeout_shorter_than_the_motion_is_said_before_the_goal_goes_out():
                                         "cancelled mid-motion and the arm braked to rest (leave --timeout out to "
                                         "wait for the whole motion)")
     assert short_timeout(None, traj) is None and short_timeout(3.03, traj) is None
+
+
+#: A child process (one ROS per process: rlff.robot.rospath) that calls the ROS ``argv[1]`` client's
+#: entry points with timeouts that are no time, with whatever would start ROS made to fail, and
+#: prints what each raised.
+_NO_TIME_CHILD = """
+import json, math, sys
+import numpy as np
+from rlff.robot import load_robot
+from rlff.trajectory.joint import JointTrajectory
+
+def started(*args, **kwargs):
+    raise RuntimeError("ROS was started")
+
+if sys.argv[1] == "1":
+    import rlff.robot.ros1.client as client
+    client._connect = started
+    entries = {"arm_state": client.arm_state, "send_goal": client.send_goal,
+               "publish_trajectory": client.publish_trajectory}
+else:
+    import rlff.robot.ros2.client as client
+    unstarted = object.__new__(client.Connection)  # no node: a method that uses one fails
+    client.Connection = started
+    entries = {"arm_state": client.arm_state, "send_goal": client.send_goal,
+               "Connection.arm_state": unstarted.arm_state, "Connection.send_goal": unstarted.send_goal}
+robot = load_robot()
+pose = np.array(json.loads(sys.argv[2]))
+traj = JointTrajectory(robot.joint_names, [0.0, 3.03], np.tile(pose, (2, 1)), np.zeros((2, pose.size)))
+said = {}
+for name, call in entries.items():
+    for timeout in (math.nan, math.inf, 0.0, -1.0):
+        args = (robot, timeout) if name.endswith("arm_state") else (robot, traj, pose, timeout)
+        try:
+            call(*args)
+        except Exception as exc:
+            said[f"{name} {timeout:g}"] = f"{type(exc).__name__}: {exc}"
+print(json.dumps(said))
+"""
+
+
+@pytest.mark.parametrize("ros", [1, 2])
+def test_the_library_refuses_a_timeout_that_is_no_time_before_ros_starts(ros):
+    # only `rlff robot send --timeout` was checked: send_goal(..., timeout=nan) went on to ROS
+    from ros2rig import ros2_missing
+    from rosrig import missing
+
+    reason = missing() if ros == 1 else ros2_missing()
+    if reason is not None:
+        if os.environ.get("CI") == "true":
+            pytest.fail(reason)
+        pytest.skip(reason)
+    child = subprocess.run([sys.executable, "-c", _NO_TIME_CHILD, str(ros), json.dumps(POSE.tolist())],
+                           capture_output=True, text=True, timeout=120)
+    assert child.returncode == 0, child.stderr
+    said = json.loads(child.stdout)
+    assert len(said) == (3 if ros == 1 else 4) * 4, said
+    for call, message in said.items():
+        timeout = call.split()[-1]
+        assert message == (f"InputError: timeout {timeout}: give a finite number of seconds above 0, or leave "
+                           "timeout out (10 s to connect, and the whole motion)"), call
 
 
 def test_an_interrupt_that_stopped_the_wait_for_the_cancel_says_so_not_that_the_server_was_silent():

@@ -411,7 +411,7 @@ def send(
         raise InputError("--topic-mode is the ROS 1 driver's topic; over ROS 2 the goal goes by the action "
                          "(drop --topic-mode)")
     check_approach_speed_option(approach_speed)
-    check_timeout(timeout)
+    check_timeout(timeout, "--timeout")
     check_period(period)  # a robot trajectory is sent as it is, but a bad --period is no less a typo
     model = load_robot(robot)
     driven = joint_list(joints)

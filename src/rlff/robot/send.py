@@ -436,12 +436,13 @@ def unfinished(gone: str | None, confirmed: bool, action: str, start: float, dur
     return SendResult("timed out", None, None, f"timed out; {cancel}{detail}", start, duration, feedback)
 
 
-def check_timeout(timeout: float | None) -> None:
-    """Refuse a ``timeout`` (s, ``--timeout``) that is not a finite number above 0, before anything
-    connects: nan, 0 or -1 passed on to the transports as a wait that ends at once (the send then
-    blamed the arm's driver) or a warning about a motion it is shorter than."""
+def check_timeout(timeout: float | None, name: str = "timeout") -> None:
+    """Refuse a ``timeout`` (s) that is not a finite number above 0, before anything connects: nan,
+    0 or -1 passed on to the transports as a wait that ends at once (the send then blamed the arm's
+    driver) or a warning about a motion it is shorter than. ``name``: what the message calls it
+    (``--timeout`` on the command line)."""
     if timeout is not None and not (math.isfinite(timeout) and timeout > 0):
-        raise InputError(f"--timeout {timeout:g}: give a finite number of seconds above 0, or leave --timeout out "
+        raise InputError(f"{name} {timeout:g}: give a finite number of seconds above 0, or leave {name} out "
                          "(10 s to connect, and the whole motion)")
 
 

@@ -39,6 +39,7 @@ from rlff.robot.send import (
     GOAL_CANCELLED,
     SendResult,
     StateWatch,
+    check_timeout,
     goal_fate,
     goal_start,
     mark_goal,
@@ -78,8 +79,10 @@ def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, n
         Only stale or unstamped messages came, or the pose is not a number or beyond a limit, or
         two fresh poses disagree (two publishers of the arm's joints).
     InputError
-        The message leaves out a joint of ``robot``.
+        ``timeout`` is not a finite number above 0 (nothing connects), or the message leaves out a
+        joint of ``robot``.
     """
+    check_timeout(timeout)
     waited = timeout if timeout is not None else CONNECT_TIMEOUT
     deadline = time.monotonic() + waited
     _connect(deadline, "rlff_send")
@@ -161,7 +164,8 @@ def send_goal(
     Raises
     ------
     InputError
-        The trajectory does not fit the robot or does not start at ``pose`` (nothing is sent).
+        ``timeout`` is not a finite number above 0, or the trajectory does not fit the robot or
+        does not start at ``pose`` (nothing connects or is sent).
     RosUnavailable
         No master or no action server answered in time.
     KeyboardInterrupt
@@ -170,6 +174,7 @@ def send_goal(
         :class:`rlff.errors.Interrupted`), marked (:func:`rlff.robot.send.goal_fate`) with whether
         the server confirmed the cancel.
     """
+    check_timeout(timeout)
     check_goal(robot, traj, goal_start(robot, traj, pose))
     started = time.monotonic()
     deadline = started + (timeout if timeout is not None else CONNECT_TIMEOUT)
@@ -257,9 +262,10 @@ def publish_trajectory(robot: Robot, traj: JointTrajectory, pose: np.ndarray,
     """Publish ``traj`` once on the topic of the original driver (``robot.ros.trajectory_topic``);
     returns the subscriber count.
 
-    Checked like :func:`send_goal` (starting at ``pose``); waits for a subscriber (the
-    controller) up to the timeout, then lets the message go out.
+    Checked like :func:`send_goal` (its ``timeout`` and ``traj``, starting at ``pose``); waits for
+    a subscriber (the controller) up to the timeout, then lets the message go out.
     """
+    check_timeout(timeout)
     check_goal(robot, traj, goal_start(robot, traj, pose))
     deadline = time.monotonic() + (timeout if timeout is not None else CONNECT_TIMEOUT)
     _connect(deadline, "rlff_publish")

@@ -44,6 +44,7 @@ from rlff.robot.send import (
     SendResult,
     StateWatch,
     cancel_unconfirmed,
+    check_timeout,
     goal_fate,
     goal_start,
     mark_goal,
@@ -164,8 +165,10 @@ class Connection:
             Only stale or unstamped messages came, or the pose is not a number or beyond a limit,
             or two fresh poses disagree (two publishers of the arm's joints).
         InputError
-            The message leaves out a joint of ``robot``.
+            ``timeout`` is not a finite number above 0 (nothing is subscribed), or the message leaves
+            out a joint of ``robot``.
         """
+        check_timeout(timeout)
         waited = timeout if timeout is not None else CONNECT_TIMEOUT
         deadline = time.monotonic() + waited
         topic = robot.ros.joint_states
@@ -206,6 +209,7 @@ class Connection:
                   on_feedback: Callable[[float], None] | None = None,
                   on_accepted: Callable[[], None] | None = None) -> SendResult:
         """:func:`send_goal` on this connection."""
+        check_timeout(timeout)
         check_goal(robot, traj, goal_start(robot, traj, pose))
         deadline = time.monotonic() + (timeout if timeout is not None else CONNECT_TIMEOUT)
         action = robot.ros.action
@@ -346,7 +350,9 @@ def _wait(future, deadline: float, client: ActionClient | None = None,
 def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The arm's joint positions (rad) and velocities (rad/s), each (J,) in ``robot``'s order, from
     fresh messages on its joint states topic (:meth:`Connection.arm_state` on a connection of its
-    own)."""
+    own). A ``timeout`` that is not a finite number above 0 is an :class:`InputError` before any
+    node starts."""
+    check_timeout(timeout)
     with Connection("rlff_arm_state") as connection:
         return connection.arm_state(robot, timeout)
 
@@ -383,7 +389,8 @@ def send_goal(
     Raises
     ------
     InputError
-        The trajectory does not fit the robot or does not start at ``pose`` (nothing is sent).
+        ``timeout`` is not a finite number above 0, or the trajectory does not fit the robot or
+        does not start at ``pose`` (no node starts, nothing is sent).
     ServerUnavailable
         No action server answered in time.
     KeyboardInterrupt
@@ -391,6 +398,7 @@ def send_goal(
         the SIGTERM the command line turns into it), marked (:func:`rlff.robot.send.goal_fate`)
         with whether the server confirmed the cancel; unmarked when no goal was sent.
     """
+    check_timeout(timeout)
     check_goal(robot, traj, goal_start(robot, traj, pose))
     with Connection("rlff_send") as connection:
         return connection.send_goal(robot, traj, pose, timeout, on_feedback, on_accepted)
