@@ -40,6 +40,25 @@ def test_trajectory_rejects_nan_ragged_and_empty():
         Trajectory("t", {"angle": []})
 
 
+@pytest.mark.parametrize(("values", "words"), [
+    (np.array([True, False]), "booleans"),
+    (np.array(["0.1", "0.2"]), "text"),
+    (np.array([0.1, 0.2], dtype=object), "Python objects"),
+    ([0.1, None], "Python objects"),
+])
+def test_a_column_that_is_no_numbers_is_refused_naming_it(values, words):
+    # booleans were taken as 0.0 and 1.0, and text such as "0.1" as its number, without a word
+    with pytest.raises(InputError, match=rf"^trajectory 't': column 'angle' must hold numbers, not {words}$"):
+        Trajectory("t", {"angle": values, "velocity": [1.0, 2.0]})
+    with pytest.raises(InputError, match=rf"^column 'angle' must hold numbers, not {words}$"):
+        Dataset.from_columns({"angle": values, "velocity": [1.0, 2.0]}, ["t"], [2])
+
+
+def test_integer_columns_are_numbers_kept_as_floats():
+    trajectory = Trajectory("t", {"angle": np.array([1, 2], dtype=np.int32), "velocity": [3, 4]})
+    assert trajectory["angle"].dtype == np.float64 and trajectory["velocity"].tolist() == [3.0, 4.0]
+
+
 def test_dataset_rejects_duplicates_varying_context_and_time_going_back():
     with pytest.raises(InputError, match="duplicate trajectory id 'a'"):
         Dataset([_trajectory("a", 1.0), _trajectory("a", 2.0)])

@@ -37,3 +37,16 @@ def test_the_callers_arrays_stay_writeable_and_theirs():
     assert not trajectory.positions.flags.writeable
     positions[0, 0] = 1.0
     assert trajectory.positions[0, 0] == 0.0
+
+
+@pytest.mark.parametrize("array", ["time", "positions", "velocities", "accelerations"])
+@pytest.mark.parametrize(("convert", "words"), [(lambda a: a.astype(bool), "booleans"),
+                                                (lambda a: a.astype(str), "text"),
+                                                (lambda a: a.astype(object), "Python objects")])
+def test_arrays_that_are_no_numbers_are_refused_naming_them(array, convert, words):
+    # a boolean array was taken as 0.0 and 1.0 without a word
+    arrays = {"time": np.array([0.0, 1.0]), "positions": np.array([[0.0], [1.0]]),
+              "velocities": np.array([[0.0], [1.0]]), "accelerations": np.zeros((2, 1))}
+    arrays[array] = convert(arrays[array])
+    with pytest.raises(InputError, match=rf"^{array} must hold numbers, not {words}$"):
+        JointTrajectory(("a",), **arrays)

@@ -132,6 +132,22 @@ def owned(array: np.ndarray, given: Any) -> np.ndarray:
     return array
 
 
+#: Numpy dtype kinds that are no numbers, in words: numpy turns booleans into 0 and 1, and text
+#: such as "2" into 2.0, without a word.
+_NOT_NUMBERS = {"b": "booleans", "U": "text", "S": "bytes", "O": "Python objects", "c": "complex numbers",
+                "M": "dates", "m": "time spans", "V": "records"}
+
+
+def as_floats(values: Any, what: str) -> np.ndarray:
+    """``values`` as a float array (itself when it is one), or an :class:`InputError` saying that
+    ``what`` (``"column 'angle'"``) must hold numbers: integers and floats pass, booleans, text and
+    objects do not."""
+    array = np.asarray(values)
+    if array.dtype.kind in _NOT_NUMBERS:
+        raise InputError(f"{what} must hold numbers, not {_NOT_NUMBERS[array.dtype.kind]}")
+    return array.astype(float, copy=False)
+
+
 @dataclass(frozen=True)
 class Trajectory:
     """One demonstration.
@@ -141,7 +157,8 @@ class Trajectory:
     id : str
         Identifier, unique within a dataset.
     data : mapping of str to array of shape (T,)
-        Sample columns, all of the same length T >= 1, finite floats.
+        Sample columns, all of the same length T >= 1, finite numbers (integers or floats, kept
+        as floats; booleans, text and objects are refused).
     meta : mapping of str to object
         Per-trajectory metadata: ``subject`` (str), ``source`` (str, file it came from),
         ``target`` (float, m: the basket distance aimed at), ``landing`` (float, m: where the
@@ -156,7 +173,7 @@ class Trajectory:
         columns = {}
         length = None
         for name, values in self.data.items():
-            array = owned(np.asarray(values, dtype=float), values)
+            array = owned(as_floats(values, f"trajectory {self.id!r}: column {name!r}"), values)
             if array.ndim != 1:
                 raise InputError(f"trajectory {self.id!r}: column {name!r} must be 1-D, got shape {array.shape}")
             usable = np.abs(array) <= MAX_MAGNITUDE  # finite and small enough to square and sum
@@ -326,7 +343,7 @@ class Dataset(Sequence[Trajectory]):
         owner = np.repeat(np.arange(lengths.size), lengths)
         arrays: dict[str, np.ndarray] = {}
         for name, values in columns.items():
-            array = owned(np.ascontiguousarray(values, dtype=float), values)
+            array = owned(np.ascontiguousarray(as_floats(values, f"column {name!r}")), values)
             if array.shape != (total,):
                 raise InputError(f"column {name!r} has shape {array.shape}, expected ({total},)")
             usable = np.abs(array) <= MAX_MAGNITUDE

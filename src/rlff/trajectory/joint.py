@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rlff.dataset import owned
+from rlff.dataset import as_floats, owned
 from rlff.errors import InputError
 from rlff.limits import as_names
 
@@ -15,6 +15,9 @@ from rlff.limits import as_names
 @dataclass(frozen=True)
 class JointTrajectory:
     """Joint positions, velocities and accelerations at increasing times.
+
+    The arrays hold numbers (integers or floats, kept as floats); booleans, text or objects are an
+    :class:`InputError` naming the array.
 
     Parameters
     ----------
@@ -42,12 +45,12 @@ class JointTrajectory:
     def __post_init__(self) -> None:
         names = tuple(str(n) for n in as_names(self.joint_names))
         # the caller's own arrays stay theirs and writeable: the trajectory freezes copies (owned)
-        time = owned(np.asarray(self.time, dtype=float), self.time)
-        positions = owned(np.asarray(self.positions, dtype=float), self.positions)
-        velocities = owned(np.asarray(self.velocities, dtype=float), self.velocities)
+        time = owned(as_floats(self.time, "time"), self.time)
+        positions = owned(as_floats(self.positions, "positions"), self.positions)
+        velocities = owned(as_floats(self.velocities, "velocities"), self.velocities)
         accelerations = (
             np.zeros_like(positions) if self.accelerations is None
-            else owned(np.asarray(self.accelerations, dtype=float), self.accelerations)
+            else owned(as_floats(self.accelerations, "accelerations"), self.accelerations)
         )
         if len(set(names)) != len(names) or not names:
             raise InputError(f"joint names must be unique and non-empty, got {list(names)}")
