@@ -59,6 +59,20 @@ def test_integer_columns_are_numbers_kept_as_floats():
     assert trajectory["angle"].dtype == np.float64 and trajectory["velocity"].tolist() == [3.0, 4.0]
 
 
+@pytest.mark.parametrize("index", [3, 5, -4, np.int64(7)])
+def test_an_index_past_the_trajectories_says_how_many_there_are(index):
+    # it said Python's "tuple index out of range"
+    dataset = Dataset([_trajectory(name, 1.0) for name in "abc"])
+    with pytest.raises(IndexError, match=rf"^trajectory index {index} out of range: the dataset has 3 trajectories "
+                                         r"\(0 to 2, or -3 to -1\)$"):
+        dataset[index]
+    assert dataset[-3].id == "a" and dataset[2].id == "c"
+    with pytest.raises(IndexError, match=r"the dataset has 1 trajectory \(index 0, or -1\)$"):
+        dataset[:1][index]
+    with pytest.raises(IndexError, match=r"the dataset has no trajectories$"):
+        dataset[:0][index]
+
+
 def test_dataset_rejects_duplicates_varying_context_and_time_going_back():
     with pytest.raises(InputError, match="duplicate trajectory id 'a'"):
         Dataset([_trajectory("a", 1.0), _trajectory("a", 2.0)])

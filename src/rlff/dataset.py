@@ -437,7 +437,13 @@ class Dataset(Sequence[Trajectory]):
                 if trajectory.id == index:
                     return trajectory
             raise KeyError(index)
-        return self._trajectories[index]
+        try:
+            return self._trajectories[index]
+        except IndexError:  # Python's "tuple index out of range" named neither the index nor the length
+            count = len(self._trajectories)
+            held = {0: "no trajectories", 1: "1 trajectory (index 0, or -1)"}.get(
+                count, f"{count} trajectories (0 to {count - 1}, or -{count} to -1)")
+            raise IndexError(f"trajectory index {index} out of range: the dataset has {held}") from None
 
     def __repr__(self) -> str:
         return (
