@@ -4,6 +4,7 @@ stated limits of rlff.limits."""
 from __future__ import annotations
 
 import os
+import re
 
 import numpy as np
 import pandas as pd
@@ -15,7 +16,7 @@ from rlff.csvtable import per_group_text, write_csv_columns
 from rlff.dataset import Dataset, Trajectory, read_csv, write_csv
 from rlff.errors import InputError
 from rlff.fileio import atomic_path, atomic_write, check_outputs, require_distinct, write_text
-from rlff.limits import MAX_MAGNITUDE, apart, check_count, check_range
+from rlff.limits import MAX_MAGNITUDE, apart, check_count, check_period, check_range
 
 # -- atomic writes -------------------------------------------------------------------------------
 
@@ -251,6 +252,16 @@ def test_ranges_refuse_values_outside(value):
     # NaN was "nan m is outside the range"
     with pytest.raises(InputError, match="is not a number" if value != value else "outside the range 0.3 to 20 m"):
         check_range("basket distance", value, (0.3, 20.0))
+
+
+@pytest.mark.parametrize(("value", "message"), [(0.0, "period must be a positive controller period (s), got 0.0"),
+                                              (1e-6, "period 1e-06 s is shorter than 0.0001 s")])
+def test_a_bad_period_names_the_parameter_not_a_command_line_option(value, message):
+    # it said "--period ..." to a library caller of rlff.robot.plan (the CLI passes its option)
+    with pytest.raises(InputError, match=rf"^{re.escape(message)}"):
+        check_period(value)
+    with pytest.raises(InputError, match=rf"^--{re.escape(message)}"):
+        check_period(value, "--period")
 
 
 def test_values_and_limits_print_with_enough_digits_to_differ():

@@ -134,6 +134,9 @@ def test_sim_reach_reports_the_reach(cli):
     # an opening in centimetres had given "farthest basket 19.768 m"
     wide = cli("sim", "reach", "--opening", "35")
     assert wide.code == 2 and "--opening 35 m reaches back past the robot" in wide.stderr
+    # the basket's own check names its parameter; the command adds the option the user typed
+    low = cli("sim", "reach", "--height", "0.01")
+    assert low.code == 2 and "rlff: error: basket rim_height (--height) 0.01 m is no higher than" in low.stderr
 
 
 def test_sim_reach_of_an_arm_it_cannot_simulate_says_why(cli, tmp_path):

@@ -98,6 +98,20 @@ def test_a_bad_basket_is_refused(field, value):
         Basket(**values)
 
 
+@pytest.mark.parametrize(("values", "message"), [
+    ({"distance": 0.1}, "basket distance: 0.1 m is outside the range 0.3 to 20 m"),
+    ({"rim_height": -0.3}, "basket rim_height must be a positive number of metres, got -0.3"),
+    ({"rim_height": 0.01}, "basket rim_height 0.01 m is no higher than a ball resting on"),
+    ({"opening": 0.01}, "basket opening 0.01 m is no wider than the ball"),
+    ({"distance": 1.0, "opening": 3.0}, "basket opening 3 m reaches back past the robot from a basket 1 m away"),
+])
+def test_a_bad_basket_names_the_parameter_not_a_command_line_option(values, message):
+    # it said "basket rim_height (--height)" to a library caller, who passes no options
+    with pytest.raises(InputError) as caught:
+        Basket(**{"distance": 2.0, **values})
+    assert str(caught.value).startswith(message) and "--" not in str(caught.value), str(caught.value)
+
+
 def test_a_robot_without_geometry_cannot_be_simulated():
     robot = load_robot()
     bare = Robot(robot.name, robot.joints, None, source="bare.toml")

@@ -79,7 +79,7 @@ def test_a_basket_lower_than_the_ball_still_holds_a_ball_lying_on_its_floor(robo
 
 
 def test_a_rim_below_a_resting_balls_centre_is_refused():
-    with pytest.raises(InputError, match=r"rim_height \(--height\) 0.04 m is no higher than a ball resting"):
+    with pytest.raises(InputError, match=r"basket rim_height 0.04 m is no higher than a ball resting"):
         Basket(1.5, rim_height=0.04)
 
 

@@ -116,8 +116,9 @@ def check_frame_rate(value: float, name: str = "frame rate") -> float:
     return check_range(name, value, FRAME_RATE_RANGE, "Hz")
 
 
-def check_period(value: float, name: str = "--period") -> float:
-    """A controller period (s): finite and at least :data:`MIN_PERIOD`."""
+def check_period(value: float, name: str = "period") -> float:
+    """A controller period (s): finite and at least :data:`MIN_PERIOD`; ``name``: what the message
+    calls it (``--period`` on the command line)."""
     if value is None or not (math.isfinite(value) and value > 0):
         raise InputError(f"{name} must be a positive controller period (s), got {value!r}: "
                          "the points of a path are not a trajectory a controller can follow")

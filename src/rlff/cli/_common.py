@@ -92,6 +92,24 @@ def check_approach_speed_option(value: float) -> None:
         raise InputError(f"--approach-speed {value:.10g}: {exc}") from None
 
 
+@contextmanager
+def basket_options(**options: str) -> Iterator[None]:
+    """Name the option a basket's value came from in the errors of :class:`rlff.sim.Basket`, which
+    name its parameter: ``basket_options(rim_height="--height")`` turns "basket rim_height 0.01 m is
+    no higher ..." into "basket rim_height (--height) 0.01 m is no higher ..."."""
+    from rlff.errors import InputError
+
+    try:
+        yield
+    except InputError as exc:
+        message = str(exc)
+        for parameter, option in options.items():
+            words = f"basket {parameter}"
+            if message.startswith(words):
+                raise InputError(f"{words} ({option}){message[len(words):]}") from None
+        raise
+
+
 def say(message: str) -> None:
     """A note for the user on stderr, unless -q."""
     if not verbosity.quiet:

@@ -4,7 +4,16 @@ from __future__ import annotations
 
 import typer
 
-from rlff.cli._common import MAX_SEED, PLAIN_HELP, emit_json, progress, seed_option, stdout, warn
+from rlff.cli._common import (
+    MAX_SEED,
+    PLAIN_HELP,
+    basket_options,
+    emit_json,
+    progress,
+    seed_option,
+    stdout,
+    warn,
+)
 from rlff.errors import InputError
 
 app = typer.Typer(rich_markup_mode=PLAIN_HELP, help="Benchmarks: how many attempts learning takes, and against which baselines.",
@@ -116,7 +125,8 @@ def learning(
     except InputError as exc:
         raise InputError(f"--robot: {exc}") from None
     # said before the runs start, not by the first run of a basket out of reach (27 runs in)
-    require_reachable_baskets(cases)
+    with basket_options(opening="--opening"):
+        require_reachable_baskets(cases)
     if quick:
         seeds, budget = min(seeds, 2), min(budget, 12)
     if first_seed + seeds - 1 > MAX_SEED:

@@ -9,6 +9,7 @@ import typer
 
 from rlff.cli._common import (
     APPROACH_SPEED_OPTION,
+    basket_options,
     check_approach_speed_option,
     emit_json,
     progress,
@@ -105,8 +106,11 @@ def learn_command(
     guard(inputs={"DEMOS": demos, "--carry": carry or None, "--robot": robot_file(robot)},
           outputs={"--log": log, "-o/--output": out}, folders=["-o/--output"] if bag_folder else [])
     from rlff.limits import check_period
+    from rlff.sim import Basket
 
-    check_period(period)  # a bad --period fails before the first throw, with or without --out
+    check_period(period, "--period")  # a bad --period fails before the first throw, with or without --out
+    with basket_options(distance="--basket", rim_height="--height", bearing="--bearing"):  # and a bad basket
+        Basket(basket, bearing=bearing) if height is None else Basket(basket, height, bearing=bearing)
     if out is not None:  # and a bad --out or --format
         fmt = export_format(out, fmt)
     from rlff.learn.loop import AIMS

@@ -12,6 +12,7 @@ import typer
 from rlff.cli._common import (
     APPROACH_SPEED_OPTION,
     PLAIN_HELP,
+    basket_options,
     check_approach_speed_option,
     emit_json,
     progress,
@@ -189,7 +190,7 @@ def export(
     guard(inputs={"TRAJECTORY": trajectory, "--robot": robot_file(robot)}, outputs={"-o/--output": out},
           folders=["-o/--output"] if bag_folder else [])
     fmt = export_format(out, fmt)  # before any planning; without --format, from the suffix
-    check_period(period)  # a robot trajectory is not planned again: its --period is checked here
+    check_period(period, "--period")  # a robot trajectory is not planned again: its --period is checked here
     driven = joint_list(joints)
     model = load_robot(robot)
     source = load_input(trajectory, model, attempt=attempt, period=period, clip=clip, joints=driven, bearing=bearing)
@@ -344,7 +345,8 @@ def _mujoco_throw(model, basket: float, bearing: float = 0.0, height: float = 0.
     node registers)."""
     from rlff.sim import Basket, simulate_throw
 
-    target = Basket(basket, rim_height=height, bearing=bearing)
+    with basket_options(distance="--basket", rim_height="--height", bearing="--bearing"):
+        target = Basket(basket, rim_height=height, bearing=bearing)
     where = f"basket at {basket:g} m" + (f" on the {bearing:g} deg line" if bearing else "")
 
     def throw(trajectory) -> str:
@@ -412,7 +414,7 @@ def send(
                          "(drop --topic-mode)")
     check_approach_speed_option(approach_speed)
     check_timeout(timeout, "--timeout")
-    check_period(period)  # a robot trajectory is sent as it is, but a bad --period is no less a typo
+    check_period(period, "--period")  # a robot trajectory is sent as it is, but a bad --period is no less a typo
     model = load_robot(robot)
     driven = joint_list(joints)
 

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import PLAIN_HELP, emit_json, say, stdout, warn
+from rlff.cli._common import PLAIN_HELP, basket_options, emit_json, say, stdout, warn
 from rlff.cli.robot import DEFAULT_ROBOT, JOINTS, joint_list
 
 # The library (MuJoCo, SciPy) is imported inside the commands: other commands do not pay for it
@@ -81,13 +81,17 @@ def throw(
             bearing = found[0]
             say(f"basket bearing {bearing:g} deg, where the trajectory's {found[1]} stands at the release (give "
                 "--bearing to put it elsewhere)")
+    given = {name: option for name, option, value in (("distance", "--basket", basket), ("rim_height", "--height", rim_height),
+                                                      ("opening", "--opening", opening), ("bearing", "--bearing", bearing))
+             if value is not None}  # the rest from the log, or the defaults
     basket = logged.get("distance") if basket is None else basket
     pedestal = run.get("pedestal", 0.0) if pedestal is None else pedestal
     if basket is None:
         raise InputError("--basket is needed (only an attempts log carries its basket)")
-    target = Basket(basket, logged.get("rim_height", 0.3) if rim_height is None else rim_height,
-                    logged.get("opening", 0.35) if opening is None else opening,
-                    logged.get("bearing", 0.0) if bearing is None else bearing)
+    with basket_options(**given):
+        target = Basket(basket, logged.get("rim_height", 0.3) if rim_height is None else rim_height,
+                        logged.get("opening", 0.35) if opening is None else opening,
+                        logged.get("bearing", 0.0) if bearing is None else bearing)
     say(f"{trajectory}: {loaded.kind}")
     dropped = loaded.simulated.release_time is None and release_angle is None
     if dropped:
@@ -192,7 +196,8 @@ def reach(
                          f"{math.degrees(turn.lower):.0f} to {math.degrees(turn.upper):.0f} deg")
     # the basket's own checks of height, opening and bearing; as far as a basket goes, since the
     # reach has no basket's distance to judge an opening reaching back past the robot against
-    Basket(DISTANCE_RANGE[1], rim_height, opening, bearing)
+    with basket_options(rim_height="--height", opening="--opening", bearing="--bearing"):
+        Basket(DISTANCE_RANGE[1], rim_height, opening, bearing)
     result = throw_reach(model, rim_height, pedestal, names)
     if not math.isfinite(result.distance):
         raise InputError(f"{model.name}, throwing with {', '.join(result.joints)} at the speed limit from a "

@@ -32,6 +32,13 @@ class Basket:
         Direction of the basket seen from above (deg): 0 straight ahead (the robot's x axis),
         positive to the left (counter-clockwise, the sense of joint 1); -180..180. The basket's
         walls face the robot.
+
+    Raises
+    ------
+    InputError
+        A value out of its range, the message starting with ``basket`` and the parameter's name
+        (``basket rim_height 0.01 m is no higher ...``), so that a caller can add where the
+        value came from.
     """
 
     distance: float
@@ -42,20 +49,20 @@ class Basket:
     def __post_init__(self) -> None:
         for name in (f.name for f in fields(self)):
             _require_number(name, getattr(self, name))
-        check_distance("basket distance (--basket)", self.distance)
-        for name, option in (("rim_height", "--height"), ("opening", "--opening")):
+        check_distance("basket distance", self.distance)
+        for name in ("rim_height", "opening"):
             value = getattr(self, name)
             if not np.isfinite(value) or value <= 0:
-                raise InputError(f"basket {name} ({option}) must be a positive number of metres, got {value}")
+                raise InputError(f"basket {name} must be a positive number of metres, got {value}")
         if self.rim_height <= WALL + BALL_RADIUS:
-            raise InputError(f"basket rim_height (--height) {self.rim_height:g} m is no higher than a ball resting on "
+            raise InputError(f"basket rim_height {self.rim_height:g} m is no higher than a ball resting on "
                              f"the basket's floor reaches ({WALL + BALL_RADIUS:g} m to its centre): its walls would "
                              "not keep the ball in; give the rim's height above the ground in metres")
         if self.opening <= 2 * BALL_RADIUS:
-            raise InputError(f"basket opening (--opening) {self.opening:g} m is no wider than the ball "
+            raise InputError(f"basket opening {self.opening:g} m is no wider than the ball "
                              f"({2 * BALL_RADIUS:g} m across): no throw drops into it")
         if self.opening >= 2 * self.distance:
-            raise InputError(f"basket opening (--opening) {self.opening:g} m reaches back past the robot from a basket "
+            raise InputError(f"basket opening {self.opening:g} m reaches back past the robot from a basket "
                              f"{self.distance:g} m away: give the opening's inner width in metres (0.35 is the thesis' "
                              "basket)")
         low, high = BEARING_RANGE
