@@ -308,3 +308,40 @@ def test_the_slowest_window_lies_below_the_speed_that_reaches_the_far_edge():
     # u0 = 40: the far edge at log(6.25 / 40) = -1.86, below LOWEST: one window below it
     assert lowest_for(flat, 40.0, 0.45, 0.175, width) == pytest.approx(math.log(6.25 / 40.0) - width, abs=1e-6)
     assert lowest_for(None, 40.0, 0.45, 0.175, width) == LOWEST
+
+
+def _tight_robot(tmp_path, upper: float):
+    """The built-in robot with joint_2's upper position limit at ``upper`` (rad), just past the
+    short people's release, so that a fast throw has no room to brake."""
+    from importlib.resources import files
+
+    text = (files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    assert "lower = -1.48\nupper = 2.71" in text
+    path = tmp_path / "tight.toml"
+    path.write_text(text.replace("lower = -1.48\nupper = 2.71", f"lower = -1.48\nupper = {upper}"))
+    return path
+
+
+@pytest.mark.slow
+def test_a_throw_with_no_room_to_brake_faster_stops_the_run(short_demos, tmp_path):
+    # joint_2 must stop before -0.2 rad: the planner slows every faster throw to what it can
+    # brake from, far below the speed limit; judged by the speed limit alone, each such throw
+    # could have gone faster, and the run threw the same throw 0.47 m short for its whole budget
+    robot = _tight_robot(tmp_path, -0.2)
+    result = learn(short_demos, BASKET, budget=10, feedback="distance", update="calibrate", seed=0, robot=str(robot))
+    assert result.out_of_reach and not result.hit
+    assert result.attempts == SHORT_AT_THE_LIMIT
+    note = next(note for note in result.notes if "out of this arm's reach" in note)
+    assert "brake from within its position limits" in note
+
+    # the physical check: the last throw a little faster, still within joint_2's speed limit, is
+    # no throw the planner can make
+    from rlff.learn.reach import scaled
+    from rlff.robot.plan import plan_path
+    from rlff.trajectory.check import MotionLimitError
+
+    mapping = mapping_for(load_robot(robot), None)
+    last = result.history[-1]
+    assert 1.05 * abs(last.velocity[-1]) < mapping.max_human_speeds()["velocity"]  # within the speed limit
+    with pytest.raises(MotionLimitError):
+        plan_path(mapping, scaled({"angle": last.angle, "velocity": last.velocity}, 1.05), clip=True)

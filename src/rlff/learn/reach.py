@@ -42,6 +42,8 @@ SHORT_AT_THE_LIMIT = 3
 #: of its 3.14 rad/s, and within 0.1 %, the rule until 2026-12-06, it never counted: one throw
 #: 7 mm beyond the rim was thrown 18 times).
 AT_THE_LIMIT = 1 / MARGIN
+#: What limits a throw's speed when the planner cannot make it faster (:func:`fastest_factor`).
+NO_ROOM = "the planner runs out of room to wind up or brake within the position limits"
 
 
 @dataclass(frozen=True)
@@ -56,7 +58,7 @@ class ArmReach:
     factor : float
         The speed factor on the shape that gets there.
     limiting : str
-        What sets ``factor``: a joint at its speed limit, or the planner's room to wind up.
+        What sets ``factor``: a joint at its speed limit, or the planner's room to wind up or brake.
     """
 
     distance: float
@@ -81,16 +83,33 @@ def arm_reach(mapping, shape: dict[str, np.ndarray], rim_height: float, pedestal
     (:func:`release_crossing_of`). With ``headroom`` (0 <= h < 1) the largest factor is
     ``1 - headroom`` of that: the reach with that share of the joints' speed kept in reserve.
     """
-    from rlff.robot.plan import plan_path
-
-    factor, limiting = release_speed_factor(mapping, shape)
     if not 0.0 <= headroom < 1.0:
         raise InputError(f"speed headroom must be a share in [0, 1), got {headroom!r}")
-    factor *= (1 - headroom) * (1 - 1e-9)  # at the limit, not a rounding beyond it
+    factor, limiting = fastest_factor(mapping, shape, 1 - headroom)
+    return ArmReach(release_crossing_of(mapping, scaled(shape, factor), rim_height, pedestal), factor, limiting)
+
+
+def fastest_factor(mapping, path: dict[str, np.ndarray], share: float = 1.0) -> tuple[float, str]:
+    """The largest factor on every velocity of ``path`` (columns of shape (T,), no ``time``) at
+    which the arm still makes the throw, and what sets it: the last driven joint's speed limit
+    at the release (:func:`release_speed_factor`; ``share`` of it), or, where the planner cannot
+    execute that throw (:func:`rlff.robot.plan.plan_path`, saturated as the loop executes it),
+    the room to wind up before the swing or to brake after the release within the position
+    limits, found by bisection. A joint whose range ends just past the release stops a fast
+    throw as surely as its speed limit does (a tester's arm with joint_2's upper limit at
+    -0.05 rad let go at 1.41 rad/s of its 1.8, and the speed limit alone said the throw could go
+    10 times faster: 7 identical throws 0.27 m short, and the run never stopped). inf when no
+    driven joint moves at the release."""
+    from rlff.robot.plan import plan_path
+
+    factor, limiting = release_speed_factor(mapping, path)
+    if not math.isfinite(factor):
+        return factor, limiting
+    factor *= share * (1 - 1e-9)  # at the limit, not a rounding beyond it
 
     def executable(f: float) -> bool:
         try:
-            plan_path(mapping, scaled(shape, f), clip=True)  # saturated as the loop executes it
+            plan_path(mapping, scaled(path, f), clip=True)  # saturated as the loop executes it
         except InputError:
             return False
         return True
@@ -100,8 +119,8 @@ def arm_reach(mapping, shape: dict[str, np.ndarray], rim_height: float, pedestal
         for _ in range(14):  # the factor to 1e-4 of the speed limit's
             middle = 0.5 * (low + high)
             low, high = (middle, high) if executable(middle) else (low, middle)
-        factor, limiting = low, "the planner runs out of room to wind up within the position limits"
-    return ArmReach(release_crossing_of(mapping, scaled(shape, factor), rim_height, pedestal), factor, limiting)
+        factor, limiting = low, NO_ROOM
+    return factor, limiting
 
 
 def release_elasticity(mapping, typical: dict[str, np.ndarray], target: float, rim_height: float,
@@ -232,7 +251,8 @@ def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, 
 
     - the attempt's executed path, every velocity scaled by one factor up to where the last
       driven joint reaches its speed limit at the release (the others saturate at theirs, as the
-      robot saturates them), gains what the free flight from its release state gains
+      robot saturates them) or the planner runs out of room to brake within the position limits
+      (:func:`fastest_factor`), gains what the free flight from its release state gains
       (:func:`release_crossing_of`): that gain is added to the landing the executor reported. An
       arm slower than its file, or one that lets go late, gains less than the file says, so this
       errs towards throwing again;
@@ -249,7 +269,7 @@ def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, 
     observed = fastest_seen(attempt, seen, mapping)
     shortfall = max(0.0, -tolerance - observed) if math.isfinite(observed) else 0.0
     path = _untimed(attempt)
-    factor, _ = release_speed_factor(mapping, path)
+    factor, _ = fastest_factor(mapping, path)
     if not math.isfinite(factor):
         return shortfall
     now = release_crossing_of(mapping, path, basket.rim_height, pedestal)
@@ -328,8 +348,14 @@ def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, 
     allow = "allows" if len(mapping.driven_joints) == 1 else "allow"
     low, high = f"{min(shortfalls):.2f}", f"{max(shortfalls):.2f}"
     by = f"{low} m" if low == high else f"{low}-{high} m"
+    if fastest_factor(mapping, _untimed(last[-1]))[1] == NO_ROOM:
+        why = ("The release is as fast as the arm can still wind up for and brake from within its position "
+               "limits: if the arm's range allows, widen the robot file's lower/upper of the throwing joint, or "
+               "move the basket nearer")
+    else:
+        why = ("An arm slower than its robot file, a late release or a heavier ball does that: check the robot "
+               "file's speed limits, or move the basket nearer")
     return (f"stopped after attempt {last[-1].index}: the basket at {basket.distance:g} m is out of this arm's reach. "
             f"Attempts {last[0].index}-{last[-1].index} came down short, and even at the fastest release {joints} "
-            f"{allow} they would have fallen {by} short of the {window}. An arm slower than its robot file, a late "
-            "release or a heavier ball does that: check the robot file's speed limits, or move the basket nearer "
-            "(rlff sim reach says how far the arm throws)")
+            f"{allow} they would have fallen {by} short of the {window}. {why} (rlff sim reach says how far the arm "
+            "throws)")
