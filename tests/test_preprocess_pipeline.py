@@ -69,7 +69,7 @@ def test_toml_config_with_a_disabled_step(tmp_path):
     [
         ('[[step]]\nname = "smooth"\n', r"steps.toml, step 1: unknown step 'smooth' \(known: spike_filter, crop"),
         ('[[step]]\nname = "crop"\n[[step]]\nname = "densify"\nstepsize = 0.1\n',
-         r"steps.toml, step 2: step 'densify': unknown parameter 'stepsize' \(known: column, step, anchors, spline\)"),
+         r"steps.toml, step 2: step 'densify': unknown parameter 'stepsize' \(known: column, step, anchors, spline, independent_rate\)"),
         ('[[step]]\nname = "densify"\nstep = "fine"\n', r"step 'densify': parameter 'step' = 'fine' should be a finite float"),
         ('[[step]]\nname = "cut_release"\nmode = "guess"\n', r"parameter 'mode' = 'guess' should be 'estimated' or 'angle'"),
         ('[[step]]\nname = "min_points"\nmin_points = true\n', r"parameter 'min_points' = True should be int"),

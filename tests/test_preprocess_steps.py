@@ -548,3 +548,26 @@ def test_cut_release_direction_is_the_datasets_majority_or_given():
         "cannot tell which way angle moves in the throws (1 trajectories move it up at their fastest sample, 1 down): "
         "cut as increasing" in note for note in report.notes)
     assert cut_release(tie, direction="decreasing")[1].params["throws"] == "decreasing"
+
+
+@pytest.mark.parametrize("rate", [60.0, 120.0])
+def test_densify_counts_a_fast_camera_s_frames_as_the_measurements_a_30_hz_one_makes(rate):
+    # one smooth extension of 0.3 s seen at 30 Hz and at a faster rate: the frames in between
+    # repeat what their neighbours measured, so BIC must not see 2-4 times the evidence (the
+    # same MSR throws resampled to 60-120 Hz got K = 8, one band a throw, where 15-30 Hz got 1-2)
+    def seen_at(hz: float) -> Trajectory:
+        time = np.arange(0.0, 0.3 + 1e-9, 1.0 / hz)
+        progress = 0.5 - 0.5 * np.cos(np.pi * time / 0.3)
+        return _throw(f"{hz:g}", 0.8 + 2.0 * progress, velocity=np.pi / 0.3 * np.sin(np.pi * time / 0.3), time=time)
+
+    def measured(trajectory: Trajectory, **settings) -> float:
+        out, _ = densify(_one(trajectory), step=0.01, **settings)
+        return len(out[trajectory.id]) * out[trajectory.id].meta["measured_share"]
+
+    slow, fast = seen_at(30.0), seen_at(rate)
+    assert measured(slow) == pytest.approx(len(slow))  # a 30 Hz camera's frames all count
+    assert measured(fast) == pytest.approx(measured(slow), rel=1e-9)
+    # 0 counts every frame, as before the cap
+    assert measured(fast, independent_rate=0) == pytest.approx(len(fast))
+    with pytest.raises(InputError, match="independent_rate"):
+        densify(_one(fast), independent_rate=-1.0)
