@@ -191,6 +191,38 @@ def test_a_ros2_bag_folder_is_replaced_whole(rlff, made, tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["bag2"]
 
 
+# (arguments, the option and the usual file name the message suggests)
+FOLDERS_FOR_FILES = {
+    "fit -o results/": (["fit", "{raw}", "-k", "1", "-o", "{out}/"], "-o/--output", "model.json"),
+    "generate -o out/": (["generate", "{model}", "-c", "distance=2", "-o", "{out}/"], "-o/--output", "traj.csv"),
+    "preprocess --report r/": (["data", "preprocess", "{raw}", "-o", "{tmp}/c.csv", "--report", "{out}/"],
+                               "--report", "report.json"),
+    "learn --log logs/": (["learn", "{raw}", "--basket", "2", "--log", "{out}/"], "--log", "attempts.jsonl"),
+    "robot export -f json -o j/": (["robot", "export", "{throw}", "-f", "json", "-o", "{out}/"], "-o/--output", "throw"),
+    "robot urdf -o u/": (["robot", "urdf", "-o", "{out}/"], "-o/--output", "robot.urdf"),
+}
+
+
+@pytest.mark.parametrize("case", list(FOLDERS_FOR_FILES))
+def test_an_output_file_named_as_a_folder_is_refused_with_a_file_name_in_it(rlff, made, tmp_path, case):
+    # Path("results/") is "results": `-o results/` wrote a file called results
+    template, option, example = FOLDERS_FOR_FILES[case]
+    out = tmp_path / "results"
+    result = rlff("-q", *[part.format(**made, tmp=tmp_path, out=out) for part in template])
+    assert result.code == 2 and result.stderr.strip() == (
+        f"rlff: error: {option} {out}/ names a folder; give a file name, e.g. {out / example}"), result.stderr
+    assert not out.exists() and not (tmp_path / "c.csv").exists()
+    out.mkdir()  # an existing folder, without the slash: the same words
+    result = rlff("-q", *[part.format(**made, tmp=tmp_path, out=out).rstrip("/") for part in template])
+    assert result.code == 2 and f"{option} {out} names a folder; give a file name, e.g. {out / example}" in result.stderr
+    assert list(out.iterdir()) == []
+
+
+def test_a_folder_output_may_end_in_a_slash(rlff, made, tmp_path):
+    assert rlff("-q", "robot", "export", str(made["throw"]), "-o", f"{tmp_path / 'bag'}/").code == 0
+    assert (tmp_path / "bag" / "metadata.yaml").is_file()
+
+
 def test_json_output_is_strict_json_with_null_for_what_is_not_finite(capsys):
     """Python writes NaN and Infinity, which are no JSON: jq, browsers and strict parsers refuse
     them. A payload with them anywhere (numpy arrays included) prints them as null."""

@@ -17,7 +17,7 @@ from rlff.cli._common import (
     warn,
     warn_copies,
 )
-from rlff.cli.output import guard, write_json
+from rlff.cli.output import guard, output_option, write_json
 from rlff.errors import InputError
 from rlff.wording import plural
 
@@ -55,7 +55,7 @@ def _baskets(option: str, text: str, unit: str) -> list[float]:
 
 @synth_app.command("throws")
 def synth_throws_command(
-    output: Path = typer.Option(..., "--output", "-o", help="Dataset to write (.csv, .parquet or .npz; not the thesis .txt matrix, which has no time)."),
+    output: Path = output_option(..., "--output", "-o", example="demos.csv", help="Dataset to write (.csv, .parquet or .npz; not the thesis .txt matrix, which has no time)."),
     seed: int = seed_option("Random seed (same seed, same throws)."),
     subjects: int | None = typer.Option(None, "--subjects", help="Number of subjects (default 10; 4 with --whole-arm)."),
     distances: str = typer.Option("1,1.5,2,2.25,2.5,2.75,3,3.25,3.5,4", "--distances", help="Basket distances (m), comma-separated."),
@@ -144,10 +144,10 @@ def _last_removal(report) -> str:
 @app.command("preprocess")
 def preprocess_command(
     data: Path = typer.Argument(..., help="Demonstrations (.csv, .parquet, .npz or thesis .txt)."),
-    output: Path = typer.Option(..., "--output", "-o", help="Cleaned dataset to write, its format from the extension (.csv, .parquet, .npz; .txt: the thesis matrix, which holds only angle, distance, velocity)."),
+    output: Path = output_option(..., "--output", "-o", example="clean.csv", help="Cleaned dataset to write, its format from the extension (.csv, .parquet, .npz; .txt: the thesis matrix, which holds only angle, distance, velocity)."),
     preset: str | None = typer.Option(None, "--preset", help="A built-in pipeline: thesis (the default)."),
     config: Path | None = typer.Option(None, "--config", help="A pipeline TOML file instead of a preset."),
-    report_path: Path | None = typer.Option(None, "--report", help="Write the step report as JSON here."),
+    report_path: Path | None = output_option(None, "--report", example="report.json", help="Write the step report as JSON here."),
     as_json: bool = typer.Option(False, "--json", help="Print the step report as JSON instead of a table."),
 ) -> None:
     """Clean demonstrations step by step and report what every step removed and why."""

@@ -8,7 +8,7 @@ import typer
 
 from rlff.cli._common import emit_json, progress, say, stdout, warn
 from rlff.cli.data import app
-from rlff.cli.output import guard
+from rlff.cli.output import guard, output_option
 from rlff.errors import InputError
 from rlff.wording import plural
 
@@ -28,7 +28,7 @@ def column_map(text: str | None) -> dict[str, str] | None:
 @app.command("import")
 def import_command(
     files: list[Path] = typer.Argument(..., help="Recordings: ROS 1 .bag files, ROS 2 bag folders, skeleton text or CSV."),
-    output: Path = typer.Option(..., "--output", "-o", help="Demonstrations to write: .csv (or .parquet, .npz)."),
+    output: Path = output_option(..., "--output", "-o", example="demos.csv", help="Demonstrations to write: .csv (or .parquet, .npz)."),
     format: str = typer.Option("auto", "--format", "-f", help="bag, kinect-text, msr, csv, thesis, or auto (from each file)."),
     manifest: Path | None = typer.Option(None, "--manifest", "-m", help="CSV of basket distances: file, distance[, throw | start, end][, subject][, bearing][, height]."),
     contact_sheet: Path | None = typer.Option(None, "--contact-sheet", help="Folder for PNG contact sheets of the cuts (bags with a camera stream)."),

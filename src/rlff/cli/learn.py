@@ -19,6 +19,7 @@ from rlff.cli._common import (
     stdout,
     warn,
 )
+from rlff.cli.output import output_option
 from rlff.wording import attempt_outcome, plural, signed_metres
 
 
@@ -38,7 +39,7 @@ def learn_command(
                                help="calibrate (default), donut, failure, hindsight, or a baseline: imitation, random, sweep, "
                                     "secant, gp-bo, cma; a DMM method with :no-exploration or :gmr-mean is its "
                                     "ablation (e.g. calibrate:no-exploration)."),
-    log: Path | None = typer.Option(None, "--log", help="Attempts log (JSONL); resumed when it exists."),
+    log: Path | None = output_option(None, "--log", example="attempts.jsonl", help="Attempts log (JSONL); resumed when it exists."),
     seed: int = seed_option("Random seed."),
     preset: str | None = typer.Option(None, "--preset",
                                       help="Clean the demonstrations first with this preprocessing preset (e.g. thesis)."),
@@ -50,7 +51,8 @@ def learn_command(
     centre_share: float = typer.Option(0.5, "--centre-share",
                                        help="With --until centred: a centred hit lands within this share of the "
                                             "half-opening from the centre (0.5: the middle half)."),
-    out: Path | None = typer.Option(None, "--output", "-o", "--out",
+    # the example without a suffix, as robot export's -o: a file of any --format (with none, a ros2-bag folder)
+    out: Path | None = output_option(None, "--output", "-o", "--out", example="learned",
                                     help="Write the best throw (the last hit, or without one the nearest miss) robot-ready, as `rlff robot export` "
                                          "does; the format from the suffix (.json, .csv, .bag, .txt: comau; none: "
                                          "ros2-bag folder) or --format."),

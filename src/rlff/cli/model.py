@@ -20,7 +20,7 @@ from rlff.cli._common import (
     warn,
     warn_copies,
 )
-from rlff.cli.output import guard
+from rlff.cli.output import guard, output_option
 from rlff.errors import InputError
 from rlff.wording import plural
 
@@ -196,7 +196,7 @@ def _grid(text: str | None, first_input: str):
 
 def fit_command(
     data: Path = typer.Argument(..., help="Demonstrations (CSV long format; other formats by extension)."),
-    output: Path = typer.Option(..., "--output", "-o", help="model.json to write."),
+    output: Path = output_option(..., "--output", "-o", example="model.json", help="model.json to write."),
     inputs: str | None = typer.Option(
         None, "--inputs",
         help="Input columns; the first is the path variable. Default: angle and every context column present (distance, bearing, height).",
@@ -325,7 +325,7 @@ def fit_command(
 
 def generate_command(
     model_path: Path = typer.Argument(..., metavar="MODEL", help="model.json from rlff fit."),
-    output: Path = typer.Option(..., "--output", "-o", help="Trajectory CSV to write."),
+    output: Path = output_option(..., "--output", "-o", example="traj.csv", help="Trajectory CSV to write."),
     context: list[str] = typer.Option([], "--context", "-c", help="Context value NAME=VALUE (repeat for several), e.g. distance=2.5."),
     grid: str | None = typer.Option(None, "--grid", help="Path grid NAME=START:STOP:N; default 100 points up to the "
                                                        "demonstrations' typical release (the model records it), "

@@ -7,6 +7,7 @@ from pathlib import Path
 import typer
 
 from rlff.cli._common import emit_json, stdout
+from rlff.cli.output import output_option
 
 
 def register(root: typer.Typer) -> None:
@@ -17,7 +18,7 @@ def register(root: typer.Typer) -> None:
 def report_command(
     run: Path = typer.Argument(..., help="Run directory (run.json and figures), e.g. the output of `rlff demo`; or a "
                                          "folder of your own chain's files (datasets, model.json, attempts logs)."),
-    out: Path | None = typer.Option(None, "--output", "-o", "--out", help="HTML file to write (default: RUN/report.html)."),
+    out: Path | None = output_option(None, "--output", "-o", "--out", example="report.html", help="HTML file to write (default: RUN/report.html)."),
     as_json: bool = typer.Option(False, "--json", help="Print the written path as JSON."),
 ) -> None:
     """Build the HTML report of a run: figures embedded, no network needed to open it."""

@@ -22,6 +22,7 @@ from rlff.cli._common import (
     stdout,
     warn,
 )
+from rlff.cli.output import output_option
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -130,7 +131,7 @@ def show(robot: str = ROBOT, json: bool = JSON) -> None:
 
 @app.command()
 def urdf(
-    out: Path = typer.Option(..., "--output", "-o", "--out", help="URDF file to write."),
+    out: Path = output_option(..., "--output", "-o", "--out", example="robot.urdf", help="URDF file to write."),
     robot: str = ROBOT,
     json: bool = JSON,
 ) -> None:
@@ -156,7 +157,9 @@ def export(
     fmt: str | None = typer.Option(None, "--format", "-f", help=f"One of: {', '.join(FORMATS)}; default from the "
                                                               "suffix of -o (.json, .csv, .bag: ros1-bag, .txt: "
                                                               "comau, none: ros2-bag), as rlff learn --out."),
-    out: Path = typer.Option(..., "--output", "-o", "--out", help="Output file (a folder for ros2-bag)."),
+    # the example without a suffix: a file of any --format (with none, a ros2-bag folder)
+    out: Path = output_option(..., "--output", "-o", "--out", example="throw",
+                              help="Output file (a folder for ros2-bag)."),
     robot: str = ROBOT,
     clip: bool = CLIP,
     attempt: int = ATTEMPT,

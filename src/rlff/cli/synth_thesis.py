@@ -8,13 +8,13 @@ import typer
 
 from rlff.cli._common import emit_json, stdout
 from rlff.cli.data import synth_app
-from rlff.cli.output import guard
+from rlff.cli.output import guard, output_option
 from rlff.wording import plural
 
 
 @synth_app.command("thesis")
 def thesis_command(
-    output: Path = typer.Option(..., "--output", "-o", help="Dataset to write (.csv; other formats by extension)."),
+    output: Path = output_option(..., "--output", "-o", example="data.csv", help="Dataset to write (.csv; other formats by extension)."),
     factor_slope: float = typer.Option(0.1, "--factor-slope", help="Slope of the velocity factor f(z) = 1 + slope (z - 1)."),
     trajectories: int = typer.Option(11, "--trajectories", help="Number of trajectories, at distances 1, 2, ..."),
     points: int = typer.Option(50, "--points", help="Points per trajectory, angle evenly spaced over [0, 10]."),
