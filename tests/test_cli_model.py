@@ -110,13 +110,38 @@ def test_generate_options(thesis_files, rlff, tmp_path):
     out = tmp_path / "traj.csv"
     result = rlff(
         "generate", str(model), "--context", "distance=2.5", "--grid", "angle=1:9:17", "--exploration", "0",
-        "--exploration-scale", "2", "--continuity", "-o", str(out),
+        "--continuity", "-o", str(out),
     )
     assert result.code == 0, result.stderr
     frame = pd.read_csv(out)
     np.testing.assert_allclose(frame["angle"], np.linspace(1, 9, 17))
     assert np.all(frame["exploration"] == 0)
     assert np.all(np.diff(frame["time"]) > 0)
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["--robot", "mine.toml"], "--robot mine.toml goes with --joints (its [whole_arm] table maps them) or --bearing "
+                               "(checked against its turning joint): without them the path is the same for every "
+                               "robot, mapped to the arm by `rlff robot export --robot mine.toml`; add --joints, or "
+                               "drop --robot"),
+    (["--exploration", "0.3", "--exploration-scale", "2"],
+     "--exploration-scale sizes the exploration of --exploration auto; a fixed --exploration 0.3 does not use it: "
+     "drop one of them"),
+])
+def test_generate_refuses_an_option_that_only_matters_beside_another(thesis_files, rlff, tmp_path, args, message):
+    # both were ignored: the path was the same with any --robot, and with any --exploration-scale
+    _, model, _ = thesis_files
+    out = tmp_path / "t.csv"
+    result = rlff("generate", str(model), "-c", "distance=2.5", *args, "-o", str(out))
+    assert result.code == 2 and result.stderr.strip() == f"rlff: error: {message}", result.stderr
+    assert not out.exists()
+
+
+def test_generate_takes_robot_with_bearing_and_exploration_scale_with_auto(thesis_files, rlff, tmp_path):
+    _, model, _ = thesis_files
+    for args in (["--robot", "comau_smart5_six", "--bearing", "10"], ["--exploration", "auto", "--exploration-scale", "2"]):
+        result = rlff("generate", str(model), "-c", "distance=2.5", *args, "-o", str(tmp_path / "t.csv"))
+        assert result.code == 0, result.stderr
 
 
 @pytest.mark.parametrize(

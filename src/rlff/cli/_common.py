@@ -110,6 +110,12 @@ def basket_options(**options: str) -> Iterator[None]:
         raise
 
 
+def option_given(ctx: typer.Context, name: str) -> bool:
+    """Whether the option of the command's parameter ``name`` was given, not left at its default:
+    an option that only matters beside another is refused without it, rather than ignored."""
+    return ctx.get_parameter_source(name).name != "DEFAULT"
+
+
 def say(message: str) -> None:
     """A note for the user on stderr, unless -q."""
     if not verbosity.quiet:

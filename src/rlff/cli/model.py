@@ -12,6 +12,7 @@ import typer
 
 from rlff.cli._common import (
     emit_json,
+    option_given,
     progress,
     say,
     seed_option,
@@ -324,6 +325,7 @@ def fit_command(
 
 
 def generate_command(
+    ctx: typer.Context,
     model_path: Path = typer.Argument(..., metavar="MODEL", help="model.json from rlff fit."),
     output: Path = output_option(..., "--output", "-o", example="traj.csv", help="Trajectory CSV to write."),
     context: list[str] = typer.Option([], "--context", "-c", help="Context value NAME=VALUE (repeat for several), e.g. distance=2.5."),
@@ -331,7 +333,7 @@ def generate_command(
                                                        "demonstrations' typical release (the model records it), "
                                                        "or over the data's range if it does not know it."),
     exploration: str = typer.Option("auto", "--exploration", help="auto (from the GMR variance), or a fixed factor in [0, 1]; 0 gives the GMR."),
-    exploration_scale: float = typer.Option(1.0, "--exploration-scale", help="Spread of the demonstrations (output units) that counts as large."),
+    exploration_scale: float = typer.Option(1.0, "--exploration-scale", help="With --exploration auto: the spread of the demonstrations (output units) that counts as large."),
     continuity: bool = typer.Option(True, "--continuity/--no-continuity",
                                     help="Keep the output continuous where modes are nearly equally high (within 5 %): "
                                          "no jumps between donut sides (default on: a robot can follow it)."),
@@ -343,8 +345,11 @@ def generate_command(
                                                                  "context value if the model has it, else only "
                                                                  "written into the CSV for the robot step."),
     height: float | None = typer.Option(None, "--height", help="The basket rim's height (m): as --bearing."),
-    robot: str = typer.Option("comau_smart5_six", "--robot", help="Robot file (.toml) or built-in robot name, "
-                                                                  "whose [whole_arm] table maps --joints."),
+    robot: str = typer.Option("comau_smart5_six", "--robot", help="With --joints or --bearing: the robot file (.toml) or "
+                                                                  "built-in robot name whose [whole_arm] table maps "
+                                                                  "--joints and whose turning joint's range is checked "
+                                                                  "against --bearing. The path is the same for every "
+                                                                  "robot: rlff robot export --robot maps it."),
     as_json: bool = typer.Option(False, "--json", help="Print a summary as JSON."),
 ) -> None:
     """Generate a path: for every angle, the velocity of highest Donut Mixture density."""
@@ -352,6 +357,10 @@ def generate_command(
     from rlff.model.donut import CLIMB_CHUNK
 
     guard(inputs={"MODEL": model_path}, outputs={"-o/--output": output})
+    if option_given(ctx, "robot") and joints is None and bearing is None:
+        raise InputError(f"--robot {robot} goes with --joints (its [whole_arm] table maps them) or --bearing (checked "
+                         "against its turning joint): without them the path is the same for every robot, mapped to the arm by "
+                         f"`rlff robot export --robot {robot}`; add --joints, or drop --robot")
     context_values = _context(context)
     model = Model.load(model_path)
     written = _basket_values(context_values, model.context_names, bearing, height)
@@ -359,6 +368,9 @@ def generate_command(
     angles = _grid(grid, model.inputs[0])
     factor = _word_or_number("--exploration", exploration, {"auto": "auto"}, lambda v: 0 <= v <= 1,
                              "auto or a number in [0, 1]")
+    if factor != "auto" and option_given(ctx, "exploration_scale"):
+        raise InputError(f"--exploration-scale sizes the exploration of --exploration auto; a fixed --exploration "
+                         f"{exploration} does not use it: drop one of them")
     if angles is not None and angles.size > CLIMB_CHUNK and len(model.outputs) > 1:  # seconds to minutes
         with progress("generating", total=angles.size) as advance:
             done = [0]
