@@ -332,6 +332,17 @@ def test_an_unknown_until_is_one_line_and_exit_2(rlff, demos_csv):
     assert "unknown until 'perfect' (known: hit, centred)" in result.stderr
 
 
+@pytest.mark.parametrize("until", [[], ["--until", "hit"]])
+def test_a_centre_share_without_until_centred_is_refused(rlff, demos_csv, tmp_path, until):
+    # it was ignored: the run stopped at the first hit, anywhere in the opening
+    log = tmp_path / "a.jsonl"
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", *until, "--centre-share", "0.3", "--log", str(log))
+    assert result.code == 2 and result.stderr.strip() == (
+        "rlff: error: --centre-share is how near the centre a hit must land to stop a run --until centred; --until "
+        "hit (the default) stops at the first hit: add --until centred, or drop --centre-share"), result.stderr
+    assert not log.exists()
+
+
 def test_a_live_executor_without_an_outcome_source_says_what_is_missing(rlff, demos_csv):
     # it said "--outcome ask|topic goes with --executor ros1|ros2": the opposite of the problem
     result = rlff("learn", str(demos_csv), "--basket", "1.4", "--executor", "ros2")

@@ -12,6 +12,7 @@ from rlff.cli._common import (
     basket_options,
     check_approach_speed_option,
     emit_json,
+    option_given,
     progress,
     say,
     seed_option,
@@ -29,6 +30,7 @@ def register(root: typer.Typer) -> None:
 
 
 def learn_command(
+    ctx: typer.Context,
     demos: Path = typer.Argument(..., help="Demonstrations (CSV, NPZ, Parquet or thesis matrix, by extension: angle, distance, velocity; "
                                            "with --joints also shoulder[, wrist] and their velocities)."),
     basket: float = typer.Option(..., "--basket", help="Basket distance from the robot's base (m)."),
@@ -119,6 +121,9 @@ def learn_command(
 
     if aim not in AIMS:  # before the demonstrations are read and cleaned
         raise InputError(f"unknown --aim {aim!r} (known: {', '.join(AIMS)})")
+    if until == "hit" and option_given(ctx, "centre_share"):
+        raise InputError("--centre-share is how near the centre a hit must land to stop a run --until centred; "
+                         "--until hit (the default) stops at the first hit: add --until centred, or drop --centre-share")
     if executor not in ("sim", "ros1", "ros2"):
         raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")
     if executor == "sim" and outcome is not None:
