@@ -343,6 +343,26 @@ def test_a_centre_share_without_until_centred_is_refused(rlff, demos_csv, tmp_pa
     assert not log.exists()
 
 
+@pytest.mark.parametrize(("args", "message"), [
+    (["--format", "json"], "--format is the format of the file --out writes: it goes with --out FILE"),
+    (["--period", "0.004"], "--period is the controller period of the file --out writes: it goes with --out FILE"),
+    (["--landing-topic", "/vision/landing"], "--landing-topic is where the landings are read: it goes with --outcome topic"),
+    (["--network"], "--network lets a live robot's node reach other hosts: it goes with --executor ros1|ros2"),
+    (["--approach-speed", "0.5"],
+     "--approach-speed paces a live arm's move to the throw's start: it goes with --executor ros1|ros2"),
+    (["--feedback", "distance", "--misreport", "0.1"],
+     "--misreport is the chance that a hit is reported as a miss: it goes with --feedback binary"),
+])
+def test_an_option_without_the_one_it_goes_with_is_refused(rlff, demos_csv, tmp_path, args, message):
+    # each was ignored: no file written at --period, the landings not read from --landing-topic, ...
+    log = tmp_path / "a.jsonl"
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", *args, "--log", str(log))
+    option = message.split()[0]
+    assert result.code == 2 and result.stderr.strip() == (
+        f"rlff: error: {message} (add it, or drop {option})"), result.stderr
+    assert not log.exists()
+
+
 def test_a_live_executor_without_an_outcome_source_says_what_is_missing(rlff, demos_csv):
     # it said "--outcome ask|topic goes with --executor ros1|ros2": the opposite of the problem
     result = rlff("learn", str(demos_csv), "--basket", "1.4", "--executor", "ros2")

@@ -124,6 +124,19 @@ def learn_command(
     if until == "hit" and option_given(ctx, "centre_share"):
         raise InputError("--centre-share is how near the centre a hit must land to stop a run --until centred; "
                          "--until hit (the default) stops at the first hit: add --until centred, or drop --centre-share")
+    for option, name, what, needs, apart in (
+            ("--format", "fmt", "is the format of the file --out writes", "--out FILE", out is None),
+            ("--period", "period", "is the controller period of the file --out writes", "--out FILE", out is None),
+            ("--landing-topic", "landing_topic", "is where the landings are read", "--outcome topic",
+             outcome != "topic"),
+            ("--network", "network", "lets a live robot's node reach other hosts", "--executor ros1|ros2",
+             executor == "sim"),
+            ("--approach-speed", "approach_speed", "paces a live arm's move to the throw's start",
+             "--executor ros1|ros2", executor == "sim"),
+            ("--misreport", "misreport", "is the chance that a hit is reported as a miss", "--feedback binary",
+             feedback == "distance")):
+        if apart and option_given(ctx, name):  # it would change nothing: refused, not ignored
+            raise InputError(f"{option} {what}: it goes with {needs} (add it, or drop {option})")
     if executor not in ("sim", "ros1", "ros2"):
         raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")
     if executor == "sim" and outcome is not None:
