@@ -319,6 +319,26 @@ def test_the_format_and_the_output_are_checked_before_any_planning(capsys, tmp_p
     assert code == 2 and "the robot would not execute as asked" in err  # what the planning says, once the rest is right
 
 
+def test_live_goals_and_files_each_have_their_period_and_the_help_says_why():
+    # send's 0.01 beside the 0.002 of export and learn read as a slip: each help now says which it is and why
+    from rlff.cli import _command
+    from rlff.learn.robot import PERIOD
+    from rlff.trajectory.resample import CONTROLLER_PERIODS
+
+    def period(*names):
+        command = _command()
+        for name in names:
+            command = command.commands[name]
+        return next(param for param in command.params if param.name == "period")
+
+    send, export, learn = period("robot", "send"), period("robot", "export"), period("learn")
+    assert send.default == PERIOD == CONTROLLER_PERIODS[1]  # a goal of send's as learn's live throws
+    assert export.default == learn.default == CONTROLLER_PERIODS[0]
+    assert "0.01 for a live goal" in send.help and "the controller interpolates between a goal's points" in send.help
+    assert "0.002 for a file" in export.help and "live goals (robot send) are planned at 0.01" in export.help
+    assert "the live throws of --executor ros1|ros2 are planned at 0.01" in learn.help
+
+
 def test_the_approach_speed_option_defaults_to_the_planners_share(cli, throw, tmp_path):
     from rlff.cli._common import APPROACH_SPEED_OPTION
     from rlff.trajectory.planner import APPROACH_SPEED

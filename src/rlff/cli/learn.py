@@ -59,7 +59,9 @@ def learn_command(
                                          "does; the format from the suffix (.json, .csv, .bag, .txt: comau; none: "
                                          "ros2-bag folder) or --format."),
     fmt: str | None = typer.Option(None, "--format", "-f", help="Format of --out: json, csv, ros1-bag, ros2-bag, comau."),
-    period: float = typer.Option(0.002, "--period", help="Controller period (s) of --out, as `robot export --period`."),
+    period: float = typer.Option(0.002, "--period", help="Controller period (s) of the file --out writes, as `robot export "
+                                                         "--period`; the live throws of --executor ros1|ros2 are "
+                                                         "planned at 0.01, as `robot send`'s goals."),
     executor: str = typer.Option("sim", "--executor",
                                  help="sim (MuJoCo), or ros1 / ros2: each attempt through the robot's "
                                       "FollowJointTrajectory action (`rlff robot serve`, or the real arm)."),

@@ -164,7 +164,9 @@ def export(
     clip: bool = CLIP,
     attempt: int = ATTEMPT,
     period: float = typer.Option(0.002, "--period", help="Controller period (s) the planned trajectory is "
-                                                         "sampled at (>= 0.0001)."),
+                                                         "sampled at (>= 0.0001): 0.002 for a file, whatever "
+                                                         "replays it; live goals (robot send) are planned at "
+                                                         "0.01."),
     stamp_now: bool = typer.Option(False, "--stamp-now", help="Bags: header.stamp = the time of writing "
                                                               "instead of 0 (0: the controller starts on receipt)."),
     joints: str = JOINTS,
@@ -373,7 +375,12 @@ def send(
                                                                 "comes back (a refusal is not seen) and the motion "
                                                                 "cannot be cancelled from here."),
     clip: bool = CLIP,
-    period: float = typer.Option(0.01, "--period", help="Controller period (s) a generated throw is planned at (>= 0.0001)."),
+    period: float = typer.Option(0.01, "--period", help="Controller period (s) a generated throw is planned at (>= 0.0001): "
+                                                        "0.01 for a live goal, as rlff learn --executor ros1|ros2 "
+                                                        "plans its throws: the controller interpolates between a "
+                                                        "goal's points (the plan is checked with that "
+                                                        "interpolation), so a goal needs a fifth of the points of a "
+                                                        "file's 0.002 (robot export, learn --out)."),
     approach: bool = typer.Option(False, "--approach", help="An exported trajectory that starts at rest away from "
                                                             "the arm: first move there (a planned, limit-respecting "
                                                             "approach) instead of refusing it."),

@@ -53,7 +53,8 @@ from rlff.trajectory.planner import APPROACH_SPEED, check_approach_speed, plan_t
 
 #: Topic a vision system publishes the measured landing on (geometry_msgs/PointStamped).
 LANDING_TOPIC = "/rlff/landing"
-#: Planning period (s) of the executed throws (``rlff robot send``'s default).
+#: Planning period (s) of the executed throws (``rlff robot send``'s default): a live goal's points
+#: are interpolated by the controller, so 10 ms, where files are sampled at 2 ms (docs/cli.md).
 PERIOD = 0.01
 #: Seconds to wait at the start for the vision system's landing publisher to be discovered
 #: (ROS 2); without one the throws go ahead and each waits for its landing as before.
