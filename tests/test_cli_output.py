@@ -241,13 +241,41 @@ def test_json_output_is_strict_json_with_null_for_what_is_not_finite(capsys):
     assert strict(capsys.readouterr().out) == {"miss": -0.25, "hit": True}
 
 
-def test_learn_out_over_an_existing_ros2_bag_folder_says_what_a_bag_needs(rlff, made, tmp_path):
-    # a ROS 2 bag output is a folder: "is a folder; give a file name for the output" told the wrong fix
-    bag = tmp_path / "lbag"
-    bag.mkdir()
-    result = rlff("-q", "learn", str(made["raw"]), "--basket", "2", "--out", str(bag))
-    assert result.code == 2 and result.stderr.strip() == (
-        f"rlff: error: {bag} exists: a ROS 2 bag is a new folder, remove it first"), result.stderr
+def test_a_ros2_bag_rlff_wrote_is_replaced_whole_by_export_and_learn(rlff, made, tmp_path):
+    # "exists: a ROS 2 bag is a new folder, remove it first", where every output file is replaced
+    from rlff.robot.export import read_bag
+
+    bag = tmp_path / "bag"
+    for period in ("0.002", "0.01"):
+        result = rlff("-q", "robot", "export", str(made["throw"]), "-f", "ros2-bag", "-o", str(bag), "--period", period)
+        assert result.code == 0, result.stderr
+    assert np.median(np.diff(read_bag(bag)[0].time)) == pytest.approx(0.01)  # the second export's
+    result = rlff("-q", "learn", str(made["raw"]), "--preset", "thesis", "--basket", "2", "--budget", "1", "--out", str(bag),
+                  "--json")
+    assert result.code == 0, result.stderr
+    assert json.loads(result.stdout)["out"]["format"] == "ros2-bag"
+    assert np.median(np.diff(read_bag(bag)[0].time)) == pytest.approx(0.002)  # learn's
+    assert sorted(p.name for p in bag.iterdir()) == ["bag.db3", "metadata.yaml"]
+    assert [p.name for p in tmp_path.iterdir()] == ["bag"]  # no temporary folder left
+
+
+def test_a_ros2_bag_never_replaces_a_folder_that_is_no_bag_of_trajectories(rlff, made, tmp_path):
+    bag = tmp_path / "bag"
+    assert rlff("-q", "robot", "export", str(made["throw"]), "-o", str(bag)).code == 0
+    (bag / "notes.txt").write_text("mine\n")  # a bag with the user's file beside it
+    recording = tmp_path / "recording"  # a skeleton recording: /tf, no trajectory
+    bf.write_ros2_bag(recording, bf.standard_simulation(seed=4, n_throws=1))
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    for folder in (bag, recording, empty):
+        before = sorted((p.name, digest(p)) for p in folder.iterdir())
+        for command in (["robot", "export", str(made["throw"]), "-f", "ros2-bag", "-o", str(folder)],
+                        ["learn", str(made["raw"]), "--basket", "2", "--budget", "1", "--out", str(folder)]):
+            result = rlff("-q", *command)
+            assert result.code == 2 and result.stderr.strip() == (
+                f"rlff: error: {folder}: a folder, and not a ROS 2 bag of robot trajectories (one rlff wrote is "
+                "replaced whole): refusing to replace it; give a new folder name for the bag"), result.stderr
+        assert sorted((p.name, digest(p)) for p in folder.iterdir()) == before
 
 
 @pytest.mark.parametrize("file", ["robots/comau_smart5_six.toml", "presets/thesis.toml"])

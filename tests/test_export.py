@@ -75,8 +75,14 @@ def test_ros2_bag_reads_back(traj, tmp_path):
                                                           "trajectory_msgs/msg/JointTrajectory")
     (back,) = read_bag(path)
     assert_same(back, traj, time_atol=1e-9)
-    with pytest.raises(InputError, match="exists"):
-        write_ros2_bag(traj, path)
+    write_ros2_bag(traj, path, stamp_ns=7)  # a bag of trajectories is replaced whole, as a file is
+    with Ros2Reader(path) as reader:
+        assert [stamp for _, stamp, _ in reader.messages()] == [7]
+    assert sorted(p.name for p in tmp_path.rglob("*")) == ["bag2", "bag2.db3", "metadata.yaml"]
+    (path / "notes.txt").write_text("mine\n")  # no longer only a bag: kept
+    with pytest.raises(InputError, match="bag2: a folder, and not a ROS 2 bag of robot trajectories"):
+        write_ros2_bag(traj, path, stamp_ns=9)
+    assert (path / "notes.txt").read_text() == "mine\n"
 
 
 @pytest.mark.parametrize("writer, name", [(write_ros1_bag, "t.bag"), (write_ros2_bag, "bag2")])

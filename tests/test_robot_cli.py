@@ -302,14 +302,14 @@ def test_send_refuses_bad_input_before_connecting(cli, tmp_path):
 
 def test_the_format_and_the_output_are_checked_before_any_planning(capsys, tmp_path):
     """A path far beyond joint 2's limits would be refused by the planning; a bad --format, a
-    suffix of another format or an existing ROS 2 bag folder is refused first, and nothing written."""
+    suffix of another format or a folder that is no bag for a ROS 2 bag is refused first, and nothing written."""
     beyond = human_csv(tmp_path / "beyond.csv", np.linspace(-0.5, 4.0, 21), np.full(21, 2.0))
     (tmp_path / "bag").mkdir()
     for args, message in (
             (("-f", "JSON", "-o", str(tmp_path / "t.json")), "unknown --format 'JSON'"),
             (("-f", "json", "-o", str(tmp_path / "t.csv")),
              "t.csv: --format json under the suffix .csv of the csv format"),
-            (("-f", "ros2-bag", "-o", str(tmp_path / "bag")), "bag exists: a ROS 2 bag is a new folder"),
+            (("-f", "ros2-bag", "-o", str(tmp_path / "bag")), "bag: a folder, and not a ROS 2 bag of robot trajectories"),
             # a ROS 1 bag named .txt read as a Comau program (learn --out x.txt writes one)
             (("-f", "ros1-bag", "-o", str(tmp_path / "x.txt")), "x.txt: --format ros1-bag (binary) under the suffix .txt of the comau format")):
         code, _, err = run(capsys, "robot", "export", str(beyond), *args)

@@ -28,6 +28,7 @@ from rlff.fileio import require_file
 from rlff.learn.attempt import Attempt
 from rlff.learn.log import brief, first_difference, is_attempts_log, read_log, robot_record
 from rlff.robot.description import Robot
+from rlff.robot.export import check_bag_output
 from rlff.robot.formats import export_trajectory
 from rlff.robot.mapping import ArmMapping, RobotMapping, mapping_for
 from rlff.robot.plan import RobotPlan, load_for_robot, plan_path
@@ -267,13 +268,14 @@ BINARY_FORMATS = ("ros1-bag",)
 def export_format(out: str | Path, fmt: str | None = None) -> str:
     """``fmt``, or the export format of ``out``'s suffix (:data:`SUFFIX_FORMATS`); checked before
     any work: a known format, not under another format's suffix (:data:`TELLING_SUFFIXES`), and
-    a ROS 2 bag only where no folder is yet.
+    a ROS 2 bag only where no folder is yet or a bag of robot trajectories is, which it replaces
+    (:func:`rlff.robot.export.check_bag_output`).
 
     Raises
     ------
     InputError
         No format for the suffix, an unknown ``fmt``, a suffix of another format (for a ROS 1
-        bag, any other format's), or an existing ``out`` for a ROS 2 bag.
+        bag, any other format's), or a folder at ``out`` that a ROS 2 bag may not replace.
     """
     from rlff.robot.formats import FORMATS
 
@@ -292,6 +294,6 @@ def export_format(out: str | Path, fmt: str | None = None) -> str:
     if fmt in BINARY_FORMATS and suffix and SUFFIX_FORMATS.get(suffix, fmt) != fmt:
         raise InputError(f"{out}: --format {fmt} (binary) under the suffix {suffix} of the "
                          f"{SUFFIX_FORMATS[suffix]} format; name the file for its format")
-    if fmt == "ros2-bag" and out.exists():
-        raise InputError(f"{out} exists: a ROS 2 bag is a new folder, remove it first")
+    if fmt == "ros2-bag":
+        check_bag_output(out)
     return fmt

@@ -160,17 +160,51 @@ def write_ros1_bag(traj: JointTrajectory, path: Path, topic: str = DEFAULT_TOPIC
             writer.write(connection, stamp_ns, typestore.serialize_ros1(message, TRAJECTORY_TYPE))
 
 
+#: What a ROS 2 bag folder holds: its metadata and its storage files (sqlite3 or MCAP).
+_BAG_FILES = ("metadata.yaml", "*.db3", "*.mcap")
+
+
+def check_bag_output(path: Path) -> None:
+    """Refuse a ROS 2 bag output over a folder that is not a bag of robot trajectories.
+
+    Such a bag (what :func:`write_ros2_bag` writes: JointTrajectory messages only, and nothing in
+    its folder but the bag's own files) is replaced whole, as an existing output file is; any
+    other folder (the user's files, a recording) is kept.
+
+    Raises
+    ------
+    InputError
+        Naming the folder and what to do.
+    """
+    path = Path(path)
+    if path.is_dir() and not _trajectory_bag(path):
+        raise InputError(f"{path}: a folder, and not a ROS 2 bag of robot trajectories (one rlff wrote is replaced "
+                         "whole): refusing to replace it; give a new folder name for the bag")
+
+
+def _trajectory_bag(path: Path) -> bool:
+    """Whether the folder ``path`` holds a readable ROS 2 bag of JointTrajectory messages and nothing else."""
+    if not all(child.is_file() and any(child.match(name) for name in _BAG_FILES) for child in path.iterdir()):
+        return False
+    try:
+        with Ros2Reader(path) as reader:
+            return bool(reader.connections) and all(c.msgtype == TRAJECTORY_TYPE for c in reader.connections)
+    except Exception:  # noqa: BLE001 - rosbags and sqlite raise many types on what is no bag
+        return False
+
+
 def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = DEFAULT_TOPIC,
                    stamp_ns: int | None = None, header_stamp_ns: int = 0) -> None:
     """A ROS 2 bag (a folder, sqlite3 storage) with one JointTrajectory on ``topic``.
 
     Recorded at ``stamp_ns`` (default: now); ``header.stamp`` is ``header_stamp_ns`` (default 0).
+    A bag of robot trajectories already at ``path`` is replaced whole once the new one is
+    complete; any other folder there is refused (:func:`check_bag_output`).
     """
     stamp_ns = clock.time_ns() if stamp_ns is None else stamp_ns
     typestore = get_typestore(Stores.ROS2_HUMBLE)
     path = Path(path)
-    if path.exists():
-        raise InputError(f"{path} exists: a ROS 2 bag is a new folder, remove it first")
+    check_bag_output(path)
     with atomic_path(path, folder=True) as temp, Ros2Writer(temp, version=8) as writer:
         connection = writer.add_connection(topic, TRAJECTORY_TYPE, typestore=typestore)
         message = _message(traj, typestore, header_stamp_ns, ros1=False)
