@@ -52,6 +52,33 @@ def test_landings_on_the_law_give_its_speed_exactly_and_no_error():
     assert law.count == 4
 
 
+@pytest.mark.parametrize("placeholder", [0.0, -1.0])
+def test_a_landing_of_0_or_below_is_a_placeholder_for_not_measured(placeholder):
+    # the law is fitted to the landings there are; a table's 0 or -1 for "not measured" is not a
+    # throw that came down at the thrower's feet
+    c, b = 0.02, 1.6
+    speeds = [7.0, 8.0, 9.0, 10.0]
+    known = [_demo(f"d{k}", s, c * _release(s) ** b) for k, s in enumerate(speeds)]
+    unknown = [_demo("x1", 12.0, placeholder), _demo("x2", 6.0, placeholder)]
+    law = landing_speed(Dataset(known + unknown, context=("distance",)), ANGLES, 1.8, b)
+    assert law.count == 4 and law.speed == pytest.approx((1.8 / c) ** (1 / b))
+
+
+@pytest.mark.slow
+def test_learn_takes_placeholder_landings_as_not_measured_and_says_so():
+    demos = demonstrations(24, Scenario("short", landings="exact"))
+    half = [t.replace(meta={k: v for k, v in t.meta.items() if k != "landing"}) if i % 2 else t
+            for i, t in enumerate(demos)]
+    zeros = [t.replace(meta={**t.meta, "landing": 0.0}) if i % 2 else t for i, t in enumerate(demos)]
+    blank = learn(demos.replace(half), 1.9, budget=6, feedback="binary", seed=0)
+    zero = learn(demos.replace(zeros), 1.9, budget=6, feedback="binary", seed=0)
+    assert zero.misses == blank.misses
+    count = len(demos) // 2
+    assert any(f"{count} of the {len(demos)} demonstrations' landings (metadata 'landing') are 0 m" in note
+               and "taken as not measured" in note for note in zero.notes)
+    assert not any("not measured" in note for note in blank.notes)
+
+
 def test_the_error_of_the_landings_averages_out_over_the_demonstrations():
     # landings known to 0.3 m about a law: the speed's error shrinks like 1 / sqrt(n), and the
     # stated standard error says how far off it is

@@ -174,12 +174,33 @@ def usable_demos(demos: Dataset, mapping, rim_height: float) -> tuple[Dataset, l
     on what was left out (:func:`rlff.learn.loop.learnable_basket` judges the reach on the same set).
     Kept by content (module notes)."""
     def compute() -> tuple[Dataset, tuple[str, ...]]:
+        measured, placeholders = measured_landings(demos)
         usable, notes = demos_within_limits(
-            learning_demos(demos, mapping.human_columns, rim_height, driven_joints=mapping.driven_joints), mapping)
-        return usable, tuple(notes)
+            learning_demos(measured, mapping.human_columns, rim_height, driven_joints=mapping.driven_joints), mapping)
+        return usable, tuple(placeholders + notes)
 
     usable, notes = _USABLE.get((content_digest(demos), _mapping_digest(mapping), float(rim_height)), compute)
     return usable, list(notes)
+
+
+def measured_landings(demos: Dataset) -> tuple[Dataset, list[str]]:
+    """The demonstrations without the ``landing`` metadata that are no landing (0 m or nearer:
+    :func:`rlff.learn.method.recorded_landings`), and a note saying how many there were. A table
+    that writes 0 or -1 for "not measured" had those taken as throws that came down at the
+    thrower's feet by the speed law of the known landings, and the first throw went 0.58 m long
+    where the same table with blanks hit at the second."""
+    landed = np.array([float(t.meta.get("landing", np.nan)) for t in demos])
+    dropped = landed <= 0  # NaN (not measured) stays as it is
+    if not dropped.any():
+        return demos, []
+    values = sorted({float(v) for v in landed[dropped]}, reverse=True)
+    trajectories = [t.replace(meta={k: v for k, v in t.meta.items() if k != "landing"}) if drop else t
+                    for t, drop in zip(demos, dropped, strict=True)]
+    count = int(dropped.sum())
+    note = (f"{count} of the {len(demos)} demonstrations' landings (metadata 'landing') {'is' if count == 1 else 'are'} "
+            f"{', '.join(f'{v:g}' for v in values[:3])}{', ...' if len(values) > 3 else ''} m, where no ball "
+            "comes down: taken as not measured (leave a landing blank where it was not measured)")
+    return demos.replace(trajectories), [note]
 
 
 def demos_within_limits(demos: Dataset, mapping) -> tuple[Dataset, list[str]]:

@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from rlff.dataset import Dataset
-from rlff.learn.method import demo_labels, release_speed
+from rlff.learn.method import demo_labels, recorded_landings, release_speed
 
 #: Standard deviation (log speed) of the robot's hit about the speed the demonstrations' landings
 #: point to, beyond the fit's own error: the human-to-robot mapping (the robot lets go at the
@@ -111,7 +111,7 @@ def landing_speed(demos: Dataset, angles: np.ndarray, target: float, elasticity:
     elasticity : float
         d log L / d log u of the robot's throw (b of the law).
     """
-    landings = np.array([float(t.meta.get("landing", np.nan)) for t in demos])
+    landings = recorded_landings(demos)
     known = np.isfinite(landings)
     speeds = demonstration_release_speeds(demos, angles)
     known &= speeds > 0

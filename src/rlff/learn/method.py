@@ -268,10 +268,16 @@ def known_labels(demos: Dataset) -> np.ndarray:
     that is recorded (``landing`` metadata; a failed throw still shows which distance it is
     good for), else the basket it aimed at. Every method starts from these labels, so that all
     see the same information."""
-    labels = demo_labels(demos)
+    landed = recorded_landings(demos)
+    return np.where(np.isfinite(landed), landed, demo_labels(demos))
+
+
+def recorded_landings(demos: Dataset) -> np.ndarray:
+    """Where each demonstration's ball came down (m, its ``landing`` metadata), shape (S,); NaN
+    where that is not known: absent, not a number, or 0 m or nearer (the placeholder a table
+    writes for "not measured"; no basket is nearer than 0.3 m)."""
     landed = np.array([float(t.meta.get("landing", np.nan)) for t in demos])
-    usable = np.isfinite(landed) & (landed > 0)
-    return np.where(usable, landed, labels)
+    return np.where(landed > 0, landed, np.nan)
 
 
 def labelled_demos(demos: Dataset) -> list[Trajectory]:
