@@ -47,6 +47,22 @@ def test_steepest_rise_on_the_lines_between_samples():
     assert steepest_rise(time[:2], values[:2], 5.0) == (pytest.approx(-2.0), 0.0)  # shorter than the window: centred
 
 
+@pytest.mark.parametrize(("rate", "seed"), [(30.0, 28), (15.0, 0)])
+@pytest.mark.parametrize("digits", [6, 3])
+def test_epoch_time_stamps_cut_the_throws_where_stamps_from_0_do(tmp_path, rate, seed, digits):
+    # float64 keeps 1.7e9 s to 2.4e-7 s: 3 steps at 30 Hz span min_motion (0.1 s), 2 steps at 15 Hz the
+    # velocity fit's half-window, each a hair over or under it; the cuts moved by up to 0.13 s
+    frames, time, _ = th.session(seed, rate=rate)
+    cuts = []
+    for origin in (0.0, 1_700_000_123.456):
+        path = th.write_joint_csv(tmp_path / f"from_{origin:.0f}.csv", frames, np.round(time + origin, digits))
+        file = th.import_copy(path, "csv")
+        assert file.clock_origin == pytest.approx(origin + time[0], abs=1e-3)
+        cuts.append([(throw.start, throw.end, throw.release) for throw in file.throws])
+    assert len(cuts[1]) == len(cuts[0]) >= 3
+    np.testing.assert_allclose(cuts[1], cuts[0], atol=1e-5)
+
+
 def test_a_glitch_between_agreeing_neighbours_goes_but_a_sparse_wind_up_stays():
     time = np.arange(45) / 15.0
     angle = np.full(time.size, 2.6)

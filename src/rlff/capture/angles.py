@@ -65,6 +65,11 @@ GLITCH_DISTANCE = 0.15
 GLITCH_SPAN = 0.25
 #: ... or, when the neighbours are at most this far apart (s), whatever they do.
 QUICK_SPAN = 0.1
+#: Times nearer than this share of the median sample spacing are one: a sample at the edge of a fit
+#: window is in it, and a walk of the throw finder that lasts a setting lasts it. Far above the
+#: stamps' rounding (float64 keeps epoch seconds, 1.7e9 s, to 2.4e-7 s; 2 steps at 15 Hz span the
+#: 0.133 s half-window exactly), so that velocities and cuts do not depend on the clock's origin.
+TIME_TOLERANCE = 0.01
 
 
 @dataclass(frozen=True)
@@ -161,13 +166,19 @@ def derivative_window(time: np.ndarray) -> float:
     return float(np.clip(4 * spacing, low, high))
 
 
+def time_tolerance(time: np.ndarray) -> float:
+    """How near (s) two times of samples at ``time`` (T,) are one: :data:`TIME_TOLERANCE` of their median spacing."""
+    return TIME_TOLERANCE * float(np.median(np.diff(time))) if len(time) > 1 else 0.0
+
+
 def _windows(time: np.ndarray, window_s: float) -> tuple[np.ndarray, np.ndarray]:
     """First and one-past-last sample index, each (T,), of every sample's fit window of
     ``window_s`` s; near the ends the window keeps its width and slides inwards (one-sided, like
     Savitzky-Golay's "interp")."""
     centre = np.clip(time, time[0] + window_s / 2, time[-1] - window_s / 2) if time[-1] - time[0] > window_s else time
-    low = np.searchsorted(time, centre - window_s / 2 - 1e-9, side="left")
-    high = np.searchsorted(time, centre + window_s / 2 + 1e-9, side="right")
+    slack = time_tolerance(time)
+    low = np.searchsorted(time, centre - window_s / 2 - slack, side="left")
+    high = np.searchsorted(time, centre + window_s / 2 + slack, side="right")
     return low, high
 
 

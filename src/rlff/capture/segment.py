@@ -31,7 +31,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from rlff.capture.angles import ArmMotion, derivative_window, fewest_in_window, local_derivative
+from rlff.capture.angles import (
+    ArmMotion,
+    derivative_window,
+    fewest_in_window,
+    local_derivative,
+    time_tolerance,
+)
 
 #: Fewest samples for the cubic fit of the wind-up walk's velocity (see :func:`local_derivative`).
 WIND_UP_CUBIC_FROM = 6
@@ -152,6 +158,7 @@ def find_throws(motion: ArmMotion, settings: SegmentSettings | None = None) -> t
     throws: list[ThrowCut] = []
     rejections: list[Rejection] = []
     runs = motion.runs()
+    tolerance = time_tolerance(motion.time)  # 3 samples at 30 Hz last min_motion, 0.1 s, whatever the clock
     for run in runs:
         time, angle = motion.time[run], motion.angle[run]
         # the wind-up's hold compares tracker jitter with rest_velocity: a fit that smooths more
@@ -163,7 +170,7 @@ def find_throws(motion: ArmMotion, settings: SegmentSettings | None = None) -> t
         # the follow-through compares a slow speed with rest_velocity: a wider fit than the output's
         # keeps tracker jitter from crossing it (the chord when sparse anyway)
         settling = local_derivative(time, angle, settings.settle_window)
-        found, rejected = _throws_in_run(time, angle, velocity, settling, settings)
+        found, rejected = _throws_in_run(time, angle, velocity, settling, settings, tolerance)
         throws.extend(_shift(cut, run.start) for cut in found)
         rejections.extend(rejected)
     for before, after in zip(runs, runs[1:], strict=False):
@@ -216,9 +223,10 @@ def _swings(angle: np.ndarray, reversal: float) -> list[tuple[int, int]]:
 
 
 def _throws_in_run(
-    time: np.ndarray, angle: np.ndarray, velocity: np.ndarray, settling: np.ndarray, settings: SegmentSettings
+    time: np.ndarray, angle: np.ndarray, velocity: np.ndarray, settling: np.ndarray, settings: SegmentSettings,
+    tolerance: float,
 ) -> tuple[list[ThrowCut], list[Rejection]]:
-    """Throws within one run of tracked samples; indices relative to the run."""
+    """Throws within one run of tracked samples; indices relative to the run; ``tolerance`` (s) for the walks."""
     if time.size < 2:
         return [], []
     cuts: list[ThrowCut] = []
@@ -246,10 +254,10 @@ def _throws_in_run(
         begin, _ = steepest_rise(time[stretch], angle[stretch], settings.steepest_window)
         fastest = (begin, begin + settings.steepest_window)
         peak = low + int(np.argmin(np.abs(time[stretch] - (begin + settings.steepest_window / 2))))
-        start = low - _Walk(settings.max_wind_up, settings.max_hold, settings, stop_at_rise=True).last_motion(
+        start = low - _Walk(settings.max_wind_up, settings.max_hold, settings, tolerance, stop_at_rise=True).last_motion(
             time[: low + 1][::-1], velocity[: low + 1][::-1]
         )
-        stop = high + 1 + _Walk(settings.max_follow_through, settings.settle, settings, stop_at_rise=False).last_motion(
+        stop = high + 1 + _Walk(settings.max_follow_through, settings.settle, settings, tolerance, stop_at_rise=False).last_motion(
             time[high:], settling[high:]
         )
         cuts.append(ThrowCut(start, stop, low, high, peak, fastest))
@@ -258,11 +266,13 @@ def _throws_in_run(
 
 @dataclass(frozen=True)
 class _Walk:
-    """A walk away from an extension along the velocity, in time."""
+    """A walk away from an extension along the velocity, in time; durations within ``tolerance`` (s)
+    of a setting count as equal to it (:func:`time_tolerance`)."""
 
     longest: float
     pause: float
     settings: SegmentSettings
+    tolerance: float
     stop_at_rise: bool
 
     def last_motion(self, time: np.ndarray, velocity: np.ndarray) -> int:
@@ -285,14 +295,14 @@ class _Walk:
         rest = self.settings.rest_velocity
 
         def lasts(first: int, step: int) -> bool:
-            return bool(edges[step + 1] - edges[first] >= self.settings.min_motion - 1e-9)
+            return bool(edges[step + 1] - edges[first] >= self.settings.min_motion - self.tolerance)
 
         last = 0
         run_start: int | None = None  # the motion (or rise) the walk is in
         rise_start: int | None = None
         moved = False  # motion lasting min_motion has been taken
         for step in range(1, distance.size):
-            if distance[step] > self.longest + 1e-9:
+            if distance[step] > self.longest + self.tolerance:
                 break
             value = velocity[step]
             if self.stop_at_rise and value >= rest:
@@ -309,7 +319,7 @@ class _Walk:
                     moved = moved or lasts(run_start, step)
             else:
                 run_start = None
-                if distance[step] - distance[last] > self.pause + 1e-9:
+                if distance[step] - distance[last] > self.pause + self.tolerance:
                     break
         return last
 
