@@ -100,7 +100,7 @@ def test_the_import_runs_through_the_thesis_preprocessing(imported):
 
 
 @pytest.mark.realdata
-@pytest.mark.parametrize(("rate", "seen"), [(3.75, "slower than a throw"), (60.0, "faster than a throw")])
+@pytest.mark.parametrize(("rate", "seen"), [(3.75, "slower than a throw"), (60.0, "shorter than a throw")])
 def test_msr_files_read_at_a_wrong_rate_are_warned_of(imported, rate, seen):
     from conftest import MSR_THROWS
 

@@ -195,3 +195,25 @@ def test_a_folder_of_ros2_bags_is_told_to_give_the_bags_and_a_bag_folder_passes(
         refuse_folder(bag.parent)
     assert str(error.value) == (f"{bag.parent}: is a folder, not a ROS 2 bag (no metadata.yaml in it): give the ROS 2 "
                                 f"bags in it: {bag.parent}/*/ (1 bag folder)")
+
+
+def _throws(duration: float, peak: float) -> list:
+    from rlff.capture.importer import ThrowInfo
+
+    return [ThrowInfo("t1", 0.5, 0.5 + duration, 0.8, peak, (0.7, 3.0), 2.0, "manifest", None, 60.0, 0.02, "high")]
+
+
+@pytest.mark.parametrize(("duration", "peak", "alone", "said"), [
+    # a tester's 60 Hz Kinect file read at --rate 60: short, slow; was said 'faster than a throw'
+    (0.49, 7.35, True, None),
+    (0.43, 19.1, True, "they last a median 0.43 s wind-up to follow-through and peak at 19.1 rad/s, shorter than a "
+                       "throw that fast (at least 0.5 s above 10 rad/s)"),
+    (0.33, 22.5, False, "they last a median 0.33 s wind-up to follow-through, shorter than a throw (at least 0.5 s)"),
+    (1.0, 40.0, True, "elbows peak at a median 40 rad/s, faster than a throw (at most 35 rad/s)"),
+    (0.3, 40.0, True, "they last a median 0.3 s wind-up to follow-through, shorter than a throw (at least 0.5 s), and "
+                      "their elbows peak at a median 40 rad/s, faster than a throw (at most 35 rad/s)"),
+])
+def test_throws_at_a_wrong_rate_are_said_to_be_short_or_fast_by_the_rule_they_break(duration, peak, alone, said):
+    from rlff.capture.importer import _implausible
+
+    assert _implausible(_throws(duration, peak), alone=alone) == said

@@ -88,6 +88,10 @@ PLAUSIBLE_PEAK = (5.0, 35.0)
 #: the MSR throws (10-90 %); read at four times their rate, 0.3 s (the fit then flattens the
 #: elbow's peak, so the speed alone does not tell).
 SHORTEST_THROW = 0.5
+#: A file's throws shorter than SHORTEST_THROW are judged read at a wrong rate only when they
+#: also peak above this (rad/s): the shortest real MSR throws (0.45-0.5 s at 15-120 Hz) peak at
+#: 5.6-7.5 rad/s, the files read at twice their rate that short at 17-25.
+SHORT_AND_FAST = 10.0
 #: Median throw (s) above which such a set is too slow: the MSR throws last at most 1.9 s; read
 #: at a quarter of their rate 1.9-4 s (the wind-up's walk stops at 1.5 s, so the time alone
 #: does not scale).
@@ -483,8 +487,8 @@ def _rate_warnings(report: ImportReport, rate_hz: float | None) -> list[str]:
 
 def _implausible(throws: Sequence[ThrowInfo], alone: bool = False) -> str | None:
     """What makes these throws (their medians) unlike a human throw, or None. ``alone``: the
-    throws of one file, judged more leniently (one slow throw is a person's, not a rate's: slow
-    and long together, or longer than any throw)."""
+    throws of one file, judged more leniently (one slow or short throw is a person's, not a rate's:
+    slow and long together, short and fast together, or longer than any throw)."""
     peak = float(np.median([throw.peak_velocity for throw in throws]))
     duration = float(np.median([throw.end - throw.start for throw in throws]))
     low, high = PLAUSIBLE_PEAK
@@ -493,10 +497,16 @@ def _implausible(throws: Sequence[ThrowInfo], alone: bool = False) -> str | None
     if duration > LONGEST_THROW:
         return (f"they last a median {duration:.2g} s wind-up to follow-through, longer than a throw (at most "
                 f"{LONGEST_THROW:g} s)")
-    if peak > high or duration < SHORTEST_THROW:
-        return (f"they last a median {duration:.2g} s, wind-up to follow-through, and peak at {peak:.3g} rad/s: "
-                f"faster than a throw (at least {SHORTEST_THROW:g} s, at most {high:g} rad/s)")
-    return None
+    said, fast = [], peak > high
+    if duration < SHORTEST_THROW and (fast or not alone):
+        said.append(f"they last a median {duration:.2g} s wind-up to follow-through, shorter than a throw (at least "
+                    f"{SHORTEST_THROW:g} s)")
+    elif duration < SHORTEST_THROW and peak > SHORT_AND_FAST:
+        said.append(f"they last a median {duration:.2g} s wind-up to follow-through and peak at {peak:.3g} rad/s, "
+                    f"shorter than a throw that fast (at least {SHORTEST_THROW:g} s above {SHORT_AND_FAST:g} rad/s)")
+    if fast:
+        said.append(f"elbows peak at a median {peak:.3g} rad/s, faster than a throw (at most {high:g} rad/s)")
+    return ", and their ".join(said) or None
 
 
 def _refuse_copies(dataset: Dataset, origin: Mapping[str, Path]) -> None:
