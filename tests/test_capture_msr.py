@@ -30,6 +30,11 @@ def test_a_landing_estimate_is_rounded_to_the_nearest_basket():
     assert basket_from_landing(0.7, LandingSettings(distance_step=0.1))[0] == 0.7  # not 0.7000000000000001
     assert basket_from_landing(1.63, LandingSettings(distance_step=0.0)) == (1.63, "landing estimate")
     assert np.isnan(basket_from_landing(np.nan, settings)[0])
+    # within the range of baskets (0.3-20 m), never rounded out of it: 0.25 m holds no basket
+    assert basket_from_landing(0.3, settings)[0] == 0.5 and basket_from_landing(0.37, settings)[0] == 0.5
+    assert basket_from_landing(0.29, settings)[0] == 0.25  # nearer than any basket: the import leaves it out
+    assert basket_from_landing(19.99, LandingSettings(distance_step=0.3))[0] == 19.8  # not 20.1
+    assert basket_from_landing(0.3, LandingSettings(distance_step=0.1))[0] == 0.3
 
 
 @pytest.mark.realdata

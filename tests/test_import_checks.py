@@ -55,6 +55,21 @@ def test_an_estimated_landing_beyond_any_basket_is_left_out_with_a_warning(tmp_p
     assert any("farther than any basket (20 m)" in warning for warning in report.warnings)
 
 
+def test_an_estimated_landing_at_the_nearest_basket_or_beyond_is_labelled_with_a_basket(tmp_path):
+    path = _joint_csv(tmp_path / "arm.csv")
+    # a rim 1.5 m up catches the ball 0.36 m out, rounded to 0.25 m where no basket stands: it was left out
+    dataset, report = import_recordings([path], up="z", landing=LandingSettings(target_height=1.5))
+    (throw,) = report.files[0].throws
+    assert 0.3 <= throw.landing < 0.375 and throw.distance == 0.5
+    assert float(dataset[0]["distance"][0]) == 0.5 and not report.files[0].rejected
+    # nearer than 0.3 m, it is left out, saying so
+    dataset, report = import_recordings([path], up="z", landing=LandingSettings(target_height=1.7))
+    assert len(dataset) == 0 and report.files[0].rejected[-1].rule == "landing"
+    (warning,) = [warning for warning in report.warnings if "left out" in warning]
+    assert warning.endswith("m) is nearer than any basket (0.3 m): the hand came down near the body")
+    assert "labelled" not in warning
+
+
 def test_a_manifest_distance_out_of_range_names_its_line(tmp_path):
     manifest = tmp_path / "baskets.csv"
     manifest.write_text("file,throw,distance\narm.csv,1,2.0\narm.csv,2,200\n")

@@ -994,12 +994,11 @@ def _throw(
             f"never comes down to {landing.target_height} m from the estimated release"
         )
         return None
-    if target is None and not DISTANCE_RANGE[0] <= distance <= DISTANCE_RANGE[1]:  # no basket stands there
+    if target is None and not DISTANCE_RANGE[0] <= landed <= DISTANCE_RANGE[1]:  # no basket stands there
         # + 0.0 after rounding: a ball at the feet reads 0.00 m, not -0.00
-        # the label only where rounding took it out of the range: behind the shoulder it says nothing
-        label = f", labelled {distance + 0.0:g} m" if landed >= 0 else ": behind the shoulder"
-        reason = f"no basket distance and the estimated landing ({round(landed, 2) + 0.0:.2f} m{label}) is "
-        if distance < DISTANCE_RANGE[0]:
+        behind = ": behind the shoulder" if landed < 0 else ""
+        reason = f"no basket distance and the estimated landing ({round(landed, 2) + 0.0:.2f} m{behind}) is "
+        if landed < DISTANCE_RANGE[0]:
             reason += f"nearer than any basket ({DISTANCE_RANGE[0]:g} m): the hand came down near the body"
         else:
             reason += f"farther than any basket ({DISTANCE_RANGE[1]:g} m): check --up and that the recording is in metres"

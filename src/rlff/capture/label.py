@@ -9,7 +9,8 @@ Basket distance, in order of precedence:
 2. the file name: ``2.5m``, ``2_5m``, ``250cm`` as a separate part of the name
    (``user3_2.5m.bag``);
 3. none: the throw's estimated landing distance, rounded to the nearest multiple of
-   ``distance_step`` (0.25 m, the spacing of the thesis' baskets), stands for its basket. A
+   ``distance_step`` (0.25 m, the spacing of the thesis' baskets) within the range of baskets
+   (an estimate of 0.32 m to 0.5 m: no basket stands at 0.25 m), stands for its basket. A
    continuous estimate would give every throw a basket of its own, and the cleaning steps and
    the model that compare or condition on baskets need several throws per basket; the estimate
    itself (from a 15-30 Hz hand velocity) is not finer than that anyway. The exact estimate
@@ -274,7 +275,9 @@ def basket_from_landing(landing: float, settings: LandingSettings) -> tuple[floa
     -------
     distance : float
         ``landing`` rounded to the nearest multiple of ``settings.distance_step`` (as it is
-        when the step is 0; NaN stays NaN).
+        when the step is 0; NaN stays NaN); a landing within :data:`rlff.limits.DISTANCE_RANGE`
+        to the nearest multiple within it (0.32 m to 0.5 m, not to 0.25 m, where no basket stands).
+        A landing outside the range stands for no basket (the import leaves its throw out).
     source : str
         The ``distance_source`` metadata: ``landing estimate, rounded to 0.25 m`` (or
         ``landing estimate`` when not rounded).
@@ -282,8 +285,13 @@ def basket_from_landing(landing: float, settings: LandingSettings) -> tuple[floa
     step = settings.distance_step
     if step <= 0:
         return landing, "landing estimate"
+    distance = np.round(landing / step) * step
+    low, high = DISTANCE_RANGE
+    if low <= landing <= high:
+        # 1e-9: a bound on a multiple of the step stays one whichever way binary rounds the quotient
+        distance = np.clip(distance, np.ceil(low / step - 1e-9) * step, np.floor(high / step + 1e-9) * step)
     # rounded again: multiples of a step such as 0.1 are not exact in binary
-    return float(np.round(np.round(landing / step) * step, 10)), f"landing estimate, rounded to {step:g} m"
+    return float(np.round(distance, 10)), f"landing estimate, rounded to {step:g} m"
 
 
 _DISTANCE_IN_NAME = re.compile(r"(?:^|[_\-\s.])(\d+(?:[._,]\d+)?)(cm|m)(?=$|[_\-\s.])", re.IGNORECASE)
