@@ -72,8 +72,13 @@ def test_an_estimated_landing_at_the_nearest_basket_or_beyond_is_labelled_with_a
 
 def test_a_manifest_distance_out_of_range_names_its_line(tmp_path):
     manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,throw,distance\narm.csv,1,2.0\narm.csv,2,25\n")
+    with pytest.raises(InputError, match=r"^manifest .*baskets.csv, line 3: column 'distance': 25 m is outside the range 0.3 to 20 m$"):
+        read_manifest(manifest)
+    # in centimetres, as the dataset's and the learning's checks ask
     manifest.write_text("file,throw,distance\narm.csv,1,2.0\narm.csv,2,200\n")
-    with pytest.raises(InputError, match=r"^manifest .*baskets.csv, line 3: column 'distance': 200 m is outside the range 0.3 to 20 m$"):
+    with pytest.raises(InputError, match=r"^manifest .*baskets.csv, line 3: column 'distance': 200 m is outside the range "
+                                         r"0.3 to 20 m \(centimetres\? the distance is in metres\)$"):
         read_manifest(manifest)
 
 

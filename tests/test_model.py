@@ -217,7 +217,8 @@ def test_any_columns_several_contexts_and_outputs():
 @pytest.mark.parametrize("distance", [175.0, -2.0, 0.0])
 def test_a_basket_distance_outside_what_rlff_takes_is_refused_as_the_cli_refuses_it(thesis_model, distance):
     # 175 (centimetres) was extrapolated into a path of -285 rad/s over 5 ms, a warning at most
-    with pytest.raises(InputError, match=rf"^context 'distance': {distance:g} m is outside the range 0.3 to 20 m$"):
+    hint = r" \(centimetres\? the distance is in metres\)" if distance > 20 else ""
+    with pytest.raises(InputError, match=rf"^context 'distance': {distance:g} m is outside the range 0.3 to 20 m{hint}$"):
         thesis_model.generate({"distance": distance})
 
 

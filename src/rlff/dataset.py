@@ -34,7 +34,7 @@ from rlff.csvlines import data_row_line, header_separator
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.kinds import binary_kind
-from rlff.limits import DISTANCE_RANGE, MAX_MAGNITUDE, as_names, require_radians
+from rlff.limits import DISTANCE_RANGE, MAX_MAGNITUDE, as_names, centimetres_hint, require_radians
 from rlff.wording import bad_cell, plural
 
 #: What to do about a time that does not increase within a trajectory: rows out of order (a file
@@ -545,9 +545,8 @@ def check_units(dataset: Dataset, named: Callable[[str], str] = lambda column: f
         values = dataset.to_array(["distance"])[:, 0]
         low, high = float(values.min()), float(values.max())
         if low < DISTANCE_RANGE[0] or high > DISTANCE_RANGE[1]:
-            unit = " (centimetres? the distance is in metres)" if high > DISTANCE_RANGE[1] else ""
             raise InputError(f"{named('distance')} holds {low:g} to {high:g}, outside the basket distances "
-                             f"{DISTANCE_RANGE[0]:g} to {DISTANCE_RANGE[1]:g} m{unit}")
+                             f"{DISTANCE_RANGE[0]:g} to {DISTANCE_RANGE[1]:g} m{centimetres_hint(high)}")
     for column in joint_columns(dataset.columns):
         require_radians(dataset.to_array([column])[:, 0], named(column))
 

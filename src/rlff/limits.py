@@ -40,7 +40,7 @@ The numbers:
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 
 import numpy as np
 
@@ -87,8 +87,10 @@ def parse_number(text: str, what: str) -> float:
     return value
 
 
-def check_range(name: str, value: float, bounds: tuple[float, float], unit: str = "m") -> float:
-    """``value`` as a float within ``bounds`` (inclusive), or an :class:`InputError` naming it."""
+def check_range(name: str, value: float, bounds: tuple[float, float], unit: str = "m",
+                hint: Callable[[float], str] | None = None) -> float:
+    """``value`` as a float within ``bounds`` (inclusive), or an :class:`InputError` naming it,
+    ended by ``hint(value)`` (:func:`centimetres_hint`)."""
     low, high = bounds
     try:
         number = float(value)
@@ -97,13 +99,22 @@ def check_range(name: str, value: float, bounds: tuple[float, float], unit: str 
     if math.isnan(number):
         raise InputError(f"{name}: {value!r} is not a number")
     if not low <= number <= high:
-        raise InputError(f"{name}: {value:g} {unit} is outside the range {low:g} to {high:g} {unit}")
+        raise InputError(f"{name}: {value:g} {unit} is outside the range {low:g} to {high:g} {unit}"
+                         + (hint(number) if hint else ""))
     return number
 
 
+def centimetres_hint(distance: float) -> str:
+    """`` (centimetres? the distance is in metres)`` after a basket distance (m) beyond
+    :data:`DISTANCE_RANGE` that in centimetres is one (30 to 2000), else ``""``."""
+    low, high = DISTANCE_RANGE
+    return " (centimetres? the distance is in metres)" if distance > high and low <= distance / 100 <= high else ""
+
+
 def check_distance(name: str, value: float) -> float:
-    """A basket distance (m) within :data:`DISTANCE_RANGE`."""
-    return check_range(name, value, DISTANCE_RANGE)
+    """A basket distance (m) within :data:`DISTANCE_RANGE`; the message asks whether one is in
+    centimetres (:func:`centimetres_hint`)."""
+    return check_range(name, value, DISTANCE_RANGE, hint=centimetres_hint)
 
 
 def check_pedestal(value: float, name: str = "pedestal") -> float:
@@ -190,6 +201,7 @@ __all__ = [
     "PEDESTAL_RANGE",
     "apart",
     "as_names",
+    "centimetres_hint",
     "check_count",
     "check_distance",
     "check_frame_rate",
