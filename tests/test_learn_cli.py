@@ -172,6 +172,20 @@ def test_demonstrations_without_a_velocity_column_are_named_with_their_file(cli,
     assert f"{bare}: no column 'velocity'" in result.stderr
 
 
+def test_a_library_warning_is_one_warning_line_without_python_s_source_path(cli, tmp_path):
+    # learn printed "/.../rlff/learn/demos.py:259: UserWarning: column 'distance' is constant ..." and
+    # the source line under it; fit, its own `warning:` line
+    demos = tmp_path / "one_basket.csv"
+    assert cli("data", "synth", "throws", "--distances", "2", "--seed", "1", "-o", str(demos)).code == 0
+    learn = ("learn", str(demos), "--preset", "thesis", "--basket", "2.0", "--budget", "2")
+    for args in (learn, ("fit", str(demos), "-o", str(tmp_path / "m.json"))):
+        result = cli(*args)
+        assert result.code == 0, result.stderr
+        (said,) = [line for line in result.stderr.splitlines() if "is constant" in line]
+        assert said.startswith("warning: column 'distance' is constant (2): ")
+        assert "UserWarning" not in result.stderr and ".py:" not in result.stderr and "Model.fit(" not in result.stderr
+
+
 def test_hindsight_with_binary_feedback_is_refused(cli, demos_csv):
     result = cli("learn", str(demos_csv), "--basket", "1.9", "--update", "hindsight", "--feedback", "binary")
     assert result.code == 2

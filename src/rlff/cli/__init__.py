@@ -237,16 +237,17 @@ def _main(args: list[str]) -> int:
         said: set[str] = set()
 
         def show(message, category, filename, lineno, file=None, line=None) -> None:
-            # rlff's own (a robot file's implausible values): one `warning:` line, as every other,
-            # once (a benchmark reads its robot file several times)
-            if category.__module__.startswith("rlff."):
-                from rlff.cli._common import warn
-
-                if str(message) not in said:
-                    said.add(str(message))
-                    warn(str(message))
-            else:
+            # one `warning:` line, as every other, once (a benchmark reads its robot file several
+            # times, a learning run refits its model every attempt), never Python's form with a
+            # source path and line; with --debug, others' than rlff's own categories in that form
+            if debug and not category.__module__.startswith("rlff."):
                 shown(message, category, filename, lineno, file, line)
+                return
+            from rlff.cli._common import warn
+
+            if str(message) not in said:
+                said.add(str(message))
+                warn(str(message))
 
         warnings.showwarning = show
         try:

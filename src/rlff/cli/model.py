@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -17,7 +16,6 @@ from rlff.cli._common import (
     say,
     seed_option,
     stdout,
-    verbosity,
     warn,
     warn_copies,
 )
@@ -256,8 +254,7 @@ def fit_command(
                 f"{', '.join(dataset.columns)}): name them with {option}"
             )
     total = _candidates(dataset, max_components, effective) if components == "auto" else 1
-    with progress("fitting", total=total) as advance, warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with progress("fitting", total=total) as advance:
         model = Model.fit(
             dataset,
             inputs=default_inputs if inputs is None else _names("--inputs", inputs),
@@ -266,13 +263,6 @@ def fit_command(
             n_init=n_init, context_resolution=resolution, effective_samples=effective,
             progress=lambda done, total: advance(1, description=f"fitting: {done} of {total} values of K tried"),
         )
-    shown = set()
-    for warning in caught:
-        # numpy's RuntimeWarnings are noise unless --debug (the fit checks its results itself)
-        text = str(warning.message)
-        if text not in shown and (verbosity.debug or not issubclass(warning.category, RuntimeWarning)):
-            warn(text)
-            shown.add(text)
     for note in model.selection_notes():
         if not (beyond_bound and note.startswith("the given K")):  # said before the fit, in the CLI's words
             warn(note)
