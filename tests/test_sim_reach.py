@@ -255,3 +255,28 @@ def test_a_basket_nearer_than_where_the_executed_throws_let_go_is_refused():
     assert slow.landing_x > near
     # backward or straight up at the release (joint_2 past the vertical): no such bound
     assert executable_nearest(mapping, 2.0) is None
+
+
+def test_a_mapping_that_throws_backwards_says_to_check_its_signs(tmp_path):
+    # the [throwing] mapping's signs turned round: the human's extension swings joint 2 back, and
+    # the reach came out as "at most -0.66 m away" with nothing on why
+    from importlib.resources import files
+
+    from rlff.robot import RobotMapping
+    from rlff.sim.reach import require_executable
+
+    text = (files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    forward = "angle_offset = -1.65\nangle_scale = 0.71\nvelocity_scale = 0.25"
+    assert forward in text
+    path = tmp_path / "flipped.toml"
+    path.write_text(text.replace(forward, "angle_offset = 1.0\nangle_scale = -0.71\nvelocity_scale = -0.25"))
+    mapping = RobotMapping.for_robot(load_robot(path))
+    with pytest.raises(InputError) as error:
+        require_executable(Basket(1.5), mapping, release=1.0 - 0.71 * 2.5)
+    message = str(error.value)
+    assert "at most -" in message
+    assert "flies backwards" in message and "angle_scale and velocity_scale" in message
+    # a forward mapping whose basket is only too far says nothing of signs
+    with pytest.raises(InputError) as far:
+        require_executable(Basket(4.5), RobotMapping.for_robot(load_robot()), release=-1.65 + 0.71 * 2.5)
+    assert "backwards" not in str(far.value)

@@ -392,11 +392,15 @@ def require_executable(basket: Basket, mapping, pedestal: float = 0.0, release: 
              else "the fastest its acceleration and jerk limits allow over the swing")
     where = (f"released at {reach.release:.2f} rad" + (f" ({release_source})" if release_source else "")
              if release is not None else f"released at its best position ({reach.release:.2f} rad)")
+    # a ball that comes down behind the base was thrown backwards: a sign of the mapping, which
+    # sim throw says and this said nothing of ("at most -0.66 m away")
+    backwards = ("; it flies backwards, towards and behind the robot: check the signs of the robot file's "
+                 "[throwing] angle_scale and velocity_scale and its start pose" if reach.distance < 0 else "")
     raise InputError(
         f"basket at {basket.distance:.2f} m is out of reach of the throws this robot executes: {reach.joint} "
         f"at {reach.speed:.2f} rad/s ({limit}), {where}, the other joints at the start pose: the ball "
         f"{came_down_words(reach.distance, basket.rim_height)}, so {farthest_words(farthest, basket.opening)} "
-        f"(pedestal {pedestal:.2f} m)"
+        f"(pedestal {pedestal:.2f} m){backwards}"
     )
 
 
