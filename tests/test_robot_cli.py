@@ -186,6 +186,32 @@ def test_send_takes_what_export_json_writes(cli, throw, tmp_path):
     assert "master" not in result.stderr
 
 
+@pytest.mark.parametrize("options", [["--bearing", "30"], ["--period", "0.01"], ["--clip"],
+                                     ["--bearing", "0", "--period", "0.002"]])
+def test_options_that_shape_a_plan_are_refused_for_a_robot_trajectory(rlff, monkeypatch, throw, tmp_path, options):
+    """A robot trajectory is taken as it is: --bearing 30 --period 0.01 wrote it unchanged (at its own
+    period, joint_1 not turned), without a word. Given at their defaults' values too, they are the
+    user's; left out, the file is exported and sent as before, and a generated path takes them."""
+    assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json"), *options).code == 0
+    given = ", ".join(option for option in options if option.startswith("--"))
+    refusal = f"{given}: {tmp_path / 't.json'} is a robot trajectory, which is checked and taken as it is, not planned"
+    result = rlff("robot", "export", str(tmp_path / "t.json"), "-f", "csv", "-o", str(tmp_path / "t.csv"), *options)
+    assert result.code == 2 and result.stderr.startswith(f"rlff: error: {refusal}"), result.stderr
+    assert "generated path (rlff generate)" in result.stderr and not (tmp_path / "t.csv").exists()
+    assert rlff("robot", "export", str(tmp_path / "t.json"), "-f", "csv", "-o", str(tmp_path / "t.csv")).code == 0
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there, should the refusal let it through
+    result = rlff("robot", "send", str(tmp_path / "t.csv"), *options, "--timeout", "1")
+    assert result.code == 2 and refusal.replace("t.json", "t.csv") in result.stderr, result.stderr
+
+
+def test_send_takes_a_period_for_the_approach_of_a_robot_trajectory(cli, throw, tmp_path):
+    """With --approach, --period samples the approach planned to a robot trajectory's start: not refused."""
+    assert cli("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
+    env = {"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"}
+    result = cli("robot", "send", str(tmp_path / "t.json"), "--approach", "--period", "0.01", "--timeout", "1", env=env)
+    assert result.code == 1 and "no ROS master" in result.stderr, result.stderr
+
+
 @pytest.mark.parametrize("timeout", ["nan", "0", "-1", "inf"])
 def test_send_refuses_a_timeout_that_is_no_time_before_connecting(cli, throw, timeout):
     """nan was taken (a warning that it is shorter than the motion, then the goal went out), -1

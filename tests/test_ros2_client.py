@@ -166,8 +166,11 @@ def controller(domain, throw):
     node.close()
 
 
-def rlff_send(domain, folder, *args: str, timeout: float = 120) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "rlff", "robot", "send", *args, "--ros", "2", "--period", str(PERIOD)],
+def rlff_send(domain, folder, *args: str, timeout: float = 120, period: float | None = PERIOD) -> subprocess.CompletedProcess:
+    """``rlff robot send ... --ros 2 --period PERIOD``; no --period with ``period=None`` (a robot
+    trajectory, sent as it is, refuses one)."""
+    planning = ("--period", str(period)) if period is not None else ()
+    return subprocess.run([sys.executable, "-m", "rlff", "robot", "send", *args, "--ros", "2", *planning],
                           env=ros2_env(domain, folder), capture_output=True, text=True, timeout=timeout)
 
 
@@ -276,7 +279,7 @@ def test_a_robot_trajectory_that_does_not_start_at_the_arm_is_not_sent(controlle
                            str(exported)], capture_output=True, text=True, timeout=120)
     assert made.returncode == 0, made.stderr
     before = len(controller.goals)
-    result = rlff_send(domain, tmp_path, str(exported), "--timeout", "60")
+    result = rlff_send(domain, tmp_path, str(exported), "--timeout", "60", period=None)
     assert result.returncode == 2, result.stderr
     last = result.stderr.strip().splitlines()[-1]
     assert last.startswith("rlff: error:") and "is not where the arm is (-0.3 rad" in last, result.stderr

@@ -15,6 +15,11 @@ from typing import Any
 import typer
 from rich.console import Console
 
+try:  # typer >= 0.20 carries its own copy of click; before, it used the click package
+    from typer._click.core import ParameterSource
+except ImportError:  # pragma: no cover - older typer
+    from click.core import ParameterSource
+
 # numpy and rich.progress are imported where they are used so that `rlff --help` starts fast
 
 
@@ -113,7 +118,14 @@ def basket_options(**options: str) -> Iterator[None]:
 def option_given(ctx: typer.Context, name: str) -> bool:
     """Whether the option of the command's parameter ``name`` was given, not left at its default:
     an option that only matters beside another is refused without it, rather than ignored."""
-    return ctx.get_parameter_source(name).name != "DEFAULT"
+    return bool(given(ctx, name))
+
+
+def given(ctx: typer.Context, *names: str) -> list[str]:
+    """The options among ``names`` (parameters spelt ``--name``) the user gave, as ``--name``:
+    not those left at their default, which a command cannot tell from its value alone."""
+    return [f"--{name}" for name in names
+            if ctx.get_parameter_source(name) not in (ParameterSource.DEFAULT, ParameterSource.DEFAULT_MAP)]
 
 
 def say(message: str) -> None:

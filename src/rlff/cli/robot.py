@@ -15,6 +15,7 @@ from rlff.cli._common import (
     basket_options,
     check_approach_speed_option,
     emit_json,
+    given,
     progress,
     say,
     say_first,
@@ -153,6 +154,7 @@ def urdf(
 
 @app.command()
 def export(
+    ctx: typer.Context,
     trajectory: Path = typer.Argument(..., help=INPUT_HELP),
     fmt: str | None = typer.Option(None, "--format", "-f", help=f"One of: {', '.join(FORMATS)}; default from the "
                                                               "suffix of -o (.json, .csv, .bag: ros1-bag, .txt: "
@@ -190,6 +192,7 @@ def export(
     from rlff.robot.description import load_robot
     from rlff.robot.formats import export_trajectory
     from rlff.robot.mapping import mapping_for
+    from rlff.robot.plan import require_planned
 
     bag_folder = (fmt or SUFFIX_FORMATS.get(out.suffix.lower())) == "ros2-bag"
     guard(inputs={"TRAJECTORY": trajectory, "--robot": robot_file(robot)}, outputs={"-o/--output": out},
@@ -199,6 +202,7 @@ def export(
     driven = joint_list(joints)
     model = load_robot(robot)
     source = load_input(trajectory, model, attempt=attempt, period=period, clip=clip, joints=driven, bearing=bearing)
+    require_planned(trajectory, source.plan, given(ctx, "bearing", "period", "clip"))
     if (aside := rebearing_warning(trajectory, bearing)) is not None:
         warn(aside)
     for note in source.plan.notes:
@@ -364,6 +368,7 @@ def _mujoco_throw(model, basket: float, bearing: float = 0.0, height: float = 0.
 
 @app.command()
 def send(
+    ctx: typer.Context,
     trajectory: Path = typer.Argument(..., help=INPUT_HELP),
     robot: str = ROBOT,
     attempt: int = ATTEMPT,
@@ -406,6 +411,7 @@ def send(
     from rlff.learn.replay import load_for_send, rebearing_warning
     from rlff.limits import check_period
     from rlff.robot.description import load_robot
+    from rlff.robot.plan import require_planned
     from rlff.robot.send import (
         ArmStateError,
         approach_line,
@@ -432,7 +438,10 @@ def send(
         return load_for_send(trajectory, model, attempt=attempt, period=period, clip=clip, start=start,
                              approach=approach, joints=driven, bearing=bearing, approach_speed=approach_speed)
 
-    notes = load().notes  # a wrong file is refused before any connection
+    first = load()  # a wrong file is refused before any connection
+    # a robot trajectory is sent as it is: --period plans only the approach of --approach
+    require_planned(trajectory, first, given(ctx, "bearing", "clip", *() if approach else ("period",)))
+    notes = first.notes
     if (aside := rebearing_warning(trajectory, bearing)) is not None:
         warn(aside)
     for note in notes:

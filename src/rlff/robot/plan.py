@@ -257,7 +257,8 @@ def load_for_robot(
 
     Returns the kind (:data:`GENERATED` or :data:`ROBOT_TRAJECTORY`) and the plan; for a robot
     trajectory, ``points`` and ``trajectory`` are the file's trajectory and ``period``, ``clip``,
-    ``joints`` and ``bearing`` do not apply (a file beyond a limit is refused, not changed).
+    ``joints`` and ``bearing`` do not apply (a file beyond a limit is refused, not changed; the
+    commands refuse them given for one: :func:`require_planned`).
     ``start`` (J,) is where the arm is (rad, ``robot``'s joints in order) to plan a generated
     throw from, with an approach at ``approach_speed`` of the limits (:func:`plan_path`); default the
     throw's first pose (a robot trajectory is checked on its own).
@@ -295,6 +296,17 @@ def load_for_robot(
         raise type(exc)(f"{path}: {exc} (checked against {robot.source}; a trajectory planned for another "
                         "robot is checked with its file: --robot)") from None
     return kind, RobotPlan(trajectory, trajectory, ClipReport())
+
+
+def require_planned(path: str | Path, planned: RobotPlan, options: Sequence[str]) -> None:
+    """Refuse ``options`` (``--bearing``, ``--period``, ...: given by the user) that shape a plan
+    when ``planned`` is a robot trajectory, taken as it is: they would change nothing."""
+    if not options or planned.points is not planned.trajectory:
+        return
+    they, them = ("it", "it") if len(options) == 1 else ("they", "them")
+    raise InputError(f"{', '.join(options)}: {path} is a robot trajectory, which is checked and taken as it is, "
+                     f"not planned again, so {they} would change nothing; leave {them} out, or give {them} with "
+                     "the generated path (rlff generate) or attempts log (rlff learn --log) it was planned from")
 
 
 def plan_file(
