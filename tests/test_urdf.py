@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -10,6 +11,7 @@ import yourdfpy
 
 from rlff.errors import InputError
 from rlff.robot import RobotMapping, load_robot
+from rlff.robot.description import RobotFileWarning
 from rlff.sim.arm import Arm
 
 
@@ -110,6 +112,41 @@ def test_bad_urdf_files_are_errors_that_name_the_joint(tmp_path):
     robot_file.write_text('urdf = "missing.urdf"\n')
     with pytest.raises(InputError, match="cannot read URDF file .*missing.urdf"):
         load_robot(robot_file)
+
+
+def _joint(name: str, kind: str, limit: str) -> str:
+    return (f'<joint name="{name}" type="{kind}"><parent link="base_link"/><child link="{name}_link"/>'
+            f'<limit {limit} velocity="1.5" effort="10"/></joint><link name="{name}_link"/>')
+
+
+def test_continuous_joints_are_limited_to_a_turn_and_said_so(tmp_path, rlff):
+    """A continuous joint became revolute -pi..pi without a word (tester H): the limits rlff plans
+    with are said as the URDF loads, unless a robot file gives its own."""
+    urdf = tmp_path / "cont.urdf"
+    urdf.write_text('<robot name="cont"><link name="base_link"/>' + _joint("a", "continuous", "")
+                    + _joint("b", "revolute", 'lower="-1" upper="1"') + _joint("c", "continuous", "") + "</robot>")
+    said = (f"{urdf}: a and c are continuous in URDF: rlff limits them to -pi..pi rad (a full turn) and plans and "
+            "checks with that; give lower and upper in a robot file's [[joints]] tables beside urdf = ... to use others")
+    with pytest.warns(RobotFileWarning) as caught:
+        robot = load_robot(urdf)
+    assert [str(w.message) for w in caught] == [said] and robot.warnings == (said,)
+    assert (robot.joint("a").lower, robot.joint("a").upper) == (-math.pi, math.pi)
+    shown = rlff("robot", "show", "--robot", str(urdf))
+    assert shown.code == 0 and shown.stderr == f"warning: {said}\n", shown.stderr
+    robot_file = tmp_path / "robot.toml"
+    tables = {"a": "lower = -2.0\nupper = 2.0\n", "b": "", "c": "upper = 1.0\n"}  # c: one bound of two
+    robot_file.write_text('urdf = "cont.urdf"\n' + "".join(f'[[joints]]\nname = "{name}"\nmax_acceleration = 5.0\n'
+                                                            f"max_jerk = 40.0\n{more}" for name, more in tables.items()))
+    with pytest.warns(RobotFileWarning) as caught:
+        robot = load_robot(robot_file)
+    assert [str(w.message) for w in caught] == [
+        f"{urdf}: c is continuous in URDF: rlff limits it to -pi..pi rad (a full turn) and plans and checks with that; "
+        f"give lower and upper in {robot_file}'s [[joints]] tables to use others"]
+    assert (robot.joint("a").lower, robot.joint("a").upper) == (-2.0, 2.0)
+    robot_file.write_text(robot_file.read_text().replace("upper = 1.0", "lower = -1.0\nupper = 1.0"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert load_robot(robot_file).warnings == ()
 
 
 def test_unknown_joint_beside_a_urdf_is_an_error(urdf_file, tmp_path):

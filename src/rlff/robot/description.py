@@ -12,7 +12,7 @@ import re
 import tomllib
 import warnings
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 from types import MappingProxyType
@@ -73,7 +73,9 @@ MIN_TIME_TO_SPEED, MAX_SPEED_RATIO, MAX_BEND = 0.05, 5.0, 2 * math.pi + 1e-3
 
 class RobotFileWarning(UserWarning):
     """A robot file that loads but holds a limit no arm has (:data:`MIN_TIME_TO_SPEED`,
-    :data:`MAX_SPEED_RATIO`, :data:`MAX_BEND`): one line naming the file, the joint and the value."""
+    :data:`MAX_SPEED_RATIO`, :data:`MAX_BEND`), or a URDF joint without position limits that rlff
+    limits (:func:`rlff.robot.urdf.continuous_warning`): one line naming the file, the joint and
+    the value."""
 
 
 #: A joint name rlff reads as the controller's k-th joint (``joint_2`` is the shoulder).
@@ -274,8 +276,9 @@ class Robot:
     human joints to several robot joints (:meth:`rlff.robot.mapping.ArmMapping.for_robot`),
     ``comau_program`` the layout of the Comau text program; each may be empty. ``ros`` holds the
     names of the arm's controller on the ROS graph (:class:`RosNames`). ``source`` names the file it
-    came from, ``warnings`` what in it is implausible (:func:`implausible_limits`; one line each,
-    each also issued as a :class:`RobotFileWarning` by :func:`load_robot`).
+    came from, ``warnings`` what in it is implausible (:func:`implausible_limits`), or limited by
+    rlff (:func:`rlff.robot.urdf.continuous_warning`): one line each, each also issued as a
+    :class:`RobotFileWarning` by :func:`load_robot`.
     """
 
     name: str
@@ -618,11 +621,13 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
     text_name = str(path_or_name)
     is_file = isinstance(path_or_name, Path) or text_name.endswith((".toml", ".urdf")) or "/" in text_name
     if is_file and text_name.endswith(".urdf"):
-        from rlff.robot.urdf import urdf_joints
+        from rlff.robot.urdf import continuous_warning, urdf_joints
 
         # a URDF states no acceleration or jerk limits: such a robot is checked, not planned for
-        name, joints = urdf_joints(path_or_name)
-        return Robot(name, tuple(Joint(**joint) for joint in joints), source=str(path_or_name))
+        name, joints, continuous = urdf_joints(path_or_name)
+        return _warned(Robot(name, tuple(Joint(**joint) for joint in joints), source=str(path_or_name),
+                             warnings=continuous_warning(path_or_name, continuous, "give lower and upper in a robot "
+                                                         "file's [[joints]] tables beside urdf = ...")))
     if is_file:
         path = Path(path_or_name)
         try:
@@ -644,11 +649,17 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
     _require_known_keys(document, source, top=("urdf",) if is_file else ())  # a misspelt key first, by name
     # the values the file writes; a URDF's own are in SI by its specification, metres for a prismatic joint
     _require_radians(document.get("joints"), source)
+    continuous: tuple[str, ...] = ()
     if is_file and "urdf" in document:
         from rlff.robot.urdf import merge_urdf
 
-        document = merge_urdf(document, Path(path_or_name).parent, source)
+        document, continuous = merge_urdf(document, Path(path_or_name).parent, source)
     robot = parse_robot(document, source)
+    return _warned(replace(robot, warnings=continuous + robot.warnings) if continuous else robot)
+
+
+def _warned(robot: Robot) -> Robot:
+    """``robot``, once each of its warnings is issued as a :class:`RobotFileWarning`."""
     for text in robot.warnings:
-        warnings.warn(text, RobotFileWarning, stacklevel=2)
+        warnings.warn(text, RobotFileWarning, stacklevel=3)
     return robot

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -115,7 +116,7 @@ def _triple(values: tuple[float, float, float]) -> str:
     return " ".join(repr(float(v)) for v in values)
 
 
-def urdf_joints(path: str | Path) -> tuple[str, list[dict[str, Any]]]:
+def urdf_joints(path: str | Path) -> tuple[str, list[dict[str, Any]], tuple[str, ...]]:
     """The robot name and the movable joints of a URDF file as robot-file ``[[joints]]`` tables.
 
     Parameters
@@ -129,6 +130,9 @@ def urdf_joints(path: str | Path) -> tuple[str, list[dict[str, Any]]]:
     joints : list of dict
         ``{"name", "lower", "upper", "max_velocity"}`` (rad, rad/s) per movable joint, in the
         file's order (the controller order).
+    continuous : tuple of str
+        The joints of type ``continuous``, which have no position limits: their tables hold
+        -pi..pi (:func:`continuous_warning`).
 
     Raises
     ------
@@ -144,7 +148,7 @@ def urdf_joints(path: str | Path) -> tuple[str, list[dict[str, Any]]]:
         raise InputError(f"{path}: not valid XML: {exc}") from None
     if root.tag != "robot":
         raise InputError(f"{path}: not a URDF (root element <{root.tag}>, expected <robot>)")
-    joints = []
+    joints, continuous = [], []
     for element in root.iter("joint"):
         kind = element.get("type")
         if kind not in MOVABLE:
@@ -167,14 +171,28 @@ def urdf_joints(path: str | Path) -> tuple[str, list[dict[str, Any]]]:
             table["max_velocity" if key == "velocity" else key] = value
         if kind == "continuous":  # no position limit: a full turn either way is what a robot file can say
             table["lower"], table["upper"] = -math.pi, math.pi
+            continuous.append(name)
         joints.append(table)
     if not joints:
         raise InputError(f"{path}: the URDF has no movable joint ({', '.join(MOVABLE)})")
-    return root.get("name") or path.stem, joints
+    return root.get("name") or path.stem, joints, tuple(continuous)
 
 
-def merge_urdf(document: dict[str, Any], folder: Path, source: str) -> dict[str, Any]:
-    """A robot file's contents with the joints of the URDF its ``urdf`` field names.
+def continuous_warning(path: str | Path, names: Sequence[str], remedy: str) -> tuple[str, ...]:
+    """The warning (one line, as :func:`rlff.robot.description.implausible_limits`') that the
+    continuous joints ``names`` of the URDF ``path`` are limited to -pi..pi; ``remedy`` says where
+    to give other limits; nothing for no such joint."""
+    if not names:
+        return ()
+    these = (f"{names[0]} is" if len(names) == 1 else f"{', '.join(names[:-1])} and {names[-1]} are")
+    return (f"{path}: {these} continuous in URDF: rlff limits {'it' if len(names) == 1 else 'them'} to -pi..pi rad "
+            f"(a full turn) and plans and checks with that; {remedy} to use others",)
+
+
+def merge_urdf(document: dict[str, Any], folder: Path, source: str) -> tuple[dict[str, Any], tuple[str, ...]]:
+    """A robot file's contents with the joints of the URDF its ``urdf`` field names, and the
+    warning for its continuous joints the robot file gives no position limits
+    (:func:`continuous_warning`).
 
     ``urdf`` is a path relative to ``folder`` (the robot file's). ``[[joints]]`` tables in the
     robot file then add to (or override) the fields of the URDF joint of the same name, e.g.
@@ -183,7 +201,7 @@ def merge_urdf(document: dict[str, Any], folder: Path, source: str) -> dict[str,
     value = document.get("urdf")
     if not isinstance(value, str) or not value:
         raise InputError(f"{source}: field 'urdf' must be a file name, got {value!r}")
-    name, joints = urdf_joints(folder / value)
+    name, joints, continuous = urdf_joints(folder / value)
     by_name = {joint["name"]: joint for joint in joints}
     for table in document.get("joints", []):
         joint = by_name.get(table.get("name")) if isinstance(table, dict) else None
@@ -191,7 +209,9 @@ def merge_urdf(document: dict[str, Any], folder: Path, source: str) -> dict[str,
             raise InputError(f"{source}: [[joints]] names {table.get('name') if isinstance(table, dict) else table!r}, "
                              f"which {value} does not have (joints: {', '.join(by_name)})")
         joint.update(table)
+    stated = {table.get("name") for table in document.get("joints", []) if {"lower", "upper"} <= table.keys()}
     merged = {key: item for key, item in document.items() if key != "urdf"}
     merged.setdefault("name", name)
     merged["joints"] = joints
-    return merged
+    return merged, continuous_warning(folder / value, [joint for joint in continuous if joint not in stated],
+                                      f"give lower and upper in {source}'s [[joints]] tables")
