@@ -105,6 +105,11 @@ def test_bad_urdf_files_are_errors_that_name_the_joint(tmp_path):
                       '</joint></robot>')
     with pytest.raises(InputError, match=r"joint 'j1': <limit upper> must be a finite number, got 'x'"):
         load_robot(broken)
+    # the joint's own checks, loaded directly: named with the file, as a robot file's are (it was not)
+    broken.write_text('<robot name="r">' + _joint("a", "revolute", 'lower="-1" upper="1"')
+                      + _joint("b", "revolute", 'lower="1.8" upper="-1"') + "</robot>")
+    with pytest.raises(InputError, match=r"^\S*broken.urdf: joint 2 \(b\): lower limit 1.8 is not below upper -1.0$"):
+        load_robot(broken)
     broken.write_text("<robot")
     with pytest.raises(InputError, match="not valid XML"):
         load_robot(broken)

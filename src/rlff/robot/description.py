@@ -505,11 +505,8 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
         if joint_name in joint_names(joints):
             raise InputError(f"{where}: joint {joint_names(joints).index(joint_name) + 1} has that name too; "
                              "each joint needs its own name")
-        limits = [number_field(table, key, where) for key in LIMIT_FIELDS]
-        try:
-            joints.append(Joint(joint_name, *limits))
-        except InputError as exc:  # the joint's own checks (lower < upper, positive limits) name no file
-            raise InputError(f"{where}: {str(exc).removeprefix(f'joint {joint_name}: ')}") from None
+        joints.append(_checked_joint(where, name=joint_name,
+                                     **{key: number_field(table, key, where) for key in LIMIT_FIELDS}))
     for key in _TABLES:
         if key in document and not isinstance(document[key], Mapping):
             raise InputError(f"{source}: [{key}] must be a table, got {document[key]!r}")
@@ -544,6 +541,16 @@ def parse_robot(document: Mapping[str, Any], source: str) -> Robot:
                  document.get("comau_program", {}), source, document.get("whole_arm", {}), ros,
                  implausible_limits(joints, source) + implausible_offsets(joint_map, source)
                  + _driven_in_start_pose(document, source))
+
+
+def _checked_joint(where: str, **fields: Any) -> Joint:
+    """``Joint(**fields)``, its own checks (lower < upper, positive limits), which name no file,
+    said of ``where`` (the file and the joint)."""
+    try:
+        return Joint(**fields)
+    except InputError as exc:
+        own = f"joint {fields['name']}: "
+        raise InputError(f"{where}: {str(exc).removeprefix(own)}") from None
 
 
 def _driven_in_start_pose(document: Mapping[str, Any], source: str) -> tuple[str, ...]:
@@ -624,8 +631,10 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
         from rlff.robot.urdf import continuous_warning, urdf_joints
 
         # a URDF states no acceleration or jerk limits: such a robot is checked, not planned for
-        name, joints, continuous = urdf_joints(path_or_name)
-        return _warned(Robot(name, tuple(Joint(**joint) for joint in joints), source=str(path_or_name),
+        name, tables, continuous = urdf_joints(path_or_name)
+        joints = tuple(_checked_joint(f"{path_or_name}: joint {number} ({table['name']})", **table)
+                       for number, table in enumerate(tables, start=1))
+        return _warned(Robot(name, joints, source=str(path_or_name),
                              warnings=continuous_warning(path_or_name, continuous, "give lower and upper in a robot "
                                                          "file's [[joints]] tables beside urdf = ...")))
     if is_file:
