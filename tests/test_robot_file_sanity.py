@@ -275,6 +275,17 @@ def test_accelerations_in_degrees_are_warned_of(tmp_path):
         "max_acceleration in degrees? rlff reads rad/s^2"]
 
 
+def test_a_speed_far_below_the_other_joints_is_blamed_not_the_acceleration_beside_it(tmp_path):
+    # 1e-9 rad/s beside 12 rad/s^2 asked whether the acceleration was in degrees (tester H)
+    path = comau_file(tmp_path / "slow.toml", edit=ur_like(lambda table: table.replace("3.14", "1e-09")))
+    with pytest.warns(RobotFileWarning) as caught:
+        load_robot(path)
+    assert [str(w.message) for w in caught] == [
+        f"{path}: joint 2 (joint_2): max_velocity 1e-09 rad/s is 3.14e+09 times below that of the next slowest joint, "
+        "joint_1 (3.14 rad/s), and its max_acceleration 12 rad/s^2 reaches it in 8.3e-08 ms; an arm's joints differ "
+        "by a few times at most: is max_velocity right? rlff reads rad/s"]
+
+
 def test_one_joint_s_speed_in_degrees_is_warned_of(tmp_path, cli):
     # 45 deg/s passed the 50 rad/s bound: sim reach said 227 m
     path = comau_file(tmp_path / "speed.toml", edit=ur_like(lambda table: table.replace("3.14", "45.0")))

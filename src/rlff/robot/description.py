@@ -62,6 +62,8 @@ MAX_POSITION, MAX_VELOCITY = 8 * 2 * math.pi, 50.0
 #:   Arm makers who publish accelerations give 0.13 s and more (Franka's wrist joints, 2.61 rad/s
 #:   at 20 rad/s^2; the Comau file's choices 0.25 s); an acceleration in deg/s^2 beside a speed in
 #:   rad/s gives 57 times less (4.4 ms for the Comau's, 4.6 ms for a UR's 3.14 rad/s at 12 rad/s^2).
+#:   Its ``max_velocity`` is blamed instead where that is more than :data:`MAX_SPEED_RATIO` times
+#:   below every other joint's (``1e-9``).
 #: * A joint more than 5 times as fast as every other: an arm's fastest joint is a wrist joint a
 #:   little faster than the next (the Comau's 9.6 rad/s against 7.85); one joint in deg/s among
 #:   joints in rad/s is 57 times its real speed.
@@ -442,10 +444,21 @@ def implausible_limits(joints: Sequence[Joint], source: str) -> tuple[str, ...]:
              if joint.max_acceleration and joint.max_velocity / joint.max_acceleration < MIN_TIME_TO_SPEED]
     if quick:
         joint = quick[0]
-        found.append(f"{where(joint)}: max_acceleration {joint.max_acceleration:g} rad/s^2 takes it from rest to its full "
-                     f"speed {joint.max_velocity:g} rad/s in {1e3 * joint.max_velocity / joint.max_acceleration:.2g} ms"
-                     f"{more(len(quick))}; published arm limits take 0.1 s or more (Franka's quickest joints 0.13 s): is "
-                     "max_acceleration in degrees? rlff reads rad/s^2")
+        in_ms = f"{1e3 * joint.max_velocity / joint.max_acceleration:.2g} ms"
+        slowest = min((other for other in joints if other is not joint), key=lambda other: other.max_velocity,
+                      default=None)
+        if slowest is not None and joint.max_velocity * MAX_SPEED_RATIO < slowest.max_velocity:
+            # the speed is the odd one (a max_velocity of 1e-9 blamed the acceleration beside it)
+            found.append(f"{where(joint)}: max_velocity {joint.max_velocity:g} rad/s is "
+                         f"{slowest.max_velocity / joint.max_velocity:.3g} times below that of the next slowest joint, "
+                         f"{slowest.name} ({slowest.max_velocity:g} rad/s), and its max_acceleration "
+                         f"{joint.max_acceleration:g} rad/s^2 reaches it in {in_ms}{more(len(quick))}; an arm's joints "
+                         "differ by a few times at most: is max_velocity right? rlff reads rad/s")
+        else:
+            found.append(f"{where(joint)}: max_acceleration {joint.max_acceleration:g} rad/s^2 takes it from rest to its "
+                         f"full speed {joint.max_velocity:g} rad/s in {in_ms}{more(len(quick))}; published arm limits take "
+                         "0.1 s or more (Franka's quickest joints 0.13 s): is max_acceleration in degrees? rlff reads "
+                         "rad/s^2")
     by_speed = sorted(joints, key=lambda joint: joint.max_velocity, reverse=True)
     if len(by_speed) > 1 and by_speed[0].max_velocity > MAX_SPEED_RATIO * by_speed[1].max_velocity:
         fast, next_ = by_speed[:2]
