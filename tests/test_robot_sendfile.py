@@ -204,3 +204,28 @@ def test_a_bag_of_a_mapped_robot_is_the_controller_s_and_reads_back_into_rlff_s(
     # JSON stays in rlff's names and convention
     export_trajectory(trajectory, RobotMapping.for_robot(mapped), "json", tmp_path / "t.json")
     assert read_json(tmp_path / "t.json").joint_names == trajectory.joint_names
+
+
+def test_a_mapped_bag_away_from_the_arm_is_refused_in_the_controller_s_words(planned, tmp_path):
+    """With [ros.joints], the joint whose start is not where the arm is was named as rlff's joint_2
+    alone (tester H); it is named as the approach line names it, the controller's name and counting
+    (the bag's and the arm's joint states'), rlff's name beside it."""
+    from rosrig import ur_file
+
+    _, trajectory = planned
+    mapped = load_robot(ur_file(tmp_path / "ur.toml"))
+    out = tmp_path / "throw.bag"
+    export_trajectory(trajectory, RobotMapping.for_robot(mapped), "ros1-bag", out)
+    arm = trajectory.positions[0].copy()
+    arm[4] += 0.2  # wrist_2_joint counts joint_5 the other way, from 0.25 rad
+    with pytest.raises(MotionLimitError, match=re.escape(
+            f"{out}: point 0 (t = 0.000000 s): wrist_2_joint (joint_5) position {0.25 - arm[4] + 0.2:.6g} rad is not "
+            f"where the arm is ({0.25 - arm[4]:.6g} rad; 0.2 rad off, tolerance 0.001 rad); send with --approach")):
+        load_for_sending(out, mapped, None, start=arm)
+    # without a map, rlff's names and values, as before
+    plain = tmp_path / "plain.json"
+    export_trajectory(trajectory, RobotMapping.for_robot(ROBOT), "json", plain)
+    with pytest.raises(MotionLimitError, match=re.escape(
+            f"{plain}: point 0 (t = 0.000000 s): joint_5 position {arm[4] - 0.2:.6g} rad is not where the arm is "
+            f"({arm[4]:.6g} rad; 0.2 rad off")):
+        load_for_sending(plain, ROBOT, None, start=arm)

@@ -23,7 +23,7 @@ from rlff.robot.description import Robot
 from rlff.robot.export import read_bag, trajectory_topics
 from rlff.robot.links import require_above_base
 from rlff.robot.plan import GENERATED, RobotPlan, load_for_robot
-from rlff.trajectory.check import check_trajectory
+from rlff.trajectory.check import check_start, check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
 from rlff.trajectory.planner import APPROACH_SPEED, plan_transition
@@ -158,9 +158,14 @@ def with_approach(robot: Robot, trajectory: JointTrajectory, start: np.ndarray,
 def _require_start(path: Path, robot: Robot, trajectory: JointTrajectory, start: np.ndarray | None) -> None:
     """The motion check of a trajectory sent as it is, from the arm's pose ``start`` if given."""
     pose = start
-    if start is not None:
-        start = np.asarray(start, dtype=float)[[robot.index(name) for name in trajectory.joint_names]]
+    names, joints = trajectory.joint_names, robot.ros.joints
     try:
+        if start is not None:
+            # said as the approach line says it: a joint [ros.joints] maps in the controller's name and
+            # counting (as its bag and the arm's joint states have it), rlff's name beside it
+            start = np.asarray(start, dtype=float)[[robot.index(name) for name in names]]
+            check_start(joints.to_controller(trajectory), joints.positions_to_controller(names, start),
+                        labels=[joints.label(name) for name in names])
         check_trajectory(trajectory, robot.joints, start=start)
     except InputError as exc:
         hint = ("" if start is None else

@@ -180,6 +180,36 @@ def violation_counts(traj: JointTrajectory, joints: Sequence[JointLimits]) -> di
     return counts
 
 
+def check_start(
+    traj: JointTrajectory,
+    start: np.ndarray,
+    start_velocity: np.ndarray | None = None,
+    *,
+    position_tolerance: float = POSITION_TOLERANCE,
+    velocity_tolerance: float = VELOCITY_TOLERANCE,
+    labels: Sequence[str] | None = None,
+) -> None:
+    """Raise :class:`MotionLimitError` unless ``traj`` starts where the arm is: the part of
+    :func:`check_trajectory` given its ``start``, with its parameters. ``labels`` (J,) name the
+    joints in the message (default ``traj``'s joint names: ``shoulder_lift_joint (joint_2)`` for a
+    trajectory in a controller's convention)."""
+    names = traj.joint_names
+    start = np.asarray(start, dtype=float).reshape(-1)
+    expected = np.zeros(len(names)) if start_velocity is None else np.asarray(start_velocity, float)
+    if start.shape != (len(names),) or expected.shape != (len(names),):
+        raise InputError(f"start must hold one value per joint {list(names)}, got shape {start.shape}")
+    labels = names if labels is None else labels
+    for label, value, arm, tolerance, unit in (
+            ("position", traj.positions[0], start, position_tolerance, "rad"),
+            ("velocity", traj.velocities[0], expected, velocity_tolerance, "rad/s")):
+        off = np.abs(value - arm)
+        if np.any(off > tolerance):
+            j = int(np.argmax(off > tolerance))
+            raise MotionLimitError(
+                f"point 0 (t = {traj.time[0]:.6f} s): {labels[j]} {label} {value[j]:.6g} {unit} is not where the arm "
+                f"is ({arm[j]:.6g} {unit}; {off[j]:.3g} {unit} off, tolerance {tolerance:g} {unit})")
+
+
 def check_trajectory(
     traj: JointTrajectory,
     joints: Sequence[JointLimits],
@@ -227,19 +257,8 @@ def check_trajectory(
     if time[0] < 0:
         raise MotionLimitError(f"{at_point(0)}: time starts before 0")
     if start is not None:
-        start = np.asarray(start, dtype=float).reshape(-1)
-        expected = np.zeros(len(names)) if start_velocity is None else np.asarray(start_velocity, float)
-        if start.shape != (len(names),) or expected.shape != (len(names),):
-            raise InputError(f"start must hold one value per joint {list(names)}, got shape {start.shape}")
-        for label, value, arm, tolerance, unit in (
-                ("position", traj.positions[0], start, position_tolerance, "rad"),
-                ("velocity", traj.velocities[0], expected, velocity_tolerance, "rad/s")):
-            off = np.abs(value - arm)
-            if np.any(off > tolerance):
-                j = int(np.argmax(off > tolerance))
-                raise MotionLimitError(
-                    f"{at_point(0)}: {names[j]} {label} {value[j]:.6g} {unit} is not where the arm is "
-                    f"({arm[j]:.6g} {unit}; {off[j]:.3g} {unit} off, tolerance {tolerance:g} {unit})")
+        check_start(traj, start, start_velocity, position_tolerance=position_tolerance,
+                    velocity_tolerance=velocity_tolerance)
     lower = {"position": limits.lower, "velocity": -limits.velocity, "acceleration": -limits.acceleration}
     upper = {"position": limits.upper, "velocity": limits.velocity, "acceleration": limits.acceleration}
     _check_points(traj, {"position": traj.positions, "velocity": traj.velocities,
