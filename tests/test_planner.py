@@ -101,6 +101,18 @@ def test_a_path_too_short_for_its_release_speed_winds_up_first():
     check_trajectory(planned, ROBOT.joints, start=throw.positions[0])
 
 
+def test_no_room_to_wind_up_is_refused_with_what_gives_room():
+    """The refusal gave no next step (tester H), where the braking one does; --clip gives no room."""
+    throw = mapped_throw(J2.lower + 0.01, J2.lower + 0.04, 2.0)
+    with pytest.raises(MotionLimitError, match=r"^the throw \(start to release\): joint_2 would reach -1\.\d+ rad, beyond "
+                                               r"its lower limit -1\.48 rad .*the limit is 0\.01 rad away\): the path "
+                                               r"from the start to the release is too short to reach the release speed "
+                                               r"from rest, so the arm backs up first; a slower release, or a throw "
+                                               r"further from that limit \(the robot file's \[throwing\] angle_offset\), "
+                                               r"leaves room; clipping the throw's points does not$"):
+        plan_throw(throw, ROBOT.joints)
+
+
 def test_no_room_to_brake_is_refused_with_the_joint_and_numbers():
     throw = mapped_throw(1.5, J2.upper - 0.01, 2.7)
     with pytest.raises(MotionLimitError, match=r"no room to brake after the release: joint_2 would reach "

@@ -420,7 +420,13 @@ def plan_throw(
     cap = np.where(release_speed > 1e-6, release_speed, np.where(peak > 1e-6, peak, limits.velocity))
     cap = np.minimum(cap, MARGIN * limits.velocity)
     throwing = _ruckig(limits, first, rest, rest, release, release_velocity, cap, period)
-    _require_inside(throwing, limits, period, "the throw (start to release)")
+    try:  # from rest inside the limits, the throw leaves them only in a wind-up
+        _require_inside(throwing, limits, period, "the throw (start to release)")
+    except MotionLimitError as exc:
+        raise MotionLimitError(f"{exc}: the path from the start to the release is too short to reach the release "
+                               "speed from rest, so the arm backs up first; a slower release, or a throw further from "
+                               "that limit (the robot file's [throwing] angle_offset), leaves room; clipping the "
+                               "throw's points does not") from None
     _require_interpolated_speed(throwing, moved, limits, release_velocity, period, "the throw (start to release)")
     phases.append(throwing)
     braking = _ruckig(limits, release, release_velocity, rest, None, rest, None, period)
