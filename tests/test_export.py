@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import json
 import os
+import re
 import subprocess
 import sys
 
@@ -152,6 +154,30 @@ def test_json_carries_the_release_time(traj, tmp_path):
     assert read_json(tmp_path / "t.json").release_time == 0.5
     write_json(traj, tmp_path / "none.json")
     assert read_json(tmp_path / "none.json").release_time is None
+
+
+@pytest.mark.parametrize(("units", "said"), [
+    ({"positions": "deg"}, "gives positions in 'deg'"),
+    ({"time": None}, "gives no unit for time"),
+    ({"angles": "rad"}, "has 'angles', which rlff does not know"),
+])
+def test_json_units_other_than_rlff_s_are_refused(traj, tmp_path, units, said):
+    """A JSON saying "positions": "deg" was read as radians without a word (tester H)."""
+    write_json(traj, tmp_path / "t.json")
+    document = json.loads((tmp_path / "t.json").read_text())
+    document["units"] = {name: unit for name, unit in (document["units"] | units).items() if unit is not None}
+    (tmp_path / "edited.json").write_text(json.dumps(document))
+    with pytest.raises(InputError, match=re.escape(
+            f"{tmp_path / 'edited.json'}: field 'units' {said}; rlff reads a trajectory only in time s, positions rad, "
+            "velocities rad/s, accelerations rad/s^2: convert the file's values (and its 'units') to those")):
+        read_json(tmp_path / "edited.json")
+    document["units"] = "SI"
+    (tmp_path / "edited.json").write_text(json.dumps(document))
+    with pytest.raises(InputError, match="edited.json: field 'units' must be "):
+        read_json(tmp_path / "edited.json")
+    del document["units"]  # none said: rlff's
+    (tmp_path / "edited.json").write_text(json.dumps(document))
+    assert_same(read_json(tmp_path / "edited.json"), traj)
 
 
 def test_csv_carries_the_release_time(traj, tmp_path):

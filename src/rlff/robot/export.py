@@ -41,6 +41,8 @@ TRAJECTORY_TYPE = "trajectory_msgs/msg/JointTrajectory"
 JOINT_TRAJECTORY_MD5 = "65b4f94a94d1ed67169da35a02f33d3f"
 
 JSON_FORMAT = "rlff-joint-trajectory"
+#: The ``units`` of a trajectory JSON: the only ones rlff writes and reads.
+UNITS = {"time": "s", "positions": "rad", "velocities": "rad/s", "accelerations": "rad/s^2"}
 _QUANTITIES = ("position", "velocity", "acceleration")
 
 
@@ -48,8 +50,7 @@ def write_json(traj: JointTrajectory, path: Path) -> None:
     """``{"format", "version", "joint_names", "time" (T,), "positions"/"velocities"/"accelerations"
     (T, J), "release_time"}`` (``release_time`` in s, null for a trajectory that is no throw)."""
     document = {
-        "format": JSON_FORMAT, "version": 1, "units": {"time": "s", "positions": "rad",
-                                                       "velocities": "rad/s", "accelerations": "rad/s^2"},
+        "format": JSON_FORMAT, "version": 1, "units": UNITS,
         "joint_names": list(traj.joint_names), "time": traj.time.tolist(),
         "positions": traj.positions.tolist(), "velocities": traj.velocities.tolist(),
         "accelerations": traj.accelerations.tolist(), "release_time": traj.release_time,
@@ -68,6 +69,7 @@ def read_json(path: Path) -> JointTrajectory:
     missing = [name for name in fields if name not in document]
     if missing:
         raise InputError(f"{path}: missing field {missing[0]!r}")
+    _require_units(path, document.get("units", UNITS))
     release = document.get("release_time")
     if release is not None and (isinstance(release, bool) or not isinstance(release, int | float)):
         raise InputError(f"{path}: field 'release_time' must be a number of seconds or null, got {release!r}")
@@ -76,6 +78,21 @@ def read_json(path: Path) -> JointTrajectory:
                                release_time=release)
     except (TypeError, ValueError) as exc:
         raise InputError(f"{path}: not a robot trajectory ({exc})") from None
+
+
+def _require_units(path: Path, units: object) -> None:
+    """Refuse a JSON's ``units`` other than :data:`UNITS`: its numbers would be read as rad and s
+    whatever it says (``"positions": "deg"`` was)."""
+    if units == UNITS:
+        return
+    written = ", ".join(f"{name} {unit}" for name, unit in UNITS.items())
+    if not isinstance(units, dict):
+        raise InputError(f"{path}: field 'units' must be {json.dumps(UNITS)}, got {units!r}")
+    name = next(name for name in (*UNITS, *units) if units.get(name) != UNITS.get(name))
+    said = (f"has {name!r}, which rlff does not know" if name not in UNITS
+            else f"gives no unit for {name}" if name not in units else f"gives {name} in {units[name]!r}")
+    raise InputError(f"{path}: field 'units' {said}; rlff reads a trajectory only in {written}: convert the "
+                     "file's values (and its 'units') to those")
 
 
 def write_csv(traj: JointTrajectory, path: Path) -> None:
