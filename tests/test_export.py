@@ -19,6 +19,7 @@ from rlff.robot.export import (
     read_bag,
     read_csv,
     read_json,
+    require_release,
     trajectory_topics,
     write_csv,
     write_json,
@@ -147,13 +148,55 @@ def test_bags_stamp_the_header_zero_unless_asked(traj, tmp_path, writer, name):
     assert _header_stamps(tmp_path / f"asked-{name}") == [(2, 3)]
 
 
+def released(traj: JointTrajectory, at: int) -> JointTrajectory:
+    """``traj`` released at its point ``at``, every joint at its fastest there (as a planned throw)."""
+    velocities = traj.velocities.copy()
+    velocities[at] = np.abs(velocities).max(axis=0) + 1.0
+    return JointTrajectory(traj.joint_names, traj.time, traj.positions, velocities, traj.accelerations,
+                           release_time=traj.time[at])
+
+
 def test_json_carries_the_release_time(traj, tmp_path):
-    thrown = JointTrajectory(traj.joint_names, traj.time, traj.positions, traj.velocities, traj.accelerations,
-                             release_time=0.5)
+    thrown = released(traj, 2)
     write_json(thrown, tmp_path / "t.json")
     assert read_json(tmp_path / "t.json").release_time == 0.5
     write_json(traj, tmp_path / "none.json")
     assert read_json(tmp_path / "none.json").release_time is None
+
+
+@pytest.mark.parametrize(("write", "read", "suffix"), [(write_json, read_json, "json"), (write_csv, read_csv, "csv")])
+def test_a_release_time_the_throw_is_not_released_at_is_refused(tmp_path, write, read, suffix):
+    """An edited release_time between two samples, or in the braking (0.9 s of a throw released at
+    0.634 s), was taken and sim throw let go there (tester H). A release at a sample where every
+    moving joint is at its fastest since the arm last rested is taken (rounded: the sample's own
+    time), and so is one at rest where the motion ends: a throw released at rest ends there."""
+    speeds = {"throw": [0.0, 1.0, 2.0, 3.0, 2.0, 1.0, 0.0], "twice": [0.0, 1.0, 0.0, 1.0, 2.0, 1.0, 0.0]}
+
+    def read_back(kind: str, release: float) -> JointTrajectory:
+        time = np.array([0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6])
+        velocities = np.stack([speeds[kind], np.zeros(7)], axis=1)
+        path = tmp_path / f"{kind}.{suffix}"
+        write(JointTrajectory(("joint_1", "joint_2"), time, np.cumsum(velocities, axis=0) * 0.1, velocities,
+                              release_time=0.3), path)
+        text = path.read_text()  # the edit: 0.3 on the line of the release time, or in its column
+        path.write_text(text.replace('"release_time": 0.3}', f'"release_time": {release!r}}}') if suffix == "json"
+                        else "\n".join(line.rsplit(",", 1)[0] + f",{release!r}" if number else line
+                                       for number, line in enumerate(text.splitlines())) + "\n")
+        return require_release(path, read(path))
+
+    assert read_back("throw", 0.3 + 4e-7).release_time == 0.3
+    assert read_back("throw", 0.6).release_time == 0.6
+    assert read_back("twice", 0.4).release_time == 0.4
+    for kind, release, said in [
+            ("throw", 0.35, "release_time 0.35 s is not one of the trajectory's sample times (the nearest: "
+                            "0.3 s); a throw is released at a sample"),
+            ("throw", 0.5, "release_time 0.5 s falls where the arm slows down: joint_1 moves at 1 rad/s there, "
+                           "after 3 rad/s at 0.3 s; a throw is released at its fastest, before it brakes: give the "
+                           "time of the throw's release"),
+            ("throw", 0.0, "release_time 0 s falls where the arm rests, before its motion: nothing is thrown there"),
+            ("twice", 0.2, "release_time 0.2 s falls where the arm rests, between its moves: nothing is thrown")]:
+        with pytest.raises(InputError, match=re.escape(f"{kind}.{suffix}: {said}")):
+            read_back(kind, release)
 
 
 @pytest.mark.parametrize(("units", "said"), [
@@ -181,8 +224,7 @@ def test_json_units_other_than_rlff_s_are_refused(traj, tmp_path, units, said):
 
 
 def test_csv_carries_the_release_time(traj, tmp_path):
-    thrown = JointTrajectory(traj.joint_names, traj.time, traj.positions, traj.velocities, traj.accelerations,
-                             release_time=1.25)
+    thrown = released(traj, 4)
     write_csv(thrown, tmp_path / "t.csv")
     back = read_csv(tmp_path / "t.csv")
     assert back.release_time == 1.25

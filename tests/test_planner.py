@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -9,6 +11,7 @@ from hypothesis import strategies as st
 
 from rlff.errors import InputError
 from rlff.robot.description import Joint, load_robot
+from rlff.robot.export import require_release
 from rlff.robot.mapping import RobotMapping
 from rlff.trajectory.check import MotionLimitError, check_trajectory
 from rlff.trajectory.joint import JointTrajectory
@@ -172,7 +175,7 @@ def test_a_joint_without_acceleration_limits_is_refused_by_name():
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(first=st.floats(-1.4, 1.0), travel=st.floats(0.05, 1.5), speed=st.floats(0.05, 2.79),
+@given(first=st.floats(-1.4, 1.0), travel=st.floats(0.05, 1.5), speed=st.just(0.0) | st.floats(0.05, 2.79),
        start=st.floats(-1.4, 2.6), period=st.sampled_from([0.002, 0.004, 0.01]))
 def test_planned_throws_pass_the_check(first, travel, speed, start, period):
     throw = mapped_throw(first, min(first + travel, J2.upper - 0.001), speed, points=12)
@@ -189,6 +192,7 @@ def test_planned_throws_pass_the_check(first, travel, speed, start, period):
             assert travel + throw.positions[0, 1] - J2.lower < needed
         return
     check_trajectory(planned, ROBOT.joints, start=arm)
+    assert require_release(Path("planned.json"), planned).release_time == planned.release_time  # read back as it is
     release = int(np.flatnonzero(planned.time == planned.release_time)[0])
     np.testing.assert_allclose(planned.velocities[release], throw.velocities[-1], atol=1e-9)
     np.testing.assert_allclose(planned.positions[release], throw.positions[-1], atol=1e-9)

@@ -150,6 +150,23 @@ def test_a_robot_trajectory_that_disagrees_with_its_time_is_refused(capsys, thro
     np.testing.assert_array_equal(read_json(tmp_path / "t.json").positions[:, 1], table["joint_2_position"])
 
 
+def test_a_robot_trajectory_released_where_its_throw_is_not_is_refused(rlff, throw, tmp_path):
+    """An edited release_time off the samples, or in the braking, was taken (tester H): sim throw let
+    go there. What rlff wrote is taken, and so is its release rounded to a microsecond."""
+    assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
+    document = json.loads((tmp_path / "t.json").read_text())
+    release = document["time"].index(document["release_time"])
+    for edited, said in ((document["time"][release] + 0.001, "is not one of the trajectory's sample times"),
+                         (document["time"][release + 5], "falls where the arm slows down: joint_2 moves at")):
+        (tmp_path / "edited.json").write_text(json.dumps(document | {"release_time": edited}))
+        result = rlff("robot", "export", str(tmp_path / "edited.json"), "-f", "csv", "-o", str(tmp_path / "t.csv"))
+        assert result.code == 2 and f"edited.json: release_time {edited:.10g} s {said}" in result.stderr, result.stderr
+        assert not (tmp_path / "t.csv").exists()
+    (tmp_path / "edited.json").write_text(json.dumps(document | {"release_time": round(document["release_time"], 6)}))
+    assert rlff("robot", "export", str(tmp_path / "edited.json"), "-f", "csv", "-o", str(tmp_path / "t.csv")).code == 0
+    assert pd.read_csv(tmp_path / "t.csv")["release_time"].iloc[0] == document["release_time"]
+
+
 def test_show_names_the_arm_s_controller_on_the_ros_graph(capsys, tmp_path):
     text = resources.files("rlff").joinpath("robots", "comau_smart5_six.toml").read_text()
     arm = tmp_path / "arm.toml"

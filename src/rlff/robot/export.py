@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import json
 import time as clock
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -138,6 +139,50 @@ def read_csv(path: Path) -> JointTrajectory:
         return JointTrajectory(tuple(names), table["time"].to_numpy(float), *arrays, release_time=release)
     except (TypeError, ValueError) as exc:
         raise InputError(f"{path}: not a robot trajectory ({exc})") from None
+
+
+#: Largest distance (s) of a file's ``release_time`` from one of its sample times: rlff writes the
+#: sample's own time; a hand-written one may round it (controllers' periods are 0.0001 s or more).
+RELEASE_TOLERANCE = 1e-6
+#: Speed (rad/s) above which a joint moves: the planner's own line between a joint released
+#: moving and one released at rest (:func:`rlff.trajectory.planner.plan_throw`).
+MOVING = 1e-6
+
+
+def require_release(path: Path, traj: JointTrajectory) -> JointTrajectory:
+    """``traj``, read from the file ``path``, with its ``release_time`` the sample time it names.
+
+    rlff releases a planned throw at a sample, at the end of the throw
+    (:func:`rlff.trajectory.planner.plan_throw`): every joint that moves there is at its fastest
+    since the throw began (the arm's last rest before it), and braking follows; a throw released
+    at rest ends there. A release between samples, where the arm rests with a motion still to come
+    or none before, or where a joint has slowed down (braking) is refused: the simulation let go there.
+    Run after the motion check, which says what else an edit broke (a time column stretched alone).
+    """
+    release = traj.release_time
+    if release is None:
+        return traj
+    time, speed = traj.time, np.abs(traj.velocities)
+    k = int(np.argmin(np.abs(time - release)))
+    if abs(time[k] - release) > RELEASE_TOLERANCE:
+        raise InputError(f"{path}: release_time {release:.10g} s is not one of the trajectory's sample times (the "
+                         f"nearest: {time[k]:.10g} s); a throw is released at a sample")
+    resting = np.all(speed <= MOVING, axis=1)
+    if resting[k] and (np.all(resting[:k]) or not np.all(resting[k:])):
+        raise InputError(f"{path}: release_time {release:.10g} s falls where the arm rests, "
+                         f"{'before its motion' if np.all(resting[:k]) else 'between its moves'}: nothing is thrown "
+                         "there; give the time of the throw's release")
+    began = int(np.flatnonzero(resting[:k])[-1]) if np.any(resting[:k]) else 0
+    peak = speed[began:k + 1].max(axis=0)
+    slower = np.flatnonzero((speed[k] > MOVING) & (peak > speed[k] * (1 + 1e-9) + 1e-9))
+    if slower.size:
+        j = int(slower[0])
+        fastest = began + int(np.argmax(speed[began:k + 1, j]))
+        raise InputError(f"{path}: release_time {release:.10g} s falls where the arm slows down: "
+                         f"{traj.joint_names[j]} moves at {speed[k, j]:.4g} rad/s there, after {peak[j]:.4g} rad/s at "
+                         f"{time[fastest]:.10g} s; a throw is released at its fastest, before it brakes: give the time "
+                         "of the throw's release")
+    return replace(traj, release_time=float(time[k]))
 
 
 def _message(traj: JointTrajectory, typestore, stamp_ns: int, ros1: bool):

@@ -266,7 +266,7 @@ def load_for_robot(
     None: the one-joint mapping), ``bearing`` the basket's bearing (deg; None: the file's
     ``bearing`` column, else 0).
     """
-    from rlff.robot.export import read_csv, read_json
+    from rlff.robot.export import read_csv, read_json, require_release
 
     path = Path(path)
     kind = robot_file_kind(path)
@@ -295,6 +295,7 @@ def load_for_robot(
         # a file keeps no robot: one planned for another arm fails on this one's limits, so say whose
         raise type(exc)(f"{path}: {exc} (checked against {robot.source}; a trajectory planned for another "
                         "robot is checked with its file: --robot)") from None
+    trajectory = require_release(path, trajectory)
     return kind, RobotPlan(trajectory, trajectory, ClipReport())
 
 
