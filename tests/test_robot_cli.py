@@ -167,6 +167,22 @@ def test_a_robot_trajectory_released_where_its_throw_is_not_is_refused(rlff, thr
     assert pd.read_csv(tmp_path / "t.csv")["release_time"].iloc[0] == document["release_time"]
 
 
+@pytest.mark.parametrize("fmt", ["json", "csv", "ros1-bag", "comau"])
+def test_a_trajectory_of_one_point_is_not_exported(rlff, throw, tmp_path, fmt):
+    """One point was written to csv, bags and Comau as `1 points, 0.000 s` (tester H)."""
+    assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
+    document = json.loads((tmp_path / "t.json").read_text())
+    one = {key: document[key][:1] for key in ("time", "positions", "velocities", "accelerations")}
+    (tmp_path / "one.json").write_text(json.dumps(document | one | {"release_time": None}))
+    out = tmp_path / f"out.{fmt}"
+    result = rlff("robot", "export", str(tmp_path / "one.json"), "-f", fmt, "-o", str(out))
+    assert result.code == 2 and "checked as it is: 1 point, 0.000 s" in result.stderr, result.stderr
+    assert result.stderr.endswith(f"rlff: error: {out}: not written: a trajectory of 1 point (0 s) is no motion, a "
+                                  "controller runs from one point to the next; export one of 2 points or more, e.g. "
+                                  "the throw planned from its generated path\n")
+    assert not out.exists()
+
+
 def test_show_names_the_arm_s_controller_on_the_ros_graph(capsys, tmp_path):
     text = resources.files("rlff").joinpath("robots", "comau_smart5_six.toml").read_text()
     arm = tmp_path / "arm.toml"

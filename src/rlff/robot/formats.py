@@ -15,6 +15,7 @@ from rlff.robot.export import write_csv, write_json, write_ros1_bag, write_ros2_
 from rlff.robot.mapping import ArmMapping, RobotMapping
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
+from rlff.wording import plural
 
 FORMATS = ("json", "csv", "ros1-bag", "ros2-bag", "comau")
 
@@ -32,8 +33,9 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
     Raises
     ------
     InputError
-        An unknown format, or a trajectory that fails the motion check (named point, joint,
-        quantity, value and limit); nothing is written then.
+        An unknown format, a trajectory of fewer than 2 points (no motion: a controller runs from
+        one point to the next), or one that fails the motion check (named point, joint, quantity,
+        value and limit); nothing is written then.
     """
     topic, joints = mapping.robot.ros.trajectory_topic, mapping.robot.ros.joints
 
@@ -51,5 +53,9 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
     }
     if fmt not in writers:
         raise InputError(f"unknown format {fmt!r} (known: {', '.join(FORMATS)})")
+    if len(traj) < 2:
+        raise InputError(f"{path}: not written: a trajectory of {plural(len(traj), 'point')} ({traj.duration:g} s) "
+                         "is no motion, a controller runs from one point to the next; export one of 2 points or more, "
+                         "e.g. the throw planned from its generated path")
     check_trajectory(traj, mapping.robot.joints)
     writers[fmt](traj, path=Path(path))

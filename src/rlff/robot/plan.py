@@ -59,7 +59,7 @@ class RobotPlan:
         """One line: what was clipped, and the plan's duration and release."""
         traj = self.trajectory
         if self.points is traj:
-            return f"a robot trajectory, checked as it is: {len(traj)} points, {traj.duration:.3f} s"
+            return f"a robot trajectory, checked as it is: {plural(len(traj), 'point')}, {traj.duration:.3f} s"
         clipped = self.clipped_points.summary() if self.clipped_points else "nothing clipped"
         release = f", release at {traj.release_time:.3f} s" if traj.release_time is not None else ""
         return f"planned {traj.duration:.3f} s to rest{release}; {clipped}"
