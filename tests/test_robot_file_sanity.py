@@ -329,3 +329,21 @@ def test_geometry_with_a_controller_s_own_joint_names_is_refused(tmp_path):
     head, _, rest = text.partition("[geometry]")
     path.write_text(head + rest[rest.index("\n[", 1):] if "\n[" in rest[1:] else head)
     assert load_robot(path).joint_names == names  # without [geometry]: its names, no kinematics
+
+
+def test_a_speed_no_joint_reaches_within_its_range_is_warned_of(tmp_path):
+    # a slow arm's joint_2 at 18 "rad/s" (18 deg/s), the other joints' speeds 1.5 times the
+    # Comau's: no joint stands out from the others, only the acceleration over the range tells
+    # (11 rad/s^2 over 4.19 rad reaches 6.8 rad/s at most)
+    def slow_arm_in_deg_per_s(table):
+        table = re.sub(r"^max_velocity = (\S+)$", lambda m: f"max_velocity = {float(m[1]) * 1.5:g}", table, flags=re.M)
+        return table.replace("max_velocity = 4.188", "max_velocity = 18")  # joint_2: 2.792 x 1.5
+    path = comau_file(tmp_path / "slow.toml", edit=slow_arm_in_deg_per_s)
+    with pytest.warns(RobotFileWarning, match=r"slow\.toml: joint 2 \(joint_2\): max_velocity 18 rad/s is 2\.6\d* times "
+                                              r"the most its max_acceleration 11 rad/s\^2 reaches within its 4\.19 rad "
+                                              r"range \(6\.\d+ rad/s\): is it in degrees per second\?"):
+        load_robot(path)
+    # the built-in file's speeds are all within reach of its accelerations
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RobotFileWarning)
+        load_robot()

@@ -67,10 +67,16 @@ MAX_POSITION, MAX_VELOCITY = 8 * 2 * math.pi, 50.0
 #: * A joint more than 5 times as fast as every other: an arm's fastest joint is a wrist joint a
 #:   little faster than the next (the Comau's 9.6 rad/s against 7.85); one joint in deg/s among
 #:   joints in rad/s is 57 times its real speed.
+#: * A joint whose ``max_velocity`` is more than :data:`MAX_UNREACHABLE` times what its
+#:   ``max_acceleration`` can reach within its range (from rest at one end, accelerating over half
+#:   of it and braking over the other, sqrt(acceleration x range)): a speed in deg/s on a slow arm
+#:   (a tester's 18 "rad/s" beside 6 rad/s^2 over 2.8 rad, at most 4.1) passed the other checks,
+#:   and ``rlff sim reach`` threw the ball 23 m from a 1.2 m arm. The Comau's joints could reach
+#:   1.7-6 times their speed limits so.
 #: * A joint that bends the arm (``joint_2``, ``joint_3``, ``joint_5`` of rlff's convention) with a
 #:   limit beyond a turn either way (the most any arm has, a UR's ±2π); a roll joint may turn many
 #:   (the Comau's joint 6 ±7.5 turns), so those and joints with names of their own are not looked at.
-MIN_TIME_TO_SPEED, MAX_SPEED_RATIO, MAX_BEND = 0.05, 5.0, 2 * math.pi + 1e-3
+MIN_TIME_TO_SPEED, MAX_SPEED_RATIO, MAX_BEND, MAX_UNREACHABLE = 0.05, 5.0, 2 * math.pi + 1e-3, 2.0
 
 
 class RobotFileWarning(UserWarning):
@@ -460,11 +466,22 @@ def implausible_limits(joints: Sequence[Joint], source: str) -> tuple[str, ...]:
                          "0.1 s or more (Franka's quickest joints 0.13 s): is max_acceleration in degrees? rlff reads "
                          "rad/s^2")
     by_speed = sorted(joints, key=lambda joint: joint.max_velocity, reverse=True)
-    if len(by_speed) > 1 and by_speed[0].max_velocity > MAX_SPEED_RATIO * by_speed[1].max_velocity:
+    fastest_apart = len(by_speed) > 1 and by_speed[0].max_velocity > MAX_SPEED_RATIO * by_speed[1].max_velocity
+    if fastest_apart:
         fast, next_ = by_speed[:2]
         found.append(f"{where(fast)}: max_velocity {fast.max_velocity:g} rad/s is {fast.max_velocity / next_.max_velocity:.3g}"
                      f" times that of the next fastest joint, {next_.name} ({next_.max_velocity:g} rad/s); an arm's "
                      "joints differ by a few times at most: is it in degrees per second? rlff reads rad/s")
+    # a joint already blamed for its speed (in deg/s among joints in rad/s) is said once
+    unreachable = [joint for joint in joints if joint.max_acceleration and joint.upper > joint.lower
+                   and joint.max_velocity > MAX_UNREACHABLE * within_range(joint)
+                   and not (fastest_apart and joint is by_speed[0])]
+    if unreachable:
+        joint = unreachable[0]
+        found.append(f"{where(joint)}: max_velocity {joint.max_velocity:g} rad/s is {joint.max_velocity / within_range(joint):.3g}"
+                     f" times the most its max_acceleration {joint.max_acceleration:g} rad/s^2 reaches within its "
+                     f"{joint.upper - joint.lower:.3g} rad range ({within_range(joint):.3g} rad/s){more(len(unreachable))}: "
+                     "is it in degrees per second? rlff reads rad/s")
     bent = [joint for joint in joints if joint.name in THROWING_JOINTS and max(-joint.lower, joint.upper) > MAX_BEND]
     if bent:
         joint = bent[0]
@@ -473,6 +490,12 @@ def implausible_limits(joints: Sequence[Joint], source: str) -> tuple[str, ...]:
                      f"{more(len(bent))}; {joint.name} bends the arm, and no arm bends a joint more than a turn either "
                      "way (a UR's 2 pi is the most): is it in degrees? rlff reads rad")
     return tuple(found)
+
+
+def within_range(joint: Joint) -> float:
+    """The fastest (rad/s) ``joint`` can move and still stop within its range: from rest at one
+    limit, at its ``max_acceleration`` over half the range and braking over the other half."""
+    return math.sqrt(joint.max_acceleration * (joint.upper - joint.lower))
 
 
 #: The joints of the chain ``[geometry]`` describes, in order, in rlff's kinematic convention
