@@ -105,12 +105,15 @@ def test_preprocess_bad_input_is_one_line_and_exit_2(capsys, tmp_path, args, mes
     assert len(stderr.strip().splitlines()) == 1
 
 
-def test_a_csv_named_parquet_is_one_line_and_exit_2(capsys, tmp_path):
+@pytest.mark.parametrize("header", ["trajectory,time,angle,distance,velocity", "trajectory,angle,distance,velocity"])
+def test_a_csv_named_parquet_is_one_line_and_exit_2(capsys, tmp_path, header):
+    # four names are no MSR recording's row of four numbers (it was taken for one)
     demos = tmp_path / "demos.parquet"
-    demos.write_text("trajectory,time,angle,distance,velocity\na,0,0.1,2,0\na,0.1,0.2,2,1\n")
+    rows = "a,0,0.1,2,0\na,0.1,0.2,2,1\n" if header.count(",") == 4 else "a,0.1,2,0\na,0.2,2,1\n"
+    demos.write_text(f"{header}\n{rows}")
     assert main(["data", "preprocess", str(demos), "--preset", "thesis", "-o", str(tmp_path / "c.csv")]) == 2
     stderr = capsys.readouterr().err
-    assert stderr.startswith(f"rlff: error: {demos} is text (its first line: 'trajectory,time,angle,distance,velocity'), "
+    assert stderr.startswith(f"rlff: error: {demos} is text (its first line: '{header}'), "
                              "not a Parquet file: rlff reads a dataset by its suffix")
     assert len(stderr.strip().splitlines()) == 1
 

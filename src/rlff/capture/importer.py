@@ -203,8 +203,8 @@ class ImportReport:
 def detect_format(path: str | Path) -> str:
     """Guess a recording's format from its name and first line.
 
-    ``.bag`` files and ROS 2 bag folders are bags, ``*_skeleton3D.txt`` and 4-column text is MSR,
-    61-column text is Kinect SDK v1, a file whose first line is rlff's ``# {"trajectory": ...}``
+    ``.bag`` files and ROS 2 bag folders are bags, text whose first row is 4 numbers is MSR, 61
+    numbers Kinect SDK v1, a file whose first line is rlff's ``# {"trajectory": ...}``
     comment a thesis matrix, ``.csv`` and any other ``.tsv`` a joint CSV.
     """
     path = Path(path)
@@ -223,6 +223,10 @@ def detect_format(path: str | Path) -> str:
             for line in handle:
                 fields = line.split("#", 1)[0].replace(",", " ").split()
                 if fields:
+                    # numbers only: a CSV header of 4 names ("trajectory,angle,distance,velocity",
+                    # a dataset renamed .parquet) is no MSR row
+                    if not all(_is_number(field) for field in fields):
+                        break
                     if len(fields) == 4:
                         return "msr"
                     if len(fields) == 61:
@@ -231,6 +235,14 @@ def detect_format(path: str | Path) -> str:
     elif not path.exists():
         raise InputError(f"{path}: no such file or folder")
     raise InputError(f"{path}: cannot tell the format; give --format ({'|'.join(FORMATS)})")
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 #: The suffix of the files each text format reads, for the files of a folder given in their place.
