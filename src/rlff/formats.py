@@ -36,6 +36,7 @@ from rlff.dataset import (
 from rlff.errors import InputError
 from rlff.fileio import atomic_path, atomic_write, require_file, write_text
 from rlff.kinds import EMPTY, binary_kind, file_kind, rlff_kind
+from rlff.limits import is_number
 
 #: Format names and the file extensions that select them.
 FORMATS = {"csv": (".csv",), "thesis": (".txt", ".tsv"), "npz": (".npz",), "parquet": (".parquet", ".pq")}
@@ -133,7 +134,7 @@ def read_thesis_matrix(
         try:
             values = np.array([float(t.replace(",", ".")) for t in tokens])
         except ValueError:
-            bad = next(t for t in tokens if not _is_number(t.replace(",", ".")))  # quoted as in the file
+            bad = next(t for t in tokens if not is_number(t.replace(",", ".")))  # quoted as in the file
             # several commas in one token: a CSV file under the thesis matrix's suffix
             csv = "; it looks like CSV: a .csv file is read as CSV" if bad.count(",") > 1 else ""
             raise InputError(
@@ -179,14 +180,6 @@ def read_thesis_matrix(
         return Dataset.from_columns(columns, ids, lengths, metas, tuple(context))
     except InputError as exc:
         raise InputError(f"{path}: {exc}") from None
-
-
-def _is_number(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
 
 
 def _header(text: str, path: Path, number: int) -> dict[str, Any] | None:

@@ -87,6 +87,16 @@ def parse_number(text: str, what: str) -> float:
     return value
 
 
+def is_number(text: str) -> bool:
+    """Whether ``text`` reads as a float (``nan`` and ``inf`` too): a cell or token of numbers,
+    not of names."""
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def check_range(name: str, value: float, bounds: tuple[float, float], unit: str = "m",
                 hint: Callable[[float], str] | None = None) -> float:
     """``value`` as a float within ``bounds`` (inclusive), or an :class:`InputError` naming it,

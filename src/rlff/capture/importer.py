@@ -59,7 +59,7 @@ from rlff.capture.users import keep_consistent_user, upper_arm_lengths
 from rlff.dataset import DEFAULT_CONTEXT, Dataset, Trajectory, joint_columns, velocity_column
 from rlff.errors import InputError
 from rlff.fileio import require_distinct
-from rlff.limits import DISTANCE_RANGE, as_names, check_frame_rate
+from rlff.limits import DISTANCE_RANGE, as_names, check_frame_rate, is_number
 from rlff.wording import plural
 
 FORMATS = ("bag", "kinect-text", "msr", "csv", "thesis")
@@ -225,7 +225,7 @@ def detect_format(path: str | Path) -> str:
                 if fields:
                     # numbers only: a CSV header of 4 names ("trajectory,angle,distance,velocity",
                     # a dataset renamed .parquet) is no MSR row
-                    if not all(_is_number(field) for field in fields):
+                    if not all(is_number(field) for field in fields):
                         break
                     if len(fields) == 4:
                         return "msr"
@@ -235,14 +235,6 @@ def detect_format(path: str | Path) -> str:
     elif not path.exists():
         raise InputError(f"{path}: no such file or folder")
     raise InputError(f"{path}: cannot tell the format; give --format ({'|'.join(FORMATS)})")
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 #: The suffix of the files each text format reads, for the files of a folder given in their place.
