@@ -305,3 +305,17 @@ def test_demo_bad_input(cli, tmp_path):
                    "replace them: give a new or empty folder with --out")
     assert (mine / "demos.csv").read_text() == "my recordings"
     assert cli("demo", "--help").code == 0
+
+
+def test_a_demo_stopped_before_its_run_json_may_be_run_again_into_its_folder(tmp_path):
+    from rlff.demo import check_demo_options, run_demo
+
+    def stop_at_the_fit(stage, done, total):
+        if stage.startswith("choosing K"):
+            raise KeyboardInterrupt
+
+    out = tmp_path / "demo"
+    with pytest.raises(KeyboardInterrupt):
+        run_demo(out, size="small", progress=stop_at_the_fit, frames=False)
+    assert (out / "clean.csv").exists() and not (out / "run.json").exists()
+    check_demo_options(out, "small")  # its own files: no refusal

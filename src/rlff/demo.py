@@ -328,6 +328,9 @@ def _learning_arm_and_basket(demonstrated: list[float], learnable: float,
 #: The files a run writes at the top of its folder (besides ``run.json``): a folder holding any of
 #: them without an earlier run's ``run.json`` may hold someone's own data of those names.
 RUN_FILES = ("demos.csv", "clean.csv", "model.json", "report.html", "whole-arm-demos.csv", "whole-arm-clean.csv")
+#: Written into the folder before a run's first file: the folder is a demo's, finished or not, so
+#: a run stopped before its ``run.json`` (Ctrl-C, a full disk) may be run again into it.
+RUN_MARK = ".rlff-demo"
 
 
 def _failures(raw, said: str) -> str:
@@ -339,18 +342,18 @@ def _failures(raw, said: str) -> str:
 
 def check_demo_options(out_dir: str | Path, size: str) -> None:
     """Raise :class:`InputError` for an unknown size, an output path that is not a folder, or a
-    folder that holds files of a run's names (:data:`RUN_FILES`) but no earlier run's
-    ``run.json``: the run would replace them."""
+    folder that holds files of a run's names (:data:`RUN_FILES`) but no sign of an earlier run
+    (its ``run.json``, or :data:`RUN_MARK` of one that stopped before it): the run would replace
+    them."""
     if size not in SIZES:
         raise InputError(f"unknown demo size {size!r} (known: {', '.join(SIZES)})")
     out_dir = Path(out_dir)
     if out_dir.exists() and not out_dir.is_dir():
         raise InputError(f"{out_dir}: exists and is not a folder")
     mine = [name for name in RUN_FILES if (out_dir / name).exists()]
-    if mine and not (out_dir / "run.json").exists():
+    if mine and not (out_dir / "run.json").exists() and not (out_dir / RUN_MARK).exists():
         raise InputError(f"{out_dir}: holds {', '.join(mine)} but no run.json of an earlier demo, and the demo would "
-                         "replace them: give a new or empty folder with --out (or delete them if they are an "
-                         "unfinished demo's)")
+                         "replace them: give a new or empty folder with --out")
 
 
 def run_demo(
@@ -366,8 +369,9 @@ def run_demo(
     Parameters
     ----------
     out_dir : path
-        Output folder (created; files of an earlier run are replaced, a folder holding files of
-        its names without an earlier run's ``run.json`` is refused: :func:`check_demo_options`).
+        Output folder (created; files of an earlier run, finished or stopped, are replaced; a
+        folder holding files of its names without a sign of an earlier run is refused:
+        :func:`check_demo_options`).
     size : {"full", "small"}
         ``full`` follows the thesis' recording plan (400 throws, 5 learning runs);
         ``small`` is a quick version (84 throws, 2 learning runs).
@@ -404,6 +408,7 @@ def run_demo(
     out_dir = Path(out_dir)
     figures_dir = out_dir / "figures"
     figures_dir.mkdir(parents=True, exist_ok=True)
+    (out_dir / RUN_MARK).write_text("a folder rlff demo writes into: rlff demo may replace what it holds\n")
     clock = _Clock(progress)
 
     clock.stage(STAGES[0])
