@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -280,3 +281,13 @@ def test_a_mapping_that_throws_backwards_says_to_check_its_signs(tmp_path):
     with pytest.raises(InputError) as far:
         require_executable(Basket(4.5), RobotMapping.for_robot(load_robot()), release=-1.65 + 0.71 * 2.5)
     assert "backwards" not in str(far.value)
+
+
+def test_a_basket_given_finer_than_a_centimetre_is_named_as_given():
+    from rlff.sim.reach import basket_metres
+
+    assert basket_metres(1.7) == "1.70" and basket_metres(2.25) == "2.25"
+    assert basket_metres(0.745) == "0.745"  # read "0.74", the farthest basket it was refused beside
+    beyond = math.floor(throw_reach(load_robot()).distance * 100) / 100 + 0.305  # a hair past a centimetre
+    with pytest.raises(InputError, match=rf"basket at {beyond:g} m is out of reach"):
+        require_reachable(Basket(beyond), load_robot())

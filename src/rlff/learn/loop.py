@@ -770,7 +770,13 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
     for the basket (:func:`_first_shape`, with ``components`` and ``seed``) at the fastest the
     arm executes it (:func:`arm_reach`).
     """
-    from rlff.sim.reach import came_down_words, farthest_basket, farthest_words, require_executable
+    from rlff.sim.reach import (
+        basket_metres,
+        came_down_words,
+        farthest_basket,
+        farthest_words,
+        require_executable,
+    )
 
     if not drives_whole_arm(mapping):
         start, release = _swing_ends(demos, mapping)
@@ -787,7 +793,7 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
     more = [name for name in mapped if name not in mapping.driven_joints]
     hint = f"; --joints {','.join((*sorted(mapping.driven_joints), *more))} may reach farther" if more else ""
     raise InputError(
-        f"basket at {basket.distance:.2f} m is out of reach of the whole-arm throws this robot executes: the "
+        f"basket at {basket_metres(basket.distance)} m is out of reach of the whole-arm throws this robot executes: the "
         f"first throw of {method_class.name} for it with {', '.join(sorted(mapping.driven_joints))}, sped "
         f"up until {reach.limiting}: the ball {came_down_words(reach.distance, basket.rim_height)}, so "
         f"{farthest_words(farthest, basket.opening)} (pedestal {pedestal:.2f} m){hint}"

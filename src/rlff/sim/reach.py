@@ -128,6 +128,14 @@ def nearest_basket(nearest: float, opening: float) -> float:
     return nearest - 0.5 * opening + BALL_RADIUS
 
 
+def basket_metres(distance: float) -> str:
+    """A basket's distance (m) as an error says it: to the centimetre ("1.70"), or with every
+    digit it was given when finer ("0.745": rounded, it read as the farthest basket it was
+    refused beside, "basket at 0.74 m is out of reach ... the farthest basket ... is at 0.74 m")."""
+    text = f"{distance:.2f}"
+    return text if float(text) == distance else f"{distance:g}"
+
+
 def centimetres_below(distance: float) -> str:
     """``distance`` (m) as text, rounded down to the centimetre: a farthest basket printed is one
     the loop takes (2.2549 m reads 2.25 m, and a basket at 2.25 m is within it); ``none`` for a
@@ -190,7 +198,7 @@ def require_reachable(
     higher = throw_reach(robot, basket.rim_height, pedestal + 0.5, joints).distance
     hints.append(f"on a pedestal 0.5 m higher: {_hint(higher, basket.opening)}")
     raise InputError(
-        f"basket at {basket.distance:.2f} m is out of reach: throwing with {', '.join(sorted(joints))} at the "
+        f"basket at {basket_metres(basket.distance)} m is out of reach: throwing with {', '.join(sorted(joints))} at the "
         f"speed limit, the ball {came_down_words(reach.distance, basket.rim_height)}, so "
         f"{farthest_words(farthest_basket(reach.distance, basket.opening), basket.opening)} "
         f"(pedestal {pedestal:.2f} m; farthest basket {'; '.join(hints)})"
@@ -380,7 +388,7 @@ def require_executable(basket: Basket, mapping, pedestal: float = 0.0, release: 
             nearest = nearest_basket(near, basket.opening)
             if basket.distance < nearest:
                 raise InputError(
-                    f"basket at {basket.distance:.2f} m is nearer than the throws this robot executes come down: "
+                    f"basket at {basket_metres(basket.distance)} m is nearer than the throws this robot executes come down: "
                     f"{mapping.joint} lets go of the ball {near:.2f} m out from joint 1's axis (released at "
                     f"{release:.2f} rad{f', {release_source}' if release_source else ''}), and the ball, thrown "
                     f"forward from there however slowly, comes down farther, so the nearest basket with a "
@@ -397,7 +405,7 @@ def require_executable(basket: Basket, mapping, pedestal: float = 0.0, release: 
     backwards = ("; it flies backwards, towards and behind the robot: check the signs of the robot file's "
                  "[throwing] angle_scale and velocity_scale and its start pose" if reach.distance < 0 else "")
     raise InputError(
-        f"basket at {basket.distance:.2f} m is out of reach of the throws this robot executes: {reach.joint} "
+        f"basket at {basket_metres(basket.distance)} m is out of reach of the throws this robot executes: {reach.joint} "
         f"at {reach.speed:.2f} rad/s ({limit}), {where}, the other joints at the start pose: the ball "
         f"{came_down_words(reach.distance, basket.rim_height)}, so {farthest_words(farthest, basket.opening)} "
         f"(pedestal {pedestal:.2f} m){backwards}"
