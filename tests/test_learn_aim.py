@@ -103,6 +103,28 @@ def test_a_whole_arm_throw_can_start_from_the_demonstrations_instead(msr_throws)
     assert result.history[0].info["prior"] != "aim"
 
 
+@pytest.mark.realdata
+@pytest.mark.parametrize("basket", [1.5, 2.0])
+def test_the_real_msr_throws_with_joints_2_3_and_5_are_aimed_at_the_basket(msr_throws, basket):
+    # joint 5 hardly moves at their release, so the speed at which the LAST joint reaches its limit
+    # is 19 times theirs: the aim's search began where joint 2 was already at its limit, its ball
+    # 3.4 m out, and every throw for 1.2-2.5 m came down 0.3-2.9 m long, the same ones again
+    result = learn(msr_throws, basket, budget=1, feedback="binary", seed=0,
+                   joints=("joint_2", "joint_3", "joint_5"))
+    assert result.history[0].info["prior"] == "aim"
+    assert abs(result.history[0].miss) < 0.1, result.history[0].miss
+
+
+@pytest.mark.realdata
+def test_a_whole_arm_shape_that_throws_backwards_at_every_speed_says_so(msr_throws):
+    # their joints 2 and 3 for a basket at 0.8 m: the ball flies back at any speed, and the
+    # refusal had said the farthest basket lay at -1.09 m and that joint 5 "may reach farther"
+    with pytest.raises(InputError) as refused:
+        learn(msr_throws, 0.8, budget=1, feedback="binary", seed=0, joints=("joint_2", "joint_3"))
+    message = str(refused.value)
+    assert "flies backwards" in message and "may reach farther" not in message
+
+
 def test_rlff_learn_and_bench_refuse_an_unknown_aim_before_any_work(rlff, tmp_path):
     missing = tmp_path / "absent.csv"  # never read: the option is checked first
     learned = rlff("learn", str(missing), "--basket", "1.4", "--aim", "kinematic")

@@ -792,6 +792,10 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
     mapped = mapping.robot.whole_arm.get("joints", {})
     more = [name for name in mapped if name not in mapping.driven_joints]
     hint = f"; --joints {','.join((*sorted(mapping.driven_joints), *more))} may reach farther" if more else ""
+    if reach.distance < 0:  # no speed helps, nor more joints: the shape throws backwards
+        hint = ("; at every speed its ball flies backwards, over or behind the robot: the shape the "
+                "demonstrations give these joints for a basket this near does not throw forward; fewer joints "
+                "(--joints joint_3, or one joint without --joints) throw nearer")
     raise InputError(
         f"basket at {basket_metres(basket.distance)} m is out of reach of the whole-arm throws this robot executes: the "
         f"first throw of {method_class.name} for it with {', '.join(sorted(mapping.driven_joints))}, sped "

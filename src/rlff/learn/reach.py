@@ -42,6 +42,9 @@ SHORT_AT_THE_LIMIT = 3
 #: of its 3.14 rad/s, and within 0.1 %, the rule until 2026-12-06, it never counted: one throw
 #: 7 mm beyond the rim was thrown 18 times).
 AT_THE_LIMIT = 1 / MARGIN
+#: The slowest speed factor the aim and the reach look at, as a share of the fastest, and the
+#: points of their log-spaced grid (:func:`aimed_factor`, :func:`arm_reach`).
+_SLOWEST_AIM, _AIM_GRID = 0.05, 48
 #: What limits a throw's speed when the planner cannot make it faster (:func:`fastest_factor`).
 NO_ROOM = "the planner runs out of room to wind up or brake within the position limits"
 
@@ -86,7 +89,17 @@ def arm_reach(mapping, shape: dict[str, np.ndarray], rim_height: float, pedestal
     if not 0.0 <= headroom < 1.0:
         raise InputError(f"speed headroom must be a share in [0, 1), got {headroom!r}")
     factor, limiting = fastest_factor(mapping, shape, 1 - headroom)
-    return ArmReach(release_crossing_of(mapping, scaled(shape, factor), rim_height, pedestal), factor, limiting)
+    if not math.isfinite(factor):
+        return ArmReach(release_crossing_of(mapping, scaled(shape, factor), rim_height, pedestal), factor, limiting)
+    # the farthest of the slower throws too: where a joint's speed turns the ball up or back (the
+    # real MSR throws with joints 2 and 3 at their fastest came down 1.22 m behind the base, and
+    # a basket at 0.8 m, which a slower throw hits, was refused), the fastest is not the farthest
+    factors = np.r_[factor * np.geomspace(_SLOWEST_AIM, 1.0, _AIM_GRID)[:-1], factor]
+    landings = np.array([release_crossing_of(mapping, scaled(shape, f), rim_height, pedestal) for f in factors])
+    best = int(np.argmax(landings))
+    if best < factors.size - 1 and landings[best] > landings[-1]:
+        limiting = f"{limiting}; the farthest at {factors[best] / factor:.2g} of that speed, faster throws come down nearer"
+    return ArmReach(float(landings[best]), float(factors[best]), limiting)
 
 
 def fastest_factor(mapping, path: dict[str, np.ndarray], share: float = 1.0) -> tuple[float, str]:
@@ -153,9 +166,10 @@ def release_elasticity(mapping, typical: dict[str, np.ndarray], target: float, r
 def aimed_factor(mapping, target: float, rim_height: float, pedestal: float, proposal) -> float:
     """The factor on every velocity of ``proposal`` (a whole-arm throw) that sends its ball to
     ``target`` (m) by the arm's kinematics and the free flight from the release
-    (:func:`release_crossing_of`), found by bisection in log speed between a twentieth of its
-    speed and the fastest release within the joints' speed limits (that one when the target is
-    beyond it); 1 when its release sends the ball nowhere.
+    (:func:`release_crossing_of`): the slowest on a log grid from a twentieth of the speed at which
+    its first joint reaches its limit to the fastest release within the joints' speed limits
+    whose ball gets there, refined by bisection in log speed (the farthest throw when none
+    does); 1 when its release sends the ball nowhere.
 
     This is what a whole-arm throw's speed calibration takes as the speed where the basket is
     (its prior's centre): the mapping from the people's joints to the robot's changes where a
@@ -170,13 +184,36 @@ def aimed_factor(mapping, target: float, rim_height: float, pedestal: float, pro
     def landing(f: float) -> float:
         return release_crossing_of(mapping, scaled(path, f), rim_height, pedestal)
 
-    low, high = 0.05 * highest, highest * (1 - 1e-9)
-    if landing(high) <= target:
-        return high if np.isfinite(landing(high)) else 1.0
+    # the slowest throw of the grid that gets there: from a twentieth of the speed at which the
+    # FIRST driven joint reaches its limit (the last's, when a joint hardly moves at the release,
+    # is where the others saturated long before: the real MSR throws with joints 2, 3 and 5 let
+    # joint 5 go at a nineteenth of its limit, the grid began above the aim, and every throw for
+    # a basket at 1.2-2.5 m came down 0.3-2.9 m long); a landing need not grow with the speed
+    # everywhere (a joint that turns the ball up or back), so the grid is scanned before the bisection
+    fastest = highest * (1 - 1e-9)
+    factors = np.geomspace(min(_SLOWEST_AIM * first_saturation(mapping, path), fastest), fastest, _AIM_GRID)
+    landings = np.array([landing(f) for f in factors])
+    reached = np.flatnonzero(landings >= target)
+    if not reached.size:  # beyond every throw: the farthest one
+        best = int(np.argmax(landings))
+        return float(factors[best]) if np.isfinite(landings[best]) else 1.0
+    if reached[0] == 0:
+        return float(factors[0])
+    low, high = float(factors[reached[0] - 1]), float(factors[reached[0]])
     for _ in range(40):
         middle = math.sqrt(low * high)
         low, high = (middle, high) if landing(middle) < target else (low, middle)
     return math.sqrt(low * high)
+
+
+def first_saturation(mapping, path: dict[str, np.ndarray]) -> float:
+    """The factor on every velocity of ``path`` at which the first driven joint reaches its speed
+    limit at the release (:func:`release_speed_factor` gives the last); inf when none moves."""
+    limits = mapping.max_human_speeds()
+    ratios = [limits[column] / abs(float(path[column][-1]))
+              for column in joint_outputs(mapping.human_columns) if column.endswith("velocity")
+              and abs(float(path[column][-1])) > 0]
+    return min(ratios, default=math.inf)
 
 
 def saturation_factor(mapping, proposal) -> float:
