@@ -146,3 +146,29 @@ def test_learn_suggests_the_kinematics_aim_for_recorded_throws_on_the_built_in_r
     assert said not in rlff("learn", str(tmp_path / "simulated.csv"), "--basket", "1.4", "--budget", "1").stderr
     aimed = rlff("learn", str(tmp_path / "recorded.csv"), "--basket", "1.4", "--budget", "1", "--aim", "demonstrations")
     assert aimed.code == 0 and said not in aimed.stderr
+
+
+@pytest.mark.realdata
+def test_a_resumed_donut_run_lays_its_windows_on_the_first_attempt_s_throw(msr_throws, tmp_path, monkeypatch):
+    # donut's shape changes with every miss; a run resumed from its log had laid its binary
+    # windows on the shape of its first attempt in that process, a later one, and thrown
+    # otherwise from there (tester J: attempt 12 at -0.25 m where the straight run threw +0.19)
+    from rlff.learn.strategies import CalibrateUpdate
+
+    laid = []
+    windows = CalibrateUpdate.windows
+
+    def recorded(self, fastest):
+        if self._windows is None:
+            laid.append(fastest)
+        return windows(self, fastest)
+
+    monkeypatch.setattr(CalibrateUpdate, "windows", recorded)
+    settings = dict(update="donut", joints=("joint_2", "joint_3", "joint_5"), aim="demonstrations",
+                    feedback="binary", seed=0)
+    straight = learn(msr_throws, 1.2, budget=6, log_path=tmp_path / "straight.jsonl", **settings)
+    assert straight.attempts == 6 and not straight.hit  # misses, so the shape moves
+    learn(msr_throws, 1.2, budget=3, log_path=tmp_path / "resumed.jsonl", **settings)
+    resumed = learn(msr_throws, 1.2, budget=6, log_path=tmp_path / "resumed.jsonl", **settings)
+    assert resumed.resumed == 3 and resumed.misses == straight.misses
+    assert laid and all(fastest == laid[0] for fastest in laid)

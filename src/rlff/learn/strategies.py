@@ -343,14 +343,29 @@ class CalibrateUpdate(DmmStrategy):
             thrown, speed = self.first, release_speed(problem.angles, self.first.velocity)
         return speed * problem.aim(thrown)
 
-    def propose(self, history: Sequence[Attempt]) -> Proposal:
+    def _thrown(self, shape: Proposal) -> tuple[Proposal, float]:
+        """The throw of ``shape`` capped at its release, and its release speed (rad/s); the GMR
+        mean's throw where ``shape`` does not move at its release."""
         problem = self.problem
-        shape = self.shape(history)
         throw = capped_at_release(problem.angles, shape)
         speed = release_speed(problem.angles, throw.velocity)
         if not speed > 0:  # no motion at the release: keep the demonstrations' shape
             throw = self.first
             speed = release_speed(problem.angles, throw.velocity)
+        return throw, speed
+
+    def _fastest(self, throw: Proposal, speed: float) -> float:
+        """The fastest release speed (rad/s) ``throw``, released at ``speed``, is asked for (see
+        :meth:`propose`)."""
+        problem = self.problem
+        if problem.saturation is None:
+            return speed * problem.max_speed / max(abs(float(throw.velocity[-1])), 1e-12)
+        return speed * problem.saturation(throw)
+
+    def propose(self, history: Sequence[Attempt]) -> Proposal:
+        problem = self.problem
+        shape = self.shape(history)
+        throw, speed = self._thrown(shape)
         # the fastest speed asked for: a whole arm's, where every joint saturates at its limit;
         # one joint's, where the path's last sample reaches the joint's limit. The planner lets go
         # at that sample's velocity and plans the swing from the first pose up to it, so a peak
@@ -361,12 +376,13 @@ class CalibrateUpdate(DmmStrategy):
         # often slower than the ones before it: with the limit put on that mean, seed 13306's
         # throw for 1.9 m with noisy landings let go at 0.91 of the limit, fell 0.29 m short
         # there and missed 20 times, in a basket within the joint's reach.
-        if problem.saturation is None:
-            fastest = speed * problem.max_speed / max(abs(float(throw.velocity[-1])), 1e-12)
-        else:
-            fastest = speed * problem.saturation(throw)
+        fastest = self._fastest(throw, speed)
         if problem.feedback == "binary":
-            x, mass = self.windows(fastest).offset(len(history))
+            # the windows are the first attempt's, also in a run resumed from its log (``donut``'s
+            # shape, and with it the fastest speed, changes with every miss: a resumed whole-arm
+            # run had laid them on a later shape and thrown otherwise from there, tester J)
+            first = fastest if not history or self._windows is not None else self._fastest(*self._thrown(self.shape([])))
+            x, mass = self.windows(first).offset(len(history))
             wanted = min(self.reference * math.exp(x), fastest)
             info = {"speed": round(wanted, 4), "log_factor": round(x, 4), "p_window": round(mass, 4),
                     "prior": self._prior}
@@ -394,9 +410,9 @@ class CalibrateUpdate(DmmStrategy):
 
     def windows(self, fastest: float) -> WindowSearch:
         """The binary search over the release speed's hit windows up to the speed ``fastest``
-        (rad/s; made once per run, at the first attempt: with binary feedback the shape and with
-        it the fastest speed stay the same), its windows as wide as the hit window seen through
-        the elasticity of the landing in the speed (``Problem.elasticity``)."""
+        (rad/s; made once per run, on the first attempt's throw, :meth:`propose`), its windows as
+        wide as the hit window seen through the elasticity of the landing in the speed
+        (``Problem.elasticity``)."""
         if self._windows is None:
             problem = self.problem
             centre, scale = self.speed_centre()
