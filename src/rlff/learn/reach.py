@@ -392,6 +392,12 @@ def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, 
     else:
         why = ("An arm slower than its robot file, a late release or a heavier ball does that: check the robot "
                "file's speed limits, or move the basket nearer")
+    from rlff.learn.demos import drives_whole_arm
+
+    mapped = (mapping.robot.whole_arm or {}).get("joints", {}) if drives_whole_arm(mapping) else {}
+    more = [name for name in mapped if name not in mapping.driven_joints]
+    if more:  # a whole-arm run: the joints it leaves may still throw farther
+        why += f", or drive more joints (--joints {','.join((*sorted(mapping.driven_joints), *more))} may reach farther)"
     return (f"stopped after attempt {last[-1].index}: the basket at {basket.distance:g} m is out of this arm's reach. "
             f"Attempts {last[0].index}-{last[-1].index} came down short, and even at the fastest release {joints} "
             f"{allow} they would have fallen {by} short of the {window}. {why} (rlff sim reach says how far the arm "
