@@ -102,3 +102,23 @@ def test_rlff_learn_carry_on_the_command_line(rlff, demos, near_log, tmp_path):
     wrong = rlff("learn", str(path), "--basket", "1.9", "--carry", str(log), "--update", "sweep")
     assert wrong.code == 2
     assert "cannot carry its hits into this run (update = 'calibrate' there, 'sweep' here)" in wrong.stderr
+
+
+def test_only_runs_on_the_same_arm_carry(demos, near_log, tmp_path):
+    """The offset is the arm's own: a simulated arm unlike its robot file (--gap) or a real one
+    (another executor) threw other hits."""
+    log, _ = near_log
+    slow = tmp_path / "slow.jsonl"
+    learn(demos, NEAR, budget=1, feedback="binary", seed=3, gap="speed:0.9", log_path=slow)
+    with pytest.raises(InputError, match=r"slow.jsonl: cannot carry its hits into this run \(gap = 'speed:0.9' "
+                                         r"there, 'none' here\): the speed offset is the arm's own"):
+        learn(demos, FAR, budget=1, feedback="binary", seed=3, carry_from=[slow])
+    with pytest.raises(InputError, match=r"\(gap = 'speed:0.9' there, 'delay:0.02' here\)"):
+        learn(demos, FAR, budget=1, feedback="binary", seed=3, gap="delay:0.02", carry_from=[slow])
+
+    def real_arm(trajectory):
+        raise AssertionError("refused before the first throw")
+
+    with pytest.raises(InputError, match=r"near.jsonl: cannot carry its hits into this run \(executor = 'sim' "
+                                         r"there, 'python' here\)"):
+        learn(demos, FAR, budget=1, feedback="binary", seed=3, executor=real_arm, carry_from=[log])

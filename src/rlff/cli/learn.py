@@ -82,8 +82,8 @@ def learn_command(
     height: float | None = typer.Option(None, "--height", help="Basket rim height above the floor (m; default 0.3)."),
     carry: list[Path] = typer.Option([], "--carry",
                                      help="Attempts log of an earlier run at another basket (same demonstrations, "
-                                          "robot, joints and --update; repeatable): start from the speed its hits "
-                                          "point to."),
+                                          "robot, joints, --update, --gap and --executor; repeatable): start from "
+                                          "the speed its hits point to."),
     gap: str = typer.Option("none", "--gap",
                             help="With --executor sim: how the simulated arm differs from its robot file, "
                                  "speed:G (reaches G of the commanded joint speeds) or delay:S (lets go S s "

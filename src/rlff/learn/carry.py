@@ -13,7 +13,8 @@ So a run may start from the hits of earlier runs: their attempts logs give the `
 every hit (each attempt records it in its ``info``), and the window search of ``calibrate``
 (and of the ``sweep`` baseline, which gets the same information) centres on their mean with a
 prior of :data:`CARRY_SCALE`. An offset is relative to its run's own u0, so only runs of the same
-method, demonstrations, robot and joints carry; anything else is refused by name.
+method, demonstrations, robot and joints carry; and it is the arm's own, so only runs on the same
+arm (a simulated arm's ``gap``, another ``executor``'s real one); anything else is refused by name.
 """
 
 from __future__ import annotations
@@ -32,6 +33,10 @@ CARRY_SCALE = 0.1
 #: What a run and the runs it carries from must share (the header's keys): the offset is
 #: relative to a u0 that the method, the demonstrations, the robot and the joints decide.
 SHARED = ("update", "demos", "robot", "joints", "pedestal", "aim")
+#: What else they must share, the arm that threw: a simulated arm unlike its robot file (--gap
+#: speed:0.9's hit at 2 m, carried to an arm without it, took 5 throws at 3 m where 1 hit alone) or a
+#: real one. Each key with how a header without it reads (a run in simulation on the robot file).
+SAME_ARM = {"gap": "'none'", "executor": "'sim'"}
 
 
 def carried_offsets(logs: Sequence[str | Path], run: dict[str, Any]) -> tuple[tuple[float, ...], list[str]]:
@@ -54,7 +59,7 @@ def carried_offsets(logs: Sequence[str | Path], run: dict[str, Any]) -> tuple[tu
     ------
     InputError
         A log that is not an attempts log, or one of another method, demonstrations, robot,
-        joints or pedestal.
+        joints, pedestal, aim, simulated arm (gap) or executor.
     """
     offsets: list[float] = []
     notes = []
@@ -72,6 +77,13 @@ def carried_offsets(logs: Sequence[str | Path], run: dict[str, Any]) -> tuple[tu
                                  f"{said[1]} here): the speed offset is relative to the method's own start, "
                                  "which the method, the demonstrations, the robot, the joints, the pedestal and "
                                  f"the aim set{hint}")
+        for key, absent in SAME_ARM.items():
+            if logged.get(key) != run.get(key):
+                said = [absent if value is None else brief(value) for value in (logged.get(key), run.get(key))]
+                raise InputError(f"{path}: cannot carry its hits into this run ({key} = {said[0]} there, {said[1]} "
+                                 "here): the speed offset is the arm's own, and those hits were thrown by another "
+                                 "(--gap simulates an arm unlike its robot file, --executor ros1|ros2 drives a real "
+                                 "one)")
         hits = [a.info["log_factor"] for a in contents.attempts
                 if a.hit and isinstance(a.info.get("log_factor"), int | float) and math.isfinite(a.info["log_factor"])]
         basket = logged.get("basket", {}).get("distance")
