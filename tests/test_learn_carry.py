@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 from rlff.dataset import write_csv
@@ -122,3 +123,19 @@ def test_only_runs_on_the_same_arm_carry(demos, near_log, tmp_path):
     with pytest.raises(InputError, match=r"near.jsonl: cannot carry its hits into this run \(executor = 'sim' "
                                          r"there, 'python' here\)"):
         learn(demos, FAR, budget=1, feedback="binary", seed=3, executor=real_arm, carry_from=[log])
+
+
+def test_a_refused_carry_names_the_rim_height_that_chose_other_demonstrations(demos, tmp_path):
+    """Demonstrations labelled with rim heights are learned from at the nearest: the same file at
+    another --height learns from other ones, and that is what the refusal names, not their digest."""
+    labelled = demos.replace([t.replace(data={**t.data, "height": np.full(len(t), 0.6 if i % 2 else 0.3)})
+                              for i, t in enumerate(demos)])
+    low = tmp_path / "low.jsonl"
+    learn(labelled, NEAR, budget=1, feedback="binary", seed=3, log_path=low)
+    with pytest.raises(InputError, match=r"low.jsonl: cannot carry its hits into this run \(basket.rim_height = "
+                                         r"0.3 there, 0.6 here\): demonstrations labelled with rim heights"):
+        learn(labelled, FAR, budget=1, feedback="binary", seed=3, height=0.6, carry_from=[low])
+    other = demos.replace(list(demos)[1:])
+    with pytest.raises(InputError, match=r"\(demos = '\w+' there, '\w+' here\): the two runs learned from other "
+                                         r"demonstrations: another file, or the same cleaned by another --preset"):
+        learn(other, NEAR, budget=1, feedback="binary", seed=3, carry_from=[low])

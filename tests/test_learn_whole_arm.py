@@ -124,6 +124,16 @@ def test_a_log_resumes_only_with_the_same_joints_bearing_and_height(aimed, robot
         learn(aimed, BASKET, budget=2, log_path=log, **{**settings, **change})
 
 
+def test_a_refused_carry_names_the_joints_not_the_demonstrations_they_choose(aimed, robot, tmp_path):
+    """Other joints learn from other columns of the same demonstrations: the refusal names the
+    joints, where it named the demonstrations' digest."""
+    log = tmp_path / "arm.jsonl"
+    learn(aimed, BASKET, budget=1, joints=ARM, log_path=log, robot=robot)
+    with pytest.raises(InputError, match=r"arm.jsonl: cannot carry its hits into this run \(joints = \['joint_3', "
+                                         r"'joint_2'\] there, one joint \(the \[throwing\] table's\) here\)"):
+        learn(aimed, BASKET, budget=1, robot=robot, carry_from=[log])
+
+
 def test_a_one_joint_log_keeps_the_old_header_and_lines(tmp_path):
     from rlff.preprocess import Pipeline
     from rlff.synthetic.throws import simulate_throws

@@ -31,8 +31,15 @@ from rlff.learn.log import brief, first_difference, read_log
 #: two baskets of one seed differ by 0.076 in ``short`` (tuning seeds 0-47), with room.
 CARRY_SCALE = 0.1
 #: What a run and the runs it carries from must share (the header's keys): the offset is
-#: relative to a u0 that the method, the demonstrations, the robot and the joints decide.
-SHARED = ("update", "demos", "robot", "joints", "pedestal", "aim")
+#: relative to a u0 that the method, the demonstrations, the robot and the joints decide. The
+#: demonstrations' digest last: the joints (the columns kept) and the robot (the throws within its
+#: limits) change it too, and are named instead.
+SHARED = ("update", "joints", "robot", "pedestal", "aim", "demos")
+#: How a header without the key reads: the default writes none, so older logs resume.
+ABSENT = {"joints": "one joint (the [throwing] table's)", "aim": "the default ('auto')"}
+#: Why a difference in :data:`SHARED` refuses the carry.
+START = ("the speed offset is relative to the method's own start, which the method, the demonstrations, the "
+         "robot, the joints, the pedestal and the aim set")
 #: What else they must share, the arm that threw: a simulated arm unlike its robot file (--gap
 #: speed:0.9's hit at 2 m, carried to an arm without it, took 5 throws at 3 m where 1 hit alone) or a
 #: real one. Each key with how a header without it reads (a run in simulation on the robot file).
@@ -67,16 +74,22 @@ def carried_offsets(logs: Sequence[str | Path], run: dict[str, Any]) -> tuple[tu
         logged, contents = read_log(path)
         for key in SHARED:
             difference = first_difference(logged.get(key), run.get(key), key)
-            if difference is not None:
-                where, before, now = difference
-                # a header names an aim only when it is not the default
-                said = [f"{brief(value)}" if key != "aim" or value is not None else "the default ('auto')"
-                        for value in (before, now)]
-                hint = f"; give --aim {before} to carry it" if key == "aim" and before is not None else ""
-                raise InputError(f"{path}: cannot carry its hits into this run ({where} = {said[0]} there, "
-                                 f"{said[1]} here): the speed offset is relative to the method's own start, "
-                                 "which the method, the demonstrations, the robot, the joints, the pedestal and "
-                                 f"the aim set{hint}")
+            if difference is None:
+                continue
+            where, before, now = difference
+            said = [ABSENT.get(key, "None") if value is None else brief(value) for value in (before, now)]
+            why = START + (f"; give --aim {before} to carry it" if key == "aim" and before is not None else "")
+            rims = [record.get("basket", {}).get("rim_height") for record in (logged, run)]
+            if key == "demos" and rims[0] != rims[1]:  # the same file at another --height
+                where, said = "basket.rim_height", [brief(rim) for rim in rims]
+                why = ("demonstrations labelled with rim heights are learned from at the height nearest the "
+                       f"basket's rim (--height), and these two runs learned from different ones; {START}")
+            elif key == "demos":
+                why = ("the two runs learned from other demonstrations: another file, or the same cleaned by "
+                       "another --preset (the rim height and the joints, which also choose them, are the same); "
+                       f"{START}")
+            raise InputError(f"{path}: cannot carry its hits into this run ({where} = {said[0]} there, "
+                             f"{said[1]} here): {why}")
         for key, absent in SAME_ARM.items():
             if logged.get(key) != run.get(key):
                 said = [absent if value is None else brief(value) for value in (logged.get(key), run.get(key))]
