@@ -77,6 +77,9 @@ def test_only_runs_with_the_same_method_and_demonstrations_carry(demos, near_log
         learn(other, FAR, budget=1, feedback="binary", seed=3, carry_from=[log])
     with pytest.raises(InputError, match="no such attempts log"):
         learn(demos, FAR, budget=1, feedback="binary", seed=3, carry_from=[tmp_path / "absent.jsonl"])
+    with pytest.raises(InputError, match=r": is a folder; an attempts log is a file \(the .jsonl an earlier run's "
+                                         r"--log wrote\)"):
+        learn(demos, FAR, budget=1, feedback="binary", seed=3, carry_from=[tmp_path])
 
 
 def test_a_log_without_a_hit_carries_nothing_and_says_so(demos, tmp_path):

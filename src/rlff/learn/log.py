@@ -241,9 +241,11 @@ def read_log(path: str | Path) -> tuple[dict[str, Any], LogContents]:
     Raises
     ------
     InputError
-        No such file, not an attempts log, or a damaged line before the last.
+        No such file, a folder, not an attempts log, or a damaged line before the last.
     """
     path = Path(path)
+    if path.is_dir():
+        raise InputError(f"{path}: is a folder; an attempts log is a file (the .jsonl an earlier run's --log wrote)")
     if not path.is_file():
         raise InputError(f"{path}: no such attempts log")
     _, records, dropped = _records(path, path.read_bytes())
