@@ -70,6 +70,11 @@ def test_the_bearing_turns_joint_1_through_the_whole_throw(robot, arm):
     np.testing.assert_array_equal(traj.positions[:, others], straight.positions[:, others])
     with pytest.raises(InputError, match=r"bearing 200 deg turns joint_1 to 3.491 rad, beyond its limits"):
         arm.path_to_robot(human_throw(3.0), bearing=200.0)
+    # just past the limit: as many digits as tell the two apart (it read "to 2.967 rad, beyond its
+    # limits [-2.967, 2.967] rad (-170 to 170 deg)")
+    with pytest.raises(InputError, match=r"^bearing 170 deg turns joint_1 to 2.9671 rad, beyond its limits \[-2.967, "
+                                         r"2.967\] rad \(bearings -169.997 to 169.997 deg\)$"):
+        arm.path_to_robot(human_throw(3.0), bearing=170.0)
 
 
 def test_path_from_robot_gives_back_the_human_path(arm):

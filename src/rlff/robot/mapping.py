@@ -30,7 +30,7 @@ import numpy as np
 from rlff.dataset import JOINT_COLUMNS as HUMAN_JOINT_COLUMNS
 from rlff.dataset import velocity_column
 from rlff.errors import InputError
-from rlff.limits import as_names
+from rlff.limits import apart, as_names
 from rlff.robot.description import Robot, number_field, require_start_pose, require_throwing_joint
 from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
@@ -587,13 +587,20 @@ def _turned(traj: JointTrajectory, robot: Robot, joint: str | None, bearing: flo
         raise InputError(f"robot {robot.name} has no joint to turn to a bearing of {bearing:g} deg")
     column = traj.joint_index(joint)
     positions = np.array(traj.positions)
+    start = positions[0, column]
     positions[:, column] += np.radians(bearing)
     limits = robot.joint(joint)
     turned = positions[0, column]
     if not limits.lower <= turned <= limits.upper:
-        raise InputError(f"bearing {bearing:g} deg turns {joint} to {turned:.4g} rad, beyond its limits "
-                         f"[{limits.lower:g}, {limits.upper:g}] rad "
-                         f"({np.degrees(limits.lower):.0f} to {np.degrees(limits.upper):.0f} deg)")
+        # as many digits as tell each number from the limit it passes: 170 deg turns joint_1 to
+        # 2.96706 rad, past 2.967 rad, and read "2.967 rad, beyond its limits [-2.967, 2.967] rad"
+        passed = limits.upper if turned > limits.upper else limits.lower
+        ends = (limits.lower, limits.upper)
+        rad = [apart(turned, end, 4)[1] for end in ends]
+        deg = [apart(bearing, math.degrees(end - start))[1] for end in ends]
+        raise InputError(f"bearing {apart(bearing, math.degrees(passed - start))[0]} deg turns {joint} to "
+                         f"{apart(turned, passed, 4)[0]} rad, beyond its limits [{rad[0]}, {rad[1]}] rad "
+                         f"(bearings {deg[0]} to {deg[1]} deg)")
     return JointTrajectory(traj.joint_names, traj.time, positions, traj.velocities, traj.accelerations,
                            traj.release_time)
 
