@@ -264,6 +264,14 @@ def test_calibrate_hits_unseen_baskets_at_a_bearing_with_binary_feedback(aimed, 
     assert result.attempts <= 10
 
 
+def test_a_bearing_the_arm_cannot_face_is_refused_before_the_log_opens(aimed, robot, tmp_path):
+    """Refused before the first throw, the run leaves no attempts log and no lock file beside it
+    (the bearing was refused at the first throw, after the log was opened)."""
+    with pytest.raises(InputError, match=r"bearing 170 deg turns joint_1 to 2.9671 rad, beyond its limits"):
+        learn(aimed, BASKET, budget=1, joints=ARM, bearing=170.0, log_path=tmp_path / "b170.jsonl", robot=robot)
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_bad_joints_on_the_command_line_are_one_line_and_exit_2(rlff, tmp_path):
     demos = tmp_path / "demos.csv"
     assert rlff("data", "synth", "throws", "--whole-arm", "--subjects", "2", "--distances", "1,1.5", "-o", str(demos)).code == 0

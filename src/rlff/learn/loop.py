@@ -325,6 +325,7 @@ def learn(
         robot's reach, demonstrations beyond the joint limits, or a corrupt or foreign log.
     """
     from rlff.robot import Robot, load_robot, mapping_for
+    from rlff.robot.mapping import require_bearing
     from rlff.sim import Basket
 
     if update not in METHODS:
@@ -365,6 +366,7 @@ def learn(
     rim = rim_height if height is None else height
     # checks the stated range
     target = Basket(float(basket), rim_height=rim, opening=opening, bearing=float(bearing))
+    require_bearing(mapping, target.bearing)  # before the log opens: a run refused by it leaves none
     pedestal = check_pedestal(pedestal)
     try:
         _require_reach(robot_model, target, pedestal, mapping.driven_joints, demos.columns)

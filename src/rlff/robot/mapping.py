@@ -571,26 +571,43 @@ def bearing_range(robot: Robot) -> tuple[str, float, float] | None:
     return joint, math.degrees(limits.lower - start), math.degrees(limits.upper - start)
 
 
+def require_bearing(mapping: RobotMapping | ArmMapping, bearing: float) -> None:
+    """Raise :class:`InputError` when ``mapping``'s arm cannot face ``bearing`` (deg): what
+    ``path_to_robot`` refuses every throw at that bearing for, said before the first (``rlff
+    learn`` then opens no attempts log)."""
+    joint = mapping.bearing_joint
+    _require_turn(mapping.robot, joint, mapping.start_pose.get(joint, 0.0), bearing)
+
+
 def _turned(traj: JointTrajectory, robot: Robot, joint: str | None, bearing: float) -> JointTrajectory:
     """``traj`` with ``joint`` turned ``bearing`` degrees from where it stands (unchanged at 0).
 
     Raises
     ------
     InputError
-        A non-finite bearing, a bearing without a joint to turn, or one beyond its limits.
+        See :func:`_require_turn`.
     """
+    column = None if joint is None else traj.joint_index(joint)
+    _require_turn(robot, joint, 0.0 if column is None else traj.positions[0, column], bearing)
+    if bearing == 0:
+        return traj
+    positions = np.array(traj.positions)
+    positions[:, column] += np.radians(bearing)
+    return JointTrajectory(traj.joint_names, traj.time, positions, traj.velocities, traj.accelerations,
+                           traj.release_time)
+
+
+def _require_turn(robot: Robot, joint: str | None, start: float, bearing: float) -> None:
+    """Raise :class:`InputError` for a non-finite bearing, a bearing without a joint to turn, or one
+    that turns ``joint`` from ``start`` (rad) beyond its limits."""
     if not np.isfinite(bearing):
         raise InputError(f"bearing must be a finite number of degrees, got {bearing}")
     if bearing == 0:
-        return traj
+        return
     if joint is None:
         raise InputError(f"robot {robot.name} has no joint to turn to a bearing of {bearing:g} deg")
-    column = traj.joint_index(joint)
-    positions = np.array(traj.positions)
-    start = positions[0, column]
-    positions[:, column] += np.radians(bearing)
     limits = robot.joint(joint)
-    turned = positions[0, column]
+    turned = start + np.radians(bearing)
     if not limits.lower <= turned <= limits.upper:
         # as many digits as tell each number from the limit it passes: 170 deg turns joint_1 to
         # 2.96706 rad, past 2.967 rad, and read "2.967 rad, beyond its limits [-2.967, 2.967] rad"
@@ -601,8 +618,6 @@ def _turned(traj: JointTrajectory, robot: Robot, joint: str | None, bearing: flo
         raise InputError(f"bearing {apart(bearing, math.degrees(passed - start))[0]} deg turns {joint} to "
                          f"{apart(turned, passed, 4)[0]} rad, beyond its limits [{rad[0]}, {rad[1]}] rad "
                          f"(bearings {deg[0]} to {deg[1]} deg)")
-    return JointTrajectory(traj.joint_names, traj.time, positions, traj.velocities, traj.accelerations,
-                           traj.release_time)
 
 
 def _backward_samples(angle: np.ndarray, velocity: np.ndarray, clip: bool) -> np.ndarray:
