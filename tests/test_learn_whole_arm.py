@@ -129,9 +129,26 @@ def test_a_refused_carry_names_the_joints_not_the_demonstrations_they_choose(aim
     joints, where it named the demonstrations' digest."""
     log = tmp_path / "arm.jsonl"
     learn(aimed, BASKET, budget=1, joints=ARM, log_path=log, robot=robot)
-    with pytest.raises(InputError, match=r"arm.jsonl: cannot carry its hits into this run \(joints = \['joint_3', "
-                                         r"'joint_2'\] there, one joint \(the \[throwing\] table's\) here\)"):
+    with pytest.raises(InputError, match=r"arm.jsonl: cannot carry its hits into this run \(joints = \['joint_2', "
+                                         r"'joint_3'\] there, one joint \(the \[throwing\] table's\) here\)"):
         learn(aimed, BASKET, budget=1, robot=robot, carry_from=[log])
+
+
+def test_messages_list_a_logs_joints_in_the_robots_order(aimed, robot, tmp_path):
+    """The header keeps the mapping's order (the elbow's joint first: old logs resume by it); a
+    message lists the joints as the robot (and the user) does."""
+    from rlff.learn.log import as_listed
+
+    log = tmp_path / "arm.jsonl"
+    learn(aimed, BASKET, budget=1, joints=ARM, log_path=log, robot=robot)
+    header, _ = read_log(log)
+    assert header["joints"] == ["joint_3", "joint_2"]
+    with pytest.raises(InputError, match=r"\(joints = \['joint_2', 'joint_3'\] in the log, one joint \(the "
+                                         r"\[throwing\] table's\) now, from --joints\)"):
+        learn(aimed, BASKET, budget=2, log_path=log, robot=robot)
+    # the same joints in another order (as given after the elbow's): that order is the difference
+    given = (["joint_3", "joint_5", "joint_2"], ["joint_3", "joint_2", "joint_5"])
+    assert as_listed("joints", given, (header, header)) == given
 
 
 def test_a_one_joint_log_keeps_the_old_header_and_lines(tmp_path):

@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from rlff.errors import InputError
-from rlff.learn.log import brief, first_difference, read_log
+from rlff.learn.log import as_listed, brief, first_difference, read_log
 
 #: Standard deviation (log speed) of the search's prior about the carried offset: the offsets of
 #: two baskets of one seed differ by 0.076 in ``short`` (tuning seeds 0-47), with room.
@@ -77,7 +77,8 @@ def carried_offsets(logs: Sequence[str | Path], run: dict[str, Any]) -> tuple[tu
             if difference is None:
                 continue
             where, before, now = difference
-            said = [ABSENT.get(key, "None") if value is None else brief(value) for value in (before, now)]
+            said = [ABSENT.get(key, "None") if value is None else brief(value)
+                    for value in as_listed(key, (before, now), (logged, run))]
             why = START + (f"; give --aim {before} to carry it" if key == "aim" and before is not None else "")
             rims = [record.get("basket", {}).get("rim_height") for record in (logged, run)]
             if key == "demos" and rims[0] != rims[1]:  # the same file at another --height

@@ -193,6 +193,7 @@ class AttemptLog:
         def shown(value: Any) -> str:
             return absent if value is None and absent is not None else brief(value)
 
+        before, now = as_listed(key, (before, now), (logged, self.run))
         raise InputError(
             f"{self.path}: the log belongs to another run ({key} = {shown(before)} in the log, {shown(now)} now"
             f"{f', from {option}' if option else ''}); use another --log file"
@@ -345,6 +346,25 @@ def _at(record: dict[str, Any], key: str) -> Any:
     for part in key.split("."):
         record = record.get(part) if isinstance(record, dict) else None
     return record
+
+
+def as_listed(key: str, values: tuple[Any, Any], runs: tuple[dict[str, Any], dict[str, Any]]) -> tuple[Any, Any]:
+    """Two values of a header's ``key`` (a log's and this run's, each from its run in ``runs``) as a
+    message shows them: a whole-arm run's ``joints`` in the order of its robot's joints, as a user
+    lists them (joint_2, joint_3), where the header keeps the mapping's (the elbow's joint first,
+    the others as given), which older logs resume by; as they are when both hold the same joints
+    (their order is the difference), and anything else."""
+    if key != "joints":
+        return values
+    if all(isinstance(value, list) for value in values) and sorted(map(str, values[0])) == sorted(map(str, values[1])):
+        return values
+    listed = []
+    for value, run in zip(values, runs, strict=True):
+        robot = _at(run, "robot.description.joints")
+        order = list(robot) if isinstance(robot, dict) else []
+        ordered = isinstance(value, list) and all(joint in order for joint in value)
+        listed.append(sorted(value, key=order.index) if ordered else value)
+    return listed[0], listed[1]
 
 
 def brief(value: Any, width: int = 60) -> str:
