@@ -284,13 +284,6 @@ def write_text(path: str | Path, text: str) -> Path:
     return Path(path)
 
 
-def write_bytes(path: str | Path, data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically; returns the path."""
-    with atomic_write(path, "wb") as handle:
-        handle.write(data)
-    return Path(path)
-
-
 def _same(a: Path, b: Path) -> bool:
     try:
         if a.exists() and b.exists():
@@ -378,5 +371,5 @@ def _file_input_inside(out: Path, folder: Path) -> bool:
 __all__ = [
     "atomic_path", "atomic_write", "check_output_path", "check_outputs", "prepare_output", "require_distinct",
     "require_file",
-    "write_bytes", "write_text",
+    "write_text",
 ]

@@ -108,11 +108,6 @@ class WholeArm:
     clean: Dataset
     learned: dict
 
-    @property
-    def all_hit(self) -> bool:
-        """Every basket hit within the budget."""
-        return all(run.hit for run in self.runs)
-
 
 def baskets(demonstrated: Sequence[float], unseen: Sequence[float] = UNSEEN,
             bearings: Sequence[float] = BEARINGS) -> list[tuple[float, float]]:
@@ -241,16 +236,6 @@ def _recording_simulator(robot, basket, outcomes: list, gap: Gap | None = None):
         return outcome
 
     return execute
-
-
-def flight_points(position: Sequence[float], velocity: Sequence[float], floor: float = 0.0,
-                  points: int = 60) -> np.ndarray:
-    """The ball's free flight (no drag) from its release down to ``floor`` (m), shape (points, 3)."""
-    from rlff.ballistics import flight_time, position_at
-
-    end = float(flight_time(position[2], velocity[2], floor))
-    t = np.linspace(0.0, end if np.isfinite(end) else 0.0, points)
-    return position_at(np.asarray(position, dtype=float), np.asarray(velocity, dtype=float), t)
 
 
 def summary_rows(runs: Sequence[BasketRun]) -> list[list]:

@@ -25,7 +25,7 @@ import pandas as pd
 from rlff.dataset import ARM_JOINT_COLUMNS
 from rlff.errors import InputError
 from rlff.limits import apart, check_period, require_radians
-from rlff.robot.description import DEFAULT_ROBOT, Robot, load_robot
+from rlff.robot.description import Robot
 from rlff.robot.links import require_above_base
 from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for
 from rlff.trajectory.check import check_trajectory
@@ -308,18 +308,3 @@ def require_planned(path: str | Path, planned: RobotPlan, options: Sequence[str]
     raise InputError(f"{', '.join(options)}: {path} is a robot trajectory, which is checked and taken as it is, "
                      f"not planned again, so {they} would change nothing; leave {them} out, or give {them} with "
                      "the generated path (rlff generate) or attempts log (rlff learn --log) it was planned from")
-
-
-def plan_file(
-    path: str | Path,
-    robot: str | Path = DEFAULT_ROBOT,
-    period: float | None = DEFAULT_PERIOD,
-    clip: bool = False,
-    *,
-    joints: Sequence[str] | None = None,
-    bearing: float | None = None,
-) -> tuple[RobotPlan, RobotMapping | ArmMapping]:
-    """:func:`load_for_robot` for a robot file or name, with the mapping of ``joints``."""
-    model = load_robot(robot)
-    return (load_for_robot(path, model, period, clip, joints=joints, bearing=bearing)[1],
-            mapping_for(model, joints))

@@ -13,7 +13,6 @@ joint 3 raises the forearm.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -21,7 +20,6 @@ import numpy as np
 
 from rlff.errors import InputError
 from rlff.robot.description import Geometry, Joint, Robot, find_joint, joint_names
-from rlff.trajectory.joint import JointTrajectory
 
 #: Tennis ball radius (m) and mass (kg).
 BALL_RADIUS = 0.033
@@ -115,14 +113,3 @@ def _along_x(angle: np.ndarray) -> np.ndarray:
 
 def _swing(offset: np.ndarray) -> np.ndarray:
     return np.stack([offset[..., 1], -offset[..., 0]], axis=-1)
-
-
-def moving_joints(trajectory: JointTrajectory, candidates: Sequence[str], tolerance: float = 1e-6) -> tuple[str, ...]:
-    """Names among ``candidates`` whose position changes along ``trajectory``."""
-    moving = []
-    for name in candidates:
-        if name in trajectory.joint_names:
-            q = trajectory.positions[:, trajectory.joint_index(name)]
-            if np.ptp(q) > tolerance:
-                moving.append(name)
-    return tuple(moving)
