@@ -59,8 +59,7 @@ def throw(
     from rlff.robot.mapping import bearing_at_release
     from rlff.robot.plan import ROBOT_TRAJECTORY, robot_file_kind
     from rlff.sim import Basket, simulate_throw
-    from rlff.sim.inputs import SIM_PERIOD
-    from rlff.sim.throw import not_followed
+    from rlff.sim.throw import SIM_PERIOD, not_followed
 
     guard(inputs={"TRAJECTORY": trajectory, "--robot": robot_file(robot)}, outputs={"--frames": frames},
           folders=["--frames"])

@@ -53,6 +53,8 @@ TRACKING_TOLERANCE = 0.05
 #: Largest joint speed, as a share of its limit, of such an arm: its servos reach a limit the plan
 #: runs at with a few per mille to spare or over; a strike drives a joint far past it (3x).
 SPEED_TOLERANCE = 1.05
+#: Controller period (s) a generated path is planned at for the simulation: its servo step.
+SIM_PERIOD = 0.002
 
 
 @dataclass(frozen=True)
