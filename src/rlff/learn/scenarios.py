@@ -38,6 +38,7 @@ import numpy as np
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError
+from rlff.learn.robot import ReportedOutcome
 from rlff.limits import check_distance, parse_number
 from rlff.sim.gap import Gap, parse_gap
 
@@ -225,15 +226,6 @@ def with_landings(demos: Dataset, landings: str, seed: int) -> Dataset:
             meta["landing"] = float(truth) + std * float(rng.standard_normal())
         trajectories.append(t.replace(meta=meta))
     return Dataset(trajectories, context=demos.context)
-
-
-@dataclass(frozen=True)
-class ReportedOutcome:
-    """An outcome as the feedback reports it (the :class:`rlff.learn.loop.Outcome` protocol)."""
-
-    hit: bool
-    landing_x: float
-    miss: float
 
 
 def reporting_executor(scenario: Scenario, feedback: Feedback, basket: float, seed: int):
