@@ -413,6 +413,7 @@ def send(
     from rlff.robot.description import load_robot
     from rlff.robot.plan import require_planned
     from rlff.robot.send import (
+        CONNECT_TIMEOUT,
         ArmStateError,
         approach_line,
         check_goal_for_arm,
@@ -449,7 +450,7 @@ def send(
     with ExitStack() as node:  # over ROS 2, one node reads the arm's state and sends the goal
         if ros == 2:
             _require_ros2(network)
-            from rlff.robot.ros2.client import CONNECT_TIMEOUT, Connection
+            from rlff.robot.ros2.client import Connection
             from rlff.robot.ros2.client import ServerUnavailable as RosUnavailable
 
             connection = node.enter_context(Connection("rlff_send"))
@@ -458,7 +459,6 @@ def send(
             _require_ros()
             _ros1_reach(network)
             from rlff.robot.ros1.client import (
-                CONNECT_TIMEOUT,
                 arm_state,
                 publish_trajectory,
                 send_goal,

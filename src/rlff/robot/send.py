@@ -53,6 +53,10 @@ PARTIAL_GRACE = 2.0
 STATE_NOISE = 1e-3
 #: Above this speed (rad/s) on any joint the arm counts as moving: no goal planned from rest is sent.
 MOVING_SPEED = 0.01
+#: Seconds between sending a goal and its start (its header stamp), so the server is ready.
+START_LEAD = 0.2
+#: Default seconds to wait for the ROS master (ROS 1) and the action server when no timeout is given.
+CONNECT_TIMEOUT = 10.0
 #: Seconds to wait for the server to confirm a cancel (it answers once the arm has braked to rest).
 CANCEL_WAIT = 10.0
 #: What a goal came to when the command was interrupted: cancelled (the server confirmed the

@@ -35,8 +35,10 @@ from rlff.robot.send import (
     CANCEL_NOT_AWAITED,
     CANCEL_UNCONFIRMED,
     CANCEL_WAIT,
+    CONNECT_TIMEOUT,
     ERROR_NAMES,
     GOAL_CANCELLED,
+    START_LEAD,
     SendResult,
     StateWatch,
     check_timeout,
@@ -47,10 +49,6 @@ from rlff.robot.send import (
 )
 from rlff.trajectory.joint import JointTrajectory
 
-#: Seconds between sending a goal and its start (its header stamp), so the server is ready.
-START_LEAD = 0.2
-#: Default seconds to wait for the master and the server when no timeout is given.
-CONNECT_TIMEOUT = 10.0
 #: Seconds without a status message from the server (actionlib publishes one at 5 Hz) after
 #: which it counts as gone; one second once its status connection has closed too.
 SERVER_SILENCE = 5.0

@@ -39,8 +39,10 @@ from rlff.robot.send import (
     CANCEL_NOT_AWAITED,
     CANCEL_UNCONFIRMED,
     CANCEL_WAIT,
+    CONNECT_TIMEOUT,
     ERROR_NAMES,
     GOAL_CANCELLED,
+    START_LEAD,
     SendResult,
     StateWatch,
     cancel_unconfirmed,
@@ -51,11 +53,6 @@ from rlff.robot.send import (
     unfinished,
 )
 from rlff.trajectory.joint import JointTrajectory
-
-#: Seconds between sending a goal and its start (its header stamp), so the server is ready.
-START_LEAD = 0.2
-#: Default seconds to wait for the server when no timeout is given.
-CONNECT_TIMEOUT = 10.0
 
 _STATES = {GoalStatus.STATUS_SUCCEEDED: "succeeded", GoalStatus.STATUS_ABORTED: "aborted",
            GoalStatus.STATUS_CANCELED: "cancelled"}
