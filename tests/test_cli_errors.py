@@ -264,6 +264,17 @@ def test_a_bug_is_an_internal_error_with_exit_1(rlff, files, tmp_path, monkeypat
     assert debug.code == 1 and "Traceback" in debug.stderr and "ZeroDivisionError" in debug.stderr
 
 
+def test_a_robot_that_cannot_be_reached_is_one_error_line_with_exit_1(rlff, monkeypatch):
+    """Not the input (exit 2) and not a bug: an RlffError, here ROS missing, is said in one line."""
+    from rlff.robot import ros1
+
+    monkeypatch.setattr(ros1, "missing", lambda: "ROS 1 is not reachable (no rospy):\n  install it")
+    result = rlff("robot", "serve")
+    assert result.code == 1 and "Traceback" not in result.stderr
+    assert result.stderr.strip().splitlines() == ["rlff: error: ROS 1 is not reachable (no rospy): install it"]
+    debug = rlff("--debug", "robot", "serve")
+    assert debug.code == 1 and "Traceback" in debug.stderr and "RlffError" in debug.stderr
+
 def test_numpy_warnings_are_silenced_unless_debug(rlff, files, tmp_path, monkeypatch):
     from rlff.model import Model
 

@@ -1,7 +1,8 @@
 """Exceptions shared by every part of rlff.
 
-The command line turns an :class:`InputError` into one line on stderr and exit code 2; anything
-else is a bug and keeps its traceback.
+The command line turns an :class:`InputError` into one line on stderr and exit code 2, and any
+other :class:`RlffError` into one line and exit code 1; anything else is a bug: one ``internal
+error`` line and exit code 1, its traceback shown only with ``--debug``.
 """
 
 from __future__ import annotations

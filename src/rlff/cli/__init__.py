@@ -5,6 +5,9 @@ The one error boundary is :func:`main`:
 - bad input (an :class:`rlff.errors.InputError`, an operating-system error on a file the user
   named, or a usage error such as an unknown option) ends with one line on stderr,
   ``rlff: error: ...``, and exit code 2;
+- any other :class:`rlff.errors.RlffError` (a robot that failed or cannot be reached: no ROS, no
+  master or action server, an arm state that cannot be trusted) ends with the same one line and
+  exit code 1;
 - anything else is a bug: one line ``rlff: internal error: ...`` with a hint to rerun with
   ``--debug``, and exit code 1;
 - output whose reader went away (``rlff sim throw ... | head -1``) ends the command quietly with
@@ -36,7 +39,7 @@ except ImportError:  # pragma: no cover - older typer
     from click.utils import echo
 
 from rlff.cli._common import PLAIN_HELP, OutputClosed, stderr, verbosity
-from rlff.errors import InputError, Interrupted, Terminated
+from rlff.errors import InputError, Interrupted, RlffError, Terminated
 
 HELP_OPTIONS = ["-h", "--help"]
 
@@ -266,6 +269,8 @@ def _main(args: list[str]) -> int:
             return _output_closed()
         except InputError as exc:
             return _fail(f"error: {exc}", 2, debug)
+        except RlffError as exc:  # not the input: the robot failed, or is not there
+            return _fail(f"error: {exc}", 1, debug)
         except OSError as exc:  # a file the user named: missing, a folder, no permission, disk full
             return _fail(_os_error(exc), 2, debug)
         except SystemExit as exc:

@@ -224,10 +224,10 @@ def _run(data, basket: float, settings: dict, live: dict | None):
             def tell(line: str) -> None:  # the approach, before the arm moves: shown even under -q
                 stderr().print(line, highlight=False, markup=False)
 
-            run_on = _learn_live(lambda: stack.enter_context(robot_executor(
+            run_on = stack.enter_context(robot_executor(
                 settings["executed_on"], live["outcome"], settings["robot"], basket, settings["feedback"],
                 until=settings["until"], ask=_ask, landing_topic=live["landing_topic"], network=live["network"],
-                tell=tell, approach_speed=live["approach_speed"], resumed=_logged(settings["log_path"]))))
+                tell=tell, approach_speed=live["approach_speed"], resumed=_logged(settings["log_path"])))
 
         def show(attempt) -> None:
             if live is not None and live["outcome"] == "ask":  # no progress bar under the prompt
@@ -239,7 +239,7 @@ def _run(data, basket: float, settings: dict, live: dict | None):
             bar[0](1, description=f"attempt {attempt.index}: {seen}, exploration {attempt.exploration:.2f}",
                    total=max(settings["budget"], attempt.index))  # a log resumed with a smaller --budget
 
-        return _learn_live(lambda: learn(data, basket, **settings, progress=show, executor=run_on))
+        return learn(data, basket, **settings, progress=show, executor=run_on)
 
 
 def _logged(log: Path | None) -> int:
@@ -348,16 +348,3 @@ def _ask(question: str) -> str:
     if not sys.stdin.isatty():  # piped: nothing echoed the answer, so say it and end the prompt's line
         stderr().print(line.rstrip("\r\n"), highlight=False, markup=False)
     return line
-
-
-def _learn_live(run):
-    """``run()``, with a robot that fails or cannot be reached ending the command in one line (exit 1)."""
-    from rlff.errors import InputError, RlffError
-
-    try:
-        return run()
-    except InputError:
-        raise
-    except RlffError as exc:  # the arm did not execute an attempt, or is not there
-        stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
-        raise typer.Exit(1) from None

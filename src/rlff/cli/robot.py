@@ -261,18 +261,13 @@ def serve(
         return
     _require_ros()
     _ros1_reach(network)
-    from rlff.robot.ros1.master import RosUnavailable
     from rlff.robot.ros1.server import serve as run_server
 
     def ready() -> None:
         arm = "kinematic arm" + (", each finished throw simulated in MuJoCo" if hook else "")
         say(f"{_serving(model)} ({arm}, {rate:g} Hz); Ctrl-C stops")
 
-    try:
-        run_server(model, initial, rate, hook, on_ready=ready)
-    except RosUnavailable as exc:
-        stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
-        raise typer.Exit(1) from None
+    run_server(model, initial, rate, hook, on_ready=ready)
 
 
 def goal_message(outcome) -> str:
@@ -302,22 +297,22 @@ def _ros1_reach(network: bool) -> None:
 
     warning = limit_to_loopback(network)
     if warning:
-        stderr().print(f"rlff: warning: {warning}", highlight=False, markup=False)
+        warn(warning)
 
 
 def _require_ros2(network: bool) -> None:
-    """Exit 1 unless ROS 2 is installed; limit its discovery to this host unless ``network``."""
+    """Refuse (exit 1) unless ROS 2 is installed; limit its discovery to this host unless ``network``."""
+    from rlff.errors import RlffError
     from rlff.robot import ros2
 
     problem = ros2.missing()
     if problem:
-        stderr().print(f"rlff: error: {problem}", highlight=False, markup=False)
-        raise typer.Exit(1)
+        raise RlffError(problem)
     from rlff.robot.ros2.network import limit_discovery
 
     warning = limit_discovery(network)
     if warning:
-        stderr().print(f"rlff: warning: {warning}", highlight=False, markup=False)
+        warn(warning)
 
 
 def _serving(model) -> str:
@@ -340,12 +335,12 @@ def _serve_ros2(model, initial, rate: float, hook, network: bool) -> None:
 
 
 def _require_ros() -> None:
+    from rlff.errors import RlffError
     from rlff.robot import ros1
 
     problem = ros1.missing()
     if problem:
-        stderr().print(f"rlff: error: {problem}", highlight=False, markup=False)
-        raise typer.Exit(1)
+        raise RlffError(problem)
 
 
 def _mujoco_throw(model, basket: float, bearing: float = 0.0, height: float = 0.3):
@@ -414,7 +409,6 @@ def send(
     from rlff.robot.plan import require_planned
     from rlff.robot.send import (
         CONNECT_TIMEOUT,
-        ArmStateError,
         approach_line,
         check_goal_for_arm,
         check_timeout,
@@ -451,7 +445,6 @@ def send(
         if ros == 2:
             _require_ros2(network)
             from rlff.robot.ros2.client import Connection
-            from rlff.robot.ros2.client import ServerUnavailable as RosUnavailable
 
             connection = node.enter_context(Connection("rlff_send"))
             arm_state, send_goal = connection.arm_state, connection.send_goal
@@ -463,7 +456,6 @@ def send(
                 publish_trajectory,
                 send_goal,
             )
-            from rlff.robot.ros1.master import RosUnavailable
 
         try:
             pose, speed = arm_state(model, timeout)
@@ -523,9 +515,6 @@ def send(
                 say(f"sending the goal to {model.ros.action}: waiting up to "
                     f"{CONNECT_TIMEOUT if timeout is None else timeout:g} s for its action server")
                 outcome = send_goal(model, traj, pose, timeout, on_feedback, on_accepted=accepted)
-        except (RosUnavailable, ArmStateError) as exc:
-            stderr().print(f"rlff: error: {exc}", highlight=False, markup=False)
-            raise typer.Exit(1) from None
         except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: the client cancelled the goal, if one was sent
             said = interrupted_goal(exc)
             if said:
