@@ -49,7 +49,27 @@ def flight_time(
     height: np.ndarray | float,
     gravity: float = GRAVITY,
 ) -> np.ndarray:
-    """Time (s) from release until the ball crosses ``height`` on its way down; NaN if never."""
+    """Time (s) from release until the ball crosses ``height`` on its way down; NaN if never.
+
+    ``release_z``, ``velocity_z`` and ``height`` broadcast against each other (numpy's rules):
+    scalars and arrays of shape (N,) mix freely.
+
+    Parameters
+    ----------
+    release_z : float or array
+        Release height (m).
+    velocity_z : float or array
+        Vertical release velocity (m/s), positive up.
+    height : float or array
+        Height of the crossing (m), e.g. a basket's rim.
+    gravity : float
+        Gravitational acceleration (m/s^2), positive.
+
+    Returns
+    -------
+    ndarray of the three's broadcast shape (0-d when all are scalars)
+        Time since release (s); NaN where the ball never comes down to ``height``.
+    """
     z0, vz, h = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (release_z, velocity_z, height)))
     # z0 + vz t - g t^2 / 2 = h: the larger root is the descending crossing
     discriminant = vz**2 + 2.0 * gravity * (z0 - h)

@@ -182,7 +182,8 @@ def release_samples(count: int) -> int:
 
 def release_speed(angles: np.ndarray, velocity: np.ndarray) -> float:
     """Mean speed (rad/s) over the release part of the path (:func:`release_samples`): what
-    decides where the ball goes."""
+    decides where the ball goes. ``angles`` (T,) are the path's positions (only their number T
+    counts) and ``velocity`` (T,) its velocities (rad/s) at them."""
     return float(np.mean(np.abs(velocity[-release_samples(angles.size):])))
 
 

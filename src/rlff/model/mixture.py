@@ -787,7 +787,7 @@ class GaussianMixture:
         return peak + total - np.log(self.scale_).sum()
 
     def score(self, X: np.ndarray, y: None = None, sample_weight: np.ndarray | None = None) -> float:
-        """Mean (weighted) log-likelihood per sample, in the data's units."""
+        """Mean (weighted) log-likelihood per sample of ``X`` (N, D), in the data's units."""
         log_density = self.score_samples(X)
         weights = check_weights(sample_weight, log_density.size)
         return float(weights @ log_density / weights.sum())
@@ -806,7 +806,7 @@ class GaussianMixture:
         return _n_parameters(*self.means_.shape)
 
     def bic(self, X: np.ndarray, sample_weight: np.ndarray | None = None, effective_samples: float | None = None) -> float:
-        """Bayesian information criterion -2 ln L + p ln n (lower is better).
+        """Bayesian information criterion -2 ln L + p ln n of ``X`` (N, D) (lower is better).
 
         With ``sample_weight``, ln L is the weighted sum and n the sum of the weights; with
         ``effective_samples``, n is that many independent samples (:func:`information_criteria`).
@@ -815,7 +815,7 @@ class GaussianMixture:
         return information_criteria(log_likelihood, self.n_parameters(), n, effective_samples)[0]
 
     def aic(self, X: np.ndarray, sample_weight: np.ndarray | None = None) -> float:
-        """Akaike information criterion -2 ln L + 2 p (lower is better)."""
+        """Akaike information criterion -2 ln L + 2 p of ``X`` (N, D) (lower is better)."""
         log_likelihood, n = self._total_log_likelihood(X, sample_weight)
         return information_criteria(log_likelihood, self.n_parameters(), n)[1]
 
