@@ -29,7 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from rlff.dataset import MIN_FILE_SAMPLES, Dataset
-from rlff.errors import InputError, RlffError
+from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.preprocess.glitches import spike_filter
 from rlff.preprocess.reject import reject_contexts, reject_shapes
@@ -240,20 +240,21 @@ class Pipeline:
 
 def _check_accounted(report: StepReport, before: Dataset, after: Dataset) -> None:
     """Every trajectory or sample a step drops must be in its report, and a trajectory it
-    shortens must keep 2 samples at least, which a data file needs (a step's bug otherwise)."""
+    shortens must keep 2 samples at least, which a data file needs: otherwise a step's bug, a
+    RuntimeError, which the command line reports as one (``internal error``), not as the user's."""
     removed = {r.trajectory for r in report.removed}
     missing = set(before.ids) - set(after.ids) - removed
     changed = {c.trajectory for c in report.samples}
     lengths = {t.id: len(t) for t in before}
     silent = [t.id for t in after if t.id in lengths and len(t) != lengths[t.id] and t.id not in changed]
     if missing or silent or set(after.ids) - set(before.ids):
-        raise RlffError(
+        raise RuntimeError(
             f"step {report.step!r} changed data without reporting it "
             f"(trajectories {sorted(missing)[:3]}, samples of {silent[:3]})"
         )
     short = [t.id for t in after if len(t) < min(MIN_FILE_SAMPLES, lengths[t.id])]
     if short:
-        raise RlffError(
+        raise RuntimeError(
             f"step {report.step!r} left trajectories {short[:3]} with fewer than {MIN_FILE_SAMPLES} "
             "samples instead of removing them"
         )
