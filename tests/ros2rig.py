@@ -13,6 +13,7 @@ import random
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from pathlib import Path
@@ -48,8 +49,32 @@ _DOMAINS = itertools.count(random.SystemRandom().randrange(_BLOCK))
 
 def free_domain() -> int:
     """A ROS_DOMAIN_ID of its own for each caller: the worker's block of domains, taken in turn
-    from a random start, so that test modules, workers and concurrent runs do not see each other."""
-    return 1 + _BLOCK * _WORKER + next(_DOMAINS) % _BLOCK
+    from a random start, so that test modules, workers and concurrent runs do not see each other;
+    a domain where an ``rlff robot serve --ros 2`` of this host already runs (its lock held: a
+    user's, or another run's) is passed over (one on 77 failed ten tests of a run at once)."""
+    for _ in range(_BLOCK):
+        domain = 1 + _BLOCK * _WORKER + next(_DOMAINS) % _BLOCK
+        if not _served_on_this_host(domain):
+            return domain
+    return domain
+
+
+def _served_on_this_host(domain: int) -> bool:
+    """Whether an rlff server of this host holds an action's lock in ``domain``
+    (:func:`rlff.robot.ros2.server._claim_on_this_host`'s lock files)."""
+    from filelock import lock_descriptor
+
+    for path in Path(tempfile.gettempdir()).glob(f"rlff-ros2-domain{domain}-*.lock"):
+        try:
+            fd = os.open(path, os.O_RDWR)
+        except OSError:
+            continue
+        try:
+            if not lock_descriptor(fd, blocking=False):
+                return True
+        finally:
+            os.close(fd)  # and with it the lock just taken
+    return False
 
 
 def ros2_env(domain: int, home: Path) -> dict[str, str]:
