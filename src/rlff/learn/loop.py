@@ -243,8 +243,9 @@ def learn(
     feedback : {"binary", "distance"}
         What an attempt reports to the method: hit or miss only, or the signed miss as well.
     update : str
-        An update strategy (``failure``, ``hindsight``, ``calibrate``) or a baseline
-        (``imitation``, ``random``, ``cma``, ``secant``); see :data:`METHODS`.
+        An update strategy (``calibrate``, the default; ``donut``, ``failure``, ``hindsight``),
+        each also as its ablations ``NAME:no-exploration`` and ``NAME:gmr-mean``, or a baseline
+        (``sweep``, ``secant``, ``gp-bo``, ``cma``, ``random``, ``imitation``); see :data:`METHODS`.
     seed : int
         Seed of every random choice; a run is reproducible from it.
     log_path : str or Path, optional
