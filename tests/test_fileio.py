@@ -255,7 +255,9 @@ def test_ranges_refuse_values_outside(value):
 
 
 @pytest.mark.parametrize(("value", "message"), [(0.0, "period must be a positive controller period (s), got 0.0"),
-                                              (1e-6, "period 1e-06 s is shorter than 0.0001 s")])
+                                              (1e-6, "period 1e-06 s is shorter than 0.0001 s"),
+                                              (10.0, "period 10 s is longer than 1 s: a controller period is in "
+                                                     "seconds (milliseconds? 2 ms is 0.002)")])
 def test_a_bad_period_names_the_parameter_not_a_command_line_option(value, message):
     # it said "--period ..." to a library caller of rlff.robot.plan (the CLI passes its option)
     with pytest.raises(InputError, match=rf"^{re.escape(message)}"):

@@ -237,6 +237,18 @@ def test_options_that_shape_a_plan_are_refused_for_a_robot_trajectory(rlff, monk
     assert result.code == 2 and refusal.replace("t.json", "t.csv") in result.stderr, result.stderr
 
 
+def test_a_period_in_milliseconds_is_refused_for_a_plan_and_an_approach(cli, throw, tmp_path):
+    # 10 (ms meant) was planned at a 10 s period: refused as a throw too short to wind up for, and
+    # an exported trajectory's approach was planned over 10 s
+    said = "--period 10 s is longer than 1 s: a controller period is in seconds (milliseconds? 2 ms is 0.002)"
+    exported = cli("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json"), "--period", "10")
+    assert exported.code == 2 and said in exported.stderr and not (tmp_path / "t.json").exists()
+    assert cli("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
+    env = {"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"}
+    sent = cli("robot", "send", str(tmp_path / "t.json"), "--approach", "--period", "10", "--timeout", "1", env=env)
+    assert sent.code == 2 and said in sent.stderr, sent.stderr
+
+
 def test_send_takes_a_period_for_the_approach_of_a_robot_trajectory(cli, throw, tmp_path):
     """With --approach, --period samples the approach planned to a robot trajectory's start: not refused."""
     assert cli("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0

@@ -34,7 +34,9 @@ The numbers:
 - :data:`MIN_PERIOD`: the shortest controller period (s) a trajectory is planned at. Arm
   controllers run at 100 Hz to 1 kHz (rlff plans at 2 ms or 10 ms, :data:`CONTROLLER_PERIODS`
   of :mod:`rlff.trajectory.resample`); 10 kHz leaves a margin. ``--period 0.000001`` wrote a 130 MB
-  file of a throw of 0.85 s, 1e-9 ran out of memory.
+  file of a throw of 0.85 s, 1e-9 ran out of memory. :data:`MAX_PERIOD` the longest, 1 s: no arm
+  controller samples a motion so coarsely, and ``--period 10`` (milliseconds meant) was taken as
+  10 s, refused as a throw too short to wind up for, or, for an approach, planned over 10 s.
 """
 
 from __future__ import annotations
@@ -53,7 +55,7 @@ MAX_MAGNITUDE = 1e100
 DISTANCE_RANGE = (0.3, 20.0)
 PEDESTAL_RANGE = (0.0, 5.0)
 FRAME_RATE_RANGE = (1.0, 1000.0)
-MIN_PERIOD = 1e-4
+MIN_PERIOD, MAX_PERIOD = 1e-4, 1.0
 MAX_JOINT_ANGLE = 4.0 * math.pi
 
 
@@ -138,14 +140,17 @@ def check_frame_rate(value: float, name: str = "frame rate") -> float:
 
 
 def check_period(value: float, name: str = "period") -> float:
-    """A controller period (s): finite and at least :data:`MIN_PERIOD`; ``name``: what the message
-    calls it (``--period`` on the command line)."""
+    """A controller period (s): finite, at least :data:`MIN_PERIOD` and at most :data:`MAX_PERIOD`;
+    ``name``: what the message calls it (``--period`` on the command line)."""
     if value is None or not (math.isfinite(value) and value > 0):
         raise InputError(f"{name} must be a positive controller period (s), got {value!r}: "
                          "the points of a path are not a trajectory a controller can follow")
     if value < MIN_PERIOD:
         raise InputError(f"{name} {value:g} s is shorter than {MIN_PERIOD:g} s (a {1 / MIN_PERIOD / 1000:g} kHz "
                          "controller): arm controllers run at 1 kHz or slower; give their period, e.g. 0.002")
+    if value > MAX_PERIOD:
+        raise InputError(f"{name} {value:g} s is longer than {MAX_PERIOD:g} s: a controller period is in seconds "
+                         "(milliseconds? 2 ms is 0.002), and arm controllers run at 100 Hz to 1 kHz")
     return float(value)
 
 
@@ -207,6 +212,7 @@ __all__ = [
     "MAX_GRID_POINTS",
     "MAX_JOINT_ANGLE",
     "MAX_MAGNITUDE",
+    "MAX_PERIOD",
     "MIN_PERIOD",
     "PEDESTAL_RANGE",
     "apart",
