@@ -322,6 +322,28 @@ def test_a_server_that_dies_mid_goal_is_reported_lost_not_cancelled(tmp_path):
     assert took < 8  # seen within seconds, not after the throw's duration + 10 s + the cancel's 10 s
 
 
+def test_a_server_restarted_after_a_crash_mid_goal_confirms_no_cancel(tmp_path):
+    # a supervisor (roslaunch respawn, systemd) starts the driver again at once: the new server
+    # lists no such goal, actionlib ends it LOST, and "goal cancelled" had been said of it
+    rig = Ros(tmp_path)
+    try:
+        slow = throw_csv(tmp_path, "slow.csv", -1.2, 1.5, 0.2)  # several seconds
+        sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow), "--json"],
+                                  env=rig.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        wait(lambda: "accepted" in rig.log() or sender.poll() is not None, 120, "the goal to be accepted")
+        rig.server.kill()
+        rig.server.wait()
+        with open(tmp_path / "serve2.log", "w") as log:  # respawned
+            rig.server = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "serve"], env=rig.env,
+                                          stdout=log, stderr=subprocess.STDOUT)
+        out, err = sender.communicate(timeout=120)
+    finally:
+        rig.close()
+    assert sender.returncode == 1, err
+    assert json.loads(out)["status"] == "lost" and "goal cancelled" not in err, err
+    assert "the cancel was not confirmed" in err, err
+
+
 def test_serve_and_send_under_the_robot_file_s_ros_names(tmp_path):
     """An arm whose controller lives under /arm: `robot serve` and `robot send` with a robot file
     whose [ros] table says so drive it (a goal, then topic mode), and rlff's default names find

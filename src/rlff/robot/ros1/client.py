@@ -235,7 +235,9 @@ def _wait(client: actionlib.SimpleActionClient, status: _Status, deadline: float
         if left <= 0:
             return "timed out"
         if client.wait_for_result(rospy.Duration.from_sec(min(0.2, left))):
-            return "ended"
+            # a server restarted mid-goal lists no such goal, and actionlib ends it LOST: no end
+            # the server gave, and nothing braked the arm
+            return "it lists the goal no more: restarted?" if client.get_state() == GoalStatus.LOST else "ended"
         quiet = status.silence()
         if quiet is not None:
             return f"no status for {quiet:.1f} s"
@@ -244,12 +246,13 @@ def _wait(client: actionlib.SimpleActionClient, status: _Status, deadline: float
 def _cancel(client: actionlib.SimpleActionClient, status: _Status, lost: bool = False) -> bool:
     """Ask the server to cancel; whether it confirmed the goal's end (the arm braked to rest) within
     :data:`CANCEL_WAIT` s. A server already gone gets the cancel (should it come back) and a
-    second to answer it."""
+    second to answer it. A goal actionlib ends as LOST (a server restarted after a crash lists no
+    such goal) is no confirmation: nothing braked it, and "cancelled" had been said of it."""
     client.cancel_goal()
     deadline = time.monotonic() + (1.0 if lost else CANCEL_WAIT)
     while time.monotonic() < deadline:
         if client.wait_for_result(rospy.Duration.from_sec(0.2)):
-            return True
+            return client.get_state() != GoalStatus.LOST
         if not lost and status.silence() is not None:
             return False
     return False
