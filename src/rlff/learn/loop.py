@@ -60,6 +60,7 @@ from rlff.learn.reach import (
     aimed_factor,
     arm_reach,
     beyond_reach,
+    more_joints_words,
     release_elasticity,
     saturation_factor,
     typical_landing,
@@ -792,9 +793,7 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
     farthest = farthest_basket(reach.distance, basket.opening)
     if basket.distance <= farthest:
         return
-    mapped = mapping.robot.whole_arm.get("joints", {})
-    more = [name for name in mapped if name not in mapping.driven_joints]
-    hint = f"; --joints {','.join((*sorted(mapping.driven_joints), *more))} may reach farther" if more else ""
+    hint = f"; {more}" if (more := more_joints_words(mapping)) else ""
     if reach.distance < 0:  # no speed helps, nor more joints: the shape throws backwards
         hint = ("; at every speed its ball flies backwards, over or behind the robot: the shape the "
                 "demonstrations give these joints for a basket this near does not throw forward; fewer joints "

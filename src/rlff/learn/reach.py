@@ -31,6 +31,7 @@ import numpy as np
 from rlff.dataset import joint_outputs
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
+from rlff.learn.demos import drives_whole_arm
 from rlff.trajectory.planner import MARGIN
 
 #: Throws in a row that came down short of the basket's rim even sped up to the fastest release
@@ -209,11 +210,7 @@ def aimed_factor(mapping, target: float, rim_height: float, pedestal: float, pro
 def first_saturation(mapping, path: dict[str, np.ndarray]) -> float:
     """The factor on every velocity of ``path`` at which the first driven joint reaches its speed
     limit at the release (:func:`release_speed_factor` gives the last); inf when none moves."""
-    limits = mapping.max_human_speeds()
-    ratios = [limits[column] / abs(float(path[column][-1]))
-              for column in joint_outputs(mapping.human_columns) if column.endswith("velocity")
-              and abs(float(path[column][-1])) > 0]
-    return min(ratios, default=math.inf)
+    return min((factor for factor, _ in _saturations(mapping, path)), default=math.inf)
 
 
 def saturation_factor(mapping, proposal) -> float:
@@ -232,14 +229,34 @@ def release_speed_factor(mapping, path: dict[str, np.ndarray]) -> tuple[float, s
     limit at the release, and that joint (as the reason): below it, the joints that get there
     first saturate (as every executed throw does: the robot never exceeds a limit) while the
     others still speed up and throw farther; above it, nothing changes."""
-    factor, limiting = 0.0, ""
+    saturations = _saturations(mapping, path)
+    if not saturations:
+        return math.inf, ""
+    factor, name = max(saturations, key=lambda saturation: saturation[0])  # the first of equals
+    return factor, f"every joint reaches its speed limit (the last: {name})"
+
+
+def _saturations(mapping, path: dict[str, np.ndarray]) -> list[tuple[float, str]]:
+    """For each driven joint moving at ``path``'s release, in the mapping's order: the factor on
+    every velocity at which it reaches its speed limit there, and its name."""
     limits = mapping.max_human_speeds()
-    for column, name in zip((c for c in joint_outputs(mapping.human_columns) if c.endswith("velocity")),
-                            mapping.driven_joints, strict=True):
-        release = abs(float(path[column][-1]))
-        if release > 0 and limits[column] / release > factor:
-            factor, limiting = limits[column] / release, f"every joint reaches its speed limit (the last: {name})"
-    return (factor, limiting) if factor > 0 else (math.inf, "")
+    columns = (c for c in joint_outputs(mapping.human_columns) if c.endswith("velocity"))
+    return [(limits[column] / abs(float(path[column][-1])), name)
+            for column, name in zip(columns, mapping.driven_joints, strict=True) if abs(float(path[column][-1])) > 0]
+
+
+def more_joints(mapping) -> list[str]:
+    """The joints of the robot file's ``[whole_arm]`` table a whole-arm ``mapping`` leaves
+    undriven, which may throw farther (none for a one-joint mapping), in the table's order."""
+    if not drives_whole_arm(mapping):
+        return []
+    return [name for name in (mapping.robot.whole_arm or {}).get("joints", {}) if name not in mapping.driven_joints]
+
+
+def more_joints_words(mapping) -> str:
+    """``--joints joint_2,joint_3,joint_5 may reach farther`` for :func:`more_joints`, or ""."""
+    more = more_joints(mapping)
+    return f"--joints {','.join((*sorted(mapping.driven_joints), *more))} may reach farther" if more else ""
 
 
 def release_crossing_of(mapping, path: dict[str, np.ndarray], rim_height: float, pedestal: float) -> float:
@@ -392,12 +409,8 @@ def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, 
     else:
         why = ("An arm slower than its robot file, a late release or a heavier ball does that: check the robot "
                "file's speed limits, or move the basket nearer")
-    from rlff.learn.demos import drives_whole_arm
-
-    mapped = (mapping.robot.whole_arm or {}).get("joints", {}) if drives_whole_arm(mapping) else {}
-    more = [name for name in mapped if name not in mapping.driven_joints]
-    if more:  # a whole-arm run: the joints it leaves may still throw farther
-        why += f", or drive more joints (--joints {','.join((*sorted(mapping.driven_joints), *more))} may reach farther)"
+    if more := more_joints_words(mapping):  # a whole-arm run: the joints it leaves may throw farther
+        why += f", or drive more joints ({more})"
     return (f"stopped after attempt {last[-1].index}: the basket at {basket.distance:g} m is out of this arm's reach. "
             f"Attempts {last[0].index}-{last[-1].index} came down short, and even at the fastest release {joints} "
             f"{allow} they would have fallen {by} short of the {window}. {why} (rlff sim reach says how far the arm "
