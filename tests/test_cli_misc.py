@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import typer
 
 from rlff.dataset import Dataset, Trajectory, write_csv
 from rlff.report import FigureEntry, Run, Section, write_run
@@ -319,3 +320,24 @@ def test_a_demo_stopped_before_its_run_json_may_be_run_again_into_its_folder(tmp
         run_demo(out, size="small", progress=stop_at_the_fit, frames=False)
     assert (out / "clean.csv").exists() and not (out / "run.json").exists()
     check_demo_options(out, "small")  # its own files: no refusal
+
+
+def test_an_option_counts_as_given_only_when_typed_and_a_name_no_parameter_has_is_a_bug():
+    from typer.testing import CliRunner
+
+    from rlff.cli._common import given
+
+    app = typer.Typer()
+    seen = {}
+
+    @app.command()
+    def command(ctx: typer.Context, centre_share: float = typer.Option(0.5, "--centre-share"),
+                typo: bool = typer.Option(False, "--typo")) -> None:
+        seen["given"] = given(ctx, "centre_share")
+        if typo:
+            given(ctx, "centre_shares")  # no such parameter: it had counted as given
+
+    runner = CliRunner()
+    assert runner.invoke(app, []).exit_code == 0 and seen["given"] == []
+    assert runner.invoke(app, ["--centre-share", "0.5"]).exit_code == 0 and seen["given"] == ["--centre-share"]
+    assert isinstance(runner.invoke(app, ["--typo"]).exception, ValueError)

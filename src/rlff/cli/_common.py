@@ -15,11 +15,6 @@ from typing import Any
 import typer
 from rich.console import Console
 
-try:  # typer >= 0.20 carries its own copy of click; before, it used the click package
-    from typer._click.core import ParameterSource
-except ImportError:  # pragma: no cover - older typer
-    from click.core import ParameterSource
-
 # numpy and rich.progress are imported where they are used so that `rlff --help` starts fast
 
 
@@ -115,17 +110,17 @@ def basket_options(**options: str) -> Iterator[None]:
         raise
 
 
-def option_given(ctx: typer.Context, name: str) -> bool:
-    """Whether the option of the command's parameter ``name`` was given, not left at its default:
-    an option that only matters beside another is refused without it, rather than ignored."""
-    return bool(given(ctx, name))
-
-
 def given(ctx: typer.Context, *names: str) -> list[str]:
-    """The options among ``names`` (parameters spelt ``--name``) the user gave, as ``--name``:
-    not those left at their default, which a command cannot tell from its value alone."""
-    return [f"--{name}" for name in names
-            if ctx.get_parameter_source(name) not in (ParameterSource.DEFAULT, ParameterSource.DEFAULT_MAP)]
+    """The options among the command's parameters ``names`` that the user gave, as they are
+    spelt (``--centre-share``), not those left at their default, which a command cannot tell from
+    its value alone: an option that only matters beside another is refused without it, rather
+    than ignored. A name that is no parameter of the command is a bug (it had counted as given)."""
+    options = {param.name: param for param in ctx.command.params}
+    unknown = [name for name in names if name not in options]
+    if unknown:
+        raise ValueError(f"no parameter {unknown[0]!r} in {ctx.command.name}")
+    return [options[name].opts[0] for name in names
+            if ctx.get_parameter_source(name).name not in ("DEFAULT", "DEFAULT_MAP")]
 
 
 def say(message: str) -> None:

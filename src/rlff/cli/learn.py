@@ -12,7 +12,7 @@ from rlff.cli._common import (
     basket_options,
     check_approach_speed_option,
     emit_json,
-    option_given,
+    given,
     progress,
     say,
     seed_option,
@@ -123,7 +123,7 @@ def learn_command(
 
     if aim not in AIMS:  # before the demonstrations are read and cleaned
         raise InputError(f"unknown --aim {aim!r} (known: {', '.join(AIMS)})")
-    if until == "hit" and option_given(ctx, "centre_share"):
+    if until == "hit" and given(ctx, "centre_share"):
         raise InputError("--centre-share is how near the centre a hit must land to stop a run --until centred; "
                          "--until hit (the default) stops at the first hit: add --until centred, or drop --centre-share")
     for option, name, what, needs, apart in (
@@ -137,7 +137,7 @@ def learn_command(
              "--executor ros1|ros2", executor == "sim"),
             ("--misreport", "misreport", "is the chance that a hit is reported as a miss", "--feedback binary",
              feedback == "distance")):
-        if apart and option_given(ctx, name):  # it would change nothing: refused, not ignored
+        if apart and given(ctx, name):  # it would change nothing: refused, not ignored
             raise InputError(f"{option} {what}: it goes with {needs} (add it, or drop {option})")
     if executor not in ("sim", "ros1", "ros2"):
         raise InputError(f"unknown --executor {executor!r} (sim, ros1 or ros2)")

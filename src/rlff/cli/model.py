@@ -11,7 +11,7 @@ import typer
 
 from rlff.cli._common import (
     emit_json,
-    option_given,
+    given,
     progress,
     say,
     seed_option,
@@ -246,9 +246,9 @@ def fit_command(
     if inputs is None:
         check_throw_context(dataset.columns, str(data))
     default_inputs, default_outputs = throw_roles(dataset.columns)
-    for option, given, default in (("--inputs", inputs, default_inputs), ("--outputs", outputs, default_outputs)):
+    for option, named, default in (("--inputs", inputs, default_inputs), ("--outputs", outputs, default_outputs)):
         missing = [name for name in default if name not in dataset.columns]
-        if given is None and missing:
+        if named is None and missing:
             raise InputError(
                 f"{data}: no column {missing[0]!r} for the default {option[2:]} ({', '.join(default)}; columns: "
                 f"{', '.join(dataset.columns)}): name them with {option}"
@@ -347,7 +347,7 @@ def generate_command(
     from rlff.model.donut import CLIMB_CHUNK
 
     guard(inputs={"MODEL": model_path}, outputs={"-o/--output": output})
-    if option_given(ctx, "robot") and joints is None and bearing is None:
+    if given(ctx, "robot") and joints is None and bearing is None:
         raise InputError(f"--robot {robot} goes with --joints (its [whole_arm] table maps them) or --bearing (checked "
                          "against its turning joint): without them the path is the same for every robot, mapped to the arm by "
                          f"`rlff robot export --robot {robot}`; add --joints, or drop --robot")
@@ -358,7 +358,7 @@ def generate_command(
     angles = _grid(grid, model.inputs[0])
     factor = _word_or_number("--exploration", exploration, {"auto": "auto"}, lambda v: 0 <= v <= 1,
                              "auto or a number in [0, 1]")
-    if factor != "auto" and option_given(ctx, "exploration_scale"):
+    if factor != "auto" and given(ctx, "exploration_scale"):
         raise InputError(f"--exploration-scale sizes the exploration of --exploration auto; a fixed --exploration "
                          f"{exploration} does not use it: drop one of them")
     if angles is not None and angles.size > CLIMB_CHUNK and len(model.outputs) > 1:  # seconds to minutes
