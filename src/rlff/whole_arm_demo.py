@@ -231,7 +231,8 @@ def _recording_simulator(robot, basket, outcomes: list, gap: Gap | None = None):
     from rlff.sim import simulate_throw
 
     def execute(trajectory):
-        outcome = simulate_throw(trajectory if gap is None else gap.executed(trajectory), basket, robot=robot)
+        outcome = simulate_throw(trajectory if gap is None else gap.executed(trajectory), basket, robot=robot,
+                                 check_motion=False)  # planned, and checked, by the loop's plan_path
         outcomes.append(outcome)
         return outcome
 

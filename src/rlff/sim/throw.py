@@ -208,7 +208,7 @@ def simulate_throw(
     release_joint: str | None = None,
     pedestal: float = 0.0,
     frames_dir: str | Path | None = None,
-    timestep: float = 0.002,
+    timestep: float = SIM_PERIOD,
     check_reach: bool = True,
     check_motion: bool = True,
 ) -> ThrowOutcome:
