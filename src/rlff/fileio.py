@@ -51,12 +51,6 @@ def require_file(path: str | Path) -> Path:
 _PACKAGE = Path(__file__).resolve().parent
 
 
-def _within(path: Path, folder: Path) -> bool:
-    """Whether ``path`` (resolved, symbolic links followed) is ``folder`` or lies inside it."""
-    resolved = Path(os.path.realpath(path))
-    return resolved == folder or folder in resolved.parents
-
-
 def check_output_path(path: str | Path, *, folder: bool = False) -> Path:
     """Check, without touching anything, that ``path`` can be made an output.
 
@@ -78,7 +72,7 @@ def check_output_path(path: str | Path, *, folder: bool = False) -> Path:
         existing file (for a folder output), or a parent of it is a file.
     """
     path = Path(path)
-    if _within(path, _PACKAGE):  # rlff's own files: the built-in robots and presets every run reads
+    if _inside(path, _PACKAGE):  # rlff's own files: the built-in robots and presets every run reads
         raise InputError(f"{path}: is inside rlff's own package ({_PACKAGE}), whose built-in robot files and "
                          "presets every run reads; write the output elsewhere")
     if not folder and path.is_dir():
@@ -311,6 +305,7 @@ def require_distinct(paths: Iterable[str | Path], what: str = "input") -> None:
 
 
 def _inside(path: Path, folder: Path) -> bool:
+    """Whether ``path`` (resolved, symbolic links followed) is ``folder`` or lies inside it."""
     try:
         path.resolve().relative_to(folder.resolve())
     except ValueError:

@@ -473,7 +473,7 @@ def implausible_limits(joints: Sequence[Joint], source: str) -> tuple[str, ...]:
                      f" times that of the next fastest joint, {next_.name} ({next_.max_velocity:g} rad/s); an arm's "
                      "joints differ by a few times at most: is it in degrees per second? rlff reads rad/s")
     # a joint already blamed for its speed (in deg/s among joints in rad/s) is said once
-    unreachable = [joint for joint in joints if joint.max_acceleration and joint.upper > joint.lower
+    unreachable = [joint for joint in joints if joint.max_acceleration
                    and joint.max_velocity > MAX_UNREACHABLE * within_range(joint)
                    and not (fastest_apart and joint is by_speed[0])]
     if unreachable:
