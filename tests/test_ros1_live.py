@@ -300,13 +300,19 @@ def test_stopping_send_before_any_goal_says_no_cancel(tmp_path):
     assert sender.returncode == 143 and err.strip() == "rlff: terminated", err
 
 
+def _send_slow_throw(rig: Ros, folder) -> subprocess.Popen:
+    """``rlff robot send --json`` of a throw of several seconds, returned once its goal is accepted."""
+    slow = throw_csv(folder, "slow.csv", -1.2, 1.5, 0.2)
+    sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow), "--json"],
+                              env=rig.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    wait(lambda: "accepted" in rig.log() or sender.poll() is not None, 120, "the goal to be accepted")
+    return sender
+
+
 def test_a_server_that_dies_mid_goal_is_reported_lost_not_cancelled(tmp_path):
     rig = Ros(tmp_path)
     try:
-        slow = throw_csv(tmp_path, "slow.csv", -1.2, 1.5, 0.2)  # several seconds
-        sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow), "--json"],
-                                  env=rig.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        wait(lambda: "accepted" in rig.log() or sender.poll() is not None, 120, "the goal to be accepted")
+        sender = _send_slow_throw(rig, tmp_path)
         rig.server.kill()  # the driver crashes: no result, no answer to the cancel
         killed = time.monotonic()
         out, err = sender.communicate(timeout=60)
@@ -327,10 +333,7 @@ def test_a_server_restarted_after_a_crash_mid_goal_confirms_no_cancel(tmp_path):
     # lists no such goal, actionlib ends it LOST, and "goal cancelled" had been said of it
     rig = Ros(tmp_path)
     try:
-        slow = throw_csv(tmp_path, "slow.csv", -1.2, 1.5, 0.2)  # several seconds
-        sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow), "--json"],
-                                  env=rig.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        wait(lambda: "accepted" in rig.log() or sender.poll() is not None, 120, "the goal to be accepted")
+        sender = _send_slow_throw(rig, tmp_path)
         rig.server.kill()
         rig.server.wait()
         with open(tmp_path / "serve2.log", "w") as log:  # respawned
