@@ -124,7 +124,7 @@ class ArmMotion:
     @property
     def rate_hz(self) -> float:
         """Usual sampling rate (Hz): 1 / the median spacing."""
-        return 1.0 / float(np.median(np.diff(self.time)))
+        return 1.0 / median_spacing(self.time)
 
     def runs(self) -> list[slice]:
         """Slices of consecutive valid samples without a lost-tracking gap between them, in time order."""
@@ -159,16 +159,21 @@ def included_angle(shoulder: np.ndarray, elbow: np.ndarray, hand: np.ndarray) ->
     return np.arctan2(np.linalg.norm(np.cross(upper, fore), axis=-1), np.einsum("...i,...i->...", upper, fore))
 
 
+def median_spacing(time: np.ndarray) -> float:
+    """The usual time (s) between samples at ``time`` (T,): the median of its differences, which a
+    few dropped or doubled frames do not move; 0 for fewer than 2 samples."""
+    return float(np.median(np.diff(time))) if len(time) > 1 else 0.0
+
+
 def derivative_window(time: np.ndarray) -> float:
     """Width (s) of the velocity fit for samples at ``time``: 4 median spacings, within ``DERIVATIVE_WINDOW_S``."""
-    spacing = float(np.median(np.diff(time))) if len(time) > 1 else 0.0
     low, high = DERIVATIVE_WINDOW_S
-    return float(np.clip(4 * spacing, low, high))
+    return float(np.clip(4 * median_spacing(time), low, high))
 
 
 def time_tolerance(time: np.ndarray) -> float:
     """How near (s) two times of samples at ``time`` (T,) are one: :data:`TIME_TOLERANCE` of their median spacing."""
-    return TIME_TOLERANCE * float(np.median(np.diff(time))) if len(time) > 1 else 0.0
+    return TIME_TOLERANCE * median_spacing(time)
 
 
 def _windows(time: np.ndarray, window_s: float) -> tuple[np.ndarray, np.ndarray]:
@@ -263,8 +268,7 @@ def lost_tracking_gap(time: np.ndarray, max_gap: float = MAX_GAP_S, gap_factor: 
     The larger of ``max_gap`` and ``gap_factor`` x the median spacing: a gap must be long in
     absolute terms and against the recording's usual spacing.
     """
-    spacing = float(np.median(np.diff(time))) if len(time) > 1 else 0.0
-    return max(max_gap, gap_factor * spacing)
+    return max(max_gap, gap_factor * median_spacing(time))
 
 
 def _glitches(time: np.ndarray, angle: np.ndarray, hand: np.ndarray | None) -> np.ndarray:

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
-from rlff.capture.angles import ArmMotion, align_arm, throwing_arm
+from rlff.capture.angles import ArmMotion, align_arm, median_spacing, throwing_arm
 from rlff.capture.bag import DEFAULT_FRAMES, DEFAULT_TOPIC, read_bag
 from rlff.capture.label import (
     LandingSettings,
@@ -942,7 +942,7 @@ def _resampled(time: np.ndarray, series: dict[str, np.ndarray], rates: dict[str,
     the gap: the hold before it, the follow-through after it, both slow), but bridged as the
     derivative of its angle's interpolant, so that it integrates to the angle the gap spans.
     """
-    step = min(float(np.median(np.diff(time))), 1.0 / OUTPUT_RATE_HZ)
+    step = min(median_spacing(time), 1.0 / OUTPUT_RATE_HZ)
     count = int(np.floor((time[-1] - time[0]) / step + 1e-6)) + 1
     grid = time[0] + step * np.arange(count)
     before = np.clip(np.searchsorted(time, grid, side="right") - 1, 0, len(time) - 2)
@@ -1011,7 +1011,7 @@ def _throw(
         report.warnings.append(f"{path}: throw {number} at t={native[0] - origin:.2f} s left out: {reason}")
         return None
     spacing = np.diff(native)
-    native_rate = 1.0 / float(np.median(spacing)) if spacing.size else float("nan")
+    native_rate = 1.0 / median_spacing(native) if spacing.size else float("nan")
     largest_gap = float(spacing.max()) if spacing.size else 0.0
     resumed = [run.start for run in motion.runs()[1:]]  # where tracking came back after a loss
     if cut.start in resumed and abs(motion.velocity[cut.start]) > segment_rest:
@@ -1020,7 +1020,7 @@ def _throw(
             f"{native[0] - motion.time[cut.start - 1]:.2f} s gap, with the elbow already moving "
             f"({motion.velocity[cut.start]:.3g} rad/s): what came before is not measured (its wind-up, perhaps part "
             "of its extension and release); check the throw before fitting on it")
-    usual = float(np.median(np.diff(motion.time)))
+    usual = median_spacing(motion.time)
     extension_gap = max(EXTENSION_GAP_FACTOR * usual, EXTENSION_GAP_S)
     gap, at, joints = _extension_gap(motion, cut)
     identifier = _unique_id(f"{path.stem}_t{number}", used_ids)
