@@ -33,6 +33,7 @@ from rlff.jsonfile import read_json_object
 from rlff.kinds import rlff_kind
 from rlff.robot.description import RosNames
 from rlff.trajectory.joint import JointTrajectory
+from rlff.trajectory.planner import MOVING
 
 #: The topic a bag carries the trajectory on when no robot names one (``RosNames``' default: the
 #: topic of the original Comau driver's topic mode).
@@ -144,9 +145,6 @@ def read_csv(path: Path) -> JointTrajectory:
 #: Largest distance (s) of a file's ``release_time`` from one of its sample times: rlff writes the
 #: sample's own time; a hand-written one may round it (controllers' periods are 0.0001 s or more).
 RELEASE_TOLERANCE = 1e-6
-#: Speed (rad/s) above which a joint moves: the planner's own line between a joint released
-#: moving and one released at rest (:func:`rlff.trajectory.planner.plan_throw`).
-MOVING = 1e-6
 
 
 def require_release(path: Path, traj: JointTrajectory) -> JointTrajectory:

@@ -53,6 +53,9 @@ from rlff.trajectory.motion_limits import MotionLimits, motion_limits
 
 #: Controller period (s) a plan is sampled at unless told otherwise.
 DEFAULT_PERIOD = 0.002
+#: Speed (rad/s) above which a joint of a throw moves: a joint released at this speed or slower is
+#: released at rest, and its cap is its peak in the throw instead (:func:`plan_throw`).
+MOVING = 1e-6
 #: Share of the velocity and acceleration limits the profiles use; the rest absorbs the quintic's
 #: overshoot at the profiles' corners (:func:`planning_jerk`).
 MARGIN = 0.99
@@ -417,7 +420,7 @@ def plan_throw(
     # never faster than the release (a joint released at rest: than its peak in the model): the
     # throw accelerates into the release, or cruises at the release speed when it got there early
     release_speed, peak = np.abs(release_velocity), np.max(np.abs(throw.velocities), axis=0)
-    cap = np.where(release_speed > 1e-6, release_speed, np.where(peak > 1e-6, peak, limits.velocity))
+    cap = np.where(release_speed > MOVING, release_speed, np.where(peak > MOVING, peak, limits.velocity))
     cap = np.minimum(cap, MARGIN * limits.velocity)
     throwing = _ruckig(limits, first, rest, rest, release, release_velocity, cap, period)
     try:  # from rest inside the limits, the throw leaves them only in a wind-up
