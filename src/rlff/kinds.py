@@ -76,7 +76,7 @@ def file_kind(path: str | Path) -> str:
     for magic, kind in (*((magic, kind) for magic, kind, _ in _SIGNATURES), *_BINARY):
         if head.startswith(magic):
             return kind
-    if (kind := rlff_kind(path)) is not None:
+    if (kind := _rlff_kind_in(head)) is not None:
         return kind
     try:  # the last character may be cut by the _HEAD bytes read
         text = codecs.getincrementaldecoder("utf-8")().decode(head, final=len(head) < _HEAD)
@@ -97,5 +97,10 @@ def rlff_kind(path: str | Path) -> str | None:
             head = handle.read(_HEAD)
     except OSError:
         return None
+    return _rlff_kind_in(head)
+
+
+def _rlff_kind_in(head: bytes) -> str | None:
+    """What the rlff file whose first bytes are ``head`` is (:data:`KINDS`' words), or None."""
     found = _FORMAT.search(head)
     return KINDS.get(found.group(1).decode()) if found else None
