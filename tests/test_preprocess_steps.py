@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from hypothesis import given
@@ -230,7 +232,7 @@ def test_rescale_removes_a_throw_it_would_reverse_or_cannot_move(mode):
     # with its velocity still forward; scaled, "negative" would be flipped about 0
     data = Dataset([_throw("a", [1.0, 2.0]), _throw("b", [1.5, 3.1]), _throw("beyond", [2.6, 2.7]),
                     _throw("negative", [-1.0, -0.3]), _throw("still", [0.0, 0.0] if mode == "scale" else [2.0, 2.0])])
-    out, report = rescale(data, mode=mode)
+    out, report = rescale(data, mode=mode, max_factor=math.inf)  # factors far from 1: the next test
     removed = {r.trajectory: r.reason for r in report.removed}
     expected = {"scale": {"negative", "still"}, "stretch": {"beyond", "still"}}[mode]
     assert set(removed) == expected
@@ -238,6 +240,24 @@ def test_rescale_removes_a_throw_it_would_reverse_or_cannot_move(mode):
     assert all(np.all(np.diff(t["angle"]) > 0) for t in out)
     assert "would reverse the motion" in removed["beyond" if mode == "stretch" else "negative"]
     assert "its last angle is" in removed["still"]
+
+
+@pytest.mark.parametrize("mode", ["scale", "stretch"])
+def test_rescale_removes_a_throw_cut_short_rather_than_make_up_its_shape(mode):
+    # a real MSR throw whose extension the tracker ended at 1.38 rad was stretched 2.5 times into
+    # a slow sweep; the others end near 2.9, and without it the common end is theirs
+    throws = [_throw(f"t{k}", [0.7, 1.8, end]) for k, end in enumerate([2.8, 2.9, 3.0])]
+    data = Dataset([*throws, _throw("cut", [0.33, 0.9, 1.38])])
+    out, report = rescale(data, mode=mode)
+    assert list(out.ids) == ["t0", "t1", "t2"]
+    [removed] = report.removed
+    assert removed.trajectory == "cut" and "would make up its shape: a throw cut short" in removed.reason
+    assert report.params["end"] == pytest.approx(2.9)  # the kept throws' mean end
+    np.testing.assert_allclose([t["angle"][-1] for t in out], 2.9)
+    kept, kept_report = rescale(data, mode=mode, max_factor=math.inf)  # any factor: the thesis' rule
+    assert kept.ids == data.ids and kept_report.removed == []
+    with pytest.raises(InputError, match="max_factor 0.5: must be a number >= 1"):
+        rescale(data, max_factor=0.5)
 
 
 def test_densify_resamples_a_line_exactly_in_the_direction_of_motion():
