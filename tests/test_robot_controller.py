@@ -275,3 +275,47 @@ def test_a_goal_cancelled_while_the_arm_waits_for_its_start_never_moves_the_arm(
     _, positions, outcomes = _run(controller, 0.3, 3.0)
     assert outcomes == []
     np.testing.assert_array_equal(positions, np.tile(here, (len(positions), 1)))
+
+
+def test_a_stop_brakes_the_goal_within_the_limits_ends_it_aborted_and_refuses_new_goals(controller):
+    here = controller.state(0.0).positions
+    executed, _ = controller.submit("g", _swing(here, 2.0, 1.6), now=0.0)
+    stop = {60: lambda now: controller.stop(now, "SIGTERM")}  # 0.6 s in, near full speed
+    times, positions, outcomes = _run(controller, 0.0, 2.0, stop)
+    _within_limits(times, positions)
+    [outcome] = outcomes
+    assert (outcome.goal, outcome.status, outcome.code) == ("g", "aborted", ResultCode.SUCCESSFUL)
+    assert outcome.text.startswith("the server was stopped by SIGTERM after 0.600 s of 1.600 s; braked to rest "
+                                   "from "), outcome.text
+    speed, braked = (float(outcome.text.split(word)[-1].split(" ")[0]) for word in (" from ", " in "))
+    assert speed > 1.5 and 0.1 < braked < 1.0  # it was moving fast
+    assert np.ptp(positions[times > 0.6 + braked + TICK], axis=0).max() == 0.0  # standing still
+    assert positions[-1, DRIVEN] < executed.positions[-1, DRIVEN] - 0.2  # short of the end
+    assert controller.idle and controller.stop(2.0, "SIGINT") == []
+    with pytest.raises(GoalRejected, match=r"^the server is stopping \(stopped by SIGTERM\): it takes no new goal$") \
+            as refused:
+        controller.submit("h", _goal([1.0], here), now=2.0)
+    assert refused.value.code == ResultCode.INVALID_GOAL
+    _, still, outcomes = _run(controller, 2.0, 3.0)
+    assert outcomes == [] and np.ptp(still, axis=0).max() == 0.0
+
+
+def test_a_stop_ends_a_goal_waiting_at_rest_at_once_and_leaves_a_cancel_s_brake_alone(controller):
+    here = controller.state(0.0).positions
+    there = here.copy()
+    there[DRIVEN] += 0.3
+    controller.submit("g", _goal([1.0, 2.0], [here, there]), now=0.0)
+    [outcome] = controller.stop(0.3, "SIGINT")  # the arm waits at rest for the goal's start
+    assert (outcome.goal, outcome.status) == ("g", "aborted")
+    assert outcome.text.startswith("the server was stopped by SIGINT after 0.000 s of ")  # not started
+    assert outcome.text.endswith("; the arm was at rest")
+    _, positions, outcomes = _run(controller, 0.3, 3.0)
+    assert outcomes == [] and np.ptp(positions, axis=0).max() == 0.0  # it never goes on to the goal
+    assert controller.idle
+
+    braking = TrajectoryController(ROBOT, here)
+    braking.submit("c", _swing(here, 2.0, 1.6), now=0.0)
+    assert braking.cancel("c", 0.6) == [] and braking.stop(0.61, "SIGTERM") == []
+    _, _, outcomes = _run(braking, 0.61, 2.0)
+    assert [(o.goal, o.status) for o in outcomes] == [("c", "cancelled")]
+    assert outcomes[0].text.startswith("cancelled after 0.600 s")

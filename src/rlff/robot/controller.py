@@ -29,6 +29,11 @@ contract every FollowJointTrajectory client expects; the ROS 1 server
   cancelled once the arm stands still. Should the shortest brake overrun a position limit
   (moving fast towards it), the goal's own motion, which is checked to stop in time, runs on
   to its end instead.
+- A stop of the server (:meth:`TrajectoryController.stop`: SIGTERM, Ctrl-C; FollowJointTrajectory
+  has no word for it) brakes the running goal as a cancel does and ends it ABORTED once the arm
+  stands still, saying that the server was stopped; from then on every goal is rejected with
+  INVALID_GOAL, as joint_trajectory_controller rejects goals while it is not running. A brake
+  under way (a cancel's) goes on and ends its goal cancelled.
 - FollowJointTrajectory carries no release: the executed trajectory of a goal marks as its
   ``release_time`` its last point where the arm moves at zero acceleration (:func:`release_time`),
   which for a throw planned by :func:`rlff.trajectory.planner.plan_throw` is its release (the
@@ -110,10 +115,11 @@ class Outcome:
     """How a goal ended, for the transport to report.
 
     ``goal`` is the transport's token of the goal (None for a trajectory from the topic);
-    ``status`` is ``"succeeded"``, ``"preempted"`` or ``"cancelled"``; ``code`` the result code
-    (SUCCESSFUL but for a success is no error code: FollowJointTrajectory has none for a
-    preemption or a cancel); ``text`` says what happened with the numbers; ``trajectory`` is what
-    the arm executed for this goal (approach included).
+    ``status`` is ``"succeeded"``, ``"preempted"``, ``"cancelled"`` or ``"aborted"`` (braked to rest
+    because the server was stopped); ``code`` the result code (SUCCESSFUL but for a success is no
+    error code: FollowJointTrajectory has none for a preemption, a cancel or a stop); ``text`` says
+    what happened with the numbers; ``trajectory`` is what the arm executed for this goal
+    (approach included).
     """
 
     goal: Hashable | None
@@ -192,7 +198,8 @@ def completion_text(hook: CompletionHook | None, outcome: Outcome) -> tuple[str,
 class _Motion:
     goal: Hashable | None  # None: a trajectory from the topic
     trajectory: JointTrajectory  # what the arm follows, every joint, from time 0
-    braking: str = ""  # after a cancel: what the brake does (the goal's outcome text)
+    braking: str = ""  # after a cancel or a stop: what the brake does (the goal's outcome text)
+    braked: str = "cancelled"  # the goal's status once the brake ends: cancelled, or aborted (a stop)
 
 
 class TrajectoryController:
@@ -217,11 +224,17 @@ class TrajectoryController:
         check_trajectory(JointTrajectory(robot.joint_names, [0.0], [self.arm.state(0.0).positions],
                                          [np.zeros(len(self.joints))]), self.joints)
         self._motion: _Motion | None = None
+        self._stopped_by = ""  # once the server is stopped: by what (it takes no new goal)
 
     @property
     def active_goal(self) -> Hashable | None:
         """The token of the goal being executed (or braked after its cancel), if any."""
         return None if self._motion is None else self._motion.goal
+
+    @property
+    def idle(self) -> bool:
+        """Whether the arm follows no goal, topic trajectory or brake (it stands still)."""
+        return self._motion is None
 
     def state(self, now: float) -> ArmState:
         """The arm's state at clock time ``now``."""
@@ -252,6 +265,9 @@ class TrajectoryController:
         outcomes : list of Outcome
             The goal this one preempts, if any.
         """
+        if self._stopped_by:
+            raise GoalRejected(ResultCode.INVALID_GOAL, f"the server is stopping (stopped by {self._stopped_by}): "
+                                                        "it takes no new goal")
         try:
             check_joint_names(self.robot, traj.joint_names)
         except InvalidJoints as exc:
@@ -292,7 +308,7 @@ class TrajectoryController:
         if self._motion is None:
             return []
         if self._motion.braking:
-            return self._end("cancelled", f"{self._motion.braking}; the brake was taken over by a newer goal")
+            return self._end(self._motion.braked, f"{self._motion.braking}; the brake was taken over by a newer goal")
         return self._end("preempted", f"preempted by a newer goal after {state.elapsed:.3f} s of "
                                       f"{self._motion.trajectory.duration:.3f} s")
 
@@ -347,7 +363,7 @@ class TrajectoryController:
         executed = JointTrajectory(traj.joint_names, time, *stack)
         return executed, max(0.0, float(traj.time[0]) - taken)
 
-    # -- cancel and ticks --------------------------------------------------------------------
+    # -- cancel, stop and ticks --------------------------------------------------------------
     def cancel(self, goal: Hashable | None, now: float) -> list[Outcome]:
         """Brake the arm to rest if ``goal`` is the one it executes.
 
@@ -357,26 +373,46 @@ class TrajectoryController:
         motion = self._motion
         if motion is None or motion.goal != goal or motion.braking:
             return []
+        return self._brake(now, "cancelled", "cancelled")
+
+    def stop(self, now: float, by: str) -> list[Outcome]:
+        """Brake the arm to rest for good: the server was stopped (``by`` says how, e.g. ``"SIGTERM"``).
+
+        The running goal (or topic trajectory) is braked as :meth:`cancel` brakes it and ends
+        ``"aborted"``, ``the server was stopped by SIGTERM after 1.000 s of 2.100 s; braked to
+        rest from 2.574 rad/s in 0.336 s``: at once when the arm already stands still (returned
+        here), else from :meth:`update` when the brake ends. A brake under way goes on. From now
+        on :meth:`submit` rejects every goal (INVALID_GOAL). Stopping again changes nothing.
+        """
+        if self._stopped_by:
+            return []
+        self._stopped_by = by
+        if self._motion is None or self._motion.braking:
+            return []
+        return self._brake(now, "aborted", f"the server was stopped by {by}")
+
+    def _brake(self, now: float, status: str, why: str) -> list[Outcome]:
+        """Brake the running motion to rest (``why``: what asked for it), to end it with ``status``."""
+        motion = self._motion
         state = self.arm.state(now)
+        when = f"{why} after {state.elapsed:.3f} s of {motion.trajectory.duration:.3f} s"
         if np.all(np.abs(state.velocities) <= AT_REST) and np.all(np.abs(state.accelerations) <= AT_REST):
             # hold the pose: the arm may be waiting at rest for the goal's start, and must not go on to it
             rest = np.zeros_like(state.positions)
             self.arm.follow(JointTrajectory(self.arm.joint_names, np.zeros(1), state.positions[None],
                                             rest[None], rest[None]), now)
-            return self._end("cancelled", f"cancelled after {state.elapsed:.3f} s of "
-                                          f"{motion.trajectory.duration:.3f} s; the arm was at rest")
+            return self._end(status, f"{when}; the arm was at rest")
         peak = float(np.max(np.abs(state.velocities)))
-        when = f"cancelled after {state.elapsed:.3f} s of {motion.trajectory.duration:.3f} s"
         try:
             brake = plan_stop(state.positions, state.velocities, state.accelerations, self.joints,
                               period=self.period)
             check_trajectory(brake, self.joints, start=state.positions, start_velocity=state.velocities)
         except InputError as exc:  # no room to brake: the goal's own checked motion stops in time
-            self._motion = _Motion(goal, motion.trajectory, braking=(
+            self._motion = _Motion(motion.goal, motion.trajectory, braked=status, braking=(
                 f"{when} at {peak:.4g} rad/s, too fast to brake before a limit ({exc}); the goal ran to its end"))
             return []
         self.arm.follow(brake, now)
-        self._motion = _Motion(goal, motion.trajectory, braking=(
+        self._motion = _Motion(motion.goal, motion.trajectory, braked=status, braking=(
             f"{when}; braked to rest from {peak:.4g} rad/s in {brake.duration:.3f} s"))
         return []
 
@@ -386,7 +422,7 @@ class TrajectoryController:
         if self._motion is None or not self.arm.finished(now):
             return state, []
         if self._motion.braking:
-            return state, self._end("cancelled", self._motion.braking)
+            return state, self._end(self._motion.braked, self._motion.braking)
         return state, self._end("succeeded", "trajectory completed")
 
     def _end(self, status: str, text: str) -> list[Outcome]:
