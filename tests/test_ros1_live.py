@@ -20,20 +20,25 @@ import sys
 import time
 
 import numpy as np
+import pandas as pd
 import pytest
 from scipy.interpolate import BPoly
 
 from rlff.robot.plan import load_for_robot
 from rlff.robot.send import approach_line
+from rlff.trajectory.check import LIMIT_SLACK
 from rosrig import (
+    AMAX,
     ARM_NAMES,
     DRIVEN,
     ROBOT,
     UR_NAMES,
+    VMAX,
     Ros,
     execution_error,
     free_port,
     named_robot_file,
+    peaks,
     robot_file,
     ros_env,
     ros_fixture,
@@ -345,6 +350,42 @@ def test_a_server_restarted_after_a_crash_mid_goal_confirms_no_cancel(tmp_path):
     assert sender.returncode == 1, err
     assert json.loads(out)["status"] == "lost" and "goal cancelled" not in err, err
     assert "the cancel was not confirmed" in err, err
+
+
+def test_a_server_stopped_mid_goal_brakes_the_arm_answers_the_goal_and_exits_0(tmp_path):
+    """SIGTERM (a supervisor's stop) while the arm moves: the server brakes it to rest within the
+    limits, publishing the joint states as it brakes, answers the goal ABORTED with the reason,
+    and exits 0 (it once shut its node down at once: the arm left moving, the goal unanswered)."""
+    rig = Ros(tmp_path)
+    try:
+        recorder = rig.record(tmp_path / "states.csv")
+        sender = _send_slow_throw(rig, tmp_path)
+        wait(lambda: np.ptp(states(tmp_path / "states.csv")[1][:, DRIVEN]) > 0.05, 60, "the arm to move")
+        signalled = time.time()  # the server's ROS time is this wall clock
+        rig.server.send_signal(signal.SIGTERM)
+        code = rig.server.wait(timeout=30)
+        took = time.time() - signalled
+        out, err = sender.communicate(timeout=60)
+        stop(recorder)
+    finally:
+        rig.close()
+    assert sender.returncode == 1, err
+    outcome = json.loads(out)
+    assert outcome["status"] == "aborted", outcome
+    assert outcome["error_string"].startswith("the server was stopped by SIGTERM after "), outcome
+    assert "; braked to rest from " in outcome["error_string"], outcome
+    assert "goal aborted: the server was stopped by SIGTERM" in err, err
+    assert code == 0 and took < 5, (code, took, rig.log())
+    assert "stopped by SIGTERM: braking the arm to rest and answering its goal" in rig.log()
+
+    stamps, positions = states(tmp_path / "states.csv")
+    velocities = pd.read_csv(tmp_path / "states.csv")[[f"field.velocity{i}" for i in range(6)]].to_numpy(float)
+    velocity, acceleration = peaks(stamps, positions)
+    assert np.all(velocity <= VMAX * (1 + LIMIT_SLACK)), (velocity, VMAX)
+    assert np.all(acceleration <= AMAX * (1 + LIMIT_SLACK)), (acceleration, AMAX)
+    braking = velocities[stamps > signalled]
+    assert abs(braking[0, DRIVEN]) > 0.05  # published while it braked
+    np.testing.assert_array_equal(braking[-1], np.zeros(6))  # and at rest at the end
 
 
 def test_serve_and_send_under_the_robot_file_s_ros_names(tmp_path):

@@ -10,6 +10,11 @@ only turns messages into its calls and its outcomes into action results, and tic
 rate, every tick publishing the joint states and the active goal's feedback. A trajectory on the topic obeys the
 same rules as a goal; a refused one is logged and nothing moves. A goal starts at its header
 stamp (or on receipt when the stamp is 0 or the arm is moving).
+
+SIGTERM or Ctrl-C stops the server safely (:mod:`rlff.robot.stopping`): rospy's own handlers,
+which shut the node down at once (the arm left mid-motion, the goal unanswered), are not
+installed; the arm brakes to rest, the goal is answered ABORTED (``the server was stopped by
+SIGTERM after ...; braked to rest from ...``), then the node shuts down.
 """
 
 from __future__ import annotations
@@ -46,6 +51,7 @@ from rlff.robot.description import Robot
 from rlff.robot.kinematic import ArmState
 from rlff.robot.ros1.convert import from_msg
 from rlff.robot.ros1.master import require_no_server, wait_for_master
+from rlff.robot.stopping import StopRequest, run_until_stopped
 
 NODE_NAME = "rlff_comau_controller"
 
@@ -139,14 +145,31 @@ class TrajectoryServer:
         handle.set_rejected(FollowJointTrajectoryResult(error_code=code, error_string=text), text)
 
     def _report(self, outcomes: list[Outcome]) -> None:
-        """Answer the goals that ended as cancelled or preempted (successes go through :meth:`tick`)."""
+        """Answer the goals that ended cancelled or preempted (PREEMPTED), or braked because the
+        server stops (ABORTED); successes go through :meth:`tick`."""
         for outcome in outcomes:
             rospy.loginfo("%s: %s", "topic trajectory" if outcome.goal is None else f"goal {outcome.goal}",
                           outcome.text)
             handle = self._handles.pop(outcome.goal, None) if outcome.goal is not None else None
-            if handle is not None and handle.get_goal_status().status in (GoalStatus.ACTIVE, GoalStatus.PREEMPTING):
-                handle.set_canceled(FollowJointTrajectoryResult(error_code=outcome.code,
-                                                                error_string=outcome.text), outcome.text)
+            if handle is None or handle.get_goal_status().status not in (GoalStatus.ACTIVE, GoalStatus.PREEMPTING):
+                continue
+            result = FollowJointTrajectoryResult(error_code=outcome.code, error_string=outcome.text)
+            if outcome.status == "aborted":
+                handle.set_aborted(result, outcome.text)
+            else:
+                handle.set_canceled(result, outcome.text)
+
+    def stop(self, by: str) -> bool:
+        """Brake the arm to rest and take no new goal: the server was stopped by ``by`` (a signal's
+        name); whether anything is left to finish (a motion, a goal to answer)."""
+        with self._lock:
+            self._report(self.controller.stop(rospy.get_time(), by))
+            return not self.settled()
+
+    def settled(self) -> bool:
+        """Whether the arm stands still and every goal has been answered."""
+        with self._lock:
+            return self.controller.idle and not self._handles
 
     # -- the fixed-rate loop -----------------------------------------------------------------
     def tick(self) -> None:
@@ -197,15 +220,20 @@ class TrajectoryServer:
         feedback.header.stamp = stamp
         handle.publish_feedback(feedback)
 
-    def spin(self) -> None:
-        """Tick at :attr:`rate` until ROS shuts down."""
+    def spin(self, stop: StopRequest) -> None:
+        """Tick at :attr:`rate` until ROS shuts down, or ``stop`` is requested and the arm has
+        braked to rest and its goal been answered (:func:`rlff.robot.stopping.run_until_stopped`)."""
         clock = rospy.Rate(self.rate)
-        while not rospy.is_shutdown():
+
+        def step() -> bool:
             self.tick()
             try:
                 clock.sleep()
             except rospy.ROSInterruptException:
-                break
+                return False
+            return not rospy.is_shutdown()
+
+        run_until_stopped(step, stop, self.stop, self.settled, rospy.loginfo, rospy.logwarn)
 
 
 def _start(msg: TrajectoryMsg) -> float | None:
@@ -216,7 +244,8 @@ def _start(msg: TrajectoryMsg) -> float | None:
 def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: CompletionHook | None = None,
           node_name: str = NODE_NAME, on_ready: Callable[[], None] | None = None) -> None:
     """Start a ROS node with a :class:`TrajectoryServer` of ``robot``'s ROS names (its ``ros``) and
-    run it until shut down (Ctrl-C).
+    run it until Ctrl-C or SIGTERM, which brake a moving arm to rest and answer its goal first
+    (a second one ends the process at once), or ROS shuts down.
 
     The options are checked and the master asked for a running server (the node, or any
     publisher of the action's status topic) before the node registers, so a bad option or a
@@ -235,8 +264,11 @@ def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: C
     controller = TrajectoryController(robot, initial)  # the initial pose within the limits
     wait_for_master(10.0)
     require_no_server(node_name, robot.ros.action + "/status")
-    rospy.init_node(node_name)
-    server = TrajectoryServer(controller, rate, on_complete)
-    if on_ready:
-        on_ready()
-    server.spin()
+    stop = StopRequest()
+    with stop.caught():
+        rospy.init_node(node_name, disable_signals=True)  # the stop is ours: rospy's leaves the arm moving
+        server = TrajectoryServer(controller, rate, on_complete)
+        if on_ready:
+            on_ready()
+        server.spin(stop)
+    rospy.signal_shutdown(f"stopped by {stop.by}" if stop.by else "ROS shut down")
