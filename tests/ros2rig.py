@@ -175,6 +175,14 @@ class RosNode:
             return np.empty(0), np.empty((0, 6))
         return np.array([s for s, _ in kept]), np.vstack([p for _, p in kept])
 
+    def velocities(self, since: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+        """Recorded (stamps (N,) s, velocities (N, J) rad/s) of /joint_states from ``since`` on."""
+        with self._lock:
+            kept = [(s, v) for s, _, v in self._states if s >= since]
+        if not kept:
+            return np.empty(0), np.empty((0, 6))
+        return np.array([s for s, _ in kept]), np.vstack([v for _, v in kept])
+
     def latest(self, after: float | None = None, seconds: float = 30.0) -> tuple[float, np.ndarray]:
         """The latest /joint_states (stamp, positions), waiting for one stamped after ``after``."""
         def fresh() -> bool:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import signal
 import subprocess
 import sys
 import time
@@ -19,6 +20,7 @@ import time
 import numpy as np
 import pytest
 
+from rlff.trajectory.check import LIMIT_SLACK
 from ros2rig import (
     ACTION,
     RosNode,
@@ -29,7 +31,7 @@ from ros2rig import (
     wait_future,
     wait_until,
 )
-from rosrig import ARM_NAMES, UR_NAMES, named_robot_file, throw_csv, ur_file
+from rosrig import AMAX, ARM_NAMES, UR_NAMES, VMAX, named_robot_file, peaks, throw_csv, ur_file
 
 pytestmark = [pytest.mark.ros2, pytest.mark.integration, pytest.mark.slow]
 
@@ -298,6 +300,53 @@ def test_a_trajectory_on_the_topic_moves_the_arm(node, client):
     wait_until(lambda: abs(node.latest()[1][DRIVEN] - positions[-1, DRIVEN]) < 1e-9, 30,
                "the topic trajectory to be executed")
     node.node.destroy_publisher(publisher)
+
+
+def test_a_server_stopped_mid_goal_brakes_the_arm_answers_the_goal_and_exits_0(tmp_path):
+    """SIGTERM (a supervisor's stop) while the arm moves: the server brakes it to rest within the
+    limits, publishing the joint states as it brakes, answers the goal ABORTED with the reason,
+    and exits 0 (the goal's thread once waited for a tick that never came: the server stopped
+    publishing and hung until SIGKILL)."""
+    from action_msgs.msg import GoalStatus
+
+    own = free_domain()
+    server = Server(ros2_env(own, tmp_path), tmp_path / "serve.log")
+    node = None
+    try:
+        node = RosNode(own)
+        client = action_client(node)
+        here = rest_pose(node)
+        before = node.now()
+        goal, _, _ = smooth_move(here, DRIVEN, -1.0, 6.0)
+        handle = send(client, goal)
+        wait_until(lambda: abs(node.latest()[1][DRIVEN] - here[DRIVEN]) > 0.1, 30, "the arm to move")
+        signalled, clock = node.now(), time.monotonic()
+        server.proc.send_signal(signal.SIGTERM)
+        answer = wait_future(handle.get_result_async(), 30, "the result")
+        try:
+            code = server.proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            code = None
+        took = time.monotonic() - clock
+        stamps, positions = node.states(since=before)
+        _, velocities = node.velocities(since=signalled)
+    finally:
+        if node is not None:
+            node.close()
+        server.close()
+    assert answer.status == GoalStatus.STATUS_ABORTED, answer.result.error_string
+    assert answer.result.error_string.startswith("the server was stopped by SIGTERM after "), answer.result.error_string
+    assert "; braked to rest from " in answer.result.error_string, answer.result.error_string
+    assert code == 0 and took < 5, (code, took, server.text())
+    log = server.text()
+    assert "stopped by SIGTERM: braking the arm to rest and answering its goal" in log
+    assert "never retrieved" not in log  # rclpy's line for a callback that failed in its shutdown
+    velocity, acceleration = peaks(stamps, positions)
+    assert np.all(velocity <= VMAX * (1 + LIMIT_SLACK)), (velocity, VMAX)
+    assert np.all(acceleration <= AMAX * (1 + LIMIT_SLACK)), (acceleration, AMAX)
+    assert abs(velocities[0, DRIVEN]) > 0.05  # published while it braked
+    np.testing.assert_array_equal(velocities[-1], np.zeros(6))  # and at rest at the end
+    assert abs(positions[-1, DRIVEN] - here[DRIVEN]) < 0.9  # short of the goal's end
 
 
 def _rlff(env, *args: str) -> subprocess.CompletedProcess:

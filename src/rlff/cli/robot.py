@@ -237,7 +237,8 @@ def serve(
     ros: int = ROS,
     network: bool = NETWORK,
 ) -> None:
-    """Run the FollowJointTrajectory action server of a simulated arm until Ctrl-C."""
+    """Run the FollowJointTrajectory action server of a simulated arm until Ctrl-C or SIGTERM (a
+    moving arm first brakes to rest and its goal is answered aborted; a second one exits at once)."""
     from rlff.errors import InputError
     from rlff.robot.controller import check_rate
     from rlff.robot.description import load_robot

@@ -2,7 +2,8 @@
 
 A server asked to stop (SIGTERM from a supervisor or ``kill``, Ctrl-C) while its arm moves must
 neither leave the arm mid-motion nor its client waiting for an answer. So the first SIGINT or
-SIGTERM is a request, not an exception (:class:`StopRequest`), and the server's loop
+SIGTERM is a request (:class:`StopRequest`), not an exception raised wherever the main thread
+happens to be (in the middle of a tick, or of the executor's turn), and the server's loop
 (:func:`run_until_stopped`) takes it between two of its turns: the controller brakes the arm to
 rest as a cancel does (:meth:`rlff.robot.controller.TrajectoryController.stop`), the server
 keeps ticking (publishing the joint states) until the arm stands still and the goal is answered
@@ -11,7 +12,7 @@ client, and returns: the process exits 0. With nothing moving it returns at once
 
 A second signal while the server brakes does what it would have done without the server's
 handler (the command line's: ``rlff: terminated``, exit 143, or ``rlff: interrupted``, 130), at
-once; the server says so in its log first.
+once, after a warning in the server's log.
 """
 
 from __future__ import annotations

@@ -22,6 +22,11 @@ states is this module's:
   robot (else INVALID_JOINTS) with finite values (else INVALID_GOAL); the kinematic arm follows
   its trajectory exactly, so the actual state is the desired one and no tolerance can be
   exceeded. A goal for multi-DOF joints is refused with INVALID_JOINTS (the arm has none).
+- SIGTERM or Ctrl-C stops the server safely (:mod:`rlff.robot.stopping`): the executor turns
+  on, ticking, while the arm brakes to rest and the goal is answered ABORTED (``the server was
+  stopped by SIGTERM after ...; braked to rest from ...``); then the node shuts down. (A goal's
+  execute callback waits for the goal's end in an executor thread: once the executor stopped
+  turning, nothing ticked to end it, and the process hung on that thread.)
 """
 
 from __future__ import annotations
@@ -42,7 +47,7 @@ from filelock import lock_descriptor
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
 from rclpy.action.server import ServerGoalHandle
 from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
-from rclpy.executors import ExternalShutdownException, MultiThreadedExecutor
+from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectory as TrajectoryMsg
@@ -65,11 +70,14 @@ from rlff.robot.description import Robot
 from rlff.robot.kinematic import ArmState
 from rlff.robot.ros2.convert import duration, from_msg, start_of
 from rlff.robot.ros2.network import make_node
+from rlff.robot.stopping import StopRequest, run_until_stopped
 from rlff.trajectory.joint import JointTrajectory
 
 NODE_NAME = "rlff_comau_controller"
 #: Threads of the executor: goals wait for their end in one each, besides the tick and callbacks.
 THREADS = 8
+#: Seconds a stopping server leaves its executor's threads to start the callbacks handed to them.
+HANDOVER = 0.2
 #: Seconds a starting server listens for another server of the action (discovery on this host
 #: takes a fraction of a second when idle, more on a loaded machine).
 DISCOVERY_WAIT = 3.0
@@ -221,9 +229,16 @@ class TrajectoryServer:
         while not goal.ended.wait(0.1):
             if not rclpy.ok(context=self.node.context):
                 goal.end("aborted", ResultCode.SUCCESSFUL, "the server shut down")
-        with self._lock:
-            self._goals.pop(_goal_key(handle), None)
-        result = FollowJointTrajectory.Result(error_code=goal.code, error_string=goal.text)
+        try:
+            self._answer(handle, goal)
+        finally:
+            with self._lock:  # answered: a stopping server may shut down (:meth:`settled`)
+                self._goals.pop(_goal_key(handle), None)
+        return FollowJointTrajectory.Result(error_code=goal.code, error_string=goal.text)
+
+    @staticmethod
+    def _answer(handle: ServerGoalHandle, goal: _Goal) -> None:
+        """Move the goal to the ROS 2 state of how it ended."""
         if goal.status == "cancelled":
             # a cancel of an arm at rest ends the goal inside the cancel callback, before rclpy
             # has moved the goal to CANCELING: give it that moment
@@ -236,11 +251,32 @@ class TrajectoryServer:
             handle.canceled()
         else:
             handle.abort()
-        return result
+
+    # -- stopping (the main thread) ----------------------------------------------------------
+    def stop(self, by: str) -> bool:
+        """Brake the arm to rest and take no new goal: the server was stopped by ``by`` (a signal's
+        name); whether anything is left to finish (a motion, a goal to answer)."""
+        with self._lock:
+            self._report(self.controller.stop(self._now(), by))
+        return not self.settled()
+
+    def settled(self) -> bool:
+        """Whether the arm stands still and every goal has been answered."""
+        with self._lock:
+            return self.controller.idle and not self._goals
+
+    def abandon(self, text: str) -> None:
+        """End every goal not yet ended with ``text`` (ABORTED), so that the executor threads
+        waiting for their ends return: the server exits without waiting for the arm."""
+        with self._lock:
+            for goal in self._goals.values():
+                if not goal.ended.is_set():
+                    goal.end("aborted", ResultCode.SUCCESSFUL, text)
 
     # -- helpers (called with the lock held) -------------------------------------------------
     def _report(self, outcomes: list[Outcome]) -> None:
-        """End the goals that were cancelled or preempted (successes go through :meth:`tick`)."""
+        """End the goals that were cancelled, preempted or braked because the server stops
+        (successes go through :meth:`tick`)."""
         for outcome in outcomes:
             self.node.get_logger().info(
                 f"{'topic trajectory' if outcome.goal is None else 'goal ' + outcome.goal.hex()}: {outcome.text}")
@@ -360,7 +396,8 @@ def _require_no_server(node: Node, action: str) -> None:
 def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: CompletionHook | None = None,
           node_name: str = NODE_NAME, on_ready: Callable[[], None] | None = None) -> None:
     """Start a ROS 2 node with a :class:`TrajectoryServer` of ``robot``'s ROS names (its ``ros``)
-    and run it until Ctrl-C.
+    and run it until Ctrl-C or SIGTERM, which brake a moving arm to rest and answer its goal first
+    (a second one ends the process at once).
 
     Call :func:`rlff.robot.ros2.network.limit_discovery` first (the CLI does).
 
@@ -383,16 +420,30 @@ def serve(robot: Robot, initial: np.ndarray, rate: float = 100.0, on_complete: C
         except ServerRunning:
             node.destroy_node()
             raise
-        TrajectoryServer(node, robot, initial, rate, on_complete)
+        server = TrajectoryServer(node, robot, initial, rate, on_complete)
         executor = MultiThreadedExecutor(num_threads=THREADS, context=context)
         executor.add_node(node)
-        if on_ready:
-            on_ready()
+        log = node.get_logger()
+
+        def turn() -> bool:
+            executor.spin_once(timeout_sec=0.1)
+            return context.ok()
+
+        stop = StopRequest()
         try:
-            executor.spin()
-        except (KeyboardInterrupt, ExternalShutdownException):
-            pass
+            with stop.caught():
+                if on_ready:
+                    on_ready()
+                run_until_stopped(turn, stop, server.stop, server.settled, log.info, log.warning)
         finally:
+            # a second signal (or ROS shut down) ends it here before the goals' ends: their threads
+            # must return for the executor, and the process, to end
+            server.abandon("the server exited at once, before the arm was at rest")
+            # rclpy (9.1) destroys the executor's guard condition without waiting for the callbacks
+            # last handed to its threads, which then fail ("cannot use Destroyable because
+            # destruction was requested", printed at exit); none is handed over once the executor
+            # no longer turns: give those a moment to start
+            time.sleep(HANDOVER)
             executor.shutdown(timeout_sec=1.0)
             node.destroy_node()
     finally:
