@@ -159,8 +159,33 @@ def test_a_manifest_throw_number_beyond_the_throws_found_is_an_error(tmp_path):
         import_recordings([recording], "kinect-text", manifest=manifest)
     manifest.write_text("file,throw,distance\nsession.txt,1,2.0\nsession.txt,5,3.0\n")
     dataset, report = import_recordings([recording], "kinect-text", manifest=manifest)
-    assert [t.meta.get("target") for t in dataset] == [2.0, None, None, None, 3.0]
-    assert report.estimated_distances == 3
+    # throws 2-4, which no row names, are left out: never labelled by the estimate beside the manifest's
+    assert [t.meta.get("target") for t in dataset] == [2.0, 3.0] and report.estimated_distances == 0
+    assert [r.reason.startswith("no row of manifest") for r in report.files[0].rejected if r.rule == "manifest"] == [True] * 3
+    (warning,) = [w for w in report.warnings if "does not name every throw" in w]
+    assert "throws 2, 3 and 4 (t=" in warning and "were left out: no row names them" in warning
+
+
+def test_more_throws_found_than_a_manifest_lists_are_named_file_by_file_never_labelled_by_an_estimate(tmp_path):
+    # a subject who pumps before a throw: the import finds 5 throws where the manifest lists 2, and
+    # throws 3-5 got estimated baskets beside the manifest's, with one warning naming no file
+    frames, time, _ = th.session(7)
+    recording = th.write_kinect_text(tmp_path / "pumps.txt", frames, np.rint(time * 30).astype(int))
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,throw,distance\npumps.txt,1,2.0\npumps.txt,2,2.5\n")
+    dataset, report = import_recordings([recording], "kinect-text", manifest=manifest)
+    assert [t.meta["distance_source"] for t in dataset] == ["manifest", "manifest"] and report.estimated_distances == 0
+    starts = [f"{t.meta['start_time']:.2f}" for t in dataset]
+    left_out = [r for r in report.files[0].rejected if r.rule == "manifest"]
+    assert len(left_out) == 3
+    assert left_out[0].reason == "no row of manifest " + str(manifest) + " names it (its rows for pumps.txt list " \
+        "throws 1 and 2); its basket is not known"
+    (warning,) = [w for w in report.warnings if "throws found" in w]
+    assert warning.startswith(f"{recording}: 5 throws found, where manifest {manifest} lists 2 (throws 1 and 2, "
+                              f"lines 2, 3): throws 1 and 2 (t={', '.join(starts)} s) took its rows' baskets by number; "
+                              "throws 3, 4 and 5 (t=")
+    assert "were left out: no row names them; if the file holds 2 throws, the cut found more" in warning
+    assert "name its throws by time in the manifest (start and end columns)" in warning
 
 
 def test_a_bag_arm_with_a_frame_missing_is_left_out_with_a_note(tmp_path):

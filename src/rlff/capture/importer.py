@@ -47,6 +47,14 @@ from rlff.capture.label import (
     read_manifest,
     rows_without_a_throw,
 )
+from rlff.capture.manifest_match import (
+    NO_ROW,
+    Outcome,
+    listing_warning,
+    names_every_throw,
+    rows_of,
+    unnamed_reason,
+)
 from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_throws
 from rlff.capture.skeleton import ArmTrack, Recording
 from rlff.capture.skeleton_text import (
@@ -130,7 +138,8 @@ class FileReport:
     """What the import did with one file.
 
     ``rejected`` holds every candidate movement not taken as a throw (its ``time`` in s from the
-    recording's first sample, the ``rule`` that stopped it and the ``reason``); each also has a note.
+    recording's first sample, the ``rule`` that stopped it and the ``reason``); each also has a note,
+    or a warning for throws no manifest row names (rule ``manifest``).
     ``trajectories`` counts the trajectories taken from the file: its ``throws``, or a thesis
     matrix's rows (which carry no cut to report). ``motion`` is the arm the throws were cut from
     (:func:`arm_motion`; None for a thesis matrix), for figures; :meth:`ImportReport.to_dict`
@@ -151,11 +160,18 @@ class FileReport:
     #: The frame rate (Hz) its time was made from when the file has no time stamps, else None.
     assumed_rate: float | None = None
 
-    def reject(self, rejection: Rejection, label: str) -> None:
-        """Record a candidate not taken (``rejection.time`` on the recording's clock) with a note."""
+    @property
+    def estimated_distances(self) -> int:
+        """Its throws whose distance is a landing estimate (no manifest row, no distance in the file name)."""
+        return sum(throw.distance_source.startswith("landing estimate") for throw in self.throws)
+
+    def reject(self, rejection: Rejection, label: str, noted: bool = True) -> None:
+        """Record a candidate not taken (``rejection.time`` on the recording's clock) with a note
+        (unless ``noted`` is False: a warning says it)."""
         rejection = Rejection(rejection.time - self.clock_origin, rejection.rule, rejection.reason, rejection.rise)
         self.rejected.append(rejection)
-        self.notes.append(f"{Path(self.source).name}: {label}: movement at t={rejection.time:.2f} s is not a throw ({rejection.reason})")
+        if noted:
+            self.notes.append(f"{Path(self.source).name}: {label}: movement at t={rejection.time:.2f} s is not a throw ({rejection.reason})")
 
 
 @dataclass
@@ -181,7 +197,7 @@ class ImportReport:
     @property
     def estimated_distances(self) -> int:
         """Throws whose distance is a landing estimate (no manifest row, no distance in the file name)."""
-        return sum(throw.distance_source.startswith("landing estimate") for report in self.files for throw in report.throws)
+        return sum(report.estimated_distances for report in self.files)
 
     @property
     def notes(self) -> list[str]:
@@ -719,11 +735,27 @@ def _import_recording(
         left_out = [(r.time - origin, r.rule) for r in dropped]
         report.warnings.extend(rows_without_a_throw(rows, recording.source, peaks, left_out))
     trajectories = []
+    file_rows = rows_of(rows, path)
+    # a file the manifest lists throw by throw: a throw no row names is left out, not labelled by
+    # the landing estimate beside the manifest's baskets (the file name's basket still labels it)
+    listed = bool(file_rows) and not names_every_throw(file_rows) and distance_from_name(path) is None
+    outcomes = []
     for number, (cut, release) in zip(numbers, kept, strict=True):
-        trajectory = _throw(recording, motion, cut, release, number, rows, landing, report, used_ids,
+        start = float(motion.time[cut.start] - origin)
+        row = manifest_entry(rows, recording.source, number, float(motion.time[cut.peak] - origin)) if rows else None
+        if row is None and listed:
+            rise = float(motion.angle[cut.extension_end] - motion.angle[cut.extension_start])
+            report.reject(Rejection(release.time, NO_ROW, unnamed_reason(file_rows, path.name), rise),
+                          motion.arm.label, noted=False)  # the file's warning names it
+            outcomes.append(Outcome(number, start, None))
+            continue
+        trajectory = _throw(recording, motion, cut, release, number, row, landing, report, used_ids,
                             segment.rest_velocity)
         if trajectory is not None:
             trajectories.append(trajectory)
+            outcomes.append(Outcome(number, start, trajectory.meta["distance_source"]))
+    if file_rows and (warning := listing_warning(path, file_rows, len(kept) + len(dropped), outcomes)):
+        report.warnings.append(warning)
     if kept and not trajectories and (rate := _rate_hint(motion, report, [cut for cut, _ in kept])):
         report.warnings.append(f"{path}: no throw kept; {rate}")
     return report, trajectories
@@ -961,19 +993,19 @@ def _throw(
     cut: ThrowCut,
     release: Release,
     number: int,
-    rows: list[ManifestRow],
+    row: ManifestRow | None,
     landing: LandingSettings,
     report: FileReport,
     used_ids: set[str],
     segment_rest: float,
 ) -> Trajectory | None:
     """The trajectory of one kept throw, labelled, with its warnings in ``report`` (None when its
-    landing stands for no basket); ``segment_rest`` is the throw finder's rest speed (rad/s)."""
+    landing stands for no basket); ``row`` is the manifest row that names it, ``segment_rest`` the
+    throw finder's rest speed (rad/s)."""
     path = Path(recording.source)
     origin = report.clock_origin
     window = slice(cut.start, cut.stop)
     native = motion.time[window]
-    row = manifest_entry(rows, recording.source, number, float(motion.time[cut.peak] - origin)) if rows else None
     if row is not None and row.height is not None:  # judged where the ball crosses the basket's rim
         landing = replace(landing, target_height=row.height)
     landed = landing_distance(release, landing)

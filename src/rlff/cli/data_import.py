@@ -102,8 +102,8 @@ def import_command(
     if report.estimated_distances:
         warn(
             f"{report.estimated_distances} of {report.n_throws} throws have an estimated basket distance "
-            "(no manifest row, no distance in the file name): the landing estimate from the hand's release, "
-            "rounded; give --manifest for the real baskets"
+            f"(no manifest row, no distance in the file name: {_estimated_files(report)}): the landing estimate "
+            "from the hand's release, rounded; give --manifest for the real baskets"
         )
     _say_hits(dataset, release_window)
     sheets: list[Path] = []
@@ -126,6 +126,14 @@ def import_command(
     stdout().print(f"{plural(report.n_throws, 'throw')} from {plural(len(report.files), 'file')}{carried} -> {target}")
     for path in sheets:
         stdout().print(f"contact sheet: {path}")
+
+
+def _estimated_files(report, shown: int = 3) -> str:
+    """The files whose throws have an estimated basket, with how many: ``a.csv (3), b.csv (2)``,
+    the first ``shown`` of them and how many more."""
+    counts = [(Path(file.source).name, file.estimated_distances) for file in report.files if file.estimated_distances]
+    listed = ", ".join(f"{name} ({count})" for name, count in counts[:shown])
+    return listed + (f" and {plural(len(counts) - shown, 'more file')}" if len(counts) > shown else "")
 
 
 def _same_file(path: Path, other: Path) -> bool:
