@@ -235,6 +235,25 @@ def test_missing_frames_list_the_frames_there(lz4_bag):
         assert frame in text
 
 
+def test_a_transform_at_exactly_the_cameras_origin_is_a_joint_not_tracked_there(tmp_path, simulation):
+    # NiTE gives a joint it has no confidence in at the origin: read as a position, the hand
+    # jumped 2.6 m to the camera and back
+    class HandLost(bf.Simulation):
+        def frames(self):
+            for index, (t, users) in enumerate(super().frames()):
+                if 40 <= index < 43 and "right_hand" in users["1"]:
+                    users["1"]["right_hand"] = np.zeros(3)
+                yield t, users
+
+    lost = HandLost(simulation.throws, simulation.starts, simulation.duration, seed=3, second_user=False)
+    recording = read_bag(bf.write_ros1_bag(tmp_path / "lost.bag", lost, compression=None))
+    hand = recording.arm("1", "right").hand
+    assert not np.any(np.all(hand.position == 0.0, axis=1))
+    (note,) = [note for note in recording.notes if "(0, 0, 0)" in note]
+    assert note.startswith("lost.bag: frame right_hand_1: left out ") and "transforms at exactly (0, 0, 0), the camera's " \
+        "origin (a joint the tracker did not detect)" in note
+
+
 def test_frames_of_another_name_and_user_are_configurable(lz4_bag):
     recording = read_bag(lz4_bag, frames=("left_shoulder_2", "left_elbow_2", "left_hand_2"))
     assert recording.users() == ["1", "2"]

@@ -246,6 +246,33 @@ def test_blank_cells_are_a_joint_not_tracked_there_and_a_blank_arm_is_left_out(t
     assert len(dataset) == len(clean) == 1
 
 
+def test_a_joint_at_exactly_the_sensors_origin_is_a_joint_not_tracked_there(tmp_path):
+    # OpenPose-style "not detected": a joint written as (0, 0, 0) in one frame was read as a real
+    # position: the hand and wrist at the origin during a rest passed for a frozen tracker, and the
+    # elbow at the origin mid-extension made a throw peak far above its speed
+    import thinned as th
+
+    frames, time, movements = th.session(7, rate=15.0)
+    clean = th.write_joint_csv(tmp_path / "clean.csv", frames, time)
+    throws = [movement for movement in movements if movement.is_throw]
+    zeroed = frames.copy()
+    rest = int(round((throws[0].start - 0.5) * 15))
+    zeroed[rest:rest + 4, [10, 11]] = 0.0  # the right wrist and hand, 4 frames at rest
+    zeroed[int(np.argmin(np.abs(time - throws[1].peak_time))), 9] = 0.0  # the right elbow at the peak
+    zero = th.write_joint_csv(tmp_path / "zero.csv", zeroed, time)
+    reference, _ = import_recordings([clean], up="y")
+    dataset, report = import_recordings([zero], up="y")
+    assert [t.meta["start_time"] for t in dataset] == pytest.approx([t.meta["start_time"] for t in reference], abs=0.07)
+    assert all(t["velocity"].max() < 1.05 * r["velocity"].max() for t, r in zip(dataset, reference, strict=True))
+    assert not any("frozen" in note for note in report.notes)
+    (note,) = [note for note in report.notes if "(0, 0, 0)" in note]
+    assert note.startswith(f"zero.csv: 5 frames with a joint at exactly (0, 0, 0), the sensor's origin (how trackers such "
+                           f"as OpenPose write a joint they did not detect; the first at t={time[rest]:.2f} s): taken as "
+                           "not tracked there, left out of that joint's track")
+    hand = read_joint_csv(zero, up="y").arm("1", "right").hand
+    assert len(hand) == len(time) - 4 and not np.any(np.all(hand.position == 0.0, axis=1))
+
+
 def test_a_frozen_tracker_mid_throw_is_dropped_and_bridged_and_a_still_arm_is_not(tmp_path):
     import pandas as pd
 

@@ -181,7 +181,14 @@ def _torso(
 
 
 def _joint_track(name: str, time: np.ndarray, position: np.ndarray, notes: list[str], path: Path) -> JointTrack:
-    """A joint track with its samples in time order and repeated stamps dropped (keeping the last)."""
+    """A joint track with its samples in time order, repeated stamps dropped (keeping the last)
+    and transforms at exactly (0, 0, 0) left out (the camera's origin: a joint the tracker did not
+    detect, as NiTE gives one it has no confidence in)."""
+    at_origin = np.all(position == 0.0, axis=1)
+    if at_origin.any():
+        notes.append(f"{path.name}: frame {name}: left out {int(at_origin.sum())} transforms at exactly (0, 0, 0), the "
+                     "camera's origin (a joint the tracker did not detect)")
+        time, position = time[~at_origin], position[~at_origin]
     order = np.argsort(time, kind="stable")
     time, position = time[order], position[order]
     keep = np.ones(time.size, dtype=bool)

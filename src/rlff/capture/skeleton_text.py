@@ -15,7 +15,8 @@ CSV
     ``hip_{axis}`` (hip centre), and an optional ``time`` column (s), or any other names through
     a column map.
 
-Frames whose arm joints are all zero (the tracker lost the user) are dropped, and so are repeats
+Frames whose arm joints are all zero (the tracker lost the user) are dropped, a single joint at
+exactly (0, 0, 0) (a joint not detected) is left out of its track in that frame, and so are repeats
 of the frame number (Kinect) or time stamp (CSV) of the row before; each reader says how many in
 its notes. A time stamp (or frame number) a little below one before it, by less than a quarter
 of the median step, is clock jitter (a host clock stamping frames as they arrive): the rows are put
@@ -149,8 +150,9 @@ def _clean_frames(
     read_joints: list[int] | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Drop frames whose arm joints are all at zero (the tracker lost the user); note the frames
-    with a nan in a joint that is read and set to nan a joint a frozen tracker repeated
-    (:func:`_track` leaves both out of that joint's track).
+    with a nan in a joint that is read, and set to nan a joint at exactly (0, 0, 0) (the sensor's
+    origin: how trackers such as OpenPose write a joint they did not detect) and a joint a frozen
+    tracker repeated (:func:`_track` leaves them all out of that joint's track).
 
     Parameters
     ----------
@@ -172,6 +174,15 @@ def _clean_frames(
     if (~lost).sum() < 2:
         raise InputError(f"{path}: fewer than 2 frames with a tracked arm")
     frames, time = frames[~lost].copy(), time[~lost]
+    at_origin = np.zeros(frames.shape[:2], dtype=bool)  # (N, J): a joint the tracker did not detect
+    at_origin[:, read_joints] = np.all(frames[:, read_joints, :] == 0.0, axis=2)
+    if at_origin.any():
+        rows = at_origin.any(axis=1)
+        notes.append(f"{path.name}: {plural(int(rows.sum()), 'frame')} with a joint at exactly (0, 0, 0), the sensor's "
+                     "origin (how trackers such as OpenPose write a joint they did not detect; the first at "
+                     f"t={time[int(np.flatnonzero(rows)[0])]:.2f} s): taken as not tracked there, left out of that "
+                     "joint's track")
+        frames[at_origin] = np.nan
     held = np.zeros(frames.shape[:2], dtype=bool)  # (N, J): a joint the tracker froze in that frame
     for joint in read_joints:
         held[:, joint] = _frozen(frames[:, joint, :], time)
