@@ -33,6 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
+from rlff.capture.angles import median_spacing
+from rlff.capture.repeated_frames import repeated_skeletons
 from rlff.capture.skeleton import SIDES, ArmTrack, JointTrack, Recording
 from rlff.csvlines import data_row_line, header_separator
 from rlff.errors import InputError
@@ -152,7 +154,8 @@ def _clean_frames(
     """Drop frames whose arm joints are all at zero (the tracker lost the user); note the frames
     with a nan in a joint that is read, and set to nan a joint at exactly (0, 0, 0) (the sensor's
     origin: how trackers such as OpenPose write a joint they did not detect) and a joint a frozen
-    tracker repeated (:func:`_track` leaves them all out of that joint's track).
+    tracker repeated (:func:`_track` leaves them all out of that joint's track). A stream that
+    gives each skeleton several times keeps each skeleton once (:func:`repeated_skeletons`).
 
     Parameters
     ----------
@@ -183,6 +186,14 @@ def _clean_frames(
                      f"t={time[int(np.flatnonzero(rows)[0])]:.2f} s): taken as not tracked there, left out of that "
                      "joint's track")
         frames[at_origin] = np.nan
+    repeating = repeated_skeletons(frames[:, read_joints, :], time, FROZEN_ENTRY_SPEED)
+    if repeating is not None:
+        keep, times = repeating
+        notes.append(f"{path.name}: {int((~keep).sum())} of {len(time)} frames repeat the frame before in every joint, "
+                     f"in motion too: the tracker gives each skeleton {times} times ({1 / median_spacing(time):.3g} Hz "
+                     f"of {1 / median_spacing(time[keep]):.3g} Hz skeletons); the repeats left out, the skeletons read at "
+                     "their own rate")
+        frames, time = frames[keep], time[keep]
     held = np.zeros(frames.shape[:2], dtype=bool)  # (N, J): a joint the tracker froze in that frame
     for joint in read_joints:
         held[:, joint] = _frozen(frames[:, joint, :], time)
