@@ -14,7 +14,7 @@ a second skeleton (a reflection) flickering in and out, and dropped frames and j
 from __future__ import annotations
 
 import io
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -245,7 +245,13 @@ def jpeg_frames(
     return frames
 
 
-def _tf_message(store, tf_type: str, stamp_ns: int, users: dict[str, dict[str, np.ndarray]]):
+def nite_frame(joint: str, user: str) -> str:
+    """The tf frame NiTE / openni_tracker publish a user's joint as: ``right_elbow_1``."""
+    return f"{joint}_{user}"
+
+
+def _tf_message(store, tf_type: str, stamp_ns: int, users: dict[str, dict[str, np.ndarray]],
+                frame_name: Callable[[str, str], str] = nite_frame):
     types = store.types
     time = types["builtin_interfaces/msg/Time"](sec=stamp_ns // 10**9, nanosec=stamp_ns % 10**9)
     transforms = []
@@ -256,7 +262,7 @@ def _tf_message(store, tf_type: str, stamp_ns: int, users: dict[str, dict[str, n
                 translation=types["geometry_msgs/msg/Vector3"](x=float(position[0]), y=float(position[1]), z=float(position[2])),
                 rotation=types["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0),
             )
-            transforms.append(types["geometry_msgs/msg/TransformStamped"](header=header, child_frame_id=f"{joint}_{user}", transform=transform))
+            transforms.append(types["geometry_msgs/msg/TransformStamped"](header=header, child_frame_id=frame_name(joint, user), transform=transform))
     return types[tf_type](transforms=transforms)
 
 
@@ -278,10 +284,12 @@ def write_ros1_bag(
     image_every: int = 2,
     chunk_bytes: int = 64 * 1024,
     tf_topic: str = TF_TOPIC,
+    frame_name: Callable[[str, str], str] = nite_frame,
 ) -> Path:
     """Write the simulation as a ROS 1 bag; images (JPEG bytes, cycled) interleaved with /tf.
 
-    Returns the path. ``compression`` is ``"lz4"``, ``"bz2"`` or None.
+    Returns the path. ``compression`` is ``"lz4"``, ``"bz2"`` or None; ``frame_name(joint, user)``
+    names a joint's tf frame (NiTE's ``right_elbow_1`` by default).
     """
     from rosbags.rosbag1 import Writer
 
@@ -302,7 +310,8 @@ def write_ros1_bag(
             if image_conn is not None and frame % image_every == 0:
                 data = images[(frame // image_every) % len(images)]
                 writer.write(image_conn, stamp - 5_000_000, store.serialize_ros1(_image_message(store, stamp - 5_000_000, data), image_conn.msgtype))
-            writer.write(tf_conn, stamp + 2_000_000, store.serialize_ros1(_tf_message(store, tf_type, stamp, users), tf_type))
+            message = _tf_message(store, tf_type, stamp, users, frame_name)
+            writer.write(tf_conn, stamp + 2_000_000, store.serialize_ros1(message, tf_type))
             frame += 1
     return path
 

@@ -254,6 +254,53 @@ def test_a_transform_at_exactly_the_cameras_origin_is_a_joint_not_tracked_there(
         "origin (a joint the tracker did not detect)" in note
 
 
+@pytest.mark.parametrize(("frame_name", "frames"), [
+    (lambda joint, user: f"kinect1/{joint}_{user}", "kinect1/right_shoulder_1,kinect1/right_elbow_1,kinect1/right_hand_1"),
+    (lambda joint, user: joint, "right_shoulder,right_elbow,right_hand"),  # one user, no number
+], ids=["prefix", "no user number"])
+def test_the_torso_frames_are_named_as_the_arm_frames_are(tmp_path, frame_name, frames):
+    # with --frames kinect1/right_shoulder_1,... the torso's frames (neck, hips) were looked for
+    # without the prefix and ending, not found, and the shoulder measured against the vertical
+    # instead of the torso (up to 0.38 rad apart)
+    simulation = bf.standard_simulation(seed=4, n_throws=1, second_user=False)
+    plain = bf.write_ros1_bag(tmp_path / "plain.bag", simulation, compression=None)
+    named = bf.write_ros1_bag(tmp_path / "named.bag", simulation, compression=None, frame_name=frame_name)
+    recording = read_bag(named, frames=frames.split(","))
+    assert recording.arm("1", "right").neck is not None and recording.arm("1", "right").hip is not None
+    (reference,), _ = import_recordings([plain], "bag")
+    (throw,), report = import_recordings([named], "bag", frames=frames.split(","))
+    np.testing.assert_array_equal(throw["shoulder"], reference["shoulder"])
+    assert not any("torso" in note for note in report.notes)
+
+
+@pytest.mark.parametrize(("frame_name", "frames"), [
+    (lambda joint, user: f"kinect1/{joint}_{user}", "kinect1/right_shoulder_1,kinect1/right_elbow_1,kinect1/right_hand_1"),
+    (lambda joint, user: joint, "right_shoulder,right_elbow,right_hand"),
+], ids=["prefix", "no user number"])
+def test_arm_frames_named_with_a_prefix_or_without_a_number_are_suggested_as_frames(tmp_path, frame_name, frames):
+    simulation = bf.standard_simulation(seed=4, n_throws=1, second_user=False)
+    named = bf.write_ros1_bag(tmp_path / "named.bag", simulation, compression=None, frame_name=frame_name)
+    with pytest.raises(InputError, match=rf"named.bag: no tracked user .*; frames there: .*; give --frames {frames}$"):
+        read_bag(named)
+
+
+def test_a_bag_without_the_torso_frames_says_which_it_looked_for(tmp_path):
+    class NoTorso(bf.Simulation):
+        def frames(self):
+            for t, users in super().frames():
+                yield t, {user: {joint: p for joint, p in body.items() if joint not in ("neck", "torso", "left_hip",
+                                                                                        "right_hip")}
+                          for user, body in users.items()}
+
+    base = bf.standard_simulation(seed=4, n_throws=1, second_user=False)
+    simulation = NoTorso(base.throws, base.starts, base.duration, seed=4, second_user=False)
+    bag = bf.write_ros1_bag(tmp_path / "arms.bag", simulation, compression=None,
+                            frame_name=lambda joint, user: f"kinect1/{joint}_{user}")
+    recording = read_bag(bag, frames=("kinect1/right_shoulder_1", "kinect1/right_elbow_1", "kinect1/right_hand_1"))
+    assert "arms.bag: no torso frames matched: looked for kinect1/neck_N with kinect1/left_hip_N and " \
+        "kinect1/right_hip_N, or with kinect1/torso_N" in recording.notes
+
+
 def test_frames_of_another_name_and_user_are_configurable(lz4_bag):
     recording = read_bag(lz4_bag, frames=("left_shoulder_2", "left_elbow_2", "left_hand_2"))
     assert recording.users() == ["1", "2"]

@@ -8,8 +8,10 @@ definitions stored in the bag; camera images in the same bag are never deseriali
 
 Arm frames are matched by name without the user number, so every tracked user is found
 (``right_elbow_1``, ``right_elbow_2``...) and both arms when the bag has the other side's
-frames (``right`` swapped for ``left`` in the names). The torso's frames (:data:`TORSO_FRAMES`:
-``neck``, the hips, ``torso``) of the same user give the torso's axis when the bag has them.
+frames (``right`` swapped for ``left`` in the names). The torso's frames (:data:`TORSO_NAMES`:
+``neck``, the hips, ``torso``) of the same user give the torso's axis when the bag has them; they
+are named as the arm frames are, with the same prefix and the same ending before the user number
+(``kinect1/neck_1`` beside ``kinect1/right_shoulder_1``, ``neck`` beside ``right_shoulder``).
 
 Bags are opened by :mod:`rlff.capture.bag_stream`, which also reads a ROS 1 bag damaged at the
 end up to the damage, with a warning.
@@ -31,10 +33,12 @@ from rlff.errors import InputError
 #: Default frames of the throwing arm (NiTE / openni_tracker names, user 1).
 DEFAULT_FRAMES = ("right_shoulder_1", "right_elbow_1", "right_hand_1")
 DEFAULT_TOPIC = "/tf"
-#: NiTE / openni_tracker torso frames (without the user number): the neck is the torso's top; its
-#: bottom is the hip centre (the middle of both hips), or the ``torso`` frame (on the spine, the
-#: same axis) when the hips are missing.
-TORSO_FRAMES = ("neck_", "left_hip_", "right_hip_", "torso_")
+#: NiTE / openni_tracker torso joints: the neck is the torso's top; its bottom is the hip centre
+#: (the middle of both hips), or the ``torso`` frame (on the spine, the same axis) when the hips
+#: are missing. Their frames are named as the shoulder's (:func:`torso_stems`).
+TORSO_NAMES = ("neck", "left_hip", "right_hip", "torso")
+#: The NiTE name of a shoulder frame, within a frame name that may add a prefix and an ending.
+_SHOULDER = re.compile(r"(?:left|right)_shoulder")
 #: Message types of /tf in ROS 1 (tf) and ROS 1/2 (tf2), as rosbags names them.
 TF_TYPES = ("tf2_msgs/msg/TFMessage", "tf/msg/tfMessage")
 IMAGE_TYPES = ("sensor_msgs/msg/CompressedImage",)
@@ -76,8 +80,9 @@ def read_bag(
     names = [name.lstrip("/") for name in frames]
     stems = [re.sub(r"\d+$", "", name) for name in names]
     sides = _sides(stems)
+    torso = torso_stems(stems[0])
     pattern = re.compile(
-        "^(?:" + "|".join(re.escape(stem) for stem in [*(s for side in sides.values() for s in side), *TORSO_FRAMES])
+        "^(?:" + "|".join(re.escape(stem) for stem in [*(s for side in sides.values() for s in side), *(torso or ())])
         + r")(\d*)$"
     )
     wanted: dict[str, bool] = {}
@@ -101,13 +106,16 @@ def read_bag(
     if count == 0:
         raise InputError(f"{path}: no message could be read on {topic}" + (f" ({warnings[0]})" if warnings else ""))
     notes: list[str] = []
-    arms = _arm_tracks(path, collected, sides, notes)
+    arms = _arm_tracks(path, collected, sides, torso, notes)
     if not arms:
         present = sorted({name.lstrip("/") for name in wanted})
         raise InputError(
             f"{path}: no tracked user has all of the frames {', '.join(stem + 'N' for stem in stems)} on {topic} "
             f"(looked for {', '.join(names)}); frames there: {', '.join(present) if present else 'none'}"
+            + _frames_hint(stems, present)
         )
+    if not any(arm.neck is not None for arm in arms):
+        notes.append(f"{path.name}: {_no_torso(torso, names[0])}")
     preferred = re.search(r"(\d+)$", names[0])
     if preferred and not any(arm.user == preferred.group(1) for arm in arms):
         notes.append(f"{path}: no user {preferred.group(1)}; found users {', '.join(sorted({a.user for a in arms}))}")
@@ -122,13 +130,54 @@ def _sides(stems: list[str]) -> dict[str, list[str]]:
     return {"right": stems}
 
 
+def torso_stems(shoulder_stem: str) -> tuple[str, ...] | None:
+    """The torso's frame names without the user number (:data:`TORSO_NAMES`), named as the
+    shoulder's frame ``shoulder_stem`` is (without its user number): ``kinect1/right_shoulder_``
+    gives ``kinect1/neck_``, ...; ``right_shoulder`` gives ``neck``, .... None when the shoulder's
+    frame does not carry NiTE's name (``left_shoulder``, ``right_shoulder``): the torso's frames
+    cannot be named after it."""
+    match = _SHOULDER.search(shoulder_stem)
+    if match is None:
+        return None
+    before, after = shoulder_stem[:match.start()], shoulder_stem[match.end():]
+    return tuple(before + name + after for name in TORSO_NAMES)
+
+
+def _no_torso(torso: tuple[str, ...] | None, shoulder: str) -> str:
+    """What to say of a bag whose torso frames were not found: the names looked for, or why none."""
+    if torso is None:
+        return (f"torso frames not looked for: the shoulder frame {shoulder} does not carry NiTE's name "
+                "(right_shoulder, left_shoulder), after which the neck and hip frames are named")
+    neck, left, right, spine = (stem + "N" for stem in torso)
+    return f"no torso frames matched: looked for {neck} with {left} and {right}, or with {spine}"
+
+
+def _frames_hint(stems: list[str], present: list[str]) -> str:
+    """``; give --frames A,B,C`` with the frames of the bag named as ``stems`` are (the shoulder,
+    elbow and hand without the user number) but for a prefix and an ending (``kinect1/right_elbow_1``,
+    ``right_elbow``); empty when the bag has none such."""
+    joints = [stem.rstrip("_") for stem in stems]
+    there = set(present)
+    for name in present:
+        at = name.find(joints[0])
+        if at < 0:
+            continue
+        before, after = name[:at], name[at + len(joints[0]):]
+        frames = [before + joint + after for joint in joints]
+        if all(frame in there for frame in frames):
+            return f"; give --frames {','.join(frames)}"
+    return ""
+
+
 def _arm_tracks(
     path: Path,
     collected: dict[str, tuple[str, np.ndarray, np.ndarray]],
     sides: dict[str, list[str]],
+    torso: tuple[str, ...] | None,
     notes: list[str],
 ) -> list[ArmTrack]:
-    """Arm tracks for every (user, side) with all three frames, in user order."""
+    """Arm tracks for every (user, side) with all three frames, in user order, each with the
+    user's torso from the frames named ``torso`` (:func:`torso_stems`) when the bag has them."""
     users = sorted(
         {m.group(1) for name in collected if (m := re.search(r"(\d*)$", name.lstrip("/")))},
         key=lambda user: (len(user), user),
@@ -136,7 +185,7 @@ def _arm_tracks(
     arms = []
     by_name = {name.lstrip("/"): value for name, value in collected.items()}
     for user in users:
-        neck, hip = _torso(path, by_name, user, notes)
+        neck, hip = _torso(path, by_name, torso, user, notes) if torso is not None else (None, None)
         for side, stems in sides.items():
             frame_names = [stem + user for stem in stems]
             missing = [name for name in frame_names if name not in by_name]
@@ -160,10 +209,12 @@ def _arm_tracks(
 
 
 def _torso(
-    path: Path, by_name: dict[str, tuple[str, np.ndarray, np.ndarray]], user: str, notes: list[str]
+    path: Path, by_name: dict[str, tuple[str, np.ndarray, np.ndarray]], stems: tuple[str, ...], user: str,
+    notes: list[str],
 ) -> tuple[JointTrack | None, JointTrack | None]:
-    """The user's neck and hip centre tracks (None, None without a neck or anything below it)."""
-    neck_name, left_name, right_name, torso_name = (stem + user for stem in TORSO_FRAMES)
+    """The user's neck and hip centre tracks from the frames ``stems`` + ``user`` (None, None
+    without a neck or anything below it)."""
+    neck_name, left_name, right_name, torso_name = (stem + user for stem in stems)
     if neck_name not in by_name:
         return None, None
     neck = _joint_track(neck_name, *by_name[neck_name][1:], notes, path)
