@@ -1,4 +1,5 @@
-"""``rlff data import`` on what goes wrong: no throw, an existing output, estimated baskets, a y-up CSV, a bad manifest."""
+"""``rlff data import`` on what goes wrong: no throw, an existing output, estimated baskets, a y-up CSV, a bad manifest,
+an up axis given to files of other conventions."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
+import bagfactory as bf  # noqa: E402
 import thinned as th  # noqa: E402
 from rlff.dataset import read_csv  # noqa: E402
 
@@ -119,3 +121,33 @@ def test_a_recording_that_stops_in_a_wind_up_says_so(rlff, tmp_path):
     assert result.code == 2
     assert ("never rises by 0.30 rad or more (it stays within" in result.stderr
             and "still rising where the recording ends: it may stop before the throw's extension" in result.stderr)
+
+
+@pytest.fixture(scope="module")
+def bag(tmp_path_factory) -> Path:
+    """Two simulated throws as a NiTE tf bag (z up)."""
+    simulation = bf.standard_simulation(seed=4, n_throws=2, second_user=False)
+    return bf.write_ros1_bag(tmp_path_factory.mktemp("bag") / "line.bag", simulation, compression=None)
+
+
+def test_one_up_for_files_of_other_conventions_is_warned_of(rlff, bag, session, tmp_path):
+    # a z-up bag read with the --up y of the camera-frame files beside it changed its landings
+    # and baskets without a word
+    result = rlff("data", "import", str(bag), str(session), "--up", "y", "-o", str(tmp_path / "x.csv"))
+    assert result.code == 0, result.stderr
+    (line,) = [line for line in result.stderr.splitlines() if "is applied to every file" in line]
+    assert line == ("warning: --up y is applied to every file of this import, but 1 bag file (line.bag) is in a frame "
+                    "with z up (REP 103, as skeleton trackers publish tf) and is read with y up: its releases, landings "
+                    "and estimated baskets change with it; import each format apart, with its own --up or none")
+    # the Kinect text's own convention is y up; without --up each format keeps its own
+    assert "session.txt" not in line
+    alone = rlff("data", "import", str(bag), str(session), "-o", str(tmp_path / "y.csv"))
+    assert alone.code == 0 and "is applied to every file" not in alone.stderr
+
+
+def test_every_throw_taken_for_the_arm_coming_down_with_an_up_given_asks_about_the_up_axis(rlff, bag, tmp_path):
+    result = rlff("data", "import", str(bag), "--up", "x", "-o", str(tmp_path / "x.csv"))
+    assert result.code == 2 and "no throw found" in result.stderr
+    assert ("both its extensions went down at the release, as the arm coming down to rest does, and as every throw "
+            "does with a wrong up axis: is x up in this file? (up was taken as x, --up x)") in result.stderr
+    assert rlff("data", "import", str(bag), "-o", str(tmp_path / "z.csv")).code == 0

@@ -32,7 +32,7 @@ import numpy as np
 from scipy.interpolate import PchipInterpolator
 
 from rlff.capture.angles import ArmMotion, align_arm, median_spacing, throwing_arm
-from rlff.capture.bag import DEFAULT_FRAMES, DEFAULT_TOPIC, read_bag
+from rlff.capture.bag import DEFAULT_FRAMES, DEFAULT_TOPIC, ROS_UP, read_bag
 from rlff.capture.label import (
     LandingSettings,
     ManifestRow,
@@ -58,6 +58,7 @@ from rlff.capture.manifest_match import (
 from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_throws
 from rlff.capture.skeleton import ArmTrack, Recording
 from rlff.capture.skeleton_text import (
+    KINECT_UP,
     axis_vector,
     read_joint_csv,
     read_kinect_text,
@@ -76,6 +77,10 @@ ARMS = ("auto", "right", "left")
 JOINTS = ("shoulder", "elbow", "wrist")
 #: Formats whose positions are in the sensor's frame (the camera at the origin).
 SENSOR_FRAMES = ("bag", "kinect-text", "msr")
+#: The up direction of the formats whose frame has one by convention (a CSV's is its exporter's), and why.
+FORMAT_UP = {"bag": ROS_UP, "kinect-text": KINECT_UP, "msr": KINECT_UP}
+FORMAT_UP_WHY = {"bag": "REP 103, as skeleton trackers publish tf", "kinect-text": "the Kinect's camera frame",
+                 "msr": "the Kinect's camera frame"}
 #: A finished throw is resampled at its own median spacing, but no coarser than this (Hz).
 OUTPUT_RATE_HZ = 15.0
 #: The median upper arm (shoulder to elbow, m) of a recording in metres: 0.25-0.34 m in every arm
@@ -437,6 +442,8 @@ def import_recordings(
     for path in paths:  # before anything is read
         refuse_folder(path, format)
     kinds = [detect_format(path) if format in (None, "auto") else format for path in map(Path, paths)]
+    if up is not None:
+        report.general_warnings.extend(_up_against_conventions(up, paths, kinds))
     if columns and "csv" not in kinds:
         raise InputError(f"a column map (--columns) is for CSV recordings, and none is given (formats: "
                          f"{', '.join(sorted(set(kinds)))})")
@@ -472,6 +479,27 @@ def import_recordings(
     dataset = Dataset(_same_context(_common_joints(trajectories, wanted, report), report))
     _refuse_copies(dataset, origin)
     return dataset, report
+
+
+def _up_against_conventions(up: str, paths: Sequence[str | os.PathLike], kinds: Sequence[str]) -> list[str]:
+    """A warning per format whose frame has its own up axis (:data:`FORMAT_UP`) that ``up``, given
+    to every file of an import holding files of other formats too, is not: a bag read with the
+    ``--up y`` of the camera-frame CSVs beside it changes its landings and baskets without a word."""
+    formats = set(kinds) - {"thesis"}
+    if len(formats) < 2:
+        return []
+    given = axis_vector(up)
+    said = []
+    for kind, own in FORMAT_UP.items():
+        files = [Path(path).name for path, of in zip(paths, kinds, strict=True) if of == kind]
+        if files and not np.array_equal(given, own):
+            shown = ", ".join(files[:3]) + (f" and {len(files) - 3} more" if len(files) > 3 else "")
+            one = len(files) == 1
+            said.append(f"--up {up} is applied to every file of this import, but {plural(len(files), kind + ' file')} "
+                        f"({shown}) {'is' if one else 'are'} in a frame with {_axis_name(own)} up ({FORMAT_UP_WHY[kind]}) "
+                        f"and {'is' if one else 'are'} read with {up} up: {'its' if one else 'their'} releases, landings "
+                        "and estimated baskets change with it; import each format apart, with its own --up or none")
+    return said
 
 
 def _rate_warnings(report: ImportReport, rate_hz: float | None) -> list[str]:
@@ -718,6 +746,8 @@ def _import_recording(
                                    "first line, 20 lines a frame, into one file per throw)")
     hint = _up_hint(motion, recording.up) if kind == "csv" and not up_given else None
     if not kept:
+        if cuts and len(more) == len(cuts):  # every extension taken for the arm coming down to rest
+            hint = _all_coming_down(motion, recording.up, len(cuts), up_given)
         report.warnings.append(_no_throw(path, motion, report, segment, hint))
     elif hint:
         report.warnings.append(f"{path}: {hint} (up is taken as {_axis_name(recording.up)}; release and landing depend on it)")
@@ -895,6 +925,19 @@ def _up_hint(motion: ArmMotion, up: np.ndarray) -> str | None:
         return None
     name = _axis_name(guess)
     return f"the upper arm hangs along {_axis_name(-guess)}: if {name} is up in this file (a camera frame), try --up {name}"
+
+
+def _all_coming_down(motion: ArmMotion, up: np.ndarray, extensions: int, up_given: bool) -> str:
+    """What to say of a file whose every extension was taken for the arm coming down to rest: a
+    wrong up axis makes every throw's release go down (and back), so the up axis is asked about,
+    with the axis the upper arm hangs along when it is another."""
+    taken = f"--up {_axis_name(up)}" if up_given else "the format's"
+    which = {1: "its extension", 2: "both its extensions"}.get(extensions, f"all {extensions} of its extensions")
+    said = (f"{which} went down at the release, as the arm "
+            f"coming down to rest does, and as every throw does with a wrong up axis: is {_axis_name(up)} up in this "
+            f"file? (up was taken as {_axis_name(up)}, {taken})")
+    hanging = _up_hint(motion, up)
+    return f"{said}; {hanging}" if hanging else said
 
 
 def _throws_at_a_target(

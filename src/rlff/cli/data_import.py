@@ -39,7 +39,7 @@ def import_command(
                                     "the frames right_elbow_2, ...); default the steady user whose hand sweeps furthest."),
     rate: float | None = typer.Option(None, "--rate", help="Frame rate (Hz, 1 to 1000) of text recordings without time stamps."),
     columns: str | None = typer.Option(None, "--columns", help="CSV column map: NAME=COLUMN,... (e.g. right_elbow_x=ElbowRight.X)."),
-    up: str | None = typer.Option(None, "--up", help="Up axis of the recordings' frame (x, y, z, -x...); default per format."),
+    up: str | None = typer.Option(None, "--up", help="Up axis of the recordings' frame (x, y, z, -x...), for every file given; default per format (bags z, Kinect and MSR text y, CSV z)."),
     release_window: float | None = typer.Option(
         None, "--release-window", metavar="SECONDS",
         help="Measure the release speed over this time about the release (0.1: landings 0.64-0.77 of the true "
