@@ -179,6 +179,37 @@ def test_a_missing_axis_column_is_not_answered_with_another_axis_of_the_joint(tm
         read_joint_csv(path, {**mapping, "right_hand_x": "HandRigth.X"})
 
 
+def test_a_missing_column_of_one_side_is_never_answered_with_the_other_sides_joint(tmp_path):
+    # a right-arm export mapped with the left arm too was told "did you mean 'RShoulder.X'?",
+    # which would read the right shoulder as the left one
+    joints = ("Shoulder", "Elbow", "Hand")
+    names = [f"{side}{joint}.{axis}" for side in "RL" for joint in joints for axis in "XYZ"]
+    values = _positions(6)
+    both = tmp_path / "both.csv"
+    both.write_text("\n".join([",".join(["time", *names])] + [",".join([f"{0.1 * k:g}", *(f"{v:.6f}" for v in row)])
+                                                              for k, row in enumerate(values)]) + "\n")
+    right = tmp_path / "right.csv"
+    right.write_text("\n".join(",".join(line.split(",")[:10]) for line in both.read_text().splitlines()) + "\n")
+    mapping = {f"{side}_{joint.lower()}_{axis.lower()}": f"{side[0].upper()}{joint}.{axis}"
+               for side in ("right", "left") for joint in joints for axis in "XYZ"}
+    with pytest.raises(InputError) as error:
+        read_joint_csv(right, mapping)
+    assert str(error.value) == (f"{right}: column map (--columns): left_shoulder_x=LShoulder.X: no column 'LShoulder.X' "
+                                "in the file; the file has no column of the left side (it may hold one arm: leave the "
+                                "left_... names out of --columns; columns: time, " + ", ".join(names[:9]) + ")")
+    # a misspelt joint of one side is matched within that side
+    with pytest.raises(InputError, match=r"no column 'LShouldr\.X' in the file \(did you mean 'LShoulder\.X'\?\)$"):
+        read_joint_csv(both, {**mapping, "left_shoulder_x": "LShouldr.X"})
+    # a file with a left arm but no left shoulder: the right one is still no answer
+    lines = [line.split(",") for line in both.read_text().splitlines()]
+    no_shoulder = tmp_path / "no_shoulder.csv"
+    no_shoulder.write_text("\n".join(",".join(cells[:10] + cells[13:]) for cells in lines) + "\n")
+    with pytest.raises(InputError) as error:
+        read_joint_csv(no_shoulder, mapping)
+    assert "did you mean" not in str(error.value) and "no column 'LShoulder.X' in the file (columns: time, " \
+        "RShoulder.X" in str(error.value)
+
+
 def test_a_non_finite_value_is_located_by_its_file_line(tmp_path):
     # MSR: line 201 was "frame 201" (it is frame 11); Kinect: line 13 (frame number 20) was "frame 11"
     lines = _msr_lines(12)

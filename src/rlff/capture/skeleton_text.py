@@ -27,6 +27,7 @@ order) it is an error naming its line: such rows are never re-sorted.
 from __future__ import annotations
 
 import math
+import re
 import shlex
 from collections.abc import Callable, Mapping
 from pathlib import Path
@@ -539,7 +540,8 @@ def _axis_of(name: str) -> tuple[str, str]:
 def _missing_column(column: str, present: list[str]) -> str:
     """What to say of a mapped ``column`` the file does not have: the same name in another case;
     where the file has that joint's other axes, those (another axis is no fix for a missing one);
-    else the nearest name of the same axis, or every column."""
+    else the nearest name of the same axis and side (the other arm's joint is no fix either: a file
+    that has no column of that side says so), or every column."""
     same = [name for name in present if name.lower() == column.lower()]
     if same:
         return f" (did you mean {same[0]!r}?)"
@@ -548,8 +550,28 @@ def _missing_column(column: str, present: list[str]) -> str:
         others = [name for name in present if _axis_of(name)[1] and _axis_of(name)[0].lower() == joint.lower()]
         if others:
             return f"; its columns for {joint.rstrip('._-: ') or joint}: {', '.join(others)}"
-    choices = [name for name in present if not (axis and _axis_of(name)[1] not in ("", axis))]
+    side = _side_of(column)
+    if side is not None and not any(_side_of(name) == side for name in present):
+        return (f"; the file has no column of the {side} side (it may hold one arm: leave the {side}_... names out "
+                f"of --columns; columns: {', '.join(present)})")
+    choices = [name for name in present if not (axis and _axis_of(name)[1] not in ("", axis))
+               and (side is None or _side_of(name) in (None, side))]
     return nearest_hint(column, choices, f"columns: {', '.join(present)}")
+
+
+#: A side in a column name: the word (``ShoulderLeft``, ``left_shoulder``), or its letter as a part
+#: of its own (``L_Shoulder``, ``l_shoulder``, ``Shoulder_L``) or before a capital (``LShoulder``).
+_SIDE_IN_NAME = re.compile(r"(?i:(left|right))|(?:^|[^A-Za-z])([LRlr])(?=$|[^A-Za-z])|^([LR])(?=[A-Z][a-z])")
+
+
+def _side_of(name: str) -> str | None:
+    """The side (``left``, ``right``) a column's name says it is of, or None."""
+    joint = _axis_of(name)[0].rstrip("._-: ") if _axis_of(name)[1] else name
+    match = _SIDE_IN_NAME.search(joint)
+    if match is None:
+        return None
+    letter = (match.group(1) or match.group(2) or match.group(3))[0].lower()
+    return "left" if letter == "l" else "right"
 
 
 def axis_vector(axis: str) -> np.ndarray:
