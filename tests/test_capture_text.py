@@ -142,6 +142,34 @@ def test_kinect_text_with_a_wrong_number_of_columns_names_the_file_and_line(tmp_
         read_kinect_text(path)
 
 
+def test_kinect_text_with_a_tracking_state_per_joint_or_a_header_says_what_to_drop(tmp_path):
+    # both were "cannot tell the format; give --format", and with --format kinect-text "81 columns,
+    # expected 61" or "non-numeric value", with no word of what the file held
+    frames = np.tile(np.linspace(0.1, 2.5, 60).reshape(20, 3), (4, 1, 1))
+    with_state = tmp_path / "state.txt"
+    with_state.write_text("".join(" ".join([str(n), *(f"{v:.4f} {v:.4f} {v:.4f} 2" for v in frame[:, 0])]) + "\n"
+                                  for n, frame in enumerate(frames)))
+    with pytest.raises(InputError) as error:
+        import_recordings([with_state])
+    assert str(error.value) == (f"{with_state}: cannot tell the format: its rows hold 81 numbers, a frame number and 20 "
+                                "joints x 4 values (x y z and a tracking state, as some Kinect SDK v1 exporters write "
+                                "them): drop each joint's 4th value (rlff reads x y z), and it reads as Kinect text")
+    with pytest.raises(InputError, match=r"state.txt, line 1: 81 columns, expected 61 \(frame number then 20 joints x "
+                                         r"\(x y z\)\); 81 are a frame number .*: drop each joint's 4th value"):
+        read_kinect_text(with_state)
+    header = tmp_path / "header.txt"
+    names = ["frame", *(f"j{j}_{axis}" for j in range(20) for axis in "xyz")]
+    header.write_text(" ".join(names) + "\n" + "".join(" ".join([str(n), *(f"{v:.4f}" for v in frame.ravel())]) + "\n"
+                                                       for n, frame in enumerate(frames)))
+    with pytest.raises(InputError, match=r"header.txt: cannot tell the format: its first line is a header \('frame j0_x "
+                                         r".*'\) above rows of 61 numbers, Kinect SDK v1 text \(a frame number, 20 "
+                                         r"joints x \(x y z\)\): drop the header line$"):
+        import_recordings([header])
+    with pytest.raises(InputError, match=r"header.txt, line 1: a header line \('frame j0_x .*'\), where rlff reads "
+                                         r"numbers only \(frame number then 20 joints x \(x y z\)\): drop the line$"):
+        read_kinect_text(header)
+
+
 def test_a_file_read_as_a_format_it_is_not_names_the_one_it_looks_like(tmp_path):
     simulation = bf.standard_simulation(seed=2, n_throws=1, noise=0.0, second_user=False, drop_frames=0.0, drop_joints=0.0)
     path = _write_kinect(tmp_path / "kinect.txt", _kinect_frames(simulation), np.arange(len(simulation.frame_times)))

@@ -59,6 +59,10 @@ from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_thro
 from rlff.capture.skeleton import ArmTrack, Recording
 from rlff.capture.skeleton_text import (
     KINECT_UP,
+    KINECT_WIDTH,
+    KINECT_WITH_STATE,
+    WITH_STATE_DROP,
+    WITH_STATE_IS,
     axis_vector,
     read_joint_csv,
     read_kinect_text,
@@ -226,7 +230,8 @@ def detect_format(path: str | Path) -> str:
 
     ``.bag`` files and ROS 2 bag folders are bags, text whose first row is 4 numbers is MSR, 61
     numbers Kinect SDK v1, a file whose first line is rlff's ``# {"trajectory": ...}``
-    comment a thesis matrix, ``.csv`` and any other ``.tsv`` a joint CSV.
+    comment a thesis matrix, ``.csv`` and any other ``.tsv`` a joint CSV. Kinect text with a
+    header line or a tracking state after each joint's x y z is refused with what to drop.
     """
     path = Path(path)
     if path.suffix == ".bag" or path.is_dir() or path.suffix in (".db3", ".mcap"):
@@ -241,21 +246,40 @@ def detect_format(path: str | Path) -> str:
             if path.suffix.lower() == ".tsv":
                 return "csv"
             handle.seek(0)
+            header = None  # a first line of names, above rows of numbers
             for line in handle:
                 fields = line.split("#", 1)[0].replace(",", " ").split()
                 if fields:
                     # numbers only: a CSV header of 4 names ("trajectory,angle,distance,velocity",
                     # a dataset renamed .parquet) is no MSR row
                     if not all(is_number(field) for field in fields):
+                        if header is None and not any(is_number(field) for field in fields):
+                            header = line.strip()
+                            continue
                         break
-                    if len(fields) == 4:
+                    if header is None and len(fields) == 4:
                         return "msr"
-                    if len(fields) == 61:
+                    if header is None and len(fields) == KINECT_WIDTH:
                         return "kinect-text"
+                    layout = _text_layout(header, len(fields))
+                    if layout:
+                        raise InputError(f"{path}: cannot tell the format: {layout}")
                     break
     elif not path.exists():
         raise InputError(f"{path}: no such file or folder")
     raise InputError(f"{path}: cannot tell the format; give --format ({'|'.join(FORMATS)})")
+
+
+def _text_layout(header: str | None, width: int) -> str:
+    """What a text file whose rows hold ``width`` numbers, below a ``header`` line (or none), is
+    and what to drop to make it Kinect SDK v1 text, or ``""`` when it is nothing rlff knows."""
+    named = f"its first line is a header ({header[:40]!r}) above rows of" if header is not None else "its rows hold"
+    if width == KINECT_WITH_STATE:
+        drop = f"the header line and {WITH_STATE_DROP}" if header is not None else WITH_STATE_DROP
+        return f"{named} {width} numbers, {WITH_STATE_IS}: drop {drop}, and it reads as Kinect text"
+    if width == KINECT_WIDTH and header is not None:
+        return f"{named} {width} numbers, Kinect SDK v1 text (a frame number, 20 joints x (x y z)): drop the header line"
+    return ""
 
 
 #: The suffix of the files each text format reads, for the files of a folder given in their place.

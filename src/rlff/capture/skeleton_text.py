@@ -40,7 +40,7 @@ from rlff.capture.skeleton import SIDES, ArmTrack, JointTrack, Recording
 from rlff.csvlines import data_row_line, header_separator
 from rlff.errors import InputError
 from rlff.fileio import require_file
-from rlff.limits import FRAME_RATE_RANGE, check_frame_rate
+from rlff.limits import FRAME_RATE_RANGE, check_frame_rate, is_number
 from rlff.wording import bad_cell, nearest_hint, plural
 
 #: Up direction of the Kinect's camera frame (x left, y up, z away from the camera).
@@ -61,6 +61,15 @@ _JOINTS = ("shoulder", "elbow", "wrist", "hand")
 _AXES = ("x", "y", "z")
 
 
+#: Numbers in a row of Kinect SDK v1 text as rlff reads it (a frame number, 20 joints x (x y z)),
+#: and as exporters that add each joint's tracking state write it: what that is, what to drop.
+KINECT_WIDTH = 61
+KINECT_WITH_STATE = 81
+WITH_STATE_IS = ("a frame number and 20 joints x 4 values (x y z and a tracking state, as some Kinect SDK v1 "
+                 "exporters write them)")
+WITH_STATE_DROP = "each joint's 4th value (rlff reads x y z)"
+
+
 def _numeric_rows(
     path: Path, expected: int, what: str, frame_of: Callable[[int, list[float]], str]
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -69,7 +78,8 @@ def _numeric_rows(
 
     ``frame_of(row, values)`` names the frame of the ``row``-th numeric line (0-based) in messages.
     Returns the values, shape (N, expected), and the file line of each row, shape (N,); raises
-    InputError naming the first bad line.
+    InputError naming the first bad line (a header line, or a row of another known width, with
+    what to drop).
     """
     require_file(path)
     rows, lines = [], []
@@ -79,9 +89,14 @@ def _numeric_rows(
             if not text:
                 continue
             fields = text.split()
+            if not rows and not any(is_number(value) for value in fields):
+                raise InputError(f"{path}, line {number}: a header line ({text[:60]!r}), where rlff reads numbers "
+                                 f"only ({what}): drop the line")
             if len(fields) != expected:
+                with_state = expected == KINECT_WIDTH and len(fields) == KINECT_WITH_STATE
                 raise InputError(
                     f"{path}, line {number}: {len(fields)} columns, expected {expected} ({what})"
+                    + (f"; {KINECT_WITH_STATE} are {WITH_STATE_IS}: drop {WITH_STATE_DROP}" if with_state else "")
                 )
             try:
                 row = [float(value) for value in fields]
@@ -278,7 +293,7 @@ def read_kinect_text(path: str | Path, rate_hz: float | None = None) -> Recordin
     path = Path(path)
     rate = KINECT_RATE_HZ if rate_hz is None else check_frame_rate(rate_hz)
     values, lines = _numeric_rows(
-        path, 61, "frame number then 20 joints x (x y z)", lambda row, values: f"frame number {values[0]:g}"
+        path, KINECT_WIDTH, "frame number then 20 joints x (x y z)", lambda row, values: f"frame number {values[0]:g}"
     )
     notes: list[str] = []
     if np.isnan(values[:, 0]).any():
