@@ -316,6 +316,37 @@ def write_ros1_bag(
     return path
 
 
+def write_marker_bag(path: Path, simulation: Simulation, topic: str = "/skeleton_markers") -> Path:
+    """Write the thrower's joints as skeleton_markers draws them in rviz: one
+    ``visualization_msgs/Marker`` of POINTS per frame, and no /tf. Returns the path."""
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS1_NOETIC)
+    types = store.types
+    kind = "visualization_msgs/msg/Marker"
+    t0 = int(simulation.t0 * 1e9)
+    with Writer(path) as writer:
+        connection = writer.add_connection(topic, kind, typestore=store)
+        for index, (t, users) in enumerate(simulation.frames()):
+            stamp = t0 + int(round(t * 1e9))
+            time = types["builtin_interfaces/msg/Time"](sec=stamp // 10**9, nanosec=stamp % 10**9)
+            point, zero = types["geometry_msgs/msg/Point"], types["geometry_msgs/msg/Point"](x=0.0, y=0.0, z=0.0)
+            marker = types[kind](
+                header=types["std_msgs/msg/Header"](seq=index, stamp=time, frame_id=PARENT), ns="skeleton", id=0,
+                type=8, action=0,
+                pose=types["geometry_msgs/msg/Pose"](
+                    position=zero, orientation=types["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0)),
+                scale=types["geometry_msgs/msg/Vector3"](x=0.07, y=0.07, z=0.07),
+                color=types["std_msgs/msg/ColorRGBA"](r=0.0, g=1.0, b=0.0, a=1.0),
+                lifetime=types["builtin_interfaces/msg/Duration"](sec=0, nanosec=0), frame_locked=False,
+                points=[point(x=float(p[0]), y=float(p[1]), z=float(p[2])) for p in users["1"].values()], colors=[],
+                text="", mesh_resource="", mesh_use_embedded_materials=False,
+            )
+            writer.write(connection, stamp, store.serialize_ros1(marker, kind))
+    return path
+
+
 def write_ros2_bag(path: Path, simulation: Simulation, *, images: list[bytes] | None = None) -> Path:
     """Write the simulation as a ROS 2 bag folder (sqlite3 storage, CDR, definitions stored)."""
     from rosbags.rosbag2 import Writer

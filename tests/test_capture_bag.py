@@ -221,9 +221,22 @@ def test_a_bag_truncated_right_after_its_header_has_no_tf(tmp_path, lz4_bag):
 
 def test_a_bag_without_tf_lists_its_topics(tmp_path, simulation):
     bag = bf.write_ros1_bag(tmp_path / "notf.bag", simulation, tf_topic="/skeleton")
-    with pytest.raises(InputError, match=r"notf.bag: no topic /tf in the bag; topics there: /skeleton \(tf2_msgs/msg/TFMessage\)"):
+    with pytest.raises(InputError, match=r"notf.bag: no topic /tf in the bag; topics there: /skeleton \(tf2_msgs/msg/TFMessage\); "
+                                         r"give --topic /skeleton$"):
         read_bag(bag)
     assert len(read_bag(bag, topic="/skeleton").arms) == 4
+
+
+def test_a_bag_of_skeleton_markers_says_rlff_reads_the_skeleton_from_tf(tmp_path):
+    simulation = bf.standard_simulation(seed=4, n_throws=1, second_user=False)
+    bag = bf.write_marker_bag(tmp_path / "markers.bag", simulation)
+    with pytest.raises(InputError) as error:
+        read_bag(bag)
+    assert str(error.value) == (f"{bag}: no topic /tf in the bag; topics there: /skeleton_markers "
+                                "(visualization_msgs/msg/Marker); rlff reads a skeleton from tf (tf/tfMessage or "
+                                "tf2_msgs/TFMessage, a frame per joint as openni_tracker and NiTE publish it), not from "
+                                "the visualization markers that draw one (/skeleton_markers): record the tracker's /tf "
+                                "in the bag")
 
 
 def test_missing_frames_list_the_frames_there(lz4_bag):

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rlff.capture.bag_stream import open_stream
+from rlff.capture.bag_stream import MissingTopic, open_stream
 from rlff.capture.skeleton import ArmTrack, JointTrack, Recording
 from rlff.capture.tf_decode import TfCollector
 from rlff.errors import InputError
@@ -42,6 +42,8 @@ _SHOULDER = re.compile(r"(?:left|right)_shoulder")
 #: Message types of /tf in ROS 1 (tf) and ROS 1/2 (tf2), as rosbags names them.
 TF_TYPES = ("tf2_msgs/msg/TFMessage", "tf/msg/tfMessage")
 IMAGE_TYPES = ("sensor_msgs/msg/CompressedImage",)
+#: Message types that draw a skeleton in rviz (skeleton_markers and the like), which rlff does not read.
+MARKER_TYPES = ("visualization_msgs/msg/Marker", "visualization_msgs/msg/MarkerArray")
 #: Up in a ROS camera-link frame (x forward, y left, z up: REP 103).
 ROS_UP = np.array([0.0, 0.0, 1.0])
 
@@ -94,13 +96,16 @@ def read_bag(
         return decision
 
     count = 0
-    with open_stream(path, [topic], TF_TYPES) as stream:
-        collector = TfCollector(keep, stream.deserialize)
-        for message in stream.messages:
-            count += 1
-            collector.add(message.raw, message.msgtype, message.digest, message.time_ns)
-        collected = collector.finish()
-        warnings = stream.warnings
+    try:
+        with open_stream(path, [topic], TF_TYPES) as stream:
+            collector = TfCollector(keep, stream.deserialize)
+            for message in stream.messages:
+                count += 1
+                collector.add(message.raw, message.msgtype, message.digest, message.time_ns)
+            collected = collector.finish()
+            warnings = stream.warnings
+    except MissingTopic as missing:
+        raise InputError(f"{missing}{_tf_elsewhere(missing.topics)}") from None
     if collector.skipped:
         warnings.append(f"{path}: skipped {collector.skipped} damaged {topic} messages that could not be decoded")
     if count == 0:
@@ -120,6 +125,20 @@ def read_bag(
     if preferred and not any(arm.user == preferred.group(1) for arm in arms):
         notes.append(f"{path}: no user {preferred.group(1)}; found users {', '.join(sorted({a.user for a in arms}))}")
     return Recording(str(path), arms, ROS_UP, notes, warnings)
+
+
+def _tf_elsewhere(topics: dict[str, str]) -> str:
+    """What to do about a bag without the tf topic asked for, from its ``topics`` (name -> type):
+    the tf topic it has under another name, or that skeleton markers are not read."""
+    tf = sorted(name for name, kind in topics.items() if kind in TF_TYPES)
+    if tf:
+        return f"; give --topic {tf[0]}"
+    markers = sorted(name for name, kind in topics.items() if kind in MARKER_TYPES)
+    if markers:
+        return (f"; rlff reads a skeleton from tf (tf/tfMessage or tf2_msgs/TFMessage, a frame per joint as openni_tracker "
+                f"and NiTE publish it), not from the visualization markers that draw one ({', '.join(markers)}): record "
+                "the tracker's /tf in the bag")
+    return ""
 
 
 def _sides(stems: list[str]) -> dict[str, list[str]]:

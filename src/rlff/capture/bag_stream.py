@@ -96,11 +96,20 @@ def open_stream(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | Non
         reader.close()
 
 
+class MissingTopic(InputError):
+    """A topic asked for that the bag does not have; ``topics`` maps the bag's topics to their types,
+    for a reader to say what it would have read instead."""
+
+    def __init__(self, message: str, topics: dict[str, str]):
+        super().__init__(message)
+        self.topics = topics
+
+
 def _check_topics(path: Path, all_topics: dict[str, str], topics: Sequence[str], msgtypes: Sequence[str] | None) -> None:
     for topic in topics:
         if topic not in all_topics:
             there = ", ".join(f"{name} ({kind})" for name, kind in sorted(all_topics.items())) or "none"
-            raise InputError(f"{path}: no topic {topic} in the bag; topics there: {there}")
+            raise MissingTopic(f"{path}: no topic {topic} in the bag; topics there: {there}", all_topics)
         if msgtypes is not None and all_topics[topic] not in msgtypes:
             raise InputError(
                 f"{path}: topic {topic} carries {all_topics[topic]}, expected one of {', '.join(msgtypes)}"
