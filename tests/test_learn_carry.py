@@ -142,3 +142,19 @@ def test_a_refused_carry_names_the_rim_height_that_chose_other_demonstrations(de
     with pytest.raises(InputError, match=r"\(demos = '\w+' there, '\w+' here\): the two runs learned from other "
                                          r"demonstrations: another file, or the same cleaned by another --preset"):
         learn(other, NEAR, budget=1, feedback="binary", seed=3, carry_from=[low])
+
+
+def test_a_log_carries_whatever_ros_names_it_kept_or_did_not_keep(demos, near_log, tmp_path):
+    # a carry compares the robot by what its throws depend on, not by its ROS names (as before
+    # rlff kept them); a log written before (its robot record without "ros") carries as it did
+    log, offset = near_log
+    header, *attempts = log.read_text().splitlines()
+    written = json.loads(header)
+    robot = written["run"]["robot"]
+    older = {key: value for key, value in robot.items() if key != "ros"}
+    renamed = {**robot, "ros": {**robot["ros"], "action": "/cell_2/follow_joint_trajectory"}}
+    for name, record in (("older.jsonl", older), ("renamed.jsonl", renamed)):
+        path = tmp_path / name
+        path.write_text("\n".join([json.dumps({**written, "run": {**written["run"], "robot": record}}), *attempts]) + "\n")
+        carried = learn(demos, FAR, budget=1, feedback="binary", seed=3, carry_from=[path])
+        assert carried.history[0].info["log_factor"] == pytest.approx(offset, abs=2e-4)

@@ -215,3 +215,85 @@ def test_a_log_of_another_run_names_the_option_that_differs(tmp_path, logged, no
         log.append(make_attempt(1))
     with pytest.raises(InputError, match=message):
         AttemptLog(path, {**base, **now}, RUN_OPTIONS)
+
+
+def _robot_file(folder, name: str, edit=lambda text: text):
+    """A copy of the built-in robot file changed by ``edit`` (text to text)."""
+    from importlib import resources
+
+    path = folder / name
+    path.write_text(edit((resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()))
+    return path
+
+
+def _run_on(robot) -> dict:
+    """RUN on ``robot`` (a robot file, or None for the built-in one), its record as rlff learn writes it."""
+    from rlff.learn.log import robot_record
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.robot.description import DEFAULT_ROBOT
+
+    return {**RUN, "robot": robot_record(RobotMapping.for_robot(load_robot(robot or DEFAULT_ROBOT)))}
+
+
+@pytest.mark.parametrize(("edit", "said"), [
+    (lambda text: text.replace('name = "comau_smart5_six"', 'name = "cell_2_arm"'),
+     "robot.name = 'comau_smart5_six' in the log, 'cell_2_arm' now"),
+    (lambda text: text.replace('action = "/comau_controller/follow_joint_trajectory"',
+                               'action = "/cell_2/follow_joint_trajectory"'),
+     "robot.ros.action = '/comau_controller/follow_joint_trajectory' in the log, '/cell_2/follow_joint_trajectory' now"),
+    (lambda text: text.replace('joint_states = "/joint_states"', 'joint_states = "/cell_2/joint_states"'),
+     "robot.ros.joint_states = '/joint_states' in the log, '/cell_2/joint_states' now"),
+    (lambda text: text + '\n[ros.joints.joint_2]\nname = "shoulder_lift_joint"\n',
+     "robot.ros.joints.joint_2 = None in the log, {'name': 'shoulder_lift_joint', 'offset': 0.0, 'sign': 1} now"),
+], ids=["name", "action", "joint-states", "controller-joints"])
+def test_a_log_resumes_only_with_a_robot_of_its_name_and_ros_names(tmp_path, edit, said):
+    # the same numbers under another name or other ROS names: another arm's controller, whose
+    # throws must not continue this one's learning (the log resumed with any such file)
+    from rlff.learn.loop import RUN_OPTIONS
+
+    path = tmp_path / "attempts.jsonl"
+    write(path, make_attempt(1), run=_run_on(None))
+    other = _run_on(_robot_file(tmp_path, "other.toml", edit))
+    assert other["robot"]["digest"] == _run_on(None)["robot"]["digest"]  # the numbers are the same
+    with pytest.raises(InputError) as refused:
+        AttemptLog(path, other, RUN_OPTIONS)
+    assert str(refused.value) == (f"{path}: the log belongs to another run ({said}, from --robot); use another "
+                                  "--log file")
+    # the robot file it was written with resumes it
+    with AttemptLog(path, _run_on(_robot_file(tmp_path, "same.toml")), RUN_OPTIONS) as log:
+        assert [a.index for a in log.contents.attempts] == [1]
+
+
+def test_a_log_written_before_the_ros_names_were_kept_resumes_with_its_own_robot(tmp_path):
+    from rlff.learn.loop import RUN_OPTIONS
+
+    run = _run_on(None)
+    before = {**run, "robot": {key: value for key, value in run["robot"].items() if key != "ros"}}  # as written
+    path = tmp_path / "attempts.jsonl"
+    write(path, make_attempt(1), run=before)
+    with AttemptLog(path, run, RUN_OPTIONS) as log:
+        log.append(make_attempt(2))
+    assert [a.index for a in reopen(path, run).contents.attempts] == [1, 2]
+    assert json.loads(path.read_text().splitlines()[0])["run"] == before  # its header as it was
+    # and its robot is still checked by all it recorded
+    renamed = _run_on(_robot_file(tmp_path, "renamed.toml", lambda t: t.replace('"comau_smart5_six"', '"arm_2"')))
+    with pytest.raises(InputError, match=r"\(robot\.name = 'comau_smart5_six' in the log, 'arm_2' now, from --robot\)"):
+        AttemptLog(path, renamed, RUN_OPTIONS)
+
+
+def test_a_logged_throw_replays_with_its_robot_under_any_ros_names(tmp_path):
+    # replaying plans the same throw whichever controller it goes to (rlff robot send, sim throw,
+    # export); an older log, without ROS names, replays with its robot as before
+    from rlff.learn.replay import require_same_robot
+    from rlff.robot import RobotMapping, load_robot
+
+    run = _run_on(None)
+    moved = load_robot(_robot_file(tmp_path, "moved.toml", lambda t: t.replace(
+        'action = "/comau_controller/follow_joint_trajectory"', 'action = "/cell_2/follow_joint_trajectory"')))
+    require_same_robot("attempts.jsonl", run, RobotMapping.for_robot(moved))
+    before = {**run, "robot": {key: value for key, value in run["robot"].items() if key != "ros"}}
+    require_same_robot("attempts.jsonl", before, RobotMapping.for_robot(load_robot()))
+    renamed = load_robot(_robot_file(tmp_path, "renamed.toml", lambda t: t.replace('"comau_smart5_six"', '"arm_2"')))
+    with pytest.raises(InputError, match=r"thrown by another robot or mapping \(robot\.name = 'comau_smart5_six' in "
+                                         r"the log, 'arm_2' with "):
+        require_same_robot("attempts.jsonl", before, RobotMapping.for_robot(renamed))

@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from rlff.errors import InputError
-from rlff.learn.log import as_listed, brief, first_difference, read_log
+from rlff.learn.log import as_listed, brief, first_difference, read_log, without_ros
 
 #: Standard deviation (log speed) of the search's prior about the carried offset: the offsets of
 #: two baskets of one seed differ by 0.076 in ``short`` (tuning seeds 0-47), with room.
@@ -73,7 +73,10 @@ def carried_offsets(logs: Sequence[str | Path], run: dict[str, Any]) -> tuple[tu
     for path in logs:
         logged, contents = read_log(path)
         for key in SHARED:
-            difference = first_difference(logged.get(key), run.get(key), key)
+            # the robot as its throws depend on it, its ROS names aside (robot_record's "ros")
+            shared = (without_ros(logged.get(key)), without_ros(run.get(key))) if key == "robot" else (
+                logged.get(key), run.get(key))
+            difference = first_difference(*shared, key)
             if difference is None:
                 continue
             where, before, now = difference

@@ -11,8 +11,8 @@ crash the file holds every finished attempt and at most one partial last line. R
 that partial line (no newline at the end, or not valid JSON), drops it and reports it; a bad
 line anywhere else means the file was damaged or edited and is an error naming the line.
 A run resumes from the log only if the log's header describes the same run (basket, feedback,
-update, seed, demonstrations, the robot's digest); otherwise the mismatch is an error naming the
-first field that differs, never silently mixed.
+update, seed, demonstrations, the robot's name, digest and ROS names: :func:`robot_record`);
+otherwise the mismatch is an error naming the first field that differs, never silently mixed.
 
 One run at a time: opening a log takes an exclusive lock on ``<log>.lock`` (``flock`` through
 filelock's :func:`filelock.lock_descriptor`, released by the kernel if the run dies) and writes
@@ -40,6 +40,7 @@ from rlff.fileio import prepare_output, write_text
 from rlff.learn.attempt import Attempt
 
 if TYPE_CHECKING:
+    from rlff.robot.description import Robot
     from rlff.robot.mapping import ArmMapping, RobotMapping
 
 FORMAT = "rlff-attempts"
@@ -158,7 +159,8 @@ class AttemptLog:
     def _resume(self) -> LogContents:
         raw = self.path.read_bytes()
         lines, records, dropped = _records(self.path, raw)
-        if len(records) == 1 and first_difference(_run_of(self.path, records[0]), self.run) is not None:
+        logged = _run_of(self.path, records[0])
+        if len(records) == 1 and first_difference(logged, run_as_logged(logged, self.run)) is not None:
             # an attempts log of a run that stopped before its first throw (no joint states, a
             # refused basket): nothing in it to keep, and its settings must not bind the next run
             write_text(self.path, _line({"format": FORMAT, "version": VERSION, "run": self.run}))
@@ -180,11 +182,12 @@ class AttemptLog:
 
     def _check_header(self, header: dict[str, Any]) -> None:
         logged = _run_of(self.path, header)
+        run = run_as_logged(logged, self.run)
         # what the user chose is named before what follows from it (other joints drive other
         # columns of the demonstrations, so their fingerprint differs too; --until centred adds
         # a centre share)
-        chosen = (first_difference(_at(logged, key), _at(self.run, key), key) for key in self.options)
-        difference = next((found for found in chosen if found is not None), None) or first_difference(logged, self.run)
+        chosen = (first_difference(_at(logged, key), _at(run, key), key) for key in self.options)
+        difference = next((found for found in chosen if found is not None), None) or first_difference(logged, run)
         if difference is None:
             return
         key, before, now = difference
@@ -193,7 +196,7 @@ class AttemptLog:
         def shown(value: Any) -> str:
             return absent if value is None and absent is not None else brief(value)
 
-        before, now = as_listed(key, (before, now), (logged, self.run))
+        before, now = as_listed(key, (before, now), (logged, run))
         raise InputError(
             f"{self.path}: the log belongs to another run ({key} = {shown(before)} in the log, {shown(now)} now"
             f"{f', from {option}' if option else ''}); use another --log file"
@@ -201,14 +204,17 @@ class AttemptLog:
 
 
 def robot_record(mapping: RobotMapping | ArmMapping) -> dict[str, Any]:
-    """What the log's header keeps of the robot: its name, a digest and the description digested.
+    """What the log's header keeps of the robot: its name, a digest and the description digested,
+    and where its controller is on the ROS graph.
 
     The description is what a throw depends on: every joint's limits (all the numbers of its
     robot-file table), the geometry and the human-to-robot mapping actually used; not where the
-    file lies. A log resumes only with the same description, and a changed one is named field by
-    field (``robot.description.mapping.angle_scale``). A whole-arm mapping is described by its
-    driven joints (each with its human joint, offset and scale), time scale, bearing joint and
-    start pose; a one-joint one as it always was.
+    file lies. A whole-arm mapping is described by its driven joints (each with its human joint,
+    offset and scale), time scale, bearing joint and start pose; a one-joint one as it always was.
+    ``ros`` is the robot file's ``[ros]`` table (:func:`ros_record`): which arm's controller the
+    attempts went to, outside the digest (the throw is the same under any names). A log resumes
+    only with the same name, description and ROS names, and a changed one is named field by field
+    (``robot.description.mapping.angle_scale``, ``robot.ros.action``).
     """
     robot = mapping.robot
     description = {
@@ -218,7 +224,42 @@ def robot_record(mapping: RobotMapping | ArmMapping) -> dict[str, Any]:
     }
     canonical = json.dumps(description, sort_keys=True, separators=(",", ":"))
     return {"name": robot.name, "digest": hashlib.sha256(canonical.encode()).hexdigest()[:16],
-            "description": description}
+            "description": description, "ros": ros_record(robot)}
+
+
+def ros_record(robot: Robot) -> dict[str, Any]:
+    """The robot file's ``[ros]`` table as a log keeps it: the action, the joint states and
+    trajectory topics, and under ``joints`` each joint the controller names or counts otherwise
+    (``[ros.joints]``: its name, offset in rad and sign; a table that keeps the joint as rlff has
+    it changes nothing and is left out)."""
+    names = robot.ros
+    joints = {joint: {"name": entry.name, "offset": entry.offset, "sign": entry.sign}
+              for joint, entry in names.joints.joints.items() if not names.joints.keeps(joint)}
+    return {"action": names.action, "joint_states": names.joint_states, "trajectory_topic": names.trajectory_topic,
+            "joints": joints}
+
+
+#: Keys of :func:`robot_record` that logs written before them lack (``ros``: before 2026-12-06).
+#: Such a log resumes without comparing them: with its own robot file as it did, whatever that
+#: file's ROS names (the log never said which they were).
+LATER_ROBOT_KEYS = ("ros",)
+
+
+def run_as_logged(logged: dict[str, Any], run: dict[str, Any]) -> dict[str, Any]:
+    """``run`` (a header's run description of now) as the header ``logged`` could have held it, for
+    comparing the two: its robot record without the :data:`LATER_ROBOT_KEYS` that ``logged``'s lacks."""
+    robot, then = run.get("robot"), logged.get("robot")
+    if not isinstance(robot, dict) or not isinstance(then, dict):
+        return run
+    return {**run, "robot": {key: value for key, value in robot.items()
+                             if key in then or key not in LATER_ROBOT_KEYS}}
+
+
+def without_ros(record: Any) -> Any:
+    """A robot record (:func:`robot_record`) without its ROS names: whose throw it is and what the
+    throw depends on, as replaying a logged throw and carrying its offset compare it (the same
+    throw, planned the same way, whichever controller it goes to)."""
+    return {key: value for key, value in record.items() if key != "ros"} if isinstance(record, dict) else record
 
 
 def _mapping_description(mapping: RobotMapping | ArmMapping) -> dict[str, Any]:

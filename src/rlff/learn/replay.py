@@ -26,7 +26,14 @@ import numpy as np
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.learn.attempt import Attempt
-from rlff.learn.log import brief, first_difference, is_attempts_log, read_log, robot_record
+from rlff.learn.log import (
+    brief,
+    first_difference,
+    is_attempts_log,
+    read_log,
+    robot_record,
+    without_ros,
+)
 from rlff.robot.description import Robot
 from rlff.robot.export import check_bag_output
 from rlff.robot.formats import export_trajectory
@@ -125,8 +132,9 @@ def rebearing_warning(path: str | Path, bearing: float | None) -> str | None:
 
 
 def require_same_robot(path: str | Path, run: dict, mapping: RobotMapping | ArmMapping) -> None:
-    """Raise :class:`InputError` unless ``mapping`` is the robot and mapping the log was thrown with."""
-    difference = first_difference(run.get("robot"), robot_record(mapping), "robot")
+    """Raise :class:`InputError` unless ``mapping`` is the robot and mapping the log was thrown with
+    (its name and description; not its ROS names, which do not change the throw)."""
+    difference = first_difference(without_ros(run.get("robot")), without_ros(robot_record(mapping)), "robot")
     if difference is not None:
         key, logged, now = difference
         raise InputError(f"{path} was thrown by another robot or mapping ({key} = {brief(logged)} in the log, "
