@@ -432,8 +432,10 @@ def unfinished(gone: str | None, confirmed: bool, action: str, start: float, dur
                detail: str = "") -> SendResult:
     """The :class:`SendResult` of a goal that ran out of time (``gone`` None) or whose server went
     silent (``gone``: how it was noticed), after a cancel the server ``confirmed`` or not;
-    ``detail``: the server's error text, if any."""
+    ``detail``: the server's text of a confirmed cancel (its result's error_string: how the arm
+    braked), if any. ROS 1 and ROS 2 word a goal's end alike through it."""
     cancel = "goal cancelled" if confirmed else cancel_unconfirmed(CANCEL_WAIT if gone is None else None)
+    detail = f"; {detail}" if confirmed and detail else ""
     if gone is not None:
         return SendResult("lost", None, None, f"the server at {action} stopped answering ({gone}); {cancel}{detail}",
                           start, duration, feedback)

@@ -212,7 +212,7 @@ def send_goal(
             gone = None if ended == "timed out" else ended
             confirmed = _cancel(client, status, lost=gone is not None)
             result = client.get_result()
-            text = f"; {result.error_string}" if confirmed and result is not None and result.error_string else ""
+            text = result.error_string if result is not None else ""
             return unfinished(gone, confirmed, action, start.to_sec(), traj.duration, received, text)
     except KeyboardInterrupt as exc:  # a second Ctrl-C while cancelling: the cancel was sent, not confirmed
         if goal_fate(exc) is None:
