@@ -239,7 +239,7 @@ def ros_record(robot: Robot) -> dict[str, Any]:
             "joints": joints}
 
 
-#: Keys of :func:`robot_record` that logs written before them lack (``ros``: before 2026-12-06).
+#: Keys of :func:`robot_record` that logs written before them lack (``ros``: logs written until 2026-12-06).
 #: Such a log resumes without comparing them: with its own robot file as it did, whatever that
 #: file's ROS names (the log never said which they were).
 LATER_ROBOT_KEYS = ("ros",)
