@@ -141,6 +141,7 @@ def test_goal_beyond_the_limits_is_rejected_and_nothing_moves(ros, tmp_path):
     assert outcome["status"] == "rejected" and outcome["error_code"] == -1
     assert outcome["error_name"] == "INVALID_GOAL"
     assert "joint_2 position" in outcome["error_string"] and "beyond the limit -1.48 rad" in outcome["error_string"]
+    assert "executing" not in result.stderr, result.stderr  # no progress bar of a goal that never ran
     _, positions = states(tmp_path / "states.csv")
     assert np.ptp(positions, axis=0).max() == 0.0
 
@@ -413,7 +414,7 @@ def test_serve_and_send_under_the_robot_file_s_ros_names(tmp_path):
         assert result.returncode == 0, result.stderr
         outcome = json.loads(result.stdout)
         assert outcome["status"] == "succeeded" and outcome["duration"] == pytest.approx(sent.duration)
-        assert "\nexecuting " in result.stderr  # the progress bar, once the goal was accepted
+        assert "\nexecuting " in result.stderr  # the progress bar, from the goal's first feedback
 
         published = rig.rlff("robot", "send", str(back), "--robot", str(arm), "--topic-mode", "--timeout", "60")
         assert published.returncode == 0, published.stderr

@@ -26,8 +26,6 @@ from rlff.cli._common import (
 from rlff.cli.output import output_option
 
 if TYPE_CHECKING:
-    from collections.abc import Callable
-
     from rlff.robot.plan import RobotPlan
 
 # The library (SciPy, pandas, rosbags) is imported inside the commands so that `rlff` starts fast;
@@ -494,28 +492,28 @@ def send(
             # that cancels the goal
             import rich.progress  # noqa: F401
             with ExitStack() as stack:
-                bar: list = []  # the progress bar, once the server accepted the goal
-                opening = threading.Lock()  # feedback and the acceptance may come on different threads
+                # the progress bar opens at the goal's first feedback, when the arm runs it: a goal the
+                # server refuses sends none, and over ROS 2 a server refuses a goal by accepting and
+                # aborting it at once (rlff's and ros2_control's: the error code reaches the client
+                # so), so its acceptance does not say it runs
+                bar: list = []
+                opening = threading.Lock()  # rospy calls back on a thread per connection
                 done = 0
-
-                def accepted() -> Callable[..., None]:
-                    with opening:
-                        if not bar:
-                            bar.append(stack.enter_context(progress("executing", steps)))
-                        return bar[0]
 
                 def on_feedback(elapsed: float) -> None:
                     nonlocal done
-                    advance = accepted()  # feedback means accepted, whatever the order they arrive in
-                    now = min(steps, round(elapsed * 100))
-                    if now > done:
-                        advance(now - done)
-                        done = now
+                    with opening:
+                        if not bar:
+                            bar.append(stack.enter_context(progress("executing", steps)))
+                        now = min(steps, round(elapsed * 100))
+                        if now > done:
+                            bar[0](now - done)
+                            done = now
 
                 # said before the wait: an absent server was 10 s of silence, then the error
                 say(f"sending the goal to {model.ros.action}: waiting up to "
                     f"{CONNECT_TIMEOUT if timeout is None else timeout:g} s for its action server")
-                outcome = send_goal(model, traj, pose, timeout, on_feedback, on_accepted=accepted)
+                outcome = send_goal(model, traj, pose, timeout, on_feedback)
         except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: the client cancelled the goal, if one was sent
             said = interrupted_goal(exc)
             if said:
