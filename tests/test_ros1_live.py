@@ -449,6 +449,19 @@ def test_an_action_nobody_serves_is_named_with_the_robot_file_s_ros_table(ros, t
     assert before[-1] == "sending the goal to /nobody/follow_joint_trajectory: waiting up to 4 s for its action server"
 
 
+def test_an_action_s_topic_given_for_the_action_is_named_as_such(ros, tmp_path):
+    # `rostopic list | grep follow_joint_trajectory` lists the action's topics: a user copied one
+    typed = named_robot_file(tmp_path, "typed.toml", action="/comau_controller/follow_joint_trajectory/goal")
+    path = throw_csv(tmp_path, "throw.csv", -0.5, 0.5, 0.5)
+    result = ros.rlff("robot", "send", str(path), "--robot", str(typed), "--timeout", "2")
+    assert result.returncode == 1
+    assert result.stderr.splitlines()[-1] == (
+        f"rlff: error: no action server at /comau_controller/follow_joint_trajectory/goal (the [ros] action of "
+        f"{typed}): the action is the part before /goal, /comau_controller/follow_joint_trajectory (/goal names one "
+        "of its topics): name that in [ros] action; or is `rlff robot serve` running, or does the arm's controller "
+        "use another name? (`rostopic list | grep follow_joint_trajectory`)"), result.stderr
+
+
 def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(tmp_path):
     """A robot file of rlff's joints with [geometry] and [ros.joints] of a UR-named controller:
     `robot serve` plays that controller (its joint states carry the UR's names and positions

@@ -24,6 +24,7 @@ from rlff.robot import RobotMapping, load_robot
 from rlff.robot.send import approach_line
 from rlff.robot.sendfile import load_for_sending
 from ros2rig import ACTION, RosNode, free_domain, require_ros2, ros2_env, wait_until
+from rosrig import named_robot_file
 
 pytestmark = [pytest.mark.ros2, pytest.mark.integration, pytest.mark.slow]
 
@@ -253,6 +254,22 @@ def test_an_error_once_the_goal_is_accepted_cancels_it(controller, domain, throw
     with pytest.raises(RuntimeError, match="the progress bar failed"):
         send_goal(load_robot(), throw[2], throw[1], timeout=60, on_accepted=fails)
     assert controller.cancelled.is_set()
+
+
+def test_an_action_s_topic_given_for_the_action_is_named_as_such(controller, domain, throw, tmp_path, monkeypatch):
+    # `ros2 topic list` shows an action by its hidden topics: a user copied one (rlff's client in
+    # this process, the test's server at the part before)
+    from rlff.robot.ros2.client import ServerUnavailable, send_goal
+
+    for name, value in ros2_env(domain, tmp_path).items():
+        monkeypatch.setenv(name, value)
+    typed = named_robot_file(tmp_path, "typed.toml", action=f"{ACTION}/_action/feedback")
+    with pytest.raises(ServerUnavailable) as refused:
+        send_goal(load_robot(typed), throw[2], throw[1], timeout=1)
+    assert str(refused.value).startswith(
+        f"no action server at {ACTION}/_action/feedback (the [ros] action of {typed}): the action is the part "
+        f"before /_action/feedback, {ACTION} (/_action/feedback names one of its topics): name that in [ros] action; "
+        "or is `rlff robot serve --ros 2` running, "), refused.value
 
 
 @pytest.mark.parametrize(("stop_signal", "code", "word"), [(signal.SIGINT, 130, "interrupted"),

@@ -47,6 +47,7 @@ from rlff.robot.send import (
     mark_goal,
     unfinished,
 )
+from rlff.robot.unreachable import action_topic_hint
 from rlff.trajectory.joint import JointTrajectory
 
 #: Seconds without a status message from the server (actionlib publishes one at 5 Hz) after
@@ -180,7 +181,8 @@ def send_goal(
     action = robot.ros.action
     client = actionlib.SimpleActionClient(action, FollowJointTrajectoryAction)
     if not client.wait_for_server(rospy.Duration.from_sec(max(0.01, deadline - time.monotonic()))):
-        raise RosUnavailable(f"no action server at {action} ({robot.ros_origin('action')}): is `rlff robot serve` "
+        raise RosUnavailable(f"no action server at {action} ({robot.ros_origin('action')}): "
+                             f"{action_topic_hint(action)}is `rlff robot serve` "
                              "running, or does the arm's controller use another name? "
                              "(`rostopic list | grep follow_joint_trajectory`)")
     if timeout is None:

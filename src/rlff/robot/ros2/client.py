@@ -52,6 +52,7 @@ from rlff.robot.send import (
     mark_goal,
     unfinished,
 )
+from rlff.robot.unreachable import action_topic_hint
 from rlff.trajectory.joint import JointTrajectory
 
 _STATES = {GoalStatus.STATUS_SUCCEEDED: "succeeded", GoalStatus.STATUS_ABORTED: "aborted",
@@ -216,7 +217,8 @@ class Connection:
             self._pings[action] = self.node.create_client(CancelGoal, f"{action}/_action/cancel_goal")
         client = self._clients[action]
         if not client.wait_for_server(timeout_sec=max(0.01, deadline - time.monotonic())):
-            raise ServerUnavailable(f"no action server at {action} ({robot.ros_origin('action')}): is `rlff robot "
+            raise ServerUnavailable(f"no action server at {action} ({robot.ros_origin('action')}): "
+                                    f"{action_topic_hint(action)}is `rlff robot "
                                     "serve --ros 2` running, with the same ROS_DOMAIN_ID and discovery range, or "
                                     "does the arm's controller use another name? (`ros2 action list -t`)")
         if fresh:
