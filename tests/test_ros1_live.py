@@ -428,7 +428,34 @@ def test_serve_and_send_under_the_robot_file_s_ros_names(tmp_path):
         rig.close()
     assert default.returncode == 1
     assert default.stderr.startswith("rlff: error: nothing on /joint_states within 1 s (the [ros] joint_states of "
-                                     "built-in robot comau_smart5_six): the arm's pose is unknown; "), default.stderr
+                                     "built-in robot comau_smart5_six): the arm's pose is unknown; no node publishes "
+                                     "it (the master lists none): is the arm's driver, or `rlff robot serve`, "
+                                     "running, "), default.stderr
+
+
+#: A driver whose publisher of the joint states (the topic its first argument) sends nothing.
+SILENT_DRIVER = ("import sys\nimport rlff.robot.ros1\nimport rospy\nfrom sensor_msgs.msg import JointState\n"
+                 "rospy.init_node('silent_driver')\nstates = rospy.Publisher(sys.argv[1], JointState, queue_size=1)\n"
+                 "rospy.spin()")
+
+
+def test_a_driver_that_publishes_nothing_is_told_from_none(ros, tmp_path):
+    # its publisher registered with the master, its messages absent: not "is the arm's driver running"
+    silent = named_robot_file(tmp_path, "silent.toml", joint_states="/silent/joint_states")
+    driver = subprocess.Popen([sys.executable, "-c", SILENT_DRIVER, "/silent/joint_states"], env=ros.env)
+    try:
+        wait(lambda: any(topic == "/silent/joint_states" for topic, _ in ros.master.getSystemState("/test")[2][0]),
+             60, "the silent driver's publisher")
+        path = throw_csv(tmp_path, "throw.csv", -0.5, 0.5, 0.5)
+        result = ros.rlff("robot", "send", str(path), "--robot", str(silent), "--timeout", "2")
+    finally:
+        stop(driver)
+    assert result.returncode == 1
+    assert result.stderr.splitlines()[-1] == (
+        f"rlff: error: nothing on /silent/joint_states within 2 s (the [ros] joint_states of {silent}): the arm's "
+        "pose is unknown; the master lists a publisher of it, and nothing came from it: does the arm's driver "
+        "publish its state, and can this host reach the driver's (ROS_IP or ROS_HOSTNAME on both)? (`rostopic hz "
+        "/silent/joint_states`, `rostopic info /silent/joint_states`)"), result.stderr
 
 
 def test_an_action_nobody_serves_is_named_with_the_robot_file_s_ros_table(ros, tmp_path):

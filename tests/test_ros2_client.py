@@ -315,7 +315,13 @@ def test_without_a_server_the_client_gives_up_with_a_clear_error(throw, tmp_path
     lonely = free_domain()  # a domain of its own, where nobody serves
     result = rlff_send(lonely, tmp_path, str(throw[0]), "--timeout", "2", timeout=60)
     assert result.returncode == 1
-    assert "nothing on /joint_states" in result.stderr
+    # no publisher discovered, and a wait that discovery alone may outlast on a loaded machine
+    assert result.stderr.splitlines()[-1] == (
+        "rlff: error: nothing on /joint_states within 2 s (the [ros] joint_states of built-in robot comau_smart5_six): "
+        "the arm's pose is unknown; no publisher of it was discovered: is the arm's driver, or `rlff robot serve "
+        "--ros 2`, running, with the same ROS_DOMAIN_ID, or does it publish on another topic? (`ros2 topic find "
+        "sensor_msgs/msg/JointState`); discovery alone can take seconds on a loaded machine: if the driver "
+        "publishes, give a --timeout above 2 s, or leave it out (10 s)"), result.stderr
 
 
 @pytest.fixture
@@ -350,6 +356,18 @@ def test_a_state_not_fresh_is_not_taken_as_the_arm_s_pose(state, domain, throw, 
     assert line.startswith(f"rlff: error: no fresh state on /joint_states within {REFUSAL_TIMEOUT} s: "), line
     assert re.search(said, line), line
     assert "the arm's pose is unknown" in line
+
+
+def test_a_driver_discovered_that_publishes_nothing_is_told_from_none(state, domain, throw, tmp_path):
+    # the driver's publisher is there, its messages are not: not "is the arm's driver running"
+    state.state = State(arm=False)
+    line = _refused(domain, tmp_path, state, throw)
+    assert line == (
+        f"rlff: error: nothing on /joint_states within {REFUSAL_TIMEOUT} s (the [ros] joint_states of built-in robot "
+        "comau_smart5_six): the arm's pose is unknown; a publisher of it was discovered, and nothing came from it: "
+        "does the arm's driver publish its state, with a QoS a reliable subscription takes? (`ros2 topic hz "
+        "/joint_states`, `ros2 topic info -v /joint_states`); discovery alone can take seconds on a loaded machine: "
+        f"if the driver publishes, give a --timeout above {REFUSAL_TIMEOUT} s, or leave it out (10 s)")
 
 
 def test_a_moving_arm_is_refused(state, domain, throw, tmp_path):

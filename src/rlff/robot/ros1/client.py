@@ -30,7 +30,7 @@ from rlff.errors import Interrupted
 from rlff.robot.description import Robot
 from rlff.robot.goal import check_goal
 from rlff.robot.ros1.convert import to_msg
-from rlff.robot.ros1.master import RosUnavailable, wait_for_master
+from rlff.robot.ros1.master import RosUnavailable, publishers_of, wait_for_master
 from rlff.robot.send import (
     CANCEL_NOT_AWAITED,
     CANCEL_UNCONFIRMED,
@@ -47,7 +47,7 @@ from rlff.robot.send import (
     mark_goal,
     unfinished,
 )
-from rlff.robot.unreachable import action_topic_hint
+from rlff.robot.unreachable import action_topic_hint, ros1_no_joint_states
 from rlff.trajectory.joint import JointTrajectory
 
 #: Seconds without a status message from the server (actionlib publishes one at 5 Hz) after
@@ -73,7 +73,9 @@ def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, n
     Raises
     ------
     RosUnavailable
-        No master, or nothing on the joint states topic, within ``timeout`` s (default 10).
+        No master, or nothing on the joint states topic, within ``timeout`` s (default 10); the
+        message says whether the master lists a publisher of it
+        (:func:`rlff.robot.unreachable.ros1_no_joint_states`).
     ArmStateError
         Only stale or unstamped messages came, or the pose is not a number or beyond a limit, or
         two fresh poses disagree (two publishers of the arm's joints).
@@ -96,9 +98,7 @@ def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, n
     finally:
         subscriber.unregister()
     if state is None:
-        raise RosUnavailable(f"nothing on {topic} within {waited:g} s ({robot.ros_origin('joint_states')}): the "
-                             "arm's pose is unknown; is the arm's driver, or `rlff robot serve`, running, or does it "
-                             "publish on another topic? (`rostopic find sensor_msgs/JointState`)")
+        raise RosUnavailable(ros1_no_joint_states(robot, waited, publishers_of(topic)))
     return state
 
 

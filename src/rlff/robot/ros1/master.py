@@ -92,3 +92,17 @@ def require_no_server(node_name: str, status_topic: str) -> None:
                                         f"({node_uri}): stop it first; a second server would compete for the goals")
     finally:
         socket.setdefaulttimeout(previous)
+
+
+def publishers_of(topic: str) -> int | None:
+    """How many nodes the master lists as publishers of ``topic`` (a node killed hard stays
+    listed); None when the master cannot be asked."""
+    previous = socket.getdefaulttimeout()
+    socket.setdefaulttimeout(2.0)
+    try:
+        publishers, _, _ = rosgraph.Master("/rlff_probe").getSystemState()
+    except (OSError, rosgraph.MasterException):
+        return None
+    finally:
+        socket.setdefaulttimeout(previous)
+    return sum(len(nodes) for name, nodes in publishers if name == topic)

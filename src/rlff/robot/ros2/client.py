@@ -52,7 +52,7 @@ from rlff.robot.send import (
     mark_goal,
     unfinished,
 )
-from rlff.robot.unreachable import action_topic_hint
+from rlff.robot.unreachable import action_topic_hint, ros2_no_joint_states
 from rlff.trajectory.joint import JointTrajectory
 
 _STATES = {GoalStatus.STATUS_SUCCEEDED: "succeeded", GoalStatus.STATUS_ABORTED: "aborted",
@@ -158,7 +158,9 @@ class Connection:
         Raises
         ------
         ServerUnavailable
-            Nothing on the joint states topic within ``timeout`` s (default 10).
+            Nothing on the joint states topic within ``timeout`` s (default 10; discovery counts
+            against it); the message says whether discovery found a publisher of it
+            (:func:`rlff.robot.unreachable.ros2_no_joint_states`).
         ArmStateError
             Only stale or unstamped messages came, or the pose is not a number or beyond a limit,
             or two fresh poses disagree (two publishers of the arm's joints).
@@ -184,11 +186,8 @@ class Connection:
             state = watch.wait(deadline, waited)
         finally:
             self.node.destroy_subscription(subscription)
-        if state is None:
-            raise ServerUnavailable(f"nothing on {topic} within {waited:g} s ({robot.ros_origin('joint_states')}): "
-                                    "the arm's pose is unknown; is the arm's driver, or `rlff robot serve --ros 2`, "
-                                    "running, with the same ROS_DOMAIN_ID, or does it publish on another topic? "
-                                    "(`ros2 topic find sensor_msgs/msg/JointState`)")
+        if state is None:  # no publisher discovered, or publishers that sent nothing it took
+            raise ServerUnavailable(ros2_no_joint_states(robot, waited, self.node.count_publishers(topic)))
         return state
 
     def _settle(self, action: str, deadline: float) -> None:
