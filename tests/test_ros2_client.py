@@ -484,10 +484,15 @@ def test_a_server_killed_after_accepting_before_any_feedback_is_lost_within_seco
 def test_stopping_send_before_any_goal_says_no_cancel(throw, tmp_path):
     require_ros2()
     lonely = free_domain()  # nothing on /joint_states: the client is still waiting for the arm's pose
+    # started as a non-interactive shell starts `rlff robot send ... &`: SIGINT ignored, which rlff
+    # keeps (docs/robot.md: a supervisor stops it with SIGTERM)
     sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(throw[0]), "--ros", "2"],
                               env=ros2_env(lonely, tmp_path), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                              text=True)
+                              text=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
     time.sleep(5)  # started, waiting up to 10 s for /joint_states
+    sender.send_signal(signal.SIGINT)
+    time.sleep(0.5)
+    assert sender.poll() is None, "SIGINT stopped a process that ignores it"
     sender.send_signal(signal.SIGTERM)
     _, err = sender.communicate(timeout=60)
     assert sender.returncode == 143, err
