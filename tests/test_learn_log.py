@@ -297,3 +297,14 @@ def test_a_logged_throw_replays_with_its_robot_under_any_ros_names(tmp_path):
     with pytest.raises(InputError, match=r"thrown by another robot or mapping \(robot\.name = 'comau_smart5_six' in "
                                          r"the log, 'arm_2' with "):
         require_same_robot("attempts.jsonl", before, RobotMapping.for_robot(renamed))
+
+
+def test_an_older_log_without_attempts_gets_the_whole_header_of_the_next_run(tmp_path):
+    # nothing in it binds: the next run writes its header, ROS names and all, so that its
+    # attempts resume only with its robot file's ROS names
+    run = _run_on(None)
+    path = tmp_path / "attempts.jsonl"
+    AttemptLog(path, {**run, "robot": {key: value for key, value in run["robot"].items() if key != "ros"}}).close()
+    with AttemptLog(path, run) as log:
+        log.append(make_attempt(1))
+    assert json.loads(path.read_text().splitlines()[0])["run"] == json.loads(json.dumps(run))

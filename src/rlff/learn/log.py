@@ -159,10 +159,10 @@ class AttemptLog:
     def _resume(self) -> LogContents:
         raw = self.path.read_bytes()
         lines, records, dropped = _records(self.path, raw)
-        logged = _run_of(self.path, records[0])
-        if len(records) == 1 and first_difference(logged, run_as_logged(logged, self.run)) is not None:
+        if len(records) == 1 and first_difference(_run_of(self.path, records[0]), self.run) is not None:
             # an attempts log of a run that stopped before its first throw (no joint states, a
             # refused basket): nothing in it to keep, and its settings must not bind the next run
+            # (an older header, without what this version records, is written anew whole)
             write_text(self.path, _line({"format": FORMAT, "version": VERSION, "run": self.run}))
             return LogContents([], dropped)
         self._check_header(records[0])
