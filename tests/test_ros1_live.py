@@ -331,7 +331,7 @@ def test_a_server_that_dies_mid_goal_is_reported_lost_not_cancelled(tmp_path):
     assert outcome["error_string"].startswith("the server at /comau_controller/follow_joint_trajectory stopped "
                                               "answering (no status for ")
     assert "the cancel was not confirmed (no server is left to answer it): the arm's state is unknown" in err
-    assert took < 8  # seen within seconds, not after the throw's duration + 10 s + the cancel's 10 s
+    assert took < 12  # seen within seconds (5 s of silence and the cancel's 1 s; 8.1 s on a loaded machine), not after the throw's duration + 10 s + the cancel's 10 s
 
 
 def test_a_server_restarted_after_a_crash_mid_goal_confirms_no_cancel(tmp_path):

@@ -428,7 +428,7 @@ def test_a_cancel_the_server_ignores_is_not_called_a_cancel(state, domain, throw
     assert outcome["status"] == "timed out" and "goal cancelled" not in result.stderr
     assert outcome["error_string"] == ("timed out; the cancel was not confirmed (no answer from the server within "
                                        "10 s): the arm's state is unknown; check the arm (e-stop it if it moves)")
-    assert took < 4 + 10 + 10  # --timeout, the cancel's 10 s, and starting up
+    assert took < 4 + 10 + 16  # --timeout, the cancel's 10 s, and starting up (24.2 s seen on a loaded machine)
 
 
 def test_a_server_that_falls_silent_mid_goal_is_lost_not_cancelled(state, domain, throw, tmp_path):
@@ -442,7 +442,7 @@ def test_a_server_that_falls_silent_mid_goal_is_lost_not_cancelled(state, domain
     assert outcome["error_string"].startswith(f"the server at {ACTION} stopped answering (its feedback stopped ")
     assert outcome["error_string"].endswith("; the cancel was not confirmed (no server is left to answer it): the "
                                             "arm's state is unknown; check the arm (e-stop it if it moves)")
-    assert took < 15  # seen within seconds, not after the throw's duration + 10 s + the cancel's 10 s
+    assert took < 18  # seen within seconds (16.9 s on a loaded machine), not after the throw's duration + 10 s + the cancel's 10 s
 
 
 def test_a_server_killed_after_accepting_before_any_feedback_is_lost_within_seconds(throw, tmp_path):
