@@ -245,13 +245,15 @@ def test_rescale_removes_a_throw_it_would_reverse_or_cannot_move(mode):
 @pytest.mark.parametrize("mode", ["scale", "stretch"])
 def test_rescale_removes_a_throw_cut_short_rather_than_make_up_its_shape(mode):
     # a real MSR throw whose extension the tracker ended at 1.38 rad was stretched 2.5 times into
-    # a slow sweep; the others end near 2.9, and without it the common end is theirs
+    # a slow sweep; here one ends at 1.0 rad where the others end near 2.9, and without it the
+    # common end is theirs
     throws = [_throw(f"t{k}", [0.7, 1.8, end]) for k, end in enumerate([2.8, 2.9, 3.0])]
-    data = Dataset([*throws, _throw("cut", [0.33, 0.9, 1.38])])
+    data = Dataset([*throws, _throw("cut", [0.33, 0.6, 1.0])])
     out, report = rescale(data, mode=mode)
     assert list(out.ids) == ["t0", "t1", "t2"]
     [removed] = report.removed
     assert removed.trajectory == "cut" and "would make up its shape: a throw cut short" in removed.reason
+    assert "more than max_factor 2" in removed.reason
     assert report.params["end"] == pytest.approx(2.9)  # the kept throws' mean end
     np.testing.assert_allclose([t["angle"][-1] for t in out], 2.9)
     kept, kept_report = rescale(data, mode=mode, max_factor=math.inf)  # any factor: the thesis' rule
