@@ -223,3 +223,33 @@ def test_a_learn_stopped_on_the_arm_says_what_became_of_the_attempt(server, doma
     assert lines[-2:] == [said, "rlff: terminated"], err
     assert any(line.startswith("attempt 1: approach first: ") and "joint_2 " in line for line in lines), err
     assert attempts(log) == []  # the header alone
+
+
+
+
+def test_a_learned_throw_sent_again_comes_down_where_it_did_while_learning(demos, tmp_path):
+    """A server that throws each finished goal in MuJoCo: every attempt thrown by the loop comes
+    down where the same attempt sent again from the log (``rlff robot send LOG --attempt N``) does,
+    so what the log keeps is what the arm threw. The executor had planned the loop's planned
+    throw again as if its braking ended at its release: a motion of its own (0.1 rad/s apart, 4 cm
+    apart where the ball came down here), its release put at its end."""
+    domain = free_domain()
+    server = Server(ros2_env(domain, tmp_path), tmp_path / "serve.log", "--sim", "mujoco", "--basket", str(BASKET))
+    log = tmp_path / "mujoco.jsonl"
+    try:  # the second throw starts where the first braked: an approach first
+        done = learn(domain, tmp_path, demos, "--outcome", "ask", "--budget", "2", "--log", str(log),
+                     stdin="\n-0.5\n\n-0.4\n")
+        assert done.returncode == 0, done.stderr
+        sent = []
+        for attempt in (1, 2):
+            again = subprocess.run([sys.executable, "-m", "rlff", "robot", "send", str(log), "--attempt", str(attempt),
+                                    "--ros", "2", "--json", "--timeout", "120"], env=ros2_env(domain, tmp_path),
+                                   capture_output=True, text=True, timeout=300)
+            assert again.returncode == 0, again.stderr
+            sent.append(json.loads(again.stdout)["error_string"])
+    finally:
+        server.close()
+    landed = [float(x) for x in re.findall(r"MuJoCo throw: \w+, landed at ([-\d.]+) m", server.text())]
+    assert len(landed) == 4 and min(landed) > 1.0, server.text()  # thrown, not dropped
+    assert all(text.startswith("MuJoCo throw: ") for text in sent), sent
+    assert landed[:2] == pytest.approx(landed[2:], abs=1e-3)  # said to the millimetre

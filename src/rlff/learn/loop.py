@@ -116,7 +116,12 @@ class Outcome(Protocol):
     miss: float
 
 
-#: Runs one robot trajectory and reports its outcome.
+#: Runs one robot trajectory and reports its outcome. The trajectory is the attempt's throw as the
+#: loop planned it: from rest at the throw's own first pose, through its release, braked to rest.
+#: An arm stands where its last throw braked it (about a radian away on the Comau's joint_2 from
+#: the second attempt on): an executor that drives an arm sends
+#: ``rlff.learn.plan_from_pose(trajectory, robot, pose)``, the same throw after an approach from
+#: the arm's pose at rest, as the ROS executors do, never the trajectory as it comes.
 Executor = Callable[[JointTrajectory], Outcome]
 
 
@@ -253,7 +258,9 @@ def learn(
         Attempts log (JSONL); resumed when it exists.
     executor : callable, optional
         ``executor(joint_trajectory) -> outcome`` with ``hit``, ``landing_x`` and ``miss``;
-        default: the MuJoCo simulation of :mod:`rlff.sim` for this basket.
+        default: the MuJoCo simulation of :mod:`rlff.sim` for this basket. The trajectory starts
+        at rest at the throw's first pose, not where the arm is: an executor that drives an arm
+        sends :func:`rlff.learn.plan_from_pose` of it from the arm's pose (see :data:`Executor`).
     progress : callable, optional
         Called with every attempt as it ends (also those resumed from the log).
     robot : str or Robot

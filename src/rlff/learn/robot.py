@@ -2,10 +2,10 @@
 
 The loop (:func:`rlff.learn.learn`) hands an executor the robot trajectory of each proposed
 throw. :class:`RobotExecutor` plans it from the arm's pose (read from the robot file's joint
-states topic, ``[ros] joint_states``) with the approach (at ``approach_speed`` of the limits) and
-the braking tail (:func:`rlff.trajectory.planner.plan_throw`), sends it as a goal to the robot
-file's ``[ros] action`` (ROS 1 or ROS 2, whichever transport it is given) and waits for its
-end, then takes the outcome from whoever watched the throw:
+states topic, ``[ros] joint_states``) with the approach (at ``approach_speed`` of the limits),
+the same throw and its braking tail (:func:`rlff.learn.from_pose.plan_from_pose`), sends it as a
+goal to the robot file's ``[ros] action`` (ROS 1 or ROS 2, whichever transport it is given) and
+waits for its end, then takes the outcome from whoever watched the throw:
 
 - a person (``ask``): "hit", "miss", or the signed miss in metres (negative short of the
   basket), typed at a prompt; see :func:`parse_answer`;
@@ -39,23 +39,23 @@ from typing import Protocol
 import numpy as np
 
 from rlff.errors import InputError, RlffError
+from rlff.learn.from_pose import LIVE_PERIOD, plan_from_pose
 from rlff.limits import DISTANCE_RANGE
 from rlff.robot.description import Robot
 from rlff.robot.send import (
     ArmStateError,
     SendResult,
     approach_line,
-    check_goal_for_arm,
     require_at_rest,
 )
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.planner import APPROACH_SPEED, check_approach_speed, plan_throw
+from rlff.trajectory.planner import APPROACH_SPEED, check_approach_speed
 
 #: Topic a vision system publishes the measured landing on (geometry_msgs/PointStamped).
 LANDING_TOPIC = "/rlff/landing"
 #: Planning period (s) of the executed throws (``rlff robot send``'s default): a live goal's points
 #: are interpolated by the controller, so 10 ms, where files are sampled at 2 ms (docs/cli.md).
-PERIOD = 0.01
+PERIOD = LIVE_PERIOD
 #: Seconds to wait at the start for the vision system's landing publisher to be discovered
 #: (ROS 2); without one the throws go ahead and each waits for its landing as before.
 LANDING_DISCOVERY = 10.0
@@ -333,14 +333,18 @@ class RobotExecutor:
             raise
 
     def _plan(self, trajectory: JointTrajectory, announce: bool = True) -> tuple[np.ndarray, JointTrajectory]:
-        """The arm's pose (J,) and the throw planned from it, checked as the goal to send; the
-        approach is announced unless ``announce`` is False. :class:`RobotFailed` for an arm not at rest."""
+        """The arm's pose (J,) and the throw planned from it (:func:`plan_from_pose`), checked as
+        the goal to send; the approach is announced unless ``announce`` is False.
+        :class:`RobotFailed` for an arm not at rest.
+
+        (``trajectory`` is planned already, from rest at its first pose through its braking: it
+        had been planned again as if it were the throw up to its release, so the arm let go at
+        the end of the braking, at rest, and the ball fell at its base.)"""
         try:
             pose, velocity = self.arm.arm_state(self.robot)
             require_at_rest(self.robot, velocity)  # before planning from rest
-            planned = plan_throw(trajectory, self.robot.joints, start=pose, period=self.period,
-                                 approach_speed=self.approach_speed)
-            check_goal_for_arm(self.robot, planned, pose, velocity)
+            planned = plan_from_pose(trajectory, self.robot, pose, period=self.period,
+                                     approach_speed=self.approach_speed)
         except ArmStateError as exc:
             raise RobotFailed(f"attempt {self.attempts}: {exc}") from None
         if announce:
