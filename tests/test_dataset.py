@@ -269,6 +269,43 @@ def test_a_hit_that_is_no_outcome_is_an_error_naming_line_and_words(tmp_path):
         read_csv(path)
 
 
+@pytest.mark.parametrize(("value", "expected"), [
+    (np.False_, False), (np.True_, True), (0, False), (np.int64(1), True), (0.0, False), ("no", False),
+    ("False", False), ("hit", True), (None, None), (float("nan"), None),
+])
+def test_a_hit_given_in_python_is_read_as_the_readers_read_it(value, expected):
+    # numpy's False, 0 or "no" had stayed as given: a method asking whether every demonstration
+    # missed (hit is False) took them for outcomes not recorded, and learned otherwise than from CSV
+    trajectory = Trajectory("a", {"angle": [0.1, 0.2]}, {"hit": value})
+    assert trajectory.meta["hit"] is expected
+    assert Dataset.from_columns({"angle": np.array([0.1, 0.2])}, ["a"], [2], [{"hit": value}])[0].meta["hit"] is expected
+
+
+def test_a_hit_in_python_that_is_no_outcome_is_refused_naming_the_trajectory():
+    with pytest.raises(InputError, match=r"trajectory 'b': metadata hit 'maybe' \(use true/false, yes/no"):
+        Trajectory("b", {"angle": [0.1, 0.2]}, {"hit": "maybe"})
+    with pytest.raises(InputError, match=r"trajectory 'b': metadata hit 2 \(use true/false"):
+        Dataset.from_columns({"angle": np.array([0.1, 0.2])}, ["b"], [2], [{"hit": 2}])
+
+
+def test_an_npz_whose_hits_are_0_and_1_reads_them_as_bools(tmp_path):
+    # as numpy and pandas write them (the NPZ keeps every value's type): the 0 had stayed 0
+    import json
+
+    from rlff.formats import read_dataset, write_dataset
+
+    path = tmp_path / "hits.npz"
+    write_dataset(Dataset([Trajectory(name, {"angle": [0.1, 0.2]}) for name in "ab"]), path)
+    with np.load(path) as npz:
+        members = dict(npz)
+    info = json.loads(str(members["rlff"]))
+    info["meta"] = [{"hit": 0}, {"hit": 1}]
+    members["rlff"] = np.array(json.dumps(info))
+    np.savez(path, **members)
+    back = read_dataset(path)
+    assert back[0].meta["hit"] is False and back[1].meta["hit"] is True
+
+
 def test_missing_column_is_named():
     dataset = Dataset([_trajectory("a", 1.0)])
     with pytest.raises(InputError, match=r"no column 'height' in the data \(columns: time, angle, distance, velocity\)"):

@@ -39,6 +39,13 @@ def test_all_missed_needs_every_demonstration_recorded_as_a_miss():
     assert not all_missed(_people([False] * 2))  # too few to rule anything out
 
 
+@pytest.mark.parametrize("miss", [np.False_, 0, "no", "False"])
+def test_misses_given_as_numpy_s_false_0_or_words_are_misses(miss):
+    # they were not: calibrate laid its windows by another prior (2 attempts with False, 3 with these)
+    people = _people([False] * 5)
+    assert all_missed(people.replace(t.replace(meta={"hit": miss}) for t in people))
+
+
 def test_the_failures_own_speed_is_ruled_out_and_the_ring_about_it_goes_first():
     log_density = outcomes_prior(_people([False] * 12), ANGLES, 1.5, 0.14, REFERENCE)
     # the ring: a window (0.12 wide) beyond the failures' ones, where a person who just missed

@@ -162,7 +162,8 @@ class Trajectory:
     meta : mapping of str to object
         Per-trajectory metadata: ``subject`` (str), ``source`` (str, file it came from),
         ``target`` (float, m: the basket distance aimed at), ``landing`` (float, m: where the
-        ball landed, when known), ``hit`` (bool), and anything else.
+        ball landed, when known), ``hit`` (bool; numpy's, 0/1 and yes/no read as bools by
+        :func:`meta_with_hit`), and anything else.
     """
 
     id: str
@@ -195,7 +196,7 @@ class Trajectory:
         if length == 0:
             raise InputError(f"trajectory {self.id!r} has no samples")
         object.__setattr__(self, "data", columns)
-        object.__setattr__(self, "meta", dict(self.meta))
+        object.__setattr__(self, "meta", meta_with_hit(self.id, self.meta))
         object.__setattr__(self, "id", str(self.id))
 
     @classmethod
@@ -333,6 +334,7 @@ class Dataset(Sequence[Trajectory]):
         metas = [dict(m) for m in meta] if meta is not None else [{} for _ in ids]
         if not (len(ids) == lengths.size == len(metas)):
             raise InputError(f"{len(ids)} ids, {lengths.size} lengths and {len(metas)} metadata records")
+        metas = [meta_with_hit(trajectory_id, m) for trajectory_id, m in zip(ids, metas, strict=True)]
         if lengths.size and lengths.min() < 1:
             raise InputError(f"trajectory {ids[int(np.argmin(lengths))]!r} has no samples")
         if len(set(ids)) != len(ids):
@@ -615,6 +617,27 @@ def parse_hit(value: Any) -> bool | None:
     if word not in HIT_WORDS:
         raise ValueError(f"{value!r} (use true/false, yes/no, 1/0 or hit/miss)")
     return HIT_WORDS[word]
+
+
+def meta_with_hit(trajectory_id: Any, meta: Mapping[str, Any]) -> dict[str, Any]:
+    """A trajectory's metadata as a dict, its ``hit`` (when there is one) a bool or None as
+    :func:`parse_hit` reads it: numpy's and pandas' False, 0 and 1, "no" or "False" are the bools
+    they spell, so that demonstrations learn alike from memory, CSV, Parquet and NPZ (where a 0
+    stays 0). Before, only the CSV and Parquet readers read them, and a method that asks whether
+    every demonstration missed (``hit is False``) took an NPZ's 0 for "not recorded".
+
+    Raises
+    ------
+    InputError
+        A ``hit`` that spells no outcome, naming the trajectory and what is taken.
+    """
+    meta = dict(meta)
+    if "hit" in meta:
+        try:
+            meta["hit"] = parse_hit(meta["hit"])
+        except ValueError as exc:
+            raise InputError(f"trajectory {str(trajectory_id)!r}: metadata hit {exc}") from None
+    return meta
 
 
 #: The cells pandas reads as missing by default (its documented ``na_values`` list): what the CSV
