@@ -30,6 +30,7 @@ from typing import Any
 from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn import statistics
+from rlff.learn.method import Method
 from rlff.learn.scenarios import Feedback, Scenario, reporting_executor
 from rlff.learn.scenarios import demonstrations as scenario_demonstrations
 from rlff.learn.statistics import Run
@@ -63,9 +64,10 @@ def demonstrations(seed: int, scenario: Scenario | str = "short") -> Dataset:
     return scenario_demonstrations(seed, scenario)
 
 
-def run_one(demos: Dataset, scenario: Scenario, feedback: Feedback, method: str, basket: float, seed: int,
-            budget: int) -> Run:
-    """Run one method once from the demonstrations of ``seed``.
+def run_one(demos: Dataset, scenario: Scenario, feedback: Feedback, method: str | type[Method], basket: float,
+            seed: int, budget: int) -> Run:
+    """Run one method (a name of :data:`rlff.learn.METHODS`, or a :class:`rlff.learn.Method`
+    subclass) once from the demonstrations of ``seed``.
 
     Raises
     ------
@@ -84,8 +86,8 @@ def run_one(demos: Dataset, scenario: Scenario, feedback: Feedback, method: str,
                            executor=reporting_executor(scenario, feedback, basket, seed), executed_on="sim")
     except InputError as exc:
         raise InputError(f"{scenario.name}, landings {scenario.landings}, seed {seed}, basket {basket:g} m, "
-                         f"{feedback.name} feedback, {method}: {exc}") from None
-    return Run(scenario.name, scenario.landings, feedback.name, method, float(basket), seed, result.hit,
+                         f"{feedback.name} feedback, {getattr(method, 'name', method)}: {exc}") from None
+    return Run(scenario.name, scenario.landings, feedback.name, result.update, float(basket), seed, result.hit,
                result.attempts)
 
 
@@ -94,7 +96,7 @@ def learning_benchmark(
     seeds: int = 8,
     *,
     first_seed: int = HELD_OUT_SEEDS,
-    methods: dict[str, Sequence[str]] | None = None,
+    methods: dict[str, Sequence[str | type[Method]]] | None = None,
     budget: int = 20,
     jobs: int = 2,
     scheduler: str | None = None,
@@ -113,7 +115,10 @@ def learning_benchmark(
     first_seed : int
         The first seed (default 100: above the seeds the methods were tuned on).
     methods : dict, optional
-        Methods per feedback kind (``binary``, ``distance``); default :data:`METHODS_BY_FEEDBACK`.
+        Methods per feedback kind (``binary``, ``distance``): names of :data:`rlff.learn.METHODS`
+        or methods of one's own, :class:`rlff.learn.Method` subclasses, which the workers import
+        by their module and name (a class in a module of one's own, not one made in a function);
+        default :data:`METHODS_BY_FEEDBACK`.
     budget : int
         Attempts per run.
     jobs : int
@@ -133,6 +138,11 @@ def learning_benchmark(
     methods = METHODS_BY_FEEDBACK if methods is None else methods
     if not (isinstance(seeds, int) and seeds >= 1) or not (isinstance(first_seed, int) and first_seed >= 0):
         raise InputError(f"seeds must be >= 1 and first seed >= 0, got {seeds!r} and {first_seed!r}")
+    from rlff.learn.loop import method_of
+
+    for named in methods.values():  # a method of one's own that is not one fails before any run
+        for method in named:
+            method_of(method)
     require_reachable_baskets([scenario])
     seed_list = range(first_seed, first_seed + seeds)
     cases = [(f, m, float(b), s) for s in seed_list for b in scenario.baskets

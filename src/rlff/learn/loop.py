@@ -74,6 +74,44 @@ from rlff.trajectory.joint import JointTrajectory
 
 #: Every method the loop can run, by name: update strategies first, then baselines.
 METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
+
+
+def method_of(update: str | type[Method]) -> type[Method]:
+    """The method ``update`` names (:data:`METHODS`), or ``update`` itself: a subclass of
+    :class:`rlff.learn.Method` of the caller's (docs/learn.md, "Writing your own method").
+
+    Raises
+    ------
+    InputError
+        An unknown name; a class that is no method, has no ``name`` of its own (the attempts log
+        and the benchmark's table know a method by it) or takes a built-in method's, or names a
+        feedback the loop does not give.
+    """
+    known = ", ".join(METHODS)
+    if isinstance(update, str):
+        if update not in METHODS:
+            raise InputError(f"unknown update {update!r} (known: {known})")
+        return METHODS[update]
+    if not (isinstance(update, type) and issubclass(update, Method)):
+        raise InputError(f"update must be a method's name ({known}) or a subclass of rlff.learn.Method, "
+                         f"got {_short(update)} ({type(update).__name__})")
+    title = update.__qualname__
+    if not (isinstance(update.name, str) and update.name.strip()):
+        raise InputError(f"method {title} has no name: set its class attribute name (the attempts log and the "
+                         "benchmark's table know it by that)")
+    if METHODS.get(update.name, update) is not update:
+        raise InputError(f"method {title} is named {update.name!r}, as a built-in method is: give it a name of its "
+                         "own (a log resumes only with the method its header names)")
+    unknown = [kind for kind in update.feedbacks if kind not in FEEDBACKS]
+    if unknown or not update.feedbacks:
+        raise InputError(f"method {title} has feedbacks {update.feedbacks!r}: a tuple of "
+                         f"{' and '.join(repr(kind) for kind in FEEDBACKS)}, those it can work with")
+    if getattr(update.propose, "__isabstractmethod__", False):
+        raise InputError(f"method {title} has no propose(history): it returns the next throw, an "
+                         "rlff.learn.Proposal")
+    return update
+
+
 #: When a run stops: at the first hit, or at the first hit within the centre share of the opening.
 UNTILS = ("hit", "centred")
 #: Default share of the opening (centre to rim) a centred hit lands within.
@@ -212,7 +250,7 @@ def learn(
     *,
     budget: int = 20,
     feedback: str = "binary",
-    update: str = "calibrate",
+    update: str | type[Method] = "calibrate",
     seed: int = 0,
     log_path: str | Path | None = None,
     executor: Executor | None = None,
@@ -248,10 +286,12 @@ def learn(
         Largest number of attempts, counting those resumed from the log.
     feedback : {"binary", "distance"}
         What an attempt reports to the method: hit or miss only, or the signed miss as well.
-    update : str
+    update : str or Method subclass
         An update strategy (``calibrate``, the default; ``donut``, ``failure``, ``hindsight``),
         each also as its ablations ``NAME:no-exploration`` and ``NAME:gmr-mean``, or a baseline
         (``sweep``, ``secant``, ``gp-bo``, ``cma``, ``random``, ``imitation``); see :data:`METHODS`.
+        Or a method of one's own: a subclass of :class:`rlff.learn.Method` (:func:`method_of`;
+        docs/learn.md, "Writing your own method"), known in the log and the result by its ``name``.
     seed : int
         Seed of every random choice; a run is reproducible from it.
     log_path : str or Path, optional
@@ -337,11 +377,10 @@ def learn(
     from rlff.robot.mapping import require_bearing
     from rlff.sim import Basket
 
-    if update not in METHODS:
-        raise InputError(f"unknown update {update!r} (known: {', '.join(METHODS)})")
+    method_class = method_of(update)
+    update = method_class.name  # what the log and the result know it by
     if feedback not in FEEDBACKS:
         raise InputError(f"unknown feedback {feedback!r} (known: {', '.join(FEEDBACKS)})")
-    method_class = METHODS[update]
     if feedback not in method_class.feedbacks:
         raise InputError(f"update {update!r} needs {' or '.join(method_class.feedbacks)} feedback, "
                          f"not {feedback!r}")

@@ -1,0 +1,101 @@
+"""A method of one's own: a subclass of rlff.learn.Method given to learn() and to the learning
+benchmark as the class itself. Real model, real MuJoCo, real loky workers."""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from rlff.dataset import Dataset
+from rlff.errors import InputError
+from rlff.learn import Method, Proposal, learn, scale_speed
+
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "learn.md"
+
+
+@pytest.fixture(scope="module")
+def demos() -> Dataset:
+    from rlff.preprocess import Pipeline
+    from rlff.synthetic.throws import simulate_throws
+
+    raw = simulate_throws(3, subjects=3, distances=(1.0, 1.25, 1.5), throws_per_distance=2, all_short=True)
+    clean, _ = Pipeline.preset("thesis").run(raw)
+    return clean
+
+
+class Slower(Method):
+    """The demonstrations' mean throw for the basket, 5 % slower after each miss."""
+
+    name = "slower"
+    feedbacks = ("binary", "distance")
+
+    def __init__(self, problem):
+        super().__init__(problem)
+        path = problem.demonstrations_model().generate({"distance": problem.target}, problem.angles, exploration=0.0)
+        self.mean = Proposal.of_outputs(path.angle, path.gmr_means, path.output_names, problem.target)
+
+    def propose(self, history):
+        factor = 0.95 ** len(history)
+        return replace(scale_speed(self.mean, factor), info={"factor": factor})
+
+
+def test_the_example_of_the_docs_runs_as_written(capsys):
+    text = DOCS.read_text()
+    section = text[text.index("## Writing your own method"):]
+    code = re.search(r"```python\n(.*?)```", section, re.DOTALL).group(1)
+    exec(compile(code, f"{DOCS}, Writing your own method", "exec"), {"__name__": "docs_example"})
+    attempts, hit, misses = capsys.readouterr().out.split(maxsplit=2)
+    assert 1 <= int(attempts) <= 4 and hit in ("True", "False") and misses.startswith("[")
+
+
+def test_a_method_class_learns_is_logged_by_its_name_and_resumes(demos, tmp_path):
+    log = tmp_path / "slower.jsonl"
+    first = learn(demos, 1.4, update=Slower, budget=2, log_path=log)
+    assert first.update == "slower" and first.attempts == 2
+    assert json.loads(log.read_text().splitlines()[0])["run"]["update"] == "slower"
+    assert [a.info["factor"] for a in first.history] == pytest.approx([1.0, 0.95])
+    again = learn(demos, 1.4, update=Slower, budget=3, log_path=log)
+    assert again.resumed == 2 and again.history[-1].info["factor"] == pytest.approx(0.95 ** 2)
+    with pytest.raises(InputError, match=r"update = 'slower' in the log.*'calibrate'"):
+        learn(demos, 1.4, budget=4, log_path=log)
+
+
+class Nameless(Slower):
+    name = ""
+
+
+class Impostor(Slower):
+    name = "secant"
+
+
+class Deaf(Slower):
+    feedbacks = ("vision",)
+
+
+@pytest.mark.parametrize(("update", "words"), [
+    (Slower.propose, r"update must be a method's name \(failure, .*\) or a subclass of rlff.learn.Method, got"),
+    (Nameless, r"method Nameless has no name: set its class attribute name"),
+    (Impostor, r"method Impostor is named 'secant', as a built-in method is: give it a name of its own"),
+    (Deaf, r"method Deaf has feedbacks \('vision',\): a tuple of 'binary' and 'distance'"),
+    (Method, r"method Method has no name"),
+    (type("Abstract", (Method,), {"name": "abstract"}), r"method Abstract has no propose\(history\)"),
+])
+def test_what_is_no_method_is_refused_saying_what_a_method_needs(demos, update, words):
+    with pytest.raises(InputError, match=words):
+        learn(demos, 1.4, update=update, budget=1)
+
+
+@pytest.mark.slow
+def test_the_benchmark_runs_a_method_class_in_its_workers():
+    # the only route had been to insert it into rlff.learn.METHODS, which loky's workers never see
+    from rlff.learn.benchmark import learning_benchmark
+    from rlff.learn.scenarios import Feedback, Scenario
+
+    scenario = Scenario("short", feedbacks=(Feedback("binary", "binary"),), baskets=(1.4,))
+    runs = learning_benchmark(scenario, seeds=1, methods={"binary": (Slower, "imitation")}, jobs=2, budget=2)
+    assert [run.method for run in runs] == ["slower", "imitation"]
+    assert all(1 <= run.attempts <= 2 for run in runs)
