@@ -100,6 +100,27 @@ def test_a_landing_not_measured_may_be_none(demos):
     assert all(math.isnan(a.landing) for a in result.history)
 
 
+def test_a_miss_not_measured_is_refused_with_distance_feedback_naming_the_attempt(demos, tmp_path):
+    # the baselines took it for a ball at the robot's base: the secant's next throw was at the limit
+    log = tmp_path / "run.jsonl"
+    camera = arm(lambda o: Reported(bool(o.hit), None, None))
+    with pytest.raises(InputError, match=r"^attempt 1: the executor reported a miss without where the ball came "
+                                         r"down .*distance feedback learns from the signed miss"):
+        learn(demos, 1.4, budget=3, feedback="distance", update="secant", executor=camera, log_path=log)
+    assert read_log(log)[1].attempts == []  # nothing of it logged
+
+
+def test_a_hit_not_measured_is_refused_until_centred_and_taken_until_any_hit(demos):
+    # until centred, a run whose executor reports hits without landings had thrown on past them
+    # to the end of its budget, saying nothing
+    sensor = arm(lambda o: Reported(True, None, None))  # a basket that says hit or miss, no camera
+    with pytest.raises(InputError, match=r"^attempt 1: the executor reported a hit without where the ball came "
+                                         r"down .*until='centred' judges a hit by its distance"):
+        learn(demos, 1.4, budget=3, until="centred", executor=sensor)
+    stopped = learn(demos, 1.4, budget=3, executor=sensor)
+    assert (stopped.attempts, stopped.hit) == (1, True)
+
+
 def test_one_joint_name_and_one_log_path_are_taken_whole(demos, tmp_path):
     # a str where a sequence goes had been taken letter by letter ("joints ['j', 'o', ...]")
     assert learn(demos, 1.4, budget=1, joints="joint_2").attempts == 1

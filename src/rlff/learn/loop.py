@@ -147,7 +147,8 @@ class Outcome(Protocol):
     """What an executor reports about one throw (``rlff.sim``'s ThrowOutcome is one): ``hit``
     (a bool), ``landing_x`` (m from the robot's base along the basket's line; NaN or None where
     not measured) and ``miss`` (``landing_x`` less the basket's distance, m, negative short; NaN
-    where not measured), checked as :func:`reported_outcome` says."""
+    where not measured), checked as :func:`reported_outcome` says: with distance feedback a miss,
+    with ``until="centred"`` a hit, must be measured."""
 
     hit: bool
     landing_x: float
@@ -506,7 +507,8 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         method = method or method_class(problem)
         start = clock.perf_counter()
         proposal = method.propose([_as_reported(a, feedback, centre_window) for a in history])
-        attempt = _execute(proposal, len(history) + 1, target, mapping, executor, start)
+        attempt = _execute(proposal, len(history) + 1, target, mapping, executor, start,
+                           distance_needed=feedback == "distance", hit_distance_needed=until == "centred")
         if log:
             log.append(attempt)
         history.append(attempt)
@@ -587,13 +589,21 @@ def _first_shape(method_class: type[Method], demos: Dataset, mapping, basket, pe
     return path
 
 
-def _execute(proposal, index: int, target, mapping, executor: Executor, start: float) -> Attempt:
-    """Map a proposal to the robot (saturating at its limits), execute it, record what it did."""
+def _execute(proposal, index: int, target, mapping, executor: Executor, start: float, *,
+             distance_needed: bool = False, hit_distance_needed: bool = False) -> Attempt:
+    """Map a proposal to the robot (saturating at its limits), execute it, record what it did;
+    its outcome checked by :func:`reported_outcome` (with ``distance_needed`` and
+    ``hit_distance_needed``), an :class:`InputError` naming attempt ``index`` otherwise."""
     path = dict(proposal.path)
     path["velocity"] = forward_velocity(proposal.angle, proposal.velocity)
     path["time"] = time_along_path(proposal.angle, path["velocity"])
     points, trajectory, clip_report = _plan(mapping, path, target.bearing)
-    hit, landing, miss = reported_outcome(executor(trajectory), target)
+    outcome = executor(trajectory)
+    try:
+        hit, landing, miss = reported_outcome(outcome, target, distance_needed=distance_needed,
+                                              hit_distance_needed=hit_distance_needed)
+    except InputError as exc:
+        raise InputError(f"attempt {index}: {exc} (the log keeps the attempts before)") from None
     executed = mapping.path_from_robot(points)
     return Attempt(
         index=index,
@@ -613,13 +623,21 @@ def _execute(proposal, index: int, target, mapping, executor: Executor, start: f
     )
 
 
-def reported_outcome(outcome, basket) -> tuple[bool, float, float]:
+def reported_outcome(outcome, basket, *, distance_needed: bool = False,
+                     hit_distance_needed: bool = False) -> tuple[bool, float, float]:
     """``(hit, landing, miss)`` of what an executor returned for a throw at ``basket``
     (:class:`rlff.sim.Basket`), checked: the :class:`Outcome` protocol's ``hit`` a bool,
     ``landing_x`` (m along the basket's line from the robot's base; None or NaN: not measured,
     +-inf: never came down) no farther than the farthest basket rlff takes either way, ``miss``
     (m, negative short) ``landing_x - basket.distance`` where both are known. (A hit far from
     the basket is not refused: a measurement as noisy as ``noisy-distance:0.5`` gives one.)
+
+    As a person's typed outcome (:func:`rlff.learn.robot.parse_answer`): with
+    ``distance_needed`` (distance feedback) a miss must say where the ball came down, with
+    ``hit_distance_needed`` (``until="centred"``) a hit must. A miss not measured had been
+    taken by the baselines for a ball at the robot's base (the secant then threw at the speed
+    limit); a hit not measured, under ``until="centred"``, for no centred hit, and the run threw
+    on past its hits to the end of its budget.
 
     An executor stands for the user's own arm, camera or person, so a unit slip or a slip of
     the protocol comes in here: a landing in centimetres had been learned from (and a resumed
@@ -647,6 +665,15 @@ def reported_outcome(outcome, basket) -> tuple[bool, float, float]:
         raise InputError(f"the executor's outcome has miss = {miss:g} m with landing_x = {landing:g} m: the miss "
                          f"is landing_x - the basket's distance ({landing - basket.distance:+g} m for the basket "
                          f"at {basket.distance:g} m)")
+    if math.isnan(landing) and math.isnan(miss):  # not measured
+        if distance_needed and not hit:
+            raise InputError("the executor reported a miss without where the ball came down (landing_x and miss "
+                             "None or NaN): distance feedback learns from the signed miss; report landing_x and "
+                             "miss in m (inf for a ball that never came down), or learn with feedback='binary'")
+        if hit_distance_needed and hit:
+            raise InputError("the executor reported a hit without where the ball came down (landing_x and miss "
+                             "None or NaN): until='centred' judges a hit by its distance from the basket's centre; "
+                             "report landing_x and miss in m, or stop at any hit with until='hit'")
     return bool(hit), landing, miss
 
 
