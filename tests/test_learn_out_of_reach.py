@@ -17,11 +17,11 @@ import numpy as np
 import pytest
 
 from rlff.dataset import Dataset
-from rlff.learn import learn
-from rlff.learn.reach import SHORT_AT_THE_LIMIT, shortfall_at_the_limit
+from rlff.learn import Method, Proposal, learn, scale_speed
+from rlff.learn.reach import SAME_AT_THE_LIMIT, SHORT_AT_THE_LIMIT, shortfall_at_the_limit
 from rlff.learn.scenarios import Scenario, parse_feedback, reporting_executor
 from rlff.robot import load_robot, mapping_for
-from rlff.sim import Basket
+from rlff.sim import Basket, simulate_throw
 
 BASKET = 1.9
 
@@ -345,3 +345,58 @@ def test_a_throw_with_no_room_to_brake_faster_stops_the_run(short_demos, tmp_pat
     assert 1.05 * abs(last.velocity[-1]) < mapping.max_human_speeds()["velocity"]  # within the speed limit
     with pytest.raises(MotionLimitError):
         plan_path(mapping, scaled({"angle": last.angle, "velocity": last.velocity}, 1.05), clip=True)
+
+
+class Hurried(Method):
+    """The demonstrations' mean throw three times as fast, every attempt: always beyond the speed
+    limit, so always saturated there to the same throw."""
+
+    name = "hurried"
+
+    def __init__(self, problem):
+        super().__init__(problem)
+        path = problem.demonstrations_model().generate({"distance": problem.target}, problem.angles, exploration=0.0)
+        self.throw = scale_speed(Proposal.of_outputs(path.angle, path.gmr_means, path.output_names, problem.target), 3.0)
+
+    def propose(self, history):
+        return self.throw
+
+
+def test_the_same_throw_asked_for_at_the_speed_limit_again_stops_the_run(short_demos):
+    # failure and hindsight on the real MSR throws at 1.6 m threw the same saturated throw, 0.58 m
+    # long, to the end of their budget, and nothing said so
+    result = learn(short_demos, 1.2, budget=8, feedback="distance", update=Hurried)
+    assert result.repeated and not result.out_of_reach and not result.hit
+    assert result.attempts == SAME_AT_THE_LIMIT < 8
+    assert result.misses[0] > 0.2 and len(set(result.misses)) == 1  # long, every one alike
+    assert result.to_json()["repeated"] is True
+    note = result.notes[-1]
+    assert note.startswith(f"stopped after attempt 3: attempts 1-3 let go the same way, at the fastest release joint_2 "
+                           f"allows and came down {result.misses[0]:+.2f} m from the basket's centre"), note
+    assert "it moves the wrong way for this arm" in note
+
+
+def test_the_same_throw_at_the_limit_stops_a_run_whose_landings_no_one_measured(short_demos):
+    # an operator who types hit or miss: no landing, the same saturated throw all the same
+    def typed(trajectory):
+        outcome = simulate_throw(trajectory, Basket(1.2))
+        return SimpleNamespace(hit=bool(outcome.hit), landing_x=None, miss=None)
+
+    result = learn(short_demos, 1.2, budget=8, update=Hurried, executor=typed)
+    assert result.repeated and result.attempts == SAME_AT_THE_LIMIT
+    assert "let go the same way, at the fastest release joint_2 allows, and the next would too" in result.notes[-1]
+
+
+def test_the_same_throw_below_the_speed_limit_goes_on(short_demos):
+    # imitation throws the demonstrations' mean every time: the arm could throw it otherwise
+    result = learn(short_demos, 1.2, budget=4, update="imitation")
+    assert not result.hit and len(set(result.misses)) == 1  # the same throw, missed, ...
+    assert result.attempts == 4 and not result.repeated  # ... to the end of the budget
+
+
+@pytest.mark.realdata
+@pytest.mark.parametrize("update", ["failure", "hindsight"])
+def test_failure_and_hindsight_on_the_real_throws_stop_at_the_same_long_throw(msr_throws, update):
+    result = learn(msr_throws, 1.6, budget=6, feedback="distance", update=update)
+    assert result.repeated and result.attempts == SAME_AT_THE_LIMIT
+    assert all(miss > 0.5 for miss in result.misses)

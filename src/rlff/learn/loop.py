@@ -62,6 +62,7 @@ from rlff.learn.reach import (
     beyond_reach,
     more_joints_words,
     release_elasticity,
+    same_throw_at_the_limit,
     saturation_factor,
     typical_landing,
     widest_hit,
@@ -196,6 +197,11 @@ class LearningResult:
         throws came down short of it by more than the fastest release the joints allow would
         make up (see :func:`rlff.learn.reach.shortfall_at_the_limit`), and the run stopped there
         (before its budget, unless they were its last); a note says by how much.
+    repeated : bool
+        The last :data:`~rlff.learn.reach.SAME_AT_THE_LIMIT` throws let go the same way at the
+        fastest release the joints allow (:func:`rlff.learn.reach.same_throw_at_the_limit`): the
+        method asked for more speed than the arm has, and the run stopped there; a note says
+        where they came down.
     """
 
     hit: bool
@@ -212,6 +218,7 @@ class LearningResult:
     centred: bool = False
     centre_window: float = math.inf
     out_of_reach: bool = False
+    repeated: bool = False
 
     @property
     def best(self) -> Attempt | None:
@@ -241,6 +248,7 @@ class LearningResult:
             # a run that stops at any hit has no centre window to say anything about
             **({"centred": self.centred, "centre_window": self.centre_window} if self.until == "centred" else {}),
             "out_of_reach": self.out_of_reach,
+            "repeated": self.repeated,
             "notes": self.notes,
         }
 
@@ -366,7 +374,8 @@ def learn(
         Also when the run stops before its budget because the basket is beyond the arm's reach
         (``out_of_reach``: the executor reported :data:`~rlff.learn.reach.SHORT_AT_THE_LIMIT`
         landings in a row that no faster release could bring to the basket; an arm slower than
-        its robot file, a late release or a heavier ball does that), with a note that says so.
+        its robot file, a late release or a heavier ball does that), or because the method asks
+        for the same throw at the arm's limit again (``repeated``), with a note that says so.
 
     Raises
     ------
@@ -501,9 +510,17 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
             return None
         return beyond_reach(history, mapping, target, reach_window, pedestal, window)
 
+    def repeated_note() -> str | None:
+        """Judged as :func:`out_of_reach_note` is, when that says nothing."""
+        if history and done(history[-1]):
+            return None
+        return same_throw_at_the_limit(history, mapping)
+
     out_of_reach = out_of_reach_note()
+    repeated = None if out_of_reach else repeated_note()
     method = None  # made at the first attempt this call throws: a finished log needs none
-    while len(history) < budget and not (history and done(history[-1])) and out_of_reach is None:
+    while (len(history) < budget and not (history and done(history[-1])) and out_of_reach is None
+           and repeated is None):
         method = method or method_class(problem)
         start = clock.perf_counter()
         proposal = method.propose([_as_reported(a, feedback, centre_window) for a in history])
@@ -515,12 +532,12 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         if progress:
             progress(attempt)
         out_of_reach = out_of_reach_note()
+        repeated = None if out_of_reach else repeated_note()
 
     notes = []
     if log and log.contents.dropped_partial_line:
         notes.append(f"{log.path}: dropped a partial last line (a run interrupted mid-write)")
-    if out_of_reach:
-        notes.append(out_of_reach)
+    notes.extend(note for note in (out_of_reach, repeated) if note)
     return LearningResult(
         hit=bool(history and history[-1].hit),
         attempts=len(history),
@@ -536,6 +553,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         centred=bool(history and done(history[-1])),
         centre_window=centre_window,
         out_of_reach=bool(out_of_reach),
+        repeated=bool(repeated),
     )
 
 

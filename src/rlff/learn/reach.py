@@ -37,6 +37,10 @@ from rlff.trajectory.planner import MARGIN
 #: Throws in a row that came down short of the basket's rim even sped up to the fastest release
 #: the joints allow, after which a run stops: the basket is beyond what this arm throws.
 SHORT_AT_THE_LIMIT = 3
+#: Throws in a row that let go the same way at the fastest release the joints allow, after which
+#: a run stops: the method asks for more speed than the arm has, and the ball comes down as before
+#: (failure and hindsight on the real MSR throws at 1.6 m: every throw 0.58 m long, to the budget).
+SAME_AT_THE_LIMIT = 3
 #: A throw counts as let go as fast as the joints allow when its last driven joint could go at
 #: most this factor faster: the planner keeps :data:`rlff.trajectory.planner.MARGIN` of the speed
 #: limits, and a throw asked for at the limit lets go a little below it (a UR5e-like file at 3.12
@@ -415,3 +419,43 @@ def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, 
             f"Attempts {last[0].index}-{last[-1].index} came down short, and even at the fastest release {joints} "
             f"{allow} they would have fallen {by} short of the {window}. {why} (rlff sim reach says how far the arm "
             "throws)")
+
+
+def same_throw_at_the_limit(history: Sequence[Attempt], mapping) -> str | None:
+    """A note that the run stops when each of the last :data:`SAME_AT_THE_LIMIT` attempts let go
+    from the same release pose at the same velocities (to 1e-6 rad and rad/s), the last driven
+    joint at its speed limit (within :data:`AT_THE_LIMIT`), else None.
+
+    Such a method asks again and again for a faster release than the arm makes: the saturated
+    throw it gets lets go as the last one did, so the ball comes down where it did (to the
+    simulation's centimetre and a real ball's spread). The rule of :func:`beyond_reach` stops
+    such throws when they come down short; this one also when they come down long (the method
+    moves the wrong way for this arm), and where no landing was reported.
+    """
+    last = history[-SAME_AT_THE_LIMIT:]
+    if len(last) < SAME_AT_THE_LIMIT:
+        return None
+    pose, velocity = _release_state(last[-1], mapping)
+    for attempt in last[:-1]:
+        other_pose, other_velocity = _release_state(attempt, mapping)
+        if not (np.allclose(other_pose, pose, rtol=0.0, atol=1e-6)
+                and np.allclose(other_velocity, velocity, rtol=0.0, atol=1e-6)):
+            return None
+    if release_speed_factor(mapping, _untimed(last[-1]))[0] > AT_THE_LIMIT:
+        return None
+    landed = [attempt.miss for attempt in last if math.isfinite(attempt.miss)]
+    came_down = ""
+    if landed:
+        low, high = f"{min(landed):+.2f}", f"{max(landed):+.2f}"
+        came_down = f" and came down {low} m" if low == high else f" and came down {low} to {high} m"
+        came_down += " from the basket's centre"
+    joints = ", ".join(mapping.driven_joints)
+    allow = "allows" if len(mapping.driven_joints) == 1 else "allow"
+    if landed and min(landed) > 0:
+        why = ("The method asks for more speed than the arm has where the fastest throw already comes down long: it "
+               "moves the wrong way for this arm (another update, or aim='kinematics' for recorded throws or a robot "
+               "file of your own)")
+    else:
+        why = "The method asks for more speed than the arm has (another update, or a nearer basket)"
+    return (f"stopped after attempt {last[-1].index}: attempts {last[0].index}-{last[-1].index} let go the same "
+            f"way, at the fastest release {joints} {allow}{came_down}, and the next would too. {why}")
