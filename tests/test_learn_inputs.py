@@ -121,6 +121,34 @@ def test_a_hit_not_measured_is_refused_until_centred_and_taken_until_any_hit(dem
     assert (stopped.attempts, stopped.hit) == (1, True)
 
 
+@pytest.mark.parametrize(("options", "words"), [
+    # it went into the log's header, and rlff learn could then never resume that log
+    ({"feedback": "distance", "misreport": 0.3},
+     r"^misreport is the chance that a hit is reported as a miss: it goes with feedback='binary'"),
+    # it was ignored: the run stopped at the first hit, anywhere in the opening
+    ({"centre_share": 0.25}, r"^centre_share is how near the centre a hit must land to stop a run until='centred'"),
+])
+def test_an_option_that_would_change_nothing_is_refused_as_the_command_line_refuses_it(demos, tmp_path, options,
+                                                                                          words):
+    log = tmp_path / "run.jsonl"
+    with pytest.raises(InputError, match=words):
+        learn(demos, 1.4, budget=1, log_path=log, **options)
+    assert not log.exists()
+
+
+def test_recorded_throws_on_the_built_in_robot_are_pointed_at_the_kinematics_aim(demos, tmp_path):
+    # rlff learn said so before the run; learn() said nothing
+    recorded = demos.replace(t.replace(meta={**t.meta, "distance_source": "manifest"}) for t in demos)
+    log = tmp_path / "run.jsonl"
+    first = learn(recorded, 1.4, budget=1, log_path=log)
+    assert first.notes[0].startswith("aim: recorded throws' speeds through the [throwing] mapping of comau_smart5_six")
+    assert "aim='kinematics' starts where the arm's geometry sends the throw" in first.notes[0]
+    resumed = learn(recorded, 1.4, budget=2, log_path=log)  # its run chose already
+    quiet = learn(recorded, 1.4, budget=1, aim="demonstrations")
+    simulated = learn(demos, 1.4, budget=1)
+    assert not any(note.startswith("aim:") for run in (resumed, quiet, simulated) for note in run.notes)
+
+
 def test_one_joint_name_and_one_log_path_are_taken_whole(demos, tmp_path):
     # a str where a sequence goes had been taken letter by letter ("joints ['j', 'o', ...]")
     assert learn(demos, 1.4, budget=1, joints="joint_2").attempts == 1

@@ -280,7 +280,7 @@ def test_until_centred_refines_past_rim_hits_until_one_lands_near_the_centre(fai
     np.testing.assert_allclose(steps, np.round(steps), atol=2e-3)
     with pytest.raises(InputError, match="until"):
         learn(failed_demos, 1.4, until="perfect")
-    with pytest.raises(InputError, match="centre share"):
+    with pytest.raises(InputError, match=r"centre_share must be in \(0, 1\]"):
         learn(failed_demos, 1.4, until="centred", centre_share=0.0)
 
 

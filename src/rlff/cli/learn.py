@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from contextlib import ExitStack
 from pathlib import Path
 
@@ -119,13 +120,17 @@ def learn_command(
         Basket(basket, bearing=bearing) if height is None else Basket(basket, height, bearing=bearing)
     if out is not None:  # and a bad --out or --format
         fmt = export_format(out, fmt)
-    from rlff.learn.loop import AIMS
+    from rlff.learn.loop import AIMS, run_options
 
     if aim not in AIMS:  # before the demonstrations are read and cleaned
         raise InputError(f"unknown --aim {aim!r} (known: {', '.join(AIMS)})")
-    if until == "hit" and given(ctx, "centre_share"):
-        raise InputError("--centre-share is how near the centre a hit must land to stop a run --until centred; "
-                         "--until hit (the default) stops at the first hit: add --until centred, or drop --centre-share")
+    # given or not (a default is the library's): refused where it changes nothing, not ignored
+    centre_share, misreport = (value if given(ctx, name) else None
+                               for name, value in (("centre_share", centre_share), ("misreport", misreport)))
+    try:
+        run_options(feedback, until, centre_share, misreport)
+    except InputError as exc:  # said with this command's options
+        raise InputError(_options_words(str(exc))) from None
     for option, name, what, needs, apart in (
             ("--format", "fmt", "is the format of the file --out writes", "--out FILE", out is None),
             ("--period", "period", "is the controller period of the file --out writes", "--out FILE", out is None),
@@ -134,9 +139,7 @@ def learn_command(
             ("--network", "network", "lets a live robot's node reach other hosts", "--executor ros1|ros2",
              executor == "sim"),
             ("--approach-speed", "approach_speed", "paces a live arm's move to the throw's start",
-             "--executor ros1|ros2", executor == "sim"),
-            ("--misreport", "misreport", "is the chance that a hit is reported as a miss", "--feedback binary",
-             feedback == "distance")):
+             "--executor ros1|ros2", executor == "sim")):
         if apart and given(ctx, name):  # it would change nothing: refused, not ignored
             raise InputError(f"{option} {what}: it goes with {needs} (add it, or drop {option})")
     if executor not in ("sim", "ros1", "ros2"):
@@ -179,8 +182,9 @@ def learn_command(
     live = None if executor == "sim" else {"outcome": outcome, "landing_topic": landing_topic, "network": network,
                                            "approach_speed": approach_speed}
     resuming = log is not None and log.exists()  # its run chose already
-    if aim == "auto" and driven is None and not resuming and (hint := _aim_hint(robot, data)):
-        say(hint)
+    hint = _aim_hint(robot, data) if aim == "auto" and driven is None and not resuming else None
+    if hint:  # before the first throw, not among the notes after the run
+        say(_options_words(hint))
     try:
         result = _run(data, basket, settings, live)
     except KeyboardInterrupt as exc:  # on its own line, after the progress bar or the prompt
@@ -189,7 +193,8 @@ def learn_command(
             stderr().print(f"rlff: {said}", highlight=False, markup=False)
         raise
     for note in result.notes:
-        say(note)
+        if note != hint:
+            say(_options_words(note))
     written = _write_best(result, robot, out, fmt, period, driven, bearing) if out is not None else None
     if as_json:
         emit_json({**result.to_json(), "out": written})
@@ -273,33 +278,28 @@ def _interrupted_attempt(exc: BaseException, log: Path | None) -> str | None:
 
 
 def _aim_hint(robot: str, data) -> str | None:
-    """What to say before a one-joint run that aims by the demonstrations (``--aim auto``) on a
-    robot file of the user's with a geometry: its ``[throwing]`` mapping was likely not tuned on
-    that arm, and the kinematics' aim does not need it to be (docs/learn.md: 4-7 more throws than
-    the sweep on an untuned UR5e-like file, 1 aimed). On a built-in robot, whose mapping was tuned
-    on simulated people, the same for recorded demonstrations (``distance_source`` metadata, which
-    ``rlff data import`` writes): the real MSR throws took 1-4 throws a basket, 1 aimed. None
-    otherwise, and for a file without ``[geometry]``, which cannot aim."""
+    """:func:`rlff.learn.aim_hint.aim_hint` of ``robot`` (a name or file) and ``data``, the robot
+    file read without its warnings (the run reads it again and says them once)."""
     import warnings
 
-    from rlff.robot import available_robots, load_robot
+    from rlff.learn.aim_hint import aim_hint
+    from rlff.robot import load_robot
     from rlff.robot.description import RobotFileWarning
 
-    if robot in available_robots():
-        if not any("distance_source" in t.meta for t in data):
-            return None
-        return (f"aim: recorded throws' speeds through the [throwing] mapping of {robot}, which was tuned on "
-                "simulated people (--aim auto, one joint); --aim kinematics starts where the arm's geometry sends "
-                "the throw (the real MSR throws: a hit at attempt 1 at 1.2-2.2 m, against 1-4 attempts; "
-                "docs/learn.md); --aim demonstrations keeps this and says nothing")
-    with warnings.catch_warnings():  # the run loads it again and says them once
+    with warnings.catch_warnings():
         warnings.simplefilter("ignore", RobotFileWarning)
-        model = load_robot(robot)
-    if model.geometry is None:
-        return None
-    return (f"aim: the demonstrations' speeds through the [throwing] mapping of {model.source} (--aim auto, one "
-            "joint); unless that mapping was tuned on this arm, --aim kinematics starts where its geometry sends "
-            "the throw, often at once (docs/learn.md); --aim demonstrations keeps this and says nothing")
+        return aim_hint(load_robot(robot), data)
+
+
+def _options_words(text: str) -> str:
+    """A message of :func:`rlff.learn.learn`'s, which names its parameters, with this command's
+    options: ``until='centred'`` as ``--until centred``, ``centre_share`` as ``--centre-share``
+    (the options of :data:`rlff.learn.loop.RUN_OPTIONS`)."""
+    from rlff.learn.loop import RUN_OPTIONS
+
+    options = {key: option for key, (option, _) in RUN_OPTIONS.items() if key.isidentifier()}
+    text = re.sub(r"\b(\w+)='([^']*)'", lambda m: f"{options[m[1]]} {m[2]}" if m[1] in options else m[0], text)
+    return re.sub(r"(?<![\w-])(centre_share|misreport)(?![\w-])", lambda m: options[m[1]], text)
 
 
 def _joint_list(joints: str | None) -> tuple[str, ...] | None:

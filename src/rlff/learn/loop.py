@@ -41,6 +41,7 @@ import numpy as np
 
 from rlff.dataset import Dataset, joint_outputs, velocity_column
 from rlff.errors import InputError
+from rlff.learn.aim_hint import aim_hint
 from rlff.learn.attempt import Attempt
 from rlff.learn.baselines import BASELINES
 from rlff.learn.carry import carried_offsets
@@ -142,6 +143,45 @@ RUN_OPTIONS: dict[str, tuple[str, str | None]] = {
     "carried": ("--carry", "none"),
     "aim": ("--aim", "'auto'"),
 }
+
+
+def run_options(feedback: str = "binary", until: str = "hit", centre_share: float | None = None,
+                misreport: float | None = None) -> tuple[float, float]:
+    """``(centre_share, misreport)`` of a run of :func:`learn` with these options, checked
+    before anything is read, None standing for the defaults (:data:`CENTRE_SHARE`,
+    :data:`rlff.learn.windows.MISREPORT`). Messages name :func:`learn`'s parameters
+    (``until='centred'``); ``rlff learn`` says them with its options.
+
+    Raises
+    ------
+    InputError
+        An unknown ``feedback`` or ``until``, a value out of its range, or an option given where
+        it changes nothing: ``centre_share`` without ``until='centred'``, ``misreport`` with
+        distance feedback (it went into the log's header, and the command line could then never
+        resume that log).
+    """
+    if feedback not in FEEDBACKS:
+        raise InputError(f"unknown feedback {feedback!r} (known: {', '.join(FEEDBACKS)})")
+    if until not in UNTILS:
+        raise InputError(f"unknown until {until!r} (known: {', '.join(UNTILS)})")
+    if centre_share is not None and until != "centred":
+        raise InputError("centre_share is how near the centre a hit must land to stop a run until='centred'; "
+                         "until='hit' (the default) stops at the first hit: add until='centred', or drop centre_share")
+    if misreport is not None and feedback != "binary":
+        raise InputError("misreport is the chance that a hit is reported as a miss: it goes with feedback='binary' "
+                         "(add it, or drop misreport)")
+    centre_share = CENTRE_SHARE if centre_share is None else centre_share
+    misreport = MISREPORT if misreport is None else misreport
+    if not (_is_number(centre_share) and 0 < centre_share <= 1):
+        raise InputError(f"centre_share must be in (0, 1] of the half-opening, got {centre_share!r}")
+    if not (_is_number(misreport) and 0 <= misreport < 1):
+        raise InputError(f"misreport is the probability that a hit is reported as a miss, in [0, 1); got {misreport!r}")
+    return float(centre_share), float(misreport)
+
+
+def _is_number(value) -> bool:
+    """A real number, not a bool."""
+    return isinstance(value, numbers.Real) and not isinstance(value, bool)
 
 
 class Outcome(Protocol):
@@ -269,14 +309,14 @@ def learn(
     rim_height: float = 0.3,
     opening: float = 0.35,
     until: str = "hit",
-    centre_share: float = CENTRE_SHARE,
+    centre_share: float | None = None,
     executed_on: str | None = None,
     joints: Sequence[str] | None = None,
     bearing: float = 0.0,
     height: float | None = None,
     carry_from: Sequence[str | Path] = (),
     gap: str = "none",
-    misreport: float = MISREPORT,
+    misreport: float | None = None,
     aim: str = "auto",
 ) -> LearningResult:
     """Learn to hit a basket at distance ``basket`` from (possibly failed) demonstrations.
@@ -322,8 +362,10 @@ def learn(
         within ``centre_share`` of the opening: ``abs(miss) <= centre_share * opening / 2``.
         Methods are then told "hit" only for such throws (and size their steps by that
         narrower window), so every method and both feedbacks work unchanged.
-    centre_share : float
-        In (0, 1]: the share of the half-opening a centred hit lands within.
+    centre_share : float, optional
+        In (0, 1]: the share of the half-opening a centred hit lands within; with
+        ``until="centred"`` only (it would change nothing else, and is refused); None:
+        :data:`CENTRE_SHARE`.
     executed_on : str, optional
         What ``executor`` runs the throws on (``sim``, ``ros1``, ``ros2``, or a name of the
         caller's): a log resumes only on the same (a run in simulation writes no such field, so
@@ -349,12 +391,14 @@ def learn(
         :func:`rlff.sim.gap.parse_gap`). The loop plans and aims with the file; the
         simulation executes every throw as that arm would. Only with the default executor; the
         log's header records it, so a run resumes only on the same arm.
-    misreport : float
+    misreport : float, optional
         In [0, 1): with binary feedback, the probability that a hit is reported as a miss (a
         ball that rattles out, a sensor that misses it). ``calibrate`` throws a likely window
         that missed once more where a misreported hit there is likelier than a hit in the
         windows left (:func:`rlff.learn.windows.with_retries`); 0: no window twice before the
-        second pass. A value other than the default goes into the log's header.
+        second pass. A value other than the default goes into the log's header. Refused with
+        distance feedback (it had gone into the header there too, and ``rlff learn`` could never
+        resume that log); None: :data:`rlff.learn.windows.MISREPORT`.
     aim : {"auto", "kinematics", "demonstrations"}
         Where the speed search starts (:data:`AIMS`). ``kinematics``: at the speed at which the
         robot file's geometry and the free flight from the release send the method's first
@@ -389,8 +433,7 @@ def learn(
 
     method_class = method_of(update)
     update = method_class.name  # what the log and the result know it by
-    if feedback not in FEEDBACKS:
-        raise InputError(f"unknown feedback {feedback!r} (known: {', '.join(FEEDBACKS)})")
+    centre_share, misreport = run_options(feedback, until, centre_share, misreport)
     if feedback not in method_class.feedbacks:
         raise InputError(f"update {update!r} needs {' or '.join(method_class.feedbacks)} feedback, "
                          f"not {feedback!r}")
@@ -403,12 +446,6 @@ def learn(
     # one path given where several may be: that one, not its letters (joints: as_names)
     carry_from = (carry_from,) if isinstance(carry_from, str | Path) else carry_from
     require_units(demos)  # before anything is judged in them (a unit slip is the likeliest fault)
-    if until not in UNTILS:
-        raise InputError(f"unknown until {until!r} (known: {', '.join(UNTILS)})")
-    if not 0 < centre_share <= 1:
-        raise InputError(f"centre share must be in (0, 1] of the half-opening, got {centre_share!r}")
-    if not 0 <= misreport < 1:
-        raise InputError(f"misreport is the probability that a hit is reported as a miss, in [0, 1); got {misreport!r}")
     if aim not in AIMS:
         raise InputError(f"unknown aim {aim!r} (known: {', '.join(AIMS)})")
     from rlff.sim.gap import parse_gap
@@ -421,6 +458,8 @@ def learn(
         executed_on = "sim" if executor is None else "python"
     robot_model = robot if isinstance(robot, Robot) else load_robot(robot)
     mapping = mapping_for(robot_model, None if joints is None else as_names(joints))
+    # for a new one-joint run aimed by the demonstrations where the kinematics would likely do better
+    hint = aim_hint(robot_model, demos) if aim == "auto" and not drives_whole_arm(mapping) else None
     rim = rim_height if height is None else height
     # checks the stated range
     target = Basket(float(basket), rim_height=rim, opening=opening, bearing=float(bearing))
@@ -472,7 +511,7 @@ def learn(
         result = _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
                       progress, until, centre_window, pedestal, components, tuple(run.get("carried", ())),
                       misreport, kinematic)
-        result.notes[:0] = limit_notes + carry_notes
+        result.notes[:0] = [hint] * bool(hint and not result.resumed) + limit_notes + carry_notes
         return result
     finally:
         if log:
