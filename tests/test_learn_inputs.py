@@ -55,6 +55,16 @@ def test_a_velocity_in_degrees_per_second_is_refused(demos):
         learn(rescaled(demos, "velocity", math.degrees(1.0)), 1.4, budget=2)
 
 
+def test_a_velocity_in_degrees_per_second_is_refused_without_a_time_column(demos):
+    # with no time to integrate it over, it had gone unseen and every throw went to the limit
+    untimed = Dataset([t.replace(data={name: t[name] for name in t.data if name != "time"}) for t in demos],
+                      context=demos.context)
+    assert learn(untimed, 1.4, budget=1).attempts == 1
+    with pytest.raises(InputError, match=r"column 'velocity' peaks at [\d.]+ in the median throw, faster than a "
+                                         r"person's joint turns .*degrees per second\?"):
+        learn(rescaled(untimed, "velocity", math.degrees(1.0)), 1.4, budget=2)
+
+
 def test_angles_in_degrees_are_refused(demos):
     degrees = Dataset([t.replace(data={**t.data, "angle": np.degrees(t["angle"]),
                                        "velocity": np.degrees(t["velocity"])}) for t in demos], context=demos.context)

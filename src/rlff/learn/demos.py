@@ -115,6 +115,10 @@ def _at_nearest_height(demos: Dataset, rim_height: float) -> Dataset:
 #: rate at which their angle changes over their time column (1.0 on the real MSR throws, the
 #: 10-90 % range 0.89-1.08; a velocity in deg/s reads 57).
 VELOCITY_AGREEMENT = 3.0
+#: The fastest a person's joint turns at the peak of a throw (rad/s), in the median over the
+#: demonstrations: elbows peak at about 5-20 (docs/data.md; 12.7 on the real MSR throws, 12.8
+#: for the simulated people), a pitcher's at about 40. In deg/s the same throws peak at 300-1100.
+HUMAN_SPEED = 60.0
 
 
 def require_units(demos: Dataset) -> None:
@@ -122,7 +126,9 @@ def require_units(demos: Dataset) -> None:
     metres and radians (:func:`rlff.dataset.check_units`), their landings (``landing`` metadata)
     are farther than :data:`rlff.limits.DISTANCE_RANGE`'s top either way, or their velocity is
     not the rate of change of their angle (its integral over the ``time`` column in the median
-    more than :data:`VELOCITY_AGREEMENT` times the angle's change, or less than its inverse).
+    more than :data:`VELOCITY_AGREEMENT` times the angle's change, or less than its inverse), or
+    a velocity column peaks faster than a person's joint turns (:data:`HUMAN_SPEED`, in the
+    median over the throws: the check of a velocity in deg/s where no ``time`` column tells).
 
     In centimetres, the landings had put every throw the calibration made behind the arm's base
     (-2.05 m from a basket at 1.75 m); in deg/s, the velocities sent every throw to the speed
@@ -138,6 +144,19 @@ def require_units(demos: Dataset) -> None:
                          "centimetres? landings are in metres from the thrower; leave the metadata out where "
                          "they are not known")
     _require_velocity_in_time(demos)
+    _require_human_speeds(demos)
+
+
+def _require_human_speeds(demos: Dataset) -> None:
+    """See :func:`require_units`: every velocity column's median peak within :data:`HUMAN_SPEED`."""
+    for column in demos.columns:
+        if not column.endswith("velocity") or not len(demos):
+            continue
+        peak = float(np.median([np.max(np.abs(trajectory[column])) for trajectory in demos]))
+        if peak > HUMAN_SPEED:
+            raise InputError(f"the demonstrations' column {column!r} peaks at {peak:.4g} in the median throw, faster "
+                             f"than a person's joint turns (up to {HUMAN_SPEED:g} rad/s; elbows peak at about 5-20): "
+                             "degrees per second? velocity is in rad/s")
 
 
 def _require_velocity_in_time(demos: Dataset) -> None:
