@@ -159,6 +159,18 @@ def test_recorded_throws_on_the_built_in_robot_are_pointed_at_the_kinematics_aim
     assert not any(note.startswith("aim:") for run in (resumed, quiet, simulated) for note in run.notes)
 
 
+def test_the_demonstrations_may_be_given_as_their_file(demos, tmp_path):
+    # learn("clean.csv", 1.6) had been an AttributeError ('str' object has no attribute 'columns')
+    from rlff.formats import write_dataset
+
+    write_dataset(demos, tmp_path / "demos.csv")
+    from_file = learn(str(tmp_path / "demos.csv"), 1.4, budget=2)
+    assert from_file.misses == learn(demos, 1.4, budget=2).misses
+    with pytest.raises(InputError, match=r"^demos must be a Dataset of demonstrations or the path of a file of them "
+                                         r"\(rlff.formats.read_dataset reads .*\), got list"):
+        learn(list(demos), 1.4, budget=1)
+
+
 def test_one_joint_name_and_one_log_path_are_taken_whole(demos, tmp_path):
     # a str where a sequence goes had been taken letter by letter ("joints ['j', 'o', ...]")
     assert learn(demos, 1.4, budget=1, joints="joint_2").attempts == 1

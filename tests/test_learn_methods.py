@@ -8,11 +8,13 @@ import re
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn import Method, Proposal, learn, scale_speed
+from rlff.learn.log import read_log
 
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "learn.md"
 
@@ -99,3 +101,35 @@ def test_the_benchmark_runs_a_method_class_in_its_workers():
     runs = learning_benchmark(scenario, seeds=1, methods={"binary": (Slower, "imitation")}, jobs=2, budget=2)
     assert [run.method for run in runs] == ["slower", "imitation"]
     assert all(1 <= run.attempts <= 2 for run in runs)
+
+
+class Careless(Slower):
+    """Proposes what its class attribute ``proposal`` makes of the mean throw."""
+
+    name = "careless"
+    proposal = staticmethod(lambda mean: mean)
+
+    def propose(self, history):
+        return type(self).proposal(self.mean)
+
+
+def with_nan(mean):
+    velocity = mean.velocity.copy()
+    velocity[5] = np.nan
+    return replace(mean, velocity=velocity)
+
+
+@pytest.mark.parametrize(("proposal", "words"), [
+    # an AttributeError ('dict' object has no attribute 'path'), then a NaN named by sample alone
+    (lambda mean: {"angle": mean.angle, "velocity": mean.velocity},
+     r"^attempt 1: careless's propose returned dict .*: it must return an rlff.learn.Proposal \(angle and velocity"),
+    (with_nan, r"^attempt 1: the throw careless proposed: velocity at sample 5 is nan"),
+    (lambda mean: replace(mean, velocity=mean.velocity[:-3]), r"^attempt 1: the throw careless proposed: angle and "
+                                                             r"velocity must be 1-D of one length"),
+])
+def test_a_proposal_that_cannot_be_thrown_names_the_method_and_the_attempt(demos, tmp_path, proposal, words):
+    careless = type("Careless", (Careless,), {"proposal": staticmethod(proposal)})
+    log = tmp_path / "careless.jsonl"
+    with pytest.raises(InputError, match=words):
+        learn(demos, 1.4, update=careless, budget=2, log_path=log)
+    assert read_log(log)[1].attempts == []

@@ -214,6 +214,16 @@ def test_any_columns_several_contexts_and_outputs():
         model.generate({"a": 1.5, "b": 0.0, "c": 1.0})
 
 
+def test_a_distance_alone_is_the_context_of_a_model_of_one(thesis_model):
+    # model.generate(2.0) had been a TypeError ('float' object is not iterable)
+    np.testing.assert_array_equal(thesis_model.generate(2.5).velocity, thesis_model.generate({"distance": 2.5}).velocity)
+    np.testing.assert_array_equal(thesis_model.generate(np.float64(2.5)).velocity,
+                                  thesis_model.generate({"distance": 2.5}).velocity)
+    with pytest.raises(InputError, match=r"^the context is a mapping of the model's context columns to their values, "
+                                         r"e.g. \{'distance': [\d.]+\}, got list \[2.5, 3.0\] \(or the distance alone"):
+        thesis_model.generate([2.5, 3.0])
+
+
 @pytest.mark.parametrize("distance", [175.0, -2.0, 0.0])
 def test_a_basket_distance_outside_what_rlff_takes_is_refused_as_the_cli_refuses_it(thesis_model, distance):
     # 175 (centimetres) was extrapolated into a path of -285 rad/s over 5 ms, a warning at most

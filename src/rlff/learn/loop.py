@@ -56,7 +56,7 @@ from rlff.learn.demos import (
     usable_demos,
 )
 from rlff.learn.log import AttemptLog, robot_record
-from rlff.learn.method import FEEDBACKS, Method, Problem
+from rlff.learn.method import FEEDBACKS, Method, Problem, Proposal
 from rlff.learn.reach import (
     aimed_factor,
     arm_reach,
@@ -294,7 +294,7 @@ class LearningResult:
 
 
 def learn(
-    demos: Dataset,
+    demos: Dataset | str | Path,
     basket: float,
     *,
     budget: int = 20,
@@ -323,8 +323,10 @@ def learn(
 
     Parameters
     ----------
-    demos : Dataset
-        Demonstrations with columns ``angle`` (rad), ``distance`` (m: the basket aimed at) and
+    demos : Dataset or path
+        Demonstrations (or the file that holds them, read by :func:`rlff.formats.read_dataset`:
+        CSV, NPZ, Parquet or the thesis' matrix) with columns ``angle`` (rad), ``distance`` (m:
+        the basket aimed at) and
         ``velocity`` (rad/s), one throw per trajectory up to its release, in the human units the
         robot mapping takes; for a whole-arm throw also the driven joints' columns (``shoulder``,
         ``shoulder_velocity``, ``wrist``, ``wrist_velocity``), and optionally ``height`` (m).
@@ -445,6 +447,7 @@ def learn(
     seed = int(seed)
     # one path given where several may be: that one, not its letters (joints: as_names)
     carry_from = (carry_from,) if isinstance(carry_from, str | Path) else carry_from
+    demos = _demonstrations(demos)
     require_units(demos)  # before anything is judged in them (a unit slip is the likeliest fault)
     if aim not in AIMS:
         raise InputError(f"unknown aim {aim!r} (known: {', '.join(AIMS)})")
@@ -518,6 +521,19 @@ def learn(
             log.close()
 
 
+def _demonstrations(demos) -> Dataset:
+    """``demos`` as :func:`learn` takes them: a :class:`Dataset`, or one read from a path."""
+    if isinstance(demos, Dataset):
+        return demos
+    if isinstance(demos, str | Path):
+        from rlff.formats import read_dataset
+
+        return read_dataset(demos)
+    raise InputError(f"demos must be a Dataset of demonstrations or the path of a file of them (rlff.formats."
+                     f"read_dataset reads .csv, .npz, .parquet and the thesis' .txt), got {type(demos).__name__} "
+                     f"{_short(demos)}")
+
+
 def _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor, progress,
          until, centre_window, pedestal, components, carried, misreport, kinematic) -> LearningResult:
     """The attempts of :func:`learn` after its checks, with the log (or None) held."""
@@ -564,7 +580,8 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         start = clock.perf_counter()
         proposal = method.propose([_as_reported(a, feedback, centre_window) for a in history])
         attempt = _execute(proposal, len(history) + 1, target, mapping, executor, start,
-                           distance_needed=feedback == "distance", hit_distance_needed=until == "centred")
+                           distance_needed=feedback == "distance", hit_distance_needed=until == "centred",
+                           method=update)
         if log:
             log.append(attempt)
         history.append(attempt)
@@ -647,14 +664,23 @@ def _first_shape(method_class: type[Method], demos: Dataset, mapping, basket, pe
 
 
 def _execute(proposal, index: int, target, mapping, executor: Executor, start: float, *,
-             distance_needed: bool = False, hit_distance_needed: bool = False) -> Attempt:
-    """Map a proposal to the robot (saturating at its limits), execute it, record what it did;
-    its outcome checked by :func:`reported_outcome` (with ``distance_needed`` and
-    ``hit_distance_needed``), an :class:`InputError` naming attempt ``index`` otherwise."""
-    path = dict(proposal.path)
-    path["velocity"] = forward_velocity(proposal.angle, proposal.velocity)
-    path["time"] = time_along_path(proposal.angle, path["velocity"])
-    points, trajectory, clip_report = _plan(mapping, path, target.bearing)
+             distance_needed: bool = False, hit_distance_needed: bool = False, method: str = "the method") -> Attempt:
+    """Map a proposal of ``method`` (its name) to the robot (saturating at its limits), execute
+    it, record what it did; its outcome checked by :func:`reported_outcome` (with
+    ``distance_needed`` and ``hit_distance_needed``). A proposal that is none, that cannot be
+    planned (NaN, a ragged path, degrees) or such an outcome: an :class:`InputError` naming
+    attempt ``index`` (and ``method``)."""
+    if not isinstance(proposal, Proposal):
+        raise InputError(f"attempt {index}: {method}'s propose returned {type(proposal).__name__} {_short(proposal)}: "
+                         "it must return an rlff.learn.Proposal (angle and velocity, arrays of shape (T,) in rad and "
+                         "rad/s)")
+    try:
+        path = dict(proposal.path)
+        path["velocity"] = forward_velocity(proposal.angle, proposal.velocity)
+        path["time"] = time_along_path(proposal.angle, path["velocity"])
+        points, trajectory, clip_report = _plan(mapping, path, target.bearing)
+    except InputError as exc:
+        raise type(exc)(f"attempt {index}: the throw {method} proposed: {exc}") from None
     outcome = executor(trajectory)
     try:
         hit, landing, miss = reported_outcome(outcome, target, distance_needed=distance_needed,

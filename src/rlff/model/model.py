@@ -462,9 +462,10 @@ class Model:
 
         Parameters
         ----------
-        context : mapping of str to float
+        context : mapping of str to float, or float
             A value for every input but the first (e.g. ``{"distance": 2.5}``); a ``distance``
-            is the basket's in m, within :data:`rlff.limits.DISTANCE_RANGE` (0.3 to 20 m).
+            is the basket's in m, within :data:`rlff.limits.DISTANCE_RANGE` (0.3 to 20 m). A
+            model of one context column also takes its value alone (``2.5``).
         angles : array of shape (T,), optional
             Values of the first input, monotonic; default 100 points from the data's range end
             farthest from the demonstrations' typical release to that release (``fit_info
@@ -880,7 +881,18 @@ def _context_values(
 ) -> list[float]:
     """The context's values in ``names``' order; :class:`InputError` for an unknown, missing (with
     the model's demonstrated range of it) or non-finite value, or a ``distance`` outside the basket
-    distances rlff takes (:data:`rlff.limits.DISTANCE_RANGE`, m), as ``rlff generate`` refuses it."""
+    distances rlff takes (:data:`rlff.limits.DISTANCE_RANGE`, m), as ``rlff generate`` refuses it.
+    A number alone is the value of a model's one context column; anything else that is no mapping
+    is refused saying what a context is (``model.generate(2.0)`` had been a TypeError)."""
+    if not isinstance(context, Mapping):
+        if isinstance(context, int | float | np.integer | np.floating) and not isinstance(context, bool) \
+                and len(names) == 1:
+            context = {names[0]: context}
+        else:
+            example = ", ".join(f"{name!r}: {sum(ranges[name]) / 2:.3g}" for name in names)
+            raise InputError(f"the context is a mapping of the model's context columns to their values, e.g. "
+                             f"{{{example}}}, got {type(context).__name__} {context!r}"
+                             + ("" if len(names) != 1 else f" (or the {names[0]} alone, a number)"))
     unknown = [name for name in context if name not in names]
     if unknown:
         expected = ", ".join(names) if names else "none"
