@@ -326,10 +326,10 @@ def learn(
     demos : Dataset or path
         Demonstrations (or the file that holds them, read by :func:`rlff.formats.read_dataset`:
         CSV, NPZ, Parquet or the thesis' matrix) with columns ``angle`` (rad), ``distance`` (m:
-        the basket aimed at) and
-        ``velocity`` (rad/s), one throw per trajectory up to its release, in the human units the
-        robot mapping takes; for a whole-arm throw also the driven joints' columns (``shoulder``,
-        ``shoulder_velocity``, ``wrist``, ``wrist_velocity``), and optionally ``height`` (m).
+        the basket aimed at) and ``velocity`` (rad/s), one throw per trajectory up to its
+        release, in the human units the robot mapping takes; for a whole-arm throw also the
+        driven joints' columns (``shoulder``, ``shoulder_velocity``, ``wrist``,
+        ``wrist_velocity``), and optionally ``height`` (m).
         Metadata ``landing`` (m), where known, is used by ``calibrate``.
     basket : float
         Distance of the basket's centre from the robot's base axis (m).
