@@ -561,3 +561,52 @@ def test_the_outputs_figure_draws_the_throw_generate_writes(thesis_model, tmp_pa
     drawn = [line.get_ydata() for axes in saved.figure.get_axes() for line in axes.get_lines()
              if len(line.get_ydata()) == sent.size]
     assert any(np.array_equal(np.asarray(y, dtype=float), sent) for y in drawn)
+
+
+def test_plot_outputs_and_dmm_warn_of_a_throw_past_the_data_as_generate_does(tmp_path, thesis_model, rlff):
+    # they drew a throw for a distance far past the data without a word, where rlff generate warns
+    from rlff.plots.donut import dmm_heatmap
+    from rlff.plots.outputs import model_outputs
+
+    _, model = thesis_model
+    model.save(tmp_path / "model.json")
+    generated = rlff("generate", str(tmp_path / "model.json"), "--context", "distance=20", "-o", str(tmp_path / "g.csv"))
+    assert generated.code == 0, generated.stderr
+    warned = [line for line in generated.stderr.splitlines() if line.startswith("warning: ")]
+    assert warned == ["warning: distance = 20 is outside the fitted range [1, 11]: extrapolating"]
+    outputs = rlff("plot", "outputs", str(tmp_path / "model.json"), "--distances", "2,20", "-o", str(tmp_path / "o"))
+    assert outputs.code == 0, outputs.stderr
+    assert [line for line in outputs.stderr.splitlines() if line.startswith("warning: ")] == [
+        "warning: z = 20 m: distance = 20 is outside the fitted range [1, 11]: extrapolating"]
+    dmm = rlff("plot", "dmm", str(tmp_path / "model.json"), "--distance", "20", "-o", str(tmp_path / "d"))
+    assert dmm.code == 0, dmm.stderr
+    assert [line for line in dmm.stderr.splitlines() if line.startswith("warning: ")] == warned
+    within = rlff("plot", "dmm", str(tmp_path / "model.json"), "--distance", "5", "-o", str(tmp_path / "d5"))
+    assert within.code == 0 and "warning" not in within.stderr
+
+    # and the figures mark the throw
+    saved = model_outputs(model, [2.0, 20.0], tmp_path / "outputs")
+    summary = next(a for a in visible_axes(saved.figure) if a.get_title() == SUMMARY_TITLE)
+    assert [line.get_label() for line in summary.get_lines()] == ["z = 2 m", "z = 20 m (extrapolated)"]
+    assert saved.warnings == ("z = 20 m: distance = 20 is outside the fitted range [1, 11]: extrapolating",)
+    top = dmm_heatmap(model, 20.0, tmp_path / "dmm").figure.get_axes()[0]
+    assert top.get_title() == "DMM density at z = 20 m (extrapolated), seen from above"
+    assert dmm_heatmap(model, 5.0, tmp_path / "dmm5").figure.get_axes()[0].get_title() == (
+        "DMM density at z = 5 m, seen from above")
+
+
+def test_a_throw_for_one_basket_data_says_the_model_cannot_tell_distances_apart(tmp_path):
+    from rlff.model import Model
+    from rlff.plots.outputs import model_outputs
+
+    data = Dataset([t for t in throws() if float(t["distance"][0]) == 2.0])
+    with pytest.warns(UserWarning, match="column 'distance' is constant"):
+        model = Model.fit(data, components=1, seed=0)
+    saved = model_outputs(model, [3.0], tmp_path / "outputs", dataset=data)
+    summary = next(a for a in visible_axes(saved.figure) if a.get_title() == SUMMARY_TITLE)
+    assert [line.get_label() for line in summary.get_lines()] == ["z = 3 m (new; only distance 2 in the data)"]
+    assert saved.warnings == ("z = 3 m: distance = 3: every demonstration had distance 2, so the model cannot tell one "
+                              "distance from another and gives the throw for 2",)
+    # no panel draws demonstrations: the legend does not promise them
+    (legend,) = [legend for subfigure in saved.figure.subfigs for legend in subfigure.legends]
+    assert "demonstrations at this distance" not in [text.get_text() for text in legend.get_texts()]

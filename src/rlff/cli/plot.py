@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import PLAIN_HELP, emit_json, seed_option, stdout
+from rlff.cli._common import PLAIN_HELP, emit_json, seed_option, stdout, warn
 from rlff.cli.model import (
     EFFECTIVE_SAMPLES_HELP,
     check_criterion,
@@ -49,6 +49,11 @@ def _numbers(option: str, text: str, *, integers: bool = False) -> list:
 
 
 def _done(saved: list, as_json: bool) -> None:
+    """Say each figure's warnings on stderr (as the command that makes what it draws would), then
+    print the files written."""
+    for figure in saved:
+        for warning in figure.warnings:
+            warn(warning)
     files = [path for figure in saved for path in figure.paths]
     if as_json:
         emit_json({"files": files})

@@ -151,6 +151,10 @@ class GeneratedPath:
     warnings : tuple of str
         What may make the path wrong: a context or the path variable outside the fitted range, a
         joint angle outside 0 to pi, a throw past the data that turns back (extrapolation).
+    cautions : tuple of str
+        The same in a few words each, for a figure's legend or title (``"extrapolated"``,
+        ``"the regression turns back"``, ``"no arm takes this pose"``, ``"only distance 1.75 in
+        the data"``), each once.
     """
 
     angle: np.ndarray
@@ -169,6 +173,7 @@ class GeneratedPath:
     context: dict[str, float] = field(default_factory=dict)
     notes: tuple[str, ...] = ()
     warnings: tuple[str, ...] = ()
+    cautions: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return self.angle.size
@@ -502,8 +507,11 @@ class Model:
         X_in = np.column_stack([angles, *(np.full(angles.size, v) for v in values)])
         conditional = self.condition(X_in)
         mode = dmm_mode(conditional, exploration, exploration_scale, continuity, progress=progress)
-        warnings = [
-            (f"{name} = {value:g} is outside the fitted range [{lo:g}, {hi:g}]: extrapolating" if hi > lo else
+        # (caution, warning): a few words for a figure beside each full sentence
+        cautioned = [
+            ("extrapolated", f"{name} = {value:g} is outside the fitted range [{lo:g}, {hi:g}]: extrapolating")
+            if hi > lo else
+            (f"only {name} {lo:g} in the data",
              f"{name} = {value:g}: every demonstration had {name} {lo:g}, so the model cannot tell one {name} "
              f"from another and gives the throw for {lo:g}")
             for name, value in zip(self.context_names, values, strict=True)
@@ -512,10 +520,12 @@ class Model:
         ]
         lo, hi = self.input_range[first]
         if angles.min() < lo or angles.max() > hi:
-            warnings.append(f"{first} values {angles.min():g} to {angles.max():g} leave the fitted range "
-                            f"[{lo:g}, {hi:g}]: extrapolating")
-        warnings.extend(self._speed_reversal(angles, values, conditional.mean[:, 0]))
-        warnings.extend(_impossible_angles(mode.output, self.outputs))
+            cautioned.append(("extrapolated", f"{first} values {angles.min():g} to {angles.max():g} leave the fitted "
+                                              f"range [{lo:g}, {hi:g}]: extrapolating"))
+        cautioned.extend(("the regression turns back", warning)
+                         for warning in self._speed_reversal(angles, values, conditional.mean[:, 0]))
+        cautioned.extend(("no arm takes this pose", warning) for warning in _impossible_angles(mode.output, self.outputs))
+        warnings = [warning for _, warning in cautioned]
         velocity = mode.output[:, 0]
         time, notes = _path_time(angles, velocity, self.outputs[0])
         notes.extend(_steps(angles, velocity, first, self.outputs[0]))
@@ -537,6 +547,7 @@ class Model:
             context=dict(zip(self.context_names, values, strict=True)),
             notes=tuple(notes),
             warnings=tuple(warnings),
+            cautions=tuple(dict.fromkeys(caution for caution, _ in cautioned)),
         )
 
     def _speed_reversal(self, angles: np.ndarray, values: Sequence[float], mean: np.ndarray) -> list[str]:

@@ -72,11 +72,15 @@ class SavedFigure:
         The figure object, for inspection (tests check its axes, lines and labels).
     png, svg : Path
         The written files.
+    warnings : tuple of str
+        What may make what the figure draws wrong (a generated throw past the data, ...), for the
+        caller to say (``rlff plot`` prints them on stderr); the figure marks it too.
     """
 
     figure: Figure
     png: Path
     svg: Path
+    warnings: tuple[str, ...] = ()
 
     @property
     def paths(self) -> tuple[Path, Path]:
@@ -96,7 +100,7 @@ def new_figure(width: float, height: float) -> Figure:
     return Figure(figsize=(width, height))
 
 
-def save(figure: Figure, out: str | Path) -> SavedFigure:
+def save(figure: Figure, out: str | Path, warnings: Sequence[str] = ()) -> SavedFigure:
     """Write ``figure`` as ``OUT.png`` and ``OUT.svg``.
 
     Parameters
@@ -104,6 +108,8 @@ def save(figure: Figure, out: str | Path) -> SavedFigure:
     figure : Figure
     out : path
         File stem; a ``.png`` or ``.svg`` suffix is replaced. Missing folders are created.
+    warnings : sequence of str
+        What the caller should say of the figure (:attr:`SavedFigure.warnings`).
     """
     out = Path(out)
     if out.suffix.lower() in (".png", ".svg"):
@@ -119,7 +125,7 @@ def save(figure: Figure, out: str | Path) -> SavedFigure:
         with atomic_path(svg) as temp:
             figure.savefig(temp, format="svg")
         figure.set_layout_engine(engine)
-    return SavedFigure(figure, png, svg)
+    return SavedFigure(figure, png, svg, tuple(warnings))
 
 
 def distance_colours(

@@ -114,6 +114,12 @@ def dmm_heatmap(
         Angle grid (rad); default the model's fitted range.
     exploration, exploration_scale
         As for :meth:`rlff.model.Model.generate`.
+
+    Returns
+    -------
+    SavedFigure
+        Its ``warnings`` are what :meth:`rlff.model.Model.generate` warns of the throw drawn (a
+        distance past the data, ...); the title names them in a few words.
     """
     from rlff.model.donut import dmm_marginal_pdf
 
@@ -149,6 +155,10 @@ def dmm_heatmap(
         # drawn on to the range's end, the chosen throw had run to 13 rad/s where the generated
         # throw let go at 7.3)
         thrown = _up_to_release(model, path.angle)
+        # what generate warns of the throw drawn (up to the release: past it, a pose no arm
+        # takes is no warning about this throw)
+        drawn = path if thrown.all() else model.generate({context: distance}, path.angle[thrown],
+                                                          exploration=exploration, exploration_scale=exploration_scale)
         top.plot(path.angle[thrown], path.gmr_mean[thrown], color="white", linestyle="--", linewidth=1.5,
                  label="GMR mean")
         top.plot(path.angle[thrown], path.velocity[thrown], color="#22d3ee", linewidth=2.2,
@@ -161,7 +171,8 @@ def dmm_heatmap(
         top.set_xlim(path.angle[0], path.angle[-1])
         top.set_ylim(velocities[0], velocities[-1])
         top.set_ylabel(axis_label(y_name))
-        top.set_title(f"DMM density at {format_distance(distance)}, seen from above")
+        cautions = f" ({', '.join(drawn.cautions)})" if drawn.cautions else ""
+        top.set_title(f"DMM density at {format_distance(distance)}{cautions}, seen from above", wrap=True)
         legend = top.legend(loc="upper left", fontsize=8, facecolor="#333333", labelcolor="white", framealpha=0.8)
         legend.get_frame().set_edgecolor("none")
         top.grid(False)
@@ -172,4 +183,4 @@ def dmm_heatmap(
         bottom.set_ylim(0.0, 1.0)
         bottom.set_ylabel("exploration ε")
         bottom.set_xlabel(axis_label(x_name))
-    return save(figure, out)
+    return save(figure, out, drawn.warnings)

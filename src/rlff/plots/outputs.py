@@ -37,6 +37,8 @@ class GeneratedPathLike(Protocol):
 
     Every attribute is an array of shape (T,): joint angle (rad), the DMM's velocity (rad/s), the
     GMR mean and standard deviation of the velocity (rad/s), and the exploration factor (0-1).
+    A path may also carry ``cautions`` (tuple of str), what its generation warned of in a few
+    words (``GeneratedPath.cautions``: "extrapolated", ...): its curve is labelled with them.
     """
 
     angle: np.ndarray
@@ -46,11 +48,13 @@ class GeneratedPathLike(Protocol):
     exploration: np.ndarray
 
 
-def _label(distance: float, demonstrated: bool | None) -> str:
-    """The distance, and whether it was demonstrated when that is known (None: not known)."""
-    if demonstrated is None:
-        return format_distance(distance)
-    return f"{format_distance(distance)} ({'demonstrated' if demonstrated else 'new'})"
+def _label(distance: float, demonstrated: bool | None, cautions: Sequence[str] = ()) -> str:
+    """The distance, whether it was demonstrated when that is known (None: not known) and what
+    its generation warned of: ``z = 8 m (new; extrapolated)``."""
+    said = ([] if demonstrated is None else ["demonstrated" if demonstrated else "new"])
+    if cautions:
+        said.append(", ".join(cautions))
+    return format_distance(distance) + (f" ({'; '.join(said)})" if said else "")
 
 
 def output_trajectories(
@@ -66,7 +70,8 @@ def output_trajectories(
 
     The top panel overlays the outputs, coloured by distance; with a dataset, distances without
     demonstrations are dashed and the labels say "demonstrated" or "new" (without one, which
-    distances were demonstrated is not known, and neither is said). Below, one panel per
+    distances were demonstrated is not known, and neither is said); a throw whose generation
+    warned (its ``cautions``: extrapolated, ...) says so in its label. Below, one panel per
     distance shows the demonstrations at that distance (grey), the GMR mean with its ±2σ band
     and the DMM output, which leaves the mean where the demonstrations disagree (thesis figure
     4.7).
@@ -82,6 +87,11 @@ def output_trajectories(
         count as demonstrated.
     x, y, context : str
         Column names of the dataset (angle rad, velocity rad/s, distance m).
+
+    Returns
+    -------
+    SavedFigure
+        Its ``warnings`` are the paths' own (``GeneratedPath.warnings``), each after its distance.
     """
     if not paths:
         raise InputError("no generated trajectories to plot")
@@ -97,6 +107,8 @@ def output_trajectories(
             return None
         return any(abs(distance - value) < 1e-9 for value in demonstrated_values)
 
+    warnings = [f"{format_distance(distance)}: {warning}" for distance in distances
+                for warning in getattr(by_distance[distance], "warnings", ())]
     colours, _, _ = distance_colours(distances)
     rows, columns = grid_shape(len(distances), 4)
     with figure_style():
@@ -108,17 +120,19 @@ def output_trajectories(
             summary.plot(
                 path.angle, path.velocity, color=colours[distance], linewidth=2.0,
                 linestyle="--" if is_demonstrated(distance) is False else "-",
-                label=_label(distance, is_demonstrated(distance)),
+                label=_label(distance, is_demonstrated(distance), getattr(path, "cautions", ())),
             )
         summary.set_xlabel(axis_label(x))
         summary.set_ylabel(axis_label(y))
         summary.set_title(SUMMARY_TITLE)
         summary.legend(loc="best", ncols=1 if len(distances) < 6 else 2)
         panels = bottom.subplots(rows, columns, sharex=True, sharey=True, squeeze=False)
+        any_demos = False  # whether some panel draws demonstrations (the legend then names them)
         for axes, distance in zip(panels.flat, distances, strict=False):
             path = by_distance[distance]
             if dataset is not None:
                 demos = [t for t in dataset if abs(float(t[context][0]) - distance) < 1e-9]
+                any_demos |= bool(demos)
                 add_curves(axes, [(t[x], t[y]) for t in demos], _DEMO_COLOUR, linewidth=0.7, alpha=0.7, zorder=1)
             mean = np.asarray(path.gmr_mean, dtype=float)
             spread = 2.0 * np.asarray(path.gmr_std, dtype=float)
@@ -126,9 +140,9 @@ def output_trajectories(
             axes.plot(path.angle, mean, color="black", linestyle="--", linewidth=1.1)
             axes.plot(path.angle, path.velocity, color=colours[distance], linewidth=2.0)
             axes.set_title(
-                f"{_label(distance, is_demonstrated(distance))}\nmean exploration ε = "
+                f"{_label(distance, is_demonstrated(distance), getattr(path, 'cautions', ()))}\nmean exploration ε = "
                 f"{float(np.mean(path.exploration)):.2f}",
-                fontsize=10,
+                fontsize=10, wrap=True,
             )
         for axes in panels.flat[len(distances):]:
             axes.set_visible(False)
@@ -145,11 +159,11 @@ def output_trajectories(
             Line2D([], [], color=colours[distances[0]], linewidth=2.0,
                    label="DMM output (colour: distance; the robot keeps its first pose and release)"),
         ]
-        if dataset is not None:
+        if any_demos:
             handles.insert(0, Line2D([], [], color=_DEMO_COLOUR, linewidth=0.7, label="demonstrations at this distance"))
         # one row fits from three panels across (10.8 in); a narrower figure takes two rows
         bottom.legend(handles=handles, loc="outside lower center", ncols=len(handles) if columns >= 3 else 2)
-    return save(figure, out)
+    return save(figure, out, warnings)
 
 
 def model_outputs(
