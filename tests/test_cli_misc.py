@@ -151,7 +151,14 @@ def test_plot_learning_from_logs(rlff, tmp_path):
 
     other = tmp_path / "other.jsonl"
     other.write_text('{"format": "rlff-attempts", "run": {"basket": {"distance": 3.0}, "update": "x"}}\n')
-    one_line_error(rlff("plot", "learning", logs[0], str(other), "-o", str(tmp_path / "x")), "different baskets")
+    one_line_error(rlff("plot", "learning", logs[0], str(other), "-o", str(tmp_path / "x")),
+                   "different tasks: basket 2.1 m (calibrate.jsonl), 3 m (other.jsonl)")
+    # --tolerance is checked as the distance options are: metres, more than 0
+    one_line_error(rlff("plot", "learning", logs[0], "--tolerance", "15", "-o", str(tmp_path / "x")),
+                   "--tolerance: 15 m is wider than the basket is far (2.1 m) (centimetres? the tolerance is in metres: "
+                   "0.15)")
+    one_line_error(rlff("plot", "learning", logs[0], "--tolerance", "-0.1", "-o", str(tmp_path / "x")),
+                   "--tolerance: -0.1 m is no half-width of a band: give a positive number of metres")
     one_line_error(rlff("plot", "learning", str(tmp_path / "none.jsonl"), "-o", str(tmp_path / "x")),
                    "none.jsonl: no such attempts log")
     (tmp_path / "bad.jsonl").write_text('{"format": "something else"}\n')

@@ -47,6 +47,7 @@ def test_demo_small_end_to_end(tmp_path):
     check_whole_arm(demo)
     check_report_embeds_every_figure(demo)
     check_report_in_chromium(demo, tmp_path)
+    check_learning_figure_is_plot_learning_of_its_logs(demo, tmp_path)
     _, _, stderr = demo
     assert f"{len(STAGES)}/{len(STAGES)}" in stderr  # the progress display reached every stage
 
@@ -66,6 +67,27 @@ def check_complete_run(demo) -> None:
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         assert png.with_suffix(".svg").is_file()
     assert sorted(summary["figures"]) == sorted(str(out / f.file) for f in run.figures)
+
+
+def check_learning_figure_is_plot_learning_of_its_logs(demo, tmp_path) -> None:
+    """The demo's learning curves are `rlff plot learning` of its runs' logs: the same names (the
+    demo had "calibrate (binary feedback) (2 attempts)"), colours and band; calibrate was blue in
+    one and orange in the other."""
+    import re
+
+    from conftest import run_cli
+
+    out, summary, _ = demo
+    logs = [str(out / "attempts" / f"{row['method']}.jsonl") for row in summary["learning"]]
+    again = run_cli("plot", "learning", *logs, "-o", str(tmp_path / "again"))
+    assert again.code == 0, again.stderr
+
+    def drawn(svg: Path) -> tuple[list[str], list[str]]:
+        text = svg.read_text()
+        return re.findall(r"<text[^>]*>([^<]*)</text>", text), sorted(set(re.findall(r"stroke: (#[0-9a-f]{6})", text)))
+
+    texts, colours = drawn(out / "figures" / "learning.svg")
+    assert (texts, colours) == drawn(tmp_path / "again.svg")
 
 
 def check_numbers_agree_with_files(demo) -> None:

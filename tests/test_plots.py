@@ -184,7 +184,8 @@ def test_learning_curves_one_line_per_method_and_first_hits(tmp_path):
     assert axes.get_xlabel() == "attempt" and "miss (m)" in axes.get_ylabel()
     assert axes.get_title() == "Learning from failure for a basket at 2.8 m"
     legend = [t.get_text() for t in saved.figure.legends[0].get_texts()]
-    assert legend == ["lands clear of the rim", "calibrate (3 attempts)", "imitation (4 attempts)", "first hit"]
+    # the band is what it is: a tolerance given is no window of the loop's
+    assert legend == ["|miss| ≤ 0.1 m", "calibrate (3 attempts)", "imitation (4 attempts)", "first hit"]
 
     # the outcomes decide the stars when given: a landing within the opening may bounce off the rim
     again = learning_curves(misses, tmp_path / "hits", tolerance=0.1,
@@ -208,25 +209,95 @@ def test_learning_curves_one_line_per_method_and_first_hits(tmp_path):
     assert "landing not measured (drawn at 0)" in [t.get_text() for t in unlanded.figure.legends[0].get_texts()]
 
 
+def learning_log(path, update="calibrate", misses=(-0.3, 0.05), **run):
+    """An attempts log at ``path`` of a run at a 1.4 m basket, its header's ``run`` updated with
+    ``run`` (``basket`` merged), its attempts missing by ``misses`` (m; a hit within 0.1)."""
+    header = {"basket": {"distance": 1.4, "rim_height": 0.3, "opening": 0.35}, "feedback": "binary", "update": update,
+              "until": "hit", "robot": {"name": "comau_smart5_six", "digest": "0123456789abcdef",
+                                        "description": {"mapping": {"joint": "joint_2"}}}}
+    header["basket"].update(run.pop("basket", {}))
+    header.update(run)
+    lines = [{"format": "rlff-attempts", "version": 1, "run": header}]
+    lines += [{"attempt": i + 1, "miss": m, "hit": abs(m) < 0.1} for i, m in enumerate(misses)]
+    path.write_text("".join(json.dumps(line) + "\n" for line in lines))
+    return path
+
+
+def curve_labels(saved) -> list[str]:
+    (axes,) = saved.figure.get_axes()
+    return [line.get_label() for line in axes.get_lines() if not line.get_label().startswith("_")]
+
+
 def test_learning_curves_of_logs_shade_the_logs_own_opening_and_name_a_gap(tmp_path):
     from rlff.plots.learning import learning_curves_from_logs
 
-    logs = []
-    for name, gap in (("plain", None), ("slow", "speed:0.9")):
-        run = {"basket": {"distance": 1.4, "opening": 0.25}, "feedback": "binary", "update": "calibrate"}
-        if gap:
-            run["gap"] = gap
-        path = tmp_path / f"{name}.jsonl"
-        lines = [{"format": "rlff-attempts", "version": 1, "run": run},
-                 {"attempt": 1, "miss": -0.3, "hit": False}, {"attempt": 2, "miss": 0.05, "hit": True}]
-        path.write_text("".join(json.dumps(line) + "\n" for line in lines))
-        logs.append(path)
+    logs = [learning_log(tmp_path / "plain.jsonl", basket={"opening": 0.25}),
+            learning_log(tmp_path / "slow.jsonl", basket={"opening": 0.25}, gap="speed:0.9")]
     saved = learning_curves_from_logs(logs, tmp_path / "curves")
     (axes,) = saved.figure.get_axes()
-    band, = [patch for patch in axes.patches if patch.get_label() == "lands clear of the rim"]
+    band, = [patch for patch in axes.patches if patch.get_label().startswith("lands clear of the rim")]
     assert band.get_height() == pytest.approx(2 * (0.125 - BALL_RADIUS))  # the loop's window at the logs' opening
-    labels = [line.get_label() for line in axes.get_lines() if line.get_label().startswith("calibrate")]
-    assert labels == ["calibrate (2 attempts)", "calibrate, arm speed:0.9 (2 attempts)"]
+    assert curve_labels(saved) == ["calibrate (2 attempts)", "calibrate, arm speed:0.9 (2 attempts)"]
+    # what both share is said once, in the title
+    assert axes.get_title() == "Learning from failure for a basket at 1.4 m, binary feedback, opening 0.25 m"
+
+
+def test_learning_curves_of_logs_refuse_logs_of_another_task_naming_what_differs(tmp_path):
+    # logs of another bearing, rim height or joint set were overlaid in one figure titled by the
+    # basket's distance alone
+    from rlff.plots.learning import learning_curves_from_logs
+
+    plain = learning_log(tmp_path / "plain.jsonl")
+    for name, run, said in (
+        ("side", {"basket": {"bearing": 60.0}}, "bearing 0° (plain.jsonl), 60° (side.jsonl)"),
+        ("high", {"basket": {"rim_height": 1.0}}, "rim height 0.3 m (plain.jsonl), 1 m (high.jsonl)"),
+        # the whole arm's mapping is another digest of one robot: the joints say it
+        ("arm", {"joints": ["joint_3", "joint_2"], "robot": {"name": "comau_smart5_six", "digest": "fedcba9876543210"}},
+         "tasks: joints joint_2 (plain.jsonl), joint_2, joint_3 (arm.jsonl); plot"),
+        ("other", {"robot": {"name": "ur5e_like", "digest": "fedcba9876543210"}},
+         "robot comau_smart5_six (0123456789abcdef) (plain.jsonl), ur5e_like (fedcba9876543210) (other.jsonl)"),
+        ("far", {"basket": {"distance": 2.0}}, "basket 1.4 m (plain.jsonl), 2 m (far.jsonl)"),
+    ):
+        other = learning_log(tmp_path / f"{name}.jsonl", **run)
+        with pytest.raises(InputError, match="the logs are for different tasks") as error:
+            learning_curves_from_logs([plain, other], tmp_path / "x")
+        assert said in str(error.value)
+    # one of them alone is drawn, what makes its task said in the title
+    side = learning_curves_from_logs([tmp_path / "side.jsonl"], tmp_path / "side")
+    assert side.figure.get_axes()[0].get_title() == "Learning from failure for a basket at 1.4 m, bearing 60°, binary feedback"
+
+
+def test_learning_curves_of_logs_name_each_curve_by_what_tells_it_from_the_others(tmp_path):
+    # name clashes became "calibrate", "calibrate, binary feedback", "calibrate (2)", even where
+    # both were binary, and no file was named
+    from rlff.plots.learning import learning_curves_from_logs
+
+    logs = [learning_log(tmp_path / "a.jsonl"), learning_log(tmp_path / "b.jsonl"),
+            learning_log(tmp_path / "centred.jsonl", until="centred"),
+            learning_log(tmp_path / "told.jsonl", feedback="distance"),
+            learning_log(tmp_path / "imitation.jsonl", update="imitation", misses=(-0.3, -0.3))]
+    assert curve_labels(learning_curves_from_logs(logs, tmp_path / "curves")) == [
+        "calibrate, binary feedback (a.jsonl) (2 attempts)", "calibrate, binary feedback (b.jsonl) (2 attempts)",
+        "calibrate, binary feedback, until centred (2 attempts)", "calibrate, distance feedback (2 attempts)",
+        "imitation, binary feedback (2 attempts)"]
+    # two logs that differ in nothing but the file
+    assert curve_labels(learning_curves_from_logs(logs[:2], tmp_path / "two")) == [
+        "calibrate (a.jsonl) (2 attempts)", "calibrate (b.jsonl) (2 attempts)"]
+
+
+def test_a_method_has_one_colour_in_every_figure(tmp_path):
+    # calibrate was blue in the demo's figure and orange in `rlff plot learning` of the same logs
+    from rlff.plots.learning import learning_curves_from_logs, method_style
+
+    calibrate = learning_log(tmp_path / "calibrate.jsonl")
+    failure = learning_log(tmp_path / "failure.jsonl", update="failure")
+    colours = []
+    for logs in ([calibrate], [failure, calibrate]):
+        (axes,) = learning_curves_from_logs(logs, tmp_path / "curves").figure.get_axes()
+        colours.append({line.get_label().split(" (")[0].split(",")[0]: to_hex(line.get_color())
+                        for line in axes.get_lines() if not line.get_label().startswith("_")})
+    assert colours[0]["calibrate"] == colours[1]["calibrate"] == to_hex(method_style("calibrate")[0])
+    assert colours[1]["failure"] == to_hex(method_style("failure")[0]) != colours[1]["calibrate"]
 
 
 def generated_paths(distances) -> dict:

@@ -292,10 +292,13 @@ def _model_section(models, figures_dir: Path) -> tuple[Section, list[FigureEntry
 
 
 def _learning_section(logs, figures_dir: Path) -> tuple[Section, list[FigureEntry]]:
-    """The attempts logs' table and their learning curves, one figure per basket (its distance and
-    bearing) and robot: each log named with the robot, the joints and the bearing it threw with,
-    which its header holds (a curve of another arm or another bearing is another task)."""
+    """The attempts logs' table and their learning curves, one figure per task (the basket's
+    distance, bearing and rim height, the robot, its pedestal and the joints:
+    :func:`rlff.plots.learning_logs.task_key`): each log named with the robot, the joints and the
+    bearing it threw with, which its header holds (a curve of another arm or another bearing is
+    another task)."""
     from rlff.plots.learning import learning_curves_from_logs
+    from rlff.plots.learning_logs import task_key
 
     rows = []
     for path, run in logs:
@@ -308,8 +311,10 @@ def _learning_section(logs, figures_dir: Path) -> tuple[Section, list[FigureEntr
     groups: dict[tuple, list[Path]] = {}
     for path, run in logs:
         if run.hits:
-            groups.setdefault((run.basket, run.bearing, run.robot or "", run.digest or ""), []).append(path)
-    for index, ((basket, bearing, robot, _), paths) in enumerate(sorted(groups.items())):
+            groups.setdefault(task_key(run), []).append(path)
+    for index, paths in enumerate(groups.values()):
+        first = next(run for path, run in logs if path == paths[0])
+        basket, bearing, robot = first.basket, first.bearing, first.robot
         saved = learning_curves_from_logs(paths, figures_dir / f"learning-{index}")
         title = f"Learning at {basket:g} m" + (f", bearing {bearing:g}°" if bearing else "") + (f", {robot}" if robot else "")
         thrown = {", ".join(run.joints) for path, run in logs if path in paths and run.joints}

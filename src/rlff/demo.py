@@ -495,7 +495,8 @@ def run_demo(
     figure_entries = _figures(
         figures_dir, raw=raw, clean=clean, preprocessing=preprocessing, model=model, paths=paths,
         demonstrated=demonstrated, learning_distance=learning_distance,
-        learning_gap=learning_gap, results=results, mapping=mapping, robot=robot, frames=frames, seed=seed,
+        learning_gap=learning_gap, results=results, logs_dir=out_dir / "attempts", mapping=mapping, robot=robot,
+        frames=frames, seed=seed,
     )
     figure_entries += whole_arm_figures(figures_dir, whole_arm, robot)
 
@@ -529,18 +530,17 @@ def _angle_grid(clean: Dataset, points: int = 120) -> np.ndarray:
 
 def _figures(
     figures_dir: Path, *, raw, clean, preprocessing, model, paths, demonstrated, learning_distance,
-    learning_gap, results, mapping, robot, frames: bool, seed: int,
+    learning_gap, results, logs_dir: Path, mapping, robot, frames: bool, seed: int,
 ) -> list[tuple[Path, str, str, str]]:
-    """Draw every figure; returns (png path, section, title, caption) in report order."""
-    from rlff.learn.loop import hit_tolerance
+    """Draw every figure; returns (png path, section, title, caption) in report order
+    (``logs_dir``: the learning runs' attempts logs, ``METHOD.jsonl``)."""
     from rlff.plots.data import dataset_3d, dataset_slices
     from rlff.plots.donut import dmm_heatmap, donut_family
-    from rlff.plots.learning import learning_curves
+    from rlff.plots.learning import learning_curves_from_logs
     from rlff.plots.mixture import kmeans_em_steps, model_components, selection_curve
     from rlff.plots.outputs import output_trajectories
     from rlff.plots.preprocess import preprocessing_steps
     from rlff.plots.throw import throw_snapshot_from_outcome
-    from rlff.sim import Basket
 
     entries: list[tuple[Path, str, str, str]] = []
 
@@ -595,9 +595,8 @@ def _figures(
         "simulation", "The robot's first throw",
         f"The first attempt of the learning loop ({first_method}) on the Comau's joint 2, executed again in "
         f"MuJoCo{on_arm}: the arm at the release, the ball's flight and the basket.")
-    add(learning_curves({f"{name} ({r.feedback} feedback)": r.misses for name, r in results.items()},
-                        figures_dir / "learning", tolerance=hit_tolerance(Basket(learning_distance)), basket=learning_distance,
-                        hits={f"{name} ({r.feedback} feedback)": [a.hit for a in r.history] for name, r in results.items()}),
+    # the runs' logs drawn as `rlff plot learning` draws them: the same names, colours and band
+    add(learning_curves_from_logs([logs_dir / f"{name}.jsonl" for name in results], figures_dir / "learning"),
         "learning", "Learning from failure",
         "Signed miss of every attempt until the first hit (star), per method.")
     best = next((r for r in results.values() if r.hit), None)

@@ -246,9 +246,11 @@ def preprocess_command(
 
 @app.command("learning")
 def learning_command(
-    logs: list[Path] = typer.Argument(..., help="Attempts logs (JSONL) of `rlff learn --log`, one per method."),
-    tolerance: float | None = typer.Option(None, "--tolerance", help="Half the basket opening (m), shaded as a hit; default: the logs' "
-                                                                       "own basket's."),
+    logs: list[Path] = typer.Argument(..., help="Attempts logs (JSONL) of `rlff learn --log` of one task (basket, "
+                                                "bearing, rim height, robot, joints), one per method or setting."),
+    tolerance: float | None = typer.Option(None, "--tolerance", help="Half-width (m) of a band around the basket's centre, "
+                                                                       "shaded; default: the loop's hit window for "
+                                                                       "the logs' basket (a landing clear of the rim)."),
     out: Path = _OUT,
     as_json: bool = _JSON,
 ) -> None:
@@ -256,7 +258,13 @@ def learning_command(
     from rlff.plots.learning import learning_curves_from_logs
 
     _guard(out, {"LOGS": logs})
-    _done([learning_curves_from_logs(logs, out, tolerance=tolerance)], as_json)
+    try:
+        saved = learning_curves_from_logs(logs, out, tolerance=tolerance)
+    except InputError as exc:  # the library names its parameter; the user typed --tolerance
+        if str(exc).startswith("tolerance:"):
+            raise InputError(f"--{exc}") from None
+        raise
+    _done([saved], as_json)
 
 
 @app.command("throw")

@@ -1,11 +1,14 @@
-"""Learning from failure: the miss of every attempt, per method, until the first hit."""
+"""Learning from failure: the miss of every attempt, per method, until the first hit.
+
+Every method has its own colour and marker in every figure (:func:`method_style`): the demo's
+learning figure and ``rlff plot learning`` of its logs draw calibrate alike. Which logs may
+share a figure and how their curves are named is :mod:`rlff.plots.learning_logs`'.
+"""
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -14,9 +17,54 @@ from matplotlib.ticker import MaxNLocator
 
 from rlff.errors import InputError
 from rlff.plots._figure import HIT_COLOUR, SavedFigure, figure_style, new_figure, save
+from rlff.plots.learning_logs import (
+    LoggedRun,
+    curve_names,
+    read_learning_log,
+    require_one_task,
+    shared_settings,
+)
 from rlff.wording import plural
 
+__all__ = ["LoggedRun", "learning_curves", "learning_curves_from_logs", "method_style", "read_learning_log"]
+
 _MARKERS = "osD^vP<>Xh"
+#: The learning methods in the order of their colours (matplotlib's C0, C1, ...) and markers: a
+#: method is drawn alike in every figure. Its ablations (``calibrate:gmr-mean``) take its colour
+#: and marker, dashed or dotted.
+METHOD_ORDER = ("calibrate", "hindsight", "failure", "secant", "imitation", "donut", "random", "sweep", "gp-bo", "cma")
+_ABLATION_LINES = {"no-exploration": "--", "gmr-mean": ":"}
+
+
+def method_style(method: str) -> tuple[str, str, str] | None:
+    """The colour, marker and line style of a learning method's curve in every figure, or None for
+    a method rlff does not know (:data:`METHOD_ORDER`)."""
+    base, _, ablation = method.partition(":")
+    if base not in METHOD_ORDER:
+        return None
+    index = METHOD_ORDER.index(base)
+    return f"C{index}", _MARKERS[index], _ABLATION_LINES.get(ablation, "-")
+
+
+def _styles(methods: Sequence[str]) -> list[tuple[str, str, str]]:
+    """Colour, marker and line style of each curve: its method's (:func:`method_style`); a method
+    rlff does not know takes a colour no known method of the figure has, and a method drawn
+    again another marker and line style for each later curve."""
+    known = {method: method_style(method) for method in methods}
+    taken = {style[0] for style in known.values() if style}
+    free = [f"C{i}" for i in range(10) if f"C{i}" not in taken] or [f"C{i}" for i in range(10)]
+    unknown = [method for method, style in known.items() if style is None]
+    for index, method in enumerate(unknown):
+        known[method] = (free[index % len(free)], "o", "-")
+    styles, drawn = [], dict.fromkeys(methods, 0)
+    for method in methods:
+        colour, marker, line = known[method]
+        times = drawn[method]
+        drawn[method] += 1
+        if times:
+            marker, line = _MARKERS[(_MARKERS.index(marker) + times) % len(_MARKERS)], ("--", ":", "-.")[(times - 1) % 3]
+        styles.append((colour, marker, line))
+    return styles
 
 
 def learning_curves(
@@ -26,42 +74,54 @@ def learning_curves(
     tolerance: float | None = None,
     hits: Mapping[str, Sequence[bool]] | None = None,
     basket: float | None = None,
+    methods: Mapping[str, str] | None = None,
+    band: str | None = None,
+    settings: Sequence[str] = (),
 ) -> SavedFigure:
     """Signed miss (m) against attempt number, one line per method.
 
     Parameters
     ----------
-    misses : mapping of method name to sequence of float
+    misses : mapping of curve name to sequence of float
         Signed miss of each attempt in m (negative: short of the basket, positive: long);
-        NaN for an attempt without a landing point.
+        NaN for an attempt without a landing point. The name is the legend's.
     out : path
         File stem of the PNG and SVG.
     tolerance : float, optional
-        Half the width (m) of the landing window of a hit: the band |miss| <= tolerance is shaded
-        (a ball landing there may still bounce off the rim, so ``hits`` decides the stars).
-    hits : mapping of method name to sequence of bool, optional
+        Half the width (m) of a band around the basket's centre, shaded (|miss| <= tolerance; a
+        ball landing in the loop's hit window may still bounce off the rim, so ``hits`` decides
+        the stars).
+    hits : mapping of curve name to sequence of bool, optional
         Which attempts hit (default: |miss| <= tolerance when a tolerance is given). The first hit
-        of each method is marked with a star.
+        of each curve is marked with a star.
     basket : float, optional
         The basket distance (m), for the title.
+    methods : mapping of curve name to method, optional
+        The learning method of each curve, which gives its colour and marker
+        (:func:`method_style`); default the curve's name.
+    band : str, optional
+        What the shaded band is, for the legend; default ``|miss| <= {tolerance} m``.
+    settings : sequence of str
+        What every curve shares, in a few words each, added to the title (``arm speed:0.9``).
     """
     if not misses:
         raise InputError("no learning curves to plot")
+    names = list(misses)
+    styles = _styles([(methods or {}).get(name, name) for name in names])
     with figure_style():
         figure = new_figure(10.5, 4.6)
         axes = figure.add_subplot()
         axes.axhline(0.0, color="black", linewidth=0.8)
         if tolerance is not None:
-            axes.axhspan(-tolerance, tolerance, color=HIT_COLOUR, alpha=0.12, label="lands clear of the rim")
-        colours = [f"C{i}" for i in range(10)]
+            axes.axhspan(-tolerance, tolerance, color=HIT_COLOUR, alpha=0.12,
+                         label=band or f"|miss| ≤ {tolerance:.3g} m")
         blind = False  # whether some miss has no measured landing
         stars: dict[tuple[int, int | None], int] = {}  # first hits drawn at (attempt, miss in cm; None: no landing)
-        for index, (method, values) in enumerate(misses.items()):
+        for (method, values), (colour, marker, line) in zip(misses.items(), styles, strict=True):
             miss = np.asarray(values, dtype=float)
             attempts = np.arange(1, miss.size + 1)
-            colour = colours[index % len(colours)]
             axes.plot(
-                attempts, miss, marker=_MARKERS[index % len(_MARKERS)], markersize=5,
+                attempts, miss, marker=marker, markersize=5, linestyle=line,
                 color=colour, linewidth=1.4, label=f"{method} ({plural(miss.size, 'attempt')})",
             )
             if hits is not None and method in hits:
@@ -102,154 +162,57 @@ def learning_curves(
             labels.append("landing not measured (drawn at 0)")
         figure.legend(handles, labels, loc="outside right upper")
         where = f" for a basket at {basket:g} m" if basket is not None else ""
-        axes.set_title(f"Learning from failure{where}")
+        axes.set_title(f"Learning from failure{where}" + "".join(f", {words}" for words in settings), wrap=True)
     return save(figure, out)
 
 
-@dataclass(frozen=True)
-class LoggedRun:
-    """What a learning curve needs of one attempts log.
-
-    Attributes
-    ----------
-    method : str
-        The run's update strategy or baseline.
-    feedback : str
-    basket : float
-        Basket distance (m).
-    misses : list of float
-        Signed miss of every attempt (m).
-    hits : list of bool
-    robot : str or None
-        The robot the run threw with (its robot file's ``name``), None in a log that does not say.
-    digest : str or None
-        The digest of the robot's description and mapping the log records (two robot files of
-        one name differ in it).
-    joints : tuple of str
-        The robot joints the throws drove (``joint_2``; a whole-arm run's several), empty when the
-        log does not say.
-    bearing : float
-        The basket's bearing (degrees from the robot's forward axis, positive to the left).
-    opening : float
-        The basket's inner width (m; 0.35 in a log that does not say).
-    gap : str
-        How the simulated arm differed from its robot file (``none``, ``speed:0.9``, ...).
-    """
-
-    method: str
-    feedback: str
-    basket: float
-    misses: list[float]
-    hits: list[bool]
-    robot: str | None = None
-    digest: str | None = None
-    joints: tuple[str, ...] = ()
-    bearing: float = 0.0
-    opening: float = 0.35
-    gap: str = "none"
-
-
-def read_learning_log(path: str | Path) -> LoggedRun:
-    """Read an attempts log of ``rlff learn`` (JSONL) for plotting, without changing the file.
-
-    A last line cut short by a crash is ignored (the loop itself drops it on resume).
-
-    Raises
-    ------
-    InputError
-        No such file, not an rlff attempts log, or a damaged line before the last one.
-    """
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such attempts log")
-    lines = [line for line in path.read_text(encoding="utf-8", errors="replace").splitlines() if line.strip()]
-    records = []
-    for number, line in enumerate(lines, start=1):
-        try:
-            record = json.loads(line)
-        except json.JSONDecodeError:
-            if number == len(lines):
-                break  # a partial last line
-            raise InputError(f"{path}, line {number}: not JSON") from None
-        if not isinstance(record, dict):
-            raise InputError(f"{path}, line {number}: not a JSON object")
-        records.append(record)
-    if not records or records[0].get("format") != "rlff-attempts":
-        raise InputError(f"{path}: not an rlff attempts log (no 'rlff-attempts' header line)")
-    run = records[0].get("run", {})
-    try:
-        # a miss nobody measured (typed "miss" on a live arm) is logged as null
-        misses = [math.nan if r["miss"] is None else float(r["miss"]) for r in records[1:]]
-        hits = [bool(r["hit"]) for r in records[1:]]
-        basket = float(run["basket"]["distance"])
-    except KeyError as exc:
-        raise InputError(f"{path}: attempt or run record without {exc}") from None
-    except (TypeError, ValueError, OverflowError, AttributeError):
-        raise InputError(f"{path}: an attempt's miss or the run's basket distance is not a number") from None
-    try:
-        bearing = float(run["basket"].get("bearing", 0.0))  # left out for a basket straight ahead
-        opening = float(run["basket"].get("opening", 0.35))
-    except (TypeError, ValueError, OverflowError):
-        raise InputError(f"{path}: the run's basket bearing or opening is not a number") from None
-    robot = run.get("robot") if isinstance(run.get("robot"), dict) else {}
-    name, digest = robot.get("name"), robot.get("digest")
-    return LoggedRun(str(run.get("update", path.stem)), str(run.get("feedback", "")), basket, misses, hits,
-                     None if name is None else str(name), None if digest is None else str(digest),
-                     _thrown_joints(run), bearing, opening, str(run.get("gap", "none")))
-
-
-def _thrown_joints(run: dict) -> tuple[str, ...]:
-    """The robot joints an attempts log's run drove: its ``joints`` (a whole-arm run), else the
-    joint of the one-joint mapping its robot record holds, else none known."""
-    joints = run.get("joints")
-    if isinstance(joints, list) and all(isinstance(j, str) for j in joints):
-        return tuple(sorted(joints))
-    mapping = _at(run, "robot", "description", "mapping")
-    if isinstance(mapping, dict):
-        if isinstance(mapping.get("joint"), str):
-            return (mapping["joint"],)
-        if isinstance(mapping.get("driven"), dict):
-            return tuple(sorted(map(str, mapping["driven"])))
-    return ()
-
-
-def _at(record: object, *keys: str) -> object:
-    """The value at ``keys`` of nested dicts, or None where a part is absent."""
-    for key in keys:
-        record = record.get(key) if isinstance(record, dict) else None
-    return record
-
-
 def learning_curves_from_logs(logs: Sequence[str | Path], out: str | Path, *, tolerance: float | None = None) -> SavedFigure:
-    """:func:`learning_curves` of one or more attempts logs (one line per log).
+    """:func:`learning_curves` of one or more attempts logs of one task (one line per log).
 
-    The logs must be for one basket distance; a run on a simulated arm unlike its robot file has
-    its gap added to its name (``calibrate, arm speed:0.9``), and a name seen twice then its
-    feedback (``hindsight, distance feedback``) and then a number. ``tolerance`` (m) defaults to
-    the loop's hit window for the logs' basket when they share an opening
-    (:func:`rlff.learn.loop.hit_tolerance`: half the opening less the ball's radius).
+    Logs of different tasks (another basket, bearing, rim height, robot, pedestal or joints) are
+    refused (:func:`rlff.plots.learning_logs.require_one_task`). Each curve is named by its method
+    and what else tells it from the other logs' (:func:`rlff.plots.learning_logs.curve_names`),
+    what all share goes into the title. Without ``tolerance`` (m) the shaded band is the loop's
+    hit window for the logs' basket when they share an opening
+    (:func:`rlff.learn.loop.hit_tolerance`: half the opening less the ball's radius, a landing
+    clear of the rim); a ``tolerance`` is checked (:func:`check_tolerance`) and shaded as itself.
     """
     if not logs:
         raise InputError("no attempts logs given")
     runs = [read_learning_log(path) for path in logs]
-    baskets = sorted({run.basket for run in runs})
-    if len(baskets) > 1:
-        raise InputError(f"the logs are for different baskets ({', '.join(f'{b:g} m' for b in baskets)}); plot them separately")
+    require_one_task(runs)
+    basket = runs[0].basket
+    band = None
     openings = {run.opening for run in runs}
-    if tolerance is None and len(openings) == 1:  # the band the loop counts as a hit, as the demo's
+    if tolerance is not None:
+        tolerance = check_tolerance(tolerance, basket)
+    elif len(openings) == 1:  # the band the loop counts as a hit, as the demo's
         from rlff.learn.loop import hit_tolerance
         from rlff.sim import Basket
 
-        tolerance = hit_tolerance(Basket(baskets[0], opening=openings.pop()))
-    misses: dict[str, list[float]] = {}
-    hits: dict[str, list[bool]] = {}
-    for run in runs:
-        name = run.method if run.gap == "none" else f"{run.method}, arm {run.gap}"
-        if name in misses:
-            name = f"{run.method}, {run.feedback} feedback"
-        suffix = 2
-        while name in misses:
-            name, suffix = f"{run.method} ({suffix})", suffix + 1
-        misses[name] = run.misses
-        hits[name] = run.hits
-    return learning_curves(misses, out, tolerance=tolerance, hits=hits, basket=baskets[0])
+        tolerance = hit_tolerance(Basket(basket, opening=openings.pop()))
+        band = f"lands clear of the rim (|miss| ≤ {tolerance:.3g} m)"
+    names = curve_names(runs)
+    return learning_curves(dict(zip(names, (run.misses for run in runs), strict=True)), out, tolerance=tolerance,
+                           hits=dict(zip(names, (run.hits for run in runs), strict=True)), basket=basket,
+                           methods=dict(zip(names, (run.method for run in runs), strict=True)), band=band,
+                           settings=shared_settings(runs))
+
+
+def check_tolerance(tolerance: float, basket: float) -> float:
+    """A band's half-width ``tolerance`` (m) around a basket ``basket`` m away: a positive number of
+    metres no larger than the distance (a band reaching back past the robot is no landing window;
+    one of centimetres is asked about).
+
+    Raises
+    ------
+    InputError
+        Starting ``tolerance:``, naming the value.
+    """
+    if not (math.isfinite(tolerance) and tolerance > 0):
+        raise InputError(f"tolerance: {tolerance:g} m is no half-width of a band: give a positive number of metres, "
+                         "e.g. 0.15")
+    if tolerance > basket:
+        hint = f" (centimetres? the tolerance is in metres: {tolerance / 100:g})" if tolerance / 100 <= basket else ""
+        raise InputError(f"tolerance: {tolerance:g} m is wider than the basket is far ({basket:g} m){hint}")
+    return float(tolerance)
