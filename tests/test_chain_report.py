@@ -13,10 +13,11 @@ from rlff.chain_report import chain_run
 from rlff.plots.learning import read_learning_log
 
 
-def _log(path: Path, record: dict, basket: dict, joints: list[str] | None = None, misses=(-0.3, 0.01)) -> Path:
-    """An attempts log whose header holds ``record`` (:func:`rlff.learn.log.robot_record`)."""
+def _log(path: Path, record: dict, basket: dict, joints: list[str] | None = None, misses=(-0.3, 0.01), **settings) -> Path:
+    """An attempts log whose header holds ``record`` (:func:`rlff.learn.log.robot_record`) and
+    ``settings`` (``gap``, ``until``)."""
     run = {"basket": basket, "feedback": "binary", "update": "calibrate", "seed": 0, "robot": record,
-           "pedestal": 0.0, "until": "hit"}
+           "pedestal": 0.0, "until": "hit", **settings}
     if joints is not None:
         run["joints"] = joints
     lines = [{"format": "rlff-attempts", "version": 1, "run": run}]
@@ -110,8 +111,8 @@ def test_rlffs_own_outputs_are_reported_or_counted_in_one_line_not_warned_of_eac
     html = (tmp_path / "r.html").read_text()
     outcome = json.loads(thrown.stdout)
     row = _cells(html, "out.json")
-    assert row[:5] == ["out.json", "traj.csv", "comau_smart5_six", "1.5", "0°"]
-    assert row[6] == ("hit" if outcome["hit"] else f"miss {outcome['miss']:+.2f} m")
+    assert row[:6] == ["out.json", "traj.csv", "comau_smart5_six", "1.5", "0°", "0.3"]  # the rim's height too
+    assert row[7] == ("hit" if outcome["hit"] else f"miss {outcome['miss']:+.2f} m")
     cleaning = json.loads((folder / "clean.json").read_text())
     row = _cells(html, "clean.json")
     assert row[2] == f"{cleaning['trajectories']['before']} → {cleaning['trajectories']['after']}"
@@ -162,3 +163,66 @@ def test_a_dataset_that_starts_with_a_byte_order_mark_is_reported(tmp_path):
     (folder / "bom.csv").write_bytes(b"\xef\xbb\xbf" + plain.read_bytes())
     run, passed, _ = chain_run(folder, tmp_path / "figures")
     assert passed == [] and run.settings["datasets"] == 1
+
+
+def test_a_log_of_another_rim_arm_or_stop_rule_says_so_and_keeps_to_its_own_task(rlff, tmp_path):
+    # a 1 m rim run and an arm at 90 % speed looked like default runs, and were drawn in one
+    # figure with them; logs were listed by file name, 1m after 1.75m
+    from rlff.learn.log import robot_record
+    from rlff.robot import RobotMapping, load_robot
+
+    folder = tmp_path / "mine"
+    folder.mkdir()
+    record = robot_record(RobotMapping.for_robot(load_robot()))
+    basket = {"distance": 1.75, "rim_height": 0.3, "opening": 0.35}
+    _log(folder / "1.75m.jsonl", record, basket)
+    _log(folder / "1.75m-rim1.jsonl", record, {**basket, "rim_height": 1.0})
+    _log(folder / "1.75m-slow.jsonl", record, basket, gap="speed:0.9")
+    _log(folder / "1.75m-centred.jsonl", record, basket, until="centred")
+    _log(folder / "1m.jsonl", record, {**basket, "distance": 1.0})
+    run, passed, _ = chain_run(folder, tmp_path / "run" / "figures")
+    assert passed == []
+    (table,) = run.sections[0].tables
+    assert table.columns[:10] == ["file", "robot", "joints", "bearing", "rim (m)", "method", "feedback", "arm gap", "until",
+                                  "basket (m)"]
+    rows = [[row[0], *row[4:10]] for row in table.rows]
+    assert rows == [["1m.jsonl", 0.3, "calibrate", "binary", "none", "hit", 1.0],
+                    ["1.75m-centred.jsonl", 0.3, "calibrate", "binary", "none", "centred", 1.75],
+                    ["1.75m-rim1.jsonl", 1.0, "calibrate", "binary", "none", "hit", 1.75],
+                    ["1.75m-slow.jsonl", 0.3, "calibrate", "binary", "speed:0.9", "hit", 1.75],
+                    ["1.75m.jsonl", 0.3, "calibrate", "binary", "none", "hit", 1.75]]
+    # the 1 m rim is a task of its own; the arm's gap and the stop rule name their curves
+    assert [figure.title for figure in run.figures] == ["Learning at 1 m, comau_smart5_six",
+                                                        "Learning at 1.75 m, comau_smart5_six",
+                                                        "Learning at 1.75 m, rim 1 m, comau_smart5_six"]
+    svg = (tmp_path / "run" / "figures" / Path(run.figures[1].file).name).with_suffix(".svg").read_text()
+    for name in ("calibrate, until centred (2 attempts)", "calibrate, arm speed:0.9 (2 attempts)",
+                 "calibrate (2 attempts)"):
+        assert f">{name}</text>" in svg
+
+    # the summary on stderr names what the folder holds, not the kinds it does not
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    _log(alone / "1m.jsonl", record, {**basket, "distance": 1.0})
+    result = rlff("report", str(alone), "-o", str(tmp_path / "alone.html"))
+    assert result.code == 0, result.stderr
+    assert f"{alone}: no run.json: a report of its 1 attempts log\n" in result.stderr
+
+
+def test_a_learning_benchmark_is_reported_with_its_rows(tmp_path):
+    # a bench.json of `rlff bench learning --json` was passed over as "not an rlff dataset or model"
+    row = {"method": "calibrate", "feedback": "binary", "scenario": "short", "landings": "none", "baseline": False,
+           "median": 2.0, "mean": 3.0, "hits": 4, "runs": 4, "budget": 10}
+    never = {**row, "method": "imitation", "baseline": True, "median": 11.0, "mean": 11.0, "hits": 0}
+    (tmp_path / "bench.json").write_text(json.dumps({
+        "robot": {"name": "comau_smart5_six", "file": None, "digest": "28eb07a30a541d82"}, "rows": [row, never],
+        "comparisons": [{"method": "calibrate", "baseline": "imitation", "feedback": "binary", "scenario": "short",
+                         "landings": "none", "p_value": 0.125, "mean_method": 3.0, "mean_baseline": 11.0, "pairs": 4}]}))
+    run, passed, _ = chain_run(tmp_path, tmp_path / "run" / "figures")
+    assert passed == [] and run.settings["learning benchmarks"] == 1
+    (section,) = run.sections
+    (table,) = section.tables
+    assert table.rows == [["bench.json", "comau_smart5_six", "short", "none", "binary", "calibrate", False, 2.0, 3.0,
+                           "4 of 4", 10],
+                          ["bench.json", "comau_smart5_six", "short", "none", "binary", "imitation", True, "> 10", 11.0,
+                           "0 of 4", 10]]

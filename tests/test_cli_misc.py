@@ -82,7 +82,7 @@ def test_report_bad_input(rlff, tmp_path):
     verbose = rlff("-v", "report", str(tmp_path / "absent"))  # -v does not
     assert verbose.code == 2 and "Traceback" not in verbose.stderr
     one_line_error(rlff("report", str(tmp_path)), "no run.json, and no rlff dataset (.csv, .npz, .parquet), model, simulated "
-                   "throw or cleaning report (.json) or attempts log (.jsonl) in it")
+                   "throw, cleaning report or learning benchmark (.json) or attempts log (.jsonl) in it")
     picture = tmp_path / "pic.png"
     picture.write_bytes(b"\x89PNG")
     # without -o it was RUN/report.html refused as an output, with -o "no such run directory"

@@ -16,7 +16,8 @@ What counts (the folder itself, not its subfolders; anything else is passed over
   bearing its run threw with;
 - a simulated throw: the ``.json`` of ``rlff sim throw --json`` (its robot, basket, landing);
 - a cleaning report: the ``.json`` of ``rlff data preprocess --report`` (throws and samples
-  before and after, the steps that changed something).
+  before and after, the steps that changed something);
+- a learning benchmark: the ``.json`` of ``rlff bench learning --json`` (its rows).
 
 rlff's other outputs, which have nothing to tabulate beside these (a generated path, a robot
 trajectory: ``rlff generate``, ``rlff learn --out``, ``rlff robot export --format json|csv``),
@@ -55,6 +56,13 @@ FOREIGN_CSV = "foreign"
 OUTCOME_FIELDS = frozenset({"hit", "landing_x", "miss", "release", "basket", "first_contact"})
 #: The format tag of ``rlff data preprocess --report``.
 CLEANING_FORMAT = "rlff-preprocess-report"
+#: Fields of every ``rlff bench learning --json`` result (:func:`rlff.learn.benchmark.report`).
+BENCHMARK_FIELDS = frozenset({"rows", "comparisons"})
+#: What a folder's report counts, by its key in the run's settings: (the noun, its plural).
+COUNTED = {"datasets": ("dataset", "datasets"), "models": ("model", "models"),
+           "attempts logs": ("attempts log", "attempts logs"), "simulated throws": ("simulated throw", "simulated throws"),
+           "cleaning reports": ("cleaning report", "cleaning reports"),
+           "learning benchmarks": ("learning benchmark", "learning benchmarks")}
 
 
 def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[str], str]:
@@ -76,7 +84,7 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     from rlff.robot.export import JSON_FORMAT as TRAJECTORY_FORMAT
 
     folder, figures_dir = Path(folder), Path(figures_dir)
-    datasets, models, logs, throws, cleanings, passed, foreign = [], [], [], [], [], [], []
+    datasets, models, logs, throws, cleanings, benchmarks, passed, foreign = [], [], [], [], [], [], [], []
     unreported: dict[str, list[str]] = {}
     for path in sorted(p for p in folder.iterdir() if p.is_file()):
         suffix = path.suffix.lower()
@@ -104,6 +112,9 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
                     cleanings.append((path, document))
                 elif isinstance(document, dict) and OUTCOME_FIELDS <= set(document):
                     throws.append((path, document))
+                elif (isinstance(document, dict) and BENCHMARK_FIELDS <= set(document)
+                      and isinstance(document["rows"], list)):
+                    benchmarks.append((path, document))
                 else:
                     passed.append(f"{path.name}: not an rlff dataset or model")
             elif suffix == ".jsonl":
@@ -114,15 +125,15 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
         shown = ", ".join(foreign[:3]) + (", ..." if len(foreign) > 3 else "")
         passed.append(f"{plural(len(foreign), 'CSV file')} without a 'trajectory' column, not rlff datasets ({shown}): "
                       "recordings? `rlff data import` turns them into one")
-    if not (datasets or models or logs or throws or cleanings):
+    if not (datasets or models or logs or throws or cleanings or benchmarks):
         seen = f" (passed over {'; '.join(passed)})" if passed else ""
         inner = sorted(p.name for p in folder.iterdir() if p.is_dir())
         if unreported:
             seen += f" ({_not_reported(unreported)})"
         if inner:
             seen += f"; its subfolders ({', '.join(inner[:3])}{', ...' if len(inner) > 3 else ''}) are not read"
-        raise InputError(f"{folder}: no run.json, and no rlff dataset (.csv, .npz, .parquet), model, simulated throw or cleaning "
-                         "report (.json) or attempts log (.jsonl) "
+        raise InputError(f"{folder}: no run.json, and no rlff dataset (.csv, .npz, .parquet), model, simulated throw, cleaning "
+                         "report or learning benchmark (.json) or attempts log (.jsonl) "
                          f"in it{seen}: give a folder that `rlff demo` wrote, or one holding your own chain's files")
     figures_dir.mkdir(parents=True, exist_ok=True)
     sections, figures = [], []
@@ -139,12 +150,17 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     if throws:
         sections.append(_simulation_section(throws))
     if logs:
+        # by basket distance, then name: 1 m after 1.75 m read as file names sort
+        logs.sort(key=lambda item: (item[1].basket, item[0].name))
         section, drawn = _learning_section(logs, figures_dir)
         sections.append(section)
         figures.extend(drawn)
+    if benchmarks:
+        sections.append(_benchmark_section(benchmarks))
     created = dt.datetime.now(dt.UTC).replace(microsecond=0).isoformat()
     settings = {"folder": str(folder.resolve()), "datasets": len(datasets), "models": len(models),
-                "attempts logs": len(logs), "simulated throws": len(throws), "cleaning reports": len(cleanings)}
+                "attempts logs": len(logs), "simulated throws": len(throws), "cleaning reports": len(cleanings),
+                "learning benchmarks": len(benchmarks)}
     not_reported = _not_reported(unreported)
     if not_reported:
         settings["not reported"] = not_reported.removeprefix("not reported: ")
@@ -256,9 +272,9 @@ def _simulation_section(throws) -> Section:
             result = f"miss {miss:+.2f} m"
         trajectory = outcome.get("trajectory")  # the path as given to sim throw: its name is enough here
         rows.append([path.name, Path(trajectory).name if isinstance(trajectory, str) else None, outcome.get("robot"), _number(basket.get("distance")),
-                     f"{_number(basket.get('bearing')) or 0:g}°", _number(outcome.get("pedestal")), result,
-                     None if landing is None else round(landing, 3)])
-    table = Table("Simulated throws", ["file", "trajectory", "robot", "basket (m)", "bearing", "pedestal (m)",
+                     f"{_number(basket.get('bearing')) or 0:g}°", _number(basket.get("rim_height")),
+                     _number(outcome.get("pedestal")), result, None if landing is None else round(landing, 3)])
+    table = Table("Simulated throws", ["file", "trajectory", "robot", "basket (m)", "bearing", "rim (m)", "pedestal (m)",
                                        "result", "landing (m)"], rows, outcome_columns=())
     return Section("simulation", "Simulated throws",
                    f"{plural(len(throws), 'outcome')} of `rlff sim throw --json`.", {}, [table])
@@ -298,15 +314,16 @@ def _learning_section(logs, figures_dir: Path) -> tuple[Section, list[FigureEntr
     bearing it threw with, which its header holds (a curve of another arm or another bearing is
     another task)."""
     from rlff.plots.learning import learning_curves_from_logs
-    from rlff.plots.learning_logs import task_key
+    from rlff.plots.learning_logs import DEFAULT_RIM_HEIGHT, task_key
 
     rows = []
     for path, run in logs:
         first_hit = next((i + 1 for i, hit in enumerate(run.hits) if hit), None)
         result = f"hit at attempt {first_hit}" if first_hit else f"no hit in {len(run.hits)}"
         shown = " ".join("–" if not np.isfinite(m) else f"{m:+.2f}" for m in run.misses[:8])
-        rows.append([path.name, _robot_words(run), ", ".join(run.joints) or None, f"{run.bearing:g}°", run.method,
-                     run.feedback, run.basket, len(run.hits), result, shown + (" …" if len(run.misses) > 8 else "")])
+        rows.append([path.name, _robot_words(run), ", ".join(run.joints) or None, f"{run.bearing:g}°", run.rim_height,
+                     run.method, run.feedback, run.gap, run.until, run.basket, len(run.hits), result,
+                     shown + (" …" if len(run.misses) > 8 else "")])
     figures = []
     groups: dict[tuple, list[Path]] = {}
     for path, run in logs:
@@ -316,15 +333,18 @@ def _learning_section(logs, figures_dir: Path) -> tuple[Section, list[FigureEntr
         first = next(run for path, run in logs if path == paths[0])
         basket, bearing, robot = first.basket, first.bearing, first.robot
         saved = learning_curves_from_logs(paths, figures_dir / f"learning-{index}")
-        title = f"Learning at {basket:g} m" + (f", bearing {bearing:g}°" if bearing else "") + (f", {robot}" if robot else "")
+        title = (f"Learning at {basket:g} m" + (f", bearing {bearing:g}°" if bearing else "")
+                 + (f", rim {first.rim_height:g} m" if first.rim_height != DEFAULT_RIM_HEIGHT else "")
+                 + (f", pedestal {first.pedestal:g} m" if first.pedestal else "") + (f", {robot}" if robot else ""))
         thrown = {", ".join(run.joints) for path, run in logs if path in paths and run.joints}
         by = f" Thrown by {_robot_words(next(run for path, run in logs if path in paths))}" if robot else ""
         with_joints = f" with {' / '.join(sorted(thrown))}" if thrown else ""
         figures.append(FigureEntry(_relative(saved.png, figures_dir), "learning", title,
-                                   "Signed miss of every attempt (m), the basket's opening shaded."
+                                   "Signed miss of every attempt (m), the loop's hit window shaded (a landing clear "
+                                   "of the rim); curves named by what tells their runs apart."
                                    + (f"{by}{with_joints}." if by else "")))
-    table = Table("Attempts logs", ["file", "robot", "joints", "bearing", "method", "feedback", "basket (m)", "attempts",
-                                    "result", "misses (m)"], rows, outcome_columns=())
+    table = Table("Attempts logs", ["file", "robot", "joints", "bearing", "rim (m)", "method", "feedback", "arm gap",
+                                    "until", "basket (m)", "attempts", "result", "misses (m)"], rows, outcome_columns=())
     text = f"{plural(len(logs), 'attempts log')} of `rlff learn`."
     digests: dict[tuple[str, tuple[str, ...]], set[str]] = {}
     for _, run in logs:
@@ -335,6 +355,30 @@ def _learning_section(logs, figures_dir: Path) -> tuple[Section, list[FigureEntr
             text += (f" {name} threw with {', '.join(joints) or 'its joints'} as {len(seen)} robots of that name "
                      f"({', '.join(sorted(seen))}): robot files that differ in a limit, the geometry or the mapping.")
     return Section("learning", "Learning", text, {}, [table]), figures
+
+
+def _benchmark_section(benchmarks) -> Section:
+    """The results of ``rlff bench learning --json``: a row per method, feedback and scenario, the
+    attempts to the first hit (a run without one counts as the budget + 1)."""
+    rows = []
+    for path, result in benchmarks:
+        robot = result.get("robot") if isinstance(result.get("robot"), dict) else {}
+        for row in result["rows"]:
+            if not isinstance(row, dict):
+                continue
+            budget, median = row.get("budget"), _number(row.get("median"))
+            # beyond the budget: at least half the runs never hit
+            shown = f"> {budget}" if isinstance(budget, int) and median is not None and median > budget else median
+            hits, runs = row.get("hits"), row.get("runs")
+            rows.append([path.name, robot.get("name"), row.get("scenario"), row.get("landings"), row.get("feedback"),
+                         row.get("method"), row.get("baseline"), shown, _number(row.get("mean")),
+                         f"{hits} of {runs}" if hits is not None and runs is not None else None, budget])
+    table = Table("Learning benchmarks", ["file", "robot", "scenario", "landings", "feedback", "method", "baseline",
+                                          "median attempts", "mean attempts", "runs that hit", "budget"], rows,
+                  outcome_columns=())
+    return Section("benchmarks", "Learning benchmarks",
+                   f"{plural(len(benchmarks), 'result')} of `rlff bench learning --json`: the attempts to the first hit "
+                   "per method (a run without a hit counts as the budget + 1).", {}, [table])
 
 
 def _robot_words(run) -> str | None:

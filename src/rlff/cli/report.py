@@ -46,7 +46,7 @@ def _chain_report(folder: Path, target: Path, as_json: bool) -> None:
     (:mod:`rlff.chain_report`), the figures drawn in a temporary run directory and embedded."""
     import tempfile
 
-    from rlff.chain_report import DATASET_SUFFIXES, chain_run
+    from rlff.chain_report import COUNTED, DATASET_SUFFIXES, chain_run
     from rlff.cli._common import say, warn
     from rlff.cli.output import guard
     from rlff.fileio import write_text
@@ -64,12 +64,10 @@ def _chain_report(folder: Path, target: Path, as_json: bool) -> None:
             say(f"{folder}: {not_reported}")
         write_run(run, scratch)
         written = write_text(target, render_report(run, scratch, source=folder))
-    counts = run.settings
-    kinds = [plural(counts["datasets"], "dataset"), plural(counts["models"], "model"),
-             plural(counts["attempts logs"], "attempts log")]
-    kinds += [plural(counts[key], noun) for key, noun in (("simulated throws", "simulated throw"),
-                                                            ("cleaning reports", "cleaning report")) if counts[key]]
-    say(f"{folder}: no run.json: a report of its {', '.join(kinds[:-1])} and {kinds[-1]}")
+    # what it found, not the kinds it did not ("its 0 datasets, 0 models and 1 attempts log")
+    kinds = [plural(run.settings[key], noun, many) for key, (noun, many) in COUNTED.items() if run.settings[key]]
+    say(f"{folder}: no run.json: a report of its " + (f"{', '.join(kinds[:-1])} and {kinds[-1]}" if len(kinds) > 1
+                                                      else kinds[0]))
     if as_json:
         emit_json({"report": written})
     else:
