@@ -37,6 +37,7 @@ def test_json_is_rows_and_comparisons_of_the_scenario_asked_for(cli):
     for row in rows.values():
         assert {"method", "feedback", "scenario", "landings", "baseline", "median", "mean", "hits",
                 "runs"} <= set(row)
+        assert row["budget"] == 1  # a median of 2 is "never hit" only with it
         assert (row["scenario"], row["landings"], row["runs"]) == ("wide", "noisy:0.3", 2)  # 2 baskets
         assert row["baseline"] is (row["method"] != "calibrate")
         assert 1 <= row["median"] <= 2 and 0 <= row["hits"] <= 2
@@ -44,7 +45,17 @@ def test_json_is_rows_and_comparisons_of_the_scenario_asked_for(cli):
     assert pairs == {("binary", "calibrate", "sweep"), ("distance", "calibrate", "secant")}
     for comparison in report["comparisons"]:
         assert {"method", "baseline", "feedback", "p_value", "mean_method", "mean_baseline"} <= set(comparison)
+        assert comparison["budget"] == 1
         assert 0 <= comparison["p_value"] <= 1
+
+
+@pytest.mark.slow
+def test_the_table_names_one_seed_as_one(cli):
+    # it said "Seeds 100-100"
+    result = cli("bench", "learning", "--seeds", "1", "--budget", "1", "--jobs", "1", "--feedback", "binary",
+                 "--methods", "imitation")
+    assert result.code == 0, result.stderr
+    assert result.stdout.startswith("Seed 100, budget 1 (a run without a hit counts as 2);")
 
 
 @pytest.mark.slow

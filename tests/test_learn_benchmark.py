@@ -84,6 +84,8 @@ def test_the_table_marks_the_projects_methods_and_says_when_the_median_run_never
 
 def test_report_is_rows_and_comparisons():
     assert set(report(RUNS, 10)) == {"rows", "comparisons"}
+    # each with the budget its runs had: a median of 11 is "never hit" with a budget of 10
+    assert {row["budget"] for row in report(RUNS, 10)["rows"] + report(RUNS, 10)["comparisons"]} == {10}
 
 
 def test_the_report_and_the_table_name_the_robot_given():

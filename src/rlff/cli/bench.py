@@ -69,7 +69,8 @@ def learning(
     jobs: int = typer.Option(2, "--jobs", min=1, help="Parallel workers."),
     scheduler: str | None = typer.Option(None, "--scheduler",
                                          help="Address of a Dask scheduler to run on (tcp://HOST:PORT)."),
-    as_json: bool = typer.Option(False, "--json", help='Print {"robot": {...}, "rows": [...], "comparisons": [...]}.'),
+    as_json: bool = typer.Option(False, "--json", help='Print {"robot": {...}, "rows": [...], "comparisons": [...]}, '
+                                                       "each row and comparison with its budget."),
 ) -> None:
     """Attempts to the first hit over seeds x baskets x feedback kinds x methods, per scenario."""
     from rlff.learn.benchmark import (
@@ -150,7 +151,7 @@ def learning(
     if as_json:
         emit_json(report(runs, budget, identity))
         return
-    stdout().print(f"Seeds {first_seed}-{first_seed + seeds - 1}, budget {budget} (a run without a hit "
-                   f"counts as {budget + 1}); p: paired Wilcoxon signed-rank, two-sided.\n",
-                   highlight=False, markup=False)
+    drawn = f"Seed {first_seed}" if seeds == 1 else f"Seeds {first_seed}-{first_seed + seeds - 1}"
+    stdout().print(f"{drawn}, budget {budget} (a run without a hit counts as {budget + 1}); p: paired Wilcoxon "
+                   "signed-rank, two-sided.\n", highlight=False, markup=False)
     stdout().print(format_table(runs, budget, identity), highlight=False, markup=False)

@@ -193,11 +193,13 @@ def parallel_backend(scheduler: str | None) -> Iterator[None]:
 
 
 def report(runs: Sequence[Run], budget: int, robot: dict[str, Any] | None = None) -> dict:
-    """``{"rows": [...], "comparisons": [...]}`` of :mod:`rlff.learn.statistics`, and
-    ``"robot"`` (:func:`robot_identity`) when given."""
+    """``{"rows": [...], "comparisons": [...]}`` of :mod:`rlff.learn.statistics`, each row and
+    comparison with the ``budget`` its runs had (a run without a hit counts as budget + 1: a median
+    of 11 with budget 10 is "never hit", and rows of several files stay readable side by side),
+    and ``"robot"`` (:func:`robot_identity`) when given."""
     result: dict[str, Any] = {} if robot is None else {"robot": robot}
-    result["rows"] = statistics.rows(runs, budget, PROJECT_METHODS)
-    result["comparisons"] = statistics.comparisons(runs, budget, PROJECT_METHODS)
+    result["rows"] = [{**row, "budget": budget} for row in statistics.rows(runs, budget, PROJECT_METHODS)]
+    result["comparisons"] = [{**pair, "budget": budget} for pair in statistics.comparisons(runs, budget, PROJECT_METHODS)]
     return result
 
 
