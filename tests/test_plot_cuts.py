@@ -5,6 +5,8 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
+from matplotlib.colors import to_hex
 
 import bagfactory as bf
 
@@ -68,3 +70,30 @@ def test_the_throws_are_labelled_with_the_manifests_baskets(rlff, tmp_path):
     manifest.write_text("file,throw,distance\nsession.bag,1,200\n")
     refused = rlff("plot", "cuts", str(bag), "--manifest", str(manifest), "-o", str(tmp_path / "c"))
     assert refused.code == 2 and "baskets.csv" in refused.stderr and "200" in refused.stderr, refused.stderr
+
+
+def test_lost_tracking_is_shaded_and_what_the_import_says_is_said(rlff, msr_dir, tmp_path):
+    # a recording whose tracking was lost said "0 throws" and nothing of the frames dropped or
+    # of why no throw was found; the stretch without tracking was an unmarked gap in the line
+    recording = msr_dir / "a20_s02_e02_skeleton3D.txt"
+    result = rlff("plot", "cuts", str(recording), "--format", "msr", "-o", str(tmp_path / "cuts"))
+    assert result.code == 0, result.stderr
+    assert "a20_s02_e02_skeleton3D.txt: dropped 29 frames with all arm joints at zero (tracking lost)" in result.stderr
+    assert f"warning: {recording}: no throw found (user 1, left arm)" in result.stderr
+
+    from rlff.capture import import_recordings
+    from rlff.plots.capture import LOST_COLOUR, throw_cuts
+
+    _, report = import_recordings([recording], "msr")
+    motion = report.files[0].motion
+    ((begin, end),) = motion.lost_spans()
+    saved = throw_cuts(report.files[0], tmp_path / "again")
+    (axes,) = saved.figure.axes
+    (lost,) = [patch for patch in axes.patches if patch.get_label() == "tracking lost"]
+    assert to_hex(lost.get_facecolor()) == to_hex(LOST_COLOUR)
+    assert (lost.get_x(), lost.get_width()) == pytest.approx((begin - motion.time[0], end - begin))
+    assert axes.get_title().endswith(f"0 throws, 1 movement not taken; tracking lost 1 time for {end - begin:.2f} s "
+                                     "(grey)")
+    # why no throw was found, under the axes
+    assert saved.figure.get_supxlabel().startswith("import: no throw found (user 1, left arm); the best candidate")
+    assert saved.warnings == tuple(report.files[0].warnings)

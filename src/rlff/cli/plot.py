@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import PLAIN_HELP, emit_json, seed_option, stdout, warn
+from rlff.cli._common import PLAIN_HELP, emit_json, say, seed_option, stdout, warn
 from rlff.cli.model import (
     EFFECTIVE_SAMPLES_HELP,
     check_criterion,
@@ -324,4 +324,10 @@ def cuts_command(
     _, report = import_recordings([recording], format, arm=arm, user=user, topic=topic, frames=frame_names, rate_hz=rate,
                                   columns=column_map(columns), up=up, manifest=manifest,
                                   landing=LandingSettings(release_window=release_window))
+    # what rlff data import says of the file (frames dropped as lost tracking, ...); its warnings
+    # are the figure's, said with it
+    for note in report.notes:
+        say(note)
+    for warning in report.general_warnings:
+        warn(warning)
     _done([throw_cuts(report.files[0], out)], as_json)

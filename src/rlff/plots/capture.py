@@ -15,6 +15,8 @@ from rlff.wording import plural
 THROW_COLOUR = HIT_COLOUR
 #: Colour of the marks of candidate movements that were not taken.
 REJECTED_COLOUR = MISS_COLOUR
+#: Colour of the shaded stretches without tracking.
+LOST_COLOUR = "0.55"
 
 
 def throw_cuts(report: FileReport, out: str | Path) -> SavedFigure:
@@ -25,8 +27,10 @@ def throw_cuts(report: FileReport, out: str | Path) -> SavedFigure:
     report : FileReport
         The import's account of one recording (``import_recordings(...)[1].files``): its
         ``motion``, the arm whose throws were cut, drawn on the recording's clock from its first
-        sample (s), runs of lost tracking apart; each throw from its start to its end with its
-        release (a dashed line) and id; each candidate not taken at its time with its rule.
+        sample (s), each stretch without tracking between its runs shaded grey (and counted in
+        the title); each throw from its start to its end with its release (a dashed line) and id;
+        each candidate not taken at its time with its rule. The import's warnings (why no throw
+        was found, ...) are written under the axes, and are the figure's ``warnings``.
     out : path
         File stem of the PNG and SVG.
 
@@ -45,6 +49,11 @@ def throw_cuts(report: FileReport, out: str | Path) -> SavedFigure:
         for number, run in enumerate(motion.runs()):
             axes.plot(time[run], motion.angle[run], ".-", color="0.25", markersize=3, linewidth=1,
                       label="elbow angle" if number == 0 else None)
+        lost = motion.lost_spans()
+        for number, (begin, end) in enumerate(lost):
+            origin = float(motion.time[0])
+            axes.axvspan(begin - origin, end - origin, color=LOST_COLOUR, alpha=0.3, linewidth=0, hatch="//",
+                         label="tracking lost" if number == 0 else None)
         for number, throw in enumerate(report.throws):
             axes.axvspan(throw.start, throw.end, color=THROW_COLOUR, alpha=0.18, linewidth=0,
                          label="throw kept" if number == 0 else None)
@@ -63,7 +72,12 @@ def throw_cuts(report: FileReport, out: str | Path) -> SavedFigure:
         axes.set_xlabel("time from the recording's first sample (s)")
         axes.set_ylabel("elbow angle (rad, π straight)")
         side = f"{motion.arm.side} arm, user {motion.arm.user}"
+        gaps = f"; tracking lost {plural(len(lost), 'time')} for {sum(b - a for a, b in lost):.2f} s (grey)" if lost else ""
         axes.set_title(f"{Path(report.source).name} ({side}): {plural(len(report.throws), 'throw')}, "
-                       f"{plural(len(report.rejected), 'movement')} not taken", wrap=True)
-        figure.legend(loc="outside lower center", ncols=4, fontsize=8, frameon=False)
-    return save(figure, out)
+                       f"{plural(len(report.rejected), 'movement')} not taken{gaps}", wrap=True)
+        figure.legend(loc="outside upper center", ncols=5, fontsize=8, frameon=False)
+        if report.warnings:
+            said = [warning.removeprefix(f"{report.source}: ") for warning in report.warnings]
+            figure.supxlabel("\n".join(f"import: {warning}" for warning in said), fontsize=8, color=REJECTED_COLOUR,
+                             wrap=True)
+    return save(figure, out, report.warnings)
