@@ -400,6 +400,11 @@ def test_throw_snapshot_draws_arm_flight_and_basket_from_a_simulated_throw(tmp_p
     record = json.loads(json.dumps(outcome.to_dict(), default=float))
     again = throw_snapshot_from_outcome(record, tmp_path / "again")
     assert [line.get_label() for line in again.figure.get_axes()[0].get_lines()] == list(lines)
+    # a basket at a bearing: the drawing is along its line, and says which
+    record["basket"]["bearing"] = 60.0
+    aside = throw_snapshot_from_outcome(record, tmp_path / "aside").figure
+    assert aside.get_axes()[0].get_xlabel() == "along the 60° bearing line (m)"  # it said "forward x"
+    assert aside.get_suptitle() == "Simulated throw at a basket 2 m away on the 60° bearing"
     del record["release"]
     with pytest.raises(InputError, match="missing or malformed field 'release'"):
         throw_snapshot_from_outcome(record, tmp_path / "bad")

@@ -110,6 +110,30 @@ def basket_options(**options: str) -> Iterator[None]:
         raise
 
 
+def input_words(path: Any, loaded: Any, attempt: int | None) -> str:
+    """What a loaded trajectory file was and became (``loaded``: the
+    :class:`rlff.learn.replay.ThrowInput` of ``path``, ``attempt`` as asked for), for one line.
+
+    An attempt the loop clipped into the joint limits (its log's ``clipped``) is logged with its
+    clipped path, which planned again clips nothing: "nothing clipped" alone said that the log's
+    ``clipped: 9`` never happened. The line says both.
+    """
+    from rlff.learn.replay import pick_attempt
+    from rlff.wording import plural
+
+    words = loaded.kind
+    if loaded.run is None or loaded.plan.clipped_points:
+        return words
+    chosen, _ = pick_attempt(path, attempt)
+    if not chosen.clipped:
+        return words
+    logged = (f"the loop clipped {plural(chosen.clipped, 'value')} into the joint limits when it threw it "
+              "(the log's 'clipped') and logged the path as clipped")
+    if words.endswith("; nothing clipped"):
+        return words.removesuffix("nothing clipped") + logged + ": nothing more to clip"
+    return f"{words}; {logged}"
+
+
 def given(ctx: typer.Context, *names: str) -> list[str]:
     """The options among the command's parameters ``names`` that the user gave, as they are
     spelt (``--centre-share``), not those left at their default, which a command cannot tell from

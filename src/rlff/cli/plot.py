@@ -280,7 +280,7 @@ def throw_command(
     """A side view of a simulated throw: arm at release, ball flight, basket (and a rendered frame if any)."""
     from rlff.cli.output import robot_file
     from rlff.jsonfile import read_json_object
-    from rlff.plots.throw import outcome_robot, throw_snapshot_from_outcome
+    from rlff.plots.throw import outcome_gap, outcome_robot, throw_snapshot_from_outcome
 
     _guard(out, {"OUTCOME": outcome, "--robot": robot_file(robot) if robot else None})
     record = read_json_object(outcome)
@@ -290,6 +290,7 @@ def throw_command(
     arm = outcome_robot(record, outcome, robot)
     if pedestal is None:
         pedestal = float(record.get("pedestal", 0.0))
+    record = {**record, "gap": outcome_gap(record, outcome)}  # a throw of a --gap run's log: on that arm
     _done([throw_snapshot_from_outcome(record, out, robot=arm, pedestal=pedestal)], as_json)
 
 

@@ -16,6 +16,7 @@ from rlff.cli._common import (
     check_approach_speed_option,
     emit_json,
     given,
+    input_words,
     progress,
     say,
     say_first,
@@ -207,7 +208,7 @@ def export(
         say(f"note: {note}")
     # what the Comau program carries: an attempts log's run's joints, else the ones asked for
     mapping = run_mapping(model, source.run) if source.run is not None else mapping_for(model, driven)
-    say(f"{trajectory}: {source.kind}")
+    say(f"{trajectory}: {input_words(trajectory, source, attempt)}")
     result = source.plan
     export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)
     if fmt == "comau" and (left_out := joints_left_out(mapping)) is not None:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import PLAIN_HELP, basket_options, emit_json, say, stdout, warn
+from rlff.cli._common import PLAIN_HELP, basket_options, emit_json, input_words, say, stdout, warn
 from rlff.cli.robot import DEFAULT_ROBOT, JOINTS, joint_list
 
 # The library (MuJoCo, SciPy) is imported inside the commands: other commands do not pay for it
@@ -91,7 +91,7 @@ def throw(
         target = Basket(basket, logged.get("rim_height", 0.3) if rim_height is None else rim_height,
                         logged.get("opening", 0.35) if opening is None else opening,
                         logged.get("bearing", 0.0) if bearing is None else bearing)
-    say(f"{trajectory}: {loaded.kind}")
+    say(f"{trajectory}: {input_words(trajectory, loaded, attempt)}")
     dropped = loaded.simulated.release_time is None and release_angle is None
     if dropped:
         # said before the outcome: a throw let go at its end, at rest, drops the ball, and the
@@ -113,7 +113,8 @@ def throw(
              f"towards the robot): check the signs of {model.source}'s [throwing] angle_scale and velocity_scale "
              "and its start pose")
     if json:
-        emit_json({"trajectory": trajectory, "robot": model.name, "pedestal": pedestal, **outcome.to_dict()})
+        arm = {} if loaded.arm.none else {"gap": loaded.arm.name}  # the simulated arm a --gap run's attempt is thrown on
+        emit_json({"trajectory": trajectory, "robot": model.name, "pedestal": pedestal, **arm, **outcome.to_dict()})
         return
     release = outcome.release.to_dict()
     side = "short of" if outcome.miss < 0 else "beyond"

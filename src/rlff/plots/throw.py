@@ -44,6 +44,8 @@ def throw_snapshot(
     arm_points: np.ndarray | None = None,
     frame: str | Path | None = None,
     title: str | None = None,
+    bearing: float = 0.0,
+    gap: str = "none",
 ) -> SavedFigure:
     """Side view of one throw, drawn from its outcome.
 
@@ -66,6 +68,12 @@ def throw_snapshot(
     frame : path, optional
         A rendered image of the throw (PNG), shown beside the drawing.
     title : str, optional
+        Default: the basket's distance, its bearing and the arm's gap where they are not 0 and none.
+    bearing : float
+        The basket's bearing (deg): the drawing's horizontal axis is the distance along its line.
+    gap : str
+        How the simulated arm that threw differed from its robot file (``speed:0.8``, ``--gap``
+        of ``rlff learn``), ``none`` when it did not.
     """
     release = np.asarray(release_position, dtype=float)
     velocity = np.asarray(release_velocity, dtype=float)
@@ -105,7 +113,7 @@ def throw_snapshot(
                          label=f"landing at rim height: {landing_x:.2f} m")
         drawing.axhline(0.0, color="black", linewidth=1.0)
         drawing.set_aspect("equal", adjustable="datalim")
-        drawing.set_xlabel("forward x (m)")
+        drawing.set_xlabel(f"along the {bearing:g}° bearing line (m)" if bearing else "forward x (m)")
         drawing.set_ylabel("height z (m)")
         drawing.legend(loc="upper right", fontsize=8)
         drawing.set_title(_verdict(hit, miss), color=colour)
@@ -116,7 +124,9 @@ def throw_snapshot(
                 picture.imshow(np.asarray(image.convert("RGB")))
             picture.set_axis_off()
             picture.set_title("rendered by MuJoCo")
-        figure.suptitle(title or f"Simulated throw at a basket {basket_distance:g} m away")
+        figure.suptitle(title or f"Simulated throw at a basket {basket_distance:g} m away"
+                        + (f" on the {bearing:g}° bearing" if bearing else "")
+                        + (f", by the simulated arm of --gap {gap}" if gap != "none" else ""), wrap=True)
     return save(figure, out)
 
 
@@ -188,6 +198,21 @@ def outcome_robot(record: Mapping[str, Any], where: str | Path, robot: str | Non
     return arm
 
 
+def outcome_gap(record: Mapping[str, Any], where: str | Path) -> str:
+    """How the simulated arm that threw an outcome differed from its robot file: the outcome's
+    ``gap``, else (an outcome of an rlff that did not write it) the gap of the attempts log it
+    was thrown from when that log is there to read, else ``none``."""
+    if "gap" in record:
+        return str(record["gap"])
+    log = _thrown_log(record.get("trajectory"), Path(where))
+    if log is None:
+        return "none"
+    from rlff.learn.log import read_log
+
+    run, _ = read_log(log)
+    return str(run.get("gap", "none"))
+
+
 def _thrown_log(trajectory: object, where: Path) -> Path | None:
     """The attempts log an outcome was thrown from (its ``trajectory``, as given or beside the
     outcome file), or None when it was another file or the log is not there to read."""
@@ -217,7 +242,8 @@ def throw_snapshot_from_outcome(
         The outcome, or its JSON form (``ThrowOutcome.to_dict()``, what ``rlff sim throw
         --json`` prints): ``hit``, ``landing_x``, ``miss``, ``basket`` {distance, rim_height,
         opening[, bearing]}, ``release`` {position, velocity, joint_positions}, optional
-        ``frames``. A basket at a bearing is seen from the side of its bearing line.
+        ``frames`` and ``gap`` (the simulated arm's, for a throw of an attempts log of a
+        ``--gap`` run). A basket at a bearing is seen from the side of its bearing line.
     out : path
         File stem of the PNG and SVG.
     robot : rlff.robot.Robot, optional
@@ -245,7 +271,8 @@ def throw_snapshot_from_outcome(
     robot = load_robot() if robot is None else robot
     pngs = [Path(p) for p in record.get("frames", []) if Path(p).suffix.lower() == ".png" and Path(p).is_file()]
     # seen from the side of the basket's bearing line: the vertical plane the arm throws in
-    ray = np.radians(float(basket.get("bearing", 0.0)))
+    bearing = float(basket.get("bearing", 0.0))
+    ray = np.radians(bearing)
     along = np.array([np.cos(ray), np.sin(ray), 0.0])
     return throw_snapshot(
         out,
@@ -260,6 +287,8 @@ def throw_snapshot_from_outcome(
         arm_points=_arm_at_release(joint_positions, robot, pedestal),
         frame=pngs[len(pngs) // 2] if pngs else None,
         title=title,
+        bearing=bearing,
+        gap=str(record.get("gap", "none")),
     )
 
 
