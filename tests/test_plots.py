@@ -82,6 +82,10 @@ def test_dataset_3d_draws_every_trajectory_in_both_views(tmp_path):
     # lines of one distance share a colour, different distances differ
     colours = {tuple(colour) for colour in views[0].collections[0].get_colors()}
     assert len(colours) == len(DISTANCES)
+    assert saved.figure.get_suptitle() == "Demonstrations: 9 trajectories, 135 samples"
+    # one throw is one ("1 trajectories")
+    one = dataset_3d(Dataset(list(throws())[:1]), tmp_path / "one")
+    assert one.figure.get_suptitle() == "Demonstrations: 1 trajectory, 15 samples"
 
 
 def test_dataset_slices_one_panel_per_distance_with_outcomes(tmp_path):
@@ -438,6 +442,11 @@ def test_kmeans_em_steps_one_column_per_k(tmp_path):
     assert centres == [(0, 0), (0, 2), (2, 0)]  # EM finds the three blobs
     assert panels[2].get_xlabel() == "joint angle ξ (rad)" and panels[0].get_ylabel() == "joint velocity ξ̇ (rad/s)"
 
+    # twelve clusters in twelve colours (the 11th and 12th had the 1st's and 2nd's)
+    many = kmeans_em_steps(rng.normal(0, 1, size=(240, 2)), tmp_path / "many", ks=(12,))
+    colours = {to_hex(c.get_facecolor()[0]) for c in many.figure.get_axes()[0].collections}
+    assert len(colours) == 12
+
     subset = kmeans_em_steps(points, tmp_path / "subset", ks=(2,), max_points=100)
     assert sum(len(c.get_offsets()) for c in subset.figure.get_axes()[0].collections) == 100
     assert "(100 of 180 samples, drawn at random)" in subset.figure.get_suptitle()
@@ -457,6 +466,10 @@ def test_selection_curve_marks_the_minimum(tmp_path, criterion, chosen):
     assert mark.get_xdata()[0] == chosen
     assert mark.get_label() == f"chosen: K = {chosen} (lowest {criterion.upper()})"
     assert axes.get_xlabel() == "number of Gaussian components K"
+    # K is whole, also when only one was tried (ticks 0.945 ... 1.050 before)
+    one = selection_curve(table[:1], tmp_path / "one", criterion=criterion).figure.get_axes()[0]
+    low, high = one.get_xlim()
+    assert [tick for tick in one.get_xticks() if low <= tick <= high] == [1]
 
 
 def densified_throws() -> Dataset:
@@ -515,6 +528,12 @@ def test_components_at_distance_draws_weighted_ellipses(tmp_path):
                       "demonstrations at other distances", "1 more with weight < 1% here (not drawn)"]
     here, elsewhere = axes.collections[1], axes.collections[0]
     assert len(here.get_segments()) == PER_DISTANCE and len(elsewhere.get_segments()) == 2 * PER_DISTANCE
+    # data of one distance: no demonstrations at other distances to promise
+    alone = components_at_distance(
+        np.array([1.0]), np.array([[0.5, 1.0]]), np.array([np.diag([0.01, 0.04])]),
+        Dataset([t for t in throws() if float(t["distance"][0]) == 2.0]), 2.0, tmp_path / "alone")
+    assert [t.get_text() for t in alone.figure.legends[0].get_texts()] == [
+        "component 1: weight 1.00", "demonstrations at z = 2 m"]
 
 
 def test_model_components_condition_on_the_distance(tmp_path, thesis_model):

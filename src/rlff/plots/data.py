@@ -106,7 +106,8 @@ def dataset_3d(
             ScalarMappable(norm=norm, cmap=cmap), ax=figure.axes, shrink=0.7, pad=0.04
         )
         colour_bar.set_label(axis_label(c_name))
-        figure.suptitle(title or f"Demonstrations: {len(dataset)} trajectories, {dataset.n_samples} samples")
+        figure.suptitle(title or f"Demonstrations: {plural(len(dataset), 'trajectory', 'trajectories')}, "
+                                 f"{plural(dataset.n_samples, 'sample')}")
     return save(figure, out)
 
 

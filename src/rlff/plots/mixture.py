@@ -9,8 +9,10 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+import matplotlib
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.colors import to_hex
 from matplotlib.lines import Line2D
 from matplotlib.patches import Ellipse
 from matplotlib.ticker import MaxNLocator
@@ -38,9 +40,14 @@ _CRITERIA = {"bic": "Bayesian information criterion", "aic": "Akaike information
 MIN_SHOWN_WEIGHT = 0.01
 
 
+#: Colours of the components past the tenth (matplotlib's C0-C9 first): tab20b's, none of C0-C9.
+_MORE_COLOURS = tuple(to_hex(colour) for colour in matplotlib.colormaps["tab20b"].colors)
+
+
 def component_colour(k: int) -> str:
-    """Colour of component ``k`` (the same in every mixture figure)."""
-    return f"C{k % 10}"
+    """Colour of component ``k`` (the same in every mixture figure): 30 colours apart before they
+    repeat (C0-C9 had a 12th component drawn in the 2nd's colour)."""
+    return f"C{k}" if k < 10 else _MORE_COLOURS[(k - 10) % len(_MORE_COLOURS)]
 
 
 def draw_ellipses(
@@ -205,7 +212,9 @@ def selection_curve(
             markeredgecolor="black", markeredgewidth=2, linestyle="none",
             label=f"chosen: K = {ks[chosen]} (lowest {criterion.upper()})",
         )
-        axes.xaxis.set_major_locator(MaxNLocator(integer=True))
+        # whole K only, also for one K (its axis spanned 0.945-1.055 in fractional ticks)
+        axes.xaxis.set_major_locator(MaxNLocator(integer=True, min_n_ticks=1))
+        axes.set_xlim(ks.min() - 0.5, ks.max() + 0.5)
         axes.set_xlabel("number of Gaussian components K")
         axes.set_ylabel("criterion (lower is better)")
         axes.legend()
@@ -289,8 +298,9 @@ def components_at_distance(
         if demonstrated:
             handles.append(Line2D([], [], color="black", linewidth=0.9))
             labels.append(f"demonstrations at {format_distance(distance)}")
-        handles.append(Line2D([], [], color=_DATA_COLOUR, linewidth=0.6))
-        labels.append("demonstrations at other distances")
+        if elsewhere:
+            handles.append(Line2D([], [], color=_DATA_COLOUR, linewidth=0.6))
+            labels.append("demonstrations at other distances")
         hidden = k - len(order)
         if hidden:
             handles.append(Line2D([], [], linestyle="none"))
