@@ -169,6 +169,10 @@ def check_whole_arm(demo) -> None:
     assert [row[5] for row in table.rows] == [r["attempts"] for r in runs]
     drawn = {Path(f.file).stem for f in read_run(out).figures if f.section == "whole-arm"}
     assert drawn == {"whole-arm-flights", "whole-arm-joints"}
+    # the joints' figure draws speed limits on its velocity panels: the caption said "position limits"
+    (joints,) = [f for f in read_run(out).figures if Path(f.file).stem == "whole-arm-joints"]
+    assert joints.caption.endswith("dotted: each joint's position limits beside its positions and its speed limits "
+                                   "beside its velocities.")
 
 
 def check_report_embeds_every_figure(demo) -> None:
@@ -274,3 +278,19 @@ def test_the_slower_arm_is_taken_only_where_the_first_throw_misses_nowhere_on_th
     assert max(d for d, name in asked if name == SHOWCASE_GAP) <= 1.85 * gap.speed**2
     gap, distance = _learning_arm_and_basket(demonstrated, 1.85, first_throw(False, False))
     assert gap.none and distance == 1.8  # in everywhere: the faithful arm, where it lands farthest off
+
+
+def test_the_whole_arm_table_prints_a_miss_that_rounds_to_zero_without_a_sign():
+    # a landing 3 mm short printed as "-0.00" beside "+0.01"
+    from types import SimpleNamespace
+
+    from rich.console import Console
+
+    from rlff.cli.demo import _whole_arm_table
+
+    runs = [SimpleNamespace(distance=3.5, bearing=0.0, demonstrated=True, joints=("joint_2", "joint_3"), hit=True,
+                            attempts=2, misses=[0.012, -0.0028])]
+    console = Console(width=200, record=True)
+    console.print(_whole_arm_table(runs))
+    text = console.export_text()
+    assert "+0.01 0.00" in text and "-0.00" not in text

@@ -106,8 +106,10 @@ def test_report_embeds_every_figure_and_escapes_text(tmp_path):
 
 @pytest.mark.parametrize(
     ("value", "text"),
-    [(None, "–"), (True, "yes"), (False, "no"), (0.123456, "0.1235"), (2.0, "2"), (1e-5, "1.000e-05"),
-     (123456.0, "1.235e+05"), (7, "7"), ("hindsight", "hindsight"), (float("nan"), "–")],
+    [(None, "–"), (True, "yes"), (False, "no"), (0.123456, "0.1235"), (2.0, "2"), (123456.0, "1.235e+05"), (7, "7"),
+     ("hindsight", "hindsight"), (float("nan"), "–"), (0.0, "0"),
+     # below 0.001 to 3 decimals: a density traded of 7.772e-15, a miss of -5.986e-04 beside -0.0028
+     (7.772e-15, "0.000"), (1e-5, "0.000"), (-5.986e-4, "-0.001"), (-4e-4, "0.000"), (-0.0028, "-0.0028")],
 )
 def test_format_value(value, text):
     assert format_value(value) == text

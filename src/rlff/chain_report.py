@@ -37,7 +37,7 @@ import numpy as np
 
 from rlff.errors import InputError
 from rlff.report.run import FigureEntry, Run, Section, Table
-from rlff.wording import plural
+from rlff.wording import plural, signed
 
 #: The dataset files a folder's report reads (:func:`rlff.formats.read_dataset`; ``.txt`` is left
 #: to skeleton recordings, which the thesis matrix format shares).
@@ -269,7 +269,7 @@ def _simulation_section(throws) -> Section:
         elif miss is None:
             result = "no landing"
         else:
-            result = f"miss {miss:+.2f} m"
+            result = f"miss {signed(miss)} m"
         trajectory = outcome.get("trajectory")  # the path as given to sim throw: its name is enough here
         rows.append([path.name, Path(trajectory).name if isinstance(trajectory, str) else None, outcome.get("robot"), _number(basket.get("distance")),
                      f"{_number(basket.get('bearing')) or 0:g}°", _number(basket.get("rim_height")),
@@ -320,7 +320,7 @@ def _learning_section(logs, figures_dir: Path) -> tuple[Section, list[FigureEntr
     for path, run in logs:
         first_hit = next((i + 1 for i, hit in enumerate(run.hits) if hit), None)
         result = f"hit at attempt {first_hit}" if first_hit else f"no hit in {len(run.hits)}"
-        shown = " ".join("–" if not np.isfinite(m) else f"{m:+.2f}" for m in run.misses[:8])
+        shown = " ".join("–" if not np.isfinite(m) else signed(m) for m in run.misses[:8])
         rows.append([path.name, _robot_words(run), ", ".join(run.joints) or None, f"{run.bearing:g}°", run.rim_height,
                      run.method, run.feedback, run.gap, run.until, run.basket, len(run.hits), result,
                      shown + (" …" if len(run.misses) > 8 else "")])

@@ -33,6 +33,7 @@ from rlff.dataset import Dataset, write_csv
 from rlff.errors import InputError
 from rlff.report import FigureEntry, Run, Section, Table, build_report, write_run
 from rlff.whole_arm_demo import BasketRun, whole_arm_section
+from rlff.wording import signed_metres
 
 if TYPE_CHECKING:
     from rlff.sim.gap import Gap
@@ -482,7 +483,7 @@ def run_demo(
             log_path=log, robot=robot.name, gap=learning_gap.name,
             progress=lambda attempt, method=method: clock.note(
                 f"learning at {learning_distance:g} m: {method}, attempt {attempt.index}"
-                f" ({'hit' if attempt.hit else f'miss {attempt.miss:+.2f} m'})"
+                f" ({'hit' if attempt.hit else f'miss {signed_metres(attempt.miss)}'})"
             ),
         )
         results[method] = result

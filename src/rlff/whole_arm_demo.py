@@ -326,7 +326,8 @@ def whole_arm_figures(figures_dir: Path, whole: WholeArm, robot) -> list[tuple[P
                     "so its wind-up may go where no elbow goes (below 0 rad). Right: "
                     "the robot joints they drive over the planned trajectory, from the start pose with joint 1 "
                     "already turned to the bearing, the throw to its release "
-                    "(dashed) and the braking; dotted: position limits."))
+                    "(dashed) and the braking; dotted: each joint's position limits beside its positions and its "
+                    "speed limits beside its velocities."))
     return entries
 
 

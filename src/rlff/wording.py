@@ -38,10 +38,17 @@ def nearest_hint(word: str, choices: Sequence[str], otherwise: str) -> str:
     return did_you_mean(word, choices) or f" ({otherwise})"
 
 
+def signed(value: float, digits: int = 2) -> str:
+    """``value`` with its sign to ``digits`` decimals, ``+0.23``, ``-0.07``; one that rounds to
+    zero is ``0.00``: a landing 3 mm short of the centre printed as ``-0.00`` beside ``+0.01``."""
+    text = f"{value:+.{digits}f}"
+    return text[1:] if float(text) == 0 else text
+
+
 def signed_metres(value: float, digits: int = 2, unmeasured: str = "landing not measured") -> str:
-    """A signed miss in words: ``+0.23 m``, or ``unmeasured`` for NaN (an operator who typed hit
-    or miss measured no landing)."""
-    return unmeasured if value != value else f"{value:+.{digits}f} m"
+    """A signed miss in words: ``+0.23 m`` (:func:`signed`), or ``unmeasured`` for NaN (an
+    operator who typed hit or miss measured no landing)."""
+    return unmeasured if value != value else f"{signed(value, digits)} m"
 
 
 def attempt_outcome(hit: bool, miss: float) -> str:
@@ -49,4 +56,4 @@ def attempt_outcome(hit: bool, miss: float) -> str:
     ``hit (not measured)`` and ``miss (not measured)`` where the landing was not measured."""
     if miss != miss:  # NaN
         return f"{'hit' if hit else 'miss'} (not measured)"
-    return f"{miss:+.2f}" + (" hit" if hit else "")
+    return signed(miss) + (" hit" if hit else "")

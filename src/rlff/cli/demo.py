@@ -8,6 +8,7 @@ from pathlib import Path
 import typer
 
 from rlff.cli._common import emit_json, progress, say, seed_option, stdout
+from rlff.wording import signed
 
 
 def register(root: typer.Typer) -> None:
@@ -53,7 +54,7 @@ def demo_command(
     for column in ("distance (m)", "demonstrated", "reachable", "outcome"):
         throws.add_column(column, justify="right" if column == "distance (m)" else "left")
     for row in summary.throws:
-        outcome = "hit" if row.hit else f"miss {row.miss:+.2f} m"
+        outcome = "hit" if row.hit else f"miss {signed(row.miss)} m"
         throws.add_row(f"{row.distance:g}", "yes" if row.demonstrated else "new",
                        "yes" if row.reachable else "no", outcome)
     console.print(throws)
@@ -63,7 +64,7 @@ def demo_command(
         learning.add_column(column)
     for row in summary.learning:
         result = f"hit at attempt {row.attempts}" if row.hit else f"no hit in {row.attempts}"
-        misses = [f"{m:+.2f}" for m in row.misses]
+        misses = [signed(m) for m in row.misses]
         if len(misses) > 6:  # keep the table short: the report has them all
             misses = [*misses[:3], "…", *misses[-2:]]
         learning.add_row(row.method, row.feedback, result, " ".join(misses))
@@ -86,7 +87,7 @@ def _whole_arm_table(runs):
                          no_wrap=column != "misses (m)")
     for r in runs:
         result = f"hit at {r.attempts}" if r.hit else f"no hit in {r.attempts}" if r.attempts else "out of reach"
-        misses = ["none" if m != m else f"{m:+.2f}" for m in r.misses]
+        misses = ["none" if m != m else signed(m) for m in r.misses]
         if len(misses) > 5:
             misses = [*misses[:2], "…", *misses[-2:]]
         table.add_row(f"{r.distance:g} m", f"{r.bearing:g}°", "yes" if r.demonstrated else "new",

@@ -9,6 +9,7 @@ import typer
 
 from rlff.cli._common import PLAIN_HELP, basket_options, emit_json, input_words, say, stdout, warn
 from rlff.cli.robot import DEFAULT_ROBOT, JOINTS, joint_list
+from rlff.wording import signed_metres
 
 # The library (MuJoCo, SciPy) is imported inside the commands: other commands do not pay for it
 
@@ -130,7 +131,7 @@ def throw(
                  else f"the ball never came down through the {target.rim_height:g} m rim's height; it came to rest at")
     out.print(f"{'HIT' if outcome.hit else 'miss'}: {came_down} "
               f"{outcome.landing_x:.3f} m{line}{lateral}, {abs(outcome.miss):.3f} m {side} the centre of the basket at "
-              f"{basket:g} m (signed miss {outcome.miss:+.3f} m; first touched: {outcome.first_contact})",
+              f"{basket:g} m (signed miss {signed_metres(outcome.miss, 3)}; first touched: {outcome.first_contact})",
               highlight=False)
     position = release["position"]
     # along the basket's line, as the landing is measured (x alone is the world's, off the line)
