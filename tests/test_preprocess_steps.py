@@ -256,6 +256,11 @@ def test_rescale_removes_a_throw_cut_short_rather_than_make_up_its_shape(mode):
     assert "more than max_factor 2" in removed.reason
     assert report.params["end"] == pytest.approx(2.9)  # the kept throws' mean end
     np.testing.assert_allclose([t["angle"][-1] for t in out], 2.9)
+    # judged against the median end: the shortest end is not the common end that every other
+    # throw is then too far from
+    lowest, _ = rescale(data, mode=mode, reference="min")
+    assert list(lowest.ids) == ["t0", "t1", "t2"]
+    np.testing.assert_allclose([t["angle"][-1] for t in lowest], 2.8)
     kept, kept_report = rescale(data, mode=mode, max_factor=math.inf)  # any factor: the thesis' rule
     assert kept.ids == data.ids and kept_report.removed == []
     with pytest.raises(InputError, match="max_factor 0.5: must be a number >= 1"):

@@ -130,7 +130,9 @@ def rescale(
     and finite is removed with the reason: stretched, a throw that starts beyond the common end
     would run backwards while its velocity stays forward (a negative factor), one whose last
     value is its first has none. So is one whose factor lies beyond ``max_factor`` (a throw cut
-    short, whose shape rescaling would make up); the common end is then taken again without it.
+    short, whose shape rescaling would make up), judged first against the median end (which one
+    such throw cannot move as it moves the mean, or become as the min or max); the common end is
+    then taken without it.
     """
     dataset.require([column] + ([velocity_column] if scale_velocity else []))
     if not (isinstance(max_factor, (int, float)) and not isinstance(max_factor, bool) and max_factor >= 1):
@@ -141,8 +143,18 @@ def rescale(
     if not len(dataset):
         report.after = dataset
         return dataset, report
-    kept = list(dataset)
-    while True:  # the common end of the trajectories kept, until none is beyond max_factor of it
+    # a throw cut short (or long) is judged against the median end first, which it cannot move
+    # as it moves the mean, or become as the min or the max
+    median = float(np.median([t[column][-1] for t in dataset]))
+    kept = []
+    for trajectory in dataset:
+        pivot = 0.0 if mode == "scale" else float(trajectory[column][0])
+        factor, problem = _rescale_factor(trajectory[column], pivot, median, mode, column, max_factor)
+        if problem and factor > 0 and math.isfinite(factor):  # beyond max_factor of the median end
+            report.remove(trajectory.id, problem.replace(f"to end at {median:.4g}", f"to end at {median:.4g} (the median end)"))
+        else:
+            kept.append(trajectory)
+    while kept:  # the common end of the trajectories kept, until none is refused by it
         end = float({"mean": np.mean, "min": np.min, "max": np.max}[reference]([t[column][-1] for t in kept]))
         pivots = [0.0 if mode == "scale" else float(t[column][0]) for t in kept]
         factors = [_rescale_factor(t[column], pivot, end, mode, column, max_factor) for t, pivot in zip(kept, pivots, strict=True)]
@@ -152,9 +164,9 @@ def rescale(
         for trajectory, problem in refused:
             report.remove(trajectory.id, problem)
         kept = [t for t, (_, problem) in zip(kept, factors, strict=True) if not problem]
-        if not kept:
-            report.after = dataset.replace([])
-            return report.after, report
+    if not kept:
+        report.after = dataset.replace([])
+        return report.after, report
     out = []
     for trajectory, pivot, (factor, _) in zip(kept, pivots, factors, strict=True):
         changes = {column: pivot + (trajectory[column] - pivot) * factor}
