@@ -164,7 +164,7 @@ class TrajectoryServer:
         name); whether anything is left to finish (a motion, a goal to answer)."""
         with self._lock:
             self._report(self.controller.stop(rospy.get_time(), by))
-            return not self.settled()
+        return not self.settled()
 
     def settled(self) -> bool:
         """Whether the arm stands still and every goal has been answered."""
