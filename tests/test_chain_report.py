@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from attempts_logs import write_attempts_log
 from rlff.chain_report import chain_run
 from rlff.plots.learning import read_learning_log
 
@@ -20,10 +21,7 @@ def _log(path: Path, record: dict, basket: dict, joints: list[str] | None = None
            "pedestal": 0.0, "until": "hit", **settings}
     if joints is not None:
         run["joints"] = joints
-    lines = [{"format": "rlff-attempts", "version": 1, "run": run}]
-    lines += [{"attempt": i + 1, "miss": m, "hit": m is not None and abs(m) < 0.1} for i, m in enumerate(misses)]
-    path.write_text("".join(json.dumps(line) + "\n" for line in lines))
-    return path
+    return write_attempts_log(path, run, misses)
 
 
 def _cells(html: str, row_start: str) -> list[str]:

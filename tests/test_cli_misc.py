@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import typer
 
+from attempts_logs import write_attempts_log
 from rlff.dataset import Dataset, Trajectory, write_csv
 from rlff.report import FigureEntry, Run, Section, write_run
 
@@ -93,7 +94,7 @@ def test_report_bad_input(rlff, tmp_path):
     log.write_text("")
     one_line_error(rlff("report", str(log)), "`rlff plot learning LOG -o OUT` draws its learning curve")
     # an empty log is no log: passed over, named
-    one_line_error(rlff("report", str(tmp_path)), "(passed over attempts.jsonl: not an rlff attempts log",
+    one_line_error(rlff("report", str(tmp_path)), "(passed over attempts.jsonl: an empty file, not an rlff attempts log",
                    "give a folder that `rlff demo` wrote, or one holding your own chain's files")
     (tmp_path / "run.json").write_text('{"format": "rlff-run", "version": 9}')
     one_line_error(rlff("report", str(tmp_path)), "unsupported version 9")
@@ -140,17 +141,15 @@ def test_plot_learning_from_logs(rlff, tmp_path):
     logs = []
     for method, misses in (("calibrate", [-0.4, -0.1, 0.0]), ("imitation", [-0.5, -0.5])):
         path = tmp_path / f"{method}.jsonl"
-        lines = [{"format": "rlff-attempts", "version": 1,
-                  "run": {"basket": {"distance": 2.1}, "feedback": "binary", "update": method}}]
-        lines += [{"attempt": i + 1, "miss": m, "hit": m == 0.0} for i, m in enumerate(misses)]
-        path.write_text("".join(json.dumps(line) + "\n" for line in lines) + '{"attempt": 4, "mi')  # crash mid-write
+        write_attempts_log(path, {"basket": {"distance": 2.1}, "feedback": "binary", "update": method}, misses,
+                           [m == 0.0 for m in misses], tail='{"attempt": 4, "mi')  # crash mid-write
         logs.append(str(path))
     files = written(rlff("plot", "learning", *logs, "--tolerance", "0.14", "-o", str(tmp_path / "curves"), "--json"))
     assert [p.suffix for p in files] == [".png", ".svg"]
     assert "calibrate" in files[1].read_text() and "imitation" in files[1].read_text()
 
     other = tmp_path / "other.jsonl"
-    other.write_text('{"format": "rlff-attempts", "run": {"basket": {"distance": 3.0}, "update": "x"}}\n')
+    write_attempts_log(other, {"basket": {"distance": 3.0}, "update": "x"}, [])
     one_line_error(rlff("plot", "learning", logs[0], str(other), "-o", str(tmp_path / "x")),
                    "different tasks: basket 2.1 m (calibrate.jsonl), 3 m (other.jsonl)")
     # --tolerance is checked as the distance options are: metres, more than 0

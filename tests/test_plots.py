@@ -11,6 +11,7 @@ import pytest
 from matplotlib.colors import to_hex
 from matplotlib.patches import Ellipse
 
+from attempts_logs import write_attempts_log
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
 from rlff.plots._figure import HIT_COLOUR, MISS_COLOUR, distance_colours, grid_shape
@@ -221,10 +222,7 @@ def learning_log(path, update="calibrate", misses=(-0.3, 0.05), **run):
                                         "description": {"mapping": {"joint": "joint_2"}}}}
     header["basket"].update(run.pop("basket", {}))
     header.update(run)
-    lines = [{"format": "rlff-attempts", "version": 1, "run": header}]
-    lines += [{"attempt": i + 1, "miss": m, "hit": abs(m) < 0.1} for i, m in enumerate(misses)]
-    path.write_text("".join(json.dumps(line) + "\n" for line in lines))
-    return path
+    return write_attempts_log(path, header, misses)
 
 
 def curve_labels(saved) -> list[str]:
@@ -244,6 +242,27 @@ def test_learning_curves_of_logs_shade_the_logs_own_opening_and_name_a_gap(tmp_p
     assert curve_labels(saved) == ["calibrate (2 attempts)", "calibrate, arm speed:0.9 (2 attempts)"]
     # what both share is said once, in the title
     assert axes.get_title() == "Learning from failure for a basket at 1.4 m, binary feedback, opening 0.25 m"
+
+
+def test_learning_logs_are_read_as_the_loop_reads_them_to_resume(tmp_path):
+    """A plot reads a log with the loop's own reader: what the loop would refuse to resume (a log
+    of another version, attempts out of order) is refused, not drawn as if it were whole."""
+    from rlff.plots.learning import read_learning_log
+
+    newer = learning_log(tmp_path / "newer.jsonl")
+    lines = newer.read_text().splitlines()
+    newer.write_text("\n".join([lines[0].replace('"version": 1', '"version": 9'), *lines[1:]]) + "\n")
+    with pytest.raises(InputError, match="unsupported attempts log version 9"):
+        read_learning_log(newer)
+    shuffled = learning_log(tmp_path / "shuffled.jsonl", misses=(-0.3, -0.2, 0.05))
+    header, first, second, third = shuffled.read_text().splitlines()
+    shuffled.write_text("\n".join([header, first, third, second]) + "\n")
+    with pytest.raises(InputError, match="line 3: attempt 3 out of order"):
+        read_learning_log(shuffled)
+    # a measured log reads back whole: its misses (a miss nobody measured as NaN) and hits
+    read = read_learning_log(learning_log(tmp_path / "whole.jsonl", misses=(-0.3, None, 0.05)))
+    assert read.misses[0] == -0.3 and np.isnan(read.misses[1]) and read.misses[2] == 0.05
+    assert read.hits == [False, False, True] and read.basket == 1.4
 
 
 def test_learning_curves_of_logs_refuse_logs_of_another_task_naming_what_differs(tmp_path):

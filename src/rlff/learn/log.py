@@ -290,7 +290,10 @@ def read_log(path: str | Path) -> tuple[dict[str, Any], LogContents]:
         raise InputError(f"{path}: is a folder; an attempts log is a file (the .jsonl an earlier run's --log wrote)")
     if not path.is_file():
         raise InputError(f"{path}: no such attempts log")
-    _, records, dropped = _records(path, path.read_bytes())
+    raw = path.read_bytes()
+    if not raw.strip():
+        raise InputError(f"{path}: an empty file, not an rlff attempts log")
+    _, records, dropped = _records(path, raw)
     return _run_of(path, records[0]), LogContents(_attempts(path, records), dropped)
 
 

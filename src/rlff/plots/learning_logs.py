@@ -14,13 +14,12 @@ not the default goes into the title (:func:`shared_settings`).
 
 from __future__ import annotations
 
-import json
-import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from rlff.errors import InputError
+from rlff.learn.log import read_log
 
 #: The rim height (m), opening (m) and stop rule of a log that does not say (the loop's defaults).
 DEFAULT_RIM_HEIGHT, DEFAULT_OPENING, DEFAULT_UNTIL = 0.3, 0.35, "hit"
@@ -84,50 +83,34 @@ class LoggedRun:
 def read_learning_log(path: str | Path) -> LoggedRun:
     """Read an attempts log of ``rlff learn`` (JSONL) for plotting, without changing the file.
 
-    A last line cut short by a crash is ignored (the loop itself drops it on resume).
+    The log is read as the loop reads it to resume (:func:`rlff.learn.log.read_log`): a last line
+    cut short by a crash is left out, and what the loop would refuse is refused here too.
 
     Raises
     ------
     InputError
-        No such file, not an rlff attempts log, or a damaged line before the last one.
+        No such file, not an rlff attempts log, or a damaged line before the last one; or a run
+        record whose basket distance, bearing, opening, rim height or pedestal is not a number.
     """
     path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such attempts log")
-    lines = [line for line in path.read_text(encoding="utf-8", errors="replace").splitlines() if line.strip()]
-    records = []
-    for number, line in enumerate(lines, start=1):
-        try:
-            record = json.loads(line)
-        except json.JSONDecodeError:
-            if number == len(lines):
-                break  # a partial last line
-            raise InputError(f"{path}, line {number}: not JSON") from None
-        if not isinstance(record, dict):
-            raise InputError(f"{path}, line {number}: not a JSON object")
-        records.append(record)
-    if not records or records[0].get("format") != "rlff-attempts":
-        raise InputError(f"{path}: not an rlff attempts log (no 'rlff-attempts' header line)")
-    run = records[0].get("run", {})
+    run, contents = read_log(path)
+    basket = run.get("basket") if isinstance(run.get("basket"), dict) else {}
     try:
-        # a miss nobody measured (typed "miss" on a live arm) is logged as null
-        misses = [math.nan if r["miss"] is None else float(r["miss"]) for r in records[1:]]
-        hits = [bool(r["hit"]) for r in records[1:]]
-        basket = float(run["basket"]["distance"])
-    except KeyError as exc:
-        raise InputError(f"{path}: attempt or run record without {exc}") from None
-    except (TypeError, ValueError, OverflowError, AttributeError):
-        raise InputError(f"{path}: an attempt's miss or the run's basket distance is not a number") from None
-    try:
-        bearing = float(run["basket"].get("bearing", 0.0))  # left out for a basket straight ahead
-        opening = float(run["basket"].get("opening", DEFAULT_OPENING))
-        rim_height = float(run["basket"].get("rim_height", DEFAULT_RIM_HEIGHT))
+        distance = float(basket["distance"])
+        bearing = float(basket.get("bearing", 0.0))  # left out for a basket straight ahead
+        opening = float(basket.get("opening", DEFAULT_OPENING))
+        rim_height = float(basket.get("rim_height", DEFAULT_RIM_HEIGHT))
         pedestal = float(run.get("pedestal", 0.0))
+    except KeyError:
+        raise InputError(f"{path}, line 1: the run record has no basket distance") from None
     except (TypeError, ValueError, OverflowError):
-        raise InputError(f"{path}: the run's basket bearing, opening or rim height or its pedestal is not a number") from None
+        raise InputError(f"{path}, line 1: the run's basket distance, bearing, opening or rim height or its "
+                         "pedestal is not a number") from None
     robot = run.get("robot") if isinstance(run.get("robot"), dict) else {}
     name, digest = robot.get("name"), robot.get("digest")
-    return LoggedRun(str(run.get("update", path.stem)), str(run.get("feedback", "")), basket, misses, hits,
+    # a miss nobody measured (typed "miss" on a live arm) is logged as null and read as NaN
+    return LoggedRun(str(run.get("update", path.stem)), str(run.get("feedback", "")), distance,
+                     [attempt.miss for attempt in contents.attempts], [attempt.hit for attempt in contents.attempts],
                      None if name is None else str(name), None if digest is None else str(digest),
                      _thrown_joints(run), bearing, opening, str(run.get("gap", "none")), rim_height,
                      str(run.get("until", DEFAULT_UNTIL)), pedestal, path.name)
