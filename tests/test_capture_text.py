@@ -321,11 +321,13 @@ def test_a_frozen_tracker_mid_throw_is_dropped_and_bridged_and_a_still_arm_is_no
     assert len(kept) == len(clean.arms[0].hand.time) - 5 and len(frozen.arms[0].elbow) == len(clean.arms[0].elbow)
     assert not np.isin(frame["time"].to_numpy()[fastest + 1:fastest + 6], kept).any()
     # the hand's speed across the held frames was never measured: the import says so
-    _, report = import_recordings([frozen_path])
+    dataset, report = import_recordings([frozen_path])
     assert any("its extension has a 0.20 s gap in the hand's samples" in w and "not measured" in w
                for w in report.warnings), report.warnings
-    _, clean_report = import_recordings([path])
+    assert "low" in {t.meta["peak_confidence"] for t in dataset}  # the throw's peak is marked as bridged
+    clean_dataset, clean_report = import_recordings([path])
     assert not any("gap in the" in w for w in clean_report.warnings)
+    assert {t.meta["peak_confidence"] for t in clean_dataset} == {"high"}
 
 
 def test_a_stream_that_gives_each_skeleton_twice_reads_as_the_skeletons_at_their_own_rate(tmp_path):

@@ -33,6 +33,14 @@ from scipy.interpolate import PchipInterpolator
 
 from rlff.capture.angles import ArmMotion, align_arm, median_spacing, throwing_arm
 from rlff.capture.bag import DEFAULT_FRAMES, DEFAULT_TOPIC, ROS_UP, read_bag
+from rlff.capture.extension_gaps import (
+    EXTENSION_GAP_FACTOR,
+    EXTENSION_GAP_S,
+    ExtensionGap,
+    gap_at_the_peak,
+    longest_gap,
+    tracked_spacing,
+)
 from rlff.capture.label import (
     LandingSettings,
     ManifestRow,
@@ -90,11 +98,6 @@ OUTPUT_RATE_HZ = 15.0
 #: The median upper arm (shoulder to elbow, m) of a recording in metres: 0.25-0.34 m in every arm
 #: of the MSR throws and the test bags (148 arms); the range leaves a factor of 3 either way.
 UPPER_ARM_RANGE = (0.1, 1.0)
-#: A gap in a throw's extension longer than this many of the recording's usual spacings, and
-#: than EXTENSION_GAP_S (s), leaves its speed unmeasured there: warned of (sparse recordings,
-#: 4-10 Hz, have no such gap by being sparse alone).
-EXTENSION_GAP_FACTOR = 3.0
-EXTENSION_GAP_S = 0.1
 #: The rule that keeps one throw of an MSR file.
 ONE_PER_MSR_FILE = "one throw per MSR file"
 #: Median elbow peak speeds (rad/s) of a set of throws read at an assumed frame rate that pass
@@ -125,7 +128,9 @@ class ThrowInfo:
     """Where one imported throw came from (times in s from the recording's first sample).
 
     ``native_rate_hz`` is 1 / the median spacing of its samples, ``largest_gap`` (s) the longest
-    spacing, ``release_confidence`` ``low`` when the release stretch was sparsely sampled.
+    spacing, ``release_confidence`` ``low`` when the release stretch was sparsely sampled,
+    ``peak_confidence`` ``low`` when a gap in the extension leaves its peak speed bridged, not
+    measured (:mod:`~rlff.capture.extension_gaps`).
     """
 
     id: str
@@ -140,6 +145,7 @@ class ThrowInfo:
     native_rate_hz: float
     largest_gap: float
     release_confidence: str
+    peak_confidence: str = "high"
 
 
 @dataclass
@@ -996,33 +1002,6 @@ def _throws_at_a_target(
     return kept, rejected
 
 
-def _extension_gap(motion: ArmMotion, cut: ThrowCut) -> tuple[float, float, str]:
-    """The longest gap (s) between the samples of any joint that makes the elbow angle, during the
-    throw's extension: (gap, its start time on the recording's clock, the joints with that gap
-    there, in words: ``the elbow's``, ``the shoulder's and hand's``, ``every joint's``)."""
-    begin, end = float(motion.time[cut.extension_start]), float(motion.time[cut.extension_end])
-    arm = motion.arm
-    tracks = [("shoulder", arm.shoulder), ("elbow", arm.elbow), ("hand", arm.hand)]
-    if arm.wrist is not None:
-        tracks.append(("wrist", arm.wrist))
-    gaps = []  # (gap, its start, joint) per track
-    for name, track in tracks:
-        first = max(int(np.searchsorted(track.time, begin, side="right")) - 1, 0)
-        last = int(np.searchsorted(track.time, end, side="left")) + 1
-        steps = np.diff(track.time[first:last])
-        if steps.size:
-            gaps.append((float(steps.max()), float(track.time[first + int(np.argmax(steps))]), name))
-    if not gaps:
-        return 0.0, begin, "the elbow's"
-    gap, at, _ = max(gaps, key=lambda entry: entry[0])
-    # the joints whose longest gap is this one (the same stretch, to within a sample's jitter)
-    alike = [name for length, start, name in gaps if length > gap - 0.01 and abs(start - at) < 0.01]
-    if len(alike) == len(tracks):
-        return gap, at, "every joint's"
-    possessive = [f"{name}'s" for name in alike]
-    return gap, at, "the " + (possessive[0] if len(alike) == 1 else f"{', '.join(possessive[:-1])} and {possessive[-1]}")
-
-
 def _numbers(kept: list[tuple[ThrowCut, Release]], dropped: list[Rejection]) -> list[int]:
     """The 1-based number of each kept throw among the file's throws at a target, those the
     one-throw-per-MSR-file rule ``dropped`` (by their release times) included."""
@@ -1052,6 +1031,20 @@ def _resampled(time: np.ndarray, series: dict[str, np.ndarray], rates: dict[str,
         if inside.any():
             resampled[name][inside] = shapes[angle].derivative()(grid[inside])
     return grid, resampled
+
+
+def _peak_gap_warning(path: Path, number: int, gap: ExtensionGap, origin: float, spacing: float, peak: float) -> str:
+    """The warning of a throw whose extension lost a sample where the elbow extends fastest
+    (``origin`` the recording's clock origin, ``spacing`` its mean spacing while tracked, s;
+    ``peak`` the written peak speed, rad/s)."""
+    lost = round(gap.length / spacing) - 1
+    return (
+        f"{path}: throw {number}: its extension has a {gap.length:.2f} s gap in {gap.joints} samples at "
+        f"t={gap.start - origin:.2f} s, where the elbow extends fastest (they are {spacing:.3g} s apart "
+        f"elsewhere: {plural(lost, 'sample')} lost): {gap.rise:.2f} rad of its {gap.extension_rise:.2f} rad "
+        f"extension ({gap.bridged_share:.0%}) are bridged from the fits on either side, which see one side "
+        f"of the gap only; the elbow moved at least {gap.least_speed:.3g} rad/s across it, and the peak written, "
+        f"{peak:.3g} rad/s, is likely too low (peak_confidence low); check the throw before fitting on it")
 
 
 def _throw(
@@ -1121,7 +1114,10 @@ def _throw(
             "of its extension and release); check the throw before fitting on it")
     usual = median_spacing(motion.time)
     extension_gap = max(EXTENSION_GAP_FACTOR * usual, EXTENSION_GAP_S)
-    gap, at, joints = _extension_gap(motion, cut)
+    longest = longest_gap(motion, cut)
+    long_gap = longest if longest is not None and longest.length > extension_gap else None
+    at_the_peak = gap_at_the_peak(motion, cut, extension_gap)
+    peak_confidence = "low" if long_gap is not None or at_the_peak is not None else "high"
     identifier = _unique_id(f"{path.stem}_t{number}", used_ids)
     meta: dict[str, Any] = {
         "subject": _subject(path, row),
@@ -1134,6 +1130,7 @@ def _throw(
         "native_rate_hz": native_rate,
         "largest_gap": largest_gap,
         "release_confidence": release.confidence,
+        "peak_confidence": peak_confidence,
     }
     if np.isfinite(landed):
         meta["landing"] = landed
@@ -1152,18 +1149,20 @@ def _throw(
     else:
         grid = native
     peak = float(series["velocity"].max())
-    if gap > extension_gap:
+    if long_gap is not None:
         report.warnings.append(
-            f"{path}: throw {number}: its extension has a {gap:.2f} s gap in {joints} samples at "
-            f"t={at - origin:.2f} s (they are {usual:.3g} s apart elsewhere: a tracker frozen or lost there): its speed "
-            f"across it is bridged from the angles on either side, not measured (peak {peak:.3g} rad/s); check "
-            "the throw before fitting on it")
+            f"{path}: throw {number}: its extension has a {long_gap.length:.2f} s gap in {long_gap.joints} samples at "
+            f"t={long_gap.start - origin:.2f} s (they are {usual:.3g} s apart elsewhere: a tracker frozen or lost "
+            f"there): its speed across it is bridged from the angles on either side, not measured (peak {peak:.3g} "
+            "rad/s); check the throw before fitting on it")
+    if at_the_peak is not None:
+        report.warnings.append(_peak_gap_warning(path, number, at_the_peak, origin, tracked_spacing(motion), peak))
     report.throws.append(
         ThrowInfo(
             identifier, float(native[0] - origin), float(native[-1] - origin), float(release.time - origin),
             peak, (float(series["angle"].min()), float(series["angle"].max())), float(distance),
             source_of_distance, float(landed) if np.isfinite(landed) else None,
-            native_rate, largest_gap, release.confidence,
+            native_rate, largest_gap, release.confidence, peak_confidence,
         )
     )
     data = {"time": grid - grid[0], **series, "distance": np.full(grid.size, float(distance))}
