@@ -97,3 +97,73 @@ def test_lost_tracking_is_shaded_and_what_the_import_says_is_said(rlff, msr_dir,
     # why no throw was found, under the axes
     assert saved.figure.get_supxlabel().startswith("import: no throw found (user 1, left arm); the best candidate")
     assert saved.warnings == tuple(report.files[0].warnings)
+
+
+def test_frames_dropped_at_the_end_of_a_real_recording_are_shaded(rlff, msr_dir, tmp_path):
+    # a20_s02_e01 loses its thrower for its last 32 frames (2.13 s at 15 Hz): the note counted them,
+    # and the figure ended at the last tracked sample as if the recording did
+    recording = msr_dir / "a20_s02_e01_skeleton3D.txt"
+    result = rlff("plot", "cuts", str(recording), "--format", "msr", "-o", str(tmp_path / "cuts"))
+    assert result.code == 0, result.stderr
+    assert "a20_s02_e01_skeleton3D.txt: dropped 32 frames with all arm joints at zero (tracking lost)" in result.stderr
+
+    from rlff.capture import import_recordings
+    from rlff.plots.capture import LOST_COLOUR, throw_cuts
+
+    _, report = import_recordings([recording], "msr")
+    file = report.files[0]
+    last = float(file.motion.time[-1] - file.motion.time[0])  # 23 frames tracked from frame 0
+    assert last == pytest.approx(23 / 15)
+    (axes,) = throw_cuts(file, tmp_path / "again").figure.axes
+    (lost,) = [patch for patch in axes.patches if patch.get_label() == "tracking lost"]
+    assert to_hex(lost.get_facecolor()) == to_hex(LOST_COLOUR)
+    assert (lost.get_x(), lost.get_width()) == pytest.approx((last, 32 / 15))
+    assert axes.get_xlim()[1] == pytest.approx(55 / 15)  # the recording's last frame
+    assert axes.get_title().endswith("tracking lost 1 time for 2.13 s (grey)")
+    assert "frames_span" not in report.to_dict()["files"][0]  # the JSON report is unchanged
+
+
+def test_frames_dropped_at_the_start_are_shaded_before_the_first_tracked_sample(msr_dir, tmp_path):
+    # the tracker finds the thrower 0.6 s into the file and loses them 0.33 s before its end: the
+    # report's times stay from the first tracked sample, and the stretch before it is drawn at
+    # negative times
+    from rlff.capture import import_recordings
+    from rlff.plots.capture import throw_cuts
+
+    lines = (msr_dir / "a06_s01_e03_skeleton3D.txt").read_text().splitlines()
+    count = len(lines) // 20
+    arm_lines = (0, 7, 9, 11, 1, 8, 10, 12)  # both arms' shoulder, elbow, wrist, hand
+    for frame in [*range(9), *range(count - 5, count)]:
+        for line in arm_lines:
+            lines[frame * 20 + line] = "0 0 0 0"
+    late = tmp_path / "late.txt"
+    late.write_text("\n".join(lines) + "\n")
+    _, report = import_recordings([late], "msr")
+    file = report.files[0]
+    assert file.clock_origin == pytest.approx(9 / 15) and len(file.throws) == 1
+    (axes,) = throw_cuts(file, tmp_path / "cuts").figure.axes
+    lost = sorted((patch.get_x(), patch.get_width()) for patch in axes.patches if patch.get_hatch() == "//")
+    tracked = (count - 1 - 5 - 9) / 15  # first to last tracked frame
+    assert np.allclose(lost, [(-9 / 15, 9 / 15), (tracked, 5 / 15)])
+    assert axes.get_xlim() == pytest.approx((-9 / 15, tracked + 5 / 15))
+    assert axes.get_title().endswith("tracking lost 2 times for 0.93 s (grey)")
+    (kept,) = [patch for patch in axes.patches if patch.get_label() == "throw kept"]
+    assert kept.get_x() == pytest.approx(file.throws[0].start)  # the throws' times are the report's
+
+
+def test_blank_rows_at_the_end_of_a_csv_are_shaded(tmp_path):
+    # a CSV whose last rows the exporter left blank (no joint tracked): the arm's tracks end before
+    # the file does, and the figure says where
+    import thinned as th
+    from rlff.capture import import_recordings
+    from rlff.plots.capture import throw_cuts
+
+    frames, time, _ = th.session(5, rate=30.0)
+    frames[-30:] = np.nan
+    path = th.write_joint_csv(tmp_path / "blank_end.csv", frames, time)
+    _, report = import_recordings([path], "csv", up="y")
+    file = report.files[0]
+    (axes,) = throw_cuts(file, tmp_path / "cuts").figure.axes
+    (lost,) = [patch for patch in axes.patches if patch.get_label() == "tracking lost"]
+    end = float(time[-31] - file.clock_origin)
+    assert (lost.get_x(), lost.get_width()) == pytest.approx((end, 30 / 30), abs=1e-9)

@@ -157,8 +157,9 @@ class FileReport:
     or a warning for throws no manifest row names (rule ``manifest``).
     ``trajectories`` counts the trajectories taken from the file: its ``throws``, or a thesis
     matrix's rows (which carry no cut to report). ``motion`` is the arm the throws were cut from
-    (:func:`arm_motion`; None for a thesis matrix), for figures; :meth:`ImportReport.to_dict`
-    leaves it out.
+    (:func:`arm_motion`; None for a thesis matrix), for figures, and ``frames_span`` the time (s,
+    the recording's clock) of the file's first and last frame, tracked or not
+    (:attr:`Recording.frames_span`); :meth:`ImportReport.to_dict` leaves both out.
     """
 
     source: str
@@ -174,11 +175,28 @@ class FileReport:
     motion: ArmMotion | None = field(default=None, repr=False, compare=False)
     #: The frame rate (Hz) its time was made from when the file has no time stamps, else None.
     assumed_rate: float | None = None
+    frames_span: tuple[float, float] | None = field(default=None, repr=False, compare=False)
 
     @property
     def estimated_distances(self) -> int:
         """Its throws whose distance is a landing estimate (no manifest row, no distance in the file name)."""
         return sum(throw.distance_source.startswith("landing estimate") for throw in self.throws)
+
+    def untracked_spans(self) -> list[tuple[float, float]]:
+        """(from, to) times (s, the recording's clock) of every stretch where the arm was not tracked:
+        between the runs of its ``motion`` (lost tracking, :meth:`ArmMotion.lost_spans`) and, where
+        the file's frames go on before its first tracked sample or after its last (frames dropped
+        with all arm joints at zero, a joint blank), from the file's first frame and to its last."""
+        if self.motion is None:
+            return []
+        spans = self.motion.lost_spans()
+        runs = self.motion.runs()
+        if self.frames_span is None or not runs:
+            return spans
+        first, last = float(self.motion.time[runs[0].start]), float(self.motion.time[runs[-1].stop - 1])
+        before = [(self.frames_span[0], first)] if self.frames_span[0] < first else []
+        after = [(last, self.frames_span[1])] if self.frames_span[1] > last else []
+        return before + spans + after
 
     def reject(self, rejection: Rejection, label: str, noted: bool = True) -> None:
         """Record a candidate not taken (``rejection.time`` on the recording's clock) with a note
@@ -226,8 +244,8 @@ class ImportReport:
             "joints": self.joints,
             "notes": self.general,
             "warnings": self.general_warnings,
-            "files": [{key: value for key, value in asdict(replace(report, motion=None)).items() if key != "motion"}
-                      for report in self.files],
+            "files": [{key: value for key, value in asdict(replace(report, motion=None)).items()
+                       if key not in ("motion", "frames_span")} for report in self.files],
         }
 
 
@@ -751,7 +769,7 @@ def _import_recording(
     report = FileReport(str(path), kind, notes=list(recording.notes), warnings=list(recording.warnings),
                         assumed_rate=recording.assumed_rate)
     motion, arms, arm_notes, arm_warnings = arm_motion(recording, arm, user)
-    report.motion = motion
+    report.motion, report.frames_span = motion, recording.frames_span
     report.notes.extend(arm_notes)
     report.warnings.extend(arm_warnings)
     report.arm, report.user = motion.arm.side, motion.arm.user

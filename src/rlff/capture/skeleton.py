@@ -126,6 +126,10 @@ class Recording:
     assumed_rate : float, optional
         The frame rate (Hz) the time was made from, for a file without time stamps (Kinect and
         MSR text, a CSV without a time column); None when the samples carry their own time.
+    frames_span : (float, float), optional
+        Time (s) of the file's first and last frame, tracked or not (a frame whose arm joints are
+        all zero is dropped from the tracks but not from the span), for text and CSV; None for a
+        bag, whose tf stream has no frame where the tracker lost the user.
     """
 
     source: str
@@ -134,6 +138,7 @@ class Recording:
     notes: list[str] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
     assumed_rate: float | None = None
+    frames_span: tuple[float, float] | None = None
 
     def users(self) -> list[str]:
         """User ids in order of first appearance."""

@@ -163,6 +163,11 @@ def _forward_rows(
     return order[~repeat]
 
 
+def _span(time: np.ndarray) -> tuple[float, float] | None:
+    """(first, last) of a file's frame times (N,) (s), before any frame is dropped; None without frames."""
+    return (float(time[0]), float(time[-1])) if len(time) else None
+
+
 def _clean_frames(
     frames: np.ndarray, time: np.ndarray, arm_joints: list[int], notes: list[str], path: Path,
     read_joints: list[int] | None = None,
@@ -302,9 +307,10 @@ def read_kinect_text(path: str | Path, rate_hz: float | None = None) -> Recordin
     values = values[_forward_rows(values[:, 0], lambda row: int(lines[row]), "frame number", notes, path)]
     frames = values[:, 1:].reshape(-1, 20, 3)
     arm_joints = [i for indices in KINECT_ARMS.values() for i in indices]
+    span = _span(values[:, 0] / rate)
     frames, time = _clean_frames(frames, values[:, 0] / rate, arm_joints, notes, path, [*arm_joints, *KINECT_TORSO])
     return Recording(str(path), _arms(frames, time, KINECT_ARMS, KINECT_TORSO), KINECT_UP, notes,
-                     assumed_rate=rate)
+                     assumed_rate=rate, frames_span=span)
 
 
 def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
@@ -335,8 +341,11 @@ def read_msr_text(path: str | Path, rate_hz: float | None = None) -> Recording:
     frames = values[:, :3].reshape(-1, 20, 3)
     notes: list[str] = []
     arm_joints = [i for indices in MSR_ARMS.values() for i in indices]
-    frames, time = _clean_frames(frames, np.arange(len(frames)) / rate, arm_joints, notes, path, [*arm_joints, *MSR_TORSO])
-    return Recording(str(path), _arms(frames, time, MSR_ARMS, MSR_TORSO), KINECT_UP, notes, assumed_rate=rate)
+    time = np.arange(len(frames)) / rate
+    span = _span(time)
+    frames, time = _clean_frames(frames, time, arm_joints, notes, path, [*arm_joints, *MSR_TORSO])
+    return Recording(str(path), _arms(frames, time, MSR_ARMS, MSR_TORSO), KINECT_UP, notes, assumed_rate=rate,
+                     frames_span=span)
 
 
 def read_joint_csv(
@@ -488,6 +497,7 @@ def read_joint_csv(
         axis=1,
     )[keep]
     time = time[keep]
+    span = _span(time)
     frames, time = _clean_frames(frames, time, arm_slots, notes, path, list(range(len(slots))))
     neck, hip = (
         (_track(point, time, frames[:, slots.index((point, point)), :]) for point in CSV_TORSO)
@@ -501,7 +511,7 @@ def read_joint_csv(
         }
         arms.append(ArmTrack("1", side, tracks["shoulder"], tracks["elbow"], tracks["hand"], tracks.get("wrist"), neck, hip))
     assumed = None if time_column is not None else (KINECT_RATE_HZ if rate is None else rate)
-    return Recording(str(path), arms, axis_vector(up), notes, warnings, assumed_rate=assumed)
+    return Recording(str(path), arms, axis_vector(up), notes, warnings, assumed_rate=assumed, frames_span=span)
 
 
 def _check_time_unit(time: np.ndarray, name: str, path: Path) -> None:

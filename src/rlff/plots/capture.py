@@ -27,9 +27,11 @@ def throw_cuts(report: FileReport, out: str | Path) -> SavedFigure:
     report : FileReport
         The import's account of one recording (``import_recordings(...)[1].files``): its
         ``motion``, the arm whose throws were cut, drawn on the recording's clock from its first
-        sample (s), each stretch without tracking between its runs shaded grey (and counted in
-        the title); each throw from its start to its end with its release (a dashed line) and id;
-        each candidate not taken at its time with its rule. The import's warnings (why no throw
+        tracked sample (s), each stretch without tracking shaded grey (and counted in the title):
+        between its runs, and before its first tracked sample (at negative times) or after its
+        last where the file's frames go on (:meth:`FileReport.untracked_spans`); each throw from
+        its start to its end with its release (a dashed line) and id; each candidate not taken at
+        its time with its rule. The import's warnings (why no throw
         was found, ...) are written under the axes, and are the figure's ``warnings``.
     out : path
         File stem of the PNG and SVG.
@@ -42,17 +44,18 @@ def throw_cuts(report: FileReport, out: str | Path) -> SavedFigure:
     motion = report.motion
     if motion is None:
         raise InputError(f"{report.source}: a thesis matrix holds throws already cut: there is no recording to show")
-    time = motion.time - motion.time[0]
+    origin = float(motion.time[0])
+    time = motion.time - origin
+    lost = [(begin - origin, end - origin) for begin, end in report.untracked_spans()]
+    first, last = min([0.0, *(begin for begin, _ in lost)]), max([float(time[-1]), *(end for _, end in lost)])
     with figure_style():
-        figure = new_figure(max(7.0, min(16.0, 2.0 + 0.6 * float(time[-1]))), 4.2)
+        figure = new_figure(max(7.0, min(16.0, 2.0 + 0.6 * (last - first))), 4.2)
         axes = figure.add_subplot()
         for number, run in enumerate(motion.runs()):
             axes.plot(time[run], motion.angle[run], ".-", color="0.25", markersize=3, linewidth=1,
                       label="elbow angle" if number == 0 else None)
-        lost = motion.lost_spans()
         for number, (begin, end) in enumerate(lost):
-            origin = float(motion.time[0])
-            axes.axvspan(begin - origin, end - origin, color=LOST_COLOUR, alpha=0.3, linewidth=0, hatch="//",
+            axes.axvspan(begin, end, color=LOST_COLOUR, alpha=0.3, linewidth=0, hatch="//",
                          label="tracking lost" if number == 0 else None)
         for number, throw in enumerate(report.throws):
             axes.axvspan(throw.start, throw.end, color=THROW_COLOUR, alpha=0.18, linewidth=0,
@@ -67,9 +70,9 @@ def throw_cuts(report: FileReport, out: str | Path) -> SavedFigure:
             axes.annotate(rejection.rule, (rejection.time, 0.0), xycoords=("data", "axes fraction"),
                           xytext=(2, 2), textcoords="offset points", rotation=90, va="bottom",
                           fontsize=8, color=REJECTED_COLOUR)
-        axes.set_xlim(0.0, max(float(time[-1]), 1e-3))
+        axes.set_xlim(first, max(last, first + 1e-3))
         axes.set_ylim(0.0, max(np.pi, float(np.nanmax(motion.angle)) + 0.1))
-        axes.set_xlabel("time from the recording's first sample (s)")
+        axes.set_xlabel("time from the recording's first tracked sample (s)")
         axes.set_ylabel("elbow angle (rad, π straight)")
         side = f"{motion.arm.side} arm, user {motion.arm.user}"
         gaps = f"; tracking lost {plural(len(lost), 'time')} for {sum(b - a for a, b in lost):.2f} s (grey)" if lost else ""
