@@ -359,3 +359,84 @@ def test_hit_or_miss_against_the_manifest_basket(tmp_path, lz4_bag):
     assert [t.meta["hit"] for t in dataset[:2]] == [True, False]
     assert [t.meta["distance_source"] for t in dataset] == ["manifest", "manifest", "file name"]
     assert dataset[2].meta["target"] == 2.5
+
+
+class Republished:
+    """A tracker node that publishes its last skeleton on every tick of a timer ``times`` times faster
+    than the camera: each skeleton's transforms again, with new stamps (or, with ``same_stamp``,
+    the same message again)."""
+
+    def __init__(self, simulation: bf.Simulation, times: int, same_stamp: bool = False):
+        self.simulation, self.times, self.same_stamp = simulation, times, same_stamp
+        self.t0 = simulation.t0
+
+    def frames(self):
+        tick = 1.0 / (self.times * self.simulation.rate_hz)
+        for t, users in self.simulation.frames():
+            for k in range(self.times):
+                yield (t if self.same_stamp else t + k * tick), users
+
+
+@pytest.mark.parametrize("ros", [1, 2])
+def test_a_tracker_that_publishes_each_skeleton_twice_reads_as_the_skeletons_at_their_own_rate(tmp_path, ros):
+    # the text readers' rule for 30 Hz streams of 15 Hz skeletons did not reach bags: the repeats
+    # stayed, the angle stood still on every other sample and the throws were read at 30 Hz
+    simulation = bf.standard_simulation(seed=5, n_throws=3, rate_hz=15.0)
+    suffix = ".bag" if ros == 1 else ""
+    write = bf.write_ros1_bag if ros == 1 else bf.write_ros2_bag
+    own = write(tmp_path / f"own{suffix}", simulation)
+    doubled = write(tmp_path / f"doubled{suffix}", Republished(simulation, 2))
+    reference, reference_report = import_recordings([own])
+    dataset, report = import_recordings([doubled])
+    assert report.files[0].motion.rate_hz == pytest.approx(15.0)
+    assert np.array_equal(report.files[0].motion.time, reference_report.files[0].motion.time)
+    assert len(dataset) == len(reference) == 3
+    for ours, theirs in zip(dataset, reference, strict=True):
+        assert ours.meta["native_rate_hz"] == pytest.approx(15.0)
+        assert np.array_equal(ours["angle"], theirs["angle"]) and np.array_equal(ours["velocity"], theirs["velocity"])
+    (note,) = [note for note in report.notes if note.startswith(f"doubled{suffix}: user 1: ")]
+    assert note.endswith(" skeletons repeat the one before in every joint, in motion too, with new stamps: the tracker "
+                         "gives each skeleton 2 times (30 Hz of 15 Hz skeletons); the repeats left out, the skeletons "
+                         "read at their own rate")
+    assert not any("repeat the one before" in note for note in reference_report.notes)
+
+
+def test_a_skeleton_published_again_with_the_same_stamp_is_read_once(tmp_path):
+    # the other way a bag repeats a skeleton: the same transforms again under the same stamp
+    simulation = bf.standard_simulation(seed=5, n_throws=3, rate_hz=15.0)
+    own = bf.write_ros1_bag(tmp_path / "own.bag", simulation)
+    again = bf.write_ros1_bag(tmp_path / "again.bag", Republished(simulation, 2, same_stamp=True))
+    reference, _ = import_recordings([own])
+    dataset, report = import_recordings([again])
+    assert any(note.startswith("again.bag: frame right_elbow_1: dropped ") and note.endswith(
+        " transforms repeating a time stamp") for note in report.notes), report.notes
+    assert not any("repeat the one before" in note for note in report.notes)
+    for ours, theirs in zip(dataset, reference, strict=True):
+        assert np.array_equal(ours["angle"], theirs["angle"])
+
+
+def test_joints_stamped_microseconds_apart_are_gathered_into_skeletons():
+    # openni_tracker stamps each joint's transform as it sends it: a skeleton's stamps differ by
+    # microseconds, and a joint the tracker dropped leaves its row without it
+    from rlff.capture.repeated_frames import repeated_track_samples
+    from rlff.capture.skeleton_text import FROZEN_ENTRY_SPEED
+
+    simulation = bf.standard_simulation(seed=6, n_throws=2, rate_hz=15.0, second_user=False)
+    skeletons = list(simulation.frames())
+    joints = sorted({joint for _, users in skeletons for joint in users["1"]})
+    times = {joint: [] for joint in joints}
+    positions = {joint: [] for joint in joints}
+    for t, users in skeletons:
+        for copy in range(2):  # each skeleton again 1/30 s later, with new stamps
+            for offset, joint in enumerate(joints):
+                if joint in users["1"]:
+                    times[joint].append(t + copy / 30.0 + 40e-6 * offset)
+                    positions[joint].append(users["1"][joint])
+    found = repeated_track_samples([np.array(times[j]) for j in joints], [np.array(positions[j]) for j in joints],
+                                   FROZEN_ENTRY_SPEED)
+    assert found is not None
+    keep, rows, kept_rows, count = found
+    assert count == 2 and rows.size == 2 * len(skeletons) and kept_rows.sum() == len(skeletons)
+    for joint, kept in zip(joints, keep, strict=True):  # each joint keeps its first copy of each skeleton
+        assert np.all(np.rint(np.array(times[joint])[kept] * 30.0) % 2 == 0), joint
+        assert kept.sum() == len(times[joint]) // 2

@@ -25,8 +25,11 @@ from pathlib import Path
 
 import numpy as np
 
+from rlff.capture.angles import median_spacing
 from rlff.capture.bag_stream import MissingTopic, open_stream
+from rlff.capture.repeated_frames import repeated_track_samples
 from rlff.capture.skeleton import ArmTrack, JointTrack, Recording
+from rlff.capture.skeleton_text import FROZEN_ENTRY_SPEED
 from rlff.capture.tf_decode import TfCollector
 from rlff.errors import InputError
 
@@ -196,15 +199,15 @@ def _arm_tracks(
     notes: list[str],
 ) -> list[ArmTrack]:
     """Arm tracks for every (user, side) with all three frames, in user order, each with the
-    user's torso from the frames named ``torso`` (:func:`torso_stems`) when the bag has them."""
-    users = sorted(
-        {m.group(1) for name in collected if (m := re.search(r"(\d*)$", name.lstrip("/")))},
-        key=lambda user: (len(user), user),
-    )
+    user's torso from the frames named ``torso`` (:func:`torso_stems`) when the bag has them; a
+    user whose tracker gave each skeleton several times keeps each once (:func:`_skeletons_once`)."""
+    users = sorted({_user_of(name) for name in collected}, key=lambda user: (len(user), user))
     arms = []
-    by_name = {name.lstrip("/"): value for name, value in collected.items()}
+    by_name = {name.lstrip("/"): (parent, _joint_track(name.lstrip("/"), time, position, notes, path))
+               for name, (parent, time, position) in collected.items()}
     for user in users:
-        neck, hip = _torso(path, by_name, torso, user, notes) if torso is not None else (None, None)
+        _skeletons_once(path, user, by_name, notes)
+        neck, hip = _torso(by_name, torso, user) if torso is not None else (None, None)
         for side, stems in sides.items():
             frame_names = [stem + user for stem in stems]
             missing = [name for name in frame_names if name not in by_name]
@@ -218,7 +221,7 @@ def _arm_tracks(
                     f"{path}: frames {', '.join(frame_names)} are relative to different parent frames "
                     f"({', '.join(sorted(parents))}); they need one common parent"
                 )
-            joints = [_joint_track(name, *by_name[name][1:], notes, path) for name in frame_names]
+            joints = [by_name[name][1] for name in frame_names]
             if neck is not None and by_name[neck.name][0] != by_name[frame_names[0]][0]:
                 notes.append(f"{path.name}: user {user or '1'}: torso frames relative to another parent, not used")
                 arms.append(ArmTrack(user or "1", side, *joints))
@@ -227,26 +230,47 @@ def _arm_tracks(
     return arms
 
 
+def _user_of(name: str) -> str:
+    """The tracker's user number a frame name ends with (``right_elbow_1``: ``1``; empty without one)."""
+    return re.search(r"(\d*)$", name.lstrip("/")).group(1)
+
+
+def _skeletons_once(path: Path, user: str, by_name: dict[str, tuple[str, JointTrack]], notes: list[str]) -> None:
+    """Leave out, in place, the repeats of a tracker that gave each of ``user``'s skeletons several
+    times with new stamps (a node publishing its last skeleton on a timer faster than the camera),
+    as the text readers do (:func:`~rlff.capture.repeated_frames.repeated_track_samples`), with a note."""
+    names = [name for name in by_name if _user_of(name) == user]
+    tracks = [by_name[name][1] for name in names]
+    found = repeated_track_samples([t.time for t in tracks], [t.position for t in tracks], FROZEN_ENTRY_SPEED)
+    if found is None:
+        return
+    keep, rows, kept_rows, times = found
+    for name, track, kept in zip(names, tracks, keep, strict=True):
+        by_name[name] = (by_name[name][0], JointTrack(track.name, track.time[kept], track.position[kept]))
+    notes.append(f"{path.name}: user {user or '1'}: {int((~kept_rows).sum())} of {rows.size} skeletons repeat the one "
+                 f"before in every joint, in motion too, with new stamps: the tracker gives each skeleton {times} times "
+                 f"({1 / median_spacing(rows):.3g} Hz of {1 / median_spacing(rows[kept_rows]):.3g} Hz skeletons); the "
+                 "repeats left out, the skeletons read at their own rate")
+
+
 def _torso(
-    path: Path, by_name: dict[str, tuple[str, np.ndarray, np.ndarray]], stems: tuple[str, ...], user: str,
-    notes: list[str],
+    by_name: dict[str, tuple[str, JointTrack]], stems: tuple[str, ...], user: str,
 ) -> tuple[JointTrack | None, JointTrack | None]:
     """The user's neck and hip centre tracks from the frames ``stems`` + ``user`` (None, None
     without a neck or anything below it)."""
     neck_name, left_name, right_name, torso_name = (stem + user for stem in stems)
     if neck_name not in by_name:
         return None, None
-    neck = _joint_track(neck_name, *by_name[neck_name][1:], notes, path)
+    neck = by_name[neck_name][1]
     if left_name in by_name and right_name in by_name and by_name[left_name][0] == by_name[right_name][0]:
-        left = _joint_track(left_name, *by_name[left_name][1:], notes, path)
-        right = _joint_track(right_name, *by_name[right_name][1:], notes, path)
+        left, right = by_name[left_name][1], by_name[right_name][1]
         inside = (left.time >= right.time[0]) & (left.time <= right.time[-1])
         if inside.sum() >= 2:
             stamps = left.time[inside]
             other = np.column_stack([np.interp(stamps, right.time, right.position[:, k]) for k in range(3)])
             return neck, JointTrack(f"hip centre {user}", stamps, 0.5 * (left.position[inside] + other))
     if torso_name in by_name:
-        return neck, _joint_track(torso_name, *by_name[torso_name][1:], notes, path)
+        return neck, by_name[torso_name][1]
     return None, None
 
 

@@ -12,9 +12,17 @@ at rest), every repeat is left out and the skeletons keep their own rate, their 
 A joint that freezes now and then (a few stretches, a small share of the rows) is the frozen
 tracker's, and a noise-free still whose rows repeat (a simulation at rest) repeats only at rest:
 neither is taken for a repeating stream.
+
+A ROS bag carries the same stream when the tracker node publishes its last skeleton on every
+tick of a timer faster than the camera (each joint's transform again, with a new stamp): the
+joints come one transform each, so :func:`repeated_track_samples` first gathers them into rows
+by their stamps. A transform re-published with the same stamp is another matter, dropped by the
+bag reader as a repeated stamp.
 """
 
 from __future__ import annotations
+
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -70,3 +78,52 @@ def repeated_skeletons(frames: np.ndarray, time: np.ndarray, moving_speed: float
         copies = np.arange(start, stop)  # the skeleton of row start - 1, given again
         keep[copies[(copies - start + 1) % times == 0]] = True  # a still keeps the skeletons' rate
     return keep, times
+
+
+def repeated_track_samples(
+    times: Sequence[np.ndarray], positions: Sequence[np.ndarray], moving_speed: float,
+) -> tuple[list[np.ndarray], np.ndarray, np.ndarray, int] | None:
+    """:func:`repeated_skeletons` for joints stamped one by one (a tf stream: a frame per joint).
+
+    The joints' samples are gathered into rows by their stamps: a row holds the stamps within a
+    quarter of the usual spacing of the joint sampled most (a tracker stamps a skeleton's joints
+    together, or microseconds apart), at its first stamp; a joint without a sample in a row (a
+    joint the tracker dropped) is nan there.
+
+    Parameters
+    ----------
+    times : sequence of J arrays of shape (T_j,)
+        Each joint's increasing stamps (s).
+    positions : sequence of J arrays of shape (T_j, 3)
+        Each joint's positions (m).
+    moving_speed : float
+        Speed (m/s) above which a joint moves from one row to the next.
+
+    Returns
+    -------
+    (keep, rows, kept_rows, times) or None
+        ``keep``: per joint, a bool array of shape (T_j,), False for its samples in the rows left
+        out; ``rows`` of shape (N,) the rows' stamps (s), ``kept_rows`` of shape (N,) the rows
+        kept (:func:`repeated_skeletons`), and ``times`` the number of rows each skeleton takes in
+        motion. None when the rows are not a repeating stream.
+    """
+    densest = max(times, key=len)
+    if len(densest) < 3:
+        return None
+    tolerance = 0.25 * float(np.median(np.diff(densest)))
+    stamps = np.concatenate(times)
+    order = np.argsort(stamps, kind="stable")
+    row = np.empty(stamps.size, dtype=int)  # each sample's row, in the order of ``stamps``
+    row[order] = np.cumsum(np.r_[True, np.diff(stamps[order]) > tolerance]) - 1
+    starts = np.r_[0, np.cumsum([len(time) for time in times])]
+    row_of = [row[begin:end] for begin, end in zip(starts[:-1], starts[1:], strict=True)]  # per joint (T_j,)
+    rows = np.full(row.max() + 1, np.inf)
+    np.minimum.at(rows, row, stamps)  # a row's stamp: its first
+    frames = np.full((rows.size, len(times), 3), np.nan)
+    for joint, (rows_of_joint, position) in enumerate(zip(row_of, positions, strict=True)):
+        frames[rows_of_joint, joint] = position
+    found = repeated_skeletons(frames, rows, moving_speed)
+    if found is None:
+        return None
+    keep_rows, count = found
+    return [keep_rows[rows_of_joint] for rows_of_joint in row_of], rows, keep_rows, count
