@@ -36,9 +36,10 @@ from rlff.capture.skeleton import JointTrack
 #: than EXTENSION_GAP_S (s), leaves its speed unmeasured there: bridged and warned of (sparse
 #: recordings, 4-10 Hz, have no such gap by being sparse alone).
 EXTENSION_GAP_FACTOR = 3.0
+#: No gap of a throw's extension is warned of unless longer than this (s): a shorter one leaves a
+#: local fit enough samples at any rate (at 30 Hz two lost samples make 0.1 s, and the fits over
+#: 0.25 s keep 5 of 7).
 EXTENSION_GAP_S = 0.1
-#: A shorter gap than EXTENSION_GAP_S leaves a local fit enough samples at any rate: at 30 Hz two
-#: lost samples make 0.1 s, and the fits over 0.25 s keep 5 of 7.
 #: A gap longer than this many of the recording's mean spacings while tracked has lost a sample
 #: (one lost makes 2, a regular copy's uneven rounding to the source's frames 1.5 at most).
 LOST_SAMPLE_FACTOR = 1.75
