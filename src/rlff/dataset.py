@@ -46,16 +46,16 @@ TIME_ORDER_HINT = "the rows of each trajectory must be in time order: sort them 
 #: ``cut_angle`` (rad) is where preprocessing cut a throw at its release; ``start_time`` and
 #: ``end_time`` (s) place an imported throw in its recording; ``measured_share`` is the share of
 #: a trajectory's samples that stand for a measurement (densifying interpolates the rest);
-#: ``distance_source``, ``arm`` and ``release_confidence`` are set by capture.
+#: ``distance_source``, ``arm``, ``release_confidence`` and ``peak_confidence`` are set by capture.
 META_KEYS = (
     "subject", "source", "target", "landing", "hit", "release_angle", "release_time", "glitches",
     "cut_angle", "start_time", "end_time", "measured_share", "native_rate_hz", "largest_gap",
-    "distance_source", "arm", "release_confidence",
+    "distance_source", "arm", "release_confidence", "peak_confidence",
 )
 #: Metadata keys whose values are text: the CSV reader keeps their cells as written, never as a
 #: number, a bool or a missing value (subject ``007`` stays ``"007"``, ``nan`` stays ``"nan"``),
 #: as the trajectory ids. Only an empty cell is no value.
-TEXT_META_KEYS = ("subject", "source", "distance_source", "arm", "release_confidence")
+TEXT_META_KEYS = ("subject", "source", "distance_source", "arm", "release_confidence", "peak_confidence")
 #: Column of the CSV long format that holds the trajectory id.
 ID_COLUMN = "trajectory"
 #: Default column roles of the throwing task.
