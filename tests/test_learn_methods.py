@@ -113,23 +113,64 @@ class Careless(Slower):
         return type(self).proposal(self.mean)
 
 
-def with_nan(mean):
-    velocity = mean.velocity.copy()
-    velocity[5] = np.nan
-    return replace(mean, velocity=velocity)
+def with_value(column: str, sample: int, value: float):
+    """What ``Careless`` proposes: the mean throw with ``column`` at ``sample`` set to ``value``."""
+    def proposal(mean):
+        values = getattr(mean, column).copy()
+        values[sample] = value
+        return replace(mean, **{column: values})
+    return proposal
+
+
+#: The angle grid of the run at 1.4 m of ``demos`` (rad): its first and last angle, as messages print them.
+GRID = r"from 0.7498 to 1.515 rad"
 
 
 @pytest.mark.parametrize(("proposal", "words"), [
     # an AttributeError ('dict' object has no attribute 'path'), then a NaN named by sample alone
     (lambda mean: {"angle": mean.angle, "velocity": mean.velocity},
-     r"^attempt 1: careless's propose returned dict .*: it must return an rlff.learn.Proposal \(angle and velocity"),
-    (with_nan, r"^attempt 1: the throw careless proposed: velocity at sample 5 is nan"),
-    (lambda mean: replace(mean, velocity=mean.velocity[:-3]), r"^attempt 1: the throw careless proposed: angle and "
-                                                             r"velocity must be 1-D of one length"),
+     r"^attempt 1: careless's propose returned dict .*: it must return an rlff.learn.Proposal \(angle and velocity, "
+     r"arrays of shape \(T,\) in rad and rad/s, T = 30: angle is problem.angles\)$"),
+    (with_value("velocity", 5, np.nan), r"^attempt 1: the throw careless proposed: velocity at sample 5 is nan \(1 of "
+                                        r"30 not finite\): every value of a proposal must be a finite number$"),
+    (with_value("angle", 7, np.inf), r"^attempt 1: the throw careless proposed: angle at sample 7 is inf"),
+    # the planner's "angle and velocity must be 1-D of one length", which said nothing of the grid
+    (lambda mean: replace(mean, velocity=mean.velocity[:-3]), r"^attempt 1: the throw careless proposed: velocity "
+                                                             r"of shape \(27,\), where problem.angles, the angle "
+                                                             rf"grid every throw follows, has shape \(30,\), {GRID}"),
+    # the rest were thrown as they came: a swing from the release back to its start, 2.5 m short
+    (lambda mean: replace(mean, angle=mean.angle[::-1].copy(), velocity=mean.velocity[::-1].copy()),
+     r"^attempt 1: the throw careless proposed: angle runs from 1.515 to 0.7498 rad, the grid reversed: "
+     rf"problem.angles runs {GRID}, the release last; give the throw in the grid's order$"),
+    # ... a throw let go where the demonstrations do not
+    (lambda mean: replace(mean, angle=mean.angle[:-10], velocity=mean.velocity[:-10]),
+     r"^attempt 1: the throw careless proposed: angle of shape \(20,\), velocity of shape \(20,\), where "
+     rf"problem.angles, the angle grid every throw follows, has shape \(30,\), {GRID}: give every column a value "
+     r"at each angle of the grid$"),
+    (lambda mean: replace(mean, angle=mean.angle[:, None], velocity=mean.velocity[:, None]),
+     r"^attempt 1: the throw careless proposed: angle of shape \(30, 1\), velocity of shape \(30, 1\), where"),
+    (with_value("angle", 12, 1.2), r"^attempt 1: the throw careless proposed: angle at sample 12 is 1.2 rad, where "
+                                   rf"problem.angles has 1.06646 rad \({GRID}, 30 samples\): give the throw at the "
+                                   r"grid's angles$"),
+    # ... and a shoulder this one-joint run does not drive
+    (lambda mean: replace(mean, arm={"shoulder": np.full(mean.angle.size, 2.5),
+                                     "shoulder_velocity": np.zeros(mean.angle.size)}),
+     r"^attempt 1: the throw careless proposed: its arm holds shoulder, shoulder_velocity; this run's throw drives "
+     r"one joint, the elbow's angle and velocity alone: leave arm empty \(its default\)$"),
 ])
-def test_a_proposal_that_cannot_be_thrown_names_the_method_and_the_attempt(demos, tmp_path, proposal, words):
+def test_a_proposal_off_the_grid_or_that_cannot_be_thrown_is_refused_naming_the_method_and_the_attempt(
+        demos, tmp_path, proposal, words):
     careless = type("Careless", (Careless,), {"proposal": staticmethod(proposal)})
     log = tmp_path / "careless.jsonl"
     with pytest.raises(InputError, match=words):
         learn(demos, 1.4, update=careless, budget=2, log_path=log)
     assert read_log(log)[1].attempts == []
+
+
+def test_a_proposal_on_the_grid_within_its_round_off_is_thrown(demos):
+    # the grid as float32 (about 1e-7 rad off), and a hair beside it: the same throw
+    for shifted in (lambda mean: mean.angle.astype(np.float32),
+                    lambda mean: mean.angle + 1e-4 * (mean.angle[1] - mean.angle[0])):
+        careless = type("Careless", (Careless,), {"proposal": staticmethod(
+            lambda mean, shifted=shifted: replace(mean, angle=shifted(mean)))})
+        assert learn(demos, 1.4, update=careless, budget=1).attempts == 1

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -12,7 +13,7 @@ from rlff.dataset import Dataset, joint_outputs
 from rlff.errors import InputError
 from rlff.learn import learn
 from rlff.learn.log import read_log
-from rlff.learn.method import Problem, Proposal, scale_speed
+from rlff.learn.method import Method, Problem, Proposal, scale_speed
 
 ARM = ("joint_2", "joint_3")
 #: A basket the whole arm reaches from the demonstrations below.
@@ -214,6 +215,51 @@ def test_the_learnable_basket_is_where_learn_stops_refusing_and_headroom_brings_
         arm_reach(mapping, typical, 0.3, headroom=1.0)
     with pytest.raises(InputError, match="a one-joint throw's reach is at its joint's speed limit"):
         learnable_basket(aimed, mapping_for(robot, None), Basket(3.0), headroom=0.1)
+
+
+class Careless(Method):
+    """The demonstrations' mean whole-arm throw for the basket, passed through ``proposal``."""
+
+    name = "careless"
+    proposal = staticmethod(lambda mean: mean)
+
+    def __init__(self, problem):
+        super().__init__(problem)
+        path = problem.demonstrations_model().generate({"distance": problem.target}, problem.angles, exploration=0.0)
+        self.mean = Proposal.of_outputs(path.angle, path.gmr_means, path.output_names, problem.target)
+
+    def propose(self, history):
+        return type(self).proposal(self.mean)
+
+
+@pytest.mark.parametrize(("proposal", "words"), [
+    # an AttributeError ('dict' object has no attribute 'path') from inside the reach check
+    (lambda mean: {"angle": mean.angle, "velocity": mean.velocity, **mean.arm},
+     r"^attempt 1: careless's propose returned dict .*: it must return an rlff.learn.Proposal \(angle and velocity, "
+     r"arrays of shape \(T,\) in rad and rad/s, T = 30: angle is problem.angles; arm: shoulder, shoulder_velocity "
+     r"along the same samples\)$"),
+    (lambda mean: None, r"^attempt 1: careless's propose returned NoneType None: it must return an rlff.learn.Proposal"),
+    # a KeyError: 'shoulder_velocity'
+    (lambda mean: replace(mean, arm={"shoulder": mean.arm["shoulder"]}),
+     r"^attempt 1: the throw careless proposed: its arm holds shoulder; this run's throw drives shoulder, "
+     r"shoulder_velocity besides the elbow \(problem.outputs after velocity\): give arm those, each an array along "
+     r"problem.angles$"),
+    # thrown, the wrist this run does not drive left out without a word
+    (lambda mean: replace(mean, arm={**mean.arm, "wrist": np.zeros(mean.angle.size),
+                                     "wrist_velocity": np.zeros(mean.angle.size)}),
+     r"^attempt 1: the throw careless proposed: its arm holds shoulder, shoulder_velocity, wrist, wrist_velocity; "
+     r"this run's throw drives shoulder, shoulder_velocity besides the elbow"),
+    (lambda mean: replace(mean, arm={**mean.arm, "shoulder": mean.arm["shoulder"][:-2]}),
+     r"^attempt 1: the throw careless proposed: shoulder of shape \(28,\), where problem.angles, the angle grid every "
+     r"throw follows, has shape \(30,\)"),
+])
+def test_a_whole_arm_proposal_that_is_none_or_off_the_grid_is_refused_before_the_log_opens(
+        aimed, robot, tmp_path, proposal, words):
+    careless = type("Careless", (Careless,), {"proposal": staticmethod(proposal)})
+    log = tmp_path / "careless.jsonl"
+    with pytest.raises(InputError, match=words):
+        learn(aimed, BASKET, update=careless, budget=1, joints=ARM, robot=robot, log_path=log)
+    assert not log.exists()  # the reach check's first throw is refused, before anything is thrown
 
 
 @pytest.mark.slow

@@ -56,7 +56,8 @@ from rlff.learn.demos import (
     usable_demos,
 )
 from rlff.learn.log import AttemptLog, robot_record
-from rlff.learn.method import FEEDBACKS, Method, Problem, Proposal
+from rlff.learn.method import FEEDBACKS, Method, Problem
+from rlff.learn.proposal_check import proposed, short_repr
 from rlff.learn.reach import (
     aimed_factor,
     arm_reach,
@@ -96,7 +97,7 @@ def method_of(update: str | type[Method]) -> type[Method]:
         return METHODS[update]
     if not (isinstance(update, type) and issubclass(update, Method)):
         raise InputError(f"update must be a method's name ({known}) or a subclass of rlff.learn.Method, "
-                         f"got {_short(update)} ({type(update).__name__})")
+                         f"got {short_repr(update)} ({type(update).__name__})")
     title = update.__qualname__
     if not (isinstance(update.name, str) and update.name.strip()):
         raise InputError(f"method {title} has no name: set its class attribute name (the attempts log and the "
@@ -427,7 +428,10 @@ def learn(
     ------
     InputError
         Unknown method or feedback, a method that needs other feedback, a basket out of the
-        robot's reach, demonstrations beyond the joint limits, or a corrupt or foreign log.
+        robot's reach, demonstrations beyond the joint limits, or a corrupt or foreign log. A
+        method's proposal that is no :class:`~rlff.learn.method.Proposal` or does not follow
+        ``problem.angles`` (:func:`rlff.learn.proposal_check.proposed`), stopping the run at that
+        attempt.
     """
     from rlff.robot import Robot, load_robot, mapping_for
     from rlff.robot.mapping import require_bearing
@@ -531,7 +535,7 @@ def _demonstrations(demos) -> Dataset:
         return read_dataset(demos)
     raise InputError(f"demos must be a Dataset of demonstrations or the path of a file of them (rlff.formats."
                      f"read_dataset reads .csv, .npz, .parquet and the thesis' .txt), got {type(demos).__name__} "
-                     f"{_short(demos)}")
+                     f"{short_repr(demos)}")
 
 
 def _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor, progress,
@@ -578,8 +582,9 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
            and repeated is None):
         method = method or method_class(problem)
         start = clock.perf_counter()
-        proposal = method.propose([_as_reported(a, feedback, centre_window) for a in history])
-        attempt = _execute(proposal, len(history) + 1, target, mapping, executor, start,
+        index = len(history) + 1
+        proposal = proposed(method, problem, [_as_reported(a, feedback, centre_window) for a in history], index)
+        attempt = _execute(proposal, index, target, mapping, executor, start,
                            distance_needed=feedback == "distance", hit_distance_needed=until == "centred",
                            method=update)
         if log:
@@ -657,7 +662,7 @@ def _first_shape(method_class: type[Method], demos: Dataset, mapping, basket, pe
     reached 4.29 m, and the check accepted baskets 0.4 m beyond the run's throws.)"""
     feedback = "binary" if "binary" in method_class.feedbacks else method_class.feedbacks[0]
     problem = _problem(demos, basket, feedback, seed, mapping, pedestal, components, tolerance=hit_tolerance(basket))
-    proposal = method_class(problem).propose([])
+    proposal = proposed(method_class(problem), problem, [], 1)
     path = dict(proposal.path)
     path["velocity"] = forward_velocity(proposal.angle, proposal.velocity)
     return path
@@ -665,15 +670,12 @@ def _first_shape(method_class: type[Method], demos: Dataset, mapping, basket, pe
 
 def _execute(proposal, index: int, target, mapping, executor: Executor, start: float, *,
              distance_needed: bool = False, hit_distance_needed: bool = False, method: str = "the method") -> Attempt:
-    """Map a proposal of ``method`` (its name) to the robot (saturating at its limits), execute
+    """Map a proposal of ``method`` (its name; checked by
+    :func:`rlff.learn.proposal_check.proposed`) to the robot (saturating at its limits), execute
     it, record what it did; its outcome checked by :func:`reported_outcome` (with
-    ``distance_needed`` and ``hit_distance_needed``). A proposal that is none, that cannot be
-    planned (NaN, a ragged path, degrees) or such an outcome: an :class:`InputError` naming
+    ``distance_needed`` and ``hit_distance_needed``). A proposal that cannot be planned
+    (degrees, a path the arm cannot make) or such an outcome: an :class:`InputError` naming
     attempt ``index`` (and ``method``)."""
-    if not isinstance(proposal, Proposal):
-        raise InputError(f"attempt {index}: {method}'s propose returned {type(proposal).__name__} {_short(proposal)}: "
-                         "it must return an rlff.learn.Proposal (angle and velocity, arrays of shape (T,) in rad and "
-                         "rad/s)")
     try:
         path = dict(proposal.path)
         path["velocity"] = forward_velocity(proposal.angle, proposal.velocity)
@@ -733,7 +735,7 @@ def reported_outcome(outcome, basket, *, distance_needed: bool = False,
     """
     fields = ("hit", "landing_x", "miss")
     if not all(hasattr(outcome, name) for name in fields):
-        raise InputError(f"the executor returned {type(outcome).__name__} {_short(outcome)}: it must return an "
+        raise InputError(f"the executor returned {type(outcome).__name__} {short_repr(outcome)}: it must return an "
                          "object with hit (bool), landing_x and miss (m), as rlff.sim.simulate_throw's outcome has")
     hit = outcome.hit
     if not isinstance(hit, bool | np.bool_):
@@ -768,12 +770,6 @@ def _metres(value, name: str) -> float:
         raise InputError(f"the executor's outcome has {name} = {value!r} ({type(value).__name__}): give a "
                          "number in metres (NaN or None where not measured)")
     return float(value)
-
-
-def _short(value) -> str:
-    """``repr(value)`` cut to 60 characters, for an error message."""
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
 
 
 #: Bisection steps of :func:`_plan`'s search for the fastest throw of a shape the arm can make:
