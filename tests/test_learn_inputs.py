@@ -13,6 +13,7 @@ from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn import learn
 from rlff.learn.log import read_log
+from rlff.learn.robot import RobotFailed
 from rlff.sim import Basket, simulate_throw
 
 
@@ -103,6 +104,68 @@ def test_an_executors_outcome_is_checked_before_it_is_learned_from(demos, tmp_pa
     with pytest.raises(InputError, match=words):
         learn(demos, 1.4, budget=3, executor=arm(report), log_path=log)
     assert read_log(log)[1].attempts == []  # nothing of it logged
+
+
+def failing_at(attempt: int, report):
+    """An executor whose throws before ``attempt`` are misses whose landing was not measured
+    (so that the run goes on), and whose throw ``attempt`` reports what ``report`` makes of
+    the simulation's outcome."""
+    thrown = []
+
+    def execute(trajectory):
+        thrown.append(trajectory)
+        if len(thrown) < attempt:
+            return Reported(False, None, None)
+        return report(simulate_throw(trajectory, Basket(1.4)))
+    return execute
+
+
+KEPT = " (the log keeps the attempts before)"
+
+
+@pytest.mark.parametrize(("logged", "attempt"), [(False, 1), (False, 2), (True, 1), (True, 2)])
+def test_an_error_says_the_log_keeps_the_attempts_before_only_where_it_does(demos, tmp_path, logged, attempt):
+    # it had said so of a run without a log, and of a log with nothing in it
+    log = tmp_path / "run.jsonl" if logged else None
+    slip = failing_at(attempt, lambda o: Reported("False", o.landing_x, o.miss))
+    with pytest.raises(InputError) as caught:
+        learn(demos, 1.4, budget=3, executor=slip, log_path=log)
+    message = str(caught.value)
+    assert message.startswith(f"attempt {attempt}: the executor's outcome has hit = 'False' (str): give True or False")
+    assert message.endswith(KEPT) == (logged and attempt > 1)
+    if logged:
+        assert [a.index for a in read_log(log)[1].attempts] == list(range(1, attempt))
+
+
+def test_an_executors_own_error_that_does_not_name_the_attempt_is_left_as_it_says(demos, tmp_path):
+    # rlff learn's closed stdin says where the attempts are itself
+    def closed(outcome):
+        raise InputError("--outcome ask: no answer (stdin is closed); the attempts so far are in the log")
+
+    with pytest.raises(InputError, match=r"^--outcome ask: no answer \(stdin is closed\); the attempts so far are in "
+                                         r"the log$"):
+        learn(demos, 1.4, budget=3, executor=failing_at(2, closed), log_path=tmp_path / "run.jsonl")
+
+
+@pytest.mark.parametrize("logged", [False, True])
+def test_a_vision_systems_landing_that_stops_the_run_says_what_the_log_keeps_where_it_does(demos, tmp_path, logged):
+    from rlff.learn.robot import Landings, measured_outcome
+
+    published = []
+    landings = Landings(published.append, now=lambda: 100.0)
+    (deliver,) = published
+    thrown = []
+
+    def camera(trajectory):  # what the robot executor does with each throw's landing: a miss 1 m long, then NaN
+        thrown.append(trajectory)
+        deliver(99.5, 2.4 if len(thrown) == 1 else math.nan, "")
+        return measured_outcome(landings, len(thrown), 99.0, 1.4, 0.14, timeout=1.0)
+
+    log = tmp_path / "run.jsonl" if logged else None
+    with pytest.raises(RobotFailed) as caught:
+        learn(demos, 1.4, budget=3, executor=camera, log_path=log)
+    words = "attempt 2: /rlff/landing: the landing is not a number (nan): check the vision system's output"
+    assert str(caught.value) == words + (KEPT if logged else "")
 
 
 def test_a_landing_not_measured_may_be_none(demos):

@@ -148,5 +148,6 @@ def test_a_landing_that_is_not_a_number_names_the_attempt_and_what_to_check():
     deliver(99.5, math.nan, "")
     with pytest.raises(RobotFailed) as caught:
         measured_outcome(landings, 4, 99.0, BASKET, WINDOW, timeout=1.0)
+    # what the log keeps the loop says, where it keeps something (tests/test_learn_inputs.py)
     assert str(caught.value) == ("attempt 4: /rlff/landing: the landing is not a number (nan): check the vision "
-                                 "system's output (the log keeps the attempts before)")
+                                 "system's output")

@@ -40,7 +40,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from rlff.dataset import Dataset, joint_outputs, velocity_column
-from rlff.errors import InputError
+from rlff.errors import InputError, RlffError
 from rlff.learn.aim_hint import aim_hint
 from rlff.learn.attempt import Attempt
 from rlff.learn.baselines import BASELINES
@@ -431,7 +431,8 @@ def learn(
         robot's reach, demonstrations beyond the joint limits, or a corrupt or foreign log. A
         method's proposal that is no :class:`~rlff.learn.method.Proposal` or does not follow
         ``problem.angles`` (:func:`rlff.learn.proposal_check.proposed`), stopping the run at that
-        attempt.
+        attempt; an error that stops an attempt and names it ends "(the log keeps the attempts
+        before)" where there is a log and attempts in it.
     """
     from rlff.robot import Robot, load_robot, mapping_for
     from rlff.robot.mapping import require_bearing
@@ -583,10 +584,14 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         method = method or method_class(problem)
         start = clock.perf_counter()
         index = len(history) + 1
-        proposal = proposed(method, problem, [_as_reported(a, feedback, centre_window) for a in history], index)
-        attempt = _execute(proposal, index, target, mapping, executor, start,
-                           distance_needed=feedback == "distance", hit_distance_needed=until == "centred",
-                           method=update)
+        try:
+            proposal = proposed(method, problem, [_as_reported(a, feedback, centre_window) for a in history], index)
+            attempt = _execute(proposal, index, target, mapping, executor, start,
+                               distance_needed=feedback == "distance", hit_distance_needed=until == "centred",
+                               method=update)
+        except RlffError as exc:
+            _tell_what_the_log_keeps(exc, index, log, history)
+            raise
         if log:
             log.append(attempt)
         history.append(attempt)
@@ -616,6 +621,17 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         out_of_reach=bool(out_of_reach),
         repeated=bool(repeated),
     )
+
+
+def _tell_what_the_log_keeps(exc: RlffError, index: int, log: AttemptLog | None, history: Sequence[Attempt]) -> None:
+    """End the message of ``exc``, an error that stopped attempt ``index`` and names it
+    (``attempt 3: ...``: its proposal, its plan, its outcome, or the robot executor's goal or
+    landing), with what the log keeps where that is something: a log, and attempts in it before
+    this one. It had said "(the log keeps the attempts before)" of a run without a log, and at
+    the first attempt of a fresh log. An error of the caller's own that does not name the
+    attempt says what it says (``rlff learn``'s closed stdin speaks of the log itself)."""
+    if log is not None and history and str(exc).startswith(f"attempt {index}: "):
+        exc.args = (f"{exc} (the log keeps the attempts before)",)
 
 
 def _problem(demos: Dataset, target, feedback: str, seed: int, mapping, pedestal: float, components: int, *,
@@ -688,7 +704,7 @@ def _execute(proposal, index: int, target, mapping, executor: Executor, start: f
         hit, landing, miss = reported_outcome(outcome, target, distance_needed=distance_needed,
                                               hit_distance_needed=hit_distance_needed)
     except InputError as exc:
-        raise InputError(f"attempt {index}: {exc} (the log keeps the attempts before)") from None
+        raise InputError(f"attempt {index}: {exc}") from None
     executed = mapping.path_from_robot(points)
     return Attempt(
         index=index,

@@ -243,20 +243,20 @@ def measured_outcome(landings: Landings, attempt: int, release: float, basket: f
     ------
     RobotFailed
         No landing (:meth:`Landings.after`), or one that is not a number or not within
-        :data:`LANDING_RANGE`: one line naming the attempt and what to check.
+        :data:`LANDING_RANGE`: one line naming the attempt and what to check (the loop adds
+        what its log keeps, :func:`rlff.learn.learn`).
     """
     try:
         landing = landings.after(release, timeout, topic)
     except RobotFailed as exc:
-        raise RobotFailed(f"attempt {attempt}: {exc} (the log keeps the attempts before)") from None
+        raise RobotFailed(f"attempt {attempt}: {exc}") from None
     if not math.isfinite(landing):
         raise RobotFailed(f"attempt {attempt}: {topic}: the landing is not a number ({landing}): check the vision "
-                          "system's output (the log keeps the attempts before)")
+                          "system's output")
     try:
         return outcome_of_landing(landing, basket, tolerance, source="topic")
     except InputError as exc:
-        raise RobotFailed(f"attempt {attempt}: {topic}: {exc}; check the vision system's frame and units (the log "
-                          "keeps the attempts before)") from None
+        raise RobotFailed(f"attempt {attempt}: {topic}: {exc}; check the vision system's frame and units") from None
 
 
 class LiveArm(Protocol):
