@@ -262,6 +262,28 @@ def test_a_whole_arm_proposal_that_is_none_or_off_the_grid_is_refused_before_the
     assert not log.exists()  # the reach check's first throw is refused, before anything is thrown
 
 
+def test_the_learnable_basket_takes_what_learn_takes_for_a_method(aimed, robot):
+    from rlff.learn.loop import learnable_basket
+    from rlff.learn.strategies import CalibrateUpdate
+    from rlff.robot import mapping_for
+    from rlff.sim import Basket
+
+    class Mine(CalibrateUpdate):
+        name = "mine"
+
+    mapping = mapping_for(robot, ARM)
+    for headroom in (0.0, 0.1):  # with headroom, the nearer of its reach and imitation's
+        # a method class had been refused as an unknown update
+        assert learnable_basket(aimed, mapping, Basket(3.0), seed=0, headroom=headroom, update=Mine) == (
+            learnable_basket(aimed, mapping, Basket(3.0), seed=0, headroom=headroom))
+    # refused as learn refuses them, for the one-joint throw too (it had taken any name)
+    one_joint = mapping_for(robot, None)
+    with pytest.raises(InputError, match=r"^unknown update 'calibrat' \(known: failure, .*calibrate"):
+        learnable_basket(aimed, one_joint, Basket(2.0), update="calibrat")
+    with pytest.raises(InputError, match=r"^update must be a method's name .* or a subclass of rlff.learn.Method"):
+        learnable_basket(aimed, one_joint, Basket(2.0), update=Mine.propose)
+
+
 @pytest.mark.slow
 def test_the_refit_and_the_calibration_drive_every_joint_by_one_time_scale(aimed, robot):
     from rlff.learn.attempt import Attempt

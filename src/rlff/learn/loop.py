@@ -869,11 +869,12 @@ def _require_reach(robot, basket, pedestal: float, joints: Sequence[str] = ("joi
 
 
 def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, seed: int = 0,
-                     headroom: float = 0.0, update: str = "calibrate") -> float:
+                     headroom: float = 0.0, update: str | type[Method] = "calibrate") -> float:
     """Farthest basket centre (m) of ``basket``'s shape (its rim height and opening) that
     :func:`learn` accepts from ``demos`` through ``mapping`` (see :func:`_require_executable`):
     what the throws of its angle grid reach, or a whole-arm throw's, what the first throw of
-    ``update`` for ``basket``'s distance (with ``seed``) reaches.
+    ``update`` (a method's name or a :class:`Method` subclass, as :func:`learn` takes it:
+    :func:`method_of`) for ``basket``'s distance (with ``seed``) reaches.
 
     ``headroom`` (whole-arm throws): the share of the joints' speed limits kept in reserve, so that
     the basket is reached at ``1 - headroom`` of the fastest throw the arm executes (0.1: at 90 %),
@@ -885,14 +886,14 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
     """
     from rlff.sim.reach import executable_reach, farthest_basket
 
+    method_class = method_of(update)
     demos, _ = usable_demos(demos, mapping, basket.rim_height)
     if drives_whole_arm(mapping):
-        if update not in METHODS:
-            raise InputError(f"unknown update {update!r} (known: {', '.join(METHODS)})")
         components = loop_components(demos, seed, joint_outputs(mapping.human_columns))
-        methods = {update, "imitation"} if headroom else {update}
-        reach = min(arm_reach(mapping, _first_shape(METHODS[name], demos, mapping, basket, pedestal, components, seed),
-                              basket.rim_height, pedestal, headroom=headroom).distance for name in sorted(methods))
+        methods = {method_class, METHODS["imitation"]} if headroom else {method_class}
+        reach = min(arm_reach(mapping, _first_shape(method, demos, mapping, basket, pedestal, components, seed),
+                              basket.rim_height, pedestal, headroom=headroom).distance
+                    for method in sorted(methods, key=lambda method: method.name))
         return farthest_basket(reach, basket.opening)
     if headroom:
         raise InputError("a speed headroom is a choice among the joints of a whole-arm throw; a one-joint "
