@@ -89,13 +89,15 @@ def test_clip_reports_exactly_what_changed(robot):
     angle = np.array([0.0, 1.0, 2.0, 3.0])
     velocity = np.array([1.0, 3.0, 1.0, 1.0])
     traj, report = m.to_robot(angle, velocity, clip=True)
-    assert [(c.point, c.joint, c.quantity, c.before, c.after) for c in report.changes] == [
-        (1, "joint_2", "velocity", 3.0, 2.792),
-        (3, "joint_2", "position", 3.0, 2.71),
-        (3, "joint_2", "velocity", 1.0, 0.0),
+    # a position beyond its limit is held CLIP_CLEARANCE inside it (at rest there), a velocity at its limit
+    assert [(c.point, c.joint, c.quantity, c.before, c.after, c.limit) for c in report.changes] == [
+        (1, "joint_2", "velocity", 3.0, 2.792, 2.792),
+        (3, "joint_2", "position", 3.0, 2.7, 2.71),
+        (3, "joint_2", "velocity", 1.0, 0.0, None),
     ]
     assert report.summary() == "clipped 1 positions and 2 velocities at 2 points"
-    np.testing.assert_allclose(traj.positions[:, 1], [0.0, 1.0, 2.0, 2.71])
+    assert report.changes[1].describe() == "point 3: joint_2 position 3 rad -> 2.7 rad (0.01 rad inside its limit 2.71 rad)"
+    np.testing.assert_allclose(traj.positions[:, 1], [0.0, 1.0, 2.0, 2.7])
     np.testing.assert_allclose(traj.velocities[:, 1], [1.0, 2.792, 1.0, 0.0])
     np.testing.assert_array_equal(traj.time, time_along_path(angle, velocity))  # timing kept
     assert m.to_robot(angle[:3], velocity[:3] * 0.5, clip=True)[1].changes == ()

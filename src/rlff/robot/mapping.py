@@ -156,8 +156,9 @@ class RobotMapping:
             Human time (s); default: from the path, ``time_along_path(angle, velocity)``.
         clip : bool
             Clip positions and velocities into the limits instead of raising; the timing is
-            kept (a clipped joint saturates, as a controller would) and a joint held at a
-            position limit gets velocity 0. A velocity against the direction of the path (a
+            kept (a clipped joint saturates, as a controller would) and a joint beyond a
+            position limit is held just inside it, with velocity 0
+            (:func:`rlff.trajectory.limits.clip_to_limits`). A velocity against the direction of the path (a
             model's dip below 0 at a stop) is set to 0 first (an error without ``clip``).
 
         Returns

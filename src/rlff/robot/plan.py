@@ -87,10 +87,10 @@ def _fault(change, last: int) -> str:
     """One value of a path the robot would not execute as asked, for a message: beyond a limit,
     or a velocity against the path's direction (which the mapping stops: 0, not a limit)."""
     release = " (the release)" if change.point == last else ""
-    if change.quantity == "velocity" and change.after == 0.0 and change.before != 0.0:
+    if change.limit is None:
         return (f"point {change.point}: {change.joint} velocity {change.before:.6g} {change.unit} moves it against the "
                 f"path's direction{release}, which --clip stops (0 {change.unit})")
-    value, limit = apart(change.before, change.after)  # as many digits as tell them apart
+    value, limit = apart(change.before, change.limit)  # as many digits as tell them apart
     return (f"point {change.point}: {change.joint} {change.quantity} {value} {change.unit} beyond the "
             f"limit {limit} {change.unit}{release}")
 

@@ -2,12 +2,14 @@
 
 A point beyond a position or velocity limit is an error unless the caller asks to clip; clipping
 never happens silently: each changed value is listed with its point, joint, quantity and values.
+A position is clipped to :data:`CLIP_CLEARANCE` inside its limit, not onto it: the joint held
+there comes to rest there, and a controller's software limit trips at the limit itself.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Protocol
 
 import numpy as np
@@ -39,7 +41,8 @@ class LimitChange:
     """One value beyond a limit: where it is, what it was and what it is (or would be) clipped to.
 
     ``quantity`` is ``"position"`` (rad) or ``"velocity"`` (rad/s); ``point`` is the index of the
-    trajectory point.
+    trajectory point; ``limit`` the limit the value is beyond, in the same unit (None for a change
+    that no limit asked for: a velocity against the path's direction, stopped).
     """
 
     point: int
@@ -47,15 +50,21 @@ class LimitChange:
     quantity: str
     before: float
     after: float
+    limit: float | None = None
 
     @property
     def unit(self) -> str:
         return "rad" if self.quantity == "position" else "rad/s"
 
     def describe(self) -> str:
-        """One line: ``point 3: joint_2 velocity 3.1 rad/s -> 2.792 rad/s``."""
+        """One line: ``point 3: joint_2 velocity 3.1 rad/s -> 2.792 rad/s``, and for a position
+        clipped inside its limit ``point 9: joint_2 position 2.8 rad -> 2.7 rad (0.01 rad inside
+        its limit 2.71 rad)``."""
         before, after = apart(self.before, self.after)
-        return f"point {self.point}: {self.joint} {self.quantity} {before} {self.unit} -> {after} {self.unit}"
+        line = f"point {self.point}: {self.joint} {self.quantity} {before} {self.unit} -> {after} {self.unit}"
+        if self.limit is None or self.after == self.limit:
+            return line
+        return f"{line} ({abs(self.limit - self.after):.3g} {self.unit} inside its limit {self.limit:g} {self.unit})"
 
 
 @dataclass(frozen=True)
@@ -94,6 +103,13 @@ def _limit_arrays(traj: JointTrajectory, joints: Sequence[JointLimits]) -> tuple
     vmax = np.array([joint.max_velocity for joint in ordered])
     return lower, upper, vmax
 
+
+#: How far inside a position limit (rad) :func:`clip_to_limits` puts a position beyond it. A joint
+#: clipped at a limit is held there, so it comes to rest there; exactly on the limit, a
+#: controller's software limit trips at any overshoot (the simulated servo, brought to rest on
+#: joint_2's limit by a clipped throw, stood 8.5 urad past it at the release), and the arm's
+#: tracking error in a throw is up to 2 mrad in the simulation. 10 mrad: 14 mm at the Comau's reach.
+CLIP_CLEARANCE = 0.01
 
 #: Relative excess over a limit that is rounding, not a request: a path logged in the human's
 #: units and mapped back puts a release clipped at 3.14 rad/s at 3.1400000000000006.
@@ -137,8 +153,9 @@ def limit_changes(traj: JointTrajectory, joints: Sequence[JointLimits]) -> ClipR
     for quantity, before, after in (("position", traj.positions, clipped_q),
                                     ("velocity", traj.velocities, clipped_v)):
         for point, column in zip(*np.nonzero(before != after), strict=True):
+            limit = float(after[point, column])
             changes.append(LimitChange(int(point), traj.joint_names[column], quantity,
-                                       float(before[point, column]), float(after[point, column])))
+                                       float(before[point, column]), limit, limit))
     changes.sort(key=lambda change: (change.point, change.joint, change.quantity))
     return ClipReport(tuple(changes))
 
@@ -160,22 +177,34 @@ def clip_to_limits(
 ) -> tuple[JointTrajectory, ClipReport]:
     """``traj`` with positions and velocities clipped into the limits, and what changed.
 
-    A joint held at a position limit cannot move on: where a position is clipped, its velocity
-    is set to 0 and that change is reported too. Accelerations are kept as they are.
+    A position beyond a limit is clipped to :data:`CLIP_CLEARANCE` inside it (a quarter of the
+    joint's range, if that is less), where the joint is held: its velocity is set to 0 and that
+    change is reported too. A velocity beyond its limit is clipped to the limit. Positions and
+    velocities inside the limits are kept, and so are the accelerations: the result is a path
+    to plan (:func:`rlff.trajectory.planner.plan_throw` keeps its first pose and its release and
+    times the motion between within the limits), not a trajectory to execute as it is (a joint
+    that reaches a clipped point at speed stops dead there, which
+    :func:`rlff.trajectory.check.check_trajectory` refuses).
     """
     report = limit_changes(traj, joints)
     if not report:
         return traj, report
     lower, upper, vmax = _limit_arrays(traj, joints)
-    positions = np.clip(traj.positions, lower, upper)
+    inset = np.minimum(CLIP_CLEARANCE, (upper - lower) / 4)
+    positions = traj.positions.copy()
+    below, above = positions < lower, positions > upper
+    positions[below] = np.broadcast_to(lower + inset, positions.shape)[below]
+    positions[above] = np.broadcast_to(upper - inset, positions.shape)[above]
     velocities = np.clip(traj.velocities, -vmax, vmax)
-    held = positions != traj.positions
+    held = below | above
     velocities[held] = 0.0
-    changes = [change for change in report.changes if change.quantity == "position"]
+    changes = [replace(change, after=float(positions[change.point, traj.joint_names.index(change.joint)]))
+               for change in report.changes if change.quantity == "position"]
     for point, column in zip(*np.nonzero(velocities != traj.velocities), strict=True):
+        limit = None if held[point, column] else float(np.sign(traj.velocities[point, column]) * vmax[column])
         changes.append(LimitChange(int(point), traj.joint_names[column], "velocity",
                                    float(traj.velocities[point, column]),
-                                   float(velocities[point, column])))
+                                   float(velocities[point, column]), limit))
     changes.sort(key=lambda change: (change.point, change.joint, change.quantity))
     clipped = JointTrajectory(traj.joint_names, traj.time, positions, velocities,
                               traj.accelerations)

@@ -1,0 +1,62 @@
+"""``--clip`` of a throw that crosses a position limit at speed, measured in what ``robot export``
+writes and what ``sim throw`` simulates (``robot send``: tests/test_robot_clip_send.py).
+
+The throw (tests/lowarm.py) goes 0.2 rad past joint_2's upper limit at 2 rad/s. Clipped, the
+joint is held at the limit: the planner brings it to rest there within the acceleration and jerk
+limits. It came to rest exactly on the limit before, where a controller's software limit trips,
+and the simulated servo stood 8.5 urad past it at the release.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from lowarm import INSIDE, SPEED, UPPER, low_arm_files
+from rlff.robot import load_robot
+from rlff.robot.export import read_json
+from rlff.trajectory import limits
+from rlff.trajectory.check import check_trajectory
+
+
+@pytest.fixture
+def low_arm(tmp_path):
+    return low_arm_files(tmp_path)
+
+
+def inside_by(robot, margin: float):
+    """``robot``'s joints with every position limit ``margin`` rad further in."""
+    return [replace(joint, lower=joint.lower + margin, upper=joint.upper - margin) for joint in robot.joints]
+
+
+def test_export_brings_a_clipped_joint_to_rest_inside_its_limit(rlff, low_arm, tmp_path):
+    robot_file, throw = low_arm
+    robot = load_robot(robot_file)
+    out = tmp_path / "clipped.json"
+    result = rlff("robot", "export", str(throw), "--robot", str(robot_file), "--clip", "-o", str(out))
+    assert result.code == 0, result.stderr
+    written = read_json(out)
+    joint = written.joint_index("joint_2")
+    q, v, a = (values[:, joint] for values in (written.positions, written.velocities, written.accelerations))
+    # held inside the limit the whole way: at every sample and on the controller's quintic between
+    check_trajectory(written, inside_by(robot, INSIDE))
+    assert UPPER - q.max() == pytest.approx(limits.CLIP_CLEARANCE, abs=1e-9)
+    # at rest there, braked within the limits: no step at the clip point
+    assert q[-1] == pytest.approx(UPPER - limits.CLIP_CLEARANCE, abs=1e-12) and v[-1] == 0 and a[-1] == 0
+    limit = robot.joint("joint_2").max_acceleration
+    assert np.abs(v).max() <= SPEED and np.abs(a).max() <= limit
+    assert np.abs(np.diff(v) / np.diff(written.time)).max() <= limit
+    assert f"clipped: point 27: joint_2 position 1.35 rad -> {UPPER - limits.CLIP_CLEARANCE:g} rad" in result.stderr
+
+
+def test_the_simulated_arm_releases_a_clipped_throw_inside_the_limit(rlff, low_arm):
+    robot_file, throw = low_arm
+    result = rlff("sim", "throw", str(throw), "--robot", str(robot_file), "--clip", "--basket", "1.5", "--json")
+    assert result.code == 0, result.stderr
+    released = json.loads(result.stdout)["release"]["joint_positions"]["joint_2"]
+    assert UPPER - released > INSIDE  # it was 8.5 urad past the limit
+    assert UPPER - released == pytest.approx(limits.CLIP_CLEARANCE, abs=1e-3)  # the servo's own error
+
