@@ -60,3 +60,16 @@ def test_the_simulated_arm_releases_a_clipped_throw_inside_the_limit(rlff, low_a
     assert UPPER - released > INSIDE  # it was 8.5 urad past the limit
     assert UPPER - released == pytest.approx(limits.CLIP_CLEARANCE, abs=1e-3)  # the servo's own error
 
+
+def test_without_clip_the_positions_beyond_the_limit_are_named_not_the_held_velocities(rlff, low_arm, tmp_path):
+    """A held joint's velocity is set to 0 because its position is clipped: no limit of its own. It
+    counted as a fifth value "the robot would not execute", said as one that "moves it against the
+    path's direction", and the held velocities before the release as "velocities beyond a limit"."""
+    robot_file, throw = low_arm
+    result = rlff("robot", "export", str(throw), "--robot", str(robot_file), "-o", str(tmp_path / "o.json"))
+    assert result.code == 2 and not (tmp_path / "o.json").exists()
+    said = " ".join(result.stderr.split())
+    assert ("4 values the robot would not execute as asked: point 27: joint_2 position 1.35 rad beyond the limit "
+            "1.3 rad; point 28: joint_2 position 1.4 rad beyond the limit 1.3 rad; point 29: joint_2 position 1.45 "
+            "rad beyond the limit 1.3 rad (and 1 more); --clip clips them") in said
+    assert "velocit" not in said

@@ -69,14 +69,17 @@ def _require_unclipped(report: ClipReport, last: int) -> None:
     """Without ``clip``: refuse a path beyond a position limit or a release beyond a limit.
 
     Velocities elsewhere along the path are not executed (the planner times the throw within
-    the limits, never faster than the release), so only the release's count.
+    the limits, never faster than the release), so only the release's count. The velocity of a
+    joint held at a clipped position (set to 0) is no fault of its own: its position is.
     """
-    faults = [change for change in report.changes if change.quantity == "position" or change.point == last]
+    held = {(c.point, c.joint) for c in report.changes if c.quantity == "position"}
+    changes = [c for c in report.changes if c.quantity == "position" or (c.point, c.joint) not in held]
+    faults = [change for change in changes if change.quantity == "position" or change.point == last]
     if not faults:
         return
     shown = "; ".join(_fault(c, last) for c in faults[:3])
     more = f" (and {len(faults) - 3} more)" if len(faults) > 3 else ""
-    others = len(report.changes) - len(faults)
+    others = len(changes) - len(faults)
     also = (f" (and reports {plural(others, 'velocity', 'velocities')} along the path beyond a limit too, "
             "which the planner does not execute)" if others else "")
     raise InputError(f"{plural(len(faults), 'value')} the robot would not execute as asked: {shown}{more}; "
