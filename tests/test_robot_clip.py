@@ -61,6 +61,18 @@ def test_the_simulated_arm_releases_a_clipped_throw_inside_the_limit(rlff, low_a
     assert UPPER - released == pytest.approx(limits.CLIP_CLEARANCE, abs=1e-3)  # the servo's own error
 
 
+def test_sim_throw_says_a_release_held_at_a_limit_lets_the_ball_go_at_rest(rlff, low_arm):
+    """The clipped release stands still: the only warning had blamed the robot file's signs for a
+    ball leaving "backwards" at the servo's 0.01 m/s."""
+    robot_file, throw = low_arm
+    result = rlff("sim", "throw", str(throw), "--robot", str(robot_file), "--clip", "--basket", "1.5")
+    assert result.code == 0, result.stderr
+    said = " ".join(result.stderr.split())
+    assert (f"warning: {throw}: every joint is at rest at the release (--clip held joint_2 inside a position limit "
+            "there): the ball is let go at rest, not thrown") in said
+    assert "backwards" not in said and "angle_scale" not in said
+
+
 def test_without_clip_the_positions_beyond_the_limit_are_named_not_the_held_velocities(rlff, low_arm, tmp_path):
     """A held joint's velocity is set to 0 because its position is clipped: no limit of its own. It
     counted as a fifth value "the robot would not execute", said as one that "moves it against the

@@ -99,6 +99,9 @@ def throw(
         # warning that followed blamed the robot file's signs
         warn(f"{trajectory} holds no release time: the ball is let go at its last point, at rest (give "
              "--release-angle, or export the trajectory with rlff robot export, which writes release_time)")
+    held = release_at_rest(loaded.plan) if not dropped and release_angle is None else None
+    if held is not None:  # said before the outcome, as a dropped ball is: not blamed on the signs after it
+        warn(f"{trajectory}: every joint is at rest at the release ({held}): the ball is let go at rest, not thrown")
     if not loaded.arm.none:
         say(f"thrown as the run's simulated arm throws: gap {loaded.arm.name} (the log's)")
     # a basket beyond the arm's reach is no reason not to say where this throw lands
@@ -109,7 +112,7 @@ def throw(
              "moves: no throw of this arm drops into it (rlff sim reach says how far it throws); simulated anyway")
     for note in outcome.notes:
         (say if outcome.followed or note != not_followed(outcome) else warn)(note)
-    if outcome.speed_towards_basket < 0 and not dropped:  # the miss alone would read "short"
+    if outcome.speed_towards_basket < 0 and not dropped and held is None:  # the miss alone would read "short"
         warn(f"the ball left the hand backwards, away from the basket ({-outcome.speed_towards_basket:.2f} m/s back "
              f"towards the robot): check the signs of {model.source}'s [throwing] angle_scale and velocity_scale "
              "and its start pose")
@@ -148,6 +151,24 @@ def throw(
                   "height (released below it)", highlight=False)
     if outcome.frames:
         out.print(f"frames: {len(outcome.frames) - 1} PNG and {outcome.frames[-1]}", highlight=False)
+
+
+def release_at_rest(plan) -> str | None:
+    """Why every joint of ``plan`` (a :class:`rlff.robot.plan.RobotPlan`) stands still at its
+    release, or None when one moves there: a release ``--clip`` held inside a position limit, or a
+    path that ends at rest."""
+    import numpy as np
+
+    trajectory = plan.trajectory
+    release = int(np.argmin(np.abs(trajectory.time - trajectory.release_time)))
+    if np.any(trajectory.velocities[release] != 0):
+        return None
+    last = len(plan.points) - 1
+    held = sorted({change.joint for change in plan.clipped_points.changes
+                   if change.point == last and change.quantity == "position"})
+    if held:
+        return f"--clip held {', '.join(held)} inside a position limit there"
+    return "the path ends at rest" if plan.points is not trajectory else "the trajectory's release is at rest"
 
 
 def path_context(path: Path) -> dict[str, float]:
