@@ -237,6 +237,33 @@ def test_options_that_shape_a_plan_are_refused_for_a_robot_trajectory(rlff, monk
     assert result.code == 2 and refusal.replace("t.json", "t.csv") in result.stderr, result.stderr
 
 
+def test_send_refuses_joints_for_a_robot_trajectory_it_sends_as_it_is(rlff, monkeypatch, throw, tmp_path):
+    """--joints joint_2,joint_3 chose nothing: the trajectory's own joints went out, without a word."""
+    assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there, should the refusal let it through
+    result = rlff("robot", "send", str(tmp_path / "t.json"), "--joints", "joint_2,joint_3", "--timeout", "1")
+    assert result.code == 2, result.stderr
+    assert result.stderr.startswith(f"rlff: error: --joints: {tmp_path / 't.json'} is a robot trajectory, which is "
+                                    "checked and taken as it is, not planned again"), result.stderr
+
+
+def test_send_refuses_an_approach_speed_without_the_approach_it_paces(rlff, monkeypatch, throw, tmp_path):
+    """A robot trajectory is sent from where the arm stands unless --approach plans a move to its
+    start: --approach-speed 0.5 alone paced nothing, without a word."""
+    assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there, should the refusal let it through
+    monkeypatch.setenv("ROS_IP", "127.0.0.1")
+    result = rlff("robot", "send", str(tmp_path / "t.json"), "--approach-speed", "0.5", "--timeout", "1")
+    assert result.code == 2, result.stderr
+    said = " ".join(result.stderr.split())
+    assert said.startswith(f"rlff: error: --approach-speed paces the move --approach plans to the start of "
+                           f"{tmp_path / 't.json'}, a robot trajectory sent as it is: add --approach to move there "
+                           "first, or drop --approach-speed"), said
+    # with --approach it paces that move: accepted, and the send goes on to look for the ROS master
+    sent = rlff("robot", "send", str(tmp_path / "t.json"), "--approach", "--approach-speed", "0.5", "--timeout", "1")
+    assert sent.code == 1 and "no ROS master" in sent.stderr, sent.stderr
+
+
 def test_a_period_in_milliseconds_is_refused_for_a_plan_and_an_approach(cli, throw, tmp_path):
     # 10 (ms meant) was planned at a 10 s period: refused as a throw too short to wind up for, and
     # an exported trajectory's approach was planned over 10 s

@@ -434,8 +434,11 @@ def send(
                              approach=approach, joints=driven, bearing=bearing, approach_speed=approach_speed)
 
     first = load()  # a wrong file is refused before any connection
-    # a robot trajectory is sent as it is: --period plans only the approach of --approach
-    require_planned(trajectory, first, given(ctx, "bearing", "clip", *() if approach else ("period",)))
+    # a robot trajectory is sent as it is: --period and --approach-speed shape only the approach of --approach
+    require_planned(trajectory, first, given(ctx, "bearing", "clip", "joints", *() if approach else ("period",)))
+    if not approach and first.points is first.trajectory and given(ctx, "approach_speed"):
+        raise InputError(f"--approach-speed paces the move --approach plans to the start of {trajectory}, a robot "
+                         "trajectory sent as it is: add --approach to move there first, or drop --approach-speed")
     notes = first.notes
     if (aside := rebearing_warning(trajectory, bearing)) is not None:
         warn(aside)
