@@ -247,6 +247,26 @@ def test_send_refuses_joints_for_a_robot_trajectory_it_sends_as_it_is(rlff, monk
                                     "checked and taken as it is, not planned again"), result.stderr
 
 
+def test_export_and_sim_throw_refuse_options_a_robot_trajectory_ignores(rlff, throw, tmp_path):
+    """export --joints to a CSV, and sim throw --joints or --clip, of a robot trajectory changed
+    nothing, without a word; --joints lays out a Comau program's slots, so it is taken there."""
+    robot_trajectory = tmp_path / "t.json"
+    assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(robot_trajectory)).code == 0
+    refusal = f"{robot_trajectory} is a robot trajectory, which is checked and taken as it is, not planned again"
+    exported = rlff("robot", "export", str(robot_trajectory), "-f", "csv", "-o", str(tmp_path / "t.csv"),
+                    "--joints", "joint_2")
+    assert exported.code == 2 and exported.stderr.startswith(f"rlff: error: --joints: {refusal}"), exported.stderr
+    assert not (tmp_path / "t.csv").exists()
+    program = rlff("robot", "export", str(robot_trajectory), "-f", "comau", "-o", str(tmp_path / "t.txt"),
+                   "--joints", "joint_2")
+    assert program.code == 0, program.stderr
+    for options in (["--clip"], ["--joints", "joint_2"], ["--clip", "--joints", "joint_2"]):
+        simulated = rlff("sim", "throw", str(robot_trajectory), "--basket", "1.5", *options)
+        named = ", ".join(option for option in options if option.startswith("--"))
+        assert simulated.code == 2 and simulated.stderr.startswith(f"rlff: error: {named}: {refusal}"), simulated.stderr
+    assert rlff("sim", "throw", str(robot_trajectory), "--basket", "1.5", "--bearing", "0").code == 0  # the basket's
+
+
 def test_send_refuses_an_approach_speed_without_the_approach_it_paces(rlff, monkeypatch, throw, tmp_path):
     """A robot trajectory is sent from where the arm stands unless --approach plans a move to its
     start: --approach-speed 0.5 alone paced nothing, without a word."""

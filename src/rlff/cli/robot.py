@@ -201,7 +201,8 @@ def export(
     driven = joint_list(joints)
     model = load_robot(robot)
     source = load_input(trajectory, model, attempt=attempt, period=period, clip=clip, joints=driven, bearing=bearing)
-    require_planned(trajectory, source.plan, given(ctx, "bearing", "period", "clip"))
+    # --joints also lays out a Comau program of a robot trajectory (the slots of its joints)
+    require_planned(trajectory, source.plan, given(ctx, "bearing", "period", "clip", *() if fmt == "comau" else ("joints",)))
     if (aside := rebearing_warning(trajectory, bearing)) is not None:
         warn(aside)
     for note in source.plan.notes:

@@ -7,7 +7,16 @@ from pathlib import Path
 
 import typer
 
-from rlff.cli._common import PLAIN_HELP, basket_options, emit_json, input_words, say, stdout, warn
+from rlff.cli._common import (
+    PLAIN_HELP,
+    basket_options,
+    emit_json,
+    given,
+    input_words,
+    say,
+    stdout,
+    warn,
+)
 from rlff.cli.robot import DEFAULT_ROBOT, JOINTS, joint_list
 from rlff.wording import signed_metres
 
@@ -24,6 +33,7 @@ JSON = typer.Option(False, "--json", help="Print a machine-readable result on st
 
 @app.command()
 def throw(
+    ctx: typer.Context,
     trajectory: Path = typer.Argument(..., help="Generated trajectory CSV (angle, velocity, time), a robot "
                                                  "trajectory CSV/JSON from `rlff robot export` or `rlff learn "
                                                  "--out`, or an attempts log (with --attempt)."),
@@ -58,7 +68,7 @@ def throw(
     from rlff.learn.replay import load_input, rebearing_warning
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import bearing_at_release
-    from rlff.robot.plan import ROBOT_TRAJECTORY, robot_file_kind
+    from rlff.robot.plan import ROBOT_TRAJECTORY, require_planned, robot_file_kind
     from rlff.sim import Basket, simulate_throw
     from rlff.sim.throw import SIM_PERIOD, not_followed
 
@@ -67,6 +77,7 @@ def throw(
     model = load_robot(robot)
     loaded = load_input(trajectory, model, attempt=attempt, period=SIM_PERIOD, clip=clip, joints=joint_list(joints),
                         bearing=bearing)
+    require_planned(trajectory, loaded.plan, given(ctx, "clip", "joints"))  # --bearing places the basket
     if (aside := rebearing_warning(trajectory, bearing)) is not None:
         warn(aside)
     for note in loaded.plan.notes:
@@ -81,14 +92,14 @@ def throw(
             bearing = found[0]
             say(f"basket bearing {bearing:g} deg, where the trajectory's {found[1]} stands at the release (give "
                 "--bearing to put it elsewhere)")
-    given = {name: option for name, option, value in (("distance", "--basket", basket), ("rim_height", "--height", rim_height),
-                                                      ("opening", "--opening", opening), ("bearing", "--bearing", bearing))
-             if value is not None}  # the rest from the log, or the defaults
+    stated = {name: option for name, option, value in (("distance", "--basket", basket), ("rim_height", "--height", rim_height),
+                                                       ("opening", "--opening", opening), ("bearing", "--bearing", bearing))
+              if value is not None}  # the rest from the log, or the defaults
     basket = logged.get("distance") if basket is None else basket
     pedestal = run.get("pedestal", 0.0) if pedestal is None else pedestal
     if basket is None:
         raise InputError("--basket is needed (only an attempts log carries its basket)")
-    with basket_options(**given):
+    with basket_options(**stated):
         target = Basket(basket, logged.get("rim_height", 0.3) if rim_height is None else rim_height,
                         logged.get("opening", 0.35) if opening is None else opening,
                         logged.get("bearing", 0.0) if bearing is None else bearing)
