@@ -29,6 +29,12 @@ def write(path, *attempts: Attempt, run=RUN) -> None:
             log.append(attempt)
 
 
+def header_only(path, run=RUN) -> None:
+    """A log that holds its header alone, as a run stopped before its first attempt left it before
+    rlff wrote the header with the first attempt."""
+    path.write_text(json.dumps({"format": "rlff-attempts", "version": 1, "run": run}) + "\n")
+
+
 def reopen(path, run=RUN) -> AttemptLog:
     """The log opened by a new run and released again (its contents stay readable)."""
     with AttemptLog(path, run) as log:
@@ -92,7 +98,7 @@ def test_a_corrupt_line_before_the_last_is_an_error_naming_the_line(tmp_path):
 
 def test_a_record_missing_a_field_is_an_error(tmp_path):
     path = tmp_path / "attempts.jsonl"
-    write(path)
+    header_only(path)
     record = make_attempt(1).to_json()
     del record["hit"]
     with open(path, "a") as handle:
@@ -105,7 +111,7 @@ def test_a_record_missing_a_field_is_an_error(tmp_path):
 def test_an_infinite_attempt_number_is_a_corrupt_record_not_a_crash(tmp_path):
     """json reads the non-standard Infinity; int() of it overflows (found by the fuzz tests)."""
     path = tmp_path / "attempts.jsonl"
-    write(path)
+    header_only(path)
     record = make_attempt(1).to_json()
     with open(path, "a") as handle:
         handle.write(json.dumps(record).replace('"attempt": 1', '"attempt": Infinity') + "\n")
@@ -176,6 +182,26 @@ def test_a_second_run_on_a_held_log_is_refused_naming_the_holder(tmp_path):
         assert other.returncode == 2 and f"pid {os.getpid()}" in other.stdout
         assert len(path.read_text().splitlines()) == 2  # the refused runs wrote nothing
     # released: the next run resumes
+    assert [a.index for a in reopen(path).contents.attempts] == [1]
+
+
+def test_a_run_that_logs_nothing_leaves_nothing_but_takes_nothing_from_a_holder(tmp_path):
+    """A run refused before its first attempt left its log's folder, a log with its header alone and
+    the lock file; a run refused because another holds the log must leave the holder's lock file."""
+    from rlff.learn.log import LogInUse
+
+    folder = tmp_path / "runs" / "today"
+    path = folder / "attempts.jsonl"
+    AttemptLog(path, RUN).close()
+    assert list(tmp_path.iterdir()) == []
+    with AttemptLog(path, RUN) as held:
+        with pytest.raises(LogInUse):
+            AttemptLog(path, RUN)
+        assert held.lock_path.exists() and not path.exists()  # written with the first attempt
+        held.append(make_attempt(1))
+    assert sorted(p.name for p in folder.iterdir()) == ["attempts.jsonl", "attempts.jsonl.lock"]
+    AttemptLog(path, RUN).close()  # it created neither: both stay
+    assert sorted(p.name for p in folder.iterdir()) == ["attempts.jsonl", "attempts.jsonl.lock"]
     assert [a.index for a in reopen(path).contents.attempts] == [1]
 
 

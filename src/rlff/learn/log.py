@@ -17,8 +17,14 @@ otherwise the mismatch is an error naming the first field that differs, never si
 One run at a time: opening a log takes an exclusive lock on ``<log>.lock`` (``flock`` through
 filelock's :func:`filelock.lock_descriptor`, released by the kernel if the run dies) and writes
 the holder's pid, host and start time into it; a second run on the same log is refused with
-that holder named. The lock file is left in place (deleting it would let two runs lock two
-different files of one name) and emptied on release.
+that holder named. The lock file is left in place and emptied on release.
+
+A run refused before its first attempt leaves no file it created: a new log is written with the
+run's first attempt (its header and that line at once), an existing one is not changed before it
+(but for a partial last line cut off, or a last newline added), and on release a run that logged
+no attempt removes the lock file and the folders it created. It removes the lock file while it
+holds it, and a run that locked a lock file no longer at its path locks the one there instead
+(:meth:`AttemptLog._acquire`), so two runs never hold two files of one name.
 """
 
 from __future__ import annotations
@@ -72,13 +78,14 @@ class AttemptLog:
 
     Opening an existing file resumes it: the header must describe ``run`` exactly, complete
     attempts are loaded into :attr:`contents`, a partial last line is cut off the file. A log
-    that holds no attempt (its run stopped before the first throw) is started afresh for ``run``. The log
-    stays locked until :meth:`close` (or the end of a ``with`` block).
+    that holds no attempt (its run stopped before the first throw) is started afresh for ``run``
+    at its first attempt. The log stays locked until :meth:`close` (or the end of a ``with``
+    block); a run that appended no attempt by then leaves no file it created (module notes).
 
     Parameters
     ----------
     path : str or Path
-        The JSONL file; created (with its folder) when absent.
+        The JSONL file; created (with its folder) at the first attempt when absent.
     run : dict
         JSON-serialisable description of the run; compared on resume.
     options : mapping of str to (str, str or None), optional
@@ -100,14 +107,21 @@ class AttemptLog:
         self.path = Path(path)
         self.run = json.loads(json.dumps(run))  # normalised as it will read back
         self.options = dict(options or {})
-        prepare_output(self.path)  # a folder, or a file where its folder should be, is refused
-        self._lock = self._acquire()
+        #: What this run created, removed again by :meth:`close` if it appends no attempt: the
+        #: log's missing folders (deepest first) and, once locked, whether the lock file is new.
+        self._new_folders = [folder for folder in self.path.parents if not folder.exists()]
+        self._new_lock = False
+        self._lock: int | None = None
+        self._appended = False
+        #: The text a new log, or one started afresh, begins with: written with the first attempt.
+        self._unwritten: str | None = None
         try:
+            prepare_output(self.path)  # a folder, or a file where its folder should be, is refused
+            self._lock, self._new_lock = self._acquire()
             if self.path.exists() and self.path.stat().st_size > 0:
                 self.contents = self._resume()
             else:
-                # the header is written whole or not at all: a log is never left without one
-                write_text(self.path, _line({"format": FORMAT, "version": VERSION, "run": self.run}))
+                self._unwritten = _line({"format": FORMAT, "version": VERSION, "run": self.run})
                 self.contents = LogContents([], False)
         except BaseException:
             self.close()
@@ -119,13 +133,22 @@ class AttemptLog:
         return self.path.with_name(self.path.name + ".lock")
 
     def close(self) -> None:
-        """Release the log for other runs (idempotent)."""
-        if self._lock is None:
-            return
-        os.ftruncate(self._lock, 0)
-        unlock_descriptor(self._lock)
-        os.close(self._lock)
-        self._lock = None
+        """Release the log for other runs (idempotent); without an attempt appended, remove the
+        lock file and the folders this run created."""
+        if self._lock is not None:
+            if not self._appended and self._new_lock and _is_at(self._lock, self.lock_path):
+                self.lock_path.unlink()  # while held: whoever opened it in the meantime locks the next one
+            os.ftruncate(self._lock, 0)
+            unlock_descriptor(self._lock)
+            os.close(self._lock)
+            self._lock = None
+        if not self._appended:
+            for folder in self._new_folders:
+                try:
+                    folder.rmdir()
+                except OSError:  # not empty (another file came), or already gone
+                    break
+            self._new_folders = []
 
     def __enter__(self) -> AttemptLog:
         return self
@@ -133,28 +156,50 @@ class AttemptLog:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def _acquire(self) -> int:
-        """Lock ``<log>.lock`` without waiting and write the holder into it; the descriptor."""
-        fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o644)
-        if not lock_descriptor(fd, blocking=False):
-            holder = os.pread(fd, 4096, 0).decode("utf-8", errors="replace").strip() or "another run"
+    def _acquire(self) -> tuple[int, bool]:
+        """Lock ``<log>.lock`` without waiting and write the holder into it; the descriptor, and
+        whether this run created the file.
+
+        A run that logged nothing removes its lock file while it holds it: a lock taken on that
+        file once it is gone is let go, and the file at the path now locked instead.
+        """
+        while True:
+            try:
+                fd, created = os.open(self.lock_path, os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o644), True
+            except FileExistsError:
+                try:
+                    fd, created = os.open(self.lock_path, os.O_RDWR), False
+                except FileNotFoundError:  # removed since: create it
+                    continue
+            if not lock_descriptor(fd, blocking=False):
+                holder = os.pread(fd, 4096, 0).decode("utf-8", errors="replace").strip() or "another run"
+                os.close(fd)
+                raise LogInUse(f"{self.path} is in use by {holder} (lock file {self.lock_path}); wait for "
+                               "that run to end, or use another --log file")
+            if _is_at(fd, self.lock_path):
+                break
+            unlock_descriptor(fd)
             os.close(fd)
-            raise LogInUse(f"{self.path} is in use by {holder} (lock file {self.lock_path}); wait for "
-                           "that run to end, or use another --log file")
         os.ftruncate(fd, 0)
         started = clock.strftime("%Y-%m-%d %H:%M:%S", clock.localtime())
         os.pwrite(fd, f"rlff learn, pid {os.getpid()} on host {socket.gethostname()}, since {started}\n".encode(), 0)
-        return fd
+        return fd, created
 
     def append(self, attempt: Attempt) -> None:
         """Write one attempt as a line and make it durable (flush + fsync) before returning."""
         self._append(attempt.to_json())
 
     def _append(self, record: dict[str, Any]) -> None:
-        with open(self.path, "a", encoding="utf-8") as handle:
-            handle.write(_line(record))
-            handle.flush()
-            os.fsync(handle.fileno())
+        if self._unwritten is not None:
+            # the header and the first attempt, whole or not at all: a log is never left without one
+            write_text(self.path, self._unwritten + _line(record))
+            self._unwritten = None
+        else:
+            with open(self.path, "a", encoding="utf-8") as handle:
+                handle.write(_line(record))
+                handle.flush()
+                os.fsync(handle.fileno())
+        self._appended = True
 
     def _resume(self) -> LogContents:
         raw = self.path.read_bytes()
@@ -162,8 +207,9 @@ class AttemptLog:
         if len(records) == 1 and first_difference(_run_of(self.path, records[0]), self.run) is not None:
             # an attempts log of a run that stopped before its first throw (no joint states, a
             # refused basket): nothing in it to keep, and its settings must not bind the next run
-            # (an older header, without what this version records, is written anew whole)
-            write_text(self.path, _line({"format": FORMAT, "version": VERSION, "run": self.run}))
+            # (an older header, without what this version records, is written anew whole), from
+            # this run's first attempt on
+            self._unwritten = _line({"format": FORMAT, "version": VERSION, "run": self.run})
             return LogContents([], dropped)
         self._check_header(records[0])
         attempts = _attempts(self.path, records)
@@ -201,6 +247,16 @@ class AttemptLog:
             f"{self.path}: the log belongs to another run ({key} = {shown(before)} in the log, {shown(now)} now"
             f"{f', from {option}' if option else ''}); use another --log file"
         )
+
+
+def _is_at(fd: int, path: Path) -> bool:
+    """Whether the open file ``fd`` is the file at ``path`` (not one removed, or replaced, since)."""
+    try:
+        here = path.stat()
+    except FileNotFoundError:
+        return False
+    held = os.fstat(fd)
+    return (held.st_dev, held.st_ino) == (here.st_dev, here.st_ino)
 
 
 def robot_record(mapping: RobotMapping | ArmMapping) -> dict[str, Any]:
