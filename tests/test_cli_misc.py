@@ -308,8 +308,8 @@ def test_demo_bad_input(cli, tmp_path):
     (mine / "demos.csv").write_text("my recordings")
     (mine / "model.json").write_text("{}")
     one_line_error(cli("demo", "--small", "--out", str(mine)),
-                   f"{mine}: holds demos.csv, model.json but no run.json of an earlier demo, and the demo would "
-                   "replace them: give a new or empty folder with --out")
+                   f"{mine}: holds files rlff demo would replace that it did not write there: demos.csv, model.json; "
+                   "give another folder with -o, or move or remove those files")
     assert (mine / "demos.csv").read_text() == "my recordings"
     assert cli("demo", "--help").code == 0
 

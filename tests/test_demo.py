@@ -3,6 +3,7 @@ writes (run.json, figures, report, data, model, attempts logs) is complete and c
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 from html.parser import HTMLParser
@@ -14,6 +15,7 @@ from rlff.dataset import read_csv
 from rlff.demo import STAGES
 from rlff.model import Model
 from rlff.report import read_run
+from rlff.report.folder import LISTING
 
 pytestmark = [pytest.mark.slow, pytest.mark.integration]
 
@@ -67,6 +69,13 @@ def check_complete_run(demo) -> None:
         assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         assert png.with_suffix(".svg").is_file()
     assert sorted(summary["figures"]) == sorted(str(out / f.file) for f in run.figures)
+    # every file the run left is in its listing as it wrote it: what the next run may replace
+    listing = json.loads((out / LISTING).read_text())
+    assert listing["finished"]
+    assert set(listing["files"]) == {p.relative_to(out).as_posix() for p in out.rglob("*")
+                                     if p.is_file() and p.name != LISTING}
+    for name, digest in listing["files"].items():
+        assert hashlib.sha256((out / name).read_bytes()).hexdigest() == digest, name
 
 
 def check_learning_figure_is_plot_learning_of_its_logs(demo, tmp_path) -> None:

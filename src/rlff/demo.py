@@ -12,14 +12,14 @@ HTML report in ``out_dir``.
 Layout of ``out_dir``: ``report.html``, ``run.json`` (see :mod:`rlff.report.run`),
 ``figures/*.png|svg``, ``demos.csv`` (the simulated recordings), ``clean.csv`` (after the
 preprocessing), ``model.json``, ``attempts/<method>.jsonl`` (the learning runs' logs),
-``whole-arm-demos.csv``, ``whole-arm-clean.csv`` and ``attempts/whole-arm/*.jsonl``.
+``whole-arm-demos.csv``, ``whole-arm-clean.csv`` and ``attempts/whole-arm/*.jsonl``; the
+listing of what the run wrote, ``.rlff-run`` (:mod:`rlff.report.folder`).
 """
 
 from __future__ import annotations
 
 import math
 import platform
-import shutil
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
@@ -32,6 +32,7 @@ import numpy as np
 from rlff.dataset import Dataset, write_csv
 from rlff.errors import InputError
 from rlff.report import FigureEntry, Run, Section, Table, build_report, write_run
+from rlff.report.folder import RunFolder, RunPaths, check_run_folder
 from rlff.whole_arm_demo import BasketRun, whole_arm_section
 from rlff.wording import signed_metres
 
@@ -326,12 +327,15 @@ def _learning_arm_and_basket(demonstrated: list[float], learnable: float,
     return (slower, on_slower) if missed else (faithful, distance)
 
 
-#: The files a run writes at the top of its folder (besides ``run.json``): a folder holding any of
-#: them without an earlier run's ``run.json`` may hold someone's own data of those names.
-RUN_FILES = ("demos.csv", "clean.csv", "model.json", "report.html", "whole-arm-demos.csv", "whole-arm-clean.csv")
-#: Written into the folder before a run's first file: the folder is a demo's, finished or not, so
-#: a run stopped before its ``run.json`` (Ctrl-C, a full disk) may be run again into it.
-RUN_MARK = ".rlff-demo"
+#: Every file a run writes, as paths inside its folder (``*``: one name): a folder holding a file
+#: of these names that its last run did not list as its own, or that changed since, is refused
+#: (:mod:`rlff.report.folder`); the last run's files are removed before the first is written.
+WRITES = (
+    "demos.csv", "clean.csv", "model.json", "run.json", "report.html", "whole-arm-demos.csv", "whole-arm-clean.csv",
+    "attempts/*.jsonl", "attempts/*.jsonl.lock", "attempts/whole-arm/*.jsonl", "attempts/whole-arm/*.jsonl.lock",
+    "figures/*.png", "figures/*.svg", "figures/frames/*",
+)
+PROGRAM = "rlff demo"
 
 
 def _failures(raw, said: str) -> str:
@@ -343,18 +347,17 @@ def _failures(raw, said: str) -> str:
 
 def check_demo_options(out_dir: str | Path, size: str) -> None:
     """Raise :class:`InputError` for an unknown size, an output path that is not a folder, or a
-    folder that holds files of a run's names (:data:`RUN_FILES`) but no sign of an earlier run
-    (its ``run.json``, or :data:`RUN_MARK` of one that stopped before it): the run would replace
-    them."""
+    folder that holds files of a run's names (:data:`WRITES`) that its last run did not write
+    (:func:`rlff.report.folder.check_run_folder`): the run would replace them."""
+    _check_size_and_path(out_dir, size)
+    check_run_folder(out_dir, WRITES, PROGRAM)
+
+
+def _check_size_and_path(out_dir: str | Path, size: str) -> None:
     if size not in SIZES:
         raise InputError(f"unknown demo size {size!r} (known: {', '.join(SIZES)})")
-    out_dir = Path(out_dir)
-    if out_dir.exists() and not out_dir.is_dir():
+    if Path(out_dir).exists() and not Path(out_dir).is_dir():
         raise InputError(f"{out_dir}: exists and is not a folder")
-    mine = [name for name in RUN_FILES if (out_dir / name).exists()]
-    if mine and not (out_dir / "run.json").exists() and not (out_dir / RUN_MARK).exists():
-        raise InputError(f"{out_dir}: holds {', '.join(mine)} but no run.json of an earlier demo, and the demo would "
-                         "replace them: give a new or empty folder with --out")
 
 
 def run_demo(
@@ -370,9 +373,10 @@ def run_demo(
     Parameters
     ----------
     out_dir : path
-        Output folder (created; files of an earlier run, finished or stopped, are replaced; a
-        folder holding files of its names without a sign of an earlier run is refused:
-        :func:`check_demo_options`).
+        Output folder (created). The files the folder's last run listed
+        as its own (finished or stopped, unchanged since) are removed first; a folder holding
+        other files of a run's names (:data:`WRITES`) is refused (:func:`check_demo_options`,
+        :mod:`rlff.report.folder`).
     size : {"full", "small"}
         ``full`` follows the thesis' recording plan (400 throws, 5 learning runs);
         ``small`` is a quick version (84 throws, 2 learning runs).
@@ -390,7 +394,23 @@ def run_demo(
     Returns
     -------
     DemoSummary
+
+    Raises
+    ------
+    InputError
+        As :func:`check_demo_options`: ``out_dir`` holds files of a run's names that its last run
+        did not write; or a stage found too little to go on.
     """
+    _check_size_and_path(out_dir, size)
+    folder = RunFolder(out_dir, WRITES, PROGRAM)
+    summary = _run(folder, size, seed=seed, progress=progress, frames=frames)
+    folder.finish()
+    return summary
+
+
+def _run(folder: RunFolder, size: str, *, seed: int, progress: Callable[[str, int, int], None] | None,
+         frames: bool) -> DemoSummary:
+    """:func:`run_demo` in the folder it holds, every file listed in ``folder`` before it is written."""
     from rlff.learn import learn
     from rlff.learn.demos import loop_components, usable_demos
     from rlff.learn.loop import learnable_basket
@@ -404,31 +424,27 @@ def run_demo(
     from rlff.timing import time_along_path
     from rlff.whole_arm_demo import run_whole_arm, whole_arm_figures
 
-    check_demo_options(out_dir, size)
     plan = SIZES[size]
-    out_dir = Path(out_dir)
-    figures_dir = out_dir / "figures"
-    figures_dir.mkdir(parents=True, exist_ok=True)
-    (out_dir / RUN_MARK).write_text("a folder rlff demo writes into: rlff demo may replace what it holds\n")
+    out_dir = folder.path
     clock = _Clock(progress)
 
     clock.stage(STAGES[0])
     raw = simulate_throws(
         seed, subjects=plan.subjects, distances=plan.distances, throws_per_distance=plan.throws_per_distance
     )
-    write_csv(raw, out_dir / "demos.csv")
+    write_csv(raw, folder.file("demos.csv"))
     raw_hits = sum(1 for t in raw if t.meta.get("hit") is True)
 
     clock.stage(STAGES[1])
     clean, preprocessing = Pipeline.preset("thesis").run(raw)
     if len(clean) < 2:
         raise InputError(f"the preprocessing left {len(clean)} trajectories: too few to learn from (seed {seed})")
-    write_csv(clean, out_dir / "clean.csv")
+    write_csv(clean, folder.file("clean.csv"))
     demonstrated = sorted({float(t["distance"][0]) for t in clean})
 
     clock.stage(STAGES[2])
     model = Model.fit(clean, inputs=("angle", "distance"), outputs=("velocity",), components="auto", seed=seed)
-    model.save(out_dir / "model.json")
+    model.save(folder.file("model.json"))
 
     clock.stage(STAGES[3])
     robot = load_robot()
@@ -476,8 +492,7 @@ def run_demo(
     learning: list[LearningRow] = []
     results = {}
     for method, feedback in plan.methods:
-        log = out_dir / "attempts" / f"{method}.jsonl"
-        log.unlink(missing_ok=True)
+        log = folder.log(f"attempts/{method}.jsonl")
         result = learn(
             aimed, learning_distance, budget=plan.budget, feedback=feedback, update=method, seed=seed,
             log_path=log, robot=robot.name, gap=learning_gap.name,
@@ -490,16 +505,16 @@ def run_demo(
         learning.append(LearningRow(method, feedback, result.hit, result.attempts, list(result.misses)))
 
     clock.stage(STAGES[6])
-    whole_arm = run_whole_arm(out_dir, seed=seed, robot=robot, note=clock.note, only=plan.whole_arm_baskets)
+    whole_arm = run_whole_arm(folder, seed=seed, robot=robot, note=clock.note, only=plan.whole_arm_baskets)
 
     clock.stage(STAGES[7])
     figure_entries = _figures(
-        figures_dir, raw=raw, clean=clean, preprocessing=preprocessing, model=model, paths=paths,
+        folder, raw=raw, clean=clean, preprocessing=preprocessing, model=model, paths=paths,
         demonstrated=demonstrated, learning_distance=learning_distance,
         learning_gap=learning_gap, results=results, logs_dir=out_dir / "attempts", mapping=mapping, robot=robot,
         frames=frames, seed=seed,
     )
-    figure_entries += whole_arm_figures(figures_dir, whole_arm, robot)
+    figure_entries += whole_arm_figures(folder, whole_arm, robot)
 
     clock.stage(STAGES[8])
     run = _run_record(
@@ -509,8 +524,9 @@ def run_demo(
         loop_components=loop_k, figures=[FigureEntry(p.relative_to(out_dir).as_posix(), s, t, c) for p, s, t, c in figure_entries],
         whole_arm=whole_arm,
     )
+    folder.file("run.json")
     run_json = write_run(run, out_dir)
-    report = build_report(out_dir, out_dir / "report.html")
+    report = build_report(out_dir, folder.file("report.html"))
     seconds = clock.finish()
     return DemoSummary(
         out_dir=out_dir, report=report, run_json=run_json, figures=[p for p, *_ in figure_entries], size=size,
@@ -530,11 +546,11 @@ def _angle_grid(clean: Dataset, points: int = 120) -> np.ndarray:
 
 
 def _figures(
-    figures_dir: Path, *, raw, clean, preprocessing, model, paths, demonstrated, learning_distance,
+    out: RunPaths, *, raw, clean, preprocessing, model, paths, demonstrated, learning_distance,
     learning_gap, results, logs_dir: Path, mapping, robot, frames: bool, seed: int,
 ) -> list[tuple[Path, str, str, str]]:
-    """Draw every figure; returns (png path, section, title, caption) in report order
-    (``logs_dir``: the learning runs' attempts logs, ``METHOD.jsonl``)."""
+    """Draw every figure into ``out``'s ``figures/``; returns (png path, section, title, caption)
+    in report order (``logs_dir``: the learning runs' attempts logs, ``METHOD.jsonl``)."""
     from rlff.plots.data import dataset_3d, dataset_slices
     from rlff.plots.donut import dmm_heatmap, donut_family
     from rlff.plots.learning import learning_curves_from_logs
@@ -549,64 +565,62 @@ def _figures(
         entries.append((saved.png, section, title, caption))
 
     middle = demonstrated[len(demonstrated) // 2]
-    add(dataset_slices(raw, figures_dir / "demonstrations-per-distance"), "data", "The recorded throws per basket distance",
+    add(dataset_slices(raw, out.figure("demonstrations-per-distance")), "data", "The recorded throws per basket distance",
         "Elbow angle and angular velocity of every simulated throw as a depth camera and a skeleton tracker "
         "record them: wind-up, extension, stop; tracking glitches are the grey dots, left out of the lines. Green throws hit "
         f"the basket, red ones missed: {_failures(raw, 'demonstrations are failures')}.")
     add(preprocessing_steps(
         [(s.step, s.before, s.after if s.after is not None else s.before, s.summary()) for s in preprocessing.steps],
-        figures_dir / "preprocessing"), "preprocessing", "Each cleaning step, before and after",
+        out.figure("preprocessing")), "preprocessing", "Each cleaning step, before and after",
         "Grey: the data entering a step; coloured by distance: what leaves it (thesis section 4.3).")
-    add(dataset_3d(clean, figures_dir / "clean-3d",
+    add(dataset_3d(clean, out.figure("clean-3d"),
                    title=f"After cleaning: {len(clean)} throws, {clean.n_samples} samples"),
         "preprocessing", "The cleaned demonstrations in 3-D",
         "What the model learns from: (angle, distance, velocity) of every kept throw up to the release "
         "(thesis fig. 4.43, 4.47).")
     effective = model.fit_info["effective_samples"]  # n as the model's fit counted it
-    add(selection_curve(model.selection.table, figures_dir / "bic", n_samples=model.fit_info["n_samples"],
+    add(selection_curve(model.selection.table, out.figure("bic"), n_samples=model.fit_info["n_samples"],
                         effective_samples=effective), "model", "Choosing K",
         "BIC = -2 ln L + p ln n against the number of components, n counted as the fit counts it (densified "
         "samples as the share of a measurement they are; the title says how many); the lowest wins, the model's "
         "K (thesis eq. 2.2).")
-    add(kmeans_em_steps(clean.to_array(("angle", "velocity")), figures_dir / "kmeans-em", seed=seed,
+    add(kmeans_em_steps(clean.to_array(("angle", "velocity")), out.figure("kmeans-em"), seed=seed,
                         effective_samples=effective), "model",
         "k-means, then EM",
         "k-means places the components (top), EM fits their weights, means and covariances (bottom); "
         "shown on the (angle, velocity) plane (thesis fig. 2.3-2.4).")
-    add(model_components(model, clean, middle, figures_dir / "components"), "model",
+    add(model_components(model, clean, middle, out.figure("components")), "model",
         f"The components at {middle:g} m",
         "The model's Gaussian components conditioned on the basket distance, as 1σ and 2σ ellipses over "
         "the demonstrations of that distance (thesis fig. 4.2-4.3, 4.47-4.48).")
-    add(donut_family(figures_dir / "donuts"), "model", "A Gaussian and its donuts",
+    add(donut_family(out.figure("donuts")), "model", "A Gaussian and its donuts",
         "The Donut Mixture Model replaces each Gaussian by a donut whose hole grows with the exploration "
         "factor ε (thesis fig. 2.5, eq. 2.8).")
-    add(dmm_heatmap(model, learning_distance, figures_dir / "dmm-density", dataset=clean), "outputs",
+    add(dmm_heatmap(model, learning_distance, out.figure("dmm-density"), dataset=clean), "outputs",
         f"The DMM density at {learning_distance:g} m",
         "The density of the joint velocity for every joint angle (hotter is higher), the GMR mean and the "
         "throw chosen at the highest density of each angle (thesis fig. 2.7, 4.4).")
-    add(output_trajectories(paths, figures_dir / "outputs", dataset=clean), "outputs",
+    add(output_trajectories(paths, out.figure("outputs"), dataset=clean), "outputs",
         "Generated throws, demonstrated and new distances",
         "Farther baskets get faster throws, also at distances nobody demonstrated (dashed; thesis fig. 4.7, 4.50).")
     first_method, first_run = next(iter(results.items()))
     on_arm = "" if learning_gap.none else f"; the arm {arm_words(learning_gap)}"
     first_throw = _replay(first_run.history[0], mapping, robot, learning_distance, learning_gap)
-    add(throw_snapshot_from_outcome(first_throw, figures_dir / "first-throw", robot=robot,
+    add(throw_snapshot_from_outcome(first_throw, out.figure("first-throw"), robot=robot,
                                     title=f"The loop's first throw at {learning_distance:g} m ({first_method}), "
                                           "before learning"),
         "simulation", "The robot's first throw",
         f"The first attempt of the learning loop ({first_method}) on the Comau's joint 2, executed again in "
         f"MuJoCo{on_arm}: the arm at the release, the ball's flight and the basket.")
     # the runs' logs drawn as `rlff plot learning` draws them: the same names, colours and band
-    add(learning_curves_from_logs([logs_dir / f"{name}.jsonl" for name in results], figures_dir / "learning"),
+    add(learning_curves_from_logs([logs_dir / f"{name}.jsonl" for name in results], out.figure("learning")),
         "learning", "Learning from failure",
         "Signed miss of every attempt until the first hit (star), per method.")
     best = next((r for r in results.values() if r.hit), None)
     if best is not None:
-        frames_dir = figures_dir / "frames"
-        shutil.rmtree(frames_dir, ignore_errors=True)  # no stale frames of an earlier run
         outcome = _replay(best.history[-1], mapping, robot, learning_distance, learning_gap,
-                          frames_dir if frames else None)
-        add(throw_snapshot_from_outcome(outcome, figures_dir / "learned-throw", robot=robot,
+                          out.folder("figures/frames") if frames else None)
+        add(throw_snapshot_from_outcome(outcome, out.figure("learned-throw"), robot=robot,
                                         title=f"The learned throw at {learning_distance:g} m ({best.update})"),
             "learning", "The learned throw", f"The hit found by the learning loop, executed again in MuJoCo{on_arm}.")
     return entries

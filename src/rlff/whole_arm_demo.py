@@ -23,6 +23,7 @@ import numpy as np
 
 from rlff.dataset import Dataset, write_csv
 from rlff.errors import InputError
+from rlff.report.folder import RunPaths
 
 if TYPE_CHECKING:
     from rlff.sim.gap import Gap
@@ -119,7 +120,7 @@ def baskets(demonstrated: Sequence[float], unseen: Sequence[float] = UNSEEN,
 
 
 def run_whole_arm(
-    out_dir: Path,
+    out_dir: Path | RunPaths,
     *,
     seed: int = 0,
     robot=None,
@@ -139,7 +140,8 @@ def run_whole_arm(
 
     Parameters
     ----------
-    out_dir : Path
+    out_dir : Path or RunPaths
+        The folder; a :class:`rlff.report.folder.RunFolder` lists every file before it is written.
     seed : int
         Seed of the people and of the learning runs.
     robot : Robot, optional
@@ -169,24 +171,24 @@ def run_whole_arm(
     from rlff.sim import Basket
     from rlff.synthetic.throws import whole_arm_demonstrations
 
+    out = out_dir if isinstance(out_dir, RunPaths) else RunPaths(out_dir)
     robot = load_robot() if robot is None else robot
     tell = note or (lambda text: None)
     tell("whole arm: simulating the people")
     raw = whole_arm_demonstrations(seed=seed, joints=("shoulder", "elbow", "wrist"))
-    write_csv(raw, out_dir / "whole-arm-demos.csv")
+    write_csv(raw, out.file("whole-arm-demos.csv"))
     clean, _ = Pipeline.preset("thesis").run(raw)
     if len(clean) < 2:
         raise InputError(f"the preprocessing left {len(clean)} whole-arm throws: too few to learn from (seed {seed})")
-    write_csv(clean, out_dir / "whole-arm-clean.csv")
+    write_csv(clean, out.file("whole-arm-clean.csv"))
     demonstrated = sorted({float(t["distance"][0]) for t in clean})
     aimed = with_landings(clean, "none", seed)
     choices = [ARM_JOINTS, (*ARM_JOINTS, WRIST_JOINT)] if "wrist" in clean.columns else [ARM_JOINTS]
 
-    logs = out_dir / "attempts" / "whole-arm"
     runs, learned = [], {}
     last_hit: dict[tuple[str, ...], Path] = {}  # per joint set: the log of the last basket hit
     for distance, bearing in baskets(demonstrated, unseen, bearings) if only is None else only:
-        log = logs / f"{distance:g}m-{bearing:g}deg.jsonl"
+        log = out.log(f"attempts/whole-arm/{distance:g}m-{bearing:g}deg.jsonl")
         log.unlink(missing_ok=True)
         for joints in choices:  # joint 5 only where joints 2 and 3 do not reach with headroom
             if joints != choices[-1] and distance > learnable_basket(
@@ -280,10 +282,10 @@ def whole_arm_section(whole: WholeArm):
     )
 
 
-def whole_arm_figures(figures_dir: Path, whole: WholeArm, robot) -> list[tuple[Path, str, str, str]]:
-    """The whole-arm figures: every basket's last flight in 3-D, and each joint of the farthest
-    basket hit (a demonstrated one where any was hit) at its last throw, human and robot; (png,
-    section, title, caption) in report order."""
+def whole_arm_figures(out: RunPaths, whole: WholeArm, robot) -> list[tuple[Path, str, str, str]]:
+    """The whole-arm figures, into ``out``'s ``figures/``: every basket's last flight in 3-D, and
+    each joint of the farthest basket hit (a demonstrated one where any was hit) at its last
+    throw, human and robot; (png, section, title, caption) in report order."""
     from rlff.learn.replay import plan_attempt
     from rlff.plots.flights import flights_3d
     from rlff.plots.throw import joint_trajectories
@@ -294,7 +296,7 @@ def whole_arm_figures(figures_dir: Path, whole: WholeArm, robot) -> list[tuple[P
     if not thrown:
         return entries
     flights = [{**run.flight, "distance": run.distance, "bearing": run.bearing} for run in thrown]
-    saved = flights_3d(flights, figures_dir / "whole-arm-flights",
+    saved = flights_3d(flights, out.figure("whole-arm-flights"),
                        title="The last throw at every basket, around the robot")
     entries.append((saved.png, "whole-arm", "Every basket's last throw in 3-D",
                     "The robot's base at the origin, each basket at its distance and bearing (the rim's height drawn), "
@@ -313,7 +315,7 @@ def whole_arm_figures(figures_dir: Path, whole: WholeArm, robot) -> list[tuple[P
         demo["time"] = demo["time"] - demo["time"][-1]
     saved = joint_trajectories(
         human, planned, list(zip(mapping.driven_joints, mapping.human_columns, strict=True)),
-        figures_dir / "whole-arm-joints", demos=demos,
+        out.figure("whole-arm-joints"), demos=demos,
         limits={j.name: (j.lower, j.upper) for j in robot.joints},
         speeds={j.name: j.max_velocity for j in robot.joints},
         turned=(mapping.bearing_joint,) if mapping.bearing_joint else (),

@@ -1,0 +1,241 @@
+"""A run's output folder, replaced only where a run wrote it.
+
+A run (``rlff demo``) writes files of names of its own, ``writes`` (``demos.csv``,
+``attempts/*.jsonl``, ``figures/*.png``, ...; ``*`` is one name that does not start with a dot),
+and lists every one in the folder's ``.rlff-run`` before it writes it, with its SHA-256 once the
+run has finished. The next run into the folder removes what that listing names, unchanged
+since, before its first file, so that a smaller run (``rlff demo --small`` after a full one)
+leaves none of the earlier run's logs or figures to be taken for its own. A file of those names
+that the listing does not name, or one changed since the run wrote it, may be someone's own (an
+attempts log of ``rlff learn``, an edited figure, a ``run.json`` of
+:func:`rlff.report.write_run`): the folder is refused before anything is written or removed.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import os
+from collections.abc import Sequence
+from fnmatch import fnmatchcase
+from pathlib import Path
+
+from rlff.errors import InputError
+from rlff.fileio import write_text
+
+#: The listing of the files the folder's last run wrote.
+LISTING = ".rlff-run"
+FORMAT = "rlff-run-files"
+VERSION = 1
+#: Files of a refusal named in its message; the rest are counted.
+_NAMED = 5
+
+
+class RunPaths:
+    """Where a run's files go inside ``path``, by their paths relative to it (POSIX, ``attempts/x.jsonl``).
+
+    A plain folder: nothing is recorded (:class:`RunFolder` lists each file before it is written).
+    """
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = Path(path)
+
+    def file(self, relative: str) -> Path:
+        """The path of the file ``relative``."""
+        self._claim(relative)
+        return self.path / relative
+
+    def folder(self, relative: str) -> Path:
+        """The path of the folder ``relative``, every file of which the run writes."""
+        self._claim(f"{relative.rstrip('/')}/")
+        return self.path / relative
+
+    def figure(self, stem: str) -> Path:
+        """``figures/STEM``, the path a plot is given: it writes ``STEM.png`` and ``STEM.svg``."""
+        self._claim(f"figures/{stem}.png", f"figures/{stem}.svg")
+        return self.path / "figures" / stem
+
+    def log(self, relative: str) -> Path:
+        """The path of the attempts log ``relative``; its lock file ``relative.lock`` goes beside it."""
+        self._claim(relative, f"{relative}.lock")
+        return self.path / relative
+
+    def _claim(self, *names: str) -> None:
+        """Files (``folder/``: every file in it) about to be written; a plain folder records nothing."""
+
+
+class RunFolder(RunPaths):
+    """A run's output folder: created, checked and cleared of the last run's files.
+
+    Parameters
+    ----------
+    path : str or Path
+        The folder (created with its parents when missing).
+    writes : sequence of str
+        The names of the files the run may write, relative to ``path``, ``*`` for one name
+        (``figures/*.png``); every file the run writes must be of one of them.
+    program : str
+        What runs, for the messages (``rlff demo``).
+
+    Raises
+    ------
+    InputError
+        The folder holds files of the names in ``writes`` that its last run did not list as its
+        own, or that changed since (:func:`check_run_folder`); or it cannot be created.
+    """
+
+    def __init__(self, path: str | Path, writes: Sequence[str], program: str) -> None:
+        super().__init__(path)
+        self.writes = tuple(writes)
+        self.program = program
+        try:
+            self.path.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"{self.path}: cannot create the folder ({exc.strerror})") from None
+        _remove(self.path, _earlier_files(self.path, self.writes, program))
+        self.files: dict[str, str | None] = {}  # what this run wrote: path -> SHA-256 once finished
+        self._write_listing(finished=False)
+
+    def _claim(self, *names: str) -> None:
+        """List ``names`` (``folder/``: every file in it) as this run's, before they are written.
+
+        Raises
+        ------
+        ValueError
+            A name (a file in a folder) is not of the names in ``writes``: a bug, the check before
+            the run would not have seen a file of that name.
+        """
+        for name in names:
+            if not _listable(name, self.writes):
+                raise ValueError(f"{name}: not of the names {self.program} writes ({', '.join(self.writes)})")
+        if any(name not in self.files for name in names):
+            self.files.update((name, None) for name in names)
+            self._write_listing(finished=False)
+
+    def finish(self) -> None:
+        """List every file the run wrote with its SHA-256: a later run replaces them only as they are now."""
+        written: dict[str, str | None] = {}
+        for key in self.files:
+            names = _files_under(self.path, key) if key.endswith("/") else [key]
+            for name in filter(lambda name: _is_written(name, self.writes), names):
+                digest = _sha256(self.path / name)
+                if digest is not None:
+                    written[name] = digest
+        self.files = written
+        self._write_listing(finished=True)
+
+    def _write_listing(self, *, finished: bool) -> None:
+        write_text(self.path / LISTING, json.dumps(
+            {"format": FORMAT, "version": VERSION, "program": self.program, "finished": finished, "files": self.files},
+            indent=1) + "\n")
+
+
+def check_run_folder(path: str | Path, writes: Sequence[str], program: str) -> None:
+    """Raise where a :class:`RunFolder` of ``path`` would be refused, changing nothing.
+
+    Raises
+    ------
+    InputError
+        The folder holds files of the names in ``writes`` that its last run did not list as its
+        own (or none: no listing), or that changed since that run finished.
+    """
+    if Path(path).is_dir():
+        _earlier_files(Path(path), writes, program)
+
+
+def _earlier_files(path: Path, writes: Sequence[str], program: str) -> list[str]:
+    """The files of the names in ``writes`` in ``path``, every one the last run's as it wrote it.
+
+    Raises
+    ------
+    InputError
+        Naming the files that are not: not in the last run's listing, or changed since it finished.
+    """
+    listed = _read_listing(path, writes)
+    folders = [key for key in listed if key.endswith("/")]
+    earlier, foreign = [], []
+    for name in _present(path, writes):
+        if name in listed:
+            if listed[name] is None or _sha256(path / name) == listed[name]:
+                earlier.append(name)
+            else:
+                foreign.append(f"{name} (changed since {program} wrote it)")
+        elif any(name.startswith(folder) for folder in folders):
+            earlier.append(name)
+        else:
+            foreign.append(name)
+    if foreign:
+        named = ", ".join(foreign[:_NAMED]) + (f" and {len(foreign) - _NAMED} more" if len(foreign) > _NAMED else "")
+        raise InputError(f"{path}: holds files {program} would replace that it did not write there: {named}; "
+                         "give another folder with -o, or move or remove those files")
+    return earlier
+
+
+def _read_listing(path: Path, writes: Sequence[str]) -> dict[str, str | None]:
+    """The files (and ``folder/`` of files) the last run in ``path`` listed, to their SHA-256
+    (None where the run did not finish); nothing where there is no listing or it is not one.
+    Only names of ``writes`` count: a listing names nothing else to be removed."""
+    try:
+        data = json.loads((path / LISTING).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+    files = data.get("files") if isinstance(data, dict) and data.get("format") == FORMAT else None
+    if not isinstance(files, dict):
+        return {}
+    return {name: digest for name, digest in files.items()
+            if isinstance(name, str) and (digest is None or isinstance(digest, str)) and _listable(name, writes)}
+
+
+def _is_written(relative: str, writes: Sequence[str]) -> bool:
+    """Whether ``relative`` (POSIX, inside the folder) is of one of the names in ``writes``; no
+    part may start with a dot (a temporary file of an atomic write, the listing)."""
+    parts = relative.split("/")
+    if any(not part or part.startswith(".") for part in parts):
+        return False
+    return any(len(pattern.split("/")) == len(parts)
+               and all(fnmatchcase(part, name) for part, name in zip(parts, pattern.split("/"), strict=True))
+               for pattern in writes)
+
+
+def _listable(name: str, writes: Sequence[str]) -> bool:
+    """Whether a run may list ``name``: a file of the names in ``writes``, or a folder
+    (``figures/frames/``) every file in which is (``figures/frames/*`` is one of them)."""
+    return f"{name}*" in writes if name.endswith("/") else _is_written(name, writes)
+
+
+def _present(path: Path, writes: Sequence[str]) -> list[str]:
+    """The files (and links) in ``path`` of the names in ``writes``, relative to it, sorted."""
+    names = [entry.name for entry in path.iterdir() if entry.is_symlink() or not entry.is_dir()]
+    for top in {pattern.split("/")[0] for pattern in writes if "/" in pattern}:
+        names += _files_under(path, top)
+    return sorted(name for name in names if _is_written(name, writes))
+
+
+def _files_under(path: Path, folder: str) -> list[str]:
+    """The files (and links) anywhere under ``path / folder`` outside hidden folders, relative to ``path``."""
+    names = []
+    for root, dirs, files in os.walk(path / folder):
+        dirs[:] = [d for d in dirs if not d.startswith(".")]
+        names += [Path(root, name).relative_to(path).as_posix() for name in files]
+    return names
+
+
+def _sha256(path: Path) -> str | None:
+    """The SHA-256 of the file at ``path`` (hex), or None where it cannot be read."""
+    try:
+        with path.open("rb") as handle:
+            return hashlib.file_digest(handle, "sha256").hexdigest()
+    except OSError:
+        return None
+
+
+def _remove(path: Path, names: Sequence[str]) -> None:
+    """Remove the files ``names`` (relative to ``path``) and the folders they leave empty."""
+    folders = set()
+    for name in names:
+        (path / name).unlink(missing_ok=True)
+        folders |= {parent for parent in (path / name).parents if parent != path and path in parent.parents}
+    for folder in sorted(folders, key=lambda p: len(p.parts), reverse=True):
+        with contextlib.suppress(OSError):  # not empty: someone's files beside the run's
+            folder.rmdir()
