@@ -15,7 +15,7 @@ from rlff.dataset import read_csv
 from rlff.demo import STAGES
 from rlff.model import Model
 from rlff.report import read_run
-from rlff.report.folder import LISTING
+from rlff.report.folder import LISTING, LOCK
 
 pytestmark = [pytest.mark.slow, pytest.mark.integration]
 
@@ -73,7 +73,7 @@ def check_complete_run(demo) -> None:
     listing = json.loads((out / LISTING).read_text())
     assert listing["finished"]
     assert set(listing["files"]) == {p.relative_to(out).as_posix() for p in out.rglob("*")
-                                     if p.is_file() and p.name != LISTING}
+                                     if p.is_file() and p.name not in (LISTING, LOCK)}
     for name, digest in listing["files"].items():
         assert hashlib.sha256((out / name).read_bytes()).hexdigest() == digest, name
 

@@ -1,20 +1,28 @@
-"""``rlff demo -o DIR`` replaces only what an earlier demo wrote in DIR.
+"""``rlff demo -o DIR`` replaces only what an earlier demo wrote in DIR, and one run at a time.
 
 The user's own files under the demo's names (an attempts log of ``rlff learn``, a figure, a
 ``run.json`` of ``write_run``) had been replaced with exit 0; a small demo after a full one had
-left the full one's logs beside its own. The folder's listing is
+left the full one's logs beside its own; two demos into one folder had both ended with exit 0,
+the first printing results the folder no longer held. The folder's listing and lock are
 :mod:`rlff.report.folder`'s (its rules: ``test_demo_folder_rules.py``); the tests here run the
 real demo, through its entry point where they can."""
 
 from __future__ import annotations
 
 import json
+import os
+import signal
+import subprocess
+import sys
+import time
 
 import pytest
 
 from rlff.report.folder import LISTING
 
 DEMO = ("demo", "--small", "--no-frames")
+#: The lock a run holds its folder with, as docs/demo.md names it.
+LOCK = ".rlff-run.lock"
 
 
 def _one_line_error(result, *fragments: str) -> str:
@@ -71,5 +79,31 @@ def test_a_small_demo_after_a_full_one_leaves_none_of_the_full_runs_files(tmp_pa
         run_demo(out, size="small", frames=False, progress=stop_at("simulating"))
     left = sorted(p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file())
     assert [name for name in left if name.startswith("attempts/")] == []  # the full run's logs
-    assert left == [LISTING]  # nor any other file of it; the listing is the small run's, empty yet
+    assert left == [LISTING, LOCK]  # nor any other file of it; the listing is the small run's, empty yet
     assert json.loads((out / LISTING).read_text())["files"] == {}
+
+
+@pytest.mark.integration
+def test_a_second_demo_into_a_folder_in_use_is_refused_at_once_naming_the_first(cli, tmp_path):
+    """Two demos into one folder: the second had run to the end too, over the first's files."""
+    out = tmp_path / "demo"
+    env = {**os.environ, "MPLBACKEND": "Agg"}
+    first = subprocess.Popen([sys.executable, "-m", "rlff", "-q", *DEMO, "-o", str(out)], env=env,
+                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        # the first run is under way: it holds the folder (or, without the lock, wrote its first file)
+        while not ((out / LOCK).is_file() and (out / LOCK).read_text()) and not (out / "demos.csv").exists():
+            assert first.poll() is None, first.stderr.read()
+            assert time.monotonic() < deadline, "the first demo did not start"
+            time.sleep(0.1)
+        result = cli(*DEMO, "-o", str(out), timeout=300)
+        _one_line_error(result, f"{out} is in use by rlff demo, pid {first.pid} on host ",
+                        f"(lock file {out / LOCK}); wait for that run to end, or give another folder with -o")
+        # refused without disturbing the first: it runs on, holding the folder
+        assert first.poll() is None and f"pid {first.pid} " in (out / LOCK).read_text()
+    finally:
+        first.send_signal(signal.SIGINT)
+        first.communicate(timeout=120)
+    assert first.returncode == 130
+    assert (out / LOCK).read_text() == ""  # released: the next run may take the folder

@@ -1,17 +1,18 @@
 """The rules of a demo's output folder (:mod:`rlff.report.folder`) on folders of real files: what
-a run lists as its own, what the next run removes, what it refuses; the demo's own
+a run lists as its own, what the next run removes, what it refuses, and the lock; the demo's own
 names (:data:`rlff.demo.WRITES`). The demo itself: ``test_demo_folder.py``."""
 
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import pytest
 
 from rlff.demo import PROGRAM, WRITES
 from rlff.errors import InputError
-from rlff.report.folder import LISTING, RunFolder
+from rlff.report.folder import LISTING, LOCK, FolderInUse, RunFolder
 
 
 def _write(folder: RunFolder, relative: str, text: str) -> Path:
@@ -22,35 +23,35 @@ def _write(folder: RunFolder, relative: str, text: str) -> Path:
 
 
 def test_a_finished_runs_files_are_replaced_only_as_it_wrote_them(tmp_path):
-    run = RunFolder(tmp_path, WRITES, PROGRAM)
-    _write(run, "demos.csv", "the demo's")
-    _write(run, "figures/learning.png", "the demo's")
-    run.finish()
+    with RunFolder(tmp_path, WRITES, PROGRAM) as run:
+        _write(run, "demos.csv", "the demo's")
+        _write(run, "figures/learning.png", "the demo's")
+        run.finish()
     (tmp_path / "figures" / "learning.png").write_text("edited since")
     with pytest.raises(InputError, match=r"figures/learning\.png \(changed since rlff demo wrote it\); give another"):
         RunFolder(tmp_path, WRITES, PROGRAM)
     assert (tmp_path / "figures" / "learning.png").read_text() == "edited since"
     assert (tmp_path / "demos.csv").read_text() == "the demo's"  # nothing removed before the refusal
     (tmp_path / "figures" / "learning.png").write_text("the demo's")  # as the demo wrote it again
-    RunFolder(tmp_path, WRITES, PROGRAM)  # removed, and the figures folder they leave empty
-    assert not (tmp_path / "demos.csv").exists() and not (tmp_path / "figures").exists()
+    with RunFolder(tmp_path, WRITES, PROGRAM):  # removed, and the figures folder they leave empty
+        assert not (tmp_path / "demos.csv").exists() and not (tmp_path / "figures").exists()
 
 
 def test_a_stopped_runs_listed_files_and_folders_are_its_own_and_nothing_else_is(tmp_path):
-    run = RunFolder(tmp_path, WRITES, PROGRAM)  # stopped: never finished
-    _write(run, "attempts/calibrate.jsonl", "the demo's")
-    frames = run.folder("figures/frames")
-    frames.mkdir(parents=True)
-    (frames / "frame_0000.png").write_text("the demo's")
+    with RunFolder(tmp_path, WRITES, PROGRAM) as run:  # stopped: never finished
+        _write(run, "attempts/calibrate.jsonl", "the demo's")
+        frames = run.folder("figures/frames")
+        frames.mkdir(parents=True)
+        (frames / "frame_0000.png").write_text("the demo's")
     (tmp_path / "attempts" / "whole-arm").mkdir()
     (tmp_path / "attempts" / "whole-arm" / "2m-0deg.jsonl").write_text("mine")
     (tmp_path / "notes.txt").write_text("mine, of no name the demo writes")
     with pytest.raises(InputError, match=r"it did not write there: attempts/whole-arm/2m-0deg\.jsonl; give"):
         RunFolder(tmp_path, WRITES, PROGRAM)
     (tmp_path / "attempts" / "whole-arm" / "2m-0deg.jsonl").unlink()
-    RunFolder(tmp_path, WRITES, PROGRAM)
-    left = sorted(p.relative_to(tmp_path).as_posix() for p in tmp_path.rglob("*") if p.is_file())
-    assert left == [LISTING, "notes.txt"]
+    with RunFolder(tmp_path, WRITES, PROGRAM):
+        left = sorted(p.relative_to(tmp_path).as_posix() for p in tmp_path.rglob("*") if p.is_file())
+        assert left == [LISTING, LOCK, "notes.txt"]
 
 
 def test_a_listing_names_only_files_of_the_demos_names_to_remove(tmp_path):
@@ -58,7 +59,19 @@ def test_a_listing_names_only_files_of_the_demos_names_to_remove(tmp_path):
     (tmp_path / "notes.txt").write_text("mine")
     (tmp_path / LISTING).write_text(json.dumps({"format": "rlff-run-files", "version": 1, "finished": False,
                                                 "files": {"notes.txt": None, "../outside.csv": None, "/": None}}))
-    run = RunFolder(tmp_path, WRITES, PROGRAM)
-    assert (tmp_path / "notes.txt").read_text() == "mine"
-    with pytest.raises(ValueError, match="notes.txt: not of the names rlff demo writes"):
-        run.file("notes.txt")
+    with RunFolder(tmp_path, WRITES, PROGRAM) as run:
+        assert (tmp_path / "notes.txt").read_text() == "mine"
+        with pytest.raises(ValueError, match="notes.txt: not of the names rlff demo writes"):
+            run.file("notes.txt")
+
+
+def test_a_folder_held_by_a_run_is_refused_naming_it(tmp_path):
+    from rlff.demo import check_demo_options
+
+    with RunFolder(tmp_path, WRITES, PROGRAM):
+        assert f"rlff demo, pid {os.getpid()} on host " in (tmp_path / LOCK).read_text()
+        with pytest.raises(FolderInUse, match=f"is in use by rlff demo, pid {os.getpid()} on host "):
+            check_demo_options(tmp_path, "small")
+        with pytest.raises(FolderInUse):
+            RunFolder(tmp_path, WRITES, PROGRAM)
+    check_demo_options(tmp_path, "small")

@@ -13,7 +13,8 @@ Layout of ``out_dir``: ``report.html``, ``run.json`` (see :mod:`rlff.report.run`
 ``figures/*.png|svg``, ``demos.csv`` (the simulated recordings), ``clean.csv`` (after the
 preprocessing), ``model.json``, ``attempts/<method>.jsonl`` (the learning runs' logs),
 ``whole-arm-demos.csv``, ``whole-arm-clean.csv`` and ``attempts/whole-arm/*.jsonl``; the
-listing of what the run wrote, ``.rlff-run`` (:mod:`rlff.report.folder`).
+listing of what the run wrote, ``.rlff-run``, and the lock the run holds the folder with,
+``.rlff-run.lock`` (:mod:`rlff.report.folder`).
 """
 
 from __future__ import annotations
@@ -346,9 +347,9 @@ def _failures(raw, said: str) -> str:
 
 
 def check_demo_options(out_dir: str | Path, size: str) -> None:
-    """Raise :class:`InputError` for an unknown size, an output path that is not a folder, or a
-    folder that holds files of a run's names (:data:`WRITES`) that its last run did not write
-    (:func:`rlff.report.folder.check_run_folder`): the run would replace them."""
+    """Raise :class:`InputError` for an unknown size, an output path that is not a folder, a folder
+    another run holds, or one that holds files of a run's names (:data:`WRITES`) that its last
+    run did not write (:func:`rlff.report.folder.check_run_folder`): the run would replace them."""
     _check_size_and_path(out_dir, size)
     check_run_folder(out_dir, WRITES, PROGRAM)
 
@@ -373,7 +374,7 @@ def run_demo(
     Parameters
     ----------
     out_dir : path
-        Output folder (created). The files the folder's last run listed
+        Output folder (created), held by this run alone. The files the folder's last run listed
         as its own (finished or stopped, unchanged since) are removed first; a folder holding
         other files of a run's names (:data:`WRITES`) is refused (:func:`check_demo_options`,
         :mod:`rlff.report.folder`).
@@ -398,13 +399,14 @@ def run_demo(
     Raises
     ------
     InputError
-        As :func:`check_demo_options`: ``out_dir`` holds files of a run's names that its last run
-        did not write; or a stage found too little to go on.
+        As :func:`check_demo_options`: another run holds ``out_dir`` (:class:`rlff.report.folder.FolderInUse`),
+        or it holds files of a run's names that its last run did not write; or a stage found too
+        little to go on.
     """
     _check_size_and_path(out_dir, size)
-    folder = RunFolder(out_dir, WRITES, PROGRAM)
-    summary = _run(folder, size, seed=seed, progress=progress, frames=frames)
-    folder.finish()
+    with RunFolder(out_dir, WRITES, PROGRAM) as folder:
+        summary = _run(folder, size, seed=seed, progress=progress, frames=frames)
+        folder.finish()
     return summary
 
 

@@ -1,4 +1,4 @@
-"""A run's output folder, replaced only where a run wrote it.
+"""A run's output folder: held by one run at a time, and replaced only where a run wrote it.
 
 A run (``rlff demo``) writes files of names of its own, ``writes`` (``demos.csv``,
 ``attempts/*.jsonl``, ``figures/*.png``, ...; ``*`` is one name that does not start with a dot),
@@ -9,6 +9,12 @@ leaves none of the earlier run's logs or figures to be taken for its own. A file
 that the listing does not name, or one changed since the run wrote it, may be someone's own (an
 attempts log of ``rlff learn``, an edited figure, a ``run.json`` of
 :func:`rlff.report.write_run`): the folder is refused before anything is written or removed.
+
+One run at a time: a run holds an exclusive lock on ``.rlff-run.lock`` (``flock`` through
+filelock's :func:`filelock.lock_descriptor`, released by the kernel if the run dies) with its pid,
+host and start time written in it; a second run into the folder is refused naming that holder, as
+a second ``rlff learn`` on one attempts log is (:mod:`rlff.learn.log`). The lock file is left in
+place and emptied on release.
 """
 
 from __future__ import annotations
@@ -17,19 +23,28 @@ import contextlib
 import hashlib
 import json
 import os
+import socket
+import time
 from collections.abc import Sequence
 from fnmatch import fnmatchcase
 from pathlib import Path
 
+from filelock import lock_descriptor, unlock_descriptor
+
 from rlff.errors import InputError
 from rlff.fileio import write_text
 
-#: The listing of the files the folder's last run wrote.
+#: The listing of the files the folder's last run wrote, and the lock a run holds.
 LISTING = ".rlff-run"
+LOCK = ".rlff-run.lock"
 FORMAT = "rlff-run-files"
 VERSION = 1
 #: Files of a refusal named in its message; the rest are counted.
 _NAMED = 5
+
+
+class FolderInUse(InputError):
+    """Another run holds the folder."""
 
 
 class RunPaths:
@@ -66,7 +81,7 @@ class RunPaths:
 
 
 class RunFolder(RunPaths):
-    """A run's output folder: created, checked and cleared of the last run's files.
+    """A run's output folder, held by this run: created, locked, checked and cleared of the last run's files.
 
     Parameters
     ----------
@@ -76,10 +91,12 @@ class RunFolder(RunPaths):
         The names of the files the run may write, relative to ``path``, ``*`` for one name
         (``figures/*.png``); every file the run writes must be of one of them.
     program : str
-        What runs, for the messages (``rlff demo``).
+        What runs, for the lock's holder and the messages (``rlff demo``).
 
     Raises
     ------
+    FolderInUse
+        Another run holds the folder (the message names its pid and host).
     InputError
         The folder holds files of the names in ``writes`` that its last run did not list as its
         own, or that changed since (:func:`check_run_folder`); or it cannot be created.
@@ -93,9 +110,15 @@ class RunFolder(RunPaths):
             self.path.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise InputError(f"{self.path}: cannot create the folder ({exc.strerror})") from None
-        _remove(self.path, _earlier_files(self.path, self.writes, program))
-        self.files: dict[str, str | None] = {}  # what this run wrote: path -> SHA-256 once finished
-        self._write_listing(finished=False)
+        self._lock: int | None = _acquire(self.path / LOCK, program)
+        try:
+            earlier = _earlier_files(self.path, self.writes, program)
+            _remove(self.path, earlier)
+            self.files: dict[str, str | None] = {}  # what this run wrote: path -> SHA-256 once finished
+            self._write_listing(finished=False)
+        except BaseException:
+            self.close()
+            raise
 
     def _claim(self, *names: str) -> None:
         """List ``names`` (``folder/``: every file in it) as this run's, before they are written.
@@ -125,6 +148,21 @@ class RunFolder(RunPaths):
         self.files = written
         self._write_listing(finished=True)
 
+    def close(self) -> None:
+        """Release the folder for other runs (idempotent)."""
+        if self._lock is None:
+            return
+        os.ftruncate(self._lock, 0)
+        unlock_descriptor(self._lock)
+        os.close(self._lock)
+        self._lock = None
+
+    def __enter__(self) -> RunFolder:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
     def _write_listing(self, *, finished: bool) -> None:
         write_text(self.path / LISTING, json.dumps(
             {"format": FORMAT, "version": VERSION, "program": self.program, "finished": finished, "files": self.files},
@@ -136,12 +174,37 @@ def check_run_folder(path: str | Path, writes: Sequence[str], program: str) -> N
 
     Raises
     ------
+    FolderInUse
+        Another run holds the folder.
     InputError
         The folder holds files of the names in ``writes`` that its last run did not list as its
         own (or none: no listing), or that changed since that run finished.
     """
-    if Path(path).is_dir():
-        _earlier_files(Path(path), writes, program)
+    path = Path(path)
+    if not path.is_dir():
+        return
+    if (path / LOCK).exists():
+        with contextlib.suppress(OSError):  # gone meanwhile, or not ours to open: the run itself will say
+            os.close(_acquire(path / LOCK, program, create=False, claim=False))
+    _earlier_files(path, writes, program)
+
+
+def _acquire(lock: Path, program: str, *, create: bool = True, claim: bool = True) -> int:
+    """Lock ``lock`` without waiting and (``claim``) write the holder into it; the descriptor
+    (released when closed). ``claim=False`` only tries: it releases the lock at once."""
+    fd = os.open(lock, os.O_RDWR | (os.O_CREAT if create else 0), 0o644)
+    if not lock_descriptor(fd, blocking=False):
+        holder = os.pread(fd, 4096, 0).decode("utf-8", errors="replace").strip() or "another run"
+        os.close(fd)
+        raise FolderInUse(f"{lock.parent} is in use by {holder} (lock file {lock}); wait for that run to end, "
+                          "or give another folder with -o")
+    if not claim:
+        unlock_descriptor(fd)
+        return fd
+    os.ftruncate(fd, 0)
+    started = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime())
+    os.pwrite(fd, f"{program}, pid {os.getpid()} on host {socket.gethostname()}, since {started}\n".encode(), 0)
+    return fd
 
 
 def _earlier_files(path: Path, writes: Sequence[str], program: str) -> list[str]:
@@ -189,7 +252,7 @@ def _read_listing(path: Path, writes: Sequence[str]) -> dict[str, str | None]:
 
 def _is_written(relative: str, writes: Sequence[str]) -> bool:
     """Whether ``relative`` (POSIX, inside the folder) is of one of the names in ``writes``; no
-    part may start with a dot (a temporary file of an atomic write, the listing)."""
+    part may start with a dot (a temporary file of an atomic write, the listing, the lock)."""
     parts = relative.split("/")
     if any(not part or part.startswith(".") for part in parts):
         return False
