@@ -151,3 +151,45 @@ def test_every_throw_taken_for_the_arm_coming_down_with_an_up_given_asks_about_t
     assert ("both its extensions went down at the release, as the arm coming down to rest does, and as every throw "
             "does with a wrong up axis: is x up in this file? (up was taken as x, --up x)") in result.stderr
     assert rlff("data", "import", str(bag), "-o", str(tmp_path / "z.csv")).code == 0
+
+
+def test_import_batches_that_share_a_recording_join_with_data_merge(rlff, bag, session, tmp_path):
+    # a lab's day: two import batches, the second re-importing a recording of the first.
+    # `data import batch1.csv batch2.csv` read the datasets as joint positions and asked for
+    # --columns right_elbow_x=...; the batches appended by hand said "time does not increase ...
+    # sort them", and sorting did not help
+    batch1, batch2 = tmp_path / "batch1.csv", tmp_path / "batch2.csv"
+    assert rlff("data", "import", str(session), "-o", str(batch1)).code == 0
+    assert rlff("data", "import", str(session), str(bag), "-o", str(batch2)).code == 0
+    result = rlff("data", "import", str(batch1), str(batch2), "-o", str(tmp_path / "all.csv"))
+    assert result.code == 2
+    assert result.stderr.strip().splitlines()[-1] == (
+        f"rlff: error: {batch1} and {batch2} are rlff datasets (trajectory, angle, velocity columns: throws already "
+        f"imported), not recordings: join them with `rlff data merge {batch1} {batch2} -o all.csv` (docs/data.md)")
+    result = rlff("data", "import", str(batch1), str(bag), "-o", str(tmp_path / "all.csv"))
+    assert result.code == 2 and (f"{batch1} is an rlff dataset" in result.stderr
+                                 and "import the recordings alone (-o new.csv), then join" in result.stderr)
+
+    # the bag has no hand beside the wrist: the second batch has no wrist columns, the first has
+    result = rlff("data", "merge", str(batch1), str(batch2), "-o", str(tmp_path / "all.csv"))
+    assert result.code == 2 and result.stderr.strip() == (
+        f"rlff: error: {batch2} and {batch1} have different columns ({batch2} lacks wrist, wrist_velocity): datasets "
+        "merge only with the same columns (import every batch with the same --joints)")
+    for batch, recordings in ((batch1, [session]), (batch2, [session, bag])):
+        assert rlff("data", "import", *map(str, recordings), "--joints", "elbow,shoulder", "-o", str(batch)).code == 0
+
+    merged = tmp_path / "all.csv"
+    result = rlff("data", "merge", str(batch1), str(batch2), "-o", str(merged))
+    assert result.code == 0, result.stderr
+    first, second = read_csv(batch1), read_csv(batch2)
+    assert result.stdout.strip() == (f"{len(second)} throws from 2 datasets, {len(first)} throws held twice kept once "
+                                     f"-> {merged}")
+    assert f"{first.ids[0]}: in {batch1} and again in {batch2}, the same throw: kept once" in result.stderr
+    assert read_csv(merged).equals(second)
+    assert rlff("fit", str(merged), "-o", str(tmp_path / "m.json")).code == 0
+    # the same id for two different throws is the user's call: refused, naming what differs
+    relabelled = tmp_path / "relabelled.csv"
+    relabelled.write_text(batch1.read_text().replace(str(session), str(session.parent / "elsewhere" / session.name)))
+    result = rlff("data", "merge", str(batch1), str(relabelled), "-o", str(tmp_path / "x.csv"))
+    assert result.code == 2 and f"is in {batch1} and in {relabelled} with metadata 'source'" in result.stderr
+    assert not (tmp_path / "x.csv").exists()

@@ -15,6 +15,7 @@ from rlff.dataset import (
     Trajectory,
     copies_warning,
     joint_columns,
+    merge_datasets,
     read_csv,
     velocity_column,
     write_csv,
@@ -405,3 +406,47 @@ def test_an_error_names_the_file_line_past_blank_lines_and_multi_line_notes(tmp_
     path.write_text("trajectory,angle\n\na,0.1\na,0.2\n\n\nb,0.2\n")
     with pytest.raises(InputError, match=r"gaps.csv, line 7: trajectory 'b' has a single sample"):
         read_csv(path)
+
+
+def _batches(tmp_path) -> tuple[Dataset, Dataset]:
+    """Two import batches written to CSV that share throw "b": (a, b) and (b, c)."""
+    first = Dataset([_trajectory("a", 1.0, 3, source="a.txt"), _trajectory("b", 2.0, 3, source="b.txt")])
+    second = Dataset([first["b"], _trajectory("c", 3.0, 3, source="c.txt")])
+    write_csv(first, tmp_path / "batch1.csv")
+    write_csv(second, tmp_path / "batch2.csv")
+    return first, second
+
+
+def test_merge_keeps_a_throw_two_batches_share_once(tmp_path):
+    first, second = _batches(tmp_path)
+    merged = merge_datasets([("batch1.csv", read_csv(tmp_path / "batch1.csv")),
+                             ("batch2.csv", read_csv(tmp_path / "batch2.csv"))])
+    assert merged.dataset.ids == ("a", "b", "c")
+    assert merged.kept_once == [("b", "batch1.csv", "batch2.csv")]
+    assert merged.dataset.equals(Dataset([*first, second["c"]]))
+
+
+def test_merge_refuses_one_id_for_two_throws_naming_what_differs():
+    first = Dataset([_trajectory("a", 1.0, 3, source="a.txt")])
+    relabelled = Dataset([_trajectory("a", 1.5, 3, source="a.txt")])
+    with pytest.raises(InputError, match=r"^trajectory 'a' is in one.csv and in two.csv with column 'distance' 1.0 "
+                                         r"against 1.5 at sample 0: two throws under one id"):
+        merge_datasets([("one.csv", first), ("two.csv", relabelled)])
+    elsewhere = Dataset([_trajectory("a", 1.0, 3, source="elsewhere/a.txt")])
+    with pytest.raises(InputError, match=r"with metadata 'source' 'a.txt' against 'elsewhere/a.txt'"):
+        merge_datasets([("one.csv", first), ("two.csv", elsewhere)])
+    longer = Dataset([_trajectory("a", 1.0, 4, source="a.txt")])
+    with pytest.raises(InputError, match=r"with 3 samples against 4"):
+        merge_datasets([("one.csv", first), ("two.csv", longer)])
+
+
+def test_merge_keeps_the_metadata_one_copy_lacks_and_refuses_other_columns():
+    # a batch imported by an earlier rlff lacks a key the later one writes: the same throw
+    older = Dataset([_trajectory("a", 1.0, 3, source="a.txt")])
+    newer = Dataset([_trajectory("a", 1.0, 3, source="a.txt", peak_confidence="high")])
+    merged = merge_datasets([("old.csv", older), ("new.csv", newer)])
+    assert merged.dataset["a"].meta == {"source": "a.txt", "peak_confidence": "high"}
+    elbow = Dataset([Trajectory("e", {"angle": [0.1, 0.2], "velocity": [1.0, 2.0], "distance": [1.0, 1.0]})])
+    with pytest.raises(InputError, match=r"^elbow.csv and old.csv have different columns \(elbow.csv lacks time\): "
+                                         r"datasets merge only with the same columns"):
+        merge_datasets([("old.csv", older), ("elbow.csv", elbow)])

@@ -16,7 +16,7 @@ velocity. The basket's ``bearing`` (deg, 0 straight ahead, positive to the left)
 
 The CSV long format (one row per sample, a ``trajectory`` id column, then the numeric columns,
 then metadata columns constant within a trajectory) is read and written here; other formats live
-in :mod:`rlff.formats`.
+in :mod:`rlff.formats`. :func:`merge_datasets` joins datasets (import batches) into one.
 """
 
 from __future__ import annotations
@@ -566,6 +566,118 @@ def copies_warning(dataset: Dataset) -> str | None:
         f"first: {' and '.join(groups[0])}): every copy counts in the fit and in BIC as a new throw "
         "(BIC then favours a larger K); keep one of each"
     )
+
+
+# -- joining datasets --------------------------------------------------------------------------
+#
+# A lab imports its recordings in batches, a session at a time, and wants them as one dataset to
+# clean and fit. Appending the files by hand gives a throw two batches share (one recording
+# imported twice) twice under one id, which every reader then refuses. merge_datasets joins
+# datasets in the order given and keeps such a throw once when both copies are the same (every
+# sample bit for bit, every metadata value they both have); two different throws under one id are
+# refused, naming what differs, since which to keep is the user's call.
+
+
+@dataclass(frozen=True)
+class Merged:
+    """The result of :func:`merge_datasets`.
+
+    Attributes
+    ----------
+    dataset : Dataset
+        Every trajectory of the inputs, in their order, a throw held by several inputs once (where
+        it first came).
+    kept_once : list of (str, str, str)
+        ``(id, first input, later input)`` for each throw a later input held again.
+    """
+
+    dataset: Dataset
+    kept_once: list[tuple[str, str, str]]
+
+
+def merge_datasets(named: Sequence[tuple[str, Dataset]]) -> Merged:
+    """Join datasets into one, a throw two of them hold identically kept once.
+
+    Identical: every sample bit for bit, and every metadata key both copies have with one value;
+    a key only one copy has (imports by two versions of rlff, the later writing a key more) is
+    kept on the throw.
+
+    Parameters
+    ----------
+    named : sequence of (str, Dataset)
+        Each dataset with the name it is called by in messages (its file), in the order to join.
+
+    Returns
+    -------
+    Merged
+
+    Raises
+    ------
+    InputError
+        No datasets; two with different sample columns or context columns (naming what one has
+        and the other lacks); an id held by two with different samples or metadata (naming the
+        column or the metadata key that differs).
+    """
+    if not named:
+        raise InputError("no datasets to merge")
+    first_name, first = named[0]
+    trajectories: dict[str, tuple[str, Trajectory]] = {}
+    kept_once: list[tuple[str, str, str]] = []
+    for name, dataset in named:
+        _require_same_columns(first_name, first, name, dataset)
+        for trajectory in dataset:
+            earlier = trajectories.get(trajectory.id)
+            if earlier is None:
+                trajectories[trajectory.id] = (name, trajectory)
+                continue
+            difference = _difference(earlier[1], trajectory)
+            if difference is not None:
+                raise InputError(
+                    f"trajectory {trajectory.id!r} is in {earlier[0]} and in {name} with {difference}: two throws "
+                    "under one id (or one throw imported with other settings); rename one, or drop one of them from "
+                    "its file"
+                )
+            # a metadata key one copy lacks (a key a later rlff writes) is the other's; the keys both have agree
+            trajectories[trajectory.id] = (earlier[0], earlier[1].replace(meta={**earlier[1].meta, **trajectory.meta}))
+            kept_once.append((trajectory.id, earlier[0], name))
+    return Merged(first.replace(trajectory for _, trajectory in trajectories.values()), kept_once)
+
+
+def _require_same_columns(first_name: str, first: Dataset, name: str, dataset: Dataset) -> None:
+    """:class:`InputError` when ``dataset`` has other sample or context columns than ``first``."""
+    if set(dataset.columns) != set(first.columns):
+        only_first = [column for column in first.columns if column not in dataset.columns]
+        only_this = [column for column in dataset.columns if column not in first.columns]
+        lacks = []
+        if only_first:
+            lacks.append(f"{name} lacks {', '.join(only_first)}")
+        if only_this:
+            lacks.append(f"{first_name} lacks {', '.join(only_this)}")
+        raise InputError(
+            f"{name} and {first_name} have different columns ({'; '.join(lacks)}): datasets merge only with the same "
+            "columns (import every batch with the same --joints)"
+        )
+    if tuple(dataset.context) != tuple(first.context):
+        raise InputError(
+            f"{name} has the context columns {', '.join(dataset.context) or 'none'}, {first_name} "
+            f"{', '.join(first.context) or 'none'}: datasets merge only with the same context"
+        )
+
+
+def _difference(first: Trajectory, other: Trajectory) -> str | None:
+    """How two trajectories under one id differ, in words (``"column 'distance' 2.75 against 2.5"``),
+    or None when every sample is the same and so is the value of every metadata key both have."""
+    if len(first) != len(other):
+        return f"{len(first)} samples against {len(other)}"
+    for column in first.columns:
+        mine, theirs = first[column], other[column]
+        if not np.array_equal(mine, theirs):
+            at = int(np.flatnonzero(mine != theirs)[0])
+            return f"column {column!r} {float(mine[at])!r} against {float(theirs[at])!r} at sample {at}"
+    for key in first.meta.keys() & other.meta.keys():
+        if first.meta[key] != other.meta[key]:
+            return f"metadata {key!r} {first.meta[key]!r} against {other.meta[key]!r}"
+    return None
 
 
 def _unusable(value: float) -> str:

@@ -20,6 +20,7 @@ its best candidate.
 
 from __future__ import annotations
 
+import csv
 import os
 import re
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -352,6 +353,52 @@ def refuse_folder(path: str | Path, format: str | None = None) -> None:
     raise InputError(f"{path}: is a folder, {kind}: {hint}")
 
 
+#: The columns that make a table an rlff dataset, throws already imported, rather than joint positions.
+DATASET_COLUMNS = ("trajectory", "angle", "velocity")
+#: Suffixes of the binary dataset formats (:mod:`rlff.formats`), which hold no recording.
+_DATASET_SUFFIXES = (".parquet", ".pq", ".npz")
+
+
+def refuse_datasets(paths: Sequence[str | os.PathLike]) -> None:
+    """:class:`InputError` for rlff datasets given as recordings (a CSV whose header holds
+    :data:`DATASET_COLUMNS`, a Parquet or NPZ file): throws already imported, which the joint CSV
+    reader would take for positions without a shoulder. The message says what they are and how
+    to join them (``rlff data merge``), with the recordings beside them or without."""
+    datasets = [str(path) for path in paths if _is_dataset(Path(path))]
+    if not datasets:
+        return
+    shown = " ".join(datasets) if len(datasets) <= 4 else "DATASETS..."
+    what = (f"{datasets[0]} is an rlff dataset" if len(datasets) == 1 else
+            f"{_listed(datasets)} are rlff datasets")
+    what += f" ({', '.join(DATASET_COLUMNS)} columns: throws already imported), not {'a recording' if len(datasets) == 1 else 'recordings'}"
+    if len(datasets) < len(paths):
+        raise InputError(f"{what}: import the recordings alone (-o new.csv), then join the throws with "
+                         f"`rlff data merge {shown} new.csv -o all.csv` (docs/data.md)")
+    if len(datasets) == 1:
+        raise InputError(f"{what}: it needs no import (`rlff data preprocess {shown} -o clean.csv` cleans it); "
+                         "`rlff data merge` joins datasets (docs/data.md)")
+    raise InputError(f"{what}: join them with `rlff data merge {shown} -o all.csv` (docs/data.md)")
+
+
+def _is_dataset(path: Path) -> bool:
+    """Whether ``path`` is an rlff dataset file (:func:`refuse_datasets`)."""
+    if not path.is_file():
+        return False
+    if path.suffix.lower() in _DATASET_SUFFIXES:
+        return True
+    with path.open(encoding="utf-8", errors="replace", newline="") as handle:
+        header = next((line for line in handle if line.strip()), "")
+    names = {name.strip() for name in next(csv.reader([header]), [])}
+    return set(DATASET_COLUMNS) <= names
+
+
+def _listed(names: Sequence[str], shown: int = 3) -> str:
+    """``a, b and c``, the first ``shown`` of ``names`` and how many more."""
+    if len(names) > shown:
+        return f"{', '.join(names[:shown])} and {len(names) - shown} more"
+    return ", ".join(names[:-1]) + f" and {names[-1]}"
+
+
 def imported_columns(paths: Sequence[str | Path], format: str | None = None) -> tuple[str, ...]:
     """The sample columns every import of ``paths`` writes, known before any is read: a thesis
     matrix passes through as (angle, distance, velocity); a recording's throws have ``time`` too
@@ -489,6 +536,7 @@ def import_recordings(
     origin: dict[str, Path] = {}  # the file of every throw, by id
     for path in paths:  # before anything is read
         refuse_folder(path, format)
+    refuse_datasets(paths)
     kinds = [detect_format(path) if format in (None, "auto") else format for path in map(Path, paths)]
     if up is not None:
         report.general_warnings.extend(_up_against_conventions(up, paths, kinds))

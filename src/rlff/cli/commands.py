@@ -10,8 +10,8 @@ import importlib
 
 import typer
 
-# Modules that add commands to another module's group (``data import``, ``data synth thesis``).
-_EXTENSIONS = ["data_import", "synth_thesis"]
+# Modules that add commands to another module's group (``data import``, ``data merge``, ``data synth thesis``).
+_EXTENSIONS = ["data_import", "data_merge", "synth_thesis"]
 
 # (module under rlff.cli, group name or None for top-level commands)
 _GROUPS = [
