@@ -178,6 +178,11 @@ def test_import_batches_that_share_a_recording_join_with_data_merge(rlff, bag, s
     for batch, recordings in ((batch1, [session]), (batch2, [session, bag])):
         assert rlff("data", "import", *map(str, recordings), "--joints", "elbow,shoulder", "-o", str(batch)).code == 0
 
+    joined = tmp_path / "joined.csv"  # appended by hand: the shared throw twice under its id
+    joined.write_text(batch1.read_text() + "".join(batch2.read_text().splitlines(keepends=True)[1:]))
+    result = rlff("fit", str(joined), "-o", str(tmp_path / "m.json"))
+    assert result.code == 2 and "appears twice (lines" in result.stderr and "rlff data merge" in result.stderr
+
     merged = tmp_path / "all.csv"
     result = rlff("data", "merge", str(batch1), str(batch2), "-o", str(merged))
     assert result.code == 0, result.stderr

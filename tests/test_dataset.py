@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import gzip
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -415,6 +416,76 @@ def _batches(tmp_path) -> tuple[Dataset, Dataset]:
     write_csv(first, tmp_path / "batch1.csv")
     write_csv(second, tmp_path / "batch2.csv")
     return first, second
+
+
+def _joined(tmp_path, name: str, sort: bool = False) -> Path:
+    """The two batches of :func:`_batches` appended by hand (and, with ``sort``, sorted by
+    trajectory and time after, as the time-order error used to ask)."""
+    header, *rows = (tmp_path / "batch1.csv").read_text().splitlines()
+    rows += (tmp_path / "batch2.csv").read_text().splitlines()[1:]
+    if sort:
+        time = header.split(",").index("time")
+        rows.sort(key=lambda row: (row.split(",")[0], float(row.split(",")[time])))
+    path = tmp_path / name
+    path.write_text("\n".join([header, *rows]) + "\n")
+    return path
+
+
+def test_a_throw_in_two_appended_batches_is_said_to_appear_twice_not_to_need_sorting(tmp_path):
+    # said "line 8: time does not increase within trajectory 'b' ... sort them by trajectory and
+    # time", and sorting as told gave the same error
+    _batches(tmp_path)
+    joined = _joined(tmp_path, "joined.csv")
+    with pytest.raises(InputError, match=r"joined.csv: trajectory 'b' appears twice \(lines 5-7 and 8-10\): two "
+                                         r"datasets joined with a throw in both\? keep one copy \(`rlff data merge"):
+        read_csv(joined)
+    with pytest.raises(InputError, match=r"sorted.csv, lines 5 and 6: trajectory 'b' holds the same sample twice "
+                                         r"\(time 0 s\), as it does each of its samples: two datasets joined"):
+        read_csv(_joined(tmp_path, "sorted.csv", sort=True))
+
+
+def test_the_two_copies_appear_twice_even_when_their_metadata_differ(tmp_path):
+    # the same recording imported from two folders: its source differs, and the error said
+    # "metadata column 'source' varies within trajectory 'b'"
+    _batches(tmp_path)
+    text = (tmp_path / "batch2.csv").read_text().replace("b.txt", "other/b.txt")
+    (tmp_path / "batch2.csv").write_text(text)
+    with pytest.raises(InputError, match=r"trajectory 'b' appears twice \(lines 5-7 and 8-10\)"):
+        read_csv(_joined(tmp_path, "joined.csv"))
+
+
+def test_a_throw_given_twice_without_a_time_column_is_refused_not_read_as_one_twice_as_long(tmp_path):
+    # read as trajectory 'b' of 6 samples, its motion run twice, without a word
+    throw_b = "b,0.5,2,4\nb,0.6,2,5\nb,0.7,2,6\n"
+    path = tmp_path / "thesis_like.csv"
+    path.write_text("trajectory,angle,distance,velocity\na,0.1,1,2\na,0.2,1,3\n" + throw_b + "c,0.1,3,2\nc,0.2,3,3\n"
+                    + throw_b)
+    with pytest.raises(InputError, match=r"thesis_like.csv: trajectory 'b' appears twice \(lines 4-6 and 9-11\)"):
+        read_csv(path)
+    # the throw that ends one file and starts the next: one block of rows, its motion twice
+    path.write_text("trajectory,angle,distance,velocity\na,0.1,1,2\na,0.2,1,3\n" + throw_b + throw_b)
+    with pytest.raises(InputError, match=r"trajectory 'b' appears twice \(lines 4-6 and 7-9\)"):
+        read_csv(path)
+
+
+def test_rows_scattered_among_other_trajectories_still_read_in_their_order(tmp_path):
+    # another tool's export sorted by time: each trajectory's rows come in many blocks, no copy
+    path = tmp_path / "by_time.csv"
+    path.write_text("trajectory,time,angle\na,0.0,0.1\nb,0.0,1.0\na,0.1,0.2\nb,0.1,1.1\na,0.2,0.3\n"
+                    "b,0.2,1.2\nb,0.3,1.3\n")
+    dataset = read_csv(path)
+    assert dataset.ids == ("a", "b")
+    np.testing.assert_array_equal(dataset["b"]["angle"], [1.0, 1.1, 1.2, 1.3])
+    # a single row out of place is a row to sort, said as before
+    path.write_text("trajectory,time,angle\na,0.1,0.2\na,0.2,0.3\nb,0.0,1.0\nb,0.1,1.1\na,0.0,0.1\n")
+    with pytest.raises(InputError, match=r"line 6: time does not increase within trajectory 'a'; the rows of each "
+                                         r"trajectory must be in time order"):
+        read_csv(path)
+    # one row pasted twice: said as such, not as two datasets joined
+    path.write_text("trajectory,time,angle\na,0.0,0.1\na,0.1,0.2\na,0.1,0.2\na,0.2,0.3\n")
+    with pytest.raises(InputError, match=r"by_time.csv, lines 3 and 4: trajectory 'a' holds the same sample twice "
+                                         r"\(time 0.1 s\): a row given twice\? delete one$"):
+        read_csv(path)
 
 
 def test_merge_keeps_a_throw_two_batches_share_once(tmp_path):

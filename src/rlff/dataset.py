@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from rlff.csvlines import data_row_line, header_separator
+from rlff.csvlines import data_row_line, data_row_lines, header_separator
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.kinds import binary_kind
@@ -40,6 +40,10 @@ from rlff.wording import bad_cell, plural
 #: What to do about a time that does not increase within a trajectory: rows out of order (a file
 #: sorted by another column, rows pasted in the wrong place).
 TIME_ORDER_HINT = "the rows of each trajectory must be in time order: sort them by trajectory and time"
+#: What to do about a throw given twice under its id in one file: two datasets joined (appended,
+#: pasted) that both hold it, which no sorting mends.
+TWICE_HINT = ("two datasets joined with a throw in both? keep one copy (`rlff data merge A.csv B.csv -o all.csv` joins "
+              "datasets, keeping a throw both hold once)")
 #: Metadata keys with a meaning to rlff (read as metadata even when numeric); others are kept
 #: as given. ``release_angle`` (rad) and ``release_time`` (s) locate the ball's release when known
 #: (simulated throws), ``glitches`` counts the tracking glitches a simulated throw holds,
@@ -832,6 +836,11 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
         frame[name] = numeric.astype(float)
     trajectories = []
     for trajectory_id, group in frame.groupby(ID_COLUMN, sort=False):
+        data = {name: group[name].to_numpy(dtype=float) for name in sample_columns}
+        # before the metadata: the two copies of a throw may differ there (its source's path)
+        fault = _given_twice(path, trajectory_id, group.index.to_numpy(), data)
+        if fault is not None:
+            raise InputError(fault)
         meta = {}
         for name in meta_columns:
             values = group[name]
@@ -856,7 +865,6 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
                 f"{path}, line {data_row_line(path, int(group.index[0]))}: trajectory {trajectory_id!r} has a single "
                 "sample (a demonstration needs at least 2)"
             )
-        data = {name: group[name].to_numpy(dtype=float) for name in sample_columns}
         if "time" in data and np.any(np.diff(data["time"]) <= 0):
             row = int(group.index[int(np.flatnonzero(np.diff(data["time"]) <= 0)[0]) + 1])
             raise InputError(
@@ -871,6 +879,92 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
         return Dataset(trajectories, context=context)
     except InputError as exc:
         raise InputError(f"{path}: {exc}") from None
+
+
+def _given_twice(path: Path, trajectory_id: str, rows: np.ndarray, data: Mapping[str, np.ndarray]) -> str | None:
+    """Why the rows of one trajectory id in a CSV hold a throw given twice (two datasets joined),
+    as the error's text, or None.
+
+    Parameters
+    ----------
+    path : Path
+        The CSV file, for the lines named.
+    trajectory_id : str
+    rows : array of int, shape (T,)
+        The id's data rows (0-based, header excluded), in file order.
+    data : mapping of str to array of shape (T,)
+        Its sample columns, in the same order.
+
+    Two datasets appended give the throw again after itself, its time starting again (the two
+    copies one block of rows when the throw ends one file and starts the other); sorted by
+    trajectory and time after, each sample comes twice in a row. Sorting, which a time that does
+    not increase asks for, mends neither. Rows scattered among other ids' (another tool's export)
+    are no fault, nor is a single row out of place.
+    """
+    starts = np.flatnonzero(np.diff(rows) > 1) + 1  # where the id's rows resume after other ids'
+    if not starts.size and "time" in data and np.all(np.diff(data["time"]) > 0):
+        return None  # the usual trajectory: one block of rows in time order
+    samples = np.column_stack(list(data.values()))
+    again = _start_again(data, samples, starts)
+    if again is not None:
+        lines = _row_lines(path, rows)
+        copies = np.split(np.arange(rows.size), np.union1d(starts, [again]))
+        spans = [f"{lines[copy[0]]}-{lines[copy[-1]]}" for copy in copies[:3]]
+        more = f" and {len(copies) - 3} more" if len(copies) > 3 else ""
+        shown = (" and ".join(spans) if len(spans) == 2 else ", ".join(spans)) + more
+        times = "twice" if len(copies) == 2 else f"{len(copies)} times"
+        return f"{path}: trajectory {trajectory_id!r} appears {times} (lines {shown}): {TWICE_HINT}"
+    if "time" not in data:
+        return None
+    repeats = np.flatnonzero(np.diff(data["time"]) == 0) + 1
+    same = (samples[repeats] == samples[repeats - 1]).all(axis=1)
+    if not repeats.size or not same[0]:
+        return None
+    first = int(repeats[0])
+    lines = _row_lines(path, rows)
+    where = f"{path}, lines {lines[first - 1]} and {lines[first]}: trajectory {trajectory_id!r} holds the same sample twice"
+    if same.all() and 2 * repeats.size == rows.size:
+        return f"{where} (time {data['time'][first]:g} s), as it does each of its samples: {TWICE_HINT}"
+    return f"{where} (time {data['time'][first]:g} s): a row given twice? delete one"
+
+
+def _start_again(data: Mapping[str, np.ndarray], samples: np.ndarray, starts: np.ndarray) -> int | None:
+    """Where a trajectory's throw starts again (the index of the row), or None.
+
+    ``samples`` (T, D) are its rows, ``starts`` the index of each block of rows but the first
+    (rows of other ids between). Starting again: a block of two rows or more whose time goes back
+    below where the block above ended, or, without a time column, that repeats an earlier block
+    sample for sample; within one block, the throw's first sample again where its time goes back
+    (without a time column: the second half the first, sample for sample). A time that stays (a
+    sample given twice in a row) is :func:`_given_twice`'s other case.
+    """
+    lengths = np.diff(np.append(starts, len(samples)))
+    if "time" in data:
+        time = data["time"]
+        back = starts[(time[starts] < time[starts - 1]) & (lengths >= MIN_FILE_SAMPLES)]
+        if back.size:
+            return int(back[0])
+        steps = np.flatnonzero(np.diff(time) < 0) + 1
+        if steps.size and np.array_equal(samples[steps[0]], samples[0]):
+            return int(steps[0])
+        return None
+    seen: set[bytes] = set()
+    for start, block in zip(np.append(0, starts), np.split(samples, starts), strict=True):
+        if len(block) >= MIN_FILE_SAMPLES:
+            digest = hashlib.sha256(np.ascontiguousarray(block).tobytes()).digest()
+            if digest in seen:
+                return int(start)
+            seen.add(digest)
+    half = len(samples) // 2
+    if len(samples) % 2 == 0 and half >= MIN_FILE_SAMPLES and np.array_equal(samples[:half], samples[half:]):
+        return half
+    return None
+
+
+def _row_lines(path: Path, rows: np.ndarray) -> list[int]:
+    """The 1-based file line of each data row in ``rows`` (0-based, header excluded)."""
+    lines = data_row_lines(path)
+    return [lines[row] if row < len(lines) else row + 2 for row in rows.tolist()]
 
 
 def _separator_hint(path: Path) -> str:
