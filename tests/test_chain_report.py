@@ -224,3 +224,24 @@ def test_a_learning_benchmark_is_reported_with_its_rows(tmp_path):
                            "4 of 4", 10],
                           ["bench.json", "comau_smart5_six", "short", "none", "binary", "imitation", True, "> 10", 11.0,
                            "0 of 4", 10]]
+
+
+def test_a_stray_temporary_file_of_a_killed_write_is_named_as_one_safe_to_delete(tmp_path):
+    # it was warned of as "not JSON (a damaged or cut-short file?)"; one of a dataset whose write
+    # was killed at its last byte was even tabled as a dataset of its own
+    from rlff.formats import write_dataset
+    from rlff.synthetic.throws import simulate_throws
+
+    write_dataset(simulate_throws(1, subjects=1, throws_per_distance=1), tmp_path / "demos.csv")
+    (tmp_path / ".demos.k2j4h1x0.tmp.csv").write_bytes((tmp_path / "demos.csv").read_bytes())
+    (tmp_path / ".model.x1y2.tmp.json").write_text('{"format": "rlff-model", "version": 1, "columns": ["an')
+    run, passed, _ = chain_run(tmp_path, tmp_path / "figures")
+    assert passed == ["2 stray temporary files (.demos.k2j4h1x0.tmp.csv, .model.x1y2.tmp.json) of writes that were "
+                      "killed (rlff writes an output such as demos.csv to one, then renames it into place, so the "
+                      "output itself is whole or as it was): safe to delete"]
+    assert run.settings["datasets"] == 1
+    (tmp_path / ".demos.k2j4h1x0.tmp.csv").unlink()
+    _, passed, _ = chain_run(tmp_path, tmp_path / "figures")
+    assert passed == [".model.x1y2.tmp.json: a stray temporary file of a write that was killed (rlff writes an output "
+                      "such as model.json to one, then renames it into place, so the output itself is whole or as it "
+                      "was): safe to delete"]

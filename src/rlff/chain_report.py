@@ -22,7 +22,8 @@ What counts (the folder itself, not its subfolders; anything else is passed over
 rlff's other outputs, which have nothing to tabulate beside these (a generated path, a robot
 trajectory: ``rlff generate``, ``rlff learn --out``, ``rlff robot export --format json|csv``),
 are recognised and counted in one line (``not reported: 4 generated paths, 2 robot
-trajectories``); a file that is none of these is passed over with the reason.
+trajectories``); a file that is none of these is passed over with the reason, a stray temporary
+file of a killed write (``.model.x1y2.tmp.json``) as one, safe to delete.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ import csv
 import datetime as dt
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -58,6 +60,9 @@ OUTCOME_FIELDS = frozenset({"hit", "landing_x", "miss", "release", "basket", "fi
 CLEANING_FORMAT = "rlff-preprocess-report"
 #: Fields of every ``rlff bench learning --json`` result (:func:`rlff.learn.benchmark.report`).
 BENCHMARK_FIELDS = frozenset({"rows", "comparisons"})
+#: The hidden temporary file :func:`rlff.fileio.atomic_write` writes an output to before renaming it
+#: into place (``.model.x1y2.tmp.json`` for ``model.json``): left beside it only by a killed write.
+STRAY_TEMPORARY = re.compile(r"^\.(?P<stem>.+)\.[^.]+\.tmp(?P<suffix>\.[^.]+)?$")
 #: What a folder's report counts, by its key in the run's settings: (the noun, its plural).
 COUNTED = {"datasets": ("dataset", "datasets"), "models": ("model", "models"),
            "attempts logs": ("attempts log", "attempts logs"), "simulated throws": ("simulated throw", "simulated throws"),
@@ -85,9 +90,13 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
 
     folder, figures_dir = Path(folder), Path(figures_dir)
     datasets, models, logs, throws, cleanings, benchmarks, passed, foreign = [], [], [], [], [], [], [], []
+    strays: list[str] = []
     unreported: dict[str, list[str]] = {}
     for path in sorted(p for p in folder.iterdir() if p.is_file()):
         suffix = path.suffix.lower()
+        if STRAY_TEMPORARY.match(path.name):
+            strays.append(path.name)
+            continue
         try:
             kind = _csv_kind(path) if suffix == ".csv" else None
             if kind == FOREIGN_CSV:
@@ -121,6 +130,8 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
                 logs.append((path, read_learning_log(path)))
         except InputError as exc:
             passed.append(f"{path.name}: {str(exc).removeprefix(str(path) + ': ')}")
+    if strays:
+        passed.append(_strays_words(strays))
     if foreign:
         shown = ", ".join(foreign[:3]) + (", ..." if len(foreign) > 3 else "")
         passed.append(f"{plural(len(foreign), 'CSV file')} without a 'trajectory' column, not rlff datasets ({shown}): "
@@ -165,6 +176,17 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     if not_reported:
         settings["not reported"] = not_reported.removeprefix("not reported: ")
     return Run(f"rlff: {folder.resolve().name}", created, settings, sections, figures), passed, not_reported
+
+
+def _strays_words(names: list[str]) -> str:
+    """Why the stray temporary files ``names`` are passed over, and that they may go."""
+    shown = ", ".join(names[:3]) + (", ..." if len(names) > 3 else "")
+    first = STRAY_TEMPORARY.match(names[0])
+    of = f"{first['stem']}{first['suffix'] or ''}"
+    what = (f"{shown}: a stray temporary file of a write that was killed" if len(names) == 1
+            else f"{len(names)} stray temporary files ({shown}) of writes that were killed")
+    return (f"{what} (rlff writes an output such as {of} to one, then renames it into place, so the output itself is "
+            "whole or as it was): safe to delete")
 
 
 def _csv_kind(path: Path) -> str | None:
