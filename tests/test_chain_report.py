@@ -226,6 +226,63 @@ def test_a_learning_benchmark_is_reported_with_its_rows(tmp_path):
                            "0 of 4", 10]]
 
 
+def _one_joint_record() -> dict:
+    from rlff.learn.log import robot_record
+    from rlff.robot import RobotMapping, load_robot
+
+    return robot_record(RobotMapping.for_robot(load_robot()))
+
+
+BASKET = {"distance": 1.3, "rim_height": 0.3, "opening": 0.35}
+
+
+def test_a_log_cut_mid_line_is_said_to_be_one_not_tabled_as_a_run_that_never_hit(tmp_path):
+    # a log cut after attempt 1 of a 12-attempt run read "no hit in 1", as a finished run, and
+    # nothing said its last line was cut
+    folder = tmp_path / "rep"
+    folder.mkdir()
+    cut = _log(folder / "interrupted.jsonl", _one_joint_record(), BASKET, misses=(0.69,))
+    cut.write_text(cut.read_text() + '{"attempt": 2, "target": 1.')  # killed while writing attempt 2
+    _log(folder / "whole.jsonl", _one_joint_record(), {**BASKET, "distance": 1.5}, misses=(0.69, 0.4))
+    run, passed, _ = chain_run(folder, tmp_path / "run" / "figures")
+    assert passed == []
+    (section,) = run.sections
+    rows = {row[0]: row for row in section.tables[0].rows}
+    assert rows["interrupted.jsonl"][10:12] == [1, "stopped after 1, no hit (log cut)"]
+    assert rows["whole.jsonl"][10:12] == [2, "no hit in 2"]
+    assert ("interrupted.jsonl ends in a line cut short: its run was killed while writing attempt 2, which is lost, so "
+            "the log stops short of the run's budget (2 attempts or more) without a hit; `rlff learn` with the run's "
+            "options and --log interrupted.jsonl resumes it.") in section.text
+    assert "whole.jsonl ends" not in section.text
+
+
+def test_copies_of_one_log_are_named_together_and_drawn_once(tmp_path):
+    # nine copies of one log were drawn as nine identical curves, with nothing saying so
+    folder = tmp_path / "lab"
+    folder.mkdir()
+    first = _log(folder / "full.jsonl", _one_joint_record(), BASKET, misses=(0.3, 0.01))
+    for name in ("k9.jsonl", "m_INT1.jsonl"):
+        (folder / name).write_bytes(first.read_bytes())
+    # the same seed run again: the same throws, another wall time
+    lines = first.read_text().splitlines()
+    lines[1] = json.dumps({**json.loads(lines[1]), "seconds": 2.5})
+    (folder / "rerun.jsonl").write_text("\n".join(lines) + "\n")
+    _log(folder / "other.jsonl", _one_joint_record(), BASKET, misses=(0.2, 0.05))  # another run of that task
+    run, passed, _ = chain_run(folder, tmp_path / "run" / "figures")
+    assert passed == []
+    (section,) = run.sections
+    assert len(section.tables[0].rows) == 5  # every log has its row
+    assert ("full.jsonl, k9.jsonl, m_INT1.jsonl and rerun.jsonl hold one run (the same header and the same throws, "
+            "attempt for attempt, their timings aside: copies of one log, or its seed run again): drawn once, as "
+            "full.jsonl.") in section.text
+    assert "other.jsonl" not in section.text
+    (figure,) = run.figures
+    assert figure.caption.endswith(" full.jsonl stands for the 4 logs of its run.")
+    svg = (tmp_path / "run" / "figures" / Path(figure.file).name).with_suffix(".svg").read_text()
+    curves = re.findall(r">(calibrate[^<]*)</text>", svg)
+    assert curves == ["calibrate (full.jsonl) (2 attempts)", "calibrate (other.jsonl) (2 attempts)"]  # not five
+
+
 def test_a_stray_temporary_file_of_a_killed_write_is_named_as_one_safe_to_delete(tmp_path):
     # it was warned of as "not JSON (a damaged or cut-short file?)"; one of a dataset whose write
     # was killed at its last byte was even tabled as a dataset of its own

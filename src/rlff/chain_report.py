@@ -24,15 +24,22 @@ trajectory: ``rlff generate``, ``rlff learn --out``, ``rlff robot export --forma
 are recognised and counted in one line (``not reported: 4 generated paths, 2 robot
 trajectories``); a file that is none of these is passed over with the reason, a stray temporary
 file of a killed write (``.model.x1y2.tmp.json``) as one, safe to delete.
+
+An attempts log whose last line was cut short (its run killed mid-write) is said to be one: its
+run stopped before its budget, and the attempt being written is lost. Logs that hold one run
+(the same header and throws, their timings aside: a log copied, a seed run again) are named
+together and drawn once.
 """
 
 from __future__ import annotations
 
 import csv
 import datetime as dt
+import hashlib
 import json
 import math
 import re
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -91,6 +98,7 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     folder, figures_dir = Path(folder), Path(figures_dir)
     datasets, models, logs, throws, cleanings, benchmarks, passed, foreign = [], [], [], [], [], [], [], []
     strays: list[str] = []
+    log_facts: dict[Path, LogFacts] = {}
     unreported: dict[str, list[str]] = {}
     for path in sorted(p for p in folder.iterdir() if p.is_file()):
         suffix = path.suffix.lower()
@@ -128,6 +136,7 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
                     passed.append(f"{path.name}: not an rlff dataset or model")
             elif suffix == ".jsonl":
                 logs.append((path, read_learning_log(path)))
+                log_facts[path] = log_facts_of(path)
         except InputError as exc:
             passed.append(f"{path.name}: {str(exc).removeprefix(str(path) + ': ')}")
     if strays:
@@ -163,7 +172,7 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     if logs:
         # by basket distance, then name: 1 m after 1.75 m read as file names sort
         logs.sort(key=lambda item: (item[1].basket, item[0].name))
-        section, drawn = _learning_section(logs, figures_dir)
+        section, drawn = _learning_section(logs, log_facts, figures_dir)
         sections.append(section)
         figures.extend(drawn)
     if benchmarks:
@@ -176,6 +185,37 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     if not_reported:
         settings["not reported"] = not_reported.removeprefix("not reported: ")
     return Run(f"rlff: {folder.resolve().name}", created, settings, sections, figures), passed, not_reported
+
+
+@dataclass(frozen=True)
+class LogFacts:
+    """What the report says of an attempts log beside its run (:func:`log_facts_of`).
+
+    Attributes
+    ----------
+    cut : bool
+        Its last line was cut short: its run was killed while writing the attempt after the
+        last one it holds (:attr:`rlff.learn.log.LogContents.dropped_partial_line`).
+    run_digest : str
+        SHA-256 (hex) of its header's run record and of every attempt but its wall time: equal
+        for two logs of one run (a copy, or the same seed thrown again in the simulation).
+    """
+
+    cut: bool
+    run_digest: str
+
+
+def log_facts_of(path: Path) -> LogFacts:
+    """The :class:`LogFacts` of the attempts log ``path``, read as the loop reads it to resume
+    (:func:`rlff.learn.log.read_log`)."""
+    from rlff.learn.log import read_log
+
+    run, contents = read_log(path)
+    digest = hashlib.sha256(json.dumps(run, sort_keys=True).encode())
+    for attempt in contents.attempts:
+        record = {key: value for key, value in attempt.to_json().items() if key != "seconds"}
+        digest.update(json.dumps(record, sort_keys=True).encode())
+    return LogFacts(contents.dropped_partial_line, digest.hexdigest())
 
 
 def _strays_words(names: list[str]) -> str:
@@ -329,27 +369,37 @@ def _model_section(models, figures_dir: Path) -> tuple[Section, list[FigureEntry
     return Section("model", "Models", f"{plural(len(models), 'model')} fitted by `rlff fit`.", {}, [table]), figures
 
 
-def _learning_section(logs, figures_dir: Path) -> tuple[Section, list[FigureEntry]]:
+def _learning_section(logs, facts: dict[Path, LogFacts], figures_dir: Path) -> tuple[Section, list[FigureEntry]]:
     """The attempts logs' table and their learning curves, one figure per task (the basket's
     distance, bearing and rim height, the robot, its pedestal and the joints:
     :func:`rlff.plots.learning_logs.task_key`): each log named with the robot, the joints and the
     bearing it threw with, which its header holds (a curve of another arm or another bearing is
-    another task)."""
+    another task). A log cut mid-line is said to be one (its run stopped there, before its
+    budget); logs of one run are named together and drawn once (``facts``: each log's
+    :class:`LogFacts`)."""
     from rlff.plots.learning import learning_curves_from_logs
     from rlff.plots.learning_logs import DEFAULT_RIM_HEIGHT, task_key
 
     rows = []
     for path, run in logs:
         first_hit = next((i + 1 for i, hit in enumerate(run.hits) if hit), None)
-        result = f"hit at attempt {first_hit}" if first_hit else f"no hit in {len(run.hits)}"
+        if first_hit:
+            result = f"hit at attempt {first_hit}"
+        elif facts[path].cut:
+            result = f"stopped after {len(run.hits)}, no hit (log cut)"
+        else:
+            result = f"no hit in {len(run.hits)}"
         shown = " ".join("–" if not np.isfinite(m) else signed(m) for m in run.misses[:8])
         rows.append([path.name, _robot_words(run), ", ".join(run.joints) or None, f"{run.bearing:g}°", run.rim_height,
                      run.method, run.feedback, run.gap, run.until, run.basket, len(run.hits), result,
                      shown + (" …" if len(run.misses) > 8 else "")])
+    same_run: dict[str, list[Path]] = {}
+    for path, _ in logs:
+        same_run.setdefault(facts[path].run_digest, []).append(path)
     figures = []
     groups: dict[tuple, list[Path]] = {}
     for path, run in logs:
-        if run.hits:
+        if run.hits and same_run[facts[path].run_digest][0] == path:  # a run held by several logs: drawn once
             groups.setdefault(task_key(run), []).append(path)
     for index, paths in enumerate(groups.values()):
         first = next(run for path, run in logs if path == paths[0])
@@ -361,13 +411,29 @@ def _learning_section(logs, figures_dir: Path) -> tuple[Section, list[FigureEntr
         thrown = {", ".join(run.joints) for path, run in logs if path in paths and run.joints}
         by = f" Thrown by {_robot_words(next(run for path, run in logs if path in paths))}" if robot else ""
         with_joints = f" with {' / '.join(sorted(thrown))}" if thrown else ""
+        copies = [same_run[facts[path].run_digest] for path in paths if len(same_run[facts[path].run_digest]) > 1]
+        standing = "".join(f" {group[0].name} stands for the {len(group)} logs of its run." for group in copies)
         figures.append(FigureEntry(_relative(saved.png, figures_dir), "learning", title,
                                    "Signed miss of every attempt (m), the loop's hit window shaded (a landing clear "
                                    "of the rim); curves named by what tells their runs apart."
-                                   + (f"{by}{with_joints}." if by else "")))
+                                   + (f"{by}{with_joints}." if by else "") + standing))
     table = Table("Attempts logs", ["file", "robot", "joints", "bearing", "rim (m)", "method", "feedback", "arm gap",
                                     "until", "basket (m)", "attempts", "result", "misses (m)"], rows, outcome_columns=())
     text = f"{plural(len(logs), 'attempts log')} of `rlff learn`."
+    for path, run in logs:
+        if facts[path].cut:
+            lost = len(run.hits) + 1
+            text += (f" {path.name} ends in a line cut short: its run was killed while writing attempt {lost}, which is "
+                     f"lost, so the log stops short of the run's budget ({lost} attempts or more)"
+                     f"{'' if any(run.hits) else ' without a hit'}; `rlff learn` with the run's options and --log "
+                     f"{path.name} resumes it.")
+    for group in same_run.values():
+        if len(group) > 1:
+            names = [path.name for path in group]
+            shown = ", ".join(names[:-1]) + f" and {names[-1]}" if len(names) <= 4 else (
+                f"{', '.join(names[:3])} and {len(names) - 3} more")
+            text += (f" {shown} hold one run (the same header and the same throws, attempt for attempt, their timings "
+                     f"aside: copies of one log, or its seed run again): drawn once, as {names[0]}.")
     digests: dict[tuple[str, tuple[str, ...]], set[str]] = {}
     for _, run in logs:
         if run.robot and run.digest:
