@@ -267,6 +267,48 @@ def test_a_transform_at_exactly_the_cameras_origin_is_a_joint_not_tracked_there(
         "origin (a joint the tracker did not detect)" in note
 
 
+def _never_tracked(*joints: str) -> bf.Simulation:
+    """One throw whose ``joints`` (NiTE frames of user 1) the tracker never detects: every one of
+    their transforms at exactly (0, 0, 0)."""
+    class NeverTracked(bf.Simulation):
+        def frames(self):
+            for t, users in super().frames():
+                for joint in joints:
+                    if joint in users["1"]:
+                        users["1"][joint] = np.zeros(3)
+                yield t, users
+
+    base = bf.standard_simulation(seed=4, n_throws=1, second_user=False)
+    return NeverTracked(base.throws, base.starts, base.duration, seed=4, second_user=False)
+
+
+def test_a_hip_frame_never_tracked_is_read_as_absent_and_the_torso_taken_from_the_spine(tmp_path):
+    # the torso's hip centre read the first stamp of the right hip's empty track: IndexError, an
+    # "internal error" for the user
+    simulation = _never_tracked("right_hip")
+    bag = bf.write_ros1_bag(tmp_path / "hip.bag", simulation, compression=None)
+    recording = read_bag(bag)
+    arm = recording.arm("1", "right")
+    assert arm.hip is not None and arm.hip.name == "torso_1"  # the torso frame, on the spine below the neck
+    assert any(note.startswith("hip.bag: frame right_hip_1: every one of its ") and note.endswith(
+        " transforms is at exactly (0, 0, 0), the camera's origin: a joint the tracker never detected, read as a frame "
+        "the bag does not have") for note in recording.notes)
+    (throw,), _ = import_recordings([bag], "bag")
+    assert "shoulder" in throw.columns
+
+
+def test_an_arm_frame_never_tracked_says_so_where_the_frames_are_listed(tmp_path):
+    bag = bf.write_ros1_bag(tmp_path / "hand.bag", _never_tracked("right_hand"), compression=None)
+    notes = read_bag(bag).notes  # the left arm stays
+    assert "hand.bag: user 1, right arm left out: no frame right_hand_1" in notes
+    assert any(note.startswith("hand.bag: frame right_hand_1: every one of its ") for note in notes)
+    bag = bf.write_ros1_bag(tmp_path / "hands.bag", _never_tracked("right_hand", "left_hand"), compression=None)
+    with pytest.raises(InputError, match=r"hands.bag: no tracked user has all of the frames .*; frames there: .*; never "
+                                         r"tracked, every transform at exactly \(0, 0, 0\): left_hand_1, "
+                                         r"right_hand_1$"):
+        read_bag(bag)
+
+
 @pytest.mark.parametrize(("frame_name", "frames"), [
     (lambda joint, user: f"kinect1/{joint}_{user}", "kinect1/right_shoulder_1,kinect1/right_elbow_1,kinect1/right_hand_1"),
     (lambda joint, user: joint, "right_shoulder,right_elbow,right_hand"),  # one user, no number

@@ -76,8 +76,10 @@ def read_bag(
     ------
     InputError
         Not a bag, a bag without ``topic`` (the topics there are listed), a topic that is not
-        tf, the frames missing (the frames there are listed), joints relative to different parent
-        frames, or a bag so damaged that no /tf message could be read.
+        tf, the frames missing (the frames there are listed, and those never tracked: every
+        transform at exactly (0, 0, 0)), joints relative to different parent frames, or a bag so
+        damaged that no /tf message could be read. A torso frame never tracked is read as absent
+        (the hip centre then comes from the ``torso`` frame), with a note.
     """
     path = Path(path)
     if len(frames) != 3:
@@ -117,10 +119,12 @@ def read_bag(
     arms = _arm_tracks(path, collected, sides, torso, notes)
     if not arms:
         present = sorted({name.lstrip("/") for name in wanted})
+        never = sorted(name.lstrip("/") for name, (_, _, position) in collected.items() if np.all(position == 0.0))
         raise InputError(
             f"{path}: no tracked user has all of the frames {', '.join(stem + 'N' for stem in stems)} on {topic} "
             f"(looked for {', '.join(names)}); frames there: {', '.join(present) if present else 'none'}"
-            + _frames_hint(stems, present)
+            + (f"; never tracked, every transform at exactly (0, 0, 0): {', '.join(never)}" if never else "")
+            + _frames_hint(stems, [name for name in present if name not in never])
         )
     if not any(arm.neck is not None for arm in arms):
         notes.append(f"{path.name}: {_no_torso(torso, names[0])}")
@@ -205,6 +209,8 @@ def _arm_tracks(
     arms = []
     by_name = {name.lstrip("/"): (parent, _joint_track(name.lstrip("/"), time, position, notes, path))
                for name, (parent, time, position) in collected.items()}
+    # a frame whose every transform was at the origin was never tracked: absent, as a frame not published
+    by_name = {name: (parent, track) for name, (parent, track) in by_name.items() if track.time.size}
     for user in users:
         _skeletons_once(path, user, by_name, notes)
         neck, hip = _torso(by_name, torso, user) if torso is not None else (None, None)
@@ -274,11 +280,22 @@ def _torso(
     return None, None
 
 
+def never_tracked(count: int) -> str:
+    """What a frame whose ``count`` transforms all lie at exactly (0, 0, 0) is, in words."""
+    every = "its one transform is" if count == 1 else f"every one of its {count} transforms is"
+    return (f"{every} at exactly (0, 0, 0), the camera's origin: a joint the tracker never detected, read as a frame "
+            "the bag does not have")
+
+
 def _joint_track(name: str, time: np.ndarray, position: np.ndarray, notes: list[str], path: Path) -> JointTrack:
     """A joint track with its samples in time order, repeated stamps dropped (keeping the last)
     and transforms at exactly (0, 0, 0) left out (the camera's origin: a joint the tracker did not
-    detect, as NiTE gives one it has no confidence in)."""
+    detect, as NiTE gives one it has no confidence in); without a sample when every one was there
+    (a joint never detected: :func:`_arm_tracks` leaves such a frame out, with a note)."""
     at_origin = np.all(position == 0.0, axis=1)
+    if at_origin.all():
+        notes.append(f"{path.name}: frame {name}: {never_tracked(int(at_origin.sum()))}")
+        return JointTrack(name, time[:0], position[:0])
     if at_origin.any():
         notes.append(f"{path.name}: frame {name}: left out {int(at_origin.sum())} transforms at exactly (0, 0, 0), the "
                      "camera's origin (a joint the tracker did not detect)")
