@@ -675,3 +675,28 @@ def test_a_manifest_row_wider_than_its_header_is_named_not_shifted(tmp_path):
     path.write_text("file;distance\nsession.csv;1.234,5\n")
     with pytest.raises(InputError, match=r"line 2: column 'distance' has a bad value '1.234,5'"):
         read_manifest(path)
+
+
+def test_manifest_times_count_from_the_file_s_first_frame_when_its_first_frames_are_untracked(tmp_path):
+    # the import's clock started at the first tracked sample: with 0.9 s of frames before it
+    # dropped (every arm joint at zero), a manifest's start/end read off the video missed every
+    # throw by 0.9 s and the throws took estimated baskets
+    import thinned as th
+
+    frames, time, _ = th.session(9)
+    intact = th.write_kinect_text(tmp_path / "intact.txt", frames, np.arange(len(frames)))
+    _, report = import_recordings([intact], "kinect-text")
+    releases = [throw.release for throw in report.files[0].throws]  # from the file's first frame (frame 0)
+    assert len(releases) >= 3
+    frames[:27] = 0.0  # the tracker finds nobody in the first 0.9 s
+    late = th.write_kinect_text(tmp_path / "late.txt", frames, np.arange(len(frames)))
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,start,end,distance\n" + "".join(
+        f"late.txt,{release - 0.2:.2f},{release + 0.2:.2f},{1.0 + 0.5 * number}\n"
+        for number, release in enumerate(releases)))
+    dataset, report = import_recordings([late], "kinect-text", manifest=manifest)
+    file = report.files[0]
+    assert file.clock_origin == 0.0  # frame 0's time: the file's first frame, tracked or not
+    assert [throw.release for throw in file.throws] == pytest.approx(releases, abs=1e-9)
+    assert [t.meta["distance_source"] for t in dataset] == ["manifest"] * len(releases)
+    assert [float(t["distance"][0]) for t in dataset] == [1.0 + 0.5 * n for n in range(len(releases))]

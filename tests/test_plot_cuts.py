@@ -125,8 +125,8 @@ def test_frames_dropped_at_the_end_of_a_real_recording_are_shaded(rlff, msr_dir,
 
 def test_frames_dropped_at_the_start_are_shaded_before_the_first_tracked_sample(msr_dir, tmp_path):
     # the tracker finds the thrower 0.6 s into the file and loses them 0.33 s before its end: the
-    # report's times stay from the first tracked sample, and the stretch before it is drawn at
-    # negative times
+    # report's times count from the file's first frame (a video's times: a manifest's start and end
+    # are read against them), and the stretch before the first tracked sample is drawn from 0
     from rlff.capture import import_recordings
     from rlff.plots.capture import throw_cuts
 
@@ -140,12 +140,12 @@ def test_frames_dropped_at_the_start_are_shaded_before_the_first_tracked_sample(
     late.write_text("\n".join(lines) + "\n")
     _, report = import_recordings([late], "msr")
     file = report.files[0]
-    assert file.clock_origin == pytest.approx(9 / 15) and len(file.throws) == 1
+    assert file.clock_origin == 0.0 and len(file.throws) == 1
     (axes,) = throw_cuts(file, tmp_path / "cuts").figure.axes
     lost = sorted((patch.get_x(), patch.get_width()) for patch in axes.patches if patch.get_hatch() == "//")
-    tracked = (count - 1 - 5 - 9) / 15  # first to last tracked frame
-    assert np.allclose(lost, [(-9 / 15, 9 / 15), (tracked, 5 / 15)])
-    assert axes.get_xlim() == pytest.approx((-9 / 15, tracked + 5 / 15))
+    last_tracked = (count - 1 - 5) / 15
+    assert np.allclose(lost, [(0.0, 9 / 15), (last_tracked, 5 / 15)])
+    assert axes.get_xlim() == pytest.approx((0.0, (count - 1) / 15))
     assert axes.get_title().endswith("tracking lost 2 times for 0.93 s (grey)")
     (kept,) = [patch for patch in axes.patches if patch.get_label() == "throw kept"]
     assert kept.get_x() == pytest.approx(file.throws[0].start)  # the throws' times are the report's

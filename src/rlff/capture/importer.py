@@ -126,7 +126,8 @@ OTHER_UNITS = {"millimetres": 1e-3, "centimetres": 1e-2}
 
 @dataclass
 class ThrowInfo:
-    """Where one imported throw came from (times in s from the recording's first sample).
+    """Where one imported throw came from (times in s from the recording's first frame: the import's
+    clock, :attr:`FileReport.clock_origin`).
 
     ``native_rate_hz`` is 1 / the median spacing of its samples, ``largest_gap`` (s) the longest
     spacing, ``release_confidence`` ``low`` when the release stretch was sparsely sampled,
@@ -153,8 +154,12 @@ class ThrowInfo:
 class FileReport:
     """What the import did with one file.
 
-    ``rejected`` holds every candidate movement not taken as a throw (its ``time`` in s from the
-    recording's first sample, the ``rule`` that stopped it and the ``reason``); each also has a note,
+    ``clock_origin`` is the time (s, the recording's own clock) every time of the report counts
+    from: the file's first frame, tracked or not, for text and CSV (the time a video or a
+    spreadsheet of it shows, which a manifest's ``start`` and ``end`` are read against); a bag's
+    first transform of the arm imported, as its tf stream has no frame before the tracker finds
+    the user. ``rejected`` holds every candidate movement not taken as a throw (its ``time`` in s
+    on that clock, the ``rule`` that stopped it and the ``reason``); each also has a note,
     or a warning for throws no manifest row names (rule ``manifest``).
     ``trajectories`` counts the trajectories taken from the file: its ``throws``, or a thesis
     matrix's rows (which carry no cut to report). ``motion`` is the arm the throws were cut from
@@ -500,9 +505,9 @@ def import_recordings(
         ``landing.distance_step``); metadata
         ``subject``, ``source``, ``target``/``hit`` (when the basket is known), ``landing``,
         ``distance_source``, ``release_time`` (s from the throw's start), ``start_time`` and
-        ``end_time`` (s from the recording's first sample), ``arm``, ``native_rate_hz``,
-        ``largest_gap`` (s), ``release_confidence``. Each throw is resampled onto an even grid
-        at its median spacing, no coarser than ``OUTPUT_RATE_HZ``.
+        ``end_time`` (s from the recording's first frame, :attr:`FileReport.clock_origin`),
+        ``arm``, ``native_rate_hz``, ``largest_gap`` (s), ``release_confidence``. Each throw is
+        resampled onto an even grid at its median spacing, no coarser than ``OUTPUT_RATE_HZ``.
     report : ImportReport
         Per file: the throws, every candidate not taken and why, the arm and user kept, and
         notes and warnings (a file without a throw: which rule stopped its best candidate).
@@ -821,7 +826,9 @@ def _import_recording(
     report.notes.extend(arm_notes)
     report.warnings.extend(arm_warnings)
     report.arm, report.user = motion.arm.side, motion.arm.user
-    report.clock_origin = origin = float(motion.time[0])
+    # the file's first frame, tracked or not, where the reader knows it (text, CSV): the time a video
+    # or a spreadsheet shows; a bag's tf stream starts with the skeleton
+    report.clock_origin = origin = float(recording.frames_span[0] if recording.frames_span else motion.time[0])
     report.notes.extend(_tracking_notes(path, motion, origin))
     if motion.torso == "vertical":
         report.notes.append(

@@ -154,7 +154,7 @@ class ManifestRow:
         return self.throw is None and (self.start is not None or self.end is not None)
 
     def spans(self, time: float) -> bool:
-        """Whether ``time`` (s from the recording's first sample) lies within ``start``-``end``
+        """Whether ``time`` (s from the recording's first frame) lies within ``start``-``end``
         (either open when not given)."""
         low = -np.inf if self.start is None else self.start
         high = np.inf if self.end is None else self.end
@@ -486,7 +486,7 @@ def check_throw_numbers(rows: list[ManifestRow], source: str, count: int) -> Non
 def rows_without_a_throw(rows: list[ManifestRow], source: str, peak_times: list[float],
                          left_out: Sequence[tuple[float, str]] = ()) -> list[str]:
     """Warnings for the rows of ``source`` with a time span (``start``/``end``, s from the
-    recording's first sample) that holds none of its throws' extension peaks (``peak_times``, s):
+    recording's first frame) that holds none of its throws' extension peaks (``peak_times``, s):
     such a row labels nothing, and its distance is not used. ``left_out``: (time, rule) of throws
     a rule left out, named where the span holds one."""
     name = Path(source).name
@@ -509,7 +509,7 @@ def manifest_entry(rows: list[ManifestRow], source: str, throw_number: int, peak
     rows : the manifest
     source : the recording's path; rows match it as :meth:`ManifestRow.matches` says
     throw_number : 1-based index of the throw in its recording
-    peak_time : time (s from the recording's first sample) of the throw's extension peak
+    peak_time : time (s from the recording's first frame, the import's clock) of the throw's extension peak
     """
     fallback = None
     for row in rows:

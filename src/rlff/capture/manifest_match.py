@@ -27,7 +27,7 @@ class Outcome:
     """What became of one throw of a recording with manifest rows.
 
     ``number`` is its 1-based number among the file's throws, ``start`` its start (s from the
-    recording's first sample), ``source`` the ``distance_source`` it was labelled from, or None
+    recording's first frame), ``source`` the ``distance_source`` it was labelled from, or None
     when it was left out because no row names it.
     """
 

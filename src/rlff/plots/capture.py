@@ -26,10 +26,11 @@ def throw_cuts(report: FileReport, out: str | Path) -> SavedFigure:
     ----------
     report : FileReport
         The import's account of one recording (``import_recordings(...)[1].files``): its
-        ``motion``, the arm whose throws were cut, drawn on the recording's clock from its first
-        tracked sample (s), each stretch without tracking shaded grey (and counted in the title):
-        between its runs, and before its first tracked sample (at negative times) or after its
-        last where the file's frames go on (:meth:`FileReport.untracked_spans`); each throw from
+        ``motion``, the arm whose throws were cut, drawn on the import's clock (s from the file's
+        first frame, tracked or not; a bag's from its first skeleton: ``report.clock_origin``),
+        each stretch without tracking shaded grey (and counted in the title): between its runs,
+        and before its first tracked sample or after its last where the file's frames go on
+        (:meth:`FileReport.untracked_spans`); each throw from
         its start to its end with its release (a dashed line) and id; each candidate not taken at
         its time with its rule. The import's warnings (why no throw
         was found, ...) are written under the axes, and are the figure's ``warnings``.
@@ -44,7 +45,7 @@ def throw_cuts(report: FileReport, out: str | Path) -> SavedFigure:
     motion = report.motion
     if motion is None:
         raise InputError(f"{report.source}: a thesis matrix holds throws already cut: there is no recording to show")
-    origin = float(motion.time[0])
+    origin = report.clock_origin  # the clock of the throws' and the rejections' times
     time = motion.time - origin
     lost = [(begin - origin, end - origin) for begin, end in report.untracked_spans()]
     first, last = min([0.0, *(begin for begin, _ in lost)]), max([float(time[-1]), *(end for _, end in lost)])
@@ -72,7 +73,7 @@ def throw_cuts(report: FileReport, out: str | Path) -> SavedFigure:
                           fontsize=8, color=REJECTED_COLOUR)
         axes.set_xlim(first, max(last, first + 1e-3))
         axes.set_ylim(0.0, max(np.pi, float(np.nanmax(motion.angle)) + 0.1))
-        axes.set_xlabel("time from the recording's first tracked sample (s)")
+        axes.set_xlabel("time from the recording's first frame (s)")
         axes.set_ylabel("elbow angle (rad, π straight)")
         side = f"{motion.arm.side} arm, user {motion.arm.user}"
         gaps = f"; tracking lost {plural(len(lost), 'time')} for {sum(b - a for a, b in lost):.2f} s (grey)" if lost else ""
