@@ -521,3 +521,26 @@ def test_merge_keeps_the_metadata_one_copy_lacks_and_refuses_other_columns():
     with pytest.raises(InputError, match=r"^elbow.csv and old.csv have different columns \(elbow.csv lacks time\): "
                                          r"datasets merge only with the same columns"):
         merge_datasets([("old.csv", older), ("elbow.csv", elbow)])
+
+
+def test_a_throw_twice_in_a_parquet_or_npz_file_is_said_to_start_again(tmp_path):
+    # two Parquet tables joined: the reader gathers a trajectory's scattered rows, and said "time
+    # does not increase at sample 3; ... sort them by trajectory and time"
+    import pandas as pd
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    from rlff.formats import read_parquet
+
+    _batches(tmp_path)
+    tables = [pa.Table.from_pandas(pd.read_csv(tmp_path / name), preserve_index=False)
+              for name in ("batch1.csv", "batch2.csv")]
+    pq.write_table(pa.concat_tables(tables), tmp_path / "joined.parquet")
+    with pytest.raises(InputError, match=r"joined.parquet: trajectory 'b': its throw starts again at sample 3: two "
+                                         r"datasets joined with a throw in both\? keep one copy"):
+        read_parquet(tmp_path / "joined.parquet")
+    columns = {"time": np.array([0.0, 0.1, 0.2, 0.0, 0.1, 0.2])}
+    with pytest.raises(InputError, match=r"^trajectory 'a': time does not increase at sample 3; the rows"):
+        Dataset.from_columns({"time": np.array([0.0, 0.1, 0.2, 0.05, 0.3, 0.4])}, ["a"], [6])
+    with pytest.raises(InputError, match=r"^trajectory 'a': its throw starts again at sample 3: two datasets"):
+        Dataset.from_columns(columns, ["a"], [6])

@@ -382,9 +382,13 @@ class Dataset(Sequence[Trajectory]):
                 bad = np.flatnonzero(inside & (steps <= 0))
                 if bad.size:
                     row = int(bad[0]) + 1
+                    first = int(starts[owner[row]])
+                    # its first sample again: the throw given twice (two tables joined, their rows gathered)
+                    again = all(array[row] == array[first] for array in arrays.values())
                     raise InputError(
-                        f"trajectory {ids[owner[row]]!r}: time does not increase at sample "
-                        f"{row - starts[owner[row]]}; {TIME_ORDER_HINT}"
+                        f"trajectory {ids[owner[row]]!r}: " + (
+                            f"its throw starts again at sample {row - first}: {TWICE_HINT}" if again else
+                            f"time does not increase at sample {row - first}; {TIME_ORDER_HINT}")
                     )
         trajectories = [
             Trajectory._trusted(
