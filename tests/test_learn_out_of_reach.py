@@ -376,6 +376,17 @@ def test_the_same_throw_asked_for_at_the_speed_limit_again_stops_the_run(short_d
     assert "it moves the wrong way for this arm" in note
 
 
+def test_the_same_throw_note_advises_the_kinematics_aim_only_to_a_run_without_it(short_demos):
+    # the note had advised aim='kinematics' to runs given it (failure and hindsight, which
+    # ignored it then, on the real MSR throws at 1.6 m)
+    plain = learn(short_demos, 1.2, budget=8, feedback="distance", update=Hurried)
+    assert plain.notes[-1].endswith("(another update, or aim='kinematics' for recorded throws or a robot file of your "
+                                    "own)"), plain.notes[-1]
+    aimed = learn(short_demos, 1.2, budget=8, feedback="distance", update=Hurried, aim="kinematics")
+    assert aimed.repeated and aimed.misses == plain.misses  # Hurried throws as it likes
+    assert aimed.notes[-1].endswith("it moves the wrong way for this arm (another update)"), aimed.notes[-1]
+
+
 def test_the_same_throw_at_the_limit_stops_a_run_whose_landings_no_one_measured(short_demos):
     # an operator who types hit or miss: no landing, the same saturated throw all the same
     def typed(trajectory):

@@ -407,8 +407,10 @@ def learn(
         robot file's geometry and the free flight from the release send the method's first
         throw to the basket (:func:`rlff.learn.reach.aimed_factor`), with the narrow prior
         :data:`rlff.learn.strategies.AIM_SCALE` about it; the GMR baselines start there too
-        (the same information). ``demonstrations``: where the demonstrations' speeds (their
-        landings, their labels' range law, or the GMR mean) put it. ``auto`` (default): the
+        (the same information), and ``failure`` and ``hindsight`` throw the DMM's throw sped up
+        or slowed down to it (:class:`rlff.learn.strategies.RefitUpdate`). ``demonstrations``:
+        where the demonstrations' speeds (their landings, their labels' range law, or the GMR
+        mean) put it. ``auto`` (default): the
         kinematics for a whole-arm throw, whose mapping moves a human throw's landing far; the
         demonstrations for a one-joint throw, the benchmark's setting, where the mapping kept
         the simulated people's landings close. On real recordings the one-joint mapping need not
@@ -574,7 +576,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         """Judged as :func:`out_of_reach_note` is, when that says nothing."""
         if history and done(history[-1]):
             return None
-        return same_throw_at_the_limit(history, mapping)
+        return same_throw_at_the_limit(history, mapping, aimed=problem.aim is not None)
 
     out_of_reach = out_of_reach_note()
     repeated = None if out_of_reach else repeated_note()

@@ -421,10 +421,11 @@ def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, 
             "throws)")
 
 
-def same_throw_at_the_limit(history: Sequence[Attempt], mapping) -> str | None:
+def same_throw_at_the_limit(history: Sequence[Attempt], mapping, aimed: bool = False) -> str | None:
     """A note that the run stops when each of the last :data:`SAME_AT_THE_LIMIT` attempts let go
     from the same release pose at the same velocities (to 1e-6 rad and rad/s), the last driven
-    joint at its speed limit (within :data:`AT_THE_LIMIT`), else None.
+    joint at its speed limit (within :data:`AT_THE_LIMIT`), else None. ``aimed``: the run is aimed
+    by the arm's kinematics already (``Problem.aim``), so the note does not advise that aim.
 
     Such a method asks again and again for a faster release than the arm makes: the saturated
     throw it gets lets go as the last one did, so the ball comes down where it did (to the
@@ -453,8 +454,8 @@ def same_throw_at_the_limit(history: Sequence[Attempt], mapping) -> str | None:
     allow = "allows" if len(mapping.driven_joints) == 1 else "allow"
     if landed and min(landed) > 0:
         why = ("The method asks for more speed than the arm has where the fastest throw already comes down long: it "
-               "moves the wrong way for this arm (another update, or aim='kinematics' for recorded throws or a robot "
-               "file of your own)")
+               "moves the wrong way for this arm (another update"
+               + (")" if aimed else ", or aim='kinematics' for recorded throws or a robot file of your own)"))
     else:
         why = "The method asks for more speed than the arm has (another update, or a nearer basket)"
     return (f"stopped after attempt {last[-1].index}: attempts {last[0].index}-{last[-1].index} let go the same "

@@ -12,6 +12,10 @@ differ in how the attempts join the data, with what weight, and which distance i
 ``hindsight``
     Each attempt joins the data labelled with the distance it actually reached (a throw for 3 m
     that landed at 2.6 m becomes a demonstration for 2.6 m). Needs distance feedback.
+
+    Both throw the DMM's own throw; with an aim (``Problem.aim``) sped up or slowed down by the
+    factor that aims their first throw at the basket, the attempts joining the data divided by it
+    (:class:`RefitUpdate`).
 ``calibrate`` (this project's strategy)
     Two facts about throwing decide it. The robot does not land where the human did (the
     human-to-robot mapping changes the arm, the release height and the speed), but the order
@@ -61,6 +65,7 @@ differ in how the attempts join the data, with what weight, and which distance i
 from __future__ import annotations
 
 import math
+from abc import abstractmethod
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from functools import cached_property
@@ -70,7 +75,7 @@ import numpy as np
 from scipy.special import logsumexp
 from scipy.stats import norm
 
-from rlff.dataset import Dataset
+from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
 from rlff.learn.carry import CARRY_SCALE
@@ -148,32 +153,84 @@ class DmmStrategy(Method):
                                    float(np.mean(path.exploration)), info)
 
 
-class FailureUpdate(DmmStrategy):
+class RefitUpdate(DmmStrategy):
+    """A strategy whose throw is the DMM's own, refitted with the attempts that joined the data
+    (``failure``, ``hindsight``), thrown at the speed the arm's kinematics aim at when the run has
+    an aim (``Problem.aim``: ``aim="kinematics"``, or a whole-arm throw).
+
+    The DMM still learns in the demonstrations' speeds; the robot throws its throw with every
+    velocity times one factor (:attr:`aimed`), the one at which the arm's kinematics send the
+    DMM's throw from the demonstrations alone to the basket, as the GMR baselines start at the
+    aimed speed of their own throw; every attempt joins the data with its velocities divided by
+    it, back in the demonstrations' speeds. Without an aim the factor is 1 and the throw is the
+    DMM's. (Until 2026-12-06 both ignored the aim: on the real MSR throws at 1.6 m every throw
+    asked for more than joint_2's speed limit and came down 0.58 m long, aimed or not.)
+    """
+
+    @abstractmethod
+    def joined(self, history: Sequence[Attempt]) -> list[tuple[Attempt, float]]:
+        """The attempts of ``history`` that join the data, each with its distance label (m)."""
+
+    def propose(self, history: Sequence[Attempt]) -> Proposal:
+        return scale_speed(self.dmm_throw(self.joined(history)), self.aimed)
+
+    def dmm_throw(self, joined: Sequence[tuple[Attempt, float]]) -> Proposal:
+        """The DMM's throw for the target (demonstrations' speeds), fitted to the demonstrations
+        and the ``joined`` attempts (each with its label, m), their velocities divided by
+        :attr:`aimed`."""
+        if not joined:
+            return self.demonstrations_throw
+        problem = self.problem
+        trajectories = labelled_demos(problem.demos) + [
+            unaimed(attempt_trajectory(attempt, label), self.aimed) for attempt, label in joined]
+        weights = [1.0] * len(problem.demos) + [self.robot_weight] * len(joined)
+        data, sample_weight = training_set(trajectories, weights)
+        return self.generate(data, sample_weight, problem.target, {})
+
+    @cached_property
+    def demonstrations_throw(self) -> Proposal:
+        """The DMM's throw for the target from the demonstrations alone (no attempt joined yet,
+        or none labels anything), fitted once."""
+        problem = self.problem
+        data, sample_weight = training_set(labelled_demos(problem.demos), [1.0] * len(problem.demos))
+        return self.generate(data, sample_weight, problem.target, {})
+
+    @cached_property
+    def aimed(self) -> float:
+        """The factor on every velocity of the DMM's throws: the one at which the arm's kinematics
+        send its throw from the demonstrations alone (no attempt joined) to the basket
+        (``Problem.aim``, :func:`rlff.learn.reach.aimed_factor`), fixed for the run; 1 without an aim."""
+        problem = self.problem
+        return 1.0 if problem.aim is None else float(problem.aim(self.demonstrations_throw))
+
+
+def unaimed(trajectory: Trajectory, factor: float) -> Trajectory:
+    """An attempt's training ``trajectory`` with every velocity column (rad/s) divided by
+    ``factor``, the aim's (:attr:`RefitUpdate.aimed`): back in the demonstrations' speeds."""
+    if factor == 1.0:
+        return trajectory
+    return trajectory.with_columns(**{column: trajectory[column] / factor for column in trajectory.columns
+                                      if column == "velocity" or column.endswith("_velocity")})
+
+
+class FailureUpdate(RefitUpdate):
     """Grollman & Billard: attempts join the data labelled with the target distance."""
 
     name = "failure"
 
-    def propose(self, history: Sequence[Attempt]) -> Proposal:
-        problem = self.problem
-        trajectories = labelled_demos(problem.demos) + [attempt_trajectory(a, problem.target) for a in history]
-        weights = [1.0] * len(problem.demos) + [self.robot_weight] * len(history)
-        data, sample_weight = training_set(trajectories, weights)
-        return self.generate(data, sample_weight, problem.target, {})
+    def joined(self, history: Sequence[Attempt]) -> list[tuple[Attempt, float]]:
+        return [(attempt, self.problem.target) for attempt in history]
 
 
-class HindsightUpdate(DmmStrategy):
+class HindsightUpdate(RefitUpdate):
     """Attempts join the data labelled with the distance they reached (needs distance feedback)."""
 
     name = "hindsight"
     feedbacks = ("distance",)
 
-    def propose(self, history: Sequence[Attempt]) -> Proposal:
-        problem = self.problem
-        landed = [a for a in history if a.landing > 0]  # a throw with no landing labels nothing
-        trajectories = labelled_demos(problem.demos) + [attempt_trajectory(a, a.landing) for a in landed]
-        weights = [1.0] * len(problem.demos) + [self.robot_weight] * len(landed)
-        data, sample_weight = training_set(trajectories, weights)
-        return self.generate(data, sample_weight, problem.target, {})
+    def joined(self, history: Sequence[Attempt]) -> list[tuple[Attempt, float]]:
+        # a throw with no landing labels nothing
+        return [(attempt, attempt.landing) for attempt in history if attempt.landing > 0]
 
 
 class SpeedCalibration:
