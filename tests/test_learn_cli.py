@@ -17,15 +17,20 @@ import pytest
 from rlff.dataset import write_csv
 
 
-@pytest.fixture(scope="module")
-def demos_csv(tmp_path_factory):
+def _people(seed: int):
+    """Simulated people whose every throw fell short, cleaned by the thesis preset."""
     from rlff.preprocess import Pipeline
     from rlff.synthetic.throws import simulate_throws
 
-    raw = simulate_throws(5, subjects=3, distances=(1.0, 1.25, 1.5), throws_per_distance=2, all_short=True)
+    raw = simulate_throws(seed, subjects=3, distances=(1.0, 1.25, 1.5), throws_per_distance=2, all_short=True)
     clean, _ = Pipeline.preset("thesis").run(raw)
+    return clean
+
+
+@pytest.fixture(scope="module")
+def demos_csv(tmp_path_factory):
     path = tmp_path_factory.mktemp("learn") / "demos.csv"
-    write_csv(clean, path)
+    write_csv(_people(5), path)
     return path
 
 
@@ -454,3 +459,23 @@ def test_a_finished_log_resumed_with_a_smaller_budget_counts_its_attempts_in_the
     again = rlff("learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--budget", "1", "--log", str(log))
     assert again.code == 0, again.stderr
     assert f"{done}/{done}" in again.stderr and f"{done}/1" not in again.stderr, again.stderr
+
+
+def test_a_log_resumed_with_a_new_batch_appended_says_the_demonstrations_changed(rlff, demos_csv, tmp_path):
+    # the day's recordings appended to yesterday's file: the refusal had shown two digests, with
+    # no option named and nothing to do ("demos = 'f26d6d2fea3be545' in the log, '5e8bbabbdbcae6de' now")
+    demos = tmp_path / "demos.csv"
+    demos.write_text(demos_csv.read_text())
+    log = tmp_path / "attempts.jsonl"
+    assert rlff("learn", str(demos), "--basket", "1.4", "--budget", "1", "--log", str(log)).code == 0
+    batch = tmp_path / "today.csv"
+    people = _people(6)
+    write_csv(people.replace(t.replace(id=f"today-{t.id}") for t in people), batch)
+    with open(demos, "a") as appended:
+        appended.writelines(batch.read_text().splitlines(keepends=True)[1:])
+    refused = rlff("learn", str(demos), "--basket", "1.4", "--budget", "2", "--log", str(log))
+    assert refused.code == 2
+    assert f"{log}: the log belongs to another run: the demonstrations changed since it was written" in refused.stderr
+    assert "a batch appended to their file" in refused.stderr
+    assert "Resume it with the demonstrations (and --preset) it was made with, or learn from these with a new --log " \
+           "file" in refused.stderr, refused.stderr

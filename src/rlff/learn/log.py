@@ -242,6 +242,8 @@ class AttemptLog:
         def shown(value: Any) -> str:
             return absent if value is None and absent is not None else brief(value)
 
+        if key == "demos":  # no option sets it: say what changed
+            raise InputError(f"{self.path}: the log belongs to another run: {demonstrations_changed(before, now)}")
         before, now = as_listed(key, (before, now), (logged, run))
         raise InputError(
             f"{self.path}: the log belongs to another run ({key} = {shown(before)} in the log, {shown(now)} now"
@@ -257,6 +259,19 @@ def _is_at(fd: int, path: Path) -> bool:
         return False
     held = os.fstat(fd)
     return (held.st_dev, held.st_ino) == (here.st_dev, here.st_ino)
+
+
+def demonstrations_changed(logged: Any, now: Any) -> str:
+    """Why a log whose header's ``demos`` (the digest of the demonstrations its run learned from,
+    :func:`rlff.learn.demos.fingerprint`) is ``logged`` does not resume a run whose digest is
+    ``now``, and what to do, in words: the digest alone had named no option and no cause. The
+    header check names the options that also choose the demonstrations (the robot, ``--joints``,
+    ``--height``) first, so here only their contents differ: rows appended (the day's batch added
+    to the file), another file, or the same cleaned by another ``--preset``."""
+    return (f"the demonstrations changed since it was written (digest {brief(logged)} in the log, {brief(now)} now): "
+            "a batch appended to their file, another file, or the same one cleaned by another --preset gives other "
+            "throws. Resume it with the demonstrations (and --preset) it was made with, or learn from these with a "
+            "new --log file")
 
 
 def robot_record(mapping: RobotMapping | ArmMapping) -> dict[str, Any]:
