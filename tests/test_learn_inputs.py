@@ -14,6 +14,7 @@ from rlff.errors import InputError
 from rlff.learn import learn
 from rlff.learn.log import read_log
 from rlff.learn.robot import RobotFailed
+from rlff.robot import load_robot
 from rlff.sim import Basket, simulate_throw
 
 
@@ -271,3 +272,46 @@ def test_a_log_of_the_callers_own_executor_says_so_and_resumes_only_with_one(dem
     with pytest.raises(InputError, match="executor"):
         learn(demos, 1.4, budget=2, log_path=log)
     assert learn(demos, 1.4, budget=2, executor=arm(lambda o: o), log_path=log).resumed == 1
+
+
+def _into_the_floor():
+    """joint_2 from upright to 2.5 rad forward within every joint limit: the held ball meets the
+    floor, and the simulated arm is held there (as tests/test_robot_links.py drives it)."""
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.trajectory import plan_transition
+
+    robot = load_robot()
+    start = RobotMapping.for_robot(robot).pose()
+    target, rest = start.copy(), np.zeros(6)
+    start[1], target[1] = 0.0, 2.5
+    return plan_transition(start, rest, rest, target, rest, robot.joints)
+
+
+@pytest.mark.parametrize("simulation", ["the loop's", "the caller's"])
+def test_a_throw_its_simulated_arm_did_not_follow_stops_the_run_naming_the_attempt(demos, tmp_path, monkeypatch,
+                                                                                     simulation):
+    # the error had named no attempt, so it said neither which throw it was nor that the log
+    # keeps the ones before; an executor of the caller's that simulated with rlff.sim had its
+    # struck throw learned from. Here the arm is driven into the floor at the second throw.
+    from rlff.learn.loop import _simulator
+
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes MUJOCO_LOG.TXT where a held arm's ball goes unstable
+
+    loops = _simulator(load_robot(), Basket(1.4), 0.0)
+    thrown = []
+
+    def execute(trajectory):
+        thrown.append(trajectory)
+        if len(thrown) == 1:
+            return simulate_throw(trajectory, Basket(1.4))
+        if simulation == "the loop's":
+            return loops(_into_the_floor())
+        return simulate_throw(_into_the_floor(), Basket(1.4), check_reach=False)
+
+    log = tmp_path / "run.jsonl"
+    with pytest.raises(InputError) as caught:
+        learn(demos, 1.4, budget=3, executor=execute, log_path=log)
+    message = str(caught.value)
+    assert message.startswith("attempt 2: the simulated arm did not follow its trajectory: up to "), message
+    assert message.endswith("this outcome is not the planned throw's; the run stops" + KEPT), message
+    assert [a.index for a in read_log(log)[1].attempts] == [1]  # the struck throw is not learned from

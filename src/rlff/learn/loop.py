@@ -692,8 +692,10 @@ def _execute(proposal, index: int, target, mapping, executor: Executor, start: f
     :func:`rlff.learn.proposal_check.proposed`) to the robot (saturating at its limits), execute
     it, record what it did; its outcome checked by :func:`reported_outcome` (with
     ``distance_needed`` and ``hit_distance_needed``). A proposal that cannot be planned
-    (degrees, a path the arm cannot make) or such an outcome: an :class:`InputError` naming
-    attempt ``index`` (and ``method``)."""
+    (degrees, a path the arm cannot make), such an outcome, or a simulated arm that did not
+    follow the throw (:class:`ArmNotFollowed`, from the loop's simulator or an executor's
+    :func:`rlff.sim.simulate_throw` outcome): an :class:`InputError` naming attempt ``index``
+    (and ``method``)."""
     try:
         path = dict(proposal.path)
         path["velocity"] = forward_velocity(proposal.angle, proposal.velocity)
@@ -701,7 +703,11 @@ def _execute(proposal, index: int, target, mapping, executor: Executor, start: f
         points, trajectory, clip_report = _plan(mapping, path, target.bearing)
     except InputError as exc:
         raise type(exc)(f"attempt {index}: the throw {method} proposed: {exc}") from None
-    outcome = executor(trajectory)
+    try:
+        outcome = executor(trajectory)
+        require_followed(outcome)  # an executor of the caller's may simulate the throw with rlff.sim too
+    except ArmNotFollowed as exc:  # the simulator knows no attempt: its error had named none
+        raise ArmNotFollowed(f"attempt {index}: {exc}") from None
     try:
         hit, landing, miss = reported_outcome(outcome, target, distance_needed=distance_needed,
                                               hit_distance_needed=hit_distance_needed)
@@ -979,19 +985,33 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
 
 def _simulator(robot, basket, pedestal: float, gap=None) -> Executor:
     """The MuJoCo simulation of ``basket``, every throw executed as an arm that differs from
-    ``robot`` by ``gap`` would (:class:`rlff.sim.gap.Gap`; None: the robot file's)."""
+    ``robot`` by ``gap`` would (:class:`rlff.sim.gap.Gap`; None: the robot file's); a throw its
+    arm did not follow raises :class:`ArmNotFollowed` (:func:`require_followed`)."""
     from rlff.sim import simulate_throw
-    from rlff.sim.throw import not_followed
 
     def execute(trajectory: JointTrajectory) -> Outcome:
         executed = trajectory if gap is None else gap.executed(trajectory)
         # planned by plan_path, which ran the motion check on it: not run again for every throw
         outcome = simulate_throw(executed, basket, robot=robot, pedestal=pedestal, check_motion=False)
-        if not outcome.followed:  # learning from it would learn what the plan does not do
-            raise InputError(f"{not_followed(outcome)}; the run stops")
+        require_followed(outcome)
         return outcome
 
     return execute
+
+
+class ArmNotFollowed(InputError):
+    """The simulated arm did not follow a throw's trajectory: something struck or held it."""
+
+
+def require_followed(outcome) -> None:
+    """Raise :class:`ArmNotFollowed` for an outcome of :func:`rlff.sim.simulate_throw` whose arm did
+    not follow its trajectory (:attr:`rlff.sim.ThrowOutcome.followed`): learning from it would
+    learn what the plan does not do, so the run stops. Any other outcome passes (an executor of
+    the caller's reports what its own arm did)."""
+    from rlff.sim.throw import ThrowOutcome, not_followed
+
+    if isinstance(outcome, ThrowOutcome) and not outcome.followed:
+        raise ArmNotFollowed(f"{not_followed(outcome)}; the run stops")
 
 
 def hit_tolerance(basket) -> float:
