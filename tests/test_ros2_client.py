@@ -420,29 +420,32 @@ def test_a_bad_pose_is_blamed_on_joint_states_not_the_file(state, domain, throw,
 
 def test_a_cancel_the_server_ignores_is_not_called_a_cancel(state, domain, throw, tmp_path):
     state.answer = state.deaf
-    started = time.monotonic()
     result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "4")
-    took = time.monotonic() - started
+    ended = time.time()
     assert result.returncode == 1, result.stderr
     outcome = json.loads(result.stdout)
     assert outcome["status"] == "timed out" and "goal cancelled" not in result.stderr
     assert outcome["error_string"] == ("timed out; the cancel was not confirmed (no answer from the server within "
                                        "10 s): the arm's state is unknown; check the arm (e-stop it if it moves)")
-    assert took < 4 + 10 + 16  # --timeout, the cancel's 10 s, and starting up (24.2 s seen on a loaded machine)
+    # from the goal's start (ROS time: the system clock), not the process's: starting up and discovery took
+    # up to 20 s on a loaded machine; --timeout, the cancel's 10 s and a margin for leaving
+    assert ended - outcome["start"] < 4 + 10 + 4
 
 
 def test_a_server_that_falls_silent_mid_goal_is_lost_not_cancelled(state, domain, throw, tmp_path):
     state.answer = state.fall_silent
-    started = time.monotonic()
     result = rlff_send(domain, tmp_path, str(throw[0]), "--json")  # no --timeout: 10 s more than the throw
-    took = time.monotonic() - started
+    ended = time.time()
     assert result.returncode == 1, result.stderr
     outcome = json.loads(result.stdout)
     assert outcome["status"] == "lost" and "goal cancelled" not in result.stderr
     assert outcome["error_string"].startswith(f"the server at {ACTION} stopped answering (its feedback stopped ")
     assert outcome["error_string"].endswith("; the cancel was not confirmed (no server is left to answer it): the "
                                             "arm's state is unknown; check the arm (e-stop it if it moves)")
-    assert took < 18  # seen within seconds (16.9 s on a loaded machine), not after the throw's duration + 10 s + the cancel's 10 s
+    # lost within seconds of the goal's start (its feedback stops after 0.5 s, and 5 s of silence tell), not
+    # after the throw's duration + 10 s + the cancel's 10 s; from the goal's start (ROS time: the system clock),
+    # since starting up and discovery alone took up to 15 s on a loaded machine
+    assert ended - outcome["start"] < 12
 
 
 def test_a_server_killed_after_accepting_before_any_feedback_is_lost_within_seconds(throw, tmp_path):
