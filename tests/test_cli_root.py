@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
+import time
 
 import pytest
+
+from rlff.errors import Interrupted, Terminated
 
 
 def test_help_lists_the_command_groups(cli):
@@ -41,3 +45,103 @@ def test_a_closed_output_ends_the_command_quietly_with_141(args):
     finally:
         os.close(write)
     assert (proc.returncode, proc.stderr) == (141, "")
+
+
+# -- stop signals: Ctrl-C (130) and SIGTERM (143), said in one line whatever they interrupted ---------
+
+STOPS = [(signal.SIGINT, 130, "rlff: interrupted"), (signal.SIGTERM, 143, "rlff: terminated")]
+STOP_IDS = ["ctrl-c", "sigterm"]
+
+
+def _default_sigint() -> None:
+    """A child's SIGINT at its default: a suite started in a shell's background inherits it ignored."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+# `python -m rlff ARGS`, sending itself SIGNAL as the import of MODULE starts: as a Ctrl-C or a
+# supervisor's SIGTERM in the first second of a command, while rlff loads typer and its commands
+_STOPPED_AT_START = """
+import os, signal, sys
+
+class StopAtImport:
+    def find_spec(self, name, path=None, target=None):
+        if name == {module!r}:
+            sys.meta_path.remove(self)
+            os.kill(os.getpid(), {signum})
+        return None
+
+sys.meta_path.insert(0, StopAtImport())
+sys.argv = ["rlff", "data", "synth", "thesis", "-o", {out!r}]
+from rlff.cli import run
+run()
+"""
+
+
+@pytest.mark.parametrize("module", ["typer", "rlff.cli.data"])
+@pytest.mark.parametrize(("signum", "code", "line"), STOPS, ids=STOP_IDS)
+def test_a_stop_while_rlff_starts_is_said_in_one_line(tmp_path, module, signum, code, line):
+    # a Ctrl-C in the command modules' imports printed a KeyboardInterrupt traceback, and a SIGTERM
+    # there ended rlff silently: both came before rlff's handlers, in `import rlff.cli`
+    out = tmp_path / "thesis.csv"
+    script = _STOPPED_AT_START.format(module=module, signum=int(signum), out=str(out))
+    proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120,
+                          preexec_fn=_default_sigint)
+    assert (proc.returncode, proc.stderr) == (code, line + "\n"), proc.stderr
+    assert not out.exists()
+
+
+@pytest.mark.parametrize(("signum", "code", "line"), STOPS, ids=STOP_IDS)
+@pytest.mark.parametrize("how", ["as-it-is", "import-error", "import-error-debug"])
+def test_a_stop_during_a_command_is_said_as_the_stop_whatever_it_became(rlff, tmp_path, monkeypatch,
+                                                                        signum, code, line, how):
+    # `import mujoco` hit by SIGTERM: its initialisation raised "ImportError: initialization failed"
+    # from rlff's Terminated, which the command line called a bug (exit 1)
+    from rlff.synthetic import thesis
+
+    def interrupted(*args, **kwargs):
+        try:
+            os.kill(os.getpid(), signum)  # rlff's handler raises the stop here
+            time.sleep(10)
+        except KeyboardInterrupt as exc:
+            if how == "as-it-is":
+                raise
+            raise ImportError("initialization failed") from exc  # as an extension module's initialisation
+        raise AssertionError("the signal never came")
+
+    monkeypatch.setattr(thesis, "thesis_dataset", interrupted)
+    debug = ["--debug"] if how.endswith("debug") else []
+    result = rlff(*debug, "data", "synth", "thesis", "-o", str(tmp_path / "thesis.csv"))
+    assert result.code == code and result.stderr.endswith(line + "\n"), result.stderr
+    if debug:  # what the stop broke, for whoever looks into it
+        assert "ImportError: initialization failed" in result.stderr
+    else:
+        assert result.stderr == line + "\n"
+
+
+def _raised(error: type[BaseException], stop: type[KeyboardInterrupt], how: str) -> BaseException:
+    """``error`` raised from ``stop`` (its ``__cause__``) or while handling it (its ``__context__``)."""
+    try:
+        try:
+            raise stop()
+        except KeyboardInterrupt as exc:
+            if how == "cause":
+                raise error("initialization failed") from exc
+            raise error("initialization failed")  # noqa: B904 - the context is the point
+    except BaseException as exc:  # noqa: BLE001 - the exception made
+        return exc
+    raise AssertionError("nothing raised")
+
+
+@pytest.mark.parametrize("how", ["cause", "context"])
+@pytest.mark.parametrize(("stop", "signum"), [(Terminated, signal.SIGTERM), (Interrupted, signal.SIGINT),
+                                               (KeyboardInterrupt, signal.SIGINT)])
+def test_a_stop_anywhere_in_an_error_s_chain_is_found(stop, signum, how):
+    from rlff.cli import _stop_of
+
+    error = _raised(ImportError, stop, how)
+    assert _stop_of(error, None) == signum
+    try:
+        raise RuntimeError("a dataclass built half") from error
+    except RuntimeError as twice:
+        assert _stop_of(twice, None) == signum
+    assert _stop_of(ValueError("a plain error"), None) is None

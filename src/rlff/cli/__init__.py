@@ -1,4 +1,4 @@
-"""The ``rlff`` command: parses arguments, calls the library, prints.
+"""The ``rlff`` command's boundary with the process: its stop signals, its exit code, its one error line.
 
 The one error boundary is :func:`main`:
 
@@ -10,151 +10,49 @@ The one error boundary is :func:`main`:
   exit code 1;
 - anything else is a bug: one line ``rlff: internal error: ...`` with a hint to rerun with
   ``--debug``, and exit code 1;
+- a stop signal ends the command with ``rlff: interrupted`` (Ctrl-C, exit code 130) or ``rlff:
+  terminated`` (SIGTERM, 143), whatever error it caused on its way out (:func:`_stop_of`): one
+  that lands in an import is turned by the importer into an ImportError or a RuntimeError, which
+  had been called a bug;
 - output whose reader went away (``rlff sim throw ... | head -1``) ends the command quietly with
   exit code 141 (:func:`_output_closed`);
 - ``--debug`` prints the traceback of either, and lets numpy's RuntimeWarnings through (they are
   silenced otherwise: the library checks its results for non-finite values and says so);
 - ``-v`` only adds detail to what commands print; it no longer shows tracebacks.
+
+This module imports nothing but the standard library's lightest modules, so that the stop
+signals are rlff's before typer, rich and the command modules load (a few tenths of a second, in
+which a Ctrl-C printed a traceback): the command tree is :mod:`rlff.cli.root`, imported by
+:func:`main`.
 """
 
 from __future__ import annotations
 
 import os
-import re
 import signal
 import sys
 import threading
 import traceback
 import warnings
 
-import typer
-
-try:  # typer >= 0.20 carries its own copy of click; before, it used the click package
-    from typer._click import exceptions as click_errors
-    from typer._click.core import Context
-    from typer._click.utils import echo
-except ImportError:  # pragma: no cover - older typer
-    from click import Context
-    from click import exceptions as click_errors
-    from click.utils import echo
-
-from rlff.cli._common import PLAIN_HELP, OutputClosed, stderr, verbosity
 from rlff.errors import InputError, Interrupted, RlffError, Terminated
-
-HELP_OPTIONS = ["-h", "--help"]
-
-app = typer.Typer(
-    rich_markup_mode=PLAIN_HELP,
-    name="rlff",
-    help="Robot learning from failed demonstrations: from skeleton recordings to robot throws.",
-    no_args_is_help=True,
-    add_completion=False,
-    pretty_exceptions_enable=False,
-    context_settings={"help_option_names": HELP_OPTIONS},
-)
-
-
-def _version(value: bool) -> None:
-    if value:
-        from rlff import __version__
-
-        sys.stdout.write(f"rlff {__version__}\n")
-        raise typer.Exit(0)
-
-
-@app.callback()
-def _root(
-    quiet: bool = typer.Option(False, "--quiet", "-q", help="Print only results, warnings and errors."),
-    verbose: bool = typer.Option(False, "--verbose", "-v", help="More detail in what commands print."),
-    debug: bool = typer.Option(False, "--debug", help="Show the traceback of an error, and numpy's warnings."),
-    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True, help="Print the version and exit."),
-) -> None:
-    verbosity.quiet = quiet
-    verbosity.verbose = verbose
-    verbosity.debug = debug
-
-
-def _register() -> None:
-    """Attach the command groups; each module owns its commands."""
-    from rlff.cli import commands
-
-    commands.register(app)
-
-
-_register()
 
 
 def _command():
-    """The click command of :data:`app`, with flags shown as flags in help.
+    """The click command of every ``rlff`` command (:func:`rlff.cli.root.command`)."""
+    from rlff.cli.root import command
 
-    typer labels every option with its type, ``--json <bool>`` too, which reads as if the flag
-    took a value (``--json true`` is refused); a flag's label is blanked here, once for the tree.
-    """
-    command = typer.main.get_command(app)
-    stack = [command]
-    while stack:
-        node = stack.pop()
-        # -h/--help is made on first use and then kept: make it now to label it too
-        help_option = node.get_help_option(Context(node, help_option_names=HELP_OPTIONS))
-        for param in [*node.params, help_option]:
-            if getattr(param, "is_flag", False):
-                param.metavar = ""
-        stack.extend(getattr(node, "commands", {}).values())
-    return command
+    return command()
 
 
-def _fail(message: str, code: int, debug: bool) -> int:
+def _fail(message: str, code: int, exc: BaseException, debug: bool) -> int:
+    """Say ``message`` (``exc``'s traceback first with ``--debug``); returns ``code``."""
+    from rlff.cli._common import stderr
+
     if debug:
-        traceback.print_exc()
+        traceback.print_exception(exc)
     stderr().print("rlff: " + " ".join(message.split()))  # one line, whatever the message holds
     return code
-
-
-def _usage(exc, args: list[str]) -> str:
-    """A click usage error as one line: the command, the fault and the value given, where to look."""
-    command = exc.ctx.command_path if exc.ctx is not None else _command_path(args)
-    message = exc.format_message()
-    given = _given(getattr(exc, "param", None), args)
-    if given is not None and repr(given) not in message:
-        message += f" (got {given!r})"
-    # --basket 1,5: a decimal comma where a float is asked for (an integer's error says "integer")
-    if "valid number" in message and given is not None and re.fullmatch(r"[+-]?\d+,\d+", given):
-        message += f"; numbers take a decimal point: {given.replace(',', '.')}"
-    unknown = getattr(exc, "option_name", None)
-    takes_context = exc.ctx is not None and any("--context" in getattr(p, "opts", ()) for p in exc.ctx.command.params)
-    if unknown and takes_context and not getattr(exc, "possibilities", None):  # --distance 2: a context
-        name = unknown.lstrip("-").split("=")[0]
-        message += f"; a context value goes as -c NAME=VALUE, e.g. -c {name}=..."
-    own = {opt for param in _command().params for opt in getattr(param, "opts", ())}
-    if unknown in own and command != "rlff":  # rlff data preprocess -q: an option of rlff itself
-        message += f"; {unknown} goes before the subcommand: rlff {unknown} {command.removeprefix('rlff ')} ..."
-    where = "" if command == "rlff" else f"{command}: "  # rlff's own error says "rlff: error:" already
-    return f"error: {where}{message} (see {command} --help)"
-
-
-def _command_path(args: list[str]) -> str:
-    """``rlff bench learning`` of ``bench learning --seeds``: the (sub)commands named in ``args``,
-    for an error click raises without a context (an option's value missing at the end)."""
-    command, path = _command(), ["rlff"]
-    for arg in args:
-        if arg.startswith("-"):
-            continue
-        command = getattr(command, "commands", {}).get(arg)
-        if command is None:
-            break
-        path.append(arg)
-    return " ".join(path)
-
-
-def _given(param, args: list[str]) -> str | None:
-    """The value the user gave an option, as typed (``--seed x`` or ``--seed=x``), if any."""
-    for name in getattr(param, "opts", None) or ():
-        for index, arg in enumerate(args):
-            if arg == name and index + 1 < len(args):
-                return args[index + 1]
-            if arg.startswith(name + "="):
-                return arg[len(name) + 1:]
-    return None
 
 
 def _os_error(exc: OSError) -> str:
@@ -165,8 +63,8 @@ def _os_error(exc: OSError) -> str:
 
 class _Stop:
     """The SIGINT and SIGTERM handler while a command runs: raises :class:`Interrupted` (a
-    KeyboardInterrupt), or :class:`Terminated` for SIGTERM, and remembers which (Typer turns
-    either into exit code 130, the kind lost)."""
+    KeyboardInterrupt), or :class:`Terminated` for SIGTERM, and remembers which (an error the
+    stop caused on its way out is reported as the stop: :func:`_stop_of`)."""
 
     def __init__(self) -> None:
         self.signal: int | None = None
@@ -185,28 +83,58 @@ def main(argv: list[str] | None = None) -> int:
     """
     args = sys.argv[1:] if argv is None else list(argv)
     if threading.current_thread() is not threading.main_thread():  # signals reach the main thread only
-        return _reported(_main(args), None)
+        return _reported(_main(args, None))
     stop = _Stop()
     previous = {signal.SIGTERM: signal.signal(signal.SIGTERM, stop)}
     if signal.getsignal(signal.SIGINT) is signal.default_int_handler:  # an ignored SIGINT stays ignored
         previous[signal.SIGINT] = signal.signal(signal.SIGINT, stop)
     try:
-        code = _main(args)
+        code = _main(args, stop)
     finally:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
-    return _reported(code, stop.signal)
+    return _reported(code)
 
 
-def _reported(code: int, signum: int | None) -> int:
-    """An interrupted command's code (130) said on stderr, 143 when SIGTERM stopped it."""
-    if code != 130:
-        return code
-    if signum == signal.SIGTERM:
-        stderr().print("rlff: terminated")
-        return 143
-    stderr().print("rlff: interrupted")
-    return 130
+#: The exit code of a command a stop signal ended, by signal (128 + its number, as the shell says).
+_STOP_CODES = {signal.SIGINT: 130, signal.SIGTERM: 143}
+
+
+def _reported(code: int) -> int:
+    """``code``, said on stderr when a stop signal ended the command (130, 143)."""
+    said = {130: "rlff: interrupted", 143: "rlff: terminated"}.get(code)
+    if said is not None:
+        try:
+            sys.stderr.write(said + "\n")
+            sys.stderr.flush()
+        except (OSError, ValueError):  # stderr closed: the code says it
+            pass
+    return code
+
+
+def _stop_of(exc: BaseException, stop: _Stop | None) -> int | None:
+    """The stop signal that ended the command with ``exc``, or None: the signal the handler saw,
+    or a :class:`Terminated` (SIGTERM) or another KeyboardInterrupt (SIGINT) that ``exc`` is or
+    came from (its ``__cause__`` and ``__context__``, link by link).
+
+    A signal that lands in an import surfaces as the importer's error, the stop its cause: an
+    extension module's initialisation (``import mujoco``) raises ``ImportError: initialization
+    failed``, a class that dataclasses builds a RuntimeError.
+    """
+    if stop is not None and stop.signal is not None:
+        return stop.signal
+    links, seen = [exc], set()
+    while links:
+        link = links.pop()
+        if link is None or id(link) in seen:
+            continue
+        seen.add(id(link))
+        if isinstance(link, Terminated):
+            return signal.SIGTERM
+        if isinstance(link, KeyboardInterrupt):
+            return signal.SIGINT
+        links += [link.__context__, link.__cause__]
+    return None
 
 
 def _output_closed() -> int:
@@ -229,7 +157,7 @@ def _output_closed() -> int:
     return 141
 
 
-def _main(args: list[str]) -> int:
+def _main(args: list[str], stop: _Stop | None) -> int:
     debug = "--debug" in args
     with warnings.catch_warnings():
         if not debug:
@@ -255,30 +183,73 @@ def _main(args: list[str]) -> int:
         warnings.showwarning = show
         try:
             code = _command().main(args=args, prog_name="rlff", standalone_mode=False)
-        except click_errors.NoArgsIsHelpError as exc:
-            # `rlff data` alone: the group's help, as --help prints it, and the usage-error code
-            echo(exc.format_message())
-            return 2
-        except click_errors.UsageError as exc:
-            return _fail(_usage(exc, args), 2, debug)
-        except click_errors.ClickException as exc:
-            return _fail(f"error: {exc.format_message()}", 2, debug)
-        except (typer.Abort, KeyboardInterrupt):
-            return 130  # said by main
-        except OutputClosed:
-            return _output_closed()
-        except InputError as exc:
-            return _fail(f"error: {exc}", 2, debug)
-        except RlffError as exc:  # not the input: the robot failed, or is not there
-            return _fail(f"error: {exc}", 1, debug)
-        except OSError as exc:  # a file the user named: missing, a folder, no permission, disk full
-            return _fail(_os_error(exc), 2, debug)
         except SystemExit as exc:
             return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
-        except Exception as exc:
-            return _fail(f"internal error: {type(exc).__name__}: {exc} (a bug in rlff: rerun with --debug "
-                         "for the traceback and report it)", 1, debug)
+        except BaseException as exc:  # noqa: BLE001 - the boundary: every end is one line and a code
+            return _ended(exc, args, debug, stop)
+    if code == 130 and stop is not None and stop.signal is not None:  # typer's code for any KeyboardInterrupt
+        return _STOP_CODES[stop.signal]
     return code if isinstance(code, int) else 0
+
+
+def _ended(exc: BaseException, args: list[str], debug: bool, stop: _Stop | None) -> int:
+    """The exit code of a command that ended with ``exc``, its one line said."""
+    signum = _stop_of(exc, stop)
+    if signum is not None:
+        # an error rlff raised on purpose while stopping is said too; one the stop caused (an
+        # import it cut short) is no bug: its traceback is for --debug
+        if isinstance(exc, (RlffError, OSError)):
+            return _fail(_error_line(exc), _STOP_CODES[signum], exc, debug)
+        if debug and not isinstance(exc, KeyboardInterrupt):
+            traceback.print_exception(exc)
+        return _STOP_CODES[signum]
+    code = _click_ended(exc, args, debug)
+    if code is not None:
+        return code
+    from rlff.cli._common import OutputClosed
+
+    if isinstance(exc, OutputClosed):
+        return _output_closed()
+    if isinstance(exc, InputError):
+        return _fail(_error_line(exc), 2, exc, debug)
+    if isinstance(exc, RlffError):  # not the input: the robot failed, or is not there
+        return _fail(_error_line(exc), 1, exc, debug)
+    if isinstance(exc, OSError):  # a file the user named: missing, a folder, no permission, disk full
+        return _fail(_error_line(exc), 2, exc, debug)
+    if isinstance(exc, Exception):
+        return _fail(f"internal error: {type(exc).__name__}: {exc} (a bug in rlff: rerun with --debug "
+                     "for the traceback and report it)", 1, exc, debug)
+    raise exc
+
+
+def _error_line(exc: RlffError | OSError) -> str:
+    return f"error: {exc}" if isinstance(exc, RlffError) else _os_error(exc)
+
+
+def _click_ended(exc: BaseException, args: list[str], debug: bool) -> int | None:
+    """The exit code of a command line click refused (usage, a missing argument, no subcommand),
+    its line said; None for an error of another kind."""
+    try:  # typer >= 0.20 carries its own copy of click; before, it used the click package
+        from typer._click import exceptions as click_errors
+        from typer._click.utils import echo
+    except ImportError:  # pragma: no cover - older typer
+        from click import exceptions as click_errors
+        from click.utils import echo
+    import typer
+
+    if isinstance(exc, click_errors.NoArgsIsHelpError):
+        # `rlff data` alone: the group's help, as --help prints it, and the usage-error code
+        echo(exc.format_message())
+        return 2
+    if isinstance(exc, click_errors.UsageError):
+        from rlff.cli.root import usage
+
+        return _fail(usage(exc, args), 2, exc, debug)
+    if isinstance(exc, click_errors.ClickException):
+        return _fail(f"error: {exc.format_message()}", 2, exc, debug)
+    if isinstance(exc, typer.Abort):  # click's word for a KeyboardInterrupt, or an EOF at its prompt
+        return 130
+    return None
 
 
 def run() -> None:
