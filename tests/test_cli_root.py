@@ -145,3 +145,67 @@ def test_a_stop_anywhere_in_an_error_s_chain_is_found(stop, signum, how):
     except RuntimeError as twice:
         assert _stop_of(twice, None) == signum
     assert _stop_of(ValueError("a plain error"), None) is None
+
+
+# -- a stop once the command has ended: its output is complete, its exit code stands --------------
+
+
+def _read_until(stream, text: str, seconds: float = 600) -> str:
+    """The lines of ``stream`` up to the first that holds ``text``."""
+    read, deadline = "", time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        line = stream.readline()
+        if not line:
+            raise AssertionError(f"the stream ended before {text!r}: {read}")
+        read += line
+        if text in line:
+            return read
+    raise AssertionError(f"no {text!r} within {seconds} s: {read}")
+
+
+@pytest.mark.slow
+def test_a_ctrl_c_while_rlff_exits_leaves_the_output_and_the_exit_code(tmp_path):
+    # Ctrl-C as `rlff bench learning --jobs 2` joined its worker processes after its table: a
+    # traceback of loky's join ("Exception ignored in: <module 'threading'>") under the table
+    bench = subprocess.Popen([sys.executable, "-m", "rlff", "bench", "learning", "--quick", "--methods",
+                              "calibrate,sweep", "--feedback", "binary", "--jobs", "2"], cwd=tmp_path,
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, preexec_fn=_default_sigint)
+    table = _read_until(bench.stdout, "| sweep |")  # the table's last row: the command has ended
+    time.sleep(0.2)  # Python exits: the workers are joined, the libraries unloaded (seconds here)
+    exiting = bench.poll() is None
+    bench.send_signal(signal.SIGINT)
+    rest, err = bench.communicate(timeout=120)
+    assert exiting, "rlff had exited before the Ctrl-C: nothing tested"
+    assert bench.returncode == 0, err
+    assert "Traceback" not in err and "Exception ignored" not in err and "interrupted" not in err, err
+    assert "**calibrate**" in table and rest == ""
+
+
+@pytest.mark.ros2
+@pytest.mark.integration
+@pytest.mark.slow
+def test_a_sigterm_while_robot_send_exits_leaves_the_goal_s_success(tmp_path):
+    # `robot send --ros 2` stopped by SIGTERM a second after "goal succeeded", as Python unloaded
+    # ROS 2 and the libraries: exit 143 without a word, a completed throw counted as failed
+    from ros2rig import Server, free_domain, require_ros2, ros2_env
+    from rosrig import throw_csv
+
+    require_ros2()
+    env = ros2_env(free_domain(), tmp_path)
+    server = Server(env, tmp_path / "serve.log")
+    try:
+        throw = throw_csv(tmp_path, "throw.csv", 0.0, 0.3, 0.5)
+        sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(throw), "--ros", "2", "--timeout",
+                                   "60"], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        said = _read_until(sender.stderr, "goal succeeded", seconds=180)
+        time.sleep(0.2)
+        exiting = sender.poll() is None
+        while sender.poll() is None:  # as a supervisor that repeats its SIGTERM, through the whole exit
+            sender.send_signal(signal.SIGTERM)
+            time.sleep(0.2)
+        _, err = sender.communicate(timeout=60)
+    finally:
+        server.close()
+    assert exiting, "rlff had exited before the SIGTERM: nothing tested"
+    assert sender.returncode == 0, said + err
+    assert "goal succeeded (SUCCESSFUL)" in said and "terminated" not in err, said + err

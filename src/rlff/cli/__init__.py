@@ -28,6 +28,7 @@ which a Ctrl-C printed a traceback): the command tree is :mod:`rlff.cli.root`, i
 
 from __future__ import annotations
 
+import atexit
 import os
 import signal
 import sys
@@ -64,35 +65,97 @@ def _os_error(exc: OSError) -> str:
 class _Stop:
     """The SIGINT and SIGTERM handler while a command runs: raises :class:`Interrupted` (a
     KeyboardInterrupt), or :class:`Terminated` for SIGTERM, and remembers which (an error the
-    stop caused on its way out is reported as the stop: :func:`_stop_of`)."""
+    stop caused on its way out is reported as the stop: :func:`_stop_of`).
+
+    Once the command has ended (:meth:`ended`; the ``rlff`` process only, :func:`run`), a stop
+    signal no longer changes what it did: the command's output is complete and its exit code
+    stands. Python's exit joins worker processes (``bench --jobs``) and unloads the libraries,
+    seconds with ROS 2, SciPy and MuJoCo loaded on a busy machine: a Ctrl-C there printed a
+    traceback of loky's join, and a SIGTERM killed a ``robot send`` whose goal had succeeded,
+    exit 143. The first such signal is let go, a second exits at once with the command's code;
+    the last moments of the exit, when Python no longer runs handlers, ignore them
+    (:meth:`ignore_at_the_end`).
+    """
 
     def __init__(self) -> None:
         self.signal: int | None = None
+        self.code: int | None = None  # the command's exit code, once it has ended
+        self.late: int | None = None  # a stop signal that came after that
 
     def __call__(self, signum, frame) -> None:
+        if self.code is not None:
+            if self.late is not None:  # asked twice: leave now, the command's output flushed
+                _flush_outputs()
+                os._exit(self.code)
+            self.late = signum
+            return
         self.signal = signum
         raise Terminated() if signum == signal.SIGTERM else Interrupted()
 
+    def ended(self, code: int) -> None:
+        """The command ended with ``code``: stop signals from here on leave it as it is."""
+        self.code = code
+
+    def ignore_at_the_end(self) -> None:
+        """Ignore the stop signals this handler takes, for the rest of an exit after
+        :meth:`ended`: an ``atexit`` function registered before anything else (so run last),
+        because Python puts back the default action of every signal it handled before it unloads
+        its modules, and a SIGTERM then killed the process (143) however the command had ended."""
+        if self.code is None:
+            return
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            if signal.getsignal(signum) is self:
+                signal.signal(signum, signal.SIG_IGN)
+
+
+def _flush_outputs() -> None:
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # closed, or its reader gone
+            pass
+
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``rlff`` console script; returns the exit code.
+    """Entry point of the ``rlff`` command line in a Python program; returns the exit code.
 
     Ctrl-C ends a command with ``rlff: interrupted`` and exit code 130, SIGTERM (a supervisor's
     stop) with ``rlff: terminated`` and 143. Both are raised where the command is, so that its
-    clean-up runs: a goal on the arm is cancelled rather than left running mid-throw.
+    clean-up runs: a goal on the arm is cancelled rather than left running mid-throw. The signal
+    handlers in place before are put back on return.
     """
-    args = sys.argv[1:] if argv is None else list(argv)
+    return _run(sys.argv[1:] if argv is None else list(argv), _Stop(), process=False)
+
+
+def run() -> None:
+    """The ``rlff`` console script: :func:`main`, whose exit code a stop signal no longer changes
+    once the command has ended (:class:`_Stop`)."""
+    stop = _Stop()
+    atexit.register(stop.ignore_at_the_end)  # registered first, so called last
+    sys.exit(_run(sys.argv[1:], stop, process=True))
+
+
+def _run(args: list[str], stop: _Stop, *, process: bool) -> int:
+    """Run the command ``args`` under ``stop``; ``process``: it is the ``rlff`` process's, and
+    ``stop`` stays in place after it (:meth:`_Stop.ended`)."""
     if threading.current_thread() is not threading.main_thread():  # signals reach the main thread only
         return _reported(_main(args, None))
-    stop = _Stop()
     previous = {signal.SIGTERM: signal.signal(signal.SIGTERM, stop)}
     if signal.getsignal(signal.SIGINT) is signal.default_int_handler:  # an ignored SIGINT stays ignored
         previous[signal.SIGINT] = signal.signal(signal.SIGINT, stop)
     try:
-        code = _main(args, stop)
+        try:
+            code = _main(args, stop)
+            if process:
+                stop.ended(code)
+        except KeyboardInterrupt as exc:  # a stop that came as the command returned, before ended()
+            code = _STOP_CODES[_stop_of(exc, stop)]
+            if process:
+                stop.ended(code)
     finally:
-        for signum, handler in previous.items():
-            signal.signal(signum, handler)
+        if not process or stop.code is None:
+            for signum, handler in previous.items():
+                signal.signal(signum, handler)
     return _reported(code)
 
 
@@ -250,8 +313,3 @@ def _click_ended(exc: BaseException, args: list[str], debug: bool) -> int | None
     if isinstance(exc, typer.Abort):  # click's word for a KeyboardInterrupt, or an EOF at its prompt
         return 130
     return None
-
-
-def run() -> None:
-    """Console-script wrapper that exits with :func:`main`'s code."""
-    sys.exit(main())
