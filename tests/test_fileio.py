@@ -5,6 +5,9 @@ from __future__ import annotations
 
 import os
 import re
+import resource
+import subprocess
+import sys
 
 import numpy as np
 import pandas as pd
@@ -159,6 +162,91 @@ def test_outputs_that_cannot_be_files_are_refused(tmp_path, make, output, messag
 def test_missing_folders_of_an_output_are_created(tmp_path):
     write_text(tmp_path / "a" / "b" / "c.txt", "x")
     assert (tmp_path / "a" / "b" / "c.txt").read_text() == "x"
+
+
+# -- writes the system refuses partway: a full disk, a quota, a file-size limit ------------------
+
+#: Bytes a refused command may write to any file (``ulimit -f``, 1 KB blocks there): every output
+#: below is larger, so the system refuses its write partway with EFBIG, as a full disk (ENOSPC)
+#: or a used-up quota (EDQUOT) would; none of them names a file.
+FILE_SIZE_LIMIT = 1024
+EFBIG_LINE = "cannot write {where} (File too large); a limit on the size of a file, the shell's (ulimit -f)"
+
+
+def _limited(*args: str, limit: int = FILE_SIZE_LIMIT, cwd=None) -> subprocess.CompletedProcess:
+    """``rlff -q ARGS`` in a process that may write no file beyond ``limit`` bytes (``ulimit -f``)."""
+    def set_limit() -> None:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+    return subprocess.run([sys.executable, "-m", "rlff", "-q", *args], capture_output=True, text=True, cwd=cwd,
+                          timeout=600, preexec_fn=set_limit)
+
+
+@pytest.fixture(scope="module")
+def refused_inputs(tmp_path_factory):
+    """A dataset and a throw for the robot, whose outputs are larger than FILE_SIZE_LIMIT."""
+    from rlff.cli import main
+    from rosrig import throw_csv
+
+    folder = tmp_path_factory.mktemp("refused")
+    data = folder / "data.csv"
+    assert main(["-q", "data", "synth", "thesis", "--trajectories", "5", "--points", "20", "-o", str(data)]) == 0
+    return {"data": data, "throw": throw_csv(folder, "throw.csv", 0.0, 0.3, 0.5)}
+
+
+@pytest.mark.parametrize(
+    ("command", "output"),
+    [
+        (["fit", "{data}", "-k", "2", "-o", "{out}"], "model.json"),  # Python's own write
+        (["data", "synth", "thesis", "-o", "{out}"], "thesis.parquet"),  # pyarrow's, whose message is its own
+        (["robot", "export", "{throw}", "-f", "ros2-bag", "-o", "{out}"], "bag"),  # SQLite's, no errno
+    ],
+    ids=["json", "parquet", "ros2-bag"],
+)
+def test_an_output_the_system_refuses_partway_is_named_with_the_reason(refused_inputs, tmp_path, command, output):
+    # `ulimit -f 2; rlff fit c.csv -o m.json` said "rlff: error: File too large", naming no file
+    # (a write's error carries none), and a ROS 2 bag "internal error: OperationalError: disk I/O error"
+    out = tmp_path / output
+    old = b"the previous output\n"
+    if output != "bag":
+        out.write_bytes(old)
+    result = _limited(*[part.format(out=out, **refused_inputs) for part in command])
+    assert result.returncode == 2, result.stderr
+    line = result.stderr.strip().splitlines()[-1]
+    if output == "bag":
+        assert line.startswith(f"rlff: error: {out}: cannot write the output there (disk I/O error, said by SQLite)"), line
+        assert not out.exists()
+    else:
+        assert line.startswith(f"rlff: error: {out}: " + EFBIG_LINE.format(where="the output there")), line
+        assert out.read_bytes() == old  # left as it was
+    assert sorted(p.name for p in tmp_path.iterdir()) == ([] if output == "bag" else [output])  # no temporary left
+
+
+def test_an_output_through_a_temporary_file_names_the_output(refused_inputs, tmp_path):
+    # a pipe or a device (-o /dev/stdout) gets the bytes of a temporary file in the system's folder
+    fifo = tmp_path / "pipe.json"
+    os.mkfifo(fifo)
+    result = _limited("robot", "export", str(refused_inputs["throw"]), "-f", "json", "-o", str(fifo))
+    assert result.returncode == 2, result.stderr
+    line = result.stderr.strip().splitlines()[-1]
+    assert line.startswith(f"rlff: error: {fifo}: cannot write the output through the temporary folder "), line
+    assert "(File too large); a limit on the size of a file" in line
+
+
+@pytest.mark.slow
+def test_an_attempts_log_refused_partway_is_named_with_the_reason(tmp_path):
+    # the learning loop appends each attempt to its log in place: the same refusal named no file
+    from rlff.cli import main
+
+    demos, log = tmp_path / "demos.csv", tmp_path / "attempts.jsonl"
+    assert main(["-q", "data", "synth", "throws", "--subjects", "4", "-o", str(demos)]) == 0
+    learn = ["learn", str(demos), "--preset", "thesis", "--basket", "1.4", "--update", "failure", "--log", str(log)]
+    assert main(["-q", *learn, "--budget", "1"]) == 0
+    logged = log.stat().st_size
+    result = _limited(*learn, "--budget", "3", limit=logged + 100)  # room for the lock file, not an attempt
+    assert result.returncode == 2, result.stderr
+    line = result.stderr.strip().splitlines()[-1]
+    assert line.startswith(f"rlff: error: {log}: " + EFBIG_LINE.format(where="there")), line
 
 
 # -- outputs that are inputs ---------------------------------------------------------------------

@@ -8,7 +8,10 @@ file system. A process killed at any moment leaves either the old file or the ne
 file cut short (at worst a stray hidden ``.STEM.*.tmp.SUFFIX`` beside it).
 
 Missing output folders are created (as they always were); an output that is an existing folder,
-or whose folder is a file, is an :class:`~rlff.errors.InputError` naming the path.
+or whose folder is a file, is an :class:`~rlff.errors.InputError` naming the path, and so is a
+write the system refuses, at the start or partway (a read-only folder, a full disk, a used-up
+quota, a file-size limit): the output the user gave and the system's reason, never the hidden
+temporary file, and the output is left as it was.
 
 :func:`check_outputs` refuses, before any work, an output that is one of the inputs or two
 outputs that are the same file.
@@ -17,8 +20,10 @@ outputs that are the same file.
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import shutil
+import sqlite3
 import tempfile
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
@@ -182,21 +187,24 @@ def atomic_path(path: str | Path, *, folder: bool = False) -> Iterator[Path]:
         yield temp
         if not temp.exists():
             raise FileNotFoundError(f"{temp}: the writer produced nothing")
-        _fsync_tree(temp)
-        if folder:
-            _replace_folder(temp, path)
-            container.rmdir()
-        else:
-            os.chmod(temp, _umask_mode() if not path.exists() else path.stat().st_mode & 0o7777)
-            os.replace(temp, path)
-        _sync_folder(path.parent)
+        try:
+            _fsync_tree(temp)
+            if folder:
+                _replace_folder(temp, path)
+                container.rmdir()
+            else:
+                os.chmod(temp, _umask_mode() if not path.exists() else path.stat().st_mode & 0o7777)
+                os.replace(temp, path)
+            _sync_folder(path.parent)
+        except OSError as exc:  # a disk that fails to keep the file: about the output alone
+            raise _cannot_write(path, exc) from None
     except BaseException as exc:
         if container.is_dir():
             shutil.rmtree(container, ignore_errors=True)
         else:
             container.unlink(missing_ok=True)
         named = {str(name) for name in (getattr(exc, "filename", None), getattr(exc, "filename2", None)) if name}
-        if isinstance(exc, OSError) and any(name.startswith(str(container)) for name in named):
+        if (isinstance(exc, OSError) and any(name.startswith(str(container)) for name in named)) or refused(exc):
             raise _cannot_write(path, exc) from None  # the user never named the hidden temporary file
         raise
 
@@ -209,7 +217,12 @@ def _through_temporary(path: Path) -> Iterator[Path]:
     os.close(handle)
     temp = Path(name)
     try:
-        yield temp
+        try:
+            yield temp
+        except BaseException as exc:
+            if refused(exc):
+                raise _cannot_write(path, exc, through=temp.parent) from None
+            raise
         if not temp.exists():
             raise FileNotFoundError(f"{temp}: the writer produced nothing")
         try:
@@ -221,9 +234,41 @@ def _through_temporary(path: Path) -> Iterator[Path]:
         temp.unlink(missing_ok=True)
 
 
-def _cannot_write(path: Path, exc: OSError) -> InputError:
-    """The error for an output the system refuses: the user's path and the system's reason."""
-    return InputError(f"{path}: cannot write the output there ({exc.strerror or exc})")
+#: What to do about a write the system refused partway, by its error number (a full disk, a
+#: used-up quota, a file-size limit): errors that name no file (a ``write`` names none).
+_REFUSALS = {
+    errno.ENOSPC: "free some space there, or write it elsewhere",
+    errno.EDQUOT: "free some of your files there (your disk quota is used up), or write it elsewhere",
+    errno.EFBIG: "a limit on the size of a file, the shell's (ulimit -f) or the file system's: raise it, or write "
+                 "it elsewhere",
+}
+#: SQLite's words (a ROS 2 bag's database) for the same refusals; it gives no error number.
+_SQLITE_REFUSALS = ("database or disk is full", "disk I/O error")
+
+
+def refused(exc: BaseException) -> bool:
+    """Whether ``exc`` is the system refusing a write partway (:data:`_REFUSALS`), which names no
+    file: a full disk, a used-up quota or a file-size limit, from Python, pyarrow or SQLite."""
+    if isinstance(exc, sqlite3.OperationalError):
+        return str(exc) in _SQLITE_REFUSALS
+    return isinstance(exc, OSError) and exc.errno in _REFUSALS and exc.filename is None
+
+
+def refusal_words(exc: OSError | sqlite3.Error) -> str:
+    """The system's reason for a refused write, and what to do about a refusal of :data:`_REFUSALS`
+    (``"(File too large); a limit on the size of a file, ..."``)."""
+    if isinstance(exc, sqlite3.Error):
+        return f"({exc}, said by SQLite); a full disk, a used-up quota or a file-size limit (ulimit -f)?"
+    if exc.errno in _REFUSALS:  # pyarrow's strerror is a sentence of its own about the same error
+        return f"({os.strerror(exc.errno)}); {_REFUSALS[exc.errno]}"
+    return f"({exc.strerror or exc})"
+
+
+def _cannot_write(path: Path, exc: OSError | sqlite3.Error, through: Path | None = None) -> InputError:
+    """The error for an output the system refuses: the user's path and the system's reason
+    (``through``: the folder of the temporary file a device's or a pipe's bytes were refused in)."""
+    where = "there" if through is None else f"through the temporary folder {through}"
+    return InputError(f"{path}: cannot write the output {where} {refusal_words(exc)}")
 
 
 def _replace_folder(temp: Path, path: Path) -> None:
@@ -364,7 +409,6 @@ def _file_input_inside(out: Path, folder: Path) -> bool:
 
 
 __all__ = [
-    "atomic_path", "atomic_write", "check_output_path", "check_outputs", "prepare_output", "require_distinct",
-    "require_file",
-    "write_text",
+    "atomic_path", "atomic_write", "check_output_path", "check_outputs", "prepare_output", "refusal_words",
+    "refused", "require_distinct", "require_file", "write_text",
 ]
