@@ -107,6 +107,12 @@ TRACEBACK_CASES = {
     "synth --distances 1e308": (["data", "synth", "throws", "--distances", "1e308", "-o", "{tmp}/s.csv"],
                                 ["1e+308", "0.3 to 20 m"]),
     "bench --landings nope": (["bench", "learning", "--landings", "nope"], ["--landings", "'nope'", "noisy:STD"]),
+    # a model said "line 1: corrupt attempts log (not a JSON object)", as if it were a damaged log
+    "plot learning, a model as the log": (["plot", "learning", "{model}", "-o", "{tmp}/pl"],
+                                          ["model.json is an rlff model (rlff fit writes it), not an rlff attempts log",
+                                           "the attempts logs (JSONL) that rlff learn --log writes"]),
+    "plot learning, a dataset as the log": (["plot", "learning", "{data}", "-o", "{tmp}/pl"],
+                                            ["data.csv is text (its first line: 'trajectory,", "not an rlff attempts log"]),
 }
 
 
