@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import csv
 import json
+import re
+import time
 import warnings
 from pathlib import Path
 
@@ -302,6 +304,55 @@ def test_numpy_warnings_are_silenced_unless_debug(rlff, files, tmp_path, monkeyp
 
 
 # -- what the commands print ---------------------------------------------------------------------
+
+
+def _untimed(lines: list[str]) -> list[str]:
+    """Progress lines without their elapsed time (``importing 2/20 (10 %) 0:00:01``)."""
+    for line in lines:
+        assert re.fullmatch(r".* \d+:\d\d:\d\d", line), line
+    return [line.rsplit(" ", 1)[0] for line in lines]
+
+
+def test_progress_on_a_stderr_that_is_no_terminal_is_a_line_every_tenth(capsys, monkeypatch):
+    # stderr redirected to a file: rich's bar showed nothing until the command ended, and a long
+    # lab job looked hung
+    from rlff.cli._common import progress, verbosity
+
+    monkeypatch.setattr(verbosity, "quiet", False)
+    with progress("importing", total=20) as advance:
+        for _ in range(5):
+            advance()
+        during = capsys.readouterr().err.splitlines()
+        for _ in range(15):
+            advance()
+    after = capsys.readouterr().err.splitlines()
+    assert _untimed(during) == ["importing 0/20 (0 %)", "importing 2/20 (10 %)", "importing 4/20 (20 %)"]
+    assert _untimed(after) == [f"importing {2 * k}/20 ({10 * k} %)" for k in range(3, 11)]
+    advance(5)  # late, as a robot's feedback after its goal ended: the last line stands
+    assert capsys.readouterr().err == ""
+
+
+def test_progress_on_a_stderr_that_is_no_terminal_is_said_now_and_then(capsys, monkeypatch):
+    # work that advances seldom, or has no total, is said every PLAIN_SECONDS (30 s) all the same
+    from rlff.cli import _common
+
+    monkeypatch.setattr(_common.verbosity, "quiet", False)
+    monkeypatch.setattr(_common, "PLAIN_SECONDS", 0.2)
+    with _common.progress("fitting", total=None) as advance:
+        advance(description="fitting: 1 of ? values of K tried")
+        time.sleep(0.9)
+        during = _untimed(capsys.readouterr().err.splitlines())
+    assert during[0] == "fitting 0/?" and len(during) >= 3, during
+    assert set(during[1:]) == {"fitting: 1 of ? values of K tried 1/?"}, during
+    assert capsys.readouterr().err == ""  # the end said nothing new
+
+
+def test_a_command_s_progress_without_a_terminal_is_plain_lines(rlff, files, tmp_path):
+    result = rlff("data", "preprocess", str(files["data"]), "--preset", "thesis", "-o", str(tmp_path / "c.csv"))
+    assert result.code == 0, result.stderr
+    lines = [line for line in result.stderr.splitlines() if re.fullmatch(r".* \d+/\d+ \(\d+ %\) \d+:\d\d:\d\d", line)]
+    assert lines[0].startswith("preprocessing 0/") and "(100 %)" in lines[-1], result.stderr
+    assert "━" not in result.stderr  # no bar drawn into a file
 
 
 def test_markup_and_emoji_codes_in_names_print_literally(rlff, tmp_path):

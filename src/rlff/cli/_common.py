@@ -5,8 +5,11 @@ Commands only parse arguments, call the library and print; no logic lives in the
 
 from __future__ import annotations
 
+import datetime
 import json
 import sys
+import threading
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -209,15 +212,33 @@ def _refuse(constant: str) -> None:
     raise ValueError(constant)
 
 
+#: Without a terminal on stderr (a log file, a pipe), where a bar shows nothing until the command
+#: ends, :func:`progress` prints a line at every this share of the work ...
+PLAIN_STEP = 0.1
+#: ... and at least every this many seconds, the work's progress or not.
+PLAIN_SECONDS = 30.0
+
+
 @contextmanager
 def progress(description: str, total: int | None) -> Iterator[Callable[..., None]]:
-    """A progress bar on stderr; yields ``advance(n=1, description=None, total=None)`` (``total``: a
-    new total, when the work turned out longer than said).
+    """Progress of long work on stderr; yields ``advance(n=1, description=None, total=None)``
+    (``total``: a new total, when the work turned out longer than said).
 
-    Silent with -q or when stderr is not a terminal and ``total`` is unknown.
+    On a terminal, a rich progress bar. Otherwise (stderr redirected to a file or a pipe, where the
+    bar shows nothing until the command ends and a long job looks hung) a plain line as the work
+    starts, at every tenth of it (:data:`PLAIN_STEP`), every :data:`PLAIN_SECONDS` s and at its
+    end: ``importing 3/10 (30 %) 0:00:12`` (``3/?`` without a total). Silent with -q.
     """
     if verbosity.quiet:
         yield lambda *args, **kwargs: None
+        return
+    console = stderr()
+    if not console.is_terminal:
+        lines = _ProgressLines(console, description, total)
+        try:
+            yield lines.advance
+        finally:
+            lines.close()
         return
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
@@ -226,7 +247,7 @@ def progress(description: str, total: int | None) -> Iterator[Callable[..., None
         BarColumn(),
         MofNCompleteColumn(),
         TimeElapsedColumn(),
-        console=stderr(),
+        console=console,
         transient=False,
     )
     with bar:
@@ -240,3 +261,70 @@ def progress(description: str, total: int | None) -> Iterator[Callable[..., None
             bar.advance(task, n)
 
         yield advance
+
+
+class _ProgressLines:
+    """:func:`progress` as plain lines on ``console``, for a stderr that is no terminal.
+
+    ``advance`` may come from another thread than the one that opened it (a robot's feedback); a
+    thread of its own says the progress every :data:`PLAIN_SECONDS` s that nothing else did.
+    """
+
+    def __init__(self, console: Console, description: str, total: int | None) -> None:
+        self.console = console
+        self.description = description
+        self.total = total
+        self.done = 0
+        self.started = time.monotonic()
+        self.lock = threading.Lock()
+        with self.lock:
+            self._say()
+        self.closed = threading.Event()
+        self.timer = threading.Thread(target=self._every, name="rlff-progress", daemon=True)
+        self.timer.start()
+
+    def advance(self, n: int = 1, description: str | None = None, total: int | None = None) -> None:
+        with self.lock:
+            if self.closed.is_set():  # a robot's feedback after the goal's end: the last line is said
+                return
+            if description is not None:
+                self.description = description
+            if total is not None:
+                self.total = total
+            step = self._step()
+            self.done += n
+            if self._step() > step:
+                self._say()
+
+    def close(self) -> None:
+        self.closed.set()
+        self.timer.join()
+        with self.lock:
+            if self.said != self._line(with_time=False):
+                self._say()
+
+    def _step(self) -> int:
+        """How many :data:`PLAIN_STEP` of the work are done (0 without a total)."""
+        return int(self.done / self.total / PLAIN_STEP + 1e-9) if self.total else 0
+
+    def _line(self, with_time: bool = True) -> str:
+        if self.total:
+            line = f"{self.description} {self.done}/{self.total} ({100 * self.done / self.total:.0f} %)"
+        else:
+            line = f"{self.description} {self.done}/?"
+        elapsed = datetime.timedelta(seconds=int(time.monotonic() - self.started))
+        return f"{line} {elapsed}" if with_time else line
+
+    def _say(self) -> None:
+        """Print the progress now (the lock held)."""
+        self.console.print(self._line(), markup=False, highlight=False)
+        self.said, self.said_at = self._line(with_time=False), time.monotonic()
+
+    def _every(self) -> None:
+        while not self.closed.wait(max(0.0, self.said_at + PLAIN_SECONDS - time.monotonic())):
+            with self.lock:
+                if time.monotonic() - self.said_at >= PLAIN_SECONDS:
+                    try:
+                        self._say()
+                    except OutputClosed:  # stderr's reader went away: the command's next line ends it (141)
+                        return
