@@ -520,3 +520,34 @@ def test_show_prints_the_controller_s_joint_map(capsys, tmp_path):
     assert "ros joints" not in out
     code, out, _ = run(capsys, "robot", "show", "--json")
     assert "joints" not in json.loads(out)["ros"]
+
+
+def moving_start(document: dict, first: int) -> dict:
+    """A robot trajectory JSON ``document`` cut before its point ``first``, time from 0 there: it
+    starts where the throw moves."""
+    start = document["time"][first]
+    cut = {key: document[key][first:] for key in ("positions", "velocities", "accelerations")}
+    return document | cut | {"time": [t - start for t in document["time"][first:]],
+                             "release_time": document["release_time"] - start}
+
+
+@pytest.mark.parametrize("fmt", ["json", "csv", "ros1-bag", "comau"])
+def test_a_robot_trajectory_that_starts_moving_is_refused_by_every_output(rlff, throw, tmp_path, fmt):
+    """A trajectory starting at speed (a tester's joint_2 at 1 rad/s slowing to rest) was written to
+    every format, the Comau program's first row at 36 % speed, and simulated, without a word: the
+    check looked at the start only where the arm's pose was given."""
+    assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
+    document = json.loads((tmp_path / "t.json").read_text())
+    first = document["time"].index(document["release_time"]) - 20  # 20 samples before the release, at speed
+    (tmp_path / "moving.json").write_text(json.dumps(moving_start(document, first)))
+    out = tmp_path / f"out.{fmt}"
+    result = rlff("robot", "export", str(tmp_path / "moving.json"), "-f", fmt, "-o", str(out))
+    assert result.code == 2 and not out.exists(), result.stderr
+    speed = document["velocities"][first][1]
+    said = " ".join(result.stderr.split())
+    assert (f"moving.json: point 0 (t = 0.000000 s): the trajectory starts with joint_2 velocity {speed:.6g} rad/s, "
+            "not at rest (tolerance 0.001 rad/s): a controller starts a trajectory from the arm at rest") in said, said
+    assert "rlff robot export plans one from the generated path or attempts log" in said
+    if fmt == "json":  # and the simulation, which executed it, refuses it the same way
+        simulated = rlff("sim", "throw", str(tmp_path / "moving.json"), "--basket", "1.5")
+        assert simulated.code == 2 and "the trajectory starts with joint_2 velocity" in simulated.stderr

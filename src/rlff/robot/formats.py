@@ -1,7 +1,7 @@
 """Every export format of ``rlff robot export`` by name, and the one call that writes them.
 
-Nothing is written that fails :func:`rlff.trajectory.check.check_trajectory`: a file, a bag or a
-Comau program is something a robot will execute.
+Nothing is written that fails :func:`rlff.trajectory.check.check_trajectory`, from rest to rest: a
+file, a bag or a Comau program is something a robot will execute, from the arm standing still.
 """
 
 from __future__ import annotations
@@ -35,7 +35,8 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
     InputError
         An unknown format, a trajectory of fewer than 2 points (no motion: a controller runs from
         one point to the next), or one that fails the motion check (named point, joint, quantity,
-        value and limit); nothing is written then.
+        value and limit; one that does not start or end at rest among them); nothing is written
+        then.
     """
     topic, joints = mapping.robot.ros.trajectory_topic, mapping.robot.ros.joints
 
@@ -57,5 +58,5 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
         raise InputError(f"{path}: not written: a trajectory of {plural(len(traj), 'point')} ({traj.duration:g} s) "
                          "is no motion, a controller runs from one point to the next; export one of 2 points or more, "
                          "e.g. the throw planned from its generated path")
-    check_trajectory(traj, mapping.robot.joints)
+    check_trajectory(traj, mapping.robot.joints, start_at_rest=True)
     writers[fmt](traj, path=Path(path))

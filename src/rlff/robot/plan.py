@@ -202,7 +202,7 @@ def plan_path(
         _require_unclipped(report, len(points) - 1)
     joints = mapping.robot.joints
     trajectory = plan_throw(points, joints, start=start, period=period, approach_speed=approach_speed)
-    check_trajectory(trajectory, joints, start=points.positions[0] if start is None else start)
+    check_trajectory(trajectory, joints, start=points.positions[0] if start is None else start, start_at_rest=True)
     require_above_base(mapping.robot, trajectory, "the planned throw")
     return RobotPlan(points, trajectory, report if clip else ClipReport())
 
@@ -292,7 +292,7 @@ def load_for_robot(
         return kind, replace(planned, notes=(hint,)) if hint else planned
     trajectory = read_json(path) if path.suffix.lower() == ".json" else read_csv(path)
     try:
-        check_trajectory(trajectory, robot.joints)
+        check_trajectory(trajectory, robot.joints, start_at_rest=True)
         require_above_base(robot, trajectory, "the trajectory")
     except InputError as exc:
         # a file keeps no robot: one planned for another arm fails on this one's limits, so say whose

@@ -15,7 +15,9 @@ Files, bags, the Comau program, live goals and the simulation all execute what p
   velocities and accelerations (what it uses when a point has accelerations, which every rlff
   export writes); each step is checked at :data:`SUBDIVISIONS` - 1 inner instants;
 - it starts where the arm is (within ``position_tolerance``, at the arm's velocity) and ends
-  at rest.
+  at rest; with ``start_at_rest`` (every file, bag and program rlff writes for a robot, and every
+  robot trajectory it reads) it also starts at rest: a controller starts a trajectory from the
+  arm standing still, and a first point at speed asks for a step in velocity it cannot make.
 
 A refusal is a :class:`MotionLimitError` naming the point (index and time), the joint, the
 quantity, the value and the limit. The jerk limit is not checked here: it is a property of the
@@ -216,6 +218,7 @@ def check_trajectory(
     *,
     start: np.ndarray | None = None,
     start_velocity: np.ndarray | None = None,
+    start_at_rest: bool = False,
     position_tolerance: float = POSITION_TOLERANCE,
     velocity_tolerance: float = VELOCITY_TOLERANCE,
     acceleration_tolerance: float = ACCELERATION_TOLERANCE,
@@ -233,6 +236,11 @@ def check_trajectory(
         ``position_tolerance`` of it. None: the first point is taken as where the arm is.
     start_velocity : array of shape (J,), optional
         The arm's velocity (rad/s) there; default at rest. Checked only with ``start``.
+    start_at_rest : bool
+        Require the first point at rest as well as the last (velocity within
+        ``velocity_tolerance``, acceleration within ``acceleration_tolerance``): what a robot
+        output is (an export, a robot trajectory read back). False for a controller's goal,
+        which it starts from the arm's state, whatever that is.
     position_tolerance : float
         Largest distance (rad) of the first point from ``start``.
     velocity_tolerance : float
@@ -291,13 +299,27 @@ def check_trajectory(
 
         _check_points(traj, dict(zip(("position", "velocity", "acceleration"), inner, strict=True)),
                       lower, upper, between)
-    end_speed, end_acceleration = np.abs(traj.velocities[-1]), np.abs(traj.accelerations[-1])
-    for label, values, tolerance, unit in (("velocity", end_speed, velocity_tolerance, "rad/s"),
-                                           ("acceleration", end_acceleration, acceleration_tolerance,
+    if start_at_rest:
+        _require_rest(traj, 0, velocity_tolerance, acceleration_tolerance, at_point)
+    _require_rest(traj, len(traj) - 1, velocity_tolerance, acceleration_tolerance, at_point)
+
+
+def _require_rest(traj: JointTrajectory, point: int, velocity_tolerance: float, acceleration_tolerance: float,
+                  at_point) -> None:
+    """Raise :class:`MotionLimitError` unless every joint of ``traj`` is at rest at ``point`` (its
+    first or its last): speed within ``velocity_tolerance`` (rad/s), acceleration within
+    ``acceleration_tolerance`` (rad/s^2)."""
+    first = point == 0
+    for label, values, tolerance, unit in (("velocity", traj.velocities[point], velocity_tolerance, "rad/s"),
+                                           ("acceleration", traj.accelerations[point], acceleration_tolerance,
                                             "rad/s^2")):
-        if np.any(values > tolerance):
-            j = int(np.argmax(values > tolerance))
+        if np.any(np.abs(values) > tolerance):
+            j = int(np.argmax(np.abs(values) > tolerance))
+            state = f"{traj.joint_names[j]} {label} {values[j]:.6g} {unit}, not at rest (tolerance {tolerance:g} {unit})"
+            if not first:
+                raise MotionLimitError(f"{at_point(point)}: the trajectory ends with {state}")
             raise MotionLimitError(
-                f"{at_point(len(traj) - 1)}: the trajectory ends with {names[j]} {label} "
-                f"{traj.velocities[-1, j] if label == 'velocity' else traj.accelerations[-1, j]:.6g} "
-                f"{unit}, not at rest (tolerance {tolerance:g} {unit})")
+                f"{at_point(point)}: the trajectory starts with {state}: a controller starts a trajectory from the "
+                "arm at rest, and cannot jump to a moving first point; give a trajectory that starts at rest (rlff "
+                "robot export plans one from the generated path or attempts log), or add the motion from rest to "
+                "its first point")
