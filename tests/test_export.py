@@ -253,3 +253,32 @@ def test_a_file_beyond_the_robot_s_limits_says_which_robot_checked_it(tmp_path):
     with pytest.raises(InputError, match=r"fast.json: .*joint_2 velocity 3 rad/s beyond the limit 2.792 rad/s.*"
                                          r"checked against built-in robot comau_smart5_six.*--robot"):
         load_for_robot(path, comau)
+
+
+def test_the_robot_a_trajectory_was_planned_for_reads_back(traj, tmp_path):
+    """JSON and CSV keep the record; a digest of digits alone keeps its leading zeros."""
+    from rlff.robot.export import read_planned_for
+
+    record = {"name": "slow_arm", "digest": "0012345678901234"}
+    for write, name in ((write_json, "t.json"), (write_csv, "t.csv")):
+        write(traj, tmp_path / name, robot=record)
+        assert read_planned_for(tmp_path / name) == record
+        assert_same((read_json if name.endswith("json") else read_csv)(tmp_path / name), traj)
+        write(traj, tmp_path / name)  # a trajectory of no robot, as written before the record
+        assert read_planned_for(tmp_path / name) is None
+    document = json.loads((tmp_path / "t.json").read_text()) | {"robot": "slow_arm"}
+    (tmp_path / "t.json").write_text(json.dumps(document))
+    with pytest.raises(InputError, match=r"t.json: field 'robot' must be the robot the trajectory was planned for"):
+        read_planned_for(tmp_path / "t.json")
+
+
+def test_the_record_is_the_robot_s_limits_and_geometry():
+    from dataclasses import replace
+
+    from rlff.robot import load_robot
+    from rlff.robot.planned_for import planned_for
+
+    comau = load_robot()
+    assert planned_for(comau) == planned_for(replace(comau, source="elsewhere.toml", throwing={}))
+    faster = replace(comau, joints=(comau.joints[0], replace(comau.joints[1], max_velocity=3.0), *comau.joints[2:]))
+    assert planned_for(faster)["digest"] != planned_for(comau)["digest"]

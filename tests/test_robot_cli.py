@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 from importlib import resources
 
 import numpy as np
@@ -551,3 +552,64 @@ def test_a_robot_trajectory_that_starts_moving_is_refused_by_every_output(rlff, 
     if fmt == "json":  # and the simulation, which executed it, refuses it the same way
         simulated = rlff("sim", "throw", str(tmp_path / "moving.json"), "--basket", "1.5")
         assert simulated.code == 2 and "the trajectory starts with joint_2 velocity" in simulated.stderr
+
+
+def slow_comau(folder) -> str:
+    """The Comau's robot file as another arm, ``slow_arm``, whose joint 2 turns at 1.6 rad/s."""
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    for old, new in (('name = "comau_smart5_six"', 'name = "slow_arm"'), ("max_velocity = 2.792", "max_velocity = 1.6")):
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    path = folder / "slow_arm.toml"
+    path.write_text(text)
+    return str(path)
+
+
+def comau_speeds(path) -> np.ndarray:
+    """The speed slot (6) of a Comau program's rows (% of the driven joint's maximum)."""
+    return np.array([float(line.split(",")[6].strip("')")) for line in path.read_text().splitlines()[1:]])
+
+
+@pytest.mark.parametrize("suffix", ["json", "csv"])
+def test_a_robot_trajectory_is_converted_only_for_the_robot_it_was_planned_for(rlff, tmp_path, suffix):
+    """A throw exported for a slow arm and converted without its --robot became a Comau program at
+    a share of the built-in Comau's speed (78 % -> 42 % for a tester's arm): the slow arm would have
+    thrown at half the planned speed. The file now says whose it is."""
+    slow = slow_comau(tmp_path)
+    path = human_csv(tmp_path / "throw.csv", np.linspace(-0.5, 1.5, 21), np.full(21, 1.2))
+    planned = tmp_path / f"slow.{suffix}"
+    assert rlff("robot", "export", str(path), "--robot", slow, "-o", str(planned)).code == 0
+    result = rlff("robot", "export", str(planned), "-o", str(tmp_path / "comau.txt"))
+    assert result.code == 2 and not (tmp_path / "comau.txt").exists()
+    said = " ".join(result.stderr.split())
+    assert re.search(rf"error: {re.escape(str(planned))} was planned for another robot \(slow_arm, digest [0-9a-f]{{16}} "
+                     r"in the file; comau_smart5_six, digest [0-9a-f]{16}, with built-in robot comau_smart5_six\): its "
+                     r"limits and speeds are that robot's; give its robot file with --robot", said), said
+    simulated = rlff("sim", "throw", str(planned), "--basket", "1.5")
+    assert simulated.code == 2 and "was planned for another robot (slow_arm" in simulated.stderr
+    assert rlff("robot", "export", str(planned), "--robot", slow, "-o", str(tmp_path / "slow.txt")).code == 0
+    assert comau_speeds(tmp_path / "slow.txt").max() == pytest.approx(100 * 1.2 / 1.6, abs=1e-3)  # of its own arm
+    # converted for its own robot, the file keeps the record
+    again = tmp_path / f"again.{'csv' if suffix == 'json' else 'json'}"
+    converted = rlff("robot", "export", str(planned), "--robot", slow, "-o", str(again))
+    assert converted.code == 0 and "warning" not in converted.stderr, converted.stderr
+    assert rlff("robot", "export", str(again), "-o", str(tmp_path / "again.txt")).code == 2
+
+
+def test_a_robot_trajectory_that_does_not_say_whose_it_is_is_read_with_a_warning(rlff, throw, tmp_path):
+    """Files written before the record (or by hand) keep working, checked against the robot given."""
+    assert rlff("robot", "export", str(throw), "-o", str(tmp_path / "t.json")).code == 0
+    document = json.loads((tmp_path / "t.json").read_text())
+    assert set(document["robot"]) == {"name", "digest"} and document["robot"]["name"] == "comau_smart5_six"
+    del document["robot"]
+    (tmp_path / "old.json").write_text(json.dumps(document))
+    result = rlff("robot", "export", str(tmp_path / "old.json"), "-o", str(tmp_path / "old.txt"))
+    assert result.code == 0, result.stderr
+    said = " ".join(result.stderr.split())
+    assert (f"warning: {tmp_path / 'old.json'} does not say which robot it was planned for (written before rlff "
+            "recorded it, or by hand): checked and converted for comau_smart5_six (built-in robot comau_smart5_six); "
+            "if it was planned for another robot, give that robot's file with --robot") in said, said
+    assert rlff("robot", "export", str(throw), "-o", str(tmp_path / "t.csv")).code == 0
+    pd.read_csv(tmp_path / "t.csv").drop(columns=["robot", "robot_digest"]).to_csv(tmp_path / "old.csv", index=False)
+    result = rlff("sim", "throw", str(tmp_path / "old.csv"), "--basket", "1.5")
+    assert result.code == 0 and "old.csv does not say which robot it was planned for" in result.stderr

@@ -48,11 +48,13 @@ UNITS = {"time": "s", "positions": "rad", "velocities": "rad/s", "accelerations"
 _QUANTITIES = ("position", "velocity", "acceleration")
 
 
-def write_json(traj: JointTrajectory, path: Path) -> None:
-    """``{"format", "version", "joint_names", "time" (T,), "positions"/"velocities"/"accelerations"
-    (T, J), "release_time"}`` (``release_time`` in s, null for a trajectory that is no throw)."""
+def write_json(traj: JointTrajectory, path: Path, robot: dict[str, str] | None = None) -> None:
+    """``{"format", "version", "units", "robot", "joint_names", "time" (T,),
+    "positions"/"velocities"/"accelerations" (T, J), "release_time"}`` (``release_time`` in s,
+    null for a trajectory that is no throw; ``robot`` the robot it was planned for,
+    :func:`rlff.robot.planned_for.planned_for`, left out when None)."""
     document = {
-        "format": JSON_FORMAT, "version": 1, "units": UNITS,
+        "format": JSON_FORMAT, "version": 1, "units": UNITS, **({"robot": dict(robot)} if robot else {}),
         "joint_names": list(traj.joint_names), "time": traj.time.tolist(),
         "positions": traj.positions.tolist(), "velocities": traj.velocities.tolist(),
         "accelerations": traj.accelerations.tolist(), "release_time": traj.release_time,
@@ -97,11 +99,13 @@ def _require_units(path: Path, units: object) -> None:
                      "file's values (and its 'units') to those")
 
 
-def write_csv(traj: JointTrajectory, path: Path) -> None:
+def write_csv(traj: JointTrajectory, path: Path, robot: dict[str, str] | None = None) -> None:
     """One row per point: ``time`` (s), then ``{joint}_position`` (rad), ``_velocity``, ``_acceleration``.
 
-    A planned throw also gets a ``release_time`` column (s), the same on every row (the way
-    per-trajectory metadata rides along in rlff's CSV files).
+    A planned throw also gets a ``release_time`` column (s), and a trajectory planned for a
+    ``robot`` (:func:`rlff.robot.planned_for.planned_for`) the columns of :data:`ROBOT_COLUMNS`,
+    its name and digest; each the same on every row (the way per-trajectory metadata rides along
+    in rlff's CSV files).
     """
     columns = {"time": traj.time}
     for index, name in enumerate(traj.joint_names):
@@ -109,7 +113,47 @@ def write_csv(traj: JointTrajectory, path: Path) -> None:
             columns[f"{name}_{quantity}"] = values[:, index]
     if traj.release_time is not None:
         columns["release_time"] = np.full(len(traj), traj.release_time)
+    if robot:
+        for column, key in ROBOT_COLUMNS.items():
+            columns[column] = [robot[key]] * len(traj)
     write_csv_columns(path, columns)
+
+
+#: The CSV columns of the robot a trajectory was planned for, and the key of the record each holds.
+ROBOT_COLUMNS = {"robot": "name", "robot_digest": "digest"}
+
+
+def read_planned_for(path: Path) -> dict[str, str] | None:
+    """The robot a trajectory file of :func:`write_json` or :func:`write_csv` was planned for,
+    ``{"name", "digest"}``; None for a file that does not say (written before rlff recorded it,
+    or by hand). :class:`InputError` naming the field for a record that is no such thing."""
+    path = Path(path)
+    if path.suffix.lower() == ".json":
+        record = read_json_object(path).get("robot")
+        if record is None:
+            return None
+        if not (isinstance(record, dict) and all(isinstance(record.get(key), str) and record[key]
+                                                 for key in ROBOT_COLUMNS.values())):
+            raise InputError(f"{path}: field 'robot' must be the robot the trajectory was planned for, "
+                             f'{{"name": ..., "digest": ...}} as rlff writes it, got {json.dumps(record)[:80]}')
+        return {key: record[key] for key in ROBOT_COLUMNS.values()}
+    header = pd.read_csv(path, nrows=0).columns
+    if not any(column in header for column in ROBOT_COLUMNS):
+        return None
+    missing = [column for column in ROBOT_COLUMNS if column not in header]
+    if missing:
+        raise InputError(f"{path}: a column {missing[0]!r} is needed beside "
+                         f"{' and '.join(repr(c) for c in ROBOT_COLUMNS if c not in missing)}: together they name the "
+                         "robot the trajectory was planned for")
+    table = pd.read_csv(path, usecols=list(ROBOT_COLUMNS), dtype=str, keep_default_na=False)
+    record = {}
+    for column, key in ROBOT_COLUMNS.items():
+        values = table[column].unique()
+        if len(values) != 1 or not values[0]:
+            raise InputError(f"{path}: column {column!r} must hold the same {key} of the robot the trajectory was "
+                             "planned for on every row")
+        record[key] = str(values[0])
+    return record
 
 
 def read_csv(path: Path) -> JointTrajectory:

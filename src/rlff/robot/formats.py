@@ -13,6 +13,7 @@ from rlff.errors import InputError
 from rlff.robot.comau import write_comau_program
 from rlff.robot.export import write_csv, write_json, write_ros1_bag, write_ros2_bag
 from rlff.robot.mapping import ArmMapping, RobotMapping
+from rlff.robot.planned_for import planned_for
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.wording import plural
@@ -28,7 +29,8 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
     file's ``[ros] trajectory_topic``), for the arm's controller: in its joint names and
     convention (the robot file's ``[ros.joints]``, :class:`rlff.robot.joint_map.JointMap`);
     ``header_stamp_ns`` is their ``header.stamp`` (ns; default 0: start on receipt). JSON, CSV
-    and the Comau program keep rlff's joints and convention.
+    and the Comau program keep rlff's joints and convention; JSON and CSV also record the robot
+    they were planned for (:mod:`rlff.robot.planned_for`), which reading them back requires.
 
     Raises
     ------
@@ -45,9 +47,10 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
             write(joints.to_controller(traj), path, topic=topic, header_stamp_ns=header_stamp_ns)
         return written
 
+    robot = planned_for(mapping.robot)  # read back, the file is checked for no other robot
     writers = {
-        "json": write_json,
-        "csv": write_csv,
+        "json": partial(write_json, robot=robot),
+        "csv": partial(write_csv, robot=robot),
         "ros1-bag": bag(write_ros1_bag),
         "ros2-bag": bag(write_ros2_bag),
         "comau": partial(write_comau_program, mapping=mapping),

@@ -10,7 +10,8 @@ reaches a file, a bag, a Comau program, a live goal or the simulation without th
   (approach, the throw to its release with every driven joint's release kept, braking to rest)
   and checked;
 - a robot trajectory (what ``rlff robot export --format json|csv`` writes) is read and checked
-  as it is: it must already be executable.
+  as it is: it must already be executable, and be of the robot it is read for
+  (:mod:`rlff.robot.planned_for`).
 """
 
 from __future__ import annotations
@@ -28,6 +29,7 @@ from rlff.limits import apart, check_period, require_radians
 from rlff.robot.description import Robot
 from rlff.robot.links import require_above_base
 from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for
+from rlff.robot.planned_for import require_planned_for
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
@@ -269,7 +271,7 @@ def load_for_robot(
     None: the one-joint mapping), ``bearing`` the basket's bearing (deg; None: the file's
     ``bearing`` column, else 0).
     """
-    from rlff.robot.export import read_csv, read_json, require_release
+    from rlff.robot.export import read_csv, read_json, read_planned_for, require_release
 
     path = Path(path)
     kind = robot_file_kind(path)
@@ -291,11 +293,14 @@ def load_for_robot(
             raise type(exc)(f"{path}: {said}") from None
         return kind, replace(planned, notes=(hint,)) if hint else planned
     trajectory = read_json(path) if path.suffix.lower() == ".json" else read_csv(path)
+    own = require_planned_for(path, read_planned_for(path), robot)
     try:
         check_trajectory(trajectory, robot.joints, start_at_rest=True)
         require_above_base(robot, trajectory, "the trajectory")
     except InputError as exc:
-        # a file keeps no robot: one planned for another arm fails on this one's limits, so say whose
+        if own:
+            raise type(exc)(f"{path}: {exc}") from None
+        # a file that keeps no robot may be another arm's, failing on this one's limits: say whose
         raise type(exc)(f"{path}: {exc} (checked against {robot.source}; a trajectory planned for another "
                         "robot is checked with its file: --robot)") from None
     trajectory = require_release(path, trajectory)

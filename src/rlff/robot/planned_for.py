@@ -1,0 +1,79 @@
+"""Which robot a trajectory file was planned for: the record rlff writes in it, and the check on reading.
+
+A robot trajectory (JSON or CSV of ``rlff robot export``, ``rlff learn --out``) is positions,
+velocities and accelerations of one arm's joints, planned within that arm's limits; read back, it
+is checked against a robot and converted for it (a Comau program's speed slot is a share of that
+robot's maximum speed). Checked against another robot, it passes or fails that robot's limits,
+and converted for it, it says other speeds: a tester's throw planned for a slow arm (1.5 rad/s)
+became a Comau program at 41.9 % of the built-in Comau's speed instead of 78.0 % of its own arm's,
+so the slow arm would have thrown at half the planned speed.
+
+So every such file records the robot it was planned for (:func:`planned_for`: its name and the
+digest of its description, the joints' limits and the geometry, which is what the check and the
+conversions read), and a file read for another robot is refused, naming both
+(:func:`require_planned_for`). A file without the record (written before it, or by hand) is
+read for the robot given, with a :class:`UnrecordedRobotWarning` that says so.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import warnings
+from pathlib import Path
+from typing import Any
+
+from rlff.errors import InputError
+from rlff.robot.description import Robot
+
+#: Hex digits of the digest a file keeps (64 bits, as an attempts log keeps its robot's).
+DIGEST_LENGTH = 16
+
+
+class UnrecordedRobotWarning(UserWarning):
+    """A robot trajectory file that does not say which robot it was planned for: it is checked
+    and converted for the robot given, which may not be its own."""
+
+
+def robot_description(robot: Robot) -> dict[str, Any]:
+    """What a robot trajectory depends on of ``robot``: every joint's limits (each number of its
+    ``[[joints]]`` table, by name) and the geometry (the floor check); not its file's place, its
+    mappings or its ROS names, which a trajectory of its joints does not depend on."""
+    return {
+        "joints": {joint.name: {key: value for key, value in vars(joint).items() if key != "name"}
+                   for joint in robot.joints},
+        "geometry": vars(robot.geometry) if robot.geometry else None,
+    }
+
+
+def planned_for(robot: Robot) -> dict[str, str]:
+    """The record a robot trajectory file keeps of ``robot``: ``{"name", "digest"}``, the digest
+    being the first :data:`DIGEST_LENGTH` hex digits of the SHA-256 of
+    :func:`robot_description` as canonical JSON (sorted keys, no spaces)."""
+    canonical = json.dumps(robot_description(robot), sort_keys=True, separators=(",", ":"))
+    return {"name": robot.name, "digest": hashlib.sha256(canonical.encode()).hexdigest()[:DIGEST_LENGTH]}
+
+
+def require_planned_for(path: str | Path, record: dict[str, str] | None, robot: Robot) -> bool:
+    """Refuse the robot trajectory file ``path`` when its ``record`` (:func:`planned_for`, as the
+    file keeps it; None: it keeps none) is of another robot than ``robot``.
+
+    Returns whether the file says it was planned for ``robot``; False (with an
+    :class:`UnrecordedRobotWarning`) for a file that does not say.
+
+    Raises
+    ------
+    InputError
+        Naming both robots and their digests, and what to do.
+    """
+    if record is None:
+        warnings.warn(f"{path} does not say which robot it was planned for (written before rlff recorded it, or by "
+                      f"hand): checked and converted for {robot.name} ({robot.source}); if it was planned for "
+                      "another robot, give that robot's file with --robot", UnrecordedRobotWarning, stacklevel=2)
+        return False
+    ours = planned_for(robot)
+    if record["digest"] == ours["digest"]:
+        return True
+    raise InputError(f"{path} was planned for another robot ({record['name']}, digest {record['digest']} in the file; "
+                     f"{ours['name']}, digest {ours['digest']}, with {robot.source}): its limits and speeds are "
+                     "that robot's; give its robot file with --robot")
