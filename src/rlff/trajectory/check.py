@@ -4,7 +4,10 @@ Files, bags, the Comau program, live goals and the simulation all execute what p
 :func:`check_trajectory`, and nothing else. It asks what a real arm's controller needs:
 
 - times start at 0 or later and strictly increase (:class:`JointTrajectory` ensures it);
-- at every point, positions, velocities and accelerations are within the joint's limits;
+- at every point, positions, velocities and accelerations are within the joint's limits, and a
+  joint the trajectory moves is not on a position limit (within :data:`LIMIT_SLACK`): a real
+  controller's software limit faults at the least overshoot past it (a joint held still on a
+  limit, which the trajectory does not put there, is an :class:`OnLimitWarning`);
 - positions and velocities agree: over a step of ``dt`` s, a motion whose acceleration stays
   within ``A`` moves ``dt (v0 + v1) / 2`` up to ``A dt^2 / 4`` (the trapezoid rule's error bound,
   ``|integral of (t - dt/2) a(t) dt| <= A dt^2 / 4``); a file whose time column was stretched,
@@ -27,13 +30,15 @@ trajectory file.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
 
 from rlff.errors import InputError
+from rlff.limits import apart
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.limits import JointLimits
+from rlff.trajectory.limits import POSITION_MARGIN, JointLimits
 from rlff.trajectory.motion_limits import motion_limits
 
 #: Inner instants checked per step are ``k / SUBDIVISIONS`` of it, k = 1 .. SUBDIVISIONS - 1.
@@ -53,6 +58,11 @@ class MotionLimitError(InputError):
     """A trajectory a real arm cannot (or should not) execute; the message says where and why."""
 
 
+class OnLimitWarning(UserWarning):
+    """A trajectory that holds a joint still on a position limit: it does not move it there, so it
+    is not refused, but a controller's software limit may fault on the arm resting there."""
+
+
 def _first(excess: np.ndarray) -> tuple[int, int, int] | None:
     """(row, column, count) of the first True of a (N, J) array in row order, or None."""
     rows, columns = np.nonzero(excess)
@@ -61,26 +71,54 @@ def _first(excess: np.ndarray) -> tuple[int, int, int] | None:
     return int(rows[0]), int(columns[0]), int(rows.size)
 
 
-def _more(count: int) -> str:
-    return f" ({count - 1} more values beyond it)" if count > 1 else ""
+def _more(count: int, where: str = "beyond it") -> str:
+    return f" ({count - 1} more values {where})" if count > 1 else ""
 
 
 def _check_points(traj: JointTrajectory, values: dict[str, np.ndarray], lower: np.ndarray,
-                  upper: np.ndarray, where) -> None:
-    """Raise for the first value of ``values[quantity]`` (N, J) outside ``lower``..``upper``."""
+                  upper: np.ndarray, where, moving: np.ndarray) -> None:
+    """Raise for the first value of ``values[quantity]`` (N, J) outside ``lower``..``upper``, or a
+    position of a ``moving`` joint ((J,) bool) on its limit (within the slack)."""
     for quantity, array in values.items():
         low, high = lower[quantity], upper[quantity]
         span = np.maximum(np.abs(low), np.abs(high))
         slack = LIMIT_SLACK * np.maximum(span, 1.0)
-        found = _first((array < low - slack) | (array > high + slack))
+        outside = (array < low - slack) | (array > high + slack)
+        if quantity == "position":
+            outside |= ((array <= low + slack) | (array >= high - slack)) & moving
+        found = _first(outside)
         if found is None:
             continue
         row, column, count = found
         value = array[row, column]
-        limit = high[column] if value > high[column] else low[column]
+        limit = high[column] if abs(value - high[column]) < abs(value - low[column]) else low[column]
         unit = _UNITS[quantity]
-        raise MotionLimitError(f"{where(row)}: {traj.joint_names[column]} {quantity} {value:.6g} {unit} "
-                               f"beyond the limit {limit:.6g} {unit}{_more(count)}")
+        shown, edge = apart(value, limit)  # as many digits as tell them apart
+        if abs(value - limit) > slack[column]:
+            raise MotionLimitError(f"{where(row)}: {traj.joint_names[column]} {quantity} {shown} {unit} "
+                                   f"beyond the limit {edge} {unit}{_more(count)}")
+        raise MotionLimitError(f"{where(row)}: {traj.joint_names[column]} moves to its position limit: {shown} "
+                               f"{unit} on the limit {edge} {unit}, where a controller's software limit faults at the "
+                               f"least overshoot; plan the motion to stay inside it (rlff plans throws "
+                               f"{POSITION_MARGIN:g} rad inside){_more(count, 'on or beyond a limit')}")
+
+
+def _warn_held_on_limits(traj: JointTrajectory, lower: np.ndarray, upper: np.ndarray, moving: np.ndarray) -> None:
+    """Warn (:class:`OnLimitWarning`) of the joints ``traj`` holds still on a position limit, ``lower``
+    and ``upper`` (J,) rad: the trajectory does not move them there, but the arm rests on the limit."""
+    slack = LIMIT_SLACK * np.maximum(np.maximum(np.abs(lower), np.abs(upper)), 1.0)
+    position = traj.positions[0]
+    for j in np.flatnonzero(~moving & ((np.abs(position - lower) <= slack) | (np.abs(position - upper) <= slack))):
+        side = "lower" if abs(position[j] - lower[j]) <= slack[j] else "upper"
+        warnings.warn(f"the trajectory holds {traj.joint_names[j]} on its {side} position limit "
+                      f"({position[j]:.6g} rad), where a controller's software limit faults at the least overshoot; "
+                      "move it inside its limit before the trajectory", OnLimitWarning, stacklevel=3)
+
+
+def _moving(traj: JointTrajectory) -> np.ndarray:
+    """Which joints ``traj`` moves, (J,) bool: any change of position, any velocity or acceleration."""
+    return ((np.ptp(traj.positions, axis=0) > 0) | np.any(traj.velocities != 0, axis=0)
+            | np.any(traj.accelerations != 0, axis=0))
 
 
 def _quintic(traj: JointTrajectory, fractions: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -93,8 +131,7 @@ def _quintic(traj: JointTrajectory, fractions: np.ndarray) -> tuple[np.ndarray, 
     position = np.broadcast_to(traj.positions[0], (steps, fractions.size, joints)).copy()
     velocity = np.zeros_like(position)
     acceleration = np.zeros_like(position)
-    moving = np.flatnonzero((np.ptp(traj.positions, axis=0) > 0) | np.any(traj.velocities != 0, axis=0)
-                            | np.any(traj.accelerations != 0, axis=0))
+    moving = np.flatnonzero(_moving(traj))
     if moving.size == 0:
         return position, velocity, acceleration
     h = np.diff(traj.time)[:, None]
@@ -269,8 +306,9 @@ def check_trajectory(
                     velocity_tolerance=velocity_tolerance)
     lower = {"position": limits.lower, "velocity": -limits.velocity, "acceleration": -limits.acceleration}
     upper = {"position": limits.upper, "velocity": limits.velocity, "acceleration": limits.acceleration}
+    moving = _moving(traj)
     _check_points(traj, {"position": traj.positions, "velocity": traj.velocities,
-                         "acceleration": traj.accelerations}, lower, upper, at_point)
+                         "acceleration": traj.accelerations}, lower, upper, at_point, moving)
     if len(traj) > 1:
         dt = np.diff(time)[:, None]
         moved = np.diff(traj.positions, axis=0)
@@ -298,7 +336,8 @@ def check_trajectory(
                     "interpolation)")
 
         _check_points(traj, dict(zip(("position", "velocity", "acceleration"), inner, strict=True)),
-                      lower, upper, between)
+                      lower, upper, between, moving)
+    _warn_held_on_limits(traj, limits.lower, limits.upper, moving)
     if start_at_rest:
         _require_rest(traj, 0, velocity_tolerance, acceleration_tolerance, at_point)
     _require_rest(traj, len(traj) - 1, velocity_tolerance, acceleration_tolerance, at_point)

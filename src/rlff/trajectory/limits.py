@@ -111,6 +111,16 @@ def _limit_arrays(traj: JointTrajectory, joints: Sequence[JointLimits]) -> tuple
 #: tracking error in a throw is up to 2 mrad in the simulation. 10 mrad: 14 mm at the Comau's reach.
 CLIP_CLEARANCE = 0.01
 
+#: How far inside a position limit (rad) a planned throw keeps where it turns or comes to rest
+#: (the wind-up before the throw, the braking after the release;
+#: :func:`rlff.trajectory.planner.plan_throw`), as the profiles keep 1 % inside the speed and
+#: acceleration limits. Braked to a stop on the limit itself (a tester's arm stopped 4e-10 rad short
+#: of 1.7 rad), a real arm's servo overshoots its command by micro-radians at rest (the simulated
+#: one stood 8.5 urad past it) and its controller's software limit faults. 2 mrad is the simulated
+#: arm's tracking error in a throw (:data:`CLIP_CLEARANCE` cites it), and a fifth of the clearance a
+#: clipped position gets, so a clipped path still plans: 2.6 mm at the Comau's 1.3 m reach.
+POSITION_MARGIN = 0.002
+
 #: Relative excess over a limit that is rounding, not a request: a path logged in the human's
 #: units and mapped back puts a release clipped at 3.14 rad/s at 3.1400000000000006.
 ROUNDING = 1e-9

@@ -46,9 +46,10 @@ from itertools import chain
 import numpy as np
 
 from rlff.errors import InputError
+from rlff.limits import apart
 from rlff.trajectory.check import MotionLimitError, violation_counts
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.limits import JointLimits
+from rlff.trajectory.limits import POSITION_MARGIN, JointLimits
 from rlff.trajectory.motion_limits import MotionLimits, motion_limits
 
 #: Controller period (s) a plan is sampled at unless told otherwise.
@@ -200,11 +201,14 @@ def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_posit
 
 
 def _require_inside(traj: JointTrajectory, limits: MotionLimits, period: float, what: str,
-                    room_from=None) -> None:
+                    room_from=None, margin: float = 0.0, stops: bool = False) -> None:
     """Raise :class:`MotionLimitError` if ``traj`` leaves a position or speed limit during ``what``.
 
     A profile leaves the speed limit only from a state that no jerk-limited motion can keep
-    inside it (close to the limit and still accelerating towards it).
+    inside it (close to the limit and still accelerating towards it). Where the motion turns or
+    stops it must also stay ``margin`` (rad) inside a position limit (:data:`POSITION_MARGIN`
+    for a throw), unless the positions asked for (its first, and its last unless it ``stops``
+    wherever braking ends) are closer: those are checked against the limits themselves.
     """
     speed = np.abs(traj.velocities) > limits.velocity * (1 + 1e-9)
     if np.any(speed):
@@ -215,25 +219,35 @@ def _require_inside(traj: JointTrajectory, limits: MotionLimits, period: float, 
             f"limit {limits.velocity[j]:.6g} rad/s: from {traj.velocities[0, j]:.6g} rad/s accelerating at "
             f"{traj.accelerations[0, j]:.6g} rad/s^2, {_jerk_text(limits, period, j)} cannot turn the "
             "acceleration round in time")
+    asked = traj.positions[:1] if stops else traj.positions[[0, -1]]
     for j, name in enumerate(limits.names):
         q = traj.positions[:, j]
         for beyond, limit, side in ((q > limits.upper[j], limits.upper[j], "upper"),
                                     (q < limits.lower[j], limits.lower[j], "lower")):
-            if not np.any(beyond):
-                continue
-            if beyond[0] and room_from is None:  # the arm (or the state given) is already there
+            if np.any(beyond) and beyond[0] and room_from is None:  # the arm (or the state given) is already there
                 raise MotionLimitError(
                     f"{what}: {name} starts at {q[0]:.6g} rad, already beyond its {side} limit {limit:.6g} rad "
                     "in the robot file: move the arm inside its limits, or check the robot file's limits "
                     "against the arm's")
+            inward = -1.0 if side == "upper" else 1.0
+            kept = limit + inward * margin  # the closest the motion may come, unless asked closer
+            kept = max(kept, asked[:, j].max()) if side == "upper" else min(kept, asked[:, j].min())
             extreme = float(q.max() if side == "upper" else q.min())
+            if not (np.any(beyond) or (extreme - kept) * -inward > 0):
+                continue
+            shown, edge = apart(extreme, limit)  # as many digits as tell them apart
+            how = (f"beyond its {side} limit {edge} rad" if np.any(beyond) else
+                   f"{abs(limit - extreme):.3g} rad inside its {side} limit {edge} rad, within the {margin:g} rad a "
+                   "throw keeps clear of a position limit (a controller's software limit faults at the least "
+                   "overshoot past it)")
             where = q[0] if room_from is None else room_from[j]
+            needs, room = (apart(abs(extreme - where), abs(limit - where), digits=4) if np.any(beyond)
+                           else (f"{abs(extreme - where):.4g}", f"{abs(limit - where):.4g}"))
+            clear = "" if np.any(beyond) else f", {max(abs(limit - where) - margin, 0.0):.4g} rad less the margin"
             raise MotionLimitError(
-                f"{what}: {name} would reach {extreme:.6g} rad, beyond its {side} limit {limit:.6g} rad "
-                f"(it needs {abs(extreme - where):.4g} rad from {where:.6g} rad, moving at "
-                f"{traj.velocities[0, j]:.6g} rad/s, with max_acceleration "
-                f"{limits.acceleration[j]:g} rad/s^2 and {_jerk_text(limits, period, j)}; "
-                f"the limit is {abs(limit - where):.4g} rad away)")
+                f"{what}: {name} would reach {shown} rad, {how} (it needs {needs} rad from {where:.6g} rad, moving "
+                f"at {traj.velocities[0, j]:.6g} rad/s, with max_acceleration {limits.acceleration[j]:g} rad/s^2 and "
+                f"{_jerk_text(limits, period, j)}; the limit is {room} rad away{clear})")
 
 
 def _require_interpolated_speed(traj: JointTrajectory, joints: Sequence[JointLimits], limits: MotionLimits,
@@ -424,7 +438,7 @@ def plan_throw(
     cap = np.minimum(cap, MARGIN * limits.velocity)
     throwing = _ruckig(limits, first, rest, rest, release, release_velocity, cap, period)
     try:  # from rest inside the limits, the throw leaves them only in a wind-up
-        _require_inside(throwing, limits, period, "the throw (start to release)")
+        _require_inside(throwing, limits, period, "the throw (start to release)", margin=POSITION_MARGIN)
     except MotionLimitError as exc:
         raise MotionLimitError(f"{exc}: the path from the start to the release is too short to reach the release "
                                "speed from rest, so the arm backs up first; a slower release, or a throw further from "
@@ -434,7 +448,8 @@ def plan_throw(
     phases.append(throwing)
     braking = _ruckig(limits, release, release_velocity, rest, None, rest, None, period)
     try:
-        _require_inside(braking, limits, period, "no room to brake after the release", room_from=release)
+        _require_inside(braking, limits, period, "no room to brake after the release", room_from=release,
+                        margin=POSITION_MARGIN, stops=True)
     except MotionLimitError as exc:  # what would give the room: the release is the throw's own
         raise MotionLimitError(f"{exc}: a slower release, or one further from that limit (the robot file's "
                                "[throwing] angle_offset), leaves room; clipping the throw's points does not") from None
