@@ -85,3 +85,32 @@ def test_the_joints_the_program_leaves_out_are_named_with_their_start_pose():
     whole = mapping_for(robot, ("joint_2", "joint_3"))  # every joint in its own slot but the speed's
     assert joints_left_out(whole).startswith("the Comau program holds in slot 6 its speed: joint_6 (start pose ")
     assert "joint_3" not in joints_left_out(whole)
+
+
+def test_points_further_apart_than_a_controller_period_are_no_program(tmp_path):
+    """The program holds no time: a tester's two points at rest 2 rad and 10 s apart (a motion the
+    check passes, the quintic between them within every limit) became two rows at speed 0."""
+    from rlff.robot.comau import MAX_ROW_STEP
+    from rlff.robot.formats import export_trajectory
+
+    mapping = mapping_for(load_robot())
+    positions = np.tile(mapping.pose(-1.2), (2, 1))
+    positions[1, 1] += 2.0
+    sparse = JointTrajectory(mapping.robot.joint_names, [0.0, 10.0], positions, np.zeros_like(positions))
+    out = tmp_path / "two.txt"
+    with pytest.raises(InputError, match=r"two.txt: not written: points 0 and 1 are 10 s apart \(t = 0 to 10 s; 1 of "
+                                         r"1 steps longer than 0.01 s\): the Comau program holds no time, the "
+                                         r"controller moves from row to row at each row's speed"):
+        export_trajectory(sparse, mapping, "comau", out)
+    assert not out.exists()
+    export_trajectory(sparse, mapping, "json", tmp_path / "two.json")  # a controller's quintic times it
+    # the same motion at the longest controller period is a program
+    time = np.arange(0.0, 10.0 + 1e-9, MAX_ROW_STEP)
+    s = time / 10.0
+    dense = np.tile(mapping.pose(-1.2), (time.size, 1))
+    dense[:, 1] += 2.0 * (10 * s**3 - 15 * s**4 + 6 * s**5)
+    velocities, accelerations = np.zeros_like(dense), np.zeros_like(dense)
+    velocities[:, 1] = 2.0 * (30 * s**2 - 60 * s**3 + 30 * s**4) / 10.0
+    accelerations[:, 1] = 2.0 * (60 * s - 180 * s**2 + 120 * s**3) / 100.0
+    export_trajectory(JointTrajectory(sparse.joint_names, time, dense, velocities, accelerations), mapping, "comau", out)
+    assert len(out.read_text().splitlines()) == 1 + time.size

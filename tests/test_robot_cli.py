@@ -613,3 +613,14 @@ def test_a_robot_trajectory_that_does_not_say_whose_it_is_is_read_with_a_warning
     pd.read_csv(tmp_path / "t.csv").drop(columns=["robot", "robot_digest"]).to_csv(tmp_path / "old.csv", index=False)
     result = rlff("sim", "throw", str(tmp_path / "old.csv"), "--basket", "1.5")
     assert result.code == 0 and "old.csv does not say which robot it was planned for" in result.stderr
+
+
+def test_a_comau_program_is_planned_at_a_controller_period_or_refused(rlff, throw, tmp_path):
+    """At --period 0.02 the rows of a program followed 20 ms apart, which its speeds do not time."""
+    out = tmp_path / "p.txt"
+    result = rlff("robot", "export", str(throw), "-f", "comau", "-o", str(out), "--period", "0.02")
+    assert result.code == 2 and not out.exists()
+    said = " ".join(result.stderr.split())
+    assert (f"{out}: not written: points 0 and 1 are 0.02 s apart" in said and "the Comau program holds no time" in said
+            and "as a Comau program with a --period of 0.01 s or less (0.002 by default)" in said), said
+    assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "p.json"), "--period", "0.02").code == 0

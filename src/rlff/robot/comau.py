@@ -14,7 +14,8 @@ position at the point, and the velocity slot (6, a joint the main program holds 
 position) carries its speed as a percentage of the driven joint's maximum speed. The slots are
 the ``[comau_program]`` table of the robot file. The program carries one joint's motion: a
 trajectory that moves another joint is refused. The last row is the arm at rest (speed 0), as
-every exported trajectory ends at rest. Note that the thesis numbers the driven joint
+every exported trajectory ends at rest. The program holds no time, so its rows follow one
+controller period apart (:data:`MAX_ROW_STEP`). Note that the thesis numbers the driven joint
 "joint 2" while it sits in slot 3: the joint whose own slot is taken (joint_3 here) stays where
 the main program placed the robot before the throw.
 
@@ -36,6 +37,7 @@ from rlff.errors import InputError
 from rlff.fileio import write_text
 from rlff.robot.mapping import ArmMapping, RobotMapping
 from rlff.trajectory.joint import JointTrajectory
+from rlff.trajectory.resample import CONTROLLER_PERIODS
 
 HEADER = 'coord_type = "-j"'
 
@@ -129,6 +131,32 @@ def _whole_arm_rows(traj: JointTrajectory, mapping: ArmMapping, velocity_slot: i
     share[:, velocity_slot - 1] = 0.0
     rows[:, velocity_slot - 1] = 100.0 * share.max(axis=1)
     return rows
+
+
+#: The longest step (s) between two points a program is written for: the longest controller period
+#: rlff plans at (:data:`rlff.trajectory.resample.CONTROLLER_PERIODS`). The program holds no time:
+#: the controller moves from row to row at each row's speed, so a row's speed stands for the
+#: motion to the next only over a controller period. A tester's two points at rest 10 s and 2 rad
+#: apart became two rows at speed 0, a move no controller times.
+MAX_ROW_STEP = max(CONTROLLER_PERIODS)
+
+
+def require_row_steps(traj: JointTrajectory, path: Path) -> None:
+    """Refuse (:class:`InputError` naming ``path``, the points and what to do) a trajectory whose
+    points are more than :data:`MAX_ROW_STEP` apart: its program's rows would not time the motion.
+    A trajectory rlff plans is sampled at its ``--period``, every step that long or shorter."""
+    steps = np.diff(traj.time)
+    if steps.size == 0 or steps.max() <= MAX_ROW_STEP * (1 + 1e-9):
+        return
+    i = int(np.argmax(steps > MAX_ROW_STEP * (1 + 1e-9)))
+    longer = int(np.count_nonzero(steps > MAX_ROW_STEP * (1 + 1e-9)))
+    raise InputError(
+        f"{path}: not written: points {i} and {i + 1} are {steps[i]:.6g} s apart (t = {traj.time[i]:.6g} to "
+        f"{traj.time[i + 1]:.6g} s; {longer} of {steps.size} steps longer than {MAX_ROW_STEP:g} s): the Comau program "
+        "holds no time, the controller moves from row to row at each row's speed, so its rows must follow a "
+        f"controller period apart, {MAX_ROW_STEP:g} s or less; export the generated path or attempts log (the one a "
+        f"robot trajectory was planned from) as a Comau program with a --period of {MAX_ROW_STEP:g} s or less (0.002 "
+        "by default)")
 
 
 def write_comau_program(traj: JointTrajectory, mapping: RobotMapping | ArmMapping, path: Path) -> None:

@@ -10,7 +10,7 @@ from functools import partial
 from pathlib import Path
 
 from rlff.errors import InputError
-from rlff.robot.comau import write_comau_program
+from rlff.robot.comau import require_row_steps, write_comau_program
 from rlff.robot.export import write_csv, write_json, write_ros1_bag, write_ros2_bag
 from rlff.robot.mapping import ArmMapping, RobotMapping
 from rlff.robot.planned_for import planned_for
@@ -37,8 +37,9 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
     InputError
         An unknown format, a trajectory of fewer than 2 points (no motion: a controller runs from
         one point to the next), or one that fails the motion check (named point, joint, quantity,
-        value and limit; one that does not start or end at rest among them); nothing is written
-        then.
+        value and limit; one that does not start or end at rest among them), or for a Comau
+        program points further apart than its rows time (:func:`rlff.robot.comau.require_row_steps`);
+        nothing is written then.
     """
     topic, joints = mapping.robot.ros.trajectory_topic, mapping.robot.ros.joints
 
@@ -62,4 +63,6 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
                          "is no motion, a controller runs from one point to the next; export one of 2 points or more, "
                          "e.g. the throw planned from its generated path")
     check_trajectory(traj, mapping.robot.joints, start_at_rest=True)
+    if fmt == "comau":
+        require_row_steps(traj, path)
     writers[fmt](traj, path=Path(path))
