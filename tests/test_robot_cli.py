@@ -624,3 +624,43 @@ def test_a_comau_program_is_planned_at_a_controller_period_or_refused(rlff, thro
     assert (f"{out}: not written: points 0 and 1 are 0.02 s apart" in said and "the Comau program holds no time" in said
             and "as a Comau program with a --period of 0.01 s or less (0.002 by default)" in said), said
     assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "p.json"), "--period", "0.02").code == 0
+
+
+def test_clip_slows_a_whole_arm_throw_as_a_whole(rlff, tmp_path):
+    """--clip clipped each joint's release on its own (a tester's throw: joint_2 x0.38, joint_3 x0.61,
+    joint_5 unchanged), so the ball left in another direction than the model's; the whole throw is
+    now slowed by one factor, as the learning loop scales a throw."""
+    from rlff.dataset import velocity_column
+    from rlff.robot import mapping_for
+    from wholearm import human_throw
+
+    joints = ("joint_2", "joint_3", "joint_5")
+    mapping = mapping_for(load_robot(), joints)
+    path = human_throw(20.0)  # joint_2 asked 4.05 rad/s (limit 2.792), joint_3 3.71 (2.967), joint_5 4.01 (6.545)
+    asked = {m.joint: m.scale * path[velocity_column(m.human)][-1] / mapping.time_scale for m in mapping.joints}
+    pd.DataFrame(path).to_csv(tmp_path / "fast.csv", index=False)
+    result = rlff("robot", "export", str(tmp_path / "fast.csv"), "--joints", ",".join(joints), "--clip", "-o",
+                  str(tmp_path / "t.json"))
+    assert result.code == 0, result.stderr
+    factor = 2.792 / asked["joint_2"]
+    assert f"the whole throw slowed to {factor:.3g} of its speed, one factor for every joint" in result.stderr
+    traj = read_json(tmp_path / "t.json")
+    release = int(np.flatnonzero(traj.time == traj.release_time)[0])
+    for name in joints:  # every joint's release the model's times one factor: its direction kept
+        assert traj.velocities[release, traj.joint_index(name)] == pytest.approx(factor * asked[name], rel=1e-9), name
+    assert "clipped: point 59:" not in result.stderr  # the release, within its limits, is not clipped
+    refused = rlff("robot", "export", str(tmp_path / "fast.csv"), "--joints", ",".join(joints), "-o",
+                   str(tmp_path / "t.json"))
+    assert refused.code == 2 and ("--clip slows the whole throw, every joint by one factor, until its release is "
+                                  "within the speed limits") in " ".join(refused.stderr.split()), refused.stderr
+
+
+def test_the_one_joint_summary_says_when_the_release_was_clipped(rlff, tmp_path):
+    """Listed point by point, the release's clipped speed was among "... and 22 more"."""
+    path = human_csv(tmp_path / "fast.csv", np.linspace(-1.0, 0.5, 30), np.linspace(2.9, 3.3, 30))
+    result = rlff("robot", "export", str(path), "--clip", "-o", str(tmp_path / "t.json"))
+    assert result.code == 0, result.stderr
+    said = " ".join(result.stderr.split())
+    assert "... and 20 more" in said and "clipped: point 29" not in said
+    assert ("clipped 0 positions and 30 velocities at 30 points, the release's among them (joint_2 velocity 3.3 "
+            "rad/s -> 2.792 rad/s)") in said, said

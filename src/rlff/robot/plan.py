@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from rlff.dataset import ARM_JOINT_COLUMNS
+from rlff.dataset import ARM_JOINT_COLUMNS, velocity_column
 from rlff.errors import InputError
 from rlff.limits import apart, check_period, require_radians
 from rlff.robot.description import Robot
@@ -49,30 +49,41 @@ class RobotPlan:
     point); ``trajectory`` the planned, checked trajectory to execute; ``clipped_points`` the
     values of ``points`` clipped into the limits (only with ``clip``); ``notes`` what the
     user may want to know of how the file was read (a whole-arm path thrown with one joint: the
-    README's chain does that, so it is a note, not a warning).
+    README's chain does that, so it is a note, not a warning); ``slowed`` how ``clip`` slowed a
+    throw of several joints as a whole (:func:`slowed_to_limits`), ``""`` when it did not.
     """
 
     points: JointTrajectory
     trajectory: JointTrajectory
     clipped_points: ClipReport
     notes: tuple[str, ...] = ()
+    slowed: str = ""
 
     def summary(self) -> str:
-        """One line: what was clipped, and the plan's duration and release."""
+        """One line: how the throw was slowed (``slowed``, :func:`slowed_to_limits`) or clipped, the
+        release's own clipped values first, and the plan's duration and release."""
         traj = self.trajectory
         if self.points is traj:
             return f"a robot trajectory, checked as it is: {plural(len(traj), 'point')}, {traj.duration:.3f} s"
         clipped = self.clipped_points.summary() if self.clipped_points else "nothing clipped"
+        last = len(self.points) - 1
+        at_release = [change.describe().removeprefix(f"point {last}: ")
+                      for change in self.clipped_points.changes if change.point == last]
+        if at_release:  # what the ball's flight depends on: not left among the "... and 22 more"
+            clipped += f", the release's among them ({'; '.join(at_release)})"
         release = f", release at {traj.release_time:.3f} s" if traj.release_time is not None else ""
-        return f"planned {traj.duration:.3f} s to rest{release}; {clipped}"
+        slowed = f"{self.slowed}; " if self.slowed else ""
+        return f"planned {traj.duration:.3f} s to rest{release}; {slowed}{clipped}"
 
 
-def _require_unclipped(report: ClipReport, last: int) -> None:
+def _require_unclipped(report: ClipReport, last: int, coordinated: bool = False) -> None:
     """Without ``clip``: refuse a path beyond a position limit or a release beyond a limit.
 
     Velocities elsewhere along the path are not executed (the planner times the throw within
     the limits, never faster than the release), so only the release's count. The velocity of a
-    joint held at a clipped position (set to 0) is no fault of its own: its position is.
+    joint held at a clipped position (set to 0) is no fault of its own: its position is. The
+    message says what ``--clip`` does: for a ``coordinated`` throw (several joints) it slows the
+    whole throw rather than clip a release (:func:`slowed_to_limits`).
     """
     held = {(c.point, c.joint) for c in report.changes if c.quantity == "position"}
     changes = [c for c in report.changes if c.quantity == "position" or (c.point, c.joint) not in held]
@@ -84,8 +95,15 @@ def _require_unclipped(report: ClipReport, last: int) -> None:
     others = len(changes) - len(faults)
     also = (f" (and reports {plural(others, 'velocity', 'velocities')} along the path beyond a limit too, "
             "which the planner does not execute)" if others else "")
+    remedy = f"--clip clips {'it' if len(faults) == 1 else 'them'}"
+    kinds = {"position" if change.quantity == "position" else "speed" for change in faults if change.limit is not None}
+    if coordinated and kinds:
+        remedy = "--clip " + " and ".join(
+            words for kind, words in (("position", "holds the positions inside their limits"),
+                                      ("speed", "slows the whole throw, every joint by one factor, until its "
+                                                "release is within the speed limits")) if kind in kinds)
     raise InputError(f"{plural(len(faults), 'value')} the robot would not execute as asked: {shown}{more}; "
-                     f"--clip clips {'it' if len(faults) == 1 else 'them'}{also}")
+                     f"{remedy}{also}")
 
 
 def _fault(change, last: int) -> str:
@@ -201,12 +219,43 @@ def plan_path(
         _require_time_agrees(path["angle"], path["velocity"], path["time"])
     points, report = mapping.path_to_robot(path, bearing=bearing, clip=True)
     if not clip:
-        _require_unclipped(report, len(points) - 1)
+        _require_unclipped(report, len(points) - 1, isinstance(mapping, ArmMapping) and len(mapping.joints) > 1)
     joints = mapping.robot.joints
     trajectory = plan_throw(points, joints, start=start, period=period, approach_speed=approach_speed)
     check_trajectory(trajectory, joints, start=points.positions[0] if start is None else start, start_at_rest=True)
     require_above_base(mapping.robot, trajectory, "the planned throw")
     return RobotPlan(points, trajectory, report if clip else ClipReport())
+
+
+def slowed_to_limits(mapping: RobotMapping | ArmMapping, path: HumanPath) -> tuple[HumanPath, str]:
+    """``path`` with every velocity column times one factor, the largest that brings each driven
+    joint's release within its speed limit, and what was done (one phrase; ``""`` and ``path``
+    itself when every release is within its limit, or ``mapping`` drives one joint).
+
+    What ``--clip`` does to a throw of several joints: clipped each on its own, their release
+    velocities no longer point where the model's did (a tester's throw with joints 2, 3 and 5
+    went out with joint_2 at 0.38 of its speed, joint_3 at 0.61 and joint_5 unchanged, and came
+    down 1 m beyond its 0.75 m basket). Slowed as a whole, as the learning loop scales a throw
+    (docs/learn.md, ``scale_speed``), the release keeps its direction and the positions along the
+    path stay; a ``time`` column takes 1 / factor as long.
+    """
+    if not isinstance(mapping, ArmMapping) or len(mapping.joints) < 2:
+        return path, ""
+    shares = {column: abs(float(np.asarray(path[column])[-1])) / limit
+              for column, limit in mapping.max_human_speeds().items() if column in path}
+    column = max(shares, key=shares.get, default=None)
+    if column is None or shares[column] <= 1.0:
+        return path, ""
+    factor = 1.0 / shares[column]
+    scaled = {name: np.asarray(values, dtype=float) * factor if name == "velocity" or name.endswith("_velocity")
+              else values for name, values in path.items()}
+    if path.get("time") is not None:
+        scaled["time"] = np.asarray(path["time"], dtype=float) / factor
+    fastest = next(m for m in mapping.joints if velocity_column(m.human) == column)
+    limit = mapping.robot.joint(fastest.joint).max_velocity
+    return scaled, (f"the whole throw slowed to {factor:.3g} of its speed, one factor for every joint so that its release "
+                    f"keeps the model's direction ({fastest.joint}'s release {limit / factor:.4g} rad/s at its limit "
+                    f"{limit:.4g} rad/s)")
 
 
 def robot_file_kind(path: Path) -> str:
@@ -269,7 +318,8 @@ def load_for_robot(
     throw's first pose (a robot trajectory is checked on its own).
     ``joints`` are the robot joints a generated path drives (:func:`rlff.robot.mapping.mapping_for`;
     None: the one-joint mapping), ``bearing`` the basket's bearing (deg; None: the file's
-    ``bearing`` column, else 0).
+    ``bearing`` column, else 0). With ``clip``, a path of several joints whose release is beyond a
+    speed limit is first slowed as a whole (:func:`slowed_to_limits`), not clipped joint by joint.
     """
     from rlff.robot.export import read_csv, read_json, read_planned_for, require_release
 
@@ -285,13 +335,14 @@ def load_for_robot(
         hint = (f"{path.name} holds {', '.join(unused)} columns (a whole-arm path), thrown with one joint: give "
                 "--joints (e.g. joint_2,joint_3, as rlff generate --joints wrote it) to drive them too"
                 if joints is None and unused else None)
+        human, slowed = slowed_to_limits(mapping, generated.to_path()) if clip else (generated.to_path(), "")
         try:
-            planned = plan_path(mapping, generated.to_path(), bearing=bearing, period=period, clip=clip, start=start,
+            planned = plan_path(mapping, human, bearing=bearing, period=period, clip=clip, start=start,
                                 approach_speed=approach_speed)
         except InputError as exc:
             said = f"{exc} ({where})" if str(exc).startswith("bearing ") else str(exc)
             raise type(exc)(f"{path}: {said}") from None
-        return kind, replace(planned, notes=(hint,)) if hint else planned
+        return kind, replace(planned, notes=(hint,) if hint else (), slowed=slowed)
     trajectory = read_json(path) if path.suffix.lower() == ".json" else read_csv(path)
     own = require_planned_for(path, read_planned_for(path), robot)
     try:
