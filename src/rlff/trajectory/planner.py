@@ -352,6 +352,26 @@ def plan_stop(
     return plan_transition(position, velocity, acceleration, None, zero, joints, period=period)
 
 
+def _fits_at_default_period(phase, period: float) -> bool:
+    """Whether ``phase`` (a period (s) -> the phase planned and kept inside the limits, raising
+    :class:`MotionLimitError` otherwise), refused at ``period``, fits at :data:`DEFAULT_PERIOD`."""
+    if period <= DEFAULT_PERIOD:
+        return False
+    try:
+        phase(DEFAULT_PERIOD)
+    except MotionLimitError:
+        return False
+    return True
+
+
+def _period_blame(period: float) -> str:
+    """What to say of a phase refused at ``period`` (s) that fits at :data:`DEFAULT_PERIOD`."""
+    return (f"the {period:g} s controller period leaves no room, not the throw: at that period the profile "
+            "changes its acceleration more slowly (its jerk planned lower, so the quintic between samples that far "
+            f"apart stays within the limits) and lasts whole periods; the same throw plans at {DEFAULT_PERIOD:g} s: "
+            f"give a shorter --period ({DEFAULT_PERIOD:g} for a file, 0.01 for a live goal)")
+
+
 def _join(phases: Sequence[JointTrajectory]) -> tuple[JointTrajectory, list[float]]:
     """One trajectory of consecutive phases (each from time 0, the next starting where the last
     ended) and the time each phase ends."""
@@ -436,23 +456,34 @@ def plan_throw(
     release_speed, peak = np.abs(release_velocity), np.max(np.abs(throw.velocities), axis=0)
     cap = np.where(release_speed > MOVING, release_speed, np.where(peak > MOVING, peak, limits.velocity))
     cap = np.minimum(cap, MARGIN * limits.velocity)
-    throwing = _ruckig(limits, first, rest, rest, release, release_velocity, cap, period)
-    try:  # from rest inside the limits, the throw leaves them only in a wind-up
-        _require_inside(throwing, limits, period, "the throw (start to release)", margin=POSITION_MARGIN)
+    def throw_at(step: float) -> JointTrajectory:
+        traj = _ruckig(limits, first, rest, rest, release, release_velocity, cap, step)
+        # from rest inside the limits, the throw leaves them only in a wind-up
+        _require_inside(traj, limits, step, "the throw (start to release)", margin=POSITION_MARGIN)
+        return traj
+
+    def brake_at(step: float) -> JointTrajectory:
+        traj = _ruckig(limits, release, release_velocity, rest, None, rest, None, step)
+        _require_inside(traj, limits, step, "no room to brake after the release", room_from=release,
+                        margin=POSITION_MARGIN, stops=True)
+        return traj
+
+    try:
+        throwing = throw_at(period)
     except MotionLimitError as exc:
-        raise MotionLimitError(f"{exc}: the path from the start to the release is too short to reach the release "
-                               "speed from rest, so the arm backs up first; a slower release, or a throw further from "
-                               "that limit (the robot file's [throwing] angle_offset), leaves room; clipping the "
-                               "throw's points does not") from None
+        raise MotionLimitError(f"{exc}: " + (_period_blame(period) if _fits_at_default_period(throw_at, period) else
+                               "the path from the start to the release is too short to reach the release speed from "
+                               "rest, so the arm backs up first; a slower release, or a throw further from that limit "
+                               "(the robot file's [throwing] angle_offset), leaves room; clipping the throw's points "
+                               "does not")) from None
     _require_interpolated_speed(throwing, moved, limits, release_velocity, period, "the throw (start to release)")
     phases.append(throwing)
-    braking = _ruckig(limits, release, release_velocity, rest, None, rest, None, period)
     try:
-        _require_inside(braking, limits, period, "no room to brake after the release", room_from=release,
-                        margin=POSITION_MARGIN, stops=True)
-    except MotionLimitError as exc:  # what would give the room: the release is the throw's own
-        raise MotionLimitError(f"{exc}: a slower release, or one further from that limit (the robot file's "
-                               "[throwing] angle_offset), leaves room; clipping the throw's points does not") from None
+        braking = brake_at(period)
+    except MotionLimitError as exc:  # what would give the room: the release is the throw's own, or the period
+        raise MotionLimitError(f"{exc}: " + (_period_blame(period) if _fits_at_default_period(brake_at, period) else
+                               "a slower release, or one further from that limit (the robot file's [throwing] "
+                               "angle_offset), leaves room; clipping the throw's points does not")) from None
     phases.append(braking)
     joined, ends = _join(phases)
     return JointTrajectory(joined.joint_names, joined.time, joined.positions, joined.velocities,
