@@ -264,6 +264,12 @@ def refusal_words(exc: OSError | sqlite3.Error) -> str:
     return f"({exc.strerror or exc})"
 
 
+def refused_in_place(path: str | Path, exc: OSError) -> InputError:
+    """The error for a file written in place (an attempts log's append) whose write the system
+    refused partway (:func:`refused`): its path, the system's reason and what to do."""
+    return InputError(f"{path}: cannot write there {refusal_words(exc)}")
+
+
 def _cannot_write(path: Path, exc: OSError | sqlite3.Error, through: Path | None = None) -> InputError:
     """The error for an output the system refuses: the user's path and the system's reason
     (``through``: the folder of the temporary file a device's or a pipe's bytes were refused in)."""
@@ -410,5 +416,5 @@ def _file_input_inside(out: Path, folder: Path) -> bool:
 
 __all__ = [
     "atomic_path", "atomic_write", "check_output_path", "check_outputs", "prepare_output", "refusal_words",
-    "refused", "require_distinct", "require_file", "write_text",
+    "refused", "refused_in_place", "require_distinct", "require_file", "write_text",
 ]

@@ -29,7 +29,6 @@ which a Ctrl-C printed a traceback): the command tree is :mod:`rlff.cli.root`, i
 from __future__ import annotations
 
 import atexit
-import io
 import os
 import signal
 import sys
@@ -59,36 +58,15 @@ def _fail(message: str, code: int, exc: BaseException, debug: bool) -> int:
 
 def _os_error(exc: OSError) -> str:
     """An operating-system error as one line, with the file it concerns when it names one; a write
-    the system refused partway names none (a full disk, a quota, ``ulimit -f``): the file is the
-    one the code that failed was writing (:func:`_file_written`)."""
+    the system refused partway names none (a full disk, a quota, ``ulimit -f``): the library's
+    writers name their file themselves (:mod:`rlff.fileio`), so such an error here came from
+    code that did not."""
     from rlff.fileio import refusal_words, refused
 
     if refused(exc):
-        written = _file_written(exc)
-        where = f"{written}: cannot write there" if written is not None else "a write was refused"
-        return f"error: {where} {refusal_words(exc)}"
+        return f"error: a write was refused {refusal_words(exc)}"
     reason = exc.strerror or str(exc)
     return f"error: {exc.filename}: {reason}" if exc.filename is not None else f"error: {reason}"
-
-
-def _file_written(exc: BaseException) -> str | None:
-    """The name of the file open for writing in the innermost frame of ``exc``'s traceback that
-    holds one (``handle`` of ``with open(path, "a") as handle: handle.write(...)``), or None.
-
-    The library writes its outputs through :mod:`rlff.fileio`, whose errors name the output; a
-    file appended to in place (an attempts log) or written by other code is found so.
-    """
-    frames = []
-    tb = exc.__traceback__
-    while tb is not None:
-        frames.append(tb.tb_frame)
-        tb = tb.tb_next
-    for frame in reversed(frames):
-        for value in frame.f_locals.values():
-            if isinstance(value, io.IOBase) and isinstance(getattr(value, "name", None), (str, os.PathLike)) \
-                    and any(letter in getattr(value, "mode", "") for letter in "wax+"):
-                return os.fsdecode(value.name)
-    return None
 
 
 class _Stop:

@@ -42,7 +42,7 @@ from typing import TYPE_CHECKING, Any
 from filelock import lock_descriptor, unlock_descriptor
 
 from rlff.errors import InputError
-from rlff.fileio import prepare_output, write_text
+from rlff.fileio import prepare_output, refused, refused_in_place, write_text
 from rlff.learn.attempt import Attempt
 
 if TYPE_CHECKING:
@@ -195,10 +195,15 @@ class AttemptLog:
             write_text(self.path, self._unwritten + _line(record))
             self._unwritten = None
         else:
-            with open(self.path, "a", encoding="utf-8") as handle:
-                handle.write(_line(record))
-                handle.flush()
-                os.fsync(handle.fileno())
+            try:
+                with open(self.path, "a", encoding="utf-8") as handle:
+                    handle.write(_line(record))
+                    handle.flush()
+                    os.fsync(handle.fileno())
+            except OSError as exc:
+                if refused(exc):  # a full disk, a quota, a file-size limit: a write() names no file
+                    raise refused_in_place(self.path, exc) from None
+                raise
         self._appended = True
 
     def _resume(self) -> LogContents:
