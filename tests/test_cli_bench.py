@@ -4,22 +4,10 @@ from __future__ import annotations
 
 import json
 from importlib import resources
-from pathlib import Path
 
 import pytest
 
-
-def slow_arm(folder: Path) -> Path:
-    """The Comau's robot file as another arm, ``slow_arm``, whose joint 2 turns at 1.6 rad/s: it
-    throws into a basket at 1.4 m, not at 1.9 m (its farthest basket is at about 1.8 m), and
-    from where the simulated people let go up to about 0.96 m."""
-    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
-    for old, new in (('name = "comau_smart5_six"', 'name = "slow_arm"'), ("max_velocity = 2.792", "max_velocity = 1.6")):
-        assert text.count(old) == 1, old
-        text = text.replace(old, new)
-    path = folder / "slow_arm.toml"
-    path.write_text(text)
-    return path
+from robotfiles import slow_arm
 
 
 @pytest.mark.slow
@@ -93,7 +81,6 @@ def test_the_default_baskets_beyond_the_robots_reach_are_refused_before_any_run(
 def test_the_reach_a_refusal_gives_is_that_of_the_robot_file_s_own_throwing_joint(cli, tmp_path):
     # a joint_3 thrower was first told the free pose's farthest basket (its joint_2 at its limit
     # too), then refused at a nearer one by the throws it executes
-    from importlib import resources
 
     from rlff.robot import RobotMapping, load_robot
     from rlff.sim.reach import centimetres_below, executable_reach, farthest_basket

@@ -14,6 +14,7 @@ from rlff.cli import main
 from rlff.robot import RobotMapping, load_robot
 from rlff.robot.export import read_json
 from rlff.timing import time_along_path
+from robotfiles import slow_arm
 
 
 def human_csv(path, robot_positions, robot_speed, **extra):
@@ -554,17 +555,6 @@ def test_a_robot_trajectory_that_starts_moving_is_refused_by_every_output(rlff, 
         assert simulated.code == 2 and "the trajectory starts with joint_2 velocity" in simulated.stderr
 
 
-def slow_comau(folder) -> str:
-    """The Comau's robot file as another arm, ``slow_arm``, whose joint 2 turns at 1.6 rad/s."""
-    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
-    for old, new in (('name = "comau_smart5_six"', 'name = "slow_arm"'), ("max_velocity = 2.792", "max_velocity = 1.6")):
-        assert text.count(old) == 1, old
-        text = text.replace(old, new)
-    path = folder / "slow_arm.toml"
-    path.write_text(text)
-    return str(path)
-
-
 def comau_speeds(path) -> np.ndarray:
     """The speed slot (6) of a Comau program's rows (% of the driven joint's maximum)."""
     return np.array([float(line.split(",")[6].strip("')")) for line in path.read_text().splitlines()[1:]])
@@ -575,7 +565,7 @@ def test_a_robot_trajectory_is_converted_only_for_the_robot_it_was_planned_for(r
     """A throw exported for a slow arm and converted without its --robot became a Comau program at
     a share of the built-in Comau's speed (78 % -> 42 % for a tester's arm): the slow arm would have
     thrown at half the planned speed. The file now says whose it is."""
-    slow = slow_comau(tmp_path)
+    slow = str(slow_arm(tmp_path))
     path = human_csv(tmp_path / "throw.csv", np.linspace(-0.5, 1.5, 21), np.full(21, 1.2))
     planned = tmp_path / f"slow.{suffix}"
     assert rlff("robot", "export", str(path), "--robot", slow, "-o", str(planned)).code == 0
