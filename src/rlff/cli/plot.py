@@ -258,8 +258,6 @@ def learning_command(
     from rlff.plots.learning import learning_curves_from_logs
 
     _guard(out, {"LOGS": logs})
-    for log in logs:
-        _require_attempts_log(log)
     try:
         saved = learning_curves_from_logs(logs, out, tolerance=tolerance)
     except InputError as exc:  # the library names its parameter; the user typed --tolerance
@@ -267,17 +265,6 @@ def learning_command(
             raise InputError(f"--{exc}") from None
         raise
     _done([saved], as_json)
-
-
-def _require_attempts_log(path: Path) -> None:
-    """An :class:`InputError` saying what ``path`` is when it is a file but no attempts log (a
-    model said "line 1: corrupt attempts log (not a JSON object)", as if it were a damaged log)."""
-    from rlff.kinds import file_kind
-    from rlff.learn.log import is_attempts_log
-
-    if path.is_file() and not is_attempts_log(path):
-        raise InputError(f"{path} is {file_kind(path)}, not an rlff attempts log: plot learning draws the attempts logs "
-                         "(JSONL) that rlff learn --log writes")
 
 
 @app.command("throw")

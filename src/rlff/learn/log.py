@@ -43,6 +43,7 @@ from filelock import lock_descriptor, unlock_descriptor
 
 from rlff.errors import InputError
 from rlff.fileio import prepare_output, refused, refused_in_place, write_text
+from rlff.kinds import file_kind
 from rlff.learn.attempt import Attempt
 
 if TYPE_CHECKING:
@@ -369,6 +370,9 @@ def read_log(path: str | Path) -> tuple[dict[str, Any], LogContents]:
     raw = path.read_bytes()
     if not raw.strip():
         raise InputError(f"{path}: an empty file, not an rlff attempts log")
+    if not is_attempts_log(path):  # a model had read as "line 1: corrupt attempts log", a damaged log
+        raise InputError(f"{path} is {file_kind(path)}, not an rlff attempts log: give the attempts logs (JSONL) "
+                         "that rlff learn --log writes")
     _, records, dropped = _records(path, raw)
     return _run_of(path, records[0]), LogContents(_attempts(path, records), dropped)
 
