@@ -32,17 +32,22 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import socket
-import time as clock
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from filelock import lock_descriptor, unlock_descriptor
+from filelock import unlock_descriptor
 
 from rlff.errors import InputError
-from rlff.fileio import prepare_output, refused, refused_in_place, write_text
+from rlff.fileio import (
+    claim_lock,
+    lock_holder,
+    prepare_output,
+    refused,
+    refused_in_place,
+    write_text,
+)
 from rlff.kinds import file_kind
 from rlff.learn.attempt import Attempt
 
@@ -172,18 +177,15 @@ class AttemptLog:
                     fd, created = os.open(self.lock_path, os.O_RDWR), False
                 except FileNotFoundError:  # removed since: create it
                     continue
-            if not lock_descriptor(fd, blocking=False):
-                holder = os.pread(fd, 4096, 0).decode("utf-8", errors="replace").strip() or "another run"
-                os.close(fd)
+            holder = lock_holder(fd)
+            if holder is not None:
                 raise LogInUse(f"{self.path} is in use by {holder} (lock file {self.lock_path}); wait for "
                                "that run to end, or use another --log file")
             if _is_at(fd, self.lock_path):
                 break
             unlock_descriptor(fd)
             os.close(fd)
-        os.ftruncate(fd, 0)
-        started = clock.strftime("%Y-%m-%d %H:%M:%S", clock.localtime())
-        os.pwrite(fd, f"rlff learn, pid {os.getpid()} on host {socket.gethostname()}, since {started}\n".encode(), 0)
+        claim_lock(fd, "rlff learn")
         return fd, created
 
     def append(self, attempt: Attempt) -> None:

@@ -23,16 +23,14 @@ import contextlib
 import hashlib
 import json
 import os
-import socket
-import time
 from collections.abc import Sequence
 from fnmatch import fnmatchcase
 from pathlib import Path
 
-from filelock import lock_descriptor, unlock_descriptor
+from filelock import unlock_descriptor
 
 from rlff.errors import InputError
-from rlff.fileio import write_text
+from rlff.fileio import claim_lock, lock_holder, write_text
 
 #: The listing of the files the folder's last run wrote, and the lock a run holds.
 LISTING = ".rlff-run"
@@ -193,17 +191,14 @@ def _acquire(lock: Path, program: str, *, create: bool = True, claim: bool = Tru
     """Lock ``lock`` without waiting and (``claim``) write the holder into it; the descriptor
     (released when closed). ``claim=False`` only tries: it releases the lock at once."""
     fd = os.open(lock, os.O_RDWR | (os.O_CREAT if create else 0), 0o644)
-    if not lock_descriptor(fd, blocking=False):
-        holder = os.pread(fd, 4096, 0).decode("utf-8", errors="replace").strip() or "another run"
-        os.close(fd)
+    holder = lock_holder(fd)
+    if holder is not None:
         raise FolderInUse(f"{lock.parent} is in use by {holder} (lock file {lock}); wait for that run to end, "
                           "or give another folder with -o")
     if not claim:
         unlock_descriptor(fd)
         return fd
-    os.ftruncate(fd, 0)
-    started = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime())
-    os.pwrite(fd, f"{program}, pid {os.getpid()} on host {socket.gethostname()}, since {started}\n".encode(), 0)
+    claim_lock(fd, program)
     return fd
 
 
