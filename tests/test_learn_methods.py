@@ -173,3 +173,77 @@ def test_a_proposal_on_the_grid_within_its_round_off_is_thrown(demos):
         careless = type("Careless", (Careless,), {"proposal": staticmethod(
             lambda mean, shifted=shifted: replace(mean, angle=shifted(mean)))})
         assert learn(demos, 1.4, update=careless, budget=1).attempts == 1
+
+
+class Throws(Slower):
+    """The mean throw; counts the throws its executor makes (``thrown``)."""
+
+    name = "counted"
+
+
+@pytest.mark.parametrize(("field", "value", "words"), [
+    # an array in info had failed the log's write after the arm had thrown: thrown, not recorded
+    ("info", {"step": np.arange(2)}, r"^attempt 2: the throw counted proposed: its info\['step'\] is ndarray "
+                                     r"array\(\[0, 1\]\), which the attempts log cannot keep as JSON"),
+    ("info", {"spread": float("nan")}, r"its info\['spread'\] is float nan, which the attempts log cannot keep"),
+    ("info", [1, 2], r"its info is list \[1, 2\]: give a dict"),
+    ("exploration", np.ones(3), r"its exploration is ndarray array\(\[1., 1., 1.\]\): give one number"),
+    ("query", "1.4", r"its query is str '1.4': give one number, a distance in m, NaN when no model was queried"),
+    ("query", np.inf, r"its query is float inf: give one number"),
+])
+def test_what_a_proposal_says_of_itself_is_checked_before_the_arm_throws(demos, tmp_path, field, value, words):
+    thrown = []
+
+    class Careless(Throws):
+        def propose(self, history):
+            mean = super().propose(history)
+            return replace(mean, **{field: value}) if history else mean
+
+    def executor(trajectory):
+        from rlff.sim import simulate_throw
+
+        thrown.append(trajectory)
+        return simulate_throw(trajectory, 1.4)
+
+    log = tmp_path / "careless.jsonl"
+    with pytest.raises(InputError, match=words):
+        learn(demos, 1.4, update=Careless, budget=3, log_path=log, executor=executor)
+    assert len(thrown) == 1  # the second throw was refused before the arm threw it
+    assert len(log.read_text().splitlines()) == 2  # ... and the log keeps the first: header and attempt 1
+
+
+def test_a_methods_own_error_names_the_attempt_and_the_method(demos):
+    class Buggy(Throws):
+        name = "buggy"
+
+        def propose(self, history):
+            if history:
+                raise ValueError("my bug")
+            return super().propose(history)
+
+    with pytest.raises(ValueError, match="my bug") as raised:
+        learn(demos, 1.4, update=Buggy, budget=3)
+    assert raised.value.__notes__ == ["raised by buggy's propose at attempt 2"]
+
+
+@pytest.mark.parametrize(("proposal", "words"), [
+    (lambda mean: replace(mean, velocity=-mean.velocity),
+     r"^attempts 1-2: the throw careless proposed was changed before it was thrown \(at attempt 1\): its velocity "
+     rf"runs against problem.angles' direction \({GRID}\) at 30 of 30 samples, the release among them: the path "
+     r"was thrown as a crawl at 0.1 rad/s"),
+    (lambda mean: replace(mean, velocity=np.concatenate([mean.velocity[:-3], -mean.velocity[-3:]])),
+     r"^attempts 1-2: .* at 3 of 30 samples, the release among them: those were thrown at rest, so the ball left "
+     r"the hand standing still; check the velocity's sign$"),
+    (lambda mean: replace(mean, velocity=np.degrees(mean.velocity)),
+     r"^attempts 1-2: .*: it asks for a release at [0-9.]+ rad/s, [0-9]+ times the fastest the arm makes "
+     r"\(problem.max_speed, [0-9.]+ rad/s\): saturated at the arm's limit; velocities in deg/s\? Give rad/s$"),
+])
+def test_a_throw_the_loop_changes_before_throwing_it_is_said(demos, proposal, words):
+    # each had been thrown without a word: a crawl, a release at rest, every sample saturated
+    careless = type("Careless", (Careless,), {"proposal": staticmethod(proposal)})
+    result = learn(demos, 1.4, update=careless, budget=2)
+    assert any(re.match(words, note) for note in result.notes), result.notes
+
+
+def test_the_mean_throw_is_not_said_to_be_changed(demos):
+    assert learn(demos, 1.4, update=Careless, budget=2).notes == []

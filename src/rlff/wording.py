@@ -57,3 +57,14 @@ def attempt_outcome(hit: bool, miss: float) -> str:
     if miss != miss:  # NaN
         return f"{'hit' if hit else 'miss'} (not measured)"
     return signed(miss) + (" hit" if hit else "")
+
+
+def numbered(numbers: Sequence[int]) -> str:
+    """``1-3, 5``: ascending ``numbers`` (attempts, lines) with each run of consecutive ones as a span."""
+    spans: list[list[int]] = []
+    for number in numbers:
+        if spans and number == spans[-1][1] + 1:
+            spans[-1][1] = number
+        else:
+            spans.append([number, number])
+    return ", ".join(f"{low}" if low == high else f"{low}-{high}" for low, high in spans)

@@ -314,7 +314,11 @@ def typical_throw(mapping, demos: Dataset) -> dict[str, np.ndarray]:
     return typical
 
 
-def forward_velocity(angle: np.ndarray, velocity: np.ndarray, crawl: float = 0.1) -> np.ndarray:
+#: The speed (rad/s) a proposal with no forward motion at all is thrown at (:func:`forward_velocity`).
+CRAWL = 0.1
+
+
+def forward_velocity(angle: np.ndarray, velocity: np.ndarray, crawl: float = CRAWL) -> np.ndarray:
     """Velocity (rad/s), shape (T,), with any sample against the direction of motion set to 0.
 
     A mixture's output may dip just below zero where a throw starts from rest; a joint cannot

@@ -57,7 +57,7 @@ from rlff.learn.demos import (
 )
 from rlff.learn.log import AttemptLog, robot_record
 from rlff.learn.method import FEEDBACKS, Method, Problem
-from rlff.learn.proposal_check import proposed, short_repr
+from rlff.learn.proposal_check import changed_words, proposed, short_repr
 from rlff.learn.reach import (
     aimed_factor,
     arm_reach,
@@ -74,6 +74,7 @@ from rlff.learn.windows import MISREPORT
 from rlff.limits import DISTANCE_RANGE, as_names, check_pedestal
 from rlff.timing import time_along_path
 from rlff.trajectory.joint import JointTrajectory
+from rlff.wording import numbered
 
 #: Every method the loop can run, by name: update strategies first, then baselines.
 METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
@@ -581,6 +582,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
     out_of_reach = out_of_reach_note()
     repeated = None if out_of_reach else repeated_note()
     method = None  # made at the first attempt this call throws: a finished log needs none
+    changed: dict[str, tuple[int, str, list[int]]] = {}  # what the loop changed of a proposal: first, words, attempts
     while (len(history) < budget and not (history and done(history[-1])) and out_of_reach is None
            and repeated is None):
         method = method or method_class(problem)
@@ -588,6 +590,8 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         index = len(history) + 1
         try:
             proposal = proposed(method, problem, [_as_reported(a, feedback, centre_window) for a in history], index)
+            for kind, words in changed_words(proposal, problem).items():
+                changed.setdefault(kind, (index, words, []))[2].append(index)
             attempt = _execute(proposal, index, target, mapping, executor, start,
                                distance_needed=feedback == "distance", hit_distance_needed=until == "centred",
                                method=update)
@@ -605,6 +609,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
     notes = []
     if log and log.contents.dropped_partial_line:
         notes.append(f"{log.path}: dropped a partial last line (a run interrupted mid-write)")
+    notes.extend(_changed_note(update, first, words, attempts) for first, words, attempts in changed.values())
     notes.extend(note for note in (out_of_reach, repeated) if note)
     return LearningResult(
         hit=bool(history and history[-1].hit),
@@ -623,6 +628,14 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         out_of_reach=bool(out_of_reach),
         repeated=bool(repeated),
     )
+
+
+def _changed_note(method: str, first: int, words: str, attempts: Sequence[int]) -> str:
+    """A note that the loop changed the throws ``method`` proposed at ``attempts`` as
+    :func:`rlff.learn.proposal_check.changed_words` says (``words``, of attempt ``first``)."""
+    which = f"attempt {first}" if len(attempts) == 1 else f"attempts {numbered(attempts)}"
+    at = "" if len(attempts) == 1 else f" (at attempt {first})"
+    return f"{which}: the throw {method} proposed was changed before it was thrown{at}: {words}"
 
 
 def _tell_what_the_log_keeps(exc: RlffError, index: int, log: AttemptLog | None, history: Sequence[Attempt]) -> None:

@@ -15,17 +15,29 @@ first throw of a whole-arm reach check (``propose([])``) as for every attempt of
 - every column of the grid's shape, every value finite;
 - ``angle`` the grid itself, in its order, within :data:`ANGLE_TOLERANCE` of its spacing (a
   reversed grid had been thrown as a swing from the release back to the start, 2.5 m short, a
-  truncated one let go where the demonstrations do not, both without a word).
+  truncated one let go where the demonstrations do not, both without a word);
+- ``query`` and ``exploration`` numbers, ``info`` a dict the attempts log can keep as JSON (an
+  array in ``info`` had failed the log's write after the arm had thrown, so the throw was made
+  and not recorded, and a resumed run threw it again).
+
+A method's own exception from ``propose`` passes as it is, with a note naming the attempt and
+the method. What the loop changes in a proposal that passed, it says (:func:`changed_words`): a
+release against the grid's direction is thrown at rest, a release far beyond the arm's speed
+saturated at it.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import json
+import math
+from collections.abc import Mapping, Sequence
+from numbers import Real
 
 import numpy as np
 
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
+from rlff.learn.demos import CRAWL
 from rlff.learn.method import Method, Problem, Proposal
 
 #: How far (a share of the grid's spacing) a proposal's angle may lie from the grid's and still
@@ -33,6 +45,10 @@ from rlff.learn.method import Method, Problem, Proposal
 #: sample or a grid shifted by a tenth of its spacing does not. Every built-in method returns
 #: the grid itself.
 ANGLE_TOLERANCE = 1e-3
+#: A release asked for this many times the arm's top speed (``problem.max_speed``) is taken for
+#: velocities in another unit (deg/s is 57 times rad/s) in what the loop says of it. No built-in
+#: method asks for more than the demonstrations' speeds or the arm's limit.
+UNIT_LIKE_FACTOR = 20.0
 
 
 def proposed(method: Method, problem: Problem, history: Sequence[Attempt], attempt: int) -> Proposal:
@@ -45,12 +61,79 @@ def proposed(method: Method, problem: Problem, history: Sequence[Attempt], attem
         What came is no :class:`Proposal`, or one off the grid: one line naming the attempt,
         the method, what came and what is expected.
     """
-    proposal = method.propose(history)
+    try:
+        proposal = method.propose(history)
+    except Exception as exc:
+        exc.add_note(f"raised by {method.name}'s propose at attempt {attempt}")
+        raise
     if not isinstance(proposal, Proposal):
         raise InputError(f"attempt {attempt}: {method.name}'s propose returned {type(proposal).__name__} "
                          f"{short_repr(proposal)}: it must return an rlff.learn.Proposal ({_expected(problem)})")
-    require_on_grid(proposal, problem, f"attempt {attempt}: the throw {method.name} proposed")
+    what = f"attempt {attempt}: the throw {method.name} proposed"
+    require_on_grid(proposal, problem, what)
+    require_loggable(proposal, what)
     return proposal
+
+
+def require_loggable(proposal: Proposal, what: str) -> None:
+    """Refuse ``proposal`` unless the attempts log can keep what it says of itself: ``query`` a
+    number (m; NaN: no model queried), ``exploration`` a finite number, ``info`` a dict of string
+    keys whose values JSON holds (numbers finite; lists, not arrays).
+
+    Raises
+    ------
+    InputError
+        ``what`` (``attempt 2: the throw faster proposed``), then the field, what it holds and
+        what to give.
+    """
+    for name, value, allowed in (("query", proposal.query, "a distance in m, NaN when no model was queried"),
+                                 ("exploration", proposal.exploration, "the mean DMM exploration factor, 0 without")):
+        number = isinstance(value, Real) and not isinstance(value, bool)
+        if not number or math.isinf(value) or (name == "exploration" and math.isnan(value)):
+            raise InputError(f"{what}: its {name} is {type(value).__name__} {short_repr(value)}: give one number, "
+                             f"{allowed}")
+    info = proposal.info
+    if not isinstance(info, Mapping):
+        raise InputError(f"{what}: its info is {type(info).__name__} {short_repr(info)}: give a dict (its keys "
+                         "strings), which the attempts log keeps as JSON")
+    for key, value in info.items():
+        try:
+            json.dumps({key: value}, allow_nan=False)
+            if not isinstance(key, str):
+                raise TypeError("keys must be strings")
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"{what}: its info[{key!r}] is {type(value).__name__} {short_repr(value)}, which the "
+                             f"attempts log cannot keep as JSON ({exc}): give strings as keys and numbers (finite), "
+                             "strings, lists and dicts as values (an array's .tolist())") from None
+
+
+def changed_words(proposal: Proposal, problem: Problem) -> dict[str, str]:
+    """What the loop changes in ``proposal``, a throw of ``problem`` that passed
+    :func:`proposed`, before it plans it, in words by kind (``"against"``, ``"units"``; empty:
+    nothing that changes the throw).
+
+    - A release moving against the grid's direction (``problem.angles`` runs the other way): the
+      loop throws every such sample at rest (:func:`rlff.learn.demos.forward_velocity`), so the
+      ball is let go standing still (a path with no forward motion at all goes as a crawl).
+    - A release speed :data:`UNIT_LIKE_FACTOR` times ``problem.max_speed`` or more: saturated at
+      the arm's limit like any faster throw; that many times over is velocities in deg/s.
+    """
+    grid = problem.angles
+    direction = math.copysign(1.0, float(grid[-1] - grid[0]))
+    velocity = np.asarray(proposal.velocity, dtype=float)
+    said = {}
+    if direction * velocity[-1] < 0:
+        against = int(np.count_nonzero(direction * velocity < 0))
+        thrown = (f"the path was thrown as a crawl at {CRAWL:g} rad/s, the ball let go at that" if against == velocity.size
+                  else "those were thrown at rest, so the ball left the hand standing still")
+        said["against"] = (f"its velocity runs against problem.angles' direction ({_span(grid)}) at {against} of "
+                           f"{velocity.size} samples, the release among them: {thrown}; check the velocity's sign")
+    release = abs(float(velocity[-1]))
+    if math.isfinite(problem.max_speed) and release >= UNIT_LIKE_FACTOR * problem.max_speed:
+        said["units"] = (f"it asks for a release at {release:.4g} rad/s, {release / problem.max_speed:.0f} times "
+                         f"the fastest the arm makes (problem.max_speed, {problem.max_speed:.4g} rad/s): saturated "
+                         "at the arm's limit; velocities in deg/s? Give rad/s")
+    return said
 
 
 def require_on_grid(proposal: Proposal, problem: Problem, what: str) -> None:
