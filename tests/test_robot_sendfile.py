@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -229,3 +230,25 @@ def test_a_mapped_bag_away_from_the_arm_is_refused_in_the_controller_s_words(pla
             f"{plain}: point 0 (t = 0.000000 s): joint_5 position {arm[4] - 0.2:.6g} rad is not where the arm is "
             f"({arm[4]:.6g} rad; 0.2 rad off")):
         load_for_sending(plain, ROBOT, None, start=arm)
+
+
+@pytest.mark.parametrize("fmt", ["ros1-bag", "ros2-bag"])
+def test_a_bag_sent_as_it_is_must_start_at_rest(planned, tmp_path, fmt):
+    """A bag's first point was checked against the arm's position and velocity, never its
+    acceleration (and without the arm's pose, before robot send connects, not at all): a
+    hand-made bag whose first point accelerates went out as a goal, which every other robot
+    output and read-back refuses (check_trajectory(start_at_rest=True))."""
+    from rlff.robot.export import write_ros2_bag
+
+    _, trajectory = planned
+    write = write_ros1_bag if fmt == "ros1-bag" else write_ros2_bag
+    accelerating = trajectory.accelerations.copy()
+    accelerating[0, DRIVEN] = 2.5  # at the arm's pose, at rest, but already accelerating
+    out = tmp_path / ("accelerating.bag" if fmt == "ros1-bag" else "accelerating")
+    write(replace(trajectory, accelerations=accelerating), out)
+    for start in (trajectory.positions[0], None):  # from the arm's pose, and before robot send connects
+        with pytest.raises(MotionLimitError, match=re.escape(
+                f"{out}: point 0 (t = 0.000000 s): the trajectory starts with joint_2 acceleration 2.5 rad/s^2, "
+                "not at rest (tolerance 0.01 rad/s^2)")) as refused:
+            load_for_sending(out, ROBOT, None, start=start)
+        assert "--approach" not in str(refused.value)  # moving there first would not start it at rest

@@ -156,23 +156,23 @@ def with_approach(robot: Robot, trajectory: JointTrajectory, start: np.ndarray,
 
 
 def _require_start(path: Path, robot: Robot, trajectory: JointTrajectory, start: np.ndarray | None) -> None:
-    """The motion check of a trajectory sent as it is, from the arm's pose ``start`` if given."""
+    """The motion check of a trajectory sent as it is: from rest (as every robot output and
+    read-back, :func:`rlff.trajectory.check.check_trajectory` with ``start_at_rest``), at the
+    arm's pose ``start`` if given."""
     pose = start
     names, joints = trajectory.joint_names, robot.ros.joints
-    try:
-        if start is not None:
-            # said as the approach line says it: a joint [ros.joints] maps in the controller's name and
-            # counting (as its bag and the arm's joint states have it), rlff's name beside it
-            start = np.asarray(start, dtype=float)[[robot.index(name) for name in names]]
+    if start is not None:
+        # said as the approach line says it: a joint [ros.joints] maps in the controller's name and
+        # counting (as its bag and the arm's joint states have it), rlff's name beside it
+        start = np.asarray(start, dtype=float)[[robot.index(name) for name in names]]
+        try:
             check_start(joints.to_controller(trajectory), joints.positions_to_controller(names, start),
                         labels=[joints.label(name) for name in names])
-        check_trajectory(trajectory, robot.joints, start=start)
-    except InputError as exc:
-        hint = ("" if start is None else
-                "; send with --approach to move there first, or send the generated trajectory CSV to have "
-                "the motion planned from the arm's pose")
-        raise type(exc)(f"{path}: {exc}{hint}") from None
-    try:
+        except InputError as exc:
+            raise type(exc)(f"{path}: {exc}; send with --approach to move there first, or send the generated "
+                            "trajectory CSV to have the motion planned from the arm's pose") from None
+    try:  # a start not at rest says what to do; --approach would not change it (an approach ends at rest)
+        check_trajectory(trajectory, robot.joints, start=start, start_at_rest=True)
         require_above_base(robot, trajectory, "the trajectory", held=pose)  # the joints it leaves out stay put
     except InputError as exc:
         raise type(exc)(f"{path}: {exc}") from None
