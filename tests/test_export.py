@@ -7,11 +7,13 @@ import os
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 from rosbags.rosbag1 import Reader as Ros1Reader
 from rosbags.rosbag2 import Reader as Ros2Reader
+from rosbags.typesys import Stores, get_typestore
 
 from rlff.errors import InputError
 from rlff.robot.export import (
@@ -270,6 +272,84 @@ def test_the_robot_a_trajectory_was_planned_for_reads_back(traj, tmp_path):
     (tmp_path / "t.json").write_text(json.dumps(document))
     with pytest.raises(InputError, match=r"t.json: field 'robot' must be the robot the trajectory was planned for"):
         read_planned_for(tmp_path / "t.json")
+
+
+def test_a_bag_keeps_the_robot_its_trajectory_was_planned_for_beside_an_unchanged_trajectory(traj, tmp_path):
+    """Bags kept no record, so a bag of one arm was sent to another checked against the limits
+    given alone. A ROS 2 bag keeps it in its metadata's custom_data, a ROS 1 bag in the header of
+    the trajectory's connection: no topic is added (`rosbag play --wait-for-subscribers` would
+    wait for a subscriber to it for ever), and the trajectory's topic, type, MD5 and message are
+    those of a bag without it."""
+    from rlff.robot.export import read_planned_for
+
+    record = {"name": "slow_arm", "digest": "0012345678901234"}
+    for write, name, reader in ((write_ros1_bag, "t.bag", Ros1Reader), (write_ros2_bag, "bag2", Ros2Reader)):
+        write(traj, tmp_path / name, stamp_ns=1, robot=record)
+        write(traj, tmp_path / f"plain_{name}", stamp_ns=1)  # a bag of no robot, as written before the record
+        assert read_planned_for(tmp_path / name) == record
+        assert read_planned_for(tmp_path / f"plain_{name}") is None
+        (back,) = read_bag(tmp_path / name)
+        assert_same(back, traj, time_atol=1e-9)
+        with reader(tmp_path / name) as recorded, reader(tmp_path / f"plain_{name}") as plain:
+            assert ([(c.topic, c.msgtype, c.digest) for c in recorded.connections]
+                    == [(c.topic, c.msgtype, c.digest) for c in plain.connections]
+                    == [("/comau/joint_trajectory", "trajectory_msgs/msg/JointTrajectory", plain.connections[0].digest)])
+            assert list(recorded.messages()) [0][1:] == list(plain.messages())[0][1:]
+    with Ros1Reader(tmp_path / "t.bag") as reader:
+        assert reader.connections[0].digest == JOINT_TRAJECTORY_MD5
+    assert "custom_data:\n    rlff_robot: slow_arm\n    rlff_robot_digest: '0012345678901234'" in (
+        tmp_path / "bag2" / "metadata.yaml").read_text()
+
+
+@pytest.mark.parametrize("fmt", ["ros1-bag", "ros2-bag"])
+def test_a_bag_s_record_of_half_a_robot_is_refused(traj, tmp_path, fmt):
+    """A name without its digest (a bag edited, or written by another tool) says nothing sure."""
+    from rosbags.rosbag2 import Writer as Ros2Writer
+
+    from rlff.robot.export import read_planned_for
+    from rlff.robot.ros1_fields import FieldWriter
+
+    out = tmp_path / ("t.bag" if fmt == "ros1-bag" else "bag2")
+    if fmt == "ros1-bag":
+        with FieldWriter(out, {"rlff_robot": "slow_arm"}) as writer:
+            writer.add_connection("/comau/joint_trajectory", "trajectory_msgs/msg/JointTrajectory",
+                                  typestore=get_typestore(Stores.ROS1_NOETIC))
+        where = "connection header of /comau/joint_trajectory"
+    else:
+        with Ros2Writer(out, version=8) as writer:
+            writer.add_connection("/comau/joint_trajectory", "trajectory_msgs/msg/JointTrajectory",
+                                  typestore=get_typestore(Stores.ROS2_HUMBLE))
+            writer.set_custom_data("rlff_robot", "slow_arm")
+        where = "metadata's custom_data"
+    with pytest.raises(InputError, match="^" + re.escape(
+            f"{out}: the bag's {where} must hold rlff_robot and rlff_robot_digest, the robot its trajectory was "
+            "planned for, as rlff writes them; it holds rlff_robot='slow_arm'") + "$"):
+        read_planned_for(out)
+
+
+@pytest.mark.ros
+def test_rosbag_of_ros_itself_reads_the_record_in_the_connection_header(traj, tmp_path):
+    """Debian's rosbag (the Python of the ROS 1 tools, which rosbag play and info run on) reads the
+    bag, its message, and the record among the fields of the connection's header."""
+    import shutil
+
+    tool = shutil.which("rosbag")
+    if tool is None and os.environ.get("CI") != "true":  # in CI the ROS packages must be there
+        pytest.skip("Debian's rosbag is not installed (scripts/setup.sh --test installs it)")
+    interpreter = Path(tool).read_text().splitlines()[0].removeprefix("#!").split()  # the tools' Python
+    path = tmp_path / "t.bag"
+    write_ros1_bag(traj, path, robot={"name": "slow_arm", "digest": "0012345678901234"})
+    script = ("import rosbag, sys\n"
+              "bag = rosbag.Bag(sys.argv[1])\n"
+              "(connection,) = bag._connections.values()\n"
+              "fields = {name: value.decode() for name, value in connection.header.items()}\n"
+              "print(connection.topic, fields['md5sum'], fields['rlff_robot'], fields['rlff_robot_digest'])\n"
+              "for topic, message, _ in bag.read_messages():\n"
+              "    print(topic, ','.join(message.joint_names), len(message.points))\n")
+    probe = subprocess.run([*interpreter, "-c", script, str(path)], capture_output=True, text=True, timeout=120)
+    assert probe.stdout.splitlines() == [
+        f"/comau/joint_trajectory {JOINT_TRAJECTORY_MD5} slow_arm 0012345678901234",
+        f"/comau/joint_trajectory joint_1,joint_2,joint_3 {len(traj)}"], probe.stderr
 
 
 def test_the_record_is_the_robot_s_limits_and_geometry():

@@ -597,7 +597,7 @@ def test_a_robot_trajectory_that_does_not_say_whose_it_is_is_read_with_a_warning
     assert result.code == 0, result.stderr
     said = " ".join(result.stderr.split())
     assert (f"warning: {tmp_path / 'old.json'} does not say which robot it was planned for (written before rlff "
-            "recorded it, or by hand): checked and converted for comau_smart5_six (built-in robot comau_smart5_six); "
+            "recorded it, by hand or by another tool): checked and converted for comau_smart5_six (built-in robot comau_smart5_six); "
             "if it was planned for another robot, give that robot's file with --robot") in said, said
     assert rlff("robot", "export", str(throw), "-o", str(tmp_path / "t.csv")).code == 0
     pd.read_csv(tmp_path / "t.csv").drop(columns=["robot", "robot_digest"]).to_csv(tmp_path / "old.csv", index=False)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 import sys
+import warnings
 from dataclasses import replace
 from pathlib import Path
 
@@ -15,7 +16,7 @@ from rosbags.typesys import Stores, get_typestore
 sys.path.insert(0, str(Path(__file__).parent))
 from rlff.errors import InputError  # noqa: E402
 from rlff.robot import RobotMapping, load_robot  # noqa: E402
-from rlff.robot.export import write_ros1_bag  # noqa: E402
+from rlff.robot.export import write_ros1_bag, write_ros2_bag  # noqa: E402
 from rlff.robot.formats import export_trajectory  # noqa: E402
 from rlff.robot.plan import load_for_robot  # noqa: E402
 from rlff.robot.sendfile import SENDABLE, load_for_sending  # noqa: E402
@@ -252,3 +253,42 @@ def test_a_bag_sent_as_it_is_must_start_at_rest(planned, tmp_path, fmt):
                 "not at rest (tolerance 0.01 rad/s^2)")) as refused:
             load_for_sending(out, ROBOT, None, start=start)
         assert "--approach" not in str(refused.value)  # moving there first would not start it at rest
+
+
+@pytest.mark.parametrize("fmt", ["ros1-bag", "ros2-bag"])
+def test_a_bag_is_sent_only_to_the_robot_it_was_planned_for(planned, tmp_path, capsys, fmt):
+    """A slow arm's bag sent with `robot send` and the built-in Comau's file was checked against
+    the Comau's limits alone, and passed: bags kept no record of their robot, as JSON and CSV do.
+    It is refused now, naming both robots, before any connection; sent with its own robot file
+    it goes, and a bag that keeps no record (an older one, another tool's) is read with a warning."""
+    from rlff.cli import main
+    from rlff.robot.planned_for import UnrecordedRobotWarning
+    from robotfiles import slow_arm
+
+    slow = slow_arm(tmp_path)
+    path = human_csv(tmp_path / "slow.csv", np.linspace(-0.5, 1.5, 21), np.full(21, 1.2))  # within its 1.6 rad/s
+    out = tmp_path / ("slow.bag" if fmt == "ros1-bag" else "slow")
+    assert main(["robot", "export", str(path), "--robot", str(slow), "-f", fmt, "--period", "0.01",
+                 "-o", str(out)]) == 0
+    capsys.readouterr()
+    assert main(["robot", "send", str(out)]) == 2  # refused before rlff looks for a roscore
+    said = " ".join(capsys.readouterr().err.split())
+    assert re.search(rf"error: {re.escape(str(out))} was planned for another robot \(slow_arm, digest [0-9a-f]{{16}} "
+                     r"in the file; comau_smart5_six, digest [0-9a-f]{16}, with built-in robot comau_smart5_six\): its "
+                     r"limits and speeds are that robot's; give its robot file with --robot", said), said
+    robot = load_robot(slow)
+    trajectory = load_for_robot(path, robot, 0.01)[1].trajectory
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnrecordedRobotWarning)
+        _, plan = load_for_sending(out, robot, None, start=trajectory.positions[0])
+    np.testing.assert_allclose(plan.trajectory.positions, trajectory.positions)
+    # the Comau's throw, in a bag that keeps no record, sent with the slow arm's file: which one checked it is said
+    _, comau_throw = planned
+    unrecorded = tmp_path / ("unrecorded.bag" if fmt == "ros1-bag" else "unrecorded")
+    (write_ros1_bag if fmt == "ros1-bag" else write_ros2_bag)(comau_throw, unrecorded)
+    with pytest.warns(UnrecordedRobotWarning, match=re.escape(
+            f"{unrecorded} does not say which robot it was planned for (written before rlff recorded it, by hand or "
+            f"by another tool): checked and converted for slow_arm ({slow})")):
+        with pytest.raises(MotionLimitError, match=re.escape(" beyond the limit 1.6 rad/s") + r".*" + re.escape(
+                f"(checked against {slow}; a trajectory planned for another robot is checked with its file: --robot)")):
+            load_for_sending(unrecorded, robot, None, start=comau_throw.positions[0])

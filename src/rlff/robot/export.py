@@ -4,7 +4,8 @@ Bags hold one ``trajectory_msgs/JointTrajectory`` message (the type the thesis' 
 FollowJointTrajectory action take) on the robot's trajectory topic (the robot file's ``[ros]
 trajectory_topic``, :data:`DEFAULT_TOPIC` without one), written with rosbags' type stores
 (ROS 1 Noetic, ROS 2 Humble), so a ROS 1 bag carries the standard MD5 sum of the type and plays
-with ``rosbag play``. JSON and CSV read back with :func:`read_json` and :func:`read_csv`.
+with ``rosbag play``. JSON and CSV read back with :func:`read_json` and :func:`read_csv`, bags
+with :func:`read_bag`; each keeps the robot it was planned for (:func:`read_planned_for`).
 
 ROS conventions: a message's ``header.stamp`` is zero unless asked otherwise, which tells a
 FollowJointTrajectory controller to start the trajectory on receipt (a stamp in the past would
@@ -20,8 +21,6 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from rosbags.rosbag1 import Reader as Ros1Reader
-from rosbags.rosbag1 import Writer as Ros1Writer
 from rosbags.rosbag2 import Reader as Ros2Reader
 from rosbags.rosbag2 import Writer as Ros2Writer
 from rosbags.typesys import Stores, get_typestore
@@ -32,6 +31,8 @@ from rlff.fileio import atomic_path, write_text
 from rlff.jsonfile import read_json_object
 from rlff.kinds import rlff_kind
 from rlff.robot.description import RosNames
+from rlff.robot.ros1_fields import FieldReader as Ros1Reader
+from rlff.robot.ros1_fields import FieldWriter as Ros1Writer
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.planner import MOVING
 
@@ -123,11 +124,15 @@ def write_csv(traj: JointTrajectory, path: Path, robot: dict[str, str] | None = 
 ROBOT_COLUMNS = {"robot": "name", "robot_digest": "digest"}
 
 
-def read_planned_for(path: Path) -> dict[str, str] | None:
-    """The robot a trajectory file of :func:`write_json` or :func:`write_csv` was planned for,
-    ``{"name", "digest"}``; None for a file that does not say (written before rlff recorded it,
-    or by hand). :class:`InputError` naming the field for a record that is no such thing."""
+def read_planned_for(path: Path, topic: str = DEFAULT_TOPIC) -> dict[str, str] | None:
+    """The robot a trajectory file of :func:`write_json` or :func:`write_csv`, or a bag of
+    :func:`write_ros1_bag` or :func:`write_ros2_bag` (its trajectory on ``topic``), was planned
+    for, ``{"name", "digest"}``; None for one that does not say (written before rlff recorded it,
+    by hand or by another tool). :class:`InputError` naming the field for a record that is no
+    such thing."""
     path = Path(path)
+    if path.is_dir() or is_ros1_bag(path):
+        return _bag_planned_for(path, *_from_bag(path, lambda reader, *_: _bag_record(reader, topic)))
     if path.suffix.lower() == ".json":
         record = read_json_object(path).get("robot")
         if record is None:
@@ -154,6 +159,41 @@ def read_planned_for(path: Path) -> dict[str, str] | None:
                              "planned for on every row")
         record[key] = str(values[0])
     return record
+
+
+#: The keys of a bag's record of the robot its trajectory was planned for, and the key of the
+#: record each holds: in a ROS 2 bag, its metadata's ``custom_data``; in a ROS 1 bag, fields of
+#: the trajectory connection's header (:mod:`rlff.robot.ros1_fields`). Neither is played.
+BAG_KEYS = {"rlff_robot": "name", "rlff_robot_digest": "digest"}
+
+
+def _bag_keys(robot: dict[str, str] | None) -> dict[str, str]:
+    """The :data:`BAG_KEYS` entries of a record ``robot`` (none for None)."""
+    return {key: robot[field] for key, field in BAG_KEYS.items()} if robot else {}
+
+
+def _bag_record(reader, topic: str) -> tuple[dict, str]:
+    """What the bag open in ``reader`` holds of :data:`BAG_KEYS` (its trajectory on ``topic``),
+    and where it holds them, for a message."""
+    if isinstance(reader, Ros2Reader):  # rosbags' copy of its metadata.yaml
+        custom = reader.storage.metadata.custom or {}
+        return {key: value for key, value in custom.items() if key in BAG_KEYS}, "metadata's custom_data"
+    found = {}
+    for connection in reader.connections:
+        if connection.topic == topic:
+            found |= {key: value for key, value in reader.fields[connection.id].items() if key in BAG_KEYS}
+    return found, f"connection header of {topic}"
+
+
+def _bag_planned_for(path: Path, found: dict, where: str) -> dict[str, str] | None:
+    """The record of the bag ``path`` from the :data:`BAG_KEYS` it holds, ``found`` in its ``where``."""
+    if not found:
+        return None
+    if len(found) < len(BAG_KEYS) or not all(isinstance(value, str) and value for value in found.values()):
+        held = ", ".join(f"{key}={found[key]!r}" for key in BAG_KEYS if key in found)
+        raise InputError(f"{path}: the bag's {where} must hold {' and '.join(BAG_KEYS)}, the robot its trajectory "
+                         f"was planned for, as rlff writes them; it holds {held}")
+    return {field: found[key] for key, field in BAG_KEYS.items()}
 
 
 def read_csv(path: Path) -> JointTrajectory:
@@ -248,20 +288,36 @@ def _message(traj: JointTrajectory, typestore, stamp_ns: int, ros1: bool):
 
 
 def write_ros1_bag(traj: JointTrajectory, path: Path, topic: str = DEFAULT_TOPIC,
-                   stamp_ns: int | None = None, header_stamp_ns: int = 0) -> None:
+                   stamp_ns: int | None = None, header_stamp_ns: int = 0,
+                   robot: dict[str, str] | None = None) -> None:
     """A ROS 1 bag with one JointTrajectory on ``topic``, recorded at ``stamp_ns`` (default: now).
 
-    ``header_stamp_ns`` is the message's ``header.stamp`` (default 0: start on receipt).
+    ``header_stamp_ns`` is the message's ``header.stamp`` (default 0: start on receipt). The
+    ``robot`` the trajectory was planned for (:func:`rlff.robot.planned_for.planned_for`; left
+    out when None) goes in the connection's header (:data:`BAG_KEYS`).
     """
     stamp_ns = clock.time_ns() if stamp_ns is None else stamp_ns
     typestore = get_typestore(Stores.ROS1_NOETIC)
     # rosbags refuses an existing file: it writes a fresh temporary one, renamed over ``path``
     with atomic_path(path) as temp:
         temp.unlink()
-        with Ros1Writer(temp) as writer:
+        with Ros1Writer(temp, _bag_keys(robot)) as writer:
             connection = writer.add_connection(topic, TRAJECTORY_TYPE, typestore=typestore)
             message = _message(traj, typestore, header_stamp_ns, ros1=True)
             writer.write(connection, stamp_ns, typestore.serialize_ros1(message, TRAJECTORY_TYPE))
+
+
+#: The first line of a ROS 1 bag (format 2.0, the one rosbag writes).
+ROS1_BAG_MAGIC = b"#ROSBAG V2.0\n"
+
+
+def is_ros1_bag(path: Path) -> bool:
+    """Whether ``path`` is a file that opens as a ROS 1 bag does (:data:`ROS1_BAG_MAGIC`)."""
+    path = Path(path)
+    if not path.is_file():
+        return False
+    with open(path, "rb") as stream:
+        return stream.read(len(ROS1_BAG_MAGIC)) == ROS1_BAG_MAGIC
 
 
 #: What a ROS 2 bag folder holds: its metadata and its storage files (sqlite3 or MCAP).
@@ -298,10 +354,12 @@ def _trajectory_bag(path: Path) -> bool:
 
 
 def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = DEFAULT_TOPIC,
-                   stamp_ns: int | None = None, header_stamp_ns: int = 0) -> None:
+                   stamp_ns: int | None = None, header_stamp_ns: int = 0,
+                   robot: dict[str, str] | None = None) -> None:
     """A ROS 2 bag (a folder, sqlite3 storage) with one JointTrajectory on ``topic``.
 
-    Recorded at ``stamp_ns`` (default: now); ``header.stamp`` is ``header_stamp_ns`` (default 0).
+    Recorded at ``stamp_ns`` (default: now); ``header.stamp`` is ``header_stamp_ns`` (default 0);
+    the ``robot`` it was planned for (as :func:`write_ros1_bag`) in the metadata's ``custom_data``.
     A bag of robot trajectories already at ``path`` is replaced whole once the new one is
     complete; any other folder there is refused (:func:`check_bag_output`).
     """
@@ -313,6 +371,8 @@ def write_ros2_bag(traj: JointTrajectory, path: Path, topic: str = DEFAULT_TOPIC
         connection = writer.add_connection(topic, TRAJECTORY_TYPE, typestore=typestore)
         message = _message(traj, typestore, header_stamp_ns, ros1=False)
         writer.write(connection, stamp_ns, typestore.serialize_cdr(message, TRAJECTORY_TYPE))
+        for key, value in _bag_keys(robot).items():
+            writer.set_custom_data(key, value)
 
 
 def read_bag(path: Path, topic: str = DEFAULT_TOPIC) -> list[JointTrajectory]:

@@ -29,8 +29,10 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
     file's ``[ros] trajectory_topic``), for the arm's controller: in its joint names and
     convention (the robot file's ``[ros.joints]``, :class:`rlff.robot.joint_map.JointMap`);
     ``header_stamp_ns`` is their ``header.stamp`` (ns; default 0: start on receipt). JSON, CSV
-    and the Comau program keep rlff's joints and convention; JSON and CSV also record the robot
-    they were planned for (:mod:`rlff.robot.planned_for`), which reading them back requires.
+    and the Comau program keep rlff's joints and convention. JSON, CSV and bags also record the
+    robot they were planned for (:mod:`rlff.robot.planned_for`; a bag in its metadata, ROS 2, or
+    its trajectory connection's header, ROS 1: :data:`rlff.robot.export.BAG_KEYS`), which reading
+    them back requires; a Comau program is converted for that robot as it is written.
 
     Raises
     ------
@@ -45,7 +47,7 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
 
     def bag(write):
         def written(traj: JointTrajectory, path: Path) -> None:
-            write(joints.to_controller(traj), path, topic=topic, header_stamp_ns=header_stamp_ns)
+            write(joints.to_controller(traj), path, topic=topic, header_stamp_ns=header_stamp_ns, robot=robot)
         return written
 
     robot = planned_for(mapping.robot)  # read back, the file is checked for no other robot

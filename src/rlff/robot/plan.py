@@ -29,7 +29,7 @@ from rlff.limits import apart, check_period, require_radians
 from rlff.robot.description import Robot
 from rlff.robot.links import require_above_base
 from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for
-from rlff.robot.planned_for import require_planned_for
+from rlff.robot.planned_for import checked_against, require_planned_for
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
@@ -348,12 +348,8 @@ def load_for_robot(
     try:
         check_trajectory(trajectory, robot.joints, start_at_rest=True)
         require_above_base(robot, trajectory, "the trajectory")
-    except InputError as exc:
-        if own:
-            raise type(exc)(f"{path}: {exc}") from None
-        # a file that keeps no robot may be another arm's, failing on this one's limits: say whose
-        raise type(exc)(f"{path}: {exc} (checked against {robot.source}; a trajectory planned for another "
-                        "robot is checked with its file: --robot)") from None
+    except InputError as exc:  # a file that keeps no robot may be another arm's, failing on this one's limits
+        raise type(exc)(f"{path}: {exc}{'' if own else checked_against(robot)}") from None
     trajectory = require_release(path, trajectory)
     return kind, RobotPlan(trajectory, trajectory, ClipReport())
 

@@ -1,18 +1,19 @@
 """Which robot a trajectory file was planned for: the record rlff writes in it, and the check on reading.
 
-A robot trajectory (JSON or CSV of ``rlff robot export``, ``rlff learn --out``) is positions,
-velocities and accelerations of one arm's joints, planned within that arm's limits; read back, it
-is checked against a robot and converted for it (a Comau program's speed slot is a share of that
+A robot trajectory (JSON, CSV or a ROS bag of ``rlff robot export``, ``rlff learn --out``) is
+positions, velocities and accelerations of one arm's joints, planned within that arm's limits;
+read back, it is checked against a robot and converted for it (a Comau program's speed slot is a share of that
 robot's maximum speed). Checked against another robot, it passes or fails that robot's limits,
 and converted for it, it says other speeds: a tester's throw planned for a slow arm (1.5 rad/s)
 became a Comau program at 41.9 % of the built-in Comau's speed instead of 78.0 % of its own arm's,
-so the slow arm would have thrown at half the planned speed.
+so the slow arm would have thrown at half the planned speed; and its bag, sent to the built-in
+Comau with ``rlff robot send``, was checked against the Comau's limits alone.
 
 So every such file records the robot it was planned for (:func:`planned_for`: its name and the
 digest of its description, the joints' limits and the geometry, which is what the check and the
 conversions read), and a file read for another robot is refused, naming both
-(:func:`require_planned_for`). A file without the record (written before it, or by hand) is
-read for the robot given, with a :class:`UnrecordedRobotWarning` that says so.
+(:func:`require_planned_for`). A file without the record (written before it, by hand or by
+another tool) is read for the robot given, with a :class:`UnrecordedRobotWarning` that says so.
 """
 
 from __future__ import annotations
@@ -67,8 +68,8 @@ def require_planned_for(path: str | Path, record: dict[str, str] | None, robot: 
         Naming both robots and their digests, and what to do.
     """
     if record is None:
-        warnings.warn(f"{path} does not say which robot it was planned for (written before rlff recorded it, or by "
-                      f"hand): checked and converted for {robot.name} ({robot.source}); if it was planned for "
+        warnings.warn(f"{path} does not say which robot it was planned for (written before rlff recorded it, by "
+                      f"hand or by another tool): checked and converted for {robot.name} ({robot.source}); if it was planned for "
                       "another robot, give that robot's file with --robot", UnrecordedRobotWarning, stacklevel=2)
         return False
     ours = planned_for(robot)
@@ -77,3 +78,10 @@ def require_planned_for(path: str | Path, record: dict[str, str] | None, robot: 
     raise InputError(f"{path} was planned for another robot ({record['name']}, digest {record['digest']} in the file; "
                      f"{ours['name']}, digest {ours['digest']}, with {robot.source}): its limits and speeds are "
                      "that robot's; give its robot file with --robot")
+
+
+def checked_against(robot: Robot) -> str:
+    """What a refusal of a trajectory file that does not say which robot it was planned for adds
+    (`` (checked against ...)``): it may be another arm's, failing on ``robot``'s limits."""
+    return (f" (checked against {robot.source}; a trajectory planned for another robot is checked with its file: "
+            "--robot)")

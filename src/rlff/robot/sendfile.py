@@ -20,9 +20,10 @@ from rosbags.rosbag2 import ReaderError as Ros2ReaderError
 from rlff.errors import InputError
 from rlff.robot.comau import HEADER as COMAU_HEADER
 from rlff.robot.description import Robot
-from rlff.robot.export import read_bag, trajectory_topics
+from rlff.robot.export import is_ros1_bag, read_bag, read_planned_for, trajectory_topics
 from rlff.robot.links import require_above_base
 from rlff.robot.plan import GENERATED, RobotPlan, load_for_robot
+from rlff.robot.planned_for import checked_against, require_planned_for
 from rlff.trajectory.check import check_start, check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
@@ -30,7 +31,6 @@ from rlff.trajectory.planner import APPROACH_SPEED, plan_transition
 
 #: The export formats ``robot send`` reads.
 SENDABLE = ("json", "csv", "ros1-bag", "ros2-bag")
-_ROS1_BAG_MAGIC = b"#ROSBAG V2.0"
 
 
 def load_for_sending(
@@ -90,12 +90,12 @@ def load_for_sending(
         if kind == GENERATED:
             return kind, plan if start is None else load_for_robot(path, robot, period, clip, start, joints=joints,
                                                                    bearing=bearing, approach_speed=approach_speed)[1]
-        trajectory = plan.trajectory
+        trajectory, recorded = plan.trajectory, True  # load_for_robot checked its record
     else:
-        trajectory = _one_trajectory(path, robot)
+        trajectory, recorded = _one_trajectory(path, robot)
     if approach and start is not None:
         trajectory = with_approach(robot, trajectory, start, period, approach_speed)
-    _require_start(path, robot, trajectory, start)
+    _require_start(path, robot, trajectory, start, recorded)
     return kind, RobotPlan(trajectory, trajectory, ClipReport())
 
 
@@ -155,10 +155,12 @@ def with_approach(robot: Robot, trajectory: JointTrajectory, start: np.ndarray,
     )
 
 
-def _require_start(path: Path, robot: Robot, trajectory: JointTrajectory, start: np.ndarray | None) -> None:
+def _require_start(path: Path, robot: Robot, trajectory: JointTrajectory, start: np.ndarray | None,
+                   recorded: bool = True) -> None:
     """The motion check of a trajectory sent as it is: from rest (as every robot output and
     read-back, :func:`rlff.trajectory.check.check_trajectory` with ``start_at_rest``), at the
-    arm's pose ``start`` if given."""
+    arm's pose ``start`` if given. A refusal of a file that does not say which robot it was
+    planned for (not ``recorded``) says which robot file it was checked against."""
     pose = start
     names, joints = trajectory.joint_names, robot.ros.joints
     if start is not None:
@@ -175,7 +177,7 @@ def _require_start(path: Path, robot: Robot, trajectory: JointTrajectory, start:
         check_trajectory(trajectory, robot.joints, start=start, start_at_rest=True)
         require_above_base(robot, trajectory, "the trajectory", held=pose)  # the joints it leaves out stay put
     except InputError as exc:
-        raise type(exc)(f"{path}: {exc}") from None
+        raise type(exc)(f"{path}: {exc}{'' if recorded else checked_against(robot)}") from None
 
 
 def _bag_kind(path: Path) -> str | None:
@@ -183,11 +185,7 @@ def _bag_kind(path: Path) -> str | None:
         if not (path / "metadata.yaml").is_file():
             raise InputError(f"{path}: a folder, but not a ROS 2 bag (no metadata.yaml)")
         return "ros2-bag"
-    if path.is_file():
-        with open(path, "rb") as stream:
-            if stream.read(len(_ROS1_BAG_MAGIC)) == _ROS1_BAG_MAGIC:
-                return "ros1-bag"
-    return None
+    return "ros1-bag" if is_ros1_bag(path) else None
 
 
 def _is_comau_program(path: Path) -> bool:
@@ -197,7 +195,10 @@ def _is_comau_program(path: Path) -> bool:
         return stream.read(len(COMAU_HEADER)).decode("utf-8", errors="replace") == COMAU_HEADER
 
 
-def _one_trajectory(path: Path, robot: Robot) -> JointTrajectory:
+def _one_trajectory(path: Path, robot: Robot) -> tuple[JointTrajectory, bool]:
+    """The one trajectory of the bag ``path`` on ``robot``'s trajectory topic, in rlff's joints and
+    convention, and whether the bag says it was planned for ``robot`` (False: it does not say,
+    :func:`rlff.robot.planned_for.require_planned_for`)."""
     topic = robot.ros.trajectory_topic
     try:
         trajectories = read_bag(path, topic)
@@ -211,8 +212,9 @@ def _one_trajectory(path: Path, robot: Robot) -> JointTrajectory:
                              "robot file, or send it with the robot file it was exported with")
     if len(trajectories) != 1:
         raise InputError(f"{path}: holds {len(trajectories)} trajectories on {topic}; send a bag with one")
+    recorded = require_planned_for(path, read_planned_for(path, topic), robot)  # before its joints: says whose
     try:  # the bag is the controller's (the robot file's [ros.joints]); rlff checks and plans in its own
-        return robot.ros.joints.from_controller(trajectories[0])
+        return robot.ros.joints.from_controller(trajectories[0]), recorded
     except InputError as exc:
         raise InputError(f"{path}: {exc}; export it again with this robot file, or send it with the robot file it "
                          "was exported with") from None
