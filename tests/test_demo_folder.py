@@ -59,6 +59,30 @@ def test_the_users_own_attempts_log_figure_and_run_json_in_the_folder_are_refuse
     assert not (mine / "demos.csv").exists()
 
 
+@pytest.mark.integration
+def test_the_users_files_of_names_the_demo_does_not_write_are_left_alone_and_the_demo_runs(cli, tmp_path):
+    """A figure and attempts logs of the user's beside the demo's, and frames a run without
+    --frames does not draw: the folder had been refused for names like the demo's, though the
+    run would have touched none of them."""
+    out = tmp_path / "demo"
+    mine = {out / name: f"mine: {name}".encode() for name in (
+        "figures/mine.png", "figures/mine.svg", "attempts/notes.jsonl", "attempts/whole-arm/notes.jsonl",
+        "figures/frames/frame_0000.png", "figures/frames/throw.gif")}
+    for path, content in mine.items():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(content)
+
+    result = cli(*DEMO, "-o", str(out), timeout=600)
+    assert result.code == 0, result.stderr
+    assert {path: path.read_bytes() for path in mine} == mine
+    assert (out / "report.html").is_file() and (out / "attempts" / "calibrate.jsonl").is_file()
+    listed = json.loads((out / LISTING).read_text())["files"]
+    assert not {path.relative_to(out).as_posix() for path in mine} & set(listed)  # nor taken for the demo's
+    (out / "figures" / "learning.png").write_bytes(b"edited: mine now")  # a name it writes: refused
+    _one_line_error(cli(*DEMO, "-o", str(out)), "figures/learning.png (changed since rlff demo wrote it)")
+    assert {path: path.read_bytes() for path in mine} == mine
+
+
 @pytest.mark.slow
 def test_a_small_demo_after_a_full_one_leaves_none_of_the_full_runs_files(tmp_path):
     """The full demo's learning runs log hindsight, failure and secant, which the small one does

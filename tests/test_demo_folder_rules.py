@@ -1,6 +1,7 @@
 """The rules of a demo's output folder (:mod:`rlff.report.folder`) on folders of real files: what
 a run lists as its own, what the next run removes, what it refuses, and the lock; the demo's own
-names (:data:`rlff.demo.WRITES`). The demo itself: ``test_demo_folder.py``."""
+names (:data:`rlff.demo.WRITES`) and the files a run writes (:func:`rlff.demo.run_files`). The
+demo itself: ``test_demo_folder.py``."""
 
 from __future__ import annotations
 
@@ -10,9 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from rlff.demo import PROGRAM, WRITES
+from rlff.demo import PROGRAM, WRITES, run_files
 from rlff.errors import InputError
-from rlff.report.folder import LISTING, LOCK, FolderInUse, RunFolder
+from rlff.report.folder import LISTING, LOCK, FolderInUse, RunFolder, check_run_folder
 
 
 def _write(folder: RunFolder, relative: str, text: str) -> Path:
@@ -61,7 +62,7 @@ def test_a_listing_names_only_files_of_the_demos_names_to_remove(tmp_path):
                                                 "files": {"notes.txt": None, "../outside.csv": None, "/": None}}))
     with RunFolder(tmp_path, WRITES, PROGRAM) as run:
         assert (tmp_path / "notes.txt").read_text() == "mine"
-        with pytest.raises(ValueError, match="notes.txt: not of the names rlff demo writes"):
+        with pytest.raises(ValueError, match="notes.txt: not among the files this rlff demo said it would write"):
             run.file("notes.txt")
 
 
@@ -75,3 +76,52 @@ def test_a_folder_held_by_a_run_is_refused_naming_it(tmp_path):
         with pytest.raises(FolderInUse):
             RunFolder(tmp_path, WRITES, PROGRAM)
     check_demo_options(tmp_path, "small")
+
+
+def test_a_users_file_the_run_does_not_write_is_left_alone_and_one_it_writes_is_refused(tmp_path):
+    """Files of the demo's kinds of names that this run writes under no name (a figure, a log of
+    the user's; a full run's log, the frames of a run with frames, for a small run without) had
+    made the folder refused, though the run would not have touched them."""
+    small = run_files("small", frames=False)
+    mine = {name: f"mine: {name}" for name in ("figures/mine.png", "attempts/notes.jsonl",
+                                                "attempts/whole-arm/notes.jsonl", "attempts/hindsight.jsonl",
+                                                "figures/frames/frame_0000.png", "figures/frames/notes.png")}
+    for name, text in mine.items():
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text(text)
+    with RunFolder(tmp_path, small, PROGRAM, names=WRITES) as run:
+        _write(run, "figures/learning.png", "the demo's")
+        with pytest.raises(ValueError, match=r"figures/mine\.png: not among the files this rlff demo said"):
+            run.file("figures/mine.png")
+        run.finish()
+    assert {name: (tmp_path / name).read_text() for name in mine} == mine
+    with RunFolder(tmp_path, small, PROGRAM, names=WRITES):  # the demo's removed, the user's kept
+        assert not (tmp_path / "figures" / "learning.png").exists()
+    assert {name: (tmp_path / name).read_text() for name in mine} == mine
+    (tmp_path / "figures" / "learning.png").write_text("mine, of a name the run writes")
+    with pytest.raises(InputError, match=r"it did not write there: figures/learning\.png; give another"):
+        RunFolder(tmp_path, small, PROGRAM, names=WRITES)
+    assert (tmp_path / "figures" / "learning.png").read_text() == "mine, of a name the run writes"
+
+
+def test_a_file_of_the_last_run_changed_since_is_refused_only_by_a_run_that_writes_it(tmp_path):
+    """The full run's hindsight log, gone on with by `rlff learn --log`: a small run, which runs no
+    hindsight, neither removes nor refuses it; a full run, which would replace it, refuses."""
+    with RunFolder(tmp_path, run_files("full", frames=False), PROGRAM, names=WRITES) as run:
+        _write(run, "attempts/hindsight.jsonl", "the demo's")
+        _write(run, "attempts/calibrate.jsonl", "the demo's")
+        run.finish()
+    (tmp_path / "attempts" / "hindsight.jsonl").write_text("the demo's, and the user's attempts after")
+    with RunFolder(tmp_path, run_files("small", frames=False), PROGRAM, names=WRITES):
+        left = sorted(p.relative_to(tmp_path).as_posix() for p in tmp_path.rglob("*") if p.is_file())
+        assert left == [LISTING, LOCK, "attempts/hindsight.jsonl"]
+    with pytest.raises(InputError, match=r"attempts/hindsight\.jsonl; give another"):  # not the last run's now
+        RunFolder(tmp_path, run_files("full", frames=False), PROGRAM, names=WRITES)
+
+
+def test_every_file_a_run_writes_is_of_the_demos_names(tmp_path):
+    """Else the next run could not remove it: its listing names only files of WRITES."""
+    with pytest.raises(ValueError, match=r"notes\.txt: not of the names rlff demo writes"):
+        check_run_folder(tmp_path / "missing", [*run_files("small"), "notes.txt"], PROGRAM, names=WRITES)
+    for size in ("full", "small"):
+        check_run_folder(tmp_path / "missing", run_files(size), PROGRAM, names=WRITES)

@@ -34,7 +34,8 @@ from rlff.dataset import Dataset, write_csv
 from rlff.errors import InputError
 from rlff.report import FigureEntry, Run, Section, Table, build_report, write_run
 from rlff.report.folder import RunFolder, RunPaths, check_run_folder
-from rlff.whole_arm_demo import BasketRun, whole_arm_section
+from rlff.synthetic.throws import THESIS_DISTANCES
+from rlff.whole_arm_demo import BasketRun, basket_log, baskets, whole_arm_section
 from rlff.wording import signed_metres
 
 if TYPE_CHECKING:
@@ -70,9 +71,9 @@ class DemoSize:
         Most attempts of each learning run.
     methods : tuple of (update, feedback)
         The learning runs, compared in the learning curve.
-    whole_arm_baskets : tuple of (distance, bearing), optional
-        The whole-arm baskets (m, deg); None: every demonstrated and unseen distance, the
-        bearings in turn (:func:`rlff.whole_arm_demo.baskets`).
+    whole_arm_baskets : tuple of (distance, bearing)
+        The whole-arm baskets (m, deg), known before the run as the names of their attempts
+        logs are (:func:`run_files`).
     """
 
     subjects: int
@@ -80,7 +81,7 @@ class DemoSize:
     throws_per_distance: int
     budget: int
     methods: tuple[tuple[str, str], ...]
-    whole_arm_baskets: tuple[tuple[float, float], ...] | None = None
+    whole_arm_baskets: tuple[tuple[float, float], ...]
 
 
 #: How the arm the learning is shown on differs from its robot file when, on the arm as the file
@@ -105,6 +106,9 @@ SIZES = {
             ("secant", "distance"),
             ("imitation", "binary"),
         ),
+        # every distance the whole-arm people aim at (the thesis' ten) and the unseen ones, the
+        # bearings in turn
+        whole_arm_baskets=tuple(baskets(THESIS_DISTANCES)),
     ),
     # for tests and a first look: fewer people and baskets, two learning runs
     "small": DemoSize(
@@ -328,14 +332,22 @@ def _learning_arm_and_basket(demonstrated: list[float], learnable: float,
     return (slower, on_slower) if missed else (faithful, distance)
 
 
-#: Every file a run writes, as paths inside its folder (``*``: one name): a folder holding a file
-#: of these names that its last run did not list as its own, or that changed since, is refused
-#: (:mod:`rlff.report.folder`); the last run's files are removed before the first is written.
+#: The names of every file a run writes, whatever its size, as paths inside its folder (``*``: one
+#: name): the last run's listing names only files of these to be removed (:mod:`rlff.report.folder`).
 WRITES = (
     "demos.csv", "clean.csv", "model.json", "run.json", "report.html", "whole-arm-demos.csv", "whole-arm-clean.csv",
     "attempts/*.jsonl", "attempts/*.jsonl.lock", "attempts/whole-arm/*.jsonl", "attempts/whole-arm/*.jsonl.lock",
-    "figures/*.png", "figures/*.svg", "figures/frames/*",
+    "figures/*.png", "figures/*.svg", "figures/frames/frame_*.png", "figures/frames/throw.gif",
 )
+#: The figures a run draws, by stem (``figures/STEM.png`` and ``.svg``): ``learned-throw`` where a
+#: method hits, the whole-arm two where a whole-arm basket was thrown at.
+FIGURES = (
+    "demonstrations-per-distance", "preprocessing", "clean-3d", "bic", "kmeans-em", "components", "donuts",
+    "dmm-density", "outputs", "first-throw", "learning", "learned-throw", "whole-arm-flights", "whole-arm-joints",
+)
+#: The learned throw rendered by MuJoCo (:mod:`rlff.sim.render`): its frames, numbered from 0 (one
+#: of an earlier, longer throw removed), and the GIF.
+FRAMES = ("figures/frames/frame_*.png", "figures/frames/throw.gif")
 PROGRAM = "rlff demo"
 
 
@@ -346,12 +358,29 @@ def _failures(raw, said: str) -> str:
     return f"most {said}" if 2 * misses > len(raw) else f"{misses} of {len(raw)} {said}"
 
 
-def check_demo_options(out_dir: str | Path, size: str) -> None:
+def run_files(size: str, *, frames: bool = True) -> tuple[str, ...]:
+    """Every file a run of ``size`` (``frames``: rendering the learned throw) writes or may write,
+    by name, as paths inside its folder: the data, the model, ``run.json``, the report, each
+    learning run's and each whole-arm basket's attempts log and its lock, each figure of
+    :data:`FIGURES` and (``frames``) the frames of :data:`FRAMES`, whose number the run knows only
+    as it writes them. A file of another name in the folder is neither written nor removed."""
+    plan = SIZES[size]
+    logs = ([f"attempts/{method}.jsonl" for method, _ in plan.methods]
+            + [basket_log(distance, bearing) for distance, bearing in plan.whole_arm_baskets])
+    return (
+        "demos.csv", "clean.csv", "model.json", "run.json", "report.html", "whole-arm-demos.csv", "whole-arm-clean.csv",
+        *(name for log in logs for name in (log, f"{log}.lock")),
+        *(f"figures/{stem}.{suffix}" for stem in FIGURES for suffix in ("png", "svg")),
+        *(FRAMES if frames else ()),
+    )
+
+
+def check_demo_options(out_dir: str | Path, size: str, *, frames: bool = True) -> None:
     """Raise :class:`InputError` for an unknown size, an output path that is not a folder, a folder
-    another run holds, or one that holds files of a run's names (:data:`WRITES`) that its last
+    another run holds, or one that holds files the run writes (:func:`run_files`) that its last
     run did not write (:func:`rlff.report.folder.check_run_folder`): the run would replace them."""
     _check_size_and_path(out_dir, size)
-    check_run_folder(out_dir, WRITES, PROGRAM)
+    check_run_folder(out_dir, run_files(size, frames=frames), PROGRAM, names=WRITES)
 
 
 def _check_size_and_path(out_dir: str | Path, size: str) -> None:
@@ -376,8 +405,8 @@ def run_demo(
     out_dir : path
         Output folder (created), held by this run alone. The files the folder's last run listed
         as its own (finished or stopped, unchanged since) are removed first; a folder holding
-        other files of a run's names (:data:`WRITES`) is refused (:func:`check_demo_options`,
-        :mod:`rlff.report.folder`).
+        other files that the run writes (:func:`run_files`) is refused (:func:`check_demo_options`,
+        :mod:`rlff.report.folder`); any other file is left as it is.
     size : {"full", "small"}
         ``full`` follows the thesis' recording plan (400 throws, 5 learning runs);
         ``small`` is a quick version (84 throws, 2 learning runs).
@@ -400,11 +429,11 @@ def run_demo(
     ------
     InputError
         As :func:`check_demo_options`: another run holds ``out_dir`` (:class:`rlff.report.folder.FolderInUse`),
-        or it holds files of a run's names that its last run did not write; or a stage found too
+        or it holds files the run writes that its last run did not write; or a stage found too
         little to go on.
     """
     _check_size_and_path(out_dir, size)
-    with RunFolder(out_dir, WRITES, PROGRAM) as folder:
+    with RunFolder(out_dir, run_files(size, frames=frames), PROGRAM, names=WRITES) as folder:
         summary = _run(folder, size, seed=seed, progress=progress, frames=frames)
         folder.finish()
     return summary

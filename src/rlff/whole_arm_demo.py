@@ -119,6 +119,12 @@ def baskets(demonstrated: Sequence[float], unseen: Sequence[float] = UNSEEN,
     return [(d, float(bearings[i % len(bearings)])) for i, d in enumerate(distances)]
 
 
+def basket_log(distance: float, bearing: float) -> str:
+    """The attempts log of the basket at ``distance`` (m) and ``bearing`` (deg), relative to the
+    output folder: ``attempts/whole-arm/3.75m-60deg.jsonl``."""
+    return f"attempts/whole-arm/{distance:g}m-{bearing:g}deg.jsonl"
+
+
 def run_whole_arm(
     out_dir: Path | RunPaths,
     *,
@@ -188,7 +194,7 @@ def run_whole_arm(
     runs, learned = [], {}
     last_hit: dict[tuple[str, ...], Path] = {}  # per joint set: the log of the last basket hit
     for distance, bearing in baskets(demonstrated, unseen, bearings) if only is None else only:
-        log = out.log(f"attempts/whole-arm/{distance:g}m-{bearing:g}deg.jsonl")
+        log = out.log(basket_log(distance, bearing))
         log.unlink(missing_ok=True)
         for joints in choices:  # joint 5 only where joints 2 and 3 do not reach with headroom
             if joints != choices[-1] and distance > learnable_basket(

@@ -31,7 +31,7 @@ def demo_command(
 
     guard(inputs={}, outputs={"-o/--output": out}, folders=["-o/--output"])
     size = "small" if small else "full"
-    check_demo_options(out, size)  # before the progress display starts
+    check_demo_options(out, size, frames=frames)  # before the progress display starts
     with progress("rlff demo", total=len(STAGES)) as advance:
         last = {"done": 0}
 

@@ -1,14 +1,19 @@
 """A run's output folder: held by one run at a time, and replaced only where a run wrote it.
 
-A run (``rlff demo``) writes files of names of its own, ``writes`` (``demos.csv``,
-``attempts/*.jsonl``, ``figures/*.png``, ...; ``*`` is one name that does not start with a dot),
-and lists every one in the folder's ``.rlff-run`` before it writes it, with its SHA-256 once the
-run has finished. The next run into the folder removes what that listing names, unchanged
-since, before its first file, so that a smaller run (``rlff demo --small`` after a full one)
-leaves none of the earlier run's logs or figures to be taken for its own. A file of those names
-that the listing does not name, or one changed since the run wrote it, may be someone's own (an
-attempts log of ``rlff learn``, an edited figure, a ``run.json`` of
-:func:`rlff.report.write_run`): the folder is refused before anything is written or removed.
+A run (``rlff demo``) says up front every file it writes or may write, ``writes``, by name
+(``demos.csv``, ``attempts/calibrate.jsonl``, ``figures/bic.png``; ``*`` for one name only where
+the name is known as the run writes it, a frame of a rendered throw), all of them of the names
+a run of its program writes, whatever its options, ``names`` (``attempts/*.jsonl``,
+``figures/*.png``, ...; ``*`` is one name that does not start with a dot). It lists every file in
+the folder's ``.rlff-run`` before it writes it, with its SHA-256 once the run has finished. The
+next run into the folder removes what that listing names, unchanged since, before its first
+file, so that a smaller run (``rlff demo --small`` after a full one) leaves none of the earlier
+run's logs or figures to be taken for its own. A file of ``writes`` that the listing does not
+name, or one changed since the run wrote it, may be someone's own (an attempts log of ``rlff
+learn``, an edited figure, a ``run.json`` of :func:`rlff.report.write_run`): the folder is
+refused before anything is written or removed. Any other file is left as it is, of the names
+the program writes or not (``figures/mine.png``, ``attempts/notes.jsonl``): the run neither
+writes nor removes it.
 
 One run at a time: a run holds an exclusive lock on ``.rlff-run.lock`` (``flock`` through
 filelock's :func:`filelock.lock_descriptor`, released by the kernel if the run dies) with its pid,
@@ -86,31 +91,41 @@ class RunFolder(RunPaths):
     path : str or Path
         The folder (created with its parents when missing).
     writes : sequence of str
-        The names of the files the run may write, relative to ``path``, ``*`` for one name
-        (``figures/*.png``); every file the run writes must be of one of them.
+        The files this run writes, or may write, relative to ``path``: each by name, ``*`` for one
+        name only where the run knows it as it writes the file (``figures/frames/frame_*.png``);
+        every file the run writes must be one of them, and each must be of ``names``.
     program : str
         What runs, for the lock's holder and the messages (``rlff demo``).
+    names : sequence of str, optional
+        The names of every file a run of ``program`` may write, whatever its options, ``*`` for
+        one name (``figures/*.png``): the last run's listing names only files of these to be
+        removed. Default ``writes``.
 
     Raises
     ------
     FolderInUse
         Another run holds the folder (the message names its pid and host).
     InputError
-        The folder holds files of the names in ``writes`` that its last run did not list as its
-        own, or that changed since (:func:`check_run_folder`); or it cannot be created.
+        The folder holds files of ``writes`` that its last run did not list as its own, or that
+        changed since (:func:`check_run_folder`); or it cannot be created.
+    ValueError
+        A file of ``writes`` is not of ``names``.
     """
 
-    def __init__(self, path: str | Path, writes: Sequence[str], program: str) -> None:
+    def __init__(self, path: str | Path, writes: Sequence[str], program: str, *,
+                 names: Sequence[str] | None = None) -> None:
         super().__init__(path)
         self.writes = tuple(writes)
+        self.names = self.writes if names is None else tuple(names)
         self.program = program
+        _require_of_names(self.writes, self.names, program)
         try:
             self.path.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise InputError(f"{self.path}: cannot create the folder ({exc.strerror})") from None
         self._lock: int | None = _acquire(self.path / LOCK, program)
         try:
-            earlier = _earlier_files(self.path, self.writes, program)
+            earlier = _earlier_files(self.path, self.writes, self.names, program)
             _remove(self.path, earlier)
             self.files: dict[str, str | None] = {}  # what this run wrote: path -> SHA-256 once finished
             self._write_listing(finished=False)
@@ -119,17 +134,18 @@ class RunFolder(RunPaths):
             raise
 
     def _claim(self, *names: str) -> None:
-        """List ``names`` (``folder/``: every file in it) as this run's, before they are written.
+        """List ``names`` (``folder/``: the files of ``writes`` in it) as this run's, before they are written.
 
         Raises
         ------
         ValueError
-            A name (a file in a folder) is not of the names in ``writes``: a bug, the check before
-            the run would not have seen a file of that name.
+            A name (a folder holding none) is not of ``writes``: a bug, the check before the run
+            would not have seen a file of that name.
         """
         for name in names:
             if not _listable(name, self.writes):
-                raise ValueError(f"{name}: not of the names {self.program} writes ({', '.join(self.writes)})")
+                raise ValueError(f"{name}: not among the files this {self.program} said it would write "
+                                 f"({', '.join(self.writes)})")
         if any(name not in self.files for name in names):
             self.files.update((name, None) for name in names)
             self._write_listing(finished=False)
@@ -167,7 +183,8 @@ class RunFolder(RunPaths):
             indent=1) + "\n")
 
 
-def check_run_folder(path: str | Path, writes: Sequence[str], program: str) -> None:
+def check_run_folder(path: str | Path, writes: Sequence[str], program: str, *,
+                     names: Sequence[str] | None = None) -> None:
     """Raise where a :class:`RunFolder` of ``path`` would be refused, changing nothing.
 
     Raises
@@ -175,16 +192,26 @@ def check_run_folder(path: str | Path, writes: Sequence[str], program: str) -> N
     FolderInUse
         Another run holds the folder.
     InputError
-        The folder holds files of the names in ``writes`` that its last run did not list as its
-        own (or none: no listing), or that changed since that run finished.
+        The folder holds files of ``writes`` that its last run did not list as its own (or none:
+        no listing), or that changed since that run finished.
     """
     path = Path(path)
+    names = writes if names is None else names
+    _require_of_names(writes, names, program)
     if not path.is_dir():
         return
     if (path / LOCK).exists():
         with contextlib.suppress(OSError):  # gone meanwhile, or not ours to open: the run itself will say
             os.close(_acquire(path / LOCK, program, create=False, claim=False))
-    _earlier_files(path, writes, program)
+    _earlier_files(path, writes, names, program)
+
+
+def _require_of_names(writes: Sequence[str], names: Sequence[str], program: str) -> None:
+    """Raise ValueError (a bug) for a file of ``writes`` that is not of ``names``: the listing of
+    the run that wrote it would not let the next run remove it."""
+    strays = [name for name in writes if not _is_written(name, names)]
+    if strays:
+        raise ValueError(f"{', '.join(strays)}: not of the names {program} writes ({', '.join(names)})")
 
 
 def _acquire(lock: Path, program: str, *, create: bool = True, claim: bool = True) -> int:
@@ -202,27 +229,25 @@ def _acquire(lock: Path, program: str, *, create: bool = True, claim: bool = Tru
     return fd
 
 
-def _earlier_files(path: Path, writes: Sequence[str], program: str) -> list[str]:
-    """The files of the names in ``writes`` in ``path``, every one the last run's as it wrote it.
+def _earlier_files(path: Path, writes: Sequence[str], names: Sequence[str], program: str) -> list[str]:
+    """The files of ``names`` in ``path`` that its last run listed, every one as that run wrote it:
+    the files to remove. Other files of ``names`` are left where the run does not write them.
 
     Raises
     ------
     InputError
-        Naming the files that are not: not in the last run's listing, or changed since it finished.
+        Naming the files of ``writes`` the run would replace that are not the last run's: not
+        in its listing, or changed since it finished.
     """
-    listed = _read_listing(path, writes)
-    folders = [key for key in listed if key.endswith("/")]
+    listing = _read_listing(path, names)
+    folders = [key for key in listing if key.endswith("/")]
     earlier, foreign = [], []
-    for name in _present(path, writes):
-        if name in listed:
-            if listed[name] is None or _sha256(path / name) == listed[name]:
-                earlier.append(name)
-            else:
-                foreign.append(f"{name} (changed since {program} wrote it)")
-        elif any(name.startswith(folder) for folder in folders):
+    for name in _present(path, names):
+        listed = name in listing or any(name.startswith(folder) for folder in folders)
+        if listed and (listing.get(name) is None or _sha256(path / name) == listing[name]):
             earlier.append(name)
-        else:
-            foreign.append(name)
+        elif _is_written(name, writes):
+            foreign.append(f"{name} (changed since {program} wrote it)" if listed else name)
     if foreign:
         named = ", ".join(foreign[:_NAMED]) + (f" and {len(foreign) - _NAMED} more" if len(foreign) > _NAMED else "")
         raise InputError(f"{path}: holds files {program} would replace that it did not write there: {named}; "
@@ -230,10 +255,10 @@ def _earlier_files(path: Path, writes: Sequence[str], program: str) -> list[str]
     return earlier
 
 
-def _read_listing(path: Path, writes: Sequence[str]) -> dict[str, str | None]:
+def _read_listing(path: Path, names: Sequence[str]) -> dict[str, str | None]:
     """The files (and ``folder/`` of files) the last run in ``path`` listed, to their SHA-256
     (None where the run did not finish); nothing where there is no listing or it is not one.
-    Only names of ``writes`` count: a listing names nothing else to be removed."""
+    Only files of ``names`` count: a listing names nothing else to be removed."""
     try:
         data = json.loads((path / LISTING).read_text(encoding="utf-8"))
     except (OSError, ValueError):
@@ -242,7 +267,7 @@ def _read_listing(path: Path, writes: Sequence[str]) -> dict[str, str | None]:
     if not isinstance(files, dict):
         return {}
     return {name: digest for name, digest in files.items()
-            if isinstance(name, str) and (digest is None or isinstance(digest, str)) and _listable(name, writes)}
+            if isinstance(name, str) and (digest is None or isinstance(digest, str)) and _listable(name, names)}
 
 
 def _is_written(relative: str, writes: Sequence[str]) -> bool:
@@ -258,8 +283,11 @@ def _is_written(relative: str, writes: Sequence[str]) -> bool:
 
 def _listable(name: str, writes: Sequence[str]) -> bool:
     """Whether a run may list ``name``: a file of the names in ``writes``, or a folder
-    (``figures/frames/``) every file in which is (``figures/frames/*`` is one of them)."""
-    return f"{name}*" in writes if name.endswith("/") else _is_written(name, writes)
+    (``figures/frames/``) that files of them are in (``figures/frames/frame_*.png``), of which
+    the run lists those it wrote once it has finished."""
+    if not name.endswith("/"):
+        return _is_written(name, writes)
+    return any(pattern.startswith(name) and "/" not in pattern[len(name):] for pattern in writes)
 
 
 def _present(path: Path, writes: Sequence[str]) -> list[str]:
