@@ -308,8 +308,11 @@ def test_demo_bad_input(cli, tmp_path):
     (mine / "demos.csv").write_text("my recordings")
     (mine / "model.json").write_text("{}")
     one_line_error(cli("demo", "--small", "--out", str(mine)),
-                   f"{mine}: holds files rlff demo would replace that it did not write there: demos.csv, model.json; "
-                   "give another folder with -o, or move or remove those files")
+                   f"{mine}: holds 2 files rlff demo would write, and no list of the files a run of rlff demo wrote "
+                   "there (.rlff-run; an rlff demo older than that list kept none), so it cannot tell them from files "
+                   "of yours: demos.csv, model.json; nothing was written or removed: if an older rlff demo wrote them, "
+                   "remove them (or move them out of the folder) and run rlff demo again; if any are yours, move them, "
+                   "or give another folder with -o")
     assert (mine / "demos.csv").read_text() == "my recordings"
     assert cli("demo", "--help").code == 0
 

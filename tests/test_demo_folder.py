@@ -52,9 +52,9 @@ def test_the_users_own_attempts_log_figure_and_run_json_in_the_folder_are_refuse
     before = {path: path.read_bytes() for path in (log, figure, mine / "run.json")}
 
     result = cli(*DEMO, "-o", str(mine))
-    _one_line_error(result, f"{mine}: holds files rlff demo would replace that it did not write there: "
-                            "attempts/calibrate.jsonl, figures/learning.png, run.json; give another folder with -o, "
-                            "or move or remove those files")
+    _one_line_error(result, f"{mine}: holds 3 files rlff demo would write, and no list of the files a run of "
+                            "rlff demo wrote there (.rlff-run; ", "so it cannot tell them from files of yours: "
+                            "run.json, attempts/calibrate.jsonl, figures/learning.png; nothing was written or removed: ")
     assert {path: path.read_bytes() for path in before} == before
     assert not (mine / "demos.csv").exists()
 

@@ -28,6 +28,7 @@ import contextlib
 import hashlib
 import json
 import os
+import re
 from collections.abc import Sequence
 from fnmatch import fnmatchcase
 from pathlib import Path
@@ -42,8 +43,6 @@ LISTING = ".rlff-run"
 LOCK = ".rlff-run.lock"
 FORMAT = "rlff-run-files"
 VERSION = 1
-#: Files of a refusal named in its message; the rest are counted.
-_NAMED = 5
 
 
 class FolderInUse(InputError):
@@ -239,33 +238,94 @@ def _earlier_files(path: Path, writes: Sequence[str], names: Sequence[str], prog
         Naming the files of ``writes`` the run would replace that are not the last run's: not
         in its listing, or changed since it finished.
     """
-    listing = _read_listing(path, names)
+    found = _read_listing(path, names)
+    listing = found or {}
     folders = [key for key in listing if key.endswith("/")]
-    earlier, foreign = [], []
+    earlier, foreign, changed = [], [], set()
     for name in _present(path, names):
         listed = name in listing or any(name.startswith(folder) for folder in folders)
         if listed and (listing.get(name) is None or _sha256(path / name) == listing[name]):
             earlier.append(name)
         elif _is_written(name, writes):
-            foreign.append(f"{name} (changed since {program} wrote it)" if listed else name)
+            foreign.append(name)
+            if listed:
+                changed.add(name)
     if foreign:
-        named = ", ".join(foreign[:_NAMED]) + (f" and {len(foreign) - _NAMED} more" if len(foreign) > _NAMED else "")
-        raise InputError(f"{path}: holds files {program} would replace that it did not write there: {named}; "
-                         "give another folder with -o, or move or remove those files")
+        raise InputError(_refusal(path, foreign, changed, program, listing=found is not None))
     return earlier
 
 
-def _read_listing(path: Path, names: Sequence[str]) -> dict[str, str | None]:
+def _refusal(path: Path, foreign: Sequence[str], changed: set[str], program: str, *, listing: bool) -> str:
+    """The words of a folder refused for the files ``foreign`` the run would write (``changed``:
+    those the last run listed, changed since), every one named, and what to do; ``listing``: the
+    folder has the listing of a run (a folder of an older run, or of the user's, has none)."""
+    files = f"{len(foreign)} file{'s' if len(foreign) > 1 else ''} {program} would write"
+    said = _named(foreign, dict.fromkeys(changed, f" (changed since {program} wrote it)"))
+    if listing:
+        why = f"holds {files} that the last {program} there did not write" + (", or changed since" if changed else "")
+        return (f"{path}: {why}: {said}; nothing was written or removed: move or remove those files, or give "
+                "another folder with -o")
+    return (f"{path}: holds {files}, and no list of the files a run of {program} wrote there ({LISTING}; an "
+            f"{program} older than that list kept none), so it cannot tell them from files of yours: {said}; nothing "
+            f"was written or removed: if an older {program} wrote them, remove them (or move them out of the folder) "
+            f"and run {program} again; if any are yours, move them, or give another folder with -o")
+
+
+def _named(files: Sequence[str], notes: dict[str, str]) -> str:
+    """``files`` (POSIX, relative) for a message, each folder's together and a run of numbered
+    files as its first and last: ``run.json, attempts/calibrate.jsonl, figures/ (bic.png,
+    bic.svg), figures/frames/ (frame_0000.png to frame_0059.png, throw.gif)``; ``notes``: words
+    after a file's name (`` (changed since ...)``)."""
+    folders: dict[str, list[str]] = {}
+    for name in sorted(files, key=lambda name: ("/" in name, name)):
+        folder, _, base = name.rpartition("/")
+        folders.setdefault(folder, []).append(base + notes.get(name, ""))
+    parts = []
+    for folder, words in folders.items():
+        if not folder:
+            parts += _numbered_runs(words)
+        elif len(words) == 1:
+            parts.append(f"{folder}/{words[0]}")
+        else:
+            parts.append(f"{folder}/ ({', '.join(_numbered_runs(words))})")
+    return ", ".join(parts)
+
+
+_NUMBERED = re.compile(r"(\D*)(\d+)(\D*)")
+
+
+def _numbered_runs(bases: Sequence[str]) -> list[str]:
+    """``bases`` with every run of three or more numbered alike and one after another
+    (``frame_0000.png``, ``frame_0001.png``, ...) said as ``FIRST to LAST``."""
+    words: list[str] = []
+    run: list[str] = []
+
+    def close() -> None:
+        words.extend([f"{run[0]} to {run[-1]}"] if len(run) >= 3 else run)
+        run.clear()
+
+    for base in bases:
+        match, last = _NUMBERED.fullmatch(base), _NUMBERED.fullmatch(run[-1]) if run else None
+        follows = (match is not None and last is not None and match[1] == last[1] and match[3] == last[3]
+                   and len(match[2]) == len(last[2]) and int(match[2]) == int(last[2]) + 1)
+        if not follows:
+            close()
+        run.append(base)
+    close()
+    return words
+
+
+def _read_listing(path: Path, names: Sequence[str]) -> dict[str, str | None] | None:
     """The files (and ``folder/`` of files) the last run in ``path`` listed, to their SHA-256
-    (None where the run did not finish); nothing where there is no listing or it is not one.
+    (None where the run did not finish); None where there is no listing or it is not one.
     Only files of ``names`` count: a listing names nothing else to be removed."""
     try:
         data = json.loads((path / LISTING).read_text(encoding="utf-8"))
     except (OSError, ValueError):
-        return {}
+        return None
     files = data.get("files") if isinstance(data, dict) and data.get("format") == FORMAT else None
     if not isinstance(files, dict):
-        return {}
+        return None
     return {name: digest for name, digest in files.items()
             if isinstance(name, str) and (digest is None or isinstance(digest, str)) and _listable(name, names)}
 
