@@ -101,7 +101,7 @@ TRACEBACK_CASES = {
     "report, file as run": (["report", "{data}"], ["data.csv"]),
     "learn --log a folder": (["learn", "{data}", "--basket", "2", "--log", "{folder}"], ["names a folder"]),
     "sim throw --frames a file": (["sim", "throw", "{throw}", "--basket", "2", "--frames", "{data}"],
-                                  ["is a file; give a folder"]),
+                                  ["is a file, not a folder: --frames takes a folder; give a folder's path"]),
     "sim throw, folder as input": (["sim", "throw", "{folder}", "--basket", "2"], ["is a folder"]),
     "TOML densify step = nan": (["data", "preprocess", "{data}", "--config", "{nan_toml}", "-o", "{tmp}/c.csv"],
                                 ["nan.toml", "densify", "step", "finite"]),

@@ -300,8 +300,9 @@ def test_every_plot_kind_has_help(rlff):
 def test_demo_bad_input(cli, tmp_path):
     occupied = tmp_path / "file"
     occupied.write_text("not a folder")
-    one_line_error(cli("demo", "--small", "--out", str(occupied)), "is a file; give a folder")
-    one_line_error(cli("demo", "--small", "--output", str(occupied)), "is a file; give a folder")
+    for option in ("--out", "--output"):
+        one_line_error(cli("demo", "--small", option, str(occupied)),
+                       f"{occupied} is a file, not a folder: -o/--output is the folder for the demo's report")
     # a folder of the user's own files under the run's names, not an earlier run's: kept, refused
     mine = tmp_path / "mine"
     mine.mkdir()

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
+import stat
 import sys
 from importlib import resources
 from pathlib import Path
@@ -216,6 +218,52 @@ def test_an_output_file_named_as_a_folder_is_refused_with_a_file_name_in_it(rlff
     result = rlff("-q", *[part.format(**made, tmp=tmp_path, out=out).rstrip("/") for part in template])
     assert result.code == 2 and f"{option} {out} names a folder; give a file name, e.g. {out / example}" in result.stderr
     assert list(out.iterdir()) == []
+
+
+BAG = ("-o/--output here is a ROS 2 bag (a path without a suffix, or --format ros2-bag), which is a folder; give a "
+       "new folder's path for the bag, or a file name whose suffix says its format (e.g. {example}.json)")
+DEMO_FOLDER = ("-o/--output is the folder for the demo's report, figures, data and model; give a folder's path (a "
+               "new one is created)")
+# (arguments, the one line after "rlff: error: "): a device, a FIFO, a file or a socket where the
+# output is of another kind; a folder output had said "is a file; give a folder" of them all
+KINDS = {
+    "learn --out a device": (["learn", "{raw}", "--basket", "2", "--out", "/dev/full"],
+                             "/dev/full is a device, not a folder: " + BAG.format(example="learned")),
+    "learn --out a FIFO": (["learn", "{raw}", "--basket", "2", "--out", "{pipe}"],
+                           "{pipe} is a FIFO (named pipe), not a folder: " + BAG.format(example="learned")),
+    "robot export -o a device": (["robot", "export", "{throw}", "-o", "/dev/null"],
+                                 "/dev/null is a device, not a folder: " + BAG.format(example="throw")),
+    "robot export -f ros2-bag -o a file": (["robot", "export", "{throw}", "-f", "ros2-bag", "-o", "{file}"],
+                                           "{file} is a file, not a folder: " + BAG.format(example="throw")),
+    "demo -o a device": (["demo", "--small", "-o", "/dev/null"], "/dev/null is a device, not a folder: " + DEMO_FOLDER),
+    "demo -o a FIFO": (["demo", "--small", "-o", "{pipe}"], "{pipe} is a FIFO (named pipe), not a folder: " + DEMO_FOLDER),
+    "demo -o a broken link": (["demo", "--small", "-o", "{link}"],
+                              "{link} is a broken link (to {tmp}/nowhere), not a folder: " + DEMO_FOLDER),
+    "sim throw --frames a FIFO": (["sim", "throw", "{throw}", "--basket", "2", "--frames", "{pipe}"],
+                                  "{pipe} is a FIFO (named pipe), not a folder: --frames takes a folder; give a "
+                                  "folder's path (a new one is created)"),
+    "data synth -o a socket": (["data", "synth", "thesis", "-o", "{socket}"],
+                               "{socket} is a socket, not a file: give a file name for -o/--output, e.g. {tmp}/data.csv"),
+}
+
+
+@pytest.mark.parametrize("case", list(KINDS))
+def test_an_output_of_another_kind_is_refused_saying_what_it_is_and_what_goes_there(rlff, made, tmp_path, case):
+    import socket
+
+    os.mkfifo(tmp_path / "pipe")
+    (tmp_path / "file").write_text("mine\n")
+    (tmp_path / "link").symlink_to(tmp_path / "nowhere")
+    with socket.socket(socket.AF_UNIX) as server:
+        server.bind(str(tmp_path / "sock.csv"))
+        paths = {"pipe": tmp_path / "pipe", "file": tmp_path / "file", "link": tmp_path / "link",
+                 "socket": tmp_path / "sock.csv", "tmp": tmp_path}
+        template, line = KINDS[case]
+        result = rlff("-q", *[part.format(**made, **paths) for part in template])
+        assert result.code == 2 and result.stderr.strip() == f"rlff: error: {line.format(**paths)}", result.stderr
+        assert stat.S_ISFIFO(os.lstat(tmp_path / "pipe").st_mode) and stat.S_ISSOCK(os.lstat(tmp_path / "sock.csv").st_mode)
+    assert (tmp_path / "file").read_text() == "mine\n" and (tmp_path / "link").is_symlink()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file", "link", "pipe", "sock.csv"]
 
 
 def test_a_folder_output_may_end_in_a_slash(rlff, made, tmp_path):

@@ -18,7 +18,14 @@ from hypothesis import strategies as st
 from rlff.csvtable import per_group_text, write_csv_columns
 from rlff.dataset import Dataset, Trajectory, read_csv, write_csv
 from rlff.errors import InputError
-from rlff.fileio import atomic_path, atomic_write, check_outputs, require_distinct, write_text
+from rlff.fileio import (
+    atomic_path,
+    atomic_write,
+    check_outputs,
+    prepare_output,
+    require_distinct,
+    write_text,
+)
 from rlff.limits import MAX_MAGNITUDE, apart, check_count, check_period, check_range
 
 # -- atomic writes -------------------------------------------------------------------------------
@@ -157,6 +164,17 @@ def test_outputs_that_cannot_be_files_are_refused(tmp_path, make, output, messag
     make(tmp_path)
     with pytest.raises(InputError, match=message):
         write_text(tmp_path / output, "x")
+
+
+def test_an_output_folder_that_is_no_folder_is_refused_saying_what_it_is(tmp_path):
+    """A frames folder (rlff.sim.render) given a device or a FIFO had been called 'a file'."""
+    os.mkfifo(tmp_path / "pipe")
+    (tmp_path / "file").write_text("")
+    (tmp_path / "link").symlink_to(tmp_path / "nowhere")
+    for path, kind in (("/dev/null", "a device"), (tmp_path / "pipe", r"a FIFO \(named pipe\)"),
+                       (tmp_path / "file", "a file"), (tmp_path / "link", rf"a broken link \(to {tmp_path}/nowhere\)")):
+        with pytest.raises(InputError, match=rf"^{path}: is {kind}, not a folder; give a folder for the output$"):
+            prepare_output(path, folder=True)
 
 
 def test_missing_folders_of_an_output_are_created(tmp_path):

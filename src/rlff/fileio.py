@@ -25,6 +25,7 @@ import os
 import shutil
 import socket
 import sqlite3
+import stat
 import tempfile
 import time
 from collections.abc import Iterable, Iterator, Mapping
@@ -77,8 +78,9 @@ def check_output_path(path: str | Path, *, folder: bool = False) -> Path:
     Raises
     ------
     InputError
-        The path is inside rlff's own package, an existing folder (for a file output), an
-        existing file (for a folder output), or a parent of it is a file.
+        The path is inside rlff's own package, an existing folder (for a file output), anything
+        but a folder (for a folder output: a file, a device, a FIFO, a broken link), or a parent
+        of it is a file.
     """
     path = Path(path)
     if _inside(path, _PACKAGE):  # rlff's own files: the built-in robots and presets every run reads
@@ -86,14 +88,33 @@ def check_output_path(path: str | Path, *, folder: bool = False) -> Path:
                          "presets every run reads; write the output elsewhere")
     if not folder and path.is_dir():
         raise InputError(f"{path}: is a folder; give a file name for the output")
-    if folder and path.exists() and not path.is_dir():
-        raise InputError(f"{path}: is a file; give a folder for the output")
+    if folder and (kind := path_kind(path)) not in (None, "a folder"):
+        raise InputError(f"{path}: is {kind}, not a folder; give a folder for the output")
     for parent in path.parents:
         if parent.exists():
             if not parent.is_dir():
                 raise InputError(f"{path}: {parent} is a file, not a folder")
             break
     return path
+
+
+def path_kind(path: str | Path) -> str | None:
+    """What is at ``path``, for a message: ``"a folder"``, ``"a file"``, ``"a device"``, ``"a FIFO
+    (named pipe)"``, ``"a socket"`` (a link: what it leads to), ``"a broken link (to TARGET)"``;
+    None where nothing is (or it cannot be looked at)."""
+    path = Path(path)
+    try:
+        mode = path.stat().st_mode
+    except FileNotFoundError:
+        return f"a broken link (to {os.readlink(path)})" if path.is_symlink() else None
+    except OSError:  # a loop of links, a folder not ours to look into: the write itself will say
+        return None
+    for test, kind in ((stat.S_ISDIR, "a folder"), (stat.S_ISREG, "a file"), (stat.S_ISCHR, "a device"),
+                       (stat.S_ISBLK, "a device"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                       (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return kind
+    return None
 
 
 def prepare_output(path: str | Path, *, folder: bool = False) -> Path:
@@ -438,6 +459,6 @@ def _file_input_inside(out: Path, folder: Path) -> bool:
 
 
 __all__ = [
-    "atomic_path", "atomic_write", "check_output_path", "check_outputs", "claim_lock", "lock_holder", "prepare_output", "refusal_words",
+    "atomic_path", "atomic_write", "check_output_path", "check_outputs", "claim_lock", "lock_holder", "path_kind", "prepare_output", "refusal_words",
     "refused", "refused_in_place", "require_distinct", "require_file", "write_text",
 ]

@@ -29,7 +29,7 @@ def demo_command(
     from rlff.cli.output import guard
     from rlff.demo import STAGES, check_demo_options, run_demo
 
-    guard(inputs={}, outputs={"-o/--output": out}, folders=["-o/--output"])
+    guard(inputs={}, outputs={"-o/--output": out}, folders={"-o/--output": "the demo's report, figures, data and model"})
     size = "small" if small else "full"
     check_demo_options(out, size, frames=frames)  # before the progress display starts
     with progress("rlff demo", total=len(STAGES)) as advance:

@@ -6,10 +6,12 @@ A command names its inputs and outputs once, first thing::
 
 and :func:`guard` refuses (an :class:`~rlff.errors.InputError`, so one line and exit 2) an
 output that is one of the inputs, two outputs that are the same file, an output file named as a
-folder (an existing folder, or, given to an :func:`output_option`, a path ending in ``/``),
-or one whose folder is a file. The files themselves are written by the library through
-:mod:`rlff.fileio`, so that an existing output is only ever replaced by a complete one. Missing
-output folders are created.
+folder (an existing folder, or, given to an :func:`output_option`, a path ending in ``/``) or a
+socket, an output folder named as anything but a folder (a file, a device, a FIFO: the refusal
+says which, and what the command writes there), or one whose folder is a file. A device or a
+FIFO given for a file gets the file's bytes (``-o /dev/stdout``). The files themselves are
+written by the library through :mod:`rlff.fileio`, so that an existing output is only ever
+replaced by a complete one. Missing output folders are created.
 """
 
 from __future__ import annotations
@@ -28,13 +30,17 @@ except ImportError:  # pragma: no cover - older typer
     from click import get_current_context
 
 from rlff.errors import InputError
-from rlff.fileio import check_output_path, check_outputs, require_distinct, write_text
+from rlff.fileio import check_output_path, check_outputs, path_kind, require_distinct, write_text
 
 PathLike = str | Path
 
 #: Where :func:`output_option` keeps, for :func:`guard`, how each output file was spelt: the click
 #: context's ``meta``, which lives as long as the command's invocation.
 _SPELLING = "rlff.output_spelling"
+#: What an :func:`output_option` (a file of the format its suffix says) is where a command names it
+#: among :func:`guard`'s ``folders``: the one format rlff writes as a folder (``rlff robot export
+#: -o``, ``rlff learn --out``).
+FOLDER_FORMAT = "a ROS 2 bag (a path without a suffix, or --format ros2-bag)"
 
 
 def output_option(default: Any, *names: str, example: str, help: str) -> Any:
@@ -59,7 +65,7 @@ def guard(
     inputs: Mapping[str, PathLike | Iterable[PathLike] | None],
     outputs: Mapping[str, PathLike | None],
     *,
-    folders: Iterable[str] = (),
+    folders: Iterable[str] | Mapping[str, str] = (),
 ) -> None:
     """Refuse outputs that would destroy an input or each other, before anything is read.
 
@@ -70,17 +76,21 @@ def guard(
         given.
     outputs : mapping of str to path or None
         The same for outputs (``"-o/--output"``, ``"--report"``).
-    folders : iterable of str
-        Names of the outputs that are folders (a ROS 2 bag, a folder of frames).
+    folders : iterable of str, or mapping of str to str
+        Names of the outputs that are folders (a ROS 2 bag, a folder of frames); a mapping gives
+        what the command writes in each (``"the demo's report, figures, data and model"``), for
+        the refusal of a path that is no folder. An :func:`output_option` among them is a file
+        whose format is a folder, :data:`FOLDER_FORMAT`.
 
     Raises
     ------
     InputError
         Naming the option(s) and the path; also the same file given twice to an input that takes
-        several, and an output file named as a folder (``-o results/``), with the usual file name
-        of an :func:`output_option` (``results/model.json``).
+        several, an output file named as a folder (``-o results/``), with the usual file name
+        of an :func:`output_option` (``results/model.json``), or as a socket, and an output
+        folder named as a file, a device or a FIFO, with what the command writes there.
     """
-    folder_names = set(folders)
+    contents = dict(folders) if isinstance(folders, Mapping) else dict.fromkeys(folders, "")
     context = get_current_context(silent=True)
     spelling = {} if context is None else context.meta.get(_SPELLING, {})
     for name, value in inputs.items():
@@ -89,12 +99,28 @@ def guard(
     for name, path in outputs.items():
         if path is None:
             continue
-        folder = name in folder_names
+        folder = name in contents
         text, example = spelling.get(Path(path), (str(path), None))
-        if not folder and example is not None and (text.endswith(("/", os.sep)) or Path(path).is_dir()):
+        kind = path_kind(path)
+        if folder and kind not in (None, "a folder"):
+            raise InputError(f"{text} is {kind}, not a folder: {_folder_wanted(name, contents[name], example)}")
+        if not folder and example is not None and (text.endswith(("/", os.sep)) or kind == "a folder"):
             raise InputError(f"{name} {text} names a folder; give a file name, e.g. {Path(path) / example}")
+        if not folder and kind == "a socket":
+            raise InputError(f"{text} is a socket, not a file: give a file name for {name}"
+                             + ("" if example is None else f", e.g. {Path(path).with_name(example)}"))
         check_output_path(path, folder=folder)
     check_outputs(inputs, outputs)
+
+
+def _folder_wanted(name: str, contents: str, example: str | None) -> str:
+    """What the output ``name``, a folder, is and what to give it: ``contents``, what the command
+    writes in it (or ""); ``example``, the usual name of an :func:`output_option`'s file."""
+    if example is not None:
+        return (f"{name} here is {FOLDER_FORMAT}, which is a folder; give a new folder's path for the bag, "
+                f"or a file name whose suffix says its format (e.g. {example}.json)")
+    what = f"is the folder for {contents}" if contents else "takes a folder"
+    return f"{name} {what}; give a folder's path (a new one is created)"
 
 
 def robot_file(robot: str) -> Path | None:
