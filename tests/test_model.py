@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import json
+import re
 import warnings
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from rlff.dataset import Dataset, Trajectory
@@ -260,6 +262,32 @@ def test_bad_fit_input_is_named():
         Model.fit(one)
     with pytest.raises(InputError, match="n_components = 20 is more than"):
         Model.fit(data[:1].replace([data[0].take(slice(0, 10))]), components=20)
+
+
+@pytest.mark.parametrize("column, factor, message", [
+    ("angle", 180 / np.pi, "column 'angle' reaches 160.4, beyond two turns in radians: degrees?"),
+    ("distance", 100.0, "column 'distance' holds 100 to 300, outside the basket distances 0.3 to 20 m (centimetres?"),
+])
+def test_a_fit_in_degrees_or_centimetres_is_refused_whatever_holds_the_samples(column, factor, message):
+    # degrees had fitted a model releasing at 408 "rad/s", centimetres one that refused every
+    # basket it was asked for in metres: refused as `rlff fit` refuses such a file
+    data = baskets_dataset(baskets=np.array([1.0, 2.0, 3.0]))
+    converted = data.replace(t.with_columns(**{column: t[column] * factor}) for t in data)
+    frame = pd.DataFrame(converted.to_array(["velocity", "distance", "angle"]), columns=["velocity", "distance", "angle"])
+    for given in (converted, frame, converted.to_array(["angle", "distance", "velocity"])):
+        with pytest.raises(InputError, match=r"^" + re.escape(message)):
+            Model.fit(given, components=2)
+
+
+def test_a_fit_takes_distances_nearer_than_any_basket_a_throw_landed_at():
+    # a learning method labels each throw with where it came down: 0.2 m is a throw that fell
+    # near the base, no unit slip; 0 m and below is no landing in front of the arm
+    data = baskets_dataset(baskets=np.array([1.0, 2.0, 3.0]))
+    landed = data.replace(t.with_columns(distance=t["distance"] - 0.8) for t in data)
+    assert Model.fit(landed, components=2).input_range["distance"] == pytest.approx((0.2, 2.2))
+    behind = data.replace(t.with_columns(distance=t["distance"] - 1.0) for t in data)
+    with pytest.raises(InputError, match=r"^column 'distance' holds 0 to 2, outside the basket distances"):
+        Model.fit(behind, components=2)
 
 
 def baskets_dataset(seed: int = 0, baskets: np.ndarray = np.arange(1.0, 3.01, 0.25)) -> Dataset:

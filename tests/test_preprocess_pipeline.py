@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -97,6 +98,26 @@ def test_a_missing_column_is_named_with_the_step():
     data = Dataset([Trajectory("a", {"angle": [0.7, 1.5, 2.5, 3.0, 2.9], "distance": [2.0] * 5})])
     with pytest.raises(InputError, match=r"step 'cut_release': no column 'velocity' in the data"):
         Pipeline.preset("thesis").run(data)
+
+
+def _converted(data: Dataset, **factors: float) -> Dataset:
+    """``data`` with the columns named in ``factors`` multiplied by them (another unit)."""
+    return Dataset([Trajectory(t.id, {name: t[name] * factors.get(name, 1.0) for name in t.columns}, t.meta)
+                    for t in data], context=data.context)
+
+
+@pytest.mark.parametrize("factors, message", [
+    ({"angle": 180 / np.pi, "velocity": 180 / np.pi},
+     "column 'angle' reaches 171.9, beyond two turns in radians: degrees? joint angles are in rad"),
+    ({"distance": 100.0},
+     "column 'distance' holds 100 to 300, outside the basket distances 0.3 to 20 m (centimetres? the distance is "
+     "in metres)"),
+])
+def test_a_dataset_in_degrees_or_centimetres_is_refused_before_any_step(factors, message):
+    # degrees went through the thesis preset into 57 times the samples, centimetres into a model
+    # that refused every basket: refused as the command line refuses such a file
+    with pytest.raises(InputError, match=r"^" + re.escape(message)):
+        Pipeline.preset("thesis").run(_converted(_dataset(), **factors))
 
 
 def test_a_step_that_drops_data_silently_is_caught(monkeypatch):

@@ -548,17 +548,38 @@ def check_units(dataset: Dataset, named: Callable[[str], str] = lambda column: f
     joint angles (:data:`JOINT_COLUMNS`) not radians: a distance outside
     :data:`rlff.limits.DISTANCE_RANGE` (a model fitted to 75-275 cm could be asked for none of its
     baskets and extrapolated at 1.5 m), an angle beyond two turns (:func:`rlff.limits.require_radians`).
-    ``named(column)`` words a column in the message (``"column 'distance'"``)."""
+    ``named(column)`` words a column in the message (``"column 'distance'"``).
+
+    :meth:`rlff.preprocess.Pipeline.run` checks the dataset it cleans so, the command line every
+    file of demonstrations it reads, and :meth:`rlff.model.Model.fit` the columns it fits
+    (:func:`check_column_units`)."""
     if not len(dataset):
         return
-    if "distance" in dataset.columns:
-        values = dataset.to_array(["distance"])[:, 0]
+    checked = [name for name in ("distance", *JOINT_COLUMNS) if name in dataset.columns]
+    check_column_units({name: dataset.to_array([name])[:, 0] for name in checked}, named)
+
+
+def check_column_units(
+    columns: Mapping[str, np.ndarray],
+    named: Callable[[str], str] = lambda column: f"column {column!r}",
+    *,
+    landings: bool = False,
+) -> None:
+    """:func:`check_units` of named columns, each an array of shape (N,); columns other than
+    ``distance`` and :data:`JOINT_COLUMNS` are not checked.
+
+    ``landings``: the distances may be where throws came down, not baskets (a learning method's
+    training set labels a throw with its landing), so a distance nearer than any basket but above
+    0 m is taken; beyond the farthest one it is refused all the same (centimetres)."""
+    values = np.asarray(columns.get("distance", ()), dtype=float)
+    if values.size:
         low, high = float(values.min()), float(values.max())
-        if low < DISTANCE_RANGE[0] or high > DISTANCE_RANGE[1]:
+        too_near = low <= 0.0 if landings else low < DISTANCE_RANGE[0]
+        if too_near or high > DISTANCE_RANGE[1]:
             raise InputError(f"{named('distance')} holds {low:g} to {high:g}, outside the basket distances "
                              f"{DISTANCE_RANGE[0]:g} to {DISTANCE_RANGE[1]:g} m{centimetres_hint(high)}")
-    for column in joint_columns(dataset.columns):
-        require_radians(dataset.to_array([column])[:, 0], named(column))
+    for column in joint_columns(columns):
+        require_radians(columns[column], named(column))
 
 
 def copies_warning(dataset: Dataset) -> str | None:

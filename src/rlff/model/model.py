@@ -33,6 +33,7 @@ from rlff.dataset import (
     THROW_INPUTS,
     THROW_OUTPUTS,
     Dataset,
+    check_column_units,
     velocity_column,
 )
 from rlff.errors import InputError
@@ -379,11 +380,21 @@ class Model:
         Returns
         -------
         Model
+
+        Raises
+        ------
+        InputError
+            Among others, a ``distance`` of 0 m or less or beyond the farthest basket
+            (centimetres?) or a joint angle (``angle``, ``shoulder``, ``wrist``) beyond two turns
+            (degrees?), as :func:`rlff.dataset.check_column_units` words them. A distance nearer
+            than any basket is taken: a learning method labels a throw with where it came down.
         """
         inputs, outputs = as_names(inputs), as_names(outputs)
         _check_roles(inputs, outputs)
         names = inputs + outputs
         X = _columns_of(data, columns, names)
+        # degrees and centimetres fitted as they were, and every path generated from them went wrong
+        check_column_units({name: X[:, j] for j, name in enumerate(names)}, landings=True)
         weights = check_weights(sample_weight, X.shape[0])
         _warn_constant(X, names)
         resolution = {name: _resolution(X[:, j], context_resolution, name) for j, name in enumerate(inputs) if j > 0}

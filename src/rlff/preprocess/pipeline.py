@@ -28,7 +28,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from rlff.dataset import MIN_FILE_SAMPLES, Dataset
+from rlff.dataset import MIN_FILE_SAMPLES, Dataset, check_units
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.preprocess.glitches import spike_filter
@@ -220,7 +220,15 @@ class Pipeline:
         -------
         Dataset, PipelineReport
             The cleaned data and every step's report (with the data before and after it).
+
+        Raises
+        ------
+        InputError
+            Before any step, a dataset whose distances are not metres or joint angles not radians
+            (:func:`rlff.dataset.check_units`: the thesis preset had resampled degrees into 57
+            times the samples); then what a step refuses, named with the step.
         """
+        check_units(dataset)
         reports = []
         for step in self.steps:
             if not step.enabled:
