@@ -86,6 +86,20 @@ def test_dataset_rejects_duplicates_varying_context_and_time_going_back():
         Dataset([backwards])
 
 
+def test_something_other_than_trajectories_is_refused_saying_how_a_dataset_is_made():
+    # Dataset([{"angle": [0.1]}]) had failed with AttributeError: 'dict' object has no attribute 'columns'
+    with pytest.raises(InputError, match=r"^Dataset takes Trajectory objects, got dict at position 0: make each with "
+                                         r"Trajectory\(id, \{column: values\}, meta\), or give the columns of every "
+                                         r"trajectory at once to Dataset.from_columns"):
+        Dataset([{"angle": [0.1]}])
+    with pytest.raises(InputError, match=r"^Dataset takes Trajectory objects, got str 'angle' at position 1: a Dataset "
+                                         r"holds Trajectory"):
+        Dataset([_trajectory("a", 1.0), "angle"])
+    with pytest.raises(InputError, match=r"^trajectory 't': data must be a mapping of column names to arrays of "
+                                         r"shape \(T,\), e\.g\. .*, got list$"):
+        Trajectory("t", [[0.1, 0.2]])
+
+
 def test_duplicates_are_trajectories_with_identical_motion_whatever_their_ids_metadata_and_context():
     original = _trajectory("a", 1.0, subject="s01")
     other = _trajectory("b", 2.0).with_columns(velocity=3 * original["angle"])

@@ -299,3 +299,10 @@ def test_an_impossible_parameter_value_is_refused_in_one_line(step, params, mess
 )
 def test_the_edges_of_the_valid_ranges_are_accepted(step, params):
     Pipeline([(step, params)]).run(_THROWS)
+
+
+def test_a_pipeline_given_no_dataset_says_what_it_takes():
+    frame = _dataset().to_array(["angle", "distance", "velocity"])
+    with pytest.raises(InputError, match=r"^Pipeline\.run takes a Dataset \(rlff\.formats\.read_dataset reads one from "
+                                         r"a file\), got ndarray$"):
+        Pipeline.preset("thesis").run(frame)

@@ -4,15 +4,18 @@ from __future__ import annotations
 
 import dataclasses
 import json
+from importlib import resources
 
 import numpy as np
 import pytest
 
 from rlff.errors import InputError
+from rlff.model import Model
 from rlff.robot import RobotMapping, load_robot
 from rlff.robot.plan import plan
 from rlff.sim import Basket, simulate_throw
 from rlff.sim.arm import BALL_RADIUS
+from rlff.synthetic.thesis import thesis_dataset
 from rlff.trajectory.joint import JointTrajectory
 
 JOINTS = tuple(f"joint_{i}" for i in range(1, 7))
@@ -339,3 +342,30 @@ def test_a_basket_value_that_is_no_number_is_named(field):
     values = {"distance": 1.2, "rim_height": 0.3, "opening": 0.35, "bearing": 0.0}
     with pytest.raises(InputError, match=rf"^basket {field} must be a number, got '1' \(str\)$"):
         Basket(**{**values, field: "1"})
+
+
+def test_a_plan_or_a_models_path_given_for_the_trajectory_says_what_to_give(robot, planned):
+    # each had failed with AttributeError: '...' object has no attribute 'joint_names'
+    angle = np.linspace(0.7, 1.95, 30)
+    whole = plan(RobotMapping.for_robot(robot), angle, 6.0 * np.sin(0.5 * np.pi * (angle - 0.6) / 1.35))
+    with pytest.raises(InputError, match=r"^simulate_throw takes the JointTrajectory to execute, got a RobotPlan: "
+                                         r"give plan\.trajectory"):
+        simulate_throw(whole, 1.9, robot=robot)
+    path = Model.fit(thesis_dataset(n_trajectories=3), components=1).generate({"distance": 2.0})
+    with pytest.raises(InputError, match=r"got a GeneratedPath \(the person's joint angles\): map and plan it for the "
+                                         r"robot first, rlff\.robot\.plan\.plan\("):
+        simulate_throw(path, 1.9, robot=robot)
+    with pytest.raises(InputError, match=r"^simulate_throw takes a JointTrajectory .*, got ndarray$"):
+        simulate_throw(planned.positions, 1.9, robot=robot)
+
+
+def test_a_robot_is_taken_as_its_file_or_its_name_as_learn_takes_it(robot, planned, tmp_path):
+    # robot="ur5e.toml" had failed with AttributeError: 'str' object has no attribute 'geometry'
+    copy = tmp_path / "arm.toml"
+    copy.write_text((resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text())
+    landing = simulate_throw(planned, 1.9, robot=robot, check_reach=False).landing_x
+    for given in (str(copy), copy, "comau_smart5_six"):
+        assert simulate_throw(planned, 1.9, robot=given, check_reach=False).landing_x == landing
+    with pytest.raises(InputError, match=r"^robot must be a Robot, a robot file's path or a built-in robot's name "
+                                         r"\(comau_smart5_six\), got RobotMapping"):
+        simulate_throw(planned, 1.9, robot=RobotMapping.for_robot(robot))

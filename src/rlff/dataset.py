@@ -175,6 +175,9 @@ class Trajectory:
     meta: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        if not isinstance(self.data, Mapping):
+            raise InputError(f"trajectory {self.id!r}: data must be a mapping of column names to arrays of shape (T,), "
+                             f"e.g. {{'angle': [...], 'velocity': [...]}}, got {type(self.data).__name__}")
         columns = {}
         length = None
         for name, values in self.data.items():
@@ -290,13 +293,15 @@ class Dataset(Sequence[Trajectory]):
     Raises
     ------
     InputError
-        Duplicate ids, trajectories with different columns, a context column that varies within
-        a trajectory, a ``time`` column that does not increase strictly, or a ``shoulder`` or
-        ``wrist`` column without its velocity column.
+        Something other than a :class:`Trajectory` among the trajectories (a dict, a frame's
+        column names), duplicate ids, trajectories with different columns, a context column that
+        varies within a trajectory, a ``time`` column that does not increase strictly, or a
+        ``shoulder`` or ``wrist`` column without its velocity column.
     """
 
     def __init__(self, trajectories: Iterable[Trajectory], context: Sequence[str] | None = None):
         self._trajectories = tuple(trajectories)
+        _require_trajectories(self._trajectories)
         columns = self._trajectories[0].columns if self._trajectories else ()
         if context is None:
             context = tuple(name for name in THROW_CONTEXT if name in columns)
@@ -541,6 +546,20 @@ class Dataset(Sequence[Trajectory]):
         for trajectory in self._trajectories:
             groups.setdefault(trajectory.context_value(self.context), []).append(trajectory)
         return dict(sorted(groups.items()))
+
+
+def _require_trajectories(given: Sequence[Any]) -> None:
+    """:class:`InputError` at the first of ``given`` that is no :class:`Trajectory`, saying what
+    it is and how a dataset is made (a dict had failed with an AttributeError on ``columns``)."""
+    for position, item in enumerate(given):
+        if isinstance(item, Trajectory):
+            continue
+        what = f"{type(item).__name__} {item!r}" if isinstance(item, str | int | float) else type(item).__name__
+        made = ("make each with Trajectory(id, {column: values}, meta)" if isinstance(item, Mapping) else
+                "a Dataset holds Trajectory(id, {column: values}, meta) objects")
+        raise InputError(f"Dataset takes Trajectory objects, got {what} at position {position}: {made}, or give "
+                         "the columns of every trajectory at once to Dataset.from_columns (a CSV: "
+                         "rlff.formats.read_dataset)")
 
 
 def check_units(dataset: Dataset, named: Callable[[str], str] = lambda column: f"column {column!r}") -> None:

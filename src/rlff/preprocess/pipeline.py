@@ -224,10 +224,14 @@ class Pipeline:
         Raises
         ------
         InputError
-            Before any step, a dataset whose distances are not metres or joint angles not radians
-            (:func:`rlff.dataset.check_units`: the thesis preset had resampled degrees into 57
-            times the samples); then what a step refuses, named with the step.
+            Before any step, something other than a :class:`Dataset`, or a dataset whose
+            distances are not metres or joint angles not radians (:func:`rlff.dataset.check_units`:
+            the thesis preset had resampled degrees into 57 times the samples); then what a step
+            refuses, named with the step.
         """
+        if not isinstance(dataset, Dataset):
+            raise InputError(f"Pipeline.run takes a Dataset (rlff.formats.read_dataset reads one from a file), got "
+                             f"{type(dataset).__name__}")
         check_units(dataset)
         reports = []
         for step in self.steps:

@@ -24,7 +24,7 @@ from rlff.ballistics import GRAVITY
 from rlff.ballistics import flight_time as time_to_height
 from rlff.errors import InputError
 from rlff.limits import check_pedestal
-from rlff.robot.description import Robot, load_robot
+from rlff.robot.description import Robot, available_robots, load_robot
 from rlff.robot.mapping import RobotMapping, start_facing
 from rlff.sim.arm import BALL_RADIUS, Arm
 from rlff.sim.basket import Basket, as_basket
@@ -203,7 +203,7 @@ def simulate_throw(
     trajectory: JointTrajectory,
     basket: Basket | float,
     *,
-    robot: Robot | None = None,
+    robot: Robot | str | Path | None = None,
     release_angle: float | None = None,
     release_joint: str | None = None,
     pedestal: float = 0.0,
@@ -222,8 +222,9 @@ def simulate_throw(
         floor check (:func:`rlff.robot.links.require_above_base`) holds it.
     basket : Basket or float
         The target; a number is the distance (m) of the default basket (``Basket(distance)``).
-    robot : Robot, optional
-        Default: the built-in Comau Smart5 SiX.
+    robot : Robot, str or Path, optional
+        The robot, or what :func:`rlff.robot.load_robot` reads: a robot file's path or a built-in
+        robot's name, as :func:`rlff.learn.learn` takes it. Default: the built-in Comau Smart5 SiX.
     release_angle : float, optional
         Position (rad) of the throwing joint at which the ball is let go, passed in the direction
         of motion; default: at ``trajectory.release_time`` (a planned throw's release), or at the
@@ -258,10 +259,13 @@ def simulate_throw(
         A trajectory beyond the joint limits, unknown or missing joints, a release angle the
         throwing joint never passes, (with ``check_motion``) a trajectory that fails the motion
         check (:class:`rlff.trajectory.check.MotionLimitError`), (with ``check_reach``) an
-        unreachable basket, or a basket that is neither a Basket nor a number.
+        unreachable basket, a basket that is neither a Basket nor a number, a trajectory that is
+        no JointTrajectory (a RobotPlan or a GeneratedPath said to be one, with what to give), or
+        a robot that is neither a Robot nor a robot file's path or name.
     """
+    trajectory = _joint_trajectory(trajectory)
     basket = as_basket(basket)
-    robot = load_robot() if robot is None else robot
+    robot = _robot(robot)
     arm = Arm.from_robot(robot)
     check_pedestal(pedestal, "pedestal height")
     if not 0 < timestep <= 0.01:
@@ -313,6 +317,40 @@ def simulate_throw(
     frames = recorder.finish() if recorder is not None else ()
     result = ThrowOutcome(**outcome, reachable=reachable, basket=basket, frames=frames, notes=tuple(notes))
     return result if result.followed else replace(result, notes=(*result.notes, not_followed(result)))
+
+
+def _joint_trajectory(given: Any) -> JointTrajectory:
+    """``given`` if it is a :class:`JointTrajectory`; else an :class:`InputError` saying what it is
+    and what to give (a plan's or a model's path had failed with an AttributeError)."""
+    if isinstance(given, JointTrajectory):
+        return given
+    from rlff.robot.plan import RobotPlan
+
+    if isinstance(given, RobotPlan):
+        raise InputError("simulate_throw takes the JointTrajectory to execute, got a RobotPlan: give plan.trajectory "
+                         "(planned to rest and checked; plan.points is the mapped path before planning)")
+    from rlff.model.model import GeneratedPath
+
+    if isinstance(given, GeneratedPath):
+        raise InputError("simulate_throw takes a JointTrajectory of the robot's joints, got a GeneratedPath (the "
+                         "person's joint angles): map and plan it for the robot first, rlff.robot.plan.plan("
+                         "RobotMapping.for_robot(robot), path.angle, path.velocity).trajectory (plan_path with "
+                         "every column of a whole-arm path)")
+    raise InputError(f"simulate_throw takes a JointTrajectory (rlff.trajectory.JointTrajectory: the robot's joints' "
+                     f"timed positions and velocities), got {type(given).__name__}")
+
+
+def _robot(given: Any) -> Robot:
+    """``given`` as a :class:`Robot`: None is the built-in default, a str or Path what
+    :func:`load_robot` reads; an :class:`InputError` for anything else."""
+    if given is None:
+        return load_robot()
+    if isinstance(given, Robot):
+        return given
+    if isinstance(given, str | Path):
+        return load_robot(given)
+    raise InputError(f"robot must be a Robot, a robot file's path or a built-in robot's name "
+                     f"({', '.join(available_robots())}), got {type(given).__name__} {given!r}")
 
 
 def not_followed(outcome: ThrowOutcome) -> str:
