@@ -179,6 +179,30 @@ def test_a_missing_axis_column_is_not_answered_with_another_axis_of_the_joint(tm
         read_joint_csv(path, {**mapping, "right_hand_x": "HandRigth.X"})
 
 
+def test_one_column_given_for_two_names_is_refused_naming_both(tmp_path):
+    # an OpenPose export (no hand point) mapped with its wrist as the hand and as the wrist was
+    # imported with a wrist segment 0 m long: the wrist angle 0.0 on every row
+    names = [f"R{joint}_{axis}" for joint in ("Shoulder", "Elbow", "Wrist") for axis in "xyz"]
+    path = tmp_path / "openpose.csv"
+    path.write_text("\n".join([",".join(["t", *names])] + [",".join([f"{0.1 * k:g}", *(f"{v:.6f}" for v in row)])
+                                                           for k, row in enumerate(_positions(6)[:, :9])]) + "\n")
+    mapping = {"time": "t", **{f"right_{joint.lower()}_{axis}": f"R{joint}_{axis}"
+                               for joint in ("Shoulder", "Elbow") for axis in "xyz"}}
+    hand = {f"right_hand_{axis}": f"RWrist_{axis}" for axis in "xyz"}
+    assert read_joint_csv(path, {**mapping, **hand}).arms  # the wrist as the hand alone is read
+    with pytest.raises(InputError) as error:
+        read_joint_csv(path, {**mapping, **hand, **{f"right_wrist_{axis}": f"RWrist_{axis}" for axis in "xyz"}})
+    assert str(error.value).startswith(
+        f"{path}: column map (--columns): the file's column 'RWrist_x' is given for two names, "
+        "right_wrist_x=RWrist_x and right_hand_x=RWrist_x: one point read as two joints makes the segment between "
+        "them 0 m long (a wrist angle of 0 on every row); give each name a column of its own, or leave one out")
+    # a name mapped to the column another name reads under its own
+    own = _write_csv(tmp_path / "joints.csv", [0.1 * k for k in range(6)])
+    with pytest.raises(InputError, match=r"the file's column 'right_hand_x' is given for two names, right_wrist_x="
+                                         r"right_hand_x and right_hand_x \(its own column, not mapped\):"):
+        read_joint_csv(own, {"right_wrist_x": "right_hand_x"})
+
+
 def test_a_missing_column_of_one_side_is_never_answered_with_the_other_sides_joint(tmp_path):
     # a right-arm export mapped with the left arm too was told "did you mean 'RShoulder.X'?",
     # which would read the right shoulder as the left one

@@ -540,7 +540,8 @@ def _check_time_unit(time: np.ndarray, name: str, path: Path) -> None:
 
 def _check_column_map(mapping: Mapping[str, str], present: list[str], path: Path) -> None:
     """InputError at the first entry of a CSV's column ``mapping`` (our name -> the file's column)
-    whose name is not one of ours or whose column is not among ``present``, with the nearest one."""
+    whose name is not one of ours or whose column is not among ``present``, with the nearest one;
+    then at the first column of the file that two of our names would read (:func:`_read_twice`)."""
     ours = ["time", *(f"{side}_{joint}_{axis}" for side in SIDES for joint in _JOINTS for axis in _AXES)]
     ours += [f"{point}_{axis}" for point in CSV_TORSO for axis in _AXES]
     where = f"{path}: column map (--columns)"
@@ -552,6 +553,28 @@ def _check_column_map(mapping: Mapping[str, str], present: list[str], path: Path
             )
         if column not in present:
             raise InputError(f"{where}: {name}={column}: no column {column!r} in the file{_missing_column(column, present)}")
+    twice = _read_twice(mapping, ours, present)
+    if twice is not None:
+        column, names = twice
+        given = " and ".join(f"{name}={column}" if name in mapping else f"{name} (its own column, not mapped)"
+                             for name in names)
+        raise InputError(
+            f"{where}: the file's column {column!r} is given for two names, {given}: one point read as two joints "
+            "makes the segment between them 0 m long (a wrist angle of 0 on every row); give each name a column of "
+            "its own, or leave one out (the wrist's and the torso's columns are optional: a file whose arm ends at "
+            "the wrist maps the wrist's columns to the hand's names alone)"
+        )
+
+
+def _read_twice(mapping: Mapping[str, str], ours: list[str], present: list[str]) -> tuple[str, list[str]] | None:
+    """The first column of the file (among ``present``) that two of ``ours`` would read, each
+    through ``mapping`` or under its own name, with those two names; None when each has its own."""
+    readers: dict[str, list[str]] = {}
+    for name in ours:
+        column = mapping.get(name, name)
+        if column in present:
+            readers.setdefault(column, []).append(name)
+    return next(((column, names[:2]) for column, names in readers.items() if len(names) > 1), None)
 
 
 def _axis_of(name: str) -> tuple[str, str]:
