@@ -170,6 +170,32 @@ def test_kinect_text_with_a_tracking_state_per_joint_or_a_header_says_what_to_dr
         read_kinect_text(header)
 
 
+def test_kinect_v2_text_is_said_to_be_one_with_the_way_to_import_it(tmp_path):
+    # "76 columns, expected 61 (frame number then 20 joints x (x y z))" named no Kinect v2, nor
+    # what would import the file
+    frames = np.tile(np.linspace(0.1, 2.5, 75).reshape(25, 3), (4, 1, 1))
+    path = tmp_path / "kinect_v2.txt"
+    path.write_text("".join(" ".join([str(n), *(f"{v:.5f}" for v in frame.ravel())]) + "\n"
+                            for n, frame in enumerate(frames)))
+    route = ("which rlff does not read (its Kinect text is Kinect SDK v1's, 20 joints): write the arm's joints as a "
+             "CSV with a header row naming them (Kinect v2's joints 8-11, from 0, are the right shoulder, elbow, wrist "
+             "and hand, 4-7 the left's) and import that with --format csv --columns ... --up y (docs/capture.md, "
+             "\"A CSV of joint positions\")")
+    with pytest.raises(InputError) as error:
+        read_kinect_text(path)
+    assert str(error.value) == (f"{path}, line 1: 76 columns, expected 61 (frame number then 20 joints x (x y z)); 76 "
+                                "look like Kinect v2 joint text (a frame number and 25 joints x (x y z)), " + route)
+    with pytest.raises(InputError) as error:
+        import_recordings([path])
+    assert str(error.value) == (f"{path}: cannot tell the format: its rows hold 76 numbers, a frame number and 25 "
+                                "joints x (x y z): it looks like Kinect v2 joint text, " + route)
+    path.write_text("".join(" ".join([str(n), *(f"{v:.5f} {v:.5f} {v:.5f} 2" for v in frame[:, 0])]) + "\n"
+                            for n, frame in enumerate(frames)))
+    with pytest.raises(InputError, match=r"line 1: 101 columns, expected 61 .*; 101 look like Kinect v2 joint text "
+                                         r"\(a frame number and 25 joints x 4 values \(x y z and a tracking state\)\)"):
+        read_kinect_text(path)
+
+
 def test_a_file_read_as_a_format_it_is_not_names_the_one_it_looks_like(tmp_path):
     simulation = bf.standard_simulation(seed=2, n_throws=1, noise=0.0, second_user=False, drop_frames=0.0, drop_joints=0.0)
     path = _write_kinect(tmp_path / "kinect.txt", _kinect_frames(simulation), np.arange(len(simulation.frame_times)))

@@ -179,6 +179,22 @@ def test_a_missing_axis_column_is_not_answered_with_another_axis_of_the_joint(tm
         read_joint_csv(path, {**mapping, "right_hand_x": "HandRigth.X"})
 
 
+@pytest.mark.parametrize("separator, spaced", [(" ", True), (",", False), ("\t", False)])
+def test_a_csv_without_a_header_row_says_so(tmp_path, separator, spaced):
+    # its first row of numbers was read as its names: "columns present: 0 -0.18587 ..."
+    path = tmp_path / "joints.csv"
+    rows = [separator.join([str(k), *(f"{v:.6f}" for v in row)]) for k, row in enumerate(_positions(6))]
+    path.write_text("\n".join(rows) + "\n")
+    with pytest.raises(InputError) as error:
+        read_joint_csv(path)
+    message = str(error.value)
+    assert message.startswith(f"{path}: no header row of names: the first line holds numbers ({rows[0][:40] + '...'!r}), "
+                              "where a CSV of joint positions names its columns, separated by ',', ';' or a tab (time, "
+                              "right_shoulder_x, ... or the file's own names mapped with --columns; docs/capture.md, "
+                              '"A CSV of joint positions"); add that line'), message
+    assert message.endswith(", and put ',' between the columns (the line has 19 numbers separated by spaces)") == spaced
+
+
 def test_one_column_given_for_two_names_is_refused_naming_both(tmp_path):
     # an OpenPose export (no hand point) mapped with its wrist as the hand and as the wrist was
     # imported with a wrist segment 0 m long: the wrist angle 0.0 on every row

@@ -68,6 +68,8 @@ from rlff.capture.segment import Rejection, SegmentSettings, ThrowCut, find_thro
 from rlff.capture.skeleton import ArmTrack, Recording
 from rlff.capture.skeleton_text import (
     KINECT_UP,
+    KINECT_V2_ROUTE,
+    KINECT_V2_WIDTHS,
     KINECT_WIDTH,
     KINECT_WITH_STATE,
     WITH_STATE_DROP,
@@ -309,6 +311,8 @@ def _text_layout(header: str | None, width: int) -> str:
         return f"{named} {width} numbers, {WITH_STATE_IS}: drop {drop}, and it reads as Kinect text"
     if width == KINECT_WIDTH and header is not None:
         return f"{named} {width} numbers, Kinect SDK v1 text (a frame number, 20 joints x (x y z)): drop the header line"
+    if width in KINECT_V2_WIDTHS:
+        return f"{named} {width} numbers, {KINECT_V2_WIDTHS[width]}: it looks like Kinect v2 joint text, {KINECT_V2_ROUTE}"
     return ""
 
 

@@ -68,6 +68,14 @@ KINECT_WITH_STATE = 81
 WITH_STATE_IS = ("a frame number and 20 joints x 4 values (x y z and a tracking state, as some Kinect SDK v1 "
                  "exporters write them)")
 WITH_STATE_DROP = "each joint's 4th value (rlff reads x y z)"
+#: Numbers in a row of Kinect v2 joint text (25 joints), which the Kinect text reader does not
+#: take, and what they are; :data:`KINECT_V2_ROUTE` is the way to import such a file.
+KINECT_V2_WIDTHS = {76: "a frame number and 25 joints x (x y z)",
+                    101: "a frame number and 25 joints x 4 values (x y z and a tracking state)"}
+KINECT_V2_ROUTE = ("which rlff does not read (its Kinect text is Kinect SDK v1's, 20 joints): "
+                   "write the arm's joints as a CSV with a header row naming them (Kinect v2's joints 8-11, from 0, "
+                   "are the right shoulder, elbow, wrist and hand, 4-7 the left's) and import that with --format csv "
+                   "--columns ... --up y (docs/capture.md, \"A CSV of joint positions\")")
 
 
 def _numeric_rows(
@@ -93,11 +101,8 @@ def _numeric_rows(
                 raise InputError(f"{path}, line {number}: a header line ({text[:60]!r}), where rlff reads numbers "
                                  f"only ({what}): drop the line")
             if len(fields) != expected:
-                with_state = expected == KINECT_WIDTH and len(fields) == KINECT_WITH_STATE
-                raise InputError(
-                    f"{path}, line {number}: {len(fields)} columns, expected {expected} ({what})"
-                    + (f"; {KINECT_WITH_STATE} are {WITH_STATE_IS}: drop {WITH_STATE_DROP}" if with_state else "")
-                )
+                raise InputError(f"{path}, line {number}: {len(fields)} columns, expected {expected} ({what})"
+                                 + (_kinect_width(len(fields)) if expected == KINECT_WIDTH else ""))
             try:
                 row = [float(value) for value in fields]
             except ValueError:
@@ -115,6 +120,16 @@ def _numeric_rows(
     if not rows:
         raise InputError(f"{path}: no frames ({what})")
     return np.asarray(rows), np.asarray(lines)
+
+
+def _kinect_width(width: int) -> str:
+    """What a row of ``width`` numbers in a Kinect text file is and what to do, when rlff knows
+    the layout (a tracking state per joint, Kinect v2's 25 joints), after ``"; "``; else ``""``."""
+    if width == KINECT_WITH_STATE:
+        return f"; {width} are {WITH_STATE_IS}: drop {WITH_STATE_DROP}"
+    if width in KINECT_V2_WIDTHS:
+        return f"; {width} look like Kinect v2 joint text ({KINECT_V2_WIDTHS[width]}), {KINECT_V2_ROUTE}"
+    return ""
 
 
 #: A stamp below the latest one before it by less than this share of the median step between
@@ -388,6 +403,7 @@ def read_joint_csv(
     notes: list[str] = []
     warnings: list[str] = []
     separator = header_separator(path)
+    _require_header(path, separator)
     if separator != ",":
         shown = "tab" if separator == "\t" else repr(separator)
         notes.append(f"{path.name}: columns separated by {shown} (decimal comma or point)")
@@ -536,6 +552,26 @@ def _check_time_unit(time: np.ndarray, name: str, path: Path) -> None:
             break
     raise InputError(f"{path}: the time column {name!r} steps by {spacing:.6g} per frame (median), "
                      f"{1.0 / spacing:.3g} frames per second, outside {low:g}-{high:g} Hz; rlff reads seconds{looks}")
+
+
+def _require_header(path: Path, separator: str) -> None:
+    """:class:`InputError` when the CSV's first line holds numbers only: a file without a header
+    row of names, whose first row of numbers had been read as its column names and listed as
+    "columns present" (a Kinect text file given as --format csv)."""
+    with path.open(encoding="utf-8-sig", errors="replace") as handle:
+        first = next((line.strip() for line in handle if line.strip()), "")
+    cells = first.replace(separator, " ").split()
+    decimal = "." if separator == "," else ","
+    if not cells or not all(is_number(cell.replace(decimal, ".")) for cell in cells):
+        return
+    shown = first if len(first) <= 40 else f"{first[:40]}..."
+    spaced = len(cells) > 1 and separator not in first
+    raise InputError(
+        f"{path}: no header row of names: the first line holds numbers ({shown!r}), where a CSV of joint positions "
+        "names its columns, separated by ',', ';' or a tab (time, right_shoulder_x, ... or the file's own names mapped "
+        "with --columns; docs/capture.md, \"A CSV of joint positions\"); add that line"
+        + (f", and put ',' between the columns (the line has {len(cells)} numbers separated by spaces)" if spaced else "")
+    )
 
 
 def _check_column_map(mapping: Mapping[str, str], present: list[str], path: Path) -> None:
