@@ -50,3 +50,12 @@ def test_arrays_that_are_no_numbers_are_refused_naming_them(array, convert, word
     arrays[array] = convert(arrays[array])
     with pytest.raises(InputError, match=rf"^{array} must hold numbers, not {words}$"):
         JointTrajectory(("a",), **arrays)
+
+
+def test_a_trajectory_prints_its_joints_points_duration_and_release_not_its_arrays():
+    # the dataclass's repr printed every array: kilobytes for a planned throw
+    time = np.linspace(0.0, 0.878, 440)
+    planned = JointTrajectory(("joint_2", "joint_3"), time, np.zeros((440, 2)), np.zeros((440, 2)), release_time=time[200])
+    assert repr(planned) == "JointTrajectory(joints=['joint_2', 'joint_3'], 440 points, 0.878 s, release at 0.4 s)"
+    plain = JointTrajectory("joint_2", [0.0, 1.0], [[0.0], [0.5]], [[0.0], [0.0]])
+    assert repr(plain) == "JointTrajectory(joints=['joint_2'], 2 points, 1 s, no release)"

@@ -12,7 +12,7 @@ import pytest
 
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
-from rlff.model import Model
+from rlff.model import GeneratedPath, Model
 from rlff.model.donut import dmm_pdf
 from rlff.synthetic.thesis import thesis_dataset
 
@@ -48,6 +48,20 @@ def test_thesis_paths_grow_with_distance_and_sit_on_the_global_maximum(thesis_mo
         assert np.all(path.pdf >= density.max(axis=1) * (1 - 1e-6))
         np.testing.assert_allclose(dmm_pdf(conditional, path.velocity[:, None], path.exploration), path.pdf, rtol=1e-12)
     assert any("12.5 is outside the fitted range" in warning for warning in paths[12.5].warnings)
+
+
+def test_a_generated_path_prints_one_line_not_its_arrays(thesis_model):
+    # the dataclass's repr printed its eleven arrays: kilobytes
+    T = 5
+    angle, time = np.linspace(0.6, 1.9, T), np.linspace(0.0, 0.45, T)
+    outputs = np.column_stack([np.linspace(0.5, 7.43, T), np.full(T, 0.8), np.full(T, 1.5)])
+    path = GeneratedPath(angle, outputs[:, 0], np.ones(T), np.zeros(T), outputs[:, 0], np.ones(T), time, outputs,
+                         outputs, np.ones((T, 3)), np.zeros(T), output_names=("velocity", "shoulder", "shoulder_velocity"),
+                         context={"distance": 1.4, "bearing": 30.0}, cautions=("extrapolated",))
+    assert repr(path) == ("GeneratedPath(5 points, angle 0.6 to 1.9, 0.45 s, release velocity=7.43, shoulder=0.8, "
+                          "shoulder_velocity=1.5, context distance=1.4, bearing=30, cautions=['extrapolated'])")
+    generated = thesis_model.generate({"distance": 8.5})
+    assert repr(generated).startswith("GeneratedPath(100 points, angle 0 to 10, ") and len(repr(generated)) < 150
 
 
 def test_generated_path_columns_and_time(thesis_model, tmp_path):

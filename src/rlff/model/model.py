@@ -179,6 +179,18 @@ class GeneratedPath:
     def __len__(self) -> int:
         return self.angle.size
 
+    def __repr__(self) -> str:
+        """One line, as :class:`Model` and :class:`Dataset` print: the points, the path variable's
+        span, the duration, every output at the release (the last point), the context and the
+        cautions; not the arrays (the dataclass printed kilobytes of them)."""
+        context = ", ".join(f"{name}={value:g}" for name, value in self.context.items()) or "none"
+        cautions = f", cautions={list(self.cautions)}" if self.cautions else ""
+        if not len(self):
+            return f"GeneratedPath(0 points, context {context}{cautions})"
+        release = ", ".join(f"{name}={value:.4g}" for name, value in zip(self.output_names, self.outputs[-1], strict=True))
+        return (f"GeneratedPath({len(self)} points, {self.input_name} {self.angle[0]:.4g} to {self.angle[-1]:.4g}, "
+                f"{self.time[-1]:.4g} s, release {release}, context {context}{cautions})")
+
     def to_frame(self) -> Any:
         """The path as a pandas DataFrame: the input, every output, time, pdf, exploration,
         gmr_mean, gmr_std (the first output's; ``gmr_mean_<name>``, ``gmr_std_<name>`` for every

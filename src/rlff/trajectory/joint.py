@@ -79,6 +79,12 @@ class JointTrajectory:
     def __len__(self) -> int:
         return self.time.size
 
+    def __repr__(self) -> str:
+        """One line: the joints, the points, the duration and the release; not the arrays (the
+        dataclass printed kilobytes of them)."""
+        release = "no release" if self.release_time is None else f"release at {self.release_time:.4g} s"
+        return f"JointTrajectory(joints={list(self.joint_names)}, {len(self)} points, {self.duration:.4g} s, {release})"
+
     @property
     def duration(self) -> float:
         """Time of the last point (s)."""
