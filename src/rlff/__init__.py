@@ -4,7 +4,25 @@ Fit a Gaussian Mixture Model to (joint angle, basket distance, joint velocity) s
 it on the angle and the distance (Gaussian Mixture Regression), turn every conditional Gaussian
 into a donut (Donut Mixture Model) and take, for every angle, the velocity of highest density.
 
-The public names are imported lazily so that ``import rlff`` stays cheap for the command line.
+The chain in Python, a stage a line (docs/*.md for each)::
+
+    from rlff import Model
+    from rlff.formats import read_dataset                # recordings: rlff.capture.import_recordings
+    from rlff.preprocess import Pipeline
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.robot.plan import plan
+    from rlff.sim import simulate_throw
+
+    demos = read_dataset("demos.csv")                    # angle (rad), distance (m), velocity (rad/s)
+    clean, report = Pipeline.preset("thesis").run(demos)
+    model = Model.fit(clean)                             # K by BIC
+    path = model.generate({"distance": 1.4})             # the DMM's throw for a 1.4 m basket
+    robot = load_robot()                                 # the built-in Comau Smart5 SiX
+    trajectory = plan(RobotMapping.for_robot(robot), path.angle, path.velocity).trajectory
+    outcome = simulate_throw(trajectory, 1.4, robot=robot)   # .hit, .miss (m)
+
+and ``rlff.learn.learn`` closes the loop until the ball is in. The public names below are
+imported lazily so that ``import rlff`` stays cheap for the command line.
 """
 
 from __future__ import annotations
@@ -42,3 +60,9 @@ def __getattr__(name: str) -> Any:
     if module is None:
         raise AttributeError(f"module 'rlff' has no attribute {name!r}")
     return getattr(importlib.import_module(module), name)
+
+
+def __dir__() -> list[str]:
+    """The module's own names and the public ones :func:`__getattr__` loads on first use: without
+    it ``dir()``, tab completion and ``help()`` missed those (``'Model' in dir(rlff)`` was False)."""
+    return sorted({*globals(), *_EXPORTS})

@@ -30,3 +30,9 @@ def __getattr__(name: str) -> Any:
     if module is None:
         raise AttributeError(f"module 'rlff.model' has no attribute {name!r}")
     return getattr(importlib.import_module(module), name)
+
+
+def __dir__() -> list[str]:
+    """The module's own names and the public ones :func:`__getattr__` loads on first use: without
+    it ``dir()``, tab completion and ``help()`` missed those (``'Model' in dir(rlff)`` was False)."""
+    return sorted({*globals(), *_EXPORTS})
