@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import json
+import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from rlff.dataset import write_csv
 from rlff.errors import InputError
-from rlff.learn import learn
+from rlff.learn import Method, Proposal, learn, scale_speed
 from rlff.learn.log import read_log
 
 NEAR, FAR = 1.4, 1.9
@@ -158,3 +160,69 @@ def test_a_log_carries_whatever_ros_names_it_kept_or_did_not_keep(demos, near_lo
         path.write_text("\n".join([json.dumps({**written, "run": {**written["run"], "robot": record}}), *attempts]) + "\n")
         carried = learn(demos, FAR, budget=1, feedback="binary", seed=3, carry_from=[path])
         assert carried.history[0].info["log_factor"] == pytest.approx(offset, abs=2e-4)
+
+
+@pytest.mark.parametrize("update, feedback", [("failure", "binary"), ("hindsight", "distance"),
+                                              ("failure:gmr-mean", "binary")])
+def test_a_method_that_carries_nothing_is_refused_a_carry_before_any_throw(demos, tmp_path, update, feedback):
+    # its own earlier log was taken, and the run said it "has no hit to carry" or carried nothing
+    near = tmp_path / "near.jsonl"
+    learn(demos, NEAR, budget=1, feedback=feedback, update=update, seed=3, log_path=near)
+
+    def arm(trajectory):
+        raise AssertionError("refused before the first throw")
+
+    far = tmp_path / "far.jsonl"
+    with pytest.raises(InputError, match=rf"update '{update}' cannot carry earlier runs' hits \(--carry\): a hit is "
+                                         r"carried as the speed offset at which it hit, .* learns by refitting the "
+                                         r"DMM .* The methods that carry: calibrate, donut, imitation, random, sweep, "
+                                         r"secant, gp-bo, cma \(and the ablations of calibrate and donut\); or learn "
+                                         r"without --carry"):
+        learn(demos, FAR, budget=1, feedback=feedback, update=update, seed=3, carry_from=[near], executor=arm,
+              executed_on="sim", log_path=far)
+    assert not far.exists()
+
+
+class Steady(Method):
+    """The demonstrations' mean throw for the basket, every time: a method of one's own."""
+
+    name = "steady"
+
+    def __init__(self, problem):
+        super().__init__(problem)
+        path = problem.demonstrations_model().generate({"distance": problem.target}, problem.angles, exploration=0.0)
+        self.mean = Proposal.of_outputs(path.angle, path.gmr_means, path.output_names, problem.target)
+
+    def propose(self, history):
+        return replace(scale_speed(self.mean, math.exp(self.problem.carried_shift)),
+                       info={"log_factor": self.problem.carried_shift})
+
+
+class CarryingSteady(Steady):
+    name = "carrying-steady"
+    carries = True
+
+
+def test_a_method_of_ones_own_carries_when_it_says_it_does(demos, tmp_path):
+    for method in (Steady, CarryingSteady):
+        learn(demos, NEAR, budget=1, update=method, seed=3, log_path=tmp_path / f"{method.name}.jsonl")
+    with pytest.raises(InputError, match=r"update 'steady' cannot carry .* steady does not say it carries \(a method "
+                                         r"of one's own that starts at problem.carried_shift and logs each attempt's "
+                                         r"info\['log_factor'\] sets its class attribute carries = True\)"):
+        learn(demos, FAR, budget=1, update=Steady, seed=3, carry_from=[tmp_path / "steady.jsonl"])
+    carried = learn(demos, FAR, budget=1, update=CarryingSteady, seed=3,
+                    carry_from=[tmp_path / "carrying-steady.jsonl"])
+    assert carried.notes[0].endswith("has no hit to carry")  # its one throw at 1.4 m missed: it was read
+
+
+def test_rlff_learn_refuses_a_carry_into_a_method_that_carries_nothing(rlff, demos, tmp_path):
+    path = tmp_path / "demos.csv"
+    write_csv(demos, path)
+    near = tmp_path / "near.jsonl"
+    assert rlff("learn", str(path), "--basket", "1.4", "--update", "failure", "--budget", "1", "--seed", "3",
+                "--log", str(near)).code == 0
+    refused = rlff("learn", str(path), "--basket", "1.9", "--update", "failure", "--carry", str(near), "--seed", "3",
+                   "--log", str(tmp_path / "far.jsonl"))
+    assert refused.code == 2
+    assert "rlff: error: update 'failure' cannot carry earlier runs' hits (--carry)" in refused.stderr
+    assert "learning to hit" not in refused.stderr and not (tmp_path / "far.jsonl").exists()

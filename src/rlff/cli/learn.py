@@ -84,7 +84,8 @@ def learn_command(
     carry: list[Path] = typer.Option([], "--carry",
                                      help="Attempts log of an earlier run at another basket (same demonstrations, "
                                           "robot, joints, --update, --gap and --executor; repeatable): start from "
-                                          "the speed its hits point to."),
+                                          "the speed its hits point to. Every --update but failure and hindsight "
+                                          "(and their ablations), which move the DMM rather than a speed."),
     gap: str = typer.Option("none", "--gap",
                             help="With --executor sim: how the simulated arm differs from its robot file, "
                                  "speed:G (reaches G of the commanded joint speeds) or delay:S (lets go S s "
@@ -120,10 +121,13 @@ def learn_command(
         Basket(basket, bearing=bearing) if height is None else Basket(basket, height, bearing=bearing)
     if out is not None:  # and a bad --out or --format
         fmt = export_format(out, fmt)
-    from rlff.learn.loop import AIMS, run_options
+    from rlff.learn.carry import require_carrying
+    from rlff.learn.loop import AIMS, METHODS, method_of, run_options
 
     if aim not in AIMS:  # before the demonstrations are read and cleaned
         raise InputError(f"unknown --aim {aim!r} (known: {', '.join(AIMS)})")
+    if carry:  # and a method that carries nothing
+        require_carrying(method_of(update), METHODS)
     # given or not (a default is the library's): refused where it changes nothing, not ignored
     centre_share, misreport = (value if given(ctx, name) else None
                                for name, value in (("centre_share", centre_share), ("misreport", misreport)))

@@ -72,6 +72,7 @@ _MAX_STEP = 1.5
 class GmrBaseline(Method):
     """A baseline that scales the GMR mean for the target distance."""
 
+    carries = True  # it starts at :attr:`start`, where carried hits point
     def __init__(self, problem: Problem):
         super().__init__(problem)
         model = problem.demonstrations_model()

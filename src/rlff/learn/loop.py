@@ -44,7 +44,7 @@ from rlff.errors import InputError, RlffError
 from rlff.learn.aim_hint import aim_hint
 from rlff.learn.attempt import Attempt
 from rlff.learn.baselines import BASELINES
-from rlff.learn.carry import carried_offsets
+from rlff.learn.carry import carried_offsets, require_carrying
 from rlff.learn.demos import (
     angle_grid,
     drives_whole_arm,
@@ -386,9 +386,11 @@ def learn(
     carry_from : sequence of paths
         Attempts logs of earlier runs at other baskets (the same method, demonstrations, robot,
         joints and pedestal): the speed offsets of their hits centre this run's search
-        (:mod:`rlff.learn.carry`; ``calibrate``, ``donut`` and the GMR baselines use them, the
-        ``failure`` and ``hindsight`` updates, which move the DMM rather than a speed, do not).
-        The offsets go into this run's log header, so it resumes only with the same.
+        (:mod:`rlff.learn.carry`). Only methods that carry (:attr:`rlff.learn.Method.carries`:
+        ``calibrate``, ``donut`` and the GMR baselines) take them; the ``failure`` and
+        ``hindsight`` updates, which move the DMM rather than a speed, are refused before
+        anything is read. The offsets go into this run's log header, so it resumes only with the
+        same.
     gap : str
         How the simulated arm differs from its robot file: ``none``, ``speed:G`` (it reaches G
         of the commanded joint speeds) or ``delay:S`` (it lets go S s late;
@@ -430,7 +432,8 @@ def learn(
     Raises
     ------
     InputError
-        Unknown method or feedback, a method that needs other feedback, a basket out of the
+        Unknown method or feedback, a method that needs other feedback, a carry into a method
+        that does not carry (:func:`rlff.learn.carry.require_carrying`), a basket out of the
         robot's reach, demonstrations beyond the joint limits, or a corrupt or foreign log. A
         method's proposal that is no :class:`~rlff.learn.method.Proposal` or does not follow
         ``problem.angles`` (:func:`rlff.learn.proposal_check.proposed`), stopping the run at that
@@ -447,14 +450,16 @@ def learn(
     if feedback not in method_class.feedbacks:
         raise InputError(f"update {update!r} needs {' or '.join(method_class.feedbacks)} feedback, "
                          f"not {feedback!r}")
+    # one path given where several may be: that one, not its letters (joints: as_names)
+    carry_from = (carry_from,) if isinstance(carry_from, str | Path) else carry_from
+    if carry_from:
+        require_carrying(method_class, METHODS)
     if not (isinstance(budget, numbers.Integral) and not isinstance(budget, bool) and budget >= 1):
         raise InputError(f"budget must be a positive whole number of attempts, got {budget!r}")
     budget = int(budget)
     if not (isinstance(seed, numbers.Integral) and not isinstance(seed, bool) and seed >= 0):
         raise InputError(f"seed must be a whole number >= 0, got {seed!r}")
     seed = int(seed)
-    # one path given where several may be: that one, not its letters (joints: as_names)
-    carry_from = (carry_from,) if isinstance(carry_from, str | Path) else carry_from
     demos = _demonstrations(demos)
     require_units(demos)  # before anything is judged in them (a unit slip is the likeliest fault)
     if aim not in AIMS:

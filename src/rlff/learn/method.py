@@ -209,6 +209,12 @@ class Method(ABC):
     name: str = ""
     #: Feedback kinds the method can work with.
     feedbacks: tuple[str, ...] = FEEDBACKS
+    #: Whether a run of it can carry earlier runs' hits (``learn(carry_from=...)``, ``rlff learn
+    #: --carry``): its throws start where ``Problem.carried`` points, and each proposal's ``info``
+    #: holds ``log_factor``, its log speed factor over the method's own start, which a later run
+    #: carries (:mod:`rlff.learn.carry`). A method that does neither is refused a carry: its log
+    #: would carry nothing, and nothing carried would move it.
+    carries: bool = False
 
     def __init__(self, problem: Problem):
         self.problem = problem

@@ -165,6 +165,10 @@ class RefitUpdate(DmmStrategy):
     it, back in the demonstrations' speeds. Without an aim the factor is 1 and the throw is the
     DMM's. (Until 2026-12-06 both ignored the aim: on the real MSR throws at 1.6 m every throw
     asked for more than joint_2's speed limit and came down 0.58 m long, aimed or not.)
+
+    They carry no hits from run to run (:attr:`Method.carries` is False): they learn by moving
+    the DMM, not a speed over a start of their own, so their attempts log no ``log_factor`` and a
+    carried one would not move their throws; ``learn`` refuses them a carry before any throw.
     """
 
     @abstractmethod
@@ -358,6 +362,7 @@ class CalibrateUpdate(DmmStrategy):
     """This project's strategy: the DMM gives the throw, the attempts calibrate its speed."""
 
     name = "calibrate"
+    carries = True  # its window search and its distance calibration start at Problem.carried_shift
     robot_weight = 3.0
     #: With binary feedback, whether the window search comes back to a window that missed (with
     #: the run's ``Problem.misreport``, :func:`rlff.learn.windows.with_retries`).
