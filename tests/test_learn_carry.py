@@ -226,3 +226,23 @@ def test_rlff_learn_refuses_a_carry_into_a_method_that_carries_nothing(rlff, dem
     assert refused.code == 2
     assert "rlff: error: update 'failure' cannot carry earlier runs' hits (--carry)" in refused.stderr
     assert "learning to hit" not in refused.stderr and not (tmp_path / "far.jsonl").exists()
+
+
+@pytest.mark.parametrize("update, feedback, scenario, seed", [("imitation", "binary", "wide", 5),
+                                                             ("random", "binary", "wide", 3),
+                                                             ("cma", "distance", "short", 3)])
+def test_a_hit_of_every_gmr_baseline_carries(tmp_path, update, feedback, scenario, seed):
+    # they start where carried hits point, but their attempts logged no log_factor: a log of their
+    # hit said it "has no hit to carry"
+    from rlff.learn.scenarios import Scenario, demonstrations
+
+    people = demonstrations(seed, Scenario(scenario, landings="none"))
+    near = tmp_path / "near.jsonl"
+    first = learn(people, NEAR, budget=20, feedback=feedback, update=update, seed=seed, log_path=near)
+    assert first.hit
+    offset = first.history[-1].info["log_factor"]
+    alone = learn(people, FAR, budget=1, feedback=feedback, update=update, seed=seed)
+    carried = learn(people, FAR, budget=1, feedback=feedback, update=update, seed=seed, carry_from=[near])
+    assert carried.notes[0] == f"carried from {near} (basket 1.4 m): {offset:+.3f} in log speed over its start"
+    shift = carried.history[0].info["log_factor"] - alone.history[0].info["log_factor"]
+    assert shift == pytest.approx(offset, abs=2e-4)

@@ -85,7 +85,8 @@ class GmrBaseline(Method):
         self.limit = problem.max_speed / fastest if fastest > 0 else np.inf
         #: The run's own u0 as a speed factor on the GMR mean: 1, or where the arm's kinematics send
         #: its throw (``Problem.aim``). Attempts log their ``log_factor`` over it, as ``calibrate``
-        #: logs over its u0: what a later basket carries.
+        #: logs over its u0: what a later basket carries (every baseline's; ``imitation``,
+        #: ``random`` and ``cma`` logged none until 2026-12-07, and their hits carried nothing).
         self.aimed = problem.aim(self.throw) if problem.aim is not None else 1.0
         #: Speed factor the baseline's factors are relative to: u0 shifted to where earlier
         #: baskets' hits point (:mod:`rlff.learn.carry`): the same information ``calibrate`` gets.
@@ -112,7 +113,7 @@ class Imitation(GmrBaseline):
     name = "imitation"
 
     def propose(self, history: Sequence[Attempt]) -> Proposal:
-        return self.scaled(1.0, {})
+        return self.scaled(1.0, {"log_factor": round(self.problem.carried_shift, 4)})
 
 
 class RandomPerturbation(GmrBaseline):
@@ -122,11 +123,12 @@ class RandomPerturbation(GmrBaseline):
     spread = 0.15
 
     def propose(self, history: Sequence[Attempt]) -> Proposal:
-        if not history:
-            return self.scaled(1.0, {"factor": 1.0})
-        rng = np.random.default_rng([self.problem.seed, len(history)])
-        factor = float(np.exp(self.spread * rng.standard_normal()))
-        return self.scaled(factor, {"factor": factor})
+        factor = 1.0
+        if history:
+            rng = np.random.default_rng([self.problem.seed, len(history)])
+            factor = float(np.exp(self.spread * rng.standard_normal()))
+        return self.scaled(factor, {"factor": factor,
+                                    "log_factor": round(math.log(factor) + self.problem.carried_shift, 4)})
 
 
 class BracketingSweep(GmrBaseline):
@@ -193,7 +195,9 @@ class CmaSearch(GmrBaseline):
         x = self.pending[len(self.fitness)]
         blend = np.linspace(0.0, 1.0, self.angle.size)
         factor = np.exp(x[0] + (x[1] - x[0]) * blend)
-        return self.scaled(factor, {"x": [float(v) for v in x]})
+        # the log factor at the release, which decides where the ball goes, is what a later basket carries
+        return self.scaled(factor, {"x": [float(v) for v in x],
+                                    "log_factor": round(float(x[1]) + self.problem.carried_shift, 4)})
 
     def _ask(self) -> None:
         self.pending = [np.asarray(x, dtype=float) for x in self.es.ask()]
