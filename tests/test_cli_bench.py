@@ -167,3 +167,17 @@ def test_methods_that_cannot_use_the_feedback_are_refused_not_an_empty_table(cli
     result = cli("bench", "learning", "--methods", "hindsight", "--feedback", "binary", "--seeds", "1")
     assert result.code == 2 and result.stdout == ""
     assert "no method of --methods hindsight works with --feedback binary (hindsight: distance)" in result.stderr
+
+
+def test_the_aim_s_help_names_every_method_it_moves(rlff):
+    # it named the GMR baselines alone, but --aim kinematics also moves failure and hindsight
+    # (rlff.learn.strategies.RefitUpdate), and calibrate's and donut's search
+    for command in (("bench", "learning"), ("learn",)):
+        shown = rlff(*command, "--help")
+        assert shown.code == 0, shown.stderr
+        words = " ".join(shown.stdout.split())
+        aim = words[words.index("--aim"):]
+        aim = aim[:aim.index("[default: auto]")]
+        for moved in ("calibrate's and donut's speed search centres there", "baselines start there",
+                      "failure and hindsight throw the DMM's throw sped up or slowed down to it"):
+            assert moved in aim, (command, aim)

@@ -58,9 +58,11 @@ def learning(
                                  "speed:G (reaches G of the commanded speed, 0 < G <= 1), delay:S (lets go S s "
                                  "late)."),
     aim: str = typer.Option("auto", "--aim",
-                            help="Where the speed search starts, comma-separated: auto, kinematics (where the "
-                                 "robot file's kinematics send the throw; the GMR baselines start there too), "
-                                 "demonstrations (rlff learn --aim)."),
+                            help="Where every method's speed starts, comma-separated, one case each (rlff learn "
+                                 "--aim): auto, kinematics (where the robot file's kinematics send the throw: "
+                                 "calibrate's and donut's speed search centres there, the GMR baselines start "
+                                 "there, failure and hindsight throw the DMM's throw sped up or slowed down to "
+                                 "it; their ablations too), demonstrations."),
     methods: str | None = typer.Option(None, "--methods",
                                        help="Comma-separated methods (default: every method that can use "
                                             "the feedback)."),

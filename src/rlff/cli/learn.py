@@ -96,10 +96,12 @@ def learn_command(
                                          "once more where that is likelier than a hit in the windows left; 0: "
                                          "never twice before its second pass."),
     aim: str = typer.Option("auto", "--aim",
-                            help="Where the speed search starts: kinematics (where the robot file's geometry "
-                                 "sends the throw), demonstrations (their speeds, landings or labels), or auto: "
-                                 "kinematics for --joints, demonstrations for one joint. On real recordings "
-                                 "with one joint, kinematics (docs/learn.md)."),
+                            help="Where the throws' speed starts: kinematics (where the robot file's geometry "
+                                 "sends the throw: calibrate's and donut's speed search centres there, the "
+                                 "baselines start there, failure and hindsight throw the DMM's throw sped up or "
+                                 "slowed down to it), demonstrations (their speeds, landings or labels), or "
+                                 "auto: kinematics for --joints, demonstrations for one joint. On real "
+                                 "recordings with one joint, kinematics (docs/learn.md)."),
     as_json: bool = typer.Option(False, "--json", help="Print the result as JSON."),
 ) -> None:
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
