@@ -247,3 +247,24 @@ def test_a_throw_the_loop_changes_before_throwing_it_is_said(demos, proposal, wo
 
 def test_the_mean_throw_is_not_said_to_be_changed(demos):
     assert learn(demos, 1.4, update=Careless, budget=2).notes == []
+
+
+class Backwards(Careless):
+    """Proposes the mean throw with the grid reversed (a swing from the release back to its start)."""
+
+    name = "backwards"
+    proposal = staticmethod(lambda mean: replace(mean, angle=mean.angle[::-1].copy(),
+                                                 velocity=mean.velocity[::-1].copy()))
+
+
+def test_the_benchmark_refuses_a_proposal_off_the_grid_as_the_loop_does():
+    # the benchmark's runs are the loop's (learn), so their proposals pass the same check
+    from rlff.learn.benchmark import learning_benchmark
+    from rlff.learn.scenarios import Feedback, Scenario
+
+    scenario = Scenario("short", feedbacks=(Feedback("binary", "binary"),), baskets=(1.4,))
+    with pytest.raises(InputError, match=r"^short, landings none, seed 100, basket 1.4 m, binary feedback, backwards: "
+                                         r"attempt 1: the throw backwards proposed: angle runs from .* rad, the grid "
+                                         r"reversed: problem.angles runs from .* rad, the release last; give the "
+                                         r"throw in the grid's order$"):
+        learning_benchmark(scenario, seeds=1, methods={"binary": (Backwards,)}, jobs=1, budget=2)
