@@ -14,7 +14,7 @@ from rlff.learn.log import FORMAT, VERSION
 
 
 def write_attempts_log(path: Path, run: dict[str, Any], misses: Sequence[float | None],
-                       hits: Sequence[bool] | None = None, tail: str = "") -> Path:
+                       hits: Sequence[bool] | None = None, tail: str = "", budget: int | None = None) -> Path:
     """Write an attempts log at ``path``: the header holding ``run``, then one attempt per miss.
 
     Parameters
@@ -27,11 +27,13 @@ def write_attempts_log(path: Path, run: dict[str, Any], misses: Sequence[float |
         Each attempt's outcome; by default a miss within 0.1 m is a hit.
     tail : str
         Text appended after the last complete line (a write cut short by a crash).
+    budget : int, optional
+        The header's budget; None: none, as a log written before rlff recorded it.
     """
     if hits is None:
         hits = [m is not None and abs(m) < 0.1 for m in misses]
     distance = float(run.get("basket", {}).get("distance", math.nan))
-    lines = [{"format": FORMAT, "version": VERSION, "run": run}]
+    lines = [{"format": FORMAT, "version": VERSION, "run": run, **({} if budget is None else {"budget": budget})}]
     for index, (miss, hit) in enumerate(zip(misses, hits, strict=True), start=1):
         measured = math.nan if miss is None else miss
         attempt = Attempt(index, distance, distance, [0.4, 1.6], [0.0, 4.0], [0.0, 0.4], hit,

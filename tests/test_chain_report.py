@@ -14,14 +14,15 @@ from rlff.chain_report import chain_run
 from rlff.plots.learning import read_learning_log
 
 
-def _log(path: Path, record: dict, basket: dict, joints: list[str] | None = None, misses=(-0.3, 0.01), **settings) -> Path:
-    """An attempts log whose header holds ``record`` (:func:`rlff.learn.log.robot_record`) and
-    ``settings`` (``gap``, ``until``)."""
+def _log(path: Path, record: dict, basket: dict, joints: list[str] | None = None, misses=(-0.3, 0.01),
+         budget: int | None = None, **settings) -> Path:
+    """An attempts log whose header holds ``record`` (:func:`rlff.learn.log.robot_record`),
+    ``settings`` (``gap``, ``until``) and ``budget`` (None: none, as an older log's)."""
     run = {"basket": basket, "feedback": "binary", "update": "calibrate", "seed": 0, "robot": record,
            "pedestal": 0.0, "until": "hit", **settings}
     if joints is not None:
         run["joints"] = joints
-    return write_attempts_log(path, run, misses)
+    return write_attempts_log(path, run, misses, budget=budget)
 
 
 def _cells(html: str, row_start: str) -> list[str]:
@@ -254,6 +255,29 @@ def test_a_log_cut_mid_line_is_said_to_be_one_not_tabled_as_a_run_that_never_hit
             "the log stops short of the run's budget (2 attempts or more) without a hit; `rlff learn` with the run's "
             "options and --log interrupted.jsonl resumes it.") in section.text
     assert "whole.jsonl ends" not in section.text
+
+
+def test_a_log_without_a_hit_says_whether_its_run_used_its_budget(tmp_path):
+    # the header recorded no budget: a run that spent it and one stopped after 1 of 12 read alike,
+    # "no hit in N", and a cut log "stopped after 1, no hit (log cut)"
+    folder = tmp_path / "rep"
+    folder.mkdir()
+    record = _one_joint_record()
+    _log(folder / "spent.jsonl", record, BASKET, misses=(0.69, 0.4), budget=2)
+    _log(folder / "stopped.jsonl", record, {**BASKET, "distance": 1.4}, misses=(0.69,), budget=12)
+    cut = _log(folder / "cut.jsonl", record, {**BASKET, "distance": 1.5}, misses=(0.69,), budget=12)
+    cut.write_text(cut.read_text() + '{"attempt": 2, "target": 1.')  # killed while writing attempt 2
+    _log(folder / "older.jsonl", record, {**BASKET, "distance": 1.6}, misses=(0.69, 0.4))  # no budget recorded
+    run, passed, _ = chain_run(folder, tmp_path / "run" / "figures")
+    assert passed == []
+    (section,) = run.sections
+    rows = {row[0]: row[10:12] for row in section.tables[0].rows}
+    assert rows == {"spent.jsonl": [2, "used its budget of 2, no hit"],
+                    "stopped.jsonl": [1, "stopped after 1 of 12, no hit"],
+                    "cut.jsonl": [1, "stopped after 1 of 12, no hit (log cut)"],
+                    "older.jsonl": [2, "no hit in 2"]}
+    assert ("cut.jsonl ends in a line cut short: its run was killed while writing attempt 2, which is lost, so the "
+            "log stops short of the run's budget of 12 without a hit;") in section.text
 
 
 def test_copies_of_one_log_are_named_together_and_drawn_once(tmp_path):

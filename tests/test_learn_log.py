@@ -334,3 +334,54 @@ def test_an_older_log_without_attempts_gets_the_whole_header_of_the_next_run(tmp
     with AttemptLog(path, run) as log:
         log.append(make_attempt(1))
     assert json.loads(path.read_text().splitlines()[0])["run"] == json.loads(json.dumps(run))
+
+
+def test_the_header_records_the_budget_and_a_run_resumed_with_another_writes_its_own(tmp_path):
+    # the header recorded no budget: a report could not tell a run that spent it from one stopped short
+    from rlff.learn.log import read_log
+
+    path = tmp_path / "attempts.jsonl"
+    with AttemptLog(path, RUN, budget=3) as log:
+        log.append(make_attempt(1))
+        log.append(make_attempt(2))
+    assert json.loads(path.read_text().splitlines()[0])["budget"] == 3
+    assert read_log(path)[1].budget == 3
+    written = path.read_bytes()
+    with AttemptLog(path, RUN, budget=5) as resumed:  # resumed with another budget: not another run
+        assert resumed.contents.budget == 3 and len(resumed.contents.attempts) == 2
+    assert path.read_bytes() == written  # nothing appended, nothing changed
+    with AttemptLog(path, RUN, budget=5) as resumed:
+        resumed.append(make_attempt(3))
+    header, *lines = path.read_text().splitlines()
+    assert json.loads(header) == {"format": "rlff-attempts", "version": 1, "run": RUN, "budget": 5}
+    assert "\n".join(lines[:2]) + "\n" == written.decode().split("\n", 1)[1]  # the attempts as they were
+    run, contents = read_log(path)
+    assert run == RUN and contents.budget == 5 and [a.index for a in contents.attempts] == [1, 2, 3]
+
+
+def test_a_log_written_before_the_budget_was_recorded_reads_and_resumes(tmp_path):
+    from rlff.learn.log import read_log
+
+    path = tmp_path / "old.jsonl"
+    write(path, make_attempt(1))  # no budget: the header of a log written before 2026-12-07
+    assert "budget" not in json.loads(path.read_text().splitlines()[0])
+    assert read_log(path)[1].budget is None
+    with AttemptLog(path, RUN, budget=4) as resumed:
+        assert resumed.contents.budget is None and len(resumed.contents.attempts) == 1
+        resumed.append(make_attempt(2))
+    assert read_log(path)[1].budget == 4
+
+
+@pytest.mark.parametrize("budget", ["20", 0, 2.5, True])
+def test_a_budget_that_is_no_whole_number_of_attempts_is_a_damaged_header(tmp_path, budget):
+    from rlff.learn.log import read_log
+
+    path = tmp_path / "attempts.jsonl"
+    write(path, make_attempt(1))
+    header, rest = path.read_text().split("\n", 1)
+    path.write_text(json.dumps({**json.loads(header), "budget": budget}) + "\n" + rest)
+    words = rf"attempts.jsonl, line 1: corrupt attempts log \(budget {budget!r}, not a whole number of attempts >= 1\)"
+    with pytest.raises(InputError, match=words):
+        read_log(path)
+    with pytest.raises(InputError, match=words):
+        AttemptLog(path, RUN, budget=3)

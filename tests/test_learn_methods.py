@@ -58,9 +58,11 @@ def test_a_method_class_learns_is_logged_by_its_name_and_resumes(demos, tmp_path
     first = learn(demos, 1.4, update=Slower, budget=2, log_path=log)
     assert first.update == "slower" and first.attempts == 2
     assert json.loads(log.read_text().splitlines()[0])["run"]["update"] == "slower"
+    assert json.loads(log.read_text().splitlines()[0])["budget"] == 2
     assert [a.info["factor"] for a in first.history] == pytest.approx([1.0, 0.95])
     again = learn(demos, 1.4, update=Slower, budget=3, log_path=log)
     assert again.resumed == 2 and again.history[-1].info["factor"] == pytest.approx(0.95 ** 2)
+    assert json.loads(log.read_text().splitlines()[0])["budget"] == 3  # the budget its last attempt had
     with pytest.raises(InputError, match=r"update = 'slower' in the log.*'calibrate'"):
         learn(demos, 1.4, budget=4, log_path=log)
 

@@ -26,7 +26,9 @@ trajectories``); a file that is none of these is passed over with the reason, a 
 file of a killed write (``.model.x1y2.tmp.json``) as one, safe to delete.
 
 An attempts log whose last line was cut short (its run killed mid-write) is said to be one: its
-run stopped before its budget, and the attempt being written is lost. Logs that hold one run
+run stopped before its budget, and the attempt being written is lost. A log without a hit says
+whether its run used its budget (the header's, where it records one) or stopped short of it
+(killed between two attempts, or at a basket beyond its reach). Logs that hold one run
 (the same header and throws, their timings aside: a log copied, a seed run again) are named
 together and drawn once.
 """
@@ -199,10 +201,14 @@ class LogFacts:
     run_digest : str
         SHA-256 (hex) of its header's run record and of every attempt but its wall time: equal
         for two logs of one run (a copy, or the same seed thrown again in the simulation).
+    budget : int or None
+        The attempts its last run was given (:attr:`rlff.learn.log.LogContents.budget`); None in
+        a log written before rlff recorded it.
     """
 
     cut: bool
     run_digest: str
+    budget: int | None = None
 
 
 def log_facts_of(path: Path) -> LogFacts:
@@ -215,7 +221,7 @@ def log_facts_of(path: Path) -> LogFacts:
     for attempt in contents.attempts:
         record = {key: value for key, value in attempt.to_json().items() if key != "seconds"}
         digest.update(json.dumps(record, sort_keys=True).encode())
-    return LogFacts(contents.dropped_partial_line, digest.hexdigest())
+    return LogFacts(contents.dropped_partial_line, digest.hexdigest(), contents.budget)
 
 
 def _strays_words(names: list[str]) -> str:
@@ -383,12 +389,7 @@ def _learning_section(logs, facts: dict[Path, LogFacts], figures_dir: Path) -> t
     rows = []
     for path, run in logs:
         first_hit = next((i + 1 for i, hit in enumerate(run.hits) if hit), None)
-        if first_hit:
-            result = f"hit at attempt {first_hit}"
-        elif facts[path].cut:
-            result = f"stopped after {len(run.hits)}, no hit (log cut)"
-        else:
-            result = f"no hit in {len(run.hits)}"
+        result = f"hit at attempt {first_hit}" if first_hit else _no_hit_words(len(run.hits), facts[path])
         shown = " ".join("–" if not np.isfinite(m) else signed(m) for m in run.misses[:8])
         rows.append([path.name, _robot_words(run), ", ".join(run.joints) or None, f"{run.bearing:g}°", run.rim_height,
                      run.method, run.feedback, run.gap, run.until, run.basket, len(run.hits), result,
@@ -422,9 +423,10 @@ def _learning_section(logs, facts: dict[Path, LogFacts], figures_dir: Path) -> t
     text = f"{plural(len(logs), 'attempts log')} of `rlff learn`."
     for path, run in logs:
         if facts[path].cut:
-            lost = len(run.hits) + 1
+            lost, budget = len(run.hits) + 1, facts[path].budget
+            short = f"of {budget}" if budget is not None else f"({lost} attempts or more)"
             text += (f" {path.name} ends in a line cut short: its run was killed while writing attempt {lost}, which is "
-                     f"lost, so the log stops short of the run's budget ({lost} attempts or more)"
+                     f"lost, so the log stops short of the run's budget {short}"
                      f"{'' if any(run.hits) else ' without a hit'}; `rlff learn` with the run's options and --log "
                      f"{path.name} resumes it.")
     for group in same_run.values():
@@ -443,6 +445,18 @@ def _learning_section(logs, facts: dict[Path, LogFacts], figures_dir: Path) -> t
             text += (f" {name} threw with {', '.join(joints) or 'its joints'} as {len(seen)} robots of that name "
                      f"({', '.join(sorted(seen))}): robot files that differ in a limit, the geometry or the mapping.")
     return Section("learning", "Learning", text, {}, [table]), figures
+
+
+def _no_hit_words(attempts: int, facts: LogFacts) -> str:
+    """The result of a log of ``attempts`` attempts without a hit: "used its budget of 12, no hit",
+    "stopped after 3 of 12, no hit" (and "(log cut)" for a log cut mid-line), or, where its header
+    records no budget, "no hit in 3" or "stopped after 3, no hit (log cut)"."""
+    cut = " (log cut)" if facts.cut else ""
+    if facts.budget is None:
+        return f"stopped after {attempts}, no hit{cut}" if facts.cut else f"no hit in {attempts}"
+    if attempts >= facts.budget and not facts.cut:
+        return f"used its budget of {facts.budget}, no hit"
+    return f"stopped after {attempts} of {facts.budget}, no hit{cut}"
 
 
 def _benchmark_section(benchmarks) -> Section:

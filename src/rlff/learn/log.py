@@ -2,9 +2,16 @@
 
 Layout (JSON Lines, UTF-8)::
 
-    {"format": "rlff-attempts", "version": 1, "run": {...}}      # header: what the run is
-    {"attempt": 1, "hit": false, "miss": -0.41, ...}              # one line per attempt
+    {"format": "rlff-attempts", "version": 1, "run": {...}, "budget": 20}   # header: what the run is
+    {"attempt": 1, "hit": false, "miss": -0.41, ...}                         # one line per attempt
     {"attempt": 2, ...}
+
+``budget`` (added 2026-12-07, without a new version: a reader that does not know it reads the
+log as before, and a log without it reads with the budget unknown) is the attempts the run that
+wrote the last attempt was given. It is not part of what the run is (``run``): a run resumed
+with another ``--budget`` continues the log, and rewrites the header with its own budget as it
+appends its first attempt (the whole file replaced at once, as a new log is written), so that
+the log says how many attempts its last run could have made.
 
 Crash safety: each line is appended with a single write, then flushed and fsync'ed, so after a
 crash the file holds every finished attempt and at most one partial last line. Reading detects
@@ -69,10 +76,14 @@ class LogContents:
         Every complete attempt, in order.
     dropped_partial_line : bool
         A partial last line (a crash mid-write) was found and removed.
+    budget : int or None
+        The attempts the run that wrote them was given (the header's ``budget``); None in a log
+        written before rlff recorded it.
     """
 
     attempts: list[Attempt]
     dropped_partial_line: bool
+    budget: int | None = None
 
 
 class LogInUse(InputError):
@@ -98,6 +109,10 @@ class AttemptLog:
         The run's (dotted) keys a user sets with an option: key -> (the option, how a header
         without the key reads, e.g. ``"'sim'"``; None when the key is always written). On resume a
         difference in these is named first, in this order, with its option.
+    budget : int, optional
+        The most attempts the run makes, counting those resumed: the header's ``budget``, not
+        compared on resume (a resumed run that appends an attempt writes its own); None: the
+        header records none.
 
     Raises
     ------
@@ -109,17 +124,19 @@ class AttemptLog:
     """
 
     def __init__(self, path: str | Path, run: dict[str, Any],
-                 options: Mapping[str, tuple[str, str | None]] | None = None):
+                 options: Mapping[str, tuple[str, str | None]] | None = None, budget: int | None = None):
         self.path = Path(path)
         self.run = json.loads(json.dumps(run))  # normalised as it will read back
         self.options = dict(options or {})
+        self.budget = budget
         #: What this run created, removed again by :meth:`close` if it appends no attempt: the
         #: log's missing folders (deepest first) and, once locked, whether the lock file is new.
         self._new_folders = [folder for folder in self.path.parents if not folder.exists()]
         self._new_lock = False
         self._lock: int | None = None
         self._appended = False
-        #: The text a new log, or one started afresh, begins with: written with the first attempt.
+        #: The text a new log, or one started afresh, begins with, or a resumed one's with its
+        #: header rewritten for another budget: written whole with the first attempt appended.
         self._unwritten: str | None = None
         try:
             prepare_output(self.path)  # a folder, or a file where its folder should be, is refused
@@ -127,11 +144,16 @@ class AttemptLog:
             if self.path.exists() and self.path.stat().st_size > 0:
                 self.contents = self._resume()
             else:
-                self._unwritten = _line({"format": FORMAT, "version": VERSION, "run": self.run})
-                self.contents = LogContents([], False)
+                self._unwritten = self._header()
+                self.contents = LogContents([], False, budget)
         except BaseException:
             self.close()
             raise
+
+    def _header(self) -> str:
+        """The header line of this run: its run description and its budget."""
+        budget = {} if self.budget is None else {"budget": self.budget}
+        return _line({"format": FORMAT, "version": VERSION, "run": self.run, **budget})
 
     @property
     def lock_path(self) -> Path:
@@ -217,11 +239,15 @@ class AttemptLog:
             # refused basket): nothing in it to keep, and its settings must not bind the next run
             # (an older header, without what this version records, is written anew whole), from
             # this run's first attempt on
-            self._unwritten = _line({"format": FORMAT, "version": VERSION, "run": self.run})
-            return LogContents([], dropped)
+            self._unwritten = self._header()
+            return LogContents([], dropped, self.budget)
         self._check_header(records[0])
         attempts = _attempts(self.path, records)
+        logged_budget = _budget_of(self.path, records[0])
         good = b"".join(line + b"\n" for line in lines[: len(records)])
+        if self.budget is not None and logged_budget != self.budget:
+            # resumed with another budget: the header says this run's, rewritten with its first attempt
+            self._unwritten = self._header() + good.split(b"\n", 1)[1].decode("utf-8")
         if good != raw:
             # Either cut the partial line (good is a prefix of raw) or add the missing newline.
             with open(self.path, "r+b") as handle:
@@ -232,7 +258,7 @@ class AttemptLog:
                     handle.write(b"\n")
                 handle.flush()
                 os.fsync(handle.fileno())
-        return LogContents(attempts, dropped)
+        return LogContents(attempts, dropped, logged_budget)
 
     def _check_header(self, header: dict[str, Any]) -> None:
         logged = _run_of(self.path, header)
@@ -376,7 +402,7 @@ def read_log(path: str | Path) -> tuple[dict[str, Any], LogContents]:
         raise InputError(f"{path} is {file_kind(path)}, not an rlff attempts log: give the attempts logs (JSONL) "
                          "that rlff learn --log writes")
     _, records, dropped = _records(path, raw)
-    return _run_of(path, records[0]), LogContents(_attempts(path, records), dropped)
+    return _run_of(path, records[0]), LogContents(_attempts(path, records), dropped, _budget_of(path, records[0]))
 
 
 def is_attempts_log(path: str | Path) -> bool:
@@ -434,6 +460,18 @@ def _run_of(path: Path, header: dict[str, Any]) -> dict[str, Any]:
     if not isinstance(run, dict):
         raise InputError(f"{path}, line 1: corrupt attempts log (no run description)")
     return run
+
+
+def _budget_of(path: Path, header: dict[str, Any]) -> int | None:
+    """The ``budget`` of a header line, checked; None in a header without one (a log written
+    before rlff recorded it)."""
+    budget = header.get("budget")
+    if budget is None:
+        return None
+    if isinstance(budget, bool) or not isinstance(budget, int) or budget < 1:
+        raise InputError(f"{path}, line 1: corrupt attempts log (budget {budget!r}, not a whole number of attempts "
+                         ">= 1)")
+    return budget
 
 
 def _attempts(path: Path, records: list[dict[str, Any]]) -> list[Attempt]:

@@ -348,7 +348,8 @@ def learn(
     seed : int
         Seed of every random choice; a run is reproducible from it.
     log_path : str or Path, optional
-        Attempts log (JSONL); resumed when it exists.
+        Attempts log (JSONL); resumed when it exists. Its header records ``budget`` (a run
+        resumed with another one writes its own there with its first attempt).
     executor : callable, optional
         ``executor(joint_trajectory) -> outcome`` with ``hit``, ``landing_x`` and ``miss``;
         default: the MuJoCo simulation of :mod:`rlff.sim` for this basket. The trajectory starts
@@ -522,7 +523,7 @@ def learn(
     carried, carry_notes = carried_offsets(carry_from, run) if carry_from else ((), [])
     if carried:
         run["carried"] = [round(x, 4) for x in carried]
-    log = AttemptLog(log_path, run, RUN_OPTIONS) if log_path is not None else None
+    log = AttemptLog(log_path, run, RUN_OPTIONS, budget=budget) if log_path is not None else None
     try:
         result = _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
                       progress, until, centre_window, pedestal, components, tuple(run.get("carried", ())),
