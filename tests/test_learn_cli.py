@@ -479,3 +479,17 @@ def test_a_log_resumed_with_a_new_batch_appended_says_the_demonstrations_changed
     assert "a batch appended to their file" in refused.stderr
     assert "Resume it with the demonstrations (and --preset) it was made with, or learn from these with a new --log " \
            "file" in refused.stderr, refused.stderr
+
+
+def test_a_resumed_run_says_which_attempts_come_from_the_log(rlff, demos_csv, tmp_path):
+    # without a terminal on stderr, the progress lines showed the log's attempts as if thrown now
+    log = tmp_path / "a.jsonl"
+    first = rlff("learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--budget", "2", "--log", str(log))
+    assert first.code == 0, first.stderr
+    assert len(attempt_lines(log)) == 2
+    again = rlff("learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--budget", "3", "--log", str(log))
+    assert again.code == 0, again.stderr
+    shown = [line for line in again.stderr.splitlines() if line.startswith("attempt ")]
+    assert [line.split(":")[0] for line in shown] == ["attempt 1 (from the log)", "attempt 2 (from the log)",
+                                                      "attempt 3"], again.stderr
+    assert " 3/3 (100 %) " in shown[-1] and "resumed 2 attempts" in again.stderr

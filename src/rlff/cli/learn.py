@@ -224,9 +224,10 @@ def _run(data, basket: float, settings: dict, live: dict | None):
     """The learning run (:func:`rlff.learn.learn` of ``data`` at ``basket`` m with ``settings``, its
     keyword arguments), on the simulation or, with ``live`` (``outcome``, ``landing_topic``,
     ``network``, ``approach_speed``), through the live robot of ``settings["executed_on"]``; its
-    progress shown as it goes."""
+    progress shown as it goes, the attempts resumed from the log said to come from it."""
     from rlff.learn import learn
 
+    resumed = _logged(settings["log_path"])
     with ExitStack() as stack:
         bar = []  # opened at the first attempt, so that bad input fails before any display
         run_on = None
@@ -239,16 +240,18 @@ def _run(data, basket: float, settings: dict, live: dict | None):
             run_on = stack.enter_context(robot_executor(
                 settings["executed_on"], live["outcome"], settings["robot"], basket, settings["feedback"],
                 until=settings["until"], ask=_ask, landing_topic=live["landing_topic"], network=live["network"],
-                tell=tell, approach_speed=live["approach_speed"], resumed=_logged(settings["log_path"])))
+                tell=tell, approach_speed=live["approach_speed"], resumed=resumed))
 
         def show(attempt) -> None:
+            # the loop shows the log's attempts first: not thrown now, and said so
+            which = f"attempt {attempt.index}" + (" (from the log)" if attempt.index <= resumed else "")
             if live is not None and live["outcome"] == "ask":  # no progress bar under the prompt
-                say(f"attempt {attempt.index}: {'hit' if attempt.hit else 'miss'}, exploration {attempt.exploration:.2f}")
+                say(f"{which}: {'hit' if attempt.hit else 'miss'}, exploration {attempt.exploration:.2f}")
                 return
             if not bar:
                 bar.append(stack.enter_context(progress(f"learning to hit {basket:g} m", total=settings["budget"])))
             seen = f"{'hit' if attempt.hit else 'miss'} {signed_metres(attempt.miss, unmeasured='(not measured)')}"
-            bar[0](1, description=f"attempt {attempt.index}: {seen}, exploration {attempt.exploration:.2f}",
+            bar[0](1, description=f"{which}: {seen}, exploration {attempt.exploration:.2f}",
                    total=max(settings["budget"], attempt.index))  # a log resumed with a smaller --budget
 
         return learn(data, basket, **settings, progress=show, executor=run_on)
@@ -256,7 +259,8 @@ def _run(data, basket: float, settings: dict, live: dict | None):
 
 def _logged(log: Path | None) -> int:
     """How many attempts ``log`` holds (0 for none, or one that cannot be read: the run itself
-    says what is wrong with it), so that a resumed live run numbers its throws as the log does."""
+    says what is wrong with it), so that a resumed run says which attempts it shows come from the
+    log, and a resumed live run numbers its throws as the log does."""
     from rlff.errors import InputError
     from rlff.learn.log import read_log
 
