@@ -64,6 +64,20 @@ def test_a_generated_path_prints_one_line_not_its_arrays(thesis_model):
     assert repr(generated).startswith("GeneratedPath(100 points, angle 0 to 10, ") and len(repr(generated)) < 150
 
 
+def test_generate_refuses_angles_of_two_columns_or_in_degrees():
+    model = Model.fit(Dataset([Trajectory(f"t{d}", {"angle": np.linspace(0.6, 1.9, 40), "velocity": np.linspace(1, 9, 40)
+                                                    * d, "distance": np.full(40, d)}) for d in (1.0, 1.5, 2.0)]),
+                      components=2)
+    grid = np.linspace(0.6, 1.9, 20)
+    with pytest.raises(InputError, match=r"^angle values to generate at of shape \(20, 2\): give one array of "
+                                         r"shape \(T,\)$"):
+        model.generate({"distance": 1.5}, np.column_stack([grid, grid]))
+    with pytest.raises(InputError, match=r"^angle values to generate at reaches 108.9, beyond two turns in radians: "
+                                         r"degrees\?"):
+        model.generate({"distance": 1.5}, np.degrees(grid))
+    assert model.generate({"distance": 1.5}, grid[:, None]).angle.shape == (20,)  # a column is one array
+
+
 def test_generated_path_columns_and_time(thesis_model, tmp_path):
     path = thesis_model.generate({"distance": 2.5}, np.linspace(0, 10, 60))
     for name in ("angle", "velocity", "pdf", "exploration", "gmr_mean", "gmr_std", "time"):

@@ -517,7 +517,10 @@ class Model:
         first = self.inputs[0]
         if angles is None:
             angles = self.default_path()
-        angles = np.asarray(angles, dtype=float).reshape(-1)
+        angles = np.asarray(angles, dtype=float)
+        if sum(length > 1 for length in angles.shape) > 1:  # reshaped, a (T, 2) had read as a zigzag path
+            raise InputError(f"{first} values to generate at of shape {angles.shape}: give one array of shape (T,)")
+        angles = angles.reshape(-1)
         if angles.size == 0:
             raise InputError(f"no {first} values to generate at")
         check_count(f"{first} values to generate at", angles.size, MAX_GRID_POINTS, "use fewer points")
@@ -527,6 +530,8 @@ class Model:
                     MAX_GENERATE_BYTES // per_point, "use fewer points")
         if not np.all(np.isfinite(angles)):
             raise InputError(f"{first} values hold NaN or inf")
+        # degrees had been generated at as a far extrapolation (velocities of 193 and a caution)
+        check_column_units({first: angles}, lambda name: f"{name} values to generate at")
         X_in = np.column_stack([angles, *(np.full(angles.size, v) for v in values)])
         conditional = self.condition(X_in)
         mode = dmm_mode(conditional, exploration, exploration_scale, continuity, progress=progress)
