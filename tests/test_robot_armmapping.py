@@ -121,7 +121,7 @@ def test_missing_columns_are_named(arm):
 @pytest.mark.parametrize(("joints", "message"), [
     (("joint_2", "joint_9"), r"joints \['joint_9'\] are not in .*\[whole_arm\].joints \(mapped: joint_2, joint_3, joint_5\)"),
     (("joint_2", "joint_5"), "must include the one following the elbow .*: joint_3"),
-    ((), "--joints names no joint"),
+    ((), r"joints \(--joints\) names no joint"),
 ])
 def test_joints_the_robot_file_does_not_map_are_refused(robot, joints, message):
     with pytest.raises(InputError, match=message):

@@ -476,7 +476,7 @@ def test_a_release_against_the_paths_direction_is_said_so_not_compared_with_a_li
     pd.DataFrame({"angle": np.linspace(0.4, 2.2, 30), "velocity": velocity}).to_csv(path, index=False)
     result = cli("robot", "export", str(path), "-f", "json", "-o", str(tmp_path / "out.json"))
     assert result.code == 2 and "1 value the robot would not execute as asked: point 29: joint_2 velocity -1 rad/s " \
-        "moves it against the path's direction (the release), which --clip stops (0 rad/s)" in result.stderr
+        "moves it against the path's direction (the release), which clip (--clip) stops (0 rad/s)" in result.stderr
     assert "beyond the limit 0" not in result.stderr
 
 
@@ -574,7 +574,7 @@ def test_a_robot_trajectory_is_converted_only_for_the_robot_it_was_planned_for(r
     said = " ".join(result.stderr.split())
     assert re.search(rf"error: {re.escape(str(planned))} was planned for another robot \(slow_arm, digest [0-9a-f]{{16}} "
                      r"in the file; comau_smart5_six, digest [0-9a-f]{16}, with built-in robot comau_smart5_six\): its "
-                     r"limits and speeds are that robot's; give its robot file with --robot", said), said
+                     r"limits and speeds are that robot's; give its robot file as robot \(--robot\)", said), said
     simulated = rlff("sim", "throw", str(planned), "--basket", "1.5")
     assert simulated.code == 2 and "was planned for another robot (slow_arm" in simulated.stderr
     assert rlff("robot", "export", str(planned), "--robot", slow, "-o", str(tmp_path / "slow.txt")).code == 0
@@ -598,7 +598,7 @@ def test_a_robot_trajectory_that_does_not_say_whose_it_is_is_read_with_a_warning
     said = " ".join(result.stderr.split())
     assert (f"warning: {tmp_path / 'old.json'} does not say which robot it was planned for (written before rlff "
             "recorded it, by hand or by another tool): checked and converted for comau_smart5_six (built-in robot comau_smart5_six); "
-            "if it was planned for another robot, give that robot's file with --robot") in said, said
+            "if it was planned for another robot, give that robot's file as robot (--robot)") in said, said
     assert rlff("robot", "export", str(throw), "-o", str(tmp_path / "t.csv")).code == 0
     pd.read_csv(tmp_path / "t.csv").drop(columns=["robot", "robot_digest"]).to_csv(tmp_path / "old.csv", index=False)
     result = rlff("sim", "throw", str(tmp_path / "old.csv"), "--basket", "1.5")
@@ -612,7 +612,7 @@ def test_a_comau_program_is_planned_at_a_controller_period_or_refused(rlff, thro
     assert result.code == 2 and not out.exists()
     said = " ".join(result.stderr.split())
     assert (f"{out}: not written: points 0 and 1 are 0.02 s apart" in said and "the Comau program holds no time" in said
-            and "as a Comau program with a --period of 0.01 s or less (0.002 by default)" in said), said
+            and "as a Comau program with a period (--period) of 0.01 s or less (0.002 by default)" in said), said
     assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "p.json"), "--period", "0.02").code == 0
 
 
@@ -641,7 +641,7 @@ def test_clip_slows_a_whole_arm_throw_as_a_whole(rlff, tmp_path):
     assert "clipped: point 59:" not in result.stderr  # the release, within its limits, is not clipped
     refused = rlff("robot", "export", str(tmp_path / "fast.csv"), "--joints", ",".join(joints), "-o",
                    str(tmp_path / "t.json"))
-    assert refused.code == 2 and ("--clip slows the whole throw, every joint by one factor, until its release is "
+    assert refused.code == 2 and ("clip (--clip) slows the whole throw, every joint by one factor, until its release is "
                                   "within the speed limits") in " ".join(refused.stderr.split()), refused.stderr
 
 

@@ -83,5 +83,16 @@ def test_without_clip_the_positions_beyond_the_limit_are_named_not_the_held_velo
     said = " ".join(result.stderr.split())
     assert ("4 values the robot would not execute as asked: point 27: joint_2 position 1.35 rad beyond the limit "
             "1.3 rad; point 28: joint_2 position 1.4 rad beyond the limit 1.3 rad; point 29: joint_2 position 1.45 "
-            "rad beyond the limit 1.3 rad (and 1 more); --clip clips them") in said
+            "rad beyond the limit 1.3 rad (and 1 more); clip (--clip) clips them") in said
     assert "velocit" not in said
+
+
+def test_from_python_the_refusal_names_the_clip_argument_beside_the_option(low_arm):
+    """plan() without clip said "--clip clips them" to a Python caller, whose argument is clip=True."""
+    from rlff.errors import InputError
+    from rlff.robot.plan import load_for_robot
+
+    robot_file, throw = low_arm
+    with pytest.raises(InputError, match=r"\(and 1 more\); clip \(--clip\) clips them$"):
+        load_for_robot(throw, load_robot(robot_file))
+

@@ -258,7 +258,7 @@ def test_a_goal_that_ended_before_its_receipt_is_old(controller):
 
 @pytest.mark.parametrize("rate", [0.0, -5.0, float("nan"), float("inf")])
 def test_a_rate_must_be_a_positive_number(rate):
-    with pytest.raises(InputError, match="--rate must be a positive number of ticks per second"):
+    with pytest.raises(InputError, match=r"rate \(--rate\) must be a positive number of ticks per second"):
         check_rate(rate)
 
 

@@ -222,7 +222,7 @@ def test_a_mapped_bag_away_from_the_arm_is_refused_in_the_controller_s_words(pla
     arm[4] += 0.2  # wrist_2_joint counts joint_5 the other way, from 0.25 rad
     with pytest.raises(MotionLimitError, match=re.escape(
             f"{out}: point 0 (t = 0.000000 s): wrist_2_joint (joint_5) position {0.25 - arm[4] + 0.2:.6g} rad is not "
-            f"where the arm is ({0.25 - arm[4]:.6g} rad; 0.2 rad off, tolerance 0.001 rad); send with --approach")):
+            f"where the arm is ({0.25 - arm[4]:.6g} rad; 0.2 rad off, tolerance 0.001 rad); send with approach (--approach)")):
         load_for_sending(out, mapped, None, start=arm)
     # without a map, rlff's names and values, as before
     plain = tmp_path / "plain.json"
@@ -275,7 +275,7 @@ def test_a_bag_is_sent_only_to_the_robot_it_was_planned_for(planned, tmp_path, c
     said = " ".join(capsys.readouterr().err.split())
     assert re.search(rf"error: {re.escape(str(out))} was planned for another robot \(slow_arm, digest [0-9a-f]{{16}} "
                      r"in the file; comau_smart5_six, digest [0-9a-f]{16}, with built-in robot comau_smart5_six\): its "
-                     r"limits and speeds are that robot's; give its robot file with --robot", said), said
+                     r"limits and speeds are that robot's; give its robot file as robot \(--robot\)", said), said
     robot = load_robot(slow)
     trajectory = load_for_robot(path, robot, 0.01)[1].trajectory
     with warnings.catch_warnings():
@@ -290,5 +290,5 @@ def test_a_bag_is_sent_only_to_the_robot_it_was_planned_for(planned, tmp_path, c
             f"{unrecorded} does not say which robot it was planned for (written before rlff recorded it, by hand or "
             f"by another tool): checked and converted for slow_arm ({slow})")):
         with pytest.raises(MotionLimitError, match=re.escape(" beyond the limit 1.6 rad/s") + r".*" + re.escape(
-                f"(checked against {slow}; a trajectory planned for another robot is checked with its file: --robot)")):
+                f"(checked against {slow}; a trajectory planned for another robot is checked with its file: robot (--robot))")):
             load_for_sending(unrecorded, robot, None, start=comau_throw.positions[0])

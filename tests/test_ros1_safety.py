@@ -145,8 +145,8 @@ def test_a_moving_arm_is_refused_and_a_raw_goal_preempts_without_a_step(ros, tmp
 def test_serve_checks_its_options_and_never_replaces_a_running_server(ros, tmp_path):
     elsewhere = dict(ros.env, ROS_NAMESPACE="/other")  # another node name, the same action
     for args, env, message in (
-            (("--rate", "0"), ros.env, "--rate must be a positive number of ticks per second, got 0 Hz"),
-            (("--rate", "nan"), ros.env, "--rate must be a positive number of ticks per second, got nan Hz"),
+            (("--rate", "0"), ros.env, "rate (--rate) must be a positive number of ticks per second, got 0 Hz"),
+            (("--rate", "nan"), ros.env, "rate (--rate) must be a positive number of ticks per second, got nan Hz"),
             ((), ros.env, "a node /rlff_comau_controller is already running"),
             ((), elsewhere, "/rlff_comau_controller already serves the action of "
                             "/comau_controller/follow_joint_trajectory/status")):

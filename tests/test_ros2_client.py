@@ -321,7 +321,7 @@ def test_without_a_server_the_client_gives_up_with_a_clear_error(throw, tmp_path
         "the arm's pose is unknown; no publisher of it was discovered: is the arm's driver, or `rlff robot serve "
         "--ros 2`, running, with the same ROS_DOMAIN_ID, or does it publish on another topic? (`ros2 topic find "
         "sensor_msgs/msg/JointState`); discovery alone can take seconds on a loaded machine: if the driver "
-        "publishes, give a --timeout above 2 s, or leave it out (10 s)"), result.stderr
+        "publishes, give a timeout (--timeout) above 2 s, or leave it out (10 s)"), result.stderr
 
 
 @pytest.fixture
@@ -367,7 +367,7 @@ def test_a_driver_discovered_that_publishes_nothing_is_told_from_none(state, dom
         "comau_smart5_six): the arm's pose is unknown; a publisher of it was discovered, and nothing came from it: "
         "does the arm's driver publish its state, with a QoS a reliable subscription takes? (`ros2 topic hz "
         "/joint_states`, `ros2 topic info -v /joint_states`); discovery alone can take seconds on a loaded machine: "
-        f"if the driver publishes, give a --timeout above {REFUSAL_TIMEOUT} s, or leave it out (10 s)")
+        f"if the driver publishes, give a timeout (--timeout) above {REFUSAL_TIMEOUT} s, or leave it out (10 s)")
 
 
 def test_a_moving_arm_is_refused(state, domain, throw, tmp_path):

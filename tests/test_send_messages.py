@@ -26,8 +26,8 @@ def test_a_timeout_shorter_than_the_motion_is_said_before_the_goal_goes_out():
     from rlff.trajectory.joint import JointTrajectory
 
     traj = JointTrajectory(NAMES, [0.0, 3.03], np.tile(POSE, (2, 1)), np.zeros((2, 6)))
-    assert short_timeout(2.0, traj) == ("--timeout 2 s is shorter than the motion (3.030 s): the goal will be "
-                                        "cancelled mid-motion and the arm braked to rest (leave --timeout out to "
+    assert short_timeout(2.0, traj) == ("timeout (--timeout) 2 s is shorter than the motion (3.030 s): the goal will be "
+                                        "cancelled mid-motion and the arm braked to rest (leave the timeout out to "
                                         "wait for the whole motion)")
     assert short_timeout(None, traj) is None and short_timeout(3.03, traj) is None
 

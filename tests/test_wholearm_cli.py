@@ -70,7 +70,7 @@ def test_a_whole_arm_path_thrown_without_joints_says_what_it_leaves_out(rlff, ro
     kind, plan = load_for_robot(throw_csv, robot, 0.002, clip=True)
     (note,) = plan.notes
     assert note.startswith("throw.csv holds shoulder, wrist columns (a "
-                           "whole-arm path), thrown with one joint: give --joints")
+                           "whole-arm path), thrown with one joint: give joints (--joints")
     assert not load_for_robot(throw_csv, robot, 0.002, joints=("joint_2", "joint_3"))[1].notes
     result = rlff("robot", "export", str(throw_csv), "-f", "json", "-o", str(throw_csv.with_suffix(".json")), "--clip")
     assert result.code == 0 and "note: throw.csv holds shoulder, wrist columns" in result.stderr
@@ -135,7 +135,7 @@ def test_the_comau_program_of_a_whole_arm_throw_carries_every_driven_joint(rlff,
     exported = tmp_path / "throw.json"
     assert rlff("robot", "export", str(throw_csv), "--joints", JOINTS, "-f", "json", "-o", str(exported)).code == 0
     bare = rlff("robot", "export", str(exported), "-f", "comau", "-o", str(tmp_path / "bare.txt"))
-    assert bare.code == 2 and "also moves joint_3" in bare.stderr and "(--joints, e.g. joint_2,joint_3)" in bare.stderr
+    assert bare.code == 2 and "also moves joint_3" in bare.stderr and "(joints, --joints, e.g. joint_2,joint_3)" in bare.stderr
 
 
 @pytest.fixture(scope="module")

@@ -107,7 +107,7 @@ def comau_rows(traj: JointTrajectory, mapping: RobotMapping | ArmMapping) -> np.
     if held:
         raise InputError(f"the Comau program carries the motion of {mapping.joint} only; this "
                          f"trajectory also moves {', '.join(held)}: a whole-arm throw's program needs "
-                         "the joints it drives (--joints, e.g. joint_2,joint_3)")
+                         "the joints it drives (joints, --joints, e.g. joint_2,joint_3)")
     pose = [traj.positions[0, traj.joint_index(name)] if name in traj.joint_names
             else mapping.start_pose.get(name, position[0]) for name in robot.joint_names]
     rows = np.tile(np.degrees(pose), (len(traj), 1))
@@ -155,7 +155,7 @@ def require_row_steps(traj: JointTrajectory, path: Path) -> None:
         f"{traj.time[i + 1]:.6g} s; {longer} of {steps.size} steps longer than {MAX_ROW_STEP:g} s): the Comau program "
         "holds no time, the controller moves from row to row at each row's speed, so its rows must follow a "
         f"controller period apart, {MAX_ROW_STEP:g} s or less; export the generated path or attempts log (the one a "
-        f"robot trajectory was planned from) as a Comau program with a --period of {MAX_ROW_STEP:g} s or less (0.002 "
+        f"robot trajectory was planned from) as a Comau program with a period (--period) of {MAX_ROW_STEP:g} s or less (0.002 "
         "by default)")
 
 

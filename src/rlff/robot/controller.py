@@ -79,7 +79,7 @@ RELEASE_ACCELERATION = 1e-6
 def check_rate(rate: float) -> None:
     """:class:`InputError` unless ``rate`` (ticks per second of a transport) is positive and finite."""
     if not (math.isfinite(rate) and rate > 0):
-        raise InputError(f"--rate must be a positive number of ticks per second, got {rate:g} Hz")
+        raise InputError(f"rate (--rate) must be a positive number of ticks per second, got {rate:g} Hz")
 
 
 def release_time(traj: JointTrajectory) -> float | None:

@@ -356,7 +356,7 @@ class ArmMapping:
         where = f"{robot.source}: [whole_arm]"
         if not table:
             raise InputError(f"{robot.source} has no [whole_arm] table: it maps one joint only "
-                             "(leave out --joints)")
+                             "(drop joints, --joints)")
         entries = table.get("joints")
         pose = table.get("start_pose")
         if not isinstance(entries, Mapping) or not entries:
@@ -505,7 +505,7 @@ def mapping_for(robot: Robot, joints: Sequence[str] | None = None) -> RobotMappi
         return RobotMapping.for_robot(robot)
     joints = tuple(str(name) for name in as_names(joints))
     if not joints:
-        raise InputError("--joints names no joint (e.g. joint_2,joint_3)")
+        raise InputError("joints (--joints) names no joint (e.g. joint_2,joint_3)")
     if len(joints) == 1 and joints[0] == robot.throwing.get("joint"):
         return RobotMapping.for_robot(robot)
     return ArmMapping.for_robot(robot, joints)

@@ -82,7 +82,7 @@ def _require_unclipped(report: ClipReport, last: int, coordinated: bool = False)
     Velocities elsewhere along the path are not executed (the planner times the throw within
     the limits, never faster than the release), so only the release's count. The velocity of a
     joint held at a clipped position (set to 0) is no fault of its own: its position is. The
-    message says what ``--clip`` does: for a ``coordinated`` throw (several joints) it slows the
+    message says what ``clip`` (``--clip``) does: for a ``coordinated`` throw (several joints) it slows the
     whole throw rather than clip a release (:func:`slowed_to_limits`).
     """
     held = {(c.point, c.joint) for c in report.changes if c.quantity == "position"}
@@ -95,10 +95,10 @@ def _require_unclipped(report: ClipReport, last: int, coordinated: bool = False)
     others = len(changes) - len(faults)
     also = (f" (and reports {plural(others, 'velocity', 'velocities')} along the path beyond a limit too, "
             "which the planner does not execute)" if others else "")
-    remedy = f"--clip clips {'it' if len(faults) == 1 else 'them'}"
+    remedy = f"clip (--clip) clips {'it' if len(faults) == 1 else 'them'}"
     kinds = {"position" if change.quantity == "position" else "speed" for change in faults if change.limit is not None}
     if coordinated and kinds:
-        remedy = "--clip " + " and ".join(
+        remedy = "clip (--clip) " + " and ".join(
             words for kind, words in (("position", "holds the positions inside their limits"),
                                       ("speed", "slows the whole throw, every joint by one factor, until its "
                                                 "release is within the speed limits")) if kind in kinds)
@@ -112,7 +112,7 @@ def _fault(change, last: int) -> str:
     release = " (the release)" if change.point == last else ""
     if change.limit is None:
         return (f"point {change.point}: {change.joint} velocity {change.before:.6g} {change.unit} moves it against the "
-                f"path's direction{release}, which --clip stops (0 {change.unit})")
+                f"path's direction{release}, which clip (--clip) stops (0 {change.unit})")
     value, limit = apart(change.before, change.limit)  # as many digits as tell them apart
     return (f"point {change.point}: {change.joint} {change.quantity} {value} {change.unit} beyond the "
             f"limit {limit} {change.unit}{release}")
@@ -333,7 +333,7 @@ def load_for_robot(
         unused = [name for name in generated.joints if name in ARM_JOINT_COLUMNS]
         # a whole-arm path thrown with one joint: its other joints' columns would go unseen
         hint = (f"{path.name} holds {', '.join(unused)} columns (a whole-arm path), thrown with one joint: give "
-                "--joints (e.g. joint_2,joint_3, as rlff generate --joints wrote it) to drive them too"
+                "joints (--joints, e.g. joint_2,joint_3, as rlff generate --joints wrote it) to drive them too"
                 if joints is None and unused else None)
         human, slowed = slowed_to_limits(mapping, generated.to_path()) if clip else (generated.to_path(), "")
         try:

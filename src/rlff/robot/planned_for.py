@@ -70,18 +70,18 @@ def require_planned_for(path: str | Path, record: dict[str, str] | None, robot: 
     if record is None:
         warnings.warn(f"{path} does not say which robot it was planned for (written before rlff recorded it, by "
                       f"hand or by another tool): checked and converted for {robot.name} ({robot.source}); if it was planned for "
-                      "another robot, give that robot's file with --robot", UnrecordedRobotWarning, stacklevel=2)
+                      "another robot, give that robot's file as robot (--robot)", UnrecordedRobotWarning, stacklevel=2)
         return False
     ours = planned_for(robot)
     if record["digest"] == ours["digest"]:
         return True
     raise InputError(f"{path} was planned for another robot ({record['name']}, digest {record['digest']} in the file; "
                      f"{ours['name']}, digest {ours['digest']}, with {robot.source}): its limits and speeds are "
-                     "that robot's; give its robot file with --robot")
+                     "that robot's; give its robot file as robot (--robot)")
 
 
 def checked_against(robot: Robot) -> str:
     """What a refusal of a trajectory file that does not say which robot it was planned for adds
     (`` (checked against ...)``): it may be another arm's, failing on ``robot``'s limits."""
     return (f" (checked against {robot.source}; a trajectory planned for another robot is checked with its file: "
-            "--robot)")
+            "robot (--robot))")

@@ -458,8 +458,8 @@ def short_timeout(timeout: float | None, traj: JointTrajectory) -> str | None:
     covers the motion or none is given."""
     if timeout is None or timeout >= traj.duration:
         return None
-    return (f"--timeout {timeout:g} s is shorter than the motion ({traj.duration:.3f} s): the goal will be cancelled "
-            "mid-motion and the arm braked to rest (leave --timeout out to wait for the whole motion)")
+    return (f"timeout (--timeout) {timeout:g} s is shorter than the motion ({traj.duration:.3f} s): the goal will be cancelled "
+            "mid-motion and the arm braked to rest (leave the timeout out to wait for the whole motion)")
 
 
 def goal_start(robot: Robot, traj: JointTrajectory, pose: np.ndarray) -> np.ndarray:

@@ -171,7 +171,7 @@ def _require_start(path: Path, robot: Robot, trajectory: JointTrajectory, start:
             check_start(joints.to_controller(trajectory), joints.positions_to_controller(names, start),
                         labels=[joints.label(name) for name in names])
         except InputError as exc:
-            raise type(exc)(f"{path}: {exc}; send with --approach to move there first, or send the generated "
+            raise type(exc)(f"{path}: {exc}; send with approach (--approach) to move there first, or send the generated "
                             "trajectory CSV to have the motion planned from the arm's pose") from None
     try:  # a start not at rest says what to do; --approach would not change it (an approach ends at rest)
         check_trajectory(trajectory, robot.joints, start=start, start_at_rest=True)

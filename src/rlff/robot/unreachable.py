@@ -62,7 +62,7 @@ def ros2_no_joint_states(robot: Robot, waited: float, publishers: int) -> str:
                "the same ROS_DOMAIN_ID, or does it publish on another topic? (`ros2 topic find "
                "sensor_msgs/msg/JointState`)")
     if waited < CONNECT_TIMEOUT:  # 1.5 to 2 s failed on a loaded 2-core machine, where discovery took 1.6 to 2.8 s
-        why += (f"; discovery alone can take seconds on a loaded machine: if the driver publishes, give a --timeout "
+        why += (f"; discovery alone can take seconds on a loaded machine: if the driver publishes, give a timeout (--timeout) "
                 f"above {waited:g} s, or leave it out ({CONNECT_TIMEOUT:g} s)")
     return no_joint_states(robot, waited, why)
 

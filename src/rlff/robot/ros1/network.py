@@ -14,7 +14,7 @@ from urllib.parse import urlparse
 
 DEFAULT_MASTER = "http://localhost:11311"
 WARNING = ("ROS 1 node open to the network ({address}): any host that reaches {master} can command "
-           "and watch this arm; drop --network to keep it on this host")
+           "and watch this arm; drop network (--network) to keep it on this host")
 
 
 def master_is_local(uri: str) -> bool:

@@ -16,7 +16,7 @@ from rlff.errors import InputError
 VARIABLE = "ROS_AUTOMATIC_DISCOVERY_RANGE"
 WARNING = ("ROS 2 discovery is open to the network (ROS_AUTOMATIC_DISCOVERY_RANGE={range}): any host "
            "on it that shares ROS_DOMAIN_ID {domain} can command and watch this arm; use SROS2 "
-           "enclaves (docs/robot.md) or drop --network")
+           "enclaves (docs/robot.md) or drop network (--network)")
 
 
 def limit_discovery(network: bool = False) -> str | None:
