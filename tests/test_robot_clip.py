@@ -96,3 +96,15 @@ def test_from_python_the_refusal_names_the_clip_argument_beside_the_option(low_a
     with pytest.raises(InputError, match=r"\(and 1 more\); clip \(--clip\) clips them$"):
         load_for_robot(throw, load_robot(robot_file))
 
+
+def test_a_plan_prints_as_one_short_line_not_its_arrays(low_arm):
+    """The dataclass' own repr printed every array of both trajectories: kilobytes for one throw."""
+    from rlff.robot.plan import load_for_robot
+
+    robot_file, throw = low_arm
+    _, planned = load_for_robot(throw, load_robot(robot_file), clip=True)
+    traj = planned.trajectory
+    assert repr(planned) == (f"RobotPlan({len(traj)} points, {traj.duration:.3f} s, release at {traj.release_time:.3f} "
+                             "s, joints=['joint_1', 'joint_2', 'joint_3', 'joint_4', 'joint_5', 'joint_6'], from 31 "
+                             f"mapped points, clipped={len(planned.clipped_points.changes)})")
+    assert len(planned.clipped_points.changes) > 0 and "\n" not in repr(planned)

@@ -59,6 +59,16 @@ class RobotPlan:
     notes: tuple[str, ...] = ()
     slowed: str = ""
 
+    def __repr__(self) -> str:
+        """A line, not the arrays: the planned points, duration, release and joints, how many mapped
+        points it was planned from and how many values were clipped."""
+        traj = self.trajectory
+        release = f", release at {traj.release_time:.3f} s" if traj.release_time is not None else ""
+        source = "a robot trajectory as it is" if self.points is traj else f"from {len(self.points)} mapped points"
+        slowed = ", slowed as a whole" if self.slowed else ""
+        return (f"RobotPlan({len(traj)} points, {traj.duration:.3f} s{release}, joints={list(traj.joint_names)}, "
+                f"{source}, clipped={len(self.clipped_points.changes)}{slowed})")
+
     def summary(self) -> str:
         """One line: how the throw was slowed (``slowed``, :func:`slowed_to_limits`) or clipped, the
         release's own clipped values first, and the plan's duration and release."""
