@@ -17,3 +17,14 @@ def slow_arm(folder: Path) -> Path:
     path = folder / "slow_arm.toml"
     path.write_text(text)
     return path
+
+
+def unnamed_arm(folder: Path) -> Path:
+    """The Comau's robot file without its [ros] table (the file's last table), as another arm's
+    file may come: every ROS name rlff's default, the joints the file's own."""
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    head, table = text.split("\n[ros]\n")
+    assert "[" not in table, table
+    path = folder / "unnamed_arm.toml"
+    path.write_text(head + "\n")
+    return path

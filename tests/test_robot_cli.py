@@ -14,7 +14,7 @@ from rlff.cli import main
 from rlff.robot import RobotMapping, load_robot
 from rlff.robot.export import read_json
 from rlff.timing import time_along_path
-from robotfiles import slow_arm
+from robotfiles import slow_arm, unnamed_arm
 
 
 def human_csv(path, robot_positions, robot_speed, **extra):
@@ -79,6 +79,26 @@ def test_export_samples_the_plan_at_the_period(capsys, throw, tmp_path):
     assert traj.velocities[release, 1] == pytest.approx(2.0, abs=1e-12)
     assert np.all(traj.velocities[-1] == 0) and np.all(traj.accelerations[-1] == 0)
     assert np.abs(traj.accelerations[:, 1]).max() <= 11.0
+
+
+def test_a_bag_of_a_robot_file_without_a_ros_table_says_the_names_it_carries(capsys, throw, tmp_path):
+    """A tester's UR5e file without [ros] exported its bag on the Comau driver's topic without a word:
+    only `robot show` said so. Each bag says it once; a file of another format carries no ROS names."""
+    plain = unnamed_arm(tmp_path)
+    said = (f"warning: {plain} has no [ros] table: the bag is written with rlff's defaults, the Comau driver's "
+            "trajectory_topic /comau/joint_trajectory, and the robot file's joint names (joint_1, joint_2, joint_3, "
+            "joint_4, joint_5, joint_6); if your arm's controller has other names, give them in a [ros] table "
+            "(action, joint_states, trajectory_topic; a [ros.joints.<joint>] table of name, offset and sign for "
+            "each joint it names or counts otherwise; docs/robot.md)")
+    for fmt, name in (("ros1-bag", "t.bag"), ("ros2-bag", "t2")):
+        code, _, err = run(capsys, "robot", "export", str(throw), "--robot", str(plain), "-f", fmt, "-o",
+                           str(tmp_path / name))
+        assert code == 0 and err.count("has no [ros] table") == 1 and said in err, err
+        # the built-in robot's file writes the defaults out: nothing to say
+        code, _, err = run(capsys, "robot", "export", str(throw), "-f", fmt, "-o", str(tmp_path / f"builtin-{name}"))
+        assert code == 0 and "[ros]" not in err, err
+    code, _, err = run(capsys, "robot", "export", str(throw), "--robot", str(plain), "-o", str(tmp_path / "t.json"))
+    assert code == 0 and "[ros]" not in err, err
 
 
 def test_period_zero_is_refused(capsys, throw, tmp_path):

@@ -27,6 +27,7 @@ from scipy.interpolate import BPoly
 from rlff.robot.plan import load_for_robot
 from rlff.robot.send import approach_line
 from rlff.trajectory.check import LIMIT_SLACK
+from robotfiles import unnamed_arm
 from rosrig import (
     AMAX,
     ARM_NAMES,
@@ -431,6 +432,39 @@ def test_serve_and_send_under_the_robot_file_s_ros_names(tmp_path):
                                      "built-in robot comau_smart5_six): the arm's pose is unknown; no node publishes "
                                      "it (the master lists none): is the arm's driver, or `rlff robot serve`, "
                                      "running, "), default.stderr
+
+
+def test_serve_and_send_of_a_robot_file_without_a_ros_table_say_the_names_they_use(ros, tmp_path):
+    """A robot file without [ros] drove goals to the Comau driver's action under the file's joint
+    names without a word (only `robot show` said so): `serve` and `send` say it once, before any
+    node registers or connects, and go on (a rehearsal of the file meets on the same names)."""
+    plain = unnamed_arm(tmp_path)
+    rig = Ros(tmp_path, "--robot", str(plain))
+    try:
+        served = rig.log()
+        path = throw_csv(tmp_path, "throw.csv", 0.0, 0.3, 0.5)
+        goal = rig.rlff("robot", "send", str(path), "--robot", str(plain), "--dry-run", "--timeout", "60")
+        topic = rig.rlff("robot", "send", str(path), "--robot", str(plain), "--topic-mode", "--dry-run",
+                         "--timeout", "60")
+    finally:
+        rig.close()
+    joints = "the robot file's joint names (joint_1, joint_2, joint_3, joint_4, joint_5, joint_6)"
+    assert served.count("has no [ros] table") == 1 and (
+        f"warning: {plain} has no [ros] table: the simulated arm is served with rlff's defaults, the Comau driver's "
+        "action /comau_controller/follow_joint_trajectory, joint_states /joint_states, trajectory_topic "
+        f"/comau/joint_trajectory, and {joints}; if your arm's controller has other names, give them in a [ros] "
+        "table (action, joint_states") in served, served
+    assert served.index("has no [ros] table") < served.index("serving /")
+    assert goal.returncode == 0 and "dry run, nothing sent" in goal.stderr, goal.stderr
+    assert goal.stderr.count("has no [ros] table") == 1 and (
+        "the goal is sent with rlff's defaults, the Comau driver's joint_states /joint_states, action "
+        f"/comau_controller/follow_joint_trajectory, and {joints}") in goal.stderr, goal.stderr
+    assert topic.returncode == 0 and topic.stderr.count("has no [ros] table") == 1 and (
+        "the trajectory is published with rlff's defaults, the Comau driver's joint_states /joint_states, "
+        "trajectory_topic /comau/joint_trajectory") in topic.stderr, topic.stderr
+    # the built-in robot's file states the defaults: nothing to say
+    builtin = ros.rlff("robot", "send", str(path), "--dry-run", "--timeout", "60")
+    assert builtin.returncode == 0 and "[ros]" not in builtin.stderr, builtin.stderr
 
 
 #: A driver whose publisher of the joint states (the topic its first argument) sends nothing.

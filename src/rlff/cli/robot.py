@@ -192,6 +192,7 @@ def export(
     from rlff.robot.formats import export_trajectory
     from rlff.robot.mapping import mapping_for
     from rlff.robot.plan import require_planned
+    from rlff.robot.ros_defaults import ros_defaults_note
 
     bag_folder = (fmt or SUFFIX_FORMATS.get(out.suffix.lower())) == "ros2-bag"
     guard(inputs={"TRAJECTORY": trajectory, "--robot": robot_file(robot)}, outputs={"-o/--output": out},
@@ -210,6 +211,8 @@ def export(
     # what the Comau program carries: an attempts log's run's joints, else the ones asked for
     mapping = run_mapping(model, source.run) if source.run is not None else mapping_for(model, driven)
     say(f"{trajectory}: {input_words(trajectory, source, attempt)}")
+    if fmt.endswith("-bag") and (defaults := ros_defaults_note(model, "the bag is written", ("trajectory_topic",))):
+        warn(defaults)
     result = source.plan
     export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)
     if fmt == "comau" and (left_out := joints_left_out(mapping)) is not None:
@@ -243,6 +246,7 @@ def serve(
     from rlff.robot.controller import check_rate
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import RobotMapping
+    from rlff.robot.ros_defaults import ROS_KEYS, ros_defaults_note
 
     # every option is checked before a node registers: a bad one must not disturb a running server
     check_rate(rate)
@@ -257,6 +261,8 @@ def serve(
     if waiting != 0.0:  # the arm does not wait where a user of the built-in robot would expect
         say(f"{mapping.joint} waits at {waiting:.3g} rad: its range [{model.joint(mapping.joint).lower:g}, "
             f"{model.joint(mapping.joint).upper:g}] rad leaves 0 out")
+    if (defaults := ros_defaults_note(model, "the simulated arm is served", ROS_KEYS)) is not None:
+        warn(defaults)
     if ros == 2:
         _serve_ros2(model, initial, rate, hook, network)
         return
@@ -408,6 +414,7 @@ def send(
     from rlff.limits import check_period
     from rlff.robot.description import load_robot
     from rlff.robot.plan import require_planned
+    from rlff.robot.ros_defaults import ros_defaults_note
     from rlff.robot.send import (
         CONNECT_TIMEOUT,
         approach_line,
@@ -445,6 +452,11 @@ def send(
         warn(aside)
     for note in notes:
         say(f"note: {note}")
+    # before any connection: the names it would look for are the question
+    doing, keys = (("the trajectory is published", ("joint_states", "trajectory_topic")) if topic_mode
+                   else ("the goal is sent", ("joint_states", "action")))
+    if (defaults := ros_defaults_note(model, doing, keys)) is not None:
+        warn(defaults)
     with ExitStack() as node:  # over ROS 2, one node reads the arm's state and sends the goal
         if ros == 2:
             _require_ros2(network)
