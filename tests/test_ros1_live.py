@@ -505,7 +505,7 @@ def test_an_action_nobody_serves_is_named_with_the_robot_file_s_ros_table(ros, t
     # a goal that never went out
     before = result.stderr.splitlines()[:-1]
     assert [line.split(" ")[0] for line in before] == ["planned", "approach", "warning:", "sending"], result.stderr
-    assert before[-2].startswith("warning: --timeout ") and "shorter than the motion" in before[-2]
+    assert before[-2].startswith("warning: timeout (--timeout) ") and "shorter than the motion" in before[-2]
     # the wait for the server said before it (it was 4 s of silence)
     assert before[-1] == "sending the goal to /nobody/follow_joint_trajectory: waiting up to 4 s for its action server"
 
