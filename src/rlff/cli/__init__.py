@@ -8,6 +8,9 @@ The one error boundary is :func:`main`:
 - any other :class:`rlff.errors.RlffError` (a robot that failed or cannot be reached: no ROS, no
   master or action server, an arm state that cannot be trusted) ends with the same one line and
   exit code 1;
+- a package rlff declares (or an extra of it declares) that is not installed ends with one line
+  naming it and the ``pip install`` that adds it, and exit code 1
+  (:mod:`rlff.cli.missing_package`);
 - anything else is a bug: one line ``rlff: internal error: ...`` with a hint to rerun with
   ``--debug``, and exit code 1;
 - a stop signal ends the command with ``rlff: interrupted`` (Ctrl-C, exit code 130) or ``rlff:
@@ -286,6 +289,12 @@ def _ended(exc: BaseException, args: list[str], debug: bool, stop: _Stop | None)
         return _fail(_error_line(exc), 1, exc, debug)
     if isinstance(exc, OSError):  # a file the user named: missing, a folder, no permission, disk full
         return _fail(_error_line(exc), 2, exc, debug)
+    if isinstance(exc, ModuleNotFoundError):
+        from rlff.cli.missing_package import missing_package_line
+
+        line = missing_package_line(exc)
+        if line is not None:  # an installation without it, not a bug
+            return _fail(line, 1, exc, debug)
     if isinstance(exc, Exception):
         return _fail(f"internal error: {type(exc).__name__}: {exc} (a bug in rlff: rerun with --debug "
                      "for the traceback and report it)", 1, exc, debug)
