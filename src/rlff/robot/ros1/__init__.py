@@ -1,7 +1,8 @@
 """Live ROS 1: the FollowJointTrajectory action server and client, and the topic mode.
 
-These modules need Debian's ROS 1 Python packages and the control_msgs messages that
-``scripts/setup.d/10-ros.sh`` builds (see :mod:`rlff.robot.ros1.msgs`).
+These modules need Debian's ROS 1 Python packages, reachable from the venv, and the control_msgs
+messages built for them: ``python -m rlff.robot.ros1.install`` does both (:mod:`rlff.robot.ros1.install`;
+``scripts/setup.sh --test`` runs it for a clone).
 """
 
 from __future__ import annotations
@@ -21,6 +22,10 @@ def missing() -> str | None:
         import rospy  # noqa: F401
         from control_msgs.msg import FollowJointTrajectoryAction  # noqa: F401
     except ImportError as exc:
-        return (f"ROS 1 is not reachable ({exc}): install it with scripts/setup.sh --test "
-                "(Debian's ROS 1 packages and the control_msgs messages)")
+        from rlff.robot.ros1.install import apt_command
+
+        return (f"ROS 1 is not reachable ({exc}): install Debian's ROS 1 packages ({apt_command()}), "
+                "then run `python -m rlff.robot.ros1.install` with this venv's Python (it makes them "
+                "importable here and builds the control_msgs messages); from a clone of rlff, "
+                "scripts/setup.sh --test does both")
     return None
