@@ -1,9 +1,12 @@
-"""What pyproject.toml declares: the dependency floors rlff was run at, the files a wheel carries.
+"""What pyproject.toml and MANIFEST.in declare: the dependency floors rlff was run at, the one
+place the version is written, the files a wheel and an sdist carry.
 
 The floors are measured by hand, not here (a fresh venv per version is minutes of downloads): a
 throwaway venv with the dependency at the version below and everything else from the project's
 venv, then ``rlff --version``, ``rlff fit --help``, a usage error (``rlff fit --nope``) and
 ``rlff data synth throws`` / ``fit`` / ``generate`` / ``sim throw`` from outside the clone.
+The sdist's files are what setuptools' own reading of MANIFEST.in gives (a build with
+``python -m build --sdist`` needs setuptools 77, newer than the project venv's).
 """
 
 from __future__ import annotations
@@ -48,3 +51,46 @@ def test_dependency_floor_is_one_rlff_works_with(name):
     assert floor is not None and floor >= Version(MEASURED_FLOORS[name]), (
         f"pyproject.toml lets pip install {name} {floor}, below {MEASURED_FLOORS[name]}, the first "
         "version rlff's commands were seen to work with")
+
+
+def _setuptools_config() -> dict:
+    return tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["setuptools"]
+
+
+def test_every_package_data_pattern_matches_a_file():
+    patterns = _setuptools_config()["package-data"]["rlff"]
+    empty = [pattern for pattern in patterns if not list((REPO / "src" / "rlff").glob(pattern))]
+    assert not empty, f"package-data patterns that match no file under src/rlff: {empty}"
+
+
+def test_the_version_is_written_once_in_rlff():
+    import rlff
+
+    project = _project()
+    assert "version" not in project and "version" in project.get("dynamic", []), (
+        "pyproject.toml writes the version itself: it is rlff.__version__'s to say")
+    assert _setuptools_config()["dynamic"]["version"] == {"attr": "rlff.__version__"}
+    assert Version(rlff.__version__)  # a version pip accepts
+
+
+def test_the_sdist_holds_what_a_test_run_and_the_readme_need(monkeypatch):
+    from setuptools.command.egg_info import FileList
+
+    manifest = REPO / "MANIFEST.in"
+    assert manifest.is_file(), "no MANIFEST.in: the sdist holds tests/test_*.py without their conftest and data"
+    monkeypatch.chdir(REPO)
+    files = FileList()
+    files.findall()
+    for line in manifest.read_text(encoding="utf-8").splitlines():
+        if line.strip() and not line.lstrip().startswith("#"):
+            files.process_template_line(line)
+    held = set(files.files)
+    needed = {"tests/conftest.py", "scripts/setup.sh", "scripts/debian-packages.txt", ".ci/run"}
+    for pattern in ("tests/*.py", "tests/data/*", "docs/*.md", "docs/figures/*", "scripts/setup.d/*.sh",
+                    "benchmarks/*.py"):
+        found = {path.relative_to(REPO).as_posix() for path in REPO.glob(pattern)}
+        assert found, pattern
+        needed |= found
+    assert not needed - held, f"the sdist would lack {sorted(needed - held)}"
+    caches = sorted(path for path in held if path.endswith((".pyc", ".nbi", ".nbc")))
+    assert not caches, f"the sdist would hold compiled caches: {caches[:5]}"
