@@ -254,12 +254,18 @@ def _main(args: list[str], stop: _Stop | None) -> int:
                 warn(str(message))
 
         warnings.showwarning = show
+        from rlff.cli._common import say
+        from rlff.model import compile_notice
+
+        compile_notice.tell_with(say)  # the model's kernels compiling on a cold cache: said once
         try:
             code = _command().main(args=args, prog_name="rlff", standalone_mode=False)
         except SystemExit as exc:
             return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
         except BaseException as exc:  # noqa: BLE001 - the boundary: every end is one line and a code
             return _ended(exc, args, debug, stop)
+        finally:
+            compile_notice.tell_with(None)
     if code == 130 and stop is not None and stop.signal is not None:  # typer's code for any KeyboardInterrupt
         return _STOP_CODES[stop.signal]
     return code if isinstance(code, int) else 0

@@ -20,6 +20,10 @@ from llvmlite import ir
 from numba import types
 from numba.extending import intrinsic
 
+from rlff.model.compile_notice import listen
+
+listen()  # every kernel module imports this one: the first compile (a cold cache) is said once
+
 _LOG2E = 1.4426950408889634
 #: ln 2 split so that n * _LN2_HI is exact for |n| < 2^11 (Cody & Waite range reduction).
 _LN2_HI = 6.93147180369123816490e-01
