@@ -10,6 +10,7 @@ import subprocess
 import sys
 import time
 from importlib import resources
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -493,3 +494,17 @@ def test_a_resumed_run_says_which_attempts_come_from_the_log(rlff, demos_csv, tm
     assert [line.split(":")[0] for line in shown] == ["attempt 1 (from the log)", "attempt 2 (from the log)",
                                                       "attempt 3"], again.stderr
     assert " 3/3 (100 %) " in shown[-1] and "resumed 2 attempts" in again.stderr
+
+
+@pytest.mark.parametrize("kind", ["a device", "a FIFO (named pipe)"])
+def test_a_log_that_is_no_regular_file_is_refused_before_any_throw(cli, demos_csv, tmp_path, kind):
+    # a file output may be a device, so --log /dev/full passed the output guard: its lock file
+    # was made beside it (as root /dev/full.lock), and a FIFO blocked the run at its first append
+    log = Path("/dev/null") if kind == "a device" else tmp_path / "attempts.jsonl"
+    if kind != "a device":
+        os.mkfifo(log)
+    result = cli("learn", str(demos_csv), "--basket", "1.4", "--log", str(log), timeout=120)
+    assert result.code == 2, result.stderr
+    assert result.stderr == (f"rlff: error: --log {log} is {kind}, not a file: an attempts log is a regular file, "
+                             "resumed when it exists, or a new path; give a file's path (e.g. attempts.jsonl)\n")
+    assert not log.with_name(log.name + ".lock").exists()

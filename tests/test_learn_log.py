@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -385,3 +387,32 @@ def test_a_budget_that_is_no_whole_number_of_attempts_is_a_damaged_header(tmp_pa
         read_log(path)
     with pytest.raises(InputError, match=words):
         AttemptLog(path, RUN, budget=3)
+
+
+@pytest.fixture
+def no_log_files(tmp_path):
+    """``{name: path}`` of paths that are no regular file: a device and a FIFO."""
+    import os
+
+    pipe = tmp_path / "attempts.jsonl"
+    os.mkfifo(pipe)
+    return {"a device": Path("/dev/null"), "a FIFO (named pipe)": pipe}
+
+
+@pytest.mark.parametrize("kind", ["a device", "a FIFO (named pipe)"])
+def test_a_log_that_is_no_regular_file_is_refused_before_its_lock_file_is_made(no_log_files, kind):
+    # a device or a FIFO passed as a log: the lock file was made beside it (/dev/null.lock, as
+    # root), and the first append to a FIFO blocked the run
+    path = no_log_files[kind]
+    with pytest.raises(InputError, match=rf"^{path} is {re.escape(kind)}, not a file: an attempts log is a regular "
+                                         r"file, resumed when it exists, or a new path; give a file's path"):
+        AttemptLog(path, RUN).close()
+    assert not path.with_name(path.name + ".lock").exists()
+
+
+def test_learn_refuses_a_log_that_is_no_regular_file_before_it_reads_the_demonstrations(no_log_files, tmp_path):
+    from rlff.learn import learn
+
+    pipe = no_log_files["a FIFO (named pipe)"]
+    with pytest.raises(InputError, match=rf"^{pipe} is a FIFO \(named pipe\), not a file"):
+        learn(tmp_path / "nowhere.csv", 1.4, log_path=pipe)

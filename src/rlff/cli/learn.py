@@ -115,6 +115,13 @@ def learn_command(
     bag_folder = out is not None and (fmt or SUFFIX_FORMATS.get(out.suffix.lower())) == "ros2-bag"
     guard(inputs={"DEMOS": demos, "--carry": carry or None, "--robot": robot_file(robot)},
           outputs={"--log": log, "-o/--output": out}, folders=["-o/--output"] if bag_folder else [])
+    if log is not None:  # a device or a FIFO passes as an output; it is no log, and it would be read first
+        from rlff.learn.log import require_log_file
+
+        try:
+            require_log_file(log)
+        except InputError as exc:
+            raise InputError(f"--log {exc}") from None
     from rlff.limits import check_period
     from rlff.sim import Basket
 

@@ -50,6 +50,7 @@ from rlff.errors import InputError
 from rlff.fileio import (
     claim_lock,
     lock_holder,
+    path_kind,
     prepare_output,
     refused,
     refused_in_place,
@@ -119,8 +120,8 @@ class AttemptLog:
     LogInUse
         Another run holds the log (the message names its pid and host).
     InputError
-        The file is not an attempts log, belongs to another run, or is damaged before its last
-        line.
+        The path is no regular file (:func:`require_log_file`), or the file is not an attempts
+        log, belongs to another run, or is damaged before its last line.
     """
 
     def __init__(self, path: str | Path, run: dict[str, Any],
@@ -138,6 +139,7 @@ class AttemptLog:
         #: The text a new log, or one started afresh, begins with, or a resumed one's with its
         #: header rewritten for another budget: written whole with the first attempt appended.
         self._unwritten: str | None = None
+        require_log_file(self.path)  # before the lock file beside it is made
         try:
             prepare_output(self.path)  # a folder, or a file where its folder should be, is refused
             self._lock, self._new_lock = self._acquire()
@@ -283,6 +285,17 @@ class AttemptLog:
             f"{self.path}: the log belongs to another run ({key} = {shown(before)} in the log, {shown(now)} now"
             f"{f', from {option}' if option else ''}); use another --log file"
         )
+
+
+def require_log_file(path: str | Path) -> None:
+    """Raise :class:`InputError` unless ``path`` is a regular file (a log to resume) or nothing
+    yet (a new log): a device, a FIFO, a socket, a folder or a broken link, named as such
+    (:func:`rlff.fileio.path_kind`). A device or a FIFO had passed as an output: the lock file
+    was made beside it (``/dev/full.lock``) and a FIFO blocked the run at its first attempt."""
+    kind = path_kind(path)
+    if kind not in (None, "a file"):
+        raise InputError(f"{path} is {kind}, not a file: an attempts log is a regular file, resumed when it "
+                         "exists, or a new path; give a file's path (e.g. attempts.jsonl)")
 
 
 def _is_at(fd: int, path: Path) -> bool:

@@ -55,7 +55,7 @@ from rlff.learn.demos import (
     typical_throw,
     usable_demos,
 )
-from rlff.learn.log import AttemptLog, robot_record
+from rlff.learn.log import AttemptLog, require_log_file, robot_record
 from rlff.learn.method import FEEDBACKS, Method, Problem
 from rlff.learn.proposal_check import changed_words, proposed, short_repr
 from rlff.learn.reach import (
@@ -435,7 +435,8 @@ def learn(
     InputError
         Unknown method or feedback, a method that needs other feedback, a carry into a method
         that does not carry (:func:`rlff.learn.carry.require_carrying`), a basket out of the
-        robot's reach, demonstrations beyond the joint limits, or a corrupt or foreign log. A
+        robot's reach, demonstrations beyond the joint limits, a log path that is no regular file
+        (a device, a FIFO), or a corrupt or foreign log. A
         method's proposal that is no :class:`~rlff.learn.method.Proposal` or does not follow
         ``problem.angles`` (:func:`rlff.learn.proposal_check.proposed`), stopping the run at that
         attempt; an error that stops an attempt and names it ends "(the log keeps the attempts
@@ -461,6 +462,8 @@ def learn(
     if not (isinstance(seed, numbers.Integral) and not isinstance(seed, bool) and seed >= 0):
         raise InputError(f"seed must be a whole number >= 0, got {seed!r}")
     seed = int(seed)
+    if log_path is not None:  # before the demonstrations are read and fitted
+        require_log_file(log_path)
     demos = _demonstrations(demos)
     require_units(demos)  # before anything is judged in them (a unit slip is the likeliest fault)
     if aim not in AIMS:
