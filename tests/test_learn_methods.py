@@ -270,3 +270,27 @@ def test_the_benchmark_refuses_a_proposal_off_the_grid_as_the_loop_does():
                                          r"reversed: problem.angles runs from .* rad, the release last; give the "
                                          r"throw in the grid's order$"):
         learning_benchmark(scenario, seeds=1, methods={"binary": (Backwards,)}, jobs=1, budget=2)
+
+
+class Seeing(Slower):
+    """Slower, keeping the last problem it was given in ``seen``."""
+
+    name = "seeing"
+    seen: list = []
+
+    def __init__(self, problem):
+        super().__init__(problem)
+        type(self).seen[:] = [problem]
+
+
+def test_a_result_and_a_problem_print_one_short_line_not_their_arrays(demos):
+    # the dataclasses printed every attempt's arrays (4.5 kB) and a partial holding the robot
+    # mapping (3.6 kB)
+    result = learn(demos, 1.4, update=Seeing, budget=2, feedback="distance")
+    misses = ", ".join(f"{miss:.3f}" for miss in result.misses)
+    assert repr(result) == (f"LearningResult(hit={result.hit}, attempts={result.attempts}, misses=[{misses}], "
+                            "target=1.4, feedback='distance', update='seeing')")
+    problem = Seeing.seen[0]
+    assert repr(problem) == (f"Problem(target=1.4, feedback='distance', T={problem.angles.size}, "
+                             f"max_speed={problem.max_speed:.4g}, outputs=('velocity',))")
+    assert len(repr(result)) < 200 and len(repr(problem)) < 120

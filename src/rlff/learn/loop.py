@@ -272,6 +272,14 @@ class LearningResult:
         landed = [a for a in self.history if math.isfinite(a.miss)]
         return min(landed, key=lambda a: abs(a.miss)) if landed else None
 
+    def __repr__(self) -> str:
+        """One line: the outcome, the attempts, every signed miss (m, to the millimetre), the
+        basket, the feedback and the method; not the attempts' arrays (the dataclass printed
+        kilobytes of them)."""
+        misses = ", ".join(f"{miss:.3f}" for miss in self.misses)
+        return (f"LearningResult(hit={self.hit}, attempts={self.attempts}, misses=[{misses}], target={self.target:g}, "
+                f"feedback={self.feedback!r}, update={self.update!r})")
+
     def to_json(self) -> dict[str, Any]:
         """The result as plain values (no trajectories)."""
         return {

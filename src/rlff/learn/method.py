@@ -107,6 +107,13 @@ class Problem:
     misreport: float = MISREPORT
     landing: Callable[[float], float] | None = None
 
+    def __repr__(self) -> str:
+        """One line: the basket, the feedback, the grid's length T, the top speed and the
+        outputs; not the demonstrations' or the grid's arrays, nor the robot mapping inside
+        :attr:`saturation` (the dataclass printed kilobytes of them)."""
+        return (f"Problem(target={self.target:g}, feedback={self.feedback!r}, T={np.size(self.angles)}, "
+                f"max_speed={self.max_speed:.4g}, outputs={self.outputs!r})")
+
     @property
     def carried_shift(self) -> float:
         """Log speed factor the carried hits point to (their mean; 0 without any)."""
