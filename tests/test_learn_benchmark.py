@@ -110,6 +110,23 @@ def test_a_basket_beyond_the_robots_reach_stops_the_benchmark_before_its_first_r
     assert seen == []
 
 
+@pytest.mark.parametrize("methods, words", [
+    ({"distnace": ("secant",)}, r"^methods: 'distnace' is no feedback kind; give methods per feedback kind, "
+                                r"'binary' or 'distance'"),
+    ({"binary": ("secant",)}, r"^methods\['binary'\]: secant needs distance feedback, not binary; give it under "
+                              r"'distance'$"),
+    ({"binary": ("nonsense",)}, r"^unknown update 'nonsense'"),
+    ({"distance": ("secant",)}, r"^methods name methods for distance feedback, and scenario short runs binary "
+                                r"feedback: nothing to run; give methods for 'binary'"),
+])
+def test_methods_that_cannot_run_are_refused_before_any_run(methods, words):
+    scenario = Scenario(feedbacks=(parse_feedback("binary"),), baskets=(1.4,))
+    seen = []
+    with pytest.raises(InputError, match=words):
+        learning_benchmark(scenario, 1, methods=methods, progress=seen.append)
+    assert seen == []
+
+
 @pytest.mark.parametrize("text, kind, noise, rate", [
     ("binary", "binary", 0.0, 0.0), ("distance", "distance", 0.0, 0.0),
     ("noisy-distance:0.05", "distance", 0.05, 0.0), ("false-miss:0.2", "binary", 0.0, 0.2),

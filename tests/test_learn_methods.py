@@ -104,6 +104,18 @@ def test_the_benchmark_runs_a_method_class_in_its_workers():
     assert all(1 <= run.attempts <= 2 for run in runs)
 
 
+@pytest.mark.slow
+def test_the_benchmark_runs_only_the_feedback_kinds_its_methods_name():
+    # the docs' example, {"distance": (Faster, "secant")}, ended the default scenario, which also
+    # runs binary feedback, with KeyError: 'binary'
+    from rlff.learn.benchmark import learning_benchmark
+    from rlff.learn.scenarios import Scenario
+
+    runs = learning_benchmark(Scenario("short", baskets=(1.4,)), seeds=1, methods={"distance": (Slower, "secant")},
+                              jobs=1, budget=2)
+    assert [(run.feedback, run.method) for run in runs] == [("distance", "slower"), ("distance", "secant")]
+
+
 class Careless(Slower):
     """Proposes what its class attribute ``proposal`` makes of the mean throw."""
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 import contextlib
 import math
 import warnings
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from typing import Any
 
 from rlff.dataset import Dataset
@@ -118,7 +118,9 @@ def learning_benchmark(
         Methods per feedback kind (``binary``, ``distance``): names of :data:`rlff.learn.METHODS`
         or methods of one's own, :class:`rlff.learn.Method` subclasses, which the workers import
         by their module and name (a class in a module of one's own, not one made in a function);
-        default :data:`METHODS_BY_FEEDBACK`.
+        default :data:`METHODS_BY_FEEDBACK`. Only the scenario's feedback kinds it names run
+        (``{"distance": (Faster, "secant")}`` runs those two with distance feedback and nothing
+        with binary feedback).
     budget : int
         Attempts per run.
     jobs : int
@@ -131,6 +133,13 @@ def learning_benchmark(
     Returns
     -------
     list of Run
+
+    Raises
+    ------
+    InputError
+        Before any run: a key of ``methods`` that is no feedback kind, a method that is none
+        (:func:`rlff.learn.loop.method_of`) or is given for a feedback it cannot use, ``methods``
+        that name none of the scenario's feedback kinds, or a basket out of reach.
     """
     import joblib
 
@@ -138,15 +147,11 @@ def learning_benchmark(
     methods = METHODS_BY_FEEDBACK if methods is None else methods
     if not (isinstance(seeds, int) and seeds >= 1) or not (isinstance(first_seed, int) and first_seed >= 0):
         raise InputError(f"seeds must be >= 1 and first seed >= 0, got {seeds!r} and {first_seed!r}")
-    from rlff.learn.loop import method_of
-
-    for named in methods.values():  # a method of one's own that is not one fails before any run
-        for method in named:
-            method_of(method)
+    require_methods(methods, scenario)
     require_reachable_baskets([scenario])
     seed_list = range(first_seed, first_seed + seeds)
     cases = [(f, m, float(b), s) for s in seed_list for b in scenario.baskets
-             for f in scenario.feedbacks for m in methods[f.kind]]
+             for f in scenario.feedbacks for m in methods.get(f.kind, ())]
     with parallel_backend(scheduler), warnings.catch_warnings():
         # loky takes a worker's memory after its first task (the demonstrations) as the mark for
         # a leak and restarts it, with this warning, once it has grown by 300 MB: the runs' first
@@ -167,6 +172,33 @@ def learning_benchmark(
             if progress:
                 progress(run)
     return runs
+
+
+def require_methods(methods: Mapping[str, Sequence[str | type[Method]]], scenario: Scenario) -> None:
+    """Raise :class:`InputError` unless every key of ``methods`` is a feedback kind, every
+    method a method (:func:`rlff.learn.loop.method_of`) that can use the feedback it is given
+    for, and ``methods`` names at least one method for a feedback kind of ``scenario``; said
+    before any run, not by a worker (a kind the scenario runs and ``methods`` does not name had
+    ended the benchmark with ``KeyError: 'binary'``)."""
+    from rlff.learn.loop import method_of
+    from rlff.learn.method import FEEDBACKS
+
+    unknown = [kind for kind in methods if kind not in FEEDBACKS]
+    if unknown:
+        raise InputError(f"methods: {', '.join(map(repr, unknown))} is no feedback kind; give methods per feedback "
+                         f"kind, {' or '.join(map(repr, FEEDBACKS))}, e.g. {{'distance': ('secant',)}}")
+    for kind, named in methods.items():
+        for method in named:
+            method_class = method_of(method)  # a method of one's own that is not one fails here
+            if kind not in method_class.feedbacks:
+                raise InputError(f"methods[{kind!r}]: {method_class.name} needs {' or '.join(method_class.feedbacks)} "
+                                 f"feedback, not {kind}; give it under {method_class.feedbacks[0]!r}")
+    kinds = list(dict.fromkeys(feedback.kind for feedback in scenario.feedbacks))
+    if not any(methods.get(kind) for kind in kinds):
+        named = [kind for kind, listed in methods.items() if listed]
+        raise InputError(f"methods name methods for {' and '.join(named) or 'no'} feedback, and scenario "
+                         f"{scenario.name} runs {' and '.join(kinds)} feedback: nothing to run; give methods for "
+                         f"{' or '.join(map(repr, kinds))}, or a Scenario whose feedbacks are of the kinds named")
 
 
 @contextlib.contextmanager
