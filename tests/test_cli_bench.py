@@ -133,7 +133,7 @@ def test_a_basket_the_loops_throws_do_not_reach_is_refused_before_the_first_run(
     ("--scenario", "far", "--scenario: unknown 'far'"),
     ("--landings", "guess", "--landings: landings 'guess'"),
     ("--feedback", "false-miss:2", "--feedback: feedback 'false-miss:2'"),
-    ("--methods", "telepathy", "--methods: unknown 'telepathy'"),
+    ("--methods", "telepathy", "--methods: unknown update 'telepathy'"),
     ("--opening", "0", "--opening: basket opening must be a width > 0"),
     ("--robot", "no-such-robot", "--robot:"),
     ("--gap", "link:1.1", "--gap: unknown gap 'link:1.1'"),

@@ -306,3 +306,95 @@ def test_a_result_and_a_problem_print_one_short_line_not_their_arrays(demos):
     assert repr(problem) == (f"Problem(target=1.4, feedback='distance', T={problem.angles.size}, "
                              f"max_speed={problem.max_speed:.4g}, outputs=('velocity',))")
     assert len(repr(result)) < 200 and len(repr(problem)) < 120
+
+
+@pytest.fixture
+def own_module(tmp_path, monkeypatch):
+    """The name of a module of one's own (tests/own_method.py) in the current folder, a new one,
+    with ``sys.path`` and ``sys.modules`` as they were afterwards."""
+    import sys
+
+    from own_method import write_module
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, "path", [entry for entry in sys.path if entry not in ("", str(tmp_path))])
+    name = write_module(tmp_path)
+    yield name
+    sys.modules.pop(name, None)
+
+
+def test_a_method_named_module_colon_class_is_imported_from_the_current_folder(own_module):
+    from rlff.learn.loop import method_of
+
+    method = method_of(f"{own_module}:Faster")
+    assert method.__name__ == "Faster" and method.name == "faster" and method.__module__ == own_module
+
+
+@pytest.mark.parametrize(("spec", "words"), [
+    ("{m}:Fastr", r"^{m}:Fastr: module {m} \(.*{m}\.py\) has no 'Fastr'; its Method subclasses: Faster$"),
+    ("{m}:helper", r"^{m}:helper: helper of {m} is function .*, not a subclass of rlff.learn.Method: give your "
+                   r"method's class$"),
+    ("{m}:Plain", r"^{m}:Plain: Plain of {m} is type .*, not a subclass of rlff.learn.Method"),
+    ("nowhere_at_all:Faster", r"^nowhere_at_all:Faster: no module 'nowhere_at_all' on the Python path \(sys.path\) "
+                              r"or in the current folder .*: give MODULE:CLASS of your method's module, e.g. "
+                              r"faster:Faster"),
+    ("{m}.py:Faster", r"^{m}.py:Faster: MODULE is a module's name, not its file: {m}:Faster$"),
+    ("{m}.Faster", r"^unknown update '{m}.Faster' \(known: .*\); a method of your own is MODULE:CLASS, e.g. "
+                   r"faster:Faster"),
+    ("calibrate:bogus", r"^unknown update 'calibrate:bogus' \(known: "),
+])
+def test_a_module_colon_class_that_is_no_method_says_what_failed_and_what_to_give(own_module, spec, words):
+    from rlff.learn.loop import method_of
+
+    with pytest.raises(InputError, match=words.format(m=own_module)):
+        method_of(spec.format(m=own_module))
+
+
+def test_a_module_that_fails_to_import_is_named_with_its_error(own_module, tmp_path):
+    from rlff.learn.loop import method_of
+
+    (tmp_path / f"{own_module}_broken.py").write_text("1 / 0\n")
+    with pytest.raises(InputError, match=rf"^{own_module}_broken:Faster: importing {own_module}_broken .*failed: "
+                                         r"ZeroDivisionError: division by zero$"):
+        method_of(f"{own_module}_broken:Faster")
+
+
+def test_rlff_learn_runs_a_method_named_module_colon_class_and_resumes_its_log(rlff, demos, own_module, tmp_path):
+    from rlff.dataset import write_csv
+
+    write_csv(demos, tmp_path / "demos.csv")
+    log = tmp_path / "attempts.jsonl"
+    run = ("learn", "demos.csv", "--basket", "1.4", "--log", str(log), "--feedback", "distance", "--update")
+    first = rlff(*run, f"{own_module}:Faster", "--budget", "1")
+    assert first.code == 0, first.stderr
+    assert "update faster)" in first.stdout
+    assert json.loads(log.read_text().splitlines()[0])["run"]["update"] == "faster"
+    again = rlff(*run, f"{own_module}:Faster", "--budget", "2")
+    assert again.code == 0, again.stderr
+    assert "resumed 1 attempt from" in again.stderr
+    other = rlff(*run, "calibrate", "--budget", "3")
+    assert other.code == 2 and "update = 'faster' in the log, 'calibrate' now, from --update" in other.stderr
+    by_name = rlff(*run, "faster", "--budget", "3")
+    assert by_name.code == 2
+    assert "unknown update 'faster' (known: " in by_name.stderr
+    assert "a method of your own is MODULE:CLASS" in by_name.stderr
+
+
+@pytest.mark.slow
+def test_rlff_bench_learning_runs_a_method_named_module_colon_class_in_its_workers(tmp_path):
+    # run as the rlff console script runs (the current folder not on sys.path), with two workers
+    import subprocess
+    import sys
+
+    from own_method import write_module
+
+    work = tmp_path / "work"
+    work.mkdir()
+    name = write_module(work)
+    entry = tmp_path / "entry.py"
+    entry.write_text("import sys\nfrom rlff.cli import main\nsys.exit(main(sys.argv[1:]))\n")
+    done = subprocess.run([sys.executable, str(entry), "bench", "learning", "--methods", f"{name}:Faster,imitation",
+                           "--feedback", "binary", "--seeds", "1", "--baskets", "1.4", "--budget", "1", "--jobs", "2",
+                           "--json"], cwd=work, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert {row["method"] for row in json.loads(done.stdout)["rows"]} == {"faster", "imitation"}

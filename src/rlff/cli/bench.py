@@ -33,6 +33,27 @@ def _names(option: str, text: str, known: list[str] | None = None) -> list[str]:
     return names
 
 
+def _method_classes(names: list[str]) -> dict:
+    """``--methods``' names, each the method class it names (:func:`rlff.learn.loop.method_of`: a
+    built-in method's name or MODULE:CLASS), checked before any run; two of one ``name`` (the
+    table's rows and the runs know a method by it) are refused."""
+    from rlff.learn.loop import method_of
+
+    classes = {}
+    for name in names:
+        try:
+            classes[name] = method_of(name)
+        except InputError as exc:
+            raise InputError(f"--methods: {exc}") from None
+    by_name = {}
+    for given, method in classes.items():
+        if method.name in by_name:
+            raise InputError(f"--methods: {by_name[method.name]} and {given} are both the method {method.name!r}: "
+                             "its runs would count twice in one row")
+        by_name[method.name] = given
+    return classes
+
+
 @app.command("learning")
 def learning(
     seeds: int = typer.Option(8, "--seeds", min=1, help="Seeds (each draws its own demonstrations)."),
@@ -65,7 +86,8 @@ def learning(
                                  "it; their ablations too), demonstrations."),
     methods: str | None = typer.Option(None, "--methods",
                                        help="Comma-separated methods (default: every method that can use "
-                                            "the feedback)."),
+                                            "the feedback), as rlff learn --update names them: a method of your "
+                                            "own as MODULE:CLASS, e.g. faster:Faster for faster.py here."),
     quick: bool = typer.Option(False, "--quick", help="A small grid: 2 seeds, budget 12."),
     budget: int = typer.Option(20, "--budget", min=1, help="Attempts per run."),
     jobs: int = typer.Option(2, "--jobs", min=1, help="Parallel workers."),
@@ -83,7 +105,6 @@ def learning(
         require_reachable_baskets,
         robot_identity,
     )
-    from rlff.learn.loop import METHODS
     from rlff.learn.scenarios import (
         DEMONSTRATORS,
         Scenario,
@@ -111,8 +132,9 @@ def learning(
     aims = _names("--aim", aim, list(AIMS))
     chosen = None
     if methods is not None:
-        wanted = _names("--methods", methods, list(METHODS))
-        chosen = {kind: [m for m in wanted if kind in METHODS[m].feedbacks] for kind in METHODS_BY_FEEDBACK}
+        wanted = _names("--methods", methods)
+        classes = _method_classes(wanted)
+        chosen = {kind: [classes[m] for m in wanted if kind in classes[m].feedbacks] for kind in METHODS_BY_FEEDBACK}
     distances = None if baskets is None else tuple(
         check_distance("--baskets", parse_number(part, "--baskets")) for part in _names("--baskets", baskets))
     if distances is not None and len(set(distances)) < len(distances):
@@ -139,8 +161,8 @@ def learning(
     total = sum(seeds * len(case.baskets) * len(grid[f.kind]) for case in cases for f in case.feedbacks)
     if chosen is not None:
         kinds = {f.kind for f in feedbacks}
-        unused = [name for name in wanted if not kinds & set(METHODS[name].feedbacks)]
-        needs = "; ".join(f"{name}: {', '.join(METHODS[name].feedbacks)}" for name in unused)
+        unused = [name for name in wanted if not kinds & set(classes[name].feedbacks)]
+        needs = "; ".join(f"{name}: {', '.join(classes[name].feedbacks)}" for name in unused)
         if total == 0:  # every method chosen needs another feedback than those given
             raise InputError(f"no method of --methods {methods} works with --feedback {feedback} ({needs})")
         if unused:

@@ -41,7 +41,9 @@ def learn_command(
     update: str = typer.Option("calibrate", "--update",
                                help="calibrate (default), donut, failure, hindsight, or a baseline: imitation, random, sweep, "
                                     "secant, gp-bo, cma; a DMM method with :no-exploration or :gmr-mean is its "
-                                    "ablation (e.g. calibrate:no-exploration)."),
+                                    "ablation (e.g. calibrate:no-exploration); or a method of your own, "
+                                    "MODULE:CLASS (an rlff.learn.Method subclass; its module on the Python path or "
+                                    "in the current folder, e.g. faster:Faster for faster.py here)."),
     log: Path | None = output_option(None, "--log", example="attempts.jsonl", help="Attempts log (JSONL); resumed when it exists."),
     seed: int = seed_option("Random seed."),
     preset: str | None = typer.Option(None, "--preset",
@@ -135,8 +137,9 @@ def learn_command(
 
     if aim not in AIMS:  # before the demonstrations are read and cleaned
         raise InputError(f"unknown --aim {aim!r} (known: {', '.join(AIMS)})")
+    method = method_of(update)  # and an unknown method, or a MODULE:CLASS that is none: imported once
     if carry:  # and a method that carries nothing
-        require_carrying(method_of(update), METHODS)
+        require_carrying(method, METHODS)
     # given or not (a default is the library's): refused where it changes nothing, not ignored
     centre_share, misreport = (value if given(ctx, name) else None
                                for name, value in (("centre_share", centre_share), ("misreport", misreport)))
@@ -188,7 +191,7 @@ def learn_command(
         for step in cleaning.steps:
             for warning in step.warnings:
                 warn(f"--preset {preset}, {step.step}: {warning}")
-    settings = {"budget": budget, "feedback": feedback, "update": update, "seed": seed, "log_path": log,
+    settings = {"budget": budget, "feedback": feedback, "update": method, "seed": seed, "log_path": log,
                 "robot": robot, "pedestal": pedestal, "until": until, "centre_share": centre_share,
                 "executed_on": executor, "joints": driven, "bearing": bearing, "height": height,
                 "carry_from": carry, "gap": arm.name, "misreport": misreport, "aim": aim}
@@ -223,7 +226,7 @@ def learn_command(
     where = "".join([f", bearing {bearing:g} deg" if bearing else "", f", rim {height:g} m" if height is not None else "",
                      f", joints {', '.join(driven)}" if driven else "",
                      "" if arm.none else f", simulated arm {arm.name}"])
-    stdout().print(f"{verdict} (basket {basket:g} m{where}, {feedback} feedback, update {update}); "
+    stdout().print(f"{verdict} (basket {basket:g} m{where}, {feedback} feedback, update {result.update}); "
                    f"signed misses from the centre (m): {misses}", highlight=False)
 
 

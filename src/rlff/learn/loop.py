@@ -57,6 +57,7 @@ from rlff.learn.demos import (
 )
 from rlff.learn.log import AttemptLog, require_log_file, robot_record
 from rlff.learn.method import FEEDBACKS, Method, Problem
+from rlff.learn.method_import import EXAMPLE, import_method
 from rlff.learn.proposal_check import changed_words, proposed, short_repr
 from rlff.learn.reach import (
     aimed_factor,
@@ -82,20 +83,24 @@ METHODS: dict[str, type[Method]] = {**STRATEGIES, **BASELINES}
 
 def method_of(update: str | type[Method]) -> type[Method]:
     """The method ``update`` names (:data:`METHODS`), or ``update`` itself: a subclass of
-    :class:`rlff.learn.Method` of the caller's (docs/learn.md, "Writing your own method").
+    :class:`rlff.learn.Method` of the caller's (docs/learn.md, "Writing your own method"),
+    given as the class or as ``"MODULE:CLASS"`` (:func:`rlff.learn.method_import.import_method`).
 
     Raises
     ------
     InputError
-        An unknown name; a class that is no method, has no ``name`` of its own (the attempts log
-        and the benchmark's table know a method by it) or takes a built-in method's, or names a
-        feedback the loop does not give.
+        An unknown name; a MODULE:CLASS that does not import; a class that is no method, has no
+        ``name`` of its own (the attempts log and the benchmark's table know a method by it) or
+        takes a built-in method's, or names a feedback the loop does not give.
     """
     known = ", ".join(METHODS)
     if isinstance(update, str):
-        if update not in METHODS:
-            raise InputError(f"unknown update {update!r} (known: {known})")
-        return METHODS[update]
+        if update in METHODS:
+            return METHODS[update]
+        if ":" not in update or update.partition(":")[0] in METHODS:  # calibrate:typo is no module's
+            raise InputError(f"unknown update {update!r} (known: {known}); a method of your own is MODULE:CLASS, "
+                             f"e.g. {EXAMPLE}; a log it wrote names it by its class's name and resumes with it")
+        update = import_method(update)
     if not (isinstance(update, type) and issubclass(update, Method)):
         raise InputError(f"update must be a method's name ({known}) or a subclass of rlff.learn.Method, "
                          f"got {short_repr(update)} ({type(update).__name__})")
@@ -351,8 +356,9 @@ def learn(
         An update strategy (``calibrate``, the default; ``donut``, ``failure``, ``hindsight``),
         each also as its ablations ``NAME:no-exploration`` and ``NAME:gmr-mean``, or a baseline
         (``sweep``, ``secant``, ``gp-bo``, ``cma``, ``random``, ``imitation``); see :data:`METHODS`.
-        Or a method of one's own: a subclass of :class:`rlff.learn.Method` (:func:`method_of`;
-        docs/learn.md, "Writing your own method"), known in the log and the result by its ``name``.
+        Or a method of one's own: a subclass of :class:`rlff.learn.Method`, the class or
+        ``"MODULE:CLASS"`` (:func:`method_of`; docs/learn.md, "Writing your own method"), known in
+        the log and the result by its ``name``.
     seed : int
         Seed of every random choice; a run is reproducible from it.
     log_path : str or Path, optional
