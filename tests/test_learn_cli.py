@@ -322,6 +322,21 @@ def test_learn_out_is_what_robot_export_writes_of_the_attempt_and_it_plays_back(
     assert other.code == 2 and "was thrown with joint_2" in other.stderr
 
 
+def test_learn_out_as_a_bag_of_a_robot_file_without_a_ros_table_says_the_names_it_carries(cli, demos_csv, tmp_path):
+    # robot export said it; learn --out wrote the same bag without a word
+    from robotfiles import unnamed_arm
+
+    plain = unnamed_arm(tmp_path)
+    result = cli("learn", str(demos_csv), "--basket", "1.4", "--feedback", "distance", "--budget", "2", "--robot",
+                 str(plain), "--out", str(tmp_path / "best.bag"))
+    assert result.code == 0, result.stderr
+    assert result.stderr.count(f"warning: {plain} has no [ros] table: the bag is written with rlff's defaults, "
+                               "the Comau driver's trajectory_topic /comau/joint_trajectory") == 1, result.stderr
+    built_in = cli("learn", str(demos_csv), "--basket", "1.4", "--feedback", "distance", "--budget", "2", "--out",
+                   str(tmp_path / "builtin.bag"))
+    assert built_in.code == 0 and "[ros]" not in built_in.stderr, built_in.stderr
+
+
 def test_learn_out_with_an_unknown_suffix_fails_before_any_throw(cli, demos_csv, tmp_path):
     log = tmp_path / "attempts.jsonl"
     result = cli("learn", str(demos_csv), "--basket", "1.4", "--log", str(log), "--out", str(tmp_path / "x.xyz"))

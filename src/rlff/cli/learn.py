@@ -243,6 +243,13 @@ def _run(data, basket: float, settings: dict, live: dict | None):
         run_on = None
         if live is not None:
             from rlff.learn.robot import robot_executor
+            from rlff.robot.description import load_robot
+            from rlff.robot.ros_defaults import ros_defaults_note
+
+            # before any node talks to the arm: the names it would look for are the question
+            if (defaults := ros_defaults_note(load_robot(settings["robot"]), "the throws are sent",
+                                              ("joint_states", "action"))) is not None:
+                warn(defaults)
 
             def tell(line: str) -> None:  # the approach, before the arm moves: shown even under -q
                 stderr().print(line, highlight=False, markup=False)
@@ -339,12 +346,16 @@ def _write_best(result, robot: str, out: Path, fmt: str, period: float, joints: 
     """The best throw to ``out``, planned and written as ``rlff robot export`` does."""
     from rlff.learn.replay import export_attempt
     from rlff.robot.description import load_robot
+    from rlff.robot.ros_defaults import ros_defaults_note
 
     best = result.best
     if best is None:
         say(f"no throw came down: nothing written to {out}")
         return None
-    planned = export_attempt(best, load_robot(robot), out, fmt, period, joints=joints, bearing=bearing).trajectory
+    model = load_robot(robot)
+    if fmt.endswith("-bag") and (defaults := ros_defaults_note(model, "the bag is written", ("trajectory_topic",))):
+        warn(defaults)
+    planned = export_attempt(best, model, out, fmt, period, joints=joints, bearing=bearing).trajectory
     what = "the last hit" if best.hit else "no hit: the throw nearest the centre"
     say(f"wrote {out} ({fmt}): attempt {best.index}, {what} ({signed_metres(best.miss, 3)}), "
         f"{len(planned)} points, {planned.duration:.3f} s")
