@@ -416,3 +416,14 @@ def test_learn_refuses_a_log_that_is_no_regular_file_before_it_reads_the_demonst
     pipe = no_log_files["a FIFO (named pipe)"]
     with pytest.raises(InputError, match=rf"^{pipe} is a FIFO \(named pipe\), not a file"):
         learn(tmp_path / "nowhere.csv", 1.4, log_path=pipe)
+
+
+@pytest.mark.parametrize("kind", ["a device", "a FIFO (named pipe)"])
+def test_reading_a_log_that_is_no_regular_file_says_what_it_is(no_log_files, kind):
+    # report, plot learning, --carry and replay had called a FIFO or a device "no such attempts log"
+    from rlff.learn.log import read_log
+
+    path = no_log_files[kind]
+    with pytest.raises(InputError, match=rf"^{path}: {re.escape(kind)}, not an attempts log \(a .jsonl file an "
+                                         r"earlier run's --log wrote\)$"):
+        read_log(path)

@@ -407,7 +407,9 @@ def read_log(path: str | Path) -> tuple[dict[str, Any], LogContents]:
     if path.is_dir():
         raise InputError(f"{path}: is a folder; an attempts log is a file (the .jsonl an earlier run's --log wrote)")
     if not path.is_file():
-        raise InputError(f"{path}: no such attempts log")
+        kind = path_kind(path)  # a FIFO or a device had been called absent
+        raise InputError(f"{path}: " + (f"{kind}, not an attempts log (a .jsonl file an earlier run's --log wrote)"
+                                         if kind else "no such attempts log"))
     raw = path.read_bytes()
     if not raw.strip():
         raise InputError(f"{path}: an empty file, not an rlff attempts log")
