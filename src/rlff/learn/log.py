@@ -281,9 +281,12 @@ class AttemptLog:
         if key == "demos":  # no option sets it: say what changed
             raise InputError(f"{self.path}: the log belongs to another run: {demonstrations_changed(before, now)}")
         before, now = as_listed(key, (before, now), (logged, run))
+        # the log's own method resumes it: one of the caller's is named MODULE:CLASS on the command line
+        resume = (f", or resume it with --update {before} (for a method of your own, MODULE:CLASS of the class "
+                  f"named {before!r})" if key == "update" and isinstance(before, str) else "")
         raise InputError(
             f"{self.path}: the log belongs to another run ({key} = {shown(before)} in the log, {shown(now)} now"
-            f"{f', from {option}' if option else ''}); use another --log file"
+            f"{f', from {option}' if option else ''}); use another --log file{resume}"
         )
 
 
