@@ -314,7 +314,7 @@ def _error_line(exc: RlffError | OSError) -> str:
 def _click_ended(exc: BaseException, args: list[str], debug: bool) -> int | None:
     """The exit code of a command line click refused (usage, a missing argument, no subcommand),
     its line said; None for an error of another kind."""
-    try:  # typer >= 0.20 carries its own copy of click; before, it used the click package
+    try:  # newer typer (0.29 is one) carries its own copy of click; older ones use the click package
         from typer._click import exceptions as click_errors
         from typer._click.utils import echo
     except ImportError:  # pragma: no cover - older typer

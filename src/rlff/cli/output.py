@@ -24,7 +24,7 @@ from typing import Any
 
 import typer
 
-try:  # typer >= 0.20 carries its own copy of click; before, it used the click package
+try:  # newer typer (0.29 is one) carries its own copy of click; older ones use the click package
     from typer._click.globals import get_current_context
 except ImportError:  # pragma: no cover - older typer
     from click import get_current_context

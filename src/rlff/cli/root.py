@@ -13,7 +13,7 @@ import sys
 
 import typer
 
-try:  # typer >= 0.20 carries its own copy of click; before, it used the click package
+try:  # newer typer (0.29 is one) carries its own copy of click; older ones use the click package
     from typer._click.core import Context
 except ImportError:  # pragma: no cover - older typer
     from click import Context
