@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -497,6 +498,26 @@ def test_reject_shapes_removes_the_odd_one_of_a_context():
     assert "shape differs from its context's common shape" in report.removed[0].reason
     assert "1 context(s) with fewer than 3 trajectories not compared" in report.notes
     assert len(out) == 6
+
+
+def test_reject_shapes_tells_a_distance_from_a_limit_just_below_it():
+    """At a k that puts the limit a hair under the odd one's distance, the message still shows
+    a distance above its limit (at 3 digits both read 0.205, "0.205 > 0.205")."""
+    angle = np.linspace(0.7, 2.0, 20)
+    bell = np.sin(np.linspace(0, np.pi, 20))
+    trajectories = [_throw(f"b{i}", angle, velocity=(1 + 0.02 * i) * bell + 0.01 * i, distance=2.0) for i in range(4)]
+    trajectories.append(_throw("ramp", angle, velocity=np.linspace(0.0, 1.3, 20), distance=2.0))
+    dataset = Dataset(trajectories)
+    removed_at, kept_at = 0.01, 1000.0  # bisect k to the edge of removing the ramp
+    for _ in range(60):
+        k = (removed_at + kept_at) / 2
+        if reject_shapes(dataset, k=k)[1].removed:
+            removed_at = k
+        else:
+            kept_at = k
+    report = reject_shapes(dataset, k=removed_at)[1]
+    distance, limit = re.search(r"distance (\S+) > (\S+)\)", report.removed[-1].reason).groups()
+    assert float(distance) > float(limit), report.removed[-1].reason
 
 
 # -- whole-arm columns through the steps --------------------------------------------------------

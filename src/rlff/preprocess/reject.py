@@ -20,6 +20,7 @@ import numpy as np
 
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
+from rlff.limits import apart
 from rlff.preprocess.report import StepReport
 
 #: Consistency constant of the median absolute deviation for a normal distribution.
@@ -97,10 +98,8 @@ def reject_shapes(
         report.params["limit"] = limit
         for trajectory_id, distance in distances.items():
             if distance > limit:
-                report.remove(
-                    trajectory_id,
-                    f"shape differs from its context's common shape (distance {distance:.3g} > {limit:.3g})",
-                )
+                shown, edge = apart(distance, limit, 3)  # as many digits as tell them apart
+                report.remove(trajectory_id, f"shape differs from its context's common shape (distance {shown} > {edge})")
     removed = {r.trajectory for r in report.removed}
     report.after = dataset.replace(t for t in dataset if t.id not in removed)
     return report.after, report
