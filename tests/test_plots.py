@@ -96,14 +96,51 @@ def test_dataset_slices_one_panel_per_distance_with_outcomes(tmp_path):
     assert len(panels) == len(DISTANCES)
     for panel, distance in zip(panels, DISTANCES, strict=True):
         assert panel.get_title() == f"z = {distance:g} m · 1 hit, 2 missed"
-        misses, hits = panel.collections
-        assert (misses.get_label(), hits.get_label()) == ("missed", "hit")
-        assert len(misses.get_segments()) == 2 and len(hits.get_segments()) == 1
-        assert to_hex(misses.get_colors()[0]) == MISS_COLOUR and to_hex(hits.get_colors()[0]) == HIT_COLOUR
+        (lines,) = panel.collections
+        # a few lines: the larger group (the misses) first, the hit on top
+        assert [to_hex(c) for c in lines.get_colors()] == [MISS_COLOUR, MISS_COLOUR, HIT_COLOUR]
     assert panels[0].get_ylabel() == "joint velocity ξ̇ (rad/s)"
     assert all(p.get_xlabel() == "joint angle ξ (rad)" for p in panels)  # one row: all carry it
     legend = saved.figure.legends[0]
     assert [t.get_text() for t in legend.get_texts()] == ["hit the basket", "missed"]
+
+
+def outcome_throws(hits: int, misses: int) -> Dataset:
+    """``hits`` then ``misses`` throws at one distance, over one another (the same curve)."""
+    angle = np.linspace(0.2, 1.4, 15)
+    velocity = np.sin(np.pi * (angle - 0.2) / 1.2)
+    return Dataset([Trajectory(f"t{i}", {"angle": angle, "distance": np.full(15, 3.0), "velocity": velocity},
+                               {"hit": i < hits}) for i in range(hits + misses)])
+
+
+@pytest.mark.parametrize(("hits", "misses"), [(2, 9), (9, 2)])
+def test_dataset_slices_draw_a_small_panels_fewer_outcome_on_top(tmp_path, hits, misses):
+    saved = dataset_slices(outcome_throws(hits, misses), tmp_path / "few")
+    (lines,) = visible_axes(saved.figure)[0].collections
+    fewer = HIT_COLOUR if hits < misses else MISS_COLOUR
+    assert [to_hex(c) for c in lines.get_colors()][-min(hits, misses):] == [fewer] * min(hits, misses)
+    assert lines.get_linewidths()[0] == 1.0
+
+
+def test_dataset_slices_colour_mass_follows_the_counts_of_many_lines(tmp_path):
+    """166 hits and 631 misses on one curve: drawn in two layers the hits covered the misses
+    and the panel read green; interleaved, the pixels on the curve are mostly the misses' red."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.colors import to_rgb
+
+    saved = dataset_slices(outcome_throws(166, 631), tmp_path / "many")
+    canvas = FigureCanvasAgg(saved.figure)
+    canvas.draw()
+    pixels = np.asarray(canvas.buffer_rgba())[..., :3].astype(float) / 255
+    redness = np.linalg.norm(pixels - to_rgb(MISS_COLOUR), axis=-1)
+    greenness = np.linalg.norm(pixels - to_rgb(HIT_COLOUR), axis=-1)
+    on_curve = np.minimum(redness, greenness) < 0.25
+    assert on_curve.sum() > 100
+    assert (redness < greenness)[on_curve].mean() > 0.6
+    (lines,) = visible_axes(saved.figure)[0].collections
+    drawn = np.array([to_hex(c) == HIT_COLOUR for c in lines.get_colors()])
+    assert 0.3 < drawn[-200:].mean() / drawn.mean() < 1.7  # the top of the pile is no one group
+    assert lines.get_linewidths()[0] < 1.0 and lines.get_colors()[0][3] < 0.5
 
 
 def test_dataset_slices_leave_tracking_glitches_out_of_the_lines(tmp_path):

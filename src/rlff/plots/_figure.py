@@ -172,7 +172,7 @@ def add_curves(
     colours: Sequence[Any] | Any,
     *,
     linewidth: float = 1.0,
-    alpha: float = 0.8,
+    alpha: float | None = 0.8,
     label: str | None = None,
     zorder: float = 2.0,
 ) -> LineCollection:
@@ -182,6 +182,7 @@ def add_curves(
     ----------
     curves : sequence of (x, y) pairs of arrays of shape (T_i,)
     colours : one colour, or one per curve
+    alpha : float, or None for the colours' own alpha (RGBA)
     """
     segments = [np.column_stack([x, y]) for x, y in curves]
     collection = LineCollection(

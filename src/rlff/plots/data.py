@@ -7,10 +7,12 @@ split by distance).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 from matplotlib.cm import ScalarMappable
+from matplotlib.colors import to_rgba
 from matplotlib.lines import Line2D
 from matplotlib.ticker import MaxNLocator
 from mpl_toolkits.mplot3d.art3d import Line3DCollection
@@ -45,6 +47,58 @@ def _check_columns(dataset: Dataset, columns: Sequence[str]) -> None:
     if len(dataset) == 0:
         raise InputError("the dataset is empty: nothing to plot")
     dataset.require(columns)
+
+
+#: Up to this many lines in a panel, hits and misses are two layers, the fewer on top where they stand out.
+LAYERED_UP_TO = 60
+
+
+@dataclass(frozen=True)
+class OutcomeDrawing:
+    """How a panel draws its hits and misses.
+
+    Attributes
+    ----------
+    order : ndarray of int, shape (N,)
+        The lines' indices in drawing order (the last on top).
+    colours : ndarray, shape (N, 4)
+        RGBA per line, by its index: hit or miss colour, with its alpha.
+    linewidth : float
+        Line width (points).
+    """
+
+    order: np.ndarray
+    colours: np.ndarray
+    linewidth: float
+
+
+def outcome_drawing(hit: Sequence[bool], seed: int = 0) -> OutcomeDrawing:
+    """Draw order, alpha and line width that keep each outcome's colour mass true to its count.
+
+    Up to :data:`LAYERED_UP_TO` lines the larger group is drawn first and the smaller on top
+    (misses at alpha 0.7, hits at 0.8, width 1): a few hits among many misses stand out, and a
+    few misses among many hits too. Above it, a group drawn on top would paint over the other
+    (166 hits over 631 misses looked green): the lines are drawn in one shuffled order (``seed``
+    fixes it) with an alpha and a width that fall with the square root of their number, so a
+    region reads as the mix of the lines that pass through it.
+
+    Parameters
+    ----------
+    hit : sequence of bool, shape (N,)
+        Whether each line hit the basket.
+    """
+    hit = np.asarray(hit, dtype=bool)
+    count = hit.size
+    if count <= LAYERED_UP_TO:
+        larger_first = hit.sum() > count - hit.sum()  # ties: the hits on top, as a few hits among misses
+        order = np.concatenate([np.flatnonzero(hit == larger_first), np.flatnonzero(hit != larger_first)])
+        alphas, linewidth = np.where(hit, 0.8, 0.7), 1.0
+    else:
+        order = np.random.default_rng(seed).permutation(count)
+        scale = float(np.sqrt(LAYERED_UP_TO / count))
+        alphas, linewidth = np.full(count, max(0.1, 0.75 * scale)), max(0.4, scale)
+    colours = np.array([to_rgba(HIT_COLOUR if h else MISS_COLOUR, a) for h, a in zip(hit, alphas, strict=True)])
+    return OutcomeDrawing(order.astype(int), colours.reshape(count, 4), linewidth)
 
 
 def _outcome_counts(trajectories: Sequence[Trajectory]) -> str:
@@ -122,8 +176,9 @@ def dataset_slices(
 ) -> SavedFigure:
     """One panel per basket distance with the demonstrations on the (x, y) plane.
 
-    Successful throws are green, failed ones red when the trajectories carry a ``hit`` outcome;
-    otherwise every line takes its distance's colour. Panels share their axes so that the
+    Successful throws are green, failed ones red when the trajectories carry a ``hit`` outcome,
+    drawn so that each colour's mass follows its count (:func:`outcome_drawing`); otherwise every
+    line takes its distance's colour. Panels share their axes so that the
     distances compare at a glance (thesis figure 4.44).
 
     Parameters
@@ -162,11 +217,10 @@ def dataset_slices(
             return xs, ys
 
         for axes, (value, trajectories) in zip(panels.flat, groups.items(), strict=False):
-            if has_outcome:  # the few hits drawn over the many misses
-                misses = [t for t in trajectories if t.meta.get("hit") is not True]
-                hits = [t for t in trajectories if t.meta.get("hit") is True]
-                add_curves(axes, [curve(t) for t in misses], MISS_COLOUR, linewidth=1.0, alpha=0.7, label="missed")
-                add_curves(axes, [curve(t) for t in hits], HIT_COLOUR, linewidth=1.0, alpha=0.8, label="hit", zorder=3)
+            if has_outcome:
+                drawing = outcome_drawing([t.meta.get("hit") is True for t in trajectories])
+                add_curves(axes, [curve(trajectories[i]) for i in drawing.order],
+                           [drawing.colours[i] for i in drawing.order], linewidth=drawing.linewidth, alpha=None)
             else:
                 add_curves(axes, [curve(t) for t in trajectories], colours[value], linewidth=1.0, alpha=0.8)
             stray = [(t[x][glitches[t.id]], t[y][glitches[t.id]]) for t in trajectories if t.id in glitches]
