@@ -53,6 +53,22 @@ def test_import_msr_files_with_the_format_guessed(cli, msr_dir, tmp_path):
     assert len(read_csv(out)) == 3
 
 
+def test_an_import_of_many_files_says_each_kind_of_note_once(cli, msr_dir, tmp_path):
+    """Every file's "throwing arm" and "not a throw" notes buried the warnings (800 files: 2,273
+    lines); many files say each kind once with its counts, one file says each note."""
+    files = sorted(str(p) for p in msr_dir.glob("a06_*.txt"))
+    result = cli("data", "import", *files, "-o", str(tmp_path / "many.csv"))
+    assert result.code == 0, result.stderr
+    lines = result.stderr.splitlines()
+    arms = [line for line in lines if "throwing arm" in line]
+    assert arms == [f"throwing arm: right (the hand that sweeps furthest): {len(files)} files"]
+    not_throws = [line for line in lines if "is not a throw" in line]
+    assert len(not_throws) == 1 and "notes like this in" in not_throws[0], not_throws
+    assert len([line for line in lines if not line.startswith("warning:")]) < 20
+    one = cli("data", "import", files[0], "-o", str(tmp_path / "one.csv"))
+    assert f"{Path(files[0]).name}: throwing arm: right (the hand that sweeps furthest)" in one.stderr
+
+
 def test_the_hits_of_throws_with_a_known_basket_are_said_with_what_judged_them(cli, bag, tmp_path):
     # a lab's 48 throws at known baskets all read as short misses, and nothing said the default
     # estimate, not the throwers, made them so
