@@ -856,14 +856,11 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
     if frame[ID_COLUMN].isna().any():
         line = data_row_line(path, int(np.flatnonzero(frame[ID_COLUMN].isna().to_numpy())[0]))
         raise InputError(f"{path}, line {line}: empty trajectory id")
-    numeric_share = {
-        c: pd.to_numeric(frame[c], errors="coerce").notna().mean() for c in frame.columns
-    }
     # Metadata: the known keys, plus any column with no numeric value at all (a free-text note).
     # A column with some numbers and some text is a sample column with a bad cell: an error below.
     meta_columns = [
         c for c in frame.columns
-        if c != ID_COLUMN and (c in META_KEYS or (numeric_share[c] == 0 and c not in _NUMERIC_NAMES))
+        if c != ID_COLUMN and (c in META_KEYS or (c not in _NUMERIC_NAMES and _holds_no_number(frame[c])))
     ]
     sample_columns = [c for c in frame.columns if c != ID_COLUMN and c not in meta_columns]
     if not sample_columns:
@@ -878,51 +875,176 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
                 f"{path}, line {data_row_line(path, row)}: column {name!r} has {bad_cell(column.iloc[row])}"
             )
         frame[name] = numeric.astype(float)
-    trajectories = []
-    for trajectory_id, group in frame.groupby(ID_COLUMN, sort=False):
-        data = {name: group[name].to_numpy(dtype=float) for name in sample_columns}
-        # before the metadata: the two copies of a throw may differ there (its source's path)
-        fault = _given_twice(path, trajectory_id, group.index.to_numpy(), data)
+    ids, rows, lengths = _trajectory_rows(frame[ID_COLUMN])
+    starts = np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.int64)
+    samples = {name: frame[name].to_numpy(dtype=float)[rows] for name in sample_columns}
+    meta = {name: _MetaColumn.read(name, frame[name], rows, starts) for name in meta_columns}
+    # every check a trajectory may fail, screened column-wise; the few trajectories the screen
+    # flags are checked one by one, in file order, so that the first fault is the one named
+    for index in np.flatnonzero(_suspects(rows, starts, lengths, samples, meta.values())).tolist():
+        span = slice(starts[index], starts[index] + lengths[index])
+        fault = _trajectory_fault(path, ids[index], rows[span], {name: samples[name][span] for name in samples},
+                                  {name: column.of(index) for name, column in meta.items()})
         if fault is not None:
             raise InputError(fault)
-        meta = {}
-        for name in meta_columns:
-            values = group[name]
-            if values.nunique(dropna=False) > 1:
-                raise InputError(
-                    f"{path}: metadata column {name!r} varies within trajectory {trajectory_id!r}"
-                )
-            if name == "hit":
-                try:
-                    value = parse_hit(values.iloc[0])
-                except ValueError as exc:
-                    line = data_row_line(path, int(group.index[0]))
-                    raise InputError(f"{path}, line {line}: trajectory {trajectory_id!r} has hit {exc}") from None
-            elif name in TEXT_META_KEYS:
-                value = None if pd.isna(values.iloc[0]) else str(values.iloc[0])
-            else:
-                value = _meta_value(values.iloc[0])
+    metas = [{} for _ in ids]
+    for name, column in meta.items():
+        for trajectory_meta, value in zip(metas, column.values, strict=True):
             if value is not None:
-                meta[name] = value
-        if len(group) < MIN_FILE_SAMPLES:
-            raise InputError(
-                f"{path}, line {data_row_line(path, int(group.index[0]))}: trajectory {trajectory_id!r} has a single "
-                "sample (a demonstration needs at least 2)"
-            )
-        if "time" in data and np.any(np.diff(data["time"]) <= 0):
-            row = int(group.index[int(np.flatnonzero(np.diff(data["time"]) <= 0)[0]) + 1])
-            raise InputError(
-                f"{path}, line {data_row_line(path, row)}: time does not increase within trajectory {trajectory_id!r}"
-                f"; {TIME_ORDER_HINT}"
-            )
+                trajectory_meta[name] = value
+    try:
+        return Dataset.from_columns(samples, ids, lengths, metas, context=context)
+    except InputError:
+        # a dataset-wide fault (a context column that varies, a joint without its velocity): said
+        # as the Dataset of these trajectories says it
+        trajectories = [
+            Trajectory._trusted(trajectory_id, {name: values[start : start + length] for name, values in samples.items()},
+                                trajectory_meta)
+            for trajectory_id, start, length, trajectory_meta in zip(ids, starts.tolist(), lengths.tolist(), metas, strict=True)
+        ]
         try:
-            trajectories.append(Trajectory(trajectory_id, data, meta))
+            Dataset(trajectories, context=context)
         except InputError as exc:
             raise InputError(f"{path}: {exc}") from None
+        raise
+
+
+def _holds_no_number(column: Any) -> bool:
+    """Whether no cell of a CSV column (a pandas Series) reads as a number: a free-text note, or
+    only empty cells. A column pandas read as numbers (or bools) holds one unless all are empty."""
+    import pandas as pd
+
+    if pd.api.types.is_numeric_dtype(column.dtype):
+        return not column.notna().any()
+    return not pd.to_numeric(column, errors="coerce").notna().any()
+
+
+def _trajectory_rows(ids: Any) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """The trajectories of a CSV's data rows, in the order their ids first appear.
+
+    Parameters
+    ----------
+    ids : pandas Series of str, length N
+        The ``trajectory`` column (no empty cell).
+
+    Returns
+    -------
+    ids : list of str, length S
+    rows : array of int, shape (N,)
+        The data rows (0-based, header excluded) grouped by trajectory, in file order within each.
+    lengths : array of int, shape (S,)
+        Rows of each trajectory.
+    """
+    import pandas as pd
+
+    codes, uniques = pd.factorize(ids)
+    return [str(value) for value in uniques], np.argsort(codes, kind="stable"), np.bincount(codes, minlength=len(uniques))
+
+
+@dataclass(frozen=True)
+class _MetaColumn:
+    """One metadata column of a CSV, per trajectory.
+
+    ``values`` (length S) holds each trajectory's value as read from its first row (None: no
+    value, or a ``hit`` that spells no outcome), ``varies`` (bool, shape (S,)) whether its rows
+    hold more than one value (an empty cell counts as one), and ``hit_faults`` why a trajectory's
+    ``hit`` spells no outcome, by trajectory index.
+    """
+
+    values: list[Any]
+    varies: np.ndarray
+    hit_faults: dict[int, str]
+
+    @classmethod
+    def read(cls, name: str, column: Any, rows: np.ndarray, starts: np.ndarray) -> _MetaColumn:
+        """Read column ``name`` (a pandas Series of N cells) for the trajectories whose rows
+        ``rows`` (N,) are grouped from ``starts`` (S,) on."""
+        import pandas as pd
+
+        codes = pd.factorize(column)[0][rows]  # an empty cell -1: a value of its own
+        varies = np.minimum.reduceat(codes, starts) != np.maximum.reduceat(codes, starts)
+        values: list[Any] = []
+        hit_faults: dict[int, str] = {}
+        for index, cell in enumerate(column.to_numpy()[rows[starts]].tolist()):
+            if name == "hit":
+                try:
+                    values.append(parse_hit(cell))
+                except ValueError as exc:
+                    values.append(None)
+                    hit_faults[index] = str(exc)
+            elif name in TEXT_META_KEYS:
+                values.append(None if pd.isna(cell) else str(cell))
+            else:
+                values.append(_meta_value(cell))
+        return cls(values, varies, hit_faults)
+
+    def of(self, index: int) -> tuple[Any, bool, str | None]:
+        """Trajectory ``index``'s value, whether it varies, and why its ``hit`` is no outcome."""
+        return self.values[index], bool(self.varies[index]), self.hit_faults.get(index)
+
+
+def _suspects(rows: np.ndarray, starts: np.ndarray, lengths: np.ndarray, samples: Mapping[str, np.ndarray],
+              meta: Iterable[_MetaColumn]) -> np.ndarray:
+    """Which trajectories may fail a check of :func:`_trajectory_fault`, shape (S,) bool: the
+    others pass every one. Flagged: rows scattered among other ids', a time that does not
+    increase (or no time column: a throw given twice is then told by its samples), a single
+    sample, a value beyond ``MAX_MAGNITUDE``, metadata that varies or a ``hit`` that is no outcome."""
+    ends = starts + lengths - 1
+    flagged = (lengths < MIN_FILE_SAMPLES) | (rows[ends] - rows[starts] != lengths - 1)
+    if "time" not in samples:
+        flagged[:] = True
+    else:
+        step_back = np.zeros(rows.size, dtype=bool)
+        step_back[1:] = np.diff(samples["time"]) <= 0
+        step_back[starts] = False  # a step across two trajectories is not a step
+        flagged |= np.logical_or.reduceat(step_back, starts)
+    for values in samples.values():
+        flagged |= np.logical_or.reduceat(~(np.abs(values) <= MAX_MAGNITUDE), starts)
+    for column in meta:
+        flagged |= column.varies
+        flagged[list(column.hit_faults)] = True
+    return flagged
+
+
+def _trajectory_fault(path: Path, trajectory_id: str, rows: np.ndarray, data: Mapping[str, np.ndarray],
+                      meta: Mapping[str, tuple[Any, bool, str | None]]) -> str | None:
+    """Why one trajectory of a CSV is refused, as the error's text, or None.
+
+    Parameters
+    ----------
+    path : Path
+    trajectory_id : str
+    rows : array of int, shape (T,)
+        Its data rows (0-based, header excluded), in file order.
+    data : mapping of str to array of shape (T,)
+        Its sample columns.
+    meta : mapping of str to (value, varies, hit fault)
+        Its metadata columns, as :meth:`_MetaColumn.of` gives them.
+    """
+    # before the metadata: the two copies of a throw may differ there (its source's path)
+    fault = _given_twice(path, trajectory_id, rows, data)
+    if fault is not None:
+        return fault
+    values = {}
+    for name, (value, varies, hit_fault) in meta.items():
+        if varies:
+            return f"{path}: metadata column {name!r} varies within trajectory {trajectory_id!r}"
+        if hit_fault is not None:
+            return f"{path}, line {data_row_line(path, int(rows[0]))}: trajectory {trajectory_id!r} has hit {hit_fault}"
+        if value is not None:
+            values[name] = value
+    if rows.size < MIN_FILE_SAMPLES:
+        return (f"{path}, line {data_row_line(path, int(rows[0]))}: trajectory {trajectory_id!r} has a single "
+                "sample (a demonstration needs at least 2)")
+    if "time" in data and np.any(np.diff(data["time"]) <= 0):
+        row = int(rows[int(np.flatnonzero(np.diff(data["time"]) <= 0)[0]) + 1])
+        return (f"{path}, line {data_row_line(path, row)}: time does not increase within trajectory {trajectory_id!r}"
+                f"; {TIME_ORDER_HINT}")
     try:
-        return Dataset(trajectories, context=context)
+        Trajectory(trajectory_id, data, values)
     except InputError as exc:
-        raise InputError(f"{path}: {exc}") from None
+        return f"{path}: {exc}"
+    return None
 
 
 def _given_twice(path: Path, trajectory_id: str, rows: np.ndarray, data: Mapping[str, np.ndarray]) -> str | None:
