@@ -12,7 +12,10 @@ Measured side by side in one run, alternating, best of ``--repeat``:
 The files: those given (``rlff data preprocess`` output of ``rlff data synth throws --throws N``,
 say), or by default one of simulated throws (10 subjects, 10 baskets, ``--throws`` each, seed 0)
 through the thesis preset, as ``rlff data synth throws --throws 20`` + ``rlff data preprocess``
-write it (about 2,000 throws). Target: rlff within a few times pyarrow's read.
+write it (about 100 throws: the preset's balance step keeps ten per basket). The files of
+docs/data.md's table were preprocessed with that step's ``max_per_context`` raised to 100000
+(``--config``, every throw kept: about 2,000 throws for ``--throws 20``); give them as FILE.csv.
+Target: rlff within a few times pyarrow's read (small files cost more per throw: fixed costs).
 
     .venv/bin/python benchmarks/csv_reading.py [FILE.csv ...] [--throws 20] [--repeat 3]
 """
