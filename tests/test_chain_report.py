@@ -326,3 +326,43 @@ def test_a_stray_temporary_file_of_a_killed_write_is_named_as_one_safe_to_delete
     assert passed == [".model.x1y2.tmp.json: a stray temporary file of a write that was killed (rlff writes an output "
                       "such as model.json to one, then renames it into place, so the output itself is whole or as it "
                       "was): safe to delete"]
+
+
+@pytest.mark.slow
+def test_a_run_until_centred_is_judged_by_its_centred_hit_not_its_first_hit(tmp_path):
+    # a run --until centred killed at attempt 1101 without a centred hit was tabled "hit at
+    # attempt 1", and one centred at attempt 23 "hit at attempt 13": the first hit, which did not
+    # stop either run
+    from rlff.learn import learn
+    from rlff.preprocess import Pipeline
+    from rlff.synthetic.throws import simulate_throws
+
+    raw = simulate_throws(3, subjects=3, distances=(1.0, 1.25, 1.5), throws_per_distance=2, all_short=True)
+    demos, _ = Pipeline.preset("thesis").run(raw)
+    folder = tmp_path / "lab"
+    folder.mkdir()
+    options = {"feedback": "binary", "update": "calibrate", "seed": 0, "until": "centred", "centre_share": 0.25}
+    centred = learn(demos, 1.4, budget=20, log_path=folder / "centred.jsonl", **options)
+    short = learn(demos, 1.4, budget=9, log_path=folder / "short.jsonl", **options)
+    first_hit = next(a.index for a in centred.history if a.hit)
+    # the run this test needs: a hit outside the centre window before the centred one, within 9
+    assert centred.centred and first_hit < 9 < len(centred.history), [(a.hit, a.miss) for a in centred.history]
+    assert not short.centred and len(short.history) == 9
+    run, passed, _ = chain_run(folder, tmp_path / "run" / "figures")
+    assert passed == []
+    (section,) = run.sections
+    rows = {row[0]: row[10:12] for row in section.tables[0].rows}
+    attempts = len(centred.history)
+    assert rows == {"centred.jsonl": [attempts, f"centred hit at attempt {attempts} (first hit at {first_hit})"],
+                    "short.jsonl": [9, f"used its budget of 9, no centred hit (first hit at {first_hit})"]}
+
+    # killed while writing attempt 10 of 20: stopped short of its budget, and said to be
+    cut = folder / "short.jsonl"
+    lines = (folder / "centred.jsonl").read_text().splitlines(keepends=True)
+    cut.write_text("".join(lines[:10]) + lines[10][:20])
+    run, passed, _ = chain_run(folder, tmp_path / "run" / "figures")
+    (section,) = run.sections
+    rows = {row[0]: row[10:12] for row in section.tables[0].rows}
+    assert rows["short.jsonl"] == [9, f"stopped after 9 of 20, no centred hit (log cut) (first hit at {first_hit})"]
+    assert ("short.jsonl ends in a line cut short: its run was killed while writing attempt 10, which is lost, so the "
+            "log stops short of the run's budget of 20 without a centred hit;") in section.text

@@ -26,7 +26,9 @@ trajectories``); a file that is none of these is passed over with the reason, a 
 file of a killed write (``.model.x1y2.tmp.json``) as one, safe to delete.
 
 An attempts log whose last line was cut short (its run killed mid-write) is said to be one: its
-run stopped before its budget, and the attempt being written is lost. A log without a hit says
+run stopped before its budget, and the attempt being written is lost. A log's result is judged
+by the goal its run was given (its header's ``until``): the first hit, or the first within the
+centre window of a run ``until="centred"`` (with the first hit beside it). A log without one says
 whether its run used its budget (the header's, where it records one) or stopped short of it
 (killed between two attempts, or at a basket beyond its reach). Logs that hold one run
 (the same header and throws, their timings aside: a log copied, a seed run again) are named
@@ -204,24 +206,55 @@ class LogFacts:
     budget : int or None
         The attempts its last run was given (:attr:`rlff.learn.log.LogContents.budget`); None in
         a log written before rlff recorded it.
+    goal_met : int or None
+        The attempt (from 1) that met its run's goal and stopped it, as the loop judged it
+        (:func:`rlff.learn.loop.counts_as_hit`): the first hit of a run ``until="hit"``, the
+        first hit within the centre window of one ``until="centred"``; None when none did.
     """
 
     cut: bool
     run_digest: str
     budget: int | None = None
+    goal_met: int | None = None
 
 
 def log_facts_of(path: Path) -> LogFacts:
     """The :class:`LogFacts` of the attempts log ``path``, read as the loop reads it to resume
-    (:func:`rlff.learn.log.read_log`)."""
+    (:func:`rlff.learn.log.read_log`).
+
+    Raises
+    ------
+    InputError
+        A run ``until="centred"`` whose header's centre share or basket opening is not a number.
+    """
     from rlff.learn.log import read_log
+    from rlff.learn.loop import counts_as_hit
 
     run, contents = read_log(path)
     digest = hashlib.sha256(json.dumps(run, sort_keys=True).encode())
     for attempt in contents.attempts:
         record = {key: value for key, value in attempt.to_json().items() if key != "seconds"}
         digest.update(json.dumps(record, sort_keys=True).encode())
-    return LogFacts(contents.dropped_partial_line, digest.hexdigest(), contents.budget)
+    window = _centre_window(run)
+    goal_met = next((i + 1 for i, attempt in enumerate(contents.attempts) if counts_as_hit(attempt, window)), None)
+    return LogFacts(contents.dropped_partial_line, digest.hexdigest(), contents.budget, goal_met)
+
+
+def _centre_window(run: dict) -> float:
+    """How far from the basket's centre (m) a hit of the run record ``run`` had to land to stop
+    it, as :func:`rlff.learn.loop.learn` sets it: half the opening times the centre share for a
+    run ``until="centred"``, infinite (any hit) otherwise."""
+    from rlff.learn.loop import CENTRE_SHARE
+    from rlff.plots.learning_logs import DEFAULT_OPENING
+
+    if run.get("until") != "centred":
+        return math.inf
+    basket = run.get("basket") if isinstance(run.get("basket"), dict) else {}
+    share, opening = run.get("centre_share", CENTRE_SHARE), basket.get("opening", DEFAULT_OPENING)
+    if _number(share) is None or _number(opening) is None:
+        raise InputError(f"the run until='centred' has a centre_share {share!r} and a basket opening {opening!r} in "
+                         "its header: both must be numbers (m and a share of the half-opening); is the log edited?")
+    return 0.5 * share * opening
 
 
 def _strays_words(names: list[str]) -> str:
@@ -388,8 +421,7 @@ def _learning_section(logs, facts: dict[Path, LogFacts], figures_dir: Path) -> t
 
     rows = []
     for path, run in logs:
-        first_hit = next((i + 1 for i, hit in enumerate(run.hits) if hit), None)
-        result = f"hit at attempt {first_hit}" if first_hit else _no_hit_words(len(run.hits), facts[path])
+        result = _result_words(run, facts[path])
         shown = " ".join("–" if not np.isfinite(m) else signed(m) for m in run.misses[:8])
         rows.append([path.name, _robot_words(run), ", ".join(run.joints) or None, f"{run.bearing:g}°", run.rim_height,
                      run.method, run.feedback, run.gap, run.until, run.basket, len(run.hits), result,
@@ -427,7 +459,8 @@ def _learning_section(logs, facts: dict[Path, LogFacts], figures_dir: Path) -> t
             short = f"of {budget}" if budget is not None else f"({lost} attempts or more)"
             text += (f" {path.name} ends in a line cut short: its run was killed while writing attempt {lost}, which is "
                      f"lost, so the log stops short of the run's budget {short}"
-                     f"{'' if any(run.hits) else ' without a hit'}; `rlff learn` with the run's options and --log "
+                     f"{'' if facts[path].goal_met else ' without a ' + _goal_noun(run)}; `rlff learn` with the run's "
+                     f"options and --log "
                      f"{path.name} resumes it.")
     for group in same_run.values():
         if len(group) > 1:
@@ -447,16 +480,35 @@ def _learning_section(logs, facts: dict[Path, LogFacts], figures_dir: Path) -> t
     return Section("learning", "Learning", text, {}, [table]), figures
 
 
-def _no_hit_words(attempts: int, facts: LogFacts) -> str:
-    """The result of a log of ``attempts`` attempts without a hit: "used its budget of 12, no hit",
-    "stopped after 3 of 12, no hit" (and "(log cut)" for a log cut mid-line), or, where its header
-    records no budget, "no hit in 3" or "stopped after 3, no hit (log cut)"."""
+def _goal_noun(run) -> str:
+    """What stopped the run of the log ``run``: a "hit", or a "centred hit" (``until="centred"``)."""
+    return "centred hit" if run.until == "centred" else "hit"
+
+
+def _result_words(run, facts: LogFacts) -> str:
+    """The result of the log ``run`` judged by the goal its run was given (its header's
+    ``until``): "hit at attempt 3"; for a run ``until="centred"``, "centred hit at attempt 23
+    (first hit at 13)", or, short of one, "stopped after 1101 of 3000, no centred hit (first hit
+    at 1)"; a run that never met its goal as :func:`_no_goal_words` says."""
+    first_hit = next((i + 1 for i, hit in enumerate(run.hits) if hit), None)
+    goal = _goal_noun(run)
+    earlier = f" (first hit at {first_hit})" if first_hit and first_hit != facts.goal_met else ""
+    if facts.goal_met:
+        return f"{goal} at attempt {facts.goal_met}{earlier}"
+    return _no_goal_words(len(run.hits), facts, goal if first_hit else "hit") + earlier
+
+
+def _no_goal_words(attempts: int, facts: LogFacts, goal: str) -> str:
+    """The result of a log of ``attempts`` attempts without a ``goal`` ("hit", "centred hit"):
+    "used its budget of 12, no hit", "stopped after 3 of 12, no hit" (and "(log cut)" for a log
+    cut mid-line), or, where its header records no budget, "no hit in 3" or "stopped after 3, no
+    hit (log cut)"."""
     cut = " (log cut)" if facts.cut else ""
     if facts.budget is None:
-        return f"stopped after {attempts}, no hit{cut}" if facts.cut else f"no hit in {attempts}"
+        return f"stopped after {attempts}, no {goal}{cut}" if facts.cut else f"no {goal} in {attempts}"
     if attempts >= facts.budget and not facts.cut:
-        return f"used its budget of {facts.budget}, no hit"
-    return f"stopped after {attempts} of {facts.budget}, no hit{cut}"
+        return f"used its budget of {facts.budget}, no {goal}"
+    return f"stopped after {attempts} of {facts.budget}, no {goal}{cut}"
 
 
 def _benchmark_section(benchmarks) -> Section:
