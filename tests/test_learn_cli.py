@@ -99,10 +99,66 @@ def test_a_stopped_run_says_so_and_its_log_resumes(cli, demos_csv, tmp_path, sto
     logged = attempt_lines(log)
     assert proc.returncode == code and err.strip().endswith(f"rlff: {word}"), err
     assert 1 <= len(logged) < STOPPED_BUDGET and log.read_text().endswith("\n")
+    # it said what it kept: "rlff: interrupted" alone left the log and how to go on unsaid
+    kept = f"{len(logged)} attempt{'s' * (len(logged) > 1)}"
+    assert f"rlff: {log} keeps {kept}: the same command resumes the run from there" in err.splitlines(), err
 
     result = cli(*args)
     assert result.code == 0, result.stderr
     assert json.loads(result.stdout)["resumed"] == len(logged)
+
+
+def _stopped_after_a_throw(args: list[str], log: Path | None, shown: str) -> tuple[int, str]:
+    """Run ``rlff *args`` in a subprocess, stop it with SIGINT once ``log`` holds an attempt (or,
+    without one, stderr's progress shows ``shown``); its exit code and stderr."""
+    proc = subprocess.Popen([sys.executable, "-m", "rlff", *args], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True, env=dict(os.environ, MPLBACKEND="Agg"),
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    err = []
+    if log is not None:
+        deadline = time.monotonic() + 120
+        while len(attempt_lines(log)) < 1 and proc.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.02)
+    else:  # the bar's lines (a pipe: one a step) say where the run is
+        for line in proc.stderr:
+            err.append(line)
+            if shown in line:
+                break
+    proc.send_signal(signal.SIGINT)
+    rest = proc.communicate(timeout=60)[1]
+    return proc.returncode, "".join(err) + rest
+
+
+@pytest.mark.slow
+@pytest.mark.integration
+def test_a_ctrl_c_says_what_was_kept_and_how_to_write_out(demos_csv, tmp_path):
+    # Ctrl-C said only "rlff: interrupted": not where the attempts were, how to go on, nor that
+    # --out was left unwritten
+    base = ["learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--budget", str(STOPPED_BUDGET)]
+    # a budget it cannot spend before the stop: the bar's first line comes after attempt 1
+    code, err = _stopped_after_a_throw([*base[:-1], "4000", "-o", str(tmp_path / "learned.json")], None,
+                                       "learning to hit")
+    assert code == 130 and err.endswith("rlff: interrupted\n"), err
+    assert (f"rlff: nothing was kept (no --log): a run with --log FILE keeps its attempts, and the same command "
+            f"resumes it; --out {tmp_path / 'learned.json'} was not written (no throw was logged to write it from)\n"
+            ) in err, err
+    assert not (tmp_path / "learned.json").exists()
+
+    # with a log: the export that writes --out from it, as learn --out would have
+    log, out = tmp_path / "attempts.jsonl", tmp_path / "learned.csv"
+    code, err = _stopped_after_a_throw(base + ["--log", str(log), "-o", str(out), "--period", "0.004"], log, "")
+    logged = attempt_lines(log)
+    assert code == 130 and not out.exists(), err
+    hit = any(json.loads(line)["hit"] for line in logged)
+    pick, which = ("", "its last hit") if hit else (" --attempt N", "attempt N (no hit was logged)")
+    kept = f"{len(logged)} attempt{'s' * (len(logged) > 1)}"
+    export = f"rlff robot export {log}{pick} -o {out} -f csv --period 0.004"
+    assert (f"rlff: {log} keeps {kept}: the same command resumes the run from there; --out {out} was not written: "
+            f"`{export}` writes {which}\n") in err, err
+    # and that command does (N: the last attempt)
+    command = export.replace(" --attempt N ", f" --attempt {len(logged)} ").split()[1:]
+    done = subprocess.run([sys.executable, "-m", "rlff", *command], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and out.exists(), done.stderr
 
 
 def test_a_ctrl_c_caught_inside_an_import_still_exits_130(tmp_path):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+import shlex
 from contextlib import ExitStack
 from pathlib import Path
 
@@ -205,8 +206,8 @@ def learn_command(
         result = _run(data, basket, settings, live)
     except KeyboardInterrupt as exc:  # on its own line, after the progress bar or the prompt
         said = _interrupted_attempt(exc, log)
-        if said:
-            stderr().print(f"rlff: {said}", highlight=False, markup=False)
+        for line in ([said] if said else []) + [_stopped_words(log, out, fmt, robot, period)]:
+            stderr().print(f"rlff: {line}", highlight=False, markup=False)
         raise
     for note in result.notes:
         if note != hint:
@@ -278,15 +279,49 @@ def _logged(log: Path | None) -> int:
     """How many attempts ``log`` holds (0 for none, or one that cannot be read: the run itself
     says what is wrong with it), so that a resumed run says which attempts it shows come from the
     log, and a resumed live run numbers its throws as the log does."""
+    return len(_logged_attempts(log))
+
+
+def _logged_attempts(log: Path | None) -> list:
+    """The attempts ``log`` holds (:class:`rlff.learn.attempt.Attempt`; none for no log, or one
+    that cannot be read)."""
     from rlff.errors import InputError
     from rlff.learn.log import read_log
 
     if log is None or not Path(log).exists():
-        return 0
+        return []
     try:
-        return len(read_log(log)[1].attempts)
+        return list(read_log(log)[1].attempts)
     except InputError:
-        return 0
+        return []
+
+
+def _stopped_words(log: Path | None, out: Path | None, fmt: str | None, robot: str, period: float) -> str:
+    """What a run that Ctrl-C or SIGTERM stopped kept: how many attempts its ``log`` holds and that
+    the same command resumes it (or, without ``--log``, that nothing was kept); and that ``out``
+    (``--out``, of format ``fmt``) was not written, with the ``rlff robot export`` of the log that
+    writes it."""
+    from rlff.robot.description import DEFAULT_ROBOT
+    from rlff.trajectory.planner import DEFAULT_PERIOD
+
+    attempts = _logged_attempts(log)
+    if log is None:
+        words = "nothing was kept (no --log): a run with --log FILE keeps its attempts, and the same command resumes it"
+    elif attempts:
+        words = f"{log} keeps {plural(len(attempts), 'attempt')}: the same command resumes the run from there"
+    else:
+        words = f"no attempt was logged to {log} yet: the same command starts the run again"
+    if out is None:
+        return words
+    words += f"; --out {out} was not written"
+    if not attempts:
+        return words + " (no throw was logged to write it from)"
+    options = "".join([f" --robot {shlex.quote(robot)}" if robot != DEFAULT_ROBOT else "", f" -f {fmt}",
+                       f" --period {period:g}" if period != DEFAULT_PERIOD else ""])
+    pick = "" if any(a.hit for a in attempts) else " --attempt N"
+    which = "its last hit" if not pick else "attempt N (no hit was logged)"
+    return words + (f": `rlff robot export {shlex.quote(str(log))}{pick} -o {shlex.quote(str(out))}{options}` "
+                    f"writes {which}")
 
 
 def _interrupted_attempt(exc: BaseException, log: Path | None) -> str | None:
