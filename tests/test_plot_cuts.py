@@ -167,3 +167,26 @@ def test_blank_rows_at_the_end_of_a_csv_are_shaded(tmp_path):
     (lost,) = [patch for patch in axes.patches if patch.get_label() == "tracking lost"]
     end = float(time[-31] - file.clock_origin)
     assert (lost.get_x(), lost.get_width()) == pytest.approx((end, 30 / 30), abs=1e-9)
+
+
+def test_a_long_recording_is_drawn_in_rows_each_labelling_its_own_throws(tmp_path):
+    # a 25-minute session on one axis: 286 labels overlapped into a band
+    from rlff.capture import import_recordings
+    from rlff.plots.capture import throw_cuts
+
+    bag = bf.write_ros1_bag(tmp_path / "long.bag", bf.standard_simulation(seed=5, n_throws=45, second_user=False),
+                            compression=None)
+    _, report = import_recordings([bag])
+    (cut,) = report.files
+    assert len(cut.throws) >= 40
+    rows = throw_cuts(cut, tmp_path / "cuts").figure.axes
+    assert len(rows) >= 2
+    labelled = []
+    for axes in rows:
+        begin, end = axes.get_xlim()
+        assert end - begin >= 60.0  # rows of a minute at least (ROW_SECONDS)
+        for text in axes.texts:
+            if text.get_text().startswith("long_t"):
+                labelled.append(text.get_text().split("\n")[0])
+                assert begin <= text.xy[0] <= end  # each label in the row its throw starts in
+    assert sorted(labelled) == sorted(throw.id for throw in cut.throws)  # every throw labelled once
