@@ -24,8 +24,8 @@ from __future__ import annotations
 
 import argparse
 import tempfile
-import time
 from pathlib import Path
+from timeit import timeit
 
 import pandas as pd
 import pyarrow.csv as pacsv
@@ -33,15 +33,6 @@ import pyarrow.csv as pacsv
 from rlff.dataset import read_csv, write_csv
 from rlff.preprocess import Pipeline
 from rlff.synthetic.throws import simulate_throws
-
-
-def _best(function, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def _simulated(folder: Path, throws: int) -> Path:
@@ -59,7 +50,7 @@ def measure(path: Path, repeat: int) -> dict[str, float]:
     best = dict.fromkeys(readers, float("inf"))
     for _ in range(repeat):
         for name, read in readers.items():
-            best[name] = min(best[name], _best(read, 1))
+            best[name] = min(best[name], timeit(read, number=1))
     return best
 
 

@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import argparse
 import tempfile
-import time
 from pathlib import Path
+from timeit import timeit
 
 import numpy as np
 import pandas as pd
@@ -29,15 +29,6 @@ from rlff.csvtable import write_csv_columns
 from rlff.model import Model
 from rlff.preprocess import Pipeline
 from rlff.synthetic.throws import simulate_throws
-
-
-def _best(function, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def main() -> None:
@@ -57,9 +48,9 @@ def main() -> None:
         peer, ours = Path(folder) / "pandas.csv", Path(folder) / "rlff.csv"
         timings = {"compute": [], "pandas": [], "rlff": []}
         for _ in range(args.repeat):  # alternating, so that a busy machine hurts all three alike
-            timings["compute"].append(_best(lambda: model.generate({"distance": 2.5}, grid), 1))
-            timings["pandas"].append(_best(lambda: frame.to_csv(peer, index=False, float_format="%.17g"), 1))
-            timings["rlff"].append(_best(lambda: write_csv_columns(ours, columns), 1))
+            timings["compute"].append(timeit(lambda: model.generate({"distance": 2.5}, grid), number=1))
+            timings["pandas"].append(timeit(lambda: frame.to_csv(peer, index=False, float_format="%.17g"), number=1))
+            timings["rlff"].append(timeit(lambda: write_csv_columns(ours, columns), number=1))
         for name in (peer, ours):
             back = pd.read_csv(name)
             for column in frame.columns:
