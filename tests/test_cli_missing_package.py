@@ -8,8 +8,7 @@ from __future__ import annotations
 
 import os
 
-import numpy as np
-
+from generated_paths import generated_path
 from rlff.cli.missing_package import declared_packages, missing_package_line
 
 _ABSENT = 'raise ModuleNotFoundError("No module named {name!r}", name={name!r})\n'
@@ -23,19 +22,8 @@ def _without(tmp_path, name: str) -> dict[str, str]:
     return {"PYTHONPATH": os.pathsep.join([str(stub.parent), os.environ.get("PYTHONPATH", "")])}
 
 
-def _throw_csv(path):
-    """A generated throw as the model writes it (elbow 0.7 -> 1.95 rad, speeding up)."""
-    angle = np.linspace(0.7, 1.95, 30)
-    velocity = np.maximum(9.0 * np.sin(0.5 * np.pi * (angle - 0.7) / 1.25) ** 0.5, 0.5)
-    time = np.concatenate([[0.0], np.cumsum(np.diff(angle) / (0.5 * (velocity[1:] + velocity[:-1])))])
-    rows = ["angle,velocity,time,pdf,exploration,gmr_mean"]
-    rows += [f"{a!r},{v!r},{t!r},0.5,0.0,{v!r}" for a, v, t in zip(angle, velocity, time, strict=True)]
-    path.write_text("\n".join(rows) + "\n")
-    return path
-
-
 def test_sim_throw_without_mujoco_names_the_package_and_its_install(cli, tmp_path):
-    throw = _throw_csv(tmp_path / "traj.csv")
+    throw = generated_path(tmp_path / "traj.csv")
     result = cli("sim", "throw", str(throw), "--basket", "1.9", "--json", env=_without(tmp_path, "mujoco"))
     assert result.code == 1, result.stderr
     assert result.stdout == ""

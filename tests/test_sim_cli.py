@@ -3,32 +3,19 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
 from PIL import Image
 
+from generated_paths import generated_path
 from rlff.robot import RobotMapping, load_robot
 from rlff.robot.plan import plan
 from rlff.sim import Basket, simulate_throw
-from rlff.timing import time_along_path
-
-
-def _generated_path(path: Path, peak: float = 9.0) -> Path:
-    """A generated throw as the model writes it: elbow angle 0.7 -> 1.95 rad, speeding up."""
-    angle = np.linspace(0.7, 1.95, 30)
-    velocity = peak * np.sin(0.5 * np.pi * (angle - 0.7) / 1.25) ** 0.5
-    velocity[0] = 0.5
-    time = time_along_path(angle, velocity)
-    rows = ["angle,velocity,time,pdf,exploration,gmr_mean"]
-    rows += [f"{a:.17g},{v:.17g},{t:.17g},0.5,0.0,{v:.17g}" for a, v, t in zip(angle, velocity, time, strict=True)]
-    path.write_text("\n".join(rows) + "\n")
-    return path
 
 
 def test_sim_throw_prints_the_outcome_as_json(cli, tmp_path):
-    path = _generated_path(tmp_path / "traj.csv")
+    path = generated_path(tmp_path / "traj.csv")
     result = cli("sim", "throw", str(path), "--basket", "1.9", "--json")
     assert result.code == 0, result.stderr
     payload = json.loads(result.stdout)
@@ -54,7 +41,7 @@ def test_sim_throw_prints_the_outcome_as_json(cli, tmp_path):
 
 def test_a_ball_that_never_comes_down_through_the_rims_height_is_said_to(rlff, tmp_path):
     # a 1.9 m rim above every ball: it read "the ball came down to the 1.9 m rim's height at 1.782 m"
-    path = _generated_path(tmp_path / "traj.csv")
+    path = generated_path(tmp_path / "traj.csv")
     high = rlff("sim", "throw", str(path), "--basket", "1.9", "--height", "1.9")
     assert high.code == 0, high.stderr
     assert "the ball never came down through the 1.9 m rim's height; it first touched the" in high.stdout
@@ -66,7 +53,7 @@ def test_a_ball_that_never_comes_down_through_the_rims_height_is_said_to(rlff, t
 def test_a_robot_trajectory_without_a_release_time_is_said_to_drop_the_ball(rlff, tmp_path):
     # let go at its end, at rest: the only warning had blamed the robot file's signs
     exported = tmp_path / "robot.json"
-    assert rlff("robot", "export", str(_generated_path(tmp_path / "traj.csv")), "-o", str(exported)).code == 0
+    assert rlff("robot", "export", str(generated_path(tmp_path / "traj.csv")), "-o", str(exported)).code == 0
     document = json.loads(exported.read_text())
     document["release_time"] = None
     exported.write_text(json.dumps(document))
@@ -77,7 +64,7 @@ def test_a_robot_trajectory_without_a_release_time_is_said_to_drop_the_ball(rlff
 
 
 def test_an_exported_throw_lands_where_its_generated_path_does(rlff, tmp_path):
-    path = _generated_path(tmp_path / "traj.csv")
+    path = generated_path(tmp_path / "traj.csv")
     direct = rlff("sim", "throw", str(path), "--basket", "1.9", "--json")
     assert direct.code == 0, direct.stderr
     for fmt in ("json", "csv"):
@@ -91,7 +78,7 @@ def test_an_exported_throw_lands_where_its_generated_path_does(rlff, tmp_path):
 def test_an_exported_throw_at_a_bearing_is_scored_on_its_line(rlff, tmp_path):
     # an export keeps no bearing: sim throw put the basket at 0 deg, and a hit at 60 deg was "1.4 m
     # short, 3.2 m left of the line"
-    path = _generated_path(tmp_path / "traj.csv")
+    path = generated_path(tmp_path / "traj.csv")
     direct = rlff("sim", "throw", str(path), "--basket", "1.9", "--bearing", "40", "--json")
     assert direct.code == 0, direct.stderr
     exported = tmp_path / "robot.json"
@@ -107,12 +94,12 @@ def test_an_exported_throw_at_a_bearing_is_scored_on_its_line(rlff, tmp_path):
 
 
 def test_sim_throw_refuses_bad_input_in_one_line(cli, tmp_path):
-    fast = _generated_path(tmp_path / "fast.csv", peak=20.0)
+    fast = generated_path(tmp_path / "fast.csv", peak=20.0)
     result = cli("sim", "throw", str(fast), "--basket", "2.0")
     assert result.code == 2
     assert "joint_2 velocity" in result.stderr and "limit" in result.stderr
     # a basket beyond the reach: where the throw lands is still worth knowing, with a warning
-    far = cli("sim", "throw", str(_generated_path(tmp_path / "traj.csv")), "--basket", "3.5", "--json")
+    far = cli("sim", "throw", str(generated_path(tmp_path / "traj.csv")), "--basket", "3.5", "--json")
     assert far.code == 0, far.stderr
     assert "warning: the basket at 3.5 m is beyond the reach of comau_smart5_six" in far.stderr
     outcome = json.loads(far.stdout)
@@ -168,7 +155,7 @@ def test_sim_reach_throws_with_the_robot_file_s_throwing_joint_unless_told(cli, 
 @pytest.mark.slow
 def test_frames_are_written_as_png_and_gif(tmp_path):
     robot = load_robot()
-    table = np.genfromtxt(_generated_path(tmp_path / "traj.csv"), delimiter=",", names=True)
+    table = np.genfromtxt(generated_path(tmp_path / "traj.csv"), delimiter=",", names=True)
     trajectory, _ = RobotMapping.for_robot(robot).to_robot(table["angle"], table["velocity"], table["time"])
     outcome = simulate_throw(trajectory, Basket(1.9), robot=robot, frames_dir=tmp_path / "frames", check_motion=False)
     if not outcome.frames:
@@ -201,7 +188,7 @@ def test_a_mujoco_gl_that_cannot_load_is_one_line(tmp_path, backend, message):
 
     if backend == "osmesa" and ctypes.util.find_library("OSMesa"):
         pytest.skip("libOSMesa is installed here: the backend loads")
-    path = _generated_path(tmp_path / "traj.csv")
+    path = generated_path(tmp_path / "traj.csv")
     done = subprocess.run([sys.executable, "-m", "rlff", "sim", "throw", str(path), "--basket", "1.9"],
                           env={**os.environ, "MUJOCO_GL": backend}, capture_output=True, text=True, timeout=300)
     assert done.returncode == 2
