@@ -70,3 +70,22 @@ def test_a_joint_moved_onto_a_limit_is_refused_and_one_held_there_warned_of(brak
     with pytest.warns(OnLimitWarning, match=r"the trajectory holds joint_3 on its upper position limit \(0 rad\)"):
         check_trajectory(JointTrajectory(planned.joint_names, planned.time, held, planned.velocities,
                                          planned.accelerations), ROBOT.joints)
+
+
+def test_a_joint_that_starts_on_a_limit_may_leave_it_but_not_come_back():
+    # the Comau at its zeros has joint_3 on its upper limit (0 rad): every move from there, an
+    # approach to a throw's start as docs/robot.md shows it, had been refused as one onto the limit
+    from rlff.trajectory.planner import plan_transition
+
+    zeros = np.zeros(len(ROBOT.joint_names))
+    target = zeros.copy()
+    target[2] = -0.5
+    away = plan_transition(zeros, zeros, zeros, target, zeros, ROBOT.joints)
+    assert away.positions[0, 2] == 0.0 and away.positions[-1, 2] == pytest.approx(-0.5)
+    check_trajectory(away, ROBOT.joints, start_at_rest=True)
+    back = JointTrajectory(away.joint_names, np.concatenate([away.time, away.time[-1] + away.time[1:]]),
+                           np.concatenate([away.positions, away.positions[::-1][1:]]),
+                           np.concatenate([away.velocities, -away.velocities[::-1][1:]]),
+                           np.concatenate([away.accelerations, away.accelerations[::-1][1:]]))
+    with pytest.raises(MotionLimitError, match=r"joint_3 moves to its position limit: \S+ rad on the limit 0 rad"):
+        check_trajectory(back, ROBOT.joints)

@@ -77,15 +77,19 @@ def _more(count: int, where: str = "beyond it") -> str:
 
 def _check_points(traj: JointTrajectory, values: dict[str, np.ndarray], lower: np.ndarray,
                   upper: np.ndarray, where, moving: np.ndarray) -> None:
-    """Raise for the first value of ``values[quantity]`` (N, J) outside ``lower``..``upper``, or a
-    position of a ``moving`` joint ((J,) bool) on its limit (within the slack)."""
+    """Raise for the first value of ``values[quantity]`` (N, J, in time order) outside
+    ``lower``..``upper``, or a position of a ``moving`` joint ((J,) bool) on its limit (within the
+    slack) that the trajectory moved it to: a joint that starts on a limit (where the arm stands)
+    may leave it, not come back."""
     for quantity, array in values.items():
         low, high = lower[quantity], upper[quantity]
         span = np.maximum(np.abs(low), np.abs(high))
         slack = LIMIT_SLACK * np.maximum(span, 1.0)
         outside = (array < low - slack) | (array > high + slack)
         if quantity == "position":
-            outside |= ((array <= low + slack) | (array >= high - slack)) & moving
+            # the arm at Comau's zeros has joint_3 on its upper limit 0: every move from there had been refused
+            left = np.logical_or.accumulate(np.abs(array - traj.positions[0]) > slack, axis=0)
+            outside |= ((array <= low + slack) | (array >= high - slack)) & moving & left
         found = _first(outside)
         if found is None:
             continue
