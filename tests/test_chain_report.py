@@ -366,3 +366,17 @@ def test_a_run_until_centred_is_judged_by_its_centred_hit_not_its_first_hit(tmp_
     assert rows["short.jsonl"] == [9, f"stopped after 9 of 20, no centred hit (log cut) (first hit at {first_hit})"]
     assert ("short.jsonl ends in a line cut short: its run was killed while writing attempt 10, which is lost, so the "
             "log stops short of the run's budget of 20 without a centred hit;") in section.text
+
+
+def test_a_centred_run_whose_centre_share_is_no_number_is_passed_over_not_a_crash(tmp_path):
+    # the log was kept for the table before its centre share was refused, and the report ended
+    # in "rlff: internal error: KeyError"
+    folder = tmp_path / "lab"
+    folder.mkdir()
+    _log(folder / "good.jsonl", {"name": "comau"}, BASKET)
+    _log(folder / "edited.jsonl", {"name": "comau"}, BASKET, until="centred", centre_share="half")
+    run, passed, _ = chain_run(folder, tmp_path / "run" / "figures")
+    assert passed == ["edited.jsonl: the run until='centred' has a centre_share 'half' and a basket opening 0.35 in "
+                      "its header: both must be numbers (m and a share of the half-opening); is the log edited?"]
+    (section,) = run.sections
+    assert [row[0] for row in section.tables[0].rows] == ["good.jsonl"]

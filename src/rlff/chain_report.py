@@ -139,8 +139,9 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
                 else:
                     passed.append(f"{path.name}: not an rlff dataset or model")
             elif suffix == ".jsonl":
-                logs.append((path, read_learning_log(path)))
-                log_facts[path] = log_facts_of(path)
+                logged = read_learning_log(path)
+                log_facts[path] = log_facts_of(path)  # before the log is kept: a log it refuses is passed over
+                logs.append((path, logged))
         except InputError as exc:
             passed.append(f"{path.name}: {str(exc).removeprefix(str(path) + ': ')}")
     if strays:
