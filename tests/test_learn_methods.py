@@ -245,6 +245,11 @@ def test_a_methods_own_error_names_the_attempt_and_the_method(demos):
      r"^attempts 1-2: the throw careless proposed was changed before it was thrown \(at attempt 1\): its velocity "
      rf"runs against problem.angles' direction \({GRID}\) at 30 of 30 samples, the release among them: the path "
      r"was thrown as a crawl at 0.1 rad/s"),
+    # at rest at its start, against the grid after: no sample moves forward, so a crawl too (it
+    # had been said to be thrown at rest, as if another sample had moved forward)
+    (lambda mean: replace(mean, velocity=np.concatenate([[0.0], -mean.velocity[1:]])),
+     r"^attempts 1-2: .* at 29 of 30 samples, the release among them: the path was thrown as a crawl at 0.1 "
+     r"rad/s, the ball let go at that; check the velocity's sign$"),
     (lambda mean: replace(mean, velocity=np.concatenate([mean.velocity[:-3], -mean.velocity[-3:]])),
      r"^attempts 1-2: .* at 3 of 30 samples, the release among them: those were thrown at rest, so the ball left "
      r"the hand standing still; check the velocity's sign$"),

@@ -37,7 +37,7 @@ import numpy as np
 
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
-from rlff.learn.demos import CRAWL
+from rlff.learn.demos import CRAWL, forward_velocity
 from rlff.learn.method import Method, Problem, Proposal
 
 #: How far (a share of the grid's spacing) a proposal's angle may lie from the grid's and still
@@ -118,16 +118,18 @@ def changed_words(proposal: Proposal, problem: Problem) -> dict[str, str]:
     - A release speed :data:`UNIT_LIKE_FACTOR` times ``problem.max_speed`` or more: saturated at
       the arm's limit like any faster throw; that many times over is velocities in deg/s.
     """
-    grid = problem.angles
-    direction = math.copysign(1.0, float(grid[-1] - grid[0]))
     velocity = np.asarray(proposal.velocity, dtype=float)
+    # what the loop throws, compared with what was asked: a sample moving (not at rest) that it
+    # changes ran against the grid; a release so changed to a motion is the crawl
+    thrown = forward_velocity(proposal.angle, velocity)
+    against = (thrown != velocity) & (velocity != 0)
     said = {}
-    if direction * velocity[-1] < 0:
-        against = int(np.count_nonzero(direction * velocity < 0))
-        thrown = (f"the path was thrown as a crawl at {CRAWL:g} rad/s, the ball let go at that" if against == velocity.size
-                  else "those were thrown at rest, so the ball left the hand standing still")
-        said["against"] = (f"its velocity runs against problem.angles' direction ({_span(grid)}) at {against} of "
-                           f"{velocity.size} samples, the release among them: {thrown}; check the velocity's sign")
+    if against[-1]:
+        words = (f"the path was thrown as a crawl at {CRAWL:g} rad/s, the ball let go at that" if thrown[-1] != 0
+                 else "those were thrown at rest, so the ball left the hand standing still")
+        said["against"] = (f"its velocity runs against problem.angles' direction ({_span(problem.angles)}) at "
+                           f"{np.count_nonzero(against)} of {velocity.size} samples, the release among them: {words}; "
+                           "check the velocity's sign")
     release = abs(float(velocity[-1]))
     if math.isfinite(problem.max_speed) and release >= UNIT_LIKE_FACTOR * problem.max_speed:
         said["units"] = (f"it asks for a release at {release:.4g} rad/s, {release / problem.max_speed:.0f} times "
