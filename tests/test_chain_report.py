@@ -376,7 +376,7 @@ def test_a_centred_run_whose_centre_share_is_no_number_is_passed_over_not_a_cras
     _log(folder / "good.jsonl", {"name": "comau"}, BASKET)
     _log(folder / "edited.jsonl", {"name": "comau"}, BASKET, until="centred", centre_share="half")
     run, passed, _ = chain_run(folder, tmp_path / "run" / "figures")
-    assert passed == ["edited.jsonl: the run until='centred' has a centre_share 'half' and a basket opening 0.35 in "
-                      "its header: both must be numbers (m and a share of the half-opening); is the log edited?"]
+    assert passed == ["edited.jsonl: the run until='centred' has a centre_share 'half' in its header: it must be a "
+                      "number (a share of the half-opening); is the log edited?"]
     (section,) = run.sections
     assert [row[0] for row in section.tables[0].rows] == ["good.jsonl"]

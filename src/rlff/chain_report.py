@@ -45,12 +45,17 @@ import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from rlff.errors import InputError
 from rlff.report.run import FigureEntry, Run, Section, Table
 from rlff.wording import plural, signed
+
+if TYPE_CHECKING:
+    from rlff.learn.log import LogContents
+    from rlff.plots.learning_logs import LoggedRun
 
 #: The dataset files a folder's report reads (:func:`rlff.formats.read_dataset`; ``.txt`` is left
 #: to skeleton recordings, which the thesis matrix format shares).
@@ -94,9 +99,10 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
         The folder holds no dataset, model or attempts log.
     """
     from rlff.formats import read_dataset
+    from rlff.learn.log import read_log
     from rlff.model import Model
     from rlff.model.model import FORMAT as MODEL_FORMAT
-    from rlff.plots.learning import read_learning_log
+    from rlff.plots.learning_logs import logged_run
     from rlff.robot.export import JSON_FORMAT as TRAJECTORY_FORMAT
 
     folder, figures_dir = Path(folder), Path(figures_dir)
@@ -139,8 +145,9 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
                 else:
                     passed.append(f"{path.name}: not an rlff dataset or model")
             elif suffix == ".jsonl":
-                logged = read_learning_log(path)
-                log_facts[path] = log_facts_of(path)  # before the log is kept: a log it refuses is passed over
+                header, contents = read_log(path)
+                logged = logged_run(path, header, contents)
+                log_facts[path] = log_facts_of(logged, header, contents)  # may refuse it: before it is kept
                 logs.append((path, logged))
         except InputError as exc:
             passed.append(f"{path.name}: {str(exc).removeprefix(str(path) + ': ')}")
@@ -219,43 +226,29 @@ class LogFacts:
     goal_met: int | None = None
 
 
-def log_facts_of(path: Path) -> LogFacts:
-    """The :class:`LogFacts` of the attempts log ``path``, read as the loop reads it to resume
-    (:func:`rlff.learn.log.read_log`).
+def log_facts_of(logged: LoggedRun, run: dict, contents: LogContents) -> LogFacts:
+    """The :class:`LogFacts` of an attempts log read as the loop reads it to resume
+    (:func:`rlff.learn.log.read_log`: its header's ``run`` and its ``contents``), whose
+    :class:`~rlff.plots.learning_logs.LoggedRun` is ``logged``.
 
     Raises
     ------
     InputError
-        A run ``until="centred"`` whose header's centre share or basket opening is not a number.
+        A run ``until="centred"`` whose header's centre share is not a number.
     """
-    from rlff.learn.log import read_log
-    from rlff.learn.loop import counts_as_hit
+    from rlff.learn.loop import CENTRE_SHARE, centre_window, counts_as_hit
 
-    run, contents = read_log(path)
     digest = hashlib.sha256(json.dumps(run, sort_keys=True).encode())
     for attempt in contents.attempts:
         record = {key: value for key, value in attempt.to_json().items() if key != "seconds"}
         digest.update(json.dumps(record, sort_keys=True).encode())
-    window = _centre_window(run)
+    share = run.get("centre_share", CENTRE_SHARE)
+    if logged.until == "centred" and _number(share) is None:
+        raise InputError(f"the run until='centred' has a centre_share {share!r} in its header: it must be a number "
+                         "(a share of the half-opening); is the log edited?")
+    window = centre_window(logged.until, share, logged.opening)
     goal_met = next((i + 1 for i, attempt in enumerate(contents.attempts) if counts_as_hit(attempt, window)), None)
     return LogFacts(contents.dropped_partial_line, digest.hexdigest(), contents.budget, goal_met)
-
-
-def _centre_window(run: dict) -> float:
-    """How far from the basket's centre (m) a hit of the run record ``run`` had to land to stop
-    it, as :func:`rlff.learn.loop.learn` sets it: half the opening times the centre share for a
-    run ``until="centred"``, infinite (any hit) otherwise."""
-    from rlff.learn.loop import CENTRE_SHARE
-    from rlff.plots.learning_logs import DEFAULT_OPENING
-
-    if run.get("until") != "centred":
-        return math.inf
-    basket = run.get("basket") if isinstance(run.get("basket"), dict) else {}
-    share, opening = run.get("centre_share", CENTRE_SHARE), basket.get("opening", DEFAULT_OPENING)
-    if _number(share) is None or _number(opening) is None:
-        raise InputError(f"the run until='centred' has a centre_share {share!r} and a basket opening {opening!r} in "
-                         "its header: both must be numbers (m and a share of the half-opening); is the log edited?")
-    return 0.5 * share * opening
 
 
 def _strays_words(names: list[str]) -> str:

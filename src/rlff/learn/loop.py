@@ -522,9 +522,7 @@ def learn(
         "demos": fingerprint(demos),
         "until": until,
     }
-    centre_window = math.inf
     if until == "centred":
-        centre_window = 0.5 * centre_share * target.opening
         run["centre_share"] = centre_share
     if executed_on != "sim":
         run["executor"] = executed_on
@@ -543,8 +541,8 @@ def learn(
     log = AttemptLog(log_path, run, RUN_OPTIONS, budget=budget) if log_path is not None else None
     try:
         result = _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
-                      progress, until, centre_window, pedestal, components, tuple(run.get("carried", ())),
-                      misreport, kinematic)
+                      progress, until, centre_window(until, centre_share, target.opening), pedestal, components,
+                      tuple(run.get("carried", ())), misreport, kinematic)
         result.notes[:0] = [hint] * bool(hint and not result.resumed) + limit_notes + carry_notes
         return result
     finally:
@@ -1057,6 +1055,13 @@ def hit_tolerance(basket) -> float:
     from rlff.sim.arm import BALL_RADIUS
 
     return max(0.5 * basket.opening - BALL_RADIUS, 0.25 * basket.opening)
+
+
+def centre_window(until: str, centre_share: float, opening: float) -> float:
+    """How far from the basket's centre (m) a hit must land to stop a run of :func:`learn` that
+    stops ``until`` (``"hit"`` or ``"centred"``): ``centre_share`` times half the basket's
+    ``opening`` (m) for one ``until="centred"``, infinite (any hit) otherwise."""
+    return 0.5 * centre_share * opening if until == "centred" else math.inf
 
 
 def counts_as_hit(attempt: Attempt, centre_window: float = math.inf) -> bool:

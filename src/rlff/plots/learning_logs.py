@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from rlff.errors import InputError
-from rlff.learn.log import read_log
+from rlff.learn.log import LogContents, read_log
 
 #: The rim height (m), opening (m) and stop rule of a log that does not say (the loop's defaults).
 DEFAULT_RIM_HEIGHT, DEFAULT_OPENING, DEFAULT_UNTIL = 0.3, 0.35, "hit"
@@ -93,7 +93,18 @@ def read_learning_log(path: str | Path) -> LoggedRun:
         record whose basket distance, bearing, opening, rim height or pedestal is not a number.
     """
     path = Path(path)
-    run, contents = read_log(path)
+    return logged_run(path, *read_log(path))
+
+
+def logged_run(path: Path, run: dict, contents: LogContents) -> LoggedRun:
+    """The :class:`LoggedRun` of the attempts log ``path`` already read: its header's ``run`` and
+    its ``contents`` (:func:`rlff.learn.log.read_log`).
+
+    Raises
+    ------
+    InputError
+        A run record whose basket distance, bearing, opening, rim height or pedestal is not a number.
+    """
     basket = run.get("basket") if isinstance(run.get("basket"), dict) else {}
     try:
         distance = float(basket["distance"])
