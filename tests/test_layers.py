@@ -26,8 +26,8 @@ STAGES = (
     ("__main__",),
 )
 #: Shared leaf modules: plain types, files, errors and facts every stage may use.
-LEAVES = {"ballistics", "csvlines", "csvtable", "dataset", "errors", "fileio", "formats", "jsonfile", "kinds", "limits", "timing",
-          "wording"}
+LEAVES = {"ballistics", "csvlines", "csvtable", "dataset", "errors", "fileio", "formats", "jsonfile", "kinds", "limits",
+          "lockfile", "timing", "wording"}
 
 
 def _part(path: Path) -> str:

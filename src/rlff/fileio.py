@@ -23,16 +23,12 @@ import contextlib
 import errno
 import os
 import shutil
-import socket
 import sqlite3
 import stat
 import tempfile
-import time
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import IO
-
-from filelock import lock_descriptor
 
 from rlff.errors import InputError
 
@@ -289,25 +285,6 @@ def refusal_words(exc: OSError | sqlite3.Error) -> str:
     return f"({exc.strerror or exc})"
 
 
-def lock_holder(fd: int) -> str | None:
-    """Lock the open file ``fd`` without waiting (``flock`` through filelock, released by the kernel
-    when the process dies): None once this process holds it; otherwise who does, as the holder
-    wrote it into the file (:func:`claim_lock`), and ``fd`` closed."""
-    if lock_descriptor(fd, blocking=False):
-        return None
-    holder = os.pread(fd, 4096, 0).decode("utf-8", errors="replace").strip() or "another run"
-    os.close(fd)
-    return holder
-
-
-def claim_lock(fd: int, program: str) -> None:
-    """Write the holder of the lock on ``fd`` into its file, for the message of a run it refuses:
-    ``rlff learn, pid 123 on host lab-pc, since 2026-12-06 21:59:17``."""
-    os.ftruncate(fd, 0)
-    started = time.strftime("%Y-%m-%d %H:%M:%S", time.localtime())
-    os.pwrite(fd, f"{program}, pid {os.getpid()} on host {socket.gethostname()}, since {started}\n".encode(), 0)
-
-
 def refused_in_place(path: str | Path, exc: OSError) -> InputError:
     """The error for a file written in place (an attempts log's append) whose write the system
     refused partway (:func:`refused`): its path, the system's reason and what to do."""
@@ -459,6 +436,6 @@ def _file_input_inside(out: Path, folder: Path) -> bool:
 
 
 __all__ = [
-    "atomic_path", "atomic_write", "check_output_path", "check_outputs", "claim_lock", "lock_holder", "path_kind", "prepare_output", "refusal_words",
+    "atomic_path", "atomic_write", "check_output_path", "check_outputs", "path_kind", "prepare_output", "refusal_words",
     "refused", "refused_in_place", "require_distinct", "require_file", "write_text",
 ]

@@ -48,8 +48,6 @@ from filelock import unlock_descriptor
 
 from rlff.errors import InputError
 from rlff.fileio import (
-    claim_lock,
-    lock_holder,
     path_kind,
     prepare_output,
     refused,
@@ -58,6 +56,7 @@ from rlff.fileio import (
 )
 from rlff.kinds import file_kind
 from rlff.learn.attempt import Attempt
+from rlff.lockfile import claim_lock, lock_holder
 
 if TYPE_CHECKING:
     from rlff.robot.description import Robot

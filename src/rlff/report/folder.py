@@ -36,7 +36,8 @@ from pathlib import Path
 from filelock import unlock_descriptor
 
 from rlff.errors import InputError
-from rlff.fileio import claim_lock, lock_holder, write_text
+from rlff.fileio import write_text
+from rlff.lockfile import claim_lock, lock_holder
 
 #: The listing of the files the folder's last run wrote, and the lock a run holds.
 LISTING = ".rlff-run"
