@@ -160,6 +160,15 @@ def test_parquet_from_another_tool_reads_its_hit_column_as_bools(tmp_path):
         read_parquet(tmp_path / "bad.parquet")
 
 
+def test_a_context_not_in_the_file_is_named_with_the_columns_it_has(tmp_path):
+    # as the CSV reader names it; Parquet and NPZ had said "no context column 'bearing' in the data"
+    table = {"trajectory": ["a", "a"], "angle": [0.1, 0.2], "distance": [2.0, 2.0]}
+    pq.write_table(pa.table(table), tmp_path / "d.parquet")
+    with pytest.raises(InputError, match=r"d.parquet: trajectory 'a' has no column 'bearing' \(columns: angle, "
+                                         r"distance\)$"):
+        read_parquet(tmp_path / "d.parquet", context=("bearing",))
+
+
 def test_parquet_errors_name_the_file(tmp_path):
     pq.write_table(pa.table({"trajectory": ["a", "a"], "angle": [0.1, None]}), tmp_path / "null.parquet")
     with pytest.raises(InputError, match=r"null.parquet: column 'angle' has an empty value at row 2"):

@@ -372,8 +372,8 @@ class Dataset(Sequence[Trajectory]):
         context = tuple(name for name in THROW_CONTEXT if name in arrays) if context is None else as_names(context)
         if lengths.size:
             for name in context:
-                if name not in arrays:
-                    raise InputError(f"no context column {name!r} in the data")
+                if name not in arrays:  # as the first trajectory would say it (Trajectory.__getitem__)
+                    raise InputError(f"trajectory {ids[0]!r} has no column {name!r} (columns: {', '.join(arrays)})")
                 values = arrays[name]
                 spread = np.maximum.reduceat(values, starts) - np.minimum.reduceat(values, starts)
                 scale = np.maximum(1.0, np.maximum.reduceat(np.abs(values), starts))
@@ -892,21 +892,10 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
         for trajectory_meta, value in zip(metas, column.values, strict=True):
             if value is not None:
                 trajectory_meta[name] = value
-    try:
+    try:  # a dataset-wide fault: a context column that varies or is missing, a joint without its velocity
         return Dataset.from_columns(samples, ids, lengths, metas, context=context)
-    except InputError:
-        # a dataset-wide fault (a context column that varies, a joint without its velocity): said
-        # as the Dataset of these trajectories says it
-        trajectories = [
-            Trajectory._trusted(trajectory_id, {name: values[start : start + length] for name, values in samples.items()},
-                                trajectory_meta)
-            for trajectory_id, start, length, trajectory_meta in zip(ids, starts.tolist(), lengths.tolist(), metas, strict=True)
-        ]
-        try:
-            Dataset(trajectories, context=context)
-        except InputError as exc:
-            raise InputError(f"{path}: {exc}") from None
-        raise
+    except InputError as exc:
+        raise InputError(f"{path}: {exc}") from None
 
 
 def _holds_no_number(column: Any) -> bool:
