@@ -133,14 +133,13 @@ def learn_command(
         Basket(basket, bearing=bearing) if height is None else Basket(basket, height, bearing=bearing)
     if out is not None:  # and a bad --out or --format
         fmt = export_format(out, fmt)
-    from rlff.learn.carry import require_carrying
-    from rlff.learn.loop import AIMS, METHODS, method_of, run_options
+    from rlff.learn.loop import AIMS, method_of, require_carrying, run_options
 
     if aim not in AIMS:  # before the demonstrations are read and cleaned
         raise InputError(f"unknown --aim {aim!r} (known: {', '.join(AIMS)})")
     method = method_of(update)  # and an unknown method, or a MODULE:CLASS that is none: imported once
     if carry:  # and a method that carries nothing
-        require_carrying(method, METHODS)
+        require_carrying(method)
     # given or not (a default is the library's): refused where it changes nothing, not ignored
     centre_share, misreport = (value if given(ctx, name) else None
                                for name, value in (("centre_share", centre_share), ("misreport", misreport)))

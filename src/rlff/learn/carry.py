@@ -19,20 +19,19 @@ arm (a simulated arm's ``gap``, another ``executor``'s real one); anything else 
 Only methods that start where the carried hits point and log their ``log_factor`` carry
 (:attr:`rlff.learn.Method.carries`: ``calibrate``, ``donut`` and the GMR baselines); a carry
 into a run of another (``failure``, ``hindsight``, which move the DMM rather than a speed) is
-refused before anything is read (:func:`require_carrying`): before, it was taken, and the run
+refused before anything is read (:func:`rlff.learn.loop.require_carrying`): before, it was taken, and the run
 said its log "has no hit to carry" or carried offsets nothing used.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from rlff.errors import InputError
 from rlff.learn.log import as_listed, brief, first_difference, read_log, without_ros
-from rlff.learn.method import Method
 
 #: Standard deviation (log speed) of the search's prior about the carried offset: the offsets of
 #: two baskets of one seed differ by 0.076 in ``short`` (tuning seeds 0-47), with room.
@@ -51,33 +50,6 @@ START = ("the speed offset is relative to the method's own start, which the meth
 #: speed:0.9's hit at 2 m, carried to an arm without it, took 5 throws at 3 m where 1 hit alone) or a
 #: real one. Each key with how a header without it reads (a run in simulation on the robot file).
 SAME_ARM = {"gap": "'none'", "executor": "'sim'"}
-
-
-def require_carrying(method: type[Method], methods: Mapping[str, type[Method]]) -> None:
-    """Refuse to carry earlier runs' hits into a run of ``method``, a method that does not carry
-    (:attr:`rlff.learn.Method.carries`), naming those of ``methods`` (the built-in ones, by
-    name: :data:`rlff.learn.loop.METHODS`) that do.
-
-    Raises
-    ------
-    InputError
-        ``method`` does not carry: what a carry is, why this method has none, which methods do.
-    """
-    if method.carries:
-        return
-    carrying = [name for name, known in methods.items() if known.carries]
-    whole = [name for name in carrying if ":" not in name]
-    ablated = [name for name in whole if any(other.startswith(f"{name}:") for other in carrying)]
-    named = ", ".join(whole) + (f" (and the ablations of {' and '.join(ablated)})" if ablated else "")
-    if methods.get(method.name) is method:
-        why = (f"{method.name} learns by refitting the DMM to its attempts, not by a speed over a start of its own, so "
-               "its attempts log no such offset and a carried one would not move its throws")
-    else:
-        why = (f"{method.name} does not say it carries (a method of one's own that starts at problem.carried_shift "
-               "and logs each attempt's info['log_factor'] sets its class attribute carries = True)")
-    raise InputError(f"update {method.name!r} cannot carry earlier runs' hits (--carry): a hit is carried as the "
-                     f"speed offset at which it hit, in log speed over its method's start, and {why}. The methods "
-                     f"that carry: {named}; or learn without --carry")
 
 
 def carried_offsets(logs: Sequence[str | Path], run: dict[str, Any]) -> tuple[tuple[float, ...], list[str]]:

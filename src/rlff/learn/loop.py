@@ -44,7 +44,7 @@ from rlff.errors import InputError, RlffError
 from rlff.learn.aim_hint import aim_hint
 from rlff.learn.attempt import Attempt
 from rlff.learn.baselines import BASELINES
-from rlff.learn.carry import carried_offsets, require_carrying
+from rlff.learn.carry import carried_offsets
 from rlff.learn.demos import (
     angle_grid,
     drives_whole_arm,
@@ -119,6 +119,34 @@ def method_of(update: str | type[Method]) -> type[Method]:
         raise InputError(f"method {title} has no propose(history): it returns the next throw, an "
                          "rlff.learn.Proposal")
     return update
+
+
+def require_carrying(method: type[Method]) -> None:
+    """Refuse to carry earlier runs' hits (:mod:`rlff.learn.carry`) into a run of ``method``, a
+    method that does not carry (:attr:`rlff.learn.Method.carries`), naming the built-in methods
+    (:data:`METHODS`) that do.
+
+    Raises
+    ------
+    InputError
+        ``method`` does not carry: what a carry is, why this method has none, which methods do.
+    """
+    if method.carries:
+        return
+    carrying = [name for name, known in METHODS.items() if known.carries]
+    whole = [name for name in carrying if ":" not in name]
+    ablated = [name for name in whole if any(other.startswith(f"{name}:") for other in carrying)]
+    named = ", ".join(whole) + (f" (and the ablations of {' and '.join(ablated)})" if ablated else "")
+    if METHODS.get(method.name) is method:
+        why = (f"{method.name} learns by refitting the DMM to its attempts, not by a speed over a start of its own, so "
+               "its attempts log no such offset and a carried one would not move its throws")
+    else:
+        why = (f"{method.name} does not say it carries (a method of one's own that starts at problem.carried_shift "
+               "and logs each attempt's info['log_factor'] sets its class attribute carries = True)")
+    raise InputError(f"update {method.name!r} cannot carry earlier runs' hits (--carry): a hit is carried as the "
+                     f"speed offset at which it hit, in log speed over its method's start, and {why}. The methods "
+                     f"that carry: {named}; or learn without --carry")
+
 
 
 #: When a run stops: at the first hit, or at the first hit within the centre share of the opening.
@@ -448,7 +476,7 @@ def learn(
     ------
     InputError
         Unknown method or feedback, a method that needs other feedback, a carry into a method
-        that does not carry (:func:`rlff.learn.carry.require_carrying`), a basket out of the
+        that does not carry (:func:`require_carrying`), a basket out of the
         robot's reach, demonstrations beyond the joint limits, a log path that is no regular file
         (a device, a FIFO), or a corrupt or foreign log. A
         method's proposal that is no :class:`~rlff.learn.method.Proposal` or does not follow
@@ -469,7 +497,7 @@ def learn(
     # one path given where several may be: that one, not its letters (joints: as_names)
     carry_from = (carry_from,) if isinstance(carry_from, str | Path) else carry_from
     if carry_from:
-        require_carrying(method_class, METHODS)
+        require_carrying(method_class)
     if not (isinstance(budget, numbers.Integral) and not isinstance(budget, bool) and budget >= 1):
         raise InputError(f"budget must be a positive whole number of attempts, got {budget!r}")
     budget = int(budget)
