@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import re
 import shlex
 from contextlib import ExitStack
 from pathlib import Path
@@ -118,13 +117,6 @@ def learn_command(
     bag_folder = out is not None and (fmt or SUFFIX_FORMATS.get(out.suffix.lower())) == "ros2-bag"
     guard(inputs={"DEMOS": demos, "--carry": carry or None, "--robot": robot_file(robot)},
           outputs={"--log": log, "-o/--output": out}, folders=["-o/--output"] if bag_folder else [])
-    if log is not None:  # a device or a FIFO passes as an output; it is no log, and it would be read first
-        from rlff.learn.log import require_log_file
-
-        try:
-            require_log_file(log)
-        except InputError as exc:
-            raise InputError(f"--log {exc}") from None
     from rlff.limits import check_period
     from rlff.sim import Basket
 
@@ -133,20 +125,16 @@ def learn_command(
         Basket(basket, bearing=bearing) if height is None else Basket(basket, height, bearing=bearing)
     if out is not None:  # and a bad --out or --format
         fmt = export_format(out, fmt)
-    from rlff.learn.loop import AIMS, method_of, require_carrying, run_options
+    from rlff.learn.loop import options_words, run_options
 
-    if aim not in AIMS:  # before the demonstrations are read and cleaned
-        raise InputError(f"unknown --aim {aim!r} (known: {', '.join(AIMS)})")
-    method = method_of(update)  # and an unknown method, or a MODULE:CLASS that is none: imported once
-    if carry:  # and a method that carries nothing
-        require_carrying(method)
     # given or not (a default is the library's): refused where it changes nothing, not ignored
     centre_share, misreport = (value if given(ctx, name) else None
                                for name, value in (("centre_share", centre_share), ("misreport", misreport)))
-    try:
-        run_options(feedback, until, centre_share, misreport)
-    except InputError as exc:  # said with this command's options
-        raise InputError(_options_words(str(exc))) from None
+    # before the demonstrations are read and cleaned: a --log that is no file (a device or a FIFO
+    # passes as an output), an unknown --aim or method (a MODULE:CLASS imported once), a --carry
+    # into a method that carries nothing, and the options that go together; said with its options
+    method = run_options(feedback, until, centre_share, misreport, update=update, carry_from=carry, log_path=log,
+                         aim=aim, as_options=True)[0]
     for option, name, what, needs, apart in (
             ("--format", "fmt", "is the format of the file --out writes", "--out FILE", out is None),
             ("--period", "period", "is the controller period of the file --out writes", "--out FILE", out is None),
@@ -200,7 +188,7 @@ def learn_command(
     resuming = log is not None and log.exists()  # its run chose already
     hint = _aim_hint(robot, data) if aim == "auto" and driven is None and not resuming else None
     if hint:  # before the first throw, not among the notes after the run
-        say(_options_words(hint))
+        say(options_words(hint))
     try:
         result = _run(data, basket, settings, live)
     except KeyboardInterrupt as exc:  # on its own line, after the progress bar or the prompt
@@ -210,7 +198,7 @@ def learn_command(
         raise
     for note in result.notes:
         if note != hint:
-            say(_options_words(note))
+            say(options_words(note))
     written = _write_best(result, robot, out, fmt, period, driven, bearing) if out is not None else None
     if as_json:
         emit_json({**result.to_json(), "out": written})
@@ -350,17 +338,6 @@ def _aim_hint(robot: str, data) -> str | None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RobotFileWarning)
         return aim_hint(load_robot(robot), data)
-
-
-def _options_words(text: str) -> str:
-    """A message of :func:`rlff.learn.learn`'s, which names its parameters, with this command's
-    options: ``until='centred'`` as ``--until centred``, ``centre_share`` as ``--centre-share``
-    (the options of :data:`rlff.learn.loop.RUN_OPTIONS`)."""
-    from rlff.learn.loop import RUN_OPTIONS
-
-    options = {key: option for key, (option, _) in RUN_OPTIONS.items() if key.isidentifier()}
-    text = re.sub(r"\b(\w+)='([^']*)'", lambda m: f"{options[m[1]]} {m[2]}" if m[1] in options else m[0], text)
-    return re.sub(r"(?<![\w-])(centre_share|misreport)(?![\w-])", lambda m: options[m[1]], text)
 
 
 def _joint_list(joints: str | None) -> tuple[str, ...] | None:

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 import time as clock
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
@@ -181,20 +182,47 @@ RUN_OPTIONS: dict[str, tuple[str, str | None]] = {
 
 
 def run_options(feedback: str = "binary", until: str = "hit", centre_share: float | None = None,
-                misreport: float | None = None) -> tuple[float, float]:
-    """``(centre_share, misreport)`` of a run of :func:`learn` with these options, checked
-    before anything is read, None standing for the defaults (:data:`CENTRE_SHARE`,
-    :data:`rlff.learn.windows.MISREPORT`). Messages name :func:`learn`'s parameters
-    (``until='centred'``); ``rlff learn`` says them with its options.
+                misreport: float | None = None, *, update: str | type[Method] = "calibrate",
+                carry_from: Sequence[str | Path] = (), log_path: str | Path | None = None, aim: str = "auto",
+                as_options: bool = False) -> tuple[type[Method], float, float]:
+    """``(method class, centre_share, misreport)`` of a run of :func:`learn` with these options,
+    checked before anything is read: the class ``update`` names (:func:`method_of`), None
+    standing for the defaults (:data:`CENTRE_SHARE`, :data:`rlff.learn.windows.MISREPORT`).
+    Messages name :func:`learn`'s parameters (``until='centred'``); with ``as_options``, ``rlff
+    learn``'s options (``--until centred``, ``--log``; :func:`options_words`).
 
     Raises
     ------
     InputError
-        An unknown ``feedback`` or ``until``, a value out of its range, or an option given where
-        it changes nothing: ``centre_share`` without ``until='centred'``, ``misreport`` with
-        distance feedback (it went into the log's header, and the command line could then never
-        resume that log).
+        A ``log_path`` that is no regular file (:func:`rlff.learn.log.require_log_file`), an
+        unknown ``aim``, an unknown ``update`` (:func:`method_of`), ``carry_from`` into a method
+        that does not carry (:func:`require_carrying`), an unknown ``feedback`` or ``until``, a
+        value out of its range, or an option given where it changes nothing: ``centre_share``
+        without ``until='centred'``, ``misreport`` with distance feedback (it went into the log's
+        header, and the command line could then never resume that log).
     """
+    if log_path is not None:  # a device or a FIFO is no log, and it would be read first
+        try:
+            require_log_file(log_path)
+        except InputError as exc:
+            if not as_options:
+                raise
+            raise InputError(f"--log {exc}") from None
+    if aim not in AIMS:
+        raise InputError(f"unknown {'--aim' if as_options else 'aim'} {aim!r} (known: {', '.join(AIMS)})")
+    method_class = method_of(update)  # a MODULE:CLASS imported once
+    if carry_from:
+        require_carrying(method_class)
+    try:
+        return (method_class, *_shares(feedback, until, centre_share, misreport))
+    except InputError as exc:
+        if not as_options:
+            raise
+        raise InputError(options_words(str(exc))) from None
+
+
+def _shares(feedback: str, until: str, centre_share: float | None, misreport: float | None) -> tuple[float, float]:
+    """``(centre_share, misreport)`` of :func:`run_options`, checked with ``feedback`` and ``until``."""
     if feedback not in FEEDBACKS:
         raise InputError(f"unknown feedback {feedback!r} (known: {', '.join(FEEDBACKS)})")
     if until not in UNTILS:
@@ -212,6 +240,15 @@ def run_options(feedback: str = "binary", until: str = "hit", centre_share: floa
     if not (_is_number(misreport) and 0 <= misreport < 1):
         raise InputError(f"misreport is the probability that a hit is reported as a miss, in [0, 1); got {misreport!r}")
     return float(centre_share), float(misreport)
+
+
+def options_words(text: str) -> str:
+    """A message of :func:`learn`'s, which names its parameters, with ``rlff learn``'s options:
+    ``until='centred'`` as ``--until centred``, ``centre_share`` as ``--centre-share`` (the
+    options of :data:`RUN_OPTIONS`)."""
+    options = {key: option for key, (option, _) in RUN_OPTIONS.items() if key.isidentifier()}
+    text = re.sub(r"\b(\w+)='([^']*)'", lambda m: f"{options[m[1]]} {m[2]}" if m[1] in options else m[0], text)
+    return re.sub(r"(?<![\w-])(centre_share|misreport)(?![\w-])", lambda m: options[m[1]], text)
 
 
 def _is_number(value) -> bool:
@@ -488,28 +525,22 @@ def learn(
     from rlff.robot.mapping import require_bearing
     from rlff.sim import Basket
 
-    method_class = method_of(update)
+    # one path given where several may be: that one, not its letters (joints: as_names)
+    carry_from = (carry_from,) if isinstance(carry_from, str | Path) else carry_from
+    method_class, centre_share, misreport = run_options(feedback, until, centre_share, misreport, update=update,
+                                                        carry_from=carry_from, log_path=log_path, aim=aim)
     update = method_class.name  # what the log and the result know it by
-    centre_share, misreport = run_options(feedback, until, centre_share, misreport)
     if feedback not in method_class.feedbacks:
         raise InputError(f"update {update!r} needs {' or '.join(method_class.feedbacks)} feedback, "
                          f"not {feedback!r}")
-    # one path given where several may be: that one, not its letters (joints: as_names)
-    carry_from = (carry_from,) if isinstance(carry_from, str | Path) else carry_from
-    if carry_from:
-        require_carrying(method_class)
     if not (isinstance(budget, numbers.Integral) and not isinstance(budget, bool) and budget >= 1):
         raise InputError(f"budget must be a positive whole number of attempts, got {budget!r}")
     budget = int(budget)
     if not (isinstance(seed, numbers.Integral) and not isinstance(seed, bool) and seed >= 0):
         raise InputError(f"seed must be a whole number >= 0, got {seed!r}")
     seed = int(seed)
-    if log_path is not None:  # before the demonstrations are read and fitted
-        require_log_file(log_path)
     demos = _demonstrations(demos)
     require_units(demos)  # before anything is judged in them (a unit slip is the likeliest fault)
-    if aim not in AIMS:
-        raise InputError(f"unknown aim {aim!r} (known: {', '.join(AIMS)})")
     from rlff.sim.gap import parse_gap
 
     arm_gap = parse_gap(gap)
