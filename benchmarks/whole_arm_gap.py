@@ -18,7 +18,8 @@ import tempfile
 from pathlib import Path
 
 from rlff.sim.gap import parse_gap
-from rlff.whole_arm_demo import BUDGET, run_whole_arm
+from rlff.synthetic.throws import THESIS_DISTANCES
+from rlff.whole_arm_demo import BUDGET, baskets, run_whole_arm
 
 
 def main() -> None:
@@ -33,7 +34,7 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as folder:
         for seed in seeds:
             for gap in gaps:
-                runs = run_whole_arm(Path(folder), seed=seed, gap=gap).runs
+                runs = run_whole_arm(Path(folder), baskets(THESIS_DISTANCES), seed=seed, gap=gap).runs
                 cells = " ".join(f"{r.distance:g}:{r.attempts if r.hit else '-'}" for r in runs)
                 print(f"| {seed} | {gap.name} | {cells} |", flush=True)
                 hits, attempts = totals.get(gap.name, (0, []))

@@ -204,7 +204,7 @@ def test_a_whole_arm_basket_beyond_an_arm_that_lets_go_late_stops_after_three_th
     from rlff.sim.gap import parse_gap
     from rlff.whole_arm_demo import run_whole_arm
 
-    [run] = run_whole_arm(tmp_path, seed=4, gap=parse_gap("delay:0.02"), only=[(4.5, 45.0)]).runs
+    [run] = run_whole_arm(tmp_path, [(4.5, 45.0)], seed=4, gap=parse_gap("delay:0.02")).runs
     assert not run.hit and run.attempts == SHORT_AT_THE_LIMIT
     assert all(m < -(0.175 + 0.033) for m in run.misses)  # each beyond the rim
 

@@ -19,9 +19,10 @@ pytestmark = [pytest.mark.slow, pytest.mark.integration]
 
 
 def test_every_demo_basket_around_the_robot_is_hit_within_10_attempts(tmp_path):
-    from rlff.whole_arm_demo import BUDGET, run_whole_arm
+    from rlff.synthetic.throws import THESIS_DISTANCES
+    from rlff.whole_arm_demo import BUDGET, baskets, run_whole_arm
 
-    whole = run_whole_arm(tmp_path, seed=5)
+    whole = run_whole_arm(tmp_path, baskets(THESIS_DISTANCES), seed=5)
     distances = {run.distance for run in whole.runs}
     assert {1.0, 2.0, 3.0, 4.0} <= distances and {1.25, 4.5} <= distances
     assert {run.bearing for run in whole.runs} >= {0.0, 30.0, 60.0, 90.0}
@@ -37,7 +38,7 @@ def test_an_arm_slower_than_its_robot_file_still_hits_at_the_edge_of_the_reach(t
     # joints 2 and 3 lack the speed headroom (whole_arm_demo.SPEED_HEADROOM)
     from rlff.whole_arm_demo import ARM_JOINTS, BUDGET, run_whole_arm
 
-    run, = run_whole_arm(tmp_path, seed=seed, only=[(distance, 0.0)], gap=parse_gap("speed:0.95")).runs
+    run, = run_whole_arm(tmp_path, [(distance, 0.0)], seed=seed, gap=parse_gap("speed:0.95")).runs
     assert run.joints != ARM_JOINTS
     assert run.hit, run.misses
     assert run.attempts <= BUDGET
@@ -49,7 +50,7 @@ def test_the_first_whole_arm_throw_is_where_the_kinematics_aim_not_at_the_speed_
     # outweighed the aim's window, and the first throw went to the limit, up to 0.8 m long
     from rlff.whole_arm_demo import run_whole_arm
 
-    whole = run_whole_arm(tmp_path, seed=1, only=[(4.0, 0.0), (4.25, 30.0), (4.5, 60.0)])
+    whole = run_whole_arm(tmp_path, [(4.0, 0.0), (4.25, 30.0), (4.5, 60.0)], seed=1)
     first = [whole.learned[(run.distance, run.bearing)].history[0] for run in whole.runs]
     assert [attempt.info["log_factor"] for attempt in first] == [0.0, 0.0, 0.0]
     assert all(abs(attempt.miss) < 0.2 for attempt in first), [attempt.miss for attempt in first]
@@ -60,7 +61,7 @@ def test_each_whole_arm_basket_starts_where_the_one_before_it_hit(tmp_path):
     # nearest in distance, the same joints) starts from the offset the last hit found
     from rlff.whole_arm_demo import run_whole_arm
 
-    whole = run_whole_arm(tmp_path, seed=1, only=[(4.0, 0.0), (4.25, 30.0)], gap=parse_gap("speed:0.95"))
+    whole = run_whole_arm(tmp_path, [(4.0, 0.0), (4.25, 30.0)], seed=1, gap=parse_gap("speed:0.95"))
     first, second = (whole.learned[(run.distance, run.bearing)] for run in whole.runs)
     assert first.hit and first.history[-1].info["log_factor"] > 0  # above the aim: the arm is slower
     assert second.notes[0].startswith(f"carried from {tmp_path / 'attempts' / 'whole-arm' / '4m-0deg.jsonl'}")

@@ -536,7 +536,7 @@ def _run(folder: RunFolder, size: str, *, seed: int, progress: Callable[[str, in
         learning.append(LearningRow(method, feedback, result.hit, result.attempts, list(result.misses)))
 
     clock.stage(STAGES[6])
-    whole_arm = run_whole_arm(folder, seed=seed, robot=robot, note=clock.note, only=plan.whole_arm_baskets)
+    whole_arm = run_whole_arm(folder, plan.whole_arm_baskets, seed=seed, robot=robot, note=clock.note)
 
     clock.stage(STAGES[7])
     figure_entries = _figures(

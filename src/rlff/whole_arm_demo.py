@@ -95,7 +95,7 @@ class WholeArm:
     demonstrated_distances : list of float
         Distances left after the cleaning (m).
     runs : list of BasketRun
-        One per basket, in order of distance.
+        One per basket, in the order learned.
     clean : Dataset
         The cleaned demonstrations.
     learned : dict of (distance, bearing) to LearningResult
@@ -112,9 +112,9 @@ class WholeArm:
 
 def baskets(demonstrated: Sequence[float], unseen: Sequence[float] = UNSEEN,
             bearings: Sequence[float] = BEARINGS) -> list[tuple[float, float]]:
-    """(distance (m), bearing (deg)) of every basket: each demonstrated and unseen distance once,
-    in order of distance, the bearings taken in turn (each of them appears once there are at
-    least as many distances as bearings)."""
+    """(distance (m), bearing (deg)) of every basket: each of the ``demonstrated`` distances (those
+    the people aim at) and the ``unseen`` ones once, in order of distance, the bearings taken in
+    turn (each of them appears once there are at least as many distances as bearings)."""
     distances = sorted({*map(float, demonstrated), *(float(d) for d in unseen)})
     return [(d, float(bearings[i % len(bearings)])) for i, d in enumerate(distances)]
 
@@ -127,27 +127,28 @@ def basket_log(distance: float, bearing: float) -> str:
 
 def run_whole_arm(
     out_dir: Path | RunPaths,
+    targets: Sequence[tuple[float, float]],
     *,
     seed: int = 0,
     robot=None,
     budget: int = BUDGET,
     note: Callable[[str], None] | None = None,
-    unseen: Sequence[float] = UNSEEN,
-    bearings: Sequence[float] = BEARINGS,
-    only: Sequence[tuple[float, float]] | None = None,
     gap: Gap | None = None,
 ) -> WholeArm:
-    """Simulate the whole-arm people, clean their throws and learn every basket.
+    """Simulate the whole-arm people, clean their throws and learn each of the ``targets``.
 
     Writes ``whole-arm-demos.csv``, ``whole-arm-clean.csv`` and the attempts logs
     ``attempts/whole-arm/<distance>m-<bearing>deg.jsonl`` into ``out_dir``. The baskets are
-    learned in order of distance, each starting from the speed offset of the hits before it
+    learned in the order given, each starting from the speed offset of the hits before it
     with the same joints (``learn(..., carry_from=...)``, :mod:`rlff.learn.carry`).
 
     Parameters
     ----------
     out_dir : Path or RunPaths
         The folder; a :class:`rlff.report.folder.RunFolder` lists every file before it is written.
+    targets : sequence of (distance, bearing)
+        The baskets to learn (m, deg), in order of distance: :func:`baskets` for every
+        demonstrated and unseen one (the demo's full plan), or a few.
     seed : int
         Seed of the people and of the learning runs.
     robot : Robot, optional
@@ -156,10 +157,6 @@ def run_whole_arm(
         Most attempts per basket.
     note : callable, optional
         Told what is being done (each basket's attempts).
-    unseen, bearings : sequences of float
-        The baskets nobody demonstrated (m) and the bearings (deg) taken in turn.
-    only : sequence of (distance, bearing), optional
-        Throw at these baskets (m, deg) instead (a quick run).
     gap : Gap, optional
         How the simulated arm differs from ``robot`` (:class:`rlff.sim.gap.Gap`): the
         loop plans with ``robot``, the throws are simulated with the gap applied.
@@ -193,7 +190,7 @@ def run_whole_arm(
 
     runs, learned = [], {}
     last_hit: dict[tuple[str, ...], Path] = {}  # per joint set: the log of the last basket hit
-    for distance, bearing in baskets(demonstrated, unseen, bearings) if only is None else only:
+    for distance, bearing in targets:
         log = out.log(basket_log(distance, bearing))
         log.unlink(missing_ok=True)
         for joints in choices:  # joint 5 only where joints 2 and 3 do not reach with headroom
