@@ -336,7 +336,7 @@ def test_a_throw_with_no_room_to_brake_faster_stops_the_run(short_demos, tmp_pat
 
     # the physical check: the last throw a little faster, still within joint_2's speed limit, is
     # no throw the planner can make
-    from rlff.learn.reach import scaled
+    from rlff.robot.mapping import scaled_speed
     from rlff.robot.plan import plan_path
     from rlff.trajectory.check import MotionLimitError
 
@@ -344,7 +344,7 @@ def test_a_throw_with_no_room_to_brake_faster_stops_the_run(short_demos, tmp_pat
     last = result.history[-1]
     assert 1.05 * abs(last.velocity[-1]) < mapping.max_human_speeds()["velocity"]  # within the speed limit
     with pytest.raises(MotionLimitError):
-        plan_path(mapping, scaled({"angle": last.angle, "velocity": last.velocity}, 1.05), clip=True)
+        plan_path(mapping, scaled_speed({"angle": last.angle, "velocity": last.velocity}, 1.05), clip=True)
 
 
 class Hurried(Method):

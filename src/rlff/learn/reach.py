@@ -32,6 +32,7 @@ from rlff.dataset import joint_outputs
 from rlff.errors import InputError
 from rlff.learn.attempt import Attempt
 from rlff.learn.demos import drives_whole_arm
+from rlff.robot.mapping import scaled_speed
 from rlff.trajectory.planner import MARGIN
 
 #: Throws in a row that came down short of the basket's rim even sped up to the fastest release
@@ -95,12 +96,12 @@ def arm_reach(mapping, shape: dict[str, np.ndarray], rim_height: float, pedestal
         raise InputError(f"speed headroom must be a share in [0, 1), got {headroom!r}")
     factor, limiting = fastest_factor(mapping, shape, 1 - headroom)
     if not math.isfinite(factor):
-        return ArmReach(release_crossing_of(mapping, scaled(shape, factor), rim_height, pedestal), factor, limiting)
+        return ArmReach(release_crossing_of(mapping, scaled_speed(shape, factor), rim_height, pedestal), factor, limiting)
     # the farthest of the slower throws too: where a joint's speed turns the ball up or back (the
     # real MSR throws with joints 2 and 3 at their fastest came down 1.22 m behind the base, and
     # a basket at 0.8 m, which a slower throw hits, was refused), the fastest is not the farthest
     factors = np.r_[factor * np.geomspace(_SLOWEST_AIM, 1.0, _AIM_GRID)[:-1], factor]
-    landings = np.array([release_crossing_of(mapping, scaled(shape, f), rim_height, pedestal) for f in factors])
+    landings = np.array([release_crossing_of(mapping, scaled_speed(shape, f), rim_height, pedestal) for f in factors])
     best = int(np.argmax(landings))
     if best < factors.size - 1 and landings[best] > landings[-1]:
         limiting = f"{limiting}; the farthest at {factors[best] / factor:.2g} of that speed, faster throws come down nearer"
@@ -127,7 +128,7 @@ def fastest_factor(mapping, path: dict[str, np.ndarray], share: float = 1.0) -> 
 
     def executable(f: float) -> bool:
         try:
-            plan_path(mapping, scaled(path, f), clip=True)  # saturated as the loop executes it
+            plan_path(mapping, scaled_speed(path, f), clip=True)  # saturated as the loop executes it
         except InputError:
             return False
         return True
@@ -154,7 +155,7 @@ def release_elasticity(mapping, typical: dict[str, np.ndarray], target: float, r
     highest, _ = release_speed_factor(mapping, typical)
 
     def landing(f: float) -> float:
-        return release_crossing_of(mapping, scaled(typical, f), rim_height, pedestal)
+        return release_crossing_of(mapping, scaled_speed(typical, f), rim_height, pedestal)
 
     low, high = 0.05, highest
     if landing(high) > target:
@@ -187,7 +188,7 @@ def aimed_factor(mapping, target: float, rim_height: float, pedestal: float, pro
         return 1.0
 
     def landing(f: float) -> float:
-        return release_crossing_of(mapping, scaled(path, f), rim_height, pedestal)
+        return release_crossing_of(mapping, scaled_speed(path, f), rim_height, pedestal)
 
     # the slowest throw of the grid that gets there: from a twentieth of the speed at which the
     # FIRST driven joint reaches its limit (the last's, when a joint hardly moves at the release,
@@ -221,11 +222,6 @@ def saturation_factor(mapping, proposal) -> float:
     """The factor on every velocity of ``proposal`` (a whole-arm throw) beyond which no driven
     joint can go faster at the release (see :func:`release_speed_factor`)."""
     return release_speed_factor(mapping, proposal.path)[0]
-
-
-def scaled(path: dict[str, np.ndarray], factor: float) -> dict[str, np.ndarray]:
-    """``path`` with every velocity column times ``factor``."""
-    return {c: v * factor if c == "velocity" or c.endswith("_velocity") else v for c, v in path.items()}
 
 
 def release_speed_factor(mapping, path: dict[str, np.ndarray]) -> tuple[float, str]:
@@ -286,7 +282,7 @@ def typical_landing(mapping, typical: dict[str, np.ndarray], rim_height: float, 
     own = release_speed(typical["angle"], typical["velocity"])
     if not own > 0:
         return -math.inf
-    return release_crossing_of(mapping, scaled(typical, speed / own), rim_height, pedestal)
+    return release_crossing_of(mapping, scaled_speed(typical, speed / own), rim_height, pedestal)
 
 
 def widest_hit(basket) -> float:
@@ -331,7 +327,7 @@ def shortfall_at_the_limit(attempt: Attempt, mapping, basket, tolerance: float, 
     if not math.isfinite(factor):
         return shortfall
     now = release_crossing_of(mapping, path, basket.rim_height, pedestal)
-    fastest = release_crossing_of(mapping, scaled(path, max(factor, 1.0)), basket.rim_height, pedestal)
+    fastest = release_crossing_of(mapping, scaled_speed(path, max(factor, 1.0)), basket.rim_height, pedestal)
     if not (math.isfinite(now) and math.isfinite(fastest)):
         return shortfall
     return max(shortfall, -tolerance - (attempt.miss + max(fastest - now, 0.0)))

@@ -47,11 +47,23 @@ from rlff.trajectory.limits import (
 #: ``wrist``/``wrist_velocity`` for the joints driven, optionally ``time`` (s).
 HumanPath = Mapping[str, np.ndarray]
 
+
 #: The robot joint that turns the arm to the basket's bearing when a robot file does not say.
 DEFAULT_BEARING_JOINT = "joint_1"
 #: How far inside its nearer limit, as a share of its range, the driven joint of a simulated arm
 #: waits for its first goal where its range leaves 0 out (:meth:`RobotMapping.waiting_position`).
 WAITING_MARGIN = 0.05
+
+
+def scaled_speed(path: HumanPath, factor: float) -> dict[str, np.ndarray]:
+    """``path`` with every velocity column (``velocity``, ``*_velocity``) times ``factor`` and a
+    ``time`` column, if any, divided by it: the same throw along the same positions, sped up or
+    slowed down as a whole, every joint by one time scale (its release keeps its direction)."""
+    scaled = {name: np.asarray(values, dtype=float) * factor if name == "velocity" or name.endswith("_velocity")
+              else values for name, values in path.items()}
+    if scaled.get("time") is not None:
+        scaled["time"] = np.asarray(scaled["time"], dtype=float) / factor
+    return scaled
 
 
 @dataclass(frozen=True)

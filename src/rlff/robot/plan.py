@@ -28,7 +28,7 @@ from rlff.errors import InputError
 from rlff.limits import apart, check_period, require_radians
 from rlff.robot.description import Robot
 from rlff.robot.links import require_above_base
-from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for
+from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for, scaled_speed
 from rlff.robot.planned_for import checked_against, require_planned_for
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
@@ -257,13 +257,9 @@ def slowed_to_limits(mapping: RobotMapping | ArmMapping, path: HumanPath) -> tup
     if column is None or shares[column] <= 1.0:
         return path, ""
     factor = 1.0 / shares[column]
-    scaled = {name: np.asarray(values, dtype=float) * factor if name == "velocity" or name.endswith("_velocity")
-              else values for name, values in path.items()}
-    if path.get("time") is not None:
-        scaled["time"] = np.asarray(path["time"], dtype=float) / factor
     fastest = next(m for m in mapping.joints if velocity_column(m.human) == column)
     limit = mapping.robot.joint(fastest.joint).max_velocity
-    return scaled, (f"the whole throw slowed to {factor:.3g} of its speed, one factor for every joint so that its release "
+    return scaled_speed(path, factor), (f"the whole throw slowed to {factor:.3g} of its speed, one factor for every joint so that its release "
                     f"keeps the model's direction ({fastest.joint}'s release {limit / factor:.4g} rad/s at its limit "
                     f"{limit:.4g} rad/s)")
 
