@@ -36,7 +36,6 @@ holds it, and a run that locked a lock file no longer at its path locks the one 
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 from collections.abc import Mapping
@@ -336,15 +335,13 @@ def robot_record(mapping: RobotMapping | ArmMapping) -> dict[str, Any]:
     only with the same name, description and ROS names, and a changed one is named field by field
     (``robot.description.mapping.angle_scale``, ``robot.ros.action``).
     """
+    from rlff.robot.planned_for import description_digest, robot_description
+
     robot = mapping.robot
-    description = {
-        "joints": {joint.name: {k: v for k, v in vars(joint).items() if k != "name"} for joint in robot.joints},
-        "geometry": vars(robot.geometry) if robot.geometry else None,
-        "mapping": _mapping_description(mapping),
-    }
-    canonical = json.dumps(description, sort_keys=True, separators=(",", ":"))
-    return {"name": robot.name, "digest": hashlib.sha256(canonical.encode()).hexdigest()[:16],
-            "description": description, "ros": ros_record(robot)}
+    # a trajectory file's description of the robot, and the mapping: a log's throws depend on both
+    description = {**robot_description(robot), "mapping": _mapping_description(mapping)}
+    return {"name": robot.name, "digest": description_digest(description), "description": description,
+            "ros": ros_record(robot)}
 
 
 def ros_record(robot: Robot) -> dict[str, Any]:

@@ -49,10 +49,16 @@ def robot_description(robot: Robot) -> dict[str, Any]:
 
 def planned_for(robot: Robot) -> dict[str, str]:
     """The record a robot trajectory file keeps of ``robot``: ``{"name", "digest"}``, the digest
-    being the first :data:`DIGEST_LENGTH` hex digits of the SHA-256 of
-    :func:`robot_description` as canonical JSON (sorted keys, no spaces)."""
-    canonical = json.dumps(robot_description(robot), sort_keys=True, separators=(",", ":"))
-    return {"name": robot.name, "digest": hashlib.sha256(canonical.encode()).hexdigest()[:DIGEST_LENGTH]}
+    being :func:`description_digest` of :func:`robot_description`."""
+    return {"name": robot.name, "digest": description_digest(robot_description(robot))}
+
+
+def description_digest(description: dict[str, Any]) -> str:
+    """The first :data:`DIGEST_LENGTH` hex digits of the SHA-256 of ``description`` (JSON-able)
+    as canonical JSON (sorted keys, no spaces): what a file or an attempts log keeps to tell its
+    robot's description from another's."""
+    canonical = json.dumps(description, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(canonical.encode()).hexdigest()[:DIGEST_LENGTH]
 
 
 def require_planned_for(path: str | Path, record: dict[str, str] | None, robot: Robot) -> bool:
