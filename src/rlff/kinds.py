@@ -104,3 +104,16 @@ def _rlff_kind_in(head: bytes) -> str | None:
     """What the rlff file whose first bytes are ``head`` is (:data:`KINDS`' words), or None."""
     found = _FORMAT.search(head)
     return KINDS.get(found.group(1).decode()) if found else None
+
+
+#: The first line of a ROS 1 bag (format 2.0, the one rosbag writes).
+ROS1_BAG_MAGIC = b"#ROSBAG V2.0\n"
+
+
+def is_ros1_bag(path: str | Path) -> bool:
+    """Whether ``path`` is a file that opens as a ROS 1 bag does (:data:`ROS1_BAG_MAGIC`)."""
+    path = Path(path)
+    if not path.is_file():
+        return False
+    with open(path, "rb") as stream:
+        return stream.read(len(ROS1_BAG_MAGIC)) == ROS1_BAG_MAGIC

@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from rlff.errors import InputError
+from rlff.kinds import ROS1_BAG_MAGIC
 
 
 @dataclass(frozen=True)
@@ -142,7 +143,7 @@ def _scan_ros1(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | None
     size = os.path.getsize(path)
     handle = path.open("rb")
     magic = handle.readline()
-    if magic != b"#ROSBAG V2.0\n":
+    if magic != ROS1_BAG_MAGIC:
         handle.close()
         raise InputError(f"{path}: not a ROS 1 bag of format 2.0 (file starts with {magic[:20]!r}; {reason})")
     typestore = get_typestore(Stores.EMPTY)

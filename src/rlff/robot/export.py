@@ -29,7 +29,7 @@ from rlff.csvtable import write_csv_columns
 from rlff.errors import InputError
 from rlff.fileio import atomic_path, write_text
 from rlff.jsonfile import read_json_object
-from rlff.kinds import rlff_kind
+from rlff.kinds import is_ros1_bag, rlff_kind
 from rlff.robot.description import RosNames
 from rlff.robot.ros1_fields import FieldReader as Ros1Reader
 from rlff.robot.ros1_fields import FieldWriter as Ros1Writer
@@ -305,19 +305,6 @@ def write_ros1_bag(traj: JointTrajectory, path: Path, topic: str = DEFAULT_TOPIC
             connection = writer.add_connection(topic, TRAJECTORY_TYPE, typestore=typestore)
             message = _message(traj, typestore, header_stamp_ns, ros1=True)
             writer.write(connection, stamp_ns, typestore.serialize_ros1(message, TRAJECTORY_TYPE))
-
-
-#: The first line of a ROS 1 bag (format 2.0, the one rosbag writes).
-ROS1_BAG_MAGIC = b"#ROSBAG V2.0\n"
-
-
-def is_ros1_bag(path: Path) -> bool:
-    """Whether ``path`` is a file that opens as a ROS 1 bag does (:data:`ROS1_BAG_MAGIC`)."""
-    path = Path(path)
-    if not path.is_file():
-        return False
-    with open(path, "rb") as stream:
-        return stream.read(len(ROS1_BAG_MAGIC)) == ROS1_BAG_MAGIC
 
 
 #: What a ROS 2 bag folder holds: its metadata and its storage files (sqlite3 or MCAP).

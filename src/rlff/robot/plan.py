@@ -25,6 +25,7 @@ import pandas as pd
 
 from rlff.dataset import ARM_JOINT_COLUMNS, velocity_column
 from rlff.errors import InputError
+from rlff.kinds import is_ros1_bag
 from rlff.limits import apart, check_period, require_radians
 from rlff.robot.description import Robot
 from rlff.robot.links import require_above_base
@@ -273,10 +274,9 @@ def robot_file_kind(path: Path) -> str:
         raise InputError(f"{path}: no such file")
     if path.suffix.lower() == ".json":
         return ROBOT_TRAJECTORY
-    with open(path, "rb") as handle:
-        if handle.read(13) == b"#ROSBAG V2.0\n":  # not read as a CSV whose column is its magic line
-            raise InputError(f"{path} is a ROS 1 bag: give a generated path CSV or a robot trajectory JSON/CSV "
-                             "that `rlff robot export` wrote (`rlff robot send` takes the bag itself)")
+    if is_ros1_bag(path):  # not read as a CSV whose column is its magic line
+        raise InputError(f"{path} is a ROS 1 bag: give a generated path CSV or a robot trajectory JSON/CSV "
+                         "that `rlff robot export` wrote (`rlff robot send` takes the bag itself)")
     try:
         header = pd.read_csv(path, nrows=0).columns
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:

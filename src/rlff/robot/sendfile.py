@@ -18,9 +18,10 @@ from rosbags.rosbag1 import ReaderError as Ros1ReaderError
 from rosbags.rosbag2 import ReaderError as Ros2ReaderError
 
 from rlff.errors import InputError
+from rlff.kinds import is_ros1_bag
 from rlff.robot.comau import HEADER as COMAU_HEADER
 from rlff.robot.description import Robot
-from rlff.robot.export import is_ros1_bag, read_bag, read_planned_for, trajectory_topics
+from rlff.robot.export import read_bag, read_planned_for, trajectory_topics
 from rlff.robot.links import require_above_base
 from rlff.robot.plan import GENERATED, RobotPlan, load_for_robot
 from rlff.robot.planned_for import checked_against, require_planned_for
@@ -86,10 +87,12 @@ def load_for_sending(
         if _is_comau_program(path):
             raise InputError(f"{path}: a Comau program, which runs on the Comau controller, not over ROS; "
                              f"send the generated trajectory CSV or an export in {', '.join(SENDABLE)}")
-        kind, plan = load_for_robot(path, robot, period, clip, joints=joints, bearing=bearing)
+        # a generated throw is planned from start; a robot trajectory is read as it is (start is
+        # checked below)
+        kind, plan = load_for_robot(path, robot, period, clip, start, joints=joints, bearing=bearing,
+                                    approach_speed=approach_speed)
         if kind == GENERATED:
-            return kind, plan if start is None else load_for_robot(path, robot, period, clip, start, joints=joints,
-                                                                   bearing=bearing, approach_speed=approach_speed)[1]
+            return kind, plan
         trajectory, recorded = plan.trajectory, True  # load_for_robot checked its record
     else:
         trajectory, recorded = _one_trajectory(path, robot)
