@@ -2,7 +2,8 @@
 
 Both install message packages under the same names (std_msgs, trajectory_msgs, sensor_msgs,
 geometry_msgs, control_msgs, ...): the ROS 2 wheels into site-packages, ROS 1 into the venv's
-``ros1`` folder (``scripts/setup.d/10-ros.sh``). :func:`prefer` puts one first on ``sys.path``
+``ros1`` folder (:func:`ros1_folder`; ``python -m rlff.robot.ros1.install`` makes it, and
+``scripts/setup.d/10-ros.sh`` runs that for a clone). :func:`prefer` puts one first on ``sys.path``
 and forgets the other's message modules already imported, so that the next import of such a
 package finds the one asked for. A process drives one ROS; a process that checks both (a test
 worker) asks for the one it is about to use each time.
@@ -12,6 +13,11 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+
+
+def ros1_folder() -> Path:
+    """The venv's folder of links to Debian's ROS 1 packages (``<venv>/ros1``)."""
+    return Path(sys.prefix) / "ros1"
 
 
 def _shared_names(folder: Path) -> set[str]:
@@ -24,7 +30,7 @@ def _shared_names(folder: Path) -> set[str]:
 
 def prefer(version: int) -> None:
     """Make ROS ``version`` (1 or 2) the one this process imports from now on."""
-    folder = Path(sys.prefix) / "ros1"
+    folder = ros1_folder()
     if str(folder) not in sys.path or not folder.is_dir():
         return  # no ROS 1 folder: nothing to choose between
     sys.path.remove(str(folder))

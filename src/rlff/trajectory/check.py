@@ -125,17 +125,17 @@ def _moving(traj: JointTrajectory) -> np.ndarray:
             | np.any(traj.accelerations != 0, axis=0))
 
 
-def _quintic(traj: JointTrajectory, fractions: np.ndarray) -> tuple[np.ndarray, ...]:
+def _quintic(traj: JointTrajectory, fractions: np.ndarray, moving: np.ndarray) -> tuple[np.ndarray, ...]:
     """Position, velocity, acceleration of the quintic through every step at ``fractions``.
 
     Returns three arrays of shape (T - 1, F, J): step, instant, joint. A joint that holds still
-    (one position, no velocity or acceleration) is its own quintic: it is copied, not computed.
+    (``moving``, (J,) bool, False: :func:`_moving`) is its own quintic: it is copied, not computed.
     """
     steps, joints = len(traj) - 1, len(traj.joint_names)
     position = np.broadcast_to(traj.positions[0], (steps, fractions.size, joints)).copy()
     velocity = np.zeros_like(position)
     acceleration = np.zeros_like(position)
-    moving = np.flatnonzero(_moving(traj))
+    moving = np.flatnonzero(moving)
     if moving.size == 0:
         return position, velocity, acceleration
     h = np.diff(traj.time)[:, None]
@@ -209,7 +209,7 @@ def violation_counts(traj: JointTrajectory, joints: Sequence[JointLimits]) -> di
         said = dt * 0.5 * (traj.velocities[:-1] + traj.velocities[1:])
         allowed = limits.acceleration * dt**2 / 4 * (1 + LIMIT_SLACK) + 1e-9
         counts["disagreement"] = int(np.count_nonzero(np.abs(np.diff(traj.positions, axis=0) - said) > allowed))
-        inner = _quintic(traj, np.arange(1, SUBDIVISIONS) / SUBDIVISIONS)
+        inner = _quintic(traj, np.arange(1, SUBDIVISIONS) / SUBDIVISIONS, _moving(traj))
         for quantity, array in zip(values, inner, strict=True):
             values[quantity].append(array.reshape(-1, len(traj.joint_names)))
     bounds = {"position": (limits.lower, limits.upper), "velocity": (-limits.velocity, limits.velocity),
@@ -331,7 +331,7 @@ def check_trajectory(
                 f"rad against {allowed[row, j]:.3g} rad){_more(count)}")
         _require_time_unit(traj, moved, dt)
         fractions = np.arange(1, SUBDIVISIONS) / SUBDIVISIONS
-        inner = [values.reshape(-1, len(names)) for values in _quintic(traj, fractions)]
+        inner = [values.reshape(-1, len(names)) for values in _quintic(traj, fractions, moving)]
 
         def between(flat: int) -> str:
             step, share = divmod(flat, fractions.size)

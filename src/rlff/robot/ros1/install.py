@@ -21,6 +21,8 @@ import sys
 import sysconfig
 from pathlib import Path
 
+from rlff.robot.rospath import ros1_folder
+
 #: Where Debian installs ROS 1's Python packages.
 DIST_PACKAGES = Path("/usr/lib/python3/dist-packages")
 #: The Debian packages live ROS 1 needs (scripts/debian-packages.txt lists them for a clone).
@@ -56,11 +58,6 @@ class NotInstallable(Exception):
 def apt_command() -> str:
     """The command that installs :data:`DEBIAN_PACKAGES`."""
     return "sudo apt install " + " ".join(DEBIAN_PACKAGES)
-
-
-def ros1_folder() -> Path:
-    """The venv's folder of links to Debian's ROS 1 packages (the one rospath.prefer uses)."""
-    return Path(sys.prefix) / "ros1"
 
 
 def link_packages(folder: Path, dist: Path = DIST_PACKAGES) -> None:
