@@ -332,6 +332,40 @@ def test_progress_on_a_stderr_that_is_no_terminal_is_a_line_every_tenth(capsys, 
     assert capsys.readouterr().err == ""
 
 
+def test_progress_in_shares_of_a_unit_fills_by_them_and_counts_whole_units(capsys, monkeypatch):
+    # one long file imported: its parts (read, cut, each throw labelled) move the work on, the
+    # count says no file is done until it is, and ten tenths are one file, not 0.9999999999999999
+    from rlff.cli._common import progress, verbosity
+
+    monkeypatch.setattr(verbosity, "quiet", False)
+    with progress("importing", total=1) as advance:
+        advance(0.0, description="long.bag: reading")
+        advance(0.4, description="long.bag: cutting throws")
+        for _ in range(6):
+            advance(0.1, description="long.bag: labelling throws")
+    lines = _untimed(capsys.readouterr().err.splitlines())
+    assert lines == ["importing 0/1 (0 %)", "long.bag: cutting throws 0/1 (40 %)",
+                     *[f"long.bag: labelling throws 0/1 ({share} %)" for share in (50, 60, 70, 80, 90)],
+                     "long.bag: labelling throws 1/1 (100 %)"], lines
+
+
+def test_progress_in_shares_on_a_terminal_ends_whole(monkeypatch):
+    # the bar's count is rich's int(completed): 0.9999999999999999 of the one file read "0/1" at the end
+    import io
+
+    from rich.console import Console
+
+    from rlff.cli import _common
+
+    monkeypatch.setattr(_common.verbosity, "quiet", False)
+    screen = io.StringIO()
+    monkeypatch.setattr(_common, "stderr", lambda: Console(file=screen, force_terminal=True, width=100, color_system=None))
+    with _common.progress("importing", total=1) as advance:
+        for _ in range(10):
+            advance(0.1, description="long.bag: labelling throws")
+    assert re.findall(r" (\d+/\d+) \d+:\d\d:\d\d", screen.getvalue())[-1] == "1/1", screen.getvalue()
+
+
 def test_progress_on_a_stderr_that_is_no_terminal_is_said_now_and_then(capsys, monkeypatch):
     # work that advances seldom, or has no total, is said every PLAIN_SECONDS (30 s) all the same
     from rlff.cli import _common

@@ -217,12 +217,17 @@ def _refuse(constant: str) -> None:
 PLAIN_STEP = 0.1
 #: ... and at least every this many seconds, the work's progress or not.
 PLAIN_SECONDS = 30.0
+#: Shares of a unit of work (:func:`progress`' ``advance(0.1)``) that add up to within this of a
+#: whole number are that number: ten tenths are one file done, not 0.9999999999999999 of one.
+_WHOLE = 1e-9
 
 
 @contextmanager
 def progress(description: str, total: int | None) -> Iterator[Callable[..., None]]:
     """Progress of long work on stderr; yields ``advance(n=1, description=None, total=None)``
-    (``total``: a new total, when the work turned out longer than said).
+    (``total``: a new total, when the work turned out longer than said). ``n`` may be a share of
+    one unit of the work (a part of one long file: ``0.4``): the bar fills by it, the count says
+    the whole units done, and shares that add up to a whole unit count as it.
 
     On a terminal, a rich progress bar. Otherwise (stderr redirected to a file or a pipe, where the
     bar shows nothing until the command ends and a long job looks hung) a plain line as the work
@@ -253,12 +258,15 @@ def progress(description: str, total: int | None) -> Iterator[Callable[..., None
     with bar:
         task = bar.add_task(description, total=total)
 
-        def advance(n: int = 1, description: str | None = None, total: int | None = None) -> None:
+        def advance(n: float = 1, description: str | None = None, total: int | None = None) -> None:
             if description is not None:
                 bar.update(task, description=description)
             if total is not None:
                 bar.update(task, total=total)
             bar.advance(task, n)
+            done = next(shown.completed for shown in bar.tasks if shown.id == task)
+            if done != round(done) and abs(done - round(done)) < _WHOLE:
+                bar.update(task, completed=round(done))
 
         yield advance
 
@@ -283,7 +291,7 @@ class _ProgressLines:
         self.timer = threading.Thread(target=self._every, name="rlff-progress", daemon=True)
         self.timer.start()
 
-    def advance(self, n: int = 1, description: str | None = None, total: int | None = None) -> None:
+    def advance(self, n: float = 1, description: str | None = None, total: int | None = None) -> None:
         with self.lock:
             if self.closed.is_set():  # a robot's feedback after the goal's end: the last line is said
                 return
@@ -293,6 +301,8 @@ class _ProgressLines:
                 self.total = total
             step = self._step()
             self.done += n
+            if abs(self.done - round(self.done)) < _WHOLE:  # shares of a unit that add up to it
+                self.done = round(self.done)
             if self._step() > step:
                 self._say()
 
@@ -308,10 +318,11 @@ class _ProgressLines:
         return int(self.done / self.total / PLAIN_STEP + 1e-9) if self.total else 0
 
     def _line(self, with_time: bool = True) -> str:
+        whole = int(self.done)  # a file half read is no file done: "0/1 (50 %)"
         if self.total:
-            line = f"{self.description} {self.done}/{self.total} ({100 * self.done / self.total:.0f} %)"
+            line = f"{self.description} {whole}/{self.total} ({100 * self.done / self.total:.0f} %)"
         else:
-            line = f"{self.description} {self.done}/?"
+            line = f"{self.description} {whole}/?"
         elapsed = datetime.timedelta(seconds=int(time.monotonic() - self.started))
         return f"{line} {elapsed}" if with_time else line
 
