@@ -112,6 +112,26 @@ def test_kinect_text_gives_the_true_angle_drops_repeats_and_lost_frames(tmp_path
                for w in report.warnings), report.warnings
 
 
+def test_the_import_of_one_recording_tells_each_throw_it_labels_and_the_share_done(tmp_path):
+    # a 100-minute recording is one file: told only as it was read, cut and done, its progress bar
+    # sat still while the labelling of its hundreds of throws took most of the time
+    from rlff.capture.importer import CUT_SHARE, READ_SHARE
+
+    simulation = bf.standard_simulation(seed=2, n_throws=4, noise=0.0, second_user=False, drop_frames=0.0, drop_joints=0.0)
+    frames = _kinect_frames(simulation)
+    path = _write_kinect(tmp_path / "session.txt", frames, np.arange(len(frames)))
+    told = []
+    dataset, _ = import_recordings(path, "kinect-text", progress=lambda *said: told.append(said))
+    assert len(dataset) == 4
+    assert {where for where, _, _ in told} == {str(path)}
+    labelled = READ_SHARE + CUT_SHARE
+    assert [(stage, pytest.approx(share)) for _, stage, share in told] == [
+        ("reading", 0.0), ("cutting throws", READ_SHARE),
+        *[(f"labelling throw {n} of 4", labelled + (1 - labelled) * (n - 1) / 4) for n in range(1, 5)],
+        ("done", 1.0),
+    ]
+
+
 def test_an_arm_never_tracked_is_left_out_with_a_warning_and_no_arm_at_all_names_the_file(tmp_path):
     # an MSR or Kinect file writes nan for a joint it did not track; the right (throwing) arm never
     # was: the import went on with no word of which file stopped it ("joint 'line 2' has 0 samples")

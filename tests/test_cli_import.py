@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -155,6 +156,20 @@ def test_a_text_file_with_wrong_columns_is_named(cli, tmp_path):
     result = cli("data", "import", str(path), "--format", "msr", "-o", str(tmp_path / "x.csv"))
     assert result.code == 2
     assert f"{path}, line 2: 3 columns, expected 4" in result.stderr
+
+
+def test_the_progress_of_one_long_recording_moves_as_its_throws_are_labelled(rlff, tmp_path):
+    # one recording of many throws showed "importing 0/1 (0 %)" until it was done; a log (stderr
+    # no terminal) now follows it through its parts
+    bag = bf.write_ros1_bag(tmp_path / "session.bag", bf.standard_simulation(seed=5, n_throws=10))
+    result = rlff("data", "import", str(bag), "-o", str(tmp_path / "demos.csv"))
+    assert result.code == 0, result.stderr
+    said = [re.sub(r" \d+:\d\d:\d\d$", "", line) for line in result.stderr.splitlines()
+            if re.search(r" \d+/1 \(\d+ %\) \d+:\d\d:\d\d$", line)]
+    assert said == ["importing 0/1 (0 %)", "session.bag: cutting throws 0/1 (40 %)",
+                    *[f"session.bag: labelling throw {n} of 10 0/1 ({50 + 5 * (n - 1)} %)" for n in (1, 3, 5, 7, 9)],
+                    "session.bag: done 1/1 (100 %)"], result.stderr
+    assert "10 throws from 1 file" in result.stdout
 
 
 def test_quiet_keeps_the_warnings(rlff, tmp_path):

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from rlff.capture import import_recordings
+from rlff.capture.importer import READ_SHARE
 from rlff.capture.skeleton_text import read_joint_csv, read_kinect_text, read_msr_text
 from rlff.errors import InputError
 
@@ -317,5 +318,6 @@ def test_the_import_tells_each_file_s_stages(tmp_path):
     # one long file sat at "0/1" for a minute: the bar moved only when a file was done
     paths = [_write_csv(tmp_path / f"take{n}.csv", [0.0, 0.1, 0.2, 0.3, 0.4, 0.5]) for n in (1, 2)]
     told = []
-    import_recordings(paths, "csv", progress=lambda path, stage: told.append((Path(path).name, stage)))
-    assert told == [(name, stage) for name in ("take1.csv", "take2.csv") for stage in ("reading", "cutting throws", "done")]
+    import_recordings(paths, "csv", progress=lambda path, stage, share: told.append((Path(path).name, stage, share)))
+    assert told == [(name, stage, share) for name in ("take1.csv", "take2.csv")
+                    for stage, share in (("reading", 0.0), ("cutting throws", READ_SHARE), ("done", 1.0))]

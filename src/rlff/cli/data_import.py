@@ -84,11 +84,17 @@ def import_command(
     frame_names = [name.strip() for name in frames.split(",") if name.strip()]
     landing = LandingSettings(release_window=release_window)
     with progress("importing", total=len(files)) as advance:
+        file_share = {"done": 0.0}  # of the file being imported: the bar counts files and fills by their parts
+
+        def show(path: str, stage: str, share: float) -> None:
+            advance(share - file_share["done"], description=f"{Path(path).name}: {stage}")
+            file_share["done"] = 0.0 if stage == "done" else share
+
         dataset, report = import_recordings(
             files, format, manifest=manifest, topic=topic, frames=frame_names, arm=arm, user=user, rate_hz=rate,
             columns=column_map(columns), up=up, landing=landing,
             joints=None if joints is None else [name.strip() for name in joints.split(",") if name.strip()],
-            progress=lambda path, stage: advance(int(stage == "done"), description=f"{Path(path).name}: {stage}"),
+            progress=show,
         )
     for note in notes_to_say(report):
         say(note)
