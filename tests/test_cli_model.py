@@ -7,6 +7,7 @@ same command line in-process (``rlff.cli.main``), which saves a Python start-up 
 from __future__ import annotations
 
 import json
+import re
 
 import numpy as np
 import pandas as pd
@@ -58,6 +59,22 @@ def test_fit_prints_the_bic_table(thesis_files, rlff, tmp_path):
     assert "BIC" in result.stdout and "K =" in result.stdout
     fixed = rlff("fit", str(data), "-o", str(tmp_path / "k2.json"), "--components", "2", "--json")
     assert json.loads(fixed.stdout)["n_components"] == 2 and json.loads(fixed.stdout)["selection"] is None
+
+
+def test_fit_progress_names_the_k_being_fitted(thesis_files, rlff, tmp_path):
+    # the bar counted the K tried ("fitting: 3 of 8 values of K tried"), and a large K takes ten
+    # times a small one's time: it sat at the last ones as if stuck, not saying which it fitted
+    data, _, _ = thesis_files
+    result = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--max-components", "5", "--json")
+    assert result.code == 0, result.stderr
+    tried = [row["n_components"] for row in json.loads(result.stdout)["selection"]]  # stdout: the JSON alone
+    said = [re.sub(r" \d+:\d\d:\d\d$", "", line) for line in result.stderr.splitlines()
+            if re.search(r" \d+/5 \(\d+ %\) \d+:\d\d:\d\d$", line)]
+    assert said == [*(f"fitting K = {k} (1 to 5 in turn) {k - 1}/5 ({20 * (k - 1)} %)" for k in tried),
+                    "fitted K = 1 to 5 5/5 (100 %)"], result.stderr
+    fixed = rlff("fit", str(data), "-o", str(tmp_path / "k2.json"), "--components", "2")
+    assert fixed.code == 0 and "fitting K = 2 0/1 (0 %)" in fixed.stderr and "fitted K = 2 1/1 (100 %)" in fixed.stderr, \
+        fixed.stderr
 
 
 def test_fit_table_ln_l_is_the_one_bic_counts(rlff, tmp_path):
