@@ -118,6 +118,54 @@ def test_rlffs_own_outputs_are_reported_or_counted_in_one_line_not_warned_of_eac
     assert "not reported" in html  # the report's header says what it left out, too
 
 
+def test_the_report_of_a_folder_tells_each_file_it_reads_and_each_figure_it_draws(tmp_path):
+    # a folder of four lab-sized datasets took 80 s without a word: reading each, drawing each
+    from rlff.formats import write_dataset
+    from rlff.learn.log import robot_record
+    from rlff.model import Model
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.synthetic.throws import simulate_throws
+
+    folder = tmp_path / "mine"
+    folder.mkdir()
+    for seed, name in enumerate(("a.csv", "b.csv")):
+        write_dataset(simulate_throws(seed, subjects=1, distances=(1.5, 2.0), throws_per_distance=2), folder / name)
+    Model.fit(simulate_throws(0, subjects=1, distances=(1.5, 2.0)), inputs=("angle", "distance"), outputs="velocity",
+              components="auto", max_components=2, seed=0).save(folder / "model.json")
+    _log(folder / "ahead.jsonl", robot_record(RobotMapping.for_robot(load_robot())),
+         {"distance": 1.5, "rim_height": 0.3, "opening": 0.35})
+    told = []
+    run, _, _ = chain_run(folder, tmp_path / "run" / "figures", progress=lambda *said: told.append(said))
+    assert len(run.figures) == 4
+    assert told == [
+        ("reading a.csv", 0, 4), ("reading ahead.jsonl", 1, 4), ("reading b.csv", 2, 4), ("reading model.json", 3, 4),
+        ("drawing a.csv: the throws at each distance", 4, 7), ("drawing b.csv: the throws at each distance", 5, 7),
+        ("drawing model.json: choosing K", 6, 7),
+        ("drawing the learning curves at 1.5 m (1 attempts log)", 7, 8),  # known once the logs' tasks are
+        ("done", 8, 8),
+    ]
+
+
+def test_rlff_report_of_a_folder_says_its_progress_on_stderr_and_keeps_stdout_to_the_json(rlff, tmp_path):
+    from rlff.formats import write_dataset
+    from rlff.synthetic.throws import simulate_throws
+
+    folder = tmp_path / "mine"
+    folder.mkdir()
+    for seed, name in enumerate(("a.csv", "b.csv")):
+        write_dataset(simulate_throws(seed, subjects=1, distances=(1.5, 2.0), throws_per_distance=2), folder / name)
+    result = rlff("report", str(folder), "-o", str(tmp_path / "r.html"), "--json")
+    assert result.code == 0, result.stderr
+    assert json.loads(result.stdout) == {"report": str(tmp_path / "r.html")}
+    said = [re.sub(r" \d+:\d\d:\d\d$", "", line) for line in result.stderr.splitlines()
+            if re.search(r" \d+/[\d?]+( \(\d+ %\))? \d+:\d\d:\d\d$", line)]
+    assert said == [f"report of {folder} 0/?", "reading b.csv 1/2 (50 %)",
+                    "drawing a.csv: the throws at each distance 2/4 (50 %)",
+                    "drawing b.csv: the throws at each distance 3/4 (75 %)", "done 4/4 (100 %)"], result.stderr
+    quiet = rlff("-q", "report", str(folder), "-o", str(tmp_path / "q.html"))
+    assert quiet.code == 0 and quiet.stderr == "", quiet.stderr
+
+
 def test_a_live_runs_log_with_misses_nobody_measured_is_reported(tmp_path):
     # a "miss" typed at the prompt of a live run is logged with "miss": null; the report passed
     # the whole log over ("without float() argument must be ... not 'NoneType'")

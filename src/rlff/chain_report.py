@@ -43,6 +43,7 @@ import hashlib
 import json
 import math
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -86,12 +87,19 @@ COUNTED = {"datasets": ("dataset", "datasets"), "models": ("model", "models"),
            "learning benchmarks": ("learning benchmark", "learning benchmarks")}
 
 
-def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[str], str]:
+def chain_run(folder: str | Path, figures_dir: str | Path,
+              progress: Callable[[str, int, int], None] | None = None) -> tuple[Run, list[str], str]:
     """The run of the chain files in ``folder``, its figures written under ``figures_dir`` (which
     must lie in the run directory the report is built from, as ``figures_dir.parent``).
 
     Returns the run, the files passed over, each with why, and the one line that counts rlff's
     own outputs that are not reported (:data:`NOT_REPORTED`; empty when there are none).
+
+    ``progress(step, done, total)`` is told each step as it starts, ``done`` of ``total`` steps
+    finished: every file of the folder (``"reading d1.csv"``), then every figure (``"drawing
+    d1.csv: the throws at each distance"``), and ``"done"`` at the end. The total grows as the
+    figures to draw become known: a dataset of an hour's throws takes seconds to read and its
+    figure seconds to draw, and a folder of four took over a minute without a word.
 
     Raises
     ------
@@ -110,7 +118,10 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     strays: list[str] = []
     log_facts: dict[Path, LogFacts] = {}
     unreported: dict[str, list[str]] = {}
-    for path in sorted(p for p in folder.iterdir() if p.is_file()):
+    files = sorted(p for p in folder.iterdir() if p.is_file())
+    steps = _Steps(progress, len(files))
+    for path in files:
+        steps.start(f"reading {path.name}")
         suffix = path.suffix.lower()
         if STRAY_TEMPORARY.match(path.name):
             strays.append(path.name)
@@ -168,15 +179,16 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
                          "report or learning benchmark (.json) or attempts log (.jsonl) "
                          f"in it{seen}: give a folder that `rlff demo` wrote, or one holding your own chain's files")
     figures_dir.mkdir(parents=True, exist_ok=True)
+    steps.total += min(len(datasets), MAX_DATASET_FIGURES) + sum(_draws_selection(model) for _, model in models)
     sections, figures = [], []
     if datasets:
-        section, drawn = _data_section(datasets, figures_dir)
+        section, drawn = _data_section(datasets, figures_dir, steps)
         sections.append(section)
         figures.extend(drawn)
     if cleanings:
         sections.append(_cleaning_section(cleanings))
     if models:
-        section, drawn = _model_section(models, figures_dir)
+        section, drawn = _model_section(models, figures_dir, steps)
         sections.append(section)
         figures.extend(drawn)
     if throws:
@@ -184,7 +196,7 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     if logs:
         # by basket distance, then name: 1 m after 1.75 m read as file names sort
         logs.sort(key=lambda item: (item[1].basket, item[0].name))
-        section, drawn = _learning_section(logs, log_facts, figures_dir)
+        section, drawn = _learning_section(logs, log_facts, figures_dir, steps)
         sections.append(section)
         figures.extend(drawn)
     if benchmarks:
@@ -196,7 +208,30 @@ def chain_run(folder: str | Path, figures_dir: str | Path) -> tuple[Run, list[st
     not_reported = _not_reported(unreported)
     if not_reported:
         settings["not reported"] = not_reported.removeprefix("not reported: ")
+    steps.finish()
     return Run(f"rlff: {folder.resolve().name}", created, settings, sections, figures), passed, not_reported
+
+
+class _Steps:
+    """The steps of a folder's report, told to ``progress(step, done, total)`` as each starts
+    (:func:`chain_run`); ``total`` grows as the figures to draw become known."""
+
+    def __init__(self, progress: Callable[[str, int, int], None] | None, total: int) -> None:
+        self.progress, self.total, self.done, self.started = progress, total, 0, False
+
+    def start(self, step: str) -> None:
+        """Step ``step`` starts: the one before it is done."""
+        self.done += 1 if self.started else 0
+        self.started = True
+        if self.progress is not None:
+            self.progress(step, self.done, self.total)
+
+    def finish(self) -> None:
+        """The last step is done."""
+        self.done += 1 if self.started else 0
+        self.started = False
+        if self.progress is not None:
+            self.progress("done", self.done, self.total)
 
 
 @dataclass(frozen=True)
@@ -308,7 +343,7 @@ def _relative(saved_png: Path, figures_dir: Path) -> str:
     return str(Path(figures_dir.name) / saved_png.name)
 
 
-def _data_section(datasets, figures_dir: Path) -> tuple[Section, list[FigureEntry]]:
+def _data_section(datasets, figures_dir: Path, steps: _Steps) -> tuple[Section, list[FigureEntry]]:
     from rlff.plots.data import dataset_slices
 
     rows, figures = [], []
@@ -320,6 +355,7 @@ def _data_section(datasets, figures_dir: Path) -> tuple[Section, list[FigureEntr
                      f"{distances[0]:g}-{distances[-1]:g}" if distances else None,
                      f"{sum(known)} of {len(known)}" if known else None])
         if index < MAX_DATASET_FIGURES:
+            steps.start(f"drawing {path.name}: the throws at each distance")
             saved = dataset_slices(dataset, figures_dir / f"data-{index}-{path.stem}",
                                    title=f"{path.name}: the throws at each distance")
             figures.append(FigureEntry(_relative(saved.png, figures_dir), "data", path.name,
@@ -382,7 +418,12 @@ def _number(value: object) -> float | None:
     return float(value)
 
 
-def _model_section(models, figures_dir: Path) -> tuple[Section, list[FigureEntry]]:
+def _draws_selection(model) -> bool:
+    """Whether the report draws the choice of K of ``model`` (a fit that chose it from a table)."""
+    return model.selection is not None and bool(model.selection.table)
+
+
+def _model_section(models, figures_dir: Path, steps: _Steps) -> tuple[Section, list[FigureEntry]]:
     from rlff.plots.mixture import selection_curve
 
     rows, figures = [], []
@@ -392,7 +433,8 @@ def _model_section(models, figures_dir: Path) -> tuple[Section, list[FigureEntry
         rows.append([path.name, model.n_components, ", ".join(model.inputs), ", ".join(model.outputs),
                      info.get("n_samples"), None if effective is None else round(float(effective), 1),
                      info.get("bic")])
-        if model.selection is not None and model.selection.table:
+        if _draws_selection(model):
+            steps.start(f"drawing {path.name}: choosing K")
             saved = selection_curve(model.selection.table, figures_dir / f"model-{index}-{path.stem}",
                                     criterion=model.selection.criterion, n_samples=info.get("n_samples"),
                                     effective_samples=effective)
@@ -402,7 +444,8 @@ def _model_section(models, figures_dir: Path) -> tuple[Section, list[FigureEntry
     return Section("model", "Models", f"{plural(len(models), 'model')} fitted by `rlff fit`.", {}, [table]), figures
 
 
-def _learning_section(logs, facts: dict[Path, LogFacts], figures_dir: Path) -> tuple[Section, list[FigureEntry]]:
+def _learning_section(logs, facts: dict[Path, LogFacts], figures_dir: Path,
+                      steps: _Steps) -> tuple[Section, list[FigureEntry]]:
     """The attempts logs' table and their learning curves, one figure per task (the basket's
     distance, bearing and rim height, the robot, its pedestal and the joints:
     :func:`rlff.plots.learning_logs.task_key`): each log named with the robot, the joints and the
@@ -428,9 +471,11 @@ def _learning_section(logs, facts: dict[Path, LogFacts], figures_dir: Path) -> t
     for path, run in logs:
         if run.hits and same_run[facts[path].run_digest][0] == path:  # a run held by several logs: drawn once
             groups.setdefault(task_key(run), []).append(path)
+    steps.total += len(groups)
     for index, paths in enumerate(groups.values()):
         first = next(run for path, run in logs if path == paths[0])
         basket, bearing, robot = first.basket, first.bearing, first.robot
+        steps.start(f"drawing the learning curves at {basket:g} m ({plural(len(paths), 'attempts log')})")
         saved = learning_curves_from_logs(paths, figures_dir / f"learning-{index}")
         title = (f"Learning at {basket:g} m" + (f", bearing {bearing:g}°" if bearing else "")
                  + (f", rim {first.rim_height:g} m" if first.rim_height != DEFAULT_RIM_HEIGHT else "")

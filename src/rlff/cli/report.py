@@ -47,7 +47,7 @@ def _chain_report(folder: Path, target: Path, as_json: bool) -> None:
     import tempfile
 
     from rlff.chain_report import COUNTED, DATASET_SUFFIXES, chain_run
-    from rlff.cli._common import say, warn
+    from rlff.cli._common import progress, say, warn
     from rlff.cli.output import guard
     from rlff.fileio import write_text
     from rlff.report.html import render_report
@@ -57,7 +57,15 @@ def _chain_report(folder: Path, target: Path, as_json: bool) -> None:
     read = [path for path in folder.iterdir() if path.suffix.lower() in (*DATASET_SUFFIXES, ".json", ".jsonl")]
     guard(inputs={"RUN": read}, outputs={"-o/--output": target})
     with tempfile.TemporaryDirectory(prefix="rlff-report-") as scratch:
-        run, passed, not_reported = chain_run(folder, Path(scratch) / "figures")
+        # a folder of lab-sized datasets takes a minute or more to read and draw: said as it goes
+        with progress(f"report of {folder}", total=None) as advance:
+            told = {"done": 0}
+
+            def show(step: str, done: int, total: int) -> None:
+                advance(done - told["done"], description=step, total=total)
+                told["done"] = done
+
+            run, passed, not_reported = chain_run(folder, Path(scratch) / "figures", progress=show)
         for why in passed:
             warn(f"{folder}: passed over {why}")
         if not_reported:  # rlff's own outputs with nothing to tabulate: counted once, not a warning each
