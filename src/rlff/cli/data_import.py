@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 import typer
@@ -12,6 +13,19 @@ from rlff.cli.data import app
 from rlff.cli.output import guard, output_option
 from rlff.errors import InputError
 from rlff.wording import plural
+
+
+def files_advance(advance: Callable[..., None]) -> Callable[[str, str, float], None]:
+    """:func:`rlff.capture.import_recordings`' ``progress(path, stage, share)`` as the ``advance``
+    of a bar that counts files (:func:`rlff.cli._common.progress`): each file fills one unit by
+    its share done, its name and stage the description ("session.bag: labelling throw 3 of 600")."""
+    file_share = {"done": 0.0}  # of the file being imported
+
+    def show(path: str, stage: str, share: float) -> None:
+        advance(share - file_share["done"], description=f"{Path(path).name}: {stage}")
+        file_share["done"] = 0.0 if stage == "done" else share
+
+    return show
 
 
 def column_map(text: str | None) -> dict[str, str] | None:
@@ -84,17 +98,11 @@ def import_command(
     frame_names = [name.strip() for name in frames.split(",") if name.strip()]
     landing = LandingSettings(release_window=release_window)
     with progress("importing", total=len(files)) as advance:
-        file_share = {"done": 0.0}  # of the file being imported: the bar counts files and fills by their parts
-
-        def show(path: str, stage: str, share: float) -> None:
-            advance(share - file_share["done"], description=f"{Path(path).name}: {stage}")
-            file_share["done"] = 0.0 if stage == "done" else share
-
         dataset, report = import_recordings(
             files, format, manifest=manifest, topic=topic, frames=frame_names, arm=arm, user=user, rate_hz=rate,
             columns=column_map(columns), up=up, landing=landing,
             joints=None if joints is None else [name.strip() for name in joints.split(",") if name.strip()],
-            progress=show,
+            progress=files_advance(advance),
         )
     for note in notes_to_say(report):
         say(note)

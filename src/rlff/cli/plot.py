@@ -316,19 +316,27 @@ def cuts_command(
     """Where rlff data import cuts a recording: the elbow angle over time, each throw and each movement not taken."""
     from rlff.capture import import_recordings
     from rlff.capture.label import LandingSettings
-    from rlff.cli.data_import import column_map
+    from rlff.cli._common import progress
+    from rlff.cli.data_import import column_map, files_advance
     from rlff.plots.capture import throw_cuts
 
     _guard(out, {"RECORDING": recording, "--manifest": manifest})
     frame_names = [name.strip() for name in frames.split(",") if name.strip()]
-    # the baskets drawn are the import's: from the same manifest, or estimated the same way
-    _, report = import_recordings([recording], format, arm=arm, user=user, topic=topic, frames=frame_names, rate_hz=rate,
-                                  columns=column_map(columns), up=up, manifest=manifest,
-                                  landing=LandingSettings(release_window=release_window))
+    # a recording of an hour's throws takes a minute to import and another to draw (a label per
+    # throw): two steps, the import moving through its parts as rlff data import's does
+    with progress("importing", total=2) as advance:
+        # the baskets drawn are the import's: from the same manifest, or estimated the same way
+        _, report = import_recordings([recording], format, arm=arm, user=user, topic=topic, frames=frame_names,
+                                      rate_hz=rate, columns=column_map(columns), up=up, manifest=manifest,
+                                      landing=LandingSettings(release_window=release_window),
+                                      progress=files_advance(advance))
+        advance(0, description=f"drawing {out.name} (.png, .svg)")
+        saved = throw_cuts(report.files[0], out)
+        advance(1)
     # what rlff data import says of the file (frames dropped as lost tracking, ...); its warnings
     # are the figure's, said with it
     for note in report.notes:
         say(note)
     for warning in report.general_warnings:
         warn(warning)
-    _done([throw_cuts(report.files[0], out)], as_json)
+    _done([saved], as_json)
