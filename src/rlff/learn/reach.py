@@ -417,6 +417,19 @@ def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, 
             "throws)")
 
 
+def let_go_the_same_way(attempts: Sequence[Attempt], mapping) -> bool:
+    """Whether every one of ``attempts`` let go from the release pose and at the release
+    velocities of the last (``mapping``'s driven columns, to 1e-6 rad and rad/s): the same
+    throw, as far as the ball's flight goes. The newest are compared first."""
+    pose, velocity = _release_state(attempts[-1], mapping)
+    for attempt in reversed(attempts[:-1]):
+        other_pose, other_velocity = _release_state(attempt, mapping)
+        if not (np.allclose(other_pose, pose, rtol=0.0, atol=1e-6)
+                and np.allclose(other_velocity, velocity, rtol=0.0, atol=1e-6)):
+            return False
+    return True
+
+
 def same_throw_at_the_limit(history: Sequence[Attempt], mapping, aimed: bool = False) -> str | None:
     """A note that the run stops when each of the last :data:`SAME_AT_THE_LIMIT` attempts let go
     from the same release pose at the same velocities (to 1e-6 rad and rad/s), the last driven
@@ -430,14 +443,8 @@ def same_throw_at_the_limit(history: Sequence[Attempt], mapping, aimed: bool = F
     moves the wrong way for this arm), and where no landing was reported.
     """
     last = history[-SAME_AT_THE_LIMIT:]
-    if len(last) < SAME_AT_THE_LIMIT:
+    if len(last) < SAME_AT_THE_LIMIT or not let_go_the_same_way(last, mapping):
         return None
-    pose, velocity = _release_state(last[-1], mapping)
-    for attempt in last[:-1]:
-        other_pose, other_velocity = _release_state(attempt, mapping)
-        if not (np.allclose(other_pose, pose, rtol=0.0, atol=1e-6)
-                and np.allclose(other_velocity, velocity, rtol=0.0, atol=1e-6)):
-            return None
     if release_speed_factor(mapping, _untimed(last[-1]))[0] > AT_THE_LIMIT:
         return None
     landed = [attempt.miss for attempt in last if math.isfinite(attempt.miss)]
