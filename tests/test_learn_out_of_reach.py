@@ -9,6 +9,7 @@ budget ran out (seed 12001: 19 throws at the limit, each 0.24 m short).
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import replace
 from types import SimpleNamespace
@@ -18,7 +19,16 @@ import pytest
 
 from rlff.dataset import Dataset
 from rlff.learn import Method, Proposal, learn, scale_speed
-from rlff.learn.reach import SAME_AT_THE_LIMIT, SHORT_AT_THE_LIMIT, shortfall_at_the_limit
+from rlff.learn.reach import (
+    AT_THE_LIMIT,
+    SAME_AT_THE_LIMIT,
+    SAME_MISS,
+    SAME_REPORTED,
+    SHORT_AT_THE_LIMIT,
+    release_speed_factor,
+    same_throw_reported_the_same,
+    shortfall_at_the_limit,
+)
 from rlff.learn.scenarios import Scenario, parse_feedback, reporting_executor
 from rlff.robot import load_robot, mapping_for
 from rlff.sim import Basket, simulate_throw
@@ -403,6 +413,142 @@ def test_the_same_throw_below_the_speed_limit_goes_on(short_demos):
     result = learn(short_demos, 1.2, budget=4, update="imitation")
     assert not result.hit and len(set(result.misses)) == 1  # the same throw, missed, ...
     assert result.attempts == 4 and not result.repeated  # ... to the end of the budget
+
+
+class Stubborn(Method):
+    """The demonstrations' mean throw for the basket at every attempt, whatever it is told, except
+    ``changed_at``'s (attempt numbers from 1): 1 % faster there. Below the speed limit, so the arm
+    throws it as asked."""
+
+    name = "stubborn"
+    changed_at: tuple[int, ...] = ()
+
+    def __init__(self, problem):
+        super().__init__(problem)
+        path = problem.demonstrations_model().generate({"distance": problem.target}, problem.angles, exploration=0.0)
+        self.throw = Proposal.of_outputs(path.angle, path.gmr_means, path.output_names, problem.target)
+
+    def propose(self, history):
+        return scale_speed(self.throw, 1.01) if len(history) + 1 in self.changed_at else self.throw
+
+
+class ChangesOnce(Stubborn):
+    """:class:`Stubborn`, 1 % faster at one attempt midway through :data:`SAME_REPORTED`."""
+
+    name = "changes-once"
+    changed_at = (SAME_REPORTED // 2,)
+
+
+def shifted_landings(shift):
+    """The simulation at the basket of 1.2 m, every landing moved by ``shift(attempt)`` m
+    (attempts counted from 1), as a camera or an operator might report it."""
+    basket, count = Basket(1.2), []
+
+    def execute(trajectory):
+        count.append(trajectory)
+        outcome = simulate_throw(trajectory, basket)
+        moved = shift(len(count))
+        return SimpleNamespace(hit=bool(outcome.hit), landing_x=outcome.landing_x + moved, miss=outcome.miss + moved)
+
+    return execute
+
+
+def _release_path(attempt):
+    return {column: values for column, values in attempt.path.items() if column != "time"}
+
+
+@pytest.mark.parametrize("feedback", ["binary", "distance"])
+def test_the_same_throw_below_the_limit_reported_the_same_stops_the_run(short_demos, feedback):
+    # a tester's failure run (binary feedback) threw one throw below the speed limit, missed the
+    # same way every time, 1,000 times to the end of its budget: nothing stopped it
+    result = learn(short_demos, 1.2, budget=SAME_REPORTED + 10, feedback=feedback, update=Stubborn)
+    assert result.unchanged and not result.repeated and not result.out_of_reach and not result.hit
+    assert result.attempts == SAME_REPORTED
+    assert len(set(result.misses)) == 1 and result.misses[0] < -0.3  # the same miss, short
+    mapping = mapping_for(load_robot(), None)
+    assert release_speed_factor(mapping, _release_path(result.history[-1]))[0] > 1.5 * AT_THE_LIMIT  # below it
+    assert result.to_json()["unchanged"] is True and result.to_json()["repeated"] is False
+    told = "a miss" if feedback == "binary" else f"a miss, {result.misses[0]:+.2f} m from the basket's centre"
+    note = result.notes[-1]
+    assert note.startswith(f"stopped after attempt {SAME_REPORTED}: attempts 1-{SAME_REPORTED} let go the same way "
+                           f"and each was reported the same ({told}): the method is not changing its throw, and the "
+                           "next would be the same again. Try another update"), note
+    assert note.endswith("or check the feedback: an executor or an operator that reports every throw alike leaves "
+                         "the method nothing to learn from"), note
+    assert ("distance feedback (the signed miss says which way to move)" in note) == (feedback == "binary")
+
+
+def test_the_same_throw_told_different_misses_goes_on_to_the_end_of_its_budget(short_demos):
+    # told 3 cm apart: the method could move on what it hears
+    apart = learn(short_demos, 1.2, budget=SAME_REPORTED + 10, feedback="distance", update=Stubborn,
+                  executor=shifted_landings(lambda n: 0.03 * (n % 2)))
+    assert apart.attempts == SAME_REPORTED + 10 and not apart.unchanged and not apart.hit
+    assert len({round(miss, 3) for miss in apart.misses}) == 2 and not apart.notes
+    # within a centimetre, as a real camera measures one landing: the same report
+    close = learn(short_demos, 1.2, budget=SAME_REPORTED + 10, feedback="distance", update=Stubborn,
+                  executor=shifted_landings(lambda n: 0.4 * SAME_MISS * (n % 2)))
+    assert close.unchanged and close.attempts == SAME_REPORTED
+
+
+def test_a_method_that_changes_its_throw_once_goes_on_to_the_end_of_its_budget(short_demos):
+    result = learn(short_demos, 1.2, budget=SAME_REPORTED + 10, update=ChangesOnce)
+    assert result.attempts == SAME_REPORTED + 10 and not result.unchanged and not result.hit
+    assert not result.notes
+
+
+def test_the_same_throw_reported_the_same_is_judged_on_the_attempts_resumed_from_the_log(short_demos, tmp_path):
+    log = tmp_path / "attempts.jsonl"
+    first = learn(short_demos, 1.2, budget=SAME_REPORTED - 1, update=Stubborn, log_path=log)
+    assert first.attempts == SAME_REPORTED - 1 and not first.unchanged
+    thrown = []
+    again = learn(short_demos, 1.2, budget=SAME_REPORTED + 10, update=Stubborn, log_path=log,
+                  executor=shifted_landings(lambda n: thrown.append(n) or 0.0), executed_on="sim")
+    assert again.unchanged and again.attempts == SAME_REPORTED and thrown == [1]  # one throw more, then stopped
+    resumed = []
+    after = learn(short_demos, 1.2, budget=SAME_REPORTED + 10, update=Stubborn, log_path=log,
+                  executor=shifted_landings(lambda n: resumed.append(n) or 0.0), executed_on="sim")
+    assert after.unchanged and after.attempts == SAME_REPORTED and resumed == []  # no throw at all
+
+
+def test_what_counts_as_reported_the_same(short_demos):
+    mapping = mapping_for(load_robot(), None)
+    thrown = learn(short_demos, 1.2, budget=1, feedback="distance", update=Stubborn).history[0]
+
+    def run(**changes):
+        return [replace(thrown, index=i, **changes) for i in range(1, SAME_REPORTED + 1)]
+
+    assert same_throw_reported_the_same(run()[1:], mapping) is None  # one short
+    assert "(a miss, the ball never coming down)" in same_throw_reported_the_same(
+        run(landing=math.inf, miss=math.inf), mapping)
+    never = run(landing=math.inf, miss=math.inf)
+    never[0] = replace(never[0], landing=-math.inf, miss=-math.inf)  # behind the arm once: not the same
+    assert same_throw_reported_the_same(never, mapping) is None
+    mixed = run()
+    mixed[3] = replace(mixed[3], landing=math.nan, miss=math.nan)  # one not measured
+    assert same_throw_reported_the_same(mixed, mapping) is None
+    flag = run()
+    flag[7] = replace(flag[7], hit=True)
+    assert same_throw_reported_the_same(flag, mapping) is None
+    other = run()
+    other[0] = replace(other[0], velocity=other[0].velocity * 1.001)  # another release, long ago
+    assert same_throw_reported_the_same(other, mapping) is None
+    assert same_throw_reported_the_same([other[0], *run()], mapping) is not None  # the last ones are the same
+
+
+def test_rlff_learn_says_it_stopped_on_the_same_throw_reported_the_same(rlff, short_demos, tmp_path):
+    from rlff.dataset import write_csv
+
+    write_csv(short_demos, tmp_path / "demos.csv")
+    args = ("learn", str(tmp_path / "demos.csv"), "--basket", "1.2", "--update", "imitation",
+            "--budget", str(SAME_REPORTED + 10))
+    said = rlff(*args)
+    assert said.code == 0, said.stderr
+    assert f"no hit in {SAME_REPORTED} attempts, stopped: the same throw, reported the same, again" in said.stdout
+    assert f"attempts 1-{SAME_REPORTED} let go the same way and each was reported the same (a miss)" in said.stderr
+    printed = rlff(*args, "--json")
+    assert printed.code == 0, printed.stderr
+    result = json.loads(printed.stdout)
+    assert result["unchanged"] is True and result["repeated"] is False and result["attempts"] == SAME_REPORTED
 
 
 @pytest.mark.realdata

@@ -209,7 +209,8 @@ def learn_command(
     verdict = (f"{goal} after {plural(result.attempts, 'attempt')}" if result.hit and result.centred
                else f"no {goal[2:]} in {plural(result.attempts, 'attempt')}"
                + (", stopped: out of the arm's reach" if result.out_of_reach else "")
-               + (", stopped: the same throw at the arm's limit again" if result.repeated else ""))
+               + (", stopped: the same throw at the arm's limit again" if result.repeated else "")
+               + (", stopped: the same throw, reported the same, again" if result.unchanged else ""))
     misses = ", ".join(attempt_outcome(a.hit, m) for m, a in zip(result.misses, result.history, strict=True))
     where = "".join([f", bearing {bearing:g} deg" if bearing else "", f", rim {height:g} m" if height is not None else "",
                      f", joints {', '.join(driven)}" if driven else "",

@@ -61,12 +61,14 @@ from rlff.learn.method import FEEDBACKS, Method, Problem
 from rlff.learn.method_import import EXAMPLE, import_method
 from rlff.learn.proposal_check import changed_words, proposed, short_repr
 from rlff.learn.reach import (
+    SAME_REPORTED,
     aimed_factor,
     arm_reach,
     beyond_reach,
     more_joints_words,
     release_elasticity,
     same_throw_at_the_limit,
+    same_throw_reported_the_same,
     saturation_factor,
     typical_landing,
     widest_hit,
@@ -314,6 +316,11 @@ class LearningResult:
         fastest release the joints allow (:func:`rlff.learn.reach.same_throw_at_the_limit`): the
         method asked for more speed than the arm has, and the run stopped there; a note says
         where they came down.
+    unchanged : bool
+        The last :data:`~rlff.learn.reach.SAME_REPORTED` throws let go the same way, below the
+        fastest release (else ``repeated`` stops the run first), and each was reported to the
+        method the same (:func:`rlff.learn.reach.same_throw_reported_the_same`): the method is
+        not changing its throw, and the run stopped there; a note says what they were told.
     """
 
     hit: bool
@@ -331,6 +338,7 @@ class LearningResult:
     centre_window: float = math.inf
     out_of_reach: bool = False
     repeated: bool = False
+    unchanged: bool = False
 
     @property
     def best(self) -> Attempt | None:
@@ -369,6 +377,7 @@ class LearningResult:
             **({"centred": self.centred, "centre_window": self.centre_window} if self.until == "centred" else {}),
             "out_of_reach": self.out_of_reach,
             "repeated": self.repeated,
+            "unchanged": self.unchanged,
             "notes": self.notes,
         }
 
@@ -507,7 +516,9 @@ def learn(
         (``out_of_reach``: the executor reported :data:`~rlff.learn.reach.SHORT_AT_THE_LIMIT`
         landings in a row that no faster release could bring to the basket; an arm slower than
         its robot file, a late release or a heavier ball does that), or because the method asks
-        for the same throw at the arm's limit again (``repeated``), with a note that says so.
+        for the same throw at the arm's limit again (``repeated``), or throws the same throw below
+        it, reported the same each time, :data:`~rlff.learn.reach.SAME_REPORTED` times in a row
+        (``unchanged``), with a note that says so.
 
     Raises
     ------
@@ -659,12 +670,27 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
             return None
         return same_throw_at_the_limit(history, mapping, aimed=problem.aim is not None)
 
-    out_of_reach = out_of_reach_note()
-    repeated = None if out_of_reach else repeated_note()
+    def unchanged_note() -> str | None:
+        """Judged as :func:`repeated_note` is, when neither rule before says anything: on the
+        attempts as the method was told them."""
+        if history and done(history[-1]):
+            return None
+        reported = [_as_reported(a, feedback, centre_window) for a in history[-SAME_REPORTED:]]
+        return same_throw_reported_the_same(reported, mapping)
+
+    def stop_notes() -> tuple[str | None, str | None, str | None]:
+        """What stops the run after the attempts so far, the first rule that says anything:
+        the basket out of reach, the same throw at the limit, the same throw reported the same."""
+        out_of_reach = out_of_reach_note()
+        repeated = None if out_of_reach else repeated_note()
+        unchanged = None if out_of_reach or repeated else unchanged_note()
+        return out_of_reach, repeated, unchanged
+
+    out_of_reach, repeated, unchanged = stop_notes()
     method = None  # made at the first attempt this call throws: a finished log needs none
     changed: dict[str, tuple[int, str, list[int]]] = {}  # what the loop changed of a proposal: first, words, attempts
     while (len(history) < budget and not (history and done(history[-1])) and out_of_reach is None
-           and repeated is None):
+           and repeated is None and unchanged is None):
         method = method or method_class(problem)
         start = clock.perf_counter()
         index = len(history) + 1
@@ -683,14 +709,13 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         history.append(attempt)
         if progress:
             progress(attempt)
-        out_of_reach = out_of_reach_note()
-        repeated = None if out_of_reach else repeated_note()
+        out_of_reach, repeated, unchanged = stop_notes()
 
     notes = []
     if log and log.contents.dropped_partial_line:
         notes.append(f"{log.path}: dropped a partial last line (a run interrupted mid-write)")
     notes.extend(_changed_note(update, first, words, attempts) for first, words, attempts in changed.values())
-    notes.extend(note for note in (out_of_reach, repeated) if note)
+    notes.extend(note for note in (out_of_reach, repeated, unchanged) if note)
     return LearningResult(
         hit=bool(history and history[-1].hit),
         attempts=len(history),
@@ -707,6 +732,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         centre_window=centre_window,
         out_of_reach=bool(out_of_reach),
         repeated=bool(repeated),
+        unchanged=bool(unchanged),
     )
 
 

@@ -16,6 +16,11 @@ loop stops after :data:`SHORT_AT_THE_LIMIT` throws in a row that say it is not
 make it. The other way, where a throw comes down with every speed (:func:`typical_landing`)
 says how slow the searches must go for a near basket.
 
+A run also stops when its method throws the same throw again and again
+(:func:`let_go_the_same_way`): after :data:`SAME_AT_THE_LIMIT` at the arm's speed limit, where
+asking for more speed gets the same throw (:func:`same_throw_at_the_limit`), and after
+:data:`SAME_REPORTED` anywhere when each was reported the same (:func:`same_throw_reported_the_same`).
+
 Hand-written: bisections on one speed factor and a closed-form flight, the project's own
 reasoning about its throws.
 """
@@ -34,6 +39,7 @@ from rlff.learn.attempt import Attempt
 from rlff.learn.demos import drives_whole_arm
 from rlff.robot.mapping import scaled_speed
 from rlff.trajectory.planner import MARGIN
+from rlff.wording import signed
 
 #: Throws in a row that came down short of the basket's rim even sped up to the fastest release
 #: the joints allow, after which a run stops: the basket is beyond what this arm throws.
@@ -42,6 +48,19 @@ SHORT_AT_THE_LIMIT = 3
 #: a run stops: the method asks for more speed than the arm has, and the ball comes down as before
 #: (failure and hindsight on the real MSR throws at 1.6 m: every throw 0.58 m long, to the budget).
 SAME_AT_THE_LIMIT = 3
+#: Attempts in a row that let go the same way and were reported the same (the same hit or
+#: miss, the same miss to :data:`SAME_MISS` where one was reported), after which a run stops
+#: wherever the release is: the method is not changing its throw. Generous, as a method told the
+#: same may still change its mind: failure refits its model with every failed throw, and over the
+#: learning benchmark's grid with a budget of 60 (short, wide and overshooting, seeds 100-101,
+#: every method, both feedbacks: 324 runs) it threw one throw up to 12 times in a row before
+#: another (seed 101 at 1.9 m); 50 is four times that, and above every budget of the benchmark
+#: (20-30), so none of its rows can change. A tester's failure run with binary feedback threw one
+#: throw below the speed limit 1,000 times, to its budget.
+SAME_REPORTED = 50
+#: Largest spread (m) of the misses reported for the same throw that still counts as the same
+#: report (:func:`same_throw_reported_the_same`): a centimetre.
+SAME_MISS = 0.01
 #: A throw counts as let go as fast as the joints allow when its last driven joint could go at
 #: most this factor faster: the planner keeps :data:`rlff.trajectory.planner.MARGIN` of the speed
 #: limits, and a throw asked for at the limit lets go a little below it (a UR5e-like file at 3.12
@@ -463,3 +482,42 @@ def same_throw_at_the_limit(history: Sequence[Attempt], mapping, aimed: bool = F
         why = "The method asks for more speed than the arm has (another update, or a nearer basket)"
     return (f"stopped after attempt {last[-1].index}: attempts {last[0].index}-{last[-1].index} let go the same "
             f"way, at the fastest release {joints} {allow}{came_down}, and the next would too. {why}")
+
+
+def same_throw_reported_the_same(reported: Sequence[Attempt], mapping) -> str | None:
+    """A note that the run stops when each of the last :data:`SAME_REPORTED` attempts let go the
+    same way (:func:`let_go_the_same_way`) and was reported the same, else None.
+
+    ``reported`` are the run's attempts as its method was told them (binary feedback: no landing,
+    miss NaN; ``until="centred"``: a hit only within the centre window). Reported the same: the
+    same hit flag, and misses within :data:`SAME_MISS` (m) of each other, or all not measured,
+    or all the same infinite miss (a ball that never came down). A method that throws the same
+    throw and is told the same about it again and again is not changing its throw, at the
+    arm's speed limit (:func:`same_throw_at_the_limit`, after fewer) or below it: the next throw
+    would be the same, and on a real arm every one of them is a throw wasted.
+    """
+    last = reported[-SAME_REPORTED:]
+    if len(last) < SAME_REPORTED or not let_go_the_same_way(last, mapping):
+        return None
+    if len({bool(attempt.hit) for attempt in last}) > 1:
+        return None
+    misses = np.array([attempt.miss for attempt in last], dtype=float)
+    if np.all(np.isfinite(misses)):
+        if np.ptp(misses) > SAME_MISS:
+            return None
+        low, high = signed(float(np.min(misses))), signed(float(np.max(misses)))
+        at = f", {low} m" if low == high else f", {low} to {high} m"
+        outcome = f"{at} from the basket's centre"
+    elif np.all(np.isnan(misses)):
+        outcome = ""
+    elif np.all(misses == misses[0]):  # every one the same infinite miss
+        outcome = ", the ball never coming down"
+    else:
+        return None
+    told = f"{'a hit' if last[-1].hit else 'a miss'}{outcome}"
+    instead = "another update" if np.any(~np.isnan(misses)) else \
+        "another update, or distance feedback (the signed miss says which way to move)"
+    return (f"stopped after attempt {last[-1].index}: attempts {last[0].index}-{last[-1].index} let go the same way "
+            f"and each was reported the same ({told}): the method is not changing its throw, and the next would be "
+            f"the same again. Try {instead}, or check the feedback: an executor or an operator that reports every "
+            "throw alike leaves the method nothing to learn from")
