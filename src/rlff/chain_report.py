@@ -30,7 +30,8 @@ run stopped before its budget, and the attempt being written is lost. A log's re
 by the goal its run was given (its header's ``until``): the first hit, or the first within the
 centre window of a run ``until="centred"`` (with the first hit beside it). A log without one says
 whether its run used its budget (the header's, where it records one) or stopped short of it
-(killed between two attempts, or at a basket beyond its reach). Logs that hold one run
+(killed between two attempts, at a basket beyond its reach, or on a throw its method kept
+throwing). Logs that hold one run
 (the same header and throws, their timings aside: a log copied, a seed run again) are named
 together and drawn once.
 """
