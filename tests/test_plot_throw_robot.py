@@ -39,7 +39,7 @@ def test_a_throw_from_an_attempts_log_is_drawn_only_with_the_robot_the_log_was_t
     (line,) = refused.stderr.strip().splitlines()
     assert line.startswith(f"rlff: error: {outcome}: {log} was thrown by another robot or mapping "
                            "(robot.description.joints.joint_2.max_acceleration = 10.0 in the log, 9.0 with")
-    assert line.endswith("give its robot file with --robot")
+    assert line.endswith("give its robot file as robot (--robot)")
     assert not (tmp_path / "wrong.png").exists()
     # without --robot, the built-in robot of that name is not the log's either
     assert rlff("plot", "throw", str(outcome), "-o", str(tmp_path / "wrong")).code == 2

@@ -81,3 +81,12 @@ def test_files_that_are_no_trajectory_are_named(robot, tmp_path):
     broken.write_text("{not json")
     with pytest.raises(InputError, match=r"broken\.json"):
         sim_input(broken, robot)
+
+
+def test_an_attempts_log_without_a_hit_asks_for_an_attempt_by_the_argument_and_the_option(tmp_path):
+    # load_input is called from Python too: its refusal names the argument beside the option
+    from attempts_logs import write_attempts_log
+
+    log = write_attempts_log(tmp_path / "a.jsonl", {"basket": {"distance": 1.5}}, [-0.4, -0.3])
+    with pytest.raises(InputError, match=r"none of its 2 attempts hit; choose one with attempt \(--attempt N\)$"):
+        load_input(log, load_robot())

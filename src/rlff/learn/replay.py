@@ -98,7 +98,7 @@ def pick_attempt(path: str | Path, number: int | None = None) -> tuple[Attempt, 
     if number is None:
         hits = [a for a in attempts if a.hit]
         if not hits:
-            raise InputError(f"{path}: none of its {len(attempts)} attempts hit; choose one with --attempt N")
+            raise InputError(f"{path}: none of its {len(attempts)} attempts hit; choose one with attempt (--attempt N)")
         return hits[-1], run
     if not 1 <= number <= len(attempts):
         held = f"attempts 1 to {len(attempts)}" if attempts else "no attempts"
@@ -138,7 +138,7 @@ def require_same_robot(path: str | Path, run: dict, mapping: RobotMapping | ArmM
     if difference is not None:
         key, logged, now = difference
         raise InputError(f"{path} was thrown by another robot or mapping ({key} = {brief(logged)} in the log, "
-                         f"{brief(now)} with {mapping.robot.source}); give its robot file with --robot")
+                         f"{brief(now)} with {mapping.robot.source}); give its robot file as robot (--robot)")
 
 
 def require_run_joints(path: str | Path, run: dict, mapping: RobotMapping | ArmMapping,
@@ -149,8 +149,8 @@ def require_run_joints(path: str | Path, run: dict, mapping: RobotMapping | ArmM
         return
     thrown = mapping.driven_joints
     if sorted(joints) != sorted(thrown):
-        raise InputError(f"--joints {','.join(joints)}: {path} was thrown with {','.join(sorted(thrown))}, and its "
-                         "attempts are throws of those joints; leave out --joints")
+        raise InputError(f"joints (--joints) {','.join(joints)}: {path} was thrown with {','.join(sorted(thrown))}, and its "
+                         "attempts are throws of those joints; leave out joints (--joints)")
 
 
 def plan_attempt(attempt: Attempt, mapping: RobotMapping | ArmMapping, period: float = DEFAULT_PERIOD,
