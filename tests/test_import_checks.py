@@ -241,3 +241,28 @@ def test_throws_at_a_wrong_rate_are_said_to_be_short_or_fast_by_the_rule_they_br
     from rlff.capture.importer import _implausible
 
     assert _implausible(_throws(duration, peak), alone=alone) == said
+
+
+def test_the_notes_of_many_files_are_summed_up_by_kind_and_a_few_said_in_full():
+    from rlff.capture.importer import NOTES_IN_FULL, FileReport, ImportReport
+
+    def file(name: str, times: list[float]) -> FileReport:
+        notes = [f"{name}: throwing arm: right (the hand that sweeps furthest)"]
+        notes += [f"{name}: elbow: movement at t={t:.2f} s is not a throw (peak 2.1 rad/s (below 3))" for t in times]
+        return FileReport(source=f"/data/{name}", format="msr", notes=notes)
+
+    files = [file(f"a{i:02d}.txt", [1.5 + i, 7.25]) for i in range(8)]  # 24 notes
+    files.append(FileReport(source="/data/odd.txt", format="msr", notes=["odd.txt: read at 30 Hz (no time stamps)"]))
+    report = ImportReport(files=files, general=["wrist left out: odd.txt has no hand"])
+    assert len(report.notes) > NOTES_IN_FULL
+    assert report.summary_notes() == [
+        "throwing arm: right (the hand that sweeps furthest): 8 files",
+        "16 notes like this in 8 files (--json lists each file's): a00.txt: elbow: movement at t=1.50 s is not a "
+        "throw (peak 2.1 rad/s (below 3))",
+        "odd.txt: read at 30 Hz (no time stamps)",
+        "wrist left out: odd.txt has no hand",
+    ]
+    # one file, or few notes: each note as it is
+    assert ImportReport(files=files[:1]).summary_notes() == files[0].notes
+    few = ImportReport(files=files[:2], general=["all fine"])
+    assert few.summary_notes() == few.notes == files[0].notes + files[1].notes + ["all fine"]

@@ -130,6 +130,10 @@ LONGEST_THROW = 3.0
 SLOW_AND_LONG = 2.0
 #: Units a recording's coordinates may be in instead of metres, with their size in metres.
 OTHER_UNITS = {"millimetres": 1e-3, "centimetres": 1e-2}
+#: An import of several files with more notes than this says each kind of note once, with its counts
+#: (:meth:`ImportReport.summary_notes`), so that the warnings after them stay in sight (800 files
+#: wrote 2,273 lines of notes).
+NOTES_IN_FULL = 20
 
 
 @dataclass
@@ -249,6 +253,33 @@ class ImportReport:
     @property
     def notes(self) -> list[str]:
         return [note for report in self.files for note in report.notes] + self.general
+
+    def summary_notes(self) -> list[str]:
+        """The notes as ``rlff data import`` says them: each one, for one file or up to
+        :data:`NOTES_IN_FULL` notes; for more, each kind once (a kind: the note without the file's
+        name, its numbers nor its closing parenthesis), the kind's first note said with how many
+        notes and files share it when it repeats, then the :attr:`general` notes."""
+        if len(self.files) <= 1 or len(self.notes) <= NOTES_IN_FULL:
+            return list(self.notes)
+        kinds: dict[str, list[tuple[str, str]]] = {}  # kind -> (file, note without the file's name)
+        for file in self.files:
+            name = Path(file.source).name
+            for note in file.notes:
+                text = note.removeprefix(f"{name}: ")
+                kind = re.sub(r"\s*\([^()]*(\([^()]*\)[^()]*)*\)$", "", re.sub(r"-?\d+(\.\d+)?", "#", text))
+                kinds.setdefault(kind, []).append((name, text))
+        said = []
+        for notes in kinds.values():
+            files = len({name for name, _ in notes})
+            name, first = notes[0]
+            if len(notes) == 1:
+                said.append(f"{name}: {first}")
+            elif len({text for _, text in notes}) == 1:
+                said.append(f"{first}: {plural(files, 'file')}")
+            else:
+                said.append(f"{plural(len(notes), 'note')} like this in {plural(files, 'file')} (--json lists each "
+                            f"file's): {name}: {first}")
+        return said + list(self.general)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-able summary."""

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import re
 from collections.abc import Callable
 from pathlib import Path
 
@@ -104,7 +103,7 @@ def import_command(
             joints=None if joints is None else [name.strip() for name in joints.split(",") if name.strip()],
             progress=files_advance(advance),
         )
-    for note in notes_to_say(report):
+    for note in report.summary_notes():
         say(note)
     for warning in report.warnings:
         warn(warning)
@@ -141,38 +140,6 @@ def import_command(
     stdout().print(f"{plural(report.n_throws, 'throw')} from {plural(len(report.files), 'file')}{carried} -> {target}")
     for path in sheets:
         stdout().print(f"contact sheet: {path}")
-
-
-#: An import of several files with more notes than this says each kind of note once, with its counts,
-#: so that the warnings after them stay in sight (800 files wrote 2,273 lines of notes).
-NOTES_IN_FULL = 20
-
-
-def notes_to_say(report) -> list[str]:
-    """The import's notes as the command says them: each one, for one file or a few notes; for
-    many files each kind once (the note without its numbers nor its closing parenthesis), with
-    the first note of the kind, how many there are and in how many files, when it repeats."""
-    if len(report.files) <= 1 or len(report.notes) <= NOTES_IN_FULL:
-        return list(report.notes)
-    kinds: dict[str, list[tuple[str, str]]] = {}  # kind -> (file, note without the file's name)
-    for file in report.files:
-        name = Path(file.source).name
-        for note in file.notes:
-            text = note.removeprefix(f"{name}: ")
-            kind = re.sub(r"\s*\([^()]*(\([^()]*\)[^()]*)*\)$", "", re.sub(r"-?\d+(\.\d+)?", "#", text))
-            kinds.setdefault(kind, []).append((name, text))
-    said = []
-    for notes in kinds.values():
-        files = len({name for name, _ in notes})
-        name, first = notes[0]
-        if len(notes) == 1:
-            said.append(f"{name}: {first}")
-        elif len({text for _, text in notes}) == 1:
-            said.append(f"{first}: {plural(files, 'file')}")
-        else:
-            said.append(f"{plural(len(notes), 'note')} like this in {plural(files, 'file')} (--json lists each "
-                        f"file's): {name}: {first}")
-    return said + list(report.general)
 
 
 def _estimated_files(report, shown: int = 3) -> str:
