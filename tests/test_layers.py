@@ -26,7 +26,7 @@ STAGES = (
     ("__main__",),
 )
 #: Shared leaf modules: plain types, files, errors and facts every stage may use.
-LEAVES = {"ballistics", "csvlines", "csvtable", "dataset", "errors", "fileio", "formats", "jsonfile", "kinds", "limits",
+LEAVES = {"_lazy", "ballistics", "csvlines", "csvtable", "dataset", "errors", "fileio", "formats", "jsonfile", "kinds", "limits",
           "lockfile", "timing", "wording"}
 
 

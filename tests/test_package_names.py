@@ -6,6 +6,7 @@ from __future__ import annotations
 import importlib
 import pydoc
 import re
+import sys
 
 import pytest
 
@@ -41,3 +42,29 @@ def test_the_package_docstring_s_chain_imports_what_it_names():
     imports = [line.strip() for line in block.splitlines() if line.strip().startswith("from rlff")]
     assert len(imports) == 6
     exec("\n".join(re.sub(r"\s+#.*", "", line) for line in imports), {})
+
+
+@pytest.mark.parametrize("name", LAZY_PACKAGES)
+def test_an_unknown_name_is_an_attribute_error_that_names_the_package(name):
+    package = importlib.import_module(name)
+    with pytest.raises(AttributeError, match=rf"^module '{re.escape(name)}' has no attribute 'no_such_name'$"):
+        package.no_such_name  # noqa: B018
+    assert not hasattr(package, "no_such_name")
+
+
+def test_lazy_exports_load_a_name_on_first_use_and_list_it_before(monkeypatch):
+    # the one helper the three packages share (they had each kept a copy of these lines)
+    import types
+
+    from rlff._lazy import lazy_exports
+
+    package = types.ModuleType("fake_package")
+    package.own = 1
+    monkeypatch.setitem(sys.modules, "fake_package", package)
+    monkeypatch.delitem(sys.modules, "colorsys", raising=False)
+    package.__getattr__, package.__dir__ = lazy_exports("fake_package", {"rgb_to_hsv": "colorsys"})
+    assert dir(package) == sorted({*vars(package), "rgb_to_hsv"}) and "own" in dir(package)
+    assert "colorsys" not in sys.modules  # listed, not loaded
+    assert package.rgb_to_hsv is importlib.import_module("colorsys").rgb_to_hsv
+    with pytest.raises(AttributeError, match="^module 'fake_package' has no attribute 'hsv'$"):
+        package.hsv  # noqa: B018

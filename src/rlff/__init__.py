@@ -27,8 +27,7 @@ imported lazily so that ``import rlff`` stays cheap for the command line.
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from rlff._lazy import lazy_exports
 
 __version__ = "0.1.0"
 
@@ -55,14 +54,4 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS) + ["__version__"]
 
 
-def __getattr__(name: str) -> Any:
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module 'rlff' has no attribute {name!r}")
-    return getattr(importlib.import_module(module), name)
-
-
-def __dir__() -> list[str]:
-    """The module's own names and the public ones :func:`__getattr__` loads on first use: without
-    it ``dir()``, tab completion and ``help()`` missed those (``'Model' in dir(rlff)`` was False)."""
-    return sorted({*globals(), *_EXPORTS})
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)

@@ -6,8 +6,7 @@ The public names are imported on first use (PEP 562) so that importing a submodu
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from rlff._lazy import lazy_exports
 
 # public name -> module that defines it
 _EXPORTS = {
@@ -25,14 +24,4 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS)
 
 
-def __getattr__(name: str) -> Any:
-    module = _EXPORTS.get(name)
-    if module is None:
-        raise AttributeError(f"module 'rlff.robot' has no attribute {name!r}")
-    return getattr(importlib.import_module(module), name)
-
-
-def __dir__() -> list[str]:
-    """The module's own names and the public ones :func:`__getattr__` loads on first use: without
-    it ``dir()``, tab completion and ``help()`` missed those (``'Model' in dir(rlff)`` was False)."""
-    return sorted({*globals(), *_EXPORTS})
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS)
