@@ -15,7 +15,7 @@ from attempts_logs import write_attempts_log
 from rlff.dataset import Dataset, Trajectory
 from rlff.errors import InputError
 from rlff.plots._figure import HIT_COLOUR, MISS_COLOUR, distance_colours, grid_shape
-from rlff.plots.data import dataset_3d, dataset_slices
+from rlff.plots.data import dataset_3d, dataset_slices, outcome_drawing
 from rlff.plots.learning import learning_curves
 from rlff.plots.outputs import SUMMARY_TITLE, output_trajectories
 from rlff.plots.preprocess import preprocessing_steps
@@ -141,6 +141,20 @@ def test_dataset_slices_colour_mass_follows_the_counts_of_many_lines(tmp_path):
     drawn = np.array([to_hex(c) == HIT_COLOUR for c in lines.get_colors()])
     assert 0.3 < drawn[-200:].mean() / drawn.mean() < 1.7  # the top of the pile is no one group
     assert lines.get_linewidths()[0] < 1.0 and lines.get_colors()[0][3] < 0.5
+
+
+@pytest.mark.parametrize("count", [5, 797])  # two layers, and one shuffled pile
+def test_outcome_drawing_gives_the_colours_in_drawing_order(count):
+    # the colours came by the line's index beside the order, and the one caller re-indexed them
+    hit = np.arange(count) % 4 == 0
+    drawing = outcome_drawing(hit)
+    assert sorted(drawing.order) == list(range(count)) and drawing.colours.shape == (count, 4)
+    assert [to_hex(c) for c in drawing.colours] == [HIT_COLOUR if hit[i] else MISS_COLOUR for i in drawing.order]
+    if count == 5:  # 2 hits among 3 misses: the misses first, the hits on top
+        assert list(drawing.order) == [1, 2, 3, 0, 4]
+        assert list(drawing.colours[:, 3]) == pytest.approx([0.7, 0.7, 0.7, 0.8, 0.8])
+    else:
+        assert np.array_equal(drawing.order, outcome_drawing(hit).order)  # the same pile when drawn again
 
 
 def test_dataset_slices_leave_tracking_glitches_out_of_the_lines(tmp_path):

@@ -62,7 +62,8 @@ class OutcomeDrawing:
     order : ndarray of int, shape (N,)
         The lines' indices in drawing order (the last on top).
     colours : ndarray, shape (N, 4)
-        RGBA per line, by its index: hit or miss colour, with its alpha.
+        RGBA of the lines in drawing order (``colours[k]`` is line ``order[k]``'s): hit or miss
+        colour, with its alpha.
     linewidth : float
         Line width (points).
     """
@@ -72,20 +73,30 @@ class OutcomeDrawing:
     linewidth: float
 
 
-def outcome_drawing(hit: Sequence[bool], seed: int = 0) -> OutcomeDrawing:
+#: The shuffle of a panel of many lines (:func:`outcome_drawing`) is this seed's: a figure drawn
+#: again from the same data is the same picture.
+_SHUFFLE_SEED = 0
+
+
+def outcome_drawing(hit: Sequence[bool]) -> OutcomeDrawing:
     """Draw order, alpha and line width that keep each outcome's colour mass true to its count.
 
     Up to :data:`LAYERED_UP_TO` lines the larger group is drawn first and the smaller on top
     (misses at alpha 0.7, hits at 0.8, width 1): a few hits among many misses stand out, and a
     few misses among many hits too. Above it, a group drawn on top would paint over the other
-    (166 hits over 631 misses looked green): the lines are drawn in one shuffled order (``seed``
-    fixes it) with an alpha and a width that fall with the square root of their number, so a
-    region reads as the mix of the lines that pass through it.
+    (166 hits over 631 misses looked green): the lines are drawn in one shuffled order (the same
+    for the same number of lines) with an alpha and a width that fall with the square root of
+    their number, so a region reads as the mix of the lines that pass through it.
 
     Parameters
     ----------
     hit : sequence of bool, shape (N,)
         Whether each line hit the basket.
+
+    Returns
+    -------
+    OutcomeDrawing
+        The lines' indices in drawing order and their colours in that order.
     """
     hit = np.asarray(hit, dtype=bool)
     count = hit.size
@@ -94,11 +105,12 @@ def outcome_drawing(hit: Sequence[bool], seed: int = 0) -> OutcomeDrawing:
         order = np.concatenate([np.flatnonzero(hit == larger_first), np.flatnonzero(hit != larger_first)])
         alphas, linewidth = np.where(hit, 0.8, 0.7), 1.0
     else:
-        order = np.random.default_rng(seed).permutation(count)
+        order = np.random.default_rng(_SHUFFLE_SEED).permutation(count)
         scale = float(np.sqrt(LAYERED_UP_TO / count))
         alphas, linewidth = np.full(count, max(0.1, 0.75 * scale)), max(0.4, scale)
-    colours = np.array([to_rgba(HIT_COLOUR if h else MISS_COLOUR, a) for h, a in zip(hit, alphas, strict=True)])
-    return OutcomeDrawing(order.astype(int), colours.reshape(count, 4), linewidth)
+    order = order.astype(int)
+    colours = np.array([to_rgba(HIT_COLOUR if hit[i] else MISS_COLOUR, alphas[i]) for i in order])
+    return OutcomeDrawing(order, colours.reshape(count, 4), linewidth)
 
 
 def _outcome_counts(trajectories: Sequence[Trajectory]) -> str:
@@ -219,8 +231,8 @@ def dataset_slices(
         for axes, (value, trajectories) in zip(panels.flat, groups.items(), strict=False):
             if has_outcome:
                 drawing = outcome_drawing([t.meta.get("hit") is True for t in trajectories])
-                add_curves(axes, [curve(trajectories[i]) for i in drawing.order],
-                           [drawing.colours[i] for i in drawing.order], linewidth=drawing.linewidth, alpha=None)
+                add_curves(axes, [curve(trajectories[i]) for i in drawing.order], drawing.colours,
+                           linewidth=drawing.linewidth, alpha=None)
             else:
                 add_curves(axes, [curve(t) for t in trajectories], colours[value], linewidth=1.0, alpha=0.8)
             stray = [(t[x][glitches[t.id]], t[y][glitches[t.id]]) for t in trajectories if t.id in glitches]
