@@ -746,3 +746,14 @@ def test_manifest_times_count_from_the_file_s_first_frame_when_its_first_frames_
     assert [throw.release for throw in file.throws] == pytest.approx(releases, abs=1e-9)
     assert [t.meta["distance_source"] for t in dataset] == ["manifest"] * len(releases)
     assert [float(t["distance"][0]) for t in dataset] == [1.0 + 0.5 * n for n in range(len(releases))]
+
+
+def test_the_kinect_row_layouts_rlff_knows_are_named_in_one_place():
+    # the reader's and the format guess's messages each kept their own map of these widths to words
+    from rlff.capture.skeleton_text import KINECT_WIDTH, kinect_row_layout
+
+    assert kinect_row_layout(81) == ("a frame number and 20 joints x 4 values (x y z and a tracking state, as some "
+                                     "Kinect SDK v1 exporters write them)", "each joint's 4th value (rlff reads x y z)")
+    assert kinect_row_layout(76) == ("a frame number and 25 joints x (x y z)", None)
+    assert kinect_row_layout(101).drop is None and "25 joints x 4 values" in kinect_row_layout(101).holds
+    assert kinect_row_layout(KINECT_WIDTH) is None and kinect_row_layout(58) is None

@@ -69,12 +69,9 @@ from rlff.capture.skeleton import ArmTrack, Recording
 from rlff.capture.skeleton_text import (
     KINECT_UP,
     KINECT_V2_ROUTE,
-    KINECT_V2_WIDTHS,
     KINECT_WIDTH,
-    KINECT_WITH_STATE,
-    WITH_STATE_DROP,
-    WITH_STATE_IS,
     axis_vector,
+    kinect_row_layout,
     read_joint_csv,
     read_kinect_text,
     read_msr_text,
@@ -343,14 +340,15 @@ def _text_layout(header: str | None, width: int) -> str:
     """What a text file whose rows hold ``width`` numbers, below a ``header`` line (or none), is
     and what to drop to make it Kinect SDK v1 text, or ``""`` when it is nothing rlff knows."""
     named = f"its first line is a header ({header[:40]!r}) above rows of" if header is not None else "its rows hold"
-    if width == KINECT_WITH_STATE:
-        drop = f"the header line and {WITH_STATE_DROP}" if header is not None else WITH_STATE_DROP
-        return f"{named} {width} numbers, {WITH_STATE_IS}: drop {drop}, and it reads as Kinect text"
     if width == KINECT_WIDTH and header is not None:
         return f"{named} {width} numbers, Kinect SDK v1 text (a frame number, 20 joints x (x y z)): drop the header line"
-    if width in KINECT_V2_WIDTHS:
-        return f"{named} {width} numbers, {KINECT_V2_WIDTHS[width]}: it looks like Kinect v2 joint text, {KINECT_V2_ROUTE}"
-    return ""
+    layout = kinect_row_layout(width)
+    if layout is None:
+        return ""
+    if layout.drop is not None:
+        drop = f"the header line and {layout.drop}" if header is not None else layout.drop
+        return f"{named} {width} numbers, {layout.holds}: drop {drop}, and it reads as Kinect text"
+    return f"{named} {width} numbers, {layout.holds}: it looks like Kinect v2 joint text, {KINECT_V2_ROUTE}"
 
 
 #: The suffix of the files each text format reads, for the files of a folder given in their place.

@@ -31,6 +31,7 @@ import re
 import shlex
 from collections.abc import Callable, Mapping
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -122,14 +123,42 @@ def _numeric_rows(
     return np.asarray(rows), np.asarray(lines)
 
 
+class RowLayout(NamedTuple):
+    """A layout of Kinect text rows that rlff knows but does not read (:func:`kinect_row_layout`).
+
+    Attributes
+    ----------
+    holds : str
+        What a row holds, in words.
+    drop : str or None
+        What to drop from every row to make it Kinect SDK v1 text as rlff reads it; None for
+        Kinect v2 text, which no dropping makes one (:data:`KINECT_V2_ROUTE` imports it).
+    """
+
+    holds: str
+    drop: str | None
+
+
+def kinect_row_layout(width: int) -> RowLayout | None:
+    """The layout of a text row of ``width`` numbers where Kinect SDK v1 text has
+    :data:`KINECT_WIDTH`: a tracking state after each joint's x y z (:data:`KINECT_WITH_STATE`),
+    Kinect v2's 25 joints (:data:`KINECT_V2_WIDTHS`); None for a width rlff does not know."""
+    if width == KINECT_WITH_STATE:
+        return RowLayout(WITH_STATE_IS, WITH_STATE_DROP)
+    if width in KINECT_V2_WIDTHS:
+        return RowLayout(KINECT_V2_WIDTHS[width], None)
+    return None
+
+
 def _kinect_width(width: int) -> str:
     """What a row of ``width`` numbers in a Kinect text file is and what to do, when rlff knows
-    the layout (a tracking state per joint, Kinect v2's 25 joints), after ``"; "``; else ``""``."""
-    if width == KINECT_WITH_STATE:
-        return f"; {width} are {WITH_STATE_IS}: drop {WITH_STATE_DROP}"
-    if width in KINECT_V2_WIDTHS:
-        return f"; {width} look like Kinect v2 joint text ({KINECT_V2_WIDTHS[width]}), {KINECT_V2_ROUTE}"
-    return ""
+    the layout (:func:`kinect_row_layout`), after ``"; "``; else ``""``."""
+    layout = kinect_row_layout(width)
+    if layout is None:
+        return ""
+    if layout.drop is not None:
+        return f"; {width} are {layout.holds}: drop {layout.drop}"
+    return f"; {width} look like Kinect v2 joint text ({layout.holds}), {KINECT_V2_ROUTE}"
 
 
 #: A stamp below the latest one before it by less than this share of the median step between
