@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from rlff.dataset import read_csv
-from rlff.demo import STAGES
+from rlff.demo import FIGURES, STAGES
 from rlff.model import Model
 from rlff.report import read_run
 from rlff.report.folder import LISTING, LOCK
@@ -45,6 +45,7 @@ def test_demo_small_end_to_end(tmp_path):
     demo twice for one set of checks."""
     demo = run_small_demo(tmp_path / "rlff-demo")
     check_complete_run(demo)
+    check_figures_are_the_ones_named_before_the_run(demo)
     check_numbers_agree_with_files(demo)
     check_whole_arm(demo)
     check_report_embeds_every_figure(demo)
@@ -76,6 +77,17 @@ def check_complete_run(demo) -> None:
                                      if p.is_file() and p.name not in (LISTING, LOCK)}
     for name, digest in listing["files"].items():
         assert hashlib.sha256((out / name).read_bytes()).hexdigest() == digest, name
+
+
+def check_figures_are_the_ones_named_before_the_run(demo) -> None:
+    """rlff.demo.FIGURES, the figures a run lists in its folder before it draws them, is kept by hand
+    beside the out.figure(STEM) calls: each figure drawn is one of them, and each of them is drawn
+    (the learned throw only where a method hits)."""
+    out, summary, _ = demo
+    drawn = {Path(f.file).stem for f in read_run(out).figures}
+    assert {p.stem for p in (out / "figures").glob("*.png")} == drawn
+    hit = any(row["hit"] for row in summary["learning"])
+    assert drawn == set(FIGURES) - (set() if hit else {"learned-throw"})
 
 
 def check_learning_figure_is_plot_learning_of_its_logs(demo, tmp_path) -> None:

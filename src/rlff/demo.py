@@ -332,12 +332,9 @@ def _learning_arm_and_basket(demonstrated: list[float], learnable: float,
     return (slower, on_slower) if missed else (faithful, distance)
 
 
-#: The names of every file a run writes, whatever its size, as paths inside its folder (``*``: one
-#: name): the last run's listing names only files of these to be removed (:mod:`rlff.report.folder`).
-WRITES = (
+#: The data, model, run and report files every run writes, whatever its size, inside its folder.
+DATA_FILES = (
     "demos.csv", "clean.csv", "model.json", "run.json", "report.html", "whole-arm-demos.csv", "whole-arm-clean.csv",
-    "attempts/*.jsonl", "attempts/*.jsonl.lock", "attempts/whole-arm/*.jsonl", "attempts/whole-arm/*.jsonl.lock",
-    "figures/*.png", "figures/*.svg", "figures/frames/frame_*.png", "figures/frames/throw.gif",
 )
 #: The figures a run draws, by stem (``figures/STEM.png`` and ``.svg``): ``learned-throw`` where a
 #: method hits, the whole-arm two where a whole-arm basket was thrown at.
@@ -348,6 +345,13 @@ FIGURES = (
 #: The learned throw rendered by MuJoCo (:mod:`rlff.sim.render`): its frames, numbered from 0 (one
 #: of an earlier, longer throw removed), and the GIF.
 FRAMES = ("figures/frames/frame_*.png", "figures/frames/throw.gif")
+#: The names of every file a run writes, whatever its size, as paths inside its folder (``*``: one
+#: name): the last run's listing names only files of these to be removed (:mod:`rlff.report.folder`).
+WRITES = (
+    *DATA_FILES,
+    "attempts/*.jsonl", "attempts/*.jsonl.lock", "attempts/whole-arm/*.jsonl", "attempts/whole-arm/*.jsonl.lock",
+    "figures/*.png", "figures/*.svg", *FRAMES,
+)
 PROGRAM = "rlff demo"
 
 
@@ -360,15 +364,15 @@ def _failures(raw, said: str) -> str:
 
 def run_files(size: str, *, frames: bool = True) -> tuple[str, ...]:
     """Every file a run of ``size`` (``frames``: rendering the learned throw) writes or may write,
-    by name, as paths inside its folder: the data, the model, ``run.json``, the report, each
-    learning run's and each whole-arm basket's attempts log and its lock, each figure of
+    by name, as paths inside its folder: :data:`DATA_FILES` (the data, the model, ``run.json``, the
+    report), each learning run's and each whole-arm basket's attempts log and its lock, each figure of
     :data:`FIGURES` and (``frames``) the frames of :data:`FRAMES`, whose number the run knows only
     as it writes them. A file of another name in the folder is neither written nor removed."""
     plan = SIZES[size]
     logs = ([f"attempts/{method}.jsonl" for method, _ in plan.methods]
             + [basket_log(distance, bearing) for distance, bearing in plan.whole_arm_baskets])
     return (
-        "demos.csv", "clean.csv", "model.json", "run.json", "report.html", "whole-arm-demos.csv", "whole-arm-clean.csv",
+        *DATA_FILES,
         *(name for log in logs for name in (log, f"{log}.lock")),
         *(f"figures/{stem}.{suffix}" for stem in FIGURES for suffix in ("png", "svg")),
         *(FRAMES if frames else ()),
