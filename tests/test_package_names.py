@@ -7,6 +7,7 @@ import importlib
 import pydoc
 import re
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -68,3 +69,13 @@ def test_lazy_exports_load_a_name_on_first_use_and_list_it_before(monkeypatch):
     assert package.rgb_to_hsv is importlib.import_module("colorsys").rgb_to_hsv
     with pytest.raises(AttributeError, match="^module 'fake_package' has no attribute 'hsv'$"):
         package.hsv  # noqa: B018
+
+
+def test_the_model_package_docstring_lists_each_of_its_modules():
+    # compile_notice (and climb) were left out of the list
+    import rlff.model
+
+    folder = Path(rlff.model.__file__).parent
+    modules = {p.stem for p in folder.glob("*.py") if p.stem != "__init__"}
+    listed = set(re.findall(r"^``(\w+)``", rlff.model.__doc__, flags=re.MULTILINE))
+    assert listed == modules

@@ -1,9 +1,10 @@
 """Saying once that the model's kernels are being compiled for this machine.
 
-numba compiles rlff's GMR and DMM kernels at their first call after an install (about a minute of
-CPU, minutes on a busy machine) and caches the machine code beside the sources (``cache=True``,
-or under ``NUMBA_CACHE_DIR``); later processes load it in well under a second. A command that
-waits for the compiler without a word looks stuck, so the ``rlff`` command asks to be told
+numba compiles rlff's GMR and DMM kernels at their first call after an install (a minute and a
+half of CPU, minutes on a busy machine: :func:`rlff.model.compile_kernels` says what was
+measured) and caches the machine code beside the sources (``cache=True``, or under
+``NUMBA_CACHE_DIR``); later processes load it in well under a second. A command that waits for
+the compiler without a word looks stuck, so the ``rlff`` command asks to be told
 (:func:`tell_with`) when the first of rlff's kernels starts compiling: numba's ``numba:compile``
 event, which fires only for a kernel that is not in the cache (a cold cache), never for one loaded
 from it. The modules that define the kernels call :func:`listen` once numba is imported.

@@ -728,8 +728,10 @@ def compile_kernels() -> None:
     """Compile the compiled loops of GMR and the DMM mode (one output and several), or load them
     from numba's cache.
 
-    The first call after installing compiles them (10-20 s) and stores the machine code beside
-    the sources; later processes load it in well under a second. ``scripts/setup.sh`` calls this
+    The first call after installing compiles them (a minute and a half of CPU: 86-90 s, 2.2 min
+    of wall time, measured on a cold ``NUMBA_CACHE_DIR`` on a shared 2-core machine under a load
+    average of 4-6) and stores the machine code beside the sources; later processes load it in
+    well under a second. ``scripts/setup.sh`` calls this
     so that the first ``rlff`` command does not wait for the compiler.
     """
     mixture = GaussianMixture.from_parameters(np.array([0.5, 0.5]), np.array([[0.0, 0.0], [1.0, 2.0]]), np.array([np.eye(2)] * 2))
