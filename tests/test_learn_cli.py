@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import os
 import signal
 import socket
@@ -149,16 +150,51 @@ def test_a_ctrl_c_says_what_was_kept_and_how_to_write_out(demos_csv, tmp_path):
     code, err = _stopped_after_a_throw(base + ["--log", str(log), "-o", str(out), "--period", "0.004"], log, "")
     logged = attempt_lines(log)
     assert code == 130 and not out.exists(), err
-    hit = any(json.loads(line)["hit"] for line in logged)
-    pick, which = ("", "its last hit") if hit else (" --attempt N", "attempt N (no hit was logged)")
+    records = [json.loads(line) for line in logged]
+    hit = any(record["hit"] for record in records)
+    # without a hit, the attempt nearest the centre, as learn --out would have written
+    nearest = min((r for r in records if r["miss"] is not None), key=lambda r: abs(r["miss"]))["attempt"]
+    pick, which = (("", "its last hit") if hit else
+                   (f" --attempt {nearest}", f"attempt {nearest}, the throw nearest the centre (no hit was logged)"))
     kept = f"{len(logged)} attempt{'s' * (len(logged) > 1)}"
     export = f"rlff robot export {log}{pick} -o {out} -f csv --period 0.004"
     assert (f"rlff: {log} keeps {kept}: the same command resumes the run from there; --out {out} was not written: "
             f"`{export}` writes {which}\n") in err, err
-    # and that command does (N: the last attempt)
-    command = export.replace(" --attempt N ", f" --attempt {len(logged)} ").split()[1:]
+    # and that command does
+    command = export.split()[1:]
     done = subprocess.run([sys.executable, "-m", "rlff", *command], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0 and out.exists(), done.stderr
+
+
+def _logged_misses(log: Path, *misses: float) -> None:
+    """An attempts log of misses (m; NaN: the ball was not seen to come down), no hit."""
+    from rlff.learn.attempt import Attempt
+    from rlff.learn.log import AttemptLog
+
+    angle = np.linspace(-1.0, 0.0, 5)
+    with AttemptLog(log, {"basket": {"distance": 1.4}, "feedback": "binary", "update": "failure", "seed": 0}) as kept:
+        for index, miss in enumerate(misses, start=1):
+            kept.append(Attempt(index=index, target=1.4, query=1.4, angle=angle, velocity=-angle, time=angle + 1.0,
+                                hit=False, landing=1.4 + miss, miss=miss))
+
+
+def test_a_stopped_run_without_a_hit_names_the_attempt_to_write_out(tmp_path):
+    # it said `rlff robot export LOG --attempt N ...` writes attempt N: a literal N, not the
+    # attempt --out would have written (the one nearest the centre)
+    from rlff.cli.learn import _stopped_words
+
+    log, out = tmp_path / "attempts.jsonl", tmp_path / "learned.csv"
+    _logged_misses(log, -0.4, 0.12, -0.3)
+    assert _stopped_words(log, out, "csv", "comau_smart5_six", 0.002) == (
+        f"{log} keeps 3 attempts: the same command resumes the run from there; --out {out} was not written: "
+        f"`rlff robot export {log} --attempt 2 -o {out} -f csv` writes attempt 2, the throw nearest the centre "
+        "(no hit was logged)")
+    # none came down (typed misses): learn --out would have written nothing, and so it says
+    unseen = tmp_path / "unseen.jsonl"
+    _logged_misses(unseen, math.nan, math.nan)
+    assert _stopped_words(unseen, out, "csv", "comau_smart5_six", 0.002) == (
+        f"{unseen} keeps 2 attempts: the same command resumes the run from there; --out {out} was not written "
+        "(no logged throw came down to write it from)")
 
 
 def test_a_ctrl_c_caught_inside_an_import_still_exits_130(tmp_path):

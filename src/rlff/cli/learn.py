@@ -288,7 +288,8 @@ def _stopped_words(log: Path | None, out: Path | None, fmt: str | None, robot: s
     """What a run that Ctrl-C or SIGTERM stopped kept: how many attempts its ``log`` holds and that
     the same command resumes it (or, without ``--log``, that nothing was kept); and that ``out``
     (``--out``, of format ``fmt``) was not written, with the ``rlff robot export`` of the log that
-    writes it."""
+    writes the throw ``--out`` would have had (:func:`rlff.learn.loop.best_attempt`)."""
+    from rlff.learn.loop import best_attempt
     from rlff.robot.description import DEFAULT_ROBOT
     from rlff.trajectory.planner import DEFAULT_PERIOD
 
@@ -304,10 +305,14 @@ def _stopped_words(log: Path | None, out: Path | None, fmt: str | None, robot: s
     words += f"; --out {out} was not written"
     if not attempts:
         return words + " (no throw was logged to write it from)"
+    best = best_attempt(attempts)  # what --out would have written
+    if best is None:
+        return words + " (no logged throw came down to write it from)"
     options = "".join([f" --robot {shlex.quote(robot)}" if robot != DEFAULT_ROBOT else "", f" -f {fmt}",
                        f" --period {period:g}" if period != DEFAULT_PERIOD else ""])
-    pick = "" if any(a.hit for a in attempts) else " --attempt N"
-    which = "its last hit" if not pick else "attempt N (no hit was logged)"
+    # robot export takes a log's last hit by default; without a hit, the attempt to take is named
+    pick = "" if best.hit else f" --attempt {best.index}"
+    which = "its last hit" if best.hit else f"attempt {best.index}, the throw nearest the centre (no hit was logged)"
     return words + (f": `rlff robot export {shlex.quote(str(log))}{pick} -o {shlex.quote(str(out))}{options}` "
                     f"writes {which}")
 

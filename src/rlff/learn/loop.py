@@ -279,6 +279,17 @@ class Outcome(Protocol):
 Executor = Callable[[JointTrajectory], Outcome]
 
 
+def best_attempt(history: Sequence[Attempt]) -> Attempt | None:
+    """The throw of ``history`` to keep (what ``rlff learn --out`` writes, and what a stopped run
+    says to export): the last hit, else the attempt that came down nearest the basket's centre
+    (smallest ``abs(miss)``, m; the first of equals), else None (no attempt, or none came down)."""
+    hits = [a for a in history if a.hit]
+    if hits:
+        return hits[-1]
+    landed = [a for a in history if math.isfinite(a.miss)]
+    return min(landed, key=lambda a: abs(a.miss)) if landed else None
+
+
 @dataclass(frozen=True)
 class LearningResult:
     """The end of a run.
@@ -342,13 +353,8 @@ class LearningResult:
 
     @property
     def best(self) -> Attempt | None:
-        """The throw to keep: the last hit, else the attempt that came down nearest the centre,
-        else None (no attempt, or none came down)."""
-        hits = [a for a in self.history if a.hit]
-        if hits:
-            return hits[-1]
-        landed = [a for a in self.history if math.isfinite(a.miss)]
-        return min(landed, key=lambda a: abs(a.miss)) if landed else None
+        """The throw to keep: :func:`best_attempt` of the history."""
+        return best_attempt(self.history)
 
     def __repr__(self) -> str:
         """One line: the outcome, the attempts, every signed miss (m, to the millimetre), the
