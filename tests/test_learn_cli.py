@@ -603,6 +603,23 @@ def test_a_resumed_run_says_which_attempts_come_from_the_log(rlff, demos_csv, tm
     assert " 3/3 (100 %) " in shown[-1] and "resumed 2 attempts" in again.stderr
 
 
+def test_a_resumed_run_reads_its_log_once(rlff, demos_csv, tmp_path, monkeypatch):
+    # the command read the whole log to count its attempts, then the loop read it again: 0.43 s a
+    # read for a 3000-attempt log, before every resumed run's first throw
+    from rlff.learn import log as attempts_log
+
+    log = tmp_path / "a.jsonl"
+    args = ["learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--log", str(log)]
+    assert rlff(*args, "--budget", "2").code == 0
+    reads = []
+    records = attempts_log._records
+    monkeypatch.setattr(attempts_log, "_records", lambda path, raw: reads.append(path) or records(path, raw))
+    again = rlff(*args, "--budget", "3")
+    assert again.code == 0, again.stderr
+    assert reads == [log]
+    assert "attempt 2 (from the log): " in again.stderr and "resumed 2 attempts" in again.stderr
+
+
 @pytest.mark.parametrize("kind", ["a device", "a FIFO (named pipe)"])
 def test_a_log_that_is_no_regular_file_is_refused_before_any_throw(cli, demos_csv, tmp_path, kind):
     # a file output may be a device, so --log /dev/full passed the output guard: its lock file

@@ -62,6 +62,21 @@ def test_a_resumed_run_continues_exactly_like_an_uninterrupted_one(failed_demos,
     np.testing.assert_array_equal(resumed.history[2].velocity, straight.history[2].velocity)
 
 
+def test_a_resumed_run_tells_how_many_attempts_came_from_its_log_before_it_shows_them(failed_demos, tmp_path):
+    # a caller that says which attempts come from the log (rlff learn's progress) had to read the
+    # log itself to know, a second parse of it before the loop's own
+    log = tmp_path / "attempts.jsonl"
+    kwargs = dict(feedback="binary", update="failure", seed=1, log_path=log)
+    told = []
+    learn(failed_demos, 1.9, budget=1, resuming=lambda count: told.append(("resumed", count)), **kwargs)
+    assert told == [("resumed", 0)]
+    told.clear()
+    result = learn(failed_demos, 1.9, budget=3, resuming=lambda count: told.append(("resumed", count)),
+                   progress=lambda attempt: told.append(("attempt", attempt.index)), **kwargs)
+    assert result.resumed == 1 and result.attempts == 3
+    assert told == [("resumed", 1), ("attempt", 1), ("attempt", 2), ("attempt", 3)]
+
+
 def test_binary_feedback_hides_landing_and_miss():
     attempt = Attempt(1, 2.0, 2.0, np.arange(3.0), np.ones(3), np.arange(3.0), False, 1.7, -0.3)
     assert np.isnan(_as_reported(attempt, "binary").miss)

@@ -226,7 +226,9 @@ def _run(data, basket: float, settings: dict, live: dict | None):
     progress shown as it goes, the attempts resumed from the log said to come from it."""
     from rlff.learn import learn
 
-    resumed = _logged(settings["log_path"])
+    # how many attempts the loop took from the log, told before it shows them or throws: the log
+    # is read once, by the loop (a 3000-attempt log had been parsed once more here, 0.4 s)
+    resumed = 0
     with ExitStack() as stack:
         bar = []  # opened at the first attempt, so that bad input fails before any display
         run_on = None
@@ -246,7 +248,13 @@ def _run(data, basket: float, settings: dict, live: dict | None):
             run_on = stack.enter_context(robot_executor(
                 settings["executed_on"], live["outcome"], settings["robot"], basket, settings["feedback"],
                 until=settings["until"], ask=_ask, landing_topic=live["landing_topic"], network=live["network"],
-                tell=tell, approach_speed=live["approach_speed"], resumed=resumed))
+                tell=tell, approach_speed=live["approach_speed"]))
+
+        def resuming(count: int) -> None:
+            nonlocal resumed
+            resumed = count
+            if run_on is not None:  # a resumed live run numbers its throws as the log does
+                run_on.resume(count)
 
         def show(attempt) -> None:
             # the loop shows the log's attempts first: not thrown now, and said so
@@ -260,14 +268,7 @@ def _run(data, basket: float, settings: dict, live: dict | None):
             bar[0](1, description=f"{which}: {seen}, exploration {attempt.exploration:.2f}",
                    total=max(settings["budget"], attempt.index))  # a log resumed with a smaller --budget
 
-        return learn(data, basket, **settings, progress=show, executor=run_on)
-
-
-def _logged(log: Path | None) -> int:
-    """How many attempts ``log`` holds (0 for none, or one that cannot be read: the run itself
-    says what is wrong with it), so that a resumed run says which attempts it shows come from the
-    log, and a resumed live run numbers its throws as the log does."""
-    return len(_logged_attempts(log))
+        return learn(data, basket, **settings, progress=show, resuming=resuming, executor=run_on)
 
 
 def _logged_attempts(log: Path | None) -> list:

@@ -399,6 +399,7 @@ def learn(
     log_path: str | Path | None = None,
     executor: Executor | None = None,
     progress: Callable[[Attempt], None] | None = None,
+    resuming: Callable[[int], None] | None = None,
     robot: str | Any = "comau_smart5_six",
     pedestal: float = 0.0,
     rim_height: float = 0.3,
@@ -450,7 +451,12 @@ def learn(
         at rest at the throw's first pose, not where the arm is: an executor that drives an arm
         sends :func:`rlff.learn.plan_from_pose` of it from the arm's pose (see :data:`Executor`).
     progress : callable, optional
-        Called with every attempt as it ends (also those resumed from the log).
+        Called with every attempt as it ends, the attempts resumed from the log first.
+    resuming : callable, optional
+        ``resuming(count)``, called once before ``progress`` is given any attempt and before the
+        first throw, with how many attempts were taken from the log (0 without one): the first
+        ``count`` attempts ``progress`` is given come from the log, and the first throw of this
+        call is attempt ``count + 1`` (what :meth:`rlff.learn.robot.RobotExecutor.resume` takes).
     robot : str or Robot
         Robot name, robot file or description; its ``[throwing]`` table is the one-joint
         mapping, its ``[whole_arm]`` table the whole arm's.
@@ -618,7 +624,7 @@ def learn(
     try:
         result = _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
                       progress, until, centre_window(until, centre_share, target.opening), pedestal, components,
-                      tuple(run.get("carried", ())), misreport, kinematic)
+                      tuple(run.get("carried", ())), misreport, kinematic, resuming=resuming)
         result.notes[:0] = [hint] * bool(hint and not result.resumed) + limit_notes + carry_notes
         return result
     finally:
@@ -640,10 +646,13 @@ def _demonstrations(demos) -> Dataset:
 
 
 def _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor, progress,
-         until, centre_window, pedestal, components, carried, misreport, kinematic) -> LearningResult:
+         until, centre_window, pedestal, components, carried, misreport, kinematic, *,
+         resuming=None) -> LearningResult:
     """The attempts of :func:`learn` after its checks, with the log (or None) held."""
     history = list(log.contents.attempts) if log else []
     resumed = len(history)
+    if resuming:
+        resuming(resumed)
     for attempt in history:
         if progress:
             progress(attempt)

@@ -305,6 +305,12 @@ class RobotExecutor:
         self.ready = ready
         self.attempts = resumed
 
+    def resume(self, attempts: int) -> None:
+        """Number the next throw ``attempts + 1``, as a log that holds ``attempts`` does: the
+        ``resuming`` of :func:`rlff.learn.learn`, which says how many it took from its log before
+        the first throw (the constructor's ``resumed``, known only once the log is read)."""
+        self.attempts = attempts
+
     def __call__(self, trajectory: JointTrajectory) -> ReportedOutcome:
         self.attempts += 1
         pose, planned = self._plan(trajectory)
