@@ -364,14 +364,14 @@ def _write_best(result, robot: str, out: Path, fmt: str, period: float, joints: 
     """The best throw to ``out``, planned and written as ``rlff robot export`` does."""
     from rlff.learn.replay import export_attempt
     from rlff.robot.description import load_robot
-    from rlff.robot.ros_defaults import ros_defaults_note
+    from rlff.robot.ros_defaults import bag_defaults_note
 
     best = result.best
     if best is None:
         say(f"no throw came down: nothing written to {out}")
         return None
     model = load_robot(robot)
-    if fmt.endswith("-bag") and (defaults := ros_defaults_note(model, "the bag is written", ("trajectory_topic",))):
+    if (defaults := bag_defaults_note(model, fmt)) is not None:
         warn(defaults)
     planned = export_attempt(best, model, out, fmt, period, joints=joints, bearing=bearing).trajectory
     what = "the last hit" if best.hit else "no hit: the throw nearest the centre"

@@ -192,7 +192,7 @@ def export(
     from rlff.robot.formats import export_trajectory
     from rlff.robot.mapping import mapping_for
     from rlff.robot.plan import require_planned
-    from rlff.robot.ros_defaults import ros_defaults_note
+    from rlff.robot.ros_defaults import bag_defaults_note
 
     bag_folder = (fmt or SUFFIX_FORMATS.get(out.suffix.lower())) == "ros2-bag"
     guard(inputs={"TRAJECTORY": trajectory, "--robot": robot_file(robot)}, outputs={"-o/--output": out},
@@ -211,7 +211,7 @@ def export(
     # what the Comau program carries: an attempts log's run's joints, else the ones asked for
     mapping = run_mapping(model, source.run) if source.run is not None else mapping_for(model, driven)
     say(f"{trajectory}: {input_words(trajectory, source, attempt)}")
-    if fmt.endswith("-bag") and (defaults := ros_defaults_note(model, "the bag is written", ("trajectory_topic",))):
+    if (defaults := bag_defaults_note(model, fmt)) is not None:
         warn(defaults)
     result = source.plan
     export_trajectory(result.trajectory, mapping, fmt, out, header_stamp_ns=clock.time_ns() if stamp_now else 0)

@@ -41,3 +41,13 @@ def ros_defaults_note(robot: Robot, doing: str, keys: Sequence[str]) -> str | No
             f"the robot file's joint names ({', '.join(robot.joint_names)}); if your arm's controller has other "
             "names, give them in a [ros] table (action, joint_states, trajectory_topic; a [ros.joints.<joint>] "
             "table of name, offset and sign for each joint it names or counts otherwise; docs/robot.md)")
+
+
+def bag_defaults_note(robot: Robot, fmt: str) -> str | None:
+    """:func:`ros_defaults_note` of a file written in format ``fmt`` (``ros1-bag``, ``ros2-bag``,
+    ``json``, ...) for ``robot``: a bag carries the ``trajectory_topic`` it is written on, the
+    other formats no ROS name (None for them), as ``rlff robot export`` and ``rlff learn --out``
+    say it."""
+    if not fmt.endswith("-bag"):
+        return None
+    return ros_defaults_note(robot, "the bag is written", ("trajectory_topic",))
