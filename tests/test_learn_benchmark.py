@@ -336,6 +336,24 @@ def test_a_scheduler_nobody_runs_is_an_input_error(monkeypatch):
         pass
 
 
+def test_a_scheduler_without_distributed_installed_names_the_extra_that_brings_it(monkeypatch):
+    # it said "pip install distributed", where every other missing package names rlff's extra
+    import sys
+    import tomllib
+    from pathlib import Path
+
+    from rlff.learn.benchmark import parallel_backend
+
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)  # as if not installed
+    with pytest.raises(InputError) as refused, parallel_backend("tcp://127.0.0.1:9"):
+        pass
+    assert str(refused.value) == ("--scheduler needs the Python package distributed (dask.distributed), from rlff's "
+                                  "optional 'cluster' extra, which is not installed in this Python: install it with "
+                                  "`pip install 'rlff[cluster]'`")
+    project = tomllib.loads((Path(__file__).resolve().parents[1] / "pyproject.toml").read_text())
+    assert any(need.startswith("distributed") for need in project["project"]["optional-dependencies"]["cluster"])
+
+
 def test_the_held_out_tables_come_from_the_json_report(tmp_path):
     """benchmarks/learning_tables.py prints the report's cells: median / mean / hits (p)."""
     import json

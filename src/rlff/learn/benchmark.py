@@ -10,7 +10,7 @@ record come from seeds 100 and above.
 
 The runs are independent and go to joblib workers: local processes (``loky``), or a Dask
 cluster given its scheduler's address (joblib's ``dask`` backend, which needs
-``dask.distributed``).
+``dask.distributed``: ``pip install 'rlff[cluster]'``).
 
 Before any run, every basket of the grid is checked against the robot's reach
 (:func:`require_reachable_baskets`): an arm of one's own that throws less far than the Comau
@@ -55,6 +55,8 @@ METHODS_BY_FEEDBACK = {
 HELD_OUT_SEEDS = 100
 #: Seconds to wait for a Dask scheduler to answer.
 SCHEDULER_TIMEOUT = 10.0
+#: The extra of pyproject.toml that brings ``distributed``, which ``scheduler`` needs.
+CLUSTER_EXTRA = "cluster"
 
 
 def demonstrations(seed: int, scenario: Scenario | str = "short") -> Dataset:
@@ -212,7 +214,10 @@ def parallel_backend(scheduler: str | None) -> Iterator[None]:
     try:
         from dask.distributed import Client
     except ImportError:
-        raise InputError("--scheduler needs dask.distributed (pip install distributed)") from None
+        # said as the other missing packages are (rlff.cli.missing_package): the extra that brings it
+        raise InputError(f"--scheduler needs the Python package distributed (dask.distributed), from rlff's optional "
+                         f"'{CLUSTER_EXTRA}' extra, which is not installed in this Python: install it with "
+                         f"`pip install 'rlff[{CLUSTER_EXTRA}]'`") from None
     try:
         client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
     except (OSError, TimeoutError, ValueError) as exc:
