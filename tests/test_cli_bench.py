@@ -154,6 +154,18 @@ def test_bad_options_are_one_line_input_errors(cli, option, value, message):
     assert len(result.stderr.strip().splitlines()) == 1
 
 
+def test_two_methods_of_one_name_are_refused_as_the_library_refuses_them(cli, tmp_path):
+    # the command's own check, now the library's (rlff.learn.benchmark.method_classes)
+    from own_method import write_module
+
+    first = write_module(tmp_path)
+    (tmp_path / "other.py").write_text((tmp_path / f"{first}.py").read_text())
+    result = cli("bench", "learning", "--methods", f"{first}:Faster,other:Faster", cwd=tmp_path)
+    assert result.code == 2 and result.stdout == ""
+    assert result.stderr == (f"rlff: error: --methods: {first}:Faster and other:Faster are both the method 'faster': "
+                             "its runs would count twice in one row\n")
+
+
 def test_a_method_that_cannot_use_the_feedback_is_said_to_be_left_out(cli):
     # --methods calibrate,cma --feedback binary showed calibrate alone without a word
     result = cli("bench", "learning", "--methods", "calibrate,cma", "--feedback", "binary", "--seeds", "1",

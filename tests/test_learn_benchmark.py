@@ -118,6 +118,9 @@ def test_a_basket_beyond_the_robots_reach_stops_the_benchmark_before_its_first_r
     ({"binary": ("nonsense",)}, r"^unknown update 'nonsense'"),
     ({"distance": ("secant",)}, r"^methods name methods for distance feedback, and scenario short runs binary "
                                 r"feedback: nothing to run; give methods for 'binary'"),
+    # its runs had counted twice in one row
+    ({"binary": ("sweep", "imitation", "sweep")}, r"^methods\['binary'\]: 'sweep' given twice: its runs would count "
+                                                  r"twice in one row$"),
 ])
 def test_methods_that_cannot_run_are_refused_before_any_run(methods, words):
     scenario = Scenario(feedbacks=(parse_feedback("binary"),), baskets=(1.4,))
@@ -125,6 +128,31 @@ def test_methods_that_cannot_run_are_refused_before_any_run(methods, words):
     with pytest.raises(InputError, match=words):
         learning_benchmark(scenario, 1, methods=methods, progress=seen.append)
     assert seen == []
+
+
+def test_a_method_and_its_module_colon_class_are_one_method_and_refused_together(tmp_path, monkeypatch):
+    # only rlff bench's --methods refused two spellings of one method: learning_benchmark ran both
+    # and counted the method's runs twice in its row
+    import importlib
+    import sys
+
+    from own_method import write_module
+
+    monkeypatch.chdir(tmp_path)
+    name = write_module(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    try:
+        faster = importlib.import_module(name).Faster
+        scenario = Scenario(feedbacks=(parse_feedback("distance"),), baskets=(1.4,))
+        seen = []
+        with pytest.raises(InputError) as refused:
+            learning_benchmark(scenario, 1, methods={"distance": (faster, "secant", f"{name}:Faster")},
+                               progress=seen.append)
+        assert str(refused.value) == (f"methods['distance']: class {name}.Faster and {name}:Faster are both the method "
+                                      "'faster': its runs would count twice in one row")
+        assert seen == []
+    finally:
+        sys.modules.pop(name, None)
 
 
 @pytest.mark.parametrize("text, kind, noise, rate", [

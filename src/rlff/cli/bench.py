@@ -34,24 +34,18 @@ def _names(option: str, text: str, known: list[str] | None = None) -> list[str]:
 
 
 def _method_classes(names: list[str]) -> dict:
-    """``--methods``' names, each the method class it names (:func:`rlff.learn.loop.method_of`: a
-    built-in method's name or MODULE:CLASS), checked before any run; two of one ``name`` (the
-    table's rows and the runs know a method by it) are refused."""
+    """``--methods``' names, each the method class it names, checked before any run as the
+    library checks them (:func:`rlff.learn.benchmark.method_classes`: two of one ``name`` are
+    refused), a name that is no method said with the option."""
+    from rlff.learn.benchmark import method_classes
     from rlff.learn.loop import method_of
 
-    classes = {}
     for name in names:
         try:
-            classes[name] = method_of(name)
+            method_of(name)
         except InputError as exc:
             raise InputError(f"--methods: {exc}") from None
-    by_name = {}
-    for given, method in classes.items():
-        if method.name in by_name:
-            raise InputError(f"--methods: {by_name[method.name]} and {given} are both the method {method.name!r}: "
-                             "its runs would count twice in one row")
-        by_name[method.name] = given
-    return classes
+    return dict(zip(names, method_classes(names, "--methods"), strict=True))
 
 
 @app.command("learning")

@@ -179,10 +179,10 @@ def learning_benchmark(
 def require_methods(methods: Mapping[str, Sequence[str | type[Method]]], scenario: Scenario) -> None:
     """Raise :class:`InputError` unless every key of ``methods`` is a feedback kind, every
     method a method (:func:`rlff.learn.loop.method_of`) that can use the feedback it is given
-    for, and ``methods`` names at least one method for a feedback kind of ``scenario``; said
-    before any run, not by a worker (a kind the scenario runs and ``methods`` does not name had
-    ended the benchmark with ``KeyError: 'binary'``)."""
-    from rlff.learn.loop import method_of
+    for, no two of a kind's methods one method's name (:func:`method_classes`), and ``methods``
+    names at least one method for a feedback kind of ``scenario``; said before any run, not by a
+    worker (a kind the scenario runs and ``methods`` does not name had ended the benchmark with
+    ``KeyError: 'binary'``)."""
     from rlff.learn.method import FEEDBACKS
 
     unknown = [kind for kind in methods if kind not in FEEDBACKS]
@@ -190,8 +190,8 @@ def require_methods(methods: Mapping[str, Sequence[str | type[Method]]], scenari
         raise InputError(f"methods: {', '.join(map(repr, unknown))} is no feedback kind; give methods per feedback "
                          f"kind, {' or '.join(map(repr, FEEDBACKS))}, e.g. {{'distance': ('secant',)}}")
     for kind, named in methods.items():
-        for method in named:
-            method_class = method_of(method)  # a method of one's own that is not one fails here
+        # a method of one's own that is not one fails here, and so do two of one name
+        for method_class in method_classes(named, f"methods[{kind!r}]"):
             if kind not in method_class.feedbacks:
                 raise InputError(f"methods[{kind!r}]: {method_class.name} needs {' or '.join(method_class.feedbacks)} "
                                  f"feedback, not {kind}; give it under {method_class.feedbacks[0]!r}")
@@ -201,6 +201,39 @@ def require_methods(methods: Mapping[str, Sequence[str | type[Method]]], scenari
         raise InputError(f"methods name methods for {' and '.join(named) or 'no'} feedback, and scenario "
                          f"{scenario.name} runs {' and '.join(kinds)} feedback: nothing to run; give methods for "
                          f"{' or '.join(map(repr, kinds))}, or a Scenario whose feedbacks are of the kinds named")
+
+
+def method_classes(named: Sequence[str | type[Method]], where: str = "methods") -> list[type[Method]]:
+    """The method class each of ``named`` is (:func:`rlff.learn.loop.method_of`: a built-in
+    method's name, MODULE:CLASS or a :class:`rlff.learn.Method` subclass), in order.
+
+    Raises
+    ------
+    InputError
+        ``method_of``'s, or two of ``named`` that are one method's ``name`` (the same name twice, a
+        class and its MODULE:CLASS, two classes of one name): a benchmark's rows and runs know a
+        method by its name, so its runs would count twice in one row. Said as ``where`` (e.g.
+        ``--methods``) names the list.
+    """
+    from rlff.learn.loop import method_of
+
+    classes = [method_of(method) for method in named]
+    first: dict[str, str | type[Method]] = {}
+    for method, method_class in zip(named, classes, strict=True):
+        if method_class.name not in first:
+            first[method_class.name] = method
+            continue
+        before = first[method_class.name]
+        if before == method:
+            raise InputError(f"{where}: {_given(method)!r} given twice: its runs would count twice in one row")
+        raise InputError(f"{where}: {_given(before)} and {_given(method)} are both the method {method_class.name!r}: "
+                         "its runs would count twice in one row")
+    return classes
+
+
+def _given(method: str | type[Method]) -> str:
+    """A method as it was given: its name (or MODULE:CLASS), or ``class MODULE.CLASS``."""
+    return method if isinstance(method, str) else f"class {method.__module__}.{method.__qualname__}"
 
 
 @contextlib.contextmanager
