@@ -23,7 +23,7 @@ else
 fi
 
 # The GMR and DMM loops are compiled by numba once, into its cache beside the sources.
-echo "setup: compiling the model kernels (the first time only: about 15 s)" >&2
+echo "setup: compiling the model kernels (the first time only: about a minute and a half)" >&2
 .venv/bin/python -c "from rlff.model import compile_kernels; compile_kernels()"
 
 if (( with_tests )); then
