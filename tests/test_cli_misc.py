@@ -29,6 +29,18 @@ def one_line_error(result, *fragments: str) -> str:
     return lines[0]
 
 
+def error_after_progress(result, *fragments: str) -> str:
+    """The error line of a failed command that had started its work: its progress lines (the
+    work's start, each file read) may come first, then the one-line reason, exit code 2."""
+    assert result.code == 2, (result.code, result.stdout, result.stderr)
+    *before, last = result.stderr.strip().splitlines()
+    assert all(line.startswith(("report of ", "reading ")) for line in before), result.stderr
+    assert last.startswith("rlff: error: ") and "Traceback" not in result.stderr
+    for fragment in fragments:
+        assert fragment in last
+    return last
+
+
 def written(result) -> list[Path]:
     assert result.code == 0, result.stderr
     return [Path(p) for p in json.loads(result.stdout)["files"]]
@@ -93,8 +105,8 @@ def test_report_bad_input(rlff, tmp_path):
     log = tmp_path / "attempts.jsonl"
     log.write_text("")
     one_line_error(rlff("report", str(log)), "`rlff plot learning LOG -o OUT` draws its learning curve")
-    # an empty log is no log: passed over, named
-    one_line_error(rlff("report", str(tmp_path)), "(passed over attempts.jsonl: an empty file, not an rlff attempts log",
+    # an empty log is no log: passed over, named (after the progress of reading it)
+    error_after_progress(rlff("report", str(tmp_path)), "(passed over attempts.jsonl: an empty file, not an rlff attempts log",
                    "give a folder that `rlff demo` wrote, or one holding your own chain's files")
     (tmp_path / "run.json").write_text('{"format": "rlff-run", "version": 9}')
     one_line_error(rlff("report", str(tmp_path)), "unsupported version 9")

@@ -45,6 +45,7 @@ def _chain_report(folder: Path, target: Path, as_json: bool) -> None:
     """The report of a folder without run.json: its datasets, models and attempts logs
     (:mod:`rlff.chain_report`), the figures drawn in a temporary run directory and embedded."""
     import tempfile
+    from contextlib import nullcontext
 
     from rlff.chain_report import COUNTED, DATASET_SUFFIXES, chain_run
     from rlff.cli._common import progress, say, warn
@@ -58,7 +59,9 @@ def _chain_report(folder: Path, target: Path, as_json: bool) -> None:
     guard(inputs={"RUN": read}, outputs={"-o/--output": target})
     with tempfile.TemporaryDirectory(prefix="rlff-report-") as scratch:
         # a folder of lab-sized datasets takes a minute or more to read and draw: said as it goes
-        with progress(f"report of {folder}", total=None) as advance:
+        # a folder of nothing it reads is refused at once, without a progress line before the error
+        with progress(f"report of {folder}", total=None) if read else nullcontext(lambda *args, **kwargs: None) \
+                as advance:
             told = {"done": 0}
 
             def show(step: str, done: int, total: int) -> None:
