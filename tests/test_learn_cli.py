@@ -632,3 +632,19 @@ def test_a_log_that_is_no_regular_file_is_refused_before_any_throw(cli, demos_cs
     assert result.stderr == (f"rlff: error: --log {log} is {kind}, not a file: an attempts log is a regular file, "
                              "resumed when it exists, or a new path; give a file's path (e.g. attempts.jsonl)\n")
     assert not log.with_name(log.name + ".lock").exists()
+
+
+@pytest.mark.slow
+def test_a_long_run_lists_its_first_and_last_misses_and_says_where_the_rest_are(rlff, demos_csv, tmp_path):
+    # imitation throws one throw until the same-throw rule stops it at 50: a line of 50 misses had
+    # been printed one by one (a 1,000-attempt run's line held a thousand)
+    log = tmp_path / "a.jsonl"
+    result = rlff("learn", str(demos_csv), "--basket", "1.6", "--update", "imitation", "--budget", "60",
+                  "--log", str(log))
+    assert result.code == 0, result.stderr
+    listed = result.stdout.strip().split("signed misses from the centre (m): ")[1].split(", ")
+    logged = [json.loads(text)["miss"] for text in log.read_text().splitlines()[1:]]
+    assert len(logged) == 50
+    assert listed[:10] == [f"{miss:+.2f}" for miss in logged[:10]]
+    assert listed[10] == f"... 35 more (every one in --json and {log}) ..."
+    assert listed[11:] == [f"{miss:+.2f}" for miss in logged[-5:]]

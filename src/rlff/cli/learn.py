@@ -24,6 +24,10 @@ from rlff.cli._common import (
 from rlff.cli.output import output_option
 from rlff.wording import attempt_outcome, plural, signed_metres
 
+#: Most attempts whose signed misses the result line lists one by one; a longer run lists its
+#: first MISSES_FIRST and last MISSES_LAST (a 1,000-attempt run's line had held every miss).
+MISSES_LISTED, MISSES_FIRST, MISSES_LAST = 20, 10, 5
+
 
 def register(root: typer.Typer) -> None:
     """Add the top-level ``learn`` command."""
@@ -211,7 +215,12 @@ def learn_command(
                + (", stopped: out of the arm's reach" if result.out_of_reach else "")
                + (", stopped: the same throw at the arm's limit again" if result.repeated else "")
                + (", stopped: the same throw, reported the same, again" if result.unchanged else ""))
-    misses = ", ".join(attempt_outcome(a.hit, m) for m, a in zip(result.misses, result.history, strict=True))
+    outcomes = [attempt_outcome(a.hit, m) for m, a in zip(result.misses, result.history, strict=True)]
+    if len(outcomes) > MISSES_LISTED:  # a long run's line: its first and last attempts, the rest elsewhere
+        kept_in = f"--json and {log}" if log is not None else "--json"
+        outcomes[MISSES_FIRST:-MISSES_LAST] = [f"... {len(outcomes) - MISSES_FIRST - MISSES_LAST} more (every one in "
+                                               f"{kept_in}) ..."]
+    misses = ", ".join(outcomes)
     where = "".join([f", bearing {bearing:g} deg" if bearing else "", f", rim {height:g} m" if height is not None else "",
                      f", joints {', '.join(driven)}" if driven else "",
                      "" if arm.none else f", simulated arm {arm.name}"])
