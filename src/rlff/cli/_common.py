@@ -13,6 +13,7 @@ import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import typer
@@ -269,6 +270,19 @@ def progress(description: str, total: int | None) -> Iterator[Callable[..., None
                 bar.update(task, completed=round(done))
 
         yield advance
+
+
+def files_advance(advance: Callable[..., None]) -> Callable[[str, str, float], None]:
+    """:func:`rlff.capture.import_recordings`' ``progress(path, stage, share)`` as the ``advance``
+    of a bar that counts files (:func:`progress`): each file fills one unit by
+    its share done, its name and stage the description ("session.bag: labelling throw 3 of 600")."""
+    file_share = {"done": 0.0}  # of the file being imported
+
+    def show(path: str, stage: str, share: float) -> None:
+        advance(share - file_share["done"], description=f"{Path(path).name}: {stage}")
+        file_share["done"] = 0.0 if stage == "done" else share
+
+    return show
 
 
 class _ProgressLines:

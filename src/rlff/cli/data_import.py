@@ -2,29 +2,15 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
 
 import typer
 
-from rlff.cli._common import emit_json, progress, say, stdout, warn
+from rlff.cli._common import emit_json, files_advance, progress, say, stdout, warn
 from rlff.cli.data import app
 from rlff.cli.output import guard, output_option
 from rlff.errors import InputError
 from rlff.wording import plural
-
-
-def files_advance(advance: Callable[..., None]) -> Callable[[str, str, float], None]:
-    """:func:`rlff.capture.import_recordings`' ``progress(path, stage, share)`` as the ``advance``
-    of a bar that counts files (:func:`rlff.cli._common.progress`): each file fills one unit by
-    its share done, its name and stage the description ("session.bag: labelling throw 3 of 600")."""
-    file_share = {"done": 0.0}  # of the file being imported
-
-    def show(path: str, stage: str, share: float) -> None:
-        advance(share - file_share["done"], description=f"{Path(path).name}: {stage}")
-        file_share["done"] = 0.0 if stage == "done" else share
-
-    return show
 
 
 def column_map(text: str | None) -> dict[str, str] | None:

@@ -316,8 +316,8 @@ def cuts_command(
     """Where rlff data import cuts a recording: the elbow angle over time, each throw and each movement not taken."""
     from rlff.capture import import_recordings
     from rlff.capture.label import LandingSettings
-    from rlff.cli._common import progress
-    from rlff.cli.data_import import column_map, files_advance
+    from rlff.cli._common import files_advance, progress
+    from rlff.cli.data_import import column_map
     from rlff.plots.capture import throw_cuts
 
     _guard(out, {"RECORDING": recording, "--manifest": manifest})
