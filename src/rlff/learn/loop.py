@@ -650,6 +650,8 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
          resuming=None) -> LearningResult:
     """The attempts of :func:`learn` after its checks, with the log (or None) held."""
     history = list(log.contents.attempts) if log else []
+    # the attempts as the method is told them, kept beside history (not made again per attempt)
+    reported = [_as_reported(a, feedback, centre_window) for a in history]
     resumed = len(history)
     if resuming:
         resuming(resumed)
@@ -690,8 +692,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         attempts as the method was told them."""
         if history and done(history[-1]):
             return None
-        reported = [_as_reported(a, feedback, centre_window) for a in history[-SAME_REPORTED:]]
-        return same_throw_reported_the_same(reported, mapping)
+        return same_throw_reported_the_same(reported[-SAME_REPORTED:], mapping)
 
     def stop_notes() -> tuple[str | None, str | None, str | None]:
         """What stops the run after the attempts so far, the first rule that says anything:
@@ -710,7 +711,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         start = clock.perf_counter()
         index = len(history) + 1
         try:
-            proposal = proposed(method, problem, [_as_reported(a, feedback, centre_window) for a in history], index)
+            proposal = proposed(method, problem, list(reported), index)  # a copy: the method may keep or change it
             for kind, words in changed_words(proposal, problem).items():
                 changed.setdefault(kind, (index, words, []))[2].append(index)
             attempt = _execute(proposal, index, target, mapping, executor, start,
@@ -722,6 +723,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         if log:
             log.append(attempt)
         history.append(attempt)
+        reported.append(_as_reported(attempt, feedback, centre_window))
         if progress:
             progress(attempt)
         out_of_reach, repeated, unchanged = stop_notes()
