@@ -287,15 +287,13 @@ class RobotExecutor:
         (:data:`rlff.trajectory.planner.APPROACH_SPEED`).
     ready : callable, optional
         ``ready(attempt)`` returns when the throw may go (a person said so); None: at once.
-    resumed : int
-        Attempts the run's log already holds: the first throw here is attempt ``resumed + 1``, as
-        the log numbers it.
+
+    The first throw is attempt 1 until :meth:`resume` says how many the run's log holds.
     """
 
     def __init__(self, arm: LiveArm, robot: Robot, outcome: Callable[[int, float], ReportedOutcome],
                  period: float = PERIOD, tell: Callable[[str], None] | None = None,
-                 ready: Callable[[int], None] | None = None, approach_speed: float = APPROACH_SPEED,
-                 resumed: int = 0) -> None:
+                 ready: Callable[[int], None] | None = None, approach_speed: float = APPROACH_SPEED) -> None:
         self.arm = arm
         self.robot = robot
         self.outcome = outcome
@@ -303,12 +301,12 @@ class RobotExecutor:
         self.approach_speed = check_approach_speed(approach_speed)
         self.tell = tell
         self.ready = ready
-        self.attempts = resumed
+        self.attempts = 0
 
     def resume(self, attempts: int) -> None:
         """Number the next throw ``attempts + 1``, as a log that holds ``attempts`` does: the
         ``resuming`` of :func:`rlff.learn.learn`, which says how many it took from its log before
-        the first throw (the constructor's ``resumed``, known only once the log is read)."""
+        the first throw (known only once the log is read)."""
         self.attempts = attempts
 
     def __call__(self, trajectory: JointTrajectory) -> ReportedOutcome:
@@ -387,7 +385,6 @@ def robot_executor(
     network: bool = False,
     tell: Callable[[str], None] | None = None,
     approach_speed: float = APPROACH_SPEED,
-    resumed: int = 0,
 ) -> Iterator[RobotExecutor]:
     """A :class:`RobotExecutor` on a live arm, for the time of the ``with`` block.
 
@@ -415,9 +412,8 @@ def robot_executor(
     tell : callable, optional
         ``tell(line)``: each throw's approach, announced before its goal is sent.
     approach_speed : float
-        Share of the joints' limits each throw's approach uses.
-    resumed : int
-        Attempts the run's log already holds (the throws are numbered on from them).
+        Share of the joints' limits each throw's approach uses. The throws are numbered from 1
+        until the executor's :meth:`RobotExecutor.resume` says how many the run's log holds.
 
     Raises
     ------
@@ -471,10 +467,9 @@ def robot_executor(
                 return measured_outcome(landings, attempt, release, basket, tolerance, landing_topic,
                                         outcome_timeout)
 
-            yield RobotExecutor(arm, model, measured, tell=tell, approach_speed=approach_speed, resumed=resumed)
+            yield RobotExecutor(arm, model, measured, tell=tell, approach_speed=approach_speed)
         else:
-            yield RobotExecutor(arm, model, asked, tell=tell, ready=confirmed, approach_speed=approach_speed,
-                                resumed=resumed)
+            yield RobotExecutor(arm, model, asked, tell=tell, ready=confirmed, approach_speed=approach_speed)
 
 
 def _ros2_arm(stack: ExitStack, topic: str, network: bool):
