@@ -55,6 +55,21 @@ def test_csv_time_that_goes_back_names_the_line_and_what_to_do(tmp_path):
         read_joint_csv(path)
 
 
+def test_csv_rows_out_of_order_are_named_as_such_not_as_another_time_unit(tmp_path):
+    # shuffled rows at 15 Hz were "steps by 4.2 per frame (median) ...: it looks like milliseconds
+    # (divide the column by 1,000)": the median of the steps forward, between rows far apart
+    time = np.random.default_rng(0).permutation(200) / 15.0
+    path = _write_csv(tmp_path / "shuffled.csv", list(time))
+    with pytest.raises(InputError, match=r"shuffled.csv, line 3: time stamp .* goes back \(two recordings appended, "
+                                         r"or rows out of order\?\): split the file at this line, or sort its rows by "
+                                         r"time stamp$"):
+        read_joint_csv(path)
+    # the same rows in order, in milliseconds, are named as milliseconds still
+    path = _write_csv(tmp_path / "ms.csv", list(np.sort(time) * 1000))
+    with pytest.raises(InputError, match=r"it looks like milliseconds \(divide the column by 1,000\)$"):
+        read_joint_csv(path)
+
+
 def test_a_csv_with_a_header_and_no_rows_holds_no_frames(tmp_path):
     # under pandas 3 it was "internal error: ValueError: output array is read-only"
     path = _write_csv(tmp_path / "header.csv", [0.0, 0.1])

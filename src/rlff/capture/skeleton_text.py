@@ -490,7 +490,6 @@ def read_joint_csv(
     time_column = column("time")
     if time_column is not None:
         time = numeric(time_column)
-        _check_time_unit(time, time_column, path)
         if rate is not None:
             notes.append(f"{path.name}: --rate {rate:g} Hz is ignored: the time column {time_column!r} gives the time")
     else:
@@ -506,7 +505,10 @@ def read_joint_csv(
             )
         elif timelike:
             notes.append(f"{path.name}: no time column: frames taken as {rate:g} Hz (--rate){hint}")
+    # rows out of order first: the steps between shuffled rows are no frame rate
     keep = _forward_rows(time, lambda row: data_row_line(path, row, separator), "time stamp", notes, path, " s")
+    if time_column is not None:
+        _check_time_unit(time[keep], time_column, path)
     torso = {}
     for point in CSV_TORSO:
         names = [column(f"{point}_{axis}") for axis in _AXES]
@@ -561,9 +563,9 @@ def read_joint_csv(
 
 def _check_time_unit(time: np.ndarray, name: str, path: Path) -> None:
     """Refuse a time column whose median step puts the frame rate outside :data:`FRAME_RATE_RANGE`
-    (a column in milliseconds, or in microseconds), naming the unit it looks like."""
+    (a column in milliseconds, or in microseconds), naming the unit it looks like; ``time`` of
+    shape (N,) is the column's stamps in order, without repeats (:func:`_forward_rows`)."""
     steps = np.diff(time)
-    steps = steps[steps > 0]
     if steps.size == 0:
         return  # one row, or all repeats: the rows' own checks say so
     spacing = float(np.median(steps))
