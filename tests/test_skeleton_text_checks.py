@@ -55,6 +55,52 @@ def test_csv_time_that_goes_back_names_the_line_and_what_to_do(tmp_path):
         read_joint_csv(path)
 
 
+def _edit_columns(path: Path, drop: tuple[str, ...] = (), rename: dict[str, str] | None = None,
+                  add: tuple[str, ...] = ()) -> Path:
+    """The CSV at ``path`` without the columns ``drop``, with ``rename``'s names, and with the
+    columns ``add`` (0.5 on every row) after the others."""
+    lines = [line.split(",") for line in path.read_text().splitlines()]
+    keep = [index for index, name in enumerate(lines[0]) if name not in drop]
+    header = [(rename or {}).get(lines[0][index], lines[0][index]) for index in keep] + list(add)
+    rows = [[row[index] for index in keep] + ["0.5"] * len(add) for row in lines[1:]]
+    path.write_text("\n".join(",".join(row) for row in [header, *rows]) + "\n")
+    return path
+
+
+def test_an_arm_wrist_or_torso_lacking_some_of_its_columns_is_named_with_them(tmp_path):
+    # a CSV without right_elbow_z was read as the left arm's alone, with no word of the column:
+    # "no throw found (user 1, left arm)", or the wrong arm's throws written
+    time = [0.1 * index for index in range(6)]
+    path = _edit_columns(_write_csv(tmp_path / "no_elbow_z.csv", time), drop=("right_elbow_z",))
+    recording = read_joint_csv(path)
+    assert [arm.side for arm in recording.arms] == ["left"]
+    assert recording.warnings == [
+        f"{path}: the right arm lacks right_elbow_z: left out, its throws not imported; add or rename the column, or "
+        "map the file's with --columns (docs/capture.md, \"A CSV of joint positions\")"]
+    # the arm asked for: "no right arm (arms there: left)"
+    with pytest.raises(InputError, match=r"no_elbow_z.csv: the right arm lacks right_elbow_z; add or rename the "
+                                         r"column, or map the file's with --columns"):
+        read_joint_csv(path, arm="right")
+    with pytest.raises(InputError, match=r"no_elbow_z.csv: the right arm lacks right_elbow_z; "):
+        import_recordings([path], "csv", arm="right")
+    assert len(read_joint_csv(path, arm="left").arms) == 1  # the other arm asked for: read, with the warning
+    # a misspelt header: the nearest column rlff does not read
+    path = _edit_columns(_write_csv(tmp_path / "misspelt.csv", time), rename={"right_elbow_x": "right_elbo_x"})
+    assert any("the right arm lacks right_elbow_x (did you mean 'right_elbo_x'?): left out" in warning
+               for warning in read_joint_csv(path).warnings)
+    # a wrist with two of its axes, a torso without neck_z: both were left out without a word
+    path = _edit_columns(_write_csv(tmp_path / "partial.csv", time),
+                         add=("right_wrist_x", "right_wrist_y", "neck_x", "neck_y", "hip_x", "hip_y", "hip_z"))
+    recording = read_joint_csv(path)
+    assert recording.warnings == [
+        f"{path}: the right wrist lacks right_wrist_z: the arm read without its wrist; add or rename the column, or "
+        "map the file's with --columns (docs/capture.md, \"A CSV of joint positions\")",
+        f"{path}: the torso lacks neck_z: left out, the shoulder's elevation measured against the vertical; add or "
+        "rename the column, or map the file's with --columns (docs/capture.md, \"A CSV of joint positions\")"]
+    assert all(arm.wrist is None and arm.neck is None for arm in recording.arms)
+    assert read_joint_csv(_write_csv(tmp_path / "whole.csv", time)).warnings == []  # groups whole or absent: no word
+
+
 def test_csv_rows_out_of_order_are_named_as_such_not_as_another_time_unit(tmp_path):
     # shuffled rows at 15 Hz were "steps by 4.2 per frame (median) ...: it looks like milliseconds
     # (divide the column by 1,000)": the median of the steps forward, between rows far apart

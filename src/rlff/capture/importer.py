@@ -478,8 +478,10 @@ def read_recording(
     rate_hz: float | None = None,
     columns: Mapping[str, str] | None = None,
     up: str | None = None,
+    arm: str = "auto",
 ) -> Recording:
-    """Read one recording in a skeleton format (not ``thesis``)."""
+    """Read one recording in a skeleton format (not ``thesis``); ``arm``, the side whose throws
+    will be cut, tells the CSV reader which arm lacking a column is an error."""
     if format == "bag":
         recording = read_bag(path, topic=topic, frames=frames)
     elif format == "kinect-text":
@@ -487,7 +489,7 @@ def read_recording(
     elif format == "msr":
         recording = read_msr_text(path, rate_hz)
     elif format == "csv":
-        recording = read_joint_csv(path, columns, rate_hz, up or "z")
+        recording = read_joint_csv(path, columns, rate_hz, up or "z", arm)
     else:
         raise InputError(f"{path}: unknown format {format!r} (formats: {', '.join(FORMATS)})")
     if up is not None:
@@ -603,7 +605,7 @@ def import_recordings(
         else:
             with _format_named(path, kind, format):
                 recording = read_recording(path, kind, topic=topic, frames=frames, rate_hz=rate_hz, columns=columns,
-                                           up=up)
+                                           up=up, arm=arm)
             tell(path, "cutting throws", READ_SHARE)
             file_report, found = _import_recording(
                 recording, kind, arm, user, rows, segment or SegmentSettings(), landing, used_ids, up_given=up is not None,

@@ -42,7 +42,7 @@ from rlff.csvlines import data_row_line, header_separator
 from rlff.errors import InputError
 from rlff.fileio import require_file
 from rlff.limits import FRAME_RATE_RANGE, check_frame_rate, is_number
-from rlff.wording import bad_cell, nearest_hint, plural
+from rlff.wording import bad_cell, did_you_mean, nearest_hint, plural
 
 #: Up direction of the Kinect's camera frame (x left, y up, z away from the camera).
 KINECT_UP = np.array([0.0, 1.0, 0.0])
@@ -60,6 +60,9 @@ KINECT_RATE_HZ = 30.0
 MSR_RATE_HZ = 15.0
 _JOINTS = ("shoulder", "elbow", "wrist", "hand")
 _AXES = ("x", "y", "z")
+#: Every column name the CSV reader looks for (each read as it is, or through a column map).
+CSV_NAMES = ("time", *(f"{side}_{joint}_{axis}" for side in SIDES for joint in _JOINTS for axis in _AXES),
+             *(f"{point}_{axis}" for point in CSV_TORSO for axis in _AXES))
 
 
 #: Numbers in a row of Kinect SDK v1 text as rlff reads it (a frame number, 20 joints x (x y z)),
@@ -397,12 +400,15 @@ def read_joint_csv(
     columns: Mapping[str, str] | None = None,
     rate_hz: float | None = None,
     up: str = "z",
+    arm: str = "auto",
 ) -> Recording:
     """Read a CSV of joint positions, one row per frame.
 
     A file with ``;`` or tab between its header's names is read with that separator, and a
     decimal comma or point. Without a time column, frames are ``rate_hz`` apart, 30 Hz with a
-    warning when not given; with one, ``rate_hz`` is ignored (a note says so).
+    warning when not given; with one, ``rate_hz`` is ignored (a note says so). An arm, wrist or
+    torso with some of its columns and not all (a misspelt header, a column the export lost) is
+    left out with a warning naming the columns it lacks.
 
     Parameters
     ----------
@@ -416,12 +422,16 @@ def read_joint_csv(
         Frame rate when the file has no ``time`` column (default 30 Hz, with a warning).
     up : {"x", "y", "z", "-x", "-y", "-z"}
         Axis pointing up in the file's frame.
+    arm : {"auto", "right", "left"}
+        The side whose throws will be cut: that arm lacking some of its columns is an error, not
+        a warning.
 
     Raises
     ------
     InputError
         No arm with all of shoulder, elbow and hand x/y/z columns (the message lists what is
-        missing and the columns that are there), a header without rows, a column map entry whose
+        missing and the columns that are there), the ``arm`` asked for with some of its columns
+        and not all (the message names those it lacks), a header without rows, a column map entry whose
         name is not one of ours or whose column the file does not have (with the nearest), a
         non-numeric value, or a time stamp below the one before.
     """
@@ -486,6 +496,24 @@ def read_joint_csv(
             f"columns present: {', '.join(map(str, frame.columns))}; map the file's names to rlff's with --columns "
             "(e.g. --columns right_elbow_x=ElbowRight.X, docs/capture.md)"
         )
+    # some of a group's columns and not all is a misspelt header or a column the export lost: said,
+    # else the other arm's throws would be imported in its place without a word
+    unread = [name for name in frame.columns if name not in {column(ours) for ours in CSV_NAMES}]
+    for side, absent in missing.items():
+        if any(column(f"{side}_{joint}_{axis}") is not None for joint in _JOINTS for axis in _AXES):
+            lacks = f"{path}: the {side} arm lacks {_lacking(absent, unread)}"
+            if side == arm:
+                raise InputError(lacks + _add_or_map(absent))
+            warnings.append(f"{lacks}: left out, its throws not imported{_add_or_map(absent)}")
+    for side in found:
+        absent = [f"{side}_wrist_{axis}" for axis in _AXES if column(f"{side}_wrist_{axis}") is None]
+        if 0 < len(absent) < len(_AXES):
+            warnings.append(f"{path}: the {side} wrist lacks {_lacking(absent, unread)}: the arm read without its "
+                            f"wrist{_add_or_map(absent)}")
+    absent = [f"{point}_{axis}" for point in CSV_TORSO for axis in _AXES if column(f"{point}_{axis}") is None]
+    if 0 < len(absent) < len(CSV_TORSO) * len(_AXES):
+        warnings.append(f"{path}: the torso lacks {_lacking(absent, unread)}: left out, the shoulder's elevation "
+                        f"measured against the vertical{_add_or_map(absent)}")
     rate = None if rate_hz is None else check_frame_rate(rate_hz)
     time_column = column("time")
     if time_column is not None:
@@ -609,8 +637,7 @@ def _check_column_map(mapping: Mapping[str, str], present: list[str], path: Path
     """InputError at the first entry of a CSV's column ``mapping`` (our name -> the file's column)
     whose name is not one of ours or whose column is not among ``present``, with the nearest one;
     then at the first column of the file that two of our names would read (:func:`_read_twice`)."""
-    ours = ["time", *(f"{side}_{joint}_{axis}" for side in SIDES for joint in _JOINTS for axis in _AXES)]
-    ours += [f"{point}_{axis}" for point in CSV_TORSO for axis in _AXES]
+    ours = list(CSV_NAMES)
     where = f"{path}: column map (--columns)"
     for name, column in mapping.items():
         if name not in ours:
@@ -642,6 +669,19 @@ def _read_twice(mapping: Mapping[str, str], ours: list[str], present: list[str])
         if column in present:
             readers.setdefault(column, []).append(name)
     return next(((column, names[:2]) for column, names in readers.items() if len(names) > 1), None)
+
+
+def _lacking(names: list[str], unread: list[str]) -> str:
+    """Our column ``names`` a file lacks, in words, each with the nearest of its ``unread``
+    columns (those no name of ours reads) where one is close: ``right_elbow_x (did you mean
+    'right_elbo_x'?)``."""
+    return ", ".join(name + did_you_mean(name, unread) for name in names)
+
+
+def _add_or_map(absent: list[str]) -> str:
+    """What to do about the ``absent`` columns, after ``"; "``."""
+    return (f"; add or rename the {'column' if len(absent) == 1 else 'columns'}, or map the file's with --columns "
+            "(docs/capture.md, \"A CSV of joint positions\")")
 
 
 def _axis_of(name: str) -> tuple[str, str]:
