@@ -25,6 +25,7 @@ from rlff.robot.controller import (
 from rlff.robot.plan import load_for_robot
 from rlff.trajectory.check import LIMIT_SLACK
 from rlff.trajectory.joint import JointTrajectory
+from rlff.trajectory.planner import plan_stop, plan_transition
 
 TICK = 0.01  # s, the server's default rate
 DISCRETISATION = 1 + LIMIT_SLACK
@@ -226,6 +227,58 @@ def test_the_release_of_a_planned_throw_survives_the_goal_and_its_approach(contr
     executed, _ = controller.submit("g", sent, now=0.0)
     assert executed.release_time == pytest.approx(planned.release_time, abs=1e-9)  # no approach needed
     assert release_time(_goal([0.0, 1.0], [here, here])) is None  # a goal that never moves has none
+
+
+def _jerk_after(controller: TrajectoryController, start: float, stop: float) -> np.ndarray:
+    """Largest |jerk| (J,) of the arm from ``start`` to ``stop`` (s): differences of its
+    accelerations every ms (the quintic's, up to 1.9x max_jerk at a profile's corner)."""
+    accelerations = [controller.state(now).accelerations for now in np.arange(start, stop, 0.001)]
+    return np.abs(np.diff(accelerations, axis=0)).max(axis=0) / 0.001
+
+
+def _accelerating_goal(controller: TrajectoryController, start: float) -> JointTrajectory:
+    """joint_2 from the arm's pose at rest but already accelerating at 5 rad/s^2, 0.4 rad on, its
+    first point at ``start`` s."""
+    here = controller.state(0.0).positions
+    rest, push = np.zeros(len(NAMES)), np.zeros(len(NAMES))
+    push[DRIVEN] = 5.0
+    target = here.copy()
+    target[DRIVEN] += 0.4
+    motion = plan_transition(here, rest, push, target, rest, ROBOT.joints, period=0.01)
+    return JointTrajectory(NAMES, motion.time + start, motion.positions, motion.velocities, motion.accelerations)
+
+
+def test_the_approach_meets_a_goal_accelerating_at_its_first_point_without_a_jerk(controller):
+    # a throw of joint_2 as the planner makes it (from rest up to 2.25 rad/s, then braking to
+    # rest), sent from just after its peak acceleration with that point 0.5 s after receipt
+    here = controller.state(0.0).positions
+    rest, release, fast = np.zeros(len(NAMES)), here.copy(), np.zeros(len(NAMES))
+    release[DRIVEN], fast[DRIVEN] = here[DRIVEN] + 1.0, 2.25
+    throw = plan_transition(here, rest, rest, release, fast, ROBOT.joints)
+    brake = plan_stop(release, fast, rest, ROBOT.joints)
+    peak = int(np.argmax(throw.accelerations[:, DRIVEN])) + 3
+    assert throw.accelerations[peak, DRIVEN] > 0.9 * AMAX[DRIVEN]
+    time = np.concatenate([throw.time[peak:] - throw.time[peak], throw.duration - throw.time[peak] + brake.time[1:]])
+    goal = JointTrajectory(NAMES, time + 0.5, *(np.vstack([a[peak:], b[1:]]) for a, b in (
+        (throw.positions, brake.positions), (throw.velocities, brake.velocities),
+        (throw.accelerations, brake.accelerations))))
+    executed, _ = controller.submit("g", goal, now=0.0)
+    assert np.all(_jerk_after(controller, 0.0, executed.duration + 0.6) <= 3 * JMAX)  # 120x before the fix
+    times, positions, outcomes = _run(controller, 0.0, executed.duration + 0.6)
+    _within_limits(times, positions)
+    assert [(o.goal, o.status) for o in outcomes] == [("g", "succeeded")]
+
+
+def test_a_goal_from_zero_accelerating_where_the_arm_is_at_rest_is_refused_and_approached_later(controller):
+    with pytest.raises(GoalRejected) as refused:
+        controller.submit("g", _accelerating_goal(controller, 0.0), now=0.0)
+    assert refused.value.code == ResultCode.PATH_TOLERANCE_VIOLATED
+    assert ("joint_2 acceleration 5 rad/s^2, the arm's 0 rad/s^2 (5 rad/s^2 apart, its max_jerk 110 rad/s^3 "
+            "changes it by 0.22 rad/s^2 in the controller's 0.002 s period); start the goal later than 0 s"
+            in str(refused.value))
+    assert controller.idle
+    executed, _ = controller.submit("g", _accelerating_goal(controller, 0.5), now=0.0)
+    assert np.all(_jerk_after(controller, 0.0, executed.duration + 0.6) <= 3 * JMAX)
 
 
 @pytest.mark.parametrize(("goal", "code", "message"), [

@@ -9,18 +9,20 @@ contract every FollowJointTrajectory client expects; the ROS 1 server
   INVALID_GOAL (joint_trajectory_controller refuses a non-zero end velocity by default too).
 - A goal whose first point is at ``time_from_start`` 0 is the motion from where the arm is. If
   that point is not the arm's state (position within :data:`START_POSITION_TOLERANCE`, velocity
-  within :data:`START_VELOCITY_TOLERANCE`, the motion check's own tolerances) the goal is refused with PATH_TOLERANCE_VIOLATED and
-  the numbers; joint_trajectory_controller answers such a goal with the same code when its first
-  sample fails the state tolerance ("Aborted due to path tolerance violation"), here the arm does
-  not move at all. Within the tolerance the first point is replaced by the arm's state, so the
-  executed motion is continuous.
+  within :data:`START_VELOCITY_TOLERANCE`, the motion check's own tolerances; acceleration within
+  what the joint's ``max_jerk`` changes in one controller period) the goal is refused with
+  PATH_TOLERANCE_VIOLATED and the numbers; joint_trajectory_controller answers such a goal with
+  the same code when its first sample fails the state tolerance ("Aborted due to path tolerance
+  violation"), here the arm does not move at all. Within the tolerance the first point is
+  replaced by the arm's state, so the executed motion is continuous.
 - A goal whose first point is later than 0 s is approached: the controller plans a jerk-limited
   transition (:func:`rlff.trajectory.planner.plan_transition`, ruckig) from the arm's position,
-  velocity and acceleration to the first point's position and velocity. Where the ROS
-  controllers interpolate one spline over ``time_from_start`` whatever the distance (a 1 rad
-  jump in 10 ms for a one-point goal), the approach here takes the time the limits need; an arm
-  at rest waits so that the first point is reached at its ``time_from_start`` when the limits
-  allow it sooner.
+  velocity and acceleration to the first point's position, velocity and acceleration (0 where the
+  goal gives none), so that a goal already accelerating at its first point goes on without a
+  step in acceleration. Where the ROS controllers interpolate one spline over
+  ``time_from_start`` whatever the distance (a 1 rad jump in 10 ms for a one-point goal), the
+  approach here takes the time the limits need; an arm at rest waits so that the first point is
+  reached at its ``time_from_start`` when the limits allow it sooner.
 - A newer goal preempts the running one ("preempted by a newer goal": the old goal ends
   PREEMPTED, not succeeded); the newer one starts from the arm's state at its receipt, moving or
   not. A rejected goal leaves the running one alone.
@@ -330,18 +332,29 @@ class TrajectoryController:
         return JointTrajectory(self.robot.joint_names, traj.time, positions, velocities, accelerations)
 
     def _from_here(self, traj: JointTrajectory, state: ArmState) -> JointTrajectory:
-        """A goal starting at 0 s: its first point must be the arm's state, and becomes it exactly."""
+        """A goal starting at 0 s: its first point must be the arm's state, and becomes it exactly.
+
+        Its acceleration may differ from the arm's by what the jerk limit changes in one
+        controller period (``max_jerk * period``): the goal's own motion goes on from the arm's
+        acceleration, and a larger step (a goal starting to accelerate where the arm is at rest)
+        is a jerk no arm follows.
+        """
+        jerk = np.array([joint.max_jerk for joint in self.joints])
         for quantity, unit, goal, arm, tolerance in (
                 ("position", "rad", traj.positions[0], state.positions, START_POSITION_TOLERANCE),
-                ("velocity", "rad/s", traj.velocities[0], state.velocities, START_VELOCITY_TOLERANCE)):
-            gap = np.abs(goal - arm)
-            j = int(np.argmax(gap))
-            if gap[j] > tolerance:
+                ("velocity", "rad/s", traj.velocities[0], state.velocities, START_VELOCITY_TOLERANCE),
+                ("acceleration", "rad/s^2", traj.accelerations[0], state.accelerations, jerk * self.period)):
+            excess = np.abs(goal - arm) - tolerance
+            j = int(np.argmax(excess))
+            if excess[j] > 0:
+                allowed = (f"tolerance {tolerance:g} {unit}" if np.ndim(tolerance) == 0 else
+                           f"its max_jerk {jerk[j]:g} rad/s^3 changes it by {tolerance[j]:.4g} {unit} in the "
+                           f"controller's {self.period:g} s period")
                 raise GoalRejected(
                     ResultCode.PATH_TOLERANCE_VIOLATED,
                     f"the goal's first point (time_from_start 0) is not the arm's state: "
                     f"{self.robot.joint_names[j]} {quantity} {goal[j]:.6g} {unit}, the arm's {arm[j]:.6g} "
-                    f"{unit} ({gap[j]:.4g} {unit} apart, tolerance {tolerance:g} {unit}); start the goal "
+                    f"{unit} ({abs(goal[j] - arm[j]):.4g} {unit} apart, {allowed}); start the goal "
                     f"later than 0 s to have the controller approach its first point")
         positions = traj.positions.copy()
         velocities = traj.velocities.copy()
@@ -353,7 +366,8 @@ class TrajectoryController:
         """The planned approach to the first point, then the goal; and how long an arm at rest
         waits first (s) so that the first point comes at its time_from_start."""
         approach = plan_transition(state.positions, state.velocities, state.accelerations,
-                                   traj.positions[0], traj.velocities[0], self.joints, period=self.period)
+                                   traj.positions[0], traj.velocities[0], self.joints, period=self.period,
+                                   target_acceleration=traj.accelerations[0])
         taken = approach.duration
         time = np.concatenate([approach.time, taken + traj.time[1:] - traj.time[0]])
         # the approach's last sample is the goal's first point (ruckig reaches it up to rounding)

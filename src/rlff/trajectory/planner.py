@@ -131,9 +131,11 @@ def _jerk_text(limits: MotionLimits, period: float, j: int) -> str:
 
 
 def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_position,
-            target_velocity, max_velocity: np.ndarray | None, period: float, share: float = 1.0) -> JointTrajectory:
+            target_velocity, max_velocity: np.ndarray | None, period: float, share: float = 1.0,
+            target_acceleration: np.ndarray | None = None) -> JointTrajectory:
     """Sample ruckig's time-optimal profile between two states at ``period`` s, within ``share``
-    of the velocity, acceleration and jerk limits (a target velocity above that share is reached).
+    of the velocity, acceleration and jerk limits (a target velocity or acceleration above that
+    share is reached); ``target_acceleration`` None: 0 on arrival.
 
     Joints already at their target and at rest stay out of ruckig (they hold still whatever the
     others do): fewer degrees of freedom to solve and to sample.
@@ -147,7 +149,9 @@ def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_posit
         Trajectory,
     )
 
-    held = (velocity == 0) & (acceleration == 0) & (target_velocity == 0)
+    if target_acceleration is None:
+        target_acceleration = np.zeros_like(position)
+    held = (velocity == 0) & (acceleration == 0) & (target_velocity == 0) & (target_acceleration == 0)
     if target_position is not None:
         held &= target_position == position
     moving = np.flatnonzero(~held)
@@ -160,7 +164,7 @@ def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_posit
     request.current_velocity = velocity[moving].tolist()
     request.current_acceleration = acceleration[moving].tolist()
     request.target_velocity = target_velocity[moving].tolist()
-    request.target_acceleration = [0.0] * size
+    request.target_acceleration = target_acceleration[moving].tolist()
     if target_position is None:
         request.control_interface = ControlInterface.Velocity
         request.target_position = position[moving].tolist()
@@ -170,7 +174,8 @@ def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_posit
     if max_velocity is not None:
         speed = np.minimum(speed, max_velocity)
     request.max_velocity = np.maximum(speed, np.abs(target_velocity))[moving].tolist()
-    request.max_acceleration = (share * MARGIN * limits.acceleration[moving]).tolist()
+    request.max_acceleration = np.maximum(share * MARGIN * limits.acceleration,
+                                          np.abs(target_acceleration))[moving].tolist()
     request.max_jerk = (share * planning_jerk(limits, period)[moving]).tolist()
     # a whole number of periods: every sample (a phase's end, the release) falls on the
     # controller's clock, and the last step is no shorter than the others
@@ -181,9 +186,10 @@ def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_posit
     except ValueError:  # a code the binding does not name (-101 for limits far too low for the move)
         result = Result.Error
     if result not in (Result.Working, Result.Finished):
+        arrival = "" if not np.any(target_acceleration) else f", {target_acceleration.tolist()} rad/s^2"
         raise InputError(f"ruckig cannot plan the motion from {position.tolist()} rad at "
                          f"{velocity.tolist()} rad/s to {request.target_position} rad at "
-                         f"{target_velocity.tolist()} rad/s ({result.name})")
+                         f"{target_velocity.tolist()} rad/s{arrival} ({result.name})")
     steps = round(profile.duration / period)
     time = np.arange(steps + 1) * period
     # (N, 3, size): position, velocity, acceleration; flattened by chain, far faster than
@@ -194,7 +200,7 @@ def _ruckig(limits: MotionLimits, position, velocity, acceleration, target_posit
     states[:, 0] = position
     states[:, :, moving] = sampled
     # the arrival is the target state by definition: drop ruckig's last-bit rounding (1e-16)
-    states[-1, 1], states[-1, 2] = target_velocity, 0.0
+    states[-1, 1], states[-1, 2] = target_velocity, target_acceleration
     if target_position is not None:
         states[-1, 0] = target_position
     return JointTrajectory(limits.names, time, states[:, 0], states[:, 1], states[:, 2])
@@ -284,6 +290,7 @@ def plan_transition(
     period: float | None = DEFAULT_PERIOD,
     max_velocity: np.ndarray | None = None,
     share: float = 1.0,
+    target_acceleration: np.ndarray | None = None,
 ) -> JointTrajectory:
     """The time-optimal jerk-limited motion from one state to another (ruckig).
 
@@ -294,7 +301,7 @@ def plan_transition(
     target_position : array of shape (J,) or None
         Where to arrive (rad); None: only the velocity is targeted (e.g. braking to rest).
     target_velocity : array of shape (J,)
-        Velocity (rad/s) on arrival; the acceleration on arrival is 0.
+        Velocity (rad/s) on arrival.
     joints : sequence of JointLimits
         The J joints moved, with their position, velocity, acceleration and jerk limits.
     period : float, optional
@@ -304,6 +311,9 @@ def plan_transition(
     share : float
         Share (0 < share <= 1) of the velocity, acceleration and jerk limits the motion uses
         (:data:`APPROACH_SPEED` for an approach); 1: the limits themselves.
+    target_acceleration : array of shape (J,), optional
+        Acceleration (rad/s^2) on arrival (a goal's first point that is already accelerating);
+        default 0.
 
     Returns
     -------
@@ -325,10 +335,13 @@ def plan_transition(
         (position, "position"), (velocity, "velocity"), (acceleration, "acceleration"))]
     target = None if target_position is None else _vector(target_position, size, "target position")
     target_velocity = _vector(target_velocity, size, "target velocity")
+    if target_acceleration is not None:
+        target_acceleration = _vector(target_acceleration, size, "target acceleration")
     if max_velocity is not None:
         max_velocity = np.minimum(_vector(max_velocity, size, "max_velocity"), MARGIN * limits.velocity)
     period = _period(period)
-    traj = _ruckig(limits, *state, target, target_velocity, max_velocity, period, check_approach_speed(share))
+    traj = _ruckig(limits, *state, target, target_velocity, max_velocity, period, check_approach_speed(share),
+                   target_acceleration)
     what = "the transition" if target is not None else "braking to rest"
     _require_inside(traj, limits, period, what)
     _require_interpolated_speed(traj, joints, limits, target_velocity, period, what)
