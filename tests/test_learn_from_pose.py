@@ -4,6 +4,8 @@ there. Real model, real planner, real MuJoCo."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -95,6 +97,12 @@ def test_from_the_throws_own_start_at_the_loops_period_it_is_the_loops_plan(run)
     (lambda t, pose: (t, pose + np.r_[0, 4.0, 0, 0, 0, 0]), r"planned from the arm's pose: .*joint_2"),
     (lambda t, pose: (type(t)(t.joint_names, t.time, t.positions, t.velocities), pose),
      r"takes the planned throw learn hands its executor"),
+    # a joint the throw leaves out, beyond its limit (accepted until 2026-12-07)
+    (lambda t, pose: (t.select(["joint_2"]), pose + np.r_[9.0, 0, 0, 0, 0, 0]),
+     r"planned from the arm's pose: joint_1 starts at 9 rad, already beyond its upper limit 2\.967 rad"),
+    # a release_time during the braking: planned as if released there (at half the speed) until 2026-12-07
+    (lambda t, pose: (replace(t, release_time=float(t.time[np.searchsorted(t.time, t.release_time + 0.1)])), pose),
+     r"release_time .* falls where the arm slows down: joint_2 moves at"),
 ])
 def test_what_cannot_be_planned_from_a_pose_is_refused_naming_it(run, change, words):
     _, arm = run

@@ -59,12 +59,16 @@ def plan_from_pose(trajectory: JointTrajectory, robot, pose: np.ndarray, *, appr
     Raises
     ------
     InputError
-        A trajectory that is not a planned throw, a pose that is not one angle (rad) per joint of
-        ``robot``, or a motion that fails the check from ``pose`` (a pose beyond a limit; an
-        approach that passes below the base's plane), naming the joint and the numbers.
+        A trajectory that is not a planned throw (no ``release_time``, or one that is not the
+        release: not a sample, the arm at rest or slowing down there, as
+        :func:`rlff.robot.export.require_release` refuses a file's), a pose that is not one angle
+        (rad) per joint of ``robot`` or has one beyond its limits (every joint, those the throw
+        leaves out too), or a motion that fails the check from ``pose`` (an approach that passes
+        below the base's plane), naming the joint and the numbers.
     """
     from rlff.robot.controller import in_controller_words
     from rlff.robot.description import Robot, load_robot
+    from rlff.robot.export import require_release
     from rlff.robot.goal import check_goal
     from rlff.robot.links import require_above_base
     from rlff.robot.send import goal_start
@@ -77,7 +81,16 @@ def plan_from_pose(trajectory: JointTrajectory, robot, pose: np.ndarray, *, appr
     if pose.shape != (len(model.joints),) or not np.all(np.isfinite(pose)):
         raise InputError(f"the arm's pose must be {len(model.joints)} finite angles (rad), one per joint of "
                          f"{model.name} ({', '.join(model.joint_names)}), got {pose.tolist()}")
-    release = int(np.argmin(np.abs(trajectory.time - trajectory.release_time)))  # one of its samples
+    for joint, value in zip(model.joints, pose, strict=True):  # the joints the throw leaves out too
+        for beyond, side, limit in ((value > joint.upper, "upper", joint.upper),
+                                    (value < joint.lower, "lower", joint.lower)):
+            if beyond:
+                raise InputError(in_controller_words(model, (
+                    f"planned from the arm's pose: {joint.name} starts at {value:.6g} rad, already beyond its "
+                    f"{side} limit {limit:.6g} rad in the robot file: move the arm inside its limits, or check the "
+                    "robot file's limits against the arm's")))
+    trajectory = require_release("the throw given to plan_from_pose", trajectory)  # released at its fastest, at a sample
+    release = int(np.argmin(np.abs(trajectory.time - trajectory.release_time)))
     throw = JointTrajectory(trajectory.joint_names, trajectory.time[:release + 1],
                             trajectory.positions[:release + 1], trajectory.velocities[:release + 1])
     start = goal_start(model, trajectory, pose)
