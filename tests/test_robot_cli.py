@@ -353,6 +353,17 @@ def test_bags_stamp_now_only_when_asked(capsys, throw, tmp_path):
         assert (stamp.sec == 0 and stamp.nanosec == 0) == zero
 
 
+@pytest.mark.parametrize(("suffix", "fmt"), [(".json", "json"), (".csv", "csv"), (".txt", "comau")])
+def test_stamp_now_is_refused_for_a_file_without_a_stamp(capsys, throw, tmp_path, suffix, fmt):
+    """It was ignored (until 2026-12-07): the file was written as without it."""
+    out = tmp_path / f"exported{suffix}"
+    code, _, err = run(capsys, "robot", "export", str(throw), "-o", str(out), "--stamp-now")
+    assert code == 2, err
+    assert err.strip() == (f"rlff: error: --stamp-now sets a ROS bag's header.stamp: a {fmt} file has none, so it "
+                           "would change nothing; leave it out, or export a bag (-f ros1-bag or ros2-bag)")
+    assert not out.exists()
+
+
 @pytest.mark.parametrize(("edit", "ratio"), [(lambda t: t.assign(time=t.time * 20), "20 times as long"),
                                              (lambda t: t.assign(velocity=t.velocity * 0.8), "0.8 times as long")])
 def test_a_generated_path_whose_time_disagrees_is_refused(capsys, tmp_path, edit, ratio):

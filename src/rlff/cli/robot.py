@@ -179,6 +179,7 @@ def export(
     import time as clock
 
     from rlff.cli.output import guard, robot_file
+    from rlff.errors import InputError
     from rlff.learn.replay import (
         SUFFIX_FORMATS,
         export_format,
@@ -198,6 +199,9 @@ def export(
     guard(inputs={"TRAJECTORY": trajectory, "--robot": robot_file(robot)}, outputs={"-o/--output": out},
           folders=["-o/--output"] if bag_folder else [])
     fmt = export_format(out, fmt)  # before any planning; without --format, from the suffix
+    if stamp_now and not fmt.endswith("-bag"):  # it would change nothing: refused, not ignored
+        raise InputError(f"--stamp-now sets a ROS bag's header.stamp: a {fmt} file has none, so it would change "
+                         "nothing; leave it out, or export a bag (-f ros1-bag or ros2-bag)")
     check_period(period, "--period")  # a robot trajectory is not planned again: its --period is checked here
     driven = joint_list(joints)
     model = load_robot(robot)
