@@ -405,7 +405,8 @@ def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):
              "bag2 is a folder (a ROS 2 bag?)"),
             (("robot", "send", str(other)), "other.bag: not a readable"),  # send reads bags
             (("robot", "send", str(folder)), "bag2: a folder, but not a ROS 2 bag (no metadata.yaml)"),
-            (("robot", "send", str(program)), "throw.txt: a Comau program, which runs on the Comau controller")):
+            (("robot", "send", str(program)), "throw.txt: a Comau program, which runs on the Comau controller"),
+            (("sim", "throw", str(program)), "throw.txt is a Comau program (`rlff robot export -f comau` writes it)")):
         code, _, err = run(capsys, *command)
         assert code == 2 and message in err
         assert len(err.strip().splitlines()) == 1 and len(err) < 600

@@ -9,6 +9,7 @@ import pytest
 from rlff.errors import InputError
 from rlff.learn.replay import load_input
 from rlff.robot import RobotMapping, load_robot
+from rlff.robot.comau import write_comau_program
 from rlff.robot.export import write_csv, write_json
 from rlff.sim.throw import SIM_PERIOD
 from rlff.trajectory.check import MotionLimitError, check_trajectory
@@ -81,6 +82,21 @@ def test_files_that_are_no_trajectory_are_named(robot, tmp_path):
     broken.write_text("{not json")
     with pytest.raises(InputError, match=r"broken\.json"):
         sim_input(broken, robot)
+
+
+def test_a_comau_program_is_named_as_one_and_its_source_asked_for(robot, tmp_path):
+    """It was called "neither a generated path ... nor a robot trajectory ...; columns:
+    coord_type = "-j"" until 2026-12-07."""
+    mapping = RobotMapping.for_robot(robot)
+    mapped, _ = mapping.to_robot(np.linspace(0.7, 1.9, 20), np.linspace(0.5, 8.0, 20))
+    program = tmp_path / "learned.txt"
+    write_comau_program(plan_throw(mapped, robot.joints), mapping, program)
+    with pytest.raises(InputError) as refused:
+        sim_input(program, robot)
+    assert str(refused.value) == (
+        f"{program} is a Comau program (`rlff robot export -f comau` writes it), which runs on the Comau controller "
+        "and rlff does not read back: give the robot trajectory JSON/CSV it was exported from, or the generated path "
+        "it was planned from")
 
 
 def test_an_attempts_log_without_a_hit_asks_for_an_attempt_by_the_argument_and_the_option(tmp_path):

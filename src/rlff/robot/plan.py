@@ -27,6 +27,7 @@ from rlff.dataset import ARM_JOINT_COLUMNS, velocity_column
 from rlff.errors import InputError
 from rlff.kinds import is_ros1_bag
 from rlff.limits import apart, check_period, require_radians
+from rlff.robot.comau import HEADER as COMAU_HEADER
 from rlff.robot.description import Robot
 from rlff.robot.links import require_above_base
 from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for, scaled_speed
@@ -265,6 +266,14 @@ def slowed_to_limits(mapping: RobotMapping | ArmMapping, path: HumanPath) -> tup
                     f"{limit:.4g} rad/s)")
 
 
+def is_comau_program(path: Path) -> bool:
+    """Whether ``path`` is a file that starts as a Comau program does (:data:`rlff.robot.comau.HEADER`)."""
+    if not path.is_file():
+        return False
+    with open(path, "rb") as stream:
+        return stream.read(len(COMAU_HEADER)).decode("utf-8", errors="replace") == COMAU_HEADER
+
+
 def robot_file_kind(path: Path) -> str:
     """Which kind ``path`` is; :class:`InputError` in one line for any other file."""
     if path.is_dir():
@@ -277,6 +286,10 @@ def robot_file_kind(path: Path) -> str:
     if is_ros1_bag(path):  # not read as a CSV whose column is its magic line
         raise InputError(f"{path} is a ROS 1 bag: give a generated path CSV or a robot trajectory JSON/CSV "
                          "that `rlff robot export` wrote (`rlff robot send` takes the bag itself)")
+    if is_comau_program(path):  # not read as a CSV whose column is its header line
+        raise InputError(f"{path} is a Comau program (`rlff robot export -f comau` writes it), which runs on the "
+                         "Comau controller and rlff does not read back: give the robot trajectory JSON/CSV it was "
+                         "exported from, or the generated path it was planned from")
     try:
         header = pd.read_csv(path, nrows=0).columns
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:

@@ -19,11 +19,10 @@ from rosbags.rosbag2 import ReaderError as Ros2ReaderError
 
 from rlff.errors import InputError
 from rlff.kinds import is_ros1_bag
-from rlff.robot.comau import HEADER as COMAU_HEADER
 from rlff.robot.description import Robot
 from rlff.robot.export import read_bag, read_planned_for, trajectory_topics
 from rlff.robot.links import require_above_base
-from rlff.robot.plan import GENERATED, RobotPlan, load_for_robot
+from rlff.robot.plan import GENERATED, RobotPlan, is_comau_program, load_for_robot
 from rlff.robot.planned_for import checked_against, require_planned_for
 from rlff.trajectory.check import check_start, check_trajectory
 from rlff.trajectory.joint import JointTrajectory
@@ -84,7 +83,7 @@ def load_for_sending(
     path = Path(path)
     kind = _bag_kind(path)
     if kind is None:
-        if _is_comau_program(path):
+        if is_comau_program(path):
             raise InputError(f"{path}: a Comau program, which runs on the Comau controller, not over ROS; "
                              f"send the generated trajectory CSV or an export in {', '.join(SENDABLE)}")
         # a generated throw is planned from start; a robot trajectory is read as it is (start is
@@ -189,13 +188,6 @@ def _bag_kind(path: Path) -> str | None:
             raise InputError(f"{path}: a folder, but not a ROS 2 bag (no metadata.yaml)")
         return "ros2-bag"
     return "ros1-bag" if is_ros1_bag(path) else None
-
-
-def _is_comau_program(path: Path) -> bool:
-    if not path.is_file():
-        return False
-    with open(path, "rb") as stream:
-        return stream.read(len(COMAU_HEADER)).decode("utf-8", errors="replace") == COMAU_HEADER
 
 
 def _one_trajectory(path: Path, robot: Robot) -> tuple[JointTrajectory, bool]:
