@@ -41,7 +41,9 @@ def test_a_model_given_as_the_log_is_refused_and_left_alone(rlff, demos_csv, tmp
     assert rlff("fit", str(demos_csv), "-o", str(model), "--components", "2").code == 0
     before = files_under(tmp_path)
     result = rlff("learn", str(demos_csv), "--basket", "1.25", "--budget", "1", "--log", str(model))
-    assert result.code == 2 and f"{model}, line 1: corrupt attempts log" in result.stderr, result.stderr
+    # named as what it is: it had read as "model.json, line 1: corrupt attempts log", a damaged log
+    assert result.code == 2, result.stderr
+    assert f"{model} is an rlff model (rlff fit writes it), not an rlff attempts log" in result.stderr, result.stderr
     assert files_under(tmp_path) == before  # model.json.lock was left beside it
 
 

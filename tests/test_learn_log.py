@@ -157,7 +157,8 @@ def test_a_log_without_attempts_is_started_afresh_for_another_run(tmp_path):
 def test_a_file_that_is_not_a_log_is_refused(tmp_path):
     path = tmp_path / "demos.csv"
     path.write_text("trajectory,angle\n")
-    with pytest.raises(InputError, match="corrupt attempts log"):
+    # named as what it is, not as a damaged log ("line 1: corrupt attempts log" before 2026-12-07)
+    with pytest.raises(InputError, match=r"demos.csv is text \(its first line: 'trajectory,angle'\), not an rlff attempts log"):
         AttemptLog(path, RUN)
     path.write_text('{"format": "something-else"}\n')
     with pytest.raises(InputError, match="not an rlff attempts log"):

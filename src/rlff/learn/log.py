@@ -232,6 +232,9 @@ class AttemptLog:
         self._appended = True
 
     def _resume(self) -> LogContents:
+        if not is_attempts_log(self.path):  # a model had read as "line 1: corrupt attempts log"
+            raise InputError(f"{self.path} is {file_kind(self.path)}, not an rlff attempts log: a learning run "
+                             "resumes only the log (JSONL) an earlier run wrote; give another path to start one")
         raw = self.path.read_bytes()
         lines, records, dropped = _records(self.path, raw)
         if len(records) == 1 and first_difference(_run_of(self.path, records[0]), self.run) is not None:
