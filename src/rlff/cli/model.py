@@ -234,7 +234,7 @@ def fit_command(
 ) -> None:
     """Fit a Gaussian mixture to the demonstrations (K by BIC) and save it as model.json."""
     from rlff.model import Model
-    from rlff.model.model import check_throw_context, throw_roles
+    from rlff.model.model import check_throw_context, throw_roles, uncut_throws_note
 
     guard(inputs={"DATA": data}, outputs={"-o/--output": output})
     resolution = _word_or_number(
@@ -258,6 +258,8 @@ def fit_command(
                  "components fit the noise of a few samples; leave K to BIC (-k auto)")
     if inputs is None:
         check_throw_context(dataset.columns, str(data))
+        if (uncut := uncut_throws_note(dataset, str(data))) is not None:
+            warn(uncut)
     default_inputs, default_outputs = throw_roles(dataset.columns)
     for option, named, default in (("--inputs", inputs, default_inputs), ("--outputs", outputs, default_outputs)):
         missing = [name for name in default if name not in dataset.columns]
