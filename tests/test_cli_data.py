@@ -105,6 +105,19 @@ def test_preprocess_bad_input_is_one_line_and_exit_2(capsys, tmp_path, args, mes
     assert len(stderr.strip().splitlines()) == 1
 
 
+def test_preprocess_of_data_without_a_distance_is_refused_before_its_progress(capsys, tmp_path):
+    # the thesis preset ran eight steps, then said "step 'reject_contexts': reject_contexts: 'distance'
+    # is not a context column"
+    demos = tmp_path / "demos.csv"
+    demos.write_text("trajectory,angle,Distance,velocity\na,0.1,2,0\na,0.2,2,1\n")
+    assert main(["data", "preprocess", str(demos), "--preset", "thesis", "-o", str(tmp_path / "c.csv")]) == 2
+    stderr = capsys.readouterr().err
+    assert stderr.startswith("rlff: error: preset 'thesis', step 'reject_contexts' judges the throws by their "
+                             "'distance' (the basket distance each throw aimed at, m), a context column the data "
+                             "lacks (columns: angle, Distance, velocity; context: none)"), stderr
+    assert len(stderr.strip().splitlines()) == 1
+
+
 @pytest.mark.parametrize("header", ["trajectory,time,angle,distance,velocity", "trajectory,angle,distance,velocity"])
 def test_a_csv_named_parquet_is_one_line_and_exit_2(capsys, tmp_path, header):
     # four names are no MSR recording's row of four numbers (it was taken for one)

@@ -100,6 +100,23 @@ def test_a_missing_column_is_named_with_the_step():
         Pipeline.preset("thesis").run(data)
 
 
+def test_a_context_column_a_step_judges_by_is_required_before_any_step():
+    # the thesis preset ran its eight first steps on data without a distance and then said
+    # "step 'reject_contexts': reject_contexts: 'distance' is not a context column"
+    data = Dataset([Trajectory(t.id, {name: t[name] for name in t.columns if name != "distance"}, t.meta)
+                    for t in _dataset()])
+    steps = []
+    with pytest.raises(InputError, match=re.escape(
+            "preset 'thesis', step 'reject_contexts' judges the throws by their 'distance' (the basket distance each "
+            "throw aimed at, m), a context column the data lacks (columns: time, angle, velocity; context: none)")):
+        Pipeline.preset("thesis").run(data, progress=lambda *_, **named: steps.append(named))
+    assert steps == []
+    off = Pipeline([("crop", {}), ("reject_contexts", {})], source="mine.toml")
+    with pytest.raises(InputError, match=r"^mine.toml, step 'reject_contexts' judges the throws by their 'distance'"):
+        off.check(data)
+    Pipeline([("crop", {})]).check(data)  # a pipeline that judges no context takes such data
+
+
 def _converted(data: Dataset, **factors: float) -> Dataset:
     """``data`` with the columns named in ``factors`` multiplied by them (another unit)."""
     return Dataset([Trajectory(t.id, {name: t[name] * factors.get(name, 1.0) for name in t.columns}, t.meta)

@@ -165,6 +165,7 @@ def preprocess_command(
     dataset = read_data(data)
     check_holds(output, dataset.columns, str(data))  # the steps keep the columns: refused before they run
     warn_copies(dataset, data)
+    pipeline.check(dataset)  # before the progress line: nothing has run
     enabled = sum(step.enabled for step in pipeline.steps)
     with progress("preprocessing", total=enabled) as advance:
         cleaned, report = pipeline.run(dataset, progress=advance)

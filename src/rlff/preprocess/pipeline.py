@@ -55,6 +55,12 @@ STEPS: dict[str, StepFunction] = {
 }
 
 
+#: The parameter of a step that names the context column it judges the throws by: checked
+#: before any step runs (the thesis preset's last step had refused data without a distance after
+#: the eight before it had run).
+CONTEXT_PARAMETERS = {"reject_contexts": "column"}
+
+
 @dataclass(frozen=True)
 class Step:
     """One configured step: its name, its parameters, whether it runs."""
@@ -226,13 +232,13 @@ class Pipeline:
         InputError
             Before any step, something other than a :class:`Dataset`, or a dataset whose
             distances are not metres or joint angles not radians (:func:`rlff.dataset.check_units`:
-            the thesis preset had resampled degrees into 57 times the samples); then what a step
-            refuses, named with the step.
+            the thesis preset had resampled degrees into 57 times the samples), or a context column
+            a step judges by missing (:meth:`check`); then what a step refuses, named with the step.
         """
         if not isinstance(dataset, Dataset):
             raise InputError(f"Pipeline.run takes a Dataset (rlff.formats.read_dataset reads one from a file), got "
                              f"{type(dataset).__name__}")
-        check_units(dataset)
+        self.check(dataset)
         reports = []
         for step in self.steps:
             if not step.enabled:
@@ -248,6 +254,32 @@ class Pipeline:
             if progress is not None:
                 progress(1, description=step.name)
         return dataset, PipelineReport(reports, self.source)
+
+
+    def check(self, dataset: Dataset) -> None:
+        """What :meth:`run` refuses before its first step (a caller may ask before it shows
+        progress): distances not in metres or joint angles not in radians
+        (:func:`rlff.dataset.check_units`), or an enabled step that judges the throws by a context
+        column the data lacks (:data:`CONTEXT_PARAMETERS`).
+
+        Raises
+        ------
+        InputError
+        """
+        check_units(dataset)
+        for step in self.steps:
+            parameter = CONTEXT_PARAMETERS.get(step.name)
+            if not step.enabled or parameter is None:
+                continue
+            column = step.params.get(parameter, _parameters(step.name)[parameter][1])
+            if column in dataset.context:
+                continue
+            where = f"{self.source}, " if self.source else ""
+            what = " (the basket distance each throw aimed at, m)" if column == "distance" else ""
+            raise InputError(
+                f"{where}step {step.name!r} judges the throws by their {column!r}{what}, a context column the data "
+                f"lacks (columns: {', '.join(dataset.columns)}; context: {', '.join(dataset.context) or 'none'}): "
+                f"add it, or run a pipeline without the step (docs/data.md)")
 
 
 def _check_accounted(report: StepReport, before: Dataset, after: Dataset) -> None:

@@ -170,7 +170,7 @@ def reject_contexts(
     """
     dataset.require([angle_column, velocity_column])
     if column not in dataset.context:
-        raise InputError(f"reject_contexts: {column!r} is not a context column (context: {', '.join(dataset.context) or 'none'})")
+        raise InputError(f"{column!r} is not a context column (context: {', '.join(dataset.context) or 'none'})")
     _check_context_params(tolerance, z, max_spread_ratio, min_contexts, min_trajectories, bin_width)
     params = {"column": column, "angle_column": angle_column, "velocity_column": velocity_column,
               "trend": trend, "tolerance": tolerance, "z": z, "by_subject": by_subject,
