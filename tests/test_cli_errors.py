@@ -151,6 +151,11 @@ def test_a_missing_output_folder_is_created(rlff, files, tmp_path):
         (["learn", "{data}", "--basket", "0.01"], ["basket distance", "0.01 m", "0.3 to 20 m"]),
         (["learn", "{data}", "--basket", "2", "--pedestal", "100"], ["pedestal", "100 m", "0 to 5 m"]),
         (["sim", "throw", "{throw}", "--basket", "2", "--pedestal", "-1"], ["pedestal", "-1 m"]),
+        # --pedestal before any file is read: a model given as the data is not named first
+        (["learn", "{model}", "--basket", "2", "--pedestal", "-1"], ["--pedestal: -1 m is outside the range 0 to 5 m"]),
+        (["sim", "throw", "{model}", "--basket", "2", "--pedestal", "nan"], ["--pedestal: nan is not a number"]),
+        (["sim", "reach", "--robot", "{model}", "--pedestal", "9"], ["--pedestal: 9 m is outside the range 0 to 5 m"]),
+        (["plot", "throw", "{model}", "--pedestal", "-2", "-o", "{tmp}/p"], ["--pedestal: -2 m is outside"]),
         (["data", "synth", "throws", "--distances", "-1,2", "-o", "{tmp}/s.csv"], ["-1 m", "0.3 to 20 m"]),
         (["generate", "{model}", "-c", "distance=1", "-c", "distance=2", "-o", "{tmp}/g.csv"],
          ["--context", "distance given twice"]),

@@ -88,7 +88,7 @@ OVERWRITES = {
     "learn --log the demonstrations": (["learn", "{raw}", "--basket", "2", "--log", "{raw}"], "raw",
                                                  ["--log", "is the input DEMOS"]),
     "learn --out the robot file": (["learn", "{raw}", "--basket", "2", "--robot", "{arm}", "--out", "{arm}",
-                                    "--format", "csv"], "arm", ["-o/--output", "is the input --robot"]),
+                                    "--format", "csv"], "arm", ["-o/--out", "is the input --robot"]),
     "robot export -o the robot file": (["robot", "export", "{throw}", "--robot", "{arm}", "--format", "json", "-o",
                                         "{arm}"], "arm", ["is the input --robot"]),
     "the same file by another name": (["fit", "{raw}", "-o", "{folder}/../{folder_name}/raw.csv"], "raw",
@@ -220,7 +220,8 @@ def test_an_output_file_named_as_a_folder_is_refused_with_a_file_name_in_it(rlff
     assert list(out.iterdir()) == []
 
 
-BAG = ("-o/--output here is a ROS 2 bag (a path without a suffix, or --format ros2-bag), which is a folder; give a "
+# rlff learn names its -o/--out as it is documented (it was "-o/--output" there too until 2026-12-07)
+BAG = ("{option} here is a ROS 2 bag (a path without a suffix, or --format ros2-bag), which is a folder; give a "
        "new folder's path for the bag, or a file name whose suffix says its format (e.g. {example}.json)")
 DEMO_FOLDER = ("-o/--output is the folder for the demo's report, figures, data and model; give a folder's path (a "
                "new one is created)")
@@ -228,13 +229,13 @@ DEMO_FOLDER = ("-o/--output is the folder for the demo's report, figures, data a
 # output is of another kind; a folder output had said "is a file; give a folder" of them all
 KINDS = {
     "learn --out a device": (["learn", "{raw}", "--basket", "2", "--out", "/dev/full"],
-                             "/dev/full is a device, not a folder: " + BAG.format(example="learned")),
+                             "/dev/full is a device, not a folder: " + BAG.format(option="-o/--out", example="learned")),
     "learn --out a FIFO": (["learn", "{raw}", "--basket", "2", "--out", "{pipe}"],
-                           "{pipe} is a FIFO (named pipe), not a folder: " + BAG.format(example="learned")),
+                           "{pipe} is a FIFO (named pipe), not a folder: " + BAG.format(option="-o/--out", example="learned")),
     "robot export -o a device": (["robot", "export", "{throw}", "-o", "/dev/null"],
-                                 "/dev/null is a device, not a folder: " + BAG.format(example="throw")),
+                                 "/dev/null is a device, not a folder: " + BAG.format(option="-o/--output", example="throw")),
     "robot export -f ros2-bag -o a file": (["robot", "export", "{throw}", "-f", "ros2-bag", "-o", "{file}"],
-                                           "{file} is a file, not a folder: " + BAG.format(example="throw")),
+                                           "{file} is a file, not a folder: " + BAG.format(option="-o/--output", example="throw")),
     "demo -o a device": (["demo", "--small", "-o", "/dev/null"], "/dev/null is a device, not a folder: " + DEMO_FOLDER),
     "demo -o a FIFO": (["demo", "--small", "-o", "{pipe}"], "{pipe} is a FIFO (named pipe), not a folder: " + DEMO_FOLDER),
     "demo -o a broken link": (["demo", "--small", "-o", "{link}"],

@@ -120,11 +120,12 @@ def learn_command(
     # the log is read (resumed) and written: it may exist, but must not be the demonstrations
     bag_folder = out is not None and (fmt or SUFFIX_FORMATS.get(out.suffix.lower())) == "ros2-bag"
     guard(inputs={"DEMOS": demos, "--carry": carry or None, "--robot": robot_file(robot)},
-          outputs={"--log": log, "-o/--output": out}, folders=["-o/--output"] if bag_folder else [])
-    from rlff.limits import check_period
+          outputs={"--log": log, "-o/--out": out}, folders=["-o/--out"] if bag_folder else [])
+    from rlff.limits import check_pedestal, check_period
     from rlff.sim import Basket
 
     check_period(period, "--period")  # a bad --period fails before the first throw, with or without --out
+    check_pedestal(pedestal, "--pedestal")  # and a bad --pedestal before the demonstrations are read
     with basket_options(distance="--basket", rim_height="--height", bearing="--bearing"):  # and a bad basket
         Basket(basket, bearing=bearing) if height is None else Basket(basket, height, bearing=bearing)
     if out is not None:  # and a bad --out or --format

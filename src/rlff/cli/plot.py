@@ -280,9 +280,12 @@ def throw_command(
     """A side view of a simulated throw: arm at release, ball flight, basket (and a rendered frame if any)."""
     from rlff.cli.output import robot_file
     from rlff.jsonfile import read_json_object
+    from rlff.limits import check_pedestal
     from rlff.plots.throw import outcome_gap, outcome_robot, throw_snapshot_from_outcome
 
     _guard(out, {"OUTCOME": outcome, "--robot": robot_file(robot) if robot else None})
+    if pedestal is not None:
+        check_pedestal(pedestal, "--pedestal")
     record = read_json_object(outcome)
     # the arm is drawn as the outcome's robot on the outcome's pedestal: the built-in Comau on the
     # floor was drawn 0.3 m from the ball another arm on a 0.5 m pedestal had let go, and the

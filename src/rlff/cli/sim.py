@@ -66,6 +66,7 @@ def throw(
     from rlff.cli.output import guard, robot_file
     from rlff.errors import InputError
     from rlff.learn.replay import load_input, rebearing_warning
+    from rlff.limits import check_pedestal
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import bearing_at_release
     from rlff.robot.plan import ROBOT_TRAJECTORY, require_planned, robot_file_kind
@@ -74,6 +75,8 @@ def throw(
 
     guard(inputs={"TRAJECTORY": trajectory, "--robot": robot_file(robot)}, outputs={"--frames": frames},
           folders=["--frames"])
+    if pedestal is not None:  # before the trajectory is read and planned
+        check_pedestal(pedestal, "--pedestal")
     model = load_robot(robot)
     loaded = load_input(trajectory, model, attempt=attempt, period=SIM_PERIOD, clip=clip, joints=joint_list(joints),
                         bearing=bearing)
@@ -211,13 +214,14 @@ def reach(
 ) -> None:
     """How far the robot throws: where the ball comes down to the rim's height, at best."""
     from rlff.errors import InputError
-    from rlff.limits import DISTANCE_RANGE
+    from rlff.limits import DISTANCE_RANGE, check_pedestal
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import RobotMapping
     from rlff.sim import Basket, throw_reach
     from rlff.sim.arm import Arm
     from rlff.sim.reach import came_down_words, executable_reach, farthest_basket
 
+    check_pedestal(pedestal, "--pedestal")
     model = load_robot(robot)
     Arm.from_robot(model)  # the simulated arm's own checks: 6 joints and a [geometry] table
     if joints is None:  # the joint the robot file throws with: a joint_3 thrower's reach is not joint_2's
