@@ -7,6 +7,7 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from attempts_logs import write_attempts_log
@@ -210,6 +211,30 @@ def test_a_dataset_that_starts_with_a_byte_order_mark_is_reported(tmp_path):
     (folder / "bom.csv").write_bytes(b"\xef\xbb\xbf" + plain.read_bytes())
     run, passed, _ = chain_run(folder, tmp_path / "figures")
     assert passed == [] and run.settings["datasets"] == 1
+
+
+def test_a_dataset_in_degrees_or_saved_with_semicolons_is_passed_over_saying_so(tmp_path):
+    # degrees were drawn as a dataset (angles up to 180) that fit and plot refuse; semicolons were
+    # "CSV files without a 'trajectory' column ... recordings? rlff data import turns them into one"
+    import pandas as pd
+
+    from rlff.formats import write_dataset
+    from rlff.synthetic.throws import simulate_throws
+
+    plain = tmp_path / "plain.csv"
+    write_dataset(simulate_throws(1, subjects=1, throws_per_distance=1), plain)
+    folder = tmp_path / "run"
+    folder.mkdir()
+    frame = pd.read_csv(plain)
+    frame[["angle", "velocity"]] = np.degrees(frame[["angle", "velocity"]])
+    frame.to_csv(folder / "degrees.csv", index=False)
+    pd.read_csv(plain).to_csv(folder / "semicolons.csv", index=False, sep=";")
+    (folder / "demos.csv").write_bytes(plain.read_bytes())
+    run, passed, _ = chain_run(folder, tmp_path / "figures")
+    assert run.settings["datasets"] == 1
+    assert len(passed) == 2, passed
+    assert passed[0].startswith("degrees.csv: column 'angle' reaches") and "degrees?" in passed[0]
+    assert passed[1].startswith("semicolons.csv: ") and "the file looks separated by ';'" in passed[1]
 
 
 def test_a_log_of_another_rim_arm_or_stop_rule_says_so_and_keeps_to_its_own_task(rlff, tmp_path):

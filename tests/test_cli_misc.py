@@ -100,7 +100,9 @@ def test_report_bad_input(rlff, tmp_path):
     picture.write_bytes(b"\x89PNG")
     # without -o it was RUN/report.html refused as an output, with -o "no such run directory"
     for output in ([], ["-o", str(tmp_path / "r.html")]):
-        one_line_error(rlff("report", str(picture), *output), "pic.png: is a file, not a run directory")
+        # a folder of one's own files is reported too: the message had asked for a folder holding run.json
+        one_line_error(rlff("report", str(picture), *output), "pic.png: is a file, not a folder (one that rlff demo "
+                       "wrote, holding run.json and its figures, or one holding your own datasets, models and attempts logs)")
     # a learn run has an attempts log, no run.json: the figure it can have is named
     log = tmp_path / "attempts.jsonl"
     log.write_text("")

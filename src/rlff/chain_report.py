@@ -107,6 +107,7 @@ def chain_run(folder: str | Path, figures_dir: str | Path,
     InputError
         The folder holds no dataset, model or attempts log.
     """
+    from rlff.dataset import check_units
     from rlff.formats import read_dataset
     from rlff.learn.log import read_log
     from rlff.model import Model
@@ -138,6 +139,7 @@ def chain_run(folder: str | Path, figures_dir: str | Path,
                 missing = [c for c in ("angle", "velocity", "distance") if c not in dataset.columns]
                 if missing:
                     raise InputError(f"no column {', '.join(missing)}")
+                check_units(dataset)  # degrees or centimetres, as every other command refuses them
                 datasets.append((path, dataset))
             elif suffix == ".json":
                 document = _json(path)
@@ -311,7 +313,9 @@ def _csv_kind(path: Path) -> str | None:
     except (OSError, UnicodeDecodeError, csv.Error):
         return None
     columns = {name.strip() for name in header}
-    if "trajectory" in columns:
+    # a dataset saved with semicolons or tabs reads as one column: the dataset reader says so, where
+    # the report had called it a recording to import
+    if "trajectory" in columns or "trajectory" in {part.strip() for name in header for part in re.split(r"[;\t]", name)}:
         return None
     if GENERATED_COLUMNS <= columns:
         return "generated path"

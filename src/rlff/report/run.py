@@ -266,7 +266,10 @@ def require_run_dir(run_dir: str | Path) -> Path:
     if run_dir.is_file():
         hint = (": for an attempts log of `rlff learn`, `rlff plot learning LOG -o OUT` draws its learning curve"
                 if run_dir.suffix == ".jsonl" else "")
-        raise InputError(f"{run_dir}: is a file, not a run directory (a folder holding {RUN_FILE} and its figures){hint}")
+        # "not a run directory (a folder holding run.json ...)" until 2026-12-07, though a folder of
+        # one's own datasets, models and logs is reported too
+        raise InputError(f"{run_dir}: is a file, not a folder (one that rlff demo wrote, holding {RUN_FILE} and its "
+                         f"figures, or one holding your own datasets, models and attempts logs){hint}")
     if not run_dir.is_dir():
         raise InputError(f"{run_dir}: no such run directory")
     return run_dir
