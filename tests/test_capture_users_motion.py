@@ -86,3 +86,24 @@ def test_a_second_person_who_throws_too_is_warned_of_and_imported_with_user(tmp_
                                [t.meta["start_time"] + session.delay for t in first], atol=0.07)
     with pytest.raises(InputError, match=r"pair\.bag: no tracked user 3 \(--user; its users: 1, 2\)"):
         import_recordings([path], "bag", user="3")
+
+
+def test_a_recording_imported_once_per_user_gives_throws_that_merge(tmp_path):
+    # the docs say to import a pair's recording once per thrower: both imports named their throws
+    # pair_t1..., subject pair, and merging them was refused as two throws under one id
+    from rlff.dataset import merge_datasets
+
+    simulation = bf.standard_simulation(seed=3, n_throws=3)
+    session = _TwoThrowers(simulation.throws, simulation.starts, simulation.duration, seed=3, second_user=False)
+    path = bf.write_ros1_bag(tmp_path / "pair.bag", session)
+    first, _ = import_recordings([path], "bag", user="1")
+    second, _ = import_recordings([path], "bag", user="2")
+    assert [t.id for t in first] == ["pair_u1_t1", "pair_u1_t2", "pair_u1_t3"]
+    assert [t.id for t in second] == ["pair_u2_t1", "pair_u2_t2", "pair_u2_t3"]
+    assert {t.meta["subject"] for t in first} == {"pair_u1"} and {t.meta["subject"] for t in second} == {"pair_u2"}
+    merged = merge_datasets([("u1.csv", first), ("u2.csv", second)])
+    assert len(merged.dataset) == 6 and merged.kept_once == []
+    # without --user, the ids and subject are the file's, as before
+    default, _ = import_recordings([path], "bag")
+    assert [t.id for t in default] == ["pair_t1", "pair_t2", "pair_t3"]
+    assert {t.meta["subject"] for t in default} == {"pair"}

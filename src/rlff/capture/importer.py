@@ -525,7 +525,8 @@ def import_recordings(
     topic, frames : tf topic and (shoulder, elbow, hand) frames, for bags
     arm : ``auto`` (the arm whose hand sweeps furthest), ``right`` or ``left``
     user : the tracked user whose throws to import (its id in the recordings: ``2`` for the
-        frames ``right_elbow_2``...); default the steady user whose hand sweeps furthest
+        frames ``right_elbow_2``...), which the throws' ids and subject then carry (``pair_u2_t1``,
+        ``pair_u2``); default the steady user whose hand sweeps furthest
     rate_hz : frame rate of text formats without time stamps (Kinect 30, MSR 15, CSV 30 by default)
     progress : ``progress(path, stage, share)`` for each file as it is ``"reading"``, ``"cutting
         throws"``, ``"labelling throw 3 of 600"`` (each throw in turn) and ``"done"``, with the
@@ -543,7 +544,8 @@ def import_recordings(
     Returns
     -------
     dataset : Dataset
-        One trajectory per throw: ``time``, ``angle``, ``velocity``, the other joints' angles and
+        One trajectory per throw, its id ``<file stem>_t<N>`` (N its number among the file's
+        throws; ``<file stem>_u<user>_t<N>`` with ``user``): ``time``, ``angle``, ``velocity``, the other joints' angles and
         velocities (``shoulder``, ``shoulder_velocity``, ``wrist``, ``wrist_velocity``, rad and
         rad/s), ``distance`` (the basket's, or without one the landing estimate rounded to
         ``landing.distance_step``); metadata
@@ -798,11 +800,16 @@ def _unique_id(candidate: str, used: set[str]) -> str:
     return name
 
 
-def _subject(path: Path, row: ManifestRow | None) -> str:
+def _subject(path: Path, row: ManifestRow | None, user: str | None = None) -> str:
+    """The thrower of a throw of ``path``: its manifest row's ``subject``, else ``sNN`` in the file
+    name, else the file's stem; with a ``user`` asked for (``--user 2``) that one followed by
+    ``_u2``, as a recording imported once per thrower holds several (their throws then merge
+    without two under one id)."""
     if row is not None and row.subject:
         return row.subject
     match = re.search(r"(?:^|_)(s\d+)(?:_|$)", path.stem)
-    return match.group(1) if match else path.stem
+    subject = match.group(1) if match else path.stem
+    return subject if user is None else f"{subject}_u{user}"
 
 
 def arm_motion(recording: Recording, arm: str = "auto",
@@ -933,7 +940,7 @@ def _import_recording(
             outcomes.append(Outcome(number, start, None))
             continue
         trajectory = _throw(recording, motion, cut, release, number, row, landing, report, used_ids,
-                            segment.rest_velocity)
+                            segment.rest_velocity, user)
         if trajectory is not None:
             trajectories.append(trajectory)
             outcomes.append(Outcome(number, start, trajectory.meta["distance_source"]))
@@ -1181,10 +1188,12 @@ def _throw(
     report: FileReport,
     used_ids: set[str],
     segment_rest: float,
+    user: str | None = None,
 ) -> Trajectory | None:
     """The trajectory of one kept throw, labelled, with its warnings in ``report`` (None when its
     landing stands for no basket); ``row`` is the manifest row that names it, ``segment_rest`` the
-    throw finder's rest speed (rad/s)."""
+    throw finder's rest speed (rad/s), ``user`` the user asked for (``--user``), which its id and
+    subject carry (:func:`_subject`)."""
     path = Path(recording.source)
     origin = report.clock_origin
     window = slice(cut.start, cut.stop)
@@ -1241,9 +1250,9 @@ def _throw(
     long_gap = longest if longest is not None and longest.length > extension_gap else None
     at_the_peak = gap_at_the_peak(motion, cut, extension_gap)
     peak_confidence = "low" if long_gap is not None or at_the_peak is not None else "high"
-    identifier = _unique_id(f"{path.stem}_t{number}", used_ids)
+    identifier = _unique_id(f"{path.stem}{'' if user is None else f'_u{user}'}_t{number}", used_ids)
     meta: dict[str, Any] = {
-        "subject": _subject(path, row),
+        "subject": _subject(path, row, user),
         "source": str(path),
         "distance_source": source_of_distance,
         "release_time": float(release.time - native[0]),

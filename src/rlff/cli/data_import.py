@@ -36,7 +36,8 @@ def import_command(
     frames: str = typer.Option("right_shoulder_1,right_elbow_1,right_hand_1", "--frames", help="Shoulder, elbow, hand tf frames (the trailing number is the user; any user matches: --user picks one)."),
     arm: str = typer.Option("auto", "--arm", help="auto, right or left."),
     user: str | None = typer.Option(None, "--user", help="The tracked user whose throws to import (its id: 2 for "
-                                    "the frames right_elbow_2, ...); default the steady user whose hand sweeps furthest."),
+                                    "the frames right_elbow_2, ...), which the ids and subject then carry (pair_u2_t1); default the steady user "
+                                    "whose hand sweeps furthest."),
     rate: float | None = typer.Option(None, "--rate", help="Frame rate (Hz, 1 to 1000) of text recordings without time stamps."),
     columns: str | None = typer.Option(None, "--columns", help="CSV column map: NAME=COLUMN,... (e.g. right_elbow_x=ElbowRight.X)."),
     up: str | None = typer.Option(None, "--up", help="Up axis of the recordings' frame (x, y, z, -x...), for every file given; default per format (bags z, Kinect and MSR text y, CSV z)."),
