@@ -102,6 +102,34 @@ def test_a_manifest_row_for_no_recording_given_is_a_warning(tmp_path):
     assert report.to_dict()["warnings"] == report.warnings
 
 
+def test_manifest_rows_for_recordings_not_given_are_one_note(tmp_path):
+    # the manifest of a whole session, one of its recordings imported: every other recording's row
+    # was a warning of its own (26 of them for one file of a 30-throw session), burying the real ones
+    path = _joint_csv(tmp_path / "rec" / "session1.csv")
+    for name in ("session2.csv", "session3.csv", "session4.csv", "session5.csv"):
+        (tmp_path / "rec" / name).write_text("time\n")  # beside the recording given
+    (tmp_path / "session6.csv").write_text("time\n")  # beside the manifest
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,throw,distance\nsession1.csv,1,2.0\nsession2.csv,1,1.0\nsession2.csv,2,1.5\n"
+                        "session3,1,1.0\nsession4.csv,1,1.0\nsession5.csv,1,1.0\nsession6.csv,1,3.0\nsesion1.csv,1,1.0\n")
+    dataset, report = import_recordings([path], manifest=manifest, up="z")
+    assert [t.meta["target"] for t in dataset] == [2.0]
+    # a file found nowhere (misspelt) is still a warning of its own
+    assert report.warnings == [f"manifest {manifest}, line 9: sesion1.csv is none of the recordings given; the row is not used"]
+    assert report.general == [f"manifest {manifest}: 6 rows name 5 recordings not given (session2.csv, session3, "
+                              "session4.csv and 2 more): not used"]
+    assert report.to_dict()["notes"] == report.general
+    # a manifest that names none of the recordings given labels nothing: one warning
+    other = _joint_csv(tmp_path / "rec" / "other.csv")
+    _, report = import_recordings([other], manifest=manifest, up="z")
+    assert report.warnings == [
+        f"manifest {manifest}, line 9: sesion1.csv is none of the recordings given; the row is not used",
+        f"manifest {manifest} names none of the recordings given: its 7 rows for 6 other recordings (session1.csv, "
+        "session2.csv, session3 and 3 more) are not used; give the manifest of these recordings",
+    ]
+    assert report.general == []
+
+
 def test_manifest_rows_with_folders_tell_same_named_recordings_apart(tmp_path):
     first = _joint_csv(tmp_path / "d1" / "x.csv", seed=4)
     second = _joint_csv(tmp_path / "d2" / "x.csv", seed=5)

@@ -86,6 +86,25 @@ def test_the_throws_are_labelled_with_the_manifests_baskets(rlff, tmp_path):
     assert refused.code == 2 and "baskets.csv" in refused.stderr and "200" in refused.stderr, refused.stderr
 
 
+def test_the_session_manifest_s_rows_for_other_recordings_are_one_note(rlff, tmp_path):
+    # the docs say to pass the import's --manifest: a manifest of the session gave a warning per row
+    # of every other recording, burying the figure's own warnings
+    bag = bf.write_ros1_bag(tmp_path / "session.bag", bf.standard_simulation(seed=4, n_throws=3, second_user=False),
+                            compression=None)
+    rows = "".join(f"session.bag,{k},2.0\n" for k in (1, 2, 3))
+    for index in range(2, 6):
+        (tmp_path / f"session{index}.bag").write_bytes(b"")
+        rows += f"session{index}.bag,1,1.5\n"
+    manifest = tmp_path / "baskets.csv"
+    manifest.write_text("file,throw,distance\n" + rows)
+    result = rlff("plot", "cuts", str(bag), "--manifest", str(manifest), "-o", str(tmp_path / "cuts"))
+    assert result.code == 0, result.stderr
+    assert "warning" not in result.stderr, result.stderr
+    (note,) = [line for line in result.stderr.splitlines() if "not given" in line]
+    assert note.endswith(f"manifest {manifest}: 4 rows name 4 recordings not given (session2.bag, session3.bag, "
+                         "session4.bag and 1 more): not used")
+
+
 def test_lost_tracking_is_shaded_and_what_the_import_says_is_said(rlff, msr_dir, tmp_path):
     # a recording whose tracking was lost said "0 throws" and nothing of the frames dropped or
     # of why no throw was found; the stretch without tracking was an unmarked gap in the line

@@ -61,6 +61,7 @@ from rlff.capture.manifest_match import (
     Outcome,
     listing_warning,
     names_every_throw,
+    rows_for_others,
     rows_of,
     unnamed_reason,
 )
@@ -225,8 +226,10 @@ class FileReport:
 @dataclass
 class ImportReport:
     """What the import did, file by file; ``joints`` the joint columns written (``angle`` first),
-    ``general`` notes on all files (a joint left out because some file lacks it),
-    ``general_warnings`` warnings on no one file (a manifest row that names none of them)."""
+    ``general`` notes on all files (a joint left out because some file lacks it, the manifest rows
+    for recordings not given),
+    ``general_warnings`` warnings on no one file (a manifest row that names a file found nowhere,
+    :func:`~rlff.capture.manifest_match.rows_for_others`)."""
 
     files: list[FileReport] = field(default_factory=list)
     joints: list[str] = field(default_factory=list)
@@ -619,10 +622,10 @@ def import_recordings(
         origin.update((trajectory.id, path) for trajectory in found)
         report.files.append(file_report)
         tell(path, "done", 1.0)
-    report.general_warnings.extend(
-        f"{row.where}: {row.file} is none of the recordings given; the row is not used"
-        for row in rows if not any(row.matches(path) for path in paths)
-    )
+    # a manifest of the whole session, some of its recordings given: their rows are one note
+    unused_notes, unused_warnings = rows_for_others(rows, paths)
+    report.general.extend(unused_notes)
+    report.general_warnings.extend(unused_warnings)
     report.general_warnings.extend(_rate_warnings(report, rate_hz))
     dataset = Dataset(_same_context(_common_joints(trajectories, wanted, report), report))
     _refuse_copies(dataset, origin)

@@ -8,10 +8,17 @@ has no basket the manifest vouches for. Such a throw is left out rather than lab
 landing estimate beside the manifest's baskets (unless the file name gives the file's basket), and
 the file gets one warning: how many throws were found against how many its rows list, and which
 throws took which basket.
+
+A manifest usually lists a whole session, of which a subset is imported or drawn (``rlff plot
+cuts`` on one recording, with the import's manifest): its rows for the recordings not given are
+one note (:func:`rows_for_others`), and only a row naming a file found nowhere (a misspelt name)
+is a warning.
 """
 
 from __future__ import annotations
 
+import glob
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -39,6 +46,45 @@ class Outcome:
 def rows_of(rows: list[ManifestRow], source: str | Path) -> list[ManifestRow]:
     """The manifest rows that name the recording ``source`` (:meth:`ManifestRow.matches`)."""
     return [row for row in rows if row.matches(source)]
+
+
+def rows_for_others(rows: list[ManifestRow], paths: Sequence[str | Path]) -> tuple[list[str], list[str]]:
+    """What to say of the manifest rows that name none of the recordings ``paths``: (notes, warnings).
+
+    Rows naming a recording that is beside one given or beside the manifest (another recording of
+    the session) are one note, or, when no row names any recording given (the manifest of another
+    session?), one warning; a row naming a file found in neither place (misspelt, or a recording
+    missing) is a warning of its own.
+    """
+    unused = [row for row in rows if not any(row.matches(path) for path in paths)]
+    if not unused:
+        return [], []
+    folders = {Path(rows[0].manifest).parent, *(Path(path).parent for path in paths)}
+    found = [_on_disk(row.file, folders) for row in unused]
+    warnings = [f"{row.where}: {row.file} is none of the recordings given; the row is not used"
+                for row, there in zip(unused, found, strict=True) if not there]
+    others = [row for row, there in zip(unused, found, strict=True) if there]
+    if not others:
+        return [], warnings
+    manifest = rows[0].manifest
+    names = list(dict.fromkeys(row.file for row in others))
+    shown = ", ".join(names[:3]) + (f" and {len(names) - 3} more" if len(names) > 3 else "")
+    if len(unused) == len(rows):
+        return [], [*warnings, f"manifest {manifest} names none of the recordings given: its "
+                               f"{plural(len(others), 'row')} for {plural(len(names), 'other recording')} ({shown}) "
+                               "are not used; give the manifest of these recordings"]
+    counted = f"{plural(len(others), 'row')} {'names' if len(others) == 1 else 'name'}"
+    return [f"manifest {manifest}: {counted} {plural(len(names), 'recording')} not given ({shown}): not used"], warnings
+
+
+def _on_disk(name: str, folders: set[Path]) -> bool:
+    """Whether the recording a manifest row names (a file or a ROS 2 bag folder, or its stem, as
+    :meth:`ManifestRow.matches` takes it) is in one of ``folders``."""
+    for folder in folders:
+        path = folder / name
+        if path.exists() or any(path.parent.glob(glob.escape(path.name) + ".*")):
+            return True
+    return False
 
 
 def names_every_throw(file_rows: list[ManifestRow]) -> bool:
