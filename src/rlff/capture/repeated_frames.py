@@ -18,6 +18,10 @@ tick of a timer faster than the camera (each joint's transform again, with a new
 joints come one transform each, so :func:`repeated_track_samples` first gathers them into rows
 by their stamps. A transform re-published with the same stamp is another matter, dropped by the
 bag reader as a repeated stamp.
+
+The frozen tracker's rule (:func:`frozen_samples`) is here too, for every reader: a joint whose
+position repeats the frame before exactly for a moment while it moves, where the tracker held its
+last pose of that joint alone.
 """
 
 from __future__ import annotations
@@ -34,6 +38,32 @@ REPEATED_SHARE = 1 / 3
 #: is followed by its repeats (share 1); a tracker that froze now and then, a few.
 MOVING_RUNS = 3
 MOVING_SHARE = 0.5
+#: A joint's speed (m/s) above which a stretch of frames repeating its position exactly is a
+#: frozen tracker: a moving joint cannot stop dead to the last digit. A recording without noise
+#: coming smoothly to rest (a simulation) slows below it first.
+FROZEN_ENTRY_SPEED = 0.5
+#: The longest such stretch (s): longer, the tracker lost the joint, and the gap says so.
+FROZEN_LONGEST = 0.5
+
+
+def frozen_samples(joint: np.ndarray, time: np.ndarray) -> np.ndarray:
+    """Samples (N,) where one joint's position, shape (N, 3), repeats the sample before exactly,
+    in stretches of at most :data:`FROZEN_LONGEST` that it entered and left faster than
+    :data:`FROZEN_ENTRY_SPEED` (the first sample of a stretch is kept: the tracker's last real
+    pose); ``time`` (N,) increasing stamps (s). A frame of text, a transform of a bag."""
+    frozen = np.zeros(len(time), dtype=bool)
+    repeats = np.r_[False, np.all(joint[1:] == joint[:-1], axis=1), False]
+    edges = np.diff(repeats.astype(np.int8))
+    for index, end in zip(np.flatnonzero(edges == 1) + 1, np.flatnonzero(edges == -1) + 1, strict=True):
+        held = index - 1  # the last real pose, repeated at rows index .. end - 1
+        if 1 <= held and end < len(time) and time[end - 1] - time[held] <= FROZEN_LONGEST:
+            # entered moving and left with a jump (the tracker catching up): a still joint whose
+            # coordinates repeat (noise-free or rounded) neither enters nor leaves so
+            entered = float(np.linalg.norm(joint[held] - joint[held - 1])) / max(time[held] - time[held - 1], 1e-9)
+            left = float(np.linalg.norm(joint[end] - joint[end - 1])) / max(time[end] - time[end - 1], 1e-9)
+            if min(entered, left) > FROZEN_ENTRY_SPEED:
+                frozen[index:end] = True
+    return frozen
 
 
 def repeated_skeletons(frames: np.ndarray, time: np.ndarray, moving_speed: float) -> tuple[np.ndarray, int] | None:

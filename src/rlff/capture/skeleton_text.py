@@ -36,7 +36,7 @@ from typing import NamedTuple
 import numpy as np
 
 from rlff.capture.angles import median_spacing
-from rlff.capture.repeated_frames import repeated_skeletons
+from rlff.capture.repeated_frames import FROZEN_ENTRY_SPEED, frozen_samples, repeated_skeletons
 from rlff.capture.skeleton import SIDES, ArmTrack, JointTrack, Recording
 from rlff.csvlines import data_row_line, header_separator
 from rlff.errors import InputError
@@ -222,8 +222,9 @@ def _clean_frames(
     """Drop frames whose arm joints are all at zero (the tracker lost the user); note the frames
     with a nan in a joint that is read, and set to nan a joint at exactly (0, 0, 0) (the sensor's
     origin: how trackers such as OpenPose write a joint they did not detect) and a joint a frozen
-    tracker repeated (:func:`_track` leaves them all out of that joint's track). A stream that
-    gives each skeleton several times keeps each skeleton once (:func:`repeated_skeletons`).
+    tracker repeated (:func:`~rlff.capture.repeated_frames.frozen_samples`; :func:`_track` leaves
+    them all out of that joint's track). A stream that gives each skeleton several times keeps
+    each skeleton once (:func:`repeated_skeletons`).
 
     Parameters
     ----------
@@ -264,7 +265,7 @@ def _clean_frames(
         frames, time = frames[keep], time[keep]
     held = np.zeros(frames.shape[:2], dtype=bool)  # (N, J): a joint the tracker froze in that frame
     for joint in read_joints:
-        held[:, joint] = _frozen(frames[:, joint, :], time)
+        held[:, joint] = frozen_samples(frames[:, joint, :], time)
     if held.any():
         rows = held.any(axis=1)
         first = int(np.flatnonzero(rows)[0])
@@ -273,33 +274,6 @@ def _clean_frames(
                      "left out of that joint's track, the motion bridged across")
         frames[held] = np.nan
     return frames, time
-
-
-#: A joint's speed (m/s) above which a stretch of frames repeating its position exactly is a
-#: frozen tracker: a moving joint cannot stop dead to the last digit. A recording without noise
-#: coming smoothly to rest (a simulation) slows below it first.
-FROZEN_ENTRY_SPEED = 0.5
-#: The longest such stretch (s): longer, the tracker lost the joint, and the gap says so.
-FROZEN_LONGEST = 0.5
-
-
-def _frozen(joint: np.ndarray, time: np.ndarray) -> np.ndarray:
-    """Frames (N,) where one joint's position, shape (N, 3), repeats the frame before exactly, in
-    stretches of at most :data:`FROZEN_LONGEST` that it entered and left faster than
-    :data:`FROZEN_ENTRY_SPEED` (the first frame of a stretch is kept: the tracker's last real pose)."""
-    frozen = np.zeros(len(time), dtype=bool)
-    repeats = np.r_[False, np.all(joint[1:] == joint[:-1], axis=1), False]
-    edges = np.diff(repeats.astype(np.int8))
-    for index, end in zip(np.flatnonzero(edges == 1) + 1, np.flatnonzero(edges == -1) + 1, strict=True):
-        held = index - 1  # the last real pose, repeated at rows index .. end - 1
-        if 1 <= held and end < len(time) and time[end - 1] - time[held] <= FROZEN_LONGEST:
-            # entered moving and left with a jump (the tracker catching up): a still joint whose
-            # coordinates repeat (noise-free or rounded) neither enters nor leaves so
-            entered = float(np.linalg.norm(joint[held] - joint[held - 1])) / max(time[held] - time[held - 1], 1e-9)
-            left = float(np.linalg.norm(joint[end] - joint[end - 1])) / max(time[end] - time[end - 1], 1e-9)
-            if min(entered, left) > FROZEN_ENTRY_SPEED:
-                frozen[index:end] = True
-    return frozen
 
 
 def _track(name: str, time: np.ndarray, positions: np.ndarray) -> JointTrack:
