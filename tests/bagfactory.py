@@ -251,13 +251,14 @@ def nite_frame(joint: str, user: str) -> str:
 
 
 def _tf_message(store, tf_type: str, stamp_ns: int, users: dict[str, dict[str, np.ndarray]],
-                frame_name: Callable[[str, str], str] = nite_frame):
+                frame_name: Callable[[str, str], str] = nite_frame, parent: str | Callable[[str], str] = PARENT):
     types = store.types
     time = types["builtin_interfaces/msg/Time"](sec=stamp_ns // 10**9, nanosec=stamp_ns % 10**9)
     transforms = []
     for user, body in users.items():
         for joint, position in body.items():
-            header = types["std_msgs/msg/Header"](seq=0, stamp=time, frame_id=PARENT)
+            frame_id = parent if isinstance(parent, str) else parent(joint)
+            header = types["std_msgs/msg/Header"](seq=0, stamp=time, frame_id=frame_id)
             transform = types["geometry_msgs/msg/Transform"](
                 translation=types["geometry_msgs/msg/Vector3"](x=float(position[0]), y=float(position[1]), z=float(position[2])),
                 rotation=types["geometry_msgs/msg/Quaternion"](x=0.0, y=0.0, z=0.0, w=1.0),
@@ -285,11 +286,14 @@ def write_ros1_bag(
     chunk_bytes: int = 64 * 1024,
     tf_topic: str = TF_TOPIC,
     frame_name: Callable[[str, str], str] = nite_frame,
+    names: Callable[[int], tuple[Callable[[str, str], str], str | Callable[[str], str]]] | None = None,
 ) -> Path:
     """Write the simulation as a ROS 1 bag; images (JPEG bytes, cycled) interleaved with /tf.
 
     Returns the path. ``compression`` is ``"lz4"``, ``"bz2"`` or None; ``frame_name(joint, user)``
-    names a joint's tf frame (NiTE's ``right_elbow_1`` by default).
+    names a joint's tf frame (NiTE's ``right_elbow_1`` by default); ``names(frame)``, when given,
+    gives the ``frame``-th tf message's (0-based) frame namer and parent frame (a name, or a
+    function of the joint) instead.
     """
     from rosbags.rosbag1 import Writer
 
@@ -310,7 +314,8 @@ def write_ros1_bag(
             if image_conn is not None and frame % image_every == 0:
                 data = images[(frame // image_every) % len(images)]
                 writer.write(image_conn, stamp - 5_000_000, store.serialize_ros1(_image_message(store, stamp - 5_000_000, data), image_conn.msgtype))
-            message = _tf_message(store, tf_type, stamp, users, frame_name)
+            namer, parent = (frame_name, PARENT) if names is None else names(frame)
+            message = _tf_message(store, tf_type, stamp, users, namer, parent)
             writer.write(tf_conn, stamp + 2_000_000, store.serialize_ros1(message, tf_type))
             frame += 1
     return path

@@ -27,11 +27,11 @@ import numpy as np
 
 from rlff.capture.angles import median_spacing
 from rlff.capture.bag_stream import MissingTopic, open_stream
-from rlff.capture.repeated_frames import repeated_track_samples
+from rlff.capture.repeated_frames import FROZEN_ENTRY_SPEED, repeated_track_samples
 from rlff.capture.skeleton import ArmTrack, JointTrack, Recording
-from rlff.capture.skeleton_text import FROZEN_ENTRY_SPEED
 from rlff.capture.tf_decode import TfCollector
 from rlff.errors import InputError
+from rlff.wording import plural
 
 #: Default frames of the throwing arm (NiTE / openni_tracker names, user 1).
 DEFAULT_FRAMES = ("right_shoulder_1", "right_elbow_1", "right_hand_1")
@@ -77,9 +77,10 @@ def read_bag(
     InputError
         Not a bag, a bag without ``topic`` (the topics there are listed), a topic that is not
         tf, the frames missing (the frames there are listed, and those never tracked: every
-        transform at exactly (0, 0, 0)), joints relative to different parent frames, or a bag so
-        damaged that no /tf message could be read. A torso frame never tracked is read as absent
-        (the hip centre then comes from the ``torso`` frame), with a note.
+        transform at exactly (0, 0, 0)), joints relative to different parent frames, a frame
+        relative to two parent frames (:func:`_frames`), or a bag so damaged that no /tf message
+        could be read. A torso frame never tracked is read as absent (the hip centre then comes
+        from the ``torso`` frame), with a note.
     """
     path = Path(path)
     if len(frames) != 3:
@@ -116,10 +117,11 @@ def read_bag(
     if count == 0:
         raise InputError(f"{path}: no message could be read on {topic}" + (f" ({warnings[0]})" if warnings else ""))
     notes: list[str] = []
-    arms = _arm_tracks(path, collected, sides, torso, notes)
+    frames = _frames(path, collected, notes)
+    arms = _arm_tracks(path, frames, sides, torso, notes)
     if not arms:
         present = sorted({name.lstrip("/") for name in wanted})
-        never = sorted(name.lstrip("/") for name, (_, _, position) in collected.items() if np.all(position == 0.0))
+        never = sorted(name for name, (_, _, position) in frames.items() if np.all(position == 0.0))
         raise InputError(
             f"{path}: no tracked user has all of the frames {', '.join(stem + 'N' for stem in stems)} on {topic} "
             f"(looked for {', '.join(names)}); frames there: {', '.join(present) if present else 'none'}"
@@ -195,20 +197,62 @@ def _frames_hint(stems: list[str], present: list[str]) -> str:
     return ""
 
 
+def _frames(
+    path: Path, collected: dict[tuple[str, str], tuple[np.ndarray, np.ndarray]], notes: list[str],
+) -> dict[str, tuple[str, np.ndarray, np.ndarray]]:
+    """Per child frame, named without a leading slash: (its parent frame, also without one; stamps
+    (T,) in s; translations (T, 3) in m), unsorted, from the collector's (child, parent) pairs. A
+    frame written with and without the slash is one frame, as tf2 reads it: its transforms are
+    read together, with a note.
+
+    Raises
+    ------
+    InputError
+        A child frame published relative to two parent frames (two trackers publishing frames of
+        the same names): its positions are in two frames, which no one track can hold.
+    """
+    parents: dict[str, set[str]] = {}
+    spellings: dict[str, set[str]] = {}
+    times: dict[str, list[np.ndarray]] = {}
+    positions: dict[str, list[np.ndarray]] = {}
+    for (child, parent), (time, position) in collected.items():
+        name = child.lstrip("/")
+        parents.setdefault(name, set()).add(parent.lstrip("/"))
+        spellings.setdefault(name, set()).add(child)
+        times.setdefault(name, []).append(time)
+        positions.setdefault(name, []).append(position)
+    both = sorted(name for name, spelt in spellings.items() if len(spelt) > 1)
+    if both:
+        notes.append(f"{path.name}: {plural(len(both), 'frame')} published both with and without a leading slash "
+                     f"(/{both[0]} and {both[0]}{', ...' if len(both) > 1 else ''}), one frame each as tf2 reads them: "
+                     "their transforms read together")
+    for name in sorted(parents):
+        if len(parents[name]) > 1:
+            raise InputError(
+                f"{path}: frame {name} is published relative to {len(parents[name])} parent frames "
+                f"({', '.join(sorted(parents[name]))}): two trackers publish frames of the same names, and a track "
+                "needs one parent; keep one tracker's transforms in the bag (rosbag filter), or publish each "
+                "tracker's frames under a prefix of its own and pick one with --frames"
+            )
+    return {name: (parents[name].pop(), np.concatenate(times[name]), np.concatenate(positions[name]))
+            for name in parents}
+
+
 def _arm_tracks(
     path: Path,
-    collected: dict[str, tuple[str, np.ndarray, np.ndarray]],
+    frames: dict[str, tuple[str, np.ndarray, np.ndarray]],
     sides: dict[str, list[str]],
     torso: tuple[str, ...] | None,
     notes: list[str],
 ) -> list[ArmTrack]:
-    """Arm tracks for every (user, side) with all three frames, in user order, each with the
-    user's torso from the frames named ``torso`` (:func:`torso_stems`) when the bag has them; a
-    user whose tracker gave each skeleton several times keeps each once (:func:`_skeletons_once`)."""
-    users = sorted({_user_of(name) for name in collected}, key=lambda user: (len(user), user))
+    """Arm tracks for every (user, side) with all three frames (:func:`_frames`), in user order,
+    each with the user's torso from the frames named ``torso`` (:func:`torso_stems`) when the bag
+    has them; a user whose tracker gave each skeleton several times keeps each once
+    (:func:`_skeletons_once`)."""
+    users = sorted({_user_of(name) for name in frames}, key=lambda user: (len(user), user))
     arms = []
-    by_name = {name.lstrip("/"): (parent, _joint_track(name.lstrip("/"), time, position, notes, path))
-               for name, (parent, time, position) in collected.items()}
+    by_name = {name: (parent, _joint_track(name, time, position, notes, path))
+               for name, (parent, time, position) in frames.items()}
     # a frame whose every transform was at the origin was never tracked: absent, as a frame not published
     by_name = {name: (parent, track) for name, (parent, track) in by_name.items() if track.time.size}
     for user in users:

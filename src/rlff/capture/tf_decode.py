@@ -65,9 +65,8 @@ class TfCollector:
         self.deserialize = deserialize
         self._layouts: dict[int, _Layout] = {}
         self._pending: dict[int, tuple[list[bytes], list[int]]] = {}
-        self._parents: dict[str, str] = {}
-        self._times: dict[str, list[np.ndarray]] = {}
-        self._positions: dict[str, list[np.ndarray]] = {}
+        self._times: dict[tuple[str, str], list[np.ndarray]] = {}
+        self._positions: dict[tuple[str, str], list[np.ndarray]] = {}
         #: Messages skipped because they could not be decoded (damaged bytes).
         self.skipped = 0
 
@@ -99,19 +98,17 @@ class TfCollector:
         if len(datas) >= BATCH:
             self._flush(len(data))
 
-    def finish(self) -> dict[str, tuple[str, np.ndarray, np.ndarray]]:
-        """Per child frame: (parent frame, stamps (T,) in s, translations (T, 3) in m), unsorted."""
+    def finish(self) -> dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]:
+        """Per (child frame, parent frame) as the messages name them: (stamps (T,) in s,
+        translations (T, 3) in m), unsorted; a child published under two parents (two trackers,
+        or a name written with and without a leading slash) has an entry for each."""
         for length in list(self._pending):
             self._flush(length)
-        return {
-            child: (self._parents[child], np.concatenate(self._times[child]), np.concatenate(self._positions[child]))
-            for child in self._times
-        }
+        return {pair: (np.concatenate(self._times[pair]), np.concatenate(self._positions[pair])) for pair in self._times}
 
     def _store(self, child: str, parent: str, sec: int, nanosec: int, time_ns: int, xyz: tuple[float, float, float]) -> None:
-        self._parents.setdefault(child, parent)
-        self._times.setdefault(child, []).append(np.array([sec + nanosec * 1e-9 or time_ns * 1e-9]))
-        self._positions.setdefault(child, []).append(np.array([xyz]))
+        self._times.setdefault((child, parent), []).append(np.array([sec + nanosec * 1e-9 or time_ns * 1e-9]))
+        self._positions.setdefault((child, parent), []).append(np.array([xyz]))
 
     def _parse(self, data: bytes, time_ns: int) -> _Layout:
         """Decode one message with struct, store its wanted transforms, return its layout."""
@@ -167,7 +164,6 @@ class TfCollector:
         seconds = stamps[..., 0] + stamps[..., 1] * 1e-9
         received = np.asarray(times, dtype=np.int64)[matches] * 1e-9
         seconds = np.where(seconds == 0, received[:, None], seconds)
-        for index, (child, parent) in enumerate(layout.names):
-            self._parents.setdefault(child, parent)
-            self._times.setdefault(child, []).append(seconds[:, index])
-            self._positions.setdefault(child, []).append(positions[:, index])
+        for index, pair in enumerate(layout.names):
+            self._times.setdefault(pair, []).append(seconds[:, index])
+            self._positions.setdefault(pair, []).append(positions[:, index])
