@@ -500,6 +500,44 @@ def _edited(edit) -> bf.Simulation:
     return Edited(base.throws, base.starts, base.duration, seed=4, second_user=False, drop_frames=0.0, drop_joints=0.0)
 
 
+@pytest.mark.parametrize(("value", "joint"), [(np.nan, "right_elbow"), (np.inf, "right_elbow"), (np.nan, "neck")])
+def test_a_nan_or_inf_transform_is_a_joint_not_tracked_there(tmp_path, value, joint):
+    # a nan or inf translation was read as a position: a throw's extension with one crashed the
+    # import ("internal error: ValueError: zero-size array ..."), a neck's ("y must contain only
+    # finite values"), and one outside a throw stayed in the track as a nan
+    def spoil(index, body, extension):
+        if index in (extension[len(extension) // 2], 10):
+            body[joint] = np.array([value, 0.5, 1.0])
+
+    bag = bf.write_ros1_bag(tmp_path / "nan.bag", _edited(spoil), compression=None)
+    recording = read_bag(bag)
+    arm = recording.arm("1", "right")
+    track = arm.elbow if joint == "right_elbow" else arm.neck
+    assert np.all(np.isfinite(track.position)) and len(track) == len(_edited(spoil).frame_times) - 2
+    assert f"nan.bag: frame {joint}_1: left out 2 transforms with a nan or inf in its translation, taken as not tracked " \
+           "there (as a nan in text)" in recording.notes
+    (throw,), _ = import_recordings([bag], "bag")
+    assert np.all(np.isfinite(throw["velocity"]))
+
+
+def test_a_transform_far_beyond_what_a_camera_sees_is_a_joint_not_tracked_there(tmp_path):
+    # an elbow at 1e30 m for 0.1 s at rest was read as a position: a spurious movement there, and
+    # the real throw renumbered t2
+    def spoil(index, body, extension):
+        if 10 <= index < 13:
+            body["right_elbow"] = np.array([1e30, 0.0, 0.0])
+
+    _, reference = import_recordings([bf.write_ros1_bag(tmp_path / "own.bag", _edited(lambda *_: None), compression=None)])
+    bag = bf.write_ros1_bag(tmp_path / "far.bag", _edited(spoil), compression=None)
+    recording = read_bag(bag)
+    assert np.abs(recording.arm("1", "right").elbow.position).max() < 10.0
+    assert "far.bag: frame right_elbow_1: left out 3 transforms with a coordinate beyond 100 m of its parent frame, " \
+           "farther than a depth camera sees: taken as not tracked there" in recording.notes
+    (throw,), report = import_recordings([bag], "bag")
+    assert throw.id == "far_t1" and not report.files[0].rejected
+    assert report.files[0].throws[0].peak_velocity == pytest.approx(reference.files[0].throws[0].peak_velocity)
+
+
 def test_a_frame_published_under_two_parent_frames_is_an_error_naming_both(tmp_path):
     # two trackers publishing the same frame names were merged into one track, positions in two
     # frames a metre apart: 29 "glitch samples" removed and the landing 1.22 m for 1.81

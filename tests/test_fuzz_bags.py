@@ -103,6 +103,49 @@ def test_ros1_skeleton_bag(skeleton_bag, data):
         check_reader(_read_skeleton, path)
 
 
+@pytest.fixture(scope="module")
+def plain_skeleton_bag(tmp_path_factory) -> bytes:
+    path = tmp_path_factory.mktemp("seed") / "plain.bag"
+    bf.write_ros1_bag(path, _short_session(), compression=None)
+    return path.read_bytes()
+
+
+def _import_skeleton(path: Path):
+    from rlff.capture import import_recordings
+
+    dataset, report = import_recordings([path], "bag")
+    for trajectory in dataset:
+        assert np.all(np.isfinite(trajectory["angle"])) and np.all(np.isfinite(trajectory["velocity"]))
+    return dataset
+
+
+@BAG_FUZZ
+@given(data=st.data())
+def test_ros1_skeleton_bag_with_bad_translations(plain_skeleton_bag, data):
+    """Translations of some arm and torso transforms set to nan, inf, 0 or far away: the import
+    reads them as joints not tracked there (a nan in an extension once crashed it with an internal
+    ValueError)."""
+    import struct
+
+    content = bytearray(plain_skeleton_bag)
+    names = [f"{joint}_1".encode() for joint in ("right_shoulder", "right_elbow", "right_hand", "neck", "right_hip",
+                                                 "left_hip", "torso", "left_elbow")]
+    for _ in range(data.draw(st.integers(1, 12))):
+        name = data.draw(st.sampled_from(names))
+        at = -1
+        for _ in range(data.draw(st.integers(1, 60))):
+            at = content.find(name, at + 1)
+            if at < 0:
+                break
+        if at < 0:
+            continue
+        value = data.draw(st.sampled_from((float("nan"), float("inf"), -float("inf"), 1e308, 1e30, 150.0, 0.0)))
+        axis = data.draw(st.integers(0, 2))
+        struct.pack_into("<d", content, at + len(name) + 8 * axis, value)
+    with file_with(bytes(content), "session.bag") as path:
+        check_reader(_import_skeleton, path)
+
+
 @BAG_FUZZ
 @given(data=st.data())
 def test_ros1_trajectory_bag(trajectory_bag, data):

@@ -49,6 +49,10 @@ IMAGE_TYPES = ("sensor_msgs/msg/CompressedImage",)
 MARKER_TYPES = ("visualization_msgs/msg/Marker", "visualization_msgs/msg/MarkerArray")
 #: Up in a ROS camera-link frame (x forward, y left, z up: REP 103).
 ROS_UP = np.array([0.0, 0.0, 1.0])
+#: The farthest (m) a joint's coordinate lies from its parent frame as a position: a depth camera
+#: sees a few metres (a Kinect up to 4.5 m); beyond (1e30 from a tracker's bad arithmetic) a
+#: transform is no position, a joint not tracked there.
+FARTHEST = 100.0
 
 
 def read_bag(
@@ -253,7 +257,7 @@ def _arm_tracks(
     arms = []
     by_name = {name: (parent, _joint_track(name, time, position, notes, path))
                for name, (parent, time, position) in frames.items()}
-    # a frame whose every transform was at the origin was never tracked: absent, as a frame not published
+    # a frame without a transform that is a position was never tracked: left out, as a frame not published
     by_name = {name: (parent, track) for name, (parent, track) in by_name.items() if track.time.size}
     for user in users:
         _skeletons_once(path, user, by_name, notes)
@@ -333,17 +337,33 @@ def never_tracked(count: int) -> str:
 
 def _joint_track(name: str, time: np.ndarray, position: np.ndarray, notes: list[str], path: Path) -> JointTrack:
     """A joint track with its samples in time order, repeated stamps dropped (keeping the last)
-    and transforms at exactly (0, 0, 0) left out (the camera's origin: a joint the tracker did not
-    detect, as NiTE gives one it has no confidence in); without a sample when every one was there
-    (a joint never detected: :func:`_arm_tracks` leaves such a frame out, with a note)."""
+    and the transforms that are no position left out, each kind with a note, as the text readers
+    leave out a joint not tracked in a frame: at exactly (0, 0, 0) (the camera's origin: a joint
+    the tracker did not detect, as NiTE gives one it has no confidence in), a nan or inf, or a
+    coordinate beyond :data:`FARTHEST`. Without a sample when no transform was a position (a joint
+    never detected: :func:`_arm_tracks` leaves such a frame out, saying so)."""
     at_origin = np.all(position == 0.0, axis=1)
+    finite = np.all(np.isfinite(position), axis=1)
+    far = finite & np.any(np.abs(position) > FARTHEST, axis=1)
     if at_origin.all():
         notes.append(f"{path.name}: frame {name}: {never_tracked(int(at_origin.sum()))}")
+        return JointTrack(name, time[:0], position[:0])
+    if (at_origin | ~finite | far).all():
+        notes.append(f"{path.name}: frame {name}: none of its {plural(time.size, 'transform')} is a position (at exactly "
+                     f"(0, 0, 0), nan or inf, or beyond {FARTHEST:g} m): a joint the tracker never gave, read as a frame "
+                     "the bag does not have")
         return JointTrack(name, time[:0], position[:0])
     if at_origin.any():
         notes.append(f"{path.name}: frame {name}: left out {int(at_origin.sum())} transforms at exactly (0, 0, 0), the "
                      "camera's origin (a joint the tracker did not detect)")
-        time, position = time[~at_origin], position[~at_origin]
+    if not finite.all():
+        notes.append(f"{path.name}: frame {name}: left out {plural(int((~finite).sum()), 'transform')} with a nan or inf "
+                     "in its translation, taken as not tracked there (as a nan in text)")
+    if far.any():
+        notes.append(f"{path.name}: frame {name}: left out {plural(int(far.sum()), 'transform')} with a coordinate beyond "
+                     f"{FARTHEST:g} m of its parent frame, farther than a depth camera sees: taken as not tracked there")
+    kept = ~(at_origin | ~finite | far)
+    time, position = time[kept], position[kept]
     order = np.argsort(time, kind="stable")
     time, position = time[order], position[order]
     keep = np.ones(time.size, dtype=bool)
