@@ -538,6 +538,33 @@ def test_a_transform_far_beyond_what_a_camera_sees_is_a_joint_not_tracked_there(
     assert report.files[0].throws[0].peak_velocity == pytest.approx(reference.files[0].throws[0].peak_velocity)
 
 
+def test_a_frame_a_frozen_tracker_held_is_left_out_as_in_text(tmp_path):
+    # the text readers' frozen-tracker rule did not reach bags: a joint re-published at its last
+    # translation for 0.17 s mid-extension was read as a stop and a jump (an elbow's: the peak 23
+    # rad/s for 15.7), both confidences high, with no note
+    held = {}
+
+    def freeze(index, body, extension):
+        middle = extension[len(extension) // 2]
+        if index == middle - 2:
+            held["hand"] = body["right_hand"].copy()
+        elif middle - 2 < index <= middle + 2:
+            body["right_hand"] = held["hand"].copy()
+
+    simulation = _edited(freeze)
+    bag = bf.write_ros1_bag(tmp_path / "frozen.bag", simulation, compression=None)
+    recording = read_bag(bag)
+    assert "frozen.bag: frame right_hand_1: 4 transforms repeating its translation of the one before exactly while it " \
+           "was moving (a frozen tracker): left out of its track, the motion bridged across" in recording.notes
+    hand = recording.arm("1", "right").hand
+    assert len(hand) == len(simulation.frame_times) - 4
+    assert not np.any(np.all(np.diff(hand.position, axis=0) == 0.0, axis=1))
+    _, report = import_recordings([bag], "bag")
+    assert report.files[0].throws[0].peak_confidence == "low"
+    assert any("its extension has a " in warning and " gap in the hand's samples" in warning
+               for warning in report.files[0].warnings), report.files[0].warnings
+
+
 def test_a_frame_published_under_two_parent_frames_is_an_error_naming_both(tmp_path):
     # two trackers publishing the same frame names were merged into one track, positions in two
     # frames a metre apart: 29 "glitch samples" removed and the landing 1.22 m for 1.81

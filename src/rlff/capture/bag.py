@@ -27,7 +27,7 @@ import numpy as np
 
 from rlff.capture.angles import median_spacing
 from rlff.capture.bag_stream import MissingTopic, open_stream
-from rlff.capture.repeated_frames import FROZEN_ENTRY_SPEED, repeated_track_samples
+from rlff.capture.repeated_frames import FROZEN_ENTRY_SPEED, frozen_samples, repeated_track_samples
 from rlff.capture.skeleton import ArmTrack, JointTrack, Recording
 from rlff.capture.tf_decode import TfCollector
 from rlff.errors import InputError
@@ -252,7 +252,8 @@ def _arm_tracks(
     """Arm tracks for every (user, side) with all three frames (:func:`_frames`), in user order,
     each with the user's torso from the frames named ``torso`` (:func:`torso_stems`) when the bag
     has them; a user whose tracker gave each skeleton several times keeps each once
-    (:func:`_skeletons_once`)."""
+    (:func:`_skeletons_once`), and a joint a frozen tracker held is left out where it was
+    (:func:`_frozen_left_out`)."""
     users = sorted({_user_of(name) for name in frames}, key=lambda user: (len(user), user))
     arms = []
     by_name = {name: (parent, _joint_track(name, time, position, notes, path))
@@ -261,6 +262,7 @@ def _arm_tracks(
     by_name = {name: (parent, track) for name, (parent, track) in by_name.items() if track.time.size}
     for user in users:
         _skeletons_once(path, user, by_name, notes)
+        _frozen_left_out(path, user, by_name, notes)
         neck, hip = _torso(by_name, torso, user) if torso is not None else (None, None)
         for side, stems in sides.items():
             frame_names = [stem + user for stem in stems]
@@ -282,6 +284,21 @@ def _arm_tracks(
             else:
                 arms.append(ArmTrack(user or "1", side, *joints, neck=neck, hip=hip))
     return arms
+
+
+def _frozen_left_out(path: Path, user: str, by_name: dict[str, tuple[str, JointTrack]], notes: list[str]) -> None:
+    """Leave out, in place, the transforms of ``user``'s frames that a frozen tracker repeated
+    (:func:`~rlff.capture.repeated_frames.frozen_samples`: a joint's translation again, exactly,
+    with new stamps while it moved), as the text readers do, with a note per frame: read as
+    positions, they stopped the joint dead and its catching up made a throw peak too fast."""
+    for name in [name for name in by_name if _user_of(name) == user]:
+        parent, track = by_name[name]
+        held = frozen_samples(track.position, track.time)
+        if held.any():
+            by_name[name] = (parent, JointTrack(track.name, track.time[~held], track.position[~held]))
+            notes.append(f"{path.name}: frame {name}: {plural(int(held.sum()), 'transform')} repeating its translation "
+                         "of the one before exactly while it was moving (a frozen tracker): left out of its track, the "
+                         "motion bridged across")
 
 
 def _user_of(name: str) -> str:
