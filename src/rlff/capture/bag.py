@@ -122,7 +122,7 @@ def read_bag(
         raise InputError(f"{path}: no message could be read on {topic}" + (f" ({warnings[0]})" if warnings else ""))
     notes: list[str] = []
     frames = _frames(path, collected, notes)
-    arms = _arm_tracks(path, frames, sides, torso, notes)
+    arms = _arm_tracks(path, frames, sides, torso, notes, warnings)
     if not arms:
         present = sorted({name.lstrip("/") for name in wanted})
         never = sorted(name for name, (_, _, position) in frames.items() if np.all(position == 0.0))
@@ -248,18 +248,21 @@ def _arm_tracks(
     sides: dict[str, list[str]],
     torso: tuple[str, ...] | None,
     notes: list[str],
+    warnings: list[str],
 ) -> list[ArmTrack]:
     """Arm tracks for every (user, side) with all three frames (:func:`_frames`), in user order,
     each with the user's torso from the frames named ``torso`` (:func:`torso_stems`) when the bag
     has them; a user whose tracker gave each skeleton several times keeps each once
     (:func:`_skeletons_once`), and a joint a frozen tracker held is left out where it was
-    (:func:`_frozen_left_out`)."""
+    (:func:`_frozen_left_out`). An arm left out because one of its frames is in the bag but was
+    never tracked is a warning (it may be the throwing arm); one whose frame the bag lacks, a note."""
     users = sorted({_user_of(name) for name in frames}, key=lambda user: (len(user), user))
     arms = []
     by_name = {name: (parent, _joint_track(name, time, position, notes, path))
                for name, (parent, time, position) in frames.items()}
     # a frame without a transform that is a position was never tracked: left out, as a frame not published
-    by_name = {name: (parent, track) for name, (parent, track) in by_name.items() if track.time.size}
+    never = {name for name, (_, track) in by_name.items() if not track.time.size}
+    by_name = {name: (parent, track) for name, (parent, track) in by_name.items() if name not in never}
     for user in users:
         _skeletons_once(path, user, by_name, notes)
         _frozen_left_out(path, user, by_name, notes)
@@ -269,7 +272,7 @@ def _arm_tracks(
             missing = [name for name in frame_names if name not in by_name]
             if missing:
                 if len(missing) < len(frame_names):  # part of an arm: say why it is not used
-                    notes.append(f"{path.name}: user {user or '1'}, {side} arm left out: no frame {', '.join(missing)}")
+                    _arm_left_out(path, f"user {user or '1'}, {side} arm", missing, never, notes, warnings)
                 continue
             parents = {by_name[name][0] for name in frame_names}
             if len(parents) > 1:
@@ -284,6 +287,23 @@ def _arm_tracks(
             else:
                 arms.append(ArmTrack(user or "1", side, *joints, neck=neck, hip=hip))
     return arms
+
+
+def _arm_left_out(
+    path: Path, arm: str, missing: list[str], never: set[str], notes: list[str], warnings: list[str],
+) -> None:
+    """Say why ``arm`` (``user 1, right arm``) is left out: its ``missing`` frames, those of them
+    in the bag but ``never`` tracked (a warning, as the text readers give for a joint never
+    tracked) apart from those the bag does not have (a note: another tracker's names)."""
+    absent = [name for name in missing if name not in never]
+    untracked = [name for name in missing if name in never]
+    why = ([f"no frame {', '.join(absent)}"] if absent else []) + (
+        [f"frame {', '.join(untracked)} {'is' if len(untracked) == 1 else 'are'} in the bag but was never "
+         "tracked (not one transform a position)"] if untracked else [])
+    if untracked:
+        warnings.append(f"{path}: {arm} left out: {'; '.join(why)}")
+    else:
+        notes.append(f"{path.name}: {arm} left out: {'; '.join(why)}")
 
 
 def _frozen_left_out(path: Path, user: str, by_name: dict[str, tuple[str, JointTrack]], notes: list[str]) -> None:
