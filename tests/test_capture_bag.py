@@ -183,6 +183,30 @@ def test_a_bag_damaged_at_the_end_is_read_up_to_the_damage_with_a_warning(tmp_pa
     assert path.is_file() and not any("no frame" in note or "undecodable" in note for note in notes)
 
 
+def test_a_damaged_chunk_in_the_middle_of_an_indexed_bag_is_skipped_and_the_rest_read(tmp_path, simulation):
+    # the first damage met while iterating ended the stream: every throw after one damaged chunk
+    # of twenty was lost ("no throw found")
+    from rosbags.rosbag1 import Reader
+
+    bag = bf.write_ros1_bag(tmp_path / "chunked.bag", simulation, chunk_bytes=4096)
+    with Reader(bag) as reader:
+        infos = sorted(reader.chunk_infos, key=lambda info: info.pos)
+    assert len(infos) >= 10
+    middle = infos[len(infos) // 2]
+    data = bytearray(bag.read_bytes())
+    data[middle.pos + 100 : middle.pos + 300] = np.random.default_rng(0).integers(0, 256, 200, dtype=np.uint8).tobytes()
+    damaged = tmp_path / "damaged.bag"
+    damaged.write_bytes(bytes(data))
+    whole, ours = read_bag(bag), read_bag(damaged)
+    (warning,) = [w for w in ours.warnings if "the bag is damaged" in w]
+    assert "; skipped its messages from t=" in warning and warning.endswith(" of recording (a damaged chunk) and read the rest")
+    elbow, reference = ours.arm("1", "right").elbow, whole.arm("1", "right").elbow
+    assert elbow.time[-1] == reference.time[-1]  # read on to the end
+    lost = np.setdiff1d(reference.time, elbow.time)
+    assert 0 < lost.size and lost.max() - lost.min() < 0.5  # one chunk's span, about a quarter second at 4 kB
+    assert len(import_recordings([damaged], "bag")[0]) == len(simulation.throws)
+
+
 def test_an_unindexed_bag_from_a_dead_recorder_is_scanned(tmp_path, lz4_bag, simulation):
     """A recorder killed before closing leaves index_pos = 0 in the header."""
     data = bytearray(lz4_bag.read_bytes())

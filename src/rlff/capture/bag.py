@@ -14,7 +14,7 @@ are named as the arm frames are, with the same prefix and the same ending before
 (``kinect1/neck_1`` beside ``kinect1/right_shoulder_1``, ``neck`` beside ``right_shoulder``).
 
 Bags are opened by :mod:`rlff.capture.bag_stream`, which also reads a ROS 1 bag damaged at the
-end up to the damage, with a warning.
+end up to the damage, and one with a damaged chunk before its end past that chunk, with a warning.
 """
 
 from __future__ import annotations

@@ -3,7 +3,9 @@
 Opened with rosbags (``AnyReader``: one chunk in memory at a time, types from the definitions
 stored in the bag). A ROS 1 bag whose end is damaged (the recorder died, the copy was cut short)
 has no usable index and rosbags refuses it; its chunks are then scanned from the start and read up
-to the damage, with a warning. Damage met while iterating ends the stream with a warning too.
+to the damage, with a warning. Damage met while iterating an indexed ROS 1 bag (a chunk whose bytes
+are damaged) skips to the next chunk's start with a warning saying which span was lost; damage in
+a ROS 2 bag, or in the last chunks, ends the stream with a warning.
 """
 
 from __future__ import annotations
@@ -56,7 +58,9 @@ def open_stream(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | Non
     """Messages of ``topics`` (checked to be of one of ``msgtypes``) in time order.
 
     Reads through rosbags; a ROS 1 bag that rosbags cannot open (damaged index) is scanned instead.
-    Errors while iterating end the iteration with a warning.
+    An error while iterating a ROS 1 bag skips to the next chunk (:func:`_next_chunk`), with a
+    warning naming the span lost; one with no chunk after it, or in a ROS 2 bag, ends the
+    iteration with a warning.
     """
     from rosbags.highlevel import AnyReader, AnyReaderError
 
@@ -84,13 +88,28 @@ def open_stream(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | Non
         def messages() -> Iterator[Message]:
             if not connections:
                 return  # rosbags reads every connection when given none
-            last = None
-            try:
-                for connection, time_ns, raw in reader.messages(connections=connections):
-                    last = time_ns
-                    yield Message(connection.topic, connection.msgtype, time_ns, raw, connection.digest if not reader.is2 else "")
-            except Exception as exc:  # noqa: BLE001 - any decoding failure inside the bag is damage
-                warnings.append(_damage_warning(path, f"{type(exc).__name__}: {exc}", last, reader.start_time))
+            start = last = lost = None  # where reading resumes, the last message read, where damage began (ns)
+            reason = ""
+            while True:
+                try:
+                    for connection, time_ns, raw in reader.messages(connections=connections, start=start):
+                        if lost is not None:  # read on past the damage
+                            warnings.append(_skip_warning(path, reason, lost, start, reader.start_time))
+                            lost = None
+                        last = time_ns
+                        yield Message(connection.topic, connection.msgtype, time_ns, raw,
+                                      connection.digest if not reader.is2 else "")
+                    if lost is not None:
+                        warnings.append(_damage_warning(path, reason, last, reader.start_time))
+                    return
+                except Exception as exc:  # noqa: BLE001 - any decoding failure inside the bag is damage
+                    after = max(time for time in (last, start, reader.start_time - 1) if time is not None)
+                    if lost is None:
+                        lost, reason = after, f"{type(exc).__name__}: {exc}"
+                    start = None if reader.is2 else _next_chunk(reader, after)
+                    if start is None:
+                        warnings.append(_damage_warning(path, reason, last, reader.start_time))
+                        return
 
         yield BagStream(all_topics, messages(), deserialize, warnings)
     finally:
@@ -115,6 +134,20 @@ def _check_topics(path: Path, all_topics: dict[str, str], topics: Sequence[str],
             raise InputError(
                 f"{path}: topic {topic} carries {all_topics[topic]}, expected one of {', '.join(msgtypes)}"
             )
+
+
+def _next_chunk(reader: Any, after_ns: int) -> int | None:
+    """The first stamp (ns) after ``after_ns`` where a chunk of the ROS 1 bags of ``reader`` (a
+    rosbags ``AnyReader``) begins, to read on from past a damaged chunk; None when none begins later."""
+    starts = [info.start_time for bag in reader.readers for info in bag.chunk_infos if info.start_time > after_ns]
+    return min(starts, default=None)
+
+
+def _skip_warning(path: Path, reason: str, lost_ns: int, resumed_ns: int, first_ns: int) -> str:
+    """The warning for messages skipped from ``lost_ns`` (the last read before the damage) to
+    ``resumed_ns`` (the next chunk's start)."""
+    return (f"{path}: the bag is damaged ({reason}); skipped its messages from t={(lost_ns - first_ns) * 1e-9:.2f} s "
+            f"to t={(resumed_ns - first_ns) * 1e-9:.2f} s of recording (a damaged chunk) and read the rest")
 
 
 def _damage_warning(path: Path, reason: str, last_ns: int | None, first_ns: int | None) -> str:
