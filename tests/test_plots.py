@@ -4,6 +4,7 @@ legends, titles; and both files are written (a real PNG and an SVG)."""
 from __future__ import annotations
 
 import json
+import re
 from types import SimpleNamespace
 
 import numpy as np
@@ -293,6 +294,19 @@ def test_learning_curves_of_logs_shade_the_logs_own_opening_and_name_a_gap(tmp_p
     assert curve_labels(saved) == ["calibrate (2 attempts)", "calibrate, arm speed:0.9 (2 attempts)"]
     # what both share is said once, in the title
     assert axes.get_title() == "Learning from failure for a basket at 1.4 m, binary feedback, opening 0.25 m"
+
+
+def test_learning_curves_of_a_log_without_an_attempt_are_refused_naming_it(tmp_path):
+    # a header alone drew an empty axis (ticks 0.48 to 0.52, "sweep (0 attempts)"), exit 0
+    from rlff.plots.learning import learning_curves_from_logs
+
+    plain = learning_log(tmp_path / "plain.jsonl")
+    empty = tmp_path / "empty.jsonl"
+    empty.write_text(plain.read_text().splitlines()[0] + "\n")
+    with pytest.raises(InputError, match=rf"^{re.escape(str(empty))} holds no attempt \(its run stopped before its first "
+                                         r"throw\): no curve to draw; leave it out"):
+        learning_curves_from_logs([plain, empty], tmp_path / "curves")
+    assert not list(tmp_path.glob("curves*"))
 
 
 def test_learning_logs_are_read_as_the_loop_reads_them_to_resume(tmp_path):

@@ -170,7 +170,7 @@ def learning_curves_from_logs(logs: Sequence[str | Path], out: str | Path, *, to
     """:func:`learning_curves` of one or more attempts logs of one task (one line per log).
 
     Logs of different tasks (another basket, bearing, rim height, robot, pedestal or joints) are
-    refused (:func:`rlff.plots.learning_logs.require_one_task`). Each curve is named by its method
+    refused (:func:`rlff.plots.learning_logs.require_one_task`), and so is a log without an attempt. Each curve is named by its method
     and what else tells it from the other logs' (:func:`rlff.plots.learning_logs.curve_names`),
     what all share goes into the title. Without ``tolerance`` (m) the shaded band is the loop's
     hit window for the logs' basket when they share an opening
@@ -181,6 +181,10 @@ def learning_curves_from_logs(logs: Sequence[str | Path], out: str | Path, *, to
         raise InputError("no attempts logs given")
     runs = [read_learning_log(path) for path in logs]
     require_one_task(runs)
+    # a header alone (a run stopped before its first throw) had drawn an empty axis, exit 0
+    if (empty := next((path for path, run in zip(logs, runs, strict=True) if not len(run.misses)), None)) is not None:
+        raise InputError(f"{empty} holds no attempt (its run stopped before its first throw): no curve to draw; "
+                         "leave it out")
     basket = runs[0].basket
     band = None
     openings = {run.opening for run in runs}
