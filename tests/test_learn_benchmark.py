@@ -165,8 +165,14 @@ def test_feedback_names(text, kind, noise, rate):
 
 
 @pytest.mark.parametrize("text, message", [
-    ("telepathy", "unknown feedback 'telepathy'"), ("false-miss:1.5", "a rate between 0 and 1"),
-    ("noisy-distance:x", "'x' is not a number"), ("binary:0.1", "unknown feedback"),
+    ("telepathy", "unknown feedback 'telepathy'"), ("binary:0.1", "unknown feedback"),
+    ("noisy-distance:x", "'x' is not a number"),
+    # each kind says its own rule ("noisy-distance takes ..., false-miss a rate between 0 and 1" to
+    # both until 2026-12-07, which read as if 0 and 1 were allowed), and a value left out is named
+    ("false-miss:1.5", r"^feedback 'false-miss:1.5': false-miss takes a rate above 0 and below 1 "),
+    ("false-miss:0", r"^feedback 'false-miss:0': false-miss takes a rate above 0 and below 1 "),
+    ("noisy-distance:0", r"^feedback 'noisy-distance:0': noisy-distance takes a standard deviation > 0 \(m\)"),
+    ("false-miss", r"^feedback 'false-miss': give its value after ':', a rate above 0 and below 1"),
 ])
 def test_bad_feedback_names_the_value(text, message):
     with pytest.raises(InputError, match=message):

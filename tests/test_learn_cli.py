@@ -567,6 +567,11 @@ def test_a_finished_log_resumed_with_a_smaller_budget_counts_its_attempts_in_the
     again = rlff("learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--budget", "1", "--log", str(log))
     assert again.code == 0, again.stderr
     assert f"{done}/{done}" in again.stderr and f"{done}/1" not in again.stderr, again.stderr
+    # and it says that nothing was thrown (it had looked like a run that threw)
+    assert not any('"hit": true' in line or '"hit":true' in line for line in attempt_lines(log))
+    assert (f"nothing thrown: {log} holds {done} attempts, as many as --budget 1 allows or more; give a larger "
+            "--budget to throw on") in again.stderr, again.stderr
+    assert "nothing thrown" not in first.stderr
 
 
 def test_a_log_resumed_with_a_new_batch_appended_says_the_demonstrations_changed(rlff, demos_csv, tmp_path):

@@ -75,7 +75,8 @@ def learning(
     aim: str = typer.Option("auto", "--aim",
                             help="Where every method's speed starts, comma-separated, one case each (rlff learn "
                                  "--aim): auto, kinematics (where the robot file's kinematics send the throw: "
-                                 "calibrate's and donut's speed search centres there, the GMR baselines start "
+                                 "calibrate's speed search centres there, donut lays the DMM's ring about it (the "
+                                 "aim itself, the ring's hole, comes late), the GMR baselines start "
                                  "there, failure and hindsight throw the DMM's throw sped up or slowed down to "
                                  "it; their ablations too), demonstrations."),
     methods: str | None = typer.Option(None, "--methods",
@@ -109,16 +110,19 @@ def learning(
     from rlff.limits import check_distance, parse_number
 
     people = list(DEMONSTRATORS) if scenario == "all" else _names("--scenario", scenario, list(DEMONSTRATORS))
+    # the lists' own faults name their option once ("--landings: --landings: 'exact' given twice")
+    landings_named, feedback_named, gap_named = _names("--landings", landings), _names("--feedback", feedback), \
+        _names("--gap", gap)
     try:
-        knowledge = [parse_landings(n) for n in _names("--landings", landings)]
+        knowledge = [parse_landings(n) for n in landings_named]
     except InputError as exc:
         raise InputError(f"--landings: {exc}") from None
     try:
-        feedbacks = tuple(parse_feedback(n) for n in _names("--feedback", feedback))
+        feedbacks = tuple(parse_feedback(n) for n in feedback_named)
     except InputError as exc:
         raise InputError(f"--feedback: {exc}") from None
     try:
-        gaps = [parse_gap(n) for n in _names("--gap", gap)]
+        gaps = [parse_gap(n) for n in gap_named]
     except InputError as exc:
         raise InputError(f"--gap: {exc}") from None
     from rlff.learn.loop import AIMS

@@ -103,7 +103,8 @@ def learn_command(
                                          "never twice before its second pass."),
     aim: str = typer.Option("auto", "--aim",
                             help="Where the throws' speed starts: kinematics (where the robot file's geometry "
-                                 "sends the throw: calibrate's and donut's speed search centres there, the "
+                                 "sends the throw: calibrate's speed search centres there, donut lays the DMM's "
+                                 "ring about it (the aim itself, the ring's hole, comes late), the "
                                  "baselines start there, failure and hindsight throw the DMM's throw sped up or "
                                  "slowed down to it), demonstrations (their speeds, landings or labels), or "
                                  "auto: kinematics for --joints, demonstrations for one joint. On real "
@@ -210,6 +211,10 @@ def learn_command(
         return
     if result.resumed:
         say(f"resumed {plural(result.resumed, 'attempt')} from {log}")
+    stopped_before = result.out_of_reach or result.repeated or result.unchanged or (result.hit and result.centred)
+    if result.resumed >= budget and not stopped_before:  # said, where it had looked like a run that threw
+        say(f"nothing thrown: {log} holds {plural(result.resumed, 'attempt')}, as many as --budget {budget} allows "
+            "or more; give a larger --budget to throw on")
     goal = "a centred hit" if until == "centred" else "a hit"
     verdict = (f"{goal} after {plural(result.attempts, 'attempt')}" if result.hit and result.centred
                else f"no {goal[2:]} in {plural(result.attempts, 'attempt')}"

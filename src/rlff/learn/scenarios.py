@@ -111,13 +111,16 @@ def parse_feedback(text: str) -> Feedback:
     if word in ("binary", "distance") and not value:
         return Feedback(word, word)
     if word in ("noisy-distance", "false-miss"):
+        takes = ("a standard deviation > 0 (m), e.g. noisy-distance:0.05" if word == "noisy-distance" else
+                 "a rate above 0 and below 1 (the share of hits reported as misses), e.g. false-miss:0.2")
+        if not value.strip():  # "'' is not a number" had not said what was missing
+            raise InputError(f"feedback {text!r}: give its value after ':', {takes}")
         number = parse_number(value, f"feedback {text!r}")
         if word == "noisy-distance" and number > 0:
             return Feedback(f"{word}:{number:g}", "distance", noise=number)
         if word == "false-miss" and 0 < number < 1:
             return Feedback(f"{word}:{number:g}", "binary", false_miss=number)
-        raise InputError(f"feedback {text!r}: noisy-distance takes a standard deviation > 0 (m), "
-                         "false-miss a rate between 0 and 1")
+        raise InputError(f"feedback {text!r}: {word} takes {takes}")
     raise InputError(f"unknown feedback {text!r} (known: binary, distance, noisy-distance:STD, "
                      "false-miss:RATE)")
 
@@ -128,6 +131,8 @@ def parse_landings(text: str) -> str:
     if word in ("exact", "none") and not value:
         return word
     if word == "noisy":
+        if not value.strip():  # "'' is not a number" had not said what was missing
+            raise InputError(f"landings {text!r}: give the standard deviation after ':' (m), e.g. noisy:0.3")
         std = parse_number(value, f"landings {text!r}")
         if std > 0:
             return f"noisy:{std:g}"

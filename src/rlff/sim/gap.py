@@ -62,6 +62,10 @@ def parse_gap(text: str) -> Gap:
     if word == "none" and not value:
         return Gap()
     if word in ("speed", "delay"):
+        if not value.strip():  # "'' is not a number" had not said what was missing
+            raise InputError(f"gap {text!r}: give its value after ':', e.g. "
+                             + ("speed:0.9 (the fraction of the commanded speed the arm reaches)" if word == "speed"
+                                else "delay:0.02 (the seconds the release comes late)"))
         number = parse_number(value, f"gap {text!r}")
         if word == "speed" and 0 < number <= 1:
             return Gap(f"speed:{number:g}", speed=number)
