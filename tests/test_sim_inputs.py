@@ -104,5 +104,12 @@ def test_an_attempts_log_without_a_hit_asks_for_an_attempt_by_the_argument_and_t
     from attempts_logs import write_attempts_log
 
     log = write_attempts_log(tmp_path / "a.jsonl", {"basket": {"distance": 1.5}}, [-0.4, -0.3])
-    with pytest.raises(InputError, match=r"none of its 2 attempts hit; choose one with attempt \(--attempt N\)$"):
+    # "choose one with attempt (--attempt N)" until 2026-12-07: which numbers there are is said too
+    with pytest.raises(InputError, match=r"none of its 2 attempts hit; choose one by its number, attempt=N "
+                                         r"\(--attempt N\), from 1 to 2$"):
         load_input(log, load_robot())
+    one = write_attempts_log(tmp_path / "one.jsonl", {"basket": {"distance": 1.5}}, [-0.4])
+    with pytest.raises(InputError, match=r"its one attempt missed; to use it all the same, give attempt=1 \(--attempt 1\)$"):
+        load_input(one, load_robot())
+    with pytest.raises(InputError, match=r"no attempt 2 \(it holds attempt 1 only\)$"):
+        load_input(one, load_robot(), attempt=2)

@@ -98,10 +98,15 @@ def pick_attempt(path: str | Path, number: int | None = None) -> tuple[Attempt, 
     if number is None:
         hits = [a for a in attempts if a.hit]
         if not hits:
-            raise InputError(f"{path}: none of its {len(attempts)} attempts hit; choose one with attempt (--attempt N)")
+            if not attempts:
+                raise InputError(f"{path}: holds no attempt (its run stopped before its first throw): nothing to choose")
+            if len(attempts) == 1:
+                raise InputError(f"{path}: its one attempt missed; to use it all the same, give attempt=1 (--attempt 1)")
+            raise InputError(f"{path}: none of its {len(attempts)} attempts hit; choose one by its number, attempt=N "
+                             f"(--attempt N), from 1 to {len(attempts)}")
         return hits[-1], run
     if not 1 <= number <= len(attempts):
-        held = f"attempts 1 to {len(attempts)}" if attempts else "no attempts"
+        held = {0: "no attempt", 1: "attempt 1 only"}.get(len(attempts), f"attempts 1 to {len(attempts)}")
         raise InputError(f"{path}: no attempt {number} (it holds {held})")
     return attempts[number - 1], run
 
