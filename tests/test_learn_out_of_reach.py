@@ -557,3 +557,74 @@ def test_failure_and_hindsight_on_the_real_throws_stop_at_the_same_long_throw(ms
     result = learn(msr_throws, 1.6, budget=6, feedback="distance", update=update)
     assert result.repeated and result.attempts == SAME_AT_THE_LIMIT
     assert all(miss > 0.5 for miss in result.misses)
+
+
+@pytest.fixture(scope="module")
+def seed0_clean():
+    """``rlff data synth throws --seed 0`` through the thesis preset: the README's demonstrations."""
+    from rlff.preprocess import Pipeline
+    from rlff.synthetic.throws import simulate_throws
+
+    clean, _ = Pipeline.preset("thesis").run(simulate_throws(0, subjects=10, throws_per_distance=4, raw=True))
+    return clean
+
+
+def _at_the_limit(misses: list[float], hits: tuple[bool, ...] = (False, False, False)):
+    """Attempts 1, 2, ... released as fast as joint_2 allows, coming down ``misses`` (m) from 1.9 m."""
+    limit = mapping_for(load_robot(), None).max_human_speeds()["velocity"]
+    return [replace(_attempt(limit, miss), index=index, hit=hit)
+            for index, (miss, hit) in enumerate(zip(misses, hits, strict=True), start=1)]
+
+
+def test_a_centred_run_short_of_its_centre_window_only_says_that_window_is_beyond_the_arm():
+    from rlff.learn.reach import beyond_reach
+
+    mapping, basket = mapping_for(load_robot(), None), Basket(BASKET)
+    # 0.15 m short at the limit: within the rim (0.208 m), beyond a centre window of 0.0875 m
+    short = _at_the_limit([-0.15, -0.15, -0.15])
+    note, centre_only = beyond_reach(short, mapping, basket, 0.0, centre_window=0.0875)
+    assert centre_only
+    assert "centre window (within 0.0875 m of the basket's centre) is beyond this arm's fastest throws" in note
+    assert "out of this arm's reach" not in note and "speed limits" not in note
+    assert "0.06 m short of the centre window" in note and "until='hit'" in note and "centre_share" in note
+    assert beyond_reach(short, mapping, basket, 0.0) is None  # stopping at any hit: the rim is within reach
+    # hit at the rim, then short: the basket was hit, and the note says where and how to keep it
+    hit_first = _at_the_limit([-0.15, -0.16, -0.17], hits=(True, False, False))
+    note, centre_only = beyond_reach(hit_first, mapping, basket, 0.0, centre_window=0.0875)
+    assert centre_only and "not the basket at 1.9 m: attempt 1 hit it" in note
+    assert "--attempt 1" in note and "--out" in note
+    # a centre window under a centimetre: the shortfall in millimetres, not 0.00 m
+    note, _ = beyond_reach(_at_the_limit([-0.003] * 3, hits=(True,) * 3), mapping, basket, 0.0,
+                           centre_window=0.00175)
+    assert "within 1.75 mm" in note and "attempts 1-3 hit it" in note and "1.2 mm short of the centre window" in note
+    # short of the rim too, and never hit: the basket itself is beyond the arm, said as for any run
+    far = _at_the_limit([-0.40, -0.40, -0.40])
+    note, centre_only = beyond_reach(far, mapping, basket, 0.0, centre_window=0.0875)
+    assert not centre_only
+    assert "the basket at 1.9 m is out of this arm's reach" in note and "0.19 m short of the basket's rim" in note
+    assert (note, centre_only) == beyond_reach(far, mapping, basket, 0.0)
+
+
+@pytest.mark.slow
+def test_a_centred_run_that_hit_the_basket_does_not_call_it_out_of_reach(seed0_clean, rlff, tmp_path):
+    # 2.1 m: attempt 1 hit 0.10 m short at joint_2's limit, the centre window (0.0875 m) beyond
+    # every throw; the note had called the basket out of this arm's reach and sent the user to
+    # check the robot file's speed limits
+    result = learn(seed0_clean, 2.1, budget=20, until="centred", seed=0)
+    assert result.out_of_reach and result.centre_out_of_reach and not result.centred
+    assert result.history[0].hit and result.attempts == SHORT_AT_THE_LIMIT
+    note = next(note for note in result.notes if note.startswith("stopped after attempt 3"))
+    assert "out of this arm's reach" not in note and "not the basket at 2.1 m: attempt 1 hit it" in note
+    assert result.to_json()["centre_out_of_reach"] is True
+    # on the command line: the verdict names the hit and the centre window; a window of 1.75 mm
+    # lists the misses to the millimetre (-0.003, printed 0.00 beside it)
+    from rlff.dataset import write_csv
+
+    write_csv(seed0_clean, tmp_path / "clean.csv")
+    said = rlff("learn", str(tmp_path / "clean.csv"), "--basket", "2.0", "--until", "centred",
+                "--centre-share", "0.01")
+    assert said.code == 0, said.stderr
+    assert ("no centred hit in 3 attempts (the basket hit at attempts 1-3), stopped: the centre window out of "
+            "the arm's reach") in said.stdout
+    assert "-0.003 hit, -0.003 hit, -0.003 hit" in said.stdout
+    assert "1.0 mm short of the centre window" in said.stderr and "a larger --centre-share" in said.stderr

@@ -22,7 +22,7 @@ from rlff.cli._common import (
     warn,
 )
 from rlff.cli.output import output_option
-from rlff.wording import attempt_outcome, plural, signed_metres
+from rlff.wording import attempt_outcome, numbered, plural, signed, signed_metres
 
 #: Most attempts whose signed misses the result line lists one by one; a longer run lists its
 #: first MISSES_FIRST and last MISSES_LAST (a 1,000-attempt run's line had held every miss).
@@ -216,12 +216,19 @@ def learn_command(
         say(f"nothing thrown: {log} holds {plural(result.resumed, 'attempt')}, as many as --budget {budget} allows "
             "or more; give a larger --budget to throw on")
     goal = "a centred hit" if until == "centred" else "a hit"
+    hits = [a.index for a in result.history if a.hit]
+    # a centred run's hits beside its verdict, and which window was out of reach: its centre, or the basket
     verdict = (f"{goal} after {plural(result.attempts, 'attempt')}" if result.hit and result.centred
                else f"no {goal[2:]} in {plural(result.attempts, 'attempt')}"
-               + (", stopped: out of the arm's reach" if result.out_of_reach else "")
+               + (f" (the basket hit at attempt{'s' if len(hits) > 1 else ''} {numbered(hits)})" if hits else "")
+               + (", stopped: the centre window out of the arm's reach" if result.centre_out_of_reach
+                  else ", stopped: out of the arm's reach" if result.out_of_reach else "")
                + (", stopped: the same throw at the arm's limit again" if result.repeated else "")
                + (", stopped: the same throw, reported the same, again" if result.unchanged else ""))
-    outcomes = [attempt_outcome(a.hit, m) for m, a in zip(result.misses, result.history, strict=True)]
+    # to the millimetre where the centre window is under a centimetre (3 mm short printed 0.00 beside it)
+    digits = 3 if result.centre_window < 0.01 else 2
+    outcomes = [attempt_outcome(a.hit, m) if digits == 2 or m != m else signed(m, digits) + (" hit" if a.hit else "")
+                for m, a in zip(result.misses, result.history, strict=True)]
     if len(outcomes) > MISSES_LISTED:  # a long run's line: its first and last attempts, the rest elsewhere
         kept_in = f"--json and {log}" if log is not None else "--json"
         outcomes[MISSES_FIRST:-MISSES_LAST] = [f"... {len(outcomes) - MISSES_FIRST - MISSES_LAST} more (every one in "

@@ -71,7 +71,6 @@ from rlff.learn.reach import (
     same_throw_reported_the_same,
     saturation_factor,
     typical_landing,
-    widest_hit,
 )
 from rlff.learn.strategies import STRATEGIES
 from rlff.learn.windows import MISREPORT
@@ -321,7 +320,13 @@ class LearningResult:
         The basket is beyond the arm: the last :data:`~rlff.learn.reach.SHORT_AT_THE_LIMIT`
         throws came down short of it by more than the fastest release the joints allow would
         make up (see :func:`rlff.learn.reach.shortfall_at_the_limit`), and the run stopped there
-        (before its budget, unless they were its last); a note says by how much.
+        (before its budget, unless they were its last); a note says by how much. With
+        ``until="centred"``: short of the centre window (``centre_out_of_reach`` says whether
+        only that window is beyond the arm).
+    centre_out_of_reach : bool
+        A run ``until="centred"`` stopped out of reach (``out_of_reach``) where the basket is not
+        shown to be: it was hit, or the fastest release would still reach its rim; only the
+        centre window is beyond the arm's fastest throws.
     repeated : bool
         The last :data:`~rlff.learn.reach.SAME_AT_THE_LIMIT` throws let go the same way at the
         fastest release the joints allow (:func:`rlff.learn.reach.same_throw_at_the_limit`): the
@@ -348,6 +353,7 @@ class LearningResult:
     centred: bool = False
     centre_window: float = math.inf
     out_of_reach: bool = False
+    centre_out_of_reach: bool = False
     repeated: bool = False
     unchanged: bool = False
 
@@ -380,7 +386,8 @@ class LearningResult:
             "dropped_partial_line": self.dropped_partial_line,
             "until": self.until,
             # a run that stops at any hit has no centre window to say anything about
-            **({"centred": self.centred, "centre_window": self.centre_window} if self.until == "centred" else {}),
+            **({"centred": self.centred, "centre_window": self.centre_window,
+                "centre_out_of_reach": self.centre_out_of_reach} if self.until == "centred" else {}),
             "out_of_reach": self.out_of_reach,
             "repeated": self.repeated,
             "unchanged": self.unchanged,
@@ -666,20 +673,12 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
     def done(attempt: Attempt) -> bool:
         return counts_as_hit(attempt, centre_window)
 
-    # how far from the centre a landing may still count: a centred hit's window, or the farthest
-    # a ball can come down and still drop in (its centre over the rim: half the opening and a
-    # ball's radius; the methods' own hit tolerance is the nearest, and held-out seed 12004's
-    # arm at 90 % of its speed hit at the rim after 17 throws 0.19 m short at the limit)
-    if until == "centred":
-        reach_window, window = centre_window, "centre window"
-    else:
-        reach_window, window = widest_hit(target), "basket's rim"
-
-    def out_of_reach_note() -> str | None:
-        """Judged once after every attempt (and on the attempts resumed from the log)."""
+    def out_of_reach_note() -> tuple[str, bool] | None:
+        """Judged once after every attempt (and on the attempts resumed from the log): the note,
+        and whether only the centre window is beyond the arm (:func:`beyond_reach`)."""
         if history and done(history[-1]):
             return None
-        return beyond_reach(history, mapping, target, reach_window, pedestal, window)
+        return beyond_reach(history, mapping, target, pedestal, centre_window)
 
     def repeated_note() -> str | None:
         """Judged as :func:`out_of_reach_note` is, when that says nothing."""
@@ -694,9 +693,10 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
             return None
         return same_throw_reported_the_same(reported[-SAME_REPORTED:], mapping)
 
-    def stop_notes() -> tuple[str | None, str | None, str | None]:
+    def stop_notes() -> tuple[tuple[str, bool] | None, str | None, str | None]:
         """What stops the run after the attempts so far, the first rule that says anything:
-        the basket out of reach, the same throw at the limit, the same throw reported the same."""
+        the basket (or the centre window) out of reach, the same throw at the limit, the same
+        throw reported the same."""
         out_of_reach = out_of_reach_note()
         repeated = None if out_of_reach else repeated_note()
         unchanged = None if out_of_reach or repeated else unchanged_note()
@@ -732,7 +732,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
     if log and log.contents.dropped_partial_line:
         notes.append(f"{log.path}: dropped a partial last line (a run interrupted mid-write)")
     notes.extend(_changed_note(update, first, words, attempts) for first, words, attempts in changed.values())
-    notes.extend(note for note in (out_of_reach, repeated, unchanged) if note)
+    notes.extend(note for note in (out_of_reach and out_of_reach[0], repeated, unchanged) if note)
     return LearningResult(
         hit=bool(history and history[-1].hit),
         attempts=len(history),
@@ -748,6 +748,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
         centred=bool(history and done(history[-1])),
         centre_window=centre_window,
         out_of_reach=bool(out_of_reach),
+        centre_out_of_reach=bool(out_of_reach and out_of_reach[1]),
         repeated=bool(repeated),
         unchanged=bool(unchanged),
     )

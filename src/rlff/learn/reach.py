@@ -13,7 +13,8 @@ After a throw, the landing the executor reported and the gain the fastest releas
 it say whether the basket is within the real arm's reach (:func:`shortfall_at_the_limit`): the
 loop stops after :data:`SHORT_AT_THE_LIMIT` throws in a row that say it is not
 (:func:`beyond_reach`), as an arm slower than its robot file, a late release or a heavier ball
-make it. The other way, where a throw comes down with every speed (:func:`typical_landing`)
+make it; a run ``until="centred"`` stops too where only its centre window is beyond the arm, and
+says so. The other way, where a throw comes down with every speed (:func:`typical_landing`)
 says how slow the searches must go for a near basket.
 
 A run also stops when its method throws the same throw again and again
@@ -39,7 +40,7 @@ from rlff.learn.attempt import Attempt
 from rlff.learn.demos import drives_whole_arm
 from rlff.robot.mapping import scaled_speed
 from rlff.trajectory.planner import MARGIN
-from rlff.wording import signed
+from rlff.wording import numbered, signed
 
 #: Throws in a row that came down short of the basket's rim even sped up to the fastest release
 #: the joints allow, after which a run stops: the basket is beyond what this arm throws.
@@ -401,26 +402,52 @@ def _release_state(attempt: Attempt, mapping) -> tuple[np.ndarray, np.ndarray]:
     return np.array(pose, dtype=float), np.array(velocity, dtype=float)
 
 
-def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, pedestal: float,
-                 window: str = "basket's rim") -> str | None:
-    """A note that the basket is beyond the arm's reach when each of the last
-    :data:`SHORT_AT_THE_LIMIT` attempts came down short by more than its fastest release would
-    make up (:func:`shortfall_at_the_limit`; ``window``, the name of the ``tolerance``'s window in
-    the note), else None. Needs the landings: under binary feedback from an operator (no landing
-    reported) it never stops a run."""
+def beyond_reach(history: Sequence[Attempt], mapping, basket, pedestal: float,
+                 centre_window: float = math.inf) -> tuple[str, bool] | None:
+    """A note that the run stops because what it aims for is beyond the arm's reach, and whether
+    that is the centre window alone (the basket is not shown to be), else None.
+
+    Each of the last :data:`SHORT_AT_THE_LIMIT` attempts came down short of the window by more
+    than its fastest release would make up (:func:`shortfall_at_the_limit`). The window is the
+    basket's rim (:func:`widest_hit`), or with a finite ``centre_window`` (m, a run
+    ``until="centred"``) that narrower window about the centre; where the run hit the basket, or
+    a fastest release would still reach its rim, only the centre window is beyond the arm, and
+    the note says so (the basket was hit at attempt 1, and a ball 15 mm short of the centre
+    window at the limit had been said to be "out of this arm's reach", with advice to check the
+    arm's speed limits or move the basket, until 2026-12-07). Needs the landings: under binary
+    feedback from an operator (no landing reported) it never stops a run.
+    """
     last = history[-SHORT_AT_THE_LIMIT:]
     if len(last) < SHORT_AT_THE_LIMIT:
         return None
-    shortfalls = []
-    for attempt in reversed(last):  # the newest first: most runs end the judgement there
-        shortfall = shortfall_at_the_limit(attempt, mapping, basket, tolerance, pedestal, history)
-        if not shortfall:
-            return None
-        shortfalls.append(shortfall)
+    rim = widest_hit(basket)
+    shortfalls = _shortfalls(last, history, mapping, basket, min(rim, centre_window), pedestal)
+    if shortfalls is None:
+        return None
     joints = ", ".join(mapping.driven_joints)
     allow = "allows" if len(mapping.driven_joints) == 1 else "allow"
-    low, high = f"{min(shortfalls):.2f}", f"{max(shortfalls):.2f}"
-    by = f"{low} m" if low == high else f"{low}-{high} m"
+    more = more_joints_words(mapping)  # a whole-arm run: the joints it leaves may throw farther
+    if centre_window < rim:
+        hits = [attempt.index for attempt in history if attempt.hit]
+        at_rim = None if hits else _shortfalls(last, history, mapping, basket, rim, pedestal)
+        if at_rim is None:
+            within = f"within {_length(centre_window)} of the basket's centre"
+            if hits:
+                basket_words = (f"not the basket at {basket.distance:g} m: attempt{'s' if len(hits) > 1 else ''} "
+                                f"{numbered(hits)} hit it")
+                instead = (f"Take the hit (rlff learn's --out writes the run's last hit, attempt {hits[-1]}, "
+                           f"robot-ready; rlff robot export of the log with --attempt {hits[-1]} too)")
+            else:
+                basket_words = f"though the basket's rim at {basket.distance:g} m may not be"
+                instead = "Stop at the first hit instead (until='hit')"
+            instead += ", or allow a wider window (a larger centre_share)"
+            if more:
+                instead += f", or drive more joints ({more})"
+            return (f"stopped after attempt {last[-1].index}: the centre window ({within}) is beyond this arm's "
+                    f"fastest throws, {basket_words}. Attempts {last[0].index}-{last[-1].index} came down short, "
+                    f"and even at the fastest release {joints} {allow} they would have fallen "
+                    f"{_lengths(shortfalls)} short of the centre window. {instead}"), True
+        shortfalls = at_rim  # no hit, and short of the rim too: the basket is beyond the arm
     if fastest_factor(mapping, _untimed(last[-1]))[1] == NO_ROOM:
         why = ("The release is as fast as the arm can still wind up for and brake from within its position "
                "limits: if the arm's range allows, widen the robot file's lower/upper of the throwing joint, or "
@@ -428,12 +455,39 @@ def beyond_reach(history: Sequence[Attempt], mapping, basket, tolerance: float, 
     else:
         why = ("An arm slower than its robot file, a late release or a heavier ball does that: check the robot "
                "file's speed limits, or move the basket nearer")
-    if more := more_joints_words(mapping):  # a whole-arm run: the joints it leaves may throw farther
+    if more:
         why += f", or drive more joints ({more})"
     return (f"stopped after attempt {last[-1].index}: the basket at {basket.distance:g} m is out of this arm's reach. "
             f"Attempts {last[0].index}-{last[-1].index} came down short, and even at the fastest release {joints} "
-            f"{allow} they would have fallen {by} short of the {window}. {why} (rlff sim reach says how far the arm "
-            "throws)")
+            f"{allow} they would have fallen {_lengths(shortfalls)} short of the basket's rim. {why} (rlff sim reach "
+            "says how far the arm throws)"), False
+
+
+def _shortfalls(last: Sequence[Attempt], history: Sequence[Attempt], mapping, basket, tolerance: float,
+                pedestal: float) -> list[float] | None:
+    """:func:`shortfall_at_the_limit` (m) of each of ``last`` to the window ``tolerance`` (m), the
+    newest first; None as soon as one is 0 (most runs end the judgement at the newest)."""
+    shortfalls = []
+    for attempt in reversed(last):
+        shortfall = shortfall_at_the_limit(attempt, mapping, basket, tolerance, pedestal, history)
+        if not shortfall:
+            return None
+        shortfalls.append(shortfall)
+    return shortfalls
+
+
+def _length(metres: float) -> str:
+    """A short length in words: ``0.0875 m``, or in millimetres under a centimetre (``1.75 mm``)."""
+    return f"{metres:.3g} m" if metres >= 0.01 else f"{1000 * metres:.3g} mm"
+
+
+def _lengths(shortfalls: Sequence[float]) -> str:
+    """The range of ``shortfalls`` (m): ``0.26 m``, ``0.12-0.26 m``, in millimetres to a tenth where
+    the least is under a centimetre (``1.0 mm``, ``4.0-15.3 mm``), which had printed as ``0.00 m``."""
+    low, high = min(shortfalls), max(shortfalls)
+    low_words, high_words = (f"{low:.2f}", f"{high:.2f}") if low >= 0.01 else (f"{1000 * low:.1f}", f"{1000 * high:.1f}")
+    unit = "m" if low >= 0.01 else "mm"
+    return f"{low_words} {unit}" if low_words == high_words else f"{low_words}-{high_words} {unit}"
 
 
 def let_go_the_same_way(attempts: Sequence[Attempt], mapping) -> bool:
