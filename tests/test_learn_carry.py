@@ -59,6 +59,15 @@ def test_the_calibration_searches_about_the_carried_offset_with_its_own_prior(de
         assert abs(result.history[1].info["log_factor"] - offset) < 0.2
 
 
+def test_a_carried_run_until_centred_also_starts_at_the_carried_speed(demos, near_log):
+    # the centred run's narrower windows put one a step above the carried offset, below the
+    # limit; with the prior's tail beyond the limit it outweighed the carry's own and was thrown
+    # first (0.438 against 0.380: the carry gained nothing until centred)
+    log, offset = near_log
+    result = learn(demos, FAR, budget=1, feedback="binary", seed=3, carry_from=[log], until="centred")
+    assert result.history[0].info["log_factor"] == pytest.approx(offset, abs=2e-4)
+
+
 def test_a_carried_log_resumes_only_with_the_same_carry(demos, near_log, tmp_path):
     log, _ = near_log
     far = tmp_path / "far.jsonl"

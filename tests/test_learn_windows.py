@@ -58,6 +58,22 @@ def test_the_fastest_window_comes_first_when_the_prior_says_the_basket_needs_mor
     np.testing.assert_allclose([free.offset(k)[0] for k in range(5)], [0, 0.1, -0.1, 0.2, -0.2], atol=1e-9)
 
 
+def test_a_narrow_prior_below_the_limit_throws_its_own_centre_before_the_window_above():
+    # a carried hit (N(0.007, 0.1)) 1.6 m away with the centred run's windows (0.068 wide): the
+    # top window one step above the carry took the tail beyond the limit too (0.30 against the
+    # carry's own 0.22) and went first wherever the limit lay in 0.08-0.12; that tail, 0.15, is
+    # less than the carry's window holds, so it lifts the top window level with it, not above
+    for highest in (0.05, 0.08, 0.1, 0.12, 0.15):
+        search = WindowSearch(1.6, 0.0875, highest, None, scale=0.1, centre=0.007)
+        assert search.offset(0)[0] == pytest.approx(0.007), highest
+    lifted = WindowSearch(1.6, 0.0875, 0.1, None, scale=0.1, centre=0.007, floor=0.0)
+    assert lifted.offset(1)[0] == pytest.approx(0.007 + lifted.width)  # next, with the carry's mass
+    assert lifted.offset(1)[1] == pytest.approx(lifted.offset(0)[1])
+    # the same with the prior given as a density on a grid
+    gridded = WindowSearch(1.6, 0.0875, 0.1, lambda x: norm.logpdf(x, 0.007, 0.1), centre=0.007, floor=0.0)
+    assert np.allclose(gridded.offsets, lifted.offsets)
+
+
 def _first_pass(search: WindowSearch) -> np.ndarray:
     """The lattice's windows in the order of their first throw (retries left out)."""
     thrown = search.offsets[: search.masses.size]
