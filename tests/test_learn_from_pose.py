@@ -109,3 +109,27 @@ def test_what_cannot_be_planned_from_a_pose_is_refused_naming_it(run, change, wo
     trajectory, pose = change(arm.handed[1], arm.sent[0].positions[-1])
     with pytest.raises(InputError, match=words):
         plan_from_pose(trajectory, arm.robot, pose)
+
+
+def test_a_robot_executor_says_the_attempt_of_a_server_that_is_not_there(run):
+    # "no action server at /comau_controller/follow_joint_trajectory" came without "attempt N:",
+    # where a goal that failed and every other robot failure of the run name it
+    from rlff.errors import RlffError
+    from rlff.learn.robot import RobotExecutor
+
+    class NoServer(RlffError):
+        pass
+
+    class Unreachable:
+        def arm_state(self, robot):
+            return handed.positions[0], np.zeros(len(robot.joint_names))
+
+        def send_goal(self, robot, goal, pose):
+            raise NoServer("no action server at /comau_controller/follow_joint_trajectory (is it running?)")
+
+    _, arm = run
+    handed = arm.handed[0]
+    executor = RobotExecutor(Unreachable(), arm.robot, outcome=lambda attempt, release: None)
+    executor.resume(2)
+    with pytest.raises(NoServer, match=r"^attempt 3: no action server at /comau_controller/follow_joint_trajectory"):
+        executor(handed)

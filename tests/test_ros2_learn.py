@@ -143,6 +143,8 @@ def test_outcomes_typed_at_the_prompt(server, domain, folder, demos):
     assert [(a["hit"], a["miss"]) for a in attempts(log)][1] == (True, None)
     assert "answer 'maybe': type hit, miss, or the signed miss in m" in done.stderr
     assert "attempt 1: the signed miss in m (negative short; 0 or hit)?" in done.stderr
+    # the typed miss is shown as --outcome topic shows a measured one (it read "attempt 1: miss, ...")
+    assert "attempt 1: miss -0.40 m, exploration " in done.stderr and "attempt 2: hit, exploration " in done.stderr
     # each throw waited for an empty line: whoever answers may stand where the ball lands
     assert done.stderr.count("the arm is about to throw: Enter to throw, Ctrl-C to stop") == 2
 

@@ -282,7 +282,10 @@ def _run(data, basket: float, settings: dict, live: dict | None):
             # the loop shows the log's attempts first: not thrown now, and said so
             which = f"attempt {attempt.index}" + (" (from the log)" if attempt.index <= resumed else "")
             if live is not None and live["outcome"] == "ask":  # no progress bar under the prompt
-                say(f"{which}: {'hit' if attempt.hit else 'miss'}, exploration {attempt.exploration:.2f}")
+                # a typed signed miss is shown as --outcome topic shows a measured one (it was dropped)
+                typed = signed_metres(attempt.miss, unmeasured="")
+                say(f"{which}: {'hit' if attempt.hit else 'miss'}{' ' + typed if typed else ''}, "
+                    f"exploration {attempt.exploration:.2f}")
                 return
             if not bar:
                 bar.append(stack.enter_context(progress(f"learning to hit {basket:g} m", total=settings["budget"])))

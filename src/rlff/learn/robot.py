@@ -325,6 +325,10 @@ class RobotExecutor:
         except KeyboardInterrupt as exc:  # the client cancelled the goal, if one went out
             exc.rlff_attempt = self.attempts  # type: ignore[attr-defined]
             raise
+        except RlffError as exc:  # no server, no master: said with the attempt, as a goal that failed
+            if isinstance(exc, InputError) or str(exc).startswith(f"attempt {self.attempts}: "):
+                raise
+            raise type(exc)(f"attempt {self.attempts}: {exc}") from None
         if not sent.succeeded:
             detail = f" ({sent.error_name})" if sent.error_name else ""
             raise RobotFailed(f"attempt {self.attempts}: goal {sent.status}{detail}: {sent.error_string}")
