@@ -185,6 +185,21 @@ def test_bad_list_and_preset_names():
     assert "thesis" in preset_names()
 
 
+@pytest.mark.parametrize("steps, message", [
+    (["crop"], r"step 1: 'crop' is not a step: give a \(name, parameters\) pair such as \('crop', "),
+    ([("crop",)], r"step 1: \('crop',\) is not a step"),
+    ([("crop", None)], r"step 1: \('crop', None\) is not a step: .*\(no parameters: \{\}\)"),
+    ([("crop", {}), 5], r"step 2: 5 is not a step"),
+    ("crop", r"Pipeline takes a list of steps, e.g. \[\('crop', .*got str 'crop'"),
+    (5, r"Pipeline takes a list of steps, .*got int 5"),
+])
+def test_a_step_list_of_the_wrong_form_is_refused_naming_the_position_and_the_form(steps, message):
+    # until 2026-12-07: ValueError / TypeError / AttributeError from unpacking the steps
+    with pytest.raises(InputError, match=message):
+        Pipeline(steps)
+    assert Pipeline([["crop", {}]]).steps[0].name == "crop"  # a list pair is a pair too
+
+
 def test_thesis_preset_has_every_step_in_the_thesis_order():
     pipeline = Pipeline.preset("thesis")
     names = [s.name for s in pipeline.steps]

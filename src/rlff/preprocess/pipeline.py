@@ -61,6 +61,10 @@ STEPS: dict[str, StepFunction] = {
 CONTEXT_PARAMETERS = {"reject_contexts": "column"}
 
 
+#: A step's accepted form in a list, for errors.
+_FORM = "('crop', {'direction': 'increasing'})"
+
+
 @dataclass(frozen=True)
 class Step:
     """One configured step: its name, its parameters, whether it runs."""
@@ -139,22 +143,30 @@ class Pipeline:
     Parameters
     ----------
     steps : iterable of (name, params) pairs or :class:`Step`
-        Steps by name (see :data:`STEPS`) with their keyword parameters.
+        Steps by name (see :data:`STEPS`) with their keyword parameters (a dict, ``{}`` for none).
     source : str, optional
         Where the configuration came from (a file, a preset), for reports and errors.
     """
 
     def __init__(self, steps: Iterable[Step | tuple[str, Mapping[str, Any]]], source: str | None = None):
         self.source = source
+        if isinstance(steps, (str, Mapping)) or not isinstance(steps, Iterable):
+            raise InputError(f"Pipeline takes a list of steps, e.g. [{_FORM}], got {type(steps).__name__} "
+                             f"{steps!r:.60}")
         checked = []
         for position, step in enumerate(steps, start=1):
             where = f"{source}, step {position}" if source else f"step {position}"
             if isinstance(step, Step):
-                check_step(step.name, step.params, where)
-                checked.append(Step(step.name, dict(step.params), step.enabled))
+                name, params, enabled = step.name, step.params, step.enabled
+            elif isinstance(step, (tuple, list)) and len(step) == 2:
+                (name, params), enabled = step, True
             else:
-                name, params = step
-                checked.append(check_step(name, params, where))
+                name, params, enabled = None, None, True
+            if not isinstance(name, str) or not isinstance(params, Mapping):
+                raise InputError(f"{where}: {step!r:.60} is not a step: give a (name, parameters) pair such as "
+                                 f"{_FORM} (no parameters: {{}}), or a Step")
+            check_step(name, params, where)
+            checked.append(Step(name, dict(params), enabled))
         if not any(step.enabled for step in checked):
             where = f"{source}: " if source else ""
             raise InputError(
