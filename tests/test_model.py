@@ -292,6 +292,27 @@ def test_bad_fit_input_is_named():
         Model.fit(data[:1].replace([data[0].take(slice(0, 10))]), components=20)
 
 
+@pytest.mark.parametrize("data, message", [
+    ("clean.csv", r"data is the path 'clean.csv', not the samples: read it first, "
+                  r"Model.fit\(rlff.formats.read_dataset\('clean.csv'\)\)"),
+    (list(thesis_dataset()), r"data is a list of Trajectory: make a Dataset of them, Model.fit\(rlff.Dataset"),
+    ({"angle": [1.0, 2.0]}, r"data must be a Dataset \(rlff.formats.read_dataset reads one from a file\), a pandas "
+                            r"DataFrame or a numeric array of shape \(N, C\), got dict$"),
+    ([object(), object()], r"data must be a Dataset .*, got list of object$"),
+])
+def test_fit_data_of_another_type_is_named_with_what_fit_takes(data, message):
+    # until 2026-12-07 all said "data must be a numeric array"
+    with pytest.raises(InputError, match=message):
+        Model.fit(data)
+
+
+def test_predict_names_the_shape_it_was_given(thesis_model):
+    # a (3,) input was reported as (3, 1), the shape it had been turned into
+    with pytest.raises(InputError, match=r"X must have shape \(n, 2\) \(or \(2,\) for one row\), got \(3,\)$"):
+        thesis_model.predict([1.0, 2.0, 3.0])
+    np.testing.assert_array_equal(thesis_model.predict([1.0, 2.0])[0], thesis_model.predict([[1.0, 2.0]])[0])
+
+
 @pytest.mark.parametrize("column, factor, message", [
     ("angle", 180 / np.pi, "column 'angle' reaches 160.4, beyond two turns in radians: degrees?"),
     ("distance", 100.0, "column 'distance' holds 100 to 300, outside the basket distances 0.3 to 20 m (centimetres?"),

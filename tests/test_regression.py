@@ -170,3 +170,26 @@ def test_bad_conditioning_is_named(inputs, outputs, X, message):
     mixture = mixture_of([1.0], [[0, 0]], [np.eye(2)])
     with pytest.raises(InputError, match=message):
         condition(mixture, inputs, outputs, X)
+
+
+def test_an_unfitted_mixture_and_column_names_are_refused_in_one_line():
+    # until 2026-12-07: AttributeError 'weights_' and ValueError from int("a")
+    X = np.zeros((3, 2))
+    with pytest.raises(InputError, match=r"this GaussianMixture is not fitted yet \(no weights_, means_, "
+                                         r"covariances_\): call fit first"):
+        condition(GaussianMixture(2), [0, 1], [2], X)
+    fitted = mixture_of([1.0], [[0, 0, 0]], [np.eye(3)])
+    for function in (condition, predict):
+        with pytest.raises(InputError, match=r"inputs \['a', 'b'\] must be column positions \(integers from 0 to 2\)"):
+            function(fitted, ["a", "b"], [2], X)
+    with pytest.raises(InputError, match=r"outputs \[1.5\] must be column positions"):
+        condition(fitted, [0], [1.5], X[:, :1])
+    assert condition(fitted, np.array([0, 1]), range(2, 3), X).mean.shape == (3, 1)
+
+
+def test_a_wrong_shape_is_reported_as_given():
+    mixture = mixture_of([1.0], [[0, 0, 0]], [np.eye(3)])
+    with pytest.raises(InputError, match=r"X must have shape \(n, 2\) \(or \(2,\) for one row\), got \(5,\)$"):
+        condition(mixture, [0, 1], [2], np.zeros(5))
+    with pytest.raises(InputError, match=r"X must have shape \(n, 1\) \(or \(n,\)\), got \(5, 2\)$"):
+        predict(mixture, [0], [2], np.zeros((5, 2)))

@@ -41,10 +41,12 @@ _KMEANS_SUBSET = 20_000
 # -- validation --------------------------------------------------------------------------------
 
 
-def check_samples(X: Any, name: str = "X") -> np.ndarray:
+def check_samples(X: Any, name: str = "X", accepted: str = "a numeric array") -> np.ndarray:
     """``X`` as a finite float array of shape (N, D) with N >= 1, else :class:`InputError`.
 
     A 1-D array is one column (N,) -> (N, 1). Sparse matrices and complex numbers are refused.
+    ``accepted`` says, in the error for something that is no numbers, what the caller takes
+    (the error names the type it got).
     """
     if hasattr(X, "tocsr"):  # a scipy.sparse matrix or array, without importing scipy
         raise InputError(f"{name} is a sparse matrix: give a dense array (e.g. X.toarray())")
@@ -54,7 +56,7 @@ def check_samples(X: Any, name: str = "X") -> np.ndarray:
         if not complex_values:
             array = array.astype(float, copy=False)
     except (TypeError, ValueError):
-        raise InputError(f"{name} must be a numeric array") from None
+        raise InputError(f"{name} must be {accepted}, got {type_of(X)}") from None
     if complex_values:
         raise InputError(f"Complex data not supported: {name} holds complex numbers")
     if array.ndim == 1:
@@ -78,6 +80,16 @@ def check_samples(X: Any, name: str = "X") -> np.ndarray:
             f"within ±{MAX_MAGNITUDE:g}"
         )
     return array
+
+
+def type_of(value: Any) -> str:
+    """``value``'s type for an error: ``dict``, ``list of Trajectory``, ``ndarray of object``."""
+    name = type(value).__name__
+    if isinstance(value, np.ndarray):
+        return f"{name} of {value.dtype}"
+    if isinstance(value, (list, tuple)) and value:
+        return f"{name} of {type(value[0]).__name__}"
+    return name
 
 
 #: Why a DataFrame cannot be read by name.

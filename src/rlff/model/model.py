@@ -29,10 +29,12 @@ import numpy as np
 from rlff import __version__
 from rlff.dataset import (
     ARM_JOINT_COLUMNS,
+    ID_COLUMN,
     THROW_CONTEXT,
     THROW_INPUTS,
     THROW_OUTPUTS,
     Dataset,
+    Trajectory,
     check_column_units,
     velocity_column,
 )
@@ -380,8 +382,11 @@ class Model:
         ----------
         data : Dataset, pandas DataFrame or array of shape (N, C)
             Samples. A DataFrame gives its columns by name (the inputs and outputs must be among
-            them; others are left out). An array needs ``columns`` (C names) unless it holds
-            exactly the inputs and outputs in that order.
+            them; others are left out, with a warning for a ``trajectory`` column or throw
+            metadata such as ``measured_share`` and ``cut_angle``, which only a Dataset carries
+            into the fit). An array needs ``columns`` (C names) unless it holds exactly the
+            inputs and outputs in that order. Anything else (a path, a dict, a list of
+            trajectories) is an :class:`InputError` naming its type.
         columns : sequence of str, optional
             Names of the array's columns (not with a DataFrame, which names its own).
         inputs, outputs : sequence of str
@@ -907,8 +912,15 @@ def _columns_of(data: Dataset | np.ndarray | Any, columns: Sequence[str] | None,
     if is_frame(data):
         if columns is not None:
             raise InputError("columns= names the columns of an array; a DataFrame names its own")
+        _warn_frame_metadata(data)
         return frame_columns(data, names, "data")
-    array = check_samples(data, "data")
+    if isinstance(data, (str, Path)):
+        raise InputError(f"data is the path {str(data)!r}, not the samples: read it first, "
+                         f"Model.fit(rlff.formats.read_dataset({str(data)!r}))")
+    if isinstance(data, (list, tuple)) and data and all(isinstance(t, Trajectory) for t in data):
+        raise InputError(f"data is a {type(data).__name__} of Trajectory: make a Dataset of them, "
+                         "Model.fit(rlff.Dataset(trajectories))")
+    array = check_samples(data, "data", FIT_DATA)
     if columns is None:
         if array.shape[1] != len(names):
             raise InputError(
@@ -923,6 +935,29 @@ def _columns_of(data: Dataset | np.ndarray | Any, columns: Sequence[str] | None,
     if missing:
         raise InputError(f"no column {missing[0]!r} in the data (columns: {', '.join(columns)})")
     return array[:, [columns.index(name) for name in names]]
+
+
+#: What Model.fit takes, for errors.
+FIT_DATA = ("a Dataset (rlff.formats.read_dataset reads one from a file), a pandas DataFrame or a numeric "
+            "array of shape (N, C)")
+#: Per-trajectory metadata the fit reads from a Dataset (effective samples, the release).
+_FIT_METADATA = ("measured_share", "cut_angle", "release_time", "release_angle")
+
+
+def _warn_frame_metadata(frame: Any) -> None:
+    """Warn when a DataFrame looks like a dataset's samples (a ``trajectory`` column or the
+    metadata :data:`_FIT_METADATA`): a frame is read as rows, without its throws' metadata, so BIC
+    counts every sample and the release is unknown (a model of clean.csv read by pandas chose
+    another K and generated throws past the release)."""
+    lost = [name for name in (ID_COLUMN, *_FIT_METADATA) if name in frame.columns]
+    if lost:
+        warnings.warn(
+            f"the DataFrame's columns {', '.join(lost)} are not read: a DataFrame is rows, not throws with "
+            "their metadata, so BIC counts every sample (no measured_share) and the release is unknown "
+            "(fit_info['release'] None, generate runs over the whole angle range): fit a Dataset, "
+            "Model.fit(rlff.formats.read_dataset(path))",
+            stacklevel=4,
+        )
 
 
 def _warn_constant(X: np.ndarray, names: tuple[str, ...]) -> None:

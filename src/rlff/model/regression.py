@@ -67,7 +67,11 @@ class Conditional:
 
 
 def _column_indices(indices: Sequence[int], n_features: int, name: str) -> np.ndarray:
-    columns = [int(i) for i in np.asarray(list(indices)).reshape(-1)]
+    given = np.asarray(list(indices)).reshape(-1).tolist()
+    if not all(isinstance(i, int) and not isinstance(i, bool) for i in given):
+        raise InputError(f"{name} {given} must be column positions (integers from 0 to {n_features - 1}), "
+                         "e.g. inputs=[0, 1], outputs=[2]; Model.condition takes the inputs by name")
+    columns = [int(i) for i in given]
     if not columns:
         raise InputError(f"{name} must name at least one column")
     if any(c < 0 or c >= n_features for c in columns):
@@ -134,6 +138,10 @@ class _Regression:
     """The per-component constants of one conditioning (inputs, outputs) of a mixture."""
 
     def __init__(self, mixture: Any, inputs: Sequence[int], outputs: Sequence[int]):
+        missing = [name for name in ("weights_", "means_", "covariances_") if not hasattr(mixture, name)]
+        if missing:
+            raise InputError(f"this {type(mixture).__name__} is not fitted yet (no {', '.join(missing)}): "
+                             "call fit first")
         weights = np.asarray(mixture.weights_, dtype=float)
         means = np.asarray(mixture.means_, dtype=float)
         covariances = np.asarray(mixture.covariances_, dtype=float)
@@ -173,10 +181,12 @@ class _Regression:
         """Checked inputs X (N, I) (or (I,) for one input) as a C-ordered (N, I) array; a
         DataFrame's input columns by name (the mixture's ``feature_names_in_``)."""
         X = np.asarray(by_name(X, self.input_names), dtype=float)
+        given = X.shape
         if X.ndim == 1:
             X = X.reshape(1, -1) if X.size == self.n_in else X[:, None]
         if X.ndim != 2 or X.shape[1] != self.n_in:
-            raise InputError(f"X must have shape (n, {self.n_in}), got {X.shape}")
+            one = f" (or ({self.n_in},) for one row)" if self.n_in > 1 else " (or (n,))"
+            raise InputError(f"X must have shape (n, {self.n_in}){one}, got {given}")
         X = np.ascontiguousarray(X)
         if not X.flags.writeable:  # e.g. DataFrame.to_numpy(): numba would compile a second version
             X = X.copy()
