@@ -222,19 +222,21 @@ def test_fit_effective_samples(rlff, tmp_path):
     assert "hardly decide K" not in measured.stderr  # 72 measured samples, at most 29 parameters (K = 3)
     few = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--max-components", "3", "--effective-samples", "5")
     assert few.code == 0 and "BIC rests on 5 effective samples, fewer than the" in few.stderr
-    # K beyond the samples BIC counts is not tried: --max-components 100000 ran for hours on 2,215
-    # samples, its progress bar counting to 100000
+    # K beyond what the samples BIC counts support is not tried: --max-components 100000 ran for
+    # hours on 2,215 samples, its progress bar counting to 100000; since 2026-12-07 one component
+    # per 4 samples over 3 columns (a covariance needs D + 1), before one per sample
     capped = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--max-components", "100000",
-                  "--effective-samples", "5", "--json")
+                  "--effective-samples", "20", "--json")
     assert capped.code == 0, capped.stderr
     assert [row["n_components"] for row in json.loads(capped.stdout)["selection"]] == [1, 2, 3, 4, 5]
     # said with the count, the one the summary gives (it said "up to 69 only, the effective samples"
     # beside "BIC over 70 effective samples")
-    assert "--max-components 100000: K is tried up to 5 only: BIC counts 5 effective samples" in capped.stderr
+    assert ("--max-components 100000: K is tried up to 5 only: BIC counts 20 effective samples (--effective-samples) "
+            "(a component needs 4 for a covariance over the 3 columns)") in capped.stderr
     # a K given outright beyond them is fitted, with a word
-    fixed = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "8", "--effective-samples", "5")
-    assert fixed.code == 0 and ("-k/--components 8 is more than the 5 effective samples (--effective-samples) of "
-                                f"{data} support (5 at most)") in fixed.stderr
+    fixed = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "8", "--effective-samples", "20")
+    assert fixed.code == 0 and ("-k/--components 8 is more than the 20 effective samples (--effective-samples) of "
+                                f"{data} support (5 at most over 3 columns)") in fixed.stderr
     bad = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "--effective-samples", "some")
     assert bad.code == 2 and "--effective-samples" in bad.stderr
 

@@ -454,13 +454,31 @@ def test_a_fall_in_ln_l_between_two_ks_that_lost_anyway_is_not_said():
     assert _fall_may_have_decided(ComponentSelection("bic", table), 2, table[2], table[1], 1.0)
 
 
+def test_k_by_bic_stays_within_one_component_per_d_plus_1_samples():
+    # until 2026-12-07 two samples got K = 2 (BIC -70.7), three K = 3 and a predicted variance of
+    # 7e-7: one component per sample, each with a covariance held up by the regularisation alone
+    from rlff.model.model import component_bound
+
+    for rows in ([[0.1, 1.0, 2.0], [0.2, 1.0, 3.0]], [[0.1, 1.0, 2.0], [0.2, 1.0, 3.0], [0.3, 2.0, 2.5]]):
+        with pytest.warns(UserWarning, match=rf"{len(rows)} samples over 3 columns, fewer than the 4 a covariance "
+                                             "needs: the model's variances come from the regularisation alone"):
+            model = Model.fit(rows)
+        assert model.n_components == 1 and [row["n_components"] for row in model.selection.table] == [1]
+    rng = np.random.default_rng(0)
+    eleven = np.column_stack([rng.uniform(0.5, 2.5, 11), rng.choice([1.0, 2.0], 11), rng.normal(5.0, 1.0, 11)])
+    assert [row["n_components"] for row in Model.fit(eleven).selection.table] == [1, 2]  # 11 // 4
+    assert component_bound(11, None, 3) == 2 and component_bound(2215, 65.0, 3) == 16
+    assert component_bound(3, None, 3) == 1 and component_bound(550, None, 3) == 137  # the thesis set: K = 7 stays
+
+
 def test_on_tiny_data_the_notes_say_the_samples_are_too_few_not_to_raise_max_components():
-    """Four samples: K stops at 4 (one component per sample) whatever max_components says, and
-    the samples, every one counted, are far fewer than the parameters."""
+    """Four samples: K stops at 1 (one component per D + 1 = 4 samples) whatever max_components
+    says, and the samples, every one counted, are far fewer than the parameters."""
     tiny = Dataset([Trajectory(name, {"angle": np.array([1.0, 2.0]), "distance": np.full(2, distance),
                                       "velocity": np.array(velocity)})
                     for name, distance, velocity in (("a", 2.0, [3.0, 3.0]), ("b", 2.5, [4.0, 5.0]))])
     model = Model.fit(tiny, max_components=8)
+    assert model.n_components == 1
     assert model.fit_info["effective_samples"] is None
     notes = model.selection_notes()
     assert not any("the largest tried" in note for note in notes)

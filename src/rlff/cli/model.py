@@ -61,13 +61,13 @@ def check_criterion(criterion: str) -> str:
     return criterion
 
 
-def _candidates(dataset, max_components: int, effective: str | float | None) -> int:
+def _candidates(dataset, max_components: int, effective: str | float | None, n_features: int) -> int:
     """How many K ``Model.fit`` tries with auto: up to --max-components, but no more than the samples
-    BIC counts (:func:`rlff.model.model.component_bound`), said when that caps it."""
-    bound, counted = _component_bound(dataset, effective)
+    BIC counts support (:func:`rlff.model.model.component_bound`), said when that caps it."""
+    bound, counted = _component_bound(dataset, effective, n_features)
     if max_components > bound:
         say(f"note: --max-components {max_components}: K is tried up to {bound} only: BIC counts {counted} "
-            "(with more components than samples it has nothing to choose by)")
+            f"(a component needs {n_features + 1} for a covariance over the {n_features} columns)")
     return min(max_components, bound)
 
 
@@ -84,9 +84,10 @@ def _fitting_words(components: str, done: int, total: int) -> str:
     return f"fitting K = {done + 1} (1 to {total} in turn)"
 
 
-def _component_bound(dataset, effective: str | float | None) -> tuple[int, str]:
-    """The most components the samples BIC counts support (:func:`rlff.model.model.component_bound`),
-    and those samples in words ("69.6 effective samples (--effective-samples)")."""
+def _component_bound(dataset, effective: str | float | None, n_features: int) -> tuple[int, str]:
+    """The most components the samples BIC counts support over ``n_features`` columns
+    (:func:`rlff.model.model.component_bound`), and those samples in words ("69.6 effective
+    samples (--effective-samples)")."""
     import numpy as np
 
     from rlff.model.model import component_bound, effective_sample_count
@@ -94,7 +95,7 @@ def _component_bound(dataset, effective: str | float | None) -> tuple[int, str]:
     counted = effective_sample_count(dataset, np.ones(dataset.n_samples), effective)
     words = (plural(dataset.n_samples, "sample") if counted is None
              else f"{counted:.4g} effective samples (--effective-samples)")
-    return component_bound(dataset.n_samples, counted), words
+    return component_bound(dataset.n_samples, counted, n_features), words
 
 
 def read_data(path: Path):
@@ -249,13 +250,6 @@ def fit_command(
     warn_copies(dataset, data)
     if components != "auto" and int(components) > dataset.n_samples:
         raise InputError(f"-k/--components {components} is more than the {dataset.n_samples} samples of {data}")
-    beyond_bound = False
-    if components != "auto":
-        bound, counted = _component_bound(dataset, effective)
-        beyond_bound = int(components) > bound
-        if beyond_bound:  # BIC would not have tried it: each component fits the noise of a few samples
-            warn(f"-k/--components {components} is more than the {counted} of {data} support ({bound} at most): "
-                 "components fit the noise of a few samples; leave K to BIC (-k auto)")
     if inputs is None:
         check_throw_context(dataset.columns, str(data))
         if (uncut := uncut_throws_note(dataset, str(data))) is not None:
@@ -268,12 +262,22 @@ def fit_command(
                 f"{data}: no column {missing[0]!r} for the default {option[2:]} ({', '.join(default)}; columns: "
                 f"{', '.join(dataset.columns)}): name them with {option}"
             )
-    total = _candidates(dataset, max_components, effective) if components == "auto" else 1
+    fit_inputs = default_inputs if inputs is None else _names("--inputs", inputs)
+    fit_outputs = default_outputs if outputs is None else _names("--outputs", outputs)
+    n_features = len(fit_inputs) + len(fit_outputs)
+    beyond_bound = False
+    if components != "auto":
+        bound, counted = _component_bound(dataset, effective, n_features)
+        beyond_bound = int(components) > bound
+        if beyond_bound:  # BIC would not have tried it: each component fits the noise of a few samples
+            warn(f"-k/--components {components} is more than the {counted} of {data} support ({bound} at most "
+                 f"over {n_features} columns): components fit the noise of a few samples; leave K to BIC (-k auto)")
+    total = _candidates(dataset, max_components, effective, n_features) if components == "auto" else 1
     with progress(_fitting_words(components, 0, total), total=total) as advance:
         model = Model.fit(
             dataset,
-            inputs=default_inputs if inputs is None else _names("--inputs", inputs),
-            outputs=default_outputs if outputs is None else _names("--outputs", outputs),
+            inputs=fit_inputs,
+            outputs=fit_outputs,
             components=components, max_components=max_components, criterion=criterion, seed=seed,
             n_init=n_init, context_resolution=resolution, effective_samples=effective,
             progress=lambda done, total: advance(1, description=_fitting_words(components, done, total)),

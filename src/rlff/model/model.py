@@ -333,7 +333,8 @@ class Model:
                     "leave K to BIC: components=\"auto\", rlff fit -k auto)"]
         notes = []
         tried = max(int(row["n_components"]) for row in self.selection.table)
-        if self.n_components == tried > 1 and tried + 1 <= counted:  # K at component_bound: no larger K to try
+        # K at component_bound: no larger K to try
+        if self.n_components == tried > 1 and (math.isinf(counted) or tried < component_bound(counted, None, len(self.columns))):
             notes.append(f"{self.selection.criterion.upper()} chose K = {self.n_components}, the largest tried: "
                          "a larger K may fit better (raise max_components, rlff fit --max-components)")
         fallen = _fallen_likelihood(self.selection.table, self.n_components)
@@ -394,7 +395,8 @@ class Model:
         components : "auto" or int
             K, or "auto" to pick it by ``criterion`` over 1..``max_components``.
         max_components : int
-            Largest K tried with "auto", capped at :func:`component_bound` (the samples BIC counts).
+            Largest K tried with "auto", capped at :func:`component_bound` (one component per
+            D + 1 of the samples BIC counts, D the inputs and outputs).
         criterion : {"bic", "aic"}
         seed : int or None
             Seed of the k-means++ initialisations.
@@ -444,6 +446,12 @@ class Model:
         check_column_units({name: X[:, j] for j, name in enumerate(names)}, landings=True)
         weights = check_weights(sample_weight, X.shape[0])
         _warn_constant(X, names)
+        if 1 < X.shape[0] <= len(names):  # one sample is refused by the fit
+            warnings.warn(
+                f"{plural(X.shape[0], 'sample')} over {len(names)} columns, fewer than the {len(names) + 1} a "
+                "covariance needs: the model's variances come from the regularisation alone (record more throws)",
+                stacklevel=2,
+            )
         resolution = {name: _resolution(X[:, j], context_resolution, name) for j, name in enumerate(inputs) if j > 0}
         column_variance = np.array([resolution.get(name, 0.0) ** 2 / 12.0 for name in names])
         settings = {"random_state": seed, "n_init": n_init, "reg_covar": reg_covar, "column_variance": column_variance}
@@ -451,7 +459,7 @@ class Model:
         if components == "auto":
             if not isinstance(max_components, (int, np.integer)) or max_components < 1:
                 raise InputError(f"max_components must be an integer >= 1, got {max_components!r}")
-            largest = min(max_components, component_bound(X.shape[0], effective))
+            largest = min(max_components, component_bound(X.shape[0], effective, len(names)))
             found = select_components(
                 X, range(1, largest + 1), criterion=criterion, sample_weight=sample_weight,
                 effective_samples=effective, progress=progress, **settings,
@@ -848,13 +856,16 @@ def _fall_may_have_decided(selection: ComponentSelection, chosen: int, larger: d
     return better < chosen_row[criterion]
 
 
-def component_bound(n_samples: int, effective_samples: float | None) -> int:
-    """The most components ``components="auto"`` tries whatever ``max_components`` says: the
-    samples BIC counts (``effective_samples``, else all ``n_samples``), at least 1. With more
-    components than samples the criterion has nothing to choose by (every sample could have its
-    own), and the fits of K up to the number of samples took hours."""
+def component_bound(n_samples: float, effective_samples: float | None, n_features: int) -> int:
+    """The most components ``components="auto"`` tries whatever ``max_components`` says: one per
+    ``n_features`` + 1 of the samples BIC counts (``effective_samples``, else all ``n_samples``),
+    at least 1. A full covariance over D columns needs D + 1 samples not to be singular: a
+    component with fewer stands on the regularisation alone, a likelihood BIC rewards and a
+    predicted variance of nothing (until 2026-12-07 the bound was one component per sample: 3
+    samples of angle, distance and velocity got K = 3 and a variance of 7e-7). With more
+    components than that the fits of large K also took hours."""
     counted = n_samples if effective_samples is None else effective_samples
-    return max(1, math.floor(counted))
+    return max(1, math.floor(counted / (n_features + 1)))
 
 
 def effective_sample_count(data: Dataset | np.ndarray, weights: np.ndarray, setting: str | float | None) -> float | None:
