@@ -13,6 +13,7 @@ from rlff.dataset import Dataset
 from rlff.errors import InputError
 from rlff.learn import learn
 from rlff.learn.log import read_log
+from rlff.learn.loop import METHODS
 from rlff.learn.robot import RobotFailed
 from rlff.robot import load_robot
 from rlff.sim import Basket, simulate_throw
@@ -184,6 +185,42 @@ def test_a_miss_not_measured_is_refused_with_distance_feedback_naming_the_attemp
                                          r"down .*distance feedback learns from the signed miss"):
         learn(demos, 1.4, budget=3, feedback="distance", update="secant", executor=camera, log_path=log)
     assert not log.exists()  # nothing of it logged: a run that logs no attempt leaves no log
+
+
+BUILT_IN = sorted(name for name in METHODS if ":" not in name)
+NEVER_CAME_DOWN = (r"^attempt 1: the executor's outcome has {} = {}: for a ball that never came down through the "
+                   r"rim's height, report where it first touched the ground or the basket \(m along the basket's "
+                   r"line\), as rlff.sim.simulate_throw does")
+
+
+@pytest.mark.parametrize("update", BUILT_IN)
+def test_a_ball_that_never_came_down_reported_as_inf_is_refused_by_every_method(demos, tmp_path, update):
+    # the loop's message had advised inf for it: calibrate, donut and hindsight wrote it into the
+    # data as a demonstration's distance and stopped at the next attempt ("column 'distance' has a
+    # non-finite value"), the secant read +inf as a throw short at the robot's base and threw next
+    # at the speed limit. The simulation reports where such a ball first touched; so must an executor.
+    feedback = "distance" if "distance" in METHODS[update].feedbacks else "binary"
+    log = tmp_path / "run.jsonl"
+    never = arm(lambda o: Reported(False, math.inf, math.inf))
+    with pytest.raises(InputError, match=NEVER_CAME_DOWN.format("landing_x", "inf")):
+        learn(demos, 1.4, budget=3, feedback=feedback, update=update, executor=never, log_path=log)
+    assert not log.exists()  # nothing of it logged or learned from
+
+
+@pytest.mark.parametrize(("landing", "miss", "name", "shown"), [
+    (-math.inf, -math.inf, "landing_x", "-inf"),  # calibrate had taken it as not measured, the secant as short
+    (1.0, math.inf, "miss", "inf"),
+])
+def test_an_infinite_landing_or_miss_is_refused_naming_it(demos, landing, miss, name, shown):
+    with pytest.raises(InputError, match=NEVER_CAME_DOWN.format(name, shown)):
+        learn(demos, 1.4, budget=3, feedback="distance", executor=arm(lambda o: Reported(False, landing, miss)))
+
+
+def test_a_miss_not_measured_is_refused_without_advising_inf(demos):
+    with pytest.raises(InputError) as caught:
+        learn(demos, 1.4, budget=3, feedback="distance", executor=arm(lambda o: Reported(False, None, None)))
+    assert "inf" not in str(caught.value)
+    assert "where the ball first touched, if it never came down through the rim's height" in str(caught.value)
 
 
 def test_a_hit_not_measured_is_refused_until_centred_and_taken_until_any_hit(demos):

@@ -34,8 +34,10 @@ class Attempt:
     hit : bool
         The ball ended in the basket.
     landing : float
-        First landing point along the throwing direction (m); NaN when the ball never came down
-        through the rim's height, and as a method sees it under binary feedback.
+        First landing point along the throwing direction (m): where the ball came down through
+        the rim's height, or first touched the ground or the basket when it never did (as
+        :func:`rlff.sim.simulate_throw` reports it); NaN where not measured, and as a method
+        sees it under binary feedback.
     miss : float
         Signed miss (m): the landing's distance from the basket's centre, negative short of it,
         positive beyond it, hits included; NaN like ``landing``.

@@ -259,10 +259,11 @@ def _is_number(value) -> bool:
 
 class Outcome(Protocol):
     """What an executor reports about one throw (``rlff.sim``'s ThrowOutcome is one): ``hit``
-    (a bool), ``landing_x`` (m from the robot's base along the basket's line; NaN or None where
-    not measured) and ``miss`` (``landing_x`` less the basket's distance, m, negative short; NaN
-    where not measured), checked as :func:`reported_outcome` says: with distance feedback a miss,
-    with ``until="centred"`` a hit, must be measured."""
+    (a bool), ``landing_x`` (m from the robot's base along the basket's line, finite: for a ball
+    that never came down through the rim's height, where it first touched, as ``rlff.sim``
+    reports it; NaN or None where not measured) and ``miss`` (``landing_x`` less the basket's
+    distance, m, negative short; NaN where not measured), checked as :func:`reported_outcome`
+    says: with distance feedback a miss, with ``until="centred"`` a hit, must be measured."""
 
     hit: bool
     landing_x: float
@@ -281,7 +282,7 @@ Executor = Callable[[JointTrajectory], Outcome]
 def best_attempt(history: Sequence[Attempt]) -> Attempt | None:
     """The throw of ``history`` to keep (what ``rlff learn --out`` writes, and what a stopped run
     says to export): the last hit, else the attempt that came down nearest the basket's centre
-    (smallest ``abs(miss)``, m; the first of equals), else None (no attempt, or none came down)."""
+    (smallest ``abs(miss)``, m; the first of equals), else None (no attempt, or no landing measured)."""
     hits = [a for a in history if a.hit]
     if hits:
         return hits[-1]
@@ -301,7 +302,8 @@ class LearningResult:
         Attempts made, including those resumed from the log.
     misses : list of float
         Signed miss (m) of every attempt: the landing's distance from the basket's centre,
-        negative short, positive long, hits included; NaN where the ball never came down.
+        negative short, positive long, hits included; NaN where not measured (binary feedback
+        does not need it).
     history : list of Attempt
     target : float
         Basket distance (m).
@@ -873,10 +875,18 @@ def reported_outcome(outcome, basket, *, distance_needed: bool = False,
                      hit_distance_needed: bool = False) -> tuple[bool, float, float]:
     """``(hit, landing, miss)`` of what an executor returned for a throw at ``basket``
     (:class:`rlff.sim.Basket`), checked: the :class:`Outcome` protocol's ``hit`` a bool,
-    ``landing_x`` (m along the basket's line from the robot's base; None or NaN: not measured,
-    +-inf: never came down) no farther than the farthest basket rlff takes either way, ``miss``
-    (m, negative short) ``landing_x - basket.distance`` where both are known. (A hit far from
-    the basket is not refused: a measurement as noisy as ``noisy-distance:0.5`` gives one.)
+    ``landing_x`` (m along the basket's line from the robot's base; None or NaN: not measured)
+    no farther than the farthest basket rlff takes either way, ``miss`` (m, negative short)
+    ``landing_x - basket.distance`` where both are known. (A hit far from the basket is not
+    refused: a measurement as noisy as ``noisy-distance:0.5`` gives one.)
+
+    A ball that never came down through the rim's height has a landing all the same: where it
+    first touched the ground (or the basket), as :func:`rlff.sim.simulate_throw` reports it, and
+    every method learns from that point as it does in simulation. +-inf is refused, saying so:
+    it had been written into the data as a demonstration's distance (``calibrate``, ``donut``
+    and ``hindsight`` stopped at the next attempt on a non-finite ``distance``) or read as a
+    throw short at the robot's base (+inf: the secant's next throw was at the speed limit),
+    and the loop's own message advised it until 2026-12-07.
 
     As a person's typed outcome (:func:`rlff.learn.robot.parse_answer`): with
     ``distance_needed`` (distance feedback) a miss must say where the ball came down, with
@@ -902,9 +912,15 @@ def reported_outcome(outcome, basket, *, distance_needed: bool = False,
     if not isinstance(hit, bool | np.bool_):
         raise InputError(f"the executor's outcome has hit = {hit!r} ({type(hit).__name__}): give True or False")
     landing, miss = (_metres(getattr(outcome, name), name) for name in ("landing_x", "miss"))
+    for name, value in (("landing_x", landing), ("miss", miss)):
+        if math.isinf(value):
+            raise InputError(f"the executor's outcome has {name} = {value:g}: for a ball that never came down "
+                             "through the rim's height, report where it first touched the ground or the basket "
+                             "(m along the basket's line), as rlff.sim.simulate_throw does; None or NaN where not "
+                             "measured")
     far = DISTANCE_RANGE[1]
     for name, value in (("landing_x", landing), ("miss", miss)):
-        if math.isfinite(value) and abs(value) > far:
+        if abs(value) > far:
             raise InputError(f"the executor's outcome has {name} = {value:g} m, beyond {far:g} m either way "
                              "(a unit slip? landing_x and miss are in metres)")
     if math.isfinite(landing) and math.isfinite(miss) and abs(miss - (landing - basket.distance)) > 1e-6:
@@ -915,7 +931,8 @@ def reported_outcome(outcome, basket, *, distance_needed: bool = False,
         if distance_needed and not hit:
             raise InputError("the executor reported a miss without where the ball came down (landing_x and miss "
                              "None or NaN): distance feedback learns from the signed miss; report landing_x and "
-                             "miss in m (inf for a ball that never came down), or learn with feedback='binary'")
+                             "miss in m (where the ball first touched, if it never came down through the rim's "
+                             "height), or learn with feedback='binary'")
         if hit_distance_needed and hit:
             raise InputError("the executor reported a hit without where the ball came down (landing_x and miss "
                              "None or NaN): until='centred' judges a hit by its distance from the basket's centre; "

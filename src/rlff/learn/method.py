@@ -300,6 +300,7 @@ def labelled_demos(demos: Dataset) -> list[Trajectory]:
 
 
 def finite_miss(attempt: Attempt) -> float:
-    """The attempt's signed miss (m); a throw that never came down through the rim's height
-    (no landing point) counts as falling at the robot's base, ``-target``."""
+    """The attempt's signed miss (m); one not measured (NaN) counts as falling at the robot's
+    base, ``-target``. (A ball that never came down through the rim's height is reported where
+    it first touched, :func:`rlff.learn.loop.reported_outcome`.)"""
     return attempt.miss if np.isfinite(attempt.miss) else -attempt.target
