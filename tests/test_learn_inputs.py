@@ -281,6 +281,15 @@ def test_one_joint_name_and_one_log_path_are_taken_whole(demos, tmp_path):
         learn(demos, 1.4, budget=1, carry_from=str(tmp_path / "nope.jsonl"))
 
 
+def test_an_executor_that_is_not_callable_is_refused_before_anything_runs(demos, tmp_path):
+    # it had been TypeError: 'int' object is not callable, after the demonstrations were checked and planned
+    log = tmp_path / "run.jsonl"
+    with pytest.raises(InputError, match=r"^executor must be a callable, executor\(joint_trajectory\) -> outcome "
+                                         r"with hit, landing_x and miss; got int 5$"):
+        learn(demos, 1.4, budget=1, executor=5, log_path=log)
+    assert not log.exists()
+
+
 @pytest.mark.parametrize("seed", [None, -1, 1.5])
 def test_a_seed_that_is_no_whole_number_is_refused(demos, seed):
     with pytest.raises(InputError, match="seed must be a whole number"):

@@ -544,9 +544,9 @@ def learn(
     Raises
     ------
     InputError
-        Unknown method or feedback, a method that needs other feedback, a carry into a method
-        that does not carry (:func:`require_carrying`), a basket out of the
-        robot's reach, demonstrations beyond the joint limits, a log path that is no regular file
+        Unknown method or feedback, a method that needs other feedback, an executor that is not
+        callable, a carry into a method that does not carry (:func:`require_carrying`), a basket
+        out of the robot's reach, demonstrations beyond the joint limits, a log path that is no regular file
         (a device, a FIFO), or a corrupt or foreign log. A
         method's proposal that is no :class:`~rlff.learn.method.Proposal` or does not follow
         ``problem.angles`` (:func:`rlff.learn.proposal_check.proposed`), stopping the run at that
@@ -571,6 +571,9 @@ def learn(
     if not (isinstance(seed, numbers.Integral) and not isinstance(seed, bool) and seed >= 0):
         raise InputError(f"seed must be a whole number >= 0, got {seed!r}")
     seed = int(seed)
+    if executor is not None and not callable(executor):
+        raise InputError(f"executor must be a callable, executor(joint_trajectory) -> outcome with hit, landing_x "
+                         f"and miss; got {type(executor).__name__} {short_repr(executor)}")
     demos = _demonstrations(demos)
     require_units(demos)  # before anything is judged in them (a unit slip is the likeliest fault)
     from rlff.sim.gap import parse_gap
