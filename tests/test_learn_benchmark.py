@@ -130,6 +130,15 @@ def test_methods_that_cannot_run_are_refused_before_any_run(methods, words):
     assert seen == []
 
 
+def test_one_method_given_alone_for_a_kind_is_that_method_not_its_letters():
+    # {"binary": "sweep"} had been read letter by letter: unknown update 's'
+    scenario = Scenario(feedbacks=(parse_feedback("binary"),), baskets=(1.4,))
+    with pytest.raises(InputError, match=r"^methods\['binary'\]: secant needs distance feedback, not binary"):
+        learning_benchmark(scenario, 1, methods={"binary": "secant"})
+    runs = learning_benchmark(scenario, 1, first_seed=0, methods={"binary": "imitation"}, budget=1, jobs=1)
+    assert [run.method for run in runs] == ["imitation"]
+
+
 def test_a_method_and_its_module_colon_class_are_one_method_and_refused_together(tmp_path, monkeypatch):
     # only rlff bench's --methods refused two spellings of one method: learning_benchmark ran both
     # and counted the method's runs twice in its row

@@ -98,7 +98,7 @@ def learning_benchmark(
     seeds: int = 8,
     *,
     first_seed: int = HELD_OUT_SEEDS,
-    methods: dict[str, Sequence[str | type[Method]]] | None = None,
+    methods: Mapping[str, Sequence[str | type[Method]] | str | type[Method]] | None = None,
     budget: int = 20,
     jobs: int = 2,
     scheduler: str | None = None,
@@ -117,7 +117,8 @@ def learning_benchmark(
     first_seed : int
         The first seed (default 100: above the seeds the methods were tuned on).
     methods : dict, optional
-        Methods per feedback kind (``binary``, ``distance``): names of :data:`rlff.learn.METHODS`
+        Methods per feedback kind (``binary``, ``distance``), a sequence of them or one alone
+        (:func:`one_or_many`): names of :data:`rlff.learn.METHODS`
         or methods of one's own, :class:`rlff.learn.Method` subclasses, which the workers import
         by their module and name (a class in a module of one's own, not one made in a function);
         default :data:`METHODS_BY_FEEDBACK`. Only the scenario's feedback kinds it names run
@@ -146,7 +147,7 @@ def learning_benchmark(
     import joblib
 
     scenario = Scenario() if scenario is None else scenario
-    methods = METHODS_BY_FEEDBACK if methods is None else methods
+    methods = METHODS_BY_FEEDBACK if methods is None else one_or_many(methods)
     if not (isinstance(seeds, int) and seeds >= 1) or not (isinstance(first_seed, int) and first_seed >= 0):
         raise InputError(f"seeds must be >= 1 and first seed >= 0, got {seeds!r} and {first_seed!r}")
     require_methods(methods, scenario)
@@ -174,6 +175,14 @@ def learning_benchmark(
             if progress:
                 progress(run)
     return runs
+
+
+def one_or_many(methods: Mapping[str, Sequence[str | type[Method]] | str | type[Method]],
+                ) -> dict[str, Sequence[str | type[Method]]]:
+    """``methods`` with one method given alone for a kind (a name, MODULE:CLASS or a class) taken
+    as a list of it: ``{"binary": "sweep"}`` is ``{"binary": ("sweep",)}``. (A name had been
+    taken letter by letter: ``unknown update 's'``.)"""
+    return {kind: (named,) if isinstance(named, str | type) else named for kind, named in methods.items()}
 
 
 def require_methods(methods: Mapping[str, Sequence[str | type[Method]]], scenario: Scenario) -> None:
