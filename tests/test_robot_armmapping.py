@@ -170,3 +170,24 @@ def test_bad_whole_arm_tables_are_refused_naming_the_field(tmp_path):
     with pytest.raises(InputError, match=r"robot.toml: \[whole_arm.start_pose\]: joint_4 9 rad is outside its limits"):
         robot_file(tmp_path, lambda text: text.replace("joint_4 = 0.0\njoint_5 = -0.198\njoint_6 = 0.0\n\n# The Comau",
                                                        "joint_4 = 9.0\njoint_5 = -0.198\njoint_6 = 0.0\n\n# The Comau"))
+
+
+def test_the_path_protocol_example_of_robot_md_runs_on_a_path_fast_along_the_way(robot):
+    # it called path_to_robot without clip: a generated whole-arm path whose joint_2 velocities
+    # along the way lie beyond the limit (plan_path, executing the first pose and the release,
+    # plans it) was an InputError there ("78 values beyond the robot's limits")
+    import re
+    from pathlib import Path
+
+    page = (Path(__file__).resolve().parents[1] / "docs" / "robot.md").read_text()
+    block = re.search(r"\*\*The path protocol\.\*\*.*?```python\n(.*?)```", page, re.S)
+    assert block, "docs/robot.md no longer shows the path protocol"
+    two = mapping_for(robot, ("joint_2", "joint_3"))
+    path = human_throw(3.0)
+    path["shoulder_velocity"][:3] = 3 * two.max_human_speeds()["shoulder_velocity"]  # joint_2 at 3x its limit
+    with pytest.raises(InputError, match=r"^3 values beyond the robot's limits: point 0: joint_2 velocity"):
+        two.path_to_robot(path, bearing=30.0)
+    scope = {"path": path}
+    exec(block[1], scope)
+    assert scope["clipped"].summary() == "clipped 0 positions and 3 velocities at 3 points"
+    assert scope["result"].trajectory.positions.shape[1] == len(robot.joint_names)
