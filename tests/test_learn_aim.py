@@ -99,7 +99,7 @@ def test_the_aim_goes_into_the_log_and_a_run_resumes_only_with_the_same(short_de
     log = tmp_path / "attempts.jsonl"
     learn(short_demos, 1.4, budget=1, feedback="binary", seed=0, aim="kinematics", log_path=log)
     assert json.loads(log.read_text().splitlines()[0])["run"]["aim"] == "kinematics"
-    with pytest.raises(InputError, match=r"aim = 'kinematics' in the log, 'auto' now, from --aim"):
+    with pytest.raises(InputError, match=r"aim = 'kinematics' in the log, 'auto' now, from aim \(--aim\)"):
         learn(short_demos, 1.4, budget=2, feedback="binary", seed=0, log_path=log)
     # the one-joint default (the demonstrations), named or not, writes no such field
     for aim in ("auto", "demonstrations"):

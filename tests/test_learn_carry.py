@@ -74,7 +74,7 @@ def test_a_carried_log_resumes_only_with_the_same_carry(demos, near_log, tmp_pat
     learn(demos, FAR, budget=1, feedback="binary", seed=3, carry_from=[log], log_path=far)
     resumed = learn(demos, FAR, budget=2, feedback="binary", seed=3, carry_from=[log], log_path=far)
     assert resumed.resumed == 1
-    with pytest.raises(InputError, match=r"the log belongs to another run \(carried = .* in the log, none now, from --carry\)"):
+    with pytest.raises(InputError, match=r"the log belongs to another run \(carried = .* in the log, none now, from carry_from \(--carry\)\)"):
         learn(demos, FAR, budget=2, feedback="binary", seed=3, log_path=far)
 
 

@@ -320,6 +320,17 @@ def test_a_log_of_the_callers_own_executor_says_so_and_resumes_only_with_one(dem
     assert learn(demos, 1.4, budget=2, executor=arm(lambda o: o), log_path=log).resumed == 1
 
 
+def test_a_log_of_another_run_names_learns_parameter_and_the_option(demos, tmp_path):
+    # a library call was told "from --executor); use another --log file", which no call of learn has
+    log = tmp_path / "own.jsonl"
+    learn(demos, 1.4, budget=1, executor=arm(lambda o: o), log_path=log)
+    with pytest.raises(InputError, match=r"\(executor = 'python' in the log, 'sim' now, from executor or executed_on "
+                                         r"\(--executor\)\); use another log_path \(--log\)$"):
+        learn(demos, 1.4, budget=2, log_path=log)
+    with pytest.raises(InputError, match=r"\(basket\.distance = 1\.4 in the log, 1\.5 now, from basket \(--basket\)\)"):
+        learn(demos, 1.5, budget=2, executor=arm(lambda o: o), log_path=log)
+
+
 def _into_the_floor():
     """joint_2 from upright to 2.5 rad forward within every joint limit: the held ball meets the
     floor, and the simulated arm is held there (as tests/test_robot_links.py drives it)."""

@@ -287,7 +287,7 @@ def test_a_log_resumes_only_with_a_robot_of_its_name_and_ros_names(tmp_path, edi
     with pytest.raises(InputError) as refused:
         AttemptLog(path, other, RUN_OPTIONS)
     assert str(refused.value) == (f"{path}: the log belongs to another run ({said}, from --robot); use another "
-                                  "--log file")
+                                  "log_path (--log)")
     # the robot file it was written with resumes it
     with AttemptLog(path, _run_on(_robot_file(tmp_path, "same.toml")), RUN_OPTIONS) as log:
         assert [a.index for a in log.contents.attempts] == [1]

@@ -239,6 +239,10 @@ def test_uncleaned_demonstrations_are_refused_naming_the_throw():
     ])
     with pytest.raises(InputError, match="'raw0' is not one throw up to its release.*preset thesis"):
         learn(demos, 1.5)
+    # it ended "(rlff data preprocess --preset thesis, or --preset)"
+    with pytest.raises(InputError, match=r"\(rlff data preprocess --preset thesis, or --config STEPS\.toml; in Python "
+                                         r"rlff\.preprocess\.Pipeline\.preset\('thesis'\)\.run\(demos\)\)$"):
+        learn(demos, 1.5)
 
 
 @pytest.fixture(scope="module")

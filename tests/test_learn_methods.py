@@ -378,8 +378,8 @@ def test_rlff_learn_runs_a_method_named_module_colon_class_and_resumes_its_log(r
     assert again.code == 0, again.stderr
     assert "resumed 1 attempt from" in again.stderr
     other = rlff(*run, "calibrate", "--budget", "3")
-    assert other.code == 2 and ("update = 'faster' in the log, 'calibrate' now, from --update); use another --log "
-                                "file, or resume it with --update faster (for a method of your own, MODULE:CLASS of "
+    assert other.code == 2 and ("update = 'faster' in the log, 'calibrate' now, from update (--update)); use another "
+                                "log_path (--log), or resume it with --update faster (for a method of your own, MODULE:CLASS of "
                                 "the class named 'faster')") in other.stderr
     by_name = rlff(*run, "faster", "--budget", "3")
     assert by_name.code == 2

@@ -145,7 +145,7 @@ def test_messages_list_a_logs_joints_in_the_robots_order(aimed, robot, tmp_path)
     header, _ = read_log(log)
     assert header["joints"] == ["joint_3", "joint_2"]
     with pytest.raises(InputError, match=r"\(joints = \['joint_2', 'joint_3'\] in the log, one joint \(the "
-                                         r"\[throwing\] table's\) now, from --joints\)"):
+                                         r"\[throwing\] table's\) now, from joints \(--joints\)\)"):
         learn(aimed, BASKET, budget=2, log_path=log, robot=robot)
     # the same joints in another order (as given after the elbow's): that order is the difference
     given = (["joint_3", "joint_5", "joint_2"], ["joint_3", "joint_2", "joint_5"])

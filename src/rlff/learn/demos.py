@@ -243,7 +243,8 @@ def demos_within_limits(demos: Dataset, mapping) -> tuple[Dataset, list[str]]:
         except InputError as exc:
             raise InputError(
                 f"demonstration {demo.id!r} is not one throw up to its release ({exc}); clean "
-                "the demonstrations first (rlff data preprocess --preset thesis, or --preset)"
+                "the demonstrations first (rlff data preprocess --preset thesis, or --config STEPS.toml; in "
+                "Python rlff.preprocess.Pipeline.preset('thesis').run(demos))"
             ) from None
         if not report.count("position"):
             kept.append(demo)

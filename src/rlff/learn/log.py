@@ -287,7 +287,7 @@ class AttemptLog:
                   f"named {before!r})" if key == "update" and isinstance(before, str) else "")
         raise InputError(
             f"{self.path}: the log belongs to another run ({key} = {shown(before)} in the log, {shown(now)} now"
-            f"{f', from {option}' if option else ''}); use another --log file{resume}"
+            f"{f', from {option}' if option else ''}); use another log_path (--log){resume}"
         )
 
 

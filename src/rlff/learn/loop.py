@@ -180,6 +180,17 @@ RUN_OPTIONS: dict[str, tuple[str, str | None]] = {
     "carried": ("--carry", "none"),
     "aim": ("--aim", "'auto'"),
 }
+#: :func:`learn`'s parameter that sets each key of :data:`RUN_OPTIONS` whose name it does not have.
+RUN_PARAMETERS = {"basket.distance": "basket", "basket.rim_height": "height", "basket.bearing": "bearing",
+                  "executor": "executor or executed_on", "carried": "carry_from"}
+
+
+def log_options() -> dict[str, tuple[str, str | None]]:
+    """:data:`RUN_OPTIONS` as the attempts log names them when a resumed log differs: the
+    parameter of :func:`learn`, then the option of ``rlff learn`` (``executor or executed_on
+    (--executor)``). A log a Python executor wrote, resumed without one, had been said to differ
+    "from --executor", which no library call has."""
+    return {key: (f"{RUN_PARAMETERS.get(key, key)} ({option})", absent) for key, (option, absent) in RUN_OPTIONS.items()}
 
 
 def run_options(feedback: str = "binary", until: str = "hit", centre_share: float | None = None,
@@ -632,7 +643,7 @@ def learn(
     carried, carry_notes = carried_offsets(carry_from, run) if carry_from else ((), [])
     if carried:
         run["carried"] = [round(x, 4) for x in carried]
-    log = AttemptLog(log_path, run, RUN_OPTIONS, budget=budget) if log_path is not None else None
+    log = AttemptLog(log_path, run, log_options(), budget=budget) if log_path is not None else None
     try:
         result = _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
                       progress, until, centre_window(until, centre_share, target.opening), pedestal, components,
