@@ -22,6 +22,19 @@ from rlff.errors import InputError
 _SLOWEST_PEAK = 1e-9
 
 
+def first_reversal(angle: np.ndarray) -> int | None:
+    """The first sample (from 1) of ``angle`` (shape (T,)) that does not go on in the direction of
+    its first step (1 when that step is none), or None for a strictly monotonic path."""
+    steps = np.diff(np.asarray(angle, dtype=float))
+    if steps.size == 0:
+        return None
+    direction = np.sign(steps[0])
+    if direction == 0:
+        return 1
+    reversed_at = np.flatnonzero(np.sign(steps) != direction)
+    return int(reversed_at[0]) + 1 if reversed_at.size else None
+
+
 def time_along_path(
     angle: np.ndarray, velocity: np.ndarray, min_speed: float | None = None
 ) -> np.ndarray:
@@ -57,11 +70,9 @@ def time_along_path(
         if not np.all(np.isfinite(values)):
             bad = int(np.flatnonzero(~np.isfinite(values))[0])
             raise InputError(f"{label} at sample {bad} is {values[bad]} (NaN or inf)")
-    steps = np.diff(angle)
-    direction = np.sign(steps[0])
-    if direction == 0 or np.any(np.sign(steps) != direction):
-        bad = int(np.flatnonzero(np.sign(steps) != direction)[0]) + 1 if direction else 1
+    if (bad := first_reversal(angle)) is not None:
         raise InputError(f"angle is not strictly monotonic at sample {bad}")
+    direction = np.sign(angle[1] - angle[0])
     speed = velocity * direction
     if np.any(speed < -1e-12):
         bad = int(np.flatnonzero(speed < -1e-12)[0])
@@ -74,4 +85,4 @@ def time_along_path(
     elif not min_speed > 0:
         raise InputError(f"min_speed must be positive, got {min_speed!r} rad/s")
     mean_speed = np.maximum(0.5 * (speed[:-1] + speed[1:]), min_speed)
-    return np.concatenate([[0.0], np.cumsum(np.abs(steps) / mean_speed)])
+    return np.concatenate([[0.0], np.cumsum(np.abs(np.diff(angle)) / mean_speed)])

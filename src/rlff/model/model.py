@@ -62,7 +62,7 @@ from rlff.model.mixture import (
     select_components,
 )
 from rlff.model.regression import Conditional, condition, predict
-from rlff.timing import time_along_path
+from rlff.timing import first_reversal, time_along_path
 from rlff.wording import plural
 
 FORMAT = "rlff-model"
@@ -122,14 +122,8 @@ def uncut_throws_note(dataset: Dataset, where: str) -> str | None:
     """
     if "angle" not in dataset.columns:
         return None
-    uncut = []
-    for trajectory in dataset:
-        steps = np.diff(trajectory["angle"])
-        if steps.size == 0:
-            continue
-        direction = np.sign(steps[0])  # the sample counted as rlff.timing.time_along_path counts it
-        if direction == 0 or np.any(np.sign(steps) != direction):
-            uncut.append((trajectory.id, int(np.flatnonzero(np.sign(steps) != direction)[0]) + 1 if direction else 1))
+    reversals = ((trajectory.id, first_reversal(trajectory["angle"])) for trajectory in dataset)
+    uncut = [(name, sample) for name, sample in reversals if sample is not None]
     if not uncut:
         return None
     name, sample = uncut[0]
