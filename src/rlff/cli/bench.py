@@ -48,6 +48,17 @@ def _method_classes(names: list[str]) -> dict:
     return dict(zip(names, method_classes(names, "--methods"), strict=True))
 
 
+def _parsed(option: str, text: str, parse) -> list:
+    """Each name of the comma-separated ``text`` (:func:`_names`) read by ``parse``, an error of
+    ``parse`` said with the option (the list's own faults name it once: it had read "--landings:
+    --landings: 'exact' given twice")."""
+    named = _names(option, text)
+    try:
+        return [parse(name) for name in named]
+    except InputError as exc:
+        raise InputError(f"{option}: {exc}") from None
+
+
 @app.command("learning")
 def learning(
     seeds: int = typer.Option(8, "--seeds", min=1, help="Seeds (each draws its own demonstrations)."),
@@ -110,21 +121,9 @@ def learning(
     from rlff.limits import check_distance, parse_number
 
     people = list(DEMONSTRATORS) if scenario == "all" else _names("--scenario", scenario, list(DEMONSTRATORS))
-    # the lists' own faults name their option once ("--landings: --landings: 'exact' given twice")
-    landings_named, feedback_named, gap_named = _names("--landings", landings), _names("--feedback", feedback), \
-        _names("--gap", gap)
-    try:
-        knowledge = [parse_landings(n) for n in landings_named]
-    except InputError as exc:
-        raise InputError(f"--landings: {exc}") from None
-    try:
-        feedbacks = tuple(parse_feedback(n) for n in feedback_named)
-    except InputError as exc:
-        raise InputError(f"--feedback: {exc}") from None
-    try:
-        gaps = [parse_gap(n) for n in gap_named]
-    except InputError as exc:
-        raise InputError(f"--gap: {exc}") from None
+    knowledge = _parsed("--landings", landings, parse_landings)
+    feedbacks = tuple(_parsed("--feedback", feedback, parse_feedback))
+    gaps = _parsed("--gap", gap, parse_gap)
     from rlff.learn.loop import AIMS
 
     aims = _names("--aim", aim, list(AIMS))
