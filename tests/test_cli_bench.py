@@ -202,3 +202,43 @@ def test_the_aim_s_help_names_every_method_it_moves(rlff):
                       "the ring's hole, comes late)", "baselines start there",
                       "failure and hindsight throw the DMM's throw sped up or slowed down to it"):
             assert moved in aim, (command, aim)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("as_json", [True, False], ids=["json", "table"])
+def test_a_stopped_sweep_reports_the_runs_that_finished(tmp_path, as_json):
+    # Ctrl-C in a long sweep said "rlff: interrupted" and nothing else: every finished run was lost
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    args = ["bench", "learning", "--seeds", "40", "--first-seed", "300", "--methods", "sweep,calibrate",
+            "--feedback", "binary", "--budget", "20", "--jobs", "1", *(["--json"] if as_json else [])]
+    # SIGINT at its default: a suite started in a shell's background inherits it ignored
+    proc = subprocess.Popen([sys.executable, "-m", "rlff", *args], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=dict(os.environ, MPLBACKEND="Agg"),
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    said = []
+    for line in proc.stderr:  # plain progress lines (a pipe): one at every tenth of the 160 runs
+        said.append(line)
+        if line.startswith("learning benchmark") and not line.startswith("learning benchmark 0/"):
+            break
+    proc.send_signal(signal.SIGINT)
+    out, rest = proc.communicate(timeout=120)
+    err = "".join(said) + rest
+    assert proc.returncode == 130 and err.strip().endswith("rlff: interrupted"), err
+    warned = [line for line in err.splitlines() if line.startswith("warning: stopped after ")]
+    assert len(warned) == 1, err
+    finished = int(warned[0].split()[3])
+    assert 16 <= finished < 160 and "of 160 runs" in warned[0]
+    if as_json:
+        report = json.loads(out)
+        assert report["stopped"] == {"runs": finished, "of": 160}
+        assert sum(row["runs"] for row in report["rows"]) == finished
+        assert {row["method"] for row in report["rows"]} == {"sweep", "calibrate"}
+        pairs = [c for c in report["comparisons"] if (c["method"], c["baseline"]) == ("calibrate", "sweep")]
+        assert len(pairs) == 1 and 1 <= pairs[0]["pairs"] <= finished // 2
+    else:
+        assert out.startswith(f"Stopped after {finished} of 160 runs. Seeds 300-339, budget 20"), out
+        assert "calibrate" in out and "sweep" in out

@@ -105,9 +105,7 @@ def learning(
     """Attempts to the first hit over seeds x baskets x feedback kinds x methods, per scenario."""
     from rlff.learn.benchmark import (
         METHODS_BY_FEEDBACK,
-        format_table,
         learning_benchmark,
-        report,
         require_reachable_baskets,
         robot_identity,
     )
@@ -164,15 +162,42 @@ def learning(
             raise InputError(f"no method of --methods {methods} works with --feedback {feedback} ({needs})")
         if unused:
             warn(f"--methods: {', '.join(unused)} left out: no --feedback {feedback} they can use ({needs})")
-    runs = []
-    with progress("learning benchmark", total=total) as advance:
-        for case in cases:
-            runs += learning_benchmark(case, seeds, first_seed=first_seed, methods=chosen, budget=budget,
-                                       jobs=jobs, scheduler=scheduler, progress=lambda run: advance(1))
+    runs = []  # every finished run, as it finishes: a stopped sweep still reports them
+
+    def finished(run) -> None:
+        runs.append(run)
+        advance(1)
+
+    try:
+        with progress("learning benchmark", total=total) as advance:
+            for case in cases:
+                learning_benchmark(case, seeds, first_seed=first_seed, methods=chosen, budget=budget,
+                                   jobs=jobs, scheduler=scheduler, progress=finished)
+    except KeyboardInterrupt:  # Ctrl-C or SIGTERM: the runs that finished are said, then the stop
+        if runs:
+            warn(f"stopped after {len(runs)} of {total} runs: the {'JSON' if as_json else 'table'} holds those "
+                 "alone (each row its runs; comparisons over the seed and basket pairs both methods ran)")
+            _say(runs, budget, identity, seeds, first_seed, as_json, stopped=(len(runs), total))
+        raise
+    _say(runs, budget, identity, seeds, first_seed, as_json)
+
+
+def _say(runs: list, budget: int, identity: dict, seeds: int, first_seed: int, as_json: bool,
+         stopped: tuple[int, int] | None = None) -> None:
+    """The benchmark's ``runs`` as ``--json`` or the table on stdout; ``stopped``: (runs finished,
+    runs asked for) of a sweep a stop signal ended, said in the JSON (``"stopped"``) and above the
+    table."""
+    from rlff.learn.benchmark import format_table, report
+
     if as_json:
-        emit_json(report(runs, budget, identity))
+        result = report(runs, budget, identity)
+        if stopped is not None:
+            result["stopped"] = {"runs": stopped[0], "of": stopped[1]}
+        emit_json(result)
         return
     drawn = f"Seed {first_seed}" if seeds == 1 else f"Seeds {first_seed}-{first_seed + seeds - 1}"
+    if stopped is not None:
+        drawn = f"Stopped after {stopped[0]} of {stopped[1]} runs. {drawn}"
     stdout().print(f"{drawn}, budget {budget} (a run without a hit counts as {budget + 1}); p: paired Wilcoxon "
                    "signed-rank, two-sided.\n", highlight=False, markup=False)
     stdout().print(format_table(runs, budget, identity), highlight=False, markup=False)
