@@ -147,6 +147,12 @@ def test_a_basket_the_loops_throws_do_not_reach_is_refused_before_the_first_run(
     ("--landings", "exact,exact", "rlff: error: --landings: 'exact' given twice"),
     ("--feedback", "binary,binary", "rlff: error: --feedback: 'binary' given twice"),
     ("--gap", "none,none", "rlff: error: --gap: 'none' given twice"),
+    # one value written two ways ran every case twice, counted in one row (runs 4 of 2 pairs)
+    ("--landings", "noisy:0.3,noisy:0.30", "rlff: error: --landings: 'noisy:0.3' and 'noisy:0.30' are one case "
+                                           "given twice"),
+    ("--feedback", "false-miss:0.2,false-miss:.2", "rlff: error: --feedback: 'false-miss:0.2' and "
+                                                   "'false-miss:.2' are one case given twice"),
+    ("--gap", "speed:0.9,speed:0.90", "rlff: error: --gap: 'speed:0.9' and 'speed:0.90' are one case given twice"),
     # a value left out after ':' is named ("'' is not a number" until 2026-12-07)
     ("--landings", "noisy", "--landings: landings 'noisy': give the standard deviation after ':' (m), e.g. noisy:0.3"),
     ("--gap", "speed", "--gap: gap 'speed': give its value after ':', e.g. speed:0.9"),

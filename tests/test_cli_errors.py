@@ -241,6 +241,8 @@ def test_a_tiny_densify_step_is_refused_with_its_numbers(rlff, files, tmp_path):
         (["fit", "{data}", "-o", "{tmp}/m.json", "-k", "100000"], ["-k/--components 100000 is more than the", "samples"]),
         (["fit", "{data}", "-o", "{tmp}/m.json", "--max-components", "0"], ["'--max-components'", "(got '0')"]),
         (["fit", "{data}", "-o", "{tmp}/m.json", "--n-init", "0"], ["'--n-init'", "(got '0')"]),
+        # an option given twice: click takes the last, and the error quotes it (it quoted the first)
+        (["fit", "{data}", "-o", "{tmp}/m.json", "--n-init", "1", "--n-init=0"], ["'--n-init'", "(got '0')"]),
         (["fit", "{data}", "-o", "{tmp}/m.json", "--criterion", "bci"], ["--criterion must be bic or aic, got 'bci'"]),
         (["plot", "bic", "{data}", "-o", "{tmp}/b", "--criterion", "bci"], ["--criterion must be bic or aic"]),
         # a decimal comma where a float is asked for: the number with a point

@@ -51,12 +51,18 @@ def _method_classes(names: list[str]) -> dict:
 def _parsed(option: str, text: str, parse) -> list:
     """Each name of the comma-separated ``text`` (:func:`_names`) read by ``parse``, an error of
     ``parse`` said with the option (the list's own faults name it once: it had read "--landings:
-    --landings: 'exact' given twice")."""
+    --landings: 'exact' given twice"). Two names ``parse`` reads as one value are refused as one
+    given twice: ``noisy:0.3,noisy:0.30`` had run every case twice and counted both in one row."""
     named = _names(option, text)
     try:
-        return [parse(name) for name in named]
+        values = [parse(name) for name in named]
     except InputError as exc:
         raise InputError(f"{option}: {exc}") from None
+    for index, value in enumerate(values):
+        first = values.index(value)
+        if first < index:
+            raise InputError(f"{option}: {named[first]!r} and {named[index]!r} are one case given twice")
+    return values
 
 
 @app.command("learning")

@@ -113,11 +113,15 @@ def _command_path(args: list[str]) -> str:
 
 
 def _given(param, args: list[str]) -> str | None:
-    """The value the user gave an option, as typed (``--seed x`` or ``--seed=x``), if any."""
-    for name in getattr(param, "opts", None) or ():
-        for index, arg in enumerate(args):
+    """The value the user gave an option, as typed (``--seed x`` or ``--seed=x``), if any: the
+    last one given under any of its names, the one click takes (``--budget 1 --budget 0`` had
+    quoted the 1 in the 0's error)."""
+    names = getattr(param, "opts", None) or ()
+    value = None
+    for index, arg in enumerate(args):
+        for name in names:
             if arg == name and index + 1 < len(args):
-                return args[index + 1]
-            if arg.startswith(name + "="):
-                return arg[len(name) + 1:]
-    return None
+                value = args[index + 1]
+            elif arg.startswith(name + "="):
+                value = arg[len(name) + 1:]
+    return value
