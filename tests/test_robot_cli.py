@@ -142,6 +142,16 @@ def test_clip_reports_every_change(capsys, tmp_path):
     assert traj["joint_2_velocity"].abs().max() == pytest.approx(2.792)  # the clipped release, kept
 
 
+def test_a_path_in_degrees_is_said_so_not_offered_a_clip(capsys, tmp_path):
+    """A path whose velocities are deg/s released joint_2 at 136 rad/s against its limit 2.792, and
+    the refusal said "clip (--clip) clips it": a unit slip, which clipping would have thrown."""
+    path = human_csv(tmp_path / "deg.csv", np.linspace(-1.0, 0.5, 9), np.degrees(np.linspace(0.5, 2.37, 9)))
+    code, _, err = run(capsys, "robot", "export", str(path), "-f", "csv", "-o", str(tmp_path / "o.csv"))
+    assert code == 2 and "point 8: joint_2 velocity 135.791 rad/s beyond the limit 2.792 rad/s (the release)" in err
+    assert ("the path's velocities look like deg/s, not rad/s (49 times the limit; as deg/s 2.37 rad/s, within it)"
+            in err and "clip (--clip) clips" not in err and len(err.splitlines()) == 1)
+
+
 def test_no_room_to_brake_is_refused_by_every_format(capsys, tmp_path):
     """The issue's path ending 0.01 rad from a limit at 2.7 rad/s: no format writes it."""
     path = human_csv(tmp_path / "edge.csv", np.linspace(1.5, 2.70, 13), np.full(13, 2.7))

@@ -97,6 +97,28 @@ def test_from_python_the_refusal_names_the_clip_argument_beside_the_option(low_a
         load_for_robot(throw, load_robot(robot_file))
 
 
+def test_plan_names_a_release_speed_in_degrees_not_the_clip():
+    """plan() of velocities in deg/s said "clip (--clip) clips it" of 136 rad/s against a limit of
+    2.79: a unit slip. A speed beyond the limit that rad/s would not explain still gets the clip."""
+    from rlff.errors import InputError
+    from rlff.robot import RobotMapping
+    from rlff.robot.plan import plan
+
+    mapping = RobotMapping.for_robot(load_robot())
+    limit = mapping.robot.joint(mapping.joint).max_velocity
+    angle = np.linspace(0.4, 2.2, 30)
+    in_degrees = np.degrees(np.linspace(0.5, 0.85 * limit, 30) / mapping.velocity_scale)
+    with pytest.raises(InputError, match=r"\(the release\); the path's velocities look like deg/s, not rad/s "
+                                         r"\(49 times the limit; as deg/s 2\.373 rad/s, within it\): rlff reads rad "
+                                         r"and rad/s, .* rather than clip \(--clip\) them$"):
+        plan(mapping, angle, in_degrees)
+    for speed in (1.5 * limit, 70 * limit):  # a release a little fast, or beyond its limit even as deg/s
+        velocity = np.linspace(0.5, speed, 30) / mapping.velocity_scale
+        with pytest.raises(InputError, match=r"\(the release\); clip \(--clip\) clips it") as refused:
+            plan(mapping, angle, velocity)
+        assert "deg/s" not in str(refused.value)
+
+
 def test_a_plan_prints_as_one_short_line_not_its_arrays(low_arm):
     """The dataclass' own repr printed every array of both trajectories: kilobytes for one throw."""
     from rlff.robot.plan import load_for_robot

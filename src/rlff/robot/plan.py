@@ -95,7 +95,8 @@ def _require_unclipped(report: ClipReport, last: int, coordinated: bool = False)
     the limits, never faster than the release), so only the release's count. The velocity of a
     joint held at a clipped position (set to 0) is no fault of its own: its position is. The
     message says what ``clip`` (``--clip``) does: for a ``coordinated`` throw (several joints) it slows the
-    whole throw rather than clip a release (:func:`slowed_to_limits`).
+    whole throw rather than clip a release (:func:`slowed_to_limits`). A release speed only a path
+    in deg/s explains (:func:`_looks_like_degrees`) gets the unit named instead of ``clip``.
     """
     held = {(c.point, c.joint) for c in report.changes if c.quantity == "position"}
     changes = [c for c in report.changes if c.quantity == "position" or (c.point, c.joint) not in held]
@@ -114,8 +115,33 @@ def _require_unclipped(report: ClipReport, last: int, coordinated: bool = False)
             words for kind, words in (("position", "holds the positions inside their limits"),
                                       ("speed", "slows the whole throw, every joint by one factor, until its "
                                                 "release is within the speed limits")) if kind in kinds)
+    slip = next((change for change in faults if _looks_like_degrees(change)), None)
+    if slip is not None:  # a unit slip, not a speed to clip; the velocities along the path say nothing more
+        remedy, also = _degrees_hint(slip), ""
     raise InputError(f"{plural(len(faults), 'value')} the robot would not execute as asked: {shown}{more}; "
                      f"{remedy}{also}")
+
+
+#: A release speed more than this many times its limit, which in rad/s would be within it, is a
+#: path in deg/s: a unit slip, not a speed to clip.
+DEGREES_SLIP = 10.0
+
+
+def _looks_like_degrees(change) -> bool:
+    """Whether ``change``, a velocity beyond its limit, is one only degrees read as radians explain:
+    more than :data:`DEGREES_SLIP` times the limit, and within it once converted to rad/s."""
+    if change.quantity != "velocity" or change.limit is None:
+        return False
+    speed, limit = abs(change.before), abs(change.limit)
+    return speed > DEGREES_SLIP * limit and np.radians(speed) <= limit
+
+
+def _degrees_hint(change) -> str:
+    """What to do of a velocity :func:`_looks_like_degrees`: give the path in rad/s, not clip it."""
+    return (f"the path's velocities look like deg/s, not rad/s ({abs(change.before / change.limit):.0f} times the "
+            f"limit; as deg/s {abs(np.radians(change.before)):.4g} {change.unit}, within it): rlff reads rad and "
+            "rad/s, as rlff generate writes them; give the velocities in rad/s (deg/s × π/180) rather than "
+            "clip (--clip) them")
 
 
 def _fault(change, last: int) -> str:
