@@ -211,6 +211,45 @@ def test_a_cancel_during_a_brake_is_ignored_and_a_goal_takes_the_brake_over(cont
     assert ended[0].text.endswith("the brake was taken over by a newer goal")
 
 
+def _sent_from(here: np.ndarray, tmp_path) -> JointTrajectory:
+    """A goal as ``rlff robot send`` makes it: a throw planned from the arm's pose read at rest
+    (``here``), its first point at time_from_start 0 that pose."""
+    path = tmp_path / "throw.csv"
+    mapping = RobotMapping.for_robot(ROBOT)
+    pd.DataFrame({"angle": (np.linspace(-0.8, 1.6, 30) - mapping.angle_offset) / mapping.angle_scale,
+                  "velocity": (0.2 + 2.0 * np.sin(np.linspace(0, np.pi, 30))) / mapping.velocity_scale}).to_csv(
+                      path, index=False)
+    return load_for_robot(path, ROBOT, 0.01, start=here)[1].trajectory
+
+
+def test_a_send_overlapping_another_is_told_to_wait_for_the_arm_to_rest(controller, tmp_path):
+    """Two overlapping `rlff robot send` to one server, each planned from the pose read at rest: the
+    second was refused with "start the goal later than 0 s", which a send user cannot do. It is
+    told the other goal moved the arm, and to wait until the arm rests; a raw goal's hint stays."""
+    here = controller.state(0.0).positions
+    first, second = _sent_from(here, tmp_path), _sent_from(here, tmp_path)
+    controller.submit("first", first, now=0.0, start=0.0)
+    with pytest.raises(GoalRejected) as refused:
+        controller.submit("second", second, now=0.8, start=0.8)
+    assert refused.value.code == ResultCode.PATH_TOLERANCE_VIOLATED
+    message = str(refused.value)
+    assert message.startswith("the goal's first point (time_from_start 0) is not the arm's state: joint_2 ")
+    assert (": another goal is under way, the arm moving at " in message and message.endswith(
+        " rad/s, and moved the arm after this goal's start was read; wait until the arm rests and send the goal "
+        "again from its state then (rlff robot send reads it anew), or, to preempt it, start the goal later "
+        "than 0 s to have the controller approach its first point"))
+    assert controller.active_goal == "first"
+    _, _, outcomes = _run(controller, 0.8, 0.8 + first.duration)
+    assert [(o.goal, o.status) for o in outcomes] == [("first", "succeeded")]
+    with pytest.raises(GoalRejected) as late:  # the arm at rest where the first goal left it, not where read
+        controller.submit("second", second, now=0.8 + first.duration)
+    assert str(late.value).endswith(
+        "; start the goal later than 0 s to have the controller approach its first point (a goal sent from the "
+        "arm's state read before, as rlff robot send sends it: the arm has moved since; send it again)")
+    rest = controller.state(5.0).positions  # read anew: a goal from there is taken
+    controller.submit("second", _goal([0.0, 1.0], [rest, rest]), now=5.0)
+
+
 def test_the_release_of_a_planned_throw_survives_the_goal_and_its_approach(controller, tmp_path):
     here = controller.state(0.0).positions
     path = tmp_path / "throw.csv"

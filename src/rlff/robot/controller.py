@@ -11,8 +11,10 @@ contract every FollowJointTrajectory client expects; the ROS 1 server
   that point is not the arm's state (position within :data:`START_POSITION_TOLERANCE`, velocity
   within :data:`START_VELOCITY_TOLERANCE`, the motion check's own tolerances; acceleration within
   what the joint's ``max_jerk`` changes in one controller period) the goal is refused with
-  PATH_TOLERANCE_VIOLATED and the numbers; joint_trajectory_controller answers such a goal with
-  the same code when its first sample fails the state tolerance ("Aborted due to path tolerance
+  PATH_TOLERANCE_VIOLATED, the numbers and what to do: wait until the arm rests and send again
+  when another goal under way moved it after the client (``rlff robot send``) read the state it
+  planned from, or start the goal later than 0 s; joint_trajectory_controller answers such a
+  goal with the same code when its first sample fails the state tolerance ("Aborted due to path tolerance
   violation"), here the arm does not move at all. Within the tolerance the first point is
   replaced by the arm's state, so the executed motion is continuous.
 - A goal whose first point is later than 0 s is approached: the controller plans a jerk-limited
@@ -354,13 +356,33 @@ class TrajectoryController:
                     ResultCode.PATH_TOLERANCE_VIOLATED,
                     f"the goal's first point (time_from_start 0) is not the arm's state: "
                     f"{self.robot.joint_names[j]} {quantity} {goal[j]:.6g} {unit}, the arm's {arm[j]:.6g} "
-                    f"{unit} ({abs(goal[j] - arm[j]):.4g} {unit} apart, {allowed}); start the goal "
-                    f"later than 0 s to have the controller approach its first point")
+                    f"{unit} ({abs(goal[j] - arm[j]):.4g} {unit} apart, {allowed}){self._not_there(state)}")
         positions = traj.positions.copy()
         velocities = traj.velocities.copy()
         accelerations = traj.accelerations.copy()
         positions[0], velocities[0], accelerations[0] = state.positions, state.velocities, state.accelerations
         return JointTrajectory(traj.joint_names, traj.time, positions, velocities, accelerations)
+
+    def _not_there(self, state: ArmState) -> str:
+        """What to do of a goal from 0 s that is not the arm's ``state``, for both of its senders.
+
+        A client that reads the arm's state and sends a goal from it (``rlff robot send``) misses
+        the arm when another goal moved it in between: it waits until the arm rests and sends
+        again, read from there. A goal of one's own may start later than 0 s, to be approached
+        (preempting the running goal).
+        """
+        later = "start the goal later than 0 s to have the controller approach its first point"
+        motion = self._motion
+        if motion is None:
+            return (f"; {later} (a goal sent from the arm's state read before, as rlff robot send sends it: the arm "
+                    "has moved since; send it again)")
+        what = ("the brake of a cancelled goal" if motion.braking else
+                "another goal" if motion.goal is not None else "a trajectory from the topic")
+        speed = float(np.max(np.abs(state.velocities)))
+        moving = f", the arm moving at {speed:.4g} rad/s" if speed > AT_REST else ""
+        return (f": {what} is under way{moving}, and moved the arm after this goal's start was read; wait until "
+                "the arm rests and send the goal again from its state then (rlff robot send reads it anew), "
+                f"or, to preempt it, {later}")
 
     def _approach(self, traj: JointTrajectory, state: ArmState) -> tuple[JointTrajectory, float]:
         """The planned approach to the first point, then the goal; and how long an arm at rest
