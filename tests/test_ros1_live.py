@@ -18,6 +18,7 @@ import signal
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -305,6 +306,22 @@ def test_stopping_send_before_any_goal_says_no_cancel(tmp_path):
     finally:
         rig.close()
     assert sender.returncode == 143 and err.strip() == "rlff: terminated", err
+
+
+def test_goals_in_a_row_go_through_one_client_and_lose_no_answer(ros, tmp_path):
+    """rlff's client made an actionlib SimpleActionClient per goal, which records a goal's handle
+    only after the goal is out: an answer that came first was dropped ("Got a transition callback
+    on a goal handle that we're not tracking", about one goal in 25), and with it the goal's
+    acceptance, or the end of a goal rejected at once, waited for until the timeout ("timed out").
+    tests/ros1_goals_in_a_row.py holds each send at that moment, where it always happens."""
+    script = Path(__file__).with_name("ros1_goals_in_a_row.py")
+    done = subprocess.run([sys.executable, str(script)], env=ros.env, capture_output=True, text=True, timeout=180)
+    assert done.returncode == 0, done.stdout + done.stderr
+    said = json.loads(done.stdout.strip().splitlines()[-1])
+    assert said["goals"] == [{"status": "succeeded", "accepted": True}] * 3, said
+    assert (said["rejected"], said["rejected_code"]) == ("rejected", "PATH_TOLERANCE_VIOLATED"), said
+    assert said["clients"] == 1, said
+    assert "not tracking" not in done.stderr and "[ERROR]" not in done.stderr, done.stderr
 
 
 def _send_slow_throw(rig: Ros, folder) -> subprocess.Popen:

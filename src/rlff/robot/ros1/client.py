@@ -6,17 +6,21 @@ made, and again with the arm's current pose (fresh joint state messages that agr
 :class:`rlff.robot.send.StateWatch`) as its start before it is sent (:func:`rlff.trajectory.check.check_trajectory`). A timeout or
 Ctrl-C cancels the goal on the server (the arm brakes to rest) before returning or re-raising;
 a cancel the server does not confirm within :data:`CANCEL_WAIT` s, or a server that goes silent
-(its status topic stops), is reported as such: the arm's state is then unknown.
+(its status topic stops), is reported as such: the arm's state is then unknown. Every goal of a
+process goes through one actionlib client (:func:`_client`), its answers to callbacks of its own
+(:class:`_Goal`).
 """
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable
 
 import actionlib
 import numpy as np
 import rospy
+from actionlib.action_client import CommState
 from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from control_msgs.msg import (
     FollowJointTrajectoryAction,
@@ -102,6 +106,62 @@ def arm_state(robot: Robot, timeout: float | None = None) -> tuple[np.ndarray, n
     return state
 
 
+#: The process's one client of each action (:func:`_client`).
+_CLIENTS: dict[str, actionlib.ActionClient] = {}
+
+
+def _client(action: str) -> actionlib.ActionClient:
+    """The one client of ``action`` in this process, made on its first goal and kept for every later
+    one (the learning loop sends one per attempt): rospy never drops a client's subscribers, so a
+    client made per goal left its own behind each time, every one of them still fed each status."""
+    if action not in _CLIENTS:
+        _CLIENTS[action] = actionlib.ActionClient(action, FollowJointTrajectoryAction)
+    return _CLIENTS[action]
+
+
+class _Goal:
+    """One goal sent on ``client``: its handle, whether it ended, and its callbacks.
+
+    Its transitions come to callbacks of its own, bound before it is sent. actionlib's
+    SimpleActionClient took them only once it had recorded the handle, which it does after the
+    goal is out: a status or result that rospy's thread took first was dropped ("Got a transition
+    callback on a goal handle that we're not tracking", about one goal in 25), and with it the
+    goal's acceptance, or the end of a goal rejected at once, which was then waited for until the
+    timeout.
+    """
+
+    def __init__(self, client: actionlib.ActionClient, goal: FollowJointTrajectoryGoal,
+                 on_feedback: Callable[[float], None] | None, on_accepted: Callable[[], None] | None) -> None:
+        self._ended = threading.Event()
+        self._on_feedback, self._on_accepted = on_feedback, on_accepted
+        self.received = 0  # feedback messages
+        self.handle = client.send_goal(goal, self._transition, self._feedback)
+
+    def _transition(self, handle) -> None:
+        state = handle.get_comm_state()
+        if state in (CommState.ACTIVE, CommState.PREEMPTING) and self._on_accepted is not None:
+            accepted, self._on_accepted = self._on_accepted, None  # once
+            accepted()
+        elif state == CommState.DONE:
+            self._ended.set()
+
+    def _feedback(self, _handle, message) -> None:
+        self.received += 1
+        if self._on_feedback:
+            self._on_feedback(message.desired.time_from_start.to_sec())
+
+    def wait(self, timeout: float) -> bool:
+        """Whether the goal ended (the server's last word on it, or actionlib's LOST), waiting up to ``timeout`` s."""
+        return self._ended.wait(timeout)
+
+    def status(self) -> int:
+        """Its GoalStatus code, the server's latest."""
+        return self.handle.get_goal_status()
+
+    def result(self) -> FollowJointTrajectoryResult | None:
+        return self.handle.get_result()
+
+
 class _Status:
     """When the server of ``action`` last published its status, and whether its status connection is up."""
 
@@ -179,7 +239,7 @@ def send_goal(
     deadline = started + (timeout if timeout is not None else CONNECT_TIMEOUT)
     _connect(deadline, "rlff_send")
     action = robot.ros.action
-    client = actionlib.SimpleActionClient(action, FollowJointTrajectoryAction)
+    client = _client(action)
     if not client.wait_for_server(rospy.Duration.from_sec(max(0.01, deadline - time.monotonic()))):
         raise RosUnavailable(f"no action server at {action} ({robot.ros_origin('action')}): "
                              f"{action_topic_hint(action)}is `rlff robot serve` "
@@ -187,74 +247,68 @@ def send_goal(
                              "(`rostopic list | grep follow_joint_trajectory`)")
     if timeout is None:
         deadline = time.monotonic() + START_LEAD + traj.duration + CONNECT_TIMEOUT
-    received = 0
-
-    def feedback(message) -> None:
-        nonlocal received
-        received += 1
-        if on_feedback:
-            on_feedback(message.desired.time_from_start.to_sec())
-
     status = _Status(action)
     start = rospy.Time.now() + rospy.Duration.from_sec(START_LEAD)
+    sent = None
     try:
         try:
             # in the controller's joint names and convention (the robot file's [ros.joints])
             goal = FollowJointTrajectoryGoal(trajectory=to_msg(robot.ros.joints.to_controller(traj), start))
-            client.send_goal(goal, feedback_cb=feedback, active_cb=on_accepted)
-            ended = _wait(client, status, deadline)
+            sent = _Goal(client, goal, on_feedback, on_accepted)
+            ended = _wait(sent, status, deadline)
         except (KeyboardInterrupt, rospy.ROSInterruptException) as exc:
             interrupt = exc if isinstance(exc, KeyboardInterrupt) else Interrupted()  # Terminated stays
             try:
-                fate = GOAL_CANCELLED if _cancel(client, status) else CANCEL_UNCONFIRMED
+                # interrupted while sending: the goal may be out, with no handle to cancel it by
+                fate = CANCEL_UNCONFIRMED if sent is None or not _cancel(sent, status) else GOAL_CANCELLED
             except KeyboardInterrupt:  # a second one while cancelling: the cancel went out, not awaited
                 fate = CANCEL_NOT_AWAITED
             raise mark_goal(interrupt, fate) from None
         if ended != "ended":
             gone = None if ended == "timed out" else ended
-            confirmed = _cancel(client, status, lost=gone is not None)
-            result = client.get_result()
+            confirmed = _cancel(sent, status, lost=gone is not None)
+            result = sent.result()
             text = result.error_string if result is not None else ""
-            return unfinished(gone, confirmed, action, start.to_sec(), traj.duration, received, text)
+            return unfinished(gone, confirmed, action, start.to_sec(), traj.duration, sent.received, text)
     except KeyboardInterrupt as exc:  # a second Ctrl-C while cancelling: the cancel was sent, not confirmed
         if goal_fate(exc) is None:
             mark_goal(exc, CANCEL_UNCONFIRMED)
         raise
     finally:
         status.close()
-    result = client.get_result()
-    state = _STATES.get(client.get_state(), "unknown")
+    result = sent.result()
+    state = _STATES.get(sent.status(), "unknown")
     code = None if result is None else int(result.error_code)
     name = None if code == FollowJointTrajectoryResult.SUCCESSFUL and state != "succeeded" else ERROR_NAMES.get(code)
-    return SendResult(state, code, name, (result.error_string if result else "") or client.get_goal_status_text(),
-                      start.to_sec(), traj.duration, received)
+    return SendResult(state, code, name, (result.error_string if result else "") or sent.handle.get_goal_status_text(),
+                      start.to_sec(), traj.duration, sent.received)
 
 
-def _wait(client: actionlib.SimpleActionClient, status: _Status, deadline: float) -> str:
+def _wait(sent: _Goal, status: _Status, deadline: float) -> str:
     """Wait for the goal's end: "ended", "timed out", or why the server counts as gone."""
     while True:
         left = deadline - time.monotonic()
         if left <= 0:
             return "timed out"
-        if client.wait_for_result(rospy.Duration.from_sec(min(0.2, left))):
+        if sent.wait(min(0.2, left)):
             # a server restarted mid-goal lists no such goal, and actionlib ends it LOST: no end
             # the server gave, and nothing braked the arm
-            return "it lists the goal no more: restarted?" if client.get_state() == GoalStatus.LOST else "ended"
+            return "it lists the goal no more: restarted?" if sent.status() == GoalStatus.LOST else "ended"
         quiet = status.silence()
         if quiet is not None:
             return f"no status for {quiet:.1f} s"
 
 
-def _cancel(client: actionlib.SimpleActionClient, status: _Status, lost: bool = False) -> bool:
+def _cancel(sent: _Goal, status: _Status, lost: bool = False) -> bool:
     """Ask the server to cancel; whether it confirmed the goal's end (the arm braked to rest) within
     :data:`CANCEL_WAIT` s. A server already gone gets the cancel (should it come back) and a
     second to answer it. A goal actionlib ends as LOST (a server restarted after a crash lists no
     such goal) is no confirmation: nothing braked it, and "cancelled" had been said of it."""
-    client.cancel_goal()
+    sent.handle.cancel()
     deadline = time.monotonic() + (1.0 if lost else CANCEL_WAIT)
     while time.monotonic() < deadline:
-        if client.wait_for_result(rospy.Duration.from_sec(0.2)):
-            return client.get_state() != GoalStatus.LOST
+        if sent.wait(0.2):
+            return sent.status() != GoalStatus.LOST
         if not lost and status.silence() is not None:
             return False
     return False
