@@ -347,6 +347,50 @@ def test_a_joint_at_exactly_the_sensors_origin_is_a_joint_not_tracked_there(tmp_
     assert len(hand) == len(time) - 4 and not np.any(np.all(hand.position == 0.0, axis=1))
 
 
+@pytest.mark.parametrize("form", ["kinect-text", "msr", "csv"])
+def test_a_coordinate_far_beyond_what_a_camera_sees_is_a_joint_not_tracked_there(tmp_path, form):
+    # a text elbow at 1e30 m was read as a position (any finite coordinate passed) where a bag's
+    # transform beyond 100 m is a joint not tracked there: now the text readers take it so too
+    import pandas as pd
+
+    simulation = bf.standard_simulation(seed=2, n_throws=2, noise=0.0, second_user=False, drop_frames=0.0, drop_joints=0.0)
+    frames = _kinect_frames(simulation)
+    numbers = np.arange(len(frames))
+
+    def write(name: str, frames: np.ndarray) -> Path:
+        if form == "kinect-text":
+            return _write_kinect(tmp_path / f"{name}.txt", frames, numbers)
+        if form == "msr":  # Kinect joints to MSR lines: right arm 8-11 to 1, 8, 10, 12; torso 2, 0 to 2, 6
+            msr = np.tile(frames[:, 2:3], (1, 20, 1))
+            msr[:, [1, 8, 10, 12, 0, 7, 9, 11, 2, 6]] = frames[:, [8, 9, 10, 11, 4, 5, 6, 7, 2, 0]]
+            lines = [f"{x:.6f} {y:.6f} {z:.6f} 1" for x, y, z in msr.reshape(-1, 3)]
+            path = tmp_path / f"{name}.txt"
+            path.write_text("\n".join(lines) + "\n")
+            return path
+        table = pd.DataFrame({"time": numbers / 30.0})
+        for joint, index in zip(("shoulder", "elbow", "wrist", "hand"), (8, 9, 10, 11), strict=True):
+            for axis, column in zip("xyz", frames[:, index].T, strict=True):
+                table[f"right_{joint}_{axis}"] = column
+        table.to_csv(tmp_path / f"{name}.csv", index=False)
+        return tmp_path / f"{name}.csv"
+
+    rate = 30.0 if form != "csv" else None
+    reference, reference_report = import_recordings([write("own", frames)], form, rate_hz=rate, up="y")
+    far = frames.copy()
+    far[10:13, 9] = [1e30, 0.0, 0.0]  # the right elbow, 3 frames at rest
+    path = write("far", far)
+    reader = {"kinect-text": read_kinect_text, "msr": read_msr_text}.get(form)
+    recording = reader(path, rate) if reader else read_joint_csv(path, up="y")
+    elbow = recording.arm("1", "right").elbow
+    assert len(elbow) == len(frames) - 3 and np.abs(elbow.position).max() < 10.0
+    assert f"{path.name}: 3 frames with a joint's coordinate beyond 100 m, farther than a depth camera sees (the first " \
+           "at t=0.33 s): taken as not tracked there, left out of that joint's track" in recording.notes
+    dataset, report = import_recordings([path], form, rate_hz=rate, up="y")
+    assert len(dataset) == len(reference) == (1 if form == "msr" else 2)  # an MSR file holds one throw
+    assert [t.peak_velocity for t in report.files[0].throws] == pytest.approx(
+        [t.peak_velocity for t in reference_report.files[0].throws])
+
+
 def test_a_frozen_tracker_mid_throw_is_dropped_and_bridged_and_a_still_arm_is_not(tmp_path):
     import pandas as pd
 

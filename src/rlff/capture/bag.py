@@ -28,7 +28,7 @@ import numpy as np
 from rlff.capture.angles import median_spacing
 from rlff.capture.bag_stream import MissingTopic, open_stream
 from rlff.capture.repeated_frames import FROZEN_ENTRY_SPEED, frozen_samples, repeated_track_samples
-from rlff.capture.skeleton import ArmTrack, JointTrack, Recording
+from rlff.capture.skeleton import FARTHEST, ArmTrack, JointTrack, Recording
 from rlff.capture.tf_decode import TfCollector
 from rlff.errors import InputError
 from rlff.wording import plural
@@ -49,10 +49,6 @@ IMAGE_TYPES = ("sensor_msgs/msg/CompressedImage",)
 MARKER_TYPES = ("visualization_msgs/msg/Marker", "visualization_msgs/msg/MarkerArray")
 #: Up in a ROS camera-link frame (x forward, y left, z up: REP 103).
 ROS_UP = np.array([0.0, 0.0, 1.0])
-#: The farthest (m) a joint's coordinate lies from its parent frame as a position: a depth camera
-#: sees a few metres (a Kinect up to 4.5 m); beyond (1e30 from a tracker's bad arithmetic) a
-#: transform is no position, a joint not tracked there.
-FARTHEST = 100.0
 
 
 def read_bag(
@@ -377,7 +373,7 @@ def _joint_track(name: str, time: np.ndarray, position: np.ndarray, notes: list[
     and the transforms that are no position left out, each kind with a note, as the text readers
     leave out a joint not tracked in a frame: at exactly (0, 0, 0) (the camera's origin: a joint
     the tracker did not detect, as NiTE gives one it has no confidence in), a nan or inf, or a
-    coordinate beyond :data:`FARTHEST`. Without a sample when no transform was a position (a joint
+    coordinate beyond :data:`~rlff.capture.skeleton.FARTHEST`. Without a sample when no transform was a position (a joint
     never detected: :func:`_arm_tracks` leaves such a frame out, saying so)."""
     at_origin = np.all(position == 0.0, axis=1)
     finite = np.all(np.isfinite(position), axis=1)

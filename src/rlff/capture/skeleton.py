@@ -17,6 +17,11 @@ from rlff.errors import InputError
 
 #: Arm sides a reader may report.
 SIDES = ("right", "left")
+#: The farthest (m) a joint's coordinate lies from the sensor (a bag: its parent frame) as a
+#: position: a depth camera sees a few metres (a Kinect up to 4.5 m); beyond (1e30 from a tracker's
+#: bad arithmetic) it is no position, a joint not tracked there. Every reader leaves such a joint
+#: out of its track in that frame, with a note.
+FARTHEST = 100.0
 
 
 @dataclass(frozen=True)

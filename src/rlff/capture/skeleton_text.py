@@ -16,7 +16,9 @@ CSV
     a column map.
 
 Frames whose arm joints are all zero (the tracker lost the user) are dropped, a single joint at
-exactly (0, 0, 0) (a joint not detected) is left out of its track in that frame, and so are repeats
+exactly (0, 0, 0) (a joint not detected) or with a coordinate beyond
+:data:`~rlff.capture.skeleton.FARTHEST` (100 m, no camera's: as in a bag) is left out of its track
+in that frame, and so are repeats
 of the frame number (Kinect) or time stamp (CSV) of the row before; each reader says how many in
 its notes. A time stamp (or frame number) a little below one before it, by less than a quarter
 of the median step, is clock jitter (a host clock stamping frames as they arrive): the rows are put
@@ -37,7 +39,7 @@ import numpy as np
 
 from rlff.capture.angles import median_spacing
 from rlff.capture.repeated_frames import FROZEN_ENTRY_SPEED, frozen_samples, repeated_skeletons
-from rlff.capture.skeleton import SIDES, ArmTrack, JointTrack, Recording
+from rlff.capture.skeleton import FARTHEST, SIDES, ArmTrack, JointTrack, Recording
 from rlff.csvlines import data_row_line, header_separator
 from rlff.errors import InputError
 from rlff.fileio import require_file
@@ -221,7 +223,9 @@ def _clean_frames(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Drop frames whose arm joints are all at zero (the tracker lost the user); note the frames
     with a nan in a joint that is read, and set to nan a joint at exactly (0, 0, 0) (the sensor's
-    origin: how trackers such as OpenPose write a joint they did not detect) and a joint a frozen
+    origin: how trackers such as OpenPose write a joint they did not detect), a joint with a
+    coordinate beyond :data:`~rlff.capture.skeleton.FARTHEST` (as a bag reader leaves out such a
+    transform), and a joint a frozen
     tracker repeated (:func:`~rlff.capture.repeated_frames.frozen_samples`; :func:`_track` leaves
     them all out of that joint's track). A stream that gives each skeleton several times keeps
     each skeleton once (:func:`repeated_skeletons`).
@@ -255,6 +259,15 @@ def _clean_frames(
                      f"t={time[int(np.flatnonzero(rows)[0])]:.2f} s): taken as not tracked there, left out of that "
                      "joint's track")
         frames[at_origin] = np.nan
+    far = np.zeros(frames.shape[:2], dtype=bool)  # (N, J): a coordinate no camera sees (1e30)
+    far[:, read_joints] = np.any(np.abs(frames[:, read_joints, :]) > FARTHEST, axis=2)
+    if far.any():
+        rows = far.any(axis=1)
+        notes.append(f"{path.name}: {plural(int(rows.sum()), 'frame')} with a joint's coordinate beyond {FARTHEST:g} m, "
+                     "farther than a depth camera sees (the first at "
+                     f"t={time[int(np.flatnonzero(rows)[0])]:.2f} s): taken as not tracked there, left out of that "
+                     "joint's track")
+        frames[far] = np.nan
     repeating = repeated_skeletons(frames[:, read_joints, :], time, FROZEN_ENTRY_SPEED)
     if repeating is not None:
         keep, times = repeating
