@@ -544,8 +544,9 @@ def same_throw_reported_the_same(reported: Sequence[Attempt], mapping) -> str | 
 
     ``reported`` are the run's attempts as its method was told them (binary feedback: no landing,
     miss NaN; ``until="centred"``: a hit only within the centre window). Reported the same: the
-    same hit flag, and misses within :data:`SAME_MISS` (m) of each other, or all not measured,
-    or all the same infinite miss (a ball that never came down). A method that throws the same
+    same hit flag, and misses within :data:`SAME_MISS` (m) of each other, or all not measured (a
+    miss is finite or NaN: a ball that never came down through the rim's height is reported where
+    it first touched, :func:`rlff.learn.loop.reported_outcome`). A method that throws the same
     throw and is told the same about it again and again is not changing its throw, at the
     arm's speed limit (:func:`same_throw_at_the_limit`, after fewer) or below it: the next throw
     would be the same, and on a real arm every one of them is a throw wasted.
@@ -564,9 +565,7 @@ def same_throw_reported_the_same(reported: Sequence[Attempt], mapping) -> str | 
         outcome = f"{at} from the basket's centre"
     elif np.all(np.isnan(misses)):
         outcome = ""
-    elif np.all(misses == misses[0]):  # every one the same infinite miss
-        outcome = ", the ball never coming down"
-    else:
+    else:  # some measured, some not
         return None
     told = f"{'a hit' if last[-1].hit else 'a miss'}{outcome}"
     instead = "another update" if np.any(~np.isnan(misses)) else \
