@@ -17,8 +17,8 @@ CSV
 
 Frames whose arm joints are all zero (the tracker lost the user) are dropped, a single joint at
 exactly (0, 0, 0) (a joint not detected) or with a coordinate beyond
-:data:`~rlff.capture.skeleton.FARTHEST` (100 m, no camera's: as in a bag) is left out of its track
-in that frame, and so are repeats
+:data:`~rlff.capture.skeleton.FARTHEST` (100 m, no camera's: as in a bag; unless most joints are,
+a recording in millimetres) is left out of its track in that frame, and so are repeats
 of the frame number (Kinect) or time stamp (CSV) of the row before; each reader says how many in
 its notes. A time stamp (or frame number) a little below one before it, by less than a quarter
 of the median step, is clock jitter (a host clock stamping frames as they arrive): the rows are put
@@ -225,7 +225,8 @@ def _clean_frames(
     with a nan in a joint that is read, and set to nan a joint at exactly (0, 0, 0) (the sensor's
     origin: how trackers such as OpenPose write a joint they did not detect), a joint with a
     coordinate beyond :data:`~rlff.capture.skeleton.FARTHEST` (as a bag reader leaves out such a
-    transform), and a joint a frozen
+    transform; unless most joints are, a recording in millimetres, which the import's upper-arm
+    check refuses naming the unit), and a joint a frozen
     tracker repeated (:func:`~rlff.capture.repeated_frames.frozen_samples`; :func:`_track` leaves
     them all out of that joint's track). A stream that gives each skeleton several times keeps
     each skeleton once (:func:`repeated_skeletons`).
@@ -261,7 +262,10 @@ def _clean_frames(
         frames[at_origin] = np.nan
     far = np.zeros(frames.shape[:2], dtype=bool)  # (N, J): a coordinate no camera sees (1e30)
     far[:, read_joints] = np.any(np.abs(frames[:, read_joints, :]) > FARTHEST, axis=2)
-    if far.any():
+    given = np.all(np.isfinite(frames[:, read_joints, :]), axis=2)
+    # most joints that far: a recording in another unit (millimetres), which the import's upper-arm
+    # check names; a few: a tracker's bad arithmetic
+    if far.any() and far.sum() <= 0.5 * given.sum():
         rows = far.any(axis=1)
         notes.append(f"{path.name}: {plural(int(rows.sum()), 'frame')} with a joint's coordinate beyond {FARTHEST:g} m, "
                      "farther than a depth camera sees (the first at "
