@@ -85,6 +85,32 @@ def test_a_ros2_bag_reads_the_same(tmp_path, simulation, jpegs):
     assert path.is_file() and notes == []
 
 
+def test_a_ros2_bag_given_by_its_metadata_yaml_is_read_as_its_folder(tmp_path, simulation):
+    # the bag's metadata.yaml was refused ("cannot tell the format"; with --format bag "not a ROS
+    # bag"), though it is the file that makes the folder a bag
+    bag = bf.write_ros2_bag(tmp_path / "ros2bag", simulation)
+    folder, folder_report = import_recordings([bag])
+    for format in (None, "bag"):
+        dataset, report = import_recordings([bag / "metadata.yaml"], format)
+        assert report.files[0].format == "bag" and [t.id for t in dataset] == [t.id for t in folder]
+        assert [t.meta["source"] for t in dataset] == [t.meta["source"] for t in folder]
+        assert [t["velocity"].tolist() for t in dataset] == [t["velocity"].tolist() for t in folder]
+    assert len(read_bag(bag / "metadata.yaml").arms) == len(read_bag(bag).arms)
+    with pytest.raises(InputError, match="the same recording given twice"):
+        import_recordings([bag, bag / "metadata.yaml"])
+
+
+@pytest.mark.parametrize("format", ["msr", "kinect-text", "csv", "thesis"])
+def test_a_bag_read_as_a_text_format_is_said_to_be_a_bag(tmp_path, lz4_bag, format):
+    # --format msr on a bag quoted its binary bytes as "a header line ('E\x00\x00...')"
+    bag2 = bf.write_ros2_bag(tmp_path / "ros2bag", bf.standard_simulation(seed=3, n_throws=1))
+    for path in (lz4_bag, bag2 / "ros2bag.db3", bag2 / "metadata.yaml"):
+        with pytest.raises(InputError) as caught:
+            import_recordings([path], format)
+        assert str(caught.value) == (f"{path}: a ROS bag, which --format {format} does not read (it reads text): "
+                                     "leave --format out, or give --format bag")
+
+
 def test_the_flickering_second_skeleton_is_dropped_and_reported(lz4_bag):
     recording = read_bag(lz4_bag)
     assert recording.users() == ["1", "2"]

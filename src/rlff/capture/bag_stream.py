@@ -44,11 +44,18 @@ class BagStream:
     warnings: list[str] = field(default_factory=list)
 
 
+def is_ros2_metadata(path: Path) -> bool:
+    """Whether ``path`` is the ``metadata.yaml`` of a ROS 2 bag, the file that makes its folder one."""
+    return path.name == "metadata.yaml" and path.is_file()
+
+
 def bag_path(path: Path) -> Path:
-    """The path rosbags wants: a ROS 1 file, or the folder of a ROS 2 bag."""
+    """The path rosbags wants: a ROS 1 file, or the folder of a ROS 2 bag (given as the folder, its
+    database or its ``metadata.yaml``)."""
     if not path.exists():
         raise InputError(f"{path}: no such file or folder")
-    if path.is_file() and path.suffix in (".db3", ".mcap") and (path.parent / "metadata.yaml").is_file():
+    if path.is_file() and (is_ros2_metadata(path)
+                           or path.suffix in (".db3", ".mcap") and (path.parent / "metadata.yaml").is_file()):
         return path.parent
     return path
 

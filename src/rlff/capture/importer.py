@@ -34,6 +34,7 @@ from scipy.interpolate import PchipInterpolator
 
 from rlff.capture.angles import ArmMotion, align_arm, median_spacing, throwing_arm
 from rlff.capture.bag import DEFAULT_FRAMES, DEFAULT_TOPIC, ROS_UP, read_bag
+from rlff.capture.bag_stream import is_ros2_metadata
 from rlff.capture.extension_gaps import (
     EXTENSION_GAP_FACTOR,
     EXTENSION_GAP_S,
@@ -297,13 +298,14 @@ class ImportReport:
 def detect_format(path: str | Path) -> str:
     """Guess a recording's format from its name and first line.
 
-    ``.bag`` files and ROS 2 bag folders are bags, text whose first row is 4 numbers is MSR, 61
+    ``.bag`` files and ROS 2 bags (a folder, its database or its ``metadata.yaml``) are bags, text
+    whose first row is 4 numbers is MSR, 61
     numbers Kinect SDK v1, a file whose first line is rlff's ``# {"trajectory": ...}``
     comment a thesis matrix, ``.csv`` and any other ``.tsv`` a joint CSV. Kinect text with a
     header line or a tracking state after each joint's x y z is refused with what to drop.
     """
     path = Path(path)
-    if path.suffix == ".bag" or path.is_dir() or path.suffix in (".db3", ".mcap"):
+    if path.suffix == ".bag" or path.is_dir() or path.suffix in (".db3", ".mcap") or is_ros2_metadata(path):
         return "bag"
     if path.suffix.lower() == ".csv":
         return "csv"
@@ -458,7 +460,9 @@ def imported_columns(paths: Sequence[str | Path], format: str | None = None) -> 
 def _format_named(path: Path, kind: str, given: str | None) -> Iterator[None]:
     """Reading ``path`` as ``kind``: an :class:`InputError` of a format the user gave (``given``)
     that the file's name and first line say it is not (:func:`detect_format`) names the format it
-    looks like (``--format thesis`` on an MSR file: "context row 'distance' is not constant")."""
+    looks like (``--format thesis`` on an MSR file: "context row 'distance' is not constant"). A
+    bag read as a text format is said to be one, the text reader's message left out: it quoted the
+    bag's binary bytes as "a header line"."""
     try:
         yield
     except InputError as exc:
@@ -468,6 +472,9 @@ def _format_named(path: Path, kind: str, given: str | None) -> Iterator[None]:
             looks = kind
         if looks == kind:
             raise
+        if looks == "bag":
+            raise InputError(f"{path}: a ROS bag, which --format {kind} does not read (it reads text): leave --format "
+                             "out, or give --format bag") from None
         raise InputError(f"{exc} (read as --format {kind}; it looks like {looks}: give --format {looks}, or leave "
                          "--format out)") from None
 
@@ -521,7 +528,7 @@ def import_recordings(
 
     Parameters
     ----------
-    paths : recordings (files, or ROS 2 bag folders), or one
+    paths : recordings (files, or ROS 2 bag folders, a bag's ``metadata.yaml`` read as its folder), or one
     format : one of ``bag``, ``kinect-text``, ``msr``, ``csv``, ``thesis``; None or ``auto`` guesses
         it per file from the name and content
     manifest : CSV of basket distances (see :mod:`rlff.capture.label`)
@@ -581,6 +588,8 @@ def import_recordings(
         raise InputError(f"unknown arm {arm!r} (arms: {', '.join(ARMS)})")
     if not paths:
         raise InputError("no recordings given")
+    if format in (None, "auto", "bag"):  # a ROS 2 bag's metadata.yaml is the bag: its folder, named as given alone
+        paths = [Path(path).parent if is_ros2_metadata(Path(path)) else path for path in paths]
     require_distinct(paths, "recording")
     rows = read_manifest(manifest) if manifest is not None else []
     landing = landing or LandingSettings()
