@@ -382,10 +382,22 @@ def test_progress_on_a_stderr_that_is_no_terminal_is_said_now_and_then(capsys, m
     with _common.progress("fitting", total=None) as advance:
         advance(description="fitting: 1 of ? values of K tried")
         time.sleep(0.9)
-        during = _untimed(capsys.readouterr().err.splitlines())
-    assert during[0] == "fitting 0/?" and len(during) >= 3, during
-    assert set(during[1:]) == {"fitting: 1 of ? values of K tried 1/?"}, during
+        during = capsys.readouterr().err.splitlines()
+    assert _untimed(during[:1]) == ["fitting 0/?"] and len(during) >= 3, during
+    # the same progress again says the work goes on and for how long, where it repeated the line
+    # before (a log of a long fit showed one line over and over)
+    said, still = [], []
+    for line in during:
+        going_on = re.fullmatch(r"(.*) \.\.\. still working \(\d+ s\)", line)
+        if going_on:
+            assert going_on[1] == said[-1], during
+            still.append(line)
+        else:
+            said += _untimed([line])
+    assert said == ["fitting 0/?", "fitting: 1 of ? values of K tried 1/?"] and still, during
     assert capsys.readouterr().err == ""  # the end said nothing new
+    assert [_common._duration(s) for s in (0.4, 45, 90, 3600, 7325.9)] == [
+        "0 s", "45 s", "1 min 30 s", "1 h 0 min 0 s", "2 h 2 min 5 s"]
 
 
 def test_a_command_s_progress_without_a_terminal_is_plain_lines(rlff, files, tmp_path):

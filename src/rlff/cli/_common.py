@@ -233,7 +233,10 @@ def progress(description: str, total: int | None) -> Iterator[Callable[..., None
     On a terminal, a rich progress bar. Otherwise (stderr redirected to a file or a pipe, where the
     bar shows nothing until the command ends and a long job looks hung) a plain line as the work
     starts, at every tenth of it (:data:`PLAIN_STEP`), every :data:`PLAIN_SECONDS` s and at its
-    end: ``importing 3/10 (30 %) 0:00:12`` (``3/?`` without a total). Silent with -q.
+    end: ``importing 3/10 (30 %) 0:00:12`` (``3/?`` without a total). A line every
+    :data:`PLAIN_SECONDS` s where the progress has not changed since the line before says the work
+    goes on, with the time since it started: ``importing 3/10 (30 %) ... still working (1 min 30
+    s)``. Silent with -q.
     """
     if verbosity.quiet:
         yield lambda *args, **kwargs: None
@@ -340,16 +343,31 @@ class _ProgressLines:
         elapsed = datetime.timedelta(seconds=int(time.monotonic() - self.started))
         return f"{line} {elapsed}" if with_time else line
 
-    def _say(self) -> None:
-        """Print the progress now (the lock held)."""
-        self.console.print(self._line(), markup=False, highlight=False)
-        self.said, self.said_at = self._line(with_time=False), time.monotonic()
+    def _say(self, heartbeat: bool = False) -> None:
+        """Print the progress now (the lock held); a ``heartbeat`` (:meth:`_every`) with the same
+        progress as the line before says the work goes on, and for how long, instead of that line again."""
+        line = self._line(with_time=False)
+        if heartbeat and line == self.said:
+            shown = f"{line} ... still working ({_duration(time.monotonic() - self.started)})"
+        else:
+            shown = self._line()
+        self.console.print(shown, markup=False, highlight=False)
+        self.said, self.said_at = line, time.monotonic()
 
     def _every(self) -> None:
         while not self.closed.wait(max(0.0, self.said_at + PLAIN_SECONDS - time.monotonic())):
             with self.lock:
                 if time.monotonic() - self.said_at >= PLAIN_SECONDS:
                     try:
-                        self._say()
+                        self._say(heartbeat=True)
                     except OutputClosed:  # stderr's reader went away: the command's next line ends it (141)
                         return
+
+
+def _duration(seconds: float) -> str:
+    """A time of ``seconds`` (s) in words, to the whole second: ``45 s``, ``1 min 30 s``, ``2 h 0 min 5 s``."""
+    whole = int(seconds)
+    hours, minutes, rest = whole // 3600, whole // 60 % 60, whole % 60
+    if hours:
+        return f"{hours} h {minutes} min {rest} s"
+    return f"{minutes} min {rest} s" if minutes else f"{rest} s"
