@@ -208,6 +208,51 @@ def test_a_bag_of_a_mapped_robot_is_the_controller_s_and_reads_back_into_rlff_s(
     assert read_json(tmp_path / "t.json").joint_names == trajectory.joint_names
 
 
+@pytest.mark.parametrize("fmt", ["ros1-bag", "ros2-bag"])
+def test_a_bag_written_under_another_ros_joints_map_is_refused(planned, tmp_path, fmt):
+    """A bag is in the controller's convention: exported, then joint_2's sign fixed in the robot
+    file (as docs/robot.md says for a joint that moves the wrong way), it was read through the new
+    map without a word (same limits, same digest) and threw the ball behind the arm (tester H,
+    2026-12-07). The bag records the map; another map is refused, the same one read as before."""
+    from rosrig import UR_MAP, ur_file
+
+    path, trajectory = planned
+    mapped = load_robot(ur_file(tmp_path / "ur.toml"))
+    flipped_map = UR_MAP.replace('name = "shoulder_lift_joint"\noffset = -1.5707963267948966',
+                                 'name = "shoulder_lift_joint"\noffset = -1.5707963267948966\nsign = -1')
+    assert flipped_map != UR_MAP
+    flipped = load_robot(ur_file(tmp_path / "ur_sign.toml", flipped_map))
+    out = tmp_path / ("throw.bag" if fmt == "ros1-bag" else "throw2")
+    export_trajectory(trajectory, RobotMapping.for_robot(mapped), fmt, out)
+    kind, plan = load_for_sending(out, mapped, None, start=trajectory.positions[0])
+    np.testing.assert_allclose(plan.trajectory.positions, trajectory.positions, rtol=0, atol=1e-12)
+    with pytest.raises(InputError, match=re.escape(
+            f"{out} was written with another [ros.joints] map (the controller's joint names, offsets and signs: "
+            "digest ")) as refused:
+        load_for_sending(out, flipped, None, start=trajectory.positions[0])
+    assert "export it again with this robot file" in str(refused.value)
+
+
+def test_a_bag_that_does_not_say_its_map_is_read_through_the_robot_file_s_with_a_warning(planned, tmp_path):
+    """A bag of rlff written before the map was recorded (the robot's name and digest alone) is
+    read through the robot file's map, warned where that map changes a joint."""
+    from rlff.robot.planned_for import UnrecordedRobotWarning, planned_for
+    from rosrig import ur_file
+
+    _, trajectory = planned
+    mapped = load_robot(ur_file(tmp_path / "ur.toml"))
+    old = tmp_path / "old.bag"
+    write_ros1_bag(mapped.ros.joints.to_controller(trajectory), old, robot=planned_for(mapped))
+    with pytest.warns(UnrecordedRobotWarning, match=r"does not say which \[ros.joints\] map its positions are in"):
+        _, plan = load_for_sending(old, mapped, None, start=trajectory.positions[0])
+    np.testing.assert_allclose(plan.trajectory.positions, trajectory.positions, rtol=0, atol=1e-12)
+    plain = tmp_path / "plain.bag"  # the built-in robot has no map: nothing to warn of
+    write_ros1_bag(trajectory, plain, robot=planned_for(ROBOT))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnrecordedRobotWarning)
+        load_for_sending(plain, ROBOT, None, start=trajectory.positions[0])
+
+
 def test_a_mapped_bag_away_from_the_arm_is_refused_in_the_controller_s_words(planned, tmp_path):
     """With [ros.joints], the joint whose start is not where the arm is was named as rlff's joint_2
     alone (tester H); it is named as the approach line names it, the controller's name and counting

@@ -127,9 +127,10 @@ ROBOT_COLUMNS = {"robot": "name", "robot_digest": "digest"}
 def read_planned_for(path: Path, topic: str = DEFAULT_TOPIC) -> dict[str, str] | None:
     """The robot a trajectory file of :func:`write_json` or :func:`write_csv`, or a bag of
     :func:`write_ros1_bag` or :func:`write_ros2_bag` (its trajectory on ``topic``), was planned
-    for, ``{"name", "digest"}``; None for one that does not say (written before rlff recorded it,
-    by hand or by another tool). :class:`InputError` naming the field for a record that is no
-    such thing."""
+    for, ``{"name", "digest"}`` (a bag's also ``"convention"``, the ``[ros.joints]`` map its
+    positions are in, where it says); None for one that does not say (written before rlff
+    recorded it, by hand or by another tool). :class:`InputError` naming the field for a record
+    that is no such thing."""
     path = Path(path)
     if path.is_dir() or is_ros1_bag(path):
         return _bag_planned_for(path, *_from_bag(path, lambda reader, *_: _bag_record(reader, topic)))
@@ -165,11 +166,19 @@ def read_planned_for(path: Path, topic: str = DEFAULT_TOPIC) -> dict[str, str] |
 #: record each holds: in a ROS 2 bag, its metadata's ``custom_data``; in a ROS 1 bag, fields of
 #: the trajectory connection's header (:mod:`rlff.robot.ros1_fields`). Neither is played.
 BAG_KEYS = {"rlff_robot": "name", "rlff_robot_digest": "digest"}
+#: The key of the ``[ros.joints]`` map a bag's positions are written in
+#: (:func:`rlff.robot.planned_for.controller_convention`), beside :data:`BAG_KEYS`; bags written
+#: before 2026-12-07 lack it.
+CONVENTION_KEY = "rlff_ros_joints"
 
 
 def _bag_keys(robot: dict[str, str] | None) -> dict[str, str]:
-    """The :data:`BAG_KEYS` entries of a record ``robot`` (none for None)."""
-    return {key: robot[field] for key, field in BAG_KEYS.items()} if robot else {}
+    """The :data:`BAG_KEYS` entries of a record ``robot`` (none for None), and its
+    :data:`CONVENTION_KEY` where it has a ``"convention"``."""
+    if not robot:
+        return {}
+    keys = {key: robot[field] for key, field in BAG_KEYS.items()}
+    return keys | ({CONVENTION_KEY: robot["convention"]} if "convention" in robot else {})
 
 
 def _bag_record(reader, topic: str) -> tuple[dict, str]:
@@ -177,23 +186,29 @@ def _bag_record(reader, topic: str) -> tuple[dict, str]:
     and where it holds them, for a message."""
     if isinstance(reader, Ros2Reader):  # rosbags' copy of its metadata.yaml
         custom = reader.storage.metadata.custom or {}
-        return {key: value for key, value in custom.items() if key in BAG_KEYS}, "metadata's custom_data"
+        return {key: value for key, value in custom.items() if key in _RECORD_KEYS}, "metadata's custom_data"
     found = {}
     for connection in reader.connections:
         if connection.topic == topic:
-            found |= {key: value for key, value in reader.fields[connection.id].items() if key in BAG_KEYS}
+            found |= {key: value for key, value in reader.fields[connection.id].items() if key in _RECORD_KEYS}
     return found, f"connection header of {topic}"
 
 
+_RECORD_KEYS = (*BAG_KEYS, CONVENTION_KEY)
+
+
 def _bag_planned_for(path: Path, found: dict, where: str) -> dict[str, str] | None:
-    """The record of the bag ``path`` from the :data:`BAG_KEYS` it holds, ``found`` in its ``where``."""
+    """The record of the bag ``path`` from the :data:`BAG_KEYS` (and :data:`CONVENTION_KEY`, as
+    ``"convention"``, where it has one) it holds, ``found`` in its ``where``."""
     if not found:
         return None
-    if len(found) < len(BAG_KEYS) or not all(isinstance(value, str) and value for value in found.values()):
-        held = ", ".join(f"{key}={found[key]!r}" for key in BAG_KEYS if key in found)
+    if (not all(key in found for key in BAG_KEYS)
+            or not all(isinstance(value, str) and value for value in found.values())):
+        held = ", ".join(f"{key}={found[key]!r}" for key in _RECORD_KEYS if key in found)
         raise InputError(f"{path}: the bag's {where} must hold {' and '.join(BAG_KEYS)}, the robot its trajectory "
                          f"was planned for, as rlff writes them; it holds {held}")
-    return {field: found[key] for key, field in BAG_KEYS.items()}
+    record = {field: found[key] for key, field in BAG_KEYS.items()}
+    return record | ({"convention": found[CONVENTION_KEY]} if CONVENTION_KEY in found else {})
 
 
 def read_csv(path: Path) -> JointTrajectory:

@@ -13,7 +13,7 @@ from rlff.errors import InputError
 from rlff.robot.comau import require_row_steps, write_comau_program
 from rlff.robot.export import write_csv, write_json, write_ros1_bag, write_ros2_bag
 from rlff.robot.mapping import ArmMapping, RobotMapping
-from rlff.robot.planned_for import planned_for
+from rlff.robot.planned_for import controller_convention, planned_for
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.wording import plural
@@ -46,8 +46,9 @@ def export_trajectory(traj: JointTrajectory, mapping: RobotMapping | ArmMapping,
     topic, joints = mapping.robot.ros.trajectory_topic, mapping.robot.ros.joints
 
     def bag(write):
-        def written(traj: JointTrajectory, path: Path) -> None:
-            write(joints.to_controller(traj), path, topic=topic, header_stamp_ns=header_stamp_ns, robot=robot)
+        def written(traj: JointTrajectory, path: Path) -> None:  # in the controller's convention, said with it
+            write(joints.to_controller(traj), path, topic=topic, header_stamp_ns=header_stamp_ns,
+                  robot=robot | {"convention": controller_convention(mapping.robot)})
         return written
 
     robot = planned_for(mapping.robot)  # read back, the file is checked for no other robot

@@ -47,6 +47,47 @@ def robot_description(robot: Robot) -> dict[str, Any]:
     }
 
 
+def controller_convention(robot: Robot) -> str:
+    """The digest (:func:`description_digest`) of ``robot``'s ``[ros.joints]`` entries that change
+    a joint (its controller's name, offset and sign, by rlff's joint name): what a bag's numbers
+    are written in. A bag keeps it beside :func:`planned_for`'s record, which leaves the map out
+    (a JSON or CSV trajectory is in rlff's convention, whatever the map)."""
+    joints = robot.ros.joints.joints
+    return description_digest({joint: vars(entry) for joint, entry in sorted(joints.items())
+                               if not entry.is_identity(joint)})
+
+
+def require_convention(path: str | Path, record: dict[str, str] | None, robot: Robot) -> None:
+    """Refuse the bag ``path`` whose ``record`` (:func:`planned_for` and, under ``"convention"``,
+    :func:`controller_convention` of the robot file it was written with) says its positions are in
+    another ``[ros.joints]`` map than ``robot``'s: read through this one, a joint whose offset or
+    sign changed would move elsewhere or the other way (a shoulder's sign fixed after the export
+    threw the ball behind the arm, every check passed). A bag that does not say (written before
+    rlff recorded the map) is read through ``robot``'s map, with a :class:`UnrecordedRobotWarning`
+    where that map changes a joint.
+
+    Raises
+    ------
+    InputError
+        Naming the file, the robot file and what to do.
+    """
+    if record is None:  # require_planned_for has warned that the file keeps no record
+        return
+    ours = controller_convention(robot)
+    recorded = record.get("convention")
+    if recorded is None:
+        if not robot.ros.joints.identity:
+            warnings.warn(f"{path} does not say which [ros.joints] map its positions are in (written before rlff "
+                          f"recorded it): read through {robot.source}'s; if its offsets or signs changed since the "
+                          "export, export it again with this robot file", UnrecordedRobotWarning, stacklevel=2)
+        return
+    if recorded != ours:
+        raise InputError(f"{path} was written with another [ros.joints] map (the controller's joint names, offsets "
+                         f"and signs: digest {recorded} in the bag, {ours} in {robot.source}): read through this "
+                         "one, a joint would start elsewhere or move the other way; export it again with this robot "
+                         "file (rlff robot export ... -f ros1-bag|ros2-bag)")
+
+
 def planned_for(robot: Robot) -> dict[str, str]:
     """The record a robot trajectory file keeps of ``robot``: ``{"name", "digest"}``, the digest
     being :func:`description_digest` of :func:`robot_description`."""

@@ -23,7 +23,7 @@ from rlff.robot.description import Robot
 from rlff.robot.export import read_bag, read_planned_for, trajectory_topics
 from rlff.robot.links import require_above_base
 from rlff.robot.plan import GENERATED, RobotPlan, is_comau_program, load_for_robot
-from rlff.robot.planned_for import checked_against, require_planned_for
+from rlff.robot.planned_for import checked_against, require_convention, require_planned_for
 from rlff.trajectory.check import check_start, check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
@@ -207,9 +207,13 @@ def _one_trajectory(path: Path, robot: Robot) -> tuple[JointTrajectory, bool]:
                              "robot file, or send it with the robot file it was exported with")
     if len(trajectories) != 1:
         raise InputError(f"{path}: holds {len(trajectories)} trajectories on {topic}; send a bag with one")
-    recorded = require_planned_for(path, read_planned_for(path, topic), robot)  # before its joints: says whose
+    record = read_planned_for(path, topic)
+    recorded = require_planned_for(path, record, robot)  # before its joints: says whose
     try:  # the bag is the controller's (the robot file's [ros.joints]); rlff checks and plans in its own
-        return robot.ros.joints.from_controller(trajectories[0]), recorded
-    except InputError as exc:
+        trajectory = robot.ros.joints.from_controller(trajectories[0])
+    except InputError as exc:  # other controller names: said by name, before the map's digest
         raise InputError(f"{path}: {exc}; export it again with this robot file, or send it with the robot file it "
                          "was exported with") from None
+    if set(trajectory.joint_names) <= set(robot.joint_names):  # other names are said by name, further on
+        require_convention(path, record, robot)  # the same names, but the same offsets and signs?
+    return trajectory, recorded
