@@ -32,7 +32,14 @@ from typing import Any
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
-from rlff.capture.angles import ArmMotion, align_arm, median_spacing, throwing_arm
+from rlff.capture.angles import (
+    MIN_TORSO,
+    ArmMotion,
+    align_arm,
+    median_spacing,
+    positions_at,
+    throwing_arm,
+)
 from rlff.capture.bag import DEFAULT_FRAMES, DEFAULT_TOPIC, ROS_UP, read_bag
 from rlff.capture.bag_stream import is_ros2_metadata
 from rlff.capture.extension_gaps import (
@@ -95,6 +102,12 @@ SENSOR_FRAMES = ("bag", "kinect-text", "msr")
 FORMAT_UP = {"bag": ROS_UP, "kinect-text": KINECT_UP, "msr": KINECT_UP}
 FORMAT_UP_WHY = {"bag": "REP 103, as skeleton trackers publish tf", "kinect-text": "the Kinect's camera frame",
                  "msr": "the Kinect's camera frame"}
+#: Without torso points, ``--up`` is hinted at when the upper arm lies within this many degrees of
+#: one axis in at least this share of the samples (and more often than against the assumed up): in
+#: the 26 MSR high throws (z up) it lies so along -z in 2-63 % of the samples and along any other
+#: axis in at most 28 % (an overhand thrower's arm is raised much of the time).
+HANGING_CONE_DEG = 30.0
+HANGING_SHARE = 1 / 3
 #: A finished throw is resampled at its own median spacing, but no coarser than this (Hz).
 OUTPUT_RATE_HZ = 15.0
 #: The median upper arm (shoulder to elbow, m) of a recording in metres: 0.25-0.34 m in every arm
@@ -1088,21 +1101,57 @@ def _axis_name(vector: np.ndarray) -> str:
 
 
 def _up_hint(motion: ArmMotion, up: np.ndarray) -> str | None:
-    """``--up AXIS`` when the upper arm mostly hangs along another axis than the assumed up one."""
-    hanging = np.median(motion.arm.elbow.position - np.median(motion.shoulder, axis=0), axis=0)
-    axis = int(np.argmax(np.abs(hanging)))
-    guess = np.zeros(3)
-    guess[axis] = -np.sign(hanging[axis])
-    if np.allclose(guess, up):
+    """``--up AXIS`` when the recording says its up is another axis than the assumed one.
+
+    With torso points (neck and hip centre, at least ``MIN_TORSO`` apart) the torso decides: the
+    hint names the axis that the median hip centre -> neck lies within 45 degrees of, when that is
+    not ``up`` (3-D, a unit vector along an axis). Without them the upper arm does, as a
+    possibility only, when it hangs along another axis often enough (:data:`HANGING_SHARE`): an
+    overhand thrower's arm is raised much of the time, so its median direction tells little.
+    """
+    torso = _torso_up(motion.arm)
+    if torso is not None:
+        axis = int(np.argmax(np.abs(torso)))
+        if abs(torso[axis]) < np.cos(np.pi / 4) * np.linalg.norm(torso):
+            return None  # leaning away from every axis: it names none
+        guess = np.zeros(3)
+        guess[axis] = np.sign(torso[axis])
+        if np.allclose(guess, up):
+            return None
+        name = _axis_name(guess)
+        return f"the torso (hip centre to neck) points along {name}: {name} is up in this file, not {_axis_name(up)}; try --up {name}"
+    direction = motion.arm.elbow.position - positions_at(motion.arm.shoulder, motion.arm.elbow.time)
+    direction /= np.maximum(np.linalg.norm(direction, axis=1), 1e-12)[:, None]
+    hanging = np.cos(np.radians(HANGING_CONE_DEG))
+    shares = np.concatenate([np.mean(-direction > hanging, axis=0), np.mean(direction > hanging, axis=0)])
+    axes = np.concatenate([np.eye(3), -np.eye(3)])  # up along each axis, the arm hanging against it
+    best = int(np.argmax(shares))
+    assumed = float(np.mean(direction @ -np.asarray(up, dtype=float) > hanging))
+    if np.allclose(axes[best], up) or shares[best] < HANGING_SHARE or shares[best] <= assumed:
         return None
-    name = _axis_name(guess)
-    return f"the upper arm hangs along {_axis_name(-guess)}: if {name} is up in this file (a camera frame), try --up {name}"
+    name = _axis_name(axes[best])
+    return (f"the upper arm hangs along {_axis_name(-axes[best])} (within {HANGING_CONE_DEG:g} degrees) in "
+            f"{shares[best]:.0%} of the samples, along {_axis_name(-np.asarray(up))} in {assumed:.0%}: {name} may be up "
+            f"in this file (a camera frame); if so, try --up {name}")
+
+
+def _torso_up(arm: ArmTrack) -> np.ndarray | None:
+    """The median hip centre -> neck (m, shape (3,)) while both are tracked, or None without a
+    torso (no neck or hip, not tracked together, or shorter than ``MIN_TORSO``)."""
+    if arm.neck is None or arm.hip is None or len(arm.neck) < 2 or len(arm.hip) < 2:
+        return None
+    stamps = arm.neck.time[(arm.neck.time >= arm.hip.time[0]) & (arm.neck.time <= arm.hip.time[-1])]
+    if stamps.size == 0:
+        return None
+    inside = np.isin(arm.neck.time, stamps)
+    torso = np.median(arm.neck.position[inside] - positions_at(arm.hip, stamps), axis=0)
+    return torso if np.linalg.norm(torso) >= MIN_TORSO else None
 
 
 def _all_coming_down(motion: ArmMotion, up: np.ndarray, extensions: int, up_given: bool) -> str:
     """What to say of a file whose every extension was taken for the arm coming down to rest: a
     wrong up axis makes every throw's release go down (and back), so the up axis is asked about,
-    with the axis the upper arm hangs along when it is another."""
+    with the axis the recording says is up when it is another (:func:`_up_hint`)."""
     taken = f"--up {_axis_name(up)}" if up_given else "the format's"
     which = {1: "its extension", 2: "both its extensions"}.get(extensions, f"all {extensions} of its extensions")
     said = (f"{which} went down at the release, as the arm "
