@@ -114,3 +114,23 @@ def test_the_forward_down_release_is_a_throw_where_the_old_30_deg_rule_rejected_
     # without a known forward direction, the 30 deg rule
     assert "forward direction unknown" in not_at_a_target(release(1.5, -1.2, None))
     assert not_at_a_target(release(1.5, -0.5, None)) is None
+
+
+def test_stamps_rounded_to_microseconds_keep_every_throws_last_sample(tmp_path):
+    """A 60 Hz CSV whose time column is rounded to microseconds (0.016667, 0.033333, ...): its
+    median spacing, 0.016667 s, is 0.33 us too long, and each throw's grid stopped one sample short
+    of its last stamp (one row fewer than the same file read without the time column at 60 Hz)."""
+    import pandas as pd
+
+    frames, time, _ = th.session(200, rate=60.0)
+    stamped = th.write_joint_csv(tmp_path / "stamped.csv", frames, time)
+    bare = pd.read_csv(stamped).drop(columns="time")
+    bare.to_csv(tmp_path / "bare.csv", index=False, float_format="%.6f")
+    dataset, report = import_recordings([stamped], "csv", up="y")
+    plain, _ = import_recordings([tmp_path / "bare.csv"], "csv", up="y", rate_hz=60.0)
+    assert len(dataset) == len(plain) == len(report.files[0].throws) > 0
+    for trajectory, reference in zip(dataset, plain, strict=True):
+        span = trajectory.meta["end_time"] - trajectory.meta["start_time"]
+        assert trajectory["time"][-1] == pytest.approx(span, abs=1e-6)
+        assert len(trajectory["time"]) == len(reference["time"]) == round(span * 60.0) + 1
+        assert np.allclose(np.diff(trajectory["time"]), 1 / 60.0, atol=1e-6)
