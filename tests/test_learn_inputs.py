@@ -372,3 +372,62 @@ def test_a_throw_its_simulated_arm_did_not_follow_stops_the_run_naming_the_attem
     assert message.startswith("attempt 2: the simulated arm did not follow its trajectory: up to "), message
     assert message.endswith("this outcome is not the planned throw's; the run stops" + KEPT), message
     assert [a.index for a in read_log(log)[1].attempts] == [1]  # the struck throw is not learned from
+
+
+#: A reviewer's seven-joint arm: no [geometry] (nothing rlff can simulate or reckon a reach with),
+#: its own joint names, the throw on a4.
+SEVEN_JOINTS = "".join(f"""
+[[joints]]
+name = "a{k}"
+lower = -2.0
+upper = 2.0
+max_velocity = 2.2
+max_acceleration = 8
+max_jerk = 60
+""" for k in range(1, 8)) + """
+[throwing]
+joint = "a4"
+angle_offset = -1.0
+angle_scale = 0.5
+velocity_scale = 0.15
+
+[throwing.start_pose]
+a1 = 0.0
+a2 = 0.3
+a3 = 0.0
+a5 = 0.0
+a6 = 0.5
+a7 = 0.0
+"""
+
+
+@pytest.mark.parametrize(("update", "feedback"), [("calibrate", "binary"), ("calibrate", "distance"),
+                                                  ("secant", "distance")])
+def test_a_live_arm_without_geometry_throws_without_the_simulated_reach_checks(demos, tmp_path, update, feedback):
+    # its run stopped before the first throw: "seven.toml: the robot has no [geometry] table, so
+    # it cannot be simulated", though nothing of a live run is simulated
+    path = tmp_path / "seven.toml"
+    path.write_text('name = "seven_arm"\n' + SEVEN_JOINTS)
+    thrown = []
+
+    def arm(trajectory):  # every throw 0.8 m short: the out-of-reach judgement would reckon a faster one
+        thrown.append(trajectory.joint_names)
+        return Reported(False, 0.6, -0.8)
+
+    result = learn(demos, 1.4, budget=4, update=update, feedback=feedback, robot=str(path), executor=arm,
+                   executed_on="ros2", aim="demonstrations", log_path=tmp_path / "run.jsonl")
+    assert len(thrown) == result.attempts >= 3 and "a4" in thrown[0]
+    assert len(read_log(tmp_path / "run.jsonl")[1].attempts) == result.attempts
+    assert not result.out_of_reach
+
+
+@pytest.mark.parametrize(("aim", "executor", "words"), [
+    ("auto", None, r"seven.toml: the robot has no \[geometry\] table, so it cannot be simulated$"),
+    ("kinematics", lambda trajectory: Reported(False, 0.6, -0.8),
+     r"seven.toml: the robot has no \[geometry\] table, and aim='kinematics' starts where the arm's geometry sends "
+     r"the throw; give the robot file a \[geometry\] table, or aim='demonstrations'$")])
+def test_without_geometry_the_simulation_and_the_kinematics_aim_are_refused(demos, tmp_path, aim, executor, words):
+    path = tmp_path / "seven.toml"
+    path.write_text('name = "seven_arm"\n' + SEVEN_JOINTS)
+    with pytest.raises(InputError, match=words):
+        learn(demos, 1.4, budget=2, robot=str(path), executor=executor, aim=aim)

@@ -479,7 +479,10 @@ def learn(
         call is attempt ``count + 1`` (what :meth:`rlff.learn.robot.RobotExecutor.resume` takes).
     robot : str or Robot
         Robot name, robot file or description; its ``[throwing]`` table is the one-joint
-        mapping, its ``[whole_arm]`` table the whole arm's.
+        mapping, its ``[whole_arm]`` table the whole arm's. One without ``[geometry]`` cannot be
+        simulated, but an ``executor`` throws with it: the reach checks before the first throw,
+        the stop at a basket beyond the arm and the searches' landing law need the geometry and
+        are left out, and the kinematics' ``aim`` is refused.
     pedestal, rim_height, opening : float
         Height of the robot's base, of the basket's rim, and the basket's inner width (m).
     until : {"hit", "centred"}
@@ -557,7 +560,8 @@ def learn(
     InputError
         Unknown method or feedback, a method that needs other feedback, an executor that is not
         callable, a carry into a method that does not carry (:func:`require_carrying`), a basket
-        out of the robot's reach, demonstrations beyond the joint limits, a log path that is no regular file
+        out of the robot's reach, a robot file without ``[geometry]`` in simulation or aimed by
+        its kinematics, demonstrations beyond the joint limits, a log path that is no regular file
         (a device, a FIFO), or a corrupt or foreign log. A
         method's proposal that is no :class:`~rlff.learn.method.Proposal` or does not follow
         ``problem.angles`` (:func:`rlff.learn.proposal_check.proposed`), stopping the run at that
@@ -604,13 +608,24 @@ def learn(
     target = Basket(float(basket), rim_height=rim, opening=opening, bearing=float(bearing))
     require_bearing(mapping, target.bearing)  # before the log opens: a run refused by it leaves none
     pedestal = check_pedestal(pedestal)
-    try:
-        _require_reach(robot_model, target, pedestal, mapping.driven_joints, demos.columns)
-    except InputError as exc:
-        raise InputError(f"{exc}{_executed_reach_words(demos, mapping, target, pedestal)}") from None
+    kinematic = drives_whole_arm(mapping) if aim == "auto" else aim == "kinematics"
+    # without [geometry] nothing says where a throw goes: the simulation refuses (its own message),
+    # a live arm throws with the reach checks left out, but the kinematics' aim cannot start anywhere
+    reckoned = robot_model.geometry is not None or executor is None
+    if not reckoned and kinematic:
+        which = "aim='auto' of a whole-arm throw, the kinematics," if aim == "auto" else "aim='kinematics'"
+        raise InputError(f"{robot_model.source}: the robot has no [geometry] table, and {which} starts where the "
+                         "arm's geometry sends the throw; give the robot file a [geometry] table, or "
+                         "aim='demonstrations'")
+    if reckoned:
+        try:
+            _require_reach(robot_model, target, pedestal, mapping.driven_joints, demos.columns)
+        except InputError as exc:
+            raise InputError(f"{exc}{_executed_reach_words(demos, mapping, target, pedestal)}") from None
     demos, limit_notes = usable_demos(demos, mapping, target.rim_height)
     components = loop_components(demos, seed, joint_outputs(mapping.human_columns))
-    _require_executable(mapping, target, pedestal, demos, components, seed, method_class)
+    if reckoned:
+        _require_executable(mapping, target, pedestal, demos, components, seed, method_class)
     if executor is None:
         executor = _simulator(robot_model, target, pedestal, arm_gap)
 
@@ -637,7 +652,6 @@ def learn(
         run["misreport"] = misreport
     if drives_whole_arm(mapping):
         run["joints"] = list(mapping.driven_joints)
-    kinematic = drives_whole_arm(mapping) if aim == "auto" else aim == "kinematics"
     if kinematic != drives_whole_arm(mapping):  # the default writes no such field, so older logs resume
         run["aim"] = "kinematics" if kinematic else "demonstrations"
     carried, carry_notes = carried_offsets(carry_from, run) if carry_from else ((), [])
@@ -691,8 +705,9 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
 
     def out_of_reach_note() -> tuple[str, bool] | None:
         """Judged once after every attempt (and on the attempts resumed from the log): the note,
-        and whether only the centre window is beyond the arm (:func:`beyond_reach`)."""
-        if history and done(history[-1]):
+        and whether only the centre window is beyond the arm (:func:`beyond_reach`); never on a
+        robot file without ``[geometry]``, whose fastest release's gain is unknown."""
+        if (history and done(history[-1])) or mapping.robot.geometry is None:
             return None
         return beyond_reach(history, mapping, target, pedestal, centre_window)
 
@@ -795,12 +810,15 @@ def _problem(demos: Dataset, target, feedback: str, seed: int, mapping, pedestal
     """What a method of :func:`learn` knows before its first attempt at basket ``target``
     (:class:`rlff.sim.Basket`), the demonstrations prepared (:func:`rlff.learn.demos.usable_demos`);
     a whole-arm throw also the arm's saturation and landing elasticity, and with ``aim`` (None:
-    for a whole-arm throw) the kinematics' aim, and their elasticity for a one-joint throw."""
+    for a whole-arm throw) the kinematics' aim, and their elasticity for a one-joint throw. A
+    robot file without ``[geometry]`` (a live arm's) says nothing of where a throw comes down: no
+    elasticity of its kinematics (the default's), no landing law, no aim (:func:`learn` refuses it)."""
     whole_arm = drives_whole_arm(mapping)
     aim = whole_arm if aim is None else aim
     typical = typical_throw(mapping, demos)
     known = {}
-    if whole_arm or aim:
+    kinematics = mapping.robot.geometry is not None
+    if (whole_arm or aim) and kinematics:
         known["elasticity"] = release_elasticity(mapping, typical, target.distance, target.rim_height, pedestal)
     if aim:
         known["aim"] = partial(aimed_factor, mapping, target.distance, target.rim_height, pedestal)
@@ -818,7 +836,7 @@ def _problem(demos: Dataset, target, feedback: str, seed: int, mapping, pedestal
         outputs=joint_outputs(mapping.human_columns),
         carried=carried,
         misreport=misreport,
-        landing=partial(typical_landing, mapping, typical, target.rim_height, pedestal),
+        landing=partial(typical_landing, mapping, typical, target.rim_height, pedestal) if kinematics else None,
         **known,
     )
 
