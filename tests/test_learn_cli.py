@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from rlff.dataset import write_csv
+from rlff.errors import InputError
 
 
 def _people(seed: int):
@@ -536,6 +537,61 @@ def test_a_bad_period_fails_before_the_first_throw(rlff, demos_csv, tmp_path, pe
     result = rlff("learn", str(demos_csv), "--basket", "1.4", "--period", period, "--log", str(log), "--budget", "1")
     assert result.code == 2 and said in result.stderr
     assert not log.exists()
+
+
+def test_a_comau_out_the_robot_file_cannot_have_is_refused_before_the_first_throw(rlff, demos_csv, tmp_path):
+    # a reviewer's live run learned to the end, real throws, and only then said it, exit 2 and
+    # nothing written; the robot file and --joints knew it before the first attempt
+    slot5 = tmp_path / "slot5.toml"
+    slot5.write_text((resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+                     .replace("velocity_slot = 6", "velocity_slot = 5"))
+    seven = tmp_path / "seven.toml"
+    seven.write_text('name = "seven_arm"\n' + "".join(
+        f'[[joints]]\nname = "a{k}"\nlower = -2.0\nupper = 2.0\nmax_velocity = 2.2\nmax_acceleration = 8\n'
+        f"max_jerk = 60\n" for k in range(1, 8)) + '[throwing]\njoint = "a4"\nangle_offset = -1.0\nangle_scale = 0.5\nvelocity_scale = 0.15\n'
+                     '[throwing.start_pose]\n'
+                     + "".join(f"a{k} = 0.0\n" for k in (1, 2, 3, 5, 6, 7)))
+    log, out = tmp_path / "a.jsonl", tmp_path / "learned.txt"
+    for robot, joints, said in (
+            (slot5, ["--joints", "joint_2,joint_3,joint_5"],
+             "the Comau program's velocity slot 5 is joint_5's, and this trajectory moves joint_5; give "
+             "[comau_program] velocity_slot a joint the throw does not move"),
+            (seven, [], "the Comau program has six slots; robot seven_arm has 7 joints")):
+        result = rlff("learn", str(demos_csv), "--basket", "1.4", "--budget", "2", "--robot", str(robot), *joints,
+                      "--log", str(log), "-o", str(out))
+        assert result.code == 2, result.stderr
+        assert result.stderr == f"rlff: error: --out {out}: {said} (or write --out in another format)\n"
+        assert not log.exists() and not out.exists()
+    # what the program can carry is thrown: slot 5 is free when joint_5 is not driven
+    kept = rlff("learn", str(demos_csv), "--basket", "0.7", "--budget", "1", "--robot", str(slot5), "--joints",
+                "joint_3", "-o", str(out))
+    assert kept.code == 0 and out.exists(), kept.stderr
+
+
+def test_an_out_that_fails_after_the_run_says_what_keeps_it_and_how_to_write_it(rlff, demos_csv, tmp_path,
+                                                                                    monkeypatch):
+    # it said only why, as though the run were lost: the log kept it, and robot export writes it
+    import rlff.learn.replay as replay
+
+    def full(*args, **kwargs):
+        raise InputError("learned.json: No space left on device")
+
+    monkeypatch.setattr(replay, "export_attempt", full)
+    log, out = tmp_path / "a.jsonl", tmp_path / "learned.json"
+    base = ["learn", str(demos_csv), "--basket", "1.4", "--feedback", "distance", "--budget", "1", "-o", str(out)]
+    logged = rlff(*base, "--log", str(log))
+    assert logged.code == 2
+    (attempt,) = [json.loads(line) for line in attempt_lines(log)]
+    which = "its last hit" if attempt["hit"] else "attempt 1, the throw nearest the centre (no hit was logged)"
+    pick = "" if attempt["hit"] else " --attempt 1"
+    assert logged.stderr.endswith(f"\nrlff: error: learned.json: No space left on device; {log} keeps the run's 1 attempt; "
+                             f"--out {out} was not written: `rlff robot export {log}{pick} -o {out} -f json` writes "
+                             f"{which}\n"), logged.stderr
+    unlogged = rlff(*base)
+    assert unlogged.code == 2
+    assert unlogged.stderr.endswith(f"\nrlff: error: learned.json: No space left on device; --out {out} was not written, "
+                               "and no --log kept the run's throws (a run with --log FILE keeps them, and `rlff robot "
+                               "export FILE` writes one)\n"), unlogged.stderr
 
 
 def test_a_one_joint_run_on_your_own_robot_file_is_pointed_at_the_kinematics_aim(cli, demos_csv, tmp_path):

@@ -114,7 +114,7 @@ def learn_command(
     """Throw, watch, update, repeat: learn to hit the basket from (failed) demonstrations."""
     from rlff.cli.model import read_data
     from rlff.cli.output import guard, robot_file
-    from rlff.errors import InputError
+    from rlff.errors import InputError, RlffError
     from rlff.learn.method import COLUMNS
     from rlff.learn.replay import SUFFIX_FORMATS, export_format
 
@@ -191,6 +191,8 @@ def learn_command(
                 "carry_from": carry, "gap": arm.name, "misreport": misreport, "aim": aim}
     live = None if executor == "sim" else {"outcome": outcome, "landing_topic": landing_topic, "network": network,
                                            "approach_speed": approach_speed}
+    if fmt == "comau":  # known from the robot file and --joints: said before the first throw, not after the last
+        _require_program(robot, out, driven)
     resuming = log is not None and log.exists()  # its run chose already
     hint = _aim_hint(robot, data) if aim == "auto" and driven is None and not resuming else None
     if hint:  # before the first throw, not among the notes after the run
@@ -205,7 +207,18 @@ def learn_command(
     for note in result.notes:
         if note != hint:
             say(options_words(note))
-    written = _write_best(result, robot, out, fmt, period, driven, bearing) if out is not None else None
+    try:
+        written = _write_best(result, robot, out, fmt, period, driven, bearing) if out is not None else None
+    except RlffError as exc:  # the run is over: what keeps it, and what writes --out from it (it said only why)
+        if log is None:
+            kept = (f"--out {out} was not written, and no --log kept the run's throws (a run with --log FILE keeps "
+                    "them, and `rlff robot export FILE` writes one)")
+        else:
+            attempts = _logged_attempts(log)
+            kept = (f"{log} keeps the run's {plural(len(attempts), 'attempt')}; "
+                    f"{_export_words(log, out, fmt, robot, period, attempts)}")
+        exc.args = (f"{exc}; {kept}",)
+        raise
     if as_json:
         emit_json({**result.to_json(), "out": written})
         return
@@ -314,11 +327,7 @@ def _stopped_words(log: Path | None, out: Path | None, fmt: str | None, robot: s
     """What a run that Ctrl-C or SIGTERM stopped kept: how many attempts its ``log`` holds and that
     the same command resumes it (or, without ``--log``, that nothing was kept); and that ``out``
     (``--out``, of format ``fmt``) was not written, with the ``rlff robot export`` of the log that
-    writes the throw ``--out`` would have had (:func:`rlff.learn.loop.best_attempt`)."""
-    from rlff.learn.loop import best_attempt
-    from rlff.robot.description import DEFAULT_ROBOT
-    from rlff.trajectory.planner import DEFAULT_PERIOD
-
+    writes the throw ``--out`` would have had (:func:`_export_words`)."""
     attempts = _logged_attempts(log)
     if log is None:
         words = "nothing was kept (no --log): a run with --log FILE keeps its attempts, and the same command resumes it"
@@ -328,7 +337,19 @@ def _stopped_words(log: Path | None, out: Path | None, fmt: str | None, robot: s
         words = f"no attempt was logged to {log} yet: the same command starts the run again"
     if out is None:
         return words
-    words += f"; --out {out} was not written"
+    return f"{words}; {_export_words(log, out, fmt, robot, period, attempts)}"
+
+
+def _export_words(log: Path | None, out: Path, fmt: str, robot: str, period: float, attempts: list) -> str:
+    """That ``out`` (``--out``, of format ``fmt``) was not written, and the ``rlff robot export`` of
+    ``log`` (holding ``attempts``) that writes the throw ``--out`` would have had
+    (:func:`rlff.learn.loop.best_attempt`): after a run Ctrl-C stopped (:func:`_stopped_words`), or
+    one whose ``--out`` failed at the end (it had said only why)."""
+    from rlff.learn.loop import best_attempt
+    from rlff.robot.description import DEFAULT_ROBOT
+    from rlff.trajectory.planner import DEFAULT_PERIOD
+
+    words = f"--out {out} was not written"
     if not attempts:
         return words + " (no throw was logged to write it from)"
     best = best_attempt(attempts)  # what --out would have written
@@ -370,6 +391,28 @@ def _aim_hint(robot: str, data) -> str | None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RobotFileWarning)
         return aim_hint(load_robot(robot), data)
+
+
+def _require_program(robot: str, out: Path, joints: tuple[str, ...] | None) -> None:
+    """Refuse, before the first throw, a Comau program at ``out`` that this run's throws of
+    ``robot`` (a name or file, read without its warnings: the run says them) driving ``joints``
+    cannot have (:func:`rlff.robot.comau.program_slots`): a robot not of six joints, or a
+    ``[comau_program]`` slot the throw moves. It had been said after the last throw of a live
+    run, and nothing written."""
+    import warnings
+
+    from rlff.errors import InputError
+    from rlff.robot import load_robot, mapping_for
+    from rlff.robot.comau import program_slots
+    from rlff.robot.description import RobotFileWarning
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RobotFileWarning)
+        mapping = mapping_for(load_robot(robot), joints)
+    try:
+        program_slots(mapping, mapping.driven_joints)
+    except InputError as exc:
+        raise InputError(f"--out {out}: {exc} (or write --out in another format)") from None
 
 
 def _joint_list(joints: str | None) -> tuple[str, ...] | None:

@@ -29,6 +29,7 @@ of the velocity slot must not move.
 
 from __future__ import annotations
 
+from collections.abc import Collection
 from pathlib import Path
 
 import numpy as np
@@ -74,6 +75,36 @@ def _slot(mapping: RobotMapping | ArmMapping, key: str, default: int) -> int:
     return value
 
 
+def program_slots(mapping: RobotMapping | ArmMapping, moved: Collection[str]) -> tuple[int, int | None]:
+    """The program's velocity slot and, for a one-joint throw, its position slot (None for a
+    whole-arm throw: every joint in its own), checked for a throw of ``mapping`` that moves the
+    joints ``moved`` (names): what :func:`comau_rows` refuses before it writes a row, and what
+    ``rlff learn --out`` checks before its first throw, ``moved`` the joints the run drives (it
+    had learned to the end on a live arm, then written nothing).
+
+    Raises
+    ------
+    InputError
+        A robot not of six joints, a ``[comau_program]`` slot outside them, a one-joint throw's
+        position and velocity slots the same, a whole-arm throw's velocity slot on a joint of
+        ``moved``.
+    """
+    robot = mapping.robot
+    if len(robot.joints) != 6:
+        raise InputError(f"the Comau program has six slots; robot {robot.name} has {len(robot.joints)} joints")
+    velocity_slot = _slot(mapping, "velocity_slot", 6)
+    if isinstance(mapping, ArmMapping):
+        held = robot.joint_names[velocity_slot - 1]
+        if held in moved:
+            raise InputError(f"the Comau program's velocity slot {velocity_slot} is {held}'s, and this trajectory "
+                             f"moves {held}; give [comau_program] velocity_slot a joint the throw does not move")
+        return velocity_slot, None
+    position_slot = _slot(mapping, "position_slot", 3)
+    if position_slot == velocity_slot:
+        raise InputError(f"{robot.source}: [comau_program] position_slot and velocity_slot are both {position_slot}")
+    return velocity_slot, position_slot
+
+
 def _number(value: float) -> str:
     """Degrees as the thesis writes them: up to 4 decimals, no trailing zeros, no "-0"."""
     text = f"{value:.4f}".rstrip("0").rstrip(".")
@@ -92,18 +123,13 @@ def comau_rows(traj: JointTrajectory, mapping: RobotMapping | ArmMapping) -> np.
         or the robot of a whole-arm throw (every joint in its own slot).
     """
     robot = mapping.robot
-    if len(robot.joints) != 6:
-        raise InputError(f"the Comau program has six slots; robot {robot.name} has {len(robot.joints)} joints")
-    velocity_slot = _slot(mapping, "velocity_slot", 6)
-    if isinstance(mapping, ArmMapping):
+    moved = [name for index, name in enumerate(traj.joint_names) if np.ptp(traj.positions[:, index]) > 1e-9]
+    velocity_slot, position_slot = program_slots(mapping, moved)
+    if position_slot is None:
         return _whole_arm_rows(traj, mapping, velocity_slot)
-    position_slot = _slot(mapping, "position_slot", 3)
-    if position_slot == velocity_slot:
-        raise InputError(f"{robot.source}: [comau_program] position_slot and velocity_slot are both {position_slot}")
     driven = traj.joint_index(mapping.joint)
     position = traj.positions[:, driven]
-    held = [name for index, name in enumerate(traj.joint_names)
-            if name != mapping.joint and np.ptp(traj.positions[:, index]) > 1e-9]
+    held = [name for name in moved if name != mapping.joint]
     if held:
         raise InputError(f"the Comau program carries the motion of {mapping.joint} only; this "
                          f"trajectory also moves {', '.join(held)}: a whole-arm throw's program needs "
@@ -118,13 +144,10 @@ def comau_rows(traj: JointTrajectory, mapping: RobotMapping | ArmMapping) -> np.
 
 def _whole_arm_rows(traj: JointTrajectory, mapping: ArmMapping, velocity_slot: int) -> np.ndarray:
     """The rows of a whole-arm throw, shape (T, 6): every joint's position (deg) in its own slot,
-    the fastest joint's speed (% of its maximum) in ``velocity_slot``."""
+    the fastest joint's speed (% of its maximum) in ``velocity_slot``, a slot of a joint the throw
+    does not move (:func:`program_slots`)."""
     robot = mapping.robot
     traj = traj.select(robot.joint_names)
-    held = robot.joint_names[velocity_slot - 1]
-    if np.ptp(traj.positions[:, velocity_slot - 1]) > 1e-9:
-        raise InputError(f"the Comau program's velocity slot {velocity_slot} is {held}'s, and this trajectory moves "
-                         f"{held}; give [comau_program] velocity_slot a joint the throw does not move")
     rows = np.degrees(traj.positions)
     _, _, speed_limits = robot.limits()
     share = np.abs(traj.velocities) / speed_limits
