@@ -151,6 +151,14 @@ def check_numbers_agree_with_files(demo) -> None:
     assert default["misses"][0] != 0.0 and default["attempts"] > 1
     learning = run.section("learning")
     assert learning.facts["loop components K"] >= 1
+    # the DMM figure is of the model above, not the loop's: its caption says so, with both Ks (the
+    # README's caption had called it the learning basket's throw, one the loop never makes)
+    density = next(f for f in run.figures if Path(f.file).stem == "dmm-density")
+    assert (f"of the model above (K = {model.n_components}); the learning loop fits its own "
+            f"(K = {learning.facts['loop components K']}, Learning from failure)") in density.caption
+    # what each method throws: "the baselines the GMR mean" had put failure and hindsight there too
+    assert "failure and hindsight the DMM's throw refitted with their attempts, secant and imitation the GMR mean" \
+        in learning.text
     # which arm the robot learned on: its robot file, or one that is not (said in the report)
     assert (summary["learning_arm"] == "none") == learning.facts["arm"].startswith("is as its robot file")
     assert summary["learning_arm"] in learning.facts["arm"] or summary["learning_arm"] == "none"

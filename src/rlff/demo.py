@@ -547,7 +547,7 @@ def _run(folder: RunFolder, size: str, *, seed: int, progress: Callable[[str, in
         folder, raw=raw, clean=clean, preprocessing=preprocessing, model=model, paths=paths,
         demonstrated=demonstrated, learning_distance=learning_distance,
         learning_gap=learning_gap, results=results, logs_dir=out_dir / "attempts", mapping=mapping, robot=robot,
-        frames=frames, seed=seed,
+        frames=frames, seed=seed, loop_k=loop_k,
     )
     figure_entries += whole_arm_figures(folder, whole_arm, robot)
 
@@ -582,10 +582,11 @@ def _angle_grid(clean: Dataset, points: int = 120) -> np.ndarray:
 
 def _figures(
     out: RunPaths, *, raw, clean, preprocessing, model, paths, demonstrated, learning_distance,
-    learning_gap, results, logs_dir: Path, mapping, robot, frames: bool, seed: int,
+    learning_gap, results, logs_dir: Path, mapping, robot, frames: bool, seed: int, loop_k: int,
 ) -> list[tuple[Path, str, str, str]]:
     """Draw every figure into ``out``'s ``figures/``; returns (png path, section, title, caption)
-    in report order (``logs_dir``: the learning runs' attempts logs, ``METHOD.jsonl``)."""
+    in report order (``logs_dir``: the learning runs' attempts logs, ``METHOD.jsonl``; ``loop_k``:
+    the components of the learning loop's own model, which the DMM figure's caption names)."""
     from rlff.plots.data import dataset_3d, dataset_slices
     from rlff.plots.donut import dmm_heatmap, donut_family
     from rlff.plots.learning import learning_curves_from_logs
@@ -634,7 +635,9 @@ def _figures(
     add(dmm_heatmap(model, learning_distance, out.figure("dmm-density"), dataset=clean), "outputs",
         f"The DMM density at {learning_distance:g} m",
         "The density of the joint velocity for every joint angle (hotter is higher), the GMR mean and the "
-        "throw chosen at the highest density of each angle (thesis fig. 2.7, 4.4).")
+        f"throw chosen at the highest density of each angle (thesis fig. 2.7, 4.4), of the model above "
+        f"(K = {model.n_components}); the learning loop fits its own (K = {loop_k}, Learning from failure), so "
+        "its throws are not this one.")
     add(output_trajectories(paths, out.figure("outputs"), dataset=clean), "outputs",
         "Generated throws, demonstrated and new distances",
         "Farther baskets get faster throws, also at distances nobody demonstrated (dashed; thesis fig. 4.7, 4.50).")
@@ -793,7 +796,8 @@ def _run_record(
             "600 samples, refitted at every attempt; calibrate throws the DMM's mode for the basket (keeping "
             "to one side of the donut, capped at its release speed) scaled to a release speed: with binary "
             "feedback the next of the release speed's hit windows, the likeliest first, with distance "
-            "feedback the one its calibration of landing against speed picks; the baselines the GMR mean.",
+            "feedback the one its calibration of landing against speed picks; failure and hindsight the DMM's "
+            "throw refitted with their attempts, secant and imitation the GMR mean.",
             facts={"basket (m)": learning_distance, "arm": arm_words(learning_gap) + ("" if learning_gap.none else f" ({learning_gap.name})"), "budget": budget,
                    "loop components K": loop_components},
             tables=[Table("Runs", ["method", "feedback", "hit", "attempts", "first throw miss (m)", "last miss (m)"],
