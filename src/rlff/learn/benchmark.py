@@ -48,7 +48,7 @@ METHODS_BY_FEEDBACK = {
         "calibrate", "calibrate:no-exploration", "calibrate:gmr-mean",
         "donut", "donut:no-exploration", "donut:gmr-mean",
         "secant", "gp-bo", "cma", "random", "hindsight", "hindsight:no-exploration",
-        "hindsight:gmr-mean", "failure", "imitation",
+        "hindsight:gmr-mean", "failure", "failure:no-exploration", "failure:gmr-mean", "imitation",
     ),
 }
 #: Seed of the first run of the record: the methods were tuned on seeds below it.
