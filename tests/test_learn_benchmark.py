@@ -462,3 +462,18 @@ def test_a_robot_file_s_warning_is_said_once_however_often_the_benchmark_reads_i
     assert result.code == 0, result.stderr
     assert result.stderr.count("max_velocity 45 rad/s") == 1, result.stderr
     assert "RobotFileWarning" not in result.stderr
+
+
+def test_every_dmm_method_runs_beside_both_its_ablations_with_each_feedback():
+    # failure ran with distance feedback without its ablations, which docs/learn.md said every
+    # DMM-based method had beside it
+    from rlff.learn.benchmark import METHODS_BY_FEEDBACK
+    from rlff.learn.loop import method_of
+
+    for kind, methods in METHODS_BY_FEEDBACK.items():
+        for name in {m.split(":")[0] for m in methods}:
+            try:
+                method_of(f"{name}:gmr-mean")
+            except InputError:  # no DMM, no ablations
+                continue
+            assert {f"{name}:no-exploration", f"{name}:gmr-mean"} <= set(methods), (kind, name)
