@@ -424,8 +424,10 @@ def test_a_live_arm_without_geometry_throws_without_the_simulated_reach_checks(d
 @pytest.mark.parametrize(("aim", "executor", "words"), [
     ("auto", None, r"seven.toml: the robot has no \[geometry\] table, so it cannot be simulated$"),
     ("kinematics", lambda trajectory: Reported(False, 0.6, -0.8),
-     r"seven.toml: the robot has no \[geometry\] table, and aim='kinematics' starts where the arm's geometry sends "
-     r"the throw; give the robot file a \[geometry\] table, or aim='demonstrations'$")])
+     # the option beside the parameter: rlff learn's user has no aim='...'
+     r"seven.toml: the robot has no \[geometry\] table, and aim='kinematics' \(--aim kinematics\) starts where the "
+     r"arm's geometry sends the throw; give the robot file a \[geometry\] table, or aim='demonstrations' "
+     r"\(--aim demonstrations\)$")])
 def test_without_geometry_the_simulation_and_the_kinematics_aim_are_refused(demos, tmp_path, aim, executor, words):
     path = tmp_path / "seven.toml"
     path.write_text('name = "seven_arm"\n' + SEVEN_JOINTS)

@@ -613,10 +613,11 @@ def learn(
     # a live arm throws with the reach checks left out, but the kinematics' aim cannot start anywhere
     reckoned = robot_model.geometry is not None or executor is None
     if not reckoned and kinematic:
-        which = "aim='auto' of a whole-arm throw, the kinematics," if aim == "auto" else "aim='kinematics'"
+        which = ("aim='auto' (--aim auto) of a whole-arm throw, the kinematics," if aim == "auto"
+                 else "aim='kinematics' (--aim kinematics)")
         raise InputError(f"{robot_model.source}: the robot has no [geometry] table, and {which} starts where the "
                          "arm's geometry sends the throw; give the robot file a [geometry] table, or "
-                         "aim='demonstrations'")
+                         "aim='demonstrations' (--aim demonstrations)")
     if reckoned:
         try:
             _require_reach(robot_model, target, pedestal, mapping.driven_joints, demos.columns)
