@@ -324,6 +324,18 @@ def test_goals_in_a_row_go_through_one_client_and_lose_no_answer(ros, tmp_path):
     assert "not tracking" not in done.stderr and "[ERROR]" not in done.stderr, done.stderr
 
 
+def test_an_interrupt_before_the_goal_goes_out_says_no_goal_was_sent(ros, tmp_path):
+    """A Ctrl-C while the goal message was made (before anything was published) was marked as a
+    cancel not confirmed ("check the arm (e-stop it if it moves)", goal_sent true) though the
+    server never saw a goal; it is unmarked: nothing was sent (tests/ros1_interrupted_before_sending.py)."""
+    before = ros.log()
+    script = Path(__file__).with_name("ros1_interrupted_before_sending.py")
+    done = subprocess.run([sys.executable, str(script)], env=ros.env, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert json.loads(done.stdout.strip().splitlines()[-1]) == {"interrupted": True, "fate": None}
+    assert ros.log() == before  # the server heard of no goal
+
+
 def _send_slow_throw(rig: Ros, folder) -> subprocess.Popen:
     """``rlff robot send --json`` of a throw of several seconds, returned once its goal is accepted."""
     slow = throw_csv(folder, "slow.csv", -1.2, 1.5, 0.2)

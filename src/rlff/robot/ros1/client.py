@@ -249,15 +249,18 @@ def send_goal(
         deadline = time.monotonic() + START_LEAD + traj.duration + CONNECT_TIMEOUT
     status = _Status(action)
     start = rospy.Time.now() + rospy.Duration.from_sec(START_LEAD)
-    sent = None
+    sent, sending = None, False
     try:
         try:
             # in the controller's joint names and convention (the robot file's [ros.joints])
             goal = FollowJointTrajectoryGoal(trajectory=to_msg(robot.ros.joints.to_controller(traj), start))
+            sending = True
             sent = _Goal(client, goal, on_feedback, on_accepted)
             ended = _wait(sent, status, deadline)
         except (KeyboardInterrupt, rospy.ROSInterruptException) as exc:
             interrupt = exc if isinstance(exc, KeyboardInterrupt) else Interrupted()  # Terminated stays
+            if not sending:  # stopped while the goal was being made: nothing went out, unmarked
+                raise interrupt from None
             try:
                 # interrupted while sending: the goal may be out, with no handle to cancel it by
                 fate = CANCEL_UNCONFIRMED if sent is None or not _cancel(sent, status) else GOAL_CANCELLED
@@ -271,7 +274,7 @@ def send_goal(
             text = result.error_string if result is not None else ""
             return unfinished(gone, confirmed, action, start.to_sec(), traj.duration, sent.received, text)
     except KeyboardInterrupt as exc:  # a second Ctrl-C while cancelling: the cancel was sent, not confirmed
-        if goal_fate(exc) is None:
+        if sending and goal_fate(exc) is None:
             mark_goal(exc, CANCEL_UNCONFIRMED)
         raise
     finally:
