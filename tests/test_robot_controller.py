@@ -222,6 +222,18 @@ def _sent_from(here: np.ndarray, tmp_path) -> JointTrajectory:
     return load_for_robot(path, ROBOT, 0.01, start=here)[1].trajectory
 
 
+def test_a_goal_from_another_pose_to_an_idle_arm_is_not_told_the_arm_moved(controller, tmp_path):
+    # it had said "the arm has moved since; send it again" as a fact, to an arm that never moved,
+    # where sending it again gets the same refusal
+    away = controller.state(0.0).positions.copy()
+    away[1] += 0.3
+    with pytest.raises(GoalRejected) as wrong:
+        controller.submit("wrong", _sent_from(away, tmp_path), now=0.0)
+    assert "misses only if the arm moved since: read it again and send; otherwise the goal's first point is not " \
+        "where the arm is)" in str(wrong.value)
+    assert "the arm has moved since" not in str(wrong.value)
+
+
 def test_a_send_overlapping_another_is_told_to_wait_for_the_arm_to_rest(controller, tmp_path):
     """Two overlapping `rlff robot send` to one server, each planned from the pose read at rest: the
     second was refused with "start the goal later than 0 s", which a send user cannot do. It is
@@ -244,8 +256,10 @@ def test_a_send_overlapping_another_is_told_to_wait_for_the_arm_to_rest(controll
     with pytest.raises(GoalRejected) as late:  # the arm at rest where the first goal left it, not where read
         controller.submit("second", second, now=0.8 + first.duration)
     assert str(late.value).endswith(
-        "; start the goal later than 0 s to have the controller approach its first point (a goal sent from the "
-        "arm's state read before, as rlff robot send sends it: the arm has moved since; send it again)")
+        "; start the goal later than 0 s to have the controller approach its first point (a goal planned from the "
+        "arm's state read before, as rlff robot send plans it, misses only if the arm moved since: read it again and "
+        "send; otherwise the goal's first point is not where the arm is)")
+
     rest = controller.state(5.0).positions  # read anew: a goal from there is taken
     controller.submit("second", _goal([0.0, 1.0], [rest, rest]), now=5.0)
 

@@ -374,8 +374,10 @@ class TrajectoryController:
         later = "start the goal later than 0 s to have the controller approach its first point"
         motion = self._motion
         if motion is None:
-            return (f"; {later} (a goal sent from the arm's state read before, as rlff robot send sends it: the arm "
-                    "has moved since; send it again)")
+            # the arm at rest may never have moved: the goal may be planned from another pose
+            return (f"; {later} (a goal planned from the arm's state read before, as rlff robot send plans it, "
+                    "misses only if the arm moved since: read it again and send; otherwise the goal's first point is "
+                    "not where the arm is)")
         what = ("the brake of a cancelled goal" if motion.braking else
                 "another goal" if motion.goal is not None else "a trajectory from the topic")
         speed = float(np.max(np.abs(state.velocities)))
