@@ -100,6 +100,19 @@ def test_a_ros2_bag_given_by_its_metadata_yaml_is_read_as_its_folder(tmp_path, s
         import_recordings([bag, bag / "metadata.yaml"])
 
 
+def test_a_bag_given_from_inside_its_folder_keeps_the_folder_s_name(tmp_path, simulation, monkeypatch):
+    # metadata.yaml (or ".") given inside the bag's folder: its parent "." has no name, and the
+    # throws came out as "_t1" from source ".", the distance in the folder's name lost
+    bag = bf.write_ros2_bag(tmp_path / "ros2bag_2.5m", simulation)
+    folder, _ = import_recordings([bag])
+    monkeypatch.chdir(bag)
+    for given in ("metadata.yaml", "."):
+        dataset, _ = import_recordings([given])
+        assert [t.id for t in dataset] == [t.id for t in folder] and dataset[0].id.startswith("ros2bag_2")
+        assert [t.meta["distance_source"] for t in dataset] == [t.meta["distance_source"] for t in folder]
+        assert [float(t["distance"][0]) for t in dataset] == [2.5] * len(dataset)
+
+
 @pytest.mark.parametrize("format", ["msr", "kinect-text", "csv", "thesis"])
 def test_a_bag_read_as_a_text_format_is_said_to_be_a_bag(tmp_path, lz4_bag, format):
     # --format msr on a bag quoted its binary bytes as "a header line ('E\x00\x00...')"

@@ -233,6 +233,36 @@ def test_a_bag_written_under_another_ros_joints_map_is_refused(planned, tmp_path
     assert "export it again with this robot file" in str(refused.value)
 
 
+def test_a_bag_of_controller_names_the_robot_file_does_not_map_says_what_to_do(planned, tmp_path):
+    """Exported with joint_2 renamed in [ros.joints], sent with a file without it: "unknown joint
+    names ['shoulder_lift_joint']" alone, no word of the map nor of what to do (reviewer J)."""
+    from rosrig import ur_file
+
+    _, trajectory = planned
+    mapped = load_robot(ur_file(tmp_path / "ur.toml"))
+    out = tmp_path / "throw.bag"
+    export_trajectory(trajectory, RobotMapping.for_robot(mapped), "ros1-bag", out)
+    with pytest.raises(InputError) as refused:
+        load_for_sending(out, ROBOT, None, start=trajectory.positions[0])
+    assert str(refused.value).startswith(f"{out}: holds joints shoulder_pan_joint, shoulder_lift_joint, ")
+    assert str(refused.value).endswith(
+        "which built-in robot comau_smart5_six does not have (its controller's joint names: joint_1, joint_2, "
+        "joint_3, joint_4, joint_5, joint_6): the bag was written with another [ros.joints] map; export it again "
+        "with this robot file, or send it with the robot file it was exported with")
+
+
+def test_a_ros2_bag_given_by_its_metadata_yaml_is_sent_as_its_folder(planned, tmp_path):
+    # robot send of the bag's metadata.yaml read it as a generated path ("columns:
+    # rosbag2_bagfile_information:"); data import takes it as its folder since 2026-12-07
+    path, trajectory = planned
+    out = tmp_path / "throw2"
+    export_trajectory(trajectory, RobotMapping.for_robot(ROBOT), "ros2-bag", out)
+    kind, plan = load_for_sending(out / "metadata.yaml", ROBOT, None, start=trajectory.positions[0])
+    folder_kind, folder_plan = load_for_sending(out, ROBOT, None, start=trajectory.positions[0])
+    assert kind == folder_kind == "ros2-bag"
+    np.testing.assert_array_equal(plan.trajectory.positions, folder_plan.trajectory.positions)
+
+
 def test_a_bag_that_does_not_say_its_map_is_read_through_the_robot_file_s_with_a_warning(planned, tmp_path):
     """A bag of rlff written before the map was recorded (the robot's name and digest alone) is
     read through the robot file's map, warned where that map changes a joint."""

@@ -110,6 +110,12 @@ def _rlff_kind_in(head: bytes) -> str | None:
 ROS1_BAG_MAGIC = b"#ROSBAG V2.0\n"
 
 
+def is_ros2_metadata(path: str | Path) -> bool:
+    """Whether ``path`` is the ``metadata.yaml`` of a ROS 2 bag, the file that makes its folder one."""
+    path = Path(path)
+    return path.name == "metadata.yaml" and path.is_file()
+
+
 def is_ros1_bag(path: str | Path) -> bool:
     """Whether ``path`` is a file that opens as a ROS 1 bag does (:data:`ROS1_BAG_MAGIC`)."""
     path = Path(path)

@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from rlff.errors import InputError
-from rlff.kinds import ROS1_BAG_MAGIC
+from rlff.kinds import ROS1_BAG_MAGIC, is_ros2_metadata
 
 
 @dataclass(frozen=True)
@@ -42,11 +42,6 @@ class BagStream:
     messages: Iterator[Message]
     deserialize: Callable[[bytes | memoryview, str], Any]
     warnings: list[str] = field(default_factory=list)
-
-
-def is_ros2_metadata(path: Path) -> bool:
-    """Whether ``path`` is the ``metadata.yaml`` of a ROS 2 bag, the file that makes its folder one."""
-    return path.name == "metadata.yaml" and path.is_file()
 
 
 def bag_path(path: Path) -> Path:

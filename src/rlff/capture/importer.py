@@ -41,7 +41,6 @@ from rlff.capture.angles import (
     throwing_arm,
 )
 from rlff.capture.bag import DEFAULT_FRAMES, DEFAULT_TOPIC, ROS_UP, read_bag
-from rlff.capture.bag_stream import is_ros2_metadata
 from rlff.capture.extension_gaps import (
     EXTENSION_GAP_FACTOR,
     EXTENSION_GAP_S,
@@ -89,6 +88,7 @@ from rlff.capture.users import keep_consistent_user, upper_arm_lengths
 from rlff.dataset import DEFAULT_CONTEXT, Dataset, Trajectory, joint_columns, velocity_column
 from rlff.errors import InputError
 from rlff.fileio import require_distinct
+from rlff.kinds import is_ros2_metadata
 from rlff.limits import DISTANCE_RANGE, as_names, check_frame_rate, is_number
 from rlff.wording import plural
 
@@ -608,6 +608,10 @@ def import_recordings(
         raise InputError("no recordings given")
     if format in (None, "auto", "bag"):  # a ROS 2 bag's metadata.yaml is the bag: its folder, named as given alone
         paths = [Path(path).parent if is_ros2_metadata(Path(path)) else path for path in paths]
+    # a folder given as "." or ".." (metadata.yaml inside the bag: its parent is ".") has no name to
+    # make ids and a file-name distance of: it is the folder it stands for ("_t1", source ".", the
+    # bag's distance from its name lost)
+    paths = [Path(path).resolve() if Path(path).name in ("", "..") else path for path in paths]
     require_distinct(paths, "recording")
     rows = read_manifest(manifest) if manifest is not None else []
     landing = landing or LandingSettings()

@@ -18,12 +18,17 @@ from rosbags.rosbag1 import ReaderError as Ros1ReaderError
 from rosbags.rosbag2 import ReaderError as Ros2ReaderError
 
 from rlff.errors import InputError
-from rlff.kinds import is_ros1_bag
+from rlff.kinds import is_ros1_bag, is_ros2_metadata
 from rlff.robot.description import Robot
 from rlff.robot.export import read_bag, read_planned_for, trajectory_topics
 from rlff.robot.links import require_above_base
 from rlff.robot.plan import GENERATED, RobotPlan, is_comau_program, load_for_robot
-from rlff.robot.planned_for import checked_against, require_convention, require_planned_for
+from rlff.robot.planned_for import (
+    checked_against,
+    controller_convention,
+    require_convention,
+    require_planned_for,
+)
 from rlff.trajectory.check import check_start, check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport
@@ -81,6 +86,8 @@ def load_for_sending(
         motion check; one line naming the file.
     """
     path = Path(path)
+    if is_ros2_metadata(path):  # a ROS 2 bag's metadata.yaml stands for its folder, as the importer takes it
+        path = path.parent
     kind = _bag_kind(path)
     if kind is None:
         if is_comau_program(path):
@@ -214,6 +221,14 @@ def _one_trajectory(path: Path, robot: Robot) -> tuple[JointTrajectory, bool]:
     except InputError as exc:  # other controller names: said by name, before the map's digest
         raise InputError(f"{path}: {exc}; export it again with this robot file, or send it with the robot file it "
                          "was exported with") from None
-    if set(trajectory.joint_names) <= set(robot.joint_names):  # other names are said by name, further on
-        require_convention(path, record, robot)  # the same names, but the same offsets and signs?
+    unknown = [name for name in trajectory.joint_names if name not in robot.joint_names]
+    if unknown:  # the bag's controller names are none this file maps: said with the remedy
+        other = (record is not None and "convention" in record
+                 and record["convention"] != controller_convention(robot))
+        expected = robot.ros.joints.controller_names(robot.joint_names)
+        raise InputError(f"{path}: holds joints {', '.join(unknown)}, which {robot.source} does not have (its "
+                         f"controller's joint names: {', '.join(expected)})"
+                         f"{': the bag was written with another [ros.joints] map' if other else ''}; export it again "
+                         "with this robot file, or send it with the robot file it was exported with")
+    require_convention(path, record, robot)  # the same names, but the same offsets and signs?
     return trajectory, recorded
