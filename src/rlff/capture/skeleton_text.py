@@ -217,6 +217,23 @@ def _span(time: np.ndarray) -> tuple[float, float] | None:
     return (float(time[0]), float(time[-1])) if len(time) else None
 
 
+def _untracked(frames: np.ndarray, time: np.ndarray, read_joints: list[int], where: np.ndarray,
+               notes: list[str], path: Path, what: str, why: str = "") -> None:
+    """Set to nan, in place, the joints of ``frames`` (N, J, 3) that ``where`` (N, len(read_joints))
+    marks as not tracked in a frame, with a note of how many frames, ``what`` they hold, ``why``
+    that is no position and the first one's time (``time`` (N,), s); nothing when ``where`` marks
+    none."""
+    if not where.any():
+        return
+    rows = where.any(axis=1)
+    notes.append(f"{path.name}: {plural(int(rows.sum()), 'frame')} {what} ({why}the first at "
+                 f"t={time[int(np.flatnonzero(rows)[0])]:.2f} s): taken as not tracked there, left out of that "
+                 "joint's track")
+    marked = np.zeros(frames.shape[:2], dtype=bool)
+    marked[:, read_joints] = where
+    frames[marked] = np.nan
+
+
 def _clean_frames(
     frames: np.ndarray, time: np.ndarray, arm_joints: list[int], notes: list[str], path: Path,
     read_joints: list[int] | None = None,
@@ -251,27 +268,18 @@ def _clean_frames(
     if (~lost).sum() < 2:
         raise InputError(f"{path}: fewer than 2 frames with a tracked arm")
     frames, time = frames[~lost].copy(), time[~lost]
-    at_origin = np.zeros(frames.shape[:2], dtype=bool)  # (N, J): a joint the tracker did not detect
-    at_origin[:, read_joints] = np.all(frames[:, read_joints, :] == 0.0, axis=2)
-    if at_origin.any():
-        rows = at_origin.any(axis=1)
-        notes.append(f"{path.name}: {plural(int(rows.sum()), 'frame')} with a joint at exactly (0, 0, 0), the sensor's "
-                     "origin (how trackers such as OpenPose write a joint they did not detect; the first at "
-                     f"t={time[int(np.flatnonzero(rows)[0])]:.2f} s): taken as not tracked there, left out of that "
-                     "joint's track")
-        frames[at_origin] = np.nan
-    far = np.zeros(frames.shape[:2], dtype=bool)  # (N, J): a coordinate no camera sees (1e30)
-    far[:, read_joints] = np.any(np.abs(frames[:, read_joints, :]) > FARTHEST, axis=2)
-    given = np.all(np.isfinite(frames[:, read_joints, :]), axis=2)
+    read = frames[:, read_joints, :]  # (N, R, 3), a copy
+    at_origin = np.all(read == 0.0, axis=2)  # (N, R): a joint the tracker did not detect
+    _untracked(frames, time, read_joints, at_origin, notes, path,
+               "with a joint at exactly (0, 0, 0), the sensor's origin",
+               "how trackers such as OpenPose write a joint they did not detect; ")
+    far = np.any(np.abs(read) > FARTHEST, axis=2)  # (N, R): a coordinate no camera sees (1e30)
+    given = np.all(np.isfinite(read), axis=2) & ~at_origin
     # most joints that far: a recording in another unit (millimetres), which the import's upper-arm
     # check names; a few: a tracker's bad arithmetic
-    if far.any() and far.sum() <= 0.5 * given.sum():
-        rows = far.any(axis=1)
-        notes.append(f"{path.name}: {plural(int(rows.sum()), 'frame')} with a joint's coordinate beyond {FARTHEST:g} m, "
-                     "farther than a depth camera sees (the first at "
-                     f"t={time[int(np.flatnonzero(rows)[0])]:.2f} s): taken as not tracked there, left out of that "
-                     "joint's track")
-        frames[far] = np.nan
+    if far.sum() <= 0.5 * given.sum():
+        _untracked(frames, time, read_joints, far, notes, path,
+                   f"with a joint's coordinate beyond {FARTHEST:g} m, farther than a depth camera sees")
     repeating = repeated_skeletons(frames[:, read_joints, :], time, FROZEN_ENTRY_SPEED)
     if repeating is not None:
         keep, times = repeating
