@@ -57,6 +57,15 @@ def controller_convention(robot: Robot) -> str:
                                if not entry.is_identity(joint)})
 
 
+def other_convention(record: dict[str, str] | None, robot: Robot) -> tuple[str, str] | None:
+    """(the bag's, ``robot``'s) :func:`controller_convention` digests when the bag's ``record``
+    says its positions are in another ``[ros.joints]`` map than ``robot``'s; None when it says the
+    same map or says none."""
+    recorded = None if record is None else record.get("convention")
+    ours = controller_convention(robot)
+    return None if recorded is None or recorded == ours else (recorded, ours)
+
+
 def require_convention(path: str | Path, record: dict[str, str] | None, robot: Robot) -> None:
     """Refuse the bag ``path`` whose ``record`` (:func:`planned_for` and, under ``"convention"``,
     :func:`controller_convention` of the robot file it was written with) says its positions are in
@@ -73,15 +82,15 @@ def require_convention(path: str | Path, record: dict[str, str] | None, robot: R
     """
     if record is None:  # require_planned_for has warned that the file keeps no record
         return
-    ours = controller_convention(robot)
-    recorded = record.get("convention")
-    if recorded is None:
+    if "convention" not in record:
         if not robot.ros.joints.identity:
             warnings.warn(f"{path} does not say which [ros.joints] map its positions are in (written before rlff "
                           f"recorded it): read through {robot.source}'s; if its offsets or signs changed since the "
                           "export, export it again with this robot file", UnrecordedRobotWarning, stacklevel=2)
         return
-    if recorded != ours:
+    other = other_convention(record, robot)
+    if other is not None:
+        recorded, ours = other
         raise InputError(f"{path} was written with another [ros.joints] map (the controller's joint names, offsets "
                          f"and signs: digest {recorded} in the bag, {ours} in {robot.source}): read through this "
                          "one, a joint would start elsewhere or move the other way; export it again with this robot "

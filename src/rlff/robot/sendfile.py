@@ -25,7 +25,7 @@ from rlff.robot.links import require_above_base
 from rlff.robot.plan import GENERATED, RobotPlan, is_comau_program, load_for_robot
 from rlff.robot.planned_for import (
     checked_against,
-    controller_convention,
+    other_convention,
     require_convention,
     require_planned_for,
 )
@@ -223,8 +223,7 @@ def _one_trajectory(path: Path, robot: Robot) -> tuple[JointTrajectory, bool]:
                          "was exported with") from None
     unknown = [name for name in trajectory.joint_names if name not in robot.joint_names]
     if unknown:  # the bag's controller names are none this file maps: said with the remedy
-        other = (record is not None and "convention" in record
-                 and record["convention"] != controller_convention(robot))
+        other = other_convention(record, robot) is not None
         expected = robot.ros.joints.controller_names(robot.joint_names)
         raise InputError(f"{path}: holds joints {', '.join(unknown)}, which {robot.source} does not have (its "
                          f"controller's joint names: {', '.join(expected)})"
