@@ -1149,11 +1149,10 @@ def _torso_up(arm: ArmTrack) -> np.ndarray | None:
     torso (no neck or hip, not tracked together, or shorter than ``MIN_TORSO``)."""
     if arm.neck is None or arm.hip is None or len(arm.neck) < 2 or len(arm.hip) < 2:
         return None
-    stamps = arm.neck.time[(arm.neck.time >= arm.hip.time[0]) & (arm.neck.time <= arm.hip.time[-1])]
-    if stamps.size == 0:
+    inside = (arm.neck.time >= arm.hip.time[0]) & (arm.neck.time <= arm.hip.time[-1])  # both tracked
+    if not inside.any():
         return None
-    inside = np.isin(arm.neck.time, stamps)
-    torso = np.median(arm.neck.position[inside] - positions_at(arm.hip, stamps), axis=0)
+    torso = np.median(arm.neck.position[inside] - positions_at(arm.hip, arm.neck.time[inside]), axis=0)
     return torso if np.linalg.norm(torso) >= MIN_TORSO else None
 
 
