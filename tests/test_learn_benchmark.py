@@ -477,3 +477,27 @@ def test_every_dmm_method_runs_beside_both_its_ablations_with_each_feedback():
             except InputError:  # no DMM, no ablations
                 continue
             assert {f"{name}:no-exploration", f"{name}:gmr-mean"} <= set(methods), (kind, name)
+
+
+def test_the_release_reach_benchmark_starts_where_the_loop_refuses():
+    """benchmarks/release_reach.py's first column is the reach the loop holds a one-joint run to
+    (:func:`rlff.learn.loop.learnable_basket`, the grid's release); later releases reach farther,
+    and none beyond the joint's best release."""
+    import importlib.util
+    from pathlib import Path
+
+    from rlff.learn.loop import learnable_basket
+    from rlff.learn.scenarios import Scenario, demonstrations
+    from rlff.robot import RobotMapping, load_robot
+    from rlff.sim import Basket
+
+    script = Path(__file__).resolve().parents[1] / "benchmarks" / "release_reach.py"
+    spec = importlib.util.spec_from_file_location("release_reach", script)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    mapping = RobotMapping.for_robot(load_robot("comau_smart5_six"))
+    basket = Basket(1.0, opening=0.35)
+    scenario = Scenario("short", landings="none")
+    farthest = module.reaches(scenario, 100, mapping, basket)
+    assert farthest[0] == pytest.approx(learnable_basket(demonstrations(100, scenario), mapping, basket))
+    assert farthest[0] < farthest[2] <= farthest[-1] + 1e-9
