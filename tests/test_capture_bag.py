@@ -124,6 +124,25 @@ def test_a_bag_read_as_a_text_format_is_said_to_be_a_bag(tmp_path, lz4_bag, form
                                      "leave --format out, or give --format bag")
 
 
+@pytest.mark.parametrize("name", ["renamed.txt", "renamed.csv", "renamed"])
+def test_a_ros1_bag_without_its_suffix_is_said_to_be_one(tmp_path, lz4_bag, name):
+    # read as text: "cannot tell the format", "not a readable CSV (Error tokenizing data ...)", or
+    # its binary bytes quoted as "a header line"; with --format bag, "not a ROS bag"
+    path = tmp_path / name
+    path.write_bytes(lz4_bag.read_bytes())
+    said = (f"{path} is a ROS 1 bag (it starts with #ROSBAG V2.0), not UTF-8 text: give it the suffix .bag, by "
+            "which rlff reads ROS 1 bags")
+    for format in (None, "csv", "msr", "kinect-text", "thesis"):
+        with pytest.raises(InputError) as caught:
+            import_recordings([path], format)
+        assert str(caught.value) == said, format
+    named = f"its name ends in {path.suffix}" if path.suffix else "its name has no suffix"
+    with pytest.raises(InputError) as caught:
+        import_recordings([path], "bag")
+    assert str(caught.value) == (f"{path}: a ROS 1 bag by its first bytes (#ROSBAG V2.0), but {named}: give it the "
+                                 "suffix .bag (renamed.bag), by which rlff reads ROS 1 bags")
+
+
 def test_the_flickering_second_skeleton_is_dropped_and_reported(lz4_bag):
     recording = read_bag(lz4_bag)
     assert recording.users() == ["1", "2"]

@@ -241,6 +241,11 @@ DEMOS = "trajectory,time,angle\na,0.0,0.1\na,0.1,0.2\n"
         (DEMOS.encode("utf-16"), r"bad.csv is UTF-16 text \(it starts with the byte-order mark ff fe\), not UTF-8 "
                                  r"text: save it as UTF-8 \(iconv -f UTF-16 -t UTF-8 FILE > new.csv\)$"),
         (b"\xfe\xff" + DEMOS.encode("utf-16-be"), r"bad.csv is UTF-16 text \(it starts with the byte-order mark fe ff\)"),
+        # said "malformed CSV (Error tokenizing data ...)": a bag renamed, a ROS 2 bag's database
+        (b"#ROSBAG V2.0\n" + b"E\x00\x00\x00\x04\x00\x00\x00op=\x03", r"bad.csv is a ROS 1 bag \(it starts with "
+                                                               r"#ROSBAG V2.0\), not UTF-8 text: give it the suffix .bag"),
+        (b"SQLite format 3\x00\x10\x00", r"bad.csv is an SQLite database \(a ROS 2 bag's .db3\?\), not UTF-8 text: give "
+                                       r"rlff data import the bag's folder, the one with its metadata.yaml$"),
         ("trajectory,subject\na,José\n".encode("latin-1"), r"malformed CSV \(.*\): rlff reads UTF-8 text; save the "
                                                          r"file as UTF-8$"),
         # said "no 'trajectory' column (columns: trajectory;time;angle)"
@@ -256,7 +261,7 @@ DEMOS = "trajectory,time,angle\na,0.0,0.1\na,0.1,0.2\n"
                                                             r"the rows of each trajectory must be in time order: sort "
                                                             r"them by trajectory and time$"),
     ],
-    ids=["gzip", "parquet", "utf-16-le", "utf-16-be", "latin-1", "semicolons", "tabs", "decimal-commas", "time-order"],
+    ids=["gzip", "parquet", "utf-16-le", "utf-16-be", "ros1-bag", "sqlite", "latin-1", "semicolons", "tabs", "decimal-commas", "time-order"],
 )
 def test_a_file_that_is_no_comma_separated_utf8_csv_says_what_it_looks_like_and_what_to_do(tmp_path, content,
                                                                                           message):

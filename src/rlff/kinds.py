@@ -24,6 +24,8 @@ _HEAD = 4096
 _FORMAT = re.compile(rb'"format"\s*:\s*"(rlff-[a-z-]+)"')
 
 
+#: The first line of a ROS 1 bag (format 2.0, the one rosbag writes).
+ROS1_BAG_MAGIC = b"#ROSBAG V2.0\n"
 #: The first bytes of the files that are given as a text file (a CSV, a thesis matrix) but are no
 #: UTF-8 text: what the file is and what to do (``{new}``: a file name of the same suffix).
 _SIGNATURES = (
@@ -35,6 +37,14 @@ _SIGNATURES = (
      "save it as UTF-8 (iconv -f UTF-16 -t UTF-8 FILE > {new})"),
     (b"PK\x03\x04", "a ZIP archive (it starts with PK: an .xlsx workbook? an .npz?)",
      "save a workbook's sheet as CSV; give an .npz its suffix"),
+    # a bag renamed (or saved without its suffix) was read as text: "malformed CSV (Error
+    # tokenizing data ...)", "cannot tell the format"
+    (ROS1_BAG_MAGIC, "a ROS 1 bag (it starts with #ROSBAG V2.0)",
+     "give it the suffix .bag, by which rlff reads ROS 1 bags"),
+    (b"SQLite format 3\x00", "an SQLite database (a ROS 2 bag's .db3?)",
+     "give rlff data import the bag's folder, the one with its metadata.yaml"),
+    (b"\x89MCAP", "an MCAP file (a ROS 2 bag's .mcap?)",
+     "give rlff data import the bag's folder, the one with its metadata.yaml"),
 )
 
 
@@ -44,7 +54,7 @@ def binary_kind(path: str | Path) -> str | None:
     ..."``); None for any other file, or one not readable."""
     try:
         with open(path, "rb") as handle:
-            head = handle.read(4)
+            head = handle.read(max(len(magic) for magic, _, _ in _SIGNATURES))
     except OSError:
         return None
     for magic, kind, remedy in _SIGNATURES:
@@ -104,10 +114,6 @@ def _rlff_kind_in(head: bytes) -> str | None:
     """What the rlff file whose first bytes are ``head`` is (:data:`KINDS`' words), or None."""
     found = _FORMAT.search(head)
     return KINDS.get(found.group(1).decode()) if found else None
-
-
-#: The first line of a ROS 1 bag (format 2.0, the one rosbag writes).
-ROS1_BAG_MAGIC = b"#ROSBAG V2.0\n"
 
 
 def is_ros2_metadata(path: str | Path) -> bool:

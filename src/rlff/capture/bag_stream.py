@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from rlff.errors import InputError
-from rlff.kinds import ROS1_BAG_MAGIC, is_ros2_metadata
+from rlff.kinds import ROS1_BAG_MAGIC, is_ros1_bag, is_ros2_metadata
 
 
 @dataclass(frozen=True)
@@ -68,6 +68,10 @@ def open_stream(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | Non
 
     bag = bag_path(path)
     if bag.is_file() and bag.suffix != ".bag":
+        if is_ros1_bag(bag):  # rosbags tells a ROS 1 bag by its suffix alone
+            named = f"its name ends in {bag.suffix}" if bag.suffix else "its name has no suffix"
+            raise InputError(f"{path}: a ROS 1 bag by its first bytes (#ROSBAG V2.0), but {named}: give it the "
+                             f"suffix .bag ({bag.with_suffix('.bag').name}), by which rlff reads ROS 1 bags")
         raise InputError(f"{path}: not a ROS bag (a ROS 1 bag ends in .bag, a ROS 2 bag is a folder)")
     try:
         reader = AnyReader([bag])

@@ -88,7 +88,7 @@ from rlff.capture.users import keep_consistent_user, upper_arm_lengths
 from rlff.dataset import DEFAULT_CONTEXT, Dataset, Trajectory, joint_columns, velocity_column
 from rlff.errors import InputError
 from rlff.fileio import require_distinct
-from rlff.kinds import is_ros2_metadata
+from rlff.kinds import binary_kind, is_ros1_bag, is_ros2_metadata
 from rlff.limits import DISTANCE_RANGE, as_names, check_frame_rate, is_number
 from rlff.wording import plural
 
@@ -325,6 +325,8 @@ def detect_format(path: str | Path) -> str:
     path = Path(path)
     if path.suffix == ".bag" or path.is_dir() or path.suffix in (".db3", ".mcap") or is_ros2_metadata(path):
         return "bag"
+    if path.is_file() and (kind := binary_kind(path)) is not None:  # a bag renamed, a gzip: no text to sniff
+        raise InputError(f"{path} is {kind}")
     if path.suffix.lower() == ".csv":
         return "csv"
     if path.is_file():
@@ -480,13 +482,17 @@ def _format_named(path: Path, kind: str, given: str | None) -> Iterator[None]:
     that the file's name and first line say it is not (:func:`detect_format`) names the format it
     looks like (``--format thesis`` on an MSR file: "context row 'distance' is not constant"). A
     bag read as a text format is said to be one, the text reader's message left out: it quoted the
-    bag's binary bytes as "a header line"."""
+    bag's binary bytes as "a header line"; so is a file whose first bytes say what it is
+    (:func:`rlff.kinds.binary_kind`: a bag renamed .txt, a gzip)."""
     try:
         yield
     except InputError as exc:
         try:
             looks = detect_format(path) if given not in (None, "auto") else kind
-        except InputError:
+        except InputError as detected:
+            # a bag renamed .txt, a gzip: what it is (a ROS 1 bag read as one: the bag reader's words)
+            if binary_kind(path) is not None and not (kind == "bag" and is_ros1_bag(path)):
+                raise detected from None
             looks = kind
         if looks == kind:
             raise
