@@ -143,6 +143,22 @@ def test_a_ros1_bag_without_its_suffix_is_said_to_be_one(tmp_path, lz4_bag, name
                                  "suffix .bag (renamed.bag), by which rlff reads ROS 1 bags")
 
 
+def test_a_ros2_database_without_its_metadata_says_to_give_the_folder(tmp_path):
+    # said "not a ROS bag (a ROS 1 bag ends in .bag, a ROS 2 bag is a folder)"; renamed, it was read as text
+    bag = bf.write_ros2_bag(tmp_path / "ros2bag", bf.standard_simulation(seed=3, n_throws=1))
+    alone = tmp_path / "alone.db3"
+    alone.write_bytes((bag / "ros2bag.db3").read_bytes())
+    with pytest.raises(InputError) as caught:
+        import_recordings([alone])
+    assert str(caught.value) == (f"{alone}: a ROS 2 bag's .db3 database without its metadata.yaml beside it: give "
+                                 "rlff the bag's folder, the one that holds both")
+    renamed = tmp_path / "alone.dat"
+    renamed.write_bytes(alone.read_bytes())
+    with pytest.raises(InputError, match=r"alone.dat is an SQLite database \(a ROS 2 bag's .db3\?\), not UTF-8 text: "
+                                         r"give rlff data import the bag's folder, the one with its metadata.yaml$"):
+        import_recordings([renamed])
+
+
 def test_the_flickering_second_skeleton_is_dropped_and_reported(lz4_bag):
     recording = read_bag(lz4_bag)
     assert recording.users() == ["1", "2"]

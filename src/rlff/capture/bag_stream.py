@@ -72,6 +72,9 @@ def open_stream(path: Path, topics: Sequence[str], msgtypes: Sequence[str] | Non
             named = f"its name ends in {bag.suffix}" if bag.suffix else "its name has no suffix"
             raise InputError(f"{path}: a ROS 1 bag by its first bytes (#ROSBAG V2.0), but {named}: give it the "
                              f"suffix .bag ({bag.with_suffix('.bag').name}), by which rlff reads ROS 1 bags")
+        if bag.suffix in (".db3", ".mcap"):  # said "not a ROS bag", which it is, in part
+            raise InputError(f"{path}: a ROS 2 bag's {bag.suffix} database without its metadata.yaml beside it: "
+                             "give rlff the bag's folder, the one that holds both")
         raise InputError(f"{path}: not a ROS bag (a ROS 1 bag ends in .bag, a ROS 2 bag is a folder)")
     try:
         reader = AnyReader([bag])
