@@ -93,40 +93,40 @@ def test_an_exported_throw_at_a_bearing_is_scored_on_its_line(rlff, tmp_path):
     assert aside.code == 0 and abs(json.loads(aside.stdout)["lateral"]) > 0.5
 
 
-def test_sim_throw_refuses_bad_input_in_one_line(cli, tmp_path):
+def test_sim_throw_refuses_bad_input_in_one_line(rlff, tmp_path):
     fast = generated_path(tmp_path / "fast.csv", peak=20.0)
-    result = cli("sim", "throw", str(fast), "--basket", "2.0")
+    result = rlff("sim", "throw", str(fast), "--basket", "2.0")
     assert result.code == 2
     assert "joint_2 velocity" in result.stderr and "limit" in result.stderr
     # a basket beyond the reach: where the throw lands is still worth knowing, with a warning
-    far = cli("sim", "throw", str(generated_path(tmp_path / "traj.csv")), "--basket", "3.5", "--json")
+    far = rlff("sim", "throw", str(generated_path(tmp_path / "traj.csv")), "--basket", "3.5", "--json")
     assert far.code == 0, far.stderr
     assert "warning: the basket at 3.5 m is beyond the reach of comau_smart5_six" in far.stderr
     outcome = json.loads(far.stdout)
     assert not outcome["reachable"] and not outcome["hit"] and outcome["miss"] < -1.0
 
 
-def test_sim_reach_reports_the_reach(cli):
-    result = cli("sim", "reach", "--json")
+def test_sim_reach_reports_the_reach(rlff):
+    result = rlff("sim", "reach", "--json")
     assert result.code == 0, result.stderr
     payload = json.loads(result.stdout)
     assert payload["reach"] == pytest.approx(2.30, abs=0.01)
     assert payload["farthest_basket"] == pytest.approx(payload["reach"] + 0.175 - 0.033)
-    text = cli("sim", "reach").stdout  # plain text (no rich markup): the table name as in the robot file
+    text = rlff("sim", "reach").stdout  # plain text (no rich markup): the table name as in the robot file
     assert "throws of the [throwing] mapping" in text and "\\" not in text
     assert "for comparison" not in text
     # beside the whole arm's reach, the one-joint line says it is a comparison
-    both = cli("sim", "reach", "--joints", "joint_2,joint_3").stdout
+    both = rlff("sim", "reach", "--joints", "joint_2,joint_3").stdout
     assert "for comparison, one joint: throws of the [throwing] mapping (joint_2 alone" in both
     # an opening in centimetres had given "farthest basket 19.768 m"
-    wide = cli("sim", "reach", "--opening", "35")
+    wide = rlff("sim", "reach", "--opening", "35")
     assert wide.code == 2 and "--opening 35 m reaches back past the robot" in wide.stderr
     # the basket's own check names its parameter; the command adds the option the user typed
-    low = cli("sim", "reach", "--height", "0.01")
+    low = rlff("sim", "reach", "--height", "0.01")
     assert low.code == 2 and "rlff: error: basket rim_height (--height) 0.01 m is no higher than" in low.stderr
 
 
-def test_sim_reach_of_an_arm_it_cannot_simulate_says_why(cli, tmp_path):
+def test_sim_reach_of_an_arm_it_cannot_simulate_says_why(rlff, tmp_path):
     # a 7-joint arm got "unknown joint 'joint_1' on robot seven"; sim throw said it needs 6 joints
     lines = ["name = 'seven'"]
     for k in range(1, 8):
@@ -134,11 +134,11 @@ def test_sim_reach_of_an_arm_it_cannot_simulate_says_why(cli, tmp_path):
                   "max_acceleration = 5.0", "max_jerk = 40.0"]
     robot = tmp_path / "seven.toml"
     robot.write_text("\n".join(lines) + "\n")
-    result = cli("sim", "reach", "--robot", str(robot))
+    result = rlff("sim", "reach", "--robot", str(robot))
     assert result.code == 2 and "cannot be simulated" in result.stderr and "unknown joint" not in result.stderr
 
 
-def test_sim_reach_throws_with_the_robot_file_s_throwing_joint_unless_told(cli, tmp_path):
+def test_sim_reach_throws_with_the_robot_file_s_throwing_joint_unless_told(rlff, tmp_path):
     # a file that throws with joint_3 was given joint_2's reach first (and its farthest basket)
     from importlib import resources
 
@@ -146,10 +146,10 @@ def test_sim_reach_throws_with_the_robot_file_s_throwing_joint_unless_told(cli, 
     assert text.count('joint = "joint_2"') == 1
     robot = tmp_path / "elbow.toml"
     robot.write_text(text.replace('joint = "joint_2"', 'joint = "joint_3"').replace("joint_3 = -1.373\n", "joint_2 = 0.2\n"))
-    default = json.loads(cli("sim", "reach", "--robot", str(robot), "--json").stdout)
-    told = json.loads(cli("sim", "reach", "--robot", str(robot), "--json", "--joints", "joint_3").stdout)
+    default = json.loads(rlff("sim", "reach", "--robot", str(robot), "--json").stdout)
+    told = json.loads(rlff("sim", "reach", "--robot", str(robot), "--json", "--joints", "joint_3").stdout)
     assert default["joints"] == ["joint_3"] and default["reach"] == told["reach"]
-    assert json.loads(cli("sim", "reach", "--json").stdout)["joints"] == ["joint_2"]  # the built-in's
+    assert json.loads(rlff("sim", "reach", "--json").stdout)["joints"] == ["joint_2"]  # the built-in's
 
 
 @pytest.mark.slow
