@@ -1,4 +1,6 @@
-"""``rlff bench learning``, through the real command line with the smallest grids."""
+"""``rlff bench learning``, through the real command line with the smallest grids: a subprocess for
+the JSON report, a Ctrl-C, a method module of the working folder and the default workers, the
+entry point in this process (the ``rlff`` fixture) for the rest."""
 
 from __future__ import annotations
 
@@ -38,17 +40,17 @@ def test_json_is_rows_and_comparisons_of_the_scenario_asked_for(cli):
 
 
 @pytest.mark.slow
-def test_the_table_names_one_seed_as_one(cli):
+def test_the_table_names_one_seed_as_one(rlff):
     # it said "Seeds 100-100"
-    result = cli("bench", "learning", "--seeds", "1", "--budget", "1", "--jobs", "1", "--feedback", "binary",
+    result = rlff("bench", "learning", "--seeds", "1", "--budget", "1", "--jobs", "1", "--feedback", "binary",
                  "--methods", "imitation")
     assert result.code == 0, result.stderr
     assert result.stdout.startswith("Seed 100, budget 1 (a run without a hit counts as 2);")
 
 
 @pytest.mark.slow
-def test_each_gap_is_a_case_of_its_own_named_by_it(cli):
-    result = cli("bench", "learning", "--seeds", "1", "--budget", "3", "--jobs", "1", "--feedback", "binary",
+def test_each_gap_is_a_case_of_its_own_named_by_it(rlff):
+    result = rlff("bench", "learning", "--seeds", "1", "--budget", "3", "--jobs", "1", "--feedback", "binary",
                  "--methods", "imitation", "--gap", "none,speed:0.9", "--json")
     assert result.code == 0, result.stderr
     rows = {r["scenario"]: r for r in json.loads(result.stdout)["rows"]}
@@ -56,19 +58,19 @@ def test_each_gap_is_a_case_of_its_own_named_by_it(cli):
     assert all(row["runs"] == 2 for row in rows.values())
 
 
-def test_the_baskets_can_be_chosen_for_an_arm_of_ones_own(cli):
+def test_the_baskets_can_be_chosen_for_an_arm_of_ones_own(rlff):
     # the scenarios' baskets were fixed: an arm that throws less far could not be benchmarked
-    result = cli("bench", "learning", "--seeds", "1", "--budget", "3", "--jobs", "1", "--feedback", "binary",
+    result = rlff("bench", "learning", "--seeds", "1", "--budget", "3", "--jobs", "1", "--feedback", "binary",
                  "--methods", "imitation", "--baskets", "1.1", "--json")
     assert result.code == 0, result.stderr
     (row,) = json.loads(result.stdout)["rows"]
     assert row["runs"] == 1  # one seed, one basket (the scenario's own are two)
 
 
-def test_the_default_baskets_beyond_the_robots_reach_are_refused_before_any_run(cli, tmp_path):
+def test_the_default_baskets_beyond_the_robots_reach_are_refused_before_any_run(rlff, tmp_path):
     # the tester's arm failed at the 1.9 m basket 27 runs of 108 in, with no word of --baskets
     arm = slow_arm(tmp_path)
-    result = cli("bench", "learning", "--robot", str(arm), "--seeds", "2", "--scenario", "short,wide")
+    result = rlff("bench", "learning", "--robot", str(arm), "--seeds", "2", "--scenario", "short,wide")
     assert result.code == 2 and result.stdout == ""
     (line,) = result.stderr.strip().splitlines()  # no progress bar: nothing ran
     assert line.startswith(f"rlff: error: --robot {arm} (slow_arm) does not reach the basket at 1.90 m of scenario "
@@ -78,7 +80,7 @@ def test_the_default_baskets_beyond_the_robots_reach_are_refused_before_any_run(
     assert "pass baskets within its reach with --baskets, e.g. --baskets 1.25,1.4,1.75" in line
 
 
-def test_the_reach_a_refusal_gives_is_that_of_the_robot_file_s_own_throwing_joint(cli, tmp_path):
+def test_the_reach_a_refusal_gives_is_that_of_the_robot_file_s_own_throwing_joint(rlff, tmp_path):
     # a joint_3 thrower was first told the free pose's farthest basket (its joint_2 at its limit
     # too), then refused at a nearer one by the throws it executes
 
@@ -88,7 +90,7 @@ def test_the_reach_a_refusal_gives_is_that_of_the_robot_file_s_own_throwing_join
     text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
     robot = tmp_path / "elbow.toml"
     robot.write_text(text.replace('joint = "joint_2"', 'joint = "joint_3"').replace("joint_3 = -1.373\n", "joint_2 = 0.2\n"))
-    result = cli("bench", "learning", "--robot", str(robot), "--seeds", "1", "--baskets", "4.5", "--methods", "imitation")
+    result = rlff("bench", "learning", "--robot", str(robot), "--seeds", "1", "--baskets", "4.5", "--methods", "imitation")
     assert result.code == 2, result.stderr
     mapped = farthest_basket(executable_reach(RobotMapping.for_robot(load_robot(robot))).distance, 0.35)
     assert ("throwing with joint_3 alone at its speed limit (the other joints at the [throwing] start pose)"
@@ -98,29 +100,29 @@ def test_the_reach_a_refusal_gives_is_that_of_the_robot_file_s_own_throwing_join
 
 @pytest.mark.parametrize(("opening", "said"), [("0.01", "is no wider than the ball (0.066 m across)"),
                                                ("3", "reaches back past the robot from a basket 1.4 m away")])
-def test_an_opening_no_throw_can_score_in_is_refused(cli, opening, said):
+def test_an_opening_no_throw_can_score_in_is_refused(rlff, opening, said):
     # 0.01 m was taken and never hit; 3 m put the basket's near edge behind the robot, and the
     # window search aimed its first throw behind the base (a median of 2 attempts for it)
-    result = cli("bench", "learning", "--seeds", "1", "--methods", "imitation", "--opening", opening)
+    result = rlff("bench", "learning", "--seeds", "1", "--methods", "imitation", "--opening", opening)
     assert result.code == 2 and f"basket opening (--opening) {opening} m {said}" in result.stderr
 
 
-def test_the_table_and_json_name_the_robot_they_ran_on(cli, tmp_path):
+def test_the_table_and_json_name_the_robot_they_ran_on(rlff, tmp_path):
     # a table of another arm read like the Comau's
     arm = slow_arm(tmp_path)
     grid = ("bench", "learning", "--robot", str(arm), "--baskets", "0.9", "--seeds", "1", "--budget", "1",
             "--jobs", "1", "--feedback", "binary", "--methods", "imitation")
-    table = cli(*grid)
+    table = rlff(*grid)
     assert table.code == 0, table.stderr
     assert f"Robot: slow_arm (robot file {arm}, digest " in table.stdout
-    report = json.loads(cli(*grid, "--json").stdout)
+    report = json.loads(rlff(*grid, "--json").stdout)
     assert report["robot"]["name"] == "slow_arm" and report["robot"]["file"] == str(arm)
     assert len(report["robot"]["digest"]) == 16 and len(report["rows"]) == 1
 
 
-def test_a_basket_the_loops_throws_do_not_reach_is_refused_before_the_first_run(cli, tmp_path):
+def test_a_basket_the_loops_throws_do_not_reach_is_refused_before_the_first_run(rlff, tmp_path):
     # within the arm's reach, beyond what it throws from where the people let go: the first run said it
-    result = cli("bench", "learning", "--robot", str(slow_arm(tmp_path)), "--baskets", "0.9,1.4", "--seeds", "2",
+    result = rlff("bench", "learning", "--robot", str(slow_arm(tmp_path)), "--baskets", "0.9,1.4", "--seeds", "2",
                  "--budget", "1", "--jobs", "1", "--feedback", "binary", "--methods", "imitation")
     assert result.code == 2 and result.stdout == ""
     assert ("rlff: error: --baskets: the basket at 1.40 m is out of reach of the throws slow_arm executes from the "
@@ -160,8 +162,8 @@ def test_a_basket_the_loops_throws_do_not_reach_is_refused_before_the_first_run(
     # it was said by the first run, after the progress bar had started, without the option's name
     ("--baskets", "5", "--baskets: basket at 5.00 m is out of reach of comau_smart5_six (built in)"),
 ])
-def test_bad_options_are_one_line_input_errors(cli, option, value, message):
-    result = cli("bench", "learning", option, value)
+def test_bad_options_are_one_line_input_errors(rlff, option, value, message):
+    result = rlff("bench", "learning", option, value)
     assert result.code == 2
     assert message in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
@@ -188,8 +190,8 @@ def test_a_method_that_cannot_use_the_feedback_is_said_to_be_left_out(cli):
     assert [row["method"] for row in json.loads(result.stdout)["rows"]] == ["calibrate"]
 
 
-def test_methods_that_cannot_use_the_feedback_are_refused_not_an_empty_table(cli):
-    result = cli("bench", "learning", "--methods", "hindsight", "--feedback", "binary", "--seeds", "1")
+def test_methods_that_cannot_use_the_feedback_are_refused_not_an_empty_table(rlff):
+    result = rlff("bench", "learning", "--methods", "hindsight", "--feedback", "binary", "--seeds", "1")
     assert result.code == 2 and result.stdout == ""
     assert "no method of --methods hindsight works with --feedback binary (hindsight: distance)" in result.stderr
 
