@@ -236,17 +236,18 @@ def test_show_prints_every_limit(capsys):
     assert row.split() == ["joint_2", "-1.48", "2.71", "2.792", "11", "110"]
 
 
-def test_send_takes_what_export_json_writes(cli, throw, tmp_path):
+def test_send_takes_what_export_json_writes(rlff, monkeypatch, throw, tmp_path):
     """Planned and checked before connecting: the exported file gets as far as the (absent) master,
     the same file with its time stretched is refused first, with exit 2."""
-    assert cli("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
-    env = {"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"}
-    result = cli("robot", "send", str(tmp_path / "t.json"), "--timeout", "1", env=env)
+    assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there
+    monkeypatch.setenv("ROS_IP", "127.0.0.1")
+    result = rlff("robot", "send", str(tmp_path / "t.json"), "--timeout", "1")
     assert result.code == 1 and "no ROS master" in result.stderr, result.stderr
     document = json.loads((tmp_path / "t.json").read_text())
     document["time"] = [20 * t for t in document["time"]]
     (tmp_path / "slow.json").write_text(json.dumps(document))
-    result = cli("robot", "send", str(tmp_path / "slow.json"), "--timeout", "1", env=env)
+    result = rlff("robot", "send", str(tmp_path / "slow.json"), "--timeout", "1")
     assert result.code == 2 and "slow.json: point " in result.stderr and "disagree" in result.stderr
     assert "master" not in result.stderr
 
@@ -316,32 +317,36 @@ def test_send_refuses_an_approach_speed_without_the_approach_it_paces(rlff, monk
     assert sent.code == 1 and "no ROS master" in sent.stderr, sent.stderr
 
 
-def test_a_period_in_milliseconds_is_refused_for_a_plan_and_an_approach(cli, throw, tmp_path):
+def test_a_period_in_milliseconds_is_refused_for_a_plan_and_an_approach(rlff, monkeypatch, throw, tmp_path):
     # 10 (ms meant) was planned at a 10 s period: refused as a throw too short to wind up for, and
     # an exported trajectory's approach was planned over 10 s
     said = "--period 10 s is longer than 1 s: a controller period is in seconds (milliseconds? 2 ms is 0.002)"
-    exported = cli("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json"), "--period", "10")
+    exported = rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json"), "--period", "10")
     assert exported.code == 2 and said in exported.stderr and not (tmp_path / "t.json").exists()
-    assert cli("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
-    env = {"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"}
-    sent = cli("robot", "send", str(tmp_path / "t.json"), "--approach", "--period", "10", "--timeout", "1", env=env)
+    assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there
+    monkeypatch.setenv("ROS_IP", "127.0.0.1")
+    sent = rlff("robot", "send", str(tmp_path / "t.json"), "--approach", "--period", "10", "--timeout", "1")
     assert sent.code == 2 and said in sent.stderr, sent.stderr
 
 
-def test_send_takes_a_period_for_the_approach_of_a_robot_trajectory(cli, throw, tmp_path):
+def test_send_takes_a_period_for_the_approach_of_a_robot_trajectory(rlff, monkeypatch, throw, tmp_path):
     """With --approach, --period samples the approach planned to a robot trajectory's start: not refused."""
-    assert cli("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
-    env = {"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"}
-    result = cli("robot", "send", str(tmp_path / "t.json"), "--approach", "--period", "0.01", "--timeout", "1", env=env)
+    assert rlff("robot", "export", str(throw), "-f", "json", "-o", str(tmp_path / "t.json")).code == 0
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there
+    monkeypatch.setenv("ROS_IP", "127.0.0.1")
+    result = rlff("robot", "send", str(tmp_path / "t.json"), "--approach", "--period", "0.01", "--timeout", "1")
     assert result.code == 1 and "no ROS master" in result.stderr, result.stderr
 
 
+@pytest.mark.timeout(60)  # a timeout let through would wait for the absent master
 @pytest.mark.parametrize("timeout", ["nan", "0", "-1", "inf"])
-def test_send_refuses_a_timeout_that_is_no_time_before_connecting(cli, throw, timeout):
+def test_send_refuses_a_timeout_that_is_no_time_before_connecting(rlff, monkeypatch, throw, timeout):
     """nan was taken (a warning that it is shorter than the motion, then the goal went out), -1
     blamed the arm's driver after waiting for nothing (exit 1)."""
-    env = {"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"}
-    result = cli("robot", "send", str(throw), "--timeout", timeout, env=env, timeout=60)
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there
+    monkeypatch.setenv("ROS_IP", "127.0.0.1")
+    result = rlff("robot", "send", str(throw), "--timeout", timeout)
     assert result.code == 2, result.stderr
     assert result.stderr.startswith(f"rlff: error: --timeout {float(timeout):g}: give a finite number of seconds "
                                     "above 0"), result.stderr
@@ -448,16 +453,16 @@ def test_robot_file_with_a_missing_limit_is_refused(capsys, throw, tmp_path):
     assert code == 2 and "unknown --format 'yaml'" in err
 
 
-def test_send_refuses_bad_input_before_connecting(cli, tmp_path):
+def test_send_refuses_bad_input_before_connecting(rlff, monkeypatch, tmp_path):
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there
+    monkeypatch.setenv("ROS_IP", "127.0.0.1")
     path = human_csv(tmp_path / "far.csv", np.linspace(2.0, 2.8, 9), np.full(9, 1.0))
-    result = cli("robot", "send", str(path), "--timeout", "1",
-                 env={"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"})
+    result = rlff("robot", "send", str(path), "--timeout", "1")
     assert result.code == 2
     assert "beyond the limit 2.71 rad" in result.stderr and "master" not in result.stderr
     # the issue's path ending 0.01 rad from the limit at 2.7 rad/s: no room to brake, nothing sent
     edge = human_csv(tmp_path / "edge.csv", np.linspace(1.5, 2.70, 13), np.full(13, 2.7))
-    result = cli("robot", "send", str(edge), "--timeout", "1",
-                 env={"ROS_MASTER_URI": "http://127.0.0.1:9", "ROS_IP": "127.0.0.1"})
+    result = rlff("robot", "send", str(edge), "--timeout", "1")
     assert result.code == 2 and "no room to brake after the release" in result.stderr
     assert "master" not in result.stderr
 
@@ -501,22 +506,22 @@ def test_live_goals_and_files_each_have_their_period_and_the_help_says_why():
     assert "the live throws of --executor ros1|ros2 are planned at 0.01" in learn.help
 
 
-def test_the_approach_speed_option_defaults_to_the_planners_share(cli, throw, tmp_path):
+def test_the_approach_speed_option_defaults_to_the_planners_share(rlff, throw, tmp_path):
     from rlff.cli._common import APPROACH_SPEED_OPTION
     from rlff.trajectory.planner import APPROACH_SPEED
 
     assert APPROACH_SPEED_OPTION.default == APPROACH_SPEED
     for bad in ("0", "1e-06", "1.0000001", "nan", "-0.2"):  # refused before anything connects
-        result = cli("robot", "send", str(throw), "--approach-speed", bad)
+        result = rlff("robot", "send", str(throw), "--approach-speed", bad)
         assert result.code == 2 and f"--approach-speed {bad}: the approach speed is a share" in result.stderr
 
 
-def test_a_release_against_the_paths_direction_is_said_so_not_compared_with_a_limit_of_0(cli, tmp_path):
+def test_a_release_against_the_paths_direction_is_said_so_not_compared_with_a_limit_of_0(rlff, tmp_path):
     path = tmp_path / "turned.csv"
     velocity = np.full(30, 6.0)
     velocity[-1] = -4.0  # the last sample swings back
     pd.DataFrame({"angle": np.linspace(0.4, 2.2, 30), "velocity": velocity}).to_csv(path, index=False)
-    result = cli("robot", "export", str(path), "-f", "json", "-o", str(tmp_path / "out.json"))
+    result = rlff("robot", "export", str(path), "-f", "json", "-o", str(tmp_path / "out.json"))
     assert result.code == 2 and "1 value the robot would not execute as asked: point 29: joint_2 velocity -1 rad/s " \
         "moves it against the path's direction (the release), which clip (--clip) stops (0 rad/s)" in result.stderr
     assert "beyond the limit 0" not in result.stderr
