@@ -1,4 +1,5 @@
-"""``rlff learn`` as a user runs it: a real subprocess, killed and resumed, and bad input."""
+"""``rlff learn`` as a user runs it: a real subprocess where it is killed, stopped, locked out or
+warned, the real entry point in this process (the ``rlff`` fixture) for the rest, and bad input."""
 
 from __future__ import annotations
 
@@ -225,13 +226,13 @@ def test_a_ctrl_c_caught_inside_an_import_still_exits_130(tmp_path):
 
 
 @pytest.mark.slow
-def test_a_partial_last_line_is_dropped_and_the_run_goes_on(cli, demos_csv, tmp_path):
+def test_a_partial_last_line_is_dropped_and_the_run_goes_on(rlff, demos_csv, tmp_path):
     log = tmp_path / "attempts.jsonl"
     args = ["learn", str(demos_csv), "--basket", "1.4", "--update", "failure", "--log", str(log), "--json"]
-    assert cli(*args, "--budget", "1").code == 0
+    assert rlff(*args, "--budget", "1").code == 0
     with open(log, "a") as handle:
         handle.write('{"attempt": 2, "target": 1.4, "hit": fal')  # a crash mid-write
-    result = cli(*args, "--budget", "2")
+    result = rlff(*args, "--budget", "2")
     assert result.code == 0, result.stderr
     payload = json.loads(result.stdout)
     assert payload["resumed"] == 1 and payload["attempts"] == 2
@@ -239,23 +240,23 @@ def test_a_partial_last_line_is_dropped_and_the_run_goes_on(cli, demos_csv, tmp_
     assert "partial last line" in result.stderr
 
 
-def test_a_corrupt_log_is_one_clear_line_and_exit_2(cli, demos_csv, tmp_path):
+def test_a_corrupt_log_is_one_clear_line_and_exit_2(rlff, demos_csv, tmp_path):
     log = tmp_path / "attempts.jsonl"
     log.write_text('{"format": "rlff-attempts", "version": 1, "run": {}}\n{"attempt": 1, oops\n{}\n')
-    result = cli("learn", str(demos_csv), "--basket", "1.9", "--log", str(log))
+    result = rlff("learn", str(demos_csv), "--basket", "1.9", "--log", str(log))
     assert result.code == 2
     assert result.stderr.strip().count("\n") == 0
     assert "line 2: corrupt attempts log" in result.stderr
 
 
-def test_an_unreachable_basket_is_one_clear_line_and_exit_2(cli, demos_csv):
-    result = cli("learn", str(demos_csv), "--basket", "5.0")
+def test_an_unreachable_basket_is_one_clear_line_and_exit_2(rlff, demos_csv):
+    result = rlff("learn", str(demos_csv), "--basket", "5.0")
     assert result.code == 2
     assert "out of reach" in result.stderr
     assert result.stderr.strip().count("\n") == 0
 
 
-def test_demonstrations_without_a_velocity_column_are_named_with_their_file(cli, demos_csv, tmp_path):
+def test_demonstrations_without_a_velocity_column_are_named_with_their_file(rlff, demos_csv, tmp_path):
     import csv
 
     rows = list(csv.DictReader(demos_csv.open()))
@@ -265,7 +266,7 @@ def test_demonstrations_without_a_velocity_column_are_named_with_their_file(cli,
         writer = csv.DictWriter(handle, fieldnames=names, extrasaction="ignore")
         writer.writeheader()
         writer.writerows(rows)
-    result = cli("learn", str(bare), "--basket", "1.9", "--preset", "thesis")
+    result = rlff("learn", str(bare), "--basket", "1.9", "--preset", "thesis")
     assert result.code == 2
     assert result.stderr.strip().count("\n") == 0
     assert f"{bare}: no column 'velocity'" in result.stderr
@@ -285,15 +286,15 @@ def test_a_library_warning_is_one_warning_line_without_python_s_source_path(cli,
         assert "UserWarning" not in result.stderr and ".py:" not in result.stderr and "Model.fit(" not in result.stderr
 
 
-def test_hindsight_with_binary_feedback_is_refused(cli, demos_csv):
-    result = cli("learn", str(demos_csv), "--basket", "1.9", "--update", "hindsight", "--feedback", "binary")
+def test_hindsight_with_binary_feedback_is_refused(rlff, demos_csv):
+    result = rlff("learn", str(demos_csv), "--basket", "1.9", "--update", "hindsight", "--feedback", "binary")
     assert result.code == 2
     assert "needs distance feedback" in result.stderr
 
 
 @pytest.mark.slow
 @pytest.mark.integration
-def test_a_second_run_on_the_same_log_exits_2_naming_the_first(cli, demos_csv, tmp_path):
+def test_a_second_run_on_the_same_log_exits_2_naming_the_first(rlff, demos_csv, tmp_path):
     """Two real `rlff learn` processes on one log: the second is refused while the first holds
     it (paused after its first attempt), and the first then ends with every attempt once."""
     log = tmp_path / "attempts.jsonl"
@@ -308,7 +309,7 @@ def test_a_second_run_on_the_same_log_exits_2_naming_the_first(cli, demos_csv, t
         first.send_signal(signal.SIGSTOP)  # holds the log, mid-run
         assert first.poll() is None, "the first run must still be running"
         held = len(attempt_lines(log))
-        second = cli(*args)
+        second = rlff(*args)
         assert second.code == 2
         assert second.stderr.strip().count("\n") == 0
         assert f"in use by rlff learn, pid {first.pid} on host {socket.gethostname()}" in second.stderr
@@ -320,72 +321,72 @@ def test_a_second_run_on_the_same_log_exits_2_naming_the_first(cli, demos_csv, t
     payload = json.loads(out)
     assert [json.loads(line)["attempt"] for line in attempt_lines(log)] == list(range(1, payload["attempts"] + 1))
     # released at the end: a later run resumes (and stops at once: the budget is spent or it hit)
-    assert cli(*args).code == 0
+    assert rlff(*args).code == 0
 
 
-def test_resuming_with_a_robot_that_changed_its_mapping_is_refused(cli, demos_csv, tmp_path):
+def test_resuming_with_a_robot_that_changed_its_mapping_is_refused(rlff, demos_csv, tmp_path):
     log = tmp_path / "attempts.jsonl"
     args = ["learn", str(demos_csv), "--basket", "1.4", "--budget", "1", "--log", str(log)]
-    assert cli(*args).code == 0
+    assert rlff(*args).code == 0
     # same robot name, another mapping
     text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
     assert "angle_scale = 0.71" in text
     changed = tmp_path / "comau_smart5_six.toml"
     changed.write_text(text.replace("angle_scale = 0.71", "angle_scale = 0.8"))
-    result = cli(*args, "--budget", "2", "--robot", str(changed))
+    result = rlff(*args, "--budget", "2", "--robot", str(changed))
     assert result.code == 2
     assert result.stderr.strip().count("\n") == 0
     assert "robot.description.mapping.angle_scale = 0.71 in the log, 0.8 now" in result.stderr
     assert len(attempt_lines(log)) == 1
     # and the logged throw is not replayed on the other robot either
-    replay = cli("sim", "throw", str(log), "--attempt", "1", "--robot", str(changed))
+    replay = rlff("sim", "throw", str(log), "--attempt", "1", "--robot", str(changed))
     assert replay.code == 2 and "mapping.angle_scale" in replay.stderr
 
 
-def test_a_slower_simulated_arm_lands_shorter_and_its_log_resumes_only_on_that_arm(cli, demos_csv, tmp_path):
+def test_a_slower_simulated_arm_lands_shorter_and_its_log_resumes_only_on_that_arm(rlff, demos_csv, tmp_path):
     args = ["learn", str(demos_csv), "--basket", "1.4", "--budget", "1", "--json"]
-    faithful = json.loads(cli(*args).stdout)
+    faithful = json.loads(rlff(*args).stdout)
     log = tmp_path / "slower.jsonl"
-    result = cli(*args, "--gap", "speed:0.9", "--log", str(log))
+    result = rlff(*args, "--gap", "speed:0.9", "--log", str(log))
     assert result.code == 0, result.stderr
     slower = json.loads(result.stdout)
     # the same planned throw (the loop plans with the robot file), executed 10 % slower: shorter
     assert slower["misses"][0] < faithful["misses"][0] - 0.1
     assert json.loads(log.read_text().splitlines()[0])["run"]["gap"] == "speed:0.9"
-    refused = cli("learn", str(demos_csv), "--basket", "1.4", "--budget", "2", "--log", str(log))
+    refused = rlff("learn", str(demos_csv), "--basket", "1.4", "--budget", "2", "--log", str(log))
     assert refused.code == 2 and "gap" in refused.stderr
     # replayed in the simulation, the logged throw lands where the log says: on the run's arm
-    replay = cli("sim", "throw", str(log), "--attempt", "1", "--json")
+    replay = rlff("sim", "throw", str(log), "--attempt", "1", "--json")
     assert replay.code == 0 and "gap speed:0.9" in replay.stderr
     assert json.loads(replay.stdout)["miss"] == pytest.approx(slower["misses"][0], abs=1e-9)
     # and a gap is the simulation's: not with a live robot
-    live = cli("learn", str(demos_csv), "--basket", "1.4", "--gap", "delay:0.02", "--executor", "ros1",
+    live = rlff("learn", str(demos_csv), "--basket", "1.4", "--gap", "delay:0.02", "--executor", "ros1",
                "--outcome", "ask")
     assert live.code == 2 and "--gap" in live.stderr and "--executor sim" in live.stderr
 
 
-def test_misreport_goes_into_the_logs_header_unless_it_is_the_default(cli, demos_csv, tmp_path):
+def test_misreport_goes_into_the_logs_header_unless_it_is_the_default(rlff, demos_csv, tmp_path):
     from rlff.learn.windows import MISREPORT
 
     args = ["learn", str(demos_csv), "--basket", "1.4", "--budget", "1"]
     default, never = tmp_path / "default.jsonl", tmp_path / "never.jsonl"
-    assert cli(*args, "--misreport", str(MISREPORT), "--log", str(default)).code == 0
+    assert rlff(*args, "--misreport", str(MISREPORT), "--log", str(default)).code == 0
     assert "misreport" not in json.loads(default.read_text().splitlines()[0])["run"]
-    assert cli(*args, "--log", str(default)).code == 0  # the CLI's default is the library's: it resumes
-    assert cli(*args, "--misreport", "0", "--log", str(never)).code == 0
+    assert rlff(*args, "--log", str(default)).code == 0  # the CLI's default is the library's: it resumes
+    assert rlff(*args, "--misreport", "0", "--log", str(never)).code == 0
     assert json.loads(never.read_text().splitlines()[0])["run"]["misreport"] == 0
-    refused = cli(*args, "--budget", "2", "--log", str(never))
+    refused = rlff(*args, "--budget", "2", "--log", str(never))
     assert refused.code == 2 and "misreport" in refused.stderr
-    bad = cli(*args, "--misreport", "1.5")
+    bad = rlff(*args, "--misreport", "1.5")
     assert bad.code == 2 and "misreport" in bad.stderr and "[0, 1)" in bad.stderr
 
 
 @pytest.mark.slow
-def test_learn_out_is_what_robot_export_writes_of_the_attempt_and_it_plays_back(cli, demos_csv, tmp_path):
+def test_learn_out_is_what_robot_export_writes_of_the_attempt_and_it_plays_back(rlff, demos_csv, tmp_path):
     from rlff.robot.export import read_bag, read_json
 
     log, learned = tmp_path / "attempts.jsonl", tmp_path / "learned.json"
-    result = cli("learn", str(demos_csv), "--basket", "1.4", "--feedback", "distance", "--log", str(log),
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--feedback", "distance", "--log", str(log),
                  "--out", str(learned), "--json")
     assert result.code == 0, result.stderr
     payload = json.loads(result.stdout)
@@ -393,46 +394,46 @@ def test_learn_out_is_what_robot_export_writes_of_the_attempt_and_it_plays_back(
     assert payload["out"]["miss"] == pytest.approx(payload["misses"][-1])
     # the same file as `robot export` of that attempt of the log (its default: the last hit)
     exported = tmp_path / "exported.json"
-    assert cli("robot", "export", str(log), "-f", "json", "-o", str(exported)).code == 0
+    assert rlff("robot", "export", str(log), "-f", "json", "-o", str(exported)).code == 0
     assert read_json(exported).positions.tolist() == read_json(learned).positions.tolist()
     # learned.json goes on to any export format, and the simulation hits with it again
     bag = tmp_path / "learned.bag"
-    converted = cli("robot", "export", str(learned), "-f", "ros1-bag", "-o", str(bag))
+    converted = rlff("robot", "export", str(learned), "-f", "ros1-bag", "-o", str(bag))
     assert converted.code == 0, converted.stderr
     (played,) = read_bag(bag)
     np.testing.assert_allclose(played.positions, read_json(learned).positions, atol=1e-12)
-    again = cli("sim", "throw", str(learned), "--basket", "1.4", "--json")
+    again = rlff("sim", "throw", str(learned), "--basket", "1.4", "--json")
     assert again.code == 0, again.stderr
     thrown = json.loads(again.stdout)
     assert thrown["hit"] and thrown["miss"] == pytest.approx(payload["misses"][-1], abs=0.01)
-    replayed = json.loads(cli("sim", "throw", str(log), "--json").stdout)  # basket from the log
+    replayed = json.loads(rlff("sim", "throw", str(log), "--json").stdout)  # basket from the log
     assert replayed["hit"] and replayed["basket"]["distance"] == 1.4
     # at another bearing the arm turns to it: the same throw, on the new line
-    turned = json.loads(cli("sim", "throw", str(log), "--bearing", "30", "--json").stdout)
+    turned = json.loads(rlff("sim", "throw", str(log), "--bearing", "30", "--json").stdout)
     assert turned["basket"]["bearing"] == 30 and abs(turned["lateral"]) < 1e-3
     assert turned["miss"] == pytest.approx(replayed["miss"], abs=1e-3)
-    other = cli("sim", "throw", str(log), "--joints", "joint_2,joint_3")  # a log's joints are its run's
+    other = rlff("sim", "throw", str(log), "--joints", "joint_2,joint_3")  # a log's joints are its run's
     assert other.code == 2 and "was thrown with joint_2" in other.stderr
 
 
-def test_learn_out_as_a_bag_of_a_robot_file_without_a_ros_table_says_the_names_it_carries(cli, demos_csv, tmp_path):
+def test_learn_out_as_a_bag_of_a_robot_file_without_a_ros_table_says_the_names_it_carries(rlff, demos_csv, tmp_path):
     # robot export said it; learn --out wrote the same bag without a word
     from robotfiles import unnamed_arm
 
     plain = unnamed_arm(tmp_path)
-    result = cli("learn", str(demos_csv), "--basket", "1.4", "--feedback", "distance", "--budget", "2", "--robot",
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--feedback", "distance", "--budget", "2", "--robot",
                  str(plain), "--out", str(tmp_path / "best.bag"))
     assert result.code == 0, result.stderr
     assert result.stderr.count(f"warning: {plain} has no [ros] table: the bag is written with rlff's defaults, "
                                "the Comau driver's trajectory_topic /comau/joint_trajectory") == 1, result.stderr
-    built_in = cli("learn", str(demos_csv), "--basket", "1.4", "--feedback", "distance", "--budget", "2", "--out",
+    built_in = rlff("learn", str(demos_csv), "--basket", "1.4", "--feedback", "distance", "--budget", "2", "--out",
                    str(tmp_path / "builtin.bag"))
     assert built_in.code == 0 and "[ros]" not in built_in.stderr, built_in.stderr
 
 
-def test_learn_out_with_an_unknown_suffix_fails_before_any_throw(cli, demos_csv, tmp_path):
+def test_learn_out_with_an_unknown_suffix_fails_before_any_throw(rlff, demos_csv, tmp_path):
     log = tmp_path / "attempts.jsonl"
-    result = cli("learn", str(demos_csv), "--basket", "1.4", "--log", str(log), "--out", str(tmp_path / "x.xyz"))
+    result = rlff("learn", str(demos_csv), "--basket", "1.4", "--log", str(log), "--out", str(tmp_path / "x.xyz"))
     assert result.code == 2
     assert "x.xyz: no export format for the suffix '.xyz'" in result.stderr
     assert not log.exists()
@@ -594,7 +595,7 @@ def test_an_out_that_fails_after_the_run_says_what_keeps_it_and_how_to_write_it(
                                "export FILE` writes one)\n"), unlogged.stderr
 
 
-def test_a_one_joint_run_on_your_own_robot_file_is_pointed_at_the_kinematics_aim(cli, demos_csv, tmp_path):
+def test_a_one_joint_run_on_your_own_robot_file_is_pointed_at_the_kinematics_aim(rlff, demos_csv, tmp_path):
     # the [throwing] mapping of a user's file was likely not tuned on their arm; the built-in
     # Comau's was, and an explicit --aim is the user's choice: no hint for either
     from importlib import resources
@@ -602,13 +603,13 @@ def test_a_one_joint_run_on_your_own_robot_file_is_pointed_at_the_kinematics_aim
     mine = tmp_path / "mine.toml"
     mine.write_text((resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text())
     base = ["learn", str(demos_csv), "--basket", "1.4", "--budget", "1"]
-    hinted = cli(*base, "--robot", str(mine))
+    hinted = rlff(*base, "--robot", str(mine))
     assert hinted.code == 0, hinted.stderr
     assert "--aim kinematics starts where its geometry sends the throw" in hinted.stderr + hinted.stdout
     log = tmp_path / "a.jsonl"
-    assert cli(*base, "--robot", str(mine), "--log", str(log)).code == 0
-    resumed = cli(*base[:-1], "2", "--robot", str(mine), "--log", str(log))  # its run chose already
-    for quiet in (cli(*base), cli(*base, "--robot", str(mine), "--aim", "demonstrations"), resumed):
+    assert rlff(*base, "--robot", str(mine), "--log", str(log)).code == 0
+    resumed = rlff(*base[:-1], "2", "--robot", str(mine), "--log", str(log))  # its run chose already
+    for quiet in (rlff(*base), rlff(*base, "--robot", str(mine), "--aim", "demonstrations"), resumed):
         assert quiet.code == 0, quiet.stderr
         assert "--aim kinematics" not in quiet.stderr + quiet.stdout
 
