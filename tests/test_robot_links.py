@@ -74,21 +74,22 @@ def lowered(tmp_path):
     return robot, path
 
 
-def test_export_and_the_simulation_refuse_a_throw_into_the_floor(cli, lowered, tmp_path):
+def test_export_and_the_simulation_refuse_a_throw_into_the_floor(rlff, lowered, tmp_path):
     robot, path = lowered
     for command in (("robot", "export", str(path), "-f", "json", "-o", str(tmp_path / "out.json")),
                     ("sim", "throw", str(path), "--basket", "1.5")):
-        result = cli(*command, "--robot", str(robot))
+        result = rlff(*command, "--robot", str(robot))
         assert result.code == 2, result.stderr
         assert "below the plane its base stands on" in result.stderr and result.stderr.count("\n") == 1
     assert not (tmp_path / "out.json").exists()
 
 
-def test_send_refuses_an_exported_trajectory_into_the_floor_before_connecting(cli, tmp_path):
+def test_send_refuses_an_exported_trajectory_into_the_floor_before_connecting(rlff, monkeypatch, tmp_path):
     from rlff.robot.export import write_json
 
     write_json(_into_the_floor(), tmp_path / "low.json")  # as another tool could write it
-    result = cli("robot", "send", str(tmp_path / "low.json"), "--timeout", "1")
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there, should the refusal let it through
+    result = rlff("robot", "send", str(tmp_path / "low.json"), "--timeout", "1")
     assert result.code == 2, result.stderr
     assert "low.json: the trajectory takes the arm's flange" in result.stderr
 
@@ -123,7 +124,7 @@ def test_the_learning_loop_stops_rather_than_learn_from_a_throw_its_arm_did_not_
         _simulator(ROBOT, Basket(2.0), 0.0)(_into_the_floor())
 
 
-def test_sim_throw_warns_of_a_ball_that_leaves_backwards(cli, tmp_path):
+def test_sim_throw_warns_of_a_ball_that_leaves_backwards(rlff, tmp_path):
     text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
     robot = tmp_path / "backwards.toml"
     robot.write_text(text.replace("angle_offset = -1.65", "angle_offset = 1.65")
@@ -132,10 +133,10 @@ def test_sim_throw_warns_of_a_ball_that_leaves_backwards(cli, tmp_path):
     path = tmp_path / "throw.csv"
     pd.DataFrame({"angle": np.linspace(0.4, 2.2, 40),
                   "velocity": 2.0 + 8.0 * np.sin(np.linspace(0.0, np.pi / 2, 40))}).to_csv(path, index=False)
-    result = cli("sim", "throw", str(path), "--basket", "1.5", "--robot", str(robot))
+    result = rlff("sim", "throw", str(path), "--basket", "1.5", "--robot", str(robot))
     assert result.code == 0, result.stderr
     assert "warning: the ball left the hand backwards" in result.stderr and "[throwing] angle_scale" in result.stderr
-    assert "backwards" not in cli("sim", "throw", str(path), "--basket", "1.5").stderr
+    assert "backwards" not in rlff("sim", "throw", str(path), "--basket", "1.5").stderr
 
 
 def test_a_trajectory_of_some_joints_is_checked_with_the_others_held():
@@ -155,9 +156,10 @@ def test_a_trajectory_of_some_joints_is_checked_with_the_others_held():
         require_above_base(ROBOT, low, held=straight)
 
 
-def test_send_checks_a_partial_trajectory_with_the_joints_it_leaves_out_held(cli, tmp_path):
+def test_send_checks_a_partial_trajectory_with_the_joints_it_leaves_out_held(rlff, monkeypatch, tmp_path):
     from rlff.robot.export import write_json
 
     write_json(_into_the_floor().select(["joint_2"]), tmp_path / "low.json")
-    result = cli("robot", "send", str(tmp_path / "low.json"), "--timeout", "1")
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there, should the refusal let it through
+    result = rlff("robot", "send", str(tmp_path / "low.json"), "--timeout", "1")
     assert result.code == 2 and "low.json: the trajectory takes the arm's flange" in result.stderr
