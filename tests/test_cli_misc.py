@@ -311,25 +311,25 @@ def test_every_plot_kind_has_help(rlff):
 # -- rlff demo ----------------------------------------------------------------------------------
 
 
-def test_demo_bad_input(cli, tmp_path):
+def test_demo_bad_input(rlff, tmp_path):
     occupied = tmp_path / "file"
     occupied.write_text("not a folder")
     for option in ("--out", "--output"):
-        one_line_error(cli("demo", "--small", option, str(occupied)),
+        one_line_error(rlff("demo", "--small", option, str(occupied)),
                        f"{occupied} is a file, not a folder: -o/--output is the folder for the demo's report")
     # a folder of the user's own files under the run's names, not an earlier run's: kept, refused
     mine = tmp_path / "mine"
     mine.mkdir()
     (mine / "demos.csv").write_text("my recordings")
     (mine / "model.json").write_text("{}")
-    one_line_error(cli("demo", "--small", "--out", str(mine)),
+    one_line_error(rlff("demo", "--small", "--out", str(mine)),
                    f"{mine}: holds 2 files rlff demo would write, and no list of the files a run of rlff demo wrote "
                    "there (.rlff-run; an rlff demo older than that list kept none), so it cannot tell them from files "
                    "of yours: demos.csv, model.json; nothing was written or removed: if an older rlff demo wrote them, "
                    "remove them (or move them out of the folder) and run rlff demo again; if any are yours, move them, "
                    "or give another folder with -o")
     assert (mine / "demos.csv").read_text() == "my recordings"
-    assert cli("demo", "--help").code == 0
+    assert rlff("demo", "--help").code == 0
 
 
 def test_a_demo_stopped_before_its_run_json_may_be_run_again_into_its_folder(tmp_path):
