@@ -35,7 +35,7 @@ def _one_line_error(result, *fragments: str) -> str:
 
 
 @pytest.mark.integration
-def test_the_users_own_attempts_log_figure_and_run_json_in_the_folder_are_refused_and_kept(cli, tmp_path):
+def test_the_users_own_attempts_log_figure_and_run_json_in_the_folder_are_refused_and_kept(rlff, tmp_path):
     """The tester's folder: an attempts log and a figure of the user's under the demo's names, and
     a run.json of their own (docs/report.md's write_run), which had let the demo replace them all."""
     from attempts_logs import write_attempts_log
@@ -51,7 +51,7 @@ def test_the_users_own_attempts_log_figure_and_run_json_in_the_folder_are_refuse
     write_run(Run("my run", "2026-12-06T10:00:00+00:00", {}, [Section("s", "S")], []), mine)
     before = {path: path.read_bytes() for path in (log, figure, mine / "run.json")}
 
-    result = cli(*DEMO, "-o", str(mine))
+    result = rlff(*DEMO, "-o", str(mine))
     _one_line_error(result, f"{mine}: holds 3 files rlff demo would write, and no list of the files a run of "
                             "rlff demo wrote there (.rlff-run; ", "so it cannot tell them from files of yours: "
                             "run.json, attempts/calibrate.jsonl, figures/learning.png; nothing was written or removed: ")
@@ -60,7 +60,7 @@ def test_the_users_own_attempts_log_figure_and_run_json_in_the_folder_are_refuse
 
 
 @pytest.mark.integration
-def test_the_users_files_of_names_the_demo_does_not_write_are_left_alone_and_the_demo_runs(cli, tmp_path):
+def test_the_users_files_of_names_the_demo_does_not_write_are_left_alone_and_the_demo_runs(cli, rlff, tmp_path):
     """A figure and attempts logs of the user's beside the demo's, and frames a run without
     --frames does not draw: the folder had been refused for names like the demo's, though the
     run would have touched none of them."""
@@ -79,7 +79,7 @@ def test_the_users_files_of_names_the_demo_does_not_write_are_left_alone_and_the
     listed = json.loads((out / LISTING).read_text())["files"]
     assert not {path.relative_to(out).as_posix() for path in mine} & set(listed)  # nor taken for the demo's
     (out / "figures" / "learning.png").write_bytes(b"edited: mine now")  # a name it writes: refused
-    _one_line_error(cli(*DEMO, "-o", str(out)), "figures/learning.png (changed since rlff demo wrote it)")
+    _one_line_error(rlff(*DEMO, "-o", str(out)), "figures/learning.png (changed since rlff demo wrote it)")
     assert {path: path.read_bytes() for path in mine} == mine
 
 
@@ -108,7 +108,8 @@ def test_a_small_demo_after_a_full_one_leaves_none_of_the_full_runs_files(tmp_pa
 
 
 @pytest.mark.integration
-def test_a_second_demo_into_a_folder_in_use_is_refused_at_once_naming_the_first(cli, tmp_path):
+@pytest.mark.timeout(300)  # a second run let through would run the whole demo
+def test_a_second_demo_into_a_folder_in_use_is_refused_at_once_naming_the_first(rlff, tmp_path):
     """Two demos into one folder: the second had run to the end too, over the first's files."""
     out = tmp_path / "demo"
     env = {**os.environ, "MPLBACKEND": "Agg"}
@@ -121,7 +122,7 @@ def test_a_second_demo_into_a_folder_in_use_is_refused_at_once_naming_the_first(
             assert first.poll() is None, first.stderr.read()
             assert time.monotonic() < deadline, "the first demo did not start"
             time.sleep(0.1)
-        result = cli(*DEMO, "-o", str(out), timeout=300)
+        result = rlff(*DEMO, "-o", str(out))
         _one_line_error(result, f"{out} is in use by rlff demo, pid {first.pid} on host ",
                         f"(lock file {out / LOCK}); wait for that run to end, or give another folder with -o")
         # refused without disturbing the first: it runs on, holding the folder
