@@ -122,6 +122,10 @@ def test_missing_columns_are_named(arm):
     (("joint_2", "joint_9"), r"joints \['joint_9'\] are not in .*\[whole_arm\].joints \(mapped: joint_2, joint_3, joint_5\)"),
     (("joint_2", "joint_5"), "must include the one following the elbow .*: joint_3"),
     ((), r"joints \(--joints\) names no joint"),
+    # blamed on the robot file ("each robot joint ... may be driven once"), or "must include ...: joint_3"
+    (("joint_2", "joint_3", "joint_3"), r"^joint_3 given twice in joints joint_2,joint_3,joint_3 \(--joints\): give "
+                                        r"each joint once \(joint_2,joint_3\)$"),
+    (("joint_2", "joint_2"), r"^joint_2 given twice in joints joint_2,joint_2 \(--joints\): give each joint once"),
 ])
 def test_joints_the_robot_file_does_not_map_are_refused(robot, joints, message):
     with pytest.raises(InputError, match=message):

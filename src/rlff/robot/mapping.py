@@ -376,6 +376,10 @@ class ArmMapping:
         if not isinstance(pose, Mapping):
             raise InputError(f"{where}: missing table 'start_pose'")
         asked = [str(name) for name in as_names(joints)]
+        twice = sorted({name for name in asked if asked.count(name) > 1})
+        if twice:  # it was blamed on the robot file's table ("each robot joint ... may be driven once")
+            raise InputError(f"{' and '.join(twice)} given twice in joints {','.join(asked)} (--joints): give "
+                             f"each joint once ({','.join(dict.fromkeys(asked))})")
         unknown = [name for name in asked if name not in entries]
         if unknown:
             raise InputError(f"joints {unknown} are not in {where}.joints (mapped: {', '.join(entries)})")
