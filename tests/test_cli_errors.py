@@ -241,8 +241,16 @@ def test_a_tiny_densify_step_is_refused_with_its_numbers(rlff, files, tmp_path):
         (["fit", "{data}", "-o", "{tmp}/m.json", "-k", "100000"], ["-k/--components 100000 is more than the", "samples"]),
         (["fit", "{data}", "-o", "{tmp}/m.json", "--max-components", "0"], ["'--max-components'", "(got '0')"]),
         (["fit", "{data}", "-o", "{tmp}/m.json", "--n-init", "0"], ["'--n-init'", "(got '0')"]),
-        # an option given twice: click takes the last, and the error quotes it (it quoted the first)
-        (["fit", "{data}", "-o", "{tmp}/m.json", "--n-init", "1", "--n-init=0"], ["'--n-init'", "(got '0')"]),
+        # an option given twice with two values: refused (click took the last without a word, and
+        # an error of it quoted the first until 2026-12-07)
+        (["fit", "{data}", "-o", "{tmp}/m.json", "--n-init", "1", "--n-init=0"],
+         ["rlff fit: --n-init given twice (--n-init 1, then --n-init 0): give it once"]),
+        (["generate", "{model}", "-c", "distance=2", "-o", "{tmp}/first.csv", "--output", "{tmp}/second.csv"],
+         ["rlff generate: --output given twice (-o ", "first.csv, then --output ", "second.csv): give it once"]),
+        (["sim", "throw", "{model}", "--basket", "1.75", "--basket=2"],
+         ["rlff sim throw: --basket given twice (--basket 1.75, then --basket 2): give it once"]),
+        (["bench", "learning", "--seeds", "1", "--quick", "--seeds", "2"],
+         ["rlff bench learning: --seeds given twice (--seeds 1, then --seeds 2)"]),
         (["fit", "{data}", "-o", "{tmp}/m.json", "--criterion", "bci"], ["--criterion must be bic or aic, got 'bci'"]),
         (["plot", "bic", "{data}", "-o", "{tmp}/b", "--criterion", "bci"], ["--criterion must be bic or aic"]),
         # a decimal comma where a float is asked for: the number with a point
@@ -554,3 +562,11 @@ def test_a_seed_out_of_range_is_a_usage_error(rlff, files, tmp_path, seed):
 def test_bench_seeds_past_the_largest_are_refused(rlff):
     one_line_error(rlff("bench", "learning", "--quick", "--first-seed", str(2**32 - 1)),
                    "--first-seed 4294967295 with --seeds 2 runs past the largest seed")
+
+
+def test_an_option_given_twice_with_one_value_is_taken(rlff, files, tmp_path):
+    # a script that repeats an option's value gets what it asked for (only two values are refused)
+    out = tmp_path / "g.csv"
+    result = rlff("generate", str(files["model"]), "-c", "distance=2", "-o", str(out), "--output", str(out))
+    assert result.code == 0, result.stderr
+    assert out.is_file()

@@ -15,8 +15,9 @@ import typer
 
 try:  # newer typer (0.29 is one) carries its own copy of click; older ones use the click package
     from typer._click.core import Context
+    from typer._click.exceptions import UsageError
 except ImportError:  # pragma: no cover - older typer
-    from click import Context
+    from click import Context, UsageError
 
 from rlff.cli._common import PLAIN_HELP, verbosity
 
@@ -72,8 +73,50 @@ def command():
         for param in [*node.params, help_option]:
             if getattr(param, "is_flag", False):
                 param.metavar = ""
+        node.parse_args = functools.partial(_each_once, node, node.parse_args)
         stack.extend(getattr(node, "commands", {}).values())
     return built
+
+
+def _each_once(node, parse_args, ctx, args: list[str]) -> list[str]:
+    """``node``'s ``parse_args`` (``ctx``, ``args``), refusing an option that takes one value given
+    twice with two values: click keeps the last without a word (``rlff sim throw --basket 1.75
+    --basket 2`` threw at 2 m, ``rlff generate -o first.csv -o second.csv`` wrote only the second).
+    A group's own options end at its subcommand's name."""
+    takes_one = {name: param for param in node.params
+                 if param.param_type_name == "option" and not param.is_flag and not param.multiple
+                 and not param.count and param.nargs == 1
+                 for name in (*param.opts, *param.secondary_opts)}
+    seen: dict[str, tuple[str, str]] = {}  # the option's first name -> (name as given, value)
+    index = 0
+    while index < len(args):
+        arg = args[index]
+        if arg == "--":
+            break
+        name, value = arg, None
+        if arg.startswith("--") and "=" in arg:
+            name, value = arg.split("=", 1)
+        elif arg.startswith("-") and not arg.startswith("--") and len(arg) > 2 and arg[:2] in takes_one:
+            name, value = arg[:2], arg[2:]  # -ofile
+        param = takes_one.get(name)
+        if param is None:
+            if hasattr(node, "commands") and not arg.startswith("-"):
+                break  # a group's subcommand: what follows is its own
+            index += 1
+            continue
+        if value is None:
+            value = args[index + 1] if index + 1 < len(args) else None
+            index += 1
+        index += 1
+        if value is None:
+            break  # click says the value is missing
+        key = param.opts[0]
+        if key in seen and seen[key][1] != value:
+            first, before = seen[key]
+            raise UsageError(f"{name} given twice ({first} {before}, then {name} {value}): give it "
+                                              "once", ctx)
+        seen[key] = (name, value)
+    return parse_args(ctx, args)
 
 
 def usage(exc, args: list[str]) -> str:
