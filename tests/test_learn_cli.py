@@ -326,8 +326,8 @@ def test_a_second_run_on_the_same_log_exits_2_naming_the_first(rlff, demos_csv, 
 
 def test_resuming_with_a_robot_that_changed_its_mapping_is_refused(rlff, demos_csv, tmp_path):
     log = tmp_path / "attempts.jsonl"
-    args = ["learn", str(demos_csv), "--basket", "1.4", "--budget", "1", "--log", str(log)]
-    assert rlff(*args).code == 0
+    args = ["learn", str(demos_csv), "--basket", "1.4", "--log", str(log)]
+    assert rlff(*args, "--budget", "1").code == 0
     # same robot name, another mapping
     text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
     assert "angle_scale = 0.71" in text

@@ -15,9 +15,8 @@ import typer
 
 try:  # newer typer (0.29 is one) carries its own copy of click; older ones use the click package
     from typer._click.core import Context
-    from typer._click.exceptions import UsageError
 except ImportError:  # pragma: no cover - older typer
-    from click import Context, UsageError
+    from click import Context
 
 from rlff.cli._common import PLAIN_HELP, verbosity
 
@@ -73,16 +72,19 @@ def command():
         for param in [*node.params, help_option]:
             if getattr(param, "is_flag", False):
                 param.metavar = ""
-        node.parse_args = functools.partial(_each_once, node, node.parse_args)
+        node.parse_args = functools.partial(_warn_repeats, node, node.parse_args)
         stack.extend(getattr(node, "commands", {}).values())
     return built
 
 
-def _each_once(node, parse_args, ctx, args: list[str]) -> list[str]:
-    """``node``'s ``parse_args`` (``ctx``, ``args``), refusing an option that takes one value given
-    twice with two values: click keeps the last without a word (``rlff sim throw --basket 1.75
-    --basket 2`` threw at 2 m, ``rlff generate -o first.csv -o second.csv`` wrote only the second).
-    A group's own options end at its subcommand's name."""
+def _warn_repeats(node, parse_args, ctx, args: list[str]) -> list[str]:
+    """``node``'s ``parse_args`` (``ctx``, ``args``), with a warning for an option that takes one
+    value given twice with two values: click keeps the last, as command lines do (a script's
+    options overridden at its end), but without a word (``rlff sim throw --basket 1.75 --basket
+    2`` threw at 2 m, ``rlff generate -o first.csv -o second.csv`` wrote only the second). A
+    group's own options end at its subcommand's name."""
+    from rlff.cli._common import warn
+
     takes_one = {name: param for param in node.params
                  if param.param_type_name == "option" and not param.is_flag and not param.multiple
                  and not param.count and param.nargs == 1
@@ -113,8 +115,7 @@ def _each_once(node, parse_args, ctx, args: list[str]) -> list[str]:
         key = param.opts[0]
         if key in seen and seen[key][1] != value:
             first, before = seen[key]
-            raise UsageError(f"{name} given twice ({first} {before}, then {name} {value}): give it "
-                                              "once", ctx)
+            warn(f"{name} given twice ({first} {before}, then {name} {value}): the last, {value}, is taken")
         seen[key] = (name, value)
     return parse_args(ctx, args)
 
