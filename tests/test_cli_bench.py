@@ -5,6 +5,7 @@ entry point in this process (the ``rlff`` fixture) for the rest."""
 from __future__ import annotations
 
 import json
+import re
 from importlib import resources
 
 import pytest
@@ -230,7 +231,10 @@ def test_a_stopped_sweep_reports_the_runs_that_finished(tmp_path, as_json):
     said = []
     for line in proc.stderr:  # plain progress lines (a pipe): one at every tenth of the 160 runs
         said.append(line)
-        if line.startswith("learning benchmark") and not line.startswith("learning benchmark 0/"):
+        # a tenth done (16 runs); not a heartbeat ("8/160 ... still working"), which a loaded
+        # machine prints before it and which had stopped the sweep at 8
+        done = re.match(r"learning benchmark (\d+)/160", line)
+        if done and int(done[1]) >= 16:
             break
     proc.send_signal(signal.SIGINT)
     out, rest = proc.communicate(timeout=120)
