@@ -324,3 +324,24 @@ def test_fit_warns_for_throws_not_cut_to_one_sweep_and_not_for_cleaned_ones(thes
     assert (f"warning: {data}: 1 of {frame['trajectory'].nunique()} throws are not cut to the elbow's one sweep "
             f"up to the release (their angle goes back; the first, '{first}', at sample 3)") in result.stderr
     assert f"rlff data preprocess {data} --preset thesis -o clean.csv" in result.stderr
+
+
+def test_lengths_in_millimetres_are_asked_about_as_millimetres(rlff, tmp_path):
+    # 1750 was asked about centimetres alone (17.5 m) where 1.75 m in millimetres is likelier;
+    # distances of 750 to 2750 and a pedestal of 50 got no hint at all (until 2026-12-07)
+    from rlff.errors import InputError
+    from rlff.limits import check_distance, check_pedestal
+
+    for value, units in ((1750, "centimetres or millimetres"), (175, "centimetres"), (4500, "millimetres")):
+        with pytest.raises(InputError, match=rf"\({units}\? the distance is in metres\)$"):
+            check_distance("--basket", value)
+    with pytest.raises(InputError, match=r"\(centimetres or millimetres\? the height is in metres\)$"):
+        check_pedestal(50, "--pedestal")
+    rows = ["trajectory,angle,velocity,distance"] + [
+        f"t{d}_{k},{a:.2f},{(1 + a) * d / 1000:.3f},{d}" for d in (750, 1500, 2750) for k in range(3) for a in (0.5, 1.0, 1.5, 2.0)]
+    data = tmp_path / "mm.csv"
+    data.write_text("\n".join(rows) + "\n")
+    result = rlff("fit", str(data), "-o", str(tmp_path / "m.json"))
+    assert result.code == 2
+    assert "holds 750 to 2750, outside the basket distances 0.3 to 20 m (millimetres? the distance is in metres)" \
+        in result.stderr

@@ -596,7 +596,7 @@ def check_column_units(
         too_near = low <= 0.0 if landings else low < DISTANCE_RANGE[0]
         if too_near or high > DISTANCE_RANGE[1]:
             raise InputError(f"{named('distance')} holds {low:g} to {high:g}, outside the basket distances "
-                             f"{DISTANCE_RANGE[0]:g} to {DISTANCE_RANGE[1]:g} m{centimetres_hint(high)}")
+                             f"{DISTANCE_RANGE[0]:g} to {DISTANCE_RANGE[1]:g} m{centimetres_hint(high, nearest=low)}")
     for column in joint_columns(columns):
         require_radians(columns[column], named(column))
 

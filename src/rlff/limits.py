@@ -116,22 +116,32 @@ def check_range(name: str, value: float, bounds: tuple[float, float], unit: str 
     return number
 
 
-def centimetres_hint(distance: float) -> str:
-    """`` (centimetres? the distance is in metres)`` after a basket distance (m) beyond
-    :data:`DISTANCE_RANGE` that in centimetres is one (30 to 2000), else ``""``."""
-    low, high = DISTANCE_RANGE
-    return " (centimetres? the distance is in metres)" if distance > high and low <= distance / 100 <= high else ""
+def centimetres_hint(distance: float, bounds: tuple[float, float] = DISTANCE_RANGE, what: str = "distance",
+                     nearest: float | None = None) -> str:
+    """`` (centimetres? the distance is in metres)`` after a length (m) beyond ``bounds`` (default
+    :data:`DISTANCE_RANGE`) that is within them in centimetres, `` (millimetres? ...)`` in
+    millimetres, `` (centimetres or millimetres? ...)`` in either, else ``""``; ``what`` names the
+    length, and ``nearest`` (default ``distance``) the shortest of several, which must fit too. (A
+    basket of 1750 was asked about centimetres alone, 17.5 m, where 1.75 m in millimetres is the
+    likelier; distances of 750 to 2750 got no hint.)"""
+    low, high = bounds
+    nearest = distance if nearest is None else nearest
+    units = [unit for unit, per_metre in (("centimetres", 100), ("millimetres", 1000))
+             if distance > high and low <= nearest / per_metre and distance / per_metre <= high]
+    return f" ({' or '.join(units)}? the {what} is in metres)" if units else ""
 
 
 def check_distance(name: str, value: float) -> float:
     """A basket distance (m) within :data:`DISTANCE_RANGE`; the message asks whether one is in
-    centimetres (:func:`centimetres_hint`)."""
+    centimetres or millimetres (:func:`centimetres_hint`)."""
     return check_range(name, value, DISTANCE_RANGE, hint=centimetres_hint)
 
 
 def check_pedestal(value: float, name: str = "pedestal") -> float:
-    """A pedestal height (m) within :data:`PEDESTAL_RANGE`."""
-    return check_range(name, value, PEDESTAL_RANGE)
+    """A pedestal height (m) within :data:`PEDESTAL_RANGE`; the message asks whether one is in
+    centimetres or millimetres (:func:`centimetres_hint`)."""
+    return check_range(name, value, PEDESTAL_RANGE,
+                       hint=lambda height: centimetres_hint(height, PEDESTAL_RANGE, "height"))
 
 
 def check_frame_rate(value: float, name: str = "frame rate") -> float:

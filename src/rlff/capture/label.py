@@ -6,7 +6,7 @@ Basket distance, in order of precedence:
    apart, ``throw`` (1-based index in the file) or ``start`` and ``end`` (s from the first
    sample of the recording: the throw whose extension peak falls inside is meant); optionally
    ``subject``;
-2. the file name: ``2.5m``, ``2_5m``, ``250cm`` as a separate part of the name
+2. the file name: ``2.5m``, ``2_5m``, ``250cm``, ``2500mm`` as a separate part of the name
    (``user3_2.5m.bag``);
 3. none: the throw's estimated landing distance, rounded to the nearest multiple of
    ``distance_step`` (0.25 m, the spacing of the thesis' baskets) within the range of baskets
@@ -294,11 +294,15 @@ def basket_from_landing(landing: float, settings: LandingSettings) -> tuple[floa
     return float(np.round(distance, 10)), f"landing estimate, rounded to {step:g} m"
 
 
-_DISTANCE_IN_NAME = re.compile(r"(?:^|[_\-\s.])(\d+(?:[._,]\d+)?)(cm|m)(?=$|[_\-\s.])", re.IGNORECASE)
+_DISTANCE_IN_NAME = re.compile(r"(?:^|[_\-\s.])(\d+(?:[._,]\d+)?)(mm|cm|m)(?=$|[_\-\s.])", re.IGNORECASE)
+#: Units of a distance in a file name, per metre.
+_NAME_UNITS = {"m": 1.0, "cm": 100.0, "mm": 1000.0}
 
 
 def distance_from_name(path: str | Path) -> float | None:
-    """Basket distance (m) written in a file name (``2.5m``, ``2_5m``, ``250cm``), or None.
+    """Basket distance (m) written in a file name (``2.5m``, ``2_5m``, ``250cm``, ``2500mm``; until
+    2026-12-07 a name in millimetres was passed over and the throw labelled by its landing
+    estimate), or None.
 
     Raises
     ------
@@ -309,7 +313,7 @@ def distance_from_name(path: str | Path) -> float | None:
     if match is None:
         return None
     value = float(re.sub(r"[_,]", ".", match.group(1)))
-    distance = value / 100.0 if match.group(2).lower() == "cm" else value
+    distance = value / _NAME_UNITS[match.group(2).lower()]
     if not DISTANCE_RANGE[0] <= distance <= DISTANCE_RANGE[1]:
         raise InputError(
             f"{path}: the basket distance in the file name ({distance:g} m) is outside "
