@@ -294,3 +294,18 @@ def test_the_notes_of_many_files_are_summed_up_by_kind_and_a_few_said_in_full():
     assert ImportReport(files=files[:1]).summary_notes() == files[0].notes
     few = ImportReport(files=files[:2], general=["all fine"])
     assert few.summary_notes() == few.notes == files[0].notes + files[1].notes + ["all fine"]
+
+
+@pytest.mark.parametrize(("missing", "said"), [
+    ("zzz.txt", "zzz.txt: no such file or folder"),
+    ("a06_s04*.txt", "a06_s04*.txt: no file matches this pattern (the shell passed it on as it is)"),
+])
+def test_a_missing_recording_is_named_before_any_is_read(tmp_path, missing, said):
+    # found only after every file before it was read (30 MSR files, then "zzz.txt: no such file")
+    first = tmp_path / "a.txt"
+    first.write_text("not a recording\n")
+    read = []
+    with pytest.raises(InputError) as caught:
+        import_recordings([first, tmp_path / missing], "msr", progress=lambda path, stage, share: read.append(path))
+    assert str(caught.value).startswith(f"{tmp_path / missing}: ") and said in str(caught.value)
+    assert read == []

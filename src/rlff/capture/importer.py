@@ -313,6 +313,17 @@ class ImportReport:
         }
 
 
+def require_exists(path: str | Path) -> None:
+    """Refuse a recording ``path`` that does not exist; one holding ``*``, ``?`` or ``[`` is said to
+    be a pattern the shell matched to no file (it passes such a word on as it is)."""
+    if Path(path).exists():
+        return
+    if any(char in str(path) for char in "*?["):
+        raise InputError(f"{path}: no file matches this pattern (the shell passed it on as it is): check the "
+                         "folder and the name")
+    raise InputError(f"{path}: no such file or folder")
+
+
 def detect_format(path: str | Path) -> str:
     """Guess a recording's format from its name and first line.
 
@@ -625,7 +636,8 @@ def import_recordings(
     report = ImportReport()
     used_ids: set[str] = set()
     origin: dict[str, Path] = {}  # the file of every throw, by id
-    for path in paths:  # before anything is read
+    for path in paths:  # before anything is read (a missing last file was found after every other was read)
+        require_exists(path)
         refuse_folder(path, format)
     refuse_datasets(paths)
     kinds = [detect_format(path) if format in (None, "auto") else format for path in map(Path, paths)]
