@@ -99,6 +99,24 @@ def test_fit_table_ln_l_is_the_one_bic_counts(rlff, tmp_path):
     assert "ln L scaled by 50 effective samples / " in result.stdout
 
 
+@pytest.mark.parametrize(("name", "text", "said"), [
+    # "not valid JSON (line 2, column 1: Extra data)"
+    ("attempts.jsonl", '{"format": "rlff-attempts", "version": 1, "run": {}}\n{"attempt": 1}\n',
+     "is an attempts log (rlff learn --log writes it), not a model"),
+    # both were called datasets and told to be fitted, which fit refuses
+    ("traj.csv", "angle,velocity,time,pdf,exploration,gmr_mean,gmr_std\n0.6,3.6,0,0.01,0.9,2.2,2.9\n",
+     "is text (its first line: 'angle,velocity,time,pdf,exploration,gmr_mean,gmr_std'), not a model"),
+    ("a06_s01_e01_skeleton3D.txt", "-0.357118 0.362846 2.671804 1.000000\n",
+     "is text (its first line: '-0.357118 0.362846 2.671804 1.000000'), not a model"),
+])
+def test_another_file_given_as_the_model_says_what_it_is(rlff, tmp_path, name, text, said):
+    path = tmp_path / name
+    path.write_text(text)
+    result = rlff("generate", str(path), "--context", "distance=2", "-o", str(tmp_path / "t.csv"))
+    assert result.code == 2 and len(result.stderr.strip().splitlines()) == 1
+    assert f"{path} {said} (model.json, which rlff fit writes)" in result.stderr, result.stderr
+
+
 def test_a_dataset_given_as_the_model_says_to_fit_one_first(thesis_files, rlff, tmp_path):
     data, _, _ = thesis_files
     result = rlff("generate", str(data), "--context", "distance=2", "-o", str(tmp_path / "t.csv"))

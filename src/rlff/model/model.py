@@ -689,31 +689,57 @@ class Model:
 
     @classmethod
     def load(cls, path: str | Path) -> Model:
-        """Read and validate ``model.json``; a dataset given in its place is said to be one."""
+        """Read and validate ``model.json``; a dataset given in its place is said to be one, and any
+        other file that is no JSON object what it is (an attempts log, a recording, a path)."""
         try:
             document = read_json_object(path)
         except InputError:
-            if _looks_like_dataset(Path(path)):
+            path = Path(path)
+            if _looks_like_dataset(path):
                 raise InputError(f"{path}: a dataset, not a model (model.json): fit one first, "
                                  f"rlff fit {path} -o model.json") from None
+            if (kind := _other_kind(path)) is not None:
+                raise InputError(f"{path} is {kind}, not a model (model.json, which rlff fit writes)") from None
             raise
         return _parse(document, str(path))
 
 
 def _looks_like_dataset(path: Path) -> bool:
-    """Whether ``path``, which does not hold a JSON object, is a dataset file: by its extension
-    (:data:`rlff.formats.FORMATS`), or a long-format table's header (``trajectory,...``)."""
+    """Whether ``path``, which does not hold a JSON object, is a dataset file: a Parquet or NPZ file
+    by its extension (:data:`rlff.formats.FORMATS`), a long-format table by its header
+    (``trajectory,...``) or a thesis matrix by its first line (``# {"trajectory": ...``). (A
+    generated path's CSV and a skeleton recording's text had been called datasets by their
+    extension alone, and told to be fitted, which fit refuses.)"""
     from rlff.formats import FORMATS
 
     if not path.is_file():  # missing: read_json_object's "no such file" says it
         return False
-    if path.suffix.lower() in {suffix for suffixes in FORMATS.values() for suffix in suffixes}:
+    if path.suffix.lower() in FORMATS["npz"] + FORMATS["parquet"]:
         return True
     try:
         with path.open("rb") as file:
-            return file.read(64).lstrip(b"\xef\xbb\xbf").startswith(b"trajectory,")
+            head = file.read(256).lstrip(b"\xef\xbb\xbf")
     except OSError:
         return False
+    first = head.lstrip().split(b"\n", 1)[0]
+    return head.startswith(b"trajectory,") or (first.startswith(b"#") and b'"trajectory"' in first)
+
+
+def _other_kind(path: Path) -> str | None:
+    """What ``path``, a file that holds no JSON object, is instead (:func:`rlff.kinds.file_kind`:
+    an attempts log, text with its first line quoted, ...), or None where it looks like JSON
+    (a damaged model.json: the JSON error says where) or is no file."""
+    from rlff.kinds import file_kind
+
+    if not path.is_file():
+        return None
+    try:
+        with path.open("rb") as file:
+            if file.read(64).lstrip(b"\xef\xbb\xbf").lstrip().startswith((b"{", b"[")) and path.suffix != ".jsonl":
+                return None
+    except OSError:
+        return None
+    return file_kind(path)
 
 
 # -- helpers -------------------------------------------------------------------------------------
