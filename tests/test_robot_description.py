@@ -63,6 +63,15 @@ def test_another_robot_is_another_file(tmp_path):
     assert load_robot(str(path)).joints == robot.joints
 
 
+def test_a_robot_file_saved_with_a_byte_order_mark_is_read(tmp_path):
+    """Notepad saves UTF-8 with a byte-order mark: the file was refused as "not valid TOML: Invalid
+    statement (at line 1, column 1)", though CSVs and manifests with one are read."""
+    path = tmp_path / "two_link.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + MINIMAL.encode("utf-8"))
+    robot = load_robot(path)
+    assert robot.joint_names == ("a", "b") and robot.joint("b") == Joint("b", -0.5, 0.5, 1.0, 4.0, 40.0)
+
+
 @pytest.mark.parametrize("field", ["lower", "upper", "max_velocity", "max_acceleration", "max_jerk"])
 def test_missing_limit_names_the_file_joint_and_field(tmp_path, field):
     path = tmp_path / "broken.toml"

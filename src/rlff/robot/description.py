@@ -675,8 +675,8 @@ def load_robot(path_or_name: str | Path = DEFAULT_ROBOT) -> Robot:
                                                          "file's [[joints]] tables beside urdf = ...")))
     if is_file:
         path = Path(path_or_name)
-        try:
-            text = path.read_text(encoding="utf-8")
+        try:  # utf-8-sig: a file saved by Notepad starts with a byte-order mark, which TOML does not allow
+            text = path.read_text(encoding="utf-8-sig")
         except OSError as exc:
             raise InputError(f"cannot read robot file {path}: {exc.strerror}") from None
         except UnicodeDecodeError:
