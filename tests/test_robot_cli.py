@@ -522,9 +522,60 @@ def test_a_release_against_the_paths_direction_is_said_so_not_compared_with_a_li
     velocity[-1] = -4.0  # the last sample swings back
     pd.DataFrame({"angle": np.linspace(0.4, 2.2, 30), "velocity": velocity}).to_csv(path, index=False)
     result = rlff("robot", "export", str(path), "-f", "json", "-o", str(tmp_path / "out.json"))
-    assert result.code == 2 and "1 value the robot would not execute as asked: point 29: joint_2 velocity -1 rad/s " \
-        "moves it against the path's direction (the release), which clip (--clip) stops (0 rad/s)" in result.stderr
+    assert result.code == 2 and "the ball would not be thrown: the release (joint_2 velocity -1 rad/s) moves " \
+        "against the path's direction" in result.stderr
     assert "beyond the limit 0" not in result.stderr
+
+
+def test_a_release_clipping_would_stop_is_no_throw_with_or_without_clip(rlff, monkeypatch, tmp_path):
+    """A path generated from uncleaned demonstrations released joint_2 backwards: the refusal offered
+    "clip (--clip) stops (0 rad/s)", and with --clip export and send went ahead with exit 0, a
+    release at rest; only sim throw said the ball was not thrown."""
+    path = tmp_path / "raw.csv"
+    velocity = np.linspace(6.0, -5.6, 30)  # the model's velocity crosses 0 before the release
+    pd.DataFrame({"angle": np.linspace(0.4, 2.2, 30), "velocity": velocity}).to_csv(path, index=False)
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there, should the refusal let it through
+    out = tmp_path / "out.json"
+    for command in (("robot", "export", str(path), "-o", str(out)), ("robot", "export", str(path), "-o", str(out), "--clip"),
+                    ("robot", "export", str(path), "-f", "comau", "-o", str(tmp_path / "o.pdl"), "--clip"),
+                    ("robot", "send", str(path), "--clip", "--timeout", "1")):
+        result = rlff(*command)
+        said = " ".join(result.stderr.split())
+        assert result.code == 2 and not out.exists() and not (tmp_path / "o.pdl").exists(), command
+        assert ("the ball would not be thrown: the release (joint_2 velocity -1.4 rad/s) moves against the path's "
+                "direction, and stopped (0 rad/s) it leaves every driven joint at rest there; a path from uncleaned "
+                "demonstrations? clean them (rlff data preprocess --preset thesis)") in said, command
+        assert "--clip" not in said and "master" not in said and len(result.stderr.splitlines()) == 1
+
+
+@pytest.mark.parametrize(("edit", "said"), [
+    (("velocity_scale = 0.25", "velocity_scale = 25"),
+     "1 value far beyond the robot's limits, a unit or scale slip, not a throw to clip: point 20: joint_2 velocity "
+     "200 rad/s at the release, 72 times the limit 2.792 rad/s; check the path's units (rlff reads rad and rad/s, "
+     "as rlff generate writes them; read as deg/s, 200 is 3.491 rad/s) and {robot}'s [throwing] mapping (joint_2: "
+     "angle_offset -1.65, angle_scale 0.71, velocity_scale 25), through which the path was mapped"),
+    (("angle_offset = -1.65", "angle_offset = -94.5"),
+     "21 values far beyond the robot's limits, a unit or scale slip, not a throw to clip: point 0: joint_2 position "
+     "-93.35 rad, 91.9 rad beyond the limit -1.48 rad;"),
+])
+def test_a_unit_or_scale_slip_is_refused_with_or_without_clip(rlff, monkeypatch, throw, tmp_path, edit, said):
+    """A robot file's velocity_scale 25 for 0.25, or an angle_offset in degrees: the refusal offered
+    "clip (--clip) clips it", and with --clip export wrote a throw at the speed limit (exit 0)
+    and send sent it. 72 times the limit, or a position 92 rad beyond it, is a slip, not a throw
+    for a basket a little beyond reach."""
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    robot = tmp_path / "slip.toml"
+    robot.write_text(text.replace(*edit, 1))
+    monkeypatch.setenv("ROS_MASTER_URI", "http://127.0.0.1:9")  # nothing there, should the refusal let it through
+    out = tmp_path / "out.json"
+    for command in (("robot", "export", str(throw), "-o", str(out)), ("robot", "export", str(throw), "-o", str(out), "--clip"),
+                    ("robot", "export", str(throw), "-f", "comau", "-o", str(tmp_path / "o.pdl"), "--clip"),
+                    ("robot", "send", str(throw), "--clip", "--timeout", "1")):
+        result = rlff(*command, "--robot", str(robot))
+        text = " ".join(result.stderr.split())
+        assert result.code == 2 and not out.exists() and not (tmp_path / "o.pdl").exists(), command
+        assert said.format(robot=robot) in text and "(--clip)" not in text and "master" not in text, command
+        assert f"{robot}'s [throwing] mapping" in text and len(result.stderr.splitlines()) == 1
 
 
 
@@ -690,6 +741,23 @@ def test_clip_slows_a_whole_arm_throw_as_a_whole(rlff, tmp_path):
                    str(tmp_path / "t.json"))
     assert refused.code == 2 and ("clip (--clip) slows the whole throw, every joint by one factor, until its release is "
                                   "within the speed limits") in " ".join(refused.stderr.split()), refused.stderr
+
+
+def test_clip_does_not_slow_a_whole_arm_slip_into_a_throw(rlff, tmp_path):
+    """A robot file's [whole_arm] time_scale 0.0056 for 0.56 asks joint_2 100 times its speed:
+    --clip slowed the whole throw to 0.0094 of its speed and wrote it (exit 0)."""
+    from wholearm import human_throw
+
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    robot = tmp_path / "slip.toml"
+    robot.write_text(text.replace("time_scale = 0.56", "time_scale = 0.0056", 1))
+    pd.DataFrame(human_throw(20.0)).to_csv(tmp_path / "fast.csv", index=False)
+    result = rlff("robot", "export", str(tmp_path / "fast.csv"), "--joints", "joint_2,joint_3,joint_5", "--clip",
+                  "--robot", str(robot), "-o", str(tmp_path / "t.json"))
+    said = " ".join(result.stderr.split())
+    assert result.code == 2 and not (tmp_path / "t.json").exists(), result.stderr
+    assert "far beyond the robot's limits, a unit or scale slip, not a throw to clip: point 59: joint_2 velocity" in said
+    assert f"{robot}'s [whole_arm] mapping (" in said and "time_scale 0.0056)" in said and "slowed" not in said
 
 
 def test_the_one_joint_summary_says_when_the_release_was_clipped(rlff, tmp_path):

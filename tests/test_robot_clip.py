@@ -13,6 +13,7 @@ import json
 from dataclasses import replace
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from lowarm import INSIDE, SPEED, UPPER, low_arm_files
@@ -112,11 +113,41 @@ def test_plan_names_a_release_speed_in_degrees_not_the_clip():
                                          r"\(49 times the limit; as deg/s 2\.373 rad/s, within it\): rlff reads rad "
                                          r"and rad/s, .* rather than clip \(--clip\) them$"):
         plan(mapping, angle, in_degrees)
-    for speed in (1.5 * limit, 70 * limit):  # a release a little fast, or beyond its limit even as deg/s
-        velocity = np.linspace(0.5, speed, 30) / mapping.velocity_scale
-        with pytest.raises(InputError, match=r"\(the release\); clip \(--clip\) clips it") as refused:
-            plan(mapping, angle, velocity)
-        assert "deg/s" not in str(refused.value)
+    velocity = np.linspace(0.5, 1.5 * limit, 30) / mapping.velocity_scale  # a release a little fast
+    with pytest.raises(InputError, match=r"\(the release\); clip \(--clip\) clips it") as refused:
+        plan(mapping, angle, velocity)
+    assert "deg/s" not in str(refused.value)
+    # beyond its limit even as deg/s, 70 times it: a slip too (it was offered the clip), not said to be within it
+    velocity = np.linspace(0.5, 70 * limit, 30) / mapping.velocity_scale
+    with pytest.raises(InputError, match=r"a unit or scale slip, not a throw to clip: point 29: joint_2 velocity "
+                                         r"195\.44 rad/s at the release, 70 times the limit") as refused:
+        plan(mapping, angle, velocity)
+    assert "look like deg/s" not in str(refused.value) and "clip (--clip)" not in str(refused.value)
+
+
+def test_plan_with_clip_of_the_learning_loop_saturates_what_a_file_s_plan_refuses(tmp_path):
+    """plan_path with clip is the learning loop's: its proposals saturate at the limits, never
+    refused; a file's path (load_for_robot) is refused a slip with clip too."""
+    from importlib import resources
+
+    from rlff.errors import InputError
+    from rlff.robot import RobotMapping
+    from rlff.robot.plan import load_for_robot, plan_path
+
+    text = (resources.files("rlff") / "robots" / "comau_smart5_six.toml").read_text()
+    slip = tmp_path / "slip.toml"
+    slip.write_text(text.replace("velocity_scale = 0.25", "velocity_scale = 25", 1))
+    robot = load_robot(slip)
+    path = {"angle": np.linspace(1.0, 3.0, 30), "velocity": np.full(30, 8.0)}
+    planned = plan_path(RobotMapping.for_robot(robot), path, clip=True)
+    assert planned.clipped_points and planned.points.velocities[-1, 1] == pytest.approx(2.792)
+    throw = tmp_path / "throw.csv"
+    pd.DataFrame(path).to_csv(throw, index=False)
+    with pytest.raises(InputError, match=r"a unit or scale slip, not a throw to clip: point 29: joint_2 velocity "
+                                         r"200 rad/s at the release, 72 times the limit 2\.792 rad/s; .*slip\.toml's "
+                                         r"\[throwing\] mapping \(joint_2: angle_offset -1\.65, angle_scale 0\.71, "
+                                         r"velocity_scale 25\), through which the path was mapped$"):
+        load_for_robot(throw, robot, clip=True)
 
 
 def test_a_plan_prints_as_one_short_line_not_its_arrays(low_arm):

@@ -8,7 +8,8 @@ reaches a file, a bag, a Comau program, a live goal or the simulation without th
 - a generated path (CSV of ``angle``, ``velocity`` [, ``time``], and for a whole-arm throw the
   other joints' columns) is mapped to the robot (one joint, or several on one time base), planned
   (approach, the throw to its release with every driven joint's release kept, braking to rest)
-  and checked;
+  and checked; a path that is no throw to clip (a unit or scale slip far beyond a limit, a release
+  that clipping stops: :func:`require_a_throw`) is refused with ``clip`` too;
 - a robot trajectory (what ``rlff robot export --format json|csv`` writes) is read and checked
   as it is: it must already be executable, and be of the robot it is read for
   (:mod:`rlff.robot.planned_for`).
@@ -34,7 +35,7 @@ from rlff.robot.mapping import ArmMapping, HumanPath, RobotMapping, mapping_for,
 from rlff.robot.planned_for import checked_against, require_planned_for
 from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
-from rlff.trajectory.limits import ClipReport
+from rlff.trajectory.limits import ClipReport, LimitChange
 from rlff.trajectory.path_csv import read_generated_path
 from rlff.trajectory.planner import APPROACH_SPEED, DEFAULT_PERIOD, plan_throw
 from rlff.wording import plural
@@ -88,19 +89,27 @@ class RobotPlan:
         return f"planned {traj.duration:.3f} s to rest{release}; {slowed}{clipped}"
 
 
-def _require_unclipped(report: ClipReport, last: int, coordinated: bool = False) -> None:
-    """Without ``clip``: refuse a path beyond a position limit or a release beyond a limit.
+def _faults(report: ClipReport, last: int) -> tuple[list[LimitChange], list[LimitChange]]:
+    """The changes of ``report`` that count, and among them the faults: every position beyond a
+    limit, and the release's velocities (``last``: the release's point).
 
     Velocities elsewhere along the path are not executed (the planner times the throw within
     the limits, never faster than the release), so only the release's count. The velocity of a
-    joint held at a clipped position (set to 0) is no fault of its own: its position is. The
-    message says what ``clip`` (``--clip``) does: for a ``coordinated`` throw (several joints) it slows the
-    whole throw rather than clip a release (:func:`slowed_to_limits`). A release speed only a path
-    in deg/s explains (:func:`_looks_like_degrees`) gets the unit named instead of ``clip``.
+    joint held at a clipped position (set to 0) is no fault of its own: its position is.
     """
     held = {(c.point, c.joint) for c in report.changes if c.quantity == "position"}
     changes = [c for c in report.changes if c.quantity == "position" or (c.point, c.joint) not in held]
-    faults = [change for change in changes if change.quantity == "position" or change.point == last]
+    return changes, [change for change in changes if change.quantity == "position" or change.point == last]
+
+
+def _require_unclipped(report: ClipReport, last: int, coordinated: bool = False) -> None:
+    """Without ``clip``: refuse a path beyond a position limit or a release beyond a limit
+    (:func:`_faults`; a slip, or a release clipping stops, :func:`require_a_throw` refuses before).
+
+    The message says what ``clip`` (``--clip``) does: for a ``coordinated`` throw (several joints) it
+    slows the whole throw rather than clip a release (:func:`slowed_to_limits`).
+    """
+    changes, faults = _faults(report, last)
     if not faults:
         return
     shown = "; ".join(_fault(c, last) for c in faults[:3])
@@ -115,16 +124,111 @@ def _require_unclipped(report: ClipReport, last: int, coordinated: bool = False)
             words for kind, words in (("position", "holds the positions inside their limits"),
                                       ("speed", "slows the whole throw, every joint by one factor, until its "
                                                 "release is within the speed limits")) if kind in kinds)
-    slip = next((change for change in faults if _looks_like_degrees(change)), None)
-    if slip is not None:  # a unit slip, not a speed to clip; the velocities along the path say nothing more
-        remedy, also = _degrees_hint(slip), ""
     raise InputError(f"{plural(len(faults), 'value')} the robot would not execute as asked: {shown}{more}; "
                      f"{remedy}{also}")
+
+
+def require_a_throw(mapping: RobotMapping | ArmMapping, points: JointTrajectory, report: ClipReport) -> None:
+    """Refuse, with or without ``clip``, a mapped path that is no throw to clip: a unit or scale slip
+    (:func:`_require_no_slip`), or a release that clipping stops (:func:`_require_thrown`).
+
+    ``points`` is the path mapped to the robot and clipped (T points, the release last), ``report``
+    what the mapping clipped. ``clip`` is for a path marginally beyond a limit (a throw for a basket
+    a little beyond reach); of these it made a throw at the limits, or none, written with exit 0.
+    """
+    _require_no_slip(mapping, report, len(points) - 1)
+    _require_thrown(mapping, points, report)
 
 
 #: A release speed more than this many times its limit, which in rad/s would be within it, is a
 #: path in deg/s: a unit slip, not a speed to clip.
 DEGREES_SLIP = 10.0
+
+#: A release speed more than this many times its limit is a unit or scale slip, not a speed to
+#: clip. Measured 2026-12-07 on the Comau with the model of the MSR a06 throws (thesis preset):
+#: `rlff generate` throws for baskets at 1.5 to 10 m ask at most 1.55 times joint_2's limit at the
+#: release with the one-joint mapping, and with the whole arm (--joints joint_2,joint_3[,joint_5])
+#: 4.1 at 2.5 m, 5.3 at 4.5 m, 5.9 at 6 m; of the throws `rlff demo --small` clips (its table's, its
+#: learning runs', whole arm too) the fastest asks 2.9. A path in deg/s asks 57 times what it
+#: means, a robot file's velocity_scale of 25 for 0.25 a hundred times. 15: 2.5 times the largest
+#: measured for a legitimate throw.
+SLIP = 15.0
+
+#: A position more than this (rad, a full turn) beyond its limit is a unit or scale slip (degrees
+#: for radians, an angle_offset in degrees), not a path to clip: no throw winds up a turn too far.
+POSITION_SLIP = 2 * np.pi
+
+
+def _is_slip(change: LimitChange) -> bool:
+    """Whether ``change``, a value beyond its limit, is too far beyond it to be a throw to clip
+    (:data:`SLIP`, :data:`POSITION_SLIP`)."""
+    if change.limit is None:
+        return False
+    if change.quantity == "position":
+        return abs(change.before - change.limit) > POSITION_SLIP
+    return abs(change.before) > SLIP * abs(change.limit)
+
+
+def _slip_words(change: LimitChange) -> str:
+    """One value :func:`_is_slip`, for a message: the value, and how far beyond which limit."""
+    value = f"{change.before:.6g} {change.unit}"
+    if change.quantity == "position":
+        return (f"point {change.point}: {change.joint} position {value}, {abs(change.before - change.limit):.3g} rad "
+                f"beyond the limit {change.limit:g} rad")
+    return (f"point {change.point}: {change.joint} velocity {value} at the release, "
+            f"{abs(change.before / change.limit):.0f} times the limit {abs(change.limit):g} rad/s")
+
+
+def _mapping_words(mapping: RobotMapping | ArmMapping) -> str:
+    """The robot file's table a path was mapped through, with its values, for a message."""
+    if isinstance(mapping, ArmMapping):
+        joints = ", ".join(f"{m.joint} offset {m.offset:g} scale {m.scale:g}" for m in mapping.joints)
+        return f"{mapping.robot.source}'s [whole_arm] mapping ({joints}; time_scale {mapping.time_scale:g})"
+    return (f"{mapping.robot.source}'s [throwing] mapping ({mapping.joint}: angle_offset {mapping.angle_offset:g}, "
+            f"angle_scale {mapping.angle_scale:g}, velocity_scale {mapping.velocity_scale:g})")
+
+
+def _require_no_slip(mapping: RobotMapping | ArmMapping, report: ClipReport, last: int) -> None:
+    """Refuse a path with a release speed or a position far beyond its limit (:func:`_is_slip`): a
+    slip in the path's units or in the robot file's mapping, of which clipping would make a throw
+    at the limits. A release speed only a path in deg/s explains (:func:`_looks_like_degrees`) gets
+    the unit named."""
+    _, faults = _faults(report, last)
+    degrees = next((change for change in faults if _looks_like_degrees(change)), None)
+    if degrees is not None:  # the velocities along the path say nothing more
+        shown = "; ".join(_fault(c, last) for c in faults[:3])
+        more = f" (and {len(faults) - 3} more)" if len(faults) > 3 else ""
+        raise InputError(f"{plural(len(faults), 'value')} the robot would not execute as asked: {shown}{more}; "
+                         f"{_degrees_hint(degrees)}")
+    slips = [change for change in faults if _is_slip(change)]
+    if not slips:
+        return
+    shown = "; ".join(_slip_words(c) for c in slips[:3])
+    more = f" (and {len(slips) - 3} more)" if len(slips) > 3 else ""
+    # a release in deg/s that is still beyond its limit as rad/s (a throw a little too fast)
+    fast = next((c for c in slips if c.quantity == "velocity" and np.radians(abs(c.before)) <= SLIP * abs(c.limit)), None)
+    degrees = (f"; read as deg/s, {fast.before:.6g} is {np.radians(fast.before):.4g} rad/s" if fast is not None else "")
+    raise InputError(f"{plural(len(slips), 'value')} far beyond the robot's limits, a unit or scale slip, not a throw "
+                     f"to clip: {shown}{more}; check the path's units (rlff reads rad and rad/s, as rlff generate "
+                     f"writes them{degrees}) and {_mapping_words(mapping)}, through which the path was mapped")
+
+
+def _require_thrown(mapping: RobotMapping | ArmMapping, points: JointTrajectory, report: ClipReport) -> None:
+    """Refuse a path whose release moves against the path's direction where stopping it (0, as the
+    mapping does) leaves every driven joint at rest at the release: the ball would not be thrown. A
+    release ``clip`` holds at a position limit is not refused here (``rlff sim throw`` warns of it)."""
+    last = len(points) - 1
+    driven = [points.joint_index(joint) for joint in mapping.driven_joints]
+    if np.any(points.velocities[last, driven] != 0):
+        return
+    # not a velocity set to 0 with its joint held at a clipped position
+    stopped = [change for change in _faults(report, last)[1] if change.point == last and change.limit is None]
+    if not stopped:
+        return
+    shown = "; ".join(f"{c.joint} velocity {c.before:.6g} {c.unit}" for c in stopped)
+    raise InputError(f"the ball would not be thrown: the release ({shown}) moves against the path's direction, and "
+                     "stopped (0 rad/s) it leaves every driven joint at rest there; a path from uncleaned "
+                     "demonstrations? clean them (rlff data preprocess --preset thesis), then fit and generate again")
 
 
 def _looks_like_degrees(change) -> bool:
@@ -217,6 +321,7 @@ def plan_path(
     clip: bool = False,
     start: np.ndarray | None = None,
     approach_speed: float = APPROACH_SPEED,
+    throw: bool = False,
 ) -> RobotPlan:
     """Map a human path to the robot (one joint or the whole arm) and plan it.
 
@@ -240,14 +345,19 @@ def plan_path(
     approach_speed : float
         Share of the joints' limits the approach from ``start`` uses
         (:data:`rlff.trajectory.planner.APPROACH_SPEED`; 1: the limits themselves).
+    throw : bool
+        With ``clip`` too, refuse a path that is no throw to clip (:func:`require_a_throw`: a unit
+        or scale slip, a release clipping stops), as without ``clip`` always: what a file's path
+        gets (:func:`load_for_robot`). The learning loop's proposals saturate instead.
 
     Raises
     ------
     InputError
         A bad path, a ``time`` that disagrees with its angle and velocity, a value beyond a limit
-        (without ``clip``), or a plan that fails the check
-        (:class:`rlff.trajectory.check.MotionLimitError`, e.g. no room to brake, or a link below
-        the plane the base stands on: :func:`rlff.robot.links.require_above_base`).
+        (without ``clip``), a slip or a release clipping stops (without ``clip``, or with
+        ``throw``), or a plan that fails the check (:class:`rlff.trajectory.check.MotionLimitError`,
+        e.g. no room to brake, or a link below the plane the base stands on:
+        :func:`rlff.robot.links.require_above_base`).
     """
     check_period(period)
     for column in mapping.human_columns:
@@ -256,6 +366,8 @@ def plan_path(
     if path.get("time") is not None and "angle" in path and "velocity" in path:
         _require_time_agrees(path["angle"], path["velocity"], path["time"])
     points, report = mapping.path_to_robot(path, bearing=bearing, clip=True)
+    if throw or not clip:
+        require_a_throw(mapping, points, report)
     if not clip:
         _require_unclipped(report, len(points) - 1, isinstance(mapping, ArmMapping) and len(mapping.joints) > 1)
     joints = mapping.robot.joints
@@ -268,7 +380,8 @@ def plan_path(
 def slowed_to_limits(mapping: RobotMapping | ArmMapping, path: HumanPath) -> tuple[HumanPath, str]:
     """``path`` with every velocity column times one factor, the largest that brings each driven
     joint's release within its speed limit, and what was done (one phrase; ``""`` and ``path``
-    itself when every release is within its limit, or ``mapping`` drives one joint).
+    itself when every release is within its limit, or more than :data:`SLIP` times it, or ``mapping``
+    drives one joint).
 
     What ``--clip`` does to a throw of several joints: clipped each on its own, their release
     velocities no longer point where the model's did (a tester's throw with joints 2, 3 and 5
@@ -282,7 +395,7 @@ def slowed_to_limits(mapping: RobotMapping | ArmMapping, path: HumanPath) -> tup
     shares = {column: abs(float(np.asarray(path[column])[-1])) / limit
               for column, limit in mapping.max_human_speeds().items() if column in path}
     column = max(shares, key=shares.get, default=None)
-    if column is None or shares[column] <= 1.0:
+    if column is None or not 1.0 < shares[column] <= SLIP:  # beyond SLIP a slip, which plan_path(throw=True) refuses
         return path, ""
     factor = 1.0 / shares[column]
     fastest = next(m for m in mapping.joints if velocity_column(m.human) == column)
@@ -364,7 +477,8 @@ def load_for_robot(
     ``joints`` are the robot joints a generated path drives (:func:`rlff.robot.mapping.mapping_for`;
     None: the one-joint mapping), ``bearing`` the basket's bearing (deg; None: the file's
     ``bearing`` column, else 0). With ``clip``, a path of several joints whose release is beyond a
-    speed limit is first slowed as a whole (:func:`slowed_to_limits`), not clipped joint by joint.
+    speed limit is first slowed as a whole (:func:`slowed_to_limits`), not clipped joint by joint;
+    a path that is no throw to clip (:func:`require_a_throw`) is refused with ``clip`` too.
     """
     from rlff.robot.export import read_csv, read_json, read_planned_for, require_release
 
@@ -383,7 +497,7 @@ def load_for_robot(
         human, slowed = slowed_to_limits(mapping, generated.to_path()) if clip else (generated.to_path(), "")
         try:
             planned = plan_path(mapping, human, bearing=bearing, period=period, clip=clip, start=start,
-                                approach_speed=approach_speed)
+                                approach_speed=approach_speed, throw=True)
         except InputError as exc:
             said = f"{exc} ({where})" if str(exc).startswith("bearing ") else str(exc)
             raise type(exc)(f"{path}: {said}") from None
