@@ -38,8 +38,10 @@ app = typer.Typer(rich_markup_mode=PLAIN_HELP, help="The robot: its limits, URDF
                   no_args_is_help=True)
 
 ROBOT = typer.Option(DEFAULT_ROBOT, "--robot", help=f"Robot file (.toml) or built-in robot name ({DEFAULT_ROBOT}).")
-CLIP = typer.Option(False, "--clip", help="Clip the throw's values beyond the limits (and report each) instead of "
-                                         "refusing; a release with no room to brake after it is still refused.")
+CLIP = typer.Option(False, "--clip", help="Clip the throw's values a little beyond the limits (and report each) "
+                                         "instead of refusing; a release with no room to brake after it, a unit or "
+                                         "scale slip far beyond a limit, or a release clipping would stop is still "
+                                         "refused.")
 ATTEMPT = typer.Option(None, "--attempt", min=1,
                        help="With an attempts log (rlff learn --log): the attempt to use; default its last hit.")
 INPUT_HELP = ("Generated trajectory CSV (angle, velocity[, time], ...), a robot trajectory (JSON/CSV of "

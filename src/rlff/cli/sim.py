@@ -53,8 +53,9 @@ def throw(
                                         help="Let go when the throwing robot joint passes this position (rad); "
                                              "default: the planned release (or the end of a trajectory without one)."),
     frames: Path = typer.Option(None, "--frames", help="Write PNG frames and an animated GIF here."),
-    clip: bool = typer.Option(False, "--clip", help="Clip a mapped path into the joint limits (reported) "
-                                                    "instead of refusing it."),
+    clip: bool = typer.Option(False, "--clip", help="Clip a mapped path a little beyond the joint limits into "
+                                                    "them (reported) instead of refusing it; a unit or scale slip, "
+                                                    "or a release clipping would stop, is still refused."),
     joints: str = JOINTS,
     bearing: float = typer.Option(None, "--bearing", help="The basket's bearing (deg; 0 straight ahead, + to the "
                                                           "left); a generated path turns joint_1 to it. Default the "
