@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 import pytest
 
 from rlff.errors import InputError
@@ -113,3 +114,22 @@ def test_an_attempts_log_without_a_hit_asks_for_an_attempt_by_the_argument_and_t
         load_input(one, load_robot())
     with pytest.raises(InputError, match=r"no attempt 2 \(it holds attempt 1 only\)$"):
         load_input(one, load_robot(), attempt=2)
+
+
+def test_demonstrations_or_a_spreadsheet_s_path_where_a_path_goes_say_what_they_are(robot, tmp_path):
+    # a one-throw dataset was blamed on its time column ("time, angle and velocity do not belong
+    # together"); a path saved with ';' and decimal commas listed "columns: angle;velocity;..." alone
+    demos = tmp_path / "m13.csv"
+    pd.DataFrame({"trajectory": ["a"] * 3, "time": [0.0, 0.1, 0.2], "angle": [0.5, 1.0, 1.5],
+                  "velocity": [4.0, 6.0, 5.0], "distance": [2.0] * 3}).to_csv(demos, index=False)
+    with pytest.raises(InputError) as refused:
+        sim_input(demos, robot)
+    assert str(refused.value) == (
+        f"{demos} is demonstrations (a dataset, its throws by the trajectory column), not a generated path: fit a "
+        f"model to them (rlff fit {demos} -o model.json), generate a throw (rlff generate model.json -c distance=D "
+        "-o path.csv) and give that")
+    semicolons = tmp_path / "semi.csv"
+    pd.DataFrame({"angle": [0.5, 1.5], "velocity": [4.0, 6.0]}).to_csv(semicolons, sep=";", decimal=",", index=False)
+    with pytest.raises(InputError, match=r"columns: angle;velocity; the file looks separated by ';' and rlff reads "
+                                         r"commas: save it comma-separated, with points as decimal marks$"):
+        sim_input(semicolons, robot)

@@ -847,10 +847,10 @@ def read_csv(path: str | Path, context: Sequence[str] | None = None) -> Dataset:
         raise InputError(f"{path}: empty file") from None
     if not isinstance(frame.index, pd.RangeIndex):  # pandas made the first fields the row labels
         raise InputError(f"{path}: the rows have more fields than the header's {len(frame.columns)} columns"
-                         + _separator_hint(path))
+                         + separator_hint(path))
     if ID_COLUMN not in frame.columns:
         raise InputError(f"{path}: no {ID_COLUMN!r} column (columns: {', '.join(map(str, frame.columns))})"
-                         + _separator_hint(path))
+                         + separator_hint(path))
     if frame.empty:
         raise InputError(f"{path}: no samples")
     if frame[ID_COLUMN].isna().any():
@@ -1122,7 +1122,7 @@ def _row_lines(path: Path, rows: np.ndarray) -> list[int]:
     return [lines[row] if row < len(lines) else row + 2 for row in rows.tolist()]
 
 
-def _separator_hint(path: Path) -> str:
+def separator_hint(path: Path) -> str:
     """Why a file has no ``trajectory`` column, or rows longer than its header, when its header is
     separated by ``;`` or tabs (a spreadsheet's export, its decimal commas splitting the rows'
     numbers), said with what to do; "" for a comma-separated header."""

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from rlff.dataset import ARM_JOINT_COLUMNS, velocity_column
+from rlff.dataset import ARM_JOINT_COLUMNS, separator_hint, velocity_column
 from rlff.errors import InputError
 from rlff.kinds import is_ros1_bag
 from rlff.limits import apart, check_period, require_radians
@@ -434,6 +434,10 @@ def robot_file_kind(path: Path) -> str:
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise InputError(f"{path}: neither a generated path nor a robot trajectory: not a readable "
                          f"CSV or JSON ({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})") from None
+    if "angle" in header and "trajectory" in header:  # it was blamed on its time column, or its velocities
+        raise InputError(f"{path} is demonstrations (a dataset, its throws by the trajectory column), not a generated "
+                         f"path: fit a model to them (rlff fit {path} -o model.json), generate a throw (rlff generate "
+                         "model.json -c distance=D -o path.csv) and give that")
     if "angle" in header:
         return GENERATED
     if "time" in header and any(str(column).endswith("_position") for column in header):
@@ -443,7 +447,7 @@ def robot_file_kind(path: Path) -> str:
     if opening in (b"{", b"["):
         raise InputError(f"{path}: holds JSON, not CSV: a robot trajectory JSON needs the .json suffix")
     raise InputError(f"{path}: neither a generated path (angle, velocity[, time]) nor a robot trajectory "
-                     f"(time, <joint>_position, ...); columns: {_brief_columns(header)}")
+                     f"(time, <joint>_position, ...); columns: {_brief_columns(header)}{separator_hint(path)}")
 
 
 def _brief_columns(header: Sequence[object], shown: int = 8, width: int = 40) -> str:
