@@ -339,3 +339,18 @@ def test_rlffs_own_files_are_no_outputs(rlff, tmp_path, file):
         result = rlff("robot", "urdf", "-o", str(target))
         assert result.code == 2 and "is inside rlff's own package" in result.stderr, result.stderr
     assert own.read_bytes() == before
+
+
+@pytest.mark.parametrize(("args", "line"), [
+    (["fit", "{raw}", "-o", "-"], "-o/--output -: rlff writes a file there, not standard output: give its name "
+                                  "(e.g. model.json), or /dev/stdout for its bytes"),
+    (["robot", "export", "{throw}", "-o", "-"], "-o/--output -: rlff writes a file (or, without a suffix, a ROS 2 "
+                                                "bag's folder) there, not standard output: give its name (e.g. throw.json)"),
+    (["demo", "--small", "-o", "-"], "-o/--output -: rlff writes a folder there, not standard output: give its name"),
+])
+def test_an_output_named_dash_is_no_standard_output(rlff, made, tmp_path, monkeypatch, args, line):
+    # fit and generate wrote a file named "-", robot export a ROS 2 bag folder named "-"
+    monkeypatch.chdir(tmp_path)
+    result = rlff("-q", *[part.format(**made) for part in args])
+    assert result.code == 2 and result.stderr.strip() == f"rlff: error: {line}", result.stderr
+    assert list(tmp_path.iterdir()) == []

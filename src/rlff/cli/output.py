@@ -7,7 +7,7 @@ A command names its inputs and outputs once, first thing::
 and :func:`guard` refuses (an :class:`~rlff.errors.InputError`, so one line and exit 2) an
 output that is one of the inputs, two outputs that are the same file, an output file named as a
 folder (an existing folder, or, given to an :func:`output_option`, a path ending in ``/``) or a
-socket, an output folder named as anything but a folder (a file, a device, a FIFO: the refusal
+socket, an output named ``-`` (standard output to many tools: a file named ``-`` was written), an output folder named as anything but a folder (a file, a device, a FIFO: the refusal
 says which, and what the command writes there), or one whose folder is a file. A device or a
 FIFO given for a file gets the file's bytes (``-o /dev/stdout``). The files themselves are
 written by the library through :mod:`rlff.fileio`, so that an existing output is only ever
@@ -101,6 +101,13 @@ def guard(
             continue
         folder = name in contents
         text, example = spelling.get(Path(path), (str(path), None))
+        if text == "-":  # standard output to many tools; it wrote a file (or a bag's folder) named "-"
+            if folder and example is not None:  # a file whose suffix says its format, a bag's folder without one
+                what, named = "a file (or, without a suffix, a ROS 2 bag's folder)", f" (e.g. {example}.json)"
+            else:
+                what, named = ("a folder", "") if folder else ("a file", "" if example is None else f" (e.g. {example})")
+            raise InputError(f"{name} -: rlff writes {what} there, not standard output: give its name{named}"
+                             + ("" if folder else ", or /dev/stdout for its bytes"))
         kind = path_kind(path)
         if folder and kind not in (None, "a folder"):
             raise InputError(f"{text} is {kind}, not a folder: {_folder_wanted(name, contents[name], example)}")
