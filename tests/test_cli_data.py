@@ -286,3 +286,20 @@ def test_a_thesis_matrix_goes_through_synth_preprocess_and_import_as_a_thesis_ma
     result = rlff("data", "preprocess", str(matrix), "-o", str(clean))
     assert result.code == 0, result.stderr
     assert read_dataset(clean).columns == ("angle", "distance", "velocity")
+
+
+def test_preprocess_refuses_a_velocity_in_degrees_per_second(rlff, tmp_path):
+    # the recording went through the thesis preset into a clean file of deg/s, fitted without a word
+    import pandas as pd
+
+    demos, data = tmp_path / "demos.csv", tmp_path / "deg.csv"
+    assert rlff("data", "synth", "throws", "-o", str(demos), "--subjects", "1", "--throws", "2").code == 0
+    frame = pd.read_csv(demos)
+    frame["velocity"] *= 180 / np.pi
+    frame.to_csv(data, index=False)
+    result = rlff("data", "preprocess", str(data), "--preset", "thesis", "-o", str(tmp_path / "clean.csv"))
+    assert result.code == 2
+    assert result.stderr.startswith(f"rlff: error: {data}: column 'velocity' integrates over the throws' time column "
+                                    "to a median 50.4 times their angle's change (along the throw, back and forth)"), result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "clean.csv").exists()

@@ -363,3 +363,41 @@ def test_lengths_in_millimetres_are_asked_about_as_millimetres(rlff, tmp_path):
     assert result.code == 2
     assert "holds 750 to 2750, outside the basket distances 0.3 to 20 m (millimetres? the distance is in metres)" \
         in result.stderr
+
+
+def _synth_throws(rlff, path, *extra: str) -> pd.DataFrame:
+    """Simulated recordings (``rlff data synth throws``) written to ``path``, read back as a frame."""
+    made = rlff("data", "synth", "throws", "-o", str(path), "--subjects", "1", "--throws", "2", *extra)
+    assert made.code == 0, made.stderr
+    return pd.read_csv(path)
+
+
+def test_fit_refuses_a_velocity_in_degrees_per_second(rlff, tmp_path):
+    # fitted without a word; generate then wrote a throw of 3 ms peaking at 688 "rad/s"
+    frame = _synth_throws(rlff, tmp_path / "demos.csv")
+    frame["velocity"] *= 180 / np.pi
+    data = tmp_path / "deg.csv"
+    frame.to_csv(data, index=False)
+    result = rlff("fit", str(data), "-o", str(tmp_path / "m.json"))
+    assert result.code == 2
+    assert re.fullmatch(rf"rlff: error: {re.escape(str(data))}: column 'velocity' integrates over the throws' time "
+                        r"column to a median 5\d\.?\d* times their angle's change \(along the throw, back and forth\): .* \(degrees per second\? velocity "
+                        r"is in rad/s\)\n", result.stderr), result.stderr
+    assert not (tmp_path / "m.json").exists()
+    untimed = tmp_path / "untimed.csv"
+    frame.drop(columns=["time"]).to_csv(untimed, index=False)
+    result = rlff("fit", str(untimed), "-o", str(tmp_path / "m.json"))
+    assert result.code == 2
+    assert f"{untimed}: column 'velocity' peaks at " in result.stderr and "degrees per second?" in result.stderr
+
+
+def test_fit_says_what_it_could_not_check_of_a_file_without_time(thesis_files, rlff, tmp_path):
+    data, _, _ = thesis_files
+    result = rlff("fit", str(data), "-o", str(tmp_path / "m.json"), "-k", "1")
+    assert result.code == 0, result.stderr
+    assert (f"note: {data}: no time column: column 'velocity' checked against a person's fastest joint (60 rad/s) "
+            "only, not against the rate at which the position changes") in result.stderr
+    _synth_throws(rlff, tmp_path / "timed.csv")
+    timed = rlff("fit", str(tmp_path / "timed.csv"), "-o", str(tmp_path / "t.json"), "-k", "1")
+    assert timed.code == 0, timed.stderr
+    assert "checked against a person's fastest joint" not in timed.stderr

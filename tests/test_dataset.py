@@ -14,9 +14,11 @@ from rlff.dataset import (
     UNITS,
     Dataset,
     Trajectory,
+    check_units,
     copies_warning,
     joint_columns,
     merge_datasets,
+    peak_only_note,
     read_csv,
     velocity_column,
     write_csv,
@@ -563,3 +565,77 @@ def test_a_throw_twice_in_a_parquet_or_npz_file_is_said_to_start_again(tmp_path)
         Dataset.from_columns({"time": np.array([0.0, 0.1, 0.2, 0.05, 0.3, 0.4])}, ["a"], [6])
     with pytest.raises(InputError, match=r"^trajectory 'a': its throw starts again at sample 3: two datasets"):
         Dataset.from_columns(columns, ["a"], [6])
+
+
+# -- units of the velocities ---------------------------------------------------------------------
+
+
+def _rescaled(dataset: Dataset, factor: float, columns: tuple[str, ...] = ("velocity",),
+              drop: tuple[str, ...] = ()) -> Dataset:
+    """``dataset`` with ``columns`` multiplied by ``factor`` (another unit) and ``drop`` left out."""
+    return Dataset([t.replace(data={c: t[c] * (factor if c in columns else 1.0) for c in t.columns if c not in drop})
+                    for t in dataset], context=dataset.context)
+
+
+@pytest.fixture(scope="module")
+def recorded():
+    """Simulated recordings as a camera gives them: noise, dropped frames, glitches."""
+    from rlff.synthetic.throws import simulate_throws
+
+    return simulate_throws(0, subjects=3, throws_per_distance=2)
+
+
+def test_a_velocity_in_degrees_per_second_is_refused_by_the_angle_s_change_over_time(recorded):
+    # fitted, cleaned and generated from without a word: a throw of 3 ms at 688 "rad/s"
+    check_units(recorded)
+    assert peak_only_note(recorded.columns) is None
+    with pytest.raises(InputError, match=r"^column 'velocity' integrates over the throws' time column to a median "
+                                         r"5\d\.?\d* times their angle's change \(along the throw, back and forth\): .*\(degrees per second\? velocity is "
+                                         r"in rad/s\)$"):
+        check_units(_rescaled(recorded, np.degrees(1.0)))
+    with pytest.raises(InputError, match=r"time in milliseconds\? it is in seconds"):
+        check_units(_rescaled(recorded, 1000.0, ("time",)))
+
+
+def test_without_a_time_column_a_velocity_is_checked_by_its_peak_and_the_rest_is_said(recorded):
+    untimed = _rescaled(recorded, 1.0, drop=("time",))
+    check_units(untimed)
+    assert peak_only_note(untimed.columns) == (
+        "no time column: column 'velocity' checked against a person's fastest joint (60 rad/s) only, not against "
+        "the rate at which the position changes")
+    with pytest.raises(InputError, match=r"^column 'velocity' peaks at \d+\.?\d* in the median throw, faster than a "
+                                         r"person's joint turns .*degrees per second\?"):
+        check_units(_rescaled(untimed, np.degrees(1.0)))
+
+
+def test_a_recording_s_glitches_faster_than_a_person_pass_where_the_time_column_tells():
+    # uncleaned recordings are what preprocessing is for: their glitches peak beyond any arm
+    from rlff.synthetic.throws import simulate_throws
+
+    glitchy = simulate_throws(1, subjects=2, throws_per_distance=1, rate_hz=30.0, glitches=0.3, noise=0.3)
+    fast = _rescaled(glitchy, 2.0, ("velocity", "angle"))  # twice the angle and its velocity: within two turns
+    assert np.median([np.abs(t["velocity"]).max() for t in fast]) > 60.0
+    check_units(fast)
+
+
+def test_a_whole_arm_joint_s_velocity_is_checked_by_its_peak_and_said_to_be():
+    from rlff.synthetic.whole_arm import whole_arm_demonstrations
+
+    arm = whole_arm_demonstrations(2)
+    check_units(arm)
+    assert peak_only_note(arm.columns) == (
+        "the elbow's velocity alone is integrated over the time: column 'shoulder_velocity' checked against a "
+        "person's fastest joint (60 rad/s) only, not against the rate at which the position changes")
+    with pytest.raises(InputError, match=r"^column 'shoulder_velocity' peaks at \d+\.?\d* in the median throw"):
+        check_units(_rescaled(arm, np.degrees(1.0), ("shoulder_velocity",)))
+
+
+def test_a_velocity_without_its_position_is_checked_by_its_peak_and_said_to_be():
+    data = Dataset([Trajectory(f"t{k}", {"time": np.arange(4) / 30.0, "velocity": np.array([1.0, 5.0, 9.0, 12.0])})
+                    for k in range(3)])
+    check_units(data)
+    assert peak_only_note(data.columns) == (
+        "no angle column: column 'velocity' checked against a person's fastest joint (60 rad/s) only, not against "
+        "the rate at which the position changes")
+    with pytest.raises(InputError, match=r"^column 'velocity' peaks at 687\.5 in the median throw"):
+        check_units(_rescaled(data, np.degrees(1.0)))

@@ -562,20 +562,102 @@ def _require_trajectories(given: Sequence[Any]) -> None:
                          "rlff.formats.read_dataset)")
 
 
+#: How far (a factor either way) the elbow's speed integrated over the time column may read, in
+#: the median throw, from the way its angle travels (the sum of its steps' sizes, back and forth):
+#: 0.99 on the real MSR throws as imported (10-90 % of them 0.93-1.04), 1.01 cleaned, 0.89 for the
+#: simulated camera and 0.59 for its noisiest (noise and glitches 0.3: the noise's zig-zag adds
+#: way that a velocity by central differences halves); a velocity in deg/s reads 50-60. Against
+#: the net change a recording's throw, wound up and followed through back near its start angle,
+#: had read 3.9 from a change of a few hundredths of a radian.
+VELOCITY_AGREEMENT = 3.0
+#: The fastest a person's joint turns at the peak of a throw (rad/s), in the median over the
+#: throws: elbows peak at about 5-20 (docs/data.md; 12.7 on the real MSR throws, 12.8 for the
+#: simulated people), a pitcher's at about 40. In deg/s the same throws peak at 300-1100.
+HUMAN_SPEED = 60.0
+
+
 def check_units(dataset: Dataset, named: Callable[[str], str] = lambda column: f"column {column!r}") -> None:
-    """:class:`InputError` when ``dataset``'s basket distances (``distance``) are not metres or its
-    joint angles (:data:`JOINT_COLUMNS`) not radians: a distance outside
-    :data:`rlff.limits.DISTANCE_RANGE` (a model fitted to 75-275 cm could be asked for none of its
-    baskets and extrapolated at 1.5 m), an angle beyond two turns (:func:`rlff.limits.require_radians`).
+    """:class:`InputError` when ``dataset``'s basket distances (``distance``) are not metres, its
+    joint angles (:data:`JOINT_COLUMNS`) not radians or their velocities not rad/s: a distance
+    outside :data:`rlff.limits.DISTANCE_RANGE` (a model fitted to 75-275 cm could be asked for
+    none of its baskets and extrapolated at 1.5 m), an angle beyond two turns
+    (:func:`rlff.limits.require_radians`), a ``velocity`` that is not the rate of change of the
+    ``angle`` (its magnitude's integral over the ``time`` column in the median throw more than
+    :data:`VELOCITY_AGREEMENT` times the way the angle travels, or less than its inverse), or,
+    where no ``time`` column or position tells (:func:`velocities_by_peak`, said by
+    :func:`peak_only_note`), a velocity column that peaks faster than a person's joint turns
+    (:data:`HUMAN_SPEED`, in the median over the throws). A recording's tracking glitches may
+    peak beyond a person's speed; with a ``time`` column they integrate to the position's change
+    all the same, so uncleaned recordings pass.
     ``named(column)`` words a column in the message (``"column 'distance'"``).
 
+    In deg/s, the velocities had been fitted, cleaned and generated from without a word (a
+    generated throw of 3 ms peaking at 688 "rad/s"), and had sent every throw of the learning
+    loop to the speed limit.
+
     :meth:`rlff.preprocess.Pipeline.run` checks the dataset it cleans so, the command line every
-    file of demonstrations it reads, and :meth:`rlff.model.Model.fit` the columns it fits
-    (:func:`check_column_units`)."""
+    file of demonstrations it reads, :func:`rlff.learn.demos.require_units` the demonstrations
+    it learns from, and :meth:`rlff.model.Model.fit` the distances and angles it fits
+    (:func:`check_column_units`).
+    """
     if not len(dataset):
         return
     checked = [name for name in ("distance", *JOINT_COLUMNS) if name in dataset.columns]
     check_column_units({name: dataset.to_array([name])[:, 0] for name in checked}, named)
+    peaked = velocities_by_peak(dataset.columns)
+    if "velocity" in dataset.columns and "velocity" not in peaked:
+        _check_velocity_in_time(dataset, named)
+    for column in peaked:
+        _check_human_speed(dataset, column, named)
+
+
+def velocities_by_peak(columns: Sequence[str]) -> tuple[str, ...]:
+    """The velocity columns among ``columns`` that :func:`check_units` checks by their peak
+    alone: all but the elbow's ``velocity`` with a ``time`` and an ``angle`` column, which it
+    integrates over the time. (The other joints move less in a throw: their way is a few tenths
+    of a radian, and a real recording's shoulder, cleaned, read 5.2 times it.)"""
+    timed = {"velocity"} if {"time", "angle"} <= set(columns) else set()
+    return tuple(column for column in columns if column.endswith("velocity") and column not in timed)
+
+
+def peak_only_note(columns: Sequence[str]) -> str | None:
+    """What :func:`check_units` could not check in a dataset of ``columns``, in words: the
+    velocities it checks by their peak alone (:func:`velocities_by_peak`), which a velocity in
+    deg/s that a slow throw keeps below :data:`HUMAN_SPEED` passes; None when there are none."""
+    peaked = velocities_by_peak(columns)
+    if not peaked:
+        return None
+    why = ("no time column" if "time" not in columns else "no angle column" if "angle" not in columns
+           else "the elbow's velocity alone is integrated over the time")
+    return (f"{why}: {', '.join(f'column {column!r}' for column in peaked)} checked against a person's fastest joint ({HUMAN_SPEED:g} "
+            "rad/s) only, not against the rate at which the position changes")
+
+
+def _check_human_speed(dataset: Dataset, column: str, named: Callable[[str], str]) -> None:
+    """See :func:`check_units`: the velocity ``column``'s median peak within :data:`HUMAN_SPEED`."""
+    peak = float(np.median([np.max(np.abs(trajectory[column])) for trajectory in dataset]))
+    if peak > HUMAN_SPEED:
+        raise InputError(f"{named(column)} peaks at {peak:.4g} in the median throw, faster than a person's joint "
+                         f"turns (up to {HUMAN_SPEED:g} rad/s; elbows peak at about 5-20): degrees per second? "
+                         "velocity is in rad/s")
+
+
+def _check_velocity_in_time(dataset: Dataset, named: Callable[[str], str]) -> None:
+    """See :func:`check_units`: the ``velocity``'s size over ``time`` against the way the ``angle`` travels."""
+    ratios = []
+    for trajectory in dataset:
+        way = float(np.sum(np.abs(np.diff(trajectory["angle"]))))
+        if way > 1e-3:
+            ratios.append(float(np.trapezoid(np.abs(trajectory["velocity"]), trajectory["time"])) / way)
+    if not ratios:
+        return
+    ratio = float(np.median(ratios))
+    if not 1.0 / VELOCITY_AGREEMENT <= ratio <= VELOCITY_AGREEMENT:
+        hint = (" (degrees per second? velocity is in rad/s)" if 40.0 < ratio < 80.0
+                else " (time in milliseconds? it is in seconds)" if 300.0 < ratio < 3000.0 else "")
+        raise InputError(f"{named('velocity')} integrates over the throws' time column to a median {ratio:.3g} "
+                         "times their angle's change (along the throw, back and forth): it should be the angle's "
+                         f"rate of change, rad/s with the angle in rad and the time in s{hint}")
 
 
 def check_column_units(

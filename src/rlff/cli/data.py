@@ -153,7 +153,7 @@ def preprocess_command(
     """Clean demonstrations step by step and report what every step removed and why."""
     from rich.table import Table
 
-    from rlff.cli.model import read_data
+    from rlff.cli.model import read_data, say_unchecked
     from rlff.formats import check_holds, format_of, write_dataset
     from rlff.preprocess import Pipeline
 
@@ -172,6 +172,7 @@ def preprocess_command(
     if not len(cleaned):
         raise InputError(f"{_last_removal(report)}: no throw left, {output} not written")
     write_dataset(cleaned, output)
+    say_unchecked(dataset, data)
     payload = {**report.to_dict(), "input": str(data), "output": str(output)}
     if report_path is not None:
         write_json(report_path, payload)

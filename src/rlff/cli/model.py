@@ -104,7 +104,9 @@ def read_data(path: Path):
 
     A skeleton recording given where demonstrations go (a tired user's MSR or Kinect text, read
     as a thesis matrix, said "context row 'distance' is not constant") is said to be one, with
-    the command that imports it.
+    the command that imports it. Its units are checked (:func:`rlff.dataset.check_units`: a
+    velocity in deg/s had been fitted and cleaned without a word; what it cannot check the
+    commands say when done: :func:`say_unchecked`).
     """
     from rlff.dataset import check_units
     from rlff.errors import InputError
@@ -119,11 +121,21 @@ def read_data(path: Path):
         raise InputError(f"{path}: a skeleton recording ({kind}), not demonstrations: import it first with "
                          "`rlff data import RECORDINGS -o demos.csv` (docs/capture.md), then "
                          "`rlff data preprocess demos.csv -o clean.csv`") from None
-    try:  # basket distances in metres, joint angles in radians: said with the file's name
+    try:  # distances in metres, angles in radians, velocities in rad/s: said with the file's name
         check_units(dataset)
     except InputError as exc:
         raise InputError(f"{path}: {exc}") from None
     return dataset
+
+
+def say_unchecked(dataset, path: Path) -> None:
+    """A note on what :func:`read_data` could not check of the units of ``dataset`` (read from
+    ``path``): velocities checked by their peak alone (:func:`rlff.dataset.peak_only_note`).
+    Said once a command is done, so that an error stays one line."""
+    from rlff.dataset import peak_only_note
+
+    if (note := peak_only_note(dataset.columns)) is not None:
+        say(f"note: {path}: {note}")
 
 
 def _recording_kind(path: Path) -> str | None:
@@ -286,6 +298,7 @@ def fit_command(
         if not (beyond_bound and note.startswith("the given K")):  # said before the fit, in the CLI's words
             warn(note)
     model.save(output)
+    say_unchecked(dataset, data)
     summary = {
         "output": str(output),
         "n_components": model.n_components,

@@ -111,24 +111,12 @@ def _at_nearest_height(demos: Dataset, rim_height: float) -> Dataset:
     return demos.replace([t for t, h in zip(demos, heights, strict=True) if h == nearest])
 
 
-#: How far (a factor either way) the demonstrations' velocity may read, in the median, from the
-#: rate at which their angle changes over their time column (1.0 on the real MSR throws, the
-#: 10-90 % range 0.89-1.08; a velocity in deg/s reads 57).
-VELOCITY_AGREEMENT = 3.0
-#: The fastest a person's joint turns at the peak of a throw (rad/s), in the median over the
-#: demonstrations: elbows peak at about 5-20 (docs/data.md; 12.7 on the real MSR throws, 12.8
-#: for the simulated people), a pitcher's at about 40. In deg/s the same throws peak at 300-1100.
-HUMAN_SPEED = 60.0
-
-
 def require_units(demos: Dataset) -> None:
-    """:class:`InputError` when the demonstrations' basket distances or joint angles are not
-    metres and radians (:func:`rlff.dataset.check_units`), their landings (``landing`` metadata)
-    are farther than :data:`rlff.limits.DISTANCE_RANGE`'s top either way, or their velocity is
-    not the rate of change of their angle (its integral over the ``time`` column in the median
-    more than :data:`VELOCITY_AGREEMENT` times the angle's change, or less than its inverse), or
-    a velocity column peaks faster than a person's joint turns (:data:`HUMAN_SPEED`, in the
-    median over the throws: the check of a velocity in deg/s where no ``time`` column tells).
+    """:class:`InputError` when the demonstrations' basket distances, joint angles or velocities
+    are not metres, radians and rad/s (:func:`rlff.dataset.check_units`: a velocity in deg/s by
+    the angle's change over the ``time`` column, or, without one, by a peak faster than a
+    person's joint turns), or their landings (``landing`` metadata) are farther than
+    :data:`rlff.limits.DISTANCE_RANGE`'s top either way.
 
     In centimetres, the landings had put every throw the calibration made behind the arm's base
     (-2.05 m from a basket at 1.75 m); in deg/s, the velocities sent every throw to the speed
@@ -143,40 +131,6 @@ def require_units(demos: Dataset) -> None:
                          f"'landing') lie beyond {high:g} m (throw {demos[first].id} at {landings[first]:.4g}): "
                          "centimetres? landings are in metres from the thrower; leave the metadata out where "
                          "they are not known")
-    _require_velocity_in_time(demos)
-    _require_human_speeds(demos)
-
-
-def _require_human_speeds(demos: Dataset) -> None:
-    """See :func:`require_units`: every velocity column's median peak within :data:`HUMAN_SPEED`."""
-    for column in demos.columns:
-        if not column.endswith("velocity") or not len(demos):
-            continue
-        peak = float(np.median([np.max(np.abs(trajectory[column])) for trajectory in demos]))
-        if peak > HUMAN_SPEED:
-            raise InputError(f"the demonstrations' column {column!r} peaks at {peak:.4g} in the median throw, faster "
-                             f"than a person's joint turns (up to {HUMAN_SPEED:g} rad/s; elbows peak at about 5-20): "
-                             "degrees per second? velocity is in rad/s")
-
-
-def _require_velocity_in_time(demos: Dataset) -> None:
-    """See :func:`require_units`: the velocity against the angle's change over ``time``."""
-    if "time" not in demos.columns:
-        return
-    ratios = []
-    for trajectory in demos:
-        change = float(trajectory["angle"][-1] - trajectory["angle"][0])
-        if abs(change) > 1e-3:
-            ratios.append(float(np.trapezoid(trajectory["velocity"], trajectory["time"])) / change)
-    if not ratios:
-        return
-    ratio = float(np.median(ratios))
-    if not 1.0 / VELOCITY_AGREEMENT <= ratio <= VELOCITY_AGREEMENT:
-        hint = (" (degrees per second? velocity is in rad/s)" if 40.0 < ratio < 80.0
-                else " (time in milliseconds? it is in seconds)" if 300.0 < ratio < 3000.0 else "")
-        raise InputError(f"the demonstrations' velocity integrates over their time column to a median {ratio:.3g} "
-                         f"times their angle's change: it should be the angle's rate of change, rad/s with the "
-                         f"angle in rad and the time in s{hint}")
 
 
 def drives_whole_arm(mapping) -> bool:
