@@ -401,3 +401,25 @@ def test_fit_says_what_it_could_not_check_of_a_file_without_time(thesis_files, r
     timed = rlff("fit", str(tmp_path / "timed.csv"), "-o", str(tmp_path / "t.json"), "-k", "1")
     assert timed.code == 0, timed.stderr
     assert "checked against a person's fastest joint" not in timed.stderr
+
+
+def test_generate_warns_where_most_of_the_path_is_no_throw(rlff, tmp_path):
+    # a model of uncut recordings (wind-up and follow-through) gave a path 63-100 % at velocity
+    # <= 0, said only in a note that -q dropped
+    _synth_throws(rlff, tmp_path / "raw.csv")
+    assert rlff("fit", str(tmp_path / "raw.csv"), "-o", str(tmp_path / "m.json"), "-k", "3").code == 0
+    result = rlff("-q", "generate", str(tmp_path / "m.json"), "-c", "distance=2", "-o", str(tmp_path / "t.csv"),
+                  "--json")
+    assert result.code == 0, result.stderr
+    warning = ("100 of 100 points have velocity <= 0 along the path: most of it is no throw (the arm rests there); a "
+               "model of demonstrations not cut to one throw up to the release gives such paths: clean them (rlff data "
+               "preprocess DEMOS --preset thesis) and fit again")
+    assert f"warning: {warning}" in result.stderr
+    assert warning in json.loads(result.stdout)["warnings"]
+
+
+def test_generate_keeps_a_few_points_at_rest_a_note(thesis_files, rlff, tmp_path):
+    _, model, _ = thesis_files
+    result = rlff("generate", str(model), "-c", "distance=8.5", "-o", str(tmp_path / "t.csv"))
+    assert result.code == 0, result.stderr
+    assert "most of it is no throw" not in result.stderr

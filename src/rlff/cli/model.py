@@ -407,7 +407,7 @@ def generate_command(
         path = model.generate(context_values, angles, exploration=factor, exploration_scale=exploration_scale,
                               continuity=continuity)
     used = dict(path.context)
-    path = _with_columns(path, selected, written)
+    path = _with_standstill_warning(_with_columns(path, selected, written))
     if bearing is not None:
         path = _with_bearing_warning(path, bearing, robot)
     path.write_csv(output)
@@ -453,6 +453,27 @@ def _basket_values(context: dict[str, float], names: tuple[str, ...], bearing: f
         else:
             written[name] = value
     return written
+
+
+def _with_standstill_warning(path):
+    """``path`` with a warning when a throw's path (angle in, velocity out) has velocity <= 0
+    along most of it (more than half its points): no throw, the arm rests there. A model of
+    demonstrations not cut to one throw up to the release gives it (the raw MSR import: 69 of 100
+    points, 98 s at 0.9 rad/s); the note on how it was timed had been all, and -q dropped it. A
+    few such points (a throw starting from rest) stay a note."""
+    import dataclasses
+
+    import numpy as np
+
+    if path.input_name != "angle" or path.output_names[0] != "velocity":
+        return path
+    still = int(np.count_nonzero(math.copysign(1.0, float(path.angle[-1] - path.angle[0])) * path.velocity <= 0))
+    if 2 * still <= len(path):
+        return path
+    warning = (f"{still} of {len(path)} points have velocity <= 0 along the path: most of it is no throw (the arm "
+               "rests there); a model of demonstrations not cut to one throw up to the release gives such paths: "
+               "clean them (rlff data preprocess DEMOS --preset thesis) and fit again")
+    return dataclasses.replace(path, warnings=(*path.warnings, warning))
 
 
 def _with_bearing_warning(path, bearing: float, robot: str):
