@@ -293,6 +293,22 @@ def test_a_recording_given_as_demonstrations_says_to_import_it(rlff, tmp_path, n
     assert f"a skeleton recording ({kind}), not demonstrations: import it first" in result.stderr
 
 
+@pytest.mark.parametrize("command", [
+    ("fit", "{path}", "-o", "{out}.json"),
+    ("learn", "{path}", "--basket", "1.5", "--log", "{out}.jsonl"),
+    ("data", "preprocess", "{path}", "-o", "{out}.csv"),
+])
+def test_a_generated_path_given_as_demonstrations_says_what_it_is(rlff, tmp_path, command):
+    # its gmr_mean_shoulder_velocity column passed for a skeleton's: "a skeleton recording (joint CSV) ..."
+    path = tmp_path / "traj.csv"
+    path.write_text("angle,velocity,shoulder,shoulder_velocity,time,gmr_mean,gmr_mean_shoulder_velocity\n"
+                    "0.6,3.6,2.3,3.2,0,2.2,3.1\n0.7,3.9,2.4,3.3,0.03,2.4,3.2\n")
+    result = rlff(*(arg.format(path=path, out=tmp_path / "out") for arg in command))
+    assert result.code == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
+    assert f"{path} is a generated path (rlff generate writes it), not demonstrations, which rlff data import " \
+        "writes from recordings" in result.stderr
+
+
 def test_distances_in_centimetres_are_refused_before_a_model_nobody_can_ask(rlff, tmp_path):
     # fit took 75-275 (cm) without a word; generate then refused 150 m and extrapolated at 1.5 m
     rows = ["trajectory,angle,velocity,distance"] + [

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -115,6 +116,10 @@ def read_data(path: Path):
     try:
         dataset = read_dataset(path)
     except InputError:
+        if _is_generated_path(path):
+            raise InputError(f"{path} is a generated path (rlff generate writes it), not demonstrations, which rlff "
+                             "data import writes from recordings (rlff data import RECORDINGS -o demos.csv, then rlff "
+                             "data preprocess demos.csv -o clean.csv)") from None
         kind = _recording_kind(path)
         if kind is None:
             raise
@@ -138,6 +143,17 @@ def say_unchecked(dataset, path: Path) -> None:
         say(f"note: {path}: {note}")
 
 
+def _is_generated_path(path: Path) -> bool:
+    """Whether ``path`` is a CSV whose header is a generated path's: ``angle`` and ``velocity``
+    without ``trajectory`` (it had been called a skeleton recording, a joint CSV)."""
+    try:
+        with open(path, encoding="utf-8-sig", errors="replace") as handle:
+            names = {name.strip() for name in handle.readline().lower().split(",")}
+    except OSError:
+        return False
+    return {"angle", "velocity"} <= names and "trajectory" not in names
+
+
 def _recording_kind(path: Path) -> str | None:
     """The skeleton format ``path`` looks like (``rlff data import``'s guess), or None."""
     from rlff.capture.importer import detect_format
@@ -153,7 +169,8 @@ def _recording_kind(path: Path) -> str | None:
     if kind == "csv":  # a CSV is a recording when it has a skeleton's columns
         with open(path, encoding="utf-8-sig", errors="replace") as handle:
             header = handle.readline().lower()
-        return "joint CSV" if "trajectory" not in header and "_shoulder_" in header else None
+        # a skeleton's x/y/z columns; a generated path's gmr_mean_shoulder_velocity had passed for one
+        return "joint CSV" if "trajectory" not in header and re.search(r"shoulder_[xyz]\b", header) else None
     return {"msr": "MSR Action3D text", "kinect-text": "Kinect SDK text", "bag": "ROS bag"}.get(kind)
 
 
