@@ -439,3 +439,15 @@ def test_generate_keeps_a_few_points_at_rest_a_note(thesis_files, rlff, tmp_path
     result = rlff("generate", str(model), "-c", "distance=8.5", "-o", str(tmp_path / "t.csv"))
     assert result.code == 0, result.stderr
     assert "most of it is no throw" not in result.stderr
+
+
+@pytest.mark.parametrize("name", ["model.csv", "model.parquet", "model.jsonl", "model.TXT"])
+def test_a_model_named_as_another_kind_of_file_is_refused(thesis_files, rlff, tmp_path, name):
+    # rlff fit -o model.csv wrote JSON into model.csv without a word
+    data, _, _ = thesis_files
+    out = tmp_path / name
+    result = rlff("fit", str(data), "-o", str(out))
+    assert result.code == 2 and len(result.stderr.strip().splitlines()) == 1, result.stderr
+    assert (f"-o/--output {out}: rlff fit writes a model, which is JSON, where the suffix {out.suffix} names another "
+            f"kind of file: name it .json ({out.with_suffix('.json')})") in result.stderr
+    assert not out.exists()

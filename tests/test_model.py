@@ -563,6 +563,9 @@ def test_a_path_past_the_data_and_an_impossible_joint_angle_are_warned(tmp_path)
     assert "angle values -1 to 4 leave the fitted range [0.6, 2.8]: extrapolating" in far.warnings
     (wrist,) = [w for w in far.warnings if w.startswith("wrist goes")]
     assert far.outputs[:, 1].max() > np.pi + 0.05 and "outside 0 to pi" in wrist
+    # the elbow's own grid beyond pi or below 0 had only "extrapolating" (until 2026-12-07)
+    (elbow,) = [w for w in far.warnings if w.startswith("angle goes")]
+    assert elbow.startswith("angle goes -1 to 4 rad, outside 0 to pi (the angle between two limbs): no arm takes")
 
 
 def test_a_step_between_modes_is_said_where_it_is(thesis_model):

@@ -143,6 +143,18 @@ def say_unchecked(dataset, path: Path) -> None:
         say(f"note: {path}: {note}")
 
 
+def _require_model_name(output: Path) -> None:
+    """Refuse a model's output named as another kind of file (``-o model.csv``: the JSON went into
+    it without a word, and the next command read it as that kind): its suffix a dataset's, a bag's,
+    an attempts log's or a robot file's."""
+    from rlff.formats import FORMATS
+
+    others = {suffix for suffixes in FORMATS.values() for suffix in suffixes} | {".jsonl", ".bag", ".toml", ".yaml"}
+    if output.suffix.lower() in others:
+        raise InputError(f"-o/--output {output}: rlff fit writes a model, which is JSON, where the suffix "
+                         f"{output.suffix} names another kind of file: name it .json ({output.with_suffix('.json')})")
+
+
 def _is_generated_path(path: Path) -> bool:
     """Whether ``path`` is a CSV whose header is a generated path's: ``angle`` and ``velocity``
     without ``trajectory`` (it had been called a skeleton recording, a joint CSV)."""
@@ -267,6 +279,7 @@ def fit_command(
     from rlff.model.model import check_throw_context, throw_roles, uncut_throws_note
 
     guard(inputs={"DATA": data}, outputs={"-o/--output": output})
+    _require_model_name(output)
     resolution = _word_or_number(
         "--context-resolution", context_resolution, {"auto": "auto"}, lambda v: 0 <= v < math.inf,
         "auto or a number >= 0 (0 for none)",

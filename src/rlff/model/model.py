@@ -590,6 +590,9 @@ class Model:
         cautioned.extend(("the regression turns back", warning)
                          for warning in self._speed_reversal(angles, values, conditional.mean[:, 0]))
         cautioned.extend(("no arm takes this pose", warning) for warning in _impossible_angles(mode.output, self.outputs))
+        if first == "angle" and (angles.min() < lo or angles.max() > hi):
+            # the elbow's grid itself, past its data (--grid angle=0.7:10:100 had only "extrapolating")
+            cautioned.extend(("no arm takes this pose", warning) for warning in _impossible_angles(angles[:, None], [first]))
         warnings = [warning for _, warning in cautioned]
         velocity = mode.output[:, 0]
         time, notes = _path_time(angles, velocity, self.outputs[0])
@@ -774,12 +777,13 @@ ANGLE_SLACK = 0.05
 
 
 def _impossible_angles(outputs: np.ndarray, names: Sequence[str]) -> list[str]:
-    """A warning for each joint-angle output (``shoulder``, ``wrist``: angles between two limbs,
-    0 to pi) that leaves 0 to pi by more than :data:`ANGLE_SLACK` somewhere in ``outputs``
-    (T, O): no arm takes that pose, so the model was asked far past its data."""
+    """A warning for each joint angle (``angle``, the elbow's, ``shoulder``, ``wrist``: angles
+    between two limbs, 0 to pi) among ``names`` that leaves 0 to pi by more than
+    :data:`ANGLE_SLACK` somewhere in ``outputs`` (T, O): no arm takes that pose, so the model was
+    asked far past its data."""
     found = []
     for j, name in enumerate(names):
-        if name in ARM_JOINT_COLUMNS:
+        if name == "angle" or name in ARM_JOINT_COLUMNS:
             low, high = float(outputs[:, j].min()), float(outputs[:, j].max())
             if low < -ANGLE_SLACK or high > math.pi + ANGLE_SLACK:
                 found.append(f"{name} goes {low:.3g} to {high:.3g} rad, outside 0 to pi (the angle between two "
