@@ -309,12 +309,19 @@ def test_a_generated_path_given_as_demonstrations_says_what_it_is(rlff, tmp_path
         "writes from recordings" in result.stderr
 
 
+def _demos_in_other_units(path, distances, per_metre: float):
+    """Demonstrations (3 throws at each of ``distances``, 4 samples each) whose distance column is
+    in another unit (``per_metre`` of them a metre), their velocities as the metres would give."""
+    rows = ["trajectory,angle,velocity,distance"] + [
+        f"t{d}_{k},{a:.2f},{(1 + a) * d / per_metre:.3f},{d}" for d in distances for k in range(3)
+        for a in (0.5, 1.0, 1.5, 2.0)]
+    path.write_text("\n".join(rows) + "\n")
+    return path
+
+
 def test_distances_in_centimetres_are_refused_before_a_model_nobody_can_ask(rlff, tmp_path):
     # fit took 75-275 (cm) without a word; generate then refused 150 m and extrapolated at 1.5 m
-    rows = ["trajectory,angle,velocity,distance"] + [
-        f"t{d}_{k},{a:.2f},{(1 + a) * d / 100:.3f},{d}" for d in (75, 150, 275) for k in range(3) for a in (0.5, 1.0, 1.5, 2.0)]
-    data = tmp_path / "cm.csv"
-    data.write_text("\n".join(rows) + "\n")
+    data = _demos_in_other_units(tmp_path / "cm.csv", (75, 150, 275), per_metre=100)
     result = rlff("fit", str(data), "-o", str(tmp_path / "m.json"))
     assert result.code == 2
     assert "column 'distance' holds 75 to 275, outside the basket distances 0.3 to 20 m (centimetres?" in result.stderr
@@ -371,10 +378,7 @@ def test_lengths_in_millimetres_are_asked_about_as_millimetres(rlff, tmp_path):
             check_distance("--basket", value)
     with pytest.raises(InputError, match=r"\(centimetres or millimetres\? the height is in metres\)$"):
         check_pedestal(50, "--pedestal")
-    rows = ["trajectory,angle,velocity,distance"] + [
-        f"t{d}_{k},{a:.2f},{(1 + a) * d / 1000:.3f},{d}" for d in (750, 1500, 2750) for k in range(3) for a in (0.5, 1.0, 1.5, 2.0)]
-    data = tmp_path / "mm.csv"
-    data.write_text("\n".join(rows) + "\n")
+    data = _demos_in_other_units(tmp_path / "mm.csv", (750, 1500, 2750), per_metre=1000)
     result = rlff("fit", str(data), "-o", str(tmp_path / "m.json"))
     assert result.code == 2
     assert "holds 750 to 2750, outside the basket distances 0.3 to 20 m (millimetres? the distance is in metres)" \
