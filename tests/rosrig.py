@@ -217,9 +217,12 @@ def human_csv(path: Path, robot_positions: np.ndarray, robot_speed: np.ndarray) 
 
 
 def throw_csv(folder: Path, name: str, lower: float, upper: float, peak: float) -> Path:
-    """A generated throw of joint_2 from ``lower`` to ``upper`` (rad), up to ``peak`` + 0.2 rad/s."""
+    """A generated throw of joint_2 from ``lower`` to ``upper`` (rad), from 0.2 rad/s up to ``peak``
+    + 0.2 rad/s at its release, the fastest point, as a throw lets go. The planner holds no speed
+    above the release's, so the release's speed sets how long the motion takes (a throw that let go
+    at 0.2 rad/s crept for 12 s: ``peak`` 0 for a motion of several seconds)."""
     q = np.linspace(lower, upper, 30)
-    speed = np.sign(upper - lower) * (0.2 + peak * np.sin(np.linspace(0, np.pi, 30)))
+    speed = np.sign(upper - lower) * (0.2 + peak * np.sin(np.linspace(0, np.pi / 2, 30)))
     return human_csv(folder / name, q, speed)
 
 

@@ -164,7 +164,7 @@ def test_a_robot_the_arm_does_not_have_is_refused_before_sending(ros, tmp_path):
 
 
 def test_timeout_cancels_the_goal_and_the_arm_brakes(ros, tmp_path):
-    path = throw_csv(tmp_path, "slower.csv", -1.4, 1.5, 0.05)  # within what keeps the arm above the floor
+    path = throw_csv(tmp_path, "slower.csv", -1.4, 1.5, 0.0)  # within what keeps the arm above the floor
     sent = _planned(path, ros.pose(tmp_path))
     assert sent.duration > 12
 
@@ -338,7 +338,7 @@ def test_an_interrupt_before_the_goal_goes_out_says_no_goal_was_sent(ros, tmp_pa
 
 def _send_slow_throw(rig: Ros, folder) -> subprocess.Popen:
     """``rlff robot send --json`` of a throw of several seconds, returned once its goal is accepted."""
-    slow = throw_csv(folder, "slow.csv", -1.2, 1.5, 0.2)
+    slow = throw_csv(folder, "slow.csv", -1.2, 1.5, 0.0)
     sender = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow), "--json"],
                               env=rig.env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     wait(lambda: "accepted" in rig.log() or sender.poll() is not None, 120, "the goal to be accepted")
@@ -523,7 +523,7 @@ def test_a_driver_that_publishes_nothing_is_told_from_none(ros, tmp_path):
 
 def test_an_action_nobody_serves_is_named_with_the_robot_file_s_ros_table(ros, tmp_path):
     nobody = named_robot_file(tmp_path, "nobody.toml", action="/nobody/follow_joint_trajectory")
-    path = throw_csv(tmp_path, "throw.csv", -0.5, 0.5, 0.5)
+    path = throw_csv(tmp_path, "throw.csv", -0.8, 0.6, 0.0)  # 7 s at 0.2 rad/s: longer than the 4 s timeout
     result = ros.rlff("robot", "send", str(path), "--robot", str(nobody), "--timeout", "4")
     assert result.returncode == 1
     assert result.stderr.splitlines()[-1] == (

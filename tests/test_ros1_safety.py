@@ -110,7 +110,7 @@ def test_cancel_brakes_within_the_limits(ros, tmp_path):
 
 
 def test_a_moving_arm_is_refused_and_a_raw_goal_preempts_without_a_step(ros, tmp_path):
-    slow = throw_csv(tmp_path, "slow.csv", -1.2, 1.5, 0.2)  # several seconds: still running when preempted
+    slow = throw_csv(tmp_path, "slow.csv", -1.2, 1.5, 0.0)  # several seconds: still running when preempted
     quick = throw_csv(tmp_path, "quick.csv", 0.3, -0.3, 1.0)
     recorder = ros.record(tmp_path / "states.csv")
     first = subprocess.Popen([sys.executable, "-m", "rlff", "robot", "send", str(slow), "--json"], env=ros.env,
@@ -167,7 +167,7 @@ def test_serve_checks_its_options_and_never_replaces_a_running_server(ros, tmp_p
                          ids=["ctrl-c", "sigterm"])
 def test_stopping_send_brakes_and_the_client_waits_for_rest(ros, tmp_path, stop_signal, code, word):
     # Ctrl-C, or the SIGTERM of a supervisor (kill, systemd, a launch file): the goal is cancelled
-    slow = throw_csv(tmp_path, "slow.csv", -1.2, 1.5, 0.2)  # several seconds: still running at the Ctrl-C
+    slow = throw_csv(tmp_path, "slow.csv", -1.2, 1.5, 0.0)  # several seconds: still running at the Ctrl-C
     recorder = ros.record(tmp_path / "states.csv")
     # Ctrl-C as a terminal gives it: a suite started in the background of a shell (`.ci/run &`)
     # inherits SIGINT ignored, and Python then never turns it into KeyboardInterrupt

@@ -454,7 +454,7 @@ def test_serve_and_send_a_throw_to_a_ur_named_controller_in_its_own_convention(d
 
 def test_an_action_nobody_serves_is_named_with_the_robot_file_s_ros_table(server, domain, tmp_path):
     nobody = named_robot_file(tmp_path, "nobody.toml", action="/nobody/follow_joint_trajectory")
-    path = throw_csv(tmp_path, "throw.csv", -0.5, 0.5, 0.5)
+    path = throw_csv(tmp_path, "throw.csv", -0.8, 0.6, 0.0)  # 7 s at 0.2 rad/s: longer than the 5 s timeout
     # the timeout bounds reading the arm's state too: discovery takes seconds on a loaded machine
     result = _rlff(ros2_env(domain, tmp_path), "robot", "send", str(path), "--ros", "2", "--robot", str(nobody),
                    "--timeout", "5")
