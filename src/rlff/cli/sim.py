@@ -70,7 +70,7 @@ def throw(
     from rlff.limits import check_pedestal
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import bearing_at_release
-    from rlff.robot.plan import ROBOT_TRAJECTORY, require_planned, robot_file_kind
+    from rlff.robot.plan import ROBOT_TRAJECTORY, release_at_rest, require_planned, robot_file_kind
     from rlff.sim import Basket, simulate_throw
     from rlff.sim.throw import SIM_PERIOD, not_followed
 
@@ -166,24 +166,6 @@ def throw(
                   "height (released below it)", highlight=False)
     if outcome.frames:
         out.print(f"frames: {len(outcome.frames) - 1} PNG and {outcome.frames[-1]}", highlight=False)
-
-
-def release_at_rest(plan) -> str | None:
-    """Why every joint of ``plan`` (a :class:`rlff.robot.plan.RobotPlan`) stands still at its
-    release, or None when one moves there: a release ``--clip`` held inside a position limit, or a
-    path that ends at rest."""
-    import numpy as np
-
-    trajectory = plan.trajectory
-    release = int(np.argmin(np.abs(trajectory.time - trajectory.release_time)))
-    if np.any(trajectory.velocities[release] != 0):
-        return None
-    last = len(plan.points) - 1
-    held = sorted({change.joint for change in plan.clipped_points.changes
-                   if change.point == last and change.quantity == "position"})
-    if held:
-        return f"--clip held {', '.join(held)} inside a position limit there"
-    return "the path ends at rest" if plan.points is not trajectory else "the trajectory's release is at rest"
 
 
 def path_context(path: Path) -> dict[str, float]:

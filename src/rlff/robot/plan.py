@@ -11,8 +11,8 @@ reaches a file, a bag, a Comau program, a live goal or the simulation without th
   and checked; a path that is no throw to clip (a unit or scale slip far beyond a limit, a release
   that clipping stops: :func:`require_a_throw`) is refused with ``clip`` too;
 - a robot trajectory (what ``rlff robot export --format json|csv`` writes) is read and checked
-  as it is: it must already be executable, and be of the robot it is read for
-  (:mod:`rlff.robot.planned_for`).
+  as it is: it must already be executable, throw (not every joint at rest at its release:
+  :func:`release_at_rest`), and be of the robot it is read for (:mod:`rlff.robot.planned_for`).
 """
 
 from __future__ import annotations
@@ -229,6 +229,38 @@ def _require_thrown(mapping: RobotMapping | ArmMapping, points: JointTrajectory,
     raise InputError(f"the ball would not be thrown: the release ({shown}) moves against the path's direction, and "
                      "stopped (0 rad/s) it leaves every driven joint at rest there; a path from uncleaned "
                      "demonstrations? clean them (rlff data preprocess --preset thesis), then fit and generate again")
+
+
+def release_at_rest(plan: RobotPlan) -> str | None:
+    """Why every joint of ``plan``'s trajectory stands still at its release (one phrase), or None
+    when one moves there or it has no release: a release ``clip`` held inside a position limit, a
+    path that ends at rest, or a robot trajectory released at rest (:func:`load_for_robot` refuses
+    that one; ``rlff sim throw`` warns of the others)."""
+    trajectory = plan.trajectory
+    if trajectory.release_time is None:
+        return None
+    release = int(np.argmin(np.abs(trajectory.time - trajectory.release_time)))
+    if np.any(trajectory.velocities[release] != 0):
+        return None
+    last = len(plan.points) - 1
+    held = sorted({change.joint for change in plan.clipped_points.changes
+                   if change.point == last and change.quantity == "position"})
+    if held:
+        return f"--clip held {', '.join(held)} inside a position limit there"
+    return "the path ends at rest" if plan.points is not trajectory else "the trajectory's release is at rest"
+
+
+def _require_released_moving(path: Path, plan: RobotPlan) -> None:
+    """Refuse a robot trajectory ``plan`` (read from the file ``path``) whose every joint is at rest
+    at its release (:func:`release_at_rest`): an rlff before 2026-12-07 exported, with ``--clip``, a
+    path whose release clipping stopped (:func:`_require_thrown`), and such a file was exported
+    and sent again as it was."""
+    if release_at_rest(plan) is None:
+        return
+    raise InputError(f"{path}: the ball would not be thrown: every joint is at rest at the release "
+                     f"({plan.trajectory.release_time:.6g} s); until 2026-12-07 --clip exported that of a release moving "
+                     "against the path's direction, a path from uncleaned demonstrations? clean them (rlff data "
+                     "preprocess --preset thesis), then fit, generate and export again")
 
 
 def _looks_like_degrees(change) -> bool:
@@ -514,7 +546,9 @@ def load_for_robot(
     except InputError as exc:  # a file that keeps no robot may be another arm's, failing on this one's limits
         raise type(exc)(f"{path}: {exc}{'' if own else checked_against(robot)}") from None
     trajectory = require_release(path, trajectory)
-    return kind, RobotPlan(trajectory, trajectory, ClipReport())
+    planned = RobotPlan(trajectory, trajectory, ClipReport())
+    _require_released_moving(path, planned)
+    return kind, planned
 
 
 def require_planned(path: str | Path, planned: RobotPlan, options: Sequence[str]) -> None:
