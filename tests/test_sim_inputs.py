@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -149,3 +151,19 @@ def test_a_robot_trajectory_released_at_rest_is_no_throw(robot, tmp_path, writer
     with pytest.raises(InputError, match=r"the ball would not be thrown: every joint is at rest at the release"):
         load_for_send(tmp_path / name, robot)  # rlff robot send's reading
 
+
+def test_an_attempt_whose_release_clipping_stops_is_no_throw_with_clip(robot, tmp_path):
+    """An attempt replayed with --clip (export, send, sim throw) skipped the check a generated path
+    gets: a release moving against the path's direction was stopped and exported at rest, exit 0."""
+    from attempts_logs import write_attempts_log
+    from rlff.learn.log import robot_record
+
+    run = {"basket": {"distance": 1.5}, "robot": robot_record(RobotMapping.for_robot(robot))}
+    log = write_attempts_log(tmp_path / "a.jsonl", run, [0.0])
+    header, line = log.read_text().splitlines()
+    attempt = json.loads(line) | {"velocity": [6.0, -1.0], "clipped": 1}  # the time comes from the path again
+    log.write_text(f"{header}\n{json.dumps(attempt)}\n")
+    for clip in (False, True):
+        with pytest.raises(InputError, match=r"^the ball would not be thrown: the release \(joint_2 velocity -0\.25 rad/s\) "
+                                             "moves against the path's direction"):
+            load_input(log, robot, clip=clip)

@@ -170,12 +170,15 @@ def plan_attempt(attempt: Attempt, mapping: RobotMapping | ArmMapping, period: f
     it was planned on, which no longer fit each other; the time is left out and comes from the
     path again (the planner keeps only the first pose and the release, so the plan is the
     executed one, and the check on a path's time column is for files, not for the loop's log).
+    With ``clip`` too, an attempt that is no throw to clip (:func:`rlff.robot.plan.require_a_throw`:
+    a slip, a release clipping stops) is refused, as a generated path is (until 2026-12-07 it was
+    exported, sent and simulated released at rest, exit 0).
     """
     path = attempt.path
     if attempt.clipped:
         path = {name: column for name, column in path.items() if name != "time"}
     return plan_path(mapping, path, bearing=bearing, period=period, clip=clip, start=start,
-                     approach_speed=approach_speed)
+                     approach_speed=approach_speed, throw=True)
 
 
 def load_input(path: str | Path, robot: Robot, *, attempt: int | None = None, period: float = DEFAULT_PERIOD,
