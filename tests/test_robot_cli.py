@@ -394,6 +394,34 @@ def test_a_generated_path_whose_time_disagrees_is_refused(capsys, tmp_path, edit
     assert "timed.csv: rows 1 to 2: the time column takes" in err and ratio in err
 
 
+
+@pytest.mark.parametrize(("edit", "hint"), [
+    (lambda t: t.assign(time=t.time * 1000), "; is the time column in milliseconds? rlff reads seconds: divide it by 1000"),
+    (lambda t: t.round(3), "; the file looks rounded to 3 decimals (a spreadsheet?), which explains the disagreement; "
+                           "rlff generate writes full precision: generate the path again, or keep full precision where "
+                           "it is saved"),
+    (lambda t: t.round({"angle": 3, "velocity": 3, "time": 4}), "; the file looks rounded to angle 3, velocity 3, time 4 "
+                                                                 "decimals (a spreadsheet?)"),
+    (lambda t: t.assign(velocity=t.velocity * 0.8).round(3), None),  # rounding does not explain 0.8
+    (lambda t: t.assign(time=t.time * 20), None),
+])
+def test_a_time_in_milliseconds_or_a_rounded_path_is_named_as_such(capsys, tmp_path, edit, hint):
+    """A time column in ms, or a path saved by a spreadsheet at 3 decimals, was refused as time, angle
+    and velocity that "do not belong together", with no word of what parted them (until 2026-12-07)."""
+    angle = np.linspace(0.7, 1.9, 30)
+    velocity = np.linspace(2.0, 9.0, 30)
+    path = tmp_path / "timed.csv"
+    edit(pd.DataFrame({"angle": angle, "velocity": velocity, "time": time_along_path(angle, velocity)})).to_csv(
+        path, index=False)
+    code, _, err = run(capsys, "robot", "export", str(path), "-f", "json", "-o", str(tmp_path / "bad.json"))
+    assert code == 2 and len(err.strip().splitlines()) == 1 and not (tmp_path / "bad.json").exists()
+    said = " ".join(err.split())
+    assert "time, angle and velocity do not belong together" in said
+    if hint is None:
+        assert said.endswith("do not belong together"), said
+    else:
+        assert f"do not belong together{hint}" in said, said
+
 def test_a_file_of_the_wrong_kind_is_one_line(capsys, tmp_path):
     other = tmp_path / "other.bag"
     other.write_bytes(b"#ROSBAG V2.0\n\x00\x01")

@@ -321,7 +321,45 @@ def _require_time_agrees(angle: np.ndarray, velocity: np.ndarray, time: np.ndarr
             f"velocity take {expected[i]:.6g} s (angle {angle[i]:.6g} -> {angle[i + 1]:.6g} rad at "
             f"{velocity[i]:.6g} and {velocity[i + 1]:.6g} rad/s; {ratio[i]:.3g} times as long, "
             f"{bad.size} steps disagree by more than {TIME_AGREEMENT:.0%}): time, angle and velocity "
-            "do not belong together")
+            f"do not belong together{_time_hint(angle, speed, time, ratio[fast], bad)}")
+
+
+def _time_hint(angle: np.ndarray, speed: np.ndarray, time: np.ndarray, ratios: np.ndarray, bad: np.ndarray) -> str:
+    """What likely parted a path's time column from its angle and velocity (:func:`_require_time_agrees`),
+    as the end of its message, ``""`` when neither: a time in milliseconds (most of the steps that
+    move, ``ratios``, about 1000 times as long), or a file rounded to fewer decimals than rlff writes
+    (:func:`_shown_decimals`) whose rounding covers every step that disagrees (``bad``: indices of
+    steps; ``speed`` (T,) the velocity along the path, rad/s)."""
+    if np.mean(np.abs(ratios / 1000 - 1) <= 0.1) > 0.5:
+        return "; is the time column in milliseconds? rlff reads seconds: divide it by 1000"
+    shown = {name: _shown_decimals(column) for name, column in (("angle", angle), ("velocity", speed), ("time", time))}
+    rounded = {name: decimals for name, decimals in shown.items() if decimals is not None}
+    if not rounded:
+        return ""
+    # each value within half a unit of its last digit shown: a step's ends within one unit
+    unit = {name: 10.0 ** -shown[name] if shown[name] is not None else 0.0 for name in shown}
+    step, moved = np.diff(time)[bad], np.abs(np.diff(angle))[bad]
+    total = (speed[:-1] + speed[1:])[bad]
+    shortest = 2 * np.maximum(moved - unit["angle"], 0.0) / (total + unit["velocity"])
+    longest = 2 * (moved + unit["angle"]) / np.maximum(total - unit["velocity"], 1e-300)
+    slack = 1 + TIME_AGREEMENT
+    if np.any(step + unit["time"] < shortest / slack) or np.any(step - unit["time"] > longest * slack):
+        return ""
+    counts = sorted(set(rounded.values()))
+    to = (f"{counts[0]} decimals" if len(counts) == 1
+          else ", ".join(f"{name} {decimals}" for name, decimals in rounded.items()) + " decimals")
+    return (f"; the file looks rounded to {to} (a spreadsheet?), which explains the disagreement; rlff generate "
+            "writes full precision: generate the path again, or keep full precision where it is saved")
+
+
+def _shown_decimals(values: np.ndarray, most: int = 8) -> int | None:
+    """The fewest decimals (0 to ``most``) every value of ``values`` is written with, or None for
+    values of more (as rlff generate writes them: full precision)."""
+    for decimals in range(most + 1):
+        scaled = values * 10.0**decimals
+        if np.all(np.abs(scaled - np.round(scaled)) <= 1e-6 * np.maximum(1.0, np.abs(scaled))):
+            return decimals
+    return None
 
 
 def plan(
