@@ -328,6 +328,30 @@ def test_a_fit_in_degrees_or_centimetres_is_refused_whatever_holds_the_samples(c
             Model.fit(given, components=2)
 
 
+
+@pytest.mark.parametrize("timed, message", [
+    (False, "column 'velocity' peaks at 647.2 in the median throw, faster than a person's joint turns"),
+    (True, "column 'velocity' integrates over the throws' time column to a median 57.3 times their angle's change"),
+])
+def test_a_fit_in_degrees_per_second_is_refused_from_python_as_rlff_fit_refuses_it(timed, message):
+    # Model.fit from Python checked distances and angles, not the velocity, which only the CLI's
+    # reader checked: a frame of clean.csv in deg/s fitted without a word (until 2026-12-07)
+    from rlff.timing import time_along_path
+
+    data = baskets_dataset(baskets=np.array([1.0, 2.0, 3.0]))
+    if timed:
+        data = data.replace(t.with_columns(time=time_along_path(t["angle"], np.abs(t["velocity"]))) for t in data)
+    converted = data.replace(t.with_columns(velocity=t["velocity"] * 180 / np.pi) for t in data)
+    columns = ["angle", "distance", "velocity", *(["time"] if timed else [])]
+    frame = pd.DataFrame(converted.to_array(columns), columns=columns)
+    frame.insert(0, "trajectory", np.repeat([t.id for t in converted], [len(t) for t in converted]))
+    for given in (converted, frame):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the frame's trajectory column is not read into the fit
+            with pytest.raises(InputError, match=r"^" + re.escape(message)):
+                Model.fit(given, components=2)
+    Model.fit(data, components=1, n_init=1)  # in rad/s it fits
+
 def test_a_fit_takes_distances_nearer_than_any_basket_a_throw_landed_at():
     # a learning method labels each throw with where it came down: 0.2 m is a throw that fell
     # near the base, no unit slip; 0 m and below is no landing in front of the arm

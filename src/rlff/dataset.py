@@ -598,17 +598,29 @@ def check_units(dataset: Dataset, named: Callable[[str], str] = lambda column: f
     :meth:`rlff.preprocess.Pipeline.run` checks the dataset it cleans so, the command line every
     file of demonstrations it reads, :func:`rlff.learn.demos.require_units` the demonstrations
     it learns from, and :meth:`rlff.model.Model.fit` the distances and angles it fits
-    (:func:`check_column_units`).
+    (:func:`check_column_units`) and their velocities (:func:`check_velocity_units`).
     """
     if not len(dataset):
         return
     checked = [name for name in ("distance", *JOINT_COLUMNS) if name in dataset.columns]
     check_column_units({name: dataset.to_array([name])[:, 0] for name in checked}, named)
-    peaked = velocities_by_peak(dataset.columns)
-    if "velocity" in dataset.columns and "velocity" not in peaked:
-        _check_velocity_in_time(dataset, named)
+    check_velocity_units(dataset, dataset.columns, named)
+
+
+def check_velocity_units(
+    throws: Iterable[Mapping[str, np.ndarray]],
+    columns: Sequence[str],
+    named: Callable[[str], str] = lambda column: f"column {column!r}",
+) -> None:
+    """The velocities' part of :func:`check_units`: :class:`InputError` when a velocity column
+    among ``columns`` is not rad/s, over ``throws`` (a :class:`Dataset`, or one mapping of column
+    to array (n,) a throw, holding ``columns``). :meth:`rlff.model.Model.fit` checks the velocities
+    it fits so (until 2026-12-07 it fitted deg/s given from Python without a word)."""
+    peaked = velocities_by_peak(columns)
+    if "velocity" in columns and "velocity" not in peaked:
+        _check_velocity_in_time(throws, named)
     for column in peaked:
-        _check_human_speed(dataset, column, named)
+        _check_human_speed(throws, column, named)
 
 
 def velocities_by_peak(columns: Sequence[str]) -> tuple[str, ...]:
@@ -633,7 +645,7 @@ def peak_only_note(columns: Sequence[str]) -> str | None:
             "rad/s) only, not against the rate at which the position changes")
 
 
-def _check_human_speed(dataset: Dataset, column: str, named: Callable[[str], str]) -> None:
+def _check_human_speed(dataset: Iterable[Mapping[str, np.ndarray]], column: str, named: Callable[[str], str]) -> None:
     """See :func:`check_units`: the velocity ``column``'s median peak within :data:`HUMAN_SPEED`."""
     peak = float(np.median([np.max(np.abs(trajectory[column])) for trajectory in dataset]))
     if peak > HUMAN_SPEED:
@@ -642,7 +654,7 @@ def _check_human_speed(dataset: Dataset, column: str, named: Callable[[str], str
                          "velocity is in rad/s")
 
 
-def _check_velocity_in_time(dataset: Dataset, named: Callable[[str], str]) -> None:
+def _check_velocity_in_time(dataset: Iterable[Mapping[str, np.ndarray]], named: Callable[[str], str]) -> None:
     """See :func:`check_units`: the ``velocity``'s size over ``time`` against the way the ``angle`` travels."""
     ratios = []
     for trajectory in dataset:

@@ -36,6 +36,7 @@ from rlff.dataset import (
     Dataset,
     Trajectory,
     check_column_units,
+    check_velocity_units,
     velocity_column,
 )
 from rlff.errors import InputError
@@ -438,6 +439,7 @@ class Model:
         X = _columns_of(data, columns, names)
         # degrees and centimetres fitted as they were, and every path generated from them went wrong
         check_column_units({name: X[:, j] for j, name in enumerate(names)}, landings=True)
+        _check_velocities(data, names)
         weights = check_weights(sample_weight, X.shape[0])
         _warn_constant(X, names)
         if 1 < X.shape[0] <= len(names):  # one sample is refused by the fit
@@ -970,6 +972,22 @@ def _columns_of(data: Dataset | np.ndarray | Any, columns: Sequence[str] | None,
     if missing:
         raise InputError(f"no column {missing[0]!r} in the data (columns: {', '.join(columns)})")
     return array[:, [columns.index(name) for name in names]]
+
+
+def _check_velocities(data: Dataset | np.ndarray | Any, names: tuple[str, ...]) -> None:
+    """:func:`rlff.dataset.check_velocity_units` of the velocity columns among ``names`` (the
+    inputs and outputs fitted), over the throws of ``data``: a Dataset's, or a DataFrame's by its
+    ``trajectory`` column (the time and the angle, where it holds them, to integrate the elbow's
+    velocity over). An array, or a frame without throws, tells none apart: not checked."""
+    if isinstance(data, Dataset):
+        columns = [*names, *(name for name in ("time", "angle") if name in data.columns and name not in names)]
+        check_velocity_units(data, columns)
+    elif is_frame(data) and ID_COLUMN in data.columns:
+        columns = [*names, *(name for name in ("time", "angle") if name in data.columns and name not in names
+                             and data[name].dtype.kind in "fiu")]
+        throws = [{name: group[name].to_numpy(float) for name in columns}
+                  for _, group in data.groupby(ID_COLUMN, sort=False)]
+        check_velocity_units(throws, columns)
 
 
 #: What Model.fit takes, for errors.
