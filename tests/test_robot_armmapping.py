@@ -195,3 +195,22 @@ def test_the_path_protocol_example_of_robot_md_runs_on_a_path_fast_along_the_way
     exec(block[1], scope)
     assert scope["clipped"].summary() == "clipped 0 positions and 3 velocities at 3 points"
     assert scope["result"].trajectory.positions.shape[1] == len(robot.joint_names)
+
+
+def test_a_release_held_at_a_limit_is_no_throw_only_when_every_driven_joint_rests(robot, arm):
+    """The ball leaves with the joints that still move at the release: one joint held at a position
+    limit by clip is still a throw; every driven joint at rest there is none, refused with clip too
+    (until 2026-12-07 exported with exit 0, and rlff sim throw warned)."""
+    from rlff.robot.plan import plan_path
+
+    path = human_throw(3.0)
+    path["shoulder"] = path["shoulder"] - (path["shoulder"][-1] - 0.3)  # joint_2's release below its lower limit
+    planned = plan_path(arm, path, clip=True, throw=True)
+    release = planned.points.velocities[-1]
+    assert release[robot.index("joint_2")] == 0 and release[robot.index("joint_3")] > 0
+    at_rest = {name: np.r_[column[:-1], 0.0] if name.endswith("velocity") else column for name, column in path.items()}
+    for clip in (False, True):
+        with pytest.raises(InputError, match=r"^the ball would not be thrown: the release \(joint_2 at -1\.7\d* rad, "
+                                             r"beyond its limit -1\.48 rad\) is beyond a position limit, .*\[whole_arm\] "
+                                             r"mapping \(joint_3 offset -1\.891"):
+            plan_path(arm, at_rest, clip=clip, throw=True)

@@ -131,7 +131,8 @@ def test_a_period_below_a_controllers_is_refused(capsys, monkeypatch, throw, tmp
 def test_clip_reports_every_change(capsys, tmp_path):
     path = human_csv(tmp_path / "far.csv", np.linspace(2.0, 2.8, 9), np.full(9, 1.0))
     code, _, err = run(capsys, "robot", "export", str(path), "-f", "csv", "-o", str(tmp_path / "o.csv"))
-    assert code == 2 and "joint_2 position 2.8 rad beyond the limit 2.71 rad (the release)" in err
+    # a release clipping would hold at the limit, at rest: no throw (until 2026-12-07 offered the clip)
+    assert code == 2 and "the release (joint_2 at 2.8 rad, beyond its limit 2.71 rad) is beyond a position limit" in err
     fast = human_csv(tmp_path / "fast.csv", np.linspace(-1.0, 0.5, 9), np.linspace(0.5, 3.0, 9))
     code, _, err = run(capsys, "robot", "export", str(fast), "-f", "csv", "-o", str(tmp_path / "o.csv"))
     assert code == 2 and "point 8: joint_2 velocity 3 rad/s beyond the limit 2.792 rad/s (the release)" in err
@@ -487,7 +488,7 @@ def test_send_refuses_bad_input_before_connecting(rlff, monkeypatch, tmp_path):
     path = human_csv(tmp_path / "far.csv", np.linspace(2.0, 2.8, 9), np.full(9, 1.0))
     result = rlff("robot", "send", str(path), "--timeout", "1")
     assert result.code == 2
-    assert "beyond the limit 2.71 rad" in result.stderr and "master" not in result.stderr
+    assert "beyond its limit 2.71 rad" in result.stderr and "master" not in result.stderr
     # the path ending 0.01 rad from the limit at 2.7 rad/s: no room to brake, nothing sent
     edge = human_csv(tmp_path / "edge.csv", np.linspace(1.5, 2.70, 13), np.full(13, 2.7))
     result = rlff("robot", "send", str(edge), "--timeout", "1")
@@ -511,7 +512,8 @@ def test_the_format_and_the_output_are_checked_before_any_planning(capsys, tmp_p
         assert code == 2 and message in err, err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bag", "beyond.csv"]
     code, _, err = run(capsys, "robot", "export", str(beyond), "-f", "json", "-o", str(tmp_path / "t.json"))
-    assert code == 2 and "the robot would not execute as asked" in err  # what the planning says, once the rest is right
+    # what the planning says, once the rest is right (its release held at the limit is no throw)
+    assert code == 2 and "the ball would not be thrown: the release (joint_2 at 4 rad, beyond its limit 2.71 rad)" in err
 
 
 def test_live_goals_and_files_each_have_their_period_and_the_help_says_why():

@@ -167,3 +167,14 @@ def test_an_attempt_whose_release_clipping_stops_is_no_throw_with_clip(robot, tm
         with pytest.raises(InputError, match=r"^the ball would not be thrown: the release \(joint_2 velocity -0\.25 rad/s\) "
                                              "moves against the path's direction"):
             load_input(log, robot, clip=clip)
+
+
+def test_a_path_released_at_rest_is_no_throw(robot, tmp_path):
+    """A path whose own release is at rest was planned, exported and sent (exit 0) as a throw that
+    throws nothing; rlff sim throw warned that the path ends at rest."""
+    path = _write_path(tmp_path / "rest.csv", np.linspace(0.7, 1.9, 20), np.r_[np.linspace(0.5, 8.0, 19), 0.0])
+    for clip in (False, True):
+        with pytest.raises(InputError, match=rf"^{path}: the ball would not be thrown: the path's release \(its last point\) "
+                                             r"is at rest, every driven joint's velocity 0 there; give a path that ends "
+                                             r"at its release, as rlff generate writes it"):
+            sim_input(path, robot, clip=clip)

@@ -70,7 +70,7 @@ def throw(
     from rlff.limits import check_pedestal
     from rlff.robot.description import load_robot
     from rlff.robot.mapping import bearing_at_release
-    from rlff.robot.plan import ROBOT_TRAJECTORY, release_at_rest, require_planned, robot_file_kind
+    from rlff.robot.plan import ROBOT_TRAJECTORY, require_planned, robot_file_kind
     from rlff.sim import Basket, simulate_throw
     from rlff.sim.throw import SIM_PERIOD, not_followed
 
@@ -114,9 +114,6 @@ def throw(
         # warning that followed blamed the robot file's signs
         warn(f"{trajectory} holds no release time: the ball is let go at its last point, at rest (give "
              "--release-angle, or export the trajectory with rlff robot export, which writes release_time)")
-    held = release_at_rest(loaded.plan) if not dropped and release_angle is None else None
-    if held is not None:  # said before the outcome, as a dropped ball is: not blamed on the signs after it
-        warn(f"{trajectory}: every joint is at rest at the release ({held}): the ball is let go at rest, not thrown")
     if not loaded.arm.none:
         say(f"thrown as the run's simulated arm throws: gap {loaded.arm.name} (the log's)")
     # a basket beyond the arm's reach is no reason not to say where this throw lands
@@ -127,7 +124,7 @@ def throw(
              "moves: no throw of this arm drops into it (rlff sim reach says how far it throws); simulated anyway")
     for note in outcome.notes:
         (say if outcome.followed or note != not_followed(outcome) else warn)(note)
-    if outcome.speed_towards_basket < 0 and not dropped and held is None:  # the miss alone would read "short"
+    if outcome.speed_towards_basket < 0 and not dropped:  # the miss alone would read "short"
         warn(f"the ball left the hand backwards, away from the basket ({-outcome.speed_towards_basket:.2f} m/s back "
              f"towards the robot): check the signs of {model.source}'s [throwing] angle_scale and velocity_scale "
              "and its start pose")

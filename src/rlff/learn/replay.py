@@ -171,7 +171,7 @@ def plan_attempt(attempt: Attempt, mapping: RobotMapping | ArmMapping, period: f
     path again (the planner keeps only the first pose and the release, so the plan is the
     executed one, and the check on a path's time column is for files, not for the loop's log).
     With ``clip`` too, an attempt that is no throw to clip (:func:`rlff.robot.plan.require_a_throw`:
-    a slip, a release clipping stops) is refused, as a generated path is (until 2026-12-07 it was
+    a slip, a release at rest once clipped) is refused, as a generated path is (until 2026-12-07 it was
     exported, sent and simulated released at rest, exit 0).
     """
     path = attempt.path

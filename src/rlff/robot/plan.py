@@ -9,10 +9,11 @@ reaches a file, a bag, a Comau program, a live goal or the simulation without th
   other joints' columns) is mapped to the robot (one joint, or several on one time base), planned
   (approach, the throw to its release with every driven joint's release kept, braking to rest)
   and checked; a path that is no throw to clip (a unit or scale slip far beyond a limit, a release
-  that clipping stops: :func:`require_a_throw`) is refused with ``clip`` too;
+  at rest, stopped or held at a limit by clipping: :func:`require_a_throw`) is refused with
+  ``clip`` too;
 - a robot trajectory (what ``rlff robot export --format json|csv`` writes) is read and checked
   as it is: it must already be executable, throw (not every joint at rest at its release:
-  :func:`release_at_rest`), and be of the robot it is read for (:mod:`rlff.robot.planned_for`).
+  :func:`_require_released_moving`), and be of the robot it is read for (:mod:`rlff.robot.planned_for`).
 """
 
 from __future__ import annotations
@@ -104,7 +105,8 @@ def _faults(report: ClipReport, last: int) -> tuple[list[LimitChange], list[Limi
 
 def _require_unclipped(report: ClipReport, last: int, coordinated: bool = False) -> None:
     """Without ``clip``: refuse a path beyond a position limit or a release beyond a limit
-    (:func:`_faults`; a slip, or a release clipping stops, :func:`require_a_throw` refuses before).
+    (:func:`_faults`; a slip, or a release at rest once clipped: :func:`require_a_throw` refuses
+    those before).
 
     The message says what ``clip`` (``--clip``) does: for a ``coordinated`` throw (several joints) it
     slows the whole throw rather than clip a release (:func:`slowed_to_limits`).
@@ -130,7 +132,8 @@ def _require_unclipped(report: ClipReport, last: int, coordinated: bool = False)
 
 def require_a_throw(mapping: RobotMapping | ArmMapping, points: JointTrajectory, report: ClipReport) -> None:
     """Refuse, with or without ``clip``, a mapped path that is no throw to clip: a unit or scale slip
-    (:func:`_require_no_slip`), or a release that clipping stops (:func:`_require_thrown`).
+    (:func:`_require_no_slip`), or every driven joint at rest at the release, stopped or held at a
+    position limit by clipping, or at rest in the path (:func:`_require_thrown`).
 
     ``points`` is the path mapped to the robot and clipped (T points, the release last), ``report``
     what the mapping clipped. ``clip`` is for a path marginally beyond a limit (a throw for a basket
@@ -214,51 +217,48 @@ def _require_no_slip(mapping: RobotMapping | ArmMapping, report: ClipReport, las
 
 
 def _require_thrown(mapping: RobotMapping | ArmMapping, points: JointTrajectory, report: ClipReport) -> None:
-    """Refuse a path whose release moves against the path's direction where stopping it (0, as the
-    mapping does) leaves every driven joint at rest at the release: the ball would not be thrown. A
-    release ``clip`` holds at a position limit is not refused here (``rlff sim throw`` warns of it)."""
+    """Refuse a path that leaves every driven joint at rest at its release: the ball would not be
+    thrown. One joint at rest while another moves there is still a throw. The message names why:
+    a release moving against the path's direction, which stopping (0, as the mapping does) leaves
+    at rest; a release beyond a position limit, where clipping holds the joint (until 2026-12-07
+    ``clip`` exported that with exit 0, and ``rlff sim throw`` warned); or a path whose release
+    is itself at rest."""
     last = len(points) - 1
     driven = [points.joint_index(joint) for joint in mapping.driven_joints]
     if np.any(points.velocities[last, driven] != 0):
         return
     # not a velocity set to 0 with its joint held at a clipped position
     stopped = [change for change in _faults(report, last)[1] if change.point == last and change.limit is None]
-    if not stopped:
-        return
-    shown = "; ".join(f"{c.joint} velocity {c.before:.6g} {c.unit}" for c in stopped)
-    raise InputError(f"the ball would not be thrown: the release ({shown}) moves against the path's direction, and "
-                     "stopped (0 rad/s) it leaves every driven joint at rest there; a path from uncleaned "
-                     "demonstrations? clean them (rlff data preprocess --preset thesis), then fit and generate again")
+    if stopped:
+        shown = "; ".join(f"{c.joint} velocity {c.before:.6g} {c.unit}" for c in stopped)
+        raise InputError(f"the ball would not be thrown: the release ({shown}) moves against the path's direction, and "
+                         "stopped (0 rad/s) it leaves every driven joint at rest there; a path from uncleaned "
+                         "demonstrations? clean them (rlff data preprocess --preset thesis), then fit and generate again")
+    held = [change for change in report.changes if change.point == last and change.quantity == "position"
+            and change.joint in mapping.driven_joints]
+    if held:
+        shown = "; ".join(f"{c.joint} at {c.before:.6g} rad, beyond its limit {c.limit:g} rad" for c in held)
+        raise InputError(f"the ball would not be thrown: the release ({shown}) is beyond a position limit, where "
+                         "clipping would hold it at rest with every driven joint; throw for a nearer basket (rlff "
+                         "sim reach says how far the arm throws), or give a robot file whose range covers the "
+                         f"release (check {_mapping_words(mapping)}, through which the path was mapped)")
+    raise InputError("the ball would not be thrown: the path's release (its last point) is at rest, every driven "
+                     "joint's velocity 0 there; give a path that ends at its release, as rlff generate writes it "
+                     "(its default grid ends at the demonstrations' release)")
 
 
-def release_at_rest(plan: RobotPlan) -> str | None:
-    """Why every joint of ``plan``'s trajectory stands still at its release (one phrase), or None
-    when one moves there or it has no release: a release ``clip`` held inside a position limit, a
-    path that ends at rest, or a robot trajectory released at rest (:func:`load_for_robot` refuses
-    that one; ``rlff sim throw`` warns of the others)."""
-    trajectory = plan.trajectory
+def _require_released_moving(path: Path, trajectory: JointTrajectory) -> None:
+    """Refuse a robot ``trajectory`` (read from the file ``path``) whose every joint is at rest at
+    its release: the ball would not be thrown. An rlff before 2026-12-07 exported such files with
+    ``--clip`` of a path :func:`_require_thrown` now refuses, and they were exported and sent again
+    as they were (``rlff sim throw`` warned)."""
     if trajectory.release_time is None:
-        return None
+        return
     release = int(np.argmin(np.abs(trajectory.time - trajectory.release_time)))
     if np.any(trajectory.velocities[release] != 0):
-        return None
-    last = len(plan.points) - 1
-    held = sorted({change.joint for change in plan.clipped_points.changes
-                   if change.point == last and change.quantity == "position"})
-    if held:
-        return f"--clip held {', '.join(held)} inside a position limit there"
-    return "the path ends at rest" if plan.points is not trajectory else "the trajectory's release is at rest"
-
-
-def _require_released_moving(path: Path, plan: RobotPlan) -> None:
-    """Refuse a robot trajectory ``plan`` (read from the file ``path``) whose every joint is at rest
-    at its release (:func:`release_at_rest`): an rlff before 2026-12-07 exported, with ``--clip``, a
-    path whose release clipping stopped (:func:`_require_thrown`), and such a file was exported
-    and sent again as it was."""
-    if release_at_rest(plan) is None:
         return
     raise InputError(f"{path}: the ball would not be thrown: every joint is at rest at the release "
-                     f"({plan.trajectory.release_time:.6g} s); until 2026-12-07 --clip exported that of a release moving "
+                     f"({trajectory.release_time:.6g} s); until 2026-12-07 --clip exported that of a release moving "
                      "against the path's direction, a path from uncleaned demonstrations? clean them (rlff data "
                      "preprocess --preset thesis), then fit, generate and export again")
 
@@ -417,15 +417,15 @@ def plan_path(
         (:data:`rlff.trajectory.planner.APPROACH_SPEED`; 1: the limits themselves).
     throw : bool
         With ``clip`` too, refuse a path that is no throw to clip (:func:`require_a_throw`: a unit
-        or scale slip, a release clipping stops), as without ``clip`` always: what a file's path
-        gets (:func:`load_for_robot`). The learning loop's proposals saturate instead.
+        or scale slip, a release at rest, stopped or held at a limit by clipping), as without
+        ``clip`` always: what a file's path gets (:func:`load_for_robot`). The learning loop's
+        proposals saturate instead.
 
     Raises
     ------
     InputError
         A bad path, a ``time`` that disagrees with its angle and velocity, a value beyond a limit
-        (without ``clip``), a slip or a release clipping stops (without ``clip``, or with
-        ``throw``), or a plan that fails the check (:class:`rlff.trajectory.check.MotionLimitError`,
+        (without ``clip``), a slip or a release at rest (without ``clip``, or with ``throw``), or a plan that fails the check (:class:`rlff.trajectory.check.MotionLimitError`,
         e.g. no room to brake, or a link below the plane the base stands on:
         :func:`rlff.robot.links.require_above_base`).
     """
@@ -584,9 +584,8 @@ def load_for_robot(
     except InputError as exc:  # a file that keeps no robot may be another arm's, failing on this one's limits
         raise type(exc)(f"{path}: {exc}{'' if own else checked_against(robot)}") from None
     trajectory = require_release(path, trajectory)
-    planned = RobotPlan(trajectory, trajectory, ClipReport())
-    _require_released_moving(path, planned)
-    return kind, planned
+    _require_released_moving(path, trajectory)
+    return kind, RobotPlan(trajectory, trajectory, ClipReport())
 
 
 def require_planned(path: str | Path, planned: RobotPlan, options: Sequence[str]) -> None:
