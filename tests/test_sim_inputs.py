@@ -140,13 +140,16 @@ def test_demonstrations_or_a_spreadsheet_s_path_where_a_path_goes_say_what_they_
 @pytest.mark.parametrize("writer, name", [(write_csv, "rest.csv"), (write_json, "rest.json")])
 def test_a_robot_trajectory_released_at_rest_is_no_throw(robot, tmp_path, writer, name):
     """An rlff before 2026-12-07 exported with --clip a path whose release moved against the path's
-    direction as a throw released at rest; export and send took that file as it was (exit 0), and
-    only sim throw warned that the ball was not thrown."""
+    direction, or lay beyond a position limit, as a throw released at rest; export and send took
+    that file as it was (exit 0), and only sim throw warned that the ball was not thrown. The
+    refusal names both ways such a file was made, not only the first."""
     mapped, _ = RobotMapping.for_robot(robot).to_robot(np.linspace(0.7, 1.9, 20), np.r_[np.linspace(0.5, 8.0, 19), 0.0])
     writer(plan_throw(mapped, robot.joints), tmp_path / name)
     with pytest.raises(InputError, match=rf"^{tmp_path / name}: the ball would not be thrown: every joint is at rest at "
-                                         r"the release \([\d.]+ s\); .* a path from uncleaned demonstrations\? clean them "
-                                         r"\(rlff data preprocess --preset thesis\), then fit, generate and export again$"):
+                                         r"the release \([\d.]+ s\); an rlff before 2026-12-07 exported such throws with "
+                                         r"--clip \(a release beyond a position limit, or one moving against the path's "
+                                         r"direction from uncleaned demonstrations\): export again from the generated "
+                                         r"path or attempts log, and this rlff refuses it or says why$"):
         sim_input(tmp_path / name, robot)
     with pytest.raises(InputError, match=r"the ball would not be thrown: every joint is at rest at the release"):
         load_for_send(tmp_path / name, robot)  # rlff robot send's reading

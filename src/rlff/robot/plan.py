@@ -258,9 +258,10 @@ def _require_released_moving(path: Path, trajectory: JointTrajectory) -> None:
     if np.any(trajectory.velocities[release] != 0):
         return
     raise InputError(f"{path}: the ball would not be thrown: every joint is at rest at the release "
-                     f"({trajectory.release_time:.6g} s); until 2026-12-07 --clip exported that of a release moving "
-                     "against the path's direction, a path from uncleaned demonstrations? clean them (rlff data "
-                     "preprocess --preset thesis), then fit, generate and export again")
+                     f"({trajectory.release_time:.6g} s); an rlff before 2026-12-07 exported such throws with --clip "
+                     "(a release beyond a position limit, or one moving against the path's direction from uncleaned "
+                     "demonstrations): export again from the generated path or attempts log, and this rlff refuses "
+                     "it or says why")
 
 
 def _looks_like_degrees(change) -> bool:
