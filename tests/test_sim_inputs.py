@@ -181,3 +181,20 @@ def test_a_path_released_at_rest_is_no_throw(robot, tmp_path):
                                              r"is at rest, every driven joint's velocity 0 there; give a path that ends "
                                              r"at its release, as rlff generate writes it"):
             sim_input(path, robot, clip=clip)
+
+
+def test_an_attempt_whose_release_clipping_holds_at_a_limit_is_no_throw(robot, tmp_path):
+    """An attempt replayed with --clip (export, send, sim throw) whose release lay beyond a position
+    limit was held there at rest and exported with exit 0; without --clip it was offered the clip."""
+    from attempts_logs import write_attempts_log
+    from rlff.learn.log import robot_record
+
+    run = {"basket": {"distance": 1.5}, "robot": robot_record(RobotMapping.for_robot(robot))}
+    log = write_attempts_log(tmp_path / "a.jsonl", run, [0.0])
+    header, line = log.read_text().splitlines()
+    attempt = json.loads(line) | {"angle": [0.4, 6.5], "clipped": 1}  # joint_2 -1.65 + 0.71 * 6.5 rad at the release
+    log.write_text(f"{header}\n{json.dumps(attempt)}\n")
+    for clip in (False, True):
+        with pytest.raises(InputError, match=r"^the ball would not be thrown: the release \(joint_2 at 2\.965 rad, "
+                                             r"beyond its limit 2\.71 rad\) is beyond a position limit"):
+            load_input(log, robot, clip=clip)
