@@ -137,13 +137,16 @@ def test_demonstrations_or_a_spreadsheet_s_path_where_a_path_goes_say_what_they_
         sim_input(semicolons, robot)
 
 
+@pytest.mark.parametrize("last", [0.0, 1e-8])
 @pytest.mark.parametrize("writer, name", [(write_csv, "rest.csv"), (write_json, "rest.json")])
-def test_a_robot_trajectory_released_at_rest_is_no_throw(robot, tmp_path, writer, name):
+def test_a_robot_trajectory_released_at_rest_is_no_throw(robot, tmp_path, writer, name, last):
     """An rlff before 2026-12-07 exported with --clip a path whose release moved against the path's
     direction, or lay beyond a position limit, as a throw released at rest; export and send took
     that file as it was (exit 0), and only sim throw warned that the ball was not thrown. The
-    refusal names both ways such a file was made, not only the first."""
-    mapped, _ = RobotMapping.for_robot(robot).to_robot(np.linspace(0.7, 1.9, 20), np.r_[np.linspace(0.5, 8.0, 19), 0.0])
+    refusal names both ways such a file was made, not only the first. A release at a rounding's
+    residue (``last`` 1e-8 rad/s of the path) is at rest too, as the planner and the release check
+    count rest."""
+    mapped, _ = RobotMapping.for_robot(robot).to_robot(np.linspace(0.7, 1.9, 20), np.r_[np.linspace(0.5, 8.0, 19), last])
     writer(plan_throw(mapped, robot.joints), tmp_path / name)
     with pytest.raises(InputError, match=rf"^{tmp_path / name}: the ball would not be thrown: every joint is at rest at "
                                          r"the release \([\d.]+ s\); an rlff before 2026-12-07 exported such throws with "

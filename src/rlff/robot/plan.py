@@ -38,7 +38,7 @@ from rlff.trajectory.check import check_trajectory
 from rlff.trajectory.joint import JointTrajectory
 from rlff.trajectory.limits import ClipReport, LimitChange
 from rlff.trajectory.path_csv import read_generated_path
-from rlff.trajectory.planner import APPROACH_SPEED, DEFAULT_PERIOD, plan_throw
+from rlff.trajectory.planner import APPROACH_SPEED, DEFAULT_PERIOD, MOVING, plan_throw
 from rlff.wording import plural
 
 #: What :func:`load_for_robot` calls the two kinds of files.
@@ -249,13 +249,15 @@ def _require_thrown(mapping: RobotMapping | ArmMapping, points: JointTrajectory,
 
 def _require_released_moving(path: Path, trajectory: JointTrajectory) -> None:
     """Refuse a robot ``trajectory`` (read from the file ``path``) whose every joint is at rest at
-    its release: the ball would not be thrown. An rlff before 2026-12-07 exported such files with
-    ``--clip`` of a path :func:`_require_thrown` now refuses, and they were exported and sent again
-    as they were (``rlff sim throw`` warned)."""
+    its release (none faster than :data:`rlff.trajectory.planner.MOVING`, the rest
+    :func:`rlff.robot.export.require_release` reads; a velocity of 1e-9 rad/s left by rounding is
+    no throw either): the ball would not be thrown. An rlff before 2026-12-07 exported such files
+    with ``--clip`` of a path :func:`_require_thrown` now refuses, and they were exported and sent
+    again as they were (``rlff sim throw`` warned)."""
     if trajectory.release_time is None:
         return
     release = int(np.argmin(np.abs(trajectory.time - trajectory.release_time)))
-    if np.any(trajectory.velocities[release] != 0):
+    if np.any(np.abs(trajectory.velocities[release]) > MOVING):
         return
     raise InputError(f"{path}: the ball would not be thrown: every joint is at rest at the release "
                      f"({trajectory.release_time:.6g} s); an rlff before 2026-12-07 exported such throws with --clip "
