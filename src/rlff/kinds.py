@@ -3,12 +3,16 @@ its ``format`` field (a model where demonstrations go said only "unknown dataset
 '.json'"), or a file that is no UTF-8 text, from its first bytes (a gzip, a Parquet or a UTF-16
 file given as a CSV said "malformed CSV ('utf-8' codec can't decode byte 0x8b ...)"), or any file
 given to a binary reader (a CSV given as Parquet said "Parquet magic bytes not found in footer",
-and as an NPZ "This file contains pickled (object) data")."""
+and as an NPZ "This file contains pickled (object) data"); and which of rlff's tables a CSV is, from
+its header (:func:`csv_kind`: a dataset, a generated path or a robot trajectory), the one rule
+every reader that says "this is X, not Y" asks."""
 
 from __future__ import annotations
 
 import codecs
+import csv
 import re
+from collections.abc import Sequence
 from pathlib import Path
 
 #: The ``format`` field of each JSON document or log rlff writes, and what to call that file.
@@ -129,3 +133,57 @@ def is_ros1_bag(path: str | Path) -> bool:
         return False
     with open(path, "rb") as stream:
         return stream.read(len(ROS1_BAG_MAGIC)) == ROS1_BAG_MAGIC
+
+
+#: What :func:`csv_kind` calls the tables rlff reads and writes as CSV: demonstrations (``rlff data
+#: import`` writes them), a generated path (``rlff generate``) and a robot trajectory (``rlff robot
+#: export -f csv``).
+DATASET, GENERATED, ROBOT_TRAJECTORY = "dataset", "generated path", "robot trajectory"
+#: Bytes of a file :func:`header_names` reads for its header (a wide header is a few kB; a file of
+#: another kind may have no line break at all).
+_HEADER_BYTES = 1 << 16
+
+
+def header_names(path: str | Path) -> tuple[str, ...] | None:
+    """The column names of the CSV ``path``'s header, as pandas reads them: its first line that is
+    not blank (blank lines before it skipped), split at commas, a name's quotes dropped (a
+    spreadsheet's ``"angle", "velocity"``) and a UTF-8 byte-order mark; each name stripped of
+    spaces, its case kept for messages (:func:`csv_kind` compares names case-insensitively).
+
+    ``()`` for a file of blank lines; None for no file, one not readable, or a header that is no
+    UTF-8 text (a gzip, UTF-16, ...)."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(_HEADER_BYTES)
+    except OSError:
+        return None
+    lines = re.split(rb"\r\n?|\n", head.removeprefix(codecs.BOM_UTF8))
+    line = next((line for line in lines if line.strip()), b"")
+    try:  # a header as long as the bytes read may end in a cut character
+        text = codecs.getincrementaldecoder("utf-8")().decode(line, final=len(head) < _HEADER_BYTES)
+    except UnicodeDecodeError:
+        return None
+    return tuple(name.strip() for name in next(csv.reader([text], skipinitialspace=True), []))
+
+
+def csv_kind(names: Sequence[str] | None) -> str | None:
+    """Which of rlff's tables a CSV whose header holds ``names`` (:func:`header_names`) is, its names
+    compared stripped and case-insensitively, in this order:
+
+    - :data:`DATASET`: a ``trajectory`` column, where it may be (the id of each sample's throw), or
+      a thesis matrix's first line, a throw's header comment ``# {"trajectory": ...}``;
+    - :data:`GENERATED`: an ``angle`` column (the path variable) and no ``trajectory``; its
+      ``velocity`` is not asked for here, so that a path without it is told that it misses it;
+    - :data:`ROBOT_TRAJECTORY`: a ``time`` column and ``<joint>_position`` columns;
+
+    None for any other header, or none (``names`` None)."""
+    if not names:
+        return None
+    lower = [name.strip().lower() for name in names]
+    if "trajectory" in lower or (lower[0].startswith("#") and '"trajectory"' in lower[0]):
+        return DATASET
+    if "angle" in lower:
+        return GENERATED
+    if "time" in lower and any(name.endswith("_position") for name in lower):
+        return ROBOT_TRAJECTORY
+    return None
