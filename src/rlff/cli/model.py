@@ -22,6 +22,7 @@ from rlff.cli._common import (
 )
 from rlff.cli.output import guard, output_option
 from rlff.errors import InputError
+from rlff.kinds import GENERATED, csv_kind, header_names
 from rlff.wording import plural
 
 
@@ -156,14 +157,9 @@ def _require_model_name(output: Path) -> None:
 
 
 def _is_generated_path(path: Path) -> bool:
-    """Whether ``path`` is a CSV whose header is a generated path's: ``angle`` and ``velocity``
-    without ``trajectory`` (it had been called a skeleton recording, a joint CSV)."""
-    try:
-        with open(path, encoding="utf-8-sig", errors="replace") as handle:
-            names = {name.strip() for name in handle.readline().lower().split(",")}
-    except OSError:
-        return False
-    return {"angle", "velocity"} <= names and "trajectory" not in names
+    """Whether ``path`` is a CSV whose header is a generated path's (:func:`rlff.kinds.csv_kind`:
+    it had been called a skeleton recording, a joint CSV)."""
+    return csv_kind(header_names(path)) == GENERATED
 
 
 def _recording_kind(path: Path) -> str | None:
@@ -178,11 +174,11 @@ def _recording_kind(path: Path) -> str | None:
         kind = detect_format(path)
     except InputError:
         return None
-    if kind == "csv":  # a CSV is a recording when it has a skeleton's columns
-        with open(path, encoding="utf-8-sig", errors="replace") as handle:
-            header = handle.readline().lower()
+    if kind == "csv":  # a CSV is a recording when it is none of rlff's tables and has a skeleton's columns
+        names = header_names(path) or ()
         # a skeleton's x/y/z columns; a generated path's gmr_mean_shoulder_velocity had passed for one
-        return "joint CSV" if "trajectory" not in header and re.search(r"shoulder_[xyz]\b", header) else None
+        skeleton = any(re.search(r"shoulder_[xyz]$", name.lower()) for name in names)
+        return "joint CSV" if skeleton and csv_kind(names) is None else None
     return {"msr": "MSR Action3D text", "kinect-text": "Kinect SDK text", "bag": "ROS bag"}.get(kind)
 
 

@@ -711,23 +711,17 @@ class Model:
 
 def _looks_like_dataset(path: Path) -> bool:
     """Whether ``path``, which does not hold a JSON object, is a dataset file: a Parquet or NPZ file
-    by its extension (:data:`rlff.formats.FORMATS`), a long-format table by its header
-    (``trajectory,...``) or a thesis matrix by its first line (``# {"trajectory": ...``). (A
-    generated path's CSV and a skeleton recording's text had been called datasets by their
-    extension alone, and told to be fitted, which fit refuses.)"""
+    by its extension (:data:`rlff.formats.FORMATS`), a long-format table or a thesis matrix by its
+    header (:func:`rlff.kinds.csv_kind`). (A generated path's CSV and a skeleton recording's text
+    had been called datasets by their extension alone, and told to be fitted, which fit refuses.)"""
     from rlff.formats import FORMATS
+    from rlff.kinds import DATASET, csv_kind, header_names
 
     if not path.is_file():  # missing: read_json_object's "no such file" says it
         return False
     if path.suffix.lower() in FORMATS["npz"] + FORMATS["parquet"]:
         return True
-    try:
-        with path.open("rb") as file:
-            head = file.read(256).lstrip(b"\xef\xbb\xbf")
-    except OSError:
-        return False
-    first = head.lstrip().split(b"\n", 1)[0]
-    return head.startswith(b"trajectory,") or (first.startswith(b"#") and b'"trajectory"' in first)
+    return csv_kind(header_names(path)) == DATASET
 
 
 def _other_kind(path: Path) -> str | None:

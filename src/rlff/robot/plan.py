@@ -23,11 +23,18 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from rlff.dataset import ARM_JOINT_COLUMNS, separator_hint, velocity_column
 from rlff.errors import InputError
-from rlff.kinds import is_ros1_bag
+from rlff.kinds import (
+    DATASET,
+    GENERATED,
+    ROBOT_TRAJECTORY,
+    csv_kind,
+    file_kind,
+    header_names,
+    is_ros1_bag,
+)
 from rlff.limits import apart, check_period, require_radians
 from rlff.robot.comau import HEADER as COMAU_HEADER
 from rlff.robot.description import Robot
@@ -40,9 +47,6 @@ from rlff.trajectory.limits import ClipReport, LimitChange
 from rlff.trajectory.path_csv import read_generated_path
 from rlff.trajectory.planner import APPROACH_SPEED, DEFAULT_PERIOD, MOVING, plan_throw
 from rlff.wording import plural
-
-#: What :func:`load_for_robot` calls the two kinds of files.
-GENERATED, ROBOT_TRAJECTORY = "generated path", "robot trajectory"
 
 
 @dataclass(frozen=True)
@@ -487,7 +491,9 @@ def is_comau_program(path: Path) -> bool:
 
 
 def robot_file_kind(path: Path) -> str:
-    """Which kind ``path`` is; :class:`InputError` in one line for any other file."""
+    """Which kind ``path`` is, :data:`GENERATED` or :data:`ROBOT_TRAJECTORY`: a JSON by its suffix, a
+    CSV by its header (:func:`rlff.kinds.csv_kind`); :class:`InputError` in one line for any other
+    file (demonstrations said to be, with what to make of them)."""
     if path.is_dir():
         raise InputError(f"{path} is a folder (a ROS 2 bag?): give a generated path CSV or a robot "
                          "trajectory JSON/CSV that `rlff robot export` wrote")
@@ -502,19 +508,17 @@ def robot_file_kind(path: Path) -> str:
         raise InputError(f"{path} is a Comau program (`rlff robot export -f comau` writes it), which runs on the "
                          "Comau controller and rlff does not read back: give the robot trajectory JSON/CSV it was "
                          "exported from, or the generated path it was planned from")
-    try:
-        header = pd.read_csv(path, nrows=0).columns
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: neither a generated path nor a robot trajectory: not a readable "
-                         f"CSV or JSON ({str(exc).splitlines()[0] if str(exc) else type(exc).__name__})") from None
-    if "angle" in header and "trajectory" in header:  # it was blamed on its time column, or its velocities
+    header = header_names(path)
+    if not header:  # no UTF-8 text (a gzip, UTF-16), or blank
+        raise InputError(f"{path} is {file_kind(path)}: give a generated path CSV or a robot trajectory JSON/CSV "
+                         "that `rlff robot export` wrote")
+    kind = csv_kind(header)
+    if kind == DATASET:  # it was blamed on its time column, or its velocities
         raise InputError(f"{path} is demonstrations (a dataset, its throws by the trajectory column), not a generated "
                          f"path: fit a model to them (rlff fit {path} -o model.json), generate a throw (rlff generate "
                          "model.json -c distance=D -o path.csv) and give that")
-    if "angle" in header:
-        return GENERATED
-    if "time" in header and any(str(column).endswith("_position") for column in header):
-        return ROBOT_TRAJECTORY
+    if kind is not None:
+        return kind
     with open(path, "rb") as handle:
         opening = handle.read(64).lstrip()[:1]
     if opening in (b"{", b"["):
