@@ -63,7 +63,10 @@ def test_the_users_own_attempts_log_figure_and_run_json_in_the_folder_are_refuse
 def test_the_users_files_of_names_the_demo_does_not_write_are_left_alone_and_the_demo_runs(cli, rlff, tmp_path):
     """A figure and attempts logs of the user's beside the demo's, and frames a run without
     --frames does not draw: the folder had been refused for names like the demo's, though the
-    run would have touched none of them."""
+    run would have touched none of them. The run is the suite's demo in human words (each demo run
+    takes a minute): with -q its summary table and no progress display."""
+    from rlff.demo import STAGES
+
     out = tmp_path / "demo"
     mine = {out / name: f"mine: {name}".encode() for name in (
         "figures/mine.png", "figures/mine.svg", "attempts/notes.jsonl", "attempts/whole-arm/notes.jsonl",
@@ -72,8 +75,12 @@ def test_the_users_files_of_names_the_demo_does_not_write_are_left_alone_and_the
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_bytes(content)
 
-    result = cli(*DEMO, "-o", str(out), timeout=600)
+    result = cli("-q", *DEMO, "-o", str(out), timeout=600)
     assert result.code == 0, result.stderr
+    for fragment in ("simulated throws", "executed in MuJoCo", "Learning from failure at", "Whole-arm learning",
+                     "report:"):
+        assert fragment in result.stdout
+    assert f"{len(STAGES)}/{len(STAGES)}" not in result.stderr  # -q: no progress display
     assert {path: path.read_bytes() for path in mine} == mine
     assert (out / "report.html").is_file() and (out / "attempts" / "calibrate.jsonl").is_file()
     listed = json.loads((out / LISTING).read_text())["files"]

@@ -88,8 +88,10 @@ def vision(server, domain):
 
 
 def learn(domain, folder, demos, *args: str, stdin: str | None = None) -> subprocess.CompletedProcess:
+    """``rlff learn`` on the served arm; its moves to each throw's start at the full limits (the
+    default quarter took 2 s of real time per attempt; the pace is test_ros1_live's subject)."""
     return subprocess.run([sys.executable, "-m", "rlff", "learn", str(demos), "--preset", "thesis", "--basket",
-                           str(BASKET), "--executor", "ros2", *args], env=ros2_env(domain, folder),
+                           str(BASKET), "--executor", "ros2", "--approach-speed", "1", *args], env=ros2_env(domain, folder),
                           capture_output=True, text=True, timeout=600, input=stdin)
 
 
