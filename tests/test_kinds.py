@@ -152,8 +152,10 @@ def test_a_path_given_as_demonstrations_is_said_to_be_a_generated_path(tmp_path,
 
 
 @pytest.mark.parametrize(("data", "said"), [
-    (gzip.compress(b"angle,velocity\n0.5,4\n"), "is gzip-compressed (it starts with the bytes 1f 8b)"),
-    ("angle,velocity\n".encode("utf-16"), "is UTF-16 text (it starts with the byte-order mark ff fe)"),
+    (gzip.compress(b"angle,velocity\n0.5,4\n"), "is gzip-compressed (it starts with the bytes 1f 8b), not UTF-8 "
+     "text: decompress it first (gunzip -c FILE > new.csv)"),
+    ("angle,velocity\n".encode("utf-16"), "is UTF-16 text (it starts with the byte-order mark ff fe), not UTF-8 "
+     "text: save it as UTF-8 (iconv -f UTF-16 -t UTF-8 FILE > new.csv)"),
     (b"", "is empty (0 bytes)"),
     (b"\n\n", "is text of blank lines"),
 ], ids=["gzip", "utf-16", "empty", "blank"])
@@ -165,3 +167,13 @@ def test_a_file_of_no_text_header_given_where_a_path_goes_says_what_it_is(tmp_pa
         robot_file_kind(path)
     assert str(refused.value) == (f"{path} {said}: give a generated path CSV or a robot trajectory JSON/CSV that "
                                   "`rlff robot export` wrote")
+
+
+@pytest.mark.parametrize(("name", "new"), [("path.csv.gz", "new.csv"), ("demos.CSV.GZ", "new.CSV"),
+                                           ("path.csv", "new.csv"), ("path.gz", "new"), ("path", "new")])
+def test_a_gzip_is_told_to_be_decompressed_to_a_name_without_gz(tmp_path, name, new):
+    # "gunzip -c FILE > new.gz": a decompressed path.csv.gz was told to be written as a .gz again
+    from rlff.kinds import binary_kind
+
+    said = binary_kind(_file(tmp_path, gzip.compress(b"angle,velocity\n"), name))
+    assert said is not None and said.endswith(f"decompress it first (gunzip -c FILE > {new})"), said

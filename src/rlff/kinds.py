@@ -63,8 +63,17 @@ def binary_kind(path: str | Path) -> str | None:
         return None
     for magic, kind, remedy in _SIGNATURES:
         if head.startswith(magic):
-            return f"{kind}, not UTF-8 text: {remedy.format(new='new' + Path(path).suffix)}"
+            return f"{kind}, not UTF-8 text: {remedy.format(new=_new_name(Path(path), magic))}"
     return None
+
+
+def _new_name(path: Path, magic: bytes) -> str:
+    """The file name a remedy writes to: ``new`` with ``path``'s suffix, the one before ``.gz`` for
+    a gzip (``demos.csv.gz`` decompresses to ``new.csv``, not ``new.gz``)."""
+    suffixes = path.suffixes
+    if magic == b"\x1f\x8b" and suffixes and suffixes[-1].lower() == ".gz":
+        suffixes = suffixes[:-1]
+    return "new" + (suffixes[-1] if suffixes else "")
 
 
 #: The first bytes of binary files that :data:`_SIGNATURES` does not hold (they are not given as text).

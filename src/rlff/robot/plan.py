@@ -30,6 +30,7 @@ from rlff.kinds import (
     DATASET,
     GENERATED,
     ROBOT_TRAJECTORY,
+    binary_kind,
     csv_kind,
     file_kind,
     header_names,
@@ -509,9 +510,9 @@ def robot_file_kind(path: Path) -> str:
                          "Comau controller and rlff does not read back: give the robot trajectory JSON/CSV it was "
                          "exported from, or the generated path it was planned from")
     header = header_names(path)
-    if not header:  # no UTF-8 text (a gzip, UTF-16), or blank
-        raise InputError(f"{path} is {file_kind(path)}: give a generated path CSV or a robot trajectory JSON/CSV "
-                         "that `rlff robot export` wrote")
+    if not header:  # no UTF-8 text (a gzip, UTF-16: with what to do), or blank
+        raise InputError(f"{path} is {binary_kind(path) or file_kind(path)}: give a generated path CSV or a robot "
+                         "trajectory JSON/CSV that `rlff robot export` wrote")
     kind = csv_kind(header)
     if kind == DATASET:  # it was blamed on its time column, or its velocities
         raise InputError(f"{path} is demonstrations (a dataset, its throws by the trajectory column), not a generated "
