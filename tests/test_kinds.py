@@ -153,11 +153,11 @@ def test_a_path_given_as_demonstrations_is_said_to_be_a_generated_path(tmp_path,
 
 @pytest.mark.parametrize(("data", "said"), [
     (gzip.compress(b"angle,velocity\n0.5,4\n"), "is gzip-compressed (it starts with the bytes 1f 8b), not UTF-8 "
-     "text: decompress it first (gunzip -c FILE > new.csv)"),
+     "text: decompress it first (gunzip -c FILE > new.csv); then"),
     ("angle,velocity\n".encode("utf-16"), "is UTF-16 text (it starts with the byte-order mark ff fe), not UTF-8 "
-     "text: save it as UTF-8 (iconv -f UTF-16 -t UTF-8 FILE > new.csv)"),
-    (b"", "is empty (0 bytes)"),
-    (b"\n\n", "is text of blank lines"),
+     "text: save it as UTF-8 (iconv -f UTF-16 -t UTF-8 FILE > new.csv); then"),
+    (b"", "is empty (0 bytes):"),
+    (b"\n\n", "is text of blank lines:"),
 ], ids=["gzip", "utf-16", "empty", "blank"])
 def test_a_file_of_no_text_header_given_where_a_path_goes_says_what_it_is(tmp_path, data, said):
     # "neither a generated path nor a robot trajectory: not a readable CSV or JSON ('utf-8' codec
@@ -165,7 +165,7 @@ def test_a_file_of_no_text_header_given_where_a_path_goes_says_what_it_is(tmp_pa
     path = _file(tmp_path, data, "path.csv")
     with pytest.raises(InputError) as refused:
         robot_file_kind(path)
-    assert str(refused.value) == (f"{path} {said}: give a generated path CSV or a robot trajectory JSON/CSV that "
+    assert str(refused.value) == (f"{path} {said} give a generated path CSV or a robot trajectory JSON/CSV that "
                                   "`rlff robot export` wrote")
 
 

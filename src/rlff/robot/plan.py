@@ -510,9 +510,11 @@ def robot_file_kind(path: Path) -> str:
                          "Comau controller and rlff does not read back: give the robot trajectory JSON/CSV it was "
                          "exported from, or the generated path it was planned from")
     header = header_names(path)
-    if not header:  # no UTF-8 text (a gzip, UTF-16: with what to do), or blank
-        raise InputError(f"{path} is {binary_kind(path) or file_kind(path)}: give a generated path CSV or a robot "
-                         "trajectory JSON/CSV that `rlff robot export` wrote")
+    if not header:  # no UTF-8 text (a gzip, UTF-16: with what to do first), or blank
+        remedy = binary_kind(path)
+        said = f"{remedy}; then" if remedy else f"{file_kind(path)}:"
+        raise InputError(f"{path} is {said} give a generated path CSV or a robot trajectory JSON/CSV that "
+                         "`rlff robot export` wrote")
     kind = csv_kind(header)
     if kind == DATASET:  # it was blamed on its time column, or its velocities
         raise InputError(f"{path} is demonstrations (a dataset, its throws by the trajectory column), not a generated "
