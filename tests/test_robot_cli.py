@@ -799,3 +799,22 @@ def test_the_one_joint_summary_says_when_the_release_was_clipped(rlff, tmp_path)
     assert "... and 20 more" in said and "clipped: point 29" not in said
     assert ("clipped 0 positions and 30 velocities at 30 points, the release's among them (joint_2 velocity 3.3 "
             "rad/s -> 2.792 rad/s)") in said, said
+
+
+def test_a_path_whose_names_a_spreadsheet_put_in_capitals_is_told_what_to_rename(tmp_path):
+    # "missing columns ['angle', 'velocity'] (has ANGLE, VELOCITY, TIME)" and nothing more, though
+    # the file has them in capitals (rlff.kinds takes it for a generated path by them)
+    from rlff.errors import InputError
+    from rlff.trajectory.path_csv import read_generated_path
+
+    path = tmp_path / "caps.csv"
+    path.write_text("ANGLE, Velocity ,TIME\n0.1,1.0,0.0\n0.2,2.0,0.1\n")
+    with pytest.raises(InputError) as refused:
+        read_generated_path(path)
+    assert str(refused.value) == (
+        f"{path}: missing columns ['angle', 'velocity'] (has ANGLE,  Velocity , TIME); rlff reads the names as "
+        "rlff generate writes them, lower case without spaces: rename 'ANGLE' to 'angle', ' Velocity ' to 'velocity'")
+    path.write_text("angle,speed\n0.1,1.0\n0.2,2.0\n")  # a name of its own: nothing to rename
+    with pytest.raises(InputError) as refused:
+        read_generated_path(path)
+    assert str(refused.value) == f"{path}: missing columns ['velocity'] (has angle, speed)"

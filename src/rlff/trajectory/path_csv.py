@@ -47,6 +47,18 @@ class GeneratedPath:
         return path
 
 
+def _renaming_hint(missing: list[str], columns) -> str:
+    """For columns ``missing`` that the file has in other case or with spaces about them (a
+    spreadsheet's ``ANGLE``, `` angle``): what to rename, as the end of the missing-columns
+    message; "" where it has none of them so."""
+    found = {str(column).strip().lower(): str(column) for column in columns}
+    renames = [f"{found[name]!r} to {name!r}" for name in missing if name in found]
+    if not renames:
+        return ""
+    return (f"; rlff reads the names as rlff generate writes them, lower case without spaces: rename "
+            f"{', '.join(renames)}")
+
+
 def read_generated_path(path: str | Path) -> GeneratedPath:
     """Read a generated trajectory CSV; :class:`InputError` naming the file and column at fault."""
     path = require_file(path)
@@ -56,7 +68,8 @@ def read_generated_path(path: str | Path) -> GeneratedPath:
         raise InputError(f"{path}: not a readable CSV ({exc})") from None
     missing = [column for column in ("angle", "velocity") if column not in table]
     if missing:
-        raise InputError(f"{path}: missing columns {missing} (has {', '.join(map(str, table.columns))})")
+        raise InputError(f"{path}: missing columns {missing} (has {', '.join(map(str, table.columns))})"
+                         f"{_renaming_hint(missing, table.columns)}")
     if "trajectory" in table and table["trajectory"].nunique() > 1:
         raise InputError(f"{path}: holds {table['trajectory'].nunique()} trajectories; give one throw per file")
     columns = {}
