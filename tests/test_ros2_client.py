@@ -208,11 +208,39 @@ def test_an_aborted_goal_is_an_error_with_its_code(controller, domain, throw, tm
     assert result.returncode == 1, result.stderr
     outcome = json.loads(result.stdout)
     assert (outcome["status"], outcome["error_code"], outcome["error_name"]) == (
-        "aborted", -5, "GOAL_TOLERANCE_VIOLATED")
+        "aborted", -5, "GOAL_TOLERANCE_VIOLATED"), result.stderr
     assert "rlff: goal aborted (GOAL_TOLERANCE_VIOLATED): joint_2 missed its goal by 0.2 rad" in result.stderr
     # aborted before any feedback, as a ROS 2 server refuses a goal (accepted, then aborted at once):
     # no progress bar of a goal that never ran (it showed "executing 0/N" above the error)
     assert "executing" not in result.stderr, result.stderr
+
+
+def test_a_result_the_server_sent_before_discovery_matched_is_asked_for_again(controller, domain, throw, tmp_path):
+    """The server's answer to the client's result request lost (as a response sent before
+    discovery matched the two is): the goal's status says it ended, and the client asks again,
+    where it had waited out its whole timeout and said "timed out" (once in CI, for the aborted
+    goal of the test above). The test's server drops the first result request it gets."""
+    server = controller.server
+    dropped = []
+    ask = server._execute_get_result_request
+
+    async def drop_the_first(request):
+        if not dropped:
+            dropped.append(request)
+            return  # no answer, as if it were lost on the way
+        await ask(request)
+
+    controller.answer = controller.tolerance_violated
+    server._execute_get_result_request = drop_the_first
+    try:
+        result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "40")
+    finally:
+        del server._execute_get_result_request
+    assert dropped, "the server got no result request to drop"
+    assert result.returncode == 1, result.stderr
+    outcome = json.loads(result.stdout)
+    assert (outcome["status"], outcome["error_code"], outcome["error_name"]) == (
+        "aborted", -5, "GOAL_TOLERANCE_VIOLATED"), result.stderr
 
 
 def test_a_goal_the_server_does_not_accept_is_rejected(controller, domain, throw, tmp_path):

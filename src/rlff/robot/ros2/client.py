@@ -66,6 +66,9 @@ _STATES = {GoalStatus.STATUS_SUCCEEDED: "succeeded", GoalStatus.STATUS_ABORTED: 
 FEEDBACK_SILENCE = 3.0
 #: Seconds between pings of a server that sent no feedback since it accepted the goal.
 PING_PERIOD = 1.0
+#: Seconds the goal's status may say it ended (the server's status topic) without its result
+#: coming, before the result is asked for again (:class:`_Result`).
+RESULT_GRACE = 2.0
 
 
 #: Seconds from the first joint states message a subscription hears before the arm's state may be
@@ -256,7 +259,7 @@ class Connection:
                 except Exception:
                     _cancel(handle)  # accepted: it must not run on with nobody left to stop it
                     raise
-            answer = handle.get_result_async()
+            answer = _Result(handle)
             ended = _wait(answer, deadline, client, lambda: heard[0] if heard else None,
                           _Ping(self._pings[action]))
             if ended is not True:
@@ -283,6 +286,35 @@ class Connection:
         status = _STATES.get(outcome.status, "lost")
         name = None if code == 0 and status != "succeeded" else ERROR_NAMES.get(code)
         return SendResult(status, code, name, outcome.result.error_string, start, traj.duration, received)
+
+
+class _Result:
+    """The result of an accepted goal, as a future (``done()``, ``result()``), asked for again
+    whenever the goal's status (the server's status topic, which rclpy keeps on the handle) has
+    said for :data:`RESULT_GRACE` s that the goal ended and no answer came: a response the server
+    sends before discovery has matched it to this client's reader is lost, and the server keeps
+    the result to give again. Once in CI a goal the server aborted at once was reported "timed
+    out" after the whole 60 s timeout, its result never heard."""
+
+    def __init__(self, handle) -> None:
+        self.handle = handle
+        self.asked = [handle.get_result_async()]
+        self.ended = None  # monotonic s when the status was first seen to say the goal ended
+
+    def done(self) -> bool:
+        if any(answer.done() for answer in self.asked):
+            return True
+        if self.handle.status in _STATES:
+            now = time.monotonic()
+            if self.ended is None:
+                self.ended = now
+            elif now - self.ended >= RESULT_GRACE:
+                self.asked.append(self.handle.get_result_async())
+                self.ended = now
+        return False
+
+    def result(self):
+        return next(answer for answer in self.asked if answer.done()).result()
 
 
 class _Ping:
