@@ -243,6 +243,50 @@ def test_a_result_the_server_sent_before_discovery_matched_is_asked_for_again(co
         "aborted", -5, "GOAL_TOLERANCE_VIOLATED"), result.stderr
 
 
+class _GoalResponsesLost:
+    """An action server's rcl handle that never sends its answers to goals (as responses sent
+    before discovery matched the two are lost); everything else goes to the handle."""
+
+    def __init__(self, handle) -> None:
+        self.handle = handle
+        self.lost = 0
+
+    def send_goal_response(self, header, response) -> None:
+        self.lost += 1
+
+    def __getattr__(self, name):
+        return getattr(self.handle, name)
+
+    def __enter__(self):
+        return self.handle.__enter__()
+
+    def __exit__(self, *exc):
+        return self.handle.__exit__(*exc)
+
+
+def test_a_goal_whose_acceptance_was_lost_is_cancelled_by_its_id(controller, domain, throw, tmp_path):
+    """The server accepts the goal and runs it, its answer lost on the way: the client, which never
+    heard the goal accepted, cancels it by its id when it gives up, and the server brakes. It had
+    said "the cancel was not confirmed ...: the arm's state is unknown" and left the goal running
+    with nobody to stop it (here until the test server's own minute)."""
+    server = controller.server
+    controller.answer = controller.never_finish
+    controller.cancelled.clear()
+    handle = server._handle
+    server._handle = lost = _GoalResponsesLost(handle)
+    try:
+        result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "8")
+    finally:
+        server._handle = handle
+    assert lost.lost == 1, "the server answered no goal"
+    assert result.returncode == 1, result.stderr
+    outcome = json.loads(result.stdout)
+    assert outcome["status"] == "timed out" and outcome["error_string"] == (
+        "timed out before the server accepted the goal; goal cancelled; cancelled after 0.500 s; braked to rest "
+        "(the test's server)"), result.stderr
+    assert controller.cancelled.is_set()
+
+
 def test_a_goal_the_server_does_not_accept_is_rejected(controller, domain, throw, tmp_path):
     controller.accept = False
     try:

@@ -26,9 +26,11 @@ from action_msgs.msg import GoalStatus
 from action_msgs.srv import CancelGoal
 from control_msgs.action import FollowJointTrajectory
 from rclpy.action import ActionClient
+from rclpy.action.client import ClientGoalHandle
 from rclpy.client import Client
 from rclpy.executors import SingleThreadedExecutor
 from sensor_msgs.msg import JointState
+from unique_identifier_msgs.msg import UUID
 
 from rlff.errors import RlffError
 from rlff.robot.description import Robot
@@ -239,11 +241,13 @@ class Connection:
 
         start = self.now() + START_LEAD
         goal = FollowJointTrajectory.Goal(trajectory=to_msg(robot.ros.joints.to_controller(traj), start))
+        # the goal's id is the client's to choose: it can cancel the goal by it before it heard the acceptance
+        goal_id = UUID(uuid=list(uuid.uuid4().bytes))
         handle = sent = None
         try:
-            sent = client.send_goal_async(goal, feedback_callback=feedback)
+            sent = client.send_goal_async(goal, feedback_callback=feedback, goal_uuid=goal_id)
             if not _wait(sent, deadline):
-                fate, said = _cancel_when_accepted(sent)
+                fate, said = _cancel_when_accepted(sent, client, goal_id)
                 text = (f"goal cancelled{f'; {said}' if said else ''}" if fate == GOAL_CANCELLED
                         else cancel_unconfirmed(CANCEL_WAIT) if fate == CANCEL_UNCONFIRMED
                         else "the goal was not accepted")
@@ -273,7 +277,7 @@ class Connection:
                 if handle is not None and handle.accepted:
                     fate = GOAL_CANCELLED if _cancel(handle)[0] else CANCEL_UNCONFIRMED
                 elif handle is None and sent is not None:  # sent, its acceptance not yet heard
-                    fate = _cancel_when_accepted(sent)[0]
+                    fate = _cancel_when_accepted(sent, client, goal_id)[0]
                 else:
                     fate = None  # refused, or never sent: nothing runs
             except KeyboardInterrupt:  # a second one while cancelling: the cancel went out, not awaited
@@ -435,29 +439,44 @@ def send_goal(
         return connection.send_goal(robot, traj, pose, timeout, on_feedback, on_accepted)
 
 
-def _cancel_when_accepted(sent) -> tuple[str | None, str]:
+def _cancel_when_accepted(sent, client: ActionClient, goal_id: UUID) -> tuple[str | None, str]:
     """Cancel a goal whose acceptance had not arrived when the client gave up on it: an
-    acceptance on its way would otherwise start the arm with nobody left to stop it. Returns
-    what became of it: None (never accepted: nothing runs), :data:`GOAL_CANCELLED` or
-    :data:`CANCEL_UNCONFIRMED` (accepted, or no answer at all); and the server's text of the
-    goal's end (:func:`_cancel`)."""
-    if not _wait(sent, time.monotonic() + CANCEL_WAIT):
-        return CANCEL_UNCONFIRMED, ""
-    if not sent.result().accepted:
+    acceptance on its way would otherwise start the arm with nobody left to stop it. Where no
+    acceptance comes within :data:`CANCEL_WAIT` s either, the goal is cancelled by its id
+    (``goal_id``, the one ``sent`` went out with): the server's answer to its goal may have been
+    lost (a response sent before discovery matched the two), the arm running a goal the client
+    never heard was accepted. Returns what became of it: None (never accepted, or a server that
+    knows no such goal: nothing runs), :data:`GOAL_CANCELLED` or :data:`CANCEL_UNCONFIRMED`
+    (accepted, or no answer at all); and the server's text of the goal's end (:func:`_cancel`)."""
+    if _wait(sent, time.monotonic() + CANCEL_WAIT):
+        if not sent.result().accepted:
+            return None, ""
+        handle = sent.result()
+    else:  # a handle of the goal by its id, as if its acceptance had come
+        handle = ClientGoalHandle(client, goal_id, FollowJointTrajectory.Impl.SendGoalService.Response(accepted=True))
+    confirmed, said = _cancel(handle, unknown_is_none=True)
+    if confirmed is None:
         return None, ""
-    confirmed, said = _cancel(sent.result())
     return (GOAL_CANCELLED if confirmed else CANCEL_UNCONFIRMED), said
 
 
-def _cancel(handle, lost: bool = False, answer=None) -> tuple[bool, str]:
+def _cancel(handle, lost: bool = False, answer=None, unknown_is_none: bool = False) -> tuple[bool | None, str]:
     """Ask the server to cancel and wait for the goal's end (the arm braked to rest), on ``answer``
     (the goal's result future, when one was asked for already): whether it came within
     :data:`CANCEL_WAIT` s (a second for a server that left the graph), and the server's text of
     it, as ROS 1's result carries it too (rlff's servers: ``cancelled after 1.000 s of 2.100 s;
-    braked to rest from 2.574 rad/s in 0.336 s``; empty when it did not come or said nothing)."""
+    braked to rest from 2.574 rad/s in 0.336 s``; empty when it did not come or said nothing).
+    With ``unknown_is_none``: None where the server answers that it knows no such goal, to the
+    cancel or with the result's status (a goal whose acceptance was never heard, which it never
+    had)."""
     deadline = time.monotonic() + (1.0 if lost else CANCEL_WAIT)
-    _wait(handle.cancel_goal_async(), deadline)
+    asked = handle.cancel_goal_async()
+    if (_wait(asked, deadline) is True and unknown_is_none
+            and asked.result().return_code == CancelGoal.Response.ERROR_UNKNOWN_GOAL_ID):
+        return None, ""
     answer = answer if answer is not None else handle.get_result_async()
     if _wait(answer, deadline) is not True:
         return False, ""
+    if unknown_is_none and answer.result().status == GoalStatus.STATUS_UNKNOWN:
+        return None, ""
     return True, answer.result().result.error_string
