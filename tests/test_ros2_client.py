@@ -287,6 +287,27 @@ def test_a_goal_whose_acceptance_was_lost_is_cancelled_by_its_id(controller, dom
     assert controller.cancelled.is_set()
 
 
+def test_a_goal_whose_acceptance_was_lost_and_that_ended_is_not_called_never_accepted(controller, domain, throw,
+                                                                                       tmp_path):
+    """The server ran the goal and forgot it (an rclpy server keeps an ended goal 10 s) before the
+    client, which never heard it accepted, cancelled it by its id: the server knows no such goal,
+    which is not "the goal was not accepted" (as a live test's server log showed, it had run)."""
+    server = controller.server
+    controller.answer = controller.succeed
+    handle = server._handle
+    server._handle = lost = _GoalResponsesLost(handle)
+    try:
+        result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "8")
+    finally:
+        server._handle = handle
+    assert lost.lost == 1, "the server answered no goal"
+    assert result.returncode == 1, result.stderr
+    outcome = json.loads(result.stdout)
+    assert outcome["status"] == "timed out" and outcome["error_string"] == (
+        "timed out before the server accepted the goal; the server knows no such goal: it never had it, or had it "
+        "and it ended (a server keeps an ended goal for a few seconds only)"), result.stderr
+
+
 def test_a_goal_the_server_does_not_accept_is_rejected(controller, domain, throw, tmp_path):
     controller.accept = False
     try:

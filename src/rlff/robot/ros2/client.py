@@ -250,7 +250,7 @@ class Connection:
                 fate, said = _cancel_when_accepted(sent, client, goal_id)
                 text = (f"goal cancelled{f'; {said}' if said else ''}" if fate == GOAL_CANCELLED
                         else cancel_unconfirmed(CANCEL_WAIT) if fate == CANCEL_UNCONFIRMED
-                        else "the goal was not accepted")
+                        else said or "the goal was not accepted")
                 return SendResult("timed out", None, None, f"timed out before the server accepted the goal; {text}",
                                   start, traj.duration, received)
             handle = sent.result()
@@ -446,8 +446,9 @@ def _cancel_when_accepted(sent, client: ActionClient, goal_id: UUID) -> tuple[st
     (``goal_id``, the one ``sent`` went out with): the server's answer to its goal may have been
     lost (a response sent before discovery matched the two), the arm running a goal the client
     never heard was accepted. Returns what became of it: None (never accepted, or a server that
-    knows no such goal: nothing runs), :data:`GOAL_CANCELLED` or :data:`CANCEL_UNCONFIRMED`
-    (accepted, or no answer at all); and the server's text of the goal's end (:func:`_cancel`)."""
+    knows no such goal: nothing runs, though it may have run and ended, which the second value
+    says), :data:`GOAL_CANCELLED` or :data:`CANCEL_UNCONFIRMED` (accepted, or no answer at all);
+    and the server's text of the goal's end (:func:`_cancel`)."""
     if _wait(sent, time.monotonic() + CANCEL_WAIT):
         if not sent.result().accepted:
             return None, ""
@@ -455,8 +456,9 @@ def _cancel_when_accepted(sent, client: ActionClient, goal_id: UUID) -> tuple[st
     else:  # a handle of the goal by its id, as if its acceptance had come
         handle = ClientGoalHandle(client, goal_id, FollowJointTrajectory.Impl.SendGoalService.Response(accepted=True))
     confirmed, said = _cancel(handle, unknown_is_none=True)
-    if confirmed is None:
-        return None, ""
+    if confirmed is None:  # the server keeps an ended goal only for its result timeout (rclpy: 10 s)
+        return None, ("the server knows no such goal: it never had it, or had it and it ended (a server keeps an "
+                      "ended goal for a few seconds only)")
     return (GOAL_CANCELLED if confirmed else CANCEL_UNCONFIRMED), said
 
 
