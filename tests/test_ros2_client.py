@@ -264,14 +264,10 @@ class _GoalResponsesLost:
         return self.handle.__exit__(*exc)
 
 
-def test_a_goal_whose_acceptance_was_lost_is_cancelled_by_its_id(controller, domain, throw, tmp_path):
-    """The server accepts the goal and runs it, its answer lost on the way: the client, which never
-    heard the goal accepted, cancels it by its id when it gives up, and the server brakes. It had
-    said "the cancel was not confirmed ...: the arm's state is unknown" and left the goal running
-    with nobody to stop it (here until the test server's own minute)."""
+def _sent_with_goal_answers_lost(controller, domain, throw, tmp_path) -> tuple[dict, subprocess.CompletedProcess]:
+    """``rlff robot send`` of the throw (timeout 8 s) while the test server answers no goal: its
+    JSON outcome and the process, which must exit 1."""
     server = controller.server
-    controller.answer = controller.never_finish
-    controller.cancelled.clear()
     handle = server._handle
     server._handle = lost = _GoalResponsesLost(handle)
     try:
@@ -280,7 +276,17 @@ def test_a_goal_whose_acceptance_was_lost_is_cancelled_by_its_id(controller, dom
         server._handle = handle
     assert lost.lost == 1, "the server answered no goal"
     assert result.returncode == 1, result.stderr
-    outcome = json.loads(result.stdout)
+    return json.loads(result.stdout), result
+
+
+def test_a_goal_whose_acceptance_was_lost_is_cancelled_by_its_id(controller, domain, throw, tmp_path):
+    """The server accepts the goal and runs it, its answer lost on the way: the client, which never
+    heard the goal accepted, cancels it by its id when it gives up, and the server brakes. It had
+    said "the cancel was not confirmed ...: the arm's state is unknown" and left the goal running
+    with nobody to stop it (here until the test server's own minute)."""
+    controller.answer = controller.never_finish
+    controller.cancelled.clear()
+    outcome, result = _sent_with_goal_answers_lost(controller, domain, throw, tmp_path)
     assert outcome["status"] == "timed out" and outcome["error_string"] == (
         "timed out before the server accepted the goal; goal cancelled; cancelled after 0.500 s; braked to rest "
         "(the test's server)"), result.stderr
@@ -292,17 +298,8 @@ def test_a_goal_whose_acceptance_was_lost_and_that_ended_is_not_called_never_acc
     """The server ran the goal and forgot it (an rclpy server keeps an ended goal 10 s) before the
     client, which never heard it accepted, cancelled it by its id: the server knows no such goal,
     which is not "the goal was not accepted" (as a live test's server log showed, it had run)."""
-    server = controller.server
     controller.answer = controller.succeed
-    handle = server._handle
-    server._handle = lost = _GoalResponsesLost(handle)
-    try:
-        result = rlff_send(domain, tmp_path, str(throw[0]), "--json", "--timeout", "8")
-    finally:
-        server._handle = handle
-    assert lost.lost == 1, "the server answered no goal"
-    assert result.returncode == 1, result.stderr
-    outcome = json.loads(result.stdout)
+    outcome, result = _sent_with_goal_answers_lost(controller, domain, throw, tmp_path)
     assert outcome["status"] == "timed out" and outcome["error_string"] == (
         "timed out before the server accepted the goal; the server knows no such goal: it never had it, or had it "
         "and it ended (a server keeps an ended goal for a few seconds only)"), result.stderr
