@@ -220,6 +220,22 @@ def test_secant_takes_the_ballistic_first_step_then_the_secant(failed_demos):
     np.testing.assert_allclose(third.velocity, first.velocity * third.info["factor"])
 
 
+def test_secant_whose_start_is_beyond_the_speed_limit_steps_from_the_throw_at_the_limit(failed_demos):
+    # the demo's learning basket at 2.1 m: the GMR mean's speed lies beyond the joint's limit, the
+    # throw at the limit lands long; the secant had stepped from its unthrown start and asked for
+    # the limit again and again (+0.20 m three times, then the run stopped)
+    from dataclasses import replace
+
+    fastest = float(np.max(np.abs(SecantSearch(make_problem(failed_demos, "distance")).mean)))
+    secant = SecantSearch(replace(make_problem(failed_demos, "distance"), max_speed=0.8 * fastest))
+    first = secant.propose([])
+    assert first.info["factor"] == pytest.approx(0.8)
+    assert np.max(np.abs(first.velocity)) == pytest.approx(0.8 * fastest)
+    second = secant.propose([fake_attempt(1, first, 2.1)])  # 0.2 m long
+    assert second.info["factor"] == pytest.approx(0.8 * np.sqrt(1.9 / 2.1))
+    assert np.max(np.abs(second.velocity)) < np.max(np.abs(first.velocity))
+
+
 def test_cma_rebuilt_from_the_history_proposes_what_the_original_would(failed_demos):
     problem = make_problem(failed_demos, "distance")
     original = CmaSearch(problem)

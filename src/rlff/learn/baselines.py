@@ -220,7 +220,10 @@ class SecantSearch(GmrBaseline):
     feedbacks = ("distance",)
 
     def propose(self, history: Sequence[Attempt]) -> Proposal:
-        factors = [1.0]
+        # the first throw at its start, or at the limit where the start lies beyond it: the
+        # factor the secant steps from is the one thrown (it had stepped from 1.0, beyond the
+        # limit, and after a long throw at the limit asked for the limit again until the run stopped)
+        factors = [min(1.0, self.limit / self.start)]
         misses: list[float] = []
         for attempt in history:
             misses.append(finite_miss(attempt))
