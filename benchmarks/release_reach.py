@@ -1,16 +1,17 @@
-"""How far the loop's throws could reach if they let go where other demonstrations let go.
+"""How far a one-joint learning run's throws reach, let go where the demonstrations let go.
 
 Run: ``.venv/bin/python benchmarks/release_reach.py [--seeds 8] [--first-seed 100] [--robot comau_smart5_six]``.
 
-Every throw of a one-joint learning run lets go at the end of one angle grid
-(:func:`rlff.learn.demos.angle_grid`): the first quartile of the demonstrations' last angles, where
-most of them still cover the path. Issue 15 asked the donut to explore the release angle where
-the demonstrations disagree. This measures what that could win: per scenario of ``rlff bench
-learning`` and held-out seed, the farthest basket (centre, m, a 0.35 m opening) the run's
-throws reach at the joint's speed limit (and what its acceleration and jerk limits allow over the
-swing, :func:`rlff.sim.reach.executable_reach`) when let go at the quartiles of the
-demonstrations' last angles, and at the joint's best release position. Prints a Markdown table of
-the means over the seeds (min-max in brackets) and the scenarios' baskets.
+A one-joint learning run lets go at the end of one angle grid (:func:`rlff.learn.demos.angle_grid`):
+by default the first quartile of the demonstrations' last angles, where most of them still cover
+the path; for a basket beyond that release's reach, later, at the median, the third quartile or
+the last of them (:func:`rlff.learn.loop.release_quantile`, since 2026-12-08; issue 15 asked the
+donut to explore the release angle where the demonstrations disagree). This measures what each
+release reaches: per scenario of ``rlff bench learning`` and held-out seed, the farthest basket
+(centre, m, a 0.35 m opening) the run's throws reach at the joint's speed limit (and what its
+acceleration and jerk limits allow over the swing, :func:`rlff.sim.reach.executable_reach`) let
+go at each of those releases, and at the joint's best release position. Prints a Markdown table
+of the means over the seeds (min-max in brackets) and the scenarios' baskets.
 """
 
 from __future__ import annotations
@@ -20,31 +21,22 @@ import argparse
 import numpy as np
 
 from rlff.learn.benchmark import HELD_OUT_SEEDS
-from rlff.learn.demos import RELEASE_QUANTILE, usable_demos
+from rlff.learn.demos import RELEASE_QUANTILES, usable_demos
+from rlff.learn.loop import release_reaches
 from rlff.learn.scenarios import DEMONSTRATORS, Scenario, demonstrations
 from rlff.robot import RobotMapping, load_robot
 from rlff.sim import Basket
 from rlff.sim.reach import executable_reach, farthest_basket
 
-#: Where along the demonstrations' last angles the throws let go: the loop's grid (0.25) and later.
-QUANTILES = (RELEASE_QUANTILE, 0.5, 0.75, 1.0)
-
 
 def reaches(scenario: Scenario, seed: int, mapping: RobotMapping, basket: Basket) -> list[float]:
-    """Farthest basket centre (m) of ``basket``'s shape at each of :data:`QUANTILES`'s releases,
-    then at the joint's best release, for the demonstrations of ``seed``."""
+    """Farthest basket centre (m) of ``basket``'s shape at each of the releases of
+    :data:`~rlff.learn.demos.RELEASE_QUANTILES`, then at the joint's best release, for the
+    demonstrations of ``seed``."""
     demos, _ = usable_demos(demonstrations(seed, scenario), mapping, basket.rim_height)
-    first = float(np.median([t["angle"][0] for t in demos]))
-    lasts = np.quantile([t["angle"][-1] for t in demos], QUANTILES)
-    start = mapping.angle_offset + mapping.angle_scale * first
-    joint = mapping.robot.joint(mapping.joint)
-    farthest = []
-    for last in lasts:
-        release = float(np.clip(mapping.angle_offset + mapping.angle_scale * last, joint.lower, joint.upper))
-        reach = executable_reach(mapping, basket.rim_height, 0.0, release, swing_from=start).distance
-        farthest.append(farthest_basket(reach, basket.opening))
+    farthest = release_reaches(demos, mapping, basket, 0.0)
     best = executable_reach(mapping, basket.rim_height, 0.0).distance
-    return [*farthest, farthest_basket(best, basket.opening)]
+    return [*(farthest[q] for q in RELEASE_QUANTILES), farthest_basket(best, basket.opening)]
 
 
 def main() -> None:
@@ -57,7 +49,7 @@ def main() -> None:
     mapping = RobotMapping.for_robot(robot)
     basket = Basket(1.0, opening=0.35)
     seeds = range(args.first_seed, args.first_seed + args.seeds)
-    columns = [f"let go at the {q:g} quantile" for q in QUANTILES] + ["best release"]
+    columns = [f"let go at the {q:g} quantile" for q in RELEASE_QUANTILES] + ["best release"]
     print(f"farthest basket centre (m), mean (min-max) over seeds {seeds[0]}-{seeds[-1]}, {robot.name}\n")
     print("| scenario | baskets | " + " | ".join(columns) + " |")
     print("|---" * (len(columns) + 2) + "|")

@@ -479,10 +479,11 @@ def test_every_dmm_method_runs_beside_both_its_ablations_with_each_feedback():
             assert {f"{name}:no-exploration", f"{name}:gmr-mean"} <= set(methods), (kind, name)
 
 
-def test_the_release_reach_benchmark_starts_where_the_loop_refuses():
-    """benchmarks/release_reach.py's first column is the reach the loop holds a one-joint run to
-    (:func:`rlff.learn.loop.learnable_basket`, the grid's release); later releases reach farther,
-    and none beyond the joint's best release."""
+def test_the_release_reach_benchmark_measures_the_releases_the_loop_takes():
+    """benchmarks/release_reach.py's columns are the reaches of the releases a one-joint run may
+    take; the farthest of them is the reach the loop holds a run to
+    (:func:`rlff.learn.loop.learnable_basket`); later releases reach farther, and none beyond the
+    joint's best release."""
     import importlib.util
     from pathlib import Path
 
@@ -499,5 +500,5 @@ def test_the_release_reach_benchmark_starts_where_the_loop_refuses():
     basket = Basket(1.0, opening=0.35)
     scenario = Scenario("short", landings="none")
     farthest = module.reaches(scenario, 100, mapping, basket)
-    assert farthest[0] == pytest.approx(learnable_basket(demonstrations(100, scenario), mapping, basket))
-    assert farthest[0] < farthest[2] <= farthest[-1] + 1e-9
+    assert max(farthest[:-1]) == pytest.approx(learnable_basket(demonstrations(100, scenario), mapping, basket))
+    assert farthest[0] < farthest[2] and max(farthest[:-1]) <= farthest[-1] + 1e-9

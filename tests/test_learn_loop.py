@@ -109,15 +109,60 @@ def test_a_basket_beyond_the_arm_s_reach_is_refused_with_the_reach_of_this_run_s
     with pytest.raises(InputError) as refused:
         learn(failed_demos, 2.6)
     found = re.search(r"farthest basket with a 0\.35 m opening is at (\S+) m .*; this run's throws \(joint_2 let go "
-                      r"where the demonstrations let go, -?\d\.\d\d rad\) reach a basket at (\S+) m at most$",
-                      str(refused.value))
+                      r"where the demonstrations let go, -?\d\.\d\d to -?\d\.\d\d rad\) reach a basket at (\S+) m "
+                      r"at most$", str(refused.value))
     assert found, refused.value
     best, own = float(found[1]), float(found[2])
     farthest = learnable_basket(failed_demos, mapping_for(load_robot("comau_smart5_six"), None), Basket(2.6))
-    assert own == pytest.approx(farthest, abs=0.01) and own < best < 2.6
+    assert own == pytest.approx(farthest, abs=0.01) and own <= best < 2.6
     assert learn(failed_demos, own, budget=1, seed=0).attempts == 1
-    with pytest.raises(InputError, match="out of reach of the throws this robot executes"):
-        learn(failed_demos, own + 0.05, budget=1, seed=0)
+
+
+def test_a_basket_beyond_the_default_release_s_reach_is_thrown_at_letting_go_later(failed_demos, tmp_path):
+    # these throws let go at the first quartile of the demonstrations' last angles reach 2.03 m;
+    # a basket at 2.3 m was refused, though the arm reaches 2.44 m: the run lets go later, where
+    # the last of the demonstrations let go (the release that reaches farthest), says so, and
+    # keeps it in its log's header; so does a basket within 0.1 m of the default's edge
+    from rlff.learn.carry import carried_offsets
+    from rlff.learn.demos import RELEASE_QUANTILE, usable_demos
+    from rlff.learn.log import read_log
+    from rlff.learn.loop import RELEASE_ROOM, release_quantile, release_reaches
+    from rlff.robot import load_robot, mapping_for
+    from rlff.sim import Basket
+
+    mapping = mapping_for(load_robot("comau_smart5_six"), None)
+    usable, _ = usable_demos(failed_demos, mapping, 0.3)
+    reaches = release_reaches(usable, mapping, Basket(2.3), 0.0)
+    assert reaches[RELEASE_QUANTILE] < 2.1 and max(reaches.values()) == reaches[1.0] > 2.3
+    edge = round(reaches[RELEASE_QUANTILE] - RELEASE_ROOM / 2, 2)  # within the default's reach, near its edge
+    assert [release_quantile(usable, mapping, Basket(d)) for d in (2.3, edge, edge - RELEASE_ROOM)] == [
+        1.0, 1.0, RELEASE_QUANTILE]
+    last_angles = [t["angle"][-1] for t in usable]
+
+    log = tmp_path / "far.jsonl"
+    result = learn(failed_demos, 2.3, budget=6, seed=0, log_path=log)
+    assert result.hit, result.misses
+    assert any(note.startswith("the basket at 2.30 m is beyond the reach of throws let go where the demonstrations "
+                               "let go (joint_2 at -0.57 rad") and "this run lets go later, where the last of the "
+                               "demonstrations let go (-0.02 rad)" in note for note in result.notes), result.notes
+    for attempt in result.history:  # every throw lets go at the end of the later grid
+        assert attempt.angle[-1] == pytest.approx(max(last_angles), abs=1e-6)
+    header, _ = read_log(log)
+    assert header["release_quantile"] == 1.0
+    assert learn(failed_demos, 2.3, budget=6, seed=0, log_path=log).resumed == result.attempts
+    near_edge = learn(failed_demos, edge, budget=1, seed=0)
+    assert any(f"the basket at {edge:.2f} m is within 0.1 m of the edge of the reach of throws let go" in note
+               for note in near_edge.notes), near_edge.notes
+
+    near_log = tmp_path / "near.jsonl"
+    near = learn(failed_demos, 1.9, budget=6, seed=0, log_path=near_log)
+    assert "release_quantile" not in read_log(near_log)[0]  # the default writes none: older logs resume
+    assert near.history[0].angle[-1] == pytest.approx(np.quantile(last_angles, RELEASE_QUANTILE), abs=1e-6)
+    # a speed offset is relative to the start of throws let go at one release: not carried to another
+    with pytest.raises(InputError, match=r"release_quantile = 0.25 \(the default\) there, 1.0 here\): the speed "
+                                         r"offset is relative to the method's own start, which .* and where the "
+                                         r"throws let go set"):
+        carried_offsets([near_log], header)
 
 
 def test_demonstrations_beyond_the_joint_range_are_refused():

@@ -608,14 +608,15 @@ def test_a_centred_run_short_of_its_centre_window_only_says_that_window_is_beyon
 
 @pytest.mark.slow
 def test_a_centred_run_that_hit_the_basket_does_not_call_it_out_of_reach(seed0_clean, rlff, tmp_path):
-    # 2.1 m: attempt 1 hit 0.10 m short at joint_2's limit, the centre window (0.0875 m) beyond
-    # every throw; the note had called the basket out of this arm's reach and sent the user to
-    # check the robot file's speed limits
-    result = learn(seed0_clean, 2.1, budget=20, until="centred", seed=0)
+    # 2.4 m, at the edge of the farthest release's reach (2.44 m; 2.1 m at the default release's
+    # edge until 2026-12-08): attempt 1 hit 0.10 m short at joint_2's limit, the centre window
+    # (0.0875 m) beyond every throw; the note had called the basket out of this arm's reach and
+    # sent the user to check the robot file's speed limits
+    result = learn(seed0_clean, 2.4, budget=20, until="centred", seed=0)
     assert result.out_of_reach and result.centre_out_of_reach and not result.centred
     assert result.history[0].hit and result.attempts == SHORT_AT_THE_LIMIT
     note = next(note for note in result.notes if note.startswith("stopped after attempt 3"))
-    assert "out of this arm's reach" not in note and "not the basket at 2.1 m: attempt 1 hit it" in note
+    assert "out of this arm's reach" not in note and "not the basket at 2.4 m: attempt 1 hit it" in note
     assert result.to_json()["centre_out_of_reach"] is True
     # on the command line: the verdict names the hit and the centre window; a window of 1.75 mm
     # lists the misses to the millimetre (-0.003, printed 0.00 beside it)

@@ -402,9 +402,10 @@ def require_learnable_baskets(scenario: Scenario, demos: dict[int, Dataset]) -> 
         kept = f"; it reaches {_metres(within)}" if within else ""
         raise InputError(
             f"{option}: the basket at {distance:.2f} m is out of reach of the throws {description.name} executes from "
-            f"the demonstrations of scenario {scenario.demonstrators}, seed {seed} (released where they let go, "
-            f"as rlff learn judges it before its first throw): the farthest basket with a {scenario.opening:.2f} m "
-            f"opening is at {centimetres_below(farthest[distance])} m{kept}: pass nearer baskets with --baskets")
+            f"the demonstrations of scenario {scenario.demonstrators}, seed {seed} (released where they let go, as "
+            f"late as the last of them, as rlff learn judges it before its first throw): the farthest basket with a "
+            f"{scenario.opening:.2f} m opening is at {centimetres_below(farthest[distance])} m{kept}: pass nearer "
+            "baskets with --baskets")
 
 
 def _metres(distances: Sequence[float]) -> str:

@@ -37,15 +37,16 @@ from rlff.learn.log import as_listed, brief, first_difference, read_log, without
 #: two baskets of one seed differ by 0.076 in ``short`` (tuning seeds 0-47), with room.
 CARRY_SCALE = 0.1
 #: What a run and the runs it carries from must share (the header's keys): the offset is
-#: relative to a u0 that the method, the demonstrations, the robot and the joints decide. The
-#: demonstrations' digest last: the joints (the columns kept) and the robot (the throws within its
-#: limits) change it too, and are named instead.
-SHARED = ("update", "joints", "robot", "pedestal", "aim", "demos")
+#: relative to a u0 that the method, the demonstrations, the robot, the joints and where the
+#: throws let go decide. The demonstrations' digest last: the joints (the columns kept) and the
+#: robot (the throws within its limits) change it too, and are named instead.
+SHARED = ("update", "joints", "robot", "pedestal", "aim", "release_quantile", "demos")
 #: How a header without the key reads: the default writes none, so older logs resume.
-ABSENT = {"joints": "one joint (the [throwing] table's)", "aim": "the default ('auto')"}
+ABSENT = {"joints": "one joint (the [throwing] table's)", "aim": "the default ('auto')",
+          "release_quantile": "0.25 (the default)"}
 #: Why a difference in :data:`SHARED` refuses the carry.
 START = ("the speed offset is relative to the method's own start, which the method, the demonstrations, the "
-         "robot, the joints, the pedestal and the aim set")
+         "robot, the joints, the pedestal, the aim and where the throws let go set")
 #: What else they must share, the arm that threw: a simulated arm unlike its robot file (--gap
 #: speed:0.9's hit at 2 m, carried to an arm without it, took 5 throws at 3 m where 1 hit alone) or a
 #: real one. Each key with how a header without it reads (a run in simulation on the robot file).
@@ -72,7 +73,7 @@ def carried_offsets(logs: Sequence[str | Path], run: dict[str, Any]) -> tuple[tu
     ------
     InputError
         A log that is not an attempts log, or one of another method, demonstrations, robot,
-        joints, pedestal, aim, simulated arm (gap) or executor.
+        joints, pedestal, aim, release (where the throws let go), simulated arm (gap) or executor.
     """
     offsets: list[float] = []
     notes = []

@@ -29,8 +29,12 @@ from rlff.learn.method import COLUMNS, ONE_JOINT_OUTPUTS
 from rlff.limits import DISTANCE_RANGE
 from rlff.wording import plural
 
-#: Quantile of the demonstrations' last angles where generated throws release.
-RELEASE_QUANTILE = 0.25
+#: Quantiles of the demonstrations' last angles where a one-joint run's throws may let go, in the
+#: order a run tries them: the first where most demonstrations still cover the whole path, the later
+#: ones only for a basket beyond its reach (:func:`rlff.learn.loop.release_quantile`).
+RELEASE_QUANTILES = (0.25, 0.5, 0.75, 1.0)
+#: Quantile of the demonstrations' last angles where generated throws release by default.
+RELEASE_QUANTILE = RELEASE_QUANTILES[0]
 #: Most mixture components the loop uses.
 MAX_COMPONENTS = 4
 #: Fewest points of a generated throw.
@@ -225,16 +229,17 @@ def demos_within_limits(demos: Dataset, mapping) -> tuple[Dataset, list[str]]:
     return demos.replace(kept), [note]
 
 
-def angle_grid(demos: Dataset) -> np.ndarray:
+def angle_grid(demos: Dataset, release: float = RELEASE_QUANTILE) -> np.ndarray:
     """The angle grid (rad) of generated throws, shape (T,).
 
     From the median first angle to the release angle, with the median number of samples of a
-    demonstration (at least ``MIN_POINTS``). The release is the ``RELEASE_QUANTILE`` quantile of the demonstrations' last
-    angles: early enough that most demonstrations cover the whole path, so the mixture's
-    velocity at the release rests on most of them rather than on the few that went farthest.
+    demonstration (at least ``MIN_POINTS``). The release is the ``release`` quantile of the
+    demonstrations' last angles; the default, :data:`RELEASE_QUANTILE`, is early enough that most
+    demonstrations cover the whole path, so the mixture's velocity at the release rests on most of
+    them rather than on the few that went farthest.
     """
     first = float(np.median([t["angle"][0] for t in demos]))
-    last = float(np.quantile([t["angle"][-1] for t in demos], RELEASE_QUANTILE))
+    last = float(np.quantile([t["angle"][-1] for t in demos], release))
     count = int(np.median([len(t) for t in demos]))
     if first == last:
         raise InputError("the demonstrations do not move: first and last angles coincide")
@@ -258,10 +263,11 @@ def loop_components(demos: Dataset, seed: int, outputs: tuple[str, ...] = ONE_JO
     return _COMPONENTS.get((content_digest(demos), int(seed), tuple(outputs)), compute)
 
 
-def typical_throw(mapping, demos: Dataset) -> dict[str, np.ndarray]:
-    """The demonstrations' typical whole-arm throw along the loop's angle grid: the median of
-    each column of :func:`joint_outputs` (T,), the elbow's velocity forward."""
-    angles = angle_grid(demos)
+def typical_throw(mapping, demos: Dataset, release: float = RELEASE_QUANTILE) -> dict[str, np.ndarray]:
+    """The demonstrations' typical whole-arm throw along the loop's angle grid (let go at the
+    ``release`` quantile of their last angles, :func:`angle_grid`): the median of each column of
+    :func:`joint_outputs` (T,), the elbow's velocity forward."""
+    angles = angle_grid(demos, release)
     typical = {"angle": angles}
     for column in joint_outputs(mapping.human_columns):
         typical[column] = np.median([np.interp(angles, t["angle"], t[column]) for t in demos], axis=0)

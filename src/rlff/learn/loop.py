@@ -47,6 +47,8 @@ from rlff.learn.attempt import Attempt
 from rlff.learn.baselines import BASELINES
 from rlff.learn.carry import carried_offsets
 from rlff.learn.demos import (
+    RELEASE_QUANTILE,
+    RELEASE_QUANTILES,
     angle_grid,
     drives_whole_arm,
     fingerprint,
@@ -625,8 +627,9 @@ def learn(
             raise InputError(f"{exc}{_executed_reach_words(demos, mapping, target, pedestal)}") from None
     demos, limit_notes = usable_demos(demos, mapping, target.rim_height)
     components = loop_components(demos, seed, joint_outputs(mapping.human_columns))
+    release = release_quantile(demos, mapping, target, pedestal) if reckoned else RELEASE_QUANTILE
     if reckoned:
-        _require_executable(mapping, target, pedestal, demos, components, seed, method_class)
+        _require_executable(mapping, target, pedestal, demos, components, seed, method_class, release)
     if executor is None:
         executor = _simulator(robot_model, target, pedestal, arm_gap)
 
@@ -655,6 +658,8 @@ def learn(
         run["joints"] = list(mapping.driven_joints)
     if kinematic != drives_whole_arm(mapping):  # the default writes no such field, so older logs resume
         run["aim"] = "kinematics" if kinematic else "demonstrations"
+    if release != RELEASE_QUANTILE:  # the default writes no such field, so older logs resume
+        run["release_quantile"] = release
     carried, carry_notes = carried_offsets(carry_from, run) if carry_from else ((), [])
     if carried:
         run["carried"] = [round(x, 4) for x in carried]
@@ -662,8 +667,9 @@ def learn(
     try:
         result = _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
                       progress, until, centre_window(until, centre_share, target.opening), pedestal, components,
-                      tuple(run.get("carried", ())), misreport, kinematic, resuming=resuming)
-        result.notes[:0] = [hint] * bool(hint and not result.resumed) + limit_notes + carry_notes
+                      tuple(run.get("carried", ())), misreport, kinematic, release, resuming=resuming)
+        later = [_later_release_note(demos, mapping, target, pedestal, release)] if release != RELEASE_QUANTILE else []
+        result.notes[:0] = [hint] * bool(hint and not result.resumed) + limit_notes + later + carry_notes
         return result
     finally:
         if log:
@@ -684,7 +690,7 @@ def _demonstrations(demos) -> Dataset:
 
 
 def _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor, progress,
-         until, centre_window, pedestal, components, carried, misreport, kinematic, *,
+         until, centre_window, pedestal, components, carried, misreport, kinematic, release, *,
          resuming=None) -> LearningResult:
     """The attempts of :func:`learn` after its checks, with the log (or None) held."""
     history = list(log.contents.attempts) if log else []
@@ -699,7 +705,7 @@ def _run(log, method_class, demos, target, feedback, update, seed, budget, mappi
 
     problem = _problem(demos, target, feedback, seed, mapping, pedestal, components,
                        tolerance=min(hit_tolerance(target), centre_window), carried=carried, misreport=misreport,
-                       aim=kinematic)
+                       aim=kinematic, release=release)
 
     def done(attempt: Attempt) -> bool:
         return counts_as_hit(attempt, centre_window)
@@ -807,16 +813,17 @@ def _tell_what_the_log_keeps(exc: RlffError, index: int, log: AttemptLog | None,
 
 def _problem(demos: Dataset, target, feedback: str, seed: int, mapping, pedestal: float, components: int, *,
              tolerance: float, carried: tuple[float, ...] = (), misreport: float = MISREPORT,
-             aim: bool | None = None) -> Problem:
+             aim: bool | None = None, release: float = RELEASE_QUANTILE) -> Problem:
     """What a method of :func:`learn` knows before its first attempt at basket ``target``
-    (:class:`rlff.sim.Basket`), the demonstrations prepared (:func:`rlff.learn.demos.usable_demos`);
+    (:class:`rlff.sim.Basket`), the demonstrations prepared (:func:`rlff.learn.demos.usable_demos`),
+    its throws let go at the ``release`` quantile of their last angles (:func:`release_quantile`);
     a whole-arm throw also the arm's saturation and landing elasticity, and with ``aim`` (None:
     for a whole-arm throw) the kinematics' aim, and their elasticity for a one-joint throw. A
     robot file without ``[geometry]`` (a live arm's) says nothing of where a throw comes down: no
     elasticity of its kinematics (the default's), no landing law, no aim (:func:`learn` refuses it)."""
     whole_arm = drives_whole_arm(mapping)
     aim = whole_arm if aim is None else aim
-    typical = typical_throw(mapping, demos)
+    typical = typical_throw(mapping, demos, release)
     known = {}
     kinematics = mapping.robot.geometry is not None
     if (whole_arm or aim) and kinematics:
@@ -830,7 +837,7 @@ def _problem(demos: Dataset, target, feedback: str, seed: int, mapping, pedestal
         target=target.distance,
         feedback=feedback,
         tolerance=tolerance,
-        angles=angle_grid(demos),
+        angles=angle_grid(demos, release),
         components=components,
         seed=seed,
         max_speed=mapping.max_human_speeds()["velocity"],
@@ -1067,7 +1074,9 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
                      headroom: float = 0.0, update: str | type[Method] = "calibrate") -> float:
     """Farthest basket centre (m) of ``basket``'s shape (its rim height and opening) that
     :func:`learn` accepts from ``demos`` through ``mapping`` (see :func:`_require_executable`):
-    what the throws of its angle grid reach, or a whole-arm throw's, what the first throw of
+    what a one-joint run's throws reach let go at the latest that reaches farthest
+    (:func:`release_quantile`; a basket beyond the default release's reach is thrown at with a
+    later one), or a whole-arm throw's, what the first throw of
     ``update`` (a method's name or a :class:`Method` subclass, as :func:`learn` takes it:
     :func:`method_of`) for ``basket``'s distance (with ``seed``) reaches.
 
@@ -1079,7 +1088,7 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
     GMR mean's shape (``benchmarks/whole_arm_gap.py``); with ``calibrate``'s shape alone, seed
     6's people at 4 m kept joints 2 and 3 by 4 cm, and an arm that lets go 20 ms late missed there.
     """
-    from rlff.sim.reach import executable_reach, farthest_basket
+    from rlff.sim.reach import farthest_basket
 
     method_class = method_of(update)
     demos, _ = usable_demos(demos, mapping, basket.rim_height)
@@ -1093,16 +1102,90 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
     if headroom:
         raise InputError("a speed headroom is a choice among the joints of a whole-arm throw; a one-joint "
                          "throw's reach is at its joint's speed limit")
-    start, release = _swing_ends(demos, mapping)
-    reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from=start)
-    return farthest_basket(reach.distance, basket.opening)
+    return max(release_reaches(demos, mapping, basket, pedestal).values())
 
 
-def _swing_ends(demos: Dataset, mapping) -> tuple[float, float]:
-    """Where (rad of ``mapping``'s driven joint) every one-joint throw of the loop starts its swing
-    and lets go: the ends of the demonstrations' angle grid (:func:`angle_grid`), mapped."""
-    start, release = mapping.angle_offset + mapping.angle_scale * angle_grid(demos)[[0, -1]]
-    return float(start), float(release)
+def _swing_ends(demos: Dataset, mapping, release: float = RELEASE_QUANTILE) -> tuple[float, float]:
+    """Where (rad of ``mapping``'s driven joint) a one-joint throw of the loop starts its swing
+    and lets go: the ends of the demonstrations' angle grid to the ``release`` quantile of their
+    last angles (:func:`angle_grid`), mapped."""
+    start, end = mapping.angle_offset + mapping.angle_scale * angle_grid(demos, release)[[0, -1]]
+    return float(start), float(end)
+
+
+def release_reaches(demos: Dataset, mapping, basket, pedestal: float) -> dict[float, float]:
+    """The farthest basket centre (m) of ``basket``'s shape that a one-joint run's throws reach
+    when they let go at each of :data:`~rlff.learn.demos.RELEASE_QUANTILES` of the demonstrations'
+    last angles: the joint at its speed limit (and what its acceleration and jerk limits allow
+    over the swing), the others at the start pose."""
+    from rlff.sim.reach import executable_reach, farthest_basket
+
+    reaches = {}
+    for quantile in RELEASE_QUANTILES:
+        start, release = _swing_ends(demos, mapping, quantile)
+        reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from=start)
+        reaches[quantile] = farthest_basket(reach.distance, basket.opening)
+    return reaches
+
+
+#: Room (m) a one-joint run's default release must leave beyond the basket (its throws' farthest
+#: basket less the basket's distance) to be kept (:func:`release_quantile`). A basket at the edge of
+#: a release's reach is hit only by its joint's fastest throws, the window the speed search comes
+#: to last; the window below it lands about 0.09 m shorter. At baskets of 2.1-2.3 m ``calibrate``
+#: took a mean of 1.1-4.9 attempts letting go at the first release that reached them and 1.0-1.6
+#: at the farthest-reaching one, the sweep 3.6-10.0 against 1.3-7.1 (held-out seeds 84000-84007,
+#: binary feedback, no labels; docs/learn.md).
+RELEASE_ROOM = 0.1
+
+
+def release_quantile(demos: Dataset, mapping, basket, pedestal: float = 0.0) -> float:
+    """Where the throws of a run of :func:`learn` at ``basket`` let go: a quantile of the
+    demonstrations' last angles (``demos`` as the run learns from them,
+    :func:`rlff.learn.demos.usable_demos`).
+
+    :data:`~rlff.learn.demos.RELEASE_QUANTILE` (their first quartile, where most demonstrations
+    still cover the whole path) wherever its throws reach the basket with :data:`RELEASE_ROOM` to
+    spare; nearer its edge or beyond, a one-joint run lets go later, where the demonstrations
+    disagree: at the one of :data:`~rlff.learn.demos.RELEASE_QUANTILES` whose throws reach
+    farthest (0.1-0.2 m farther than the default on the Comau, docs/learn.md), so that the hit
+    lies below the joint's speed limit rather than at it; :func:`learn` refuses a basket beyond
+    that one's reach, naming it. Chosen once, before the first throw: every throw of a run
+    follows one angle grid (:mod:`rlff.learn.proposal_check`). A whole-arm run, whose reach is its
+    first throw's (:func:`_require_executable`), and a robot file without ``[geometry]``, whose
+    reach is unknown, let go at the default.
+    """
+    if drives_whole_arm(mapping) or mapping.robot.geometry is None:
+        return RELEASE_QUANTILE
+    reaches = release_reaches(demos, mapping, basket, pedestal)
+    if reaches[RELEASE_QUANTILE] >= basket.distance + RELEASE_ROOM:
+        return RELEASE_QUANTILE
+    return max(reaches, key=reaches.get)
+
+
+#: How a note or a message says where a one-joint run lets go, by quantile of the demonstrations'
+#: last angles (:data:`~rlff.learn.demos.RELEASE_QUANTILES`).
+RELEASE_WORDS = {
+    0.25: "where the demonstrations let go",
+    0.5: "where half of the demonstrations had let go",
+    0.75: "where three quarters of the demonstrations had let go",
+    1.0: "where the last of the demonstrations let go",
+}
+
+
+def _later_release_note(demos: Dataset, mapping, basket, pedestal: float, release: float) -> str:
+    """The note of a run that lets go later than the default (:func:`release_quantile`): where,
+    and what the default's throws and these reach."""
+    from rlff.sim.reach import basket_metres, centimetres_below
+
+    reaches = release_reaches(demos, mapping, basket, pedestal)
+    default, later = (_swing_ends(demos, mapping, quantile)[1] for quantile in (RELEASE_QUANTILE, release))
+    where = ("beyond the reach" if basket.distance > reaches[RELEASE_QUANTILE]
+             else f"within {RELEASE_ROOM:g} m of the edge of the reach")
+    return (f"the basket at {basket_metres(basket.distance)} m is {where} of throws let go "
+            f"{RELEASE_WORDS[RELEASE_QUANTILE]} ({mapping.joint} at {default:.2f} rad, the first quartile of their "
+            f"last angles: a basket at {centimetres_below(reaches[RELEASE_QUANTILE])} m at most); this run lets go "
+            f"later, {RELEASE_WORDS[release]} ({later:.2f} rad), and its throws reach a basket at "
+            f"{centimetres_below(reaches[release])} m at most")
 
 
 def _executed_reach_words(demos: Dataset, mapping, basket, pedestal: float) -> str:
@@ -1111,27 +1194,30 @@ def _executed_reach_words(demos: Dataset, mapping, basket, pedestal: float) -> s
     run's throws (joint_2 let go where the demonstrations let go, -0.35 rad) reach a basket at
     2.32 m at most"; "" for a whole-arm run (its first throw needs the model) or demonstrations
     the loop cannot use (their own error comes next)."""
-    from rlff.sim.reach import centimetres_below, executable_reach, farthest_basket
+    from rlff.sim.reach import centimetres_below
 
     if drives_whole_arm(mapping):
         return ""
 
     try:
         usable, _ = usable_demos(demos, mapping, basket.rim_height)
-        start, release = _swing_ends(usable, mapping)
-        reach = executable_reach(mapping, basket.rim_height, pedestal, release, swing_from=start)
+        reaches = release_reaches(usable, mapping, basket, pedestal)
+        earliest, latest = (_swing_ends(usable, mapping, q)[1] for q in (RELEASE_QUANTILES[0], RELEASE_QUANTILES[-1]))
     except InputError:
         return ""
-    farthest = farthest_basket(reach.distance, basket.opening)
+    farthest = max(reaches.values())
     reached = "no basket" if not math.isfinite(farthest) else f"a basket at {centimetres_below(farthest)} m at most"
-    return f"; this run's throws ({mapping.joint} let go where the demonstrations let go, {release:.2f} rad) reach {reached}"
+    return (f"; this run's throws ({mapping.joint} let go where the demonstrations let go, {earliest:.2f} to "
+            f"{latest:.2f} rad) reach {reached}")
 
 
 def _require_executable(mapping, basket, pedestal: float, demos: Dataset, components: int = 1,
-                        seed: int = 0, method_class: type[Method] | None = None) -> None:
+                        seed: int = 0, method_class: type[Method] | None = None,
+                        release: float = RELEASE_QUANTILE) -> None:
     """Refuse a basket that no throw of this loop can reach, before the first throw.
 
-    Every method throws along the same angle grid (rad, shape (T,)), so the driven joint swings
+    Every method throws along the same angle grid (rad, shape (T,); to the ``release`` quantile
+    of the demonstrations' last angles, :func:`release_quantile`), so the driven joint swings
     from its mapped first angle and lets go at the mapped last one, at most at its speed limit
     (and what its acceleration and jerk limits allow over that swing), the other joints at the
     start pose. A whole-arm throw: the first throw of ``method_class`` (default ``calibrate``)
@@ -1147,9 +1233,12 @@ def _require_executable(mapping, basket, pedestal: float, demos: Dataset, compon
     )
 
     if not drives_whole_arm(mapping):
-        start, release = _swing_ends(demos, mapping)
-        require_executable(basket, mapping, pedestal, release, swing_from=start,
-                           release_source="where the demonstrations let go")
+        start, end = _swing_ends(demos, mapping, release)
+        source = RELEASE_WORDS[release]
+        if basket.distance > max(release_reaches(demos, mapping, basket, pedestal).values()):
+            source += (": of the releases a run takes, from where most of them let go to the last, the one that "
+                       "reaches farthest")
+        require_executable(basket, mapping, pedestal, end, swing_from=start, release_source=source)
         return
     method_class = method_class or METHODS["calibrate"]
     shape = _first_shape(method_class, demos, mapping, basket, pedestal, components, seed)
