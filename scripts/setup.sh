@@ -45,4 +45,16 @@ if (( with_tests )); then
     bash "$step"
   done
 fi
+# Every rlff command is a new Python process. pip byte-compiles what it installs, but not an
+# editable install's sources nor the ROS messages generated above; where the environment keeps
+# Python from writing bytecode (PYTHONDONTWRITEBYTECODE, set on the machine this was measured
+# on) every process compiled the modules it imports from source again: compiled once here (the
+# tests' processes spent 14 % less CPU). A source edited later is compiled in memory until the
+# next set-up.
+compiled=(src)
+site=$(.venv/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
+for generated in .venv/ros1/control_msgs "$site/control_msgs"; do
+  if [[ -d "$generated" ]]; then compiled+=("$generated"); fi
+done
+.venv/bin/python -m compileall -q "${compiled[@]}"
 echo "setup: done (.venv/bin/rlff)" >&2
