@@ -161,6 +161,11 @@ def check_numbers_agree_with_files(demo) -> None:
     # what each method throws: "the baselines the GMR mean" had put failure and hindsight there too
     assert "failure and hindsight the DMM's throw refitted with their attempts, secant and imitation the GMR mean" \
         in learning.text
+    # where the learning runs let go: later than the default (the logs' headers say so) only where
+    # the report says it, in the loop's own words
+    header = json.loads((out / "attempts" / f"{default['method']}.jsonl").read_text().splitlines()[0])["run"]
+    later = "Every method's throws let go later than usual: the basket at "
+    assert (later in learning.text) == ("release_quantile" in header), (header, learning.text)
     # which arm the robot learned on: its robot file, or one that is not (said in the report)
     assert (summary["learning_arm"] == "none") == learning.facts["arm"].startswith("is as its robot file")
     assert summary["learning_arm"] in learning.facts["arm"] or summary["learning_arm"] == "none"

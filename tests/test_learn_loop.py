@@ -126,7 +126,7 @@ def test_a_basket_beyond_the_default_release_s_reach_is_thrown_at_letting_go_lat
     from rlff.learn.carry import carried_offsets
     from rlff.learn.demos import RELEASE_QUANTILE, usable_demos
     from rlff.learn.log import read_log
-    from rlff.learn.loop import RELEASE_ROOM, release_quantile, release_reaches
+    from rlff.learn.loop import RELEASE_ROOM, release_note, release_quantile, release_reaches
     from rlff.robot import load_robot, mapping_for
     from rlff.sim import Basket
 
@@ -145,6 +145,9 @@ def test_a_basket_beyond_the_default_release_s_reach_is_thrown_at_letting_go_lat
     assert any(note.startswith("the basket at 2.30 m is beyond the reach of throws let go where the demonstrations "
                                "let go (joint_2 at -0.57 rad") and "this run lets go later, where the last of the "
                                "demonstrations let go (-0.02 rad)" in note for note in result.notes), result.notes
+    # the words the demo's report gives its learning runs are the run's own; none at the default
+    assert release_note(usable, mapping, Basket(2.3)) in result.notes
+    assert release_note(usable, mapping, Basket(1.9)) == ""
     for attempt in result.history:  # every throw lets go at the end of the later grid
         assert attempt.angle[-1] == pytest.approx(max(last_angles), abs=1e-6)
     header, _ = read_log(log)

@@ -448,7 +448,7 @@ def _run(folder: RunFolder, size: str, *, seed: int, progress: Callable[[str, in
     """:func:`run_demo` in the folder it holds, every file listed in ``folder`` before it is written."""
     from rlff.learn import learn
     from rlff.learn.demos import loop_components, usable_demos
-    from rlff.learn.loop import learnable_basket
+    from rlff.learn.loop import learnable_basket, release_note
     from rlff.learn.scenarios import with_landings
     from rlff.model import Model
     from rlff.preprocess import Pipeline
@@ -502,8 +502,10 @@ def _run(folder: RunFolder, size: str, *, seed: int, progress: Callable[[str, in
     mapping = RobotMapping.for_robot(robot)
     learnable = min(farthest, learnable_basket(aimed, mapping, basket_shape))
     learning_gap, learning_distance = _learning_arm_and_basket(demonstrated, learnable, first_throw)
-    # the K the loop's runs fit: BIC on the set they learn from
-    loop_k = loop_components(usable_demos(aimed, mapping, basket_shape.rim_height)[0], seed)
+    # the K the loop's runs fit: BIC on the set they learn from; where their throws let go
+    usable = usable_demos(aimed, mapping, basket_shape.rim_height)[0]
+    loop_k = loop_components(usable, seed)
+    loop_release = release_note(usable, mapping, Basket(learning_distance))
     new = sorted({*new, learning_distance})  # its throw is in the table too
     angles = _angle_grid(clean)
     # continuity: where two modes are nearly as high, keep to the one that continues the throw
@@ -556,7 +558,8 @@ def _run(folder: RunFolder, size: str, *, seed: int, progress: Callable[[str, in
         size=size, seed=seed, raw=raw, raw_hits=raw_hits, clean=clean, preprocessing=preprocessing,
         model=model, paths=paths, demonstrated=demonstrated, throws=throws, farthest=farthest,
         learning_distance=learning_distance, learning_gap=learning_gap, learning=learning, budget=plan.budget,
-        loop_components=loop_k, figures=[FigureEntry(p.relative_to(out_dir).as_posix(), s, t, c) for p, s, t, c in figure_entries],
+        loop_components=loop_k, loop_release=loop_release,
+        figures=[FigureEntry(p.relative_to(out_dir).as_posix(), s, t, c) for p, s, t, c in figure_entries],
         whole_arm=whole_arm,
     )
     folder.file("run.json")
@@ -707,9 +710,10 @@ def _learning_basket_words(distance: float, demonstrated: list[float], gap, meth
 
 def _run_record(
     *, size, seed, raw, raw_hits, clean, preprocessing, model, paths, demonstrated, throws, farthest,
-    learning_distance, learning_gap, learning, budget, loop_components, figures, whole_arm,
+    learning_distance, learning_gap, learning, budget, loop_components, loop_release, figures, whole_arm,
 ) -> Run:
-    """The run.json record: facts and tables per section."""
+    """The run.json record: facts and tables per section (``loop_release``: the learning runs'
+    note that they let go later than the default, :func:`rlff.learn.loop.release_note`, or "")."""
     raw_distances = sorted({float(t["distance"][0]) for t in raw})
     per_distance = []
     for distance in raw_distances:
@@ -797,7 +801,8 @@ def _run_record(
             "to one side of the donut, capped at its release speed) scaled to a release speed: with binary "
             "feedback the next of the release speed's hit windows, the likeliest first, with distance "
             "feedback the one its calibration of landing against speed picks; failure and hindsight the DMM's "
-            "throw refitted with their attempts, secant and imitation the GMR mean.",
+            "throw refitted with their attempts, secant and imitation the GMR mean."
+            + (f" Every method's throws let go later than usual: {loop_release}." if loop_release else ""),
             facts={"basket (m)": learning_distance, "arm": arm_words(learning_gap) + ("" if learning_gap.none else f" ({learning_gap.name})"), "budget": budget,
                    "loop components K": loop_components},
             tables=[Table("Runs", ["method", "feedback", "hit", "attempts", "first throw miss (m)", "last miss (m)"],

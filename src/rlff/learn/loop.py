@@ -668,8 +668,8 @@ def learn(
         result = _run(log, method_class, demos, target, feedback, update, seed, budget, mapping, executor,
                       progress, until, centre_window(until, centre_share, target.opening), pedestal, components,
                       tuple(run.get("carried", ())), misreport, kinematic, release, resuming=resuming)
-        later = [_later_release_note(demos, mapping, target, pedestal, release)] if release != RELEASE_QUANTILE else []
-        result.notes[:0] = [hint] * bool(hint and not result.resumed) + limit_notes + later + carry_notes
+        later = release_note(demos, mapping, target, pedestal, release)
+        result.notes[:0] = [hint] * bool(hint and not result.resumed) + limit_notes + [later] * bool(later) + carry_notes
         return result
     finally:
         if log:
@@ -1172,9 +1172,14 @@ RELEASE_WORDS = {
 }
 
 
-def _later_release_note(demos: Dataset, mapping, basket, pedestal: float, release: float) -> str:
-    """The note of a run that lets go later than the default (:func:`release_quantile`): where,
-    and what the default's throws and these reach."""
+def release_note(demos: Dataset, mapping, basket, pedestal: float = 0.0, release: float | None = None) -> str:
+    """The note of a run of :func:`learn` at ``basket`` that lets go later than the default: where,
+    and what the default's throws and these reach; "" for a run that lets go at the default.
+    ``release``: the quantile it lets go at (default :func:`release_quantile`'s); ``demos`` as the
+    run learns from them (:func:`rlff.learn.demos.usable_demos`)."""
+    release = release_quantile(demos, mapping, basket, pedestal) if release is None else release
+    if release == RELEASE_QUANTILE:
+        return ""
     from rlff.sim.reach import basket_metres, centimetres_below
 
     reaches = release_reaches(demos, mapping, basket, pedestal)
