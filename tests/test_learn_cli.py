@@ -614,6 +614,31 @@ def test_a_one_joint_run_on_your_own_robot_file_is_pointed_at_the_kinematics_aim
         assert "--aim kinematics" not in quiet.stderr + quiet.stdout
 
 
+def test_a_run_that_lets_go_later_says_so_before_its_first_throw(rlff, demos_csv, tmp_path):
+    # a person at a live arm reads where its throws will let go before the arm moves, once; a
+    # basket within the default release's reach, or beyond every release's, says nothing of it
+    from rlff.formats import read_dataset
+    from rlff.learn.demos import usable_demos
+    from rlff.learn.loop import learnable_basket, release_reaches
+    from rlff.robot import load_robot, mapping_for
+    from rlff.sim import Basket
+
+    mapping = mapping_for(load_robot("comau_smart5_six"), None)
+    usable, _ = usable_demos(read_dataset(demos_csv), mapping, 0.3)
+    reaches = release_reaches(usable, mapping, Basket(2.0), 0.0)
+    far = round(0.5 * (reaches[0.25] + learnable_basket(read_dataset(demos_csv), mapping, Basket(2.0))), 2)
+    assert reaches[0.25] < far < max(reaches.values())
+    said = rlff("learn", str(demos_csv), "--basket", str(far), "--budget", "1")
+    assert said.code == 0, said.stderr
+    note = f"the basket at {far:.2f} m is beyond the reach of throws let go where the demonstrations let go"
+    assert said.stderr.count(note) == 1, said.stderr
+    assert said.stderr.index(note) < said.stderr.index("attempt 1:"), said.stderr
+    within = rlff("learn", str(demos_csv), "--basket", "1.4", "--budget", "1")
+    beyond = rlff("learn", str(demos_csv), "--basket", "2.6", "--budget", "1")
+    assert within.code == 0 and beyond.code == 2
+    assert "lets go later" not in within.stderr + beyond.stderr, (within.stderr, beyond.stderr)
+
+
 def test_a_finished_log_resumed_with_a_smaller_budget_counts_its_attempts_in_the_bar(rlff, demos_csv, tmp_path):
     # the bar said "3/2": its total was the new --budget, below the attempts the log already holds
     log = tmp_path / "a.jsonl"

@@ -148,6 +148,7 @@ def test_a_basket_beyond_the_default_release_s_reach_is_thrown_at_letting_go_lat
     # the words the demo's report gives its learning runs are the run's own; none at the default
     assert release_note(usable, mapping, Basket(2.3)) in result.notes
     assert release_note(usable, mapping, Basket(1.9)) == ""
+    assert release_note(usable, mapping, Basket(2.5)) == ""  # beyond every release: refused, no run
     for attempt in result.history:  # every throw lets go at the end of the later grid
         assert attempt.angle[-1] == pytest.approx(max(last_angles), abs=1e-6)
     header, _ = read_log(log)

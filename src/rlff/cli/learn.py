@@ -195,8 +195,11 @@ def learn_command(
         _require_program(robot, out, driven)
     resuming = log is not None and log.exists()  # its run chose already
     hint = _aim_hint(robot, data) if aim == "auto" and driven is None and not resuming else None
-    if hint:  # before the first throw, not among the notes after the run
-        say(options_words(hint))
+    # where the throws let go, when later than where most people let go: said before the first throw too
+    release = _release_note(robot, data, basket, pedestal, height) if driven is None else ""
+    for early in (hint, release):  # before the first throw, not among the notes after the run
+        if early:
+            say(options_words(early))
     try:
         result = _run(data, basket, settings, live)
     except KeyboardInterrupt as exc:  # on its own line, after the progress bar or the prompt
@@ -205,7 +208,7 @@ def learn_command(
             stderr().print(f"rlff: {line}", highlight=False, markup=False)
         raise
     for note in result.notes:
-        if note != hint:
+        if note not in (hint, release):
             say(options_words(note))
     try:
         written = _write_best(result, robot, out, fmt, period, driven, bearing) if out is not None else None
@@ -391,6 +394,33 @@ def _aim_hint(robot: str, data) -> str | None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RobotFileWarning)
         return aim_hint(load_robot(robot), data)
+
+
+def _release_note(robot: str, data, basket: float, pedestal: float, height: float | None) -> str:
+    """:func:`rlff.learn.loop.release_note` of a one-joint run of ``robot`` (a name or file, read
+    without its warnings) at ``basket`` from ``data``: what the run will say of where its throws
+    let go, "" where at the default, or where the run will refuse the robot, the basket or the
+    data (its own message says why, and this says nothing first)."""
+    import warnings
+
+    from rlff.errors import InputError
+    from rlff.learn.demos import usable_demos
+    from rlff.learn.loop import release_note
+    from rlff.robot import load_robot, mapping_for
+    from rlff.robot.description import RobotFileWarning
+    from rlff.sim import Basket
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RobotFileWarning)
+            mapping = mapping_for(load_robot(robot), None)
+        target = Basket(basket) if height is None else Basket(basket, rim_height=height)
+        if mapping.robot.geometry is None:
+            return ""
+        usable, _ = usable_demos(data, mapping, target.rim_height)
+        return release_note(usable, mapping, target, pedestal)
+    except InputError:
+        return ""
 
 
 def _require_program(robot: str, out: Path, joints: tuple[str, ...] | None) -> None:

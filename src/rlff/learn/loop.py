@@ -1174,15 +1174,18 @@ RELEASE_WORDS = {
 
 def release_note(demos: Dataset, mapping, basket, pedestal: float = 0.0, release: float | None = None) -> str:
     """The note of a run of :func:`learn` at ``basket`` that lets go later than the default: where,
-    and what the default's throws and these reach; "" for a run that lets go at the default.
-    ``release``: the quantile it lets go at (default :func:`release_quantile`'s); ``demos`` as the
-    run learns from them (:func:`rlff.learn.demos.usable_demos`)."""
+    and what the default's throws and these reach; "" for a run that lets go at the default, and
+    for a basket beyond every release's reach (:func:`learn` refuses it). ``release``: the quantile
+    it lets go at (default :func:`release_quantile`'s); ``demos`` as the run learns from them
+    (:func:`rlff.learn.demos.usable_demos`)."""
     release = release_quantile(demos, mapping, basket, pedestal) if release is None else release
     if release == RELEASE_QUANTILE:
         return ""
     from rlff.sim.reach import basket_metres, centimetres_below
 
     reaches = release_reaches(demos, mapping, basket, pedestal)
+    if basket.distance > max(reaches.values()):
+        return ""
     default, later = (_swing_ends(demos, mapping, quantile)[1] for quantile in (RELEASE_QUANTILE, release))
     where = ("beyond the reach" if basket.distance > reaches[RELEASE_QUANTILE]
              else f"within {RELEASE_ROOM:g} m of the edge of the reach")
