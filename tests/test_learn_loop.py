@@ -285,6 +285,21 @@ def test_secant_whose_start_is_beyond_the_speed_limit_steps_from_the_throw_at_th
     assert np.max(np.abs(second.velocity)) < np.max(np.abs(first.velocity))
 
 
+@pytest.mark.parametrize("name", ["gp-bo", "imitation", "random"])
+def test_a_baseline_s_throw_beyond_the_speed_limit_logs_the_factor_thrown(failed_demos, name):
+    # thrown at the limit, logged at the start asked for: GP-BO fitted its first throw where it was
+    # not thrown, and a hit there carried an offset beyond the limit into the next basket
+    from dataclasses import replace
+
+    from rlff.learn.baselines import BASELINES
+
+    fastest = float(np.max(np.abs(SecantSearch(make_problem(failed_demos, "distance")).mean)))
+    method = BASELINES[name](replace(make_problem(failed_demos, "distance"), max_speed=0.8 * fastest))
+    first = method.propose([])
+    assert np.max(np.abs(first.velocity)) == pytest.approx(0.8 * fastest)
+    assert first.info["log_factor"] <= round(np.log(0.8), 4) + 1e-12
+
+
 def test_cma_rebuilt_from_the_history_proposes_what_the_original_would(failed_demos):
     problem = make_problem(failed_demos, "distance")
     original = CmaSearch(problem)

@@ -102,9 +102,13 @@ class GmrBaseline(Method):
 
     def scaled(self, factor: np.ndarray | float, info: dict) -> Proposal:
         """The GMR mean with every velocity times ``start * factor`` (``factor`` scalar or shape
-        (T,)), within the limit."""
-        factor = np.minimum(self.start * np.asarray(factor, dtype=float), self.limit)
-        return replace(scale_speed(self.throw, factor), info=info)
+        (T,)), within the limit. A scalar factor beyond the limit is thrown at the limit, and
+        ``info["log_factor"]`` says so: it had logged the factor asked for, so GP-BO fitted a
+        throw at the limit as one at its start, and a hit at the limit carried an offset beyond it."""
+        asked = np.asarray(factor, dtype=float)
+        if asked.ndim == 0 and "log_factor" in info and asked > self.limit / self.start:
+            info = {**info, "log_factor": round(math.log(self.limit / self.start) + self.problem.carried_shift, 4)}
+        return replace(scale_speed(self.throw, np.minimum(self.start * asked, self.limit)), info=info)
 
 
 class Imitation(GmrBaseline):
