@@ -397,30 +397,23 @@ def _aim_hint(robot: str, data) -> str | None:
 
 
 def _release_note(robot: str, data, basket: float, pedestal: float, height: float | None) -> str:
-    """:func:`rlff.learn.loop.release_note` of a one-joint run of ``robot`` (a name or file, read
-    without its warnings) at ``basket`` from ``data``: what the run will say of where its throws
-    let go, "" where at the default, or where the run will refuse the robot, the basket or the
-    data (its own message says why, and this says nothing first)."""
+    """:func:`rlff.learn.loop.planned_release_note` of ``robot`` (a name or file, read without its
+    warnings: the run reads it again and says them once); "" for a robot file that does not load
+    (the run's own error says why)."""
     import warnings
 
     from rlff.errors import InputError
-    from rlff.learn.demos import usable_demos
-    from rlff.learn.loop import release_note
-    from rlff.robot import load_robot, mapping_for
+    from rlff.learn.loop import planned_release_note
+    from rlff.robot import load_robot
     from rlff.robot.description import RobotFileWarning
-    from rlff.sim import Basket
 
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RobotFileWarning)
-            mapping = mapping_for(load_robot(robot), None)
-        target = Basket(basket) if height is None else Basket(basket, rim_height=height)
-        if mapping.robot.geometry is None:
-            return ""
-        usable, _ = usable_demos(data, mapping, target.rim_height)
-        return release_note(usable, mapping, target, pedestal)
+            model = load_robot(robot)
     except InputError:
         return ""
+    return planned_release_note(data, basket, model, pedestal, 0.3 if height is None else height)
 
 
 def _require_program(robot: str, out: Path, joints: tuple[str, ...] | None) -> None:

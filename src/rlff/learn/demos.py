@@ -29,10 +29,16 @@ from rlff.learn.method import COLUMNS, ONE_JOINT_OUTPUTS
 from rlff.limits import DISTANCE_RANGE
 from rlff.wording import plural
 
-#: Quantiles of the demonstrations' last angles where a one-joint run's throws may let go, in the
-#: order a run tries them: the first where most demonstrations still cover the whole path, the later
-#: ones only for a basket beyond its reach (:func:`rlff.learn.loop.release_quantile`).
-RELEASE_QUANTILES = (0.25, 0.5, 0.75, 1.0)
+#: Quantiles of the demonstrations' last angles where a one-joint run's throws may let go, and how
+#: a note says each: the first where most demonstrations still cover the whole path, the later ones
+#: only for a basket beyond or near the edge of its reach (:func:`rlff.learn.loop.release_quantile`).
+RELEASE_WORDS = {
+    0.25: "where the demonstrations let go",
+    0.5: "where half of the demonstrations had let go",
+    0.75: "where three quarters of the demonstrations had let go",
+    1.0: "where the last of the demonstrations let go",
+}
+RELEASE_QUANTILES = tuple(RELEASE_WORDS)
 #: Quantile of the demonstrations' last angles where generated throws release by default.
 RELEASE_QUANTILE = RELEASE_QUANTILES[0]
 #: Most mixture components the loop uses.

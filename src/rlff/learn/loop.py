@@ -49,6 +49,7 @@ from rlff.learn.carry import carried_offsets
 from rlff.learn.demos import (
     RELEASE_QUANTILE,
     RELEASE_QUANTILES,
+    RELEASE_WORDS,
     angle_grid,
     drives_whole_arm,
     fingerprint,
@@ -1074,8 +1075,8 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
                      headroom: float = 0.0, update: str | type[Method] = "calibrate") -> float:
     """Farthest basket centre (m) of ``basket``'s shape (its rim height and opening) that
     :func:`learn` accepts from ``demos`` through ``mapping`` (see :func:`_require_executable`):
-    what a one-joint run's throws reach let go at the latest that reaches farthest
-    (:func:`release_quantile`; a basket beyond the default release's reach is thrown at with a
+    what a one-joint run's throws reach let go at the release that reaches farthest
+    (:func:`release_quantile`: a basket beyond the default release's reach is thrown at with a
     later one), or a whole-arm throw's, what the first throw of
     ``update`` (a method's name or a :class:`Method` subclass, as :func:`learn` takes it:
     :func:`method_of`) for ``basket``'s distance (with ``seed``) reaches.
@@ -1105,7 +1106,7 @@ def learnable_basket(demos: Dataset, mapping, basket, pedestal: float = 0.0, *, 
     return max(release_reaches(demos, mapping, basket, pedestal).values())
 
 
-def _swing_ends(demos: Dataset, mapping, release: float = RELEASE_QUANTILE) -> tuple[float, float]:
+def _swing_ends(demos: Dataset, mapping, release: float) -> tuple[float, float]:
     """Where (rad of ``mapping``'s driven joint) a one-joint throw of the loop starts its swing
     and lets go: the ends of the demonstrations' angle grid to the ``release`` quantile of their
     last angles (:func:`angle_grid`), mapped."""
@@ -1162,16 +1163,6 @@ def release_quantile(demos: Dataset, mapping, basket, pedestal: float = 0.0) -> 
     return max(reaches, key=reaches.get)
 
 
-#: How a note or a message says where a one-joint run lets go, by quantile of the demonstrations'
-#: last angles (:data:`~rlff.learn.demos.RELEASE_QUANTILES`).
-RELEASE_WORDS = {
-    0.25: "where the demonstrations let go",
-    0.5: "where half of the demonstrations had let go",
-    0.75: "where three quarters of the demonstrations had let go",
-    1.0: "where the last of the demonstrations let go",
-}
-
-
 def release_note(demos: Dataset, mapping, basket, pedestal: float = 0.0, release: float | None = None) -> str:
     """The note of a run of :func:`learn` at ``basket`` that lets go later than the default: where,
     and what the default's throws and these reach; "" for a run that lets go at the default, and
@@ -1194,6 +1185,25 @@ def release_note(demos: Dataset, mapping, basket, pedestal: float = 0.0, release
             f"last angles: a basket at {centimetres_below(reaches[RELEASE_QUANTILE])} m at most); this run lets go "
             f"later, {RELEASE_WORDS[release]} ({later:.2f} rad), and its throws reach a basket at "
             f"{centimetres_below(reaches[release])} m at most")
+
+
+def planned_release_note(demos: Dataset, basket: float, robot, pedestal: float = 0.0,
+                         rim_height: float = 0.3) -> str:
+    """:func:`release_note` of a one-joint run of :func:`learn` at ``basket`` (m) from ``demos``
+    (as :func:`learn` takes them, before its preparation) on ``robot`` (a :class:`rlff.robot.Robot`),
+    known before the run starts: what the run will say of where its throws let go; "" where they
+    let go at the default, and where the run will refuse the robot, the basket or the
+    demonstrations (its own error says why, and this says nothing first)."""
+    from rlff.robot import mapping_for
+    from rlff.sim import Basket
+
+    try:
+        mapping = mapping_for(robot, None)
+        target = Basket(float(basket), rim_height=rim_height)
+        usable, _ = usable_demos(_demonstrations(demos), mapping, target.rim_height)
+        return release_note(usable, mapping, target, pedestal)
+    except InputError:
+        return ""
 
 
 def _executed_reach_words(demos: Dataset, mapping, basket, pedestal: float) -> str:
